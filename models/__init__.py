@@ -1,0 +1,1 @@
+"""The default machine description shipped with hipsim: parameters, xacro, URDF, closures."""
