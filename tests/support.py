@@ -1,0 +1,51 @@
+"""Trajectories at arbitrary times, for finite differences and cross-checks."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from hipsim.trajectories import Trajectory, iso14242_angles, iso14242_load
+
+
+def iso_at(t, frequency: float = 1.0) -> Trajectory:
+    """The built-in ISO cycle evaluated at any times t in [s]."""
+    t = np.atleast_1d(np.asarray(t, dtype=float))
+    q, qd, qdd = iso14242_angles(t, frequency)
+    return Trajectory(t, q, qd, qdd, iso14242_load(t, frequency), name="ISO at t")
+
+
+class SmoothMotion:
+    """A random smooth orientation trajectory: a few sinusoids per angle, kept well inside the workspace.
+
+    Args:
+        seed: random seed.
+        amplitude_deg: largest amplitude of each angle in [deg].
+    """
+
+    def __init__(self, seed: int = 0, amplitude_deg: float = 12.0, harmonics: int = 3):
+        rng = np.random.default_rng(seed)
+        self.offset = np.radians(rng.uniform(-3.0, 3.0, 3))
+        self.amp = np.radians(rng.uniform(0.2, 1.0, (harmonics, 3)) * amplitude_deg / harmonics)
+        self.freq = rng.uniform(0.3, 2.0, (harmonics, 3))
+        self.phase = rng.uniform(0.0, 2 * np.pi, (harmonics, 3))
+        self.load = rng.uniform(300.0, 3000.0)
+
+    def __call__(self, t) -> Trajectory:
+        t = np.atleast_1d(np.asarray(t, dtype=float))[:, None, None]
+        w = 2 * np.pi * self.freq
+        arg = w * t + self.phase
+        q = self.offset + np.sum(self.amp * np.sin(arg), axis=1)
+        qd = np.sum(self.amp * w * np.cos(arg), axis=1)
+        qdd = -np.sum(self.amp * w**2 * np.sin(arg), axis=1)
+        load = self.load * (1.0 + 0.3 * np.sin(2 * np.pi * t[:, 0, 0]))
+        return Trajectory(t[:, 0, 0], q, qd, qdd, load, name="smooth random")
+
+
+def central_difference(f, t, h):
+    """(f(t + h) − f(t − h)) / 2h for a function of an array of times."""
+    return (f(t + h) - f(t - h)) / (2 * h)
+
+
+def relative_error(actual, expected) -> float:
+    """Largest |actual − expected| over the peak |expected|."""
+    return float(np.max(np.abs(actual - expected)) / np.max(np.abs(expected)))
