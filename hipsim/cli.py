@@ -1,2 +1,188 @@
-def main():
-    raise SystemExit("not yet")
+"""The ``hipsim`` command line.
+
+Every subcommand reads the machine from ``--params`` (default: the published
+machine) with ``--set KEY=VALUE`` overrides, and the motion from
+``--trajectory`` (default: the built-in ISO 14242-1 cycle). Errors print one
+line starting with ``hipsim: error:`` and exit with status 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from .exceptions import HipsimError
+
+__all__ = ["main"]
+
+EXAMPLES = """\
+examples:
+  hipsim torques                          ISO 14242-1 on the published machine -> hipsim_torques.csv
+  hipsim torques --set lever.length_mm=340 --out longer.csv
+  hipsim torques --trajectory gait.csv --summary-format json
+  hipsim params                           the parameter set in use, with units
+"""
+
+
+def _add_machine_options(parser: argparse.ArgumentParser) -> None:
+    group = parser.add_argument_group("machine")
+    group.add_argument("--params", metavar="FILE", help="parameter TOML file (default: the published machine)")
+    group.add_argument(
+        "--set", dest="overrides", metavar="KEY=VALUE", action="append", default=[],
+        help="override one parameter in the file's units, e.g. lever.length_mm=330 (repeatable)",
+    )
+
+
+def _add_trajectory_options(parser: argparse.ArgumentParser) -> None:
+    group = parser.add_argument_group("motion")
+    group.add_argument(
+        "--trajectory", metavar="FILE",
+        help="CSV with t_s, alpha_deg, beta_deg, gamma_deg (or _rad), optional Fe_N (default: built-in ISO 14242-1 cycle)",
+    )
+    group.add_argument("--rate", type=float, metavar="HZ", help="sample rate of the built-in cycle in Hz (default 1000)")
+    group.add_argument("--cycles", type=float, metavar="N", help="number of built-in cycles (default 1)")
+    group.add_argument("--frequency", type=float, metavar="HZ", help="cycle frequency of the built-in cycle in Hz (default 1)")
+
+
+def _parameters(args):
+    from .parameters import load_parameters, parse_override
+
+    overrides = dict(parse_override(text) for text in args.overrides)
+    return load_parameters(args.params, overrides)
+
+
+def _trajectory(args):
+    from .trajectories import iso14242, load_trajectory_csv
+
+    if args.trajectory:
+        given = [f"--{name}" for name in ("rate", "cycles", "frequency") if getattr(args, name) is not None]
+        if given:
+            raise HipsimError(f"{', '.join(given)} apply to the built-in cycle, not to --trajectory {args.trajectory}")
+        return load_trajectory_csv(args.trajectory)
+    return iso14242(
+        rate=args.rate if args.rate is not None else 1000.0,
+        cycles=args.cycles if args.cycles is not None else 1,
+        frequency=args.frequency if args.frequency is not None else 1.0,
+    )
+
+
+def _format_table(header: list[str], rows: list[list], title: str = "") -> str:
+    cells = [header] + [[c if isinstance(c, str) else f"{c:.2f}" for c in row] for row in rows]
+    widths = [max(len(row[k]) for row in cells) for k in range(len(header))]
+    lines = [title] if title else []
+    for n, row in enumerate(cells):
+        lines.append("  ".join(c.rjust(w) if k else c.ljust(w) for k, (c, w) in enumerate(zip(row, widths))))
+        if n == 0:
+            lines.append("  ".join("-" * w for w in widths))
+    return "\n".join(lines)
+
+
+def format_summary(summary: dict) -> str:
+    """The torque run summary as plain-text tables."""
+    out = [
+        f"model: {summary['model']}   trajectory: {summary['trajectory']} ({summary['samples']} samples)",
+        f"parameters: {summary['parameters']}",
+        "",
+    ]
+    if summary["flagged_samples"]:
+        out += [f"WARNING: {summary['flagged_samples']} samples out of reach or singular (flagged in the CSV, left out below)", ""]
+    rows = [[f"S{name}", s["L_max_mm"], s["L_min_mm"], s["stroke_mm"], s["Ld_max_mm_s"], s["Ldd_max_mm_s2"]] for name, s in summary["sliders"].items()]
+    out.append(_format_table(["slider", "L max [mm]", "L min [mm]", "stroke [mm]", "|Ld| max [mm/s]", "|Ldd| max [mm/s²]"], rows, "Sliders"))
+    out.append("")
+    header = ["motor", "platforms", "levers", "sliders", "screws", "friction", "peak", "RMS", "speed [rpm]"]
+    rows = [
+        [f"M{i}", *(m[f"{p}_max_Nmm"] for p in ("tau_m", "tau_l", "tau_s", "tau_L", "tau_f")), m["tau_peak_Nmm"], m["tau_rms_Nmm"], m["speed_peak_rpm"]]
+        for i, m in summary["motors"].items()
+    ]
+    out.append(_format_table(header, rows, "Motor torques [N·mm] (max |part|; peak and RMS of the total)"))
+    if "joints" in summary:
+        out.append("")
+        rows = [[name, j["peak_N"], j["rms_N"]] for name, j in summary["joints"].items()]
+        out.append(_format_table(["joint", "peak [N]", "RMS [N]"], rows, "Joint forces (spherical joints a_ji, central joints o_j)"))
+    out += ["", f"smallest singularity measure (inverse condition number of J): {summary['cond_inv_min']:.4f} at t = {summary['cond_inv_min_t_s']:.4g} s"]
+    return "\n".join(out)
+
+
+def _cmd_torques(args) -> int:
+    from .results import analyse
+
+    params = _parameters(args)
+    trajectory = _trajectory(args)
+    result = analyse(params, trajectory, model=args.model, on_error="flag" if args.flag_bad_poses else "raise")
+    path = result.write_csv(args.out)
+    summary = result.summary()
+    if args.summary_format == "json":
+        print(json.dumps(summary | {"csv": str(path)}, indent=2))
+    else:
+        print(format_summary(summary))
+        print(f"\nwrote {path} ({summary['samples']} rows, {len(result.columns())} columns)")
+    return 0
+
+
+def _cmd_params(args) -> int:
+    from .parameters import SCHEMA, file_values
+
+    params = _parameters(args)
+    values = file_values(params)
+    print(f"# parameters: {params.source}")
+    for section, keys in SCHEMA.items():
+        print(f"\n[{section}]")
+        for key, spec in keys.items():
+            value = values[f"{section}.{key}"]
+            note = spec.meaning + (f" [{spec.unit}]" if spec.unit else "")
+            print(f"{key} = {json.dumps(value)}".ljust(60) + f"# {note}")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="hipsim",
+        description="Kinematics, closed-chain dynamics and control of the 2(3PUS+S) parallel hip joint simulator.",
+        epilog=EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    commands = parser.add_subparsers(dest="command", metavar="COMMAND")
+
+    torques = commands.add_parser(
+        "torques", help="slider motion and motor torques along a trajectory -> CSV + summary",
+        description="Slider positions, velocities and accelerations, motor torques split into platforms, levers, "
+        "sliders, screws and friction, motor speeds and the singularity measure along a trajectory. "
+        "Writes the CSV of spec §7.5 and prints a summary.",
+    )
+    _add_machine_options(torques)
+    _add_trajectory_options(torques)
+    torques.add_argument("--model", choices=["analytic", "pinocchio"], default="analytic", help="which model computes the torques (default analytic)")
+    torques.add_argument("--out", default="hipsim_torques.csv", metavar="FILE", help="CSV to write (default hipsim_torques.csv)")
+    torques.add_argument("--summary-format", choices=["table", "json"], default="table", help="summary on standard output")
+    torques.add_argument(
+        "--flag-bad-poses", action="store_true",
+        help="carry on through poses out of reach or singular and mark them in a 'flagged' column instead of stopping",
+    )
+    torques.set_defaults(run=_cmd_torques)
+
+    params = commands.add_parser("params", help="print the parameter set in use, with units")
+    _add_machine_options(params)
+    params.set_defaults(run=_cmd_params)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "run", None):
+        parser.print_help()
+        return 2
+    try:
+        return args.run(args)
+    except HipsimError as error:
+        print(f"hipsim: error: {error}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("hipsim: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
