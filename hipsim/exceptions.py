@@ -72,10 +72,12 @@ class PoseError(HipsimError):
     Attributes:
         time: the sample time in [s] of the first offending sample.
         index: its sample index.
+        source: the trajectory's name (its file), if known.
     """
 
-    def __init__(self, message: str, time: float, index: int):
-        super().__init__(f"t = {time:.6g} s (sample {index}): {message}")
+    def __init__(self, message: str, time: float, index: int, source: str | None = None):
+        where = f"t = {time:.6g} s (sample {index})"
+        super().__init__(f"{source}, {where}: {message}" if source else f"{where}: {message}")
         self.time = time
         self.index = index
 

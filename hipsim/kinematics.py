@@ -224,6 +224,11 @@ def kinematics(params: Parameters, trajectory: Trajectory, on_error: str = "rais
     """
     if on_error not in ("raise", "flag"):
         raise ValueError(f"on_error must be 'raise' or 'flag', got {on_error!r}")
+    with np.errstate(divide="ignore", invalid="ignore"):  # poses out of reach give NaN and are flagged
+        return _kinematics(params, trajectory, on_error)
+
+
+def _kinematics(params: Parameters, trajectory: Trajectory, on_error: str) -> Kinematics:
     signs = params.angle_signs
     q, qd, qdd = trajectory.q * signs, trajectory.qd * signs, trajectory.qdd * signs
     R = rotation_matrix(q)
@@ -264,7 +269,7 @@ def kinematics(params: Parameters, trajectory: Trajectory, on_error: str = "rais
             message = f"pose out of reach: lever {leg} cannot span the gap from its screw to its platform joint"
         else:
             message = f"singular pose: inverse condition number of J is {cond_inv[k]:.3g}"
-        raise PoseError(message, float(trajectory.t[k]), k)
+        raise PoseError(message, float(trajectory.t[k]), k, source=trajectory.name)
 
     dh = (params.heights - params.heights[0])[None, :, None]
     L1 = params.heights[0] + r[..., 2] - d[..., 2]

@@ -1,0 +1,106 @@
+"""The hipsim command line: defaults, options, and one-line errors."""
+
+import csv
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from hipsim.cli import main
+from hipsim.results import column_names
+
+
+def run(*args):
+    """Run the installed console script and return (status, stdout, stderr)."""
+    done = subprocess.run([sys.executable, "-m", "hipsim", *args], capture_output=True, text=True, timeout=120)
+    return done.returncode, done.stdout, done.stderr
+
+
+def test_torques_defaults(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    status, out, err = run("torques")
+    assert status == 0, err
+    header = next(csv.reader(open(tmp_path / "hipsim_torques.csv")))
+    assert header == column_names()
+    for word in ("Sliders", "S11", "S23", "Motor torques", "M3", "RMS", "rpm", "singularity"):
+        assert word in out
+
+
+def test_torques_json_summary_and_options(tmp_path, capsys):
+    out = tmp_path / "fast.csv"
+    assert main(["torques", "--rate", "500", "--cycles", "2", "--frequency", "2", "--out", str(out), "--summary-format", "json",
+                 "--set", "platform.mass_kg=30"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["samples"] == 500
+    assert "mass_kg=30" in summary["parameters"]
+    rows = list(csv.reader(open(out)))
+    t = np.array([float(r[0]) for r in rows[1:]])
+    np.testing.assert_allclose(np.diff(t), 1 / 500)
+
+
+def test_torques_from_trajectory_file(tmp_path, capsys):
+    path = tmp_path / "gait.csv"
+    t = np.arange(0, 0.5, 0.002)
+    with open(path, "w") as stream:
+        stream.write("t_s,alpha_deg,beta_deg,gamma_deg,Fe_N\n")
+        for x in t:
+            stream.write(f"{x},{10 * np.sin(2 * np.pi * x)},{2 * np.sin(4 * np.pi * x)},-3,1000\n")
+    assert main(["torques", "--trajectory", str(path), "--out", str(tmp_path / "o.csv")]) == 0
+    assert "gait.csv" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["torques", "--set", "lever.length_mm=100"], "key 'lever.length_mm': lever of 100 mm cannot reach"),
+        (["torques", "--set", "lever.colour=3"], "key 'lever.colour': unknown key"),
+        (["torques", "--params", "missing.toml"], "missing.toml: no such parameter file"),
+        (["torques", "--trajectory", "missing.csv"], "missing.csv: no such trajectory file"),
+        (["torques", "--trajectory", "x.csv", "--rate", "10"], "--rate apply to the built-in cycle"),
+        (["torques", "--rate", "-5"], "rate must be a positive number"),
+        (["torques", "--out", "no/such/dir/x.csv"], "folder 'no/such/dir' does not exist"),
+        (["torques", "--trajectory", "{far}"], "far.csv, t = 0.02 s (sample 2): pose out of reach"),
+    ],
+)
+def test_errors_are_one_line(tmp_path, args, message):
+    args = [a.replace("{far}", str(far_trajectory(tmp_path))) for a in args]
+    status, out, err = run(*args, *([] if "--out" in args else ["--out", str(tmp_path / "x.csv")]))
+    assert status == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("hipsim: error:"), err
+    assert message in lines[0]
+    assert "Traceback" not in err
+
+
+def far_trajectory(folder):
+    """Rotation about Z that turns the platform joints away from their screws, out of reach from t = 0.03 s."""
+    path = folder / "far.csv"
+    gamma = [0, 60, 120, 180, 120, 60, 30, 10]
+    path.write_text("t_s,alpha_deg,beta_deg,gamma_deg\n" + "".join(f"{k / 100},0,0,{g}\n" for k, g in enumerate(gamma)))
+    return path
+
+
+def test_bad_pose_writes_no_file_and_flag_mode_marks_rows(tmp_path, capsys):
+    out = tmp_path / "x.csv"
+    assert main(["torques", "--trajectory", str(far_trajectory(tmp_path)), "--out", str(out)]) == 2
+    assert not out.exists()
+    assert main(["torques", "--trajectory", str(far_trajectory(tmp_path)), "--out", str(out), "--flag-bad-poses"]) == 0
+    assert "WARNING" in capsys.readouterr().out
+    rows = list(csv.DictReader(open(out)))
+    flagged = [float(r["flagged"]) for r in rows]
+    assert flagged[0] == 0 and flagged[3] == 1 and len(rows) == 8
+
+
+def test_params_prints_units(capsys):
+    assert main(["params", "--set", "lever.length_mm=330"]) == 0
+    out = capsys.readouterr().out
+    assert "length_mm = 330" in out and "[mm]" in out and "estimate" in out
+
+
+def test_help_reads_well():
+    status, out, _ = run("--help")
+    assert status == 0 and "torques" in out and "examples:" in out
+    status, out, _ = run("torques", "--help")
+    assert status == 0 and "--trajectory" in out and "--summary-format" in out

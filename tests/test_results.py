@@ -1,0 +1,79 @@
+"""The CSV contract (spec §7.5), the summary, atomic writes, and the README example."""
+
+import csv
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import hipsim
+from hipsim.exceptions import HipsimError
+from hipsim.results import column_names, write_atomic
+
+README = Path(__file__).resolve().parents[1] / "README.md"
+
+
+@pytest.fixture(scope="module")
+def result():
+    return hipsim.analyse()
+
+
+def test_columns_follow_the_contract(result):
+    columns = result.columns()
+    assert list(columns) == column_names()
+    # Units at the edge: mm, N·mm, rpm, degrees.
+    np.testing.assert_allclose(columns["L_12_mm"], result.kin.L[:, 0, 1] * 1e3)
+    np.testing.assert_allclose(columns["tau_f_3_Nmm"], result.torques.tau_f[:, 2] * 1e3)
+    np.testing.assert_allclose(columns["speed_2_rpm"], columns["Ld_12_mm_s"] / 10.0 * 60.0)
+    np.testing.assert_allclose(columns["alpha_deg"][0], 25.0)
+    parts = sum(columns[f"{p}_1_Nmm"] for p in hipsim.Torques.PARTS)
+    np.testing.assert_allclose(parts, columns["tau_1_Nmm"], atol=1e-9)
+
+
+def test_csv_round_trip(result, tmp_path):
+    path = result.write_csv(tmp_path / "iso.csv")
+    with open(path) as stream:
+        rows = list(csv.reader(stream))
+    assert rows[0] == column_names()
+    assert len(rows) == 1 + len(result.trajectory)
+    table = np.array(rows[1:], dtype=float)
+    np.testing.assert_allclose(table, np.column_stack(list(result.columns().values())), rtol=1e-11, atol=1e-11)
+    assert not list(tmp_path.glob(".*part"))
+
+
+def test_summary_values(result):
+    summary = result.summary()
+    kin, torques = result.kin, result.torques
+    assert summary["sliders"]["12"]["L_max_mm"] == pytest.approx(kin.L[:, 0, 1].max() * 1e3)
+    assert summary["sliders"]["23"]["stroke_mm"] == pytest.approx(np.ptp(kin.L[:, 1, 2]) * 1e3)
+    motor = summary["motors"]["1"]
+    assert motor["tau_rms_Nmm"] == pytest.approx(math.sqrt(np.mean((torques.tau[:, 0] * 1e3) ** 2)))
+    assert motor["tau_peak_Nmm"] >= max(motor[f"{p}_max_Nmm"] for p in ("tau_m", "tau_l", "tau_s", "tau_L"))
+    assert summary["cond_inv_min"] == pytest.approx(kin.cond_inv.min())
+    assert summary["cond_inv_min_t_s"] == pytest.approx(kin.t[np.argmin(kin.cond_inv)])
+
+
+def test_atomic_write_leaves_old_file_on_failure(tmp_path):
+    target = tmp_path / "out.csv"
+    target.write_text("old")
+
+    with pytest.raises(TypeError):  # fails half-way, after the temporary file is open
+        write_atomic(target, 12345)
+    assert target.read_text() == "old"
+    assert list(tmp_path.iterdir()) == [target]
+
+
+def test_atomic_write_into_missing_folder(tmp_path):
+    with pytest.raises(HipsimError, match="does not exist"):
+        write_atomic(tmp_path / "nope" / "out.csv", "x")
+
+
+def test_readme_library_example_runs(tmp_path, monkeypatch):
+    """The README's library example, run as written."""
+    text = README.read_text()
+    block = re.search(r"## Library\n\n```python\n(.*?)```", text, re.S).group(1)
+    monkeypatch.chdir(tmp_path)
+    exec(compile(block, "README.md", "exec"), {})
+    assert (tmp_path / "iso_2kHz.csv").stat().st_size > 100_000
