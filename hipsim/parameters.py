@@ -28,6 +28,7 @@ import numpy as np
 from .exceptions import ParameterError
 
 __all__ = [
+    "ControlSettings",
     "Friction",
     "Parameters",
     "SCHEMA",
@@ -54,6 +55,7 @@ class _Key:
     length: int = 0  # for vectors
     unit: str = ""
     meaning: str = ""
+    finite: bool = True  # False to allow inf (e.g. "no limit")
 
 
 #: Every section and key the parameter file must contain, with its SI scale and bound.
@@ -102,6 +104,13 @@ SCHEMA: dict[str, dict[str, _Key]] = {
     "convention": {
         "angle_signs": _Key("signs", 1.0, "none", 3, meaning="sign flips of α, β, γ"),
     },
+    "control": {
+        "servo_rate_Hz": _Key("float", 1.0, "positive", unit="Hz", meaning="servo (controller) rate"),
+        "integration_step_ms": _Key("float", 1e-3, "positive", unit="ms", meaning="plant integration step (RK4)"),
+        "kp_Nm_rad": _Key("vector", 1.0, "nonnegative", 3, "N·m/rad", "K_p, platform moment per orientation error"),
+        "kd_Nm_s_rad": _Key("vector", 1.0, "nonnegative", 3, "N·m·s/rad", "K_d, platform moment per rate error"),
+        "torque_limit_Nmm": _Key("float", _NMM, "positive", unit="N·mm", meaning="motor torque limit (inf: none)", finite=False),
+    },
 }
 
 
@@ -141,6 +150,32 @@ class Friction:
 
 
 @dataclass(frozen=True, eq=False)
+class ControlSettings:
+    """Servo loop settings (spec §8), SI.
+
+    Attributes:
+        servo_rate: controller rate in [Hz].
+        integration_step: plant integration step in [s], at most one servo period.
+        kp: K_p per angle α, β, γ in [N·m/rad], shape (3,).
+        kd: K_d per angle in [N·m·s/rad], shape (3,).
+        torque_limit: motor torque limit in [N·m]; inf for none.
+    """
+
+    servo_rate: float
+    integration_step: float
+    kp: np.ndarray
+    kd: np.ndarray
+    torque_limit: float
+
+    def __post_init__(self):
+        for name in ("kp", "kd"):
+            value = _readonly(getattr(self, name))
+            if value.shape != (3,):
+                raise ParameterError(f"expected shape (3,), got {value.shape}", key=f"control.{name}", value=value)
+            object.__setattr__(self, name, value)
+
+
+@dataclass(frozen=True, eq=False)
 class Parameters:
     """The machine, in SI units. Build it with :func:`load_parameters`.
 
@@ -161,6 +196,7 @@ class Parameters:
         screw_inertia: I_L in [kg·m²].
         friction: the :class:`Friction` coefficients.
         angle_signs: ±1 per angle α, β, γ, shape (3,).
+        control: the :class:`ControlSettings` (servo rate, gains, limits).
         source: where the values came from (file and overrides).
     """
 
@@ -180,6 +216,7 @@ class Parameters:
     screw_inertia: float
     friction: Friction
     angle_signs: np.ndarray
+    control: "ControlSettings"
     source: str = "<built in>"
 
     def __post_init__(self):
@@ -224,10 +261,15 @@ class Parameters:
             friction_changes = {k: changes.pop(k) for k in list(changes) if k in _FRICTION_FIELDS}
             if friction_changes:
                 changes["friction"] = dataclasses.replace(self.friction, **friction_changes)
+        if "control" not in changes:
+            control_changes = {k: changes.pop(k) for k in list(changes) if k in _CONTROL_FIELDS}
+            if control_changes:
+                changes["control"] = dataclasses.replace(self.control, **control_changes)
         return dataclasses.replace(self, **changes)
 
 
 _FRICTION_FIELDS = {f.name for f in dataclasses.fields(Friction)}
+_CONTROL_FIELDS = {f.name for f in dataclasses.fields(ControlSettings)}
 
 
 def slender_levers(params: Parameters) -> Parameters:
@@ -293,13 +335,21 @@ def load_parameters(
             raw = tomllib.load(stream)
     except FileNotFoundError:
         raise ParameterError("no such parameter file", source=source) from None
+    except IsADirectoryError:
+        raise ParameterError("is a folder, not a parameter file", source=source) from None
+    except OSError as error:
+        raise ParameterError(f"cannot read ({error.strerror})", source=source) from None
+    except UnicodeDecodeError:
+        raise ParameterError("not a UTF-8 text file", source=source) from None
     except tomllib.TOMLDecodeError as error:
         raise ParameterError(f"not valid TOML ({error})", source=source) from None
     for dotted, value in (overrides or {}).items():
         section, _, key = dotted.partition(".")
         if section not in SCHEMA or key not in SCHEMA[section]:
             raise ParameterError(f"unknown key (known: {_known_keys()})", key=dotted, source="--set")
-        raw.setdefault(section, {})[key] = value
+        if not isinstance(raw.setdefault(section, {}), dict):
+            raise ParameterError("expected a [section] table", key=section, source=source)
+        raw[section][key] = value
     if overrides:
         source += " with " + ", ".join(f"{k}={v}" for k, v in overrides.items())
     return _build(_check(raw, source), source)
@@ -352,7 +402,7 @@ def _convert(value, spec: _Key, key: str, source: str):
         numbers = _inertia_matrix(value, fail)
     else:  # pragma: no cover - SCHEMA is ours
         raise AssertionError(spec.kind)
-    if not np.all(np.isfinite(numbers)):
+    if np.any(np.isnan(numbers)) or (spec.finite and not np.all(np.isfinite(numbers))):
         fail(f"expected finite numbers, got {value!r}")
     if spec.bound == "positive" and np.any(numbers <= 0):
         fail(f"must be positive, got {value!r}")
@@ -402,13 +452,24 @@ _ATTRIBUTES = {
     "screw.inertia_kgmm2": "screw_inertia",
     "convention.angle_signs": "angle_signs",
     **{f"friction.{key}": f"friction.{name}" for key, name in zip(SCHEMA["friction"], (f.name for f in dataclasses.fields(Friction)))},
+    **{f"control.{key}": f"control.{name}" for key, name in zip(SCHEMA["control"], (f.name for f in dataclasses.fields(ControlSettings)))},
 }
 
 
 def _build(values: Mapping[str, Any], source: str) -> Parameters:
-    friction = Friction(**{_ATTRIBUTES[k].split(".")[1]: v for k, v in values.items() if k.startswith("friction.")})
-    fields = {_ATTRIBUTES[k]: v for k, v in values.items() if not k.startswith("friction.")}
-    params = Parameters(**fields, friction=friction, source=source)
+    def group(section):
+        return {_ATTRIBUTES[k].split(".")[1]: v for k, v in values.items() if k.startswith(section + ".")}
+
+    friction = Friction(**group("friction"))
+    control = ControlSettings(**group("control"))
+    if control.integration_step > 1.0 / control.servo_rate * (1 + 1e-12):
+        raise ParameterError(
+            f"integration step {control.integration_step * 1e3:g} ms is longer than the servo period "
+            f"{1e3 / control.servo_rate:g} ms; the plant must be integrated at least as finely as the servo runs",
+            key="control.integration_step_ms", value=control.integration_step, source=source,
+        )
+    fields = {_ATTRIBUTES[k]: v for k, v in values.items() if "." not in _ATTRIBUTES[k]}
+    params = Parameters(**fields, friction=friction, control=control, source=source)
     _check_reach(params, source)
     return params
 
@@ -438,5 +499,7 @@ def file_values(params: Parameters) -> dict[str, Any]:
             value = np.asarray(value) / spec.scale
             if spec.kind == "inertia" and np.count_nonzero(value - np.diag(np.diag(value))) == 0:
                 value = np.diag(value)
-            out[dotted] = round(float(value), 9) if value.ndim == 0 else value.round(9).tolist()
+            # 15 significant figures hide the round-off of the unit conversion.
+            value = np.vectorize(lambda x: float(f"{x:.15g}"))(value)
+            out[dotted] = float(value) if value.ndim == 0 else value.tolist()
     return out

@@ -140,7 +140,7 @@ def iso14242(rate: float = 1000.0, cycles: float = 1, frequency: float = 1.0) ->
         the end of the last cycle left out so that whole cycles tile.
     """
     for name, value in (("rate", rate), ("cycles", cycles), ("frequency", frequency)):
-        if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+        if isinstance(value, bool) or not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
             raise TrajectoryError(f"{name} must be a positive number, got {value!r}", source="ISO 14242-1")
     n = int(round(cycles * rate / frequency))
     if n < 2:
@@ -171,10 +171,15 @@ def load_trajectory_csv(path: str | Path, periodic: bool | None = None) -> Traje
     """
     source = str(path)
     try:
-        with open(path, newline="") as stream:
+        # utf-8-sig: spreadsheets often start a "CSV UTF-8" file with a byte-order mark.
+        with open(path, newline="", encoding="utf-8-sig") as stream:
             rows = [row for row in csv.reader(stream)]
     except FileNotFoundError:
         raise TrajectoryError("no such trajectory file", source=source) from None
+    except IsADirectoryError:
+        raise TrajectoryError("is a folder, not a trajectory file", source=source) from None
+    except OSError as error:
+        raise TrajectoryError(f"cannot read ({error.strerror})", source=source) from None
     except UnicodeDecodeError:
         raise TrajectoryError("not a text (UTF-8) CSV file", source=source) from None
     # Blank lines are skipped, but keep the file's line numbers for messages.
@@ -218,13 +223,33 @@ def load_trajectory_csv(path: str | Path, periodic: bool | None = None) -> Traje
             raise TrajectoryError(f"load {load[k]:g} N is negative (F_e is a magnitude)", source=source, line=lines[k], column="Fe_N")
     else:
         load = np.zeros_like(t)
+    closes = _closes_on_itself(angles, load)
     if periodic is None:
-        scale = max(1.0, float(np.abs(angles).max()))
-        periodic = bool(np.allclose(angles[0], angles[-1], rtol=0, atol=1e-9 * scale) and abs(load[0] - load[-1]) <= 1e-9 * max(1.0, load.max()))
+        periodic = closes
+    elif periodic and not closes:
+        raise TrajectoryError(
+            "periodic was asked for, but the last row does not repeat the first (angles, load and slope)",
+            source=source, line=lines[-1],
+        )
     q, qd, qdd = _differentiate(t, angles, periodic)
     if periodic:  # the last row repeats the first: keep one copy
         t, q, qd, qdd, load = t[:-1], q[:-1], qd[:-1], qdd[:-1], load[:-1]
     return Trajectory(t, q, qd, qdd, load, name=Path(source).name, periodic=periodic)
+
+
+def _closes_on_itself(angles: np.ndarray, load: np.ndarray) -> bool:
+    """True when the last row repeats the first and the motion leaves the first row as it reaches the last.
+
+    Matching values alone are not enough (a motion out and back has them):
+    the one-sided differences across the wrap must also agree to within the
+    size of the file's own second differences.
+    """
+    scale = max(1.0, float(np.abs(angles).max()))
+    same_values = np.allclose(angles[0], angles[-1], rtol=0, atol=1e-9 * scale) and abs(load[0] - load[-1]) <= 1e-9 * max(1.0, load.max())
+    leaving, arriving = angles[1] - angles[0], angles[-1] - angles[-2]
+    curvature = np.abs(np.diff(angles, 2, axis=0)).max(axis=0)
+    same_slope = np.all(np.abs(leaving - arriving) <= 10.0 * curvature + 1e-12 * scale)
+    return bool(same_values and same_slope)
 
 
 def _check_header(header: list[str], source: str, line: int) -> tuple[set[str], str]:
@@ -261,7 +286,8 @@ def _check_time(t: np.ndarray, source: str, lines: list[int]) -> None:
         k = int(np.argmax(dt <= 0)) + 1
         raise TrajectoryError(f"time {t[k]:g} s does not increase (previous {t[k - 1]:g} s)", source=source, line=lines[k], column="t_s")
     step = (t[-1] - t[0]) / (t.size - 1)
-    off = np.abs(dt - step) > 1e-6 * step
+    # A thousandth of a step allows times printed with few decimals; real gaps are far larger.
+    off = np.abs(dt - step) > 1e-3 * step
     if np.any(off):
         k = int(np.argmax(off)) + 1
         raise TrajectoryError(
