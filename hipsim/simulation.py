@@ -1,0 +1,280 @@
+"""Closed-loop simulation: plants (forward dynamics) driven by a servo-rate controller (spec §8).
+
+A plant integrates the machine's forward dynamics under the three motor
+torques. Two plants describe the same physics:
+
+- :class:`ReducedPlant`: the 3-DOF model of the platform orientation. The
+  analytic inverse dynamics is affine in the angular acceleration,
+  τ = M(q)·q̈ + h(q, q̇, F_e), so one call on four samples (q̈ = 0 and the
+  three unit vectors) gives h and the columns of M, and q̈ = M⁻¹·(τ − h).
+- :class:`hipsim.pinocchio_plant.PinocchioPlant`: the closed-chain tree with
+  its loop closures enforced by Pinocchio's constrained dynamics.
+
+:func:`simulate` runs the servo loop: at each servo instant the controller
+sees the measured state and the desired one and returns torques, which are
+limited to the motor torque limit (and counted when they are) and held
+constant over the servo period (zero-order hold) while the plant is integrated
+with the classic fourth-order Runge–Kutta method at a step no longer than the
+period.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+from typing import Callable, Protocol
+
+import numpy as np
+from tqdm import tqdm
+
+from .control import Sample
+from .dynamics import inverse_dynamics
+from .exceptions import HipsimError, PoseError
+from .kinematics import kinematics
+from .parameters import Parameters
+from .trajectories import Trajectory
+
+__all__ = ["Plant", "ReducedPlant", "Simulation", "apply_mismatch", "parse_mismatch", "simulate"]
+
+_UNIT_ACCELERATIONS = np.vstack([np.zeros(3), np.eye(3)])
+
+
+class Plant(Protocol):
+    """What :func:`simulate` integrates. The state x is a flat vector."""
+
+    params: Parameters
+
+    def initial_state(self, desired: Trajectory) -> np.ndarray:
+        """The state at the first sample of ``desired`` (position and velocity)."""
+
+    def derivative(self, t: float, x: np.ndarray, tau: np.ndarray, Fe: float) -> np.ndarray:
+        """dx/dt under motor torques tau in [N·m] and load Fe in [N]."""
+
+    def angles(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Platform orientation [α, β, γ] in [rad] and its rate in [rad/s] in state x."""
+
+
+class ReducedPlant:
+    """Forward dynamics of the 3-DOF reduced model; state x = [q, q̇].
+
+    Args:
+        params: the plant's machine.
+        lever_spin: give the levers the spin their universal joints impose
+            (True, the physics the Pinocchio plant has) or the spec's
+            spin-free levers (False).
+    """
+
+    name = "reduced"
+
+    def __init__(self, params: Parameters, lever_spin: bool = True):
+        self.params = params
+        self.lever_spin = lever_spin
+
+    def mass_and_bias(self, q: np.ndarray, qd: np.ndarray, Fe: float) -> tuple[np.ndarray, np.ndarray]:
+        """M(q) in [N·m·s²/rad] (3, 3) and h(q, q̇, F_e) in [N·m] (3,) with τ = M·q̈ + h."""
+        batch = Trajectory(np.zeros(4), np.broadcast_to(q, (4, 3)), np.broadcast_to(qd, (4, 3)), _UNIT_ACCELERATIONS, np.full(4, Fe))
+        tau = inverse_dynamics(self.params, kinematics(self.params, batch), batch.Fe, lever_spin=self.lever_spin).tau
+        return (tau[1:] - tau[0]).T, tau[0]
+
+    def initial_state(self, desired: Trajectory) -> np.ndarray:
+        return np.concatenate([desired.q[0], desired.qd[0]])
+
+    def derivative(self, t: float, x: np.ndarray, tau: np.ndarray, Fe: float) -> np.ndarray:
+        M, h = self.mass_and_bias(x[:3], x[3:], Fe)
+        return np.concatenate([x[3:], np.linalg.solve(M, tau - h)])
+
+    def angles(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        return x[:3], x[3:]
+
+
+@dataclass(frozen=True, eq=False)
+class Simulation:
+    """A closed-loop run, sampled at the servo instants.
+
+    Attributes:
+        t: servo instants in [s], (K,).
+        desired: the desired trajectory at those instants.
+        q, qd: measured orientation in [rad] and rate in [rad/s], (K, 3).
+        tau: torques applied (after the limit) in [N·m], (K, 3).
+        tau_requested: torques the controller asked for in [N·m], (K, 3).
+        saturated: samples where a torque was limited, (K,).
+        motor_speed: motor speeds in [rad/s], (K, 3).
+        plant, controller: names, for tables.
+    """
+
+    t: np.ndarray
+    desired: Trajectory
+    q: np.ndarray
+    qd: np.ndarray
+    tau: np.ndarray
+    tau_requested: np.ndarray
+    saturated: np.ndarray
+    motor_speed: np.ndarray
+    plant: str = ""
+    controller: str = ""
+
+    @property
+    def err(self) -> np.ndarray:
+        """Tracking error q_d − q in [rad], (K, 3)."""
+        return self.desired.q - self.q
+
+    def summary(self) -> dict:
+        """Peak and RMS of each angle's error in [deg], of each motor's torque in [N·m·1e-3 = N·mm], peak speeds in [rpm]."""
+        err = np.degrees(self.err)
+        tau = self.tau * 1e3
+        rpm = self.motor_speed * 60.0 / (2.0 * math.pi)
+        names = ("alpha", "beta", "gamma")
+        return {
+            "plant": self.plant,
+            "controller": self.controller,
+            "duration_s": float(self.t[-1] - self.t[0] + (self.t[1] - self.t[0]) if self.t.size > 1 else 0.0),
+            "errors_deg": {n: {"peak": float(np.abs(err[:, k]).max()), "rms": float(np.sqrt(np.mean(err[:, k] ** 2)))} for k, n in enumerate(names)},
+            "torques_Nmm": {str(i + 1): {"peak": float(np.abs(tau[:, i]).max()), "rms": float(np.sqrt(np.mean(tau[:, i] ** 2)))} for i in range(3)},
+            "speed_peak_rpm": {str(i + 1): float(np.abs(rpm[:, i]).max()) for i in range(3)},
+            "saturated_samples": int(np.count_nonzero(self.saturated)),
+        }
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """CSV columns: desired and actual angles, errors, torques and speeds, with units in the names."""
+        out = {"t_s": self.t}
+        for k, n in enumerate(("alpha", "beta", "gamma")):
+            out[f"{n}_des_deg"] = np.degrees(self.desired.q[:, k])
+            out[f"{n}_deg"] = np.degrees(self.q[:, k])
+            out[f"err_{n}_deg"] = np.degrees(self.err[:, k])
+        for i in range(3):
+            out[f"tau_{i + 1}_Nmm"] = self.tau[:, i] * 1e3
+        for i in range(3):
+            out[f"tau_req_{i + 1}_Nmm"] = self.tau_requested[:, i] * 1e3
+        for i in range(3):
+            out[f"speed_{i + 1}_rpm"] = self.motor_speed[:, i] * 60.0 / (2.0 * math.pi)
+        out["saturated"] = self.saturated.astype(float)
+        return out
+
+
+def _rk4(plant: Plant, t: float, x: np.ndarray, h: float, tau: np.ndarray, load: Callable[[float], float]) -> np.ndarray:
+    k1 = plant.derivative(t, x, tau, load(t))
+    k2 = plant.derivative(t + h / 2, x + h / 2 * k1, tau, load(t + h / 2))
+    k3 = plant.derivative(t + h / 2, x + h / 2 * k2, tau, load(t + h / 2))
+    k4 = plant.derivative(t + h, x + h * k3, tau, load(t + h))
+    return x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+
+
+def simulate(
+    plant: Plant,
+    controller: Callable[[float, Sample, Sample], np.ndarray],
+    desired_at: Callable[[np.ndarray], Trajectory],
+    duration: float,
+    servo_rate: float | None = None,
+    step: float | None = None,
+    torque_limit: float | None = None,
+    initial_state: np.ndarray | None = None,
+    progress: bool = False,
+    controller_name: str = "",
+) -> Simulation:
+    """Run the servo loop.
+
+    Args:
+        plant: the machine being driven.
+        controller: ``controller(t, state, desired) -> tau`` in [N·m].
+        desired_at: the desired trajectory as a function of time in [s] (its
+            load F_e is the load the plant feels).
+        duration: simulated time in [s].
+        servo_rate: servo rate in [Hz]; default ``plant.params.control.servo_rate``.
+        step: integration step in [s], at most one servo period (rounded down so
+            that whole steps fill a period); default from the plant's parameters.
+        torque_limit: motor torque limit in [N·m]; default from the plant's parameters (inf: none).
+        initial_state: the plant state at t = 0; default the desired state.
+        progress: show a progress bar if the run takes more than two seconds.
+        controller_name: a name for tables.
+
+    Returns:
+        The run at the servo instants.
+
+    Raises:
+        PoseError: when the plant leaves the workspace, naming the time.
+    """
+    control = plant.params.control
+    servo_rate = control.servo_rate if servo_rate is None else servo_rate
+    step = control.integration_step if step is None else step
+    limit = control.torque_limit if torque_limit is None else torque_limit
+    period = 1.0 / servo_rate
+    if not step > 0:
+        raise HipsimError(f"integration step must be positive, got {step!r} s")
+    if step > period * (1 + 1e-9):
+        raise HipsimError(f"integration step {step * 1e3:g} ms is longer than the servo period {period * 1e3:g} ms")
+    substeps = math.ceil(period / step - 1e-9)
+    h = period / substeps
+    n = int(round(duration * servo_rate))
+    if n < 2:
+        raise HipsimError(f"duration {duration!r} s is shorter than two servo periods")
+    t = np.arange(n) * period
+    desired = desired_at(t)
+    stage_times = np.arange(n * substeps * 2 + 1) * (h / 2)
+    stage_loads = desired_at(stage_times).Fe
+    load = lambda time: stage_loads[int(round(time / (h / 2)))]  # noqa: E731 - loads at every RK4 stage, precomputed
+
+    x = plant.initial_state(desired.slice(slice(0, 1))) if initial_state is None else np.asarray(initial_state, dtype=float)
+    q, qd = np.empty((n, 3)), np.empty((n, 3))
+    tau_applied, tau_requested = np.empty((n, 3)), np.empty((n, 3))
+    saturated = np.zeros(n, dtype=bool)
+    for k in tqdm(range(n), desc=f"{plant.name} plant, {controller_name or 'controller'}", unit="servo", disable=not progress, delay=2.0, leave=False):
+        q[k], qd[k] = plant.angles(x)
+        if not np.all(np.isfinite(x)):
+            raise PoseError("the plant's state is no longer finite (the machine left its workspace)", t[k], k)
+        wanted = np.asarray(
+            controller(t[k], Sample(q[k].copy(), qd[k].copy()), Sample(desired.q[k], desired.qd[k], desired.qdd[k], float(desired.Fe[k]))),
+            dtype=float,
+        )
+        tau_requested[k] = wanted
+        tau_applied[k] = np.clip(wanted, -limit, limit)
+        saturated[k] = np.any(np.abs(wanted) > limit)
+        for s in range(substeps):
+            x = _rk4(plant, t[k] + s * h, x, h, tau_applied[k], load)
+
+    actual = Trajectory(t, q, qd, np.zeros_like(q), desired.Fe, name="actual")
+    try:
+        motor_speed = 2.0 * math.pi * kinematics(plant.params, actual).Ld[:, 0] / plant.params.lead
+    except PoseError as error:
+        raise PoseError("the plant left the workspace", error.time, error.index) from None
+    return Simulation(t, desired, q, qd, tau_applied, tau_requested, saturated, motor_speed, plant.name, controller_name)
+
+
+def parse_mismatch(text: str) -> dict[str, float]:
+    """``"friction=+20%,masses=-10%"`` → ``{"friction": 0.2, "masses": -0.1}``.
+
+    Raises:
+        HipsimError: naming the part that is not ``friction`` or ``masses`` with a percentage.
+    """
+    out: dict[str, float] = {}
+    for part in filter(None, (p.strip() for p in text.split(","))):
+        match = re.fullmatch(r"(friction|masses)\s*=\s*([+-]?\d+(?:\.\d*)?)\s*%", part)
+        if not match:
+            raise HipsimError(f"--mismatch: cannot read '{part}' (expected friction=+20% or masses=-10%)")
+        out[match.group(1)] = float(match.group(2)) / 100.0
+    return out
+
+
+def apply_mismatch(params: Parameters, friction: float = 0.0, masses: float = 0.0) -> Parameters:
+    """A machine whose friction and masses are off by the given fractions (the plant, when the controller has ``params``).
+
+    Args:
+        params: the nominal machine.
+        friction: relative change of every friction coefficient, e.g. 0.2 for +20 %.
+        masses: relative change of every mass and inertia (platforms, levers,
+            sliders, screws), e.g. -0.1 for −10 %.
+    """
+    if friction <= -1 or masses <= -1:
+        raise HipsimError(f"a mismatch of -100 % or less leaves nothing (friction {friction:+.0%}, masses {masses:+.0%})")
+    f, m = 1.0 + friction, 1.0 + masses
+    fr = params.friction
+    return params.replace(
+        hip_mu=fr.hip_mu * f, thrust_mu=fr.thrust_mu * f,
+        screw_coulomb=fr.screw_coulomb * f, screw_viscous=fr.screw_viscous * f,
+        guide_coulomb=fr.guide_coulomb * f, guide_viscous=fr.guide_viscous * f,
+        ujoint_coulomb=fr.ujoint_coulomb * f, ujoint_viscous=fr.ujoint_viscous * f,
+        sjoint_coulomb=fr.sjoint_coulomb * f, sjoint_viscous=fr.sjoint_viscous * f,
+        platform_mass=params.platform_mass * m, platform_inertia=params.platform_inertia * m,
+        lever_mass=params.lever_mass * m, lever_inertia=params.lever_inertia * m,
+        slider_mass=params.slider_mass * m, screw_inertia=params.screw_inertia * m,
+    )
