@@ -13,6 +13,8 @@ import json
 import sys
 from pathlib import Path
 
+import numpy as np
+
 from .exceptions import HipsimError
 
 __all__ = ["main"]
@@ -22,6 +24,7 @@ examples:
   hipsim torques                          ISO 14242-1 on the published machine -> hipsim_torques.csv
   hipsim torques --set lever.length_mm=340 --out longer.csv
   hipsim torques --trajectory gait.csv --summary-format json
+  hipsim simulate --cycles 1 --mismatch friction=+20%   tracking errors of both controllers
   hipsim params                           the parameter set in use, with units
 """
 
@@ -136,6 +139,82 @@ def _cmd_params(args) -> int:
     return 0
 
 
+def _make_plant(kind: str, params):
+    if kind == "analytic":
+        from .simulation import ReducedPlant
+
+        return ReducedPlant(params)
+    from .pinocchio_plant import PinocchioPlant
+
+    return PinocchioPlant(params)
+
+
+def format_simulations(simulations) -> str:
+    """Tracking errors and torques of closed-loop runs as plain-text tables."""
+    rows = []
+    for sim in simulations:
+        s = sim.summary()
+        e = s["errors_deg"]
+        rows.append([s["controller"], s["plant"], *(e[n][k] for n in ("alpha", "beta", "gamma") for k in ("peak", "rms")), str(s["saturated_samples"])])
+    header = ["controller", "plant", "α peak", "α RMS", "β peak", "β RMS", "γ peak", "γ RMS", "saturated"]
+    cells = [[c if isinstance(c, str) else f"{c:.5f}" for c in row] for row in rows]
+    out = [_format_table(header, cells, "Tracking errors [deg] (flexion/extension α, abduction/adduction β, rotation γ)"), ""]
+    rows = []
+    for sim in simulations:
+        s = sim.summary()
+        for i in ("1", "2", "3"):
+            rows.append([s["controller"], f"M{i}", s["torques_Nmm"][i]["peak"], s["torques_Nmm"][i]["rms"], s["speed_peak_rpm"][i]])
+    out.append(_format_table(["controller", "motor", "peak [N·mm]", "RMS [N·mm]", "peak speed [rpm]"], rows, "Motor torques and speeds"))
+    return "\n".join(out)
+
+
+def _cmd_simulate(args) -> int:
+    from .control import AugmentedPD, WorkspacePD
+    from .results import write_atomic
+    from .simulation import apply_mismatch, parse_mismatch, simulate
+    from .trajectories import interpolator, iso14242_at
+
+    params = _parameters(args)
+    if args.trajectory:
+        trajectory = _trajectory(args)
+        desired_at = interpolator(trajectory)
+        duration = (args.cycles or 1) * (trajectory.t[-1] - trajectory.t[0] + (trajectory.t[1] - trajectory.t[0])) if trajectory.periodic else trajectory.t[-1] - trajectory.t[0]
+    else:
+        frequency = args.frequency or 1.0
+        desired_at = lambda t: iso14242_at(t, frequency)  # noqa: E731
+        duration = (args.cycles or 1) / frequency
+    control = {}
+    if args.servo_rate is not None:
+        control["servo_rate"] = args.servo_rate
+    if args.step is not None:
+        control["integration_step"] = args.step * 1e-3
+    if args.torque_limit is not None:
+        control["torque_limit"] = args.torque_limit * 1e-3
+    params = params.replace(**control) if control else params
+    mismatch = parse_mismatch(args.mismatch) if args.mismatch else {}
+    plant = _make_plant(args.plant, apply_mismatch(params, **mismatch))
+    chosen = ["pd", "augmented-pd"] if args.controller == "both" else [args.controller]
+    simulations = []
+    for name in chosen:
+        if name == "pd":
+            controller = WorkspacePD(params)
+        else:
+            controller = AugmentedPD(params, desired_at, params.control.servo_rate, duration)
+        simulations.append(simulate(plant, controller, desired_at, duration, progress=True, controller_name=name))
+    out = Path(args.out)
+    for sim in simulations:
+        path = out if len(simulations) == 1 else out.with_name(f"{out.stem}_{sim.controller}{out.suffix}")
+        columns = sim.columns()
+        table = np.column_stack(list(columns.values()))
+        text = ",".join(columns) + "\n" + "".join(",".join(f"{x:.12g}" for x in row) + "\n" for row in table)
+        write_atomic(path, text)
+        print(f"wrote {path}")
+    if mismatch:
+        print("plant off from the controller's model: " + ", ".join(f"{k} {v:+.0%}" for k, v in mismatch.items()))
+    print(format_simulations(simulations))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="hipsim",
@@ -161,6 +240,23 @@ def build_parser() -> argparse.ArgumentParser:
         help="carry on through poses out of reach or singular and mark them in a 'flagged' column instead of stopping",
     )
     torques.set_defaults(run=_cmd_torques)
+
+    sim = commands.add_parser(
+        "simulate", help="closed-loop trajectory tracking: workspace PD and augmented PD on a plant",
+        description="Simulates the servo loop: the controller runs at the servo rate on the measured platform state, "
+        "its torques are held over each period and drive the plant's forward dynamics (RK4). Prints the tracking errors "
+        "of the three angles and the motor torques; writes desired and actual angles, errors and torques to CSV.",
+    )
+    _add_machine_options(sim)
+    _add_trajectory_options(sim)
+    sim.add_argument("--controller", choices=["pd", "augmented-pd", "both"], default="both", help="controller (default both, one after the other)")
+    sim.add_argument("--plant", choices=["analytic", "pinocchio"], default="analytic", help="analytic = reduced 3-DOF model; pinocchio = closed-chain model")
+    sim.add_argument("--mismatch", metavar="SPEC", help="plant off from the controller's model, e.g. friction=+20%%,masses=-10%%")
+    sim.add_argument("--servo-rate", type=float, metavar="HZ", help="servo rate (default control.servo_rate_Hz)")
+    sim.add_argument("--step", type=float, metavar="MS", help="integration step in ms (default control.integration_step_ms)")
+    sim.add_argument("--torque-limit", type=float, metavar="NMM", help="motor torque limit in N·mm (default control.torque_limit_Nmm)")
+    sim.add_argument("--out", default="hipsim_simulation.csv", metavar="FILE", help="CSV to write; with both controllers, _pd and _augmented-pd are added to the name")
+    sim.set_defaults(run=_cmd_simulate)
 
     params = commands.add_parser("params", help="print the parameter set in use, with units")
     _add_machine_options(params)
