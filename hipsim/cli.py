@@ -133,9 +133,12 @@ def _cmd_params(args) -> int:
     for section, keys in SCHEMA.items():
         print(f"\n[{section}]")
         for key, spec in keys.items():
+            if f"{section}.{key}" not in values:
+                continue
             value = values[f"{section}.{key}"]
             note = spec.meaning + (f" [{spec.unit}]" if spec.unit else "")
-            print(f"{key} = {json.dumps(value)}".ljust(60) + f"# {note}")
+            shown = json.dumps(value).replace("Infinity", "inf")  # TOML spells it inf
+            print(f"{key} = {shown}".ljust(60) + f"# {note}")
     return 0
 
 
@@ -172,17 +175,9 @@ def _cmd_simulate(args) -> int:
     from .control import AugmentedPD, WorkspacePD
     from .results import write_atomic
     from .simulation import apply_mismatch, parse_mismatch, simulate
-    from .trajectories import interpolator, iso14242_at
 
     params = _parameters(args)
-    if args.trajectory:
-        trajectory = _trajectory(args)
-        desired_at = interpolator(trajectory)
-        duration = (args.cycles or 1) * (trajectory.t[-1] - trajectory.t[0] + (trajectory.t[1] - trajectory.t[0])) if trajectory.periodic else trajectory.t[-1] - trajectory.t[0]
-    else:
-        frequency = args.frequency or 1.0
-        desired_at = lambda t: iso14242_at(t, frequency)  # noqa: E731
-        duration = (args.cycles or 1) / frequency
+    desired_at, duration = _desired(args, _trajectory(args) if args.trajectory else None)
     control = {}
     if args.servo_rate is not None:
         control["servo_rate"] = args.servo_rate
@@ -212,6 +207,74 @@ def _cmd_simulate(args) -> int:
     if mismatch:
         print("plant off from the controller's model: " + ", ".join(f"{k} {v:+.0%}" for k, v in mismatch.items()))
     print(format_simulations(simulations))
+    return 0
+
+
+def _simulate_both(params, desired_at, duration):
+    """Both controllers on the reduced plant: what the report's tracking plots show."""
+    from .control import AugmentedPD, WorkspacePD
+    from .simulation import ReducedPlant, simulate
+
+    plant = ReducedPlant(params)
+    return {
+        "pd": simulate(plant, WorkspacePD(params), desired_at, duration, progress=True, controller_name="pd"),
+        "augmented-pd": simulate(
+            plant, AugmentedPD(params, desired_at, params.control.servo_rate, duration), desired_at, duration,
+            progress=True, controller_name="augmented-pd",
+        ),
+    }
+
+
+def _desired(args, trajectory):
+    """The desired motion as a function of time, and the duration of the run in [s]."""
+    from .trajectories import interpolator, iso14242_at
+
+    cycles = args.cycles or 1
+    if args.trajectory:
+        span = trajectory.t[-1] - trajectory.t[0]
+        if trajectory.periodic:
+            return interpolator(trajectory), cycles * (span + (trajectory.t[1] - trajectory.t[0]))
+        return interpolator(trajectory), span
+    frequency = args.frequency or 1.0
+    return (lambda t: iso14242_at(t, frequency)), cycles / frequency
+
+
+def _cmd_report(args) -> int:
+    from .report import MotorRatings, load_ratings, write_report
+
+    params = _parameters(args)
+    trajectory = _trajectory(args)
+    if args.motor:
+        ratings = load_ratings(args.motor)
+    elif params.motor:
+        ratings = MotorRatings(**params.motor, source=params.source)
+    else:
+        ratings = None
+    simulations = None
+    if args.simulate:
+        desired_at, duration = _desired(args, trajectory)
+        simulations = _simulate_both(params, desired_at, duration)
+    files = write_report(Path(args.out), params, trajectory, simulate=simulations, ratings=ratings, model=args.model)
+    print(f"wrote {files.index}")
+    return 0
+
+
+def _cmd_workspace(args) -> int:
+    from .workspace import run_workspace
+
+    params = _parameters(args)
+    trajectory = _trajectory(args)
+    gamma = [float(g) for g in args.gamma.split(",")] if args.gamma else None
+    deltas = None
+    if args.deltas:
+        try:
+            start, stop, step = (float(x) for x in args.deltas.split(":"))
+        except ValueError:
+            raise HipsimError(f"--deltas: expected START:STOP:STEP in degrees, got '{args.deltas}'") from None
+        if step <= 0 or stop < start:
+            raise HipsimError(f"--deltas: expected START <= STOP and STEP > 0, got '{args.deltas}'")
+        deltas = np.arange(start, stop + step / 2, step)
+    run_workspace(params, trajectory, Path(args.out), gamma_deg=gamma, deltas_deg=deltas)
     return 0
 
 
@@ -257,6 +320,33 @@ def build_parser() -> argparse.ArgumentParser:
     sim.add_argument("--torque-limit", type=float, metavar="NMM", help="motor torque limit in N·mm (default control.torque_limit_Nmm)")
     sim.add_argument("--out", default="hipsim_simulation.csv", metavar="FILE", help="CSV to write; with both controllers, _pd and _augmented-pd are added to the name")
     sim.set_defaults(run=_cmd_simulate)
+
+    report = commands.add_parser(
+        "report", help="design report: plots, sizing table and an HTML page in a folder",
+        description="Plots of slider motion, motor torque parts, load and friction, joint forces (PNG and SVG) and a "
+        "self-contained index.html with the summary and the sizing table (per module peak and RMS torque, speed, power, "
+        "axial screw force; per joint the peak force), checked against the [motor] ratings when given.",
+    )
+    _add_machine_options(report)
+    _add_trajectory_options(report)
+    report.add_argument("--out", required=True, metavar="DIR", help="folder to write (created if missing)")
+    report.add_argument("--model", choices=["auto", "analytic", "pinocchio"], default="auto", help="where joint forces come from (auto: Pinocchio)")
+    report.add_argument("--motor", metavar="FILE", help="TOML with a [motor] table of ratings (default: the parameter file's [motor] table)")
+    report.add_argument("--simulate", action="store_true", help="also simulate both controllers and plot their tracking errors")
+    report.set_defaults(run=_cmd_report)
+
+    workspace = commands.add_parser(
+        "workspace", help="singularity map over orientations, and the platform-offset sweep",
+        description="Maps the singularity measure (inverse condition number of J) over flexion/extension x "
+        "abduction/adduction at a few rotations with the trajectory drawn on it, and sweeps the platform offset δ "
+        "showing the trajectory's singularity margin, peak torque and slider stroke.",
+    )
+    _add_machine_options(workspace)
+    _add_trajectory_options(workspace)
+    workspace.add_argument("--out", default="hipsim_workspace", metavar="DIR", help="folder to write (default hipsim_workspace)")
+    workspace.add_argument("--gamma", metavar="LIST", help="rotations γ in degrees, comma-separated (default -12,-8,-4,0,4)")
+    workspace.add_argument("--deltas", metavar="A:B:STEP", help="offsets δ to sweep in degrees (default -90:90:1)")
+    workspace.set_defaults(run=_cmd_workspace)
 
     params = commands.add_parser("params", help="print the parameter set in use, with units")
     _add_machine_options(params)

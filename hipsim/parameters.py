@@ -21,6 +21,7 @@ import tomllib
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
+from types import MappingProxyType
 from typing import Any, Mapping
 
 import numpy as np
@@ -31,6 +32,7 @@ __all__ = [
     "ControlSettings",
     "Friction",
     "Parameters",
+    "OPTIONAL_SECTIONS",
     "SCHEMA",
     "default_parameters_path",
     "file_values",
@@ -111,7 +113,18 @@ SCHEMA: dict[str, dict[str, _Key]] = {
         "kd_Nm_s_rad": _Key("vector", 1.0, "nonnegative", 3, "N·m·s/rad", "K_d, platform moment per rate error"),
         "torque_limit_Nmm": _Key("float", _NMM, "positive", unit="N·mm", meaning="motor torque limit (inf: none)", finite=False),
     },
+    # Optional: the motor and linear module to check a design against (hipsim report).
+    "motor": {
+        "rated_torque_Nmm": _Key("float", 1.0, "positive", unit="N·mm", meaning="rated (continuous) motor torque, vs RMS"),
+        "peak_torque_Nmm": _Key("float", 1.0, "positive", unit="N·mm", meaning="peak motor torque"),
+        "max_speed_rpm": _Key("float", 1.0, "positive", unit="rpm", meaning="maximum motor speed"),
+        "stroke_mm": _Key("float", 1.0, "positive", unit="mm", meaning="usable stroke of the linear module"),
+        "axial_force_N": _Key("float", 1.0, "positive", unit="N", meaning="permissible axial screw load"),
+    },
 }
+
+#: Sections whose keys may each be left out (their values are kept in the file's units).
+OPTIONAL_SECTIONS = {"motor"}
 
 
 def _readonly(array) -> np.ndarray:
@@ -197,6 +210,8 @@ class Parameters:
         friction: the :class:`Friction` coefficients.
         angle_signs: ±1 per angle α, β, γ, shape (3,).
         control: the :class:`ControlSettings` (servo rate, gains, limits).
+        motor: the optional motor and module ratings, by key of the file's
+            ``[motor]`` table, in its units (N·mm, rpm, mm, N); empty if none.
         source: where the values came from (file and overrides).
     """
 
@@ -217,6 +232,7 @@ class Parameters:
     friction: Friction
     angle_signs: np.ndarray
     control: "ControlSettings"
+    motor: Mapping[str, float] = dataclasses.field(default_factory=lambda: MappingProxyType({}))
     source: str = "<built in>"
 
     def __post_init__(self):
@@ -375,6 +391,8 @@ def _check(raw: Mapping[str, Any], source: str) -> dict[str, Any]:
         for key, spec in keys.items():
             dotted = f"{section}.{key}"
             if key not in raw.get(section, {}):
+                if section in OPTIONAL_SECTIONS:
+                    continue
                 raise ParameterError(f"missing ({spec.meaning}, in {spec.unit or 'no unit'})", key=dotted, source=source)
             values[dotted] = _convert(raw[section][key], spec, dotted, source)
     return values
@@ -468,8 +486,9 @@ def _build(values: Mapping[str, Any], source: str) -> Parameters:
             f"{1e3 / control.servo_rate:g} ms; the plant must be integrated at least as finely as the servo runs",
             key="control.integration_step_ms", value=control.integration_step, source=source,
         )
-    fields = {_ATTRIBUTES[k]: v for k, v in values.items() if "." not in _ATTRIBUTES[k]}
-    params = Parameters(**fields, friction=friction, control=control, source=source)
+    fields = {_ATTRIBUTES[k]: v for k, v in values.items() if k in _ATTRIBUTES and "." not in _ATTRIBUTES[k]}
+    motor = MappingProxyType({k.split(".", 1)[1]: v for k, v in values.items() if k.startswith("motor.")})
+    params = Parameters(**fields, friction=friction, control=control, motor=motor, source=source)
     _check_reach(params, source)
     return params
 
@@ -493,6 +512,10 @@ def file_values(params: Parameters) -> dict[str, Any]:
     for section, keys in SCHEMA.items():
         for key, spec in keys.items():
             dotted = f"{section}.{key}"
+            if section in OPTIONAL_SECTIONS:
+                if key in params.motor:
+                    out[dotted] = params.motor[key]
+                continue
             value = params
             for part in _ATTRIBUTES[dotted].split("."):
                 value = getattr(value, part)

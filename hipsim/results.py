@@ -179,6 +179,10 @@ def write_atomic(path: str | Path, text: str | bytes) -> Path:
     except OSError as error:
         raise HipsimError(f"{path}: cannot write ({error.strerror})") from None
     try:
+        # mkstemp makes the file private (0600); give it the permissions any new file would get.
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(temporary, 0o666 & ~umask)
         with os.fdopen(handle, mode, **({} if mode == "wb" else {"encoding": "utf-8", "newline": ""})) as stream:
             stream.write(text)
         os.replace(temporary, path)

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from hipsim import ParameterError, Parameters, load_parameters, slender_levers
-from hipsim.parameters import SCHEMA, default_parameters_path, file_values, parse_override
+from hipsim.parameters import OPTIONAL_SECTIONS, SCHEMA, default_parameters_path, file_values, parse_override
 
 DEG = math.pi / 180.0
 
@@ -88,7 +88,7 @@ def scalar_fields(params: Parameters) -> dict[str, np.ndarray]:
     out = {}
     for field in dataclasses.fields(Parameters):
         value = getattr(params, field.name)
-        if field.name == "source":
+        if field.name in ("source", "motor"):  # motor: optional ratings, compared as a dict where needed
             continue
         if dataclasses.is_dataclass(value):  # friction, control
             for f in dataclasses.fields(value):
@@ -296,7 +296,7 @@ def assert_same_numbers(a: Parameters, b: Parameters, rtol=1e-12):
 
 def test_file_values_are_in_the_files_units(params):
     values = file_values(params)
-    assert set(values) == {f"{s}.{k}" for s, keys in SCHEMA.items() for k in keys}
+    assert set(values) == {f"{s}.{k}" for s, keys in SCHEMA.items() for k in keys if s not in OPTIONAL_SECTIONS}
     assert values["base.screw_radius_mm"] == pytest.approx(265.0)
     assert values["lever.length_mm"] == pytest.approx(328.0)
     assert values["screw.inertia_kgmm2"] == pytest.approx(54.91)
@@ -610,3 +610,13 @@ def test_override_into_a_section_that_is_not_a_table(tmp_path):
     with pytest.raises(ParameterError) as info:
         load_parameters(path, overrides={"slider.mass_kg": 3.0})
     assert_error(info, "slider", path)
+
+
+def test_optional_motor_ratings(tmp_path):
+    """The [motor] table may be absent or partial; what is given is checked like any key."""
+    assert dict(load_parameters().motor) == {}
+    params = load_parameters(overrides={"motor.peak_torque_Nmm": 1910, "motor.stroke_mm": 200})
+    assert dict(params.motor) == {"peak_torque_Nmm": 1910.0, "stroke_mm": 200.0}
+    assert file_values(params)["motor.stroke_mm"] == 200.0
+    with pytest.raises(ParameterError, match="motor.max_speed_rpm.*must be positive"):
+        load_parameters(overrides={"motor.max_speed_rpm": -5})

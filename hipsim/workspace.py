@@ -1,0 +1,755 @@
+"""Singularity and workspace maps, and the platform-offset sweep (issue 7).
+
+Two questions a designer asks before building or running the machine:
+
+* **Does a motion stay clear of singularities?** :func:`singularity_map`
+  evaluates the singularity measure of spec §7.1 — the inverse condition
+  number of the Jacobian J (0 singular, 1 isotropic) — over a grid of
+  orientations (flexion/extension α × abduction/adduction β, at a few
+  internal/external rotations γ), and :func:`trajectory_margin` finds the
+  smallest value along a trajectory and where it occurs.
+* **Why is the machine built with δ = 30°?** :func:`offset_sweep` reruns a
+  trajectory (the ISO 14242-1 cycle by default) on machines that differ only
+  in the platform offset δ (spec §7.1) and reports, per δ, the smallest
+  singularity measure, the peak motor torque and the largest slider stroke.
+
+Only positions enter J (row i = (r_i × e_i)ᵀ/e_i,z, spec §3), so the map needs
+no velocities: :func:`pose_jacobian` computes J for any batch of orientations
+from :func:`hipsim.kinematics.rotation_matrix` and the parameter set's joint
+points, and the grid is evaluated in large vectorised chunks (no Python loop
+over orientations). :func:`run_workspace` is what ``hipsim workspace`` calls:
+both computations, their figures (PNG and SVG) and a short text summary.
+
+Angles: the grid axes and all ``*_deg`` values are **gait angles** in degrees,
+the same convention as trajectory files; the parameter file's
+``convention.angle_signs`` is applied before the geometry, exactly as
+:func:`hipsim.kinematics.kinematics` does, so a trajectory drawn on the map
+lands where the machine really is.
+
+Example:
+    >>> import hipsim
+    >>> from hipsim import workspace
+    >>> params = hipsim.load_parameters()
+    >>> smap = workspace.singularity_map(params, trajectory=hipsim.iso14242())
+    >>> round(smap.margin.cond_inv_min, 3)                 # doctest: +SKIP
+    0.359
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TextIO
+
+import numpy as np
+
+from .dynamics import inverse_dynamics
+from .kinematics import SINGULAR_COND_INV, inverse_condition_number, kinematics, rotation_matrix
+from .parameters import Parameters
+from .trajectories import Trajectory
+
+__all__ = [
+    "DEFAULT_ALPHA_DEG",
+    "DEFAULT_BETA_DEG",
+    "DEFAULT_DELTAS_DEG",
+    "DEFAULT_GAMMA_DEG",
+    "OffsetSweep",
+    "SingularityMap",
+    "TrajectoryMargin",
+    "WorkspaceRun",
+    "format_workspace_summary",
+    "offset_sweep",
+    "plot_offset_sweep",
+    "plot_singularity_map",
+    "pose_jacobian",
+    "run_workspace",
+    "singularity_crossings",
+    "singularity_map",
+    "trajectory_margin",
+]
+
+#: Default flexion/extension grid in [deg]: −30° … +35° in 0.25° steps (261 values),
+#: wider than the ISO range +25°/−18° so the map shows the margin around it.
+DEFAULT_ALPHA_DEG = np.linspace(-30.0, 35.0, 261)
+#: Default abduction/adduction grid in [deg]: −15° … +15° in 0.25° steps (121 values).
+DEFAULT_BETA_DEG = np.linspace(-15.0, 15.0, 121)
+#: Default internal/external rotations in [deg], one map panel each, spanning the ISO range +2°/−10°.
+DEFAULT_GAMMA_DEG = np.array([-12.0, -8.0, -4.0, 0.0, 4.0])
+#: Default platform offsets δ of the sweep in [deg]: −90° … +90° in 1° steps
+#: (beyond about ±103° the published levers no longer reach at home).
+DEFAULT_DELTAS_DEG = np.arange(-90.0, 90.5, 1.0)
+
+# Orientations per vectorised chunk: large enough that NumPy's per-call
+# overhead vanishes, small enough (≈ 10 MB per (n, 3, 3) array) to stay in cache-friendly memory.
+_CHUNK = 1 << 16
+# Above this many orientations the map shows a progress bar (about three seconds at
+# the 3 million orientations per second scripts/bench_workspace.py measures).
+_PROGRESS_ORIENTATIONS = 10_000_000
+# Above this many δ values the sweep shows a progress bar.
+_PROGRESS_DELTAS = 200
+
+
+# ---------------------------------------------------------------------------
+# Positions-only Jacobian
+
+
+def pose_jacobian(params: Parameters, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The Jacobian J of spec §3 (L̇_j = J·ω) from positions alone, for a batch of orientations.
+
+    Row i is (r_i × e_i)ᵀ / e_i,z; with the lever vector d_i = a_i − b_i = l·e_i
+    the lever length cancels: row i = (r_i × d_i)ᵀ / d_i,z. Both platforms share J.
+
+    Args:
+        params: the machine.
+        q: **platform** orientations [α, β, γ] in [rad] (after any angle signs), shape (N, 3).
+
+    Returns:
+        J of shape (N, 3, 3), NaN where a pose is out of reach, and the
+        boolean mask of reachable poses, shape (N,) (every lever spans its
+        horizontal gap: l² − gap² > 0, as in :func:`hipsim.kinematics.kinematics`).
+    """
+    q = np.asarray(q, dtype=float).reshape(-1, 3)
+    R = rotation_matrix(q)
+    # r_i = R·r⁰_i; r⁰_i lies in the platform plane, so only R's first two columns matter.
+    r0 = params.platform_points
+    r = R[:, None, :, 0] * r0[None, :, 0, None] + R[:, None, :, 1] * r0[None, :, 1, None]  # (N, leg, xyz)
+    gap_x = r[..., 0] - params.screw_points[:, 0]
+    gap_y = r[..., 1] - params.screw_points[:, 1]
+    radicand = params.lever_length**2 - gap_x**2 - gap_y**2
+    reachable = np.all(radicand > 0.0, axis=1)
+    dz = np.sqrt(np.maximum(radicand, 0.0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv_dz = np.where(radicand > 0.0, 1.0 / dz, np.nan)
+    J = np.empty_like(r)
+    # (r × d) with d = (gap_x, gap_y, dz), divided by dz.
+    J[..., 0] = (r[..., 1] * dz - r[..., 2] * gap_y) * inv_dz
+    J[..., 1] = (r[..., 2] * gap_x - r[..., 0] * dz) * inv_dz
+    J[..., 2] = (r[..., 0] * gap_y - r[..., 1] * gap_x) * inv_dz
+    J[~reachable] = np.nan
+    return J, reachable
+
+
+def _cond_inv(params: Parameters, gait_q: np.ndarray) -> np.ndarray:
+    """Inverse condition number of J at gait orientations in [rad], shape (N, 3) → (N,), NaN out of reach."""
+    J, _ = pose_jacobian(params, gait_q * params.angle_signs)
+    return inverse_condition_number(J)
+
+
+def singularity_crossings(J: np.ndarray, periodic: bool = False) -> int:
+    """How often a sampled motion passes *through* a singularity: sign changes of det J.
+
+    A motion can cross a singularity between two samples and never come close
+    to it at a sample, so a small inverse condition number alone can miss it.
+    Within reach every lever points up (e_i,z > 0), so det J = det J_b / Π e_i,z
+    changes sign only where det J_b does: at the singularity of spec §3 where the
+    lever projections meet at the platform centre.
+
+    Args:
+        J: Jacobians along the motion, shape (N, 3, 3); NaN rows (out of reach) are skipped.
+        periodic: also compare the last sample with the first.
+
+    Returns:
+        The number of sign changes between consecutive reachable samples.
+    """
+    det = np.linalg.det(J) if len(J) else np.zeros(0)
+    sign = np.sign(det[np.isfinite(det)])
+    sign = sign[sign != 0]  # an exact zero is counted by the cond_inv threshold instead
+    if periodic and sign.size > 1:
+        sign = np.append(sign, sign[0])
+    return int(np.count_nonzero(sign[1:] != sign[:-1]))
+
+
+# ---------------------------------------------------------------------------
+# Trajectory margin and the map
+
+
+@dataclass(frozen=True, eq=False)
+class TrajectoryMargin:
+    """How close a trajectory comes to a singularity.
+
+    Attributes:
+        trajectory: the trajectory's name.
+        cond_inv: inverse condition number of J per sample, NaN out of reach, shape (N,).
+        cond_inv_min: its smallest value (the margin: 0 singular, 1 isotropic); NaN if no sample is reachable.
+        index: the sample where it occurs (−1 if none).
+        t_s: the time there in [s].
+        q_deg: the gait orientation [α, β, γ] there in [deg], shape (3,).
+        out_of_reach: number of samples out of reach.
+        singular: number of samples below the singularity threshold
+            (:data:`hipsim.kinematics.SINGULAR_COND_INV`).
+        crossings: how often the motion passes through a singularity between
+            samples (sign changes of det J, :func:`singularity_crossings`).
+    """
+
+    trajectory: str
+    cond_inv: np.ndarray
+    cond_inv_min: float
+    index: int
+    t_s: float
+    q_deg: np.ndarray
+    out_of_reach: int
+    singular: int
+    crossings: int = 0
+
+    @property
+    def clear(self) -> bool:
+        """True when every sample is reachable and non-singular and no singularity is crossed."""
+        return self.out_of_reach == 0 and self.singular == 0 and self.crossings == 0
+
+
+def trajectory_margin(params: Parameters, trajectory: Trajectory) -> TrajectoryMargin:
+    """The singularity measure along a trajectory and its smallest value.
+
+    Args:
+        params: the machine.
+        trajectory: orientations q in [rad] (gait angles) at times t in [s].
+
+    Returns:
+        The :class:`TrajectoryMargin`; equal, sample by sample, to
+        ``kinematics(params, trajectory).cond_inv``.
+    """
+    J, _ = pose_jacobian(params, trajectory.q * params.angle_signs)
+    cond_inv = inverse_condition_number(J)
+    cond_inv.setflags(write=False)
+    crossings = singularity_crossings(J, trajectory.periodic)
+    out_of_reach = int(np.count_nonzero(np.isnan(cond_inv)))
+    singular = int(np.count_nonzero(cond_inv < SINGULAR_COND_INV))
+    if out_of_reach == cond_inv.size:
+        k, value, t, q = -1, math.nan, math.nan, np.full(3, np.nan)
+    else:
+        k = int(np.nanargmin(cond_inv))
+        value, t, q = float(cond_inv[k]), float(trajectory.t[k]), np.degrees(trajectory.q[k])
+    return TrajectoryMargin(trajectory.name, cond_inv, value, k, t, q, out_of_reach, singular, crossings)
+
+
+@dataclass(frozen=True, eq=False)
+class SingularityMap:
+    """The singularity measure over a grid of orientations.
+
+    Attributes:
+        alpha_deg: flexion/extension grid values in [deg] (gait angles), shape (nα,).
+        beta_deg: abduction/adduction grid values in [deg], shape (nβ,).
+        gamma_deg: internal/external rotations in [deg], one map each, shape (nγ,).
+        cond_inv: inverse condition number of J, shape (nγ, nβ, nα) (rows β,
+            columns α, as an image is drawn); NaN where the pose is out of reach.
+        delta_deg: the machine's platform offset δ in [deg].
+        source: where the parameters came from.
+        margin: the trajectory's :class:`TrajectoryMargin`, if a trajectory was given.
+        trajectory_t_s: that trajectory's sample times in [s], shape (N,).
+        trajectory_q_deg: its gait orientations in [deg], shape (N, 3), to draw on the map.
+    """
+
+    alpha_deg: np.ndarray
+    beta_deg: np.ndarray
+    gamma_deg: np.ndarray
+    cond_inv: np.ndarray
+    delta_deg: float
+    source: str
+    margin: TrajectoryMargin | None = None
+    trajectory_t_s: np.ndarray | None = None
+    trajectory_q_deg: np.ndarray | None = None
+
+    @property
+    def orientations(self) -> int:
+        """Number of orientations on the grid."""
+        return int(self.cond_inv.size)
+
+    def reachable_fraction(self) -> np.ndarray:
+        """Fraction of each γ map that is within reach, shape (nγ,)."""
+        return np.mean(~np.isnan(self.cond_inv), axis=(1, 2))
+
+
+def _progress(total: int, enabled: bool, unit: str, description: str):
+    from tqdm.auto import tqdm
+
+    return tqdm(total=total, disable=not enabled, unit=unit, unit_scale=True, desc=description, leave=False, file=sys.stderr)
+
+
+def singularity_map(
+    params: Parameters,
+    alpha_deg_grid: np.ndarray | None = None,
+    beta_deg_grid: np.ndarray | None = None,
+    gamma_deg_values: np.ndarray | None = None,
+    trajectory: Trajectory | None = None,
+    progress: bool | None = None,
+) -> SingularityMap:
+    """The inverse condition number of J over a grid of orientations, vectorised.
+
+    Args:
+        params: the machine.
+        alpha_deg_grid: flexion/extension values in [deg], 1-D; default
+            :data:`DEFAULT_ALPHA_DEG` (−30° … +35°, 261 values).
+        beta_deg_grid: abduction/adduction values in [deg], 1-D; default
+            :data:`DEFAULT_BETA_DEG` (−15° … +15°, 121 values).
+        gamma_deg_values: internal/external rotations in [deg], 1-D, one map
+            each; default :data:`DEFAULT_GAMMA_DEG` (−12, −8, −4, 0, +4).
+        trajectory: a motion (angles in [rad]) whose margin to compute and whose
+            path to keep for drawing; None for the map alone.
+        progress: show a tqdm progress bar on stderr; None to show one only on
+            grids large enough to take more than a few seconds (10 million orientations).
+
+    Returns:
+        The :class:`SingularityMap`.
+    """
+    alpha = _grid(alpha_deg_grid, DEFAULT_ALPHA_DEG, "alpha_deg_grid")
+    beta = _grid(beta_deg_grid, DEFAULT_BETA_DEG, "beta_deg_grid")
+    gamma = _grid(gamma_deg_values, DEFAULT_GAMMA_DEG, "gamma_deg_values")
+    shape = (gamma.size, beta.size, alpha.size)
+    total = math.prod(shape)
+    if progress is None:
+        progress = total > _PROGRESS_ORIENTATIONS
+    cond_inv = np.empty(total)
+    # Orientation k of the flat grid is (γ, β, α)[unravel(k)]; chunks are built
+    # from index ranges so the full (total, 3) orientation array never exists.
+    radians = [np.radians(gamma), np.radians(beta), np.radians(alpha)]
+    with _progress(total, progress, "pose", "singularity map") as bar:
+        for start in range(0, total, _CHUNK):
+            stop = min(start + _CHUNK, total)
+            g, b, a = np.unravel_index(np.arange(start, stop), shape)
+            q = np.stack([radians[2][a], radians[1][b], radians[0][g]], axis=1)
+            cond_inv[start:stop] = _cond_inv(params, q)
+            bar.update(stop - start)
+    cond_inv = cond_inv.reshape(shape)
+    cond_inv.setflags(write=False)
+    margin = trajectory_margin(params, trajectory) if trajectory is not None else None
+    times = np.asarray(trajectory.t) if trajectory is not None else None
+    path = np.degrees(trajectory.q) if trajectory is not None else None
+    return SingularityMap(alpha, beta, gamma, cond_inv, math.degrees(params.home_offset), params.source, margin, times, path)
+
+
+def _grid(values, default: np.ndarray, name: str) -> np.ndarray:
+    grid = np.array(default if values is None else values, dtype=float).ravel()
+    if grid.size == 0 or not np.all(np.isfinite(grid)):
+        raise ValueError(f"{name} must be a non-empty array of finite angles in degrees")
+    grid.setflags(write=False)
+    return grid
+
+
+# ---------------------------------------------------------------------------
+# Platform offset sweep
+
+
+@dataclass(frozen=True, eq=False)
+class OffsetSweep:
+    """A trajectory run on machines that differ only in the platform offset δ (spec §7.1).
+
+    Every array has one entry per δ. A δ at which the trajectory leaves the
+    reach of the levers, comes within :data:`hipsim.kinematics.SINGULAR_COND_INV`
+    of a singularity at a sample, or passes through one between samples (det J
+    changes sign) is *infeasible*: its peak torque and stroke are NaN (the
+    machine cannot run the motion: the torque needed there is unbounded), and
+    ``out_of_reach``, ``singular`` and ``crossings`` say why.
+
+    Attributes:
+        deltas_deg: platform offsets δ in [deg], shape (n,).
+        cond_inv_min: smallest inverse condition number of J along the trajectory
+            (over its reachable samples; NaN if none).
+        tau_peak_Nmm: largest |motor torque| of the three motors in [N·mm].
+        tau_peak_motor: which motor (1, 2, 3) has it (0 when infeasible).
+        stroke_max_mm: largest slider stroke (max − min height) of the three modules in [mm].
+        out_of_reach: samples out of reach.
+        singular: reachable samples below the singularity threshold.
+        crossings: sign changes of det J along the motion (singularities passed between samples).
+        trajectory: the trajectory's name.
+        delta_built_deg: δ of the parameter set the sweep started from in [deg].
+    """
+
+    deltas_deg: np.ndarray
+    cond_inv_min: np.ndarray
+    tau_peak_Nmm: np.ndarray
+    tau_peak_motor: np.ndarray
+    stroke_max_mm: np.ndarray
+    out_of_reach: np.ndarray
+    singular: np.ndarray
+    crossings: np.ndarray
+    trajectory: str
+    delta_built_deg: float
+
+    @property
+    def feasible(self) -> np.ndarray:
+        """True where the whole trajectory is reachable, non-singular and crosses no singularity, shape (n,)."""
+        return (self.out_of_reach == 0) & (self.singular == 0) & (self.crossings == 0)
+
+    def rows(self) -> list[dict[str, float]]:
+        """One dict per δ, with units in the keys (for tables and JSON)."""
+        return [
+            {
+                "delta_deg": float(d),
+                "cond_inv_min": float(c),
+                "tau_peak_Nmm": float(t),
+                "tau_peak_motor": int(m),
+                "stroke_max_mm": float(s),
+                "out_of_reach_samples": int(o),
+                "singular_samples": int(g),
+                "singularity_crossings": int(x),
+            }
+            for d, c, t, m, s, o, g, x in zip(
+                self.deltas_deg, self.cond_inv_min, self.tau_peak_Nmm, self.tau_peak_motor,
+                self.stroke_max_mm, self.out_of_reach, self.singular, self.crossings,
+            )
+        ]
+
+
+def offset_sweep(
+    params: Parameters,
+    deltas_deg: np.ndarray | None = None,
+    trajectory: Trajectory | None = None,
+    progress: bool | None = None,
+) -> OffsetSweep:
+    """Singularity margin, peak motor torque and slider stroke of a trajectory against δ.
+
+    Each δ is one vectorised run of :func:`hipsim.kinematics.kinematics`
+    (``on_error="flag"``) and :func:`hipsim.dynamics.inverse_dynamics` on
+    ``params.replace(home_offset=δ)``; poses out of reach or singular are
+    counted, not raised, and so are singularities crossed between samples.
+
+    Args:
+        params: the machine (every parameter but δ is kept).
+        deltas_deg: platform offsets δ in [deg], 1-D; default
+            :data:`DEFAULT_DELTAS_DEG` (−90° … +90° in 1° steps).
+        trajectory: the motion (angles in [rad], load in [N]); default one ISO
+            14242-1 cycle at 1 kHz.
+        progress: show a tqdm progress bar on stderr; None for one only on long sweeps.
+
+    Returns:
+        The :class:`OffsetSweep`.
+    """
+    from .trajectories import iso14242
+
+    deltas = _grid(deltas_deg, DEFAULT_DELTAS_DEG, "deltas_deg")
+    trajectory = trajectory if trajectory is not None else iso14242()
+    n = deltas.size
+    cond_min, tau_peak, stroke = np.full(n, np.nan), np.full(n, np.nan), np.full(n, np.nan)
+    motor, out_of_reach, singular, crossings = (np.zeros(n, int) for _ in range(4))
+    if progress is None:
+        progress = n > _PROGRESS_DELTAS
+    with _progress(n, progress, "δ", "offset sweep") as bar, np.errstate(all="ignore"):
+        for k, delta in enumerate(deltas):
+            machine = params.replace(home_offset=math.radians(delta))
+            kin = kinematics(machine, trajectory, on_error="flag")
+            reach = ~np.isnan(kin.cond_inv)
+            out_of_reach[k] = np.count_nonzero(~reach)
+            singular[k] = np.count_nonzero(kin.flagged & reach)
+            if np.any(reach):
+                cond_min[k] = np.min(kin.cond_inv[reach])
+            crossings[k] = singularity_crossings(np.where(reach[:, None, None], kin.J, np.nan), trajectory.periodic)
+            if not np.any(kin.flagged) and crossings[k] == 0:
+                # Only a motion the machine can run has a meaningful torque and stroke.
+                tau = np.abs(inverse_dynamics(machine, kin, trajectory.Fe).tau).max(axis=0)
+                motor[k] = int(np.argmax(tau)) + 1
+                tau_peak[k] = tau.max() * 1e3
+                stroke[k] = np.ptp(kin.L[:, 0], axis=0).max() * 1e3
+            bar.update(1)
+    for array in (deltas, cond_min, tau_peak, motor, stroke, out_of_reach, singular, crossings):
+        array.setflags(write=False)
+    return OffsetSweep(
+        deltas, cond_min, tau_peak, motor, stroke, out_of_reach, singular, crossings, trajectory.name, math.degrees(params.home_offset)
+    )
+
+
+# ---------------------------------------------------------------------------
+# Figures
+
+
+def plot_singularity_map(smap: SingularityMap, levels: tuple[float, ...] = (0.1, 0.2, 0.3, 0.4, 0.5, 0.6)):
+    """One panel per γ: the singularity measure over α × β, the trajectory drawn on it.
+
+    The full path is drawn thin on every panel; the samples whose γ is nearest
+    that panel's γ are drawn bold, and the trajectory's worst sample is starred.
+    A last panel shows the measure along the trajectory over time.
+
+    Args:
+        smap: the map (from :func:`singularity_map`).
+        levels: contour lines to draw, inverse condition numbers.
+
+    Returns:
+        A matplotlib Figure (Agg; save it with :func:`hipsim.report.save_figure`).
+    """
+    from matplotlib.figure import Figure
+
+    n = smap.gamma_deg.size
+    has_path = smap.trajectory_q_deg is not None
+    panels = n + (1 if has_path else 0)
+    columns = min(3, panels)
+    rows = math.ceil(panels / columns)
+    fig = Figure(figsize=(5.2 * columns, 3.6 * rows + 0.8), layout="constrained")
+    axes = fig.subplots(rows, columns, squeeze=False).ravel()
+    finite = smap.cond_inv[np.isfinite(smap.cond_inv)]
+    vmax = float(finite.max()) if finite.size else 1.0
+    extent = _extent(smap.alpha_deg, smap.beta_deg)
+    if has_path:
+        path = smap.trajectory_q_deg
+        nearest = np.argmin(np.abs(path[:, 2, None] - smap.gamma_deg[None, :]), axis=1)
+    image = None
+    for g in range(n):
+        ax = axes[g]
+        ax.set_facecolor("0.82")  # NaN (out of reach) stays transparent: grey shows through
+        image = ax.imshow(
+            np.ma.masked_invalid(smap.cond_inv[g]), origin="lower", extent=extent, aspect="auto",
+            cmap="viridis", vmin=0.0, vmax=vmax, interpolation="nearest",
+        )
+        if finite.size and np.ptp(finite) > 0:
+            contours = ax.contour(smap.alpha_deg, smap.beta_deg, smap.cond_inv[g], levels=list(levels), colors="white", linewidths=0.6)
+            ax.clabel(contours, fontsize=7, fmt="%.1f")
+        if has_path:
+            ax.plot(path[:, 0], path[:, 1], color="white", lw=0.8, ls="--", alpha=0.8, label="trajectory (all γ)")
+            if np.any(nearest == g):
+                mine = np.where(nearest == g, path[:, 1], np.nan)
+                ax.plot(path[:, 0], mine, color="tab:red", lw=2.0, label=f"trajectory where γ is nearest {smap.gamma_deg[g]:g}°")
+            m = smap.margin
+            if m is not None and m.index >= 0 and nearest[m.index] == g:
+                ax.plot(m.q_deg[0], m.q_deg[1], marker="*", ms=14, color="tab:orange", mec="black",
+                        label=f"min {m.cond_inv_min:.3f} at t = {m.t_s:.3f} s")
+            ax.legend(loc="lower left", fontsize=7, framealpha=0.85)
+        ax.set_title(f"γ = {smap.gamma_deg[g]:g}° (internal/external rotation)", fontsize=10)
+        ax.set_xlabel("α flexion/extension [deg]")
+        ax.set_ylabel("β abduction/adduction [deg]")
+    if has_path:
+        ax = axes[n]
+        m = smap.margin
+        ax.plot(smap.trajectory_t_s, m.cond_inv, color="tab:blue", label="inverse condition number of J")
+        if m.index >= 0:
+            ax.plot(m.t_s, m.cond_inv_min, marker="*", ms=14, color="tab:orange", mec="black",
+                    label=f"min {m.cond_inv_min:.3f} at t = {m.t_s:.3f} s")
+        ax.set_ylim(0.0, max(vmax, np.nanmax(m.cond_inv) if np.any(np.isfinite(m.cond_inv)) else 1.0) * 1.05)
+        ax.set_xlabel("time t [s]")
+        ax.set_ylabel("inverse condition number of J [–]")
+        ax.set_title(f"along the trajectory: {m.trajectory}", fontsize=10)
+        ax.grid(alpha=0.3)
+        ax.legend(loc="lower right", fontsize=7)
+    for ax in axes[panels:]:
+        ax.set_visible(False)
+    if image is not None:
+        bar = fig.colorbar(image, ax=axes[:n].tolist(), shrink=0.9)
+        bar.set_label("inverse condition number of J (0 singular, 1 isotropic); grey: out of reach")
+    fig.suptitle(f"Singularity map, platform offset δ = {smap.delta_deg:g}°")
+    return fig
+
+
+def _extent(alpha: np.ndarray, beta: np.ndarray) -> tuple[float, float, float, float]:
+    """Image extent so that each pixel is centred on its grid value."""
+
+    def edges(v):
+        if v.size == 1:
+            return v[0] - 0.5, v[0] + 0.5
+        return v[0] - 0.5 * (v[1] - v[0]), v[-1] + 0.5 * (v[-1] - v[-2])
+
+    return (*edges(alpha), *edges(beta))
+
+
+def plot_offset_sweep(sweep: OffsetSweep):
+    """The sweep against δ: smallest singularity measure, peak motor torque, largest slider stroke.
+
+    Infeasible δ (motion out of reach or singular) are shaded; the built machine's δ is marked.
+
+    Args:
+        sweep: from :func:`offset_sweep`.
+
+    Returns:
+        A matplotlib Figure.
+    """
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(8.5, 8.5), layout="constrained")
+    axes = fig.subplots(3, 1, sharex=True)
+    d = sweep.deltas_deg
+    built = sweep.delta_built_deg
+    series = (
+        (sweep.cond_inv_min, "smallest inverse condition\nnumber of J [–]", "linear"),
+        (sweep.tau_peak_Nmm, "peak motor torque [N·mm]\n(largest of the three)", "log"),
+        (sweep.stroke_max_mm, "largest slider stroke [mm]", "linear"),
+    )
+    for ax, (values, label, scale) in zip(axes, series):
+        ax.plot(d, values, marker=".", ms=3, color="tab:blue", label=f"{sweep.trajectory}")
+        ax.set_ylabel(label)
+        ax.set_yscale(scale)
+        ax.grid(alpha=0.3, which="both")
+        ax.axvline(built, color="tab:red", ls="--", lw=1.2, label=f"built machine δ = {built:g}°")
+        k = _nearest(d, built)
+        if k is not None and np.isfinite(values[k]):
+            ax.plot(d[k], values[k], "o", color="tab:red")
+            ax.annotate(f"{values[k]:.3g}", (d[k], values[k]), textcoords="offset points", xytext=(6, 6), fontsize=8, color="tab:red")
+        _shade(ax, d, ~sweep.feasible)
+    axes[0].set_ylim(bottom=0.0)
+    axes[0].legend(loc="upper left", fontsize=8)
+    if np.any(~sweep.feasible):
+        axes[1].text(0.01, 0.95, "shaded: motion out of reach, singular, or passing through a singularity", transform=axes[1].transAxes, fontsize=8, va="top")
+    axes[-1].set_xlabel("platform offset δ [deg] (platform joint i at φ_i = θ_i + δ)")
+    fig.suptitle(f"Platform offset sweep: {sweep.trajectory}")
+    return fig
+
+
+def _nearest(values: np.ndarray, target: float) -> int | None:
+    k = int(np.argmin(np.abs(values - target)))
+    return k if abs(values[k] - target) < 1e-9 else None
+
+
+def _shade(ax, x: np.ndarray, mask: np.ndarray) -> None:
+    """Shade the x ranges where mask is True (half a step either side of each point)."""
+    if not np.any(mask):
+        return
+    step = np.median(np.diff(x)) if x.size > 1 else 1.0
+    for k in np.flatnonzero(mask):
+        ax.axvspan(x[k] - step / 2, x[k] + step / 2, color="tab:red", alpha=0.15, lw=0)
+
+
+# ---------------------------------------------------------------------------
+# The command
+
+
+@dataclass(frozen=True, eq=False)
+class WorkspaceRun:
+    """What :func:`run_workspace` computed and wrote.
+
+    Attributes:
+        map: the singularity map with the trajectory's margin.
+        sweep: the platform offset sweep.
+        files: every file written (PNG and SVG of each figure, summary JSON).
+    """
+
+    map: SingularityMap
+    sweep: OffsetSweep
+    files: tuple[Path, ...]
+
+
+def format_workspace_summary(smap: SingularityMap, sweep: OffsetSweep | None = None) -> str:
+    """A short plain-text summary: the trajectory's margin, the map's reach, the sweep table.
+
+    The sweep table lists the built machine's δ, the best δ by singularity margin
+    and by peak torque, and every 10th δ, so it stays short on a fine sweep.
+    """
+    lines = [f"singularity map: δ = {smap.delta_deg:g}°, {smap.alpha_deg.size} α × {smap.beta_deg.size} β × {smap.gamma_deg.size} γ = {smap.orientations:,} orientations"]
+    for g, fraction, values in zip(smap.gamma_deg, smap.reachable_fraction(), smap.cond_inv):
+        finite = values[np.isfinite(values)]
+        low = f"{finite.min():.3f} … {finite.max():.3f}" if finite.size else "—"
+        lines.append(f"  γ = {g:+6.1f}°: {100 * fraction:5.1f} % within reach, inverse condition number {low}")
+    m = smap.margin
+    if m is not None:
+        if m.index < 0:
+            lines.append(f"trajectory {m.trajectory}: every sample out of reach")
+        else:
+            a, b, g = m.q_deg
+            lines.append(
+                f"trajectory {m.trajectory}: smallest inverse condition number {m.cond_inv_min:.4f} at t = {m.t_s:.4g} s "
+                f"(α = {a:.2f}°, β = {b:.2f}°, γ = {g:.2f}°)"
+            )
+            if not m.clear:
+                lines.append(
+                    f"  WARNING: {m.out_of_reach} samples out of reach, {m.singular} singular, "
+                    f"{m.crossings} singularities crossed between samples"
+                )
+    if sweep is not None:
+        lines += ["", f"platform offset sweep ({sweep.trajectory}):", _sweep_table(sweep)]
+    return "\n".join(lines)
+
+
+def _sweep_table(sweep: OffsetSweep) -> str:
+    d = sweep.deltas_deg
+    feasible = sweep.feasible
+    picks = set(range(0, d.size, max(1, d.size // 10))) | {d.size - 1}
+    notes: dict[int, list[str]] = {}
+    k = _nearest(d, sweep.delta_built_deg)
+    if k is not None:
+        picks.add(k)
+        notes.setdefault(k, []).append("built")
+    if np.any(np.isfinite(sweep.cond_inv_min) & feasible):
+        k = int(np.nanargmax(np.where(feasible, sweep.cond_inv_min, np.nan)))
+        picks.add(k)
+        notes.setdefault(k, []).append("largest margin")
+    if np.any(feasible):
+        k = int(np.nanargmin(np.where(feasible, sweep.tau_peak_Nmm, np.nan)))
+        picks.add(k)
+        notes.setdefault(k, []).append("lowest peak torque")
+    header = f"  {'δ [deg]':>8}  {'min cond_inv':>12}  {'peak torque [N·mm]':>18}  {'max stroke [mm]':>15}  note"
+    lines = [header, "  " + "-" * (len(header) - 2)]
+    for k in sorted(picks):
+        if feasible[k]:
+            values = f"{sweep.cond_inv_min[k]:>12.4f}  {sweep.tau_peak_Nmm[k]:>18.1f}  {sweep.stroke_max_mm[k]:>15.1f}"
+        else:
+            if sweep.out_of_reach[k]:
+                reason = f"out of reach at {sweep.out_of_reach[k]} samples"
+            elif sweep.singular[k]:
+                reason = f"singular at {sweep.singular[k]} samples"
+            else:
+                reason = f"passes through a singularity {sweep.crossings[k]}×"
+            values = f"{sweep.cond_inv_min[k]:>12.2g}  {'—':>18}  {'—':>15}"
+            notes.setdefault(k, []).append(reason)
+        lines.append(f"  {d[k]:>8.1f}  {values}  {', '.join(notes.get(k, []))}".rstrip())
+    return "\n".join(lines)
+
+
+def run_workspace(
+    params: Parameters,
+    trajectory: Trajectory | None,
+    out_dir: str | Path,
+    alpha_deg: np.ndarray | None = None,
+    beta_deg: np.ndarray | None = None,
+    gamma_deg: np.ndarray | None = None,
+    deltas_deg: np.ndarray | None = None,
+    progress: bool | None = None,
+    stream: TextIO | None = None,
+) -> WorkspaceRun:
+    """Compute the singularity map and the offset sweep, write their figures, print a summary.
+
+    Writes ``singularity_map.png/.svg``, ``offset_sweep.png/.svg`` and
+    ``workspace.json`` (the trajectory's margin and the sweep table) to
+    ``out_dir`` (created if missing), each file atomically.
+
+    Args:
+        params: the machine.
+        trajectory: the motion drawn on the map and swept over δ (angles in
+            [rad], load in [N]); None for one ISO 14242-1 cycle at 1 kHz.
+        out_dir: folder to write into.
+        alpha_deg: flexion/extension grid in [deg]; default :data:`DEFAULT_ALPHA_DEG`.
+        beta_deg: abduction/adduction grid in [deg]; default :data:`DEFAULT_BETA_DEG`.
+        gamma_deg: internal/external rotations in [deg], one panel each; default :data:`DEFAULT_GAMMA_DEG`.
+        deltas_deg: platform offsets δ in [deg]; default :data:`DEFAULT_DELTAS_DEG`.
+        progress: progress bars on stderr; None for automatic (large grids only).
+        stream: where to print the summary; None for standard output (pass
+            ``io.StringIO()`` to capture it).
+
+    Returns:
+        The :class:`WorkspaceRun`.
+    """
+    import json
+
+    from .report import save_figure
+    from .results import write_atomic
+    from .trajectories import iso14242
+
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    trajectory = trajectory if trajectory is not None else iso14242()
+    smap = singularity_map(params, alpha_deg, beta_deg, gamma_deg, trajectory=trajectory, progress=progress)
+    sweep = offset_sweep(params, deltas_deg, trajectory, progress=progress)
+    files = [*save_figure(plot_singularity_map(smap), out, "singularity_map"), *save_figure(plot_offset_sweep(sweep), out, "offset_sweep")]
+    m = smap.margin
+    document = {
+        "parameters": params.source,
+        "trajectory": trajectory.name,
+        "delta_deg": smap.delta_deg,
+        "grid": {"alpha_deg": [float(smap.alpha_deg[0]), float(smap.alpha_deg[-1]), int(smap.alpha_deg.size)],
+                 "beta_deg": [float(smap.beta_deg[0]), float(smap.beta_deg[-1]), int(smap.beta_deg.size)],
+                 "gamma_deg": smap.gamma_deg.tolist()},
+        "reachable_fraction": dict(zip((f"{g:g}" for g in smap.gamma_deg), smap.reachable_fraction().round(6).tolist())),
+        "trajectory_margin": {
+            "cond_inv_min": _json_float(m.cond_inv_min), "t_s": _json_float(m.t_s),
+            "q_deg": [_json_float(x) for x in m.q_deg], "out_of_reach_samples": m.out_of_reach, "singular_samples": m.singular,
+            "singularity_crossings": m.crossings,
+        },
+        "offset_sweep": [{k: _json_float(v) for k, v in row.items()} for row in sweep.rows()],
+    }
+    files.append(write_atomic(out / "workspace.json", json.dumps(document, indent=2) + "\n"))
+    print(format_workspace_summary(smap, sweep), file=stream if stream is not None else sys.stdout)
+    print(f"\nwrote {', '.join(p.name for p in files)} to {out}", file=stream if stream is not None else sys.stdout)
+    return WorkspaceRun(smap, sweep, tuple(files))
+
+
+def _json_float(x):
+    """JSON has no NaN: write null for it."""
+    if isinstance(x, (int, np.integer)):
+        return int(x)
+    x = float(x)
+    return x if math.isfinite(x) else None

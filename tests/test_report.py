@@ -1,0 +1,303 @@
+"""Design report (issue 7): sizing numbers, rating checks, figure files, the HTML page in a real browser."""
+
+import base64
+import dataclasses
+import json
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+from html.parser import HTMLParser
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+import hipsim
+from hipsim import report
+from hipsim.exceptions import HipsimError, ParameterError
+from hipsim.results import Result
+from hipsim.trajectories import Trajectory, iso14242
+
+BASE_FIGURES = ("slider_motion", "motor_torques", "load_friction", "singularity")
+
+
+@pytest.fixture(scope="module")
+def params():
+    return hipsim.load_parameters()
+
+
+@pytest.fixture(scope="module")
+def iso():
+    return iso14242(rate=500)
+
+
+@pytest.fixture(scope="module")
+def result(params, iso):
+    return hipsim.analyse(params, iso)
+
+
+def fake_simulations(t):
+    """Two controllers' tracking errors in [rad], of known peak and RMS."""
+    wave = np.sin(2 * np.pi * t)[:, None]
+    return {
+        "workspace PD": SimpleNamespace(t=t, err=np.radians(0.2) * wave * [1.0, 0.5, 0.25], tau=np.full((t.size, 3), 0.3)),
+        "augmented PD": SimpleNamespace(t=t, err=np.radians(0.02) * wave * [1.0, 0.5, 0.25]),
+    }
+
+
+def with_joint_forces(result: Result) -> Result:
+    """The analytic run with made-up joint forces in [N] standing in for the Pinocchio model's."""
+    n = len(result.trajectory)
+    Fa = 100.0 + np.arange(6).reshape(1, 2, 3) * 10.0 + 50.0 * np.sin(2 * np.pi * result.trajectory.t)[:, None, None]
+    Fo = np.column_stack([result.trajectory.Fe + 200.0, result.trajectory.Fe + 150.0])
+    assert Fa.shape == (n, 2, 3)
+    return dataclasses.replace(result, model="pinocchio", joint_forces=(Fa, Fo))
+
+
+@pytest.fixture(scope="module")
+def written(tmp_path_factory, params, iso, result):
+    """One full report: joint forces (stand-in), tracking, a failing rating check."""
+    out = tmp_path_factory.mktemp("report")
+    ratings = out / "motor.toml"
+    ratings.write_text("[motor]\nrated_torque_Nmm = 640\npeak_torque_Nmm = 400\nmax_speed_rpm = 3000\nstroke_mm = 200\naxial_force_N = 1000\n")
+    patch = pytest.MonkeyPatch()
+    patch.setattr(report, "_joint_force_result", lambda p, t, m: (with_joint_forces(hipsim.analyse(p, t)), None))
+    try:
+        files = report.write_report(out / "site", params, iso, simulate=fake_simulations(iso.t), ratings=ratings)
+    finally:
+        patch.undo()
+    return files
+
+
+# ---------------------------------------------------------------------------
+# Sizing
+
+
+def test_sizing_equals_direct_computation(result):
+    size = report.sizing(result)
+    tau = result.torques.tau * 1e3
+    speed = result.torques.motor_speed
+    for i, module in enumerate(size.modules):
+        assert module.module == i + 1
+        assert module.tau_peak_Nmm == pytest.approx(np.abs(tau[:, i]).max(), rel=1e-12)
+        assert module.tau_rms_Nmm == pytest.approx(math.sqrt(np.mean(tau[:, i] ** 2)), rel=1e-12)
+        assert module.speed_peak_rpm == pytest.approx(np.abs(result.columns()[f"speed_{i + 1}_rpm"]).max(), rel=1e-12)
+        assert module.power_peak_W == pytest.approx(np.abs(result.torques.tau[:, i] * speed[:, i]).max(), rel=1e-12)
+        assert module.stroke_mm == pytest.approx(result.summary()["sliders"][f"1{i + 1}"]["stroke_mm"], rel=1e-12)
+    assert size.joints is None and size.checks == () and size.passed is None
+
+
+def test_axial_force_is_the_thrust_of_the_parts_the_nut_carries(result, params):
+    force = report.axial_screw_force(result)
+    t = result.torques
+    # Frictionless screw: the thrust is everything but the rotor's inertia.
+    np.testing.assert_allclose(force * params.lead / (2 * math.pi), t.tau_m + t.tau_l + t.tau_s + t.tau_f, rtol=1e-12, atol=1e-15)
+    assert report.sizing(result).modules[1].axial_force_peak_N == pytest.approx(np.abs(force[:, 1]).max())
+
+
+def test_screw_friction_changes_the_torque_but_not_the_axial_force(params, iso):
+    rough = params.replace(screw_coulomb=0.05, screw_viscous=2e-4)  # 50 N·mm and 0.2 N·mm·s/rad
+    smooth_run, rough_run = hipsim.analyse(params, iso), hipsim.analyse(rough, iso)
+    assert np.abs(rough_run.torques.tau - smooth_run.torques.tau).max() > 0.04
+    np.testing.assert_allclose(report.axial_screw_force(rough_run), report.axial_screw_force(smooth_run), rtol=1e-10, atol=1e-9)
+
+
+def test_axial_force_at_rest_carries_both_sliders_weight(params):
+    # Standing still, no load, weightless levers: each nut holds its two sliders, 2·m_L·g.
+    machine = params.replace(lever_mass=0.0, lever_inertia=np.zeros((3, 3)))
+    q = np.tile(np.radians([10.0, -3.0, -5.0]), (6, 1))
+    still = Trajectory(np.arange(6) * 0.01, q, np.zeros_like(q), np.zeros_like(q), np.zeros(6), name="still")
+    force = report.axial_screw_force(hipsim.analyse(machine, still))
+    np.testing.assert_allclose(force, 2 * params.slider_mass * params.gravity, rtol=1e-12)
+
+
+def test_joint_sizing_and_rating_checks(result):
+    ratings = report.MotorRatings(rated_torque_Nmm=640.0, peak_torque_Nmm=400.0, stroke_mm=90.0, source="test")
+    size = report.sizing(with_joint_forces(result), ratings)
+    Fa, Fo = with_joint_forces(result).joint_forces
+    joints = {j.joint: j for j in size.joints}
+    assert set(joints) == {"a_11", "a_12", "a_13", "a_21", "a_22", "a_23", "o_1", "o_2"}
+    assert joints["a_23"].peak_N == pytest.approx(Fa[:, 1, 2].max())
+    assert joints["o_1"].rms_N == pytest.approx(math.sqrt(np.mean(Fo[:, 0] ** 2)))
+    assert len(size.checks) == 3 * 3  # three ratings given, three modules
+    for check in size.checks:
+        module = size.modules[check.module - 1]
+        demand = {"rated_torque_Nmm": module.tau_rms_Nmm, "peak_torque_Nmm": module.tau_peak_Nmm, "stroke_mm": module.stroke_mm}[check.item]
+        assert check.demand == demand
+        assert check.margin_pct == pytest.approx(100 * (check.rating - demand) / check.rating)
+        assert check.passed == (demand <= check.rating)
+    # Motor 1 needs 431 N·mm peak and module 2 a 95 mm stroke: both fail; the rated torque passes.
+    failed = {(c.module, c.item) for c in size.checks if not c.passed}
+    assert (1, "peak_torque_Nmm") in failed and (2, "stroke_mm") in failed
+    assert all(c.passed for c in size.checks if c.item == "rated_torque_Nmm")
+    assert size.passed is False
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("[motor]\npeak_torque = 3\n", "motor.peak_torque"),
+        ("[motor]\npeak_torque_Nmm = -3\n", "positive"),
+        ("[motor]\nstroke_mm = 'long'\n", "motor.stroke_mm"),
+        ("[drive]\nstroke_mm = 100\n", "drive"),
+        ("[motor]\n", "[motor] table"),
+        ("motor = [", "not valid TOML"),
+    ],
+)
+def test_bad_rating_files_name_the_key(tmp_path, text, message):
+    path = tmp_path / "motor.toml"
+    path.write_text(text)
+    with pytest.raises(ParameterError, match=re.escape(message)) as error:
+        report.load_ratings(path)
+    assert str(path) in str(error.value)
+
+
+def test_rating_file_round_trip(tmp_path):
+    path = tmp_path / "motor.toml"
+    path.write_text("[motor]\nmax_speed_rpm = 3000\nstroke_mm = 150.5\n")
+    ratings = report.load_ratings(path)
+    assert ratings.max_speed_rpm == 3000.0 and ratings.stroke_mm == 150.5 and ratings.peak_torque_Nmm is None
+
+
+# ---------------------------------------------------------------------------
+# The written report
+
+
+class _Page(HTMLParser):
+    def __init__(self):
+        super().__init__()
+        self.images, self.links, self.tables = [], [], 0
+
+    def handle_starttag(self, tag, attrs):
+        attrs = dict(attrs)
+        if tag == "img":
+            self.images.append(attrs)
+        elif tag == "a":
+            self.links.append(attrs["href"])
+        elif tag == "table":
+            self.tables += 1
+
+
+def test_every_figure_exists_and_is_non_trivial(written):
+    expected = set(BASE_FIGURES) | {"joint_forces", "tracking_errors"}
+    assert set(written.figures) == expected
+    for stem in expected:
+        png, svg = written.folder / f"{stem}.png", written.folder / f"{stem}.svg"
+        assert written.figures[stem] == (png, svg)
+        assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20_000, stem
+        root = ET.parse(svg).getroot()
+        assert root.tag == "{http://www.w3.org/2000/svg}svg" and svg.stat().st_size > 20_000, stem
+
+
+@pytest.mark.parametrize("plot", ["slider_motion", "torque_parts", "load_friction", "joint_forces", "singularity", "tracking"])
+def test_figures_have_units_and_legends(result, plot):
+    function = getattr(report, f"plot_{plot}")
+    fig = function(fake_simulations(result.trajectory.t) if plot == "tracking" else with_joint_forces(result))
+    for ax in fig.axes:
+        assert re.search(r"\[.+\]", ax.get_ylabel()), (plot, ax.get_ylabel())
+        assert ax.get_legend() is not None or any(other.get_legend() for other in fig.axes)
+    assert re.search(r"\[s\]", fig.axes[-1].get_xlabel())
+    assert fig.get_suptitle()
+
+
+def test_page_is_self_contained_and_references_every_figure(written):
+    page = written.index.read_text(encoding="utf-8")
+    parser = _Page()
+    parser.feed(page)
+    assert not re.search(r"(src|href)=['\"]?(https?:)?//", page)  # nothing fetched from the network
+    embedded = {img["alt"].split(":")[0]: img["src"] for img in parser.images}
+    assert set(embedded) == set(written.figures)
+    for stem, (png, svg) in written.figures.items():
+        prefix = "data:image/png;base64,"
+        assert embedded[stem].startswith(prefix)
+        assert base64.b64decode(embedded[stem][len(prefix):]) == png.read_bytes()
+        assert svg.name in parser.links and png.name in parser.links
+    assert parser.tables >= 6  # sliders, motors, sizing, joints, rating check, tracking (+ torques)
+
+
+def test_page_and_json_carry_the_numbers(written, params, iso):
+    page = written.index.read_text(encoding="utf-8")
+    document = json.loads((written.folder / "report.json").read_text())
+    size = written.sizing
+    assert document["sizing"]["modules"][0]["tau_peak_Nmm"] == pytest.approx(size.modules[0].tau_peak_Nmm)
+    assert f"{size.modules[0].tau_peak_Nmm:,.1f}" in page
+    assert f"{size.modules[2].axial_force_peak_N:,.1f}" in page
+    assert "FAIL" in page and document["sizing"]["passed"] is False
+    assert "estimate" in page  # the platform mass is not published
+    tracking = document["tracking"]
+    assert tracking["workspace PD"]["alpha_err_peak_deg"] == pytest.approx(0.2, rel=1e-3)
+    assert tracking["augmented PD"]["beta_err_rms_deg"] == pytest.approx(0.01 / math.sqrt(2), rel=1e-3)
+    assert tracking["workspace PD"]["tau_peak_2_Nmm"] == pytest.approx(300.0)
+    assert "workspace PD" in page and "augmented PD" in page
+    assert (written.folder / "torques.csv").stat().st_size > 10_000
+
+
+def test_missing_pinocchio_model_falls_back_with_a_note(params, iso, tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "hipsim.pinocchio_model", None)  # importing it raises ImportError
+    files = report.write_report(tmp_path, params, iso.slice(slice(0, 100)), model="auto")
+    assert set(files.figures) == set(BASE_FIGURES)
+    assert any("Pinocchio model is not available" in note for note in files.notes)
+    assert "Pinocchio model is not available" in files.index.read_text(encoding="utf-8")
+    assert files.sizing.joints is None
+    with pytest.raises(HipsimError, match="Pinocchio model is not available"):
+        report.write_report(tmp_path, params, iso, model="pinocchio")
+
+
+def test_simulate_callable_and_bad_simulations(params, iso, tmp_path):
+    calls = []
+
+    def simulate(p, t):
+        calls.append((p, t))
+        return fake_simulations(t.t)
+
+    short = iso.slice(slice(0, 50))
+    files = report.write_report(tmp_path / "a", params, short, simulate=simulate, model="analytic")
+    assert calls == [(params, short)] and "tracking_errors" in files.figures
+    with pytest.raises(HipsimError, match="err"):
+        report.write_report(tmp_path / "b", params, short, simulate={"PD": SimpleNamespace(t=short.t, err=np.zeros((50, 2)))}, model="analytic")
+    with pytest.raises(HipsimError, match="mapping"):
+        report.write_report(tmp_path / "c", params, short, simulate={}, model="analytic")
+
+
+# ---------------------------------------------------------------------------
+# A real browser
+
+
+def _chromium():
+    for name in ("chromium", "chromium-browser"):
+        path = shutil.which(name)
+        if path:
+            return path
+    if os.environ.get("HIPSIM_REQUIRE_BROWSER") == "1":
+        pytest.fail("HIPSIM_REQUIRE_BROWSER=1 but chromium is not on PATH")
+    pytest.skip("chromium is not on PATH (set HIPSIM_REQUIRE_BROWSER=1 to make this a failure)")
+
+
+def test_page_renders_in_headless_chromium(written, tmp_path):
+    browser = _chromium()
+    # Moved away from its folder, the page must still show its figures: they are embedded.
+    page = tmp_path / "moved" / "index.html"
+    page.parent.mkdir()
+    shutil.copy(written.index, page)
+    shot = tmp_path / "shot.png"
+    command = [
+        browser, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+        "--disable-background-networking", "--disable-component-update", "--disable-sync",
+        f"--user-data-dir={tmp_path / 'profile'}", f"--screenshot={shot}", "--window-size=1280,4000",
+        page.as_uri(),
+    ]
+    completed = subprocess.run(command, capture_output=True, text=True, timeout=120)
+    assert completed.returncode == 0 and shot.exists(), completed.stderr[-2000:]
+    from matplotlib.image import imread
+
+    pixels = imread(shot)[..., :3]
+    assert pixels.shape[:2] == (4000, 1280)
+    assert pixels.std() > 0.05  # not a blank page
+    # The lower part of the page is the figures: coloured curves, not only black text on white.
+    figures = pixels[2500:]
+    saturation = figures.max(axis=-1) - figures.min(axis=-1)
+    assert np.mean(saturation > 0.3) > 0.002
