@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import os
 import sys
-import tempfile
 import threading
 import xml.dom.minidom
 from importlib import resources
@@ -27,6 +26,7 @@ from pathlib import Path
 import xacro
 
 from .exceptions import ModelError
+from .files import write_atomic
 from .parameters import Parameters, load_parameters
 
 __all__ = [
@@ -136,17 +136,7 @@ def write_urdf(params: Parameters | None = None, path: str | os.PathLike | None 
     Returns:
         The path written.
     """
-    path = Path(default_urdf_path() if path is None else path)
-    text = urdf_text(params)
-    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(handle, "w", encoding="utf-8") as stream:
-            stream.write(text)
-        os.replace(temporary, path)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
-    return path
+    return write_atomic(default_urdf_path() if path is None else path, urdf_text(params))
 
 
 def _main(argv: list[str]) -> int:

@@ -33,6 +33,8 @@ with a ``[motor]`` table) with pass/fail and margin.
 
 from __future__ import annotations
 
+import dataclasses
+
 import base64
 import html
 import io
@@ -48,7 +50,8 @@ import numpy as np
 from .dynamics import Torques, smooth_sign
 from .exceptions import HipsimError, ParameterError
 from .parameters import Parameters
-from .results import Result, analyse, write_atomic
+from .files import write_atomic
+from .results import Result, analyse
 from .trajectories import Trajectory
 
 __all__ = [
@@ -145,7 +148,7 @@ def plot_slider_motion(result: Result):
     fig, axes = _figure(3)
     t = result.trajectory.t
     for quantity, unit, ax in (("L", "mm", axes[0]), ("Ld", "mm/s", axes[1]), ("Ldd", "mm/s²", axes[2])):
-        values = getattr(result.kin, quantity) * 1e3
+        values = getattr(result, quantity) * 1e3
         for j, style in ((0, "-"), (1, "--")):
             for i in range(3):
                 ax.plot(t, values[:, j, i], ls=style, color=_MODULE_COLOURS[i], lw=1.4 if j == 0 else 1.1, label=f"S{j + 1}{i + 1}")
@@ -460,7 +463,7 @@ def sizing(result: Result, ratings: MotorRatings | None = None) -> Sizing:
     speed = torques.motor_speed[ok]
     power = torques.tau[ok] * speed
     force = axial_screw_force(result)[ok]
-    stroke = np.ptp(result.kin.L[ok, 0], axis=0) * 1e3
+    stroke = np.ptp(result.L[ok, 0], axis=0) * 1e3
     modules = tuple(
         ModuleSizing(
             module=i + 1,
@@ -610,8 +613,7 @@ def write_report(
     sims = _simulations(simulate, params, trajectory)
 
     # The analytic torques with the Pinocchio joint forces: one Result for the sizing and the figures.
-    combined = Result(result.params, result.trajectory, result.kin, result.torques, result.model,
-                      joint_forces=None if joint_result is None else joint_result.joint_forces)
+    combined = dataclasses.replace(result, joint_forces=None if joint_result is None else joint_result.joint_forces)
     size = sizing(combined, ratings)
 
     figures: dict[str, tuple[Path, Path]] = {}

@@ -17,21 +17,20 @@ from __future__ import annotations
 import csv
 import io
 import math
-import os
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from .dynamics import Torques, inverse_dynamics
+from .dynamics import Torques, central_friction_moment, inverse_dynamics
 from .exceptions import HipsimError
+from .files import write_atomic
 from .kinematics import Kinematics, kinematics
 from .parameters import Parameters, load_parameters
 from .trajectories import Trajectory, iso14242
 
-__all__ = ["Result", "analyse", "column_names", "write_atomic"]
+__all__ = ["Result", "analyse", "column_names"]
 
 _PART_LABELS = {"tau_m": "platforms", "tau_l": "levers", "tau_s": "sliders", "tau_L": "screws", "tau_f": "friction"}
 _RPM = 60.0 / (2.0 * math.pi)
@@ -57,8 +56,9 @@ class Result:
     Attributes:
         params: the machine.
         trajectory: the motion and load.
-        kin: analytic kinematics (slider motion, Jacobian, singularity measure).
+        kin: analytic kinematics (Jacobian and singularity measure for both models).
         torques: motor torques and parts (from the model named in ``model``).
+        L, Ld, Ldd: slider motion in [m], [m/s], [m/s²], (N, 2, 3), from the model named in ``model``.
         model: "analytic" or "pinocchio".
         joint_forces: for the Pinocchio model, (Fa (N, 2, 3), Fo (N, 2)) in [N]; else None.
     """
@@ -67,6 +67,9 @@ class Result:
     trajectory: Trajectory
     kin: Kinematics
     torques: Torques
+    L: np.ndarray
+    Ld: np.ndarray
+    Ldd: np.ndarray
     model: str = "analytic"
     joint_forces: tuple[np.ndarray, np.ndarray] | None = None
 
@@ -77,7 +80,7 @@ class Result:
             out[f"{name}_deg"] = np.degrees(self.trajectory.q[:, k])
         out["Fe_N"] = self.trajectory.Fe
         for quantity, unit in (("L", "mm"), ("Ld", "mm_s"), ("Ldd", "mm_s2")):
-            values = getattr(self.kin, quantity) * 1e3
+            values = getattr(self, quantity) * 1e3
             for j in (1, 2):
                 for i in (1, 2, 3):
                     out[f"{quantity}_{j}{i}_{unit}"] = values[:, j - 1, i - 1]
@@ -110,13 +113,13 @@ class Result:
         sliders = {}
         for j in (1, 2):
             for i in (1, 2, 3):
-                L = kin.L[ok, j - 1, i - 1] * 1e3
+                L = self.L[ok, j - 1, i - 1] * 1e3
                 sliders[f"{j}{i}"] = {
                     "L_max_mm": float(L.max()),
                     "L_min_mm": float(L.min()),
                     "stroke_mm": float(L.max() - L.min()),
-                    "Ld_max_mm_s": float(np.abs(kin.Ld[ok, j - 1, i - 1]).max() * 1e3),
-                    "Ldd_max_mm_s2": float(np.abs(kin.Ldd[ok, j - 1, i - 1]).max() * 1e3),
+                    "Ld_max_mm_s": float(np.abs(self.Ld[ok, j - 1, i - 1]).max() * 1e3),
+                    "Ldd_max_mm_s2": float(np.abs(self.Ldd[ok, j - 1, i - 1]).max() * 1e3),
                 }
         motors = {}
         for i in (1, 2, 3):
@@ -160,43 +163,12 @@ class Result:
         return write_atomic(path, buffer.getvalue())
 
 
-def write_atomic(path: str | Path, text: str | bytes) -> Path:
-    """Write a file so that readers see either the old file or the whole new one.
-
-    The text goes to a temporary file beside ``path`` that is renamed over it
-    once it is complete; on any failure the temporary file is removed.
-
-    Raises:
-        HipsimError: when the folder does not exist or is not writable.
-    """
-    path = Path(path)
-    folder = path.parent if str(path.parent) else Path(".")
-    if not folder.is_dir():
-        raise HipsimError(f"{path}: cannot write, folder '{folder}' does not exist")
-    mode = "wb" if isinstance(text, bytes) else "w"
-    try:
-        handle, temporary = tempfile.mkstemp(dir=folder, prefix=f".{path.name}.", suffix=".part")
-    except OSError as error:
-        raise HipsimError(f"{path}: cannot write ({error.strerror})") from None
-    try:
-        # mkstemp makes the file private (0600); give it the permissions any new file would get.
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(temporary, 0o666 & ~umask)
-        with os.fdopen(handle, mode, **({} if mode == "wb" else {"encoding": "utf-8", "newline": ""})) as stream:
-            stream.write(text)
-        os.replace(temporary, path)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
-    return path
-
-
 def analyse(
     params: Parameters | None = None,
     trajectory: Trajectory | None = None,
     model: str = "analytic",
     on_error: str = "raise",
+    lever_spin: bool = False,
 ) -> Result:
     """Run a model along a trajectory: slider motion, motor torques and their parts.
 
@@ -206,6 +178,8 @@ def analyse(
         model: "analytic" (spec §4) or "pinocchio" (spec §6, adds joint forces).
         on_error: "raise" at the first pose out of reach or singular, or "flag"
             to mark such samples (analytic model only).
+        lever_spin: analytic model only: give the levers the universal joints'
+            spin (see :func:`hipsim.dynamics.inverse_dynamics`).
 
     Returns:
         The :class:`Result`.
@@ -216,15 +190,19 @@ def analyse(
         raise HipsimError(f"unknown model '{model}' (expected 'analytic' or 'pinocchio')")
     kin = kinematics(params, trajectory, on_error=on_error)
     if model == "analytic":
-        return Result(params, trajectory, kin, inverse_dynamics(params, kin, trajectory.Fe), model)
+        torques = inverse_dynamics(params, kin, trajectory.Fe, lever_spin=lever_spin)
+        return Result(params, trajectory, kin, torques, kin.L, kin.Ld, kin.Ldd, model)
     if on_error != "raise":
         raise HipsimError("the Pinocchio model cannot carry on through poses out of reach; use the analytic model to flag them")
-    from .pinocchio_model import closed_chain_inverse_dynamics, load_model
+    from .pinocchio_model import load_model, trajectory_dynamics
 
-    closed = closed_chain_inverse_dynamics(load_model(params), trajectory)
+    _, closed = trajectory_dynamics(load_model(params), trajectory)
+    motor_speed = 2.0 * math.pi * closed.Ld[:, 0] / params.lead
     torques = Torques(
         tau=closed.tau, tau_m=closed.tau_m, tau_l=closed.tau_l, tau_s=closed.tau_s, tau_L=closed.tau_L, tau_f=closed.tau_f,
-        motor_speed=2.0 * math.pi * closed.Ld[:, 0] / params.lead,
-        friction_moment=closed.friction_moment, friction_power=closed.friction_power,
+        motor_speed=motor_speed,
+        friction_moment=np.linalg.norm(central_friction_moment(params, kin.omega, trajectory.Fe), axis=-1),
+        # By virtual power the motors' friction share times their speed is the whole friction loss.
+        friction_power=np.sum(closed.tau_f * motor_speed, axis=1),
     )
-    return Result(params, trajectory, kin, torques, model, joint_forces=(closed.Fa, closed.Fo))
+    return Result(params, trajectory, kin, torques, closed.L, closed.Ld, closed.Ldd, model, joint_forces=(closed.Fa, closed.Fo))

@@ -716,7 +716,7 @@ def run_workspace(
     import json
 
     from .report import save_figure
-    from .results import write_atomic
+    from .files import write_atomic
     from .trajectories import iso14242
 
     out = Path(out_dir)

@@ -104,3 +104,37 @@ def test_help_reads_well():
     assert status == 0 and "torques" in out and "examples:" in out
     status, out, _ = run("torques", "--help")
     assert status == 0 and "--trajectory" in out and "--summary-format" in out
+
+
+def test_check_passes_and_shows_every_configuration(capsys):
+    assert main(["check", "--rate", "200"]) == 0
+    out = capsys.readouterr().out
+    for section in ("exact:", "published:", "published+spin:"):
+        assert section in out
+    assert "tau_l_1_Nmm" in out and "Fe_N" not in out.split("trajectory:")[0]
+    assert out.count("within tolerance") == 2  # exact and published+spin; the published paper model is shown outside it
+
+
+def test_check_fails_when_required_models_disagree(monkeypatch, capsys):
+    import hipsim.crosscheck as crosscheck
+
+    real = crosscheck._differences
+
+    def skewed(analytic, pinocchio):
+        rows = real(analytic, pinocchio)
+        return tuple((name, a, r + 1e-6) for name, a, r in rows)  # a disagreement above 1e-8
+
+    monkeypatch.setattr(crosscheck, "_differences", skewed)
+    assert main(["check", "--rate", "100"]) == 1
+    assert "disagree" in capsys.readouterr().err
+
+
+def test_urdf_command_follows_the_parameters(tmp_path):
+    import yourdfpy
+
+    out = tmp_path / "long.urdf"
+    assert main(["urdf", "--set", "lever.length_mm=340", "--out", str(out)]) == 0
+    robot = yourdfpy.URDF.load(str(out))
+    assert robot.validate()
+    tip = robot.joint_map["lever_11_tip_fixed"].origin[:3, 3]
+    np.testing.assert_allclose(tip, [0.0, 0.0, 0.34], atol=1e-15)  # the lever tip sits at z = l

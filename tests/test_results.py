@@ -10,7 +10,8 @@ import pytest
 
 import hipsim
 from hipsim.exceptions import HipsimError
-from hipsim.results import column_names, write_atomic
+from hipsim.files import write_atomic
+from hipsim.results import column_names
 
 README = Path(__file__).resolve().parents[1] / "README.md"
 

@@ -1,0 +1,984 @@
+"""The machine as a Pinocchio closed-chain model (spec/model.md §6): kinematics and inverse dynamics.
+
+The kinematic tree comes from the URDF that :mod:`hipsim.model_files` expands
+from the parameter set; the six lever-tip ↔ platform-joint loops come from
+``models/hip_simulator.yaml`` and become 3-D point constraints
+(``pin.RigidConstraintModel``, CONTACT_3D, LOCAL). Everything here is
+computed with Pinocchio's kinematics, Jacobians and RNEA, independently of
+the analytic formulas of :mod:`hipsim.kinematics` / :mod:`hipsim.dynamics`,
+so that the two can check each other.
+
+Closed-chain kinematics (:func:`kinematics`). The platform angles are known
+along the trajectory, so the unknowns are the leg coordinates (3 sliders,
+12 universal-joint angles). Per sample:
+
+* the configuration is predicted from the previous sample by a third-order
+  Taylor step (jerk from the last two accelerations) and corrected by Newton
+  steps that reuse the previous sample's inverse K⁻¹ (below; a chord method:
+  no new factorisation while it contracts); a damped Gauss–Newton
+  (Levenberg–Marquardt) on the 15 leg coordinates with fresh Jacobians takes
+  over on the first sample and whenever the chord steps stall;
+* with K = [P₁; J_c] (P₁ selects platform 1's three angle coordinates, J_c
+  the 18×21 closure Jacobian) the velocities solve K v = [q̇; 0] and the
+  accelerations K a = [q̈; −J̇_c v], J̇_c v from the closure frames' classical
+  accelerations at a = 0. Platform 2's coordinates come out equal to
+  platform 1's (its three closures force the same orientation) and are then
+  set to the given values exactly.
+
+Closed-chain inverse dynamics (:func:`inverse_dynamics`): the tree's
+generalised forces by part, each exact — the joint-torque regressor Y(q, v, a)
+of Pinocchio times the dynamic parameters of one group of bodies (platforms,
+levers, carriages; RNEA is linear in them for a fixed motion, gravity
+included), the armature term for the screws, and the friction generalised
+forces of spec §4.3 / §7.3 — then one solve of Sᵀ F + J_cᵀ λ = τ for all parts
+at once. The parts therefore add up to the total to rounding.
+:func:`trajectory_dynamics` does both in one pass, reusing the Jacobians.
+
+Sign conventions: J_c is the derivative of R₁ᵀ(p₁ − p₂) with frame 1 the lever
+tip and frame 2 the platform joint; λ_ji is the force the platform exerts on
+lever ji at a_ji, in the lever-tip frame (the lever exerts −λ on the platform).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+import yaml
+from scipy.linalg import lapack
+
+from .exceptions import ModelError, PoseError, TrajectoryError
+from .model_files import closure_file_path, urdf_text
+from .parameters import Parameters, load_parameters
+
+__all__ = [
+    "ClosedChainModel",
+    "ClosedChainTorques",
+    "ClosedKinematics",
+    "closure_residuals",
+    "constraint_jacobian",
+    "constraint_rank",
+    "inverse_dynamics",
+    "kinematics",
+    "load_closed_chain",
+    "load_model",
+    "platform_joint_positions",
+    "smooth_sign",
+    "trajectory_dynamics",
+]
+
+_TWO_PI = 2.0 * math.pi
+_LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+# Samples per batch of the inverse-dynamics solve: bounds the memory of the
+# stacked (n, 21, 21) systems while keeping numpy's batched solve efficient.
+_CHUNK = 2048
+
+
+# ---------------------------------------------------------------------------
+# Loading
+# ---------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class _HipLayout:
+    """Where the hip simulator's joints, bodies and closures sit in the Pinocchio model.
+
+    All index arrays are velocity indices (the hip's joints are all 1-DoF, so
+    they are configuration indices too).
+    """
+
+    platform_v: np.ndarray  # (2, 3): platform j's [rx, ry, rz] joints, i.e. [α, β, γ]
+    slider_v: np.ndarray  # (3,)
+    ujoint_v: np.ndarray  # (2, 3, 2): lever ji's [u1, u2]
+    closure: np.ndarray  # (2, 3): closure index of lever ji
+    slider_offset: np.ndarray  # (3,): L_1i - L_2i in [m], read from the tree
+    leg_v: np.ndarray  # (15,): the leg coordinates (sliders and universal joints)
+    groups: np.ndarray  # (10·(njoints−1), 3): dynamic parameters of platforms, levers, carriages
+    initial_guess: np.ndarray  # (nq,): levers upright, tips at platform 1's height
+
+
+@dataclass(frozen=True, eq=False)
+class ClosedChainModel:
+    """A kinematic tree with loop closures, ready for Pinocchio.
+
+    Attributes:
+        model: the tree; ``model.gravity`` and ``model.armature`` are set.
+        visual_model: its visual geometry.
+        constraint_models: one ``pin.RigidConstraintModel`` per closure
+            (frame 1 first, LOCAL), as a ``StdVec_RigidConstraintModel``.
+        closure_frames: the (frame 1, frame 2) names of each closure.
+        actuated_joints: names of the actuated joints.
+        actuated_v: their velocity indices, shape (n_act,).
+        lead: screw lead p in [m per motor turn] (motor torque = p/2π · joint
+            force); None if the closure file gives no transmission.
+        rotor_inertia: screw rotor inertia I_L in [kg·m²] (armature
+            I_L·(2π/p)² on each actuated joint); None without transmission.
+        params: the parameter set the model was built from, if any.
+        urdf: the URDF text the tree was built from.
+        layout: the hip simulator's joint map (None for another machine).
+    """
+
+    model: pin.Model
+    visual_model: pin.GeometryModel
+    constraint_models: Any
+    closure_frames: tuple[tuple[str, str], ...]
+    actuated_joints: tuple[str, ...]
+    actuated_v: np.ndarray
+    lead: float | None
+    rotor_inertia: float | None
+    params: Parameters | None
+    urdf: str
+    layout: _HipLayout | None = None
+
+    @property
+    def n_closures(self) -> int:
+        """Number of loop closures."""
+        return len(self.closure_frames)
+
+
+def _read_urdf(urdf: str | Path) -> str:
+    if isinstance(urdf, Path) or not str(urdf).lstrip().startswith("<"):
+        try:
+            return Path(urdf).read_text(encoding="utf-8")
+        except OSError as error:
+            raise ModelError(f"cannot read URDF {urdf}: {error}") from None
+    return str(urdf)
+
+
+def _read_closures(path: str | Path) -> dict:
+    try:
+        with open(path, encoding="utf-8") as stream:
+            content = yaml.safe_load(stream)
+    except OSError as error:
+        raise ModelError(f"cannot read closure file {path}: {error}") from None
+    except yaml.YAMLError as error:
+        raise ModelError(f"{path}: not valid YAML ({error})") from None
+    if not isinstance(content, dict):
+        raise ModelError(f"{path}: expected a mapping with keys closed_loop, type, name_mot")
+    for key in ("closed_loop", "type", "name_mot"):
+        if key not in content:
+            raise ModelError(f"{path}: missing key '{key}'")
+    pairs, types = content["closed_loop"], content["type"]
+    if not isinstance(pairs, list) or not all(isinstance(p, list) and len(p) == 2 for p in pairs):
+        raise ModelError(f"{path}: closed_loop must be a list of [frameA, frameB] pairs")
+    if not isinstance(types, list) or len(types) != len(pairs):
+        raise ModelError(f"{path}: type must list one of '3d'/'6d' per closed_loop pair ({len(pairs)})")
+    return content
+
+
+def load_closed_chain(
+    urdf: str | Path,
+    closure_file: str | Path,
+    *,
+    gravity: float = 9.81,
+    lead: float | None = None,
+    rotor_inertia: float | None = None,
+) -> ClosedChainModel:
+    """Build a closed-chain model from a URDF and a closure file (Gepetto's extended-URDF layout).
+
+    Args:
+        urdf: URDF text, or the path of a URDF file.
+        closure_file: YAML with ``closed_loop`` (frame pairs), ``type``
+            ('3d' or '6d' per pair) and ``name_mot`` (actuated joints); an
+            optional ``transmission`` gives per actuated joint ``lead_m`` [m]
+            and ``rotor_inertia_kgm2`` [kg·m²].
+        gravity: g in [m/s²], along -Z.
+        lead: screw lead in [m per motor turn]; overrides the file's.
+        rotor_inertia: screw rotor inertia in [kg·m²]; overrides the file's.
+
+    Returns:
+        The model (without the hip layout; :func:`load_model` adds it).
+
+    Raises:
+        ModelError: naming the missing frame, joint or key.
+    """
+    text = _read_urdf(urdf)
+    try:
+        model = pin.buildModelFromXML(text)
+        visual_model = pin.buildGeomFromUrdfString(model, text, pin.GeometryType.VISUAL)
+    except (RuntimeError, ValueError) as error:
+        raise ModelError(f"Pinocchio cannot parse the URDF: {error}") from None
+    model.gravity = pin.Motion(np.array([0.0, 0.0, -gravity]), np.zeros(3))
+
+    content = _read_closures(closure_file)
+    constraint_models = pin.StdVec_RigidConstraintModel()
+    for (name1, name2), kind in zip(content["closed_loop"], content["type"]):
+        frames = []
+        for name in (name1, name2):
+            if not model.existFrame(name):
+                raise ModelError(f"{closure_file}: closure frame '{name}' is not in the URDF")
+            frames.append(model.frames[model.getFrameId(name)])
+        contact = {"3d": pin.ContactType.CONTACT_3D, "6d": pin.ContactType.CONTACT_6D}.get(str(kind).lower())
+        if contact is None:
+            raise ModelError(f"{closure_file}: closure type '{kind}' of {name1}-{name2} is not '3d' or '6d'")
+        constraint = pin.RigidConstraintModel(
+            contact, model, frames[0].parentJoint, frames[0].placement,
+            frames[1].parentJoint, frames[1].placement, pin.ReferenceFrame.LOCAL,
+        )  # fmt: skip
+        constraint.name = f"{name1}-{name2}"
+        constraint_models.append(constraint)
+
+    actuated = tuple(str(name) for name in content["name_mot"])
+    actuated_v = []
+    for name in actuated:
+        if not model.existJointName(name):
+            raise ModelError(f"{closure_file}: actuated joint '{name}' is not in the URDF")
+        joint = model.joints[model.getJointId(name)]
+        if joint.nv != 1:
+            raise ModelError(f"{closure_file}: actuated joint '{name}' has {joint.nv} DoF, expected 1")
+        actuated_v.append(joint.idx_v)
+
+    transmission = content.get("transmission") or {}
+    if lead is None or rotor_inertia is None:
+        try:
+            leads = {float(transmission[n]["lead_m"]) for n in actuated if n in transmission}
+            inertias = {float(transmission[n]["rotor_inertia_kgm2"]) for n in actuated if n in transmission}
+        except (KeyError, TypeError, ValueError) as error:
+            message = f"{closure_file}: transmission needs lead_m and rotor_inertia_kgm2 per joint ({error})"
+            raise ModelError(message) from None
+        if len(leads) > 1 or len(inertias) > 1:
+            raise ModelError(f"{closure_file}: actuated joints with different transmissions are not supported")
+        lead = lead if lead is not None else (leads.pop() if leads else None)
+        rotor_inertia = rotor_inertia if rotor_inertia is not None else (inertias.pop() if inertias else None)
+    if lead is not None and rotor_inertia is not None:
+        armature = model.armature.copy()
+        armature[actuated_v] = rotor_inertia * (_TWO_PI / lead) ** 2
+        model.armature = armature
+
+    return ClosedChainModel(
+        model=model,
+        visual_model=visual_model,
+        constraint_models=constraint_models,
+        closure_frames=tuple((str(a), str(b)) for a, b in content["closed_loop"]),
+        actuated_joints=actuated,
+        actuated_v=np.array(actuated_v, dtype=int),
+        lead=lead,
+        rotor_inertia=rotor_inertia,
+        params=None,
+        urdf=text,
+    )
+
+
+def load_model(params: Parameters | None = None) -> ClosedChainModel:
+    """The hip simulator as a Pinocchio closed-chain model, built from one parameter set.
+
+    Args:
+        params: the machine, SI; None for the published machine.
+
+    Returns:
+        The model with the hip layout, gravity params.gravity, and armature
+        I_L·(2π/p)² on the three sliders.
+    """
+    params = load_parameters() if params is None else params
+    chain = load_closed_chain(
+        urdf_text(params),
+        closure_file_path(),
+        gravity=params.gravity,
+        lead=params.lead,
+        rotor_inertia=params.screw_inertia,
+    )
+    layout = _hip_layout(chain, params)
+    return ClosedChainModel(**{**chain.__dict__, "params": params, "layout": layout})
+
+
+def _hip_layout(chain: ClosedChainModel, params: Parameters) -> _HipLayout:
+    model = chain.model
+
+    def joint(name: str) -> int:
+        if not model.existJointName(name):
+            raise ModelError(f"the hip simulator URDF has no joint '{name}'")
+        return model.getJointId(name)
+
+    if any(model.joints[k].nq != 1 or model.joints[k].nv != 1 for k in range(1, model.njoints)):
+        raise ModelError("the hip simulator's tree must consist of 1-DoF joints")
+
+    def idx(name: str) -> int:
+        return model.joints[joint(name)].idx_v
+
+    platform_v = np.array([[idx(f"platform_{j}_r{axis}") for axis in "xyz"] for j in (1, 2)])
+    slider_v = np.array([idx(f"slider_{i}") for i in (1, 2, 3)])
+    ujoint_v = np.array([[[idx(f"u1_{j}{i}"), idx(f"u2_{j}{i}")] for i in (1, 2, 3)] for j in (1, 2)])
+    closure = np.empty((2, 3), dtype=int)
+    for j in (1, 2):
+        for i in (1, 2, 3):
+            pair = (f"lever_{j}{i}_tip", f"platform_{j}_joint_{i}")
+            if pair not in chain.closure_frames:
+                raise ModelError(f"the closure file has no closure {pair[0]}-{pair[1]}")
+            closure[j - 1, i - 1] = chain.closure_frames.index(pair)
+    if sorted(chain.actuated_v) != sorted(slider_v) or chain.n_closures != 6:
+        raise ModelError("the hip simulator needs six closures and the three sliders as actuated joints")
+
+    placement_z = np.array([[model.jointPlacements[joint(f"u1_{j}{i}")].translation[2] for i in (1, 2, 3)] for j in (1, 2)])
+    leg_v = np.array(sorted(set(slider_v) | set(ujoint_v.ravel())))
+
+    # Dynamic parameters (10 per joint, Pinocchio's regressor order) of each body group.
+    members = (set(platform_v[:, 0]), set(ujoint_v[:, :, 1].ravel()), set(slider_v))
+    groups = np.zeros((10 * (model.njoints - 1), 3))
+    for k in range(1, model.njoints):
+        parameters = model.inertias[k].toDynamicParameters()
+        owner = [g for g, member in enumerate(members) if model.joints[k].idx_v in member]
+        if owner:
+            groups[10 * (k - 1) : 10 * k, owner[0]] = parameters
+        elif np.any(parameters != 0.0):
+            raise ModelError(f"body of joint '{model.names[k]}' has inertia but belongs to no part of the torque")
+
+    initial_guess = pin.neutral(model)
+    initial_guess[slider_v] = params.heights[0] - params.lever_length
+    return _HipLayout(
+        platform_v=platform_v,
+        slider_v=slider_v,
+        ujoint_v=ujoint_v,
+        closure=closure,
+        slider_offset=placement_z[0] - placement_z[1],
+        leg_v=leg_v,
+        groups=groups,
+        initial_guess=initial_guess,
+    )
+
+
+# ---------------------------------------------------------------------------
+# Configuration-level helpers
+# ---------------------------------------------------------------------------
+
+
+class _Workspace:
+    """Pinocchio data and the constraint datas of one computation (not shared between threads)."""
+
+    def __init__(self, chain: ClosedChainModel):
+        self.model = chain.model
+        self.data = chain.model.createData()
+        self.cms = chain.constraint_models
+        self.cds = pin.StdVec_RigidConstraintData()
+        for cm in self.cms:
+            self.cds.append(cm.createData())
+        # Python lists of references into the vectors: indexing a StdVec per access is slow.
+        self.cd_list = list(self.cds)
+        self.pairs = list(zip(self.cms, self.cd_list))
+        # (joint, placement) of every closure frame, frame 1 then frame 2, for the accelerations.
+        self.ends = []
+        for cm in self.cms:
+            self.ends += [(cm.joint1_id, cm.joint1_placement), (cm.joint2_id, cm.joint2_placement)]
+        self.zero = np.zeros(chain.model.nv)
+
+    def place(self, q: np.ndarray) -> None:
+        """Forward kinematics, joint Jacobians and closure placements at q."""
+        pin.computeJointJacobians(self.model, self.data, q)
+        for cm, cd in self.pairs:
+            cm.calc(self.model, self.data, cd)
+
+    def residual(self) -> np.ndarray:
+        """R₁ᵀ(p₁ − p₂) of every closure, stacked, in [m] (after :meth:`place`)."""
+        return -np.concatenate([cd.c1Mc2.translation for cd in self.cd_list])
+
+    def jacobian(self) -> np.ndarray:
+        """The stacked closure Jacobian J_c (after :meth:`place`)."""
+        return pin.getConstraintsJacobian(self.model, self.data, self.cms, self.cds)
+
+    def tip_rotations(self) -> np.ndarray:
+        """R₁ of every closure (frame 1's axes in the world), shape (n, 3, 3) (after :meth:`place`)."""
+        return np.array([cd.oMc1.rotation for cd in self.cd_list])
+
+    def drift(self, q: np.ndarray, v: np.ndarray, rotations: np.ndarray) -> np.ndarray:
+        """J̇_c v: the closures' relative classical acceleration at a = 0, in frame 1's axes.
+
+        Valid where J_c v = 0 (frames 1 and 2 then move together, so the
+        rotation of frame 1 adds nothing).
+        """
+        model, data = self.model, self.data
+        pin.forwardKinematics(model, data, q, v, self.zero)
+        accelerations = np.array(
+            [pin.getFrameClassicalAcceleration(model, data, joint, placement, _LWA).linear for joint, placement in self.ends]
+        ).reshape(-1, 2, 3)
+        relative = accelerations[:, 0] - accelerations[:, 1]
+        return np.einsum("kij,ki->kj", rotations, relative).ravel()
+
+
+def _configurations(chain: ClosedChainModel, q) -> tuple[np.ndarray, bool]:
+    q = np.asarray(q, dtype=float)
+    single = q.ndim == 1
+    q = np.atleast_2d(q)
+    if q.shape[1] != chain.model.nq:
+        raise ValueError(f"expected configurations of size nq = {chain.model.nq}, got shape {q.shape}")
+    return q, single
+
+
+def closure_residuals(chain: ClosedChainModel, q) -> np.ndarray:
+    """How far each closure is from closed: p₂ − p₁ in world axes.
+
+    Args:
+        chain: the model.
+        q: a configuration (nq,) or configurations (N, nq).
+
+    Returns:
+        Shape (n_closures, 3) or (N, n_closures, 3), in [m].
+    """
+    q, single = _configurations(chain, q)
+    ws = _Workspace(chain)
+    out = np.empty((len(q), chain.n_closures, 3))
+    for k, qk in enumerate(q):
+        ws.place(qk)
+        out[k] = [cd.oMc2.translation - cd.oMc1.translation for cd in ws.cd_list]
+    return out[0] if single else out
+
+
+def constraint_jacobian(chain: ClosedChainModel, q) -> np.ndarray:
+    """The closure Jacobian J_c (legacy LOCAL convention: d/dt of R₁ᵀ(p₁ − p₂)).
+
+    Args:
+        chain: the model.
+        q: a configuration (nq,).
+
+    Returns:
+        Shape (3·n_closures, nv) for point closures, in [m/rad] or [1].
+    """
+    ws = _Workspace(chain)
+    ws.place(np.asarray(q, dtype=float))
+    return ws.jacobian()
+
+
+def constraint_rank(chain: ClosedChainModel, q, rtol: float = 1e-9) -> int:
+    """Rank of the closure Jacobian J_c at q (singular values above rtol · the largest).
+
+    Args:
+        chain: the model.
+        q: a configuration (nq,).
+        rtol: relative threshold on the singular values.
+
+    Returns:
+        The rank; nv − rank is the mobility at q (3 for the hip simulator).
+    """
+    sigma = np.linalg.svd(constraint_jacobian(chain, q), compute_uv=False)
+    return int(np.sum(sigma > rtol * sigma[0]))
+
+
+def platform_joint_positions(chain: ClosedChainModel, q) -> np.ndarray:
+    """World positions of the platforms' spherical joints a_ji (frames platform_j_joint_i).
+
+    Args:
+        chain: the hip model.
+        q: a configuration (nq,) or configurations (N, nq).
+
+    Returns:
+        Shape (2, 3, 3) or (N, 2, 3, 3): [platform j, joint i, xyz] in [m].
+    """
+    layout = _require_layout(chain)
+    q, single = _configurations(chain, q)
+    ws = _Workspace(chain)
+    out = np.empty((len(q), 2, 3, 3))
+    for k, qk in enumerate(q):
+        ws.place(qk)
+        for j in range(2):
+            for i in range(3):
+                out[k, j, i] = ws.cd_list[layout.closure[j, i]].oMc2.translation
+    return out[0] if single else out
+
+
+def _require_layout(chain: ClosedChainModel) -> _HipLayout:
+    if chain.layout is None:
+        raise ModelError("this function needs the hip simulator model from load_model()")
+    return chain.layout
+
+
+# ---------------------------------------------------------------------------
+# Closed-chain kinematics
+# ---------------------------------------------------------------------------
+
+
+def _readonly(array) -> np.ndarray:
+    out = np.array(array)  # a copy, so freezing it leaves the caller's array alone
+    if out.dtype.kind not in "iu":
+        out = out.astype(float)
+    out.setflags(write=False)
+    return out
+
+
+def _check_shapes(obj, shapes: dict[str, tuple]) -> None:
+    """Freeze the arrays of a result dataclass and check their shapes ('N' = samples)."""
+    n = len(getattr(obj, "t"))
+    for name, shape in shapes.items():
+        value = _readonly(getattr(obj, name))
+        expected = tuple(n if s == "N" else s for s in shape)
+        if value.shape != expected:
+            raise ValueError(f"{type(obj).__name__}.{name}: expected shape {expected}, got {value.shape}")
+        object.__setattr__(obj, name, value)
+
+
+@dataclass(frozen=True, eq=False)
+class ClosedKinematics:
+    """The closed configuration of the whole tree along a trajectory.
+
+    Attributes:
+        t: sample times in [s], shape (N,).
+        angles: platform angles [α, β, γ] in [rad] as used (angle_signs
+            applied), shape (N, 3); angle_rates [rad/s], angle_accels [rad/s²] likewise.
+        q: tree configurations in [m, rad], shape (N, nq).
+        v: tree velocities in [m/s, rad/s], shape (N, nv), with J_c v = 0.
+        a: tree accelerations in [m/s², rad/s²], shape (N, nv), with J_c a + J̇_c v = 0.
+        L, Ld, Ldd: slider heights [m], rates [m/s], accelerations [m/s²] of
+            U-joint centre b_ji, shape (N, 2, 3) [platform j, screw i].
+        residual: largest closure gap of each sample in [m], shape (N,).
+        iterations: configuration evaluations spent on each sample, shape (N,).
+    """
+
+    t: np.ndarray
+    angles: np.ndarray
+    angle_rates: np.ndarray
+    angle_accels: np.ndarray
+    q: np.ndarray
+    v: np.ndarray
+    a: np.ndarray
+    L: np.ndarray
+    Ld: np.ndarray
+    Ldd: np.ndarray
+    residual: np.ndarray
+    iterations: np.ndarray
+
+    def __post_init__(self):
+        nq, nv = np.shape(self.q)[1], np.shape(self.v)[1]
+        _check_shapes(
+            self,
+            {
+                "t": ("N",), "angles": ("N", 3), "angle_rates": ("N", 3), "angle_accels": ("N", 3),
+                "q": ("N", nq), "v": ("N", nv), "a": ("N", nv),
+                "L": ("N", 2, 3), "Ld": ("N", 2, 3), "Ldd": ("N", 2, 3),
+                "residual": ("N",), "iterations": ("N",),
+            },
+        )  # fmt: skip
+
+
+def _trajectory_arrays(traj) -> tuple[np.ndarray, ...]:
+    """t (N,), q, qd, qdd (N, 3) of a Trajectory-like object, checked."""
+    try:
+        t = np.asarray(traj.t, dtype=float)
+        angles = [np.asarray(getattr(traj, name), dtype=float) for name in ("q", "qd", "qdd")]
+    except AttributeError as error:
+        raise TrajectoryError(f"expected a trajectory with t, q, qd, qdd ({error})") from None
+    if t.ndim != 1 or len(t) == 0:
+        raise TrajectoryError(f"t must be a non-empty 1-D array, got shape {t.shape}")
+    for name, value in zip(("q", "qd", "qdd"), angles):
+        if value.shape != (len(t), 3):
+            raise TrajectoryError(f"{name} must have shape ({len(t)}, 3), got {value.shape}", column=name)
+    if len(t) > 1 and np.any(np.diff(t) <= 0):
+        raise TrajectoryError("t must increase strictly", column="t")
+    return (t, *angles)
+
+
+class _Closer:
+    """Solves the closed configuration sample after sample (one trajectory, one workspace)."""
+
+    def __init__(self, chain: ClosedChainModel, tol: float, max_iter: int):
+        self.layout = _require_layout(chain)
+        self.ws = _Workspace(chain)
+        self.tol2, self.max_iter = tol * tol, max_iter
+        nv = chain.model.nv
+        self.platforms = self.layout.platform_v.ravel()
+        self.K = np.zeros((nv, nv))
+        self.K[np.arange(3), self.layout.platform_v[0]] = 1.0
+        self.K_inv = None  # inverse of K at the last closed sample: the chord method's Jacobian
+        self.evaluations = 0
+
+    def _evaluate(self, q: np.ndarray) -> np.ndarray:
+        self.evaluations += 1
+        self.ws.place(q)
+        return self.ws.residual()
+
+    def close(self, q: np.ndarray, angles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Move q's leg coordinates until every closure holds; returns q and its residual vector.
+
+        angles: both platforms' coordinates, in ``platform_v.ravel()`` order.
+        On return the workspace holds q's placements and Jacobians. Raises
+        RuntimeError (with the reason) if the loops cannot be closed.
+        """
+        q[self.platforms] = angles
+        e = self._evaluate(q)
+        size = e @ e
+        if self.K_inv is not None:
+            # Chord steps: Newton with the previous sample's K⁻¹, while it contracts well.
+            for _ in range(6):
+                if size <= self.tol2:
+                    return q, e
+                # K⁻¹ rows of platform 1 vanish; platform 2's would move it by O(|e|²): keep it exact.
+                trial = q - self.K_inv[:, 3:] @ e
+                trial[self.platforms] = angles
+                e_trial = self._evaluate(trial)
+                size_trial = e_trial @ e_trial
+                if size_trial > 0.01 * size:  # the gap must shrink tenfold per step, else fresh Jacobians
+                    self._evaluate(q)
+                    break
+                q, e, size = trial, e_trial, size_trial
+        if size <= self.tol2:
+            return q, e
+        return self._levenberg_marquardt(q, e)
+
+    def _levenberg_marquardt(self, q: np.ndarray, e: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Damped Gauss–Newton on the 15 leg coordinates with fresh Jacobians."""
+        legs = self.layout.leg_v
+        damping = 1e-6
+        cost = e @ e
+        for _ in range(self.max_iter):
+            if cost <= self.tol2:
+                return q, e
+            J = self.ws.jacobian()[:, legs]
+            H, g = J.T @ J, J.T @ e
+            while True:
+                step = np.linalg.solve(H + damping * np.eye(len(legs)), g)
+                trial = q.copy()
+                trial[legs] -= step
+                e_trial = self._evaluate(trial)
+                cost_trial = e_trial @ e_trial
+                if cost_trial < cost:
+                    q, e, cost = trial, e_trial, cost_trial
+                    damping = max(damping / 4.0, 1e-12)
+                    break
+                damping *= 8.0
+                if damping > 1e8 or np.abs(step).max() < 1e-15:
+                    raise RuntimeError(
+                        f"cannot close the loops: the closure gap stays at {math.sqrt(cost):.3g} m "
+                        "(the pose is out of the levers' reach)"
+                    )
+        if cost <= self.tol2:
+            return q, e
+        raise RuntimeError(f"cannot close the loops in {self.max_iter} iterations (gap {math.sqrt(cost):.3g} m)")
+
+    def rates(self, q, qd, qdd) -> tuple[np.ndarray, np.ndarray]:
+        """v and a at the closed q whose placements the workspace holds."""
+        ws, platform = self.ws, self.layout.platform_v
+        self.K[3:] = ws.jacobian()
+        # LAPACK directly: np.linalg.inv costs half as much again in checks for a 21×21 matrix.
+        lu, pivots, info = lapack.dgetrf(self.K)
+        K_inv, info_inverse = lapack.dgetri(lu, pivots) if info == 0 else (None, info)
+        # K⁻¹ blows up near a singularity (its entries are O(1..10) in m, rad, s elsewhere).
+        if info_inverse != 0 or not np.abs(K_inv).max() < 1e8:
+            raise RuntimeError("singular pose: the closure Jacobian loses rank (spec §3)")
+        rotations = ws.tip_rotations()
+        if rotations[:, 2, 2].min() <= 1e-6:
+            raise RuntimeError("a lever is horizontal or points down (singular pose, spec §3)")
+        self.K_inv, self.rotations = K_inv, rotations
+        v = K_inv[:, :3] @ qd
+        v[platform[1]] = qd
+        a = K_inv[:, :3] @ qdd - K_inv[:, 3:] @ ws.drift(q, v, rotations)
+        a[platform[1]] = qdd
+        return v, a
+
+
+def kinematics(chain: ClosedChainModel, traj, *, tol: float = 1e-12, max_iter: int = 50) -> ClosedKinematics:
+    """Close the chain along a platform trajectory, with Pinocchio only.
+
+    Args:
+        chain: the hip model from :func:`load_model`.
+        traj: a Trajectory-like object: t (N,) in [s]; q, qd, qdd (N, 3):
+            [α, β, γ] in [rad], [rad/s], [rad/s²]. The parameter set's
+            angle_signs multiply them first (as the analytic model does).
+        tol: closure gap accepted in [m] (bound on the norm of all gaps stacked).
+        max_iter: damped Gauss–Newton iterations allowed per sample.
+
+    Returns:
+        The closed configurations, velocities and accelerations.
+
+    Raises:
+        PoseError: at the first sample whose pose is out of reach or singular.
+        TrajectoryError: the arrays have the wrong shapes.
+    """
+    return _close_chain(chain, traj, tol, max_iter, Fe=None)[0]
+
+
+def _close_chain(chain: ClosedChainModel, traj, tol: float, max_iter: int, Fe) -> tuple[ClosedKinematics, Any]:
+    """The kinematics loop; with a load Fe it also runs the inverse dynamics on the fly."""
+    layout = _require_layout(chain)
+    t, q_in, qd_in, qdd_in = _trajectory_arrays(traj)
+    signs = chain.params.angle_signs if chain.params is not None else np.ones(3)
+    angles, rates, accels = q_in * signs, qd_in * signs, qdd_in * signs
+    both = np.tile(angles, 2)  # both platforms' coordinates, in platform_v.ravel() order
+    n, nq, nv = len(t), chain.model.nq, chain.model.nv
+    Q, V, A = np.empty((n, nq)), np.empty((n, nv)), np.empty((n, nv))
+    gaps = np.empty((n, 3 * chain.n_closures))
+    iterations = np.empty(n, dtype=int)
+    closer = _Closer(chain, tol, max_iter)
+    # The closer leaves Pinocchio's data at the closed q: the dynamics reuse its Jacobians.
+    dynamics = _InverseDynamics(chain, V, A, Fe) if Fe is not None else None
+    dt = np.diff(t, prepend=t[0])
+    q = layout.initial_guess.copy()
+    for k in range(n):
+        if k > 1:
+            # Third-order Taylor prediction; jerk from the last two accelerations.
+            h = dt[k]
+            jerk = (A[k - 1] - A[k - 2]) / dt[k - 1]
+            q = Q[k - 1] + h * (V[k - 1] + h * (0.5 * A[k - 1] + h / 6.0 * jerk))
+        elif k == 1:
+            q = Q[0] + dt[1] * (V[0] + 0.5 * dt[1] * A[0])
+        before = closer.evaluations
+        try:
+            q, gaps[k] = closer.close(q, both[k])
+            V[k], A[k] = closer.rates(q, rates[k], accels[k])
+        except (RuntimeError, np.linalg.LinAlgError) as error:
+            raise PoseError(str(error), float(t[k]), k, source=getattr(traj, "name", None)) from None
+        iterations[k] = closer.evaluations - before
+        Q[k] = q
+        if dynamics is not None:
+            dynamics.add(k, q, closer.ws.data, closer.K[3:], closer.rotations)
+
+    sliders = layout.slider_v
+    offset = np.stack([np.zeros(3), layout.slider_offset])[None]
+    kin = ClosedKinematics(
+        t=t,
+        angles=angles,
+        angle_rates=rates,
+        angle_accels=accels,
+        q=Q,
+        v=V,
+        a=A,
+        L=Q[:, None, sliders] - offset,
+        Ld=np.repeat(V[:, None, sliders], 2, axis=1),
+        Ldd=np.repeat(A[:, None, sliders], 2, axis=1),
+        residual=np.linalg.norm(gaps.reshape(n, -1, 3), axis=2).max(axis=1),
+        iterations=iterations,
+    )
+    return kin, (dynamics.result(kin) if dynamics is not None else None)
+
+
+# ---------------------------------------------------------------------------
+# Closed-chain inverse dynamics
+# ---------------------------------------------------------------------------
+
+
+def smooth_sign(w: np.ndarray, epsilon: float, axis: int | None = None) -> np.ndarray:
+    """The regularised sign ŝ(w) = w / √(|w|² + ε²) of spec §7.3.
+
+    Args:
+        w: rates, in [rad/s] (or any unit of ε).
+        epsilon: ε, same unit as w.
+        axis: the axis holding vector components (moments); None for scalars.
+
+    Returns:
+        Same shape as w, each entry (vector) of size < 1.
+    """
+    w = np.asarray(w, dtype=float)
+    norm2 = w * w if axis is None else np.sum(w * w, axis=axis, keepdims=True)
+    return w / np.sqrt(norm2 + epsilon * epsilon)
+
+
+@dataclass(frozen=True, eq=False)
+class ClosedChainTorques:
+    """Motor torques and joint forces of the closed-chain inverse dynamics.
+
+    Attributes:
+        t: sample times in [s], shape (N,).
+        tau: motor torque of each module in [N·m], shape (N, 3); the sum of
+        tau_m: platforms' inertia (both), tau_l: levers' gravity and inertia,
+        tau_s: sliders' (carriages') gravity and inertia, tau_L: screws'
+            rotor inertia, tau_f: all friction; each (N, 3) in [N·m].
+        F_act: actuator force on each carriage in [N], shape (N, 3)
+            (tau = p/2π · F_act).
+        lambdas: closure forces in [N], shape (N, 2, 3, 3): the force the
+            platform exerts on lever ji at a_ji, in the lever-tip frame.
+        Fa: its magnitude in [N], shape (N, 2, 3) (spherical joint a_ji).
+        Fo: magnitude of the force through platform j's central spherical
+            joint in [N], shape (N, 2), load F_e included (see inverse_dynamics).
+        L, Ld, Ldd: slider motion in [m, m/s, m/s²], shape (N, 2, 3).
+        q, v, a: the closed tree motion, shapes (N, nq), (N, nv), (N, nv).
+    """
+
+    t: np.ndarray
+    tau: np.ndarray
+    tau_m: np.ndarray
+    tau_l: np.ndarray
+    tau_s: np.ndarray
+    tau_L: np.ndarray
+    tau_f: np.ndarray
+    F_act: np.ndarray
+    lambdas: np.ndarray
+    Fa: np.ndarray
+    Fo: np.ndarray
+    L: np.ndarray
+    Ld: np.ndarray
+    Ldd: np.ndarray
+    q: np.ndarray
+    v: np.ndarray
+    a: np.ndarray
+
+    def __post_init__(self):
+        nq, nv = np.shape(self.q)[1], np.shape(self.v)[1]
+        shapes = {name: ("N", 3) for name in ("tau", "tau_m", "tau_l", "tau_s", "tau_L", "tau_f", "F_act")}
+        shapes.update(t=("N",), lambdas=("N", 2, 3, 3), Fa=("N", 2, 3), Fo=("N", 2))
+        shapes.update(L=("N", 2, 3), Ld=("N", 2, 3), Ldd=("N", 2, 3), q=("N", nq), v=("N", nv), a=("N", nv))
+        _check_shapes(self, shapes)
+
+
+def _friction_forces(chain: ClosedChainModel, v, Fe, platform_J, lever_J) -> np.ndarray:
+    """Generalised forces the actuators must supply against friction, shape (n, nv) (spec §4.3, §7.3).
+
+    platform_J: (n, 2, 3, 3) angular Jacobians of the platforms on their own
+    joints [rx, ry, rz]; lever_J: (n, 2, 3, 3, 2) of the levers on [u1, u2],
+    or None when the U and S joints are frictionless.
+    """
+    params, layout = chain.params, chain.layout
+    fr = params.friction
+    eps = fr.epsilon
+    n = len(v)
+    Q = np.zeros((n, chain.model.nv))
+
+    # Central chain: hip joint and thrust bearing, a moment along platform j's ω.
+    omega = np.einsum("njab,njb->nja", platform_J, v[:, layout.platform_v])
+    bearing_load = np.abs(Fe + params.platform_mass * params.gravity)
+    load = fr.hip_radius * fr.hip_mu * np.abs(Fe) + fr.thrust_radius * fr.thrust_mu * bearing_load
+    moment = smooth_sign(omega, eps, axis=-1) * load[:, None, None]
+    if lever_J is not None:
+        omega_lever = np.einsum("njiab,njib->njia", lever_J, v[:, layout.ujoint_v])
+        # U joint: the slider does not rotate, so the relative rate is the lever's own.
+        lever_moment = fr.ujoint_coulomb * smooth_sign(omega_lever, eps, axis=-1) + fr.ujoint_viscous * omega_lever
+        # S joint: acts on the lever and, oppositely, on the platform.
+        relative = omega_lever - omega[:, :, None, :]
+        s_moment = fr.sjoint_coulomb * smooth_sign(relative, eps, axis=-1) + fr.sjoint_viscous * relative
+        lever_moment = lever_moment + s_moment
+        moment = moment - s_moment.sum(axis=2)
+        Q_lever = np.einsum("njiab,njia->njib", lever_J, lever_moment)
+        Q[:, layout.ujoint_v] += Q_lever
+    Q[:, layout.platform_v] += np.einsum("njab,nja->njb", platform_J, moment)
+
+    # Slider guides (two per carriage) and the screw on the motor shaft, as carriage forces.
+    Ld = v[:, layout.slider_v]
+    motor_speed = _TWO_PI / chain.lead * Ld
+    guide = 2.0 * (fr.guide_coulomb * smooth_sign(motor_speed, eps) + fr.guide_viscous * Ld)
+    screw = fr.screw_coulomb * smooth_sign(motor_speed, eps) + fr.screw_viscous * motor_speed
+    Q[:, layout.slider_v] += guide + _TWO_PI / chain.lead * screw
+    return Q
+
+
+class _InverseDynamics:
+    """Tree terms sample by sample; the closed-chain solve a chunk of samples at a time.
+
+    The caller fills v and a (shape (n, nv)) up to sample k before calling
+    :meth:`add` for k, with Pinocchio's data holding sample k's joint
+    Jacobians (computeJointJacobians at q_k) and its closure Jacobian and
+    lever-tip rotations at hand.
+    """
+
+    def __init__(self, chain: ClosedChainModel, v: np.ndarray, a: np.ndarray, Fe):
+        self.chain, self.layout, self.model = chain, _require_layout(chain), chain.model
+        self.v, self.a = v, a
+        n, nv = len(v), chain.model.nv
+        self.Fe = np.broadcast_to(np.asarray(Fe, dtype=float), (n,))
+        friction = chain.params.friction
+        lever_terms = ("ujoint_coulomb", "ujoint_viscous", "sjoint_coulomb", "sjoint_viscous")
+        self.lever_friction = any(getattr(friction, name) != 0.0 for name in lever_terms)
+        size = min(_CHUNK, n)
+        self.system = np.zeros((size, nv, nv))  # [Sᵀ  J_cᵀ] per sample
+        self.system[:, chain.actuated_v, np.arange(3)] = 1.0
+        self.rhs = np.empty((size, nv, 5))  # generalised forces of [platforms, levers, carriages, screws, friction]
+        # Angular rows of the world-frame joint Jacobians: a body's ω is their sum over its support.
+        self.angular = np.empty((size, 3, nv))
+        self.parts = np.empty((n, 3, 5))  # actuator forces per part
+        self.lambdas = np.empty((n, chain.n_closures, 3))
+        self.rotations = np.empty((n, chain.n_closures, 3, 3))
+        self.start = 0
+
+    def add(self, k: int, q: np.ndarray, data, jacobian: np.ndarray, rotations: np.ndarray) -> None:
+        slot = k - self.start
+        self.system[slot, :, 3:] = jacobian.T
+        self.rotations[k] = rotations
+        self.angular[slot] = data.J[3:]
+        regressor = pin.computeJointTorqueRegressor(self.model, data, q, self.v[k], self.a[k])
+        self.rhs[slot, :, :3] = regressor @ self.layout.groups
+        if slot + 1 == len(self.system) or k + 1 == len(self.v):
+            self._solve(k + 1)
+
+    def _solve(self, stop: int) -> None:
+        start, m, layout = self.start, stop - self.start, self.layout
+        rhs, angular = self.rhs[:m], self.angular[:m]
+        rhs[:, :, 3] = self.model.armature * self.a[start:stop]
+        platform_J = np.moveaxis(angular[:, :, layout.platform_v], 1, 2)  # (m, j, xyz, joint)
+        lever_J = np.moveaxis(angular[:, :, layout.ujoint_v], 1, 3) if self.lever_friction else None
+        rhs[:, :, 4] = _friction_forces(self.chain, self.v[start:stop], self.Fe[start:stop], platform_J, lever_J)
+        solution = np.linalg.solve(self.system[:m], rhs)
+        self.parts[start:stop] = solution[:, :3]
+        self.lambdas[start:stop] = solution[:, 3:].sum(axis=2).reshape(m, -1, 3)
+        self.start = stop
+
+    def result(self, kin: ClosedKinematics) -> ClosedChainTorques:
+        params, closure = self.chain.params, self.layout.closure
+        tau_m, tau_l, tau_s, tau_L, tau_f = np.moveaxis(self.chain.lead / _TWO_PI * self.parts, 2, 0)
+        lambdas = self.lambdas[:, closure]  # (n, 2, 3, 3)
+        # Platform j: its centre is fixed, so the central joint balances the levers, weight and load.
+        centre = np.einsum("nkab,nkb->nka", self.rotations, self.lambdas)[:, closure].sum(axis=2)
+        centre[:, :, 2] += params.platform_mass * params.gravity + self.Fe[:, None]
+        return ClosedChainTorques(
+            t=kin.t,
+            tau=tau_m + tau_l + tau_s + tau_L + tau_f,
+            tau_m=tau_m,
+            tau_l=tau_l,
+            tau_s=tau_s,
+            tau_L=tau_L,
+            tau_f=tau_f,
+            F_act=self.parts.sum(axis=2),
+            lambdas=lambdas,
+            Fa=np.linalg.norm(lambdas, axis=-1),
+            Fo=np.linalg.norm(centre, axis=-1),
+            L=kin.L,
+            Ld=kin.Ld,
+            Ldd=kin.Ldd,
+            q=kin.q,
+            v=kin.v,
+            a=kin.a,
+        )
+
+
+def inverse_dynamics(chain: ClosedChainModel, kin: ClosedKinematics, Fe) -> ClosedChainTorques:
+    """Motor torques (with their parts) and joint forces along a closed motion, with Pinocchio.
+
+    The tree's generalised forces are split exactly into parts: Pinocchio's
+    joint-torque regressor Y(q, v, a) times each body group's dynamic
+    parameters (platforms, levers, carriages; RNEA is linear in them for a
+    fixed motion, gravity included), armature·a for the screws, and the
+    friction generalised forces of spec §4.3 at their joints (central-chain
+    moment on each platform along ŝ(ω_j); U- and S-joint moments on the
+    levers, S also on the platform; slider-guide forces and the screw's
+    motor-side friction mapped to the carriage). One solve of
+    Sᵀ F + J_cᵀ λ = τ for all parts then gives each part's actuator force, so
+    the parts add up to the total to rounding.
+
+    Platform j's central joint force: the platform's centre does not
+    accelerate, so F_o,j = Σ_i λ_ji (in world axes: minus the levers' forces on
+    the platform) + (m_m g + F_e) ẑ, i.e. the joint also carries the
+    platform's weight and the load F_e, which presses down through the
+    centre of both platforms (spec §1, §4.3; the spring that carries m_1's
+    weight is ignored, as in the friction model).
+
+    Args:
+        chain: the hip model from :func:`load_model`.
+        kin: the closed motion from :func:`kinematics`.
+        Fe: hydraulic load magnitude in [N], shape (N,) (or a scalar).
+
+    Returns:
+        Torques in [N·m], forces in [N].
+    """
+    dynamics = _InverseDynamics(chain, kin.v, kin.a, Fe)
+    ws = _Workspace(chain)
+    for k, q in enumerate(kin.q):
+        ws.place(q)
+        dynamics.add(k, q, ws.data, ws.jacobian(), ws.tip_rotations())
+    return dynamics.result(kin)
+
+
+def trajectory_dynamics(
+    chain: ClosedChainModel, traj, *, tol: float = 1e-12, max_iter: int = 50
+) -> tuple[ClosedKinematics, ClosedChainTorques]:
+    """:func:`kinematics` and :func:`inverse_dynamics` in one pass, with the trajectory's own load.
+
+    Faster than the two calls: the dynamics reuse the Jacobians the
+    kinematics computed at each closed configuration.
+
+    Args:
+        chain: the hip model from :func:`load_model`.
+        traj: a Trajectory-like object with t, q, qd, qdd (see
+            :func:`kinematics`) and Fe (N,) in [N].
+        tol: closure gap accepted in [m], as in :func:`kinematics`.
+        max_iter: damped Gauss–Newton iterations allowed per sample.
+
+    Returns:
+        The closed motion and the torques.
+    """
+    return _close_chain(chain, traj, tol, max_iter, Fe=traj.Fe)
