@@ -3,20 +3,26 @@
 
 Run:  .venv/bin/python scripts/bench.py [--quick]
 
-Figures are wall-clock on this machine, best of a few repeats, one process
-(NumPy may use its BLAS threads; the 3x3 work here is not BLAS-bound).
+Figures are wall-clock on this machine, best of a few repeats, on one core:
+the BLAS/OpenMP thread counts are pinned to 1 before NumPy loads.
 """
 
 from __future__ import annotations
 
-import argparse
-import time
+import os
 
-import numpy as np
+for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_variable, "1")
 
-import hipsim
-from hipsim.dynamics import inverse_dynamics
-from hipsim.kinematics import kinematics
+import argparse  # noqa: E402
+import time  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+import hipsim  # noqa: E402
+from hipsim import workspace  # noqa: E402
+from hipsim.dynamics import inverse_dynamics  # noqa: E402
+from hipsim.kinematics import kinematics  # noqa: E402
 
 
 def best_time(function, repeats: int = 5) -> float:
@@ -48,12 +54,73 @@ def bench_analytic(params, quick: bool) -> None:
     print("  target: >= 500,000 samples/s at 10 kHz")
 
 
+def bench_pinocchio(params, quick: bool) -> None:
+    import pinocchio as pin
+
+    from hipsim.pinocchio_model import load_model, trajectory_dynamics
+
+    chain = load_model(params)
+    trajectory = hipsim.iso14242(rate=1000)
+    if quick:
+        trajectory = trajectory.slice(slice(0, 300))
+    elapsed = best_time(lambda: trajectory_dynamics(chain, trajectory), repeats=3)
+    model, data = chain.model, chain.model.createData()
+    q, v, a = pin.neutral(model), np.full(model.nv, 0.1), np.full(model.nv, 0.2)
+    rnea = best_time(lambda: [pin.rnea(model, data, q, v, a) for _ in range(2000)]) / 2000
+    per_sample = elapsed / len(trajectory)
+    print("Pinocchio closed-chain kinematics + inverse dynamics on the ISO 14242-1 cycle at 1 kHz")
+    print(f"  {len(trajectory) / elapsed:,.0f} samples/s ({per_sample * 1e6:.1f} µs per sample)")
+    print(f"  floor, one bare pin.rnea call on the same {model.nv}-DoF tree: {rnea * 1e6:.1f} µs ({per_sample / rnea:.0f} rnea calls' worth per sample)")
+    print("  target: >= 10,000 samples/s")
+
+
+def bench_workspace(quick: bool = False) -> None:
+    """Print the default map's time and the extrapolated time of a per-orientation loop."""
+    params = hipsim.load_parameters()
+    smap = workspace.singularity_map(params)  # warm-up, and the grid size
+    n = smap.orientations
+    vectorised = best_time(lambda: workspace.singularity_map(params, progress=False))
+
+    # Baseline: the same orientations one at a time from Python, J from positions
+    # and its singular values from LAPACK, as a straightforward script would do.
+    alpha, beta, gamma = smap.alpha_deg, smap.beta_deg, smap.gamma_deg
+    subset = 500 if quick else 3000
+    rng = np.random.default_rng(0)
+    picks = np.column_stack([rng.choice(alpha, subset), rng.choice(beta, subset), rng.choice(gamma, subset)])
+    q = np.radians(picks)
+
+    def loop():
+        out = np.empty(subset)
+        for k in range(subset):
+            J, reachable = workspace.pose_jacobian(params, q[k : k + 1])
+            s = np.linalg.svd(J[0], compute_uv=False) if reachable[0] else None
+            out[k] = s[-1] / s[0] if s is not None else np.nan
+        return out
+
+    looped = best_time(loop, repeats=2) / subset * n
+    print("Singularity map, default grid")
+    print(
+        f"  {smap.alpha_deg.size} α × {smap.beta_deg.size} β × {smap.gamma_deg.size} γ = {n:,} orientations: "
+        f"vectorised {vectorised:.3f} s ({n / vectorised:,.0f} orientations/s)"
+    )
+    print(f"  per-orientation Python loop (measured on {subset:,}, extrapolated): {looped:.1f} s  -> {looped / vectorised:.0f}x")
+    print(f"  target: < 2 s   {'OK' if vectorised < 2.0 else 'MISSED'}")
+
+    sweep_time = best_time(lambda: workspace.offset_sweep(params, progress=False), repeats=2)
+    print(f"  offset sweep, {workspace.DEFAULT_DELTAS_DEG.size} δ values × ISO cycle at 1 kHz: {sweep_time:.2f} s")
+
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer samples in the slow baselines")
     args = parser.parse_args()
     params = hipsim.load_parameters()
     bench_analytic(params, args.quick)
+    print()
+    bench_pinocchio(params, args.quick)
+    print()
+    bench_workspace(args.quick)
 
 
 if __name__ == "__main__":
