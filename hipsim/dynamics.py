@@ -22,6 +22,11 @@ explicit Jacobians of :func:`hipsim.kinematics.lever_jacobians`.
 Both platforms have the same orientation and their legs the same lever
 directions, so every platform, lever and slider term is the same for j = 1
 and j = 2 and is computed once and counted twice.
+
+As in :mod:`hipsim.kinematics`, the computations run components-first (a
+vector per sample (3, N), per leg (3, 3, N) = (xyz, leg, sample), a scalar per
+leg (3, N)) on the ``.T`` views of the :class:`~hipsim.kinematics.Kinematics`
+arrays, and the results are turned back with ``.T``.
 """
 
 from __future__ import annotations
@@ -31,7 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .kinematics import Kinematics, _cross, _dot, lever_frames, lever_rotation, spin_transpose
+from .kinematics import Kinematics, _cross, _dot, _inverse_transpose, _lever_axes, _lever_spin, _spin_transpose
 from .parameters import Parameters
 
 __all__ = [
@@ -41,8 +46,6 @@ __all__ = [
     "mechanical_energy",
     "smooth_sign",
 ]
-
-_Z = np.array([0.0, 0.0, 1.0])
 
 
 def smooth_sign(w: np.ndarray, epsilon: float, vector: bool = False) -> np.ndarray:
@@ -57,6 +60,11 @@ def smooth_sign(w: np.ndarray, epsilon: float, vector: bool = False) -> np.ndarr
     return w / np.sqrt(norm2 + epsilon**2)
 
 
+def _smooth_sign_vector(w: np.ndarray, epsilon: float) -> np.ndarray:
+    """ŝ(w) of components-first vectors w (3, ...)."""
+    return w / np.sqrt(_dot(w, w) + epsilon**2)
+
+
 def central_friction_moment(params: Parameters, omega: np.ndarray, Fe: np.ndarray) -> np.ndarray:
     """Friction moment τ_mf of one platform's central chain (hip joint + thrust bearing), spec §4.3.
 
@@ -68,11 +76,16 @@ def central_friction_moment(params: Parameters, omega: np.ndarray, Fe: np.ndarra
     Returns:
         τ_mf in [N·m], (N, 3), along ŝ(ω) (it resists the platform's rotation).
     """
+    return _central_friction_moment(params, omega.T, np.asarray(Fe, dtype=float)).T
+
+
+def _central_friction_moment(params: Parameters, omega: np.ndarray, Fe: np.ndarray) -> np.ndarray:
+    """:func:`central_friction_moment` with ω components-first (3, N)."""
     f = params.friction
     magnitude = f.hip_radius * f.hip_mu * np.abs(Fe) + f.thrust_radius * f.thrust_mu * np.abs(
         Fe + params.platform_mass * params.gravity
     )
-    return smooth_sign(omega, f.epsilon, vector=True) * magnitude[:, None]
+    return _smooth_sign_vector(omega, f.epsilon) * magnitude
 
 
 @dataclass(frozen=True, eq=False)
@@ -105,25 +118,97 @@ class Torques:
     PARTS = ("tau_m", "tau_l", "tau_s", "tau_L", "tau_f")
 
 
-def _to_body(frames: np.ndarray, w: np.ndarray) -> np.ndarray:
-    """Rᵀ·w for body frames R of shape (..., 3, 3) and vectors w of shape (..., 3)."""
-    return np.einsum("...ba,...b->...a", frames, w)
+def _body_components(axes, w: np.ndarray) -> np.ndarray:
+    """Rᵀ·w: the components of w (3, ...) along a body's axes, the columns of R given as three vectors."""
+    return np.array([_dot(axis, w) for axis in axes])
 
 
-def _euler_moment(frames: np.ndarray, inertia: np.ndarray, w: np.ndarray, w_dot: np.ndarray) -> np.ndarray:
+def _from_body(axes, w_body: np.ndarray) -> np.ndarray:
+    """R·w_body: a vector from its components along a body's axes."""
+    w = axes[0] * w_body[0]
+    w += axes[1] * w_body[1]
+    w += axes[2] * w_body[2]
+    return w
+
+
+def _inertia_times(inertia: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """I·w for a constant 3x3 inertia I and components-first vectors w (3, ...)."""
+    return np.einsum("ab,b...->a...", inertia, w)  # not BLAS: see hipsim.kinematics._platform_vectors
+
+
+def _euler_moment(axes, inertia: np.ndarray, w: np.ndarray, w_dot: np.ndarray) -> np.ndarray:
     """The D'Alembert moment −I_w·ω̇ − ω × I_w·ω in world axes, I_w = R·I·Rᵀ.
 
     Evaluated in body axes, where the inertia is constant: R·(−I·Rᵀω̇ − Rᵀω × I·Rᵀω).
+    ``axes`` are the body's axes (the columns of R), components-first.
     """
-    w_body = _to_body(frames, w)
-    moment_body = -(_to_body(frames, w_dot) @ inertia.T) - _cross(w_body, w_body @ inertia.T)
-    return np.einsum("...ab,...b->...a", frames, moment_body)
+    w_body = _body_components(axes, w)
+    moment_body = -_inertia_times(inertia, _body_components(axes, w_dot))
+    moment_body -= _cross(w_body, _inertia_times(inertia, w_body))
+    return _from_body(axes, moment_body)
 
 
-def _rotational_energy(frames: np.ndarray, inertia: np.ndarray, w: np.ndarray) -> np.ndarray:
+def _rotational_energy(axes, inertia: np.ndarray, w: np.ndarray) -> np.ndarray:
     """½·ωᵀ·I_w·ω."""
-    w_body = _to_body(frames, w)
-    return 0.5 * _dot(w_body, w_body @ inertia.T)
+    w_body = _body_components(axes, w)
+    return 0.5 * _dot(w_body, _inertia_times(inertia, w_body))
+
+
+def _platform_axes(kin: Kinematics):
+    """The platform's axes, the columns of R, components-first (3, N) each."""
+    return kin.R[:, :, 0].T, kin.R[:, :, 1].T, kin.R[:, :, 2].T
+
+
+#: No force at the lever centre (a pure moment), for :func:`_lever_ends`.
+_NO_FORCE = np.zeros((3, 1, 1))
+
+
+def _lever_ends(params: Parameters, kin: Kinematics, lever_spin: bool, force: np.ndarray, moment: np.ndarray):
+    """A wrench on each lever (force at its centre, moment), as the two end forces of the module docstring.
+
+    Returns:
+        Σ_i r_i × f_a,i, the moment of the platform-end forces about the centre (3, N),
+        and f_b,z, the slider-end forces along the screws (3, N).
+    """
+    e = kin.e.T
+    if lever_spin:
+        moment = _spin_transpose(params, e, moment)
+    m_cross_e = _cross(moment, e)
+    m_cross_e /= params.lever_length
+    f_a = 0.5 * force + m_cross_e
+    f_b_z = 0.5 * force[2] - m_cross_e[2]
+    return np.sum(_cross(kin.r.T, f_a), axis=1), f_b_z
+
+
+def _lever_inertia(params: Parameters, kin: Kinematics, lever_spin: bool, omega_l, omega_l_dot):
+    """Levers' gravity and D'Alembert wrench, mapped to their ends by :func:`_lever_ends`."""
+    gravity = np.array([0.0, 0.0, -params.gravity])[:, None, None]
+    F_l = params.lever_mass * (gravity - kin.a_l[:, 0].T)
+    M_l = _euler_moment(_lever_axes(params, kin.e.T), params.lever_inertia, omega_l, omega_l_dot)
+    return _lever_ends(params, kin, lever_spin, F_l, M_l)
+
+
+def _lever_joint_friction(params: Parameters, kin: Kinematics, lever_spin: bool, omega_l):
+    """Friction in the levers' universal (U) and spherical (S) joints.
+
+    U: the lever relative to the non-rotating slider; S: the lever relative to
+    the platform, whose moment also acts back on the platform.
+
+    Returns:
+        The generalised moment on the platform (3, N), the slider-end forces
+        along the screws (3, N), and the power lost (N,); zeros when every
+        coefficient is zero (the default), without computing them.
+    """
+    f = params.friction
+    if not (f.ujoint_coulomb or f.ujoint_viscous or f.sjoint_coulomb or f.sjoint_viscous):
+        return 0.0, 0.0, 0.0
+    w_rel_s = omega_l - kin.omega.T[:, None]
+    tau_bf = f.ujoint_coulomb * _smooth_sign_vector(omega_l, f.epsilon) + f.ujoint_viscous * omega_l
+    tau_af = f.sjoint_coulomb * _smooth_sign_vector(w_rel_s, f.epsilon) + f.sjoint_viscous * w_rel_s
+    Q, f_b_z = _lever_ends(params, kin, lever_spin, _NO_FORCE, -tau_af - tau_bf)
+    Q += np.sum(tau_af, axis=1)
+    power = np.sum(_dot(tau_bf, omega_l) + _dot(tau_af, w_rel_s), axis=0)
+    return Q, f_b_z, power
 
 
 def inverse_dynamics(params: Parameters, kin: Kinematics, Fe: np.ndarray, lever_spin: bool = False) -> Torques:
@@ -143,69 +228,48 @@ def inverse_dynamics(params: Parameters, kin: Kinematics, Fe: np.ndarray, lever_
     Fe = np.asarray(Fe, dtype=float)
     n_platforms = params.heights.size
     f = params.friction
-    l, p = params.lever_length, params.lead
-    gravity = np.array([0.0, 0.0, -params.gravity])
-    Ldd = kin.Ldd[:, 0]
-    Ld = kin.Ld[:, 0]
+    p = params.lead
+    # Components first: per sample (3, N), per leg (3, 3, N); per-leg scalars (3, N).
+    omega = kin.omega.T
+    Ld, Ldd = kin.Ld[:, 0].T, kin.Ldd[:, 0].T
     motor_speed = 2.0 * math.pi * Ld / p
+    omega_l, omega_l_dot = kin.omega_l.T, kin.omega_l_dot.T
+    if lever_spin:
+        omega_l, omega_l_dot = _lever_spin(params, kin.e.T, omega_l, omega_l_dot)
 
     # Platforms: the D'Alembert moment about the fixed centre.
-    tau_m_j = _euler_moment(kin.R, params.platform_inertia, kin.omega, kin.omega_dot)
+    Q_m = _euler_moment(_platform_axes(kin), params.platform_inertia, omega, kin.omega_dot.T)
 
     # Levers: gravity and inertia at the centre, mapped to the ends.
-    omega_l, omega_l_dot = lever_rotation(params, kin, lever_spin)
-    F_l = params.lever_mass * (gravity - kin.a_l[:, 0])
-    M_l = _euler_moment(lever_frames(params, kin), params.lever_inertia, omega_l, omega_l_dot)
+    Q_l, Fz_l = _lever_inertia(params, kin, lever_spin, omega_l, omega_l_dot)
 
-    # Friction moments: U joint (lever relative to the non-rotating slider) and
-    # S joint (lever relative to the platform); the S moment acts back on the platform.
-    w_rel_s = omega_l - kin.omega[:, None]
-    tau_bf = f.ujoint_coulomb * smooth_sign(omega_l, f.epsilon, True) + f.ujoint_viscous * omega_l
-    tau_af = f.sjoint_coulomb * smooth_sign(w_rel_s, f.epsilon, True) + f.sjoint_viscous * w_rel_s
-    tau_mf = central_friction_moment(params, kin.omega, Fe)
-    M_f = -tau_af - tau_bf
-
-    # Sliders: gravity and inertia along the screw; guide friction.
+    # Sliders: gravity and inertia along the screw.
     F_L = params.slider_mass * (-params.gravity - Ldd)
-    F_Lf = f.guide_coulomb * smooth_sign(motor_speed, f.epsilon) + f.guide_viscous * Ld
 
-    def lever_ends(force, moment):
-        """Generalised moment of the end forces on the platform, and the slider-axis force."""
-        if lever_spin:
-            moment = spin_transpose(params, kin, moment)
-        m_cross_e = _cross(moment, kin.e) / l
-        f_a = 0.5 * force + m_cross_e
-        f_b_z = 0.5 * force[..., 2] - m_cross_e[..., 2]
-        return np.sum(_cross(kin.r, f_a), axis=1), f_b_z
+    # Friction: central chain, lever joints, slider guides and screws.
+    tau_mf = _central_friction_moment(params, omega, Fe)
+    Q_lf, Fz_lf, power_lf = _lever_joint_friction(params, kin, lever_spin, omega_l)
+    Q_f = Q_lf - tau_mf
+    motor_sign = smooth_sign(motor_speed, f.epsilon)
+    F_Lf = f.guide_coulomb * motor_sign + f.guide_viscous * Ld
+    tau_screw_f = f.screw_coulomb * motor_sign + f.screw_viscous * motor_speed
 
-    Q_l, Fz_l = lever_ends(F_l, M_l)
-    Q_lf, Fz_lf = lever_ends(np.zeros_like(M_f), M_f)
-    Q_f = Q_lf - tau_mf + np.sum(tau_af, axis=1)
-
-    # One solve of Jᵀ·y = Q for the platform, lever and friction moments together.
-    Q = np.stack([tau_m_j, Q_l, Q_f], axis=-1)
-    y = np.linalg.solve(np.swapaxes(kin.J, -1, -2), Q)
+    # y = J⁻ᵀ·Q for the platform, lever and friction moments: y_i = (row i of J⁻ᵀ)·Q.
+    J_inv_T = _inverse_transpose(kin.J.T)
     scale = -n_platforms * p / (2.0 * math.pi)
-    tau_m = scale * y[..., 0]
-    tau_l = scale * (y[..., 1] + Fz_l)
+    tau_m = scale * _dot(J_inv_T, Q_m)
+    tau_l = scale * (_dot(J_inv_T, Q_l) + Fz_l)
     tau_s = scale * F_L
     tau_L = 2.0 * math.pi * params.screw_inertia / p * Ldd
-    tau_screw_f = f.screw_coulomb * smooth_sign(motor_speed, f.epsilon) + f.screw_viscous * motor_speed
-    tau_f = tau_screw_f + scale * (y[..., 2] + Fz_lf - F_Lf)
+    tau_f = tau_screw_f + scale * (_dot(J_inv_T, Q_f) + Fz_lf - F_Lf)
 
-    friction_power = (
-        np.sum(tau_screw_f * motor_speed, axis=1)
-        + n_platforms
-        * (
-            np.sum(F_Lf * Ld, axis=1)
-            + _dot(tau_mf, kin.omega)
-            + np.sum(_dot(tau_bf, omega_l) + _dot(tau_af, w_rel_s), axis=1)
-        )
+    friction_power = np.sum(tau_screw_f * motor_speed, axis=0) + n_platforms * (
+        np.sum(F_Lf * Ld, axis=0) + _dot(tau_mf, omega) + power_lf
     )
     tau = tau_m + tau_l + tau_s + tau_L + tau_f
     return Torques(
-        tau=tau, tau_m=tau_m, tau_l=tau_l, tau_s=tau_s, tau_L=tau_L, tau_f=tau_f,
-        motor_speed=motor_speed, friction_moment=np.linalg.norm(tau_mf, axis=-1),
+        tau=tau.T, tau_m=tau_m.T, tau_l=tau_l.T, tau_s=tau_s.T, tau_L=tau_L.T, tau_f=tau_f.T,
+        motor_speed=motor_speed.T, friction_moment=np.sqrt(_dot(tau_mf, tau_mf)),
         friction_power=friction_power,
     )
 
@@ -227,14 +291,18 @@ def mechanical_energy(params: Parameters, kin: Kinematics, lever_spin: bool = Fa
         m·g·z of the levers and sliders (the platform centres do not move).
     """
     n_platforms = params.heights.size
-    kinetic_m = _rotational_energy(kin.R, params.platform_inertia, kin.omega)
-    omega_l, _ = lever_rotation(params, kin, lever_spin)
-    v_l = kin.v_l[:, 0]
-    kinetic_l = 0.5 * params.lever_mass * _dot(v_l, v_l) + _rotational_energy(lever_frames(params, kin), params.lever_inertia, omega_l)
-    Ld = kin.Ld[:, 0]
+    e = kin.e.T
+    kinetic_m = _rotational_energy(_platform_axes(kin), params.platform_inertia, kin.omega.T)
+    omega_l = kin.omega_l.T
+    if lever_spin:
+        omega_l, _ = _lever_spin(params, e, omega_l, kin.omega_l_dot.T)
+    v_l = kin.v_l[:, 0].T
+    kinetic_l = 0.5 * params.lever_mass * _dot(v_l, v_l)
+    kinetic_l += _rotational_energy(_lever_axes(params, e), params.lever_inertia, omega_l)
+    Ld = kin.Ld[:, 0].T
     kinetic_s = 0.5 * params.slider_mass * Ld**2
     kinetic_L = 0.5 * params.screw_inertia * (2.0 * math.pi * Ld / params.lead) ** 2
-    kinetic = n_platforms * (kinetic_m + kinetic_l.sum(1) + kinetic_s.sum(1)) + kinetic_L.sum(1)
+    kinetic = n_platforms * (kinetic_m + kinetic_l.sum(0) + kinetic_s.sum(0)) + kinetic_L.sum(0)
     lever_height = 0.5 * (kin.a[..., 2] + kin.b[..., 2])
     potential = params.gravity * (params.lever_mass * lever_height.sum((1, 2)) + params.slider_mass * kin.L.sum((1, 2)))
     return kinetic, potential

@@ -5,8 +5,23 @@ R = Rz(γ)·Ry(β)·Rx(α); leg i of platform j joins the slider's universal joi
 b_ji = c_i + L_ji·ẑ to the platform joint a_ji = o_j + R·r⁰_i through a lever
 of length l. Because a_1i − b_1i = a_2i − b_2i, the two platforms share their
 lever directions, their Jacobian and their slider motion up to the constant
-offset h_1 − h_2, and every per-leg array below is computed once, shape
-(N, 3, 3) = (sample, leg i, xyz).
+offset h_1 − h_2, so every per-leg quantity is computed once.
+
+Array layout. The public arrays (:class:`Kinematics`, the functions' results)
+put the sample first and xyz last: a vector per leg is (N, 3, 3) = (sample,
+leg i, xyz). The computations inside put the components first and the sample
+last — the same vector is (3, 3, N) = (xyz, leg i, sample), a vector per
+sample (3, N), a scalar per leg (3, N) — so that ``v[2]`` is the z component of
+every leg at every sample and each NumPy operation runs over one contiguous
+block instead of over many 3-element rows (three to twenty times faster here).
+The two layouts are each other's ``.T``, a view, so converting costs nothing:
+the fields of :class:`Kinematics` are views of the arrays computed inside.
+The helpers :func:`_cross`, :func:`_dot` work component by component, so a
+vector per sample (components of shape (N,)) broadcasts against a vector per
+leg (components (3, N)) and a constant per leg (components (3, 1)); whole
+arrays do not (write ``omega[:, None]`` to add a vector per sample to one per
+leg). A matrix whose rows belong to the legs, like J with rows j_i, is stored
+as the vector per leg j_i, so L̇_i = j_i·ω is ``_dot(J, omega)``.
 
 Every function is a pure function of arrays; :func:`kinematics` bundles them
 along a trajectory.
@@ -33,10 +48,46 @@ __all__ = [
     "lever_rotation",
     "rotation_matrix",
     "slider_heights",
+    "slider_jacobian",
+    "solve_transpose",
 ]
 
 #: Inverse condition number of J below which a pose counts as singular.
 SINGULAR_COND_INV = 1e-6
+
+
+# --- Components-first helpers (see the module docstring) -------------------------------
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a × b for components-first vectors (3, ...) or triples of components; the other axes broadcast."""
+    a0, a1, a2 = a
+    b0, b1, b2 = b
+    # Written into one array: stacking three temporaries costs a copy and, at
+    # 10⁴ samples, fresh pages from the OS.
+    out = np.empty((3,) + np.broadcast_shapes(np.shape(a0), np.shape(b0)))
+    np.subtract(a1 * b2, a2 * b1, out=out[0])
+    np.subtract(a2 * b0, a0 * b2, out=out[1])
+    np.subtract(a0 * b1, a1 * b0, out=out[2])
+    return out
+
+
+def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a·b for components-first vectors (3, ...); the other axes broadcast."""
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _matvec(M: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """M·v for components-first matrices M (3, 3, ...) (M[a, b]: row a, column b) and vectors v (3, ...)."""
+    return M[:, 0] * v[0] + M[:, 1] * v[1] + M[:, 2] * v[2]
+
+
+def _per_leg(rows: np.ndarray) -> np.ndarray:
+    """Constant vectors given as rows (leg, xyz), components-first (xyz, leg, 1), to broadcast over samples."""
+    return rows.T[:, :, None]
+
+
+# --- Orientation ----------------------------------------------------------------------
 
 
 def rotation_matrix(q: np.ndarray) -> np.ndarray:
@@ -48,60 +99,87 @@ def rotation_matrix(q: np.ndarray) -> np.ndarray:
     Returns:
         Rotation matrices, shape (N, 3, 3).
     """
-    ca, cb, cg = np.cos(q).T
-    sa, sb, sg = np.sin(q).T
-    R = np.empty((q.shape[0], 3, 3))
-    R[:, 0, 0] = cb * cg
-    R[:, 0, 1] = cg * sb * sa - sg * ca
-    R[:, 0, 2] = cg * sb * ca + sg * sa
-    R[:, 1, 0] = cb * sg
-    R[:, 1, 1] = sg * sb * sa + cg * ca
-    R[:, 1, 2] = sg * sb * ca - cg * sa
-    R[:, 2, 0] = -sb
-    R[:, 2, 1] = cb * sa
-    R[:, 2, 2] = cb * ca
+    return np.moveaxis(_rotation_matrix(np.cos(q.T), np.sin(q.T)), -1, 0)
+
+
+# The components-first forms below take the cosines c and sines s of q = [α, β, γ],
+# each (3, N), so that the kinematics evaluates them once (they cost more than the
+# products that follow).
+
+
+def _rotation_matrix(c: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """R of :func:`rotation_matrix`, components-first (3, 3, N)."""
+    ca, cb, cg = c
+    sa, sb, sg = s
+    R = np.empty((3, 3) + ca.shape)
+    R[0, 0] = cb * cg
+    R[0, 1] = cg * sb * sa - sg * ca
+    R[0, 2] = cg * sb * ca + sg * sa
+    R[1, 0] = cb * sg
+    R[1, 1] = sg * sb * sa + cg * ca
+    R[1, 2] = sg * sb * ca - cg * sa
+    R[2, 0] = -sb
+    R[2, 1] = cb * sa
+    R[2, 2] = cb * ca
     return R
 
 
 def angular_velocity_map(q: np.ndarray) -> np.ndarray:
     """T(q) with ω = T(q)·q̇ (world frame), shape (N, 3, 3); q in [rad], shape (N, 3)."""
-    _, b, g = q.T
-    T = np.zeros((q.shape[0], 3, 3))
-    T[:, 0, 0] = np.cos(b) * np.cos(g)
-    T[:, 0, 1] = -np.sin(g)
-    T[:, 1, 0] = np.cos(b) * np.sin(g)
-    T[:, 1, 1] = np.cos(g)
-    T[:, 2, 0] = -np.sin(b)
-    T[:, 2, 2] = 1.0
+    return np.moveaxis(_angular_velocity_map(np.cos(q.T), np.sin(q.T)), -1, 0)
+
+
+def _angular_velocity_map(c: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """T(q), components-first (3, 3, N)."""
+    _, cb, cg = c
+    _, sb, sg = s
+    T = np.zeros((3, 3) + cb.shape)
+    T[0, 0] = cb * cg
+    T[0, 1] = -sg
+    T[1, 0] = cb * sg
+    T[1, 1] = cg
+    T[2, 0] = -sb
+    T[2, 2] = 1.0
     return T
 
 
 def angular_velocity_map_rate(q: np.ndarray, qd: np.ndarray) -> np.ndarray:
     """Ṫ(q, q̇), so that ω̇ = T·q̈ + Ṫ·q̇; q in [rad], qd in [rad/s], shapes (N, 3)."""
-    _, b, g = q.T
-    _, bd, gd = qd.T
-    cb, sb, cg, sg = np.cos(b), np.sin(b), np.cos(g), np.sin(g)
-    Td = np.zeros((q.shape[0], 3, 3))
-    Td[:, 0, 0] = -sb * cg * bd - cb * sg * gd
-    Td[:, 0, 1] = -cg * gd
-    Td[:, 1, 0] = -sb * sg * bd + cb * cg * gd
-    Td[:, 1, 1] = -sg * gd
-    Td[:, 2, 0] = -cb * bd
+    return np.moveaxis(_angular_velocity_map_rate(np.cos(q.T), np.sin(q.T), qd.T), -1, 0)
+
+
+def _angular_velocity_map_rate(c: np.ndarray, s: np.ndarray, qd: np.ndarray) -> np.ndarray:
+    """Ṫ(q, q̇), components-first (3, 3, N), with q̇ components-first (3, N)."""
+    _, cb, cg = c
+    _, sb, sg = s
+    _, bd, gd = qd
+    Td = np.zeros((3, 3) + cb.shape)
+    Td[0, 0] = -sb * cg * bd - cb * sg * gd
+    Td[0, 1] = -cg * gd
+    Td[1, 0] = -sb * sg * bd + cb * cg * gd
+    Td[1, 1] = -sg * gd
+    Td[2, 0] = -cb * bd
     return Td
 
 
+# --- Position level --------------------------------------------------------------------
+
+
 def _platform_vectors(params: Parameters, R: np.ndarray) -> np.ndarray:
-    """r_i = R·r⁰_i in [m], shape (N, 3, 3)."""
-    return np.einsum("nab,ib->nia", R, params.platform_points)
+    """r_i = R·r⁰_i in [m], (xyz, leg, N), from R components-first (3, 3, N)."""
+    # einsum, not a matrix product: OpenBLAS would run this 3x3 contraction on
+    # several threads from about 3·10⁴ samples on, and its waiting threads slow
+    # everything else on a busy machine.
+    return np.einsum("im,kmn->kin", params.platform_points, R)
 
 
 def _lever_vectors(params: Parameters, r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The lever vectors a_1i − b_1i and the radicand l² − (horizontal gap)², from r_i."""
-    gap = r[..., :2] - params.screw_points[:, :2]  # a_ji − c_i, horizontal part
-    radicand = params.lever_length**2 - np.sum(gap**2, axis=-1)
+    """The lever vectors d_i = a_1i − b_1i (xyz, leg, N) and the radicands l² − |horizontal gap|² (leg, N)."""
+    c = _per_leg(params.screw_points)
     d = np.empty_like(r)
-    d[..., :2] = gap
-    d[..., 2] = np.sqrt(np.maximum(radicand, 0.0))
+    d[:2] = r[:2] - c[:2]  # a_ji − c_i, horizontal part
+    radicand = params.lever_length**2 - (d[0] ** 2 + d[1] ** 2)
+    d[2] = np.sqrt(np.maximum(radicand, 0.0))  # the lever below its platform joint
     return d, radicand
 
 
@@ -110,11 +188,33 @@ def slider_heights(params: Parameters, q: np.ndarray) -> np.ndarray:
 
     Poses out of reach give NaN; :func:`kinematics` turns them into errors.
     """
-    r = _platform_vectors(params, rotation_matrix(q))
+    r = _platform_vectors(params, _rotation_matrix(np.cos(q.T), np.sin(q.T)))
     d, radicand = _lever_vectors(params, r)
-    L1 = params.heights[0] + r[..., 2] - d[..., 2]
+    L1 = params.heights[0] + r[2] - d[2]
     L1 = np.where(radicand > 0, L1, np.nan)
-    return L1[:, None, :] + (params.heights - params.heights[0])[None, :, None]
+    return (L1[:, None, :] + (params.heights - params.heights[0])[:, None]).T
+
+
+def slider_jacobian(params: Parameters, q: np.ndarray) -> np.ndarray:
+    """J(q) from positions alone (L̇_j = J·ω), without the rest of :func:`kinematics`.
+
+    For the servo loop and workspace grids, where only J is needed.
+
+    Args:
+        params: the machine.
+        q: platform orientations [α, β, γ] in [rad] (after angle signs), shape (N, 3).
+
+    Returns:
+        J, shape (N, 3, 3); NaN rows where a lever cannot reach.
+    """
+    r = _platform_vectors(params, _rotation_matrix(np.cos(q.T), np.sin(q.T)))
+    d, radicand = _lever_vectors(params, r)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        J = _cross(r, d) / d[2]  # rows (r_i × d_i)/d_i,z: the lever length cancels
+    return np.where(radicand > 0, J, np.nan).T
+
+
+# --- The Jacobian's conditioning and inverse --------------------------------------------
 
 
 def inverse_condition_number(J: np.ndarray) -> np.ndarray:
@@ -124,15 +224,27 @@ def inverse_condition_number(J: np.ndarray) -> np.ndarray:
     solution of its characteristic cubic): LAPACK's batched SVD costs a
     hundred times more on 3x3 matrices.
     """
-    A = np.swapaxes(J, -1, -2) @ J
-    trace = np.trace(A, axis1=-2, axis2=-1)
+    return _inverse_condition_number(np.moveaxis(J, (-1, -2), (0, 1)))
+
+
+def _inverse_condition_number(J: np.ndarray) -> np.ndarray:
+    """:func:`inverse_condition_number` of J given by its rows, components-first (xyz, row, ...)."""
+
+    def gram(k, m):
+        """(JᵀJ)_km = Σ_i J_ik·J_im, a sum over the rows."""
+        return np.sum(J[k] * J[m], axis=0)
+
+    a00, a11, a22, a01, a02, a12 = gram(0, 0), gram(1, 1), gram(2, 2), gram(0, 1), gram(0, 2), gram(1, 2)
+    trace = a00 + a11 + a22
     mean = trace / 3.0
-    off = A[..., 0, 1] ** 2 + A[..., 0, 2] ** 2 + A[..., 1, 2] ** 2
-    spread = np.sqrt(((A[..., 0, 0] - mean) ** 2 + (A[..., 1, 1] - mean) ** 2 + (A[..., 2, 2] - mean) ** 2 + 2.0 * off) / 6.0)
+    off = a01**2 + a02**2 + a12**2
+    spread = np.sqrt(((a00 - mean) ** 2 + (a11 - mean) ** 2 + (a22 - mean) ** 2 + 2.0 * off) / 6.0)
     with np.errstate(invalid="ignore", divide="ignore"):
-        B = (A - mean[..., None, None] * np.eye(3)) / spread[..., None, None]
-        half_det = np.clip(np.linalg.det(B) / 2.0, -1.0, 1.0)
-        phi = np.arccos(half_det) / 3.0
+        # B = (JᵀJ − mean·I)/spread has the eigenvalues 2·cos(φ + 2πk/3), cos 3φ = det(B)/2.
+        b00, b11, b22 = (a00 - mean) / spread, (a11 - mean) / spread, (a22 - mean) / spread
+        b01, b02, b12 = a01 / spread, a02 / spread, a12 / spread
+        det = b00 * (b11 * b22 - b12 * b12) - b01 * (b01 * b22 - b12 * b02) + b02 * (b01 * b12 - b11 * b02)
+        phi = np.arccos(np.clip(det / 2.0, -1.0, 1.0)) / 3.0
         largest = mean + 2.0 * spread * np.cos(phi)
         smallest = mean + 2.0 * spread * np.cos(phi + 2.0 * np.pi / 3.0)
         ratio = np.sqrt(np.maximum(smallest, 0.0) / largest)
@@ -140,17 +252,24 @@ def inverse_condition_number(J: np.ndarray) -> np.ndarray:
     return np.where(spread > 1e-300, ratio, np.where(np.isnan(trace), np.nan, 1.0))
 
 
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    # np.cross is several times slower than this on small trailing axes.
-    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
-    out[..., 0] = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
-    out[..., 1] = a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2]
-    out[..., 2] = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
-    return out
+def solve_transpose(J: np.ndarray, Q: np.ndarray) -> np.ndarray:
+    """y = J⁻ᵀ·Q for 3x3 matrices J (N, 3, 3) and right-hand sides Q (N, 3, K)."""
+    inverse_T = _inverse_transpose(J.T)  # its rows, (xyz, row, N)
+    Q = np.moveaxis(Q, 0, -1)  # (xyz, column, N)
+    return np.moveaxis(_dot(inverse_T[:, :, None], Q[:, None]), -1, 0)  # y_ic = (row i of J⁻ᵀ)·Q_c
 
 
-def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return np.einsum("...k,...k->...", a, b)
+def _inverse_transpose(J: np.ndarray) -> np.ndarray:
+    """J⁻ᵀ from J, both given by their rows, components-first (xyz, row, N).
+
+    J⁻ᵀ has the rows (j₁ × j₂, j₂ × j₀, j₀ × j₁)/det J, j_i the rows of J: in
+    closed form this is ten times faster than LAPACK's batched solve on 3x3.
+    """
+    j0, j1, j2 = J[:, 0], J[:, 1], J[:, 2]
+    inverse_T = np.empty(J.shape)
+    inverse_T[:, 0], inverse_T[:, 1], inverse_T[:, 2] = _cross(j1, j2), _cross(j2, j0), _cross(j0, j1)
+    inverse_T /= _dot(j0, inverse_T[:, 0])  # det J
+    return inverse_T
 
 
 @dataclass(frozen=True, eq=False)
@@ -158,6 +277,10 @@ class Kinematics:
     """The machine's motion along a trajectory, in SI units.
 
     Shapes: N samples; j = platform (2); i = leg/linear module (3).
+
+    The arrays are views of the components-first arrays computed inside (see
+    the module docstring), so they need not be C-contiguous; the per-platform
+    Ld, Ldd, v_l, a_l are read-only views that repeat platform 1's values.
 
     Attributes:
         t: sample times in [s], (N,).
@@ -229,71 +352,81 @@ def kinematics(params: Parameters, trajectory: Trajectory, on_error: str = "rais
 
 
 def _kinematics(params: Parameters, trajectory: Trajectory, on_error: str) -> Kinematics:
+    # Components first throughout (module docstring): vectors per sample (3, N), per leg (3, 3, N).
+    # Temporaries are updated in place where that reads as well: at 10⁴ samples
+    # fresh memory costs more than the arithmetic.
     signs = params.angle_signs
-    q, qd, qdd = trajectory.q * signs, trajectory.qd * signs, trajectory.qdd * signs
-    R = rotation_matrix(q)
-    T = angular_velocity_map(q)
-    omega = np.einsum("nab,nb->na", T, qd)
-    omega_dot = np.einsum("nab,nb->na", T, qdd) + np.einsum("nab,nb->na", angular_velocity_map_rate(q, qd), qd)
+    q, qd, qdd = (trajectory.q * signs).T, (trajectory.qd * signs).T, (trajectory.qdd * signs).T
+    c, s = np.cos(q), np.sin(q)
+    R = _rotation_matrix(c, s)
+    T = _angular_velocity_map(c, s)
+    omega = _matvec(T, qd)
+    omega_dot = _matvec(T, qdd) + _matvec(_angular_velocity_map_rate(c, s, qd), qd)
 
+    # Position: the lever vectors d_i = a_1i − b_1i, so L_1i = a_1i,z − d_i,z, and e_i = d_i/l.
     l = params.lever_length
     r = _platform_vectors(params, R)
     d, radicand = _lever_vectors(params, r)
-    out_of_reach = np.any(radicand <= 0, axis=1)
+    out_of_reach = np.any(radicand <= 0, axis=0)
+    L1 = np.where(out_of_reach, np.nan, params.heights[0] + r[2] - d[2])
     e = d / l
-    ez = e[..., 2]
+    del d  # only e is needed from here on: free the memory early
 
     # Velocity: L̇_i = (r_i × e_i)·ω / e_i,z; row i of J is (r_i × e_i)ᵀ / e_i,z.
-    J = _cross(r, e) / ez[..., None]
-    w = omega[:, None, :]
-    Ld = _dot(J, w)
-    a_dot = _cross(w, r)
-    d_dot = a_dot.copy()
-    d_dot[..., 2] -= Ld
-    omega_l = _cross(e, d_dot) / l
+    J = _cross(r, e)
+    J /= e[2]
+    Ld = _dot(J, omega)
+    a_dot = _cross(omega, r)
+    omega_l = _cross(e, (a_dot[0], a_dot[1], a_dot[2] - Ld))  # e × (ȧ − ḃ)/l with ḃ = L̇·ẑ
+    omega_l /= l
+    # The lever centre is the midpoint of a and b, so its motion is the mean of theirs.
+    v_l = 0.5 * a_dot
+    v_l[2] += 0.5 * Ld
 
     # Acceleration: L̈_i = [e_i·(ω̇ × r_i + ω × (ω × r_i)) + l·|ω_l|²] / e_i,z.
-    a_ddot = _cross(omega_dot[:, None, :], r) + _cross(w, a_dot)
-    Ldd = (_dot(e, a_ddot) + l * _dot(omega_l, omega_l)) / ez
-    d_ddot = a_ddot.copy()
-    d_ddot[..., 2] -= Ldd
-    omega_l_dot = _cross(e, d_ddot) / l
+    a_ddot = _cross(omega_dot, r)
+    a_ddot += _cross(omega, a_dot)
+    del a_dot  # likewise
+    Ldd = (_dot(e, a_ddot) + l * _dot(omega_l, omega_l)) / e[2]
+    omega_l_dot = _cross(e, (a_ddot[0], a_ddot[1], a_ddot[2] - Ldd))  # e × (ä − b̈)/l
+    omega_l_dot /= l
+    a_l = a_ddot  # becomes (ä + b̈)/2 in place
+    a_l *= 0.5
+    a_l[2] += 0.5 * Ldd
 
-    cond_inv = inverse_condition_number(np.where(out_of_reach[:, None, None], np.nan, J))
+    cond_inv = _inverse_condition_number(np.where(out_of_reach, np.nan, J))
     singular = ~(cond_inv >= SINGULAR_COND_INV)
     flagged = out_of_reach | singular
     if on_error == "raise" and np.any(flagged):
         k = int(np.argmax(flagged))
         if out_of_reach[k]:
-            leg = int(np.argmax(radicand[k] <= 0)) + 1
+            leg = int(np.argmax(radicand[:, k] <= 0)) + 1
             message = f"pose out of reach: lever {leg} cannot span the gap from its screw to its platform joint"
         else:
             message = f"singular pose: inverse condition number of J is {cond_inv[k]:.3g}"
         raise PoseError(message, float(trajectory.t[k]), k, source=trajectory.name)
 
-    dh = (params.heights - params.heights[0])[None, :, None]
-    L1 = params.heights[0] + r[..., 2] - d[..., 2]
-    L1 = np.where(out_of_reach[:, None], np.nan, L1)
-    L = L1[:, None, :] + dh
-    Ld2 = np.repeat(Ld[:, None, :], 2, axis=1)
-    Ldd2 = np.repeat(Ldd[:, None, :], 2, axis=1)
+    # Both platforms, inside as (xyz, leg, platform, N) or (leg, platform, N).
+    z = np.array([0.0, 0.0, 1.0])[:, None, None, None]
+    h = params.heights[:, None]
+    L = L1[:, None] + (h - params.heights[0])
+    a = r[:, :, None] + z * h  # a_ji = o_j + r_i
+    b = z * L  # b_ji = c_i + L_ji·ẑ
+    b += _per_leg(params.screw_points)[..., None]
 
-    o = params.heights[None, :, None, None] * np.array([0.0, 0.0, 1.0])
-    a = o + r[:, None]
-    b = params.screw_points[None, None] + L[..., None] * np.array([0.0, 0.0, 1.0])
-    # The lever centre is the midpoint of a and b, so its motion is the mean of theirs.
-    b_dot = np.zeros_like(a_dot)
-    b_dot[..., 2] = Ld
-    b_ddot = np.zeros_like(a_ddot)
-    b_ddot[..., 2] = Ldd
-    v_l = np.repeat((0.5 * (a_dot + b_dot))[:, None], 2, axis=1)
-    a_l = np.repeat((0.5 * (a_ddot + b_ddot))[:, None], 2, axis=1)
+    def both_platforms(x):
+        """Platform 1's x (…, N) for both platforms, (…, 2, N), as a read-only view."""
+        return np.broadcast_to(x[..., None, :], x.shape[:-1] + (2, x.shape[-1]))
 
     return Kinematics(
-        t=trajectory.t, q=q, qd=qd, qdd=qdd, R=R, omega=omega, omega_dot=omega_dot,
-        r=r, a=a, b=b, e=e, L=L, Ld=Ld2, Ldd=Ldd2, J=J, cond_inv=cond_inv,
-        omega_l=omega_l, omega_l_dot=omega_l_dot, v_l=v_l, a_l=a_l, flagged=flagged,
+        t=trajectory.t, q=q.T, qd=qd.T, qdd=qdd.T, R=np.moveaxis(R, -1, 0), omega=omega.T, omega_dot=omega_dot.T,
+        r=r.T, a=a.T, b=b.T, e=e.T, L=L.T, Ld=both_platforms(Ld).T, Ldd=both_platforms(Ldd).T, J=J.T,
+        cond_inv=cond_inv, omega_l=omega_l.T, omega_l_dot=omega_l_dot.T,
+        v_l=both_platforms(v_l).T, a_l=both_platforms(a_l).T, flagged=flagged,
     )
+
+
+# --- Lever motion and the lever Jacobians -----------------------------------------------
 
 
 def lever_jacobians(kin: Kinematics) -> tuple[np.ndarray, np.ndarray]:
@@ -331,11 +464,14 @@ def lever_frames(params: Parameters, kin: Kinematics) -> np.ndarray:
         Rotation matrices, shape (N, 3, 3, 3) = (sample, leg, 3, 3), columns the
         lever's x, y, z axes in world coordinates; the same for both platforms.
     """
-    u1 = params.ujoint_axes[None]
-    x = _cross(kin.e, u1)
-    x /= np.linalg.norm(x, axis=-1, keepdims=True)
-    y = _cross(kin.e, x)
-    return np.stack([x, y, kin.e], axis=-1)
+    return np.stack([axis.T for axis in _lever_axes(params, kin.e.T)], axis=-1)
+
+
+def _lever_axes(params: Parameters, e: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The axes x, y, z = e of :func:`lever_frames`, components-first (xyz, leg, N) each."""
+    x = _cross(e, _per_leg(params.ujoint_axes))
+    x /= np.sqrt(_dot(x, x))
+    return x, _cross(e, x), e
 
 
 def lever_rotation(params: Parameters, kin: Kinematics, spin: bool) -> tuple[np.ndarray, np.ndarray]:
@@ -355,8 +491,13 @@ def lever_rotation(params: Parameters, kin: Kinematics, spin: bool) -> tuple[np.
     """
     if not spin:
         return kin.omega_l, kin.omega_l_dot
-    u1 = params.ujoint_axes[None]
-    e, w_perp, w_perp_dot = kin.e, kin.omega_l, kin.omega_l_dot
+    omega_l, omega_l_dot = _lever_spin(params, kin.e.T, kin.omega_l.T, kin.omega_l_dot.T)
+    return omega_l.T, omega_l_dot.T
+
+
+def _lever_spin(params: Parameters, e: np.ndarray, w_perp: np.ndarray, w_perp_dot: np.ndarray):
+    """ω_l and ω̇_l with the universal joint's spin (:func:`lever_rotation`), components-first (xyz, leg, N)."""
+    u1 = _per_leg(params.ujoint_axes)
     c = _dot(u1, e)
     d = 1.0 - c**2
     w = _dot(w_perp, u1)
@@ -364,9 +505,7 @@ def lever_rotation(params: Parameters, kin: Kinematics, spin: bool) -> tuple[np.
     e_dot = _cross(w_perp, e)
     c_dot = _dot(u1, e_dot)
     s_dot = (c_dot * w + c * _dot(w_perp_dot, u1)) / d + 2.0 * c**2 * c_dot * w / d**2
-    omega_l = w_perp + s[..., None] * e
-    omega_l_dot = w_perp_dot + s_dot[..., None] * e + s[..., None] * e_dot
-    return omega_l, omega_l_dot
+    return w_perp + s * e, w_perp_dot + s_dot * e + s * e_dot
 
 
 def spin_transpose(params: Parameters, kin: Kinematics, moment: np.ndarray) -> np.ndarray:
@@ -378,6 +517,11 @@ def spin_transpose(params: Parameters, kin: Kinematics, moment: np.ndarray) -> n
     Returns:
         The equivalent moment to map with the spin-free J_ωᵀ, (N, 3, 3).
     """
-    u1 = params.ujoint_axes[None]
-    c = _dot(u1, kin.e)
-    return moment + (c / (1.0 - c**2) * _dot(kin.e, moment))[..., None] * u1
+    return _spin_transpose(params, kin.e.T, moment.T).T
+
+
+def _spin_transpose(params: Parameters, e: np.ndarray, moment: np.ndarray) -> np.ndarray:
+    """:func:`spin_transpose`, components-first (xyz, leg, N)."""
+    u1 = _per_leg(params.ujoint_axes)
+    c = _dot(u1, e)
+    return moment + c / (1.0 - c**2) * _dot(e, moment) * u1
