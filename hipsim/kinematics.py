@@ -48,6 +48,7 @@ __all__ = [
     "lever_rotation",
     "rotation_matrix",
     "slider_heights",
+    "singularity_crossings",
     "slider_jacobian",
     "solve_transpose",
 ]
@@ -217,6 +218,32 @@ def slider_jacobian(params: Parameters, q: np.ndarray) -> np.ndarray:
 # --- The Jacobian's conditioning and inverse --------------------------------------------
 
 
+def _sign_changes(det: np.ndarray, periodic: bool) -> np.ndarray:
+    """Samples whose det J has the other sign than the previous sample within reach, (N,) bool.
+
+    Within reach every lever points up (e_i,z > 0), so det J = det J_b / Π e_i,z
+    changes sign only where det J_b does: at the singularity of spec §3 where
+    the lever projections meet at the platform centre.
+    """
+    sign = np.sign(det)
+    kept = np.flatnonzero(np.isfinite(det) & (sign != 0))  # an exact zero is caught by cond_inv
+    crossed = np.zeros(det.shape, dtype=bool)
+    crossed[kept[1:][sign[kept[1:]] != sign[kept[:-1]]]] = True
+    if periodic and kept.size > 1 and sign[kept[0]] != sign[kept[-1]]:
+        crossed[kept[0]] = True
+    return crossed
+
+
+def singularity_crossings(J: np.ndarray, periodic: bool = False) -> int:
+    """How often a sampled motion passes *through* a singularity: the sign changes of det J.
+
+    Args:
+        J: Jacobians along the motion, shape (N, 3, 3); NaN (out of reach) samples are skipped.
+        periodic: also compare the last sample with the first.
+    """
+    return int(np.count_nonzero(_sign_changes(np.linalg.det(J) if len(J) else np.zeros(0), periodic)))
+
+
 def inverse_condition_number(J: np.ndarray) -> np.ndarray:
     """σ_min/σ_max of 3x3 matrices, shape (..., 3, 3) → (...); NaN where J is NaN.
 
@@ -300,7 +327,8 @@ class Kinematics:
         omega_l, omega_l_dot: lever angular velocity in [rad/s] and acceleration
             in [rad/s²] without spin about the lever axis (spec §3), (N, 3, 3).
         v_l, a_l: lever centre velocity in [m/s] and acceleration in [m/s²], (N, 2, 3, 3).
-        flagged: samples out of reach or singular, kept only when asked, (N,).
+        flagged: samples out of reach, singular, or reached through a singularity
+            since the previous sample; kept only when asked, (N,).
     """
 
     t: np.ndarray
@@ -394,16 +422,22 @@ def _kinematics(params: Parameters, trajectory: Trajectory, on_error: str) -> Ki
     a_l *= 0.5
     a_l[2] += 0.5 * Ldd
 
-    cond_inv = _inverse_condition_number(np.where(out_of_reach, np.nan, J))
+    reachable_J = np.where(out_of_reach, np.nan, J)
+    cond_inv = _inverse_condition_number(reachable_J)
     singular = ~(cond_inv >= SINGULAR_COND_INV)
-    flagged = out_of_reach | singular
+    # A motion can also pass through a singularity between two samples without
+    # coming close to it at either: det J then changes sign.
+    crossed = _sign_changes(_dot(reachable_J[:, 0], _cross(reachable_J[:, 1], reachable_J[:, 2])), trajectory.periodic)
+    flagged = out_of_reach | singular | crossed
     if on_error == "raise" and np.any(flagged):
         k = int(np.argmax(flagged))
         if out_of_reach[k]:
             leg = int(np.argmax(radicand[:, k] <= 0)) + 1
             message = f"pose out of reach: lever {leg} cannot span the gap from its screw to its platform joint"
-        else:
+        elif singular[k]:
             message = f"singular pose: inverse condition number of J is {cond_inv[k]:.3g}"
+        else:
+            message = "the motion passes through a singular pose since the previous sample (det J changes sign)"
         raise PoseError(message, float(trajectory.t[k]), k, source=trajectory.name)
 
     # Both platforms, inside as (xyz, leg, platform, N) or (leg, platform, N).

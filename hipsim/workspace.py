@@ -46,7 +46,7 @@ from typing import TextIO
 import numpy as np
 
 from .dynamics import inverse_dynamics
-from .kinematics import SINGULAR_COND_INV, inverse_condition_number, kinematics, rotation_matrix
+from .kinematics import SINGULAR_COND_INV, inverse_condition_number, kinematics, singularity_crossings, slider_jacobian
 from .parameters import Parameters
 from .trajectories import Trajectory
 
@@ -65,7 +65,6 @@ __all__ = [
     "plot_singularity_map",
     "pose_jacobian",
     "run_workspace",
-    "singularity_crossings",
     "singularity_map",
     "trajectory_margin",
 ]
@@ -110,55 +109,14 @@ def pose_jacobian(params: Parameters, q: np.ndarray) -> tuple[np.ndarray, np.nda
         boolean mask of reachable poses, shape (N,) (every lever spans its
         horizontal gap: l² − gap² > 0, as in :func:`hipsim.kinematics.kinematics`).
     """
-    q = np.asarray(q, dtype=float).reshape(-1, 3)
-    R = rotation_matrix(q)
-    # r_i = R·r⁰_i; r⁰_i lies in the platform plane, so only R's first two columns matter.
-    r0 = params.platform_points
-    r = R[:, None, :, 0] * r0[None, :, 0, None] + R[:, None, :, 1] * r0[None, :, 1, None]  # (N, leg, xyz)
-    gap_x = r[..., 0] - params.screw_points[:, 0]
-    gap_y = r[..., 1] - params.screw_points[:, 1]
-    radicand = params.lever_length**2 - gap_x**2 - gap_y**2
-    reachable = np.all(radicand > 0.0, axis=1)
-    dz = np.sqrt(np.maximum(radicand, 0.0))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        inv_dz = np.where(radicand > 0.0, 1.0 / dz, np.nan)
-    J = np.empty_like(r)
-    # (r × d) with d = (gap_x, gap_y, dz), divided by dz.
-    J[..., 0] = (r[..., 1] * dz - r[..., 2] * gap_y) * inv_dz
-    J[..., 1] = (r[..., 2] * gap_x - r[..., 0] * dz) * inv_dz
-    J[..., 2] = (r[..., 0] * gap_y - r[..., 1] * gap_x) * inv_dz
-    J[~reachable] = np.nan
-    return J, reachable
+    J = slider_jacobian(params, np.asarray(q, dtype=float).reshape(-1, 3))
+    return J, np.all(np.isfinite(J), axis=(1, 2))
 
 
 def _cond_inv(params: Parameters, gait_q: np.ndarray) -> np.ndarray:
     """Inverse condition number of J at gait orientations in [rad], shape (N, 3) → (N,), NaN out of reach."""
     J, _ = pose_jacobian(params, gait_q * params.angle_signs)
     return inverse_condition_number(J)
-
-
-def singularity_crossings(J: np.ndarray, periodic: bool = False) -> int:
-    """How often a sampled motion passes *through* a singularity: sign changes of det J.
-
-    A motion can cross a singularity between two samples and never come close
-    to it at a sample, so a small inverse condition number alone can miss it.
-    Within reach every lever points up (e_i,z > 0), so det J = det J_b / Π e_i,z
-    changes sign only where det J_b does: at the singularity of spec §3 where the
-    lever projections meet at the platform centre.
-
-    Args:
-        J: Jacobians along the motion, shape (N, 3, 3); NaN rows (out of reach) are skipped.
-        periodic: also compare the last sample with the first.
-
-    Returns:
-        The number of sign changes between consecutive reachable samples.
-    """
-    det = np.linalg.det(J) if len(J) else np.zeros(0)
-    sign = np.sign(det[np.isfinite(det)])
-    sign = sign[sign != 0]  # an exact zero is counted by the cond_inv threshold instead
-    if periodic and sign.size > 1:
-        sign = np.append(sign, sign[0])
-    return int(np.count_nonzero(sign[1:] != sign[:-1]))
 
 
 # ---------------------------------------------------------------------------
@@ -431,7 +389,7 @@ def offset_sweep(
             kin = kinematics(machine, trajectory, on_error="flag")
             reach = ~np.isnan(kin.cond_inv)
             out_of_reach[k] = np.count_nonzero(~reach)
-            singular[k] = np.count_nonzero(kin.flagged & reach)
+            singular[k] = np.count_nonzero(reach & (kin.cond_inv < SINGULAR_COND_INV))
             if np.any(reach):
                 cond_min[k] = np.min(kin.cond_inv[reach])
             crossings[k] = singularity_crossings(np.where(reach[:, None, None], kin.J, np.nan), trajectory.periodic)

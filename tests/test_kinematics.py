@@ -177,3 +177,17 @@ def test_singular_pose_raises(params):
         kinematics(aligned, _still([0, 0, 0], t=0.25))
     assert kinematics(aligned, _still([0, 0, 0]), on_error="flag").flagged[0]
     assert not kinematics(params, _still([0, 0, 0])).flagged[0]
+
+
+def test_crossing_a_singularity_between_samples_is_caught(params):
+    """With δ = 5° the platform at α = β = 0 is singular at γ = −5°; coarse samples step over it."""
+    machine = params.replace(home_offset=np.radians(5.0))
+    gamma = np.radians([-9.7, -7.3, -4.1, -1.9])
+    q = np.column_stack([np.zeros(4), np.zeros(4), gamma])
+    coarse = Trajectory(np.arange(4) * 0.1, q, np.zeros((4, 3)), np.zeros((4, 3)), np.zeros(4))
+    flagged = kinematics(machine, coarse, on_error="flag")
+    assert flagged.cond_inv.min() > 0.01  # no sample comes close
+    assert flagged.flagged.tolist() == [False, False, True, False]
+    with pytest.raises(PoseError, match=r"t = 0.2 s \(sample 2\): the motion passes through a singular pose"):
+        kinematics(machine, coarse)
+    assert not kinematics(params, coarse).flagged.any()  # the built machine (δ = 30°) is clear
