@@ -291,7 +291,7 @@ def _cmd_check(args) -> int:
         rows = [[name, f"{absolute:.3e}", f"{relative:.3e}", "ok" if relative <= TOLERANCE else "—"] for name, absolute, relative in comparison.rows]
         print(_format_table(["column", "max |diff| [column unit]", "max |diff| / peak", f"≤ {TOLERANCE:g}"], rows,
                             f"{comparison.name}: {comparison.description} ({need})"))
-        print(f"-> {comparison.name}: largest relative difference {comparison.worst:.3e}, {status} tolerance {TOLERANCE:g}\n")
+        print(f"-> {comparison.name}: largest relative difference {comparison.worst:.3e}, {status} tolerance {TOLERANCE:g} ({need})\n")
         failed |= comparison.required and not comparison.ok
     print(f"trajectory: {trajectory.name} ({len(trajectory)} samples); parameters: {params.source}")
     if failed:
