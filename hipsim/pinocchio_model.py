@@ -62,6 +62,7 @@ __all__ = [
     "closure_residuals",
     "constraint_jacobian",
     "constraint_rank",
+    "friction_forces",
     "inverse_dynamics",
     "kinematics",
     "load_closed_chain",
@@ -846,6 +847,47 @@ def _friction_forces(chain: ClosedChainModel, v, Fe, platform_J, lever_J) -> np.
     screw = fr.screw_coulomb * smooth_sign(motor_speed, eps) + fr.screw_viscous * motor_speed
     Q[:, layout.slider_v] += guide + _TWO_PI / chain.lead * screw
     return Q
+
+
+def _has_lever_friction(chain: ClosedChainModel) -> bool:
+    """True when the U or S joints of the levers have friction (it then needs the levers' Jacobians)."""
+    friction = chain.params.friction
+    lever_terms = ("ujoint_coulomb", "ujoint_viscous", "sjoint_coulomb", "sjoint_viscous")
+    return any(getattr(friction, name) != 0.0 for name in lever_terms)
+
+
+def friction_forces(chain: ClosedChainModel, q, v, Fe) -> np.ndarray:
+    """Generalised forces the actuators must supply against friction at (q, v) (spec §4.3, §7.3).
+
+    The law :func:`inverse_dynamics` adds to the tree's torques: in a
+    forward simulation they enter with the opposite sign,
+    M a + h = S F − friction_forces + J_cᵀ λ.
+
+    Args:
+        chain: the hip model from :func:`load_model`.
+        q: configuration (nq,) or configurations (N, nq).
+        v: velocities, same leading shape, (nv,) or (N, nv).
+        Fe: hydraulic load magnitude in [N], a scalar or (N,).
+
+    Returns:
+        Shape (nv,) or (N, nv), in [N] on the sliders and [N·m] on the revolute joints.
+    """
+    layout = _require_layout(chain)
+    q, single = _configurations(chain, q)
+    v = np.atleast_2d(np.asarray(v, dtype=float))
+    if v.shape != (len(q), chain.model.nv):
+        raise ValueError(f"expected velocities of shape {(len(q), chain.model.nv)}, got {v.shape}")
+    Fe = np.broadcast_to(np.asarray(Fe, dtype=float), (len(q),))
+    model = chain.model
+    data = model.createData()
+    angular = np.empty((len(q), 3, model.nv))
+    for k, qk in enumerate(q):
+        pin.computeJointJacobians(model, data, qk)
+        angular[k] = data.J[3:]
+    platform_J = np.moveaxis(angular[:, :, layout.platform_v], 1, 2)
+    lever_J = np.moveaxis(angular[:, :, layout.ujoint_v], 1, 3) if _has_lever_friction(chain) else None
+    out = _friction_forces(chain, v, Fe, platform_J, lever_J)
+    return out[0] if single else out
 
 
 class _InverseDynamics:
