@@ -160,7 +160,7 @@ def format_simulations(simulations) -> str:
         e = s["errors_deg"]
         rows.append([s["controller"], s["plant"], *(e[n][k] for n in ("alpha", "beta", "gamma") for k in ("peak", "rms")), str(s["saturated_samples"])])
     header = ["controller", "plant", "α peak", "α RMS", "β peak", "β RMS", "γ peak", "γ RMS", "saturated"]
-    cells = [[c if isinstance(c, str) else f"{c:.5f}" for c in row] for row in rows]
+    cells = [[c if isinstance(c, str) else f"{c:.3g}" for c in row] for row in rows]
     out = [_format_table(header, cells, "Tracking errors [deg] (flexion/extension α, abduction/adduction β, rotation γ)"), ""]
     rows = []
     for sim in simulations:

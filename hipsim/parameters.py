@@ -19,6 +19,7 @@ import dataclasses
 import math
 import tomllib
 from dataclasses import dataclass
+from functools import cached_property
 from importlib import resources
 from pathlib import Path
 from types import MappingProxyType
@@ -248,28 +249,28 @@ class Parameters:
                 raise ParameterError(f"expected shape {shape}, got {value.shape}", key=name, value=value)
             object.__setattr__(self, name, value)
 
-    @property
+    @cached_property
     def platform_angles(self) -> np.ndarray:
         """φ_i = θ_i + δ in [rad], shape (3,)."""
-        return self.screw_angles + self.home_offset
+        return _readonly(self.screw_angles + self.home_offset)
 
-    @property
+    @cached_property
     def screw_points(self) -> np.ndarray:
         """c_i, the screw feet on the base plane in [m], shape (3, 3) (row i = c_i)."""
         th = self.screw_angles
-        return self.screw_radius * np.stack([np.cos(th), np.sin(th), np.zeros(3)], axis=1)
+        return _readonly(self.screw_radius * np.stack([np.cos(th), np.sin(th), np.zeros(3)], axis=1))
 
-    @property
+    @cached_property
     def platform_points(self) -> np.ndarray:
         """r⁰_i, the platform joints in platform axes in [m], shape (3, 3) (row i = r⁰_i)."""
         ph = self.platform_angles
-        return self.joint_radius * np.stack([np.cos(ph), np.sin(ph), np.zeros(3)], axis=1)
+        return _readonly(self.joint_radius * np.stack([np.cos(ph), np.sin(ph), np.zeros(3)], axis=1))
 
-    @property
+    @cached_property
     def ujoint_axes(self) -> np.ndarray:
         """u1_i = ẑ × c_i/|c_i|, the universal joints' first (slider-fixed) axes, shape (3, 3)."""
         th = self.screw_angles
-        return np.stack([-np.sin(th), np.cos(th), np.zeros(3)], axis=1)
+        return _readonly(np.stack([-np.sin(th), np.cos(th), np.zeros(3)], axis=1))
 
     def replace(self, **changes) -> "Parameters":
         """A copy with some attributes changed, e.g. ``params.replace(lever_mass=0.0)``."""

@@ -111,6 +111,36 @@ def bench_workspace(quick: bool = False) -> None:
 
 
 
+def bench_plants(params, quick: bool) -> None:
+    """Closed-loop simulation speed of both plants, and where a Pinocchio derivative call goes."""
+    import pinocchio as pin
+
+    from hipsim import simulation
+    from hipsim.control import WorkspacePD
+    from hipsim.pinocchio_model import trajectory_dynamics
+    from hipsim.pinocchio_plant import PinocchioPlant
+    from hipsim.trajectories import iso14242_at
+
+    control = params.control
+    print(f"Closed-loop simulation: workspace PD on the ISO cycle, servo {control.servo_rate:g} Hz, "
+          f"RK4 step {control.integration_step * 1e3:g} ms")  # fmt: skip
+    controller = WorkspacePD(params)
+    for plant, length in ((simulation.ReducedPlant(params), 0.05 if quick else 0.2), (PinocchioPlant(params), 0.3 if quick else 1.0)):
+        elapsed = best_time(lambda: simulation.simulate(plant, controller, iso14242_at, length), repeats=2 if quick else 3)
+        print(f"  {plant.name:<10} plant: {length / elapsed:6.2f}x real time ({elapsed / length / control.servo_rate * 1e6:7.0f} µs per servo period)")
+    print("  targets: reduced >= 20x, Pinocchio >= 5x real time")
+
+    plant = PinocchioPlant(params)
+    kin, torques = trajectory_dynamics(plant.chain, iso14242_at([0.13]))
+    x, tau, Fe = np.concatenate([kin.q[0], kin.v[0]]), torques.tau[0], 1500.0
+    q, v, forces = x[: plant.nq], x[plant.nq :], plant.generalised_forces(x, tau, Fe)
+    calls = 2000 if quick else 20000
+    per_call = lambda f: best_time(lambda: [f() for _ in range(calls)], repeats=3) / calls * 1e6  # noqa: E731
+    print(f"  one Pinocchio derivative: {per_call(lambda: plant.derivative(0.0, x, tau, Fe)):.1f} µs; "
+          f"pin.constraintDynamics alone {per_call(lambda: pin.constraintDynamics(plant.model, plant.data, q, v, forces, plant.constraint_models, plant.constraint_datas, plant.proximal)):.1f} µs; "
+          f"reduced-plant derivative {per_call(lambda: simulation.ReducedPlant(params).derivative(0.0, np.zeros(6), tau, Fe)) if not quick else float('nan'):.0f} µs")  # fmt: skip
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer samples in the slow baselines")
@@ -121,6 +151,8 @@ def main() -> None:
     bench_pinocchio(params, args.quick)
     print()
     bench_workspace(args.quick)
+    print()
+    bench_plants(params, args.quick)
 
 
 if __name__ == "__main__":

@@ -1,0 +1,296 @@
+"""The closed-chain Pinocchio model as a simulation plant (spec §6, §8).
+
+:class:`PinocchioPlant` integrates the forward dynamics of the whole kinematic
+tree of :func:`hipsim.pinocchio_model.load_model` (3 sliders, 12 universal-joint
+angles, each platform's spherical joint as rz-ry-rx revolutes: 21 coordinates)
+with its six lever-tip ↔ platform-joint closures enforced as constraints. It
+is the independent counterpart of :class:`hipsim.simulation.ReducedPlant` (the
+3-DOF analytic model with lever spin); the two must agree.
+
+State. x = [q, v], the tree's 21 coordinates and 21 velocities. All joints
+are revolute or prismatic, so q is a plain vector and dq/dt = v. The state is
+redundant (18 closure equations): :meth:`PinocchioPlant.initial_state` closes
+the chain at the first sample with :func:`hipsim.pinocchio_model.kinematics`
+(gap ≤ 1e-12 m, J_c v = 0), and the integrator keeps it close (below).
+
+Derivative. dx/dt = [v, a] with a from Pinocchio's constrained forward
+dynamics, ``pin.constraintDynamics`` (``initConstraintDynamics`` once per
+plant; Data and constraint Data are created once and reused), which solves
+
+    M a + h(q, v) = τ + J_cᵀ λ,   J_c a = −J̇_c v − K_d·(J_c v) − K_p·g(q)
+
+with g the closure gaps R₁ᵀ(p₁ − p₂) and the generalised forces
+
+    τ = Sᵀ·(2π/p)·τ_motor − Q_f(q, v, F_e):
+
+the actuator force (2π/p)·τ_motor on each slider's prismatic joint (the
+screw's rotor inertia is the joint's armature), minus the friction
+generalised forces Q_f of spec §4.3 / §7.3 — the very law the closed-chain
+inverse dynamics adds (:func:`hipsim.pinocchio_model.friction_forces`), so
+inverse then forward dynamics is consistent. For the default friction (hip
+joint, thrust bearing, slider guides and screw; no U/S-joint friction) Q_f is
+evaluated in closed form with plain floats: the platform's angular Jacobian is
+T(q) of spec §2 and TᵀT depends on β only, so the platform moment
+ŝ(ω)·load maps to Q = load·TᵀT·q̇/√(q̇ᵀTᵀT q̇ + ε²); the plant checks once, at
+construction, that the tree's platform joints really give T (else, and
+whenever the U or S joints have friction, it falls back on the shared
+numpy function with Pinocchio's Jacobians: same law, slower).
+
+Settings (constructor arguments):
+
+* Proximal solver: ``pin.ProximalSettings(1e-12, 1e-12, mu=1e-12, max_iter=2)``.
+  Away from singular poses the closure Jacobian has full row rank (18 of 21
+  columns: mobility 3), so the KKT system is regular and μ only guards against
+  rank loss near singularities (with μ = 0, Pinocchio 4.1 returns NaN on a
+  rank-deficient J_c: checked with a duplicated closure). The first proximal iteration solves the μ-regularised
+  system (μ in [1/kg], added to the Delassus matrix J_c M⁻¹ J_cᵀ, whose
+  smallest eigenvalue here is ≈ 0.012 /kg), a relative bias of
+  μ/σ_min ≈ 1e-10 (measured 3e-10 m/s² on |a| ≈ 10); the second removes it
+  (measured 8e-14 m/s² from the inverse dynamics' a); a third changes λ by
+  exactly 0, so two is the right cap. Each iteration costs ~0.7 µs. (4.1's
+  ``absolute_residual`` stays at a few N even at convergence, so only the
+  relative test on the change of λ can stop the loop early; with 1e-12 N it
+  does not before the cap.)
+* Drift stabilisation: Baumgarte, the same scalar gains on every closure,
+  K_p = ω_n², K_d = 2 ω_n (critically damped: g̈ + K_d ġ + K_p g = 0) with
+  ω_n = 10 rad/s, i.e. K_p = 100 s⁻², K_d = 20 s⁻¹. Why so low: the
+  corrector acts on the gaps RK4 produces, and RK4's intermediate stages
+  (x + h/2·k₁ …) leave the closure manifold by O(h²) while its combined step
+  is accurate to O(h⁵); the corrector turns the stage gaps into K_p·g and
+  K_d·ġ accelerations, so high gains inject stage error into the step. Along
+  1–5 s of the ISO cycle under the workspace PD at the default 0.5 ms step
+  the largest gap was 5e-11 m (growing) without correction, 1.3e-13 m with
+  ω_n = 10, and 3e-11 m / 1e-9 m / 2e-8 m with ω_n = 200 / 1000 / 3000
+  (ω_n = 3000 diverged at a 1 ms step); of the gains tried (ω_n = 0 … 3000,
+  and K_d alone) ω_n = 10 gave the smallest gaps at steps of 0.25, 0.5 and
+  1 ms, and they did not grow over 5 s. It is far inside RK4's stability
+  region (ω_n h = 0.005) and damps a gap with a 0.1 s time constant,
+  fast against the drift it corrects. The corrector's price in the
+  motion: with it the Pinocchio and reduced plants agree to 4e-12° over
+  0.2 s, without it to 2e-13° (both far below anything measurable).
+
+Angles. :meth:`PinocchioPlant.angles` reads platform 1's spherical joint,
+coordinates rx, ry, rz = α, β, γ (R = Rz(γ)·Ry(β)·Rx(α)), and multiplies
+them by ``params.angle_signs`` (the model's angles are the platform's; the
+gait angles differ by those sign flips, as in the analytic model).
+
+Cost. One derivative call is about 13 µs on the development machine (Python
+3.11, pin 4.1): ``constraintDynamics`` (CRBA, bias forces, the constraint
+Cholesky, two proximal solves) ~10.5 µs, the generalised forces ~1.3 µs, the
+rest (call, slicing, concatenating [v, a]) ~1 µs. See scripts/bench_plant.py.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pinocchio as pin
+
+from .parameters import Parameters
+from .pinocchio_model import (
+    ClosedChainModel,
+    _friction_forces,
+    _has_lever_friction,
+    kinematics,
+    load_model,
+)
+from .trajectories import Trajectory
+
+__all__ = ["PinocchioPlant", "DEFAULT_BAUMGARTE", "DEFAULT_PROXIMAL"]
+
+_TWO_PI = 2.0 * math.pi
+
+#: Baumgarte gains (K_p [1/s²], K_d [1/s]): critically damped at ω_n = 10 rad/s.
+DEFAULT_BAUMGARTE = (10.0**2, 2.0 * 10.0)
+#: Proximal settings (absolute accuracy, relative accuracy [N], μ [1/kg], max iterations).
+DEFAULT_PROXIMAL = (1e-12, 1e-12, 1e-12, 2)
+
+
+class PinocchioPlant:
+    """Forward dynamics of the closed-chain Pinocchio model; state x = [q, v] of the tree.
+
+    Args:
+        params: the plant's machine (SI).
+        baumgarte: (K_p, K_d) of the closure drift stabilisation, in [1/s²]
+            and [1/s]; (0, 0) switches it off.
+        mu: proximal regularisation of the constrained dynamics in [1/kg] (> 0).
+        max_iter: proximal iterations at most.
+        chain: ``load_model(params)`` for these very params, to skip
+            building it again (its constraint models are copied, not modified).
+
+    Raises:
+        ValueError: mu not positive, or a chain built from other parameters.
+
+    A plant reuses its Pinocchio Data and buffers from call to call: do not
+    share one between threads.
+    """
+
+    name = "pinocchio"
+
+    def __init__(
+        self,
+        params: Parameters,
+        baumgarte: tuple[float, float] = DEFAULT_BAUMGARTE,
+        mu: float = DEFAULT_PROXIMAL[2],
+        max_iter: int = DEFAULT_PROXIMAL[3],
+        chain: ClosedChainModel | None = None,
+    ):
+        if not mu > 0:
+            raise ValueError(f"the proximal regularisation mu must be positive, got {mu!r}")
+        if chain is not None and chain.params is not params:
+            raise ValueError("chain must be load_model(params) of the same params object")
+        self.params = params
+        self.chain = load_model(params) if chain is None else chain
+        layout = self.chain.layout
+        model = self.model = self.chain.model
+        self.nq, self.nv = model.nq, model.nv
+        self.data = model.createData()
+        # Own copies of the closures, so that the gains do not leak into the caller's model.
+        self.constraint_models = pin.StdVec_RigidConstraintModel()
+        self.baumgarte = (float(baumgarte[0]), float(baumgarte[1]))
+        for cm in self.chain.constraint_models:
+            copy = pin.RigidConstraintModel(cm)
+            copy.setBaumgarteCorrectorParameters(pin.BaumgarteCorrectorParameters(*self.baumgarte))
+            self.constraint_models.append(copy)
+        self.constraint_datas = pin.StdVec_RigidConstraintData()
+        for cm in self.constraint_models:
+            self.constraint_datas.append(cm.createData())
+        pin.initConstraintDynamics(model, self.data, self.constraint_models, self.constraint_datas)
+        self.proximal = pin.ProximalSettings(DEFAULT_PROXIMAL[0], DEFAULT_PROXIMAL[1], float(mu), int(max_iter))
+
+        # Generalised forces: a buffer that only the actuated and friction entries write to.
+        self._tau = np.zeros(self.nv)
+        self._sliders = [int(k) for k in layout.slider_v]
+        self._platforms = [tuple(int(k) for k in layout.platform_v[j]) for j in range(2)]  # (rx, ry, rz)
+        # Where the hot path reads and writes: (rx, ry, rz, their velocity slots in x) and (motor, slider, slot).
+        self._platform_slots = [(*p, *(k + self.nq for k in p)) for p in self._platforms]
+        self._slider_slots = [(i, s, s + self.nq) for i, s in enumerate(self._sliders)]
+        self._angles = layout.platform_v[0].copy()
+        self._rates = self._angles + self.nq
+        self._signs = np.asarray(params.angle_signs, dtype=float).copy()
+        self._force_gain = _TWO_PI / params.lead
+        fr = params.friction
+        self._eps2 = fr.epsilon**2
+        self._hip = fr.hip_radius * fr.hip_mu
+        self._thrust = fr.thrust_radius * fr.thrust_mu
+        self._weight = params.platform_mass * params.gravity
+        self._guide = (2.0 * fr.guide_coulomb, 2.0 * fr.guide_viscous)
+        self._screw = (self._force_gain * fr.screw_coulomb, self._force_gain * fr.screw_viscous * self._force_gain)
+        self._slider_friction = any(c != 0.0 for c in (*self._guide, *self._screw))
+        self._fast = not _has_lever_friction(self.chain) and self._platform_jacobian_is_T()
+        # For the general friction path and the diagnostics: their own Data, not the dynamics'.
+        self._jdata = model.createData()
+        self._jdatas = pin.StdVec_RigidConstraintData()
+        for cm in self.constraint_models:
+            self._jdatas.append(cm.createData())
+
+    # -- the Plant protocol -------------------------------------------------
+
+    def initial_state(self, desired: Trajectory) -> np.ndarray:
+        """The closed state at desired's first sample: q, v of the tree (J_c v = 0)."""
+        kin = kinematics(self.chain, desired.slice(slice(0, 1)))
+        return np.concatenate([kin.q[0], kin.v[0]])
+
+    def derivative(self, t: float, x: np.ndarray, tau: np.ndarray, Fe: float) -> np.ndarray:
+        """[v, a] under motor torques tau [N·m] (3,) and load Fe [N]."""
+        nq = self.nq
+        q, v = x[:nq], x[nq:]
+        buf = self._fill_forces(x, tau, Fe)
+        a = pin.constraintDynamics(self.model, self.data, q, v, buf, self.constraint_models, self.constraint_datas, self.proximal)
+        return np.concatenate((v, a))
+
+    def angles(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Gait angles [α, β, γ] in [rad] and their rates in [rad/s], from platform 1's spherical joint."""
+        return self._signs * x[self._angles], self._signs * x[self._rates]
+
+    # -- diagnostics --------------------------------------------------------
+
+    @property
+    def closed_form_friction(self) -> bool:
+        """True when Q_f is evaluated in closed form (no U/S-joint friction), False on the numpy path."""
+        return self._fast
+
+    def generalised_forces(self, x: np.ndarray, tau: np.ndarray, Fe: float) -> np.ndarray:
+        """The tree's generalised forces Sᵀ(2π/p)·τ − Q_f(q, v, F_e) that :meth:`derivative` applies, (nv,)."""
+        return self._fill_forces(np.asarray(x, dtype=float), np.asarray(tau, dtype=float), Fe).copy()
+
+    def closure_residual(self, x: np.ndarray) -> tuple[float, float]:
+        """Largest closure gap |p₁ − p₂| in [m] and largest closure velocity |J_c v| (per closure) in [m/s]."""
+        q, v = x[: self.nq], x[self.nq :]
+        model, data = self.model, self._jdata
+        pin.computeJointJacobians(model, data, q)
+        for cm, cd in zip(self.constraint_models, self._jdatas):
+            cm.calc(model, data, cd)
+        gaps = np.array([cd.c1Mc2.translation for cd in self._jdatas])
+        J = pin.getConstraintsJacobian(model, data, self.constraint_models, self._jdatas)
+        rates = (J @ v).reshape(-1, 3)
+        return float(np.linalg.norm(gaps, axis=1).max()), float(np.linalg.norm(rates, axis=1).max())
+
+    def energy(self, x: np.ndarray) -> tuple[float, float]:
+        """Kinetic (screw rotors' armature included) and gravitational potential energy in [J]."""
+        q, v = x[: self.nq], x[self.nq :]
+        kinetic = pin.computeKineticEnergy(self.model, self._jdata, q, v)
+        return float(kinetic), float(pin.computePotentialEnergy(self.model, self._jdata, q))
+
+    # -- internals ----------------------------------------------------------
+
+    def _fill_forces(self, x: np.ndarray, tau: np.ndarray, Fe: float) -> np.ndarray:
+        """Write Sᵀ(2π/p)·τ − Q_f into the reused buffer and return it."""
+        nq = self.nq
+        buf = self._tau
+        motor = tau.tolist()
+        gain = self._force_gain
+        if not self._fast:
+            buf[:] = -self._friction_general(x[:nq], x[nq:], Fe)
+            for i, s in enumerate(self._sliders):
+                buf[s] += gain * motor[i]
+            return buf
+        xl = x.tolist()
+        load = self._hip * abs(Fe) + self._thrust * abs(Fe + self._weight)
+        eps2 = self._eps2
+        sin, sqrt = math.sin, math.sqrt
+        for ix, iy, iz, vx, vy, vz in self._platform_slots:
+            ad, bd, gd = xl[vx], xl[vy], xl[vz]
+            sb = sin(xl[iy])
+            # Q = load·TᵀT·q̇ / √(|T q̇|² + ε²), with TᵀT = [[1, 0, −sβ], [0, 1, 0], [−sβ, 0, 1]].
+            k = load / sqrt(ad * ad + bd * bd + gd * gd - 2.0 * sb * ad * gd + eps2)
+            buf[ix] = k * (sb * gd - ad)
+            buf[iy] = -k * bd
+            buf[iz] = k * (sb * ad - gd)
+        if self._slider_friction:
+            gc, gv = self._guide
+            sc, sv = self._screw
+            for i, s, vs in self._slider_slots:
+                rate = xl[vs]
+                speed = gain * rate
+                sign = speed / sqrt(speed * speed + eps2)
+                buf[s] = gain * motor[i] - (gc * sign + gv * rate + sc * sign + sv * rate)
+        else:
+            for i, s, _ in self._slider_slots:
+                buf[s] = gain * motor[i]
+        return buf
+
+    def _friction_general(self, q: np.ndarray, v: np.ndarray, Fe: float) -> np.ndarray:
+        """Q_f with the inverse dynamics' own numpy function and Pinocchio's joint Jacobians."""
+        layout = self.chain.layout
+        pin.computeJointJacobians(self.model, self._jdata, q)
+        angular = self._jdata.J[3:][None]
+        platform_J = np.moveaxis(angular[:, :, layout.platform_v], 1, 2)
+        lever_J = np.moveaxis(angular[:, :, layout.ujoint_v], 1, 3) if _has_lever_friction(self.chain) else None
+        return _friction_forces(self.chain, v[None], np.array([Fe], dtype=float), platform_J, lever_J)[0]
+
+    def _platform_jacobian_is_T(self) -> bool:
+        """Do the platforms' world angular Jacobians equal T(q) of spec §2 (columns rx, ry, rz)? Checked at random poses."""
+        rng = np.random.default_rng(12345)
+        data = self.model.createData()
+        for _ in range(3):
+            q = rng.uniform(-1.0, 1.0, self.nq)
+            pin.computeJointJacobians(self.model, data, q)
+            for ix, iy, iz in self._platforms:
+                alpha, beta, gamma = q[ix], q[iy], q[iz]
+                cb, sb, cg, sg = math.cos(beta), math.sin(beta), math.cos(gamma), math.sin(gamma)
+                T = np.array([[cb * cg, -sg, 0.0], [cb * sg, cg, 0.0], [-sb, 0.0, 1.0]])
+                if not np.allclose(data.J[3:, [ix, iy, iz]], T, rtol=0.0, atol=1e-12):
+                    return False
+        return True
