@@ -44,6 +44,7 @@ __all__ = [
     "central_friction_moment",
     "inverse_dynamics",
     "mechanical_energy",
+    "screw_friction_torque",
     "smooth_sign",
 ]
 
@@ -63,6 +64,17 @@ def smooth_sign(w: np.ndarray, epsilon: float, vector: bool = False) -> np.ndarr
 def _smooth_sign_vector(w: np.ndarray, epsilon: float) -> np.ndarray:
     """ŝ(w) of components-first vectors w (3, ...)."""
     return w / np.sqrt(_dot(w, w) + epsilon**2)
+
+
+def screw_friction_torque(params: Parameters, motor_speed: np.ndarray) -> np.ndarray:
+    """The lead screw's own friction torque on the motor shaft in [N·m]: Coulomb (smooth sign) plus viscous.
+
+    Args:
+        params: the machine.
+        motor_speed: θ̇ in [rad/s], any shape.
+    """
+    f = params.friction
+    return f.screw_coulomb * smooth_sign(motor_speed, f.epsilon) + f.screw_viscous * motor_speed
 
 
 def central_friction_moment(params: Parameters, omega: np.ndarray, Fe: np.ndarray) -> np.ndarray:
@@ -252,7 +264,7 @@ def inverse_dynamics(params: Parameters, kin: Kinematics, Fe: np.ndarray, lever_
     Q_f = Q_lf - tau_mf
     motor_sign = smooth_sign(motor_speed, f.epsilon)
     F_Lf = f.guide_coulomb * motor_sign + f.guide_viscous * Ld
-    tau_screw_f = f.screw_coulomb * motor_sign + f.screw_viscous * motor_speed
+    tau_screw_f = screw_friction_torque(params, motor_speed)
 
     # y = J⁻ᵀ·Q for the platform, lever and friction moments: y_i = (row i of J⁻ᵀ)·Q.
     J_inv_T = _inverse_transpose(kin.J.T)

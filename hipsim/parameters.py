@@ -35,10 +35,12 @@ __all__ = [
     "Parameters",
     "OPTIONAL_SECTIONS",
     "SCHEMA",
+    "check_entry",
     "default_parameters_path",
     "file_values",
     "load_parameters",
     "parse_override",
+    "read_toml",
     "slender_levers",
 ]
 
@@ -326,6 +328,44 @@ def parse_override(text: str) -> tuple[str, Any]:
     return key, parsed
 
 
+def read_toml(path: str | Path, what: str = "parameter file") -> dict[str, Any]:
+    """The tables of a TOML file.
+
+    Args:
+        path: the file.
+        what: what the file is, for messages ("parameter file", "rating file").
+
+    Raises:
+        ParameterError: naming the file when it is missing, a folder, unreadable or not TOML.
+    """
+    source = str(path)
+    try:
+        with open(path, "rb") as stream:
+            return tomllib.load(stream)
+    except FileNotFoundError:
+        raise ParameterError(f"no such {what}", source=source) from None
+    except IsADirectoryError:
+        raise ParameterError(f"is a folder, not a {what}", source=source) from None
+    except OSError as error:
+        raise ParameterError(f"cannot read ({error.strerror})", source=source) from None
+    except UnicodeDecodeError:
+        raise ParameterError("not a UTF-8 text file", source=source) from None
+    except tomllib.TOMLDecodeError as error:
+        raise ParameterError(f"not valid TOML ({error})", source=source) from None
+
+
+def check_entry(section: str, key: str, value: Any, source: str) -> Any:
+    """One entry of :data:`SCHEMA` checked and converted to SI.
+
+    Raises:
+        ParameterError: naming the file and key of an unknown or invalid entry.
+    """
+    if section not in SCHEMA or key not in SCHEMA[section]:
+        known = ", ".join(SCHEMA.get(section, SCHEMA))
+        raise ParameterError(f"unknown key (known: {known})", key=f"{section}.{key}", source=source)
+    return _convert(value, SCHEMA[section][key], f"{section}.{key}", source)
+
+
 def load_parameters(
     path: str | Path | None = None,
     overrides: Mapping[str, Any] | None = None,
@@ -347,19 +387,7 @@ def load_parameters(
     """
     path = Path(path) if path is not None else default_parameters_path()
     source = str(path)
-    try:
-        with open(path, "rb") as stream:
-            raw = tomllib.load(stream)
-    except FileNotFoundError:
-        raise ParameterError("no such parameter file", source=source) from None
-    except IsADirectoryError:
-        raise ParameterError("is a folder, not a parameter file", source=source) from None
-    except OSError as error:
-        raise ParameterError(f"cannot read ({error.strerror})", source=source) from None
-    except UnicodeDecodeError:
-        raise ParameterError("not a UTF-8 text file", source=source) from None
-    except tomllib.TOMLDecodeError as error:
-        raise ParameterError(f"not valid TOML ({error})", source=source) from None
+    raw = read_toml(path, "parameter file")
     for dotted, value in (overrides or {}).items():
         section, _, key = dotted.partition(".")
         if section not in SCHEMA or key not in SCHEMA[section]:

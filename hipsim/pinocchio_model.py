@@ -51,6 +51,7 @@ import pinocchio as pin
 import yaml
 from scipy.linalg import lapack
 
+from .dynamics import screw_friction_torque, smooth_sign
 from .exceptions import ModelError, PoseError, TrajectoryError
 from .model_files import closure_file_path, urdf_text
 from .parameters import Parameters, load_parameters
@@ -68,7 +69,6 @@ __all__ = [
     "load_closed_chain",
     "load_model",
     "platform_joint_positions",
-    "smooth_sign",
     "trajectory_dynamics",
 ]
 
@@ -746,22 +746,6 @@ def _close_chain(chain: ClosedChainModel, traj, tol: float, max_iter: int, Fe) -
 # ---------------------------------------------------------------------------
 
 
-def smooth_sign(w: np.ndarray, epsilon: float, axis: int | None = None) -> np.ndarray:
-    """The regularised sign ŝ(w) = w / √(|w|² + ε²) of spec §7.3.
-
-    Args:
-        w: rates, in [rad/s] (or any unit of ε).
-        epsilon: ε, same unit as w.
-        axis: the axis holding vector components (moments); None for scalars.
-
-    Returns:
-        Same shape as w, each entry (vector) of size < 1.
-    """
-    w = np.asarray(w, dtype=float)
-    norm2 = w * w if axis is None else np.sum(w * w, axis=axis, keepdims=True)
-    return w / np.sqrt(norm2 + epsilon * epsilon)
-
-
 @dataclass(frozen=True, eq=False)
 class ClosedChainTorques:
     """Motor torques and joint forces of the closed-chain inverse dynamics.
@@ -826,14 +810,14 @@ def _friction_forces(chain: ClosedChainModel, v, Fe, platform_J, lever_J) -> np.
     omega = np.einsum("njab,njb->nja", platform_J, v[:, layout.platform_v])
     bearing_load = np.abs(Fe + params.platform_mass * params.gravity)
     load = fr.hip_radius * fr.hip_mu * np.abs(Fe) + fr.thrust_radius * fr.thrust_mu * bearing_load
-    moment = smooth_sign(omega, eps, axis=-1) * load[:, None, None]
+    moment = smooth_sign(omega, eps, vector=True) * load[:, None, None]
     if lever_J is not None:
         omega_lever = np.einsum("njiab,njib->njia", lever_J, v[:, layout.ujoint_v])
         # U joint: the slider does not rotate, so the relative rate is the lever's own.
-        lever_moment = fr.ujoint_coulomb * smooth_sign(omega_lever, eps, axis=-1) + fr.ujoint_viscous * omega_lever
+        lever_moment = fr.ujoint_coulomb * smooth_sign(omega_lever, eps, vector=True) + fr.ujoint_viscous * omega_lever
         # S joint: acts on the lever and, oppositely, on the platform.
         relative = omega_lever - omega[:, :, None, :]
-        s_moment = fr.sjoint_coulomb * smooth_sign(relative, eps, axis=-1) + fr.sjoint_viscous * relative
+        s_moment = fr.sjoint_coulomb * smooth_sign(relative, eps, vector=True) + fr.sjoint_viscous * relative
         lever_moment = lever_moment + s_moment
         moment = moment - s_moment.sum(axis=2)
         Q_lever = np.einsum("njiab,njia->njib", lever_J, lever_moment)
@@ -844,7 +828,7 @@ def _friction_forces(chain: ClosedChainModel, v, Fe, platform_J, lever_J) -> np.
     Ld = v[:, layout.slider_v]
     motor_speed = _TWO_PI / chain.lead * Ld
     guide = 2.0 * (fr.guide_coulomb * smooth_sign(motor_speed, eps) + fr.guide_viscous * Ld)
-    screw = fr.screw_coulomb * smooth_sign(motor_speed, eps) + fr.screw_viscous * motor_speed
+    screw = screw_friction_torque(params, motor_speed)
     Q[:, layout.slider_v] += guide + _TWO_PI / chain.lead * screw
     return Q
 

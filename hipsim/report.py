@@ -40,16 +40,15 @@ import html
 import io
 import json
 import math
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
 import numpy as np
 
-from .dynamics import Torques, smooth_sign
+from .dynamics import Torques, screw_friction_torque
 from .exceptions import HipsimError, ParameterError
-from .parameters import Parameters
+from .parameters import Parameters, check_entry, read_toml
 from .files import write_atomic
 from .results import Result, analyse
 from .trajectories import Trajectory
@@ -321,26 +320,15 @@ def load_ratings(path: str | Path) -> MotorRatings:
         ParameterError: naming the file and key of anything missing, unknown or invalid.
     """
     source = str(path)
-    try:
-        with open(path, "rb") as stream:
-            raw = tomllib.load(stream)
-    except FileNotFoundError:
-        raise ParameterError("no such rating file", source=source) from None
-    except tomllib.TOMLDecodeError as error:
-        raise ParameterError(f"not valid TOML ({error})", source=source) from None
+    raw = read_toml(path, "rating file")
     for section in raw:
         if section != "motor":
             raise ParameterError("unknown section (expected one [motor] table)", key=section, source=source)
     table = raw.get("motor")
     if not isinstance(table, dict) or not table:
         raise ParameterError(f"expected a [motor] table with any of {', '.join(RATING_KEYS)}", key="motor", source=source)
-    values = {}
-    for key, value in table.items():
-        if key not in RATING_KEYS:
-            raise ParameterError(f"unknown key (known: {', '.join(RATING_KEYS)})", key=f"motor.{key}", source=source)
-        if not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(value) or value <= 0:
-            raise ParameterError(f"expected a positive number in {RATING_KEYS[key][0]}, got {value!r}", key=f"motor.{key}", value=value, source=source)
-        values[key] = float(value)
+    # The same keys, units and checks as the parameter file's optional [motor] table.
+    values = {key: check_entry("motor", key, value, source) for key, value in table.items()}
     return MotorRatings(**values, source=source)
 
 
@@ -439,9 +427,7 @@ def axial_screw_force(result: Result) -> np.ndarray:
     in :func:`hipsim.dynamics.inverse_dynamics`).
     """
     params, torques = result.params, result.torques
-    f = params.friction
-    speed = torques.motor_speed
-    screw_friction = f.screw_coulomb * smooth_sign(speed, f.epsilon) + f.screw_viscous * speed
+    screw_friction = screw_friction_torque(params, torques.motor_speed)
     return 2.0 * math.pi * (torques.tau - torques.tau_L - screw_friction) / params.lead
 
 

@@ -1,0 +1,1293 @@
+"""Visual inspection in meshcat: the machine moving through a trajectory, live or as one offline page.
+
+What is shown is the Pinocchio model's *closed* configuration
+(:func:`hipsim.pinocchio_model.kinematics`): at every frame the tree's joint
+values make all six lever tips meet their platform joints, so a closure that
+goes wrong is visible at a glance. Frames are the closed samples themselves,
+never an interpolation between them (the offline page holds each sample until
+the next one).
+
+A few lines show any configuration or trajectory::
+
+    import numpy as np
+    import hipsim
+    from hipsim.viewer import Viewer
+
+    with Viewer(human=True) as viewer:               # a meshcat server on 127.0.0.1
+        print(viewer.url)                            # open it in a browser
+        viewer.show_orientation(np.radians(20), 0.0, 0.0)
+        viewer.play(hipsim.iso14242(rate=200), loop=False, forces=True)
+        page = viewer.record(hipsim.iso14242(rate=200))  # one offline HTML page
+
+    Viewer(serve=False).record(trajectory)           # the page only, no server
+
+The live server (meshcat's ZMQ and web servers) listens on the loopback
+interface only. The offline page is built here from the scene, without a
+server: three.js and the meshcat viewer inlined, every mesh and the
+recorded animation as data in the page, nothing fetched from the network.
+Append ``#t=0.25`` to the page's address to open it paused at 0.25 s of the
+animation.
+
+Shown with ``forces``: the motor force on each screw's carriage (magenta,
+along the screw, leaving the carriage in the direction of the force) and the
+force each lever exerts on its platform at the spherical joint (cyan), from
+the closed-chain inverse dynamics, drawn at a stated scale in mm per N. With
+``singularity`` the six levers take the colour of the singularity measure
+(the inverse condition number of J, one value for the whole machine): red at
+0 (singular), yellow at 0.25, green at 0.5 and above.
+
+The human model (``human=True``, example-robot-data's ``human`` URDF) stands
+beside the machine; its right hip turns exactly as the platforms do. Machine
+axes map onto the body as X → the subject's right, Y → anterior, Z →
+superior, so α (about X) is flexion, β (about Y) adduction and γ (about Z)
+internal rotation, each positive (ISB convention for a right hip). The
+femur's orientation relative to the pelvis is then R = Rz(γ)·Ry(β)·Rx(α)
+expressed in the pelvis axes, decomposed into the model's hip joints, which
+follow the ISB joint coordinate system (right_hip_Z flexion, right_hip_X
+about −X so positive is abduction, right_hip_Y internal rotation): see
+:func:`human_hip_angles`.
+"""
+
+from __future__ import annotations
+
+import base64
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable, TextIO
+
+import numpy as np
+import pinocchio as pin
+
+from .exceptions import HipsimError, ModelError
+from .files import write_atomic
+from .parameters import Parameters, load_parameters
+from .trajectories import Trajectory, interpolator
+
+__all__ = [
+    "Motion",
+    "Viewer",
+    "force_scale_for",
+    "human_hip_angles",
+    "load_human",
+    "find_browser",
+    "run_view",
+    "screenshot",
+    "singularity_colour",
+]
+
+#: Frames per second of the animation (live and recorded) unless told otherwise.
+DEFAULT_FPS = 30.0
+#: Longest force arrow the automatic scale allows, in [m].
+LONGEST_ARROW = 0.3
+#: Force scales the automatic choice picks from, in [m per N] (1 mm/N and down in 1-2-5 steps).
+_SCALES = tuple(m * 10.0**-e for e in range(3, 8) for m in (1.0, 0.5, 0.2))
+#: Colours (RGB, 0..1) of the force arrows.
+MOTOR_FORCE_COLOUR = (0.85, 0.10, 0.80)
+JOINT_FORCE_COLOUR = (0.05, 0.75, 0.85)
+#: Singularity colour map: (inverse condition number, RGB) stops, clamped beyond the ends.
+SINGULARITY_STOPS = ((0.0, (0.85, 0.10, 0.10)), (0.25, (0.95, 0.85, 0.10)), (0.5, (0.45, 0.90, 0.10)))
+
+# Human model placement: pelvis axes (ISB: x anterior, y superior, z right) in world axes.
+# Columns are the world images of the pelvis axes: x_p -> +Y, y_p -> +Z, z_p -> +X.
+HUMAN_PELVIS_ROTATION = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+#: Where the human's pelvis frame stands, in [m]: beside the machine (on its +Y side, facing +Y), feet on the floor.
+HUMAN_PELVIS_POSITION = np.array([0.0, 0.9, 1.056])
+_HUMAN_URDF = "example-robot-data/robots/human_description/robots/human.urdf"
+_HIP_JOINTS = ("right_hip_Z", "right_hip_X", "right_hip_Y")
+
+_MACHINE_ROOT = "hipsim/machine"
+_HUMAN_ROOT = "hipsim/human"
+_FORCES_ROOT = "hipsim/forces"
+
+# Camera: orbit target and camera position in world axes [m].
+_CAMERA = {False: ((0.0, 0.0, 0.62), (1.0, 1.2, 1.15)), True: ((0.0, 0.45, 0.72), (2.1, 0.95, 1.25))}
+
+# The meshcat server, run as a child process: meshcat's own ZMQ/web bridge, with
+# its web server bound to 127.0.0.1 (meshcat binds it to every interface and
+# uses host only in the URL) and its ZMQ socket on tcp://127.0.0.1. It exits
+# when its standard input closes, i.e. when the parent goes away, however.
+_SERVER_CODE = r"""
+import os, sys, threading
+from meshcat.servers import zmqserver
+
+class LoopbackBridge(zmqserver.ZMQWebSocketBridge):
+    def make_app(self):
+        app = super().make_app()
+        listen = app.listen
+        def listen_on_loopback(port, **kwargs):
+            kwargs["address"] = "127.0.0.1"
+            return listen(port, **kwargs)
+        app.listen = listen_on_loopback
+        return app
+
+def watch_parent():
+    try:
+        while sys.stdin.buffer.read(65536):
+            pass
+    finally:
+        os._exit(0)
+
+threading.Thread(target=watch_parent, daemon=True).start()
+bridge = LoopbackBridge(host="127.0.0.1")
+print("zmq_url=" + bridge.zmq_url, flush=True)
+print("web_url=" + bridge.web_url, flush=True)
+try:
+    bridge.run()
+except KeyboardInterrupt:
+    pass
+"""
+
+
+# ---------------------------------------------------------------------------
+# Small pure helpers
+# ---------------------------------------------------------------------------
+
+
+def singularity_colour(cond_inv) -> np.ndarray:
+    """RGB (0..1) of the singularity measure: red 0 (singular), yellow 0.25, green ≥ 0.5.
+
+    Args:
+        cond_inv: inverse condition number(s) of J; NaN counts as 0.
+
+    Returns:
+        Shape (..., 3).
+    """
+    c = np.nan_to_num(np.asarray(cond_inv, dtype=float), nan=0.0)
+    stops = np.array([s for s, _ in SINGULARITY_STOPS])
+    colours = np.array([rgb for _, rgb in SINGULARITY_STOPS])
+    return np.stack([np.interp(c, stops, colours[:, k]) for k in range(3)], axis=-1)
+
+
+def force_scale_for(peak_force: float, longest: float = LONGEST_ARROW) -> float:
+    """The arrow scale in [m per N]: the largest of 1, 0.5, 0.2, 0.1, … mm/N that keeps the longest arrow ≤ ``longest``."""
+    for scale in _SCALES:
+        if peak_force * scale <= longest:
+            return scale
+    return _SCALES[-1]
+
+
+def _scale_text(scale: float) -> str:
+    return f"{scale * 1e3:g} mm per N"
+
+
+def human_hip_angles(R: np.ndarray) -> np.ndarray:
+    """The human model's right-hip joint values that turn its femur exactly as the platforms turn.
+
+    With the pelvis placed by :data:`HUMAN_PELVIS_ROTATION` (machine X = the
+    subject's right, Y = anterior, Z = superior), the femur's world rotation
+    equals the platform's R when its rotation relative to the pelvis is
+    R_h = Cᵀ·R·C, C = HUMAN_PELVIS_ROTATION. The model's hip is
+    R_h = Rz(z)·R₋ₓ(x)·Ry(y) (joints right_hip_Z about +z, right_hip_X about
+    −x, right_hip_Y about +y), so with b = −x: R_h = Rz(z)·Rx(b)·Ry(y) and
+    sin b = R_h[2,1], y = atan2(−R_h[2,0], R_h[2,2]), z = atan2(−R_h[0,1], R_h[1,1]).
+
+    For small angles z ≈ α (flexion), x ≈ −β (β > 0 is adduction, the model's
+    right_hip_X > 0 abduction), y ≈ γ (internal rotation); the exact values
+    differ at second order because the machine turns Z-Y-X and the ISB hip Z-X-Y.
+
+    Args:
+        R: platform rotations, shape (3, 3) or (N, 3, 3).
+
+    Returns:
+        [right_hip_Z, right_hip_X, right_hip_Y] in [rad], shape (3,) or (N, 3).
+    """
+    R = np.asarray(R, dtype=float)
+    C = HUMAN_PELVIS_ROTATION
+    Rh = np.einsum("ji,...jk,kl->...il", C, R, C)
+    b = np.arcsin(np.clip(Rh[..., 2, 1], -1.0, 1.0))
+    y = np.arctan2(-Rh[..., 2, 0], Rh[..., 2, 2])
+    z = np.arctan2(-Rh[..., 0, 1], Rh[..., 1, 1])
+    return np.stack([z, -b, y], axis=-1)
+
+
+def _human_urdf() -> tuple[Path, Path]:
+    """(human.urdf, the share folder that resolves its package:// meshes)."""
+    candidates = []
+    try:
+        from importlib import metadata
+
+        candidates.append(Path(metadata.distribution("example-robot-data").locate_file("cmeel.prefix/share")))
+    except Exception:  # noqa: BLE001 - any failure: try the paths below
+        pass
+    candidates += [Path(p) / "cmeel.prefix" / "share" for p in sys.path if p]
+    candidates += [Path(sys.prefix) / "share", Path("/opt/openrobots/share"), Path("/usr/share")]
+    for share in candidates:
+        if (share / _HUMAN_URDF).is_file():
+            return share / _HUMAN_URDF, share
+    raise ModelError("cannot find example-robot-data's human model (pip install example-robot-data)")
+
+
+def load_human() -> tuple[pin.Model, pin.GeometryModel]:
+    """example-robot-data's human model (life size) and its visual geometry.
+
+    Raises:
+        ModelError: example-robot-data is not installed.
+    """
+    urdf, share = _human_urdf()
+    model = pin.buildModelFromUrdf(str(urdf))
+    visual = pin.buildGeomFromUrdf(model, str(urdf), pin.GeometryType.VISUAL, package_dirs=[str(share)])
+    return model, visual
+
+
+def _rotation_y_to(d: np.ndarray) -> np.ndarray:
+    """A rotation taking the Y axis (meshcat's cylinder and cone axis) onto the unit vector d."""
+    d = d / np.linalg.norm(d)
+    y = np.array([0.0, 1.0, 0.0])
+    c = float(y @ d)
+    if c < -1.0 + 1e-12:
+        return np.diag([1.0, -1.0, -1.0])
+    v = np.cross(y, d)
+    K = np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+    return np.eye(3) + K + K @ K / (1.0 + c)
+
+
+def _homogeneous(R: np.ndarray, p: np.ndarray) -> np.ndarray:
+    T = np.eye(4)
+    T[:3, :3], T[:3, 3] = R, p
+    return T
+
+
+# ---------------------------------------------------------------------------
+# The frames to show
+# ---------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class Motion:
+    """The closed samples a viewer shows, with what is drawn on them.
+
+    Attributes:
+        t: trajectory time of each frame in [s], shape (N,).
+        fps: frames per second of the display.
+        speed: playback speed (1 = real time).
+        angles: platform angles [α, β, γ] in [rad] as the machine turns them
+            (angle_signs applied), shape (N, 3).
+        q: closed tree configurations, shape (N, nq).
+        residual: largest closure gap of each frame in [m], shape (N,).
+        F_act: actuator force on each carriage in [N], shape (N, 3), or None.
+        F_joint: force each lever exerts on its platform at a_ji, world axes,
+            in [N], shape (N, 2, 3, 3), or None.
+        cond_inv: singularity measure per frame, shape (N,), or None.
+        hip: the human's right-hip joint values [right_hip_Z, right_hip_X,
+            right_hip_Y] in [rad], shape (N, 3).
+        periodic: the frames tile a period (the animation loops seamlessly).
+        name: where the trajectory came from.
+    """
+
+    t: np.ndarray
+    fps: float
+    speed: float
+    angles: np.ndarray
+    q: np.ndarray
+    residual: np.ndarray
+    F_act: np.ndarray | None
+    F_joint: np.ndarray | None
+    cond_inv: np.ndarray | None
+    hip: np.ndarray
+    periodic: bool
+    name: str
+
+    def __len__(self) -> int:
+        return self.t.size
+
+    @property
+    def rate(self) -> float:
+        """Frames per second of trajectory time, fps/speed."""
+        return self.fps / self.speed
+
+    @property
+    def duration(self) -> float:
+        """Trajectory time the frames cover in [s] (a whole period when periodic)."""
+        return len(self) / self.rate if self.periodic else float(self.t[-1] - self.t[0])
+
+
+def _resample(trajectory: Trajectory, rate: float) -> tuple[Trajectory, bool]:
+    """The trajectory at ``rate`` samples per second of its time (whole periods if periodic)."""
+    t = trajectory.t
+    if t.size < 2:
+        return trajectory, False
+    dt = (t[-1] - t[0]) / (t.size - 1)
+    if trajectory.periodic:
+        period = t[-1] - t[0] + dt
+        n = max(2, int(round(period * rate)))
+        times = t[0] + np.arange(n) * (period / n)
+    else:
+        n = max(2, int(math.floor((t[-1] - t[0]) * rate + 1e-9)) + 1)
+        times = t[0] + np.arange(n) / rate
+    # Sample times that are samples of the trajectory are taken as they are; others are interpolated.
+    index = np.clip(np.round((times - t[0]) / dt).astype(int), 0, t.size - 1)
+    if np.allclose(t[index], times, rtol=0.0, atol=1e-9 * dt):
+        return trajectory.slice(index), trajectory.periodic
+    return interpolator(trajectory)(times), trajectory.periodic
+
+
+# ---------------------------------------------------------------------------
+# Windows: where meshcat commands go
+# ---------------------------------------------------------------------------
+
+
+class _OfflineWindow:
+    """A meshcat window without a server: keeps the scene tree the server would keep, to write a page."""
+
+    def __init__(self):
+        from meshcat.servers.tree import SceneTree
+
+        self.tree = SceneTree()
+        self.web_url = None
+        self.server_proc = None
+
+    def send(self, command) -> None:
+        import umsgpack
+        from meshcat.servers.tree import SceneTree, find_node
+
+        data = command.lower()
+        kind = data["type"]
+        path = [p for p in data.get("path", "").split("/") if p]
+        packed = umsgpack.packb(data)
+        if kind == "delete":
+            if path:
+                parent = find_node(self.tree, path[:-1])
+                parent.pop(path[-1], None)
+            else:
+                self.tree = SceneTree()
+            return
+        node = find_node(self.tree, path)
+        if kind == "set_object":
+            node.object, node.properties = packed, []
+        elif kind == "set_transform":
+            node.transform = packed
+        elif kind == "set_property":
+            node.properties.append(packed)
+        elif kind == "set_animation":
+            node.animation = packed
+
+    def commands(self) -> list[bytes]:
+        """The scene as meshcat commands: objects, properties, transforms, then the animations.
+
+        Animations go last so that they bind to the objects they animate.
+        """
+        from meshcat.servers.tree import walk
+
+        out, animations = [], []
+        for node in walk(self.tree):
+            if node.object is not None:
+                out.append(node.object)
+            out.extend(node.properties)
+            if node.transform is not None:
+                out.append(node.transform)
+            if node.animation is not None:
+                animations.append(node.animation)
+        return out + animations
+
+    def close(self) -> None:
+        pass
+
+
+class _LiveWindow:
+    """A meshcat window talking to a meshcat server over ZMQ (meshcat's ViewerWindow, without its prints)."""
+
+    def __init__(self, zmq_url: str, web_url: str, timeout_s: float = 30.0):
+        import zmq
+
+        self.zmq_url, self.web_url, self.server_proc = zmq_url, web_url, None
+        self.context = zmq.Context.instance()
+        self.socket = self.context.socket(zmq.REQ)
+        self.socket.setsockopt(zmq.LINGER, 0)
+        self.socket.setsockopt(zmq.RCVTIMEO, int(timeout_s * 1000))
+        self.socket.setsockopt(zmq.SNDTIMEO, int(timeout_s * 1000))
+        self.socket.connect(zmq_url)
+
+    def send(self, command) -> None:
+        import umsgpack
+        import zmq
+
+        data = command.lower()
+        try:
+            self.socket.send_multipart([data["type"].encode("utf-8"), data["path"].encode("utf-8"), umsgpack.packb(data)])
+            self.socket.recv()
+        except zmq.Again:
+            raise HipsimError(f"the meshcat server at {self.zmq_url} does not answer") from None
+
+    def close(self) -> None:
+        self.socket.close(linger=0)
+
+
+class _TeeWindow:
+    """Sends every command to the live server and keeps the same scene offline (for :meth:`Viewer.record`)."""
+
+    def __init__(self, live: _LiveWindow, offline: _OfflineWindow):
+        self.live, self.offline = live, offline
+        self.web_url, self.server_proc = live.web_url, None
+
+    def send(self, command) -> None:
+        self.offline.send(command)
+        self.live.send(command)
+
+    def close(self) -> None:
+        self.live.close()
+
+
+class _Server:
+    """A meshcat server in a child process, on 127.0.0.1; ended by :meth:`close` or when this process ends."""
+
+    def __init__(self, timeout_s: float = 30.0):
+        self._log = tempfile.TemporaryFile()
+        env = dict(os.environ, PYTHONUNBUFFERED="1")
+        self.process = subprocess.Popen(
+            [sys.executable, "-u", "-c", _SERVER_CODE],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            stderr=self._log,
+            env=env,
+            start_new_session=True,  # Ctrl-C in a terminal reaches this process, which then ends the server
+        )
+        self.zmq_url = self.web_url = None
+        lines = []
+        deadline = time.monotonic() + timeout_s
+        while self.web_url is None:
+            line = self.process.stdout.readline().decode("utf-8", "replace").strip()
+            if not line:
+                if self.process.poll() is not None or time.monotonic() > deadline:
+                    self.close()
+                    self._log.seek(0)
+                    detail = self._log.read().decode("utf-8", "replace").strip().splitlines()[-3:]
+                    raise HipsimError("the meshcat server did not start: " + (" / ".join(detail) or "no output"))
+                continue
+            lines.append(line)
+            if line.startswith("zmq_url="):
+                self.zmq_url = line.split("=", 1)[1]
+            elif line.startswith("web_url="):
+                self.web_url = line.split("=", 1)[1]
+
+    @property
+    def pid(self) -> int:
+        return self.process.pid
+
+    def close(self) -> None:
+        if self.process.poll() is None:
+            self.process.terminate()
+            try:
+                self.process.wait(timeout=5)
+            except subprocess.TimeoutExpired:
+                self.process.kill()
+                self.process.wait()
+        for stream in (self.process.stdin, self.process.stdout):
+            if stream is not None:
+                stream.close()
+        self._log.close()
+
+
+# ---------------------------------------------------------------------------
+# Geometry the models do not have: arrows
+# ---------------------------------------------------------------------------
+
+
+def _cone_class():
+    import meshcat.geometry as mg
+
+    class Cone(mg.Geometry):
+        """three.js ConeGeometry: axis along Y, apex at +height/2."""
+
+        def __init__(self, height: float, radius: float, segments: int = 24):
+            super().__init__()
+            self.height, self.radius, self.segments = height, radius, segments
+
+        def lower(self, object_data):
+            return {"uuid": self.uuid, "type": "ConeGeometry", "radius": self.radius, "height": self.height, "radialSegments": self.segments}
+
+    return Cone
+
+
+_SHAFT_RADIUS = 0.007
+_HEAD_RADIUS = 0.018
+_HEAD_LENGTH = 0.04
+_ARROW_OFFSET = 0.055  # [m]: motor force arrows run this far outside the screw axis
+_CARRIAGE_MARGIN = 0.04  # [m]: the carriage box reaches this far beyond its two sliders (see the xacro)
+_MIN_ARROW = 1e-5  # [m]: shortest shaft drawn (zero scale breaks three.js normals)
+
+
+def _arrow_pose(tail: np.ndarray, force: np.ndarray, scale: float):
+    """(shaft transform without scale, shaft length, head transform) for a force arrow."""
+    magnitude = float(np.linalg.norm(force))
+    direction = force / magnitude if magnitude > 0 else np.array([0.0, 0.0, 1.0])
+    length = max(magnitude * scale, _MIN_ARROW)
+    R = _rotation_y_to(direction)
+    shaft = _homogeneous(R, tail + 0.5 * length * direction)
+    head = _homogeneous(R, tail + (length + 0.5 * _HEAD_LENGTH) * direction)
+    return shaft, length, head
+
+
+# ---------------------------------------------------------------------------
+# The offline page
+# ---------------------------------------------------------------------------
+
+
+def _discrete_animation_class():
+    from meshcat.animation import Animation
+
+    class DiscreteAnimation(Animation):
+        """meshcat's Animation with step interpolation: each key holds until the next (three.js InterpolateDiscrete)."""
+
+        def lower(self):
+            lowered = super().lower()
+            for entry in lowered:
+                for track in entry["clip"]["tracks"]:
+                    track["interpolation"] = 2300  # THREE.InterpolateDiscrete
+            return lowered
+
+    return DiscreteAnimation
+
+
+def _DiscreteAnimation(default_framerate: float):
+    return _discrete_animation_class()(default_framerate=default_framerate)
+
+
+_PAGE = """<!DOCTYPE html>
+<html>
+<head>
+<meta charset="utf-8">
+<title>{title}</title>
+<style>
+  body {{ margin: 0; }}
+  #meshcat-pane {{ width: 100vw; height: 100vh; overflow: hidden; }}
+  #hipsim-legend {{ position: absolute; left: 10px; bottom: 10px; max-width: 60vw; padding: 6px 10px;
+    font: 13px/1.4 sans-serif; color: #222; background: rgba(255, 255, 255, 0.8); border-radius: 4px; }}
+</style>
+</head>
+<body>
+<div id="meshcat-pane"></div>
+<div id="hipsim-legend">{legend}</div>
+<script>
+{viewer_js}
+</script>
+<script>
+var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
+(function () {{
+  // The scene, in order: objects, properties, transforms, then the animation.
+  var commands = [
+{commands}
+  ];
+  for (var k = 0; k < commands.length; k++) {{
+    var text = atob(commands[k]);
+    var bytes = new Uint8Array(text.length);
+    for (var i = 0; i < text.length; i++) bytes[i] = text.charCodeAt(i);
+    viewer.handle_command_bytearray(bytes);
+  }}
+}})();
+// Open paused at a time of the animation: page.html#t=0.25 (seconds).
+function hipsimSeek() {{
+  var match = /[#&]t=([-+0-9.eE]+)/.exec(window.location.hash);
+  if (!match) return;
+  var time = parseFloat(match[1]);
+  var animator = viewer.animator;
+  animator.pause();
+  animator.seek(time);
+  animator.display_progress(time);
+  document.title = "{title} (t = " + time + " s)";
+}}
+hipsimSeek();
+window.addEventListener("hashchange", hipsimSeek);
+</script>
+</body>
+</html>
+"""
+
+
+def _page(commands: list[bytes], title: str, legend: list[str]) -> str:
+    """A self-contained page: meshcat's viewer script inlined and the scene's commands as base64 data."""
+    import html
+
+    from meshcat.servers.zmqserver import VIEWER_ROOT
+
+    viewer_js = (Path(VIEWER_ROOT) / "main.min.js").read_text(encoding="utf-8")
+    encoded = ",\n".join(f'"{base64.b64encode(c).decode("ascii")}"' for c in commands)
+    return _PAGE.format(
+        title=html.escape(title),
+        legend="<br>".join(legend),
+        viewer_js=viewer_js.replace("</script", "<\\/script"),
+        commands=encoded,
+    )
+
+
+# ---------------------------------------------------------------------------
+# The viewer
+# ---------------------------------------------------------------------------
+
+
+class Viewer:
+    """The hip simulator (and optionally the human model) in meshcat.
+
+    Args:
+        params: the machine; None for the published one.
+        human: also show example-robot-data's human model beside the machine,
+            its right hip turning as the platforms do.
+        serve: start a meshcat server on 127.0.0.1 for a browser to watch
+            (``url``); False builds scenes for :meth:`record` only.
+        force_scale: arrow scale in [m per N]; None picks one per motion
+            (:func:`force_scale_for`).
+
+    Raises:
+        ModelError: the human model is asked for and not installed.
+        HipsimError: the meshcat server does not start.
+    """
+
+    def __init__(self, params: Parameters | None = None, human: bool = False, *, serve: bool = True, force_scale: float | None = None):
+        import meshcat
+        from pinocchio.visualize import MeshcatVisualizer
+
+        from .pinocchio_model import load_model
+
+        self.params = load_parameters() if params is None else params
+        self.chain = load_model(self.params)
+        self.human = bool(human)
+        self.force_scale = force_scale
+        self._server = None
+        self._window = None
+        try:
+            self._offline = _OfflineWindow()
+            if serve:
+                self._server = _Server()
+                self._window = _TeeWindow(_LiveWindow(self._server.zmq_url, self._server.web_url), self._offline)
+            else:
+                self._window = self._offline
+            self.vis = meshcat.Visualizer(window=self._window)
+
+            model, visual = self.chain.model, self.chain.visual_model
+            self._machine = MeshcatVisualizer(model, None, visual)
+            self._machine.initViewer(viewer=self.vis)
+            self._machine.loadViewerModel(rootNodeName=_MACHINE_ROOT)
+            self._machine_data = model.createData()
+            self._machine_gdata = visual.createData()
+            # Geometry attached to the base never moves: send only the rest.
+            self._moving = [(k, f"{_MACHINE_ROOT}/visuals/{g.name}") for k, g in enumerate(visual.geometryObjects) if g.parentJoint != 0]
+            self._levers = [
+                k for k, g in enumerate(visual.geometryObjects)
+                if g.name.startswith("lever_") and model.names[g.parentJoint].startswith("u2_")
+            ]  # fmt: skip
+            self._lever_colour: tuple | None = None
+            self._forces_visible: bool | None = None
+            self._arrows_ready = False
+            self._frames_ids = self._frame_ids()
+            if self.human:
+                self._setup_human(MeshcatVisualizer)
+            self._setup_scene()
+            self.show(self._home())
+        except BaseException:
+            self.close()
+            raise
+
+    # -- set-up -----------------------------------------------------------------
+
+    def _frame_ids(self) -> dict[str, int]:
+        model = self.chain.model
+        names = [f"slider_{i}" for i in (1, 2, 3)]
+        ids = {name: model.getJointId(name) for name in names}
+        for j in (1, 2):
+            for i in (1, 2, 3):
+                ids[f"tip_{j}{i}"] = model.getFrameId(f"lever_{j}{i}_tip")
+                ids[f"joint_{j}{i}"] = model.getFrameId(f"platform_{j}_joint_{i}")
+        ids["platform"] = model.getJointId("platform_1_rx")
+        return ids
+
+    def _setup_human(self, visualizer_class) -> None:
+        model, visual = load_human()
+        self._human_model, self._human_visual = model, visual
+        self._human_data, self._human_gdata = model.createData(), visual.createData()
+        self._hip_q = np.array([model.joints[model.getJointId(name)].idx_q for name in _HIP_JOINTS])
+        self._human_viz = visualizer_class(model, None, visual)
+        self._human_viz.initViewer(viewer=self.vis)
+        self._human_viz.loadViewerModel(rootNodeName=_HUMAN_ROOT)
+        # The right leg moves: geometry below right_hip_Z.
+        leg = set(model.subtrees[model.getJointId(_HIP_JOINTS[0])])
+        self._human_moving = [
+            (k, f"{_HUMAN_ROOT}/visuals/{g.name}", np.asarray(g.meshScale, dtype=float))
+            for k, g in enumerate(visual.geometryObjects) if g.parentJoint in leg
+        ]  # fmt: skip
+        self._human_q0 = pin.neutral(model)
+        # Draw the whole body once at its neutral pose, then place the pelvis in the world.
+        pin.forwardKinematics(model, self._human_data, self._human_q0)
+        self._human_viz.display(self._human_q0)
+        self.vis[_HUMAN_ROOT].set_transform(_homogeneous(HUMAN_PELVIS_ROTATION, HUMAN_PELVIS_POSITION))
+
+    def _setup_scene(self) -> None:
+        self.vis["/Background"].set_property("top_color", [1.0, 1.0, 1.0])
+        self.vis["/Background"].set_property("bottom_color", [0.80, 0.83, 0.88])
+        self.vis["/Axes"].set_property("visible", False)
+        target, position = _CAMERA[self.human]
+        self.set_camera(target, position)
+
+    def set_camera(self, target, position) -> None:
+        """Look from ``position`` at ``target`` (world axes, [m]); the view then orbits about the target.
+
+        meshcat's camera always looks at (and orbits about) the origin of its
+        scene, so the scene (the hipsim nodes and the floor grid) is shifted
+        by −target in the viewer; the model's own coordinates do not change.
+        """
+        target, position = np.asarray(target, dtype=float), np.asarray(position, dtype=float)
+        shift = _homogeneous(np.eye(3), -target)
+        self.vis.set_transform(shift)
+        self.vis["/Grid"].set_transform(shift)
+        x, y, z = position - target
+        # The camera sits in meshcat's Y-up "rotated" frame: world (x, y, z) is (x, z, −y) there.
+        self.vis["/Cameras/default/rotated/<object>"].set_property("position", [float(x), float(z), float(-y)])
+
+    def _setup_arrows(self) -> None:
+        import meshcat.geometry as mg
+
+        if self._arrows_ready:
+            return
+        Cone = _cone_class()
+
+        def material(rgb):
+            return mg.MeshLambertMaterial(color=int(rgb[0] * 255) << 16 | int(rgb[1] * 255) << 8 | int(rgb[2] * 255))
+
+        for name, rgb in self._arrow_names():
+            self.vis[f"{_FORCES_ROOT}/{name}/shaft"].set_object(mg.Cylinder(1.0, _SHAFT_RADIUS), material(rgb))
+            self.vis[f"{_FORCES_ROOT}/{name}/head"].set_object(Cone(_HEAD_LENGTH, _HEAD_RADIUS), material(rgb))
+        self._arrows_ready = True
+
+    @staticmethod
+    def _arrow_names():
+        names = [(f"screw_{i}", MOTOR_FORCE_COLOUR) for i in (1, 2, 3)]
+        names += [(f"joint_{j}{i}", JOINT_FORCE_COLOUR) for j in (1, 2) for i in (1, 2, 3)]
+        return names
+
+    def _home(self) -> np.ndarray:
+        from .pinocchio_model import kinematics
+
+        zero = Trajectory(np.zeros(1), np.zeros((1, 3)), np.zeros((1, 3)), np.zeros((1, 3)), np.zeros(1), name="home")
+        return kinematics(self.chain, zero).q[0]
+
+    # -- properties ----------------------------------------------------------------
+
+    @property
+    def url(self) -> str | None:
+        """The address to open in a browser (http://127.0.0.1:PORT/static/), None without a server."""
+        return self._server.web_url if self._server is not None else None
+
+    @property
+    def server_pid(self) -> int | None:
+        """Process id of the meshcat server, None without one."""
+        return self._server.pid if self._server is not None else None
+
+    # -- computing what to show ---------------------------------------------------------
+
+    def motion(self, trajectory: Trajectory, *, fps: float = DEFAULT_FPS, speed: float = 1.0, forces: bool = False, singularity: bool = False) -> Motion:
+        """The closed frames that show ``trajectory`` at ``fps`` frames per second, played ``speed`` times real time.
+
+        The trajectory is resampled at fps/speed samples per second of its time
+        (whole periods when it is periodic, so that a loop is seamless) and the
+        chain closed at every sample with Pinocchio (closure gap ≤ 1e-12 m).
+
+        Raises:
+            PoseError: a sample is out of reach or singular.
+        """
+        from .kinematics import kinematics as analytic_kinematics
+        from .pinocchio_model import kinematics, trajectory_dynamics
+
+        if not (fps > 0 and speed > 0 and math.isfinite(fps) and math.isfinite(speed)):
+            raise HipsimError(f"fps and speed must be positive, got fps={fps}, speed={speed}")
+        rate = fps / speed
+        samples, periodic = _resample(trajectory, rate)
+        F_act = F_joint = cond_inv = None
+        if forces:
+            kin, torques = trajectory_dynamics(self.chain, samples)
+            F_act = np.array(torques.F_act)
+            F_joint = self._platform_forces(kin.q, np.asarray(torques.lambdas))
+        else:
+            kin = kinematics(self.chain, samples)
+        if singularity:
+            cond_inv = np.array(analytic_kinematics(self.params, samples, on_error="flag").cond_inv)
+        from .kinematics import rotation_matrix
+
+        hip = human_hip_angles(rotation_matrix(np.asarray(kin.angles)))
+        return Motion(
+            t=np.array(samples.t), fps=float(fps), speed=float(speed), angles=np.array(kin.angles), q=np.array(kin.q),
+            residual=np.array(kin.residual), F_act=F_act, F_joint=F_joint, cond_inv=cond_inv, hip=hip,
+            periodic=periodic, name=trajectory.name,
+        )  # fmt: skip
+
+    def _platform_forces(self, Q: np.ndarray, lambdas: np.ndarray) -> np.ndarray:
+        """World force of each lever on its platform, −R_tip·λ, shape (N, 2, 3, 3)."""
+        model, data = self.chain.model, self._machine_data
+        out = np.empty_like(lambdas)
+        for k, q in enumerate(Q):
+            pin.framesForwardKinematics(model, data, q)
+            for j in range(2):
+                for i in range(3):
+                    out[k, j, i] = -data.oMf[self._frames_ids[f"tip_{j + 1}{i + 1}"]].rotation @ lambdas[k, j, i]
+        return out
+
+    def _scale(self, motion: Motion) -> float:
+        if self.force_scale is not None:
+            return self.force_scale
+        peak = max(float(np.abs(motion.F_act).max()), float(np.linalg.norm(motion.F_joint, axis=-1).max()))
+        return force_scale_for(peak)
+
+    # -- poses of everything in one frame ------------------------------------------------
+
+    def _poses(self, q: np.ndarray, hip: np.ndarray | None, F_act=None, F_joint=None, scale: float = 0.0):
+        """[(path, 4x4 transform without scale, scale (3,) or None)] of every moving node at q."""
+        model, data, visual, gdata = self.chain.model, self._machine_data, self.chain.visual_model, self._machine_gdata
+        pin.framesForwardKinematics(model, data, q)
+        pin.updateGeometryPlacements(model, data, visual, gdata)
+        poses = [(path, gdata.oMg[k].homogeneous, None) for k, path in self._moving]
+        if self.human and hip is not None:
+            hq = self._human_q0.copy()
+            hq[self._hip_q] = hip
+            hmodel, hdata = self._human_model, self._human_data
+            pin.forwardKinematics(hmodel, hdata, hq)
+            pin.updateGeometryPlacements(hmodel, hdata, self._human_visual, self._human_gdata)
+            poses += [(path, self._human_gdata.oMg[k].homogeneous, s) for k, path, s in self._human_moving]
+        if F_act is not None:
+            below = self.params.heights[0] - self.params.heights[1] + _CARRIAGE_MARGIN
+            for i in range(3):
+                b = data.oMi[self._frames_ids[f"slider_{i + 1}"]].translation
+                # Beside the screw, on its outer side, leaving the carriage (drawn from b_1i + 0.04 m
+                # down to b_2i − 0.04 m) in the force's direction.
+                outward = np.append(b[:2] / np.linalg.norm(b[:2]), 0.0) if np.linalg.norm(b[:2]) > 0 else np.zeros(3)
+                tail = b + _ARROW_OFFSET * outward + np.array([0.0, 0.0, _CARRIAGE_MARGIN if F_act[i] >= 0 else -below])
+                poses += self._arrow_poses(f"screw_{i + 1}", tail, np.array([0.0, 0.0, F_act[i]]), scale)
+            for j in range(2):
+                for i in range(3):
+                    tail = data.oMf[self._frames_ids[f"joint_{j + 1}{i + 1}"]].translation
+                    poses += self._arrow_poses(f"joint_{j + 1}{i + 1}", tail, F_joint[j, i], scale)
+        return poses
+
+    @staticmethod
+    def _arrow_poses(name, tail, force, scale):
+        shaft, length, head = _arrow_pose(np.asarray(tail, dtype=float), np.asarray(force, dtype=float), scale)
+        return [(f"{_FORCES_ROOT}/{name}/shaft", shaft, np.array([1.0, length, 1.0])), (f"{_FORCES_ROOT}/{name}/head", head, None)]
+
+    def _send(self, poses) -> None:
+        for path, T, s in poses:
+            if s is not None:
+                T = T @ np.diag(np.append(s, 1.0))
+            self.vis[path].set_transform(T)
+
+    def _colour_levers(self, rgb) -> None:
+        """Give the six levers a colour (None: their URDF colour); sends only on change."""
+        key = None if rgb is None else tuple(np.round(np.asarray(rgb) * 63) / 63)
+        if key == self._lever_colour:
+            return
+        self._lever_colour = key
+        for k in self._levers:
+            geom = self.chain.visual_model.geometryObjects[k]
+            colour = None if key is None else np.array([*key, 1.0])
+            self._machine.loadViewerGeometryObject(geom, pin.GeometryType.VISUAL, colour)
+
+    def _show_forces(self, visible: bool) -> None:
+        """Show or hide the force arrows; sends only on change (the server keeps every property sent)."""
+        if self._arrows_ready and visible != self._forces_visible:
+            self.vis[_FORCES_ROOT].set_property("visible", visible)
+            self._forces_visible = visible
+
+    # -- showing ------------------------------------------------------------------------
+
+    def show(self, q) -> None:
+        """Show one tree configuration q (shape (nq,)); the human's hip follows platform 1's orientation.
+
+        The configuration is shown as given: close it first (:meth:`show_orientation`)
+        to see the machine assembled.
+        """
+        q = np.asarray(q, dtype=float)
+        if q.shape != (self.chain.model.nq,):
+            raise ValueError(f"expected a configuration of size nq = {self.chain.model.nq}, got shape {q.shape}")
+        pin.forwardKinematics(self.chain.model, self._machine_data, q)
+        R = self._machine_data.oMi[self._frames_ids["platform"]].rotation
+        self._send(self._poses(q, human_hip_angles(R)))
+        self._show_forces(False)
+        self._colour_levers(None)
+
+    def show_orientation(self, alpha: float, beta: float, gamma: float) -> np.ndarray:
+        """Close the chain at one platform orientation and show it.
+
+        Args:
+            alpha, beta, gamma: flexion/extension, abduction/adduction and
+                rotation in [rad], as a trajectory gives them (the parameter
+                set's angle_signs apply).
+
+        Returns:
+            The closed configuration q, shape (nq,).
+
+        Raises:
+            PoseError: the orientation is out of reach or singular.
+        """
+        from .pinocchio_model import kinematics
+
+        one = Trajectory(np.zeros(1), np.array([[alpha, beta, gamma]], dtype=float), np.zeros((1, 3)), np.zeros((1, 3)), np.zeros(1), name="orientation")
+        q = kinematics(self.chain, one).q[0]
+        self.show(q)
+        return q
+
+    def _show_frame(self, motion: Motion, k: int, scale: float) -> None:
+        forces = motion.F_act is not None
+        if forces:
+            self._setup_arrows()
+        self._send(self._poses(motion.q[k], motion.hip[k], motion.F_act[k] if forces else None, motion.F_joint[k] if forces else None, scale))
+        self._show_forces(forces)
+        self._colour_levers(singularity_colour(motion.cond_inv[k]) if motion.cond_inv is not None else None)
+
+    def play(
+        self,
+        trajectory: Trajectory | Motion,
+        speed: float = 1.0,
+        loop: bool = True,
+        *,
+        step: bool = False,
+        forces: bool = False,
+        singularity: bool = False,
+        fps: float = DEFAULT_FPS,
+        input: TextIO | None = None,
+        stream: TextIO | None = None,
+        on_frame: Callable[[int, Motion], None] | None = None,
+    ) -> Motion:
+        """Play a trajectory in the live viewer, in real time (``speed`` × real time), once or looping.
+
+        Frames are closed samples at ``fps``; when sending falls behind the clock,
+        frames are skipped, never slowed. Stop a loop with Ctrl-C
+        (KeyboardInterrupt reaches the caller).
+
+        Args:
+            trajectory: a Trajectory, or a :class:`Motion` from :meth:`motion`
+                (then speed, forces, singularity and fps are the motion's).
+            speed: playback speed, 1 = real time, 0.25 = four times slower.
+            loop: start again at the end, until interrupted.
+            step: one frame per line read from ``input`` (Enter: next frame,
+                ``b``: back one, ``q`` or end of input: stop), printing each
+                frame's time and angles to ``stream``.
+            forces, singularity: draw force arrows / colour the levers (module docstring).
+            fps: frames per second.
+            input, stream: where step mode reads and writes (stdin, stdout).
+            on_frame: called with (frame index, motion) after each frame is sent.
+
+        Returns:
+            The motion shown.
+        """
+        motion = trajectory if isinstance(trajectory, Motion) else self.motion(trajectory, fps=fps, speed=speed, forces=forces, singularity=singularity)
+        scale = self._scale(motion) if motion.F_act is not None else 0.0
+        n = len(motion)
+        if step:
+            self._step(motion, scale, loop, input or sys.stdin, stream or sys.stdout, on_frame)
+            return motion
+        frame_rate = motion.fps
+        while True:
+            start = time.monotonic()
+            shown = -1
+            while True:
+                k = int((time.monotonic() - start) * frame_rate)
+                if k >= n:
+                    break
+                if k != shown:
+                    self._show_frame(motion, k, scale)
+                    shown = k
+                    if on_frame is not None:
+                        on_frame(k, motion)
+                next_time = start + (k + 1) / frame_rate
+                time.sleep(max(0.0, next_time - time.monotonic()))
+            if not loop:
+                return motion
+
+    def _step(self, motion: Motion, scale: float, loop: bool, input: TextIO, stream: TextIO, on_frame) -> None:
+        n, k = len(motion), 0
+        print("step mode: Enter = next frame, b = back, q = quit", file=stream, flush=True)
+        while True:
+            self._show_frame(motion, k, scale)
+            if on_frame is not None:
+                on_frame(k, motion)
+            a, b, g = np.degrees(motion.angles[k])
+            print(f"frame {k + 1}/{n}  t = {motion.t[k]:.4f} s  α = {a:7.2f}°  β = {b:6.2f}°  γ = {g:6.2f}°", file=stream, flush=True)
+            line = input.readline()
+            if not line or line.strip().lower().startswith("q"):
+                return
+            k += -1 if line.strip().lower().startswith("b") else 1
+            if k >= n:
+                if not loop:
+                    return
+                k = 0
+            k %= n
+
+    # -- recording --------------------------------------------------------------------------
+
+    def record(
+        self,
+        trajectory: Trajectory | Motion,
+        fps: float = DEFAULT_FPS,
+        speed: float = 1.0,
+        *,
+        forces: bool = False,
+        singularity: bool = False,
+        title: str | None = None,
+    ) -> str:
+        """The motion as one self-contained offline HTML page (meshcat's recorded animation, looping).
+
+        Each animation frame is a closed sample, held until the next one (no
+        in-between poses). The page needs no network; append ``#t=SECONDS`` to
+        its address to open it paused at that time of the animation.
+
+        Args:
+            trajectory: a Trajectory, or a :class:`Motion` from :meth:`motion`
+                (then fps, speed, forces and singularity are the motion's).
+            fps: animation frames per second.
+            speed: playback speed of the page (0.5 = half speed).
+            forces, singularity: as in :meth:`play` (the lever colours animate in the page too).
+            title: the page's title; default from the trajectory.
+
+        Returns:
+            The HTML text.
+        """
+        motion = trajectory if isinstance(trajectory, Motion) else self.motion(trajectory, fps=fps, speed=speed, forces=forces, singularity=singularity)
+        animation = self._animation(motion)
+        from meshcat.commands import SetAnimation
+
+        self._offline.send(SetAnimation(animation, play=True, repetitions=float("inf")))
+        try:
+            return _page(self._offline.commands(), title or f"hipsim: {motion.name}", self._legend(motion))
+        finally:
+            self._offline.tree.animation = None
+
+    def _animation(self, motion: Motion):
+        forces = motion.F_act is not None
+        scale = self._scale(motion) if forces else 0.0
+        # Show the first frame: the scene then holds each node's scale (animations keep the scale they find).
+        self._show_frame(motion, 0, scale)
+        self._colour_levers(None)
+        animation = _DiscreteAnimation(default_framerate=motion.fps)
+        lever_paths = [f"{_MACHINE_ROOT}/visuals/{self.chain.visual_model.geometryObjects[g].name}/<object>" for g in self._levers]
+        for k in range(len(motion)):
+            poses = self._poses(motion.q[k], motion.hip[k], motion.F_act[k] if forces else None, motion.F_joint[k] if forces else None, scale)
+            with animation.at_frame(self.vis, k) as frame:
+                for path, T, s in poses:
+                    frame[path].set_transform(T)
+                    if s is not None and path.startswith(_FORCES_ROOT):
+                        frame[path].set_property("scale", "vector3", [float(v) for v in s])
+                if motion.cond_inv is not None:
+                    rgb = [float(v) for v in singularity_colour(motion.cond_inv[k])]
+                    for path in lever_paths:
+                        frame[path].set_property("material.color", "color", rgb)
+        return animation
+
+    def _legend(self, motion: Motion) -> list[str]:
+        import html
+
+        lines = [f"hipsim: {html.escape(motion.name)}, {motion.duration:.3g} s in {len(motion)} frames at {motion.fps:g} fps, speed {motion.speed:g}&times;"]
+        if motion.F_act is not None:
+            scale = self._scale(motion)
+            lines.append(
+                f"arrows ({_scale_text(scale)}): <span style='color:#d91acc'>&#9632;</span> motor force on each screw's carriage, "
+                f"<span style='color:#0dbfd9'>&#9632;</span> force of each lever on its platform"
+            )
+        if motion.cond_inv is not None:
+            lines.append(
+                "levers: singularity measure (inverse condition number of J) "
+                "<span style='color:#d91a1a'>&#9632;</span> 0 singular, <span style='color:#f2d91a'>&#9632;</span> 0.25, "
+                "<span style='color:#73e61a'>&#9632;</span> &ge; 0.5"
+            )
+        if self.human:
+            lines.append("human: the right hip turns as the platforms do (α flexion, β adduction, γ internal rotation)")
+        return lines
+
+    # -- ending -------------------------------------------------------------------------------
+
+    def close(self) -> None:
+        """Stop the meshcat server (if any). Safe to call twice."""
+        window = getattr(self, "_window", None)
+        if window is not None:
+            window.close()
+            self._window = None
+        server = getattr(self, "_server", None)
+        if server is not None:
+            server.close()
+            self._server = None
+
+    def __enter__(self) -> "Viewer":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:  # noqa: BLE001 - interpreter shutdown
+            pass
+
+
+# ---------------------------------------------------------------------------
+# The command
+# ---------------------------------------------------------------------------
+
+
+def run_view(
+    params: Parameters | None = None,
+    trajectory: Trajectory | None = None,
+    html: str | Path | None = None,
+    speed: float = 1.0,
+    step: bool = False,
+    forces: bool = False,
+    singularity: bool = False,
+    human: bool = False,
+    fps: float = DEFAULT_FPS,
+    stream: TextIO = sys.stdout,
+    input: TextIO | None = None,
+) -> int:
+    """``hipsim view``: play the machine live in meshcat until Ctrl-C, or write the offline page.
+
+    Without ``html``: starts a meshcat server on 127.0.0.1, prints its URL
+    and plays the trajectory in real time (× ``speed``), looping, until
+    interrupted (Ctrl-C ends it cleanly and stops the server). With ``step``,
+    one frame per Enter on ``input``.
+    With ``html``: writes the self-contained page and returns (no server).
+
+    Args:
+        params: the machine; None for the published one.
+        trajectory: the motion; None for the built-in ISO 14242-1 cycle.
+        html: path of the page to write.
+        speed: playback speed (1 = real time; 0.25 = four times slower).
+        step: step through frames (live only).
+        forces: draw the motor and spherical-joint forces as arrows.
+        singularity: colour the levers by the singularity measure.
+        human: show the human model's hip moving beside the machine.
+        fps: frames per second.
+        stream: where messages go.
+        input: where step mode reads (default stdin).
+
+    Returns:
+        The exit status, 0.
+
+    Raises:
+        HipsimError: bad options, a pose out of reach, the server does not start.
+    """
+    from .trajectories import iso14242
+
+    params = load_parameters() if params is None else params
+    trajectory = iso14242(rate=1000.0) if trajectory is None else trajectory
+    if not (speed > 0 and math.isfinite(speed)):
+        raise HipsimError(f"--speed must be a positive number, got {speed}")
+    if not (fps > 0 and math.isfinite(fps)):
+        raise HipsimError(f"--fps must be a positive number, got {fps}")
+    if html is not None:
+        if step:
+            raise HipsimError("--step applies to the live viewer, not to --html")
+        with Viewer(params, human, serve=False) as viewer:
+            motion = viewer.motion(trajectory, fps=fps, speed=speed, forces=forces, singularity=singularity)
+            page = viewer.record(motion)
+            notes = _notes(viewer, motion)
+        path = write_atomic(html, page)
+        print(f"wrote {path} ({len(page) / 1e6:.1f} MB): {notes[0]}", file=stream)
+        for line in notes[1:]:
+            print(line, file=stream)
+        return 0
+
+    viewer = None
+    try:
+        viewer = Viewer(params, human)
+        motion = viewer.motion(trajectory, fps=fps, speed=speed, forces=forces, singularity=singularity)
+        print(f"meshcat viewer: {viewer.url}  (Ctrl-C to stop)", file=stream, flush=True)
+        for line in _notes(viewer, motion):
+            print(line, file=stream, flush=True)
+        viewer.play(motion, speed=speed, loop=True, step=step, input=input, stream=stream)
+    except KeyboardInterrupt:
+        print("stopped", file=stream, flush=True)
+    finally:
+        if viewer is not None:
+            viewer.close()
+    return 0
+
+
+def _notes(viewer: Viewer, motion: Motion) -> list[str]:
+    """Plain-text lines saying what is shown."""
+    lines = [
+        f"{motion.name}: {motion.duration:.4g} s in {len(motion)} frames at {motion.fps:g} fps, speed {motion.speed:g}x; "
+        f"largest closure gap of the frames shown {float(motion.residual.max()):.1e} m"
+    ]
+    if motion.F_act is not None:
+        lines.append(
+            f"arrows at {_scale_text(viewer._scale(motion))}: magenta = motor force on each screw's carriage "
+            f"(peak {float(np.abs(motion.F_act).max()):.0f} N), cyan = force of each lever on its platform "
+            f"(peak {float(np.linalg.norm(motion.F_joint, axis=-1).max()):.0f} N)"
+        )
+    if motion.cond_inv is not None:
+        lines.append(
+            "levers coloured by the singularity measure (inverse condition number of J): red 0, yellow 0.25, lime green >= 0.5; "
+            f"here {float(np.nanmin(motion.cond_inv)):.3f} to {float(np.nanmax(motion.cond_inv)):.3f}"
+        )
+    if viewer.human:
+        lines.append("human model: its right hip turns as the platforms do (alpha flexion, beta adduction, gamma internal rotation)")
+    return lines
+
+
+# ---------------------------------------------------------------------------
+# Screenshots of the offline page (tests, docs)
+# ---------------------------------------------------------------------------
+
+_BROWSERS = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable")
+
+
+def find_browser() -> str | None:
+    """Path of a Chromium (or Chrome) executable on PATH, or None."""
+    for name in _BROWSERS:
+        path = shutil.which(name)
+        if path:
+            return path
+    return None
+
+
+def screenshot(
+    page: str | Path,
+    out: str | Path,
+    time_s: float | None = None,
+    size: tuple[int, int] = (900, 700),
+    browser: str | None = None,
+    timeout_s: float = 90.0,
+) -> Path:
+    """Render an offline page (from :meth:`Viewer.record`) in headless Chromium and save a PNG.
+
+    The browser gets no network (a dead proxy, no name resolution) and
+    renders WebGL in software (SwiftShader).
+
+    Args:
+        page: the HTML file.
+        out: the PNG to write.
+        time_s: animation time to pause at, in [s] (the page's ``#t=`` address); None: as it loads.
+        size: window width and height in pixels.
+        browser: the executable; default :func:`find_browser`.
+        timeout_s: give up after this long.
+
+    Returns:
+        The PNG's path.
+
+    Raises:
+        HipsimError: no browser, or it wrote no image.
+    """
+    browser = browser or find_browser()
+    if browser is None:
+        raise HipsimError("no Chromium found (apt-get install chromium)")
+    out = Path(out).resolve()
+    out.unlink(missing_ok=True)
+    url = Path(page).resolve().as_uri() + (f"#t={float(time_s)!r}" if time_s is not None else "")
+    with tempfile.TemporaryDirectory(prefix="hipsim-chromium-") as profile:
+        args = [
+            browser, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+            "--disable-background-networking", "--disable-component-update", "--disable-sync",
+            "--disable-extensions", "--hide-scrollbars", "--mute-audio", f"--user-data-dir={profile}",
+            "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+            "--proxy-server=127.0.0.1:9", "--host-resolver-rules=MAP * ~NOTFOUND",
+            f"--window-size={int(size[0])},{int(size[1])}", "--virtual-time-budget=4000",
+            f"--screenshot={out}", url,
+        ]  # fmt: skip
+        try:
+            run = subprocess.run(args, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, timeout=timeout_s)
+        except subprocess.TimeoutExpired:
+            raise HipsimError(f"{browser} did not finish the screenshot of {page} in {timeout_s:g} s") from None
+    if not out.is_file():
+        tail = run.stderr.decode("utf-8", "replace").strip().splitlines()[-3:]
+        raise HipsimError(f"{browser} wrote no screenshot of {page}: " + " / ".join(tail))
+    return out
