@@ -308,6 +308,15 @@ def _cmd_urdf(args) -> int:
     return 0
 
 
+def _cmd_view(args) -> int:
+    from .viewer import run_view
+
+    return run_view(
+        _parameters(args), _trajectory(args), html=args.html, speed=args.speed, step=args.step, forces=args.forces,
+        singularity=args.singularity, human=args.human, fps=args.fps,
+    )
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="hipsim",
@@ -388,6 +397,23 @@ def build_parser() -> argparse.ArgumentParser:
     _add_machine_options(check)
     _add_trajectory_options(check)
     check.set_defaults(run=_cmd_check)
+
+    view = commands.add_parser(
+        "view", help="the machine moving through a trajectory in meshcat (live on loopback, or an offline page)",
+        description="Starts a meshcat server on 127.0.0.1, prints its URL and plays the Pinocchio model's closed "
+        "configurations through the trajectory in real time, looping, until Ctrl-C. With --html, writes the same "
+        "animation as one self-contained offline page instead.",
+    )
+    _add_machine_options(view)
+    _add_trajectory_options(view)
+    view.add_argument("--html", metavar="FILE", help="write a self-contained offline page instead of serving")
+    view.add_argument("--speed", type=float, default=1.0, metavar="X", help="playback speed (0.25: four times slower)")
+    view.add_argument("--step", action="store_true", help="one frame per Enter (b: back, q: quit)")
+    view.add_argument("--fps", type=int, default=30, metavar="N", help="frames per second of trajectory time (default 30)")
+    view.add_argument("--forces", action="store_true", help="arrows for the motor force on each screw and the force at each spherical joint")
+    view.add_argument("--singularity", action="store_true", help="colour the levers by the singularity measure (red singular, green clear)")
+    view.add_argument("--human", action="store_true", help="the example-robot-data human model's hip moving beside the machine")
+    view.set_defaults(run=_cmd_view)
 
     urdf = commands.add_parser("urdf", help="expand the xacro model with the parameter set and write the URDF")
     _add_machine_options(urdf)

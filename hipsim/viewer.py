@@ -34,7 +34,7 @@ force each lever exerts on its platform at the spherical joint (cyan), from
 the closed-chain inverse dynamics, drawn at a stated scale in mm per N. With
 ``singularity`` the six levers take the colour of the singularity measure
 (the inverse condition number of J, one value for the whole machine): red at
-0 (singular), yellow at 0.25, green at 0.5 and above.
+0 (singular), yellow at 0.25, lime green at 0.5 and above.
 
 The human model (``human=True``, example-robot-data's ``human`` URDF) stands
 beside the machine; its right hip turns exactly as the platforms do. Machine
@@ -45,7 +45,11 @@ femur's orientation relative to the pelvis is then R = Rz(γ)·Ry(β)·Rx(α)
 expressed in the pelvis axes, decomposed into the model's hip joints, which
 follow the ISB joint coordinate system (right_hip_Z flexion, right_hip_X
 about −X so positive is abduction, right_hip_Y internal rotation): see
-:func:`human_hip_angles`.
+:func:`human_hip_angles`. The angles used are the platform's (the parameter
+set's angle_signs applied), so the thigh always turns exactly as the
+platforms do.
+
+Not thread-safe: use one Viewer from one thread at a time.
 """
 
 from __future__ import annotations
@@ -57,7 +61,9 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import threading
 import time
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, TextIO
@@ -150,6 +156,19 @@ except KeyboardInterrupt:
 # ---------------------------------------------------------------------------
 
 
+def _import_meshcat():
+    """meshcat (and Pinocchio's meshcat visualiser), without the DeprecationWarning meshcat 0.3 triggers in pyzmq."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        import meshcat
+        import meshcat.animation
+        import meshcat.commands
+        import meshcat.geometry
+        import pinocchio.visualize  # noqa: F401 - imports meshcat too
+
+    return meshcat
+
+
 def singularity_colour(cond_inv) -> np.ndarray:
     """RGB (0..1) of the singularity measure: red 0 (singular), yellow 0.25, green ≥ 0.5.
 
@@ -188,9 +207,14 @@ def human_hip_angles(R: np.ndarray) -> np.ndarray:
     −x, right_hip_Y about +y), so with b = −x: R_h = Rz(z)·Rx(b)·Ry(y) and
     sin b = R_h[2,1], y = atan2(−R_h[2,0], R_h[2,2]), z = atan2(−R_h[0,1], R_h[1,1]).
 
-    For small angles z ≈ α (flexion), x ≈ −β (β > 0 is adduction, the model's
-    right_hip_X > 0 abduction), y ≈ γ (internal rotation); the exact values
-    differ at second order because the machine turns Z-Y-X and the ISB hip Z-X-Y.
+    One angle at a time, z = α (flexion), x = −β (β > 0 is adduction, the
+    model's right_hip_X > 0 abduction), y = γ (internal rotation). Combined,
+    they differ: the machine's R turns about the fixed vertical first (γ) and
+    flexes last, the ISB hip flexes first and rotates about the femur last.
+    Along the built-in ISO cycle the model's adduction differs from β by up to
+    4.8° (it spans +5.0°/−4.1° where β spans +7°/−4°), its rotation from γ by
+    up to 1.9° and its flexion from α by up to 0.9°: the human shows the
+    motion the rig actually produces.
 
     Args:
         R: platform rotations, shape (3, 3) or (N, 3, 3).
@@ -403,20 +427,29 @@ class _LiveWindow:
         self.socket.setsockopt(zmq.RCVTIMEO, int(timeout_s * 1000))
         self.socket.setsockopt(zmq.SNDTIMEO, int(timeout_s * 1000))
         self.socket.connect(zmq_url)
+        # ZMQ sockets must not be used from two threads at once: one request at a time.
+        self._lock = threading.Lock()
 
     def send(self, command) -> None:
         import umsgpack
         import zmq
 
         data = command.lower()
-        try:
-            self.socket.send_multipart([data["type"].encode("utf-8"), data["path"].encode("utf-8"), umsgpack.packb(data)])
-            self.socket.recv()
-        except zmq.Again:
-            raise HipsimError(f"the meshcat server at {self.zmq_url} does not answer") from None
+        frames = [data["type"].encode("utf-8"), data["path"].encode("utf-8"), umsgpack.packb(data)]
+        with self._lock:
+            if self.socket is None:
+                raise HipsimError("the viewer is closed")
+            try:
+                self.socket.send_multipart(frames)
+                self.socket.recv()
+            except zmq.Again:
+                raise HipsimError(f"the meshcat server at {self.zmq_url} does not answer") from None
 
     def close(self) -> None:
-        self.socket.close(linger=0)
+        with self._lock:
+            if self.socket is not None:
+                self.socket.close(linger=0)
+                self.socket = None
 
 
 class _TeeWindow:
@@ -604,9 +637,9 @@ def _page(commands: list[bytes], title: str, legend: list[str]) -> str:
     """A self-contained page: meshcat's viewer script inlined and the scene's commands as base64 data."""
     import html
 
-    from meshcat.servers.zmqserver import VIEWER_ROOT
+    import meshcat
 
-    viewer_js = (Path(VIEWER_ROOT) / "main.min.js").read_text(encoding="utf-8")
+    viewer_js = (Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js").read_text(encoding="utf-8")
     encoded = ",\n".join(f'"{base64.b64encode(c).decode("ascii")}"' for c in commands)
     return _PAGE.format(
         title=html.escape(title),
@@ -639,7 +672,7 @@ class Viewer:
     """
 
     def __init__(self, params: Parameters | None = None, human: bool = False, *, serve: bool = True, force_scale: float | None = None):
-        import meshcat
+        meshcat = _import_meshcat()
         from pinocchio.visualize import MeshcatVisualizer
 
         from .pinocchio_model import load_model
@@ -984,7 +1017,10 @@ class Viewer:
             while True:
                 k = int((time.monotonic() - start) * frame_rate)
                 if k >= n:
-                    break
+                    if not loop and shown != n - 1:
+                        k = n - 1  # a run that ends rests on its last frame, even if the clock skipped it
+                    else:
+                        break
                 if k != shown:
                     self._show_frame(motion, k, scale)
                     shown = k
