@@ -77,7 +77,7 @@ gait angles differ by those sign flips, as in the analytic model).
 Cost. One derivative call is about 13 µs on the development machine (Python
 3.11, pin 4.1): ``constraintDynamics`` (CRBA, bias forces, the constraint
 Cholesky, two proximal solves) ~10.5 µs, the generalised forces ~1.3 µs, the
-rest (call, slicing, concatenating [v, a]) ~1 µs. See scripts/bench_plant.py.
+rest (call, slicing, concatenating [v, a]) ~1 µs. See scripts/bench.py.
 """
 
 from __future__ import annotations
