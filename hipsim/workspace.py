@@ -84,7 +84,7 @@ DEFAULT_DELTAS_DEG = np.arange(-90.0, 90.5, 1.0)
 # overhead vanishes, small enough (≈ 10 MB per (n, 3, 3) array) to stay in cache-friendly memory.
 _CHUNK = 1 << 16
 # Above this many orientations the map shows a progress bar (about three seconds at
-# the 3 million orientations per second scripts/bench_workspace.py measures).
+# the 3 million orientations per second scripts/bench.py measures).
 _PROGRESS_ORIENTATIONS = 10_000_000
 # Above this many δ values the sweep shows a progress bar.
 _PROGRESS_DELTAS = 200
