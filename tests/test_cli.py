@@ -138,3 +138,22 @@ def test_urdf_command_follows_the_parameters(tmp_path):
     assert robot.validate()
     tip = robot.joint_map["lever_11_tip_fixed"].origin[:3, 3]
     np.testing.assert_allclose(tip, [0.0, 0.0, 0.34], atol=1e-15)  # the lever tip sits at z = l
+
+
+def test_simulate_writes_errors_and_tables(tmp_path, capsys):
+    out = tmp_path / "sim.csv"
+    assert main(["simulate", "--cycles", "0.05", "--mismatch", "friction=+20%", "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "Tracking errors" in text and "augmented-pd" in text and "friction +20%" in text
+    for name in ("sim_pd.csv", "sim_augmented-pd.csv"):
+        rows = list(csv.DictReader(open(tmp_path / name)))
+        assert len(rows) == 50
+        assert {"err_alpha_deg", "err_beta_deg", "err_gamma_deg", "tau_1_Nmm", "alpha_des_deg"} <= set(rows[0])
+    single = tmp_path / "one.csv"
+    assert main(["simulate", "--cycles", "0.01", "--controller", "pd", "--plant", "analytic", "--out", str(single)]) == 0
+    assert single.exists()
+
+
+def test_simulate_bad_mismatch_is_one_line(tmp_path):
+    status, _, err = run("simulate", "--mismatch", "mass=10%", "--out", str(tmp_path / "x.csv"))
+    assert status == 2 and err.strip().startswith("hipsim: error: --mismatch") and "Traceback" not in err
