@@ -177,16 +177,14 @@ def _cmd_simulate(args) -> int:
     from .files import write_atomic
     from .simulation import apply_mismatch, parse_mismatch, simulate
 
+    if args.rate is not None:
+        raise HipsimError("--rate does not apply to simulate: the run is sampled at the servo rate (--servo-rate)")
+    # The shortcuts are parameter overrides, so they get the parameter file's checks.
+    for option, key in (("servo_rate", "servo_rate_Hz"), ("step", "integration_step_ms"), ("torque_limit", "torque_limit_Nmm")):
+        if getattr(args, option) is not None:
+            args.overrides.append(f"control.{key}={getattr(args, option)!r}")
     params = _parameters(args)
     desired_at, duration = _desired(args, _trajectory(args) if args.trajectory else None)
-    control = {}
-    if args.servo_rate is not None:
-        control["servo_rate"] = args.servo_rate
-    if args.step is not None:
-        control["integration_step"] = args.step * 1e-3
-    if args.torque_limit is not None:
-        control["torque_limit"] = args.torque_limit * 1e-3
-    params = params.replace(**control) if control else params
     mismatch = parse_mismatch(args.mismatch) if args.mismatch else {}
     plant = _make_plant(args.plant, apply_mismatch(params, **mismatch))
     chosen = ["pd", "augmented-pd"] if args.controller == "both" else [args.controller]
@@ -229,16 +227,18 @@ def _simulate_both(params, desired_at, duration):
 
 def _desired(args, trajectory):
     """The desired motion as a function of time, and the duration of the run in [s]."""
-    from .trajectories import interpolator, iso14242_at
+    from .trajectories import interpolator, iso14242, iso14242_at
 
-    cycles = args.cycles or 1
     if args.trajectory:
         span = trajectory.t[-1] - trajectory.t[0]
-        if trajectory.periodic:
-            return interpolator(trajectory), cycles * (span + (trajectory.t[1] - trajectory.t[0]))
+        if trajectory.periodic:  # one whole period: the last sample's step closes it
+            span += trajectory.t[1] - trajectory.t[0]
         return interpolator(trajectory), span
-    frequency = args.frequency or 1.0
-    return (lambda t: iso14242_at(t, frequency)), cycles / frequency
+    iso = iso14242(  # checks cycles and frequency as torques does
+        rate=1000.0, cycles=1 if args.cycles is None else args.cycles, frequency=1.0 if args.frequency is None else args.frequency
+    )
+    frequency = 1.0 if args.frequency is None else args.frequency
+    return (lambda t: iso14242_at(t, frequency)), len(iso) / 1000.0
 
 
 def _cmd_report(args) -> int:
@@ -261,20 +261,30 @@ def _cmd_report(args) -> int:
     return 0
 
 
+def _numbers(text: str, separator: str, option: str, expected: str, count: int | None = None) -> list[float]:
+    """Finite numbers from an option's text, or a one-line error naming the option."""
+    try:
+        values = [float(part) for part in text.split(separator)]
+    except ValueError:
+        raise HipsimError(f"{option}: expected {expected}, got '{text}'") from None
+    if (count is not None and len(values) != count) or not all(np.isfinite(values)):
+        raise HipsimError(f"{option}: expected {expected}, got '{text}'")
+    return values
+
+
 def _cmd_workspace(args) -> int:
     from .workspace import run_workspace
 
     params = _parameters(args)
     trajectory = _trajectory(args)
-    gamma = [float(g) for g in args.gamma.split(",")] if args.gamma else None
+    gamma = _numbers(args.gamma, ",", "--gamma", "comma-separated angles in degrees") if args.gamma else None
     deltas = None
     if args.deltas:
-        try:
-            start, stop, step = (float(x) for x in args.deltas.split(":"))
-        except ValueError:
-            raise HipsimError(f"--deltas: expected START:STOP:STEP in degrees, got '{args.deltas}'") from None
+        start, stop, step = _numbers(args.deltas, ":", "--deltas", "START:STOP:STEP in degrees", count=3)
         if step <= 0 or stop < start:
             raise HipsimError(f"--deltas: expected START <= STOP and STEP > 0, got '{args.deltas}'")
+        if (stop - start) / step > 100_000:
+            raise HipsimError(f"--deltas: {args.deltas} asks for more than 100,000 offsets")
         deltas = np.arange(start, stop + step / 2, step)
     run_workspace(params, trajectory, Path(args.out), gamma_deg=gamma, deltas_deg=deltas)
     return 0

@@ -8,7 +8,23 @@ from pathlib import Path
 
 from .exceptions import HipsimError
 
-__all__ = ["write_atomic"]
+__all__ = ["make_folder", "write_atomic"]
+
+
+def make_folder(path: str | Path) -> Path:
+    """Create an output folder (and its parents) if missing.
+
+    Raises:
+        HipsimError: naming the path when it exists as a file or cannot be created.
+    """
+    path = Path(path)
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except FileExistsError:
+        raise HipsimError(f"{path}: cannot make the output folder, a file has that name") from None
+    except OSError as error:
+        raise HipsimError(f"{path}: cannot make the output folder ({error.strerror or error})") from None
+    return path
 
 
 def write_atomic(path: str | Path, text: str | bytes) -> Path:
@@ -18,12 +34,15 @@ def write_atomic(path: str | Path, text: str | bytes) -> Path:
     once it is complete; on any failure the temporary file is removed.
 
     Raises:
-        HipsimError: when the folder does not exist or is not writable.
+        HipsimError: when the folder does not exist, the path is a folder, or
+            the file cannot be written.
     """
     path = Path(path)
     folder = path.parent if str(path.parent) else Path(".")
     if not folder.is_dir():
         raise HipsimError(f"{path}: cannot write, folder '{folder}' does not exist")
+    if path.is_dir():
+        raise HipsimError(f"{path}: cannot write, it is a folder")
     mode = "wb" if isinstance(text, bytes) else "w"
     try:
         handle, temporary = tempfile.mkstemp(dir=folder, prefix=f".{path.name}.", suffix=".part")
@@ -37,6 +56,9 @@ def write_atomic(path: str | Path, text: str | bytes) -> Path:
         with os.fdopen(handle, mode, **({} if mode == "wb" else {"encoding": "utf-8", "newline": ""})) as stream:
             stream.write(text)
         os.replace(temporary, path)
+    except OSError as error:  # disk full, permissions, a rename refused
+        Path(temporary).unlink(missing_ok=True)
+        raise HipsimError(f"{path}: cannot write ({error.strerror or error})") from None
     except BaseException:
         Path(temporary).unlink(missing_ok=True)
         raise

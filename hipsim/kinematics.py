@@ -241,7 +241,9 @@ def singularity_crossings(J: np.ndarray, periodic: bool = False) -> int:
         J: Jacobians along the motion, shape (N, 3, 3); NaN (out of reach) samples are skipped.
         periodic: also compare the last sample with the first.
     """
-    return int(np.count_nonzero(_sign_changes(np.linalg.det(J) if len(J) else np.zeros(0), periodic)))
+    with np.errstate(invalid="ignore"):  # NaN Jacobians (out of reach) give NaN determinants, skipped
+        det = np.linalg.det(J) if len(J) else np.zeros(0)
+    return int(np.count_nonzero(_sign_changes(det, periodic)))
 
 
 def inverse_condition_number(J: np.ndarray) -> np.ndarray:
@@ -540,18 +542,6 @@ def _lever_spin(params: Parameters, e: np.ndarray, w_perp: np.ndarray, w_perp_do
     c_dot = _dot(u1, e_dot)
     s_dot = (c_dot * w + c * _dot(w_perp_dot, u1)) / d + 2.0 * c**2 * c_dot * w / d**2
     return w_perp + s * e, w_perp_dot + s_dot * e + s * e_dot
-
-
-def spin_transpose(params: Parameters, kin: Kinematics, moment: np.ndarray) -> np.ndarray:
-    """Maps a lever moment through the spin: J_Ωᵀ τ = J_ωᵀ (τ + (c/d)(e·τ) u1).
-
-    Args:
-        moment: moments on the levers in [N·m], (N, 3, 3).
-
-    Returns:
-        The equivalent moment to map with the spin-free J_ωᵀ, (N, 3, 3).
-    """
-    return _spin_transpose(params, kin.e.T, moment.T).T
 
 
 def _spin_transpose(params: Parameters, e: np.ndarray, moment: np.ndarray) -> np.ndarray:

@@ -518,20 +518,34 @@ def _build(values: Mapping[str, Any], source: str) -> Parameters:
     fields = {_ATTRIBUTES[k]: v for k, v in values.items() if k in _ATTRIBUTES and "." not in _ATTRIBUTES[k]}
     motor = MappingProxyType({k.split(".", 1)[1]: v for k, v in values.items() if k.startswith("motor.")})
     params = Parameters(**fields, friction=friction, control=control, motor=motor, source=source)
-    _check_reach(params, source)
+    _check_geometry(params, source)
     return params
 
 
-def _check_reach(params: Parameters, source: str) -> None:
-    """At home the lever must span the horizontal gap from screw to platform joint."""
-    gap = np.linalg.norm(params.platform_points[:, :2] - params.screw_points[:, :2], axis=1).max()
-    if gap >= params.lever_length:
+def _check_geometry(params: Parameters, source: str) -> None:
+    """The machine must assemble at home: levers long enough, platform 1 above platform 2, sliders above the base."""
+    gaps = np.linalg.norm(params.platform_points[:, :2] - params.screw_points[:, :2], axis=1)
+    if gaps.max() >= params.lever_length:
         raise ParameterError(
             f"lever of {params.lever_length * 1e3:g} mm cannot reach from its screw to its platform joint "
-            f"({gap * 1e3:.1f} mm apart horizontally at home)",
+            f"({gaps.max() * 1e3:.1f} mm apart horizontally at home)",
             key="lever.length_mm",
             value=params.lever_length,
             source=source,
+        )
+    h1, h2 = params.heights
+    if not h1 > h2:
+        raise ParameterError(
+            f"platform 1 must be the upper one: h_1 = {h1 * 1e3:g} mm is not above h_2 = {h2 * 1e3:g} mm",
+            key="platform.heights_mm", value=params.heights, source=source,
+        )
+    # At home the platform joints lie at height h_j, and each lever drops √(l² − gap²) below its joint.
+    lowest = h2 - np.sqrt(params.lever_length**2 - gaps.max() ** 2)
+    if lowest <= 0:
+        raise ParameterError(
+            f"at home the lower platform's sliders would sit {-lowest * 1e3:.1f} mm below the base: "
+            f"raise h_2 ({h2 * 1e3:g} mm) or shorten the levers",
+            key="platform.heights_mm", value=params.heights, source=source,
         )
 
 

@@ -1,4 +1,4 @@
-"""The machine as a Pinocchio closed-chain model (spec/model.md §6): kinematics and inverse dynamics.
+"""The machine as a Pinocchio closed-chain model (spec §6): kinematics and inverse dynamics.
 
 The kinematic tree comes from the URDF that :mod:`hipsim.model_files` expands
 from the parameter set; the six lever-tip ↔ platform-joint loops come from

@@ -87,6 +87,7 @@ import math
 import numpy as np
 import pinocchio as pin
 
+from .kinematics import angular_velocity_map
 from .parameters import Parameters
 from .pinocchio_model import (
     ClosedChainModel,
@@ -288,9 +289,7 @@ class PinocchioPlant:
             q = rng.uniform(-1.0, 1.0, self.nq)
             pin.computeJointJacobians(self.model, data, q)
             for ix, iy, iz in self._platforms:
-                alpha, beta, gamma = q[ix], q[iy], q[iz]
-                cb, sb, cg, sg = math.cos(beta), math.sin(beta), math.cos(gamma), math.sin(gamma)
-                T = np.array([[cb * cg, -sg, 0.0], [cb * sg, cg, 0.0], [-sb, 0.0, 1.0]])
+                T = angular_velocity_map(q[[ix, iy, iz]][None])[0]
                 if not np.allclose(data.J[3:, [ix, iy, iz]], T, rtol=0.0, atol=1e-12):
                     return False
         return True

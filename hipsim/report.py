@@ -49,7 +49,7 @@ import numpy as np
 from .dynamics import Torques, screw_friction_torque
 from .exceptions import HipsimError, ParameterError
 from .parameters import Parameters, check_entry, read_toml
-from .files import write_atomic
+from .files import make_folder, write_atomic
 from .results import Result, analyse
 from .trajectories import Trajectory
 
@@ -581,7 +581,7 @@ def write_report(
     if ratings is not None and not isinstance(ratings, MotorRatings):
         ratings = load_ratings(ratings)
     out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    make_folder(out)
 
     result = analyse(params, trajectory)
     notes = []

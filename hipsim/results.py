@@ -189,8 +189,11 @@ def analyse(
     if model not in ("analytic", "pinocchio"):
         raise HipsimError(f"unknown model '{model}' (expected 'analytic' or 'pinocchio')")
     kin = kinematics(params, trajectory, on_error=on_error)
+    if np.all(kin.flagged):
+        raise HipsimError(f"{trajectory.name}: all {len(trajectory)} samples are out of reach or singular; nothing to compute")
     if model == "analytic":
-        torques = inverse_dynamics(params, kin, trajectory.Fe, lever_spin=lever_spin)
+        with np.errstate(invalid="ignore", divide="ignore"):  # flagged samples are NaN and stay NaN
+            torques = inverse_dynamics(params, kin, trajectory.Fe, lever_spin=lever_spin)
         return Result(params, trajectory, kin, torques, kin.L, kin.Ld, kin.Ldd, model)
     if on_error != "raise":
         raise HipsimError("the Pinocchio model cannot carry on through poses out of reach; use the analytic model to flag them")

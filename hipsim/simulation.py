@@ -198,6 +198,10 @@ def simulate(
     servo_rate = control.servo_rate if servo_rate is None else servo_rate
     step = control.integration_step if step is None else step
     limit = control.torque_limit if torque_limit is None else torque_limit
+    if not servo_rate > 0:
+        raise HipsimError(f"servo rate must be positive, got {servo_rate!r} Hz")
+    if not limit > 0:
+        raise HipsimError(f"torque limit must be positive (inf for none), got {limit!r} N·m")
     period = 1.0 / servo_rate
     if not step > 0:
         raise HipsimError(f"integration step must be positive, got {step!r} s")

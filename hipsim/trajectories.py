@@ -47,6 +47,9 @@ ISO_LOAD_KNOTS = ((0.0, 300.0), (0.12, 3000.0), (0.32, 1500.0), (0.50, 3000.0), 
 #: Fewest samples a CSV trajectory may have (a quintic spline needs six).
 MIN_SAMPLES = 6
 
+#: Most samples a built-in cycle may have: the kinematics of 10⁷ samples take some 10 GB.
+MAX_SAMPLES = 10_000_000
+
 
 @dataclass(frozen=True, eq=False)
 class Trajectory:
@@ -149,6 +152,8 @@ def iso14242(rate: float = 1000.0, cycles: float = 1, frequency: float = 1.0) ->
     n = int(round(cycles * rate / frequency))
     if n < 2:
         raise TrajectoryError(f"{cycles} cycle(s) at {rate} Hz gives fewer than 2 samples", source="ISO 14242-1")
+    if n > MAX_SAMPLES:
+        raise TrajectoryError(f"{cycles} cycle(s) at {rate} Hz gives {n:,} samples; at most {MAX_SAMPLES:,} fit in memory", source="ISO 14242-1")
     t = np.arange(n) / rate
     q, qd, qdd = iso14242_angles(t, frequency)
     whole = abs(cycles - round(cycles)) < 1e-12 and abs(n - cycles * rate / frequency) < 1e-9
@@ -178,6 +183,8 @@ def interpolator(trajectory: Trajectory):
         TrajectoryError: (from ``at``) for times outside a non-periodic trajectory.
     """
     t, q, load = trajectory.t, trajectory.q, trajectory.Fe
+    if t.size < MIN_SAMPLES:
+        raise TrajectoryError(f"{t.size} samples; at least {MIN_SAMPLES} are needed to interpolate", source=trajectory.name)
     if trajectory.periodic:
         dt = (t[-1] - t[0]) / (t.size - 1)
         period = t[-1] - t[0] + dt

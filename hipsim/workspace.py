@@ -46,6 +46,7 @@ from typing import TextIO
 import numpy as np
 
 from .dynamics import inverse_dynamics
+from .exceptions import HipsimError
 from .kinematics import SINGULAR_COND_INV, inverse_condition_number, kinematics, singularity_crossings, slider_jacobian
 from .parameters import Parameters
 from .trajectories import Trajectory
@@ -277,10 +278,19 @@ def singularity_map(
     return SingularityMap(alpha, beta, gamma, cond_inv, math.degrees(params.home_offset), params.source, margin, times, path)
 
 
+#: Most values one grid axis may have (a typo such as a step of 1e-9 would ask for billions).
+_MAX_GRID = 100_000
+
+
 def _grid(values, default: np.ndarray, name: str) -> np.ndarray:
-    grid = np.array(default if values is None else values, dtype=float).ravel()
+    try:
+        grid = np.array(default if values is None else values, dtype=float).ravel()
+    except (TypeError, ValueError):
+        raise HipsimError(f"{name}: expected numbers (angles in degrees), got {values!r}") from None
     if grid.size == 0 or not np.all(np.isfinite(grid)):
-        raise ValueError(f"{name} must be a non-empty array of finite angles in degrees")
+        raise HipsimError(f"{name} must be a non-empty list of finite angles in degrees, got {values!r}")
+    if grid.size > _MAX_GRID:
+        raise HipsimError(f"{name} has {grid.size:,} values; at most {_MAX_GRID:,} are allowed")
     grid.setflags(write=False)
     return grid
 
@@ -674,11 +684,11 @@ def run_workspace(
     import json
 
     from .report import save_figure
-    from .files import write_atomic
+    from .files import make_folder, write_atomic
     from .trajectories import iso14242
 
     out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    make_folder(out)
     trajectory = trajectory if trajectory is not None else iso14242()
     smap = singularity_map(params, alpha_deg, beta_deg, gamma_deg, trajectory=trajectory, progress=progress)
     sweep = offset_sweep(params, deltas_deg, trajectory, progress=progress)

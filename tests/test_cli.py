@@ -62,11 +62,29 @@ def test_torques_from_trajectory_file(tmp_path, capsys):
         (["torques", "--rate", "-5"], "rate must be a positive number"),
         (["torques", "--out", "no/such/dir/x.csv"], "folder 'no/such/dir' does not exist"),
         (["torques", "--trajectory", "{far}"], "far.csv, t = 0.02 s (sample 2): pose out of reach"),
+        (["torques", "--trajectory", "{allfar}", "--flag-bad-poses"], "all 7 samples are out of reach or singular"),
+        (["torques", "--out", "{tmp}"], "it is a folder"),
+        (["torques", "--rate", "1e9"], "at most 10,000,000 fit in memory"),
+        (["torques", "--set", "platform.heights_mm=[490, 899]"], "platform 1 must be the upper one"),
+        (["simulate", "--servo-rate", "0"], "key 'control.servo_rate_Hz': must be positive"),
+        (["simulate", "--torque-limit", "-1"], "key 'control.torque_limit_Nmm': must be positive"),
+        (["simulate", "--step", "5"], "longer than the servo period"),
+        (["simulate", "--rate", "7"], "--rate does not apply to simulate"),
+        (["simulate", "--cycles", "0"], "cycles must be a positive number"),
+        (["workspace", "--gamma", "a,b"], "--gamma: expected comma-separated angles"),
+        (["workspace", "--deltas", "0:nan:1"], "--deltas: expected START:STOP:STEP"),
+        (["workspace", "--deltas", "0:1e9:1e-9"], "asks for more than 100,000 offsets"),
+        (["workspace", "--out", "/proc/hipsim"], "cannot make the output folder"),
+        (["report", "--out", "/proc/hipsim"], "cannot make the output folder"),
+        (["view", "--cycles", "0.003", "--html", "{tmp}/x.html"], "at least 6 are needed to interpolate"),
     ],
 )
 def test_errors_are_one_line(tmp_path, args, message):
-    args = [a.replace("{far}", str(far_trajectory(tmp_path))) for a in args]
-    status, out, err = run(*args, *([] if "--out" in args else ["--out", str(tmp_path / "x.csv")]))
+    args = [
+        a.replace("{far}", str(far_trajectory(tmp_path))).replace("{allfar}", str(far_trajectory(tmp_path, [180] * 8))).replace("{tmp}", str(tmp_path))
+        for a in args
+    ]
+    status, out, err = run(*args, *([] if "--out" in args or "--html" in args else ["--out", str(tmp_path / "x.csv")]))
     assert status == 2
     lines = err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("hipsim: error:"), err
@@ -74,10 +92,9 @@ def test_errors_are_one_line(tmp_path, args, message):
     assert "Traceback" not in err
 
 
-def far_trajectory(folder):
-    """Rotation about Z that turns the platform joints away from their screws, out of reach from t = 0.03 s."""
-    path = folder / "far.csv"
-    gamma = [0, 60, 120, 180, 120, 60, 30, 10]
+def far_trajectory(folder, gamma=(0, 60, 120, 180, 120, 60, 30, 10)):
+    """Rotation about Z that turns the platform joints away from their screws, out of reach from t = 0.02 s."""
+    path = folder / ("far.csv" if gamma[0] == 0 else "allfar.csv")
     path.write_text("t_s,alpha_deg,beta_deg,gamma_deg\n" + "".join(f"{k / 100},0,0,{g}\n" for k, g in enumerate(gamma)))
     return path
 

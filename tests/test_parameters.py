@@ -1,6 +1,6 @@
 """Tests of hipsim.parameters: the TOML parameter file, SI conversion, overrides, validation.
 
-Expected values come from the spec (spec/model.md §1, §7.1, §7.4), written out
+Expected values come from the spec (the model specification, §1, §7.1, §7.4), written out
 here by hand, never from the code's output.
 """
 
