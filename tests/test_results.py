@@ -78,3 +78,12 @@ def test_readme_library_example_runs(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     exec(compile(block, "README.md", "exec"), {})
     assert (tmp_path / "iso_2kHz.csv").stat().st_size > 100_000
+
+
+def test_ci_runs_the_readme_test_command():
+    """The README's second command is what CI runs, verbatim."""
+    commands = re.search(r"## Two commands.*?```sh\n(.*?)```", README.read_text(), re.S).group(1)
+    lines = [line for line in commands.splitlines() if line and not line.startswith("#")]
+    assert len(lines) == 2 and "hipsim torques" in lines[0] and "pytest" in lines[1]
+    ci = (README.parent / ".ci" / "run").read_text()
+    assert lines[1] in ci.splitlines()
