@@ -174,7 +174,6 @@ def format_simulations(simulations) -> str:
 
 def _cmd_simulate(args) -> int:
     from .control import AugmentedPD, WorkspacePD
-    from .files import write_atomic
     from .simulation import apply_mismatch, parse_mismatch, simulate
 
     if args.rate is not None:
@@ -198,11 +197,7 @@ def _cmd_simulate(args) -> int:
     out = Path(args.out)
     for sim in simulations:
         path = out if len(simulations) == 1 else out.with_name(f"{out.stem}_{sim.controller}{out.suffix}")
-        columns = sim.columns()
-        table = np.column_stack(list(columns.values()))
-        text = ",".join(columns) + "\n" + "".join(",".join(f"{x:.12g}" for x in row) + "\n" for row in table)
-        write_atomic(path, text)
-        print(f"wrote {path}")
+        print(f"wrote {sim.write_csv(path)}")
     if mismatch:
         print("plant off from the controller's model: " + ", ".join(f"{k} {v:+.0%}" for k, v in mismatch.items()))
     print(format_simulations(simulations))

@@ -2,13 +2,18 @@
 
 from __future__ import annotations
 
+import csv
+import io
 import os
 import tempfile
 from pathlib import Path
+from typing import Mapping
+
+import numpy as np
 
 from .exceptions import HipsimError
 
-__all__ = ["make_folder", "write_atomic"]
+__all__ = ["make_folder", "write_atomic", "write_columns"]
 
 
 def make_folder(path: str | Path) -> Path:
@@ -63,3 +68,18 @@ def write_atomic(path: str | Path, text: str | bytes) -> Path:
         Path(temporary).unlink(missing_ok=True)
         raise
     return path
+
+
+def write_columns(path: str | Path, columns: Mapping[str, np.ndarray]) -> Path:
+    """Write named columns of equal length as a CSV file, atomically; 12 significant digits.
+
+    Args:
+        path: the CSV file.
+        columns: column name (with its unit) → values, each of shape (N,).
+    """
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(columns)
+    for row in np.column_stack(list(columns.values())):
+        writer.writerow([f"{x:.12g}" for x in row])
+    return write_atomic(path, buffer.getvalue())

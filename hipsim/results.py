@@ -14,8 +14,6 @@ Example:
 
 from __future__ import annotations
 
-import csv
-import io
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -25,7 +23,7 @@ import numpy as np
 
 from .dynamics import Torques, central_friction_moment, inverse_dynamics
 from .exceptions import HipsimError
-from .files import write_atomic
+from .files import write_columns
 from .kinematics import Kinematics, kinematics
 from .parameters import Parameters, load_parameters
 from .trajectories import Trajectory, iso14242
@@ -153,14 +151,7 @@ class Result:
 
     def write_csv(self, path: str | Path) -> Path:
         """Write the columns to ``path`` atomically (a complete file or none). Returns the path."""
-        columns = self.columns()
-        buffer = io.StringIO()
-        writer = csv.writer(buffer, lineterminator="\n")
-        writer.writerow(columns)
-        table = np.column_stack(list(columns.values()))
-        for row in table:
-            writer.writerow([f"{x:.12g}" for x in row])
-        return write_atomic(path, buffer.getvalue())
+        return write_columns(path, self.columns())
 
 
 def analyse(

@@ -23,6 +23,7 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Callable, Protocol
 
 import numpy as np
@@ -31,6 +32,7 @@ from tqdm import tqdm
 from .control import Sample
 from .dynamics import inverse_dynamics
 from .exceptions import HipsimError, PoseError
+from .files import write_columns
 from .kinematics import kinematics
 from .parameters import Parameters
 from .trajectories import Trajectory
@@ -120,7 +122,7 @@ class Simulation:
         return self.desired.q - self.q
 
     def summary(self) -> dict:
-        """Peak and RMS of each angle's error in [deg], of each motor's torque in [N·m·1e-3 = N·mm], peak speeds in [rpm]."""
+        """Peak and RMS of each angle's error in [deg] and of each motor's torque in [N·mm], peak speeds in [rpm]."""
         err = np.degrees(self.err)
         tau = self.tau * 1e3
         rpm = self.motor_speed * 60.0 / (2.0 * math.pi)
@@ -128,12 +130,16 @@ class Simulation:
         return {
             "plant": self.plant,
             "controller": self.controller,
-            "duration_s": float(self.t[-1] - self.t[0] + (self.t[1] - self.t[0]) if self.t.size > 1 else 0.0),
+            "duration_s": float(self.t.size * (self.t[1] - self.t[0])),  # simulate() makes at least two samples
             "errors_deg": {n: {"peak": float(np.abs(err[:, k]).max()), "rms": float(np.sqrt(np.mean(err[:, k] ** 2)))} for k, n in enumerate(names)},
             "torques_Nmm": {str(i + 1): {"peak": float(np.abs(tau[:, i]).max()), "rms": float(np.sqrt(np.mean(tau[:, i] ** 2)))} for i in range(3)},
             "speed_peak_rpm": {str(i + 1): float(np.abs(rpm[:, i]).max()) for i in range(3)},
             "saturated_samples": int(np.count_nonzero(self.saturated)),
         }
+
+    def write_csv(self, path) -> Path:
+        """Write :meth:`columns` to ``path`` atomically. Returns the path."""
+        return write_columns(path, self.columns())
 
     def columns(self) -> dict[str, np.ndarray]:
         """CSV columns: desired and actual angles, errors, torques and speeds, with units in the names."""
