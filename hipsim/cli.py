@@ -205,7 +205,7 @@ def _cmd_simulate(args) -> int:
 
 
 def _simulate_both(params, desired_at, duration):
-    """Both controllers on the Pinocchio plant (the faster of the two, which agree): the report's tracking plots."""
+    """Both controllers on the Pinocchio plant (the whole closed chain; no compilation): the report's tracking plots."""
     from .control import AugmentedPD, WorkspacePD
     from .pinocchio_plant import PinocchioPlant
     from .simulation import simulate
@@ -361,7 +361,8 @@ def build_parser() -> argparse.ArgumentParser:
     sim.add_argument("--controller", choices=["pd", "augmented-pd", "both"], default="both", help="controller (default both, one after the other)")
     sim.add_argument(
         "--plant", choices=["analytic", "pinocchio"], default="pinocchio",
-        help="pinocchio = closed-chain model (default; about 20x faster here), analytic = reduced 3-DOF model; they agree to 1e-11 deg",
+        help="pinocchio = closed-chain model (default), analytic = reduced 3-DOF model, compiled (about 5x faster; "
+        "the first run on a machine compiles it, ~10 s); they agree to 1e-11 deg",
     )
     sim.add_argument("--mismatch", metavar="SPEC", help="plant off from the controller's model, e.g. friction=+20%%,masses=-10%%")
     sim.add_argument("--servo-rate", type=float, metavar="HZ", help="servo rate (default control.servo_rate_Hz)")

@@ -17,14 +17,15 @@ two of the spec:
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Callable, Protocol
 
 import numpy as np
 
+from . import reduced_kernel
+from .reduced_kernel import floats
 from .dynamics import inverse_dynamics
-from .kinematics import kinematics, slider_jacobian
+from .kinematics import kinematics
 from .parameters import Parameters
 from .trajectories import Trajectory
 
@@ -66,17 +67,16 @@ class WorkspacePD:
 
     def __init__(self, params: Parameters, kp=None, kd=None):
         self.params = params
-        self.kp = np.asarray(params.control.kp if kp is None else kp, dtype=float)
-        self.kd = np.asarray(params.control.kd if kd is None else kd, dtype=float)
-        self._scale = params.lead / (2.0 * math.pi)
+        self.kp = np.asarray(params.control.kp if kp is None else kp, dtype=np.float64)
+        self.kd = np.asarray(params.control.kd if kd is None else kd, dtype=np.float64)
+        self._kernel_params = reduced_kernel.kernel_parameters(params)
 
     def __call__(self, t: float, state: Sample, desired: Sample) -> np.ndarray:
-        # Errors are in gait angles; the moment acts on the platform, whose angles
-        # may have flipped signs (convention.angle_signs).
-        signs = self.params.angle_signs
-        moment = signs * (self.kp * (desired.q - state.q) + self.kd * (desired.qd - state.qd))
-        J = slider_jacobian(self.params, (signs * state.q)[None])[0]
-        return self._scale * np.linalg.solve(J.T, moment)
+        # Called once per servo period on one state: the compiled law of
+        # hipsim.reduced_kernel, J in closed form, no NumPy overhead.
+        P = self._kernel_params
+        return reduced_kernel.workspace_pd(P, floats(state.q), floats(state.qd), floats(desired.q), floats(desired.qd), self.kp, self.kd)
+
 
 
 def feedforward_torques(params: Parameters, desired: Trajectory) -> np.ndarray:

@@ -36,13 +36,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .kinematics import Kinematics, _cross, _dot, _inverse_transpose, _lever_axes, _lever_spin, _spin_transpose
+from .kinematics import Kinematics, _cross, _dot, _inverse_transpose, _lever_axes, _lever_spin, _spin_transpose, kinematics
 from .parameters import Parameters
+from .trajectories import Trajectory
 
 __all__ = [
     "Torques",
     "central_friction_moment",
     "inverse_dynamics",
+    "mass_and_bias",
     "mechanical_energy",
     "screw_friction_torque",
     "smooth_sign",
@@ -284,6 +286,39 @@ def inverse_dynamics(params: Parameters, kin: Kinematics, Fe: np.ndarray, lever_
         motor_speed=motor_speed.T, friction_moment=np.sqrt(_dot(tau_mf, tau_mf)),
         friction_power=friction_power,
     )
+
+
+def mass_and_bias(params: Parameters, trajectory: Trajectory, lever_spin: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """The reduced model τ = M(q)·q̈ + h(q, q̇, F_e) along a trajectory, in gait angles.
+
+    The inverse dynamics is affine in q̈, so its value at q̈ = 0 is h and its
+    values at the three unit accelerations minus h are the columns of M: one
+    vectorised call on 4N samples. M is the inertia the motors feel (platforms,
+    levers, sliders and screws reflected to the motor shafts); h holds gravity,
+    the velocity terms and friction. The trajectory's q̈ is not used.
+
+    Args:
+        params: the machine.
+        trajectory: the states (q, q̇) and loads F_e, N samples.
+        lever_spin: as in :func:`inverse_dynamics`.
+
+    Returns:
+        M in [N·m·s²/rad], (N, 3, 3), and h in [N·m], (N, 3).
+
+    Raises:
+        PoseError: naming the time of the first state out of reach or singular.
+    """
+    kinematics(params, trajectory)  # raises on a bad pose, naming its time
+    n = len(trajectory.t)
+    states = Trajectory(
+        np.tile(trajectory.t, 4), np.tile(trajectory.q, (4, 1)), np.tile(trajectory.qd, (4, 1)),
+        np.repeat(np.vstack([np.zeros(3), np.eye(3)]), n, axis=0),  # q̈ = 0 for the first N samples, then e_1, e_2, e_3
+        np.tile(trajectory.Fe, 4), name=trajectory.name,
+    )
+    # Already checked: the copies' boundaries are not motions, so do not look for crossings there.
+    tau = inverse_dynamics(params, kinematics(params, states, on_error="flag"), states.Fe, lever_spin).tau.reshape(4, n, 3)
+    h = tau[0]
+    return np.moveaxis(tau[1:] - h, 0, -1), h
 
 
 def mechanical_energy(params: Parameters, kin: Kinematics, lever_spin: bool = False) -> tuple[np.ndarray, np.ndarray]:

@@ -5,8 +5,11 @@ torques. Two plants describe the same physics:
 
 - :class:`ReducedPlant`: the 3-DOF model of the platform orientation. The
   analytic inverse dynamics is affine in the angular acceleration,
-  τ = M(q)·q̈ + h(q, q̇, F_e), so one call on four samples (q̈ = 0 and the
-  three unit vectors) gives h and the columns of M, and q̈ = M⁻¹·(τ − h).
+  τ = M(q)·q̈ + h(q, q̇, F_e), so its value at q̈ = 0 gives h and its values
+  at the three unit accelerations give the columns of M, and
+  q̈ = M⁻¹·(τ − h). The servo loop needs this for one state at a time, where
+  the vectorised model spends its time in Python overhead, so the plant runs
+  the same equations compiled by :mod:`hipsim.reduced_kernel`.
 - :class:`hipsim.pinocchio_plant.PinocchioPlant`: the closed-chain tree with
   its loop closures enforced by Pinocchio's constrained dynamics.
 
@@ -15,7 +18,9 @@ sees the measured state and the desired one and returns torques, which are
 limited to the motor torque limit (and counted when they are) and held
 constant over the servo period (zero-order hold) while the plant is integrated
 with the classic fourth-order Runge–Kutta method at a step no longer than the
-period.
+period. A plant with an ``advance`` method (the reduced plant) integrates a
+whole servo period in one call; for any other plant :func:`simulate` steps
+RK4 itself through the plant's ``derivative``.
 """
 
 from __future__ import annotations
@@ -29,8 +34,9 @@ from typing import Callable, Protocol
 import numpy as np
 from tqdm import tqdm
 
+from . import reduced_kernel
+from .reduced_kernel import floats
 from .control import Sample
-from .dynamics import inverse_dynamics
 from .exceptions import HipsimError, PoseError
 from .files import write_columns
 from .kinematics import kinematics
@@ -39,11 +45,13 @@ from .trajectories import Trajectory
 
 __all__ = ["Plant", "ReducedPlant", "Simulation", "apply_mismatch", "parse_mismatch", "simulate"]
 
-_UNIT_ACCELERATIONS = np.vstack([np.zeros(3), np.eye(3)])
-
-
 class Plant(Protocol):
-    """What :func:`simulate` integrates. The state x is a flat vector."""
+    """What :func:`simulate` integrates. The state x is a flat vector.
+
+    A plant may also offer ``advance(t, x, tau, loads, h, substeps)``, the
+    state after ``substeps`` RK4 steps (as :meth:`ReducedPlant.advance`), to
+    integrate a servo period in one call.
+    """
 
     params: Parameters
 
@@ -58,7 +66,7 @@ class Plant(Protocol):
 
 
 class ReducedPlant:
-    """Forward dynamics of the 3-DOF reduced model; state x = [q, q̇].
+    """Forward dynamics of the 3-DOF reduced model; state x = [q, q̇] in gait angles.
 
     Args:
         params: the plant's machine.
@@ -72,22 +80,35 @@ class ReducedPlant:
     def __init__(self, params: Parameters, lever_spin: bool = True):
         self.params = params
         self.lever_spin = lever_spin
+        self._kernel_params = reduced_kernel.kernel_parameters(params, lever_spin)
 
     def mass_and_bias(self, q: np.ndarray, qd: np.ndarray, Fe: float) -> tuple[np.ndarray, np.ndarray]:
-        """M(q) in [N·m·s²/rad] (3, 3) and h(q, q̇, F_e) in [N·m] (3,) with τ = M·q̈ + h."""
-        batch = Trajectory(np.zeros(4), np.broadcast_to(q, (4, 3)), np.broadcast_to(qd, (4, 3)), _UNIT_ACCELERATIONS, np.full(4, Fe))
-        tau = inverse_dynamics(self.params, kinematics(self.params, batch), batch.Fe, lever_spin=self.lever_spin).tau
-        return (tau[1:] - tau[0]).T, tau[0]
+        """M(q) in [N·m·s²/rad] (3, 3) and h(q, q̇, F_e) in [N·m] (3,) with τ = M·q̈ + h.
+
+        Args:
+            q: orientation in [rad], (3,).
+            qd: its rate in [rad/s], (3,).
+            Fe: load in [N].
+        """
+        return reduced_kernel.mass_and_bias(self._kernel_params, floats(q), floats(qd), float(Fe))
 
     def initial_state(self, desired: Trajectory) -> np.ndarray:
         return np.concatenate([desired.q[0], desired.qd[0]])
 
     def derivative(self, t: float, x: np.ndarray, tau: np.ndarray, Fe: float) -> np.ndarray:
-        M, h = self.mass_and_bias(x[:3], x[3:], Fe)
-        return np.concatenate([x[3:], np.linalg.solve(M, tau - h)])
+        return reduced_kernel.derivative(self._kernel_params, floats(x), floats(tau), float(Fe))
+
+    def advance(self, t: float, x: np.ndarray, tau: np.ndarray, loads: np.ndarray, h: float, substeps: int) -> np.ndarray:
+        """The state after ``substeps`` RK4 steps of h [s] from x at time t [s], under motor torques tau [N·m].
+
+        ``loads`` are the loads F_e in [N] at every half step, (2·substeps + 1,).
+        """
+        P = self._kernel_params
+        return reduced_kernel.advance(P, floats(x), floats(tau), floats(loads), float(h), int(substeps))
 
     def angles(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return x[:3], x[3:]
+
 
 
 @dataclass(frozen=True, eq=False)
@@ -158,12 +179,16 @@ class Simulation:
         return out
 
 
-def _rk4(plant: Plant, t: float, x: np.ndarray, h: float, tau: np.ndarray, load: Callable[[float], float]) -> np.ndarray:
-    k1 = plant.derivative(t, x, tau, load(t))
-    k2 = plant.derivative(t + h / 2, x + h / 2 * k1, tau, load(t + h / 2))
-    k3 = plant.derivative(t + h / 2, x + h / 2 * k2, tau, load(t + h / 2))
-    k4 = plant.derivative(t + h, x + h * k3, tau, load(t + h))
-    return x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+def _rk4(plant: Plant, t: float, x: np.ndarray, tau: np.ndarray, loads: np.ndarray, h: float, substeps: int) -> np.ndarray:
+    """``substeps`` classic RK4 steps of h [s] through ``plant.derivative``; loads at every half step."""
+    for s in range(substeps):
+        time = t + s * h
+        k1 = plant.derivative(time, x, tau, loads[2 * s])
+        k2 = plant.derivative(time + h / 2, x + h / 2 * k1, tau, loads[2 * s + 1])
+        k3 = plant.derivative(time + h / 2, x + h / 2 * k2, tau, loads[2 * s + 1])
+        k4 = plant.derivative(time + h, x + h * k3, tau, loads[2 * s + 2])
+        x = x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+    return x
 
 
 def simulate(
@@ -221,8 +246,8 @@ def simulate(
     t = np.arange(n) * period
     desired = desired_at(t)
     stage_times = np.arange(n * substeps * 2 + 1) * (h / 2)
-    stage_loads = desired_at(stage_times).Fe
-    load = lambda time: stage_loads[int(round(time / (h / 2)))]  # noqa: E731 - loads at every RK4 stage, precomputed
+    stage_loads = desired_at(stage_times).Fe  # the load at every RK4 stage, precomputed
+    advance = getattr(plant, "advance", None) or (lambda *args: _rk4(plant, *args))
 
     x = plant.initial_state(desired.slice(slice(0, 1))) if initial_state is None else np.asarray(initial_state, dtype=float)
     q, qd = np.empty((n, 3)), np.empty((n, 3))
@@ -239,8 +264,7 @@ def simulate(
         tau_requested[k] = wanted
         tau_applied[k] = np.clip(wanted, -limit, limit)
         saturated[k] = np.any(np.abs(wanted) > limit)
-        for s in range(substeps):
-            x = _rk4(plant, t[k] + s * h, x, h, tau_applied[k], load)
+        x = advance(t[k], x, tau_applied[k], stage_loads[2 * substeps * k : 2 * substeps * (k + 1) + 1], h, substeps)
 
     actual = Trajectory(t, q, qd, np.zeros_like(q), desired.Fe, name="actual")
     try:

@@ -6,19 +6,15 @@ import numpy as np
 import pytest
 
 import hipsim
-from hipsim.dynamics import Torques, inverse_dynamics, mechanical_energy, smooth_sign
+from hipsim.dynamics import Torques, inverse_dynamics, mass_and_bias, mechanical_energy, smooth_sign
+from hipsim.exceptions import PoseError
 from hipsim.kinematics import kinematics, lever_frames, lever_jacobians
-from hipsim.trajectories import iso14242
+from hipsim.trajectories import Trajectory, iso14242
 
-from support import SmoothMotion, central_difference, iso_at
+from support import ALL_FRICTION, SmoothMotion, central_difference, iso_at
 
 H = 1e-5  # finite-difference step in [s]
 T_SAMPLES = np.linspace(0.0, 1.0, 200, endpoint=False)
-
-ALL_FRICTION = dict(
-    screw_coulomb=0.05, screw_viscous=2e-4, guide_coulomb=15.0, guide_viscous=40.0,
-    ujoint_coulomb=0.3, ujoint_viscous=0.02, sjoint_coulomb=0.4, sjoint_viscous=0.03,
-)
 
 
 @pytest.fixture(scope="module")
@@ -149,3 +145,30 @@ def test_iso_torque_scale(params):
     traj = iso14242()
     torques = inverse_dynamics(params, kinematics(params, traj), traj.Fe)
     assert 0.1 < np.abs(torques.tau).max() < 2.0  # [N·m]
+
+
+def test_reduced_mass_matrix_gives_the_kinetic_energy(params):
+    """½·q̇ᵀ·Gᵀ·M·q̇ is the machine's kinetic energy, G = ∂θ/∂q̇ the motor-speed map (with lever spin).
+
+    The energy comes from the body motions alone (:func:`mechanical_energy`), so this
+    checks every inertia that :func:`mass_and_bias` reflects to the motors.
+    """
+    params = params.replace(angle_signs=np.array([1.0, -1.0, -1.0]))
+    motion = SmoothMotion(seed=4, amplitude_deg=15.0)(np.linspace(0.0, 3.0, 25))
+    M, _ = mass_and_bias(params, motion, lever_spin=True)
+    kinetic, _ = mechanical_energy(params, kinematics(params, motion), lever_spin=True)
+    # G's columns: motor speeds 2π·L̇/p at unit rates of each angle (L̇ is linear in q̇).
+    G = np.stack(
+        [2 * math.pi / params.lead * kinematics(params, Trajectory(motion.t, motion.q, np.broadcast_to(unit, motion.q.shape), motion.qdd, motion.Fe)).Ld[:, 0] for unit in np.eye(3)],
+        axis=-1,
+    )
+    from_M = 0.5 * np.einsum("ni,nji,njk,nk->n", motion.qd, G, M, motion.qd)
+    np.testing.assert_allclose(from_M, kinetic, rtol=1e-10)
+
+
+def test_mass_and_bias_names_the_time_of_a_bad_state(params):
+    motion = iso_at(np.linspace(0.0, 0.5, 6))
+    q = motion.q.copy()
+    q[3] = np.radians([0.0, 0.0, 120.0])  # out of reach
+    with pytest.raises(PoseError, match=r"t = 0\.3 s \(sample 3\).*out of reach"):
+        mass_and_bias(params, Trajectory(motion.t, q, motion.qd, motion.qdd, motion.Fe))

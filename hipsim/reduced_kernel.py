@@ -1,0 +1,510 @@
+"""The reduced plant's equations for one state at a time, compiled with numba (spec §3, §4, §7.3, §8).
+
+Why this module exists. The servo loop of :func:`hipsim.simulation.simulate`
+evaluates the forward dynamics of one state at a time, eight times per servo
+period (two RK4 steps of four stages). Through the vectorised model of
+:mod:`hipsim.kinematics` and :mod:`hipsim.dynamics` each evaluation is some
+seven hundred NumPy calls on arrays of four samples, ~480 µs of Python
+overhead for a few thousand floating-point operations: the reduced plant ran
+at a quarter of real time. Here the same equations are written for a single
+state on plain floats and compiled, so that a whole servo period costs ~10 µs.
+
+The vectorised model stays the reference: ``tests/test_reduced_kernel.py``
+checks :func:`torques`, :func:`mass_and_bias`, :func:`jacobian` and
+:func:`workspace_pd` against it to round-off on random states with every
+friction coefficient on, and the plant's agreement with the Pinocchio plant
+is tested in ``tests/test_simulation.py``. The names follow those modules, so
+each line here can be read against its vectorised counterpart.
+
+Conventions. Vectors are 3-tuples of floats (values, so nothing is allocated
+on the heap), matrices are 3-tuples of rows. The machine travels as a
+:class:`KernelParameters` named tuple built once by :func:`kernel_parameters`.
+Angles come in as gait angles; the parameter file's angle signs are applied
+inside, as :func:`hipsim.kinematics.kinematics` does. A pose out of reach gives
+NaN, which the servo loop reports as the plant leaving its workspace.
+
+The first call compiles the functions (~10 s); numba caches the machine code
+next to this file (or in its user-wide cache when that folder is read-only),
+so later processes load it in well under a second.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections import namedtuple
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from .parameters import Friction, Parameters
+
+__all__ = [
+    "KernelParameters",
+    "advance",
+    "derivative",
+    "floats",
+    "jacobian",
+    "kernel_parameters",
+    "mass_and_bias",
+    "torques",
+    "workspace_pd",
+]
+
+Vector = tuple  # (x, y, z) floats
+Matrix = tuple  # three rows
+
+_compile = njit(cache=True, error_model="numpy")  # error_model: x/0 gives inf/NaN like NumPy, not an exception
+
+
+#: The friction coefficients as the kernels read them: the fields of :class:`Friction`, SI.
+KernelFriction = namedtuple("KernelFriction", [field.name for field in dataclasses.fields(Friction)])
+
+
+class KernelParameters(NamedTuple):
+    """The machine as the kernels read it, in SI units (fields as in :class:`hipsim.parameters.Parameters`).
+
+    Per-leg vectors are 3-tuples of (x, y, z) rows; inertias are 3-tuples of rows.
+    """
+
+    gravity: float
+    lever_length: float
+    lead: float
+    screw_inertia: float
+    slider_mass: float
+    lever_mass: float
+    platform_mass: float
+    n_platforms: float
+    platform_inertia: Matrix
+    lever_inertia: Matrix
+    platform_points: Matrix
+    screw_points: Matrix
+    ujoint_axes: Matrix
+    angle_signs: Vector
+    lever_spin: bool
+    friction: KernelFriction
+
+
+def kernel_parameters(params: Parameters, lever_spin: bool = True) -> KernelParameters:
+    """The machine for the kernels.
+
+    Args:
+        params: the machine.
+        lever_spin: give the levers the spin their universal joints impose
+            (as :func:`hipsim.dynamics.inverse_dynamics` with ``lever_spin=True``).
+    """
+
+    # Plain floats throughout: numba compiles once per combination of argument types.
+    def rows(matrix) -> Matrix:
+        return tuple(tuple(float(x) for x in row) for row in np.asarray(matrix))
+
+    friction = {name: float(value) for name, value in dataclasses.asdict(params.friction).items()}
+    return KernelParameters(
+        gravity=float(params.gravity), lever_length=float(params.lever_length), lead=float(params.lead),
+        screw_inertia=float(params.screw_inertia), slider_mass=float(params.slider_mass),
+        lever_mass=float(params.lever_mass), platform_mass=float(params.platform_mass),
+        n_platforms=float(params.heights.size),
+        platform_inertia=rows(params.platform_inertia), lever_inertia=rows(params.lever_inertia),
+        platform_points=rows(params.platform_points), screw_points=rows(params.screw_points),
+        ujoint_axes=rows(params.ujoint_axes), angle_signs=tuple(float(s) for s in params.angle_signs),
+        lever_spin=bool(lever_spin), friction=KernelFriction(**friction),
+    )
+
+
+def floats(x) -> np.ndarray:
+    """x as a float64 array (no copy if it is one): the public kernels are compiled for float64 arrays."""
+    return np.asarray(x, dtype=np.float64)
+
+
+# --- 3-vectors as tuples --------------------------------------------------------------
+
+
+@_compile
+def _add(a, b):
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
+
+
+@_compile
+def _sub(a, b):
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+@_compile
+def _scale(a, s):
+    return (a[0] * s, a[1] * s, a[2] * s)
+
+
+@_compile
+def _dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@_compile
+def _cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+@_compile
+def _matvec(M, v):
+    return (_dot(M[0], v), _dot(M[1], v), _dot(M[2], v))
+
+
+@_compile
+def _transpose_times(M, v):
+    """Mᵀ·v."""
+    return _add(_add(_scale(M[0], v[0]), _scale(M[1], v[1])), _scale(M[2], v[2]))
+
+
+@_compile
+def _smooth_sign(w, epsilon):
+    """ŝ(w) = w/√(|w|² + ε²) of a vector (spec §7.3)."""
+    return _scale(w, 1.0 / math.sqrt(_dot(w, w) + epsilon**2))
+
+
+@_compile
+def _inverse_transpose(J):
+    """J⁻ᵀ by its rows (j₁ × j₂, j₂ × j₀, j₀ × j₁)/det J, J given by its rows j_i."""
+    rows = (_cross(J[1], J[2]), _cross(J[2], J[0]), _cross(J[0], J[1]))
+    det = _dot(J[0], rows[0])
+    return (_scale(rows[0], 1.0 / det), _scale(rows[1], 1.0 / det), _scale(rows[2], 1.0 / det))
+
+
+# --- Kinematics (hipsim.kinematics) ---------------------------------------------------
+
+
+@_compile
+def _rotation(q):
+    """R = Rz(γ)·Ry(β)·Rx(α) (rows) and the map T(q) with ω = T·q̇ (rows), q after angle signs."""
+    ca, cb, cg = math.cos(q[0]), math.cos(q[1]), math.cos(q[2])
+    sa, sb, sg = math.sin(q[0]), math.sin(q[1]), math.sin(q[2])
+    R = (
+        (cb * cg, cg * sb * sa - sg * ca, cg * sb * ca + sg * sa),
+        (cb * sg, sg * sb * sa + cg * ca, sg * sb * ca - cg * sa),
+        (-sb, cb * sa, cb * ca),
+    )
+    T = ((cb * cg, -sg, 0.0), (cb * sg, cg, 0.0), (-sb, 0.0, 1.0))
+    return R, T
+
+
+@_compile
+def _map_rate(q, qd):
+    """Ṫ(q, q̇) (rows), so that ω̇ = T·q̈ + Ṫ·q̇."""
+    cb, cg = math.cos(q[1]), math.cos(q[2])
+    sb, sg = math.sin(q[1]), math.sin(q[2])
+    bd, gd = qd[1], qd[2]
+    return (
+        (-sb * cg * bd - cb * sg * gd, -cg * gd, 0.0),
+        (-sb * sg * bd + cb * cg * gd, -sg * gd, 0.0),
+        (-cb * bd, 0.0, 0.0),
+    )
+
+
+@_compile
+def _lever_geometry(P, R, i):
+    """r_i = R·r⁰_i and the lever's unit vector e_i; NaN when the lever cannot reach."""
+    r = _matvec(R, P.platform_points[i])
+    c = P.screw_points[i]
+    dx, dy = r[0] - c[0], r[1] - c[1]
+    l = P.lever_length
+    radicand = l**2 - (dx**2 + dy**2)
+    if not radicand > 0:
+        return r, (math.nan, math.nan, math.nan)
+    return r, (dx / l, dy / l, math.sqrt(radicand) / l)
+
+
+@_compile
+def _jacobian_rows(P, q):
+    """The rows (r_i × e_i)/e_i,z of J (L̇ = J·ω) and the r_i, e_i, at orientation q after angle signs."""
+    R, _ = _rotation(q)
+    r0, e0 = _lever_geometry(P, R, 0)
+    r1, e1 = _lever_geometry(P, R, 1)
+    r2, e2 = _lever_geometry(P, R, 2)
+    J = (_scale(_cross(r0, e0), 1.0 / e0[2]), _scale(_cross(r1, e1), 1.0 / e1[2]), _scale(_cross(r2, e2), 1.0 / e2[2]))
+    return J, (r0, r1, r2), (e0, e1, e2)
+
+
+@_compile
+def _signed(P, v):
+    """Gait angles (or their rates) to the platform's angles: the parameter file's angle signs."""
+    return (v[0] * P.angle_signs[0], v[1] * P.angle_signs[1], v[2] * P.angle_signs[2])
+
+
+# --- Inverse dynamics (hipsim.dynamics) -----------------------------------------------
+
+
+class _LeverMotion(NamedTuple):
+    """One leg's velocity level, what its acceleration level needs (hipsim.kinematics._kinematics)."""
+
+    r: Vector  # r_i = R·r⁰_i [m]
+    e: Vector  # lever unit vector e_i
+    w_perp: Vector  # lever angular velocity without spin [rad/s]
+    centripetal: Vector  # ω × ȧ, the velocity part of ä [m/s²]
+    w_perp_sq: float  # l·|w_perp|², the centripetal part of e_z·L̈ [m/s²]
+    omega_l: Vector  # lever angular velocity, with spin when P.lever_spin [rad/s]
+    spin: Vector  # (c, 1 − c², ω_⊥·u1, s) of hipsim.kinematics._lever_spin
+    spin_rates: Vector  # ė = w_perp × e [1/s] ...
+    c_dot: float  # ... and ċ = u1·ė [1/s]
+    axes: Matrix  # rows: the lever's x, y, z axes (spec §7.1)
+
+
+@_compile
+def _lever_velocity(P, r, e, J_i, omega, i):
+    """Velocity level of leg i (hipsim.kinematics._kinematics, _lever_spin, _lever_axes)."""
+    l = P.lever_length
+    Ld = _dot(J_i, omega)
+    a_dot = _cross(omega, r)
+    w_perp = _scale(_cross(e, (a_dot[0], a_dot[1], a_dot[2] - Ld)), 1.0 / l)
+    u1 = P.ujoint_axes[i]
+    c = _dot(u1, e)
+    d = 1.0 - c**2
+    w = _dot(w_perp, u1)
+    s = c * w / d if P.lever_spin else 0.0
+    e_dot = _cross(w_perp, e)
+    x = _cross(e, u1)
+    x = _scale(x, 1.0 / math.sqrt(_dot(x, x)))
+    return _LeverMotion(
+        r, e, w_perp, _cross(omega, a_dot), l * _dot(w_perp, w_perp), _add(w_perp, _scale(e, s)),
+        (c, d, w, s), e_dot, _dot(u1, e_dot), (x, _cross(e, x), e),
+    )
+
+
+@_compile
+def _euler_moment(axes, inertia, w, w_dot):
+    """The D'Alembert moment −I_w·ω̇ − ω × I_w·ω in world axes, evaluated in body axes (the rows of ``axes``)."""
+    w_body = _matvec(axes, w)
+    moment_body = _sub(_scale(_matvec(inertia, _matvec(axes, w_dot)), -1.0), _cross(w_body, _matvec(inertia, w_body)))
+    return _transpose_times(axes, moment_body)
+
+
+@_compile
+def _lever_ends(P, lever, i, force, moment):
+    """A wrench on lever i (force at its centre, moment) as r × f_a on the platform and f_b,z on the slider."""
+    if P.lever_spin:  # the spin's transpose, hipsim.kinematics._spin_transpose
+        c = lever.spin[0]
+        moment = _add(moment, _scale(P.ujoint_axes[i], c / (1.0 - c**2) * _dot(lever.e, moment)))
+    m_cross_e = _scale(_cross(moment, lever.e), 1.0 / P.lever_length)
+    f_a = _add(_scale(force, 0.5), m_cross_e)
+    return _cross(lever.r, f_a), 0.5 * force[2] - m_cross_e[2]
+
+
+@_compile
+def _lever_acceleration(P, lever, i, omega_dot):
+    """Leg i at platform acceleration ω̇: L̈_i, and its lever's gravity and D'Alembert wrench mapped to the ends."""
+    l, e = P.lever_length, lever.e
+    a_ddot = _add(_cross(omega_dot, lever.r), lever.centripetal)
+    Ldd = (_dot(e, a_ddot) + lever.w_perp_sq) / e[2]
+    omega_l_dot = _scale(_cross(e, (a_ddot[0], a_ddot[1], a_ddot[2] - Ldd)), 1.0 / l)
+    if P.lever_spin:
+        c, d, w, s = lever.spin
+        c_dot = lever.c_dot
+        s_dot = (c_dot * w + c * _dot(omega_l_dot, P.ujoint_axes[i])) / d + 2.0 * c**2 * c_dot * w / d**2
+        omega_l_dot = _add(_add(omega_l_dot, _scale(e, s_dot)), _scale(lever.spin_rates, s))
+    a_l = (0.5 * a_ddot[0], 0.5 * a_ddot[1], 0.5 * a_ddot[2] + 0.5 * Ldd)
+    force = _scale((a_l[0], a_l[1], a_l[2] + P.gravity), -P.lever_mass)  # m_l·(g − a_l)
+    moment = _euler_moment(lever.axes, P.lever_inertia, lever.omega_l, omega_l_dot)
+    Q, f_b_z = _lever_ends(P, lever, i, force, moment)
+    return Ldd, Q, f_b_z
+
+
+@_compile
+def _lever_joint_friction(P, lever, i, omega):
+    """U- and S-joint friction of leg i: its generalised moment on the platform and f_b,z on the slider."""
+    F = P.friction
+    w_rel = _sub(lever.omega_l, omega)
+    tau_bf = _add(_scale(_smooth_sign(lever.omega_l, F.epsilon), F.ujoint_coulomb), _scale(lever.omega_l, F.ujoint_viscous))
+    tau_af = _add(_scale(_smooth_sign(w_rel, F.epsilon), F.sjoint_coulomb), _scale(w_rel, F.sjoint_viscous))
+    Q, f_b_z = _lever_ends(P, lever, i, (0.0, 0.0, 0.0), _scale(_add(tau_af, tau_bf), -1.0))
+    return _add(Q, tau_af), f_b_z
+
+
+@_compile
+def _leg_friction(P, lever, i, J_i, omega):
+    """Leg i's friction: generalised moment of its lever joints, forces along the screw, screw torque."""
+    Ld = _dot(J_i, omega)
+    motor_speed = 2.0 * math.pi * Ld / P.lead
+    F = P.friction
+    sign = motor_speed / math.sqrt(motor_speed**2 + F.epsilon**2)
+    screw = F.screw_coulomb * sign + F.screw_viscous * motor_speed
+    guide = F.guide_coulomb * sign + F.guide_viscous * Ld
+    if F.ujoint_coulomb == 0.0 and F.ujoint_viscous == 0.0 and F.sjoint_coulomb == 0.0 and F.sjoint_viscous == 0.0:
+        return (0.0, 0.0, 0.0), -guide, screw
+    Q, f_b_z = _lever_joint_friction(P, lever, i, omega)
+    return Q, f_b_z - guide, screw
+
+
+class _State(NamedTuple):
+    """Everything at one state (q, q̇) that does not depend on the acceleration."""
+
+    platform_axes: Matrix  # rows: the platform's x, y, z axes (the columns of R)
+    T: Matrix  # ω = T·q̇
+    omega: Vector  # platform angular velocity [rad/s]
+    J_inv_T: Matrix  # J⁻ᵀ
+    levers: tuple  # three _LeverMotion
+    Q_f: Vector  # friction moment on the platform [N·m]
+    slider_f: Vector  # friction forces along the screws, per leg [N]
+    screw_f: Vector  # screw friction torques, per motor [N·m]
+
+
+@_compile
+def _state(P, q, qd, Fe):
+    """The velocity level at orientation q [rad] and rate q̇ [rad/s] (after angle signs), load Fe [N]."""
+    R, T = _rotation(q)
+    omega = _matvec(T, qd)
+    J, r, e = _jacobian_rows(P, q)
+    levers = (
+        _lever_velocity(P, r[0], e[0], J[0], omega, 0),
+        _lever_velocity(P, r[1], e[1], J[1], omega, 1),
+        _lever_velocity(P, r[2], e[2], J[2], omega, 2),
+    )
+    # Central chain: hip joint and thrust bearing (spec §4.3), against ŝ(ω).
+    F = P.friction
+    load = F.hip_radius * F.hip_mu * abs(Fe) + F.thrust_radius * F.thrust_mu * abs(Fe + P.platform_mass * P.gravity)
+    Q0, slider0, screw0 = _leg_friction(P, levers[0], 0, J[0], omega)
+    Q1, slider1, screw1 = _leg_friction(P, levers[1], 1, J[1], omega)
+    Q2, slider2, screw2 = _leg_friction(P, levers[2], 2, J[2], omega)
+    Q_f = _sub(_add(_add(Q0, Q1), Q2), _scale(_smooth_sign(omega, P.friction.epsilon), load))
+    platform_axes = ((R[0][0], R[1][0], R[2][0]), (R[0][1], R[1][1], R[2][1]), (R[0][2], R[1][2], R[2][2]))
+    return _State(platform_axes, T, omega, _inverse_transpose(J), levers, Q_f, (slider0, slider1, slider2), (screw0, screw1, screw2))
+
+
+@_compile
+def _torques_at(P, S, omega_dot):
+    """Motor torques [N·m] at state S and platform angular acceleration ω̇ [rad/s²] (spec §4.2)."""
+    Ldd0, Q0, fz0 = _lever_acceleration(P, S.levers[0], 0, omega_dot)
+    Ldd1, Q1, fz1 = _lever_acceleration(P, S.levers[1], 1, omega_dot)
+    Ldd2, Q2, fz2 = _lever_acceleration(P, S.levers[2], 2, omega_dot)
+    Q_m = _euler_moment(S.platform_axes, P.platform_inertia, S.omega, omega_dot)
+    Q = _add(_add(_add(_add(Q_m, Q0), Q1), Q2), S.Q_f)
+    scale = -P.n_platforms * P.lead / (2.0 * math.pi)
+    screw = 2.0 * math.pi * P.screw_inertia / P.lead
+
+    def motor(i, Ldd, f_b_z):
+        slider = P.slider_mass * (-P.gravity - Ldd)
+        return scale * (_dot(S.J_inv_T[i], Q) + f_b_z + slider + S.slider_f[i]) + screw * Ldd + S.screw_f[i]
+
+    return (motor(0, Ldd0, fz0), motor(1, Ldd1, fz1), motor(2, Ldd2, fz2))
+
+
+@_compile
+def _mass_and_bias(P, x, Fe):
+    """M (three columns) and h with τ = M·q̈ + h, in gait angles, at state x = (q, q̇) and load Fe."""
+    q = _signed(P, (x[0], x[1], x[2]))
+    qd = _signed(P, (x[3], x[4], x[5]))
+    S = _state(P, q, qd, Fe)
+    bias = _matvec(_map_rate(q, qd), qd)  # ω̇ at q̈ = 0
+    h = _torques_at(P, S, bias)
+    T, sg = S.T, P.angle_signs
+    # τ is affine in q̈: column k of M is τ(q̈ = unit k) − h, ω̇ = T·(sign_k·unit_k) + Ṫ·q̇.
+    m0 = _sub(_torques_at(P, S, _add(_scale((T[0][0], T[1][0], T[2][0]), sg[0]), bias)), h)
+    m1 = _sub(_torques_at(P, S, _add(_scale((T[0][1], T[1][1], T[2][1]), sg[1]), bias)), h)
+    m2 = _sub(_torques_at(P, S, _add(_scale((T[0][2], T[1][2], T[2][2]), sg[2]), bias)), h)
+    return (m0, m1, m2), h
+
+
+@_compile
+def _solve(columns, b):
+    """x with M·x = b, M given by its columns, by Cramer's rule."""
+    c0, c1, c2 = columns
+    c12 = _cross(c1, c2)
+    det = _dot(c0, c12)
+    return (_dot(b, c12) / det, _dot(c0, _cross(b, c2)) / det, _dot(c0, _cross(c1, b)) / det)
+
+
+@_compile
+def _derivative(P, x, tau, Fe):
+    """dx/dt = (q̇, M⁻¹·(τ − h)) as a 6-tuple."""
+    M, h = _mass_and_bias(P, x, Fe)
+    qdd = _solve(M, _sub(tau, h))
+    return (x[3], x[4], x[5], qdd[0], qdd[1], qdd[2])
+
+
+@_compile
+def _axpy(x, a, k):
+    """x + a·k for 6-tuples."""
+    return (x[0] + a * k[0], x[1] + a * k[1], x[2] + a * k[2], x[3] + a * k[3], x[4] + a * k[4], x[5] + a * k[5])
+
+
+# --- Public kernels: NumPy arrays in and out ------------------------------------------
+
+
+@_compile
+def torques(P, q, qd, qdd, Fe):
+    """Inverse dynamics at one state: motor torques in [N·m], (3,).
+
+    Args:
+        P: the machine (:func:`kernel_parameters`).
+        q: gait angles [α, β, γ] in [rad], (3,).
+        qd: their rates in [rad/s], (3,).
+        qdd: their accelerations in [rad/s²], (3,).
+        Fe: load in [N].
+    """
+    q_s, qd_s, qdd_s = _signed(P, q), _signed(P, qd), _signed(P, qdd)
+    S = _state(P, q_s, qd_s, Fe)
+    omega_dot = _add(_matvec(S.T, qdd_s), _matvec(_map_rate(q_s, qd_s), qd_s))
+    return np.array(_torques_at(P, S, omega_dot))
+
+
+@_compile
+def mass_and_bias(P, q, qd, Fe):
+    """M(q) in [N·m·s²/rad], (3, 3), and h(q, q̇, F_e) in [N·m], (3,), with τ = M·q̈ + h (gait angles)."""
+    M, h = _mass_and_bias(P, (q[0], q[1], q[2], qd[0], qd[1], qd[2]), Fe)
+    return np.array(M).T.copy(), np.array(h)
+
+
+@_compile
+def derivative(P, x, tau, Fe):
+    """dx/dt for the state x = [q, q̇] (gait angles, [rad], [rad/s]), (6,), under motor torques tau [N·m], load Fe [N]."""
+    return np.array(_derivative(P, (x[0], x[1], x[2], x[3], x[4], x[5]), (tau[0], tau[1], tau[2]), Fe))
+
+
+@_compile
+def advance(P, x, tau, loads, h, substeps):
+    """The state after ``substeps`` classic RK4 steps of h [s] under constant motor torques tau [N·m].
+
+    Args:
+        P: the machine.
+        x: state [q, q̇] in [rad], [rad/s], (6,).
+        tau: motor torques in [N·m], (3,), held over the steps.
+        loads: the load F_e in [N] at every half step, (2·substeps + 1,).
+        h: step in [s].
+        substeps: number of steps.
+    """
+    y = (x[0], x[1], x[2], x[3], x[4], x[5])
+    t = (tau[0], tau[1], tau[2])
+    for k in range(substeps):
+        k1 = _derivative(P, y, t, loads[2 * k])
+        k2 = _derivative(P, _axpy(y, h / 2, k1), t, loads[2 * k + 1])
+        k3 = _derivative(P, _axpy(y, h / 2, k2), t, loads[2 * k + 1])
+        k4 = _derivative(P, _axpy(y, h, k3), t, loads[2 * k + 2])
+        y = _axpy(_axpy(_axpy(_axpy(y, h / 6, k1), h / 3, k2), h / 3, k3), h / 6, k4)
+    return np.array(y)
+
+
+@_compile
+def jacobian(P, q):
+    """J (L̇_j = J·ω), (3, 3), at gait angles q in [rad], (3,); NaN rows where a lever cannot reach."""
+    J, _, _ = _jacobian_rows(P, _signed(P, q))
+    return np.array(J)
+
+
+@_compile
+def workspace_pd(P, q, qd, q_desired, qd_desired, kp, kd):
+    """Workspace PD motor torques (p/2π)·J⁻ᵀ·(K_p·Δq + K_d·Δq̇) in [N·m], (3,) (:class:`hipsim.control.WorkspacePD`).
+
+    Args:
+        P: the controller's machine.
+        q, qd: measured gait angles in [rad] and rates in [rad/s], (3,).
+        q_desired, qd_desired: desired ones, (3,).
+        kp: K_p per angle in [N·m/rad], (3,).
+        kd: K_d per angle in [N·m·s/rad], (3,).
+    """
+    error = (
+        kp[0] * (q_desired[0] - q[0]) + kd[0] * (qd_desired[0] - qd[0]),
+        kp[1] * (q_desired[1] - q[1]) + kd[1] * (qd_desired[1] - qd[1]),
+        kp[2] * (q_desired[2] - q[2]) + kd[2] * (qd_desired[2] - qd[2]),
+    )
+    moment = _signed(P, error)  # the moment acts on the platform, whose angles may be flipped
+    J, _, _ = _jacobian_rows(P, _signed(P, (q[0], q[1], q[2])))
+    J_inv_T = _inverse_transpose(J)
+    return np.array(_matvec(J_inv_T, moment)) * (P.lead / (2.0 * math.pi))
