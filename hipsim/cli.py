@@ -354,15 +354,17 @@ def build_parser() -> argparse.ArgumentParser:
         "simulate", help="closed-loop trajectory tracking: workspace PD and augmented PD on a plant",
         description="Simulates the servo loop: the controller runs at the servo rate on the measured platform state, "
         "its torques are held over each period and drive the plant's forward dynamics (RK4). Prints the tracking errors "
-        "of the three angles and the motor torques; writes desired and actual angles, errors and torques to CSV.",
+        "of the three angles and the motor torques; writes desired and actual angles, errors and torques to CSV. "
+        "The servo-loop kernels (controller law, reduced plant) are compiled with numba on the first run on a machine "
+        "(about 10 s) and cached.",
     )
     _add_machine_options(sim)
     _add_trajectory_options(sim)
     sim.add_argument("--controller", choices=["pd", "augmented-pd", "both"], default="both", help="controller (default both, one after the other)")
     sim.add_argument(
         "--plant", choices=["analytic", "pinocchio"], default="pinocchio",
-        help="pinocchio = closed-chain model (default), analytic = reduced 3-DOF model, compiled (about 5x faster; "
-        "the first run on a machine compiles it, ~10 s); they agree to 1e-11 deg",
+        help="pinocchio = closed-chain model (default), analytic = reduced 3-DOF model, compiled (about 5x faster); "
+        "they agree to 1e-11 deg",
     )
     sim.add_argument("--mismatch", metavar="SPEC", help="plant off from the controller's model, e.g. friction=+20%%,masses=-10%%")
     sim.add_argument("--servo-rate", type=float, metavar="HZ", help="servo rate (default control.servo_rate_Hz)")

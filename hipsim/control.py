@@ -67,16 +67,22 @@ class WorkspacePD:
 
     def __init__(self, params: Parameters, kp=None, kd=None):
         self.params = params
-        self.kp = np.asarray(params.control.kp if kp is None else kp, dtype=np.float64)
-        self.kd = np.asarray(params.control.kd if kd is None else kd, dtype=np.float64)
+        self.kp = _gains(params.control.kp if kp is None else kp, "kp")
+        self.kd = _gains(params.control.kd if kd is None else kd, "kd")
         self._kernel_params = reduced_kernel.kernel_parameters(params)
 
     def __call__(self, t: float, state: Sample, desired: Sample) -> np.ndarray:
         # Called once per servo period on one state: the compiled law of
         # hipsim.reduced_kernel, J in closed form, no NumPy overhead.
-        P = self._kernel_params
-        return reduced_kernel.workspace_pd(P, floats(state.q), floats(state.qd), floats(desired.q), floats(desired.qd), self.kp, self.kd)
+        q, qd = floats(state.q, (3,), "state.q"), floats(state.qd, (3,), "state.qd")
+        q_desired, qd_desired = floats(desired.q, (3,), "desired.q"), floats(desired.qd, (3,), "desired.qd")
+        return reduced_kernel.workspace_pd(self._kernel_params, q, qd, q_desired, qd_desired, self.kp, self.kd)
 
+
+def _gains(value, name: str) -> np.ndarray:
+    """Gains per angle, (3,); one number applies to all three."""
+    gains = floats(value, np.shape(value), name)
+    return np.full(3, float(gains)) if gains.ndim == 0 else floats(gains, (3,), name)
 
 
 def feedforward_torques(params: Parameters, desired: Trajectory) -> np.ndarray:

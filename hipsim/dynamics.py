@@ -299,8 +299,11 @@ def mass_and_bias(params: Parameters, trajectory: Trajectory, lever_spin: bool =
 
     Args:
         params: the machine.
-        trajectory: the states (q, q̇) and loads F_e, N samples.
-        lever_spin: as in :func:`inverse_dynamics`.
+        trajectory: the states (q, q̇) and loads F_e, N samples along a motion
+            (as everywhere, a det J sign change between samples counts as a crossing).
+        lever_spin: as in :func:`inverse_dynamics`, whose default (the spec's
+            spin-free levers) this keeps; :class:`hipsim.simulation.ReducedPlant`
+            uses True.
 
     Returns:
         M in [N·m·s²/rad], (N, 3, 3), and h in [N·m], (N, 3).

@@ -13,7 +13,7 @@ The vectorised model stays the reference: ``tests/test_reduced_kernel.py``
 checks :func:`torques`, :func:`mass_and_bias`, :func:`jacobian` and
 :func:`workspace_pd` against it to round-off on random states with every
 friction coefficient on, and the plant's agreement with the Pinocchio plant
-is tested in ``tests/test_simulation.py``. The names follow those modules, so
+is tested in ``tests/test_pinocchio_plant.py``. The names follow those modules, so
 each line here can be read against its vectorised counterpart.
 
 Conventions. Vectors are 3-tuples of floats (values, so nothing is allocated
@@ -25,19 +25,22 @@ NaN, which the servo loop reports as the plant leaving its workspace.
 
 The first call compiles the functions (~10 s); numba caches the machine code
 next to this file (or in its user-wide cache when that folder is read-only),
-so later processes load it in well under a second.
+so later processes load it in well under a second. Where neither can be
+written, the kernels are compiled in every process, with a warning.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 from collections import namedtuple
 from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
+from .exceptions import HipsimError
 from .parameters import Friction, Parameters
 
 __all__ = [
@@ -55,7 +58,24 @@ __all__ = [
 Vector = tuple  # (x, y, z) floats
 Matrix = tuple  # three rows
 
-_compile = njit(cache=True, error_model="numpy")  # error_model: x/0 gives inf/NaN like NumPy, not an exception
+def _compile(function):
+    """Compile with numba, caching the machine code where numba can write it.
+
+    ``error_model="numpy"``: x/0 gives inf or NaN as in NumPy instead of raising.
+    numba caches next to this file or, when that folder is read-only, in the
+    user's cache folder; when neither can be written it refuses to cache, and
+    the kernels are then compiled afresh in every process.
+    """
+    try:
+        return njit(cache=True, error_model="numpy")(function)
+    except RuntimeError:  # "cannot cache function ...: no locator available"
+        if not _compile.warned:
+            warnings.warn("hipsim: no writable numba cache folder; the reduced plant is compiled in every run (~10 s)", stacklevel=2)
+            _compile.warned = True
+        return njit(cache=False, error_model="numpy")(function)
+
+
+_compile.warned = False
 
 
 #: The friction coefficients as the kernels read them: the fields of :class:`Friction`, SI.
@@ -112,9 +132,22 @@ def kernel_parameters(params: Parameters, lever_spin: bool = True) -> KernelPara
     )
 
 
-def floats(x) -> np.ndarray:
-    """x as a float64 array (no copy if it is one): the public kernels are compiled for float64 arrays."""
-    return np.asarray(x, dtype=np.float64)
+def floats(x, shape: tuple[int, ...], name: str) -> np.ndarray:
+    """x as a float64 array of the given shape (no copy if it is one), to pass to the kernels.
+
+    The kernels are compiled for float64 arrays and, being compiled, do not
+    check bounds: a short array would be read past its end.
+
+    Raises:
+        HipsimError: naming the argument when x is not numbers of that shape.
+    """
+    try:
+        array = np.asarray(x, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise HipsimError(f"{name} must be numbers, got {x!r}") from None
+    if array.shape != shape:
+        raise HipsimError(f"{name} must have shape {shape}, got shape {array.shape}")
+    return array
 
 
 # --- 3-vectors as tuples --------------------------------------------------------------
@@ -240,9 +273,9 @@ class _LeverMotion(NamedTuple):
     e: Vector  # lever unit vector e_i
     w_perp: Vector  # lever angular velocity without spin [rad/s]
     centripetal: Vector  # ω × ȧ, the velocity part of ä [m/s²]
-    w_perp_sq: float  # l·|w_perp|², the centripetal part of e_z·L̈ [m/s²]
+    l_w_perp_sq: float  # l·|w_perp|², the centripetal part of e_z·L̈ [m/s²]
     omega_l: Vector  # lever angular velocity, with spin when P.lever_spin [rad/s]
-    spin: Vector  # (c, 1 − c², ω_⊥·u1, s) of hipsim.kinematics._lever_spin
+    spin: tuple  # (c, 1 − c², ω_⊥·u1, s) of hipsim.kinematics._lever_spin
     spin_rates: Vector  # ė = w_perp × e [1/s] ...
     c_dot: float  # ... and ċ = u1·ė [1/s]
     axes: Matrix  # rows: the lever's x, y, z axes (spec §7.1)
@@ -293,7 +326,7 @@ def _lever_acceleration(P, lever, i, omega_dot):
     """Leg i at platform acceleration ω̇: L̈_i, and its lever's gravity and D'Alembert wrench mapped to the ends."""
     l, e = P.lever_length, lever.e
     a_ddot = _add(_cross(omega_dot, lever.r), lever.centripetal)
-    Ldd = (_dot(e, a_ddot) + lever.w_perp_sq) / e[2]
+    Ldd = (_dot(e, a_ddot) + lever.l_w_perp_sq) / e[2]
     omega_l_dot = _scale(_cross(e, (a_ddot[0], a_ddot[1], a_ddot[2] - Ldd)), 1.0 / l)
     if P.lever_spin:
         c, d, w, s = lever.spin

@@ -79,36 +79,48 @@ class ReducedPlant:
 
     def __init__(self, params: Parameters, lever_spin: bool = True):
         self.params = params
-        self.lever_spin = lever_spin
+        self._lever_spin = bool(lever_spin)
         self._kernel_params = reduced_kernel.kernel_parameters(params, lever_spin)
+
+    @property
+    def lever_spin(self) -> bool:
+        """Whether the levers spin as their universal joints impose (fixed at construction)."""
+        return self._lever_spin
 
     def mass_and_bias(self, q: np.ndarray, qd: np.ndarray, Fe: float) -> tuple[np.ndarray, np.ndarray]:
         """M(q) in [N·m·s²/rad] (3, 3) and h(q, q̇, F_e) in [N·m] (3,) with τ = M·q̈ + h.
+
+        NaN where a lever cannot reach; :func:`hipsim.dynamics.mass_and_bias`
+        gives the same along a trajectory and names the time of a bad pose.
 
         Args:
             q: orientation in [rad], (3,).
             qd: its rate in [rad/s], (3,).
             Fe: load in [N].
         """
-        return reduced_kernel.mass_and_bias(self._kernel_params, floats(q), floats(qd), float(Fe))
+        return reduced_kernel.mass_and_bias(self._kernel_params, floats(q, (3,), "q"), floats(qd, (3,), "qd"), float(Fe))
 
     def initial_state(self, desired: Trajectory) -> np.ndarray:
         return np.concatenate([desired.q[0], desired.qd[0]])
 
     def derivative(self, t: float, x: np.ndarray, tau: np.ndarray, Fe: float) -> np.ndarray:
-        return reduced_kernel.derivative(self._kernel_params, floats(x), floats(tau), float(Fe))
+        return reduced_kernel.derivative(self._kernel_params, floats(x, (6,), "state x"), floats(tau, (3,), "tau"), float(Fe))
 
     def advance(self, t: float, x: np.ndarray, tau: np.ndarray, loads: np.ndarray, h: float, substeps: int) -> np.ndarray:
         """The state after ``substeps`` RK4 steps of h [s] from x at time t [s], under motor torques tau [N·m].
 
         ``loads`` are the loads F_e in [N] at every half step, (2·substeps + 1,).
+        The steps run compiled; a subclass that overrides :meth:`derivative`
+        is stepped through its own derivative instead.
         """
-        P = self._kernel_params
-        return reduced_kernel.advance(P, floats(x), floats(tau), floats(loads), float(h), int(substeps))
+        if type(self).derivative is not ReducedPlant.derivative:
+            return _rk4(self, t, x, tau, loads, h, substeps)
+        x, tau = floats(x, (6,), "state x"), floats(tau, (3,), "tau")
+        loads = floats(loads, (2 * substeps + 1,), "loads")
+        return reduced_kernel.advance(self._kernel_params, x, tau, loads, float(h), int(substeps))
 
     def angles(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return x[:3], x[3:]
-
 
 
 @dataclass(frozen=True, eq=False)

@@ -129,3 +129,33 @@ def test_mismatch_parsing(params):
 def test_step_longer_than_servo_period_is_refused(params):
     with pytest.raises(HipsimError, match="longer than the servo period"):
         simulate(ReducedPlant(params), WorkspacePD(params), iso14242_at, 0.01, step=2e-3)
+
+
+def test_plant_and_controller_refuse_states_of_the_wrong_shape(params):
+    plant, pd = ReducedPlant(params), WorkspacePD(params)
+    with pytest.raises(HipsimError, match=r"state x must have shape \(6,\)"):
+        plant.derivative(0.0, np.zeros(5), np.zeros(3), 0.0)
+    with pytest.raises(HipsimError, match=r"loads must have shape \(5,\)"):
+        plant.advance(0.0, np.zeros(6), np.zeros(3), np.zeros(4), 2.5e-4, 2)
+    with pytest.raises(HipsimError, match=r"state.q must have shape \(3,\)"):
+        pd(0.0, Sample(np.zeros((1, 3)), np.zeros(3)), Sample(np.zeros(3), np.zeros(3)))
+    with pytest.raises(HipsimError, match=r"kd must have shape \(3,\)"):
+        WorkspacePD(params, kd=[1.0, 2.0])
+
+
+def test_one_gain_applies_to_every_angle(params):
+    state, desired = Sample(np.radians([5.0, 1.0, -2.0]), np.zeros(3)), Sample(np.radians([6.0, 0.0, -1.0]), np.ones(3))
+    np.testing.assert_array_equal(WorkspacePD(params, kp=150.0, kd=2)(0.0, state, desired), WorkspacePD(params, kp=[150.0] * 3, kd=[2.0] * 3)(0.0, state, desired))
+
+
+def test_a_plant_subclass_is_stepped_through_its_own_derivative(params):
+    """simulate() integrates the reduced plant compiled, unless a subclass changes its derivative."""
+
+    class Disturbed(ReducedPlant):
+        def derivative(self, t, x, tau, Fe):
+            return super().derivative(t, x, tau + np.array([0.5, 0.0, 0.0]), Fe)
+
+    pd = WorkspacePD(params)
+    plain = simulate(ReducedPlant(params), pd, iso14242_at, 0.02)
+    disturbed = simulate(Disturbed(params), pd, iso14242_at, 0.02)
+    assert np.abs(disturbed.q - plain.q).max() > 1e-6
