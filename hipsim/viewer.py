@@ -21,12 +21,9 @@ A few lines show any configuration or trajectory::
 
     Viewer(serve=False).record(trajectory)           # the page only, no server
 
-The live server (meshcat's ZMQ and web servers) listens on the loopback
-interface only. The offline page is built here from the scene, without a
-server: three.js and the meshcat viewer inlined, every mesh and the
-recorded animation as data in the page, nothing fetched from the network.
-Append ``#t=0.25`` to the page's address to open it paused at 0.25 s of the
-animation.
+Where the scene goes, the live server on 127.0.0.1 or the self-contained
+offline page (``#t=0.25`` after its address opens it paused at 0.25 s), is
+:mod:`hipsim.meshcat_output`.
 
 Shown with ``forces``: the motor force on each screw's carriage (magenta,
 along the screw, leaving the carriage in the direction of the force) and the
@@ -36,32 +33,17 @@ the closed-chain inverse dynamics, drawn at a stated scale in mm per N. With
 (the inverse condition number of J, one value for the whole machine): red at
 0 (singular), yellow at 0.25, lime green at 0.5 and above.
 
-The human model (``human=True``, example-robot-data's ``human`` URDF) stands
-beside the machine; its right hip turns exactly as the platforms do. Machine
-axes map onto the body as X → the subject's right, Y → anterior, Z →
-superior, so α (about X) is flexion, β (about Y) adduction and γ (about Z)
-internal rotation, each positive (ISB convention for a right hip). The
-femur's orientation relative to the pelvis is then R = Rz(γ)·Ry(β)·Rx(α)
-expressed in the pelvis axes, decomposed into the model's hip joints, which
-follow the ISB joint coordinate system (right_hip_Z flexion, right_hip_X
-about −X so positive is abduction, right_hip_Y internal rotation): see
-:func:`human_hip_angles`. The angles used are the platform's (the parameter
-set's angle_signs applied), so the thigh always turns exactly as the
-platforms do.
+With ``human=True`` example-robot-data's human model stands beside the
+machine, its right hip turning exactly as the platforms do: how the machine's
+angles map onto the hip is :mod:`hipsim.human`.
 
 Not thread-safe: use one Viewer from one thread at a time.
 """
 
 from __future__ import annotations
 
-import base64
 import math
-import os
-import shutil
-import subprocess
 import sys
-import tempfile
-import threading
 import time
 import warnings
 from dataclasses import dataclass
@@ -71,11 +53,16 @@ from typing import Callable, TextIO
 import numpy as np
 import pinocchio as pin
 
-from .exceptions import HipsimError, ModelError
+from .exceptions import HipsimError
 from .files import write_atomic
+from .human import HIP_JOINTS, HUMAN_PELVIS_POSITION, HUMAN_PELVIS_ROTATION, human_hip_angles, load_human
+from .meshcat_output import DiscreteAnimation, LiveWindow, OfflineWindow, Server, TeeWindow, find_browser, offline_page, screenshot
 from .parameters import Parameters, load_parameters
 from .trajectories import Trajectory, interpolator
 
+# human_hip_angles and load_human live in hipsim.human, find_browser and screenshot in
+# hipsim.meshcat_output; they stay in __all__ here so that code importing them from
+# hipsim.viewer, as it could before the split, keeps working.
 __all__ = [
     "Motion",
     "Viewer",
@@ -100,55 +87,12 @@ JOINT_FORCE_COLOUR = (0.05, 0.75, 0.85)
 #: Singularity colour map: (inverse condition number, RGB) stops, clamped beyond the ends.
 SINGULARITY_STOPS = ((0.0, (0.85, 0.10, 0.10)), (0.25, (0.95, 0.85, 0.10)), (0.5, (0.45, 0.90, 0.10)))
 
-# Human model placement: pelvis axes (ISB: x anterior, y superior, z right) in world axes.
-# Columns are the world images of the pelvis axes: x_p -> +Y, y_p -> +Z, z_p -> +X.
-HUMAN_PELVIS_ROTATION = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
-#: Where the human's pelvis frame stands, in [m]: beside the machine (on its +Y side, facing +Y), feet on the floor.
-HUMAN_PELVIS_POSITION = np.array([0.0, 0.9, 1.056])
-_HUMAN_URDF = "example-robot-data/robots/human_description/robots/human.urdf"
-_HIP_JOINTS = ("right_hip_Z", "right_hip_X", "right_hip_Y")
-
 _MACHINE_ROOT = "hipsim/machine"
 _HUMAN_ROOT = "hipsim/human"
 _FORCES_ROOT = "hipsim/forces"
 
 # Camera: orbit target and camera position in world axes [m].
 _CAMERA = {False: ((0.0, 0.0, 0.62), (1.0, 1.2, 1.15)), True: ((0.0, 0.45, 0.72), (2.1, 0.95, 1.25))}
-
-# The meshcat server, run as a child process: meshcat's own ZMQ/web bridge, with
-# its web server bound to 127.0.0.1 (meshcat binds it to every interface and
-# uses host only in the URL) and its ZMQ socket on tcp://127.0.0.1. It exits
-# when its standard input closes, i.e. when the parent goes away, however.
-_SERVER_CODE = r"""
-import os, sys, threading
-from meshcat.servers import zmqserver
-
-class LoopbackBridge(zmqserver.ZMQWebSocketBridge):
-    def make_app(self):
-        app = super().make_app()
-        listen = app.listen
-        def listen_on_loopback(port, **kwargs):
-            kwargs["address"] = "127.0.0.1"
-            return listen(port, **kwargs)
-        app.listen = listen_on_loopback
-        return app
-
-def watch_parent():
-    try:
-        while sys.stdin.buffer.read(65536):
-            pass
-    finally:
-        os._exit(0)
-
-threading.Thread(target=watch_parent, daemon=True).start()
-bridge = LoopbackBridge(host="127.0.0.1")
-print("zmq_url=" + bridge.zmq_url, flush=True)
-print("web_url=" + bridge.web_url, flush=True)
-try:
-    bridge.run()
-except KeyboardInterrupt:
-    pass
-"""
 
 
 # ---------------------------------------------------------------------------
@@ -194,70 +138,6 @@ def force_scale_for(peak_force: float, longest: float = LONGEST_ARROW) -> float:
 
 def _scale_text(scale: float) -> str:
     return f"{scale * 1e3:g} mm per N"
-
-
-def human_hip_angles(R: np.ndarray) -> np.ndarray:
-    """The human model's right-hip joint values that turn its femur exactly as the platforms turn.
-
-    With the pelvis placed by :data:`HUMAN_PELVIS_ROTATION` (machine X = the
-    subject's right, Y = anterior, Z = superior), the femur's world rotation
-    equals the platform's R when its rotation relative to the pelvis is
-    R_h = Cᵀ·R·C, C = HUMAN_PELVIS_ROTATION. The model's hip is
-    R_h = Rz(z)·R₋ₓ(x)·Ry(y) (joints right_hip_Z about +z, right_hip_X about
-    −x, right_hip_Y about +y), so with b = −x: R_h = Rz(z)·Rx(b)·Ry(y) and
-    sin b = R_h[2,1], y = atan2(−R_h[2,0], R_h[2,2]), z = atan2(−R_h[0,1], R_h[1,1]).
-
-    One angle at a time, z = α (flexion), x = −β (β > 0 is adduction, the
-    model's right_hip_X > 0 abduction), y = γ (internal rotation). Combined,
-    they differ: the machine's R turns about the fixed vertical first (γ) and
-    flexes last, the ISB hip flexes first and rotates about the femur last.
-    Along the built-in ISO cycle the model's adduction differs from β by up to
-    4.8° (it spans +5.0°/−4.1° where β spans +7°/−4°), its rotation from γ by
-    up to 1.9° and its flexion from α by up to 0.9°: the human shows the
-    motion the rig actually produces.
-
-    Args:
-        R: platform rotations, shape (3, 3) or (N, 3, 3).
-
-    Returns:
-        [right_hip_Z, right_hip_X, right_hip_Y] in [rad], shape (3,) or (N, 3).
-    """
-    R = np.asarray(R, dtype=float)
-    C = HUMAN_PELVIS_ROTATION
-    Rh = np.einsum("ji,...jk,kl->...il", C, R, C)
-    b = np.arcsin(np.clip(Rh[..., 2, 1], -1.0, 1.0))
-    y = np.arctan2(-Rh[..., 2, 0], Rh[..., 2, 2])
-    z = np.arctan2(-Rh[..., 0, 1], Rh[..., 1, 1])
-    return np.stack([z, -b, y], axis=-1)
-
-
-def _human_urdf() -> tuple[Path, Path]:
-    """(human.urdf, the share folder that resolves its package:// meshes)."""
-    candidates = []
-    try:
-        from importlib import metadata
-
-        candidates.append(Path(metadata.distribution("example-robot-data").locate_file("cmeel.prefix/share")))
-    except Exception:  # noqa: BLE001 - any failure: try the paths below
-        pass
-    candidates += [Path(p) / "cmeel.prefix" / "share" for p in sys.path if p]
-    candidates += [Path(sys.prefix) / "share", Path("/opt/openrobots/share"), Path("/usr/share")]
-    for share in candidates:
-        if (share / _HUMAN_URDF).is_file():
-            return share / _HUMAN_URDF, share
-    raise ModelError("cannot find example-robot-data's human model (pip install example-robot-data)")
-
-
-def load_human() -> tuple[pin.Model, pin.GeometryModel]:
-    """example-robot-data's human model (life size) and its visual geometry.
-
-    Raises:
-        ModelError: example-robot-data is not installed.
-    """
-    urdf, share = _human_urdf()
-    model = pin.buildModelFromUrdf(str(urdf))
-    visual = pin.buildGeomFromUrdf(model, str(urdf), pin.GeometryType.VISUAL, package_dirs=[str(share)])
-    return model, visual
 
 
 def _rotation_y_to(d: np.ndarray) -> np.ndarray:
@@ -353,171 +233,6 @@ def _resample(trajectory: Trajectory, rate: float) -> tuple[Trajectory, bool]:
 
 
 # ---------------------------------------------------------------------------
-# Windows: where meshcat commands go
-# ---------------------------------------------------------------------------
-
-
-class _OfflineWindow:
-    """A meshcat window without a server: keeps the scene tree the server would keep, to write a page."""
-
-    def __init__(self):
-        from meshcat.servers.tree import SceneTree
-
-        self.tree = SceneTree()
-        self.web_url = None
-        self.server_proc = None
-
-    def send(self, command) -> None:
-        import umsgpack
-        from meshcat.servers.tree import SceneTree, find_node
-
-        data = command.lower()
-        kind = data["type"]
-        path = [p for p in data.get("path", "").split("/") if p]
-        packed = umsgpack.packb(data)
-        if kind == "delete":
-            if path:
-                parent = find_node(self.tree, path[:-1])
-                parent.pop(path[-1], None)
-            else:
-                self.tree = SceneTree()
-            return
-        node = find_node(self.tree, path)
-        if kind == "set_object":
-            node.object, node.properties = packed, []
-        elif kind == "set_transform":
-            node.transform = packed
-        elif kind == "set_property":
-            node.properties.append(packed)
-        elif kind == "set_animation":
-            node.animation = packed
-
-    def commands(self) -> list[bytes]:
-        """The scene as meshcat commands: objects, properties, transforms, then the animations.
-
-        Animations go last so that they bind to the objects they animate.
-        """
-        from meshcat.servers.tree import walk
-
-        out, animations = [], []
-        for node in walk(self.tree):
-            if node.object is not None:
-                out.append(node.object)
-            out.extend(node.properties)
-            if node.transform is not None:
-                out.append(node.transform)
-            if node.animation is not None:
-                animations.append(node.animation)
-        return out + animations
-
-    def close(self) -> None:
-        pass
-
-
-class _LiveWindow:
-    """A meshcat window talking to a meshcat server over ZMQ (meshcat's ViewerWindow, without its prints)."""
-
-    def __init__(self, zmq_url: str, web_url: str, timeout_s: float = 30.0):
-        import zmq
-
-        self.zmq_url, self.web_url, self.server_proc = zmq_url, web_url, None
-        self.context = zmq.Context.instance()
-        self.socket = self.context.socket(zmq.REQ)
-        self.socket.setsockopt(zmq.LINGER, 0)
-        self.socket.setsockopt(zmq.RCVTIMEO, int(timeout_s * 1000))
-        self.socket.setsockopt(zmq.SNDTIMEO, int(timeout_s * 1000))
-        self.socket.connect(zmq_url)
-        # ZMQ sockets must not be used from two threads at once: one request at a time.
-        self._lock = threading.Lock()
-
-    def send(self, command) -> None:
-        import umsgpack
-        import zmq
-
-        data = command.lower()
-        frames = [data["type"].encode("utf-8"), data["path"].encode("utf-8"), umsgpack.packb(data)]
-        with self._lock:
-            if self.socket is None:
-                raise HipsimError("the viewer is closed")
-            try:
-                self.socket.send_multipart(frames)
-                self.socket.recv()
-            except zmq.Again:
-                raise HipsimError(f"the meshcat server at {self.zmq_url} does not answer") from None
-
-    def close(self) -> None:
-        with self._lock:
-            if self.socket is not None:
-                self.socket.close(linger=0)
-                self.socket = None
-
-
-class _TeeWindow:
-    """Sends every command to the live server and keeps the same scene offline (for :meth:`Viewer.record`)."""
-
-    def __init__(self, live: _LiveWindow, offline: _OfflineWindow):
-        self.live, self.offline = live, offline
-        self.web_url, self.server_proc = live.web_url, None
-
-    def send(self, command) -> None:
-        self.offline.send(command)
-        self.live.send(command)
-
-    def close(self) -> None:
-        self.live.close()
-
-
-class _Server:
-    """A meshcat server in a child process, on 127.0.0.1; ended by :meth:`close` or when this process ends."""
-
-    def __init__(self, timeout_s: float = 30.0):
-        self._log = tempfile.TemporaryFile()
-        env = dict(os.environ, PYTHONUNBUFFERED="1")
-        self.process = subprocess.Popen(
-            [sys.executable, "-u", "-c", _SERVER_CODE],
-            stdin=subprocess.PIPE,
-            stdout=subprocess.PIPE,
-            stderr=self._log,
-            env=env,
-            start_new_session=True,  # Ctrl-C in a terminal reaches this process, which then ends the server
-        )
-        self.zmq_url = self.web_url = None
-        lines = []
-        deadline = time.monotonic() + timeout_s
-        while self.web_url is None:
-            line = self.process.stdout.readline().decode("utf-8", "replace").strip()
-            if not line:
-                if self.process.poll() is not None or time.monotonic() > deadline:
-                    self.close()
-                    self._log.seek(0)
-                    detail = self._log.read().decode("utf-8", "replace").strip().splitlines()[-3:]
-                    raise HipsimError("the meshcat server did not start: " + (" / ".join(detail) or "no output"))
-                continue
-            lines.append(line)
-            if line.startswith("zmq_url="):
-                self.zmq_url = line.split("=", 1)[1]
-            elif line.startswith("web_url="):
-                self.web_url = line.split("=", 1)[1]
-
-    @property
-    def pid(self) -> int:
-        return self.process.pid
-
-    def close(self) -> None:
-        if self.process.poll() is None:
-            self.process.terminate()
-            try:
-                self.process.wait(timeout=5)
-            except subprocess.TimeoutExpired:
-                self.process.kill()
-                self.process.wait()
-        for stream in (self.process.stdin, self.process.stdout):
-            if stream is not None:
-                stream.close()
-        self._log.close()
-
-
-# ---------------------------------------------------------------------------
 # Geometry the models do not have: arrows
 # ---------------------------------------------------------------------------
 
@@ -558,98 +273,6 @@ def _arrow_pose(tail: np.ndarray, force: np.ndarray, scale: float):
 
 
 # ---------------------------------------------------------------------------
-# The offline page
-# ---------------------------------------------------------------------------
-
-
-def _discrete_animation_class():
-    from meshcat.animation import Animation
-
-    class DiscreteAnimation(Animation):
-        """meshcat's Animation with step interpolation: each key holds until the next (three.js InterpolateDiscrete)."""
-
-        def lower(self):
-            lowered = super().lower()
-            for entry in lowered:
-                for track in entry["clip"]["tracks"]:
-                    track["interpolation"] = 2300  # THREE.InterpolateDiscrete
-            return lowered
-
-    return DiscreteAnimation
-
-
-def _DiscreteAnimation(default_framerate: float):
-    return _discrete_animation_class()(default_framerate=default_framerate)
-
-
-_PAGE = """<!DOCTYPE html>
-<html>
-<head>
-<meta charset="utf-8">
-<title>{title}</title>
-<style>
-  body {{ margin: 0; }}
-  #meshcat-pane {{ width: 100vw; height: 100vh; overflow: hidden; }}
-  #hipsim-legend {{ position: absolute; left: 10px; bottom: 10px; max-width: 60vw; padding: 6px 10px;
-    font: 13px/1.4 sans-serif; color: #222; background: rgba(255, 255, 255, 0.8); border-radius: 4px; }}
-</style>
-</head>
-<body>
-<div id="meshcat-pane"></div>
-<div id="hipsim-legend">{legend}</div>
-<script>
-{viewer_js}
-</script>
-<script>
-var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
-(function () {{
-  // The scene, in order: objects, properties, transforms, then the animation.
-  var commands = [
-{commands}
-  ];
-  for (var k = 0; k < commands.length; k++) {{
-    var text = atob(commands[k]);
-    var bytes = new Uint8Array(text.length);
-    for (var i = 0; i < text.length; i++) bytes[i] = text.charCodeAt(i);
-    viewer.handle_command_bytearray(bytes);
-  }}
-}})();
-// Open paused at a time of the animation: page.html#t=0.25 (seconds).
-function hipsimSeek() {{
-  var match = /[#&]t=([-+0-9.eE]+)/.exec(window.location.hash);
-  if (!match) return;
-  var time = parseFloat(match[1]);
-  var animator = viewer.animator;
-  animator.pause();
-  animator.seek(time);
-  animator.display_progress(time);
-  document.title = "{title} (t = " + time + " s)";
-}}
-hipsimSeek();
-window.addEventListener("hashchange", hipsimSeek);
-</script>
-</body>
-</html>
-"""
-
-
-def _page(commands: list[bytes], title: str, legend: list[str]) -> str:
-    """A self-contained page: meshcat's viewer script inlined and the scene's commands as base64 data."""
-    import html
-
-    import meshcat
-
-    viewer_js = (Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js").read_text(encoding="utf-8")
-    encoded = ",\n".join(f'"{base64.b64encode(c).decode("ascii")}"' for c in commands)
-    return _PAGE.format(
-        title=html.escape(title),
-        legend="<br>".join(legend),
-        viewer_js=viewer_js.replace("</script", "<\\/script"),
-        commands=encoded,
-    )
-
-
-# ---------------------------------------------------------------------------
 # The viewer
 # ---------------------------------------------------------------------------
 
@@ -684,10 +307,10 @@ class Viewer:
         self._server = None
         self._window = None
         try:
-            self._offline = _OfflineWindow()
+            self._offline = OfflineWindow()
             if serve:
-                self._server = _Server()
-                self._window = _TeeWindow(_LiveWindow(self._server.zmq_url, self._server.web_url), self._offline)
+                self._server = Server()
+                self._window = TeeWindow(LiveWindow(self._server.zmq_url, self._server.web_url), self._offline)
             else:
                 self._window = self._offline
             self.vis = meshcat.Visualizer(window=self._window)
@@ -733,12 +356,12 @@ class Viewer:
         model, visual = load_human()
         self._human_model, self._human_visual = model, visual
         self._human_data, self._human_gdata = model.createData(), visual.createData()
-        self._hip_q = np.array([model.joints[model.getJointId(name)].idx_q for name in _HIP_JOINTS])
+        self._hip_q = np.array([model.joints[model.getJointId(name)].idx_q for name in HIP_JOINTS])
         self._human_viz = visualizer_class(model, None, visual)
         self._human_viz.initViewer(viewer=self.vis)
         self._human_viz.loadViewerModel(rootNodeName=_HUMAN_ROOT)
         # The right leg moves: geometry below right_hip_Z.
-        leg = set(model.subtrees[model.getJointId(_HIP_JOINTS[0])])
+        leg = set(model.subtrees[model.getJointId(HIP_JOINTS[0])])
         self._human_moving = [
             (k, f"{_HUMAN_ROOT}/visuals/{g.name}", np.asarray(g.meshScale, dtype=float))
             for k, g in enumerate(visual.geometryObjects) if g.parentJoint in leg
@@ -1085,7 +708,7 @@ class Viewer:
 
         self._offline.send(SetAnimation(animation, play=True, repetitions=float("inf")))
         try:
-            return _page(self._offline.commands(), title or f"hipsim: {motion.name}", self._legend(motion))
+            return offline_page(self._offline.commands(), title or f"hipsim: {motion.name}", self._legend(motion))
         finally:
             self._offline.tree.animation = None
 
@@ -1095,7 +718,7 @@ class Viewer:
         # Show the first frame: the scene then holds each node's scale (animations keep the scale they find).
         self._show_frame(motion, 0, scale)
         self._colour_levers(None)
-        animation = _DiscreteAnimation(default_framerate=motion.fps)
+        animation = DiscreteAnimation(default_framerate=motion.fps)
         lever_paths = [f"{_MACHINE_ROOT}/visuals/{self.chain.visual_model.geometryObjects[g].name}/<object>" for g in self._levers]
         for k in range(len(motion)):
             poses = self._poses(motion.q[k], motion.hip[k], motion.F_act[k] if forces else None, motion.F_joint[k] if forces else None, scale)
@@ -1258,72 +881,3 @@ def _notes(viewer: Viewer, motion: Motion) -> list[str]:
     if viewer.human:
         lines.append("human model: its right hip turns as the platforms do (alpha flexion, beta adduction, gamma internal rotation)")
     return lines
-
-
-# ---------------------------------------------------------------------------
-# Screenshots of the offline page (tests, docs)
-# ---------------------------------------------------------------------------
-
-_BROWSERS = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable")
-
-
-def find_browser() -> str | None:
-    """Path of a Chromium (or Chrome) executable on PATH, or None."""
-    for name in _BROWSERS:
-        path = shutil.which(name)
-        if path:
-            return path
-    return None
-
-
-def screenshot(
-    page: str | Path,
-    out: str | Path,
-    time_s: float | None = None,
-    size: tuple[int, int] = (900, 700),
-    browser: str | None = None,
-    timeout_s: float = 90.0,
-) -> Path:
-    """Render an offline page (from :meth:`Viewer.record`) in headless Chromium and save a PNG.
-
-    The browser gets no network (a dead proxy, no name resolution) and
-    renders WebGL in software (SwiftShader).
-
-    Args:
-        page: the HTML file.
-        out: the PNG to write.
-        time_s: animation time to pause at, in [s] (the page's ``#t=`` address); None: as it loads.
-        size: window width and height in pixels.
-        browser: the executable; default :func:`find_browser`.
-        timeout_s: give up after this long.
-
-    Returns:
-        The PNG's path.
-
-    Raises:
-        HipsimError: no browser, or it wrote no image.
-    """
-    browser = browser or find_browser()
-    if browser is None:
-        raise HipsimError("no Chromium found (apt-get install chromium)")
-    out = Path(out).resolve()
-    out.unlink(missing_ok=True)
-    url = Path(page).resolve().as_uri() + (f"#t={float(time_s)!r}" if time_s is not None else "")
-    with tempfile.TemporaryDirectory(prefix="hipsim-chromium-") as profile:
-        args = [
-            browser, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-            "--disable-background-networking", "--disable-component-update", "--disable-sync",
-            "--disable-extensions", "--hide-scrollbars", "--mute-audio", f"--user-data-dir={profile}",
-            "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
-            "--proxy-server=127.0.0.1:9", "--host-resolver-rules=MAP * ~NOTFOUND",
-            f"--window-size={int(size[0])},{int(size[1])}", "--virtual-time-budget=4000",
-            f"--screenshot={out}", url,
-        ]  # fmt: skip
-        try:
-            run = subprocess.run(args, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, timeout=timeout_s)
-        except subprocess.TimeoutExpired:
-            raise HipsimError(f"{browser} did not finish the screenshot of {page} in {timeout_s:g} s") from None
-    if not out.is_file():
-        tail = run.stderr.decode("utf-8", "replace").strip().splitlines()[-3:]
-        raise HipsimError(f"{browser} wrote no screenshot of {page}: " + " / ".join(tail))
-    return out

@@ -1,4 +1,7 @@
-"""The meshcat viewer: closed frames, the offline page in a real browser, the live server, the human model."""
+"""The meshcat viewer: closed frames, forces and colours, the recorded page (also in a real browser), the human beside the machine.
+
+The human model itself is tested in test_human.py, the live server and the page builder in test_meshcat_output.py.
+"""
 
 from __future__ import annotations
 
@@ -7,11 +10,7 @@ import io
 import math
 import os
 import re
-import signal
-import subprocess
-import sys
 import time
-import urllib.request
 from pathlib import Path
 
 import numpy as np
@@ -22,21 +21,12 @@ from hipsim.kinematics import kinematics as analytic_kinematics
 from hipsim.kinematics import rotation_matrix
 from hipsim.parameters import load_parameters
 from hipsim.pinocchio_model import closure_residuals
+from hipsim.human import HUMAN_PELVIS_POSITION, HUMAN_PELVIS_ROTATION
+from hipsim.meshcat_output import find_browser, screenshot
 from hipsim.trajectories import interpolator, iso14242
-from hipsim.viewer import (
-    HUMAN_PELVIS_ROTATION,
-    Viewer,
-    find_browser,
-    force_scale_for,
-    human_hip_angles,
-    load_human,
-    run_view,
-    screenshot,
-    singularity_colour,
-)
+from hipsim.viewer import Viewer, force_scale_for, run_view, singularity_colour
 from support import SmoothMotion
 
-REPO = Path(__file__).resolve().parents[1]
 FPS = 30.0
 
 
@@ -129,70 +119,25 @@ def patch(image: np.ndarray, pixel, radius: int = 5) -> np.ndarray:
     return image[max(row - radius, 0) : row + radius + 1, max(col - radius, 0) : col + radius + 1].reshape(-1, 3)
 
 
-def listening_sockets(pid: int | None = None) -> list[tuple[str, int]]:
-    """(address, port) of the TCP sockets in LISTEN state, of one process or of all, from /proc."""
-    inodes = None
-    if pid is not None:
-        inodes = set()
-        for fd in Path(f"/proc/{pid}/fd").iterdir():
-            try:
-                target = os.readlink(fd)
-            except OSError:
-                continue
-            if target.startswith("socket:["):
-                inodes.add(target[8:-1])
-    out = []
-    for table, v6 in (("/proc/net/tcp", False), ("/proc/net/tcp6", True)):
-        try:
-            lines = Path(table).read_text().splitlines()[1:]
-        except OSError:
-            continue
-        for line in lines:
-            fields = line.split()
-            local, state, inode = fields[1], fields[3], fields[9]
-            if state != "0A" or (inodes is not None and inode not in inodes):
-                continue
-            address, port = local.split(":")
-            raw = bytes.fromhex(address)
-            if v6:
-                # Four 32-bit words, each in host (little-endian) order.
-                raw = b"".join(raw[k : k + 4][::-1] for k in range(0, 16, 4))
-                import ipaddress
-
-                text = str(ipaddress.IPv6Address(raw))
-            else:
-                text = ".".join(str(b) for b in raw[::-1])
-            out.append((text, int(port, 16)))
-    return out
+# ---------------------------------------------------------------------------
+# The module's names
+# ---------------------------------------------------------------------------
 
 
-def children(pid: int) -> list[int]:
-    found = []
-    for stat in Path("/proc").glob("[0-9]*/stat"):
-        try:
-            fields = stat.read_text().rsplit(")", 1)[1].split()
-        except OSError:
-            continue
-        if int(fields[1]) == pid:
-            found.append(int(stat.parent.name))
-    return found
+def test_moved_names_still_import_from_the_viewer():
+    """hipsim.viewer offers the same objects as hipsim.human (human_hip_angles, load_human) and hipsim.meshcat_output (find_browser, screenshot)."""
+    import hipsim.human
+    import hipsim.meshcat_output
+    import hipsim.viewer
 
-
-def alive(pid: int) -> bool:
-    try:
-        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
-    except OSError:
-        return False
-    return state != "Z"
-
-
-def wait_until(condition, timeout: float) -> bool:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        if condition():
-            return True
-        time.sleep(0.05)
-    return condition()
+    assert sorted(hipsim.viewer.__all__) == [
+        "Motion", "Viewer", "find_browser", "force_scale_for", "human_hip_angles", "load_human", "run_view", "screenshot", "singularity_colour",
+    ]  # fmt: skip
+    namespace = {}
+    exec("from hipsim.viewer import *", namespace)
+    assert set(hipsim.viewer.__all__) <= set(namespace)
+    assert namespace["human_hip_angles"] is hipsim.human.human_hip_angles and namespace["load_human"] is hipsim.human.load_human
+    assert namespace["find_browser"] is hipsim.meshcat_output.find_browser and namespace["screenshot"] is hipsim.meshcat_output.screenshot
 
 
 # ---------------------------------------------------------------------------
@@ -304,69 +249,8 @@ def test_run_view_writes_the_page(tmp_path):
 
 
 # ---------------------------------------------------------------------------
-# The human model
+# The human beside the machine
 # ---------------------------------------------------------------------------
-
-
-@pytest.fixture(scope="module")
-def human():
-    model, _ = load_human()
-    return model, model.createData()
-
-
-def _human_pose(human, alpha, beta, gamma):
-    model, data = human
-    R = rotation_matrix(np.radians([[alpha, beta, gamma]]))[0]
-    angles = human_hip_angles(R)
-    q = pin.neutral(model)
-    for name, value in zip(("right_hip_Z", "right_hip_X", "right_hip_Y"), angles):
-        q[model.joints[model.getJointId(name)].idx_q] = value
-    pin.forwardKinematics(model, data, q)
-    C = HUMAN_PELVIS_ROTATION
-    joint = {name: data.oMi[model.getJointId(name)] for name in ("right_hip_Z", "right_hip_Y", "right_knee_Z", "right_ankle_X")}
-    femur = C @ joint["right_hip_Y"].rotation @ C.T  # femur rotation, world axes, relative to standing
-    knee = C @ (joint["right_knee_Z"].translation - joint["right_hip_Z"].translation)  # world axes
-    toes = C @ joint["right_ankle_X"].rotation[:, 0]  # the foot's anterior axis, world axes
-    return R, angles, femur, knee, toes
-
-
-def test_human_model_hip_axes_are_as_documented(human):
-    """The URDF's right hip: Z (mediolateral, +z to the right) flexion, X about −x, Y about +y; ISB pelvis axes."""
-    model, _ = human
-    axes = {}
-    for name in ("right_hip_Z", "right_hip_X", "right_hip_Y", "left_hip_Z"):
-        joint = model.joints[model.getJointId(name)]
-        axes[name] = joint.shortname()
-    assert axes["right_hip_Z"] == "JointModelRZ"
-    assert axes["right_hip_X"] in ("JointModelRX", "JointModelRevoluteUnaligned")
-    data = model.createData()
-    pin.forwardKinematics(model, data, pin.neutral(model))
-    right = data.oMi[model.getJointId("right_hip_Z")].translation
-    left = data.oMi[model.getJointId("left_hip_Z")].translation
-    assert right[2] > 0 > left[2]  # pelvis z points to the subject's right
-    assert data.oMi[model.getJointId("right_knee_Z")].translation[1] < right[1]  # y up: the knee is below
-
-
-def test_human_femur_turns_exactly_as_the_platform(human):
-    rng = np.random.default_rng(5)
-    for angles in rng.uniform(-30.0, 30.0, (20, 3)):
-        R, _, femur, _, _ = _human_pose(human, *angles)
-        assert np.abs(femur - R).max() <= 1e-12
-
-
-def test_human_anatomical_signs(human):
-    # Positive α is flexion: the knee moves forward (+Y, where the subject faces) and up.
-    _, hip, _, knee, _ = _human_pose(human, 20.0, 0.0, 0.0)
-    assert knee[1] > 0.1 and knee[2] > -0.439 + 0.02 and hip[0] == pytest.approx(math.radians(20.0))
-    _, _, _, knee_ext, _ = _human_pose(human, -15.0, 0.0, 0.0)
-    assert knee_ext[1] < -0.05  # extension: backward
-    # Positive β is adduction: the right knee moves medially, towards −X (the subject's left).
-    _, hip, _, knee, _ = _human_pose(human, 0.0, 10.0, 0.0)
-    assert knee[0] < -0.07 and hip[1] == pytest.approx(math.radians(-10.0))  # the model's right_hip_X > 0 is abduction
-    # Positive γ is internal rotation: the toes turn medially (towards −X).
-    _, hip, _, knee, toes = _human_pose(human, 0.0, 0.0, 15.0)
-    assert toes[0] == pytest.approx(-math.sin(math.radians(15.0))) and hip[2] == pytest.approx(math.radians(15.0))
-    assert np.allclose(knee, [0.0, 0.0, -0.439])  # rotation leaves the knee where it is
 
 
 def test_viewer_moves_the_human_thigh_with_the_platforms():
@@ -436,7 +320,7 @@ def test_page_renders_the_animation_in_chromium(offline, iso_motion, iso_page, t
 
 def test_human_page_renders_in_chromium(tmp_path):
     browser = need_browser()
-    from hipsim.viewer import _CAMERA, HUMAN_PELVIS_POSITION
+    from hipsim.viewer import _CAMERA
 
     size = (800, 600)
     with Viewer(serve=False, human=True) as viewer:
@@ -449,77 +333,3 @@ def test_human_page_renders_in_chromium(tmp_path):
     thigh = hip + rotation_matrix(iso14242(rate=200).q[:1])[0] @ [0.0, 0.0, -0.2]  # the femur turns as the platforms
     pixel = project(thigh, target, position, size)[0]
     assert _classify(patch(image, pixel, 8), "red").mean() > 0.3, patch(image, pixel, 1)
-
-
-# ---------------------------------------------------------------------------
-# The live server
-# ---------------------------------------------------------------------------
-
-
-def test_live_server_listens_on_loopback_only():
-    viewer = Viewer()
-    try:
-        pid = viewer.server_pid
-        sockets = listening_sockets(pid)
-        assert len(sockets) >= 2, sockets  # ZMQ and web
-        assert all(address == "127.0.0.1" for address, _ in sockets), sockets
-        assert re.fullmatch(r"http://127\.0\.0\.1:\d+/static/", viewer.url)
-        port = int(viewer.url.split(":")[2].split("/")[0])
-        assert ("127.0.0.1", port) in sockets
-        with urllib.request.urlopen(viewer.url, timeout=10) as response:
-            assert response.status == 200 and b"<html" in response.read().lower()
-        viewer.play(iso14242(rate=100), loop=False, fps=20)
-    finally:
-        viewer.close()
-    assert wait_until(lambda: not alive(pid), 5.0)
-    assert all(port != p for _, p in listening_sockets())
-
-
-_SCRIPT = """
-import sys
-from hipsim.viewer import run_view
-sys.exit(run_view(forces=True, singularity=True))
-"""
-
-
-def test_view_command_ends_cleanly_on_ctrl_c():
-    child = subprocess.Popen(
-        [sys.executable, "-c", _SCRIPT], cwd=REPO, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-        env={**os.environ, "PYTHONPATH": str(REPO)},
-    )  # fmt: skip
-    try:
-        line = ""
-        deadline = time.monotonic() + 30
-        while "http://" not in line and time.monotonic() < deadline:
-            line = child.stdout.readline()
-            if not line and child.poll() is not None:
-                break
-        assert "http://127.0.0.1:" in line, (line, child.stderr.read() if child.poll() is not None else "")
-        port = int(re.search(r"127\.0\.0\.1:(\d+)", line).group(1))
-        servers = children(child.pid)
-        assert len(servers) == 1
-        time.sleep(0.7)  # playing
-        assert child.poll() is None
-        child.send_signal(signal.SIGINT)
-        out, err = child.communicate(timeout=10)
-    finally:
-        if child.poll() is None:
-            child.kill()
-            child.wait()
-    assert child.returncode in (0, 130), err
-    assert "Traceback" not in err, err
-    assert "stopped" in out
-    assert wait_until(lambda: not alive(servers[0]), 5.0)
-    assert all(port != p for _, p in listening_sockets())
-
-
-def test_server_ends_with_its_parent():
-    script = "from hipsim.viewer import Viewer; import time; v = Viewer(); print(v.server_pid, flush=True); time.sleep(60)"
-    child = subprocess.Popen([sys.executable, "-c", script], cwd=REPO, stdout=subprocess.PIPE, text=True, env={**os.environ, "PYTHONPATH": str(REPO)})
-    try:
-        server = int(child.stdout.readline())
-        assert alive(server)
-    finally:
-        child.kill()  # no clean-up code runs
-        child.wait()
-    assert wait_until(lambda: not alive(server), 5.0)
