@@ -39,13 +39,17 @@ def _add_machine_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def _add_trajectory_options(parser: argparse.ArgumentParser) -> None:
+def _add_trajectory_options(parser: argparse.ArgumentParser, rate: bool = True) -> None:
+    """The motion options; ``rate=False`` for commands sampled otherwise (``--rate`` is then refused with a reason)."""
     group = parser.add_argument_group("motion")
     group.add_argument(
         "--trajectory", metavar="FILE",
         help="CSV with t_s, alpha_deg, beta_deg, gamma_deg (or _rad), optional Fe_N (default: built-in ISO 14242-1 cycle)",
     )
-    group.add_argument("--rate", type=float, metavar="HZ", help="sample rate of the built-in cycle in Hz (default 1000)")
+    group.add_argument(
+        "--rate", type=float, metavar="HZ",
+        help="sample rate of the built-in cycle in Hz (default 1000)" if rate else argparse.SUPPRESS,
+    )
     group.add_argument("--cycles", type=float, metavar="N", help="number of built-in cycles (default 1)")
     group.add_argument("--frequency", type=float, metavar="HZ", help="cycle frequency of the built-in cycle in Hz (default 1)")
 
@@ -205,7 +209,7 @@ def _cmd_simulate(args) -> int:
 
 
 def _simulate_both(params, desired_at, duration):
-    """Both controllers on the Pinocchio plant (the whole closed chain; no compilation): the report's tracking plots."""
+    """Both controllers on the Pinocchio plant (the whole closed chain, the CLI's default): the report's tracking plots."""
     from .control import AugmentedPD, WorkspacePD
     from .pinocchio_plant import PinocchioPlant
     from .simulation import simulate
@@ -355,15 +359,15 @@ def build_parser() -> argparse.ArgumentParser:
         description="Simulates the servo loop: the controller runs at the servo rate on the measured platform state, "
         "its torques are held over each period and drive the plant's forward dynamics (RK4). Prints the tracking errors "
         "of the three angles and the motor torques; writes desired and actual angles, errors and torques to CSV. "
-        "The servo-loop kernels (controller law, reduced plant) are compiled with numba on the first run on a machine "
-        "(about 10 s) and cached.",
+        "The servo-loop kernels are compiled with numba on the first run on a machine and cached: about 5 s for the "
+        "controller law, 10 s more for the reduced plant.",
     )
     _add_machine_options(sim)
-    _add_trajectory_options(sim)
+    _add_trajectory_options(sim, rate=False)
     sim.add_argument("--controller", choices=["pd", "augmented-pd", "both"], default="both", help="controller (default both, one after the other)")
     sim.add_argument(
         "--plant", choices=["analytic", "pinocchio"], default="pinocchio",
-        help="pinocchio = closed-chain model (default), analytic = reduced 3-DOF model, compiled (about 5x faster); "
+        help="pinocchio = closed-chain model (default), analytic = reduced 3-DOF model, compiled (about 4x faster); "
         "they agree to 1e-11 deg",
     )
     sim.add_argument("--mismatch", metavar="SPEC", help="plant off from the controller's model, e.g. friction=+20%%,masses=-10%%")
@@ -422,7 +426,7 @@ def build_parser() -> argparse.ArgumentParser:
     view.add_argument("--html", metavar="FILE", help="write a self-contained offline page instead of serving")
     view.add_argument("--speed", type=float, default=1.0, metavar="X", help="playback speed (0.25: four times slower)")
     view.add_argument("--step", action="store_true", help="one frame per Enter (b: back, q: quit)")
-    view.add_argument("--fps", type=int, default=30, metavar="N", help="frames per second of trajectory time (default 30)")
+    view.add_argument("--fps", type=int, default=30, metavar="N", help="frames per second of playback (default 30); the trajectory is sampled at fps/speed")
     view.add_argument("--forces", action="store_true", help="arrows for the motor force on each screw and the force at each spherical joint")
     view.add_argument("--singularity", action="store_true", help="colour the levers by the singularity measure (red singular, green clear)")
     view.add_argument("--human", action="store_true", help="the example-robot-data human model's hip moving beside the machine")

@@ -4,10 +4,10 @@ Why this module exists. The servo loop of :func:`hipsim.simulation.simulate`
 evaluates the forward dynamics of one state at a time, eight times per servo
 period (two RK4 steps of four stages). Through the vectorised model of
 :mod:`hipsim.kinematics` and :mod:`hipsim.dynamics` each evaluation is some
-seven hundred NumPy calls on arrays of four samples, ~480 µs of Python
+seven hundred NumPy calls on arrays of four samples, ~490 µs of Python
 overhead for a few thousand floating-point operations: the reduced plant ran
 at a quarter of real time. Here the same equations are written for a single
-state on plain floats and compiled, so that a whole servo period costs ~10 µs.
+state on plain floats and compiled, so that a whole servo period costs ~15 µs.
 
 The vectorised model stays the reference: ``tests/test_reduced_kernel.py``
 checks :func:`torques`, :func:`mass_and_bias`, :func:`jacobian` and
@@ -23,10 +23,11 @@ Angles come in as gait angles; the parameter file's angle signs are applied
 inside, as :func:`hipsim.kinematics.kinematics` does. A pose out of reach gives
 NaN, which the servo loop reports as the plant leaving its workspace.
 
-The first call compiles the functions (~10 s); numba caches the machine code
-next to this file (or in its user-wide cache when that folder is read-only),
-so later processes load it in well under a second. Where neither can be
-written, the kernels are compiled in every process, with a warning.
+The first call compiles the functions (~10 s for the plant, ~5 s for the PD
+law); numba caches the machine code next to this file (or in its user-wide
+cache when that folder is read-only), so later processes load it in well
+under a second. Where neither can be written, the kernels are compiled in
+every process, with a warning.
 """
 
 from __future__ import annotations

@@ -53,7 +53,8 @@ class Plant(Protocol):
     integrate a servo period in one call.
     """
 
-    params: Parameters
+    params: Parameters  # the plant's machine: servo defaults, and the motor speeds of the result
+    name: str  # for tables (optional: the class name otherwise)
 
     def initial_state(self, desired: Trajectory) -> np.ndarray:
         """The state at the first sample of ``desired`` (position and velocity)."""
@@ -265,7 +266,8 @@ def simulate(
     q, qd = np.empty((n, 3)), np.empty((n, 3))
     tau_applied, tau_requested = np.empty((n, 3)), np.empty((n, 3))
     saturated = np.zeros(n, dtype=bool)
-    for k in tqdm(range(n), desc=f"{plant.name} plant, {controller_name or 'controller'}", unit="servo", disable=not progress, delay=2.0, leave=False):
+    name = getattr(plant, "name", type(plant).__name__)
+    for k in tqdm(range(n), desc=f"{name} plant, {controller_name or 'controller'}", unit="servo", disable=not progress, delay=2.0, leave=False):
         q[k], qd[k] = plant.angles(x)
         if not np.all(np.isfinite(x)):
             raise PoseError("the plant's state is no longer finite (the machine left its workspace)", t[k], k)
@@ -283,7 +285,7 @@ def simulate(
         motor_speed = 2.0 * math.pi * kinematics(plant.params, actual).Ld[:, 0] / plant.params.lead
     except PoseError as error:
         raise PoseError("the plant left the workspace", error.time, error.index) from None
-    return Simulation(t, desired, q, qd, tau_applied, tau_requested, saturated, motor_speed, plant.name, controller_name)
+    return Simulation(t, desired, q, qd, tau_applied, tau_requested, saturated, motor_speed, name, controller_name)
 
 
 def parse_mismatch(text: str) -> dict[str, float]:

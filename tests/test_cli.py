@@ -174,3 +174,11 @@ def test_simulate_writes_errors_and_tables(tmp_path, capsys):
 def test_simulate_bad_mismatch_is_one_line(tmp_path):
     status, _, err = run("simulate", "--mismatch", "mass=10%", "--out", str(tmp_path / "x.csv"))
     assert status == 2 and err.strip().startswith("hipsim: error: --mismatch") and "Traceback" not in err
+
+
+def test_simulate_help_does_not_offer_rate(capsys):
+    """simulate samples at the servo rate: --rate is refused (above), so its help must not offer it."""
+    with pytest.raises(SystemExit):
+        main(["simulate", "--help"])
+    out = capsys.readouterr().out
+    assert "--servo-rate" in out and "--rate" not in out.replace("--servo-rate", "")

@@ -159,3 +159,26 @@ def test_a_plant_subclass_is_stepped_through_its_own_derivative(params):
     plain = simulate(ReducedPlant(params), pd, iso14242_at, 0.02)
     disturbed = simulate(Disturbed(params), pd, iso14242_at, 0.02)
     assert np.abs(disturbed.q - plain.q).max() > 1e-6
+
+
+def test_a_plant_of_your_own_needs_no_name_and_no_advance(params):
+    """The Plant protocol's minimum: params, initial_state, derivative, angles."""
+
+    class Minimal:
+        def __init__(self, params):
+            self.params, self._reduced = params, ReducedPlant(params)
+
+        def initial_state(self, desired):
+            return self._reduced.initial_state(desired)
+
+        def derivative(self, t, x, tau, Fe):
+            return self._reduced.derivative(t, x, tau, Fe)
+
+        def angles(self, x):
+            return x[:3], x[3:]
+
+    pd = WorkspacePD(params)
+    mine = simulate(Minimal(params), pd, iso14242_at, 0.02)
+    reference = simulate(ReducedPlant(params), pd, iso14242_at, 0.02)
+    assert mine.plant == "Minimal"
+    np.testing.assert_allclose(mine.q, reference.q, rtol=0, atol=1e-14)  # simulate's own RK4 = the compiled one
