@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import sys
 from pathlib import Path
@@ -67,13 +68,22 @@ def _trajectory(args):
     if args.trajectory:
         given = [f"--{name}" for name in ("rate", "cycles", "frequency") if getattr(args, name) is not None]
         if given:
-            raise HipsimError(f"{', '.join(given)} apply to the built-in cycle, not to --trajectory {args.trajectory}")
+            verb = "applies" if len(given) == 1 else "apply"
+            raise HipsimError(f"{', '.join(given)} {verb} to the built-in cycle, not to --trajectory {args.trajectory}")
+        _check_not_input(args)
         return load_trajectory_csv(args.trajectory)
     return iso14242(
         rate=args.rate if args.rate is not None else 1000.0,
         cycles=args.cycles if args.cycles is not None else 1,
         frequency=args.frequency if args.frequency is not None else 1.0,
     )
+
+
+def _check_not_input(args) -> None:
+    """Refuse an output that would overwrite the trajectory being read."""
+    out = getattr(args, "out", None)
+    if out and Path(out).exists() and Path(out).resolve() == Path(args.trajectory).resolve():
+        raise HipsimError(f"--out {out} is the --trajectory file itself: choose another output")
 
 
 def _format_table(header: list[str], rows: list[list], title: str = "") -> str:
@@ -136,10 +146,11 @@ def _cmd_params(args) -> int:
     values = file_values(params)
     print(f"# parameters: {params.source}")
     for section, keys in SCHEMA.items():
-        print(f"\n[{section}]")
-        for key, spec in keys.items():
-            if f"{section}.{key}" not in values:
-                continue
+        present = [key for key in keys if f"{section}.{key}" in values]  # an optional table may be absent
+        if present:
+            print(f"\n[{section}]")
+        for key in present:
+            spec = keys[key]
             value = values[f"{section}.{key}"]
             note = spec.meaning + (f" [{spec.unit}]" if spec.unit else "")
             shown = json.dumps(value).replace("Infinity", "inf")  # TOML spells it inf
@@ -187,6 +198,8 @@ def _cmd_simulate(args) -> int:
         if getattr(args, option) is not None:
             args.overrides.append(f"control.{key}={getattr(args, option)!r}")
     params = _parameters(args)
+    if Path(args.out).is_dir():  # before the run, not after it
+        raise HipsimError(f"--out {args.out} is a folder; give a CSV file name")
     desired_at, duration = _desired(args, _trajectory(args) if args.trajectory else None)
     mismatch = parse_mismatch(args.mismatch) if args.mismatch else {}
     plant = _make_plant(args.plant, apply_mismatch(params, **mismatch))
@@ -200,6 +213,9 @@ def _cmd_simulate(args) -> int:
         simulations.append(simulate(plant, controller, desired_at, duration, progress=True, controller_name=name))
     out = Path(args.out)
     for sim in simulations:
+        if not math.isclose(sim.step, params.control.integration_step, rel_tol=1e-9):
+            print(f"{sim.controller}: RK4 step {sim.step * 1e3:g} ms, the {params.control.integration_step * 1e3:g} ms asked "
+                  f"for rounded down so that whole steps fill the {1e3 / params.control.servo_rate:g} ms servo period")  # fmt: skip
         path = out if len(simulations) == 1 else out.with_name(f"{out.stem}_{sim.controller}{out.suffix}")
         print(f"wrote {sim.write_csv(path)}")
     if mismatch:
@@ -443,9 +459,24 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+#: Options whose values may start with "-" (negative angles), which argparse would read as options.
+_SIGNED_VALUE_OPTIONS = ("--deltas", "--gamma")
+
+
+def _join_signed_values(argv: list[str]) -> list[str]:
+    """``--deltas -90:90:1`` → ``--deltas=-90:90:1``, so that argparse takes the value as a value."""
+    out: list[str] = []
+    for arg in argv:
+        if out and out[-1] in _SIGNED_VALUE_OPTIONS and arg.startswith("-"):
+            out[-1] = f"{out[-1]}={arg}"
+        else:
+            out.append(arg)
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args = parser.parse_args(_join_signed_values(sys.argv[1:] if argv is None else list(argv)))
     if not getattr(args, "run", None):
         parser.print_help()
         return 2

@@ -15,7 +15,9 @@ Example:
 
 from __future__ import annotations
 
+import codecs
 import dataclasses
+import difflib
 import math
 import tomllib
 from dataclasses import dataclass
@@ -61,6 +63,9 @@ class _Key:
     unit: str = ""
     meaning: str = ""
     finite: bool = True  # False to allow inf (e.g. "no limit")
+    # Largest magnitude, in the file's unit: far beyond any machine of this kind, so
+    # only a typo or a unit slip reaches it, and the physics never meets overflow.
+    limit: float = 1e9
 
 
 #: Every section and key the parameter file must contain, with its SI scale and bound.
@@ -70,11 +75,11 @@ SCHEMA: dict[str, dict[str, _Key]] = {
     },
     "base": {
         "screw_radius_mm": _Key("float", _MM, "positive", unit="mm", meaning="E, screw axes radius"),
-        "screw_angles_deg": _Key("vector", _DEG, "none", 3, "deg", "θ_i, screw base angles"),
+        "screw_angles_deg": _Key("vector", _DEG, "none", 3, "deg", "θ_i, screw base angles", limit=360.0),
     },
     "platform": {
         "joint_radius_mm": _Key("float", _MM, "positive", unit="mm", meaning="e, platform joint radius"),
-        "home_offset_deg": _Key("float", _DEG, "none", unit="deg", meaning="δ, platform joint offset"),
+        "home_offset_deg": _Key("float", _DEG, "none", unit="deg", meaning="δ, platform joint offset", limit=360.0),
         "heights_mm": _Key("vector", _MM, "positive", 2, "mm", "h_1, h_2, platform centre heights"),
         "mass_kg": _Key("float", 1.0, "nonnegative", unit="kg", meaning="m_m, platform mass (estimate)"),
         "inertia_kgmm2": _Key("inertia", _KGMM2, unit="kg·mm²", meaning="I_m, platform inertia"),
@@ -321,6 +326,8 @@ def parse_override(text: str) -> tuple[str, Any]:
         raise ParameterError(f"expected KEY=VALUE, got '{text}'", source="--set")
     key, _, value = text.partition("=")
     key = key.strip()
+    if not key:
+        raise ParameterError(f"no key before '=' in '{text}' (expected e.g. lever.length_mm=330)", source="--set")
     try:
         parsed = tomllib.loads(f"v = {value.strip()}")["v"]
     except tomllib.TOMLDecodeError:
@@ -341,7 +348,9 @@ def read_toml(path: str | Path, what: str = "parameter file") -> dict[str, Any]:
     source = str(path)
     try:
         with open(path, "rb") as stream:
-            return tomllib.load(stream)
+            data = stream.read()
+        # Some editors start UTF-8 files with a byte-order mark, which TOML does not allow.
+        return tomllib.loads(data.removeprefix(codecs.BOM_UTF8).decode("utf-8"))
     except FileNotFoundError:
         raise ParameterError(f"no such {what}", source=source) from None
     except IsADirectoryError:
@@ -391,7 +400,7 @@ def load_parameters(
     for dotted, value in (overrides or {}).items():
         section, _, key = dotted.partition(".")
         if section not in SCHEMA or key not in SCHEMA[section]:
-            raise ParameterError(f"unknown key (known: {_known_keys()})", key=dotted, source="--set")
+            raise ParameterError(f"unknown key{_did_you_mean(dotted)}; `hipsim params` lists them all", key=dotted, source="--set")
         if not isinstance(raw.setdefault(section, {}), dict):
             raise ParameterError("expected a [section] table", key=section, source=source)
         raw[section][key] = value
@@ -400,8 +409,11 @@ def load_parameters(
     return _build(_check(raw, source), source)
 
 
-def _known_keys() -> str:
-    return ", ".join(f"{s}.{k}" for s, keys in SCHEMA.items() for k in keys)
+def _did_you_mean(dotted: str) -> str:
+    """ " (did you mean 'lever.length_mm'?)" for the nearest known keys, or nothing."""
+    known = [f"{s}.{k}" for s, keys in SCHEMA.items() for k in keys]
+    close = difflib.get_close_matches(dotted, known, n=1, cutoff=0.6)
+    return f" (did you mean {' or '.join(repr(k) for k in close)}?)" if close else ""
 
 
 def _check(raw: Mapping[str, Any], source: str) -> dict[str, Any]:
@@ -451,6 +463,8 @@ def _convert(value, spec: _Key, key: str, source: str):
         raise AssertionError(spec.kind)
     if np.any(np.isnan(numbers)) or (spec.finite and not np.all(np.isfinite(numbers))):
         fail(f"expected finite numbers, got {value!r}")
+    if np.any(np.abs(numbers[np.isfinite(numbers)]) > spec.limit):
+        fail(f"out of range: at most {spec.limit:g} {spec.unit or ''} in magnitude, got {value!r}".replace("  ", " "))
     if spec.bound == "positive" and np.any(numbers <= 0):
         fail(f"must be positive, got {value!r}")
     if spec.bound == "nonnegative" and np.any(numbers < 0):
@@ -476,8 +490,13 @@ def _inertia_matrix(value, fail) -> np.ndarray:
     if not np.all(np.isfinite(matrix)):
         fail(f"expected finite numbers, got {value!r}")
     eigenvalues = np.linalg.eigvalsh(matrix)
-    if eigenvalues[0] < -1e-12 * max(1.0, abs(eigenvalues[-1])):
+    tolerance = 1e-12 * max(1.0, abs(eigenvalues[-1]))
+    if eigenvalues[0] < -tolerance:
         fail(f"inertia is not positive semi-definite (eigenvalues {np.round(eigenvalues, 6).tolist()})")
+    # Every rigid body's principal moments obey I_a ≤ I_b + I_c (a slender rod is the equality).
+    if eigenvalues[2] > eigenvalues[0] + eigenvalues[1] + tolerance:
+        fail(f"no rigid body has these principal moments: {eigenvalues[2]:g} exceeds the sum of the other two "
+             f"({eigenvalues[0]:g} + {eigenvalues[1]:g})")  # fmt: skip
     return matrix
 
 
@@ -523,7 +542,15 @@ def _build(values: Mapping[str, Any], source: str) -> Parameters:
 
 
 def _check_geometry(params: Parameters, source: str) -> None:
-    """The machine must assemble at home: levers long enough, platform 1 above platform 2, sliders above the base."""
+    """The machine must assemble at home: three distinct screws, levers long enough, platform 1 above 2, sliders above the base."""
+    c = params.screw_points
+    for i, k in ((0, 1), (1, 2), (0, 2)):
+        if np.linalg.norm(c[i] - c[k]) < 1e-6:
+            raise ParameterError(
+                f"screws {i + 1} and {k + 1} stand at the same place (angles {np.degrees(params.screw_angles[i]):g}° "
+                f"and {np.degrees(params.screw_angles[k]):g}°): the three legs must be distinct",
+                key="base.screw_angles_deg", value=np.degrees(params.screw_angles), source=source,
+            )
     gaps = np.linalg.norm(params.platform_points[:, :2] - params.screw_points[:, :2], axis=1)
     if gaps.max() >= params.lever_length:
         raise ParameterError(

@@ -137,6 +137,8 @@ class Simulation:
         saturated: samples where a torque was limited, (K,).
         motor_speed: motor speeds in [rad/s], (K, 3).
         plant, controller: names, for tables.
+        step: the integration step used in [s] (the one asked for, rounded
+            down so that whole steps fill a servo period).
     """
 
     t: np.ndarray
@@ -149,6 +151,7 @@ class Simulation:
     motor_speed: np.ndarray
     plant: str = ""
     controller: str = ""
+    step: float = math.nan
 
     @property
     def err(self) -> np.ndarray:
@@ -236,7 +239,8 @@ def simulate(
         The run at the servo instants.
 
     Raises:
-        PoseError: when the plant leaves the workspace, naming the time.
+        PoseError: naming the time when the desired motion is out of reach or
+            singular, or when the plant leaves the workspace or goes unstable.
     """
     control = plant.params.control
     servo_rate = control.servo_rate if servo_rate is None else servo_rate
@@ -258,6 +262,7 @@ def simulate(
         raise HipsimError(f"duration {duration!r} s is shorter than two servo periods")
     t = np.arange(n) * period
     desired = desired_at(t)
+    kinematics(plant.params, desired)  # a desired pose out of reach or singular: a PoseError naming its time
     stage_times = np.arange(n * substeps * 2 + 1) * (h / 2)
     stage_loads = desired_at(stage_times).Fe  # the load at every RK4 stage, precomputed
     advance = getattr(plant, "advance", None) or (lambda *args: _rk4(plant, *args))
@@ -270,7 +275,10 @@ def simulate(
     for k in tqdm(range(n), desc=f"{name} plant, {controller_name or 'controller'}", unit="servo", disable=not progress, delay=2.0, leave=False):
         q[k], qd[k] = plant.angles(x)
         if not np.all(np.isfinite(x)):
-            raise PoseError("the plant's state is no longer finite (the machine left its workspace)", t[k], k)
+            raise PoseError(
+                "the plant's state is no longer finite: the loop went unstable or the machine left its workspace "
+                "(check the gains control.kp_Nm_rad and kd_Nm_s_rad, the integration step and the masses)", t[k], k,
+            )
         wanted = np.asarray(
             controller(t[k], Sample(q[k].copy(), qd[k].copy()), Sample(desired.q[k], desired.qd[k], desired.qdd[k], float(desired.Fe[k]))),
             dtype=float,
@@ -285,7 +293,7 @@ def simulate(
         motor_speed = 2.0 * math.pi * kinematics(plant.params, actual).Ld[:, 0] / plant.params.lead
     except PoseError as error:
         raise PoseError("the plant left the workspace", error.time, error.index) from None
-    return Simulation(t, desired, q, qd, tau_applied, tau_requested, saturated, motor_speed, name, controller_name)
+    return Simulation(t, desired, q, qd, tau_applied, tau_requested, saturated, motor_speed, name, controller_name, h)
 
 
 def parse_mismatch(text: str) -> dict[str, float]:
@@ -299,6 +307,8 @@ def parse_mismatch(text: str) -> dict[str, float]:
         match = re.fullmatch(r"(friction|masses)\s*=\s*([+-]?\d+(?:\.\d*)?)\s*%", part)
         if not match:
             raise HipsimError(f"--mismatch: cannot read '{part}' (expected friction=+20% or masses=-10%)")
+        if match.group(1) in out:
+            raise HipsimError(f"--mismatch: {match.group(1)} is given twice in '{text}'")
         out[match.group(1)] = float(match.group(2)) / 100.0
     return out
 

@@ -46,6 +46,8 @@ ISO_LOAD_KNOTS = ((0.0, 300.0), (0.12, 3000.0), (0.32, 1500.0), (0.50, 3000.0), 
 
 #: Fewest samples a CSV trajectory may have (a quintic spline needs six).
 MIN_SAMPLES = 6
+#: Largest load a trajectory file may give, in [N]: far above any hip simulator, so only a unit slip reaches it.
+MAX_LOAD = 1e9
 
 #: Most samples a built-in cycle may have: the kinematics of 10⁷ samples take some 10 GB.
 MAX_SAMPLES = 10_000_000
@@ -151,7 +153,9 @@ def iso14242(rate: float = 1000.0, cycles: float = 1, frequency: float = 1.0) ->
             raise TrajectoryError(f"{name} must be a positive number, got {value!r}", source="ISO 14242-1")
     n = int(round(cycles * rate / frequency))
     if n < 2:
-        raise TrajectoryError(f"{cycles} cycle(s) at {rate} Hz gives fewer than 2 samples", source="ISO 14242-1")
+        raise TrajectoryError(
+            f"{cycles} cycle(s) of {frequency} Hz sampled at {rate} Hz give fewer than 2 samples", source="ISO 14242-1"
+        )
     if n > MAX_SAMPLES:
         raise TrajectoryError(f"{cycles} cycle(s) at {rate} Hz gives {n:,} samples; at most {MAX_SAMPLES:,} fit in memory", source="ISO 14242-1")
     t = np.arange(n) / rate
@@ -271,12 +275,20 @@ def load_trajectory_csv(path: str | Path, periodic: bool | None = None) -> Traje
                 source=source, line=lines[worst[0]], column=f"{ANGLE_NAMES[worst[1]]}_rad",
             )
     else:
+        worst = np.unravel_index(np.argmax(np.abs(angles)), angles.shape)
+        if abs(angles[worst]) > 360.0:
+            raise TrajectoryError(
+                f"{angles[worst]:g}° is more than a full turn", source=source, line=lines[worst[0]], column=f"{ANGLE_NAMES[worst[1]]}_deg"
+            )
         angles = np.radians(angles)
     if "Fe_N" in columns:
         load = values[:, header.index("Fe_N")]
         if np.any(load < 0):
             k = int(np.argmax(load < 0))
             raise TrajectoryError(f"load {load[k]:g} N is negative (F_e is a magnitude)", source=source, line=lines[k], column="Fe_N")
+        if np.any(load > MAX_LOAD):
+            k = int(np.argmax(load > MAX_LOAD))
+            raise TrajectoryError(f"load {load[k]:g} N is beyond {MAX_LOAD:g} N (a unit slip?)", source=source, line=lines[k], column="Fe_N")
     else:
         load = np.zeros_like(t)
     closes = _closes_on_itself(angles, load)

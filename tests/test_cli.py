@@ -58,7 +58,7 @@ def test_torques_from_trajectory_file(tmp_path, capsys):
         (["torques", "--set", "lever.colour=3"], "key 'lever.colour': unknown key"),
         (["torques", "--params", "missing.toml"], "missing.toml: no such parameter file"),
         (["torques", "--trajectory", "missing.csv"], "missing.csv: no such trajectory file"),
-        (["torques", "--trajectory", "x.csv", "--rate", "10"], "--rate apply to the built-in cycle"),
+        (["torques", "--trajectory", "x.csv", "--rate", "10"], "--rate applies to the built-in cycle"),
         (["torques", "--rate", "-5"], "rate must be a positive number"),
         (["torques", "--out", "no/such/dir/x.csv"], "folder 'no/such/dir' does not exist"),
         (["torques", "--trajectory", "{far}"], "far.csv, t = 0.02 s (sample 2): pose out of reach"),
@@ -182,3 +182,41 @@ def test_simulate_help_does_not_offer_rate(capsys):
         main(["simulate", "--help"])
     out = capsys.readouterr().out
     assert "--servo-rate" in out and "--rate" not in out.replace("--servo-rate", "")
+
+
+def test_simulate_says_when_it_rounds_the_step(tmp_path, capsys):
+    out = tmp_path / "sim.csv"
+    assert main(["simulate", "--cycles", "0.01", "--controller", "pd", "--plant", "analytic", "--step", "0.3", "--out", str(out)]) == 0
+    assert "RK4 step 0.25 ms, the 0.3 ms asked for rounded down" in capsys.readouterr().out
+    assert main(["simulate", "--cycles", "0.01", "--controller", "pd", "--plant", "analytic", "--step", "0.25", "--out", str(out)]) == 0
+    assert "rounded down" not in capsys.readouterr().out
+
+
+def test_simulate_refuses_a_folder_before_running(tmp_path, capsys):
+    assert main(["simulate", "--out", str(tmp_path)]) == 2
+    assert "is a folder" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []  # nothing written beside it either
+
+
+def test_an_output_over_its_own_input_is_refused(tmp_path, capsys):
+    trajectory = tmp_path / "motion.csv"
+    trajectory.write_text("t_s,alpha_deg,beta_deg,gamma_deg\n" + "".join(f"{k * 0.01:.2f},{k},1,-2\n" for k in range(8)))
+    before = trajectory.read_text()
+    assert main(["torques", "--trajectory", str(trajectory), "--out", str(trajectory)]) == 2
+    assert "is the --trajectory file itself" in capsys.readouterr().err
+    assert trajectory.read_text() == before
+
+
+def test_negative_sweep_values_need_no_equals_sign(tmp_path):
+    status, out, err = run("workspace", "--deltas", "-10:10:10", "--gamma", "-4,0", "--out", str(tmp_path / "ws"))
+    assert status == 0, err
+    sweep = json.loads((tmp_path / "ws" / "workspace.json").read_text())
+    assert "-10" in json.dumps(sweep)
+
+
+def test_params_prints_no_empty_tables(capsys):
+    assert main(["params"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    headers = [k for k, line in enumerate(lines) if line.startswith("[")]
+    for k in headers:  # every [section] is followed by at least one key
+        assert k + 1 < len(lines) and "=" in lines[k + 1], lines[k]

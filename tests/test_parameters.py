@@ -354,7 +354,7 @@ def test_slender_levers(params):
 
 
 def test_slender_levers_of_a_custom_lever():
-    custom = load_parameters(overrides={"lever.inertia_kgmm2": [1000.0, 3000.0, 50.0]})
+    custom = load_parameters(overrides={"lever.inertia_kgmm2": [1900.0, 2100.0, 600.0]})
     np.testing.assert_allclose(slender_levers(custom).lever_inertia, np.diag([2e-3, 2e-3, 0.0]), rtol=1e-14, atol=0)
 
 
@@ -502,8 +502,10 @@ def test_inertia_not_positive_semidefinite(tmp_path, section, value):
 
 
 def test_inertia_positive_semidefinite_with_a_zero_is_allowed():
-    changed = load_parameters(overrides={"lever.inertia_kgmm2": [[1.0, 1.0, 0.0], [1.0, 1.0, 0.0], [0.0, 0.0, 0.0]]})
-    np.testing.assert_allclose(changed.lever_inertia, [[1e-6, 1e-6, 0], [1e-6, 1e-6, 0], [0, 0, 0]], rtol=1e-14, atol=0)
+    # A slender rod along (1, 1, 0)/√2: I_t·(1 − u·uᵀ), eigenvalues 0, I_t, I_t.
+    rod = [[1.0, -1.0, 0.0], [-1.0, 1.0, 0.0], [0.0, 0.0, 2.0]]
+    changed = load_parameters(overrides={"lever.inertia_kgmm2": rod})
+    np.testing.assert_allclose(changed.lever_inertia, np.array(rod) * 1e-6, rtol=1e-14, atol=0)
 
 
 def test_inertia_not_symmetric(tmp_path):
@@ -569,7 +571,7 @@ def test_unknown_override_key(key):
     assert "--set" in message
     if key:
         assert_error(info, key, "--set")
-    assert "lever.length_mm" in message  # the known keys are listed
+    assert "hipsim params` lists them" in message  # where to find the known keys, not all 38 inline
 
 
 @pytest.mark.parametrize(
@@ -620,3 +622,47 @@ def test_optional_motor_ratings(tmp_path):
     assert file_values(params)["motor.stroke_mm"] == 200.0
     with pytest.raises(ParameterError, match="motor.max_speed_rpm.*must be positive"):
         load_parameters(overrides={"motor.max_speed_rpm": -5})
+
+
+# --------------------------------------------------------------------------- typos and unit slips
+
+
+@pytest.mark.parametrize(
+    "section, key, value, message",
+    [
+        ("friction", "epsilon_rad_s", 1e300, r"out of range: at most 1e\+09 rad/s"),
+        ("platform", "home_offset_deg", 1e30, "out of range: at most 360 deg"),
+        ("base", "screw_angles_deg", [-60.0, 60.0, 540.0], "out of range: at most 360 deg"),
+        ("base", "screw_angles_deg", [0.0, 0.0, 180.0], "screws 1 and 2 stand at the same place"),
+        ("lever", "inertia_kgmm2", [1.0, 1.0, 100.0], "no rigid body has these principal moments"),
+        ("platform", "inertia_kgmm2", [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 2.5]], "no rigid body"),
+    ],
+)
+def test_values_no_machine_has_are_refused_by_key(tmp_path, section, key, value, message):
+    path = mutated(tmp_path, section, key, value)
+    with pytest.raises(ParameterError, match=message) as info:
+        load_parameters(path)
+    assert_error(info, f"{section}.{key}", path)
+
+
+def test_a_slender_rod_is_a_rigid_body():
+    """The triangle inequality's equality case (I_z = 0, I_x = I_y) is allowed: spec §7.4's levers."""
+    params = load_parameters(overrides={"lever.inertia_kgmm2": [1000.0, 1000.0, 0.0]})
+    assert params.lever_inertia[2, 2] == 0.0
+
+
+def test_a_byte_order_mark_is_accepted(tmp_path, params):
+    path = tmp_path / "bom.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + default_parameters_path().read_bytes())
+    assert load_parameters(path).lever_length == params.lever_length
+
+
+def test_an_unknown_override_suggests_the_nearest_key():
+    with pytest.raises(ParameterError, match=r"did you mean 'lever.length_mm'\?") as info:
+        load_parameters(overrides={"lever.lenght_mm": 330})
+    assert len(str(info.value)) < 200  # not the list of every key
+
+
+def test_an_override_without_a_key_says_so():
+    with pytest.raises(ParameterError, match="no key before '='"):
+        parse_override("=5")

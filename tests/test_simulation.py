@@ -8,7 +8,7 @@ import pytest
 import hipsim
 from hipsim.control import AugmentedPD, Sample, WorkspacePD, feedforward_torques
 from hipsim.dynamics import inverse_dynamics, mechanical_energy
-from hipsim.exceptions import HipsimError
+from hipsim.exceptions import HipsimError, PoseError
 from hipsim.kinematics import angular_velocity_map, kinematics, slider_jacobian
 from hipsim.simulation import ReducedPlant, apply_mismatch, parse_mismatch, simulate
 from hipsim.trajectories import Trajectory, iso14242_at
@@ -182,3 +182,25 @@ def test_a_plant_of_your_own_needs_no_name_and_no_advance(params):
     reference = simulate(ReducedPlant(params), pd, iso14242_at, 0.02)
     assert mine.plant == "Minimal"
     np.testing.assert_allclose(mine.q, reference.q, rtol=0, atol=1e-14)  # simulate's own RK4 = the compiled one
+
+
+def test_a_desired_motion_through_a_singularity_is_named_before_the_run(params):
+    """Not blamed on the plant: the desired motion itself is checked first."""
+
+    def crossing(t):
+        motion = iso14242_at(t)
+        q = np.column_stack([np.zeros_like(t), np.zeros_like(t), np.radians(-60.0 + 400.0 * t)])  # γ sweeps through −δ
+        return Trajectory(motion.t, q, np.zeros_like(q), np.zeros_like(q), motion.Fe, name="sweep")
+
+    with pytest.raises(PoseError, match=r"sweep, t = .*(singular|out of reach)"):
+        simulate(ReducedPlant(params), WorkspacePD(params), crossing, 0.2)
+
+
+def test_mismatch_given_twice_is_refused():
+    with pytest.raises(HipsimError, match="friction is given twice"):
+        parse_mismatch("friction=+20%,friction=-10%")
+
+
+def test_the_step_used_is_recorded(params):
+    sim = simulate(ReducedPlant(params), WorkspacePD(params), iso14242_at, 0.01, step=0.3e-3)
+    assert sim.step == pytest.approx(0.25e-3, rel=1e-12)

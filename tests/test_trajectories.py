@@ -791,3 +791,18 @@ def test_trajectory_slice():
     assert len(part) == 10 and part.periodic is False
     np.testing.assert_array_equal(part.q, traj.q[10:20])
     np.testing.assert_array_equal(part.Fe, traj.Fe[10:20])
+
+
+@pytest.mark.parametrize(
+    "cell, column, message",
+    [("1e300", "alpha_deg", "more than a full turn"), ("-400", "gamma_deg", "more than a full turn"), ("1e30", "Fe_N", "a unit slip")],
+)
+def test_values_beyond_any_gait_are_refused_where_they_are(tmp_path, cell, column, message):
+    lines = ["t_s,alpha_deg,beta_deg,gamma_deg,Fe_N"] + [f"{k * 0.01:.2f},{k},1,-2,500" for k in range(8)]
+    header = lines[0].split(",")
+    row = lines[5].split(",")
+    row[header.index(column)] = cell
+    lines[5] = ",".join(row)
+    with pytest.raises(TrajectoryError, match=message) as info:
+        load_trajectory_csv(write_lines(tmp_path / "slip.csv", lines))
+    assert "line 6" in str(info.value) and column in str(info.value)
