@@ -13,7 +13,25 @@ import numpy as np
 
 from .exceptions import HipsimError
 
-__all__ = ["make_folder", "write_atomic", "write_columns"]
+__all__ = ["check_folder", "make_folder", "write_atomic", "write_columns"]
+
+
+def check_folder(path: str | Path) -> Path:
+    """Check, without creating anything, that an output folder could be made or used.
+
+    For commands that compute before they write: a failed run then leaves no
+    empty folder behind, and a bad path is still refused before the work.
+
+    Raises:
+        HipsimError: naming the path when it, or the nearest existing folder
+            above it, is a file.
+    """
+    path = Path(path)
+    existing = next(p for p in (path, *path.parents) if p.exists() or p == Path(p.anchor or "."))
+    if existing.exists() and not existing.is_dir():
+        where = "" if existing == path else f" ('{existing}' is a file)"
+        raise HipsimError(f"{path}: cannot make the output folder, a file has that name{where}")
+    return path
 
 
 def make_folder(path: str | Path) -> Path:
@@ -42,12 +60,17 @@ def write_atomic(path: str | Path, text: str | bytes) -> Path:
         HipsimError: when the folder does not exist, the path is a folder, or
             the file cannot be written.
     """
-    path = Path(path)
+    given = Path(path)
+    # Through a symbolic link to its target: replacing the link itself would cut it.
+    path = given.resolve() if given.is_symlink() else given
     folder = path.parent if str(path.parent) else Path(".")
     if not folder.is_dir():
-        raise HipsimError(f"{path}: cannot write, folder '{folder}' does not exist")
+        raise HipsimError(f"{given}: cannot write, folder '{folder}' does not exist")
     if path.is_dir():
-        raise HipsimError(f"{path}: cannot write, it is a folder")
+        raise HipsimError(f"{given}: cannot write, it is a folder")
+    if path.exists() and not path.is_file():
+        # A device, pipe or socket: renaming a new file over it would destroy it.
+        raise HipsimError(f"{given}: not a regular file; hipsim writes results only to regular files")
     mode = "wb" if isinstance(text, bytes) else "w"
     try:
         handle, temporary = tempfile.mkstemp(dir=folder, prefix=f".{path.name}.", suffix=".part")

@@ -49,7 +49,7 @@ import numpy as np
 from .dynamics import Torques, screw_friction_torque
 from .exceptions import HipsimError, ParameterError
 from .parameters import Parameters, check_entry, read_toml
-from .files import make_folder, write_atomic
+from .files import check_folder, make_folder, write_atomic
 from .results import Result, analyse
 from .trajectories import Trajectory
 
@@ -581,7 +581,7 @@ def write_report(
     if ratings is not None and not isinstance(ratings, MotorRatings):
         ratings = load_ratings(ratings)
     out = Path(out_dir)
-    make_folder(out)
+    check_folder(out)  # fail now, not after the computing; but make it only when there is something to write
 
     result = analyse(params, trajectory)
     notes = []
@@ -613,6 +613,7 @@ def write_report(
         plots.append(("joint_forces", lambda: plot_joint_forces(combined)))
     if sims is not None:
         plots.append(("tracking_errors", lambda: plot_tracking(sims)))
+    make_folder(out)
     for stem, make in plots:
         figures[stem] = save_figure(make(), out, stem)
 

@@ -684,14 +684,15 @@ def run_workspace(
     import json
 
     from .report import save_figure
-    from .files import make_folder, write_atomic
+    from .files import check_folder, make_folder, write_atomic
     from .trajectories import iso14242
 
     out = Path(out_dir)
-    make_folder(out)
+    check_folder(out)  # fail now, not after the computing; but make it only when there is something to write
     trajectory = trajectory if trajectory is not None else iso14242()
     smap = singularity_map(params, alpha_deg, beta_deg, gamma_deg, trajectory=trajectory, progress=progress)
     sweep = offset_sweep(params, deltas_deg, trajectory, progress=progress)
+    make_folder(out)
     files = [*save_figure(plot_singularity_map(smap), out, "singularity_map"), *save_figure(plot_offset_sweep(sweep), out, "offset_sweep")]
     m = smap.margin
     document = {

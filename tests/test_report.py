@@ -301,3 +301,14 @@ def test_page_renders_in_headless_chromium(written, tmp_path):
     figures = pixels[2500:]
     saturation = figures.max(axis=-1) - figures.min(axis=-1)
     assert np.mean(saturation > 0.3) > 0.002
+
+
+def test_a_failed_report_leaves_no_folder_behind(tmp_path, params):
+    """The folder is made only once there is something to write: a bad trajectory leaves nothing."""
+    t = np.linspace(0.0, 0.07, 8)
+    q = np.column_stack([np.zeros(8), np.zeros(8), np.radians(np.linspace(-150.0, 130.0, 8))])  # out of reach
+    bad = Trajectory(t, q, np.zeros_like(q), np.zeros_like(q), np.full(8, 300.0), name="bad")
+    out = tmp_path / "deep" / "report"
+    with pytest.raises(hipsim.PoseError):
+        report.write_report(out, params, bad)
+    assert list(tmp_path.iterdir()) == []

@@ -9,8 +9,6 @@ import numpy as np
 import pytest
 
 import hipsim
-from hipsim.exceptions import HipsimError
-from hipsim.files import write_atomic
 from hipsim.results import column_names
 
 README = Path(__file__).resolve().parents[1] / "README.md"
@@ -54,21 +52,6 @@ def test_summary_values(result):
     assert motor["tau_peak_Nmm"] >= max(motor[f"{p}_max_Nmm"] for p in ("tau_m", "tau_l", "tau_s", "tau_L"))
     assert summary["cond_inv_min"] == pytest.approx(kin.cond_inv.min())
     assert summary["cond_inv_min_t_s"] == pytest.approx(kin.t[np.argmin(kin.cond_inv)])
-
-
-def test_atomic_write_leaves_old_file_on_failure(tmp_path):
-    target = tmp_path / "out.csv"
-    target.write_text("old")
-
-    with pytest.raises(TypeError):  # fails half-way, after the temporary file is open
-        write_atomic(target, 12345)
-    assert target.read_text() == "old"
-    assert list(tmp_path.iterdir()) == [target]
-
-
-def test_atomic_write_into_missing_folder(tmp_path):
-    with pytest.raises(HipsimError, match="does not exist"):
-        write_atomic(tmp_path / "nope" / "out.csv", "x")
 
 
 def test_readme_library_example_runs(tmp_path, monkeypatch):
