@@ -279,6 +279,8 @@ def _cmd_report(args) -> int:
 def _numbers(text: str, separator: str, option: str, expected: str, count: int | None = None) -> list[float]:
     """Finite numbers from an option's text, or a one-line error naming the option."""
     try:
+        if "_" in text:  # Python's float() reads "1_0" as 10; a user would not mean that
+            raise ValueError(text)
         values = [float(part) for part in text.split(separator)]
     except ValueError:
         raise HipsimError(f"{option}: expected {expected}, got '{text}'") from None
@@ -292,12 +294,16 @@ def _cmd_workspace(args) -> int:
 
     params = _parameters(args)
     trajectory = _trajectory(args)
-    gamma = _numbers(args.gamma, ",", "--gamma", "comma-separated angles in degrees") if args.gamma else None
+    gamma = _numbers(args.gamma, ",", "--gamma", "comma-separated angles in degrees") if args.gamma is not None else None
+    if gamma is not None and np.any(np.abs(gamma) > 180):
+        raise HipsimError(f"--gamma: angles must lie within ±180°, got '{args.gamma}'")
     deltas = None
-    if args.deltas:
+    if args.deltas is not None:
         start, stop, step = _numbers(args.deltas, ":", "--deltas", "START:STOP:STEP in degrees", count=3)
         if step <= 0 or stop < start:
             raise HipsimError(f"--deltas: expected START <= STOP and STEP > 0, got '{args.deltas}'")
+        if max(abs(start), abs(stop)) > 180:
+            raise HipsimError(f"--deltas: offsets must lie within ±180°, got '{args.deltas}'")
         if (stop - start) / step > 100_000:
             raise HipsimError(f"--deltas: {args.deltas} asks for more than 100,000 offsets")
         deltas = np.arange(start, stop + step / 2, step)

@@ -48,7 +48,7 @@ import numpy as np
 
 from .dynamics import Torques, screw_friction_torque
 from .exceptions import HipsimError, ParameterError
-from .parameters import Parameters, check_entry, read_toml
+from .parameters import SCHEMA, Parameters, check_entry, read_toml
 from .files import check_folder, make_folder, write_atomic
 from .results import Result, analyse
 from .trajectories import Trajectory
@@ -303,7 +303,7 @@ class MotorRatings:
 
 
 def load_ratings(path: str | Path) -> MotorRatings:
-    """Read a motor/module rating file: TOML with one ``[motor]`` table.
+    """Read a motor/module rating file: TOML with one ``[motor]`` table (or a parameter file, of which only ``[motor]`` is read).
 
     Example file::
 
@@ -322,7 +322,7 @@ def load_ratings(path: str | Path) -> MotorRatings:
     source = str(path)
     raw = read_toml(path, "rating file")
     for section in raw:
-        if section != "motor":
+        if section not in SCHEMA:  # the parameter file's other tables are allowed, and ignored here
             raise ParameterError("unknown section (expected one [motor] table)", key=section, source=source)
     table = raw.get("motor")
     if not isinstance(table, dict) or not table:

@@ -258,6 +258,8 @@ def load_trajectory_csv(path: str | Path, periodic: bool | None = None) -> Traje
             raise TrajectoryError(f"{len(row)} cells, the header has {len(header)}", source=source, line=number)
         for c, cell in enumerate(row):
             try:
+                if "_" in cell:  # Python's float() reads "1_0" as 10; a CSV writer would not mean that
+                    raise ValueError(cell)
                 values[k, c] = float(cell)
             except ValueError:
                 raise TrajectoryError(f"'{cell.strip()}' is not a number", source=source, line=number, column=header[c]) from None

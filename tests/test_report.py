@@ -163,6 +163,18 @@ def test_rating_file_round_trip(tmp_path):
     assert ratings.max_speed_rpm == 3000.0 and ratings.stroke_mm == 150.5 and ratings.peak_torque_Nmm is None
 
 
+def test_a_parameter_file_serves_as_a_rating_file(tmp_path):
+    """Its [motor] table is read, its other tables ignored (they are known sections, not typos)."""
+    from hipsim.parameters import default_parameters_path
+
+    path = tmp_path / "machine.toml"
+    path.write_text(default_parameters_path().read_text() + "\n[motor]\npeak_torque_Nmm = 1910\n")
+    assert report.load_ratings(path).peak_torque_Nmm == 1910.0
+    path.write_text(default_parameters_path().read_text())  # no [motor] table at all
+    with pytest.raises(ParameterError, match=re.escape("[motor] table")):
+        report.load_ratings(path)
+
+
 # ---------------------------------------------------------------------------
 # The written report
 

@@ -806,3 +806,11 @@ def test_values_beyond_any_gait_are_refused_where_they_are(tmp_path, cell, colum
     with pytest.raises(TrajectoryError, match=message) as info:
         load_trajectory_csv(write_lines(tmp_path / "slip.csv", lines))
     assert "line 6" in str(info.value) and column in str(info.value)
+
+
+def test_digit_separators_are_not_numbers_in_a_csv(tmp_path):
+    lines = ["t_s,alpha_deg,beta_deg,gamma_deg"] + [f"{k * 0.01:.2f},{k},1,-2" for k in range(8)]
+    lines[3] = "0.02,1_0,1,-2"  # float() would read 10
+    with pytest.raises(TrajectoryError, match="'1_0' is not a number") as info:
+        load_trajectory_csv(write_lines(tmp_path / "sep.csv", lines))
+    assert "line 4" in str(info.value)
