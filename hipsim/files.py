@@ -6,14 +6,15 @@ import csv
 import io
 import os
 import tempfile
+from contextlib import contextmanager
 from pathlib import Path
-from typing import Mapping
+from typing import Iterator, Mapping
 
 import numpy as np
 
 from .exceptions import HipsimError
 
-__all__ = ["check_folder", "make_folder", "write_atomic", "write_columns"]
+__all__ = ["check_folder", "make_folder", "output_folder", "write_atomic", "write_columns"]
 
 
 def check_folder(path: str | Path) -> Path:
@@ -50,19 +51,56 @@ def make_folder(path: str | Path) -> Path:
     return path
 
 
+@contextmanager
+def output_folder(path: str | Path) -> Iterator[Path]:
+    """Make an output folder for one run, and take it back if the run fails.
+
+    Use it around the writing only, after the computing, so that a run that
+    fails early never touches the disk. If the body raises (a write refused,
+    a full disk, Ctrl-C), every folder this call created and that is still
+    empty is removed again, deepest first; a folder that existed before, or
+    that holds anything, is left alone.
+
+    Raises:
+        HipsimError: as :func:`make_folder`; whatever the body raises, unchanged.
+    """
+    path = Path(path)
+    # Deepest first; lexists, so that a dangling link is not taken for a missing folder of ours.
+    missing = [p for p in (path, *path.parents) if not os.path.lexists(p)]
+    try:
+        make_folder(path)
+        yield path
+    except BaseException:
+        for folder in missing:
+            try:
+                folder.rmdir()  # refuses a folder that is not empty: the run wrote something, or someone else did
+            except FileNotFoundError:
+                continue  # already gone; the ones above may still be empty
+            except OSError:
+                break  # not empty (or not ours to remove): the folders above it hold it, so are not empty either
+        raise
+
+
 def write_atomic(path: str | Path, text: str | bytes) -> Path:
     """Write a file so that readers see either the old file or the whole new one.
 
     The text goes to a temporary file beside ``path`` that is renamed over it
-    once it is complete; on any failure the temporary file is removed.
+    once it is complete; on any failure the temporary file is removed. A
+    symbolic link is written through: its target is replaced, the link kept.
 
     Raises:
-        HipsimError: when the folder does not exist, the path is a folder, or
-            the file cannot be written.
+        HipsimError: when the folder does not exist, the path is a folder, a
+            device, pipe or socket (not a regular file), or a loop of links,
+            or the file cannot be written.
     """
     given = Path(path)
     # Through a symbolic link to its target: replacing the link itself would cut it.
-    path = given.resolve() if given.is_symlink() else given
+    try:
+        path = given.resolve() if given.is_symlink() else given
+    except (OSError, RuntimeError):  # a loop of links: Python 3.11 and 3.12 raise RuntimeError
+        path = given
+    if path.is_symlink():  # still a link after resolving (or resolve() gave up): the links go round in a loop
+        raise HipsimError(f"{given}: cannot write, its symbolic links go round in a loop")
     folder = path.parent if str(path.parent) else Path(".")
     if not folder.is_dir():
         raise HipsimError(f"{given}: cannot write, folder '{folder}' does not exist")

@@ -49,7 +49,7 @@ import numpy as np
 from .dynamics import Torques, screw_friction_torque
 from .exceptions import HipsimError, ParameterError
 from .parameters import SCHEMA, Parameters, check_entry, read_toml
-from .files import check_folder, make_folder, write_atomic
+from .files import check_folder, output_folder, write_atomic
 from .results import Result, analyse
 from .trajectories import Trajectory
 
@@ -613,20 +613,20 @@ def write_report(
         plots.append(("joint_forces", lambda: plot_joint_forces(combined)))
     if sims is not None:
         plots.append(("tracking_errors", lambda: plot_tracking(sims)))
-    make_folder(out)
-    for stem, make in plots:
-        figures[stem] = save_figure(make(), out, stem)
+    with output_folder(out):  # a failure from here on takes back the folder if this run made it and it is empty
+        for stem, make in plots:
+            figures[stem] = save_figure(make(), out, stem)
 
-    summary = combined.summary()
-    tracking = _tracking_table(sims) if sims is not None else None
-    document = {"summary": summary, "sizing": size.as_dict(), "tracking": tracking, "notes": notes,
-                "figures": {stem: [p.name for p in paths] for stem, paths in figures.items()}}
-    data = (
-        write_atomic(out / "report.json", json.dumps(_finite(document), indent=2) + "\n"),
-        combined.write_csv(out / "torques.csv"),
-    )
-    page = _html(combined, summary, size, tracking, figures, notes)
-    index = write_atomic(out / "index.html", page)
+        summary = combined.summary()
+        tracking = _tracking_table(sims) if sims is not None else None
+        document = {"summary": summary, "sizing": size.as_dict(), "tracking": tracking, "notes": notes,
+                    "figures": {stem: [p.name for p in paths] for stem, paths in figures.items()}}
+        data = (
+            write_atomic(out / "report.json", json.dumps(_finite(document), indent=2) + "\n"),
+            combined.write_csv(out / "torques.csv"),
+        )
+        page = _html(combined, summary, size, tracking, figures, notes)
+        index = write_atomic(out / "index.html", page)
     return ReportFiles(out, index, figures, data, tuple(notes), size)
 
 

@@ -684,7 +684,7 @@ def run_workspace(
     import json
 
     from .report import save_figure
-    from .files import check_folder, make_folder, write_atomic
+    from .files import check_folder, output_folder, write_atomic
     from .trajectories import iso14242
 
     out = Path(out_dir)
@@ -692,8 +692,6 @@ def run_workspace(
     trajectory = trajectory if trajectory is not None else iso14242()
     smap = singularity_map(params, alpha_deg, beta_deg, gamma_deg, trajectory=trajectory, progress=progress)
     sweep = offset_sweep(params, deltas_deg, trajectory, progress=progress)
-    make_folder(out)
-    files = [*save_figure(plot_singularity_map(smap), out, "singularity_map"), *save_figure(plot_offset_sweep(sweep), out, "offset_sweep")]
     m = smap.margin
     document = {
         "parameters": params.source,
@@ -710,7 +708,9 @@ def run_workspace(
         },
         "offset_sweep": [{k: _json_float(v) for k, v in row.items()} for row in sweep.rows()],
     }
-    files.append(write_atomic(out / "workspace.json", json.dumps(document, indent=2) + "\n"))
+    with output_folder(out):  # a failure from here on takes back the folder if this run made it and it is empty
+        files = [*save_figure(plot_singularity_map(smap), out, "singularity_map"), *save_figure(plot_offset_sweep(sweep), out, "offset_sweep")]
+        files.append(write_atomic(out / "workspace.json", json.dumps(document, indent=2) + "\n"))
     print(format_workspace_summary(smap, sweep), file=stream if stream is not None else sys.stdout)
     print(f"\nwrote {', '.join(p.name for p in files)} to {out}", file=stream if stream is not None else sys.stdout)
     return WorkspaceRun(smap, sweep, tuple(files))

@@ -2,10 +2,11 @@
 
 import os
 
+import numpy as np
 import pytest
 
 from hipsim.exceptions import HipsimError
-from hipsim.files import check_folder, make_folder, write_atomic
+from hipsim.files import check_folder, make_folder, output_folder, write_atomic, write_columns
 
 
 def test_atomic_write_leaves_old_file_on_failure(tmp_path):
@@ -58,3 +59,80 @@ def test_check_folder_creates_nothing_and_names_a_file_in_the_way(tmp_path):
         check_folder(tmp_path / "file" / "sub")
     with pytest.raises(HipsimError, match="a file has that name"):
         make_folder(tmp_path / "file")
+
+
+def test_a_loop_of_links_is_refused_and_left_alone(tmp_path):
+    """resolve() gives up on a loop (RuntimeError before Python 3.13): one line, not a traceback."""
+    (tmp_path / "a").symlink_to(tmp_path / "b")
+    (tmp_path / "b").symlink_to(tmp_path / "a")
+    with pytest.raises(HipsimError, match="a: cannot write, its symbolic links go round in a loop"):
+        write_atomic(tmp_path / "a", "x")
+    assert (tmp_path / "a").is_symlink() and (tmp_path / "b").is_symlink()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a", "b"]
+
+
+def test_a_link_to_a_pipe_is_refused_and_both_left_alone(tmp_path):
+    pipe = tmp_path / "pipe"
+    os.mkfifo(pipe)
+    link = tmp_path / "link.csv"
+    link.symlink_to(pipe)
+    with pytest.raises(HipsimError, match="link.csv: not a regular file"):
+        write_columns(link, {"t [s]": np.arange(3.0)})
+    assert link.is_symlink() and pipe.is_fifo()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["link.csv", "pipe"]
+
+
+def test_a_chain_of_links_is_written_through_to_the_end(tmp_path):
+    target = tmp_path / "target.csv"
+    target.write_text("old")
+    (tmp_path / "one").symlink_to(target)
+    (tmp_path / "two").symlink_to(tmp_path / "one")
+    write_columns(tmp_path / "two", {"t [s]": np.array([0.0, 0.5])})
+    assert (tmp_path / "one").is_symlink() and (tmp_path / "two").is_symlink()
+    assert target.read_text() == "t [s]\n0\n0.5\n"
+
+
+class Refused(Exception):
+    """Stands in for whatever stops a run half-way."""
+
+
+def test_output_folder_takes_back_the_folders_a_failed_run_made(tmp_path):
+    out = tmp_path / "a" / "b" / "c"
+    with pytest.raises(Refused):
+        with output_folder(out) as folder:
+            assert folder == out and out.is_dir()
+            raise Refused
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_output_folder_takes_them_back_on_ctrl_c_too(tmp_path):
+    with pytest.raises(KeyboardInterrupt):
+        with output_folder(tmp_path / "out"):
+            raise KeyboardInterrupt
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_output_folder_never_removes_a_folder_that_was_there(tmp_path):
+    (tmp_path / "a").mkdir()
+    with pytest.raises(Refused):
+        with output_folder(tmp_path / "a" / "b"):
+            raise Refused
+    assert [p.name for p in tmp_path.iterdir()] == ["a"] and list((tmp_path / "a").iterdir()) == []
+    with pytest.raises(Refused):
+        with output_folder(tmp_path / "a"):
+            raise Refused
+    assert (tmp_path / "a").is_dir()
+
+
+def test_output_folder_keeps_what_was_written_and_the_folders_holding_it(tmp_path):
+    with pytest.raises(Refused):
+        with output_folder(tmp_path / "a" / "b") as folder:
+            write_atomic(folder / "half.csv", "x")
+            raise Refused
+    assert (tmp_path / "a" / "b" / "half.csv").read_text() == "x"
+
+
+def test_output_folder_keeps_the_folder_of_a_run_that_succeeds(tmp_path):
+    with output_folder(tmp_path / "a" / "b") as folder:
+        pass
+    assert folder.is_dir() and list(folder.iterdir()) == []

@@ -324,3 +324,24 @@ def test_a_failed_report_leaves_no_folder_behind(tmp_path, params):
     with pytest.raises(hipsim.PoseError):
         report.write_report(out, params, bad)
     assert list(tmp_path.iterdir()) == []
+
+
+def refuse_to_write(*args, **kwargs):
+    """A figure write that fails, as on a full disk: after the folder is made, before anything is in it."""
+    raise HipsimError("slider_motion.png: cannot write (No space left on device)")
+
+
+def test_a_report_failing_at_its_first_write_takes_back_the_folders_it_made(tmp_path, params, iso, monkeypatch):
+    monkeypatch.setattr(report, "save_figure", refuse_to_write)
+    with pytest.raises(HipsimError, match="No space left"):
+        report.write_report(tmp_path / "deep" / "report", params, iso.slice(slice(0, 50)), model="analytic")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_failing_report_never_removes_a_folder_that_was_there(tmp_path, params, iso, monkeypatch):
+    monkeypatch.setattr(report, "save_figure", refuse_to_write)
+    out = tmp_path / "report"
+    out.mkdir()
+    with pytest.raises(HipsimError, match="No space left"):
+        report.write_report(out, params, iso.slice(slice(0, 50)), model="analytic")
+    assert out.is_dir() and list(out.iterdir()) == []

@@ -202,3 +202,19 @@ def test_run_workspace_writes_figures_json_and_summary(params, iso, tmp_path):
     assert document["offset_sweep"][3]["tau_peak_Nmm"] is None  # δ = 0 is infeasible: null, not NaN
     text = stream.getvalue()
     assert "smallest inverse condition number" in text and "built" in text and "passes through a singularity" in text
+
+
+def test_a_workspace_run_failing_at_its_first_write_takes_back_only_the_folders_it_made(params, iso, tmp_path, monkeypatch):
+    def refuse_to_write(*args, **kwargs):  # as on a full disk: after the folder is made, before anything is in it
+        raise hipsim.HipsimError("singularity_map.png: cannot write (No space left on device)")
+
+    monkeypatch.setattr("hipsim.report.save_figure", refuse_to_write)
+    small = dict(alpha_deg=[0.0, 10.0], beta_deg=[0.0, 5.0], gamma_deg=[0.0], deltas_deg=[30.0], stream=io.StringIO())
+    with pytest.raises(hipsim.HipsimError, match="No space left"):
+        ws.run_workspace(params, iso.slice(slice(0, 50)), tmp_path / "deep" / "ws", **small)
+    assert list(tmp_path.iterdir()) == []
+
+    (tmp_path / "ws").mkdir()  # there before the run: never removed
+    with pytest.raises(hipsim.HipsimError, match="No space left"):
+        ws.run_workspace(params, iso.slice(slice(0, 50)), tmp_path / "ws", **small)
+    assert [p.name for p in tmp_path.iterdir()] == ["ws"]
