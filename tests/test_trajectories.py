@@ -798,7 +798,7 @@ def test_trajectory_slice():
     [("1e300", "alpha_deg", "more than a full turn"), ("-400", "gamma_deg", "more than a full turn"), ("1e30", "Fe_N", "a unit slip")],
 )
 def test_values_beyond_any_gait_are_refused_where_they_are(tmp_path, cell, column, message):
-    lines = ["t_s,alpha_deg,beta_deg,gamma_deg,Fe_N"] + [f"{k * 0.01:.2f},{k},1,-2,500" for k in range(8)]
+    lines = small_csv()
     header = lines[0].split(",")
     row = lines[5].split(",")
     row[header.index(column)] = cell
@@ -809,8 +809,8 @@ def test_values_beyond_any_gait_are_refused_where_they_are(tmp_path, cell, colum
 
 
 def test_digit_separators_are_not_numbers_in_a_csv(tmp_path):
-    lines = ["t_s,alpha_deg,beta_deg,gamma_deg"] + [f"{k * 0.01:.2f},{k},1,-2" for k in range(8)]
-    lines[3] = "0.02,1_0,1,-2"  # float() would read 10
+    lines = small_csv()
+    lines[3] = "0.02,1_0,1,-2,500"  # line 4; float() would read 10
     with pytest.raises(TrajectoryError, match="'1_0' is not a number") as info:
         load_trajectory_csv(write_lines(tmp_path / "sep.csv", lines))
     assert "line 4" in str(info.value)
