@@ -23,10 +23,10 @@ from typing import Callable, Protocol
 import numpy as np
 
 from . import reduced_kernel
-from .reduced_kernel import floats
 from .dynamics import inverse_dynamics
 from .kinematics import kinematics
 from .parameters import Parameters
+from .reduced_kernel import floats
 from .trajectories import Trajectory
 
 __all__ = ["AugmentedPD", "Controller", "Sample", "WorkspacePD", "feedforward_torques"]

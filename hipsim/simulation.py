@@ -35,12 +35,12 @@ import numpy as np
 from tqdm import tqdm
 
 from . import reduced_kernel
-from .reduced_kernel import floats
 from .control import Sample
 from .exceptions import HipsimError, PoseError
 from .files import write_columns
 from .kinematics import kinematics
 from .parameters import Parameters
+from .reduced_kernel import floats
 from .trajectories import Trajectory
 
 __all__ = ["Plant", "ReducedPlant", "Simulation", "apply_mismatch", "parse_mismatch", "simulate"]
