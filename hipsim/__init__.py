@@ -15,12 +15,12 @@ The physics is in pure functions over arrays: :func:`kinematics` and
 :func:`inverse_dynamics`.
 """
 
-from .dynamics import Torques, inverse_dynamics, mechanical_energy
+from .analytic.virtual_work import Torques, inverse_dynamics, mechanical_energy
 from .exceptions import HipsimError, ModelError, ParameterError, PoseError, TrajectoryError
-from .kinematics import Kinematics, kinematics
-from .parameters import Parameters, load_parameters, slender_levers
-from .results import Result, analyse
-from .trajectories import Trajectory, iso14242, load_trajectory_csv
+from .analytic.inverse_kinematics import Kinematics, kinematics
+from .machine.parameters import Parameters, load_parameters, slender_levers
+from .analysis.runs import Result, analyse
+from .motion.trajectories import Trajectory, iso14242, load_trajectory_csv
 
 __version__ = "0.1.0"
 

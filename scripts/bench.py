@@ -21,8 +21,8 @@ import numpy as np  # noqa: E402
 
 import hipsim  # noqa: E402
 from hipsim import workspace  # noqa: E402
-from hipsim.dynamics import inverse_dynamics  # noqa: E402
-from hipsim.kinematics import kinematics  # noqa: E402
+from hipsim.analytic.virtual_work import inverse_dynamics  # noqa: E402
+from hipsim.analytic.inverse_kinematics import kinematics  # noqa: E402
 
 
 def best_time(function, repeats: int = 5) -> float:
@@ -57,7 +57,7 @@ def bench_analytic(params, quick: bool) -> None:
 def bench_pinocchio(params, quick: bool) -> None:
     import pinocchio as pin
 
-    from hipsim.pinocchio_model import load_model, trajectory_dynamics
+    from hipsim.closed_chain.model import load_model, trajectory_dynamics
 
     chain = load_model(params)
     trajectory = hipsim.iso14242(rate=1000)
@@ -115,7 +115,7 @@ class VectorisedReducedPlant:
     """Baseline: the reduced plant as it was before the compiled kernels, through the vectorised model.
 
     τ at q̈ = 0 and at the three unit accelerations, one 4-sample call per
-    derivative (as :func:`hipsim.dynamics.mass_and_bias` without its pose check).
+    derivative (as :func:`hipsim.analytic.virtual_work.mass_and_bias` without its pose check).
     """
 
     name = "reduced (vectorised)"
@@ -141,11 +141,11 @@ def bench_plants(params, quick: bool) -> None:
     """Closed-loop simulation speed of both plants, and where a Pinocchio derivative call goes."""
     import pinocchio as pin
 
-    from hipsim import simulation
-    from hipsim.control import WorkspacePD
-    from hipsim.pinocchio_model import trajectory_dynamics
-    from hipsim.pinocchio_plant import PinocchioPlant
-    from hipsim.trajectories import iso14242_at
+    import hipsim.control.simulation as simulation
+    from hipsim.control.controllers import WorkspacePD
+    from hipsim.closed_chain.model import trajectory_dynamics
+    from hipsim.closed_chain.plant import PinocchioPlant
+    from hipsim.motion.trajectories import iso14242_at
 
     control = params.control
     print(f"Closed-loop simulation: workspace PD on the ISO cycle, servo {control.servo_rate:g} Hz, "

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from hipsim.trajectories import Trajectory, iso14242_angles, iso14242_load
+from hipsim.motion.trajectories import Trajectory, iso14242_angles, iso14242_load
 
 
 #: Every friction coefficient on, U/S-joint friction (zero by default) included, for Parameters.replace.

@@ -8,8 +8,8 @@ import sys
 import numpy as np
 import pytest
 
-from hipsim.cli import main
-from hipsim.results import column_names
+from hipsim.cli.main import main
+from hipsim.analysis.runs import column_names
 
 
 def run(*args):
@@ -137,7 +137,7 @@ def test_check_passes_and_shows_every_configuration(capsys):
 
 
 def test_check_fails_when_required_models_disagree(monkeypatch, capsys):
-    import hipsim.crosscheck as crosscheck
+    import hipsim.analysis.crosscheck as crosscheck
 
     real = crosscheck._differences
 

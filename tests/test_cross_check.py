@@ -17,16 +17,16 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-import hipsim.dynamics  # noqa: F401  (the modules, not the functions hipsim re-exports)
-import hipsim.kinematics  # noqa: F401
+import hipsim.analytic.virtual_work  # noqa: F401  (the modules, not the functions hipsim re-exports)
+import hipsim.analytic.inverse_kinematics  # noqa: F401
 from hipsim import load_parameters, slender_levers
-from hipsim.pinocchio_model import load_model, platform_joint_positions, trajectory_dynamics
-from hipsim.trajectories import iso14242
+from hipsim.closed_chain.model import load_model, platform_joint_positions, trajectory_dynamics
+from hipsim.motion.trajectories import iso14242
 
 from support import SmoothMotion
 
-analytic_kinematics = sys.modules["hipsim.kinematics"]
-analytic_dynamics = sys.modules["hipsim.dynamics"]
+analytic_kinematics = sys.modules["hipsim.analytic.inverse_kinematics"]
+analytic_dynamics = sys.modules["hipsim.analytic.virtual_work"]
 
 MOTION = ("L", "Ld", "Ldd")
 TORQUES = ("tau", "tau_m", "tau_l", "tau_s", "tau_L", "tau_f")

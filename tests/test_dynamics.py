@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 import hipsim
-from hipsim.dynamics import Torques, inverse_dynamics, mass_and_bias, mechanical_energy, smooth_sign
+from hipsim.analytic.virtual_work import Torques, inverse_dynamics, mass_and_bias, mechanical_energy, smooth_sign
 from hipsim.exceptions import PoseError
-from hipsim.kinematics import kinematics, lever_frames, lever_jacobians
-from hipsim.trajectories import Trajectory, iso14242
+from hipsim.analytic.inverse_kinematics import kinematics, lever_frames, lever_jacobians
+from hipsim.motion.trajectories import Trajectory, iso14242
 
 from support import ALL_FRICTION, SmoothMotion, central_difference, iso_at
 

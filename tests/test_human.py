@@ -8,8 +8,8 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from hipsim.human import HUMAN_PELVIS_ROTATION, human_hip_angles, load_human
-from hipsim.kinematics import rotation_matrix
+from hipsim.present.human import HUMAN_PELVIS_ROTATION, human_hip_angles, load_human
+from hipsim.analytic.inverse_kinematics import rotation_matrix
 
 
 @pytest.fixture(scope="module")

@@ -5,7 +5,7 @@ import pytest
 
 import hipsim
 from hipsim.exceptions import PoseError
-from hipsim.kinematics import (
+from hipsim.analytic.inverse_kinematics import (
     angular_velocity_map,
     inverse_condition_number,
     kinematics,
@@ -15,7 +15,7 @@ from hipsim.kinematics import (
     rotation_matrix,
     slider_heights,
 )
-from hipsim.trajectories import Trajectory, iso14242
+from hipsim.motion.trajectories import Trajectory, iso14242
 
 from support import SmoothMotion, central_difference, iso_at, relative_error
 

@@ -15,9 +15,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hipsim.meshcat_output import DiscreteAnimation, OfflineWindow, offline_page
-from hipsim.trajectories import iso14242
-from hipsim.viewer import Viewer
+from hipsim.present.meshcat_output import DiscreteAnimation, OfflineWindow, offline_page
+from hipsim.motion.trajectories import iso14242
+from hipsim.present.viewer import Viewer
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -98,7 +98,7 @@ def wait_until(condition, timeout: float) -> bool:
 # ---------------------------------------------------------------------------
 
 
-# meshcat 0.3 warns, when first imported, that pyzmq's event loop is deprecated (hipsim.viewer imports it quietly too).
+# meshcat 0.3 warns, when first imported, that pyzmq's event loop is deprecated (hipsim.present.viewer imports it quietly too).
 @pytest.mark.filterwarnings("ignore:zmq.eventloop.ioloop is deprecated:DeprecationWarning")
 def test_offline_page_holds_the_scene_with_the_animation_last():
     """Every command the window keeps, base64 in the page, in order: the animation after the objects it animates."""
@@ -162,7 +162,7 @@ def test_live_server_listens_on_loopback_only():
 
 _SCRIPT = """
 import sys
-from hipsim.viewer import run_view
+from hipsim.present.viewer import run_view
 sys.exit(run_view(forces=True, singularity=True))
 """
 
@@ -199,7 +199,7 @@ def test_view_command_ends_cleanly_on_ctrl_c():
 
 
 def test_server_ends_with_its_parent():
-    script = "from hipsim.viewer import Viewer; import time; v = Viewer(); print(v.server_pid, flush=True); time.sleep(60)"
+    script = "from hipsim.present.viewer import Viewer; import time; v = Viewer(); print(v.server_pid, flush=True); time.sleep(60)"
     child = subprocess.Popen([sys.executable, "-c", script], cwd=REPO, stdout=subprocess.PIPE, text=True, env={**os.environ, "PYTHONPATH": str(REPO)})
     try:
         server = int(child.stdout.readline())

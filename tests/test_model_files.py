@@ -15,9 +15,9 @@ import pytest
 import yaml
 import yourdfpy
 
-import hipsim.model_files as model_files
+import hipsim.machine.model_files as model_files
 from hipsim import ModelError, load_parameters
-from hipsim.model_files import closure_file_path, default_urdf_path, urdf_text, write_urdf, xacro_arguments, xacro_path
+from hipsim.machine.model_files import closure_file_path, default_urdf_path, urdf_text, write_urdf, xacro_arguments, xacro_path
 
 JOINTS = (
     [f"slider_{i}" for i in (1, 2, 3)]
@@ -49,7 +49,7 @@ def _rot(axis: str, angle: float) -> np.ndarray:
 
 def test_committed_urdf_is_not_stale(params):
     assert default_urdf_path().read_text(encoding="utf-8") == urdf_text(params), (
-        "models/hip_simulator.urdf is stale: regenerate it with `python -m hipsim.model_files`"
+        "models/hip_simulator.urdf is stale: regenerate it with `python -m hipsim.machine.model_files`"
     )
 
 

@@ -1,4 +1,4 @@
-"""Tests of hipsim.parameters: the TOML parameter file, SI conversion, overrides, validation.
+"""Tests of hipsim.machine.parameters: the TOML parameter file, SI conversion, overrides, validation.
 
 Expected values come from the spec (the model specification, §1, §7.1, §7.4), written out
 here by hand, never from the code's output.
@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from hipsim import ParameterError, Parameters, load_parameters, slender_levers
-from hipsim.parameters import OPTIONAL_SECTIONS, SCHEMA, default_parameters_path, file_values, parse_override
+from hipsim.machine.parameters import OPTIONAL_SECTIONS, SCHEMA, default_parameters_path, file_values, parse_override
 
 DEG = math.pi / 180.0
 

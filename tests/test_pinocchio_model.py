@@ -18,8 +18,8 @@ import pytest
 import yaml
 
 from hipsim import ModelError, PoseError, load_parameters
-from hipsim.model_files import closure_file_path, default_urdf_path
-from hipsim.pinocchio_model import (
+from hipsim.machine.model_files import closure_file_path, default_urdf_path
+from hipsim.closed_chain.model import (
     closure_residuals,
     constraint_jacobian,
     constraint_rank,
@@ -410,7 +410,7 @@ def test_results_are_frozen_and_shaped(run):
 
 
 def test_accepts_a_hipsim_trajectory():
-    from hipsim.trajectories import iso14242
+    from hipsim.motion.trajectories import iso14242
 
     chain = load_model()
     traj = iso14242(rate=100.0)
@@ -447,7 +447,7 @@ def test_a_closure_file_naming_an_unknown_frame_is_rejected(tmp_path):
 
 def test_one_pass_and_chunked_solves_agree(run, monkeypatch):
     """trajectory_dynamics reuses the kinematics' Jacobians; the batched solve works in chunks."""
-    import hipsim.pinocchio_model as module
+    import hipsim.closed_chain.model as module
 
     separate = inverse_dynamics(run.chain, run.kin, run.traj.Fe)
     monkeypatch.setattr(module, "_CHUNK", 7)

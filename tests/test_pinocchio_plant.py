@@ -7,11 +7,11 @@ import pytest
 from scipy.integrate import simpson
 
 import hipsim
-from hipsim.control import AugmentedPD, WorkspacePD
-from hipsim.pinocchio_model import friction_forces, load_model, trajectory_dynamics
-from hipsim.pinocchio_plant import PinocchioPlant
-from hipsim.simulation import ReducedPlant, apply_mismatch, simulate
-from hipsim.trajectories import iso14242_at
+from hipsim.control.controllers import AugmentedPD, WorkspacePD
+from hipsim.closed_chain.model import friction_forces, load_model, trajectory_dynamics
+from hipsim.closed_chain.plant import PinocchioPlant
+from hipsim.control.simulation import ReducedPlant, apply_mismatch, simulate
+from hipsim.motion.trajectories import iso14242_at
 
 DURATION = 0.2  # [s]
 SERVO = 1000.0  # [Hz], the default servo rate (RK4 step 0.5 ms, the default too)

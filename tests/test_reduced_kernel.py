@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 import hipsim
-from hipsim import reduced_kernel as kernel
-from hipsim.dynamics import inverse_dynamics, mass_and_bias
-from hipsim.kinematics import kinematics, slider_jacobian
-from hipsim.simulation import _rk4
+import hipsim.analytic.kernel as kernel
+from hipsim.analytic.virtual_work import inverse_dynamics, mass_and_bias
+from hipsim.analytic.inverse_kinematics import kinematics, slider_jacobian
+from hipsim.control.simulation import _rk4
 
 from support import ALL_FRICTION, SmoothMotion, relative_error
 

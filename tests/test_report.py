@@ -17,10 +17,10 @@ import numpy as np
 import pytest
 
 import hipsim
-from hipsim import report
+import hipsim.present.report as report
 from hipsim.exceptions import HipsimError, ParameterError
-from hipsim.results import Result
-from hipsim.trajectories import Trajectory, iso14242
+from hipsim.analysis.runs import Result
+from hipsim.motion.trajectories import Trajectory, iso14242
 
 BASE_FIGURES = ("slider_motion", "motor_torques", "load_friction", "singularity")
 
@@ -165,7 +165,7 @@ def test_rating_file_round_trip(tmp_path):
 
 def test_a_parameter_file_serves_as_a_rating_file(tmp_path):
     """Its [motor] table is read, its other tables ignored (they are known sections, not typos)."""
-    from hipsim.parameters import default_parameters_path
+    from hipsim.machine.parameters import default_parameters_path
 
     path = tmp_path / "machine.toml"
     path.write_text(default_parameters_path().read_text() + "\n[motor]\npeak_torque_Nmm = 1910\n")
@@ -249,7 +249,7 @@ def test_page_and_json_carry_the_numbers(written, params, iso):
 
 
 def test_missing_pinocchio_model_falls_back_with_a_note(params, iso, tmp_path, monkeypatch):
-    monkeypatch.setitem(sys.modules, "hipsim.pinocchio_model", None)  # importing it raises ImportError
+    monkeypatch.setitem(sys.modules, "hipsim.closed_chain.model", None)  # importing it raises ImportError
     files = report.write_report(tmp_path, params, iso.slice(slice(0, 100)), model="auto")
     assert set(files.figures) == set(BASE_FIGURES)
     assert any("Pinocchio model is not available" in note for note in files.notes)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import hipsim
-from hipsim.results import column_names
+from hipsim.analysis.runs import column_names
 
 README = Path(__file__).resolve().parents[1] / "README.md"
 

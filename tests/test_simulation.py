@@ -6,12 +6,12 @@ import numpy as np
 import pytest
 
 import hipsim
-from hipsim.control import AugmentedPD, Sample, WorkspacePD, feedforward_torques
-from hipsim.dynamics import inverse_dynamics, mechanical_energy
+from hipsim.control.controllers import AugmentedPD, Sample, WorkspacePD, feedforward_torques
+from hipsim.analytic.virtual_work import inverse_dynamics, mechanical_energy
 from hipsim.exceptions import HipsimError, PoseError
-from hipsim.kinematics import angular_velocity_map, kinematics, slider_jacobian
-from hipsim.simulation import ReducedPlant, apply_mismatch, parse_mismatch, simulate
-from hipsim.trajectories import Trajectory, iso14242_at
+from hipsim.analytic.inverse_kinematics import angular_velocity_map, kinematics, slider_jacobian
+from hipsim.control.simulation import ReducedPlant, apply_mismatch, parse_mismatch, simulate
+from hipsim.motion.trajectories import Trajectory, iso14242_at
 
 
 @pytest.fixture(scope="module")

@@ -1,4 +1,4 @@
-"""Tests of hipsim.trajectories: the built-in ISO 14242-1 cycle (spec §7.2) and CSV trajectories.
+"""Tests of hipsim.motion.trajectories: the built-in ISO 14242-1 cycle (spec §7.2) and CSV trajectories.
 
 Expected values come from the spec's formulas and ranges, written out here;
 derivatives are checked against finite differences and against the exact
@@ -16,7 +16,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from hipsim import TrajectoryError
-from hipsim.trajectories import (
+from hipsim.motion.trajectories import (
     ANGLE_NAMES,
     MIN_SAMPLES,
     Trajectory,

@@ -17,14 +17,14 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from hipsim.kinematics import kinematics as analytic_kinematics
-from hipsim.kinematics import rotation_matrix
-from hipsim.parameters import load_parameters
-from hipsim.pinocchio_model import closure_residuals
-from hipsim.human import HUMAN_PELVIS_POSITION, HUMAN_PELVIS_ROTATION
-from hipsim.meshcat_output import find_browser, screenshot
-from hipsim.trajectories import interpolator, iso14242
-from hipsim.viewer import Viewer, force_scale_for, run_view, singularity_colour
+from hipsim.analytic.inverse_kinematics import kinematics as analytic_kinematics
+from hipsim.analytic.inverse_kinematics import rotation_matrix
+from hipsim.machine.parameters import load_parameters
+from hipsim.closed_chain.model import closure_residuals
+from hipsim.present.human import HUMAN_PELVIS_POSITION, HUMAN_PELVIS_ROTATION
+from hipsim.present.meshcat_output import find_browser, screenshot
+from hipsim.motion.trajectories import interpolator, iso14242
+from hipsim.present.viewer import Viewer, force_scale_for, run_view, singularity_colour
 from support import SmoothMotion
 
 FPS = 30.0
@@ -125,19 +125,19 @@ def patch(image: np.ndarray, pixel, radius: int = 5) -> np.ndarray:
 
 
 def test_moved_names_still_import_from_the_viewer():
-    """hipsim.viewer offers the same objects as hipsim.human (human_hip_angles, load_human) and hipsim.meshcat_output (find_browser, screenshot)."""
-    import hipsim.human
-    import hipsim.meshcat_output
-    import hipsim.viewer
+    """hipsim.present.viewer offers the same objects as hipsim.present.human (human_hip_angles, load_human) and hipsim.present.meshcat_output (find_browser, screenshot)."""
+    import hipsim.present.human
+    import hipsim.present.meshcat_output
+    import hipsim.present.viewer
 
-    assert sorted(hipsim.viewer.__all__) == [
+    assert sorted(hipsim.present.viewer.__all__) == [
         "Motion", "Viewer", "find_browser", "force_scale_for", "human_hip_angles", "load_human", "run_view", "screenshot", "singularity_colour",
     ]  # fmt: skip
     namespace = {}
-    exec("from hipsim.viewer import *", namespace)
-    assert set(hipsim.viewer.__all__) <= set(namespace)
-    assert namespace["human_hip_angles"] is hipsim.human.human_hip_angles and namespace["load_human"] is hipsim.human.load_human
-    assert namespace["find_browser"] is hipsim.meshcat_output.find_browser and namespace["screenshot"] is hipsim.meshcat_output.screenshot
+    exec("from hipsim.present.viewer import *", namespace)
+    assert set(hipsim.present.viewer.__all__) <= set(namespace)
+    assert namespace["human_hip_angles"] is hipsim.present.human.human_hip_angles and namespace["load_human"] is hipsim.present.human.load_human
+    assert namespace["find_browser"] is hipsim.present.meshcat_output.find_browser and namespace["screenshot"] is hipsim.present.meshcat_output.screenshot
 
 
 # ---------------------------------------------------------------------------
@@ -175,7 +175,7 @@ def test_page_shows_closed_frames(offline, iso_motion, iso_page):
 
 
 def test_force_arrows_and_lever_colours_follow_the_dynamics(offline, iso_motion, iso_page):
-    from hipsim.pinocchio_model import trajectory_dynamics
+    from hipsim.closed_chain.model import trajectory_dynamics
 
     motion = iso_motion
     samples = interpolator(iso14242(rate=1000))(np.arange(30) / FPS)  # what the viewer shows
@@ -285,7 +285,7 @@ def _classify(pixels: np.ndarray, colour: str) -> np.ndarray:
 
 def test_page_renders_the_animation_in_chromium(offline, iso_motion, iso_page, tmp_path):
     browser = need_browser()
-    from hipsim.viewer import _CAMERA
+    from hipsim.present.viewer import _CAMERA
 
     size = (900, 700)
     target, position = _CAMERA[False]
@@ -320,7 +320,7 @@ def test_page_renders_the_animation_in_chromium(offline, iso_motion, iso_page, t
 
 def test_human_page_renders_in_chromium(tmp_path):
     browser = need_browser()
-    from hipsim.viewer import _CAMERA
+    from hipsim.present.viewer import _CAMERA
 
     size = (800, 600)
     with Viewer(serve=False, human=True) as viewer:

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 import hipsim
-from hipsim import workspace as ws
-from hipsim.kinematics import kinematics, slider_heights
-from hipsim.trajectories import Trajectory, iso14242
+import hipsim.analysis.workspace as ws
+from hipsim.analytic.inverse_kinematics import kinematics, slider_heights
+from hipsim.motion.trajectories import Trajectory, iso14242
 
 from support import SmoothMotion
 
@@ -208,7 +208,7 @@ def test_a_workspace_run_failing_at_its_first_write_takes_back_only_the_folders_
     def refuse_to_write(*args, **kwargs):  # as on a full disk: after the folder is made, before anything is in it
         raise hipsim.HipsimError("singularity_map.png: cannot write (No space left on device)")
 
-    monkeypatch.setattr("hipsim.report.save_figure", refuse_to_write)
+    monkeypatch.setattr("hipsim.present.report.save_figure", refuse_to_write)
     small = dict(alpha_deg=[0.0, 10.0], beta_deg=[0.0, 5.0], gamma_deg=[0.0], deltas_deg=[30.0], stream=io.StringIO())
     with pytest.raises(hipsim.HipsimError, match="No space left"):
         ws.run_workspace(params, iso.slice(slice(0, 50)), tmp_path / "deep" / "ws", **small)

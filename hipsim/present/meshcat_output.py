@@ -31,7 +31,7 @@ import threading
 import time
 from pathlib import Path
 
-from .exceptions import HipsimError
+from ..exceptions import HipsimError
 
 __all__ = [
     "DiscreteAnimation",

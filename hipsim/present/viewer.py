@@ -53,12 +53,12 @@ from typing import Callable, TextIO
 import numpy as np
 import pinocchio as pin
 
-from .exceptions import HipsimError
-from .files import write_atomic
+from ..exceptions import HipsimError
+from ..files import write_atomic
 from .human import HIP_JOINTS, HUMAN_PELVIS_POSITION, HUMAN_PELVIS_ROTATION, human_hip_angles, load_human
 from .meshcat_output import DiscreteAnimation, LiveWindow, OfflineWindow, Server, TeeWindow, find_browser, offline_page, screenshot
-from .parameters import Parameters, load_parameters
-from .trajectories import Trajectory, interpolator
+from ..machine.parameters import Parameters, load_parameters
+from ..motion.trajectories import Trajectory, interpolator
 
 # human_hip_angles and load_human live in hipsim.human, find_browser and screenshot in
 # hipsim.meshcat_output; they stay in __all__ here so that code importing them from
@@ -298,7 +298,7 @@ class Viewer:
         meshcat = _import_meshcat()
         from pinocchio.visualize import MeshcatVisualizer
 
-        from .pinocchio_model import load_model
+        from ..closed_chain.model import load_model
 
         self.params = load_parameters() if params is None else params
         self.chain = load_model(self.params)
@@ -416,7 +416,7 @@ class Viewer:
         return names
 
     def _home(self) -> np.ndarray:
-        from .pinocchio_model import kinematics
+        from ..closed_chain.model import kinematics
 
         zero = Trajectory(np.zeros(1), np.zeros((1, 3)), np.zeros((1, 3)), np.zeros((1, 3)), np.zeros(1), name="home")
         return kinematics(self.chain, zero).q[0]
@@ -445,8 +445,8 @@ class Viewer:
         Raises:
             PoseError: a sample is out of reach or singular.
         """
-        from .kinematics import kinematics as analytic_kinematics
-        from .pinocchio_model import kinematics, trajectory_dynamics
+        from ..analytic.inverse_kinematics import kinematics as analytic_kinematics
+        from ..closed_chain.model import kinematics, trajectory_dynamics
 
         if not (fps > 0 and speed > 0 and math.isfinite(fps) and math.isfinite(speed)):
             raise HipsimError(f"fps and speed must be positive, got fps={fps}, speed={speed}")
@@ -461,7 +461,7 @@ class Viewer:
             kin = kinematics(self.chain, samples)
         if singularity:
             cond_inv = np.array(analytic_kinematics(self.params, samples, on_error="flag").cond_inv)
-        from .kinematics import rotation_matrix
+        from ..analytic.inverse_kinematics import rotation_matrix
 
         hip = human_hip_angles(rotation_matrix(np.asarray(kin.angles)))
         return Motion(
@@ -576,7 +576,7 @@ class Viewer:
         Raises:
             PoseError: the orientation is out of reach or singular.
         """
-        from .pinocchio_model import kinematics
+        from ..closed_chain.model import kinematics
 
         one = Trajectory(np.zeros(1), np.array([[alpha, beta, gamma]], dtype=float), np.zeros((1, 3)), np.zeros((1, 3)), np.zeros(1), name="orientation")
         q = kinematics(self.chain, one).q[0]
@@ -824,7 +824,7 @@ def run_view(
     Raises:
         HipsimError: bad options, a pose out of reach, the server does not start.
     """
-    from .trajectories import iso14242
+    from ..motion.trajectories import iso14242
 
     params = load_parameters() if params is None else params
     trajectory = iso14242(rate=1000.0) if trajectory is None else trajectory

@@ -41,8 +41,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from .exceptions import HipsimError
-from .parameters import Friction, Parameters
+from ..exceptions import HipsimError
+from ..machine.parameters import Friction, Parameters
 
 __all__ = [
     "KernelParameters",

@@ -46,12 +46,12 @@ from typing import Any, Callable, Mapping
 
 import numpy as np
 
-from .dynamics import Torques, screw_friction_torque
-from .exceptions import HipsimError, ParameterError
-from .parameters import SCHEMA, Parameters, check_entry, read_toml
-from .files import check_folder, output_folder, write_atomic
-from .results import Result, analyse
-from .trajectories import Trajectory
+from ..analytic.virtual_work import Torques, screw_friction_torque
+from ..exceptions import HipsimError, ParameterError
+from ..machine.parameters import SCHEMA, Parameters, check_entry, read_toml
+from ..files import check_folder, output_folder, write_atomic
+from ..analysis.runs import Result, analyse
+from ..motion.trajectories import Trajectory
 
 __all__ = [
     "FIGURE_CAPTIONS",
@@ -704,7 +704,7 @@ def _table(header: list[str], rows: list[list], digits: int = 1, left: int = 1) 
 
 
 def _html(result: Result, summary: dict, size: Sizing, tracking, figures, notes) -> str:
-    from . import __version__
+    from .. import __version__
 
     traj = result.trajectory
     parts = []

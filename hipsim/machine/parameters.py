@@ -29,7 +29,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from .exceptions import ParameterError
+from ..exceptions import ParameterError
 
 __all__ = [
     "ControlSettings",

@@ -45,11 +45,11 @@ from typing import TextIO
 
 import numpy as np
 
-from .dynamics import inverse_dynamics
-from .exceptions import HipsimError
-from .kinematics import SINGULAR_COND_INV, inverse_condition_number, kinematics, singularity_crossings, slider_jacobian
-from .parameters import Parameters
-from .trajectories import Trajectory
+from ..analytic.virtual_work import inverse_dynamics
+from ..exceptions import HipsimError
+from ..analytic.inverse_kinematics import SINGULAR_COND_INV, inverse_condition_number, kinematics, singularity_crossings, slider_jacobian
+from ..machine.parameters import Parameters
+from ..motion.trajectories import Trajectory
 
 __all__ = [
     "DEFAULT_ALPHA_DEG",
@@ -384,7 +384,7 @@ def offset_sweep(
     Returns:
         The :class:`OffsetSweep`.
     """
-    from .trajectories import iso14242
+    from ..motion.trajectories import iso14242
 
     deltas = _grid(deltas_deg, DEFAULT_DELTAS_DEG, "deltas_deg")
     trajectory = trajectory if trajectory is not None else iso14242()
@@ -683,9 +683,9 @@ def run_workspace(
     """
     import json
 
-    from .report import save_figure
-    from .files import check_folder, output_folder, write_atomic
-    from .trajectories import iso14242
+    from ..present.report import save_figure
+    from ..files import check_folder, output_folder, write_atomic
+    from ..motion.trajectories import iso14242
 
     out = Path(out_dir)
     check_folder(out)  # fail now, not after the computing; but make it only when there is something to write

@@ -51,10 +51,10 @@ import pinocchio as pin
 import yaml
 from scipy.linalg import lapack
 
-from .dynamics import screw_friction_torque, smooth_sign
-from .exceptions import ModelError, PoseError, TrajectoryError
-from .model_files import closure_file_path, urdf_text
-from .parameters import Parameters, load_parameters
+from ..analytic.virtual_work import screw_friction_torque, smooth_sign
+from ..exceptions import ModelError, PoseError, TrajectoryError
+from ..machine.model_files import closure_file_path, urdf_text
+from ..machine.parameters import Parameters, load_parameters
 
 __all__ = [
     "ClosedChainModel",

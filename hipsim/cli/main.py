@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .exceptions import HipsimError
+from ..exceptions import HipsimError
 
 __all__ = ["main"]
 
@@ -56,14 +56,14 @@ def _add_trajectory_options(parser: argparse.ArgumentParser, rate: bool = True) 
 
 
 def _parameters(args):
-    from .parameters import load_parameters, parse_override
+    from ..machine.parameters import load_parameters, parse_override
 
     overrides = dict(parse_override(text) for text in args.overrides)
     return load_parameters(args.params, overrides)
 
 
 def _trajectory(args):
-    from .trajectories import iso14242, load_trajectory_csv
+    from ..motion.trajectories import iso14242, load_trajectory_csv
 
     if args.trajectory:
         given = [f"--{name}" for name in ("rate", "cycles", "frequency") if getattr(args, name) is not None]
@@ -124,7 +124,7 @@ def format_summary(summary: dict) -> str:
 
 
 def _cmd_torques(args) -> int:
-    from .results import analyse
+    from ..analysis.runs import analyse
 
     params = _parameters(args)
     trajectory = _trajectory(args)
@@ -140,7 +140,7 @@ def _cmd_torques(args) -> int:
 
 
 def _cmd_params(args) -> int:
-    from .parameters import SCHEMA, file_values
+    from ..machine.parameters import SCHEMA, file_values
 
     params = _parameters(args)
     values = file_values(params)
@@ -160,10 +160,10 @@ def _cmd_params(args) -> int:
 
 def _make_plant(kind: str, params):
     if kind == "analytic":
-        from .simulation import ReducedPlant
+        from ..control.simulation import ReducedPlant
 
         return ReducedPlant(params)
-    from .pinocchio_plant import PinocchioPlant
+    from ..closed_chain.plant import PinocchioPlant
 
     return PinocchioPlant(params)
 
@@ -188,8 +188,8 @@ def format_simulations(simulations) -> str:
 
 
 def _cmd_simulate(args) -> int:
-    from .control import AugmentedPD, WorkspacePD
-    from .simulation import apply_mismatch, parse_mismatch, simulate
+    from ..control.controllers import AugmentedPD, WorkspacePD
+    from ..control.simulation import apply_mismatch, parse_mismatch, simulate
 
     if args.rate is not None:
         raise HipsimError("--rate does not apply to simulate: the run is sampled at the servo rate (--servo-rate)")
@@ -226,9 +226,9 @@ def _cmd_simulate(args) -> int:
 
 def _simulate_both(params, desired_at, duration):
     """Both controllers on the Pinocchio plant (the whole closed chain, the CLI's default): the report's tracking plots."""
-    from .control import AugmentedPD, WorkspacePD
-    from .pinocchio_plant import PinocchioPlant
-    from .simulation import simulate
+    from ..control.controllers import AugmentedPD, WorkspacePD
+    from ..closed_chain.plant import PinocchioPlant
+    from ..control.simulation import simulate
 
     plant = PinocchioPlant(params)
     return {
@@ -242,7 +242,7 @@ def _simulate_both(params, desired_at, duration):
 
 def _desired(args, trajectory):
     """The desired motion as a function of time, and the duration of the run in [s]."""
-    from .trajectories import interpolator, iso14242, iso14242_at
+    from ..motion.trajectories import interpolator, iso14242, iso14242_at
 
     if args.trajectory:
         span = trajectory.t[-1] - trajectory.t[0]
@@ -257,7 +257,7 @@ def _desired(args, trajectory):
 
 
 def _cmd_report(args) -> int:
-    from .report import MotorRatings, load_ratings, write_report
+    from ..present.report import MotorRatings, load_ratings, write_report
 
     params = _parameters(args)
     trajectory = _trajectory(args)
@@ -290,7 +290,7 @@ def _numbers(text: str, separator: str, option: str, expected: str, count: int |
 
 
 def _cmd_workspace(args) -> int:
-    from .workspace import run_workspace
+    from ..analysis.workspace import run_workspace
 
     params = _parameters(args)
     trajectory = _trajectory(args)
@@ -312,7 +312,7 @@ def _cmd_workspace(args) -> int:
 
 
 def _cmd_check(args) -> int:
-    from .crosscheck import TOLERANCE, compare_models
+    from ..analysis.crosscheck import TOLERANCE, compare_models
 
     params = _parameters(args)
     trajectory = _trajectory(args)
@@ -334,7 +334,7 @@ def _cmd_check(args) -> int:
 
 
 def _cmd_urdf(args) -> int:
-    from .model_files import write_urdf
+    from ..machine.model_files import write_urdf
 
     params = _parameters(args)
     print(f"wrote {write_urdf(params, Path(args.out))}")
@@ -342,7 +342,7 @@ def _cmd_urdf(args) -> int:
 
 
 def _cmd_view(args) -> int:
-    from .viewer import run_view
+    from ..present.viewer import run_view
 
     return run_view(
         _parameters(args), _trajectory(args), html=args.html, speed=args.speed, step=args.step, forces=args.forces,

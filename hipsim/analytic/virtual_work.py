@@ -36,9 +36,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .kinematics import Kinematics, _cross, _dot, _inverse_transpose, _lever_axes, _lever_spin, _spin_transpose, kinematics
-from .parameters import Parameters
-from .trajectories import Trajectory
+from .inverse_kinematics import Kinematics, _cross, _dot, _inverse_transpose, _lever_axes, _lever_spin, _spin_transpose, kinematics
+from ..machine.parameters import Parameters
+from ..motion.trajectories import Trajectory
 
 __all__ = [
     "Torques",

@@ -21,9 +21,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .parameters import Parameters, slender_levers
-from .results import analyse
-from .trajectories import Trajectory
+from ..machine.parameters import Parameters, slender_levers
+from .runs import analyse
+from ..motion.trajectories import Trajectory
 
 __all__ = ["Comparison", "TOLERANCE", "compare_models"]
 

@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
-from .exceptions import ModelError
+from ..exceptions import ModelError
 
 __all__ = [
     "HIP_JOINTS",

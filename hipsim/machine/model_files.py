@@ -25,8 +25,8 @@ from pathlib import Path
 
 import xacro
 
-from .exceptions import ModelError
-from .files import write_atomic
+from ..exceptions import ModelError
+from ..files import write_atomic
 from .parameters import Parameters, load_parameters
 
 __all__ = [

@@ -22,12 +22,12 @@ from typing import Callable, Protocol
 
 import numpy as np
 
-from . import reduced_kernel
-from .dynamics import inverse_dynamics
-from .kinematics import kinematics
-from .parameters import Parameters
-from .reduced_kernel import floats
-from .trajectories import Trajectory
+from ..analytic import kernel as reduced_kernel
+from ..analytic.virtual_work import inverse_dynamics
+from ..analytic.inverse_kinematics import kinematics
+from ..machine.parameters import Parameters
+from ..analytic.kernel import floats
+from ..motion.trajectories import Trajectory
 
 __all__ = ["AugmentedPD", "Controller", "Sample", "WorkspacePD", "feedforward_torques"]
 

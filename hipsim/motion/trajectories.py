@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 from scipy.interpolate import PchipInterpolator, make_interp_spline
 
-from .exceptions import TrajectoryError
+from ..exceptions import TrajectoryError
 
 __all__ = [
     "ANGLE_NAMES",

@@ -87,16 +87,16 @@ import math
 import numpy as np
 import pinocchio as pin
 
-from .kinematics import angular_velocity_map
-from .parameters import Parameters
-from .pinocchio_model import (
+from ..analytic.inverse_kinematics import angular_velocity_map
+from ..machine.parameters import Parameters
+from .model import (
     ClosedChainModel,
     _friction_forces,
     _has_lever_friction,
     kinematics,
     load_model,
 )
-from .trajectories import Trajectory
+from ..motion.trajectories import Trajectory
 
 __all__ = ["PinocchioPlant", "DEFAULT_BAUMGARTE", "DEFAULT_PROXIMAL"]
 

@@ -33,9 +33,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .exceptions import PoseError
-from .parameters import Parameters
-from .trajectories import Trajectory
+from ..exceptions import PoseError
+from ..machine.parameters import Parameters
+from ..motion.trajectories import Trajectory
 
 __all__ = [
     "Kinematics",

@@ -21,12 +21,12 @@ from typing import Any
 
 import numpy as np
 
-from .dynamics import Torques, central_friction_moment, inverse_dynamics
-from .exceptions import HipsimError
-from .files import write_columns
-from .kinematics import Kinematics, kinematics
-from .parameters import Parameters, load_parameters
-from .trajectories import Trajectory, iso14242
+from ..analytic.virtual_work import Torques, central_friction_moment, inverse_dynamics
+from ..exceptions import HipsimError
+from ..files import write_columns
+from ..analytic.inverse_kinematics import Kinematics, kinematics
+from ..machine.parameters import Parameters, load_parameters
+from ..motion.trajectories import Trajectory, iso14242
 
 __all__ = ["Result", "analyse", "column_names"]
 
@@ -188,7 +188,7 @@ def analyse(
         return Result(params, trajectory, kin, torques, kin.L, kin.Ld, kin.Ldd, model)
     if on_error != "raise":
         raise HipsimError("the Pinocchio model cannot carry on through poses out of reach; use the analytic model to flag them")
-    from .pinocchio_model import load_model, trajectory_dynamics
+    from ..closed_chain.model import load_model, trajectory_dynamics
 
     _, closed = trajectory_dynamics(load_model(params), trajectory)
     motor_speed = 2.0 * math.pi * closed.Ld[:, 0] / params.lead

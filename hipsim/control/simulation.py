@@ -34,14 +34,14 @@ from typing import Callable, Protocol
 import numpy as np
 from tqdm import tqdm
 
-from . import reduced_kernel
-from .control import Sample
-from .exceptions import HipsimError, PoseError
-from .files import write_columns
-from .kinematics import kinematics
-from .parameters import Parameters
-from .reduced_kernel import floats
-from .trajectories import Trajectory
+from ..analytic import kernel as reduced_kernel
+from .controllers import Sample
+from ..exceptions import HipsimError, PoseError
+from ..files import write_columns
+from ..analytic.inverse_kinematics import kinematics
+from ..machine.parameters import Parameters
+from ..analytic.kernel import floats
+from ..motion.trajectories import Trajectory
 
 __all__ = ["Plant", "ReducedPlant", "Simulation", "apply_mismatch", "parse_mismatch", "simulate"]
 

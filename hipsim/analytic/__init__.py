@@ -1,0 +1,9 @@
+"""The analytic model (spec §3–4): inverse kinematics and virtual-work inverse dynamics, vectorised over time.
+
+Pure NumPy (and numba for the single-state kernel); it never imports Pinocchio.
+"""
+
+from .inverse_kinematics import Kinematics, kinematics
+from .virtual_work import Torques, inverse_dynamics, mass_and_bias, mechanical_energy
+
+__all__ = ["Kinematics", "Torques", "inverse_dynamics", "kinematics", "mass_and_bias", "mechanical_energy"]
