@@ -6,41 +6,38 @@ A few calls give what the command line gives::
 
     params = hipsim.load_parameters()                 # the published machine (SI inside)
     trajectory = hipsim.iso14242(rate=1000)           # or hipsim.load_trajectory_csv("gait.csv")
-    result = hipsim.analyse(params, trajectory)       # analytic model; model="pinocchio" for the other
-    result.torques.tau                                # (N, 3) motor torques in N·m, parts in tau_m … tau_f
-    result.columns()["tau_1_Nmm"]                     # the CSV columns of spec §7.5
-    result.write_csv("iso.csv")
+    run = hipsim.analyse(params, trajectory)          # analytic model; model="pinocchio" for the other
+    run.torques.total                                 # (N, 3) motor torques in N·m; parts in run.torques.PARTS
+    run.columns()["tau_1_Nmm"]                        # the CSV columns of spec §7.5
+    run.write_csv("iso.csv")
 
-The physics is in pure functions over arrays: :func:`kinematics` and
-:func:`inverse_dynamics`.
+Each layer is a subpackage: :mod:`hipsim.machine`, :mod:`hipsim.motion`,
+:mod:`hipsim.analytic`, :mod:`hipsim.closed_chain`, :mod:`hipsim.control`,
+:mod:`hipsim.analysis`, :mod:`hipsim.present`, :mod:`hipsim.cli`.
 """
 
-from .analytic.virtual_work import Torques, inverse_dynamics, mechanical_energy
+from .analysis.runs import analyse
 from .exceptions import HipsimError, ModelError, ParameterError, PoseError, TrajectoryError
-from .analytic.inverse_kinematics import Kinematics, kinematics
 from .machine.parameters import Parameters, load_parameters, slender_levers
-from .analysis.runs import Result, analyse
 from .motion.trajectories import Trajectory, iso14242, load_trajectory_csv
+from .results import JointForces, Run, Torques
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 
 __all__ = [
     "HipsimError",
-    "Kinematics",
+    "JointForces",
     "ModelError",
     "ParameterError",
     "Parameters",
     "PoseError",
-    "Result",
+    "Run",
     "Torques",
     "Trajectory",
     "TrajectoryError",
     "analyse",
-    "inverse_dynamics",
     "iso14242",
-    "kinematics",
     "load_parameters",
     "load_trajectory_csv",
-    "mechanical_energy",
     "slender_levers",
 ]

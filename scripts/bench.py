@@ -129,7 +129,7 @@ class VectorisedReducedPlant:
 
     def derivative(self, t, x, tau, Fe):
         four = hipsim.Trajectory(np.zeros(4), np.tile(x[:3], (4, 1)), np.tile(x[3:], (4, 1)), self.unit_accelerations, np.full(4, Fe))
-        torques = inverse_dynamics(self.params, kinematics(self.params, four), four.Fe, lever_spin=True).tau
+        torques = inverse_dynamics(self.params, kinematics(self.params, four), four.Fe, lever_spin=True).total
         M, h = (torques[1:] - torques[0]).T, torques[0]
         return np.concatenate([x[3:], np.linalg.solve(M, tau - h)])
 
@@ -164,7 +164,7 @@ def bench_plants(params, quick: bool) -> None:
 
     plant = PinocchioPlant(params)
     kin, torques = trajectory_dynamics(plant.chain, iso14242_at([0.13]))
-    x, tau, Fe = np.concatenate([kin.q[0], kin.v[0]]), torques.tau[0], 1500.0
+    x, tau, Fe = np.concatenate([kin.q[0], kin.v[0]]), torques.torques.total[0], 1500.0
     q, v, forces = x[: plant.nq], x[plant.nq :], plant.generalised_forces(x, tau, Fe)
     calls = 2000 if quick else 20000
     reduced, baseline = simulation.ReducedPlant(params), VectorisedReducedPlant(params)

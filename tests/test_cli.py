@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from hipsim.cli.main import main
-from hipsim.analysis.runs import column_names
+from hipsim.results import column_names
 
 
 def run(*args):
@@ -139,13 +139,13 @@ def test_check_passes_and_shows_every_configuration(capsys):
 def test_check_fails_when_required_models_disagree(monkeypatch, capsys):
     import hipsim.analysis.crosscheck as crosscheck
 
-    real = crosscheck._differences
+    real = crosscheck.differences
 
     def skewed(analytic, pinocchio):
         rows = real(analytic, pinocchio)
         return tuple((name, a, r + 1e-6) for name, a, r in rows)  # a disagreement above 1e-8
 
-    monkeypatch.setattr(crosscheck, "_differences", skewed)
+    monkeypatch.setattr(crosscheck, "differences", skewed)
     assert main(["check", "--rate", "100"]) == 1
     assert "disagree" in capsys.readouterr().err
 

@@ -17,19 +17,17 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-import hipsim.analytic.virtual_work  # noqa: F401  (the modules, not the functions hipsim re-exports)
-import hipsim.analytic.inverse_kinematics  # noqa: F401
+import hipsim.analytic.inverse_kinematics as analytic_kinematics
+import hipsim.analytic.virtual_work as analytic_dynamics
 from hipsim import load_parameters, slender_levers
 from hipsim.closed_chain.model import load_model, platform_joint_positions, trajectory_dynamics
 from hipsim.motion.trajectories import iso14242
 
 from support import SmoothMotion
 
-analytic_kinematics = sys.modules["hipsim.analytic.inverse_kinematics"]
-analytic_dynamics = sys.modules["hipsim.analytic.virtual_work"]
 
 MOTION = ("L", "Ld", "Ldd")
-TORQUES = ("tau", "tau_m", "tau_l", "tau_s", "tau_L", "tau_f")
+TORQUES = ("total", "platforms", "levers", "sliders", "screws", "friction")
 FRICTION = dict(
     screw_coulomb=0.05, screw_viscous=2e-4, guide_coulomb=20.0, guide_viscous=30.0,
     ujoint_coulomb=0.3, ujoint_viscous=0.05, sjoint_coulomb=0.2, sjoint_viscous=0.04,
@@ -55,8 +53,8 @@ def column_errors(analytic, pinocchio, names) -> dict[str, float]:
 def both_models(params, traj, lever_spin=False):
     kin = analytic_kinematics.kinematics(params, traj)
     torques = analytic_dynamics.inverse_dynamics(params, kin, traj.Fe, lever_spin=lever_spin)
-    pin_kin, pin_torques = trajectory_dynamics(load_model(params), traj)
-    return kin, torques, pin_kin, pin_torques
+    pin_kin, pin_dynamics = trajectory_dynamics(load_model(params), traj)
+    return kin, torques, pin_kin, pin_dynamics.torques
 
 
 @pytest.fixture(scope="module")
@@ -81,11 +79,11 @@ def test_published_lever_inertia_difference_is_the_spin(published, name, capsys)
     with capsys.disabled():
         print(f"\n[{name}] published I_l, analytic (no lever spin) vs Pinocchio, max |diff| / column peak: "
               + ", ".join(f"{k} {v:.2e}" for k, v in errors.items()))  # fmt: skip
-    for part in ("tau_m", "tau_s", "tau_L", "tau_f"):
+    for part in ("platforms", "sliders", "screws", "friction"):
         assert errors[part] <= 1e-8, part
     # I_xx − I_yy = 56.5 kg·mm² against I ≈ 26 000 kg·mm²: a real but tiny effect.
-    assert 1e-7 <= errors["tau_l"] <= 1e-3
-    assert errors["tau"] <= 1e-4
+    assert 1e-7 <= errors["levers"] <= 1e-3
+    assert errors["total"] <= 1e-4
     # Give the analytic lever the universal joint's spin and the two agree again.
     spun = analytic_dynamics.inverse_dynamics(published, kin, traj.Fe, lever_spin=True)
     assert max(column_errors(spun, pin_torques, TORQUES).values()) <= 1e-8
@@ -118,3 +116,12 @@ def test_frames_sit_on_the_analytic_points(published):
                 joint = model.getJointId(f"u2_{j}{i}")
                 np.testing.assert_allclose(data.oMi[joint].rotation, frames[n, i - 1], atol=1e-12)
                 np.testing.assert_allclose(data.oMi[joint].translation, kin.b[every][n, j - 1, i - 1], atol=1e-12)
+
+
+@pytest.mark.parametrize("name", ["iso", "random"])
+def test_closure_jacobian_is_the_analytic_jacobian(published, name):
+    """The Pinocchio model's own J (from its velocity closure) and singularity measure equal the analytic ones."""
+    traj = trajectories()[name]
+    kin, _, pin_kin, _ = both_models(published, traj)
+    np.testing.assert_allclose(pin_kin.J, kin.J, rtol=0, atol=1e-12 * np.abs(kin.J).max())
+    np.testing.assert_allclose(pin_kin.cond_inv, kin.cond_inv, rtol=0, atol=1e-12)

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 import hipsim
-from hipsim.analytic.virtual_work import Torques, inverse_dynamics, mass_and_bias, mechanical_energy, smooth_sign
+from hipsim import Torques
+from hipsim.analytic.virtual_work import inverse_dynamics, mass_and_bias, mechanical_energy, smooth_sign
 from hipsim.exceptions import PoseError
 from hipsim.analytic.inverse_kinematics import kinematics, lever_frames, lever_jacobians
 from hipsim.motion.trajectories import Trajectory, iso14242
@@ -27,7 +28,7 @@ def power_balance_error(params, motion, lever_spin=False):
     traj = motion(T_SAMPLES)
     kin = kinematics(params, traj)
     torques = inverse_dynamics(params, kin, traj.Fe, lever_spin=lever_spin)
-    motor_power = np.sum(torques.tau * torques.motor_speed, axis=1)
+    motor_power = np.sum(torques.total * torques.motor_speed, axis=1)
 
     def energy(t):
         kinetic, potential = mechanical_energy(params, kinematics(params, motion(t)), lever_spin=lever_spin)
@@ -74,21 +75,21 @@ def test_parts_add_up_and_switch_off(params, motion):
     kin = kinematics(params, traj)
     full = inverse_dynamics(params, kin, traj.Fe)
     total = sum(getattr(full, name) for name in Torques.PARTS)
-    np.testing.assert_allclose(total, full.tau, rtol=0, atol=1e-12 * np.abs(full.tau).max())
+    np.testing.assert_allclose(total, full.total, rtol=0, atol=1e-12 * np.abs(full.total).max())
 
     zero_friction = {k: 0.0 for k in ALL_FRICTION} | {"hip_mu": 0.0, "thrust_mu": 0.0}
     switches = {
-        "tau_m": dict(platform_inertia=np.zeros((3, 3))),
-        "tau_l": dict(lever_mass=0.0, lever_inertia=np.zeros((3, 3))),
-        "tau_s": dict(slider_mass=0.0),
-        "tau_L": dict(screw_inertia=0.0),
-        "tau_f": zero_friction,
+        "platforms": dict(platform_inertia=np.zeros((3, 3))),
+        "levers": dict(lever_mass=0.0, lever_inertia=np.zeros((3, 3))),
+        "sliders": dict(slider_mass=0.0),
+        "screws": dict(screw_inertia=0.0),
+        "friction": zero_friction,
     }
     for part, change in switches.items():
         without = inverse_dynamics(params.replace(**change), kin, traj.Fe)
-        peak = np.abs(full.tau).max()
+        peak = np.abs(full.total).max()
         np.testing.assert_allclose(getattr(without, part), 0.0, atol=1e-12 * peak)
-        np.testing.assert_allclose(without.tau, full.tau - getattr(full, part), atol=1e-12 * peak)
+        np.testing.assert_allclose(without.total, full.total - getattr(full, part), atol=1e-12 * peak)
         assert np.abs(getattr(full, part)).max() > 1e-4 * peak, f"{part} should not vanish on its own"
 
 
@@ -105,7 +106,7 @@ def test_end_force_mapping_equals_explicit_jacobians(params):
     )
     Q = np.einsum("niba,nib->na", J_v, F) + np.einsum("niba,nib->na", J_omega, M)
     tau_l = -2 * params.lead / (2 * math.pi) * np.linalg.solve(np.swapaxes(kin.J, 1, 2), Q[..., None])[..., 0]
-    np.testing.assert_allclose(inverse_dynamics(params, kin, traj.Fe).tau_l, tau_l, atol=1e-12)
+    np.testing.assert_allclose(inverse_dynamics(params, kin, traj.Fe).levers, tau_l, atol=1e-12)
 
 
 def test_statics_sliders_carry_their_weight(params):
@@ -114,7 +115,7 @@ def test_statics_sliders_carry_their_weight(params):
     still = type(traj)(traj.t, traj.q, 0 * traj.qd, 0 * traj.qdd, traj.Fe)
     bare = params.replace(platform_inertia=np.zeros((3, 3)), lever_mass=0.0, lever_inertia=np.zeros((3, 3)))
     torques = inverse_dynamics(bare, kinematics(bare, still), still.Fe)
-    np.testing.assert_allclose(torques.tau, 2 * 3.0 * 9.8 * 0.010 / (2 * math.pi), rtol=1e-12)
+    np.testing.assert_allclose(torques.total, 2 * 3.0 * 9.8 * 0.010 / (2 * math.pi), rtol=1e-12)
 
 
 def test_central_friction_resists_rotation(params):
@@ -130,7 +131,7 @@ def test_central_friction_resists_rotation(params):
     speed = np.linalg.norm(kin.omega, axis=1)
     moving = speed > 0.1
     np.testing.assert_allclose(torques.friction_moment[moving], magnitude[moving], rtol=1e-4)
-    motor_power = np.sum(torques.tau * torques.motor_speed, axis=1)
+    motor_power = np.sum(torques.total * torques.motor_speed, axis=1)
     np.testing.assert_allclose(motor_power, 2 * magnitude * speed**2 / np.sqrt(speed**2 + 1e-6), rtol=1e-9)
 
 
@@ -144,7 +145,7 @@ def test_iso_torque_scale(params):
     """The ISO cycle needs torques of the order of the published design (a few hundred N·mm)."""
     traj = iso14242()
     torques = inverse_dynamics(params, kinematics(params, traj), traj.Fe)
-    assert 0.1 < np.abs(torques.tau).max() < 2.0  # [N·m]
+    assert 0.1 < np.abs(torques.total).max() < 2.0  # [N·m]
 
 
 def test_reduced_mass_matrix_gives_the_kinetic_energy(params):

@@ -17,7 +17,7 @@ import pinocchio as pin
 import pytest
 import yaml
 
-from hipsim import ModelError, PoseError, load_parameters
+from hipsim import ModelError, PoseError, Torques, load_parameters
 from hipsim.machine.model_files import closure_file_path, default_urdf_path
 from hipsim.closed_chain.model import (
     closure_residuals,
@@ -89,7 +89,7 @@ class Run:
         return self.model.getFrameId(name)
 
     def motor_power(self):
-        return np.sum(self.dyn.tau * self.motor_speed(), axis=1)
+        return np.sum(self.dyn.torques.total * self.motor_speed(), axis=1)
 
     def motor_speed(self):
         return 2 * math.pi / self.params.lead * self.kin.v[:, self.chain.layout.slider_v]
@@ -291,28 +291,28 @@ def test_each_part_is_the_power_of_its_bodies(run):
     p, speed = run.params, run.motor_speed()
     platforms = [f"platform_{j}" for j in (1, 2)]
     levers = [f"lever_{j}{i}" for j in (1, 2) for i in (1, 2, 3)]
-    for part, bodies in (("tau_m", platforms), ("tau_l", levers)):
-        power = np.sum(getattr(run.dyn, part) * speed, axis=1)
+    for part, bodies in (("platforms", platforms), ("levers", levers)):
+        power = np.sum(getattr(run.dyn.torques, part) * speed, axis=1)
         rate = run.rate_of(lambda q, v: run.body_energy(bodies, q, v))
         assert np.abs(power - rate).max() <= 1e-6 * np.abs(power).max(), part
     Ldd = run.kin.Ldd[:, 0]
-    np.testing.assert_allclose(run.dyn.tau_s, p.lead / (2 * math.pi) * 2 * p.slider_mass * (Ldd + p.gravity), rtol=1e-12)
-    np.testing.assert_allclose(run.dyn.tau_L, 2 * math.pi * p.screw_inertia / p.lead * Ldd, rtol=1e-12, atol=1e-15)
-    friction = np.sum(run.dyn.tau_f * speed, axis=1)
+    np.testing.assert_allclose(run.dyn.torques.sliders, p.lead / (2 * math.pi) * 2 * p.slider_mass * (Ldd + p.gravity), rtol=1e-12)
+    np.testing.assert_allclose(run.dyn.torques.screws, 2 * math.pi * p.screw_inertia / p.lead * Ldd, rtol=1e-12, atol=1e-15)
+    friction = np.sum(run.dyn.torques.friction * speed, axis=1)
     assert np.abs(friction - run.friction_power()).max() <= 1e-9 * np.abs(friction).max()
 
 
 def test_parts_add_up_to_the_plain_rnea_solution(rough):
     r = rough
     d = r.dyn
-    np.testing.assert_allclose(d.tau, d.tau_m + d.tau_l + d.tau_s + d.tau_L + d.tau_f, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(d.torques.total, d.torques.platforms + d.torques.levers + d.torques.sliders + d.torques.screws + d.torques.friction, rtol=0, atol=1e-15)
     # Without friction, one RNEA with every inertia (and the armature) gives the same motor torque.
     S = np.zeros((r.model.nv, 3))
     S[r.chain.actuated_v, range(3)] = 1.0
     for n in range(0, 201, 20):
         q, v, a = r.kin.q[n], r.kin.v[n], r.kin.a[n]
         x = np.linalg.solve(np.hstack([S, constraint_jacobian(r.chain, q).T]), pin.rnea(r.model, r.data, q, v, a))
-        np.testing.assert_allclose(d.tau[n] - d.tau_f[n], r.params.lead / (2 * math.pi) * x[:3], rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(d.torques.total[n] - d.torques.friction[n], r.params.lead / (2 * math.pi) * x[:3], rtol=1e-10, atol=1e-12)
 
 
 def _lever_tip_force(r, n, j, i):
@@ -379,8 +379,8 @@ def test_central_joint_force_balances_the_platform(run):
         for j in (1, 2):
             levers = sum(_lever_tip_force(r, n, j, i) for i in (1, 2, 3))  # = −(forces of the levers on the platform)
             expected = levers + np.array([0, 0, p.platform_mass * p.gravity + r.traj.Fe[n]])
-            assert r.dyn.Fo[n, j - 1] == pytest.approx(np.linalg.norm(expected), rel=1e-12)
-    np.testing.assert_allclose(r.dyn.Fa, np.linalg.norm(r.dyn.lambdas, axis=-1), rtol=1e-15)
+            assert r.dyn.joint_forces.Fo[n, j - 1] == pytest.approx(np.linalg.norm(expected), rel=1e-12)
+    np.testing.assert_allclose(r.dyn.joint_forces.Fa, np.linalg.norm(r.dyn.lambdas, axis=-1), rtol=1e-15)
 
 
 def test_massless_levers_are_two_force_members():
@@ -394,19 +394,19 @@ def test_massless_levers_are_two_force_members():
     still = motion(np.array([0.3]))
     still.qd[:], still.qdd[:] = 0.0, 0.0
     kin, dyn = trajectory_dynamics(chain, still)
-    np.testing.assert_allclose(dyn.Fa, 0.0, atol=1e-9)
-    np.testing.assert_allclose(dyn.Fo, params.platform_mass * params.gravity + still.Fe[0], rtol=1e-12)
-    np.testing.assert_allclose(dyn.tau, params.lead / (2 * math.pi) * 2 * params.slider_mass * params.gravity, rtol=1e-12)
+    np.testing.assert_allclose(dyn.joint_forces.Fa, 0.0, atol=1e-9)
+    np.testing.assert_allclose(dyn.joint_forces.Fo, params.platform_mass * params.gravity + still.Fe[0], rtol=1e-12)
+    np.testing.assert_allclose(dyn.torques.total, params.lead / (2 * math.pi) * 2 * params.slider_mass * params.gravity, rtol=1e-12)
 
 
 def test_results_are_frozen_and_shaped(run):
     n, nv = len(run.t), run.model.nv
     assert run.kin.q.shape == (n, nv) and run.kin.L.shape == (n, 2, 3)
-    assert run.dyn.tau.shape == (n, 3) and run.dyn.Fa.shape == (n, 2, 3) and run.dyn.Fo.shape == (n, 2)
+    assert run.dyn.torques.total.shape == (n, 3) and run.dyn.joint_forces.Fa.shape == (n, 2, 3) and run.dyn.joint_forces.Fo.shape == (n, 2)
     with pytest.raises(ValueError):
-        run.dyn.tau[0, 0] = 1.0
+        run.dyn.torques.total[0, 0] = 1.0
     with pytest.raises(AttributeError):
-        run.dyn.tau = None
+        run.dyn.torques.total = None
 
 
 def test_accepts_a_hipsim_trajectory():
@@ -416,7 +416,7 @@ def test_accepts_a_hipsim_trajectory():
     traj = iso14242(rate=100.0)
     kin = kinematics(chain, traj)
     dyn = inverse_dynamics(chain, kin, traj.Fe)
-    assert dyn.tau.shape == (len(traj.t), 3) and np.all(np.isfinite(dyn.tau))
+    assert dyn.torques.total.shape == (len(traj.t), 3) and np.all(np.isfinite(dyn.torques.total))
 
 
 # --- loading -----------------------------------------------------------------------------
@@ -453,6 +453,10 @@ def test_one_pass_and_chunked_solves_agree(run, monkeypatch):
     monkeypatch.setattr(module, "_CHUNK", 7)
     kin, chunked = trajectory_dynamics(run.chain, run.traj)
     np.testing.assert_array_equal(kin.q, run.kin.q)
-    for name in ("tau", "tau_m", "tau_l", "tau_s", "tau_L", "tau_f", "Fa", "Fo"):
-        np.testing.assert_allclose(getattr(chunked, name), getattr(separate, name), rtol=1e-12, atol=1e-12, err_msg=name)
-        np.testing.assert_allclose(getattr(run.dyn, name), getattr(separate, name), rtol=1e-12, atol=1e-12, err_msg=name)
+    def fields(dyn):
+        named = {name: getattr(dyn.torques, name) for name in ("total", *Torques.PARTS)}
+        return named | {"Fa": dyn.joint_forces.Fa, "Fo": dyn.joint_forces.Fo, "lambdas": dyn.lambdas}
+
+    for name, value in fields(separate).items():
+        np.testing.assert_allclose(fields(chunked)[name], value, rtol=1e-12, atol=1e-12, err_msg=name)
+        np.testing.assert_allclose(fields(run.dyn)[name], value, rtol=1e-12, atol=1e-12, err_msg=name)

@@ -50,7 +50,7 @@ class OpenLoop:
     def __init__(self, params, servo_rate, duration):
         n = int(round(duration * servo_rate))
         desired = iso14242_at((np.arange(n) + 0.5) / servo_rate)
-        self.tau = trajectory_dynamics(load_model(params), desired)[1].tau
+        self.tau = trajectory_dynamics(load_model(params), desired)[1].torques.total
         self.rate = servo_rate
 
     def __call__(self, t, state, desired):
@@ -79,8 +79,8 @@ def test_generalised_forces_use_the_inverse_dynamics_friction_law(params, change
     for k in range(3):
         x = np.concatenate([kin.q[k], kin.v[k]])
         expected = -friction_forces(plant.chain, kin.q[k], kin.v[k], desired.Fe[k])
-        expected[plant.chain.actuated_v] += 2 * np.pi / rough.lead * torques.tau[k]
-        forces = plant.generalised_forces(x, torques.tau[k], desired.Fe[k])
+        expected[plant.chain.actuated_v] += 2 * np.pi / rough.lead * torques.torques.total[k]
+        forces = plant.generalised_forces(x, torques.torques.total[k], desired.Fe[k])
         np.testing.assert_allclose(forces, expected, rtol=0, atol=1e-12 * np.abs(expected).max())
 
 
@@ -95,7 +95,7 @@ def test_initial_state_is_closed_and_forward_inverts_inverse_dynamics(params, pl
     np.testing.assert_allclose(rates, desired.qd[0], atol=1e-15)
     for k in range(4):
         x = np.concatenate([kin.q[k], kin.v[k]])
-        dx = plant.derivative(desired.t[k], x, torques.tau[k], desired.Fe[k])
+        dx = plant.derivative(desired.t[k], x, torques.torques.total[k], desired.Fe[k])
         np.testing.assert_array_equal(dx[: plant.nq], kin.v[k])
         # Measured ≤ 1e-10 m/s² (rad/s²) against |a| = 2..15: Baumgarte (K_p = 100/s²) acting on the ≤ 1e-12 m gaps
         # the kinematics leaves, and rounding.

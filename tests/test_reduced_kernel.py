@@ -39,7 +39,7 @@ def random_states(seed=0, n=40):
 def test_torques_match_the_vectorised_inverse_dynamics(params, machine, lever_spin):
     params = machines(params)[machine]
     motion = random_states()
-    expected = inverse_dynamics(params, kinematics(params, motion), motion.Fe, lever_spin).tau
+    expected = inverse_dynamics(params, kinematics(params, motion), motion.Fe, lever_spin).total
     P = kernel.kernel_parameters(params, lever_spin)
     actual = np.array([kernel.torques(P, motion.q[k], motion.qd[k], motion.qdd[k], motion.Fe[k]) for k in range(len(motion))])
     assert relative_error(actual, expected) < 1e-12  # round-off: the kernel sums in another order

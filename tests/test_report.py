@@ -17,9 +17,13 @@ import numpy as np
 import pytest
 
 import hipsim
+import hipsim.present.figures as figures
 import hipsim.present.report as report
+from hipsim import Run
+from hipsim.analysis.sizing import axial_screw_force, sizing
+from hipsim.cli import main
 from hipsim.exceptions import HipsimError, ParameterError
-from hipsim.analysis.runs import Result
+from hipsim.machine.drive import MotorRatings, load_ratings
 from hipsim.motion.trajectories import Trajectory, iso14242
 
 BASE_FIGURES = ("slider_motion", "motor_torques", "load_friction", "singularity")
@@ -49,13 +53,13 @@ def fake_simulations(t):
     }
 
 
-def with_joint_forces(result: Result) -> Result:
+def with_joint_forces(result: Run) -> Run:
     """The analytic run with made-up joint forces in [N] standing in for the Pinocchio model's."""
     n = len(result.trajectory)
     Fa = 100.0 + np.arange(6).reshape(1, 2, 3) * 10.0 + 50.0 * np.sin(2 * np.pi * result.trajectory.t)[:, None, None]
     Fo = np.column_stack([result.trajectory.Fe + 200.0, result.trajectory.Fe + 150.0])
     assert Fa.shape == (n, 2, 3)
-    return dataclasses.replace(result, model="pinocchio", joint_forces=(Fa, Fo))
+    return dataclasses.replace(result, model="pinocchio", joint_forces=hipsim.JointForces(Fa, Fo))
 
 
 @pytest.fixture(scope="module")
@@ -64,13 +68,9 @@ def written(tmp_path_factory, params, iso, result):
     out = tmp_path_factory.mktemp("report")
     ratings = out / "motor.toml"
     ratings.write_text("[motor]\nrated_torque_Nmm = 640\npeak_torque_Nmm = 400\nmax_speed_rpm = 3000\nstroke_mm = 200\naxial_force_N = 1000\n")
-    patch = pytest.MonkeyPatch()
-    patch.setattr(report, "_joint_force_result", lambda p, t, m: (with_joint_forces(hipsim.analyse(p, t)), None))
-    try:
-        files = report.write_report(out / "site", params, iso, simulate=fake_simulations(iso.t), ratings=ratings)
-    finally:
-        patch.undo()
-    return files
+    return report.write_report(
+        out / "site", result, with_joint_forces(result), simulations=fake_simulations(iso.t), ratings=load_ratings(ratings)
+    )
 
 
 # ---------------------------------------------------------------------------
@@ -78,32 +78,32 @@ def written(tmp_path_factory, params, iso, result):
 
 
 def test_sizing_equals_direct_computation(result):
-    size = report.sizing(result)
-    tau = result.torques.tau * 1e3
+    size = sizing(result)
+    tau = result.torques.total * 1e3
     speed = result.torques.motor_speed
     for i, module in enumerate(size.modules):
         assert module.module == i + 1
         assert module.tau_peak_Nmm == pytest.approx(np.abs(tau[:, i]).max(), rel=1e-12)
         assert module.tau_rms_Nmm == pytest.approx(math.sqrt(np.mean(tau[:, i] ** 2)), rel=1e-12)
         assert module.speed_peak_rpm == pytest.approx(np.abs(result.columns()[f"speed_{i + 1}_rpm"]).max(), rel=1e-12)
-        assert module.power_peak_W == pytest.approx(np.abs(result.torques.tau[:, i] * speed[:, i]).max(), rel=1e-12)
+        assert module.power_peak_W == pytest.approx(np.abs(result.torques.total[:, i] * speed[:, i]).max(), rel=1e-12)
         assert module.stroke_mm == pytest.approx(result.summary()["sliders"][f"1{i + 1}"]["stroke_mm"], rel=1e-12)
     assert size.joints is None and size.checks == () and size.passed is None
 
 
 def test_axial_force_is_the_thrust_of_the_parts_the_nut_carries(result, params):
-    force = report.axial_screw_force(result)
+    force = axial_screw_force(result)
     t = result.torques
     # Frictionless screw: the thrust is everything but the rotor's inertia.
-    np.testing.assert_allclose(force * params.lead / (2 * math.pi), t.tau_m + t.tau_l + t.tau_s + t.tau_f, rtol=1e-12, atol=1e-15)
-    assert report.sizing(result).modules[1].axial_force_peak_N == pytest.approx(np.abs(force[:, 1]).max())
+    np.testing.assert_allclose(force * params.lead / (2 * math.pi), t.platforms + t.levers + t.sliders + t.friction, rtol=1e-12, atol=1e-15)
+    assert sizing(result).modules[1].axial_force_peak_N == pytest.approx(np.abs(force[:, 1]).max())
 
 
 def test_screw_friction_changes_the_torque_but_not_the_axial_force(params, iso):
     rough = params.replace(screw_coulomb=0.05, screw_viscous=2e-4)  # 50 N·mm and 0.2 N·mm·s/rad
     smooth_run, rough_run = hipsim.analyse(params, iso), hipsim.analyse(rough, iso)
-    assert np.abs(rough_run.torques.tau - smooth_run.torques.tau).max() > 0.04
-    np.testing.assert_allclose(report.axial_screw_force(rough_run), report.axial_screw_force(smooth_run), rtol=1e-10, atol=1e-9)
+    assert np.abs(rough_run.torques.total - smooth_run.torques.total).max() > 0.04
+    np.testing.assert_allclose(axial_screw_force(rough_run), axial_screw_force(smooth_run), rtol=1e-10, atol=1e-9)
 
 
 def test_axial_force_at_rest_carries_both_sliders_weight(params):
@@ -111,14 +111,15 @@ def test_axial_force_at_rest_carries_both_sliders_weight(params):
     machine = params.replace(lever_mass=0.0, lever_inertia=np.zeros((3, 3)))
     q = np.tile(np.radians([10.0, -3.0, -5.0]), (6, 1))
     still = Trajectory(np.arange(6) * 0.01, q, np.zeros_like(q), np.zeros_like(q), np.zeros(6), name="still")
-    force = report.axial_screw_force(hipsim.analyse(machine, still))
+    force = axial_screw_force(hipsim.analyse(machine, still))
     np.testing.assert_allclose(force, 2 * params.slider_mass * params.gravity, rtol=1e-12)
 
 
 def test_joint_sizing_and_rating_checks(result):
-    ratings = report.MotorRatings(rated_torque_Nmm=640.0, peak_torque_Nmm=400.0, stroke_mm=90.0, source="test")
-    size = report.sizing(with_joint_forces(result), ratings)
-    Fa, Fo = with_joint_forces(result).joint_forces
+    ratings = MotorRatings(rated_torque_Nmm=640.0, peak_torque_Nmm=400.0, stroke_mm=90.0, source="test")
+    size = sizing(with_joint_forces(result), ratings)
+    forces = with_joint_forces(result).joint_forces
+    Fa, Fo = forces.Fa, forces.Fo
     joints = {j.joint: j for j in size.joints}
     assert set(joints) == {"a_11", "a_12", "a_13", "a_21", "a_22", "a_23", "o_1", "o_2"}
     assert joints["a_23"].peak_N == pytest.approx(Fa[:, 1, 2].max())
@@ -152,14 +153,14 @@ def test_bad_rating_files_name_the_key(tmp_path, text, message):
     path = tmp_path / "motor.toml"
     path.write_text(text)
     with pytest.raises(ParameterError, match=re.escape(message)) as error:
-        report.load_ratings(path)
+        load_ratings(path)
     assert str(path) in str(error.value)
 
 
 def test_rating_file_round_trip(tmp_path):
     path = tmp_path / "motor.toml"
     path.write_text("[motor]\nmax_speed_rpm = 3000\nstroke_mm = 150.5\n")
-    ratings = report.load_ratings(path)
+    ratings = load_ratings(path)
     assert ratings.max_speed_rpm == 3000.0 and ratings.stroke_mm == 150.5 and ratings.peak_torque_Nmm is None
 
 
@@ -169,10 +170,10 @@ def test_a_parameter_file_serves_as_a_rating_file(tmp_path):
 
     path = tmp_path / "machine.toml"
     path.write_text(default_parameters_path().read_text() + "\n[motor]\npeak_torque_Nmm = 1910\n")
-    assert report.load_ratings(path).peak_torque_Nmm == 1910.0
+    assert load_ratings(path).peak_torque_Nmm == 1910.0
     path.write_text(default_parameters_path().read_text())  # no [motor] table at all
     with pytest.raises(ParameterError, match=re.escape("[motor] table")):
-        report.load_ratings(path)
+        load_ratings(path)
 
 
 # ---------------------------------------------------------------------------
@@ -207,7 +208,7 @@ def test_every_figure_exists_and_is_non_trivial(written):
 
 @pytest.mark.parametrize("plot", ["slider_motion", "torque_parts", "load_friction", "joint_forces", "singularity", "tracking"])
 def test_figures_have_units_and_legends(result, plot):
-    function = getattr(report, f"plot_{plot}")
+    function = getattr(figures, f"plot_{plot}")
     fig = function(fake_simulations(result.trajectory.t) if plot == "tracking" else with_joint_forces(result))
     for ax in fig.axes:
         assert re.search(r"\[.+\]", ax.get_ylabel()), (plot, ax.get_ylabel())
@@ -248,31 +249,35 @@ def test_page_and_json_carry_the_numbers(written, params, iso):
     assert (written.folder / "torques.csv").stat().st_size > 10_000
 
 
-def test_missing_pinocchio_model_falls_back_with_a_note(params, iso, tmp_path, monkeypatch):
-    monkeypatch.setitem(sys.modules, "hipsim.closed_chain.model", None)  # importing it raises ImportError
-    files = report.write_report(tmp_path, params, iso.slice(slice(0, 100)), model="auto")
-    assert set(files.figures) == set(BASE_FIGURES)
-    assert any("Pinocchio model is not available" in note for note in files.notes)
-    assert "Pinocchio model is not available" in files.index.read_text(encoding="utf-8")
-    assert files.sizing.joints is None
-    with pytest.raises(HipsimError, match="Pinocchio model is not available"):
-        report.write_report(tmp_path, params, iso, model="pinocchio")
+def test_missing_pinocchio_model_falls_back_with_a_note(tmp_path, monkeypatch, capsys):
+    monkeypatch.setitem(sys.modules, "hipsim.closed_chain.engine", None)  # importing it raises ImportError
+    assert main(["report", "--rate", "100", "--out", str(tmp_path / "auto")]) == 0
+    page = (tmp_path / "auto" / "index.html").read_text(encoding="utf-8")
+    assert "Pinocchio model is not available" in page
+    assert not (tmp_path / "auto" / "joint_forces.png").exists()
+    assert main(["report", "--rate", "100", "--model", "pinocchio", "--out", str(tmp_path / "pin")]) == 2
+    assert "Pinocchio model is not available" in capsys.readouterr().err
+    assert not (tmp_path / "pin").exists()
 
 
-def test_simulate_callable_and_bad_simulations(params, iso, tmp_path):
-    calls = []
-
-    def simulate(p, t):
-        calls.append((p, t))
-        return fake_simulations(t.t)
-
-    short = iso.slice(slice(0, 50))
-    files = report.write_report(tmp_path / "a", params, short, simulate=simulate, model="analytic")
-    assert calls == [(params, short)] and "tracking_errors" in files.figures
+def test_simulations_are_plotted_and_bad_ones_refused(result, tmp_path):
+    short = result
+    files = report.write_report(tmp_path / "a", short, simulations=fake_simulations(short.t))
+    assert "tracking_errors" in files.figures
     with pytest.raises(HipsimError, match="err"):
-        report.write_report(tmp_path / "b", params, short, simulate={"PD": SimpleNamespace(t=short.t, err=np.zeros((50, 2)))}, model="analytic")
+        report.write_report(tmp_path / "b", short, simulations={"PD": SimpleNamespace(t=short.t, err=np.zeros((short.t.size, 2)))})
     with pytest.raises(HipsimError, match="mapping"):
-        report.write_report(tmp_path / "c", params, short, simulate={}, model="analytic")
+        report.write_report(tmp_path / "c", short, simulations={})
+    assert not (tmp_path / "b").exists() and not (tmp_path / "c").exists()
+
+
+def test_joint_forces_must_come_from_a_run_along_the_same_trajectory(result, params, iso, tmp_path):
+    other = hipsim.analyse(params, iso.slice(slice(0, 50)))
+    with pytest.raises(HipsimError, match="trajectory"):
+        report.write_report(tmp_path / "x", result, with_joint_forces(other))
+    with pytest.raises(HipsimError, match="no joint forces"):
+        report.write_report(tmp_path / "x", result, result.__class__(**{**result.__dict__, "model": "other"}))
+    assert not (tmp_path / "x").exists()
 
 
 # ---------------------------------------------------------------------------
@@ -315,15 +320,15 @@ def test_page_renders_in_headless_chromium(written, tmp_path):
     assert np.mean(saturation > 0.3) > 0.002
 
 
-def test_a_failed_report_leaves_no_folder_behind(tmp_path, params):
+def test_a_failed_report_leaves_no_folder_behind(tmp_path, capsys):
     """The folder is made only once there is something to write: a bad trajectory leaves nothing."""
-    t = np.linspace(0.0, 0.07, 8)
-    q = np.column_stack([np.zeros(8), np.zeros(8), np.radians(np.linspace(-150.0, 130.0, 8))])  # out of reach
-    bad = Trajectory(t, q, np.zeros_like(q), np.zeros_like(q), np.full(8, 300.0), name="bad")
+    bad = tmp_path / "bad.csv"
+    rows = [f"{k * 0.01:.2f},0,0,{-150 + 40 * k}" for k in range(8)]  # γ far out of reach
+    bad.write_text("t_s,alpha_deg,beta_deg,gamma_deg\n" + "\n".join(rows) + "\n")
     out = tmp_path / "deep" / "report"
-    with pytest.raises(hipsim.PoseError):
-        report.write_report(out, params, bad)
-    assert list(tmp_path.iterdir()) == []
+    assert main(["report", "--trajectory", str(bad), "--out", str(out)]) == 2
+    assert "t = " in capsys.readouterr().err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.csv"]
 
 
 def refuse_to_write(*args, **kwargs):
@@ -334,7 +339,7 @@ def refuse_to_write(*args, **kwargs):
 def test_a_report_failing_at_its_first_write_takes_back_the_folders_it_made(tmp_path, params, iso, monkeypatch):
     monkeypatch.setattr(report, "save_figure", refuse_to_write)
     with pytest.raises(HipsimError, match="No space left"):
-        report.write_report(tmp_path / "deep" / "report", params, iso.slice(slice(0, 50)), model="analytic")
+        report.write_report(tmp_path / "deep" / "report", hipsim.analyse(params, iso.slice(slice(0, 50))))
     assert list(tmp_path.iterdir()) == []
 
 
@@ -343,5 +348,5 @@ def test_a_failing_report_never_removes_a_folder_that_was_there(tmp_path, params
     out = tmp_path / "report"
     out.mkdir()
     with pytest.raises(HipsimError, match="No space left"):
-        report.write_report(out, params, iso.slice(slice(0, 50)), model="analytic")
+        report.write_report(out, hipsim.analyse(params, iso.slice(slice(0, 50))))
     assert out.is_dir() and list(out.iterdir()) == []

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import hipsim
-from hipsim.analysis.runs import column_names
+from hipsim.results import column_names
 
 README = Path(__file__).resolve().parents[1] / "README.md"
 
@@ -23,11 +23,11 @@ def test_columns_follow_the_contract(result):
     columns = result.columns()
     assert list(columns) == column_names()
     # Units at the edge: mm, N·mm, rpm, degrees.
-    np.testing.assert_allclose(columns["L_12_mm"], result.kin.L[:, 0, 1] * 1e3)
-    np.testing.assert_allclose(columns["tau_f_3_Nmm"], result.torques.tau_f[:, 2] * 1e3)
+    np.testing.assert_allclose(columns["L_12_mm"], result.L[:, 0, 1] * 1e3)
+    np.testing.assert_allclose(columns["tau_f_3_Nmm"], result.torques.friction[:, 2] * 1e3)
     np.testing.assert_allclose(columns["speed_2_rpm"], columns["Ld_12_mm_s"] / 10.0 * 60.0)
     np.testing.assert_allclose(columns["alpha_deg"][0], 25.0)
-    parts = sum(columns[f"{p}_1_Nmm"] for p in hipsim.Torques.PARTS)
+    parts = sum(columns[f"{p}_1_Nmm"] for p in ("tau_m", "tau_l", "tau_s", "tau_L", "tau_f"))  # spec §7.5
     np.testing.assert_allclose(parts, columns["tau_1_Nmm"], atol=1e-9)
 
 
@@ -44,14 +44,14 @@ def test_csv_round_trip(result, tmp_path):
 
 def test_summary_values(result):
     summary = result.summary()
-    kin, torques = result.kin, result.torques
-    assert summary["sliders"]["12"]["L_max_mm"] == pytest.approx(kin.L[:, 0, 1].max() * 1e3)
-    assert summary["sliders"]["23"]["stroke_mm"] == pytest.approx(np.ptp(kin.L[:, 1, 2]) * 1e3)
+    torques = result.torques
+    assert summary["sliders"]["12"]["L_max_mm"] == pytest.approx(result.L[:, 0, 1].max() * 1e3)
+    assert summary["sliders"]["23"]["stroke_mm"] == pytest.approx(np.ptp(result.L[:, 1, 2]) * 1e3)
     motor = summary["motors"]["1"]
-    assert motor["tau_rms_Nmm"] == pytest.approx(math.sqrt(np.mean((torques.tau[:, 0] * 1e3) ** 2)))
+    assert motor["tau_rms_Nmm"] == pytest.approx(math.sqrt(np.mean((torques.total[:, 0] * 1e3) ** 2)))
     assert motor["tau_peak_Nmm"] >= max(motor[f"{p}_max_Nmm"] for p in ("tau_m", "tau_l", "tau_s", "tau_L"))
-    assert summary["cond_inv_min"] == pytest.approx(kin.cond_inv.min())
-    assert summary["cond_inv_min_t_s"] == pytest.approx(kin.t[np.argmin(kin.cond_inv)])
+    assert summary["cond_inv_min"] == pytest.approx(result.cond_inv.min())
+    assert summary["cond_inv_min_t_s"] == pytest.approx(result.t[np.argmin(result.cond_inv)])
 
 
 def test_readme_library_example_runs(tmp_path, monkeypatch):

@@ -25,7 +25,7 @@ class OpenLoop:
     def __init__(self, params, servo_rate, duration, lever_spin):
         n = int(round(duration * servo_rate))
         desired = iso14242_at((np.arange(n) + 0.5) / servo_rate)
-        self.tau = inverse_dynamics(params, kinematics(params, desired), desired.Fe, lever_spin=lever_spin).tau
+        self.tau = inverse_dynamics(params, kinematics(params, desired), desired.Fe, lever_spin=lever_spin).total
         self.rate = servo_rate
 
     def __call__(self, t, state, desired):
@@ -38,7 +38,7 @@ def test_reduced_model_is_affine_in_acceleration(params):
     q, qd, qdd = np.radians([10.0, 3.0, -5.0]), rng.normal(size=3), rng.normal(size=3) * 20
     M, h = plant.mass_and_bias(q, qd, 1500.0)
     sample = Trajectory([0.0], q[None], qd[None], qdd[None], [1500.0])
-    tau = inverse_dynamics(params, kinematics(params, sample), sample.Fe, lever_spin=True).tau[0]
+    tau = inverse_dynamics(params, kinematics(params, sample), sample.Fe, lever_spin=True).total[0]
     np.testing.assert_allclose(M @ qdd + h, tau, rtol=1e-12, atol=1e-12)
 
 

@@ -181,7 +181,7 @@ def test_force_arrows_and_lever_colours_follow_the_dynamics(offline, iso_motion,
     samples = interpolator(iso14242(rate=1000))(np.arange(30) / FPS)  # what the viewer shows
     _, torques = trajectory_dynamics(offline.chain, samples)
     assert np.allclose(motion.F_act, torques.F_act)
-    assert np.allclose(np.linalg.norm(motion.F_joint, axis=-1), torques.Fa)
+    assert np.allclose(np.linalg.norm(motion.F_joint, axis=-1), torques.joint_forces.Fa)
     scale = force_scale_for(max(np.abs(motion.F_act).max(), np.linalg.norm(motion.F_joint, axis=-1).max()))
     assert scale == pytest.approx(1e-3)  # ISO peaks: 268 N on a screw, 80 N on a joint
     tracks, _ = page_tracks(iso_page.read_text(encoding="utf-8"))

@@ -151,8 +151,8 @@ def test_sweep_at_the_built_offset_equals_the_iso_run(params, iso):
     sweep = ws.offset_sweep(params, [30.0], iso)
     result = hipsim.analyse(params, iso)
     assert sweep.feasible[0]
-    assert sweep.cond_inv_min[0] == pytest.approx(result.kin.cond_inv.min(), rel=1e-12)
-    peaks = np.abs(result.torques.tau).max(axis=0) * 1e3
+    assert sweep.cond_inv_min[0] == pytest.approx(result.cond_inv.min(), rel=1e-12)
+    peaks = np.abs(result.torques.total).max(axis=0) * 1e3
     assert sweep.tau_peak_Nmm[0] == pytest.approx(peaks.max(), rel=1e-12)
     assert sweep.tau_peak_motor[0] == int(np.argmax(peaks)) + 1
     summary = result.summary()

@@ -3,6 +3,8 @@
 Pure: functions here return data; they never print and never import :mod:`hipsim.present`.
 """
 
-from .runs import Result, analyse
+from .crosscheck import compare_models, differences
+from .runs import analyse
+from .sizing import sizing
 
-__all__ = ["Result", "analyse"]
+__all__ = ["analyse", "compare_models", "differences", "sizing"]

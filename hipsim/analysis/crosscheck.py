@@ -23,15 +23,17 @@ import numpy as np
 
 from ..machine.parameters import Parameters, slender_levers
 from .runs import analyse
+from ..exceptions import HipsimError
+from ..results import Run
 from ..motion.trajectories import Trajectory
 
-__all__ = ["Comparison", "TOLERANCE", "compare_models"]
+__all__ = ["Comparison", "TOLERANCE", "compare_models", "differences"]
 
 #: Largest allowed difference, relative to each column's peak, where the models must agree.
 TOLERANCE = 1e-8
 
-#: Columns both models compute (the others — time, angles, load, singularity measure — they share).
-_SHARED_INPUTS = ("t_s", "alpha_deg", "beta_deg", "gamma_deg", "Fe_N", "cond_inv")
+#: Columns that are the trajectory itself, not computed by a model.
+_INPUTS = ("t_s", "alpha_deg", "beta_deg", "gamma_deg", "Fe_N", "flagged")
 
 
 @dataclass(frozen=True)
@@ -62,11 +64,22 @@ class Comparison:
         return self.worst <= TOLERANCE
 
 
-def _differences(analytic, pinocchio) -> tuple[tuple[str, float, float], ...]:
-    a, b = analytic.columns(), pinocchio.columns()
+def differences(run: Run, reference: Run) -> tuple[tuple[str, float, float], ...]:
+    """Column by column, the largest absolute difference and that difference relative to the reference column's peak.
+
+    Args:
+        run, reference: two runs along the same trajectory; only the columns
+            both have and that a model computes are compared.
+
+    Returns:
+        (column, largest absolute difference in the column's unit, relative difference).
+    """
+    if run.trajectory.t.shape != reference.trajectory.t.shape or np.any(run.trajectory.t != reference.trajectory.t):
+        raise HipsimError(f"the {run.model} and {reference.model} runs are not along the same trajectory")
+    a, b = run.columns(), reference.columns()
     rows = []
     for name, values in a.items():
-        if name in _SHARED_INPUTS or name == "flagged":
+        if name in _INPUTS or name not in b:
             continue
         absolute = float(np.max(np.abs(values - b[name])))
         peak = float(np.max(np.abs(b[name])))
@@ -93,14 +106,14 @@ def compare_models(params: Parameters, trajectory: Trajectory) -> list[Compariso
     return [
         Comparison(
             "exact", "spec §7.4: slender-rod levers, spin-free analytic levers", not lever_joint_friction,
-            _differences(analyse(slender, trajectory), pinocchio_slender),
+            differences(analyse(slender, trajectory), pinocchio_slender),
         ),
         Comparison(
             "published", "published lever inertia, spin-free analytic levers (the paper model's error)", False,
-            _differences(analyse(params, trajectory), pinocchio),
+            differences(analyse(params, trajectory), pinocchio),
         ),
         Comparison(
             "published+spin", "published lever inertia, analytic levers with the universal joints' spin", True,
-            _differences(analyse(params, trajectory, lever_spin=True), pinocchio),
+            differences(analyse(params, trajectory, lever_spin=True), pinocchio),
         ),
     ]

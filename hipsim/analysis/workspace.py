@@ -405,7 +405,7 @@ def offset_sweep(
             crossings[k] = singularity_crossings(np.where(reach[:, None, None], kin.J, np.nan), trajectory.periodic)
             if not np.any(kin.flagged) and crossings[k] == 0:
                 # Only a motion the machine can run has a meaningful torque and stroke.
-                tau = np.abs(inverse_dynamics(machine, kin, trajectory.Fe).tau).max(axis=0)
+                tau = np.abs(inverse_dynamics(machine, kin, trajectory.Fe).total).max(axis=0)
                 motor[k] = int(np.argmax(tau)) + 1
                 tau_peak[k] = tau.max() * 1e3
                 stroke[k] = np.ptp(kin.L[:, 0], axis=0).max() * 1e3

@@ -3,7 +3,8 @@
 Pure NumPy (and numba for the single-state kernel); it never imports Pinocchio.
 """
 
+from .engine import AnalyticModel
 from .inverse_kinematics import Kinematics, kinematics
-from .virtual_work import Torques, inverse_dynamics, mass_and_bias, mechanical_energy
+from .virtual_work import inverse_dynamics, mass_and_bias, mechanical_energy
 
-__all__ = ["Kinematics", "Torques", "inverse_dynamics", "kinematics", "mass_and_bias", "mechanical_energy"]
+__all__ = ["AnalyticModel", "Kinematics", "inverse_dynamics", "kinematics", "mass_and_bias", "mechanical_energy"]

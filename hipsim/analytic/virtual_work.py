@@ -32,16 +32,15 @@ arrays, and the results are turned back with ``.T``.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
 from .inverse_kinematics import Kinematics, _cross, _dot, _inverse_transpose, _lever_axes, _lever_spin, _spin_transpose, kinematics
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
+from ..results import Torques
 
 __all__ = [
-    "Torques",
     "central_friction_moment",
     "inverse_dynamics",
     "mass_and_bias",
@@ -100,36 +99,6 @@ def _central_friction_moment(params: Parameters, omega: np.ndarray, Fe: np.ndarr
         Fe + params.platform_mass * params.gravity
     )
     return _smooth_sign_vector(omega, f.epsilon) * magnitude
-
-
-@dataclass(frozen=True, eq=False)
-class Torques:
-    """Motor torques and their parts along a trajectory (spec §4.4), all (N, 3) per motor.
-
-    Attributes:
-        tau: total motor torque in [N·m]; the sum of the five parts below.
-        tau_m: moving platforms' inertia (both platforms) in [N·m].
-        tau_l: levers' gravity and inertia in [N·m].
-        tau_s: sliders' gravity and inertia in [N·m].
-        tau_L: lead screws' inertia in [N·m].
-        tau_f: all friction in [N·m].
-        motor_speed: θ̇_i = 2π·L̇_i/p in [rad/s].
-        friction_moment: magnitude of each platform's central-chain friction moment in [N·m], (N,).
-        friction_power: power lost in all friction in [W], (N,), ≥ 0.
-    """
-
-    tau: np.ndarray
-    tau_m: np.ndarray
-    tau_l: np.ndarray
-    tau_s: np.ndarray
-    tau_L: np.ndarray
-    tau_f: np.ndarray
-    motor_speed: np.ndarray
-    friction_moment: np.ndarray
-    friction_power: np.ndarray
-
-    #: Names of the five parts, in the order of spec §4.4.
-    PARTS = ("tau_m", "tau_l", "tau_s", "tau_L", "tau_f")
 
 
 def _body_components(axes, w: np.ndarray) -> np.ndarray:
@@ -282,7 +251,7 @@ def inverse_dynamics(params: Parameters, kin: Kinematics, Fe: np.ndarray, lever_
     )
     tau = tau_m + tau_l + tau_s + tau_L + tau_f
     return Torques(
-        tau=tau.T, tau_m=tau_m.T, tau_l=tau_l.T, tau_s=tau_s.T, tau_L=tau_L.T, tau_f=tau_f.T,
+        total=tau.T, platforms=tau_m.T, levers=tau_l.T, sliders=tau_s.T, screws=tau_L.T, friction=tau_f.T,
         motor_speed=motor_speed.T, friction_moment=np.sqrt(_dot(tau_mf, tau_mf)),
         friction_power=friction_power,
     )
@@ -319,7 +288,7 @@ def mass_and_bias(params: Parameters, trajectory: Trajectory, lever_spin: bool =
         np.tile(trajectory.Fe, 4), name=trajectory.name,
     )
     # Already checked: the copies' boundaries are not motions, so do not look for crossings there.
-    tau = inverse_dynamics(params, kinematics(params, states, on_error="flag"), states.Fe, lever_spin).tau.reshape(4, n, 3)
+    tau = inverse_dynamics(params, kinematics(params, states, on_error="flag"), states.Fe, lever_spin).total.reshape(4, n, 3)
     h = tau[0]
     return np.moveaxis(tau[1:] - h, 0, -1), h
 

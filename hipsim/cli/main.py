@@ -257,7 +257,10 @@ def _desired(args, trajectory):
 
 
 def _cmd_report(args) -> int:
-    from ..present.report import MotorRatings, load_ratings, write_report
+    from ..analysis.runs import analyse
+    from ..files import check_folder
+    from ..machine.drive import MotorRatings, load_ratings
+    from ..present.report import write_report
 
     params = _parameters(args)
     trajectory = _trajectory(args)
@@ -267,11 +270,23 @@ def _cmd_report(args) -> int:
         ratings = MotorRatings(**params.motor, source=params.source)
     else:
         ratings = None
+    check_folder(Path(args.out))  # an unusable folder is refused before the computing
+    run = analyse(params, trajectory)
+    joint_run, notes = None, []
+    if args.model == "analytic":
+        notes.append("Joint reaction forces were not computed (analytic model only: it has no joint forces).")
+    else:
+        try:
+            joint_run = analyse(params, trajectory, model="pinocchio")
+        except (ImportError, AttributeError) as error:
+            if args.model == "pinocchio":
+                raise HipsimError(f"the Pinocchio model is not available ({error})") from None
+            notes.append(f"Joint reaction forces are missing: the Pinocchio model is not available ({type(error).__name__}: {error}); torques are from the analytic model.")
     simulations = None
     if args.simulate:
         desired_at, duration = _desired(args, trajectory)
         simulations = _simulate_both(params, desired_at, duration)
-    files = write_report(Path(args.out), params, trajectory, simulate=simulations, ratings=ratings, model=args.model)
+    files = write_report(Path(args.out), run, joint_run, simulations=simulations, ratings=ratings, notes=tuple(notes))
     print(f"wrote {files.index}")
     return 0
 

@@ -51,14 +51,17 @@ import pinocchio as pin
 import yaml
 from scipy.linalg import lapack
 
-from ..analytic.virtual_work import screw_friction_torque, smooth_sign
+from ..analytic.inverse_kinematics import angular_velocity_map, inverse_condition_number
+from ..analytic.virtual_work import central_friction_moment, screw_friction_torque, smooth_sign
+from ..arrays import check_shapes
 from ..exceptions import ModelError, PoseError, TrajectoryError
 from ..machine.model_files import closure_file_path, urdf_text
 from ..machine.parameters import Parameters, load_parameters
+from ..results import JointForces, Torques
 
 __all__ = [
     "ClosedChainModel",
-    "ClosedChainTorques",
+    "ClosedChainDynamics",
     "ClosedKinematics",
     "closure_residuals",
     "constraint_jacobian",
@@ -489,25 +492,6 @@ def _require_layout(chain: ClosedChainModel) -> _HipLayout:
 # ---------------------------------------------------------------------------
 
 
-def _readonly(array) -> np.ndarray:
-    out = np.array(array)  # a copy, so freezing it leaves the caller's array alone
-    if out.dtype.kind not in "iu":
-        out = out.astype(float)
-    out.setflags(write=False)
-    return out
-
-
-def _check_shapes(obj, shapes: dict[str, tuple]) -> None:
-    """Freeze the arrays of a result dataclass and check their shapes ('N' = samples)."""
-    n = len(getattr(obj, "t"))
-    for name, shape in shapes.items():
-        value = _readonly(getattr(obj, name))
-        expected = tuple(n if s == "N" else s for s in shape)
-        if value.shape != expected:
-            raise ValueError(f"{type(obj).__name__}.{name}: expected shape {expected}, got {value.shape}")
-        object.__setattr__(obj, name, value)
-
-
 @dataclass(frozen=True, eq=False)
 class ClosedKinematics:
     """The closed configuration of the whole tree along a trajectory.
@@ -521,6 +505,9 @@ class ClosedKinematics:
         a: tree accelerations in [m/s², rad/s²], shape (N, nv), with J_c a + J̇_c v = 0.
         L, Ld, Ldd: slider heights [m], rates [m/s], accelerations [m/s²] of
             U-joint centre b_ji, shape (N, 2, 3) [platform j, screw i].
+        J: the slider Jacobian L̇ = J·ω of the closed chain in [m], shape (N, 3, 3),
+            from the velocity closure (independent of the analytic J).
+        cond_inv: its inverse condition number (singularity measure), shape (N,).
         residual: largest closure gap of each sample in [m], shape (N,).
         iterations: configuration evaluations spent on each sample, shape (N,).
     """
@@ -535,19 +522,22 @@ class ClosedKinematics:
     L: np.ndarray
     Ld: np.ndarray
     Ldd: np.ndarray
+    J: np.ndarray
+    cond_inv: np.ndarray
     residual: np.ndarray
     iterations: np.ndarray
 
     def __post_init__(self):
         nq, nv = np.shape(self.q)[1], np.shape(self.v)[1]
-        _check_shapes(
+        check_shapes(
             self,
             {
                 "t": ("N",), "angles": ("N", 3), "angle_rates": ("N", 3), "angle_accels": ("N", 3),
                 "q": ("N", nq), "v": ("N", nv), "a": ("N", nv),
                 "L": ("N", 2, 3), "Ld": ("N", 2, 3), "Ldd": ("N", 2, 3),
-                "residual": ("N",), "iterations": ("N",),
+                "J": ("N", 3, 3), "cond_inv": ("N",), "residual": ("N",), "iterations": ("N",),
             },
+            samples=len(self.t),
         )  # fmt: skip
 
 
@@ -698,6 +688,7 @@ def _close_chain(chain: ClosedChainModel, traj, tol: float, max_iter: int, Fe) -
     Q, V, A = np.empty((n, nq)), np.empty((n, nv)), np.empty((n, nv))
     gaps = np.empty((n, 3 * chain.n_closures))
     iterations = np.empty(n, dtype=int)
+    J_rates = np.empty((n, 3, 3))  # ∂L̇/∂(angle rates) of the sliders
     closer = _Closer(chain, tol, max_iter)
     # The closer leaves Pinocchio's data at the closed q: the dynamics reuse its Jacobians.
     dynamics = _InverseDynamics(chain, V, A, Fe) if Fe is not None else None
@@ -719,11 +710,14 @@ def _close_chain(chain: ClosedChainModel, traj, tol: float, max_iter: int, Fe) -
             raise PoseError(str(error), float(t[k]), k, source=getattr(traj, "name", None)) from None
         iterations[k] = closer.evaluations - before
         Q[k] = q
+        J_rates[k] = closer.K_inv[layout.slider_v, :3]
         if dynamics is not None:
             dynamics.add(k, q, closer.ws.data, closer.K[3:], closer.rotations)
 
     sliders = layout.slider_v
     offset = np.stack([np.zeros(3), layout.slider_offset])[None]
+    # L̇ = J_rates·q̇ and ω = T(q)·q̇, so J = J_rates·T⁻¹: solve Tᵀ·Jᵀ = J_ratesᵀ.
+    J = np.linalg.solve(np.swapaxes(angular_velocity_map(angles), 1, 2), np.swapaxes(J_rates, 1, 2)).swapaxes(1, 2)
     kin = ClosedKinematics(
         t=t,
         angles=angles,
@@ -735,6 +729,8 @@ def _close_chain(chain: ClosedChainModel, traj, tol: float, max_iter: int, Fe) -
         L=Q[:, None, sliders] - offset,
         Ld=np.repeat(V[:, None, sliders], 2, axis=1),
         Ldd=np.repeat(A[:, None, sliders], 2, axis=1),
+        J=J,
+        cond_inv=inverse_condition_number(J),
         residual=np.linalg.norm(gaps.reshape(n, -1, 3), axis=2).max(axis=1),
         iterations=iterations,
     )
@@ -747,50 +743,26 @@ def _close_chain(chain: ClosedChainModel, traj, tol: float, max_iter: int, Fe) -
 
 
 @dataclass(frozen=True, eq=False)
-class ClosedChainTorques:
+class ClosedChainDynamics:
     """Motor torques and joint forces of the closed-chain inverse dynamics.
 
     Attributes:
-        t: sample times in [s], shape (N,).
-        tau: motor torque of each module in [N·m], shape (N, 3); the sum of
-        tau_m: platforms' inertia (both), tau_l: levers' gravity and inertia,
-        tau_s: sliders' (carriages') gravity and inertia, tau_L: screws'
-            rotor inertia, tau_f: all friction; each (N, 3) in [N·m].
+        torques: motor torques and their parts in [N·m] (the shared type of every model).
         F_act: actuator force on each carriage in [N], shape (N, 3)
-            (tau = p/2π · F_act).
+            (total torque = p/2π · F_act).
         lambdas: closure forces in [N], shape (N, 2, 3, 3): the force the
             platform exerts on lever ji at a_ji, in the lever-tip frame.
-        Fa: its magnitude in [N], shape (N, 2, 3) (spherical joint a_ji).
-        Fo: magnitude of the force through platform j's central spherical
-            joint in [N], shape (N, 2), load F_e included (see inverse_dynamics).
-        L, Ld, Ldd: slider motion in [m, m/s, m/s²], shape (N, 2, 3).
-        q, v, a: the closed tree motion, shapes (N, nq), (N, nv), (N, nv).
+        joint_forces: force magnitudes at the spherical joints a_ji and the
+            central joints o_j in [N] (load F_e included, see :func:`inverse_dynamics`).
     """
 
-    t: np.ndarray
-    tau: np.ndarray
-    tau_m: np.ndarray
-    tau_l: np.ndarray
-    tau_s: np.ndarray
-    tau_L: np.ndarray
-    tau_f: np.ndarray
+    torques: Torques
     F_act: np.ndarray
     lambdas: np.ndarray
-    Fa: np.ndarray
-    Fo: np.ndarray
-    L: np.ndarray
-    Ld: np.ndarray
-    Ldd: np.ndarray
-    q: np.ndarray
-    v: np.ndarray
-    a: np.ndarray
+    joint_forces: JointForces
 
     def __post_init__(self):
-        nq, nv = np.shape(self.q)[1], np.shape(self.v)[1]
-        shapes = {name: ("N", 3) for name in ("tau", "tau_m", "tau_l", "tau_s", "tau_L", "tau_f", "F_act")}
-        shapes.update(t=("N",), lambdas=("N", 2, 3, 3), Fa=("N", 2, 3), Fo=("N", 2))
-        shapes.update(L=("N", 2, 3), Ld=("N", 2, 3), Ldd=("N", 2, 3), q=("N", nq), v=("N", nv), a=("N", nv))
-        _check_shapes(self, shapes)
+        check_shapes(self, {"F_act": ("N", 3), "lambdas": ("N", 2, 3, 3)})
 
 
 def _friction_forces(chain: ClosedChainModel, v, Fe, platform_J, lever_J) -> np.ndarray:
@@ -924,35 +896,28 @@ class _InverseDynamics:
         self.lambdas[start:stop] = solution[:, 3:].sum(axis=2).reshape(m, -1, 3)
         self.start = stop
 
-    def result(self, kin: ClosedKinematics) -> ClosedChainTorques:
+    def result(self, kin: ClosedKinematics) -> ClosedChainDynamics:
         params, closure = self.chain.params, self.layout.closure
         tau_m, tau_l, tau_s, tau_L, tau_f = np.moveaxis(self.chain.lead / _TWO_PI * self.parts, 2, 0)
+        motor_speed = _TWO_PI * kin.Ld[:, 0] / self.chain.lead
+        omega = np.einsum("nab,nb->na", angular_velocity_map(kin.angles), kin.angle_rates)
         lambdas = self.lambdas[:, closure]  # (n, 2, 3, 3)
         # Platform j: its centre is fixed, so the central joint balances the levers, weight and load.
         centre = np.einsum("nkab,nkb->nka", self.rotations, self.lambdas)[:, closure].sum(axis=2)
         centre[:, :, 2] += params.platform_mass * params.gravity + self.Fe[:, None]
-        return ClosedChainTorques(
-            t=kin.t,
-            tau=tau_m + tau_l + tau_s + tau_L + tau_f,
-            tau_m=tau_m,
-            tau_l=tau_l,
-            tau_s=tau_s,
-            tau_L=tau_L,
-            tau_f=tau_f,
-            F_act=self.parts.sum(axis=2),
-            lambdas=lambdas,
-            Fa=np.linalg.norm(lambdas, axis=-1),
-            Fo=np.linalg.norm(centre, axis=-1),
-            L=kin.L,
-            Ld=kin.Ld,
-            Ldd=kin.Ldd,
-            q=kin.q,
-            v=kin.v,
-            a=kin.a,
+        torques = Torques(
+            total=tau_m + tau_l + tau_s + tau_L + tau_f,
+            platforms=tau_m, levers=tau_l, sliders=tau_s, screws=tau_L, friction=tau_f,
+            motor_speed=motor_speed,
+            friction_moment=np.linalg.norm(central_friction_moment(params, omega, self.Fe), axis=-1),
+            # By virtual power the motors' friction share times their speed is the whole friction loss.
+            friction_power=np.sum(tau_f * motor_speed, axis=1),
         )
+        joint_forces = JointForces(Fa=np.linalg.norm(lambdas, axis=-1), Fo=np.linalg.norm(centre, axis=-1))
+        return ClosedChainDynamics(torques=torques, F_act=self.parts.sum(axis=2), lambdas=lambdas, joint_forces=joint_forces)
 
 
-def inverse_dynamics(chain: ClosedChainModel, kin: ClosedKinematics, Fe) -> ClosedChainTorques:
+def inverse_dynamics(chain: ClosedChainModel, kin: ClosedKinematics, Fe) -> ClosedChainDynamics:
     """Motor torques (with their parts) and joint forces along a closed motion, with Pinocchio.
 
     The tree's generalised forces are split exactly into parts: Pinocchio's
@@ -991,7 +956,7 @@ def inverse_dynamics(chain: ClosedChainModel, kin: ClosedKinematics, Fe) -> Clos
 
 def trajectory_dynamics(
     chain: ClosedChainModel, traj, *, tol: float = 1e-12, max_iter: int = 50
-) -> tuple[ClosedKinematics, ClosedChainTorques]:
+) -> tuple[ClosedKinematics, ClosedChainDynamics]:
     """:func:`kinematics` and :func:`inverse_dynamics` in one pass, with the trajectory's own load.
 
     Faster than the two calls: the dynamics reuse the Jacobians the

@@ -87,7 +87,7 @@ def _gains(value, name: str) -> np.ndarray:
 
 def feedforward_torques(params: Parameters, desired: Trajectory) -> np.ndarray:
     """Inverse-dynamics motor torques along a desired trajectory, friction included, in [N·m], (N, 3)."""
-    return inverse_dynamics(params, kinematics(params, desired), desired.Fe).tau
+    return inverse_dynamics(params, kinematics(params, desired), desired.Fe).total
 
 
 class AugmentedPD(WorkspacePD):

@@ -42,6 +42,7 @@ from ..analytic.inverse_kinematics import kinematics
 from ..machine.parameters import Parameters
 from ..analytic.kernel import floats
 from ..motion.trajectories import Trajectory
+from ..results import peak_and_rms
 
 __all__ = ["Plant", "ReducedPlant", "Simulation", "apply_mismatch", "parse_mismatch", "simulate"]
 
@@ -160,17 +161,17 @@ class Simulation:
 
     def summary(self) -> dict:
         """Peak and RMS of each angle's error in [deg] and of each motor's torque in [N·mm], peak speeds in [rpm]."""
-        err = np.degrees(self.err)
-        tau = self.tau * 1e3
-        rpm = self.motor_speed * 60.0 / (2.0 * math.pi)
+        err_peak, err_rms = peak_and_rms(np.degrees(self.err))
+        tau_peak, tau_rms = peak_and_rms(self.tau * 1e3)
+        speed_peak, _ = peak_and_rms(self.motor_speed * 60.0 / (2.0 * math.pi))
         names = ("alpha", "beta", "gamma")
         return {
             "plant": self.plant,
             "controller": self.controller,
             "duration_s": float(self.t.size * (self.t[1] - self.t[0])),  # simulate() makes at least two samples
-            "errors_deg": {n: {"peak": float(np.abs(err[:, k]).max()), "rms": float(np.sqrt(np.mean(err[:, k] ** 2)))} for k, n in enumerate(names)},
-            "torques_Nmm": {str(i + 1): {"peak": float(np.abs(tau[:, i]).max()), "rms": float(np.sqrt(np.mean(tau[:, i] ** 2)))} for i in range(3)},
-            "speed_peak_rpm": {str(i + 1): float(np.abs(rpm[:, i]).max()) for i in range(3)},
+            "errors_deg": {n: {"peak": float(err_peak[k]), "rms": float(err_rms[k])} for k, n in enumerate(names)},
+            "torques_Nmm": {str(i + 1): {"peak": float(tau_peak[i]), "rms": float(tau_rms[i])} for i in range(3)},
+            "speed_peak_rpm": {str(i + 1): float(speed_peak[i]) for i in range(3)},
             "saturated_samples": int(np.count_nonzero(self.saturated)),
         }
 

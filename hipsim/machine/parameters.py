@@ -29,6 +29,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
+from ..arrays import readonly
 from ..exceptions import ParameterError
 
 __all__ = [
@@ -135,10 +136,6 @@ SCHEMA: dict[str, dict[str, _Key]] = {
 OPTIONAL_SECTIONS = {"motor"}
 
 
-def _readonly(array) -> np.ndarray:
-    out = np.array(array, dtype=float)
-    out.setflags(write=False)
-    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -190,7 +187,7 @@ class ControlSettings:
 
     def __post_init__(self):
         for name in ("kp", "kd"):
-            value = _readonly(getattr(self, name))
+            value = readonly(np.asarray(getattr(self, name), dtype=float))
             if value.shape != (3,):
                 raise ParameterError(f"expected shape (3,), got {value.shape}", key=f"control.{name}", value=value)
             object.__setattr__(self, name, value)
@@ -251,7 +248,7 @@ class Parameters:
             ("lever_inertia", (3, 3)),
             ("angle_signs", (3,)),
         ):
-            value = _readonly(getattr(self, name))
+            value = readonly(np.asarray(getattr(self, name), dtype=float))
             if value.shape != shape:
                 raise ParameterError(f"expected shape {shape}, got {value.shape}", key=name, value=value)
             object.__setattr__(self, name, value)
@@ -259,25 +256,25 @@ class Parameters:
     @cached_property
     def platform_angles(self) -> np.ndarray:
         """φ_i = θ_i + δ in [rad], shape (3,)."""
-        return _readonly(self.screw_angles + self.home_offset)
+        return readonly(self.screw_angles + self.home_offset)
 
     @cached_property
     def screw_points(self) -> np.ndarray:
         """c_i, the screw feet on the base plane in [m], shape (3, 3) (row i = c_i)."""
         th = self.screw_angles
-        return _readonly(self.screw_radius * np.stack([np.cos(th), np.sin(th), np.zeros(3)], axis=1))
+        return readonly(self.screw_radius * np.stack([np.cos(th), np.sin(th), np.zeros(3)], axis=1))
 
     @cached_property
     def platform_points(self) -> np.ndarray:
         """r⁰_i, the platform joints in platform axes in [m], shape (3, 3) (row i = r⁰_i)."""
         ph = self.platform_angles
-        return _readonly(self.joint_radius * np.stack([np.cos(ph), np.sin(ph), np.zeros(3)], axis=1))
+        return readonly(self.joint_radius * np.stack([np.cos(ph), np.sin(ph), np.zeros(3)], axis=1))
 
     @cached_property
     def ujoint_axes(self) -> np.ndarray:
         """u1_i = ẑ × c_i/|c_i|, the universal joints' first (slider-fixed) axes, shape (3, 3)."""
         th = self.screw_angles
-        return _readonly(np.stack([-np.sin(th), np.cos(th), np.zeros(3)], axis=1))
+        return readonly(np.stack([-np.sin(th), np.cos(th), np.zeros(3)], axis=1))
 
     def replace(self, **changes) -> "Parameters":
         """A copy with some attributes changed, e.g. ``params.replace(lever_mass=0.0)``."""

@@ -445,7 +445,6 @@ class Viewer:
         Raises:
             PoseError: a sample is out of reach or singular.
         """
-        from ..analytic.inverse_kinematics import kinematics as analytic_kinematics
         from ..closed_chain.model import kinematics, trajectory_dynamics
 
         if not (fps > 0 and speed > 0 and math.isfinite(fps) and math.isfinite(speed)):
@@ -460,7 +459,7 @@ class Viewer:
         else:
             kin = kinematics(self.chain, samples)
         if singularity:
-            cond_inv = np.array(analytic_kinematics(self.params, samples, on_error="flag").cond_inv)
+            cond_inv = np.array(kin.cond_inv)
         from ..analytic.inverse_kinematics import rotation_matrix
 
         hip = human_hip_angles(rotation_matrix(np.asarray(kin.angles)))

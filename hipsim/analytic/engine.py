@@ -1,0 +1,51 @@
+"""The analytic model behind the common model protocol: ``AnalyticModel(params).run(trajectory) -> Run``."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..exceptions import PoseError
+from ..machine.parameters import Parameters
+from ..motion.trajectories import Trajectory
+from ..results import Run
+from .inverse_kinematics import kinematics
+from .virtual_work import inverse_dynamics
+
+__all__ = ["AnalyticModel"]
+
+
+class AnalyticModel:
+    """Spec §3–4, vectorised over time.
+
+    Args:
+        params: the machine.
+        lever_spin: give the levers the spin their universal joints impose
+            (the physics the Pinocchio model has) instead of the spec's
+            spin-free levers.
+        on_error: "raise" at the first pose out of reach or singular, or
+            "flag" to carry such samples as NaN and mark them in ``Run.flagged``.
+    """
+
+    name = "analytic"
+
+    def __init__(self, params: Parameters, lever_spin: bool = False, on_error: str = "raise"):
+        if on_error not in ("raise", "flag"):
+            raise ValueError(f"on_error must be 'raise' or 'flag', got {on_error!r}")
+        self.params, self.lever_spin, self.on_error = params, bool(lever_spin), on_error
+
+    def run(self, trajectory: Trajectory) -> Run:
+        """Slider motion, motor torques and their parts, and the singularity measure along ``trajectory``.
+
+        Raises:
+            PoseError: a pose out of reach or singular (with ``on_error="raise"``),
+                or every sample flagged.
+        """
+        kin = kinematics(self.params, trajectory, on_error=self.on_error)
+        if np.all(kin.flagged):
+            raise PoseError(
+                f"all {len(trajectory)} samples are out of reach or singular; nothing to compute",
+                float(trajectory.t[0]), 0, source=trajectory.name,
+            )
+        with np.errstate(invalid="ignore", divide="ignore"):  # flagged samples are NaN and stay NaN
+            torques = inverse_dynamics(self.params, kin, trajectory.Fe, lever_spin=self.lever_spin)
+        return Run(self.name, self.params, trajectory, kin.L, kin.Ld, kin.Ldd, torques, kin.cond_inv, kin.flagged)

@@ -1,0 +1,43 @@
+"""The Pinocchio closed-chain model behind the common model protocol: ``PinocchioModel(params).run(trajectory) -> Run``."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..machine.parameters import Parameters
+from ..motion.trajectories import Trajectory
+from ..results import Run
+from .model import ClosedChainModel, load_model, trajectory_dynamics
+
+__all__ = ["PinocchioModel"]
+
+
+class PinocchioModel:
+    """Spec §6: the URDF tree with its six loop closures, closed and solved sample by sample.
+
+    Everything in the :class:`Run` comes from this model: slider motion from
+    the closed configurations, the singularity measure from the velocity
+    closure's Jacobian, torques and joint forces from one constrained solve.
+
+    Args:
+        params: the machine.
+        chain: an already loaded closed-chain model of ``params`` (loaded when None).
+    """
+
+    name = "pinocchio"
+
+    def __init__(self, params: Parameters, chain: ClosedChainModel | None = None):
+        self.params = params
+        self.chain = chain if chain is not None else load_model(params)
+
+    def run(self, trajectory: Trajectory) -> Run:
+        """Closed kinematics and inverse dynamics along ``trajectory``.
+
+        Raises:
+            PoseError: at the first sample out of reach or singular.
+        """
+        kin, dynamics = trajectory_dynamics(self.chain, trajectory)
+        return Run(
+            self.name, self.params, trajectory, kin.L, kin.Ld, kin.Ldd, dynamics.torques, kin.cond_inv,
+            np.zeros(len(trajectory.t), dtype=bool), joint_forces=dynamics.joint_forces,
+        )
