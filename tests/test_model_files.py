@@ -49,7 +49,7 @@ def _rot(axis: str, angle: float) -> np.ndarray:
 
 def test_committed_urdf_is_not_stale(params):
     assert default_urdf_path().read_text(encoding="utf-8") == urdf_text(params), (
-        "models/hip_simulator.urdf is stale: regenerate it with `python -m hipsim.machine.model_files`"
+        "models/hip_simulator.urdf is stale: regenerate it with `hipsim urdf --out models/hip_simulator.urdf`"
     )
 
 
@@ -212,3 +212,18 @@ def test_closure_file(params):
     for joint in content["name_mot"]:
         assert content["transmission"][joint]["lead_m"] == pytest.approx(params.lead, rel=1e-12)
         assert content["transmission"][joint]["rotor_inertia_kgm2"] == pytest.approx(params.screw_inertia, rel=1e-12)
+
+
+def test_write_urdf_refuses_what_a_second_parser_cannot_read(tmp_path, monkeypatch):
+    """yourdfpy reads every URDF before it is written: a joint whose parent link is missing is refused, no file left."""
+    good = urdf_text()
+    broken = good.replace('<parent link="carriage_1"/>', '<parent link="no_such_link"/>', 1)
+    assert broken != good
+    monkeypatch.setattr(model_files, "urdf_text", lambda params=None: broken)
+    with pytest.raises(ModelError, match="no_such_link.*does not exist"):
+        write_urdf(None, tmp_path / "broken.urdf")
+    assert list(tmp_path.iterdir()) == []
+    monkeypatch.setattr(model_files, "urdf_text", lambda params=None: "<robot name='x'><link name='a'/>")  # not even XML
+    with pytest.raises(ModelError, match="cannot read"):
+        write_urdf(None, tmp_path / "cut.urdf")
+    assert list(tmp_path.iterdir()) == []

@@ -24,7 +24,8 @@ from hipsim.closed_chain.model import closure_residuals
 from hipsim.present.human import HUMAN_PELVIS_POSITION, HUMAN_PELVIS_ROTATION
 from hipsim.present.meshcat_output import find_browser, screenshot
 from hipsim.motion.trajectories import interpolator, iso14242
-from hipsim.present.viewer import Viewer, force_scale_for, run_view, singularity_colour
+from hipsim.cli.view import run_view, step_through
+from hipsim.present.viewer import Viewer, force_scale_for, singularity_colour
 from support import SmoothMotion
 
 FPS = 30.0
@@ -124,27 +125,6 @@ def patch(image: np.ndarray, pixel, radius: int = 5) -> np.ndarray:
 # ---------------------------------------------------------------------------
 
 
-def test_moved_names_still_import_from_the_viewer():
-    """hipsim.present.viewer offers the same objects as hipsim.present.human (human_hip_angles, load_human) and hipsim.present.meshcat_output (find_browser, screenshot)."""
-    import hipsim.present.human
-    import hipsim.present.meshcat_output
-    import hipsim.present.viewer
-
-    assert sorted(hipsim.present.viewer.__all__) == [
-        "Motion", "Viewer", "find_browser", "force_scale_for", "human_hip_angles", "load_human", "run_view", "screenshot", "singularity_colour",
-    ]  # fmt: skip
-    namespace = {}
-    exec("from hipsim.present.viewer import *", namespace)
-    assert set(hipsim.present.viewer.__all__) <= set(namespace)
-    assert namespace["human_hip_angles"] is hipsim.present.human.human_hip_angles and namespace["load_human"] is hipsim.present.human.load_human
-    assert namespace["find_browser"] is hipsim.present.meshcat_output.find_browser and namespace["screenshot"] is hipsim.present.meshcat_output.screenshot
-
-
-# ---------------------------------------------------------------------------
-# The frames shown are closed configurations
-# ---------------------------------------------------------------------------
-
-
 def test_frames_are_closed_samples(offline, iso_motion):
     motion = iso_motion
     assert len(motion) == 30 and motion.periodic
@@ -221,7 +201,8 @@ def test_show_orientation_and_step_mode(offline):
         offline.show(np.zeros(3))
     shown = []
     out = io.StringIO()
-    offline.play(iso14242(rate=100), step=True, loop=False, fps=10, input=io.StringIO("\n\nb\nq\n"), stream=out, on_frame=lambda k, m: shown.append(k))
+    motion = offline.motion(iso14242(rate=100), fps=10)
+    step_through(offline, motion, io.StringIO("\n\nb\nq\n"), out, loop=False, on_frame=lambda k, m: shown.append(k))
     assert shown == [0, 1, 2, 1]
     assert "frame 3/10" in out.getvalue()
 

@@ -10,6 +10,7 @@ import pytest
 
 import hipsim
 import hipsim.analysis.workspace as ws
+from hipsim.cli.workspace import run_workspace
 from hipsim.analytic.inverse_kinematics import kinematics, slider_heights
 from hipsim.motion.trajectories import Trajectory, iso14242
 
@@ -186,7 +187,7 @@ def test_sweep_shows_why_the_offset_is_needed(params, iso):
 def test_run_workspace_writes_figures_json_and_summary(params, iso, tmp_path):
     out = tmp_path / "ws"
     stream = io.StringIO()
-    run = ws.run_workspace(
+    run = run_workspace(
         params, iso, out, alpha_deg=np.linspace(-30, 35, 40), beta_deg=np.linspace(-15, 15, 30),
         gamma_deg=[-12.0, -4.0, 4.0], deltas_deg=np.arange(-30.0, 61.0, 10.0), stream=stream,
     )
@@ -208,13 +209,13 @@ def test_a_workspace_run_failing_at_its_first_write_takes_back_only_the_folders_
     def refuse_to_write(*args, **kwargs):  # as on a full disk: after the folder is made, before anything is in it
         raise hipsim.HipsimError("singularity_map.png: cannot write (No space left on device)")
 
-    monkeypatch.setattr("hipsim.present.report.save_figure", refuse_to_write)
+    monkeypatch.setattr("hipsim.present.figures.save_figure", refuse_to_write)
     small = dict(alpha_deg=[0.0, 10.0], beta_deg=[0.0, 5.0], gamma_deg=[0.0], deltas_deg=[30.0], stream=io.StringIO())
     with pytest.raises(hipsim.HipsimError, match="No space left"):
-        ws.run_workspace(params, iso.slice(slice(0, 50)), tmp_path / "deep" / "ws", **small)
+        run_workspace(params, iso.slice(slice(0, 50)), tmp_path / "deep" / "ws", **small)
     assert list(tmp_path.iterdir()) == []
 
     (tmp_path / "ws").mkdir()  # there before the run: never removed
     with pytest.raises(hipsim.HipsimError, match="No space left"):
-        ws.run_workspace(params, iso.slice(slice(0, 50)), tmp_path / "ws", **small)
+        run_workspace(params, iso.slice(slice(0, 50)), tmp_path / "ws", **small)
     assert [p.name for p in tmp_path.iterdir()] == ["ws"]

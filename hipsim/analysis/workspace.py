@@ -38,10 +38,7 @@ Example:
 from __future__ import annotations
 
 import math
-import sys
 from dataclasses import dataclass
-from pathlib import Path
-from typing import TextIO
 
 import numpy as np
 
@@ -59,13 +56,8 @@ __all__ = [
     "OffsetSweep",
     "SingularityMap",
     "TrajectoryMargin",
-    "WorkspaceRun",
-    "format_workspace_summary",
     "offset_sweep",
-    "plot_offset_sweep",
-    "plot_singularity_map",
     "pose_jacobian",
-    "run_workspace",
     "singularity_map",
     "trajectory_margin",
 ]
@@ -223,7 +215,8 @@ class SingularityMap:
 def _progress(total: int, enabled: bool, unit: str, description: str):
     from tqdm.auto import tqdm
 
-    return tqdm(total=total, disable=not enabled, unit=unit, unit_scale=True, desc=description, leave=False, file=sys.stderr)
+    # tqdm writes to standard error, and only when the caller turned it on.
+    return tqdm(total=total, disable=not enabled, unit=unit, unit_scale=True, desc=description, leave=False)
 
 
 def singularity_map(
@@ -336,6 +329,12 @@ class OffsetSweep:
     delta_built_deg: float
 
     @property
+    def built_index(self) -> int | None:
+        """The index of the built machine's δ among the swept offsets, or None when it was not swept."""
+        k = int(np.argmin(np.abs(self.deltas_deg - self.delta_built_deg)))
+        return k if abs(self.deltas_deg[k] - self.delta_built_deg) < 1e-9 else None
+
+    @property
     def feasible(self) -> np.ndarray:
         """True where the whole trajectory is reachable, non-singular and crosses no singularity, shape (n,)."""
         return (self.out_of_reach == 0) & (self.singular == 0) & (self.crossings == 0)
@@ -421,304 +420,8 @@ def offset_sweep(
 # Figures
 
 
-def plot_singularity_map(smap: SingularityMap, levels: tuple[float, ...] = (0.1, 0.2, 0.3, 0.4, 0.5, 0.6)):
-    """One panel per γ: the singularity measure over α × β, the trajectory drawn on it.
-
-    The full path is drawn thin on every panel; the samples whose γ is nearest
-    that panel's γ are drawn bold, and the trajectory's worst sample is starred.
-    A last panel shows the measure along the trajectory over time.
-
-    Args:
-        smap: the map (from :func:`singularity_map`).
-        levels: contour lines to draw, inverse condition numbers.
-
-    Returns:
-        A matplotlib Figure (Agg; save it with :func:`hipsim.report.save_figure`).
-    """
-    from matplotlib.figure import Figure
-
-    n = smap.gamma_deg.size
-    has_path = smap.trajectory_q_deg is not None
-    panels = n + (1 if has_path else 0)
-    columns = min(3, panels)
-    rows = math.ceil(panels / columns)
-    fig = Figure(figsize=(5.2 * columns, 3.6 * rows + 0.8), layout="constrained")
-    axes = fig.subplots(rows, columns, squeeze=False).ravel()
-    finite = smap.cond_inv[np.isfinite(smap.cond_inv)]
-    vmax = float(finite.max()) if finite.size else 1.0
-    extent = _extent(smap.alpha_deg, smap.beta_deg)
-    if has_path:
-        path = smap.trajectory_q_deg
-        nearest = np.argmin(np.abs(path[:, 2, None] - smap.gamma_deg[None, :]), axis=1)
-    image = None
-    for g in range(n):
-        ax = axes[g]
-        ax.set_facecolor("0.82")  # NaN (out of reach) stays transparent: grey shows through
-        image = ax.imshow(
-            np.ma.masked_invalid(smap.cond_inv[g]), origin="lower", extent=extent, aspect="auto",
-            cmap="viridis", vmin=0.0, vmax=vmax, interpolation="nearest",
-        )
-        if finite.size and np.ptp(finite) > 0:
-            contours = ax.contour(smap.alpha_deg, smap.beta_deg, smap.cond_inv[g], levels=list(levels), colors="white", linewidths=0.6)
-            ax.clabel(contours, fontsize=7, fmt="%.1f")
-        if has_path:
-            ax.plot(path[:, 0], path[:, 1], color="white", lw=0.8, ls="--", alpha=0.8, label="trajectory (all γ)")
-            if np.any(nearest == g):
-                mine = np.where(nearest == g, path[:, 1], np.nan)
-                ax.plot(path[:, 0], mine, color="tab:red", lw=2.0, label=f"trajectory where γ is nearest {smap.gamma_deg[g]:g}°")
-            m = smap.margin
-            if m is not None and m.index >= 0 and nearest[m.index] == g:
-                ax.plot(m.q_deg[0], m.q_deg[1], marker="*", ms=14, color="tab:orange", mec="black",
-                        label=f"min {m.cond_inv_min:.3f} at t = {m.t_s:.3f} s")
-            ax.legend(loc="lower left", fontsize=7, framealpha=0.85)
-        ax.set_title(f"γ = {smap.gamma_deg[g]:g}° (internal/external rotation)", fontsize=10)
-        ax.set_xlabel("α flexion/extension [deg]")
-        ax.set_ylabel("β abduction/adduction [deg]")
-    if has_path:
-        ax = axes[n]
-        m = smap.margin
-        ax.plot(smap.trajectory_t_s, m.cond_inv, color="tab:blue", label="inverse condition number of J")
-        if m.index >= 0:
-            ax.plot(m.t_s, m.cond_inv_min, marker="*", ms=14, color="tab:orange", mec="black",
-                    label=f"min {m.cond_inv_min:.3f} at t = {m.t_s:.3f} s")
-        ax.set_ylim(0.0, max(vmax, np.nanmax(m.cond_inv) if np.any(np.isfinite(m.cond_inv)) else 1.0) * 1.05)
-        ax.set_xlabel("time t [s]")
-        ax.set_ylabel("inverse condition number of J [–]")
-        ax.set_title(f"along the trajectory: {m.trajectory}", fontsize=10)
-        ax.grid(alpha=0.3)
-        ax.legend(loc="lower right", fontsize=7)
-    for ax in axes[panels:]:
-        ax.set_visible(False)
-    if image is not None:
-        bar = fig.colorbar(image, ax=axes[:n].tolist(), shrink=0.9)
-        bar.set_label("inverse condition number of J (0 singular, 1 isotropic); grey: out of reach")
-    fig.suptitle(f"Singularity map, platform offset δ = {smap.delta_deg:g}°")
-    return fig
-
-
-def _extent(alpha: np.ndarray, beta: np.ndarray) -> tuple[float, float, float, float]:
-    """Image extent so that each pixel is centred on its grid value."""
-
-    def edges(v):
-        if v.size == 1:
-            return v[0] - 0.5, v[0] + 0.5
-        return v[0] - 0.5 * (v[1] - v[0]), v[-1] + 0.5 * (v[-1] - v[-2])
-
-    return (*edges(alpha), *edges(beta))
-
-
-def plot_offset_sweep(sweep: OffsetSweep):
-    """The sweep against δ: smallest singularity measure, peak motor torque, largest slider stroke.
-
-    Infeasible δ (motion out of reach or singular) are shaded; the built machine's δ is marked.
-
-    Args:
-        sweep: from :func:`offset_sweep`.
-
-    Returns:
-        A matplotlib Figure.
-    """
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(8.5, 8.5), layout="constrained")
-    axes = fig.subplots(3, 1, sharex=True)
-    d = sweep.deltas_deg
-    built = sweep.delta_built_deg
-    series = (
-        (sweep.cond_inv_min, "smallest inverse condition\nnumber of J [–]", "linear"),
-        (sweep.tau_peak_Nmm, "peak motor torque [N·mm]\n(largest of the three)", "log"),
-        (sweep.stroke_max_mm, "largest slider stroke [mm]", "linear"),
-    )
-    for ax, (values, label, scale) in zip(axes, series):
-        ax.plot(d, values, marker=".", ms=3, color="tab:blue", label=f"{sweep.trajectory}")
-        ax.set_ylabel(label)
-        ax.set_yscale(scale)
-        ax.grid(alpha=0.3, which="both")
-        ax.axvline(built, color="tab:red", ls="--", lw=1.2, label=f"built machine δ = {built:g}°")
-        k = _nearest(d, built)
-        if k is not None and np.isfinite(values[k]):
-            ax.plot(d[k], values[k], "o", color="tab:red")
-            ax.annotate(f"{values[k]:.3g}", (d[k], values[k]), textcoords="offset points", xytext=(6, 6), fontsize=8, color="tab:red")
-        _shade(ax, d, ~sweep.feasible)
-    axes[0].set_ylim(bottom=0.0)
-    axes[0].legend(loc="upper left", fontsize=8)
-    if np.any(~sweep.feasible):
-        axes[1].text(0.01, 0.95, "shaded: motion out of reach, singular, or passing through a singularity", transform=axes[1].transAxes, fontsize=8, va="top")
-    axes[-1].set_xlabel("platform offset δ [deg] (platform joint i at φ_i = θ_i + δ)")
-    fig.suptitle(f"Platform offset sweep: {sweep.trajectory}")
-    return fig
-
-
-def _nearest(values: np.ndarray, target: float) -> int | None:
-    k = int(np.argmin(np.abs(values - target)))
-    return k if abs(values[k] - target) < 1e-9 else None
-
-
-def _shade(ax, x: np.ndarray, mask: np.ndarray) -> None:
-    """Shade the x ranges where mask is True (half a step either side of each point)."""
-    if not np.any(mask):
-        return
-    step = np.median(np.diff(x)) if x.size > 1 else 1.0
-    for k in np.flatnonzero(mask):
-        ax.axvspan(x[k] - step / 2, x[k] + step / 2, color="tab:red", alpha=0.15, lw=0)
-
 
 # ---------------------------------------------------------------------------
 # The command
 
 
-@dataclass(frozen=True, eq=False)
-class WorkspaceRun:
-    """What :func:`run_workspace` computed and wrote.
-
-    Attributes:
-        map: the singularity map with the trajectory's margin.
-        sweep: the platform offset sweep.
-        files: every file written (PNG and SVG of each figure, summary JSON).
-    """
-
-    map: SingularityMap
-    sweep: OffsetSweep
-    files: tuple[Path, ...]
-
-
-def format_workspace_summary(smap: SingularityMap, sweep: OffsetSweep | None = None) -> str:
-    """A short plain-text summary: the trajectory's margin, the map's reach, the sweep table.
-
-    The sweep table lists the built machine's δ, the best δ by singularity margin
-    and by peak torque, and every 10th δ, so it stays short on a fine sweep.
-    """
-    lines = [f"singularity map: δ = {smap.delta_deg:g}°, {smap.alpha_deg.size} α × {smap.beta_deg.size} β × {smap.gamma_deg.size} γ = {smap.orientations:,} orientations"]
-    for g, fraction, values in zip(smap.gamma_deg, smap.reachable_fraction(), smap.cond_inv):
-        finite = values[np.isfinite(values)]
-        low = f"{finite.min():.3f} … {finite.max():.3f}" if finite.size else "—"
-        lines.append(f"  γ = {g:+6.1f}°: {100 * fraction:5.1f} % within reach, inverse condition number {low}")
-    m = smap.margin
-    if m is not None:
-        if m.index < 0:
-            lines.append(f"trajectory {m.trajectory}: every sample out of reach")
-        else:
-            a, b, g = m.q_deg
-            lines.append(
-                f"trajectory {m.trajectory}: smallest inverse condition number {m.cond_inv_min:.4f} at t = {m.t_s:.4g} s "
-                f"(α = {a:.2f}°, β = {b:.2f}°, γ = {g:.2f}°)"
-            )
-            if not m.clear:
-                lines.append(
-                    f"  WARNING: {m.out_of_reach} samples out of reach, {m.singular} singular, "
-                    f"{m.crossings} singularities crossed between samples"
-                )
-    if sweep is not None:
-        lines += ["", f"platform offset sweep ({sweep.trajectory}):", _sweep_table(sweep)]
-    return "\n".join(lines)
-
-
-def _sweep_table(sweep: OffsetSweep) -> str:
-    d = sweep.deltas_deg
-    feasible = sweep.feasible
-    picks = set(range(0, d.size, max(1, d.size // 10))) | {d.size - 1}
-    notes: dict[int, list[str]] = {}
-    k = _nearest(d, sweep.delta_built_deg)
-    if k is not None:
-        picks.add(k)
-        notes.setdefault(k, []).append("built")
-    if np.any(np.isfinite(sweep.cond_inv_min) & feasible):
-        k = int(np.nanargmax(np.where(feasible, sweep.cond_inv_min, np.nan)))
-        picks.add(k)
-        notes.setdefault(k, []).append("largest margin")
-    if np.any(feasible):
-        k = int(np.nanargmin(np.where(feasible, sweep.tau_peak_Nmm, np.nan)))
-        picks.add(k)
-        notes.setdefault(k, []).append("lowest peak torque")
-    header = f"  {'δ [deg]':>8}  {'min cond_inv':>12}  {'peak torque [N·mm]':>18}  {'max stroke [mm]':>15}  note"
-    lines = [header, "  " + "-" * (len(header) - 2)]
-    for k in sorted(picks):
-        if feasible[k]:
-            values = f"{sweep.cond_inv_min[k]:>12.4f}  {sweep.tau_peak_Nmm[k]:>18.1f}  {sweep.stroke_max_mm[k]:>15.1f}"
-        else:
-            if sweep.out_of_reach[k]:
-                reason = f"out of reach at {sweep.out_of_reach[k]} samples"
-            elif sweep.singular[k]:
-                reason = f"singular at {sweep.singular[k]} samples"
-            else:
-                reason = f"passes through a singularity {sweep.crossings[k]}×"
-            values = f"{sweep.cond_inv_min[k]:>12.2g}  {'—':>18}  {'—':>15}"
-            notes.setdefault(k, []).append(reason)
-        lines.append(f"  {d[k]:>8.1f}  {values}  {', '.join(notes.get(k, []))}".rstrip())
-    return "\n".join(lines)
-
-
-def run_workspace(
-    params: Parameters,
-    trajectory: Trajectory | None,
-    out_dir: str | Path,
-    alpha_deg: np.ndarray | None = None,
-    beta_deg: np.ndarray | None = None,
-    gamma_deg: np.ndarray | None = None,
-    deltas_deg: np.ndarray | None = None,
-    progress: bool | None = None,
-    stream: TextIO | None = None,
-) -> WorkspaceRun:
-    """Compute the singularity map and the offset sweep, write their figures, print a summary.
-
-    Writes ``singularity_map.png/.svg``, ``offset_sweep.png/.svg`` and
-    ``workspace.json`` (the trajectory's margin and the sweep table) to
-    ``out_dir`` (created if missing), each file atomically.
-
-    Args:
-        params: the machine.
-        trajectory: the motion drawn on the map and swept over δ (angles in
-            [rad], load in [N]); None for one ISO 14242-1 cycle at 1 kHz.
-        out_dir: folder to write into.
-        alpha_deg: flexion/extension grid in [deg]; default :data:`DEFAULT_ALPHA_DEG`.
-        beta_deg: abduction/adduction grid in [deg]; default :data:`DEFAULT_BETA_DEG`.
-        gamma_deg: internal/external rotations in [deg], one panel each; default :data:`DEFAULT_GAMMA_DEG`.
-        deltas_deg: platform offsets δ in [deg]; default :data:`DEFAULT_DELTAS_DEG`.
-        progress: progress bars on stderr; None for automatic (large grids only).
-        stream: where to print the summary; None for standard output (pass
-            ``io.StringIO()`` to capture it).
-
-    Returns:
-        The :class:`WorkspaceRun`.
-    """
-    import json
-
-    from ..present.report import save_figure
-    from ..files import check_folder, output_folder, write_atomic
-    from ..motion.trajectories import iso14242
-
-    out = Path(out_dir)
-    check_folder(out)  # fail now, not after the computing; but make it only when there is something to write
-    trajectory = trajectory if trajectory is not None else iso14242()
-    smap = singularity_map(params, alpha_deg, beta_deg, gamma_deg, trajectory=trajectory, progress=progress)
-    sweep = offset_sweep(params, deltas_deg, trajectory, progress=progress)
-    m = smap.margin
-    document = {
-        "parameters": params.source,
-        "trajectory": trajectory.name,
-        "delta_deg": smap.delta_deg,
-        "grid": {"alpha_deg": [float(smap.alpha_deg[0]), float(smap.alpha_deg[-1]), int(smap.alpha_deg.size)],
-                 "beta_deg": [float(smap.beta_deg[0]), float(smap.beta_deg[-1]), int(smap.beta_deg.size)],
-                 "gamma_deg": smap.gamma_deg.tolist()},
-        "reachable_fraction": dict(zip((f"{g:g}" for g in smap.gamma_deg), smap.reachable_fraction().round(6).tolist())),
-        "trajectory_margin": {
-            "cond_inv_min": _json_float(m.cond_inv_min), "t_s": _json_float(m.t_s),
-            "q_deg": [_json_float(x) for x in m.q_deg], "out_of_reach_samples": m.out_of_reach, "singular_samples": m.singular,
-            "singularity_crossings": m.crossings,
-        },
-        "offset_sweep": [{k: _json_float(v) for k, v in row.items()} for row in sweep.rows()],
-    }
-    with output_folder(out):  # a failure from here on takes back the folder if this run made it and it is empty
-        files = [*save_figure(plot_singularity_map(smap), out, "singularity_map"), *save_figure(plot_offset_sweep(sweep), out, "offset_sweep")]
-        files.append(write_atomic(out / "workspace.json", json.dumps(document, indent=2) + "\n"))
-    print(format_workspace_summary(smap, sweep), file=stream if stream is not None else sys.stdout)
-    print(f"\nwrote {', '.join(p.name for p in files)} to {out}", file=stream if stream is not None else sys.stdout)
-    return WorkspaceRun(smap, sweep, tuple(files))
-
-
-def _json_float(x):
-    """JSON has no NaN: write null for it."""
-    if isinstance(x, (int, np.integer)):
-        return int(x)
-    x = float(x)
-    return x if math.isfinite(x) else None

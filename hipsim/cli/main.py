@@ -305,7 +305,7 @@ def _numbers(text: str, separator: str, option: str, expected: str, count: int |
 
 
 def _cmd_workspace(args) -> int:
-    from ..analysis.workspace import run_workspace
+    from .workspace import run_workspace
 
     params = _parameters(args)
     trajectory = _trajectory(args)
@@ -357,7 +357,7 @@ def _cmd_urdf(args) -> int:
 
 
 def _cmd_view(args) -> int:
-    from ..present.viewer import run_view
+    from .view import run_view
 
     return run_view(
         _parameters(args), _trajectory(args), html=args.html, speed=args.speed, step=args.step, forces=args.forces,

@@ -17,7 +17,6 @@ Example:
 from __future__ import annotations
 
 import os
-import sys
 import threading
 import xml.dom.minidom
 from importlib import resources
@@ -33,6 +32,7 @@ __all__ = [
     "closure_file_path",
     "default_urdf_path",
     "urdf_text",
+    "validate_urdf",
     "write_urdf",
     "xacro_arguments",
     "xacro_path",
@@ -136,15 +136,49 @@ def write_urdf(params: Parameters | None = None, path: str | os.PathLike | None 
     Returns:
         The path written.
     """
-    return write_atomic(default_urdf_path() if path is None else path, urdf_text(params))
+    text = urdf_text(params)
+    validate_urdf(text)
+    return write_atomic(default_urdf_path() if path is None else path, text)
 
 
-def _main(argv: list[str]) -> int:
-    """``python -m hipsim.model_files [OUTPUT.urdf]``: regenerate the default URDF."""
-    written = write_urdf(load_parameters(), argv[0] if argv else None)
-    print(written)
-    return 0
+def validate_urdf(text: str, source: str = "generated URDF") -> None:
+    """Read a URDF with yourdfpy, a parser independent of Pinocchio's, and check its links and joints.
 
+    What hipsim writes for other tools (ROS, MuJoCo's URDF compiler, yourdfpy
+    users) is read back by a second parser first, so a URDF that only
+    Pinocchio would accept is never written.
 
-if __name__ == "__main__":
-    raise SystemExit(_main(sys.argv[1:]))
+    Args:
+        text: the URDF document.
+        source: its name, for the error.
+
+    Raises:
+        ModelError: naming what yourdfpy could not read or found inconsistent.
+    """
+    import io
+    import logging
+
+    import yourdfpy
+
+    log = logging.getLogger("yourdfpy")
+    quiet, log.disabled = log.disabled, True  # its own complaints become our one-line error
+    try:
+        robot = yourdfpy.URDF.load(io.StringIO(text), load_meshes=False, build_scene_graph=True)
+        valid = robot.validate()
+    except Exception as error:  # yourdfpy raises whatever lxml or its scene graph raises
+        raise ModelError(f"{source}: yourdfpy cannot read it ({type(error).__name__}: {error})") from None
+    finally:
+        log.disabled = quiet
+    if not valid:
+        raise ModelError(f"{source}: yourdfpy finds its links and joints inconsistent ({'; '.join(map(str, robot.errors))})")
+    # yourdfpy's validate() checks each element alone; a URDF must also be one tree.
+    links = {link.name for link in robot.robot.links}
+    for joint in robot.robot.joints:
+        for role, link in (("parent", joint.parent), ("child", joint.child)):
+            if link not in links:
+                raise ModelError(f"{source}: joint '{joint.name}' names {role} link '{link}', which does not exist")
+    children = [joint.child for joint in robot.robot.joints]
+    twice = sorted({name for name in children if children.count(name) > 1})
+    roots = sorted(links - set(children))
+    if twice or len(roots) != 1:
+        raise ModelError(f"{source}: the links do not form one tree (roots {roots}, links with two parents {twice})")

@@ -1,7 +1,7 @@
 """Visual inspection in meshcat: the machine moving through a trajectory, live or as one offline page.
 
 What is shown is the Pinocchio model's *closed* configuration
-(:func:`hipsim.pinocchio_model.kinematics`): at every frame the tree's joint
+(:func:`hipsim.closed_chain.kinematics`): at every frame the tree's joint
 values make all six lever tips meet their platform joints, so a closure that
 goes wrong is visible at a glance. Frames are the closed samples themselves,
 never an interpolation between them (the offline page holds each sample until
@@ -11,10 +11,10 @@ A few lines show any configuration or trajectory::
 
     import numpy as np
     import hipsim
-    from hipsim.viewer import Viewer
+    from hipsim.present.viewer import Viewer
 
     with Viewer(human=True) as viewer:               # a meshcat server on 127.0.0.1
-        print(viewer.url)                            # open it in a browser
+        viewer.url                                   # open it in a browser
         viewer.show_orientation(np.radians(20), 0.0, 0.0)
         viewer.play(hipsim.iso14242(rate=200), loop=False, forces=True)
         page = viewer.record(hipsim.iso14242(rate=200))  # one offline HTML page
@@ -23,7 +23,7 @@ A few lines show any configuration or trajectory::
 
 Where the scene goes, the live server on 127.0.0.1 or the self-contained
 offline page (``#t=0.25`` after its address opens it paused at 0.25 s), is
-:mod:`hipsim.meshcat_output`.
+:mod:`hipsim.present.meshcat_output`.
 
 Shown with ``forces``: the motor force on each screw's carriage (magenta,
 along the screw, leaving the carriage in the direction of the force) and the
@@ -35,7 +35,7 @@ the closed-chain inverse dynamics, drawn at a stated scale in mm per N. With
 
 With ``human=True`` example-robot-data's human model stands beside the
 machine, its right hip turning exactly as the platforms do: how the machine's
-angles map onto the hip is :mod:`hipsim.human`.
+angles map onto the hip is :mod:`hipsim.present.human`.
 
 Not thread-safe: use one Viewer from one thread at a time.
 """
@@ -43,12 +43,11 @@ Not thread-safe: use one Viewer from one thread at a time.
 from __future__ import annotations
 
 import math
-import sys
 import time
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable, TextIO
+from typing import Callable
 
 import numpy as np
 import pinocchio as pin
@@ -56,24 +55,11 @@ import pinocchio as pin
 from ..exceptions import HipsimError
 from ..files import write_atomic
 from .human import HIP_JOINTS, HUMAN_PELVIS_POSITION, HUMAN_PELVIS_ROTATION, human_hip_angles, load_human
-from .meshcat_output import DiscreteAnimation, LiveWindow, OfflineWindow, Server, TeeWindow, find_browser, offline_page, screenshot
+from .meshcat_output import DiscreteAnimation, LiveWindow, OfflineWindow, Server, TeeWindow, offline_page
 from ..machine.parameters import Parameters, load_parameters
 from ..motion.trajectories import Trajectory, interpolator
 
-# human_hip_angles and load_human live in hipsim.human, find_browser and screenshot in
-# hipsim.meshcat_output; they stay in __all__ here so that code importing them from
-# hipsim.viewer, as it could before the split, keeps working.
-__all__ = [
-    "Motion",
-    "Viewer",
-    "force_scale_for",
-    "human_hip_angles",
-    "load_human",
-    "find_browser",
-    "run_view",
-    "screenshot",
-    "singularity_colour",
-]
+__all__ = ["DEFAULT_FPS", "Motion", "Viewer", "describe", "force_scale_for", "singularity_colour"]
 
 #: Frames per second of the animation (live and recorded) unless told otherwise.
 DEFAULT_FPS = 30.0
@@ -596,12 +582,9 @@ class Viewer:
         speed: float = 1.0,
         loop: bool = True,
         *,
-        step: bool = False,
         forces: bool = False,
         singularity: bool = False,
         fps: float = DEFAULT_FPS,
-        input: TextIO | None = None,
-        stream: TextIO | None = None,
         on_frame: Callable[[int, Motion], None] | None = None,
     ) -> Motion:
         """Play a trajectory in the live viewer, in real time (``speed`` × real time), once or looping.
@@ -615,12 +598,8 @@ class Viewer:
                 (then speed, forces, singularity and fps are the motion's).
             speed: playback speed, 1 = real time, 0.25 = four times slower.
             loop: start again at the end, until interrupted.
-            step: one frame per line read from ``input`` (Enter: next frame,
-                ``b``: back one, ``q`` or end of input: stop), printing each
-                frame's time and angles to ``stream``.
             forces, singularity: draw force arrows / colour the levers (module docstring).
             fps: frames per second.
-            input, stream: where step mode reads and writes (stdin, stdout).
             on_frame: called with (frame index, motion) after each frame is sent.
 
         Returns:
@@ -629,9 +608,6 @@ class Viewer:
         motion = trajectory if isinstance(trajectory, Motion) else self.motion(trajectory, fps=fps, speed=speed, forces=forces, singularity=singularity)
         scale = self._scale(motion) if motion.F_act is not None else 0.0
         n = len(motion)
-        if step:
-            self._step(motion, scale, loop, input or sys.stdin, stream or sys.stdout, on_frame)
-            return motion
         frame_rate = motion.fps
         while True:
             start = time.monotonic()
@@ -653,24 +629,11 @@ class Viewer:
             if not loop:
                 return motion
 
-    def _step(self, motion: Motion, scale: float, loop: bool, input: TextIO, stream: TextIO, on_frame) -> None:
-        n, k = len(motion), 0
-        print("step mode: Enter = next frame, b = back, q = quit", file=stream, flush=True)
-        while True:
-            self._show_frame(motion, k, scale)
-            if on_frame is not None:
-                on_frame(k, motion)
-            a, b, g = np.degrees(motion.angles[k])
-            print(f"frame {k + 1}/{n}  t = {motion.t[k]:.4f} s  α = {a:7.2f}°  β = {b:6.2f}°  γ = {g:6.2f}°", file=stream, flush=True)
-            line = input.readline()
-            if not line or line.strip().lower().startswith("q"):
-                return
-            k += -1 if line.strip().lower().startswith("b") else 1
-            if k >= n:
-                if not loop:
-                    return
-                k = 0
-            k %= n
+    def show_frame(self, motion: Motion, k: int) -> None:
+        """Show frame ``k`` of ``motion`` (a :class:`Motion` from :meth:`motion`), with its arrows and colours."""
+        if not 0 <= k < len(motion):
+            raise HipsimError(f"frame {k} is not in the motion's {len(motion)} frames")
+        self._show_frame(motion, k, self._scale(motion) if motion.F_act is not None else 0.0)
 
     # -- recording --------------------------------------------------------------------------
 
@@ -778,90 +741,8 @@ class Viewer:
             pass
 
 
-# ---------------------------------------------------------------------------
-# The command
-# ---------------------------------------------------------------------------
-
-
-def run_view(
-    params: Parameters | None = None,
-    trajectory: Trajectory | None = None,
-    html: str | Path | None = None,
-    speed: float = 1.0,
-    step: bool = False,
-    forces: bool = False,
-    singularity: bool = False,
-    human: bool = False,
-    fps: float = DEFAULT_FPS,
-    stream: TextIO = sys.stdout,
-    input: TextIO | None = None,
-) -> int:
-    """``hipsim view``: play the machine live in meshcat until Ctrl-C, or write the offline page.
-
-    Without ``html``: starts a meshcat server on 127.0.0.1, prints its URL
-    and plays the trajectory in real time (× ``speed``), looping, until
-    interrupted (Ctrl-C ends it cleanly and stops the server). With ``step``,
-    one frame per Enter on ``input``.
-    With ``html``: writes the self-contained page and returns (no server).
-
-    Args:
-        params: the machine; None for the published one.
-        trajectory: the motion; None for the built-in ISO 14242-1 cycle.
-        html: path of the page to write.
-        speed: playback speed (1 = real time; 0.25 = four times slower).
-        step: step through frames (live only).
-        forces: draw the motor and spherical-joint forces as arrows.
-        singularity: colour the levers by the singularity measure.
-        human: show the human model's hip moving beside the machine.
-        fps: frames per second.
-        stream: where messages go.
-        input: where step mode reads (default stdin).
-
-    Returns:
-        The exit status, 0.
-
-    Raises:
-        HipsimError: bad options, a pose out of reach, the server does not start.
-    """
-    from ..motion.trajectories import iso14242
-
-    params = load_parameters() if params is None else params
-    trajectory = iso14242(rate=1000.0) if trajectory is None else trajectory
-    if not (speed > 0 and math.isfinite(speed)):
-        raise HipsimError(f"--speed must be a positive number, got {speed}")
-    if not (fps > 0 and math.isfinite(fps)):
-        raise HipsimError(f"--fps must be a positive number, got {fps}")
-    if html is not None:
-        if step:
-            raise HipsimError("--step applies to the live viewer, not to --html")
-        with Viewer(params, human, serve=False) as viewer:
-            motion = viewer.motion(trajectory, fps=fps, speed=speed, forces=forces, singularity=singularity)
-            page = viewer.record(motion)
-            notes = _notes(viewer, motion)
-        path = write_atomic(html, page)
-        print(f"wrote {path} ({len(page) / 1e6:.1f} MB): {notes[0]}", file=stream)
-        for line in notes[1:]:
-            print(line, file=stream)
-        return 0
-
-    viewer = None
-    try:
-        viewer = Viewer(params, human)
-        motion = viewer.motion(trajectory, fps=fps, speed=speed, forces=forces, singularity=singularity)
-        print(f"meshcat viewer: {viewer.url}  (Ctrl-C to stop)", file=stream, flush=True)
-        for line in _notes(viewer, motion):
-            print(line, file=stream, flush=True)
-        viewer.play(motion, speed=speed, loop=True, step=step, input=input, stream=stream)
-    except KeyboardInterrupt:
-        print("stopped", file=stream, flush=True)
-    finally:
-        if viewer is not None:
-            viewer.close()
-    return 0
-
-
-def _notes(viewer: Viewer, motion: Motion) -> list[str]:
-    """Plain-text lines saying what is shown."""
+def describe(viewer: Viewer, motion: Motion) -> list[str]:
+    """Plain-text lines saying what ``viewer`` shows of ``motion`` (frames, closure gap, arrows, colours, human)."""
     lines = [
         f"{motion.name}: {motion.duration:.4g} s in {len(motion)} frames at {motion.fps:g} fps, speed {motion.speed:g}x; "
         f"largest closure gap of the frames shown {float(motion.residual.max()):.1e} m"

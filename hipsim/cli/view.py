@@ -1,0 +1,111 @@
+"""``hipsim view``: the machine moving in meshcat, live on loopback or as one offline page."""
+
+from __future__ import annotations
+
+import math
+import sys
+from typing import TextIO
+
+from ..exceptions import HipsimError
+from ..files import write_atomic
+from ..machine.parameters import Parameters
+from ..motion.trajectories import Trajectory
+
+__all__ = ["run_view", "step_through"]
+
+
+def run_view(
+    params: Parameters,
+    trajectory: Trajectory,
+    html: str | None = None,
+    speed: float = 1.0,
+    step: bool = False,
+    forces: bool = False,
+    singularity: bool = False,
+    human: bool = False,
+    fps: float | None = None,
+    stream: TextIO = sys.stdout,
+    input: TextIO | None = None,
+) -> int:
+    """Play the machine live until Ctrl-C (or frame by frame with ``step``), or write the offline page to ``html``.
+
+    Args:
+        params: the machine.
+        trajectory: the motion.
+        html: path of the page to write; None for the live viewer.
+        speed: playback speed (1 = real time; 0.25 = four times slower).
+        step: one frame per line of ``input`` (live only).
+        forces: draw the motor and spherical-joint forces as arrows.
+        singularity: colour the levers by the singularity measure.
+        human: show the human model's hip moving beside the machine.
+        fps: frames per second of playback; None for the viewer's default.
+        stream: where messages go.
+        input: where step mode reads (default stdin).
+
+    Returns:
+        The exit status, 0.
+    """
+    from ..present.viewer import DEFAULT_FPS, Viewer, describe
+
+    fps = DEFAULT_FPS if fps is None else fps
+    if not (speed > 0 and math.isfinite(speed)):
+        raise HipsimError(f"--speed must be a positive number, got {speed}")
+    if not (fps > 0 and math.isfinite(fps)):
+        raise HipsimError(f"--fps must be a positive number, got {fps}")
+    if html is not None:
+        if step:
+            raise HipsimError("--step applies to the live viewer, not to --html")
+        with Viewer(params, human, serve=False) as viewer:
+            motion = viewer.motion(trajectory, fps=fps, speed=speed, forces=forces, singularity=singularity)
+            page = viewer.record(motion)
+            notes = describe(viewer, motion)
+        path = write_atomic(html, page)
+        print(f"wrote {path} ({len(page) / 1e6:.1f} MB): {notes[0]}", file=stream)
+        for line in notes[1:]:
+            print(line, file=stream)
+        return 0
+
+    viewer = None
+    try:
+        viewer = Viewer(params, human)
+        motion = viewer.motion(trajectory, fps=fps, speed=speed, forces=forces, singularity=singularity)
+        print(f"meshcat viewer: {viewer.url}  (Ctrl-C to stop)", file=stream, flush=True)
+        for line in describe(viewer, motion):
+            print(line, file=stream, flush=True)
+        if step:
+            step_through(viewer, motion, input or sys.stdin, stream)
+        else:
+            viewer.play(motion, speed=speed, loop=True)
+    except KeyboardInterrupt:
+        print("stopped", file=stream, flush=True)
+    finally:
+        if viewer is not None:
+            viewer.close()
+    return 0
+
+
+def step_through(viewer, motion, input: TextIO, stream: TextIO, loop: bool = True, on_frame=None) -> None:
+    """One frame per line read from ``input``: Enter next, ``b`` back one, ``q`` or end of input stops.
+
+    Each frame's time and angles are printed to ``stream``; ``on_frame(k, motion)``
+    is called after each frame is shown.
+    """
+    import numpy as np
+
+    n, k = len(motion), 0
+    print("step mode: Enter = next frame, b = back, q = quit", file=stream, flush=True)
+    while True:
+        viewer.show_frame(motion, k)
+        if on_frame is not None:
+            on_frame(k, motion)
+        a, b, g = np.degrees(motion.angles[k])
+        print(f"frame {k + 1}/{n}  t = {motion.t[k]:.4f} s  α = {a:7.2f}°  β = {b:6.2f}°  γ = {g:6.2f}°", file=stream, flush=True)
+        line = input.readline()
+        if not line or line.strip().lower().startswith("q"):
+            return
+        k += -1 if line.strip().lower().startswith("b") else 1
+        if k >= n:
+            if not loop:
+                return
+            k = 0
+        k %= n

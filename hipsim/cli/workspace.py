@@ -1,0 +1,174 @@
+"""``hipsim workspace``: the singularity map and the platform-offset sweep, as figures, JSON and a text summary."""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TextIO
+
+import numpy as np
+
+from ..analysis.workspace import OffsetSweep, SingularityMap, offset_sweep, singularity_map
+from ..files import check_folder, output_folder, write_atomic
+from ..machine.parameters import Parameters
+from ..motion.trajectories import Trajectory, iso14242
+
+__all__ = ["WorkspaceRun", "format_workspace_summary", "run_workspace"]
+
+
+@dataclass(frozen=True, eq=False)
+class WorkspaceRun:
+    """What :func:`run_workspace` computed and wrote.
+
+    Attributes:
+        map: the singularity map with the trajectory's margin.
+        sweep: the platform offset sweep.
+        files: every file written (PNG and SVG of each figure, summary JSON).
+    """
+
+    map: SingularityMap
+    sweep: OffsetSweep
+    files: tuple[Path, ...]
+
+
+def format_workspace_summary(smap: SingularityMap, sweep: OffsetSweep | None = None) -> str:
+    """A short plain-text summary: the trajectory's margin, the map's reach, the sweep table.
+
+    The sweep table lists the built machine's δ, the best δ by singularity margin
+    and by peak torque, and every 10th δ, so it stays short on a fine sweep.
+    """
+    lines = [f"singularity map: δ = {smap.delta_deg:g}°, {smap.alpha_deg.size} α × {smap.beta_deg.size} β × {smap.gamma_deg.size} γ = {smap.orientations:,} orientations"]
+    for g, fraction, values in zip(smap.gamma_deg, smap.reachable_fraction(), smap.cond_inv):
+        finite = values[np.isfinite(values)]
+        low = f"{finite.min():.3f} … {finite.max():.3f}" if finite.size else "—"
+        lines.append(f"  γ = {g:+6.1f}°: {100 * fraction:5.1f} % within reach, inverse condition number {low}")
+    m = smap.margin
+    if m is not None:
+        if m.index < 0:
+            lines.append(f"trajectory {m.trajectory}: every sample out of reach")
+        else:
+            a, b, g = m.q_deg
+            lines.append(
+                f"trajectory {m.trajectory}: smallest inverse condition number {m.cond_inv_min:.4f} at t = {m.t_s:.4g} s "
+                f"(α = {a:.2f}°, β = {b:.2f}°, γ = {g:.2f}°)"
+            )
+            if not m.clear:
+                lines.append(
+                    f"  WARNING: {m.out_of_reach} samples out of reach, {m.singular} singular, "
+                    f"{m.crossings} singularities crossed between samples"
+                )
+    if sweep is not None:
+        lines += ["", f"platform offset sweep ({sweep.trajectory}):", _sweep_table(sweep)]
+    return "\n".join(lines)
+
+
+def _sweep_table(sweep: OffsetSweep) -> str:
+    d = sweep.deltas_deg
+    feasible = sweep.feasible
+    picks = set(range(0, d.size, max(1, d.size // 10))) | {d.size - 1}
+    notes: dict[int, list[str]] = {}
+    k = sweep.built_index
+    if k is not None:
+        picks.add(k)
+        notes.setdefault(k, []).append("built")
+    if np.any(np.isfinite(sweep.cond_inv_min) & feasible):
+        k = int(np.nanargmax(np.where(feasible, sweep.cond_inv_min, np.nan)))
+        picks.add(k)
+        notes.setdefault(k, []).append("largest margin")
+    if np.any(feasible):
+        k = int(np.nanargmin(np.where(feasible, sweep.tau_peak_Nmm, np.nan)))
+        picks.add(k)
+        notes.setdefault(k, []).append("lowest peak torque")
+    header = f"  {'δ [deg]':>8}  {'min cond_inv':>12}  {'peak torque [N·mm]':>18}  {'max stroke [mm]':>15}  note"
+    lines = [header, "  " + "-" * (len(header) - 2)]
+    for k in sorted(picks):
+        if feasible[k]:
+            values = f"{sweep.cond_inv_min[k]:>12.4f}  {sweep.tau_peak_Nmm[k]:>18.1f}  {sweep.stroke_max_mm[k]:>15.1f}"
+        else:
+            if sweep.out_of_reach[k]:
+                reason = f"out of reach at {sweep.out_of_reach[k]} samples"
+            elif sweep.singular[k]:
+                reason = f"singular at {sweep.singular[k]} samples"
+            else:
+                reason = f"passes through a singularity {sweep.crossings[k]}×"
+            values = f"{sweep.cond_inv_min[k]:>12.2g}  {'—':>18}  {'—':>15}"
+            notes.setdefault(k, []).append(reason)
+        lines.append(f"  {d[k]:>8.1f}  {values}  {', '.join(notes.get(k, []))}".rstrip())
+    return "\n".join(lines)
+
+
+def run_workspace(
+    params: Parameters,
+    trajectory: Trajectory | None,
+    out_dir: str | Path,
+    alpha_deg: np.ndarray | None = None,
+    beta_deg: np.ndarray | None = None,
+    gamma_deg: np.ndarray | None = None,
+    deltas_deg: np.ndarray | None = None,
+    progress: bool | None = None,
+    stream: TextIO | None = None,
+) -> WorkspaceRun:
+    """Compute the singularity map and the offset sweep, write their figures, print a summary.
+
+    Writes ``singularity_map.png/.svg``, ``offset_sweep.png/.svg`` and
+    ``workspace.json`` (the trajectory's margin and the sweep table) to
+    ``out_dir`` (created if missing), each file atomically.
+
+    Args:
+        params: the machine.
+        trajectory: the motion drawn on the map and swept over δ (angles in
+            [rad], load in [N]); None for one ISO 14242-1 cycle at 1 kHz.
+        out_dir: folder to write into.
+        alpha_deg: flexion/extension grid in [deg]; default :data:`DEFAULT_ALPHA_DEG`.
+        beta_deg: abduction/adduction grid in [deg]; default :data:`DEFAULT_BETA_DEG`.
+        gamma_deg: internal/external rotations in [deg], one panel each; default :data:`DEFAULT_GAMMA_DEG`.
+        deltas_deg: platform offsets δ in [deg]; default :data:`DEFAULT_DELTAS_DEG`.
+        progress: progress bars on stderr; None for automatic (large grids only).
+        stream: where to print the summary; None for standard output (pass
+            ``io.StringIO()`` to capture it).
+
+    Returns:
+        The :class:`WorkspaceRun`.
+    """
+    from ..present.figures import save_figure
+    from ..present.workspace_figures import plot_offset_sweep, plot_singularity_map
+
+    out = Path(out_dir)
+    check_folder(out)  # fail now, not after the computing; but make it only when there is something to write
+    trajectory = trajectory if trajectory is not None else iso14242()
+    smap = singularity_map(params, alpha_deg, beta_deg, gamma_deg, trajectory=trajectory, progress=progress)
+    sweep = offset_sweep(params, deltas_deg, trajectory, progress=progress)
+    m = smap.margin
+    document = {
+        "parameters": params.source,
+        "trajectory": trajectory.name,
+        "delta_deg": smap.delta_deg,
+        "grid": {"alpha_deg": [float(smap.alpha_deg[0]), float(smap.alpha_deg[-1]), int(smap.alpha_deg.size)],
+                 "beta_deg": [float(smap.beta_deg[0]), float(smap.beta_deg[-1]), int(smap.beta_deg.size)],
+                 "gamma_deg": smap.gamma_deg.tolist()},
+        "reachable_fraction": dict(zip((f"{g:g}" for g in smap.gamma_deg), smap.reachable_fraction().round(6).tolist())),
+        "trajectory_margin": {
+            "cond_inv_min": _json_float(m.cond_inv_min), "t_s": _json_float(m.t_s),
+            "q_deg": [_json_float(x) for x in m.q_deg], "out_of_reach_samples": m.out_of_reach, "singular_samples": m.singular,
+            "singularity_crossings": m.crossings,
+        },
+        "offset_sweep": [{k: _json_float(v) for k, v in row.items()} for row in sweep.rows()],
+    }
+    with output_folder(out):  # a failure from here on takes back the folder if this run made it and it is empty
+        files = [*save_figure(plot_singularity_map(smap), out, "singularity_map"), *save_figure(plot_offset_sweep(sweep), out, "offset_sweep")]
+        files.append(write_atomic(out / "workspace.json", json.dumps(document, indent=2) + "\n"))
+    stream = stream if stream is not None else sys.stdout
+    print(format_workspace_summary(smap, sweep), file=stream)
+    print(f"\nwrote {', '.join(p.name for p in files)} to {out}", file=stream)
+    return WorkspaceRun(smap, sweep, tuple(files))
+
+
+def _json_float(x):
+    """JSON has no NaN: write null for it."""
+    if isinstance(x, (int, np.integer)):
+        return int(x)
+    x = float(x)
+    return x if math.isfinite(x) else None
