@@ -17,7 +17,7 @@ Each layer is a subpackage: :mod:`hipsim.machine`, :mod:`hipsim.motion`,
 """
 
 from .analysis.runs import analyse
-from .exceptions import HipsimError, ModelError, ParameterError, PoseError, TrajectoryError
+from .exceptions import ArgumentError, ClosureError, HipsimError, ModelError, OutputError, ParameterError, PoseError, TrajectoryError
 from .machine.parameters import Parameters, load_parameters, slender_levers
 from .motion.trajectories import Trajectory, iso14242, load_trajectory_csv
 from .results import JointForces, Run, Torques
@@ -25,9 +25,12 @@ from .results import JointForces, Run, Torques
 __version__ = "0.2.0"
 
 __all__ = [
+    "ArgumentError",
+    "ClosureError",
     "HipsimError",
     "JointForces",
     "ModelError",
+    "OutputError",
     "ParameterError",
     "Parameters",
     "PoseError",

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .exceptions import ArgumentError
+
 __all__ = ["check_shapes", "readonly"]
 
 
@@ -25,7 +27,7 @@ def check_shapes(obj, shapes: dict[str, tuple], samples: int | None = None) -> N
         samples: the sample count; None to take it from the first field's first axis.
 
     Raises:
-        ValueError: naming the class, the field and both shapes.
+        ArgumentError: naming the class, the field and both shapes.
     """
     for name, shape in shapes.items():
         value = readonly(getattr(obj, name))
@@ -33,5 +35,5 @@ def check_shapes(obj, shapes: dict[str, tuple], samples: int | None = None) -> N
             samples = value.shape[0] if value.ndim else 0
         expected = tuple(samples if s == "N" else s for s in shape)
         if value.shape != expected:
-            raise ValueError(f"{type(obj).__name__}.{name}: expected shape {expected}, got {value.shape}")
+            raise ArgumentError(f"{type(obj).__name__}.{name}", value, f"shape {expected}")
         object.__setattr__(obj, name, value)

@@ -8,16 +8,68 @@ and exits non-zero; library users catch :class:`HipsimError`.
 from __future__ import annotations
 
 __all__ = [
+    "ArgumentError",
+    "ClosureError",
     "HipsimError",
-    "ParameterError",
-    "TrajectoryError",
-    "PoseError",
     "ModelError",
+    "OutputError",
+    "ParameterError",
+    "PoseError",
+    "TrajectoryError",
 ]
 
 
 class HipsimError(Exception):
     """Base class of every error hipsim raises on purpose."""
+
+
+class ArgumentError(HipsimError, ValueError):
+    """A function argument is out of its domain or has the wrong shape.
+
+    Also a :class:`ValueError`, so code that catches that keeps working.
+
+    Attributes:
+        name: the argument (or field) name.
+        value: the offending value.
+        expected: what was expected, in words.
+    """
+
+    def __init__(self, name: str, value, expected: str):
+        shown = f"shape {value.shape}" if hasattr(value, "shape") and getattr(value, "ndim", 0) else repr(value)
+        super().__init__(f"{name}: expected {expected}, got {shown}")
+        self.name = name
+        self.value = value
+        self.expected = expected
+
+
+class OutputError(HipsimError):
+    """A result cannot be written where it was asked to go.
+
+    Attributes:
+        path: the path as given.
+        reason: why, in words.
+    """
+
+    def __init__(self, path, reason: str):
+        super().__init__(f"{path}: {reason}")
+        self.path = path
+        self.reason = reason
+
+
+class ClosureError(HipsimError):
+    """The closed chain cannot be closed at a configuration: the levers do not reach, or the closure is singular.
+
+    Attributes:
+        gap: the closure gap left in [m] (0 when the loops closed but the pose is singular).
+        iterations: the iterations spent.
+        reason: what went wrong, in words.
+    """
+
+    def __init__(self, reason: str, gap: float = 0.0, iterations: int = 0):
+        super().__init__(reason)
+        self.reason = reason
+        self.gap = gap
+        self.iterations = iterations
 
 
 class ParameterError(HipsimError):

@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from .arrays import check_shapes
+from .exceptions import ArgumentError
 from .files import write_columns
 from .machine.parameters import Parameters
 from .motion.trajectories import Trajectory
@@ -139,7 +140,7 @@ class Run:
         n = len(self.trajectory.t)
         check_shapes(self, {"L": (n, 2, 3), "Ld": (n, 2, 3), "Ldd": (n, 2, 3), "cond_inv": (n,), "flagged": (n,)})
         if self.torques.total.shape[0] != n:
-            raise ValueError(f"Run.torques: expected {n} samples, got {self.torques.total.shape[0]}")
+            raise ArgumentError("Run.torques", self.torques.total, f"{n} samples, one per trajectory sample")
 
     @property
     def t(self) -> np.ndarray:

@@ -162,8 +162,8 @@ def test_live_server_listens_on_loopback_only():
 
 _SCRIPT = """
 import sys
-from hipsim.present.viewer import run_view
-sys.exit(run_view(forces=True, singularity=True))
+from hipsim.cli import main
+sys.exit(main(["view", "--forces", "--singularity"]))
 """
 
 

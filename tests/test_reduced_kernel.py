@@ -142,7 +142,7 @@ def test_without_a_writable_cache_the_kernels_compile_uncached_with_a_warning(mo
 
 @pytest.mark.parametrize(
     ("value", "shape", "message"),
-    [([1.0, 2.0], (3,), r"x must have shape \(3,\), got shape \(2,\)"), ("a", (3,), "x must be numbers"), ([[1, 2, 3]], (3,), r"got shape \(1, 3\)")],
+    [([1.0, 2.0], (3,), r"x: expected shape \(3,\), got shape \(2,\)"), ("a", (3,), "x: expected numbers"), ([[1, 2, 3]], (3,), r"got shape \(1, 3\)")],
 )
 def test_kernel_arguments_of_the_wrong_shape_are_refused_by_name(value, shape, message):
     # The compiled kernels do not check bounds: a short array would be read past its end.

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import hipsim
+from hipsim.exceptions import ArgumentError
 from hipsim.control.controllers import AugmentedPD, Sample, WorkspacePD, feedforward_torques
 from hipsim.analytic.virtual_work import inverse_dynamics, mechanical_energy
 from hipsim.exceptions import HipsimError, PoseError
@@ -118,8 +119,9 @@ def test_torque_limit_is_counted_not_hidden(params):
 def test_mismatch_parsing(params):
     assert parse_mismatch("friction=+20%,masses=-10%") == {"friction": 0.2, "masses": -0.1}
     for bad in ("friction=20", "mass=-10%", "friction=+20%,"[:-1] + ";"):
-        with pytest.raises(HipsimError, match="--mismatch"):
+        with pytest.raises(ArgumentError, match="mismatch: expected friction=") as info:
             parse_mismatch(bad)
+        assert "--" not in str(info.value)  # the library does not name the command line's options
     off = apply_mismatch(params, friction=0.2, masses=-0.1)
     assert off.friction.hip_mu == pytest.approx(0.095 * 1.2)
     assert off.lever_mass == pytest.approx(1.43 * 0.9)
@@ -133,13 +135,13 @@ def test_step_longer_than_servo_period_is_refused(params):
 
 def test_plant_and_controller_refuse_states_of_the_wrong_shape(params):
     plant, pd = ReducedPlant(params), WorkspacePD(params)
-    with pytest.raises(HipsimError, match=r"state x must have shape \(6,\)"):
+    with pytest.raises(HipsimError, match=r"state x: expected shape \(6,\)"):
         plant.derivative(0.0, np.zeros(5), np.zeros(3), 0.0)
-    with pytest.raises(HipsimError, match=r"loads must have shape \(5,\)"):
+    with pytest.raises(HipsimError, match=r"loads: expected shape \(5,\)"):
         plant.advance(0.0, np.zeros(6), np.zeros(3), np.zeros(4), 2.5e-4, 2)
-    with pytest.raises(HipsimError, match=r"state.q must have shape \(3,\)"):
+    with pytest.raises(HipsimError, match=r"state.q: expected shape \(3,\)"):
         pd(0.0, Sample(np.zeros((1, 3)), np.zeros(3)), Sample(np.zeros(3), np.zeros(3)))
-    with pytest.raises(HipsimError, match=r"kd must have shape \(3,\)"):
+    with pytest.raises(HipsimError, match=r"kd: expected shape \(3,\)"):
         WorkspacePD(params, kd=[1.0, 2.0])
 
 
@@ -197,7 +199,7 @@ def test_a_desired_motion_through_a_singularity_is_named_before_the_run(params):
 
 
 def test_mismatch_given_twice_is_refused():
-    with pytest.raises(HipsimError, match="friction is given twice"):
+    with pytest.raises(HipsimError, match="friction given once"):
         parse_mismatch("friction=+20%,friction=-10%")
 
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ..analytic.engine import AnalyticModel
-from ..exceptions import HipsimError
+from ..exceptions import ArgumentError
 from ..machine.parameters import Parameters, load_parameters
 from ..motion.trajectories import Trajectory, iso14242
 from ..results import Run
@@ -38,11 +38,11 @@ def analyse(
     params = params if params is not None else load_parameters()
     trajectory = trajectory if trajectory is not None else iso14242()
     if model not in MODELS:
-        raise HipsimError(f"unknown model {model!r} (expected one of {', '.join(MODELS)})")
+        raise ArgumentError("model", model, f"one of {', '.join(MODELS)}")
     if model == "analytic":
         return AnalyticModel(params, lever_spin=lever_spin, on_error=on_error).run(trajectory)
     if on_error != "raise":
-        raise HipsimError("the Pinocchio model cannot carry on through poses out of reach; use the analytic model to flag them")
+        raise ArgumentError("on_error", on_error, "'raise' with the Pinocchio model (it cannot carry on through poses out of reach; the analytic model flags them)")
     from ..closed_chain.engine import PinocchioModel  # Pinocchio loads only when asked for
 
     return PinocchioModel(params).run(trajectory)

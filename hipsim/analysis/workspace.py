@@ -43,7 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..analytic.virtual_work import inverse_dynamics
-from ..exceptions import HipsimError
+from ..exceptions import ArgumentError, HipsimError
 from ..analytic.inverse_kinematics import SINGULAR_COND_INV, inverse_condition_number, kinematics, singularity_crossings, slider_jacobian
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
@@ -279,11 +279,11 @@ def _grid(values, default: np.ndarray, name: str) -> np.ndarray:
     try:
         grid = np.array(default if values is None else values, dtype=float).ravel()
     except (TypeError, ValueError):
-        raise HipsimError(f"{name}: expected numbers (angles in degrees), got {values!r}") from None
+        raise ArgumentError(name, values, "numbers (angles in degrees)") from None
     if grid.size == 0 or not np.all(np.isfinite(grid)):
-        raise HipsimError(f"{name} must be a non-empty list of finite angles in degrees, got {values!r}")
+        raise ArgumentError(name, values, "a non-empty list of finite angles in degrees")
     if grid.size > _MAX_GRID:
-        raise HipsimError(f"{name} has {grid.size:,} values; at most {_MAX_GRID:,} are allowed")
+        raise ArgumentError(name, grid, f"at most {_MAX_GRID:,} values")
     grid.setflags(write=False)
     return grid
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..exceptions import PoseError
+from ..exceptions import ArgumentError, PoseError
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 from ..results import Run
@@ -30,7 +30,7 @@ class AnalyticModel:
 
     def __init__(self, params: Parameters, lever_spin: bool = False, on_error: str = "raise"):
         if on_error not in ("raise", "flag"):
-            raise ValueError(f"on_error must be 'raise' or 'flag', got {on_error!r}")
+            raise ArgumentError("on_error", on_error, "'raise' or 'flag'")
         self.params, self.lever_spin, self.on_error = params, bool(lever_spin), on_error
 
     def run(self, trajectory: Trajectory) -> Run:

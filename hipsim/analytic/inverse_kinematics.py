@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..exceptions import PoseError
+from ..exceptions import ArgumentError, PoseError
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 
@@ -376,7 +376,7 @@ def kinematics(params: Parameters, trajectory: Trajectory, on_error: str = "rais
         PoseError: naming the time of the first pose out of reach or singular.
     """
     if on_error not in ("raise", "flag"):
-        raise ValueError(f"on_error must be 'raise' or 'flag', got {on_error!r}")
+        raise ArgumentError("on_error", on_error, "'raise' or 'flag'")
     with np.errstate(divide="ignore", invalid="ignore"):  # poses out of reach give NaN and are flagged
         return _kinematics(params, trajectory, on_error)
 

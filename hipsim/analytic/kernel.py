@@ -41,7 +41,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from ..exceptions import HipsimError
+from ..exceptions import ArgumentError, HipsimError
 from ..machine.parameters import Friction, Parameters
 
 __all__ = [
@@ -145,9 +145,9 @@ def floats(x, shape: tuple[int, ...], name: str) -> np.ndarray:
     try:
         array = np.asarray(x, dtype=np.float64)
     except (TypeError, ValueError):
-        raise HipsimError(f"{name} must be numbers, got {x!r}") from None
+        raise ArgumentError(name, x, "numbers") from None
     if array.shape != shape:
-        raise HipsimError(f"{name} must have shape {shape}, got shape {array.shape}")
+        raise ArgumentError(name, array, f"shape {shape}")
     return array
 
 

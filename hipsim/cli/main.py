@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..exceptions import HipsimError
+from ..exceptions import ArgumentError, HipsimError
 
 __all__ = ["main"]
 
@@ -58,8 +58,8 @@ def _add_trajectory_options(parser: argparse.ArgumentParser, rate: bool = True) 
 def _parameters(args):
     from ..machine.parameters import load_parameters, parse_override
 
-    overrides = dict(parse_override(text) for text in args.overrides)
-    return load_parameters(args.params, overrides)
+    overrides = dict(parse_override(text, source="--set") for text in args.overrides)
+    return load_parameters(args.params, overrides, overrides_source="--set")
 
 
 def _trajectory(args):
@@ -201,7 +201,10 @@ def _cmd_simulate(args) -> int:
     if Path(args.out).is_dir():  # before the run, not after it
         raise HipsimError(f"--out {args.out} is a folder; give a CSV file name")
     desired_at, duration = _desired(args, _trajectory(args) if args.trajectory else None)
-    mismatch = parse_mismatch(args.mismatch) if args.mismatch else {}
+    try:
+        mismatch = parse_mismatch(args.mismatch) if args.mismatch else {}
+    except ArgumentError as error:  # the library names its argument; the user typed an option
+        raise HipsimError(f"--mismatch: expected {error.expected}, got {error.value!r}") from None
     plant = _make_plant(args.plant, apply_mismatch(params, **mismatch))
     chosen = ["pd", "augmented-pd"] if args.controller == "both" else [args.controller]
     simulations = []

@@ -54,7 +54,7 @@ from scipy.linalg import lapack
 from ..analytic.inverse_kinematics import angular_velocity_map, inverse_condition_number
 from ..analytic.virtual_work import central_friction_moment, screw_friction_torque, smooth_sign
 from ..arrays import check_shapes
-from ..exceptions import ModelError, PoseError, TrajectoryError
+from ..exceptions import ArgumentError, ClosureError, ModelError, PoseError, TrajectoryError
 from ..machine.model_files import closure_file_path, urdf_text
 from ..machine.parameters import Parameters, load_parameters
 from ..results import JointForces, Torques
@@ -406,7 +406,7 @@ def _configurations(chain: ClosedChainModel, q) -> tuple[np.ndarray, bool]:
     single = q.ndim == 1
     q = np.atleast_2d(q)
     if q.shape[1] != chain.model.nq:
-        raise ValueError(f"expected configurations of size nq = {chain.model.nq}, got shape {q.shape}")
+        raise ArgumentError("q", q, f"configurations of size nq = {chain.model.nq}")
     return q, single
 
 
@@ -582,7 +582,7 @@ class _Closer:
 
         angles: both platforms' coordinates, in ``platform_v.ravel()`` order.
         On return the workspace holds q's placements and Jacobians. Raises
-        RuntimeError (with the reason) if the loops cannot be closed.
+        ClosureError (with the gap left) if the loops cannot be closed.
         """
         q[self.platforms] = angles
         e = self._evaluate(q)
@@ -610,7 +610,7 @@ class _Closer:
         legs = self.layout.leg_v
         damping = 1e-6
         cost = e @ e
-        for _ in range(self.max_iter):
+        for iteration in range(self.max_iter):
             if cost <= self.tol2:
                 return q, e
             J = self.ws.jacobian()[:, legs]
@@ -627,13 +627,13 @@ class _Closer:
                     break
                 damping *= 8.0
                 if damping > 1e8 or np.abs(step).max() < 1e-15:
-                    raise RuntimeError(
+                    raise ClosureError(
                         f"cannot close the loops: the closure gap stays at {math.sqrt(cost):.3g} m "
-                        "(the pose is out of the levers' reach)"
+                        "(the pose is out of the levers' reach)", math.sqrt(cost), iteration + 1,
                     )
         if cost <= self.tol2:
             return q, e
-        raise RuntimeError(f"cannot close the loops in {self.max_iter} iterations (gap {math.sqrt(cost):.3g} m)")
+        raise ClosureError(f"cannot close the loops in {self.max_iter} iterations (gap {math.sqrt(cost):.3g} m)", math.sqrt(cost), self.max_iter)
 
     def rates(self, q, qd, qdd) -> tuple[np.ndarray, np.ndarray]:
         """v and a at the closed q whose placements the workspace holds."""
@@ -644,10 +644,10 @@ class _Closer:
         K_inv, info_inverse = lapack.dgetri(lu, pivots) if info == 0 else (None, info)
         # K⁻¹ blows up near a singularity (its entries are O(1..10) in m, rad, s elsewhere).
         if info_inverse != 0 or not np.abs(K_inv).max() < 1e8:
-            raise RuntimeError("singular pose: the closure Jacobian loses rank (spec §3)")
+            raise ClosureError("singular pose: the closure Jacobian loses rank (spec §3)")
         rotations = ws.tip_rotations()
         if rotations[:, 2, 2].min() <= 1e-6:
-            raise RuntimeError("a lever is horizontal or points down (singular pose, spec §3)")
+            raise ClosureError("a lever is horizontal or points down (singular pose, spec §3)")
         self.K_inv, self.rotations = K_inv, rotations
         v = K_inv[:, :3] @ qd
         v[platform[1]] = qd
@@ -706,7 +706,7 @@ def _close_chain(chain: ClosedChainModel, traj, tol: float, max_iter: int, Fe) -
         try:
             q, gaps[k] = closer.close(q, both[k])
             V[k], A[k] = closer.rates(q, rates[k], accels[k])
-        except (RuntimeError, np.linalg.LinAlgError) as error:
+        except (ClosureError, np.linalg.LinAlgError) as error:
             raise PoseError(str(error), float(t[k]), k, source=getattr(traj, "name", None)) from None
         iterations[k] = closer.evaluations - before
         Q[k] = q
@@ -832,7 +832,7 @@ def friction_forces(chain: ClosedChainModel, q, v, Fe) -> np.ndarray:
     q, single = _configurations(chain, q)
     v = np.atleast_2d(np.asarray(v, dtype=float))
     if v.shape != (len(q), chain.model.nv):
-        raise ValueError(f"expected velocities of shape {(len(q), chain.model.nv)}, got {v.shape}")
+        raise ArgumentError("v", v, f"velocities of shape {(len(q), chain.model.nv)}")
     Fe = np.broadcast_to(np.asarray(Fe, dtype=float), (len(q),))
     model = chain.model
     data = model.createData()

@@ -88,6 +88,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..analytic.inverse_kinematics import angular_velocity_map
+from ..exceptions import ArgumentError
 from ..machine.parameters import Parameters
 from .model import (
     ClosedChainModel,
@@ -138,9 +139,9 @@ class PinocchioPlant:
         chain: ClosedChainModel | None = None,
     ):
         if not mu > 0:
-            raise ValueError(f"the proximal regularisation mu must be positive, got {mu!r}")
+            raise ArgumentError("mu", mu, "a positive proximal regularisation")
         if chain is not None and chain.params is not params:
-            raise ValueError("chain must be load_model(params) of the same params object")
+            raise ArgumentError("chain", chain, "load_model(params) of the same params object")
         self.params = params
         self.chain = load_model(params) if chain is None else chain
         layout = self.chain.layout

@@ -36,7 +36,7 @@ from tqdm import tqdm
 
 from ..analytic import kernel as reduced_kernel
 from .controllers import Sample
-from ..exceptions import HipsimError, PoseError
+from ..exceptions import ArgumentError, HipsimError, PoseError
 from ..files import write_columns
 from ..analytic.inverse_kinematics import kinematics
 from ..machine.parameters import Parameters
@@ -248,19 +248,19 @@ def simulate(
     step = control.integration_step if step is None else step
     limit = control.torque_limit if torque_limit is None else torque_limit
     if not servo_rate > 0:
-        raise HipsimError(f"servo rate must be positive, got {servo_rate!r} Hz")
+        raise ArgumentError("servo_rate", servo_rate, "a positive rate in Hz")
     if not limit > 0:
-        raise HipsimError(f"torque limit must be positive (inf for none), got {limit!r} N·m")
+        raise ArgumentError("torque_limit", limit, "a positive torque in N·m (inf for none)")
     period = 1.0 / servo_rate
     if not step > 0:
-        raise HipsimError(f"integration step must be positive, got {step!r} s")
+        raise ArgumentError("step", step, "a positive integration step in s")
     if step > period * (1 + 1e-9):
-        raise HipsimError(f"integration step {step * 1e3:g} ms is longer than the servo period {period * 1e3:g} ms")
+        raise ArgumentError("step", step, f"an integration step no longer than the servo period {period:g} s")
     substeps = math.ceil(period / step - 1e-9)
     h = period / substeps
     n = int(round(duration * servo_rate))
     if n < 2:
-        raise HipsimError(f"duration {duration!r} s is shorter than two servo periods")
+        raise ArgumentError("duration", duration, f"at least two servo periods ({2 * period:g} s)")
     t = np.arange(n) * period
     desired = desired_at(t)
     kinematics(plant.params, desired)  # a desired pose out of reach or singular: a PoseError naming its time
@@ -307,9 +307,9 @@ def parse_mismatch(text: str) -> dict[str, float]:
     for part in filter(None, (p.strip() for p in text.split(","))):
         match = re.fullmatch(r"(friction|masses)\s*=\s*([+-]?\d+(?:\.\d*)?)\s*%", part)
         if not match:
-            raise HipsimError(f"--mismatch: cannot read '{part}' (expected friction=+20% or masses=-10%)")
+            raise ArgumentError("mismatch", part, "friction=+20% or masses=-10%")
         if match.group(1) in out:
-            raise HipsimError(f"--mismatch: {match.group(1)} is given twice in '{text}'")
+            raise ArgumentError("mismatch", text, f"{match.group(1)} given once")
         out[match.group(1)] = float(match.group(2)) / 100.0
     return out
 
@@ -324,7 +324,7 @@ def apply_mismatch(params: Parameters, friction: float = 0.0, masses: float = 0.
             sliders, screws), e.g. -0.1 for −10 %.
     """
     if friction <= -1 or masses <= -1:
-        raise HipsimError(f"a mismatch of -100 % or less leaves nothing (friction {friction:+.0%}, masses {masses:+.0%})")
+        raise ArgumentError("mismatch", {"friction": friction, "masses": masses}, "fractions above -1 (a mismatch of -100 % or less leaves nothing)")
     f, m = 1.0 + friction, 1.0 + masses
     fr = params.friction
     return params.replace(

@@ -309,26 +309,27 @@ def default_parameters_path() -> Path:
     return Path(str(resources.files("hipsim.models").joinpath("hip_simulator.toml")))
 
 
-def parse_override(text: str) -> tuple[str, Any]:
+def parse_override(text: str, source: str = "override") -> tuple[str, Any]:
     """Split ``"section.key=value"`` into the key and a TOML-typed value.
 
     Args:
-        text: one ``--set`` argument, e.g. ``"lever.length_mm=330"`` or
+        text: one override, e.g. ``"lever.length_mm=330"`` or
             ``"platform.heights_mm=[900, 490]"``.
+        source: where it came from, for errors (the command line says ``--set``).
 
     Returns:
         The dotted key and the value as TOML reads it.
     """
     if "=" not in text:
-        raise ParameterError(f"expected KEY=VALUE, got '{text}'", source="--set")
+        raise ParameterError(f"expected KEY=VALUE, got '{text}'", source=source)
     key, _, value = text.partition("=")
     key = key.strip()
     if not key:
-        raise ParameterError(f"no key before '=' in '{text}' (expected e.g. lever.length_mm=330)", source="--set")
+        raise ParameterError(f"no key before '=' in '{text}' (expected e.g. lever.length_mm=330)", source=source)
     try:
         parsed = tomllib.loads(f"v = {value.strip()}")["v"]
     except tomllib.TOMLDecodeError:
-        raise ParameterError(f"'{value.strip()}' is not a number, list or TOML value", key=key, source="--set") from None
+        raise ParameterError(f"'{value.strip()}' is not a number, list or TOML value", key=key, source=source) from None
     return key, parsed
 
 
@@ -375,6 +376,7 @@ def check_entry(section: str, key: str, value: Any, source: str) -> Any:
 def load_parameters(
     path: str | Path | None = None,
     overrides: Mapping[str, Any] | None = None,
+    overrides_source: str = "overrides",
 ) -> Parameters:
     """Read, check and convert a parameter file.
 
@@ -383,6 +385,7 @@ def load_parameters(
             None for the published machine.
         overrides: values that replace single entries, by dotted key in the
             file's units, e.g. ``{"lever.length_mm": 330}``.
+        overrides_source: what to call the overrides in errors.
 
     Returns:
         The parameter set in SI units.
@@ -397,7 +400,7 @@ def load_parameters(
     for dotted, value in (overrides or {}).items():
         section, _, key = dotted.partition(".")
         if section not in SCHEMA or key not in SCHEMA[section]:
-            raise ParameterError(f"unknown key{_did_you_mean(dotted)}; `hipsim params` lists them all", key=dotted, source="--set")
+            raise ParameterError(f"unknown key{_did_you_mean(dotted)}; `hipsim params` lists them all", key=dotted, source=overrides_source)
         if not isinstance(raw.setdefault(section, {}), dict):
             raise ParameterError("expected a [section] table", key=section, source=source)
         raw[section][key] = value

@@ -52,7 +52,7 @@ from typing import Callable
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import HipsimError
+from ..exceptions import ArgumentError, HipsimError
 from ..files import write_atomic
 from .human import HIP_JOINTS, HUMAN_PELVIS_POSITION, HUMAN_PELVIS_ROTATION, human_hip_angles, load_human
 from .meshcat_output import DiscreteAnimation, LiveWindow, OfflineWindow, Server, TeeWindow, offline_page
@@ -434,7 +434,7 @@ class Viewer:
         from ..closed_chain.model import kinematics, trajectory_dynamics
 
         if not (fps > 0 and speed > 0 and math.isfinite(fps) and math.isfinite(speed)):
-            raise HipsimError(f"fps and speed must be positive, got fps={fps}, speed={speed}")
+            raise ArgumentError("fps, speed", (fps, speed), "positive numbers")
         rate = fps / speed
         samples, periodic = _resample(trajectory, rate)
         F_act = F_joint = cond_inv = None
@@ -540,7 +540,7 @@ class Viewer:
         """
         q = np.asarray(q, dtype=float)
         if q.shape != (self.chain.model.nq,):
-            raise ValueError(f"expected a configuration of size nq = {self.chain.model.nq}, got shape {q.shape}")
+            raise ArgumentError("q", q, f"a configuration of size nq = {self.chain.model.nq}")
         pin.forwardKinematics(self.chain.model, self._machine_data, q)
         R = self._machine_data.oMi[self._frames_ids["platform"]].rotation
         self._send(self._poses(q, human_hip_angles(R)))
