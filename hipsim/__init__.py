@@ -5,7 +5,7 @@ A few calls give what the command line gives::
     import hipsim
 
     params = hipsim.load_parameters()                 # the published machine (SI inside)
-    trajectory = hipsim.iso14242(rate=1000)           # or hipsim.load_trajectory_csv("gait.csv")
+    trajectory = hipsim.iso14242(rate=1000)           # or hipsim.read_trajectory("gait.csv" / "walk.mot")
     result = hipsim.analyse(params, trajectory)       # analytic model; model="pinocchio" for the other
     result.torques.tau                                # (N, 3) motor torques in N·m, parts in tau_m … tau_f
     result.columns()["tau_1_Nmm"]                     # the CSV columns of spec §7.5
@@ -20,7 +20,7 @@ from .exceptions import HipsimError, ModelError, ParameterError, PoseError, Traj
 from .analytic.inverse_kinematics import Kinematics, kinematics
 from .machine.parameters import Parameters, load_parameters, slender_levers
 from .analysis.runs import Result, analyse
-from .motion.trajectories import Trajectory, iso14242, load_trajectory_csv
+from .motion import Trajectory, iso14242, load_trajectory_csv, read_trajectory
 
 __version__ = "0.1.0"
 
@@ -42,5 +42,6 @@ __all__ = [
     "load_parameters",
     "load_trajectory_csv",
     "mechanical_energy",
+    "read_trajectory",
     "slender_levers",
 ]

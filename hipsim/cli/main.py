@@ -63,7 +63,8 @@ def _parameters(args):
 
 
 def _trajectory(args):
-    from ..motion.trajectories import iso14242, load_trajectory_csv
+    from ..motion.readers import load_trajectory_csv
+    from ..motion.trajectories import iso14242
 
     if args.trajectory:
         given = [f"--{name}" for name in ("rate", "cycles", "frequency") if getattr(args, name) is not None]
