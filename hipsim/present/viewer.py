@@ -451,6 +451,9 @@ class Viewer:
         if not (fps > 0 and speed > 0 and math.isfinite(fps) and math.isfinite(speed)):
             raise HipsimError(f"fps and speed must be positive, got fps={fps}, speed={speed}")
         rate = fps / speed
+        # The trajectory's own samples first, as `torques` checks them: a pose out of reach is then
+        # named by its sample's time (and file line), not by the time of a frame between samples.
+        analytic_kinematics(self.params, trajectory)
         samples, periodic = _resample(trajectory, rate)
         F_act = F_joint = cond_inv = None
         if forces:
