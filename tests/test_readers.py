@@ -560,3 +560,291 @@ def test_digit_separators_are_not_numbers_in_a_csv(tmp_path):
     with pytest.raises(TrajectoryError, match="'1_0' is not a number") as info:
         load_trajectory_csv(write_lines(tmp_path / "sep.csv", lines))
     assert "line 4" in str(info.value)
+
+
+# --------------------------------------------------------------------------- any lab's table (issue 15)
+#
+# The same ISO cycle written as hipsim's CSV and as a lab would export it: a spreadsheet's
+# semicolons and decimal commas, tabs, its own column names, units and signs. Written here
+# by string formatting of the formulas, never by the code under test.
+
+from hipsim.motion.readers import TrajectoryWarning, parse_columns, read_trajectory  # noqa: E402
+from support import Rx, Ry, Rz  # noqa: E402
+
+
+def iso_rows(n=101, rate=100.0):
+    """(t, angles in degrees (N, 3), load) of the ISO cycle, the closing row included when n = rate + 1."""
+    t = np.arange(n) / rate
+    q, _, _ = iso14242_angles(t)
+    return t, np.degrees(q), iso14242_load(t)
+
+
+def canonical(path, t, deg, load):
+    rows = [",".join(repr(float(v)) for v in (t[k], *deg[k], load[k])) for k in range(len(t))]
+    return write_lines(path, ["t_s,alpha_deg,beta_deg,gamma_deg,Fe_N", *rows])
+
+
+def assert_same_trajectory(a, b, exact=True):
+    for name in ("t", "q", "qd", "qdd", "Fe"):
+        x, y = getattr(a, name), getattr(b, name)
+        if exact:
+            np.testing.assert_array_equal(x, y, err_msg=name)
+        else:
+            np.testing.assert_allclose(x, y, rtol=1e-9, atol=1e-12 * max(1.0, float(np.abs(y).max())), err_msg=name)
+    assert a.periodic == b.periodic
+
+
+@pytest.mark.parametrize("separator", [";", "\t"])
+def test_a_spreadsheet_export_with_decimal_commas_reads_as_the_canonical_file(tmp_path, separator):
+    t, deg, load = iso_rows()
+    reference = load_trajectory_csv(canonical(tmp_path / "canonical.csv", t, deg, load))
+    rows = [separator.join(repr(float(v)).replace(".", ",") for v in (t[k], *deg[k], load[k])) for k in range(len(t))]
+    export = write_lines(tmp_path / "export.csv", [separator.join(["t_s", "alpha_deg", "beta_deg", "gamma_deg", "Fe_N"]), *rows])
+    traj = load_trajectory_csv(export)
+    assert_same_trajectory(traj, reference)
+    assert traj.periodic and len(traj) == 100
+
+
+def test_a_mapped_lab_export_reads_as_the_canonical_file(tmp_path):
+    """Own names, extra columns, another order, ms, radians, a flipped sign, kN and a trailing separator."""
+    t, deg, load = iso_rows()
+    reference = load_trajectory_csv(canonical(tmp_path / "canonical.csv", t, deg, load))
+    header = "Frame;Event;Zeit [ms];Fz [kN];Hip IE [rad];Hip AA (abd+) [deg];Hip FE [deg];"
+    rows = [
+        f"{k};{'HS' if k % 50 == 0 else ''};" + ";".join(repr(float(v)) for v in (t[k] * 1000, load[k] / 1000, np.radians(deg[k, 2]), -deg[k, 1], deg[k, 0])).replace(".", ",") + ";"
+        for k in range(len(t))
+    ]
+    export = write_lines(tmp_path / "lab.csv", ["# exported by the gait lab", header, *rows])
+    mapping = "time=Zeit [ms]:ms,alpha=Hip FE [deg],beta=-Hip AA (abd+) [deg],gamma=Hip IE [rad]:rad,load=Fz [kN]:kN"
+    traj = load_trajectory_csv(export, columns=mapping)
+    assert_same_trajectory(traj, reference, exact=False)
+    np.testing.assert_array_equal(traj.lines, np.arange(3, 103)[:100])  # the comment and the header are lines 1 and 2
+
+
+def test_hip_chain_columns_are_turned_into_platform_angles(tmp_path):
+    """A lab's ISB hip angles (flexion, adduction, internal rotation) give the α, β, γ that turn the femur alike."""
+    t, deg, load = iso_rows()
+    C = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])  # pelvis x, y, z → machine Y, Z, X
+    hip = []
+    for a, b, g in np.radians(deg):
+        Rh = C.T @ Rz(g) @ Ry(b) @ Rx(a) @ C  # the femur in pelvis axes
+        hip.append(np.degrees([np.arctan2(-Rh[0, 1], Rh[1, 1]), np.arcsin(Rh[2, 1]), np.arctan2(-Rh[2, 0], Rh[2, 2])]))
+    hip = np.array(hip)
+    rows = [",".join(repr(float(v)) for v in (t[k], *hip[k])) for k in range(len(t))]
+    path = write_lines(tmp_path / "hip.csv", ["time,hip flexion,hip adduction,hip rotation", *rows])
+    traj = load_trajectory_csv(path, columns="time=time,flexion=hip flexion,adduction=hip adduction,rotation=hip rotation")
+    np.testing.assert_allclose(traj.q, np.radians(deg[:100]), rtol=0, atol=1e-12)
+    assert traj.periodic
+
+
+def test_a_header_that_does_not_match_lists_its_columns_and_suggests_a_mapping(tmp_path):
+    t, deg, load = iso_rows(20)
+    rows = [";".join(repr(float(v)).replace(".", ",") for v in (t[k], *deg[k], load[k])) for k in range(20)]
+    path = write_lines(tmp_path / "lab.csv", ["Time;FE;AA;IE;Fz", *rows])
+    with pytest.raises(TrajectoryError) as info:
+        load_trajectory_csv(path)
+    assert_traj_error(info, path, line=1)
+    message = str(info.value)
+    assert "the header has 'Time', 'FE', 'AA', 'IE', 'Fz'" in message
+    assert "e.g. time=Time,alpha=FE,beta=AA,gamma=IE,load=Fz" in message
+    # And the mapping it suggests reads the file.
+    traj = load_trajectory_csv(path, columns="time=Time,alpha=FE,beta=AA,gamma=IE,load=Fz")
+    np.testing.assert_allclose(traj.q, np.radians(deg), rtol=0, atol=1e-15)
+
+
+def test_a_mapped_column_that_is_missing_is_named_with_the_columns_found(tmp_path):
+    t, deg, load = iso_rows(20)
+    path = canonical(tmp_path / "x.csv", t, deg, load)
+    with pytest.raises(TrajectoryError) as info:
+        load_trajectory_csv(path, columns="time=t_s,alpha=alpha_deg,beta=beta_deg,gamma=Gamma")
+    assert_traj_error(info, path, line=1)
+    assert "no column 'Gamma' (mapped to gamma); the header has 't_s', 'alpha_deg'" in str(info.value)
+
+
+@pytest.mark.parametrize("cell, column, name", [("abc", 3, "Hip AA"), ("1.234,5", 2, "Hip FE"), ("nan", 1, "Time")])
+def test_bad_cells_of_a_mapped_export_name_file_line_and_column(tmp_path, cell, column, name):
+    t, deg, load = iso_rows(20)
+    rows = [";".join(repr(float(v)).replace(".", ",") for v in (t[k], *deg[k])) for k in range(20)]
+    lines = ["Time;Hip FE;Hip AA;Hip IE", *rows]
+    cells = lines[7].split(";")
+    cells[column - 1] = cell
+    lines[7] = ";".join(cells)
+    path = write_lines(tmp_path / "lab.csv", lines)
+    with pytest.raises(TrajectoryError) as info:
+        load_trajectory_csv(path, columns="time=Time,alpha=Hip FE,beta=Hip AA,gamma=Hip IE")
+    assert_traj_error(info, path, line=8, column=name)
+    assert "\n" not in str(info.value)
+
+
+def test_decimal_commas_in_a_comma_separated_file_are_named(tmp_path):
+    lines = small_csv()
+    lines[4] = lines[4].replace(".", ",", 1)  # one decimal comma: a cell too many
+    path = write_lines(tmp_path / "x.csv", lines)
+    with pytest.raises(TrajectoryError, match="6 cells, the header has 5 \\(decimal commas\\? a comma-separated file needs decimal points\\)"):
+        load_trajectory_csv(path)
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("", "empty column mapping"),
+        ("time=t,alpha=a,beta=b", "gamma not mapped"),
+        ("time=t,alpha=a,beta=b,gamma=c,flexion=f", "not both"),
+        ("time=t,alpha=a,beta=b,gamma=c,rho=r", "unknown quantity 'rho'"),
+        ("time=t,alpha=a,alpha=b,beta=b,gamma=c", "alpha is mapped twice"),
+        ("time=-t,alpha=a,beta=b,gamma=c", "time column cannot have its sign flipped"),
+        ("time=t:min,alpha=a,beta=b,gamma=c", "'min' is not a unit of time (expected s, ms, %)"),
+        ("time=t,alpha=a:N,beta=b,gamma=c", "'N' is not a unit of alpha (expected deg, rad)"),
+        ("time=t,alpha,beta=b,gamma=c", "'alpha' is not QUANTITY=COLUMN"),
+        ("time=t,alpha=:deg,beta=b,gamma=c", "no column name given for alpha"),
+    ],
+)
+def test_column_mapping_mistakes_are_named(text, message):
+    with pytest.raises(TrajectoryError) as info:
+        parse_columns(text)
+    assert str(info.value).startswith("column mapping: ") and message in str(info.value), str(info.value)
+
+
+def test_column_mapping_round_trips_through_text():
+    mapping = parse_columns("Time = Zeit:ms , alpha=FE, beta=-AA:RAD,gamma=IE,load=F res:%bw")
+    assert mapping.text() == "time=Zeit:ms,alpha=FE,beta=-AA:rad,gamma=IE,load=F res:%BW"
+    assert parse_columns(mapping.text()) == mapping
+
+
+# --------------------------------------------------------------------------- time: uneven steps, resampling, rescaling
+
+
+def iso_file(path, t, load=True):
+    q, _, _ = iso14242_angles(t)
+    path.write_text(csv_text(t, q, iso14242_load(t) if load else None))
+    return path
+
+
+@pytest.mark.parametrize("dropped_line", [101, 501])
+def test_a_dropped_sample_is_named_at_its_line(tmp_path, dropped_line):
+    """1 kHz with one sample missing: the step before line N is two steps (the mean step would name line 3)."""
+    t = np.delete(np.arange(1000) / 1000, dropped_line - 2)  # row k is on line k + 2
+    path = iso_file(tmp_path / "gap.csv", t)
+    with pytest.raises(TrajectoryError) as info:
+        load_trajectory_csv(path)
+    assert_traj_error(info, path, line=dropped_line, column="t_s")
+    assert "uneven time step: 0.002 s here, 0.001 s elsewhere" in str(info.value) and "resample" in str(info.value)
+
+
+def test_jittered_times_are_refused_and_resampled_on_request(tmp_path):
+    rng = np.random.default_rng(5)
+    t = np.arange(301) / 100 + rng.uniform(-3e-4, 3e-4, 301)  # a motion-capture clock: ±3 % of a 10 ms step
+    t[0] = 0.0
+    path = iso_file(tmp_path / "mocap.csv", t)
+    with pytest.raises(TrajectoryError, match="uneven time step"):
+        load_trajectory_csv(path)
+    traj = load_trajectory_csv(path, resample=100)
+    np.testing.assert_allclose(traj.t, np.arange(len(traj)) / 100, rtol=0, atol=1e-12)
+    assert len(traj) == int(np.floor(t[-1] * 100)) + 1 and traj.lines is None
+    q, qd, qdd = iso14242_angles(traj.t)  # the exact cycle at the grid's times
+    inside = slice(5, -5)
+    assert np.abs(traj.q - q).max() <= 1e-8
+    assert np.abs(traj.qd - qd)[inside].max() <= 1e-6 * np.abs(qd).max()
+    assert np.abs(traj.qdd - qdd)[inside].max() <= 1e-4 * np.abs(qdd).max()
+    np.testing.assert_allclose(traj.Fe, np.interp(traj.t, t, iso14242_load(t)), rtol=1e-15)
+
+
+def test_a_periodic_file_resampled_keeps_a_whole_period(tmp_path):
+    t = np.delete(np.arange(201) / 200, [37, 120])  # a closed cycle with two dropped samples
+    traj = load_trajectory_csv(iso_file(tmp_path / "gaps.csv", t), resample=300)
+    assert traj.periodic and len(traj) == 300
+    np.testing.assert_allclose(traj.t, np.arange(300) / 300, rtol=0, atol=1e-15)
+    q, qd, _ = iso14242_angles(traj.t)
+    assert np.abs(traj.q - q).max() <= 1e-7 and np.abs(traj.qd - qd).max() <= 1e-5 * np.abs(qd).max()
+
+
+def test_times_printed_with_few_digits_are_even_to_their_resolution(tmp_path):
+    """120 Hz with times to 0.1 ms (0.0083, 0.0167, …): read as the even grid they were rounded from."""
+    t = np.arange(121) / 120
+    q, _, _ = iso14242_angles(t)
+    rows = [f"{t[k]:.4f}," + ",".join(repr(float(v)) for v in np.degrees(q[k])) for k in range(121)]
+    traj = load_trajectory_csv(write_lines(tmp_path / "120hz.csv", ["t_s,alpha_deg,beta_deg,gamma_deg", *rows]))
+    np.testing.assert_allclose(traj.t, t[:120], rtol=0, atol=1e-15)
+    assert traj.periodic
+
+
+@pytest.mark.parametrize("closing", [True, False])
+def test_frequency_and_period_rescale_time_and_derivatives(tmp_path, closing):
+    t = np.arange(201 if closing else 200) / 200  # one cycle, with or without its closing row
+    path = iso_file(tmp_path / "cycle.csv", t)
+    base = load_trajectory_csv(path)
+    for fast in (load_trajectory_csv(path, frequency=2.5), load_trajectory_csv(path, period=0.4)):
+        assert fast.periodic == closing
+        np.testing.assert_allclose(fast.t, base.t / 2.5, rtol=0, atol=1e-15)
+        np.testing.assert_allclose(fast.q, base.q, rtol=0, atol=1e-15)
+        np.testing.assert_allclose(fast.qd, 2.5 * base.qd, rtol=1e-9, atol=1e-9)
+        np.testing.assert_allclose(fast.qdd, 6.25 * base.qdd, rtol=1e-9, atol=1e-6)
+        np.testing.assert_array_equal(fast.Fe, base.Fe)
+    q, qd, qdd = iso14242_angles(fast.t, 2.5)  # the ISO cycle at 2.5 Hz, exactly
+    assert np.abs(fast.qd - qd)[10:-10].max() <= 1e-9 * np.abs(qd).max()
+
+
+def test_time_in_percent_of_the_cycle(tmp_path):
+    """An ISO 14242-1 or OrthoLoad style table: time in % of the cycle, 0 … 100, the load in % body weight."""
+    t, deg, load = iso_rows(101, 100.0)
+    reference = load_trajectory_csv(canonical(tmp_path / "canonical.csv", t, deg, load))
+    rows = ["\t".join(repr(float(v)) for v in (100 * t[k], *deg[k], load[k] / 7.35)) for k in range(101)]
+    table = write_lines(tmp_path / "table.txt", ["cycle %\tFE\tAA\tIE\tF %BW", *rows])
+    columns = "time=cycle %:%,alpha=FE,beta=AA,gamma=IE,load=F %BW:%BW"
+    traj = load_trajectory_csv(table, columns=columns, period=1.0, body_weight=735.0)
+    assert_same_trajectory(traj, reference, exact=False)
+    with pytest.raises(TrajectoryError, match="time is in % of the cycle: give the cycle's period or frequency"):
+        load_trajectory_csv(table, columns=columns, body_weight=735.0)
+    with pytest.raises(TrajectoryError, match="the load is in % body weight: give the body weight"):
+        load_trajectory_csv(table, columns=columns, period=1.0)
+
+
+def test_load_units_and_signs(tmp_path):
+    t, deg, load = iso_rows(20)
+    rows = [",".join(repr(float(v)) for v in (t[k], *deg[k], -load[k] / 1000)) for k in range(20)]
+    path = write_lines(tmp_path / "fz.csv", ["t_s,alpha_deg,beta_deg,gamma_deg,Fz_kN", *rows])
+    traj = load_trajectory_csv(path, load_column="-Fz_kN:kN")
+    np.testing.assert_allclose(traj.Fe, load, rtol=1e-15)
+    with pytest.raises(TrajectoryError) as info:
+        load_trajectory_csv(path, load_column="Fz_kN:kN")
+    assert_traj_error(info, path, line=2, column="Fz_kN")
+    assert "flip the column's sign" in str(info.value)
+    with pytest.raises(TrajectoryError, match="a body weight was given, but the load is in kN"):
+        load_trajectory_csv(path, load_column="-Fz_kN:kN", body_weight=700.0)
+    with pytest.raises(TrajectoryError, match="a body weight was given, but no load column"):
+        load_trajectory_csv(canonical(tmp_path / "c.csv", t, deg, load).with_name("c.csv"), columns="time=t_s,alpha=alpha_deg,beta=beta_deg,gamma=gamma_deg", body_weight=700.0)
+
+
+def test_radians_under_degree_headers_warn(tmp_path):
+    t = np.arange(50) / 100
+    q, _, _ = iso14242_angles(t)
+    path = tmp_path / "rad.csv"
+    path.write_text(csv_text(t, q, None, unit="rad").replace("_rad", "_deg"))  # radians written under _deg
+    with pytest.warns(TrajectoryWarning, match=r"rad.csv: the angles span less than a degree \(at most 0.\d+° in '(alpha|beta|gamma)_deg'\)"):
+        load_trajectory_csv(path)
+
+
+def test_a_still_pose_and_real_degrees_do_not_warn(tmp_path, recwarn):
+    lines = ["t_s,alpha_deg,beta_deg,gamma_deg"] + [f"{k / 100},10,2,-3" for k in range(10)]
+    load_trajectory_csv(write_lines(tmp_path / "still.csv", lines))
+    write_iso_csv(tmp_path / "iso.csv", 100, 1, True)
+    load_trajectory_csv(tmp_path / "iso.csv")
+    assert not [w for w in recwarn if issubclass(w.category, TrajectoryWarning)]
+
+
+def test_read_trajectory_chooses_the_reader_by_suffix(tmp_path):
+    t, deg, load = iso_rows(20)
+    path = canonical(tmp_path / "x.csv", t, deg, load)
+    assert_same_trajectory(read_trajectory(path), load_trajectory_csv(path))
+    with pytest.raises(TrajectoryError, match="the side \\(left or right hip\\) applies to OpenSim .mot/.sto files"):
+        read_trajectory(path, side="left")
+
+
+def test_line_at_names_file_lines_only_for_file_rows(tmp_path):
+    lines = small_csv()
+    lines.insert(3, "")
+    lines.insert(1, "# a comment")
+    traj = load_trajectory_csv(write_lines(tmp_path / "x.csv", lines), periodic=False)
+    assert [traj.line_at(x) for x in traj.t[:4]] == [3, 4, 6, 7]
+    assert traj.line_at(0.015) is None and traj.line_at(5.0) is None
+    assert traj.slice(slice(2, 4)).line_at(traj.t[2]) == 6
