@@ -848,3 +848,43 @@ def test_line_at_names_file_lines_only_for_file_rows(tmp_path):
     assert [traj.line_at(x) for x in traj.t[:4]] == [3, 4, 6, 7]
     assert traj.line_at(0.015) is None and traj.line_at(5.0) is None
     assert traj.slice(slice(2, 4)).line_at(traj.t[2]) == 6
+
+
+# --------------------------------------------------------------------------- the README's worked examples
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "docs" / "examples"
+README_MAPPING = "time=Cycle [%]:%,flexion=Hip Flexion [deg],adduction=Hip Adduction [deg],rotation=Hip Int. Rotation [deg],load=F res [%BW]"
+
+
+def test_the_readme_lab_export_is_the_built_in_cycle():
+    path = EXAMPLES / "gait_lab_export.csv"
+    traj = load_trajectory_csv(path, columns=README_MAPPING, period=1.0, body_weight=75 * 9.80665)
+    assert traj.periodic and len(traj) == 50 and traj.t[1] == pytest.approx(0.02)
+    q, _, _ = iso14242_angles(traj.t)
+    assert np.abs(traj.q - q).max() <= 1e-7  # six decimals of a degree
+    np.testing.assert_allclose(traj.Fe, iso14242_load(traj.t), rtol=0, atol=1e-3)  # four decimals of % body weight
+    with pytest.raises(TrajectoryError) as info:  # read without a mapping: the error suggests the README's
+        load_trajectory_csv(path)
+    assert f"e.g. {README_MAPPING}:%BW" in str(info.value)
+
+
+def test_the_readme_opensim_file_is_the_built_in_cycle():
+    traj = read_trajectory(EXAMPLES / "iso_hip_right.mot", load_column="hip_force_N")
+    assert traj.periodic and len(traj) == 100
+    q, _, _ = iso14242_angles(traj.t)
+    assert np.abs(traj.q - q).max() <= 1e-9  # eight decimals of a degree
+    np.testing.assert_allclose(traj.Fe, iso14242_load(traj.t), rtol=0, atol=1e-7)
+
+
+@pytest.mark.parametrize(
+    "header, suggestion",
+    [
+        (["Time", "FE", "AA", "IE", "Fz"], "time=Time,alpha=FE,beta=AA,gamma=IE,load=Fz"),
+        (["Zeit (ms)", "FE (rad)", "AA", "IE", "Fz [kN]"], "time=Zeit (ms):ms,alpha=FE (rad):rad,beta=AA,gamma=IE,load=Fz [kN]:kN"),
+        (["frame", "x", "y"], "time=<column>,alpha=<column>,beta=<column>,gamma=<column>"),
+    ],
+)
+def test_the_suggested_mapping_follows_the_names(header, suggestion):
+    from hipsim.motion.readers import suggest_mapping
+
+    assert suggest_mapping(header) == suggestion

@@ -518,9 +518,10 @@ def decimals(cell: str) -> int | None:
     return 0
 
 
-def _cells(line: str, separator: str) -> list[str]:
+def _cells(line: str, separator: str, width: int = 0) -> list[str]:
+    """The line's cells; blank cells at the end are dropped down to ``width`` (a spreadsheet's trailing separator)."""
     cells = next(csv.reader([line], delimiter=separator))
-    while cells and not cells[-1].strip():  # a spreadsheet's trailing separator
+    while len(cells) > width and not cells[-1].strip():
         cells.pop()
     return cells
 
@@ -610,7 +611,7 @@ def _read_csv_table(source: str, path, mapping: ColumnMap | None, load: Column |
     values = np.empty((len(data), len(header)))
     time_decimals = 0
     for k, (number_of_line, line) in enumerate(data):
-        row = _cells(line, separator)
+        row = _cells(line, separator, len(header))
         if len(row) != len(header):
             hint = " (decimal commas? a comma-separated file needs decimal points)" if separator == "," and len(row) > len(header) else ""
             raise TrajectoryError(f"{len(row)} cells, the header has {len(header)}{hint}", source=source, line=number_of_line)
@@ -662,7 +663,7 @@ def _listing(header: list[str]) -> str:
 
 #: Words in a lab's column names that suggest each quantity, for the mapping an error suggests.
 _HINTS = {
-    "time": (r"^t$", r"time", r"zeit", r"^t[ _(\[]"),
+    "time": (r"^t$", r"time", r"zeit", r"^t[ _(\[]", r"cycle", r"percent", r"\[%\]", r"^%"),
     "alpha": (r"flex", r"^fe\b", r"\bfe\b", r"alpha", r"sagit"),
     "beta": (r"abd", r"add", r"^aa\b", r"\baa\b", r"beta", r"frontal", r"coronal"),
     "gamma": (r"rot", r"^ie\b", r"\bie\b", r"gamma", r"transv", r"int.*ext"),
@@ -684,8 +685,19 @@ def suggest_mapping(header: list[str]) -> str:
                 parts.append(f"{key}=<column>")
             continue
         taken.add(choice)
-        parts.append(f"{key}={header[choice]}")
+        parts.append(f"{key}={header[choice]}{_unit_hint(key, header[choice])}")
+    names = [part.split("=", 1)[1] for part in parts[1:4]]
+    if all("hip" in name.lower() for name in names):  # a hip's joint angles, not the platform's: the ISB chain's keys
+        parts[1:4] = [f"{key}={name}" for key, name in zip(HIP_ANGLE_NAMES, names)]
     return ",".join(parts)
+
+
+def _unit_hint(key: str, name: str) -> str:
+    """``:UNIT`` for a column whose name states a unit other than the default (``Fz [kN]`` → ``:kN``), else ''."""
+    match = re.search(r"[\[(]\s*([^\])]+?)\s*[\])]", name)
+    spelled = re.sub(r"\s+", "", match.group(1)).lower() if match else ("%" if "%" in name and key == "time" else "")
+    unit = {"%bw": "%BW", "bw%": "%BW", "%body weight": "%BW", "°": "deg"}.get(spelled, _UNIT_SPELLINGS.get(spelled))
+    return f":{unit}" if unit in UNITS[key][1:] else ""
 
 
 def _canonical_columns(header: list[str], source: str, line: int, load: Column | None) -> ColumnMap:
