@@ -347,3 +347,20 @@ def test_frequency_and_period_rescale_a_recorded_cycle(tmp_path, capsys):
     np.testing.assert_array_equal(fast["Fe_N"], base["Fe_N"])
     for key in fast:
         np.testing.assert_allclose(short[key], fast[key], rtol=1e-12, atol=1e-12)
+
+
+def test_opensim_file_with_a_flipped_load_column_in_percent_body_weight(tmp_path, capsys):
+    """--load-column -COL (no '=' needed) with --body-weight: a compressive force component in % body weight as F_e in N."""
+    t = np.arange(101) / 100
+    flexion, force = 20 * np.cos(2 * np.pi * t), 250 + 150 * np.sin(np.pi * t) ** 2  # degrees, % body weight
+    lines = ["ik", "inDegrees=yes", "endheader", "time\thip_flexion_l\thip_adduction_l\thip_rotation_l\thip_l_on_pelvis_fy"]
+    lines += ["\t".join(repr(float(v)) for v in (t[k], flexion[k], 0.0, 0.0, -force[k])) for k in range(101)]
+    path = tmp_path / "walk.mot"
+    path.write_text("\n".join(lines) + "\n")
+    out = tmp_path / "o.csv"
+    args = ["torques", "--trajectory", str(path), "--side", "left", "--load-column", "-hip_l_on_pelvis_fy", "--body-weight", "80kg"]
+    assert main([*args, "--out", str(out)]) == 0
+    rows = list(csv.DictReader(open(out)))
+    np.testing.assert_allclose([float(r["Fe_N"]) for r in rows], force[:100] / 100 * 80 * 9.80665, rtol=1e-11)
+    np.testing.assert_allclose([float(r["alpha_deg"]) for r in rows], flexion[:100], rtol=0, atol=1e-9)  # flexion alone is α
+    assert str(path) in capsys.readouterr().out  # the summary names the file as typed

@@ -30,6 +30,8 @@ examples:
   hipsim torques                          ISO 14242-1 on the published machine -> hipsim_torques.csv
   hipsim torques --set lever.length_mm=340 --out longer.csv
   hipsim torques --trajectory gait.csv --summary-format json
+  hipsim torques --trajectory walk.mot --side left --frequency 1 --out -   OpenSim hip angles, CSV to stdout
+  hipsim torques --trajectory lab.csv --columns time=Time,flexion=FE,adduction=AA,rotation=IE,load=Fz:%BW --body-weight 75
   hipsim simulate --cycles 1 --mismatch friction=+20%   tracking errors of both controllers
   hipsim params                           the parameter set in use, with units
 """
@@ -456,7 +458,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 #: Options whose values may start with "-" (negative angles), which argparse would read as options.
-_SIGNED_VALUE_OPTIONS = ("--deltas", "--gamma")
+_SIGNED_VALUE_OPTIONS = ("--deltas", "--gamma", "--load-column")
 
 
 def _join_signed_values(argv: list[str]) -> list[str]:
