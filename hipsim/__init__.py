@@ -5,7 +5,7 @@ A few calls give what the command line gives::
     import hipsim
 
     params = hipsim.load_parameters()                 # the published machine (SI inside)
-    trajectory = hipsim.iso14242(rate=1000)           # or hipsim.load_trajectory_csv("gait.csv")
+    trajectory = hipsim.iso14242(rate=1000)           # or hipsim.read_trajectory("gait.csv" / "walk.mot")
     run = hipsim.analyse(params, trajectory)          # analytic model; model="pinocchio" for the other
     run.torques.total                                 # (N, 3) motor torques in N·m; parts in run.torques.PARTS
     run.columns()["tau_1_Nmm"]                        # the CSV columns of spec §7.5
@@ -19,7 +19,7 @@ Each layer is a subpackage: :mod:`hipsim.machine`, :mod:`hipsim.motion`,
 from .analysis.runs import analyse
 from .exceptions import ArgumentError, ClosureError, HipsimError, ModelError, OutputError, ParameterError, PoseError, TrajectoryError
 from .machine.parameters import Parameters, load_parameters, slender_levers
-from .motion.trajectories import Trajectory, iso14242, load_trajectory_csv
+from .motion import Trajectory, iso14242, load_trajectory_csv, read_trajectory
 from .results import JointForces, Run, Torques
 
 __version__ = "0.2.0"
@@ -42,5 +42,6 @@ __all__ = [
     "iso14242",
     "load_parameters",
     "load_trajectory_csv",
+    "read_trajectory",
     "slender_levers",
 ]

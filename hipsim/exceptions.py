@@ -121,17 +121,30 @@ class TrajectoryError(HipsimError):
 class PoseError(HipsimError):
     """A platform orientation is out of reach or singular.
 
+    The message reads ``SOURCE, t = TIME s, line LINE: REASON``: the
+    trajectory's source as it was given (a file's path as typed), the sample
+    time, and the file's line when the sample is one of a file's rows (see
+    :meth:`hipsim.Trajectory.line_at`); parts that are not known are left out.
+
     Attributes:
+        reason: what is wrong with the pose, without the place.
         time: the sample time in [s] of the first offending sample.
-        index: its sample index.
-        source: the trajectory's name (its file), if known.
+        index: its 0-based index in the trajectory that was computed.
+        source: the trajectory's name (a file's path as typed), if known.
+        line: the 1-based line of the file that holds the sample, if known.
     """
 
-    def __init__(self, message: str, time: float, index: int, source: str | None = None):
-        where = f"t = {time:.6g} s (sample {index})"
-        super().__init__(f"{source}, {where}: {message}" if source else f"{where}: {message}")
+    def __init__(self, message: str, time: float, index: int, source: str | None = None, line: int | None = None):
+        where = [str(source)] if source else []
+        where.append(f"t = {time:.6g} s")
+        if line is not None:
+            where.append(f"line {line}")
+        super().__init__(f"{', '.join(where)}: {message}")
+        self.reason = message
         self.time = time
         self.index = index
+        self.source = source
+        self.line = line
 
 
 class ModelError(HipsimError):

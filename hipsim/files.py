@@ -1,11 +1,22 @@
-"""Atomic file writes: a reader sees the old file or the whole new one, never half of it."""
+"""Atomic file writes: a reader sees the old file or the whole new one, never half of it.
+
+A write interrupted by Ctrl-C or by SIGTERM (what ``timeout``, ``kill`` and
+job schedulers send) removes its temporary ``.part`` file: SIGTERM is turned
+into ``SystemExit(143)`` while the file is open, so the clean-up runs as it
+does for Ctrl-C (:func:`exit_on_terminate`). ``-`` (or ``/dev/stdout``)
+names standard output: the text is written there, as a whole.
+"""
 
 from __future__ import annotations
 
 import csv
 import io
 import os
+import signal
+import stat
+import sys
 import tempfile
+import threading
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Iterator, Mapping
@@ -14,7 +25,45 @@ import numpy as np
 
 from .exceptions import HipsimError
 
-__all__ = ["check_folder", "make_folder", "output_folder", "write_atomic", "write_columns"]
+__all__ = ["STDOUT", "check_folder", "exit_on_terminate", "is_stdout", "make_folder", "output_folder", "write_atomic", "write_columns"]
+
+#: The name of standard output as an output path.
+STDOUT = "-"
+#: Paths that name this process's standard output.
+_STDOUT_NAMES = ("-", "/dev/stdout", "/dev/fd/1", "/proc/self/fd/1")
+
+
+def is_stdout(path) -> bool:
+    """True when ``path`` names standard output: ``-`` or ``/dev/stdout`` (also /dev/fd/1, /proc/self/fd/1)."""
+    return path is not None and str(path) in _STDOUT_NAMES
+
+
+def _refuse_stdout_folder(path) -> None:
+    if is_stdout(path):
+        raise HipsimError(f"{path}: standard output cannot hold a folder of files; give a folder name")
+
+
+@contextmanager
+def exit_on_terminate() -> Iterator[None]:
+    """Within the body, SIGTERM raises ``SystemExit(143)`` so that clean-up code (``finally``, ``except BaseException``) runs.
+
+    By default SIGTERM ends Python at once, leaving temporary files behind;
+    Ctrl-C already raises KeyboardInterrupt. Only from the main thread, and
+    only where SIGTERM still has its default action (a handler someone else
+    installed is left alone); the previous handler comes back on exit.
+    """
+    if threading.current_thread() is not threading.main_thread() or signal.getsignal(signal.SIGTERM) is not signal.SIG_DFL:
+        yield
+        return
+
+    def terminate(signum, frame):
+        raise SystemExit(128 + signum)
+
+    signal.signal(signal.SIGTERM, terminate)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
 
 def check_folder(path: str | Path) -> Path:
@@ -27,6 +76,7 @@ def check_folder(path: str | Path) -> Path:
         HipsimError: naming the path when it, or the nearest existing folder
             above it, is a file.
     """
+    _refuse_stdout_folder(path)
     path = Path(path)
     existing = next(p for p in (path, *path.parents) if p.exists() or p == Path(p.anchor or "."))
     if existing.exists() and not existing.is_dir():
@@ -41,6 +91,7 @@ def make_folder(path: str | Path) -> Path:
     Raises:
         HipsimError: naming the path when it exists as a file or cannot be created.
     """
+    _refuse_stdout_folder(path)
     path = Path(path)
     try:
         path.mkdir(parents=True, exist_ok=True)
@@ -64,6 +115,7 @@ def output_folder(path: str | Path) -> Iterator[Path]:
     Raises:
         HipsimError: as :func:`make_folder`; whatever the body raises, unchanged.
     """
+    _refuse_stdout_folder(path)
     path = Path(path)
     # Deepest first; lexists, so that a dangling link is not taken for a missing folder of ours.
     missing = [p for p in (path, *path.parents) if not os.path.lexists(p)]
@@ -85,15 +137,33 @@ def write_atomic(path: str | Path, text: str | bytes) -> Path:
     """Write a file so that readers see either the old file or the whole new one.
 
     The text goes to a temporary file beside ``path`` that is renamed over it
-    once it is complete; on any failure the temporary file is removed. A
-    symbolic link is written through: its target is replaced, the link kept.
+    once it is complete; on any failure, Ctrl-C or SIGTERM the temporary file
+    is removed. A symbolic link is written through: its target is replaced,
+    the link kept. ``-`` or ``/dev/stdout`` writes the text to standard output.
+
+    Returns:
+        The path written (``Path("-")`` for standard output).
 
     Raises:
         HipsimError: when the folder does not exist, the path is a folder, a
             device, pipe or socket (not a regular file), or a loop of links,
             or the file cannot be written.
     """
+    if is_stdout(path):
+        _write_stdout(text)
+        return Path(STDOUT)
     given = Path(path)
+    if str(given) in ("/dev/stderr", "/dev/stdin") or str(given).startswith(("/dev/fd/", "/proc/self/fd/")):
+        # Renaming a file over what a descriptor points to would leave the descriptor on the old file.
+        raise HipsimError(f"{given}: names one of this process's open files, not a file to write; give a file name (or '-', standard output)")
+    # A device, pipe or socket, reached through a link or not (/dev/stderr, /proc/self/fd/N): refused by the
+    # name typed, before resolving a link into /proc would turn it into a name no one typed ('pipe:[1234]').
+    try:
+        mode = os.stat(given).st_mode
+    except (OSError, ValueError):
+        mode = None
+    if mode is not None and not (stat.S_ISREG(mode) or stat.S_ISDIR(mode)):
+        raise HipsimError(f"{given}: not a regular file; hipsim writes results only to regular files (or '-', standard output)")
     # Through a symbolic link to its target: replacing the link itself would cut it.
     try:
         path = given.resolve() if given.is_symlink() else given
@@ -110,25 +180,37 @@ def write_atomic(path: str | Path, text: str | bytes) -> Path:
         # A device, pipe or socket: renaming a new file over it would destroy it.
         raise HipsimError(f"{given}: not a regular file; hipsim writes results only to regular files")
     mode = "wb" if isinstance(text, bytes) else "w"
-    try:
-        handle, temporary = tempfile.mkstemp(dir=folder, prefix=f".{path.name}.", suffix=".part")
-    except OSError as error:
-        raise HipsimError(f"{path}: cannot write ({error.strerror})") from None
-    try:
-        # mkstemp makes the file private (0600); give it the permissions any new file would get.
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(temporary, 0o666 & ~umask)
-        with os.fdopen(handle, mode, **({} if mode == "wb" else {"encoding": "utf-8", "newline": ""})) as stream:
-            stream.write(text)
-        os.replace(temporary, path)
-    except OSError as error:  # disk full, permissions, a rename refused
-        Path(temporary).unlink(missing_ok=True)
-        raise HipsimError(f"{path}: cannot write ({error.strerror or error})") from None
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
+    with exit_on_terminate():
+        try:
+            handle, temporary = tempfile.mkstemp(dir=folder, prefix=f".{path.name}.", suffix=".part")
+        except OSError as error:
+            raise HipsimError(f"{path}: cannot write ({error.strerror})") from None
+        try:
+            # mkstemp makes the file private (0600); give it the permissions any new file would get.
+            umask = os.umask(0)
+            os.umask(umask)
+            os.chmod(temporary, 0o666 & ~umask)
+            with os.fdopen(handle, mode, **({} if mode == "wb" else {"encoding": "utf-8", "newline": ""})) as stream:
+                stream.write(text)
+            os.replace(temporary, path)
+        except OSError as error:  # disk full, permissions, a rename refused
+            Path(temporary).unlink(missing_ok=True)
+            raise HipsimError(f"{path}: cannot write ({error.strerror or error})") from None
+        except BaseException:  # Ctrl-C, SIGTERM (as SystemExit), anything else
+            Path(temporary).unlink(missing_ok=True)
+            raise
     return path
+
+
+def _write_stdout(text: str | bytes) -> None:
+    """The whole text to standard output (bytes to its binary buffer), flushed."""
+    if isinstance(text, bytes):
+        sys.stdout.flush()
+        sys.stdout.buffer.write(text)
+        sys.stdout.buffer.flush()
+    else:
+        sys.stdout.write(text)
+        sys.stdout.flush()
 
 
 def write_columns(path: str | Path, columns: Mapping[str, np.ndarray]) -> Path:

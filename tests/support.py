@@ -56,3 +56,35 @@ def central_difference(f, t, h):
 def relative_error(actual, expected) -> float:
     """Largest |actual − expected| over the peak |expected|."""
     return float(np.max(np.abs(actual - expected)) / np.max(np.abs(expected)))
+
+
+# Rotations written out, for checks that must not go through hipsim's (or SciPy's) conversions.
+
+
+def Rx(a):
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
+
+
+def Ry(a):
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])
+
+
+def Rz(a):
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+
+
+def machine_R(alpha, beta, gamma):
+    return Rz(gamma) @ Ry(beta) @ Rx(alpha)
+
+
+def zxy_angles(Rh):
+    """Rh = Rz(z)·Rx(x)·Ry(y) → (z, x, y), closed form for |x| < 90°."""
+    return np.arctan2(-Rh[0, 1], Rh[1, 1]), np.arcsin(Rh[2, 1]), np.arctan2(-Rh[2, 0], Rh[2, 2])
+
+
+def zyx_angles(R):
+    """R = Rz(γ)·Ry(β)·Rx(α) → (α, β, γ), closed form for |β| < 90°."""
+    return np.arctan2(R[2, 1], R[2, 2]), -np.arcsin(R[2, 0]), np.arctan2(R[1, 0], R[0, 0])

@@ -1,6 +1,7 @@
 """The hipsim command line: defaults, options, and one-line errors."""
 
 import csv
+import math
 import json
 import subprocess
 import sys
@@ -61,7 +62,7 @@ def test_torques_from_trajectory_file(tmp_path, capsys):
         (["torques", "--trajectory", "x.csv", "--rate", "10"], "--rate applies to the built-in cycle"),
         (["torques", "--rate", "-5"], "rate must be a positive number"),
         (["torques", "--out", "no/such/dir/x.csv"], "folder 'no/such/dir' does not exist"),
-        (["torques", "--trajectory", "{far}"], "far.csv, t = 0.02 s (sample 2): pose out of reach"),
+        (["torques", "--trajectory", "{far}"], "far.csv, t = 0.02 s, line 4: pose out of reach"),
         (["torques", "--trajectory", "{allfar}", "--flag-bad-poses"], "all 7 samples are out of reach or singular"),
         (["torques", "--out", "{tmp}"], "it is a folder"),
         (["torques", "--rate", "1e9"], "at most 10,000,000 fit in memory"),
@@ -224,3 +225,142 @@ def test_params_prints_no_empty_tables(capsys):
     headers = [k for k, line in enumerate(lines) if line.startswith("[")]
     for k in headers:  # every [section] is followed by at least one key
         assert k + 1 < len(lines) and "=" in lines[k + 1], lines[k]
+
+
+# --------------------------------------------------------------------------- issue 15: what a new user hit
+
+
+def test_pose_errors_read_alike_in_torques_and_view(tmp_path):
+    """Path as typed, the sample's time and the file's line, whichever command meets the pose."""
+    (tmp_path / "data").mkdir()
+    far_trajectory(tmp_path / "data")
+    expected = "hipsim: error: data/far.csv, t = 0.02 s, line 4: pose out of reach"  # t = 0.02 s is the third row, on line 4
+    for args in (["torques", "--out", "x.csv"], ["view", "--html", "x.html"], ["check"]):
+        done = subprocess.run([sys.executable, "-m", "hipsim", *args, "--trajectory", "data/far.csv"], cwd=tmp_path,
+                              capture_output=True, text=True, timeout=120)  # fmt: skip
+        assert done.returncode == 2, (args, done.stderr)
+        assert done.stderr.startswith(expected), (args, done.stderr)
+        assert len(done.stderr.strip().splitlines()) == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["data"]
+
+
+def test_pose_error_carries_what_it_documents():
+    from hipsim.exceptions import PoseError
+
+    error = PoseError("pose out of reach", 0.25, 7, source="runs/gait.csv", line=9)
+    assert (error.reason, error.time, error.index, error.source, error.line) == ("pose out of reach", 0.25, 7, "runs/gait.csv", 9)
+    assert str(error) == "runs/gait.csv, t = 0.25 s, line 9: pose out of reach"
+    assert str(PoseError("singular pose", 1.5, 3)) == "t = 1.5 s: singular pose"
+
+
+def test_summary_gives_the_cycle_of_the_smallest_singularity_measure(tmp_path, capsys):
+    out = tmp_path / "x.csv"
+    assert main(["torques", "--cycles", "600", "--rate", "100", "--frequency", "2", "--out", str(out), "--summary-format", "json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    t = summary["cond_inv_min_t_s"]
+    cycle = summary["cond_inv_min_cycle"]
+    assert cycle == math.floor(t * 2 + 1e-9) + 1 and 1 <= cycle <= 600
+    assert summary["cond_inv_min_t_in_cycle_s"] == pytest.approx(t - (cycle - 1) / 2, abs=1e-12)
+    assert main(["torques", "--cycles", "600", "--rate", "100", "--frequency", "2", "--out", str(out)]) == 0
+    line = next(x for x in capsys.readouterr().out.splitlines() if x.startswith("smallest singularity"))
+    assert f"(cycle {cycle}, " in line and "s into it)" in line
+
+
+def test_cycle_of_a_time_late_in_a_long_run():
+    from hipsim.cli.main import _cycle_of
+    from hipsim.motion.trajectories import iso14242
+
+    long_run = iso14242(rate=10, cycles=600)
+    assert _cycle_of(395.123, long_run, 1.0) == {"cond_inv_min_cycle": 396, "cond_inv_min_t_in_cycle_s": pytest.approx(0.123, abs=1e-9)}
+    assert _cycle_of(395.0, long_run, 1.0)["cond_inv_min_cycle"] == 396  # the start of cycle 396, not the end of 395
+    assert _cycle_of(0.5, iso14242(rate=10, cycles=1), 1.0) == {}  # one cycle: nothing to add
+    assert _cycle_of(3.5, long_run, None) == {}  # no known cycle length
+
+
+def test_check_words_informational_rows_so_they_cannot_be_read_as_failures(capsys):
+    assert main(["check", "--rate", "100"]) == 0
+    out = capsys.readouterr().out
+    assert "OUT OF" not in out and "FAIL" not in out
+    informational = out[out.index("published:"):out.index("published+spin:")]
+    assert "for information" in informational and "no tolerance applies" in informational
+    assert out.count("within tolerance") == 2
+
+
+def test_radians_under_a_degree_header_are_warned_about(tmp_path):
+    path = tmp_path / "rad_as_deg.csv"
+    t = np.arange(100) / 100
+    q = [float(np.radians(3.5 + 21.5 * np.cos(2 * np.pi * x))) for x in t]  # radians, written under alpha_deg
+    path.write_text("t_s,alpha_deg,beta_deg,gamma_deg\n" + "".join(f"{x},{a!r},0.02,-0.07\n" for x, a in zip(t, q)))
+    status, out, err = run("torques", "--trajectory", str(path), "--out", str(tmp_path / "o.csv"))
+    assert status == 0, err
+    warning = [line for line in err.splitlines() if line.startswith("hipsim: warning:")]
+    assert len(warning) == 1 and "span less than a degree" in warning[0] and "alpha_deg" in warning[0] and "radians" in warning[0]
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--columns", "time=t"], "--columns applies to a --trajectory file, not to the built-in cycle"),
+        (["--resample", "100", "--side", "left"], "--side, --resample apply to a --trajectory file"),
+        (["--trajectory", "{csv}", "--rate", "100"], "(to resample a file, use --resample)"),
+        (["--trajectory", "{csv}", "--side", "left"], "the side (left or right hip) applies to OpenSim .mot/.sto files"),
+        (["--trajectory", "{csv}", "--frequency", "2", "--period", "0.5"], "give --frequency or --period, not both"),
+        (["--trajectory", "{csv}", "--frequency", "-1"], "cycle frequency must be a positive number of Hz"),
+        (["--trajectory", "{csv}", "--resample", "0"], "resample rate must be a positive number of Hz"),
+        (["--trajectory", "{csv}", "--load-column", "Fe_N", "--body-weight", "736"], "more than 500 kg; for a weight in newtons write 736N"),
+        (["--trajectory", "{csv}", "--body-weight", "heavy"], "--body-weight: expected a positive mass"),
+        (["--trajectory", "{csv}", "--columns", "time=t_s,alpha=alpha_deg,beta=beta_deg,gamma=gamma_deg:grad"], "'grad' is not a unit of gamma"),
+        (["--trajectory", "{csv}", "--columns", "time=t_s,alpha=FE,beta=beta_deg,gamma=gamma_deg"], "no column 'FE' (mapped to alpha)"),
+        (["--trajectory", "{csv}", "--load-column", "Fz"], "both 'Fe_N' and the load column 'Fz' are given"),
+        (["--period", "0"], "--period must be a positive number of seconds"),
+    ],
+)
+def test_trajectory_option_mistakes_are_one_line(tmp_path, args, message):
+    csv_path = tmp_path / "gait.csv"
+    csv_path.write_text("t_s,alpha_deg,beta_deg,gamma_deg,Fe_N\n" + "".join(f"{k / 100},{10 + k},2,-3,500\n" for k in range(10)))
+    args = [a.replace("{csv}", str(csv_path)) for a in args]
+    status, _, err = run("torques", *args, "--out", str(tmp_path / "x.csv"))
+    assert status == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("hipsim: error:") and message in lines[0], err
+    assert not (tmp_path / "x.csv").exists()
+
+
+def test_frequency_and_period_rescale_a_recorded_cycle(tmp_path, capsys):
+    """A cycle recorded at 1 Hz run at 2 Hz: the same angles in half the time, rates doubled, accelerations ×4."""
+    path = tmp_path / "cycle.csv"
+    t = np.arange(101) / 100  # one closed cycle: the last row repeats the first
+    alpha = 3.5 + 21.5 * np.cos(2 * np.pi * t)
+    path.write_text("t_s,alpha_deg,beta_deg,gamma_deg,Fe_N\n" + "".join(f"{float(x)!r},{float(a)!r},2.0,-3.0,800\n" for x, a in zip(t, alpha)))
+    columns = {}
+    for extra in ([], ["--frequency", "2"], ["--period", "0.5"]):
+        out = tmp_path / f"o{len(columns)}.csv"
+        assert main(["torques", "--trajectory", str(path), "--out", str(out), *extra]) == 0
+        rows = list(csv.DictReader(open(out)))
+        columns[tuple(extra)] = {k: np.array([float(r[k]) for r in rows]) for k in ("t_s", "alpha_deg", "Ld_11_mm_s", "Ldd_11_mm_s2", "Fe_N")}
+    capsys.readouterr()
+    base, fast, short = columns[()], columns[("--frequency", "2")], columns[("--period", "0.5")]
+    np.testing.assert_allclose(fast["t_s"], base["t_s"] / 2, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(fast["alpha_deg"], base["alpha_deg"], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(fast["Ld_11_mm_s"], 2 * base["Ld_11_mm_s"], rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(fast["Ldd_11_mm_s2"], 4 * base["Ldd_11_mm_s2"], rtol=1e-9, atol=1e-6)
+    np.testing.assert_array_equal(fast["Fe_N"], base["Fe_N"])
+    for key in fast:
+        np.testing.assert_allclose(short[key], fast[key], rtol=1e-12, atol=1e-12)
+
+
+def test_opensim_file_with_a_flipped_load_column_in_percent_body_weight(tmp_path, capsys):
+    """--load-column -COL (no '=' needed) with --body-weight: a compressive force component in % body weight as F_e in N."""
+    t = np.arange(101) / 100
+    flexion, force = 20 * np.cos(2 * np.pi * t), 250 + 150 * np.sin(np.pi * t) ** 2  # degrees, % body weight
+    lines = ["ik", "inDegrees=yes", "endheader", "time\thip_flexion_l\thip_adduction_l\thip_rotation_l\thip_l_on_pelvis_fy"]
+    lines += ["\t".join(repr(float(v)) for v in (t[k], flexion[k], 0.0, 0.0, -force[k])) for k in range(101)]
+    path = tmp_path / "walk.mot"
+    path.write_text("\n".join(lines) + "\n")
+    out = tmp_path / "o.csv"
+    args = ["torques", "--trajectory", str(path), "--side", "left", "--load-column", "-hip_l_on_pelvis_fy", "--body-weight", "80kg"]
+    assert main([*args, "--out", str(out)]) == 0
+    rows = list(csv.DictReader(open(out)))
+    np.testing.assert_allclose([float(r["Fe_N"]) for r in rows], force[:100] / 100 * 80 * 9.80665, rtol=1e-11)
+    np.testing.assert_allclose([float(r["alpha_deg"]) for r in rows], flexion[:100], rtol=0, atol=1e-9)  # flexion alone is α
+    assert str(path) in capsys.readouterr().out  # the summary names the file as typed

@@ -171,5 +171,6 @@ def test_mass_and_bias_names_the_time_of_a_bad_state(params):
     motion = iso_at(np.linspace(0.0, 0.5, 6))
     q = motion.q.copy()
     q[3] = np.radians([0.0, 0.0, 120.0])  # out of reach
-    with pytest.raises(PoseError, match=r"t = 0\.3 s \(sample 3\).*out of reach"):
+    with pytest.raises(PoseError, match=r"t = 0\.3 s: .*out of reach") as error:
         mass_and_bias(params, Trajectory(motion.t, q, motion.qd, motion.qdd, motion.Fe))
+    assert error.value.index == 3

@@ -136,3 +136,106 @@ def test_output_folder_keeps_the_folder_of_a_run_that_succeeds(tmp_path):
     with output_folder(tmp_path / "a" / "b") as folder:
         pass
     assert folder.is_dir() and list(folder.iterdir()) == []
+
+
+# --------------------------------------------------------------------------- SIGTERM and standard output
+
+import signal  # noqa: E402
+import subprocess  # noqa: E402
+import sys  # noqa: E402
+import textwrap  # noqa: E402
+
+#: Runs a hipsim call in a fresh process whose os.replace first sends SIGTERM to the process itself:
+#: the signal arrives while the temporary file is complete and not yet renamed, as a `timeout` would.
+_TERMINATED_DURING_RENAME = textwrap.dedent(
+    """
+    import os, signal, sys, time
+    real_replace = os.replace
+    def replace(source, target):
+        os.kill(os.getpid(), signal.SIGTERM)
+        time.sleep(30)  # the signal ends this sleep; without a handler the process dies here
+        real_replace(source, target)
+    os.replace = replace
+    {call}
+    """
+)
+
+
+def _terminated(call: str, cwd) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-c", _TERMINATED_DURING_RENAME.format(call=call)], cwd=cwd, capture_output=True, text=True, timeout=120)
+
+
+def test_sigterm_during_a_write_removes_the_part_file(tmp_path):
+    done = _terminated(f"from hipsim.files import write_atomic; write_atomic({str(tmp_path / 'out.csv')!r}, 'x' * 100000)", tmp_path)
+    assert done.returncode == 128 + signal.SIGTERM, done.stderr
+    assert list(tmp_path.iterdir()) == []  # no out.csv, no hidden .out.csv.*.part
+
+
+def test_sigterm_during_torques_leaves_no_part_file(tmp_path):
+    call = "from hipsim.cli.main import main; sys.exit(main(['torques', '--rate', '200', '--out', 'out.csv']))"
+    done = _terminated(call, tmp_path)
+    assert done.returncode == 128 + signal.SIGTERM, done.stderr
+    assert "Traceback" not in done.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_handler_someone_installed_is_left_alone(tmp_path):
+    from hipsim.files import exit_on_terminate
+
+    def mine(signum, frame):
+        pass
+
+    previous = signal.signal(signal.SIGTERM, mine)
+    try:
+        with exit_on_terminate():
+            assert signal.getsignal(signal.SIGTERM) is mine
+        assert signal.getsignal(signal.SIGTERM) is mine
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    with exit_on_terminate():
+        assert signal.getsignal(signal.SIGTERM) not in (signal.SIG_DFL, mine)
+    assert signal.getsignal(signal.SIGTERM) is signal.SIG_DFL
+
+
+def _hipsim(*args, cwd):
+    done = subprocess.run([sys.executable, "-m", "hipsim", *args], cwd=cwd, capture_output=True, text=True, timeout=120)
+    return done.returncode, done.stdout, done.stderr
+
+
+@pytest.mark.parametrize("out", ["-", "/dev/stdout"])
+def test_out_to_standard_output_with_the_summary_on_standard_error(tmp_path, out):
+    status, stdout, stderr = _hipsim("torques", "--rate", "100", "--out", out, cwd=tmp_path)
+    assert status == 0, stderr
+    rows = stdout.splitlines()
+    assert rows[0].startswith("t_s,alpha_deg,beta_deg,gamma_deg,Fe_N,L_11_mm") and len(rows) == 101
+    assert np.allclose([float(r.split(",")[0]) for r in rows[1:]], np.arange(100) / 100)
+    assert "Sliders" in stderr and "wrote the CSV to standard output (100 rows" in stderr
+    assert list(tmp_path.iterdir()) == []  # no file called '-'
+
+
+def test_urdf_to_standard_output(tmp_path):
+    status, stdout, stderr = _hipsim("urdf", "--out", "-", cwd=tmp_path)
+    assert status == 0 and stdout.lstrip().startswith("<?xml") and "</robot>" in stdout and "wrote -" in stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["torques", "--out", "/dev/stderr"], "/dev/stderr: names one of this process's open files"),
+        (["torques", "--out", "/dev/fd/1"], None),  # standard output by another name: written there
+        (["report", "--out", "-"], "-: standard output cannot hold a folder of files"),
+        (["workspace", "--out", "-"], "-: standard output cannot hold a folder of files"),
+        (["simulate", "--cycles", "0.01", "--out", "-"], "--out - takes one CSV: choose one controller"),
+    ],
+)
+def test_standard_output_where_it_cannot_be_is_refused_in_one_line(tmp_path, args, message):
+    status, stdout, stderr = _hipsim(*args, cwd=tmp_path)
+    if message is None:
+        assert status == 0 and stdout.startswith("t_s,"), stderr
+        return
+    assert status == 2, stderr
+    lines = stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("hipsim: error: ") and message in lines[0], stderr
+    assert "pipe:[" not in stderr
+    assert list(tmp_path.iterdir()) == []

@@ -255,8 +255,9 @@ def test_unreachable_pose_raises_at_its_time():
     with pytest.raises(PoseError, match=rf"t = {t[first]:.6g} s") as error:
         kinematics(chain, traj)
     assert error.value.index == first and error.value.time == t[first]
-    with pytest.raises(PoseError, match="sample 0"):
+    with pytest.raises(PoseError, match=rf"t = {t[-1]:.6g} s: ") as error:
         kinematics(chain, SimpleNamespace(t=t[-1:], q=traj.q[-1:], qd=traj.qd[-1:], qdd=traj.qdd[-1:]))
+    assert error.value.index == 0
 
 
 # --- inverse dynamics --------------------------------------------------------------------

@@ -206,3 +206,28 @@ def test_mismatch_given_twice_is_refused():
 def test_the_step_used_is_recorded(params):
     sim = simulate(ReducedPlant(params), WorkspacePD(params), iso14242_at, 0.01, step=0.3e-3)
     assert sim.step == pytest.approx(0.25e-3, rel=1e-12)
+
+
+def test_a_slow_first_step_is_announced_as_compiling_not_timed(params, capsys):
+    """The first servo step of a process compiles the numba kernels (some 15 s on a machine's first run):
+    it is announced as compiling instead of being timed by the progress bar."""
+    import time
+
+    class SlowFirstCall(WorkspacePD):
+        calls = 0
+
+        def __call__(self, t, state, desired):
+            SlowFirstCall.calls += 1
+            if SlowFirstCall.calls == 1:
+                time.sleep(1.5)  # as long as a compilation, as far as the bar can tell
+            return super().__call__(t, state, desired)
+
+    controller = SlowFirstCall(params)
+    controller(0.0, Sample(np.zeros(3), np.zeros(3)), Sample(np.zeros(3), np.zeros(3)))  # compile the real law first
+    SlowFirstCall.calls = 0
+    notes = []
+    sim = simulate(ReducedPlant(params), controller, iso14242_at, 0.02, progress=True, controller_name="slow", notify=notes.append)
+    assert notes == ["reduced plant, slow: compiling (first run only) ..."]
+    assert len(sim.t) == 20 and SlowFirstCall.calls == 20  # every step ran once, the first one included
+    simulate(ReducedPlant(params), WorkspacePD(params), iso14242_at, 0.02, progress=True, controller_name="fast", notify=notes.append)
+    assert len(notes) == 1  # compiled now: nothing to announce

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import math
 import re
+import threading
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Protocol
@@ -218,6 +219,7 @@ def simulate(
     torque_limit: float | None = None,
     initial_state: np.ndarray | None = None,
     progress: bool = False,
+    notify: Callable[[str], None] | None = None,
     controller_name: str = "",
 ) -> Simulation:
     """Run the servo loop.
@@ -233,7 +235,10 @@ def simulate(
             that whole steps fill a period); default from the plant's parameters.
         torque_limit: motor torque limit in [N·m]; default from the plant's parameters (inf: none).
         initial_state: the plant state at t = 0; default the desired state.
-        progress: show a progress bar if the run takes more than two seconds.
+        progress: show a progress bar (tqdm, on standard error) if the run takes more than two seconds.
+        notify: called with a one-line message when the first servo step
+            takes more than a second (the numba kernels compiling on a
+            machine's first run), so the caller can say so; None for silence.
         controller_name: a name for tables.
 
     Returns:
@@ -273,7 +278,7 @@ def simulate(
     tau_applied, tau_requested = np.empty((n, 3)), np.empty((n, 3))
     saturated = np.zeros(n, dtype=bool)
     name = getattr(plant, "name", type(plant).__name__)
-    for k in tqdm(range(n), desc=f"{name} plant, {controller_name or 'controller'}", unit="servo", disable=not progress, delay=2.0, leave=False):
+    for k in _servo_steps(n, f"{name} plant, {controller_name or 'controller'}", progress, notify):
         q[k], qd[k] = plant.angles(x)
         if not np.all(np.isfinite(x)):
             raise PoseError(
@@ -295,6 +300,25 @@ def simulate(
     except PoseError as error:
         raise PoseError("the plant left the workspace", error.time, error.index) from None
     return Simulation(t, desired, q, qd, tau_applied, tau_requested, saturated, motor_speed, name, controller_name, h)
+
+
+def _servo_steps(n: int, desc: str, progress: bool, notify: Callable[[str], None] | None):
+    """The servo steps 0 … n−1, with a progress bar from the second on.
+
+    A process's first step calls the numba kernels for the first time, which
+    compiles them on a machine's first run (some 15 s): a bar that timed it
+    would promise hours. That step is announced as compiling once it takes
+    more than a second, and the bar's rate starts after it.
+    """
+    note = threading.Timer(1.0, lambda: notify(f"{desc}: compiling (first run only) ..."))
+    note.daemon = True
+    if notify is not None:
+        note.start()
+    try:
+        yield 0
+    finally:
+        note.cancel()
+    yield from tqdm(range(1, n), desc=desc, unit="servo", initial=1, total=n, disable=not progress, delay=2.0, leave=False)
 
 
 def parse_mismatch(text: str) -> dict[str, float]:

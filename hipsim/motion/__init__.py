@@ -3,6 +3,22 @@
 Layer 1 of hipsim, beside :mod:`hipsim.machine`: it knows nothing of the machine.
 """
 
-from .trajectories import Trajectory, interpolator, iso14242, load_trajectory_csv
+from .hip_angles import hip_to_machine, machine_to_hip
+from .opensim import load_opensim
+from .readers import Column, ColumnMap, TrajectoryWarning, load_trajectory_csv, parse_columns, read_trajectory
+from .trajectories import Trajectory, interpolator, iso14242
 
-__all__ = ["Trajectory", "interpolator", "iso14242", "load_trajectory_csv"]
+__all__ = [
+    "Column",
+    "ColumnMap",
+    "Trajectory",
+    "TrajectoryWarning",
+    "hip_to_machine",
+    "interpolator",
+    "iso14242",
+    "load_opensim",
+    "load_trajectory_csv",
+    "machine_to_hip",
+    "parse_columns",
+    "read_trajectory",
+]

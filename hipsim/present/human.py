@@ -26,6 +26,7 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import ModelError
+from ..motion.hip_angles import PELVIS_AXES, hip_angles_of
 
 __all__ = [
     "HIP_JOINTS",
@@ -35,9 +36,9 @@ __all__ = [
     "load_human",
 ]
 
-# Human model placement: pelvis axes (ISB: x anterior, y superior, z right) in world axes.
-# Columns are the world images of the pelvis axes: x_p -> +Y, y_p -> +Z, z_p -> +X.
-HUMAN_PELVIS_ROTATION = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+#: Human model placement: pelvis axes (ISB: x anterior, y superior, z right) in world axes, as columns
+#: (x_p -> +Y, y_p -> +Z, z_p -> +X): the machine's own mapping onto the body, hipsim.motion.hip_angles.PELVIS_AXES.
+HUMAN_PELVIS_ROTATION = PELVIS_AXES
 #: Where the human's pelvis frame stands, in [m]: beside the machine (on its +Y side, facing +Y), feet on the floor.
 HUMAN_PELVIS_POSITION = np.array([0.0, 0.9, 1.056])
 _HUMAN_URDF = "example-robot-data/robots/human_description/robots/human.urdf"
@@ -53,8 +54,9 @@ def human_hip_angles(R: np.ndarray) -> np.ndarray:
     equals the platform's R when its rotation relative to the pelvis is
     R_h = Cᵀ·R·C, C = HUMAN_PELVIS_ROTATION. The model's hip is
     R_h = Rz(z)·R₋ₓ(x)·Ry(y) (joints right_hip_Z about +z, right_hip_X about
-    −x, right_hip_Y about +y), so with b = −x: R_h = Rz(z)·Rx(b)·Ry(y) and
-    sin b = R_h[2,1], y = atan2(−R_h[2,0], R_h[2,2]), z = atan2(−R_h[0,1], R_h[1,1]).
+    −x, right_hip_Y about +y), so with b = −x: R_h = Rz(z)·Rx(b)·Ry(y), the
+    ISB hip chain of :mod:`hipsim.motion.hip_angles` with b its adduction:
+    (z, b, y) = :func:`~hipsim.motion.hip_angles.hip_angles_of` (R).
 
     One angle at a time, z = α (flexion), x = −β (β > 0 is adduction, the
     model's right_hip_X > 0 abduction), y = γ (internal rotation). Combined,
@@ -71,13 +73,8 @@ def human_hip_angles(R: np.ndarray) -> np.ndarray:
     Returns:
         [right_hip_Z, right_hip_X, right_hip_Y] in [rad], shape (3,) or (N, 3).
     """
-    R = np.asarray(R, dtype=float)
-    C = HUMAN_PELVIS_ROTATION
-    Rh = np.einsum("ji,...jk,kl->...il", C, R, C)
-    b = np.arcsin(np.clip(Rh[..., 2, 1], -1.0, 1.0))
-    y = np.arctan2(-Rh[..., 2, 0], Rh[..., 2, 2])
-    z = np.arctan2(-Rh[..., 0, 1], Rh[..., 1, 1])
-    return np.stack([z, -b, y], axis=-1)
+    flexion, adduction, rotation = np.moveaxis(hip_angles_of(R), -1, 0)
+    return np.stack([flexion, -adduction, rotation], axis=-1)
 
 
 def _human_urdf() -> tuple[Path, Path]:

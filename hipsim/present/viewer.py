@@ -52,7 +52,7 @@ from typing import Callable
 import numpy as np
 import pinocchio as pin
 
-from ..exceptions import ArgumentError, HipsimError
+from ..exceptions import ArgumentError, HipsimError, PoseError
 from ..files import write_atomic
 from .human import HIP_JOINTS, HUMAN_PELVIS_POSITION, HUMAN_PELVIS_ROTATION, human_hip_angles, load_human
 from .meshcat_output import DiscreteAnimation, LiveWindow, OfflineWindow, Server, TeeWindow, offline_page
@@ -216,6 +216,25 @@ def _resample(trajectory: Trajectory, rate: float) -> tuple[Trajectory, bool]:
     if np.allclose(t[index], times, rtol=0.0, atol=1e-9 * dt):
         return trajectory.slice(index), trajectory.periodic
     return interpolator(trajectory)(times), trajectory.periodic
+
+
+def _check_reach(params: Parameters, trajectory: Trajectory) -> None:
+    """A pose out of reach named as `torques` names it: by its sample's time (and file line), not a frame's.
+
+    The frames shown lie between the trajectory's samples; a pose out of reach
+    among the samples is found there first. Near-singular poses are left to
+    the frames, which may show them.
+    """
+    from ..analytic.inverse_kinematics import kinematics as analytic_kinematics
+
+    heights = np.asarray(analytic_kinematics(params, trajectory, on_error="flag").L).reshape(len(trajectory), -1)
+    reached = np.all(np.isfinite(heights), axis=1)
+    if not reached.all():
+        k = int(np.argmin(reached))
+        try:
+            analytic_kinematics(params, trajectory.slice(slice(k, k + 1)))  # the analytic model's message for that sample
+        except PoseError as error:
+            raise PoseError(error.reason, error.time, k, source=error.source) from None
 
 
 # ---------------------------------------------------------------------------
@@ -436,6 +455,7 @@ class Viewer:
         if not (fps > 0 and speed > 0 and math.isfinite(fps) and math.isfinite(speed)):
             raise ArgumentError("fps, speed", (fps, speed), "positive numbers")
         rate = fps / speed
+        _check_reach(self.params, trajectory)
         samples, periodic = _resample(trajectory, rate)
         F_act = F_joint = cond_inv = None
         if forces:
