@@ -23,7 +23,7 @@ from typing import Iterator, Mapping
 
 import numpy as np
 
-from .exceptions import HipsimError
+from .exceptions import OutputError
 
 __all__ = ["STDOUT", "check_folder", "exit_on_terminate", "is_stdout", "make_folder", "output_folder", "write_atomic", "write_columns"]
 
@@ -40,7 +40,7 @@ def is_stdout(path) -> bool:
 
 def _refuse_stdout_folder(path) -> None:
     if is_stdout(path):
-        raise HipsimError(f"{path}: standard output cannot hold a folder of files; give a folder name")
+        raise OutputError(path, "standard output cannot hold a folder of files; give a folder name")
 
 
 @contextmanager
@@ -73,7 +73,7 @@ def check_folder(path: str | Path) -> Path:
     empty folder behind, and a bad path is still refused before the work.
 
     Raises:
-        HipsimError: naming the path when it, or the nearest existing folder
+        OutputError: naming the path when it, or the nearest existing folder
             above it, is a file.
     """
     _refuse_stdout_folder(path)
@@ -81,7 +81,7 @@ def check_folder(path: str | Path) -> Path:
     existing = next(p for p in (path, *path.parents) if p.exists() or p == Path(p.anchor or "."))
     if existing.exists() and not existing.is_dir():
         where = "" if existing == path else f" ('{existing}' is a file)"
-        raise HipsimError(f"{path}: cannot make the output folder, a file has that name{where}")
+        raise OutputError(path, f"cannot make the output folder, a file has that name{where}")
     return path
 
 
@@ -89,16 +89,16 @@ def make_folder(path: str | Path) -> Path:
     """Create an output folder (and its parents) if missing.
 
     Raises:
-        HipsimError: naming the path when it exists as a file or cannot be created.
+        OutputError: naming the path when it exists as a file or cannot be created.
     """
     _refuse_stdout_folder(path)
     path = Path(path)
     try:
         path.mkdir(parents=True, exist_ok=True)
     except FileExistsError:
-        raise HipsimError(f"{path}: cannot make the output folder, a file has that name") from None
+        raise OutputError(path, "cannot make the output folder, a file has that name") from None
     except OSError as error:
-        raise HipsimError(f"{path}: cannot make the output folder ({error.strerror or error})") from None
+        raise OutputError(path, f"cannot make the output folder ({error.strerror or error})") from None
     return path
 
 
@@ -113,7 +113,7 @@ def output_folder(path: str | Path) -> Iterator[Path]:
     that holds anything, is left alone.
 
     Raises:
-        HipsimError: as :func:`make_folder`; whatever the body raises, unchanged.
+        OutputError: as :func:`make_folder`; whatever the body raises, unchanged.
     """
     _refuse_stdout_folder(path)
     path = Path(path)
@@ -145,7 +145,7 @@ def write_atomic(path: str | Path, text: str | bytes) -> Path:
         The path written (``Path("-")`` for standard output).
 
     Raises:
-        HipsimError: when the folder does not exist, the path is a folder, a
+        OutputError: when the folder does not exist, the path is a folder, a
             device, pipe or socket (not a regular file), or a loop of links,
             or the file cannot be written.
     """
@@ -155,7 +155,7 @@ def write_atomic(path: str | Path, text: str | bytes) -> Path:
     given = Path(path)
     if str(given) in ("/dev/stderr", "/dev/stdin") or str(given).startswith(("/dev/fd/", "/proc/self/fd/")):
         # Renaming a file over what a descriptor points to would leave the descriptor on the old file.
-        raise HipsimError(f"{given}: names one of this process's open files, not a file to write; give a file name (or '-', standard output)")
+        raise OutputError(given, "names one of this process's open files, not a file to write; give a file name (or '-', standard output)")
     # A device, pipe or socket, reached through a link or not (/dev/stderr, /proc/self/fd/N): refused by the
     # name typed, before resolving a link into /proc would turn it into a name no one typed ('pipe:[1234]').
     try:
@@ -163,28 +163,28 @@ def write_atomic(path: str | Path, text: str | bytes) -> Path:
     except (OSError, ValueError):
         mode = None
     if mode is not None and not (stat.S_ISREG(mode) or stat.S_ISDIR(mode)):
-        raise HipsimError(f"{given}: not a regular file; hipsim writes results only to regular files (or '-', standard output)")
+        raise OutputError(given, "not a regular file; hipsim writes results only to regular files (or '-', standard output)")
     # Through a symbolic link to its target: replacing the link itself would cut it.
     try:
         path = given.resolve() if given.is_symlink() else given
     except (OSError, RuntimeError):  # a loop of links: Python 3.11 and 3.12 raise RuntimeError
         path = given
     if path.is_symlink():  # still a link after resolving (or resolve() gave up): the links go round in a loop
-        raise HipsimError(f"{given}: cannot write, its symbolic links go round in a loop")
+        raise OutputError(given, "cannot write, its symbolic links go round in a loop")
     folder = path.parent if str(path.parent) else Path(".")
     if not folder.is_dir():
-        raise HipsimError(f"{given}: cannot write, folder '{folder}' does not exist")
+        raise OutputError(given, f"cannot write, folder '{folder}' does not exist")
     if path.is_dir():
-        raise HipsimError(f"{given}: cannot write, it is a folder")
+        raise OutputError(given, "cannot write, it is a folder")
     if path.exists() and not path.is_file():
         # A device, pipe or socket: renaming a new file over it would destroy it.
-        raise HipsimError(f"{given}: not a regular file; hipsim writes results only to regular files")
+        raise OutputError(given, "not a regular file; hipsim writes results only to regular files")
     mode = "wb" if isinstance(text, bytes) else "w"
     with exit_on_terminate():
         try:
             handle, temporary = tempfile.mkstemp(dir=folder, prefix=f".{path.name}.", suffix=".part")
         except OSError as error:
-            raise HipsimError(f"{path}: cannot write ({error.strerror})") from None
+            raise OutputError(path, f"cannot write ({error.strerror})") from None
         try:
             # mkstemp makes the file private (0600); give it the permissions any new file would get.
             umask = os.umask(0)
@@ -195,7 +195,7 @@ def write_atomic(path: str | Path, text: str | bytes) -> Path:
             os.replace(temporary, path)
         except OSError as error:  # disk full, permissions, a rename refused
             Path(temporary).unlink(missing_ok=True)
-            raise HipsimError(f"{path}: cannot write ({error.strerror or error})") from None
+            raise OutputError(path, f"cannot write ({error.strerror or error})") from None
         except BaseException:  # Ctrl-C, SIGTERM (as SystemExit), anything else
             Path(temporary).unlink(missing_ok=True)
             raise

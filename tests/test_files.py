@@ -239,3 +239,14 @@ def test_standard_output_where_it_cannot_be_is_refused_in_one_line(tmp_path, arg
     assert len(lines) == 1 and lines[0].startswith("hipsim: error: ") and message in lines[0], stderr
     assert "pipe:[" not in stderr
     assert list(tmp_path.iterdir()) == []
+
+
+def test_output_errors_carry_the_path_and_the_reason(tmp_path):
+    from hipsim.exceptions import HipsimError, OutputError
+
+    missing = tmp_path / "no_such_folder" / "out.csv"
+    with pytest.raises(OutputError) as info:
+        write_atomic(missing, "x")
+    assert isinstance(info.value, HipsimError)
+    assert str(info.value.path) == str(missing) and "does not exist" in info.value.reason
+    assert str(info.value) == f"{missing}: {info.value.reason}"
