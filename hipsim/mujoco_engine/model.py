@@ -43,6 +43,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.linalg import lapack
 
 from ..analytic.virtual_work import screw_friction_torque, smooth_sign
 from ..exceptions import ModelError, PoseError, TrajectoryError
@@ -50,11 +51,13 @@ from ..machine.parameters import Parameters, load_parameters
 from ._dependency import mujoco
 
 __all__ = [
+    "FrictionForces",
     "MujocoKinematics",
     "MujocoModel",
     "MujocoTorques",
     "closure_gaps",
     "constraint_jacobian",
+    "friction_forces",
     "inverse_dynamics",
     "kinematics",
     "load_model",
@@ -145,10 +148,11 @@ class MujocoModel:
     def closure_rows(self, data=None) -> tuple[np.ndarray, np.ndarray]:
         """(residual p₁ − p₂ (18,) in [m], Jacobian J_c (18, nv)) of the six closures, after :meth:`place`."""
         data = self.data if data is None else data
-        rows = slice(0, 3 * self.model.neq)  # equality rows come first in MuJoCo's constraint list
-        if data.nefc < 3 * self.model.neq or np.any(data.efc_type[rows] != mujoco.mjtConstraint.mjCNSTR_EQUALITY):
-            raise ModelError("MuJoCo's constraint list does not start with the six closures")
-        return data.efc_pos[rows].copy(), data.efc_J.reshape(data.nefc, self.model.nv)[rows].copy()
+        rows = 3 * self.model.neq
+        # No contacts and no joint limits: the closures' rows are MuJoCo's whole constraint list.
+        if data.nefc != rows:
+            raise ModelError(f"MuJoCo's constraint list has {data.nefc} rows, not the closures' {rows}")
+        return data.efc_pos.copy(), data.efc_J.reshape(rows, self.model.nv).copy()
 
 
 def _full_inertia(model, data, out: np.ndarray) -> None:
@@ -258,55 +262,81 @@ class _Closer:
     def __init__(self, machine: MujocoModel, tol: float, max_iter: int):
         self.machine, self.tol, self.max_iter = machine, tol, max_iter
         model = machine.model
-        self.K = np.zeros((model.nv, model.nv))
-        self.K[np.arange(3), machine.platform_dof[0]] = 1.0
-        self.jacp = [np.zeros((3, model.nv)) for _ in range(2)]
-        self.sites = [(model.eq_obj1id[k], model.eq_obj2id[k]) for k in range(model.neq)]
         if np.any(model.eq_objtype != mujoco.mjtObj.mjOBJ_SITE):
             raise ModelError("the closures must be site-to-site connect equalities")
+        self.K = np.zeros((model.nv, model.nv))
+        self.K[np.arange(3), machine.platform_dof[0]] = 1.0
+        self.K_inv = None  # K⁻¹ at the last closed sample: the chord steps' Jacobian
+        self.platforms = machine.platform_dof.ravel()
+        # Both ends of every closure, (site, body), closure after closure; their J̇ stacked.
+        self.ends = [(int(site), int(model.site_bodyid[site])) for k in range(model.neq)
+                     for site in (model.eq_obj1id[k], model.eq_obj2id[k])]  # fmt: skip
+        self.jacdot = np.zeros((len(self.ends), 3, model.nv))
+
+    def _rows(self, q: np.ndarray):
+        self.machine.place(q)
+        e, J = self.machine.closure_rows()
+        return e, J, float(np.abs(e).max())
 
     def close(self, q: np.ndarray, angles: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """q with both platforms at ``angles`` and the legs moved until the closures hold; its residual and J_c."""
-        machine, legs = self.machine, self.machine.leg_dof
+        """q with both platforms at ``angles`` and the legs moved until the closures hold; its residual and J_c.
+
+        On return MuJoCo's data holds q's positions. Raises RuntimeError (with the reason) if the loops cannot close.
+        """
         q = q.copy()
-        q[machine.platform_dof[0]] = angles
-        q[machine.platform_dof[1]] = angles
-        best = math.inf
+        q[self.platforms] = np.tile(angles, 2)
+        e, J, gap = self._rows(q)
+        if self.K_inv is not None:
+            # Chord steps: Newton with the previous sample's K⁻¹ while the gap shrinks tenfold a step.
+            for _ in range(6):
+                if gap <= self.tol:
+                    return q, e, J
+                trial = q - self.K_inv[:, 3:] @ e
+                trial[self.platforms] = q[self.platforms]
+                e_trial, J_trial, gap_trial = self._rows(trial)
+                if gap_trial > 0.1 * gap:
+                    break
+                q, e, J, gap = trial, e_trial, J_trial, gap_trial
+        legs, best = self.machine.leg_dof, math.inf
         for _ in range(self.max_iter):
-            machine.place(q)
-            e, J = machine.closure_rows()
-            gap = float(np.abs(e).max())
             if gap <= self.tol:
                 return q, e, J
-            if not gap < 0.5 * best and best < 1e-6:
+            if best < 1e-6 and not gap < 0.5 * best:
                 break  # no longer contracting: rounding reached
             best = min(best, gap)
             step, *_ = np.linalg.lstsq(J[:, legs], e, rcond=None)
             q[legs] -= step
-        if best > 1e3 * self.tol:
-            raise RuntimeError(f"cannot close the loops: the closure gap stays at {best:.3g} m (the pose is out of the levers' reach)")
+            e, J, gap = self._rows(q)
+        if gap > 1e3 * self.tol:
+            raise RuntimeError(f"cannot close the loops: the closure gap stays at {gap:.3g} m (the pose is out of the levers' reach)")
         return q, e, J
 
-    def rates(self, q, J, qd, qdd):
-        """v, a and K⁻¹ at the closed q (whose rows :meth:`close` left in the data)."""
+    def rates(self, J: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """v and a at the closed q whose positions MuJoCo's data holds; leaves its velocities computed at v."""
         machine, model, data = self.machine, self.machine.model, self.machine.data
         self.K[3:] = J
-        try:
-            K_inv = np.linalg.inv(self.K)
-        except np.linalg.LinAlgError:
-            raise RuntimeError("singular pose: the closure Jacobian loses rank (spec §3)") from None
-        if not np.abs(K_inv).max() < 1e8:
+        K_inv = _inverse(self.K)
+        # K⁻¹ blows up near a singularity (its entries are O(1..10) in m, rad, s elsewhere).
+        if K_inv is None or not np.abs(K_inv).max() < 1e8:
             raise RuntimeError("singular pose: the closure Jacobian loses rank (spec §3)")
+        self.K_inv = K_inv
         v = K_inv[:, :3] @ qd
         data.qvel[:] = v
         mujoco.mj_fwdVelocity(model, data)
-        drift = np.empty(3 * model.neq)
-        for k, (site1, site2) in enumerate(self.sites):
-            for jac, site in zip(self.jacp, (site1, site2)):
-                mujoco.mj_jacDot(model, data, jac, None, data.site_xpos[site], model.site_bodyid[site])
-            drift[3 * k : 3 * k + 3] = (self.jacp[0] - self.jacp[1]) @ v
+        for jacdot, (site, body) in zip(self.jacdot, self.ends):
+            mujoco.mj_jacDot(model, data, jacdot, None, data.site_xpos[site], body)
+        drift = (self.jacdot[0::2] - self.jacdot[1::2]).reshape(-1, model.nv) @ v
         a = K_inv[:, :3] @ qdd - K_inv[:, 3:] @ drift
-        return v, a, K_inv
+        return v, a
+
+
+def _inverse(matrix: np.ndarray) -> np.ndarray | None:
+    """The inverse through LAPACK (np.linalg.inv's checks cost as much again on small matrices); None if singular."""
+    lu, pivots, info = lapack.dgetrf(matrix)
+    if info != 0:
+        return None
+    inverse, info = lapack.dgetri(lu, pivots)
+    return inverse if info == 0 else None
 
 
 def kinematics(machine: MujocoModel, traj, *, tol: float = 1e-13, max_iter: int = 30) -> MujocoKinematics:
@@ -352,7 +382,7 @@ def _close(machine: MujocoModel, traj, tol: float, max_iter: int, Fe):
             q, e, J = closer.close(q, angles[k])
             if np.min(data.xmat[machine.lever_body.ravel(), 8]) <= 1e-6:
                 raise RuntimeError("a lever is horizontal or points down (singular pose, spec §3)")
-            v, a, K_inv = closer.rates(q, J, rates[k], accels[k])
+            v, a = closer.rates(J, rates[k], accels[k])
         except (RuntimeError, np.linalg.LinAlgError) as error:
             raise PoseError(str(error), float(t[k]), k, source=getattr(traj, "name", None)) from None
         Q[k], V[k], A[k] = q, v, a
@@ -361,8 +391,8 @@ def _close(machine: MujocoModel, traj, tol: float, max_iter: int, Fe):
         # J = ∂L̇/∂ω = (∂L̇/∂q̇)·T⁻¹, both from MuJoCo: K⁻¹ gives the first, platform 1's angular Jacobian T.
         mujoco.mj_jacBody(model, data, None, jacr, machine.platform_body[0])
         T = jacr[:, machine.platform_dof[0]]
-        G = K_inv[machine.slider_dof][:, :3]
-        singular = np.linalg.svd(G @ np.linalg.inv(T), compute_uv=False)
+        G = closer.K_inv[machine.slider_dof, :3]
+        singular = np.linalg.svd(G @ _inverse(T), compute_uv=False)
         cond_inv[k] = singular[-1] / singular[0]
         if dynamics is not None:
             dynamics.add(k, q, v, a, J)
@@ -477,6 +507,55 @@ def friction_forces(machine: MujocoModel, data, Fe: float) -> np.ndarray:
     return out
 
 
+class FrictionForces:
+    """:func:`friction_forces` for repeated use, in closed form where it can be.
+
+    Without U- and S-joint friction (the default) the only moments are the
+    platforms' central ones, and they map to the platform's own hinges only
+    (the base is fixed): Q_k = a_kᵀ·(−load·ŝ(ω_j)) for each hinge axis a_k in
+    world axes (MuJoCo's ``cdof``), ω_j the platform's angular velocity
+    (``cvel``), in plain floats. Otherwise the general function.
+
+    Args:
+        machine: the model (its params give the coefficients).
+    """
+
+    def __init__(self, machine: MujocoModel):
+        self.machine = machine
+        params = machine.params
+        fr = params.friction
+        self.general = any(c != 0.0 for c in (fr.ujoint_coulomb, fr.ujoint_viscous, fr.sjoint_coulomb, fr.sjoint_viscous))
+        self.hip, self.thrust = fr.hip_radius * fr.hip_mu, fr.thrust_radius * fr.thrust_mu
+        self.weight, self.eps2 = params.platform_mass * params.gravity, fr.epsilon**2
+        self.platforms = [(int(b), [int(k) for k in dofs]) for b, dofs in zip(machine.platform_body, machine.platform_dof)]
+        self.sliders = [int(k) for k in machine.slider_dof]
+        gain = _TWO_PI / machine.lead
+        self.slider_terms = (2.0 * fr.guide_coulomb + gain * fr.screw_coulomb, 2.0 * fr.guide_viscous + gain * gain * fr.screw_viscous, gain)
+        self.slider_friction = any(c != 0.0 for c in self.slider_terms[:2])
+
+    def add(self, data, Fe: float, out: np.ndarray) -> None:
+        """Add the generalised forces of friction at the state in ``data`` (velocities computed) to ``out`` (nv,)."""
+        if self.general:
+            out += friction_forces(self.machine, data, Fe)
+            return
+        load = self.hip * abs(Fe) + self.thrust * abs(Fe + self.weight)
+        cvel, cdof = data.cvel, data.cdof
+        for body, dofs in self.platforms:
+            wx, wy, wz = cvel[body, :3].tolist()
+            k = -load / math.sqrt(wx * wx + wy * wy + wz * wz + self.eps2)
+            for dof in dofs:
+                ax, ay, az = cdof[dof, :3].tolist()
+                out[dof] += k * (ax * wx + ay * wy + az * wz)
+        if self.slider_friction:
+            # Guides: 2(F_c ŝ + c·L̇); screw: (2π/p)(τ_c ŝ + c_θ·θ̇), θ̇ = (2π/p)·L̇; ŝ on the motor speed.
+            coulomb, viscous, gain = self.slider_terms
+            qvel = data.qvel
+            for dof in self.sliders:
+                rate = float(qvel[dof])
+                speed = gain * rate
+                out[dof] -= coulomb * speed / math.sqrt(speed * speed + self.eps2) + viscous * rate
+
+
 class _InverseDynamics:
     """Per sample: the five right-hand sides and [Sᵀ J_cᵀ]; solved in one batch at the end."""
 
@@ -490,6 +569,7 @@ class _InverseDynamics:
         self.total = np.empty((n, nv))  # M a + bias, from MuJoCo's M and qfrc_bias
         self.M = np.empty((nv, nv))
         self.rne = np.empty(nv)
+        self.friction = FrictionForces(machine)
 
     def add(self, k: int, q, v, a, J) -> None:
         machine = self.machine
@@ -504,7 +584,10 @@ class _InverseDynamics:
             mujoco.mj_rne(group_model, group_data, 1, self.rne)
             self.rhs[k, :, g] = self.rne
         self.rhs[k, :, 3] = model.dof_armature * a
-        self.rhs[k, :, 4] = -friction_forces(machine, data, float(self.Fe[k]))
+        friction = self.rhs[k, :, 4]
+        friction[:] = 0.0
+        self.friction.add(data, float(self.Fe[k]), friction)
+        friction *= -1.0
         self.system[k, :, 3:] = J.T
 
     def result(self, kin: MujocoKinematics) -> MujocoTorques:

@@ -16,10 +16,8 @@ step first-order in friction: at the default settings the augmented PD's
 tracking then differs from the Pinocchio plant's by 6.8e-4° rather than
 2e-6°. The callback is process-wide in MuJoCo: the plant installs it only
 while it steps and restores whatever was there before. The law is
-:func:`hipsim.mujoco_engine.model.friction_forces`, the inverse dynamics'
-own; without U- and S-joint friction (the default) a closed form of it over
-MuJoCo's body velocities and joint axes (``cvel``, ``cdof``) is used, which
-a test checks against the general function.
+:class:`hipsim.mujoco_engine.model.FrictionForces`, the inverse dynamics'
+own.
 
 Closures. Unlike the Pinocchio plant, whose closures are rigid (a KKT solve
 plus a weak Baumgarte term), MuJoCo's are soft: the constraint force is that
@@ -41,7 +39,7 @@ from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 from ._dependency import mujoco
 from .mjcf import MjcfSettings, default_solref
-from .model import MujocoModel, friction_forces, kinematics, load_model
+from .model import FrictionForces, MujocoModel, kinematics, load_model
 
 __all__ = ["MujocoPlant"]
 
@@ -91,14 +89,7 @@ class MujocoPlant:
         self._signs = np.asarray(params.angle_signs, dtype=float).copy()
         self._rows = 3 * self.model.neq
         self._sites = [(int(self.model.eq_obj1id[k]), int(self.model.eq_obj2id[k])) for k in range(self.model.neq)]
-        fr = params.friction
-        self._fast = not any(c != 0.0 for c in (fr.ujoint_coulomb, fr.ujoint_viscous, fr.sjoint_coulomb, fr.sjoint_viscous))
-        self._hip, self._thrust = fr.hip_radius * fr.hip_mu, fr.thrust_radius * fr.thrust_mu
-        self._weight, self._eps2 = params.platform_mass * params.gravity, fr.epsilon**2
-        self._platforms = [(int(b), [int(k) for k in dofs]) for b, dofs in zip(self.machine.platform_body, self.machine.platform_dof)]
-        self._slider_dofs = [int(k) for k in self.machine.slider_dof]
-        self._slider_terms = (fr.guide_coulomb, fr.guide_viscous, fr.screw_coulomb, fr.screw_viscous, 2.0 * math.pi / params.lead)
-        self._slider_friction = any(c != 0.0 for c in self._slider_terms[:4])
+        self._friction = FrictionForces(self.machine)
         self._loads, self._t0, self._half = np.zeros(2), 0.0, 1.0
         self._gap_times: list[float] = []
         self._gaps: list[float] = []
@@ -166,29 +157,7 @@ class MujocoPlant:
         u = (data.time - self._t0) / self._half
         k = min(max(int(u), 0), len(self._loads) - 2)
         Fe = self._loads[k] + (u - k) * (self._loads[k + 1] - self._loads[k])
-        self._add_friction(data, float(Fe))
-
-    def _add_friction(self, data, Fe: float) -> None:
-        if not self._fast:
-            data.qfrc_passive[:] += friction_forces(self.machine, data, Fe)
-            return
-        # friction_forces without U/S-joint friction: the central moment −load·ŝ(ω_j) on each platform,
-        # mapped through the platform's hinge axes (cdof); guides and screw on the sliders.
-        load = self._hip * abs(Fe) + self._thrust * abs(Fe + self._weight)
-        cvel, cdof, out = data.cvel, data.cdof, data.qfrc_passive
-        for body, dofs in self._platforms:
-            wx, wy, wz = cvel[body, :3].tolist()
-            k = -load / math.sqrt(wx * wx + wy * wy + wz * wz + self._eps2)
-            for dof in dofs:
-                ax, ay, az = cdof[dof, :3].tolist()
-                out[dof] += k * (ax * wx + ay * wy + az * wz)
-        if self._slider_friction:
-            gc, gv, sc, sv, gain = self._slider_terms
-            for dof in self._slider_dofs:
-                rate = float(data.qvel[dof])
-                speed = gain * rate
-                sign = speed / math.sqrt(speed * speed + self._eps2)
-                out[dof] -= 2.0 * (gc * sign + gv * rate) + gain * (sc * sign + sv * speed)
+        self._friction.add(data, float(Fe), data.qfrc_passive)
 
     def angles(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Gait angles [α, β, γ] in [rad] and their rates in [rad/s], from platform 1's spherical joint."""
