@@ -158,7 +158,11 @@ def _cmd_params(args) -> int:
     return 0
 
 
-def _make_plant(kind: str, params):
+def _make_plant(kind: str, params, mujoco_integrator: str = "RK4"):
+    if kind == "mujoco":
+        from .mjcf import make_plant
+
+        return make_plant(params, mujoco_integrator)
     if kind == "analytic":
         from ..control.simulation import ReducedPlant
 
@@ -202,15 +206,19 @@ def _cmd_simulate(args) -> int:
         raise HipsimError(f"--out {args.out} is a folder; give a CSV file name")
     desired_at, duration = _desired(args, _trajectory(args) if args.trajectory else None)
     mismatch = parse_mismatch(args.mismatch) if args.mismatch else {}
-    plant = _make_plant(args.plant, apply_mismatch(params, **mismatch))
+    plant = _make_plant(args.plant, apply_mismatch(params, **mismatch), args.mujoco_integrator)
     chosen = ["pd", "augmented-pd"] if args.controller == "both" else [args.controller]
-    simulations = []
+    simulations, gaps = [], []
     for name in chosen:
         if name == "pd":
             controller = WorkspacePD(params)
         else:
             controller = AugmentedPD(params, desired_at, params.control.servo_rate, duration)
         simulations.append(simulate(plant, controller, desired_at, duration, progress=True, controller_name=name))
+        if args.plant == "mujoco":
+            from .mjcf import format_gaps
+
+            gaps.append(format_gaps(name, plant))
     out = Path(args.out)
     for sim in simulations:
         if not math.isclose(sim.step, params.control.integration_step, rel_tol=1e-9):
@@ -221,6 +229,8 @@ def _cmd_simulate(args) -> int:
     if mismatch:
         print("plant off from the controller's model: " + ", ".join(f"{k} {v:+.0%}" for k, v in mismatch.items()))
     print(format_simulations(simulations))
+    for line in gaps:
+        print(line)
     return 0
 
 
@@ -316,7 +326,12 @@ def _cmd_check(args) -> int:
 
     params = _parameters(args)
     trajectory = _trajectory(args)
-    comparisons = compare_models(params, trajectory)
+    if args.engine == "mujoco":
+        from ..analysis.engines import compare_mujoco
+
+        comparisons = compare_mujoco(params, trajectory)
+    else:
+        comparisons = compare_models(params, trajectory)
     failed = False
     for comparison in comparisons:
         status = "within" if comparison.ok else "OUT OF"
@@ -334,10 +349,14 @@ def _cmd_check(args) -> int:
 
 
 def _cmd_urdf(args) -> int:
-    from ..machine.model_files import write_urdf
+    from ..machine.model_files import write_closures, write_urdf
 
     params = _parameters(args)
+    if args.closures and Path(args.closures).resolve() == Path(args.out).resolve():
+        raise HipsimError(f"--closures {args.closures} is the --out file itself: choose another name (e.g. hip_simulator.yaml)")
     print(f"wrote {write_urdf(params, Path(args.out))}")
+    if args.closures:
+        print(f"wrote {write_closures(params, Path(args.closures))}")
     return 0
 
 
@@ -358,6 +377,7 @@ def build_parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
+    from . import mjcf as mjcf_command
 
     torques = commands.add_parser(
         "torques", help="slider motion and motor torques along a trajectory -> CSV + summary",
@@ -388,10 +408,11 @@ def build_parser() -> argparse.ArgumentParser:
     _add_trajectory_options(sim, rate=False)
     sim.add_argument("--controller", choices=["pd", "augmented-pd", "both"], default="both", help="controller (default both, one after the other)")
     sim.add_argument(
-        "--plant", choices=["analytic", "pinocchio"], default="pinocchio",
+        "--plant", choices=["analytic", "pinocchio", "mujoco"], default="pinocchio",
         help="pinocchio = closed-chain model (default), analytic = reduced 3-DOF model, compiled (about 4x faster); "
-        "they agree to 1e-11 deg",
+        "they agree to 1e-11 deg. mujoco = MuJoCo's forward dynamics of the MJCF (soft closures; needs the mujoco extra)",
     )
+    mjcf_command.add_simulate_options(sim)
     sim.add_argument("--mismatch", metavar="SPEC", help="plant off from the controller's model, e.g. friction=+20%%,masses=-10%%")
     sim.add_argument("--servo-rate", type=float, metavar="HZ", help="servo rate (default control.servo_rate_Hz)")
     sim.add_argument("--step", type=float, metavar="MS", help="integration step in ms (default control.integration_step_ms)")
@@ -435,6 +456,10 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _add_machine_options(check)
     _add_trajectory_options(check)
+    check.add_argument(
+        "--engine", choices=["pinocchio", "mujoco"], default="pinocchio",
+        help="mujoco: compare MuJoCo's inverse dynamics with the analytic (lever spin) and Pinocchio models instead",
+    )
     check.set_defaults(run=_cmd_check)
 
     view = commands.add_parser(
@@ -457,7 +482,13 @@ def build_parser() -> argparse.ArgumentParser:
     urdf = commands.add_parser("urdf", help="expand the xacro model with the parameter set and write the URDF")
     _add_machine_options(urdf)
     urdf.add_argument("--out", default="hip_simulator.urdf", metavar="FILE", help="URDF to write (default hip_simulator.urdf)")
+    urdf.add_argument(
+        "--closures", metavar="FILE",
+        help="also write the closure file (loop closures, actuated joints, lead and rotor inertia of this parameter set)",
+    )
     urdf.set_defaults(run=_cmd_urdf)
+
+    mjcf_command.add_parser(commands)
 
     params = commands.add_parser("params", help="print the parameter set in use, with units")
     _add_machine_options(params)

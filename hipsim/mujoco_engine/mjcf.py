@@ -82,6 +82,7 @@ __all__ = [
     "MjcfSettings",
     "compile_mjcf",
     "default_solref",
+    "keyframe_gap",
     "mjcf_text",
     "write_mjcf",
 ]
@@ -152,7 +153,13 @@ def _text(values) -> str:
     moves the joints by up to 1e-6 m and opens the closures as much: hipsim
     therefore writes the MJCF itself and compiles that very text.
     """
-    return " ".join(repr(float(v)) if float(v) != 0.0 else "0" for v in np.atleast_1d(values))
+    return " ".join(_number(float(v)) for v in np.atleast_1d(values))
+
+
+def _number(value: float) -> str:
+    if value == int(value) and abs(value) < 1e15:
+        return str(int(value))  # "1", not "1.0"; and "-0.0" becomes "0"
+    return repr(value)
 
 
 def _quat(rotation: np.ndarray) -> np.ndarray:
@@ -423,3 +430,15 @@ def write_mjcf(params: Parameters | None = None, path: str | os.PathLike = "hip_
         The path written.
     """
     return write_atomic(path, mjcf_text(params, settings))
+
+
+def keyframe_gap(model, key: str = KEYFRAME) -> float:
+    """Largest closure gap |p₁ − p₂| in [m] at a keyframe of a compiled model (default :data:`KEYFRAME`)."""
+    k = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_KEY, key)
+    if k < 0:
+        raise ModelError(f"the MuJoCo model has no keyframe '{key}'")
+    data = mujoco.MjData(model)
+    mujoco.mj_resetDataKeyframe(model, data, k)
+    mujoco.mj_kinematics(model, data)
+    sites = data.site_xpos
+    return max(float(np.linalg.norm(sites[model.eq_obj1id[e]] - sites[model.eq_obj2id[e]])) for e in range(model.neq))

@@ -54,7 +54,9 @@ __all__ = [
     "FrictionForces",
     "MujocoKinematics",
     "MujocoModel",
+    "MujocoResult",
     "MujocoTorques",
+    "analyse",
     "closure_gaps",
     "constraint_jacobian",
     "friction_forces",
@@ -628,3 +630,71 @@ def inverse_dynamics(machine: MujocoModel, kin: MujocoKinematics, Fe) -> MujocoT
 def trajectory_dynamics(machine: MujocoModel, traj, *, tol: float = 1e-13, max_iter: int = 30):
     """:func:`kinematics` and :func:`inverse_dynamics` in one pass, with the trajectory's own load."""
     return _close(machine, traj, tol, max_iter, Fe=traj.Fe)
+
+
+@dataclass(frozen=True, eq=False)
+class MujocoResult:
+    """One MuJoCo inverse-dynamics run along a trajectory.
+
+    Attributes:
+        params: the machine.
+        trajectory: the motion and load.
+        kin: the closed motion.
+        torques: motor torques, their parts, joint forces.
+    """
+
+    params: Parameters
+    trajectory: object
+    kin: MujocoKinematics
+    torques: MujocoTorques
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """The spec §7.5 columns in their units, by name: the same names as ``hipsim.analyse(..., model="pinocchio")``."""
+        traj, kin, torques = self.trajectory, self.kin, self.torques
+        out: dict[str, np.ndarray] = {"t_s": np.asarray(traj.t, dtype=float)}
+        for k, name in enumerate(("alpha", "beta", "gamma")):
+            out[f"{name}_deg"] = np.degrees(traj.q[:, k])
+        out["Fe_N"] = np.asarray(traj.Fe, dtype=float)
+        for quantity, unit in (("L", "mm"), ("Ld", "mm_s"), ("Ldd", "mm_s2")):
+            values = getattr(kin, quantity) * 1e3
+            for j in (1, 2):
+                for i in (1, 2, 3):
+                    out[f"{quantity}_{j}{i}_{unit}"] = values[:, j - 1, i - 1]
+        for part in ("tau", "tau_m", "tau_l", "tau_s", "tau_L", "tau_f"):
+            values = getattr(torques, part) * 1e3
+            for i in (1, 2, 3):
+                out[f"{part}_{i}_Nmm"] = values[:, i - 1]
+        for i in (1, 2, 3):
+            out[f"speed_{i}_rpm"] = torques.motor_speed[:, i - 1] * 60.0 / _TWO_PI
+        out["cond_inv"] = kin.cond_inv
+        for j in (1, 2):
+            for i in (1, 2, 3):
+                out[f"Fa_{j}{i}_N"] = torques.Fa[:, j - 1, i - 1]
+        for j in (1, 2):
+            out[f"Fo_{j}_N"] = torques.Fo[:, j - 1]
+        return out
+
+
+def analyse(params: Parameters | None = None, trajectory=None, machine: MujocoModel | None = None) -> MujocoResult:
+    """The MuJoCo engine's inverse dynamics along a trajectory, as ``hipsim.analyse`` runs the other two.
+
+    Args:
+        params: the machine; None for the published one.
+        trajectory: the motion and load; None for one ISO 14242-1 cycle at 1 kHz.
+        machine: ``load_model(params)`` for these very params, to skip building it.
+
+    Returns:
+        The :class:`MujocoResult`; its ``columns()`` compare name by name with the other models'.
+
+    Raises:
+        PoseError: at the first sample out of reach or singular.
+    """
+    from ..motion.trajectories import iso14242
+
+    params = load_parameters() if params is None else params
+    trajectory = iso14242() if trajectory is None else trajectory
+    if machine is not None and machine.params is not params:
+        raise ValueError("machine must be load_model(params) of the same params object")
+    machine = load_model(params) if machine is None else machine
+    kin, torques = trajectory_dynamics(machine, trajectory)
+    return MujocoResult(params, trajectory, kin, torques)
