@@ -515,7 +515,7 @@ class FrictionForces:
     Without U- and S-joint friction (the default) the only moments are the
     platforms' central ones, and they map to the platform's own hinges only
     (the base is fixed): Q_k = a_kᵀ·(−load·ŝ(ω_j)) for each hinge axis a_k in
-    world axes (MuJoCo's ``cdof``), ω_j the platform's angular velocity
+    world axes (MuJoCo's ``xaxis``), ω_j the platform's angular velocity
     (``cvel``), in plain floats. Otherwise the general function.
 
     Args:
@@ -529,7 +529,10 @@ class FrictionForces:
         self.general = any(c != 0.0 for c in (fr.ujoint_coulomb, fr.ujoint_viscous, fr.sjoint_coulomb, fr.sjoint_viscous))
         self.hip, self.thrust = fr.hip_radius * fr.hip_mu, fr.thrust_radius * fr.thrust_mu
         self.weight, self.eps2 = params.platform_mass * params.gravity, fr.epsilon**2
-        self.platforms = [(int(b), [int(k) for k in dofs]) for b, dofs in zip(machine.platform_body, machine.platform_dof)]
+        self.bodies = machine.platform_body.copy()
+        self.dofs = [[int(k) for k in dofs] for dofs in machine.platform_dof]
+        # The platform hinges' joints (their world axes, ``xaxis``, are the dofs' rotation axes, ``cdof``).
+        self.joints = machine.model.dof_jntid[machine.platform_dof.ravel()]
         self.sliders = [int(k) for k in machine.slider_dof]
         gain = _TWO_PI / machine.lead
         self.slider_terms = (2.0 * fr.guide_coulomb + gain * fr.screw_coulomb, 2.0 * fr.guide_viscous + gain * gain * fr.screw_viscous, gain)
@@ -541,12 +544,13 @@ class FrictionForces:
             out += friction_forces(self.machine, data, Fe)
             return
         load = self.hip * abs(Fe) + self.thrust * abs(Fe + self.weight)
-        cvel, cdof = data.cvel, data.cdof
-        for body, dofs in self.platforms:
-            wx, wy, wz = cvel[body, :3].tolist()
+        # Plain floats: element access to numpy arrays costs more than the arithmetic.
+        omegas = data.cvel[self.bodies, :3].tolist()
+        axes = data.xaxis[self.joints].tolist()
+        for (wx, wy, wz), dofs, rows in zip(omegas, self.dofs, ((0, 1, 2), (3, 4, 5))):
             k = -load / math.sqrt(wx * wx + wy * wy + wz * wz + self.eps2)
-            for dof in dofs:
-                ax, ay, az = cdof[dof, :3].tolist()
+            for dof, row in zip(dofs, rows):
+                ax, ay, az = axes[row]
                 out[dof] += k * (ax * wx + ay * wy + az * wz)
         if self.slider_friction:
             # Guides: 2(F_c ŝ + c·L̇); screw: (2π/p)(τ_c ŝ + c_θ·θ̇), θ̇ = (2π/p)·L̇; ŝ on the motor speed.

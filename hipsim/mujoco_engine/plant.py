@@ -90,7 +90,7 @@ class MujocoPlant:
         self._rows = 3 * self.model.neq
         self._sites = [(int(self.model.eq_obj1id[k]), int(self.model.eq_obj2id[k])) for k in range(self.model.neq)]
         self._friction = FrictionForces(self.machine)
-        self._loads, self._t0, self._half = np.zeros(2), 0.0, 1.0
+        self._loads, self._t0, self._half = [0.0, 0.0], 0.0, 1.0
         self._gap_times: list[float] = []
         self._gaps: list[float] = []
 
@@ -119,7 +119,7 @@ class MujocoPlant:
         """[qvel, qacc] with MuJoCo's (soft-constrained) forward dynamics at x, under motor torques tau [N·m] and load Fe [N]."""
         model, data = self.model, self.data
         self._load(x, tau)
-        self._loads, self._t0, self._half = np.array([Fe, Fe], dtype=float), t, 1.0
+        self._loads, self._t0, self._half = [float(Fe), float(Fe)], t, 1.0
         data.time = t
         previous = mujoco.get_mjcb_passive()
         mujoco.set_mjcb_passive(self._passive)
@@ -140,7 +140,7 @@ class MujocoPlant:
         model, data = self.model, self.data
         self._load(x, tau)
         data.time = t
-        self._loads, self._t0, self._half = np.asarray(loads, dtype=float), t, h / 2.0
+        self._loads, self._t0, self._half = [float(f) for f in loads], t, h / 2.0
         previous = mujoco.get_mjcb_passive()
         mujoco.set_mjcb_passive(self._passive)
         try:
@@ -154,10 +154,10 @@ class MujocoPlant:
 
     def _passive(self, model, data) -> None:
         """mjcb_passive: add the friction forces at the evaluation's state and time."""
+        loads = self._loads
         u = (data.time - self._t0) / self._half
-        k = min(max(int(u), 0), len(self._loads) - 2)
-        Fe = self._loads[k] + (u - k) * (self._loads[k + 1] - self._loads[k])
-        self._friction.add(data, float(Fe), data.qfrc_passive)
+        k = min(max(int(u), 0), len(loads) - 2)
+        self._friction.add(data, loads[k] + (u - k) * (loads[k + 1] - loads[k]), data.qfrc_passive)
 
     def angles(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Gait angles [α, β, γ] in [rad] and their rates in [rad/s], from platform 1's spherical joint."""
@@ -175,8 +175,8 @@ class MujocoPlant:
         data = self.data
         data.qpos[:] = x[: self.nq]
         mujoco.mj_kinematics(self.model, data)
-        site = data.site_xpos
-        return max(math.dist(site[a], site[b]) for a, b in self._sites)
+        sites = data.site_xpos.tolist()
+        return max(math.dist(sites[a], sites[b]) for a, b in self._sites)
 
     def closure_residual(self, x: np.ndarray) -> tuple[float, float]:
         """Largest closure gap |p₁ − p₂| in [m] and closure velocity |J_c v| in [m/s] at state x."""
