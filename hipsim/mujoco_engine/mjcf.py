@@ -414,7 +414,11 @@ def compile_mjcf(text: str):
     try:
         return mujoco.MjModel.from_xml_string(text)
     except ValueError as error:
-        raise ModelError(f"MuJoCo cannot compile the MJCF: {error}") from None
+        message = "; ".join(line.strip() for line in str(error).splitlines() if line.strip())
+        if "inertia of moving bodies" in message:
+            message += (" (MuJoCo needs every principal moment of inertia positive: slender-rod levers, "
+                        "I_l = diag(I_t, I_t, 0), cannot be simulated in MuJoCo)")  # fmt: skip
+        raise ModelError(f"MuJoCo cannot compile the MJCF: {message}") from None
 
 
 def write_mjcf(params: Parameters | None = None, path: str | os.PathLike = "hip_simulator.xml",
