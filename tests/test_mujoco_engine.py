@@ -397,7 +397,7 @@ def test_without_mujoco_the_commands_say_how_to_install_it(tmp_path):
     script = (
         "import sys; sys.modules['mujoco'] = None\n"  # makes `import mujoco` fail as if it were not installed
         "from hipsim.cli.main import main\n"
-        f"sys.exit(main(sys.argv[1:]))\n"
+        "sys.exit(main(sys.argv[1:]))\n"
     )
     for args in (["mjcf", "--out", str(tmp_path / "m.xml")], ["check", "--engine", "mujoco", "--rate", "50"],
                  ["simulate", "--plant", "mujoco", "--cycles", "0.01", "--out", str(tmp_path / "s.csv")]):  # fmt: skip
@@ -406,3 +406,13 @@ def test_without_mujoco_the_commands_say_how_to_install_it(tmp_path):
         lines = done.stderr.strip().splitlines()
         assert len(lines) == 1 and "pip install -U 'hipsim[mujoco]'" in lines[0], done.stderr
     assert not list(tmp_path.iterdir())
+
+
+def test_the_plant_applies_the_torques_the_loop_asks_for(params):
+    """The servo loop limits torques; the MJCF's ctrlrange (from the plant's own limit) must not clamp them again."""
+    limited = MujocoPlant(params.replace(torque_limit=0.5))
+    x = limited.initial_state(iso14242_at(np.array([0.2])))
+    limited.derivative(0.2, x, np.array([2.0, -2.0, 1.0]), 1000.0)
+    np.testing.assert_array_equal(limited.data.actuator_force, [2.0, -2.0, 1.0])  # not clamped to ±0.5 N·m
+    sliders = limited.machine.slider_dof
+    np.testing.assert_allclose(limited.data.qfrc_actuator[sliders], 2 * np.pi / params.lead * np.array([2.0, -2.0, 1.0]), rtol=1e-14)

@@ -67,7 +67,6 @@ __all__ = [
 ]
 
 _TWO_PI = 2.0 * math.pi
-_GROUPS = ("platforms", "levers", "carriages")
 
 
 class MujocoModel:
@@ -116,10 +115,14 @@ class MujocoModel:
         self.leg_dof = np.array(sorted(set(range(model.nv)) - set(self.platform_dof.ravel())))
         self.platform_body = np.array([body(f"platform_{j}") for j in (1, 2)])
         self.lever_body = np.array([[body(f"lever_{j}{i}") for i in (1, 2, 3)] for j in (1, 2)])
-        names = [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_EQUALITY, k) for k in range(model.neq)]
-        self.closure = np.array([[names.index(f"lever_{j}{i}_tip-platform_{j}_joint_{i}") for i in (1, 2, 3)] for j in (1, 2)])
         if model.neq != 6 or np.any(model.eq_type != mujoco.mjtEq.mjEQ_CONNECT):
             raise ModelError("the hip simulator's MuJoCo model needs its six connect equalities")
+        names = [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_EQUALITY, k) for k in range(model.neq)]
+        pairs = [[f"lever_{j}{i}_tip-platform_{j}_joint_{i}" for i in (1, 2, 3)] for j in (1, 2)]
+        missing = sorted(set(sum(pairs, [])) - set(names))
+        if missing:
+            raise ModelError(f"the MuJoCo model has no closure {missing[0]}")
+        self.closure = np.array([[names.index(name) for name in row] for row in pairs])
         self.lead = _TWO_PI / float(model.actuator_gear[0, 0])
         self.data = mujoco.MjData(model)
         # One model per body group, the other groups massless: mj_rne on it gives that group's share.
@@ -129,13 +132,13 @@ class MujocoModel:
         if set().union(*members) != set(range(1, model.nbody)):
             raise ModelError("every moving body must be a platform, a lever or a carriage")
         for member in members:
-            copy = _copy(model)
+            group = copy.deepcopy(model)
             for b in range(1, model.nbody):
                 if b not in member:
-                    copy.body_mass[b] = 0.0
-                    copy.body_inertia[b] = 0.0
-            copy.dof_armature[:] = 0.0
-            self.group_models.append((copy, mujoco.MjData(copy)))
+                    group.body_mass[b] = 0.0
+                    group.body_inertia[b] = 0.0
+            group.dof_armature[:] = 0.0
+            self.group_models.append((group, mujoco.MjData(group)))
 
     @property
     def nv(self) -> int:
@@ -163,11 +166,6 @@ def _full_inertia(model, data, out: np.ndarray) -> None:
         mujoco.mj_fullM(model, out, data.qM)
     else:  # MuJoCo 4: mj_fullM(m, d, dst)
         mujoco.mj_fullM(model, data, out)
-
-
-def _copy(model):
-    """An independent copy of an MjModel (its arrays may then be changed)."""
-    return copy.deepcopy(model)
 
 
 def load_model(params: Parameters | None = None, settings=None) -> MujocoModel:
@@ -315,7 +313,7 @@ class _Closer:
 
     def rates(self, J: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """v and a at the closed q whose positions MuJoCo's data holds; leaves its velocities computed at v."""
-        machine, model, data = self.machine, self.machine.model, self.machine.data
+        model, data = self.machine.model, self.machine.data
         self.K[3:] = J
         K_inv = _inverse(self.K)
         # K⁻¹ blows up near a singularity (its entries are O(1..10) in m, rad, s elsewhere).

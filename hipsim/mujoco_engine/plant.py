@@ -105,6 +105,8 @@ class MujocoPlant:
         solref = self.settings.solref if self.settings.solref is not None else default_solref(step, self.settings.integrator)
         model.eq_solref[:] = solref
         model.eq_solimp[:] = self.settings.solimp
+        # The servo loop limits the torques (and counts it); the MJCF's ctrlrange must not clamp them again.
+        model.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CLAMPCTRL
         self._step = step
 
     # -- the Plant protocol -------------------------------------------------
