@@ -1,7 +1,7 @@
 """The MuJoCo engine: the MJCF against the URDF and Pinocchio, MuJoCo's inverse dynamics against the
 analytic and Pinocchio models, the MuJoCo plant against the Pinocchio plant, and the commands.
 
-Skipped when ``mujoco`` is not installed (the ``test`` extra installs it).
+Skipped when ``mujoco`` is not installed or too old (the ``test`` extra installs it).
 """
 
 from __future__ import annotations
@@ -18,6 +18,13 @@ import yourdfpy
 mujoco = pytest.importorskip("mujoco")
 
 import hipsim  # noqa: E402
+from hipsim.exceptions import MissingDependencyError  # noqa: E402
+
+try:
+    import hipsim.mujoco_engine  # noqa: F401
+except MissingDependencyError as error:  # installed, but a release the engine refuses
+    pytest.skip(str(error), allow_module_level=True)
+
 from hipsim.analysis.engines import compare_mujoco  # noqa: E402
 from hipsim.closed_chain.model import load_model as load_pinocchio  # noqa: E402
 from hipsim.closed_chain.plant import PinocchioPlant  # noqa: E402
@@ -293,6 +300,9 @@ def test_initial_state_is_closed_and_leaves_the_callback_alone(params, plant):
 def test_forward_dynamics_at_a_rigid_state_is_the_inverse_dynamics_but_soft(params, plant):
     """At a closed state under the inverse-dynamics torques MuJoCo's acceleration is the rigid one, except for the
     closures' softness: impedance 0.9999 leaves 1e-4 of the constraint-space acceleration unenforced."""
+    if not RECENT:
+        pytest.skip(f"MuJoCo {mujoco.__version__}: before 3.7 the closures are much softer at a rigid state "
+                    "(measured up to 1.05 of |a| with 3.3.1, 3.3e-3 with 3.6.0)")  # fmt: skip
     traj = iso14242_at(np.array([0.0, 0.13, 0.5, 0.77]))
     kin, torques = trajectory_dynamics(plant.machine, traj)
     for k in range(4):
@@ -341,9 +351,10 @@ def test_closed_loop_tracking_is_the_pinocchio_plants(runs, controller):
     peak = lambda sim: np.degrees(np.abs(sim.err)).max(axis=0)  # noqa: E731
     # RK4 at the servo settings: measured 4.3e-7° (PD) and 4.6e-7° (augmented PD) from the Pinocchio plant's angles,
     # against tracking errors of 0.42° and 1.8e-5°; the peak errors agree within 0.3 %.
+    # Before MuJoCo 3.7 (gaps of 1e-6 m): 6e-6°, which moves the augmented PD's peak errors by up to 4.6e-6°.
     bound = 2e-6 if RECENT else 2e-5
     assert np.degrees(np.abs(rk4.q - reference.q)).max() < bound
-    np.testing.assert_allclose(peak(rk4), peak(reference), rtol=0.03, atol=2e-7)
+    np.testing.assert_allclose(peak(rk4), peak(reference), rtol=0.03, atol=2e-7 if RECENT else 1e-5)
     # Euler at 1 ms: the PD's peak errors within 10 % (measured 2.5 %, 6.2 %, 0.8 % smaller for α, β, γ), the
     # augmented PD's 750 times larger (0.0136° vs 1.8e-5°): semi-implicit Euler's first-order error, not the model.
     if controller == "pd":
