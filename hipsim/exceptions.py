@@ -12,6 +12,7 @@ __all__ = [
     "ClosureError",
     "HipsimError",
     "ModelError",
+    "MissingDependencyError",
     "OutputError",
     "ParameterError",
     "PoseError",
@@ -149,3 +150,22 @@ class PoseError(HipsimError):
 
 class ModelError(HipsimError):
     """A model description (URDF, closure file) is inconsistent or cannot be closed."""
+
+
+class MissingDependencyError(HipsimError):
+    """An optional part of hipsim needs a package that is not installed.
+
+    The message says how to install it in one line.
+
+    Attributes:
+        package: the missing package's import name, e.g. ``"mujoco"``.
+        extra: the hipsim extra that installs it, e.g. ``"mujoco"``.
+        found: the version installed when it is too old, else None.
+    """
+
+    def __init__(self, package: str, extra: str, what: str, found: str | None = None):
+        problem = f"version {found} is too old" if found else "it is not installed"
+        super().__init__(f"{what} needs the optional package '{package}' ({problem}): pip install -U 'hipsim[{extra}]'")
+        self.package = package
+        self.extra = extra
+        self.found = found

@@ -175,6 +175,58 @@ def bench_plants(params, quick: bool) -> None:
           f"(vectorised baseline {per_call(lambda: baseline.derivative(0.0, np.zeros(6), tau, Fe)) if not quick else float('nan'):.0f} µs)")  # fmt: skip
 
 
+def bench_mujoco(params, quick: bool) -> None:
+    """The MuJoCo engine: inverse dynamics and the plant, each next to hipsim's own engines in the same run."""
+    try:
+        from hipsim.mujoco_engine import MujocoPlant, load_model as load_mujoco, trajectory_dynamics as mujoco_dynamics
+        from hipsim.mujoco_engine._dependency import mujoco
+    except hipsim.HipsimError as error:  # MissingDependencyError: not installed, or too old
+        print(f"MuJoCo: {error}; skipped")
+        return
+    import hipsim.control.simulation as simulation
+    from hipsim.closed_chain.model import load_model, trajectory_dynamics
+    from hipsim.closed_chain.plant import PinocchioPlant
+    from hipsim.control.controllers import WorkspacePD
+    from hipsim.motion.trajectories import iso14242_at
+
+    trajectory = hipsim.iso14242(rate=1000)
+    if quick:
+        trajectory = trajectory.slice(slice(0, 300))
+    machine, chain = load_mujoco(params), load_model(params)
+    mujoco_time = best_time(lambda: mujoco_dynamics(machine, trajectory), repeats=3)
+    pinocchio_time = best_time(lambda: trajectory_dynamics(chain, trajectory), repeats=3)
+    n = len(trajectory)
+    print(f"MuJoCo {mujoco.__version__}: closed-chain kinematics + rigid inverse dynamics on the ISO 14242-1 cycle at 1 kHz")
+    print(f"  MuJoCo (constraint rows, mj_jacDot, M and bias, rne per body group): {n / mujoco_time:9,.0f} samples/s "
+          f"({mujoco_time / n * 1e6:.0f} µs each)")
+    print(f"  Pinocchio closed ID, same run:                                     {n / pinocchio_time:9,.0f} samples/s "
+          f"({pinocchio_time / n * 1e6:.0f} µs each)")  # fmt: skip
+
+    control = params.control
+    print(f"Closed loop, workspace PD on the ISO cycle, servo {control.servo_rate:g} Hz (real-time factor; µs per servo period)")
+    controller = WorkspacePD(params)
+    simulation.simulate(simulation.ReducedPlant(params), controller, iso14242_at, 0.01)  # load or compile the kernels
+    coarse = params.replace(integration_step=1e-3)
+    plants = (
+        ("reduced, RK4 0.5 ms", simulation.ReducedPlant(params), 1.0 if quick else 4.0),
+        ("Pinocchio, RK4 0.5 ms", PinocchioPlant(params), 0.3 if quick else 1.0),
+        ("MuJoCo, RK4 0.5 ms", MujocoPlant(params), 0.3 if quick else 1.0),
+        ("MuJoCo, Euler 0.5 ms", MujocoPlant(params, integrator="Euler"), 0.3 if quick else 1.0),
+        ("MuJoCo, RK4 1 ms", MujocoPlant(coarse), 0.3 if quick else 1.0),
+        ("MuJoCo, Euler 1 ms", MujocoPlant(coarse, integrator="Euler"), 0.3 if quick else 1.0),
+    )
+    for label, plant, length in plants:
+        elapsed = best_time(lambda: simulation.simulate(plant, controller, iso14242_at, length), repeats=2 if quick else 3)
+        print(f"  {label:<24} {length / elapsed:7.2f}x real time ({elapsed / length / control.servo_rate * 1e6:5.0f} µs per period)")
+    # The floor: MuJoCo stepping alone, no servo loop, no friction callback, motors held.
+    for label, plant in (("mj_step alone, RK4 0.5 ms", plants[2][1]), ("mj_step alone, Euler 1 ms", plants[5][1])):
+        model, data = plant.model, mujoco.MjData(plant.model)
+        data.qpos[:], data.qvel[:] = np.split(plant.initial_state(iso14242_at([0.0])), 2)
+        steps = int(round(1e-3 / model.opt.timestep)) * (200 if quick else 1000)
+        elapsed = best_time(lambda: mujoco.mj_step(model, data, steps), repeats=3)
+        print(f"  {label:<24} {steps * model.opt.timestep / elapsed:7.2f}x real time ({elapsed / steps * 1e6:5.1f} µs per step)")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer samples in the slow baselines")
@@ -187,6 +239,8 @@ def main() -> None:
     bench_workspace(args.quick)
     print()
     bench_plants(params, args.quick)
+    print()
+    bench_mujoco(params, args.quick)
 
 
 if __name__ == "__main__":

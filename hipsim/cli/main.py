@@ -142,7 +142,11 @@ def _cmd_params(args) -> int:
     return 0
 
 
-def _make_plant(kind: str, params):
+def _make_plant(kind: str, params, mujoco_integrator: str = "RK4"):
+    if kind == "mujoco":
+        from .mjcf import make_plant
+
+        return make_plant(params, mujoco_integrator)
     if kind == "analytic":
         from ..control.simulation import ReducedPlant
 
@@ -197,15 +201,19 @@ def _cmd_simulate(args) -> int:
         mismatch = parse_mismatch(args.mismatch) if args.mismatch else {}
     except ArgumentError as error:  # the library names its argument; the user typed an option
         raise HipsimError(f"--mismatch: expected {error.expected}, got {error.value!r}") from None
-    plant = _make_plant(args.plant, apply_mismatch(params, **mismatch))
+    plant = _make_plant(args.plant, apply_mismatch(params, **mismatch), args.mujoco_integrator)
     chosen = ["pd", "augmented-pd"] if args.controller == "both" else [args.controller]
-    simulations = []
+    simulations, gaps = [], []
     for name in chosen:
         if name == "pd":
             controller = WorkspacePD(params)
         else:
             controller = AugmentedPD(params, desired_at, params.control.servo_rate, duration)
         simulations.append(simulate(plant, controller, desired_at, duration, progress=True, controller_name=name, notify=_note))
+        if args.plant == "mujoco":
+            from .mjcf import format_gaps
+
+            gaps.append(format_gaps(name, plant))
     out = Path(args.out)
     for sim in simulations:
         if not math.isclose(sim.step, params.control.integration_step, rel_tol=1e-9):
@@ -216,6 +224,8 @@ def _cmd_simulate(args) -> int:
     if mismatch:
         print("plant off from the controller's model: " + ", ".join(f"{k} {v:+.0%}" for k, v in mismatch.items()), file=report)
     print(format_simulations(simulations), file=report)
+    for line in gaps:
+        print(line, file=report)
     return 0
 
 
@@ -324,7 +334,12 @@ def _cmd_check(args) -> int:
 
     params = _parameters(args)
     trajectory = _trajectory(args)
-    comparisons = compare_models(params, trajectory)
+    if args.engine == "mujoco":
+        from ..analysis.engines import compare_mujoco
+
+        comparisons = compare_mujoco(params, trajectory)
+    else:
+        comparisons = compare_models(params, trajectory)
     failed = False
     for comparison in comparisons:
         header = ["column", "max |diff| [column unit]", "max |diff| / peak"]
@@ -347,11 +362,16 @@ def _cmd_check(args) -> int:
 
 
 def _cmd_urdf(args) -> int:
-    from ..machine.model_files import write_urdf
+    from ..machine.model_files import write_closures, write_urdf
 
     params = _parameters(args)
+    if args.closures and not is_stdout(args.out) and Path(args.closures).resolve() == Path(args.out).resolve():
+        raise HipsimError(f"--closures {args.closures} is the --out file itself: choose another name (e.g. hip_simulator.yaml)")
+    messages = sys.stderr if is_stdout(args.out) or (args.closures and is_stdout(args.closures)) else sys.stdout
     path = write_urdf(params, args.out if is_stdout(args.out) else Path(args.out))
-    print(f"wrote {path}", file=sys.stderr if is_stdout(args.out) else sys.stdout)
+    print(f"wrote {path}", file=messages)
+    if args.closures:
+        print(f"wrote {write_closures(params, args.closures if is_stdout(args.closures) else Path(args.closures))}", file=messages)
     return 0
 
 
@@ -373,6 +393,7 @@ def build_parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
+    from . import mjcf as mjcf_command
 
     torques = commands.add_parser(
         "torques", help="slider motion and motor torques along a trajectory -> CSV + summary",
@@ -403,10 +424,11 @@ def build_parser() -> argparse.ArgumentParser:
     _add_trajectory_options(sim, rate=False)
     sim.add_argument("--controller", choices=["pd", "augmented-pd", "both"], default="both", help="controller (default both, one after the other)")
     sim.add_argument(
-        "--plant", choices=["analytic", "pinocchio"], default="pinocchio",
+        "--plant", choices=["analytic", "pinocchio", "mujoco"], default="pinocchio",
         help="pinocchio = closed-chain model (default), analytic = reduced 3-DOF model, compiled (about 4x faster); "
-        "they agree to 1e-11 deg",
+        "they agree to 1e-11 deg. mujoco = MuJoCo's forward dynamics of the MJCF (soft closures; needs the mujoco extra)",
     )
+    mjcf_command.add_simulate_options(sim)
     sim.add_argument("--mismatch", metavar="SPEC", help="plant off from the controller's model, e.g. friction=+20%%,masses=-10%%")
     sim.add_argument("--servo-rate", type=float, metavar="HZ", help="servo rate (default control.servo_rate_Hz)")
     sim.add_argument("--step", type=float, metavar="MS", help="integration step in ms (default control.integration_step_ms)")
@@ -450,6 +472,10 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _add_machine_options(check)
     _add_trajectory_options(check)
+    check.add_argument(
+        "--engine", choices=["pinocchio", "mujoco"], default="pinocchio",
+        help="mujoco: compare MuJoCo's inverse dynamics with the analytic (lever spin) and Pinocchio models instead",
+    )
     check.set_defaults(run=_cmd_check)
 
     view = commands.add_parser(
@@ -472,7 +498,13 @@ def build_parser() -> argparse.ArgumentParser:
     urdf = commands.add_parser("urdf", help="expand the xacro model with the parameter set and write the URDF")
     _add_machine_options(urdf)
     urdf.add_argument("--out", default="hip_simulator.urdf", metavar="FILE", help="URDF to write (default hip_simulator.urdf)")
+    urdf.add_argument(
+        "--closures", metavar="FILE",
+        help="also write the closure file (loop closures, actuated joints, lead and rotor inertia of this parameter set)",
+    )
     urdf.set_defaults(run=_cmd_urdf)
+
+    mjcf_command.add_parser(commands)
 
     params = commands.add_parser("params", help="print the parameter set in use, with units")
     _add_machine_options(params)

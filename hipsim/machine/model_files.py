@@ -6,7 +6,10 @@ a :class:`~hipsim.parameters.Parameters` object, so the URDF and the analytic
 model always read the same geometry, masses and inertias.
 ``models/hip_simulator.urdf`` is the expansion for the published machine
 (regenerate it with ``python -m hipsim.model_files``; a test checks it is
-not stale). ``models/hip_simulator.yaml`` lists the loop closures.
+not stale). ``models/hip_simulator.yaml`` lists the loop closures;
+:func:`closure_text` writes it for any parameter set, with that set's screw
+lead and rotor inertia in its ``transmission`` entries (the shipped file holds
+the published machine's).
 
 Example:
     >>> import hipsim
@@ -23,16 +26,20 @@ from importlib import resources
 from pathlib import Path
 
 import xacro
+import yaml
 
 from ..exceptions import ModelError
 from ..files import write_atomic
 from .parameters import Parameters, load_parameters
 
 __all__ = [
+    "closure_declaration",
     "closure_file_path",
+    "closure_text",
     "default_urdf_path",
     "urdf_text",
     "validate_urdf",
+    "write_closures",
     "write_urdf",
     "xacro_arguments",
     "xacro_path",
@@ -139,6 +146,63 @@ def write_urdf(params: Parameters | None = None, path: str | os.PathLike | None 
     text = urdf_text(params)
     validate_urdf(text)
     return write_atomic(default_urdf_path() if path is None else path, text)
+
+
+def _yaml_number(value: float) -> str:
+    """Shortest text that YAML 1.1 (PyYAML) reads back as the same float: it needs a '.' before an exponent."""
+    text = repr(float(value))
+    mantissa, e, exponent = text.partition("e")
+    if e and "." not in mantissa:
+        text = f"{mantissa}.0e{exponent}"
+    return text
+
+
+def closure_text(params: Parameters | None = None) -> str:
+    """The closure file (``hip_simulator.yaml``'s layout) for one parameter set.
+
+    The closures and actuated joints are the shipped file's; each actuated
+    joint's ``transmission`` entry takes the parameter set's screw lead p and
+    rotor inertia I_L (``screw.lead_mm``, ``screw.inertia_kgmm2``), so a
+    loader that reads only this file and the URDF of the same parameters gets
+    the same machine as hipsim.
+
+    Args:
+        params: the machine, SI; None for the published machine.
+
+    Returns:
+        YAML text (the shipped file's comments, then the closures, then the transmissions).
+    """
+    params = load_parameters() if params is None else params
+    shipped = closure_file_path().read_text(encoding="utf-8")
+    head, marker, _ = shipped.partition("\ntransmission:")
+    if not marker:
+        raise ModelError(f"{closure_file_path()}: no 'transmission:' section to fill in")
+    actuated = yaml.safe_load(head)["name_mot"]
+    lines = [head.rstrip("\n"), "", "transmission:"]
+    for joint in actuated:
+        lines.append(
+            f"  {joint}: {{type: lead_screw, lead_m: {_yaml_number(params.lead)}, "
+            f"rotor_inertia_kgm2: {_yaml_number(params.screw_inertia)}}}"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def closure_declaration(params: Parameters | None = None) -> dict:
+    """:func:`closure_text` parsed: ``closed_loop`` (frame pairs), ``type``, ``name_mot``, ``transmission``."""
+    return yaml.safe_load(closure_text(params))
+
+
+def write_closures(params: Parameters | None = None, path: str | os.PathLike = "hip_simulator.yaml") -> Path:
+    """Write the closure file of a parameter set, atomically.
+
+    Args:
+        params: the machine, SI; None for the published machine.
+        path: the output file.
+
+    Returns:
+        The path written.
+    """
+    return write_atomic(path, closure_text(params))
 
 
 def validate_urdf(text: str, source: str = "generated URDF") -> None:

@@ -1,0 +1,36 @@
+"""The machine in MuJoCo: the third engine, beside the analytic and the Pinocchio models.
+
+Needs the optional ``mujoco`` package (``pip install 'hipsim[mujoco]'``);
+importing this package without it raises
+:class:`~hipsim.exceptions.MissingDependencyError`, whose message says so in
+one line.
+
+- :mod:`~hipsim.mujoco_engine.mjcf`: the MJCF of any parameter set
+  (:func:`mjcf_text`, :func:`write_mjcf`), converted from the same URDF and
+  closure declaration as the Pinocchio model, with the settings it states.
+- :mod:`~hipsim.mujoco_engine.model`: closed-chain kinematics and rigid
+  inverse dynamics through MuJoCo's own functions (:func:`load_model`,
+  :func:`trajectory_dynamics`); :func:`analyse` returns a result whose
+  ``columns()`` are the spec §7.5 columns, named as ``hipsim.analyse``'s.
+- :mod:`~hipsim.mujoco_engine.plant`: :class:`MujocoPlant`, MuJoCo's forward
+  dynamics as a plant of :func:`hipsim.control.simulation.simulate`.
+"""
+
+from .mjcf import KEYFRAME, MjcfSettings, mjcf_text, write_mjcf
+from .model import MujocoKinematics, MujocoModel, MujocoResult, MujocoTorques, analyse, load_model, trajectory_dynamics
+from .plant import MujocoPlant
+
+__all__ = [
+    "KEYFRAME",
+    "MjcfSettings",
+    "MujocoKinematics",
+    "MujocoModel",
+    "MujocoPlant",
+    "MujocoResult",
+    "MujocoTorques",
+    "analyse",
+    "load_model",
+    "mjcf_text",
+    "trajectory_dynamics",
+    "write_mjcf",
+]

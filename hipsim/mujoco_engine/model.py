@@ -1,0 +1,702 @@
+"""The MuJoCo model's closed-chain kinematics and inverse dynamics, with MuJoCo's own functions.
+
+Everything here reads MuJoCo: joint anchors and site positions from
+``mj_kinematics``, the closure residual and Jacobian J_c from the ``connect``
+equalities' constraint rows (``efc_pos``, ``efc_J`` after ``mj_fwdPosition``),
+J̇_c·v from ``mj_jacDot``, the mass matrix (armature included) from
+``mj_fullM``, the bias forces (gravity, Coriolis, centrifugal) from
+``qfrc_bias``, body angular velocities from ``mj_objectVelocity``, and the
+generalised forces of friction moments from ``mj_applyFT``. Nothing comes
+from the Pinocchio model or the analytic formulas, so that the three engines
+check each other.
+
+Closed-chain kinematics (:func:`kinematics`): per sample, both platforms'
+angle coordinates are set to the trajectory's (angle_signs applied) and the
+15 leg coordinates solved by Gauss–Newton on the 18 closure residuals
+(consistent, so it converges quadratically), warm-started by a Taylor step
+from the previous sample. With K = [P₁; J_c] (P₁ picks platform 1's angles)
+the velocities solve K v = [q̇; 0] and the accelerations K a = [q̈; −J̇_c v].
+
+Inverse dynamics (:func:`inverse_dynamics`): ``mj_inverse`` is not used on
+purpose. MuJoCo's constraints are soft (a regularised, Baumgarte-like
+reference acceleration), so the constraint forces it reports are not the
+rigid closure's multipliers. Instead the tree's generalised forces
+τ = M(q)·a + c(q, v) come from MuJoCo's M and bias, and the rigid closure is
+solved exactly: [Sᵀ  J_cᵀ]·[F; λ] = τ − Q_f, with S the three actuated slider
+columns, J_c MuJoCo's constraint Jacobian and Q_f the friction forces of spec
+§4.3 / §7.3 applied as external moments and forces (they enter as applied
+forces, which is how a MuJoCo user would add them). The torque parts of spec
+§4.4 come from one solve with five right-hand sides: the bias and inertia of
+each body group (platforms, levers, carriages) from ``mj_rne`` on a copy of
+the model in which only that group has mass, the screws' armature·a, and the
+friction. They add up to the total to rounding.
+
+Sign conventions: the connect rows are the derivative of p₁ − p₂ (world
+axes), p₁ the lever tip, p₂ the platform joint; λ_ji is the force the platform
+exerts on lever ji at a_ji, in world axes.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.linalg import lapack
+
+from ..analytic.virtual_work import screw_friction_torque, smooth_sign
+from ..exceptions import ModelError, PoseError, TrajectoryError
+from ..machine.parameters import Parameters, load_parameters
+from ._dependency import mujoco
+
+__all__ = [
+    "FrictionForces",
+    "MujocoKinematics",
+    "MujocoModel",
+    "MujocoResult",
+    "MujocoTorques",
+    "analyse",
+    "closure_gaps",
+    "constraint_jacobian",
+    "friction_forces",
+    "inverse_dynamics",
+    "kinematics",
+    "load_model",
+    "trajectory_dynamics",
+]
+
+_TWO_PI = 2.0 * math.pi
+
+
+class MujocoModel:
+    """A compiled MuJoCo model of the hip simulator and where its parts sit.
+
+    Args:
+        model: the ``mujoco.MjModel`` (from :func:`hipsim.mujoco_engine.mjcf.mjcf_text`).
+        params: the parameter set it was built from.
+
+    Attributes:
+        model: the MjModel.
+        params: the parameter set.
+        platform_dof: (2, 3) dof (= qpos) indices of platform j's [rx, ry, rz], i.e. [α, β, γ].
+        slider_dof: (3,) dof indices of the sliders (the actuated joints, motor order).
+        ujoint_anchor: (2, 3) joint ids of the u1 joints (their anchors are b_ji).
+        leg_dof: (15,) the leg coordinates (sliders and universal joints).
+        closure: (2, 3) equality index of lever ji's closure.
+        platform_body, lever_body: body ids, shapes (2,) and (2, 3).
+        lead: screw lead p in [m] (gear 2π/p).
+
+    Not thread-safe: each MujocoModel has one MjData for its computations.
+    """
+
+    def __init__(self, model, params: Parameters):
+        self.model, self.params = model, params
+        if model.nq != model.nv:
+            raise ModelError("the hip simulator's MuJoCo model must consist of 1-DoF joints (nq = nv)")
+
+        def joint(name: str) -> int:
+            k = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name)
+            if k < 0:
+                raise ModelError(f"the MuJoCo model has no joint '{name}'")
+            return k
+
+        def body(name: str) -> int:
+            k = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, name)
+            if k < 0:
+                raise ModelError(f"the MuJoCo model has no body '{name}'")
+            return k
+
+        self.platform_dof = np.array([[model.jnt_dofadr[joint(f"platform_{j}_r{a}")] for a in "xyz"] for j in (1, 2)])
+        if model.nu != 3:
+            raise ModelError(f"the hip simulator has three motors, the MuJoCo model {model.nu}")
+        self.slider_dof = np.array([model.jnt_dofadr[model.actuator_trnid[i, 0]] for i in range(3)])
+        self.ujoint_anchor = np.array([[joint(f"u1_{j}{i}") for i in (1, 2, 3)] for j in (1, 2)])
+        self.leg_dof = np.array(sorted(set(range(model.nv)) - set(self.platform_dof.ravel())))
+        self.platform_body = np.array([body(f"platform_{j}") for j in (1, 2)])
+        self.lever_body = np.array([[body(f"lever_{j}{i}") for i in (1, 2, 3)] for j in (1, 2)])
+        if model.neq != 6 or np.any(model.eq_type != mujoco.mjtEq.mjEQ_CONNECT):
+            raise ModelError("the hip simulator's MuJoCo model needs its six connect equalities")
+        names = [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_EQUALITY, k) for k in range(model.neq)]
+        pairs = [[f"lever_{j}{i}_tip-platform_{j}_joint_{i}" for i in (1, 2, 3)] for j in (1, 2)]
+        missing = sorted(set(sum(pairs, [])) - set(names))
+        if missing:
+            raise ModelError(f"the MuJoCo model has no closure {missing[0]}")
+        self.closure = np.array([[names.index(name) for name in row] for row in pairs])
+        self.lead = _TWO_PI / float(model.actuator_gear[0, 0])
+        self.data = mujoco.MjData(model)
+        # One model per body group, the other groups massless: mj_rne on it gives that group's share.
+        self.group_models = []
+        carriages = {model.body_parentid[b] for b in self.lever_body.ravel()}
+        members = (set(self.platform_body), set(self.lever_body.ravel()), carriages)
+        if set().union(*members) != set(range(1, model.nbody)):
+            raise ModelError("every moving body must be a platform, a lever or a carriage")
+        for member in members:
+            group = copy.deepcopy(model)
+            for b in range(1, model.nbody):
+                if b not in member:
+                    group.body_mass[b] = 0.0
+                    group.body_inertia[b] = 0.0
+            group.dof_armature[:] = 0.0
+            self.group_models.append((group, mujoco.MjData(group)))
+
+    @property
+    def nv(self) -> int:
+        return self.model.nv
+
+    def place(self, q: np.ndarray, data=None) -> None:
+        """Positions, closure rows (efc_pos, efc_J) and the mass matrix at q, in ``data`` (default: the model's own)."""
+        data = self.data if data is None else data
+        data.qpos[:] = q
+        mujoco.mj_fwdPosition(self.model, data)
+
+    def closure_rows(self, data=None) -> tuple[np.ndarray, np.ndarray]:
+        """(residual p₁ − p₂ (18,) in [m], Jacobian J_c (18, nv)) of the six closures, after :meth:`place`."""
+        data = self.data if data is None else data
+        rows = 3 * self.model.neq
+        # No contacts and no joint limits: the closures' rows are MuJoCo's whole constraint list.
+        if data.nefc != rows:
+            raise ModelError(f"MuJoCo's constraint list has {data.nefc} rows, not the closures' {rows}")
+        return data.efc_pos.copy(), data.efc_J.reshape(rows, self.model.nv).copy()
+
+
+def _full_inertia(model, data, out: np.ndarray) -> None:
+    """The dense mass matrix M (armature included) into ``out``; MuJoCo 3.x and 4.x spell the call differently."""
+    if hasattr(data, "qM"):  # MuJoCo 3.x: mj_fullM(m, dst, M)
+        mujoco.mj_fullM(model, out, data.qM)
+    else:  # MuJoCo 4: mj_fullM(m, d, dst)
+        mujoco.mj_fullM(model, data, out)
+
+
+def load_model(params: Parameters | None = None, settings=None) -> MujocoModel:
+    """The hip simulator as a compiled MuJoCo model, from one parameter set.
+
+    Args:
+        params: the machine, SI; None for the published machine.
+        settings: :class:`~hipsim.mujoco_engine.mjcf.MjcfSettings` (time step,
+            integrator, closure softness); None for the defaults.
+    """
+    from .mjcf import compile_mjcf, mjcf_text
+
+    params = load_parameters() if params is None else params
+    return MujocoModel(compile_mjcf(mjcf_text(params, settings, keyframe=False)), params)
+
+
+def closure_gaps(machine: MujocoModel, q) -> np.ndarray:
+    """|p₁ − p₂| of each closure in [m] at configuration(s) q: shape (6,) or (N, 6), lever order of the equalities."""
+    q = np.asarray(q, dtype=float)
+    single = q.ndim == 1
+    q = np.atleast_2d(q)
+    out = np.empty((len(q), machine.model.neq))
+    for k, qk in enumerate(q):
+        machine.place(qk)
+        out[k] = np.linalg.norm(machine.closure_rows()[0].reshape(-1, 3), axis=1)
+    return out[0] if single else out
+
+
+def constraint_jacobian(machine: MujocoModel, q) -> np.ndarray:
+    """MuJoCo's closure Jacobian J_c at q, shape (18, nv): d(p₁ − p₂)/dq in world axes."""
+    machine.place(np.asarray(q, dtype=float))
+    return machine.closure_rows()[1]
+
+
+def _readonly(array) -> np.ndarray:
+    out = np.array(array, dtype=float)
+    out.setflags(write=False)
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class MujocoKinematics:
+    """The closed configuration of the MuJoCo model along a trajectory.
+
+    Attributes:
+        t: sample times in [s], (N,).
+        q, v, a: qpos, qvel, qacc in [m, rad, s], (N, nv); J_c v = 0 and J_c a + J̇_c v = 0.
+        L, Ld, Ldd: height of each universal-joint centre b_ji (MuJoCo's joint
+            anchor) in [m], its rate [m/s] and acceleration [m/s²], (N, 2, 3).
+        cond_inv: inverse condition number of J = ∂L̇/∂ω (from K⁻¹ and the
+            platform's angular Jacobian), (N,).
+        residual: largest closure gap of each sample in [m], (N,).
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    v: np.ndarray
+    a: np.ndarray
+    L: np.ndarray
+    Ld: np.ndarray
+    Ldd: np.ndarray
+    cond_inv: np.ndarray
+    residual: np.ndarray
+
+    def __post_init__(self):
+        n, nv = len(self.t), np.shape(self.q)[1]
+        for name, shape in (("t", (n,)), ("q", (n, nv)), ("v", (n, nv)), ("a", (n, nv)), ("L", (n, 2, 3)),
+                            ("Ld", (n, 2, 3)), ("Ldd", (n, 2, 3)), ("cond_inv", (n,)), ("residual", (n,))):  # fmt: skip
+            value = _readonly(getattr(self, name))
+            if value.shape != shape:
+                raise ValueError(f"MujocoKinematics.{name}: expected shape {shape}, got {value.shape}")
+            object.__setattr__(self, name, value)
+
+
+def _trajectory_arrays(traj):
+    try:
+        t = np.asarray(traj.t, dtype=float)
+        angles = [np.asarray(getattr(traj, name), dtype=float) for name in ("q", "qd", "qdd")]
+    except AttributeError as error:
+        raise TrajectoryError(f"expected a trajectory with t, q, qd, qdd ({error})") from None
+    if t.ndim != 1 or len(t) == 0:
+        raise TrajectoryError(f"t must be a non-empty 1-D array, got shape {t.shape}")
+    for name, value in zip(("q", "qd", "qdd"), angles):
+        if value.shape != (len(t), 3):
+            raise TrajectoryError(f"{name} must have shape ({len(t)}, 3), got {value.shape}", column=name)
+    if len(t) > 1 and np.any(np.diff(t) <= 0):
+        raise TrajectoryError("t must increase strictly", column="t")
+    return (t, *angles)
+
+
+class _Closer:
+    """Closes the chain sample after sample with MuJoCo's closure rows."""
+
+    def __init__(self, machine: MujocoModel, tol: float, max_iter: int):
+        self.machine, self.tol, self.max_iter = machine, tol, max_iter
+        model = machine.model
+        if np.any(model.eq_objtype != mujoco.mjtObj.mjOBJ_SITE):
+            raise ModelError("the closures must be site-to-site connect equalities")
+        self.K = np.zeros((model.nv, model.nv))
+        self.K[np.arange(3), machine.platform_dof[0]] = 1.0
+        self.K_inv = None  # K⁻¹ at the last closed sample: the chord steps' Jacobian
+        self.platforms = machine.platform_dof.ravel()
+        # Both ends of every closure, (site, body), closure after closure; their J̇ stacked.
+        self.ends = [(int(site), int(model.site_bodyid[site])) for k in range(model.neq)
+                     for site in (model.eq_obj1id[k], model.eq_obj2id[k])]  # fmt: skip
+        self.jacdot = np.zeros((len(self.ends), 3, model.nv))
+
+    def _rows(self, q: np.ndarray):
+        self.machine.place(q)
+        e, J = self.machine.closure_rows()
+        return e, J, float(np.abs(e).max())
+
+    def close(self, q: np.ndarray, angles: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """q with both platforms at ``angles`` and the legs moved until the closures hold; its residual and J_c.
+
+        On return MuJoCo's data holds q's positions. Raises RuntimeError (with the reason) if the loops cannot close.
+        """
+        q = q.copy()
+        q[self.platforms] = np.tile(angles, 2)
+        e, J, gap = self._rows(q)
+        if self.K_inv is not None:
+            # Chord steps: Newton with the previous sample's K⁻¹ while the gap shrinks tenfold a step.
+            for _ in range(6):
+                if gap <= self.tol:
+                    return q, e, J
+                trial = q - self.K_inv[:, 3:] @ e
+                trial[self.platforms] = q[self.platforms]
+                e_trial, J_trial, gap_trial = self._rows(trial)
+                if gap_trial > 0.1 * gap:
+                    break
+                q, e, J, gap = trial, e_trial, J_trial, gap_trial
+        legs, best = self.machine.leg_dof, math.inf
+        for _ in range(self.max_iter):
+            if gap <= self.tol:
+                return q, e, J
+            if best < 1e-6 and not gap < 0.5 * best:
+                break  # no longer contracting: rounding reached
+            best = min(best, gap)
+            step, *_ = np.linalg.lstsq(J[:, legs], e, rcond=None)
+            q[legs] -= step
+            e, J, gap = self._rows(q)
+        if gap > 1e3 * self.tol:
+            raise RuntimeError(f"cannot close the loops: the closure gap stays at {gap:.3g} m (the pose is out of the levers' reach)")
+        return q, e, J
+
+    def rates(self, J: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """v and a at the closed q whose positions MuJoCo's data holds; leaves its velocities computed at v."""
+        model, data = self.machine.model, self.machine.data
+        self.K[3:] = J
+        K_inv = _inverse(self.K)
+        # K⁻¹ blows up near a singularity (its entries are O(1..10) in m, rad, s elsewhere).
+        if K_inv is None or not np.abs(K_inv).max() < 1e8:
+            raise RuntimeError("singular pose: the closure Jacobian loses rank (spec §3)")
+        self.K_inv = K_inv
+        v = K_inv[:, :3] @ qd
+        data.qvel[:] = v
+        mujoco.mj_fwdVelocity(model, data)
+        for jacdot, (site, body) in zip(self.jacdot, self.ends):
+            mujoco.mj_jacDot(model, data, jacdot, None, data.site_xpos[site], body)
+        drift = (self.jacdot[0::2] - self.jacdot[1::2]).reshape(-1, model.nv) @ v
+        a = K_inv[:, :3] @ qdd - K_inv[:, 3:] @ drift
+        return v, a
+
+
+def _inverse(matrix: np.ndarray) -> np.ndarray | None:
+    """The inverse through LAPACK (np.linalg.inv's checks cost as much again on small matrices); None if singular."""
+    lu, pivots, info = lapack.dgetrf(matrix)
+    if info != 0:
+        return None
+    inverse, info = lapack.dgetri(lu, pivots)
+    return inverse if info == 0 else None
+
+
+def kinematics(machine: MujocoModel, traj, *, tol: float = 1e-13, max_iter: int = 30) -> MujocoKinematics:
+    """Close the MuJoCo model's chain along a platform trajectory.
+
+    Args:
+        machine: the model from :func:`load_model`.
+        traj: a Trajectory-like object: t (N,) in [s]; q, qd, qdd (N, 3) [α, β, γ]
+            in [rad], [rad/s], [rad/s²] (the parameter set's angle_signs applied here).
+        tol: closure gap accepted in [m] (largest component of p₁ − p₂).
+        max_iter: Gauss–Newton iterations allowed per sample.
+
+    Returns:
+        The closed configurations, velocities and accelerations, slider motion and singularity measure.
+
+    Raises:
+        PoseError: at the first sample whose pose is out of reach or singular.
+    """
+    return _close(machine, traj, tol, max_iter, Fe=None)[0]
+
+
+def _close(machine: MujocoModel, traj, tol: float, max_iter: int, Fe):
+    t, q_in, qd_in, qdd_in = _trajectory_arrays(traj)
+    signs = machine.params.angle_signs
+    angles, rates, accels = q_in * signs, qd_in * signs, qdd_in * signs
+    model, data = machine.model, machine.data
+    n, nv = len(t), model.nv
+    Q, V, A = np.empty((n, nv)), np.empty((n, nv)), np.empty((n, nv))
+    L = np.empty((n, 2, 3))
+    cond_inv, residual = np.empty(n), np.empty(n)
+    closer = _Closer(machine, tol, max_iter)
+    dynamics = _InverseDynamics(machine, n, Fe) if Fe is not None else None
+    jacr = np.zeros((3, nv))
+    q = _initial_guess(machine)
+    for k in range(n):
+        if k > 1:
+            h = t[k] - t[k - 1]
+            q = Q[k - 1] + h * (V[k - 1] + h * (0.5 * A[k - 1] + h / 6.0 * (A[k - 1] - A[k - 2]) / (t[k - 1] - t[k - 2])))
+        elif k == 1:
+            h = t[1] - t[0]
+            q = Q[0] + h * (V[0] + 0.5 * h * A[0])
+        try:
+            q, e, J = closer.close(q, angles[k])
+            if np.min(data.xmat[machine.lever_body.ravel(), 8]) <= 1e-6:
+                raise RuntimeError("a lever is horizontal or points down (singular pose, spec §3)")
+            v, a = closer.rates(J, rates[k], accels[k])
+        except (RuntimeError, np.linalg.LinAlgError) as error:
+            raise PoseError(str(error), float(t[k]), k, source=getattr(traj, "name", None)) from None
+        Q[k], V[k], A[k] = q, v, a
+        residual[k] = np.linalg.norm(e.reshape(-1, 3), axis=1).max()
+        L[k] = data.xanchor[machine.ujoint_anchor][:, :, 2]
+        # J = ∂L̇/∂ω = (∂L̇/∂q̇)·T⁻¹, both from MuJoCo: K⁻¹ gives the first, platform 1's angular Jacobian T.
+        mujoco.mj_jacBody(model, data, None, jacr, machine.platform_body[0])
+        T = jacr[:, machine.platform_dof[0]]
+        G = closer.K_inv[machine.slider_dof, :3]
+        singular = np.linalg.svd(G @ _inverse(T), compute_uv=False)
+        cond_inv[k] = singular[-1] / singular[0]
+        if dynamics is not None:
+            dynamics.add(k, q, v, a, J)
+    sliders = machine.slider_dof
+    kin = MujocoKinematics(
+        t=t, q=Q, v=V, a=A, L=L,
+        Ld=np.repeat(V[:, None, sliders], 2, axis=1), Ldd=np.repeat(A[:, None, sliders], 2, axis=1),
+        cond_inv=cond_inv, residual=residual,
+    )  # fmt: skip
+    return kin, (dynamics.result(kin) if dynamics is not None else None)
+
+
+def _initial_guess(machine: MujocoModel) -> np.ndarray:
+    """Levers upright and the carriages so that the m1 levers' tips reach platform 1's height."""
+    q = np.zeros(machine.model.nv)
+    q[machine.slider_dof] = machine.params.heights[0] - machine.params.lever_length
+    return q
+
+
+# ---------------------------------------------------------------------------
+# Inverse dynamics
+# ---------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class MujocoTorques:
+    """Motor torques, their parts and the joint forces of the MuJoCo inverse dynamics.
+
+    Attributes:
+        t: sample times in [s], (N,).
+        tau: motor torque in [N·m], (N, 3); the sum of tau_m (platforms),
+            tau_l (levers), tau_s (carriages with both sliders), tau_L (screws'
+            rotors), tau_f (friction), each (N, 3).
+        F_act: actuator force on each carriage in [N], (N, 3).
+        lambdas: closure forces (platform on lever ji at a_ji) in world axes in [N], (N, 2, 3, 3).
+        Fa: their magnitudes in [N], (N, 2, 3).
+        Fo: force through platform j's central joint in [N], (N, 2) (weight and load included).
+        motor_speed: motor speeds in [rad/s], (N, 3).
+    """
+
+    t: np.ndarray
+    tau: np.ndarray
+    tau_m: np.ndarray
+    tau_l: np.ndarray
+    tau_s: np.ndarray
+    tau_L: np.ndarray
+    tau_f: np.ndarray
+    F_act: np.ndarray
+    lambdas: np.ndarray
+    Fa: np.ndarray
+    Fo: np.ndarray
+    motor_speed: np.ndarray
+
+    def __post_init__(self):
+        n = len(self.t)
+        for name in ("t", "tau", "tau_m", "tau_l", "tau_s", "tau_L", "tau_f", "F_act", "lambdas", "Fa", "Fo", "motor_speed"):
+            value = _readonly(getattr(self, name))
+            expected = {"t": (n,), "lambdas": (n, 2, 3, 3), "Fa": (n, 2, 3), "Fo": (n, 2)}.get(name, (n, 3))
+            if value.shape != expected:
+                raise ValueError(f"MujocoTorques.{name}: expected shape {expected}, got {value.shape}")
+            object.__setattr__(self, name, value)
+
+
+def friction_forces(machine: MujocoModel, data, Fe: float) -> np.ndarray:
+    """The generalised forces friction applies at the state in ``data`` (velocities computed), (nv,).
+
+    Spec §4.3 / §7.3 as forces on the bodies: the central chain's moment
+    −ŝ(ω_j)·[r_h μ_h |F_e| + r_t μ_t |F_e + m_m g|] on each platform; the U
+    joint's moment (lever relative to its translating carriage) and the S
+    joint's (lever relative to the platform; its reaction on the platform) on
+    the levers; the slider guides' force and the screw's torque (through the
+    lead) on each slider. MuJoCo maps each moment with ``mj_applyFT``. With the
+    opposite sign this is what the motors must supply against friction.
+
+    Args:
+        machine: the model.
+        data: an MjData of ``machine.model`` after ``mj_fwdVelocity`` (or a step).
+        Fe: the load in [N].
+    """
+    model, params = machine.model, machine.params
+    fr = params.friction
+    eps = fr.epsilon
+    out = np.zeros(model.nv)
+    velocity = np.empty(6)
+    zero = np.zeros(3)
+
+    def omega(body: int) -> np.ndarray:
+        mujoco.mj_objectVelocity(model, data, mujoco.mjtObj.mjOBJ_BODY, body, velocity, 0)
+        return velocity[:3].copy()
+
+    load = fr.hip_radius * fr.hip_mu * abs(Fe) + fr.thrust_radius * fr.thrust_mu * abs(Fe + params.platform_mass * params.gravity)
+    lever_terms = (fr.ujoint_coulomb, fr.ujoint_viscous, fr.sjoint_coulomb, fr.sjoint_viscous)
+    for j in range(2):
+        platform = machine.platform_body[j]
+        w = omega(platform)
+        moment = -load * smooth_sign(w, eps, vector=True)
+        if any(c != 0.0 for c in lever_terms):
+            for i in range(3):
+                lever = machine.lever_body[j, i]
+                w_l = omega(lever)
+                relative = w_l - w
+                s_moment = fr.sjoint_coulomb * smooth_sign(relative, eps, vector=True) + fr.sjoint_viscous * relative
+                u_moment = fr.ujoint_coulomb * smooth_sign(w_l, eps, vector=True) + fr.ujoint_viscous * w_l
+                mujoco.mj_applyFT(model, data, zero, -(u_moment + s_moment), data.xpos[lever], lever, out)
+                moment = moment + s_moment
+        mujoco.mj_applyFT(model, data, zero, moment, data.xpos[platform], platform, out)
+    rate = data.qvel[machine.slider_dof]
+    gain = _TWO_PI / machine.lead
+    speed = gain * rate
+    guide = 2.0 * (fr.guide_coulomb * smooth_sign(speed, eps) + fr.guide_viscous * rate)
+    out[machine.slider_dof] -= guide + gain * screw_friction_torque(params, speed)
+    return out
+
+
+class FrictionForces:
+    """:func:`friction_forces` for repeated use, in closed form where it can be.
+
+    Without U- and S-joint friction (the default) the only moments are the
+    platforms' central ones, and they map to the platform's own hinges only
+    (the base is fixed): Q_k = a_kᵀ·(−load·ŝ(ω_j)) for each hinge axis a_k in
+    world axes (MuJoCo's ``xaxis``), ω_j the platform's angular velocity
+    (``cvel``), in plain floats. Otherwise the general function.
+
+    Args:
+        machine: the model (its params give the coefficients).
+    """
+
+    def __init__(self, machine: MujocoModel):
+        self.machine = machine
+        params = machine.params
+        fr = params.friction
+        self.general = any(c != 0.0 for c in (fr.ujoint_coulomb, fr.ujoint_viscous, fr.sjoint_coulomb, fr.sjoint_viscous))
+        self.hip, self.thrust = fr.hip_radius * fr.hip_mu, fr.thrust_radius * fr.thrust_mu
+        self.weight, self.eps2 = params.platform_mass * params.gravity, fr.epsilon**2
+        self.bodies = machine.platform_body.copy()
+        self.dofs = [[int(k) for k in dofs] for dofs in machine.platform_dof]
+        # The platform hinges' joints (their world axes, ``xaxis``, are the dofs' rotation axes, ``cdof``).
+        self.joints = machine.model.dof_jntid[machine.platform_dof.ravel()]
+        self.sliders = [int(k) for k in machine.slider_dof]
+        gain = _TWO_PI / machine.lead
+        self.slider_terms = (2.0 * fr.guide_coulomb + gain * fr.screw_coulomb, 2.0 * fr.guide_viscous + gain * gain * fr.screw_viscous, gain)
+        self.slider_friction = any(c != 0.0 for c in self.slider_terms[:2])
+
+    def add(self, data, Fe: float, out: np.ndarray) -> None:
+        """Add the generalised forces of friction at the state in ``data`` (velocities computed) to ``out`` (nv,)."""
+        if self.general:
+            out += friction_forces(self.machine, data, Fe)
+            return
+        load = self.hip * abs(Fe) + self.thrust * abs(Fe + self.weight)
+        # Plain floats: element access to numpy arrays costs more than the arithmetic.
+        omegas = data.cvel[self.bodies, :3].tolist()
+        axes = data.xaxis[self.joints].tolist()
+        for (wx, wy, wz), dofs, rows in zip(omegas, self.dofs, ((0, 1, 2), (3, 4, 5))):
+            k = -load / math.sqrt(wx * wx + wy * wy + wz * wz + self.eps2)
+            for dof, row in zip(dofs, rows):
+                ax, ay, az = axes[row]
+                out[dof] += k * (ax * wx + ay * wy + az * wz)
+        if self.slider_friction:
+            # Guides: 2(F_c ŝ + c·L̇); screw: (2π/p)(τ_c ŝ + c_θ·θ̇), θ̇ = (2π/p)·L̇; ŝ on the motor speed.
+            coulomb, viscous, gain = self.slider_terms
+            qvel = data.qvel
+            for dof in self.sliders:
+                rate = float(qvel[dof])
+                speed = gain * rate
+                out[dof] -= coulomb * speed / math.sqrt(speed * speed + self.eps2) + viscous * rate
+
+
+class _InverseDynamics:
+    """Per sample: the five right-hand sides and [Sᵀ J_cᵀ]; solved in one batch at the end."""
+
+    def __init__(self, machine: MujocoModel, n: int, Fe):
+        self.machine = machine
+        nv = machine.nv
+        self.Fe = np.broadcast_to(np.asarray(Fe, dtype=float), (n,))
+        self.system = np.zeros((n, nv, nv))
+        self.system[:, machine.slider_dof, np.arange(3)] = 1.0
+        self.rhs = np.empty((n, nv, 5))  # [platforms, levers, carriages, screws, friction]
+        self.total = np.empty((n, nv))  # M a + bias, from MuJoCo's M and qfrc_bias
+        self.M = np.empty((nv, nv))
+        self.rne = np.empty(nv)
+        self.friction = FrictionForces(machine)
+
+    def add(self, k: int, q, v, a, J) -> None:
+        machine = self.machine
+        model, data = machine.model, machine.data  # positions and velocities are computed at (q, v)
+        _full_inertia(model, data, self.M)
+        self.total[k] = self.M @ a + data.qfrc_bias
+        for g, (group_model, group_data) in enumerate(machine.group_models):
+            group_data.qpos[:], group_data.qvel[:], group_data.qacc[:] = q, v, a
+            mujoco.mj_kinematics(group_model, group_data)
+            mujoco.mj_comPos(group_model, group_data)
+            mujoco.mj_comVel(group_model, group_data)
+            mujoco.mj_rne(group_model, group_data, 1, self.rne)
+            self.rhs[k, :, g] = self.rne
+        self.rhs[k, :, 3] = model.dof_armature * a
+        friction = self.rhs[k, :, 4]
+        friction[:] = 0.0
+        self.friction.add(data, float(self.Fe[k]), friction)
+        friction *= -1.0
+        self.system[k, :, 3:] = J.T
+
+    def result(self, kin: MujocoKinematics) -> MujocoTorques:
+        machine, params = self.machine, self.machine.params
+        solution = np.linalg.solve(self.system, self.rhs)  # (n, nv, 5)
+        gain = machine.lead / _TWO_PI
+        tau_m, tau_l, tau_s, tau_L, tau_f = np.moveaxis(gain * solution[:, :3], 2, 0)
+        # The total from MuJoCo's own M and bias (the parts above from the group models add up to it).
+        tau = gain * np.linalg.solve(self.system, (self.total + self.rhs[:, :, 4])[..., None])[:, :3, 0]
+        lambdas = solution[:, 3:].sum(axis=2).reshape(len(kin.t), -1, 3)[:, machine.closure]  # (n, 2, 3, 3)
+        centre = lambdas.sum(axis=2)
+        centre[:, :, 2] += params.platform_mass * params.gravity + self.Fe[:, None]
+        return MujocoTorques(
+            t=kin.t, tau=tau, tau_m=tau_m, tau_l=tau_l, tau_s=tau_s, tau_L=tau_L, tau_f=tau_f,
+            F_act=tau / gain, lambdas=lambdas, Fa=np.linalg.norm(lambdas, axis=-1), Fo=np.linalg.norm(centre, axis=-1),
+            motor_speed=_TWO_PI / machine.lead * kin.Ld[:, 0],
+        )  # fmt: skip
+
+
+def inverse_dynamics(machine: MujocoModel, kin: MujocoKinematics, Fe) -> MujocoTorques:
+    """Motor torques (with their parts) and joint forces along a closed motion, with MuJoCo.
+
+    Args:
+        machine: the model from :func:`load_model`.
+        kin: the closed motion from :func:`kinematics` (of this model).
+        Fe: load in [N], (N,) or a scalar.
+    """
+    dynamics = _InverseDynamics(machine, len(kin.t), Fe)
+    model, data = machine.model, machine.data
+    for k in range(len(kin.t)):
+        machine.place(kin.q[k])
+        data.qvel[:] = kin.v[k]
+        mujoco.mj_fwdVelocity(model, data)
+        dynamics.add(k, kin.q[k], kin.v[k], kin.a[k], machine.closure_rows()[1])
+    return dynamics.result(kin)
+
+
+def trajectory_dynamics(machine: MujocoModel, traj, *, tol: float = 1e-13, max_iter: int = 30):
+    """:func:`kinematics` and :func:`inverse_dynamics` in one pass, with the trajectory's own load."""
+    return _close(machine, traj, tol, max_iter, Fe=traj.Fe)
+
+
+@dataclass(frozen=True, eq=False)
+class MujocoResult:
+    """One MuJoCo inverse-dynamics run along a trajectory.
+
+    Attributes:
+        params: the machine.
+        trajectory: the motion and load.
+        kin: the closed motion.
+        torques: motor torques, their parts, joint forces.
+    """
+
+    params: Parameters
+    trajectory: object
+    kin: MujocoKinematics
+    torques: MujocoTorques
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """The spec §7.5 columns in their units, by name: the same names as ``hipsim.analyse(..., model="pinocchio")``."""
+        traj, kin, torques = self.trajectory, self.kin, self.torques
+        out: dict[str, np.ndarray] = {"t_s": np.asarray(traj.t, dtype=float)}
+        for k, name in enumerate(("alpha", "beta", "gamma")):
+            out[f"{name}_deg"] = np.degrees(traj.q[:, k])
+        out["Fe_N"] = np.asarray(traj.Fe, dtype=float)
+        for quantity, unit in (("L", "mm"), ("Ld", "mm_s"), ("Ldd", "mm_s2")):
+            values = getattr(kin, quantity) * 1e3
+            for j in (1, 2):
+                for i in (1, 2, 3):
+                    out[f"{quantity}_{j}{i}_{unit}"] = values[:, j - 1, i - 1]
+        for part in ("tau", "tau_m", "tau_l", "tau_s", "tau_L", "tau_f"):
+            values = getattr(torques, part) * 1e3
+            for i in (1, 2, 3):
+                out[f"{part}_{i}_Nmm"] = values[:, i - 1]
+        for i in (1, 2, 3):
+            out[f"speed_{i}_rpm"] = torques.motor_speed[:, i - 1] * 60.0 / _TWO_PI
+        out["cond_inv"] = kin.cond_inv
+        for j in (1, 2):
+            for i in (1, 2, 3):
+                out[f"Fa_{j}{i}_N"] = torques.Fa[:, j - 1, i - 1]
+        for j in (1, 2):
+            out[f"Fo_{j}_N"] = torques.Fo[:, j - 1]
+        return out
+
+
+def analyse(params: Parameters | None = None, trajectory=None, machine: MujocoModel | None = None) -> MujocoResult:
+    """The MuJoCo engine's inverse dynamics along a trajectory, as ``hipsim.analyse`` runs the other two.
+
+    Args:
+        params: the machine; None for the published one.
+        trajectory: the motion and load; None for one ISO 14242-1 cycle at 1 kHz.
+        machine: ``load_model(params)`` for these very params, to skip building it.
+
+    Returns:
+        The :class:`MujocoResult`; its ``columns()`` compare name by name with the other models'.
+
+    Raises:
+        PoseError: at the first sample out of reach or singular.
+    """
+    from ..motion.trajectories import iso14242
+
+    params = load_parameters() if params is None else params
+    trajectory = iso14242() if trajectory is None else trajectory
+    if machine is not None and machine.params is not params:
+        raise ValueError("machine must be load_model(params) of the same params object")
+    machine = load_model(params) if machine is None else machine
+    kin, torques = trajectory_dynamics(machine, trajectory)
+    return MujocoResult(params, trajectory, kin, torques)
