@@ -120,26 +120,6 @@ def test_workspace_pd_is_the_jacobian_transpose_law(params):
     np.testing.assert_allclose(tau, params.lead / (2 * math.pi) * np.linalg.solve(J.T, moment), rtol=1e-13)
 
 
-def test_without_a_writable_cache_the_kernels_compile_uncached_with_a_warning(monkeypatch):
-    """numba refuses cache=True when it finds no writable folder; the kernels must still work."""
-    real_njit = kernel.njit
-
-    def njit_without_cache_folder(cache=False, **options):
-        if cache:
-            raise RuntimeError("cannot cache function 'f': no locator available for file 'x.py'")
-        return real_njit(cache=False, **options)
-
-    monkeypatch.setattr(kernel, "njit", njit_without_cache_folder)
-    monkeypatch.setattr(kernel._compile, "warned", False)
-
-    def twice(x):
-        return 2.0 * x
-
-    with pytest.warns(UserWarning, match="no writable numba cache folder"):
-        compiled = kernel._compile(twice)
-    assert compiled(1.5) == 3.0
-
-
 @pytest.mark.parametrize(
     ("value", "shape", "message"),
     [([1.0, 2.0], (3,), r"x must have shape \(3,\), got shape \(2,\)"), ("a", (3,), "x must be numbers"), ([[1, 2, 3]], (3,), r"got shape \(1, 3\)")],
