@@ -51,7 +51,8 @@ import pinocchio as pin
 import yaml
 from scipy.linalg import lapack
 
-from ..analytic.virtual_work import screw_friction_torque, smooth_sign
+from ..analytic import laws
+from ..analytic.vectors import stack
 from ..exceptions import ModelError, PoseError, TrajectoryError
 from ..machine.model_files import closure_file_path, urdf_text
 from ..machine.parameters import Parameters, load_parameters
@@ -796,51 +797,38 @@ class ClosedChainTorques:
 def _friction_forces(chain: ClosedChainModel, v, Fe, platform_J, lever_J) -> np.ndarray:
     """Generalised forces the actuators must supply against friction, shape (n, nv) (spec §4.3, §7.3).
 
+    The friction laws are :mod:`hipsim.analytic.laws`'; here they act on the
+    tree's own body motions, mapped to its joints by Pinocchio's Jacobians.
     platform_J: (n, 2, 3, 3) angular Jacobians of the platforms on their own
     joints [rx, ry, rz]; lever_J: (n, 2, 3, 3, 2) of the levers on [u1, u2],
     or None when the U and S joints are frictionless.
     """
     params, layout = chain.params, chain.layout
     fr = params.friction
-    eps = fr.epsilon
     n = len(v)
     Q = np.zeros((n, chain.model.nv))
 
-    # Central chain: hip joint and thrust bearing, a moment along platform j's ω.
-    omega = np.einsum("njab,njb->nja", platform_J, v[:, layout.platform_v])
-    bearing_load = np.abs(Fe + params.platform_mass * params.gravity)
-    load = fr.hip_radius * fr.hip_mu * np.abs(Fe) + fr.thrust_radius * fr.thrust_mu * bearing_load
-    moment = smooth_sign(omega, eps, vector=True) * load[:, None, None]
+    # Central chain: hip joint and thrust bearing, a moment on platform j. Components first: (xyz, n, j).
+    omega = np.moveaxis(np.einsum("njab,njb->nja", platform_J, v[:, layout.platform_v]), -1, 0)
+    moment = stack(laws.central_friction_moment(fr, omega, None, Fe[:, None], params.platform_mass * params.gravity))
     if lever_J is not None:
-        omega_lever = np.einsum("njiab,njib->njia", lever_J, v[:, layout.ujoint_v])
-        # U joint: the slider does not rotate, so the relative rate is the lever's own.
-        lever_moment = fr.ujoint_coulomb * smooth_sign(omega_lever, eps, vector=True) + fr.ujoint_viscous * omega_lever
-        # S joint: acts on the lever and, oppositely, on the platform.
-        relative = omega_lever - omega[:, :, None, :]
-        s_moment = fr.sjoint_coulomb * smooth_sign(relative, eps, vector=True) + fr.sjoint_viscous * relative
-        lever_moment = lever_moment + s_moment
-        moment = moment - s_moment.sum(axis=2)
-        Q_lever = np.einsum("njiab,njia->njib", lever_J, lever_moment)
-        Q[:, layout.ujoint_v] += Q_lever
-    Q[:, layout.platform_v] += np.einsum("njab,nja->njb", platform_J, moment)
+        omega_lever = np.moveaxis(np.einsum("njiab,njib->njia", lever_J, v[:, layout.ujoint_v]), -1, 0)  # (xyz, n, j, i)
+        # U joint: the lever relative to the slider; S joint: relative to the platform, and oppositely on it.
+        u_moment, s_moment = (stack(m) for m in laws.lever_joint_friction(fr, omega_lever, omega[..., None]))
+        moment -= s_moment.sum(axis=-1)
+        Q[:, layout.ujoint_v] += np.einsum("njiab,anji->njib", lever_J, u_moment + s_moment)
+    Q[:, layout.platform_v] += np.einsum("njab,anj->njb", platform_J, moment)
 
     # Slider guides (two per carriage) and the screw on the motor shaft, as carriage forces.
     Ld = v[:, layout.slider_v]
     motor_speed = _TWO_PI / chain.lead * Ld
-    guide = 2.0 * (fr.guide_coulomb * smooth_sign(motor_speed, eps) + fr.guide_viscous * Ld)
-    screw = screw_friction_torque(params, motor_speed)
+    guide = 2.0 * laws.guide_friction(fr, Ld, motor_speed)
+    screw = laws.screw_friction(fr, motor_speed)
     Q[:, layout.slider_v] += guide + _TWO_PI / chain.lead * screw
     return Q
 
 
-def _has_lever_friction(chain: ClosedChainModel) -> bool:
-    """True when the U or S joints of the levers have friction (it then needs the levers' Jacobians)."""
-    friction = chain.params.friction
-    lever_terms = ("ujoint_coulomb", "ujoint_viscous", "sjoint_coulomb", "sjoint_viscous")
-    return any(getattr(friction, name) != 0.0 for name in lever_terms)
-
-
-def friction_forces(chain: ClosedChainModel, q, v, Fe) -> np.ndarray:
+def friction_forces(chain: ClosedChainModel, q, v, Fe, data=None) -> np.ndarray:
     """Generalised forces the actuators must supply against friction at (q, v) (spec §4.3, §7.3).
 
     The law :func:`inverse_dynamics` adds to the tree's torques: in a
@@ -852,6 +840,8 @@ def friction_forces(chain: ClosedChainModel, q, v, Fe) -> np.ndarray:
         q: configuration (nq,) or configurations (N, nq).
         v: velocities, same leading shape, (nv,) or (N, nv).
         Fe: hydraulic load magnitude in [N], a scalar or (N,).
+        data: a ``pin.Data`` of ``chain.model`` to compute in (its kinematics are
+            overwritten); None to make one.
 
     Returns:
         Shape (nv,) or (N, nv), in [N] on the sliders and [N·m] on the revolute joints.
@@ -863,13 +853,13 @@ def friction_forces(chain: ClosedChainModel, q, v, Fe) -> np.ndarray:
         raise ValueError(f"expected velocities of shape {(len(q), chain.model.nv)}, got {v.shape}")
     Fe = np.broadcast_to(np.asarray(Fe, dtype=float), (len(q),))
     model = chain.model
-    data = model.createData()
+    data = model.createData() if data is None else data
     angular = np.empty((len(q), 3, model.nv))
     for k, qk in enumerate(q):
         pin.computeJointJacobians(model, data, qk)
         angular[k] = data.J[3:]
     platform_J = np.moveaxis(angular[:, :, layout.platform_v], 1, 2)
-    lever_J = np.moveaxis(angular[:, :, layout.ujoint_v], 1, 3) if _has_lever_friction(chain) else None
+    lever_J = np.moveaxis(angular[:, :, layout.ujoint_v], 1, 3) if laws.lever_joint_friction_on(chain.params.friction) else None
     out = _friction_forces(chain, v, Fe, platform_J, lever_J)
     return out[0] if single else out
 
@@ -888,9 +878,7 @@ class _InverseDynamics:
         self.v, self.a = v, a
         n, nv = len(v), chain.model.nv
         self.Fe = np.broadcast_to(np.asarray(Fe, dtype=float), (n,))
-        friction = chain.params.friction
-        lever_terms = ("ujoint_coulomb", "ujoint_viscous", "sjoint_coulomb", "sjoint_viscous")
-        self.lever_friction = any(getattr(friction, name) != 0.0 for name in lever_terms)
+        self.lever_friction = laws.lever_joint_friction_on(chain.params.friction)
         size = min(_CHUNK, n)
         self.system = np.zeros((size, nv, nv))  # [Sᵀ  J_cᵀ] per sample
         self.system[:, chain.actuated_v, np.arange(3)] = 1.0
