@@ -207,6 +207,22 @@ def test_central_friction_by_hand(published):
                                (0.015 * 0.095 * 1500.0 + 0.064 * 0.025 * 1304.0) * omega, rtol=1e-6)  # fmt: skip
 
 
+def test_axial_only_thrust_bearing_by_hand(published):
+    """friction.thrust_bearing_axial_only: the bearing resists only rotation about the platform's z axis."""
+    F = published.replace(thrust_bearing_axial_only=True).friction
+    Fe, weight = 1500.0, 20.0 * 9.8
+    hip, thrust = 0.015 * 0.095 * 1500.0, 0.064 * 0.025 * 1696.0  # 2.1375 and 2.7136 N·m
+    z = np.array([0.0, 0.6, 0.8])  # a tilted platform
+    across = np.array([1.0, 0.0, 0.0])  # ω ⊥ z: the bearing does not turn, only the hip joint rubs
+    np.testing.assert_allclose(laws.central_friction_moment(F, across, z, Fe, weight), hip * across, rtol=1e-6)
+    along = 2.0 * z  # ω ∥ z: the publication's moment
+    np.testing.assert_allclose(laws.central_friction_moment(F, along, z, Fe, weight), (hip + thrust) * z, rtol=1e-6)
+    np.testing.assert_allclose(laws.central_friction_moment(published.friction, along, z, Fe, weight), (hip + thrust) * z, rtol=1e-6)
+    omega = np.array([1.0, 2.0, 0.5])  # ω·z = 1.6 rad/s
+    expected = hip * omega / np.linalg.norm(omega) + thrust * z
+    np.testing.assert_allclose(laws.central_friction_moment(F, omega, z, Fe, weight), expected, rtol=1e-6)
+
+
 def test_lever_joint_friction_by_hand(published):
     F = published.replace(**ALL_FRICTION).friction
     omega_l, omega = np.array([0.0, 2.0, 0.0]), np.array([0.0, 0.0, 1.0])
@@ -230,6 +246,8 @@ def test_friction_only_dissipates(published):
     omega, omega_l = RNG.normal(size=(3, 500)), RNG.normal(size=(3, 500))
     z, Fe = random_unit(500), RNG.uniform(-3000, 3000, 500)
     assert np.all(vectors.dot(laws.central_friction_moment(F, omega, z, Fe, 196.0), omega) >= 0)
+    axial = published.replace(thrust_bearing_axial_only=True).friction
+    assert np.all(vectors.dot(laws.central_friction_moment(axial, omega, z, Fe, 196.0), omega) >= 0)
     tau_bf, tau_af = laws.lever_joint_friction(F, omega_l, omega)
     assert np.all(vectors.dot(tau_bf, omega_l) >= 0) and np.all(vectors.dot(tau_af, omega_l - omega) >= 0)
     speed = RNG.normal(size=500)
@@ -270,9 +288,10 @@ def compiled_laws():
     return evaluate
 
 
-def test_numpy_and_compiled_evaluations_agree(published, compiled_laws):
+@pytest.mark.parametrize("axial", [False, True], ids=["publication", "axial bearing"])
+def test_numpy_and_compiled_evaluations_agree(published, compiled_laws, axial):
     """The same source on arrays (NumPy, all samples at once) and compiled on one sample's floats."""
-    params = published.replace(**ALL_FRICTION)
+    params = published.replace(**ALL_FRICTION, thrust_bearing_axial_only=axial)
     n = 25
     q = RNG.uniform(-1.0, 1.0, (3, n))
     c, s = trig(q)

@@ -195,7 +195,7 @@ def analyse(
     torques = Torques(
         tau=closed.tau, tau_m=closed.tau_m, tau_l=closed.tau_l, tau_s=closed.tau_s, tau_L=closed.tau_L, tau_f=closed.tau_f,
         motor_speed=motor_speed,
-        friction_moment=np.linalg.norm(central_friction_moment(params, kin.omega, trajectory.Fe), axis=-1),
+        friction_moment=np.linalg.norm(central_friction_moment(params, kin.omega, trajectory.Fe, kin.R), axis=-1),
         # By virtual power the motors' friction share times their speed is the whole friction loss.
         friction_power=np.sum(closed.tau_f * motor_speed, axis=1),
     )

@@ -210,14 +210,16 @@ def guide_friction(F, Ld, motor_speed):
 def central_friction_moment(F, omega, z, Fe, weight):
     """τ_mf: the friction moment of one platform's central chain (hip joint and thrust bearing), spec §4.3.
 
-    The hip joint resists along ŝ(ω) with r_h·μ_h·|F_e|; the thrust bearing,
-    which carries F_e and the platform's weight, along ŝ(ω) with
-    r_t·μ_t·|F_e + m_m·g| (the publication's form).
+    The hip joint resists along ŝ(ω) with r_h·μ_h·|F_e|. The thrust bearing
+    carries F_e and the platform's weight: by default (the publication's form)
+    it too resists along ŝ(ω), with r_t·μ_t·|F_e + m_m·g|; with
+    ``F.thrust_bearing_axial_only`` it resists only rotation about its own
+    axis, the platform's z axis: the moment r_t·μ_t·|F_e + m_m·g|·ŝ(ω·z)·z.
 
     Args:
         F: the friction record.
         omega: platform angular velocity ω in [rad/s].
-        z: the platform's z axis (unit vector).
+        z: the platform's z axis (unit vector; read only with the axial-only bearing).
         Fe: load magnitude in [N], pushing down like the platform's weight.
         weight: the platform's weight m_m·g in [N].
 
@@ -226,7 +228,10 @@ def central_friction_moment(F, omega, z, Fe, weight):
     """
     hip = F.hip_radius * F.hip_mu * abs(Fe)
     thrust = F.thrust_radius * F.thrust_mu * abs(Fe + weight)
-    return scale(smooth_sign_vector(omega, F.epsilon), hip + thrust)
+    direction = smooth_sign_vector(omega, F.epsilon)
+    if F.thrust_bearing_axial_only:
+        return add(scale(direction, hip), scale(z, thrust * smooth_sign(dot(omega, z), F.epsilon)))
+    return scale(direction, hip + thrust)
 
 
 @jitable

@@ -39,6 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..exceptions import HipsimError
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 from . import laws
@@ -80,24 +81,32 @@ def screw_friction_torque(params: Parameters, motor_speed: np.ndarray) -> np.nda
     return laws.screw_friction(params.friction, np.asarray(motor_speed, dtype=float))
 
 
-def central_friction_moment(params: Parameters, omega: np.ndarray, Fe: np.ndarray) -> np.ndarray:
+def central_friction_moment(params: Parameters, omega: np.ndarray, Fe: np.ndarray, R: np.ndarray | None = None) -> np.ndarray:
     """Friction moment τ_mf of one platform's central chain (hip joint + thrust bearing), spec §4.3.
 
     Args:
         params: the machine.
         omega: platform angular velocity in [rad/s], (N, 3).
         Fe: load magnitude in [N], (N,), pushing down like the platform's weight.
+        R: platform rotations, (N, 3, 3); needed when the thrust bearing
+            resists only rotation about its own axis (``friction.thrust_bearing_axial_only``).
 
     Returns:
-        τ_mf in [N·m], (N, 3), along ŝ(ω) (it resists the platform's rotation).
+        τ_mf in [N·m], (N, 3); it resists the platform's rotation.
+
+    Raises:
+        HipsimError: the axial-only thrust bearing without R.
     """
-    return _central_friction_moment(params, np.asarray(omega, dtype=float).T, np.asarray(Fe, dtype=float)).T
+    if params.friction.thrust_bearing_axial_only and R is None:
+        raise HipsimError("the axial-only thrust bearing's friction needs the platform rotations R")
+    z = None if R is None else np.asarray(R, dtype=float)[..., 2].T
+    return _central_friction_moment(params, np.asarray(omega, dtype=float).T, np.asarray(Fe, dtype=float), z).T
 
 
-def _central_friction_moment(params: Parameters, omega: np.ndarray, Fe: np.ndarray) -> np.ndarray:
-    """:func:`central_friction_moment` with ω components-first (3, N)."""
+def _central_friction_moment(params: Parameters, omega: np.ndarray, Fe: np.ndarray, z) -> np.ndarray:
+    """:func:`central_friction_moment` with ω and the platform's z axis components-first (3, N)."""
     weight = params.platform_mass * params.gravity
-    return stack(laws.central_friction_moment(params.friction, omega, None, Fe, weight))
+    return stack(laws.central_friction_moment(params.friction, omega, z, Fe, weight))
 
 
 @dataclass(frozen=True, eq=False)
@@ -267,7 +276,7 @@ def inverse_dynamics(params: Parameters, kin: Kinematics, Fe: np.ndarray, lever_
     F_L = params.slider_mass * (-params.gravity - Ldd)
 
     # Friction: central chain, lever joints, slider guides and screws.
-    tau_mf = _central_friction_moment(params, omega, Fe)
+    tau_mf = _central_friction_moment(params, omega, Fe, kin.R[:, :, 2].T)
     Q_lf, Fz_lf, power_lf = _lever_joint_friction(params, kin, lever_spin, omega_l)
     Q_f = Q_lf - tau_mf
     F_Lf = laws.guide_friction(f, Ld, motor_speed)

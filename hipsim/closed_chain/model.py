@@ -794,14 +794,26 @@ class ClosedChainTorques:
         _check_shapes(self, shapes)
 
 
-def _friction_forces(chain: ClosedChainModel, v, Fe, platform_J, lever_J) -> np.ndarray:
+def _platform_frames(chain: ClosedChainModel) -> list:
+    """The frames of the platforms' bodies, platform 1 first."""
+    model = chain.model
+    return [model.frames[model.getFrameId(f"platform_{j}")] for j in (1, 2)]
+
+
+def _platform_z_axes(data, frames) -> np.ndarray:
+    """The platforms' z axes in world axes, (2, 3), from the joint placements in ``data``."""
+    return np.array([data.oMi[frame.parentJoint].rotation @ frame.placement.rotation[:, 2] for frame in frames])
+
+
+def _friction_forces(chain: ClosedChainModel, v, Fe, platform_J, lever_J, platform_z=None) -> np.ndarray:
     """Generalised forces the actuators must supply against friction, shape (n, nv) (spec §4.3, §7.3).
 
     The friction laws are :mod:`hipsim.analytic.laws`'; here they act on the
     tree's own body motions, mapped to its joints by Pinocchio's Jacobians.
     platform_J: (n, 2, 3, 3) angular Jacobians of the platforms on their own
     joints [rx, ry, rz]; lever_J: (n, 2, 3, 3, 2) of the levers on [u1, u2],
-    or None when the U and S joints are frictionless.
+    or None when the U and S joints are frictionless; platform_z: (n, 2, 3)
+    the platforms' z axes, needed only by the axial-only thrust bearing.
     """
     params, layout = chain.params, chain.layout
     fr = params.friction
@@ -810,7 +822,8 @@ def _friction_forces(chain: ClosedChainModel, v, Fe, platform_J, lever_J) -> np.
 
     # Central chain: hip joint and thrust bearing, a moment on platform j. Components first: (xyz, n, j).
     omega = np.moveaxis(np.einsum("njab,njb->nja", platform_J, v[:, layout.platform_v]), -1, 0)
-    moment = stack(laws.central_friction_moment(fr, omega, None, Fe[:, None], params.platform_mass * params.gravity))
+    z = None if platform_z is None else np.moveaxis(platform_z, -1, 0)
+    moment = stack(laws.central_friction_moment(fr, omega, z, Fe[:, None], params.platform_mass * params.gravity))
     if lever_J is not None:
         omega_lever = np.moveaxis(np.einsum("njiab,njib->njia", lever_J, v[:, layout.ujoint_v]), -1, 0)  # (xyz, n, j, i)
         # U joint: the lever relative to the slider; S joint: relative to the platform, and oppositely on it.
@@ -855,12 +868,17 @@ def friction_forces(chain: ClosedChainModel, q, v, Fe, data=None) -> np.ndarray:
     model = chain.model
     data = model.createData() if data is None else data
     angular = np.empty((len(q), 3, model.nv))
+    axial = chain.params.friction.thrust_bearing_axial_only
+    frames = _platform_frames(chain) if axial else None
+    platform_z = np.empty((len(q), 2, 3)) if axial else None
     for k, qk in enumerate(q):
         pin.computeJointJacobians(model, data, qk)
         angular[k] = data.J[3:]
+        if axial:
+            platform_z[k] = _platform_z_axes(data, frames)
     platform_J = np.moveaxis(angular[:, :, layout.platform_v], 1, 2)
     lever_J = np.moveaxis(angular[:, :, layout.ujoint_v], 1, 3) if laws.lever_joint_friction_on(chain.params.friction) else None
-    out = _friction_forces(chain, v, Fe, platform_J, lever_J)
+    out = _friction_forces(chain, v, Fe, platform_J, lever_J, platform_z)
     return out[0] if single else out
 
 
@@ -879,12 +897,15 @@ class _InverseDynamics:
         n, nv = len(v), chain.model.nv
         self.Fe = np.broadcast_to(np.asarray(Fe, dtype=float), (n,))
         self.lever_friction = laws.lever_joint_friction_on(chain.params.friction)
+        # The axial-only thrust bearing needs each platform's z axis, read from the placements.
+        self.platform_frames = _platform_frames(chain) if chain.params.friction.thrust_bearing_axial_only else None
         size = min(_CHUNK, n)
         self.system = np.zeros((size, nv, nv))  # [Sᵀ  J_cᵀ] per sample
         self.system[:, chain.actuated_v, np.arange(3)] = 1.0
         self.rhs = np.empty((size, nv, 5))  # generalised forces of [platforms, levers, carriages, screws, friction]
         # Angular rows of the world-frame joint Jacobians: a body's ω is their sum over its support.
         self.angular = np.empty((size, 3, nv))
+        self.platform_z = np.empty((size, 2, 3)) if self.platform_frames is not None else None
         self.parts = np.empty((n, 3, 5))  # actuator forces per part
         self.lambdas = np.empty((n, chain.n_closures, 3))
         self.rotations = np.empty((n, chain.n_closures, 3, 3))
@@ -895,6 +916,8 @@ class _InverseDynamics:
         self.system[slot, :, 3:] = jacobian.T
         self.rotations[k] = rotations
         self.angular[slot] = data.J[3:]
+        if self.platform_z is not None:
+            self.platform_z[slot] = _platform_z_axes(data, self.platform_frames)
         regressor = pin.computeJointTorqueRegressor(self.model, data, q, self.v[k], self.a[k])
         self.rhs[slot, :, :3] = regressor @ self.layout.groups
         if slot + 1 == len(self.system) or k + 1 == len(self.v):
@@ -906,7 +929,8 @@ class _InverseDynamics:
         rhs[:, :, 3] = self.model.armature * self.a[start:stop]
         platform_J = np.moveaxis(angular[:, :, layout.platform_v], 1, 2)  # (m, j, xyz, joint)
         lever_J = np.moveaxis(angular[:, :, layout.ujoint_v], 1, 3) if self.lever_friction else None
-        rhs[:, :, 4] = _friction_forces(self.chain, self.v[start:stop], self.Fe[start:stop], platform_J, lever_J)
+        platform_z = self.platform_z[:m] if self.platform_z is not None else None
+        rhs[:, :, 4] = _friction_forces(self.chain, self.v[start:stop], self.Fe[start:stop], platform_J, lever_J, platform_z)
         solution = np.linalg.solve(self.system[:m], rhs)
         self.parts[start:stop] = solution[:, :3]
         self.lambdas[start:stop] = solution[:, 3:].sum(axis=2).reshape(m, -1, 3)
