@@ -67,7 +67,12 @@ __all__ = [
 
 @jitable
 def rotation(c, s):
-    """R = Rz(γ)·Ry(β)·Rx(α), by its rows; its columns are the platform's x, y, z axes."""
+    """R = Rz(γ)·Ry(β)·Rx(α), by its rows; its columns are the platform's x, y, z axes.
+
+    Written out rather than SciPy's ``Rotation.from_euler("ZYX", ...)``: the
+    compiled kernels cannot call SciPy, and on 10⁴ samples SciPy took seven
+    times as long (10 ms against 1.4 ms, cosines and sines included).
+    """
     ca, cb, cg = c[0], c[1], c[2]
     sa, sb, sg = s[0], s[1], s[2]
     return (
