@@ -29,7 +29,10 @@ sample), a scalar per leg (3, N)) on the ``.T`` views of the
 :class:`~hipsim.analytic.inverse_kinematics.Kinematics` arrays, and the
 results are turned back with ``.T``. The friction laws, J⁻ᵀ and the lever's
 spin and frame are those of :mod:`hipsim.analytic.laws`, which the compiled
-kernel and the Pinocchio model call too.
+kernel and the Pinocchio model call too. The assembly below is transcribed
+once more, for one state on plain floats, in :mod:`hipsim.analytic.kernel`,
+because whole-array NumPy code costs ~700 calls of Python overhead per state
+there; ``tests/test_reduced_kernel.py`` ties the two to round-off.
 """
 
 from __future__ import annotations
