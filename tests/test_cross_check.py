@@ -20,6 +20,7 @@ import pytest
 import hipsim.analytic.inverse_kinematics as analytic_kinematics
 import hipsim.analytic.virtual_work as analytic_dynamics
 from hipsim import load_parameters, slender_levers
+from hipsim.analysis.crosscheck import compare_models
 from hipsim.closed_chain.model import load_model, platform_joint_positions, trajectory_dynamics
 from hipsim.motion.trajectories import iso14242
 
@@ -96,6 +97,35 @@ def test_every_friction_agrees(published):
         kin, torques, pin_kin, pin_torques = both_models(params, traj, lever_spin=True)
         errors = column_errors(torques, pin_torques, TORQUES)
         assert max(errors.values()) <= 1e-8, errors
+
+
+@pytest.mark.parametrize("name", ["iso", "random"])
+def test_axial_only_thrust_bearing_agrees(published, name):
+    """friction.thrust_bearing_axial_only: both models honour it, and with slender levers agree to 1e-8 of each peak."""
+    traj = trajectories()[name]
+    axial = slender_levers(published.replace(thrust_bearing_axial_only=True))
+    kin, torques, pin_kin, pin_torques = both_models(axial, traj)
+    errors = column_errors(kin, pin_kin, MOTION) | column_errors(torques, pin_torques, TORQUES)
+    assert max(errors.values()) <= 1e-8, errors
+    # Not both ignoring it: the publication's bearing gives a friction part a fifth of its peak or more away.
+    publication = analytic_dynamics.inverse_dynamics(slender_levers(published), kin, traj.Fe)
+    assert np.abs(publication.friction - torques.friction).max() > 0.2 * np.abs(publication.friction).max()
+
+
+def test_axial_only_thrust_bearing_with_every_friction_agrees(published):
+    params = published.replace(**FRICTION, thrust_bearing_axial_only=True)
+    kin, torques, pin_kin, pin_torques = both_models(params, trajectories()["random"], lever_spin=True)
+    errors = column_errors(torques, pin_torques, TORQUES)
+    assert max(errors.values()) <= 1e-8, errors
+
+
+def test_check_passes_with_the_axial_only_thrust_bearing(published):
+    """hipsim check's comparisons, with the option on: every required one within 1e-8 of the column peak."""
+    comparisons = compare_models(published.replace(thrust_bearing_axial_only=True), iso14242(rate=1000.0))
+    assert [c.name for c in comparisons if c.required] == ["exact", "published+spin"]
+    for comparison in comparisons:
+        if comparison.required:
+            assert comparison.ok, (comparison.name, comparison.worst)
 
 
 def test_frames_sit_on_the_analytic_points(published):

@@ -4,6 +4,7 @@ import math
 
 import numpy as np
 import pytest
+from scipy.spatial.transform import Rotation
 
 import hipsim
 from hipsim import Torques
@@ -133,6 +134,35 @@ def test_central_friction_resists_rotation(params):
     np.testing.assert_allclose(torques.friction_moment[moving], magnitude[moving], rtol=1e-4)
     motor_power = np.sum(torques.total * torques.motor_speed, axis=1)
     np.testing.assert_allclose(motor_power, 2 * magnitude * speed**2 / np.sqrt(speed**2 + 1e-6), rtol=1e-9)
+
+
+def test_axial_only_thrust_bearing_dissipates_only_its_spin(params):
+    """friction.thrust_bearing_axial_only: with only central friction, the motor power is
+    2·[r_h μ_h F_e·|ω|²/√(|ω|² + ε²) + r_t μ_t (F_e + m_m g)·(ω·z)²/√((ω·z)² + ε²)], z the platform's axis."""
+    bare = params.replace(
+        platform_inertia=np.zeros((3, 3)), lever_mass=0.0, lever_inertia=np.zeros((3, 3)), slider_mass=0.0, screw_inertia=0.0,
+        thrust_bearing_axial_only=True,
+    )  # fmt: skip
+    traj = iso_at(T_SAMPLES)
+    kin = kinematics(bare, traj)
+    torques = inverse_dynamics(bare, kin, traj.Fe)
+    z = Rotation.from_euler("ZYX", traj.q[:, ::-1]).as_matrix()[:, :, 2]  # the platform's z axis, from SciPy
+    spin = np.einsum("na,na->n", kin.omega, z)
+    speed = np.linalg.norm(kin.omega, axis=1)
+    hip, thrust = 0.015 * 0.095 * traj.Fe, 0.064 * 0.025 * (traj.Fe + 20.0 * 9.8)
+    expected = 2 * (hip * speed**2 / np.sqrt(speed**2 + 1e-6) + thrust * spin**2 / np.sqrt(spin**2 + 1e-6))
+    motor_power = np.sum(torques.total * torques.motor_speed, axis=1)
+    np.testing.assert_allclose(motor_power, expected, rtol=1e-9)
+    np.testing.assert_allclose(torques.friction_power, expected, rtol=1e-9)
+    # The option matters: the ISO cycle turns the platforms mostly across their own axis.
+    publication = inverse_dynamics(bare.replace(thrust_bearing_axial_only=False), kin, traj.Fe)
+    assert np.abs(publication.friction - torques.friction).max() > 0.2 * np.abs(publication.friction).max()
+
+
+def test_power_balance_with_the_axial_only_thrust_bearing(params):
+    axial = params.replace(thrust_bearing_axial_only=True, **ALL_FRICTION)
+    assert power_balance_error(axial, SmoothMotion(seed=3), lever_spin=True) < 1e-6
+    assert power_balance_error(hipsim.slender_levers(axial), iso_at) < 1e-6
 
 
 def test_smooth_sign():

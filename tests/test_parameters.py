@@ -145,6 +145,21 @@ def test_friction_defaults_in_si(params):
     for name in ("screw_coulomb", "screw_viscous", "guide_coulomb", "guide_viscous",
                  "ujoint_coulomb", "ujoint_viscous", "sjoint_coulomb", "sjoint_viscous"):
         assert getattr(f, name) == 0.0, name
+    assert f.thrust_bearing_axial_only is False  # the publication's central-chain friction
+
+
+def test_axial_thrust_bearing_switch(tmp_path):
+    """A boolean key: set in the file or by override, and left out by files written before it existed."""
+    assert load_parameters(mutated(tmp_path, "friction", "thrust_bearing_axial_only", True)).friction.thrust_bearing_axial_only is True
+    assert load_parameters(overrides=dict([parse_override("friction.thrust_bearing_axial_only=true")])).friction.thrust_bearing_axial_only is True
+    raw = default_raw()
+    del raw["friction"]["thrust_bearing_axial_only"]
+    older = load_parameters(write_params(tmp_path, raw, "older.toml"))
+    assert older.friction.thrust_bearing_axial_only is False
+    assert file_values(older)["friction.thrust_bearing_axial_only"] is False
+    with pytest.raises(ParameterError, match="expected true or false, got 'yes'") as info:
+        load_parameters(overrides={"friction.thrust_bearing_axial_only": "yes"})
+    assert info.value.key == "friction.thrust_bearing_axial_only"
 
 
 def test_platform_angles_are_minus30_90_210(params):
@@ -313,6 +328,7 @@ def test_file_values_are_in_the_files_units(params):
         {
             "platform.inertia_kgmm2": [[2000.0, 300.0, 0.0], [300.0, 2000.0, -100.0], [0.0, -100.0, 1000.0]],
             "convention.angle_signs": [1, -1, -1],
+            "friction.thrust_bearing_axial_only": True,
             "friction.guide_viscous_N_s_mm": 0.25,
             "friction.ujoint_coulomb_Nmm": 12.5,
             "platform.home_offset_deg": 17.5,
@@ -378,6 +394,9 @@ def test_slender_levers_of_a_custom_lever():
         ("screw", "inertia_kgmm2", [54.91, 0.0, 0.0]),   # a scalar inertia given as a list
         ("convention", "angle_signs", [1, 1]),
         ("convention", "angle_signs", [True, True, True]),
+        ("friction", "thrust_bearing_axial_only", 1),       # a number for a switch
+        ("friction", "thrust_bearing_axial_only", "true"),  # a string for a switch
+        ("friction", "thrust_bearing_axial_only", [True]),
     ],
 )
 def test_wrong_type(tmp_path, section, key, value):

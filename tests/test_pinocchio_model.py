@@ -125,12 +125,17 @@ class Run:
         power = np.zeros(len(self.t))
         for n, (q, v) in enumerate(zip(self.kin.q, self.kin.v)):
             pin.forwardKinematics(model, data, q, v)
+            pin.updateFramePlacements(model, data)
             Fe = self.traj.Fe[n]
-            bearing = abs(Fe + p.platform_mass * p.gravity)
-            load = fr.hip_radius * fr.hip_mu * abs(Fe) + fr.thrust_radius * fr.thrust_mu * bearing
+            hip = fr.hip_radius * fr.hip_mu * abs(Fe)
+            thrust = fr.thrust_radius * fr.thrust_mu * abs(Fe + p.platform_mass * p.gravity)
             for j in (1, 2):
                 w = pin.getFrameVelocity(model, data, self.frame(f"platform_{j}"), LWA).angular
-                power[n] += load * w @ smooth_sign(w, fr.epsilon)
+                if fr.thrust_bearing_axial_only:  # the bearing turns only about the platform's z axis
+                    spin = w @ data.oMf[self.frame(f"platform_{j}")].rotation[:, 2]
+                    power[n] += hip * w @ smooth_sign(w, fr.epsilon) + thrust * spin * spin / math.sqrt(spin**2 + fr.epsilon**2)
+                else:
+                    power[n] += (hip + thrust) * w @ smooth_sign(w, fr.epsilon)
                 for i in (1, 2, 3):
                     wl = pin.getFrameVelocity(model, data, self.frame(f"lever_{j}{i}"), LWA).angular
                     power[n] += wl @ (fr.ujoint_coulomb * smooth_sign(wl, fr.epsilon) + fr.ujoint_viscous * wl)
@@ -153,6 +158,12 @@ def run():
 def rough():
     """Every friction coefficient non-zero."""
     return Run(load_parameters().replace(**FRICTION))
+
+
+@pytest.fixture(scope="module")
+def axial():
+    """Every friction coefficient non-zero, and a thrust bearing that resists only its own axis' rotation."""
+    return Run(load_parameters().replace(**FRICTION, thrust_bearing_axial_only=True))
 
 
 # --- kinematics --------------------------------------------------------------------------
@@ -274,7 +285,7 @@ def test_kinetic_energy_counts_the_rotors_once(run):
     assert with_rotors == pytest.approx(pin.computeKineticEnergy(bare, bare.createData(), q, v) + rotor, rel=1e-12)
 
 
-@pytest.mark.parametrize("name", ["run", "rough"])
+@pytest.mark.parametrize("name", ["run", "rough", "axial"])
 def test_power_balance(name, request):
     """Motor power = d/dt (kinetic + potential energy of the tree) + friction power."""
     r = request.getfixturevalue(name)

@@ -20,12 +20,15 @@ def params():
 
 
 def machines(params):
-    """The published machine, one with every friction, and one with flipped angle signs and a skewed platform inertia."""
+    """The published machine, one with every friction, one with flipped angle signs and a skewed platform inertia,
+    and one whose thrust bearing resists only rotation about its own axis."""
     inertia = params.platform_inertia + np.array([[0.0, 2e-4, -1e-4], [2e-4, 0.0, 3e-4], [-1e-4, 3e-4, 0.0]])
+    signs = params.replace(angle_signs=np.array([-1.0, 1.0, -1.0]), platform_inertia=inertia, **ALL_FRICTION)
     return {
         "published": params,
         "all friction": params.replace(**ALL_FRICTION),
-        "signs": params.replace(angle_signs=np.array([-1.0, 1.0, -1.0]), platform_inertia=inertia, **ALL_FRICTION),
+        "signs": signs,
+        "axial bearing": signs.replace(thrust_bearing_axial_only=True),
     }
 
 
@@ -34,7 +37,7 @@ def random_states(seed=0, n=40):
     return SmoothMotion(seed=seed, amplitude_deg=15.0)(np.linspace(0.0, 4.0, n))
 
 
-@pytest.mark.parametrize("machine", ["published", "all friction", "signs"])
+@pytest.mark.parametrize("machine", ["published", "all friction", "signs", "axial bearing"])
 @pytest.mark.parametrize("lever_spin", [True, False])
 def test_torques_match_the_vectorised_inverse_dynamics(params, machine, lever_spin):
     params = machines(params)[machine]
@@ -45,7 +48,7 @@ def test_torques_match_the_vectorised_inverse_dynamics(params, machine, lever_sp
     assert relative_error(actual, expected) < 1e-12  # round-off: the kernel sums in another order
 
 
-@pytest.mark.parametrize("machine", ["published", "signs"])
+@pytest.mark.parametrize("machine", ["published", "signs", "axial bearing"])
 @pytest.mark.parametrize("lever_spin", [True, False])
 def test_mass_and_bias_match_the_vectorised_model(params, machine, lever_spin):
     params = machines(params)[machine]
@@ -118,26 +121,6 @@ def test_workspace_pd_is_the_jacobian_transpose_law(params):
     J = slider_jacobian(params, (params.angle_signs * q)[None])[0]
     moment = params.angle_signs * (kp * (q_des - q) + kd * (qd_des - qd))
     np.testing.assert_allclose(tau, params.lead / (2 * math.pi) * np.linalg.solve(J.T, moment), rtol=1e-13)
-
-
-def test_without_a_writable_cache_the_kernels_compile_uncached_with_a_warning(monkeypatch):
-    """numba refuses cache=True when it finds no writable folder; the kernels must still work."""
-    real_njit = kernel.njit
-
-    def njit_without_cache_folder(cache=False, **options):
-        if cache:
-            raise RuntimeError("cannot cache function 'f': no locator available for file 'x.py'")
-        return real_njit(cache=False, **options)
-
-    monkeypatch.setattr(kernel, "njit", njit_without_cache_folder)
-    monkeypatch.setattr(kernel._compile, "warned", False)
-
-    def twice(x):
-        return 2.0 * x
-
-    with pytest.warns(UserWarning, match="no writable numba cache folder"):
-        compiled = kernel._compile(twice)
-    assert compiled(1.5) == 3.0
 
 
 @pytest.mark.parametrize(

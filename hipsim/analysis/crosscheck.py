@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..analytic import laws
 from ..machine.parameters import Parameters, slender_levers
 from .runs import analyse
 from ..exceptions import HipsimError
@@ -97,9 +98,7 @@ def compare_models(params: Parameters, trajectory: Trajectory) -> list[Compariso
     Returns:
         The three comparisons, exact first.
     """
-    lever_joint_friction = any(
-        getattr(params.friction, name) > 0 for name in ("ujoint_coulomb", "ujoint_viscous", "sjoint_coulomb", "sjoint_viscous")
-    )
+    lever_joint_friction = laws.lever_joint_friction_on(params.friction)
     slender = slender_levers(params)
     # The analytic model first: it checks every pose and names the first one out of reach.
     analytic_slender = analyse(slender, trajectory)

@@ -16,12 +16,14 @@ every leg at every sample and each NumPy operation runs over one contiguous
 block instead of over many 3-element rows (three to twenty times faster here).
 The two layouts are each other's ``.T``, a view, so converting costs nothing:
 the fields of :class:`Kinematics` are views of the arrays computed inside.
-The helpers :func:`_cross`, :func:`_dot` work component by component, so a
+The helpers of :mod:`hipsim.analytic.vectors` work component by component, so a
 vector per sample (components of shape (N,)) broadcasts against a vector per
 leg (components (3, N)) and a constant per leg (components (3, 1)); whole
 arrays do not (write ``omega[:, None]`` to add a vector per sample to one per
 leg). A matrix whose rows belong to the legs, like J with rows j_i, is stored
-as the vector per leg j_i, so L̇_i = j_i·ω is ``_dot(J, omega)``.
+as the vector per leg j_i, so L̇_i = j_i·ω is ``dot(J, omega)``. The rotation
+maps and the lever's spin are the laws of :mod:`hipsim.analytic.laws`, which
+the compiled kernel calls too.
 
 Every function is a pure function of arrays; :func:`kinematics` bundles them
 along a trajectory.
@@ -36,6 +38,8 @@ import numpy as np
 from ..exceptions import ArgumentError, PoseError
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
+from . import laws
+from .vectors import cross_array, dot, per_leg, stack
 
 __all__ = [
     "Kinematics",
@@ -57,37 +61,6 @@ __all__ = [
 SINGULAR_COND_INV = 1e-6
 
 
-# --- Components-first helpers (see the module docstring) -------------------------------
-
-
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """a × b for components-first vectors (3, ...) or triples of components; the other axes broadcast."""
-    a0, a1, a2 = a
-    b0, b1, b2 = b
-    # Written into one array: stacking three temporaries costs a copy and, at
-    # 10⁴ samples, fresh pages from the OS.
-    out = np.empty((3,) + np.broadcast_shapes(np.shape(a0), np.shape(b0)))
-    np.subtract(a1 * b2, a2 * b1, out=out[0])
-    np.subtract(a2 * b0, a0 * b2, out=out[1])
-    np.subtract(a0 * b1, a1 * b0, out=out[2])
-    return out
-
-
-def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """a·b for components-first vectors (3, ...); the other axes broadcast."""
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-
-def _matvec(M: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """M·v for components-first matrices M (3, 3, ...) (M[a, b]: row a, column b) and vectors v (3, ...)."""
-    return M[:, 0] * v[0] + M[:, 1] * v[1] + M[:, 2] * v[2]
-
-
-def _per_leg(rows: np.ndarray) -> np.ndarray:
-    """Constant vectors given as rows (leg, xyz), components-first (xyz, leg, 1), to broadcast over samples."""
-    return rows.T[:, :, None]
-
-
 # --- Orientation ----------------------------------------------------------------------
 
 
@@ -103,64 +76,27 @@ def rotation_matrix(q: np.ndarray) -> np.ndarray:
     return np.moveaxis(_rotation_matrix(np.cos(q.T), np.sin(q.T)), -1, 0)
 
 
-# The components-first forms below take the cosines c and sines s of q = [α, β, γ],
-# each (3, N), so that the kinematics evaluates them once (they cost more than the
-# products that follow).
-
-
 def _rotation_matrix(c: np.ndarray, s: np.ndarray) -> np.ndarray:
-    """R of :func:`rotation_matrix`, components-first (3, 3, N)."""
-    ca, cb, cg = c
-    sa, sb, sg = s
-    R = np.empty((3, 3) + ca.shape)
-    R[0, 0] = cb * cg
-    R[0, 1] = cg * sb * sa - sg * ca
-    R[0, 2] = cg * sb * ca + sg * sa
-    R[1, 0] = cb * sg
-    R[1, 1] = sg * sb * sa + cg * ca
-    R[1, 2] = sg * sb * ca - cg * sa
-    R[2, 0] = -sb
-    R[2, 1] = cb * sa
-    R[2, 2] = cb * ca
-    return R
+    """R of :func:`rotation_matrix`, components-first (3, 3, N), from the cosines and sines of q, each (3, N)."""
+    return np.array(laws.rotation(c, s))
+
+
+#: The unit vectors, whose images under a linear map are its columns.
+_UNITS = np.eye(3)
 
 
 def angular_velocity_map(q: np.ndarray) -> np.ndarray:
     """T(q) with ω = T(q)·q̇ (world frame), shape (N, 3, 3); q in [rad], shape (N, 3)."""
-    return np.moveaxis(_angular_velocity_map(np.cos(q.T), np.sin(q.T)), -1, 0)
-
-
-def _angular_velocity_map(c: np.ndarray, s: np.ndarray) -> np.ndarray:
-    """T(q), components-first (3, 3, N)."""
-    _, cb, cg = c
-    _, sb, sg = s
-    T = np.zeros((3, 3) + cb.shape)
-    T[0, 0] = cb * cg
-    T[0, 1] = -sg
-    T[1, 0] = cb * sg
-    T[1, 1] = cg
-    T[2, 0] = -sb
-    T[2, 2] = 1.0
-    return T
+    c, s = np.cos(q.T), np.sin(q.T)
+    columns = [stack(laws.t_times(c, s, unit)) for unit in _UNITS]
+    return np.moveaxis(np.array(columns), (0, 1), (-1, -2))
 
 
 def angular_velocity_map_rate(q: np.ndarray, qd: np.ndarray) -> np.ndarray:
     """Ṫ(q, q̇), so that ω̇ = T·q̈ + Ṫ·q̇; q in [rad], qd in [rad/s], shapes (N, 3)."""
-    return np.moveaxis(_angular_velocity_map_rate(np.cos(q.T), np.sin(q.T), qd.T), -1, 0)
-
-
-def _angular_velocity_map_rate(c: np.ndarray, s: np.ndarray, qd: np.ndarray) -> np.ndarray:
-    """Ṫ(q, q̇), components-first (3, 3, N), with q̇ components-first (3, N)."""
-    _, cb, cg = c
-    _, sb, sg = s
-    _, bd, gd = qd
-    Td = np.zeros((3, 3) + cb.shape)
-    Td[0, 0] = -sb * cg * bd - cb * sg * gd
-    Td[0, 1] = -cg * gd
-    Td[1, 0] = -sb * sg * bd + cb * cg * gd
-    Td[1, 1] = -sg * gd
-    Td[2, 0] = -cb * bd
-    return Td
+    c, s = np.cos(q.T), np.sin(q.T)
+    columns = [stack(laws.t_dot_times(c, s, qd.T, unit)) for unit in _UNITS]
+    return np.moveaxis(np.array(columns), (0, 1), (-1, -2))
 
 
 # --- Position level --------------------------------------------------------------------
@@ -176,7 +112,7 @@ def _platform_vectors(params: Parameters, R: np.ndarray) -> np.ndarray:
 
 def _lever_vectors(params: Parameters, r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The lever vectors d_i = a_1i − b_1i (xyz, leg, N) and the radicands l² − |horizontal gap|² (leg, N)."""
-    c = _per_leg(params.screw_points)
+    c = per_leg(params.screw_points)
     d = np.empty_like(r)
     d[:2] = r[:2] - c[:2]  # a_ji − c_i, horizontal part
     radicand = params.lever_length**2 - (d[0] ** 2 + d[1] ** 2)
@@ -211,7 +147,7 @@ def slider_jacobian(params: Parameters, q: np.ndarray) -> np.ndarray:
     r = _platform_vectors(params, _rotation_matrix(np.cos(q.T), np.sin(q.T)))
     d, radicand = _lever_vectors(params, r)
     with np.errstate(divide="ignore", invalid="ignore"):
-        J = _cross(r, d) / d[2]  # rows (r_i × d_i)/d_i,z: the lever length cancels
+        J = cross_array(r, d) / d[2]  # rows (r_i × d_i)/d_i,z: the lever length cancels
     return np.where(radicand > 0, J, np.nan).T
 
 
@@ -283,22 +219,9 @@ def _inverse_condition_number(J: np.ndarray) -> np.ndarray:
 
 def solve_transpose(J: np.ndarray, Q: np.ndarray) -> np.ndarray:
     """y = J⁻ᵀ·Q for 3x3 matrices J (N, 3, 3) and right-hand sides Q (N, 3, K)."""
-    inverse_T = _inverse_transpose(J.T)  # its rows, (xyz, row, N)
+    rows = laws.inverse_transpose(np.moveaxis(J, 0, -1))  # J's rows j_i, components-first (xyz, N)
     Q = np.moveaxis(Q, 0, -1)  # (xyz, column, N)
-    return np.moveaxis(_dot(inverse_T[:, :, None], Q[:, None]), -1, 0)  # y_ic = (row i of J⁻ᵀ)·Q_c
-
-
-def _inverse_transpose(J: np.ndarray) -> np.ndarray:
-    """J⁻ᵀ from J, both given by their rows, components-first (xyz, row, N).
-
-    J⁻ᵀ has the rows (j₁ × j₂, j₂ × j₀, j₀ × j₁)/det J, j_i the rows of J: in
-    closed form this is ten times faster than LAPACK's batched solve on 3x3.
-    """
-    j0, j1, j2 = J[:, 0], J[:, 1], J[:, 2]
-    inverse_T = np.empty(J.shape)
-    inverse_T[:, 0], inverse_T[:, 1], inverse_T[:, 2] = _cross(j1, j2), _cross(j2, j0), _cross(j0, j1)
-    inverse_T /= _dot(j0, inverse_T[:, 0])  # det J
-    return inverse_T
+    return np.moveaxis(np.array([dot(row, Q) for row in rows]), -1, 0)  # y_ic = (row i of J⁻ᵀ)·Q_c
 
 
 @dataclass(frozen=True, eq=False)
@@ -389,9 +312,9 @@ def _kinematics(params: Parameters, trajectory: Trajectory, on_error: str) -> Ki
     q, qd, qdd = (trajectory.q * signs).T, (trajectory.qd * signs).T, (trajectory.qdd * signs).T
     c, s = np.cos(q), np.sin(q)
     R = _rotation_matrix(c, s)
-    T = _angular_velocity_map(c, s)
-    omega = _matvec(T, qd)
-    omega_dot = _matvec(T, qdd) + _matvec(_angular_velocity_map_rate(c, s, qd), qd)
+    omega = stack(laws.t_times(c, s, qd))
+    omega_dot = stack(laws.t_times(c, s, qdd))
+    omega_dot += laws.t_dot_times(c, s, qd, qd)
 
     # Position: the lever vectors d_i = a_1i − b_1i, so L_1i = a_1i,z − d_i,z, and e_i = d_i/l.
     l = params.lever_length
@@ -403,22 +326,22 @@ def _kinematics(params: Parameters, trajectory: Trajectory, on_error: str) -> Ki
     del d  # only e is needed from here on: free the memory early
 
     # Velocity: L̇_i = (r_i × e_i)·ω / e_i,z; row i of J is (r_i × e_i)ᵀ / e_i,z.
-    J = _cross(r, e)
+    J = cross_array(r, e)
     J /= e[2]
-    Ld = _dot(J, omega)
-    a_dot = _cross(omega, r)
-    omega_l = _cross(e, (a_dot[0], a_dot[1], a_dot[2] - Ld))  # e × (ȧ − ḃ)/l with ḃ = L̇·ẑ
+    Ld = dot(J, omega)
+    a_dot = cross_array(omega, r)
+    omega_l = cross_array(e, (a_dot[0], a_dot[1], a_dot[2] - Ld))  # e × (ȧ − ḃ)/l with ḃ = L̇·ẑ
     omega_l /= l
     # The lever centre is the midpoint of a and b, so its motion is the mean of theirs.
     v_l = 0.5 * a_dot
     v_l[2] += 0.5 * Ld
 
     # Acceleration: L̈_i = [e_i·(ω̇ × r_i + ω × (ω × r_i)) + l·|ω_l|²] / e_i,z.
-    a_ddot = _cross(omega_dot, r)
-    a_ddot += _cross(omega, a_dot)
+    a_ddot = cross_array(omega_dot, r)
+    a_ddot += cross_array(omega, a_dot)
     del a_dot  # likewise
-    Ldd = (_dot(e, a_ddot) + l * _dot(omega_l, omega_l)) / e[2]
-    omega_l_dot = _cross(e, (a_ddot[0], a_ddot[1], a_ddot[2] - Ldd))  # e × (ä − b̈)/l
+    Ldd = (dot(e, a_ddot) + l * dot(omega_l, omega_l)) / e[2]
+    omega_l_dot = cross_array(e, (a_ddot[0], a_ddot[1], a_ddot[2] - Ldd))  # e × (ä − b̈)/l
     omega_l_dot /= l
     a_l = a_ddot  # becomes (ä + b̈)/2 in place
     a_l *= 0.5
@@ -429,7 +352,7 @@ def _kinematics(params: Parameters, trajectory: Trajectory, on_error: str) -> Ki
     singular = ~(cond_inv >= SINGULAR_COND_INV)
     # A motion can also pass through a singularity between two samples without
     # coming close to it at either: det J then changes sign.
-    crossed = _sign_changes(_dot(reachable_J[:, 0], _cross(reachable_J[:, 1], reachable_J[:, 2])), trajectory.periodic)
+    crossed = _sign_changes(dot(reachable_J[:, 0], cross_array(reachable_J[:, 1], reachable_J[:, 2])), trajectory.periodic)
     flagged = out_of_reach | singular | crossed
     if on_error == "raise" and np.any(flagged):
         k = int(np.argmax(flagged))
@@ -448,7 +371,7 @@ def _kinematics(params: Parameters, trajectory: Trajectory, on_error: str) -> Ki
     L = L1[:, None] + (h - params.heights[0])
     a = r[:, :, None] + z * h  # a_ji = o_j + r_i
     b = z * L  # b_ji = c_i + L_ji·ẑ
-    b += _per_leg(params.screw_points)[..., None]
+    b += per_leg(params.screw_points)[..., None]
 
     def both_platforms(x):
         """Platform 1's x (…, N) for both platforms, (…, 2, N), as a read-only view."""
@@ -485,12 +408,8 @@ def lever_jacobians(kin: Kinematics) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _skew(v: np.ndarray) -> np.ndarray:
-    """[v]×, shape (..., 3, 3), from v of shape (..., 3)."""
-    out = np.zeros(v.shape + (3,))
-    out[..., 0, 1], out[..., 0, 2] = -v[..., 2], v[..., 1]
-    out[..., 1, 0], out[..., 1, 2] = v[..., 2], -v[..., 0]
-    out[..., 2, 0], out[..., 2, 1] = -v[..., 1], v[..., 0]
-    return out
+    """[v]×, shape (..., 3, 3), from v of shape (..., 3): row k is e_k × v."""
+    return np.cross(np.eye(3), v[..., None, :])
 
 
 def lever_frames(params: Parameters, kin: Kinematics) -> np.ndarray:
@@ -500,14 +419,8 @@ def lever_frames(params: Parameters, kin: Kinematics) -> np.ndarray:
         Rotation matrices, shape (N, 3, 3, 3) = (sample, leg, 3, 3), columns the
         lever's x, y, z axes in world coordinates; the same for both platforms.
     """
-    return np.stack([axis.T for axis in _lever_axes(params, kin.e.T)], axis=-1)
-
-
-def _lever_axes(params: Parameters, e: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The axes x, y, z = e of :func:`lever_frames`, components-first (xyz, leg, N) each."""
-    x = _cross(e, _per_leg(params.ujoint_axes))
-    x /= np.sqrt(_dot(x, x))
-    return x, _cross(e, x), e
+    axes = laws.lever_axes(per_leg(params.ujoint_axes), kin.e.T)  # components-first (xyz, leg, N) each
+    return np.stack([stack(axis).T for axis in axes], axis=-1)
 
 
 def lever_rotation(params: Parameters, kin: Kinematics, spin: bool) -> tuple[np.ndarray, np.ndarray]:
@@ -527,25 +440,7 @@ def lever_rotation(params: Parameters, kin: Kinematics, spin: bool) -> tuple[np.
     """
     if not spin:
         return kin.omega_l, kin.omega_l_dot
-    omega_l, omega_l_dot = _lever_spin(params, kin.e.T, kin.omega_l.T, kin.omega_l_dot.T)
+    u1, e, w_perp, w_perp_dot = per_leg(params.ujoint_axes), kin.e.T, kin.omega_l.T, kin.omega_l_dot.T
+    omega_l = stack(laws.lever_angular_velocity(u1, e, w_perp))
+    omega_l_dot = stack(laws.lever_angular_acceleration(u1, e, w_perp, w_perp_dot))
     return omega_l.T, omega_l_dot.T
-
-
-def _lever_spin(params: Parameters, e: np.ndarray, w_perp: np.ndarray, w_perp_dot: np.ndarray):
-    """ω_l and ω̇_l with the universal joint's spin (:func:`lever_rotation`), components-first (xyz, leg, N)."""
-    u1 = _per_leg(params.ujoint_axes)
-    c = _dot(u1, e)
-    d = 1.0 - c**2
-    w = _dot(w_perp, u1)
-    s = c * w / d
-    e_dot = _cross(w_perp, e)
-    c_dot = _dot(u1, e_dot)
-    s_dot = (c_dot * w + c * _dot(w_perp_dot, u1)) / d + 2.0 * c**2 * c_dot * w / d**2
-    return w_perp + s * e, w_perp_dot + s_dot * e + s * e_dot
-
-
-def _spin_transpose(params: Parameters, e: np.ndarray, moment: np.ndarray) -> np.ndarray:
-    """:func:`spin_transpose`, components-first (xyz, leg, N)."""
-    u1 = _per_leg(params.ujoint_axes)
-    c = _dot(u1, e)
-    return moment + c / (1.0 - c**2) * _dot(e, moment) * u1

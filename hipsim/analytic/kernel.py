@@ -3,7 +3,7 @@
 Why this module exists. The servo loop of :func:`hipsim.simulation.simulate`
 evaluates the forward dynamics of one state at a time, eight times per servo
 period (two RK4 steps of four stages). Through the vectorised model of
-:mod:`hipsim.kinematics` and :mod:`hipsim.dynamics` each evaluation is some
+:mod:`hipsim.analytic.inverse_kinematics` and :mod:`hipsim.analytic.virtual_work` each evaluation is some
 seven hundred NumPy calls on arrays of four samples, ~490 µs of Python
 overhead for a few thousand floating-point operations: the reduced plant ran
 at a quarter of real time. Here the same equations are written for a single
@@ -14,35 +14,36 @@ checks :func:`torques`, :func:`mass_and_bias`, :func:`jacobian` and
 :func:`workspace_pd` against it to round-off on random states with every
 friction coefficient on, and the plant's agreement with the Pinocchio plant
 is tested in ``tests/test_pinocchio_plant.py``. The names follow those modules, so
-each line here can be read against its vectorised counterpart.
+each line here can be read against its vectorised counterpart; the laws both
+use (rotation maps, lever spin, friction) are written once, in
+:mod:`hipsim.analytic.laws`.
 
 Conventions. Vectors are 3-tuples of floats (values, so nothing is allocated
 on the heap), matrices are 3-tuples of rows. The machine travels as a
 :class:`KernelParameters` named tuple built once by :func:`kernel_parameters`.
 Angles come in as gait angles; the parameter file's angle signs are applied
-inside, as :func:`hipsim.kinematics.kinematics` does. A pose out of reach gives
+inside, as :func:`hipsim.analytic.inverse_kinematics.kinematics` does. A pose out of reach gives
 NaN, which the servo loop reports as the plant leaving its workspace.
 
 The first call compiles the functions (~10 s for the plant, ~5 s for the PD
 law); numba caches the machine code next to this file (or in its user-wide
-cache when that folder is read-only), so later processes load it in well
-under a second. Where neither can be written, the kernels are compiled in
-every process, with a warning.
+cache when that folder is read-only), keyed on this file and the laws', so
+later processes load it in well under a second. Where neither can be written,
+the kernels are compiled in every process, with a warning.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import math
-import warnings
-from collections import namedtuple
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 
 from ..exceptions import ArgumentError, HipsimError
-from ..machine.parameters import Friction, Parameters
+from ..machine.parameters import Parameters
+from . import laws
+from .laws import FrictionRecord
+from .vectors import add, cross, dot, matvec, scale, sub, transpose_times
 
 __all__ = [
     "KernelParameters",
@@ -59,32 +60,12 @@ __all__ = [
 Vector = tuple  # (x, y, z) floats
 Matrix = tuple  # three rows
 
-def _compile(function):
-    """Compile with numba, caching the machine code where numba can write it.
-
-    ``error_model="numpy"``: x/0 gives inf or NaN as in NumPy instead of raising.
-    numba caches next to this file or, when that folder is read-only, in the
-    user's cache folder; when neither can be written it refuses to cache, and
-    the kernels are then compiled afresh in every process.
-    """
-    try:
-        return njit(cache=True, error_model="numpy")(function)
-    except RuntimeError:  # "cannot cache function ...: no locator available"
-        if not _compile.warned:
-            warnings.warn("hipsim: no writable numba cache folder; the reduced plant is compiled in every run (~10 s)", stacklevel=2)
-            _compile.warned = True
-        return njit(cache=False, error_model="numpy")(function)
-
-
-_compile.warned = False
-
-
-#: The friction coefficients as the kernels read them: the fields of :class:`Friction`, SI.
-KernelFriction = namedtuple("KernelFriction", [field.name for field in dataclasses.fields(Friction)])
+#: Compile with numba, caching the machine code (keyed on the laws too: see :func:`hipsim.analytic.laws.jit`).
+_compile = laws.jit
 
 
 class KernelParameters(NamedTuple):
-    """The machine as the kernels read it, in SI units (fields as in :class:`hipsim.parameters.Parameters`).
+    """The machine as the kernels read it, in SI units (fields as in :class:`hipsim.machine.parameters.Parameters`).
 
     Per-leg vectors are 3-tuples of (x, y, z) rows; inertias are 3-tuples of rows.
     """
@@ -104,7 +85,7 @@ class KernelParameters(NamedTuple):
     ujoint_axes: Matrix
     angle_signs: Vector
     lever_spin: bool
-    friction: KernelFriction
+    friction: FrictionRecord
 
 
 def kernel_parameters(params: Parameters, lever_spin: bool = True) -> KernelParameters:
@@ -113,14 +94,13 @@ def kernel_parameters(params: Parameters, lever_spin: bool = True) -> KernelPara
     Args:
         params: the machine.
         lever_spin: give the levers the spin their universal joints impose
-            (as :func:`hipsim.dynamics.inverse_dynamics` with ``lever_spin=True``).
+            (as :func:`hipsim.analytic.virtual_work.inverse_dynamics` with ``lever_spin=True``).
     """
 
     # Plain floats throughout: numba compiles once per combination of argument types.
     def rows(matrix) -> Matrix:
         return tuple(tuple(float(x) for x in row) for row in np.asarray(matrix))
 
-    friction = {name: float(value) for name, value in dataclasses.asdict(params.friction).items()}
     return KernelParameters(
         gravity=float(params.gravity), lever_length=float(params.lever_length), lead=float(params.lead),
         screw_inertia=float(params.screw_inertia), slider_mass=float(params.slider_mass),
@@ -129,7 +109,7 @@ def kernel_parameters(params: Parameters, lever_spin: bool = True) -> KernelPara
         platform_inertia=rows(params.platform_inertia), lever_inertia=rows(params.lever_inertia),
         platform_points=rows(params.platform_points), screw_points=rows(params.screw_points),
         ujoint_axes=rows(params.ujoint_axes), angle_signs=tuple(float(s) for s in params.angle_signs),
-        lever_spin=bool(lever_spin), friction=KernelFriction(**friction),
+        lever_spin=bool(lever_spin), friction=laws.friction_record(params.friction),
     )
 
 
@@ -151,93 +131,19 @@ def floats(x, shape: tuple[int, ...], name: str) -> np.ndarray:
     return array
 
 
-# --- 3-vectors as tuples --------------------------------------------------------------
+# --- Kinematics (hipsim.analytic.inverse_kinematics) ----------------------------------
 
 
 @_compile
-def _add(a, b):
-    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
-
-
-@_compile
-def _sub(a, b):
-    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
-
-
-@_compile
-def _scale(a, s):
-    return (a[0] * s, a[1] * s, a[2] * s)
-
-
-@_compile
-def _dot(a, b):
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-
-@_compile
-def _cross(a, b):
-    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
-
-
-@_compile
-def _matvec(M, v):
-    return (_dot(M[0], v), _dot(M[1], v), _dot(M[2], v))
-
-
-@_compile
-def _transpose_times(M, v):
-    """Mᵀ·v."""
-    return _add(_add(_scale(M[0], v[0]), _scale(M[1], v[1])), _scale(M[2], v[2]))
-
-
-@_compile
-def _smooth_sign(w, epsilon):
-    """ŝ(w) = w/√(|w|² + ε²) of a vector (spec §7.3)."""
-    return _scale(w, 1.0 / math.sqrt(_dot(w, w) + epsilon**2))
-
-
-@_compile
-def _inverse_transpose(J):
-    """J⁻ᵀ by its rows (j₁ × j₂, j₂ × j₀, j₀ × j₁)/det J, J given by its rows j_i."""
-    rows = (_cross(J[1], J[2]), _cross(J[2], J[0]), _cross(J[0], J[1]))
-    det = _dot(J[0], rows[0])
-    return (_scale(rows[0], 1.0 / det), _scale(rows[1], 1.0 / det), _scale(rows[2], 1.0 / det))
-
-
-# --- Kinematics (hipsim.kinematics) ---------------------------------------------------
-
-
-@_compile
-def _rotation(q):
-    """R = Rz(γ)·Ry(β)·Rx(α) (rows) and the map T(q) with ω = T·q̇ (rows), q after angle signs."""
-    ca, cb, cg = math.cos(q[0]), math.cos(q[1]), math.cos(q[2])
-    sa, sb, sg = math.sin(q[0]), math.sin(q[1]), math.sin(q[2])
-    R = (
-        (cb * cg, cg * sb * sa - sg * ca, cg * sb * ca + sg * sa),
-        (cb * sg, sg * sb * sa + cg * ca, sg * sb * ca - cg * sa),
-        (-sb, cb * sa, cb * ca),
-    )
-    T = ((cb * cg, -sg, 0.0), (cb * sg, cg, 0.0), (-sb, 0.0, 1.0))
-    return R, T
-
-
-@_compile
-def _map_rate(q, qd):
-    """Ṫ(q, q̇) (rows), so that ω̇ = T·q̈ + Ṫ·q̇."""
-    cb, cg = math.cos(q[1]), math.cos(q[2])
-    sb, sg = math.sin(q[1]), math.sin(q[2])
-    bd, gd = qd[1], qd[2]
-    return (
-        (-sb * cg * bd - cb * sg * gd, -cg * gd, 0.0),
-        (-sb * sg * bd + cb * cg * gd, -sg * gd, 0.0),
-        (-cb * bd, 0.0, 0.0),
-    )
+def _trig(q):
+    """The cosines and sines of q = [α, β, γ] after angle signs, as the rotation laws take them."""
+    return (math.cos(q[0]), math.cos(q[1]), math.cos(q[2])), (math.sin(q[0]), math.sin(q[1]), math.sin(q[2]))
 
 
 @_compile
 def _lever_geometry(P, R, i):
     """r_i = R·r⁰_i and the lever's unit vector e_i; NaN when the lever cannot reach."""
-    r = _matvec(R, P.platform_points[i])
+    r = matvec(R, P.platform_points[i])
     c = P.screw_points[i]
     dx, dy = r[0] - c[0], r[1] - c[1]
     l = P.lever_length
@@ -248,14 +154,21 @@ def _lever_geometry(P, R, i):
 
 
 @_compile
-def _jacobian_rows(P, q):
-    """The rows (r_i × e_i)/e_i,z of J (L̇ = J·ω) and the r_i, e_i, at orientation q after angle signs."""
-    R, _ = _rotation(q)
+def _jacobian_rows(P, R):
+    """The rows (r_i × e_i)/e_i,z of J (L̇ = J·ω) and the r_i, e_i, at the platform rotation R (rows)."""
     r0, e0 = _lever_geometry(P, R, 0)
     r1, e1 = _lever_geometry(P, R, 1)
     r2, e2 = _lever_geometry(P, R, 2)
-    J = (_scale(_cross(r0, e0), 1.0 / e0[2]), _scale(_cross(r1, e1), 1.0 / e1[2]), _scale(_cross(r2, e2), 1.0 / e2[2]))
+    J = (scale(cross(r0, e0), 1.0 / e0[2]), scale(cross(r1, e1), 1.0 / e1[2]), scale(cross(r2, e2), 1.0 / e2[2]))
     return J, (r0, r1, r2), (e0, e1, e2)
+
+
+@_compile
+def _jacobian_at(P, q):
+    """J's rows at gait angles q."""
+    c, s = _trig(_signed(P, q))
+    J, _, _ = _jacobian_rows(P, laws.rotation(c, s))
+    return J
 
 
 @_compile
@@ -264,11 +177,15 @@ def _signed(P, v):
     return (v[0] * P.angle_signs[0], v[1] * P.angle_signs[1], v[2] * P.angle_signs[2])
 
 
-# --- Inverse dynamics (hipsim.dynamics) -----------------------------------------------
+# --- Inverse dynamics (hipsim.analytic.virtual_work) -----------------------------------
+# The vectorised model and this kernel stay two transcriptions of the virtual-work
+# assembly because one runs whole-array NumPy operations on every sample at once and the
+# other scalar code on one state: the laws they share come from hipsim.analytic.laws,
+# and tests/test_reduced_kernel.py ties the two to round-off.
 
 
 class _LeverMotion(NamedTuple):
-    """One leg's velocity level, what its acceleration level needs (hipsim.kinematics._kinematics)."""
+    """One leg's velocity level, what its acceleration level needs (inverse_kinematics._kinematics)."""
 
     r: Vector  # r_i = R·r⁰_i [m]
     e: Vector  # lever unit vector e_i
@@ -276,102 +193,75 @@ class _LeverMotion(NamedTuple):
     centripetal: Vector  # ω × ȧ, the velocity part of ä [m/s²]
     l_w_perp_sq: float  # l·|w_perp|², the centripetal part of e_z·L̈ [m/s²]
     omega_l: Vector  # lever angular velocity, with spin when P.lever_spin [rad/s]
-    spin: tuple  # (c, 1 − c², ω_⊥·u1, s) of hipsim.kinematics._lever_spin
-    spin_rates: Vector  # ė = w_perp × e [1/s] ...
-    c_dot: float  # ... and ċ = u1·ė [1/s]
     axes: Matrix  # rows: the lever's x, y, z axes (spec §7.1)
 
 
 @_compile
 def _lever_velocity(P, r, e, J_i, omega, i):
-    """Velocity level of leg i (hipsim.kinematics._kinematics, _lever_spin, _lever_axes)."""
+    """Velocity level of leg i (inverse_kinematics._kinematics; the laws' lever spin and axes)."""
     l = P.lever_length
-    Ld = _dot(J_i, omega)
-    a_dot = _cross(omega, r)
-    w_perp = _scale(_cross(e, (a_dot[0], a_dot[1], a_dot[2] - Ld)), 1.0 / l)
+    Ld = dot(J_i, omega)
+    a_dot = cross(omega, r)
+    w_perp = scale(cross(e, (a_dot[0], a_dot[1], a_dot[2] - Ld)), 1.0 / l)
     u1 = P.ujoint_axes[i]
-    c = _dot(u1, e)
-    d = 1.0 - c**2
-    w = _dot(w_perp, u1)
-    s = c * w / d if P.lever_spin else 0.0
-    e_dot = _cross(w_perp, e)
-    x = _cross(e, u1)
-    x = _scale(x, 1.0 / math.sqrt(_dot(x, x)))
-    return _LeverMotion(
-        r, e, w_perp, _cross(omega, a_dot), l * _dot(w_perp, w_perp), _add(w_perp, _scale(e, s)),
-        (c, d, w, s), e_dot, _dot(u1, e_dot), (x, _cross(e, x), e),
-    )
+    omega_l = laws.lever_angular_velocity(u1, e, w_perp) if P.lever_spin else w_perp
+    return _LeverMotion(r, e, w_perp, cross(omega, a_dot), l * dot(w_perp, w_perp), omega_l, laws.lever_axes(u1, e))
 
 
 @_compile
 def _euler_moment(axes, inertia, w, w_dot):
     """The D'Alembert moment −I_w·ω̇ − ω × I_w·ω in world axes, evaluated in body axes (the rows of ``axes``)."""
-    w_body = _matvec(axes, w)
-    moment_body = _sub(_scale(_matvec(inertia, _matvec(axes, w_dot)), -1.0), _cross(w_body, _matvec(inertia, w_body)))
-    return _transpose_times(axes, moment_body)
+    w_body = matvec(axes, w)
+    moment_body = sub(scale(matvec(inertia, matvec(axes, w_dot)), -1.0), cross(w_body, matvec(inertia, w_body)))
+    return transpose_times(axes, moment_body)
 
 
 @_compile
 def _lever_ends(P, lever, i, force, moment):
     """A wrench on lever i (force at its centre, moment) as r × f_a on the platform and f_b,z on the slider."""
-    if P.lever_spin:  # the spin's transpose, hipsim.kinematics._spin_transpose
-        c = lever.spin[0]
-        moment = _add(moment, _scale(P.ujoint_axes[i], c / (1.0 - c**2) * _dot(lever.e, moment)))
-    m_cross_e = _scale(_cross(moment, lever.e), 1.0 / P.lever_length)
-    f_a = _add(_scale(force, 0.5), m_cross_e)
-    return _cross(lever.r, f_a), 0.5 * force[2] - m_cross_e[2]
+    if P.lever_spin:
+        moment = laws.spin_transpose(P.ujoint_axes[i], lever.e, moment)
+    m_cross_e = scale(cross(moment, lever.e), 1.0 / P.lever_length)
+    f_a = add(scale(force, 0.5), m_cross_e)
+    return cross(lever.r, f_a), 0.5 * force[2] - m_cross_e[2]
 
 
 @_compile
 def _lever_acceleration(P, lever, i, omega_dot):
     """Leg i at platform acceleration ω̇: L̈_i, and its lever's gravity and D'Alembert wrench mapped to the ends."""
     l, e = P.lever_length, lever.e
-    a_ddot = _add(_cross(omega_dot, lever.r), lever.centripetal)
-    Ldd = (_dot(e, a_ddot) + lever.l_w_perp_sq) / e[2]
-    omega_l_dot = _scale(_cross(e, (a_ddot[0], a_ddot[1], a_ddot[2] - Ldd)), 1.0 / l)
+    a_ddot = add(cross(omega_dot, lever.r), lever.centripetal)
+    Ldd = (dot(e, a_ddot) + lever.l_w_perp_sq) / e[2]
+    omega_l_dot = scale(cross(e, (a_ddot[0], a_ddot[1], a_ddot[2] - Ldd)), 1.0 / l)
     if P.lever_spin:
-        c, d, w, s = lever.spin
-        c_dot = lever.c_dot
-        s_dot = (c_dot * w + c * _dot(omega_l_dot, P.ujoint_axes[i])) / d + 2.0 * c**2 * c_dot * w / d**2
-        omega_l_dot = _add(_add(omega_l_dot, _scale(e, s_dot)), _scale(lever.spin_rates, s))
+        omega_l_dot = laws.lever_angular_acceleration(P.ujoint_axes[i], e, lever.w_perp, omega_l_dot)
     a_l = (0.5 * a_ddot[0], 0.5 * a_ddot[1], 0.5 * a_ddot[2] + 0.5 * Ldd)
-    force = _scale((a_l[0], a_l[1], a_l[2] + P.gravity), -P.lever_mass)  # m_l·(g − a_l)
+    force = scale((a_l[0], a_l[1], a_l[2] + P.gravity), -P.lever_mass)  # m_l·(g − a_l)
     moment = _euler_moment(lever.axes, P.lever_inertia, lever.omega_l, omega_l_dot)
     Q, f_b_z = _lever_ends(P, lever, i, force, moment)
     return Ldd, Q, f_b_z
 
 
 @_compile
-def _lever_joint_friction(P, lever, i, omega):
-    """U- and S-joint friction of leg i: its generalised moment on the platform and f_b,z on the slider."""
-    F = P.friction
-    w_rel = _sub(lever.omega_l, omega)
-    tau_bf = _add(_scale(_smooth_sign(lever.omega_l, F.epsilon), F.ujoint_coulomb), _scale(lever.omega_l, F.ujoint_viscous))
-    tau_af = _add(_scale(_smooth_sign(w_rel, F.epsilon), F.sjoint_coulomb), _scale(w_rel, F.sjoint_viscous))
-    Q, f_b_z = _lever_ends(P, lever, i, (0.0, 0.0, 0.0), _scale(_add(tau_af, tau_bf), -1.0))
-    return _add(Q, tau_af), f_b_z
-
-
-@_compile
 def _leg_friction(P, lever, i, J_i, omega):
     """Leg i's friction: generalised moment of its lever joints, forces along the screw, screw torque."""
-    Ld = _dot(J_i, omega)
+    Ld = dot(J_i, omega)
     motor_speed = 2.0 * math.pi * Ld / P.lead
     F = P.friction
-    sign = motor_speed / math.sqrt(motor_speed**2 + F.epsilon**2)
-    screw = F.screw_coulomb * sign + F.screw_viscous * motor_speed
-    guide = F.guide_coulomb * sign + F.guide_viscous * Ld
-    if F.ujoint_coulomb == 0.0 and F.ujoint_viscous == 0.0 and F.sjoint_coulomb == 0.0 and F.sjoint_viscous == 0.0:
+    screw = laws.screw_friction(F, motor_speed)
+    guide = laws.guide_friction(F, Ld, motor_speed)
+    if not laws.lever_joint_friction_on(F):
         return (0.0, 0.0, 0.0), -guide, screw
-    Q, f_b_z = _lever_joint_friction(P, lever, i, omega)
-    return Q, f_b_z - guide, screw
+    tau_bf, tau_af = laws.lever_joint_friction(F, lever.omega_l, omega)
+    Q, f_b_z = _lever_ends(P, lever, i, (0.0, 0.0, 0.0), scale(add(tau_af, tau_bf), -1.0))
+    return add(Q, tau_af), f_b_z - guide, screw
 
 
 class _State(NamedTuple):
     """Everything at one state (q, q̇) that does not depend on the acceleration."""
 
+    cos_sin: tuple  # the cosines and sines of q, for the rotation laws
     platform_axes: Matrix  # rows: the platform's x, y, z axes (the columns of R)
-    T: Matrix  # ω = T·q̇
     omega: Vector  # platform angular velocity [rad/s]
     J_inv_T: Matrix  # J⁻ᵀ
     levers: tuple  # three _LeverMotion
@@ -383,23 +273,25 @@ class _State(NamedTuple):
 @_compile
 def _state(P, q, qd, Fe):
     """The velocity level at orientation q [rad] and rate q̇ [rad/s] (after angle signs), load Fe [N]."""
-    R, T = _rotation(q)
-    omega = _matvec(T, qd)
-    J, r, e = _jacobian_rows(P, q)
+    c, s = _trig(q)
+    R = laws.rotation(c, s)
+    omega = laws.t_times(c, s, qd)
+    J, r, e = _jacobian_rows(P, R)
     levers = (
         _lever_velocity(P, r[0], e[0], J[0], omega, 0),
         _lever_velocity(P, r[1], e[1], J[1], omega, 1),
         _lever_velocity(P, r[2], e[2], J[2], omega, 2),
     )
-    # Central chain: hip joint and thrust bearing (spec §4.3), against ŝ(ω).
-    F = P.friction
-    load = F.hip_radius * F.hip_mu * abs(Fe) + F.thrust_radius * F.thrust_mu * abs(Fe + P.platform_mass * P.gravity)
+    platform_axes = ((R[0][0], R[1][0], R[2][0]), (R[0][1], R[1][1], R[2][1]), (R[0][2], R[1][2], R[2][2]))
+    # Central chain: hip joint and thrust bearing (spec §4.3).
+    tau_mf = laws.central_friction_moment(P.friction, omega, platform_axes[2], Fe, P.platform_mass * P.gravity)
     Q0, slider0, screw0 = _leg_friction(P, levers[0], 0, J[0], omega)
     Q1, slider1, screw1 = _leg_friction(P, levers[1], 1, J[1], omega)
     Q2, slider2, screw2 = _leg_friction(P, levers[2], 2, J[2], omega)
-    Q_f = _sub(_add(_add(Q0, Q1), Q2), _scale(_smooth_sign(omega, P.friction.epsilon), load))
-    platform_axes = ((R[0][0], R[1][0], R[2][0]), (R[0][1], R[1][1], R[2][1]), (R[0][2], R[1][2], R[2][2]))
-    return _State(platform_axes, T, omega, _inverse_transpose(J), levers, Q_f, (slider0, slider1, slider2), (screw0, screw1, screw2))
+    Q_f = sub(add(add(Q0, Q1), Q2), tau_mf)
+    return _State(
+        (c, s), platform_axes, omega, laws.inverse_transpose(J), levers, Q_f, (slider0, slider1, slider2), (screw0, screw1, screw2)
+    )
 
 
 @_compile
@@ -409,13 +301,13 @@ def _torques_at(P, S, omega_dot):
     Ldd1, Q1, fz1 = _lever_acceleration(P, S.levers[1], 1, omega_dot)
     Ldd2, Q2, fz2 = _lever_acceleration(P, S.levers[2], 2, omega_dot)
     Q_m = _euler_moment(S.platform_axes, P.platform_inertia, S.omega, omega_dot)
-    Q = _add(_add(_add(_add(Q_m, Q0), Q1), Q2), S.Q_f)
-    scale = -P.n_platforms * P.lead / (2.0 * math.pi)
+    Q = add(add(add(add(Q_m, Q0), Q1), Q2), S.Q_f)
+    scale_ = -P.n_platforms * P.lead / (2.0 * math.pi)
     screw = 2.0 * math.pi * P.screw_inertia / P.lead
 
     def motor(i, Ldd, f_b_z):
         slider = P.slider_mass * (-P.gravity - Ldd)
-        return scale * (_dot(S.J_inv_T[i], Q) + f_b_z + slider + S.slider_f[i]) + screw * Ldd + S.screw_f[i]
+        return scale_ * (dot(S.J_inv_T[i], Q) + f_b_z + slider + S.slider_f[i]) + screw * Ldd + S.screw_f[i]
 
     return (motor(0, Ldd0, fz0), motor(1, Ldd1, fz1), motor(2, Ldd2, fz2))
 
@@ -426,13 +318,14 @@ def _mass_and_bias(P, x, Fe):
     q = _signed(P, (x[0], x[1], x[2]))
     qd = _signed(P, (x[3], x[4], x[5]))
     S = _state(P, q, qd, Fe)
-    bias = _matvec(_map_rate(q, qd), qd)  # ω̇ at q̈ = 0
+    c, s = S.cos_sin
+    bias = laws.t_dot_times(c, s, qd, qd)  # ω̇ at q̈ = 0
     h = _torques_at(P, S, bias)
-    T, sg = S.T, P.angle_signs
+    sg = P.angle_signs
     # τ is affine in q̈: column k of M is τ(q̈ = unit k) − h, ω̇ = T·(sign_k·unit_k) + Ṫ·q̇.
-    m0 = _sub(_torques_at(P, S, _add(_scale((T[0][0], T[1][0], T[2][0]), sg[0]), bias)), h)
-    m1 = _sub(_torques_at(P, S, _add(_scale((T[0][1], T[1][1], T[2][1]), sg[1]), bias)), h)
-    m2 = _sub(_torques_at(P, S, _add(_scale((T[0][2], T[1][2], T[2][2]), sg[2]), bias)), h)
+    m0 = sub(_torques_at(P, S, add(laws.t_times(c, s, (sg[0], 0.0, 0.0)), bias)), h)
+    m1 = sub(_torques_at(P, S, add(laws.t_times(c, s, (0.0, sg[1], 0.0)), bias)), h)
+    m2 = sub(_torques_at(P, S, add(laws.t_times(c, s, (0.0, 0.0, sg[2])), bias)), h)
     return (m0, m1, m2), h
 
 
@@ -440,16 +333,16 @@ def _mass_and_bias(P, x, Fe):
 def _solve(columns, b):
     """x with M·x = b, M given by its columns, by Cramer's rule."""
     c0, c1, c2 = columns
-    c12 = _cross(c1, c2)
-    det = _dot(c0, c12)
-    return (_dot(b, c12) / det, _dot(c0, _cross(b, c2)) / det, _dot(c0, _cross(c1, b)) / det)
+    c12 = cross(c1, c2)
+    det = dot(c0, c12)
+    return (dot(b, c12) / det, dot(c0, cross(b, c2)) / det, dot(c0, cross(c1, b)) / det)
 
 
 @_compile
 def _derivative(P, x, tau, Fe):
     """dx/dt = (q̇, M⁻¹·(τ − h)) as a 6-tuple."""
     M, h = _mass_and_bias(P, x, Fe)
-    qdd = _solve(M, _sub(tau, h))
+    qdd = _solve(M, sub(tau, h))
     return (x[3], x[4], x[5], qdd[0], qdd[1], qdd[2])
 
 
@@ -475,7 +368,8 @@ def torques(P, q, qd, qdd, Fe):
     """
     q_s, qd_s, qdd_s = _signed(P, q), _signed(P, qd), _signed(P, qdd)
     S = _state(P, q_s, qd_s, Fe)
-    omega_dot = _add(_matvec(S.T, qdd_s), _matvec(_map_rate(q_s, qd_s), qd_s))
+    c, s = S.cos_sin
+    omega_dot = add(laws.t_times(c, s, qdd_s), laws.t_dot_times(c, s, qd_s, qd_s))
     return np.array(_torques_at(P, S, omega_dot))
 
 
@@ -518,8 +412,7 @@ def advance(P, x, tau, loads, h, substeps):
 @_compile
 def jacobian(P, q):
     """J (L̇_j = J·ω), (3, 3), at gait angles q in [rad], (3,); NaN rows where a lever cannot reach."""
-    J, _, _ = _jacobian_rows(P, _signed(P, q))
-    return np.array(J)
+    return np.array(_jacobian_at(P, q))
 
 
 @_compile
@@ -539,6 +432,5 @@ def workspace_pd(P, q, qd, q_desired, qd_desired, kp, kd):
         kp[2] * (q_desired[2] - q[2]) + kd[2] * (qd_desired[2] - qd[2]),
     )
     moment = _signed(P, error)  # the moment acts on the platform, whose angles may be flipped
-    J, _, _ = _jacobian_rows(P, _signed(P, (q[0], q[1], q[2])))
-    J_inv_T = _inverse_transpose(J)
-    return np.array(_matvec(J_inv_T, moment)) * (P.lead / (2.0 * math.pi))
+    J_inv_T = laws.inverse_transpose(_jacobian_at(P, (q[0], q[1], q[2])))
+    return np.array(matvec(J_inv_T, moment)) * (P.lead / (2.0 * math.pi))

@@ -17,16 +17,22 @@ their transposes in closed form:
 that is, the lever wrench is replaced by two forces at its ends: f_a acts on
 the platform at a (moment r × f_a about the fixed centre) and the vertical part
 of f_b acts on the slider. ``tests/test_dynamics.py`` checks this against the
-explicit Jacobians of :func:`hipsim.kinematics.lever_jacobians`.
+explicit Jacobians of :func:`hipsim.analytic.inverse_kinematics.lever_jacobians`.
 
 Both platforms have the same orientation and their legs the same lever
 directions, so every platform, lever and slider term is the same for j = 1
 and j = 2 and is computed once and counted twice.
 
-As in :mod:`hipsim.kinematics`, the computations run components-first (a
-vector per sample (3, N), per leg (3, 3, N) = (xyz, leg, sample), a scalar per
-leg (3, N)) on the ``.T`` views of the :class:`~hipsim.kinematics.Kinematics`
-arrays, and the results are turned back with ``.T``.
+As in :mod:`hipsim.analytic.inverse_kinematics`, the computations run
+components-first (a vector per sample (3, N), per leg (3, 3, N) = (xyz, leg,
+sample), a scalar per leg (3, N)) on the ``.T`` views of the
+:class:`~hipsim.analytic.inverse_kinematics.Kinematics` arrays, and the
+results are turned back with ``.T``. The friction laws, J⁻ᵀ and the lever's
+spin and frame are those of :mod:`hipsim.analytic.laws`, which the compiled
+kernel and the Pinocchio model call too. The assembly below is transcribed
+once more, for one state on plain floats, in :mod:`hipsim.analytic.kernel`,
+because whole-array NumPy code costs ~700 calls of Python overhead per state
+there; ``tests/test_reduced_kernel.py`` ties the two to round-off.
 """
 
 from __future__ import annotations
@@ -35,10 +41,13 @@ import math
 
 import numpy as np
 
-from .inverse_kinematics import Kinematics, _cross, _dot, _inverse_transpose, _lever_axes, _lever_spin, _spin_transpose, kinematics
+from ..exceptions import HipsimError
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 from ..results import Torques
+from . import laws
+from .inverse_kinematics import Kinematics, kinematics
+from .vectors import cross_array, dot, per_leg, stack
 
 __all__ = [
     "central_friction_moment",
@@ -51,20 +60,17 @@ __all__ = [
 
 
 def smooth_sign(w: np.ndarray, epsilon: float, vector: bool = False) -> np.ndarray:
-    """ŝ(w) = w/√(|w|² + ε²) (spec §7.3).
+    """ŝ(w) = w/√(|w|² + ε²) (spec §7.3; :func:`hipsim.analytic.laws.smooth_sign`).
 
     Args:
         w: speeds in [rad/s], any shape; with ``vector`` the last axis is a 3-vector.
         epsilon: ε in [rad/s]; below it the Coulomb friction fades linearly to zero.
         vector: True to take |w| over the last axis.
     """
-    norm2 = np.sum(w**2, axis=-1, keepdims=True) if vector else w**2
-    return w / np.sqrt(norm2 + epsilon**2)
-
-
-def _smooth_sign_vector(w: np.ndarray, epsilon: float) -> np.ndarray:
-    """ŝ(w) of components-first vectors w (3, ...)."""
-    return w / np.sqrt(_dot(w, w) + epsilon**2)
+    w = np.asarray(w, dtype=float)
+    if not vector:
+        return laws.smooth_sign(w, epsilon)
+    return np.moveaxis(stack(laws.smooth_sign_vector(np.moveaxis(w, -1, 0), epsilon)), 0, -1)
 
 
 def screw_friction_torque(params: Parameters, motor_speed: np.ndarray) -> np.ndarray:
@@ -74,49 +80,59 @@ def screw_friction_torque(params: Parameters, motor_speed: np.ndarray) -> np.nda
         params: the machine.
         motor_speed: θ̇ in [rad/s], any shape.
     """
-    f = params.friction
-    return f.screw_coulomb * smooth_sign(motor_speed, f.epsilon) + f.screw_viscous * motor_speed
+    return laws.screw_friction(params.friction, np.asarray(motor_speed, dtype=float))
 
 
-def central_friction_moment(params: Parameters, omega: np.ndarray, Fe: np.ndarray) -> np.ndarray:
+def central_friction_moment(params: Parameters, omega: np.ndarray, Fe: np.ndarray, R: np.ndarray | None = None) -> np.ndarray:
     """Friction moment τ_mf of one platform's central chain (hip joint + thrust bearing), spec §4.3.
 
     Args:
         params: the machine.
         omega: platform angular velocity in [rad/s], (N, 3).
         Fe: load magnitude in [N], (N,), pushing down like the platform's weight.
+        R: platform rotations, (N, 3, 3); needed when the thrust bearing
+            resists only rotation about its own axis (``friction.thrust_bearing_axial_only``).
 
     Returns:
-        τ_mf in [N·m], (N, 3), along ŝ(ω) (it resists the platform's rotation).
+        τ_mf in [N·m], (N, 3); it resists the platform's rotation.
+
+    Raises:
+        HipsimError: the axial-only thrust bearing without R.
     """
-    return _central_friction_moment(params, omega.T, np.asarray(Fe, dtype=float)).T
+    if params.friction.thrust_bearing_axial_only and R is None:
+        raise HipsimError("the axial-only thrust bearing's friction needs the platform rotations R")
+    z = None if R is None else np.asarray(R, dtype=float)[..., 2].T
+    return _central_friction_moment(params, np.asarray(omega, dtype=float).T, np.asarray(Fe, dtype=float), z).T
 
 
-def _central_friction_moment(params: Parameters, omega: np.ndarray, Fe: np.ndarray) -> np.ndarray:
-    """:func:`central_friction_moment` with ω components-first (3, N)."""
-    f = params.friction
-    magnitude = f.hip_radius * f.hip_mu * np.abs(Fe) + f.thrust_radius * f.thrust_mu * np.abs(
-        Fe + params.platform_mass * params.gravity
-    )
-    return _smooth_sign_vector(omega, f.epsilon) * magnitude
+def _central_friction_moment(params: Parameters, omega: np.ndarray, Fe: np.ndarray, z) -> np.ndarray:
+    """:func:`central_friction_moment` with ω and the platform's z axis components-first (3, N)."""
+    weight = params.platform_mass * params.gravity
+    return stack(laws.central_friction_moment(params.friction, omega, z, Fe, weight))
 
 
 def _body_components(axes, w: np.ndarray) -> np.ndarray:
     """Rᵀ·w: the components of w (3, ...) along a body's axes, the columns of R given as three vectors."""
-    return np.array([_dot(axis, w) for axis in axes])
+    return np.array([dot(axis, w) for axis in axes])
 
 
 def _from_body(axes, w_body: np.ndarray) -> np.ndarray:
-    """R·w_body: a vector from its components along a body's axes."""
+    """R·w_body: a vector from its components along a body's axes (components-first arrays)."""
     w = axes[0] * w_body[0]
     w += axes[1] * w_body[1]
     w += axes[2] * w_body[2]
     return w
 
 
+def _lever_axes(params: Parameters, kin: Kinematics):
+    """The levers' body axes x, y, z = e (spec §7.1), components-first arrays (xyz, leg, N)."""
+    x, y, e = laws.lever_axes(per_leg(params.ujoint_axes), kin.e.T)
+    return stack(x), stack(y), e
+
+
 def _inertia_times(inertia: np.ndarray, w: np.ndarray) -> np.ndarray:
     """I·w for a constant 3x3 inertia I and components-first vectors w (3, ...)."""
-    return np.einsum("ab,b...->a...", inertia, w)  # not BLAS: see hipsim.kinematics._platform_vectors
+    return np.einsum("ab,b...->a...", inertia, w)  # not BLAS: see inverse_kinematics._platform_vectors
 
 
 def _euler_moment(axes, inertia: np.ndarray, w: np.ndarray, w_dot: np.ndarray) -> np.ndarray:
@@ -127,14 +143,14 @@ def _euler_moment(axes, inertia: np.ndarray, w: np.ndarray, w_dot: np.ndarray) -
     """
     w_body = _body_components(axes, w)
     moment_body = -_inertia_times(inertia, _body_components(axes, w_dot))
-    moment_body -= _cross(w_body, _inertia_times(inertia, w_body))
+    moment_body -= cross_array(w_body, _inertia_times(inertia, w_body))
     return _from_body(axes, moment_body)
 
 
 def _rotational_energy(axes, inertia: np.ndarray, w: np.ndarray) -> np.ndarray:
     """½·ωᵀ·I_w·ω."""
     w_body = _body_components(axes, w)
-    return 0.5 * _dot(w_body, _inertia_times(inertia, w_body))
+    return 0.5 * dot(w_body, _inertia_times(inertia, w_body))
 
 
 def _platform_axes(kin: Kinematics):
@@ -155,19 +171,19 @@ def _lever_ends(params: Parameters, kin: Kinematics, lever_spin: bool, force: np
     """
     e = kin.e.T
     if lever_spin:
-        moment = _spin_transpose(params, e, moment)
-    m_cross_e = _cross(moment, e)
+        moment = laws.spin_transpose(per_leg(params.ujoint_axes), e, moment)
+    m_cross_e = cross_array(moment, e)
     m_cross_e /= params.lever_length
     f_a = 0.5 * force + m_cross_e
     f_b_z = 0.5 * force[2] - m_cross_e[2]
-    return np.sum(_cross(kin.r.T, f_a), axis=1), f_b_z
+    return np.sum(cross_array(kin.r.T, f_a), axis=1), f_b_z
 
 
 def _lever_inertia(params: Parameters, kin: Kinematics, lever_spin: bool, omega_l, omega_l_dot):
     """Levers' gravity and D'Alembert wrench, mapped to their ends by :func:`_lever_ends`."""
     gravity = np.array([0.0, 0.0, -params.gravity])[:, None, None]
     F_l = params.lever_mass * (gravity - kin.a_l[:, 0].T)
-    M_l = _euler_moment(_lever_axes(params, kin.e.T), params.lever_inertia, omega_l, omega_l_dot)
+    M_l = _euler_moment(_lever_axes(params, kin), params.lever_inertia, omega_l, omega_l_dot)
     return _lever_ends(params, kin, lever_spin, F_l, M_l)
 
 
@@ -182,15 +198,13 @@ def _lever_joint_friction(params: Parameters, kin: Kinematics, lever_spin: bool,
         along the screws (3, N), and the power lost (N,); zeros when every
         coefficient is zero (the default), without computing them.
     """
-    f = params.friction
-    if not (f.ujoint_coulomb or f.ujoint_viscous or f.sjoint_coulomb or f.sjoint_viscous):
+    if not laws.lever_joint_friction_on(params.friction):
         return 0.0, 0.0, 0.0
-    w_rel_s = omega_l - kin.omega.T[:, None]
-    tau_bf = f.ujoint_coulomb * _smooth_sign_vector(omega_l, f.epsilon) + f.ujoint_viscous * omega_l
-    tau_af = f.sjoint_coulomb * _smooth_sign_vector(w_rel_s, f.epsilon) + f.sjoint_viscous * w_rel_s
+    omega = kin.omega.T
+    tau_bf, tau_af = (stack(moment) for moment in laws.lever_joint_friction(params.friction, omega_l, omega))
     Q, f_b_z = _lever_ends(params, kin, lever_spin, _NO_FORCE, -tau_af - tau_bf)
     Q += np.sum(tau_af, axis=1)
-    power = np.sum(_dot(tau_bf, omega_l) + _dot(tau_af, w_rel_s), axis=0)
+    power = np.sum(dot(tau_bf, omega_l) + dot(tau_af, omega_l - omega[:, None]), axis=0)
     return Q, f_b_z, power
 
 
@@ -199,7 +213,7 @@ def inverse_dynamics(params: Parameters, kin: Kinematics, Fe: np.ndarray, lever_
 
     Args:
         params: the machine.
-        kin: kinematics along the trajectory (:func:`hipsim.kinematics.kinematics`).
+        kin: kinematics along the trajectory (:func:`hipsim.analytic.inverse_kinematics.kinematics`).
         Fe: hydraulic load magnitude in [N], (N,).
         lever_spin: False for the spec's lever model (no spin about its axis);
             True to give the levers the spin a universal joint imposes, which
@@ -218,7 +232,11 @@ def inverse_dynamics(params: Parameters, kin: Kinematics, Fe: np.ndarray, lever_
     motor_speed = 2.0 * math.pi * Ld / p
     omega_l, omega_l_dot = kin.omega_l.T, kin.omega_l_dot.T
     if lever_spin:
-        omega_l, omega_l_dot = _lever_spin(params, kin.e.T, omega_l, omega_l_dot)
+        u1, e = per_leg(params.ujoint_axes), kin.e.T
+        omega_l, omega_l_dot = (
+            stack(laws.lever_angular_velocity(u1, e, omega_l)),
+            stack(laws.lever_angular_acceleration(u1, e, omega_l, omega_l_dot)),
+        )
 
     # Platforms: the D'Alembert moment about the fixed centre.
     Q_m = _euler_moment(_platform_axes(kin), params.platform_inertia, omega, kin.omega_dot.T)
@@ -230,29 +248,29 @@ def inverse_dynamics(params: Parameters, kin: Kinematics, Fe: np.ndarray, lever_
     F_L = params.slider_mass * (-params.gravity - Ldd)
 
     # Friction: central chain, lever joints, slider guides and screws.
-    tau_mf = _central_friction_moment(params, omega, Fe)
+    tau_mf = _central_friction_moment(params, omega, Fe, kin.R[:, :, 2].T)
     Q_lf, Fz_lf, power_lf = _lever_joint_friction(params, kin, lever_spin, omega_l)
     Q_f = Q_lf - tau_mf
-    motor_sign = smooth_sign(motor_speed, f.epsilon)
-    F_Lf = f.guide_coulomb * motor_sign + f.guide_viscous * Ld
-    tau_screw_f = screw_friction_torque(params, motor_speed)
+    F_Lf = laws.guide_friction(f, Ld, motor_speed)
+    tau_screw_f = laws.screw_friction(f, motor_speed)
 
     # y = J⁻ᵀ·Q for the platform, lever and friction moments: y_i = (row i of J⁻ᵀ)·Q.
-    J_inv_T = _inverse_transpose(kin.J.T)
+    rows = laws.inverse_transpose(np.moveaxis(kin.J.T, 1, 0))  # from J's rows, (xyz, N) each
+    J_inv_T = np.array([[row[k] for row in rows] for k in range(3)])  # its rows as vectors per leg (xyz, row, N)
     scale = -n_platforms * p / (2.0 * math.pi)
-    tau_m = scale * _dot(J_inv_T, Q_m)
-    tau_l = scale * (_dot(J_inv_T, Q_l) + Fz_l)
+    tau_m = scale * dot(J_inv_T, Q_m)
+    tau_l = scale * (dot(J_inv_T, Q_l) + Fz_l)
     tau_s = scale * F_L
     tau_L = 2.0 * math.pi * params.screw_inertia / p * Ldd
-    tau_f = tau_screw_f + scale * (_dot(J_inv_T, Q_f) + Fz_lf - F_Lf)
+    tau_f = tau_screw_f + scale * (dot(J_inv_T, Q_f) + Fz_lf - F_Lf)
 
     friction_power = np.sum(tau_screw_f * motor_speed, axis=0) + n_platforms * (
-        np.sum(F_Lf * Ld, axis=0) + _dot(tau_mf, omega) + power_lf
+        np.sum(F_Lf * Ld, axis=0) + dot(tau_mf, omega) + power_lf
     )
     tau = tau_m + tau_l + tau_s + tau_L + tau_f
     return Torques(
         total=tau.T, platforms=tau_m.T, levers=tau_l.T, sliders=tau_s.T, screws=tau_L.T, friction=tau_f.T,
-        motor_speed=motor_speed.T, friction_moment=np.sqrt(_dot(tau_mf, tau_mf)),
+        motor_speed=motor_speed.T, friction_moment=np.sqrt(dot(tau_mf, tau_mf)),
         friction_power=friction_power,
     )
 
@@ -310,14 +328,13 @@ def mechanical_energy(params: Parameters, kin: Kinematics, lever_spin: bool = Fa
         m·g·z of the levers and sliders (the platform centres do not move).
     """
     n_platforms = params.heights.size
-    e = kin.e.T
     kinetic_m = _rotational_energy(_platform_axes(kin), params.platform_inertia, kin.omega.T)
     omega_l = kin.omega_l.T
     if lever_spin:
-        omega_l, _ = _lever_spin(params, e, omega_l, kin.omega_l_dot.T)
+        omega_l = laws.lever_angular_velocity(per_leg(params.ujoint_axes), kin.e.T, omega_l)
     v_l = kin.v_l[:, 0].T
-    kinetic_l = 0.5 * params.lever_mass * _dot(v_l, v_l)
-    kinetic_l += _rotational_energy(_lever_axes(params, e), params.lever_inertia, omega_l)
+    kinetic_l = 0.5 * params.lever_mass * dot(v_l, v_l)
+    kinetic_l += _rotational_energy(_lever_axes(params, kin), params.lever_inertia, omega_l)
     Ld = kin.Ld[:, 0].T
     kinetic_s = 0.5 * params.slider_mass * Ld**2
     kinetic_L = 0.5 * params.screw_inertia * (2.0 * math.pi * Ld / params.lead) ** 2

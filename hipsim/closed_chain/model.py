@@ -51,8 +51,10 @@ import pinocchio as pin
 import yaml
 from scipy.linalg import lapack
 
-from ..analytic.inverse_kinematics import angular_velocity_map, inverse_condition_number
-from ..analytic.virtual_work import central_friction_moment, screw_friction_torque, smooth_sign
+from ..analytic import laws
+from ..analytic.inverse_kinematics import angular_velocity_map, inverse_condition_number, rotation_matrix
+from ..analytic.virtual_work import central_friction_moment
+from ..analytic.vectors import stack
 from ..arrays import check_shapes
 from ..exceptions import ArgumentError, ClosureError, ModelError, PoseError, TrajectoryError
 from ..machine.model_files import closure_file_path, urdf_text
@@ -765,54 +767,54 @@ class ClosedChainDynamics:
         check_shapes(self, {"F_act": ("N", 3), "lambdas": ("N", 2, 3, 3)})
 
 
-def _friction_forces(chain: ClosedChainModel, v, Fe, platform_J, lever_J) -> np.ndarray:
+def _platform_frames(chain: ClosedChainModel) -> list:
+    """The frames of the platforms' bodies, platform 1 first."""
+    model = chain.model
+    return [model.frames[model.getFrameId(f"platform_{j}")] for j in (1, 2)]
+
+
+def _platform_z_axes(data, frames) -> np.ndarray:
+    """The platforms' z axes in world axes, (2, 3), from the joint placements in ``data``."""
+    return np.array([data.oMi[frame.parentJoint].rotation @ frame.placement.rotation[:, 2] for frame in frames])
+
+
+def _friction_forces(chain: ClosedChainModel, v, Fe, platform_J, lever_J, platform_z=None) -> np.ndarray:
     """Generalised forces the actuators must supply against friction, shape (n, nv) (spec §4.3, §7.3).
 
+    The friction laws are :mod:`hipsim.analytic.laws`'; here they act on the
+    tree's own body motions, mapped to its joints by Pinocchio's Jacobians.
     platform_J: (n, 2, 3, 3) angular Jacobians of the platforms on their own
     joints [rx, ry, rz]; lever_J: (n, 2, 3, 3, 2) of the levers on [u1, u2],
-    or None when the U and S joints are frictionless.
+    or None when the U and S joints are frictionless; platform_z: (n, 2, 3)
+    the platforms' z axes, needed only by the axial-only thrust bearing.
     """
     params, layout = chain.params, chain.layout
     fr = params.friction
-    eps = fr.epsilon
     n = len(v)
     Q = np.zeros((n, chain.model.nv))
 
-    # Central chain: hip joint and thrust bearing, a moment along platform j's ω.
-    omega = np.einsum("njab,njb->nja", platform_J, v[:, layout.platform_v])
-    bearing_load = np.abs(Fe + params.platform_mass * params.gravity)
-    load = fr.hip_radius * fr.hip_mu * np.abs(Fe) + fr.thrust_radius * fr.thrust_mu * bearing_load
-    moment = smooth_sign(omega, eps, vector=True) * load[:, None, None]
+    # Central chain: hip joint and thrust bearing, a moment on platform j. Components first: (xyz, n, j).
+    omega = np.moveaxis(np.einsum("njab,njb->nja", platform_J, v[:, layout.platform_v]), -1, 0)
+    z = None if platform_z is None else np.moveaxis(platform_z, -1, 0)
+    moment = stack(laws.central_friction_moment(fr, omega, z, Fe[:, None], params.platform_mass * params.gravity))
     if lever_J is not None:
-        omega_lever = np.einsum("njiab,njib->njia", lever_J, v[:, layout.ujoint_v])
-        # U joint: the slider does not rotate, so the relative rate is the lever's own.
-        lever_moment = fr.ujoint_coulomb * smooth_sign(omega_lever, eps, vector=True) + fr.ujoint_viscous * omega_lever
-        # S joint: acts on the lever and, oppositely, on the platform.
-        relative = omega_lever - omega[:, :, None, :]
-        s_moment = fr.sjoint_coulomb * smooth_sign(relative, eps, vector=True) + fr.sjoint_viscous * relative
-        lever_moment = lever_moment + s_moment
-        moment = moment - s_moment.sum(axis=2)
-        Q_lever = np.einsum("njiab,njia->njib", lever_J, lever_moment)
-        Q[:, layout.ujoint_v] += Q_lever
-    Q[:, layout.platform_v] += np.einsum("njab,nja->njb", platform_J, moment)
+        omega_lever = np.moveaxis(np.einsum("njiab,njib->njia", lever_J, v[:, layout.ujoint_v]), -1, 0)  # (xyz, n, j, i)
+        # U joint: the lever relative to the slider; S joint: relative to the platform, and oppositely on it.
+        u_moment, s_moment = (stack(m) for m in laws.lever_joint_friction(fr, omega_lever, omega[..., None]))
+        moment -= s_moment.sum(axis=-1)
+        Q[:, layout.ujoint_v] += np.einsum("njiab,anji->njib", lever_J, u_moment + s_moment)
+    Q[:, layout.platform_v] += np.einsum("njab,anj->njb", platform_J, moment)
 
     # Slider guides (two per carriage) and the screw on the motor shaft, as carriage forces.
     Ld = v[:, layout.slider_v]
     motor_speed = _TWO_PI / chain.lead * Ld
-    guide = 2.0 * (fr.guide_coulomb * smooth_sign(motor_speed, eps) + fr.guide_viscous * Ld)
-    screw = screw_friction_torque(params, motor_speed)
+    guide = 2.0 * laws.guide_friction(fr, Ld, motor_speed)
+    screw = laws.screw_friction(fr, motor_speed)
     Q[:, layout.slider_v] += guide + _TWO_PI / chain.lead * screw
     return Q
 
 
-def _has_lever_friction(chain: ClosedChainModel) -> bool:
-    """True when the U or S joints of the levers have friction (it then needs the levers' Jacobians)."""
-    friction = chain.params.friction
-    lever_terms = ("ujoint_coulomb", "ujoint_viscous", "sjoint_coulomb", "sjoint_viscous")
-    return any(getattr(friction, name) != 0.0 for name in lever_terms)
-
-
-def friction_forces(chain: ClosedChainModel, q, v, Fe) -> np.ndarray:
+def friction_forces(chain: ClosedChainModel, q, v, Fe, data=None) -> np.ndarray:
     """Generalised forces the actuators must supply against friction at (q, v) (spec §4.3, §7.3).
 
     The law :func:`inverse_dynamics` adds to the tree's torques: in a
@@ -824,6 +826,8 @@ def friction_forces(chain: ClosedChainModel, q, v, Fe) -> np.ndarray:
         q: configuration (nq,) or configurations (N, nq).
         v: velocities, same leading shape, (nv,) or (N, nv).
         Fe: hydraulic load magnitude in [N], a scalar or (N,).
+        data: a ``pin.Data`` of ``chain.model`` to compute in (its kinematics are
+            overwritten); None to make one.
 
     Returns:
         Shape (nv,) or (N, nv), in [N] on the sliders and [N·m] on the revolute joints.
@@ -835,14 +839,19 @@ def friction_forces(chain: ClosedChainModel, q, v, Fe) -> np.ndarray:
         raise ArgumentError("v", v, f"velocities of shape {(len(q), chain.model.nv)}")
     Fe = np.broadcast_to(np.asarray(Fe, dtype=float), (len(q),))
     model = chain.model
-    data = model.createData()
+    data = model.createData() if data is None else data
     angular = np.empty((len(q), 3, model.nv))
+    axial = chain.params.friction.thrust_bearing_axial_only
+    frames = _platform_frames(chain) if axial else None
+    platform_z = np.empty((len(q), 2, 3)) if axial else None
     for k, qk in enumerate(q):
         pin.computeJointJacobians(model, data, qk)
         angular[k] = data.J[3:]
+        if axial:
+            platform_z[k] = _platform_z_axes(data, frames)
     platform_J = np.moveaxis(angular[:, :, layout.platform_v], 1, 2)
-    lever_J = np.moveaxis(angular[:, :, layout.ujoint_v], 1, 3) if _has_lever_friction(chain) else None
-    out = _friction_forces(chain, v, Fe, platform_J, lever_J)
+    lever_J = np.moveaxis(angular[:, :, layout.ujoint_v], 1, 3) if laws.lever_joint_friction_on(chain.params.friction) else None
+    out = _friction_forces(chain, v, Fe, platform_J, lever_J, platform_z)
     return out[0] if single else out
 
 
@@ -860,15 +869,16 @@ class _InverseDynamics:
         self.v, self.a = v, a
         n, nv = len(v), chain.model.nv
         self.Fe = np.broadcast_to(np.asarray(Fe, dtype=float), (n,))
-        friction = chain.params.friction
-        lever_terms = ("ujoint_coulomb", "ujoint_viscous", "sjoint_coulomb", "sjoint_viscous")
-        self.lever_friction = any(getattr(friction, name) != 0.0 for name in lever_terms)
+        self.lever_friction = laws.lever_joint_friction_on(chain.params.friction)
+        # The axial-only thrust bearing needs each platform's z axis, read from the placements.
+        self.platform_frames = _platform_frames(chain) if chain.params.friction.thrust_bearing_axial_only else None
         size = min(_CHUNK, n)
         self.system = np.zeros((size, nv, nv))  # [Sᵀ  J_cᵀ] per sample
         self.system[:, chain.actuated_v, np.arange(3)] = 1.0
         self.rhs = np.empty((size, nv, 5))  # generalised forces of [platforms, levers, carriages, screws, friction]
         # Angular rows of the world-frame joint Jacobians: a body's ω is their sum over its support.
         self.angular = np.empty((size, 3, nv))
+        self.platform_z = np.empty((size, 2, 3)) if self.platform_frames is not None else None
         self.parts = np.empty((n, 3, 5))  # actuator forces per part
         self.lambdas = np.empty((n, chain.n_closures, 3))
         self.rotations = np.empty((n, chain.n_closures, 3, 3))
@@ -879,6 +889,8 @@ class _InverseDynamics:
         self.system[slot, :, 3:] = jacobian.T
         self.rotations[k] = rotations
         self.angular[slot] = data.J[3:]
+        if self.platform_z is not None:
+            self.platform_z[slot] = _platform_z_axes(data, self.platform_frames)
         regressor = pin.computeJointTorqueRegressor(self.model, data, q, self.v[k], self.a[k])
         self.rhs[slot, :, :3] = regressor @ self.layout.groups
         if slot + 1 == len(self.system) or k + 1 == len(self.v):
@@ -890,7 +902,8 @@ class _InverseDynamics:
         rhs[:, :, 3] = self.model.armature * self.a[start:stop]
         platform_J = np.moveaxis(angular[:, :, layout.platform_v], 1, 2)  # (m, j, xyz, joint)
         lever_J = np.moveaxis(angular[:, :, layout.ujoint_v], 1, 3) if self.lever_friction else None
-        rhs[:, :, 4] = _friction_forces(self.chain, self.v[start:stop], self.Fe[start:stop], platform_J, lever_J)
+        platform_z = self.platform_z[:m] if self.platform_z is not None else None
+        rhs[:, :, 4] = _friction_forces(self.chain, self.v[start:stop], self.Fe[start:stop], platform_J, lever_J, platform_z)
         solution = np.linalg.solve(self.system[:m], rhs)
         self.parts[start:stop] = solution[:, :3]
         self.lambdas[start:stop] = solution[:, 3:].sum(axis=2).reshape(m, -1, 3)
@@ -909,7 +922,7 @@ class _InverseDynamics:
             total=tau_m + tau_l + tau_s + tau_L + tau_f,
             platforms=tau_m, levers=tau_l, sliders=tau_s, screws=tau_L, friction=tau_f,
             motor_speed=motor_speed,
-            friction_moment=np.linalg.norm(central_friction_moment(params, omega, self.Fe), axis=-1),
+            friction_moment=np.linalg.norm(central_friction_moment(params, omega, self.Fe, rotation_matrix(kin.angles)), axis=-1),
             # By virtual power the motors' friction share times their speed is the whole friction loss.
             friction_power=np.sum(tau_f * motor_speed, axis=1),
         )

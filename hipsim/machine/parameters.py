@@ -57,7 +57,7 @@ _DEG = math.pi / 180.0
 class _Key:
     """One entry of the parameter file: its shape, SI scale, bound and meaning."""
 
-    kind: str  # "float", "vector", "inertia", "signs"
+    kind: str  # "float", "vector", "inertia", "signs", "bool"
     scale: float = 1.0
     bound: str = "none"  # "positive", "nonnegative", "none"
     length: int = 0  # for vectors
@@ -67,6 +67,9 @@ class _Key:
     # Largest magnitude, in the file's unit: far beyond any machine of this kind, so
     # only a typo or a unit slip reaches it, and the physics never meets overflow.
     limit: float = 1e9
+    # The value of a key that files may leave out (keys added after files were
+    # written, so that those files still load); None: the key is required.
+    default: Any = None
 
 
 #: Every section and key the parameter file must contain, with its SI scale and bound.
@@ -111,6 +114,9 @@ SCHEMA: dict[str, dict[str, _Key]] = {
         "ujoint_viscous_Nmm_s_rad": _Key("float", _NMM, "nonnegative", unit="N·mm·s/rad", meaning="U-joint viscous"),
         "sjoint_coulomb_Nmm": _Key("float", _NMM, "nonnegative", unit="N·mm", meaning="S-joint Coulomb moment"),
         "sjoint_viscous_Nmm_s_rad": _Key("float", _NMM, "nonnegative", unit="N·mm·s/rad", meaning="S-joint viscous"),
+        "thrust_bearing_axial_only": _Key(
+            "bool", meaning="thrust bearing resists only rotation about the platform's z axis (false: along ω)", default=False
+        ),
     },
     "convention": {
         "angle_signs": _Key("signs", 1.0, "none", 3, meaning="sign flips of α, β, γ"),
@@ -150,6 +156,10 @@ class Friction:
         guide_coulomb: [N]; guide_viscous: [N·s/m], on each slider.
         ujoint_coulomb: [N·m]; ujoint_viscous: [N·m·s/rad], lever relative to slider.
         sjoint_coulomb: [N·m]; sjoint_viscous: [N·m·s/rad], lever relative to platform.
+        thrust_bearing_axial_only: False for the publication's central-chain
+            friction (the thrust bearing's moment along ŝ(ω), like the hip
+            joint's); True for a bearing that resists only rotation about its
+            own axis, the platform's z axis (:func:`hipsim.analytic.laws.central_friction_moment`).
     """
 
     epsilon: float
@@ -165,6 +175,7 @@ class Friction:
     ujoint_viscous: float
     sjoint_coulomb: float
     sjoint_viscous: float
+    thrust_bearing_axial_only: bool = False
 
 
 @dataclass(frozen=True, eq=False)
@@ -434,6 +445,9 @@ def _check(raw: Mapping[str, Any], source: str) -> dict[str, Any]:
             if key not in raw.get(section, {}):
                 if section in OPTIONAL_SECTIONS:
                     continue
+                if spec.default is not None:
+                    values[dotted] = spec.default
+                    continue
                 raise ParameterError(f"missing ({spec.meaning}, in {spec.unit or 'no unit'})", key=dotted, source=source)
             values[dotted] = _convert(raw[section][key], spec, dotted, source)
     return values
@@ -447,6 +461,10 @@ def _convert(value, spec: _Key, key: str, source: str):
     def fail(message):
         raise ParameterError(message, key=key, value=value, source=source)
 
+    if spec.kind == "bool":
+        if not isinstance(value, bool):
+            fail(f"expected true or false, got {value!r}")
+        return value
     if spec.kind == "float":
         if not _is_number(value):
             fail(f"expected a number in {spec.unit or 'no unit'}, got {value!r}")
@@ -589,6 +607,9 @@ def file_values(params: Parameters) -> dict[str, Any]:
             value = params
             for part in _ATTRIBUTES[dotted].split("."):
                 value = getattr(value, part)
+            if spec.kind == "bool":
+                out[dotted] = bool(value)
+                continue
             value = np.asarray(value) / spec.scale
             if spec.kind == "inertia" and np.count_nonzero(value - np.diag(np.diag(value))) == 0:
                 value = np.diag(value)
