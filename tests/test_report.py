@@ -20,13 +20,13 @@ import hipsim
 import hipsim.present.figures as figures
 import hipsim.present.report as report
 from hipsim import Run
-from hipsim.analysis.sizing import axial_screw_force, sizing
+from hipsim.analysis.sizing import axial_screw_load, motor_thrust, sizing
 from hipsim.cli import main
 from hipsim.exceptions import HipsimError, ParameterError
-from hipsim.machine.drive import MotorRatings, load_ratings
+from hipsim.machine.drive import Drive, LeadScrew, Motor, TorqueSpeedCurve, load_drive
 from hipsim.motion.trajectories import Trajectory, iso14242
 
-BASE_FIGURES = ("slider_motion", "motor_torques", "load_friction", "singularity")
+BASE_FIGURES = ("input_motion", "slider_motion", "motor_torques", "load_friction", "singularity", "torque_speed", "axial_load")
 
 
 @pytest.fixture(scope="module")
@@ -69,7 +69,7 @@ def written(tmp_path_factory, params, iso, result):
     ratings = out / "motor.toml"
     ratings.write_text("[motor]\nrated_torque_Nmm = 640\npeak_torque_Nmm = 400\nmax_speed_rpm = 3000\nstroke_mm = 200\naxial_force_N = 1000\n")
     return report.write_report(
-        out / "site", result, with_joint_forces(result), simulations=fake_simulations(iso.t), ratings=load_ratings(ratings)
+        out / "site", result, with_joint_forces(result), simulations=fake_simulations(iso.t), drive=load_drive(ratings)
     )
 
 
@@ -92,7 +92,7 @@ def test_sizing_equals_direct_computation(result):
 
 
 def test_axial_force_is_the_thrust_of_the_parts_the_nut_carries(result, params):
-    force = axial_screw_force(result)
+    force = axial_screw_load(result)
     t = result.torques
     # Frictionless screw: the thrust is everything but the rotor's inertia.
     np.testing.assert_allclose(force * params.lead / (2 * math.pi), t.platforms + t.levers + t.sliders + t.friction, rtol=1e-12, atol=1e-15)
@@ -103,7 +103,7 @@ def test_screw_friction_changes_the_torque_but_not_the_axial_force(params, iso):
     rough = params.replace(screw_coulomb=0.05, screw_viscous=2e-4)  # 50 N·mm and 0.2 N·mm·s/rad
     smooth_run, rough_run = hipsim.analyse(params, iso), hipsim.analyse(rough, iso)
     assert np.abs(rough_run.torques.total - smooth_run.torques.total).max() > 0.04
-    np.testing.assert_allclose(axial_screw_force(rough_run), axial_screw_force(smooth_run), rtol=1e-10, atol=1e-9)
+    np.testing.assert_allclose(axial_screw_load(rough_run), axial_screw_load(smooth_run), rtol=1e-10, atol=1e-9)
 
 
 def test_axial_force_at_rest_carries_both_sliders_weight(params):
@@ -111,38 +111,47 @@ def test_axial_force_at_rest_carries_both_sliders_weight(params):
     machine = params.replace(lever_mass=0.0, lever_inertia=np.zeros((3, 3)))
     q = np.tile(np.radians([10.0, -3.0, -5.0]), (6, 1))
     still = Trajectory(np.arange(6) * 0.01, q, np.zeros_like(q), np.zeros_like(q), np.zeros(6), name="still")
-    force = axial_screw_force(hipsim.analyse(machine, still))
+    force = axial_screw_load(hipsim.analyse(machine, still))
     np.testing.assert_allclose(force, 2 * params.slider_mass * params.gravity, rtol=1e-12)
 
 
+def flat(torque_Nmm):
+    return TorqueSpeedCurve([0.0], [torque_Nmm * 1e-3])
+
+
 def test_joint_sizing_and_rating_checks(result):
-    ratings = MotorRatings(rated_torque_Nmm=640.0, peak_torque_Nmm=400.0, stroke_mm=90.0, source="test")
-    size = sizing(with_joint_forces(result), ratings)
+    drive = Drive(Motor("test", continuous=flat(640.0), peak=flat(400.0)), screw=LeadScrew("test", stroke=0.090), source="test")
+    size = sizing(with_joint_forces(result), drive)
     forces = with_joint_forces(result).joint_forces
     Fa, Fo = forces.Fa, forces.Fo
     joints = {j.joint: j for j in size.joints}
     assert set(joints) == {"a_11", "a_12", "a_13", "a_21", "a_22", "a_23", "o_1", "o_2"}
     assert joints["a_23"].peak_N == pytest.approx(Fa[:, 1, 2].max())
     assert joints["o_1"].rms_N == pytest.approx(math.sqrt(np.mean(Fo[:, 0] ** 2)))
-    assert len(size.checks) == 3 * 3  # three ratings given, three modules
-    for check in size.checks:
+    made = [c for c in size.checks if c.passed is not None]
+    assert {c.name for c in made} == {"peak_curve", "s1_rms", "stroke", "winding_rise"}  # the S1 stall torque sets R_th
+    for check in made:
         module = size.modules[check.module - 1]
-        demand = {"rated_torque_Nmm": module.tau_rms_Nmm, "peak_torque_Nmm": module.tau_peak_Nmm, "stroke_mm": module.stroke_mm}[check.item]
-        assert check.demand == demand
-        assert check.margin_pct == pytest.approx(100 * (check.rating - demand) / check.rating)
-        assert check.passed == (demand <= check.rating)
-    # Motor 1 needs 431 N·mm peak and module 2 a 95 mm stroke: both fail; the rated torque passes.
-    failed = {(c.module, c.item) for c in size.checks if not c.passed}
-    assert (1, "peak_torque_Nmm") in failed and (2, "stroke_mm") in failed
-    assert all(c.passed for c in size.checks if c.item == "rated_torque_Nmm")
+        if check.name in ("s1_rms", "stroke"):
+            demand = {"s1_rms": module.tau_rms_Nmm, "stroke": module.stroke_mm}[check.name]
+            assert check.value == pytest.approx(demand, rel=1e-12)
+        if check.name == "peak_curve":  # a flat curve: the worst point is the peak torque
+            assert check.value == pytest.approx(module.tau_peak_Nmm, rel=1e-12)
+        assert check.margin == pytest.approx(1 - check.value / check.limit)
+        assert check.passed == (check.value <= check.limit)
+    # Motor 1 needs 431 N·mm peak and module 2 a 95 mm stroke: both fail; the RMS torque passes.
+    failed = {(c.module, c.name) for c in made if not c.passed}
+    assert (1, "peak_curve") in failed and (2, "stroke") in failed
+    assert all(c.passed for c in made if c.name == "s1_rms")
     assert size.passed is False
+    assert size.binding.name == "peak_curve" and size.binding.module == 1
 
 
 @pytest.mark.parametrize(
     "text, message",
     [
         ("[motor]\npeak_torque = 3\n", "motor.peak_torque"),
-        ("[motor]\npeak_torque_Nmm = -3\n", "positive"),
+        ("[motor]\npeak_torque_Nmm = -3\n", "must not be negative"),
         ("[motor]\nstroke_mm = 'long'\n", "motor.stroke_mm"),
         ("[drive]\nstroke_mm = 100\n", "drive"),
         ("[motor]\n", "[motor] table"),
@@ -153,15 +162,16 @@ def test_bad_rating_files_name_the_key(tmp_path, text, message):
     path = tmp_path / "motor.toml"
     path.write_text(text)
     with pytest.raises(ParameterError, match=re.escape(message)) as error:
-        load_ratings(path)
+        load_drive(path)
     assert str(path) in str(error.value)
 
 
 def test_rating_file_round_trip(tmp_path):
     path = tmp_path / "motor.toml"
     path.write_text("[motor]\nmax_speed_rpm = 3000\nstroke_mm = 150.5\n")
-    ratings = load_ratings(path)
-    assert ratings.max_speed_rpm == 3000.0 and ratings.stroke_mm == 150.5 and ratings.peak_torque_Nmm is None
+    drive = load_drive(path)
+    assert drive.motor.max_speed == pytest.approx(3000.0 * 2 * math.pi / 60) and drive.screw.stroke == pytest.approx(0.1505)
+    assert drive.motor.peak is None
 
 
 def test_a_parameter_file_serves_as_a_rating_file(tmp_path):
@@ -170,10 +180,10 @@ def test_a_parameter_file_serves_as_a_rating_file(tmp_path):
 
     path = tmp_path / "machine.toml"
     path.write_text(default_parameters_path().read_text() + "\n[motor]\npeak_torque_Nmm = 1910\n")
-    assert load_ratings(path).peak_torque_Nmm == 1910.0
+    assert load_drive(path).motor.peak.at(1000.0) == pytest.approx(1.910)
     path.write_text(default_parameters_path().read_text())  # no [motor] table at all
     with pytest.raises(ParameterError, match=re.escape("[motor] table")):
-        load_ratings(path)
+        load_drive(path)
 
 
 # ---------------------------------------------------------------------------
@@ -206,7 +216,7 @@ def test_every_figure_exists_and_is_non_trivial(written):
         assert root.tag == "{http://www.w3.org/2000/svg}svg" and svg.stat().st_size > 20_000, stem
 
 
-@pytest.mark.parametrize("plot", ["slider_motion", "torque_parts", "load_friction", "joint_forces", "singularity", "tracking"])
+@pytest.mark.parametrize("plot", ["input_motion", "slider_motion", "torque_parts", "load_friction", "joint_forces", "singularity", "tracking"])
 def test_figures_have_units_and_legends(result, plot):
     function = getattr(figures, f"plot_{plot}")
     fig = function(fake_simulations(result.trajectory.t) if plot == "tracking" else with_joint_forces(result))
@@ -229,7 +239,7 @@ def test_page_is_self_contained_and_references_every_figure(written):
         assert embedded[stem].startswith(prefix)
         assert base64.b64decode(embedded[stem][len(prefix):]) == png.read_bytes()
         assert svg.name in parser.links and png.name in parser.links
-    assert parser.tables >= 6  # sliders, motors, sizing, joints, rating check, tracking (+ torques)
+    assert parser.tables >= 8  # sliders, motors, sizing, joints, checks, tracking, torques, parameters, drive
 
 
 def test_page_and_json_carry_the_numbers(written, params, iso):
