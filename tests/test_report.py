@@ -360,3 +360,128 @@ def test_a_failing_report_never_removes_a_folder_that_was_there(tmp_path, params
     with pytest.raises(HipsimError, match="No space left"):
         report.write_report(out, hipsim.analyse(params, iso.slice(slice(0, 50))))
     assert out.is_dir() and list(out.iterdir()) == []
+
+
+# ---------------------------------------------------------------------------
+# A folder from one run (issue 15)
+
+
+def snapshot(folder):
+    return {p.name: p.read_bytes() for p in folder.iterdir()}
+
+
+@pytest.fixture(scope="module")
+def short_runs(params, iso):
+    """Two different runs along 50 samples: the second with heavier sliders, so every figure differs."""
+    part = iso.slice(slice(0, 50))
+    return hipsim.analyse(params, part), hipsim.analyse(params.replace(slider_mass=6.0), part)
+
+
+def test_an_interrupted_rerun_leaves_the_earlier_report_whole(tmp_path, short_runs, monkeypatch):
+    first, second = short_runs
+    out = tmp_path / "report"
+    report.write_report(out, first, with_joint_forces(first))
+    before = snapshot(out)
+    saved = []
+
+    def interrupted(fig, folder, stem, **kwargs):
+        if len(saved) == 2:
+            raise KeyboardInterrupt
+        saved.append(stem)
+        return figures.save_figure(fig, folder, stem, **kwargs)
+
+    monkeypatch.setattr(report, "save_figure", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        report.write_report(out, second)
+    assert len(saved) == 2
+    assert snapshot(out) == before  # not one file of the second run, not one of the first missing
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["report"]  # no temporary folder left beside it
+
+
+def test_a_rerun_leaves_no_figure_of_the_earlier_run(tmp_path, short_runs):
+    first, second = short_runs
+    out = tmp_path / "report"
+    report.write_report(out, first, with_joint_forces(first))
+    assert (out / "joint_forces.png").exists()
+    files = report.write_report(out, second)  # no joint forces this time
+    assert not (out / "joint_forces.png").exists() and not (out / "joint_forces.svg").exists()
+    assert {p.name for p in out.iterdir() if p.suffix == ".png"} == {f"{stem}.png" for stem in files.figures}
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["report"]
+
+
+def test_a_folder_of_other_files_is_never_replaced(tmp_path, short_runs):
+    out = tmp_path / "thesis"
+    out.mkdir()
+    (out / "chapter1.tex").write_text("precious")
+    with pytest.raises(HipsimError, match="chapter1.tex"):
+        report.write_report(out, short_runs[0])
+    assert snapshot(out) == {"chapter1.tex": b"precious"}
+
+
+def test_a_report_through_a_symbolic_link_keeps_the_link(tmp_path, short_runs):
+    real = tmp_path / "real"
+    real.mkdir()
+    link = tmp_path / "link"
+    link.symlink_to(real, target_is_directory=True)
+    report.write_report(link, short_runs[0])
+    assert link.is_symlink() and (real / "index.html").exists()
+
+
+# ---------------------------------------------------------------------------
+# What a new user found (issue 14, item 5)
+
+
+def test_page_escapes_what_it_did_not_write(tmp_path, short_runs):
+    run = short_runs[0]
+    odd = dataclasses.replace(run, trajectory=dataclasses.replace(run.trajectory, name="<script>alert(1)</script>"))
+    page = report.write_report(tmp_path / "r", odd, notes=("a & b <i>",)).index.read_text(encoding="utf-8")
+    assert "<script>alert" not in page and "&lt;script&gt;alert(1)&lt;/script&gt;" in page
+    assert "a &amp; b &lt;i&gt;" in page
+
+
+def test_small_tracking_errors_are_printed_not_rounded_to_zero(written):
+    page = written.index.read_text(encoding="utf-8")
+    rows = re.findall(r"<tr><td class=\"l\">augmented PD</td>(.*?)</tr>", page)
+    assert rows, "no tracking row for the augmented PD"
+    cells = re.findall(r"<td>(.*?)</td>", rows[0])
+    assert cells[0] == "0.02" and "0.0000" not in rows[0]  # α peak of 0.02°, to three significant figures
+
+
+def test_joint_forces_are_credited_to_the_model_that_gave_them(result):
+    fig = figures.plot_joint_forces(with_joint_forces(result).__class__(**{**with_joint_forces(result).__dict__, "model": "analytic"}), "pinocchio")
+    assert "Pinocchio" in fig.get_suptitle() and "analytic" not in fig.get_suptitle()
+
+
+def test_page_names_the_two_screw_forces_apart_and_lists_every_parameter(written, params):
+    from hipsim.machine.parameters import file_values
+
+    page = written.index.read_text(encoding="utf-8")
+    assert "motor thrust</b> = 2πτ/p" in page and "axial screw load</b> = 2π(τ − τ<sub>L</sub> − τ<sub>screw friction</sub>)/p" in page
+    assert "peak motor thrust [N]" in page and "peak axial screw load [N]" in page
+    for key in file_values(params):
+        assert f"<td class=\"l\">{key}</td>" in page, key
+    assert "Joint reaction forces (from the Pinocchio closed-chain model)" in page
+    assert "input_motion" in written.figures
+
+
+def test_report_simulate_takes_a_mismatch(tmp_path, monkeypatch, capsys):
+    import importlib
+
+    cli = importlib.import_module("hipsim.cli.main")
+
+    seen = {}
+
+    def fake_simulate_both(params, desired_at, duration, mismatch=None):
+        seen["mismatch"] = mismatch
+        t = np.linspace(0.0, duration, 50, endpoint=False)
+        return fake_simulations(t)
+
+    monkeypatch.setattr(cli, "_simulate_both", fake_simulate_both)
+    out = tmp_path / "r"
+    assert main(["report", "--rate", "100", "--model", "analytic", "--simulate", "--mismatch", "friction=+20%", "--out", str(out)]) == 0
+    assert seen["mismatch"] == {"friction": pytest.approx(0.2)}
+    assert "off from the controllers&#39; model: friction +20%" in (out / "index.html").read_text(encoding="utf-8")
+    assert main(["report", "--mismatch", "friction=+20%", "--out", str(tmp_path / "x")]) == 2
+    assert "--simulate" in capsys.readouterr().err and not (tmp_path / "x").exists()
+    assert main(["report", "--simulate", "--mismatch", "mass=1", "--out", str(tmp_path / "y")]) == 2
+    assert not (tmp_path / "y").exists()
