@@ -1,6 +1,7 @@
 """Drive sizing (issue 14): every check against a hand calculation, the reflected inertia against the kinetic energy, the ranking."""
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -316,3 +317,66 @@ def test_the_published_machine_sizing_names_a_binding_check(params):
     assert size.binding.name == "inertia_ratio" and size.passed is False  # 2.8 kg·cm² on a 0.14 kg·cm² rotor
     document = size.as_dict()
     assert document["binding"]["name"] == "inertia_ratio" and len(document["checks"]) == 3 * len(CHECKS)
+
+
+# ---------------------------------------------------------------------------
+# The command line: hipsim size
+
+
+MOTORS = """\
+name,s1_torque_Nm,peak_speed_rpm,peak_torque_Nm,rotor_inertia_kgcm2
+small,1.0,0;3000,0.25;0.25,1.0
+right,1.3,0;5000,3.8;3.0,1.0
+"""
+
+
+def test_size_ranks_a_catalogue(tmp_path, capsys):
+    from hipsim.cli import main
+
+    motors = tmp_path / "motors.csv"
+    motors.write_text(MOTORS)
+    screws = tmp_path / "screws.csv"
+    screws.write_text("name,lead_mm,dynamic_load_rating_N\nten,10,9000\n")
+    assert main(["size", "--rate", "200", "--catalogue", str(motors), "--screws", str(screws)]) == 0
+    out = capsys.readouterr().out
+    lines = [line for line in out.splitlines() if re.match(r"[12]\s{2,}", line)]
+    assert lines[0].split()[1] == "right" and "pass" in lines[0]
+    assert lines[1].split()[1] == "small" and "FAIL" in lines[1] and "torque under the peak curve" in lines[1] and "LN1" in lines[1]
+    assert "Every check of rank 1: right + ten" in out
+    assert main(["size", "--rate", "200", "--catalogue", str(motors), "--format", "json", "--top", "1"]) == 0
+    import json
+
+    document = json.loads(capsys.readouterr().out)
+    assert [c["motor"] for c in document["candidates"]] == ["right"]
+
+
+def test_size_checks_one_drive_and_fails_with_status_1(tmp_path, capsys):
+    from importlib import resources
+
+    from hipsim.cli import main
+
+    drive = str(resources.files("hipsim.models").joinpath("drive_example.toml"))
+    assert main(["size", "--rate", "200", "--drive", drive]) == 1  # the example 200 W motor fails the 10:1 inertia rule
+    out = capsys.readouterr().out
+    assert "-> FAIL; binding: load-to-rotor inertia ratio (worst pose), LN1" in out
+    assert main(["size", "--rate", "200", "--drive", drive, "--inertia-ratio", "25"]) == 0
+    capsys.readouterr()
+
+
+@pytest.mark.parametrize(
+    "arguments, message",
+    [
+        (["--screws", "s.csv"], "--screws applies to a catalogue"),
+        (["--drive", "d.toml", "--catalogue", "m.csv"], "either --drive"),
+        (["--without-iso"], "--trajectory"),
+        (["--life-cycles", "-3"], "--life-cycles"),
+        (["--catalogue", "missing.csv"], "no such motor catalogue"),
+    ],
+)
+def test_size_refuses_bad_options_in_one_line(tmp_path, capsys, monkeypatch, arguments, message):
+    from hipsim.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    assert main(["size", "--rate", "100", *arguments]) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1

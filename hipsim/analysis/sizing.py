@@ -429,7 +429,8 @@ def drive_checks(side: ScrewSide, drive: Drive, rules: SizingRules | None = None
             with np.errstate(divide="ignore", invalid="ignore"):
                 load = np.where(available > 0, torque[:, i] / available, np.where(torque[:, i] > 0, np.inf, 0.0))
             k = _worst(load, w)
-            add("peak_curve", torque[k, i] * 1e3, available[k] * 1e3, f"at {speed[k, i] * _RPM:.0f} rpm, t = {t[k]:.3f} s")
+            beyond = " (beyond the curve's top speed)" if available[k] == 0 else ""
+            add("peak_curve", torque[k, i] * 1e3, available[k] * 1e3, f"at {speed[k, i] * _RPM:.0f} rpm{beyond}, t = {t[k]:.3f} s")
         else:
             add("peak_curve", torque[:, i].max() * 1e3, None, missing="no peak torque curve")
         if motor.continuous is not None:
@@ -758,8 +759,8 @@ def rank_drives(
 
     Returns:
         The candidates sorted by their smallest margin, largest first (every
-        candidate that passes comes before every one that fails); candidates
-        with no check made come last.
+        candidate that passes comes before every one that fails), ties broken
+        by the next-smallest margin; candidates with no check made come last.
     """
     rules = rules if rules is not None else SizingRules()
     candidates = []
@@ -778,4 +779,9 @@ def rank_drives(
                 drive = Drive(motor, amplifier, gearbox, screw, rules, source="catalogue")
                 checks = tuple(c for side in sides for c in drive_checks(side, drive, rules))
                 candidates.append(Candidate(drive, checks))
-    return sorted(candidates, key=lambda c: (c.margin is None, -(c.margin if c.margin is not None else 0.0)))
+    def order(candidate: Candidate):
+        # Largest smallest margin first; ties broken by the next-smallest margins, and so on.
+        margins = sorted(c.margin for c in candidate.checks if c.margin is not None)
+        return (not margins, [-m for m in margins])
+
+    return sorted(candidates, key=order)
