@@ -295,7 +295,8 @@ def _cmd_report(args) -> int:
         simulations = _simulate_both(params, desired_at, duration, mismatch)
         if mismatch:
             notes.append("Tracking: the simulated plant is off from the controllers' model: " + ", ".join(f"{k} {v:+.0%}" for k, v in mismatch.items()) + ".")
-    files = write_report(Path(args.out), run, joint_run, simulations=simulations, drive=drive, notes=tuple(notes))
+    cycles = 1.0 if args.trajectory or args.cycles is None else args.cycles  # a trajectory file is one test cycle
+    files = write_report(Path(args.out), run, joint_run, simulations=simulations, drive=drive, notes=tuple(notes), cycles=cycles)
     print(f"wrote {files.index}")
     return 0
 

@@ -188,13 +188,12 @@ def _check_replaceable(out: Path) -> None:
     entries = list(target.iterdir())
     if not entries or (target / MARKER).is_file():
         return
-    names = {p.name for p in entries}
-    earlier_report = {"index.html", "report.json"} <= names and all(p.is_file() and p.suffix in _REPORT_SUFFIXES for p in entries)
-    if not earlier_report:
-        other = next(p.name for p in sorted(entries) if not (p.is_file() and p.suffix in _REPORT_SUFFIXES)) if not all(
-            p.is_file() and p.suffix in _REPORT_SUFFIXES for p in entries) else sorted(names)[0]
-        raise HipsimError(f"{out}: the folder holds other files (e.g. '{other}'), and a report replaces its folder whole: "
-                          "choose a new or empty folder")
+    looks_like_report = [p.is_file() and p.suffix in _REPORT_SUFFIXES for p in entries]
+    if all(looks_like_report) and {"index.html", "report.json"} <= {p.name for p in entries}:
+        return  # a report from before the marker
+    other = next((p.name for p, ok in sorted(zip(entries, looks_like_report)) if not ok), sorted(p.name for p in entries)[0])
+    raise HipsimError(f"{out}: the folder holds other files (e.g. '{other}'), and a report replaces its folder whole: "
+                      "choose a new or empty folder")
 
 
 def _target(out: Path) -> Path:
@@ -213,7 +212,10 @@ def _write_whole(out: Path, write):
     """
     target = _target(out)
     with output_folder(target.parent):
-        staging = Path(tempfile.mkdtemp(dir=target.parent, prefix=f".{target.name}.", suffix=".part"))
+        try:
+            staging = Path(tempfile.mkdtemp(dir=target.parent, prefix=f".{target.name}.", suffix=".part"))
+        except OSError as error:
+            raise HipsimError(f"{out}: cannot make the output folder ({error.strerror or error})") from None
         try:
             umask = os.umask(0)
             os.umask(umask)
