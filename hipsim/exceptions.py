@@ -9,6 +9,7 @@ from __future__ import annotations
 
 __all__ = [
     "ArgumentError",
+    "CatalogueError",
     "ClosureError",
     "HipsimError",
     "ModelError",
@@ -169,3 +170,25 @@ class MissingDependencyError(HipsimError):
         self.package = package
         self.extra = extra
         self.found = found
+
+
+class CatalogueError(HipsimError):
+    """A motor, screw or gearbox catalogue (CSV) or drive file is invalid.
+
+    Attributes:
+        source: the file.
+        line: 1-based line of the file, if the problem is on one line.
+        column: the column name, if the problem is in one column.
+    """
+
+    def __init__(self, message: str, source: str | None = None, line: int | None = None, column: str | None = None):
+        where = [str(source)] if source else []
+        if line is not None:
+            where.append(f"line {line}")
+        if column:
+            where.append(f"column '{column}'")
+        prefix = ", ".join(where)
+        super().__init__(f"{prefix}: {message}" if prefix else message)
+        self.source = source
+        self.line = line
+        self.column = column

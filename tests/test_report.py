@@ -20,13 +20,13 @@ import hipsim
 import hipsim.present.figures as figures
 import hipsim.present.report as report
 from hipsim import Run
-from hipsim.analysis.sizing import axial_screw_force, sizing
+from hipsim.analysis.sizing import axial_screw_load, motor_thrust, sizing
 from hipsim.cli import main
 from hipsim.exceptions import HipsimError, ParameterError
-from hipsim.machine.drive import MotorRatings, load_ratings
+from hipsim.machine.drive import Drive, LeadScrew, Motor, TorqueSpeedCurve, load_drive
 from hipsim.motion.trajectories import Trajectory, iso14242
 
-BASE_FIGURES = ("slider_motion", "motor_torques", "load_friction", "singularity")
+BASE_FIGURES = ("input_motion", "slider_motion", "motor_torques", "load_friction", "singularity", "torque_speed", "axial_load")
 
 
 @pytest.fixture(scope="module")
@@ -69,7 +69,7 @@ def written(tmp_path_factory, params, iso, result):
     ratings = out / "motor.toml"
     ratings.write_text("[motor]\nrated_torque_Nmm = 640\npeak_torque_Nmm = 400\nmax_speed_rpm = 3000\nstroke_mm = 200\naxial_force_N = 1000\n")
     return report.write_report(
-        out / "site", result, with_joint_forces(result), simulations=fake_simulations(iso.t), ratings=load_ratings(ratings)
+        out / "site", result, with_joint_forces(result), simulations=fake_simulations(iso.t), drive=load_drive(ratings)
     )
 
 
@@ -92,7 +92,7 @@ def test_sizing_equals_direct_computation(result):
 
 
 def test_axial_force_is_the_thrust_of_the_parts_the_nut_carries(result, params):
-    force = axial_screw_force(result)
+    force = axial_screw_load(result)
     t = result.torques
     # Frictionless screw: the thrust is everything but the rotor's inertia.
     np.testing.assert_allclose(force * params.lead / (2 * math.pi), t.platforms + t.levers + t.sliders + t.friction, rtol=1e-12, atol=1e-15)
@@ -103,7 +103,7 @@ def test_screw_friction_changes_the_torque_but_not_the_axial_force(params, iso):
     rough = params.replace(screw_coulomb=0.05, screw_viscous=2e-4)  # 50 N·mm and 0.2 N·mm·s/rad
     smooth_run, rough_run = hipsim.analyse(params, iso), hipsim.analyse(rough, iso)
     assert np.abs(rough_run.torques.total - smooth_run.torques.total).max() > 0.04
-    np.testing.assert_allclose(axial_screw_force(rough_run), axial_screw_force(smooth_run), rtol=1e-10, atol=1e-9)
+    np.testing.assert_allclose(axial_screw_load(rough_run), axial_screw_load(smooth_run), rtol=1e-10, atol=1e-9)
 
 
 def test_axial_force_at_rest_carries_both_sliders_weight(params):
@@ -111,38 +111,47 @@ def test_axial_force_at_rest_carries_both_sliders_weight(params):
     machine = params.replace(lever_mass=0.0, lever_inertia=np.zeros((3, 3)))
     q = np.tile(np.radians([10.0, -3.0, -5.0]), (6, 1))
     still = Trajectory(np.arange(6) * 0.01, q, np.zeros_like(q), np.zeros_like(q), np.zeros(6), name="still")
-    force = axial_screw_force(hipsim.analyse(machine, still))
+    force = axial_screw_load(hipsim.analyse(machine, still))
     np.testing.assert_allclose(force, 2 * params.slider_mass * params.gravity, rtol=1e-12)
 
 
+def flat(torque_Nmm):
+    return TorqueSpeedCurve([0.0], [torque_Nmm * 1e-3])
+
+
 def test_joint_sizing_and_rating_checks(result):
-    ratings = MotorRatings(rated_torque_Nmm=640.0, peak_torque_Nmm=400.0, stroke_mm=90.0, source="test")
-    size = sizing(with_joint_forces(result), ratings)
+    drive = Drive(Motor("test", continuous=flat(640.0), peak=flat(400.0)), screw=LeadScrew("test", stroke=0.090), source="test")
+    size = sizing(with_joint_forces(result), drive)
     forces = with_joint_forces(result).joint_forces
     Fa, Fo = forces.Fa, forces.Fo
     joints = {j.joint: j for j in size.joints}
     assert set(joints) == {"a_11", "a_12", "a_13", "a_21", "a_22", "a_23", "o_1", "o_2"}
     assert joints["a_23"].peak_N == pytest.approx(Fa[:, 1, 2].max())
     assert joints["o_1"].rms_N == pytest.approx(math.sqrt(np.mean(Fo[:, 0] ** 2)))
-    assert len(size.checks) == 3 * 3  # three ratings given, three modules
-    for check in size.checks:
+    made = [c for c in size.checks if c.passed is not None]
+    assert {c.name for c in made} == {"peak_curve", "s1_rms", "stroke", "winding_rise"}  # the S1 stall torque sets R_th
+    for check in made:
         module = size.modules[check.module - 1]
-        demand = {"rated_torque_Nmm": module.tau_rms_Nmm, "peak_torque_Nmm": module.tau_peak_Nmm, "stroke_mm": module.stroke_mm}[check.item]
-        assert check.demand == demand
-        assert check.margin_pct == pytest.approx(100 * (check.rating - demand) / check.rating)
-        assert check.passed == (demand <= check.rating)
-    # Motor 1 needs 431 N·mm peak and module 2 a 95 mm stroke: both fail; the rated torque passes.
-    failed = {(c.module, c.item) for c in size.checks if not c.passed}
-    assert (1, "peak_torque_Nmm") in failed and (2, "stroke_mm") in failed
-    assert all(c.passed for c in size.checks if c.item == "rated_torque_Nmm")
+        if check.name in ("s1_rms", "stroke"):
+            demand = {"s1_rms": module.tau_rms_Nmm, "stroke": module.stroke_mm}[check.name]
+            assert check.value == pytest.approx(demand, rel=1e-12)
+        if check.name == "peak_curve":  # a flat curve: the worst point is the peak torque
+            assert check.value == pytest.approx(module.tau_peak_Nmm, rel=1e-12)
+        assert check.margin == pytest.approx(1 - check.value / check.limit)
+        assert check.passed == (check.value <= check.limit)
+    # Motor 1 needs 431 N·mm peak and module 2 a 95 mm stroke: both fail; the RMS torque passes.
+    failed = {(c.module, c.name) for c in made if not c.passed}
+    assert (1, "peak_curve") in failed and (2, "stroke") in failed
+    assert all(c.passed for c in made if c.name == "s1_rms")
     assert size.passed is False
+    assert size.binding.name == "peak_curve" and size.binding.module == 1
 
 
 @pytest.mark.parametrize(
     "text, message",
     [
         ("[motor]\npeak_torque = 3\n", "motor.peak_torque"),
-        ("[motor]\npeak_torque_Nmm = -3\n", "positive"),
+        ("[motor]\npeak_torque_Nmm = -3\n", "must not be negative"),
         ("[motor]\nstroke_mm = 'long'\n", "motor.stroke_mm"),
         ("[drive]\nstroke_mm = 100\n", "drive"),
         ("[motor]\n", "[motor] table"),
@@ -153,15 +162,16 @@ def test_bad_rating_files_name_the_key(tmp_path, text, message):
     path = tmp_path / "motor.toml"
     path.write_text(text)
     with pytest.raises(ParameterError, match=re.escape(message)) as error:
-        load_ratings(path)
+        load_drive(path)
     assert str(path) in str(error.value)
 
 
 def test_rating_file_round_trip(tmp_path):
     path = tmp_path / "motor.toml"
     path.write_text("[motor]\nmax_speed_rpm = 3000\nstroke_mm = 150.5\n")
-    ratings = load_ratings(path)
-    assert ratings.max_speed_rpm == 3000.0 and ratings.stroke_mm == 150.5 and ratings.peak_torque_Nmm is None
+    drive = load_drive(path)
+    assert drive.motor.max_speed == pytest.approx(3000.0 * 2 * math.pi / 60) and drive.screw.stroke == pytest.approx(0.1505)
+    assert drive.motor.peak is None
 
 
 def test_a_parameter_file_serves_as_a_rating_file(tmp_path):
@@ -170,10 +180,10 @@ def test_a_parameter_file_serves_as_a_rating_file(tmp_path):
 
     path = tmp_path / "machine.toml"
     path.write_text(default_parameters_path().read_text() + "\n[motor]\npeak_torque_Nmm = 1910\n")
-    assert load_ratings(path).peak_torque_Nmm == 1910.0
+    assert load_drive(path).motor.peak.at(1000.0) == pytest.approx(1.910)
     path.write_text(default_parameters_path().read_text())  # no [motor] table at all
     with pytest.raises(ParameterError, match=re.escape("[motor] table")):
-        load_ratings(path)
+        load_drive(path)
 
 
 # ---------------------------------------------------------------------------
@@ -206,7 +216,7 @@ def test_every_figure_exists_and_is_non_trivial(written):
         assert root.tag == "{http://www.w3.org/2000/svg}svg" and svg.stat().st_size > 20_000, stem
 
 
-@pytest.mark.parametrize("plot", ["slider_motion", "torque_parts", "load_friction", "joint_forces", "singularity", "tracking"])
+@pytest.mark.parametrize("plot", ["input_motion", "slider_motion", "torque_parts", "load_friction", "joint_forces", "singularity", "tracking"])
 def test_figures_have_units_and_legends(result, plot):
     function = getattr(figures, f"plot_{plot}")
     fig = function(fake_simulations(result.trajectory.t) if plot == "tracking" else with_joint_forces(result))
@@ -229,7 +239,7 @@ def test_page_is_self_contained_and_references_every_figure(written):
         assert embedded[stem].startswith(prefix)
         assert base64.b64decode(embedded[stem][len(prefix):]) == png.read_bytes()
         assert svg.name in parser.links and png.name in parser.links
-    assert parser.tables >= 6  # sliders, motors, sizing, joints, rating check, tracking (+ torques)
+    assert parser.tables >= 8  # sliders, motors, sizing, joints, checks, tracking, torques, parameters, drive
 
 
 def test_page_and_json_carry_the_numbers(written, params, iso):
@@ -350,3 +360,128 @@ def test_a_failing_report_never_removes_a_folder_that_was_there(tmp_path, params
     with pytest.raises(HipsimError, match="No space left"):
         report.write_report(out, hipsim.analyse(params, iso.slice(slice(0, 50))))
     assert out.is_dir() and list(out.iterdir()) == []
+
+
+# ---------------------------------------------------------------------------
+# A folder from one run (issue 15)
+
+
+def snapshot(folder):
+    return {p.name: p.read_bytes() for p in folder.iterdir()}
+
+
+@pytest.fixture(scope="module")
+def short_runs(params, iso):
+    """Two different runs along 50 samples: the second with heavier sliders, so every figure differs."""
+    part = iso.slice(slice(0, 50))
+    return hipsim.analyse(params, part), hipsim.analyse(params.replace(slider_mass=6.0), part)
+
+
+def test_an_interrupted_rerun_leaves_the_earlier_report_whole(tmp_path, short_runs, monkeypatch):
+    first, second = short_runs
+    out = tmp_path / "report"
+    report.write_report(out, first, with_joint_forces(first))
+    before = snapshot(out)
+    saved = []
+
+    def interrupted(fig, folder, stem, **kwargs):
+        if len(saved) == 2:
+            raise KeyboardInterrupt
+        saved.append(stem)
+        return figures.save_figure(fig, folder, stem, **kwargs)
+
+    monkeypatch.setattr(report, "save_figure", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        report.write_report(out, second)
+    assert len(saved) == 2
+    assert snapshot(out) == before  # not one file of the second run, not one of the first missing
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["report"]  # no temporary folder left beside it
+
+
+def test_a_rerun_leaves_no_figure_of_the_earlier_run(tmp_path, short_runs):
+    first, second = short_runs
+    out = tmp_path / "report"
+    report.write_report(out, first, with_joint_forces(first))
+    assert (out / "joint_forces.png").exists()
+    files = report.write_report(out, second)  # no joint forces this time
+    assert not (out / "joint_forces.png").exists() and not (out / "joint_forces.svg").exists()
+    assert {p.name for p in out.iterdir() if p.suffix == ".png"} == {f"{stem}.png" for stem in files.figures}
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["report"]
+
+
+def test_a_folder_of_other_files_is_never_replaced(tmp_path, short_runs):
+    out = tmp_path / "thesis"
+    out.mkdir()
+    (out / "chapter1.tex").write_text("precious")
+    with pytest.raises(HipsimError, match="chapter1.tex"):
+        report.write_report(out, short_runs[0])
+    assert snapshot(out) == {"chapter1.tex": b"precious"}
+
+
+def test_a_report_through_a_symbolic_link_keeps_the_link(tmp_path, short_runs):
+    real = tmp_path / "real"
+    real.mkdir()
+    link = tmp_path / "link"
+    link.symlink_to(real, target_is_directory=True)
+    report.write_report(link, short_runs[0])
+    assert link.is_symlink() and (real / "index.html").exists()
+
+
+# ---------------------------------------------------------------------------
+# What a new user found (issue 14, item 5)
+
+
+def test_page_escapes_what_it_did_not_write(tmp_path, short_runs):
+    run = short_runs[0]
+    odd = dataclasses.replace(run, trajectory=dataclasses.replace(run.trajectory, name="<script>alert(1)</script>"))
+    page = report.write_report(tmp_path / "r", odd, notes=("a & b <i>",)).index.read_text(encoding="utf-8")
+    assert "<script>alert" not in page and "&lt;script&gt;alert(1)&lt;/script&gt;" in page
+    assert "a &amp; b &lt;i&gt;" in page
+
+
+def test_small_tracking_errors_are_printed_not_rounded_to_zero(written):
+    page = written.index.read_text(encoding="utf-8")
+    rows = re.findall(r"<tr><td class=\"l\">augmented PD</td>(.*?)</tr>", page)
+    assert rows, "no tracking row for the augmented PD"
+    cells = re.findall(r"<td>(.*?)</td>", rows[0])
+    assert cells[0] == "0.02" and "0.0000" not in rows[0]  # α peak of 0.02°, to three significant figures
+
+
+def test_joint_forces_are_credited_to_the_model_that_gave_them(result):
+    fig = figures.plot_joint_forces(with_joint_forces(result).__class__(**{**with_joint_forces(result).__dict__, "model": "analytic"}), "pinocchio")
+    assert "Pinocchio" in fig.get_suptitle() and "analytic" not in fig.get_suptitle()
+
+
+def test_page_names_the_two_screw_forces_apart_and_lists_every_parameter(written, params):
+    from hipsim.machine.parameters import file_values
+
+    page = written.index.read_text(encoding="utf-8")
+    assert "motor thrust</b> = 2πτ/p" in page and "axial screw load</b> = 2π(τ − τ<sub>L</sub> − τ<sub>screw friction</sub>)/p" in page
+    assert "peak motor thrust [N]" in page and "peak axial screw load [N]" in page
+    for key in file_values(params):
+        assert f"<td class=\"l\">{key}</td>" in page, key
+    assert "Joint reaction forces (from the Pinocchio closed-chain model)" in page
+    assert "input_motion" in written.figures
+
+
+def test_report_simulate_takes_a_mismatch(tmp_path, monkeypatch, capsys):
+    import importlib
+
+    cli = importlib.import_module("hipsim.cli.main")
+
+    seen = {}
+
+    def fake_simulate_both(params, desired_at, duration, mismatch=None):
+        seen["mismatch"] = mismatch
+        t = np.linspace(0.0, duration, 50, endpoint=False)
+        return fake_simulations(t)
+
+    monkeypatch.setattr(cli, "_simulate_both", fake_simulate_both)
+    out = tmp_path / "r"
+    assert main(["report", "--rate", "100", "--model", "analytic", "--simulate", "--mismatch", "friction=+20%", "--out", str(out)]) == 0
+    assert seen["mismatch"] == {"friction": pytest.approx(0.2)}
+    assert "off from the controllers&#39; model: friction +20%" in (out / "index.html").read_text(encoding="utf-8")
+    assert main(["report", "--mismatch", "friction=+20%", "--out", str(tmp_path / "x")]) == 2
+    assert "--simulate" in capsys.readouterr().err and not (tmp_path / "x").exists()
+    assert main(["report", "--simulate", "--mismatch", "mass=1", "--out", str(tmp_path / "y")]) == 2
+    assert not (tmp_path / "y").exists()

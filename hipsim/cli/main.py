@@ -229,13 +229,13 @@ def _cmd_simulate(args) -> int:
     return 0
 
 
-def _simulate_both(params, desired_at, duration):
-    """Both controllers on the Pinocchio plant (the whole closed chain, the CLI's default): the report's tracking plots."""
+def _simulate_both(params, desired_at, duration, mismatch=None):
+    """Both controllers on the Pinocchio plant (the whole closed chain, the CLI's default), optionally off from their model: the report's tracking plots."""
     from ..control.controllers import AugmentedPD, WorkspacePD
     from ..closed_chain.plant import PinocchioPlant
-    from ..control.simulation import simulate
+    from ..control.simulation import apply_mismatch, simulate
 
-    plant = PinocchioPlant(params)
+    plant = PinocchioPlant(apply_mismatch(params, **(mismatch or {})))
     return {
         "pd": simulate(plant, WorkspacePD(params), desired_at, duration, progress=True, controller_name="pd", notify=_note),
         "augmented-pd": simulate(
@@ -262,17 +262,24 @@ def _desired(args, trajectory):
 def _cmd_report(args) -> int:
     from ..analysis.runs import analyse
     from ..files import check_folder
-    from ..machine.drive import MotorRatings, load_ratings
+    from ..control.simulation import parse_mismatch
+    from ..machine.drive import drive_from_motor_table, load_drive
     from ..present.report import write_report
 
     params = _parameters(args)
     trajectory = _trajectory(args)
+    if args.mismatch and not args.simulate:
+        raise HipsimError("--mismatch applies to the simulations: give --simulate too")
+    mismatch = parse_mismatch(args.mismatch) if args.mismatch else {}
     if args.motor:
-        ratings = load_ratings(args.motor)
+        drive = load_drive(args.motor)
     elif params.motor:
-        ratings = MotorRatings(**params.motor, source=params.source)
+        drive = drive_from_motor_table(params.motor, params.source)
     else:
-        ratings = None
+        drive = None
+    if drive is not None and drive.screw is not None:  # the drive's screw, when it names one, is the machine's
+        screw = {"lead": drive.screw.lead, "screw_inertia": drive.screw.inertia}
+        params = params.replace(**{k: v for k, v in screw.items() if v is not None})
     check_folder(Path(args.out))  # an unusable folder is refused before the computing
     run = analyse(params, trajectory)
     joint_run, notes = None, []
@@ -288,8 +295,11 @@ def _cmd_report(args) -> int:
     simulations = None
     if args.simulate:
         desired_at, duration = _desired(args, trajectory)
-        simulations = _simulate_both(params, desired_at, duration)
-    files = write_report(Path(args.out), run, joint_run, simulations=simulations, ratings=ratings, notes=tuple(notes))
+        simulations = _simulate_both(params, desired_at, duration, mismatch)
+        if mismatch:
+            notes.append("Tracking: the simulated plant is off from the controllers' model: " + ", ".join(f"{k} {v:+.0%}" for k, v in mismatch.items()) + ".")
+    cycles = 1.0 if args.trajectory or args.cycles is None else args.cycles  # a trajectory file is one test cycle
+    files = write_report(Path(args.out), run, joint_run, simulations=simulations, drive=drive, notes=tuple(notes), cycles=cycles)
     print(f"wrote {files.index}")
     return 0
 
@@ -446,8 +456,10 @@ def build_parser() -> argparse.ArgumentParser:
     _add_trajectory_options(report)
     report.add_argument("--out", required=True, metavar="DIR", help="folder to write (created if missing)")
     report.add_argument("--model", choices=["auto", "analytic", "pinocchio"], default="auto", help="where joint forces come from (auto: Pinocchio)")
-    report.add_argument("--motor", metavar="FILE", help="TOML with a [motor] table of ratings (default: the parameter file's [motor] table)")
+    report.add_argument("--motor", metavar="FILE", help="drive file (TOML: [motor], [amplifier], [gearbox], [lead_screw], [rules]) to check "
+                        "(default: the parameter file's [motor] table); see hipsim size")
     report.add_argument("--simulate", action="store_true", help="also simulate both controllers and plot their tracking errors")
+    report.add_argument("--mismatch", metavar="SPEC", help="with --simulate: plant off from the controllers' model, e.g. friction=+20%%,masses=-10%%")
     report.set_defaults(run=_cmd_report)
 
     workspace = commands.add_parser(
@@ -505,6 +517,9 @@ def build_parser() -> argparse.ArgumentParser:
     urdf.set_defaults(run=_cmd_urdf)
 
     mjcf_command.add_parser(commands)
+    from . import size
+
+    size.add_parser(commands)
 
     params = commands.add_parser("params", help="print the parameter set in use, with units")
     _add_machine_options(params)

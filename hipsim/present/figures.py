@@ -1,4 +1,5 @@
-"""Figures of a run (matplotlib, no pyplot state): slider motion, torque parts, load and friction, joint forces, singularity, tracking."""
+"""Figures of a run (matplotlib, no pyplot state): input motion, slider motion, torque parts, load and friction,
+joint forces, singularity, tracking, and the sizing figures (torque–speed cloud, axial-load histogram)."""
 
 from __future__ import annotations
 
@@ -8,17 +9,21 @@ from typing import Any, Mapping
 
 import numpy as np
 
+from ..analysis.sizing import Sizing
 from ..exceptions import HipsimError
 from ..files import write_atomic
 from ..results import Run
 
 __all__ = [
     "FIGURE_CAPTIONS",
+    "plot_axial_load_histogram",
+    "plot_input_motion",
     "plot_joint_forces",
     "plot_load_friction",
     "plot_singularity",
     "plot_slider_motion",
     "plot_torque_parts",
+    "plot_torque_speed",
     "plot_tracking",
     "save_figure",
     "tracking_arrays",
@@ -36,13 +41,21 @@ _ANGLE_LABELS = ("α flexion/extension", "β abduction/adduction", "γ internal/
 
 #: Each figure the report can hold, by file stem, with its caption.
 FIGURE_CAPTIONS = {
+    "input_motion": "The input: the platform angles α (flexion/extension), β (abduction/adduction), γ (internal/external "
+    "rotation) and the hydraulic load F_e over the cycle.",
     "slider_motion": "Slider displacement, velocity and acceleration over the cycle, per linear module, both platforms "
     "(the two sliders of a module share one carriage: equal velocity and acceleration, heights h₁ − h₂ apart).",
     "motor_torques": "Each motor's torque split into its five parts (platforms, levers, sliders, screws, friction) and the total.",
     "load_friction": "The applied hydraulic load and the friction moment of each platform's central chain (hip joint + thrust bearing).",
-    "joint_forces": "Reaction forces at the spherical joints a_ji and the central joints o_j (Pinocchio closed-chain model).",
+    "joint_forces": "Reaction forces at the spherical joints a_ji and the central joints o_j (from the Pinocchio closed-chain model: "
+    "the analytic model has none).",
+    "torque_speed": "Each motor's operating points (|speed|, |torque|) over the cycle, with the S1 (continuous) and peak "
+    "torque–speed curves of the drive checked and the RMS torque at the mean speed (★).",
+    "axial_load": "Share of each screw's revolutions at each axial screw load 2π(τ − τ_L − τ_screw friction)/p: the "
+    "load spectrum that sets the lead screw's L10 life (ISO 3408-5), its cubic mean marked.",
     "singularity": "The singularity measure (inverse condition number of J) along the trajectory.",
-    "tracking_errors": "Tracking errors of the platform angles under each controller (closed-loop simulation).",
+    "tracking_errors": "Tracking errors of the platform angles under each controller (closed-loop simulation), one column "
+    "per controller, each on its own scale.",
 }
 
 
@@ -137,8 +150,12 @@ def plot_load_friction(run: Run):
     return fig
 
 
-def plot_joint_forces(run: Run):
+def plot_joint_forces(run: Run, model: str | None = None):
     """Reaction force magnitudes at the spherical joints a_ji and central joints o_j in [N] over time [s].
+
+    Args:
+        run: a run with joint forces.
+        model: the model the joint forces came from, for the title (default: the run's model).
 
     Raises:
         HipsimError: if the run has no joint forces (only the Pinocchio model gives them).
@@ -157,7 +174,8 @@ def plot_joint_forces(run: Run):
     axes[0].legend(ncol=6, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, 1.3))
     axes[1].legend(fontsize=8, loc="upper right")
     axes[-1].set_xlabel("time t [s]")
-    fig.suptitle(f"Joint reaction forces ({run.model} model): {run.trajectory.name}")
+    source = model or run.model
+    fig.suptitle(f"Joint reaction forces ({'Pinocchio closed-chain' if source == 'pinocchio' else source} model): {run.trajectory.name}")
     return fig
 
 
@@ -178,25 +196,37 @@ def plot_singularity(run: Run):
 
 
 def plot_tracking(simulations: Mapping[str, Any]):
-    """Tracking errors of α, β, γ in [deg] over time [s], one line per controller.
+    """Tracking errors of α, β, γ in [deg] over time [s]: one row per angle, one column per controller.
+
+    Each panel has its own scale, so a controller whose errors are a hundred
+    times smaller than another's still shows its curves.
 
     Args:
         simulations: {controller name: object with ``t`` (N,) in [s] and ``err``
             (N, 3) in [rad], the desired minus the actual angles}.
     """
-    fig, axes = _figure(3)
+    from matplotlib.figure import Figure
+
+    names = list(simulations)
+    fig = Figure(figsize=(5.0 * len(names) + 1.0, 7.6), layout="constrained")
+    axes = fig.subplots(3, len(names), sharex=True, squeeze=False)
     colours = ("tab:blue", "tab:red", "tab:green", "tab:purple", "tab:brown")
-    for n, (name, sim) in enumerate(simulations.items()):
-        t, err = tracking_arrays(name, sim)
-        for k, ax in enumerate(axes):
-            ax.plot(t, np.degrees(err[:, k]), color=colours[n % len(colours)], lw=1.3, label=name)
-    for k, ax in enumerate(axes):
-        ax.axhline(0.0, color="0.5", lw=0.6)
-        ax.set_ylabel(f"{_ANGLE_LABELS[k].split()[0]} error [deg]")
-        ax.set_title(_ANGLE_LABELS[k], fontsize=9, loc="left")
-    axes[0].legend(fontsize=8, loc="upper right")
-    axes[-1].set_xlabel("time t [s]")
-    fig.suptitle("Tracking errors (desired − actual)")
+    for n, name in enumerate(names):
+        t, err = tracking_arrays(name, simulations[name])
+        for k in range(3):
+            ax = axes[k, n]
+            ax.grid(alpha=0.3)
+            peak = float(np.abs(np.degrees(err[:, k])).max())
+            ax.plot(t, np.degrees(err[:, k]), color=colours[n % len(colours)], lw=1.3, label=f"{name} (peak {peak:.3g}°)")
+            ax.axhline(0.0, color="0.5", lw=0.6)
+            ax.set_ylabel(f"{_ANGLE_LABELS[k].split()[0]} error [deg]")
+            ax.legend(fontsize=8, loc="upper right")
+            if k == 0:
+                ax.set_title(name, fontsize=10)
+        axes[-1, n].set_xlabel("time t [s]")
+    for k in range(3):
+        axes[k, 0].annotate(_ANGLE_LABELS[k], (0.01, 0.97), xycoords="axes fraction", fontsize=8, va="top")
+    fig.suptitle("Tracking errors (desired − actual), each panel on its own scale")
     return fig
 
 
@@ -209,3 +239,85 @@ def tracking_arrays(name: str, sim) -> tuple[np.ndarray, np.ndarray]:
     if t.ndim != 1 or err.shape != (t.size, 3):
         raise HipsimError(f"simulation '{name}': t has shape {t.shape} and err {err.shape}; expected (N,) and (N, 3)")
     return t, err
+
+
+def plot_input_motion(run: Run):
+    """The platform angles α, β, γ [deg] and the hydraulic load F_e [N] over time [s]: the input of every other figure."""
+    fig, axes = _figure(2)
+    t = run.trajectory.t
+    for k, colour in enumerate(("tab:blue", "tab:orange", "tab:green")):
+        axes[0].plot(t, np.degrees(run.trajectory.q[:, k]), color=colour, lw=1.5, label=_ANGLE_LABELS[k])
+    axes[0].axhline(0.0, color="0.5", lw=0.6)
+    axes[0].set_ylabel("platform angle [deg]")
+    axes[0].legend(fontsize=8, loc="upper right")
+    axes[1].plot(t, run.trajectory.Fe, color="tab:brown", lw=1.6, label="hydraulic load F_e")
+    axes[1].set_ylim(bottom=0.0)
+    axes[1].set_ylabel("load F_e [N]")
+    axes[1].legend(fontsize=8, loc="upper right")
+    axes[-1].set_xlabel("time t [s]")
+    fig.suptitle(f"Input motion and load: {run.trajectory.name}")
+    return fig
+
+
+def plot_torque_speed(size: Sizing):
+    """Per module, the motor's (|speed| [rpm], |torque| [N·mm]) points over the cycle on the drive's S1 and peak curves.
+
+    Without a drive the points are the screw shaft's (a direct drive, rotor not counted) and no curve is drawn.
+    """
+    from matplotlib.figure import Figure
+
+    duty = size.duty
+    ok = duty.side.weights > 0
+    fig = Figure(figsize=(14.0, 4.6), layout="constrained")
+    axes = fig.subplots(1, 3, sharey=True)
+    motor = size.drive.motor if size.drive is not None else None
+    top_speed = max(float(np.abs(duty.speed[ok]).max()) * _RPM_PER_RAD_S * 1.15, 1.0)
+    for curve in (() if motor is None else (motor.continuous, motor.peak)):
+        if curve is not None and not curve.flat:
+            top_speed = max(top_speed, curve.end_speed * _RPM_PER_RAD_S * 1.05)
+    speeds = np.linspace(0.0, top_speed / _RPM_PER_RAD_S, 400)
+    weights = duty.side.weights
+    for i, ax in enumerate(axes):
+        ax.grid(alpha=0.3)
+        speed = np.abs(duty.speed[ok, i]) * _RPM_PER_RAD_S
+        torque = np.abs(duty.torque[ok, i]) * 1e3
+        ax.plot(speed, torque, ".", ms=2.5, color=_MODULE_COLOURS[i], alpha=0.6, label="cycle samples")
+        rms = np.sqrt(np.sum(duty.torque[:, i] ** 2 * weights) / weights.sum()) * 1e3
+        mean_speed = np.sum(np.abs(duty.speed[:, i]) * weights) / weights.sum() * _RPM_PER_RAD_S
+        ax.plot(mean_speed, rms, marker="*", ms=14, color="gold", mec="black", ls="none", label=f"RMS {rms:.0f} N·mm at mean {mean_speed:.0f} rpm")
+        if motor is not None:
+            for curve, style, label in ((motor.continuous, "-", "S1 (continuous)"), (motor.peak, "--", "peak")):
+                if curve is not None:
+                    ax.plot(speeds * _RPM_PER_RAD_S, curve.at(speeds) * 1e3, style, color="black", lw=1.6, label=label)
+        ax.set_xlim(0.0, top_speed)
+        ax.set_ylim(bottom=0.0)
+        ax.set_xlabel("motor speed |n| [rpm]")
+        ax.set_title(f"motor {i + 1}", fontsize=10)
+        ax.legend(fontsize=7, loc="upper right")
+    axes[0].set_ylabel("motor torque |τ_m| [N·mm]")
+    which = size.drive.name if size.drive is not None else "screw shaft, no drive given"
+    fig.suptitle(f"Torque–speed demand of the cycle: {duty.side.run.trajectory.name} ({which})")
+    return fig
+
+
+def plot_axial_load_histogram(size: Sizing, bins: int = 40):
+    """Per module, the share of screw revolutions [%] at each axial screw load |F| [N], its cubic mean marked."""
+    fig, axes = _figure(3, height=2.2)
+    side = size.duty.side
+    revolutions = np.abs(side.speed) * side.weights[:, None]
+    load = np.abs(side.axial_load)
+    edges = np.linspace(0.0, max(float(load.max()), 1.0) * 1.02, bins + 1)
+    for i, ax in enumerate(axes):
+        total = revolutions[:, i].sum()
+        share = np.histogram(load[:, i], edges, weights=revolutions[:, i])[0] / (total if total > 0 else 1.0) * 100.0
+        ax.stairs(share, edges, fill=True, color=_MODULE_COLOURS[i], alpha=0.7, label=f"screw {i + 1}")
+        cubic = size.modules[i].axial_force_cubic_mean_N
+        ax.axvline(cubic, color="black", ls="--", lw=1.2, label=f"cubic mean {cubic:.0f} N")
+        ax.set_ylabel("revolutions [%]")
+        ax.legend(fontsize=8, loc="upper right")
+    axes[-1].set_xlabel("axial screw load |F| = |2π(τ − τ_L − τ_screw friction)/p| [N]")
+    fig.suptitle(f"Axial load spectrum of the lead screws: {side.run.trajectory.name}")
+    return fig
+
+
+_RPM_PER_RAD_S = 60.0 / (2.0 * np.pi)

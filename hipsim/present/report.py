@@ -6,34 +6,48 @@ figure as PNG and SVG, ``index.html`` (one self-contained page: the PNGs are
 embedded as data URIs, so it works offline and after the folder is moved or
 the page is mailed alone), ``report.json`` (the summary and sizing numbers)
 and ``torques.csv`` (the columns of spec §7.5). The numbers come from
-:mod:`hipsim.analysis.sizing`, the figures from :mod:`hipsim.present.figures`.
+:mod:`hipsim.analysis.sizing`, the figures from :mod:`hipsim.present.figures`,
+the page from a Jinja template (``templates/report.html.j2``, autoescaped).
+
+The folder is written whole or not at all: everything goes to a temporary
+folder beside it, which then takes its place. A report interrupted halfway
+leaves the folder as it was; a report re-run into its folder leaves no figure
+of the earlier run behind. An existing folder is replaced only when it is
+empty or holds a hipsim report, never a folder of other files.
 """
 
 from __future__ import annotations
 
 import base64
 import dataclasses
-import html
 import json
 import math
+import os
+import shutil
+import tempfile
+import uuid
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
 
 import numpy as np
 
-from ..analysis.sizing import Sizing, sizing
+from ..analysis.sizing import CHECKS, Sizing, sizing
 from ..exceptions import HipsimError
 from ..files import check_folder, output_folder, write_atomic
-from ..machine.drive import RATING_KEYS, MotorRatings
+from ..machine.drive import Drive
+from ..machine.parameters import SCHEMA, file_values
 from ..results import Run, Torques, peak_and_rms
 from .figures import (
     FIGURE_CAPTIONS,
+    plot_axial_load_histogram,
+    plot_input_motion,
     plot_joint_forces,
     plot_load_friction,
     plot_singularity,
     plot_slider_motion,
     plot_torque_parts,
+    plot_torque_speed,
     plot_tracking,
     save_figure,
     tracking_arrays,
@@ -41,20 +55,10 @@ from .figures import (
 
 __all__ = ["ReportFiles", "write_report"]
 
-
-# ---------------------------------------------------------------------------
-# Figures
-
-
-
-# ---------------------------------------------------------------------------
-# Sizing
-
-
-
-
-# ---------------------------------------------------------------------------
-# The report
+#: Marks a folder as a hipsim report, which a later report may replace.
+MARKER = ".hipsim-report"
+#: What an earlier report folder (before the marker) holds.
+_REPORT_SUFFIXES = {".png", ".svg", ".html", ".json", ".csv"}
 
 
 @dataclass(frozen=True)
@@ -83,19 +87,20 @@ def write_report(
     run: Run,
     joint_forces_run: Run | None = None,
     simulations: Mapping[str, Any] | None = None,
-    ratings: MotorRatings | None = None,
+    drive: Drive | None = None,
     notes: tuple[str, ...] = (),
+    cycles: float = 1.0,
 ) -> ReportFiles:
     """Write the design report folder of a run.
 
-    Writes into ``out_dir`` (created if missing): ``slider_motion``,
-    ``motor_torques``, ``load_friction``, ``singularity`` and, when available,
-    ``joint_forces`` and ``tracking_errors``, each as ``.png`` and ``.svg``;
-    ``index.html``; ``report.json`` (summary and sizing) and ``torques.csv``
-    (spec §7.5 columns). Every file is written atomically.
+    Writes ``out_dir`` whole (its parents created if missing): ``input_motion``,
+    ``slider_motion``, ``motor_torques``, ``load_friction``, ``singularity``,
+    ``torque_speed``, ``axial_load`` and, when available, ``joint_forces`` and
+    ``tracking_errors``, each as ``.png`` and ``.svg``; ``index.html``;
+    ``report.json`` (summary and sizing) and ``torques.csv`` (spec §7.5 columns).
 
     Args:
-        out_dir: the folder to write.
+        out_dir: the folder to write; if it exists it must be empty or an earlier report, which this one replaces whole.
         run: the run whose torques, motion and singularity measure are reported.
         joint_forces_run: a run along the same trajectory whose joint forces
             are reported with ``run``'s torques (the Pinocchio model's, when
@@ -103,18 +108,24 @@ def write_report(
         simulations: tracking simulations to plot: {controller name: object
             with ``t`` (N,) in [s] and ``err`` (N, 3) in [rad], and optionally
             ``tau`` (N, 3) in [N·m]}; None for no tracking section.
-        ratings: a motor/module rating to check the sizing against; None for no check.
+        drive: the drive train to check the sizing against; None for no check.
         notes: sentences shown at the top of the page (model fallbacks, estimates).
+        cycles: test cycles the trajectory holds (screw life in cycles, energy per cycle).
 
     Returns:
         The :class:`ReportFiles`.
+
+    Raises:
+        HipsimError: for inputs that do not fit, a folder that holds other files, or a write that fails.
     """
     out = Path(out_dir)
-    check_folder(out)  # fail now, not after the plotting; but make it only when there is something to write
+    check_folder(out)  # fail now, not after the plotting
+    _check_replaceable(out)
     notes = list(notes)
     if run.params.platform_mass > 0:
         notes.append(f"The platform mass m_m = {run.params.platform_mass:g} kg is an estimate (not published); it enters only the thrust-bearing friction.")
     combined = run
+    joint_model = run.model
     if joint_forces_run is not None and joint_forces_run is not run:
         if joint_forces_run.joint_forces is None:
             raise HipsimError(f"the {joint_forces_run.model} run has no joint forces to report")
@@ -128,39 +139,115 @@ def write_report(
         )
         # One run for the sizing and the figures: these torques with those joint forces.
         combined = dataclasses.replace(run, joint_forces=joint_forces_run.joint_forces)
+        joint_model = joint_forces_run.model
     if simulations is not None:
         if not isinstance(simulations, Mapping) or not simulations:
             raise HipsimError("simulations must be a non-empty mapping {controller name: result with t and err}")
         for name, sim in simulations.items():
             tracking_arrays(name, sim)
-    size = sizing(combined, ratings)
+    size = sizing(combined, drive, cycles=cycles)
 
-    figures: dict[str, tuple[Path, Path]] = {}
     plots = [
+        ("input_motion", lambda: plot_input_motion(combined)),
         ("slider_motion", lambda: plot_slider_motion(combined)),
         ("motor_torques", lambda: plot_torque_parts(combined)),
         ("load_friction", lambda: plot_load_friction(combined)),
         ("singularity", lambda: plot_singularity(combined)),
+        ("torque_speed", lambda: plot_torque_speed(size)),
+        ("axial_load", lambda: plot_axial_load_histogram(size)),
     ]
     if combined.joint_forces is not None:
-        plots.append(("joint_forces", lambda: plot_joint_forces(combined)))
+        plots.append(("joint_forces", lambda: plot_joint_forces(combined, joint_model)))
     if simulations is not None:
         plots.append(("tracking_errors", lambda: plot_tracking(simulations)))
-    with output_folder(out):  # a failure from here on takes back the folder if this run made it and it is empty
-        for stem, make in plots:
-            figures[stem] = save_figure(make(), out, stem)
+    summary = combined.summary()
+    tracking = _tracking_table(simulations) if simulations is not None else None
 
-        summary = combined.summary()
-        tracking = _tracking_table(simulations) if simulations is not None else None
+    def write(folder: Path) -> tuple[list[str], list[str]]:
+        figures = {stem: save_figure(make(), folder, stem) for stem, make in plots}
         document = {"summary": summary, "sizing": size.as_dict(), "tracking": tracking, "notes": notes,
+                    "parameters": file_values(combined.params),
                     "figures": {stem: [p.name for p in paths] for stem, paths in figures.items()}}
-        data = (
-            write_atomic(out / "report.json", json.dumps(_finite(document), indent=2) + "\n"),
-            combined.write_csv(out / "torques.csv"),
-        )
-        page = _html(combined, summary, size, tracking, figures, notes)
-        index = write_atomic(out / "index.html", page)
-    return ReportFiles(out, index, figures, data, tuple(notes), size)
+        write_atomic(folder / "report.json", json.dumps(_finite(document), indent=2, default=_plain) + "\n")
+        combined.write_csv(folder / "torques.csv")
+        write_atomic(folder / "index.html", _html(combined, summary, size, tracking, figures, notes, joint_model))
+        write_atomic(folder / MARKER, "a hipsim report: `hipsim report` may replace this folder whole\n")
+        return list(figures), ["report.json", "torques.csv"]
+
+    stems, data = _write_whole(out, write)
+    folder = out
+    figures = {stem: (folder / f"{stem}.png", folder / f"{stem}.svg") for stem in stems}
+    return ReportFiles(folder, folder / "index.html", figures, tuple(folder / name for name in data), tuple(notes), size)
+
+
+def _check_replaceable(out: Path) -> None:
+    """Refuse to replace a folder that is neither empty nor a hipsim report."""
+    target = _target(out)
+    if not target.is_dir():
+        return
+    entries = list(target.iterdir())
+    if not entries or (target / MARKER).is_file():
+        return
+    looks_like_report = [p.is_file() and p.suffix in _REPORT_SUFFIXES for p in entries]
+    if all(looks_like_report) and {"index.html", "report.json"} <= {p.name for p in entries}:
+        return  # a report from before the marker
+    other = next((p.name for p, ok in sorted(zip(entries, looks_like_report)) if not ok), sorted(p.name for p in entries)[0])
+    raise HipsimError(f"{out}: the folder holds other files (e.g. '{other}'), and a report replaces its folder whole: "
+                      "choose a new or empty folder")
+
+
+def _target(out: Path) -> Path:
+    """The folder to replace: a symbolic link's target (the link is kept), as an absolute path."""
+    try:
+        return Path(os.path.realpath(out)) if out.is_symlink() else Path(os.path.abspath(out))
+    except OSError:
+        return Path(os.path.abspath(out))
+
+
+def _write_whole(out: Path, write):
+    """Run ``write(folder)`` into a fresh folder beside ``out``, then put that folder in ``out``'s place.
+
+    On any failure (a write refused, Ctrl-C) the fresh folder is removed and
+    ``out`` is as it was; parents made for it are taken back if empty.
+    """
+    target = _target(out)
+    with output_folder(target.parent):
+        try:
+            staging = Path(tempfile.mkdtemp(dir=target.parent, prefix=f".{target.name}.", suffix=".part"))
+        except OSError as error:
+            raise HipsimError(f"{out}: cannot make the output folder ({error.strerror or error})") from None
+        try:
+            umask = os.umask(0)
+            os.umask(umask)
+            os.chmod(staging, 0o777 & ~umask)  # mkdtemp makes it private; give it a new folder's permissions
+            result = write(staging)
+            if target.exists():
+                old = target.parent / f".{target.name}.{uuid.uuid4().hex[:8]}.old"
+                os.rename(target, old)
+                try:
+                    os.rename(staging, target)
+                except BaseException:
+                    os.rename(old, target)
+                    raise
+                shutil.rmtree(old, ignore_errors=True)
+            else:
+                os.rename(staging, target)
+        except OSError as error:
+            shutil.rmtree(staging, ignore_errors=True)
+            raise HipsimError(f"{out}: cannot write the report ({error.strerror or error})") from None
+        except BaseException:
+            shutil.rmtree(staging, ignore_errors=True)
+            raise
+    return result
+
+
+def _plain(value):
+    """JSON for what json does not know (NumPy numbers and arrays)."""
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, np.generic):
+        return value.item()
+    raise TypeError(f"not JSON: {type(value).__name__}")
 
 
 def _tracking_table(sims: Mapping[str, Any]) -> dict[str, dict[str, float]]:
@@ -197,13 +284,16 @@ def _finite(value):
 # HTML
 
 _CSS = """
-body { font-family: system-ui, -apple-system, "Segoe UI", sans-serif; margin: 2em auto; max-width: 1100px; color: #222; padding: 0 1em; }
+body { font-family: system-ui, -apple-system, "Segoe UI", sans-serif; margin: 2em auto; max-width: 1200px; color: #222; padding: 0 1em; }
 h1 { font-size: 1.6em; margin-bottom: 0.2em; }
 h2 { font-size: 1.25em; border-bottom: 1px solid #ccc; padding-bottom: 0.2em; margin-top: 1.8em; }
-table { border-collapse: collapse; margin: 0.6em 0 1em; font-size: 0.9em; }
+table { border-collapse: collapse; margin: 0.6em 0 1em; font-size: 0.85em; }
 th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: right; }
 th { background: #f0f0f0; }
 th.l, td.l { text-align: left; }
+tr.fail td { background: #fde8e8; }
+tr.binding td { font-weight: bold; }
+tr.unchecked td { color: #777; }
 .meta { color: #555; font-size: 0.9em; }
 .note { background: #fff8e0; border-left: 4px solid #e0b000; padding: 0.4em 0.8em; margin: 0.4em 0; }
 .pass { color: #0a7a0a; font-weight: bold; }
@@ -214,108 +304,150 @@ figcaption { font-size: 0.9em; color: #444; }
 """
 
 
-def _esc(value) -> str:
-    return html.escape(str(value))
+def _environment():
+    import jinja2
+
+    return jinja2.Environment(
+        loader=jinja2.PackageLoader("hipsim.present", "templates"),
+        autoescape=True,
+        undefined=jinja2.StrictUndefined,
+        trim_blocks=True,
+        lstrip_blocks=True,
+    )
 
 
-def _table(header: list[str], rows: list[list], digits: int = 1, left: int = 1) -> str:
-    """An HTML table; numbers right-aligned with ``digits`` decimals, the first ``left`` columns left-aligned."""
-
-    def cell(value):
-        if isinstance(value, str):
-            return value  # already HTML (escaped by the caller)
-        if value is None or (isinstance(value, float) and not math.isfinite(value)):
-            return "—"
-        return f"{value:,.{digits}f}" if isinstance(value, float) else _esc(value)
-
-    def align(k):
-        return " class='l'" if k < left else ""
-
-    head = "".join(f"<th{align(k)}>{_esc(h)}</th>" for k, h in enumerate(header))
-    body = "".join("<tr>" + "".join(f"<td{align(k)}>{cell(v)}</td>" for k, v in enumerate(row)) + "</tr>" for row in rows)
-    return f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
+def _fixed(value, digits: int = 1) -> str:
+    """A number with thousands separators and fixed decimals; — for none."""
+    if value is None or (isinstance(value, float) and not math.isfinite(value)):
+        return "—" if value is None or math.isnan(value) else ("∞" if value > 0 else "−∞")
+    return f"{value:,.{digits}f}"
 
 
-def _html(result: Run, summary: dict, size: Sizing, tracking, figures, notes) -> str:
+def _significant(value, digits: int = 3) -> str:
+    """A number to ``digits`` significant figures (small tracking errors stay readable); — for none."""
+    if value is None or (isinstance(value, float) and not math.isfinite(value)):
+        return "—" if value is None or math.isnan(value) else ("∞" if value > 0 else "−∞")
+    return f"{value:.{digits}g}"
+
+
+def _check_value(value, unit: str) -> str:
+    if value is None:
+        return "—"
+    if unit == "cycles" or (math.isfinite(value) and (abs(value) >= 1e6 or 0 < abs(value) < 0.01)):
+        return f"{_significant(value)} {unit}"
+    return f"{_fixed(value, 1 if abs(value) < 1e4 else 0)} {unit}"
+
+
+def _parameter_rows(params) -> list[list[str]]:
+    rows = []
+    for dotted, value in file_values(params).items():
+        section, key = dotted.split(".", 1)
+        spec = SCHEMA[section][key]
+        rows.append([dotted, json.dumps(value).replace("Infinity", "inf"), spec.unit or "–", spec.meaning])
+    return rows
+
+
+def _drive_rows(drive: Drive) -> list[list[str]]:
+    rows = []
+
+    def curve_text(curve):
+        torques = ", ".join(f"{x * 1e3:g}" for x in curve.torque)
+        if curve.flat:
+            return f"{torques} N·mm at every speed"
+        speeds = ", ".join(f"{x * 60 / (2 * math.pi):.0f}" for x in curve.speed)
+        return f"{torques} N·mm at {speeds} rpm"
+
+    motor = drive.motor
+    rows.append(["motor", "name", motor.name])
+    for label, curve in (("S1 curve", motor.continuous), ("peak curve", motor.peak)):
+        if curve is not None:
+            rows.append(["motor", label, curve_text(curve)])
+    for label, value, scale, unit in (
+        ("top speed", motor.top_speed, 60 / (2 * math.pi), "rpm"), ("rotor inertia", motor.rotor_inertia, 1e4, "kg·cm²"),
+        ("torque constant", motor.torque_constant, 1.0, "N·m/A"), ("winding resistance (phase-phase)", motor.winding_resistance, 1.0, "Ω"),
+        ("thermal time constant", motor.thermal_time_constant, 1.0, "s"), ("thermal resistance", motor.thermal_resistance, 1.0, "K/W"),
+    ):
+        if value is not None:
+            rows.append(["motor", label, f"{value * scale:.4g} {unit}"])
+    for part in (drive.amplifier, drive.gearbox, drive.screw):
+        if part is None:
+            continue
+        name = type(part).__name__.lower().replace("leadscrew", "lead screw")
+        for key, value in vars(part).items():
+            if value is not None:
+                rows.append([name, key.replace("_", " "), value if isinstance(value, str) else f"{value:.6g} (SI)"])
+    return rows
+
+
+def _html(result: Run, summary: dict, size: Sizing, tracking, figures, notes, joint_model: str) -> str:
     from .. import __version__
 
     traj = result.trajectory
-    parts = []
-    parts.append("<h1>hipsim design report</h1>")
-    parts.append(
-        f"<p class='meta'>Trajectory: <b>{_esc(traj.name)}</b> ({len(traj)} samples, {traj.t[-1] - traj.t[0] + (traj.t[1] - traj.t[0] if len(traj) > 1 else 0):.4g} s)"
-        f" &middot; parameters: {_esc(result.params.source)} &middot; platform offset δ = {math.degrees(result.params.home_offset):g}°"
-        f" &middot; hipsim {_esc(__version__)}</p>"
-    )
-    for note in notes:
-        parts.append(f"<p class='note'>{_esc(note)}</p>")
-
-    # Summary
-    parts.append("<h2>Summary</h2>")
-    rows = [[f"S{name}", s["L_max_mm"], s["L_min_mm"], s["stroke_mm"], s["Ld_max_mm_s"], s["Ldd_max_mm_s2"]] for name, s in summary["sliders"].items()]
-    parts.append("<h3>Sliders (S<sub>ji</sub>: platform j, module i)</h3>")
-    parts.append(_table(["slider", "L max [mm]", "L min [mm]", "stroke [mm]", "|L̇| max [mm/s]", "|L̈| max [mm/s²]"], rows))
-    parts.append("<h3>Motor torques [N·mm] (largest |part|; peak and RMS of the total)</h3>")
-    rows = [
-        [f"M{i}", *(m[f"{Torques.COLUMN[p]}_max_Nmm"] for p in Torques.PARTS), m["tau_peak_Nmm"], m["tau_rms_Nmm"], m["speed_peak_rpm"]]
-        for i, m in summary["motors"].items()
-    ]
-    parts.append(_table(["motor", "platforms", "levers", "sliders", "screws", "friction", "peak", "RMS", "peak speed [rpm]"], rows))
-    parts.append(
-        f"<p>Smallest singularity measure (inverse condition number of J): <b>{summary['cond_inv_min']:.4f}</b>"
-        f" at t = {summary['cond_inv_min_t_s']:.4g} s (0 singular, 1 isotropic).</p>"
-    )
-
-    # Sizing
-    parts.append("<h2>Sizing</h2>")
-    rows = [[f"LN{m.module}", m.tau_peak_Nmm, m.tau_rms_Nmm, m.speed_peak_rpm, m.power_peak_W, m.axial_force_peak_N, m.stroke_mm] for m in size.modules]
-    parts.append(_table(["linear module", "peak torque [N·mm]", "RMS torque [N·mm]", "peak speed [rpm]", "peak power [W]", "peak axial screw force [N]", "stroke [mm]"], rows))
-    parts.append(
-        "<p class='meta'>Peak power is max |τ·θ̇| of the motor. The axial screw force is the force the nut pushes on the "
-        "carriage (both sliders of the module), F = 2π(τ − τ<sub>L</sub> − τ<sub>screw friction</sub>)/p: the motor torque "
-        "less the screw rotor's inertia and the screw's own friction, turned into thrust by an ideal screw of lead p.</p>"
-    )
-    if size.joints is not None:
-        parts.append("<h3>Joint reaction forces</h3>")
-        parts.append(_table(["joint", "peak [N]", "RMS [N]"], [[j.joint, j.peak_N, j.rms_N] for j in size.joints]))
-    else:
-        parts.append("<p class='meta'>Joint reaction forces: not available in this report (see the note above).</p>")
-    if size.ratings is not None:
-        verdict = "<span class='pass'>PASS</span>" if size.passed else "<span class='fail'>FAIL</span>"
-        parts.append(f"<h3>Rating check ({_esc(size.ratings.source)}): {verdict}</h3>")
-        rows = []
-        for c in size.checks:
-            unit, meaning = RATING_KEYS[c.item]
-            mark = "<span class='pass'>pass</span>" if c.passed else "<span class='fail'>FAIL</span>"
-            rows.append([f"LN{c.module}", _esc(f"{meaning} vs {c.item}"), f"{c.demand:,.1f} {_esc(unit)}", f"{c.rating:,.1f} {_esc(unit)}", f"{c.margin_pct:+.1f} %", mark])
-        parts.append(_table(["module", "check", "demand", "rating", "margin", "result"], rows, left=2))
-
-    # Tracking
+    duration = traj.t[-1] - traj.t[0] + (traj.t[1] - traj.t[0] if len(traj) > 1 else 0)
+    sliders = [[f"S{name}", *(_fixed(s[k]) for k in ("L_max_mm", "L_min_mm", "stroke_mm", "Ld_max_mm_s", "Ldd_max_mm_s2"))]
+               for name, s in summary["sliders"].items()]
+    motors = [[f"M{i}", *(_fixed(m[f"{Torques.COLUMN[p]}_max_Nmm"]) for p in Torques.PARTS), _fixed(m["tau_peak_Nmm"]),
+               _fixed(m["tau_rms_Nmm"]), _fixed(m["speed_peak_rpm"])] for i, m in summary["motors"].items()]
+    demands = [[f"LN{m.module}", *(_fixed(getattr(m, k)) for k in (
+        "tau_peak_Nmm", "tau_rms_Nmm", "speed_peak_rpm", "speed_mean_rpm", "power_peak_W", "motor_thrust_peak_N",
+        "axial_force_peak_N", "axial_force_cubic_mean_N", "revolutions_per_cycle", "load_inertia_max_kgmm2", "regen_energy_J", "stroke_mm"))]
+        for m in size.modules]
+    joints = [[j.joint, _fixed(j.peak_N), _fixed(j.rms_N)] for j in size.joints] if size.joints is not None else None
+    binding = size.binding
+    checks = []
+    for c in size.checks:
+        kind = CHECKS[c.name]
+        verdict = "not checked" if c.passed is None else ("pass" if c.passed else "FAIL")
+        css = "unchecked" if c.passed is None else ("fail" if not c.passed else "")
+        if c is binding:
+            css += " binding"
+        margin = "—" if c.margin is None else ("−∞" if math.isinf(c.margin) else f"{100 * c.margin:+.1f} %")
+        limit = "—" if c.limit is None else f"{'≥' if kind.bound == 'min' else '≤'} {_check_value(c.limit, kind.unit)}"
+        checks.append({"css": css.strip(), "cells": [f"LN{c.module}", kind.label, _check_value(c.value, kind.unit), limit, margin, verdict, c.detail, kind.basis]})
+    rules = size.rules
+    rule_texts = [f"inertia ratio ≤ {rules.inertia_ratio_max:g}:1", f"screw L10 life ≥ {rules.life_target_cycles:.3g} cycles",
+                  f"winding rise ≤ {rules.winding_rise_max:g} K (S1 rated at {rules.rated_winding_rise:g} K)",
+                  f"screw speed ≤ {rules.critical_speed_factor:g} × critical", f"axial load ≤ {rules.buckling_factor:g} × Euler buckling load"]
+    tracking_rows = tracking_torques = None
     if tracking is not None:
-        parts.append("<h2>Tracking</h2>")
-        rows = []
-        for name, row in tracking.items():
-            rows.append([_esc(name), *(row[f"{a}_err_{s}_deg"] for a in ("alpha", "beta", "gamma") for s in ("peak", "rms"))])
-        parts.append(_table(["controller", "α peak [deg]", "α RMS [deg]", "β peak [deg]", "β RMS [deg]", "γ peak [deg]", "γ RMS [deg]"], rows, digits=4))
-        with_torque = [(name, row) for name, row in tracking.items() if "tau_peak_1_Nmm" in row]
-        if with_torque:
-            rows = [[_esc(name), *(row[f"tau_{s}_{i}_Nmm"] for i in (1, 2, 3) for s in ("peak", "rms"))] for name, row in with_torque]
-            header = ["controller"] + [f"M{i} {s} [N·mm]" for i in (1, 2, 3) for s in ("peak", "RMS")]
-            parts.append(_table(header, rows))
-
-    # Figures
-    parts.append("<h2>Figures</h2>")
-    for stem, (png, svg) in figures.items():
-        data = base64.b64encode(png.read_bytes()).decode("ascii")
-        caption = FIGURE_CAPTIONS.get(stem, stem)
-        parts.append(
-            f"<figure id='{stem}'><img src='data:image/png;base64,{data}' alt='{_esc(stem)}: {_esc(caption)}'>"
-            f"<figcaption>{_esc(caption)} Files: <a href='{_esc(svg.name)}'>{_esc(svg.name)}</a>, "
-            f"<a href='{_esc(png.name)}'>{_esc(png.name)}</a>.</figcaption></figure>"
-        )
-    body = "\n".join(parts)
-    return (
-        "<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
-        f"<meta name='viewport' content='width=device-width, initial-scale=1'><title>hipsim report: {_esc(traj.name)}</title>"
-        f"<style>{_CSS}</style></head><body>\n{body}\n</body></html>\n"
+        tracking_rows = [[name, *(_significant(row[f"{a}_err_{s}_deg"]) for a in ("alpha", "beta", "gamma") for s in ("peak", "rms"))]
+                         for name, row in tracking.items()]
+        tracking_torques = [[name, *(_fixed(row[f"tau_{s}_{i}_Nmm"]) for i in (1, 2, 3) for s in ("peak", "rms"))]
+                            for name, row in tracking.items() if "tau_peak_1_Nmm" in row]
+    figure_items = [
+        {"stem": stem, "data": base64.b64encode(png.read_bytes()).decode("ascii"), "caption": FIGURE_CAPTIONS.get(stem, stem),
+         "png": png.name, "svg": svg.name}
+        for stem, (png, svg) in figures.items()
+    ]
+    binding_text = None
+    if binding is not None:
+        binding_text = (f"{CHECKS[binding.name].label}, LN{binding.module}: {_check_value(binding.value, CHECKS[binding.name].unit)} "
+                        f"against {_check_value(binding.limit, CHECKS[binding.name].unit)} (margin {100 * binding.margin:+.1f} %)"
+                        if math.isfinite(binding.margin) else f"{CHECKS[binding.name].label}, LN{binding.module}: beyond the limit")
+    return _environment().get_template("report.html.j2").render(
+        css=_CSS,
+        trajectory={"name": traj.name, "samples": len(traj), "duration": f"{duration:.4g}"},
+        params_source=result.params.source,
+        delta=f"{math.degrees(result.params.home_offset):g}",
+        version=__version__,
+        notes=notes,
+        sliders=sliders,
+        motors=motors,
+        cond_inv_min=f"{summary['cond_inv_min']:.4f}",
+        cond_inv_t=f"{summary['cond_inv_min_t_s']:.4g}",
+        demands=demands,
+        joints=joints,
+        joint_model="Pinocchio closed-chain" if joint_model == "pinocchio" else joint_model,
+        checks=checks,
+        passed=size.passed,
+        binding=binding_text,
+        drive_name=size.drive.name if size.drive is not None else "",
+        drive_source=size.drive.source if size.drive is not None else "",
+        rules=rule_texts,
+        tracking=tracking_rows,
+        tracking_torques=tracking_torques,
+        tracking_torque_header=["controller"] + [f"M{i} {s} [N·mm]" for i in (1, 2, 3) for s in ("peak", "RMS")],
+        figures=figure_items,
+        parameters=_parameter_rows(result.params),
+        drive_rows=_drive_rows(size.drive) if size.drive is not None else None,
     )

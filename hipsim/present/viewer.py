@@ -25,7 +25,7 @@ Where the scene goes, the live server on 127.0.0.1 or the self-contained
 offline page (``#t=0.25`` after its address opens it paused at 0.25 s), is
 :mod:`hipsim.present.meshcat_output`.
 
-Shown with ``forces``: the motor force on each screw's carriage (magenta,
+Shown with ``forces``: the motor thrust 2πτ/p on each screw's carriage (magenta,
 along the screw, leaving the carriage in the direction of the force) and the
 force each lever exerts on its platform at the spherical joint (cyan), from
 the closed-chain inverse dynamics, drawn at a stated scale in mm per N. With
@@ -722,7 +722,7 @@ class Viewer:
         if motion.F_act is not None:
             scale = self._scale(motion)
             lines.append(
-                f"arrows ({_scale_text(scale)}): <span style='color:#d91acc'>&#9632;</span> motor force on each screw's carriage, "
+                f"arrows ({_scale_text(scale)}): <span style='color:#d91acc'>&#9632;</span> motor thrust 2πτ/p on each screw's carriage, "
                 f"<span style='color:#0dbfd9'>&#9632;</span> force of each lever on its platform"
             )
         if motion.cond_inv is not None:
@@ -769,7 +769,7 @@ def describe(viewer: Viewer, motion: Motion) -> list[str]:
     ]
     if motion.F_act is not None:
         lines.append(
-            f"arrows at {_scale_text(viewer._scale(motion))}: magenta = motor force on each screw's carriage "
+            f"arrows at {_scale_text(viewer._scale(motion))}: magenta = motor thrust 2πτ/p on each screw's carriage "
             f"(peak {float(np.abs(motion.F_act).max()):.0f} N), cyan = force of each lever on its platform "
             f"(peak {float(np.linalg.norm(motion.F_joint, axis=-1).max()):.0f} N)"
         )

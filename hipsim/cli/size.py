@@ -1,0 +1,224 @@
+"""``hipsim size``: check a drive train against the cycle, or rank a catalogue of motors × screws × gearboxes."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+
+from ..exceptions import HipsimError
+
+__all__ = ["add_parser", "run"]
+
+_DESCRIPTION = """\
+Sizes the drive of the three linear modules the way industrial sizing tools do: along every sample of the
+cycle, the peak torque-speed curve, the RMS torque against the S1 curve at the mean speed, the top speed,
+the load-to-rotor inertia ratio (the load from the model's M(q)), the winding temperature rise, the
+amplifier currents, the regenerated energy and power, and the lead screw's L10 life in test cycles
+(ISO 3408-5), critical speed, buckling load, stroke and permissible load; each with value, limit, margin
+and pass/fail. With --catalogue, every motor x screw x gearbox combination is checked (the model reruns
+for each screw lead) and ranked by its smallest margin, the binding constraint named. Exits with status 1
+when the drive (or every catalogue combination) fails a check."""
+
+_EXAMPLES = """\
+examples:
+  hipsim size --drive models/drive_example.toml
+  hipsim size --catalogue models/motors_example.csv --screws models/screws_example.csv --gearboxes models/gearboxes_example.csv
+  hipsim size --drive my_drive.toml --trajectory walking.csv --trajectory stairs.csv --life-cycles 1e7
+(the example files ship inside the package: hipsim.models; `python -c "import hipsim.models, os; print(os.path.dirname(hipsim.models.__file__))"` prints where)
+"""
+
+
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Register ``size`` on the main parser's subcommands."""
+    from .main import _add_machine_options
+
+    parser = subparsers.add_parser(
+        "size", help="motor, amplifier and lead-screw sizing checks along the cycle; rank a catalogue",
+        description=_DESCRIPTION, epilog=_EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    _add_machine_options(parser)
+    motion = parser.add_argument_group("motion")
+    motion.add_argument("--trajectory", action="append", default=[], metavar="FILE",
+                        help="a trajectory CSV to check as well, one test cycle each (repeatable)")
+    motion.add_argument("--without-iso", action="store_true", help="leave out the built-in ISO 14242-1 cycle (needs --trajectory)")
+    motion.add_argument("--rate", type=float, metavar="HZ", help="sample rate of the built-in cycle in Hz (default 1000)")
+    motion.add_argument("--cycles", type=float, metavar="N", help="number of built-in cycles (default 1)")
+    motion.add_argument("--frequency", type=float, metavar="HZ", help="cycle frequency of the built-in cycle in Hz (default 1)")
+    parts = parser.add_argument_group("drive")
+    parts.add_argument("--drive", metavar="FILE", help="drive file (TOML: [motor], [amplifier], [gearbox], [lead_screw], [rules]); "
+                       "default: the parameter file's [motor] table")
+    parts.add_argument("--catalogue", metavar="CSV", help="motor catalogue to rank (one motor and its amplifier a line)")
+    parts.add_argument("--screws", metavar="CSV", help="lead screw catalogue (with --catalogue; default: the machine's screw)")
+    parts.add_argument("--gearboxes", metavar="CSV", help="gearbox catalogue (with --catalogue; default: direct coupling)")
+    rules = parser.add_argument_group("rules")
+    rules.add_argument("--life-cycles", type=float, metavar="N", help="screw L10 life to reach in test cycles (default 5e6)")
+    rules.add_argument("--inertia-ratio", type=float, metavar="R", help="largest load-to-rotor inertia ratio (default 10)")
+    out = parser.add_argument_group("output")
+    out.add_argument("--top", type=int, metavar="N", help="show the N best catalogue combinations (default all)")
+    out.add_argument("--format", choices=["table", "json"], default="table", help="output on standard output")
+    parser.set_defaults(run=run)
+    return parser
+
+
+def _trajectories(args):
+    from ..motion import iso14242, read_trajectory
+
+    chosen = []
+    if args.without_iso:
+        if not args.trajectory:
+            raise HipsimError("--without-iso leaves no cycle to check: give --trajectory FILE")
+        given = [f"--{name}" for name in ("rate", "cycles", "frequency") if getattr(args, name) is not None]
+        if given:
+            raise HipsimError(f"{', '.join(given)} apply to the built-in cycle, which --without-iso leaves out")
+    else:
+        cycles = args.cycles if args.cycles is not None else 1.0
+        trajectory = iso14242(rate=args.rate if args.rate is not None else 1000.0, cycles=cycles,
+                              frequency=args.frequency if args.frequency is not None else 1.0)
+        chosen.append((trajectory, cycles))
+    chosen += [(read_trajectory(path), 1.0) for path in args.trajectory]
+    return chosen
+
+
+def _rules(args, base):
+    import dataclasses
+
+    changes = {}
+    for option, key in (("life_cycles", "life_target_cycles"), ("inertia_ratio", "inertia_ratio_max")):
+        value = getattr(args, option)
+        if value is not None:
+            if not (math.isfinite(value) and value > 0):
+                raise HipsimError(f"--{option.replace('_', '-')}: expected a positive number, got {value:g}")
+            changes[key] = value
+    return dataclasses.replace(base, **changes)
+
+
+def _number(value: float | None, unit: str) -> str:
+    if value is None:
+        return "—"
+    if math.isinf(value):
+        return "∞" if value > 0 else "−∞"
+    if unit == "cycles":
+        return f"{value:.3g}"
+    return f"{value:,.3g}" if abs(value) < 100 else f"{value:,.0f}"
+
+
+def _margin(margin: float | None) -> str:
+    if margin is None:
+        return "—"
+    return "−∞" if math.isinf(margin) else f"{100 * margin:+.1f} %"
+
+
+def format_checks(checks, title: str) -> str:
+    """A check table as plain text."""
+    from .main import _format_table
+
+    rows = []
+    for c in checks:
+        verdict = "not checked" if c.passed is None else ("pass" if c.passed else "FAIL")
+        rows.append([f"LN{c.module}", c.kind.label, f"{_number(c.value, c.kind.unit)} {c.kind.unit}",
+                     f"{'≥' if c.kind.bound == 'min' else '≤'} {_number(c.limit, c.kind.unit)}", _margin(c.margin), verdict, c.detail])
+    return _format_table(["module", "check", "value", "limit", "margin", "result", "detail"], rows, title)
+
+
+def format_demands(size) -> str:
+    from .main import _format_table
+
+    rows = [[f"LN{m.module}", m.tau_peak_Nmm, m.tau_rms_Nmm, m.speed_peak_rpm, m.speed_mean_rpm, m.motor_thrust_peak_N,
+             m.axial_force_peak_N, m.axial_force_cubic_mean_N, m.load_inertia_max_kgmm2, m.regen_energy_J] for m in size.modules]
+    header = ["module", "τ peak [N·mm]", "τ RMS [N·mm]", "n peak [rpm]", "n mean [rpm]", "motor thrust peak [N]",
+              "axial screw load peak [N]", "cubic mean [N]", "M_θ,ii max [kg·mm²]", "regen [J/cycle]"]
+    return _format_table(header, rows, "At each screw shaft (motor thrust 2πτ/p; axial screw load 2π(τ − τ_L − τ_screw friction)/p)")
+
+
+def run(args) -> int:
+    from ..analysis.runs import analyse
+    from ..analysis.sizing import rank_drives, sizing
+    from ..machine.drive import SizingRules, drive_from_motor_table, load_drive, load_gearbox_catalogue, load_motor_catalogue, load_screw_catalogue
+    from .main import _format_table, _parameters
+
+    params = _parameters(args)
+    if args.top is not None and args.top < 1:
+        raise HipsimError(f"--top: expected a positive whole number, got {args.top}")
+    if args.catalogue is None:
+        for option in ("screws", "gearboxes", "top"):
+            if getattr(args, option) is not None:
+                raise HipsimError(f"--{option} applies to a catalogue: give --catalogue FILE too")
+    elif args.drive is not None:
+        raise HipsimError("give either --drive FILE (check one drive) or --catalogue FILE (rank many), not both")
+    # Read every input before the first model run: a bad line fails at once.
+    trajectories = _trajectories(args)
+    if args.catalogue is not None:
+        motors = load_motor_catalogue(args.catalogue)
+        screws = load_screw_catalogue(args.screws) if args.screws else None
+        gearboxes = load_gearbox_catalogue(args.gearboxes) if args.gearboxes else None
+        rules = _rules(args, SizingRules())
+        progress = None if args.format == "json" else (lambda text: print(f"running the model: {text}", file=sys.stderr))
+        candidates = rank_drives(params, trajectories, motors, screws, gearboxes, rules, progress)
+        shown = candidates[: args.top] if args.top else candidates
+        if args.format == "json":
+            print(json.dumps(_finite({"rules": vars(rules), "candidates": [c.as_dict() for c in shown]}), indent=2))
+        else:
+            rows = []
+            for rank, c in enumerate(shown, start=1):
+                b = c.binding
+                verdict = "—" if c.passed is None else ("pass" if c.passed else "FAIL")
+                binding = "—" if b is None else f"{b.kind.label}, LN{b.module}" + (f", {b.trajectory}" if len(trajectories) > 1 else "")
+                rows.append([str(rank), c.drive.motor.name, c.drive.gearbox.name if c.drive.gearbox else "direct",
+                             c.drive.screw.name if c.drive.screw else f"machine's ({params.lead * 1e3:g} mm)",
+                             _margin(c.margin), verdict, binding, f"{_number(b.value, b.kind.unit)} / {_number(b.limit, b.kind.unit)} {b.kind.unit}" if b else "—"])
+            cycles = ", ".join(t.name for t, _ in trajectories)
+            print(_format_table(["rank", "motor", "gearbox", "screw", "smallest margin", "result", "binding constraint", "value / limit"], rows,
+                                f"{len(candidates)} combinations along {cycles}, ranked by their smallest margin"))
+            unchecked = sorted({name for c in shown for name in c.unchecked})
+            if unchecked:
+                print(f"\nnot checked for want of data (see --format json for which): {', '.join(unchecked)}")
+            if shown:
+                best = shown[0]
+                print()
+                print(format_checks(best.checks, f"Every check of rank 1: {best.drive.name}"))
+        return 0 if any(c.passed for c in candidates) else 1
+
+    if args.drive is not None:
+        drive = load_drive(args.drive)
+    elif params.motor:
+        drive = drive_from_motor_table(params.motor, params.source)
+    else:
+        drive = None
+    rules = _rules(args, drive.rules if drive is not None else SizingRules())
+    machine = params
+    if drive is not None and drive.screw is not None:
+        changes = {"lead": drive.screw.lead, "screw_inertia": drive.screw.inertia}
+        machine = params.replace(**{k: v for k, v in changes.items() if v is not None})
+    results = [(trajectory, sizing(analyse(machine, trajectory), drive, rules, cycles)) for trajectory, cycles in trajectories]
+    if args.format == "json":
+        print(json.dumps(_finite({t.name: s.as_dict() for t, s in results}), indent=2))
+    else:
+        for trajectory, size in results:
+            print(f"trajectory: {trajectory.name} ({len(trajectory)} samples); parameters: {machine.source}; lead {machine.lead * 1e3:g} mm")
+            print(format_demands(size))
+            if drive is None:
+                print("\nno drive to check: give --drive FILE (models/drive_example.toml is an example) or a [motor] table in the parameter file")
+            else:
+                print()
+                print(format_checks(size.checks, f"Checks of {drive.name} ({drive.source})"))
+                b = size.binding
+                if b is not None:
+                    verdict = "PASS" if size.passed else "FAIL"
+                    print(f"-> {verdict}; binding: {b.kind.label}, LN{b.module}: {_number(b.value, b.kind.unit)} against "
+                          f"{_number(b.limit, b.kind.unit)} {b.kind.unit} (margin {_margin(b.margin)})")
+            print()
+    failed = any(size.passed is False for _, size in results)
+    return 1 if failed else 0
+
+
+def _finite(value):
+    """NaN and infinities become None: JSON has neither."""
+    if isinstance(value, dict):
+        return {k: _finite(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite(v) for v in value]
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
