@@ -36,6 +36,8 @@ __all__ = ["forward_kinematics", "solve_pose"]
 
 #: Newton stops when its step is below this, in [rad].
 _STEP_TOL = 1e-12
+#: Largest Newton step in [rad].
+_MAX_STEP = 0.05
 #: Two solutions of one sample farther apart than this in [rad] are different poses.
 _SAME_POSE = 1e-8
 
@@ -81,6 +83,9 @@ def _newton(params: Parameters, L1: np.ndarray, guess: np.ndarray, max_iter: int
             step = -_solve3(_jacobian(params, p[active]), residual)
         ok = np.all(np.isfinite(step), axis=1)
         step[~ok] = 0.0
+        # At most _MAX_STEP per iteration: far from the solution a full Newton step can leap into another assembly mode.
+        size = np.abs(step).max(axis=1, keepdims=True)
+        step *= np.minimum(1.0, _MAX_STEP / np.maximum(size, 1e-300))
         # Halve a step that takes a lever out of reach (a few times at most).
         trial = p[active] + step
         new_residual = _residual(params, trial, L1[active])
