@@ -94,15 +94,16 @@ def load_log(
         motion_from = "encoders"
         if raw.angles is not None:
             difference = np.degrees(np.abs(q - raw.angles))
-            k, a = np.unravel_index(np.argmax(difference), difference.shape)
-            unit = raw.angle_unit
-            if difference[k, a] > tolerance_deg:
+            worst = np.unravel_index(np.argmax(difference), difference.shape)
+            if difference[worst] > tolerance_deg:
+                k, a = np.argwhere(difference > tolerance_deg)[0]  # the first line beyond the tolerance
                 raise TrajectoryError(
                     f"the attitude sensor and the encoders disagree by {difference[k, a]:.3g}° in {ANGLE_NAMES[a]} "
-                    f"(tolerance {tolerance_deg:g}°): check the sensor's mounting, zero and sign conventions, or the machine's parameters",
-                    source=raw.source, line=int(raw.lines[k]), column=f"{ANGLE_NAMES[a]}_{unit}",
+                    f"(tolerance {tolerance_deg:g}°; {difference[worst]:.3g}° at worst, line {int(raw.lines[worst[0]])}): "
+                    "check the sensor's mounting, zero and sign conventions, or the machine's parameters",
+                    source=raw.source, line=int(raw.lines[k]), column=f"{ANGLE_NAMES[a]}_{raw.angle_unit}",
                 )
-            notes.append(f"encoders used; the attitude sensor agrees within {difference[k, a]:.3g}° (tolerance {tolerance_deg:g}°)")
+            notes.append(f"encoders used; the attitude sensor agrees within {difference[worst]:.3g}° (tolerance {tolerance_deg:g}°)")
     else:
         q = raw.angles
         motion_from = "angles"
@@ -173,10 +174,10 @@ def model_torques(params: Parameters, log: MeasuredLog, lever_spin: bool = True)
 def detect_period(t: np.ndarray, q: np.ndarray, threshold: float = 0.9) -> float | None:
     """The period of a repeating motion, or None.
 
-    The first lag beyond the first zero crossing where the autocorrelation of
-    the angles (means removed, summed over the three) exceeds ``threshold`` of
-    its value at zero, refined to a fraction of a sample; the log must hold
-    two periods at least.
+    The first lag beyond the first dip where the autocorrelation of the angles
+    (means removed, summed over the three) exceeds ``threshold`` of its value
+    at zero, refined to the lag where the motion best repeats itself (to a
+    fraction of a sample); the log must hold two periods at least.
 
     Args:
         t: evenly spaced times in [s], (N,).
@@ -198,15 +199,20 @@ def detect_period(t: np.ndarray, q: np.ndarray, threshold: float = 0.9) -> float
     candidates = np.flatnonzero((np.arange(n) > below[0]) & (np.arange(n) <= n // 2) & (correlation > threshold))
     if candidates.size == 0:
         return None
-    # The first peak above the threshold, refined by a parabola through it and its neighbours.
+    # The first peak above the threshold; then the lag where the motion best repeats itself (least mean
+    # squared difference of x(t + lag) and x(t)), refined by a parabola through its neighbours.
     k = candidates[0]
     while k + 1 <= n // 2 and correlation[k + 1] > correlation[k]:
         k += 1
-    if 0 < k < n - 1:
-        a, b, c = correlation[k - 1], correlation[k], correlation[k + 1]
-        shift = 0.5 * (a - c) / (a - 2 * b + c) if a - 2 * b + c != 0 else 0.0
-    else:
-        shift = 0.0
+    def misfit(lag):
+        return np.mean((x[lag:] - x[:-lag]) ** 2) if 0 < lag <= n // 2 else np.inf
+
+    while misfit(k - 1) < misfit(k):
+        k -= 1
+    while misfit(k + 1) < misfit(k):
+        k += 1
+    a, b, c = misfit(k - 1), misfit(k), misfit(k + 1)
+    shift = 0.5 * (a - c) / (a - 2 * b + c) if np.isfinite(a + c) and a - 2 * b + c > 0 else 0.0
     return float((k + shift) * (t[-1] - t[0]) / (n - 1))
 
 
