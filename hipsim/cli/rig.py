@@ -83,6 +83,7 @@ def add_parser(subparsers) -> None:
     excite.add_argument("--frequency", type=float, default=0.5, metavar="HZ", help="base frequency, 1/period (default 0.5)")
     excite.add_argument("--rate", type=float, default=1000.0, metavar="HZ", help="sample rate of the CSV (default 1000)")
     excite.add_argument("--seeds", type=int, default=1, metavar="N", help="random starts of the optimiser (default 1)")
+    excite.add_argument("--iterations", type=int, default=40, metavar="N", help="optimiser iterations per start (default 40)")
     excite.add_argument("--max-speed", type=float, metavar="MM_S", help="slider speed limit in mm/s (default 350, or the [motor] rating)")
     excite.add_argument("--max-acceleration", type=float, metavar="MM_S2", help="slider acceleration limit in mm/s² (default 2500)")
     excite.add_argument("--torque-limit", type=float, metavar="NMM", help="motor torque limit in N·mm (default: control.torque_limit_Nmm, [motor] peak, or 600)")
@@ -244,7 +245,9 @@ def run_excite(args) -> int:
         raise HipsimError(f"--load: expected 0 <= MIN < MAX, got '{args.load}'")
     limits = Limits.for_machine(params, **changes)
     print(f"designing: {args.harmonics} harmonics of {args.frequency:g} Hz (period {1 / args.frequency:g} s), {args.seeds} start(s) …", flush=True)
-    design = excitation(params, frequency=args.frequency, harmonics=args.harmonics, limits=limits, seeds=args.seeds)
+    if args.seeds < 1 or args.iterations < 1:
+        raise HipsimError(f"--seeds and --iterations must be at least 1, got {args.seeds} and {args.iterations}")
+    design = excitation(params, frequency=args.frequency, harmonics=args.harmonics, limits=limits, seeds=args.seeds, max_iter=args.iterations)
     path = design.write_csv(args.out, rate=args.rate, duration=args.duration)
     peaks = design.peaks
     print(f"condition number of the identification regressor: {design.condition_number:.4g} "
