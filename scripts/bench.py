@@ -20,7 +20,7 @@ import time  # noqa: E402
 import numpy as np  # noqa: E402
 
 import hipsim  # noqa: E402
-from hipsim import workspace  # noqa: E402
+from hipsim.analysis import workspace  # noqa: E402
 from hipsim.analytic.virtual_work import inverse_dynamics  # noqa: E402
 from hipsim.analytic.inverse_kinematics import kinematics  # noqa: E402
 
