@@ -122,3 +122,16 @@ def test_derivatives_of_the_smoothed_motion():
     qdd = np.column_stack([-0.3 * w**2 * np.sin(w * t), -0.1 * w**2 * np.cos(w * t), -0.05 * 4 * w**2 * np.sin(2 * w * t)])
     assert np.abs(trajectory.qdd[inside] - qdd[inside]).max() < 1e-3 * np.abs(qdd).max()
     np.testing.assert_allclose(trajectory.Fe, 500.0)
+
+
+def test_blank_lines_keep_the_file_line_numbers(tmp_path):
+    rows = good_rows(60)
+    text = "\n" + ",".join(HEADER) + "\n" + "\n".join(",".join(str(x) for x in row) for row in rows[:10]) + "\n\n"
+    text += "\n".join(",".join(str(x) for x in row) for row in rows[10:]) + "\n"
+    path = tmp_path / "blank.csv"
+    path.write_text(text)
+    log = read_rig_log(path)
+    assert len(log) == 60 and log.lines[0] == 3 and log.lines[10] == 14
+    path.write_text(text.replace(f"{rows[20][0]},", f"{rows[20][0]}x,", 1))
+    with pytest.raises(TrajectoryError, match="line 24, column 't_s'"):
+        read_rig_log(path)

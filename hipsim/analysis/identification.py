@@ -113,8 +113,8 @@ RANK_TOLERANCE = 1e-6
 DEFAULT_MAX_RELATIVE_STD = 0.01
 #: The starting values' spread, relative to their size, where the consistency constraints move a dependent parameter.
 PRIOR_SPREAD = 0.1
-#: Rows per chunk of the regressor (memory: ~1 kB per row during the inverse dynamics).
-CHUNK = 20_000
+#: Samples per chunk of the regressor (memory: ~2 kB per sample while a chunk is computed and filtered).
+CHUNK = 50_000
 
 
 @dataclass(frozen=True)
@@ -302,8 +302,9 @@ def _rows(params: Parameters, log: MeasuredLog, lever_spin: bool, chunk: int = C
     margin = 0 if log.cutoff is None else minimum_samples(log.rate, log.cutoff)
     trajectory = log.trajectory
     use = ~reversal_mask(params, log)
-    for a in range(first, stop, chunk * step):
-        b = min(a + chunk * step, stop)
+    chunk = max(step, chunk - chunk % step)  # whole decimation steps, so the kept samples line up across chunks
+    for a in range(first, stop, chunk):
+        b = min(a + chunk, stop)
         lo, hi = max(0, a - margin), min(n, b + margin)
         Y = regressor(params, trajectory.slice(slice(lo, hi)), lever_spin)
         if log.cutoff is not None:

@@ -36,6 +36,7 @@ from __future__ import annotations
 import difflib
 import io
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -267,43 +268,55 @@ def _parse(path: str | Path) -> tuple[list[str], int, np.ndarray, np.ndarray]:
         raise TrajectoryError(f"cannot read ({error.strerror})", source=source) from None
     except UnicodeDecodeError:
         raise TrajectoryError("not a text (UTF-8) CSV file", source=source) from None
-    lines = text.splitlines()
-    numbered = [(number, line) for number, line in enumerate(lines, start=1) if line.strip(" \t,")]
-    if not numbered:
+    # The header: the first line with anything on it.
+    position, header_line = 0, 1
+    while position < len(text):
+        end = text.find("\n", position)
+        end = len(text) if end < 0 else end
+        if text[position:end].strip(" \t\r,"):
+            break
+        position, header_line = end + 1, header_line + 1
+    else:
         raise TrajectoryError("the file is empty", source=source)
-    header_line, header_text = numbered[0]
-    header = [cell.strip() for cell in header_text.split(",")]
+    header = [cell.strip() for cell in text[position:end].split(",")]
     seen = set()
     for name in header:
         if name in seen:
             raise TrajectoryError(f"column '{name}' appears twice", source=source, line=header_line, column=name)
         seen.add(name)
-    rows = numbered[1:]
-    if not rows:
-        raise TrajectoryError("no samples below the header", source=source)
-    body = "\n".join(line for _, line in rows)
-    values = None
-    if "_" not in body:  # Python's float() would read "1_0" as 10; the slow path below refuses it by line
+    body = text[end + 1 :]
+    del text  # a long log: keep one copy of its text at a time
+    values = line_numbers = None
+    # The fast path: no blank lines (so line numbers follow from row numbers) and no "_" in a number
+    # (Python's float() would read "1_0" as 10; the slow path below refuses it by line).
+    if "_" not in body and not re.search(r"\n[ \t\r,]*\n|^[ \t\r,]*\n", body):
         try:
             values = np.loadtxt(io.StringIO(body), delimiter=",", ndmin=2, dtype=float)
         except ValueError:
             values = None
         if values is not None and values.shape[1] != len(header):
             values = None
-    if values is None:  # find the first bad cell, to name it
-        for number, line in rows:
+        if values is not None:
+            line_numbers = header_line + 1 + np.arange(len(values))
+    if values is None:
+        rows = [(number, line) for number, line in enumerate(body.splitlines(), start=header_line + 1) if line.strip(" \t\r,")]
+        if not rows:
+            raise TrajectoryError("no samples below the header", source=source)
+        values = np.empty((len(rows), len(header)))
+        for k, (number, line) in enumerate(rows):
             cells = line.split(",")
             if len(cells) != len(header):
                 raise TrajectoryError(f"{len(cells)} cells, the header has {len(header)}", source=source, line=number)
-            for name, cell in zip(header, cells):
+            for c, (name, cell) in enumerate(zip(header, cells)):
                 try:
                     if "_" in cell:
                         raise ValueError(cell)
-                    float(cell)
+                    values[k, c] = float(cell)
                 except ValueError:
                     raise TrajectoryError(f"'{cell.strip()}' is not a number", source=source, line=number, column=name) from None
-        raise TrajectoryError("cannot read the numbers", source=source)  # pragma: no cover - the loop finds it
-    line_numbers = np.array([number for number, _ in rows])
+        line_numbers = np.array([number for number, _ in rows])
+    if len(values) == 0:
+        raise TrajectoryError("no samples below the header", source=source)
     bad = ~np.isfinite(values)
     if np.any(bad):
         k, c = np.argwhere(bad)[0]
