@@ -5,7 +5,6 @@ import json
 import numpy as np
 import pytest
 
-import hipsim
 from hipsim.analysis import compare, load_log
 from hipsim.analysis.compare import detect_period
 from hipsim.cli.main import main

@@ -150,7 +150,7 @@ class Excitation:
         period = 1.0 / self.frequency
         cycles = 1 if duration is None else max(1, math.ceil(duration / period - 1e-9))
         n = int(round(cycles * period * rate))
-        return dataclass_replace(self.at(np.arange(n) / rate), periodic=True)
+        return _replaced(self.at(np.arange(n) / rate), periodic=True)
 
     def write_csv(self, path: str | Path, rate: float = 1000.0, duration: float | None = None) -> Path:
         """A trajectory CSV (t_s, alpha_deg, beta_deg, gamma_deg, Fe_N) that every command reads.
@@ -178,7 +178,8 @@ class Excitation:
         }
 
 
-def dataclass_replace(trajectory: Trajectory, **changes) -> Trajectory:
+def _replaced(trajectory: Trajectory, **changes) -> Trajectory:
+    """A copy of a trajectory with some fields changed."""
     fields = dict(t=trajectory.t, q=trajectory.q, qd=trajectory.qd, qdd=trajectory.qdd, Fe=trajectory.Fe, name=trajectory.name, periodic=trajectory.periodic)
     fields.update(changes)
     return Trajectory(**fields)

@@ -22,7 +22,10 @@ nowhere else.
 The fit (:func:`identify`). Each log's regressor rows and torques go
 through the log's own low-pass (the torques already have), so model and
 measurement share one bandwidth ("parallel filtering"), and are then kept
-every D-th sample (decimation to four times the cutoff). Rows are
+every D-th sample (decimation to four times the cutoff); the samples
+around each motor's reversals, where the real motion sticks and no model on
+the filtered motion can follow (:func:`hipsim.analysis.compare.reversal_mask`),
+are left out of that motor's rows. Rows are
 accumulated log by log and chunk by chunk into the triangular factor of a
 QR decomposition of [Y | τ] per motor, so memory does not grow with the log.
 Weighted least squares: each motor's rows weighted by the inverse of its
@@ -36,8 +39,8 @@ when its distance from the span of the columns already kept exceeds
 pivoting the order would follow the column norms, and the base parameters
 would change names from log to log). Then, as in Gautier's essential
 parameters, the kept parameter with the largest standard deviation (relative
-to its size, see Statistics) is dropped while it exceeds ``max_relative_std``: what is left are the
-identified quantities, each reported as the combination it stands for,
+to its size, see Statistics) is dropped while it exceeds
+``max_relative_std``: what is left are the identified quantities, each reported as the combination it stands for,
 θ_k + Σ_j β_kj θ_j over the dropped parameters (β from the regression of
 their columns on the kept ones; exact for dependent columns, e.g. the lever
 mass, which regroups into the sliders and the platform inertia, or the screw
@@ -49,35 +52,35 @@ their starting values and the kept ones take what the combinations leave.
 If that machine is not physically consistent — a negative mass, friction
 coefficient or rotor inertia, or an inertia no rigid body has (its
 principal moments must satisfy the triangle inequalities, i.e.
-Σ = ½·tr(I)·𝟙 − I ⪰ 0, which also makes I ⪰ 0) — the fit is solved again as
-a small convex program: the same weighted least squares under those bounds
-and the two 3×3 semidefinite constraints (platform and lever inertia), the
-dependent parameters then free to move but pulled towards their starting
-values by a vanishing weight. It is solved by ADMM (alternating direction
-method of multipliers; the bounds and the semidefinite cones are projected
-onto exactly, the least squares solved with one factorisation), and the
-constraints it activates are reported.
+Σ = ½·tr(I)·𝟙 − I ⪰ 0, which also makes I ⪰ 0) — the fit is solved again
+under those constraints, the dependent parameters then free to move but held
+by a prior of :data:`PRIOR_SPREAD` of their size: first as bounded least
+squares (SciPy's ``lsq_linear``, BVLS, exact for the bounds), and if an
+inertia is still impossible, as a small convex program with the two 3×3
+semidefinite constraints added, solved by ADMM (alternating direction method
+of multipliers: the bounds and the semidefinite cones projected onto
+exactly, the least squares solved with one factorisation). The constraints
+the solution sits on are reported.
 
-Statistics. The relative standard deviation of each identified quantity is
-σ_k/|θ_k|; a quantity is dropped when σ_k exceeds ``max_relative_std`` of
-max(|θ_k|, its typical size) (its starting value, or a nominal value when
-that is zero), so that a quantity known to be near zero counts as
-identified. The standard deviations come from the covariance σ²(YᵀWY)⁻¹ of the weighted fit, the residual
-variance σ² inflated by the samples per independent sample that the
-low-pass leaves (rate/(2·cutoff) after decimation), an approximation that
-treats the filtered residual as white within the filter's band. The
-condition number is that of the weighted regressor of the base parameters
-with unit-norm columns (unit-free); ``condition_number`` is for every
-parameter the data can separate, before any is dropped for its standard deviation.
+Statistics. The standard deviations come from the covariance σ²(YᵀWY)⁻¹
+of the weighted fit, the residual variance σ² inflated by the samples per
+independent sample that the low-pass leaves (rate/(2·cutoff) after
+decimation): an approximation that treats the filtered residual as white
+within the filter's band. A quantity is dropped when its σ exceeds
+``max_relative_std`` of its size, max(|θ_k|, its starting value or, where
+that is zero, a nominal value), so that a quantity known to be near zero
+counts as identified; the relative standard deviation reported is σ/|θ_k|.
+The condition number is that of the weighted regressor with unit-norm
+columns (unit-free): ``condition_number`` over every parameter the data can
+separate, ``condition_number_base`` over the identified quantities alone.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Iterator, Sequence
+from typing import Any, Sequence
 
 import numpy as np
 import scipy.linalg
@@ -88,7 +91,6 @@ from ..files import write_atomic
 from ..machine.parameters import SCHEMA, Parameters, file_values
 from ..motion.rig_logs import MeasuredLog, lowpass, minimum_samples
 from ..motion.trajectories import Trajectory
-from ..results import Torques
 from ..analytic.inverse_kinematics import kinematics
 from ..analytic.virtual_work import inverse_dynamics
 from .compare import Comparison, compare, reversal_mask
