@@ -227,11 +227,86 @@ def bench_mujoco(params, quick: bool) -> None:
         print(f"  {label:<24} {steps * model.opt.timestep / elapsed:7.2f}x real time ({elapsed / steps * 1e6:5.1f} µs per step)")
 
 
+_IDENTIFY = """
+import json, resource, sys, time
+import numpy as np
+import hipsim
+from hipsim.analysis import identify, load_log
+from hipsim.analytic import inverse_dynamics, kinematics
+
+params = hipsim.load_parameters()
+started = time.perf_counter()
+log = load_log(sys.argv[1], params)
+loaded = time.perf_counter()
+result = identify([log], params)
+done = time.perf_counter()
+peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024  # kB on Linux
+# Baseline in the same process: one analytic model run over the same samples (kinematics + inverse dynamics).
+baseline = time.perf_counter()
+inverse_dynamics(params, kinematics(params, log.trajectory), log.trajectory.Fe, True)
+baseline = time.perf_counter() - baseline
+print(json.dumps({"load": loaded - started, "identify": done - loaded, "peak_MB": peak, "baseline": baseline,
+                  "samples": len(log), "quantities": len(result.quantities)}))
+"""
+
+
+def bench_identification(params, quick: bool) -> None:
+    """Identification of a 10-minute log at 1 kHz (read, filter, fit) in a fresh process, with its peak memory; the excitation design."""
+    import json
+    import subprocess
+    import sys
+    import tempfile
+    from pathlib import Path
+
+    from hipsim.analysis import excitation
+
+    minutes = 1 if quick else 10
+    n = minutes * 60_000
+    t = np.arange(n) / 1000.0
+    rng = np.random.default_rng(0)
+    # A log of the published machine with screw friction, along five harmonics of 0.5 Hz, with the tests' noise.
+    true = params.replace(screw_coulomb=0.04, screw_viscous=2e-4)
+    w = 2 * np.pi * 0.5 * np.arange(1, 6)
+    amplitude = np.radians(rng.uniform(1.0, 4.0, (5, 3))) / np.arange(1, 6)[:, None]
+    phase = rng.uniform(0, 2 * np.pi, (5, 3))
+    arg = w[None, :, None] * t[:, None, None] + phase
+    q = np.sum(amplitude * np.sin(arg), axis=1)
+    qd = np.sum(amplitude * w[:, None] * np.cos(arg), axis=1)
+    qdd = -np.sum(amplitude * w[:, None] ** 2 * np.sin(arg), axis=1)
+    load = 1650 + 1300 * np.sin(2 * np.pi * 0.5 * t)
+    trajectory = hipsim.Trajectory(t, q, qd, qdd, load)
+    tau = np.concatenate([inverse_dynamics(true, kinematics(true, trajectory.slice(slice(a, a + 60_000))), load[a : a + 60_000], True).total
+                          for a in range(0, n, 60_000)])
+    columns = np.column_stack([t, load, tau * 1e3 + rng.normal(0, 3, tau.shape), np.degrees(q) + rng.normal(0, 0.003, q.shape)])
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "log.csv"
+        with open(path, "w") as stream:
+            stream.write("t_s,Fe_N,tau_1_Nmm,tau_2_Nmm,tau_3_Nmm,alpha_deg,beta_deg,gamma_deg\n")
+            np.savetxt(stream, columns, delimiter=",", fmt="%.10g")
+        done = subprocess.run([sys.executable, "-c", _IDENTIFY, str(path)], capture_output=True, text=True, check=True)
+    figures = json.loads(done.stdout.strip().splitlines()[-1])
+    total = figures["load"] + figures["identify"]
+    print(f"Identification of a {minutes}-minute log at 1 kHz ({figures['samples']:,} samples, angles and torques, fresh process, one core)")
+    print(f"  {total:.1f} s: read, filter, differentiate {figures['load']:.1f} s; regressor, fit, consistency {figures['identify']:.1f} s; "
+          f"peak memory {figures['peak_MB']:.0f} MB ({figures['quantities']} quantities identified)")
+    print(f"  baseline, one analytic model run over the same samples: {figures['baseline']:.2f} s")
+    print(f"  target (10 minutes): < 30 s and < 1 GB   {'OK' if total < 30 and figures['peak_MB'] < 1024 else 'MISSED'}")
+    harmonics, iterations = (2, 10) if quick else (5, 40)
+    design = excitation(params, harmonics=harmonics, max_iter=iterations)
+    print(f"Excitation design, {harmonics} harmonics of 0.5 Hz, one start, {iterations} SLSQP iterations at most: {design.seconds:.1f} s; "
+          f"condition number {design.condition_number:.3g} (ISO 14242-1 cycle: {design.iso_condition_number:.3g})")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer samples in the slow baselines")
+    parser.add_argument("--only", choices=["analytic", "pinocchio", "workspace", "plants", "identification"], help="one section only")
     args = parser.parse_args()
     params = hipsim.load_parameters()
+    if args.only:
+        sections = {"analytic": bench_analytic, "pinocchio": bench_pinocchio, "plants": bench_plants, "identification": bench_identification}
+        sections.get(args.only, lambda params, quick: bench_workspace(quick))(params, args.quick)
+        return
     bench_analytic(params, args.quick)
     print()
     bench_pinocchio(params, args.quick)
@@ -241,6 +316,7 @@ def main() -> None:
     bench_plants(params, args.quick)
     print()
     bench_mujoco(params, args.quick)
+    bench_identification(params, args.quick)
 
 
 if __name__ == "__main__":

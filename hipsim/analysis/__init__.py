@@ -3,8 +3,24 @@
 Pure: functions here return data; they never print and never import :mod:`hipsim.present`.
 """
 
+from .compare import Comparison, compare, load_log
 from .crosscheck import compare_models, differences
+from .excitation import Excitation, excitation
+from .identification import Identification, identify, regressor
 from .runs import analyse
 from .sizing import sizing
 
-__all__ = ["analyse", "compare_models", "differences", "sizing"]
+__all__ = [
+    "Comparison",
+    "Excitation",
+    "Identification",
+    "analyse",
+    "compare",
+    "compare_models",
+    "differences",
+    "excitation",
+    "identify",
+    "load_log",
+    "regressor",
+    "sizing",
+]

@@ -524,6 +524,10 @@ def build_parser() -> argparse.ArgumentParser:
     params = commands.add_parser("params", help="print the parameter set in use, with units")
     _add_machine_options(params)
     params.set_defaults(run=_cmd_params)
+
+    from . import rig  # compare, identify, excite: the rig in the loop
+
+    rig.add_parser(commands)
     return parser
 
 

@@ -6,11 +6,14 @@ Layer 1 of hipsim, beside :mod:`hipsim.machine`: it knows nothing of the machine
 from .hip_angles import hip_to_machine, machine_to_hip
 from .opensim import load_opensim
 from .readers import Column, ColumnMap, TrajectoryWarning, load_trajectory_csv, parse_columns, read_trajectory
+from .rig_logs import MeasuredLog, RigLog, lowpass, read_rig_log
 from .trajectories import Trajectory, interpolator, iso14242
 
 __all__ = [
     "Column",
     "ColumnMap",
+    "MeasuredLog",
+    "RigLog",
     "Trajectory",
     "TrajectoryWarning",
     "hip_to_machine",
@@ -18,7 +21,9 @@ __all__ = [
     "iso14242",
     "load_opensim",
     "load_trajectory_csv",
+    "lowpass",
     "machine_to_hip",
     "parse_columns",
+    "read_rig_log",
     "read_trajectory",
 ]

@@ -297,7 +297,7 @@ def build_trajectory(
     else:
         scale = {"s": 1.0, "ms": 1e-3}[unit]
         t, quantum = table.time * scale, table.time_quantum * scale
-    t = _check_time(t, quantum, source, lines, time_column.name, even=rate is None)
+    t = check_time(t, quantum, source, lines, time_column.name, even=rate is None)
     q = _angles(table, source, lines)
     load = _load(table, body_weight, source, lines)
     closes = _closes_on_itself(q, load)
@@ -335,7 +335,7 @@ def _cycle_period(frequency, period, source: str) -> float | None:
     return None
 
 
-def _check_time(t: np.ndarray, quantum: float, source: str, lines: np.ndarray, column: str, even: bool) -> np.ndarray:
+def check_time(t: np.ndarray, quantum: float, source: str, lines: np.ndarray, column: str, even: bool) -> np.ndarray:
     """Increasing times; with ``even``, evenly spaced (to print resolution), then returned exactly even."""
     dt = np.diff(t)
     if np.any(dt <= 0):

@@ -1,0 +1,267 @@
+"""``hipsim compare``, ``hipsim identify``, ``hipsim excite``: the rig in the loop.
+
+- ``compare``: the model's torques along a rig log against the measured ones; figures, a page and JSON.
+- ``identify``: the dynamic parameters fitted to rig logs; a parameter file every command accepts.
+- ``excite``: an excitation trajectory that makes the fit well-posed.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+from pathlib import Path
+
+from ..exceptions import HipsimError
+
+__all__ = ["add_parser", "run", "run_compare", "run_excite", "run_identify"]
+
+
+def _add_log_options(parser: argparse.ArgumentParser) -> None:
+    from ..analysis.compare import DEFAULT_TOLERANCE_DEG
+    from ..motion.rig_logs import DEFAULT_CUTOFF
+
+    group = parser.add_argument_group("logs")
+    group.add_argument("--torque-constant", type=float, metavar="NM_PER_A",
+                       help="motor torque constant in N·m/A, for logs of motor currents (current_1_A …)")
+    group.add_argument("--cutoff", type=float, default=DEFAULT_CUTOFF, metavar="HZ",
+                       help=f"zero-phase low-pass cutoff for measured motion, load and torques (default {DEFAULT_CUTOFF:g} Hz; 0: none)")
+    group.add_argument("--tolerance", type=float, default=DEFAULT_TOLERANCE_DEG, metavar="DEG",
+                       help=f"largest disagreement of attitude sensor and encoders when a log has both (default {DEFAULT_TOLERANCE_DEG:g}°)")
+    group.add_argument("--spin-free-levers", action="store_true",
+                       help="the spec's levers without the universal joints' spin (default: with it, as real joints move)")
+
+
+def add_parser(subparsers) -> None:
+    """Register ``compare``, ``identify`` and ``excite``."""
+    from .main import _add_machine_options
+
+    compare = subparsers.add_parser(
+        "compare", help="the model's torques along a rig log against the measured ones -> figures, HTML, JSON",
+        description="Runs the analytic model along a rig log's motion and load and compares its motor torques (total "
+        "and parts) with the measured ones, per motor: RMS and peak error, absolute and relative, where the peak occurs, "
+        "and the error per phase of the cycle when the log repeats. Model and measurement are low-passed alike. Writes "
+        "figures (PNG, SVG), index.html and comparison.json to --out and prints the table.",
+    )
+    compare.add_argument("--log", required=True, metavar="FILE", help="rig log CSV: t_s, Fe_N, tau_i_Nmm (or current_i_A), angles and/or L_1i_mm")
+    _add_machine_options(compare)
+    _add_log_options(compare)
+    compare.add_argument("--period", type=float, metavar="S", help="the log's period in s (default: detected; 0: not periodic)")
+    compare.add_argument("--out", default="hipsim_compare", metavar="DIR", help="folder to write (default hipsim_compare)")
+    compare.add_argument("--summary-format", choices=["table", "json"], default="table", help="what to print")
+    compare.set_defaults(run=run)
+
+    identify = subparsers.add_parser(
+        "identify", help="fit the dynamic parameters to rig logs -> a parameter TOML",
+        description="Weighted least squares of the motor torques on the regressor of the inertial parameters and the "
+        "friction coefficients. Parameters the logs cannot tell apart are reported as the combinations they determine; "
+        "the machine written is physically consistent (bounded least squares, semidefinite inertias). Prints each "
+        "identified quantity with its relative standard deviation, the condition number and the residual per motor; "
+        "with --validate, the prediction error on held-out logs next to the starting parameters'.",
+    )
+    identify.add_argument("--log", required=True, action="append", metavar="FILE", help="rig log to fit (repeatable)")
+    identify.add_argument("--validate", action="append", default=[], metavar="FILE", help="held-out rig log to predict (repeatable)")
+    _add_machine_options(identify)
+    _add_log_options(identify)
+    identify.add_argument("--max-std", type=float, default=1.0, metavar="PERCENT",
+                          help="largest standard deviation of an identified quantity, in %% of its size (default 1)")
+    identify.add_argument("--fix", metavar="NAMES", help="parameters to hold at their starting values, comma-separated "
+                          "(labels such as m_l, keys, or prefixes such as lever, friction.ujoint)")
+    identify.add_argument("--json", metavar="FILE", help="also write the results as JSON")
+    identify.add_argument("--out", required=True, metavar="FILE", help="parameter TOML to write")
+    identify.set_defaults(run=run)
+
+    excite = subparsers.add_parser(
+        "excite", help="design an excitation trajectory for identification -> trajectory CSV",
+        description="A periodic finite Fourier series in the three angles and the load, optimised for the identification "
+        "regressor's condition number within the rig's reach, singularity margin, slider speed and acceleration and motor "
+        "torque limits. Writes a trajectory CSV every command reads and prints its condition number next to the ISO cycle's.",
+    )
+    _add_machine_options(excite)
+    excite.add_argument("--duration", type=float, default=10.0, metavar="S", help="length of the CSV in s, whole periods (default 10)")
+    excite.add_argument("--harmonics", type=int, default=5, metavar="N", help="harmonics per series (default 5)")
+    excite.add_argument("--frequency", type=float, default=0.5, metavar="HZ", help="base frequency, 1/period (default 0.5)")
+    excite.add_argument("--rate", type=float, default=1000.0, metavar="HZ", help="sample rate of the CSV (default 1000)")
+    excite.add_argument("--seeds", type=int, default=1, metavar="N", help="random starts of the optimiser (default 1)")
+    excite.add_argument("--iterations", type=int, default=40, metavar="N", help="optimiser iterations per start (default 40)")
+    excite.add_argument("--max-speed", type=float, metavar="MM_S", help="slider speed limit in mm/s (default 350, or the [motor] rating)")
+    excite.add_argument("--max-acceleration", type=float, metavar="MM_S2", help="slider acceleration limit in mm/s² (default 2500)")
+    excite.add_argument("--torque-limit", type=float, metavar="NMM", help="motor torque limit in N·mm (default: control.torque_limit_Nmm, [motor] peak, or 600)")
+    excite.add_argument("--min-cond-inv", type=float, metavar="X", help="smallest singularity measure (default 0.25)")
+    excite.add_argument("--max-angle", type=float, metavar="DEG", help="largest |angle| in degrees (default 30)")
+    excite.add_argument("--load", metavar="MIN:MAX", help="load range in N (default 300:3000)")
+    excite.add_argument("--out", required=True, metavar="FILE", help="trajectory CSV to write")
+    excite.set_defaults(run=run)
+
+
+def _cutoff(args) -> float | None:
+    if args.cutoff is None or args.cutoff == 0:
+        return None
+    if not (math.isfinite(args.cutoff) and args.cutoff > 0):
+        raise HipsimError(f"--cutoff: expected a positive frequency in Hz (or 0 for none), got {args.cutoff!r}")
+    return args.cutoff
+
+
+def _not_an_input(out: str, inputs: list[str], option: str) -> None:
+    for name in inputs:
+        if name and Path(out).exists() and Path(name).exists() and Path(out).resolve() == Path(name).resolve():
+            raise HipsimError(f"--out {out} is the input {name} itself: choose another output")
+
+
+def _load(path: str, params, args):
+    from ..analysis.compare import load_log
+
+    return load_log(path, params, torque_constant=args.torque_constant, cutoff=_cutoff(args), tolerance_deg=args.tolerance)
+
+
+def _table(header, rows, title=""):
+    from .main import _format_table
+
+    return _format_table(header, rows, title)
+
+
+def run_compare(args) -> int:
+    from ..analysis.compare import compare
+    from ..files import check_folder
+    from ..present.rig_figures import write_comparison
+    from .main import _parameters
+
+    params = _parameters(args)
+    check_folder(Path(args.out))  # a bad folder is refused before the work
+    log = _load(args.log, params, args)
+    comparison = compare(params, log, lever_spin=not args.spin_free_levers, period=args.period)
+    files = write_comparison(args.out, comparison)
+    summary = comparison.summary()
+    if args.summary_format == "json":
+        print(json.dumps(json.loads(files.summary.read_text(encoding="utf-8")), indent=2))
+        return 0
+    print(f"log: {log.name} ({summary['samples']} samples compared, motion from the {log.motion_from}); parameters: {params.source}")
+    for note in log.notes:
+        print(f"  {note}")
+    rows = [
+        [f"M{i}", m["measured_rms_Nmm"], m["measured_peak_Nmm"], m["rms_error_Nmm"], f"{100 * m['relative_rms_error']:.2f} %",
+         m["peak_error_Nmm"], f"{100 * m['relative_peak_error']:.2f} %", f"{m['peak_error_t_s']:.3f}", m["rms_error_away_from_reversals_Nmm"]]
+        for i, m in summary["motors"].items()
+    ]
+    print(_table(["motor", "RMS [N·mm]", "peak [N·mm]", "RMS error", "/ RMS", "peak error", "/ peak", "at [s]", "RMS error away from reversals"],
+                 rows, "Model vs measured motor torque [N·mm]"))
+    if comparison.phase_rms is not None:
+        print(f"\nthe log repeats every {comparison.period:.4g} s; RMS error per tenth of the cycle [N·mm]:")
+        for i in range(3):
+            print(f"  M{i + 1}: " + " ".join(f"{x * 1e3:6.2f}" for x in comparison.phase_rms[:, i]))
+    print(f"\nwrote {files.index} (figures, comparison.json)")
+    return 0
+
+
+def run_identify(args) -> int:
+    from ..analysis.identification import identify
+    from .main import _parameters
+
+    params = _parameters(args)
+    _not_an_input(args.out, [*args.log, *args.validate, args.params or ""], "--out")
+    if args.json:
+        _not_an_input(args.json, [*args.log, *args.validate, args.params or "", args.out], "--json")
+        if Path(args.json).resolve() == Path(args.out).resolve():
+            raise HipsimError("--json and --out name the same file")
+    if not (math.isfinite(args.max_std) and args.max_std > 0):
+        raise HipsimError(f"--max-std: expected a positive percentage, got {args.max_std!r}")
+    logs = [_load(path, params, args) for path in args.log]
+    validate = [_load(path, params, args) for path in args.validate]
+    fixed = [name.strip() for name in (args.fix or "").split(",") if name.strip()]
+    result = identify(logs, params, validate=validate, lever_spin=not args.spin_free_levers, fixed=fixed, max_relative_std=args.max_std / 100)
+
+    print(f"logs: {', '.join(result.logs)}; {result.rows} samples (after filtering, decimation and the windows around reversals)")
+    print(f"starting parameters: {params.source}")
+    rows = [[q.expression(), f"{q.value:.6g}", f"{q.std:.2g}", q.unit or "—", _percent(q.relative_std)] for q in result.quantities]
+    print(_table(["identified quantity", "value", "std", "unit", "relative std"], rows, "\nIdentified (each combination as the data determine it)"))
+    if result.held:
+        print("\nNot identified (starting value kept):")
+        for label, reason, value, unit in result.held:
+            print(f"  {label} = {value:.6g} {unit}: {reason}")
+    print(f"\nregressor condition number: {result.condition_number:.4g} (identified quantities alone: {result.condition_number_base:.4g})")
+    print("residual RMS per motor: " + ", ".join(f"M{i + 1} {r * 1e3:.3g} N·mm" for i, r in enumerate(result.residual_rms)))
+    if result.active_constraints:
+        print("physical consistency: " + "; ".join(result.active_constraints))
+    for identified, start in result.validation:
+        a, b = identified.motor_errors(), start.motor_errors()
+        rows = [[f"M{i}", a[i]["rms_error_Nmm"], f"{100 * a[i]['relative_rms_error']:.2f} %",
+                 b[i]["rms_error_Nmm"], f"{100 * b[i]['relative_rms_error']:.2f} %",
+                 f"{100 * a[i]['relative_rms_error_away_from_reversals']:.2f} %"] for i in ("1", "2", "3")]
+        print(_table(["motor", "identified [N·mm]", "/ RMS", "starting [N·mm]", "/ RMS", "identified, away from reversals"], rows,
+                     f"\nPrediction error on {identified.log.name} (held out): RMS of model − measured"))
+    path = result.write_toml(args.out)
+    if args.json:
+        from ..files import write_atomic
+
+        write_atomic(args.json, json.dumps(_finite(result.summary()), indent=2) + "\n")
+    print(f"\nwrote {path}" + (f" and {args.json}" if args.json else ""))
+    return 0
+
+
+def _percent(fraction: float) -> str:
+    return f"{100 * fraction:.2g} %" if fraction < 10 else "(value near zero)"
+
+
+def _finite(value):
+    if isinstance(value, dict):
+        return {k: _finite(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite(v) for v in value]
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
+def run_excite(args) -> int:
+    from ..analysis.excitation import Limits, excitation
+    from .main import _numbers, _parameters
+
+    params = _parameters(args)
+    if Path(args.out).is_dir():
+        raise HipsimError(f"--out {args.out} is a folder; give a CSV file name")
+    for option, value in (("--duration", args.duration), ("--rate", args.rate)):
+        if not (math.isfinite(value) and value > 0):
+            raise HipsimError(f"{option}: expected a positive number, got {value!r}")
+    if args.rate < 4 * args.harmonics * args.frequency:
+        raise HipsimError(f"--rate {args.rate:g} Hz is too low for harmonics up to {args.harmonics * args.frequency:g} Hz")
+    changes = {}
+    if args.max_speed is not None:
+        changes["max_speed"] = args.max_speed * 1e-3
+    if args.max_acceleration is not None:
+        changes["max_acceleration"] = args.max_acceleration * 1e-3
+    if args.torque_limit is not None:
+        changes["torque_limit"] = args.torque_limit * 1e-3
+    if args.min_cond_inv is not None:
+        changes["min_cond_inv"] = args.min_cond_inv
+    if args.max_angle is not None:
+        changes["max_angle"] = math.radians(args.max_angle)
+    if args.load is not None:
+        changes["min_load"], changes["max_load"] = _numbers(args.load, ":", "--load", "MIN:MAX in N", count=2)
+    for option, key in (("--max-speed", "max_speed"), ("--max-acceleration", "max_acceleration"), ("--torque-limit", "torque_limit"),
+                        ("--min-cond-inv", "min_cond_inv"), ("--max-angle", "max_angle")):
+        if key in changes and not (math.isfinite(changes[key]) and changes[key] > 0):
+            raise HipsimError(f"{option}: expected a positive number, got {getattr(args, key)!r}")
+    if "min_load" in changes and not 0 <= changes["min_load"] < changes["max_load"]:
+        raise HipsimError(f"--load: expected 0 <= MIN < MAX, got '{args.load}'")
+    limits = Limits.for_machine(params, **changes)
+    print(f"designing: {args.harmonics} harmonics of {args.frequency:g} Hz (period {1 / args.frequency:g} s), {args.seeds} start(s) …", flush=True)
+    if args.seeds < 1 or args.iterations < 1:
+        raise HipsimError(f"--seeds and --iterations must be at least 1, got {args.seeds} and {args.iterations}")
+    design = excitation(params, frequency=args.frequency, harmonics=args.harmonics, limits=limits, seeds=args.seeds, max_iter=args.iterations)
+    path = design.write_csv(args.out, rate=args.rate, duration=args.duration)
+    peaks = design.peaks
+    print(f"condition number of the identification regressor: {design.condition_number:.4g} "
+          f"(ISO 14242-1 cycle: {design.iso_condition_number:.4g}), for {', '.join(design.quantities)}")
+    print(f"largest |angle| {peaks['angle_deg']:.3g}° (limit {math.degrees(limits.max_angle):.3g}°), "
+          f"slider speed {peaks['speed_mm_s']:.4g} mm/s (limit {limits.max_speed * 1e3:.4g}), "
+          f"acceleration {peaks['acceleration_mm_s2']:.4g} mm/s² (limit {limits.max_acceleration * 1e3:.4g}), "
+          f"motor torque {peaks['torque_Nmm']:.4g} N·mm (limit {limits.torque_limit * 1e3:.4g}), "
+          f"singularity measure ≥ {peaks['cond_inv_min']:.3g} (limit {limits.min_cond_inv:.3g}), "
+          f"load {peaks['load_min_N']:.4g} to {peaks['load_max_N']:.4g} N")
+    print(f"designed in {design.seconds:.1f} s; wrote {path}")
+    return 0
+
+
+def run(args) -> int:
+    """Run the subcommand ``args.command`` (compare, identify or excite)."""
+    return {"compare": run_compare, "identify": run_identify, "excite": run_excite}[args.command](args)

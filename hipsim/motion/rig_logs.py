@@ -1,0 +1,448 @@
+"""Measured logs from the rig: the reader, and the zero-phase low-pass that measured signals need.
+
+A rig log is a CSV file, read with the rules of trajectory files (header with
+units, evenly spaced ``t_s``, a clear error naming the file, line and column):
+
+- ``t_s`` and ``Fe_N`` (the measured load);
+- the motor torques ``tau_1_Nmm, tau_2_Nmm, tau_3_Nmm``, or the motor
+  currents ``current_1_A, current_2_A, current_3_A`` and the motors' torque
+  constant in N·m/A (torque = constant × current; with both, the torques are used);
+- the motion as the platform angles ``alpha_deg, beta_deg, gamma_deg`` (or
+  all three ``_rad``, as from an attitude sensor), or platform 1's slider
+  heights ``L_11_mm, L_12_mm, L_13_mm`` (the motor encoders), or both.
+
+Other columns (temperatures, set points …) are ignored and listed in
+:attr:`RigLog.ignored`. :func:`read_rig_log` returns the samples as they are,
+in SI units; turning encoder heights into angles needs the machine, so that
+is done a layer up (:func:`hipsim.analysis.load_log`).
+
+Filtering. Measured signals are noisy and differentiating them twice
+amplifies the noise, so the motion is low-passed before it is differentiated:
+a Butterworth filter of order :data:`FILTER_ORDER` run forwards and backwards
+(SciPy's ``sosfiltfilt``: zero phase, so nothing is delayed, and the squared
+magnitude response of order 2·4) at ``cutoff`` Hz, :data:`DEFAULT_CUTOFF` by
+default: the ISO gait and the excitations of :mod:`hipsim.analysis.excitation`
+have their content below ~6 Hz, so 20 Hz passes it unchanged (gain 1 − 3e-7
+at 6 Hz) while cutting the noise power of a 1 kHz log 25-fold. The filtered
+angles are then differentiated through an interpolating quintic spline, as
+trajectory files are. The same filter is applied to the torques and the load
+that a comparison or a fit uses, so that model and measurement see the same
+bandwidth. The first and last :func:`edge_samples` samples, where a
+forward-backward filter has no data on one side, are dropped.
+"""
+
+from __future__ import annotations
+
+import difflib
+import io
+import math
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from scipy.interpolate import make_interp_spline
+from scipy.signal import butter, sosfiltfilt
+
+from ..arrays import check_shapes
+from ..exceptions import TrajectoryError
+from .readers import MAX_LOAD, check_time
+from .trajectories import ANGLE_NAMES, Trajectory
+
+__all__ = [
+    "DEFAULT_CUTOFF",
+    "FILTER_ORDER",
+    "MeasuredLog",
+    "RigLog",
+    "edge_samples",
+    "lowpass",
+    "read_rig_log",
+    "smooth_motion",
+]
+
+#: Default low-pass cutoff in [Hz] for measured motion and torques.
+DEFAULT_CUTOFF = 20.0
+#: Order of the Butterworth low-pass (run twice: forwards and backwards).
+FILTER_ORDER = 4
+#: Samples left out at each end of a filtered log, in periods of the cutoff: the
+#: forward-backward filter lacks data on one side there (its impulse response
+#: decays to 1e-4 within four periods at the order used).
+EDGE_PERIODS = 4.0
+
+TORQUE_COLUMNS = tuple(f"tau_{i}_Nmm" for i in (1, 2, 3))
+CURRENT_COLUMNS = tuple(f"current_{i}_A" for i in (1, 2, 3))
+HEIGHT_COLUMNS = tuple(f"L_1{i}_mm" for i in (1, 2, 3))
+#: Largest torque in [N·mm] and slider height in [mm] a log may give: beyond, a unit slip.
+MAX_TORQUE_NMM = 1e9
+MAX_HEIGHT_MM = 1e5
+
+
+@dataclass(frozen=True, eq=False)
+class RigLog:
+    """A rig log as read, SI units, one row per sample.
+
+    Attributes:
+        t: sample times in [s], (N,), evenly spaced.
+        Fe: measured load in [N], (N,).
+        tau: motor torques in [N·m], (N, 3) (from the currents when the log has no torques).
+        angles: platform gait angles [α, β, γ] in [rad], (N, 3), or None when the log has none.
+        heights: platform 1's slider heights L_11, L_12, L_13 in [m], (N, 3), or None.
+        lines: the file line of each sample, (N,), for messages.
+        source: the file's path.
+        torque_from: "torques" or "currents".
+        ignored: columns the reader does not use.
+        angle_unit: "deg" or "rad", the unit of the file's angle columns (None without angles).
+    """
+
+    t: np.ndarray
+    Fe: np.ndarray
+    tau: np.ndarray
+    angles: np.ndarray | None
+    heights: np.ndarray | None
+    lines: np.ndarray
+    source: str
+    torque_from: str = "torques"
+    ignored: tuple[str, ...] = ()
+    angle_unit: str | None = None
+
+    def __post_init__(self):
+        shapes = {"t": ("N",), "Fe": ("N",), "tau": ("N", 3), "lines": ("N",)}
+        shapes |= {name: ("N", 3) for name in ("angles", "heights") if getattr(self, name) is not None}
+        check_shapes(self, shapes)
+
+    def __len__(self) -> int:
+        return self.t.size
+
+    @property
+    def rate(self) -> float:
+        """Sample rate in [Hz]."""
+        return (self.t.size - 1) / (self.t[-1] - self.t[0])
+
+
+@dataclass(frozen=True, eq=False)
+class MeasuredLog:
+    """A measured (or synthetic) log ready for the models: smooth motion with derivatives, and torques.
+
+    Build it with :func:`hipsim.analysis.load_log` from a file, or directly
+    from arrays (e.g. a simulation's exact states, with ``cutoff=None``).
+
+    Attributes:
+        trajectory: the motion (angles, rates, accelerations) and the load.
+        tau: measured motor torques in [N·m], (N, 3), filtered like the motion.
+        cutoff: the low-pass cutoff in [Hz] the motion and torques went
+            through, or None for exact (unfiltered) signals.
+        name: the log's name (its file), for messages and reports.
+        motion_from: "angles", "encoders", or "exact".
+        notes: what a reader should know about how the log was read.
+        lines: the file line of each sample, (N,), or None.
+        edge: samples at each end that the filter left unreliable; comparisons
+            and fits use the samples between them (:attr:`usable`), but the
+            model runs over all, so that its torques can be filtered alike.
+    """
+
+    trajectory: Trajectory
+    tau: np.ndarray
+    cutoff: float | None = None
+    name: str = "log"
+    motion_from: str = "exact"
+    notes: tuple[str, ...] = ()
+    lines: np.ndarray | None = field(default=None)
+    edge: int = 0
+
+    def __post_init__(self):
+        n = len(self.trajectory)
+        if not (0 <= self.edge and 2 * self.edge < n):
+            raise TrajectoryError(f"edge of {self.edge} samples leaves nothing of {n}", source=self.name)
+        check_shapes(self, {"tau": (n, 3)} | ({"lines": (n,)} if self.lines is not None else {}))
+        if self.cutoff is not None and not (math.isfinite(self.cutoff) and self.cutoff > 0):
+            raise TrajectoryError(f"cutoff must be a positive frequency in Hz, got {self.cutoff!r}", source=self.name)
+        if not np.all(np.isfinite(self.tau)):
+            raise TrajectoryError("torques are not finite", source=self.name)
+
+    def __len__(self) -> int:
+        return len(self.trajectory)
+
+    @property
+    def t(self) -> np.ndarray:
+        """Sample times in [s], (N,)."""
+        return self.trajectory.t
+
+    @property
+    def rate(self) -> float:
+        """Sample rate in [Hz]."""
+        t = self.trajectory.t
+        return (t.size - 1) / (t[-1] - t[0])
+
+    @property
+    def usable(self) -> slice:
+        """The samples between the filter's edges."""
+        return slice(self.edge, len(self) - self.edge)
+
+
+# --- Filtering ---------------------------------------------------------------------------
+
+
+def _check_cutoff(rate: float, cutoff: float, source: str | None) -> None:
+    if isinstance(cutoff, bool) or not (isinstance(cutoff, (int, float)) and math.isfinite(cutoff) and cutoff > 0):
+        raise TrajectoryError(f"the low-pass cutoff must be a positive frequency in Hz, got {cutoff!r}", source=source)
+    if cutoff >= 0.5 * rate:
+        raise TrajectoryError(
+            f"the low-pass cutoff {cutoff:g} Hz is not below the Nyquist frequency {0.5 * rate:g} Hz of a {rate:g} Hz log",
+            source=source,
+        )
+
+
+def edge_samples(rate: float, cutoff: float) -> int:
+    """Samples dropped at each end of a log filtered at ``cutoff`` [Hz] and sampled at ``rate`` [Hz]."""
+    return int(math.ceil(EDGE_PERIODS * rate / cutoff))
+
+
+def minimum_samples(rate: float, cutoff: float) -> int:
+    """The fewest samples a log needs to be filtered: both edges and as many samples again between them."""
+    padding = 3 * (2 * (FILTER_ORDER // 2 + FILTER_ORDER % 2) + 1)  # sosfiltfilt's default odd extension
+    return max(4 * edge_samples(rate, cutoff), padding + 1, 6)
+
+
+def lowpass(x: np.ndarray, rate: float, cutoff: float, source: str | None = None) -> np.ndarray:
+    """Zero-phase Butterworth low-pass along the first axis (``sosfiltfilt``, order :data:`FILTER_ORDER`).
+
+    Args:
+        x: samples, (N, ...), in any unit.
+        rate: sample rate in [Hz].
+        cutoff: cutoff frequency in [Hz] (−3 dB of one pass, −6 dB of both).
+        source: the log's name, for messages.
+
+    Raises:
+        TrajectoryError: a cutoff not below the Nyquist frequency, or a log too short to filter.
+    """
+    _check_cutoff(rate, cutoff, source)
+    x = np.asarray(x, dtype=float)
+    needed = minimum_samples(rate, cutoff)
+    if len(x) < needed:
+        raise TrajectoryError(
+            f"{len(x)} samples ({len(x) / rate:.3g} s) are too short to filter at {cutoff:g} Hz: at least {needed} "
+            f"({needed / rate:.3g} s) are needed, {EDGE_PERIODS:g}/cutoff at each end being dropped",
+            source=source,
+        )
+    sos = butter(FILTER_ORDER, cutoff, fs=rate, output="sos")
+    # An odd extension as long as the dropped edge: the filter starts on a smooth continuation of the signal.
+    return sosfiltfilt(sos, x, axis=0, padlen=min(edge_samples(rate, cutoff), len(x) - 1))
+
+
+def smooth_motion(t: np.ndarray, q: np.ndarray, Fe: np.ndarray, cutoff: float | None, name: str = "log") -> Trajectory:
+    """Low-passed angles and load, the angles differentiated through an interpolating quintic spline.
+
+    Args:
+        t: evenly spaced sample times in [s], (N,).
+        q: gait angles in [rad], (N, 3).
+        Fe: load in [N], (N,).
+        cutoff: low-pass cutoff in [Hz]; None for no filter (the spline only).
+        name: the log's name, for messages and the trajectory.
+
+    Returns:
+        The filtered trajectory, all N samples (the caller drops the edges).
+    """
+    if cutoff is not None:
+        rate = (t.size - 1) / (t[-1] - t[0])
+        q = lowpass(q, rate, cutoff, name)
+        Fe = np.maximum(lowpass(Fe, rate, cutoff, name), 0.0)  # a magnitude; ringing must not make it negative
+    if t.size < 6:
+        raise TrajectoryError(f"{t.size} samples; at least 6 are needed to differentiate", source=name)
+    spline = make_interp_spline(t, q, k=5, axis=0)
+    return Trajectory(t, q, spline(t, 1), spline(t, 2), Fe, name=name)
+
+
+# --- The reader -----------------------------------------------------------------------------
+
+
+def _parse(path: str | Path) -> tuple[list[str], int, np.ndarray, np.ndarray]:
+    """Header, its line, values (N, C) and the file line of each row; errors name the file, line and column."""
+    source = str(path)
+    try:
+        with open(path, encoding="utf-8-sig", newline="") as stream:  # utf-8-sig: spreadsheets add a byte-order mark
+            text = stream.read()
+    except FileNotFoundError:
+        raise TrajectoryError("no such log file", source=source) from None
+    except IsADirectoryError:
+        raise TrajectoryError("is a folder, not a log file", source=source) from None
+    except OSError as error:
+        raise TrajectoryError(f"cannot read ({error.strerror})", source=source) from None
+    except UnicodeDecodeError:
+        raise TrajectoryError("not a text (UTF-8) CSV file", source=source) from None
+    # The header: the first line with anything on it.
+    position, header_line = 0, 1
+    while position < len(text):
+        end = text.find("\n", position)
+        end = len(text) if end < 0 else end
+        if text[position:end].strip(" \t\r,"):
+            break
+        position, header_line = end + 1, header_line + 1
+    else:
+        raise TrajectoryError("the file is empty", source=source)
+    header = [cell.strip() for cell in text[position:end].split(",")]
+    seen = set()
+    for name in header:
+        if name in seen:
+            raise TrajectoryError(f"column '{name}' appears twice", source=source, line=header_line, column=name)
+        seen.add(name)
+    body = text[end + 1 :]
+    del text  # a long log: keep one copy of its text at a time
+    values = line_numbers = None
+    # The fast path: no blank lines (so line numbers follow from row numbers) and no "_" in a number
+    # (Python's float() would read "1_0" as 10; the slow path below refuses it by line).
+    if "_" not in body and not re.search(r"\n[ \t\r,]*\n|^[ \t\r,]*\n", body):
+        try:
+            values = np.loadtxt(io.StringIO(body), delimiter=",", ndmin=2, dtype=float)
+        except ValueError:
+            values = None
+        if values is not None and values.shape[1] != len(header):
+            values = None
+        if values is not None:
+            line_numbers = header_line + 1 + np.arange(len(values))
+    if values is None:
+        rows = [(number, line) for number, line in enumerate(body.splitlines(), start=header_line + 1) if line.strip(" \t\r,")]
+        if not rows:
+            raise TrajectoryError("no samples below the header", source=source)
+        values = np.empty((len(rows), len(header)))
+        for k, (number, line) in enumerate(rows):
+            cells = line.split(",")
+            if len(cells) != len(header):
+                raise TrajectoryError(f"{len(cells)} cells, the header has {len(header)}", source=source, line=number)
+            for c, (name, cell) in enumerate(zip(header, cells)):
+                try:
+                    if "_" in cell:
+                        raise ValueError(cell)
+                    values[k, c] = float(cell)
+                except ValueError:
+                    raise TrajectoryError(f"'{cell.strip()}' is not a number", source=source, line=number, column=name) from None
+        line_numbers = np.array([number for number, _ in rows])
+    if len(values) == 0:
+        raise TrajectoryError("no samples below the header", source=source)
+    bad = ~np.isfinite(values)
+    if np.any(bad):
+        k, c = np.argwhere(bad)[0]
+        raise TrajectoryError(f"'{values[k, c]}' is not finite", source=source, line=int(line_numbers[k]), column=header[c])
+    return header, header_line, values, line_numbers
+
+
+def _missing(name: str, header: list[str], what: str, source: str, line: int) -> TrajectoryError:
+    close = difflib.get_close_matches(name, header, n=1, cutoff=0.7)
+    hint = f" (the file has '{close[0]}': check the name and its unit)" if close else ""
+    return TrajectoryError(f"missing {what} column '{name}'{hint}", source=source, line=line)
+
+
+def _group(names: tuple[str, ...], header: list[str], what: str, source: str, line: int) -> bool:
+    """True if all of ``names`` are columns, False if none is; a partial group is an error naming the first missing."""
+    present = [name in header for name in names]
+    if all(present):
+        return True
+    if any(present):
+        raise _missing(names[present.index(False)], header, what, source, line)
+    return False
+
+
+def read_rig_log(path: str | Path, torque_constant: float | None = None) -> RigLog:
+    """Read a rig log (columns in the module docstring) into SI units, checking every value.
+
+    Args:
+        path: the CSV file.
+        torque_constant: the motors' torque constant in [N·m/A], needed when the
+            log gives motor currents instead of torques.
+
+    Returns:
+        The samples as they are in the file (no filtering).
+
+    Raises:
+        TrajectoryError: naming the file, line and column of the first problem:
+            missing torque or motion columns, currents without a torque
+            constant, uneven times, negative loads, values beyond any machine.
+    """
+    source = str(path)
+    header, header_line, values, lines = _parse(path)
+    column = {name: k for k, name in enumerate(header)}
+
+    def col(name):
+        return values[:, column[name]]
+
+    for name in ("t_s", "Fe_N"):
+        if name not in column:
+            raise _missing(name, header, "time" if name == "t_s" else "load", source, header_line)
+
+    has_torques = _group(TORQUE_COLUMNS, header, "torque", source, header_line)
+    has_currents = _group(CURRENT_COLUMNS, header, "current", source, header_line)
+    if has_torques:
+        tau = np.column_stack([col(name) for name in TORQUE_COLUMNS]) * 1e-3
+        torque_from = "torques"
+        limit_column, scale = TORQUE_COLUMNS, 1e-3
+    elif has_currents:
+        if torque_constant is None:
+            raise TrajectoryError(
+                "the log gives motor currents (current_1_A …) but no torque constant in N·m/A was given to turn them into torques",
+                source=source,
+            )
+        if isinstance(torque_constant, bool) or not (isinstance(torque_constant, (int, float)) and math.isfinite(torque_constant) and torque_constant > 0):
+            raise TrajectoryError(f"the torque constant must be a positive number in N·m/A, got {torque_constant!r}", source=source)
+        tau = np.column_stack([col(name) for name in CURRENT_COLUMNS]) * float(torque_constant)
+        torque_from = "currents"
+        limit_column, scale = CURRENT_COLUMNS, float(torque_constant)
+    else:
+        close = [c for c in header if difflib.get_close_matches(c, TORQUE_COLUMNS + CURRENT_COLUMNS, n=1, cutoff=0.7)]
+        hint = f" (the file has {', '.join(repr(c) for c in close)}: check the names and units)" if close else ""
+        raise TrajectoryError(
+            f"missing torque columns: expected tau_1_Nmm, tau_2_Nmm, tau_3_Nmm, or current_1_A … with a torque constant{hint}",
+            source=source, line=header_line,
+        )
+    worst = np.unravel_index(np.argmax(np.abs(tau)), tau.shape)
+    if abs(tau[worst]) * 1e3 > MAX_TORQUE_NMM:
+        raise TrajectoryError(
+            f"{tau[worst] / scale:g} is beyond any motor of this machine ({MAX_TORQUE_NMM:g} N·mm): a unit slip?",
+            source=source, line=int(lines[worst[0]]), column=limit_column[worst[1]],
+        )
+
+    angles, unit = None, None
+    units = [unit for unit in ("deg", "rad") if any(f"{a}_{unit}" in column for a in ANGLE_NAMES)]
+    if len(units) == 2:
+        raise TrajectoryError("angle columns mix _deg and _rad: give all three in one unit", source=source, line=header_line)
+    if units:
+        unit = units[0]
+        _group(tuple(f"{a}_{unit}" for a in ANGLE_NAMES), header, "angle", source, header_line)
+        angles = np.column_stack([col(f"{a}_{unit}") for a in ANGLE_NAMES])
+        largest = math.pi if unit == "rad" else 360.0
+        worst = np.unravel_index(np.argmax(np.abs(angles)), angles.shape)
+        if abs(angles[worst]) > largest:
+            message = "is more than half a turn: these look like degrees; label the columns _deg" if unit == "rad" else "is more than a full turn"
+            raise TrajectoryError(f"{angles[worst]:g} {unit} {message}", source=source, line=int(lines[worst[0]]), column=f"{ANGLE_NAMES[worst[1]]}_{unit}")
+        if unit == "deg":
+            angles = np.radians(angles)
+    heights = None
+    if _group(HEIGHT_COLUMNS, header, "slider height", source, header_line):
+        heights = np.column_stack([col(name) for name in HEIGHT_COLUMNS])
+        worst = np.unravel_index(np.argmax(np.abs(heights)), heights.shape)
+        if abs(heights[worst]) > MAX_HEIGHT_MM:
+            raise TrajectoryError(f"{heights[worst]:g} mm is beyond any machine of this kind: a unit slip?", source=source,
+                                  line=int(lines[worst[0]]), column=HEIGHT_COLUMNS[worst[1]])
+        heights = heights * 1e-3
+    if angles is None and heights is None:
+        raise TrajectoryError(
+            "no motion: expected the platform angles alpha_deg, beta_deg, gamma_deg (attitude sensor) "
+            "or platform 1's slider heights L_11_mm, L_12_mm, L_13_mm (motor encoders)",
+            source=source, line=header_line,
+        )
+
+    t = col("t_s")
+    if t.size < 2:
+        raise TrajectoryError(f"{t.size} sample; a log needs many", source=source)
+    check_time(t, 0.0, source, np.asarray(lines), "t_s", even=True)
+    load = col("Fe_N")
+    for k in (int(np.argmin(load)), int(np.argmax(load))):
+        if load[k] < 0:
+            raise TrajectoryError(f"load {load[k]:g} N is negative (F_e is a magnitude)", source=source, line=int(lines[k]), column="Fe_N")
+        if load[k] > MAX_LOAD:
+            raise TrajectoryError(f"load {load[k]:g} N is beyond {MAX_LOAD:g} N (a unit slip?)", source=source, line=int(lines[k]), column="Fe_N")
+
+    used = {"t_s", "Fe_N", *TORQUE_COLUMNS, *CURRENT_COLUMNS, *HEIGHT_COLUMNS}
+    used |= {f"{a}_{u}" for a in ANGLE_NAMES for u in ("deg", "rad")}
+    ignored = tuple(name for name in header if name not in used)
+    if has_torques and has_currents:
+        ignored += CURRENT_COLUMNS
+    return RigLog(t, load, tau, angles, heights, lines, source, torque_from, ignored, unit)

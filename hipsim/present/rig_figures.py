@@ -1,0 +1,204 @@
+"""The model against the rig, drawn: measured and model motor torques with the error between them (the publication's Fig. 11).
+
+:func:`write_comparison` writes a folder a lab can hand on: the figures as
+PNG and SVG, ``index.html`` (one self-contained page, the PNGs embedded) and
+``comparison.json`` (:meth:`hipsim.analysis.compare.Comparison.summary`).
+"""
+
+from __future__ import annotations
+
+import base64
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..analysis.compare import Comparison
+from ..files import check_folder, output_folder, write_atomic
+from ..results import Torques
+from .figures import save_figure
+
+__all__ = ["ComparisonFiles", "plot_comparison", "plot_errors", "plot_model_parts", "plot_phase_errors", "write_comparison"]
+
+_PART_COLOURS = {"platforms": "tab:blue", "levers": "tab:orange", "sliders": "tab:green", "screws": "tab:purple", "friction": "tab:red"}
+
+CAPTIONS = {
+    "torques": "Measured and model motor torque per motor; the shaded band is the error between them.",
+    "errors": "Model minus measured torque per motor, with ±RMS lines; grey: windows around the motor's reversals, "
+              "where the real motion sticks and the filtered model cannot follow.",
+    "phases": "RMS error per phase of the cycle (the log repeats).",
+    "parts": "The model's torque split into its parts (platforms, levers, sliders, screws, friction).",
+}
+
+
+def _figure(rows: int, height: float = 2.6, width: float = 10.0):
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(width, height * rows + 0.6), layout="constrained")
+    axes = fig.subplots(rows, 1, sharex=True, squeeze=False)[:, 0]
+    for ax in axes:
+        ax.grid(alpha=0.3)
+    return fig, axes
+
+
+def plot_comparison(comparison: Comparison):
+    """Measured (black) and model (blue) torque per motor, the error between them shaded red."""
+    fig, axes = _figure(3)
+    t = comparison.t
+    errors = comparison.motor_errors()
+    for i, ax in enumerate(axes):
+        measured = comparison.measured[:, i] * 1e3
+        model = comparison.model["total"][:, i] * 1e3
+        ax.fill_between(t, measured, model, color="tab:red", alpha=0.3, linewidth=0, label="error")
+        ax.plot(t, measured, color="black", linewidth=1.0, label="measured")
+        ax.plot(t, model, color="tab:blue", linewidth=1.0, linestyle="--", label="model")
+        e = errors[str(i + 1)]
+        ax.set_title(f"motor {i + 1}: RMS error {e['rms_error_Nmm']:.3g} N·mm ({100 * e['relative_rms_error']:.2g} %), "
+                     f"peak {e['peak_error_Nmm']:.3g} N·mm at {e['peak_error_t_s']:.3g} s", fontsize=9)
+        ax.set_ylabel("torque [N·mm]")
+    axes[0].legend(loc="upper right", fontsize=8, ncol=3)
+    axes[-1].set_xlabel("time [s]")
+    return fig
+
+
+def _shade_reversals(ax, t, mask):
+    """Grey spans where ``mask`` is True."""
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], mask.astype(int), [0]])))
+    for start, stop in zip(edges[::2], edges[1::2]):
+        ax.axvspan(t[start], t[min(stop, len(t)) - 1], color="0.85", linewidth=0)
+
+
+def plot_errors(comparison: Comparison):
+    """Model minus measured torque per motor with ±RMS lines; reversal windows shaded grey."""
+    fig, axes = _figure(3, height=2.0)
+    t = comparison.t
+    for i, ax in enumerate(axes):
+        error = comparison.error[:, i] * 1e3
+        _shade_reversals(ax, t, comparison.near_reversal[:, i])
+        rms = math.sqrt(float(np.mean(error**2)))
+        ax.plot(t, error, color="tab:red", linewidth=0.8)
+        for sign in (-1, 1):
+            ax.axhline(sign * rms, color="black", linewidth=0.7, linestyle=":")
+        ax.set_ylabel(f"M{i + 1} error [N·mm]")
+    axes[-1].set_xlabel("time [s]")
+    return fig
+
+
+def plot_phase_errors(comparison: Comparison):
+    """RMS error per phase bin and motor (periodic logs only)."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(10.0, 3.4), layout="constrained")
+    ax = fig.subplots()
+    edges = comparison.phase_edges
+    centres = 0.5 * (edges[:-1] + edges[1:])
+    width = (edges[1] - edges[0]) / 4
+    for i in range(3):
+        ax.bar(centres + (i - 1) * width, comparison.phase_rms[:, i] * 1e3, width, label=f"motor {i + 1}")
+    ax.set_xlabel(f"phase of the cycle (period {comparison.period:.4g} s)")
+    ax.set_ylabel("RMS error [N·mm]")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3, axis="y")
+    return fig
+
+
+def plot_model_parts(comparison: Comparison):
+    """The model's torque parts per motor."""
+    fig, axes = _figure(3, height=2.2)
+    for i, ax in enumerate(axes):
+        for part in Torques.PARTS:
+            ax.plot(comparison.t, comparison.model[part][:, i] * 1e3, color=_PART_COLOURS[part], linewidth=0.9, label=part)
+        ax.plot(comparison.t, comparison.model["total"][:, i] * 1e3, color="black", linewidth=1.0, label="total")
+        ax.set_ylabel(f"M{i + 1} [N·mm]")
+    axes[0].legend(fontsize=7, ncol=6, loc="upper right")
+    axes[-1].set_xlabel("time [s]")
+    return fig
+
+
+@dataclass(frozen=True)
+class ComparisonFiles:
+    """What :func:`write_comparison` wrote: the folder, the page, the JSON, and each figure's (PNG, SVG)."""
+
+    folder: Path
+    index: Path
+    summary: Path
+    figures: dict[str, tuple[Path, Path]]
+
+
+def _finite(value):
+    """NaN and infinity become None: JSON has neither."""
+    if isinstance(value, dict):
+        return {k: _finite(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite(v) for v in value]
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
+_PAGE = """<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>hipsim: model vs rig, {{ summary.log }}</title>
+<style>
+body { font-family: system-ui, sans-serif; max-width: 1100px; margin: 2em auto; color: #222; }
+table { border-collapse: collapse; margin: 1em 0; } td, th { border: 1px solid #ccc; padding: 0.3em 0.6em; text-align: right; }
+th:first-child, td:first-child { text-align: left; } figure { margin: 1.5em 0; } img { max-width: 100%; }
+figcaption { font-size: 0.9em; color: #555; } .notes { background: #f6f6f6; padding: 0.5em 1em; }
+</style></head><body>
+<h1>Model vs rig: {{ summary.log }}</h1>
+<p>{{ summary.samples }} samples at {{ "%.4g"|format(summary.rate_Hz) }} Hz{% if summary.cutoff_Hz %}, low-passed at {{ "%g"|format(summary.cutoff_Hz) }} Hz (model and measurement alike){% endif %};
+motion from the {{ summary.motion_from }}; parameters: {{ summary.parameters }}; lever spin {{ "on" if summary.lever_spin else "off" }}.
+{% if summary.period_s %}The log repeats every {{ "%.4g"|format(summary.period_s) }} s.{% endif %}</p>
+{% if notes %}<div class="notes"><ul>{% for note in notes %}<li>{{ note }}</li>{% endfor %}</ul></div>{% endif %}
+<table>
+<tr><th>motor</th><th>measured RMS [N·mm]</th><th>measured peak [N·mm]</th><th>RMS error [N·mm]</th><th>RMS error / RMS</th>
+<th>peak error [N·mm]</th><th>peak error / peak</th><th>at [s]</th><th>RMS error away from reversals [N·mm]</th></tr>
+{% for name, m in summary.motors.items() %}
+<tr><td>M{{ name }}</td><td>{{ "%.1f"|format(m.measured_rms_Nmm) }}</td><td>{{ "%.1f"|format(m.measured_peak_Nmm) }}</td>
+<td>{{ "%.2f"|format(m.rms_error_Nmm) }}</td><td>{{ "%.2f %%"|format(100 * m.relative_rms_error) }}</td>
+<td>{{ "%.2f"|format(m.peak_error_Nmm) }}</td><td>{{ "%.2f %%"|format(100 * m.relative_peak_error) }}</td><td>{{ "%.3f"|format(m.peak_error_t_s) }}</td>
+<td>{{ "%.2f"|format(m.rms_error_away_from_reversals_Nmm) }}</td></tr>
+{% endfor %}
+</table>
+{% for stem, figure in figures %}
+<figure><img alt="{{ stem }}" src="data:image/png;base64,{{ figure }}"><figcaption>{{ captions[stem] }}
+(<a href="{{ stem }}.png">PNG</a>, <a href="{{ stem }}.svg">SVG</a>)</figcaption></figure>
+{% endfor %}
+<p>Numbers for scripts: <a href="comparison.json">comparison.json</a>.</p>
+</body></html>
+"""
+
+
+def write_comparison(out_dir: str | Path, comparison: Comparison, extra: dict[str, Any] | None = None) -> ComparisonFiles:
+    """Write the comparison folder: figures (PNG, SVG), ``index.html`` and ``comparison.json``, each atomically.
+
+    Args:
+        out_dir: the folder (made if missing; taken back if the writing fails and it is still empty).
+        comparison: what :func:`hipsim.analysis.compare.compare` returned.
+        extra: more entries for the JSON.
+
+    Returns:
+        The files written.
+    """
+    from jinja2 import Environment
+
+    out = Path(out_dir)
+    check_folder(out)
+    summary = comparison.summary() | (extra or {})
+    plots = [("torques", plot_comparison), ("errors", plot_errors)]
+    if comparison.phase_rms is not None:
+        plots.append(("phases", plot_phase_errors))
+    plots.append(("parts", plot_model_parts))
+    figures: dict[str, tuple[Path, Path]] = {}
+    with output_folder(out):
+        for stem, plot in plots:
+            figures[stem] = save_figure(plot(comparison), out, stem)
+        json_path = write_atomic(out / "comparison.json", json.dumps(_finite(summary), indent=2) + "\n")
+        embedded = [(stem, base64.b64encode(png.read_bytes()).decode("ascii")) for stem, (png, _) in figures.items()]
+        page = Environment(autoescape=True).from_string(_PAGE).render(
+            summary=_finite(summary), notes=summary.get("notes", []), figures=embedded, captions=CAPTIONS
+        )
+        index = write_atomic(out / "index.html", page)
+    return ComparisonFiles(out, index, json_path, figures)

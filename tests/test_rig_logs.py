@@ -1,0 +1,137 @@
+"""Rig logs: the reader's rules and errors, and the zero-phase low-pass."""
+
+import math
+
+import numpy as np
+import pytest
+
+from hipsim.exceptions import TrajectoryError
+from hipsim.motion.rig_logs import edge_samples, lowpass, minimum_samples, read_rig_log, smooth_motion
+
+
+def write(path, header, rows):
+    path.write_text(",".join(header) + "\n" + "\n".join(",".join(str(x) for x in row) for row in rows) + "\n")
+    return path
+
+
+def good_rows(n=400, rate=1000.0):
+    t = np.arange(n) / rate
+    return [[f"{x:.6f}", 1000 + 10 * k % 7, 100.0, -50.0, 25.5, 10.0, -2.0, 3.0] for k, x in enumerate(t)]
+
+
+HEADER = ["t_s", "Fe_N", "tau_1_Nmm", "tau_2_Nmm", "tau_3_Nmm", "alpha_deg", "beta_deg", "gamma_deg"]
+
+
+def test_a_good_log_in_si(tmp_path):
+    log = read_rig_log(write(tmp_path / "log.csv", HEADER + ["temp_C"], [row + [21.0] for row in good_rows()]))
+    assert len(log) == 400 and log.rate == pytest.approx(1000.0)
+    np.testing.assert_allclose(log.tau[0], [0.1, -0.05, 0.0255])
+    np.testing.assert_allclose(log.angles[0], np.radians([10.0, -2.0, 3.0]))
+    assert log.heights is None and log.torque_from == "torques" and log.ignored == ("temp_C",)
+    assert log.lines[0] == 2 and log.angle_unit == "deg"
+
+
+def test_currents_times_the_torque_constant(tmp_path):
+    header = ["t_s", "Fe_N", "current_1_A", "current_2_A", "current_3_A", "L_11_mm", "L_12_mm", "L_13_mm"]
+    rows = [[k / 500, 800, 1.0, -2.0, 0.5, 600.0, 610.0, 590.0] for k in range(50)]
+    log = read_rig_log(write(tmp_path / "c.csv", header, rows), torque_constant=0.25)
+    np.testing.assert_allclose(log.tau[0], [0.25, -0.5, 0.125])
+    np.testing.assert_allclose(log.heights[0], [0.6, 0.61, 0.59])
+    assert log.angles is None and log.torque_from == "currents"
+
+
+def one_line(error) -> str:
+    text = str(error.value)
+    assert "\n" not in text and text.strip() == text
+    return text
+
+
+@pytest.mark.parametrize(
+    "header, change, needle",
+    [
+        (["t_s", "Fe_N", "alpha_deg", "beta_deg", "gamma_deg"], None, "missing torque columns: expected tau_1_Nmm"),
+        (["t_s", "Fe_N", "tau_1_Nmm", "tau_2_Nmm", "tau_3_Nm", "alpha_deg", "beta_deg", "gamma_deg"], None,
+         "missing torque column 'tau_3_Nmm' (the file has 'tau_3_Nm'"),
+        (["t_s", "Fe_N", "current_1_A", "current_2_A", "current_3_A", "alpha_deg", "beta_deg", "gamma_deg"], None,
+         "motor currents (current_1_A …) but no torque constant"),
+        (["t_s", "Fe_N", "tau_1_Nmm", "tau_2_Nmm", "tau_3_Nmm", "x", "y", "z"], None, "no motion: expected the platform angles"),
+        (["t_s", "Fe_N", "tau_1_Nmm", "tau_2_Nmm", "tau_3_Nmm", "alpha_deg", "beta_rad", "gamma_deg"], None, "mix _deg and _rad"),
+        (["t_s", "tau_1_Nmm", "tau_2_Nmm", "tau_3_Nmm", "alpha_deg", "beta_deg", "gamma_deg", "Fe"], None, "missing load column 'Fe_N'"),
+        (HEADER, (5, 1, "-20"), "line 7, column 'Fe_N': load -20 N is negative"),
+        (HEADER, (3, 0, "0.0031"), "line 5, column 't_s': uneven time step"),
+        (HEADER, (8, 3, "abc"), "line 10, column 'tau_2_Nmm': 'abc' is not a number"),
+        (HEADER, (8, 3, "1_0"), "line 10, column 'tau_2_Nmm': '1_0' is not a number"),
+        (HEADER, (2, 6, "nan"), "line 4, column 'beta_deg'"),
+        (HEADER, (9, 5, "400"), "line 11, column 'alpha_deg': 400 deg is more than a full turn"),
+    ],
+)
+def test_bad_logs_one_clear_line(tmp_path, header, change, needle):
+    rows = [row[: len(header)] for row in good_rows(60)]
+    if change:
+        k, column, value = change
+        rows[k][column] = value
+    with pytest.raises(TrajectoryError) as error:
+        read_rig_log(write(tmp_path / "bad.csv", header, rows))
+    text = one_line(error)
+    assert needle in text and "bad.csv" in text
+
+
+def test_a_bad_torque_constant(tmp_path):
+    header = ["t_s", "Fe_N", "current_1_A", "current_2_A", "current_3_A", "alpha_deg", "beta_deg", "gamma_deg"]
+    path = write(tmp_path / "c.csv", header, good_rows(20))
+    with pytest.raises(TrajectoryError, match="torque constant must be a positive number"):
+        read_rig_log(path, torque_constant=-1.0)
+
+
+def test_empty_and_missing_files(tmp_path):
+    with pytest.raises(TrajectoryError, match="no such log file"):
+        read_rig_log(tmp_path / "none.csv")
+    (tmp_path / "empty.csv").write_text("\n\n")
+    with pytest.raises(TrajectoryError, match="the file is empty"):
+        read_rig_log(tmp_path / "empty.csv")
+
+
+def test_the_low_pass_has_no_delay_and_cuts_noise():
+    rate, cutoff = 1000.0, 20.0
+    t = np.arange(4000) / rate
+    signal = np.sin(2 * np.pi * 2.0 * t)  # 2 Hz: well inside the band
+    noise = np.random.default_rng(0).normal(0, 0.1, t.size)
+    out = lowpass(signal + noise, rate, cutoff)
+    inside = slice(edge_samples(rate, cutoff), -edge_samples(rate, cutoff))
+    # Zero phase: the filtered clean sine lies on the sine (no shift), to the filter's passband gain.
+    clean = lowpass(signal, rate, cutoff)
+    assert np.abs(clean[inside] - signal[inside]).max() < 1e-4
+    # White noise keeps about (2·cutoff/rate)^½ of its RMS.
+    residual = np.std(out[inside] - clean[inside])
+    assert 0.1 * math.sqrt(0.5 * 2 * cutoff / rate) < residual < 0.1 * math.sqrt(2 * 2 * cutoff / rate)
+
+
+def test_too_short_to_filter_and_cutoff_above_nyquist():
+    with pytest.raises(TrajectoryError, match=r"too short to filter at 20 Hz: at least \d+"):
+        lowpass(np.zeros(minimum_samples(1000.0, 20.0) - 1), 1000.0, 20.0, "short.csv")
+    with pytest.raises(TrajectoryError, match="not below the Nyquist frequency 50 Hz"):
+        lowpass(np.zeros(1000), 100.0, 60.0)
+
+
+def test_derivatives_of_the_smoothed_motion():
+    t = np.arange(3000) / 1000.0
+    w = 2 * np.pi * 1.5
+    q = np.column_stack([0.3 * np.sin(w * t), 0.1 * np.cos(w * t), 0.05 * np.sin(2 * w * t)])
+    trajectory = smooth_motion(t, q, np.full(t.size, 500.0), 20.0)
+    inside = slice(edge_samples(1000.0, 20.0), -edge_samples(1000.0, 20.0))
+    qdd = np.column_stack([-0.3 * w**2 * np.sin(w * t), -0.1 * w**2 * np.cos(w * t), -0.05 * 4 * w**2 * np.sin(2 * w * t)])
+    assert np.abs(trajectory.qdd[inside] - qdd[inside]).max() < 1e-3 * np.abs(qdd).max()
+    np.testing.assert_allclose(trajectory.Fe, 500.0)
+
+
+def test_blank_lines_keep_the_file_line_numbers(tmp_path):
+    rows = good_rows(60)
+    text = "\n" + ",".join(HEADER) + "\n" + "\n".join(",".join(str(x) for x in row) for row in rows[:10]) + "\n\n"
+    text += "\n".join(",".join(str(x) for x in row) for row in rows[10:]) + "\n"
+    path = tmp_path / "blank.csv"
+    path.write_text(text)
+    log = read_rig_log(path)
+    assert len(log) == 60 and log.lines[0] == 3 and log.lines[10] == 14
+    path.write_text(text.replace(f"{rows[20][0]},", f"{rows[20][0]}x,", 1))
+    with pytest.raises(TrajectoryError, match="line 24, column 't_s'"):
+        read_rig_log(path)
