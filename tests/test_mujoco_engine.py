@@ -33,7 +33,7 @@ from hipsim.control.controllers import AugmentedPD, WorkspacePD  # noqa: E402
 from hipsim.control.simulation import apply_mismatch, simulate  # noqa: E402
 from hipsim.machine.model_files import urdf_text  # noqa: E402
 from hipsim.motion.trajectories import iso14242_at  # noqa: E402
-from hipsim.mujoco_engine import MujocoPlant, analyse, load_model  # noqa: E402
+from hipsim.mujoco_engine import MujocoModel, MujocoPlant, load_model  # noqa: E402
 from hipsim.mujoco_engine.mjcf import KEYFRAME, MjcfSettings, keyframe_gap, mjcf_text, write_mjcf  # noqa: E402
 from hipsim.mujoco_engine.model import FrictionForces, friction_forces, trajectory_dynamics  # noqa: E402
 from support import ALL_FRICTION  # noqa: E402
@@ -225,20 +225,31 @@ def test_inverse_dynamics_agree_with_the_analytic_and_pinocchio_models(params, c
 
 def test_friction_is_in_the_torques_and_the_parts_add_up(params):
     traj = hipsim.iso14242(rate=250)
-    rough = analyse(params.replace(**ALL_FRICTION), traj)
-    smooth = analyse(params.replace(hip_mu=0.0, thrust_mu=0.0), traj)
-    assert np.abs(smooth.torques.tau_f).max() == 0.0
-    assert np.abs(rough.torques.tau_f).max() > 0.05  # N·m: the comparison above is not of zeros
+    rough = MujocoModel(params.replace(**ALL_FRICTION)).run(traj)
+    smooth = hipsim.analyse(params.replace(hip_mu=0.0, thrust_mu=0.0), traj, model="mujoco")
+    assert rough.model == smooth.model == "mujoco"
+    assert np.abs(smooth.torques.friction).max() == 0.0
+    assert np.abs(rough.torques.friction).max() > 0.05  # N·m: the comparison above is not of zeros
     for result in (rough, smooth):
         t = result.torques
-        parts = t.tau_m + t.tau_l + t.tau_s + t.tau_L + t.tau_f
-        np.testing.assert_allclose(parts, t.tau, rtol=0, atol=1e-12 * np.abs(t.tau).max())
+        parts = t.platforms + t.levers + t.sliders + t.screws + t.friction
+        np.testing.assert_allclose(parts, t.total, rtol=0, atol=1e-12 * np.abs(t.total).max())
+
+
+def test_the_axial_only_thrust_bearing_agrees_with_the_other_engines(params):
+    """The bearing option reaches MuJoCo's friction forces through the same law: all three engines agree with it on."""
+    axial = params.replace(thrust_bearing_axial_only=True)
+    traj = hipsim.iso14242(rate=200)
+    for comparison in compare_mujoco(axial, traj):
+        assert comparison.ok, (comparison.name, max(comparison.rows, key=lambda row: row[2]))
+    publication = hipsim.analyse(params, traj, model="mujoco").torques.friction
+    assert np.abs(hipsim.analyse(axial, traj, model="mujoco").torques.friction - publication).max() > 0.2 * np.abs(publication).max()
 
 
 def test_a_different_machine_is_detected(params):
     """The agreement is not automatic: MuJoCo with a 10 % heavier lever disagrees with the analytic model."""
     traj = hipsim.iso14242(rate=100)
-    heavier = analyse(params.replace(lever_mass=params.lever_mass * 1.1), traj).columns()
+    heavier = MujocoModel(params.replace(lever_mass=params.lever_mass * 1.1)).run(traj).columns()
     reference = hipsim.analyse(params, traj, lever_spin=True).columns()
     difference = np.abs(heavier["tau_l_1_Nmm"] - reference["tau_l_1_Nmm"]).max() / np.abs(reference["tau_l_1_Nmm"]).max()
     assert difference > 0.05
@@ -273,7 +284,7 @@ class OpenLoop:
 
     def __init__(self, params, duration):
         n = int(round(duration * SERVO))
-        self.tau = analyse(params, iso14242_at((np.arange(n) + 0.5) / SERVO)).torques.tau
+        self.tau = MujocoModel(params).run(iso14242_at((np.arange(n) + 0.5) / SERVO)).torques.total
 
     def __call__(self, t, state, desired):
         return self.tau[int(round(t * SERVO))]
@@ -307,14 +318,14 @@ def test_forward_dynamics_at_a_rigid_state_is_the_inverse_dynamics_but_soft(para
     kin, torques = trajectory_dynamics(plant.machine, traj)
     for k in range(4):
         x = np.concatenate([kin.q[k], kin.v[k]])
-        dx = plant.derivative(traj.t[k], x, torques.tau[k], traj.Fe[k])
+        dx = plant.derivative(traj.t[k], x, torques.torques.total[k], traj.Fe[k])
         np.testing.assert_array_equal(dx[: plant.nq], kin.v[k])
         # Measured 2e-4 to 9e-4 of the largest |a| (a of 2..15 m/s², rad/s²).
         relative = np.abs(dx[plant.nq :] - kin.a[k]).max() / np.abs(kin.a[k]).max()
         assert relative < 2e-3
     # and the softness is what it is: a stiffer-than-allowed impedance is not available, a softer one is worse.
     soft = MujocoPlant(params, solimp=(0.99, 0.99, 0.001, 0.5, 2.0), machine=None)
-    dx = soft.derivative(traj.t[1], np.concatenate([kin.q[1], kin.v[1]]), torques.tau[1], traj.Fe[1])
+    dx = soft.derivative(traj.t[1], np.concatenate([kin.q[1], kin.v[1]]), torques.torques.total[1], traj.Fe[1])
     assert np.abs(dx[soft.nq :] - kin.a[1]).max() / np.abs(kin.a[1]).max() > 10 * 2e-4
 
 

@@ -11,7 +11,7 @@ from ..results import Run
 __all__ = ["MODELS", "analyse"]
 
 #: The models :func:`analyse` runs, by name.
-MODELS = ("analytic", "pinocchio")
+MODELS = ("analytic", "pinocchio", "mujoco")
 
 
 def analyse(
@@ -26,7 +26,8 @@ def analyse(
     Args:
         params: the machine; None for the published one.
         trajectory: the motion and load; None for one ISO 14242-1 cycle at 1 kHz.
-        model: "analytic" (spec §4) or "pinocchio" (spec §6, adds joint forces).
+        model: "analytic" (spec §4), "pinocchio" (spec §6, adds joint forces) or
+            "mujoco" (the same machine in MuJoCo; needs the ``mujoco`` extra).
         on_error: "raise" at the first pose out of reach or singular, or "flag"
             to mark such samples (analytic model only).
         lever_spin: analytic model only: give the levers the universal joints'
@@ -43,6 +44,10 @@ def analyse(
         return AnalyticModel(params, lever_spin=lever_spin, on_error=on_error).run(trajectory)
     if on_error != "raise":
         raise ArgumentError("on_error", on_error, "'raise' with the Pinocchio model (it cannot carry on through poses out of reach; the analytic model flags them)")
+    if model == "mujoco":
+        from ..mujoco_engine import MujocoModel  # MissingDependencyError, with the install line, without the extra
+
+        return MujocoModel(params).run(trajectory)
     from ..closed_chain.engine import PinocchioModel  # Pinocchio loads only when asked for
 
     return PinocchioModel(params).run(trajectory)

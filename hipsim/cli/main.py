@@ -413,7 +413,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _add_machine_options(torques)
     _add_trajectory_options(torques)
-    torques.add_argument("--model", choices=["analytic", "pinocchio"], default="analytic", help="which model computes the torques (default analytic)")
+    torques.add_argument("--model", choices=["analytic", "pinocchio", "mujoco"], default="analytic", help="which model computes the torques (default analytic; mujoco needs the mujoco extra)")
     torques.add_argument("--out", default="hipsim_torques.csv", metavar="FILE", help="CSV to write (default hipsim_torques.csv)")
     torques.add_argument("--summary-format", choices=["table", "json"], default="table", help="summary on standard output")
     torques.add_argument(

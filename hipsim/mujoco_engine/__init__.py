@@ -10,25 +10,25 @@ one line.
   closure declaration as the Pinocchio model, with the settings it states.
 - :mod:`~hipsim.mujoco_engine.model`: closed-chain kinematics and rigid
   inverse dynamics through MuJoCo's own functions (:func:`load_model`,
-  :func:`trajectory_dynamics`); :func:`analyse` returns a result whose
-  ``columns()`` are the spec §7.5 columns, named as ``hipsim.analyse``'s.
+  :func:`trajectory_dynamics`); :class:`MujocoModel` runs them behind the
+  common model protocol (``MujocoModel(params).run(trajectory) -> hipsim.Run``,
+  also ``hipsim.analyse(..., model="mujoco")``).
 - :mod:`~hipsim.mujoco_engine.plant`: :class:`MujocoPlant`, MuJoCo's forward
   dynamics as a plant of :func:`hipsim.control.simulation.simulate`.
 """
 
 from .mjcf import KEYFRAME, MjcfSettings, mjcf_text, write_mjcf
-from .model import MujocoKinematics, MujocoModel, MujocoResult, MujocoTorques, analyse, load_model, trajectory_dynamics
+from .model import MujocoDynamics, MujocoKinematics, MujocoMachine, MujocoModel, load_model, trajectory_dynamics
 from .plant import MujocoPlant
 
 __all__ = [
     "KEYFRAME",
     "MjcfSettings",
+    "MujocoDynamics",
     "MujocoKinematics",
+    "MujocoMachine",
     "MujocoModel",
     "MujocoPlant",
-    "MujocoResult",
-    "MujocoTorques",
-    "analyse",
     "load_model",
     "mjcf_text",
     "trajectory_dynamics",

@@ -70,7 +70,7 @@ from pathlib import Path
 import numpy as np
 import yourdfpy
 
-from ..exceptions import ModelError
+from ..exceptions import ArgumentError, ModelError
 from ..files import write_atomic
 from ..machine.model_files import closure_declaration, urdf_text
 from ..machine.parameters import Parameters, load_parameters
@@ -118,9 +118,9 @@ class MjcfSettings:
 
     def __post_init__(self):
         if not (math.isfinite(self.timestep) and self.timestep > 0):
-            raise ValueError(f"timestep must be a positive number of seconds, got {self.timestep!r}")
+            raise ArgumentError("timestep", self.timestep, "a positive number of seconds")
         if self.integrator not in INTEGRATORS:
-            raise ValueError(f"unknown integrator '{self.integrator}' (expected one of {', '.join(INTEGRATORS)})")
+            raise ArgumentError("integrator", self.integrator, f"one of {', '.join(INTEGRATORS)}")
 
     @property
     def closure_solref(self) -> tuple[float, float]:
@@ -398,14 +398,14 @@ def mjcf_text(params: Parameters | None = None, settings: MjcfSettings | None = 
     ))  # fmt: skip
     if keyframe:
         from ..motion.trajectories import iso14242_at
-        from .model import MujocoModel, inverse_dynamics, kinematics
+        from .model import MujocoMachine, inverse_dynamics, kinematics
 
-        machine = MujocoModel(compile_mjcf(_serialise(root)), params)
+        machine = MujocoMachine(compile_mjcf(_serialise(root)), params)
         start = iso14242_at(np.array([0.0]))
         kin = kinematics(machine, start)
         torques = inverse_dynamics(machine, kin, start.Fe)
         keys = ET.SubElement(root, "keyframe")
-        ET.SubElement(keys, "key", name=KEYFRAME, time="0", qpos=_text(kin.q[0]), qvel=_text(kin.v[0]), ctrl=_text(torques.tau[0]))
+        ET.SubElement(keys, "key", name=KEYFRAME, time="0", qpos=_text(kin.q[0]), qvel=_text(kin.v[0]), ctrl=_text(torques.torques.total[0]))
     return _serialise(root)
 
 

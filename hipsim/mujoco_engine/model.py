@@ -45,18 +45,21 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.linalg import lapack
 
-from ..analytic.virtual_work import screw_friction_torque, smooth_sign
-from ..exceptions import ModelError, PoseError, TrajectoryError
+from ..analytic import laws
+from ..arrays import check_shapes
+from ..exceptions import ArgumentError, ClosureError, ModelError, PoseError, TrajectoryError
+from ..results import JointForces, Run, Torques
+from ..analytic.inverse_kinematics import angular_velocity_map, rotation_matrix
+from ..analytic.virtual_work import central_friction_moment
 from ..machine.parameters import Parameters, load_parameters
 from ._dependency import mujoco
 
 __all__ = [
     "FrictionForces",
     "MujocoKinematics",
+    "MujocoMachine",
     "MujocoModel",
-    "MujocoResult",
-    "MujocoTorques",
-    "analyse",
+    "MujocoDynamics",
     "closure_gaps",
     "constraint_jacobian",
     "friction_forces",
@@ -69,7 +72,7 @@ __all__ = [
 _TWO_PI = 2.0 * math.pi
 
 
-class MujocoModel:
+class MujocoMachine:
     """A compiled MuJoCo model of the hip simulator and where its parts sit.
 
     Args:
@@ -87,7 +90,7 @@ class MujocoModel:
         platform_body, lever_body: body ids, shapes (2,) and (2, 3).
         lead: screw lead p in [m] (gear 2π/p).
 
-    Not thread-safe: each MujocoModel has one MjData for its computations.
+    Not thread-safe: each MujocoMachine has one MjData for its computations.
     """
 
     def __init__(self, model, params: Parameters):
@@ -168,7 +171,7 @@ def _full_inertia(model, data, out: np.ndarray) -> None:
         mujoco.mj_fullM(model, data, out)
 
 
-def load_model(params: Parameters | None = None, settings=None) -> MujocoModel:
+def load_model(params: Parameters | None = None, settings=None) -> MujocoMachine:
     """The hip simulator as a compiled MuJoCo model, from one parameter set.
 
     Args:
@@ -179,10 +182,10 @@ def load_model(params: Parameters | None = None, settings=None) -> MujocoModel:
     from .mjcf import compile_mjcf, mjcf_text
 
     params = load_parameters() if params is None else params
-    return MujocoModel(compile_mjcf(mjcf_text(params, settings, keyframe=False)), params)
+    return MujocoMachine(compile_mjcf(mjcf_text(params, settings, keyframe=False)), params)
 
 
-def closure_gaps(machine: MujocoModel, q) -> np.ndarray:
+def closure_gaps(machine: MujocoMachine, q) -> np.ndarray:
     """|p₁ − p₂| of each closure in [m] at configuration(s) q: shape (6,) or (N, 6), lever order of the equalities."""
     q = np.asarray(q, dtype=float)
     single = q.ndim == 1
@@ -194,16 +197,10 @@ def closure_gaps(machine: MujocoModel, q) -> np.ndarray:
     return out[0] if single else out
 
 
-def constraint_jacobian(machine: MujocoModel, q) -> np.ndarray:
+def constraint_jacobian(machine: MujocoMachine, q) -> np.ndarray:
     """MuJoCo's closure Jacobian J_c at q, shape (18, nv): d(p₁ − p₂)/dq in world axes."""
     machine.place(np.asarray(q, dtype=float))
     return machine.closure_rows()[1]
-
-
-def _readonly(array) -> np.ndarray:
-    out = np.array(array, dtype=float)
-    out.setflags(write=False)
-    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -231,13 +228,10 @@ class MujocoKinematics:
     residual: np.ndarray
 
     def __post_init__(self):
-        n, nv = len(self.t), np.shape(self.q)[1]
-        for name, shape in (("t", (n,)), ("q", (n, nv)), ("v", (n, nv)), ("a", (n, nv)), ("L", (n, 2, 3)),
-                            ("Ld", (n, 2, 3)), ("Ldd", (n, 2, 3)), ("cond_inv", (n,)), ("residual", (n,))):  # fmt: skip
-            value = _readonly(getattr(self, name))
-            if value.shape != shape:
-                raise ValueError(f"MujocoKinematics.{name}: expected shape {shape}, got {value.shape}")
-            object.__setattr__(self, name, value)
+        nv = np.shape(self.q)[1]
+        shapes = {"t": ("N",), "q": ("N", nv), "v": ("N", nv), "a": ("N", nv), "L": ("N", 2, 3), "Ld": ("N", 2, 3),
+                  "Ldd": ("N", 2, 3), "cond_inv": ("N",), "residual": ("N",)}  # fmt: skip
+        check_shapes(self, shapes, samples=len(self.t))
 
 
 def _trajectory_arrays(traj):
@@ -259,7 +253,7 @@ def _trajectory_arrays(traj):
 class _Closer:
     """Closes the chain sample after sample with MuJoCo's closure rows."""
 
-    def __init__(self, machine: MujocoModel, tol: float, max_iter: int):
+    def __init__(self, machine: MujocoMachine, tol: float, max_iter: int):
         self.machine, self.tol, self.max_iter = machine, tol, max_iter
         model = machine.model
         if np.any(model.eq_objtype != mujoco.mjtObj.mjOBJ_SITE):
@@ -281,7 +275,7 @@ class _Closer:
     def close(self, q: np.ndarray, angles: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """q with both platforms at ``angles`` and the legs moved until the closures hold; its residual and J_c.
 
-        On return MuJoCo's data holds q's positions. Raises RuntimeError (with the reason) if the loops cannot close.
+        On return MuJoCo's data holds q's positions. Raises ClosureError (with the gap) if the loops cannot close.
         """
         q = q.copy()
         q[self.platforms] = np.tile(angles, 2)
@@ -308,7 +302,7 @@ class _Closer:
             q[legs] -= step
             e, J, gap = self._rows(q)
         if gap > 1e3 * self.tol:
-            raise RuntimeError(f"cannot close the loops: the closure gap stays at {gap:.3g} m (the pose is out of the levers' reach)")
+            raise ClosureError(f"cannot close the loops: the closure gap stays at {gap:.3g} m (the pose is out of the levers' reach)", gap)
         return q, e, J
 
     def rates(self, J: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -318,7 +312,7 @@ class _Closer:
         K_inv = _inverse(self.K)
         # K⁻¹ blows up near a singularity (its entries are O(1..10) in m, rad, s elsewhere).
         if K_inv is None or not np.abs(K_inv).max() < 1e8:
-            raise RuntimeError("singular pose: the closure Jacobian loses rank (spec §3)")
+            raise ClosureError("singular pose: the closure Jacobian loses rank (spec §3)")
         self.K_inv = K_inv
         v = K_inv[:, :3] @ qd
         data.qvel[:] = v
@@ -339,7 +333,7 @@ def _inverse(matrix: np.ndarray) -> np.ndarray | None:
     return inverse if info == 0 else None
 
 
-def kinematics(machine: MujocoModel, traj, *, tol: float = 1e-13, max_iter: int = 30) -> MujocoKinematics:
+def kinematics(machine: MujocoMachine, traj, *, tol: float = 1e-13, max_iter: int = 30) -> MujocoKinematics:
     """Close the MuJoCo model's chain along a platform trajectory.
 
     Args:
@@ -358,7 +352,7 @@ def kinematics(machine: MujocoModel, traj, *, tol: float = 1e-13, max_iter: int 
     return _close(machine, traj, tol, max_iter, Fe=None)[0]
 
 
-def _close(machine: MujocoModel, traj, tol: float, max_iter: int, Fe):
+def _close(machine: MujocoMachine, traj, tol: float, max_iter: int, Fe):
     t, q_in, qd_in, qdd_in = _trajectory_arrays(traj)
     signs = machine.params.angle_signs
     angles, rates, accels = q_in * signs, qd_in * signs, qdd_in * signs
@@ -381,9 +375,9 @@ def _close(machine: MujocoModel, traj, tol: float, max_iter: int, Fe):
         try:
             q, e, J = closer.close(q, angles[k])
             if np.min(data.xmat[machine.lever_body.ravel(), 8]) <= 1e-6:
-                raise RuntimeError("a lever is horizontal or points down (singular pose, spec §3)")
+                raise ClosureError("a lever is horizontal or points down (singular pose, spec §3)")
             v, a = closer.rates(J, rates[k], accels[k])
-        except (RuntimeError, np.linalg.LinAlgError) as error:
+        except (ClosureError, np.linalg.LinAlgError) as error:
             raise PoseError(str(error), float(t[k]), k, source=getattr(traj, "name", None)) from None
         Q[k], V[k], A[k] = q, v, a
         residual[k] = np.linalg.norm(e.reshape(-1, 3), axis=1).max()
@@ -402,10 +396,16 @@ def _close(machine: MujocoModel, traj, tol: float, max_iter: int, Fe):
         Ld=np.repeat(V[:, None, sliders], 2, axis=1), Ldd=np.repeat(A[:, None, sliders], 2, axis=1),
         cond_inv=cond_inv, residual=residual,
     )  # fmt: skip
-    return kin, (dynamics.result(kin) if dynamics is not None else None)
+    if dynamics is None:
+        return kin, None
+    # The central chain's friction moment, for the summary: the law of spec §4.3 at the platforms' motion.
+    omega = np.einsum("nab,nb->na", angular_velocity_map(angles), rates)
+    moment = central_friction_moment(machine.params, omega, dynamics.Fe, rotation_matrix(angles))
+    dynamics.friction_moment = np.linalg.norm(moment, axis=-1)
+    return kin, dynamics.result(kin)
 
 
-def _initial_guess(machine: MujocoModel) -> np.ndarray:
+def _initial_guess(machine: MujocoMachine) -> np.ndarray:
     """Levers upright and the carriages so that the m1 levers' tips reach platform 1's height."""
     q = np.zeros(machine.model.nv)
     q[machine.slider_dof] = machine.params.heights[0] - machine.params.lever_length
@@ -418,45 +418,27 @@ def _initial_guess(machine: MujocoModel) -> np.ndarray:
 
 
 @dataclass(frozen=True, eq=False)
-class MujocoTorques:
+class MujocoDynamics:
     """Motor torques, their parts and the joint forces of the MuJoCo inverse dynamics.
 
     Attributes:
-        t: sample times in [s], (N,).
-        tau: motor torque in [N·m], (N, 3); the sum of tau_m (platforms),
-            tau_l (levers), tau_s (carriages with both sliders), tau_L (screws'
-            rotors), tau_f (friction), each (N, 3).
+        torques: motor torques and their parts in [N·m] (the shared type of every model).
         F_act: actuator force on each carriage in [N], (N, 3).
         lambdas: closure forces (platform on lever ji at a_ji) in world axes in [N], (N, 2, 3, 3).
-        Fa: their magnitudes in [N], (N, 2, 3).
-        Fo: force through platform j's central joint in [N], (N, 2) (weight and load included).
-        motor_speed: motor speeds in [rad/s], (N, 3).
+        joint_forces: force magnitudes at the spherical joints a_ji and through
+            platform j's central joint in [N] (weight and load included).
     """
 
-    t: np.ndarray
-    tau: np.ndarray
-    tau_m: np.ndarray
-    tau_l: np.ndarray
-    tau_s: np.ndarray
-    tau_L: np.ndarray
-    tau_f: np.ndarray
+    torques: Torques
     F_act: np.ndarray
     lambdas: np.ndarray
-    Fa: np.ndarray
-    Fo: np.ndarray
-    motor_speed: np.ndarray
+    joint_forces: JointForces
 
     def __post_init__(self):
-        n = len(self.t)
-        for name in ("t", "tau", "tau_m", "tau_l", "tau_s", "tau_L", "tau_f", "F_act", "lambdas", "Fa", "Fo", "motor_speed"):
-            value = _readonly(getattr(self, name))
-            expected = {"t": (n,), "lambdas": (n, 2, 3, 3), "Fa": (n, 2, 3), "Fo": (n, 2)}.get(name, (n, 3))
-            if value.shape != expected:
-                raise ValueError(f"MujocoTorques.{name}: expected shape {expected}, got {value.shape}")
-            object.__setattr__(self, name, value)
+        check_shapes(self, {"F_act": ("N", 3), "lambdas": ("N", 2, 3, 3)})
 
 
-def friction_forces(machine: MujocoModel, data, Fe: float) -> np.ndarray:
+def friction_forces(machine: MujocoMachine, data, Fe: float) -> np.ndarray:
     """The generalised forces friction applies at the state in ``data`` (velocities computed), (nv,).
 
     Spec §4.3 / §7.3 as forces on the bodies: the central chain's moment
@@ -483,27 +465,25 @@ def friction_forces(machine: MujocoModel, data, Fe: float) -> np.ndarray:
         mujoco.mj_objectVelocity(model, data, mujoco.mjtObj.mjOBJ_BODY, body, velocity, 0)
         return velocity[:3].copy()
 
-    load = fr.hip_radius * fr.hip_mu * abs(Fe) + fr.thrust_radius * fr.thrust_mu * abs(Fe + params.platform_mass * params.gravity)
-    lever_terms = (fr.ujoint_coulomb, fr.ujoint_viscous, fr.sjoint_coulomb, fr.sjoint_viscous)
+    weight = params.platform_mass * params.gravity
+    lever_friction = laws.lever_joint_friction_on(fr)
     for j in range(2):
         platform = machine.platform_body[j]
         w = omega(platform)
-        moment = -load * smooth_sign(w, eps, vector=True)
-        if any(c != 0.0 for c in lever_terms):
+        z = data.xmat[platform].reshape(3, 3)[:, 2]  # the platform's z axis, for the axial-only thrust bearing
+        moment = -np.array(laws.central_friction_moment(fr, w, z, Fe, weight))
+        if lever_friction:
             for i in range(3):
                 lever = machine.lever_body[j, i]
                 w_l = omega(lever)
-                relative = w_l - w
-                s_moment = fr.sjoint_coulomb * smooth_sign(relative, eps, vector=True) + fr.sjoint_viscous * relative
-                u_moment = fr.ujoint_coulomb * smooth_sign(w_l, eps, vector=True) + fr.ujoint_viscous * w_l
+                u_moment, s_moment = (np.array(m) for m in laws.lever_joint_friction(fr, w_l, w))
                 mujoco.mj_applyFT(model, data, zero, -(u_moment + s_moment), data.xpos[lever], lever, out)
                 moment = moment + s_moment
         mujoco.mj_applyFT(model, data, zero, moment, data.xpos[platform], platform, out)
     rate = data.qvel[machine.slider_dof]
     gain = _TWO_PI / machine.lead
     speed = gain * rate
-    guide = 2.0 * (fr.guide_coulomb * smooth_sign(speed, eps) + fr.guide_viscous * rate)
-    out[machine.slider_dof] -= guide + gain * screw_friction_torque(params, speed)
+    out[machine.slider_dof] -= 2.0 * laws.guide_friction(fr, rate, speed) + gain * laws.screw_friction(fr, speed)
     return out
 
 
@@ -520,11 +500,12 @@ class FrictionForces:
         machine: the model (its params give the coefficients).
     """
 
-    def __init__(self, machine: MujocoModel):
+    def __init__(self, machine: MujocoMachine):
         self.machine = machine
         params = machine.params
         fr = params.friction
-        self.general = any(c != 0.0 for c in (fr.ujoint_coulomb, fr.ujoint_viscous, fr.sjoint_coulomb, fr.sjoint_viscous))
+        # The closed form below is the publication's central chain without lever-joint friction; anything else takes the general path.
+        self.general = laws.lever_joint_friction_on(fr) or fr.thrust_bearing_axial_only
         self.hip, self.thrust = fr.hip_radius * fr.hip_mu, fr.thrust_radius * fr.thrust_mu
         self.weight, self.eps2 = params.platform_mass * params.gravity, fr.epsilon**2
         self.bodies = machine.platform_body.copy()
@@ -563,10 +544,12 @@ class FrictionForces:
 class _InverseDynamics:
     """Per sample: the five right-hand sides and [Sᵀ J_cᵀ]; solved in one batch at the end."""
 
-    def __init__(self, machine: MujocoModel, n: int, Fe):
+    def __init__(self, machine: MujocoMachine, n: int, Fe):
         self.machine = machine
         nv = machine.nv
         self.Fe = np.broadcast_to(np.asarray(Fe, dtype=float), (n,))
+        # The central chain's friction moment needs the platform motion, which _close fills in; NaN where unknown.
+        self.friction_moment = np.full(n, np.nan)
         self.system = np.zeros((n, nv, nv))
         self.system[:, machine.slider_dof, np.arange(3)] = 1.0
         self.rhs = np.empty((n, nv, 5))  # [platforms, levers, carriages, screws, friction]
@@ -594,7 +577,7 @@ class _InverseDynamics:
         friction *= -1.0
         self.system[k, :, 3:] = J.T
 
-    def result(self, kin: MujocoKinematics) -> MujocoTorques:
+    def result(self, kin: MujocoKinematics) -> MujocoDynamics:
         machine, params = self.machine, self.machine.params
         solution = np.linalg.solve(self.system, self.rhs)  # (n, nv, 5)
         gain = machine.lead / _TWO_PI
@@ -604,14 +587,18 @@ class _InverseDynamics:
         lambdas = solution[:, 3:].sum(axis=2).reshape(len(kin.t), -1, 3)[:, machine.closure]  # (n, 2, 3, 3)
         centre = lambdas.sum(axis=2)
         centre[:, :, 2] += params.platform_mass * params.gravity + self.Fe[:, None]
-        return MujocoTorques(
-            t=kin.t, tau=tau, tau_m=tau_m, tau_l=tau_l, tau_s=tau_s, tau_L=tau_L, tau_f=tau_f,
-            F_act=tau / gain, lambdas=lambdas, Fa=np.linalg.norm(lambdas, axis=-1), Fo=np.linalg.norm(centre, axis=-1),
-            motor_speed=_TWO_PI / machine.lead * kin.Ld[:, 0],
-        )  # fmt: skip
+        motor_speed = _TWO_PI / machine.lead * kin.Ld[:, 0]
+        torques = Torques(
+            total=tau, platforms=tau_m, levers=tau_l, sliders=tau_s, screws=tau_L, friction=tau_f,
+            motor_speed=motor_speed, friction_moment=self.friction_moment,
+            # By virtual power the motors' friction share times their speed is the whole friction loss.
+            friction_power=np.sum(tau_f * motor_speed, axis=1),
+        )
+        joint_forces = JointForces(Fa=np.linalg.norm(lambdas, axis=-1), Fo=np.linalg.norm(centre, axis=-1))
+        return MujocoDynamics(torques=torques, F_act=tau / gain, lambdas=lambdas, joint_forces=joint_forces)
 
 
-def inverse_dynamics(machine: MujocoModel, kin: MujocoKinematics, Fe) -> MujocoTorques:
+def inverse_dynamics(machine: MujocoMachine, kin: MujocoKinematics, Fe) -> MujocoDynamics:
     """Motor torques (with their parts) and joint forces along a closed motion, with MuJoCo.
 
     Args:
@@ -629,74 +616,40 @@ def inverse_dynamics(machine: MujocoModel, kin: MujocoKinematics, Fe) -> MujocoT
     return dynamics.result(kin)
 
 
-def trajectory_dynamics(machine: MujocoModel, traj, *, tol: float = 1e-13, max_iter: int = 30):
+def trajectory_dynamics(machine: MujocoMachine, traj, *, tol: float = 1e-13, max_iter: int = 30):
     """:func:`kinematics` and :func:`inverse_dynamics` in one pass, with the trajectory's own load."""
     return _close(machine, traj, tol, max_iter, Fe=traj.Fe)
 
 
-@dataclass(frozen=True, eq=False)
-class MujocoResult:
-    """One MuJoCo inverse-dynamics run along a trajectory.
+class MujocoModel:
+    """The MuJoCo engine behind the common model protocol: ``MujocoModel(params).run(trajectory) -> Run``.
 
-    Attributes:
-        params: the machine.
-        trajectory: the motion and load.
-        kin: the closed motion.
-        torques: motor torques, their parts, joint forces.
-    """
-
-    params: Parameters
-    trajectory: object
-    kin: MujocoKinematics
-    torques: MujocoTorques
-
-    def columns(self) -> dict[str, np.ndarray]:
-        """The spec §7.5 columns in their units, by name: the same names as ``hipsim.analyse(..., model="pinocchio")``."""
-        traj, kin, torques = self.trajectory, self.kin, self.torques
-        out: dict[str, np.ndarray] = {"t_s": np.asarray(traj.t, dtype=float)}
-        for k, name in enumerate(("alpha", "beta", "gamma")):
-            out[f"{name}_deg"] = np.degrees(traj.q[:, k])
-        out["Fe_N"] = np.asarray(traj.Fe, dtype=float)
-        for quantity, unit in (("L", "mm"), ("Ld", "mm_s"), ("Ldd", "mm_s2")):
-            values = getattr(kin, quantity) * 1e3
-            for j in (1, 2):
-                for i in (1, 2, 3):
-                    out[f"{quantity}_{j}{i}_{unit}"] = values[:, j - 1, i - 1]
-        for part in ("tau", "tau_m", "tau_l", "tau_s", "tau_L", "tau_f"):
-            values = getattr(torques, part) * 1e3
-            for i in (1, 2, 3):
-                out[f"{part}_{i}_Nmm"] = values[:, i - 1]
-        for i in (1, 2, 3):
-            out[f"speed_{i}_rpm"] = torques.motor_speed[:, i - 1] * 60.0 / _TWO_PI
-        out["cond_inv"] = kin.cond_inv
-        for j in (1, 2):
-            for i in (1, 2, 3):
-                out[f"Fa_{j}{i}_N"] = torques.Fa[:, j - 1, i - 1]
-        for j in (1, 2):
-            out[f"Fo_{j}_N"] = torques.Fo[:, j - 1]
-        return out
-
-
-def analyse(params: Parameters | None = None, trajectory=None, machine: MujocoModel | None = None) -> MujocoResult:
-    """The MuJoCo engine's inverse dynamics along a trajectory, as ``hipsim.analyse`` runs the other two.
+    Slider motion, singularity measure, torques and joint forces all come from
+    MuJoCo: M and bias from MuJoCo, the rigid closure solved with its
+    constraint Jacobian, friction as applied forces (the laws of
+    :mod:`hipsim.analytic.laws`).
 
     Args:
-        params: the machine; None for the published one.
-        trajectory: the motion and load; None for one ISO 14242-1 cycle at 1 kHz.
+        params: the machine.
         machine: ``load_model(params)`` for these very params, to skip building it.
-
-    Returns:
-        The :class:`MujocoResult`; its ``columns()`` compare name by name with the other models'.
-
-    Raises:
-        PoseError: at the first sample out of reach or singular.
     """
-    from ..motion.trajectories import iso14242
 
-    params = load_parameters() if params is None else params
-    trajectory = iso14242() if trajectory is None else trajectory
-    if machine is not None and machine.params is not params:
-        raise ValueError("machine must be load_model(params) of the same params object")
-    machine = load_model(params) if machine is None else machine
-    kin, torques = trajectory_dynamics(machine, trajectory)
-    return MujocoResult(params, trajectory, kin, torques)
+    name = "mujoco"
+
+    def __init__(self, params: Parameters, machine: MujocoMachine | None = None):
+        if machine is not None and machine.params is not params:
+            raise ArgumentError("machine", machine, "load_model(params) of the same params object")
+        self.params = params
+        self.machine = load_model(params) if machine is None else machine
+
+    def run(self, trajectory) -> Run:
+        """Closed kinematics and inverse dynamics along ``trajectory``.
+
+        Raises:
+            PoseError: at the first sample out of reach or singular.
+        """
+        kin, dynamics = trajectory_dynamics(self.machine, trajectory)
+        return Run(
+            self.name, self.params, trajectory, kin.L, kin.Ld, kin.Ldd, dynamics.torques, kin.cond_inv,
+            np.zeros(len(trajectory.t), dtype=bool), joint_forces=dynamics.joint_forces,
+        )

@@ -39,7 +39,8 @@ from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 from ._dependency import mujoco
 from .mjcf import MjcfSettings, default_solref
-from .model import FrictionForces, MujocoModel, kinematics, load_model
+from ..exceptions import ArgumentError
+from .model import FrictionForces, MujocoMachine, kinematics, load_model
 
 __all__ = ["MujocoPlant"]
 
@@ -70,7 +71,7 @@ class MujocoPlant:
         integrator: str = "RK4",
         solref: tuple[float, float] | None = None,
         solimp: tuple[float, ...] | None = None,
-        machine: MujocoModel | None = None,
+        machine: MujocoMachine | None = None,
     ):
         self.params = params
         defaults = MjcfSettings()
@@ -79,7 +80,7 @@ class MujocoPlant:
             solimp=defaults.solimp if solimp is None else tuple(solimp),
         )  # fmt: skip
         if machine is not None and machine.params is not params:
-            raise ValueError("machine must be load_model(params) of the same params object")
+            raise ArgumentError("machine", machine, "load_model(params) of the same params object")
         self.machine = load_model(params, self.settings) if machine is None else machine
         self.model, self.data = self.machine.model, mujoco.MjData(self.machine.model)
         self._apply_settings(self.settings.timestep)
