@@ -10,6 +10,7 @@ names standard output: the text is written there, as a whole.
 from __future__ import annotations
 
 import csv
+import math
 import io
 import os
 import signal
@@ -25,7 +26,9 @@ import numpy as np
 
 from .exceptions import OutputError
 
-__all__ = ["STDOUT", "check_folder", "exit_on_terminate", "is_stdout", "make_folder", "output_folder", "write_atomic", "write_columns"]
+__all__ = [
+    "STDOUT", "check_folder", "exit_on_terminate", "is_stdout", "json_ready", "make_folder", "output_folder", "write_atomic", "write_columns",
+]
 
 #: The name of standard output as an output path.
 STDOUT = "-"
@@ -226,3 +229,14 @@ def write_columns(path: str | Path, columns: Mapping[str, np.ndarray]) -> Path:
     for row in np.column_stack(list(columns.values())):
         writer.writerow([f"{x:.12g}" for x in row])
     return write_atomic(path, buffer.getvalue())
+
+
+def json_ready(value):
+    """``value`` with every NaN and infinity replaced by None (JSON has neither), through dicts, lists and tuples."""
+    if isinstance(value, dict):
+        return {k: json_ready(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [json_ready(v) for v in value]
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value

@@ -12,6 +12,7 @@ import json
 import math
 from pathlib import Path
 
+from ..files import json_ready
 from ..exceptions import HipsimError
 
 __all__ = ["add_parser", "run", "run_compare", "run_excite", "run_identify"]
@@ -193,7 +194,7 @@ def run_identify(args) -> int:
     if args.json:
         from ..files import write_atomic
 
-        write_atomic(args.json, json.dumps(_finite(result.summary()), indent=2) + "\n")
+        write_atomic(args.json, json.dumps(json_ready(result.summary()), indent=2) + "\n")
     print(f"\nwrote {path}" + (f" and {args.json}" if args.json else ""))
     return 0
 
@@ -202,14 +203,6 @@ def _percent(fraction: float) -> str:
     return f"{100 * fraction:.2g} %" if fraction < 10 else "(value near zero)"
 
 
-def _finite(value):
-    if isinstance(value, dict):
-        return {k: _finite(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_finite(v) for v in value]
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value
 
 
 def run_excite(args) -> int:

@@ -7,6 +7,7 @@ import json
 import math
 import sys
 
+from ..files import json_ready
 from ..exceptions import HipsimError
 
 __all__ = ["add_parser", "run"]
@@ -158,7 +159,7 @@ def run(args) -> int:
         candidates = rank_drives(params, trajectories, motors, screws, gearboxes, rules, progress)
         shown = candidates[: args.top] if args.top else candidates
         if args.format == "json":
-            print(json.dumps(_finite({"rules": vars(rules), "candidates": [c.as_dict() for c in shown]}), indent=2))
+            print(json.dumps(json_ready({"rules": vars(rules), "candidates": [c.as_dict() for c in shown]}), indent=2))
         else:
             rows = []
             for rank, c in enumerate(shown, start=1):
@@ -193,7 +194,7 @@ def run(args) -> int:
         machine = params.replace(**{k: v for k, v in changes.items() if v is not None})
     results = [(trajectory, sizing(analyse(machine, trajectory), drive, rules, cycles)) for trajectory, cycles in trajectories]
     if args.format == "json":
-        print(json.dumps(_finite({t.name: s.as_dict() for t, s in results}), indent=2))
+        print(json.dumps(json_ready({t.name: s.as_dict() for t, s in results}), indent=2))
     else:
         for trajectory, size in results:
             print(f"trajectory: {trajectory.name} ({len(trajectory)} samples); parameters: {machine.source}; lead {machine.lead * 1e3:g} mm")
@@ -213,12 +214,3 @@ def run(args) -> int:
     return 1 if failed else 0
 
 
-def _finite(value):
-    """NaN and infinities become None: JSON has neither."""
-    if isinstance(value, dict):
-        return {k: _finite(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_finite(v) for v in value]
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value

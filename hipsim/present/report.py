@@ -34,7 +34,7 @@ import numpy as np
 
 from ..analysis.sizing import CHECKS, Sizing, sizing
 from ..exceptions import HipsimError
-from ..files import check_folder, output_folder, write_atomic
+from ..files import check_folder, json_ready, output_folder, write_atomic
 from ..machine.drive import Drive
 from ..machine.parameters import SCHEMA, file_values
 from ..results import Run, Torques, peak_and_rms
@@ -168,7 +168,7 @@ def write_report(
         document = {"summary": summary, "sizing": size.as_dict(), "tracking": tracking, "notes": notes,
                     "parameters": file_values(combined.params),
                     "figures": {stem: [p.name for p in paths] for stem, paths in figures.items()}}
-        write_atomic(folder / "report.json", json.dumps(_finite(document), indent=2, default=_plain) + "\n")
+        write_atomic(folder / "report.json", json.dumps(json_ready(document), indent=2, default=_plain) + "\n")
         combined.write_csv(folder / "torques.csv")
         write_atomic(folder / "index.html", _html(combined, summary, size, tracking, figures, notes, joint_model))
         write_atomic(folder / MARKER, "a hipsim report: `hipsim report` may replace this folder whole\n")
@@ -269,15 +269,6 @@ def _tracking_table(sims: Mapping[str, Any]) -> dict[str, dict[str, float]]:
     return table
 
 
-def _finite(value):
-    """NaN and infinity become None: JSON has neither."""
-    if isinstance(value, dict):
-        return {k: _finite(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_finite(v) for v in value]
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value
 
 
 # ---------------------------------------------------------------------------

@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from ..analysis.compare import Comparison
-from ..files import check_folder, output_folder, write_atomic
+from ..files import check_folder, json_ready, output_folder, write_atomic
 from ..results import Torques
 from .figures import save_figure
 
@@ -128,15 +128,6 @@ class ComparisonFiles:
     figures: dict[str, tuple[Path, Path]]
 
 
-def _finite(value):
-    """NaN and infinity become None: JSON has neither."""
-    if isinstance(value, dict):
-        return {k: _finite(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_finite(v) for v in value]
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value
 
 
 _PAGE = """<!DOCTYPE html>
@@ -195,10 +186,10 @@ def write_comparison(out_dir: str | Path, comparison: Comparison, extra: dict[st
     with output_folder(out):
         for stem, plot in plots:
             figures[stem] = save_figure(plot(comparison), out, stem)
-        json_path = write_atomic(out / "comparison.json", json.dumps(_finite(summary), indent=2) + "\n")
+        json_path = write_atomic(out / "comparison.json", json.dumps(json_ready(summary), indent=2) + "\n")
         embedded = [(stem, base64.b64encode(png.read_bytes()).decode("ascii")) for stem, (png, _) in figures.items()]
         page = Environment(autoescape=True).from_string(_PAGE).render(
-            summary=_finite(summary), notes=summary.get("notes", []), figures=embedded, captions=CAPTIONS
+            summary=json_ready(summary), notes=summary.get("notes", []), figures=embedded, captions=CAPTIONS
         )
         index = write_atomic(out / "index.html", page)
     return ComparisonFiles(out, index, json_path, figures)
