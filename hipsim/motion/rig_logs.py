@@ -290,7 +290,7 @@ def _parse(path: str | Path) -> tuple[list[str], int, np.ndarray, np.ndarray]:
     values = line_numbers = None
     # The fast path: no blank lines (so line numbers follow from row numbers) and no "_" in a number
     # (Python's float() would read "1_0" as 10; the slow path below refuses it by line).
-    if "_" not in body and not re.search(r"\n[ \t\r,]*\n|^[ \t\r,]*\n", body):
+    if body.strip() and "_" not in body and not re.search(r"\n[ \t\r,]*\n|^[ \t\r,]*\n", body):
         try:
             values = np.loadtxt(io.StringIO(body), delimiter=",", ndmin=2, dtype=float)
         except ValueError:
