@@ -11,6 +11,7 @@ __all__ = [
     "ArgumentError",
     "CatalogueError",
     "ClosureError",
+    "FileRowError",
     "HipsimError",
     "ModelError",
     "MissingDependencyError",
@@ -23,6 +24,12 @@ __all__ = [
 
 class HipsimError(Exception):
     """Base class of every error hipsim raises on purpose."""
+
+
+def _placed(message: str, *where) -> str:
+    """``"A, B: message"`` from the parts of the place that are known (None and empty parts left out)."""
+    known = [str(part) for part in where if part]
+    return f"{', '.join(known)}: {message}" if known else message
 
 
 class ArgumentError(HipsimError, ValueError):
@@ -84,40 +91,30 @@ class ParameterError(HipsimError):
     """
 
     def __init__(self, message: str, key: str | None = None, value=None, source: str | None = None):
-        where = []
-        if source:
-            where.append(str(source))
-        if key:
-            where.append(f"key '{key}'")
-        prefix = ", ".join(where)
-        super().__init__(f"{prefix}: {message}" if prefix else message)
+        super().__init__(_placed(message, source, key and f"key '{key}'"))
         self.key = key
         self.value = value
         self.source = source
 
 
-class TrajectoryError(HipsimError):
-    """A trajectory (file or arrays) is invalid.
+class FileRowError(HipsimError):
+    """A table read from a file is invalid; the base of :class:`TrajectoryError` and :class:`CatalogueError`.
 
     Attributes:
-        source: the file the trajectory came from, if any.
+        source: the file, if any.
         line: 1-based line of the file, if the problem is on one line.
         column: the column name, if the problem is in one column.
     """
 
     def __init__(self, message: str, source: str | None = None, line: int | None = None, column: str | None = None):
-        where = []
-        if source:
-            where.append(str(source))
-        if line is not None:
-            where.append(f"line {line}")
-        if column:
-            where.append(f"column '{column}'")
-        prefix = ", ".join(where)
-        super().__init__(f"{prefix}: {message}" if prefix else message)
+        super().__init__(_placed(message, source, line is not None and f"line {line}", column and f"column '{column}'"))
         self.source = source
         self.line = line
         self.column = column
+
+
+class TrajectoryError(FileRowError):
+    """A trajectory (file or arrays) is invalid (source, line and column as in :class:`FileRowError`)."""
 
 
 class PoseError(HipsimError):
@@ -137,11 +134,7 @@ class PoseError(HipsimError):
     """
 
     def __init__(self, message: str, time: float, index: int, source: str | None = None, line: int | None = None):
-        where = [str(source)] if source else []
-        where.append(f"t = {time:.6g} s")
-        if line is not None:
-            where.append(f"line {line}")
-        super().__init__(f"{', '.join(where)}: {message}")
+        super().__init__(_placed(message, source, f"t = {time:.6g} s", line is not None and f"line {line}"))
         self.reason = message
         self.time = time
         self.index = index
@@ -172,23 +165,5 @@ class MissingDependencyError(HipsimError):
         self.found = found
 
 
-class CatalogueError(HipsimError):
-    """A motor, screw or gearbox catalogue (CSV) or drive file is invalid.
-
-    Attributes:
-        source: the file.
-        line: 1-based line of the file, if the problem is on one line.
-        column: the column name, if the problem is in one column.
-    """
-
-    def __init__(self, message: str, source: str | None = None, line: int | None = None, column: str | None = None):
-        where = [str(source)] if source else []
-        if line is not None:
-            where.append(f"line {line}")
-        if column:
-            where.append(f"column '{column}'")
-        prefix = ", ".join(where)
-        super().__init__(f"{prefix}: {message}" if prefix else message)
-        self.source = source
-        self.line = line
-        self.column = column
+class CatalogueError(FileRowError):
+    """A motor, screw or gearbox catalogue (CSV) or drive file is invalid (source, line and column as in :class:`FileRowError`)."""

@@ -59,6 +59,7 @@ from ..arrays import check_shapes
 from ..exceptions import ArgumentError, ClosureError, ModelError, PoseError, TrajectoryError
 from ..machine.model_files import closure_file_path, urdf_text
 from ..machine.parameters import Parameters, load_parameters
+from ..motion.trajectories import trajectory_arrays
 from ..results import JointForces, Torques
 
 __all__ = [
@@ -543,23 +544,6 @@ class ClosedKinematics:
         )  # fmt: skip
 
 
-def _trajectory_arrays(traj) -> tuple[np.ndarray, ...]:
-    """t (N,), q, qd, qdd (N, 3) of a Trajectory-like object, checked."""
-    try:
-        t = np.asarray(traj.t, dtype=float)
-        angles = [np.asarray(getattr(traj, name), dtype=float) for name in ("q", "qd", "qdd")]
-    except AttributeError as error:
-        raise TrajectoryError(f"expected a trajectory with t, q, qd, qdd ({error})") from None
-    if t.ndim != 1 or len(t) == 0:
-        raise TrajectoryError(f"t must be a non-empty 1-D array, got shape {t.shape}")
-    for name, value in zip(("q", "qd", "qdd"), angles):
-        if value.shape != (len(t), 3):
-            raise TrajectoryError(f"{name} must have shape ({len(t)}, 3), got {value.shape}", column=name)
-    if len(t) > 1 and np.any(np.diff(t) <= 0):
-        raise TrajectoryError("t must increase strictly", column="t")
-    return (t, *angles)
-
-
 class _Closer:
     """Solves the closed configuration sample after sample (one trajectory, one workspace)."""
 
@@ -682,7 +666,7 @@ def kinematics(chain: ClosedChainModel, traj, *, tol: float = 1e-12, max_iter: i
 def _close_chain(chain: ClosedChainModel, traj, tol: float, max_iter: int, Fe) -> tuple[ClosedKinematics, Any]:
     """The kinematics loop; with a load Fe it also runs the inverse dynamics on the fly."""
     layout = _require_layout(chain)
-    t, q_in, qd_in, qdd_in = _trajectory_arrays(traj)
+    t, q_in, qd_in, qdd_in = trajectory_arrays(traj)
     signs = chain.params.angle_signs if chain.params is not None else np.ones(3)
     angles, rates, accels = q_in * signs, qd_in * signs, qdd_in * signs
     both = np.tile(angles, 2)  # both platforms' coordinates, in platform_v.ravel() order

@@ -28,6 +28,7 @@ __all__ = [
     "iso14242",
     "iso14242_at",
     "iso14242_load",
+    "trajectory_arrays",
 ]
 
 #: The three platform angles, in the order of q.
@@ -228,3 +229,20 @@ def interpolator(trajectory: Trajectory):
         return Trajectory(times, spline(local), spline(local, 1), spline(local, 2), np.interp(local, t, load), trajectory.name)
 
     return at
+
+
+def trajectory_arrays(traj) -> tuple[np.ndarray, ...]:
+    """t (N,) in [s], q, qd, qdd (N, 3) in [rad], [rad/s], [rad/s²] of a Trajectory-like object, checked (any object with those attributes)."""
+    try:
+        t = np.asarray(traj.t, dtype=float)
+        angles = [np.asarray(getattr(traj, name), dtype=float) for name in ("q", "qd", "qdd")]
+    except AttributeError as error:
+        raise TrajectoryError(f"expected a trajectory with t, q, qd, qdd ({error})") from None
+    if t.ndim != 1 or len(t) == 0:
+        raise TrajectoryError(f"t must be a non-empty 1-D array, got shape {t.shape}")
+    for name, value in zip(("q", "qd", "qdd"), angles):
+        if value.shape != (len(t), 3):
+            raise TrajectoryError(f"{name} must have shape ({len(t)}, 3), got {value.shape}", column=name)
+    if len(t) > 1 and np.any(np.diff(t) <= 0):
+        raise TrajectoryError("t must increase strictly", column="t")
+    return (t, *angles)

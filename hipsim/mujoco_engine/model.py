@@ -48,6 +48,7 @@ from scipy.linalg import lapack
 from ..analytic import laws
 from ..arrays import check_shapes
 from ..exceptions import ArgumentError, ClosureError, ModelError, PoseError, TrajectoryError
+from ..motion.trajectories import trajectory_arrays
 from ..results import JointForces, Run, Torques
 from ..analytic.inverse_kinematics import angular_velocity_map, rotation_matrix
 from ..analytic.virtual_work import central_friction_moment
@@ -234,22 +235,6 @@ class MujocoKinematics:
         check_shapes(self, shapes, samples=len(self.t))
 
 
-def _trajectory_arrays(traj):
-    try:
-        t = np.asarray(traj.t, dtype=float)
-        angles = [np.asarray(getattr(traj, name), dtype=float) for name in ("q", "qd", "qdd")]
-    except AttributeError as error:
-        raise TrajectoryError(f"expected a trajectory with t, q, qd, qdd ({error})") from None
-    if t.ndim != 1 or len(t) == 0:
-        raise TrajectoryError(f"t must be a non-empty 1-D array, got shape {t.shape}")
-    for name, value in zip(("q", "qd", "qdd"), angles):
-        if value.shape != (len(t), 3):
-            raise TrajectoryError(f"{name} must have shape ({len(t)}, 3), got {value.shape}", column=name)
-    if len(t) > 1 and np.any(np.diff(t) <= 0):
-        raise TrajectoryError("t must increase strictly", column="t")
-    return (t, *angles)
-
-
 class _Closer:
     """Closes the chain sample after sample with MuJoCo's closure rows."""
 
@@ -353,7 +338,7 @@ def kinematics(machine: MujocoMachine, traj, *, tol: float = 1e-13, max_iter: in
 
 
 def _close(machine: MujocoMachine, traj, tol: float, max_iter: int, Fe):
-    t, q_in, qd_in, qdd_in = _trajectory_arrays(traj)
+    t, q_in, qd_in, qdd_in = trajectory_arrays(traj)
     signs = machine.params.angle_signs
     angles, rates, accels = q_in * signs, qd_in * signs, qdd_in * signs
     model, data = machine.model, machine.data
