@@ -231,3 +231,43 @@ def test_a_slow_first_step_is_announced_as_compiling_not_timed(params, capsys):
     assert len(sim.t) == 20 and SlowFirstCall.calls == 20  # every step ran once, the first one included
     simulate(ReducedPlant(params), WorkspacePD(params), iso14242_at, 0.02, progress=True, controller_name="fast", notify=notes.append)
     assert len(notes) == 1  # compiled now: nothing to announce
+
+
+@pytest.mark.parametrize("controller_kind", ["pd", "augmented"])
+@pytest.mark.parametrize("limited", [False, True])
+def test_compiled_loop_is_the_python_loop(params, controller_kind, limited):
+    """The compiled servo loop against the Python one, on a plant whose friction and masses the controller does not know."""
+    duration = 0.15
+    plant = ReducedPlant(apply_mismatch(params, friction=0.3, masses=-0.1), lever_spin=True)
+    controller = WorkspacePD(params) if controller_kind == "pd" else AugmentedPD(params, iso14242_at, 1000.0, duration)
+    free = simulate(plant, controller, iso14242_at, duration, compiled=False)
+    limit = 0.8 * np.abs(free.tau).max() if limited else None  # bites on the peaks only
+    fast, slow = (simulate(plant, controller, iso14242_at, duration, torque_limit=limit, compiled=flag) for flag in (True, False))
+    np.testing.assert_allclose(fast.q, slow.q, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(fast.qd, slow.qd, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(fast.tau_requested, slow.tau_requested, rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(fast.saturated, slow.saturated)
+    if limited:
+        assert 0 < np.count_nonzero(fast.saturated) < len(fast.t)
+        np.testing.assert_array_less(np.abs(fast.tau), limit * (1 + 1e-15))
+        assert np.abs(fast.q - free.q).max() > 1e-9  # and the limit changed the motion
+    else:
+        assert not fast.saturated.any()
+        np.testing.assert_allclose(fast.q, free.q, rtol=0, atol=1e-12)
+
+
+def test_compiled_loop_stops_where_the_python_loop_does(params):
+    """An unstable loop is named at the same servo instant by both loops."""
+    plant = ReducedPlant(params)
+    wild = WorkspacePD(params, kp=-5e4, kd=0.0)  # positive feedback: the platform runs away
+    times = []
+    for flag in (True, False):
+        with pytest.raises(PoseError) as info:
+            simulate(plant, wild, iso14242_at, 0.5, compiled=flag)
+        times.append(info.value.time)
+    assert times[0] == times[1]
+
+
+def test_compiled_loop_is_refused_for_a_controller_of_your_own(params):
+    with pytest.raises(ArgumentError, match="compiled"):
+        simulate(ReducedPlant(params), lambda t, s, d: np.zeros(3), iso14242_at, 0.01, compiled=True)

@@ -398,15 +398,21 @@ def advance(P, x, tau, loads, h, substeps):
         h: step in [s].
         substeps: number of steps.
     """
-    y = (x[0], x[1], x[2], x[3], x[4], x[5])
-    t = (tau[0], tau[1], tau[2])
-    for k in range(substeps):
-        k1 = _derivative(P, y, t, loads[2 * k])
-        k2 = _derivative(P, _axpy(y, h / 2, k1), t, loads[2 * k + 1])
-        k3 = _derivative(P, _axpy(y, h / 2, k2), t, loads[2 * k + 1])
-        k4 = _derivative(P, _axpy(y, h, k3), t, loads[2 * k + 2])
-        y = _axpy(_axpy(_axpy(_axpy(y, h / 6, k1), h / 3, k2), h / 3, k3), h / 6, k4)
+    y = _advance(P, (x[0], x[1], x[2], x[3], x[4], x[5]), (tau[0], tau[1], tau[2]), loads, 0, h, substeps)
     return np.array(y)
+
+
+@_compile
+def _advance(P, y, t, loads, first, h, substeps):
+    """:func:`advance` on tuples; the loads at every half step start at ``loads[first]``."""
+    for k in range(substeps):
+        at = first + 2 * k
+        k1 = _derivative(P, y, t, loads[at])
+        k2 = _derivative(P, _axpy(y, h / 2, k1), t, loads[at + 1])
+        k3 = _derivative(P, _axpy(y, h / 2, k2), t, loads[at + 1])
+        k4 = _derivative(P, _axpy(y, h, k3), t, loads[at + 2])
+        y = _axpy(_axpy(_axpy(_axpy(y, h / 6, k1), h / 3, k2), h / 3, k3), h / 6, k4)
+    return y
 
 
 @_compile
@@ -426,11 +432,22 @@ def workspace_pd(P, q, qd, q_desired, qd_desired, kp, kd):
         kp: K_p per angle in [N·m/rad], (3,).
         kd: K_d per angle in [N·m·s/rad], (3,).
     """
+    return np.array(
+        _workspace_pd(
+            P, (q[0], q[1], q[2]), (qd[0], qd[1], qd[2]), (q_desired[0], q_desired[1], q_desired[2]),
+            (qd_desired[0], qd_desired[1], qd_desired[2]), (kp[0], kp[1], kp[2]), (kd[0], kd[1], kd[2]),
+        )
+    )
+
+
+@_compile
+def _workspace_pd(P, q, qd, q_desired, qd_desired, kp, kd):
+    """:func:`workspace_pd` on tuples."""
     error = (
         kp[0] * (q_desired[0] - q[0]) + kd[0] * (qd_desired[0] - qd[0]),
         kp[1] * (q_desired[1] - q[1]) + kd[1] * (qd_desired[1] - qd[1]),
         kp[2] * (q_desired[2] - q[2]) + kd[2] * (qd_desired[2] - qd[2]),
     )
     moment = _signed(P, error)  # the moment acts on the platform, whose angles may be flipped
-    J_inv_T = laws.inverse_transpose(_jacobian_at(P, (q[0], q[1], q[2])))
-    return np.array(matvec(J_inv_T, moment)) * (P.lead / (2.0 * math.pi))
+    J_inv_T = laws.inverse_transpose(_jacobian_at(P, q))
+    return scale(matvec(J_inv_T, moment), P.lead / (2.0 * math.pi))

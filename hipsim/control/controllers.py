@@ -110,5 +110,8 @@ class AugmentedPD(WorkspacePD):
         self.feedforward = feedforward_torques(params, desired_at((np.arange(n) + 0.5) / servo_rate))
 
     def __call__(self, t: float, state: Sample, desired: Sample) -> np.ndarray:
-        k = min(int(round(t * self.servo_rate)), len(self.feedforward) - 1)
-        return self.feedforward[k] + super().__call__(t, state, desired)
+        return self.feedforward[int(self.feedforward_rows(t))] + super().__call__(t, state, desired)
+
+    def feedforward_rows(self, t):
+        """The row of :attr:`feedforward` that applies at time(s) t in [s]: the servo period's, the last one after the end."""
+        return np.minimum(np.rint(np.asarray(t) * self.servo_rate).astype(np.int64), len(self.feedforward) - 1)

@@ -36,7 +36,7 @@ import numpy as np
 from tqdm import tqdm
 
 from ..analytic import kernel as reduced_kernel
-from .controllers import Sample
+from .controllers import AugmentedPD, Sample, WorkspacePD
 from ..exceptions import ArgumentError, HipsimError, PoseError
 from ..files import write_columns
 from ..analytic.inverse_kinematics import kinematics
@@ -221,6 +221,7 @@ def simulate(
     progress: bool = False,
     notify: Callable[[str], None] | None = None,
     controller_name: str = "",
+    compiled: bool | None = None,
 ) -> Simulation:
     """Run the servo loop.
 
@@ -240,6 +241,12 @@ def simulate(
             takes more than a second (the numba kernels compiling on a
             machine's first run), so the caller can say so; None for silence.
         controller_name: a name for tables.
+        compiled: run the whole loop compiled (:mod:`hipsim.control.servo_kernel`),
+            which needs the plant to be a :class:`ReducedPlant` and the controller a
+            :class:`~hipsim.control.controllers.WorkspacePD` or
+            :class:`~hipsim.control.controllers.AugmentedPD` (not subclasses);
+            False: the Python loop, calling the controller every period; None:
+            compiled where possible.
 
     Returns:
         The run at the servo instants.
@@ -247,6 +254,7 @@ def simulate(
     Raises:
         PoseError: naming the time when the desired motion is out of reach or
             singular, or when the plant leaves the workspace or goes unstable.
+        ArgumentError: ``compiled=True`` for a plant or controller the compiled loop does not know.
     """
     control = plant.params.control
     servo_rate = control.servo_rate if servo_rate is None else servo_rate
@@ -271,28 +279,34 @@ def simulate(
     kinematics(plant.params, desired)  # a desired pose out of reach or singular: a PoseError naming its time
     stage_times = np.arange(n * substeps * 2 + 1) * (h / 2)
     stage_loads = desired_at(stage_times).Fe  # the load at every RK4 stage, precomputed
-    advance = getattr(plant, "advance", None) or (lambda *args: _rk4(plant, *args))
+    can_compile = type(plant) is ReducedPlant and type(controller) in (WorkspacePD, AugmentedPD)
+    if compiled and not can_compile:
+        raise ArgumentError("compiled", compiled, "False, or None, unless the plant is a ReducedPlant and the controller a WorkspacePD or AugmentedPD")
+    use_compiled = can_compile if compiled is None else bool(compiled)
 
     x = plant.initial_state(desired.slice(slice(0, 1))) if initial_state is None else np.asarray(initial_state, dtype=float)
     q, qd = np.empty((n, 3)), np.empty((n, 3))
     tau_applied, tau_requested = np.empty((n, 3)), np.empty((n, 3))
     saturated = np.zeros(n, dtype=bool)
     name = getattr(plant, "name", type(plant).__name__)
-    for k in _servo_steps(n, f"{name} plant, {controller_name or 'controller'}", progress, notify):
-        q[k], qd[k] = plant.angles(x)
-        if not np.all(np.isfinite(x)):
-            raise PoseError(
-                "the plant's state is no longer finite: the loop went unstable or the machine left its workspace "
-                "(check the gains control.kp_Nm_rad and kd_Nm_s_rad, the integration step and the masses)", t[k], k,
+    desc = f"{name} plant, {controller_name or 'controller'}"
+    if use_compiled:
+        log = (q, qd, tau_applied, tau_requested, saturated)
+        _compiled_loop(plant, controller, floats(x, (6,), "initial_state"), t, desired, limit, stage_loads, h, substeps, log, desc, progress, notify)
+    else:
+        advance = getattr(plant, "advance", None) or (lambda *args: _rk4(plant, *args))
+        for k, _ in _servo_chunks(n, 1, desc, progress, notify):
+            q[k], qd[k] = plant.angles(x)
+            if not np.all(np.isfinite(x)):
+                raise _unstable(t, k)
+            wanted = np.asarray(
+                controller(t[k], Sample(q[k].copy(), qd[k].copy()), Sample(desired.q[k], desired.qd[k], desired.qdd[k], float(desired.Fe[k]))),
+                dtype=float,
             )
-        wanted = np.asarray(
-            controller(t[k], Sample(q[k].copy(), qd[k].copy()), Sample(desired.q[k], desired.qd[k], desired.qdd[k], float(desired.Fe[k]))),
-            dtype=float,
-        )
-        tau_requested[k] = wanted
-        tau_applied[k] = np.clip(wanted, -limit, limit)
-        saturated[k] = np.any(np.abs(wanted) > limit)
-        x = advance(t[k], x, tau_applied[k], stage_loads[2 * substeps * k : 2 * substeps * (k + 1) + 1], h, substeps)
+            tau_requested[k] = wanted
+            tau_applied[k] = np.clip(wanted, -limit, limit)
+            saturated[k] = np.any(np.abs(wanted) > limit)
+            x = advance(t[k], x, tau_applied[k], stage_loads[2 * substeps * k : 2 * substeps * (k + 1) + 1], h, substeps)
 
     actual = Trajectory(t, q, qd, np.zeros_like(q), desired.Fe, name="actual")
     try:
@@ -302,12 +316,44 @@ def simulate(
     return Simulation(t, desired, q, qd, tau_applied, tau_requested, saturated, motor_speed, name, controller_name, h)
 
 
-def _servo_steps(n: int, desc: str, progress: bool, notify: Callable[[str], None] | None):
-    """The servo steps 0 … n−1, with a progress bar from the second on.
+def _unstable(t: np.ndarray, k: int) -> PoseError:
+    return PoseError(
+        "the plant's state is no longer finite: the loop went unstable or the machine left its workspace "
+        "(check the gains control.kp_Nm_rad and kd_Nm_s_rad, the integration step and the masses)", t[k], k,
+    )
 
-    A process's first step calls the numba kernels for the first time, which
+
+#: Servo periods per compiled call: a progress bar's tick, ~0.02 s of the compiled loop.
+_CHUNK = 2000
+
+
+def _compiled_loop(plant, controller, x, t, desired, limit, loads, h, substeps, log, desc, progress, notify) -> None:
+    """The servo loop in compiled chunks (:func:`hipsim.control.servo_kernel.servo_loop`), filling ``log``."""
+    from . import servo_kernel  # imports numba: only when a loop runs compiled
+
+    n = len(t)
+    x = x.copy()
+    if isinstance(controller, AugmentedPD):
+        feedforward, rows, with_feedforward = controller.feedforward, controller.feedforward_rows(t), True
+    else:
+        feedforward, rows, with_feedforward = np.zeros((1, 3)), np.zeros(n, dtype=np.int64), False
+    arguments = (
+        np.ascontiguousarray(desired.q, dtype=float), np.ascontiguousarray(desired.qd, dtype=float), controller.kp, controller.kd,
+        np.ascontiguousarray(feedforward, dtype=float), rows, with_feedforward, float(limit), np.ascontiguousarray(loads, dtype=float),
+        float(h), int(substeps), *log,
+    )
+    for start, stop in _servo_chunks(n, _CHUNK, desc, progress, notify):
+        reached = servo_kernel.servo_loop(plant._kernel_params, controller._kernel_params, x, start, stop, *arguments)
+        if reached != stop:
+            raise _unstable(t, reached)
+
+
+def _servo_chunks(n: int, size: int, desc: str, progress: bool, notify: Callable[[str], None] | None):
+    """The servo periods 0 … n−1 as (start, stop) chunks of ``size``, the first period alone, with a progress bar from the second on.
+
+    A process's first period calls the numba kernels for the first time, which
     compiles them on a machine's first run (some 15 s): a bar that timed it
-    would promise hours. That step is announced as compiling once it takes
+    would promise hours. That period is announced as compiling once it takes
     more than a second, and the bar's rate starts after it.
     """
     note = threading.Timer(1.0, lambda: notify(f"{desc}: compiling (first run only) ..."))
@@ -315,10 +361,14 @@ def _servo_steps(n: int, desc: str, progress: bool, notify: Callable[[str], None
     if notify is not None:
         note.start()
     try:
-        yield 0
+        yield 0, 1
     finally:
         note.cancel()
-    yield from tqdm(range(1, n), desc=desc, unit="servo", initial=1, total=n, disable=not progress, delay=2.0, leave=False)
+    with tqdm(desc=desc, unit="servo", initial=1, total=n, disable=not progress, delay=2.0, leave=False) as bar:
+        for start in range(1, n, size):
+            stop = min(start + size, n)
+            yield start, stop
+            bar.update(stop - start)
 
 
 def parse_mismatch(text: str) -> dict[str, float]:

@@ -1,0 +1,87 @@
+"""The servo loop of :func:`hipsim.control.simulate`, compiled for hipsim's own controllers on the reduced plant.
+
+Why this module exists. With the reduced plant's dynamics compiled
+(:mod:`hipsim.analytic.kernel`), what was left of a servo period in Python —
+the controller call, the zero-order hold, the saturation, the logging and
+two crossings into the compiled code, each unboxing the machine's parameters
+— cost about as much again as the two RK4 steps themselves. When the
+controller is a :class:`~hipsim.control.controllers.WorkspacePD` or an
+:class:`~hipsim.control.controllers.AugmentedPD` (whose feed-forward is a
+table computed before the run), the whole loop is known in advance and runs
+here in one compiled call per chunk of servo periods.
+
+It is the same loop, step for step, as the Python one in
+:mod:`hipsim.control.simulation`: the same compiled control law
+(:func:`hipsim.analytic.kernel._workspace_pd`) and RK4 steps
+(:func:`hipsim.analytic.kernel._advance`), the same clipping and counting, so
+the two give the same trajectories to round-off (``tests/test_simulation.py``
+compares them).
+
+Its numba cache is keyed on the kernel's and the laws' files too: the machine
+code absorbs them (see :func:`hipsim.analytic.laws.jit`).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+from ..analytic import kernel, laws
+
+__all__ = ["servo_loop"]
+
+
+@laws.jit(depends_on=(*laws.LAW_FILES, Path(kernel.__file__)))
+def servo_loop(plant, control, x, start, stop, desired_q, desired_qd, kp, kd, feedforward, rows, with_feedforward, limit, loads, h, substeps, q, qd, tau, tau_requested, saturated):
+    """Run servo periods ``start`` … ``stop − 1`` from state x, logging into the given arrays.
+
+    Args:
+        plant: the plant's machine (:func:`hipsim.analytic.kernel.kernel_parameters`).
+        control: the controller's machine.
+        x: state [q, q̇] at period ``start`` in [rad], [rad/s], (6,); overwritten with the state reached.
+        start, stop: the servo periods to run.
+        desired_q, desired_qd: desired angles [rad] and rates [rad/s] at every servo instant, (K, 3).
+        kp: K_p per angle in [N·m/rad], (3,).
+        kd: K_d per angle in [N·m·s/rad], (3,).
+        feedforward: feed-forward torques in [N·m], (M, 3), read when ``with_feedforward``.
+        rows: the feed-forward row of each period, (K,).
+        with_feedforward: add the feed-forward (augmented PD) or not (workspace PD).
+        limit: motor torque limit in [N·m] (inf: none).
+        loads: the load F_e in [N] at every RK4 half step of the run, (2·substeps·K + 1,).
+        h: RK4 step in [s].
+        substeps: RK4 steps per servo period.
+        q, qd: logged angles [rad] and rates [rad/s], (K, 3).
+        tau, tau_requested: logged applied and requested torques in [N·m], (K, 3).
+        saturated: logged saturation flags, (K,).
+
+    Returns:
+        ``stop``, or the first period whose state is not finite (nothing logged from there on).
+    """
+    y = (x[0], x[1], x[2], x[3], x[4], x[5])
+    for k in range(start, stop):
+        for i in range(3):
+            q[k, i], qd[k, i] = y[i], y[3 + i]
+        for i in range(6):
+            if not math.isfinite(y[i]):
+                for j in range(6):
+                    x[j] = y[j]
+                return k
+        wanted = kernel._workspace_pd(
+            control, (y[0], y[1], y[2]), (y[3], y[4], y[5]),
+            (desired_q[k, 0], desired_q[k, 1], desired_q[k, 2]), (desired_qd[k, 0], desired_qd[k, 1], desired_qd[k, 2]),
+            (kp[0], kp[1], kp[2]), (kd[0], kd[1], kd[2]),
+        )  # fmt: skip
+        if with_feedforward:
+            row = rows[k]
+            wanted = (feedforward[row, 0] + wanted[0], feedforward[row, 1] + wanted[1], feedforward[row, 2] + wanted[2])
+        saturated[k] = False
+        for i in range(3):
+            tau_requested[k, i] = wanted[i]
+            # Written out so that NaN passes through, as through np.clip.
+            tau[k, i] = -limit if wanted[i] < -limit else (limit if wanted[i] > limit else wanted[i])
+            if abs(wanted[i]) > limit:
+                saturated[k] = True
+        y = kernel._advance(plant, y, (tau[k, 0], tau[k, 1], tau[k, 2]), loads, 2 * substeps * k, h, substeps)
+    for j in range(6):
+        x[j] = y[j]
+    return stop
