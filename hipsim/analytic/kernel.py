@@ -141,10 +141,10 @@ def _trig(q):
 
 
 @_compile
-def _lever_geometry(P, R, i):
+def _lever_geometry(P, R, platform_point, screw_point):
     """r_i = R·r⁰_i and the lever's unit vector e_i; NaN when the lever cannot reach."""
-    r = matvec(R, P.platform_points[i])
-    c = P.screw_points[i]
+    r = matvec(R, platform_point)
+    c = screw_point
     dx, dy = r[0] - c[0], r[1] - c[1]
     l = P.lever_length
     radicand = l**2 - (dx**2 + dy**2)
@@ -156,9 +156,9 @@ def _lever_geometry(P, R, i):
 @_compile
 def _jacobian_rows(P, R):
     """The rows (r_i × e_i)/e_i,z of J (L̇ = J·ω) and the r_i, e_i, at the platform rotation R (rows)."""
-    r0, e0 = _lever_geometry(P, R, 0)
-    r1, e1 = _lever_geometry(P, R, 1)
-    r2, e2 = _lever_geometry(P, R, 2)
+    r0, e0 = _lever_geometry(P, R, P.platform_points[0], P.screw_points[0])
+    r1, e1 = _lever_geometry(P, R, P.platform_points[1], P.screw_points[1])
+    r2, e2 = _lever_geometry(P, R, P.platform_points[2], P.screw_points[2])
     J = (scale(cross(r0, e0), 1.0 / e0[2]), scale(cross(r1, e1), 1.0 / e1[2]), scale(cross(r2, e2), 1.0 / e2[2]))
     return J, (r0, r1, r2), (e0, e1, e2)
 
@@ -194,18 +194,22 @@ class _LeverMotion(NamedTuple):
     l_w_perp_sq: float  # l·|w_perp|², the centripetal part of e_z·L̈ [m/s²]
     omega_l: Vector  # lever angular velocity, with spin when P.lever_spin [rad/s]
     axes: Matrix  # rows: the lever's x, y, z axes (spec §7.1)
+    u1: Vector  # its universal joint's slider-fixed axis
 
 
 @_compile
-def _lever_velocity(P, r, e, J_i, omega, i):
-    """Velocity level of leg i (inverse_kinematics._kinematics; the laws' lever spin and axes)."""
+def _lever_velocity(P, r, e, J_i, omega, u1):
+    """Velocity level of a leg whose U joint's axis is u1 (inverse_kinematics._kinematics; the laws' lever spin and axes).
+
+    The kernels pass each leg's own vectors rather than its index: numba would
+    compile a function once per literal index (three times the compile time).
+    """
     l = P.lever_length
     Ld = dot(J_i, omega)
     a_dot = cross(omega, r)
     w_perp = scale(cross(e, (a_dot[0], a_dot[1], a_dot[2] - Ld)), 1.0 / l)
-    u1 = P.ujoint_axes[i]
     omega_l = laws.lever_angular_velocity(u1, e, w_perp) if P.lever_spin else w_perp
-    return _LeverMotion(r, e, w_perp, cross(omega, a_dot), l * dot(w_perp, w_perp), omega_l, laws.lever_axes(u1, e))
+    return _LeverMotion(r, e, w_perp, cross(omega, a_dot), l * dot(w_perp, w_perp), omega_l, laws.lever_axes(u1, e), u1)
 
 
 @_compile
@@ -217,34 +221,44 @@ def _euler_moment(axes, inertia, w, w_dot):
 
 
 @_compile
-def _lever_ends(P, lever, i, force, moment):
-    """A wrench on lever i (force at its centre, moment) as r × f_a on the platform and f_b,z on the slider."""
+def _lever_ends(P, lever, force, moment):
+    """A wrench on the lever (force at its centre, moment) as r × f_a on the platform and f_b,z on the slider."""
     if P.lever_spin:
-        moment = laws.spin_transpose(P.ujoint_axes[i], lever.e, moment)
+        moment = laws.spin_transpose(lever.u1, lever.e, moment)
     m_cross_e = scale(cross(moment, lever.e), 1.0 / P.lever_length)
     f_a = add(scale(force, 0.5), m_cross_e)
     return cross(lever.r, f_a), 0.5 * force[2] - m_cross_e[2]
 
 
 @_compile
-def _lever_acceleration(P, lever, i, omega_dot):
-    """Leg i at platform acceleration ω̇: L̈_i, and its lever's gravity and D'Alembert wrench mapped to the ends."""
+def _lever_acceleration(P, lever, omega_dot, full):
+    """A leg at platform acceleration ω̇: L̈_i, and its lever's gravity and D'Alembert wrench mapped to the ends.
+
+    ``full`` False: only the terms proportional to ω̇ (no velocity terms, no
+    gravity), the lever's share of a column of M.
+    """
     l, e = P.lever_length, lever.e
-    a_ddot = add(cross(omega_dot, lever.r), lever.centripetal)
-    Ldd = (dot(e, a_ddot) + lever.l_w_perp_sq) / e[2]
+    a_ddot = add(cross(omega_dot, lever.r), lever.centripetal) if full else cross(omega_dot, lever.r)
+    Ldd = (dot(e, a_ddot) + lever.l_w_perp_sq) / e[2] if full else dot(e, a_ddot) / e[2]
     omega_l_dot = scale(cross(e, (a_ddot[0], a_ddot[1], a_ddot[2] - Ldd)), 1.0 / l)
     if P.lever_spin:
-        omega_l_dot = laws.lever_angular_acceleration(P.ujoint_axes[i], e, lever.w_perp, omega_l_dot)
+        if full:
+            omega_l_dot = laws.lever_angular_acceleration(lever.u1, e, lever.w_perp, omega_l_dot)
+        else:  # the spin's rate, ṡ·e + s·ė, is the spin map of ω̇_⊥ plus velocity terms
+            omega_l_dot = laws.lever_angular_velocity(lever.u1, e, omega_l_dot)
     a_l = (0.5 * a_ddot[0], 0.5 * a_ddot[1], 0.5 * a_ddot[2] + 0.5 * Ldd)
-    force = scale((a_l[0], a_l[1], a_l[2] + P.gravity), -P.lever_mass)  # m_l·(g − a_l)
-    moment = _euler_moment(lever.axes, P.lever_inertia, lever.omega_l, omega_l_dot)
-    Q, f_b_z = _lever_ends(P, lever, i, force, moment)
+    force = scale((a_l[0], a_l[1], a_l[2] + P.gravity if full else a_l[2]), -P.lever_mass)  # m_l·(g − a_l)
+    if full:
+        moment = _euler_moment(lever.axes, P.lever_inertia, lever.omega_l, omega_l_dot)
+    else:
+        moment = transpose_times(lever.axes, scale(matvec(P.lever_inertia, matvec(lever.axes, omega_l_dot)), -1.0))
+    Q, f_b_z = _lever_ends(P, lever, force, moment)
     return Ldd, Q, f_b_z
 
 
 @_compile
-def _leg_friction(P, lever, i, J_i, omega):
-    """Leg i's friction: generalised moment of its lever joints, forces along the screw, screw torque."""
+def _leg_friction(P, lever, J_i, omega):
+    """A leg's friction: generalised moment of its lever joints, forces along the screw, screw torque."""
     Ld = dot(J_i, omega)
     motor_speed = 2.0 * math.pi * Ld / P.lead
     F = P.friction
@@ -253,7 +267,7 @@ def _leg_friction(P, lever, i, J_i, omega):
     if not laws.lever_joint_friction_on(F):
         return (0.0, 0.0, 0.0), -guide, screw
     tau_bf, tau_af = laws.lever_joint_friction(F, lever.omega_l, omega)
-    Q, f_b_z = _lever_ends(P, lever, i, (0.0, 0.0, 0.0), scale(add(tau_af, tau_bf), -1.0))
+    Q, f_b_z = _lever_ends(P, lever, (0.0, 0.0, 0.0), scale(add(tau_af, tau_bf), -1.0))
     return add(Q, tau_af), f_b_z - guide, screw
 
 
@@ -278,16 +292,16 @@ def _state(P, q, qd, Fe):
     omega = laws.t_times(c, s, qd)
     J, r, e = _jacobian_rows(P, R)
     levers = (
-        _lever_velocity(P, r[0], e[0], J[0], omega, 0),
-        _lever_velocity(P, r[1], e[1], J[1], omega, 1),
-        _lever_velocity(P, r[2], e[2], J[2], omega, 2),
+        _lever_velocity(P, r[0], e[0], J[0], omega, P.ujoint_axes[0]),
+        _lever_velocity(P, r[1], e[1], J[1], omega, P.ujoint_axes[1]),
+        _lever_velocity(P, r[2], e[2], J[2], omega, P.ujoint_axes[2]),
     )
     platform_axes = ((R[0][0], R[1][0], R[2][0]), (R[0][1], R[1][1], R[2][1]), (R[0][2], R[1][2], R[2][2]))
     # Central chain: hip joint and thrust bearing (spec §4.3).
     tau_mf = laws.central_friction_moment(P.friction, omega, platform_axes[2], Fe, P.platform_mass * P.gravity)
-    Q0, slider0, screw0 = _leg_friction(P, levers[0], 0, J[0], omega)
-    Q1, slider1, screw1 = _leg_friction(P, levers[1], 1, J[1], omega)
-    Q2, slider2, screw2 = _leg_friction(P, levers[2], 2, J[2], omega)
+    Q0, slider0, screw0 = _leg_friction(P, levers[0], J[0], omega)
+    Q1, slider1, screw1 = _leg_friction(P, levers[1], J[1], omega)
+    Q2, slider2, screw2 = _leg_friction(P, levers[2], J[2], omega)
     Q_f = sub(add(add(Q0, Q1), Q2), tau_mf)
     return _State(
         (c, s), platform_axes, omega, laws.inverse_transpose(J), levers, Q_f, (slider0, slider1, slider2), (screw0, screw1, screw2)
@@ -295,18 +309,29 @@ def _state(P, q, qd, Fe):
 
 
 @_compile
-def _torques_at(P, S, omega_dot):
-    """Motor torques [N·m] at state S and platform angular acceleration ω̇ [rad/s²] (spec §4.2)."""
-    Ldd0, Q0, fz0 = _lever_acceleration(P, S.levers[0], 0, omega_dot)
-    Ldd1, Q1, fz1 = _lever_acceleration(P, S.levers[1], 1, omega_dot)
-    Ldd2, Q2, fz2 = _lever_acceleration(P, S.levers[2], 2, omega_dot)
-    Q_m = _euler_moment(S.platform_axes, P.platform_inertia, S.omega, omega_dot)
-    Q = add(add(add(add(Q_m, Q0), Q1), Q2), S.Q_f)
+def _torques_at(P, S, omega_dot, full):
+    """Motor torques [N·m] at state S and platform angular acceleration ω̇ [rad/s²] (spec §4.2).
+
+    ``full`` False: only the part proportional to ω̇, M·ω̇ in the platform's
+    angular acceleration (no velocity terms, gravity or friction).
+    """
+    Ldd0, Q0, fz0 = _lever_acceleration(P, S.levers[0], omega_dot, full)
+    Ldd1, Q1, fz1 = _lever_acceleration(P, S.levers[1], omega_dot, full)
+    Ldd2, Q2, fz2 = _lever_acceleration(P, S.levers[2], omega_dot, full)
+    if full:
+        Q_m = _euler_moment(S.platform_axes, P.platform_inertia, S.omega, omega_dot)
+        Q = add(add(add(add(Q_m, Q0), Q1), Q2), S.Q_f)
+    else:
+        Q_m = transpose_times(S.platform_axes, scale(matvec(P.platform_inertia, matvec(S.platform_axes, omega_dot)), -1.0))
+        Q = add(add(add(Q_m, Q0), Q1), Q2)
     scale_ = -P.n_platforms * P.lead / (2.0 * math.pi)
     screw = 2.0 * math.pi * P.screw_inertia / P.lead
+    gravity = P.gravity if full else 0.0
 
     def motor(i, Ldd, f_b_z):
-        slider = P.slider_mass * (-P.gravity - Ldd)
+        slider = P.slider_mass * (-gravity - Ldd)
+        if not full:
+            return scale_ * (dot(S.J_inv_T[i], Q) + f_b_z + slider) + screw * Ldd
         return scale_ * (dot(S.J_inv_T[i], Q) + f_b_z + slider + S.slider_f[i]) + screw * Ldd + S.screw_f[i]
 
     return (motor(0, Ldd0, fz0), motor(1, Ldd1, fz1), motor(2, Ldd2, fz2))
@@ -320,12 +345,13 @@ def _mass_and_bias(P, x, Fe):
     S = _state(P, q, qd, Fe)
     c, s = S.cos_sin
     bias = laws.t_dot_times(c, s, qd, qd)  # ω̇ at q̈ = 0
-    h = _torques_at(P, S, bias)
+    h = _torques_at(P, S, bias, True)
     sg = P.angle_signs
-    # τ is affine in q̈: column k of M is τ(q̈ = unit k) − h, ω̇ = T·(sign_k·unit_k) + Ṫ·q̇.
-    m0 = sub(_torques_at(P, S, add(laws.t_times(c, s, (sg[0], 0.0, 0.0)), bias)), h)
-    m1 = sub(_torques_at(P, S, add(laws.t_times(c, s, (0.0, sg[1], 0.0)), bias)), h)
-    m2 = sub(_torques_at(P, S, add(laws.t_times(c, s, (0.0, 0.0, sg[2])), bias)), h)
+    # τ is affine in q̈: column k of M is the part proportional to ω̇ = T·(sign_k·unit_k),
+    # evaluated alone (cheaper than τ(q̈ = unit k) − h, and without its cancellation).
+    m0 = _torques_at(P, S, laws.t_times(c, s, (sg[0], 0.0, 0.0)), False)
+    m1 = _torques_at(P, S, laws.t_times(c, s, (0.0, sg[1], 0.0)), False)
+    m2 = _torques_at(P, S, laws.t_times(c, s, (0.0, 0.0, sg[2])), False)
     return (m0, m1, m2), h
 
 
@@ -370,7 +396,7 @@ def torques(P, q, qd, qdd, Fe):
     S = _state(P, q_s, qd_s, Fe)
     c, s = S.cos_sin
     omega_dot = add(laws.t_times(c, s, qdd_s), laws.t_dot_times(c, s, qd_s, qd_s))
-    return np.array(_torques_at(P, S, omega_dot))
+    return np.array(_torques_at(P, S, omega_dot, True))
 
 
 @_compile
