@@ -472,3 +472,18 @@ def test_one_pass_and_chunked_solves_agree(run, monkeypatch):
     for name, value in fields(separate).items():
         np.testing.assert_allclose(fields(chunked)[name], value, rtol=1e-12, atol=1e-12, err_msg=name)
         np.testing.assert_allclose(fields(run.dyn)[name], value, rtol=1e-12, atol=1e-12, err_msg=name)
+
+
+@pytest.mark.parametrize("machine", ["run", "rough"])
+def test_total_without_parts_is_the_sum_of_the_parts(machine, request):
+    """One RNEA call and a one-column solve give the total the five parts add up to; the parts are not made up."""
+    run = request.getfixturevalue(machine)
+    kin, total_only = trajectory_dynamics(run.chain, run.traj, parts=False)
+    scale = np.abs(run.dyn.torques.total).max()
+    np.testing.assert_allclose(total_only.torques.total, run.dyn.torques.total, rtol=0, atol=1e-12 * scale)
+    parts_sum = sum(getattr(run.dyn.torques, name) for name in Torques.PARTS)
+    np.testing.assert_allclose(total_only.torques.total, parts_sum, rtol=0, atol=1e-12 * scale)
+    np.testing.assert_allclose(total_only.lambdas, run.dyn.lambdas, rtol=0, atol=1e-9 * np.abs(run.dyn.lambdas).max())
+    assert all(np.isnan(getattr(total_only.torques, name)).all() for name in Torques.PARTS)
+    separate = inverse_dynamics(run.chain, kin, run.traj.Fe, parts=False)
+    np.testing.assert_allclose(separate.torques.total, total_only.torques.total, rtol=0, atol=1e-12 * scale)

@@ -22,12 +22,15 @@ class PinocchioModel:
     Args:
         params: the machine.
         chain: an already loaded closed-chain model of ``params`` (loaded when None).
+        parts: split the torques into their parts (spec §4.4); False for the
+            total only, some 15 µs a sample less, with the parts NaN (for callers
+            that read the total alone, such as fits and checks).
     """
 
     name = "pinocchio"
 
-    def __init__(self, params: Parameters, chain: ClosedChainModel | None = None):
-        self.params = params
+    def __init__(self, params: Parameters, chain: ClosedChainModel | None = None, parts: bool = True):
+        self.params, self.parts = params, bool(parts)
         self.chain = chain if chain is not None else load_model(params)
 
     def run(self, trajectory: Trajectory) -> Run:
@@ -36,7 +39,7 @@ class PinocchioModel:
         Raises:
             PoseError: at the first sample out of reach or singular.
         """
-        kin, dynamics = trajectory_dynamics(self.chain, trajectory)
+        kin, dynamics = trajectory_dynamics(self.chain, trajectory, parts=self.parts)
         return Run(
             self.name, self.params, trajectory, kin.L, kin.Ld, kin.Ldd, dynamics.torques, kin.cond_inv,
             np.zeros(len(trajectory.t), dtype=bool), joint_forces=dynamics.joint_forces,

@@ -663,7 +663,7 @@ def kinematics(chain: ClosedChainModel, traj, *, tol: float = 1e-12, max_iter: i
     return _close_chain(chain, traj, tol, max_iter, Fe=None)[0]
 
 
-def _close_chain(chain: ClosedChainModel, traj, tol: float, max_iter: int, Fe) -> tuple[ClosedKinematics, Any]:
+def _close_chain(chain: ClosedChainModel, traj, tol: float, max_iter: int, Fe, parts: bool = True) -> tuple[ClosedKinematics, Any]:
     """The kinematics loop; with a load Fe it also runs the inverse dynamics on the fly."""
     layout = _require_layout(chain)
     t, q_in, qd_in, qdd_in = trajectory_arrays(traj)
@@ -677,7 +677,7 @@ def _close_chain(chain: ClosedChainModel, traj, tol: float, max_iter: int, Fe) -
     J_rates = np.empty((n, 3, 3))  # ∂L̇/∂(angle rates) of the sliders
     closer = _Closer(chain, tol, max_iter)
     # The closer leaves Pinocchio's data at the closed q: the dynamics reuse its Jacobians.
-    dynamics = _InverseDynamics(chain, V, A, Fe) if Fe is not None else None
+    dynamics = _InverseDynamics(chain, V, A, Fe, parts) if Fe is not None else None
     dt = np.diff(t, prepend=t[0])
     q = layout.initial_guess.copy()
     for k in range(n):
@@ -848,8 +848,12 @@ class _InverseDynamics:
     lever-tip rotations at hand.
     """
 
-    def __init__(self, chain: ClosedChainModel, v: np.ndarray, a: np.ndarray, Fe):
+    def __init__(self, chain: ClosedChainModel, v: np.ndarray, a: np.ndarray, Fe, parts: bool = True):
         self.chain, self.layout, self.model = chain, _require_layout(chain), chain.model
+        self.parts_asked = bool(parts)
+        # The regressor's columns of bodies without inertia multiply zeros: skip them.
+        self.regressor_columns = np.flatnonzero(np.any(self.layout.groups != 0.0, axis=1))
+        self.groups = self.layout.groups[self.regressor_columns]
         self.v, self.a = v, a
         n, nv = len(v), chain.model.nv
         self.Fe = np.broadcast_to(np.asarray(Fe, dtype=float), (n,))
@@ -859,11 +863,12 @@ class _InverseDynamics:
         size = min(_CHUNK, n)
         self.system = np.zeros((size, nv, nv))  # [Sᵀ  J_cᵀ] per sample
         self.system[:, chain.actuated_v, np.arange(3)] = 1.0
-        self.rhs = np.empty((size, nv, 5))  # generalised forces of [platforms, levers, carriages, screws, friction]
+        # Generalised forces of [platforms, levers, carriages, screws, friction], or of all at once without parts.
+        self.rhs = np.empty((size, nv, 5 if parts else 1))
         # Angular rows of the world-frame joint Jacobians: a body's ω is their sum over its support.
         self.angular = np.empty((size, 3, nv))
         self.platform_z = np.empty((size, 2, 3)) if self.platform_frames is not None else None
-        self.parts = np.empty((n, 3, 5))  # actuator forces per part
+        self.parts = np.empty((n, 3, 5 if parts else 1))  # actuator forces per part (or their sum)
         self.lambdas = np.empty((n, chain.n_closures, 3))
         self.rotations = np.empty((n, chain.n_closures, 3, 3))
         self.start = 0
@@ -875,19 +880,26 @@ class _InverseDynamics:
         self.angular[slot] = data.J[3:]
         if self.platform_z is not None:
             self.platform_z[slot] = _platform_z_axes(data, self.platform_frames)
-        regressor = pin.computeJointTorqueRegressor(self.model, data, q, self.v[k], self.a[k])
-        self.rhs[slot, :, :3] = regressor @ self.layout.groups
+        if self.parts_asked:
+            regressor = pin.computeJointTorqueRegressor(self.model, data, q, self.v[k], self.a[k])
+            self.rhs[slot, :, :3] = regressor[:, self.regressor_columns] @ self.groups
+        else:  # the whole tree at once: RNEA, the screws' armature included
+            self.rhs[slot, :, 0] = pin.rnea(self.model, data, q, self.v[k], self.a[k])
         if slot + 1 == len(self.system) or k + 1 == len(self.v):
             self._solve(k + 1)
 
     def _solve(self, stop: int) -> None:
         start, m, layout = self.start, stop - self.start, self.layout
         rhs, angular = self.rhs[:m], self.angular[:m]
-        rhs[:, :, 3] = self.model.armature * self.a[start:stop]
         platform_J = np.moveaxis(angular[:, :, layout.platform_v], 1, 2)  # (m, j, xyz, joint)
         lever_J = np.moveaxis(angular[:, :, layout.ujoint_v], 1, 3) if self.lever_friction else None
         platform_z = self.platform_z[:m] if self.platform_z is not None else None
-        rhs[:, :, 4] = _friction_forces(self.chain, self.v[start:stop], self.Fe[start:stop], platform_J, lever_J, platform_z)
+        friction = _friction_forces(self.chain, self.v[start:stop], self.Fe[start:stop], platform_J, lever_J, platform_z)
+        if self.parts_asked:
+            rhs[:, :, 3] = self.model.armature * self.a[start:stop]
+            rhs[:, :, 4] = friction
+        else:
+            rhs[:, :, 0] += friction
         solution = np.linalg.solve(self.system[:m], rhs)
         self.parts[start:stop] = solution[:, :3]
         self.lambdas[start:stop] = solution[:, 3:].sum(axis=2).reshape(m, -1, 3)
@@ -895,7 +907,12 @@ class _InverseDynamics:
 
     def result(self, kin: ClosedKinematics) -> ClosedChainDynamics:
         params, closure = self.chain.params, self.layout.closure
-        tau_m, tau_l, tau_s, tau_L, tau_f = np.moveaxis(self.chain.lead / _TWO_PI * self.parts, 2, 0)
+        if self.parts_asked:
+            tau_m, tau_l, tau_s, tau_L, tau_f = np.moveaxis(self.chain.lead / _TWO_PI * self.parts, 2, 0)
+            total = tau_m + tau_l + tau_s + tau_L + tau_f
+        else:  # not computed: NaN, so that no one reads a zero as a part
+            total = self.chain.lead / _TWO_PI * self.parts[:, :, 0]
+            tau_m = tau_l = tau_s = tau_L = tau_f = np.full_like(total, np.nan)
         motor_speed = _TWO_PI * kin.Ld[:, 0] / self.chain.lead
         omega = np.einsum("nab,nb->na", angular_velocity_map(kin.angles), kin.angle_rates)
         lambdas = self.lambdas[:, closure]  # (n, 2, 3, 3)
@@ -903,7 +920,7 @@ class _InverseDynamics:
         centre = np.einsum("nkab,nkb->nka", self.rotations, self.lambdas)[:, closure].sum(axis=2)
         centre[:, :, 2] += params.platform_mass * params.gravity + self.Fe[:, None]
         torques = Torques(
-            total=tau_m + tau_l + tau_s + tau_L + tau_f,
+            total=total,
             platforms=tau_m, levers=tau_l, sliders=tau_s, screws=tau_L, friction=tau_f,
             motor_speed=motor_speed,
             friction_moment=np.linalg.norm(central_friction_moment(params, omega, self.Fe, rotation_matrix(kin.angles)), axis=-1),
@@ -914,7 +931,7 @@ class _InverseDynamics:
         return ClosedChainDynamics(torques=torques, F_act=self.parts.sum(axis=2), lambdas=lambdas, joint_forces=joint_forces)
 
 
-def inverse_dynamics(chain: ClosedChainModel, kin: ClosedKinematics, Fe) -> ClosedChainDynamics:
+def inverse_dynamics(chain: ClosedChainModel, kin: ClosedKinematics, Fe, *, parts: bool = True) -> ClosedChainDynamics:
     """Motor torques (with their parts) and joint forces along a closed motion, with Pinocchio.
 
     The tree's generalised forces are split exactly into parts: Pinocchio's
@@ -939,11 +956,15 @@ def inverse_dynamics(chain: ClosedChainModel, kin: ClosedKinematics, Fe) -> Clos
         chain: the hip model from :func:`load_model`.
         kin: the closed motion from :func:`kinematics`.
         Fe: hydraulic load magnitude in [N], shape (N,) (or a scalar).
+        parts: split the torques into their parts (the regressor, a five-column
+            solve); False: the total only, from one RNEA call per sample and a
+            one-column solve, with the parts and the friction power NaN (the
+            joint forces are computed either way).
 
     Returns:
         Torques in [N·m], forces in [N].
     """
-    dynamics = _InverseDynamics(chain, kin.v, kin.a, Fe)
+    dynamics = _InverseDynamics(chain, kin.v, kin.a, Fe, parts)
     ws = _Workspace(chain)
     for k, q in enumerate(kin.q):
         ws.place(q)
@@ -952,7 +973,7 @@ def inverse_dynamics(chain: ClosedChainModel, kin: ClosedKinematics, Fe) -> Clos
 
 
 def trajectory_dynamics(
-    chain: ClosedChainModel, traj, *, tol: float = 1e-12, max_iter: int = 50
+    chain: ClosedChainModel, traj, *, tol: float = 1e-12, max_iter: int = 50, parts: bool = True
 ) -> tuple[ClosedKinematics, ClosedChainDynamics]:
     """:func:`kinematics` and :func:`inverse_dynamics` in one pass, with the trajectory's own load.
 
@@ -965,8 +986,9 @@ def trajectory_dynamics(
             :func:`kinematics`) and Fe (N,) in [N].
         tol: closure gap accepted in [m], as in :func:`kinematics`.
         max_iter: damped Gauss–Newton iterations allowed per sample.
+        parts: split the torques into their parts (as :func:`inverse_dynamics`).
 
     Returns:
         The closed motion and the torques.
     """
-    return _close_chain(chain, traj, tol, max_iter, Fe=traj.Fe)
+    return _close_chain(chain, traj, tol, max_iter, Fe=traj.Fe, parts=parts)
