@@ -345,13 +345,15 @@ def _mass_and_bias(P, x, Fe):
     S = _state(P, q, qd, Fe)
     c, s = S.cos_sin
     bias = laws.t_dot_times(c, s, qd, qd)  # ω̇ at q̈ = 0
-    h = _torques_at(P, S, bias, True)
+    # bool(...): a plain boolean, not a literal, so that numba compiles _torques_at once, not per value.
+    full, inertial = bool(True), bool(False)
+    h = _torques_at(P, S, bias, full)
     sg = P.angle_signs
     # τ is affine in q̈: column k of M is the part proportional to ω̇ = T·(sign_k·unit_k),
     # evaluated alone (cheaper than τ(q̈ = unit k) − h, and without its cancellation).
-    m0 = _torques_at(P, S, laws.t_times(c, s, (sg[0], 0.0, 0.0)), False)
-    m1 = _torques_at(P, S, laws.t_times(c, s, (0.0, sg[1], 0.0)), False)
-    m2 = _torques_at(P, S, laws.t_times(c, s, (0.0, 0.0, sg[2])), False)
+    m0 = _torques_at(P, S, laws.t_times(c, s, (sg[0], 0.0, 0.0)), inertial)
+    m1 = _torques_at(P, S, laws.t_times(c, s, (0.0, sg[1], 0.0)), inertial)
+    m2 = _torques_at(P, S, laws.t_times(c, s, (0.0, 0.0, sg[2])), inertial)
     return (m0, m1, m2), h
 
 
@@ -396,7 +398,7 @@ def torques(P, q, qd, qdd, Fe):
     S = _state(P, q_s, qd_s, Fe)
     c, s = S.cos_sin
     omega_dot = add(laws.t_times(c, s, qdd_s), laws.t_dot_times(c, s, qd_s, qd_s))
-    return np.array(_torques_at(P, S, omega_dot, True))
+    return np.array(_torques_at(P, S, omega_dot, bool(True)))
 
 
 @_compile
