@@ -15,6 +15,7 @@ for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_variable, "1")
 
 import argparse  # noqa: E402
+import math  # noqa: E402
 import time  # noqa: E402
 
 import numpy as np  # noqa: E402
@@ -220,11 +221,98 @@ def bench_mujoco(params, quick: bool) -> None:
         print(f"  {label:<24} {length / elapsed:7.2f}x real time ({elapsed / length / control.servo_rate * 1e6:5.0f} µs per period)")
     # The floor: MuJoCo stepping alone, no servo loop, no friction callback, motors held.
     for label, plant in (("mj_step alone, RK4 0.5 ms", plants[2][1]), ("mj_step alone, Euler 1 ms", plants[5][1])):
-        model, data = plant.model, mujoco.MjData(plant.model)
-        data.qpos[:], data.qvel[:] = np.split(plant.initial_state(iso14242_at([0.0])), 2)
-        steps = int(round(1e-3 / model.opt.timestep)) * (200 if quick else 1000)
-        elapsed = best_time(lambda: mujoco.mj_step(model, data, steps), repeats=3)
-        print(f"  {label:<24} {steps * model.opt.timestep / elapsed:7.2f}x real time ({elapsed / steps * 1e6:5.1f} µs per step)")
+        factor, per_step = mj_step_speed(plant, quick)
+        print(f"  {label:<24} {factor:7.2f}x real time ({per_step * 1e6:5.1f} µs per step)")
+
+
+def mj_step_speed(plant, quick: bool) -> tuple[float, float]:
+    """MuJoCo stepping a MujocoPlant's model alone (motors held, no servo loop): real-time factor and seconds per step."""
+    from hipsim.mujoco_engine._dependency import mujoco
+    from hipsim.motion.trajectories import iso14242_at
+
+    model, data = plant.model, mujoco.MjData(plant.model)
+    data.qpos[:], data.qvel[:] = np.split(plant.initial_state(iso14242_at([0.0])), 2)
+    steps = int(round(1e-3 / model.opt.timestep)) * (200 if quick else 1000)
+    elapsed = best_time(lambda: mujoco.mj_step(model, data, steps), repeats=3)
+    return steps * model.opt.timestep / elapsed, elapsed / steps
+
+
+_COMPILE = """
+import sys, time
+import hipsim
+from hipsim.control import AugmentedPD, ReducedPlant, WorkspacePD, simulate
+from hipsim.motion.trajectories import iso14242_at
+
+params = hipsim.load_parameters()
+notes = []
+started = time.perf_counter()
+for controller in (WorkspacePD(params), AugmentedPD(params, iso14242_at, 1000.0, 0.01)):
+    simulate(ReducedPlant(params), controller, iso14242_at, 0.01, notify=notes.append)
+print(time.perf_counter() - started, len(notes))
+"""
+
+
+def bench_servo(params, quick: bool) -> None:
+    """Issue 17: the compiled servo loop, the inverse dynamics without parts, the first run's compile, next to today's paths and MuJoCo."""
+    import subprocess
+    import sys
+    import tempfile
+
+    from hipsim.closed_chain.model import load_model, trajectory_dynamics
+    from hipsim.control import AugmentedPD, ReducedPlant, WorkspacePD, simulate
+    from hipsim.motion.trajectories import iso14242_at
+
+    control = params.control
+    print(f"Servo loop on the reduced plant, ISO cycle, servo {control.servo_rate:g} Hz (real-time factor; µs per servo period)")
+    length, slow_length = (1.0, 0.25) if quick else (5.0, 1.0)
+    plant = ReducedPlant(params)
+    controllers = (("workspace PD", WorkspacePD(params)), ("augmented PD", AugmentedPD(params, iso14242_at, control.servo_rate, length)))
+    for name, controller in controllers:
+        for flag in (True, False):  # load or compile both paths before timing
+            simulate(plant, controller, iso14242_at, 0.01, compiled=flag)
+    coarse = ReducedPlant(params.replace(integration_step=1e-3))
+    factors = {}
+    for name, controller in controllers:
+        for label, chosen, step in (("RK4 0.5 ms", plant, None), ("RK4 1 ms", coarse, None)):
+            fast = best_time(lambda: simulate(chosen, controller, iso14242_at, length, step=step), repeats=2 if quick else 3)
+            slow = best_time(lambda: simulate(chosen, controller, iso14242_at, slow_length, step=step, compiled=False), repeats=2)
+            factors[name, label] = length / fast
+            print(f"  {name}, {label}: compiled {length / fast:7.1f}x ({fast / length / control.servo_rate * 1e6:5.1f} µs); "
+                  f"Python loop {slow_length / slow:6.1f}x ({slow / slow_length / control.servo_rate * 1e6:5.1f} µs)  "
+                  f"-> {length / fast / (slow_length / slow):4.1f}x faster")  # fmt: skip
+    print(f"  target: >= 100x real time at RK4 0.5 ms   {'OK' if factors['workspace PD', 'RK4 0.5 ms'] >= 100 else 'MISSED (see the ratio to the Python loop)'}")
+    try:
+        from hipsim.mujoco_engine import MujocoPlant
+
+        coarse_params = params.replace(integration_step=1e-3)
+        for label, integrator in (("RK4 1 ms", "RK4"), ("Euler 1 ms", "Euler")):
+            mj_factor, _ = mj_step_speed(MujocoPlant(coarse_params, integrator=integrator), quick)
+            ours = factors["workspace PD", "RK4 1 ms"]
+            print(f"  mj_step alone, {label}: {mj_factor:6.1f}x real time; compiled loop (workspace PD, RK4 1 ms) / mj_step: {ours / mj_factor:4.2f}")
+    except hipsim.HipsimError as error:
+        print(f"  MuJoCo: {error}; skipped")
+
+    chain = load_model(params)
+    trajectory = hipsim.iso14242(rate=1000)
+    if quick:
+        trajectory = trajectory.slice(slice(0, 300))
+    # Alternated, best of five each: the machine is shared, and a load change between two blocks would be read as a speed-up.
+    with_parts = total_only = math.inf
+    for _ in range(5):
+        with_parts = min(with_parts, best_time(lambda: trajectory_dynamics(chain, trajectory), repeats=1))
+        total_only = min(total_only, best_time(lambda: trajectory_dynamics(chain, trajectory, parts=False), repeats=1))
+    n = len(trajectory)
+    print("Pinocchio closed-chain kinematics + inverse dynamics, ISO cycle at 1 kHz")
+    print(f"  with parts {n / with_parts:9,.0f} samples/s; total only (parts=False) {n / total_only:9,.0f} samples/s "
+          f"-> {with_parts / total_only:4.2f}x; targets 30,000 and 50,000")  # fmt: skip
+
+    with tempfile.TemporaryDirectory() as cache:
+        environment = {**os.environ, "NUMBA_CACHE_DIR": cache}
+        cold = subprocess.run([sys.executable, "-c", _COMPILE], capture_output=True, text=True, check=True, env=environment)
+        warm = subprocess.run([sys.executable, "-c", _COMPILE], capture_output=True, text=True, check=True, env=environment)
+    (cold_s, cold_notes), (warm_s, _) = ([float(v) for v in run.stdout.split()] for run in (cold, warm))
+    print(f"First run of simulate (both built-in controllers, empty numba cache, fresh process): {cold_s:.1f} s "
+          f"({int(cold_notes)} 'compiling' note); second process, cache loaded: {warm_s:.1f} s; target < 20 s")
 
 
 _IDENTIFY = """
@@ -300,11 +388,11 @@ def bench_identification(params, quick: bool) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer samples in the slow baselines")
-    parser.add_argument("--only", choices=["analytic", "pinocchio", "workspace", "plants", "identification"], help="one section only")
+    parser.add_argument("--only", choices=["analytic", "pinocchio", "workspace", "plants", "servo", "identification"], help="one section only")
     args = parser.parse_args()
     params = hipsim.load_parameters()
     if args.only:
-        sections = {"analytic": bench_analytic, "pinocchio": bench_pinocchio, "plants": bench_plants, "identification": bench_identification}
+        sections = {"analytic": bench_analytic, "pinocchio": bench_pinocchio, "plants": bench_plants, "servo": bench_servo, "identification": bench_identification}
         sections.get(args.only, lambda params, quick: bench_workspace(quick))(params, args.quick)
         return
     bench_analytic(params, args.quick)
@@ -316,6 +404,9 @@ def main() -> None:
     bench_plants(params, args.quick)
     print()
     bench_mujoco(params, args.quick)
+    print()
+    bench_servo(params, args.quick)
+    print()
     bench_identification(params, args.quick)
 
 
