@@ -237,3 +237,13 @@ def test_kinetic_energy_includes_the_screw_rotors(plant):
     M = pin.crba(plant.model, plant.model.createData(), q)
     assert kinetic == pytest.approx(0.5 * 0.1**2 * M[v != 0, v != 0][0], rel=1e-12)
     assert M[v != 0, v != 0][0] > plant.model.armature[plant.chain.actuated_v[0]] > 0
+
+
+def test_advance_takes_the_steps_simulate_takes_through_the_derivative(params):
+    """The plant's own RK4 (fewer Python crossings) against simulate's RK4 through derivative()."""
+    plant, pd = PinocchioPlant(params), WorkspacePD(params)
+    own = simulate(plant, pd, iso14242_at, 0.03)
+    through = simulate(Recorder(PinocchioPlant(params)), pd, iso14242_at, 0.03)
+    np.testing.assert_allclose(own.q, through.q, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(own.tau, through.tau, rtol=0, atol=1e-10)
+    assert np.abs(own.q - own.desired.q).max() > 1e-7  # the motion is not trivially the desired one

@@ -192,6 +192,7 @@ class PinocchioPlant:
         pin.initConstraintDynamics(model, self.data, self.constraint_models, self.constraint_datas)
         self.proximal = pin.ProximalSettings(DEFAULT_PROXIMAL[0], DEFAULT_PROXIMAL[1], float(mu), int(max_iter))
 
+        self._stages = np.empty((4, self.nq + self.nv))  # RK4's k₁ … k₄, reused by advance()
         # Generalised forces: a buffer that only the actuated and friction entries write to.
         self._tau = np.zeros(self.nv)
         self._sliders = [int(k) for k in layout.slider_v]
@@ -227,6 +228,37 @@ class PinocchioPlant:
         buf = self._fill_forces(x, tau, Fe)
         a = pin.constraintDynamics(self.model, self.data, q, v, buf, self.constraint_models, self.constraint_datas, self.proximal)
         return np.concatenate((v, a))
+
+    def advance(self, t: float, x: np.ndarray, tau: np.ndarray, loads: np.ndarray, h: float, substeps: int) -> np.ndarray:
+        """The state after ``substeps`` classic RK4 steps of h [s] from x at time t [s], under motor torques tau [N·m].
+
+        ``loads`` are the loads F_e in [N] at every half step, (2·substeps + 1,).
+        The same steps as :func:`hipsim.control.simulate` takes through
+        :meth:`derivative`, with fewer Python crossings: the stages are
+        written into one reused array and Pinocchio is called directly. A
+        subclass that overrides :meth:`derivative` is stepped through it.
+        """
+        x = np.array(x, dtype=float)
+        tau = np.asarray(tau, dtype=float)
+        nq = self.nq
+        k = self._stages
+        if type(self).derivative is not PinocchioPlant.derivative:
+            def rate(y, Fe, out):
+                out[:] = self.derivative(t, y, tau, Fe)
+        else:
+            model, data, cms, cds, proximal = self.model, self.data, self.constraint_models, self.constraint_datas, self.proximal
+
+            def rate(y, Fe, out):
+                out[:nq] = y[nq:]
+                out[nq:] = pin.constraintDynamics(model, data, y[:nq], y[nq:], self._fill_forces(y, tau, Fe), cms, cds, proximal)
+
+        for s in range(substeps):
+            rate(x, loads[2 * s], k[0])
+            rate(x + h / 2 * k[0], loads[2 * s + 1], k[1])
+            rate(x + h / 2 * k[1], loads[2 * s + 1], k[2])
+            rate(x + h * k[2], loads[2 * s + 2], k[3])
+            x = x + h / 6 * (k[0] + 2 * k[1] + 2 * k[2] + k[3])
+        return x
 
     def angles(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Gait angles [α, β, γ] in [rad] and their rates in [rad/s], from platform 1's spherical joint."""
