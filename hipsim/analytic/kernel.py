@@ -25,8 +25,8 @@ Angles come in as gait angles; the parameter file's angle signs are applied
 inside, as :func:`hipsim.analytic.inverse_kinematics.kinematics` does. A pose out of reach gives
 NaN, which the servo loop reports as the plant leaving its workspace.
 
-The first call compiles the functions (~10 s for the plant, ~5 s for the PD
-law); numba caches the machine code next to this file (or in its user-wide
+The first call compiles the functions (~13 s for the plant and the PD law on
+the development machine, others' jobs running); numba caches the machine code next to this file (or in its user-wide
 cache when that folder is read-only), keyed on this file and the laws', so
 later processes load it in well under a second. Where neither can be written,
 the kernels are compiled in every process, with a warning.
