@@ -165,8 +165,9 @@ def evaluate(setup: SweepSetup, values: Sequence[float]) -> dict[str, Any]:
         return row | {"status": "out_of_workspace", "reason": _reason(error)}
     row["status"] = "ok"
     # The same reductions as Run.summary, so a variant equal to the base gives its numbers to the last bit.
-    tau_peak, tau_rms = peak_and_rms(run.torques.total * 1e3)
-    speed_peak, _ = peak_and_rms(run.torques.motor_speed * _RPM)
+    ok = ~run.flagged  # none are (the run raises instead); indexing copies as Run.summary's does, so the sums round alike
+    tau_peak, tau_rms = peak_and_rms(run.torques.total[ok] * 1e3)
+    speed_peak, _ = peak_and_rms(run.torques.motor_speed[ok] * _RPM)
     for quantity, unit, numbers in (("tau_peak", "Nmm", tau_peak), ("tau_rms", "Nmm", tau_rms), ("speed_peak", "rpm", speed_peak)):
         for i in range(3):
             row[f"{quantity}_{i + 1}_{unit}"] = float(numbers[i])
