@@ -25,7 +25,10 @@ Example:
 
 from __future__ import annotations
 
+import contextlib
+import logging
 import math
+import os
 from dataclasses import dataclass, field
 from typing import Any, Callable, Iterator, Sequence
 
@@ -272,8 +275,6 @@ def run_sweep(
         MissingDependencyError: dask.distributed is not installed (``pip install 'hipsim[sweep]'``).
         ArgumentError: a worker count below 1, or a scheduler that cannot be reached.
     """
-    import os
-
     if workers is not None and (not isinstance(workers, (int, np.integer)) or workers < 1):
         raise ArgumentError("workers", workers, "a whole number of worker processes, at least 1")
     workers = int(workers) if workers is not None else (os.cpu_count() or 1)
@@ -300,9 +301,6 @@ def run_sweep(
 
 def _on_cluster(setup: SweepSetup, work, workers: int, scheduler: str | None):
     """The batches' rows from a dask cluster, as they complete."""
-    import contextlib
-    import logging
-
     distributed = _distributed("hipsim sweep")
     with contextlib.ExitStack() as stack:
         if scheduler is not None:
@@ -312,7 +310,7 @@ def _on_cluster(setup: SweepSetup, work, workers: int, scheduler: str | None):
                 raise ArgumentError("scheduler", scheduler, f"the address of a running dask scheduler ({' '.join(str(error).split())})") from None
         else:
             cluster = stack.enter_context(distributed.LocalCluster(
-                n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=logging.ERROR,
+                n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=logging.CRITICAL,
             ))  # fmt: skip
             client = stack.enter_context(distributed.Client(cluster))
         shared = client.scatter(setup, broadcast=True, hash=False)

@@ -168,7 +168,8 @@ def run(args) -> int:
         raise HipsimError(str(error) if error.name == option else f"{option} {error}") from None
     trajectory = load_trajectory(args)
     drive = _drive(args)
-    setup = SweepSetup(params, trajectory, variants.keys, model=args.model, drive=drive)
+    cycles = args.cycles if args.cycles is not None and not args.trajectory else 1.0  # test cycles the motion holds, for the ratings
+    setup = SweepSetup(params, trajectory, variants.keys, model=args.model, drive=drive, cycles=cycles)
     names = list(variants.names) + metric_columns(setup.joint_forces)
     pareto = None
     if args.pareto:
