@@ -318,3 +318,30 @@ def test_bad_input_is_one_line_and_status_2(tmp_path, capsys, options, message):
     code, _, err = sweep(tmp_path, capsys, *options)
     assert code == 2
     assert message in err and err.count("\n") == 1
+
+
+def test_option_texts_are_parsed_or_refused_naming_the_option():
+    assert v.parse_axis("lever.length_mm = 300:360:5", "--grid", 3) == ("lever.length_mm", [300.0, 360.0, 5.0])
+    assert v.parse_tolerance("platform.home_offset_deg=±0.2") == ("platform.home_offset_deg", ("uniform", 0.2))
+    assert v.parse_tolerance("platform.home_offset_deg=+-0.2") == ("platform.home_offset_deg", ("uniform", 0.2))
+    assert v.parse_tolerance("lever.length_mm=0.05") == ("lever.length_mm", ("normal", 0.05))
+    for text in ("lever.length_mm=300:360", "=300:360:5", "lever.length_mm=a:b:c"):
+        with pytest.raises(ArgumentError, match="--grid"):
+            v.parse_axis(text, "--grid", 3)
+    for text in ("lever.length_mm=0", "lever.length_mm=±-1", "lever.length_mm"):
+        with pytest.raises(ArgumentError, match="--tolerance"):
+            v.parse_tolerance(text)
+
+
+def test_a_drive_that_names_its_screw_lead_refuses_a_sweep_of_the_lead(base, iso, tmp_path):
+    from hipsim.machine.drive import load_drive
+
+    path = tmp_path / "drive.toml"
+    path.write_text("[motor]\npeak_torque_Nmm = 1000\n[lead_screw]\nlead_mm = 16\n")
+    drive = load_drive(path)
+    with pytest.raises(ArgumentError, match="screw.lead_mm"):
+        SweepSetup(base, iso, (v.key_ref("screw.lead_mm"),), drive=drive)
+    # The drive's lead is the machine's: a variant runs with it (faster screws, less torque than at 10 mm).
+    setup = SweepSetup(base, iso, (v.key_ref("lever.length_mm"),), drive=drive)
+    row, plain = evaluate(setup, [328.0]), evaluate(SweepSetup(base, iso, setup.keys), [328.0])
+    assert row["speed_peak_1_rpm"] == pytest.approx(plain["speed_peak_1_rpm"] * 10 / 16, rel=1e-12)
