@@ -345,3 +345,25 @@ def test_a_drive_that_names_its_screw_lead_refuses_a_sweep_of_the_lead(base, iso
     setup = SweepSetup(base, iso, (v.key_ref("lever.length_mm"),), drive=drive)
     row, plain = evaluate(setup, [328.0]), evaluate(SweepSetup(base, iso, setup.keys), [328.0])
     assert row["speed_peak_1_rpm"] == pytest.approx(plain["speed_peak_1_rpm"] * 10 / 16, rel=1e-12)
+
+
+def test_an_interrupted_sweep_keeps_what_is_done_and_a_rerun_resumes(tmp_path, capsys, monkeypatch):
+    import hipsim.analysis.sweep as engine
+
+    real = engine.run_sweep
+
+    def interrupted(*args, **kwargs):
+        for k, batch in enumerate(real(*args, **kwargs)):
+            if k == 1:
+                raise KeyboardInterrupt  # Ctrl-C after the first batch
+            yield batch
+
+    out = tmp_path / "s.csv"
+    grid = ("--grid", "lever.length_mm=300:350:10", "--batch-size", "2", "--out", str(out))
+    monkeypatch.setattr(engine, "run_sweep", interrupted)
+    assert main(["sweep", "--rate", str(RATE), "--workers", "1", *grid]) == 130
+    assert "rerun the same command to resume" in capsys.readouterr().err
+    assert read_table(out)["lever.length_mm"] == [300.0, 310.0]
+    monkeypatch.setattr(engine, "run_sweep", real)
+    code, summary, _ = sweep(tmp_path, capsys, *grid)
+    assert code == 0 and (summary["new"], summary["skipped"], summary["rows"]) == (4, 2, 6)
