@@ -393,14 +393,78 @@ def bench_identification(params, quick: bool) -> None:
           f"condition number {design.condition_number:.3g} (ISO 14242-1 cycle: {design.iso_condition_number:.3g})")
 
 
+def bench_sweep(params, quick: bool) -> None:
+    """A design sweep of 10,000 variants of the ISO cycle at 1 kHz (analytic model), in this process and on one and two dask workers; the scheduler's overhead."""
+    import importlib
+    import logging
+
+    import distributed
+
+    from hipsim.analysis.sweep import SweepSetup, batches, run_sweep
+    from hipsim.analysis.variants import latin_hypercube
+
+    count = 1000 if quick else 10_000
+    trajectory = hipsim.iso14242(rate=1000)
+    variants = latin_hypercube({"lever.length_mm": (300.0, 360.0), "platform.home_offset_deg": (20.0, 50.0)}, count, seed=1)
+    setup = SweepSetup(params, trajectory, variants.keys)
+    names = variants.names
+
+    def sweep(**where):
+        start = time.perf_counter()
+        rows = [row for batch in run_sweep(setup, variants, **where) for row in batch]
+        assert len(rows) == count
+        return time.perf_counter() - start
+
+    # Baseline: what a user's own loop does, per variant a parameter set loaded, a model run and its summary.
+    start = time.perf_counter()
+    for values in variants.values:
+        try:
+            hipsim.analyse(hipsim.load_parameters(overrides=dict(zip(names, values.tolist()))), trajectory).summary()
+        except hipsim.HipsimError:
+            pass
+    baseline = time.perf_counter() - start
+    serial = sweep(workers=1)
+    figures = {}
+    for workers in (1, 2):
+        start = time.perf_counter()
+        with distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                                    silence_logs=logging.CRITICAL) as cluster, \
+                distributed.Client(cluster) as client:
+            # Started, and hipsim imported in every worker (what a first task would otherwise pay).
+            client.run(importlib.import_module, "hipsim.analysis.sweep")
+            startup = time.perf_counter() - start
+            figures[workers] = (startup, sweep(scheduler=cluster.scheduler_address))
+            if workers == 2:
+                # Empty tasks: the same batches shipped and a trivial function (len) run on each; and one task per variant.
+                work = batches(variants, size=200)
+                start = time.perf_counter()
+                distributed.wait(client.map(len, work, pure=False))
+                empty_batched = time.perf_counter() - start
+                start = time.perf_counter()
+                distributed.wait(client.map(len, [(i,) for i in range(count)], pure=False))
+                empty_single = time.perf_counter() - start
+    one, two = figures[1][1], figures[2][1]
+    print(f"Design sweep: {count:,} variants (Latin hypercube of lever length x platform offset) of the ISO 14242-1 cycle at 1 kHz, analytic model")
+    print("  (wall clock; this machine's 2 cores are shared with other work, so the figures are an upper bound)")
+    print(f"  baseline, a plain loop of load_parameters + analyse + summary: {baseline:6.1f} s ({baseline / count * 1e3:.2f} ms/variant)")
+    print(f"  hipsim sweep engine, in this process (--workers 1):           {serial:6.1f} s ({serial / count * 1e3:.2f} ms/variant, {baseline / serial:.1f}x the loop)")
+    print(f"  dask LocalCluster, 1 worker process:                          {one:6.1f} s (+ {figures[1][0]:.1f} s to start the cluster and import hipsim)")
+    print(f"  dask LocalCluster, 2 worker processes:                        {two:6.1f} s (+ {figures[2][0]:.1f} s to start); speed-up {one / two:.2f}x over 1 worker")
+    print(f"  scheduler overhead, empty tasks on 2 workers: {empty_batched / count * 1e6:.0f} µs/variant in batches of 200 "
+          f"({empty_batched / len(work) * 1e3:.1f} ms/task); {empty_single / count * 1e3:.2f} ms/variant as one task each")
+    print(f"  target: <= 60 s on one worker ({'OK' if one <= 60 else 'MISSED'}), >= 1.7x on two ({'OK' if one / two >= 1.7 else 'MISSED'})"
+          + (" [--quick: 1,000 variants]" if quick else ""))
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer samples in the slow baselines")
-    parser.add_argument("--only", choices=["analytic", "pinocchio", "workspace", "plants", "servo", "identification"], help="one section only")
+    parser.add_argument("--only", choices=["analytic", "pinocchio", "workspace", "plants", "servo", "identification", "sweep"], help="one section only")
     args = parser.parse_args()
     params = hipsim.load_parameters()
     if args.only:
-        sections = {"analytic": bench_analytic, "pinocchio": bench_pinocchio, "plants": bench_plants, "servo": bench_servo, "identification": bench_identification}
+        sections = {"analytic": bench_analytic, "pinocchio": bench_pinocchio, "plants": bench_plants, "servo": bench_servo,
+                    "identification": bench_identification, "sweep": bench_sweep}
         sections.get(args.only, lambda params, quick: bench_workspace(quick))(params, args.quick)
         return
     bench_analytic(params, args.quick)
@@ -416,6 +480,8 @@ def main() -> None:
     bench_servo(params, args.quick)
     print()
     bench_identification(params, args.quick)
+    print()
+    bench_sweep(params, args.quick)
 
 
 if __name__ == "__main__":

@@ -248,19 +248,22 @@ class ScrewSide:
         return float(self.weights.sum())
 
 
-def screw_side(run: Run, cycles: float = 1.0) -> ScrewSide:
+def screw_side(run: Run, cycles: float = 1.0, load_inertia: bool = True) -> ScrewSide:
     """The screw-shaft demands of a run (flagged samples get no weight).
 
     Args:
         run: a model run.
         cycles: how many test cycles the trajectory holds (1: it is one cycle).
+        load_inertia: False to leave ``load_inertia`` NaN: the reduced model's M(q) costs
+            several model runs, and only the inertia-ratio check (a motor with a
+            rotor inertia) needs it.
     """
     if not (cycles > 0 and math.isfinite(cycles)):
         raise ValueError(f"cycles must be positive, got {cycles}")
     ok = ~run.flagged
     weights = np.where(ok, _time_weights(run.trajectory.t, run.trajectory.periodic), 0.0)
     inertia = np.full((len(run.t), 3), np.nan)
-    if np.any(ok):
+    if load_inertia and np.any(ok):
         diagonal = np.diagonal(reflected_inertia(run.params, run.trajectory.slice(ok)), axis1=1, axis2=2)
         inertia[ok] = diagonal
     scale = 2.0 * math.pi / run.params.lead

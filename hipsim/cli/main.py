@@ -520,6 +520,9 @@ def build_parser() -> argparse.ArgumentParser:
     from . import size
 
     size.add_parser(commands)
+    from . import sweep
+
+    sweep.add_parser(commands)
 
     params = commands.add_parser("params", help="print the parameter set in use, with units")
     _add_machine_options(params)

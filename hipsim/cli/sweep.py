@@ -1,0 +1,330 @@
+"""``hipsim sweep``: design variants (grid, Latin hypercube, tolerance study, CSV) on dask.distributed → Parquet/CSV, summary, Pareto figure."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from ..exceptions import ArgumentError, HipsimError, OutputError
+
+__all__ = ["add_parser", "run"]
+
+#: The sweep run when no variants are given: lever length × platform offset δ.
+DEFAULT_GRID = ("lever.length_mm=300:360:5", "platform.home_offset_deg=20:50:1")
+#: Seconds between two writes of the results so far (an interrupted sweep resumes from the last).
+CHECKPOINT_S = 60.0
+
+_DESCRIPTION = """\
+Runs design variants of the machine along a trajectory (default one ISO 14242-1 cycle at 1 kHz) and writes one row per
+variant: peak and RMS torque and peak speed per motor, stroke per slider, the smallest singularity measure, joint forces
+(--model pinocchio) and the rating check against the parameter file's [motor] table or --drive FILE. Variants that cannot
+be built or whose motion leaves the workspace are rows too, with their status and reason. The variants are parameter keys
+in the file's units (those of --set; a list's number with [i], counted from 1): a grid (--grid), a Latin hypercube
+(--sample N --range), a random tolerance study (--sample N --tolerance) or a CSV of variants (--variants); without any,
+the grid """ + " × ".join(DEFAULT_GRID) + """. They run on local worker processes (dask.distributed; --workers) or on a
+dask cluster (--scheduler). Output: Parquet or CSV by the suffix of --out; a rerun with the same --out skips the variants
+already in it and adds the new ones. Exit status: 0 when at least one variant passes the rating (without ratings: when at
+least one could be computed), 1 when none does, 2 on bad input."""
+
+_EXAMPLES = """\
+examples:
+  hipsim sweep --grid lever.length_mm=300:360:5 --grid platform.home_offset_deg=20:50:1 --out levers.parquet
+  hipsim sweep --sample 2000 --range lever.length_mm=300:360 --range screw.lead_mm=5:20 --pareto tau_peak_max_Nmm,-cond_inv_min
+  hipsim sweep --sample 500 --tolerance lever.length_mm=0.05 --tolerance platform.home_offset_deg=±0.2 --set motor.peak_torque_Nmm=450
+  hipsim sweep --variants candidates.csv --drive my_drive.toml --model pinocchio
+  hipsim sweep --scheduler tcp://10.0.0.5:8786 --sample 100000 --range lever.length_mm=300:360 --out big.parquet
+"""
+
+
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Register ``sweep`` on the main parser's subcommands."""
+    from .main import _add_machine_options
+    from .motion_options import add_trajectory_options
+
+    parser = subparsers.add_parser(
+        "sweep", help="design variants (grid, Latin hypercube, tolerances, CSV) on a dask cluster -> Parquet/CSV, Pareto figure",
+        description=_DESCRIPTION, epilog=_EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    _add_machine_options(parser)
+    add_trajectory_options(parser)
+    variants = parser.add_argument_group("variants (one kind; default: the grid " + " × ".join(DEFAULT_GRID) + ")")
+    variants.add_argument("--grid", action="append", default=[], metavar="KEY=START:STOP:STEP",
+                          help="a grid axis in the key's file unit, stop included (repeatable: every combination)")
+    variants.add_argument("--sample", type=int, metavar="N", help="N random variants: a Latin hypercube over --range, or a tolerance study with --tolerance")
+    variants.add_argument("--range", dest="ranges", action="append", default=[], metavar="KEY=LOW:HIGH",
+                          help="with --sample: a key's range for the Latin hypercube (scipy.stats.qmc; repeatable)")
+    variants.add_argument("--tolerance", action="append", default=[], metavar="KEY=SIGMA|KEY=±X",
+                          help="with --sample: a normal spread of σ, or a uniform one within ±X (also +-X), around the machine's value (repeatable)")
+    variants.add_argument("--seed", type=int, default=1, metavar="N", help="random seed of --sample (default 1: a rerun draws the same variants)")
+    variants.add_argument("--variants", metavar="CSV", help="a CSV of variants: a header of keys, one variant a line")
+    check = parser.add_argument_group("model and rating")
+    check.add_argument("--model", choices=["analytic", "pinocchio"], default="analytic", help="analytic (default) or pinocchio (adds the peak joint forces; slower)")
+    check.add_argument("--drive", metavar="FILE", help="drive file to check every variant against (see hipsim size); default: each variant's [motor] table")
+    engine = parser.add_argument_group("engine (dask.distributed; pip install 'hipsim[sweep]')")
+    engine.add_argument("--workers", type=int, metavar="N", help="local worker processes (default: the cores; 1 runs in this process)")
+    engine.add_argument("--scheduler", metavar="ADDRESS", help="run on the dask cluster of this scheduler, e.g. tcp://10.0.0.5:8786 (README 'Design sweeps')")
+    engine.add_argument("--batch-size", type=int, metavar="N", help="variants per task (default: about eight tasks a worker, at most 200 variants each)")
+    out = parser.add_argument_group("output")
+    out.add_argument("--out", default="hipsim_sweep.csv", metavar="FILE",
+                     help="results, .parquet or .csv (default hipsim_sweep.csv); an existing file is resumed: its variants are skipped")
+    out.add_argument("--pareto", metavar="X,Y", help="write the Pareto front of two columns as OUT_pareto.png and .svg; a leading - maximises, "
+                     "e.g. tau_peak_max_Nmm,-cond_inv_min")
+    out.add_argument("--summary-format", choices=["table", "json"], default="table", help="summary on standard output")
+    parser.set_defaults(run=run)
+    return parser
+
+
+def _variants(args, params):
+    from ..analysis import variants as v
+
+    kinds = [name for name, given in (("--grid", args.grid), ("--sample", args.sample is not None), ("--variants", args.variants)) if given]
+    if len(kinds) > 1:
+        raise HipsimError(f"{' and '.join(kinds)}: choose one kind of variants")
+    if args.sample is None and (args.ranges or args.tolerance):
+        raise HipsimError(f"{'--range' if args.ranges else '--tolerance'} needs --sample N (how many variants to draw)")
+    if args.variants:
+        return v.read_variants(args.variants)
+    if args.sample is not None:
+        if args.sample < 1:
+            raise HipsimError(f"--sample: expected a positive number of variants, got {args.sample}")
+        if bool(args.ranges) == bool(args.tolerance):
+            raise HipsimError("--sample needs either --range KEY=LOW:HIGH (Latin hypercube) or --tolerance KEY=SIGMA (tolerance study), not both")
+        if args.ranges:
+            ranges = {}
+            for text in args.ranges:
+                key, (low, high) = v.parse_axis(text, "--range", 2)
+                ranges[_unique(v.key_ref(key, "--range"), ranges, "--range")] = (low, high)
+            return v.latin_hypercube(ranges, args.sample, args.seed)
+        tolerances = {}
+        for text in args.tolerance:
+            key, spread = v.parse_tolerance(text)
+            tolerances[_unique(v.key_ref(key, "--tolerance"), tolerances, "--tolerance")] = spread
+        return v.tolerance_study(params, tolerances, args.sample, args.seed)
+    axes = {}
+    for text in args.grid or DEFAULT_GRID:
+        key, numbers = v.parse_axis(text, "--grid", 3)
+        axes[_unique(v.key_ref(key, "--grid"), axes, "--grid")] = tuple(numbers)
+    return v.grid(axes)
+
+
+def _unique(key, seen, option):
+    if key in seen:
+        raise HipsimError(f"{option} {key.name} is given twice")
+    return key
+
+
+def _drive(args):
+    from ..machine.drive import load_drive
+
+    return load_drive(args.drive) if args.drive else None
+
+
+def _check_out(path: str) -> Path:
+    """The output must be a .parquet/.csv file in an existing folder: checked before any variant runs."""
+    from ..analysis.sweep_table import table_format
+
+    out = Path(path)
+    table_format(out)
+    if out.is_dir():
+        raise OutputError(out, "is a folder; give a .parquet or .csv file name")
+    folder = out.parent if str(out.parent) else Path(".")
+    if not folder.is_dir():
+        raise OutputError(out, f"cannot write, folder '{folder}' does not exist")
+    return out
+
+
+def _previous(out: Path, names: list[str]) -> dict[str, list]:
+    """The rows already in ``out`` (empty columns when it does not exist yet); refused when they are another sweep's."""
+    from ..analysis.sweep_table import read_table
+
+    if not out.exists():
+        return {name: [] for name in names}
+    table = read_table(out)
+    if list(table) != names:
+        raise OutputError(out, f"holds other columns ({', '.join(list(table)[:4])}, …) than this sweep's ({', '.join(names[:4])}, …): "
+                          "give another --out, or remove it to start again")  # fmt: skip
+    return table
+
+
+def run(args) -> int:
+    from ..analysis.sweep import OBJECTIVES, SweepSetup, metric_columns, parse_objective, run_sweep, variant_id
+    from ..analysis.sweep_table import write_table
+    from .main import _parameters
+    from .motion_options import load_trajectory
+
+    params = _parameters(args)
+    # Every input is read and checked before the first variant runs.
+    out = _check_out(args.out)
+    try:
+        variants = _variants(args, params)
+    except ArgumentError as error:  # the library names the key; the user typed an option
+        option = "--variants" if args.variants else ("--grid" if args.sample is None else ("--range" if args.ranges else "--tolerance"))
+        raise HipsimError(str(error) if error.name == option else f"{option} {error}") from None
+    trajectory = load_trajectory(args)
+    drive = _drive(args)
+    cycles = args.cycles if args.cycles is not None and not args.trajectory else 1.0  # test cycles the motion holds, for the ratings
+    setup = SweepSetup(params, trajectory, variants.keys, model=args.model, drive=drive, cycles=cycles)
+    names = list(variants.names) + metric_columns(setup.joint_forces)
+    pareto = None
+    if args.pareto:
+        parts = args.pareto.split(",")
+        if len(parts) != 2:
+            raise HipsimError(f"--pareto: expected two columns X,Y, e.g. tau_peak_max_Nmm,-cond_inv_min, got '{args.pareto}'")
+        try:
+            pareto = [parse_objective(part, metric_columns(setup.joint_forces)) for part in parts]
+        except ArgumentError as error:
+            raise HipsimError(f"--pareto: expected {error.expected}, got {error.value!r}") from None
+    if args.batch_size is not None and args.batch_size < 1:
+        raise HipsimError(f"--batch-size: expected a positive number of variants, got {args.batch_size}")
+    if args.workers is not None and args.workers < 1:
+        raise HipsimError(f"--workers: expected a positive number of processes, got {args.workers}")
+    table = _previous(out, names)
+    done = {variant_id(row) for row in zip(*(table[k] for k in variants.names))}
+    todo, queued = [], set()
+    for index, values in enumerate(variants.values):
+        key = variant_id(values)
+        if key not in done and key not in queued:
+            queued.add(key)
+            todo.append(index)
+    metadata = {"hipsim": _version(), "trajectory": trajectory.name, "samples": len(trajectory), "model": args.model,
+                "parameters": params.source, "drive": drive.source if drive is not None else None, "keys": list(variants.names)}  # fmt: skip
+    skipped = len(variants) - len(todo)
+    new_rows: dict[int, dict] = {}
+
+    def save():
+        ordered = [new_rows[i] for i in sorted(new_rows)]
+        columns = {name: list(table[name]) for name in names}
+        for index in sorted(new_rows):
+            for key, value in zip(variants.names, variants.values[index]):
+                columns[key].append(float(value))
+        for name in names[len(variants.names):]:
+            columns[name] += [row[name] for row in ordered]
+        return write_table(out, columns, metadata), columns
+
+    bar = _progress_bar(len(todo))
+    started = last_save = time.monotonic()
+    try:
+        for rows in run_sweep(setup, variants, indices=todo, workers=args.workers, scheduler=args.scheduler, batch_size=args.batch_size,
+                              progress=lambda n, total: bar.update(n - bar.n)):  # fmt: skip
+            new_rows.update(rows)
+            if time.monotonic() - last_save > CHECKPOINT_S:
+                save()
+                last_save = time.monotonic()
+    except BaseException:
+        if new_rows:  # Ctrl-C, SIGTERM, a lost cluster: keep what is done, so a rerun resumes
+            save()
+            print(f"hipsim: kept the {len(new_rows)} variants done in {out}; rerun the same command to resume", file=sys.stderr)
+        raise
+    finally:
+        bar.close()
+    elapsed = time.monotonic() - started
+    path, columns = save()
+    summary = _summary(columns, variants.names, OBJECTIVES, pareto)
+    summary |= {"variants": len(variants), "new": len(todo), "skipped": skipped, "seconds": elapsed, "out": str(path)} | metadata
+    if pareto:
+        summary["figure"] = [str(p) for p in _figure(columns, pareto, out, summary)]
+    if args.summary_format == "json":
+        from ..files import json_ready
+
+        print(json.dumps(json_ready(summary), indent=2))
+    else:
+        print(format_summary(summary))
+    if not summary["passing"]:
+        print("hipsim: no variant passes the rating" if summary["rated"] else "hipsim: no variant could be computed", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _version() -> str:
+    from .. import __version__
+
+    return __version__
+
+
+def _progress_bar(total: int):
+    from tqdm.auto import tqdm
+
+    # On a terminal only, and only once the sweep has run a couple of seconds.
+    return tqdm(total=total, disable=not sys.stderr.isatty(), unit="variant", delay=2.0, leave=False)
+
+
+def _summary(columns: dict, keys, objectives: dict, pareto) -> dict:
+    """Counts by status and rating, and the best variant of each objective, over every row of the table."""
+    status = np.array(columns["status"], dtype=object)
+    rating = np.array(columns["rating"], dtype=object)
+    rated = bool(np.any((rating == "pass") | (rating == "fail")))
+    wanted = dict(objectives)
+    if rated:
+        wanted["margin"] = True
+    for name, maximise in pareto or []:
+        wanted[name] = maximise
+    best = {}
+    for name, maximise in wanted.items():
+        values = np.array(columns[name], dtype=float)
+        if not np.any(np.isfinite(values)):
+            continue
+        k = int(np.nanargmax(values) if maximise else np.nanargmin(values))
+        best[name] = {"goal": "max" if maximise else "min", "value": float(values[k]), "row": k,
+                      "variant": {key: float(columns[key][k]) for key in keys}, "rating": str(rating[k])}  # fmt: skip
+    ok = int(np.count_nonzero(status == "ok"))
+    passing = int(np.count_nonzero(rating == "pass")) if rated else ok
+    return {
+        "rows": int(status.size),
+        "ok": ok,
+        "cannot_assemble": int(np.count_nonzero(status == "cannot_assemble")),
+        "out_of_workspace": int(np.count_nonzero(status == "out_of_workspace")),
+        "rated": rated,
+        "pass": int(np.count_nonzero(rating == "pass")),
+        "fail": int(np.count_nonzero(rating == "fail")),
+        "unchecked": int(np.count_nonzero(rating == "unchecked")),
+        "passing": passing,
+        "best": best,
+    }
+
+
+def _figure(columns: dict, pareto, out: Path, summary: dict):
+    from ..analysis.sweep import pareto_front
+    from ..present.figures import save_figure
+    from ..present.sweep_figures import plot_pareto
+
+    (x_name, x_max), (y_name, y_max) = pareto
+    values = np.column_stack([np.array(columns[x_name], dtype=float), np.array(columns[y_name], dtype=float)])
+    front = pareto_front(values, (x_max, y_max))
+    summary["pareto_front"] = [
+        {key: float(columns[key][k]) for key in summary["keys"]} | {x_name: float(values[k, 0]), y_name: float(values[k, 1])}
+        for k in np.flatnonzero(front)
+    ]
+    title = f"{summary['rows']} variants of {', '.join(summary['keys'])} along {summary['trajectory']} ({summary['model']} model)"
+    fig = plot_pareto(values[:, 0], values[:, 1], front, (x_name, y_name), (x_max, y_max), columns["rating"], title)
+    return save_figure(fig, out.parent if str(out.parent) else Path("."), f"{out.stem}_pareto")
+
+
+def format_summary(summary: dict) -> str:
+    """The sweep's summary as plain text."""
+    from .main import _format_table
+
+    keys = summary["keys"]
+    lines = [
+        f"sweep of {summary['variants']} variants over {', '.join(keys)}: {summary['new']} run in {summary['seconds']:.1f} s, "
+        f"{summary['skipped']} already in {summary['out']}",
+        f"trajectory: {summary['trajectory']} ({summary['samples']} samples); model: {summary['model']}; parameters: {summary['parameters']}",
+        f"rows: {summary['rows']}: {summary['ok']} ok, {summary['cannot_assemble']} cannot assemble, {summary['out_of_workspace']} out of the workspace",
+    ]
+    if summary["rated"]:
+        lines.append(f"rating ({summary['drive'] or 'the [motor] table'}): {summary['pass']} pass, {summary['fail']} FAIL, {summary['unchecked']} unchecked")
+    else:
+        lines.append("rating: none checked (give --drive FILE or a [motor] table, e.g. --set motor.peak_torque_Nmm=500)")
+    rows = []
+    for name, best in summary["best"].items():
+        rows.append([name, best["goal"], f"{best['value']:.6g}", *(f"{best['variant'][k]:.6g}" for k in keys), best["rating"]])
+    lines += ["", _format_table(["objective", "goal", "best", *keys, "rating"], rows, "Best variant per objective")]
+    if "figure" in summary:
+        lines += ["", f"Pareto front: {len(summary['pareto_front'])} variants; figure {', '.join(summary['figure'])}"]
+    lines.append(f"\nwrote {summary['out']} ({summary['rows']} rows)")
+    return "\n".join(lines)
