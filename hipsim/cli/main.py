@@ -20,7 +20,8 @@ import numpy as np
 from ..exceptions import ArgumentError, HipsimError
 from ..files import exit_on_terminate, is_stdout
 from .motion_options import add_trajectory_options as _add_trajectory_options
-from .motion_options import builtin_frequency, cycle_period, locate
+from .motion_options import builtin_frequency, cycle_period, locate, span
+from .motion_options import load_source as _source
 from .motion_options import load_trajectory as _trajectory
 
 __all__ = ["main"]
@@ -94,32 +95,63 @@ def format_summary(summary: dict) -> str:
 
 
 def _cycle_of(time: float, trajectory, period: float | None) -> dict:
-    """Which cycle (from 1) a time in [s] falls in and how far into it, when the run spans more than one cycle."""
-    t = trajectory.t
-    span = t[-1] - t[0] + ((t[-1] - t[0]) / (t.size - 1) if trajectory.periodic and t.size > 1 else 0.0)
-    if period is None or span <= period * (1 + 1e-9):
+    """Which cycle (from 1) a time in [s] falls in and how far into it, when the run spans more than one cycle (a trajectory or a source)."""
+    start = float(trajectory.t[0]) if hasattr(trajectory, "t") else trajectory.time(0)
+    if period is None or span(trajectory) <= period * (1 + 1e-9):
         return {}
     # A hair over whole cycles: a time printed as 395.0 s is the start of cycle 396, not the end of 395.
-    cycle = math.floor((time - t[0]) / period + 1e-9)
-    return {"cond_inv_min_cycle": cycle + 1, "cond_inv_min_t_in_cycle_s": max(0.0, time - t[0] - cycle * period)}
+    cycle = math.floor((time - start) / period + 1e-9)
+    return {"cond_inv_min_cycle": cycle + 1, "cond_inv_min_t_in_cycle_s": max(0.0, time - start - cycle * period)}
+
+
+def _progress(what: str):
+    """A progress callback (done, total) drawing a tqdm bar on a terminal once a run takes over 2 s; None elsewhere."""
+    if not sys.stderr.isatty():
+        return None
+    from tqdm import tqdm
+
+    bars = []
+
+    def update(done: int, total: int) -> None:
+        if not bars:
+            bars.append(tqdm(total=total, desc=what, unit=" samples", unit_scale=True, delay=2.0, file=sys.stderr, leave=False))
+        bars[0].update(done - bars[0].n)
+        if done >= total:
+            bars[0].close()
+
+    return update
+
+
+def _file_metadata(params) -> dict[str, str]:
+    """A results file's key-value metadata: the hipsim version and the parameter set as a parameter file's text."""
+    from .. import __version__
+    from ..analysis.identification import parameter_toml
+
+    return {"hipsim.version": __version__, "hipsim.parameters_source": str(params.source), "hipsim.parameters": parameter_toml(params)}
 
 
 def _cmd_torques(args) -> int:
-    from ..analysis.runs import analyse
+    from ..analysis.streaming import stream_run
+    from ..files import ColumnWriter, check_output
 
+    check_output(args.out)  # an unusable output is refused before the computing
     params = _parameters(args)
-    trajectory = _trajectory(args)
-    result = analyse(params, trajectory, model=args.model, on_error="flag" if args.flag_bad_poses else "raise")
-    path = result.write_csv(args.out)
-    summary = result.summary()
-    summary |= _cycle_of(summary["cond_inv_min_t_s"], trajectory, cycle_period(args, trajectory))
+    source = _source(args)
+    with ColumnWriter(args.out, _file_metadata(params)) as writer:
+        summary = stream_run(
+            params, source, model=args.model, on_error="flag" if args.flag_bad_poses else "raise", write=writer.write,
+            progress=_progress(f"{args.model} model"),
+        )
+        path = writer.close()
+    summary |= _cycle_of(summary["cond_inv_min_t_s"], source, cycle_period(args, source))
     report = sys.stderr if is_stdout(args.out) else sys.stdout  # the CSV has standard output
+    kind = "Parquet" if writer.parquet else "CSV"
     if args.summary_format == "json":
-        print(json.dumps(summary | {"csv": str(path)}, indent=2), file=report)
+        print(json.dumps(summary | {("parquet" if writer.parquet else "csv"): str(path)}, indent=2), file=report)
     else:
         print(format_summary(summary), file=report)
         where = "the CSV to standard output" if is_stdout(args.out) else path
-        print(f"\nwrote {where} ({summary['samples']} rows, {len(result.columns())} columns)", file=report)
+        print(f"\nwrote {where} ({summary['samples']} rows, {len(writer.names)} columns{', Parquet' if kind == 'Parquet' else ''})", file=report)
     return 0
 
 
@@ -343,13 +375,14 @@ def _cmd_check(args) -> int:
     from ..analysis.crosscheck import TOLERANCE, compare_models
 
     params = _parameters(args)
-    trajectory = _trajectory(args)
     if args.engine == "mujoco":
         from ..analysis.engines import compare_mujoco
 
+        trajectory = _trajectory(args)
         comparisons = compare_mujoco(params, trajectory)
     else:
-        comparisons = compare_models(params, trajectory)
+        trajectory = _source(args)
+        comparisons = compare_models(params, trajectory, progress=_progress("check"))
     failed = False
     for comparison in comparisons:
         header = ["column", "max |diff| [column unit]", "max |diff| / peak"]
@@ -414,7 +447,11 @@ def build_parser() -> argparse.ArgumentParser:
     _add_machine_options(torques)
     _add_trajectory_options(torques)
     torques.add_argument("--model", choices=["analytic", "pinocchio", "mujoco"], default="analytic", help="which model computes the torques (default analytic; mujoco needs the mujoco extra)")
-    torques.add_argument("--out", default="hipsim_torques.csv", metavar="FILE", help="CSV to write (default hipsim_torques.csv)")
+    torques.add_argument(
+        "--out", default="hipsim_torques.csv", metavar="FILE",
+        help="CSV to write (default hipsim_torques.csv); a .parquet name writes Apache Parquet (the same columns, the parameter set "
+        "and hipsim version in its metadata); - for CSV on standard output",
+    )
     torques.add_argument("--summary-format", choices=["table", "json"], default="table", help="summary on standard output")
     torques.add_argument(
         "--flag-bad-poses", action="store_true",
