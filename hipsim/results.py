@@ -284,6 +284,8 @@ class Summary:
         if not ok.any():
             return self
         self.kept += int(np.count_nonzero(ok))
+        if ok.all():  # the usual case: no copies through the mask
+            ok = slice(None)
         peaks = {
             "L": run.L[ok].max(axis=0) * 1e3, "Ld": np.abs(run.Ld[ok]).max(axis=0) * 1e3,
             "Ldd": np.abs(run.Ldd[ok]).max(axis=0) * 1e3, "speed": np.abs(run.torques.motor_speed[ok]).max(axis=0) * _RPM,
@@ -301,7 +303,7 @@ class Summary:
             self._fold(self._peaks, key, values, np.maximum)
         self._fold(self._lows, "L", run.L[ok].min(axis=0) * 1e3, np.minimum)
         self._squares.add(np.hstack(squares))
-        k = int(np.nanargmin(np.where(ok, run.cond_inv, np.nan)))
+        k = int(np.nanargmin(run.cond_inv if isinstance(ok, slice) else np.where(ok, run.cond_inv, np.nan)))
         if run.cond_inv[k] < self._cond_inv_min:  # strictly: the first sample of the smallest value, as in one piece
             self._cond_inv_min, self._cond_inv_t = float(run.cond_inv[k]), float(run.t[k])
         return self
