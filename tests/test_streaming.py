@@ -215,3 +215,43 @@ def test_run_to_dataframe(params, monkeypatch):
     monkeypatch.setitem(sys.modules, "pandas", None)  # as if not installed
     with pytest.raises(MissingDependencyError, match=r"pip install -U 'hipsim\[pandas\]'"):
         run.to_dataframe()
+
+
+# --------------------------------------------------------------------------- scripts: JSON summaries, exit codes, version
+
+
+def test_version(capsys):
+    with pytest.raises(SystemExit) as done:
+        main(["--version"])
+    assert done.value.code == 0 and capsys.readouterr().out.strip() == f"hipsim {hipsim.__version__}"
+
+
+def test_check_summary_as_json(capsys):
+    import json
+
+    assert main(["check", "--rate", "100", "--summary-format", "json"]) == 0
+    document = json.loads(capsys.readouterr().out)
+    assert document["agree"] is True and document["samples"] == 100
+    assert [c["name"] for c in document["comparisons"]] == ["exact", "published", "published+spin"]
+    spin = document["comparisons"][2]
+    assert spin["required"] and spin["worst"] <= document["tolerance"]
+    assert {row["column"] for row in spin["columns"]} >= {"tau_1_Nmm", "L_11_mm", "cond_inv"}
+
+
+def test_report_exits_1_and_says_so_when_the_drive_fails(tmp_path, capsys):
+    """A motor rated far below the machine's torques (30 N·mm continuous against ~200 N·mm RMS) fails its check."""
+    import json
+
+    weak = tmp_path / "weak.toml"
+    weak.write_text('[motor]\nname = "too small"\ns1_torque_Nmm = 30\npeak_torque_Nmm = 60\nmax_speed_rpm = 6000\n')
+    common = ["report", "--rate", "100", "--model", "analytic", "--motor", str(weak)]
+    assert main([*common, "--out", str(tmp_path / "r1")]) == 1
+    captured = capsys.readouterr()
+    assert "rating check of too small: FAIL" in captured.out and "exit status 1" in captured.err
+    assert (tmp_path / "r1" / "index.html").exists()  # the report is written all the same
+    assert main([*common, "--out", str(tmp_path / "r2"), "--summary-format", "json"]) == 1
+    document = json.loads(capsys.readouterr().out)
+    assert document["rating_check"] == "FAIL" and document["sizing"]["passed"] is False and document["motors"]["1"]["tau_rms_Nmm"] > 30
+    strong = tmp_path / "strong.toml"
+    strong.write_text('[motor]\nname = "big"\ns1_torque_Nmm = 5000\npeak_torque_Nmm = 9000\nmax_speed_rpm = 6000\n')
+    assert main(["report", "--rate", "100", "--model", "analytic", "--motor", str(strong), "--out", str(tmp_path / "r3")]) == 0
