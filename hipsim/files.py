@@ -155,6 +155,37 @@ def write_atomic(path: str | Path, text: str | bytes) -> Path:
     if is_stdout(path):
         _write_stdout(text)
         return Path(STDOUT)
+    given, path = _target(path)
+    folder = path.parent if str(path.parent) else Path(".")
+    mode = "wb" if isinstance(text, bytes) else "w"
+    with exit_on_terminate():
+        try:
+            handle, temporary = tempfile.mkstemp(dir=folder, prefix=f".{path.name}.", suffix=".part")
+        except OSError as error:
+            raise OutputError(path, f"cannot write ({error.strerror})") from None
+        try:
+            # mkstemp makes the file private (0600); give it the permissions any new file would get.
+            umask = os.umask(0)
+            os.umask(umask)
+            os.chmod(temporary, 0o666 & ~umask)
+            with os.fdopen(handle, mode, **({} if mode == "wb" else {"encoding": "utf-8", "newline": ""})) as stream:
+                stream.write(text)
+            os.replace(temporary, path)
+        except OSError as error:  # disk full, permissions, a rename refused
+            Path(temporary).unlink(missing_ok=True)
+            raise OutputError(path, f"cannot write ({error.strerror or error})") from None
+        except BaseException:  # Ctrl-C, SIGTERM (as SystemExit), anything else
+            Path(temporary).unlink(missing_ok=True)
+            raise
+    return path
+
+
+def _target(path) -> tuple[Path, Path]:
+    """The path as given and the file a write lands in (through a link), after every check that needs no writing.
+
+    Raises:
+        OutputError: as :func:`write_atomic`.
+    """
     given = Path(path)
     if str(given) in ("/dev/stderr", "/dev/stdin") or str(given).startswith(("/dev/fd/", "/proc/self/fd/")):
         # Renaming a file over what a descriptor points to would leave the descriptor on the old file.
@@ -182,27 +213,7 @@ def write_atomic(path: str | Path, text: str | bytes) -> Path:
     if path.exists() and not path.is_file():
         # A device, pipe or socket: renaming a new file over it would destroy it.
         raise OutputError(given, "not a regular file; hipsim writes results only to regular files")
-    mode = "wb" if isinstance(text, bytes) else "w"
-    with exit_on_terminate():
-        try:
-            handle, temporary = tempfile.mkstemp(dir=folder, prefix=f".{path.name}.", suffix=".part")
-        except OSError as error:
-            raise OutputError(path, f"cannot write ({error.strerror})") from None
-        try:
-            # mkstemp makes the file private (0600); give it the permissions any new file would get.
-            umask = os.umask(0)
-            os.umask(umask)
-            os.chmod(temporary, 0o666 & ~umask)
-            with os.fdopen(handle, mode, **({} if mode == "wb" else {"encoding": "utf-8", "newline": ""})) as stream:
-                stream.write(text)
-            os.replace(temporary, path)
-        except OSError as error:  # disk full, permissions, a rename refused
-            Path(temporary).unlink(missing_ok=True)
-            raise OutputError(path, f"cannot write ({error.strerror or error})") from None
-        except BaseException:  # Ctrl-C, SIGTERM (as SystemExit), anything else
-            Path(temporary).unlink(missing_ok=True)
-            raise
-    return path
+    return given, path
 
 
 def _write_stdout(text: str | bytes) -> None:
@@ -242,41 +253,25 @@ def csv_rows(columns: Mapping[str, np.ndarray]) -> str:
     return "".join([line % tuple(row) + "\n" for row in rows])
 
 
-def check_output(path: str | Path, suffixes: tuple[str, ...] = ()) -> Path:
+def check_output(path: str | Path) -> Path:
     """Check, before the work, that an output file could be written: what :func:`write_atomic` would refuse, refused now.
 
     ``-`` (standard output) passes. Nothing is created.
 
     Args:
         path: the file to write.
-        suffixes: the suffixes allowed (e.g. ``(".csv", ".parquet")``); empty for any.
+
+    Returns:
+        The path as given.
 
     Raises:
         OutputError: the folder is missing or not writable, the path is a
-            folder, a device, pipe or socket, or has a suffix not allowed.
+            folder, a device, pipe or socket, or a loop of links.
     """
     if is_stdout(path):
         return Path(STDOUT)
-    given = Path(path)
-    if suffixes and given.suffix.lower() not in suffixes and not (given.exists() and not given.is_file()):
-        raise OutputError(given, f"unknown suffix '{given.suffix}' (expected {', '.join(suffixes)})")
-    if str(given) in ("/dev/stderr", "/dev/stdin") or str(given).startswith(("/dev/fd/", "/proc/self/fd/")):
-        raise OutputError(given, "names one of this process's open files, not a file to write; give a file name (or '-', standard output)")
-    try:
-        mode = os.stat(given).st_mode
-    except (OSError, ValueError):
-        mode = None
-    if mode is not None and stat.S_ISDIR(mode):
-        raise OutputError(given, "cannot write, it is a folder")
-    if mode is not None and not stat.S_ISREG(mode):
-        raise OutputError(given, "not a regular file; hipsim writes results only to regular files (or '-', standard output)")
-    try:
-        target = given.resolve() if given.is_symlink() else given
-    except (OSError, RuntimeError):
-        raise OutputError(given, "cannot write, its symbolic links go round in a loop") from None
+    given, target = _target(path)
     folder = target.parent if str(target.parent) else Path(".")
-    if not folder.is_dir():
-        raise OutputError(given, f"cannot write, folder '{folder}' does not exist")
     if not os.access(folder, os.W_OK | os.X_OK):
         raise OutputError(given, f"cannot write, folder '{folder}' is not writable")
     return given
@@ -310,8 +305,7 @@ class ColumnWriter:
         if is_stdout(path):
             self._stream = sys.stdout
             return
-        target = self.path.resolve() if self.path.is_symlink() else self.path
-        self._target = target
+        self._target = target = _target(self.path)[1]
         try:
             handle, temporary = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".part")
         except OSError as error:
