@@ -301,7 +301,7 @@ class ColumnWriter:
         self.metadata = dict(metadata or {})
         self.names: list[str] | None = None
         self.rows = 0
-        self._stream = self._temporary = self._parquet = None
+        self._stream = self._temporary = self._parquet = self._pending = self._executor = None
         if is_stdout(path):
             self._stream = sys.stdout
             return
@@ -345,6 +345,7 @@ class ColumnWriter:
     def _write_parquet(self, columns: Mapping[str, np.ndarray]) -> None:
         import pyarrow as pa  # loaded only when a Parquet file is written
         import pyarrow.parquet as pq
+
         table = pa.table({name: np.asarray(values, dtype=float) for name, values in columns.items()})
         if self._parquet is None:
             schema = table.schema.with_metadata(self.metadata)
@@ -353,10 +354,25 @@ class ColumnWriter:
                 self._parquet = pq.ParquetWriter(str(self._temporary), schema, use_dictionary=False)
             except OSError as error:
                 raise OutputError(self.path, f"cannot write ({error})") from None
-        try:
-            self._parquet.write_table(table.replace_schema_metadata(self.metadata))
-        except OSError as error:
-            raise OutputError(self.path, f"cannot write ({error})") from None
+        # One piece is encoded and written on a thread (pyarrow lets go of the GIL) while the next is computed.
+        self._finish_pending()
+        self._pending = self._thread().submit(self._parquet.write_table, table.replace_schema_metadata(self.metadata))
+
+    def _thread(self):
+        if self._executor is None:
+            from concurrent.futures import ThreadPoolExecutor
+
+            self._executor = ThreadPoolExecutor(max_workers=1, thread_name_prefix="hipsim-parquet")
+        return self._executor
+
+    def _finish_pending(self) -> None:
+        """Wait for the piece being written; its error, if any, raised here."""
+        pending, self._pending = self._pending, None
+        if pending is not None:
+            try:
+                pending.result()
+            except OSError as error:
+                raise OutputError(self.path, f"cannot write ({error})") from None
 
     def close(self) -> Path:
         """Finish the file and put it in place. Returns the path written (``-`` for standard output)."""
@@ -369,7 +385,9 @@ class ColumnWriter:
             if self.parquet:
                 if self._parquet is None:
                     raise OutputError(self.path, "nothing to write")
+                self._finish_pending()
                 self._parquet.close()
+                self._executor.shutdown()
             else:
                 self._stream.close()
             os.replace(self._temporary, self._target)
@@ -384,6 +402,8 @@ class ColumnWriter:
         if self._temporary is None:
             return
         try:
+            if self._executor is not None:
+                self._executor.shutdown(wait=True, cancel_futures=True)
             if self._parquet is not None:
                 self._parquet.close()
             elif self._stream is not None and not self._stream.closed:

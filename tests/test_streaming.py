@@ -161,6 +161,22 @@ def test_column_writer_is_atomic(tmp_path):
     assert path.read_text() == "a_s,b_N\n0,0.5\n1,nan\n2,1e-13\n"
 
 
+def test_parquet_writer_is_atomic_and_keeps_the_pieces_in_order(tmp_path):
+    path = tmp_path / "run.parquet"
+    with pytest.raises(KeyboardInterrupt):
+        with ColumnWriter(path, {"note": "x"}) as writer:
+            writer.write({"a_s": np.arange(3.0)})
+            raise KeyboardInterrupt
+    assert not path.exists() and not list(tmp_path.glob(".*part"))
+    with ColumnWriter(path, {"note": "x"}) as writer:
+        for start in range(0, 1000, 70):
+            writer.write({"a_s": np.arange(start, min(start + 70, 1000), dtype=float)})
+        writer.close()
+    parquet = pq.ParquetFile(path)
+    assert parquet.metadata.num_row_groups == 15 and parquet.schema_arrow.metadata[b"note"] == b"x"
+    np.testing.assert_array_equal(parquet.read().column("a_s").to_numpy(), np.arange(1000.0))
+
+
 @pytest.mark.parametrize("bad, reason", [("missing/x.csv", "does not exist"), (".", "is a folder"), ("/dev/null", "not a regular file")])
 def test_outputs_are_checked_before_the_work(tmp_path, monkeypatch, capsys, bad, reason):
     import hipsim.analysis.streaming as streaming
