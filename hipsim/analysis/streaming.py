@@ -140,10 +140,12 @@ def stream_run(
     if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
         raise ArgumentError("chunk", chunk, "a positive number of samples")
     runner = PieceRunner(params, source, model, on_error, lever_spin)
-    summary = Summary(runner.model.name, params, source.name, model != "analytic")
+    summary = None
     n = len(source)
     for start, stop in pieces(source, chunk):
         run = runner.run(start, source.piece(start, stop))
+        if summary is None:  # whether there are joint forces: what the model gives
+            summary = Summary(run.model, params, source.name, run.joint_forces is not None)
         summary.add(run)
         if write is not None:
             columns = run.columns()
