@@ -27,7 +27,7 @@ import numpy as np
 from .exceptions import OutputError
 
 __all__ = [
-    "STDOUT", "check_folder", "exit_on_terminate", "is_stdout", "json_ready", "make_folder", "output_folder", "write_atomic", "write_columns",
+    "STDOUT", "ColumnWriter", "check_folder", "check_output", "csv_header", "csv_rows", "exit_on_terminate", "is_stdout", "json_ready", "make_folder", "output_folder", "write_atomic", "write_columns",
 ]
 
 #: The name of standard output as an output path.
@@ -155,6 +155,37 @@ def write_atomic(path: str | Path, text: str | bytes) -> Path:
     if is_stdout(path):
         _write_stdout(text)
         return Path(STDOUT)
+    given, path = _target(path)
+    folder = path.parent if str(path.parent) else Path(".")
+    mode = "wb" if isinstance(text, bytes) else "w"
+    with exit_on_terminate():
+        try:
+            handle, temporary = tempfile.mkstemp(dir=folder, prefix=f".{path.name}.", suffix=".part")
+        except OSError as error:
+            raise OutputError(path, f"cannot write ({error.strerror})") from None
+        try:
+            # mkstemp makes the file private (0600); give it the permissions any new file would get.
+            umask = os.umask(0)
+            os.umask(umask)
+            os.chmod(temporary, 0o666 & ~umask)
+            with os.fdopen(handle, mode, **({} if mode == "wb" else {"encoding": "utf-8", "newline": ""})) as stream:
+                stream.write(text)
+            os.replace(temporary, path)
+        except OSError as error:  # disk full, permissions, a rename refused
+            Path(temporary).unlink(missing_ok=True)
+            raise OutputError(path, f"cannot write ({error.strerror or error})") from None
+        except BaseException:  # Ctrl-C, SIGTERM (as SystemExit), anything else
+            Path(temporary).unlink(missing_ok=True)
+            raise
+    return path
+
+
+def _target(path) -> tuple[Path, Path]:
+    """The path as given and the file a write lands in (through a link), after every check that needs no writing.
+
+    Raises:
+        OutputError: as :func:`write_atomic`.
+    """
     given = Path(path)
     if str(given) in ("/dev/stderr", "/dev/stdin") or str(given).startswith(("/dev/fd/", "/proc/self/fd/")):
         # Renaming a file over what a descriptor points to would leave the descriptor on the old file.
@@ -182,27 +213,7 @@ def write_atomic(path: str | Path, text: str | bytes) -> Path:
     if path.exists() and not path.is_file():
         # A device, pipe or socket: renaming a new file over it would destroy it.
         raise OutputError(given, "not a regular file; hipsim writes results only to regular files")
-    mode = "wb" if isinstance(text, bytes) else "w"
-    with exit_on_terminate():
-        try:
-            handle, temporary = tempfile.mkstemp(dir=folder, prefix=f".{path.name}.", suffix=".part")
-        except OSError as error:
-            raise OutputError(path, f"cannot write ({error.strerror})") from None
-        try:
-            # mkstemp makes the file private (0600); give it the permissions any new file would get.
-            umask = os.umask(0)
-            os.umask(umask)
-            os.chmod(temporary, 0o666 & ~umask)
-            with os.fdopen(handle, mode, **({} if mode == "wb" else {"encoding": "utf-8", "newline": ""})) as stream:
-                stream.write(text)
-            os.replace(temporary, path)
-        except OSError as error:  # disk full, permissions, a rename refused
-            Path(temporary).unlink(missing_ok=True)
-            raise OutputError(path, f"cannot write ({error.strerror or error})") from None
-        except BaseException:  # Ctrl-C, SIGTERM (as SystemExit), anything else
-            Path(temporary).unlink(missing_ok=True)
-            raise
-    return path
+    return given, path
 
 
 def _write_stdout(text: str | bytes) -> None:
@@ -223,12 +234,191 @@ def write_columns(path: str | Path, columns: Mapping[str, np.ndarray]) -> Path:
         path: the CSV file.
         columns: column name (with its unit) → values, each of shape (N,).
     """
+    return write_atomic(path, csv_header(columns) + csv_rows(columns))
+
+
+def csv_header(names) -> str:
+    """The CSV header line of these column names."""
     buffer = io.StringIO()
-    writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(columns)
-    for row in np.column_stack(list(columns.values())):
-        writer.writerow([f"{x:.12g}" for x in row])
-    return write_atomic(path, buffer.getvalue())
+    csv.writer(buffer, lineterminator="\n").writerow(names)
+    return buffer.getvalue()
+
+
+def csv_rows(columns: Mapping[str, np.ndarray]) -> str:
+    """The rows of named columns as CSV text, 12 significant digits, each row ending in a newline."""
+    if not columns:
+        return ""
+    line = ",".join(["%.12g"] * len(columns))
+    rows = np.column_stack(list(columns.values())).tolist()
+    return "".join([line % tuple(row) + "\n" for row in rows])
+
+
+def check_output(path: str | Path) -> Path:
+    """Check, before the work, that an output file could be written: what :func:`write_atomic` would refuse, refused now.
+
+    ``-`` (standard output) passes. Nothing is created.
+
+    Args:
+        path: the file to write.
+
+    Returns:
+        The path as given.
+
+    Raises:
+        OutputError: the folder is missing or not writable, the path is a
+            folder, a device, pipe or socket, or a loop of links.
+    """
+    if is_stdout(path):
+        return Path(STDOUT)
+    given, target = _target(path)
+    folder = target.parent if str(target.parent) else Path(".")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise OutputError(given, f"cannot write, folder '{folder}' is not writable")
+    return given
+
+
+class ColumnWriter:
+    """Named columns written piece by piece to one CSV or Parquet file, atomically: the whole file at the end or none.
+
+    The format follows the suffix (``.parquet``: Apache Parquet, one row
+    group a piece; anything else: CSV as :func:`write_columns` writes it).
+    The pieces go to a temporary ``.part`` file beside the path, renamed over
+    it by :meth:`close`; leaving the ``with`` block by an exception (Ctrl-C,
+    SIGTERM inside :func:`exit_on_terminate`) removes it. ``-`` writes CSV
+    to standard output as the pieces come (it cannot be taken back).
+
+    Args:
+        path: the file to write.
+        metadata: Parquet only: text key-value metadata for the file (e.g. the parameter set).
+
+    Raises:
+        OutputError: as :func:`check_output`, or when a write fails.
+    """
+
+    def __init__(self, path: str | Path, metadata: Mapping[str, str] | None = None):
+        self.path = check_output(path)
+        self.parquet = not is_stdout(path) and self.path.suffix.lower() == ".parquet"
+        self.metadata = dict(metadata or {})
+        self.names: list[str] | None = None
+        self.rows = 0
+        self._stream = self._temporary = self._parquet = self._pending = self._executor = None
+        if is_stdout(path):
+            self._stream = sys.stdout
+            return
+        self._target = target = _target(self.path)[1]
+        try:
+            handle, temporary = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".part")
+        except OSError as error:
+            raise OutputError(self.path, f"cannot write ({error.strerror})") from None
+        self._temporary = Path(temporary)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(temporary, 0o666 & ~umask)
+        if self.parquet:
+            os.close(handle)
+        else:
+            self._stream = os.fdopen(handle, "w", encoding="utf-8", newline="")
+
+    def write(self, columns: Mapping[str, np.ndarray]) -> None:
+        """Append one piece: the same column names, in the same order, every time."""
+        names = list(columns)
+        if self.names is None:
+            self.names = names
+            if not self.parquet:
+                self._text(csv_header(names))
+        elif names != self.names:
+            raise OutputError(self.path, f"a piece has the columns {names}, the file {self.names}")
+        if self.parquet:
+            self._write_parquet(columns)
+        else:
+            self._text(csv_rows(columns))
+        self.rows += len(next(iter(columns.values()))) if columns else 0
+
+    def _text(self, text: str) -> None:
+        try:
+            self._stream.write(text)
+        except OSError as error:
+            if isinstance(error, BrokenPipeError):
+                raise
+            raise OutputError(self.path, f"cannot write ({error.strerror or error})") from None
+
+    def _write_parquet(self, columns: Mapping[str, np.ndarray]) -> None:
+        import pyarrow as pa  # loaded only when a Parquet file is written
+        import pyarrow.parquet as pq
+
+        table = pa.table({name: np.asarray(values, dtype=float) for name, values in columns.items()})
+        if self._parquet is None:
+            schema = table.schema.with_metadata(self.metadata)
+            try:
+                # No dictionary encoding: measured floats hardly repeat, and trying costs 4x the write.
+                self._parquet = pq.ParquetWriter(str(self._temporary), schema, use_dictionary=False)
+            except OSError as error:
+                raise OutputError(self.path, f"cannot write ({error})") from None
+        # One piece is encoded and written on a thread (pyarrow lets go of the GIL) while the next is computed.
+        self._finish_pending()
+        self._pending = self._thread().submit(self._parquet.write_table, table.replace_schema_metadata(self.metadata))
+
+    def _thread(self):
+        if self._executor is None:
+            from concurrent.futures import ThreadPoolExecutor
+
+            self._executor = ThreadPoolExecutor(max_workers=1, thread_name_prefix="hipsim-parquet")
+        return self._executor
+
+    def _finish_pending(self) -> None:
+        """Wait for the piece being written; its error, if any, raised here."""
+        pending, self._pending = self._pending, None
+        if pending is not None:
+            try:
+                pending.result()
+            except OSError as error:
+                raise OutputError(self.path, f"cannot write ({error})") from None
+
+    def close(self) -> Path:
+        """Finish the file and put it in place. Returns the path written (``-`` for standard output)."""
+        if self.names is None and not self.parquet:
+            self._text("")
+        if self._temporary is None:
+            self._stream.flush()
+            return Path(STDOUT)
+        try:
+            if self.parquet:
+                if self._parquet is None:
+                    raise OutputError(self.path, "nothing to write")
+                self._finish_pending()
+                self._parquet.close()
+                self._executor.shutdown()
+            else:
+                self._stream.close()
+            os.replace(self._temporary, self._target)
+        except OSError as error:
+            self.abort()
+            raise OutputError(self.path, f"cannot write ({error.strerror or error})") from None
+        self._temporary = None
+        return self.path
+
+    def abort(self) -> None:
+        """Drop the temporary file (after a failure); the path keeps what it held before."""
+        if self._temporary is None:
+            return
+        try:
+            if self._executor is not None:
+                self._executor.shutdown(wait=True, cancel_futures=True)
+            if self._parquet is not None:
+                self._parquet.close()
+            elif self._stream is not None and not self._stream.closed:
+                self._stream.close()
+        except Exception:  # a broken writer: the file goes anyway
+            pass
+        self._temporary.unlink(missing_ok=True)
+        self._temporary = None
+
+    def __enter__(self) -> "ColumnWriter":
+        return self
+
+    def __exit__(self, kind, error, traceback) -> None:
+        if kind is not None:
+            self.abort()
 
 
 def json_ready(value):

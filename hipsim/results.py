@@ -13,6 +13,7 @@ Units: SI inside (m, s, rad, N, N·m); :meth:`Run.columns` and
 from __future__ import annotations
 
 import math
+from fractions import Fraction
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -20,12 +21,12 @@ from typing import Any
 import numpy as np
 
 from .arrays import check_shapes
-from .exceptions import ArgumentError
+from .exceptions import ArgumentError, MissingDependencyError
 from .files import write_columns
 from .machine.parameters import Parameters
 from .motion.trajectories import Trajectory
 
-__all__ = ["JointForces", "Run", "Torques", "column_names", "peak_and_rms"]
+__all__ = ["ExactSum", "JointForces", "Run", "Summary", "Torques", "column_names", "peak_and_rms"]
 
 _RPM = 60.0 / (2.0 * math.pi)
 
@@ -147,6 +148,15 @@ class Run:
         """Sample times in [s], (N,)."""
         return self.trajectory.t
 
+    def slice(self, index: slice) -> "Run":
+        """The samples selected by ``index`` (a slice), every field cut alike."""
+        torques = Torques(**{name: getattr(self.torques, name)[index] for name in Torques.__dataclass_fields__})
+        forces = None if self.joint_forces is None else JointForces(self.joint_forces.Fa[index], self.joint_forces.Fo[index])
+        return Run(
+            self.model, self.params, self.trajectory.slice(index), self.L[index], self.Ld[index], self.Ldd[index], torques,
+            self.cond_inv[index], self.flagged[index], forces,
+        )
+
     def columns(self) -> dict[str, np.ndarray]:
         """The spec §7.5 columns, in their units, by name (``flagged`` added when any sample is)."""
         out: dict[str, np.ndarray] = {"t_s": self.trajectory.t}
@@ -180,50 +190,156 @@ class Run:
 
         Values in mm, mm/s, mm/s², N·mm, rpm (keys say which), over the samples
         that are not flagged. RMS values are over the samples, which is the
-        cycle RMS when the trajectory is periodic.
+        cycle RMS when the trajectory is periodic. The same as a
+        :class:`Summary` fed this run in any number of pieces.
         """
-        ok = ~self.flagged
-        sliders = {}
-        for j in (1, 2):
-            for i in (1, 2, 3):
-                L = self.L[ok, j - 1, i - 1] * 1e3
-                sliders[f"{j}{i}"] = {
-                    "L_max_mm": float(L.max()),
-                    "L_min_mm": float(L.min()),
-                    "stroke_mm": float(L.max() - L.min()),
-                    "Ld_max_mm_s": float(np.abs(self.Ld[ok, j - 1, i - 1]).max() * 1e3),
-                    "Ldd_max_mm_s2": float(np.abs(self.Ldd[ok, j - 1, i - 1]).max() * 1e3),
-                }
-        torques = self.torques
-        tau_peak, tau_rms = peak_and_rms(torques.total[ok] * 1e3)
-        speed_peak, _ = peak_and_rms(torques.motor_speed[ok] * _RPM)
-        part_peaks = {field: peak_and_rms(getattr(torques, field)[ok] * 1e3)[0] for field in Torques.PARTS}
-        motors = {}
-        for i in range(3):
-            entry = {f"{Torques.COLUMN[field]}_max_Nmm": float(peaks[i]) for field, peaks in part_peaks.items()}
-            entry |= {"tau_peak_Nmm": float(tau_peak[i]), "tau_rms_Nmm": float(tau_rms[i]), "speed_peak_rpm": float(speed_peak[i])}
-            motors[str(i + 1)] = entry
-        k = int(np.nanargmin(np.where(ok, self.cond_inv, np.nan)))
-        summary = {
-            "model": self.model,
-            "trajectory": self.trajectory.name,
-            "parameters": self.params.source,
-            "samples": int(self.trajectory.t.size),
-            "flagged_samples": int(np.count_nonzero(self.flagged)),
-            "sliders": sliders,
-            "motors": motors,
-            "cond_inv_min": float(self.cond_inv[k]),
-            "cond_inv_min_t_s": float(self.trajectory.t[k]),
-        }
-        if self.joint_forces is not None:
-            Fa_peak, Fa_rms = peak_and_rms(self.joint_forces.Fa[ok])
-            Fo_peak, Fo_rms = peak_and_rms(self.joint_forces.Fo[ok])
-            summary["joints"] = {
-                **{f"Fa_{j}{i}": {"peak_N": float(Fa_peak[j - 1, i - 1]), "rms_N": float(Fa_rms[j - 1, i - 1])} for j in (1, 2) for i in (1, 2, 3)},
-                **{f"Fo_{j}": {"peak_N": float(Fo_peak[j - 1]), "rms_N": float(Fo_rms[j - 1])} for j in (1, 2)},
-            }
-        return summary
+        return Summary(self.model, self.params, self.trajectory.name, self.joint_forces is not None).add(self).result()
+
+    def to_dataframe(self):
+        """:meth:`columns` as a pandas DataFrame (needs the ``pandas`` extra).
+
+        Raises:
+            MissingDependencyError: pandas is not installed (the message has the install line).
+        """
+        try:
+            import pandas
+        except ImportError:
+            raise MissingDependencyError("pandas", "pandas", "Run.to_dataframe()") from None
+        return pandas.DataFrame(self.columns())
 
     def write_csv(self, path: str | Path) -> Path:
         """Write :meth:`columns` to ``path`` atomically (a complete file or none). Returns the path."""
         return write_columns(path, self.columns())
+
+
+class ExactSum:
+    """The exact sum of float64 values fed in pieces, so the result does not depend on where the pieces are cut.
+
+    Each value is split into two 27-bit integer halves of its mantissa,
+    summed per binary exponent (exact in float64 for up to 2²⁶ values a
+    piece) and carried in Python integers; :meth:`total` rounds once.
+
+    Args:
+        width: how many sums side by side (the columns of what :meth:`add` gets).
+    """
+
+    _SHIFT = 1200  # 2^-1200 is below the smallest float64 mantissa bit (2^-1074)
+    _SPAN = 2200  # binary exponents of float64 values, from the subnormals up
+
+    def __init__(self, width: int):
+        self.width = width
+        self._sums = [0] * width
+
+    def add(self, values: np.ndarray) -> None:
+        """Add ``values`` (M, width) column by column (non-finite values are the caller's to drop)."""
+        values = np.asarray(values, dtype=float).reshape(-1, self.width)
+        if values.shape[0] > 2**26:
+            for start in range(0, values.shape[0], 2**26):
+                self.add(values[start:start + 2**26])
+            return
+        mantissa, exponent = np.frexp(values)  # values = mantissa·2^exponent, mantissa·2^53 an integer
+        whole = mantissa * 2.0**53
+        high = np.floor(whole / 2.0**27)
+        low = whole - high * 2.0**27
+        bins = (np.arange(self.width) * self._SPAN + (exponent + 1100)).ravel()
+        size = self.width * self._SPAN
+        high_sums = np.bincount(bins, high.ravel(), size)
+        low_sums = np.bincount(bins, low.ravel(), size)
+        for index in np.flatnonzero((high_sums != 0) | (low_sums != 0)):
+            column, e = divmod(int(index), self._SPAN)
+            integer = (int(high_sums[index]) << 27) + int(low_sums[index])
+            self._sums[column] += integer << (e - 1100 - 53 + self._SHIFT)
+
+    def total(self) -> np.ndarray:
+        """The sums, each rounded once to float64, (width,)."""
+        return np.array([float(Fraction(s, 1 << self._SHIFT)) for s in self._sums])
+
+
+class Summary:
+    """What :meth:`Run.summary` reports, gathered from a run fed in pieces (a long run in chunks).
+
+    Args:
+        model: the model's name.
+        params: the machine.
+        trajectory: the trajectory's name.
+        joint_forces: whether the runs carry joint forces.
+    """
+
+    def __init__(self, model: str, params: Parameters, trajectory: str, joint_forces: bool):
+        self.model, self.params, self.trajectory, self.joint_forces = model, params, trajectory, joint_forces
+        self.samples = self.flagged = self.kept = 0
+        self._peaks: dict[str, np.ndarray] = {}
+        self._lows: dict[str, np.ndarray] = {}
+        self._squares = ExactSum(3 + (8 if joint_forces else 0))
+        self._cond_inv_min, self._cond_inv_t = math.inf, math.nan
+
+    def _fold(self, store: dict, key: str, values: np.ndarray, reduce) -> None:
+        store[key] = values if key not in store else reduce(store[key], values)
+
+    def add(self, run: Run) -> "Summary":
+        """Take in one piece of the run (pieces in time order). Returns self."""
+        ok = ~run.flagged
+        self.samples += run.t.size
+        self.flagged += int(np.count_nonzero(run.flagged))
+        if not ok.any():
+            return self
+        self.kept += int(np.count_nonzero(ok))
+        if ok.all():  # the usual case: no copies through the mask
+            ok = slice(None)
+        peaks = {
+            "L": run.L[ok].max(axis=0) * 1e3, "Ld": np.abs(run.Ld[ok]).max(axis=0) * 1e3,
+            "Ldd": np.abs(run.Ldd[ok]).max(axis=0) * 1e3, "speed": np.abs(run.torques.motor_speed[ok]).max(axis=0) * _RPM,
+        }
+        total = run.torques.total[ok] * 1e3
+        squares = [total**2]
+        peaks["total"] = np.abs(total).max(axis=0)
+        for field in Torques.PARTS:
+            peaks[field] = np.abs(getattr(run.torques, field)[ok] * 1e3).max(axis=0)
+        if self.joint_forces:
+            Fa, Fo = run.joint_forces.Fa[ok].reshape(-1, 6), run.joint_forces.Fo[ok]
+            peaks["Fa"], peaks["Fo"] = np.abs(Fa).max(axis=0), np.abs(Fo).max(axis=0)
+            squares += [Fa**2, Fo**2]
+        for key, values in peaks.items():
+            self._fold(self._peaks, key, values, np.maximum)
+        self._fold(self._lows, "L", run.L[ok].min(axis=0) * 1e3, np.minimum)
+        self._squares.add(np.hstack(squares))
+        k = int(np.nanargmin(run.cond_inv if isinstance(ok, slice) else np.where(ok, run.cond_inv, np.nan)))
+        if run.cond_inv[k] < self._cond_inv_min:  # strictly: the first sample of the smallest value, as in one piece
+            self._cond_inv_min, self._cond_inv_t = float(run.cond_inv[k]), float(run.t[k])
+        return self
+
+    def result(self) -> dict[str, Any]:
+        """The summary of everything added, as :meth:`Run.summary` gives it."""
+        peaks, low = self._peaks, self._lows.get("L")
+        if not self.kept:
+            raise ArgumentError("Summary", self.samples, "at least one sample that is not flagged")
+        rms = np.sqrt(self._squares.total() / self.kept)
+        sliders = {}
+        for j in (1, 2):
+            for i in (1, 2, 3):
+                high, bottom = peaks["L"][j - 1, i - 1], low[j - 1, i - 1]
+                sliders[f"{j}{i}"] = {
+                    "L_max_mm": float(high), "L_min_mm": float(bottom), "stroke_mm": float(high - bottom),
+                    "Ld_max_mm_s": float(peaks["Ld"][j - 1, i - 1]), "Ldd_max_mm_s2": float(peaks["Ldd"][j - 1, i - 1]),
+                }
+        motors = {}
+        for i in range(3):
+            entry = {f"{Torques.COLUMN[field]}_max_Nmm": float(peaks[field][i]) for field in Torques.PARTS}
+            entry |= {"tau_peak_Nmm": float(peaks["total"][i]), "tau_rms_Nmm": float(rms[i]), "speed_peak_rpm": float(peaks["speed"][i])}
+            motors[str(i + 1)] = entry
+        summary = {
+            "model": self.model,
+            "trajectory": self.trajectory,
+            "parameters": self.params.source,
+            "samples": self.samples,
+            "flagged_samples": self.flagged,
+            "sliders": sliders,
+            "motors": motors,
+            "cond_inv_min": self._cond_inv_min,
+            "cond_inv_min_t_s": self._cond_inv_t,
+        }
+        if self.joint_forces:
+            names = [f"Fa_{j}{i}" for j in (1, 2) for i in (1, 2, 3)] + ["Fo_1", "Fo_2"]
+            values = np.concatenate([peaks["Fa"], peaks["Fo"]])
+            summary["joints"] = {name: {"peak_N": float(values[k]), "rms_N": float(rms[3 + k])} for k, name in enumerate(names)}
+        return summary

@@ -456,15 +456,63 @@ def bench_sweep(params, quick: bool) -> None:
           + (" [--quick: 1,000 variants]" if quick else ""))
 
 
+#: Runs a piece of Python in a fresh process and reports its wall time and peak memory (what a user's shell sees).
+_MEASURED = """
+import resource, sys, time
+start = time.perf_counter()
+exec(sys.argv[1])
+print(f"{time.perf_counter() - start} {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss}", file=sys.stderr)
+"""
+
+
+def measured(code: str, folder) -> tuple[float, float]:
+    """Wall time in [s] and peak resident memory in [MB] of ``code`` run in a fresh Python process (cwd ``folder``)."""
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, "-c", _MEASURED, code], cwd=folder, capture_output=True, text=True, check=True)
+    seconds, kilobytes = done.stderr.strip().splitlines()[-1].split()
+    return float(seconds), float(kilobytes) / 1024.0
+
+
+def bench_long_runs(quick: bool) -> None:
+    """``hipsim torques`` end to end on long runs, in pieces, against the one-piece path (analyse + write_columns) in the same run."""
+    import tempfile
+
+    one_hour = 60 if quick else 3600
+    baseline_cycles = 30 if quick else 120
+    print(f"hipsim torques end to end (fresh process each; wall time includes the ~1 s of imports)")
+    print(f"  {'run':<58} {'samples':>10} {'samples/s':>10} {'peak memory':>12}")
+    rows = [
+        (f"one piece (analyse + write_csv), analytic, {baseline_cycles} s CSV",
+         f"import hipsim; hipsim.analyse(None, hipsim.iso14242(cycles={baseline_cycles})).write_csv('base.csv')", baseline_cycles),
+        (f"one piece, {baseline_cycles} s, Pinocchio, CSV",
+         f"import hipsim; hipsim.analyse(None, hipsim.iso14242(cycles={baseline_cycles}), model='pinocchio').write_csv('base.csv')", baseline_cycles),
+        (f"in pieces, {one_hour} s to Parquet, analytic", f"from hipsim.cli.main import main; main(['torques', '--cycles', '{one_hour}', '--out', 'run.parquet', '--summary-format', 'json'])", one_hour),
+        (f"in pieces, {one_hour // 6} s to CSV, analytic", f"from hipsim.cli.main import main; main(['torques', '--cycles', '{one_hour // 6}', '--out', 'run.csv', '--summary-format', 'json'])", one_hour // 6),
+        (f"in pieces, {one_hour // 6} s to CSV, Pinocchio", f"from hipsim.cli.main import main; main(['torques', '--model', 'pinocchio', '--cycles', '{one_hour // 6}', '--out', 'run.csv', '--summary-format', 'json'])", one_hour // 6),
+    ]
+    if not quick:
+        rows.append((f"in pieces, {one_hour} s to Parquet, Pinocchio", f"from hipsim.cli.main import main; main(['torques', '--model', 'pinocchio', '--cycles', '{one_hour}', '--out', 'run.parquet', '--summary-format', 'json'])", one_hour))
+    with tempfile.TemporaryDirectory() as folder:
+        for label, code, cycles in rows:
+            seconds, megabytes = measured(code, folder)
+            samples = cycles * 1000
+            print(f"  {label:<58} {samples:>10,} {samples / seconds:>10,.0f} {megabytes:>9,.0f} MB")
+    print("  targets: >= 300,000 samples/s to Parquet with the analytic model, <= 400 MB for an hour with either model")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer samples in the slow baselines")
-    parser.add_argument("--only", choices=["analytic", "pinocchio", "workspace", "plants", "servo", "identification", "sweep"], help="one section only")
+    parser.add_argument("--only", choices=["analytic", "pinocchio", "workspace", "plants", "servo", "identification", "sweep", "long"],
+                        help="one section only")
     args = parser.parse_args()
     params = hipsim.load_parameters()
     if args.only:
         sections = {"analytic": bench_analytic, "pinocchio": bench_pinocchio, "plants": bench_plants, "servo": bench_servo,
-                    "identification": bench_identification, "sweep": bench_sweep}
+                    "identification": bench_identification, "sweep": bench_sweep,
+                    "long": lambda params, quick: bench_long_runs(quick)}
         sections.get(args.only, lambda params, quick: bench_workspace(quick))(params, args.quick)
         return
     bench_analytic(params, args.quick)
@@ -482,6 +530,8 @@ def main() -> None:
     bench_identification(params, args.quick)
     print()
     bench_sweep(params, args.quick)
+    print()
+    bench_long_runs(args.quick)
 
 
 if __name__ == "__main__":

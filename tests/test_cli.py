@@ -65,7 +65,7 @@ def test_torques_from_trajectory_file(tmp_path, capsys):
         (["torques", "--trajectory", "{far}"], "far.csv, t = 0.02 s, line 4: pose out of reach"),
         (["torques", "--trajectory", "{allfar}", "--flag-bad-poses"], "all 7 samples are out of reach or singular"),
         (["torques", "--out", "{tmp}"], "it is a folder"),
-        (["torques", "--rate", "1e9"], "at most 10,000,000 fit in memory"),
+        (["torques", "--rate", "1e9"], "at most 100,000,000 are run in one go"),
         (["torques", "--set", "platform.heights_mm=[490, 899]"], "platform 1 must be the upper one"),
         (["simulate", "--servo-rate", "0"], "key 'control.servo_rate_Hz': must be positive"),
         (["simulate", "--torque-limit", "-1"], "key 'control.torque_limit_Nmm': must be positive"),
@@ -140,13 +140,12 @@ def test_check_passes_and_shows_every_configuration(capsys):
 def test_check_fails_when_required_models_disagree(monkeypatch, capsys):
     import hipsim.analysis.crosscheck as crosscheck
 
-    real = crosscheck.differences
+    real = crosscheck.Differences.rows
 
-    def skewed(analytic, pinocchio):
-        rows = real(analytic, pinocchio)
-        return tuple((name, a, r + 1e-6) for name, a, r in rows)  # a disagreement above 1e-8
+    def skewed(self):
+        return tuple((name, a, r + 1e-6) for name, a, r in real(self))  # a disagreement above 1e-8
 
-    monkeypatch.setattr(crosscheck, "differences", skewed)
+    monkeypatch.setattr(crosscheck.Differences, "rows", skewed)
     assert main(["check", "--rate", "100"]) == 1
     assert "disagree" in capsys.readouterr().err
 

@@ -9,6 +9,7 @@ from .excitation import Excitation, excitation
 from .identification import Identification, identify, regressor
 from .runs import analyse
 from .sizing import sizing
+from .streaming import stream_run
 
 __all__ = [
     "Comparison",
@@ -23,4 +24,5 @@ __all__ = [
     "load_log",
     "regressor",
     "sizing",
+    "stream_run",
 ]

@@ -18,17 +18,19 @@ Three comparisons along one trajectory, column by column of the CSV contract:
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Callable
 
 import numpy as np
 
 from ..analytic import laws
 from ..machine.parameters import Parameters, slender_levers
-from .runs import analyse
 from ..exceptions import HipsimError
-from ..results import Run
+from ..motion.sources import TrajectorySource, pieces
 from ..motion.trajectories import Trajectory
+from ..results import Run
+from .streaming import CHUNK, PieceRunner, as_source
 
-__all__ = ["Comparison", "TOLERANCE", "compare_models", "differences"]
+__all__ = ["CONFIGURATIONS", "Comparison", "Differences", "TOLERANCE", "compare_models", "differences"]
 
 #: Largest allowed difference, relative to each column's peak, where the models must agree.
 TOLERANCE = 1e-8
@@ -65,6 +67,32 @@ class Comparison:
         return self.worst <= TOLERANCE
 
 
+class Differences:
+    """The largest absolute difference and the reference's peak per column, gathered over pieces of two runs."""
+
+    def __init__(self):
+        self.largest: dict[str, float] = {}
+        self.peaks: dict[str, float] = {}
+
+    def add(self, run: Run, reference: Run) -> "Differences":
+        """Take in one piece of both runs (the same samples). Returns self."""
+        if run.trajectory.t.shape != reference.trajectory.t.shape or np.any(run.trajectory.t != reference.trajectory.t):
+            raise HipsimError(f"the {run.model} and {reference.model} runs are not along the same trajectory")
+        a, b = run.columns(), reference.columns()
+        for name, values in a.items():
+            if name in _INPUTS or name not in b:
+                continue
+            absolute = float(np.max(np.abs(values - b[name])))
+            peak = float(np.max(np.abs(b[name])))
+            self.largest[name] = max(self.largest.get(name, absolute), absolute)
+            self.peaks[name] = max(self.peaks.get(name, peak), peak)
+        return self
+
+    def rows(self) -> tuple[tuple[str, float, float], ...]:
+        """(column, largest absolute difference, relative to the reference column's peak)."""
+        return tuple((name, a, a / self.peaks[name] if self.peaks[name] > 0 else a) for name, a in self.largest.items())
+
+
 def differences(run: Run, reference: Run) -> tuple[tuple[str, float, float], ...]:
     """Column by column, the largest absolute difference and that difference relative to the reference column's peak.
 
@@ -75,48 +103,50 @@ def differences(run: Run, reference: Run) -> tuple[tuple[str, float, float], ...
     Returns:
         (column, largest absolute difference in the column's unit, relative difference).
     """
-    if run.trajectory.t.shape != reference.trajectory.t.shape or np.any(run.trajectory.t != reference.trajectory.t):
-        raise HipsimError(f"the {run.model} and {reference.model} runs are not along the same trajectory")
-    a, b = run.columns(), reference.columns()
-    rows = []
-    for name, values in a.items():
-        if name in _INPUTS or name not in b:
-            continue
-        absolute = float(np.max(np.abs(values - b[name])))
-        peak = float(np.max(np.abs(b[name])))
-        rows.append((name, absolute, absolute / peak if peak > 0 else absolute))
-    return tuple(rows)
+    return Differences().add(run, reference).rows()
 
 
-def compare_models(params: Parameters, trajectory: Trajectory) -> list[Comparison]:
-    """Run both models in the three configurations of the module docstring.
+#: The three comparisons: name, description, whether required (of the machine), the run and its reference.
+CONFIGURATIONS = (
+    ("exact", "spec §7.4: slender-rod levers, spin-free analytic levers",
+     lambda params: not laws.lever_joint_friction_on(params.friction), "analytic slender", "pinocchio slender"),
+    ("published", "published lever inertia, spin-free analytic levers (the paper model's error)",
+     lambda params: False, "analytic published", "pinocchio published"),
+    ("published+spin", "published lever inertia, analytic levers with the universal joints' spin",
+     lambda params: True, "analytic spin", "pinocchio published"),
+)
+
+
+def compare_models(
+    params: Parameters, trajectory: Trajectory | TrajectorySource, *, chunk: int = CHUNK, progress: Callable[[int, int], None] | None = None
+) -> list[Comparison]:
+    """Run both models in the three configurations of the module docstring, a piece at a time.
 
     Args:
         params: the machine (published lever inertia or the user's).
-        trajectory: the motion and load.
+        trajectory: the motion and load (a Trajectory or a :mod:`~hipsim.motion.sources` source).
+        chunk: samples per piece (memory is set by it; the result is that of one piece).
+        progress: called with (samples done, samples in all) after each piece.
 
     Returns:
         The three comparisons, exact first.
     """
-    lever_joint_friction = laws.lever_joint_friction_on(params.friction)
+    source = as_source(trajectory)
     slender = slender_levers(params)
-    # The analytic model first: it checks every pose and names the first one out of reach.
-    analytic_slender = analyse(slender, trajectory)
-    analytic = analyse(params, trajectory)
-    analytic_spin = analyse(params, trajectory, lever_spin=True)
-    pinocchio_slender = analyse(slender, trajectory, model="pinocchio")
-    pinocchio = analyse(params, trajectory, model="pinocchio")
-    return [
-        Comparison(
-            "exact", "spec §7.4: slender-rod levers, spin-free analytic levers", not lever_joint_friction,
-            differences(analytic_slender, pinocchio_slender),
-        ),
-        Comparison(
-            "published", "published lever inertia, spin-free analytic levers (the paper model's error)", False,
-            differences(analytic, pinocchio),
-        ),
-        Comparison(
-            "published+spin", "published lever inertia, analytic levers with the universal joints' spin", True,
-            differences(analytic_spin, pinocchio),
-        ),
-    ]
+    # The analytic model first on every piece: it checks every pose and names the first one out of reach.
+    runners = {
+        "analytic slender": PieceRunner(slender, source, "analytic"),
+        "analytic published": PieceRunner(params, source, "analytic"),
+        "analytic spin": PieceRunner(params, source, "analytic", lever_spin=True),
+        "pinocchio slender": PieceRunner(slender, source, "pinocchio"),
+        "pinocchio published": PieceRunner(params, source, "pinocchio"),
+    }
+    gathered = {name: Differences() for name, *_ in CONFIGURATIONS}
+    for start, stop in pieces(source, chunk):
+        piece = source.piece(start, stop)
+        runs = {name: runner.run(start, piece) for name, runner in runners.items()}
+        for name, _, _, run, reference in CONFIGURATIONS:
+            gathered[name].add(runs[run], runs[reference])
+        if progress is not None:
+            progress(stop, len(source))
+    return [Comparison(name, description, required(params), gathered[name].rows()) for name, description, required, _, _ in CONFIGURATIONS]

@@ -33,15 +33,19 @@ class AnalyticModel:
             raise ArgumentError("on_error", on_error, "'raise' or 'flag'")
         self.params, self.lever_spin, self.on_error = params, bool(lever_spin), on_error
 
-    def run(self, trajectory: Trajectory) -> Run:
+    def run(self, trajectory: Trajectory, piece: bool = False) -> Run:
         """Slider motion, motor torques and their parts, and the singularity measure along ``trajectory``.
+
+        Args:
+            trajectory: the motion and load.
+            piece: the trajectory is one piece of a longer run, which may be flagged throughout.
 
         Raises:
             PoseError: a pose out of reach or singular (with ``on_error="raise"``),
-                or every sample flagged.
+                or every sample flagged (unless ``piece``).
         """
         kin = kinematics(self.params, trajectory, on_error=self.on_error)
-        if np.all(kin.flagged):
+        if np.all(kin.flagged) and not piece:
             raise PoseError(
                 f"all {len(trajectory)} samples are out of reach or singular; nothing to compute",
                 float(trajectory.t[0]), 0, source=trajectory.name,

@@ -20,7 +20,8 @@ import numpy as np
 from ..exceptions import ArgumentError, HipsimError
 from ..files import exit_on_terminate, is_stdout
 from .motion_options import add_trajectory_options as _add_trajectory_options
-from .motion_options import builtin_frequency, cycle_period, locate
+from .motion_options import builtin_frequency, cycle_period, locate, span
+from .motion_options import load_source as _source
 from .motion_options import load_trajectory as _trajectory
 
 __all__ = ["main"]
@@ -44,6 +45,17 @@ def _add_machine_options(parser: argparse.ArgumentParser) -> None:
         "--set", dest="overrides", metavar="KEY=VALUE", action="append", default=[],
         help="override one parameter in the file's units, e.g. lever.length_mm=330 (repeatable)",
     )
+
+
+def _add_summary_format(parser: argparse.ArgumentParser, help: str = "summary on standard output: tables (default) or JSON") -> None:
+    parser.add_argument("--summary-format", choices=["table", "json"], default="table", help=help)
+
+
+def _print_json(document, stream=None) -> None:
+    """A summary as indented JSON (NaN and infinities as null)."""
+    from ..files import json_ready
+
+    print(json.dumps(json_ready(document), indent=2), file=stream if stream is not None else sys.stdout)
 
 
 def _parameters(args):
@@ -94,32 +106,63 @@ def format_summary(summary: dict) -> str:
 
 
 def _cycle_of(time: float, trajectory, period: float | None) -> dict:
-    """Which cycle (from 1) a time in [s] falls in and how far into it, when the run spans more than one cycle."""
-    t = trajectory.t
-    span = t[-1] - t[0] + ((t[-1] - t[0]) / (t.size - 1) if trajectory.periodic and t.size > 1 else 0.0)
-    if period is None or span <= period * (1 + 1e-9):
+    """Which cycle (from 1) a time in [s] falls in and how far into it, when the run spans more than one cycle (a trajectory or a source)."""
+    start = float(trajectory.t[0]) if hasattr(trajectory, "t") else trajectory.time(0)
+    if period is None or span(trajectory) <= period * (1 + 1e-9):
         return {}
     # A hair over whole cycles: a time printed as 395.0 s is the start of cycle 396, not the end of 395.
-    cycle = math.floor((time - t[0]) / period + 1e-9)
-    return {"cond_inv_min_cycle": cycle + 1, "cond_inv_min_t_in_cycle_s": max(0.0, time - t[0] - cycle * period)}
+    cycle = math.floor((time - start) / period + 1e-9)
+    return {"cond_inv_min_cycle": cycle + 1, "cond_inv_min_t_in_cycle_s": max(0.0, time - start - cycle * period)}
+
+
+def _progress(what: str):
+    """A progress callback (done, total) drawing a tqdm bar on a terminal once a run takes over 2 s; None elsewhere."""
+    if not sys.stderr.isatty():
+        return None
+    from tqdm import tqdm
+
+    bars = []
+
+    def update(done: int, total: int) -> None:
+        if not bars:
+            bars.append(tqdm(total=total, desc=what, unit=" samples", unit_scale=True, delay=2.0, file=sys.stderr, leave=False))
+        bars[0].update(done - bars[0].n)
+        if done >= total:
+            bars[0].close()
+
+    return update
+
+
+def _file_metadata(params) -> dict[str, str]:
+    """A results file's key-value metadata: the hipsim version and the parameter set as a parameter file's text."""
+    from .. import __version__
+    from ..analysis.identification import parameter_toml
+
+    return {"hipsim.version": __version__, "hipsim.parameters_source": str(params.source), "hipsim.parameters": parameter_toml(params)}
 
 
 def _cmd_torques(args) -> int:
-    from ..analysis.runs import analyse
+    from ..analysis.streaming import stream_run
+    from ..files import ColumnWriter, check_output
 
+    check_output(args.out)  # an unusable output is refused before the computing
     params = _parameters(args)
-    trajectory = _trajectory(args)
-    result = analyse(params, trajectory, model=args.model, on_error="flag" if args.flag_bad_poses else "raise")
-    path = result.write_csv(args.out)
-    summary = result.summary()
-    summary |= _cycle_of(summary["cond_inv_min_t_s"], trajectory, cycle_period(args, trajectory))
+    source = _source(args)
+    with ColumnWriter(args.out, _file_metadata(params)) as writer:
+        summary = stream_run(
+            params, source, model=args.model, on_error="flag" if args.flag_bad_poses else "raise", write=writer.write,
+            progress=_progress(f"{args.model} model"),
+        )
+        path = writer.close()
+    summary |= _cycle_of(summary["cond_inv_min_t_s"], source, cycle_period(args, source))
     report = sys.stderr if is_stdout(args.out) else sys.stdout  # the CSV has standard output
+    kind = "Parquet" if writer.parquet else "CSV"
     if args.summary_format == "json":
-        print(json.dumps(summary | {"csv": str(path)}, indent=2), file=report)
+        _print_json(summary | {("parquet" if writer.parquet else "csv"): str(path)}, report)
     else:
         print(format_summary(summary), file=report)
         where = "the CSV to standard output" if is_stdout(args.out) else path
-        print(f"\nwrote {where} ({summary['samples']} rows, {len(result.columns())} columns)", file=report)
+        print(f"\nwrote {where} ({summary['samples']} rows, {len(writer.names)} columns{', Parquet' if kind == 'Parquet' else ''})", file=report)
     return 0
 
 
@@ -215,12 +258,19 @@ def _cmd_simulate(args) -> int:
 
             gaps.append(format_gaps(name, plant))
     out = Path(args.out)
+    json_out = args.summary_format == "json"
+    written = []
     for sim in simulations:
-        if not math.isclose(sim.step, params.control.integration_step, rel_tol=1e-9):
+        if not math.isclose(sim.step, params.control.integration_step, rel_tol=1e-9) and not json_out:
             print(f"{sim.controller}: RK4 step {sim.step * 1e3:g} ms, the {params.control.integration_step * 1e3:g} ms asked "
                   f"for rounded down so that whole steps fill the {1e3 / params.control.servo_rate:g} ms servo period", file=report)  # fmt: skip
         path = args.out if len(simulations) == 1 else out.with_name(f"{out.stem}_{sim.controller}{out.suffix}")
-        print(f"wrote {sim.write_csv(path)}", file=report)
+        written.append(str(sim.write_csv(path)))
+        if not json_out:
+            print(f"wrote {written[-1]}", file=report)
+    if json_out:
+        _print_json({"simulations": [sim.summary() | {"step_s": sim.step} for sim in simulations], "mismatch": mismatch, "csv": written}, report)
+        return 0
     if mismatch:
         print("plant off from the controller's model: " + ", ".join(f"{k} {v:+.0%}" for k, v in mismatch.items()), file=report)
     print(format_simulations(simulations), file=report)
@@ -300,8 +350,22 @@ def _cmd_report(args) -> int:
             notes.append("Tracking: the simulated plant is off from the controllers' model: " + ", ".join(f"{k} {v:+.0%}" for k, v in mismatch.items()) + ".")
     cycles = 1.0 if args.trajectory or args.cycles is None else args.cycles  # a trajectory file is one test cycle
     files = write_report(Path(args.out), run, joint_run, simulations=simulations, drive=drive, notes=tuple(notes), cycles=cycles)
-    print(f"wrote {files.index}")
+    passed = files.sizing.passed if files.sizing is not None else None
+    if args.summary_format == "json":
+        _print_json((joint_run or run).summary() | {"sizing": files.sizing.as_dict() if files.sizing is not None else None,
+                                                    "rating_check": _verdict(passed), "index": str(files.index)})
+    else:
+        print(f"wrote {files.index}")
+        if passed is not None:
+            print(f"rating check of {files.sizing.drive.name}: {_verdict(passed)}" + ("" if passed else " (see the sizing table in the report)"))
+    if passed is False:
+        print("hipsim: the drive fails its rating check (exit status 1)", file=sys.stderr)
+        return 1
     return 0
+
+
+def _verdict(passed: bool | None) -> str:
+    return "not checked" if passed is None else ("pass" if passed else "FAIL")
 
 
 def _numbers(text: str, separator: str, option: str, expected: str, count: int | None = None) -> list[float]:
@@ -335,7 +399,7 @@ def _cmd_workspace(args) -> int:
         if (stop - start) / step > 100_000:
             raise HipsimError(f"--deltas: {args.deltas} asks for more than 100,000 offsets")
         deltas = np.arange(start, stop + step / 2, step)
-    run_workspace(params, trajectory, Path(args.out), gamma_deg=gamma, deltas_deg=deltas)
+    run_workspace(params, trajectory, Path(args.out), gamma_deg=gamma, deltas_deg=deltas, summary_format=args.summary_format)
     return 0
 
 
@@ -343,14 +407,37 @@ def _cmd_check(args) -> int:
     from ..analysis.crosscheck import TOLERANCE, compare_models
 
     params = _parameters(args)
-    trajectory = _trajectory(args)
     if args.engine == "mujoco":
         from ..analysis.engines import compare_mujoco
 
+        trajectory = _trajectory(args)
         comparisons = compare_mujoco(params, trajectory)
     else:
-        comparisons = compare_models(params, trajectory)
-    failed = False
+        trajectory = _source(args)
+        comparisons = compare_models(params, trajectory, progress=_progress("check"))
+    failed = any(c.required and not c.ok for c in comparisons)
+    if args.summary_format == "json":
+        _print_json({
+            "trajectory": trajectory.name, "samples": len(trajectory), "parameters": params.source, "tolerance": TOLERANCE,
+            "agree": not failed,
+            "comparisons": [
+                {"name": c.name, "description": c.description, "required": c.required, "ok": c.ok, "worst": c.worst,
+                 "columns": [{"column": name, "max_abs_diff": a, "max_rel_diff": r} for name, a, r in c.rows]}
+                for c in comparisons
+            ],
+        })
+    else:
+        _print_comparisons(comparisons)
+        print(f"trajectory: {trajectory.name} ({len(trajectory)} samples); parameters: {params.source}")
+    if failed:
+        print("hipsim: error: the models disagree where they must agree", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _print_comparisons(comparisons) -> None:
+    from ..analysis.crosscheck import TOLERANCE
+
     for comparison in comparisons:
         header = ["column", "max |diff| [column unit]", "max |diff| / peak"]
         if comparison.required:  # a check: each row passes or fails
@@ -363,12 +450,6 @@ def _cmd_check(args) -> int:
             print(_format_table(header, rows, f"{comparison.name}: {comparison.description} (for information: not a check)"))
             print(f"-> {comparison.name}: largest relative difference {comparison.worst:.3e} "
                   "(for information: a known modelling difference, no tolerance applies)\n")  # fmt: skip
-        failed |= comparison.required and not comparison.ok
-    print(f"trajectory: {trajectory.name} ({len(trajectory)} samples); parameters: {params.source}")
-    if failed:
-        print("hipsim: error: the models disagree where they must agree", file=sys.stderr)
-        return 1
-    return 0
 
 
 def _cmd_urdf(args) -> int:
@@ -402,6 +483,9 @@ def build_parser() -> argparse.ArgumentParser:
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
+    from .. import __version__
+
+    parser.add_argument("--version", action="version", version=f"hipsim {__version__}")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
     from . import mjcf as mjcf_command
 
@@ -414,8 +498,12 @@ def build_parser() -> argparse.ArgumentParser:
     _add_machine_options(torques)
     _add_trajectory_options(torques)
     torques.add_argument("--model", choices=["analytic", "pinocchio", "mujoco"], default="analytic", help="which model computes the torques (default analytic; mujoco needs the mujoco extra)")
-    torques.add_argument("--out", default="hipsim_torques.csv", metavar="FILE", help="CSV to write (default hipsim_torques.csv)")
-    torques.add_argument("--summary-format", choices=["table", "json"], default="table", help="summary on standard output")
+    torques.add_argument(
+        "--out", default="hipsim_torques.csv", metavar="FILE",
+        help="CSV to write (default hipsim_torques.csv); a .parquet name writes Apache Parquet (the same columns, the parameter set "
+        "and hipsim version in its metadata); - for CSV on standard output",
+    )
+    _add_summary_format(torques)
     torques.add_argument(
         "--flag-bad-poses", action="store_true",
         help="carry on through poses out of reach or singular and mark them in a 'flagged' column instead of stopping",
@@ -444,13 +532,15 @@ def build_parser() -> argparse.ArgumentParser:
     sim.add_argument("--step", type=float, metavar="MS", help="integration step in ms (default control.integration_step_ms)")
     sim.add_argument("--torque-limit", type=float, metavar="NMM", help="motor torque limit in N·mm (default control.torque_limit_Nmm)")
     sim.add_argument("--out", default="hipsim_simulation.csv", metavar="FILE", help="CSV to write; with both controllers, _pd and _augmented-pd are added to the name")
+    _add_summary_format(sim)
     sim.set_defaults(run=_cmd_simulate)
 
     report = commands.add_parser(
         "report", help="design report: plots, sizing table and an HTML page in a folder",
         description="Plots of slider motion, motor torque parts, load and friction, joint forces (PNG and SVG) and a "
         "self-contained index.html with the summary and the sizing table (per module peak and RMS torque, speed, power, "
-        "axial screw force; per joint the peak force), checked against the [motor] ratings when given.",
+        "axial screw force; per joint the peak force), checked against the [motor] ratings when given. Exits with status 1 "
+        "(after writing the report) when the drive fails a rating check.",
     )
     _add_machine_options(report)
     _add_trajectory_options(report)
@@ -460,6 +550,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "(default: the parameter file's [motor] table); see hipsim size")
     report.add_argument("--simulate", action="store_true", help="also simulate both controllers and plot their tracking errors")
     report.add_argument("--mismatch", metavar="SPEC", help="with --simulate: plant off from the controllers' model, e.g. friction=+20%%,masses=-10%%")
+    _add_summary_format(report, "what to print: the folder written and the rating check (default), or the run's summary and sizing as JSON")
     report.set_defaults(run=_cmd_report)
 
     workspace = commands.add_parser(
@@ -473,6 +564,7 @@ def build_parser() -> argparse.ArgumentParser:
     workspace.add_argument("--out", default="hipsim_workspace", metavar="DIR", help="folder to write (default hipsim_workspace)")
     workspace.add_argument("--gamma", metavar="LIST", help="rotations γ in degrees, comma-separated (default -12,-8,-4,0,4)")
     workspace.add_argument("--deltas", metavar="A:B:STEP", help="offsets δ to sweep in degrees (default -90:90:1)")
+    _add_summary_format(workspace)
     workspace.set_defaults(run=_cmd_workspace)
 
     check = commands.add_parser(
@@ -488,6 +580,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--engine", choices=["pinocchio", "mujoco"], default="pinocchio",
         help="mujoco: compare MuJoCo's inverse dynamics with the analytic (lever spin) and Pinocchio models instead",
     )
+    _add_summary_format(check, "the differences as tables (default) or JSON")
     check.set_defaults(run=_cmd_check)
 
     view = commands.add_parser(

@@ -11,7 +11,7 @@ from pathlib import Path
 
 from ..exceptions import HipsimError, PoseError
 
-__all__ = ["add_trajectory_options", "builtin_frequency", "cycle_period", "load_trajectory", "locate", "parse_body_weight"]
+__all__ = ["add_trajectory_options", "builtin_frequency", "cycle_period", "load_source", "load_trajectory", "locate", "parse_body_weight", "span"]
 
 #: Options that only a trajectory file takes.
 FILE_OPTIONS = ("columns", "side", "load_column", "body_weight", "resample")
@@ -93,14 +93,22 @@ def parse_body_weight(text: str) -> float:
     return value * STANDARD_GRAVITY
 
 
-def load_trajectory(args):
+def load_source(args):
+    """The motion the options ask for as a source to run in pieces (:mod:`hipsim.motion.sources`); see :func:`load_trajectory`."""
+    return load_trajectory(args, source=True)
+
+
+def load_trajectory(args, source: bool = False):
     """The motion the options ask for: a file read as they say, or the built-in cycle.
 
     Warnings about the file (e.g. radians under a degree header) print as
     ``hipsim: warning: …`` on standard error. The trajectory is kept on
     ``args`` so that :func:`locate` can name a file line in a pose error.
+    With ``source``, a :mod:`hipsim.motion.sources` source instead (a file's
+    derivatives, the built-in cycle itself, made a piece at a time).
     """
     from ..motion.readers import TrajectoryWarning, read_trajectory
+    from ..motion.sources import CycleSource, FileSource
     from ..motion.trajectories import iso14242
 
     _check_frequency_and_period(args)
@@ -109,7 +117,7 @@ def load_trajectory(args):
         if given:
             verb = "applies" if len(given) == 1 else "apply"
             raise HipsimError(f"{', '.join(given)} {verb} to a --trajectory file, not to the built-in cycle")
-        return iso14242(
+        return (CycleSource if source else iso14242)(
             rate=args.rate if args.rate is not None else 1000.0,
             cycles=args.cycles if args.cycles is not None else 1,
             frequency=builtin_frequency(args),
@@ -125,13 +133,15 @@ def load_trajectory(args):
         trajectory = read_trajectory(
             args.trajectory, columns=args.columns, side=args.side, load_column=args.load_column,
             body_weight=parse_body_weight(args.body_weight) if args.body_weight is not None else None,
-            frequency=args.frequency, period=args.period, resample=args.resample,
+            frequency=args.frequency, period=args.period, resample=args.resample, lazy=source,
         )  # fmt: skip
     for warning in caught:
         if issubclass(warning.category, TrajectoryWarning):
             print(f"hipsim: warning: {warning.message}", file=sys.stderr)
         else:
             warnings.showwarning(warning.message, warning.category, warning.filename, warning.lineno)
+    if source:
+        return FileSource(trajectory)
     args.loaded_trajectory = trajectory
     return trajectory
 
@@ -152,9 +162,15 @@ def cycle_period(args, trajectory) -> float | None:
     if args.frequency is not None:
         return 1.0 / args.frequency
     if trajectory.periodic and len(trajectory) > 1:
-        t = trajectory.t
-        return float(t[-1] - t[0] + (t[-1] - t[0]) / (t.size - 1))
+        return span(trajectory)
     return None
+
+
+def span(motion) -> float:
+    """The time a trajectory or source covers in [s]: first to last sample, and one step more when periodic."""
+    n = len(motion)
+    first, last = (float(motion.t[0]), float(motion.t[-1])) if hasattr(motion, "t") else (motion.time(0), motion.time(n - 1))
+    return last - first + ((last - first) / (n - 1) if motion.periodic and n > 1 else 0.0)
 
 
 def locate(error: HipsimError, args) -> HipsimError:

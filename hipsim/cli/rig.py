@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import sys
 from pathlib import Path
 
 from ..files import json_ready
@@ -35,7 +36,7 @@ def _add_log_options(parser: argparse.ArgumentParser) -> None:
 
 def add_parser(subparsers) -> None:
     """Register ``compare``, ``identify`` and ``excite``."""
-    from .main import _add_machine_options
+    from .main import _add_machine_options, _add_summary_format
 
     compare = subparsers.add_parser(
         "compare", help="the model's torques along a rig log against the measured ones -> figures, HTML, JSON",
@@ -49,7 +50,7 @@ def add_parser(subparsers) -> None:
     _add_log_options(compare)
     compare.add_argument("--period", type=float, metavar="S", help="the log's period in s (default: detected; 0: not periodic)")
     compare.add_argument("--out", default="hipsim_compare", metavar="DIR", help="folder to write (default hipsim_compare)")
-    compare.add_argument("--summary-format", choices=["table", "json"], default="table", help="what to print")
+    _add_summary_format(compare, "what to print")
     compare.set_defaults(run=run)
 
     identify = subparsers.add_parser(
@@ -70,6 +71,7 @@ def add_parser(subparsers) -> None:
                           "(labels such as m_l, keys, or prefixes such as lever, friction.ujoint)")
     identify.add_argument("--json", metavar="FILE", help="also write the results as JSON")
     identify.add_argument("--out", required=True, metavar="FILE", help="parameter TOML to write")
+    _add_summary_format(identify, "what to print: tables (default) or the fit's summary as JSON")
     identify.set_defaults(run=run)
 
     excite = subparsers.add_parser(
@@ -92,6 +94,7 @@ def add_parser(subparsers) -> None:
     excite.add_argument("--max-angle", type=float, metavar="DEG", help="largest |angle| in degrees (default 30)")
     excite.add_argument("--load", metavar="MIN:MAX", help="load range in N (default 300:3000)")
     excite.add_argument("--out", required=True, metavar="FILE", help="trajectory CSV to write")
+    _add_summary_format(excite, "what to print: a text summary (default) or JSON")
     excite.set_defaults(run=run)
 
 
@@ -171,6 +174,14 @@ def run_identify(args) -> int:
     fixed = [name.strip() for name in (args.fix or "").split(",") if name.strip()]
     result = identify(logs, params, validate=validate, lever_spin=not args.spin_free_levers, fixed=fixed, max_relative_std=args.max_std / 100)
 
+    path = result.write_toml(args.out)
+    if args.json:
+        from ..files import write_atomic
+
+        write_atomic(args.json, json.dumps(json_ready(result.summary()), indent=2) + "\n")
+    if args.summary_format == "json":
+        print(json.dumps(json_ready(result.summary() | {"toml": str(path), "json": args.json}), indent=2))
+        return 0
     print(f"logs: {', '.join(result.logs)}; {result.rows} samples (after filtering, decimation and the windows around reversals)")
     print(f"starting parameters: {params.source}")
     rows = [[q.expression(), f"{q.value:.6g}", f"{q.std:.2g}", q.unit or "—", _percent(q.relative_std)] for q in result.quantities]
@@ -190,11 +201,6 @@ def run_identify(args) -> int:
                  f"{100 * a[i]['relative_rms_error_away_from_reversals']:.2f} %"] for i in ("1", "2", "3")]
         print(_table(["motor", "identified [N·mm]", "/ RMS", "starting [N·mm]", "/ RMS", "identified, away from reversals"], rows,
                      f"\nPrediction error on {identified.log.name} (held out): RMS of model − measured"))
-    path = result.write_toml(args.out)
-    if args.json:
-        from ..files import write_atomic
-
-        write_atomic(args.json, json.dumps(json_ready(result.summary()), indent=2) + "\n")
     print(f"\nwrote {path}" + (f" and {args.json}" if args.json else ""))
     return 0
 
@@ -237,12 +243,20 @@ def run_excite(args) -> int:
     if "min_load" in changes and not 0 <= changes["min_load"] < changes["max_load"]:
         raise HipsimError(f"--load: expected 0 <= MIN < MAX, got '{args.load}'")
     limits = Limits.for_machine(params, **changes)
-    print(f"designing: {args.harmonics} harmonics of {args.frequency:g} Hz (period {1 / args.frequency:g} s), {args.seeds} start(s) …", flush=True)
+    json_out = args.summary_format == "json"
+    print(f"designing: {args.harmonics} harmonics of {args.frequency:g} Hz (period {1 / args.frequency:g} s), {args.seeds} start(s) …",
+          flush=True, file=sys.stderr if json_out else sys.stdout)
     if args.seeds < 1 or args.iterations < 1:
         raise HipsimError(f"--seeds and --iterations must be at least 1, got {args.seeds} and {args.iterations}")
     design = excitation(params, frequency=args.frequency, harmonics=args.harmonics, limits=limits, seeds=args.seeds, max_iter=args.iterations)
     path = design.write_csv(args.out, rate=args.rate, duration=args.duration)
     peaks = design.peaks
+    if json_out:
+        print(json.dumps(json_ready({
+            "condition_number": design.condition_number, "iso_condition_number": design.iso_condition_number,
+            "quantities": list(design.quantities), "peaks": peaks, "seconds": design.seconds, "csv": str(path),
+        }), indent=2))
+        return 0
     print(f"condition number of the identification regressor: {design.condition_number:.4g} "
           f"(ISO 14242-1 cycle: {design.iso_condition_number:.4g}), for {', '.join(design.quantities)}")
     print(f"largest |angle| {peaks['angle_deg']:.3g}° (limit {math.degrees(limits.max_angle):.3g}°), "

@@ -58,7 +58,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     rules.add_argument("--inertia-ratio", type=float, metavar="R", help="largest load-to-rotor inertia ratio (default 10)")
     out = parser.add_argument_group("output")
     out.add_argument("--top", type=int, metavar="N", help="show the N best catalogue combinations (default all)")
-    out.add_argument("--format", choices=["table", "json"], default="table", help="output on standard output")
+    out.add_argument("--format", "--summary-format", dest="format", choices=["table", "json"], default="table", help="output on standard output")
     parser.set_defaults(run=run)
     return parser
 

@@ -110,6 +110,7 @@ def run_workspace(
     deltas_deg: np.ndarray | None = None,
     progress: bool | None = None,
     stream: TextIO | None = None,
+    summary_format: str = "table",
 ) -> WorkspaceRun:
     """Compute the singularity map and the offset sweep, write their figures, print a summary.
 
@@ -129,6 +130,7 @@ def run_workspace(
         progress: progress bars on stderr; None for automatic (large grids only).
         stream: where to print the summary; None for standard output (pass
             ``io.StringIO()`` to capture it).
+        summary_format: "table", or "json" to print ``workspace.json``'s document (with the files written) instead.
 
     Returns:
         The :class:`WorkspaceRun`.
@@ -161,8 +163,11 @@ def run_workspace(
         files = [*save_figure(plot_singularity_map(smap), out, "singularity_map"), *save_figure(plot_offset_sweep(sweep), out, "offset_sweep")]
         files.append(write_atomic(out / "workspace.json", json.dumps(document, indent=2) + "\n"))
     stream = stream if stream is not None else sys.stdout
-    print(format_workspace_summary(smap, sweep), file=stream)
-    print(f"\nwrote {', '.join(p.name for p in files)} to {out}", file=stream)
+    if summary_format == "json":
+        print(json.dumps(document | {"files": [str(p) for p in files]}, indent=2), file=stream)
+    else:
+        print(format_workspace_summary(smap, sweep), file=stream)
+        print(f"\nwrote {', '.join(p.name for p in files)} to {out}", file=stream)
     return WorkspaceRun(smap, sweep, tuple(files))
 
 

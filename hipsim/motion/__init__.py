@@ -7,13 +7,17 @@ from .hip_angles import hip_to_machine, machine_to_hip
 from .opensim import load_opensim
 from .readers import Column, ColumnMap, TrajectoryWarning, load_trajectory_csv, parse_columns, read_trajectory
 from .rig_logs import MeasuredLog, RigLog, lowpass, read_rig_log
+from .sources import CycleSource, FileSource, SampledSource
 from .trajectories import Trajectory, interpolator, iso14242
 
 __all__ = [
     "Column",
     "ColumnMap",
+    "CycleSource",
+    "FileSource",
     "MeasuredLog",
     "RigLog",
+    "SampledSource",
     "Trajectory",
     "TrajectoryWarning",
     "hip_to_machine",

@@ -46,6 +46,7 @@ def load_opensim(
     frequency: float | None = None,
     period: float | None = None,
     resample: float | None = None,
+    lazy: bool = False,
 ) -> Trajectory:
     """Read one hip's motion from an OpenSim .mot or .sto file.
 
@@ -59,6 +60,7 @@ def load_opensim(
         frequency: cycle frequency in [Hz]: the file holds one cycle, rescaled in time to it.
         period: cycle period in [s], instead of ``frequency``.
         resample: rate in [Hz] of an even grid to resample uneven data onto.
+        lazy: return a :class:`hipsim.motion.readers.SampledMotion` to evaluate piece by piece instead.
 
     Returns:
         The platform trajectory, named by the path as given; 0 N of load
@@ -72,7 +74,9 @@ def load_opensim(
         raise TrajectoryError(f"side must be 'right' or 'left', got {side!r}", source=source)
     suffix = _SIDES[side.strip().lower()]
     table = _read(source, path, suffix, _as_load_column(load_column))
-    return build_trajectory(table, periodic=periodic, frequency=frequency, period=period, resample=resample, body_weight=body_weight)
+    return build_trajectory(
+        table, periodic=periodic, frequency=frequency, period=period, resample=resample, body_weight=body_weight, lazy=lazy
+    )
 
 
 def _read(source: str, path, suffix: str, load: Column | None) -> Table:

@@ -74,6 +74,8 @@ UNITS = {
 _UNIT_SPELLINGS = {unit.lower(): unit for units in UNITS.values() for unit in units}
 #: Files read as OpenSim storage files rather than CSV tables.
 OPENSIM_SUFFIXES = (".mot", ".sto")
+#: Files read as Apache Parquet tables.
+PARQUET_SUFFIX = ".parquet"
 
 
 class TrajectoryWarning(UserWarning):
@@ -268,7 +270,8 @@ def build_trajectory(
     period: float | None = None,
     resample: float | None = None,
     body_weight: float | None = None,
-) -> Trajectory:
+    lazy: bool = False,
+) -> "Trajectory | SampledMotion":
     """Units, hip chain, time scaling, resampling and derivatives: the steps every reader shares (module docstring).
 
     Args:
@@ -279,6 +282,8 @@ def build_trajectory(
         period: cycle period in [s] (instead of ``frequency``).
         resample: sample rate in [Hz] of an even grid to resample onto.
         body_weight: the subject's body weight in [N], for a load in % body weight.
+        lazy: return the :class:`SampledMotion` (the samples and their
+            spline, evaluated piece by piece) instead of the whole Trajectory.
 
     Raises:
         TrajectoryError: naming the file, line and column of the first problem.
@@ -311,12 +316,46 @@ def build_trajectory(
             "periodic was asked for, but the last row does not repeat the first (angles, load and slope)",
             source=source, line=int(lines[-1]),
         )
-    if rate is not None:
-        return _resampled(t, q, load, rate, periodic, source)
-    q, qd, qdd = _differentiate(t, q, periodic)
-    if periodic:  # the last row repeats the first: keep one copy
-        t, q, qd, qdd, load, lines = t[:-1], q[:-1], qd[:-1], qdd[:-1], load[:-1], lines[:-1]
-    return Trajectory(t, q, qd, qdd, load, name=source, periodic=bool(periodic), lines=lines)
+    motion = _resampled(t, q, load, rate, periodic, source) if rate is not None else SampledMotion(t, load, lines, _spline(t, q, periodic), source, bool(periodic))
+    return motion if lazy else motion.trajectory()
+
+
+class SampledMotion:
+    """A file's samples and the quintic spline through them: the trajectory, evaluated whole or a piece at a time.
+
+    The derivatives at a sample come from the one spline of the whole file,
+    so a piece is the same, to the last digit, as that part of the whole
+    :class:`Trajectory` (a long file runs in constant memory beyond its samples).
+
+    Args:
+        t: the file's times in [s], (N,) (a periodic file's repeated last row included).
+        load: the load in [N] at ``t``, (N,).
+        lines: the file's line of each sample, (N,), or None.
+        spline: the angles' spline, a function of time in [s].
+        source: the file as named.
+        periodic: the last sample repeats the first (and is dropped).
+        grid: times in [s] to evaluate at, when resampled (the load then linearly); None for the samples' own times.
+    """
+
+    def __init__(self, t, load, lines, spline, source: str, periodic: bool, grid: np.ndarray | None = None):
+        self.knots, self.load, self.spline, self.source, self.periodic, self.grid = t, load, spline, source, periodic, grid
+        self.lines = None if lines is None or grid is not None else np.asarray(lines)
+        self.t = grid if grid is not None else (t[:-1] if periodic else t)
+
+    def __len__(self) -> int:
+        return self.t.size
+
+    def piece(self, start: int, stop: int) -> Trajectory:
+        """Samples ``start`` to ``stop`` (0-based, stop excluded) as a non-periodic Trajectory."""
+        t = self.t[start:stop]
+        load = self.load[start:stop] if self.grid is None else np.interp(t, self.knots, self.load)
+        lines = None if self.lines is None else self.lines[start:stop]
+        return Trajectory(t, self.spline(t), self.spline(t, 1), self.spline(t, 2), load, name=self.source, lines=lines)
+
+    def trajectory(self) -> Trajectory:
+        """The whole trajectory (periodic as the file is)."""
+        whole = self.piece(0, len(self))
+        return Trajectory(whole.t, whole.q, whole.qd, whole.qdd, whole.Fe, self.source, self.periodic, whole.lines)
 
 
 def _positive(value, what: str, unit: str, source: str) -> float:
@@ -452,13 +491,7 @@ def _spline(t: np.ndarray, angles: np.ndarray, periodic: bool):
     return make_interp_spline(t, angles, k=5, bc_type="periodic" if periodic else None, axis=0)
 
 
-def _differentiate(t: np.ndarray, angles: np.ndarray, periodic: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Quintic interpolating spline through the samples, and its first two derivatives."""
-    spline = _spline(t, angles, periodic)
-    return spline(t), spline(t, 1), spline(t, 2)
-
-
-def _resampled(t: np.ndarray, q: np.ndarray, load: np.ndarray, rate: float, periodic: bool, source: str) -> Trajectory:
+def _resampled(t: np.ndarray, q: np.ndarray, load: np.ndarray, rate: float, periodic: bool, source: str) -> SampledMotion:
     """The samples' quintic spline (and the load, linearly) on an even grid of ``rate`` samples per second.
 
     A periodic file keeps a whole period: the grid's step is the period over
@@ -473,8 +506,7 @@ def _resampled(t: np.ndarray, q: np.ndarray, load: np.ndarray, rate: float, peri
         grid = t[0] + np.arange(n) / rate
     if n < MIN_SAMPLES:
         raise TrajectoryError(f"resampling {span:g} s at {rate:g} Hz gives {n} samples; at least {MIN_SAMPLES} are needed", source=source)
-    spline = _spline(t, q, periodic)
-    return Trajectory(grid, spline(grid), spline(grid, 1), spline(grid, 2), np.interp(grid, t, load), name=source, periodic=bool(periodic))
+    return SampledMotion(t, load, None, _spline(t, q, periodic), source, bool(periodic), grid=grid)
 
 
 # --------------------------------------------------------------------------- CSV tables
@@ -553,6 +585,7 @@ def load_trajectory_csv(
     frequency: float | None = None,
     period: float | None = None,
     resample: float | None = None,
+    lazy: bool = False,
 ) -> Trajectory:
     """Read a trajectory from a CSV table and differentiate it.
 
@@ -576,6 +609,7 @@ def load_trajectory_csv(
         period: cycle period in [s], instead of ``frequency``.
         resample: rate in [Hz] of an even grid to resample uneven data onto
             (the quintic spline of the samples; the load linearly).
+        lazy: return a :class:`SampledMotion` to evaluate piece by piece instead.
 
     Returns:
         The trajectory, named by the path as given.
@@ -584,13 +618,28 @@ def load_trajectory_csv(
         TrajectoryError: naming the file, line and column of the first problem.
     """
     source = str(path)
+    mapping, load = column_options(columns, load_column, source)
+    table = _read_csv_table(source, path, mapping, load)
+    return build_trajectory(
+        table, periodic=periodic, frequency=frequency, period=period, resample=resample, body_weight=body_weight, lazy=lazy
+    )
+
+
+def column_options(columns, load_column, source: str) -> tuple[ColumnMap | None, Column | None]:
+    """The column mapping and load column a reader was given, merged (refused when both name the load)."""
     mapping, load = _as_column_map(columns), _as_load_column(load_column)
     if mapping is not None and load is not None:
         if mapping.load is not None:
             raise TrajectoryError("the load column is named twice (in the column mapping and on its own)", source=source)
         mapping = ColumnMap(mapping.time, mapping.angles, mapping.hip_chain, load)
-    table = _read_csv_table(source, path, mapping, load)
-    return build_trajectory(table, periodic=periodic, frequency=frequency, period=period, resample=resample, body_weight=body_weight)
+    return mapping, load
+
+
+def table_columns(header: list[str], mapping: ColumnMap | None, load: Column | None, source: str, line: int) -> tuple[ColumnMap, dict[str, int]]:
+    """The mapping (hipsim's own header checked when none is given) and where each mapped column sits in the header."""
+    if mapping is None:
+        mapping = _canonical_columns(header, source, line, load)
+    return mapping, _column_indices(header, mapping, source, line)
 
 
 def _read_csv_table(source: str, path, mapping: ColumnMap | None, load: Column | None) -> Table:
@@ -600,9 +649,7 @@ def _read_csv_table(source: str, path, mapping: ColumnMap | None, load: Column |
     header_line, header_text = numbered[0]
     separator = _separator(header_text, numbered[1][1] if len(numbered) > 1 else None)
     header = [cell.strip() for cell in _cells(header_text, separator)]
-    if mapping is None:
-        mapping = _canonical_columns(header, source, header_line, load)
-    index = _column_indices(header, mapping, source, header_line)
+    mapping, index = table_columns(header, mapping, load, source, header_line)
     data = numbered[1:]
     if len(data) < MIN_SAMPLES:
         raise TrajectoryError(f"{len(data)} samples; at least {MIN_SAMPLES} are needed", source=source)
@@ -753,13 +800,16 @@ def read_trajectory(
     frequency: float | None = None,
     period: float | None = None,
     resample: float | None = None,
+    lazy: bool = False,
 ) -> Trajectory:
     """Read a trajectory file of any format hipsim knows, by its suffix.
 
     ``.mot`` and ``.sto``: OpenSim (:func:`hipsim.motion.opensim.load_opensim`,
-    which takes ``side``); anything else: a CSV table
-    (:func:`load_trajectory_csv`, which takes ``columns``). The other
-    arguments are as those functions have them.
+    which takes ``side``); ``.parquet``: an Apache Parquet table with the
+    CSV's columns (:func:`hipsim.motion.parquet.load_trajectory_parquet`);
+    anything else: a CSV table (:func:`load_trajectory_csv`; these two take
+    ``columns``). The other arguments are as those functions have them;
+    ``lazy`` returns a :class:`SampledMotion` to evaluate piece by piece.
 
     Raises:
         TrajectoryError: an argument that does not apply to the format, or
@@ -775,11 +825,14 @@ def read_trajectory(
 
         return load_opensim(
             path, side="right" if side is None else side, periodic=periodic, load_column=load_column, body_weight=body_weight,
-            frequency=frequency, period=period, resample=resample,
+            frequency=frequency, period=period, resample=resample, lazy=lazy,
         )
     if side is not None:
         raise TrajectoryError("the side (left or right hip) applies to OpenSim .mot/.sto files", source=source)
-    return load_trajectory_csv(
+    load = load_trajectory_csv
+    if Path(source).suffix.lower() == PARQUET_SUFFIX:
+        from .parquet import load_trajectory_parquet as load
+    return load(
         path, periodic, columns=columns, load_column=load_column, body_weight=body_weight, frequency=frequency, period=period,
-        resample=resample,
+        resample=resample, lazy=lazy,
     )

@@ -28,6 +28,7 @@ __all__ = [
     "iso14242",
     "iso14242_at",
     "iso14242_load",
+    "iso14242_samples",
     "trajectory_arrays",
 ]
 
@@ -168,6 +169,18 @@ def iso14242(rate: float = 1000.0, cycles: float = 1, frequency: float = 1.0) ->
         The trajectory sampled at t = k/rate for k = 0 … N−1 with N = cycles·rate/f,
         the end of the last cycle left out so that whole cycles tile.
     """
+    n, whole = iso14242_samples(rate, cycles, frequency, MAX_SAMPLES)
+    t = np.arange(n) / rate
+    q, qd, qdd = iso14242_angles(t, frequency)
+    return Trajectory(t, q, qd, qdd, iso14242_load(t, frequency), name="ISO 14242-1", periodic=whole)
+
+
+def iso14242_samples(rate: float, cycles: float, frequency: float, limit: int, why: str = "fit in memory") -> tuple[int, bool]:
+    """How many samples ``cycles`` built-in cycles of ``frequency`` [Hz] at ``rate`` [Hz] have, and whether they are whole cycles.
+
+    Raises:
+        TrajectoryError: a value that is not a positive number, fewer than 2 samples, or more than ``limit``.
+    """
     for name, value in (("rate", rate), ("cycles", cycles), ("frequency", frequency)):
         if isinstance(value, bool) or not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
             raise TrajectoryError(f"{name} must be a positive number, got {value!r}", source="ISO 14242-1")
@@ -176,12 +189,9 @@ def iso14242(rate: float = 1000.0, cycles: float = 1, frequency: float = 1.0) ->
         raise TrajectoryError(
             f"{cycles} cycle(s) of {frequency} Hz sampled at {rate} Hz give fewer than 2 samples", source="ISO 14242-1"
         )
-    if n > MAX_SAMPLES:
-        raise TrajectoryError(f"{cycles} cycle(s) at {rate} Hz gives {n:,} samples; at most {MAX_SAMPLES:,} fit in memory", source="ISO 14242-1")
-    t = np.arange(n) / rate
-    q, qd, qdd = iso14242_angles(t, frequency)
-    whole = abs(cycles - round(cycles)) < 1e-12 and abs(n - cycles * rate / frequency) < 1e-9
-    return Trajectory(t, q, qd, qdd, iso14242_load(t, frequency), name="ISO 14242-1", periodic=whole)
+    if n > limit:
+        raise TrajectoryError(f"{cycles} cycle(s) at {rate} Hz gives {n:,} samples; at most {limit:,} {why}", source="ISO 14242-1")
+    return n, abs(cycles - round(cycles)) < 1e-12 and abs(n - cycles * rate / frequency) < 1e-9
 
 
 def iso14242_at(t: np.ndarray, frequency: float = 1.0) -> Trajectory:

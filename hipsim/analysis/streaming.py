@@ -1,0 +1,159 @@
+"""Runs of any length in constant memory: a model run piece by piece, its columns streamed out, its summary gathered.
+
+:func:`stream_run` runs one model along a :mod:`~hipsim.motion.sources`
+source a piece (``chunk`` samples) at a time, hands each piece's CSV columns
+to ``write`` and adds it to a :class:`~hipsim.results.Summary`; memory is set
+by the piece, not by the run. :class:`PieceRunner` runs one piece (``hipsim
+check`` runs five models side by side with it).
+
+The pieces give the one-piece results to the last digit with the analytic
+model: each piece is run with the sample before it (and the first piece of a
+periodic motion with the last sample, the wrap-around), so the detection of
+a singularity crossed between two samples sees the same neighbours. The
+Pinocchio model closes the chain from the previous sample's solution; a
+piece starts it from a few samples of overlap, so its results agree with one
+piece to the closure tolerance (about 1e-12 of each column's peak), not
+bit for bit.
+"""
+
+from __future__ import annotations
+
+from typing import Callable, Mapping
+
+import numpy as np
+
+from ..exceptions import ArgumentError, PoseError
+from ..machine.parameters import Parameters, slender_levers
+from ..motion.sources import SampledSource, TrajectorySource, pieces
+from ..motion.trajectories import Trajectory
+from ..results import Run, Summary
+from .runs import MODELS
+
+__all__ = ["CHUNK", "PieceRunner", "as_source", "stream_run"]
+
+#: Samples per piece: some 60 MB of the analytic model's working arrays, a few ms of its time.
+CHUNK = 20_000
+#: Samples of overlap before a Pinocchio piece: they prime its predictor of the next closed configuration.
+_PINOCCHIO_OVERLAP = 3
+
+
+def _model(params: Parameters, model: str, on_error: str, lever_spin: bool):
+    """The model object :func:`hipsim.analyse` would run, and how many samples of overlap its pieces need."""
+    if model not in MODELS:
+        raise ArgumentError("model", model, f"one of {', '.join(MODELS)}")
+    if model == "analytic":
+        from ..analytic.engine import AnalyticModel
+
+        return AnalyticModel(params, lever_spin=lever_spin, on_error=on_error), 1
+    if on_error != "raise":
+        raise ArgumentError("on_error", on_error, "'raise' with the Pinocchio model (it cannot carry on through poses out of reach; the analytic model flags them)")
+    if model == "mujoco":
+        from ..mujoco_engine import MujocoModel
+
+        return MujocoModel(params), 0
+    from ..closed_chain.engine import PinocchioModel
+
+    return PinocchioModel(params), _PINOCCHIO_OVERLAP
+
+
+def _join(before: Trajectory, piece: Trajectory) -> Trajectory:
+    return Trajectory(
+        np.concatenate([before.t, piece.t]), np.vstack([before.q, piece.q]), np.vstack([before.qd, piece.qd]),
+        np.vstack([before.qdd, piece.qdd]), np.concatenate([before.Fe, piece.Fe]), piece.name,
+    )
+
+
+class PieceRunner:
+    """One model along one source, piece by piece, each piece with the overlap the model needs (module docstring).
+
+    Args:
+        params: the machine.
+        source: the motion.
+        model, on_error, lever_spin: as :func:`hipsim.analyse`.
+    """
+
+    def __init__(self, params, source: TrajectorySource, model: str, on_error: str = "raise", lever_spin: bool = False):
+        self.model, self.overlap = _model(params, model, on_error, lever_spin)
+        self.source, self.analytic = source, model == "analytic"
+
+    def run(self, start: int, piece: Trajectory) -> Run:
+        """The model along ``piece``, the samples from ``start`` on."""
+        n = len(self.source)
+        if start > 0 and self.overlap:
+            before = self.source.piece(max(0, start - self.overlap), start)
+        elif start == 0 and self.analytic and self.source.periodic:
+            before = self.source.piece(n - 1, n)  # the wrap-around: sample 0 follows the last
+        else:
+            return self._run(piece, piece, start)
+        try:
+            return self._run(_join(before, piece), piece, start - len(before)).slice(slice(len(before), None))
+        except PoseError as error:
+            if start == 0 and error.index < 0:  # the wrap-around sample itself is bad: reported where it is, later
+                return self._run(piece, piece, start)
+            raise
+
+    def _run(self, trajectory: Trajectory, piece: Trajectory, offset: int) -> Run:
+        """Run, a pose error's index made the run's and its file line added."""
+        try:
+            return self.model.run(trajectory, piece=True) if self.analytic else self.model.run(trajectory)
+        except PoseError as error:
+            line = error.line if error.line is not None else piece.line_at(error.time)
+            raise PoseError(error.reason, error.time, error.index + offset, source=error.source, line=line) from None
+
+
+def as_source(motion) -> TrajectorySource:
+    """A source of ``motion``: a Trajectory in memory wrapped, a source as it is."""
+    return SampledSource(motion) if isinstance(motion, Trajectory) else motion
+
+
+def stream_run(
+    params: Parameters,
+    source: TrajectorySource | Trajectory,
+    model: str = "analytic",
+    *,
+    on_error: str = "raise",
+    lever_spin: bool = False,
+    chunk: int = CHUNK,
+    write: Callable[[Mapping[str, np.ndarray]], None] | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> dict:
+    """Run a model along a source in pieces: each piece's columns to ``write``, the summary of the whole returned.
+
+    Args:
+        params: the machine.
+        source: the motion (a :mod:`~hipsim.motion.sources` source, or a Trajectory).
+        model: as :func:`hipsim.analyse`.
+        on_error: as :func:`hipsim.analyse`; with "flag" every piece has the ``flagged`` column.
+        lever_spin: as :func:`hipsim.analyse`.
+        chunk: samples per piece.
+        write: called with each piece's :meth:`~hipsim.results.Run.columns`, in order.
+        progress: called with (samples done, samples in all) after each piece.
+
+    Returns:
+        The summary :meth:`hipsim.Run.summary` gives of the whole run.
+
+    Raises:
+        PoseError: the first pose out of reach or singular (index and time of the whole run),
+            or every sample flagged.
+    """
+    source = as_source(source)
+    if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
+        raise ArgumentError("chunk", chunk, "a positive number of samples")
+    runner = PieceRunner(params, source, model, on_error, lever_spin)
+    summary = None
+    n = len(source)
+    for start, stop in pieces(source, chunk):
+        run = runner.run(start, source.piece(start, stop))
+        if summary is None:  # whether there are joint forces: what the model gives
+            summary = Summary(run.model, params, source.name, run.joint_forces is not None)
+        summary.add(run)
+        if write is not None:
+            columns = run.columns()
+            if on_error == "flag":
+                columns.setdefault("flagged", run.flagged.astype(float))
+            write(columns)
+        if progress is not None:
+            progress(stop, n)
+    if not summary.kept:
+        raise PoseError(f"all {n} samples are out of reach or singular; nothing to compute", source.time(0), 0, source=source.name)
+    return summary.result()

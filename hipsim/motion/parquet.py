@@ -1,0 +1,78 @@
+"""Trajectories from Apache Parquet tables: the CSV's columns and checks, read column-wise with pyarrow.
+
+A Parquet trajectory has the columns a CSV trajectory has (``t_s``,
+``alpha_deg`` … or a column mapping) as numbers; rows are counted from 1
+where an error names a line. From there it goes through the same steps as
+every reader (:func:`hipsim.motion.readers.build_trajectory`).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Mapping
+
+import numpy as np
+
+from ..exceptions import TrajectoryError
+from .readers import MIN_SAMPLES, Column, ColumnMap, Table, build_trajectory, column_options, table_columns
+from .trajectories import Trajectory
+
+__all__ = ["load_trajectory_parquet"]
+
+
+def load_trajectory_parquet(
+    path: str | Path,
+    periodic: bool | None = None,
+    *,
+    columns: ColumnMap | Mapping | str | None = None,
+    load_column: Column | str | None = None,
+    body_weight: float | None = None,
+    frequency: float | None = None,
+    period: float | None = None,
+    resample: float | None = None,
+    lazy: bool = False,
+) -> Trajectory:
+    """Read a trajectory from a Parquet table and differentiate it (the arguments as :func:`hipsim.motion.readers.load_trajectory_csv`).
+
+    Raises:
+        TrajectoryError: naming the file, row and column of the first problem.
+    """
+    import pyarrow.parquet as pq
+
+    source = str(path)
+    mapping, load = column_options(columns, load_column, source)
+    try:
+        parquet = pq.ParquetFile(path)
+    except FileNotFoundError:
+        raise TrajectoryError("no such trajectory file", source=source) from None
+    except IsADirectoryError:
+        raise TrajectoryError("is a folder, not a trajectory file", source=source) from None
+    except Exception as error:  # pyarrow's own errors for a file that is not Parquet
+        raise TrajectoryError(f"not a Parquet file ({error})", source=source) from None
+    header = list(parquet.schema_arrow.names)
+    mapping, index = table_columns(header, mapping, load, source, 1)
+    n = parquet.metadata.num_rows
+    if n < MIN_SAMPLES:
+        raise TrajectoryError(f"{n} samples; at least {MIN_SAMPLES} are needed", source=source)
+    names = {key: header[c] for key, c in index.items()}
+    data = parquet.read(columns=sorted(set(names.values())))
+    values = {}
+    for key, name in names.items():
+        try:
+            column = data.column(name).to_numpy(zero_copy_only=False).astype(float)
+        except (TypeError, ValueError):
+            raise TrajectoryError(f"holds {data.schema.field(name).type}, not numbers", source=source, column=name) from None
+        bad = ~np.isfinite(column)
+        if bad.any():
+            k = int(np.argmax(bad))
+            raise TrajectoryError(f"'{column[k]:g}' is not finite", source=source, line=k + 2, column=name)
+        values[key] = column
+    # Rows are numbered as the CSV's lines would be: the header is line 1.
+    return build_trajectory(
+        Table(
+            source=source, lines=np.arange(2, n + 2), time=values["time"],
+            angles=np.column_stack([values[key] for key in mapping.angle_keys]),
+            load=values.get("load"), columns=mapping, time_quantum=0.0,
+        ),
+        periodic=periodic, frequency=frequency, period=period, resample=resample, body_weight=body_weight, lazy=lazy,
+    )
