@@ -42,7 +42,11 @@ def peak_and_rms(values: np.ndarray, axis: int = 0) -> tuple[np.ndarray, np.ndar
         (peak, rms), each the shape of ``values`` without ``axis``.
     """
     values = np.asarray(values, dtype=float)
-    return np.abs(values).max(axis=axis), np.sqrt(np.mean(values**2, axis=axis))
+    # The mean square from a correctly rounded sum (math.fsum), the one a run in pieces gets
+    # from ExactSum: a long run and its pieces then report the same RMS to the last digit.
+    squares = np.moveaxis(values**2, axis, -1)
+    sums = np.array([math.fsum(row) for row in squares.reshape(-1, squares.shape[-1])]).reshape(squares.shape[:-1])
+    return np.abs(values).max(axis=axis), np.sqrt(sums / values.shape[axis])
 
 
 @dataclass(frozen=True, eq=False)
