@@ -10,10 +10,9 @@ The pieces give the one-piece results to the last digit with the analytic
 model: each piece is run with the sample before it (and the first piece of a
 periodic motion with the last sample, the wrap-around), so the detection of
 a singularity crossed between two samples sees the same neighbours. The
-Pinocchio model closes the chain from the previous sample's solution; a
-piece starts it from a few samples of overlap, so its results agree with one
-piece to the closure tolerance (about 1e-12 of each column's peak), not
-bit for bit.
+Pinocchio model closes the chain from the previous samples' solution: a
+:class:`~hipsim.closed_chain.model.Continuation` carries that solution from
+one piece to the next, so its pieces too give the one-piece results bit for bit.
 """
 
 from __future__ import annotations
@@ -33,8 +32,6 @@ __all__ = ["CHUNK", "PieceRunner", "as_source", "stream_run"]
 
 #: Samples per piece: some 60 MB of the analytic model's working arrays, a few ms of its time.
 CHUNK = 20_000
-#: Samples of overlap before a Pinocchio piece: they prime its predictor of the next closed configuration.
-_PINOCCHIO_OVERLAP = 3
 
 
 def _model(params: Parameters, model: str, on_error: str, lever_spin: bool):
@@ -53,7 +50,7 @@ def _model(params: Parameters, model: str, on_error: str, lever_spin: bool):
         return MujocoModel(params), 0
     from ..closed_chain.engine import PinocchioModel
 
-    return PinocchioModel(params), _PINOCCHIO_OVERLAP
+    return PinocchioModel(params), 0
 
 
 def _join(before: Trajectory, piece: Trajectory) -> Trajectory:
@@ -74,7 +71,8 @@ class PieceRunner:
 
     def __init__(self, params, source: TrajectorySource, model: str, on_error: str = "raise", lever_spin: bool = False):
         self.model, self.overlap = _model(params, model, on_error, lever_spin)
-        self.source, self.analytic = source, model == "analytic"
+        self.source, self.analytic, self.pinocchio = source, model == "analytic", model == "pinocchio"
+        self.continuation = None
 
     def run(self, start: int, piece: Trajectory) -> Run:
         """The model along ``piece``, the samples from ``start`` on."""
@@ -95,7 +93,17 @@ class PieceRunner:
     def _run(self, trajectory: Trajectory, piece: Trajectory, offset: int) -> Run:
         """Run, a pose error's index made the run's and its file line added."""
         try:
-            return self.model.run(trajectory, piece=True) if self.analytic else self.model.run(trajectory)
+            if self.analytic:
+                return self.model.run(trajectory, piece=True)
+            if self.pinocchio:
+                from ..closed_chain.model import Continuation
+
+                if offset == 0:
+                    self.continuation = Continuation()
+                elif self.continuation is None or self.continuation.samples != offset:
+                    raise ArgumentError("start", offset, "pieces of a Pinocchio run in time order, from 0")
+                return self.model.run(trajectory, continuation=self.continuation)
+            return self.model.run(trajectory)
         except PoseError as error:
             line = error.line if error.line is not None else piece.line_at(error.time)
             raise PoseError(error.reason, error.time, error.index + offset, source=error.source, line=line) from None

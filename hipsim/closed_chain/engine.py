@@ -7,7 +7,7 @@ import numpy as np
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 from ..results import Run
-from .model import ClosedChainModel, load_model, trajectory_dynamics
+from .model import ClosedChainModel, Continuation, load_model, trajectory_dynamics
 
 __all__ = ["PinocchioModel"]
 
@@ -33,13 +33,18 @@ class PinocchioModel:
         self.params, self.parts = params, bool(parts)
         self.chain = chain if chain is not None else load_model(params)
 
-    def run(self, trajectory: Trajectory) -> Run:
+    def run(self, trajectory: Trajectory, continuation: Continuation | None = None) -> Run:
         """Closed kinematics and inverse dynamics along ``trajectory``.
+
+        Args:
+            trajectory: the motion.
+            continuation: for a run in pieces, one :class:`~hipsim.closed_chain.model.Continuation`
+                given to every piece in time order (the pieces then give the one-piece results bit for bit).
 
         Raises:
             PoseError: at the first sample out of reach or singular.
         """
-        kin, dynamics = trajectory_dynamics(self.chain, trajectory, parts=self.parts)
+        kin, dynamics = trajectory_dynamics(self.chain, trajectory, parts=self.parts, continuation=continuation)
         return Run(
             self.name, self.params, trajectory, kin.L, kin.Ld, kin.Ldd, dynamics.torques, kin.cond_inv,
             np.zeros(len(trajectory.t), dtype=bool), joint_forces=dynamics.joint_forces,

@@ -64,6 +64,7 @@ from ..results import JointForces, Torques
 
 __all__ = [
     "ClosedChainModel",
+    "Continuation",
     "ClosedChainDynamics",
     "ClosedKinematics",
     "closure_residuals",
@@ -642,6 +643,33 @@ class _Closer:
         return v, a
 
 
+@dataclass(eq=False)
+class Continuation:
+    """Where a run in pieces left the closure solver, so that the next piece goes on as one run would.
+
+    The solver starts each sample from a prediction made of the previous
+    samples and its chord steps reuse the previous sample's K⁻¹: a piece that
+    started cold would close the chain to the same tolerance but not to the
+    same bits. Pass one (initially empty) object to successive pieces in time
+    order; each run updates it in place.
+
+    Attributes:
+        samples: samples closed so far.
+        t: times of the last two samples in [s].
+        q, v, a: configuration, velocity and acceleration of the last sample.
+        a_before: acceleration of the sample before it.
+        K_inv: the solver's chord Jacobian at the last sample.
+    """
+
+    samples: int = 0
+    t: tuple[float, float] = (math.nan, math.nan)
+    q: np.ndarray | None = None
+    v: np.ndarray | None = None
+    a: np.ndarray | None = None
+    a_before: np.ndarray | None = None
+    K_inv: np.ndarray | None = None
+
+
 def kinematics(chain: ClosedChainModel, traj, *, tol: float = 1e-12, max_iter: int = 50) -> ClosedKinematics:
     """Close the chain along a platform trajectory, with Pinocchio only.
 
@@ -663,7 +691,9 @@ def kinematics(chain: ClosedChainModel, traj, *, tol: float = 1e-12, max_iter: i
     return _close_chain(chain, traj, tol, max_iter, Fe=None)[0]
 
 
-def _close_chain(chain: ClosedChainModel, traj, tol: float, max_iter: int, Fe, parts: bool = True) -> tuple[ClosedKinematics, Any]:
+def _close_chain(
+    chain: ClosedChainModel, traj, tol: float, max_iter: int, Fe, parts: bool = True, continuation: Continuation | None = None
+) -> tuple[ClosedKinematics, Any]:
     """The kinematics loop; with a load Fe it also runs the inverse dynamics on the fly."""
     layout = _require_layout(chain)
     t, q_in, qd_in, qdd_in = trajectory_arrays(traj)
@@ -678,16 +708,24 @@ def _close_chain(chain: ClosedChainModel, traj, tol: float, max_iter: int, Fe, p
     closer = _Closer(chain, tol, max_iter)
     # The closer leaves Pinocchio's data at the closed q: the dynamics reuse its Jacobians.
     dynamics = _InverseDynamics(chain, V, A, Fe, parts) if Fe is not None else None
-    dt = np.diff(t, prepend=t[0])
+    go_on = continuation if continuation is not None and continuation.samples else None
+    # The samples before this piece (if any) come first, so that dt and the predictor see one run.
+    dt = np.diff(np.concatenate([go_on.t, t]) if go_on else t, prepend=t[0])[2 if go_on else 0:]
+    if go_on:
+        closer.K_inv = go_on.K_inv
     q = layout.initial_guess.copy()
     for k in range(n):
-        if k > 1:
+        # Sample k of this piece is sample `done` of the run; earlier samples may lie in the previous piece.
+        done = go_on.samples + k if go_on else k
+        q1, v1, a1 = (Q[k - 1], V[k - 1], A[k - 1]) if k >= 1 else (go_on.q, go_on.v, go_on.a) if go_on else (None,) * 3
+        if done > 1:
             # Third-order Taylor prediction; jerk from the last two accelerations.
-            h = dt[k]
-            jerk = (A[k - 1] - A[k - 2]) / dt[k - 1]
-            q = Q[k - 1] + h * (V[k - 1] + h * (0.5 * A[k - 1] + h / 6.0 * jerk))
-        elif k == 1:
-            q = Q[0] + dt[1] * (V[0] + 0.5 * dt[1] * A[0])
+            a2 = A[k - 2] if k >= 2 else go_on.a if k == 1 else go_on.a_before
+            h, h1 = dt[k], dt[k - 1] if k >= 1 else go_on.t[1] - go_on.t[0]
+            jerk = (a1 - a2) / h1
+            q = q1 + h * (v1 + h * (0.5 * a1 + h / 6.0 * jerk))
+        elif done == 1:
+            q = q1 + dt[k] * (v1 + 0.5 * dt[k] * a1)
         before = closer.evaluations
         try:
             q, gaps[k] = closer.close(q, both[k])
@@ -700,6 +738,13 @@ def _close_chain(chain: ClosedChainModel, traj, tol: float, max_iter: int, Fe, p
         if dynamics is not None:
             dynamics.add(k, q, closer.ws.data, closer.K[3:], closer.rotations)
 
+    if continuation is not None and n:
+        a_before = A[-2] if n >= 2 else continuation.a
+        t_before = t[-2] if n >= 2 else continuation.t[1]
+        continuation.samples += n
+        continuation.t = (float(t_before), float(t[-1]))
+        continuation.q, continuation.v, continuation.a, continuation.a_before = Q[-1].copy(), V[-1].copy(), A[-1].copy(), a_before
+        continuation.K_inv = closer.K_inv
     sliders = layout.slider_v
     offset = np.stack([np.zeros(3), layout.slider_offset])[None]
     # L̇ = J_rates·q̇ and ω = T(q)·q̇, so J = J_rates·T⁻¹: solve Tᵀ·Jᵀ = J_ratesᵀ.
@@ -973,7 +1018,8 @@ def inverse_dynamics(chain: ClosedChainModel, kin: ClosedKinematics, Fe, *, part
 
 
 def trajectory_dynamics(
-    chain: ClosedChainModel, traj, *, tol: float = 1e-12, max_iter: int = 50, parts: bool = True
+    chain: ClosedChainModel, traj, *, tol: float = 1e-12, max_iter: int = 50, parts: bool = True,
+    continuation: Continuation | None = None,
 ) -> tuple[ClosedKinematics, ClosedChainDynamics]:
     """:func:`kinematics` and :func:`inverse_dynamics` in one pass, with the trajectory's own load.
 
@@ -987,8 +1033,11 @@ def trajectory_dynamics(
         tol: closure gap accepted in [m], as in :func:`kinematics`.
         max_iter: damped Gauss–Newton iterations allowed per sample.
         parts: split the torques into their parts (as :func:`inverse_dynamics`).
+        continuation: for a run in pieces, one :class:`Continuation` passed to
+            every piece in time order: the pieces then give the one-piece
+            results bit for bit.
 
     Returns:
         The closed motion and the torques.
     """
-    return _close_chain(chain, traj, tol, max_iter, Fe=traj.Fe, parts=parts)
+    return _close_chain(chain, traj, tol, max_iter, Fe=traj.Fe, parts=parts, continuation=continuation)
