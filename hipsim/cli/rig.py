@@ -124,16 +124,22 @@ def _table(header, rows, title=""):
     return _format_table(header, rows, title)
 
 
+def _pieces(path: str, params, args):
+    from ..analysis.compare import LogPieces
+
+    return LogPieces(path, params, torque_constant=args.torque_constant, cutoff=_cutoff(args), tolerance_deg=args.tolerance)
+
+
 def run_compare(args) -> int:
-    from ..analysis.compare import compare
+    from ..analysis.compare import compare_log
     from ..files import check_folder
     from ..present.rig_figures import write_comparison
     from .main import _parameters
 
     params = _parameters(args)
     check_folder(Path(args.out))  # a bad folder is refused before the work
-    log = _load(args.log, params, args)
-    comparison = compare(params, log, lever_spin=not args.spin_free_levers, period=args.period)
+    with _pieces(args.log, params, args) as log:  # in pieces: memory does not grow with the log
+        comparison = compare_log(params, log, lever_spin=not args.spin_free_levers, period=args.period)
     files = write_comparison(args.out, comparison)
     summary = comparison.summary()
     if args.summary_format == "json":
