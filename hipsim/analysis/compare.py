@@ -69,8 +69,9 @@ REVERSAL_PERIODS = 1.5
 PIECE = 50_000
 #: How much an interpolating quintic spline's response to one sample shrinks per sample (its B-spline's root of largest modulus < 1).
 SPLINE_DECAY = 0.4305753470999737
-#: Samples beyond which that response is below round-off (2⁻⁵³), and a bit: a piece's spline reaches this far.
-SPLINE_HALO = int(math.ceil(53 * math.log(2) / -math.log(SPLINE_DECAY))) + 4
+#: Samples beyond which that response is below round-off twice over (2⁻¹⁰⁶): a piece's spline reaches this far. Twice,
+#: because a piece's end condition errs by as much as the second derivative of noisy samples, many times the angles.
+SPLINE_HALO = int(math.ceil(106 * math.log(2) / -math.log(SPLINE_DECAY))) + 4
 #: Most samples the period is detected from (:func:`detect_period`); a longer log's angles are taken every k-th sample.
 PERIOD_SAMPLES = 1 << 20
 #: Most samples a comparison in pieces keeps for its figures (every k-th; the statistics use every sample).
@@ -147,7 +148,7 @@ class LogPieces:
         if isinstance(piece, bool) or not isinstance(piece, int) or piece < 1:
             raise ArgumentError("piece", piece, "a positive number of samples")
         self.params = params if params is not None else load_parameters()
-        self.raw = raw = RigLogFile(path, torque_constant)
+        self.raw = raw = RigLogFile(path, torque_constant, block=max(piece, 1000))  # the scan's blocks no larger than a piece
         self.name, self.rate, self.cutoff, self.source = Path(raw.source).name, raw.rate, cutoff, raw.source
         notes = []
         if raw.ignored:

@@ -8,6 +8,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import sys
@@ -112,12 +113,6 @@ def _not_an_input(out: str, inputs: list[str], option: str) -> None:
             raise HipsimError(f"--out {out} is the input {name} itself: choose another output")
 
 
-def _load(path: str, params, args):
-    from ..analysis.compare import load_log
-
-    return load_log(path, params, torque_constant=args.torque_constant, cutoff=_cutoff(args), tolerance_deg=args.tolerance)
-
-
 def _table(header, rows, title=""):
     from .main import _format_table
 
@@ -175,10 +170,11 @@ def run_identify(args) -> int:
             raise HipsimError("--json and --out name the same file")
     if not (math.isfinite(args.max_std) and args.max_std > 0):
         raise HipsimError(f"--max-std: expected a positive percentage, got {args.max_std!r}")
-    logs = [_load(path, params, args) for path in args.log]
-    validate = [_load(path, params, args) for path in args.validate]
     fixed = [name.strip() for name in (args.fix or "").split(",") if name.strip()]
-    result = identify(logs, params, validate=validate, lever_spin=not args.spin_free_levers, fixed=fixed, max_relative_std=args.max_std / 100)
+    with contextlib.ExitStack() as stack:  # the logs in pieces: memory does not grow with their length
+        logs = [stack.enter_context(_pieces(path, params, args)) for path in args.log]
+        validate = [stack.enter_context(_pieces(path, params, args)) for path in args.validate]
+        result = identify(logs, params, validate=validate, lever_spin=not args.spin_free_levers, fixed=fixed, max_relative_std=args.max_std / 100)
 
     path = result.write_toml(args.out)
     if args.json:
