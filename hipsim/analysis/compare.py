@@ -65,15 +65,15 @@ __all__ = [
 DEFAULT_TOLERANCE_DEG = 0.5
 #: Half-width of the window around each motor's reversal, in periods of the low-pass cutoff (see :func:`reversal_mask`).
 REVERSAL_PERIODS = 1.5
-#: Samples per piece of a log compared in pieces (:class:`LogPieces`): some 100 MB of working arrays.
-PIECE = 50_000
+#: Samples per piece of a log compared in pieces (:class:`LogPieces`): some 70 MB of the model's working arrays.
+PIECE = 20_000
 #: How much an interpolating quintic spline's response to one sample shrinks per sample (its B-spline's root of largest modulus < 1).
 SPLINE_DECAY = 0.4305753470999737
 #: Samples beyond which that response is below round-off twice over (2⁻¹⁰⁶): a piece's spline reaches this far. Twice,
 #: because a piece's end condition errs by as much as the second derivative of noisy samples, many times the angles.
 SPLINE_HALO = int(math.ceil(106 * math.log(2) / -math.log(SPLINE_DECAY))) + 4
 #: Most samples the period is detected from (:func:`detect_period`); a longer log's angles are taken every k-th sample.
-PERIOD_SAMPLES = 1 << 20
+PERIOD_SAMPLES = 1 << 18
 #: Most samples a comparison in pieces keeps for its figures (every k-th; the statistics use every sample).
 FIGURE_SAMPLES = 20_000
 
