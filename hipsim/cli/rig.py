@@ -129,12 +129,12 @@ def run_compare(args) -> int:
     from ..analysis.compare import compare_log
     from ..files import check_folder
     from ..present.rig_figures import write_comparison
-    from .main import _parameters
+    from .main import _parameters, _progress
 
     params = _parameters(args)
     check_folder(Path(args.out))  # a bad folder is refused before the work
     with _pieces(args.log, params, args) as log:  # in pieces: memory does not grow with the log
-        comparison = compare_log(params, log, lever_spin=not args.spin_free_levers, period=args.period)
+        comparison = compare_log(params, log, lever_spin=not args.spin_free_levers, period=args.period, progress=_progress("compare"))
     files = write_comparison(args.out, comparison)
     summary = comparison.summary()
     if args.summary_format == "json":
