@@ -44,7 +44,8 @@ def add_parser(subparsers) -> None:
         description="Runs the analytic model along a rig log's motion and load and compares its motor torques (total "
         "and parts) with the measured ones, per motor: RMS and peak error, absolute and relative, where the peak occurs, "
         "and the error per phase of the cycle when the log repeats. Model and measurement are low-passed alike. Writes "
-        "figures (PNG, SVG), index.html and comparison.json to --out and prints the table.",
+        "figures (PNG, SVG), index.html and comparison.json to --out and prints the table. The log is read and compared "
+        "in pieces: memory does not grow with its length.",
     )
     compare.add_argument("--log", required=True, metavar="FILE", help="rig log CSV: t_s, Fe_N, tau_i_Nmm (or current_i_A), angles and/or L_1i_mm")
     _add_machine_options(compare)
@@ -60,7 +61,8 @@ def add_parser(subparsers) -> None:
         "friction coefficients. Parameters the logs cannot tell apart are reported as the combinations they determine; "
         "the machine written is physically consistent (bounded least squares, semidefinite inertias). Prints each "
         "identified quantity with its relative standard deviation, the condition number and the residual per motor; "
-        "with --validate, the prediction error on held-out logs next to the starting parameters'.",
+        "with --validate, the prediction error on held-out logs next to the starting parameters'. Logs are read in "
+        "pieces: memory does not grow with their length.",
     )
     identify.add_argument("--log", required=True, action="append", metavar="FILE", help="rig log to fit (repeatable)")
     identify.add_argument("--validate", action="append", default=[], metavar="FILE", help="held-out rig log to predict (repeatable)")
