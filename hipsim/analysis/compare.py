@@ -397,10 +397,16 @@ class _ErrorSums:
         self.error_peak, self.error_peak_t, self.measured_peak = np.full(3, -1.0), np.zeros(3), np.zeros(3)
         self.cond_inv_min = math.inf
 
+    #: Samples summed at a time: the exact sums' working arrays (some 60 columns) stay near 100 MB.
+    BLOCK = 1 << 15
+
     def add(self, t: np.ndarray, measured: np.ndarray, model: dict[str, np.ndarray], cond_inv: np.ndarray, near: np.ndarray) -> None:
         """Add samples: times in [s] (M,), torques in [N·m] (M, 3), singularity measure (M,), near reversals (M, 3)."""
-        if t.size == 0:
-            return
+        for a in range(0, t.size, self.BLOCK):
+            part = slice(a, a + self.BLOCK)
+            self._add(t[part], measured[part], {field: values[part] for field, values in model.items()}, cond_inv[part], near[part])
+
+    def _add(self, t, measured, model, cond_inv, near) -> None:
         error = model["total"] - measured
         error_nmm, measured_nmm = error * 1e3, measured * 1e3
         away = ~near
