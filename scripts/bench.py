@@ -502,17 +502,66 @@ def bench_long_runs(quick: bool) -> None:
     print("  targets: >= 300,000 samples/s to Parquet with the analytic model, <= 400 MB for an hour with either model")
 
 
+def _tiled_log(source, path, seconds: float) -> None:
+    """The log ``source`` (whole periods) repeated to ``seconds`` long, its times continued."""
+    lines = source.read_text().splitlines()
+    header, rows = lines[0], [line.split(",", 1) for line in lines[1:]]
+    step = float(rows[1][0]) - float(rows[0][0])
+    total = int(round(seconds / step))
+    with open(path, "w") as out:
+        out.write(header + "\n")
+        for start in range(0, total, len(rows)):
+            out.write("".join(f"{(start + k) * step:.6f},{rest}\n" for k, (_, rest) in enumerate(rows[: total - start])))
+
+
+def bench_rig(quick: bool) -> None:
+    """``hipsim compare`` and ``hipsim identify`` on long rig logs, in pieces, against the whole-log path in the same run."""
+    import sys
+    import tempfile
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+    from rig_synthetic import iso_run, machines, write_log
+
+    long, short = (360, 60) if quick else (3600, 600)
+    start, _ = machines()
+    print("hipsim compare / identify end to end on a synthetic 1 kHz log (the ISO cycle on the Pinocchio plant, with noise, "
+          "repeated; fresh process each, wall time includes the imports)")
+    print(f"  {'run':<66} {'samples':>10} {'samples/s':>10} {'peak memory':>12}")
+    with tempfile.TemporaryDirectory() as folder:
+        seed = write_log(Path(folder) / "seed.csv", iso_run(4.0), np.random.default_rng(1), motion="angles")
+        for seconds in (short, long):
+            _tiled_log(seed, Path(folder) / f"log{seconds}.csv", seconds)
+        whole = ("from hipsim.analysis.compare import load_log, compare; import hipsim; "
+                 "p = hipsim.load_parameters(); log = load_log('log{s}.csv', p); ")
+        rows = [
+            (f"whole log (load_log + compare + figures), {short} s",
+             whole.format(s=short) + "from hipsim.present.rig_figures import write_comparison; write_comparison('cmp0', compare(p, log))", short),
+            (f"hipsim compare in pieces, {short} s", f"from hipsim.cli.main import main; main(['compare', '--log', 'log{short}.csv', '--out', 'cmp1', '--summary-format', 'json'])", short),
+            (f"hipsim compare in pieces, {long} s", f"from hipsim.cli.main import main; main(['compare', '--log', 'log{long}.csv', '--out', 'cmp2', '--summary-format', 'json'])", long),
+            (f"whole log (load_log + identify), {short} s",
+             whole.format(s=short) + "from hipsim.analysis.identification import identify; identify([log], p)", short),
+            (f"hipsim identify in pieces, {short} s", f"from hipsim.cli.main import main; main(['identify', '--log', 'log{short}.csv', '--out', 'id1.toml', '--summary-format', 'json'])", short),
+            (f"hipsim identify in pieces, {long} s", f"from hipsim.cli.main import main; main(['identify', '--log', 'log{long}.csv', '--out', 'id2.toml', '--summary-format', 'json'])", long),
+        ]
+        for label, code, seconds in rows:
+            elapsed, megabytes = measured(code, folder)
+            samples = seconds * 1000
+            print(f"  {label:<66} {samples:>10,} {samples / elapsed:>10,.0f} {megabytes:>9,.0f} MB")
+    print("  target: <= 400 MB for an hour's log")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer samples in the slow baselines")
-    parser.add_argument("--only", choices=["analytic", "pinocchio", "workspace", "plants", "servo", "identification", "sweep", "long"],
+    parser.add_argument("--only", choices=["analytic", "pinocchio", "workspace", "plants", "servo", "identification", "sweep", "long", "rig"],
                         help="one section only")
     args = parser.parse_args()
     params = hipsim.load_parameters()
     if args.only:
         sections = {"analytic": bench_analytic, "pinocchio": bench_pinocchio, "plants": bench_plants, "servo": bench_servo,
                     "identification": bench_identification, "sweep": bench_sweep,
-                    "long": lambda params, quick: bench_long_runs(quick)}
+                    "long": lambda params, quick: bench_long_runs(quick), "rig": lambda params, quick: bench_rig(quick)}
         sections.get(args.only, lambda params, quick: bench_workspace(quick))(params, args.quick)
         return
     bench_analytic(params, args.quick)
@@ -532,6 +581,8 @@ def main() -> None:
     bench_sweep(params, args.quick)
     print()
     bench_long_runs(args.quick)
+    print()
+    bench_rig(args.quick)
 
 
 if __name__ == "__main__":

@@ -113,3 +113,101 @@ def test_compare_command_bad_log_leaves_nothing(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "no torque constant" in err
     assert not out.exists()
+
+
+# --- A log in pieces ---------------------------------------------------------------------------
+
+from hipsim.analysis.compare import LogPieces, compare_log  # noqa: E402
+
+#: Pieces give the whole log's values up to round-off: the filters start in another state and the
+#: forward kinematics' Newton from another pose, and their last digits differ; relative to the measured torque.
+ROUND_OFF = 1e-11
+
+
+def assert_same_statistics(whole, parts):
+    a, b = whole.summary(), parts.summary()
+    assert a["samples"] == b["samples"] and a["period_s"] == pytest.approx(b["period_s"], rel=1e-12)
+    for i in "123":
+        scale = a["motors"][i]["measured_rms_Nmm"]
+        for key, value in a["motors"][i].items():
+            other = b["motors"][i][key]
+            if key.startswith("relative"):
+                assert other == pytest.approx(value, rel=1e-9), (i, key)
+            elif key == "peak_error_t_s":
+                assert other == value, (i, key)  # the same sample
+            elif key == "share_near_reversals":
+                assert other == value, (i, key)  # the same samples, counted
+            elif key == "model_parts_rms_Nmm":
+                for part, rms in value.items():
+                    assert abs(other[part] - rms) <= ROUND_OFF * scale, (i, part)
+            else:
+                assert abs(other - value) <= ROUND_OFF * scale, (i, key, value, other)
+    np.testing.assert_allclose(parts.phase_rms, whole.phase_rms, rtol=0, atol=ROUND_OFF * 0.2)
+    assert b["cond_inv_min"] == pytest.approx(a["cond_inv_min"], rel=1e-12)
+
+
+@pytest.mark.parametrize("piece", [777, 1300])  # pieces that cut the 1 s cycle anywhere, shorter than their halo
+def test_a_log_in_pieces_gives_the_whole_logs_comparison(iso_log, piece):
+    """The statistics of a log compared in pieces against the whole log's, computed by the one-piece route."""
+    start, true = machines()
+    whole = compare(true, load_log(iso_log, start))
+    with LogPieces(iso_log, start, piece=piece) as pieces:
+        assert pieces.halo > piece and len(pieces) > 3 * piece  # every piece needs its neighbours
+        parts = compare_log(true, pieces)
+        same = compare_log(true, pieces, period=whole.period)
+    assert_same_statistics(whole, parts)
+    assert_same_statistics(whole, same)
+    # The figures' samples are the usable samples themselves, fewer when asked.
+    np.testing.assert_array_equal(parts.t, whole.t)
+    with LogPieces(iso_log, start, piece=piece) as pieces:
+        few = compare_log(true, pieces, figure_samples=500)
+    assert 400 < few.t.size <= 500 and np.all(np.isin(few.t, whole.t))
+
+
+def test_one_piece_is_the_whole_log_to_the_last_digit(iso_log):
+    start, true = machines()
+    whole = compare(true, load_log(iso_log, start))
+    with LogPieces(iso_log, start, piece=10**6) as pieces:
+        one = compare_log(true, pieces)
+    assert one.summary() == whole.summary()
+
+
+def test_a_log_in_pieces_without_a_filter(tmp_path):
+    """Unfiltered, from the attitude sensor (from the encoders, the forward kinematics' round-off, differentiated
+    twice at 1 kHz, would be all the difference there is)."""
+    start, true = machines()
+    path = write_log(tmp_path / "angles.csv", iso_run(), np.random.default_rng(5), motion="angles")
+    whole = compare(true, load_log(path, start, cutoff=None))
+    with LogPieces(path, start, cutoff=None, piece=900) as pieces:
+        assert_same_statistics(whole, compare_log(true, pieces))
+
+
+def _tiled(source, path, copies):
+    """The log ``source`` repeated ``copies`` times, its times continued (a log that many times longer)."""
+    lines = source.read_text().splitlines()
+    header, rows = lines[0], [line.split(",") for line in lines[1:]]
+    step = float(rows[1][0]) - float(rows[0][0])
+    with open(path, "w") as out:
+        out.write(header + "\n")
+        for c in range(copies):
+            for k, cells in enumerate(rows):
+                out.write(",".join([f"{(c * len(rows) + k) * step:.6f}", *cells[1:]]) + "\n")
+    return path
+
+
+def test_memory_does_not_grow_with_the_log(iso_log, tmp_path):
+    """A log four times longer, compared in pieces: the peak of Python's allocations stays that of the shorter one."""
+    import tracemalloc
+
+    start, _ = machines()
+    peaks = []
+    for copies in (2, 8):
+        path = _tiled(iso_log, tmp_path / f"x{copies}.csv", copies)
+        tracemalloc.start()
+        with LogPieces(path, start, piece=2000) as pieces:
+            comparison = compare_log(start, pieces, period=1.0, figure_samples=500)
+        peaks.append(tracemalloc.get_traced_memory()[1])
+        tracemalloc.stop()
+        assert comparison.summary()["samples"] > copies * 3000
+    # The times and file lines (16 bytes a sample) are all that grows: 24,000 more samples, 0.4 MB.
+    assert peaks[1] < peaks[0] + 24_000 * 16 * 1.5, peaks

@@ -135,3 +135,31 @@ def test_blank_lines_keep_the_file_line_numbers(tmp_path):
     path.write_text(text.replace(f"{rows[20][0]},", f"{rows[20][0]}x,", 1))
     with pytest.raises(TrajectoryError, match="line 24, column 't_s'"):
         read_rig_log(path)
+
+
+def test_a_log_scanned_in_small_blocks(tmp_path):
+    """Blocks of 7 lines (blank lines among them) give the samples, lines and errors of the file read in one block."""
+    from hipsim.motion.rig_logs import RigLogFile
+
+    rows = good_rows(60)
+    text = ",".join(HEADER) + "\n" + "\n".join(",".join(str(x) for x in row) for row in rows[:10]) + "\n\n\n"
+    text += "\n".join(",".join(str(x) for x in row) for row in rows[10:]) + "\n"
+    path = tmp_path / "blocks.csv"
+    path.write_text(text)
+    whole = RigLogFile(path, block=10_000)
+    small = RigLogFile(path, block=7)
+    for a, b in ((0, 60), (5, 23), (40, 60)):
+        x, y = whole.piece(a, b), small.piece(a, b)
+        for name in ("t", "Fe", "tau", "angles", "lines"):
+            np.testing.assert_array_equal(getattr(x, name), getattr(y, name))
+    assert small.lines[10] == 14 and len(small) == 60
+    # The largest torque beyond any motor is named where it is, in whichever block (the first of two equal ones).
+    rows[30][2] = rows[50][2] = "2e12"
+    write(path, HEADER, rows)
+    with pytest.raises(TrajectoryError, match="line 32, column 'tau_1_Nmm'"):
+        RigLogFile(path, block=7)
+    rows[30][2] = rows[50][2] = "100.0"
+    rows[45][1] = "-1"  # the least load, in a later block than any other
+    write(path, HEADER, rows)
+    with pytest.raises(TrajectoryError, match="line 47, column 'Fe_N': load -1 N is negative"):
+        RigLogFile(path, block=7)

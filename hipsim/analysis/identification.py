@@ -93,7 +93,7 @@ from ..motion.rig_logs import MeasuredLog, lowpass, minimum_samples
 from ..motion.trajectories import Trajectory
 from ..analytic.inverse_kinematics import kinematics
 from ..analytic.virtual_work import inverse_dynamics
-from .compare import Comparison, compare, reversal_mask
+from .compare import Comparison, LogPieces, compare, compare_log, reversal_mask
 
 __all__ = [
     "QUANTITIES",
@@ -292,15 +292,22 @@ def _decimation(log: MeasuredLog) -> int:
     return 1 if log.cutoff is None else max(1, int(log.rate // (4.0 * log.cutoff)))
 
 
-def _rows(params: Parameters, log: MeasuredLog, lever_spin: bool, chunk: int = CHUNK):
+def _rows(params: Parameters, log: MeasuredLog, lever_spin: bool, chunk: int = CHUNK, span: tuple[int, int, int] | None = None):
     """The log's regressor rows and torques, low-passed like the log and decimated, chunk by chunk.
+
+    Args:
+        span: (first, stop, origin): the rows of samples ``first`` … ``stop``−1
+            a whole number of decimation steps after sample ``origin`` (a piece
+            of a log: origin is where the whole log's usable samples start);
+            None for the log's usable samples.
 
     Yields:
         Y (m, 3, P), τ (m, 3) and the rows to use per motor (m, 3) bool (False near that motor's reversals).
     """
     n = len(log)
-    first, stop = log.usable.start, log.usable.stop
+    first, stop, origin = span if span is not None else (log.usable.start, log.usable.stop, log.usable.start)
     step = _decimation(log)
+    first += (origin - first) % step  # the first kept sample
     margin = 0 if log.cutoff is None else minimum_samples(log.rate, log.cutoff)
     trajectory = log.trajectory
     use = ~reversal_mask(params, log)
@@ -314,6 +321,19 @@ def _rows(params: Parameters, log: MeasuredLog, lever_spin: bool, chunk: int = C
             Y = lowpass(Y, log.rate, log.cutoff, log.name)
         keep = np.arange(a, b, step)
         yield Y[keep - lo], log.tau[keep], use[keep]
+
+
+def _log_rows(params: Parameters, log: MeasuredLog | LogPieces, lever_spin: bool):
+    """:func:`_rows` of a log in memory, or of a log in pieces piece by piece (the same rows, to round-off)."""
+    if isinstance(log, MeasuredLog):
+        yield from _rows(params, log, lever_spin)
+        return
+    usable = log.usable
+    for window, core, start in log.windows():
+        first, stop = max(start, usable.start), min(start + core.stop - core.start, usable.stop)
+        if first < stop:
+            shift = core.start - start  # window index of a log index
+            yield from _rows(params, window, lever_spin, span=(first + shift, stop + shift, usable.start + shift))
 
 
 # --- Results ----------------------------------------------------------------------------------
@@ -560,10 +580,12 @@ def identify(
     """Identify the dynamic parameters from logs of motion, load and motor torque.
 
     Args:
-        logs: the logs to fit (:func:`hipsim.analysis.load_log`, or built from arrays).
+        logs: the logs to fit (:func:`hipsim.analysis.load_log`, or built from arrays), or logs
+            of any length in pieces (:class:`~hipsim.analysis.compare.LogPieces`: memory then does
+            not grow with the log, the fit is the same to round-off).
         params: the starting machine: its geometry and friction radii are
             used, and it supplies the values of what the data do not determine.
-        validate: held-out logs to predict with the identified and the starting machine.
+        validate: held-out logs (either kind) to predict with the identified and the starting machine.
         lever_spin: the model's levers spin as their universal joints impose (default) or not.
         fixed: parameters to hold at their starting values, by label, key or
             key prefix (``"lever"``, ``"friction.ujoint"``, ``"m_l"``).
@@ -598,7 +620,7 @@ def identify(
     accumulator = _Accumulator(P)
     for log in logs:
         inflation = _inflation(log)
-        for Y, tau, use in _rows(params, log, lever_spin):
+        for Y, tau, use in _log_rows(params, log, lever_spin):
             accumulator.add(Y, tau, use, inflation)
     rows_per_motor = np.asarray(accumulator.rows)
     if rows_per_motor.sum() <= P:
@@ -705,11 +727,15 @@ def identify(
     residual = np.array([np.linalg.norm(Ri[:, :P] @ theta - Ri[:, P]) / math.sqrt(max(r, 1)) for Ri, r in zip(R, rows_per_motor)])
     names = tuple(log.name for log in logs)
     identified = with_values(params, theta, source=f"identified from {', '.join(names)}")
-    validation = tuple((compare(identified, log, lever_spin), compare(params, log, lever_spin)) for log in validate)
+    validation = tuple((_compare(identified, log, lever_spin), _compare(params, log, lever_spin)) for log in validate)
     return Identification(
         identified, params, tuple(quantities), held, beta, tuple(kept), condition_number, condition_number_base,
         residual, rows, names, lever_spin, active, validation,
     )
+
+
+def _compare(params: Parameters, log: MeasuredLog | LogPieces, lever_spin: bool) -> Comparison:
+    return compare(params, log, lever_spin) if isinstance(log, MeasuredLog) else compare_log(params, log, lever_spin)
 
 
 def _percent(fraction: float) -> str:

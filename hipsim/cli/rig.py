@@ -8,6 +8,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import sys
@@ -43,7 +44,8 @@ def add_parser(subparsers) -> None:
         description="Runs the analytic model along a rig log's motion and load and compares its motor torques (total "
         "and parts) with the measured ones, per motor: RMS and peak error, absolute and relative, where the peak occurs, "
         "and the error per phase of the cycle when the log repeats. Model and measurement are low-passed alike. Writes "
-        "figures (PNG, SVG), index.html and comparison.json to --out and prints the table.",
+        "figures (PNG, SVG), index.html and comparison.json to --out and prints the table. The log is read and compared "
+        "in pieces: memory does not grow with its length.",
     )
     compare.add_argument("--log", required=True, metavar="FILE", help="rig log CSV: t_s, Fe_N, tau_i_Nmm (or current_i_A), angles and/or L_1i_mm")
     _add_machine_options(compare)
@@ -59,7 +61,8 @@ def add_parser(subparsers) -> None:
         "friction coefficients. Parameters the logs cannot tell apart are reported as the combinations they determine; "
         "the machine written is physically consistent (bounded least squares, semidefinite inertias). Prints each "
         "identified quantity with its relative standard deviation, the condition number and the residual per motor; "
-        "with --validate, the prediction error on held-out logs next to the starting parameters'.",
+        "with --validate, the prediction error on held-out logs next to the starting parameters'. Logs are read in "
+        "pieces: memory does not grow with their length.",
     )
     identify.add_argument("--log", required=True, action="append", metavar="FILE", help="rig log to fit (repeatable)")
     identify.add_argument("--validate", action="append", default=[], metavar="FILE", help="held-out rig log to predict (repeatable)")
@@ -112,28 +115,28 @@ def _not_an_input(out: str, inputs: list[str], option: str) -> None:
             raise HipsimError(f"--out {out} is the input {name} itself: choose another output")
 
 
-def _load(path: str, params, args):
-    from ..analysis.compare import load_log
-
-    return load_log(path, params, torque_constant=args.torque_constant, cutoff=_cutoff(args), tolerance_deg=args.tolerance)
-
-
 def _table(header, rows, title=""):
     from .main import _format_table
 
     return _format_table(header, rows, title)
 
 
+def _pieces(path: str, params, args):
+    from ..analysis.compare import LogPieces
+
+    return LogPieces(path, params, torque_constant=args.torque_constant, cutoff=_cutoff(args), tolerance_deg=args.tolerance)
+
+
 def run_compare(args) -> int:
-    from ..analysis.compare import compare
+    from ..analysis.compare import compare_log
     from ..files import check_folder
     from ..present.rig_figures import write_comparison
-    from .main import _parameters
+    from .main import _parameters, _progress
 
     params = _parameters(args)
     check_folder(Path(args.out))  # a bad folder is refused before the work
-    log = _load(args.log, params, args)
-    comparison = compare(params, log, lever_spin=not args.spin_free_levers, period=args.period)
+    with _pieces(args.log, params, args) as log:  # in pieces: memory does not grow with the log
+        comparison = compare_log(params, log, lever_spin=not args.spin_free_levers, period=args.period, progress=_progress("compare"))
     files = write_comparison(args.out, comparison)
     summary = comparison.summary()
     if args.summary_format == "json":
@@ -169,10 +172,11 @@ def run_identify(args) -> int:
             raise HipsimError("--json and --out name the same file")
     if not (math.isfinite(args.max_std) and args.max_std > 0):
         raise HipsimError(f"--max-std: expected a positive percentage, got {args.max_std!r}")
-    logs = [_load(path, params, args) for path in args.log]
-    validate = [_load(path, params, args) for path in args.validate]
     fixed = [name.strip() for name in (args.fix or "").split(",") if name.strip()]
-    result = identify(logs, params, validate=validate, lever_spin=not args.spin_free_levers, fixed=fixed, max_relative_std=args.max_std / 100)
+    with contextlib.ExitStack() as stack:  # the logs in pieces: memory does not grow with their length
+        logs = [stack.enter_context(_pieces(path, params, args)) for path in args.log]
+        validate = [stack.enter_context(_pieces(path, params, args)) for path in args.validate]
+        result = identify(logs, params, validate=validate, lever_spin=not args.spin_free_levers, fixed=fixed, max_relative_std=args.max_std / 100)
 
     path = result.write_toml(args.out)
     if args.json:

@@ -36,13 +36,14 @@ from __future__ import annotations
 import difflib
 import io
 import math
-import re
+import tempfile
 from dataclasses import dataclass, field
+from itertools import islice
 from pathlib import Path
 
 import numpy as np
 from scipy.interpolate import make_interp_spline
-from scipy.signal import butter, sosfiltfilt
+from scipy.signal import butter, sosfilt, sosfiltfilt
 
 from ..arrays import check_shapes
 from ..exceptions import TrajectoryError
@@ -54,7 +55,9 @@ __all__ = [
     "FILTER_ORDER",
     "MeasuredLog",
     "RigLog",
+    "RigLogFile",
     "edge_samples",
+    "filter_halo",
     "lowpass",
     "read_rig_log",
     "smooth_motion",
@@ -72,6 +75,8 @@ EDGE_PERIODS = 4.0
 TORQUE_COLUMNS = tuple(f"tau_{i}_Nmm" for i in (1, 2, 3))
 CURRENT_COLUMNS = tuple(f"current_{i}_A" for i in (1, 2, 3))
 HEIGHT_COLUMNS = tuple(f"L_1{i}_mm" for i in (1, 2, 3))
+#: Lines per block of the reader's scan: some 10 MB of values at a time.
+SCAN_LINES = 100_000
 #: Largest torque in [N·mm] and slider height in [mm] a log may give: beyond, a unit slip.
 MAX_TORQUE_NMM = 1e9
 MAX_HEIGHT_MM = 1e5
@@ -138,6 +143,8 @@ class MeasuredLog:
         edge: samples at each end that the filter left unreliable; comparisons
             and fits use the samples between them (:attr:`usable`), but the
             model runs over all, so that its torques can be filtered alike.
+        sample_rate: the sample rate in [Hz]; None for the times' (a piece of
+            a long log carries the whole log's, so every piece filters alike).
     """
 
     trajectory: Trajectory
@@ -148,6 +155,7 @@ class MeasuredLog:
     notes: tuple[str, ...] = ()
     lines: np.ndarray | None = field(default=None)
     edge: int = 0
+    sample_rate: float | None = None
 
     def __post_init__(self):
         n = len(self.trajectory)
@@ -170,6 +178,8 @@ class MeasuredLog:
     @property
     def rate(self) -> float:
         """Sample rate in [Hz]."""
+        if self.sample_rate is not None:
+            return self.sample_rate
         t = self.trajectory.t
         return (t.size - 1) / (t[-1] - t[0])
 
@@ -203,6 +213,30 @@ def minimum_samples(rate: float, cutoff: float) -> int:
     return max(4 * edge_samples(rate, cutoff), padding + 1, 6)
 
 
+def filter_halo(rate: float, cutoff: float) -> int:
+    """Samples after which a start in the wrong state no longer shows in :func:`lowpass` (below round-off, 2⁻⁵³).
+
+    A piece of a log filtered on its own differs from the whole log filtered
+    only by the filter's response to the piece's ends, which decays as the
+    filter's impulse response: this is where that response (of one pass,
+    relative to its peak) stays below the double-precision round-off for good.
+    Args:
+        rate: sample rate in [Hz].
+        cutoff: cutoff frequency in [Hz].
+    """
+    _check_cutoff(rate, cutoff, None)
+    sos = butter(FILTER_ORDER, cutoff, fs=rate, output="sos")
+    length = 64
+    while True:
+        impulse = np.zeros(length)
+        impulse[0] = 1.0
+        response = np.abs(sosfilt(sos, impulse))
+        above = np.flatnonzero(response > 2.0**-53 * response.max())
+        if above[-1] < length // 2:
+            return int(above[-1]) + 1
+        length *= 2
+
+
 def lowpass(x: np.ndarray, rate: float, cutoff: float, source: str | None = None) -> np.ndarray:
     """Zero-phase Butterworth low-pass along the first axis (``sosfiltfilt``, order :data:`FILTER_ORDER`).
 
@@ -229,7 +263,9 @@ def lowpass(x: np.ndarray, rate: float, cutoff: float, source: str | None = None
     return sosfiltfilt(sos, x, axis=0, padlen=min(edge_samples(rate, cutoff), len(x) - 1))
 
 
-def smooth_motion(t: np.ndarray, q: np.ndarray, Fe: np.ndarray, cutoff: float | None, name: str = "log") -> Trajectory:
+def smooth_motion(
+    t: np.ndarray, q: np.ndarray, Fe: np.ndarray, cutoff: float | None, name: str = "log", rate: float | None = None
+) -> Trajectory:
     """Low-passed angles and load, the angles differentiated through an interpolating quintic spline.
 
     Args:
@@ -238,12 +274,14 @@ def smooth_motion(t: np.ndarray, q: np.ndarray, Fe: np.ndarray, cutoff: float | 
         Fe: load in [N], (N,).
         cutoff: low-pass cutoff in [Hz]; None for no filter (the spline only).
         name: the log's name, for messages and the trajectory.
+        rate: the sample rate in [Hz]; None for the times' (a piece of a log
+            passes the whole log's, so that every piece has the same filter).
 
     Returns:
         The filtered trajectory, all N samples (the caller drops the edges).
     """
     if cutoff is not None:
-        rate = (t.size - 1) / (t[-1] - t[0])
+        rate = rate if rate is not None else (t.size - 1) / (t[-1] - t[0])
         q = lowpass(q, rate, cutoff, name)
         Fe = np.maximum(lowpass(Fe, rate, cutoff, name), 0.0)  # a magnitude; ringing must not make it negative
     if t.size < 6:
@@ -255,74 +293,74 @@ def smooth_motion(t: np.ndarray, q: np.ndarray, Fe: np.ndarray, cutoff: float | 
 # --- The reader -----------------------------------------------------------------------------
 
 
-def _parse(path: str | Path) -> tuple[list[str], int, np.ndarray, np.ndarray]:
-    """Header, its line, values (N, C) and the file line of each row; errors name the file, line and column."""
+def _open(path: str | Path):
     source = str(path)
     try:
-        with open(path, encoding="utf-8-sig", newline="") as stream:  # utf-8-sig: spreadsheets add a byte-order mark
-            text = stream.read()
+        return open(path, encoding="utf-8-sig", newline="")  # utf-8-sig: spreadsheets add a byte-order mark
     except FileNotFoundError:
         raise TrajectoryError("no such log file", source=source) from None
     except IsADirectoryError:
         raise TrajectoryError("is a folder, not a log file", source=source) from None
     except OSError as error:
         raise TrajectoryError(f"cannot read ({error.strerror})", source=source) from None
+
+
+def _lines(stream, source: str):
+    """The stream's lines, a decoding error named as the file's."""
+    try:
+        yield from stream
     except UnicodeDecodeError:
         raise TrajectoryError("not a text (UTF-8) CSV file", source=source) from None
-    # The header: the first line with anything on it.
-    position, header_line = 0, 1
-    while position < len(text):
-        end = text.find("\n", position)
-        end = len(text) if end < 0 else end
-        if text[position:end].strip(" \t\r,"):
+
+
+def _blank(line: str) -> bool:
+    return not line.strip(" \t\r\n,")
+
+
+def _header(lines, source: str) -> tuple[list[str], int]:
+    """The header (the first line with anything on it) and its line number; a repeated name refused."""
+    for number, line in enumerate(lines, start=1):
+        if not _blank(line):
             break
-        position, header_line = end + 1, header_line + 1
     else:
         raise TrajectoryError("the file is empty", source=source)
-    header = [cell.strip() for cell in text[position:end].split(",")]
+    header = [cell.strip() for cell in line.rstrip("\r\n").split(",")]
     seen = set()
     for name in header:
         if name in seen:
-            raise TrajectoryError(f"column '{name}' appears twice", source=source, line=header_line, column=name)
+            raise TrajectoryError(f"column '{name}' appears twice", source=source, line=number, column=name)
         seen.add(name)
-    body = text[end + 1 :]
-    del text  # a long log: keep one copy of its text at a time
-    values = line_numbers = None
+    return header, number
+
+
+def _block(block: list[str], first_line: int, header: list[str], source: str) -> tuple[np.ndarray, np.ndarray]:
+    """Values (M, C) and file lines (M,) of a block of lines, the first being line ``first_line``; blank lines skipped."""
+    values = None
     # The fast path: no blank lines (so line numbers follow from row numbers) and no "_" in a number
     # (Python's float() would read "1_0" as 10; the slow path below refuses it by line).
-    if body.strip() and "_" not in body and not re.search(r"\n[ \t\r,]*\n|^[ \t\r,]*\n", body):
+    if not any(_blank(line) for line in block) and not any("_" in line for line in block):
         try:
-            values = np.loadtxt(io.StringIO(body), delimiter=",", ndmin=2, dtype=float)
+            values = np.loadtxt(io.StringIO("".join(block)), delimiter=",", ndmin=2, dtype=float)
         except ValueError:
             values = None
-        if values is not None and values.shape[1] != len(header):
+        if values is not None and values.shape != (len(block), len(header)):
             values = None
         if values is not None:
-            line_numbers = header_line + 1 + np.arange(len(values))
-    if values is None:
-        rows = [(number, line) for number, line in enumerate(body.splitlines(), start=header_line + 1) if line.strip(" \t\r,")]
-        if not rows:
-            raise TrajectoryError("no samples below the header", source=source)
-        values = np.empty((len(rows), len(header)))
-        for k, (number, line) in enumerate(rows):
-            cells = line.split(",")
-            if len(cells) != len(header):
-                raise TrajectoryError(f"{len(cells)} cells, the header has {len(header)}", source=source, line=number)
-            for c, (name, cell) in enumerate(zip(header, cells)):
-                try:
-                    if "_" in cell:
-                        raise ValueError(cell)
-                    values[k, c] = float(cell)
-                except ValueError:
-                    raise TrajectoryError(f"'{cell.strip()}' is not a number", source=source, line=number, column=name) from None
-        line_numbers = np.array([number for number, _ in rows])
-    if len(values) == 0:
-        raise TrajectoryError("no samples below the header", source=source)
-    bad = ~np.isfinite(values)
-    if np.any(bad):
-        k, c = np.argwhere(bad)[0]
-        raise TrajectoryError(f"'{values[k, c]}' is not finite", source=source, line=int(line_numbers[k]), column=header[c])
-    return header, header_line, values, line_numbers
+            return values, first_line + np.arange(len(values))
+    rows = [(number, line.rstrip("\r\n")) for number, line in enumerate(block, start=first_line) if not _blank(line)]
+    values = np.empty((len(rows), len(header)))
+    for k, (number, line) in enumerate(rows):
+        cells = line.split(",")
+        if len(cells) != len(header):
+            raise TrajectoryError(f"{len(cells)} cells, the header has {len(header)}", source=source, line=number)
+        for c, (name, cell) in enumerate(zip(header, cells)):
+            try:
+                if "_" in cell:
+                    raise ValueError(cell)
+                values[k, c] = float(cell)
+            except ValueError:
+                raise TrajectoryError(f"'{cell.strip()}' is not a number", source=source, line=number, column=name) from None
+    return values, np.array([number for number, _ in rows], dtype=np.int64)
 
 
 def _missing(name: str, header: list[str], what: str, source: str, line: int) -> TrajectoryError:
@@ -341,6 +379,208 @@ def _group(names: tuple[str, ...], header: list[str], what: str, source: str, li
     return False
 
 
+class _Worst:
+    """The largest |value| of a column group seen so far, its first occurrence: (value, line, column name)."""
+
+    def __init__(self):
+        self.value, self.line, self.column = 0.0, 0, ""
+
+    def add(self, values: np.ndarray, lines: np.ndarray, names: tuple[str, ...]) -> None:
+        if values.size == 0:
+            return
+        k, c = np.unravel_index(np.argmax(np.abs(values)), values.shape)
+        if abs(values[k, c]) > abs(self.value):  # strictly: an equal later one is not the first
+            self.value, self.line, self.column = float(values[k, c]), int(lines[k]), names[c]
+
+
+class RigLogFile:
+    """A rig log scanned once in blocks, every value checked, its samples then read back a piece at a time.
+
+    The scan keeps the times and file lines in memory (16 bytes a sample) and
+    the rest, in SI units, in a temporary binary file; :meth:`piece` reads
+    samples back from it, :meth:`read` all of them. The checks and their
+    messages are :func:`read_rig_log`'s (which is this, read whole).
+
+    Args:
+        path: the CSV file (columns in the module docstring).
+        torque_constant: the motors' torque constant in [N·m/A], for logs of motor currents.
+        block: lines parsed at a time.
+
+    Raises:
+        TrajectoryError: as :func:`read_rig_log`.
+    """
+
+    def __init__(self, path: str | Path, torque_constant: float | None = None, block: int = SCAN_LINES):
+        self.source = source = str(path)
+        with _open(path) as stream:
+            lines = _lines(stream, source)
+            header, header_line = _header(lines, source)
+            self._layout(header, header_line, torque_constant)
+            self._store = tempfile.TemporaryFile()
+            times, numbers = [], []
+            worst = {"torque": _Worst(), "angle": _Worst(), "height": _Worst()}
+            low = high = None  # (load, line) of the least and largest load, first occurrences
+            bad = None
+            first = header_line + 1
+            while True:
+                chunk = list(islice(lines, block))
+                if not chunk:
+                    break
+                values, at = _block(chunk, first, header, source)
+                first += len(chunk)
+                if bad is None and not np.all(np.isfinite(values)):
+                    k, c = np.argwhere(~np.isfinite(values))[0]
+                    bad = (f"'{values[k, c]}' is not finite", int(at[k]), header[c])
+                if len(values) == 0:
+                    continue
+                columns = self._columns(values)
+                worst["torque"].add(values[:, self._torque_index], at, self._torque_names)
+                if self.angle_unit:
+                    worst["angle"].add(values[:, self._angle_index], at, self._angle_names)
+                if self._height_index:
+                    worst["height"].add(values[:, self._height_index], at, HEIGHT_COLUMNS)
+                load = columns[:, 1]
+                k, j = int(np.argmin(load)), int(np.argmax(load))
+                if low is None or load[k] < low[0]:
+                    low = (float(load[k]), int(at[k]))
+                if high is None or load[j] > high[0]:
+                    high = (float(load[j]), int(at[j]))
+                times.append(columns[:, 0].copy())
+                numbers.append(at)
+                columns.tofile(self._store)
+        if not times:
+            raise TrajectoryError("no samples below the header", source=source)
+        if bad is not None:
+            raise TrajectoryError(bad[0], source=source, line=bad[1], column=bad[2])
+        self.t = np.concatenate(times)
+        del times  # one copy at a time: an hour's log has 3.6 M of each
+        self.lines = np.concatenate(numbers)
+        del numbers
+        self._check(worst, low, high)
+
+    # The columns of the store, in SI: t, Fe, τ (3), then the angles (3) and the heights (3) when the log has them.
+    def _layout(self, header: list[str], header_line: int, torque_constant) -> None:
+        source = self.source
+        column = {name: k for k, name in enumerate(header)}
+        for name in ("t_s", "Fe_N"):
+            if name not in column:
+                raise _missing(name, header, "time" if name == "t_s" else "load", source, header_line)
+        has_torques = _group(TORQUE_COLUMNS, header, "torque", source, header_line)
+        has_currents = _group(CURRENT_COLUMNS, header, "current", source, header_line)
+        if has_torques:
+            self._torque_names, self._scale, self.torque_from = TORQUE_COLUMNS, 1e-3, "torques"
+        elif has_currents:
+            if torque_constant is None:
+                raise TrajectoryError(
+                    "the log gives motor currents (current_1_A …) but no torque constant in N·m/A was given to turn them into torques",
+                    source=source,
+                )
+            if isinstance(torque_constant, bool) or not (isinstance(torque_constant, (int, float)) and math.isfinite(torque_constant) and torque_constant > 0):
+                raise TrajectoryError(f"the torque constant must be a positive number in N·m/A, got {torque_constant!r}", source=source)
+            self._torque_names, self._scale, self.torque_from = CURRENT_COLUMNS, float(torque_constant), "currents"
+        else:
+            close = [c for c in header if difflib.get_close_matches(c, TORQUE_COLUMNS + CURRENT_COLUMNS, n=1, cutoff=0.7)]
+            hint = f" (the file has {', '.join(repr(c) for c in close)}: check the names and units)" if close else ""
+            raise TrajectoryError(
+                f"missing torque columns: expected tau_1_Nmm, tau_2_Nmm, tau_3_Nmm, or current_1_A … with a torque constant{hint}",
+                source=source, line=header_line,
+            )
+        self._torque_index = [column[name] for name in self._torque_names]
+        self.angle_unit = None
+        self._angle_names: tuple[str, ...] = ()
+        units = [unit for unit in ("deg", "rad") if any(f"{a}_{unit}" in column for a in ANGLE_NAMES)]
+        if len(units) == 2:
+            raise TrajectoryError("angle columns mix _deg and _rad: give all three in one unit", source=source, line=header_line)
+        if units:
+            self.angle_unit = units[0]
+            self._angle_names = tuple(f"{a}_{self.angle_unit}" for a in ANGLE_NAMES)
+            _group(self._angle_names, header, "angle", source, header_line)
+        self._angle_index = [column[name] for name in self._angle_names]
+        has_heights = _group(HEIGHT_COLUMNS, header, "slider height", source, header_line)
+        self._height_index = [column[name] for name in HEIGHT_COLUMNS] if has_heights else []
+        if not self.angle_unit and not has_heights:
+            raise TrajectoryError(
+                "no motion: expected the platform angles alpha_deg, beta_deg, gamma_deg (attitude sensor) "
+                "or platform 1's slider heights L_11_mm, L_12_mm, L_13_mm (motor encoders)",
+                source=source, line=header_line,
+            )
+        self._time_index, self._load_index = column["t_s"], column["Fe_N"]
+        self.width = 5 + 3 * bool(self.angle_unit) + 3 * has_heights
+        used = {"t_s", "Fe_N", *TORQUE_COLUMNS, *CURRENT_COLUMNS, *HEIGHT_COLUMNS}
+        used |= {f"{a}_{u}" for a in ANGLE_NAMES for u in ("deg", "rad")}
+        self.ignored = tuple(name for name in header if name not in used)
+        if has_torques and has_currents:
+            self.ignored += CURRENT_COLUMNS
+
+    def _columns(self, values: np.ndarray) -> np.ndarray:
+        """The store's columns of a block, in SI."""
+        parts = [values[:, [self._time_index, self._load_index]], values[:, self._torque_index] * self._scale]
+        if self.angle_unit:
+            angles = values[:, self._angle_index]
+            parts.append(np.radians(angles) if self.angle_unit == "deg" else angles)
+        if self._height_index:
+            parts.append(values[:, self._height_index] * 1e-3)
+        return np.ascontiguousarray(np.column_stack(parts))
+
+    def _check(self, worst: dict[str, _Worst], low, high) -> None:
+        source = self.source
+        torque = worst["torque"]
+        if abs(torque.value) * self._scale * 1e3 > MAX_TORQUE_NMM:
+            raise TrajectoryError(
+                f"{torque.value:g} is beyond any motor of this machine ({MAX_TORQUE_NMM:g} N·mm): a unit slip?",
+                source=source, line=torque.line, column=torque.column,
+            )
+        angle = worst["angle"]
+        if self.angle_unit:
+            largest = math.pi if self.angle_unit == "rad" else 360.0
+            if abs(angle.value) > largest:
+                message = "is more than half a turn: these look like degrees; label the columns _deg" if self.angle_unit == "rad" else "is more than a full turn"
+                raise TrajectoryError(f"{angle.value:g} {self.angle_unit} {message}", source=source, line=angle.line, column=angle.column)
+        height = worst["height"]
+        if abs(height.value) > MAX_HEIGHT_MM:
+            raise TrajectoryError(f"{height.value:g} mm is beyond any machine of this kind: a unit slip?", source=source,
+                                  line=height.line, column=height.column)
+        if self.t.size < 2:
+            raise TrajectoryError(f"{self.t.size} sample; a log needs many", source=source)
+        check_time(self.t, 0.0, source, self.lines, "t_s", even=True)
+        for load, line in (low, high):
+            if load < 0:
+                raise TrajectoryError(f"load {load:g} N is negative (F_e is a magnitude)", source=source, line=line, column="Fe_N")
+            if load > MAX_LOAD:
+                raise TrajectoryError(f"load {load:g} N is beyond {MAX_LOAD:g} N (a unit slip?)", source=source, line=line, column="Fe_N")
+
+    def __len__(self) -> int:
+        return self.t.size
+
+    @property
+    def rate(self) -> float:
+        """Sample rate in [Hz]."""
+        return (self.t.size - 1) / (self.t[-1] - self.t[0])
+
+    @property
+    def has_heights(self) -> bool:
+        """Whether the log gives platform 1's slider heights."""
+        return bool(self._height_index)
+
+    def piece(self, start: int, stop: int) -> RigLog:
+        """Samples ``start`` … ``stop``−1 as a :class:`RigLog`."""
+        start, stop = max(0, start), min(len(self), stop)
+        self._store.seek(start * self.width * 8)
+        values = np.fromfile(self._store, dtype=float, count=(stop - start) * self.width).reshape(-1, self.width)
+        angles = values[:, 5:8] if self.angle_unit else None
+        heights = values[:, -3:] if self._height_index else None
+        return RigLog(self.t[start:stop], values[:, 1], values[:, 2:5], angles, heights, self.lines[start:stop], self.source,
+                      self.torque_from, self.ignored, self.angle_unit)
+
+    def read(self) -> RigLog:
+        """All samples."""
+        return self.piece(0, len(self))
+
+    def close(self) -> None:
+        """Drop the temporary store."""
+        self._store.close()
+
+
 def read_rig_log(path: str | Path, torque_constant: float | None = None) -> RigLog:
     """Read a rig log (columns in the module docstring) into SI units, checking every value.
 
@@ -357,92 +597,8 @@ def read_rig_log(path: str | Path, torque_constant: float | None = None) -> RigL
             missing torque or motion columns, currents without a torque
             constant, uneven times, negative loads, values beyond any machine.
     """
-    source = str(path)
-    header, header_line, values, lines = _parse(path)
-    column = {name: k for k, name in enumerate(header)}
-
-    def col(name):
-        return values[:, column[name]]
-
-    for name in ("t_s", "Fe_N"):
-        if name not in column:
-            raise _missing(name, header, "time" if name == "t_s" else "load", source, header_line)
-
-    has_torques = _group(TORQUE_COLUMNS, header, "torque", source, header_line)
-    has_currents = _group(CURRENT_COLUMNS, header, "current", source, header_line)
-    if has_torques:
-        tau = np.column_stack([col(name) for name in TORQUE_COLUMNS]) * 1e-3
-        torque_from = "torques"
-        limit_column, scale = TORQUE_COLUMNS, 1e-3
-    elif has_currents:
-        if torque_constant is None:
-            raise TrajectoryError(
-                "the log gives motor currents (current_1_A …) but no torque constant in N·m/A was given to turn them into torques",
-                source=source,
-            )
-        if isinstance(torque_constant, bool) or not (isinstance(torque_constant, (int, float)) and math.isfinite(torque_constant) and torque_constant > 0):
-            raise TrajectoryError(f"the torque constant must be a positive number in N·m/A, got {torque_constant!r}", source=source)
-        tau = np.column_stack([col(name) for name in CURRENT_COLUMNS]) * float(torque_constant)
-        torque_from = "currents"
-        limit_column, scale = CURRENT_COLUMNS, float(torque_constant)
-    else:
-        close = [c for c in header if difflib.get_close_matches(c, TORQUE_COLUMNS + CURRENT_COLUMNS, n=1, cutoff=0.7)]
-        hint = f" (the file has {', '.join(repr(c) for c in close)}: check the names and units)" if close else ""
-        raise TrajectoryError(
-            f"missing torque columns: expected tau_1_Nmm, tau_2_Nmm, tau_3_Nmm, or current_1_A … with a torque constant{hint}",
-            source=source, line=header_line,
-        )
-    worst = np.unravel_index(np.argmax(np.abs(tau)), tau.shape)
-    if abs(tau[worst]) * 1e3 > MAX_TORQUE_NMM:
-        raise TrajectoryError(
-            f"{tau[worst] / scale:g} is beyond any motor of this machine ({MAX_TORQUE_NMM:g} N·mm): a unit slip?",
-            source=source, line=int(lines[worst[0]]), column=limit_column[worst[1]],
-        )
-
-    angles, unit = None, None
-    units = [unit for unit in ("deg", "rad") if any(f"{a}_{unit}" in column for a in ANGLE_NAMES)]
-    if len(units) == 2:
-        raise TrajectoryError("angle columns mix _deg and _rad: give all three in one unit", source=source, line=header_line)
-    if units:
-        unit = units[0]
-        _group(tuple(f"{a}_{unit}" for a in ANGLE_NAMES), header, "angle", source, header_line)
-        angles = np.column_stack([col(f"{a}_{unit}") for a in ANGLE_NAMES])
-        largest = math.pi if unit == "rad" else 360.0
-        worst = np.unravel_index(np.argmax(np.abs(angles)), angles.shape)
-        if abs(angles[worst]) > largest:
-            message = "is more than half a turn: these look like degrees; label the columns _deg" if unit == "rad" else "is more than a full turn"
-            raise TrajectoryError(f"{angles[worst]:g} {unit} {message}", source=source, line=int(lines[worst[0]]), column=f"{ANGLE_NAMES[worst[1]]}_{unit}")
-        if unit == "deg":
-            angles = np.radians(angles)
-    heights = None
-    if _group(HEIGHT_COLUMNS, header, "slider height", source, header_line):
-        heights = np.column_stack([col(name) for name in HEIGHT_COLUMNS])
-        worst = np.unravel_index(np.argmax(np.abs(heights)), heights.shape)
-        if abs(heights[worst]) > MAX_HEIGHT_MM:
-            raise TrajectoryError(f"{heights[worst]:g} mm is beyond any machine of this kind: a unit slip?", source=source,
-                                  line=int(lines[worst[0]]), column=HEIGHT_COLUMNS[worst[1]])
-        heights = heights * 1e-3
-    if angles is None and heights is None:
-        raise TrajectoryError(
-            "no motion: expected the platform angles alpha_deg, beta_deg, gamma_deg (attitude sensor) "
-            "or platform 1's slider heights L_11_mm, L_12_mm, L_13_mm (motor encoders)",
-            source=source, line=header_line,
-        )
-
-    t = col("t_s")
-    if t.size < 2:
-        raise TrajectoryError(f"{t.size} sample; a log needs many", source=source)
-    check_time(t, 0.0, source, np.asarray(lines), "t_s", even=True)
-    load = col("Fe_N")
-    for k in (int(np.argmin(load)), int(np.argmax(load))):
-        if load[k] < 0:
-            raise TrajectoryError(f"load {load[k]:g} N is negative (F_e is a magnitude)", source=source, line=int(lines[k]), column="Fe_N")
-        if load[k] > MAX_LOAD:
-            raise TrajectoryError(f"load {load[k]:g} N is beyond {MAX_LOAD:g} N (a unit slip?)", source=source, line=int(lines[k]), column="Fe_N")
-
-    used = {"t_s", "Fe_N", *TORQUE_COLUMNS, *CURRENT_COLUMNS, *HEIGHT_COLUMNS}
-    used |= {f"{a}_{u}" for a in ANGLE_NAMES for u in ("deg", "rad")}
-    ignored = tuple(name for name in header if name not in used)
-    if has_torques and has_currents:
-        ignored += CURRENT_COLUMNS
-    return RigLog(t, load, tau, angles, heights, lines, source, torque_from, ignored, unit)
+    scanned = RigLogFile(path, torque_constant)
+    try:
+        return scanned.read()
+    finally:
+        scanned.close()

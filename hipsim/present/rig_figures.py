@@ -65,10 +65,8 @@ def plot_comparison(comparison: Comparison):
 
 
 def _shade_reversals(ax, t, mask):
-    """Grey spans where ``mask`` is True."""
-    edges = np.flatnonzero(np.diff(np.concatenate([[0], mask.astype(int), [0]])))
-    for start, stop in zip(edges[::2], edges[1::2]):
-        ax.axvspan(t[start], t[min(stop, len(t)) - 1], color="0.85", linewidth=0)
+    """Grey spans where ``mask`` is True: one collection, however many reversals an hour's log has."""
+    ax.fill_between(t, 0, 1, where=mask, transform=ax.get_xaxis_transform(), color="0.85", linewidth=0)
 
 
 def plot_errors(comparison: Comparison):
@@ -78,7 +76,7 @@ def plot_errors(comparison: Comparison):
     for i, ax in enumerate(axes):
         error = comparison.error[:, i] * 1e3
         _shade_reversals(ax, t, comparison.near_reversal[:, i])
-        rms = math.sqrt(float(np.mean(error**2)))
+        rms = comparison.motor_errors()[str(i + 1)]["rms_error_Nmm"]  # of every sample, not only those drawn
         ax.plot(t, error, color="tab:red", linewidth=0.8)
         for sign in (-1, 1):
             ax.axhline(sign * rms, color="black", linewidth=0.7, linestyle=":")
