@@ -22,7 +22,7 @@ from .machine.parameters import Parameters, load_parameters, slender_levers
 from .motion import Trajectory, iso14242, load_trajectory_csv, read_trajectory
 from .results import JointForces, Run, Torques
 
-__version__ = "0.2.0"
+__version__ = "0.3.0"
 
 __all__ = [
     "ArgumentError",

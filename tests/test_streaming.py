@@ -279,3 +279,12 @@ def test_report_exits_1_and_says_so_when_the_drive_fails(tmp_path, capsys):
     strong = tmp_path / "strong.toml"
     strong.write_text('[motor]\nname = "big"\ns1_torque_Nmm = 5000\npeak_torque_Nmm = 9000\nmax_speed_rpm = 6000\n')
     assert main(["report", "--rate", "100", "--model", "analytic", "--motor", str(strong), "--out", str(tmp_path / "r3")]) == 0
+
+
+def test_the_version_is_the_packages_own():
+    """hipsim.__version__ (in every Parquet file and `hipsim --version`) is the one pyproject.toml declares."""
+    import tomllib
+    from pathlib import Path
+
+    declared = tomllib.loads((Path(__file__).parents[1] / "pyproject.toml").read_text())["project"]["version"]
+    assert hipsim.__version__ == declared
