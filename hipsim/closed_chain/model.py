@@ -42,6 +42,8 @@ lever ji at a_ji, in the lever-tip frame (the lever exerts −λ on the platform
 from __future__ import annotations
 
 import math
+import os
+import weakref
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -49,7 +51,6 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 import yaml
-from scipy.linalg import lapack
 
 from ..analytic import laws
 from ..analytic.inverse_kinematics import angular_velocity_map, inverse_condition_number, rotation_matrix
@@ -61,6 +62,7 @@ from ..machine.model_files import closure_file_path, urdf_text
 from ..machine.parameters import Parameters, load_parameters
 from ..motion.trajectories import trajectory_arrays
 from ..results import JointForces, Torques
+from . import closure_kernel
 
 __all__ = [
     "ClosedChainModel",
@@ -82,8 +84,12 @@ __all__ = [
 _TWO_PI = 2.0 * math.pi
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 # Samples per batch of the inverse-dynamics solve: bounds the memory of the
-# stacked (n, 21, 21) systems while keeping numpy's batched solve efficient.
+# stacked (n, 21, 21) K⁻¹ while keeping the batched RNEA and solve efficient.
 _CHUNK = 2048
+#: Threads of Pinocchio's batched RNEA (``pin.rneaInParallel``): one per core, at most two.
+_RNEA_THREADS = max(1, min(2, os.cpu_count() or 1))
+#: Batched-RNEA pools of each loaded model: the whole tree, and one tree per body group (see :func:`_rnea_pools`).
+_POOLS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 # ---------------------------------------------------------------------------
@@ -366,43 +372,38 @@ class _Workspace:
         # Python lists of references into the vectors: indexing a StdVec per access is slow.
         self.cd_list = list(self.cds)
         self.pairs = list(zip(self.cms, self.cd_list))
-        # (joint, placement) of every closure frame, frame 1 then frame 2, for the accelerations.
-        self.ends = []
-        for cm in self.cms:
-            self.ends += [(cm.joint1_id, cm.joint1_placement), (cm.joint2_id, cm.joint2_placement)]
-        self.zero = np.zeros(chain.model.nv)
+        # The joints supporting each closure frame, frame 1 then frame 2, as 0/1 over the
+        # velocity indices: the rows of the world Jacobians that move that frame's body.
+        self.support_masks = np.zeros((2 * len(self.cd_list), chain.model.nv))
+        for c, cm in enumerate(self.cms):
+            for end, joint in enumerate((cm.joint1_id, cm.joint2_id)):
+                for k in self.model.supports[joint][1:]:  # the universe (0) has no velocity
+                    self.support_masks[2 * c + end, self.model.joints[k].idx_v] = 1.0
 
-    def place(self, q: np.ndarray) -> None:
-        """Forward kinematics, joint Jacobians and closure placements at q."""
-        pin.computeJointJacobians(self.model, self.data, q)
+    def place(self, q: np.ndarray, jacobians: bool = True) -> None:
+        """Forward kinematics, joint Jacobians (unless not asked for) and closure placements at q."""
+        if jacobians:
+            pin.computeJointJacobians(self.model, self.data, q)
+        else:
+            pin.forwardKinematics(self.model, self.data, q)
         for cm, cd in self.pairs:
             cm.calc(self.model, self.data, cd)
 
     def residual(self) -> np.ndarray:
-        """R₁ᵀ(p₁ − p₂) of every closure, stacked, in [m] (after :meth:`place`)."""
-        return -np.concatenate([cd.c1Mc2.translation for cd in self.cd_list])
+        """The closure gaps d = R₁ᵀ(p₂ − p₁) of every closure, stacked, in [m] (after :meth:`place`).
+
+        Pinocchio's relative placement c1Mc2, whose derivative is −J_c (J_c
+        differentiates p₁ − p₂): a Newton step on the gaps is q + K⁻¹·[0; d].
+        """
+        return np.concatenate([cd.c1Mc2.translation for cd in self.cd_list])
 
     def jacobian(self) -> np.ndarray:
         """The stacked closure Jacobian J_c (after :meth:`place`)."""
         return pin.getConstraintsJacobian(self.model, self.data, self.cms, self.cds)
 
-    def tip_rotations(self) -> np.ndarray:
-        """R₁ of every closure (frame 1's axes in the world), shape (n, 3, 3) (after :meth:`place`)."""
-        return np.array([cd.oMc1.rotation for cd in self.cd_list])
-
-    def drift(self, q: np.ndarray, v: np.ndarray, rotations: np.ndarray) -> np.ndarray:
-        """J̇_c v: the closures' relative classical acceleration at a = 0, in frame 1's axes.
-
-        Valid where J_c v = 0 (frames 1 and 2 then move together, so the
-        rotation of frame 1 adds nothing).
-        """
-        model, data = self.model, self.data
-        pin.forwardKinematics(model, data, q, v, self.zero)
-        accelerations = np.array(
-            [pin.getFrameClassicalAcceleration(model, data, joint, placement, _LWA).linear for joint, placement in self.ends]
-        ).reshape(-1, 2, 3)
-        relative = accelerations[:, 0] - accelerations[:, 1]
-        return np.einsum("kij,ki->kj", rotations, relative).ravel()
+    def tip_frames(self) -> np.ndarray:
+        """Frame 1's homogeneous placement of every closure (its axes and origin in the world), (n, 4, 4) (after :meth:`place`)."""
+        return np.array([cd.oMc1.homogeneous for cd in self.cd_list])
 
 
 def _configurations(chain: ClosedChainModel, q) -> tuple[np.ndarray, bool]:
@@ -559,9 +560,9 @@ class _Closer:
         self.K_inv = None  # inverse of K at the last closed sample: the chord method's Jacobian
         self.evaluations = 0
 
-    def _evaluate(self, q: np.ndarray) -> np.ndarray:
+    def _evaluate(self, q: np.ndarray, jacobians: bool = True) -> np.ndarray:
         self.evaluations += 1
-        self.ws.place(q)
+        self.ws.place(q, jacobians)
         return self.ws.residual()
 
     def close(self, q: np.ndarray, angles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -572,25 +573,24 @@ class _Closer:
         ClosureError (with the gap left) if the loops cannot be closed.
         """
         q[self.platforms] = angles
-        e = self._evaluate(q)
-        size = e @ e
-        if self.K_inv is not None:
-            # Chord steps: Newton with the previous sample's K⁻¹, while it contracts well.
-            for _ in range(6):
-                if size <= self.tol2:
-                    return q, e
-                # K⁻¹ rows of platform 1 vanish; platform 2's would move it by O(|e|²): keep it exact.
-                trial = q - self.K_inv[:, 3:] @ e
-                trial[self.platforms] = angles
-                e_trial = self._evaluate(trial)
-                size_trial = e_trial @ e_trial
-                if size_trial > 0.01 * size:  # the gap must shrink tenfold per step, else fresh Jacobians
-                    self._evaluate(q)
-                    break
-                q, e, size = trial, e_trial, size_trial
-        if size <= self.tol2:
-            return q, e
-        return self._levenberg_marquardt(q, e)
+        if self.K_inv is None:
+            e = self._evaluate(q)
+            return (q, e) if e @ e <= self.tol2 else self._levenberg_marquardt(q, e)
+        # A prediction is seldom closed already: its Jacobians would go unused.
+        e = self._evaluate(q, jacobians=False)
+        # Chord steps: Newton with the previous sample's K⁻¹, while it contracts well.
+        for step in range(6):
+            trial, size = closure_kernel.chord_step(q, self.K_inv, e, self.platforms, angles)
+            if size <= self.tol2:
+                if step == 0:
+                    pin.computeJointJacobians(self.ws.model, self.ws.data, q)
+                return q, e
+            e_trial = self._evaluate(trial)
+            if e_trial @ e_trial > 0.01 * size:  # the gap must shrink tenfold per step, else fresh Jacobians
+                self._evaluate(q)
+                return self._levenberg_marquardt(q, e)
+            q, e = trial, e_trial
+        return (q, e) if e @ e <= self.tol2 else self._levenberg_marquardt(q, e)
 
     def _levenberg_marquardt(self, q: np.ndarray, e: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Damped Gauss–Newton on the 15 leg coordinates with fresh Jacobians."""
@@ -605,7 +605,7 @@ class _Closer:
             while True:
                 step = np.linalg.solve(H + damping * np.eye(len(legs)), g)
                 trial = q.copy()
-                trial[legs] -= step
+                trial[legs] += step  # the gaps d fall along −J_c
                 e_trial = self._evaluate(trial)
                 cost_trial = e_trial @ e_trial
                 if cost_trial < cost:
@@ -622,25 +622,24 @@ class _Closer:
             return q, e
         raise ClosureError(f"cannot close the loops in {self.max_iter} iterations (gap {math.sqrt(cost):.3g} m)", math.sqrt(cost), self.max_iter)
 
-    def rates(self, q, qd, qdd) -> tuple[np.ndarray, np.ndarray]:
-        """v and a at the closed q whose placements the workspace holds."""
-        ws, platform = self.ws, self.layout.platform_v
-        self.K[3:] = ws.jacobian()
-        # LAPACK directly: np.linalg.inv costs half as much again in checks for a 21×21 matrix.
-        lu, pivots, info = lapack.dgetrf(self.K)
-        K_inv, info_inverse = lapack.dgetri(lu, pivots) if info == 0 else (None, info)
-        # K⁻¹ blows up near a singularity (its entries are O(1..10) in m, rad, s elsewhere).
-        if info_inverse != 0 or not np.abs(K_inv).max() < 1e8:
+    def rates(self, q, qd, qdd, e, V, A, row: int, J_rates, k: int) -> None:
+        """V[row] and A[row], the tree's velocity and acceleration, and J_rates[k] at the closed q whose placements the workspace holds.
+
+        e: q's closure gaps [m]; qd, qdd: the platform angles' rates [rad/s]
+        and accelerations [rad/s²]. Also keeps K⁻¹ (the next sample's chord
+        Jacobian) and the lever-tip frames.
+        """
+        ws, platform2 = self.ws, self.layout.platform_v[1]
+        tips = ws.tip_frames()
+        status, K_inv = closure_kernel.velocity(self.K, ws.jacobian(), qd, platform2, tips, V, row, self.layout.slider_v, J_rates, k)
+        if status == closure_kernel.SINGULAR:
             raise ClosureError("singular pose: the closure Jacobian loses rank (spec §3)")
-        rotations = ws.tip_rotations()
-        if rotations[:, 2, 2].min() <= 1e-6:
+        if status == closure_kernel.LEVER_DOWN:
             raise ClosureError("a lever is horizontal or points down (singular pose, spec §3)")
-        self.K_inv, self.rotations = K_inv, rotations
-        v = K_inv[:, :3] @ qd
-        v[platform[1]] = qd
-        a = K_inv[:, :3] @ qdd - K_inv[:, 3:] @ ws.drift(q, v, rotations)
-        a[platform[1]] = qdd
-        return v, a
+        data = ws.data
+        pin.computeJointJacobiansTimeVariation(ws.model, data, q, V[row])
+        closure_kernel.acceleration(K_inv, data.J, data.dJ, V, A, row, ws.support_masks, tips, e, qdd, platform2)
+        self.K_inv, self.tips = K_inv, tips
 
 
 @dataclass(eq=False)
@@ -655,18 +654,16 @@ class Continuation:
 
     Attributes:
         samples: samples closed so far.
-        t: times of the last two samples in [s].
-        q, v, a: configuration, velocity and acceleration of the last sample.
-        a_before: acceleration of the sample before it.
+        t: times of the last (up to) two samples in [s], (m,).
+        q, v, a: their configurations, velocities and accelerations, (m, nq), (m, nv), (m, nv).
         K_inv: the solver's chord Jacobian at the last sample.
     """
 
     samples: int = 0
-    t: tuple[float, float] = (math.nan, math.nan)
+    t: np.ndarray | None = None
     q: np.ndarray | None = None
     v: np.ndarray | None = None
     a: np.ndarray | None = None
-    a_before: np.ndarray | None = None
     K_inv: np.ndarray | None = None
 
 
@@ -701,50 +698,42 @@ def _close_chain(
     angles, rates, accels = q_in * signs, qd_in * signs, qdd_in * signs
     both = np.tile(angles, 2)  # both platforms' coordinates, in platform_v.ravel() order
     n, nq, nv = len(t), chain.model.nq, chain.model.nv
-    Q, V, A = np.empty((n, nq)), np.empty((n, nv)), np.empty((n, nv))
     gaps = np.empty((n, 3 * chain.n_closures))
     iterations = np.empty(n, dtype=int)
     J_rates = np.empty((n, 3, 3))  # ∂L̇/∂(angle rates) of the sliders
     closer = _Closer(chain, tol, max_iter)
-    # The closer leaves Pinocchio's data at the closed q: the dynamics reuse its Jacobians.
-    dynamics = _InverseDynamics(chain, V, A, Fe, parts) if Fe is not None else None
+    # The samples before this piece (if any) come first, so that the predictor sees one run.
     go_on = continuation if continuation is not None and continuation.samples else None
-    # The samples before this piece (if any) come first, so that dt and the predictor see one run.
-    dt = np.diff(np.concatenate([go_on.t, t]) if go_on else t, prepend=t[0])[2 if go_on else 0:]
+    before = len(go_on.t) if go_on else 0
+    T = np.concatenate([go_on.t, t]) if go_on else t
+    Q, V, A = np.empty((before + n, nq)), np.empty((before + n, nv)), np.empty((before + n, nv))
     if go_on:
+        Q[:before], V[:before], A[:before] = go_on.q, go_on.v, go_on.a
         closer.K_inv = go_on.K_inv
+    # The closer leaves Pinocchio's data at the closed q: the dynamics reuse its Jacobians.
+    dynamics = _InverseDynamics(chain, Q[before:], V[before:], A[before:], Fe, parts) if Fe is not None else None
     q = layout.initial_guess.copy()
     for k in range(n):
-        # Sample k of this piece is sample `done` of the run; earlier samples may lie in the previous piece.
-        done = go_on.samples + k if go_on else k
-        q1, v1, a1 = (Q[k - 1], V[k - 1], A[k - 1]) if k >= 1 else (go_on.q, go_on.v, go_on.a) if go_on else (None,) * 3
-        if done > 1:
-            # Third-order Taylor prediction; jerk from the last two accelerations.
-            a2 = A[k - 2] if k >= 2 else go_on.a if k == 1 else go_on.a_before
-            h, h1 = dt[k], dt[k - 1] if k >= 1 else go_on.t[1] - go_on.t[0]
-            jerk = (a1 - a2) / h1
-            q = q1 + h * (v1 + h * (0.5 * a1 + h / 6.0 * jerk))
-        elif done == 1:
-            q = q1 + dt[k] * (v1 + 0.5 * dt[k] * a1)
-        before = closer.evaluations
+        row = before + k  # this sample's row in Q, V, A and T, after the previous piece's last samples
+        if row:
+            q = closure_kernel.predict(T, Q, V, A, row)
+        evaluations = closer.evaluations
         try:
             q, gaps[k] = closer.close(q, both[k])
-            V[k], A[k] = closer.rates(q, rates[k], accels[k])
+            closer.rates(q, rates[k], accels[k], gaps[k], V, A, row, J_rates, k)
         except (ClosureError, np.linalg.LinAlgError) as error:
             raise PoseError(str(error), float(t[k]), k, source=getattr(traj, "name", None)) from None
-        iterations[k] = closer.evaluations - before
-        Q[k] = q
-        J_rates[k] = closer.K_inv[layout.slider_v, :3]
+        iterations[k] = closer.evaluations - evaluations
+        Q[row] = q
         if dynamics is not None:
-            dynamics.add(k, q, closer.ws.data, closer.K[3:], closer.rotations)
+            dynamics.add(k, closer.ws.data, closer.K_inv, closer.tips)
 
     if continuation is not None and n:
-        a_before = A[-2] if n >= 2 else continuation.a
-        t_before = t[-2] if n >= 2 else continuation.t[1]
+        last = slice(max(0, before + n - 2), before + n)
         continuation.samples += n
-        continuation.t = (float(t_before), float(t[-1]))
-        continuation.q, continuation.v, continuation.a, continuation.a_before = Q[-1].copy(), V[-1].copy(), A[-1].copy(), a_before
+        continuation.t, continuation.q, continuation.v, continuation.a = T[last].copy(), Q[last].copy(), V[last].copy(), A[last].copy()
         continuation.K_inv = closer.K_inv
+    Q, V, A = Q[before:], V[before:], A[before:]
     sliders = layout.slider_v
     offset = np.stack([np.zeros(3), layout.slider_offset])[None]
     # L̇ = J_rates·q̇ and ω = T(q)·q̇, so J = J_rates·T⁻¹: solve Tᵀ·Jᵀ = J_ratesᵀ.
@@ -794,6 +783,28 @@ class ClosedChainDynamics:
 
     def __post_init__(self):
         check_shapes(self, {"F_act": ("N", 3), "lambdas": ("N", 2, 3, 3)})
+
+
+def _rnea_pools(chain: ClosedChainModel) -> tuple[Any, list]:
+    """Pools for ``pin.rneaInParallel``: the whole tree, and per body group (platforms, levers, carriages) a tree with only that group's inertias and no armature.
+
+    RNEA is linear in the bodies' inertias for a given motion, so the groups'
+    torques are the parts of the tree's (the screws' armature term is added
+    apart). Built once per loaded model.
+    """
+    pools = _POOLS.get(chain)
+    if pools is None:
+        model, groups = chain.model, _require_layout(chain).groups
+        group_pools = []
+        for g in range(groups.shape[1]):
+            member = chain.model.copy()
+            member.armature = np.zeros(model.nv)
+            for k in range(1, model.njoints):
+                if not np.any(groups[10 * (k - 1) : 10 * k, g] != 0.0):
+                    member.inertias[k] = pin.Inertia.Zero()
+            group_pools.append(pin.ModelPool(member, _RNEA_THREADS))
+        pools = _POOLS[chain] = (pin.ModelPool(model, _RNEA_THREADS), group_pools)
+    return pools
 
 
 def _platform_frames(chain: ClosedChainModel) -> list:
@@ -885,31 +896,35 @@ def friction_forces(chain: ClosedChainModel, q, v, Fe, data=None) -> np.ndarray:
 
 
 class _InverseDynamics:
-    """Tree terms sample by sample; the closed-chain solve a chunk of samples at a time.
+    """Closure data sample by sample; the tree's torques and the closed-chain solve a chunk of samples at a time.
 
-    The caller fills v and a (shape (n, nv)) up to sample k before calling
-    :meth:`add` for k, with Pinocchio's data holding sample k's joint
-    Jacobians (computeJointJacobians at q_k) and its closure Jacobian and
-    lever-tip rotations at hand.
+    The caller fills q, v and a (shape (n, nv)) up to sample k before calling
+    :meth:`add` for k, with Pinocchio's data holding sample k's world joint
+    Jacobians and K⁻¹ (K = [P₁; J_c], see :mod:`hipsim.closed_chain.closure_kernel`) at hand.
+
+    The solve. With N = K⁻¹[:, :3] (tree velocities per platform angle rate:
+    J_c N = 0) and G = S N (the actuated joints' rates per platform angle
+    rate), the actuator forces F of Sᵀ F + J_cᵀ λ = τ follow from projecting
+    on the motions the closures allow, Gᵀ F = Nᵀ τ (3×3), and the closure
+    forces from the rest, λ = (K⁻ᵀ (τ − Sᵀ F))[3:] (the first three
+    components vanish, as τ − Sᵀ F lies in the range of J_cᵀ). The same
+    solution as the full 21×21 system's, from the K⁻¹ the kinematics computed.
     """
 
-    def __init__(self, chain: ClosedChainModel, v: np.ndarray, a: np.ndarray, Fe, parts: bool = True):
+    def __init__(self, chain: ClosedChainModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, Fe, parts: bool = True):
         self.chain, self.layout, self.model = chain, _require_layout(chain), chain.model
         self.parts_asked = bool(parts)
-        # The regressor's columns of bodies without inertia multiply zeros: skip them.
-        self.regressor_columns = np.flatnonzero(np.any(self.layout.groups != 0.0, axis=1))
-        self.groups = self.layout.groups[self.regressor_columns]
-        self.v, self.a = v, a
+        self.pools = _rnea_pools(chain)
+        self.q, self.v, self.a = q, v, a
         n, nv = len(v), chain.model.nv
         self.Fe = np.broadcast_to(np.asarray(Fe, dtype=float), (n,))
         self.lever_friction = laws.lever_joint_friction_on(chain.params.friction)
         # The axial-only thrust bearing needs each platform's z axis, read from the placements.
         self.platform_frames = _platform_frames(chain) if chain.params.friction.thrust_bearing_axial_only else None
         size = min(_CHUNK, n)
-        self.system = np.zeros((size, nv, nv))  # [Sᵀ  J_cᵀ] per sample
-        self.system[:, chain.actuated_v, np.arange(3)] = 1.0
+        self.K_inv = np.empty((size, nv, nv))
         # Generalised forces of [platforms, levers, carriages, screws, friction], or of all at once without parts.
-        self.rhs = np.empty((size, nv, 5 if parts else 1))
+        self.rhs = np.empty((5 if parts else 1, size, nv))
         # Angular rows of the world-frame joint Jacobians: a body's ω is their sum over its support.
         self.angular = np.empty((size, 3, nv))
         self.platform_z = np.empty((size, 2, 3)) if self.platform_frames is not None else None
@@ -918,36 +933,35 @@ class _InverseDynamics:
         self.rotations = np.empty((n, chain.n_closures, 3, 3))
         self.start = 0
 
-    def add(self, k: int, q: np.ndarray, data, jacobian: np.ndarray, rotations: np.ndarray) -> None:
+    def add(self, k: int, data, K_inv: np.ndarray, tips: np.ndarray) -> None:
+        """Take sample k: K⁻¹, the lever-tip frames' placements (n_closures, 4, 4) and Pinocchio's data at its q."""
         slot = k - self.start
-        self.system[slot, :, 3:] = jacobian.T
-        self.rotations[k] = rotations
-        self.angular[slot] = data.J[3:]
+        closure_kernel.store(self.K_inv, self.angular, self.rotations, slot, k, K_inv, data.J, tips)
         if self.platform_z is not None:
             self.platform_z[slot] = _platform_z_axes(data, self.platform_frames)
-        if self.parts_asked:
-            regressor = pin.computeJointTorqueRegressor(self.model, data, q, self.v[k], self.a[k])
-            self.rhs[slot, :, :3] = regressor[:, self.regressor_columns] @ self.groups
-        else:  # the whole tree at once: RNEA, the screws' armature included
-            self.rhs[slot, :, 0] = pin.rnea(self.model, data, q, self.v[k], self.a[k])
-        if slot + 1 == len(self.system) or k + 1 == len(self.v):
+        if slot + 1 == len(self.K_inv) or k + 1 == len(self.v):
             self._solve(k + 1)
 
     def _solve(self, stop: int) -> None:
         start, m, layout = self.start, stop - self.start, self.layout
-        rhs, angular = self.rhs[:m], self.angular[:m]
+        q, v, a = self.q[start:stop], self.v[start:stop], self.a[start:stop]
+        rhs, angular, K_inv = self.rhs[:, :m], self.angular[:m], self.K_inv[:m]
+        # The tree's torques, all samples of the chunk in one call per body group (RNEA is
+        # linear in the bodies' inertias: the groups' torques add up to the whole tree's).
+        full, groups = self.pools
+        for pool, out in zip(groups, rhs) if self.parts_asked else ((full, rhs[0]),):
+            pin.rneaInParallel(_RNEA_THREADS, pool, q.T, v.T, a.T, out.T)
         platform_J = np.moveaxis(angular[:, :, layout.platform_v], 1, 2)  # (m, j, xyz, joint)
         lever_J = np.moveaxis(angular[:, :, layout.ujoint_v], 1, 3) if self.lever_friction else None
         platform_z = self.platform_z[:m] if self.platform_z is not None else None
-        friction = _friction_forces(self.chain, self.v[start:stop], self.Fe[start:stop], platform_J, lever_J, platform_z)
+        friction = _friction_forces(self.chain, v, self.Fe[start:stop], platform_J, lever_J, platform_z)
         if self.parts_asked:
-            rhs[:, :, 3] = self.model.armature * self.a[start:stop]
-            rhs[:, :, 4] = friction
+            rhs[3] = self.model.armature * a
+            rhs[4] = friction
         else:
-            rhs[:, :, 0] += friction
-        solution = np.linalg.solve(self.system[:m], rhs)
-        self.parts[start:stop] = solution[:, :3]
-        self.lambdas[start:stop] = solution[:, 3:].sum(axis=2).reshape(m, -1, 3)
+            rhs[0] += friction
+        tau = np.moveaxis(rhs, 0, 2)  # (m, nv, parts)
+        closure_kernel.actuator_and_closure_forces(K_inv, tau, self.chain.actuated_v, self.parts[start:stop], self.lambdas[start:stop].reshape(m, -1))
         self.start = stop
 
     def result(self, kin: ClosedKinematics) -> ClosedChainDynamics:
@@ -1009,11 +1023,19 @@ def inverse_dynamics(chain: ClosedChainModel, kin: ClosedKinematics, Fe, *, part
     Returns:
         Torques in [N·m], forces in [N].
     """
-    dynamics = _InverseDynamics(chain, kin.v, kin.a, Fe, parts)
+    layout = _require_layout(chain)
+    dynamics = _InverseDynamics(chain, kin.q, kin.v, kin.a, Fe, parts)
     ws = _Workspace(chain)
+    K = np.zeros((chain.model.nv, chain.model.nv))
+    K[np.arange(3), layout.platform_v[0]] = 1.0
+    v, J_rates = np.empty((1, chain.model.nv)), np.empty((1, 3, 3))  # velocity's by-products, unused here
     for k, q in enumerate(kin.q):
         ws.place(q)
-        dynamics.add(k, q, ws.data, ws.jacobian(), ws.tip_rotations())
+        tips = ws.tip_frames()
+        status, K_inv = closure_kernel.velocity(K, ws.jacobian(), kin.angle_rates[k], layout.platform_v[1], tips, v, 0, layout.slider_v, J_rates, 0)
+        if status != closure_kernel.OK:
+            raise PoseError("singular pose: the closure Jacobian loses rank (spec §3)", float(kin.t[k]), k)
+        dynamics.add(k, ws.data, K_inv, tips)
     return dynamics.result(kin)
 
 

@@ -1,0 +1,217 @@
+"""The arithmetic between Pinocchio's calls in the closure solver, compiled with numba.
+
+Why this module exists. Closing the chain at one sample takes a handful of
+Pinocchio calls (joint Jacobians, the closures' placements, the stacked
+closure Jacobian, the Jacobians' time variation), each a microsecond or two.
+Around them the solver did some thirty NumPy operations on 21-vectors and a
+21×21 inverse, each costing a microsecond of Python overhead for a few
+hundred floating-point operations: together more than the Pinocchio calls.
+Here that arithmetic runs compiled, a few calls per sample, so that what is
+left of a sample's time is Pinocchio's.
+
+Nothing here knows the machine's geometry: every position, rotation and
+Jacobian comes from Pinocchio (:mod:`hipsim.closed_chain.model` calls it);
+these functions only combine them. The closure velocities and accelerations
+solve
+
+    K v = [q̇; 0],    K a = [q̈; −J̇_c v],    K = [P₁; J_c]
+
+(P₁ selects platform 1's three angle coordinates, J_c is the 18×21 closure
+Jacobian in the lever-tip frames), and J̇_c v is the closures' relative
+classical acceleration at a = 0, from the world-frame joint Jacobians J and
+their time variation J̇ (``pin.computeJointJacobiansTimeVariation``).
+
+Indices are velocity indices (all the tree's joints are 1-DoF).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..analytic import laws
+from ..analytic.vectors import add, cross, dot, matvec, sub, transpose_times
+
+__all__ = ["OK", "LEVER_DOWN", "SINGULAR", "acceleration", "actuator_and_closure_forces", "chord_step", "predict", "store", "velocity"]
+
+#: Status codes of :func:`velocity`.
+OK, SINGULAR, LEVER_DOWN = 0, 1, 2
+
+#: K⁻¹'s entries are O(1..10) in m, rad and s away from singular poses; beyond this the closure has lost rank.
+_SINGULAR_ENTRY = 1e8
+#: A lever tip frame whose z axis has sunk this low is horizontal or upside down.
+_LEVER_DOWN_Z = 1e-6
+
+
+@laws.jit
+def predict(t, Q, V, A, row):
+    """The configuration at sample ``row`` predicted from the closed samples before it.
+
+    A third-order Taylor step from the last sample's q, v, a, with the jerk
+    from the last two accelerations (second order after the first sample).
+    Its error, ~3e-11 m at 1 kHz on the ISO cycle, is above the solver's
+    tolerance on purpose: one chord step from there closes the chain to
+    round-off (~1e-16 m), where a fourth-order prediction (~4e-13 m) would be
+    accepted as it stands and leave the models agreeing to 1e-12 instead of 1e-14.
+
+    Args:
+        t: sample times in [s], (rows,).
+        Q, V, A: configurations, velocities and accelerations of the closed samples, (rows, nv).
+        row: the sample to predict (≥ 1).
+    """
+    h = t[row] - t[row - 1]
+    if row == 1:
+        return Q[0] + h * (V[0] + 0.5 * h * A[0])
+    jerk = (A[row - 1] - A[row - 2]) / (t[row - 1] - t[row - 2])
+    return Q[row - 1] + h * (V[row - 1] + h * (0.5 * A[row - 1] + h / 6.0 * jerk))
+
+
+@laws.jit
+def chord_step(q, K_inv, d, platforms, angles):
+    """A Newton step on the closure gaps d = R₁ᵀ(p₂ − p₁) [m] with an earlier K⁻¹, and |d|² [m²].
+
+    The platforms' coordinates are kept at ``angles``: platform 1's rows of
+    K⁻¹[:, 3:] vanish, platform 2's would move its coordinates by O(|d|²).
+    """
+    trial = q + K_inv @ np.concatenate((np.zeros(3), d))
+    for k in range(platforms.size):
+        trial[platforms[k]] = angles[k]
+    return trial, d @ d
+
+
+@laws.jit
+def velocity(K, J_c, qd, platform2, tips, V, row, sliders, J_rates, k):
+    """K⁻¹ and the tree velocity v = V[row] at a closed configuration; J_rates[k], the sliders' rows of K⁻¹'s first three columns.
+
+    Args:
+        K: (nv, nv), rows 0–2 the selection P₁; rows 3… are overwritten with J_c.
+        J_c: the closure Jacobian, (3·n_closures, nv).
+        qd: platform angle rates [rad/s], (3,).
+        platform2: platform 2's velocity indices, (3,): set to q̇ exactly.
+        tips: the lever-tip frames' homogeneous placements (n_closures, 4, 4).
+        V, row: where v goes, V[row] (nv,).
+        sliders: the sliders' velocity indices, (3,).
+        J_rates, k: where ∂L̇/∂q̇ goes, J_rates[k] (3, 3).
+
+    Returns:
+        (status, K⁻¹): status :data:`OK`, :data:`SINGULAR` (K⁻¹ blows up)
+        or :data:`LEVER_DOWN` (a lever horizontal or pointing down); nothing
+        is written unless OK.
+    """
+    K[3:] = J_c
+    K_inv = np.linalg.inv(K)
+    if not np.abs(K_inv).max() < _SINGULAR_ENTRY:
+        return SINGULAR, K_inv
+    for c in range(tips.shape[0]):
+        if tips[c, 2, 2] <= _LEVER_DOWN_Z:
+            return LEVER_DOWN, K_inv
+    V[row] = K_inv @ np.concatenate((qd, np.zeros(K.shape[0] - 3)))
+    for i in range(3):
+        V[row, platform2[i]] = qd[i]
+        for j in range(3):
+            J_rates[k, i, j] = K_inv[sliders[i], j]
+    return OK, K_inv
+
+
+@laws.jit
+def acceleration(K_inv, J, dJ, V, A, row, masks, tips, d, qdd, platform2):
+    """The tree acceleration A[row] [m/s², rad/s²] from K a = [q̈; −J̇_c v] at a closed configuration.
+
+    Args:
+        K_inv: K⁻¹ from :func:`velocity`, (nv, nv).
+        J, dJ: the world-frame joint Jacobians and their time variation at (q, v), (6, nv).
+        V, A, row: the tree velocity V[row] (nv,) and where the acceleration goes, A[row].
+        masks: per closure, its two frames' supporting joints as 0/1 over the velocity indices, (2·n_closures, nv).
+        tips: the lever-tip frames' homogeneous placements, (n_closures, 4, 4).
+        d: the closure gaps R₁ᵀ(p₂ − p₁) [m], (3·n_closures,).
+        qdd: platform angle accelerations [rad/s²], (3,).
+        platform2: platform 2's velocity indices, (3,): set to q̈ exactly.
+
+    J̇_c v of closure c is R₁ᵀ(p̈₁ − p̈₂) at a = 0 (valid where J_c v = 0:
+    the two frames then move together, so R₁'s rotation adds nothing), with
+    p₂ = p₁ + R₁·d_c the platform point exactly. A point p of a body whose
+    world-frame spatial velocity is (v_o, ω) = J·v and acceleration
+    (a_o, ω̇) = J̇·v, both at the world origin (the body's supporting joints'
+    columns only), has ṗ = v_o + ω × p and p̈ = a_o + ω̇ × p + ω × ṗ.
+    """
+    n = tips.shape[0]
+    weights = masks * V[row]
+    twists, rates = weights @ J.T, weights @ dJ.T  # per closure frame: (v_o, ω) and (a_o, ω̇)
+    drift = np.empty(3 * n)
+    for c in range(n):
+        R = ((tips[c, 0, 0], tips[c, 0, 1], tips[c, 0, 2]), (tips[c, 1, 0], tips[c, 1, 1], tips[c, 1, 2]),
+             (tips[c, 2, 0], tips[c, 2, 1], tips[c, 2, 2]))  # fmt: skip
+        p1 = (tips[c, 0, 3], tips[c, 1, 3], tips[c, 2, 3])
+        p2 = add(p1, matvec(R, (d[3 * c], d[3 * c + 1], d[3 * c + 2])))
+        relative = sub(_point_acceleration(twists[2 * c], rates[2 * c], p1), _point_acceleration(twists[2 * c + 1], rates[2 * c + 1], p2))
+        local = transpose_times(R, relative)
+        drift[3 * c], drift[3 * c + 1], drift[3 * c + 2] = local[0], local[1], local[2]
+    A[row] = K_inv @ np.concatenate((qdd, -drift))
+    for k in range(3):
+        A[row, platform2[k]] = qdd[k]
+
+
+@laws.jit
+def _point_acceleration(twist, rate, p):
+    """p̈ at a = 0 of the point at p [m] on a body of spatial velocity ``twist`` and acceleration ``rate`` (world origin)."""
+    v_o, omega = (twist[0], twist[1], twist[2]), (twist[3], twist[4], twist[5])
+    a_o, omega_dot = (rate[0], rate[1], rate[2]), (rate[3], rate[4], rate[5])
+    p_dot = add(v_o, cross(omega, p))
+    return add(add(a_o, cross(omega_dot, p)), cross(omega, p_dot))
+
+
+@laws.jit
+def store(K_invs, angular, rotations, slot, k, K_inv, J, tips):
+    """Keep what the inverse dynamics reuse of sample k: K⁻¹ and the joint Jacobians' angular rows at ``slot`` of the chunk, the lever-tip rotations at k."""
+    K_invs[slot] = K_inv
+    angular[slot] = J[3:]
+    rotations[k] = tips[:, :3, :3]
+
+
+@laws.jit
+def actuator_and_closure_forces(K_invs, tau, actuated, F, lambdas):
+    """Per sample, the actuator forces F and closure forces λ of Sᵀ F + J_cᵀ λ = τ, from K⁻¹.
+
+    With N = K⁻¹[:, :3] (tree velocities per platform angle rate, J_c N = 0)
+    and G = S N (the actuated joints' rows of N), projecting on the motions the
+    closures allow gives Gᵀ F = Nᵀ τ (solved by Cramer's rule); then
+    λ = (K⁻ᵀ (τ − Sᵀ F))[3:], whose first three components vanish because
+    τ − Sᵀ F lies in the range of J_cᵀ.
+
+    Args:
+        K_invs: K⁻¹ per sample, (m, nv, nv).
+        tau: the tree's generalised forces per sample and part, (m, nv, parts).
+        actuated: the actuated joints' velocity indices, (3,).
+        F: out, actuator forces [N] per sample and part, (m, 3, parts).
+        lambdas: out, closure forces [N] of all parts together, (m, 3·n_closures).
+    """
+    m, nv, parts = tau.shape
+    for s in range(m):
+        K_inv = K_invs[s]
+        G = ((K_inv[actuated[0], 0], K_inv[actuated[1], 0], K_inv[actuated[2], 0]),
+             (K_inv[actuated[0], 1], K_inv[actuated[1], 1], K_inv[actuated[2], 1]),
+             (K_inv[actuated[0], 2], K_inv[actuated[1], 2], K_inv[actuated[2], 2]))  # Gᵀ by rows  # fmt: skip
+        rest = tau[s].sum(axis=1)
+        for p in range(parts):
+            b = (0.0, 0.0, 0.0)
+            for k in range(nv):
+                b = add(b, (K_inv[k, 0] * tau[s, k, p], K_inv[k, 1] * tau[s, k, p], K_inv[k, 2] * tau[s, k, p]))
+            f = _cramer(G, b)
+            for i in range(3):
+                F[s, i, p] = f[i]
+                rest[actuated[i]] -= f[i]
+        for c in range(nv - 3):
+            total = 0.0
+            for k in range(nv):
+                total += K_inv[k, 3 + c] * rest[k]
+            lambdas[s, c] = total
+
+
+@laws.jit
+def _cramer(rows, b):
+    """x with M·x = b, M given by its rows, by Cramer's rule."""
+    c0 = (rows[0][0], rows[1][0], rows[2][0])
+    c1 = (rows[0][1], rows[1][1], rows[2][1])
+    c2 = (rows[0][2], rows[1][2], rows[2][2])
+    c12 = cross(c1, c2)
+    det = dot(c0, c12)
+    return (dot(b, c12) / det, dot(c0, cross(b, c2)) / det, dot(c0, cross(c1, b)) / det)
