@@ -1,0 +1,178 @@
+"""The compiled arithmetic of the closure solver (hipsim.closed_chain.closure_kernel), each piece against another route.
+
+The drift against Pinocchio's own frame accelerations, the force solve against
+the full 21×21 system, the body-group torques against Pinocchio's joint-torque
+regressor, the predictor against a motion it must extrapolate exactly.
+"""
+
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from hipsim import load_parameters
+from hipsim.closed_chain import closure_kernel
+from hipsim.closed_chain.model import _rnea_pools, _Workspace, constraint_jacobian, kinematics, load_model
+
+DEG = math.pi / 180.0
+
+
+def motion(t):
+    """A smooth orientation cycle with exact derivatives (duck-typed trajectory)."""
+    t = np.atleast_1d(np.asarray(t, dtype=float))
+    w = 2 * math.pi
+    amplitude, phase = np.array([20.0, 6.0, 7.0]) * DEG, np.array([0.3, -0.7, 2.0])
+    arg = w * t[:, None] + phase
+    return SimpleNamespace(t=t, q=amplitude * np.cos(arg), qd=-w * amplitude * np.sin(arg), qdd=-w * w * amplitude * np.cos(arg), name="test")
+
+
+@pytest.fixture(scope="module")
+def closed():
+    chain = load_model(load_parameters())
+    kin = kinematics(chain, motion(np.linspace(0.0, 1.0, 41)))
+    return SimpleNamespace(chain=chain, kin=kin, ws=_Workspace(chain), layout=chain.layout)
+
+
+def _velocity(closed, k):
+    """K⁻¹ at sample k of the closed motion, through closure_kernel.velocity, and the tips it read."""
+    ws, layout, nv = closed.ws, closed.layout, closed.chain.model.nv
+    ws.place(closed.kin.q[k])
+    K = np.zeros((nv, nv))
+    K[np.arange(3), layout.platform_v[0]] = 1.0
+    tips = ws.tip_frames()
+    V, J_rates = np.empty((1, nv)), np.empty((1, 3, 3))
+    status, K_inv = closure_kernel.velocity(K, ws.jacobian(), closed.kin.angle_rates[k], layout.platform_v[1], tips, V, 0, layout.slider_v, J_rates, 0)
+    assert status == closure_kernel.OK
+    return K_inv, tips, V[0], J_rates[0]
+
+
+@pytest.mark.parametrize("k", [0, 13, 29])
+def test_velocity_solves_the_velocity_closure(closed, k):
+    """K v = [q̇; 0] written out: platform 1 at q̇, J_c v = 0, platform 2 at q̇, J_rates the sliders' rates per angle rate."""
+    K_inv, _, v, J_rates = _velocity(closed, k)
+    layout, qd = closed.layout, closed.kin.angle_rates[k]
+    Jc = constraint_jacobian(closed.chain, closed.kin.q[k])
+    np.testing.assert_allclose(v[layout.platform_v], [qd, qd], rtol=0, atol=1e-15)
+    assert np.abs(Jc @ v).max() <= 1e-13 * np.abs(v).max()
+    np.testing.assert_allclose(J_rates @ qd, v[layout.slider_v], rtol=0, atol=1e-14)
+    K = np.vstack([np.eye(closed.chain.model.nv)[layout.platform_v[0]], Jc])
+    np.testing.assert_allclose(K_inv @ K, np.eye(len(K)), rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("k", [5, 20, 33])
+def test_acceleration_drift_is_pinocchios_relative_classical_acceleration(closed, k):
+    """J̇_c v from J and J̇ equals the lever-tip and platform points' classical accelerations at a = 0 (getFrameClassicalAcceleration)."""
+    ws, chain, kin, layout = closed.ws, closed.chain, closed.kin, closed.layout
+    model, data = chain.model, ws.data
+    K_inv, tips, v, _ = _velocity(closed, k)
+    d = ws.residual()
+    # The kernel's acceleration with q̈ = 0 is −K⁻¹[0; drift], so K·a gives the drift back.
+    V, A = v[None].copy(), np.empty((1, model.nv))
+    pin.computeJointJacobiansTimeVariation(model, data, kin.q[k], v)
+    closure_kernel.acceleration(K_inv, data.J, data.dJ, V, A, 0, ws.support_masks, tips, d, np.zeros(3), layout.platform_v[1])
+    Jc = constraint_jacobian(chain, kin.q[k])
+    drift = -(Jc @ A[0])
+    # The other route: Pinocchio's classical accelerations of both closure frames, in frame 1's axes.
+    pin.forwardKinematics(model, data, kin.q[k], v, np.zeros(model.nv))
+    expected = []
+    for cm, tip in zip(chain.constraint_models, tips):
+        ends = [pin.getFrameClassicalAcceleration(model, data, joint, placement, pin.LOCAL_WORLD_ALIGNED).linear
+                for joint, placement in ((cm.joint1_id, cm.joint1_placement), (cm.joint2_id, cm.joint2_placement))]  # fmt: skip
+        expected.append(tip[:3, :3].T @ (ends[0] - ends[1]))
+    expected = np.concatenate(expected)
+    np.testing.assert_allclose(drift, expected, rtol=0, atol=1e-11 * np.abs(expected).max())
+
+
+def test_forces_solve_the_full_system(closed):
+    """F and λ from K⁻¹ (a 3×3 solve per sample) equal the solution of [Sᵀ J_cᵀ]·[F; λ] = τ, part by part."""
+    chain, kin = closed.chain, closed.kin
+    nv, rng = chain.model.nv, np.random.default_rng(7)
+    samples = [3, 17, 30]
+    K_invs = np.array([_velocity(closed, k)[0] for k in samples])
+    tau = rng.normal(size=(len(samples), nv, 4)) * 10.0
+    F, lambdas = np.empty((len(samples), 3, 4)), np.empty((len(samples), 3 * chain.n_closures))
+    closure_kernel.actuator_and_closure_forces(K_invs, tau, chain.actuated_v, F, lambdas)
+    S = np.zeros((nv, 3))
+    S[chain.actuated_v, range(3)] = 1.0
+    for s, k in enumerate(samples):
+        system = np.hstack([S, constraint_jacobian(chain, kin.q[k]).T])
+        x = np.linalg.solve(system, tau[s])
+        np.testing.assert_allclose(F[s], x[:3], rtol=0, atol=1e-10 * np.abs(x[:3]).max())
+        np.testing.assert_allclose(lambdas[s], x[3:].sum(axis=1), rtol=0, atol=1e-10 * np.abs(x[3:]).max())
+
+
+def test_body_group_torques_are_the_regressors(closed):
+    """Batched RNEA of each body group's tree equals Pinocchio's joint-torque regressor times that group's inertial parameters."""
+    chain, kin = closed.chain, closed.kin
+    model, data = chain.model, chain.model.createData()
+    full, groups = _rnea_pools(chain)
+    n = 8
+    q, v, a = kin.q[:n], kin.v[:n] + 0.1, kin.a[:n] - 0.2  # any motion: RNEA does not know the closures
+    for g, pool in enumerate(groups):
+        out = np.empty((n, model.nv))
+        pin.rneaInParallel(2, pool, q.T, v.T, a.T, out.T)
+        for k in range(n):
+            expected = pin.computeJointTorqueRegressor(model, data, q[k], v[k], a[k]) @ chain.layout.groups[:, g]
+            np.testing.assert_allclose(out[k], expected, rtol=0, atol=1e-12 * max(1.0, np.abs(expected).max()))
+    out = np.empty((n, model.nv))
+    pin.rneaInParallel(2, full, q.T, v.T, a.T, out.T)
+    for k in range(n):
+        np.testing.assert_allclose(out[k], pin.rnea(model, data, q[k], v[k], a[k]), rtol=0, atol=1e-12)
+
+
+def test_prediction_is_exact_for_a_cubic():
+    """The third-order Taylor step with jerk from two accelerations extrapolates a cubic exactly; the first step is second order."""
+    t = np.array([0.0, 0.002, 0.0035, 0.005])  # uneven steps
+    c = np.array([[0.3, -1.0], [2.0, 0.5], [-4.0, 1.5], [7.0, -3.0]])  # q = c0 + c1 t + c2 t² + c3 t³, two coordinates
+    Q = c[0] + np.outer(t, c[1]) + np.outer(t**2, c[2]) + np.outer(t**3, c[3])
+    V = c[1] + np.outer(2 * t, c[2]) + np.outer(3 * t**2, c[3])
+    A = 2 * c[2] + np.outer(6 * t, c[3])
+    np.testing.assert_allclose(closure_kernel.predict(t, Q, V, A, 3), Q[3], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(closure_kernel.predict(t, Q, V, A, 2), Q[2], rtol=0, atol=1e-15)
+    h = t[1]
+    np.testing.assert_allclose(closure_kernel.predict(t, Q, V, A, 1), Q[0] + h * V[0] + h * h / 2 * A[0], rtol=0, atol=1e-15)
+    assert np.abs(closure_kernel.predict(t, Q, V, A, 1) - Q[1]).max() > 1e-9  # the cubic term it cannot know
+
+
+def test_chord_step_closes_a_perturbed_configuration(closed):
+    """From a closed q with its legs moved by 1e-7, chord steps with K⁻¹ shrink the gap at least a thousandfold each."""
+    ws, layout, kin = closed.ws, closed.layout, closed.kin
+    K_inv, _, _, _ = _velocity(closed, 12)
+    q = kin.q[12].copy()
+    q[layout.leg_v] += 1e-7 * np.random.default_rng(3).normal(size=layout.leg_v.size)
+    angles = q[layout.platform_v.ravel()]
+    sizes = []
+    for _ in range(2):
+        ws.place(q)
+        d = ws.residual()
+        q, size = closure_kernel.chord_step(q, K_inv, d, layout.platform_v.ravel(), angles)
+        sizes.append(math.sqrt(size))
+    ws.place(q)
+    sizes.append(np.linalg.norm(ws.residual()))
+    assert sizes[0] > 1e-9 and sizes[1] < 1e-3 * sizes[0] and sizes[2] < 1e-14
+    np.testing.assert_array_equal(q[layout.platform_v.ravel()], angles)
+
+
+def test_velocity_reports_a_singular_closure(closed):
+    """A K whose constraint rows lose rank is reported, not inverted into nonsense."""
+    ws, layout, nv = closed.ws, closed.layout, closed.chain.model.nv
+    ws.place(closed.kin.q[0])
+    Jc = ws.jacobian().copy()
+    Jc[5] = Jc[4]  # two equal rows
+    K = np.zeros((nv, nv))
+    K[np.arange(3), layout.platform_v[0]] = 1.0
+    V, J_rates = np.zeros((1, nv)), np.zeros((1, 3, 3))
+    try:
+        status, _ = closure_kernel.velocity(K, Jc, np.ones(3), layout.platform_v[1], ws.tip_frames(), V, 0, layout.slider_v, J_rates, 0)
+    except np.linalg.LinAlgError:
+        status = closure_kernel.SINGULAR  # exactly singular: LAPACK says so itself
+    assert status == closure_kernel.SINGULAR
+    tips = ws.tip_frames()
+    tips[2, 2, 2] = -0.1  # a lever pointing down
+    status, _ = closure_kernel.velocity(K, ws.jacobian(), np.ones(3), layout.platform_v[1], tips, V, 0, layout.slider_v, J_rates, 0)
+    assert status == closure_kernel.LEVER_DOWN
+    assert not V.any() and not J_rates.any()
