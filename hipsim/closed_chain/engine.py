@@ -23,8 +23,9 @@ class PinocchioModel:
         params: the machine.
         chain: an already loaded closed-chain model of ``params`` (loaded when None).
         parts: split the torques into their parts (spec §4.4); False for the
-            total only, some 15 µs a sample less, with the parts NaN (for callers
-            that read the total alone, such as fits and checks).
+            total only, a few µs a sample less (one batched RNEA instead of
+            three), with the parts NaN (for callers that read the total alone,
+            such as fits and checks).
     """
 
     name = "pinocchio"

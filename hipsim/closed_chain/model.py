@@ -21,18 +21,32 @@ along the trajectory, so the unknowns are the leg coordinates (3 sliders,
 * with K = [P₁; J_c] (P₁ selects platform 1's three angle coordinates, J_c
   the 18×21 closure Jacobian) the velocities solve K v = [q̇; 0] and the
   accelerations K a = [q̈; −J̇_c v], J̇_c v from the closure frames' classical
-  accelerations at a = 0. Platform 2's coordinates come out equal to
-  platform 1's (its three closures force the same orientation) and are then
-  set to the given values exactly.
+  accelerations at a = 0, built from the world joint Jacobians J and their
+  time variation J̇ (``computeJointJacobiansTimeVariation``). Platform 2's
+  coordinates come out equal to platform 1's (its three closures force the
+  same orientation) and are then set to the given values exactly.
 
 Closed-chain inverse dynamics (:func:`inverse_dynamics`): the tree's
-generalised forces by part, each exact — the joint-torque regressor Y(q, v, a)
-of Pinocchio times the dynamic parameters of one group of bodies (platforms,
-levers, carriages; RNEA is linear in them for a fixed motion, gravity
-included), the armature term for the screws, and the friction generalised
-forces of spec §4.3 / §7.3 — then one solve of Sᵀ F + J_cᵀ λ = τ for all parts
-at once. The parts therefore add up to the total to rounding.
+generalised forces by part, each exact — RNEA of the tree with only one group
+of bodies' inertias (platforms, levers, carriages; RNEA is linear in them for
+a fixed motion, gravity included), the armature term for the screws, and the
+friction generalised forces of spec §4.3 / §7.3 — then, per sample, the
+actuator forces of Sᵀ F + J_cᵀ λ = τ from the K⁻¹ the kinematics computed
+(a 3×3 solve: see :func:`hipsim.closed_chain.closure_kernel.actuator_and_closure_forces`).
+The parts therefore add up to the total to rounding.
 :func:`trajectory_dynamics` does both in one pass, reusing the Jacobians.
+
+Speed. A sample's work is a handful of Pinocchio calls: forward kinematics at
+the prediction and the joint Jacobians at the corrected configuration, each
+with the six closures' placements read back, the stacked closure Jacobian,
+the Jacobians' time variation. What lies between them (the predictor, the
+chord step, K⁻¹, the drift) runs compiled (:mod:`~hipsim.closed_chain.closure_kernel`),
+and the tree's torques are computed for a whole chunk of samples at once by
+``pin.rneaInParallel`` on up to two threads. Measured on the development
+machine (2 cores, idle), ISO cycle at 1 kHz: ~31 µs a sample without parts,
+~33 µs with them; the Pinocchio calls and the read-back of their results
+alone take ~14 µs, K⁻¹ (LAPACK, 21×21) ~4 µs, the Python loop around them
+the rest (see ``scripts/bench.py --only servo``).
 
 Sign conventions: J_c is the derivative of R₁ᵀ(p₁ − p₂) with frame 1 the lever
 tip and frame 2 the platform joint; λ_ji is the force the platform exerts on
@@ -993,10 +1007,10 @@ class _InverseDynamics:
 def inverse_dynamics(chain: ClosedChainModel, kin: ClosedKinematics, Fe, *, parts: bool = True) -> ClosedChainDynamics:
     """Motor torques (with their parts) and joint forces along a closed motion, with Pinocchio.
 
-    The tree's generalised forces are split exactly into parts: Pinocchio's
-    joint-torque regressor Y(q, v, a) times each body group's dynamic
-    parameters (platforms, levers, carriages; RNEA is linear in them for a
-    fixed motion, gravity included), armature·a for the screws, and the
+    The tree's generalised forces are split exactly into parts: RNEA of the
+    tree with only one body group's inertias (platforms, levers, carriages;
+    RNEA is linear in the inertial parameters for a fixed motion, gravity
+    included), armature·a for the screws, and the
     friction generalised forces of spec §4.3 at their joints (central-chain
     moment on each platform along ŝ(ω_j); U- and S-joint moments on the
     levers, S also on the platform; slider-guide forces and the screw's
@@ -1015,10 +1029,10 @@ def inverse_dynamics(chain: ClosedChainModel, kin: ClosedKinematics, Fe, *, part
         chain: the hip model from :func:`load_model`.
         kin: the closed motion from :func:`kinematics`.
         Fe: hydraulic load magnitude in [N], shape (N,) (or a scalar).
-        parts: split the torques into their parts (the regressor, a five-column
-            solve); False: the total only, from one RNEA call per sample and a
-            one-column solve, with the parts and the friction power NaN (the
-            joint forces are computed either way).
+        parts: split the torques into their parts (three body-group RNEAs
+            per sample, batched); False: the total only, from one RNEA of the
+            whole tree, with the parts and the friction power NaN (the joint
+            forces are computed either way).
 
     Returns:
         Torques in [N·m], forces in [N].
