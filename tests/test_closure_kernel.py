@@ -37,15 +37,20 @@ def closed():
     return SimpleNamespace(chain=chain, kin=kin, ws=_Workspace(chain), layout=chain.layout)
 
 
+def _others(closed):
+    """The velocity indices other than platform 1's."""
+    return np.setdiff1d(np.arange(closed.chain.model.nv), closed.layout.platform_v[0])
+
+
 def _velocity(closed, k):
     """K⁻¹ at sample k of the closed motion, through closure_kernel.velocity, and the tips it read."""
     ws, layout, nv = closed.ws, closed.layout, closed.chain.model.nv
     ws.place(closed.kin.q[k])
-    K = np.zeros((nv, nv))
-    K[np.arange(3), layout.platform_v[0]] = 1.0
     tips = ws.tip_frames()
     V, J_rates = np.empty((1, nv)), np.empty((1, 3, 3))
-    status, K_inv = closure_kernel.velocity(K, ws.jacobian(), closed.kin.angle_rates[k], layout.platform_v[1], tips, V, 0, layout.slider_v, J_rates, 0)
+    status, K_inv = closure_kernel.velocity(
+        ws.jacobian(), layout.platform_v[0], _others(closed), closed.kin.angle_rates[k], layout.platform_v[1], tips, V, 0, layout.slider_v, J_rates, 0
+    )
     assert status == closure_kernel.OK
     return K_inv, tips, V[0], J_rates[0]
 
@@ -61,6 +66,7 @@ def test_velocity_solves_the_velocity_closure(closed, k):
     np.testing.assert_allclose(J_rates @ qd, v[layout.slider_v], rtol=0, atol=1e-14)
     K = np.vstack([np.eye(closed.chain.model.nv)[layout.platform_v[0]], Jc])
     np.testing.assert_allclose(K_inv @ K, np.eye(len(K)), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(K @ K_inv, np.eye(len(K)), rtol=0, atol=1e-12)
 
 
 @pytest.mark.parametrize("k", [5, 20, 33])
@@ -162,17 +168,16 @@ def test_velocity_reports_a_singular_closure(closed):
     ws, layout, nv = closed.ws, closed.layout, closed.chain.model.nv
     ws.place(closed.kin.q[0])
     Jc = ws.jacobian().copy()
-    Jc[5] = Jc[4]  # two equal rows
-    K = np.zeros((nv, nv))
-    K[np.arange(3), layout.platform_v[0]] = 1.0
+    Jc[5] = Jc[4] * (1 + 1e-15)  # two rows equal but for round-off
     V, J_rates = np.zeros((1, nv)), np.zeros((1, 3, 3))
+    arguments = (layout.platform_v[0], _others(closed), np.ones(3), layout.platform_v[1])
     try:
-        status, _ = closure_kernel.velocity(K, Jc, np.ones(3), layout.platform_v[1], ws.tip_frames(), V, 0, layout.slider_v, J_rates, 0)
+        status, _ = closure_kernel.velocity(Jc, *arguments, ws.tip_frames(), V, 0, layout.slider_v, J_rates, 0)
     except np.linalg.LinAlgError:
         status = closure_kernel.SINGULAR  # exactly singular: LAPACK says so itself
     assert status == closure_kernel.SINGULAR
     tips = ws.tip_frames()
     tips[2, 2, 2] = -0.1  # a lever pointing down
-    status, _ = closure_kernel.velocity(K, ws.jacobian(), np.ones(3), layout.platform_v[1], tips, V, 0, layout.slider_v, J_rates, 0)
+    status, _ = closure_kernel.velocity(ws.jacobian(), *arguments, tips, V, 0, layout.slider_v, J_rates, 0)
     assert status == closure_kernel.LEVER_DOWN
     assert not V.any() and not J_rates.any()

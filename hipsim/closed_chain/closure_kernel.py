@@ -79,12 +79,18 @@ def chord_step(q, K_inv, d, platforms, angles):
 
 
 @laws.jit
-def velocity(K, J_c, qd, platform2, tips, V, row, sliders, J_rates, k):
+def velocity(J_c, platform1, others, qd, platform2, tips, V, row, sliders, J_rates, k):
     """K⁻¹ and the tree velocity v = V[row] at a closed configuration; J_rates[k], the sliders' rows of K⁻¹'s first three columns.
 
+    K = [P₁; J_c] is inverted by blocks: with B = J_c's columns of the other
+    coordinates and C its columns of platform 1's, K x = [y₁; y₂] gives
+    x[platform 1] = y₁ and x[others] = B⁻¹(y₂ − C y₁). One 18×18 inverse
+    instead of a 21×21 one.
+
     Args:
-        K: (nv, nv), rows 0–2 the selection P₁; rows 3… are overwritten with J_c.
         J_c: the closure Jacobian, (3·n_closures, nv).
+        platform1: platform 1's velocity indices, (3,), the coordinates P₁ selects.
+        others: the other velocity indices, (nv − 3,), ascending.
         qd: platform angle rates [rad/s], (3,).
         platform2: platform 2's velocity indices, (3,): set to q̇ exactly.
         tips: the lever-tip frames' homogeneous placements (n_closures, 4, 4).
@@ -97,14 +103,29 @@ def velocity(K, J_c, qd, platform2, tips, V, row, sliders, J_rates, k):
         or :data:`LEVER_DOWN` (a lever horizontal or pointing down); nothing
         is written unless OK.
     """
-    K[3:] = J_c
-    K_inv = np.linalg.inv(K)
-    if not np.abs(K_inv).max() < _SINGULAR_ENTRY:
+    nv = J_c.shape[1]
+    B, C = np.empty((nv - 3, nv - 3)), np.empty((nv - 3, 3))
+    for i in range(nv - 3):
+        for j in range(nv - 3):
+            B[i, j] = J_c[i, others[j]]
+        for j in range(3):
+            C[i, j] = J_c[i, platform1[j]]
+    B_inv = np.linalg.inv(B)
+    B_inv_C = B_inv @ C
+    K_inv = np.zeros((nv, nv))
+    for j in range(3):
+        K_inv[platform1[j], j] = 1.0
+    for i in range(nv - 3):
+        for j in range(3):
+            K_inv[others[i], j] = -B_inv_C[i, j]
+        for j in range(nv - 3):
+            K_inv[others[i], 3 + j] = B_inv[i, j]
+    if not np.abs(B_inv).max() < _SINGULAR_ENTRY or not np.abs(B_inv_C).max() < _SINGULAR_ENTRY:
         return SINGULAR, K_inv
     for c in range(tips.shape[0]):
         if tips[c, 2, 2] <= _LEVER_DOWN_Z:
             return LEVER_DOWN, K_inv
-    V[row] = K_inv @ np.concatenate((qd, np.zeros(K.shape[0] - 3)))
+    V[row] = K_inv @ np.concatenate((qd, np.zeros(nv - 3)))
     for i in range(3):
         V[row, platform2[i]] = qd[i]
         for j in range(3):

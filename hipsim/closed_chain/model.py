@@ -569,8 +569,9 @@ class _Closer:
         self.tol2, self.max_iter = tol * tol, max_iter
         nv = chain.model.nv
         self.platforms = self.layout.platform_v.ravel()
-        self.K = np.zeros((nv, nv))
-        self.K[np.arange(3), self.layout.platform_v[0]] = 1.0
+        # K = [P₁; J_c]'s selection P₁: platform 1's coordinates, and the others.
+        self.platform1 = self.layout.platform_v[0]
+        self.others = np.setdiff1d(np.arange(nv), self.platform1)
         self.K_inv = None  # inverse of K at the last closed sample: the chord method's Jacobian
         self.evaluations = 0
 
@@ -600,11 +601,14 @@ class _Closer:
                     pin.computeJointJacobians(self.ws.model, self.ws.data, q)
                 return q, e
             e_trial = self._evaluate(trial)
-            if e_trial @ e_trial > 0.01 * size:  # the gap must shrink tenfold per step, else fresh Jacobians
+            size_trial = e_trial @ e_trial
+            if size_trial > 0.01 * size:  # the gap must shrink tenfold per step, else fresh Jacobians
                 self._evaluate(q)
                 return self._levenberg_marquardt(q, e)
             q, e = trial, e_trial
-        return (q, e) if e @ e <= self.tol2 else self._levenberg_marquardt(q, e)
+            if size_trial <= self.tol2:
+                return q, e
+        return self._levenberg_marquardt(q, e)
 
     def _levenberg_marquardt(self, q: np.ndarray, e: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Damped Gauss–Newton on the 15 leg coordinates with fresh Jacobians."""
@@ -645,7 +649,7 @@ class _Closer:
         """
         ws, platform2 = self.ws, self.layout.platform_v[1]
         tips = ws.tip_frames()
-        status, K_inv = closure_kernel.velocity(self.K, ws.jacobian(), qd, platform2, tips, V, row, self.layout.slider_v, J_rates, k)
+        status, K_inv = closure_kernel.velocity(ws.jacobian(), self.platform1, self.others, qd, platform2, tips, V, row, self.layout.slider_v, J_rates, k)
         if status == closure_kernel.SINGULAR:
             raise ClosureError("singular pose: the closure Jacobian loses rank (spec §3)")
         if status == closure_kernel.LEVER_DOWN:
@@ -1040,13 +1044,12 @@ def inverse_dynamics(chain: ClosedChainModel, kin: ClosedKinematics, Fe, *, part
     layout = _require_layout(chain)
     dynamics = _InverseDynamics(chain, kin.q, kin.v, kin.a, Fe, parts)
     ws = _Workspace(chain)
-    K = np.zeros((chain.model.nv, chain.model.nv))
-    K[np.arange(3), layout.platform_v[0]] = 1.0
+    platform1, others = layout.platform_v[0], np.setdiff1d(np.arange(chain.model.nv), layout.platform_v[0])
     v, J_rates = np.empty((1, chain.model.nv)), np.empty((1, 3, 3))  # velocity's by-products, unused here
     for k, q in enumerate(kin.q):
         ws.place(q)
         tips = ws.tip_frames()
-        status, K_inv = closure_kernel.velocity(K, ws.jacobian(), kin.angle_rates[k], layout.platform_v[1], tips, v, 0, layout.slider_v, J_rates, 0)
+        status, K_inv = closure_kernel.velocity(ws.jacobian(), platform1, others, kin.angle_rates[k], layout.platform_v[1], tips, v, 0, layout.slider_v, J_rates, 0)
         if status != closure_kernel.OK:
             raise PoseError("singular pose: the closure Jacobian loses rank (spec §3)", float(kin.t[k]), k)
         dynamics.add(k, ws.data, K_inv, tips)
