@@ -56,7 +56,6 @@ lever ji at a_ji, in the lever-tip frame (the lever exerts −λ on the platform
 from __future__ import annotations
 
 import math
-import os
 import weakref
 from dataclasses import dataclass
 from pathlib import Path
@@ -100,8 +99,10 @@ _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 # Samples per batch of the inverse-dynamics solve: bounds the memory of the
 # stacked (n, 21, 21) K⁻¹ while keeping the batched RNEA and solve efficient.
 _CHUNK = 2048
-#: Threads of Pinocchio's batched RNEA (``pin.rneaInParallel``): one per core, at most two.
-_RNEA_THREADS = max(1, min(2, os.cpu_count() or 1))
+#: Threads of Pinocchio's batched RNEA (``pin.rneaInParallel``): one. It is used for its batching
+#: (one call a chunk instead of one a sample); a second thread would save ~1 µs a sample on an idle
+#: machine but compete with the loop's other process or thread wherever one runs (sweeps, servers).
+_RNEA_THREADS = 1
 #: Batched-RNEA pools of each loaded model: the whole tree, and one tree per body group (see :func:`_rnea_pools`).
 _POOLS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
@@ -803,25 +804,60 @@ class ClosedChainDynamics:
         check_shapes(self, {"F_act": ("N", 3), "lambdas": ("N", 2, 3, 3)})
 
 
-def _rnea_pools(chain: ClosedChainModel) -> tuple[Any, list]:
-    """Pools for ``pin.rneaInParallel``: the whole tree, and per body group (platforms, levers, carriages) a tree with only that group's inertias and no armature.
+@dataclass(frozen=True, eq=False)
+class _BatchedRNEA:
+    """A tree for ``pin.rneaInParallel`` and where its joints sit in the hip model's velocity vector."""
 
-    RNEA is linear in the bodies' inertias for a given motion, so the groups'
-    torques are the parts of the tree's (the screws' armature term is added
-    apart). Built once per loaded model.
+    pool: Any  # pin.ModelPool; None for a group without bodies (massless levers, say)
+    columns: np.ndarray  # the hip model's velocity index of each of the tree's joints, in the tree's order
+
+    def __call__(self, q: np.ndarray, v: np.ndarray, a: np.ndarray, out: np.ndarray) -> None:
+        """Write the tree's torques at samples (rows of) q, v, a into ``out``'s columns, (m, nv); the other columns are zeroed."""
+        if self.pool is None:
+            out[:] = 0.0
+            return
+        if len(self.columns) == out.shape[1]:  # the whole tree
+            pin.rneaInParallel(_RNEA_THREADS, self.pool, q.T, v.T, a.T, out.T)
+            return
+        columns = self.columns
+        tau = np.empty((len(q), len(columns)))
+        pin.rneaInParallel(_RNEA_THREADS, self.pool, q[:, columns].T, v[:, columns].T, a[:, columns].T, tau.T)
+        out[:] = 0.0
+        out[:, columns] = tau
+
+
+def _rnea_pools(chain: ClosedChainModel) -> tuple[_BatchedRNEA, list[_BatchedRNEA]]:
+    """Batched RNEA of the whole tree, and of each body group (platforms, levers, carriages) alone.
+
+    RNEA is linear in the bodies' inertias for a given motion, so the tree
+    with only one group's inertias (and no armature: the screws' term is added
+    apart) gives that group's part of the torques. A group's torques depend
+    only on the joints that support its bodies, so its tree keeps just those
+    (``pin.buildReducedModel`` locks the others, whose bodies carry no
+    inertia there): 6 joints for the platforms, 15 for the levers, 3 for the
+    carriages, against 21 for each. Built once per loaded model.
     """
     pools = _POOLS.get(chain)
     if pools is None:
         model, groups = chain.model, _require_layout(chain).groups
-        group_pools = []
+        group_trees = []
         for g in range(groups.shape[1]):
-            member = chain.model.copy()
+            member = model.copy()
             member.armature = np.zeros(model.nv)
+            members = [k for k in range(1, model.njoints) if np.any(groups[10 * (k - 1) : 10 * k, g] != 0.0)]
             for k in range(1, model.njoints):
-                if not np.any(groups[10 * (k - 1) : 10 * k, g] != 0.0):
+                if k not in members:
                     member.inertias[k] = pin.Inertia.Zero()
-            group_pools.append(pin.ModelPool(member, _RNEA_THREADS))
-        pools = _POOLS[chain] = (pin.ModelPool(model, _RNEA_THREADS), group_pools)
+            if not members:
+                group_trees.append(_BatchedRNEA(None, np.zeros(0, dtype=int)))
+                continue
+            kept = {int(j) for k in members for j in model.supports[k]}
+            locked = [k for k in range(1, model.njoints) if k not in kept]
+            reduced = pin.buildReducedModel(member, locked, pin.neutral(model)) if locked else member
+            columns = np.array([model.joints[model.getJointId(name)].idx_v for name in reduced.names[1:]])
+            group_trees.append(_BatchedRNEA(pin.ModelPool(reduced, _RNEA_THREADS), columns))
+        whole = _BatchedRNEA(pin.ModelPool(model, _RNEA_THREADS), np.arange(model.nv))
+        pools = _POOLS[chain] = (whole, group_trees)
     return pools
 
 
@@ -966,9 +1002,9 @@ class _InverseDynamics:
         rhs, angular, K_inv = self.rhs[:, :m], self.angular[:m], self.K_inv[:m]
         # The tree's torques, all samples of the chunk in one call per body group (RNEA is
         # linear in the bodies' inertias: the groups' torques add up to the whole tree's).
-        full, groups = self.pools
-        for pool, out in zip(groups, rhs) if self.parts_asked else ((full, rhs[0]),):
-            pin.rneaInParallel(_RNEA_THREADS, pool, q.T, v.T, a.T, out.T)
+        whole, groups = self.pools
+        for rnea, out in zip(groups, rhs) if self.parts_asked else ((whole, rhs[0]),):
+            rnea(q, v, a, out)
         platform_J = np.moveaxis(angular[:, :, layout.platform_v], 1, 2)  # (m, j, xyz, joint)
         lever_J = np.moveaxis(angular[:, :, layout.ujoint_v], 1, 3) if self.lever_friction else None
         platform_z = self.platform_z[:m] if self.platform_z is not None else None
