@@ -137,11 +137,14 @@ def test_prediction_is_exact_for_a_cubic():
     Q = c[0] + np.outer(t, c[1]) + np.outer(t**2, c[2]) + np.outer(t**3, c[3])
     V = c[1] + np.outer(2 * t, c[2]) + np.outer(3 * t**2, c[3])
     A = 2 * c[2] + np.outer(6 * t, c[3])
-    np.testing.assert_allclose(closure_kernel.predict(t, Q, V, A, 3), Q[3], rtol=0, atol=1e-15)
-    np.testing.assert_allclose(closure_kernel.predict(t, Q, V, A, 2), Q[2], rtol=0, atol=1e-15)
+    NONE = np.zeros(0, dtype=np.int64)  # no platform coordinates to set
+    np.testing.assert_allclose(closure_kernel.predict(t, Q, V, A, 3, NONE, np.zeros(0)), Q[3], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(closure_kernel.predict(t, Q, V, A, 2, NONE, np.zeros(0)), Q[2], rtol=0, atol=1e-15)
     h = t[1]
-    np.testing.assert_allclose(closure_kernel.predict(t, Q, V, A, 1), Q[0] + h * V[0] + h * h / 2 * A[0], rtol=0, atol=1e-15)
-    assert np.abs(closure_kernel.predict(t, Q, V, A, 1) - Q[1]).max() > 1e-9  # the cubic term it cannot know
+    np.testing.assert_allclose(closure_kernel.predict(t, Q, V, A, 1, NONE, np.zeros(0)), Q[0] + h * V[0] + h * h / 2 * A[0], rtol=0, atol=1e-15)
+    assert np.abs(closure_kernel.predict(t, Q, V, A, 1, NONE, np.zeros(0)) - Q[1]).max() > 1e-9  # the cubic term it cannot know
+    set_to = closure_kernel.predict(t, Q, V, A, 3, np.array([1]), np.array([0.25]))
+    assert set_to[1] == 0.25 and set_to[0] == pytest.approx(Q[3, 0], abs=1e-15)
 
 
 def test_chord_step_closes_a_perturbed_configuration(closed):

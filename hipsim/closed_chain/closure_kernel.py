@@ -43,8 +43,8 @@ _LEVER_DOWN_Z = 1e-6
 
 
 @laws.jit
-def predict(t, Q, V, A, row):
-    """The configuration at sample ``row`` predicted from the closed samples before it.
+def predict(t, Q, V, A, row, platforms, angles):
+    """The configuration at sample ``row`` predicted from the closed samples before it, its platforms' coordinates at ``angles``.
 
     A third-order Taylor step from the last sample's q, v, a, with the jerk
     from the last two accelerations (second order after the first sample).
@@ -57,12 +57,17 @@ def predict(t, Q, V, A, row):
         t: sample times in [s], (rows,).
         Q, V, A: configurations, velocities and accelerations of the closed samples, (rows, nv).
         row: the sample to predict (≥ 1).
+        platforms, angles: the platforms' coordinates and their values at ``row``.
     """
     h = t[row] - t[row - 1]
     if row == 1:
-        return Q[0] + h * (V[0] + 0.5 * h * A[0])
-    jerk = (A[row - 1] - A[row - 2]) / (t[row - 1] - t[row - 2])
-    return Q[row - 1] + h * (V[row - 1] + h * (0.5 * A[row - 1] + h / 6.0 * jerk))
+        q = Q[0] + h * (V[0] + 0.5 * h * A[0])
+    else:
+        jerk = (A[row - 1] - A[row - 2]) / (t[row - 1] - t[row - 2])
+        q = Q[row - 1] + h * (V[row - 1] + h * (0.5 * A[row - 1] + h / 6.0 * jerk))
+    for k in range(platforms.size):
+        q[platforms[k]] = angles[k]
+    return q
 
 
 @laws.jit

@@ -577,18 +577,26 @@ class _Closer:
         self.evaluations = 0
 
     def _evaluate(self, q: np.ndarray, jacobians: bool = True) -> np.ndarray:
+        """The closure gaps at q [m] (:meth:`_Workspace.residual`), its placements (and Jacobians) left in the workspace."""
         self.evaluations += 1
-        self.ws.place(q, jacobians)
-        return self.ws.residual()
+        ws = self.ws
+        if jacobians:
+            pin.computeJointJacobians(ws.model, ws.data, q)
+        else:
+            pin.forwardKinematics(ws.model, ws.data, q)
+        model, data = ws.model, ws.data
+        for cm, cd in ws.pairs:
+            cm.calc(model, data, cd)
+        return np.concatenate([cd.c1Mc2.translation for cd in ws.cd_list])
 
     def close(self, q: np.ndarray, angles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Move q's leg coordinates until every closure holds; returns q and its residual vector.
 
-        angles: both platforms' coordinates, in ``platform_v.ravel()`` order.
-        On return the workspace holds q's placements and Jacobians. Raises
-        ClosureError (with the gap left) if the loops cannot be closed.
+        q: a configuration whose platform coordinates are ``angles`` already
+        (both platforms', in ``platform_v.ravel()`` order). On return the
+        workspace holds q's placements and Jacobians. Raises ClosureError
+        (with the gap left) if the loops cannot be closed.
         """
-        q[self.platforms] = angles
         if self.K_inv is None:
             e = self._evaluate(q)
             return (q, e) if e @ e <= self.tol2 else self._levenberg_marquardt(q, e)
@@ -731,11 +739,14 @@ def _close_chain(
         closer.K_inv = go_on.K_inv
     # The closer leaves Pinocchio's data at the closed q: the dynamics reuse its Jacobians.
     dynamics = _InverseDynamics(chain, Q[before:], V[before:], A[before:], Fe, parts) if Fe is not None else None
-    q = layout.initial_guess.copy()
+    platforms = closer.platforms
     for k in range(n):
         row = before + k  # this sample's row in Q, V, A and T, after the previous piece's last samples
         if row:
-            q = closure_kernel.predict(T, Q, V, A, row)
+            q = closure_kernel.predict(T, Q, V, A, row, platforms, both[k])
+        else:
+            q = layout.initial_guess.copy()
+            q[platforms] = both[k]
         evaluations = closer.evaluations
         try:
             q, gaps[k] = closer.close(q, both[k])
