@@ -140,6 +140,37 @@ def _generalised_forces(buf, x, tau, Fe, friction, weight, gain, platforms, slid
     return buf
 
 
+@laws.jit
+def _rk4_stage(s, x, y, stages, a, h, buf, tau, Fe, friction, weight, gain, platforms, sliders):
+    """What a classic RK4 step of h [s] does between two ``constraintDynamics`` calls, in place.
+
+    Stage s = 0 starts a step at x: y = x. Stages 1, 2, 3 keep the derivative
+    the previous stage gave, k_s = [v, a] (v read from y, a from Pinocchio),
+    and move to y = x + (h/2, h/2, h)·k_s. Then the generalised forces at y
+    (:func:`_generalised_forces`, under motor torques tau [N·m] and load
+    Fe [N]) go into buf, for Pinocchio to evaluate the stage. s = 4 keeps k₄
+    and ends the step: x += h/6·(k₁ + 2k₂ + 2k₃ + k₄). The arithmetic is
+    that of :func:`hipsim.control.simulation._rk4`, operation for operation.
+    """
+    n = x.size
+    nq = n // 2
+    if s >= 1:
+        for i in range(nq):
+            stages[s - 1, i] = y[nq + i]
+            stages[s - 1, nq + i] = a[i]
+    if s == 4:
+        for i in range(n):
+            x[i] = x[i] + h / 6 * (stages[0, i] + 2 * stages[1, i] + 2 * stages[2, i] + stages[3, i])
+        return
+    if s == 0:
+        y[:] = x
+    else:
+        step = h if s == 3 else h / 2
+        for i in range(n):
+            y[i] = x[i] + step * stages[s - 1, i]
+    _generalised_forces(buf, y, tau, Fe, friction, weight, gain, platforms, sliders)
+
+
 class PinocchioPlant:
     """Forward dynamics of the closed-chain Pinocchio model; state x = [q, v] of the tree.
 
@@ -193,6 +224,9 @@ class PinocchioPlant:
         self.proximal = pin.ProximalSettings(DEFAULT_PROXIMAL[0], DEFAULT_PROXIMAL[1], float(mu), int(max_iter))
 
         self._stages = np.empty((4, self.nq + self.nv))  # RK4's k₁ … k₄, reused by advance()
+        # Where advance() evaluates a stage, with persistent views of its q and v for Pinocchio.
+        self._y = np.empty(self.nq + self.nv)
+        self._y_q, self._y_v = self._y[: self.nq], self._y[self.nq :]
         # Generalised forces: a buffer that only the actuated and friction entries write to.
         self._tau = np.zeros(self.nv)
         self._sliders = [int(k) for k in layout.slider_v]
@@ -234,12 +268,30 @@ class PinocchioPlant:
 
         ``loads`` are the loads F_e in [N] at every half step, (2·substeps + 1,).
         The same steps as :func:`hipsim.control.simulate` takes through
-        :meth:`derivative`, with fewer Python crossings: the stages are
-        written into one reused array and Pinocchio is called directly. A
-        subclass that overrides :meth:`derivative` is stepped through it.
+        :meth:`derivative`, with fewer Python crossings: between two
+        ``constraintDynamics`` calls one compiled call (:func:`_rk4_stage`)
+        keeps the last stage's derivative, forms the next stage's state and its
+        generalised forces, in reused arrays. A subclass that overrides
+        :meth:`derivative` is stepped through it.
         """
         x = np.array(x, dtype=float)
         tau = np.asarray(tau, dtype=float)
+        # The compiled stages index by these sizes: check them here, where a wrong one can be named.
+        if x.shape != self._y.shape:
+            raise ArgumentError("x", x, f"a state [q, v] of shape {self._y.shape}")
+        if tau.shape != (3,):
+            raise ArgumentError("tau", tau, "three motor torques in N·m")
+        if self._fast and type(self).derivative is PinocchioPlant.derivative:
+            model, data, cms, cds, proximal = self.model, self.data, self.constraint_models, self.constraint_datas, self.proximal
+            y, q, v, k, buf = self._y, self._y_q, self._y_v, self._stages, self._tau
+            forces = (self._friction, self._weight, self._force_gain, self._platform_slots, self._slider_slots)
+            a = buf  # stage 0 reads no derivative
+            for step in range(substeps):
+                for s in range(4):
+                    _rk4_stage(s, x, y, k, a, h, buf, tau, float(loads[2 * step + (s + 1) // 2]), *forces)
+                    a = pin.constraintDynamics(model, data, q, v, buf, cms, cds, proximal)
+                _rk4_stage(4, x, y, k, a, h, buf, tau, 0.0, *forces)
+            return x
         nq = self.nq
         k = self._stages
         if type(self).derivative is not PinocchioPlant.derivative:
@@ -259,6 +311,15 @@ class PinocchioPlant:
             rate(x + h * k[2], loads[2 * s + 2], k[3])
             x = x + h / 6 * (k[0] + 2 * k[1] + 2 * k[2] + k[3])
         return x
+
+    @property
+    def angle_slots(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Where the gait angles sit in the state: (angle indices, rate indices, signs), angles = signs·x[indices] (as :meth:`angles`).
+
+        With it :func:`hipsim.control.simulate` runs the built-in controllers
+        compiled around :meth:`advance`.
+        """
+        return self._angles, self._rates, self._signs
 
     def angles(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Gait angles [α, β, γ] in [rad] and their rates in [rad/s], from platform 1's spherical joint."""

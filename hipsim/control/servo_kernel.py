@@ -10,6 +10,11 @@ controller is a :class:`~hipsim.control.controllers.WorkspacePD` or an
 table computed before the run), the whole loop is known in advance and runs
 here in one compiled call per chunk of servo periods.
 
+A plant that is integrated outside this module (the Pinocchio plant, whose
+steps are Pinocchio's) still gets the control compiled: :func:`control_period`
+does one servo period's logging, control law, clipping and counting in one
+call, and the plant's ``advance`` does the rest.
+
 It is the same loop, step for step, as the Python one in
 :mod:`hipsim.control.simulation`: the same compiled control law
 (:func:`hipsim.analytic.kernel._workspace_pd`) and RK4 steps
@@ -28,10 +33,13 @@ from pathlib import Path
 
 from ..analytic import kernel, laws
 
-__all__ = ["servo_loop"]
+__all__ = ["control_period", "servo_loop"]
 
 
-@laws.jit(depends_on=(*laws.LAW_FILES, Path(kernel.__file__)))
+_DEPENDS_ON = (*laws.LAW_FILES, Path(kernel.__file__))
+
+
+@laws.jit(depends_on=_DEPENDS_ON)
 def servo_loop(plant, control, x, start, stop, desired_q, desired_qd, kp, kd, feedforward, rows, with_feedforward, limit, loads, h, substeps, q, qd, tau, tau_requested, saturated):
     """Run servo periods ``start`` … ``stop − 1`` from state x, logging into the given arrays.
 
@@ -66,22 +74,48 @@ def servo_loop(plant, control, x, start, stop, desired_q, desired_qd, kp, kd, fe
                 for j in range(6):
                     x[j] = y[j]
                 return k
-        wanted = kernel._workspace_pd(
-            control, (y[0], y[1], y[2]), (y[3], y[4], y[5]),
-            (desired_q[k, 0], desired_q[k, 1], desired_q[k, 2]), (desired_qd[k, 0], desired_qd[k, 1], desired_qd[k, 2]),
-            (kp[0], kp[1], kp[2]), (kd[0], kd[1], kd[2]),
-        )  # fmt: skip
-        if with_feedforward:
-            row = rows[k]
-            wanted = (feedforward[row, 0] + wanted[0], feedforward[row, 1] + wanted[1], feedforward[row, 2] + wanted[2])
-        saturated[k] = False
-        for i in range(3):
-            tau_requested[k, i] = wanted[i]
-            # Written out so that NaN passes through, as through np.clip.
-            tau[k, i] = -limit if wanted[i] < -limit else (limit if wanted[i] > limit else wanted[i])
-            if abs(wanted[i]) > limit:
-                saturated[k] = True
+        _control(control, k, desired_q, desired_qd, kp, kd, feedforward, rows, with_feedforward, limit, q, qd, tau, tau_requested, saturated)
         y = kernel._advance(plant, y, (tau[k, 0], tau[k, 1], tau[k, 2]), loads, 2 * substeps * k, h, substeps)
     for j in range(6):
         x[j] = y[j]
     return stop
+
+
+@laws.jit(depends_on=_DEPENDS_ON)
+def control_period(x, angle_slots, rate_slots, signs, control, k, desired_q, desired_qd, kp, kd, feedforward, rows, with_feedforward, limit, q, qd, tau, tau_requested, saturated):
+    """Servo period k of a plant integrated outside this module (the Pinocchio plant): the same control as :func:`servo_loop`'s.
+
+    Logs the measured angles q[k] = signs·x[angle_slots] [rad] and rates
+    qd[k] = signs·x[rate_slots] [rad/s], then the torques; the other
+    arguments are :func:`servo_loop`'s.
+
+    Returns:
+        False, logging nothing, when the state x is not finite.
+    """
+    for i in range(x.size):
+        if not math.isfinite(x[i]):
+            return False
+    for i in range(3):
+        q[k, i], qd[k, i] = signs[i] * x[angle_slots[i]], signs[i] * x[rate_slots[i]]
+    _control(control, k, desired_q, desired_qd, kp, kd, feedforward, rows, with_feedforward, limit, q, qd, tau, tau_requested, saturated)
+    return True
+
+
+@laws.jit(depends_on=_DEPENDS_ON)
+def _control(control, k, desired_q, desired_qd, kp, kd, feedforward, rows, with_feedforward, limit, q, qd, tau, tau_requested, saturated):
+    """The built-in controllers' torques at period k from the logged state q[k], qd[k], clipped to the limit and logged."""
+    wanted = kernel._workspace_pd(
+        control, (q[k, 0], q[k, 1], q[k, 2]), (qd[k, 0], qd[k, 1], qd[k, 2]),
+        (desired_q[k, 0], desired_q[k, 1], desired_q[k, 2]), (desired_qd[k, 0], desired_qd[k, 1], desired_qd[k, 2]),
+        (kp[0], kp[1], kp[2]), (kd[0], kd[1], kd[2]),
+    )  # fmt: skip
+    if with_feedforward:
+        row = rows[k]
+        wanted = (feedforward[row, 0] + wanted[0], feedforward[row, 1] + wanted[1], feedforward[row, 2] + wanted[2])
+    saturated[k] = False
+    for i in range(3):
+        tau_requested[k, i] = wanted[i]
+        # Written out so that NaN passes through, as through np.clip.
+        tau[k, i] = -limit if wanted[i] < -limit else (limit if wanted[i] > limit else wanted[i])
+        if abs(wanted[i]) > limit:
+            saturated[k] = True

@@ -52,7 +52,10 @@ class Plant(Protocol):
 
     A plant may also offer ``advance(t, x, tau, loads, h, substeps)``, the
     state after ``substeps`` RK4 steps (as :meth:`ReducedPlant.advance`), to
-    integrate a servo period in one call.
+    integrate a servo period in one call; and, with it, ``angle_slots``:
+    (angle indices, rate indices, signs) such that the gait angles and rates
+    are signs·x[indices], so that the built-in controllers run compiled
+    around it (as for :class:`~hipsim.closed_chain.plant.PinocchioPlant`).
     """
 
     params: Parameters  # the plant's machine: servo defaults, and the motor speeds of the result
@@ -241,12 +244,14 @@ def simulate(
             takes more than a second (the numba kernels compiling on a
             machine's first run), so the caller can say so; None for silence.
         controller_name: a name for tables.
-        compiled: run the whole loop compiled (:mod:`hipsim.control.servo_kernel`),
-            which needs the plant to be a :class:`ReducedPlant` and the controller a
+        compiled: run the loop compiled (:mod:`hipsim.control.servo_kernel`),
+            which needs the controller to be a
             :class:`~hipsim.control.controllers.WorkspacePD` or
-            :class:`~hipsim.control.controllers.AugmentedPD` (not subclasses);
-            False: the Python loop, calling the controller every period; None:
-            compiled where possible.
+            :class:`~hipsim.control.controllers.AugmentedPD` (not subclasses):
+            the whole loop for a :class:`ReducedPlant`, the control of each
+            period around the plant's ``advance`` for a plant with
+            ``angle_slots`` (the Pinocchio plant); False: the Python loop,
+            calling the controller every period; None: compiled where possible.
 
     Returns:
         The run at the servo instants.
@@ -279,9 +284,13 @@ def simulate(
     kinematics(plant.params, desired)  # a desired pose out of reach or singular: a PoseError naming its time
     stage_times = np.arange(n * substeps * 2 + 1) * (h / 2)
     stage_loads = desired_at(stage_times).Fe  # the load at every RK4 stage, precomputed
-    can_compile = type(plant) is ReducedPlant and type(controller) in (WorkspacePD, AugmentedPD)
+    slotted = hasattr(plant, "angle_slots") and hasattr(plant, "advance")
+    can_compile = (type(plant) is ReducedPlant or slotted) and type(controller) in (WorkspacePD, AugmentedPD)
     if compiled and not can_compile:
-        raise ArgumentError("compiled", compiled, "False, or None, unless the plant is a ReducedPlant and the controller a WorkspacePD or AugmentedPD")
+        raise ArgumentError(
+            "compiled", compiled,
+            "False, or None, unless the controller is a WorkspacePD or AugmentedPD and the plant a ReducedPlant or one with angle_slots (the PinocchioPlant)",
+        )  # fmt: skip
     use_compiled = can_compile if compiled is None else bool(compiled)
 
     x = plant.initial_state(desired.slice(slice(0, 1))) if initial_state is None else np.asarray(initial_state, dtype=float)
@@ -292,7 +301,8 @@ def simulate(
     desc = f"{name} plant, {controller_name or 'controller'}"
     if use_compiled:
         log = (q, qd, tau_applied, tau_requested, saturated)
-        _compiled_loop(plant, controller, floats(x, (6,), "initial_state"), t, desired, limit, stage_loads, h, substeps, log, desc, progress, notify)
+        x = floats(x, (6,), "initial_state") if type(plant) is ReducedPlant else x
+        _compiled_loop(plant, controller, x, t, desired, limit, stage_loads, h, substeps, log, desc, progress, notify)
     else:
         advance = getattr(plant, "advance", None) or (lambda *args: _rk4(plant, *args))
         for k, _ in _servo_chunks(n, 1, desc, progress, notify):
@@ -342,10 +352,22 @@ def _compiled_loop(plant, controller, x, t, desired, limit, loads, h, substeps, 
         np.ascontiguousarray(feedforward, dtype=float), rows, with_feedforward, float(limit), np.ascontiguousarray(loads, dtype=float),
         float(h), int(substeps), *log,
     )
+    if type(plant) is ReducedPlant:
+        for start, stop in _servo_chunks(n, _CHUNK, desc, progress, notify):
+            reached = servo_kernel.servo_loop(plant._kernel_params, controller._kernel_params, x, start, stop, *arguments)
+            if reached != stop:
+                raise _unstable(t, reached)
+        return
+    # The plant steps itself; each period's control runs compiled around it.
+    angles, rates, signs = (np.ascontiguousarray(a) for a in plant.angle_slots)
+    control, laws_arguments, loads, tau = controller._kernel_params, arguments[:7], arguments[8], log[2]
+    q, qd, tau_requested, saturated = log[0], log[1], log[3], log[4]
+    step = 2 * substeps
     for start, stop in _servo_chunks(n, _CHUNK, desc, progress, notify):
-        reached = servo_kernel.servo_loop(plant._kernel_params, controller._kernel_params, x, start, stop, *arguments)
-        if reached != stop:
-            raise _unstable(t, reached)
+        for k in range(start, stop):
+            if not servo_kernel.control_period(x, angles, rates, signs, control, k, *laws_arguments, limit, q, qd, tau, tau_requested, saturated):
+                raise _unstable(t, k)
+            x = plant.advance(t[k], x, tau[k], loads[step * k : step * (k + 1) + 1], h, substeps)
 
 
 def _servo_chunks(n: int, size: int, desc: str, progress: bool, notify: Callable[[str], None] | None):
