@@ -147,6 +147,14 @@ class VectorisedReducedPlant:
         return x[:3], x[3:]
 
 
+class ThroughDerivative:
+    """A plant seen only through its derivative: simulate() then steps RK4 itself, calling the controller in Python."""
+
+    def __init__(self, plant):
+        self.plant, self.params, self.name = plant, plant.params, plant.name
+        self.initial_state, self.derivative, self.angles = plant.initial_state, plant.derivative, plant.angles
+
+
 def bench_plants(params, quick: bool) -> None:
     """Closed-loop simulation speed of both plants, and where a Pinocchio derivative call goes."""
     import pinocchio as pin
@@ -172,15 +180,31 @@ def bench_plants(params, quick: bool) -> None:
         print(f"  {plant.name:<22} plant: {length / elapsed:7.2f}x real time ({elapsed / length / control.servo_rate * 1e6:7.0f} µs per servo period)")
     print("  targets: reduced >= 20x, Pinocchio >= 5x real time")
 
-    plant = PinocchioPlant(params)
+    # Issue 17: the Pinocchio plant with the control compiled around its advance, next to the Python
+    # loop around the same advance, and to the plain path through derivative() (simulate's own RK4).
+    plant, length, per_period = PinocchioPlant(params), 0.3 if quick else 1.0, 1e6 / control.servo_rate
+    plain = ThroughDerivative(plant)
+    compiled, python_loop = alternated(
+        lambda: simulation.simulate(plant, controller, iso14242_at, length),
+        lambda: simulation.simulate(plant, controller, iso14242_at, length, compiled=False), 2 if quick else 3,
+    )  # fmt: skip
+    through = best_time(lambda: simulation.simulate(plain, controller, iso14242_at, length), repeats=2 if quick else 3)
+    print(f"  pinocchio plant, control compiled around advance(): {length / compiled:6.2f}x ({compiled / length * per_period:5.0f} µs per period); "
+          f"Python loop around advance(): {length / python_loop:5.2f}x ({python_loop / length * per_period:4.0f} µs); "
+          f"through derivative(): {length / through:5.2f}x ({through / length * per_period:4.0f} µs); target >= 10x "
+          f"{'OK' if length / compiled >= 10 else 'MISSED'}")  # fmt: skip
+
     kin, torques = trajectory_dynamics(plant.chain, iso14242_at([0.13]))
     x, tau, Fe = np.concatenate([kin.q[0], kin.v[0]]), torques.torques.total[0], 1500.0
     q, v, forces = x[: plant.nq], x[plant.nq :], plant.generalised_forces(x, tau, Fe)
     calls = 2000 if quick else 20000
     reduced, baseline = simulation.ReducedPlant(params), VectorisedReducedPlant(params)
     per_call = lambda f: best_time(lambda: [f() for _ in range(calls)], repeats=3) / calls * 1e6  # noqa: E731
+    alone = per_call(lambda: pin.constraintDynamics(plant.model, plant.data, q, v, forces, plant.constraint_models, plant.constraint_datas, plant.proximal))
+    stages = 4 * math.ceil(1.0 / control.servo_rate / control.integration_step - 1e-9)
     print(f"  one Pinocchio derivative: {per_call(lambda: plant.derivative(0.0, x, tau, Fe)):.1f} µs; "
-          f"pin.constraintDynamics alone {per_call(lambda: pin.constraintDynamics(plant.model, plant.data, q, v, forces, plant.constraint_models, plant.constraint_datas, plant.proximal)):.1f} µs; "
+          f"pin.constraintDynamics alone {alone:.1f} µs, {stages} a servo period: {stages * alone:.0f} µs, "
+          f"the bound {1e6 / control.servo_rate / (stages * alone):.1f}x real time; "
           f"reduced-plant derivative {per_call(lambda: reduced.derivative(0.0, np.zeros(6), tau, Fe)):.1f} µs "
           f"(vectorised baseline {per_call(lambda: baseline.derivative(0.0, np.zeros(6), tau, Fe)) if not quick else float('nan'):.0f} µs)")  # fmt: skip
 
