@@ -249,36 +249,6 @@ def test_advance_takes_the_steps_simulate_takes_through_the_derivative(params):
     assert np.abs(own.q - own.desired.q).max() > 1e-7  # the motion is not trivially the desired one
 
 
-@pytest.mark.parametrize("controller_kind", ["pd", "augmented"])
-@pytest.mark.parametrize("limited", [False, True])
-def test_compiled_control_is_the_python_loop(params, controller_kind, limited):
-    """The built-in controllers compiled around the plant's advance against the Python loop, on a mismatched plant."""
-    duration = 0.05
-    plant = PinocchioPlant(apply_mismatch(params, friction=0.3, masses=-0.1))
-    controller = WorkspacePD(params) if controller_kind == "pd" else AugmentedPD(params, iso14242_at, 1000.0, duration)
-    free = simulate(plant, controller, iso14242_at, duration, compiled=False)
-    limit = 0.8 * np.abs(free.tau).max() if limited else None  # bites on the peaks only
-    fast, slow = (simulate(plant, controller, iso14242_at, duration, torque_limit=limit, compiled=flag) for flag in (True, False))
-    np.testing.assert_allclose(fast.q, slow.q, rtol=0, atol=1e-12)
-    np.testing.assert_allclose(fast.tau_requested, slow.tau_requested, rtol=0, atol=1e-9)
-    np.testing.assert_array_equal(fast.saturated, slow.saturated)
-    if limited:
-        assert 0 < np.count_nonzero(fast.saturated) < len(fast.t)
-        assert np.abs(fast.q - free.q).max() > 1e-9  # and the limit changed the motion
-    else:
-        assert not fast.saturated.any()
-
-
-def test_unstable_compiled_control_stops_where_the_python_loop_does(params):
-    plant, wild = PinocchioPlant(params), WorkspacePD(params, kp=-5e4, kd=0.0)  # positive feedback: the platform runs away
-    times = []
-    for flag in (True, False):
-        with pytest.raises(hipsim.PoseError) as info:
-            simulate(plant, wild, iso14242_at, 0.5, compiled=flag)
-        times.append(info.value.time)
-    assert times[0] == times[1]
-
-
 def test_advance_names_a_state_or_torques_of_the_wrong_size(params, plant):
     x = plant.initial_state(iso14242_at(np.array([0.0])))
     with pytest.raises(hipsim.ArgumentError, match="state"):

@@ -11,6 +11,7 @@ from hipsim.control.controllers import AugmentedPD, Sample, WorkspacePD, feedfor
 from hipsim.analytic.virtual_work import inverse_dynamics, mechanical_energy
 from hipsim.exceptions import HipsimError, PoseError
 from hipsim.analytic.inverse_kinematics import angular_velocity_map, kinematics, slider_jacobian
+from hipsim.closed_chain.plant import PinocchioPlant
 from hipsim.control.simulation import ReducedPlant, apply_mismatch, parse_mismatch, simulate
 from hipsim.motion.trajectories import Trajectory, iso14242_at
 
@@ -234,12 +235,19 @@ def test_a_slow_first_step_is_announced_as_compiling_not_timed(params, capsys):
     assert len(notes) == 1  # compiled now: nothing to announce
 
 
+def _mismatched_plant(kind: str, params):
+    """A plant whose friction and masses the controller does not know, and how long to run it [s]."""
+    plant_params = apply_mismatch(params, friction=0.3, masses=-0.1)
+    return (ReducedPlant(plant_params, lever_spin=True), 0.15) if kind == "reduced" else (PinocchioPlant(plant_params), 0.05)
+
+
+@pytest.mark.parametrize("plant_kind", ["reduced", "pinocchio"])
 @pytest.mark.parametrize("controller_kind", ["pd", "augmented"])
 @pytest.mark.parametrize("limited", [False, True])
-def test_compiled_loop_is_the_python_loop(params, controller_kind, limited):
-    """The compiled servo loop against the Python one, on a plant whose friction and masses the controller does not know."""
-    duration = 0.15
-    plant = ReducedPlant(apply_mismatch(params, friction=0.3, masses=-0.1), lever_spin=True)
+def test_compiled_loop_is_the_python_loop(params, plant_kind, controller_kind, limited):
+    """The compiled servo loop (the whole loop for the reduced plant, each period's control around the
+    Pinocchio plant's own steps) against the Python one, on a plant the controller does not know."""
+    plant, duration = _mismatched_plant(plant_kind, params)
     controller = WorkspacePD(params) if controller_kind == "pd" else AugmentedPD(params, iso14242_at, 1000.0, duration)
     free = simulate(plant, controller, iso14242_at, duration, compiled=False)
     limit = 0.8 * np.abs(free.tau).max() if limited else None  # bites on the peaks only
@@ -257,9 +265,10 @@ def test_compiled_loop_is_the_python_loop(params, controller_kind, limited):
         np.testing.assert_allclose(fast.q, free.q, rtol=0, atol=1e-12)
 
 
-def test_compiled_loop_stops_where_the_python_loop_does(params):
+@pytest.mark.parametrize("plant_kind", ["reduced", "pinocchio"])
+def test_compiled_loop_stops_where_the_python_loop_does(params, plant_kind):
     """An unstable loop is named at the same servo instant by both loops."""
-    plant = ReducedPlant(params)
+    plant = ReducedPlant(params) if plant_kind == "reduced" else PinocchioPlant(params)
     wild = WorkspacePD(params, kp=-5e4, kd=0.0)  # positive feedback: the platform runs away
     times = []
     for flag in (True, False):
