@@ -16,7 +16,7 @@ import pytest
 
 from hipsim import load_parameters
 from hipsim.closed_chain import closure_kernel
-from hipsim.closed_chain.model import _rnea_pools, _Workspace, constraint_jacobian, kinematics, load_model
+from hipsim.closed_chain.model import _BatchedRNEA, _group_trees, _Workspace, constraint_jacobian, kinematics, load_model
 
 DEG = math.pi / 180.0
 
@@ -115,7 +115,8 @@ def test_body_group_torques_are_the_regressors(closed):
     """Batched RNEA of each body group's (reduced) tree equals Pinocchio's joint-torque regressor times that group's inertial parameters."""
     chain, kin = closed.chain, closed.kin
     model, data = chain.model, chain.model.createData()
-    whole, groups = _rnea_pools(chain)
+    groups = [_BatchedRNEA(*tree) for tree in _group_trees(chain)]
+    whole = _BatchedRNEA(model, np.arange(model.nv))
     assert sorted(len(rnea.columns) for rnea in groups) == [3, 6, 15]  # carriages, platforms, levers: only their supports
     n = 8
     q, v, a = kin.q[:n], kin.v[:n] + 0.1, kin.a[:n] - 0.2  # any motion: RNEA does not know the closures

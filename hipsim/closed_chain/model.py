@@ -42,11 +42,11 @@ with the six closures' placements read back, the stacked closure Jacobian,
 the Jacobians' time variation. What lies between them (the predictor, the
 chord step, K⁻¹, the drift) runs compiled (:mod:`~hipsim.closed_chain.closure_kernel`),
 and the tree's torques are computed for a whole chunk of samples at once by
-``pin.rneaInParallel`` on up to two threads. Measured on the development
-machine (2 cores, idle), ISO cycle at 1 kHz: ~31 µs a sample without parts,
-~33 µs with them; the Pinocchio calls and the read-back of their results
-alone take ~14 µs, K⁻¹ (LAPACK, 21×21) ~4 µs, the Python loop around them
-the rest (see ``scripts/bench.py --only servo``).
+``pin.rneaInParallel`` (one thread). Measured on the development machine
+(2 cores, idle), ISO cycle at 1 kHz: ~31 µs a sample with or without parts;
+the Pinocchio calls and the read-back of their results alone take ~14 µs,
+K⁻¹ (LAPACK, an 18×18 block) ~3 µs, the batched RNEA ~2.5 µs, the Python
+loop around them most of the rest (see ``scripts/bench.py --only servo``).
 
 Sign conventions: J_c is the derivative of R₁ᵀ(p₁ − p₂) with frame 1 the lever
 tip and frame 2 the platform joint; λ_ji is the force the platform exerts on
@@ -103,8 +103,8 @@ _CHUNK = 2048
 #: (one call a chunk instead of one a sample); a second thread would save ~1 µs a sample on an idle
 #: machine but compete with the loop's other process or thread wherever one runs (sweeps, servers).
 _RNEA_THREADS = 1
-#: Batched-RNEA pools of each loaded model: the whole tree, and one tree per body group (see :func:`_rnea_pools`).
-_POOLS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+#: The body groups' trees of each loaded model (see :func:`_group_trees`).
+_GROUP_TREES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 # ---------------------------------------------------------------------------
@@ -579,15 +579,8 @@ class _Closer:
     def _evaluate(self, q: np.ndarray, jacobians: bool = True) -> np.ndarray:
         """The closure gaps at q [m] (:meth:`_Workspace.residual`), its placements (and Jacobians) left in the workspace."""
         self.evaluations += 1
-        ws = self.ws
-        if jacobians:
-            pin.computeJointJacobians(ws.model, ws.data, q)
-        else:
-            pin.forwardKinematics(ws.model, ws.data, q)
-        model, data = ws.model, ws.data
-        for cm, cd in ws.pairs:
-            cm.calc(model, data, cd)
-        return np.concatenate([cd.c1Mc2.translation for cd in ws.cd_list])
+        self.ws.place(q, jacobians)
+        return self.ws.residual()
 
     def close(self, q: np.ndarray, angles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Move q's leg coordinates until every closure holds; returns q and its residual vector.
@@ -632,7 +625,7 @@ class _Closer:
             while True:
                 step = np.linalg.solve(H + damping * np.eye(len(legs)), g)
                 trial = q.copy()
-                trial[legs] += step  # the gaps d fall along −J_c
+                trial[legs] += step  # d(q + δ) ≈ d − J_c·δ: the gaps fall along −J_c
                 e_trial = self._evaluate(trial)
                 cost_trial = e_trial @ e_trial
                 if cost_trial < cost:
@@ -815,30 +808,36 @@ class ClosedChainDynamics:
         check_shapes(self, {"F_act": ("N", 3), "lambdas": ("N", 2, 3, 3)})
 
 
-@dataclass(frozen=True, eq=False)
 class _BatchedRNEA:
-    """A tree for ``pin.rneaInParallel`` and where its joints sit in the hip model's velocity vector."""
+    """Pinocchio's batched RNEA (``pin.rneaInParallel``) of one tree, and where its joints sit in the hip model's velocity vector.
 
-    pool: Any  # pin.ModelPool; None for a group without bodies (massless levers, say)
-    columns: np.ndarray  # the hip model's velocity index of each of the tree's joints, in the tree's order
+    Each holds its own ``pin.ModelPool`` (the tree's Data): not shared between threads.
+
+    Args:
+        model: the tree; None for a group without bodies (massless levers, say), whose torques are zero.
+        columns: the hip model's velocity index of each of the tree's joints, in the tree's order.
+    """
+
+    def __init__(self, model, columns: np.ndarray):
+        self.pool = pin.ModelPool(model, _RNEA_THREADS) if model is not None else None
+        self.columns = columns
 
     def __call__(self, q: np.ndarray, v: np.ndarray, a: np.ndarray, out: np.ndarray) -> None:
         """Write the tree's torques at samples (rows of) q, v, a into ``out``'s columns, (m, nv); the other columns are zeroed."""
         if self.pool is None:
             out[:] = 0.0
-            return
-        if len(self.columns) == out.shape[1]:  # the whole tree
+        elif len(self.columns) == out.shape[1]:  # the hip model's whole tree
             pin.rneaInParallel(_RNEA_THREADS, self.pool, q.T, v.T, a.T, out.T)
-            return
-        columns = self.columns
-        tau = np.empty((len(q), len(columns)))
-        pin.rneaInParallel(_RNEA_THREADS, self.pool, q[:, columns].T, v[:, columns].T, a[:, columns].T, tau.T)
-        out[:] = 0.0
-        out[:, columns] = tau
+        else:
+            columns = self.columns
+            tau = np.empty((len(q), len(columns)))
+            pin.rneaInParallel(_RNEA_THREADS, self.pool, q[:, columns].T, v[:, columns].T, a[:, columns].T, tau.T)
+            out[:] = 0.0
+            out[:, columns] = tau
 
 
-def _rnea_pools(chain: ClosedChainModel) -> tuple[_BatchedRNEA, list[_BatchedRNEA]]:
-    """Batched RNEA of the whole tree, and of each body group (platforms, levers, carriages) alone.
+def _group_trees(chain: ClosedChainModel) -> list[tuple[Any, np.ndarray]]:
+    """Per body group (platforms, levers, carriages): a tree with only that group's inertias, and its joints' velocity indices.
 
     RNEA is linear in the bodies' inertias for a given motion, so the tree
     with only one group's inertias (and no armature: the screws' term is added
@@ -848,28 +847,26 @@ def _rnea_pools(chain: ClosedChainModel) -> tuple[_BatchedRNEA, list[_BatchedRNE
     inertia there): 6 joints for the platforms, 15 for the levers, 3 for the
     carriages, against 21 for each. Built once per loaded model.
     """
-    pools = _POOLS.get(chain)
-    if pools is None:
+    trees = _GROUP_TREES.get(chain)
+    if trees is None:
         model, groups = chain.model, _require_layout(chain).groups
-        group_trees = []
+        trees = []
         for g in range(groups.shape[1]):
+            members = [k for k in range(1, model.njoints) if np.any(groups[10 * (k - 1) : 10 * k, g] != 0.0)]
+            if not members:
+                trees.append((None, np.zeros(0, dtype=int)))
+                continue
             member = model.copy()
             member.armature = np.zeros(model.nv)
-            members = [k for k in range(1, model.njoints) if np.any(groups[10 * (k - 1) : 10 * k, g] != 0.0)]
             for k in range(1, model.njoints):
                 if k not in members:
                     member.inertias[k] = pin.Inertia.Zero()
-            if not members:
-                group_trees.append(_BatchedRNEA(None, np.zeros(0, dtype=int)))
-                continue
             kept = {int(j) for k in members for j in model.supports[k]}
             locked = [k for k in range(1, model.njoints) if k not in kept]
             reduced = pin.buildReducedModel(member, locked, pin.neutral(model)) if locked else member
-            columns = np.array([model.joints[model.getJointId(name)].idx_v for name in reduced.names[1:]])
-            group_trees.append(_BatchedRNEA(pin.ModelPool(reduced, _RNEA_THREADS), columns))
-        whole = _BatchedRNEA(pin.ModelPool(model, _RNEA_THREADS), np.arange(model.nv))
-        pools = _POOLS[chain] = (whole, group_trees)
-    return pools
+            trees.append((reduced, np.array([model.joints[model.getJointId(name)].idx_v for name in reduced.names[1:]])))
+        _GROUP_TREES[chain] = trees
+    return trees
 
 
 def _platform_frames(chain: ClosedChainModel) -> list:
@@ -979,7 +976,9 @@ class _InverseDynamics:
     def __init__(self, chain: ClosedChainModel, q: np.ndarray, v: np.ndarray, a: np.ndarray, Fe, parts: bool = True):
         self.chain, self.layout, self.model = chain, _require_layout(chain), chain.model
         self.parts_asked = bool(parts)
-        self.pools = _rnea_pools(chain)
+        # The whole tree (armature included) for the total, or one tree per body group for the parts.
+        trees = _group_trees(chain) if parts else [(chain.model, np.arange(chain.model.nv))]
+        self.rneas = [_BatchedRNEA(model, columns) for model, columns in trees]
         self.q, self.v, self.a = q, v, a
         n, nv = len(v), chain.model.nv
         self.Fe = np.broadcast_to(np.asarray(Fe, dtype=float), (n,))
@@ -1013,8 +1012,7 @@ class _InverseDynamics:
         rhs, angular, K_inv = self.rhs[:, :m], self.angular[:m], self.K_inv[:m]
         # The tree's torques, all samples of the chunk in one call per body group (RNEA is
         # linear in the bodies' inertias: the groups' torques add up to the whole tree's).
-        whole, groups = self.pools
-        for rnea, out in zip(groups, rhs) if self.parts_asked else ((whole, rhs[0]),):
+        for rnea, out in zip(self.rneas, rhs):
             rnea(q, v, a, out)
         platform_J = np.moveaxis(angular[:, :, layout.platform_v], 1, 2)  # (m, j, xyz, joint)
         lever_J = np.moveaxis(angular[:, :, layout.ujoint_v], 1, 3) if self.lever_friction else None
