@@ -28,10 +28,13 @@ from ..motion.trajectories import Trajectory
 from ..results import Run, Summary
 from .runs import MODELS
 
-__all__ = ["CHUNK", "PieceRunner", "as_source", "stream_run"]
+__all__ = ["CHUNK", "PINOCCHIO_CHUNK", "PieceRunner", "as_source", "stream_run"]
 
 #: Samples per piece: some 60 MB of the analytic model's working arrays, a few ms of its time.
 CHUNK = 20_000
+#: Samples per piece of the Pinocchio model: its working arrays take ~4 kB a sample (~20 MB a
+#: piece, 0.15 s of its time), and its process also carries numba's compiler (~100 MB).
+PINOCCHIO_CHUNK = 5_000
 
 
 def _model(params: Parameters, model: str, on_error: str, lever_spin: bool):
@@ -121,7 +124,7 @@ def stream_run(
     *,
     on_error: str = "raise",
     lever_spin: bool = False,
-    chunk: int = CHUNK,
+    chunk: int | None = None,
     write: Callable[[Mapping[str, np.ndarray]], None] | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> dict:
@@ -133,7 +136,7 @@ def stream_run(
         model: as :func:`hipsim.analyse`.
         on_error: as :func:`hipsim.analyse`; with "flag" every piece has the ``flagged`` column.
         lever_spin: as :func:`hipsim.analyse`.
-        chunk: samples per piece.
+        chunk: samples per piece; None: :data:`CHUNK`, :data:`PINOCCHIO_CHUNK` for the Pinocchio model.
         write: called with each piece's :meth:`~hipsim.results.Run.columns`, in order.
         progress: called with (samples done, samples in all) after each piece.
 
@@ -145,6 +148,8 @@ def stream_run(
             or every sample flagged.
     """
     source = as_source(source)
+    if chunk is None:
+        chunk = PINOCCHIO_CHUNK if model == "pinocchio" else CHUNK
     if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
         raise ArgumentError("chunk", chunk, "a positive number of samples")
     runner = PieceRunner(params, source, model, on_error, lever_spin)
