@@ -280,8 +280,10 @@ def check_output(path: str | Path) -> Path:
 class ColumnWriter:
     """Named columns written piece by piece to one CSV or Parquet file, atomically: the whole file at the end or none.
 
-    The format follows the suffix (``.parquet``: Apache Parquet, one row
-    group a piece; anything else: CSV as :func:`write_columns` writes it).
+    The format follows the suffix (``.parquet``: Apache Parquet, pieces
+    gathered into row groups of at least :attr:`ROW_GROUP` rows, so that the
+    footer the writer keeps in memory does not grow with small pieces;
+    anything else: CSV as :func:`write_columns` writes it).
     The pieces go to a temporary ``.part`` file beside the path, renamed over
     it by :meth:`close`; leaving the ``with`` block by an exception (Ctrl-C,
     SIGTERM inside :func:`exit_on_terminate`) removes it. ``-`` writes CSV
@@ -295,8 +297,12 @@ class ColumnWriter:
         OutputError: as :func:`check_output`, or when a write fails.
     """
 
+    #: Rows a Parquet row group gathers at least (the last one may have fewer).
+    ROW_GROUP = 20_000
+
     def __init__(self, path: str | Path, metadata: Mapping[str, str] | None = None):
         self.path = check_output(path)
+        self._gathered: list = []  # Parquet: pieces waiting for their row group
         self.parquet = not is_stdout(path) and self.path.suffix.lower() == ".parquet"
         self.metadata = dict(metadata or {})
         self.names: list[str] | None = None
@@ -354,9 +360,17 @@ class ColumnWriter:
                 self._parquet = pq.ParquetWriter(str(self._temporary), schema, use_dictionary=False)
             except OSError as error:
                 raise OutputError(self.path, f"cannot write ({error})") from None
-        # One piece is encoded and written on a thread (pyarrow lets go of the GIL) while the next is computed.
+        self._gathered.append(table.replace_schema_metadata(self.metadata))
+        if sum(len(piece) for piece in self._gathered) >= self.ROW_GROUP:
+            self._write_row_group()
+
+    def _write_row_group(self) -> None:
+        """The gathered pieces as one row group, encoded and written on a thread (pyarrow lets go of the GIL) while the next ones are computed."""
+        import pyarrow as pa
+
+        table, self._gathered = pa.concat_tables(self._gathered), []
         self._finish_pending()
-        self._pending = self._thread().submit(self._parquet.write_table, table.replace_schema_metadata(self.metadata))
+        self._pending = self._thread().submit(self._parquet.write_table, table, row_group_size=len(table))
 
     def _thread(self):
         if self._executor is None:
@@ -385,6 +399,8 @@ class ColumnWriter:
             if self.parquet:
                 if self._parquet is None:
                     raise OutputError(self.path, "nothing to write")
+                if self._gathered:
+                    self._write_row_group()
                 self._finish_pending()
                 self._parquet.close()
                 self._executor.shutdown()

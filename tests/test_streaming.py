@@ -169,8 +169,9 @@ def test_column_writer_is_atomic(tmp_path):
     assert path.read_text() == "a_s,b_N\n0,0.5\n1,nan\n2,1e-13\n"
 
 
-def test_parquet_writer_is_atomic_and_keeps_the_pieces_in_order(tmp_path):
+def test_parquet_writer_is_atomic_and_keeps_the_pieces_in_order(tmp_path, monkeypatch):
     path = tmp_path / "run.parquet"
+    monkeypatch.setattr(ColumnWriter, "ROW_GROUP", 200)  # pieces of 70 rows gathered three at a time
     with pytest.raises(KeyboardInterrupt):
         with ColumnWriter(path, {"note": "x"}) as writer:
             writer.write({"a_s": np.arange(3.0)})
@@ -181,7 +182,8 @@ def test_parquet_writer_is_atomic_and_keeps_the_pieces_in_order(tmp_path):
             writer.write({"a_s": np.arange(start, min(start + 70, 1000), dtype=float)})
         writer.close()
     parquet = pq.ParquetFile(path)
-    assert parquet.metadata.num_row_groups == 15 and parquet.schema_arrow.metadata[b"note"] == b"x"
+    assert [parquet.metadata.row_group(k).num_rows for k in range(parquet.metadata.num_row_groups)] == [210, 210, 210, 210, 160]
+    assert parquet.schema_arrow.metadata[b"note"] == b"x"
     np.testing.assert_array_equal(parquet.read().column("a_s").to_numpy(), np.arange(1000.0))
 
 

@@ -148,6 +148,8 @@ def _cmd_torques(args) -> int:
     check_output(args.out)  # an unusable output is refused before the computing
     params = _parameters(args)
     source = _source(args)
+    if args.model == "pinocchio":
+        _load_pinocchio_kernels()
     with ColumnWriter(args.out, _file_metadata(params)) as writer:
         summary = stream_run(
             params, source, model=args.model, on_error="flag" if args.flag_bad_poses else "raise", write=writer.write,
@@ -223,6 +225,21 @@ def _note(message: str) -> None:
     print(message, file=sys.stderr, flush=True)
 
 
+def _load_pinocchio_kernels() -> None:
+    """Load the Pinocchio model's compiled kernels before a run, saying so when numba compiles them (a machine's first run)."""
+    import threading
+
+    from ..closed_chain.model import warm_up
+
+    note = threading.Timer(1.0, _note, args=("Pinocchio model: compiling (first run only) ...",))
+    note.daemon = True
+    note.start()
+    try:
+        warm_up()
+    finally:
+        note.cancel()
+
+
 def _cmd_simulate(args) -> int:
     from ..control.controllers import AugmentedPD, WorkspacePD
     from ..control.simulation import apply_mismatch, parse_mismatch, simulate
@@ -244,6 +261,8 @@ def _cmd_simulate(args) -> int:
         mismatch = parse_mismatch(args.mismatch) if args.mismatch else {}
     except ArgumentError as error:  # the library names its argument; the user typed an option
         raise HipsimError(f"--mismatch: expected {error.expected}, got {error.value!r}") from None
+    if args.plant == "pinocchio":
+        _load_pinocchio_kernels()  # its initial state is closed before the first servo period
     plant = _make_plant(args.plant, apply_mismatch(params, **mismatch), args.mujoco_integrator)
     chosen = ["pd", "augmented-pd"] if args.controller == "both" else [args.controller]
     simulations, gaps = [], []
@@ -407,6 +426,7 @@ def _cmd_check(args) -> int:
     from ..analysis.crosscheck import TOLERANCE, compare_models
 
     params = _parameters(args)
+    _load_pinocchio_kernels()
     if args.engine == "mujoco":
         from ..analysis.engines import compare_mujoco
 

@@ -92,6 +92,7 @@ __all__ = [
     "load_model",
     "platform_joint_positions",
     "trajectory_dynamics",
+    "warm_up",
 ]
 
 _TWO_PI = 2.0 * math.pi
@@ -1099,6 +1100,19 @@ def inverse_dynamics(chain: ClosedChainModel, kin: ClosedKinematics, Fe, *, part
             raise PoseError("singular pose: the closure Jacobian loses rank (spec §3)", float(kin.t[k]), k)
         dynamics.add(k, ws.data, K_inv, tips)
     return dynamics.result(kin)
+
+
+def warm_up() -> None:
+    """Load the closure solver's compiled kernels now: on a machine's first run numba compiles them (some 7 s).
+
+    Closes the published machine's chain at three samples of the ISO cycle,
+    with the inverse dynamics, so that every kernel is loaded with the
+    argument types a real run passes. Callers use it to say "compiling"
+    before a run whose progress would otherwise stall on it.
+    """
+    from ..motion.trajectories import iso14242_at
+
+    trajectory_dynamics(load_model(load_parameters()), iso14242_at([0.0, 0.001, 0.002]))
 
 
 def trajectory_dynamics(
