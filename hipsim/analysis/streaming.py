@@ -32,9 +32,9 @@ __all__ = ["CHUNK", "PINOCCHIO_CHUNK", "PieceRunner", "as_source", "stream_run"]
 
 #: Samples per piece: some 60 MB of the analytic model's working arrays, a few ms of its time.
 CHUNK = 20_000
-#: Samples per piece of the Pinocchio model: its working arrays take ~4 kB a sample (~20 MB a
-#: piece, 0.15 s of its time), and its process also carries numba's compiler (~100 MB).
-PINOCCHIO_CHUNK = 5_000
+#: Samples per piece of the Pinocchio model: its working arrays take ~4 kB a sample (~10 MB a
+#: piece, 0.08 s of its time), and its process also carries numba's compiler (~100 MB).
+PINOCCHIO_CHUNK = 2_500
 
 
 def _model(params: Parameters, model: str, on_error: str, lever_spin: bool):
