@@ -356,6 +356,7 @@ def _cmd_report(args) -> int:
         notes.append("Joint reaction forces were not computed (analytic model only: it has no joint forces).")
     else:
         try:
+            _load_pinocchio_kernels()
             joint_run = analyse(params, trajectory, model="pinocchio")
         except (ImportError, AttributeError) as error:
             if args.model == "pinocchio":
