@@ -363,3 +363,36 @@ def test_opensim_file_with_a_flipped_load_column_in_percent_body_weight(tmp_path
     np.testing.assert_allclose([float(r["Fe_N"]) for r in rows], force[:100] / 100 * 80 * 9.80665, rtol=1e-11)
     np.testing.assert_allclose([float(r["alpha_deg"]) for r in rows], flexion[:100], rtol=0, atol=1e-9)  # flexion alone is α
     assert str(path) in capsys.readouterr().out  # the summary names the file as typed
+
+
+def test_a_slow_pinocchio_warm_up_is_announced_as_compiling(monkeypatch, capsys):
+    """The closure kernels' first-run compile is said on standard error; a quick load says nothing."""
+    import time
+
+    import hipsim.closed_chain.model as closed_chain
+    from hipsim.cli.main import _load_pinocchio_kernels
+
+    monkeypatch.setattr(closed_chain, "warm_up", lambda: time.sleep(1.5))  # as long as a compilation, as far as the note can tell
+    _load_pinocchio_kernels()
+    assert capsys.readouterr().err == "Pinocchio model: compiling (first run only) ...\n"
+    monkeypatch.setattr(closed_chain, "warm_up", lambda: None)
+    _load_pinocchio_kernels()
+    assert capsys.readouterr().err == ""
+
+
+def test_warm_up_loads_what_a_run_uses():
+    """After warm_up, a Pinocchio run compiles nothing new: every kernel already has the run's argument types (a fresh process)."""
+    code = """
+import hipsim
+from hipsim.closed_chain import closure_kernel
+from hipsim.closed_chain.model import warm_up
+kernels = [closure_kernel.predict, closure_kernel.chord_step, closure_kernel.velocity, closure_kernel.acceleration,
+           closure_kernel.store, closure_kernel.actuator_and_closure_forces]
+warm_up()
+before = [len(kernel.signatures) for kernel in kernels]
+hipsim.analyse(None, hipsim.iso14242(rate=200), model="pinocchio")
+import json
+print(json.dumps([before, [len(kernel.signatures) for kernel in kernels]]))
+"""
+    before, after = json.loads(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout)
+    assert all(before) and after == before
