@@ -255,3 +255,8 @@ def test_advance_names_a_state_or_torques_of_the_wrong_size(params, plant):
         plant.advance(0.0, x[:-1], np.zeros(3), np.full(3, 100.0), 5e-4, 1)
     with pytest.raises(hipsim.ArgumentError, match="tau"):
         plant.advance(0.0, x, np.zeros(2), np.full(3, 100.0), 5e-4, 1)
+
+
+def test_compiled_control_names_an_initial_state_of_the_wrong_size(params, plant):
+    with pytest.raises(hipsim.ArgumentError, match="initial_state"):
+        simulate(plant, WorkspacePD(params), iso14242_at, 0.01, initial_state=np.zeros(6))

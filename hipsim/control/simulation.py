@@ -338,34 +338,41 @@ _CHUNK = 2000
 
 
 def _compiled_loop(plant, controller, x, t, desired, limit, loads, h, substeps, log, desc, progress, notify) -> None:
-    """The servo loop in compiled chunks (:func:`hipsim.control.servo_kernel.servo_loop`), filling ``log``."""
+    """The servo loop with the built-in controllers compiled (:mod:`hipsim.control.servo_kernel`), filling ``log``.
+
+    The reduced plant runs whole chunks of servo periods in one compiled call;
+    a plant with ``angle_slots`` steps itself through ``advance``, each
+    period's control compiled around it.
+    """
     from . import servo_kernel  # imports numba: only when a loop runs compiled
 
     n = len(t)
-    x = x.copy()
+    x = np.array(x, dtype=float)
     if isinstance(controller, AugmentedPD):
         feedforward, rows, with_feedforward = controller.feedforward, controller.feedforward_rows(t), True
     else:
         feedforward, rows, with_feedforward = np.zeros((1, 3)), np.zeros(n, dtype=np.int64), False
-    arguments = (
+    control = (
         np.ascontiguousarray(desired.q, dtype=float), np.ascontiguousarray(desired.qd, dtype=float), controller.kp, controller.kd,
-        np.ascontiguousarray(feedforward, dtype=float), rows, with_feedforward, float(limit), np.ascontiguousarray(loads, dtype=float),
-        float(h), int(substeps), *log,
-    )
+        np.ascontiguousarray(feedforward, dtype=float), rows, with_feedforward, float(limit),
+    )  # fmt: skip
+    loads = np.ascontiguousarray(loads, dtype=float)
+    q, qd, tau, tau_requested, saturated = log
     if type(plant) is ReducedPlant:
         for start, stop in _servo_chunks(n, _CHUNK, desc, progress, notify):
-            reached = servo_kernel.servo_loop(plant._kernel_params, controller._kernel_params, x, start, stop, *arguments)
+            reached = servo_kernel.servo_loop(
+                plant._kernel_params, controller._kernel_params, x, start, stop, *control, loads, float(h), int(substeps), *log
+            )
             if reached != stop:
                 raise _unstable(t, reached)
         return
-    # The plant steps itself; each period's control runs compiled around it.
     angles, rates, signs = (np.ascontiguousarray(a) for a in plant.angle_slots)
-    control, laws_arguments, loads, tau = controller._kernel_params, arguments[:7], arguments[8], log[2]
-    q, qd, tau_requested, saturated = log[0], log[1], log[3], log[4]
+    if x.ndim != 1 or max(angles.max(), rates.max()) >= x.size:  # the compiled control reads x there, unchecked
+        raise ArgumentError("initial_state", x, f"a state of the {getattr(plant, 'name', 'plant')} plant, holding its angles at {angles} and rates at {rates}")
     step = 2 * substeps
     for start, stop in _servo_chunks(n, _CHUNK, desc, progress, notify):
         for k in range(start, stop):
-            if not servo_kernel.control_period(x, angles, rates, signs, control, k, *laws_arguments, limit, q, qd, tau, tau_requested, saturated):
+            if not servo_kernel.control_period(x, angles, rates, signs, controller._kernel_params, k, *control, q, qd, tau, tau_requested, saturated):
                 raise _unstable(t, k)
             x = plant.advance(t[k], x, tau[k], loads[step * k : step * (k + 1) + 1], h, substeps)
 
