@@ -427,7 +427,6 @@ def _cmd_check(args) -> int:
     from ..analysis.crosscheck import TOLERANCE, compare_models
 
     params = _parameters(args)
-    _load_pinocchio_kernels()
     if args.engine == "mujoco":
         from ..analysis.engines import compare_mujoco
 
@@ -435,6 +434,7 @@ def _cmd_check(args) -> int:
         comparisons = compare_mujoco(params, trajectory)
     else:
         trajectory = _source(args)
+        _load_pinocchio_kernels()
         comparisons = compare_models(params, trajectory, progress=_progress("check"))
     failed = any(c.required and not c.ok for c in comparisons)
     if args.summary_format == "json":
