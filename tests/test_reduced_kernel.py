@@ -131,3 +131,12 @@ def test_kernel_arguments_of_the_wrong_shape_are_refused_by_name(value, shape, m
     # The compiled kernels do not check bounds: a short array would be read past its end.
     with pytest.raises(hipsim.HipsimError, match=message):
         kernel.floats(value, shape, "x")
+
+
+def test_parameters_as_plain_tuples_come_back_whole(params):
+    """What the Pinocchio servo loop hands its compiled call once a period (plain tuples) is the machine again inside."""
+    P = kernel.kernel_parameters(params)
+    plain = kernel.plain_parameters(P)
+    assert type(plain) is tuple and type(plain[-1]) is tuple
+    back = kernel.named_parameters(plain)
+    assert back == P and type(back) is kernel.KernelParameters and type(back.friction) is type(P.friction)

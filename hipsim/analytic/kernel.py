@@ -53,6 +53,8 @@ __all__ = [
     "jacobian",
     "kernel_parameters",
     "mass_and_bias",
+    "named_parameters",
+    "plain_parameters",
     "torques",
     "workspace_pd",
 ]
@@ -111,6 +113,21 @@ def kernel_parameters(params: Parameters, lever_spin: bool = True) -> KernelPara
         ujoint_axes=rows(params.ujoint_axes), angle_signs=tuple(float(s) for s in params.angle_signs),
         lever_spin=bool(lever_spin), friction=laws.friction_record(params.friction),
     )
+
+
+def plain_parameters(P: KernelParameters) -> tuple:
+    """P as nested plain tuples, for a compiled function called once per servo period (:func:`named_parameters` turns it back).
+
+    numba types a plain tuple in C but a named one in Python, field by field:
+    1.1 against 2.9 µs a call on the development machine.
+    """
+    return (*P[:-1], tuple(P.friction))
+
+
+@_compile
+def named_parameters(plain):
+    """The :class:`KernelParameters` of :func:`plain_parameters`, in compiled code."""
+    return KernelParameters(*plain[:-1], FrictionRecord(*plain[-1]))
 
 
 def floats(x, shape: tuple[int, ...], name: str) -> np.ndarray:
