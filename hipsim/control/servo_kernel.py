@@ -86,8 +86,10 @@ def control_period(x, angle_slots, rate_slots, signs, control, k, desired_q, des
     """Servo period k of a plant integrated outside this module (the Pinocchio plant): the same control as :func:`servo_loop`'s.
 
     Logs the measured angles q[k] = signs·x[angle_slots] [rad] and rates
-    qd[k] = signs·x[rate_slots] [rad/s], then the torques; the other
-    arguments are :func:`servo_loop`'s.
+    qd[k] = signs·x[rate_slots] [rad/s], then the torques. ``control`` is the
+    controller's machine as :func:`hipsim.analytic.kernel.plain_parameters`
+    gives it (called once a period: a named tuple would cost 2 µs more to
+    pass); the other arguments are :func:`servo_loop`'s.
 
     Returns:
         False, logging nothing, when the state x is not finite.
@@ -97,7 +99,7 @@ def control_period(x, angle_slots, rate_slots, signs, control, k, desired_q, des
             return False
     for i in range(3):
         q[k, i], qd[k, i] = signs[i] * x[angle_slots[i]], signs[i] * x[rate_slots[i]]
-    _control(control, k, desired_q, desired_qd, kp, kd, feedforward, rows, with_feedforward, limit, q, qd, tau, tau_requested, saturated)
+    _control(kernel.named_parameters(control), k, desired_q, desired_qd, kp, kd, feedforward, rows, with_feedforward, limit, q, qd, tau, tau_requested, saturated)
     return True
 
 

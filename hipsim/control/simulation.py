@@ -369,10 +369,10 @@ def _compiled_loop(plant, controller, x, t, desired, limit, loads, h, substeps, 
     angles, rates, signs = (np.ascontiguousarray(a) for a in plant.angle_slots)
     if x.ndim != 1 or max(angles.max(), rates.max()) >= x.size:  # the compiled control reads x there, unchecked
         raise ArgumentError("initial_state", x, f"a state of the {getattr(plant, 'name', 'plant')} plant, holding its angles at {angles} and rates at {rates}")
-    step = 2 * substeps
+    step, machine = 2 * substeps, reduced_kernel.plain_parameters(controller._kernel_params)
     for start, stop in _servo_chunks(n, _CHUNK, desc, progress, notify):
         for k in range(start, stop):
-            if not servo_kernel.control_period(x, angles, rates, signs, controller._kernel_params, k, *control, q, qd, tau, tau_requested, saturated):
+            if not servo_kernel.control_period(x, angles, rates, signs, machine, k, *control, q, qd, tau, tau_requested, saturated):
                 raise _unstable(t, k)
             x = plant.advance(t[k], x, tau[k], loads[step * k : step * (k + 1) + 1], h, substeps)
 
