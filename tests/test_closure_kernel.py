@@ -8,6 +8,7 @@ regressor, the predictor against a motion it must extrapolate exactly.
 from __future__ import annotations
 
 import math
+import sys
 from types import SimpleNamespace
 
 import numpy as np
@@ -185,3 +186,26 @@ def test_velocity_reports_a_singular_closure(closed):
     status, _ = closure_kernel.velocity(ws.jacobian(), *arguments, tips, V, 0, layout.slider_v, J_rates, 0)
     assert status == closure_kernel.LEVER_DOWN
     assert not V.any() and not J_rates.any()
+
+
+def test_threads_running_one_model_do_not_share_pinocchio_data(closed):
+    """Two threads closing the same model at once give the serial results bit for bit (each thread has its own workspace and RNEA pools)."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from hipsim.closed_chain.model import trajectory_dynamics
+
+    motions = [motion(np.linspace(0.0, 1.0, 301)), motion(np.linspace(0.3, 0.8, 301))]
+    for m in motions:
+        m.Fe = np.full(len(m.t), 1200.0)
+    serial = [trajectory_dynamics(closed.chain, m) for m in motions]
+    interval = sys.getswitchinterval()
+    sys.setswitchinterval(1e-6)  # the threads take turns every few Python operations
+    try:
+        with ThreadPoolExecutor(max_workers=2) as pool:
+            threaded = list(pool.map(lambda m: trajectory_dynamics(closed.chain, m), motions))
+    finally:
+        sys.setswitchinterval(interval)
+    for (kin, dyn), (kin_t, dyn_t) in zip(serial, threaded):
+        np.testing.assert_array_equal(kin_t.q, kin.q)
+        np.testing.assert_array_equal(dyn_t.torques.total, dyn.torques.total)
+        np.testing.assert_array_equal(dyn_t.lambdas, dyn.lambdas)
