@@ -97,7 +97,6 @@ __all__ = [
 ]
 
 _TWO_PI = 2.0 * math.pi
-_LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 # Samples per batch of the inverse-dynamics solve: bounds the memory of the
 # stacked (n, 21, 21) K⁻¹ while keeping the batched RNEA and solve efficient.
 _CHUNK = 512
