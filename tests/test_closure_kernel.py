@@ -56,6 +56,32 @@ def _velocity(closed, k):
     return K_inv, tips, V[0], J_rates[0]
 
 
+def test_closure_frames_and_jacobian_are_pinocchios(closed):
+    """The compiled closure frames, gaps and Jacobian, read through views of Pinocchio's Data, equal RigidConstraintModel.calc's and getConstraintsJacobian's.
+
+    One workspace placed at configurations in turn, open ones among them: a
+    view that went stale (Pinocchio reallocating, or handing out copies)
+    would show the previous configuration's frames.
+    """
+    ws, layout, kin, model = closed.ws, closed.layout, closed.kin, closed.chain.model
+    rng = np.random.default_rng(11)
+    for k in (3, 17, 30):
+        for spread in (0.0, 0.05):
+            q = kin.q[k].copy()
+            q[layout.leg_v] += spread * rng.normal(size=layout.leg_v.size)
+            ws.place(q)
+            gaps, tips, p2, J_c = ws.residual().copy(), ws.tip_frames().copy(), ws.p2.copy(), ws.jacobian()
+            # The other route: Pinocchio's own constraint computations, in a fresh Data.
+            reference = _Workspace(closed.chain)
+            pin.computeJointJacobians(model, reference.data, q)
+            expected_J = reference.pinocchio_jacobian()
+            np.testing.assert_allclose(gaps, np.concatenate([cd.c1Mc2.translation for cd in reference.cd_list]), rtol=0, atol=1e-15)
+            np.testing.assert_allclose(tips, [cd.oMc1.homogeneous for cd in reference.cd_list], rtol=0, atol=1e-15)
+            np.testing.assert_allclose(p2, [cd.oMc2.translation for cd in reference.cd_list], rtol=0, atol=1e-15)
+            np.testing.assert_allclose(J_c, expected_J, rtol=0, atol=1e-14)
+            assert (spread == 0.0) == (np.abs(gaps).max() < 1e-12)
+
+
 @pytest.mark.parametrize("k", [0, 13, 29])
 def test_velocity_solves_the_velocity_closure(closed, k):
     """K v = [q̇; 0] written out: platform 1 at q̇, J_c v = 0, platform 2 at q̇, J_rates the sliders' rates per angle rate."""
@@ -181,7 +207,7 @@ def test_velocity_reports_a_singular_closure(closed):
     except np.linalg.LinAlgError:
         status = closure_kernel.SINGULAR  # exactly singular: LAPACK says so itself
     assert status == closure_kernel.SINGULAR
-    tips = ws.tip_frames()
+    tips = ws.tip_frames().copy()
     tips[2, 2, 2] = -0.1  # a lever pointing down
     status, _ = closure_kernel.velocity(ws.jacobian(), *arguments, tips, V, 0, layout.slider_v, J_rates, 0)
     assert status == closure_kernel.LEVER_DOWN

@@ -29,9 +29,12 @@ from __future__ import annotations
 import numpy as np
 
 from ..analytic import laws
-from ..analytic.vectors import add, cross, dot, matvec, sub, transpose_times
+from ..analytic.vectors import add, cross, dot, matvec, scale, sub, transpose_times
 
-__all__ = ["OK", "LEVER_DOWN", "SINGULAR", "acceleration", "actuator_and_closure_forces", "chord_step", "predict", "store", "velocity"]
+__all__ = [
+    "OK", "LEVER_DOWN", "SINGULAR", "acceleration", "actuator_and_closure_forces", "chord_step", "closure_frames",
+    "closure_jacobian", "predict", "store", "velocity",
+]  # fmt: skip
 
 #: Status codes of :func:`velocity`.
 OK, SINGULAR, LEVER_DOWN = 0, 1, 2
@@ -40,6 +43,73 @@ OK, SINGULAR, LEVER_DOWN = 0, 1, 2
 _SINGULAR_ENTRY = 1e8
 #: A lever tip frame whose z axis has sunk this low is horizontal or upside down.
 _LEVER_DOWN_Z = 1e-6
+
+
+@laws.jit
+def closure_frames(rotations, translations, slot1, slot2, placement1, placement2, tips, p2):
+    """The closures' frames and gaps from the joints' world placements: frame 1's placement, frame 2's origin, d = R₁ᵀ(p₂ − p₁).
+
+    Pinocchio's ``RigidConstraintModel.calc`` computes the same (oMc = oMi·jMc
+    for both frames); here it is one compiled call over views that Pinocchio
+    keeps up to date in its Data, instead of six calls and six read-backs.
+
+    Args:
+        rotations, translations: the world rotation (3, 3) and origin (3,) [m] of each joint
+            a closure is attached to (live views of ``data.oMi``), as tuples.
+        slot1, slot2: per closure, its frame 1's and frame 2's joint in those tuples, (n,).
+        placement1, placement2: per closure, frame 1's and frame 2's placement in its joint, (n, 4, 4).
+        tips: out, frame 1's world placement per closure, (n, 4, 4).
+        p2: out, frame 2's world origin per closure [m], (n, 3).
+
+    Returns:
+        The gaps d [m], (3·n,).
+    """
+    n = slot1.size
+    d = np.empty(3 * n)
+    for c in range(n):
+        R, o = rotations[slot1[c]], translations[slot1[c]]
+        for i in range(3):
+            for j in range(3):
+                tips[c, i, j] = R[i, 0] * placement1[c, 0, j] + R[i, 1] * placement1[c, 1, j] + R[i, 2] * placement1[c, 2, j]
+            tips[c, i, 3] = o[i] + R[i, 0] * placement1[c, 0, 3] + R[i, 1] * placement1[c, 1, 3] + R[i, 2] * placement1[c, 2, 3]
+            tips[c, 3, i] = 0.0
+        tips[c, 3, 3] = 1.0
+        R, o = rotations[slot2[c]], translations[slot2[c]]
+        for i in range(3):
+            p2[c, i] = o[i] + R[i, 0] * placement2[c, 0, 3] + R[i, 1] * placement2[c, 1, 3] + R[i, 2] * placement2[c, 2, 3]
+        gap = (p2[c, 0] - tips[c, 0, 3], p2[c, 1] - tips[c, 1, 3], p2[c, 2] - tips[c, 2, 3])
+        for i in range(3):
+            d[3 * c + i] = tips[c, 0, i] * gap[0] + tips[c, 1, i] * gap[1] + tips[c, 2, i] * gap[2]
+    return d
+
+
+@laws.jit
+def closure_jacobian(J, masks, tips, p2):
+    """The closure Jacobian J_c = ∂/∂v of R₁ᵀ(ṗ₁ − ṗ₂), (3·n, nv), from the world-frame joint Jacobians J (6, nv).
+
+    Pinocchio's ``getConstraintsJacobian`` (LOCAL, 3-D) computes the same.
+    A point p of a body moves at ṗ = v_o + ω × p, (v_o, ω) = J·v summed over
+    the body's supporting joints (``masks``, as in :func:`acceleration`).
+
+    Args:
+        J: world-frame joint Jacobians at q, (6, nv).
+        masks: per closure, its two frames' supporting joints as 0/1 over the velocity indices, (2·n, nv).
+        tips, p2: frame 1's world placements (n, 4, 4) and frame 2's origins [m] (n, 3), from :func:`closure_frames`.
+    """
+    n, nv = tips.shape[0], J.shape[1]
+    J_c = np.zeros((3 * n, nv))
+    for c in range(n):
+        p1 = (tips[c, 0, 3], tips[c, 1, 3], tips[c, 2, 3])
+        q2 = (p2[c, 0], p2[c, 1], p2[c, 2])
+        for col in range(nv):
+            w1, w2 = masks[2 * c, col], masks[2 * c + 1, col]
+            if w1 == 0.0 and w2 == 0.0:
+                continue
+            v_o, omega = (J[0, col], J[1, col], J[2, col]), (J[3, col], J[4, col], J[5, col])
+            world = sub(scale(add(v_o, cross(omega, p1)), w1), scale(add(v_o, cross(omega, q2)), w2))
+            for i in range(3):
+                J_c[3 * c + i, col] = tips[c, 0, i] * world[0] + tips[c, 1, i] * world[1] + tips[c, 2, i] * world[2]
+    return J_c
 
 
 @laws.jit

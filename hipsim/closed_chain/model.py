@@ -378,7 +378,14 @@ def _hip_layout(chain: ClosedChainModel, params: Parameters) -> _HipLayout:
 
 
 class _Workspace:
-    """Pinocchio data and the constraint datas of one computation (not shared between threads)."""
+    """Pinocchio data and the constraint datas of one computation (not shared between threads).
+
+    The solver reads Pinocchio's results through NumPy views that Pinocchio
+    keeps current in its Data (the joint Jacobians ``data.J``, ``data.dJ``,
+    the joint placements ``data.oMi``): a property read costs a Python call
+    and a copy, some 0.5 µs, and a sample would need dozens. The views live
+    as long as this workspace's Data, which they point into.
+    """
 
     def __init__(self, chain: ClosedChainModel):
         self.model = chain.model
@@ -390,38 +397,62 @@ class _Workspace:
         # Python lists of references into the vectors: indexing a StdVec per access is slow.
         self.cd_list = list(self.cds)
         self.pairs = list(zip(self.cms, self.cd_list))
-        # The joints supporting each closure frame, frame 1 then frame 2, as 0/1 over the
-        # velocity indices: the rows of the world Jacobians that move that frame's body.
-        self.support_masks = np.zeros((2 * len(self.cd_list), chain.model.nv))
+        n, nv = len(self.cd_list), chain.model.nv
+        # The joints supporting each closure frame, frame 1 then frame 2, as 0/1 over the velocity indices:
+        # the columns of the world Jacobians that move that frame's body.
+        self.support_masks = np.zeros((2 * n, nv))
         for c, cm in enumerate(self.cms):
             for end, joint in enumerate((cm.joint1_id, cm.joint2_id)):
                 for k in self.model.supports[joint][1:]:  # the universe (0) has no velocity
                     self.support_masks[2 * c + end, self.model.joints[k].idx_v] = 1.0
+        # The closures' joints' world placements, and each closure's frames in them (closure_kernel.closure_frames).
+        joints = sorted({cm.joint1_id for cm in self.cms} | {cm.joint2_id for cm in self.cms})
+        self.joint_rotations = tuple(self.data.oMi[j].rotation for j in joints)
+        self.joint_origins = tuple(self.data.oMi[j].translation for j in joints)
+        self.slot1 = np.array([joints.index(cm.joint1_id) for cm in self.cms])
+        self.slot2 = np.array([joints.index(cm.joint2_id) for cm in self.cms])
+        self.placement1 = np.array([cm.joint1_placement.homogeneous for cm in self.cms])
+        self.placement2 = np.array([cm.joint2_placement.homogeneous for cm in self.cms])
+        self.J, self.dJ = self.data.J, self.data.dJ
+        self.tips = np.empty((n, 4, 4))  # frame 1's world placement per closure, at the last place()
+        self.p2 = np.empty((n, 3))  # frame 2's world origin per closure [m], at the last place()
+        self.gaps = np.empty(3 * n)
 
     def place(self, q: np.ndarray, jacobians: bool = True) -> None:
-        """Forward kinematics, joint Jacobians (unless not asked for) and closure placements at q."""
+        """Forward kinematics, joint Jacobians (unless not asked for) and the closures' frames and gaps at q."""
         if jacobians:
             pin.computeJointJacobians(self.model, self.data, q)
         else:
             pin.forwardKinematics(self.model, self.data, q)
-        for cm, cd in self.pairs:
-            cm.calc(self.model, self.data, cd)
+        self.gaps = closure_kernel.closure_frames(
+            self.joint_rotations, self.joint_origins, self.slot1, self.slot2, self.placement1, self.placement2, self.tips, self.p2
+        )
 
     def residual(self) -> np.ndarray:
         """The closure gaps d = R₁ᵀ(p₂ − p₁) of every closure, stacked, in [m] (after :meth:`place`).
 
-        Pinocchio's relative placement c1Mc2, whose derivative is −J_c (J_c
-        differentiates p₁ − p₂): a Newton step on the gaps is q + K⁻¹·[0; d].
+        Pinocchio's relative placement c1Mc2's translation, whose derivative is
+        −J_c (J_c differentiates p₁ − p₂): a Newton step on the gaps is q + K⁻¹·[0; d].
         """
-        return np.concatenate([cd.c1Mc2.translation for cd in self.cd_list])
+        return self.gaps
 
     def jacobian(self) -> np.ndarray:
-        """The stacked closure Jacobian J_c (after :meth:`place`)."""
-        return pin.getConstraintsJacobian(self.model, self.data, self.cms, self.cds)
+        """The stacked closure Jacobian J_c (after :meth:`place` with the Jacobians)."""
+        return closure_kernel.closure_jacobian(self.J, self.support_masks, self.tips, self.p2)
 
     def tip_frames(self) -> np.ndarray:
-        """Frame 1's homogeneous placement of every closure (its axes and origin in the world), (n, 4, 4) (after :meth:`place`)."""
-        return np.array([cd.oMc1.homogeneous for cd in self.cd_list])
+        """Frame 1's homogeneous placement of every closure (its axes and origin in the world), (n, 4, 4) (after :meth:`place`; overwritten by the next)."""
+        return self.tips
+
+    def calc_constraints(self) -> None:
+        """Pinocchio's own closure computations (``RigidConstraintModel.calc``) at the placed q: the reference the views are checked against."""
+        for cm, cd in self.pairs:
+            cm.calc(self.model, self.data, cd)
+
+    def pinocchio_jacobian(self) -> np.ndarray:
+        """Pinocchio's stacked closure Jacobian (``getConstraintsJacobian``) at the placed q (after :meth:`place` with the Jacobians)."""
+        self.calc_constraints()
+        return pin.getConstraintsJacobian(self.model, self.data, self.cms, self.cds)
 
 
 def _configurations(chain: ClosedChainModel, q) -> tuple[np.ndarray, bool]:
@@ -448,6 +479,7 @@ def closure_residuals(chain: ClosedChainModel, q) -> np.ndarray:
     out = np.empty((len(q), chain.n_closures, 3))
     for k, qk in enumerate(q):
         ws.place(qk)
+        ws.calc_constraints()
         out[k] = [cd.oMc2.translation - cd.oMc1.translation for cd in ws.cd_list]
     return out[0] if single else out
 
@@ -464,7 +496,7 @@ def constraint_jacobian(chain: ClosedChainModel, q) -> np.ndarray:
     """
     ws = _Workspace(chain)
     ws.place(np.asarray(q, dtype=float))
-    return ws.jacobian()
+    return ws.pinocchio_jacobian()
 
 
 def constraint_rank(chain: ClosedChainModel, q, rtol: float = 1e-9) -> int:
@@ -498,6 +530,7 @@ def platform_joint_positions(chain: ClosedChainModel, q) -> np.ndarray:
     out = np.empty((len(q), 2, 3, 3))
     for k, qk in enumerate(q):
         ws.place(qk)
+        ws.calc_constraints()
         for j in range(2):
             for i in range(3):
                 out[k, j, i] = ws.cd_list[layout.closure[j, i]].oMc2.translation
@@ -650,7 +683,7 @@ class _Closer:
 
         e: q's closure gaps [m]; qd, qdd: the platform angles' rates [rad/s]
         and accelerations [rad/s²]. Also keeps K⁻¹ (the next sample's chord
-        Jacobian) and the lever-tip frames.
+        Jacobian).
         """
         ws, platform2 = self.ws, self.layout.platform_v[1]
         tips = ws.tip_frames()
@@ -659,10 +692,9 @@ class _Closer:
             raise ClosureError("singular pose: the closure Jacobian loses rank (spec §3)")
         if status == closure_kernel.LEVER_DOWN:
             raise ClosureError("a lever is horizontal or points down (singular pose, spec §3)")
-        data = ws.data
-        pin.computeJointJacobiansTimeVariation(ws.model, data, q, V[row])
-        closure_kernel.acceleration(K_inv, data.J, data.dJ, V, A, row, ws.support_masks, tips, e, qdd, platform2)
-        self.K_inv, self.tips = K_inv, tips
+        pin.computeJointJacobiansTimeVariation(ws.model, ws.data, q, V[row])
+        closure_kernel.acceleration(K_inv, ws.J, ws.dJ, V, A, row, ws.support_masks, tips, e, qdd, platform2)
+        self.K_inv = K_inv
 
 
 @dataclass(eq=False)
@@ -752,7 +784,7 @@ def _close_chain(
         iterations[k] = closer.evaluations - evaluations
         Q[row] = q
         if dynamics is not None:
-            dynamics.add(k, closer.ws.data, closer.K_inv, closer.tips)
+            dynamics.add(k, closer.ws, closer.K_inv)
 
     if continuation is not None and n:
         last = slice(max(0, before + n - 2), before + n)
@@ -990,8 +1022,8 @@ class _InverseDynamics:
     """Closure data sample by sample; the tree's torques and the closed-chain solve a chunk of samples at a time.
 
     The caller fills q, v and a (shape (n, nv)) up to sample k before calling
-    :meth:`add` for k, with Pinocchio's data holding sample k's world joint
-    Jacobians and K⁻¹ (K = [P₁; J_c], see :mod:`hipsim.closed_chain.closure_kernel`) at hand.
+    :meth:`add` for k, with the workspace placed at sample k (world joint
+    Jacobians included) and K⁻¹ (K = [P₁; J_c], see :mod:`hipsim.closed_chain.closure_kernel`) at hand.
 
     The solve. With N = K⁻¹[:, :3] (tree velocities per platform angle rate:
     J_c N = 0) and G = S N (the actuated joints' rates per platform angle
@@ -1025,12 +1057,12 @@ class _InverseDynamics:
         self.rotations = np.empty((n, chain.n_closures, 3, 3))
         self.start = 0
 
-    def add(self, k: int, data, K_inv: np.ndarray, tips: np.ndarray) -> None:
-        """Take sample k: K⁻¹, the lever-tip frames' placements (n_closures, 4, 4) and Pinocchio's data at its q."""
+    def add(self, k: int, ws: _Workspace, K_inv: np.ndarray) -> None:
+        """Take sample k: its K⁻¹, and the workspace placed at its q (joint Jacobians included)."""
         slot = k - self.start
-        closure_kernel.store(self.K_inv, self.angular, self.rotations, slot, k, K_inv, data.J, tips)
+        closure_kernel.store(self.K_inv, self.angular, self.rotations, slot, k, K_inv, ws.J, ws.tips)
         if self.platform_z is not None:
-            self.platform_z[slot] = _platform_z_axes(data, self.platform_frames)
+            self.platform_z[slot] = _platform_z_axes(ws.data, self.platform_frames)
         if slot + 1 == len(self.K_inv) or k + 1 == len(self.v):
             self._solve(k + 1)
 
@@ -1125,7 +1157,7 @@ def inverse_dynamics(chain: ClosedChainModel, kin: ClosedKinematics, Fe, *, part
         status, K_inv = closure_kernel.velocity(ws.jacobian(), platform1, others, kin.angle_rates[k], layout.platform_v[1], tips, v, 0, layout.slider_v, J_rates, 0)
         if status != closure_kernel.OK:
             raise PoseError("singular pose: the closure Jacobian loses rank (spec §3)", float(kin.t[k]), k)
-        dynamics.add(k, ws.data, K_inv, tips)
+        dynamics.add(k, ws, K_inv)
     return dynamics.result(kin)
 
 
