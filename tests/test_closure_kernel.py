@@ -82,6 +82,22 @@ def test_closure_frames_and_jacobian_are_pinocchios(closed):
             assert (spread == 0.0) == (np.abs(gaps).max() < 1e-12)
 
 
+def test_placement_views_follow_pinocchio_and_the_copying_route_agrees(closed):
+    """The strided views over data.oMi show every joint's current placement; a workspace without them (copies) places the closures bit for bit alike."""
+    ws, model, q = closed.ws, closed.chain.model, closed.kin.q[21]
+    assert ws.joint_rotations is not None  # this Pinocchio's layout is the one the views assume
+    copying = _Workspace(closed.chain)
+    copying.joint_rotations = copying.joint_origins = None
+    for qk in (q, q + 0.01):
+        ws.place(qk)
+        copying.place(qk)
+        for j in range(model.njoints):
+            np.testing.assert_array_equal(ws.joint_rotations[j], ws.data.oMi[j].rotation)
+            np.testing.assert_array_equal(ws.joint_origins[j], ws.data.oMi[j].translation)
+        np.testing.assert_array_equal(ws.residual(), copying.residual())
+        np.testing.assert_array_equal(ws.tip_frames(), copying.tip_frames())
+
+
 @pytest.mark.parametrize("k", [0, 13, 29])
 def test_velocity_solves_the_velocity_closure(closed, k):
     """K v = [q̇; 0] written out: platform 1 at q̇, J_c v = 0, platform 2 at q̇, J_rates the sliders' rates per angle rate."""

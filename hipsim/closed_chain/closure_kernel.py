@@ -46,7 +46,7 @@ _LEVER_DOWN_Z = 1e-6
 
 
 @laws.jit
-def closure_frames(rotations, translations, slot1, slot2, placement1, placement2, tips, p2):
+def closure_frames(rotations, origins, joints, placements, tips, p2):
     """The closures' frames and gaps from the joints' world placements: frame 1's placement, frame 2's origin, d = R₁ᵀ(p₂ − p₁).
 
     Pinocchio's ``RigidConstraintModel.calc`` computes the same (oMc = oMi·jMc
@@ -54,29 +54,28 @@ def closure_frames(rotations, translations, slot1, slot2, placement1, placement2
     keeps up to date in its Data, instead of six calls and six read-backs.
 
     Args:
-        rotations, translations: the world rotation (3, 3) and origin (3,) [m] of each joint
-            a closure is attached to (live views of ``data.oMi``), as tuples.
-        slot1, slot2: per closure, its frame 1's and frame 2's joint in those tuples, (n,).
-        placement1, placement2: per closure, frame 1's and frame 2's placement in its joint, (n, 4, 4).
+        rotations, origins: every joint's world rotation and origin [m], (njoints, 3, 3) and (njoints, 3).
+        joints: per closure, the joints of its frames 1 and 2, (n, 2).
+        placements: per closure, its frames' placements in those joints, (n, 2, 4, 4).
         tips: out, frame 1's world placement per closure, (n, 4, 4).
         p2: out, frame 2's world origin per closure [m], (n, 3).
 
     Returns:
         The gaps d [m], (3·n,).
     """
-    n = slot1.size
+    n = joints.shape[0]
     d = np.empty(3 * n)
     for c in range(n):
-        R, o = rotations[slot1[c]], translations[slot1[c]]
+        R, o, M = rotations[joints[c, 0]], origins[joints[c, 0]], placements[c, 0]
         for i in range(3):
             for j in range(3):
-                tips[c, i, j] = R[i, 0] * placement1[c, 0, j] + R[i, 1] * placement1[c, 1, j] + R[i, 2] * placement1[c, 2, j]
-            tips[c, i, 3] = o[i] + R[i, 0] * placement1[c, 0, 3] + R[i, 1] * placement1[c, 1, 3] + R[i, 2] * placement1[c, 2, 3]
+                tips[c, i, j] = R[i, 0] * M[0, j] + R[i, 1] * M[1, j] + R[i, 2] * M[2, j]
+            tips[c, i, 3] = o[i] + R[i, 0] * M[0, 3] + R[i, 1] * M[1, 3] + R[i, 2] * M[2, 3]
             tips[c, 3, i] = 0.0
         tips[c, 3, 3] = 1.0
-        R, o = rotations[slot2[c]], translations[slot2[c]]
+        R, o, M = rotations[joints[c, 1]], origins[joints[c, 1]], placements[c, 1]
         for i in range(3):
-            p2[c, i] = o[i] + R[i, 0] * placement2[c, 0, 3] + R[i, 1] * placement2[c, 1, 3] + R[i, 2] * placement2[c, 2, 3]
+            p2[c, i] = o[i] + R[i, 0] * M[0, 3] + R[i, 1] * M[1, 3] + R[i, 2] * M[2, 3]
         gap = (p2[c, 0] - tips[c, 0, 3], p2[c, 1] - tips[c, 1, 3], p2[c, 2] - tips[c, 2, 3])
         for i in range(3):
             d[3 * c + i] = tips[c, 0, i] * gap[0] + tips[c, 1, i] * gap[1] + tips[c, 2, i] * gap[2]

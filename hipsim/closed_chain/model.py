@@ -405,14 +405,10 @@ class _Workspace:
             for end, joint in enumerate((cm.joint1_id, cm.joint2_id)):
                 for k in self.model.supports[joint][1:]:  # the universe (0) has no velocity
                     self.support_masks[2 * c + end, self.model.joints[k].idx_v] = 1.0
-        # The closures' joints' world placements, and each closure's frames in them (closure_kernel.closure_frames).
-        joints = sorted({cm.joint1_id for cm in self.cms} | {cm.joint2_id for cm in self.cms})
-        self.joint_rotations = tuple(self.data.oMi[j].rotation for j in joints)
-        self.joint_origins = tuple(self.data.oMi[j].translation for j in joints)
-        self.slot1 = np.array([joints.index(cm.joint1_id) for cm in self.cms])
-        self.slot2 = np.array([joints.index(cm.joint2_id) for cm in self.cms])
-        self.placement1 = np.array([cm.joint1_placement.homogeneous for cm in self.cms])
-        self.placement2 = np.array([cm.joint2_placement.homogeneous for cm in self.cms])
+        # Each closure's two joints, and its frames' placements in them (closure_kernel.closure_frames).
+        self.closure_joints = np.array([[cm.joint1_id, cm.joint2_id] for cm in self.cms])
+        self.closure_placements = np.array([[cm.joint1_placement.homogeneous, cm.joint2_placement.homogeneous] for cm in self.cms])
+        self.joint_rotations, self.joint_origins = _joint_placement_views(self.model, self.data)
         self.J, self.dJ = self.data.J, self.data.dJ
         self.tips = np.empty((n, 4, 4))  # frame 1's world placement per closure, at the last place()
         self.p2 = np.empty((n, 3))  # frame 2's world origin per closure [m], at the last place()
@@ -424,9 +420,11 @@ class _Workspace:
             pin.computeJointJacobians(self.model, self.data, q)
         else:
             pin.forwardKinematics(self.model, self.data, q)
-        self.gaps = closure_kernel.closure_frames(
-            self.joint_rotations, self.joint_origins, self.slot1, self.slot2, self.placement1, self.placement2, self.tips, self.p2
-        )
+        if self.joint_rotations is None:  # no live views of this Pinocchio's data.oMi: copies
+            rotations, origins = _joint_placement_copies(self.data)
+        else:
+            rotations, origins = self.joint_rotations, self.joint_origins
+        self.gaps = closure_kernel.closure_frames(rotations, origins, self.closure_joints, self.closure_placements, self.tips, self.p2)
 
     def residual(self) -> np.ndarray:
         """The closure gaps d = R₁ᵀ(p₂ − p₁) of every closure, stacked, in [m] (after :meth:`place`).
@@ -453,6 +451,44 @@ class _Workspace:
         """Pinocchio's stacked closure Jacobian (``getConstraintsJacobian``) at the placed q (after :meth:`place` with the Jacobians)."""
         self.calc_constraints()
         return pin.getConstraintsJacobian(self.model, self.data, self.cms, self.cds)
+
+
+def _joint_placement_copies(data) -> tuple[np.ndarray, np.ndarray]:
+    """The joints' world rotations (njoints, 3, 3) and origins (njoints, 3) [m], copied out of ``data.oMi``."""
+    return np.array([M.rotation for M in data.oMi]), np.array([M.translation for M in data.oMi])
+
+
+def _joint_placement_views(model, data) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """The joints' world rotations (njoints, 3, 3) and origins (njoints, 3) [m] as NumPy views into ``data.oMi``, or (None, None).
+
+    Pinocchio keeps ``data.oMi`` as one contiguous std::vector of SE3 (the
+    rotation's nine entries column by column, then the translation), and its
+    bindings hand out each element's rotation and translation as views into
+    it. Two strided arrays over the first element's views then cover every
+    joint and stay current as Pinocchio updates the placements: the compiled
+    solver reads them with no Python call per joint. The layout is checked
+    (addresses, and the values after a forward kinematics); where it is not
+    the expected one, (None, None) and the solver copies (slower, same result).
+    """
+    from numpy.lib.stride_tricks import as_strided
+
+    def address(array: np.ndarray) -> int:
+        return array.__array_interface__["data"][0]
+
+    rotation, translation = data.oMi[0].rotation, data.oMi[0].translation
+    if model.njoints < 2 or rotation.strides != (8, 24) or translation.strides != (8,):
+        return None, None
+    stride = address(data.oMi[1].rotation) - address(rotation)
+    if any(address(data.oMi[j].rotation) != address(rotation) + j * stride or address(data.oMi[j].translation) != address(rotation) + j * stride + 72
+           for j in range(model.njoints)):  # fmt: skip
+        return None, None
+    rotations = as_strided(rotation, shape=(model.njoints, 3, 3), strides=(stride, 8, 24), writeable=False)
+    origins = as_strided(translation, shape=(model.njoints, 3), strides=(stride, 8), writeable=False)
+    pin.forwardKinematics(model, data, pin.randomConfiguration(model, -np.ones(model.nq), np.ones(model.nq)))
+    copies = _joint_placement_copies(data)
+    if not (np.array_equal(rotations, copies[0]) and np.array_equal(origins, copies[1])):
+        return None, None
+    return rotations, origins
 
 
 def _configurations(chain: ClosedChainModel, q) -> tuple[np.ndarray, bool]:
