@@ -352,8 +352,8 @@ def bench_servo(params, quick: bool) -> None:
     print(f"  with parts {n / with_parts:9,.0f} samples/s ({with_parts / n * 1e6:4.1f} µs); total only (parts=False) "
           f"{n / total_only:9,.0f} samples/s ({total_only / n * 1e6:4.1f} µs); targets 30,000 and 50,000 "
           f"{'OK' if n / with_parts >= 30000 else 'MISSED'} / {'OK' if n / total_only >= 50000 else 'MISSED'}")  # fmt: skip
-    print(f"  the floor, same run: Pinocchio's calls of a sample alone (placements twice, closure Jacobian, "
-          f"Jacobians' time variation, results read back), no arithmetic between them: {floor / n * 1e6:4.1f} µs a sample "
+    print(f"  the floor, same run: Pinocchio's calls of a sample alone (forward kinematics, joint Jacobians, "
+          f"their time variation), nothing between them: {floor / n * 1e6:4.1f} µs a sample "
           f"({n / floor:,.0f} samples/s)")  # fmt: skip
 
     with tempfile.TemporaryDirectory() as cache:
@@ -366,28 +366,22 @@ def bench_servo(params, quick: bool) -> None:
 
 
 def pinocchio_calls_alone(chain, kin) -> None:
-    """The Pinocchio calls one closed-chain sample makes, and the read-back of their results, along closed motion ``kin``.
+    """The Pinocchio calls one closed-chain sample makes, along closed motion ``kin``.
 
     What ``trajectory_dynamics`` cannot do without however its arithmetic is
-    written: forward kinematics at the prediction and the joint Jacobians at
-    the corrected configuration, each with the six closures' placements read
-    back, the stacked closure Jacobian, the lever-tip frames, the Jacobians'
-    time variation (the batched RNEA is left out: it costs ~2 µs a sample).
+    written: forward kinematics at the prediction, the joint Jacobians at the
+    corrected configuration and their time variation. Their results are read
+    through views of Pinocchio's Data at no cost (the closures' frames,
+    gaps and Jacobian are compiled arithmetic on them); the batched RNEA is
+    left out (~2 µs a sample).
     """
     import pinocchio as pin
 
-    from hipsim.closed_chain.model import _Workspace
-
-    ws = _Workspace(chain)
-    model, data, pairs, cds, cms, cds_vector = ws.model, ws.data, ws.pairs, ws.cd_list, ws.cms, ws.cds
+    model = chain.model
+    data = model.createData()
     for q, v in zip(kin.q, kin.v):
-        for placements in (pin.forwardKinematics, pin.computeJointJacobians):
-            placements(model, data, q)
-            for cm, cd in pairs:
-                cm.calc(model, data, cd)
-            np.concatenate([cd.c1Mc2.translation for cd in cds])
-        pin.getConstraintsJacobian(model, data, cms, cds_vector)
-        np.array([cd.oMc1.homogeneous for cd in cds])
+        pin.forwardKinematics(model, data, q)
+        pin.computeJointJacobians(model, data, q)
         pin.computeJointJacobiansTimeVariation(model, data, q, v)
 
 

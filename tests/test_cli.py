@@ -392,6 +392,7 @@ import hipsim
 from hipsim.closed_chain import closure_kernel
 from hipsim.closed_chain.model import warm_up
 kernels = [closure_kernel.predict, closure_kernel.chord_step, closure_kernel.velocity, closure_kernel.acceleration,
+           closure_kernel.closure_frames, closure_kernel.closure_jacobian,
            closure_kernel.store, closure_kernel.actuator_and_closure_forces]
 warm_up()
 before = [len(kernel.signatures) for kernel in kernels]

@@ -48,9 +48,9 @@ def _velocity(closed, k):
     ws, layout, nv = closed.ws, closed.layout, closed.chain.model.nv
     ws.place(closed.kin.q[k])
     tips = ws.tip_frames()
-    V, J_rates = np.empty((1, nv)), np.empty((1, 3, 3))
-    status, K_inv = closure_kernel.velocity(
-        ws.jacobian(), layout.platform_v[0], _others(closed), closed.kin.angle_rates[k], layout.platform_v[1], tips, V, 0, layout.slider_v, J_rates, 0
+    V, J_rates, K_inv = np.empty((1, nv)), np.empty((1, 3, 3)), np.empty((nv, nv))
+    status = closure_kernel.velocity(
+        ws.jacobian(), layout.platform_v[0], _others(closed), closed.kin.angle_rates[k], layout.platform_v[1], tips, V, 0, layout.slider_v, J_rates, 0, K_inv
     )
     assert status == closure_kernel.OK
     return K_inv, tips, V[0], J_rates[0]
@@ -182,12 +182,19 @@ def test_prediction_is_exact_for_a_cubic():
     V = c[1] + np.outer(2 * t, c[2]) + np.outer(3 * t**2, c[3])
     A = 2 * c[2] + np.outer(6 * t, c[3])
     NONE = np.zeros(0, dtype=np.int64)  # no platform coordinates to set
-    np.testing.assert_allclose(closure_kernel.predict(t, Q, V, A, 3, NONE, np.zeros(0)), Q[3], rtol=0, atol=1e-15)
-    np.testing.assert_allclose(closure_kernel.predict(t, Q, V, A, 2, NONE, np.zeros(0)), Q[2], rtol=0, atol=1e-15)
+
+    def predicted(row, platforms=NONE, angles=np.zeros(0)):
+        out = Q.copy()
+        out[row] = np.nan
+        closure_kernel.predict(t, out, V, A, row, platforms, angles)
+        return out[row]
+
+    np.testing.assert_allclose(predicted(3), Q[3], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(predicted(2), Q[2], rtol=0, atol=1e-15)
     h = t[1]
-    np.testing.assert_allclose(closure_kernel.predict(t, Q, V, A, 1, NONE, np.zeros(0)), Q[0] + h * V[0] + h * h / 2 * A[0], rtol=0, atol=1e-15)
-    assert np.abs(closure_kernel.predict(t, Q, V, A, 1, NONE, np.zeros(0)) - Q[1]).max() > 1e-9  # the cubic term it cannot know
-    set_to = closure_kernel.predict(t, Q, V, A, 3, np.array([1]), np.array([0.25]))
+    np.testing.assert_allclose(predicted(1), Q[0] + h * V[0] + h * h / 2 * A[0], rtol=0, atol=1e-15)
+    assert np.abs(predicted(1) - Q[1]).max() > 1e-9  # the cubic term it cannot know
+    set_to = predicted(3, np.array([1]), np.array([0.25]))
     assert set_to[1] == 0.25 and set_to[0] == pytest.approx(Q[3, 0], abs=1e-15)
 
 
@@ -200,9 +207,11 @@ def test_chord_step_closes_a_perturbed_configuration(closed):
     angles = q[layout.platform_v.ravel()]
     sizes = []
     for _ in range(2):
-        ws.place(q)
-        d = ws.residual()
-        q, size = closure_kernel.chord_step(q, K_inv, d, layout.platform_v.ravel(), angles)
+        size = ws.place(q)
+        assert size == pytest.approx(np.sum(ws.residual() ** 2), rel=1e-15)
+        trial = np.empty_like(q)
+        closure_kernel.chord_step(q, K_inv, ws.residual(), layout.platform_v.ravel(), angles, trial)
+        q = trial
         sizes.append(math.sqrt(size))
     ws.place(q)
     sizes.append(np.linalg.norm(ws.residual()))
@@ -216,16 +225,16 @@ def test_velocity_reports_a_singular_closure(closed):
     ws.place(closed.kin.q[0])
     Jc = ws.jacobian().copy()
     Jc[5] = Jc[4] * (1 + 1e-15)  # two rows equal but for round-off
-    V, J_rates = np.zeros((1, nv)), np.zeros((1, 3, 3))
+    V, J_rates, K_inv = np.zeros((1, nv)), np.zeros((1, 3, 3)), np.empty((nv, nv))
     arguments = (layout.platform_v[0], _others(closed), np.ones(3), layout.platform_v[1])
     try:
-        status, _ = closure_kernel.velocity(Jc, *arguments, ws.tip_frames(), V, 0, layout.slider_v, J_rates, 0)
+        status = closure_kernel.velocity(Jc, *arguments, ws.tip_frames(), V, 0, layout.slider_v, J_rates, 0, K_inv)
     except np.linalg.LinAlgError:
         status = closure_kernel.SINGULAR  # exactly singular: LAPACK says so itself
     assert status == closure_kernel.SINGULAR
     tips = ws.tip_frames().copy()
     tips[2, 2, 2] = -0.1  # a lever pointing down
-    status, _ = closure_kernel.velocity(ws.jacobian(), *arguments, tips, V, 0, layout.slider_v, J_rates, 0)
+    status = closure_kernel.velocity(ws.jacobian(), *arguments, tips, V, 0, layout.slider_v, J_rates, 0, K_inv)
     assert status == closure_kernel.LEVER_DOWN
     assert not V.any() and not J_rates.any()
 

@@ -46,7 +46,7 @@ _LEVER_DOWN_Z = 1e-6
 
 
 @laws.jit
-def closure_frames(rotations, origins, joints, placements, tips, p2):
+def closure_frames(rotations, origins, joints, placements, tips, p2, d):
     """The closures' frames and gaps from the joints' world placements: frame 1's placement, frame 2's origin, d = R₁ᵀ(p₂ − p₁).
 
     Pinocchio's ``RigidConstraintModel.calc`` computes the same (oMc = oMi·jMc
@@ -59,12 +59,15 @@ def closure_frames(rotations, origins, joints, placements, tips, p2):
         placements: per closure, its frames' placements in those joints, (n, 2, 4, 4).
         tips: out, frame 1's world placement per closure, (n, 4, 4).
         p2: out, frame 2's world origin per closure [m], (n, 3).
+        d: out, the gaps [m], (3·n,).
 
     Returns:
-        The gaps d [m], (3·n,).
+        |d|² [m²].
+
+    Outputs go into arrays the caller keeps (here and below): a compiled
+    function that returns a new array costs ~1 µs more a call, in boxing it.
     """
     n = joints.shape[0]
-    d = np.empty(3 * n)
     for c in range(n):
         R, o, M = rotations[joints[c, 0]], origins[joints[c, 0]], placements[c, 0]
         for i in range(3):
@@ -79,11 +82,11 @@ def closure_frames(rotations, origins, joints, placements, tips, p2):
         gap = (p2[c, 0] - tips[c, 0, 3], p2[c, 1] - tips[c, 1, 3], p2[c, 2] - tips[c, 2, 3])
         for i in range(3):
             d[3 * c + i] = tips[c, 0, i] * gap[0] + tips[c, 1, i] * gap[1] + tips[c, 2, i] * gap[2]
-    return d
+    return d @ d
 
 
 @laws.jit
-def closure_jacobian(J, masks, tips, p2):
+def closure_jacobian(J, masks, tips, p2, J_c):
     """The closure Jacobian J_c = ∂/∂v of R₁ᵀ(ṗ₁ − ṗ₂), (3·n, nv), from the world-frame joint Jacobians J (6, nv).
 
     Pinocchio's ``getConstraintsJacobian`` (LOCAL, 3-D) computes the same.
@@ -94,9 +97,10 @@ def closure_jacobian(J, masks, tips, p2):
         J: world-frame joint Jacobians at q, (6, nv).
         masks: per closure, its two frames' supporting joints as 0/1 over the velocity indices, (2·n, nv).
         tips, p2: frame 1's world placements (n, 4, 4) and frame 2's origins [m] (n, 3), from :func:`closure_frames`.
+        J_c: out, (3·n, nv).
     """
     n, nv = tips.shape[0], J.shape[1]
-    J_c = np.zeros((3 * n, nv))
+    J_c[:] = 0.0
     for c in range(n):
         p1 = (tips[c, 0, 3], tips[c, 1, 3], tips[c, 2, 3])
         q2 = (p2[c, 0], p2[c, 1], p2[c, 2])
@@ -108,12 +112,11 @@ def closure_jacobian(J, masks, tips, p2):
             world = sub(scale(add(v_o, cross(omega, p1)), w1), scale(add(v_o, cross(omega, q2)), w2))
             for i in range(3):
                 J_c[3 * c + i, col] = tips[c, 0, i] * world[0] + tips[c, 1, i] * world[1] + tips[c, 2, i] * world[2]
-    return J_c
 
 
 @laws.jit
 def predict(t, Q, V, A, row, platforms, angles):
-    """The configuration at sample ``row`` predicted from the closed samples before it, its platforms' coordinates at ``angles``.
+    """Q[row], the configuration at sample ``row`` predicted from the closed samples before it, its platforms' coordinates at ``angles``.
 
     A third-order Taylor step from the last sample's q, v, a, with the jerk
     from the last two accelerations (second order after the first sample).
@@ -124,36 +127,35 @@ def predict(t, Q, V, A, row, platforms, angles):
 
     Args:
         t: sample times in [s], (rows,).
-        Q, V, A: configurations, velocities and accelerations of the closed samples, (rows, nv).
+        Q, V, A: configurations, velocities and accelerations of the closed samples, (rows, nv);
+            the prediction goes into Q[row].
         row: the sample to predict (≥ 1).
         platforms, angles: the platforms' coordinates and their values at ``row``.
     """
     h = t[row] - t[row - 1]
     if row == 1:
-        q = Q[0] + h * (V[0] + 0.5 * h * A[0])
+        Q[1] = Q[0] + h * (V[0] + 0.5 * h * A[0])
     else:
         jerk = (A[row - 1] - A[row - 2]) / (t[row - 1] - t[row - 2])
-        q = Q[row - 1] + h * (V[row - 1] + h * (0.5 * A[row - 1] + h / 6.0 * jerk))
+        Q[row] = Q[row - 1] + h * (V[row - 1] + h * (0.5 * A[row - 1] + h / 6.0 * jerk))
     for k in range(platforms.size):
-        q[platforms[k]] = angles[k]
-    return q
+        Q[row, platforms[k]] = angles[k]
 
 
 @laws.jit
-def chord_step(q, K_inv, d, platforms, angles):
-    """A Newton step on the closure gaps d = R₁ᵀ(p₂ − p₁) [m] with an earlier K⁻¹, and |d|² [m²].
+def chord_step(q, K_inv, d, platforms, angles, trial):
+    """``trial``, a Newton step from q on the closure gaps d = R₁ᵀ(p₂ − p₁) [m] with an earlier K⁻¹.
 
     The platforms' coordinates are kept at ``angles``: platform 1's rows of
     K⁻¹[:, 3:] vanish, platform 2's would move its coordinates by O(|d|²).
     """
-    trial = q + K_inv @ np.concatenate((np.zeros(3), d))
+    trial[:] = q + K_inv @ np.concatenate((np.zeros(3), d))
     for k in range(platforms.size):
         trial[platforms[k]] = angles[k]
-    return trial, d @ d
 
 
 @laws.jit
-def velocity(J_c, platform1, others, qd, platform2, tips, V, row, sliders, J_rates, k):
+def velocity(J_c, platform1, others, qd, platform2, tips, V, row, sliders, J_rates, k, K_inv):
     """K⁻¹ and the tree velocity v = V[row] at a closed configuration; J_rates[k], the sliders' rows of K⁻¹'s first three columns.
 
     K = [P₁; J_c] is inverted by blocks: with B = J_c's columns of the other
@@ -171,11 +173,12 @@ def velocity(J_c, platform1, others, qd, platform2, tips, V, row, sliders, J_rat
         V, row: where v goes, V[row] (nv,).
         sliders: the sliders' velocity indices, (3,).
         J_rates, k: where ∂L̇/∂q̇ goes, J_rates[k] (3, 3).
+        K_inv: out, K⁻¹ (nv, nv).
 
     Returns:
-        (status, K⁻¹): status :data:`OK`, :data:`SINGULAR` (K⁻¹ blows up)
-        or :data:`LEVER_DOWN` (a lever horizontal or pointing down); nothing
-        is written unless OK.
+        :data:`OK`, :data:`SINGULAR` (K⁻¹ blows up) or :data:`LEVER_DOWN`
+        (a lever horizontal or pointing down); V and J_rates are not written
+        unless OK.
     """
     nv = J_c.shape[1]
     B, C = np.empty((nv - 3, nv - 3)), np.empty((nv - 3, 3))
@@ -186,7 +189,7 @@ def velocity(J_c, platform1, others, qd, platform2, tips, V, row, sliders, J_rat
             C[i, j] = J_c[i, platform1[j]]
     B_inv = np.linalg.inv(B)
     B_inv_C = B_inv @ C
-    K_inv = np.zeros((nv, nv))
+    K_inv[:] = 0.0
     for j in range(3):
         K_inv[platform1[j], j] = 1.0
     for i in range(nv - 3):
@@ -195,16 +198,16 @@ def velocity(J_c, platform1, others, qd, platform2, tips, V, row, sliders, J_rat
         for j in range(nv - 3):
             K_inv[others[i], 3 + j] = B_inv[i, j]
     if not np.abs(B_inv).max() < _SINGULAR_ENTRY or not np.abs(B_inv_C).max() < _SINGULAR_ENTRY:
-        return SINGULAR, K_inv
+        return SINGULAR
     for c in range(tips.shape[0]):
         if tips[c, 2, 2] <= _LEVER_DOWN_Z:
-            return LEVER_DOWN, K_inv
+            return LEVER_DOWN
     V[row] = K_inv @ np.concatenate((qd, np.zeros(nv - 3)))
     for i in range(3):
         V[row, platform2[i]] = qd[i]
         for j in range(3):
             J_rates[k, i, j] = K_inv[sliders[i], j]
-    return OK, K_inv
+    return OK
 
 
 @laws.jit

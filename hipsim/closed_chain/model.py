@@ -412,10 +412,11 @@ class _Workspace:
         self.J, self.dJ = self.data.J, self.data.dJ
         self.tips = np.empty((n, 4, 4))  # frame 1's world placement per closure, at the last place()
         self.p2 = np.empty((n, 3))  # frame 2's world origin per closure [m], at the last place()
-        self.gaps = np.empty(3 * n)
+        self.gaps = np.empty(3 * n)  # the closure gaps [m] at the last place()
+        self.J_c = np.empty((3 * n, nv))
 
-    def place(self, q: np.ndarray, jacobians: bool = True) -> None:
-        """Forward kinematics, joint Jacobians (unless not asked for) and the closures' frames and gaps at q."""
+    def place(self, q: np.ndarray, jacobians: bool = True) -> float:
+        """Forward kinematics, joint Jacobians (unless not asked for) and the closures' frames and gaps at q; returns |gaps|² [m²]."""
         if jacobians:
             pin.computeJointJacobians(self.model, self.data, q)
         else:
@@ -424,10 +425,10 @@ class _Workspace:
             rotations, origins = _joint_placement_copies(self.data)
         else:
             rotations, origins = self.joint_rotations, self.joint_origins
-        self.gaps = closure_kernel.closure_frames(rotations, origins, self.closure_joints, self.closure_placements, self.tips, self.p2)
+        return closure_kernel.closure_frames(rotations, origins, self.closure_joints, self.closure_placements, self.tips, self.p2, self.gaps)
 
     def residual(self) -> np.ndarray:
-        """The closure gaps d = R₁ᵀ(p₂ − p₁) of every closure, stacked, in [m] (after :meth:`place`).
+        """The closure gaps d = R₁ᵀ(p₂ − p₁) of every closure, stacked, in [m] (after :meth:`place`; overwritten by the next).
 
         Pinocchio's relative placement c1Mc2's translation, whose derivative is
         −J_c (J_c differentiates p₁ − p₂): a Newton step on the gaps is q + K⁻¹·[0; d].
@@ -435,8 +436,9 @@ class _Workspace:
         return self.gaps
 
     def jacobian(self) -> np.ndarray:
-        """The stacked closure Jacobian J_c (after :meth:`place` with the Jacobians)."""
-        return closure_kernel.closure_jacobian(self.J, self.support_masks, self.tips, self.p2)
+        """The stacked closure Jacobian J_c (after :meth:`place` with the Jacobians; overwritten by the next call)."""
+        closure_kernel.closure_jacobian(self.J, self.support_masks, self.tips, self.p2, self.J_c)
+        return self.J_c
 
     def tip_frames(self) -> np.ndarray:
         """Frame 1's homogeneous placement of every closure (its axes and origin in the world), (n, 4, 4) (after :meth:`place`; overwritten by the next)."""
@@ -646,62 +648,57 @@ class _Closer:
         self.platform1 = self.layout.platform_v[0]
         self.others = np.setdiff1d(np.arange(nv), self.platform1)
         self.K_inv = None  # inverse of K at the last closed sample: the chord method's Jacobian
+        self._K_inv = np.empty((nv, nv))  # where the next K⁻¹ is computed, then swapped with K_inv
         self.evaluations = 0
 
-    def _evaluate(self, q: np.ndarray, jacobians: bool = True) -> np.ndarray:
-        """The closure gaps at q [m] (:meth:`_Workspace.residual`), its placements (and Jacobians) left in the workspace."""
+    def _evaluate(self, q: np.ndarray, jacobians: bool = True) -> float:
+        """|gaps|² at q [m²]; q's placements, gaps (and Jacobians) are left in the workspace."""
         self.evaluations += 1
-        self.ws.place(q, jacobians)
-        return self.ws.residual()
+        return self.ws.place(q, jacobians)
 
-    def close(self, q: np.ndarray, angles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Move q's leg coordinates until every closure holds; returns q and its residual vector.
+    def close(self, q: np.ndarray, angles: np.ndarray) -> np.ndarray:
+        """Move q's leg coordinates until every closure holds; returns the closed q.
 
         q: a configuration whose platform coordinates are ``angles`` already
         (both platforms', in ``platform_v.ravel()`` order). On return the
-        workspace holds q's placements and Jacobians. Raises ClosureError
-        (with the gap left) if the loops cannot be closed.
+        workspace holds the closed q's placements, Jacobians and gaps. Raises
+        ClosureError (with the gap left) if the loops cannot be closed.
         """
         if self.K_inv is None:
-            e = self._evaluate(q)
-            return (q, e) if e @ e <= self.tol2 else self._levenberg_marquardt(q, e)
+            size = self._evaluate(q)
+            return q if size <= self.tol2 else self._levenberg_marquardt(q, size)
         # A prediction is seldom closed already: its Jacobians would go unused.
-        e = self._evaluate(q, jacobians=False)
+        size = self._evaluate(q, jacobians=False)
         # Chord steps: Newton with the previous sample's K⁻¹, while it contracts well.
         for step in range(6):
-            trial, size = closure_kernel.chord_step(q, self.K_inv, e, self.platforms, angles)
             if size <= self.tol2:
                 if step == 0:
                     pin.computeJointJacobians(self.ws.model, self.ws.data, q)
-                return q, e
-            e_trial = self._evaluate(trial)
-            size_trial = e_trial @ e_trial
+                return q
+            trial = np.empty_like(q)
+            closure_kernel.chord_step(q, self.K_inv, self.ws.gaps, self.platforms, angles, trial)
+            size_trial = self._evaluate(trial)
             if size_trial > 0.01 * size:  # the gap must shrink tenfold per step, else fresh Jacobians
-                self._evaluate(q)
-                return self._levenberg_marquardt(q, e)
-            q, e = trial, e_trial
-            if size_trial <= self.tol2:
-                return q, e
-        return self._levenberg_marquardt(q, e)
+                return self._levenberg_marquardt(q, self._evaluate(q))
+            q, size = trial, size_trial
+        return self._levenberg_marquardt(q, size)
 
-    def _levenberg_marquardt(self, q: np.ndarray, e: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Damped Gauss–Newton on the 15 leg coordinates with fresh Jacobians."""
+    def _levenberg_marquardt(self, q: np.ndarray, cost: float) -> np.ndarray:
+        """Damped Gauss–Newton on the 15 leg coordinates with fresh Jacobians, from q whose gaps (|gaps|² = cost) the workspace holds."""
         legs = self.layout.leg_v
         damping = 1e-6
-        cost = e @ e
         for iteration in range(self.max_iter):
             if cost <= self.tol2:
-                return q, e
+                return q
             J = self.ws.jacobian()[:, legs]
-            H, g = J.T @ J, J.T @ e
+            H, g = J.T @ J, J.T @ self.ws.gaps
             while True:
                 step = np.linalg.solve(H + damping * np.eye(len(legs)), g)
                 trial = q.copy()
                 trial[legs] += step  # d(q + δ) ≈ d − J_c·δ: the gaps fall along −J_c
-                e_trial = self._evaluate(trial)
-                cost_trial = e_trial @ e_trial
+                cost_trial = self._evaluate(trial)
                 if cost_trial < cost:
-                    q, e, cost = trial, e_trial, cost_trial
+                    q, cost = trial, cost_trial
                     damping = max(damping / 4.0, 1e-12)
                     break
                 damping *= 8.0
@@ -711,7 +708,7 @@ class _Closer:
                         "(the pose is out of the levers' reach)", math.sqrt(cost), iteration + 1,
                     )
         if cost <= self.tol2:
-            return q, e
+            return q
         raise ClosureError(f"cannot close the loops in {self.max_iter} iterations (gap {math.sqrt(cost):.3g} m)", math.sqrt(cost), self.max_iter)
 
     def rates(self, q, qd, qdd, e, V, A, row: int, J_rates, k: int) -> None:
@@ -721,15 +718,16 @@ class _Closer:
         and accelerations [rad/s²]. Also keeps K⁻¹ (the next sample's chord
         Jacobian).
         """
-        ws, platform2 = self.ws, self.layout.platform_v[1]
+        ws, platform2, K_inv = self.ws, self.layout.platform_v[1], self._K_inv
         tips = ws.tip_frames()
-        status, K_inv = closure_kernel.velocity(ws.jacobian(), self.platform1, self.others, qd, platform2, tips, V, row, self.layout.slider_v, J_rates, k)
+        status = closure_kernel.velocity(ws.jacobian(), self.platform1, self.others, qd, platform2, tips, V, row, self.layout.slider_v, J_rates, k, K_inv)
         if status == closure_kernel.SINGULAR:
             raise ClosureError("singular pose: the closure Jacobian loses rank (spec §3)")
         if status == closure_kernel.LEVER_DOWN:
             raise ClosureError("a lever is horizontal or points down (singular pose, spec §3)")
         pin.computeJointJacobiansTimeVariation(ws.model, ws.data, q, V[row])
         closure_kernel.acceleration(K_inv, ws.J, ws.dJ, V, A, row, ws.support_masks, tips, e, qdd, platform2)
+        self._K_inv = self.K_inv if self.K_inv is not None else np.empty_like(K_inv)
         self.K_inv = K_inv
 
 
@@ -800,20 +798,21 @@ def _close_chain(
     Q, V, A = np.empty((before + n, nq)), np.empty((before + n, nv)), np.empty((before + n, nv))
     if go_on:
         Q[:before], V[:before], A[:before] = go_on.q, go_on.v, go_on.a
-        closer.K_inv = go_on.K_inv
+        closer.K_inv = go_on.K_inv.copy()
     # The closer leaves Pinocchio's data at the closed q: the dynamics reuse its Jacobians.
     dynamics = _InverseDynamics(chain, Q[before:], V[before:], A[before:], Fe, parts) if Fe is not None else None
     platforms = closer.platforms
     for k in range(n):
         row = before + k  # this sample's row in Q, V, A and T, after the previous piece's last samples
         if row:
-            q = closure_kernel.predict(T, Q, V, A, row, platforms, both[k])
+            closure_kernel.predict(T, Q, V, A, row, platforms, both[k])
         else:
-            q = layout.initial_guess.copy()
-            q[platforms] = both[k]
+            Q[0] = layout.initial_guess
+            Q[0, platforms] = both[k]
         evaluations = closer.evaluations
         try:
-            q, gaps[k] = closer.close(q, both[k])
+            q = closer.close(Q[row], both[k])
+            gaps[k] = closer.ws.gaps
             closer.rates(q, rates[k], accels[k], gaps[k], V, A, row, J_rates, k)
         except (ClosureError, np.linalg.LinAlgError) as error:
             raise PoseError(str(error), float(t[k]), k, source=getattr(traj, "name", None)) from None
@@ -826,7 +825,7 @@ def _close_chain(
         last = slice(max(0, before + n - 2), before + n)
         continuation.samples += n
         continuation.t, continuation.q, continuation.v, continuation.a = T[last].copy(), Q[last].copy(), V[last].copy(), A[last].copy()
-        continuation.K_inv = closer.K_inv
+        continuation.K_inv = closer.K_inv.copy()
     Q, V, A = Q[before:], V[before:], A[before:]
     sliders = layout.slider_v
     offset = np.stack([np.zeros(3), layout.slider_offset])[None]
@@ -1187,10 +1186,11 @@ def inverse_dynamics(chain: ClosedChainModel, kin: ClosedKinematics, Fe, *, part
     ws = _Workspace(chain)
     platform1, others = layout.platform_v[0], np.setdiff1d(np.arange(chain.model.nv), layout.platform_v[0])
     v, J_rates = np.empty((1, chain.model.nv)), np.empty((1, 3, 3))  # velocity's by-products, unused here
+    K_inv = np.empty((chain.model.nv, chain.model.nv))
     for k, q in enumerate(kin.q):
         ws.place(q)
         tips = ws.tip_frames()
-        status, K_inv = closure_kernel.velocity(ws.jacobian(), platform1, others, kin.angle_rates[k], layout.platform_v[1], tips, v, 0, layout.slider_v, J_rates, 0)
+        status = closure_kernel.velocity(ws.jacobian(), platform1, others, kin.angle_rates[k], layout.platform_v[1], tips, v, 0, layout.slider_v, J_rates, 0, K_inv)
         if status != closure_kernel.OK:
             raise PoseError("singular pose: the closure Jacobian loses rank (spec §3)", float(kin.t[k]), k)
         dynamics.add(k, ws, K_inv)
