@@ -1,17 +1,19 @@
 """The arithmetic between Pinocchio's calls in the closure solver, compiled with numba.
 
-Why this module exists. Closing the chain at one sample takes a handful of
-Pinocchio calls (joint Jacobians, the closures' placements, the stacked
-closure Jacobian, the Jacobians' time variation), each a microsecond or two.
-Around them the solver did some thirty NumPy operations on 21-vectors and a
-21×21 inverse, each costing a microsecond of Python overhead for a few
-hundred floating-point operations: together more than the Pinocchio calls.
-Here that arithmetic runs compiled, a few calls per sample, so that what is
-left of a sample's time is Pinocchio's.
+Why this module exists. Closing the chain at one sample takes three
+Pinocchio calls (forward kinematics, joint Jacobians, their time variation),
+each a microsecond or two. Around them the solver did some thirty NumPy
+operations on 21-vectors and a 21×21 inverse, and read the closures'
+placements and Jacobian back property by property, each costing a
+microsecond of Python overhead for a few hundred floating-point operations:
+together more than the Pinocchio calls. Here that arithmetic runs compiled,
+a few calls per sample, on views of Pinocchio's Data, so that what is left of
+a sample's time is mostly Pinocchio's.
 
-Nothing here knows the machine's geometry: every position, rotation and
-Jacobian comes from Pinocchio (:mod:`hipsim.closed_chain.model` calls it);
-these functions only combine them. The closure velocities and accelerations
+Nothing here knows the machine's geometry: every joint placement and
+Jacobian comes from Pinocchio (:mod:`hipsim.closed_chain.model` calls it),
+every closure frame's placement in its joint from the closure file; these
+functions only combine them. The closure velocities and accelerations
 solve
 
     K v = [q̇; 0],    K a = [q̈; −J̇_c v],    K = [P₁; J_c]

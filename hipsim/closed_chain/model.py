@@ -36,17 +36,20 @@ actuator forces of Sᵀ F + J_cᵀ λ = τ from the K⁻¹ the kinematics comput
 The parts therefore add up to the total to rounding.
 :func:`trajectory_dynamics` does both in one pass, reusing the Jacobians.
 
-Speed. A sample's work is a handful of Pinocchio calls: forward kinematics at
-the prediction and the joint Jacobians at the corrected configuration, each
-with the six closures' placements read back, the stacked closure Jacobian,
-the Jacobians' time variation. What lies between them (the predictor, the
-chord step, K⁻¹, the drift) runs compiled (:mod:`~hipsim.closed_chain.closure_kernel`),
-and the tree's torques are computed for a whole chunk of samples at once by
-``pin.rneaInParallel`` (one thread). Measured on the development machine
-(2 cores, idle), ISO cycle at 1 kHz: ~31 µs a sample with or without parts;
-the Pinocchio calls and the read-back of their results alone take ~14 µs,
-K⁻¹ (LAPACK, an 18×18 block) ~3 µs, the batched RNEA ~2.5 µs, the Python
-loop around them most of the rest (see ``scripts/bench.py --only servo``).
+Speed. A sample's work is three Pinocchio calls: forward kinematics at the
+prediction, the joint Jacobians at the corrected configuration and their time
+variation. Their results are read through NumPy views that Pinocchio keeps
+current in its Data (``data.oMi``, ``data.J``, ``data.dJ``; see
+:class:`_Workspace`), not through per-closure property reads, which cost a
+Python call and a copy each; the closures' frames, gaps and Jacobian, the
+predictor, the chord step, K⁻¹ and the drift are compiled arithmetic on them
+(:mod:`~hipsim.closed_chain.closure_kernel`), writing into arrays the solver
+keeps. Pinocchio's own ``RigidConstraintModel.calc`` and
+``getConstraintsJacobian`` serve the public helpers below and the tests that
+hold the compiled route equal to them. The tree's torques are computed for a
+whole chunk of samples at once by ``pin.rneaInParallel`` (one thread).
+``scripts/bench.py --only servo`` times a sample next to its floor, the three
+Pinocchio calls alone; the README's Speed section has the figures.
 
 Sign conventions: J_c is the derivative of R₁ᵀ(p₁ − p₂) with frame 1 the lever
 tip and frame 2 the platform joint; λ_ji is the force the platform exerts on
