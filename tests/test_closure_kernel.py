@@ -17,7 +17,16 @@ import pytest
 
 from hipsim import load_parameters
 from hipsim.closed_chain import closure_kernel
-from hipsim.closed_chain.model import _BatchedRNEA, _group_trees, _Workspace, constraint_jacobian, kinematics, load_model
+from hipsim.closed_chain.model import (
+    _BatchedRNEA,
+    _block_triangular_order,
+    _group_trees,
+    _k_order,
+    _Workspace,
+    constraint_jacobian,
+    kinematics,
+    load_model,
+)
 
 DEG = math.pi / 180.0
 
@@ -38,19 +47,22 @@ def closed():
     return SimpleNamespace(chain=chain, kin=kin, ws=_Workspace(chain), layout=chain.layout)
 
 
-def _others(closed):
-    """The velocity indices other than platform 1's."""
-    return np.setdiff1d(np.arange(closed.chain.model.nv), closed.layout.platform_v[0])
+def _order(closed, blocks: bool = True):
+    """B's rows, columns and block starts for closure_kernel.velocity: the solver's block order, or one block in the plain order."""
+    if blocks:
+        return _k_order(closed.ws, closed.layout.platform_v[0])
+    others = np.setdiff1d(np.arange(closed.chain.model.nv), closed.layout.platform_v[0])
+    return np.arange(len(others)), others, np.array([0, len(others)])
 
 
-def _velocity(closed, k):
+def _velocity(closed, k, blocks: bool = True):
     """K⁻¹ at sample k of the closed motion, through closure_kernel.velocity, and the tips it read."""
     ws, layout, nv = closed.ws, closed.layout, closed.chain.model.nv
     ws.place(closed.kin.q[k])
     tips = ws.tip_frames()
     V, J_rates, K_inv = np.empty((1, nv)), np.empty((1, 3, 3)), np.empty((nv, nv))
     status = closure_kernel.velocity(
-        ws.jacobian(), layout.platform_v[0], _others(closed), closed.kin.angle_rates[k], layout.platform_v[1], tips, V, 0, layout.slider_v, J_rates, 0, K_inv
+        ws.jacobian(), layout.platform_v[0], *_order(closed, blocks), closed.kin.angle_rates[k], layout.platform_v[1], tips, V, 0, layout.slider_v, J_rates, 0, K_inv
     )
     assert status == closure_kernel.OK
     return K_inv, tips, V[0], J_rates[0]
@@ -96,6 +108,51 @@ def test_placement_views_follow_pinocchio_and_the_copying_route_agrees(closed):
             np.testing.assert_array_equal(ws.joint_origins[j], ws.data.oMi[j].translation)
         np.testing.assert_array_equal(ws.residual(), copying.residual())
         np.testing.assert_array_equal(ws.tip_frames(), copying.tip_frames())
+
+
+def test_block_lower_inverse_inverts_by_blocks():
+    """A random block lower triangular matrix (blocks 1, 3, 2, 4) inverted by blocks equals LAPACK's inverse of the whole."""
+    rng = np.random.default_rng(5)
+    starts = np.array([0, 1, 4, 6, 10])
+    M = rng.normal(size=(10, 10)) + 4 * np.eye(10)
+    for b in range(len(starts) - 1):
+        M[starts[b] : starts[b + 1], starts[b + 1] :] = 0.0
+    np.testing.assert_allclose(closure_kernel.block_lower_inverse(M, starts), np.linalg.inv(M), rtol=0, atol=1e-14)
+    np.testing.assert_allclose(closure_kernel.block_lower_inverse(M, np.array([0, 10])), np.linalg.inv(M), rtol=0, atol=1e-14)
+
+
+def test_block_triangular_order_finds_the_blocks():
+    """A scrambled block lower triangular pattern is put back in block form; a structurally singular one stays one block; the hip's B splits 3, 3, 3, 9."""
+    rng = np.random.default_rng(8)
+    sizes = [2, 3, 1, 2]
+    starts = np.cumsum([0] + sizes)
+    pattern = np.zeros((8, 8), bool)
+    for b in range(len(sizes)):
+        pattern[starts[b] : starts[b + 1], : starts[b + 1]] = rng.random((sizes[b], starts[b + 1])) < 0.6
+        pattern[starts[b] : starts[b + 1], starts[b] : starts[b + 1]] = True  # each block irreducible
+    row_mix, column_mix = rng.permutation(8), rng.permutation(8)
+    rows, columns, found = _block_triangular_order(pattern[row_mix][:, column_mix])
+    ordered = pattern[row_mix][:, column_mix][rows][:, columns]
+    for b in range(len(found) - 1):
+        assert not ordered[found[b] : found[b + 1], found[b + 1] :].any()
+    assert np.sort(np.diff(found)).tolist() == sorted(sizes)
+    singular = np.ones((3, 3), bool)
+    singular[:, 0] = False
+    assert _block_triangular_order(singular)[2].tolist() == [0, 3]
+
+
+def test_hip_closure_jacobian_splits_into_blocks(closed):
+    """The solver's order of B: blocks 3, 3, 3, 9 on the hip, zero above them at a real configuration, and K⁻¹ as the plain 18×18 inverse gives it."""
+    rows, columns, starts = _k_order(closed.ws, closed.layout.platform_v[0])
+    assert np.diff(starts).tolist() == [3, 3, 3, 9]
+    closed.ws.place(closed.kin.q[7])
+    B = closed.ws.jacobian()[rows][:, columns]
+    for b in range(len(starts) - 1):
+        assert not B[starts[b] : starts[b + 1], starts[b + 1] :].any()
+    for k in (7, 30):
+        by_blocks, plain = _velocity(closed, k), _velocity(closed, k, blocks=False)
+        for a, b in zip(by_blocks, plain):
+            np.testing.assert_allclose(a, b, rtol=0, atol=1e-13 * np.abs(b).max())
 
 
 @pytest.mark.parametrize("k", [0, 13, 29])
@@ -226,7 +283,7 @@ def test_velocity_reports_a_singular_closure(closed):
     Jc = ws.jacobian().copy()
     Jc[5] = Jc[4] * (1 + 1e-15)  # two rows equal but for round-off
     V, J_rates, K_inv = np.zeros((1, nv)), np.zeros((1, 3, 3)), np.empty((nv, nv))
-    arguments = (layout.platform_v[0], _others(closed), np.ones(3), layout.platform_v[1])
+    arguments = (layout.platform_v[0], *_order(closed), np.ones(3), layout.platform_v[1])
     try:
         status = closure_kernel.velocity(Jc, *arguments, ws.tip_frames(), V, 0, layout.slider_v, J_rates, 0, K_inv)
     except np.linalg.LinAlgError:

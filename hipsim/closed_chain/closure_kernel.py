@@ -34,7 +34,7 @@ from ..analytic import laws
 from ..analytic.vectors import add, cross, dot, matvec, scale, sub, transpose_times
 
 __all__ = [
-    "OK", "LEVER_DOWN", "SINGULAR", "acceleration", "actuator_and_closure_forces", "chord_step", "closure_frames",
+    "OK", "LEVER_DOWN", "SINGULAR", "acceleration", "actuator_and_closure_forces", "block_lower_inverse", "chord_step", "closure_frames",
     "closure_jacobian", "predict", "store", "velocity",
 ]  # fmt: skip
 
@@ -157,18 +157,20 @@ def chord_step(q, K_inv, d, platforms, angles, trial):
 
 
 @laws.jit
-def velocity(J_c, platform1, others, qd, platform2, tips, V, row, sliders, J_rates, k, K_inv):
+def velocity(J_c, platform1, rows, columns, starts, qd, platform2, tips, V, row, sliders, J_rates, k, K_inv):
     """K⁻¹ and the tree velocity v = V[row] at a closed configuration; J_rates[k], the sliders' rows of K⁻¹'s first three columns.
 
     K = [P₁; J_c] is inverted by blocks: with B = J_c's columns of the other
     coordinates and C its columns of platform 1's, K x = [y₁; y₂] gives
-    x[platform 1] = y₁ and x[others] = B⁻¹(y₂ − C y₁). One 18×18 inverse
-    instead of a 21×21 one.
+    x[platform 1] = y₁ and x[others] = B⁻¹(y₂ − C y₁). B's rows and columns
+    are taken in an order that makes it block lower triangular (see
+    :func:`block_lower_inverse`; a single block is a plain inverse).
 
     Args:
         J_c: the closure Jacobian, (3·n_closures, nv).
         platform1: platform 1's velocity indices, (3,), the coordinates P₁ selects.
-        others: the other velocity indices, (nv − 3,), ascending.
+        rows, columns: B's rows (rows of J_c) and columns (velocity indices, the others than platform 1's), in block order, (nv − 3,) each.
+        starts: where each diagonal block of the reordered B starts, and its size at the end, (blocks + 1,).
         qd: platform angle rates [rad/s], (3,).
         platform2: platform 2's velocity indices, (3,): set to q̇ exactly.
         tips: the lever-tip frames' homogeneous placements (n_closures, 4, 4).
@@ -182,34 +184,81 @@ def velocity(J_c, platform1, others, qd, platform2, tips, V, row, sliders, J_rat
         (a lever horizontal or pointing down); V and J_rates are not written
         unless OK.
     """
-    nv = J_c.shape[1]
-    B, C = np.empty((nv - 3, nv - 3)), np.empty((nv - 3, 3))
-    for i in range(nv - 3):
-        for j in range(nv - 3):
-            B[i, j] = J_c[i, others[j]]
+    nv, n = J_c.shape[1], rows.size
+    M, C = np.empty((n, n)), np.empty((n, 3))
+    for i in range(n):
+        for j in range(n):
+            M[i, j] = J_c[rows[i], columns[j]]
         for j in range(3):
-            C[i, j] = J_c[i, platform1[j]]
-    B_inv = np.linalg.inv(B)
-    B_inv_C = B_inv @ C
+            C[i, j] = J_c[rows[i], platform1[j]]
+    M_inv = block_lower_inverse(M, starts)
     K_inv[:] = 0.0
     for j in range(3):
         K_inv[platform1[j], j] = 1.0
-    for i in range(nv - 3):
+    largest = 0.0
+    for i in range(n):
         for j in range(3):
-            K_inv[others[i], j] = -B_inv_C[i, j]
-        for j in range(nv - 3):
-            K_inv[others[i], 3 + j] = B_inv[i, j]
-    if not np.abs(B_inv).max() < _SINGULAR_ENTRY or not np.abs(B_inv_C).max() < _SINGULAR_ENTRY:
+            total = 0.0
+            for m in range(n):
+                total += M_inv[i, m] * C[m, j]
+            K_inv[columns[i], j] = -total
+            largest = max(largest, abs(total))
+        for j in range(n):
+            K_inv[columns[i], 3 + rows[j]] = M_inv[i, j]
+            largest = max(largest, abs(M_inv[i, j]))
+    if not largest < _SINGULAR_ENTRY:
         return SINGULAR
     for c in range(tips.shape[0]):
         if tips[c, 2, 2] <= _LEVER_DOWN_Z:
             return LEVER_DOWN
-    V[row] = K_inv @ np.concatenate((qd, np.zeros(nv - 3)))
+    for i in range(nv):
+        V[row, i] = K_inv[i, 0] * qd[0] + K_inv[i, 1] * qd[1] + K_inv[i, 2] * qd[2]
     for i in range(3):
         V[row, platform2[i]] = qd[i]
         for j in range(3):
             J_rates[k, i, j] = K_inv[sliders[i], j]
     return OK
+
+
+@laws.jit
+def block_lower_inverse(M, starts):
+    """The inverse of a block lower triangular matrix, block row by block row.
+
+    With D_b the diagonal blocks, X = M⁻¹ is block lower triangular too:
+    X_bb = D_b⁻¹ and, for the columns before block b, X_b,<b = −D_b⁻¹ M_b,<b X_<b,<b.
+    A few small inverses instead of one large one (the hip's B: three 3×3
+    blocks and a 9×9, against 18×18), and no pivoting across blocks is
+    needed: det M is the product of the blocks' determinants. A 3×3 block is
+    inverted in closed form: LAPACK's inverse costs ~2 µs a call whatever the size.
+
+    Args:
+        M: the matrix, (n, n), zero above its diagonal blocks.
+        starts: where each diagonal block starts, and n at the end, (blocks + 1,).
+
+    Raises:
+        numpy.linalg.LinAlgError: a diagonal block is exactly singular.
+    """
+    n = M.shape[0]
+    X = np.zeros((n, n))
+    for b in range(starts.size - 1):
+        s, e = starts[b], starts[b + 1]
+        D_inv = _inverse_3x3(M[s:e, s:e]) if e - s == 3 else np.linalg.inv(np.ascontiguousarray(M[s:e, s:e]))
+        X[s:e, s:e] = D_inv
+        if s:
+            T = np.zeros((e - s, s))  # M_b,<b X_<b,<b
+            for i in range(e - s):
+                for j in range(s):
+                    total = 0.0
+                    for m in range(s):
+                        total += M[s + i, m] * X[m, j]
+                    T[i, j] = total
+            for i in range(e - s):
+                for j in range(s):
+                    total = 0.0
+                    for m in range(e - s):
+                        total += D_inv[i, m] * T[m, j]
+                    X[s + i, j] = -total
+    return X
 
 
 @laws.jit
@@ -304,6 +353,21 @@ def actuator_and_closure_forces(K_invs, tau, actuated, F, lambdas):
             for k in range(nv):
                 total += K_inv[k, 3 + c] * rest[k]
             lambdas[s, c] = total
+
+
+@laws.jit
+def _inverse_3x3(D):
+    """D⁻¹ of a 3×3 matrix from its cofactors (adjugate over determinant); singular D raises LinAlgError as LAPACK would."""
+    rows = ((D[0, 0], D[0, 1], D[0, 2]), (D[1, 0], D[1, 1], D[1, 2]), (D[2, 0], D[2, 1], D[2, 2]))
+    # The inverse's columns are the cross products of D's rows over det D.
+    c0, c1, c2 = cross(rows[1], rows[2]), cross(rows[2], rows[0]), cross(rows[0], rows[1])
+    det = dot(rows[0], c0)
+    if det == 0.0:
+        raise np.linalg.LinAlgError("Matrix is singular to machine precision.")
+    out = np.empty((3, 3))
+    for i in range(3):
+        out[i, 0], out[i, 1], out[i, 2] = c0[i] / det, c1[i] / det, c2[i] / det
+    return out
 
 
 @laws.jit

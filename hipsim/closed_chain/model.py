@@ -496,6 +496,53 @@ def _joint_placement_views(model, data) -> tuple[np.ndarray | None, np.ndarray |
     return rotations, origins
 
 
+def _block_triangular_order(pattern: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Row and column orders that make square matrices of this sparsity block lower triangular, and where the blocks start.
+
+    The block triangular form of Dulmage and Mendelsohn: a perfect matching of
+    rows to columns (a diagonal without structural zeros), then the strongly
+    connected components of the graph "row i involves the column matched to
+    row k", in an order where each comes after those it involves.
+
+    Args:
+        pattern: (n, n) booleans, True where the matrices may be nonzero.
+
+    Returns:
+        rows, columns: the orders, (n,) each; starts: each block's first index and n at the end.
+        One block (the original order) where no perfect matching exists.
+    """
+    from scipy.sparse import csr_matrix
+    from scipy.sparse.csgraph import connected_components, maximum_bipartite_matching
+
+    n = len(pattern)
+    match = maximum_bipartite_matching(csr_matrix(pattern), perm_type="column")  # the column matched to each row
+    if (match < 0).any():
+        return np.arange(n), np.arange(n), np.array([0, n])
+    involves = pattern[:, match]
+    count, component = connected_components(csr_matrix(involves), directed=True, connection="strong")
+    needs = [set(component[involves[component == c].any(axis=0)]) - {c} for c in range(count)]
+    order: list[int] = []
+    while len(order) < count:  # the components' graph has no cycles: each pass places at least one
+        order += [c for c in range(count) if c not in order and needs[c] <= set(order)]
+    rows = np.concatenate([np.flatnonzero(component == c) for c in order])
+    starts = np.cumsum([0] + [int(np.sum(component == c)) for c in order])
+    return rows, match[rows], starts
+
+
+def _k_order(ws: _Workspace, platform1: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The block order of K's block B for :func:`closure_kernel.velocity`: J_c's rows, the velocity indices of B's columns, the blocks' starts.
+
+    Closure c's three rows of J_c can only be nonzero in the columns of the
+    joints that support its two frames (``support_masks``). For the hip the
+    blocks are each platform-1 lever's slider and universal joint (3×3, three
+    of them), then platform 2's levers and spherical joint together (9×9).
+    """
+    others = np.setdiff1d(np.arange(ws.model.nv), platform1)
+    reach = ws.support_masks[0::2] + ws.support_masks[1::2] > 0  # (closures, nv)
+    rows, columns, starts = _block_triangular_order(np.repeat(reach[:, others], 3, axis=0))
+    return rows, others[columns], starts
+
+
 def _configurations(chain: ClosedChainModel, q) -> tuple[np.ndarray, bool]:
     q = np.asarray(q, dtype=float)
     single = q.ndim == 1
@@ -649,7 +696,7 @@ class _Closer:
         self.platforms = self.layout.platform_v.ravel()
         # K = [P₁; J_c]'s selection P₁: platform 1's coordinates, and the others.
         self.platform1 = self.layout.platform_v[0]
-        self.others = np.setdiff1d(np.arange(nv), self.platform1)
+        self.order = _k_order(self.ws, self.platform1)
         self.K_inv = None  # inverse of K at the last closed sample: the chord method's Jacobian
         self._K_inv = np.empty((nv, nv))  # where the next K⁻¹ is computed, then swapped with K_inv
         self.evaluations = 0
@@ -723,7 +770,7 @@ class _Closer:
         """
         ws, platform2, K_inv = self.ws, self.layout.platform_v[1], self._K_inv
         tips = ws.tip_frames()
-        status = closure_kernel.velocity(ws.jacobian(), self.platform1, self.others, qd, platform2, tips, V, row, self.layout.slider_v, J_rates, k, K_inv)
+        status = closure_kernel.velocity(ws.jacobian(), self.platform1, *self.order, qd, platform2, tips, V, row, self.layout.slider_v, J_rates, k, K_inv)
         if status == closure_kernel.SINGULAR:
             raise ClosureError("singular pose: the closure Jacobian loses rank (spec §3)")
         if status == closure_kernel.LEVER_DOWN:
@@ -1187,13 +1234,14 @@ def inverse_dynamics(chain: ClosedChainModel, kin: ClosedKinematics, Fe, *, part
     layout = _require_layout(chain)
     dynamics = _InverseDynamics(chain, kin.q, kin.v, kin.a, Fe, parts)
     ws = _Workspace(chain)
-    platform1, others = layout.platform_v[0], np.setdiff1d(np.arange(chain.model.nv), layout.platform_v[0])
+    platform1 = layout.platform_v[0]
+    order = _k_order(ws, platform1)
     v, J_rates = np.empty((1, chain.model.nv)), np.empty((1, 3, 3))  # velocity's by-products, unused here
     K_inv = np.empty((chain.model.nv, chain.model.nv))
     for k, q in enumerate(kin.q):
         ws.place(q)
         tips = ws.tip_frames()
-        status = closure_kernel.velocity(ws.jacobian(), platform1, others, kin.angle_rates[k], layout.platform_v[1], tips, v, 0, layout.slider_v, J_rates, 0, K_inv)
+        status = closure_kernel.velocity(ws.jacobian(), platform1, *order, kin.angle_rates[k], layout.platform_v[1], tips, v, 0, layout.slider_v, J_rates, 0, K_inv)
         if status != closure_kernel.OK:
             raise PoseError("singular pose: the closure Jacobian loses rank (spec §3)", float(kin.t[k]), k)
         dynamics.add(k, ws, K_inv)
