@@ -111,7 +111,7 @@ def closure_jacobian(J, masks, tips, p2, J_c):
             if w1 == 0.0 and w2 == 0.0:
                 continue
             v_o, omega = (J[0, col], J[1, col], J[2, col]), (J[3, col], J[4, col], J[5, col])
-            world = sub(scale(add(v_o, cross(omega, p1)), w1), scale(add(v_o, cross(omega, q2)), w2))
+            world = sub(scale(_point_velocity(v_o, omega, p1), w1), scale(_point_velocity(v_o, omega, q2), w2))
             for i in range(3):
                 J_c[3 * c + i, col] = tips[c, 0, i] * world[0] + tips[c, 1, i] * world[1] + tips[c, 2, i] * world[2]
 
@@ -300,12 +300,20 @@ def acceleration(K_inv, J, dJ, V, A, row, masks, tips, d, qdd, platform2):
 
 
 @laws.jit
+def _point_velocity(v_o, omega, p):
+    """ṗ = v_o + ω × p of the point at p [m] on a body moving at (v_o, ω) (world origin).
+
+    Given the body's acceleration (a_o, ω̇) instead, the same sum a_o + ω̇ × p is the part of p̈ they make.
+    """
+    return add(v_o, cross(omega, p))
+
+
+@laws.jit
 def _point_acceleration(twist, rate, p):
     """p̈ at a = 0 of the point at p [m] on a body of spatial velocity ``twist`` and acceleration ``rate`` (world origin)."""
     v_o, omega = (twist[0], twist[1], twist[2]), (twist[3], twist[4], twist[5])
     a_o, omega_dot = (rate[0], rate[1], rate[2]), (rate[3], rate[4], rate[5])
-    p_dot = add(v_o, cross(omega, p))
-    return add(add(a_o, cross(omega_dot, p)), cross(omega, p_dot))
+    return add(_point_velocity(a_o, omega_dot, p), cross(omega, _point_velocity(v_o, omega, p)))
 
 
 @laws.jit
