@@ -121,6 +121,25 @@ def test_block_lower_inverse_inverts_by_blocks():
     np.testing.assert_allclose(closure_kernel.block_lower_inverse(M, np.array([0, 10])), np.linalg.inv(M), rtol=0, atol=1e-14)
 
 
+def test_block_inverse_pivots_and_refuses_singular_blocks():
+    """A block whose diagonal is zero needs row exchanges (a permutation times a scaling); a singular block raises LinAlgError, as LAPACK does."""
+    D = np.zeros((5, 5))
+    D[[0, 1, 2, 3, 4], [3, 0, 4, 1, 2]] = [2.0, -3.0, 0.5, 7.0, 1.5]  # a scaled permutation: every pivot comes from another row
+    D[4, 3] = 1e-3
+    M = np.zeros((8, 8))
+    M[:3, :3] = np.array([[0.0, 1.0, 2.0], [1.0, 0.0, 3.0], [4.0, 5.0, 0.0]])
+    M[3:, 3:] = D
+    M[3:, :3] = np.arange(15.0).reshape(5, 3)
+    starts = np.array([0, 3, 8])
+    np.testing.assert_allclose(closure_kernel.block_lower_inverse(M, starts), np.linalg.inv(M), rtol=0, atol=1e-13)
+    for block in (slice(0, 3), slice(3, 8)):
+        singular = M.copy()
+        singular[block, block] = 0.0
+        singular[block.start, block.start] = 1.0  # rank 1: the elimination meets a zero pivot
+        with pytest.raises(np.linalg.LinAlgError):
+            closure_kernel.block_lower_inverse(singular, starts)
+
+
 def test_block_triangular_order_finds_the_blocks():
     """A scrambled block lower triangular pattern is put back in block form; a structurally singular one stays one block; the hip's B splits 3, 3, 3, 9."""
     rng = np.random.default_rng(8)

@@ -84,7 +84,10 @@ def closure_frames(rotations, origins, joints, placements, tips, p2, d):
         gap = (p2[c, 0] - tips[c, 0, 3], p2[c, 1] - tips[c, 1, 3], p2[c, 2] - tips[c, 2, 3])
         for i in range(3):
             d[3 * c + i] = tips[c, 0, i] * gap[0] + tips[c, 1, i] * gap[1] + tips[c, 2, i] * gap[2]
-    return d @ d
+    size = 0.0
+    for i in range(d.size):
+        size += d[i] * d[i]
+    return size
 
 
 @laws.jit
@@ -135,11 +138,15 @@ def predict(t, Q, V, A, row, platforms, angles):
         platforms, angles: the platforms' coordinates and their values at ``row``.
     """
     h = t[row] - t[row - 1]
+    last = row - 1
     if row == 1:
-        Q[1] = Q[0] + h * (V[0] + 0.5 * h * A[0])
+        for i in range(Q.shape[1]):
+            Q[1, i] = Q[0, i] + h * (V[0, i] + 0.5 * h * A[0, i])
     else:
-        jerk = (A[row - 1] - A[row - 2]) / (t[row - 1] - t[row - 2])
-        Q[row] = Q[row - 1] + h * (V[row - 1] + h * (0.5 * A[row - 1] + h / 6.0 * jerk))
+        dt = t[last] - t[row - 2]
+        for i in range(Q.shape[1]):
+            jerk = (A[last, i] - A[row - 2, i]) / dt
+            Q[row, i] = Q[last, i] + h * (V[last, i] + h * (0.5 * A[last, i] + h / 6.0 * jerk))
     for k in range(platforms.size):
         Q[row, platforms[k]] = angles[k]
 
@@ -151,7 +158,11 @@ def chord_step(q, K_inv, d, platforms, angles, trial):
     The platforms' coordinates are kept at ``angles``: platform 1's rows of
     K⁻¹[:, 3:] vanish, platform 2's would move its coordinates by O(|d|²).
     """
-    trial[:] = q + K_inv @ np.concatenate((np.zeros(3), d))
+    for i in range(q.size):
+        step = 0.0
+        for j in range(d.size):
+            step += K_inv[i, 3 + j] * d[j]
+        trial[i] = q[i] + step
     for k in range(platforms.size):
         trial[platforms[k]] = angles[k]
 
@@ -197,15 +208,17 @@ def velocity(J_c, platform1, rows, columns, starts, qd, platform2, tips, V, row,
         K_inv[platform1[j], j] = 1.0
     largest = 0.0
     for i in range(n):
-        for j in range(3):
-            total = 0.0
-            for m in range(n):
-                total += M_inv[i, m] * C[m, j]
-            K_inv[columns[i], j] = -total
-            largest = max(largest, abs(total))
-        for j in range(n):
-            K_inv[columns[i], 3 + rows[j]] = M_inv[i, j]
-            largest = max(largest, abs(M_inv[i, j]))
+        out = columns[i]
+        n0 = n1 = n2 = 0.0  # −(B⁻¹C)[i]: K⁻¹'s first three columns, three sums at once
+        for m in range(n):
+            x = M_inv[i, m]
+            K_inv[out, 3 + rows[m]] = x
+            largest = max(largest, abs(x))
+            n0 += x * C[m, 0]
+            n1 += x * C[m, 1]
+            n2 += x * C[m, 2]
+        K_inv[out, 0], K_inv[out, 1], K_inv[out, 2] = -n0, -n1, -n2
+        largest = max(largest, abs(n0), abs(n1), abs(n2))
     if not largest < _SINGULAR_ENTRY:
         return SINGULAR
     for c in range(tips.shape[0]):
@@ -228,37 +241,83 @@ def block_lower_inverse(M, starts):
     X_bb = D_b⁻¹ and, for the columns before block b, X_b,<b = −D_b⁻¹ M_b,<b X_<b,<b.
     A few small inverses instead of one large one (the hip's B: three 3×3
     blocks and a 9×9, against 18×18), and no pivoting across blocks is
-    needed: det M is the product of the blocks' determinants. A 3×3 block is
-    inverted in closed form: LAPACK's inverse costs ~2 µs a call whatever the size.
+    needed: det M is the product of the blocks' determinants. The blocks are
+    inverted here, not by LAPACK, whose inverse costs ~2 µs a call whatever
+    the size (more than this whole function's arithmetic on the hip): a 3×3
+    in closed form, a larger one by Gauss–Jordan elimination with partial
+    pivoting. M_b,<b is mostly zeros (a lever couples to few earlier
+    coordinates), which the product skips.
 
     Args:
         M: the matrix, (n, n), zero above its diagonal blocks.
         starts: where each diagonal block starts, and n at the end, (blocks + 1,).
 
     Raises:
-        numpy.linalg.LinAlgError: a diagonal block is exactly singular.
+        numpy.linalg.LinAlgError: a diagonal block is singular to machine precision.
     """
     n = M.shape[0]
     X = np.zeros((n, n))
+    T = np.empty((n, n))  # M_b,<b X_<b,<b, in its first rows
     for b in range(starts.size - 1):
         s, e = starts[b], starts[b + 1]
-        D_inv = _inverse_3x3(M[s:e, s:e]) if e - s == 3 else np.linalg.inv(np.ascontiguousarray(M[s:e, s:e]))
-        X[s:e, s:e] = D_inv
-        if s:
-            T = np.zeros((e - s, s))  # M_b,<b X_<b,<b
-            for i in range(e - s):
-                for j in range(s):
-                    total = 0.0
-                    for m in range(s):
-                        total += M[s + i, m] * X[m, j]
-                    T[i, j] = total
-            for i in range(e - s):
-                for j in range(s):
-                    total = 0.0
-                    for m in range(e - s):
-                        total += D_inv[i, m] * T[m, j]
-                    X[s + i, j] = -total
+        D_inv = X[s:e, s:e]
+        if e - s == 3:
+            _inverse_3x3(M[s:e, s:e], D_inv)
+        else:
+            _gauss_jordan_inverse(M[s:e, s:e], D_inv)
+        if s == 0:
+            continue
+        for i in range(e - s):
+            for j in range(s):
+                T[i, j] = 0.0
+            for m in range(s):
+                f = M[s + i, m]
+                if f != 0.0:
+                    for j in range(s):
+                        T[i, j] += f * X[m, j]
+        for i in range(e - s):
+            for j in range(s):
+                total = 0.0
+                for m in range(e - s):
+                    total += D_inv[i, m] * T[m, j]
+                X[s + i, j] = -total
     return X
+
+
+@laws.jit
+def _gauss_jordan_inverse(D, out):
+    """out = D⁻¹ by Gauss–Jordan elimination with partial pivoting (the textbook algorithm, as LAPACK's getrf + getri).
+
+    Raises:
+        numpy.linalg.LinAlgError: a pivot is zero (D singular to machine precision), as LAPACK would.
+    """
+    m = D.shape[0]
+    W = np.empty((m, m))
+    for i in range(m):
+        for j in range(m):
+            W[i, j] = D[i, j]
+            out[i, j] = 1.0 if i == j else 0.0
+    for col in range(m):
+        pivot, largest = col, abs(W[col, col])
+        for r in range(col + 1, m):
+            if abs(W[r, col]) > largest:
+                pivot, largest = r, abs(W[r, col])
+        if largest == 0.0:
+            raise np.linalg.LinAlgError("Singular matrix")
+        if pivot != col:
+            for j in range(m):
+                W[col, j], W[pivot, j] = W[pivot, j], W[col, j]
+                out[col, j], out[pivot, j] = out[pivot, j], out[col, j]
+        scale_ = 1.0 / W[col, col]
+        for j in range(m):
+            W[col, j] *= scale_
+            out[col, j] *= scale_
+        for r in range(m):
+            f = W[r, col]
+            if r != col and f != 0.0:
+                for j in range(m):
+                    W[r, j] -= f * W[col, j]
+                    out[r, j] -= f * out[col, j]
 
 
 @laws.jit
@@ -282,21 +341,48 @@ def acceleration(K_inv, J, dJ, V, A, row, masks, tips, d, qdd, platform2):
     (a_o, ω̇) = J̇·v, both at the world origin (the body's supporting joints'
     columns only), has ṗ = v_o + ω × p and p̈ = a_o + ω̇ × p + ω × ṗ.
     """
-    n = tips.shape[0]
-    weights = masks * V[row]
-    twists, rates = weights @ J.T, weights @ dJ.T  # per closure frame: (v_o, ω) and (a_o, ω̇)
+    n, nv = tips.shape[0], V.shape[1]
     drift = np.empty(3 * n)
     for c in range(n):
         R = ((tips[c, 0, 0], tips[c, 0, 1], tips[c, 0, 2]), (tips[c, 1, 0], tips[c, 1, 1], tips[c, 1, 2]),
              (tips[c, 2, 0], tips[c, 2, 1], tips[c, 2, 2]))  # fmt: skip
         p1 = (tips[c, 0, 3], tips[c, 1, 3], tips[c, 2, 3])
         p2 = add(p1, matvec(R, (d[3 * c], d[3 * c + 1], d[3 * c + 2])))
-        relative = sub(_point_acceleration(twists[2 * c], rates[2 * c], p1), _point_acceleration(twists[2 * c + 1], rates[2 * c + 1], p2))
-        local = transpose_times(R, relative)
+        twist1, rate1 = _frame_motion(masks[2 * c], V[row], J, dJ)
+        twist2, rate2 = _frame_motion(masks[2 * c + 1], V[row], J, dJ)
+        local = transpose_times(R, sub(_point_acceleration(twist1, rate1, p1), _point_acceleration(twist2, rate2, p2)))
         drift[3 * c], drift[3 * c + 1], drift[3 * c + 2] = local[0], local[1], local[2]
-    A[row] = K_inv @ np.concatenate((qdd, -drift))
+    for i in range(nv):  # A[row] = K⁻¹·[q̈; −J̇_c v]
+        total = K_inv[i, 0] * qdd[0] + K_inv[i, 1] * qdd[1] + K_inv[i, 2] * qdd[2]
+        for j in range(3 * n):
+            total -= K_inv[i, 3 + j] * drift[j]
+        A[row, i] = total
     for k in range(3):
         A[row, platform2[k]] = qdd[k]
+
+
+@laws.jit
+def _frame_motion(mask, v, J, dJ):
+    """A closure frame's spatial velocity (v_o, ω) = Σ J·v and acceleration at a = 0 (a_o, ω̇) = Σ J̇·v over its supporting joints, (6-tuples)."""
+    t0 = t1 = t2 = t3 = t4 = t5 = 0.0
+    r0 = r1 = r2 = r3 = r4 = r5 = 0.0
+    for col in range(v.size):
+        if mask[col] == 0.0:
+            continue
+        w = mask[col] * v[col]
+        t0 += w * J[0, col]
+        t1 += w * J[1, col]
+        t2 += w * J[2, col]
+        t3 += w * J[3, col]
+        t4 += w * J[4, col]
+        t5 += w * J[5, col]
+        r0 += w * dJ[0, col]
+        r1 += w * dJ[1, col]
+        r2 += w * dJ[2, col]
+        r3 += w * dJ[3, col]
+        r4 += w * dJ[4, col]
+        r5 += w * dJ[5, col]
+    return (t0, t1, t2, t3, t4, t5), (r0, r1, r2, r3, r4, r5)
 
 
 @laws.jit
@@ -364,18 +450,16 @@ def actuator_and_closure_forces(K_invs, tau, actuated, F, lambdas):
 
 
 @laws.jit
-def _inverse_3x3(D):
-    """D⁻¹ of a 3×3 matrix from its cofactors (adjugate over determinant); singular D raises LinAlgError as LAPACK would."""
+def _inverse_3x3(D, out):
+    """out = D⁻¹ of a 3×3 matrix from its cofactors (adjugate over determinant); singular D raises LinAlgError as LAPACK would."""
     rows = ((D[0, 0], D[0, 1], D[0, 2]), (D[1, 0], D[1, 1], D[1, 2]), (D[2, 0], D[2, 1], D[2, 2]))
     # The inverse's columns are the cross products of D's rows over det D.
     c0, c1, c2 = cross(rows[1], rows[2]), cross(rows[2], rows[0]), cross(rows[0], rows[1])
     det = dot(rows[0], c0)
     if det == 0.0:
         raise np.linalg.LinAlgError("Matrix is singular to machine precision.")
-    out = np.empty((3, 3))
     for i in range(3):
         out[i, 0], out[i, 1], out[i, 2] = c0[i] / det, c1[i] / det, c2[i] / det
-    return out
 
 
 @laws.jit
