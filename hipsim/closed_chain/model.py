@@ -700,6 +700,7 @@ class _Closer:
         self.order = resources.k_order()
         self.K_inv = None  # inverse of K at the last closed sample: the chord method's Jacobian
         self._K_inv = np.empty((nv, nv))  # where the next K⁻¹ is computed, then swapped with K_inv
+        self._trials = (np.empty(nv), np.empty(nv))  # the chord steps' iterates, in turn (the caller copies the closed q out)
         self.evaluations = 0
 
     def _evaluate(self, q: np.ndarray, jacobians: bool = True) -> float:
@@ -713,21 +714,24 @@ class _Closer:
         q: a configuration whose platform coordinates are ``angles`` already
         (both platforms', in ``platform_v.ravel()`` order). On return the
         workspace holds the closed q's placements, Jacobians and gaps. Raises
-        ClosureError (with the gap left) if the loops cannot be closed.
+        ClosureError (with the gap left) if the loops cannot be closed. The
+        closed q returned may be one of the solver's own arrays, which the
+        next call overwrites: copy it out.
         """
         if self.K_inv is None:
             size = self._evaluate(q)
             return q if size <= self.tol2 else self._levenberg_marquardt(q, size)
+        ws, tol2 = self.ws, self.tol2
         # A prediction is seldom closed already: its Jacobians would go unused.
         size = self._evaluate(q, jacobians=False)
         # Chord steps: Newton with the previous sample's K⁻¹, while it contracts well.
         for step in range(6):
-            if size <= self.tol2:
+            if size <= tol2:
                 if step == 0:
-                    pin.computeJointJacobians(self.ws.model, self.ws.data, q)
+                    pin.computeJointJacobians(ws.model, ws.data, q)
                 return q
-            trial = np.empty_like(q)
-            closure_kernel.chord_step(q, self.K_inv, self.ws.gaps, self.platforms, angles, trial)
+            trial = self._trials[step % 2]  # never q: q is the caller's array or the other one
+            closure_kernel.chord_step(q, self.K_inv, ws.gaps, self.platforms, angles, trial)
             size_trial = self._evaluate(trial)
             if size_trial > 0.01 * size:  # the gap must shrink tenfold per step, else fresh Jacobians
                 return self._levenberg_marquardt(q, self._evaluate(q))
@@ -769,9 +773,10 @@ class _Closer:
         and accelerations [rad/s²]. Also keeps K⁻¹ (the next sample's chord
         Jacobian).
         """
-        ws, platform2, K_inv = self.ws, self.layout.platform_v[1], self._K_inv
-        tips = ws.tip_frames()
-        status = closure_kernel.velocity(ws.jacobian(), self.platform1, *self.order, qd, platform2, tips, V, row, self.layout.slider_v, J_rates, k, K_inv)
+        ws, layout, K_inv = self.ws, self.layout, self._K_inv
+        platform2, tips = layout.platform_v[1], ws.tips
+        rows, columns, starts = self.order
+        status = closure_kernel.velocity(ws.jacobian(), self.platform1, rows, columns, starts, qd, platform2, tips, V, row, layout.slider_v, J_rates, k, K_inv)
         if status == closure_kernel.SINGULAR:
             raise ClosureError("singular pose: the closure Jacobian loses rank (spec §3)")
         if status == closure_kernel.LEVER_DOWN:
@@ -852,25 +857,27 @@ def _close_chain(
         closer.K_inv = go_on.K_inv.copy()
     # The closer leaves Pinocchio's data at the closed q: the dynamics reuse its Jacobians.
     dynamics = _InverseDynamics(chain, Q[before:], V[before:], A[before:], Fe, parts) if Fe is not None else None
-    platforms = closer.platforms
+    platforms, predict, ws = closer.platforms, closure_kernel.predict, closer.ws
     for k in range(n):
         row = before + k  # this sample's row in Q, V, A and T, after the previous piece's last samples
+        angles_k, q_row = both[k], Q[row]
         if row:
-            closure_kernel.predict(T, Q, V, A, row, platforms, both[k])
+            predict(T, Q, V, A, row, platforms, angles_k)
         else:
-            Q[0] = layout.initial_guess
-            Q[0, platforms] = both[k]
+            q_row[:] = layout.initial_guess
+            q_row[platforms] = angles_k
         evaluations = closer.evaluations
         try:
-            q = closer.close(Q[row], both[k])
-            gaps[k] = closer.ws.gaps
+            q = closer.close(q_row, angles_k)
+            gaps[k] = ws.gaps
             closer.rates(q, rates[k], accels[k], gaps[k], V, A, row, J_rates, k)
         except (ClosureError, np.linalg.LinAlgError) as error:
             raise PoseError(str(error), float(t[k]), k, source=getattr(traj, "name", None)) from None
         iterations[k] = closer.evaluations - evaluations
-        Q[row] = q
+        if q is not q_row:
+            q_row[:] = q
         if dynamics is not None:
-            dynamics.add(k, closer.ws, closer.K_inv)
+            dynamics.add(k, ws, closer.K_inv)
 
     if continuation is not None and n:
         last = slice(max(0, before + n - 2), before + n)
