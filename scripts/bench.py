@@ -48,13 +48,13 @@ def best_time(function, repeats: int = 5) -> float:
     return min(times)
 
 
-def alternated(new, baseline, repeats: int) -> tuple[float, float]:
-    """Best wall times in [s] of two functions called in turn: on a shared machine a load change between two blocks of repeats would read as a speed-up."""
-    best = [math.inf, math.inf]
+def alternated(*functions, repeats: int) -> tuple[float, ...]:
+    """Best wall times in [s] of functions called in turn: on a shared machine a load change between two blocks of repeats would read as a speed-up."""
+    best = [math.inf] * len(functions)
     for _ in range(repeats):
-        for k, function in enumerate((new, baseline)):
+        for k, function in enumerate(functions):
             best[k] = min(best[k], best_time(function, repeats=1))
-    return best[0], best[1]
+    return tuple(best)
 
 
 def analytic(params, trajectory):
@@ -198,7 +198,7 @@ def bench_plants(params, quick: bool) -> None:
     plain = ThroughDerivative(plant)
     compiled, python_loop = alternated(
         lambda: simulation.simulate(plant, controller, iso14242_at, length),
-        lambda: simulation.simulate(plant, controller, iso14242_at, length, compiled=False), 2 if quick else 3,
+        lambda: simulation.simulate(plant, controller, iso14242_at, length, compiled=False), repeats=2 if quick else 3,
     )  # fmt: skip
     through = best_time(lambda: simulation.simulate(plain, controller, iso14242_at, length), repeats=2 if quick else 3)
     print(f"  pinocchio plant, control compiled around advance(): {length / compiled:6.2f}x ({compiled / length * per_period:5.0f} µs per period); "
@@ -322,7 +322,7 @@ def bench_servo(params, quick: bool) -> None:
             fast, slow = alternated(
                 lambda: simulate(chosen, controller, iso14242_at, length, step=step),
                 lambda: simulate(chosen, controller, iso14242_at, slow_length, step=step, compiled=False),
-                3 if quick else 5,
+                repeats=3 if quick else 5,
             )
             factors[name, label] = length / fast
             print(f"  {name}, {label}: compiled {length / fast:7.1f}x ({fast / length / control.servo_rate * 1e6:5.1f} µs); "
@@ -345,8 +345,11 @@ def bench_servo(params, quick: bool) -> None:
     if quick:
         trajectory = trajectory.slice(slice(0, 300))
     kin, _ = trajectory_dynamics(chain, trajectory)  # load or compile the closure kernels
-    with_parts, total_only = alternated(lambda: trajectory_dynamics(chain, trajectory), lambda: trajectory_dynamics(chain, trajectory, parts=False), 5)
-    floor = best_time(lambda: pinocchio_calls_alone(chain, kin), repeats=5)
+    # In turn, so that the ratios between them hold on a machine whose speed drifts.
+    with_parts, total_only, floor, rnea = alternated(
+        lambda: trajectory_dynamics(chain, trajectory), lambda: trajectory_dynamics(chain, trajectory, parts=False),
+        lambda: pinocchio_calls_alone(chain, kin), lambda: bare_rnea(chain, kin), repeats=7,
+    )
     n = len(trajectory)
     print("Pinocchio closed-chain kinematics + inverse dynamics, ISO cycle at 1 kHz")
     print(f"  with parts {n / with_parts:9,.0f} samples/s ({with_parts / n * 1e6:4.1f} µs); total only (parts=False) "
@@ -355,6 +358,12 @@ def bench_servo(params, quick: bool) -> None:
     print(f"  the floor, same run: Pinocchio's calls of a sample alone (forward kinematics, joint Jacobians, "
           f"their time variation), nothing between them: {floor / n * 1e6:4.1f} µs a sample "
           f"({n / floor:,.0f} samples/s)")  # fmt: skip
+    # The issue measured its starting point in bare rnea calls (69–92 µs, "28 bare rnea calls' worth"): a
+    # yardstick that travels between machines, where samples/s do not. Its 50,000 samples/s were 20 µs
+    # there, i.e. 6.1–8.1 of its rnea calls (2.5–3.3 µs each).
+    print(f"  in the issue's yardstick, a bare pin.rnea of the hip's tree from Python ({rnea / n * 1e6:.1f} µs here): "
+          f"with parts {with_parts / rnea:.1f}, total only {total_only / rnea:.1f} rnea calls' worth a sample "
+          f"(the issue started at 28; its 50,000 samples/s were 6.1–8.1)")  # fmt: skip
 
     with tempfile.TemporaryDirectory() as cache:
         environment = {**os.environ, "NUMBA_CACHE_DIR": cache}
@@ -383,6 +392,16 @@ def pinocchio_calls_alone(chain, kin) -> None:
         pin.forwardKinematics(model, data, q)
         pin.computeJointJacobians(model, data, q)
         pin.computeJointJacobiansTimeVariation(model, data, q, v)
+
+
+def bare_rnea(chain, kin) -> None:
+    """One ``pin.rnea`` of the hip's tree per sample of ``kin``, called from Python: the issue's unit of cost."""
+    import pinocchio as pin
+
+    model = chain.model
+    data = model.createData()
+    for q, v, a in zip(kin.q, kin.v, kin.a):
+        pin.rnea(model, data, q, v, a)
 
 
 _IDENTIFY = _PEAK_KB + """
