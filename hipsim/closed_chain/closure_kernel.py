@@ -364,25 +364,24 @@ def acceleration(K_inv, J, dJ, V, A, row, masks, tips, d, qdd, platform2):
 @laws.jit
 def _frame_motion(mask, v, J, dJ):
     """A closure frame's spatial velocity (v_o, ω) = Σ J·v and acceleration at a = 0 (a_o, ω̇) = Σ J̇·v over its supporting joints, (6-tuples)."""
-    t0 = t1 = t2 = t3 = t4 = t5 = 0.0
-    r0 = r1 = r2 = r3 = r4 = r5 = 0.0
+    return _masked_product(mask, v, J), _masked_product(mask, v, dJ)
+
+
+@laws.jit
+def _masked_product(mask, v, M):
+    """M·(mask ∘ v) for a (6, nv) M, as a 6-tuple, skipping the columns the mask zeroes."""
+    x0 = x1 = x2 = x3 = x4 = x5 = 0.0
     for col in range(v.size):
         if mask[col] == 0.0:
             continue
         w = mask[col] * v[col]
-        t0 += w * J[0, col]
-        t1 += w * J[1, col]
-        t2 += w * J[2, col]
-        t3 += w * J[3, col]
-        t4 += w * J[4, col]
-        t5 += w * J[5, col]
-        r0 += w * dJ[0, col]
-        r1 += w * dJ[1, col]
-        r2 += w * dJ[2, col]
-        r3 += w * dJ[3, col]
-        r4 += w * dJ[4, col]
-        r5 += w * dJ[5, col]
-    return (t0, t1, t2, t3, t4, t5), (r0, r1, r2, r3, r4, r5)
+        x0 += w * M[0, col]
+        x1 += w * M[1, col]
+        x2 += w * M[2, col]
+        x3 += w * M[3, col]
+        x4 += w * M[4, col]
+        x5 += w * M[5, col]
+    return (x0, x1, x2, x3, x4, x5)
 
 
 @laws.jit
