@@ -355,8 +355,8 @@ def bench_servo(params, quick: bool) -> None:
     print(f"  with parts {n / with_parts:9,.0f} samples/s ({with_parts / n * 1e6:4.1f} µs); total only (parts=False) "
           f"{n / total_only:9,.0f} samples/s ({total_only / n * 1e6:4.1f} µs); targets 30,000 and 50,000 "
           f"{'OK' if n / with_parts >= 30000 else 'MISSED'} / {'OK' if n / total_only >= 50000 else 'MISSED'}")  # fmt: skip
-    print(f"  the floor, same run: Pinocchio's calls of a sample alone (forward kinematics, joint Jacobians, "
-          f"their time variation), nothing between them: {floor / n * 1e6:4.1f} µs a sample "
+    print(f"  the floor, same run: Pinocchio's calls of a sample alone (forward kinematics, joint Jacobians), "
+          f"nothing between them: {floor / n * 1e6:4.1f} µs a sample "
           f"({n / floor:,.0f} samples/s)")  # fmt: skip
     # The issue measured its starting point in bare rnea calls (69–92 µs, "28 bare rnea calls' worth"): a
     # yardstick that travels between machines, where samples/s do not. Its 50,000 samples/s were 20 µs
@@ -378,20 +378,19 @@ def pinocchio_calls_alone(chain, kin) -> None:
     """The Pinocchio calls one closed-chain sample makes, along closed motion ``kin``.
 
     What ``trajectory_dynamics`` cannot do without however its arithmetic is
-    written: forward kinematics at the prediction, the joint Jacobians at the
-    corrected configuration and their time variation. Their results are read
-    through views of Pinocchio's Data at no cost (the closures' frames,
-    gaps and Jacobian are compiled arithmetic on them); the batched RNEA is
-    left out (~2 µs a sample).
+    written: forward kinematics at the prediction and the joint Jacobians at
+    the corrected configuration. Their results are read through views of
+    Pinocchio's Data at no cost (the closures' frames, gaps, Jacobian and
+    drift are compiled arithmetic on them); the batched RNEA is left out
+    (~2 µs a sample).
     """
     import pinocchio as pin
 
     model = chain.model
     data = model.createData()
-    for q, v in zip(kin.q, kin.v):
+    for q in kin.q:
         pin.forwardKinematics(model, data, q)
         pin.computeJointJacobians(model, data, q)
-        pin.computeJointJacobiansTimeVariation(model, data, q, v)
 
 
 def bare_rnea(chain, kin) -> None:

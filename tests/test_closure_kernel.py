@@ -197,8 +197,7 @@ def test_acceleration_drift_is_pinocchios_relative_classical_acceleration(closed
     d = ws.residual()
     # The kernel's acceleration with q̈ = 0 is −K⁻¹[0; drift], so K·a gives the drift back.
     V, A = v[None].copy(), np.empty((1, model.nv))
-    pin.computeJointJacobiansTimeVariation(model, data, kin.q[k], v)
-    closure_kernel.acceleration(K_inv, data.J, data.dJ, V, A, 0, ws.support_masks, tips, d, np.zeros(3), layout.platform_v[1])
+    closure_kernel.acceleration(K_inv, data.J, V, A, 0, ws.support_masks, tips, d, np.zeros(3), layout.platform_v[1])
     Jc = constraint_jacobian(chain, kin.q[k])
     drift = -(Jc @ A[0])
     # The other route: Pinocchio's classical accelerations of both closure frames, in frame 1's axes.
@@ -210,6 +209,29 @@ def test_acceleration_drift_is_pinocchios_relative_classical_acceleration(closed
         expected.append(tip[:3, :3].T @ (ends[0] - ends[1]))
     expected = np.concatenate(expected)
     np.testing.assert_allclose(drift, expected, rtol=0, atol=1e-11 * np.abs(expected).max())
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_frame_motion_rate_is_pinocchios_jacobian_time_variation(closed, seed):
+    """J̇·v over a closure frame's supporting joints, from J and v alone, equals Pinocchio's data.dJ·v (computeJointJacobiansTimeVariation).
+
+    At arbitrary (q, v), not closed ones: the identity is the tree's, whatever the loops do.
+    """
+    model, masks = closed.chain.model, closed.ws.support_masks
+    rng = np.random.default_rng(seed)
+    q = pin.randomConfiguration(model, -np.ones(model.nq), np.ones(model.nq))
+    v = rng.uniform(-3.0, 3.0, model.nv)
+    data = model.createData()
+    pin.computeJointJacobiansTimeVariation(model, data, q, v)
+    for mask in masks:
+        twist, rate = closure_kernel._frame_motion(mask, v, data.J)
+        np.testing.assert_allclose(twist, data.J @ (mask * v), rtol=0, atol=1e-13)
+        np.testing.assert_allclose(rate, data.dJ @ (mask * v), rtol=0, atol=1e-12)
+    # The order matters: the chain read from its tip inwards gives another (wrong) rate.
+    chain_mask = masks[0]
+    reversed_J = data.J[:, ::-1].copy()
+    _, wrong = closure_kernel._frame_motion(chain_mask[::-1].copy(), v[::-1].copy(), reversed_J)
+    assert np.abs(np.array(wrong) - data.dJ @ (chain_mask * v)).max() > 1e-3
 
 
 def test_forces_solve_the_full_system(closed):

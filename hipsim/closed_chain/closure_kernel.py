@@ -321,12 +321,12 @@ def _gauss_jordan_inverse(D, out):
 
 
 @laws.jit
-def acceleration(K_inv, J, dJ, V, A, row, masks, tips, d, qdd, platform2):
+def acceleration(K_inv, J, V, A, row, masks, tips, d, qdd, platform2):
     """The tree acceleration A[row] [m/s², rad/s²] from K a = [q̈; −J̇_c v] at a closed configuration.
 
     Args:
         K_inv: K⁻¹ from :func:`velocity`, (nv, nv).
-        J, dJ: the world-frame joint Jacobians and their time variation at (q, v), (6, nv).
+        J: the world-frame joint Jacobians at q, (6, nv).
         V, A, row: the tree velocity V[row] (nv,) and where the acceleration goes, A[row].
         masks: per closure, its two frames' supporting joints as 0/1 over the velocity indices, (2·n_closures, nv).
         tips: the lever-tip frames' homogeneous placements, (n_closures, 4, 4).
@@ -339,7 +339,8 @@ def acceleration(K_inv, J, dJ, V, A, row, masks, tips, d, qdd, platform2):
     p₂ = p₁ + R₁·d_c the platform point exactly. A point p of a body whose
     world-frame spatial velocity is (v_o, ω) = J·v and acceleration
     (a_o, ω̇) = J̇·v, both at the world origin (the body's supporting joints'
-    columns only), has ṗ = v_o + ω × p and p̈ = a_o + ω̇ × p + ω × ṗ.
+    columns only, J̇·v from J and v by :func:`_frame_motion`), has
+    ṗ = v_o + ω × p and p̈ = a_o + ω̇ × p + ω × ṗ.
     """
     n, nv = tips.shape[0], V.shape[1]
     drift = np.empty(3 * n)
@@ -348,8 +349,8 @@ def acceleration(K_inv, J, dJ, V, A, row, masks, tips, d, qdd, platform2):
              (tips[c, 2, 0], tips[c, 2, 1], tips[c, 2, 2]))  # fmt: skip
         p1 = (tips[c, 0, 3], tips[c, 1, 3], tips[c, 2, 3])
         p2 = add(p1, matvec(R, (d[3 * c], d[3 * c + 1], d[3 * c + 2])))
-        twist1, rate1 = _frame_motion(masks[2 * c], V[row], J, dJ)
-        twist2, rate2 = _frame_motion(masks[2 * c + 1], V[row], J, dJ)
+        twist1, rate1 = _frame_motion(masks[2 * c], V[row], J)
+        twist2, rate2 = _frame_motion(masks[2 * c + 1], V[row], J)
         local = transpose_times(R, sub(_point_acceleration(twist1, rate1, p1), _point_acceleration(twist2, rate2, p2)))
         drift[3 * c], drift[3 * c + 1], drift[3 * c + 2] = local[0], local[1], local[2]
     for i in range(nv):  # A[row] = K⁻¹·[q̈; −J̇_c v]
@@ -362,26 +363,37 @@ def acceleration(K_inv, J, dJ, V, A, row, masks, tips, d, qdd, platform2):
 
 
 @laws.jit
-def _frame_motion(mask, v, J, dJ):
-    """A closure frame's spatial velocity (v_o, ω) = Σ J·v and acceleration at a = 0 (a_o, ω̇) = Σ J̇·v over its supporting joints, (6-tuples)."""
-    return _masked_product(mask, v, J), _masked_product(mask, v, dJ)
+def _frame_motion(mask, v, J):
+    """A closure frame's spatial velocity (v_o, ω) = Σ J·v and acceleration at a = 0 (a_o, ω̇) = Σ J̇·v over its supporting joints, (6-tuples).
 
-
-@laws.jit
-def _masked_product(mask, v, M):
-    """M·(mask ∘ v) for a (6, nv) M, as a 6-tuple, skipping the columns the mask zeroes."""
-    x0 = x1 = x2 = x3 = x4 = x5 = 0.0
+    Why not Pinocchio's J̇ (``computeJointJacobiansTimeVariation``): it is a
+    third Pinocchio call per sample, a third of their cost, for what follows
+    from J and v. A joint's world-frame column S_k (a motion at the world
+    origin) is fixed in its body, so it changes as Ṡ_k = V_k × S_k, with V_k
+    its body's spatial velocity, the sum of S_j v_j over the joints j up to k
+    (k's own term drops, S_k × S_k = 0). Hence J̇·v = Σ_{j before k} (S_j v_j) × (S_k v_k)
+    along the frame's supporting chain, which is Pinocchio's own definition of
+    J̇ (the test of this module holds the two equal). "Before" is the
+    velocity index order: Pinocchio numbers a joint after its parent, so the
+    mask's columns, read in increasing order, go from the root outwards.
+    """
+    # (v, ω) × (v', ω') = (ω × v' + v × ω', ω × ω'): the motion cross product.
+    v0 = v1 = v2 = w0 = w1 = w2 = 0.0  # the running sum Σ S_j v_j
+    a0 = a1 = a2 = b0 = b1 = b2 = 0.0  # the running Σ (S_j v_j) × (S_k v_k)
     for col in range(v.size):
         if mask[col] == 0.0:
             continue
-        w = mask[col] * v[col]
-        x0 += w * M[0, col]
-        x1 += w * M[1, col]
-        x2 += w * M[2, col]
-        x3 += w * M[3, col]
-        x4 += w * M[4, col]
-        x5 += w * M[5, col]
-    return (x0, x1, x2, x3, x4, x5)
+        x = mask[col] * v[col]
+        s0, s1, s2 = x * J[0, col], x * J[1, col], x * J[2, col]
+        t0, t1, t2 = x * J[3, col], x * J[4, col], x * J[5, col]
+        a0 += w1 * s2 - w2 * s1 + v1 * t2 - v2 * t1
+        a1 += w2 * s0 - w0 * s2 + v2 * t0 - v0 * t2
+        a2 += w0 * s1 - w1 * s0 + v0 * t1 - v1 * t0
+        b0 += w1 * t2 - w2 * t1
+        b1 += w2 * t0 - w0 * t2
+        b2 += w0 * t1 - w1 * t0
+        v0, v1, v2, w0, w1, w2 = v0 + s0, v1 + s1, v2 + s2, w0 + t0, w1 + t1, w2 + t2
+    return (v0, v1, v2, w0, w1, w2), (a0, a1, a2, b0, b1, b2)
 
 
 @laws.jit

@@ -21,8 +21,9 @@ along the trajectory, so the unknowns are the leg coordinates (3 sliders,
 * with K = [P₁; J_c] (P₁ selects platform 1's three angle coordinates, J_c
   the 18×21 closure Jacobian) the velocities solve K v = [q̇; 0] and the
   accelerations K a = [q̈; −J̇_c v], J̇_c v from the closure frames' classical
-  accelerations at a = 0, built from the world joint Jacobians J and their
-  time variation J̇ (``computeJointJacobiansTimeVariation``). Platform 2's
+  accelerations at a = 0, built from the world joint Jacobians J and v (J̇ is
+  the sum of cross products J̇·v = Σ_{j before k} (S_j v_j) × (S_k v_k) along
+  each frame's chain, Pinocchio's own definition of it). Platform 2's
   coordinates come out equal to platform 1's (its three closures force the
   same orientation) and are then set to the given values exactly.
 
@@ -36,10 +37,10 @@ actuator forces of Sᵀ F + J_cᵀ λ = τ from the K⁻¹ the kinematics comput
 The parts therefore add up to the total to rounding.
 :func:`trajectory_dynamics` does both in one pass, reusing the Jacobians.
 
-Speed. A sample's work is three Pinocchio calls: forward kinematics at the
-prediction, the joint Jacobians at the corrected configuration and their time
-variation. Their results are read through NumPy views that Pinocchio keeps
-current in its Data (``data.oMi``, ``data.J``, ``data.dJ``; see
+Speed. A sample's work is two Pinocchio calls: forward kinematics at the
+prediction and the joint Jacobians at the corrected configuration. Their
+results are read through NumPy views that Pinocchio keeps
+current in its Data (``data.oMi``, ``data.J``; see
 :class:`_Workspace`), not through per-closure property reads, which cost a
 Python call and a copy each; the closures' frames, gaps and Jacobian, the
 predictor, the chord step, K⁻¹ and the drift are compiled arithmetic on them
@@ -48,7 +49,7 @@ keeps. Pinocchio's own ``RigidConstraintModel.calc`` and
 ``getConstraintsJacobian`` serve the public helpers below and the tests that
 hold the compiled route equal to them. The tree's torques are computed for a
 whole chunk of samples at once by ``pin.rneaInParallel`` (one thread).
-``scripts/bench.py --only servo`` times a sample next to its floor, the three
+``scripts/bench.py --only servo`` times a sample next to its floor, the two
 Pinocchio calls alone; the README's Speed section has the figures.
 
 Sign conventions: J_c is the derivative of R₁ᵀ(p₁ − p₂) with frame 1 the lever
@@ -384,7 +385,7 @@ class _Workspace:
     """Pinocchio data and the constraint datas of one computation (not shared between threads).
 
     The solver reads Pinocchio's results through NumPy views that Pinocchio
-    keeps current in its Data (the joint Jacobians ``data.J``, ``data.dJ``,
+    keeps current in its Data (the joint Jacobians ``data.J``,
     the joint placements ``data.oMi``): a property read costs a Python call
     and a copy, some 0.5 µs, and a sample would need dozens. The views live
     as long as this workspace's Data, which they point into.
@@ -412,7 +413,7 @@ class _Workspace:
         self.closure_joints = np.array([[cm.joint1_id, cm.joint2_id] for cm in self.cms])
         self.closure_placements = np.array([[cm.joint1_placement.homogeneous, cm.joint2_placement.homogeneous] for cm in self.cms])
         self.joint_rotations, self.joint_origins = _joint_placement_views(self.model, self.data)
-        self.J, self.dJ = self.data.J, self.data.dJ
+        self.J = self.data.J
         self.tips = np.empty((n, 4, 4))  # frame 1's world placement per closure, at the last place()
         self.p2 = np.empty((n, 3))  # frame 2's world origin per closure [m], at the last place()
         self.gaps = np.empty(3 * n)  # the closure gaps [m] at the last place()
@@ -781,8 +782,7 @@ class _Closer:
             raise ClosureError("singular pose: the closure Jacobian loses rank (spec §3)")
         if status == closure_kernel.LEVER_DOWN:
             raise ClosureError("a lever is horizontal or points down (singular pose, spec §3)")
-        pin.computeJointJacobiansTimeVariation(ws.model, ws.data, q, V[row])
-        closure_kernel.acceleration(K_inv, ws.J, ws.dJ, V, A, row, ws.support_masks, tips, e, qdd, platform2)
+        closure_kernel.acceleration(K_inv, ws.J, V, A, row, ws.support_masks, tips, e, qdd, platform2)
         self._K_inv = self.K_inv if self.K_inv is not None else np.empty_like(K_inv)
         self.K_inv = K_inv
 
