@@ -282,10 +282,11 @@ def test_prediction_is_exact_for_a_cubic():
     NONE = np.zeros(0, dtype=np.int64)  # no platform coordinates to set
 
     def predicted(row, platforms=NONE, angles=np.zeros(0)):
-        out = Q.copy()
-        out[row] = np.nan
-        closure_kernel.predict(t, out, V, A, row, platforms, angles)
-        return out[row]
+        known = Q.copy()
+        known[row:] = np.nan  # the samples from row on are not known yet
+        out = np.full(Q.shape[1], np.nan)
+        closure_kernel.predict(t, known, V, A, row, platforms, angles, out)
+        return out
 
     np.testing.assert_allclose(predicted(3), Q[3], rtol=0, atol=1e-15)
     np.testing.assert_allclose(predicted(2), Q[2], rtol=0, atol=1e-15)

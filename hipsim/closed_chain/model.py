@@ -699,9 +699,10 @@ class _Closer:
         # K = [P₁; J_c]'s selection P₁: platform 1's coordinates, and the others.
         self.platform1 = self.layout.platform_v[0]
         self.order = resources.k_order()
-        self.K_inv = None  # inverse of K at the last closed sample: the chord method's Jacobian
-        self._K_inv = np.empty((nv, nv))  # where the next K⁻¹ is computed, then swapped with K_inv
-        self._trials = (np.empty(nv), np.empty(nv))  # the chord steps' iterates, in turn (the caller copies the closed q out)
+        self.K_inv = np.empty((nv, nv))  # K⁻¹ at the last closed sample: the chord method's Jacobian
+        self.have_K_inv = False
+        self.prediction = np.empty(nv)  # where the loop puts a sample's predicted q
+        self._scratch = np.empty(nv)  # a second iterate for chord steps beyond the first
         self.evaluations = 0
 
     def _evaluate(self, q: np.ndarray, jacobians: bool = True) -> float:
@@ -709,35 +710,40 @@ class _Closer:
         self.evaluations += 1
         return self.ws.place(q, jacobians)
 
-    def close(self, q: np.ndarray, angles: np.ndarray) -> np.ndarray:
-        """Move q's leg coordinates until every closure holds; returns the closed q.
+    def close(self, q: np.ndarray, angles: np.ndarray, out: np.ndarray) -> None:
+        """Move q's leg coordinates until every closure holds, into ``out``.
 
         q: a configuration whose platform coordinates are ``angles`` already
-        (both platforms', in ``platform_v.ravel()`` order). On return the
-        workspace holds the closed q's placements, Jacobians and gaps. Raises
-        ClosureError (with the gap left) if the loops cannot be closed. The
-        closed q returned may be one of the solver's own arrays, which the
-        next call overwrites: copy it out.
+        (both platforms', in ``platform_v.ravel()`` order); it is left as it
+        is. On return ``out`` holds the closed configuration and the workspace
+        its placements, Jacobians and gaps. Raises ClosureError (with the gap
+        left) if the loops cannot be closed.
         """
-        if self.K_inv is None:
+        if not self.have_K_inv:
             size = self._evaluate(q)
-            return q if size <= self.tol2 else self._levenberg_marquardt(q, size)
+            out[:] = q if size <= self.tol2 else self._levenberg_marquardt(q, size)
+            return
         ws, tol2 = self.ws, self.tol2
         # A prediction is seldom closed already: its Jacobians would go unused.
         size = self._evaluate(q, jacobians=False)
-        # Chord steps: Newton with the previous sample's K⁻¹, while it contracts well.
+        # Chord steps: Newton with the previous sample's K⁻¹, while it contracts well. The
+        # first goes straight into out (the usual case: one step closes the chain to round-off).
+        trial, other = out, self._scratch
         for step in range(6):
             if size <= tol2:
                 if step == 0:
                     pin.computeJointJacobians(ws.model, ws.data, q)
-                return q
-            trial = self._trials[step % 2]  # never q: q is the caller's array or the other one
+                if q is not out:
+                    out[:] = q
+                return
             closure_kernel.chord_step(q, self.K_inv, ws.gaps, self.platforms, angles, trial)
             size_trial = self._evaluate(trial)
             if size_trial > 0.01 * size:  # the gap must shrink tenfold per step, else fresh Jacobians
-                return self._levenberg_marquardt(q, self._evaluate(q))
+                out[:] = self._levenberg_marquardt(q, self._evaluate(q))
+                return
             q, size = trial, size_trial
-        return self._levenberg_marquardt(q, size)
+            trial, other = other, trial
+        out[:] = self._levenberg_marquardt(q, size)
 
     def _levenberg_marquardt(self, q: np.ndarray, cost: float) -> np.ndarray:
         """Damped Gauss–Newton on the 15 leg coordinates with fresh Jacobians, from q whose gaps (|gaps|² = cost) the workspace holds."""
@@ -767,24 +773,24 @@ class _Closer:
             return q
         raise ClosureError(f"cannot close the loops in {self.max_iter} iterations (gap {math.sqrt(cost):.3g} m)", math.sqrt(cost), self.max_iter)
 
-    def rates(self, q, qd, qdd, e, V, A, row: int, J_rates, k: int) -> None:
-        """V[row] and A[row], the tree's velocity and acceleration, and J_rates[k] at the closed q whose placements the workspace holds.
+    def rates(self, qd, qdd, V, A, row: int, J_rates, residual, k: int) -> None:
+        """V[row] and A[row], the tree's velocity and acceleration, J_rates[k] and residual[k] at the closed q whose placements the workspace holds.
 
-        e: q's closure gaps [m]; qd, qdd: the platform angles' rates [rad/s]
-        and accelerations [rad/s²]. Also keeps K⁻¹ (the next sample's chord
+        qd, qdd: the platform angles' rates [rad/s] and accelerations [rad/s²]
+        of every sample, (samples, 3). Also keeps K⁻¹ (the next sample's chord
         Jacobian).
         """
-        ws, layout, K_inv = self.ws, self.layout, self._K_inv
-        platform2, tips = layout.platform_v[1], ws.tips
+        ws, layout = self.ws, self.layout
         rows, columns, starts = self.order
-        status = closure_kernel.velocity(ws.jacobian(), self.platform1, rows, columns, starts, qd, platform2, tips, V, row, layout.slider_v, J_rates, k, K_inv)
+        status = closure_kernel.rates(
+            ws.J, ws.support_masks, ws.tips, ws.p2, ws.gaps, ws.J_c, self.platform1, rows, columns, starts,
+            layout.platform_v[1], layout.slider_v, qd, qdd, V, A, row, J_rates, residual, k, self.K_inv,
+        )  # fmt: skip
         if status == closure_kernel.SINGULAR:
             raise ClosureError("singular pose: the closure Jacobian loses rank (spec §3)")
         if status == closure_kernel.LEVER_DOWN:
             raise ClosureError("a lever is horizontal or points down (singular pose, spec §3)")
-        closure_kernel.acceleration(K_inv, ws.J, V, A, row, ws.support_masks, tips, e, qdd, platform2)
-        self._K_inv = self.K_inv if self.K_inv is not None else np.empty_like(K_inv)
-        self.K_inv = K_inv
+        self.have_K_inv = True
 
 
 @dataclass(eq=False)
@@ -840,10 +846,10 @@ def _close_chain(
     layout = _require_layout(chain)
     t, q_in, qd_in, qdd_in = trajectory_arrays(traj)
     signs = chain.params.angle_signs if chain.params is not None else np.ones(3)
-    angles, rates, accels = q_in * signs, qd_in * signs, qdd_in * signs
+    angles, rates, accels = (np.ascontiguousarray(x * signs) for x in (q_in, qd_in, qdd_in))
     both = np.tile(angles, 2)  # both platforms' coordinates, in platform_v.ravel() order
     n, nq, nv = len(t), chain.model.nq, chain.model.nv
-    gaps = np.empty((n, 3 * chain.n_closures))
+    residual = np.empty(n)  # the largest closure gap per sample [m]
     iterations = np.empty(n, dtype=int)
     J_rates = np.empty((n, 3, 3))  # ∂L̇/∂(angle rates) of the sliders
     closer = _Closer(chain, tol, max_iter)
@@ -854,30 +860,29 @@ def _close_chain(
     Q, V, A = np.empty((before + n, nq)), np.empty((before + n, nv)), np.empty((before + n, nv))
     if go_on:
         Q[:before], V[:before], A[:before] = go_on.q, go_on.v, go_on.a
-        closer.K_inv = go_on.K_inv.copy()
+        closer.K_inv[:] = go_on.K_inv
+        closer.have_K_inv = True
     # The closer leaves Pinocchio's data at the closed q: the dynamics reuse its Jacobians.
     dynamics = _InverseDynamics(chain, Q[before:], V[before:], A[before:], Fe, parts) if Fe is not None else None
-    platforms, predict, ws = closer.platforms, closure_kernel.predict, closer.ws
+    # Bound once: at some 30,000 samples a second, each attribute read in the loop (~30 ns) shows.
+    platforms, predict, prediction, close, closed_rates = closer.platforms, closure_kernel.predict, closer.prediction, closer.close, closer.rates
     for k in range(n):
         row = before + k  # this sample's row in Q, V, A and T, after the previous piece's last samples
-        angles_k, q_row = both[k], Q[row]
+        angles_k = both[k]
         if row:
-            predict(T, Q, V, A, row, platforms, angles_k)
+            predict(T, Q, V, A, row, platforms, angles_k, prediction)
         else:
-            q_row[:] = layout.initial_guess
-            q_row[platforms] = angles_k
+            prediction[:] = layout.initial_guess
+            prediction[platforms] = angles_k
         evaluations = closer.evaluations
         try:
-            q = closer.close(q_row, angles_k)
-            gaps[k] = ws.gaps
-            closer.rates(q, rates[k], accels[k], gaps[k], V, A, row, J_rates, k)
+            close(prediction, angles_k, Q[row])
+            closed_rates(rates, accels, V, A, row, J_rates, residual, k)
         except (ClosureError, np.linalg.LinAlgError) as error:
             raise PoseError(str(error), float(t[k]), k, source=getattr(traj, "name", None)) from None
         iterations[k] = closer.evaluations - evaluations
-        if q is not q_row:
-            q_row[:] = q
         if dynamics is not None:
-            dynamics.add(k, ws, closer.K_inv)
+            dynamics.add(k, closer.ws, closer.K_inv)
 
     if continuation is not None and n:
         last = slice(max(0, before + n - 2), before + n)
@@ -902,7 +907,7 @@ def _close_chain(
         Ldd=np.repeat(A[:, None, sliders], 2, axis=1),
         J=J,
         cond_inv=inverse_condition_number(J),
-        residual=np.linalg.norm(gaps.reshape(n, -1, 3), axis=2).max(axis=1),
+        residual=residual,
         iterations=iterations,
     )
     return kin, (dynamics.result(kin) if dynamics is not None else None)
