@@ -34,12 +34,12 @@ from ..analytic import laws
 from ..analytic.vectors import add, cross, dot, matvec, scale, sub, transpose_times
 
 __all__ = [
-    "OK", "LEVER_DOWN", "SINGULAR", "acceleration", "actuator_and_closure_forces", "block_lower_inverse", "chord_step", "closure_frames",
-    "closure_jacobian", "predict", "rates", "store", "velocity",
+    "OK", "LEVER_DOWN", "OPEN", "SINGULAR", "acceleration", "actuator_and_closure_forces", "block_lower_inverse", "chord_step",
+    "closed_sample", "closure_frames", "closure_jacobian", "gaps_and_chord_step", "predict", "rates", "store", "velocity",
 ]  # fmt: skip
 
-#: Status codes of :func:`velocity`.
-OK, SINGULAR, LEVER_DOWN = 0, 1, 2
+#: Status codes of :func:`velocity` (and :func:`closed_sample`'s OPEN: the gaps are not within the limit).
+OK, SINGULAR, LEVER_DOWN, OPEN = 0, 1, 2, 3
 
 #: K⁻¹'s entries are O(1..10) in m, rad and s away from singular poses; beyond this the closure has lost rank.
 _SINGULAR_ENTRY = 1e8
@@ -169,6 +169,52 @@ def chord_step(q, K_inv, d, platforms, angles, trial):
 
 
 @laws.jit
+def gaps_and_chord_step(rotations, origins, joints, placements, tips, p2, d, q, K_inv, platforms, angles, limit, trial):
+    """After forward kinematics at q: the closures' frames and gaps (:func:`closure_frames`) and, unless |d|² ≤ ``limit`` [m²], a chord step from q into ``trial`` (:func:`chord_step`).
+
+    The solver's usual first call of a sample, between its two Pinocchio calls. Returns |d|² [m²].
+    """
+    size = closure_frames(rotations, origins, joints, placements, tips, p2, d)
+    if size > limit:
+        chord_step(q, K_inv, d, platforms, angles, trial)
+    return size
+
+
+@laws.jit
+def closed_sample(
+    rotations, origins, joints, placements, tips, p2, d, limit,
+    J, masks, J_c, platform1, rows, columns, starts, platform2, sliders,
+    qd, qdd, V, A, row, J_rates, residual, k, K_inv,
+    K_invs, angular, tip_rotations, slot,
+):  # fmt: skip
+    """After the joint Jacobians at a corrected q: its frames and gaps and, if |d|² ≤ ``limit`` [m²], all the solver keeps of sample k.
+
+    :func:`closure_frames`, then :func:`rates` and :func:`store`, in one
+    call: numba's dispatch costs ~0.3 µs a call (and ~0.05 µs an argument),
+    which, three calls apart, was a tenth of a sample's time.
+
+    Args:
+        rotations, origins, joints, placements, tips, p2, d: as in :func:`closure_frames`.
+        limit: the largest |d|² [m²] accepted as closed.
+        J, masks, J_c, platform1, rows, columns, starts, platform2, sliders,
+        qd, qdd, V, A, row, J_rates, residual, k, K_inv: as in :func:`rates`.
+        K_invs, angular, tip_rotations, slot: as ``K_invs, angular, rotations, slot`` in :func:`store`;
+            slot < 0: nothing kept (no inverse dynamics asked for).
+
+    Returns:
+        (status, |d|² [m²]): :data:`OPEN` when |d|² > limit (nothing else is
+        computed), else :func:`rates`' status (nothing kept unless :data:`OK`).
+    """
+    size = closure_frames(rotations, origins, joints, placements, tips, p2, d)
+    if size > limit:
+        return OPEN, size
+    status = rates(J, masks, tips, p2, d, J_c, platform1, rows, columns, starts, platform2, sliders, qd, qdd, V, A, row, J_rates, residual, k, K_inv)
+    if status == OK and slot >= 0:
+        store(K_invs, angular, tip_rotations, slot, k, K_inv, J, tips)
+    return status, size
+
+
+@laws.jit
 def velocity(J_c, platform1, rows, columns, starts, qd, platform2, tips, V, row, sliders, J_rates, k, K_inv):
     """K⁻¹ and the tree velocity v = V[row] at a closed configuration; J_rates[k], the sliders' rows of K⁻¹'s first three columns.
 
@@ -240,8 +286,7 @@ def rates(J, masks, tips, p2, d, J_c, platform1, rows, columns, starts, platform
 
     :func:`closure_jacobian`, :func:`velocity` and :func:`acceleration` in
     turn (no Pinocchio call is needed between them), and the largest closure
-    gap. One call instead of three because numba's dispatch, ~0.3 µs a call
-    and ~0.05 µs an array argument, was a sixth of a sample's time.
+    gap.
 
     Args:
         J, masks, tips, p2, d, J_c: as in :func:`closure_jacobian` and :func:`acceleration` (d: the gaps at q [m]).

@@ -418,6 +418,11 @@ class _Workspace:
         self.p2 = np.empty((n, 3))  # frame 2's world origin per closure [m], at the last place()
         self.gaps = np.empty(3 * n)  # the closure gaps [m] at the last place()
         self.J_c = np.empty((3 * n, nv))
+        # closure_kernel.closure_frames' arguments, in its order (None without live views of data.oMi).
+        self.frame_args = (
+            None if self.joint_rotations is None
+            else (self.joint_rotations, self.joint_origins, self.closure_joints, self.closure_placements, self.tips, self.p2, self.gaps)
+        )  # fmt: skip
 
     def place(self, q: np.ndarray, jacobians: bool = True) -> float:
         """Forward kinematics, joint Jacobians (unless not asked for) and the closures' frames and gaps at q; returns |gaps|² [m²]."""
@@ -425,11 +430,14 @@ class _Workspace:
             pin.computeJointJacobians(self.model, self.data, q)
         else:
             pin.forwardKinematics(self.model, self.data, q)
-        if self.joint_rotations is None:  # no live views of this Pinocchio's data.oMi: copies
-            rotations, origins = _joint_placement_copies(self.data)
-        else:
-            rotations, origins = self.joint_rotations, self.joint_origins
-        return closure_kernel.closure_frames(rotations, origins, self.closure_joints, self.closure_placements, self.tips, self.p2, self.gaps)
+        return closure_kernel.closure_frames(*self.frame_arguments())
+
+    def frame_arguments(self) -> tuple:
+        """closure_kernel.closure_frames' arguments at the placed q: the views of ``data.oMi``, or copies of it without them."""
+        if self.joint_rotations is not None:
+            return self.frame_args
+        rotations, origins = _joint_placement_copies(self.data)
+        return (rotations, origins, self.closure_joints, self.closure_placements, self.tips, self.p2, self.gaps)
 
     def residual(self) -> np.ndarray:
         """The closure gaps d = R₁ᵀ(p₂ − p₁) of every closure, stacked, in [m] (after :meth:`place`; overwritten by the next).
@@ -704,6 +712,10 @@ class _Closer:
         self.prediction = np.empty(nv)  # where the loop puts a sample's predicted q
         self._scratch = np.empty(nv)  # a second iterate for chord steps beyond the first
         self.evaluations = 0
+        # closure_kernel.closed_sample's arguments after the gaps' limit, up to the sample's own (fixed for a run).
+        ws, layout = self.ws, self.layout
+        self.constants = (ws.J, ws.support_masks, ws.J_c, self.platform1, *self.order, layout.platform_v[1], layout.slider_v)
+        self.keep_nothing = (np.empty((0, nv, nv)), np.empty((0, 3, nv)), np.empty((0, len(ws.cms), 3, 3)), -1)  # sample()'s keep without dynamics
 
     def _evaluate(self, q: np.ndarray, jacobians: bool = True) -> float:
         """|gaps|² at q [m²]; q's placements, gaps (and Jacobians) are left in the workspace."""
@@ -736,7 +748,8 @@ class _Closer:
                 if q is not out:
                     out[:] = q
                 return
-            closure_kernel.chord_step(q, self.K_inv, ws.gaps, self.platforms, angles, trial)
+            # The kernel of sample()'s usual course (gaps at q again, the same bits; limit −1: always step).
+            closure_kernel.gaps_and_chord_step(*ws.frame_arguments(), q, self.K_inv, self.platforms, angles, -1.0, trial)
             size_trial = self._evaluate(trial)
             if size_trial > 0.01 * size:  # the gap must shrink tenfold per step, else fresh Jacobians
                 out[:] = self._levenberg_marquardt(q, self._evaluate(q))
@@ -744,6 +757,49 @@ class _Closer:
             q, size = trial, size_trial
             trial, other = other, trial
         out[:] = self._levenberg_marquardt(q, size)
+
+    def sample(self, prediction, angles, out, rates, accels, V, A, row: int, J_rates, residual, k: int, keep) -> None:
+        """Close sample k from its prediction into ``out`` and compute its rates: the solver's step per sample.
+
+        Args:
+            prediction: the predicted configuration, (nq,), platform coordinates at ``angles`` (left as it is).
+            angles: both platforms' coordinates at k (``platform_v.ravel()`` order) [rad].
+            out: the closed configuration's row, Q[row].
+            rates, accels: platform angle rates [rad/s] and accelerations [rad/s²] of every sample, (samples, 3).
+            V, A, row: where the tree velocity and acceleration go, V[row], A[row].
+            J_rates, residual, k: where ∂L̇/∂q̇ and the largest closure gap [m] go, J_rates[k], residual[k].
+            keep: ``(K_invs, angular, tip_rotations, slot)`` where closure_kernel.store keeps what
+                the inverse dynamics reuse (slot < 0: nothing).
+
+        Raises:
+            ClosureError: the loops cannot be closed, or the pose is singular.
+        """
+        ws, tol2 = self.ws, self.tol2
+        args = (rates, accels, V, A, row, J_rates, residual, k, self.K_inv, *keep)
+        frames = ws.frame_args if ws.joint_rotations is not None else None  # the usual course reads Pinocchio's placements through the views
+        if self.have_K_inv and frames is not None:
+            # close()'s usual course in two Pinocchio and two compiled calls: forward kinematics at
+            # the prediction, one chord step (into out), the Jacobians there; anything else goes to close().
+            pin.forwardKinematics(ws.model, ws.data, prediction)
+            size = closure_kernel.gaps_and_chord_step(*frames, prediction, self.K_inv, self.platforms, angles, tol2, out)
+            if size > tol2:
+                pin.computeJointJacobians(ws.model, ws.data, out)
+                status, _ = closure_kernel.closed_sample(*frames, min(tol2, 0.01 * size), *self.constants, *args)
+                if status != closure_kernel.OPEN:
+                    self.evaluations += 2
+                    self._check(status)
+                    return
+        self.close(prediction, angles, out)
+        status, _ = closure_kernel.closed_sample(*ws.frame_arguments(), math.inf, *self.constants, *args)
+        self._check(status)
+
+    def _check(self, status: int) -> None:
+        """Raise for closure_kernel.rates' failure codes; on success keep K⁻¹ for the next sample's chord steps."""
+        if status == closure_kernel.SINGULAR:
+            raise ClosureError("singular pose: the closure Jacobian loses rank (spec §3)")
+        if status == closure_kernel.LEVER_DOWN:
+            raise ClosureError("a lever is horizontal or points down (singular pose, spec §3)")
+        self.have_K_inv = True
 
     def _levenberg_marquardt(self, q: np.ndarray, cost: float) -> np.ndarray:
         """Damped Gauss–Newton on the 15 leg coordinates with fresh Jacobians, from q whose gaps (|gaps|² = cost) the workspace holds."""
@@ -772,25 +828,6 @@ class _Closer:
         if cost <= self.tol2:
             return q
         raise ClosureError(f"cannot close the loops in {self.max_iter} iterations (gap {math.sqrt(cost):.3g} m)", math.sqrt(cost), self.max_iter)
-
-    def rates(self, qd, qdd, V, A, row: int, J_rates, residual, k: int) -> None:
-        """V[row] and A[row], the tree's velocity and acceleration, J_rates[k] and residual[k] at the closed q whose placements the workspace holds.
-
-        qd, qdd: the platform angles' rates [rad/s] and accelerations [rad/s²]
-        of every sample, (samples, 3). Also keeps K⁻¹ (the next sample's chord
-        Jacobian).
-        """
-        ws, layout = self.ws, self.layout
-        rows, columns, starts = self.order
-        status = closure_kernel.rates(
-            ws.J, ws.support_masks, ws.tips, ws.p2, ws.gaps, ws.J_c, self.platform1, rows, columns, starts,
-            layout.platform_v[1], layout.slider_v, qd, qdd, V, A, row, J_rates, residual, k, self.K_inv,
-        )  # fmt: skip
-        if status == closure_kernel.SINGULAR:
-            raise ClosureError("singular pose: the closure Jacobian loses rank (spec §3)")
-        if status == closure_kernel.LEVER_DOWN:
-            raise ClosureError("a lever is horizontal or points down (singular pose, spec §3)")
-        self.have_K_inv = True
 
 
 @dataclass(eq=False)
@@ -865,7 +902,8 @@ def _close_chain(
     # The closer leaves Pinocchio's data at the closed q: the dynamics reuse its Jacobians.
     dynamics = _InverseDynamics(chain, Q[before:], V[before:], A[before:], Fe, parts) if Fe is not None else None
     # Bound once: at some 30,000 samples a second, each attribute read in the loop (~30 ns) shows.
-    platforms, predict, prediction, close, closed_rates = closer.platforms, closure_kernel.predict, closer.prediction, closer.close, closer.rates
+    platforms, predict, prediction, sample, ws = closer.platforms, closure_kernel.predict, closer.prediction, closer.sample, closer.ws
+    keep = closer.keep_nothing
     for k in range(n):
         row = before + k  # this sample's row in Q, V, A and T, after the previous piece's last samples
         angles_k = both[k]
@@ -874,15 +912,16 @@ def _close_chain(
         else:
             prediction[:] = layout.initial_guess
             prediction[platforms] = angles_k
+        if dynamics is not None:
+            keep = dynamics.keep(k)
         evaluations = closer.evaluations
         try:
-            close(prediction, angles_k, Q[row])
-            closed_rates(rates, accels, V, A, row, J_rates, residual, k)
+            sample(prediction, angles_k, Q[row], rates, accels, V, A, row, J_rates, residual, k, keep)
         except (ClosureError, np.linalg.LinAlgError) as error:
             raise PoseError(str(error), float(t[k]), k, source=getattr(traj, "name", None)) from None
         iterations[k] = closer.evaluations - evaluations
         if dynamics is not None:
-            dynamics.add(k, closer.ws, closer.K_inv)
+            dynamics.stored(k, ws)
 
     if continuation is not None and n:
         last = slice(max(0, before + n - 2), before + n)
@@ -1125,9 +1164,11 @@ def friction_forces(chain: ClosedChainModel, q, v, Fe, data=None) -> np.ndarray:
 class _InverseDynamics:
     """Closure data sample by sample; the tree's torques and the closed-chain solve a chunk of samples at a time.
 
-    The caller fills q, v and a (shape (n, nv)) up to sample k before calling
-    :meth:`add` for k, with the workspace placed at sample k (world joint
-    Jacobians included) and K⁻¹ (K = [P₁; J_c], see :mod:`hipsim.closed_chain.closure_kernel`) at hand.
+    The caller fills q, v and a (shape (n, nv)) up to sample k, has
+    ``closure_kernel.store`` keep sample k's K⁻¹ (K = [P₁; J_c], see
+    :mod:`hipsim.closed_chain.closure_kernel`) and joint Jacobians where
+    :meth:`keep` says (``closure_kernel.closed_sample`` does), then calls
+    :meth:`stored` for k with the workspace still placed at sample k.
 
     The solve. With N = K⁻¹[:, :3] (tree velocities per platform angle rate:
     J_c N = 0) and G = S N (the actuated joints' rates per platform angle
@@ -1161,10 +1202,13 @@ class _InverseDynamics:
         self.rotations = np.empty((n, chain.n_closures, 3, 3))
         self.start = 0
 
-    def add(self, k: int, ws: _Workspace, K_inv: np.ndarray) -> None:
-        """Take sample k: its K⁻¹, and the workspace placed at its q (joint Jacobians included)."""
+    def keep(self, k: int) -> tuple:
+        """Where closure_kernel.store keeps sample k: ``(K_invs, angular, rotations, slot)``."""
+        return self.K_inv, self.angular, self.rotations, k - self.start
+
+    def stored(self, k: int, ws: _Workspace) -> None:
+        """Sample k is kept (closure_kernel.store, with the workspace still placed at it): solve the chunk once it is full."""
         slot = k - self.start
-        closure_kernel.store(self.K_inv, self.angular, self.rotations, slot, k, K_inv, ws.J, ws.tips)
         if self.platform_z is not None:
             self.platform_z[slot] = _platform_z_axes(ws.data, self.platform_frames)
         if slot + 1 == len(self.K_inv) or k + 1 == len(self.v):
@@ -1250,20 +1294,21 @@ def inverse_dynamics(chain: ClosedChainModel, kin: ClosedKinematics, Fe, *, part
     Returns:
         Torques in [N·m], forces in [N].
     """
-    layout = _require_layout(chain)
     dynamics = _InverseDynamics(chain, kin.q, kin.v, kin.a, Fe, parts)
-    ws = _Workspace(chain)
-    platform1 = layout.platform_v[0]
-    order = _k_order(ws, platform1)
-    v, J_rates = np.empty((1, chain.model.nv)), np.empty((1, 3, 3))  # velocity's by-products, unused here
-    K_inv = np.empty((chain.model.nv, chain.model.nv))
+    # The solver's own per-sample call, at configurations closed already: its velocities and
+    # accelerations go to by-product arrays, what the dynamics reuse is kept as in a solver run.
+    closer = _Closer(chain, tol=math.inf, max_iter=0)
+    ws, n, nv = closer.ws, len(kin.q), chain.model.nv
+    V, A, J_rates, residual = np.empty((1, nv)), np.empty((1, nv)), np.empty((n, 3, 3)), np.empty(n)
+    rates, accels = np.ascontiguousarray(kin.angle_rates), np.ascontiguousarray(kin.angle_accels)
     for k, q in enumerate(kin.q):
-        ws.place(q)
-        tips = ws.tip_frames()
-        status = closure_kernel.velocity(ws.jacobian(), platform1, *order, kin.angle_rates[k], layout.platform_v[1], tips, v, 0, layout.slider_v, J_rates, 0, K_inv)
+        pin.computeJointJacobians(ws.model, ws.data, q)
+        status, _ = closure_kernel.closed_sample(
+            *ws.frame_arguments(), math.inf, *closer.constants, rates, accels, V, A, 0, J_rates, residual, k, closer.K_inv, *dynamics.keep(k)
+        )  # fmt: skip
         if status != closure_kernel.OK:
             raise PoseError("singular pose: the closure Jacobian loses rank (spec §3)", float(kin.t[k]), k)
-        dynamics.add(k, ws, K_inv)
+        dynamics.stored(k, ws)
     return dynamics.result(kin)
 
 
