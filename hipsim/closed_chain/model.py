@@ -931,8 +931,10 @@ def _close_chain(
     Q, V, A = Q[before:], V[before:], A[before:]
     sliders = layout.slider_v
     offset = np.stack([np.zeros(3), layout.slider_offset])[None]
-    # L̇ = J_rates·q̇ and ω = T(q)·q̇, so J = J_rates·T⁻¹: solve Tᵀ·Jᵀ = J_ratesᵀ.
-    J = np.linalg.solve(np.swapaxes(angular_velocity_map(angles), 1, 2), np.swapaxes(J_rates, 1, 2)).swapaxes(1, 2)
+    # L̇ = J_rates·q̇ and ω = T(q)·q̇, so J = J_rates·T⁻¹ (T⁻¹ in closed form: LAPACK's batched
+    # solve on 3×3 matrices cost 0.5 µs a sample, 2 % of the whole).
+    T_inverse_transpose = stack(laws.inverse_transpose(np.moveaxis(angular_velocity_map(angles), (1, 2), (0, 1))))  # (row, xyz, n)
+    J = np.einsum("nac,bcn->nab", J_rates, T_inverse_transpose)
     kin = ClosedKinematics(
         t=t,
         angles=angles,
