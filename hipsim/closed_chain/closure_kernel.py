@@ -1,14 +1,15 @@
 """The arithmetic between Pinocchio's calls in the closure solver, compiled with numba.
 
-Why this module exists. Closing the chain at one sample takes three
-Pinocchio calls (forward kinematics, joint Jacobians, their time variation),
-each a microsecond or two. Around them the solver did some thirty NumPy
-operations on 21-vectors and a 21×21 inverse, and read the closures'
-placements and Jacobian back property by property, each costing a
-microsecond of Python overhead for a few hundred floating-point operations:
-together more than the Pinocchio calls. Here that arithmetic runs compiled,
-a few calls per sample, on views of Pinocchio's Data, so that what is left of
-a sample's time is mostly Pinocchio's.
+Why this module exists. Closing the chain at one sample takes two
+Pinocchio calls (forward kinematics at the prediction, joint Jacobians at the
+corrected configuration), each a microsecond or two. Around them the solver
+did some thirty NumPy operations on 21-vectors and a 21×21 inverse, and read
+the closures' placements and Jacobian back property by property, each
+costing a microsecond of Python overhead for a few hundred floating-point
+operations: together more than the Pinocchio calls. Here that arithmetic
+runs compiled on views of Pinocchio's Data, one call after each Pinocchio
+call (:func:`gaps_and_chord_step`, :func:`closed_sample`; the other
+functions are their parts, and the tests' handles on them).
 
 Nothing here knows the machine's geometry: every joint placement and
 Jacobian comes from Pinocchio (:mod:`hipsim.closed_chain.model` calls it),
@@ -21,7 +22,7 @@ solve
 (P₁ selects platform 1's three angle coordinates, J_c is the 18×21 closure
 Jacobian in the lever-tip frames), and J̇_c v is the closures' relative
 classical acceleration at a = 0, from the world-frame joint Jacobians J and
-their time variation J̇ (``pin.computeJointJacobiansTimeVariation``).
+v (J̇·v follows from them: :func:`_frame_motion`).
 
 Indices are velocity indices (all the tree's joints are 1-DoF).
 """
@@ -190,8 +191,7 @@ def closed_sample(
     """After the joint Jacobians at a corrected q: its frames and gaps and, if |d|² ≤ ``limit`` [m²], all the solver keeps of sample k.
 
     :func:`closure_frames`, then :func:`rates` and :func:`store`, in one
-    call: numba's dispatch costs ~0.3 µs a call (and ~0.05 µs an argument),
-    which, three calls apart, was a tenth of a sample's time.
+    call: numba's dispatch costs ~0.25 µs a call and ~0.05 µs an argument.
 
     Args:
         rotations, origins, joints, placements, tips, p2, d: as in :func:`closure_frames`.
