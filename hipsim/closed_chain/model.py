@@ -935,8 +935,8 @@ def _close_chain(
     # solve on 3×3 matrices cost 0.5 µs a sample, 2 % of the whole). The product is three
     # elementwise terms, not einsum, whose rounding depends on the array's length: a run in
     # pieces must give the one-piece bits.
-    rows = laws.inverse_transpose(np.moveaxis(angular_velocity_map(angles), (1, 2), (0, 1)))  # T⁻ᵀ's rows b, each (xyz, n)
-    T_inverse = np.stack([np.stack(row, axis=-1) for row in rows], axis=-1)  # (n, c, b) = T⁻¹
+    T_inverse_rows = laws.inverse_transpose(np.moveaxis(angular_velocity_map(angles), (1, 2), (0, 1)))  # T⁻ᵀ's rows b, each (xyz, n)
+    T_inverse = np.stack([np.stack(row, axis=-1) for row in T_inverse_rows], axis=-1)  # (n, c, b) = T⁻¹
     J = sum(J_rates[:, :, c, None] * T_inverse[:, None, c, :] for c in range(3))
     kin = ClosedKinematics(
         t=t,
