@@ -21,7 +21,7 @@ import time  # noqa: E402
 import numpy as np  # noqa: E402
 
 import hipsim  # noqa: E402
-import hipsim.analysis.workspace as workspace  # noqa: E402
+import hipsim.design.workspace as workspace  # noqa: E402
 from hipsim.analytic.virtual_work import inverse_dynamics  # noqa: E402
 from hipsim.analytic.inverse_kinematics import kinematics  # noqa: E402
 
@@ -409,7 +409,7 @@ _IDENTIFY = _PEAK_KB + """
 import json, sys, time
 import numpy as np
 import hipsim
-from hipsim.analysis import identify, load_log
+from hipsim.rig import identify, load_log
 from hipsim.analytic import inverse_dynamics, kinematics
 
 params = hipsim.load_parameters()
@@ -436,7 +436,7 @@ def bench_identification(params, quick: bool) -> None:
     import tempfile
     from pathlib import Path
 
-    from hipsim.analysis import excitation
+    from hipsim.rig import excitation
 
     minutes = 1 if quick else 10
     n = minutes * 60_000
@@ -482,8 +482,8 @@ def bench_sweep(params, quick: bool) -> None:
 
     import distributed
 
-    from hipsim.analysis.sweep import SweepSetup, batches, run_sweep
-    from hipsim.analysis.variants import latin_hypercube
+    from hipsim.design.sweep import SweepSetup, batches, run_sweep
+    from hipsim.design.variants import latin_hypercube
 
     count = 1000 if quick else 10_000
     trajectory = hipsim.iso14242(rate=1000)
@@ -513,7 +513,7 @@ def bench_sweep(params, quick: bool) -> None:
                                     silence_logs=logging.CRITICAL) as cluster, \
                 distributed.Client(cluster) as client:
             # Started, and hipsim imported in every worker (what a first task would otherwise pay).
-            client.run(importlib.import_module, "hipsim.analysis.sweep")
+            client.run(importlib.import_module, "hipsim.design.sweep")
             startup = time.perf_counter() - start
             figures[workers] = (startup, sweep(scheduler=cluster.scheduler_address))
             if workers == 2:
@@ -614,7 +614,7 @@ def bench_rig(quick: bool) -> None:
         seed = write_log(Path(folder) / "seed.csv", iso_run(4.0), np.random.default_rng(1), motion="angles")
         for seconds in (short, long):
             _tiled_log(seed, Path(folder) / f"log{seconds}.csv", seconds)
-        whole = ("from hipsim.analysis.compare import load_log, compare; import hipsim; "
+        whole = ("from hipsim.rig.compare import load_log, compare; import hipsim; "
                  "p = hipsim.load_parameters(); log = load_log('log{s}.csv', p); ")
         rows = [
             (f"whole log (load_log + compare + figures), {short} s",
@@ -622,7 +622,7 @@ def bench_rig(quick: bool) -> None:
             (f"hipsim compare in pieces, {short} s", f"from hipsim.cli.main import main; main(['compare', '--log', 'log{short}.csv', '--out', 'cmp1', '--summary-format', 'json'])", short),
             (f"hipsim compare in pieces, {long} s", f"from hipsim.cli.main import main; main(['compare', '--log', 'log{long}.csv', '--out', 'cmp2', '--summary-format', 'json'])", long),
             (f"whole log (load_log + identify), {short} s",
-             whole.format(s=short) + "from hipsim.analysis.identification import identify; identify([log], p)", short),
+             whole.format(s=short) + "from hipsim.rig.identification import identify; identify([log], p)", short),
             (f"hipsim identify in pieces, {short} s", f"from hipsim.cli.main import main; main(['identify', '--log', 'log{short}.csv', '--out', 'id1.toml', '--summary-format', 'json'])", short),
             (f"hipsim identify in pieces, {long} s", f"from hipsim.cli.main import main; main(['identify', '--log', 'log{long}.csv', '--out', 'id2.toml', '--summary-format', 'json'])", long),
         ]

@@ -24,7 +24,7 @@ import numpy as np
 
 from hipsim.analytic.inverse_kinematics import slider_heights
 from hipsim.control import AugmentedPD, ReducedPlant, simulate
-from hipsim.motion.rig_logs import MeasuredLog
+from hipsim.rig.logs import MeasuredLog
 from hipsim.motion.trajectories import Trajectory
 
 

@@ -5,8 +5,8 @@ import json
 import numpy as np
 import pytest
 
-from hipsim.analysis import compare, load_log
-from hipsim.analysis.compare import detect_period
+from hipsim.rig import compare, load_log
+from hipsim.rig.compare import detect_period
 from hipsim.cli.main import main
 from hipsim.exceptions import TrajectoryError
 from hipsim.results import Torques
@@ -117,7 +117,7 @@ def test_compare_command_bad_log_leaves_nothing(tmp_path, capsys):
 
 # --- A log in pieces ---------------------------------------------------------------------------
 
-from hipsim.analysis.compare import LogPieces, compare_log  # noqa: E402
+from hipsim.rig.compare import LogPieces, compare_log  # noqa: E402
 
 #: Pieces give the whole log's values up to round-off: the filters start in another state and the
 #: forward kinematics' Newton from another pose, and their last digits differ; relative to the measured torque.

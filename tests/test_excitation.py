@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 import hipsim
-from hipsim.analysis import excitation
-from hipsim.analysis.excitation import Limits, condition_number
+from hipsim.rig import excitation
+from hipsim.rig.excitation import Limits, condition_number
 from hipsim.cli.main import main
 from hipsim.exceptions import HipsimError
 from hipsim.motion.trajectories import Trajectory

@@ -9,7 +9,7 @@ import pytest
 
 import hipsim
 import hipsim.present.figures as figures
-from hipsim.analysis.sizing import axial_screw_load, sizing
+from hipsim.design.sizing import axial_screw_load, sizing
 from hipsim.machine.drive import Drive, Motor, TorqueSpeedCurve
 from hipsim.motion.trajectories import iso14242
 

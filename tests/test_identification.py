@@ -7,8 +7,8 @@ import pytest
 import scipy.optimize
 
 import hipsim
-from hipsim.analysis import identify, load_log, regressor
-from hipsim.analysis.identification import (
+from hipsim.rig import identify, load_log, regressor
+from hipsim.rig.identification import (
     QUANTITIES,
     _BLOCKS,
     _SIGMA,
@@ -216,7 +216,7 @@ def test_the_readme_example(noisy, monkeypatch, capsys):
 
 def test_logs_in_pieces_give_the_same_fit(noisy):
     """The fit of logs read in pieces (cut mid-cycle, each shorter than its halo) against the fit of the whole logs."""
-    from hipsim.analysis.compare import LogPieces
+    from hipsim.rig.compare import LogPieces
 
     _, fit, held_out, whole = noisy
     start, _ = machines()

@@ -1,4 +1,4 @@
-"""The laws of hipsim.analytic.laws against hand formulas, finite differences and SciPy, on both routes.
+"""The laws of hipsim.physics.laws against hand formulas, finite differences and SciPy, on both routes.
 
 Each law is checked where it is defined, independently of the models that
 use it: rotation maps against SciPy's rotations and finite differences of
@@ -22,7 +22,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import hipsim
-from hipsim.analytic import laws, vectors
+from hipsim.physics import laws, vectors
 
 from support import ALL_FRICTION
 
@@ -327,12 +327,12 @@ def flatten(value):
 def test_editing_a_law_recompiles_its_cached_callers(tmp_path):
     """numba keys a cache on the caller's file only; laws.jit adds the laws' files."""
     law = tmp_path / "law.py"
-    law.write_text("from hipsim.analytic.vectors import jitable\n\n\n@jitable\ndef law(x):\n    return 2.0 * x\n")
+    law.write_text("from hipsim.physics.vectors import jitable\n\n\n@jitable\ndef law(x):\n    return 2.0 * x\n")
     (tmp_path / "caller.py").write_text(textwrap.dedent('''
         from pathlib import Path
 
         import law
-        from hipsim.analytic.laws import jit
+        from hipsim.physics.laws import jit
 
 
         @jit(depends_on=(Path(law.__file__),))

@@ -11,11 +11,13 @@ PACKAGE = Path(__file__).resolve().parents[1] / "hipsim"
 LAYERS = [
     {"exceptions", "arrays", "files"},
     {"machine", "motion"},
+    {"physics"},
     {"results"},
     {"analytic"},
     {"closed_chain", "mujoco_engine"},
     {"control"},
     {"analysis"},
+    {"rig", "design"},
     {"present"},
     {"cli", "__main__", "__init__"},
 ]

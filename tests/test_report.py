@@ -20,7 +20,7 @@ import hipsim
 import hipsim.present.figures as figures
 import hipsim.present.report as report
 from hipsim import Run
-from hipsim.analysis.sizing import axial_screw_load, motor_thrust, sizing
+from hipsim.design.sizing import axial_screw_load, motor_thrust, sizing
 from hipsim.cli import main
 from hipsim.exceptions import HipsimError, ParameterError
 from hipsim.machine.drive import Drive, LeadScrew, Motor, TorqueSpeedCurve, load_drive

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from hipsim.exceptions import TrajectoryError
-from hipsim.motion.rig_logs import edge_samples, lowpass, minimum_samples, read_rig_log, smooth_motion
+from hipsim.rig.logs import edge_samples, lowpass, minimum_samples, read_rig_log, smooth_motion
 
 
 def write(path, header, rows):
@@ -139,7 +139,7 @@ def test_blank_lines_keep_the_file_line_numbers(tmp_path):
 
 def test_a_log_scanned_in_small_blocks(tmp_path):
     """Blocks of 7 lines (blank lines among them) give the samples, lines and errors of the file read in one block."""
-    from hipsim.motion.rig_logs import RigLogFile
+    from hipsim.rig.logs import RigLogFile
 
     rows = good_rows(60)
     text = ",".join(HEADER) + "\n" + "\n".join(",".join(str(x) for x in row) for row in rows[:10]) + "\n\n\n"

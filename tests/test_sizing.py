@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import hipsim
-from hipsim.analysis.sizing import (
+from hipsim.design.sizing import (
     CHECKS,
     ScrewSide,
     axial_screw_load,

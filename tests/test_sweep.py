@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 import hipsim
-from hipsim.analysis import variants as v
-from hipsim.analysis.sweep import SweepSetup, evaluate, evaluate_batch, metric_columns, pareto_front, parse_objective, run_sweep
-from hipsim.analysis.sweep_table import read_table, write_table
+from hipsim.design import variants as v
+from hipsim.design.sweep import SweepSetup, evaluate, evaluate_batch, metric_columns, pareto_front, parse_objective, run_sweep
+from hipsim.design.sweep_table import read_table, write_table
 from hipsim.cli.main import main
 from hipsim.exceptions import ArgumentError, FileRowError, MissingDependencyError, ParameterError
 
@@ -348,7 +348,7 @@ def test_a_drive_that_names_its_screw_lead_refuses_a_sweep_of_the_lead(base, iso
 
 
 def test_an_interrupted_sweep_keeps_what_is_done_and_a_rerun_resumes(tmp_path, capsys, monkeypatch):
-    import hipsim.analysis.sweep as engine
+    import hipsim.design.sweep as engine
 
     real = engine.run_sweep
 

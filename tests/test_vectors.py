@@ -1,8 +1,8 @@
-"""hipsim.analytic.vectors against NumPy's own vector algebra, on tuples and on components-first arrays."""
+"""hipsim.physics.vectors against NumPy's own vector algebra, on tuples and on components-first arrays."""
 
 import numpy as np
 
-from hipsim.analytic import vectors
+from hipsim.physics import vectors
 
 RNG = np.random.default_rng(3)
 

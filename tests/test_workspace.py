@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import hipsim
-import hipsim.analysis.workspace as ws
+import hipsim.design.workspace as ws
 from hipsim.cli.workspace import run_workspace
 from hipsim.analytic.inverse_kinematics import kinematics, slider_heights
 from hipsim.motion.trajectories import Trajectory, iso14242

@@ -22,7 +22,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..analytic import laws
+from ..physics import laws
 from ..machine.parameters import Parameters, slender_levers
 from ..exceptions import HipsimError
 from ..motion.sources import TrajectorySource, pieces

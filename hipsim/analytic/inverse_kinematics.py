@@ -16,13 +16,13 @@ every leg at every sample and each NumPy operation runs over one contiguous
 block instead of over many 3-element rows (three to twenty times faster here).
 The two layouts are each other's ``.T``, a view, so converting costs nothing:
 the fields of :class:`Kinematics` are views of the arrays computed inside.
-The helpers of :mod:`hipsim.analytic.vectors` work component by component, so a
+The helpers of :mod:`hipsim.physics.vectors` work component by component, so a
 vector per sample (components of shape (N,)) broadcasts against a vector per
 leg (components (3, N)) and a constant per leg (components (3, 1)); whole
 arrays do not (write ``omega[:, None]`` to add a vector per sample to one per
 leg). A matrix whose rows belong to the legs, like J with rows j_i, is stored
 as the vector per leg j_i, so L̇_i = j_i·ω is ``dot(J, omega)``. The rotation
-maps and the lever's spin are the laws of :mod:`hipsim.analytic.laws`, which
+maps and the lever's spin are the laws of :mod:`hipsim.physics.laws`, which
 the compiled kernel calls too.
 
 Every function is a pure function of arrays; :func:`kinematics` bundles them
@@ -38,8 +38,8 @@ import numpy as np
 from ..exceptions import ArgumentError, PoseError
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
-from . import laws
-from .vectors import cross_array, dot, per_leg, stack
+from ..physics import laws
+from ..physics.vectors import cross_array, dot, per_leg, stack
 
 __all__ = [
     "Kinematics",

@@ -16,7 +16,7 @@ friction coefficient on, and the plant's agreement with the Pinocchio plant
 is tested in ``tests/test_pinocchio_plant.py``. The names follow those modules, so
 each line here can be read against its vectorised counterpart; the laws both
 use (rotation maps, lever spin, friction) are written once, in
-:mod:`hipsim.analytic.laws`.
+:mod:`hipsim.physics.laws`.
 
 Conventions. Vectors are 3-tuples of floats (values, so nothing is allocated
 on the heap), matrices are 3-tuples of rows. The machine travels as a
@@ -41,9 +41,9 @@ import numpy as np
 
 from ..exceptions import ArgumentError, HipsimError
 from ..machine.parameters import Parameters
-from . import laws
-from .laws import FrictionRecord
-from .vectors import add, cross, dot, matvec, scale, sub, transpose_times
+from ..physics import laws
+from ..physics.laws import FrictionRecord
+from ..physics.vectors import add, cross, dot, matvec, scale, sub, transpose_times
 
 __all__ = [
     "KernelParameters",
@@ -62,7 +62,7 @@ __all__ = [
 Vector = tuple  # (x, y, z) floats
 Matrix = tuple  # three rows
 
-#: Compile with numba, caching the machine code (keyed on the laws too: see :func:`hipsim.analytic.laws.jit`).
+#: Compile with numba, caching the machine code (keyed on the laws too: see :func:`hipsim.physics.laws.jit`).
 _compile = laws.jit
 
 
@@ -197,7 +197,7 @@ def _signed(P, v):
 # --- Inverse dynamics (hipsim.analytic.virtual_work) -----------------------------------
 # The vectorised model and this kernel stay two transcriptions of the virtual-work
 # assembly because one runs whole-array NumPy operations on every sample at once and the
-# other scalar code on one state: the laws they share come from hipsim.analytic.laws,
+# other scalar code on one state: the laws they share come from hipsim.physics.laws,
 # and tests/test_reduced_kernel.py ties the two to round-off.
 
 

@@ -28,7 +28,7 @@ components-first (a vector per sample (3, N), per leg (3, 3, N) = (xyz, leg,
 sample), a scalar per leg (3, N)) on the ``.T`` views of the
 :class:`~hipsim.analytic.inverse_kinematics.Kinematics` arrays, and the
 results are turned back with ``.T``. The friction laws, J⁻ᵀ and the lever's
-spin and frame are those of :mod:`hipsim.analytic.laws`, which the compiled
+spin and frame are those of :mod:`hipsim.physics.laws`, which the compiled
 kernel and the Pinocchio model call too. The assembly below is transcribed
 once more, for one state on plain floats, in :mod:`hipsim.analytic.kernel`,
 because whole-array NumPy code costs ~700 calls of Python overhead per state
@@ -45,9 +45,9 @@ from ..exceptions import HipsimError
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 from ..results import Torques
-from . import laws
+from ..physics import laws
 from .inverse_kinematics import Kinematics, kinematics
-from .vectors import cross_array, dot, per_leg, stack
+from ..physics.vectors import cross_array, dot, per_leg, stack
 
 __all__ = [
     "central_friction_moment",
@@ -60,7 +60,7 @@ __all__ = [
 
 
 def smooth_sign(w: np.ndarray, epsilon: float, vector: bool = False) -> np.ndarray:
-    """ŝ(w) = w/√(|w|² + ε²) (spec §7.3; :func:`hipsim.analytic.laws.smooth_sign`).
+    """ŝ(w) = w/√(|w|² + ε²) (spec §7.3; :func:`hipsim.physics.laws.smooth_sign`).
 
     Args:
         w: speeds in [rad/s], any shape; with ``vector`` the last axis is a 3-vector.

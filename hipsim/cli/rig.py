@@ -21,8 +21,8 @@ __all__ = ["add_parser", "run", "run_compare", "run_excite", "run_identify"]
 
 
 def _add_log_options(parser: argparse.ArgumentParser) -> None:
-    from ..analysis.compare import DEFAULT_TOLERANCE_DEG
-    from ..motion.rig_logs import DEFAULT_CUTOFF
+    from ..rig.compare import DEFAULT_TOLERANCE_DEG
+    from ..rig.logs import DEFAULT_CUTOFF
 
     group = parser.add_argument_group("logs")
     group.add_argument("--torque-constant", type=float, metavar="NM_PER_A",
@@ -122,13 +122,13 @@ def _table(header, rows, title=""):
 
 
 def _pieces(path: str, params, args):
-    from ..analysis.compare import LogPieces
+    from ..rig.compare import LogPieces
 
     return LogPieces(path, params, torque_constant=args.torque_constant, cutoff=_cutoff(args), tolerance_deg=args.tolerance)
 
 
 def run_compare(args) -> int:
-    from ..analysis.compare import compare_log
+    from ..rig.compare import compare_log
     from ..files import check_folder
     from ..present.rig_figures import write_comparison
     from .main import _parameters, _progress
@@ -161,7 +161,7 @@ def run_compare(args) -> int:
 
 
 def run_identify(args) -> int:
-    from ..analysis.identification import identify
+    from ..rig.identification import identify
     from .main import _parameters
 
     params = _parameters(args)
@@ -216,7 +216,7 @@ def _percent(fraction: float) -> str:
 
 
 def run_excite(args) -> int:
-    from ..analysis.excitation import Limits, excitation
+    from ..rig.excitation import Limits, excitation
     from .main import _numbers, _parameters
 
     params = _parameters(args)

@@ -135,7 +135,7 @@ def format_demands(size) -> str:
 
 def run(args) -> int:
     from ..analysis.runs import analyse
-    from ..analysis.sizing import rank_drives, sizing
+    from ..design.sizing import rank_drives, sizing
     from ..machine.drive import SizingRules, drive_from_motor_table, load_drive, load_gearbox_catalogue, load_motor_catalogue, load_screw_catalogue
     from .main import _format_table, _parameters
 

@@ -81,7 +81,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
 
 def _variants(args, params):
-    from ..analysis import variants as v
+    from ..design import variants as v
 
     kinds = [name for name, given in (("--grid", args.grid), ("--sample", args.sample is not None), ("--variants", args.variants)) if given]
     if len(kinds) > 1:
@@ -127,7 +127,7 @@ def _drive(args):
 
 def _check_out(path: str) -> Path:
     """The output must be a .parquet/.csv file in an existing folder: checked before any variant runs."""
-    from ..analysis.sweep_table import table_format
+    from ..design.sweep_table import table_format
 
     out = Path(path)
     table_format(out)
@@ -141,7 +141,7 @@ def _check_out(path: str) -> Path:
 
 def _previous(out: Path, names: list[str]) -> dict[str, list]:
     """The rows already in ``out`` (empty columns when it does not exist yet); refused when they are another sweep's."""
-    from ..analysis.sweep_table import read_table
+    from ..design.sweep_table import read_table
 
     if not out.exists():
         return {name: [] for name in names}
@@ -153,8 +153,8 @@ def _previous(out: Path, names: list[str]) -> dict[str, list]:
 
 
 def run(args) -> int:
-    from ..analysis.sweep import OBJECTIVES, SweepSetup, metric_columns, parse_objective, run_sweep, variant_id
-    from ..analysis.sweep_table import write_table
+    from ..design.sweep import OBJECTIVES, SweepSetup, metric_columns, parse_objective, run_sweep, variant_id
+    from ..design.sweep_table import write_table
     from .main import _parameters
     from .motion_options import load_trajectory
 
@@ -289,7 +289,7 @@ def _summary(columns: dict, keys, objectives: dict, pareto) -> dict:
 
 
 def _figure(columns: dict, pareto, out: Path, summary: dict):
-    from ..analysis.sweep import pareto_front
+    from ..design.sweep import pareto_front
     from ..present.figures import save_figure
     from ..present.sweep_figures import plot_pareto
 

@@ -11,7 +11,7 @@ from typing import TextIO
 
 import numpy as np
 
-from ..analysis.workspace import OffsetSweep, SingularityMap, offset_sweep, singularity_map
+from ..design.workspace import OffsetSweep, SingularityMap, offset_sweep, singularity_map
 from ..files import check_folder, output_folder, write_atomic
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory, iso14242

@@ -31,8 +31,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..analytic import laws
-from ..analytic.vectors import add, cross, dot, matvec, scale, sub, transpose_times
+from ..physics import laws
+from ..physics.vectors import add, cross, dot, matvec, scale, sub, transpose_times
 
 __all__ = [
     "OK", "LEVER_DOWN", "OPEN", "SINGULAR", "acceleration", "actuator_and_closure_forces", "block_lower_inverse", "chord_step",

@@ -70,10 +70,10 @@ import numpy as np
 import pinocchio as pin
 import yaml
 
-from ..analytic import laws
+from ..physics import laws
 from ..analytic.inverse_kinematics import angular_velocity_map, inverse_condition_number, rotation_matrix
 from ..analytic.virtual_work import central_friction_moment
-from ..analytic.vectors import stack
+from ..physics.vectors import stack
 from ..arrays import check_shapes
 from ..exceptions import ArgumentError, ClosureError, ModelError, PoseError, TrajectoryError
 from ..machine.model_files import closure_file_path, urdf_text
@@ -1092,7 +1092,7 @@ def _platform_z_axes(data, frames) -> np.ndarray:
 def _friction_forces(chain: ClosedChainModel, v, Fe, platform_J, lever_J, platform_z=None) -> np.ndarray:
     """Generalised forces the actuators must supply against friction, shape (n, nv) (spec §4.3, §7.3).
 
-    The friction laws are :mod:`hipsim.analytic.laws`'; here they act on the
+    The friction laws are :mod:`hipsim.physics.laws`'; here they act on the
     tree's own body motions, mapped to its joints by Pinocchio's Jacobians.
     platform_J: (n, 2, 3, 3) angular Jacobians of the platforms on their own
     joints [rx, ry, rz]; lever_J: (n, 2, 3, 3, 2) of the levers on [u1, u2],

@@ -26,7 +26,7 @@ with g the closure gaps R₁ᵀ(p₁ − p₂) and the generalised forces
 the actuator force (2π/p)·τ_motor on each slider's prismatic joint (the
 screw's rotor inertia is the joint's armature), minus the friction
 generalised forces Q_f of spec §4.3 / §7.3 — the laws of
-:mod:`hipsim.analytic.laws`, as the closed-chain inverse dynamics adds them
+:mod:`hipsim.physics.laws`, as the closed-chain inverse dynamics adds them
 (:func:`hipsim.closed_chain.model.friction_forces`), so inverse then forward
 dynamics is consistent. For the default friction (hip joint, thrust bearing,
 slider guides and screw; no U/S-joint friction) Q_f is evaluated by one
@@ -90,7 +90,7 @@ import math
 import numpy as np
 import pinocchio as pin
 
-from ..analytic import laws
+from ..physics import laws
 from ..analytic.inverse_kinematics import angular_velocity_map
 from ..exceptions import ArgumentError
 from ..machine.parameters import Parameters
@@ -116,7 +116,7 @@ def _generalised_forces(buf, x, tau, Fe, friction, weight, gain, platforms, slid
         x: state [q, v], (2·nv,).
         tau: motor torques in [N·m], (3,).
         Fe: load in [N].
-        friction: the friction coefficients as a plain tuple (:func:`hipsim.analytic.laws.friction_record`).
+        friction: the friction coefficients as a plain tuple (:func:`hipsim.physics.laws.friction_record`).
         weight: the platform's weight m_m·g in [N].
         gain: 2π/p in [1/m].
         platforms: per platform, the state slots of q_rx, q_ry, q_rz, v_rx, v_ry, v_rz, (2, 6).

@@ -23,7 +23,7 @@ the two give the same trajectories to round-off (``tests/test_simulation.py``
 compares them).
 
 Its numba cache is keyed on the kernel's and the laws' files too: the machine
-code absorbs them (see :func:`hipsim.analytic.laws.jit`).
+code absorbs them (see :func:`hipsim.physics.laws.jit`).
 """
 
 from __future__ import annotations
@@ -31,7 +31,8 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from ..analytic import kernel, laws
+from ..analytic import kernel
+from ..physics import laws
 
 __all__ = ["control_period", "servo_loop"]
 

@@ -161,7 +161,7 @@ class Friction:
         thrust_bearing_axial_only: False for the publication's central-chain
             friction (the thrust bearing's moment along ŝ(ω), like the hip
             joint's); True for a bearing that resists only rotation about its
-            own axis, the platform's z axis (:func:`hipsim.analytic.laws.central_friction_moment`).
+            own axis, the platform's z axis (:func:`hipsim.physics.laws.central_friction_moment`).
     """
 
     epsilon: float

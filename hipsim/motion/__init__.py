@@ -6,7 +6,6 @@ Layer 1 of hipsim, beside :mod:`hipsim.machine`: it knows nothing of the machine
 from .hip_angles import hip_to_machine, machine_to_hip
 from .opensim import load_opensim
 from .readers import Column, ColumnMap, TrajectoryWarning, load_trajectory_csv, parse_columns, read_trajectory
-from .rig_logs import MeasuredLog, RigLog, lowpass, read_rig_log
 from .sources import CycleSource, FileSource, SampledSource
 from .trajectories import Trajectory, interpolator, iso14242
 
@@ -15,8 +14,6 @@ __all__ = [
     "ColumnMap",
     "CycleSource",
     "FileSource",
-    "MeasuredLog",
-    "RigLog",
     "SampledSource",
     "Trajectory",
     "TrajectoryWarning",
@@ -25,9 +22,7 @@ __all__ = [
     "iso14242",
     "load_opensim",
     "load_trajectory_csv",
-    "lowpass",
     "machine_to_hip",
     "parse_columns",
-    "read_rig_log",
     "read_trajectory",
 ]

@@ -45,7 +45,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.linalg import lapack
 
-from ..analytic import laws
+from ..physics import laws
 from ..arrays import check_shapes
 from ..exceptions import ArgumentError, ClosureError, ModelError, PoseError, TrajectoryError
 from ..motion.trajectories import trajectory_arrays
@@ -612,7 +612,7 @@ class MujocoModel:
     Slider motion, singularity measure, torques and joint forces all come from
     MuJoCo: M and bias from MuJoCo, the rigid closure solved with its
     constraint Jacobian, friction as applied forces (the laws of
-    :mod:`hipsim.analytic.laws`).
+    :mod:`hipsim.physics.laws`).
 
     Args:
         params: the machine.

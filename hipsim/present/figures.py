@@ -9,7 +9,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from ..analysis.sizing import Sizing
+from ..design.sizing import Sizing
 from ..exceptions import HipsimError
 from ..files import write_atomic
 from ..results import Run

@@ -6,7 +6,7 @@ figure as PNG and SVG, ``index.html`` (one self-contained page: the PNGs are
 embedded as data URIs, so it works offline and after the folder is moved or
 the page is mailed alone), ``report.json`` (the summary and sizing numbers)
 and ``torques.csv`` (the columns of spec §7.5). The numbers come from
-:mod:`hipsim.analysis.sizing`, the figures from :mod:`hipsim.present.figures`,
+:mod:`hipsim.design.sizing`, the figures from :mod:`hipsim.present.figures`,
 the page from a Jinja template (``templates/report.html.j2``, autoescaped).
 
 The folder is written whole or not at all: everything goes to a temporary
@@ -32,7 +32,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from ..analysis.sizing import CHECKS, Sizing, sizing
+from ..design.sizing import CHECKS, Sizing, sizing
 from ..exceptions import HipsimError
 from ..files import check_folder, json_ready, output_folder, write_atomic
 from ..machine.drive import Drive

@@ -2,7 +2,7 @@
 
 :func:`write_comparison` writes a folder a lab can hand on: the figures as
 PNG and SVG, ``index.html`` (one self-contained page, the PNGs embedded) and
-``comparison.json`` (:meth:`hipsim.analysis.compare.Comparison.summary`).
+``comparison.json`` (:meth:`hipsim.rig.compare.Comparison.summary`).
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from ..analysis.compare import Comparison
+from ..rig.compare import Comparison
 from ..files import check_folder, json_ready, output_folder, write_atomic
 from ..results import Torques
 from .figures import save_figure
@@ -165,7 +165,7 @@ def write_comparison(out_dir: str | Path, comparison: Comparison, extra: dict[st
 
     Args:
         out_dir: the folder (made if missing; taken back if the writing fails and it is still empty).
-        comparison: what :func:`hipsim.analysis.compare.compare` returned.
+        comparison: what :func:`hipsim.rig.compare.compare` returned.
         extra: more entries for the JSON.
 
     Returns:

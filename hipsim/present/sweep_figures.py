@@ -23,7 +23,7 @@ def plot_pareto(
 
     Args:
         x, y: the objectives per variant, (n,), in the units their names give; NaN (no metrics) is not drawn.
-        front: (n,) True for the variants on the front (:func:`hipsim.analysis.sweep.pareto_front`).
+        front: (n,) True for the variants on the front (:func:`hipsim.design.sweep.pareto_front`).
         names: the two columns.
         maximise: per objective, True if larger is better (the axis label says which).
         ratings: per variant "pass", "fail", "unchecked" or "" (no metrics).

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from ..analysis.workspace import OffsetSweep, SingularityMap
+from ..design.workspace import OffsetSweep, SingularityMap
 
 __all__ = ["plot_offset_sweep", "plot_singularity_map"]
 

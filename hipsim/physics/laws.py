@@ -9,10 +9,10 @@ follows it.
 
 How one source serves both. Each law is plain arithmetic on its arguments
 (``+ − × /``, ``np.abs``, ``np.sqrt``) on vectors given by their components
-(:mod:`hipsim.analytic.vectors`), and returns vectors as triples. Called from
+(:mod:`hipsim.physics.vectors`), and returns vectors as triples. Called from
 NumPy with arrays, it evaluates the law for all samples at once; called from
 compiled code, numba compiles it on floats and 3-tuples into its caller
-(``register_jitable``, via :func:`hipsim.analytic.vectors.jitable`). Why
+(``register_jitable``, via :func:`hipsim.physics.vectors.jitable`). Why
 NumPy runs the laws itself, measured on 10⁴ samples: R(q) takes 80 µs in
 NumPy, 100 µs numba-compiled on the same arrays, 16 µs as a compiled loop over
 the samples; the central-chain friction 75, 63 and 51 µs; ŝ 22 µs in NumPy

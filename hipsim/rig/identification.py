@@ -24,7 +24,7 @@ through the log's own low-pass (the torques already have), so model and
 measurement share one bandwidth ("parallel filtering"), and are then kept
 every D-th sample (decimation to four times the cutoff); the samples
 around each motor's reversals, where the real motion sticks and no model on
-the filtered motion can follow (:func:`hipsim.analysis.compare.reversal_mask`),
+the filtered motion can follow (:func:`hipsim.rig.compare.reversal_mask`),
 are left out of that motor's rows. Rows are
 accumulated log by log and chunk by chunk into the triangular factor of a
 QR decomposition of [Y | τ] per motor, so memory does not grow with the log.
@@ -89,7 +89,7 @@ import scipy.optimize
 from ..exceptions import HipsimError
 from ..files import write_atomic
 from ..machine.parameters import SCHEMA, Parameters, file_values
-from ..motion.rig_logs import MeasuredLog, lowpass, minimum_samples
+from .logs import MeasuredLog, lowpass, minimum_samples
 from ..motion.trajectories import Trajectory
 from ..analytic.inverse_kinematics import kinematics
 from ..analytic.virtual_work import inverse_dynamics
@@ -580,8 +580,8 @@ def identify(
     """Identify the dynamic parameters from logs of motion, load and motor torque.
 
     Args:
-        logs: the logs to fit (:func:`hipsim.analysis.load_log`, or built from arrays), or logs
-            of any length in pieces (:class:`~hipsim.analysis.compare.LogPieces`: memory then does
+        logs: the logs to fit (:func:`hipsim.rig.load_log`, or built from arrays), or logs
+            of any length in pieces (:class:`~hipsim.rig.compare.LogPieces`: memory then does
             not grow with the log, the fit is the same to round-off).
         params: the starting machine: its geometry and friction radii are
             used, and it supplies the values of what the data do not determine.

@@ -1,6 +1,6 @@
 """The model against the rig: measured logs in machine terms, and the model's torques along them.
 
-:func:`load_log` reads a rig log (:mod:`hipsim.motion.rig_logs`), turns
+:func:`load_log` reads a rig log (:mod:`hipsim.rig.logs`), turns
 encoder heights into platform angles with the forward kinematics (checking
 them against the attitude sensor when the log has both), low-passes and
 differentiates the motion, and low-passes the torques and the load alike.
@@ -33,7 +33,7 @@ from ..analytic.forward_kinematics import forward_kinematics
 from ..analytic.inverse_kinematics import slider_heights
 from ..exceptions import ArgumentError, PoseError, TrajectoryError
 from ..machine.parameters import Parameters, load_parameters
-from ..motion.rig_logs import (
+from .logs import (
     DEFAULT_CUTOFF,
     MeasuredLog,
     RigLogFile,
@@ -88,7 +88,7 @@ def load_log(
     """Read a rig log and make it ready for the models.
 
     Args:
-        path: the CSV log (columns in :mod:`hipsim.motion.rig_logs`).
+        path: the CSV log (columns in :mod:`hipsim.rig.logs`).
         params: the machine (for the encoders' forward kinematics); None for the published one.
         torque_constant: the motors' torque constant in [N·m/A], for logs of motor currents.
         cutoff: low-pass cutoff in [Hz] for motion, load and torques; None for
@@ -99,7 +99,7 @@ def load_log(
 
     Returns:
         The log, filtered and differentiated; its first and last
-        :func:`~hipsim.motion.rig_logs.edge_samples` samples are marked as the filter's edges.
+        :func:`~hipsim.rig.logs.edge_samples` samples are marked as the filter's edges.
 
     Raises:
         TrajectoryError: naming the file, line and column: the reader's
@@ -113,7 +113,7 @@ def load_log(
 class LogPieces:
     """A rig log in overlapping pieces, each made ready for the models as :func:`load_log` makes the whole.
 
-    The file is scanned once (:class:`~hipsim.motion.rig_logs.RigLogFile`:
+    The file is scanned once (:class:`~hipsim.rig.logs.RigLogFile`:
     every check, the times kept); encoder heights are turned into angles piece
     by piece, each piece continuing from the last pose of the one before, and
     the attitude sensor checked against them. :meth:`windows` then hands out
@@ -121,7 +121,7 @@ class LogPieces:
     the log on either side: the low-pass, the spline, the model's low-pass and
     the reversal windows of a piece so see the log around it as the whole log
     does. The halo is two of the filter's transients
-    (:func:`~hipsim.motion.rig_logs.filter_halo`: its impulse response below
+    (:func:`~hipsim.rig.logs.filter_halo`: its impulse response below
     round-off), the quintic spline's reach (its influence shrinks by
     :data:`SPLINE_DECAY` a sample) and a reversal window: the pieces then give
     the whole log's values to round-off (the forward kinematics, started from

@@ -14,14 +14,14 @@ units, evenly spaced ``t_s``, a clear error naming the file, line and column):
 Other columns (temperatures, set points …) are ignored and listed in
 :attr:`RigLog.ignored`. :func:`read_rig_log` returns the samples as they are,
 in SI units; turning encoder heights into angles needs the machine, so that
-is done a layer up (:func:`hipsim.analysis.load_log`).
+is done a layer up (:func:`hipsim.rig.load_log`).
 
 Filtering. Measured signals are noisy and differentiating them twice
 amplifies the noise, so the motion is low-passed before it is differentiated:
 a Butterworth filter of order :data:`FILTER_ORDER` run forwards and backwards
 (SciPy's ``sosfiltfilt``: zero phase, so nothing is delayed, and the squared
 magnitude response of order 2·4) at ``cutoff`` Hz, :data:`DEFAULT_CUTOFF` by
-default: the ISO gait and the excitations of :mod:`hipsim.analysis.excitation`
+default: the ISO gait and the excitations of :mod:`hipsim.rig.excitation`
 have their content below ~6 Hz, so 20 Hz passes it unchanged (gain 1 − 3e-7
 at 6 Hz) while cutting the noise power of a 1 kHz log 25-fold. The filtered
 angles are then differentiated through an interpolating quintic spline, as
@@ -47,8 +47,8 @@ from scipy.signal import butter, sosfilt, sosfiltfilt
 
 from ..arrays import check_shapes
 from ..exceptions import TrajectoryError
-from .readers import MAX_LOAD, check_time
-from .trajectories import ANGLE_NAMES, Trajectory
+from ..motion.readers import MAX_LOAD, check_time
+from ..motion.trajectories import ANGLE_NAMES, Trajectory
 
 __all__ = [
     "DEFAULT_CUTOFF",
@@ -128,7 +128,7 @@ class RigLog:
 class MeasuredLog:
     """A measured (or synthetic) log ready for the models: smooth motion with derivatives, and torques.
 
-    Build it with :func:`hipsim.analysis.load_log` from a file, or directly
+    Build it with :func:`hipsim.rig.load_log` from a file, or directly
     from arrays (e.g. a simulation's exact states, with ``cutoff=None``).
 
     Attributes:

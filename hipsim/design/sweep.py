@@ -16,8 +16,8 @@ reason: a sweep maps where designs stop working.
 
 Example:
     >>> import hipsim
-    >>> from hipsim.analysis.sweep import SweepSetup, run_sweep
-    >>> from hipsim.analysis.variants import grid
+    >>> from hipsim.design.sweep import SweepSetup, run_sweep
+    >>> from hipsim.design.variants import grid
     >>> setup = SweepSetup(hipsim.load_parameters(), hipsim.iso14242(rate=100))
     >>> variants = grid({"lever.length_mm": (320.0, 340.0, 10.0)})
     >>> rows = [row for batch in run_sweep(setup, variants, workers=1) for _, row in batch]
@@ -39,7 +39,7 @@ from ..machine.drive import Drive, drive_from_motor_table
 from ..machine.parameters import Parameters, file_values, override_parameters
 from ..motion.trajectories import Trajectory
 from ..results import peak_and_rms
-from .runs import analyse
+from ..analysis.runs import analyse
 from .sizing import Candidate, drive_checks, screw_side
 from .variants import KeyRef, Variants
 
@@ -75,7 +75,7 @@ class SweepSetup:
     Attributes:
         base: the machine the variants change (``--params``, ``--set``).
         trajectory: the motion and load every variant runs (reused, never copied per variant).
-        keys: the swept keys (columns of :class:`~hipsim.analysis.variants.Variants`).
+        keys: the swept keys (columns of :class:`~hipsim.design.variants.Variants`).
         model: "analytic" or "pinocchio" (adds the joint forces).
         drive: the drive to check every variant against; None for each
             variant's own ``[motor]`` table (when it has one; else no check).

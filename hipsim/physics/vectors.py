@@ -41,7 +41,7 @@ def jitable(function):
     """Mark a plain function that numba compiles into the compiled functions calling it (``register_jitable``).
 
     The function itself is returned unchanged, for NumPy callers. numba learns
-    of it in :func:`register_jitables`, which :func:`hipsim.analytic.laws.jit`
+    of it in :func:`register_jitables`, which :func:`hipsim.physics.laws.jit`
     calls before it compiles anything: so the vectorised model never imports
     numba (0.2 s of every start-up).
     """

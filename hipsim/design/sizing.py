@@ -42,7 +42,7 @@ from ..machine.drive import DIRECT, END_FIXINGS, Drive, Gearbox, LeadScrew, Moto
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 from ..results import Run, peak_and_rms
-from .runs import analyse
+from ..analysis.runs import analyse
 
 __all__ = [
     "CHECKS",

@@ -1,7 +1,7 @@
 """A sweep's results as a file: Apache Parquet or CSV (by the suffix), written atomically, read back to resume.
 
 One row a variant, one column a swept key (its name as typed, unit in it)
-or a metric (:func:`hipsim.analysis.sweep.metric_columns`). Numbers are
+or a metric (:func:`hipsim.design.sweep.metric_columns`). Numbers are
 written so that they read back to the same bits (CSV: Python's shortest
 round-trip form; Parquet: float64), NaN as an empty CSV cell.
 """

@@ -10,7 +10,7 @@ is checked when the variant's machine is built
 variant is a result of the sweep, not an error.
 
 Example:
-    >>> from hipsim.analysis.variants import grid
+    >>> from hipsim.design.variants import grid
     >>> grid({"lever.length_mm": (300.0, 360.0, 30.0)}).values.ravel().tolist()
     [300.0, 330.0, 360.0]
 """
