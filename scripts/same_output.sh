@@ -3,14 +3,18 @@
 # that two versions can be compared byte for byte:
 #   scripts/same_output.sh OUTDIR            (with the hipsim on PATH / PYTHONPATH)
 #   diff -r OLD_OUTDIR NEW_OUTDIR
-# Reports (HTML, figures) carry no dates; anything that names a time or a path
-# is left out on purpose.
+# Figures (PNG, SVG) are left out: their bytes depend on the matplotlib build.
 set -u
 out=${1:?usage: same_output.sh OUTDIR}
 mkdir -p "$out"
 MODELS=$(python -c "import hipsim.models, os; print(os.path.dirname(hipsim.models.__file__))")
 cd "$out"
-run() { name=$1; shift; "$@" >"$name.stdout" 2>"$name.stderr"; echo $? >"$name.rc"; }
+# Timings and the numba compile notes of a cold cache are left out of the text outputs.
+run() {
+  name=$1; shift
+  "$@" >"$name.stdout" 2>"$name.stderr"; echo $? >"$name.rc"
+  sed -i -E '/compiling \(first run only\)/d; s/in [0-9]+\.[0-9]+ s/in (time) s/' "$name.stdout" "$name.stderr"
+}
 run torques hipsim torques --out torques.csv
 run torques_pin hipsim torques --model pinocchio --out torques_pin.csv
 run torques_mj hipsim torques --model mujoco --out torques_mj.csv

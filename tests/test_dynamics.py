@@ -8,7 +8,8 @@ from scipy.spatial.transform import Rotation
 
 import hipsim
 from hipsim import Torques
-from hipsim.analytic.virtual_work import inverse_dynamics, mass_and_bias, mechanical_energy, smooth_sign
+from hipsim.analytic.virtual_work import inverse_dynamics, mass_and_bias, mechanical_energy
+from hipsim.physics.friction import smooth_sign
 from hipsim.exceptions import PoseError
 from hipsim.analytic.inverse_kinematics import kinematics, lever_frames, lever_jacobians
 from hipsim.motion.trajectories import Trajectory, iso14242

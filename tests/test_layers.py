@@ -10,8 +10,8 @@ PACKAGE = Path(__file__).resolve().parents[1] / "hipsim"
 #: Lowest first. A module may import its own layer and the layers below it, never one above.
 LAYERS = [
     {"exceptions", "arrays", "files"},
-    {"machine", "motion"},
     {"physics"},
+    {"machine", "motion"},
     {"results"},
     {"analytic"},
     {"closed_chain", "mujoco_engine"},

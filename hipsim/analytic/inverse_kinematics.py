@@ -39,6 +39,14 @@ from ..exceptions import ArgumentError, PoseError
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 from ..physics import laws
+from ..physics.orientation import (  # the orientation laws, re-exported here as part of the kinematics
+    angular_velocity_map,
+    angular_velocity_map_rate,
+    inverse_condition_number,
+    inverse_condition_number_components,
+    rotation_matrix,
+    rotation_matrix_components,
+)
 from ..physics.vectors import cross_array, dot, per_leg, stack
 
 __all__ = [
@@ -62,41 +70,6 @@ SINGULAR_COND_INV = 1e-6
 
 
 # --- Orientation ----------------------------------------------------------------------
-
-
-def rotation_matrix(q: np.ndarray) -> np.ndarray:
-    """R = Rz(γ)·Ry(β)·Rx(α).
-
-    Args:
-        q: orientations [α, β, γ] in [rad], shape (N, 3).
-
-    Returns:
-        Rotation matrices, shape (N, 3, 3).
-    """
-    return np.moveaxis(_rotation_matrix(np.cos(q.T), np.sin(q.T)), -1, 0)
-
-
-def _rotation_matrix(c: np.ndarray, s: np.ndarray) -> np.ndarray:
-    """R of :func:`rotation_matrix`, components-first (3, 3, N), from the cosines and sines of q, each (3, N)."""
-    return np.array(laws.rotation(c, s))
-
-
-#: The unit vectors, whose images under a linear map are its columns.
-_UNITS = np.eye(3)
-
-
-def angular_velocity_map(q: np.ndarray) -> np.ndarray:
-    """T(q) with ω = T(q)·q̇ (world frame), shape (N, 3, 3); q in [rad], shape (N, 3)."""
-    c, s = np.cos(q.T), np.sin(q.T)
-    columns = [stack(laws.t_times(c, s, unit)) for unit in _UNITS]
-    return np.moveaxis(np.array(columns), (0, 1), (-1, -2))
-
-
-def angular_velocity_map_rate(q: np.ndarray, qd: np.ndarray) -> np.ndarray:
-    """Ṫ(q, q̇), so that ω̇ = T·q̈ + Ṫ·q̇; q in [rad], qd in [rad/s], shapes (N, 3)."""
-    c, s = np.cos(q.T), np.sin(q.T)
-    columns = [stack(laws.t_dot_times(c, s, qd.T, unit)) for unit in _UNITS]
-    return np.moveaxis(np.array(columns), (0, 1), (-1, -2))
 
 
 # --- Position level --------------------------------------------------------------------
@@ -125,7 +98,7 @@ def slider_heights(params: Parameters, q: np.ndarray) -> np.ndarray:
 
     Poses out of reach give NaN; :func:`kinematics` turns them into errors.
     """
-    r = _platform_vectors(params, _rotation_matrix(np.cos(q.T), np.sin(q.T)))
+    r = _platform_vectors(params, rotation_matrix_components(np.cos(q.T), np.sin(q.T)))
     d, radicand = _lever_vectors(params, r)
     L1 = params.heights[0] + r[2] - d[2]
     L1 = np.where(radicand > 0, L1, np.nan)
@@ -144,7 +117,7 @@ def slider_jacobian(params: Parameters, q: np.ndarray) -> np.ndarray:
     Returns:
         J, shape (N, 3, 3); NaN rows where a lever cannot reach.
     """
-    r = _platform_vectors(params, _rotation_matrix(np.cos(q.T), np.sin(q.T)))
+    r = _platform_vectors(params, rotation_matrix_components(np.cos(q.T), np.sin(q.T)))
     d, radicand = _lever_vectors(params, r)
     with np.errstate(divide="ignore", invalid="ignore"):
         J = cross_array(r, d) / d[2]  # rows (r_i × d_i)/d_i,z: the lever length cancels
@@ -180,41 +153,6 @@ def singularity_crossings(J: np.ndarray, periodic: bool = False) -> int:
     with np.errstate(invalid="ignore"):  # NaN Jacobians (out of reach) give NaN determinants, skipped
         det = np.linalg.det(J) if len(J) else np.zeros(0)
     return int(np.count_nonzero(_sign_changes(det, periodic)))
-
-
-def inverse_condition_number(J: np.ndarray) -> np.ndarray:
-    """σ_min/σ_max of 3x3 matrices, shape (..., 3, 3) → (...); NaN where J is NaN.
-
-    The eigenvalues of the symmetric JᵀJ in closed form (the trigonometric
-    solution of its characteristic cubic): LAPACK's batched SVD costs a
-    hundred times more on 3x3 matrices.
-    """
-    return _inverse_condition_number(np.moveaxis(J, (-1, -2), (0, 1)))
-
-
-def _inverse_condition_number(J: np.ndarray) -> np.ndarray:
-    """:func:`inverse_condition_number` of J given by its rows, components-first (xyz, row, ...)."""
-
-    def gram(k, m):
-        """(JᵀJ)_km = Σ_i J_ik·J_im, a sum over the rows."""
-        return np.sum(J[k] * J[m], axis=0)
-
-    a00, a11, a22, a01, a02, a12 = gram(0, 0), gram(1, 1), gram(2, 2), gram(0, 1), gram(0, 2), gram(1, 2)
-    trace = a00 + a11 + a22
-    mean = trace / 3.0
-    off = a01**2 + a02**2 + a12**2
-    spread = np.sqrt(((a00 - mean) ** 2 + (a11 - mean) ** 2 + (a22 - mean) ** 2 + 2.0 * off) / 6.0)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        # B = (JᵀJ − mean·I)/spread has the eigenvalues 2·cos(φ + 2πk/3), cos 3φ = det(B)/2.
-        b00, b11, b22 = (a00 - mean) / spread, (a11 - mean) / spread, (a22 - mean) / spread
-        b01, b02, b12 = a01 / spread, a02 / spread, a12 / spread
-        det = b00 * (b11 * b22 - b12 * b12) - b01 * (b01 * b22 - b12 * b02) + b02 * (b01 * b12 - b11 * b02)
-        phi = np.arccos(np.clip(det / 2.0, -1.0, 1.0)) / 3.0
-        largest = mean + 2.0 * spread * np.cos(phi)
-        smallest = mean + 2.0 * spread * np.cos(phi + 2.0 * np.pi / 3.0)
-        ratio = np.sqrt(np.maximum(smallest, 0.0) / largest)
-    # An isotropic J (spread 0) has all singular values equal.
-    return np.where(spread > 1e-300, ratio, np.where(np.isnan(trace), np.nan, 1.0))
 
 
 def solve_transpose(J: np.ndarray, Q: np.ndarray) -> np.ndarray:
@@ -311,7 +249,7 @@ def _kinematics(params: Parameters, trajectory: Trajectory, on_error: str) -> Ki
     signs = params.angle_signs
     q, qd, qdd = (trajectory.q * signs).T, (trajectory.qd * signs).T, (trajectory.qdd * signs).T
     c, s = np.cos(q), np.sin(q)
-    R = _rotation_matrix(c, s)
+    R = rotation_matrix_components(c, s)
     omega = stack(laws.t_times(c, s, qd))
     omega_dot = stack(laws.t_times(c, s, qdd))
     omega_dot += laws.t_dot_times(c, s, qd, qd)
@@ -348,7 +286,7 @@ def _kinematics(params: Parameters, trajectory: Trajectory, on_error: str) -> Ki
     a_l[2] += 0.5 * Ldd
 
     reachable_J = np.where(out_of_reach, np.nan, J)
-    cond_inv = _inverse_condition_number(reachable_J)
+    cond_inv = inverse_condition_number_components(reachable_J)
     singular = ~(cond_inv >= SINGULAR_COND_INV)
     # A motion can also pass through a singularity between two samples without
     # coming close to it at either: det J then changes sign.

@@ -43,6 +43,7 @@ from ..exceptions import ArgumentError, HipsimError
 from ..machine.parameters import Parameters
 from ..physics import laws
 from ..physics.laws import FrictionRecord
+from ..physics.transmission import angle_from_travel, travel_per_radian
 from ..physics.vectors import add, cross, dot, matvec, scale, sub, transpose_times
 
 __all__ = [
@@ -277,7 +278,7 @@ def _lever_acceleration(P, lever, omega_dot, full):
 def _leg_friction(P, lever, J_i, omega):
     """A leg's friction: generalised moment of its lever joints, forces along the screw, screw torque."""
     Ld = dot(J_i, omega)
-    motor_speed = 2.0 * math.pi * Ld / P.lead
+    motor_speed = angle_from_travel(Ld, P.lead)
     F = P.friction
     screw = laws.screw_friction(F, motor_speed)
     guide = laws.guide_friction(F, Ld, motor_speed)
@@ -341,8 +342,8 @@ def _torques_at(P, S, omega_dot, full):
     else:
         Q_m = transpose_times(S.platform_axes, scale(matvec(P.platform_inertia, matvec(S.platform_axes, omega_dot)), -1.0))
         Q = add(add(add(Q_m, Q0), Q1), Q2)
-    scale_ = -P.n_platforms * P.lead / (2.0 * math.pi)
-    screw = 2.0 * math.pi * P.screw_inertia / P.lead
+    scale_ = -P.n_platforms * travel_per_radian(P.lead)  # n is 1 or 2: exact, so the same bits as −n·p/2π
+    screw = angle_from_travel(P.screw_inertia, P.lead)
     gravity = P.gravity if full else 0.0
 
     def motor(i, Ldd, f_b_z):
@@ -495,4 +496,4 @@ def _workspace_pd(P, q, qd, q_desired, qd_desired, kp, kd):
     )
     moment = _signed(P, error)  # the moment acts on the platform, whose angles may be flipped
     J_inv_T = laws.inverse_transpose(_jacobian_at(P, q))
-    return scale(matvec(J_inv_T, moment), P.lead / (2.0 * math.pi))
+    return scale(matvec(J_inv_T, moment), travel_per_radian(P.lead))

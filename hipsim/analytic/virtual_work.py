@@ -46,31 +46,17 @@ from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 from ..results import Torques
 from ..physics import laws
+from ..physics.friction import central_chain_friction_components
+from ..physics.transmission import angle_from_travel, travel_per_radian
 from .inverse_kinematics import Kinematics, kinematics
 from ..physics.vectors import cross_array, dot, per_leg, stack
 
 __all__ = [
-    "central_friction_moment",
     "inverse_dynamics",
     "mass_and_bias",
     "mechanical_energy",
     "screw_friction_torque",
-    "smooth_sign",
 ]
-
-
-def smooth_sign(w: np.ndarray, epsilon: float, vector: bool = False) -> np.ndarray:
-    """ŝ(w) = w/√(|w|² + ε²) (spec §7.3; :func:`hipsim.physics.laws.smooth_sign`).
-
-    Args:
-        w: speeds in [rad/s], any shape; with ``vector`` the last axis is a 3-vector.
-        epsilon: ε in [rad/s]; below it the Coulomb friction fades linearly to zero.
-        vector: True to take |w| over the last axis.
-    """
-    w = np.asarray(w, dtype=float)
-    if not vector:
-        return laws.smooth_sign(w, epsilon)
-    return np.moveaxis(stack(laws.smooth_sign_vector(np.moveaxis(w, -1, 0), epsilon)), 0, -1)
 
 
 def screw_friction_torque(params: Parameters, motor_speed: np.ndarray) -> np.ndarray:
@@ -81,34 +67,6 @@ def screw_friction_torque(params: Parameters, motor_speed: np.ndarray) -> np.nda
         motor_speed: θ̇ in [rad/s], any shape.
     """
     return laws.screw_friction(params.friction, np.asarray(motor_speed, dtype=float))
-
-
-def central_friction_moment(params: Parameters, omega: np.ndarray, Fe: np.ndarray, R: np.ndarray | None = None) -> np.ndarray:
-    """Friction moment τ_mf of one platform's central chain (hip joint + thrust bearing), spec §4.3.
-
-    Args:
-        params: the machine.
-        omega: platform angular velocity in [rad/s], (N, 3).
-        Fe: load magnitude in [N], (N,), pushing down like the platform's weight.
-        R: platform rotations, (N, 3, 3); needed when the thrust bearing
-            resists only rotation about its own axis (``friction.thrust_bearing_axial_only``).
-
-    Returns:
-        τ_mf in [N·m], (N, 3); it resists the platform's rotation.
-
-    Raises:
-        HipsimError: the axial-only thrust bearing without R.
-    """
-    if params.friction.thrust_bearing_axial_only and R is None:
-        raise HipsimError("the axial-only thrust bearing's friction needs the platform rotations R")
-    z = None if R is None else np.asarray(R, dtype=float)[..., 2].T
-    return _central_friction_moment(params, np.asarray(omega, dtype=float).T, np.asarray(Fe, dtype=float), z).T
-
-
-def _central_friction_moment(params: Parameters, omega: np.ndarray, Fe: np.ndarray, z) -> np.ndarray:
-    """:func:`central_friction_moment` with ω and the platform's z axis components-first (3, N)."""
-    weight = params.platform_mass * params.gravity
-    return stack(laws.central_friction_moment(params.friction, omega, z, Fe, weight))
 
 
 def _body_components(axes, w: np.ndarray) -> np.ndarray:
@@ -229,7 +187,7 @@ def inverse_dynamics(params: Parameters, kin: Kinematics, Fe: np.ndarray, lever_
     # Components first: per sample (3, N), per leg (3, 3, N); per-leg scalars (3, N).
     omega = kin.omega.T
     Ld, Ldd = kin.Ld[:, 0].T, kin.Ldd[:, 0].T
-    motor_speed = 2.0 * math.pi * Ld / p
+    motor_speed = angle_from_travel(Ld, p)
     omega_l, omega_l_dot = kin.omega_l.T, kin.omega_l_dot.T
     if lever_spin:
         u1, e = per_leg(params.ujoint_axes), kin.e.T
@@ -248,7 +206,7 @@ def inverse_dynamics(params: Parameters, kin: Kinematics, Fe: np.ndarray, lever_
     F_L = params.slider_mass * (-params.gravity - Ldd)
 
     # Friction: central chain, lever joints, slider guides and screws.
-    tau_mf = _central_friction_moment(params, omega, Fe, kin.R[:, :, 2].T)
+    tau_mf = central_chain_friction_components(params.friction, params.platform_mass * params.gravity, omega, Fe, kin.R[:, :, 2].T)
     Q_lf, Fz_lf, power_lf = _lever_joint_friction(params, kin, lever_spin, omega_l)
     Q_f = Q_lf - tau_mf
     F_Lf = laws.guide_friction(f, Ld, motor_speed)
@@ -257,11 +215,11 @@ def inverse_dynamics(params: Parameters, kin: Kinematics, Fe: np.ndarray, lever_
     # y = J⁻ᵀ·Q for the platform, lever and friction moments: y_i = (row i of J⁻ᵀ)·Q.
     rows = laws.inverse_transpose(np.moveaxis(kin.J.T, 1, 0))  # from J's rows, (xyz, N) each
     J_inv_T = np.array([[row[k] for row in rows] for k in range(3)])  # its rows as vectors per leg (xyz, row, N)
-    scale = -n_platforms * p / (2.0 * math.pi)
+    scale = -n_platforms * travel_per_radian(p)  # n is 1 or 2: exact, so the same bits as −n·p/2π
     tau_m = scale * dot(J_inv_T, Q_m)
     tau_l = scale * (dot(J_inv_T, Q_l) + Fz_l)
     tau_s = scale * F_L
-    tau_L = 2.0 * math.pi * params.screw_inertia / p * Ldd
+    tau_L = angle_from_travel(params.screw_inertia, p) * Ldd
     tau_f = tau_screw_f + scale * (dot(J_inv_T, Q_f) + Fz_lf - F_Lf)
 
     friction_power = np.sum(tau_screw_f * motor_speed, axis=0) + n_platforms * (
@@ -337,7 +295,7 @@ def mechanical_energy(params: Parameters, kin: Kinematics, lever_spin: bool = Fa
     kinetic_l += _rotational_energy(_lever_axes(params, kin), params.lever_inertia, omega_l)
     Ld = kin.Ld[:, 0].T
     kinetic_s = 0.5 * params.slider_mass * Ld**2
-    kinetic_L = 0.5 * params.screw_inertia * (2.0 * math.pi * Ld / params.lead) ** 2
+    kinetic_L = 0.5 * params.screw_inertia * angle_from_travel(Ld, params.lead) ** 2
     kinetic = n_platforms * (kinetic_m + kinetic_l.sum(0) + kinetic_s.sum(0)) + kinetic_L.sum(0)
     lever_height = 0.5 * (kin.a[..., 2] + kin.b[..., 2])
     potential = params.gravity * (params.lever_mass * lever_height.sum((1, 2)) + params.slider_mass * kin.L.sum((1, 2)))

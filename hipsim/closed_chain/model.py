@@ -71,8 +71,9 @@ import pinocchio as pin
 import yaml
 
 from ..physics import laws
-from ..analytic.inverse_kinematics import angular_velocity_map, inverse_condition_number, rotation_matrix
-from ..analytic.virtual_work import central_friction_moment
+from ..physics.friction import central_chain_friction
+from ..physics.orientation import angular_velocity_map, inverse_condition_number, rotation_matrix
+from ..physics.transmission import angle_from_travel, radians_per_travel, travel_per_radian
 from ..physics.vectors import stack
 from ..arrays import check_shapes
 from ..exceptions import ArgumentError, ClosureError, ModelError, PoseError, TrajectoryError
@@ -100,7 +101,6 @@ __all__ = [
     "warm_up",
 ]
 
-_TWO_PI = 2.0 * math.pi
 # Samples per batch of the inverse-dynamics solve: bounds the memory of the
 # stacked (n, 21, 21) K⁻¹ while keeping the batched RNEA and solve efficient.
 _CHUNK = 512
@@ -282,7 +282,7 @@ def load_closed_chain(
         rotor_inertia = rotor_inertia if rotor_inertia is not None else (inertias.pop() if inertias else None)
     if lead is not None and rotor_inertia is not None:
         armature = model.armature.copy()
-        armature[actuated_v] = rotor_inertia * (_TWO_PI / lead) ** 2
+        armature[actuated_v] = rotor_inertia * radians_per_travel(lead) ** 2
         model.armature = armature
 
     return ClosedChainModel(
@@ -1118,10 +1118,10 @@ def _friction_forces(chain: ClosedChainModel, v, Fe, platform_J, lever_J, platfo
 
     # Slider guides (two per carriage) and the screw on the motor shaft, as carriage forces.
     Ld = v[:, layout.slider_v]
-    motor_speed = _TWO_PI / chain.lead * Ld
+    motor_speed = radians_per_travel(chain.lead) * Ld
     guide = 2.0 * laws.guide_friction(fr, Ld, motor_speed)
     screw = laws.screw_friction(fr, motor_speed)
-    Q[:, layout.slider_v] += guide + _TWO_PI / chain.lead * screw
+    Q[:, layout.slider_v] += guide + radians_per_travel(chain.lead) * screw
     return Q
 
 
@@ -1243,12 +1243,12 @@ class _InverseDynamics:
     def result(self, kin: ClosedKinematics) -> ClosedChainDynamics:
         params, closure = self.chain.params, self.layout.closure
         if self.parts_asked:
-            tau_m, tau_l, tau_s, tau_L, tau_f = np.moveaxis(self.chain.lead / _TWO_PI * self.parts, 2, 0)
+            tau_m, tau_l, tau_s, tau_L, tau_f = np.moveaxis(travel_per_radian(self.chain.lead) * self.parts, 2, 0)
             total = tau_m + tau_l + tau_s + tau_L + tau_f
         else:  # not computed: NaN, so that no one reads a zero as a part
-            total = self.chain.lead / _TWO_PI * self.parts[:, :, 0]
+            total = travel_per_radian(self.chain.lead) * self.parts[:, :, 0]
             tau_m = tau_l = tau_s = tau_L = tau_f = np.full_like(total, np.nan)
-        motor_speed = _TWO_PI * kin.Ld[:, 0] / self.chain.lead
+        motor_speed = angle_from_travel(kin.Ld[:, 0], self.chain.lead)
         omega = np.einsum("nab,nb->na", angular_velocity_map(kin.angles), kin.angle_rates)
         lambdas = self.lambdas[:, closure]  # (n, 2, 3, 3)
         # Platform j: its centre is fixed, so the central joint balances the levers, weight and load.
@@ -1258,7 +1258,7 @@ class _InverseDynamics:
             total=total,
             platforms=tau_m, levers=tau_l, sliders=tau_s, screws=tau_L, friction=tau_f,
             motor_speed=motor_speed,
-            friction_moment=np.linalg.norm(central_friction_moment(params, omega, self.Fe, rotation_matrix(kin.angles)), axis=-1),
+            friction_moment=np.linalg.norm(central_chain_friction(params.friction, params.platform_mass * params.gravity, omega, self.Fe, rotation_matrix(kin.angles)), axis=-1),
             # By virtual power the motors' friction share times their speed is the whole friction loss.
             friction_power=np.sum(tau_f * motor_speed, axis=1),
         )

@@ -43,6 +43,7 @@ from ..analytic.inverse_kinematics import kinematics
 from ..machine.parameters import Parameters
 from ..analytic.kernel import floats
 from ..motion.trajectories import Trajectory
+from ..physics.transmission import angle_from_travel
 from ..results import peak_and_rms
 
 __all__ = ["Plant", "ReducedPlant", "Simulation", "apply_mismatch", "parse_mismatch", "simulate"]
@@ -320,7 +321,7 @@ def simulate(
 
     actual = Trajectory(t, q, qd, np.zeros_like(q), desired.Fe, name="actual")
     try:
-        motor_speed = 2.0 * math.pi * kinematics(plant.params, actual).Ld[:, 0] / plant.params.lead
+        motor_speed = angle_from_travel(kinematics(plant.params, actual).Ld[:, 0], plant.params.lead)
     except PoseError as error:
         raise PoseError("the plant left the workspace", error.time, error.index) from None
     return Simulation(t, desired, q, qd, tau_applied, tau_requested, saturated, motor_speed, name, controller_name, h)

@@ -74,6 +74,7 @@ from ..exceptions import ArgumentError, ModelError
 from ..files import write_atomic
 from ..machine.model_files import closure_declaration, urdf_text
 from ..machine.parameters import Parameters, load_parameters
+from ..physics.transmission import radians_per_travel
 from ._dependency import mujoco
 
 __all__ = [
@@ -90,7 +91,6 @@ __all__ = [
 #: Name of the keyframe at the ISO cycle's first sample.
 KEYFRAME = "iso_start"
 
-_TWO_PI = 2.0 * math.pi
 _VISUAL_GROUP = 1  # MuJoCo's viewer shows groups 0-2; the closure sites go in 4 (hidden unless asked)
 _SITE_GROUP = 4
 
@@ -337,7 +337,7 @@ def _document(params: Parameters, settings: MjcfSettings) -> ET.Element:
             equality, "connect", name=f"{site1}-{site2}", site1=site1, site2=site2,
             solref=_text(settings.closure_solref), solimp=_text(settings.solimp),
         )  # fmt: skip
-    gear = _TWO_PI / params.lead
+    gear = radians_per_travel(params.lead)
     limit = params.control.torque_limit
     joints = {element.get("name"): element for element in worldbody.iter("joint")}
     actuator = ET.SubElement(root, "actuator")

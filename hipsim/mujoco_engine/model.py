@@ -50,8 +50,9 @@ from ..arrays import check_shapes
 from ..exceptions import ArgumentError, ClosureError, ModelError, PoseError, TrajectoryError
 from ..motion.trajectories import trajectory_arrays
 from ..results import JointForces, Run, Torques
-from ..analytic.inverse_kinematics import angular_velocity_map, rotation_matrix
-from ..analytic.virtual_work import central_friction_moment
+from ..physics.friction import central_chain_friction
+from ..physics.orientation import angular_velocity_map, rotation_matrix
+from ..physics.transmission import lead_from_ratio, radians_per_travel, travel_per_radian
 from ..machine.parameters import Parameters, load_parameters
 from ._dependency import mujoco
 
@@ -70,7 +71,6 @@ __all__ = [
     "trajectory_dynamics",
 ]
 
-_TWO_PI = 2.0 * math.pi
 
 
 class MujocoMachine:
@@ -127,7 +127,7 @@ class MujocoMachine:
         if missing:
             raise ModelError(f"the MuJoCo model has no closure {missing[0]}")
         self.closure = np.array([[names.index(name) for name in row] for row in pairs])
-        self.lead = _TWO_PI / float(model.actuator_gear[0, 0])
+        self.lead = lead_from_ratio(float(model.actuator_gear[0, 0]))
         self.data = mujoco.MjData(model)
         # One model per body group, the other groups massless: mj_rne on it gives that group's share.
         self.group_models = []
@@ -385,7 +385,7 @@ def _close(machine: MujocoMachine, traj, tol: float, max_iter: int, Fe):
         return kin, None
     # The central chain's friction moment, for the summary: the law of spec §4.3 at the platforms' motion.
     omega = np.einsum("nab,nb->na", angular_velocity_map(angles), rates)
-    moment = central_friction_moment(machine.params, omega, dynamics.Fe, rotation_matrix(angles))
+    moment = central_chain_friction(machine.params.friction, machine.params.platform_mass * machine.params.gravity, omega, dynamics.Fe, rotation_matrix(angles))
     dynamics.friction_moment = np.linalg.norm(moment, axis=-1)
     return kin, dynamics.result(kin)
 
@@ -466,7 +466,7 @@ def friction_forces(machine: MujocoMachine, data, Fe: float) -> np.ndarray:
                 moment = moment + s_moment
         mujoco.mj_applyFT(model, data, zero, moment, data.xpos[platform], platform, out)
     rate = data.qvel[machine.slider_dof]
-    gain = _TWO_PI / machine.lead
+    gain = radians_per_travel(machine.lead)
     speed = gain * rate
     out[machine.slider_dof] -= 2.0 * laws.guide_friction(fr, rate, speed) + gain * laws.screw_friction(fr, speed)
     return out
@@ -498,7 +498,7 @@ class FrictionForces:
         # The platform hinges' joints (their world axes, ``xaxis``, are the dofs' rotation axes, ``cdof``).
         self.joints = machine.model.dof_jntid[machine.platform_dof.ravel()]
         self.sliders = [int(k) for k in machine.slider_dof]
-        gain = _TWO_PI / machine.lead
+        gain = radians_per_travel(machine.lead)
         self.slider_terms = (2.0 * fr.guide_coulomb + gain * fr.screw_coulomb, 2.0 * fr.guide_viscous + gain * gain * fr.screw_viscous, gain)
         self.slider_friction = any(c != 0.0 for c in self.slider_terms[:2])
 
@@ -565,14 +565,14 @@ class _InverseDynamics:
     def result(self, kin: MujocoKinematics) -> MujocoDynamics:
         machine, params = self.machine, self.machine.params
         solution = np.linalg.solve(self.system, self.rhs)  # (n, nv, 5)
-        gain = machine.lead / _TWO_PI
+        gain = travel_per_radian(machine.lead)
         tau_m, tau_l, tau_s, tau_L, tau_f = np.moveaxis(gain * solution[:, :3], 2, 0)
         # The total from MuJoCo's own M and bias (the parts above from the group models add up to it).
         tau = gain * np.linalg.solve(self.system, (self.total + self.rhs[:, :, 4])[..., None])[:, :3, 0]
         lambdas = solution[:, 3:].sum(axis=2).reshape(len(kin.t), -1, 3)[:, machine.closure]  # (n, 2, 3, 3)
         centre = lambdas.sum(axis=2)
         centre[:, :, 2] += params.platform_mass * params.gravity + self.Fe[:, None]
-        motor_speed = _TWO_PI / machine.lead * kin.Ld[:, 0]
+        motor_speed = radians_per_travel(machine.lead) * kin.Ld[:, 0]
         torques = Torques(
             total=tau, platforms=tau_m, levers=tau_l, sliders=tau_s, screws=tau_L, friction=tau_f,
             motor_speed=motor_speed, friction_moment=self.friction_moment,

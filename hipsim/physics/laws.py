@@ -30,7 +30,6 @@ these files too (numba's own key is only the caller's file).
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 import hashlib
 import warnings
@@ -39,7 +38,6 @@ from pathlib import Path
 
 import numpy as np
 
-from ..machine.parameters import Friction
 from . import vectors
 from .vectors import add, cross, dot, jitable, scale, sub
 
@@ -281,11 +279,17 @@ def lever_joint_friction_on(F):
     return F.ujoint_coulomb != 0.0 or F.ujoint_viscous != 0.0 or F.sjoint_coulomb != 0.0 or F.sjoint_viscous != 0.0
 
 
-#: The friction coefficients as compiled code reads them: the fields of :class:`Friction`, in order, SI.
-FrictionRecord = namedtuple("FrictionRecord", [field.name for field in dataclasses.fields(Friction)])
+#: The friction coefficients as compiled code reads them: the fields of
+#: :class:`hipsim.machine.parameters.Friction`, in order, SI (a test holds the two lists equal;
+#: the laws sit below the machine, so they name the fields rather than import the class).
+FrictionRecord = namedtuple("FrictionRecord", [
+    "epsilon", "hip_radius", "hip_mu", "thrust_radius", "thrust_mu", "screw_coulomb", "screw_viscous",
+    "guide_coulomb", "guide_viscous", "ujoint_coulomb", "ujoint_viscous", "sjoint_coulomb", "sjoint_viscous",
+    "thrust_bearing_axial_only",
+])
 
 
-def friction_record(friction: Friction) -> FrictionRecord:
+def friction_record(friction) -> FrictionRecord:
     """The coefficients as plain floats (switches as bools): numba compiles once per combination of types."""
     values = (getattr(friction, name) for name in FrictionRecord._fields)
     return FrictionRecord(*(value if isinstance(value, bool) else float(value) for value in values))
@@ -294,7 +298,7 @@ def friction_record(friction: Friction) -> FrictionRecord:
 # --- Compiling the callers -------------------------------------------------------------------
 
 #: The files whose functions compiled callers absorb.
-LAW_FILES = (Path(__file__), Path(vectors.__file__))
+LAW_FILES = (Path(__file__), Path(vectors.__file__), Path(__file__).with_name("transmission.py"))
 
 _warned: set[str] = set()
 
