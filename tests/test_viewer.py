@@ -266,7 +266,7 @@ def _classify(pixels: np.ndarray, colour: str) -> np.ndarray:
 
 def test_page_renders_the_animation_in_chromium(offline, iso_motion, iso_page, tmp_path):
     browser = need_browser()
-    from hipsim.present.viewer import _CAMERA
+    from hipsim.present.meshcat_scene import _CAMERA
 
     size = (900, 700)
     target, position = _CAMERA[False]
@@ -278,7 +278,7 @@ def test_page_renders_the_animation_in_chromium(offline, iso_motion, iso_page, t
         # Not blank: many different colours, much of the picture away from the background.
         assert len(np.unique((image * 31).astype(int).reshape(-1, 3), axis=0)) > 50
         k = int(t * FPS)
-        data = offline._machine_data
+        data = offline.scene.machine_data
         pin.framesForwardKinematics(offline.chain.model, data, iso_motion.q[k])
         h1, h2 = offline.params.heights
         # Platform 1 on the camera's side of its centre (where the red hip joint ball sits), the base plate.
@@ -301,7 +301,7 @@ def test_page_renders_the_animation_in_chromium(offline, iso_motion, iso_page, t
 
 def test_human_page_renders_in_chromium(tmp_path):
     browser = need_browser()
-    from hipsim.present.viewer import _CAMERA
+    from hipsim.present.meshcat_scene import _CAMERA
 
     size = (800, 600)
     with Viewer(serve=False, human=True) as viewer:
