@@ -1,6 +1,7 @@
 """The meshcat viewer: closed frames, forces and colours, the recorded page (also in a real browser), the human beside the machine.
 
-The human model itself is tested in test_human.py, the live server and the page builder in test_meshcat_output.py.
+The human model itself is tested in test_human.py, the live server and the page builder in test_meshcat_output.py;
+screenshots come from hipsim.present.browser.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from hipsim.analytic.inverse_kinematics import rotation_matrix
 from hipsim.machine.parameters import load_parameters
 from hipsim.closed_chain.model import closure_residuals
 from hipsim.present.human import HUMAN_PELVIS_POSITION, HUMAN_PELVIS_ROTATION
-from hipsim.present.meshcat_output import find_browser, screenshot
+from hipsim.present.browser import find_browser, screenshot
 from hipsim.motion.trajectories import interpolator, iso14242
 from hipsim.cli.view import run_view, step_through
 from hipsim.present.viewer import Viewer, force_scale_for, singularity_colour
