@@ -1,6 +1,7 @@
 """The meshcat viewer: closed frames, forces and colours, the recorded page (also in a real browser), the human beside the machine.
 
-The human model itself is tested in test_human.py, the live server and the page builder in test_meshcat_output.py.
+The human model itself is tested in test_human.py, the live server and the page builder in test_meshcat_output.py;
+screenshots come from hipsim.present.browser.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from hipsim.analytic.inverse_kinematics import rotation_matrix
 from hipsim.machine.parameters import load_parameters
 from hipsim.closed_chain.model import closure_residuals
 from hipsim.present.human import HUMAN_PELVIS_POSITION, HUMAN_PELVIS_ROTATION
-from hipsim.present.meshcat_output import find_browser, screenshot
+from hipsim.present.browser import find_browser, screenshot
 from hipsim.motion.trajectories import interpolator, iso14242
 from hipsim.cli.view import run_view, step_through
 from hipsim.present.viewer import Viewer, force_scale_for, singularity_colour
@@ -266,7 +267,7 @@ def _classify(pixels: np.ndarray, colour: str) -> np.ndarray:
 
 def test_page_renders_the_animation_in_chromium(offline, iso_motion, iso_page, tmp_path):
     browser = need_browser()
-    from hipsim.present.viewer import _CAMERA
+    from hipsim.present.meshcat_scene import _CAMERA
 
     size = (900, 700)
     target, position = _CAMERA[False]
@@ -278,7 +279,7 @@ def test_page_renders_the_animation_in_chromium(offline, iso_motion, iso_page, t
         # Not blank: many different colours, much of the picture away from the background.
         assert len(np.unique((image * 31).astype(int).reshape(-1, 3), axis=0)) > 50
         k = int(t * FPS)
-        data = offline._machine_data
+        data = offline.scene.machine_data
         pin.framesForwardKinematics(offline.chain.model, data, iso_motion.q[k])
         h1, h2 = offline.params.heights
         # Platform 1 on the camera's side of its centre (where the red hip joint ball sits), the base plate.
@@ -301,7 +302,7 @@ def test_page_renders_the_animation_in_chromium(offline, iso_motion, iso_page, t
 
 def test_human_page_renders_in_chromium(tmp_path):
     browser = need_browser()
-    from hipsim.present.viewer import _CAMERA
+    from hipsim.present.meshcat_scene import _CAMERA
 
     size = (800, 600)
     with Viewer(serve=False, human=True) as viewer:

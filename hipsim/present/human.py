@@ -1,6 +1,6 @@
 """The human model beside the machine: example-robot-data's ``human`` URDF, its right hip turning as the platforms do.
 
-The human model (``Viewer(human=True)`` in :mod:`hipsim.viewer`,
+The human model (``Viewer(human=True)`` in :mod:`hipsim.present.viewer`,
 example-robot-data's ``human`` URDF, life size) stands beside the machine;
 its right hip turns exactly as the platforms do. Machine axes map onto the
 body as X → the subject's right, Y → anterior, Z → superior, so α (about X)

@@ -1,6 +1,6 @@
 """Where a meshcat scene goes: a live server on the loopback interface, or one offline HTML page.
 
-:class:`hipsim.viewer.Viewer` draws through a meshcat Visualizer whose window
+:class:`hipsim.present.viewer.Viewer` draws through a meshcat Visualizer whose window
 is one of these: an :class:`OfflineWindow` keeps the scene tree a server
 would keep, with no server; a :class:`LiveWindow` sends every command over
 ZMQ to a :class:`Server`; a :class:`TeeWindow` does both, so that a live
@@ -14,7 +14,8 @@ three.js and the meshcat viewer inlined, every mesh and the recorded
 animation (a :func:`DiscreteAnimation`, each frame held until the next) as
 data in the page, nothing fetched from the network. Append ``#t=0.25`` to
 the page's address to open it paused at 0.25 s of the animation.
-:func:`screenshot` renders such a page in headless Chromium (tests, docs).
+:func:`hipsim.present.browser.screenshot` renders such a page in headless
+Chromium (tests, docs).
 
 meshcat is imported on first use, not with this module.
 """
@@ -23,7 +24,6 @@ from __future__ import annotations
 
 import base64
 import os
-import shutil
 import subprocess
 import sys
 import tempfile
@@ -39,9 +39,7 @@ __all__ = [
     "OfflineWindow",
     "Server",
     "TeeWindow",
-    "find_browser",
     "offline_page",
-    "screenshot",
 ]
 
 # The meshcat server, run as a child process: meshcat's own ZMQ/web bridge, with
@@ -183,7 +181,7 @@ class LiveWindow:
 
 
 class TeeWindow:
-    """Sends every command to the live server and keeps the same scene offline (for :meth:`hipsim.viewer.Viewer.record`)."""
+    """Sends every command to the live server and keeps the same scene offline (for :meth:`hipsim.present.viewer.Viewer.record`)."""
 
     def __init__(self, live: LiveWindow, offline: OfflineWindow):
         self.live, self.offline = live, offline
@@ -338,72 +336,3 @@ def offline_page(commands: list[bytes], title: str, legend: list[str]) -> str:
         viewer_js=viewer_js.replace("</script", "<\\/script"),
         commands=encoded,
     )
-
-
-# ---------------------------------------------------------------------------
-# Screenshots of the offline page (tests, docs)
-# ---------------------------------------------------------------------------
-
-_BROWSERS = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable")
-
-
-def find_browser() -> str | None:
-    """Path of a Chromium (or Chrome) executable on PATH, or None."""
-    for name in _BROWSERS:
-        path = shutil.which(name)
-        if path:
-            return path
-    return None
-
-
-def screenshot(
-    page: str | Path,
-    out: str | Path,
-    time_s: float | None = None,
-    size: tuple[int, int] = (900, 700),
-    browser: str | None = None,
-    timeout_s: float = 90.0,
-) -> Path:
-    """Render an offline page (from :meth:`hipsim.viewer.Viewer.record`) in headless Chromium and save a PNG.
-
-    The browser gets no network (a dead proxy, no name resolution) and
-    renders WebGL in software (SwiftShader).
-
-    Args:
-        page: the HTML file.
-        out: the PNG to write.
-        time_s: animation time to pause at, in [s] (the page's ``#t=`` address); None: as it loads.
-        size: window width and height in pixels.
-        browser: the executable; default :func:`find_browser`.
-        timeout_s: give up after this long.
-
-    Returns:
-        The PNG's path.
-
-    Raises:
-        HipsimError: no browser, or it wrote no image.
-    """
-    browser = browser or find_browser()
-    if browser is None:
-        raise HipsimError("no Chromium found (apt-get install chromium)")
-    out = Path(out).resolve()
-    out.unlink(missing_ok=True)
-    url = Path(page).resolve().as_uri() + (f"#t={float(time_s)!r}" if time_s is not None else "")
-    with tempfile.TemporaryDirectory(prefix="hipsim-chromium-") as profile:
-        args = [
-            browser, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-            "--disable-background-networking", "--disable-component-update", "--disable-sync",
-            "--disable-extensions", "--hide-scrollbars", "--mute-audio", f"--user-data-dir={profile}",
-            "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
-            "--proxy-server=127.0.0.1:9", "--host-resolver-rules=MAP * ~NOTFOUND",
-            f"--window-size={int(size[0])},{int(size[1])}", "--virtual-time-budget=4000",
-            f"--screenshot={out}", url,
-        ]  # fmt: skip
-        try:
-            run = subprocess.run(args, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, timeout=timeout_s)
-        except subprocess.TimeoutExpired:
-            raise HipsimError(f"{browser} did not finish the screenshot of {page} in {timeout_s:g} s") from None
-    if not out.is_file():
-        tail = run.stderr.decode("utf-8", "replace").strip().splitlines()[-3:]
-        raise HipsimError(f"{browser} wrote no screenshot of {page}: " + " / ".join(tail))
-    return out
