@@ -16,11 +16,7 @@ Each layer is a subpackage: :mod:`hipsim.machine`, :mod:`hipsim.motion`,
 :mod:`hipsim.analysis`, :mod:`hipsim.present`, :mod:`hipsim.cli`.
 """
 
-from .analysis.runs import analyse
 from .exceptions import ArgumentError, ClosureError, HipsimError, ModelError, OutputError, ParameterError, PoseError, TrajectoryError
-from .machine.parameters import Parameters, load_parameters, slender_levers
-from .motion import Trajectory, iso14242, load_trajectory_csv, read_trajectory
-from .results import JointForces, Run, Torques
 
 __version__ = "0.3.0"
 
@@ -45,3 +41,59 @@ __all__ = [
     "read_trajectory",
     "slender_levers",
 ]
+
+#: Where each public name lives: its module is imported on first use.
+_HOMES = {
+    "analyse": "analysis.runs",
+    "JointForces": "results",
+    "Run": "results",
+    "Torques": "results",
+    "Parameters": "machine.parameters",
+    "load_parameters": "machine.parameters",
+    "slender_levers": "machine.parameters",
+    "Trajectory": "motion.trajectories",
+    "iso14242": "motion.trajectories",
+    "load_trajectory_csv": "motion.readers",
+    "read_trajectory": "motion.readers",
+}
+#: The subpackages an eager ``import hipsim`` used to load, still reachable as attributes (``hipsim.motion``).
+_SUBPACKAGES = ("analysis", "analytic", "arrays", "files", "machine", "motion", "physics", "results")
+
+
+def __getattr__(name: str):
+    """A public name or subpackage, imported on first use (PEP 562), so that ``import hipsim`` loads no NumPy, SciPy or xacro."""
+    home = _HOMES.get(name, name if name in _SUBPACKAGES else None)
+    # Absolute imports: ``from . import x`` would first ask this very function for x.
+    if home == "analysis.runs":
+        import hipsim.analysis.runs as module
+    elif home == "machine.parameters":
+        import hipsim.machine.parameters as module
+    elif home == "motion.trajectories":
+        import hipsim.motion.trajectories as module
+    elif home == "motion.readers":
+        import hipsim.motion.readers as module
+    elif home == "results":
+        import hipsim.results as module
+    elif home == "analysis":
+        import hipsim.analysis as module
+    elif home == "analytic":
+        import hipsim.analytic as module
+    elif home == "arrays":
+        import hipsim.arrays as module
+    elif home == "files":
+        import hipsim.files as module
+    elif home == "machine":
+        import hipsim.machine as module
+    elif home == "motion":
+        import hipsim.motion as module
+    elif home == "physics":
+        import hipsim.physics as module
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = module if name in _SUBPACKAGES else getattr(module, name)
+    globals()[name] = value  # later look-ups skip this function
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__) | set(_SUBPACKAGES))

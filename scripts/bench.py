@@ -633,19 +633,49 @@ def bench_rig(quick: bool) -> None:
     print("  target: <= 400 MB for an hour's log")
 
 
+def bench_startup(quick: bool) -> None:
+    """Start-up: fresh processes, best of a few, each next to a bare interpreter's start."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    script = Path(sys.executable).with_name("hipsim")  # the console script a user runs
+    hipsim_command = [str(script)] if script.exists() else [sys.executable, "-m", "hipsim"]
+    rows = [
+        ("python -c pass (the baseline)", [sys.executable, "-c", "pass"], None),
+        ('python -c "import hipsim"', [sys.executable, "-c", "import hipsim"], 0.5),
+        ("hipsim --version", [*hipsim_command, "--version"], 0.3),
+        ("hipsim torques --help", [*hipsim_command, "torques", "--help"], 0.3),
+    ]
+    repeats = 3 if quick else 7
+
+    def start(command):
+        return lambda: subprocess.run(command, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+
+    times = alternated(*(start(command) for _, command, _ in rows), repeats=repeats)
+    print(f"Start-up in a fresh process (wall time, best of {repeats})")
+    baseline = times[0]
+    for (label, _, target), elapsed in zip(rows, times):
+        verdict = "" if target is None else f"   target: <= {target:g} s   {'OK' if elapsed <= target else 'MISSED'}"
+        print(f"  {label:<32} {elapsed:6.3f} s  ({elapsed - baseline:+6.3f} s over the baseline){verdict}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer samples in the slow baselines")
-    parser.add_argument("--only", choices=["analytic", "pinocchio", "workspace", "plants", "servo", "identification", "sweep", "long", "rig"],
+    parser.add_argument("--only", choices=["startup", "analytic", "pinocchio", "workspace", "plants", "servo", "identification", "sweep", "long", "rig"],
                         help="one section only")
     args = parser.parse_args()
     params = hipsim.load_parameters()
     if args.only:
         sections = {"analytic": bench_analytic, "pinocchio": bench_pinocchio, "plants": bench_plants, "servo": bench_servo,
                     "identification": bench_identification, "sweep": bench_sweep,
-                    "long": lambda params, quick: bench_long_runs(quick), "rig": lambda params, quick: bench_rig(quick)}
+                    "long": lambda params, quick: bench_long_runs(quick), "rig": lambda params, quick: bench_rig(quick),
+                    "startup": lambda params, quick: bench_startup(quick)}
         sections.get(args.only, lambda params, quick: bench_workspace(quick))(params, args.quick)
         return
+    bench_startup(args.quick)
+    print()
     bench_analytic(params, args.quick)
     print()
     bench_pinocchio(params, args.quick)

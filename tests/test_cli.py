@@ -271,7 +271,7 @@ def test_summary_gives_the_cycle_of_the_smallest_singularity_measure(tmp_path, c
 
 
 def test_cycle_of_a_time_late_in_a_long_run():
-    from hipsim.cli.main import _cycle_of
+    from hipsim.cli.torques import _cycle_of
     from hipsim.motion.trajectories import iso14242
 
     long_run = iso14242(rate=10, cycles=600)
@@ -375,7 +375,7 @@ def test_a_slow_pinocchio_warm_up_is_announced_as_compiling(monkeypatch, capsys)
     import time
 
     import hipsim.closed_chain.model as closed_chain
-    from hipsim.cli.main import _load_pinocchio_kernels
+    from hipsim.cli.common import load_pinocchio_kernels as _load_pinocchio_kernels
 
     monkeypatch.setattr(closed_chain, "warm_up", lambda: time.sleep(1.5))  # as long as a compilation, as far as the note can tell
     _load_pinocchio_kernels()
@@ -402,3 +402,41 @@ print(json.dumps([before, [len(kernel.signatures) for kernel in kernels]]))
 """
     before, after = json.loads(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout)
     assert all(before) and after == before
+
+
+def test_the_log_options_defaults_are_the_librarys():
+    """--cutoff and --tolerance print their defaults without loading SciPy: the CLI's copies must be the library's values."""
+    from hipsim.cli import rig
+    from hipsim.rig.compare import DEFAULT_TOLERANCE_DEG
+    from hipsim.rig.logs import DEFAULT_CUTOFF
+
+    assert (rig.DEFAULT_CUTOFF, rig.DEFAULT_TOLERANCE_DEG) == (DEFAULT_CUTOFF, DEFAULT_TOLERANCE_DEG)
+
+
+def test_import_and_the_parser_load_no_computing():
+    """``import hipsim`` and building the parser (--help, --version) load neither NumPy nor anything heavier; a name loads on use."""
+    code = """
+import sys
+import hipsim
+heavy = ("numpy", "scipy", "numba", "pinocchio", "xacro", "matplotlib", "hipsim.analysis")
+after_import = [m for m in heavy if m in sys.modules]
+from hipsim.cli.main import build_parser
+build_parser()
+after_parser = [m for m in heavy if m in sys.modules]
+hipsim.iso14242
+print(after_import, after_parser, "hipsim.motion" in sys.modules, sorted(set(hipsim.__all__) - set(dir(hipsim))))
+"""
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.split() == ["[]", "[]", "True", "[]"]
+
+
+def test_every_public_name_imports_lazily():
+    import hipsim
+    import hipsim.analysis.runs
+    import hipsim.machine.parameters
+
+    for name in hipsim.__all__:
+        assert getattr(hipsim, name) is not None
+    assert hipsim.analyse is hipsim.analysis.runs.analyse and hipsim.load_parameters is hipsim.machine.parameters.load_parameters
+    with pytest.raises(AttributeError, match="no attribute 'nothing'"):
+        hipsim.nothing

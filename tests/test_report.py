@@ -467,7 +467,7 @@ def test_page_names_the_two_screw_forces_apart_and_lists_every_parameter(written
 def test_report_simulate_takes_a_mismatch(tmp_path, monkeypatch, capsys):
     import importlib
 
-    cli = importlib.import_module("hipsim.cli.main")
+    cli = importlib.import_module("hipsim.cli.report")
 
     seen = {}
 

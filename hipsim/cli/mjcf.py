@@ -10,7 +10,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-import numpy as np
+from .common import add_machine_options, parameters
 
 __all__ = ["add_parser", "add_simulate_options", "format_gaps", "make_plant", "run"]
 
@@ -19,8 +19,6 @@ _INTEGRATORS = ("RK4", "Euler", "implicitfast", "implicit")
 
 def add_parser(subparsers) -> None:
     """Register ``hipsim mjcf``."""
-    from .main import _add_machine_options
-
     parser = subparsers.add_parser(
         "mjcf", help="the machine as a MuJoCo model (MJCF) with its six loop closures",
         description="Writes the MJCF of the parameter set: the URDF's tree (same joints, masses, inertias and drawing), "
@@ -28,7 +26,7 @@ def add_parser(subparsers) -> None:
         "motors as actuators in N·m (gear 2π/lead), and a keyframe 'iso_start' at the ISO 14242-1 cycle's first sample "
         "with the closures closed. Needs the optional mujoco package (pip install 'hipsim[mujoco]').",
     )  # fmt: skip
-    _add_machine_options(parser)
+    add_machine_options(parser)
     parser.add_argument("--out", default="hip_simulator.xml", metavar="FILE", help="MJCF to write (default hip_simulator.xml)")
     parser.add_argument("--timestep", type=float, default=0.5, metavar="MS", help="MuJoCo's time step in ms (default 0.5)")
     parser.add_argument("--integrator", choices=_INTEGRATORS, default="RK4", help="MuJoCo's integrator (default RK4)")
@@ -37,10 +35,11 @@ def add_parser(subparsers) -> None:
 
 def run(args) -> int:
     """Write the MJCF and say what is in it."""
-    from ..exceptions import HipsimError
-    from .main import _parameters
+    import numpy as np
 
-    params = _parameters(args)
+    from ..exceptions import HipsimError
+
+    params = parameters(args)
     if not (np.isfinite(args.timestep) and args.timestep > 0):
         raise HipsimError(f"--timestep must be a positive number of ms, got {args.timestep!r}")
     if Path(args.out).is_dir():
@@ -78,6 +77,8 @@ def make_plant(params, integrator: str = "RK4"):
 
 def format_gaps(controller: str, plant) -> str:
     """One line on the closure gap along the last run of a MuJoCo plant."""
+    import numpy as np
+
     times, gaps = plant.gap_history()
     k = int(np.argmax(gaps))
     return (f"{controller}: closure gap (MuJoCo's soft connect constraints) at the servo instants: "

@@ -14,16 +14,19 @@ import math
 import sys
 from pathlib import Path
 
-from ..files import json_ready
 from ..exceptions import HipsimError
+from ..present.tables import format_table
+from .common import add_machine_options, add_summary_format, numbers, parameters, progress
 
 __all__ = ["add_parser", "run", "run_compare", "run_excite", "run_identify"]
 
+#: The defaults of ``--cutoff`` in [Hz] and ``--tolerance`` in [deg], written out so that the parser loads no signal processing;
+#: they are the library's :data:`hipsim.rig.logs.DEFAULT_CUTOFF` and :data:`hipsim.rig.compare.DEFAULT_TOLERANCE_DEG` (a test checks).
+DEFAULT_CUTOFF = 20.0
+DEFAULT_TOLERANCE_DEG = 0.5
+
 
 def _add_log_options(parser: argparse.ArgumentParser) -> None:
-    from ..rig.compare import DEFAULT_TOLERANCE_DEG
-    from ..rig.logs import DEFAULT_CUTOFF
-
     group = parser.add_argument_group("logs")
     group.add_argument("--torque-constant", type=float, metavar="NM_PER_A",
                        help="motor torque constant in N·m/A, for logs of motor currents (current_1_A …)")
@@ -37,8 +40,6 @@ def _add_log_options(parser: argparse.ArgumentParser) -> None:
 
 def add_parser(subparsers) -> None:
     """Register ``compare``, ``identify`` and ``excite``."""
-    from .main import _add_machine_options, _add_summary_format
-
     compare = subparsers.add_parser(
         "compare", help="the model's torques along a rig log against the measured ones -> figures, HTML, JSON",
         description="Runs the analytic model along a rig log's motion and load and compares its motor torques (total "
@@ -48,11 +49,11 @@ def add_parser(subparsers) -> None:
         "in pieces: memory does not grow with its length.",
     )
     compare.add_argument("--log", required=True, metavar="FILE", help="rig log CSV: t_s, Fe_N, tau_i_Nmm (or current_i_A), angles and/or L_1i_mm")
-    _add_machine_options(compare)
+    add_machine_options(compare)
     _add_log_options(compare)
     compare.add_argument("--period", type=float, metavar="S", help="the log's period in s (default: detected; 0: not periodic)")
     compare.add_argument("--out", default="hipsim_compare", metavar="DIR", help="folder to write (default hipsim_compare)")
-    _add_summary_format(compare, "what to print")
+    add_summary_format(compare, "what to print")
     compare.set_defaults(run=run)
 
     identify = subparsers.add_parser(
@@ -66,7 +67,7 @@ def add_parser(subparsers) -> None:
     )
     identify.add_argument("--log", required=True, action="append", metavar="FILE", help="rig log to fit (repeatable)")
     identify.add_argument("--validate", action="append", default=[], metavar="FILE", help="held-out rig log to predict (repeatable)")
-    _add_machine_options(identify)
+    add_machine_options(identify)
     _add_log_options(identify)
     identify.add_argument("--max-std", type=float, default=1.0, metavar="PERCENT",
                           help="largest standard deviation of an identified quantity, in %% of its size (default 1)")
@@ -74,7 +75,7 @@ def add_parser(subparsers) -> None:
                           "(labels such as m_l, keys, or prefixes such as lever, friction.ujoint)")
     identify.add_argument("--json", metavar="FILE", help="also write the results as JSON")
     identify.add_argument("--out", required=True, metavar="FILE", help="parameter TOML to write")
-    _add_summary_format(identify, "what to print: tables (default) or the fit's summary as JSON")
+    add_summary_format(identify, "what to print: tables (default) or the fit's summary as JSON")
     identify.set_defaults(run=run)
 
     excite = subparsers.add_parser(
@@ -83,7 +84,7 @@ def add_parser(subparsers) -> None:
         "regressor's condition number within the rig's reach, singularity margin, slider speed and acceleration and motor "
         "torque limits. Writes a trajectory CSV every command reads and prints its condition number next to the ISO cycle's.",
     )
-    _add_machine_options(excite)
+    add_machine_options(excite)
     excite.add_argument("--duration", type=float, default=10.0, metavar="S", help="length of the CSV in s, whole periods (default 10)")
     excite.add_argument("--harmonics", type=int, default=5, metavar="N", help="harmonics per series (default 5)")
     excite.add_argument("--frequency", type=float, default=0.5, metavar="HZ", help="base frequency, 1/period (default 0.5)")
@@ -97,7 +98,7 @@ def add_parser(subparsers) -> None:
     excite.add_argument("--max-angle", type=float, metavar="DEG", help="largest |angle| in degrees (default 30)")
     excite.add_argument("--load", metavar="MIN:MAX", help="load range in N (default 300:3000)")
     excite.add_argument("--out", required=True, metavar="FILE", help="trajectory CSV to write")
-    _add_summary_format(excite, "what to print: a text summary (default) or JSON")
+    add_summary_format(excite, "what to print: a text summary (default) or JSON")
     excite.set_defaults(run=run)
 
 
@@ -115,12 +116,6 @@ def _not_an_input(out: str, inputs: list[str], option: str) -> None:
             raise HipsimError(f"--out {out} is the input {name} itself: choose another output")
 
 
-def _table(header, rows, title=""):
-    from .main import _format_table
-
-    return _format_table(header, rows, title)
-
-
 def _pieces(path: str, params, args):
     from ..rig.compare import LogPieces
 
@@ -131,12 +126,11 @@ def run_compare(args) -> int:
     from ..rig.compare import compare_log
     from ..files import check_folder
     from ..present.rig_figures import write_comparison
-    from .main import _parameters, _progress
 
-    params = _parameters(args)
+    params = parameters(args)
     check_folder(Path(args.out))  # a bad folder is refused before the work
     with _pieces(args.log, params, args) as log:  # in pieces: memory does not grow with the log
-        comparison = compare_log(params, log, lever_spin=not args.spin_free_levers, period=args.period, progress=_progress("compare"))
+        comparison = compare_log(params, log, lever_spin=not args.spin_free_levers, period=args.period, progress=progress("compare"))
     files = write_comparison(args.out, comparison)
     summary = comparison.summary()
     if args.summary_format == "json":
@@ -150,7 +144,7 @@ def run_compare(args) -> int:
          m["peak_error_Nmm"], f"{100 * m['relative_peak_error']:.2f} %", f"{m['peak_error_t_s']:.3f}", m["rms_error_away_from_reversals_Nmm"]]
         for i, m in summary["motors"].items()
     ]
-    print(_table(["motor", "RMS [N·mm]", "peak [N·mm]", "RMS error", "/ RMS", "peak error", "/ peak", "at [s]", "RMS error away from reversals"],
+    print(format_table(["motor", "RMS [N·mm]", "peak [N·mm]", "RMS error", "/ RMS", "peak error", "/ peak", "at [s]", "RMS error away from reversals"],
                  rows, "Model vs measured motor torque [N·mm]"))
     if comparison.phase_rms is not None:
         print(f"\nthe log repeats every {comparison.period:.4g} s; RMS error per tenth of the cycle [N·mm]:")
@@ -161,10 +155,10 @@ def run_compare(args) -> int:
 
 
 def run_identify(args) -> int:
+    from ..files import json_ready
     from ..rig.identification import identify
-    from .main import _parameters
 
-    params = _parameters(args)
+    params = parameters(args)
     _not_an_input(args.out, [*args.log, *args.validate, args.params or ""], "--out")
     if args.json:
         _not_an_input(args.json, [*args.log, *args.validate, args.params or "", args.out], "--json")
@@ -189,7 +183,7 @@ def run_identify(args) -> int:
     print(f"logs: {', '.join(result.logs)}; {result.rows} samples (after filtering, decimation and the windows around reversals)")
     print(f"starting parameters: {params.source}")
     rows = [[q.expression(), f"{q.value:.6g}", f"{q.std:.2g}", q.unit or "—", _percent(q.relative_std)] for q in result.quantities]
-    print(_table(["identified quantity", "value", "std", "unit", "relative std"], rows, "\nIdentified (each combination as the data determine it)"))
+    print(format_table(["identified quantity", "value", "std", "unit", "relative std"], rows, "\nIdentified (each combination as the data determine it)"))
     if result.held:
         print("\nNot identified (starting value kept):")
         for label, reason, value, unit in result.held:
@@ -203,7 +197,7 @@ def run_identify(args) -> int:
         rows = [[f"M{i}", a[i]["rms_error_Nmm"], f"{100 * a[i]['relative_rms_error']:.2f} %",
                  b[i]["rms_error_Nmm"], f"{100 * b[i]['relative_rms_error']:.2f} %",
                  f"{100 * a[i]['relative_rms_error_away_from_reversals']:.2f} %"] for i in ("1", "2", "3")]
-        print(_table(["motor", "identified [N·mm]", "/ RMS", "starting [N·mm]", "/ RMS", "identified, away from reversals"], rows,
+        print(format_table(["motor", "identified [N·mm]", "/ RMS", "starting [N·mm]", "/ RMS", "identified, away from reversals"], rows,
                      f"\nPrediction error on {identified.log.name} (held out): RMS of model − measured"))
     print(f"\nwrote {path}" + (f" and {args.json}" if args.json else ""))
     return 0
@@ -216,10 +210,10 @@ def _percent(fraction: float) -> str:
 
 
 def run_excite(args) -> int:
+    from ..files import json_ready
     from ..rig.excitation import Limits, excitation
-    from .main import _numbers, _parameters
 
-    params = _parameters(args)
+    params = parameters(args)
     if Path(args.out).is_dir():
         raise HipsimError(f"--out {args.out} is a folder; give a CSV file name")
     for option, value in (("--duration", args.duration), ("--rate", args.rate)):
@@ -239,7 +233,7 @@ def run_excite(args) -> int:
     if args.max_angle is not None:
         changes["max_angle"] = math.radians(args.max_angle)
     if args.load is not None:
-        changes["min_load"], changes["max_load"] = _numbers(args.load, ":", "--load", "MIN:MAX in N", count=2)
+        changes["min_load"], changes["max_load"] = numbers(args.load, ":", "--load", "MIN:MAX in N", count=2)
     for option, key in (("--max-speed", "max_speed"), ("--max-acceleration", "max_acceleration"), ("--torque-limit", "torque_limit"),
                         ("--min-cond-inv", "min_cond_inv"), ("--max-angle", "max_angle")):
         if key in changes and not (math.isfinite(changes[key]) and changes[key] > 0):

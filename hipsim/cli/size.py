@@ -7,8 +7,9 @@ import json
 import math
 import sys
 
-from ..files import json_ready
 from ..exceptions import HipsimError
+from ..present.tables import format_margin, format_quantity, format_table
+from .common import add_machine_options, parameters
 
 __all__ = ["add_parser", "run"]
 
@@ -33,13 +34,11 @@ examples:
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
     """Register ``size`` on the main parser's subcommands."""
-    from .main import _add_machine_options
-
     parser = subparsers.add_parser(
         "size", help="motor, amplifier and lead-screw sizing checks along the cycle; rank a catalogue",
         description=_DESCRIPTION, epilog=_EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    _add_machine_options(parser)
+    add_machine_options(parser)
     motion = parser.add_argument_group("motion")
     motion.add_argument("--trajectory", action="append", default=[], metavar="FILE",
                         help="a trajectory CSV to check as well, one test cycle each (repeatable)")
@@ -95,51 +94,31 @@ def _rules(args, base):
     return dataclasses.replace(base, **changes)
 
 
-def _number(value: float | None, unit: str) -> str:
-    if value is None:
-        return "—"
-    if math.isinf(value):
-        return "∞" if value > 0 else "−∞"
-    if unit == "cycles":
-        return f"{value:.3g}"
-    return f"{value:,.3g}" if abs(value) < 100 else f"{value:,.0f}"
-
-
-def _margin(margin: float | None) -> str:
-    if margin is None:
-        return "—"
-    return "−∞" if math.isinf(margin) else f"{100 * margin:+.1f} %"
-
-
 def format_checks(checks, title: str) -> str:
     """A check table as plain text."""
-    from .main import _format_table
-
     rows = []
     for c in checks:
         verdict = "not checked" if c.passed is None else ("pass" if c.passed else "FAIL")
-        rows.append([f"LN{c.module}", c.kind.label, f"{_number(c.value, c.kind.unit)} {c.kind.unit}",
-                     f"{'≥' if c.kind.bound == 'min' else '≤'} {_number(c.limit, c.kind.unit)}", _margin(c.margin), verdict, c.detail])
-    return _format_table(["module", "check", "value", "limit", "margin", "result", "detail"], rows, title)
+        rows.append([f"LN{c.module}", c.kind.label, f"{format_quantity(c.value, c.kind.unit)} {c.kind.unit}",
+                     f"{'≥' if c.kind.bound == 'min' else '≤'} {format_quantity(c.limit, c.kind.unit)}", format_margin(c.margin), verdict, c.detail])
+    return format_table(["module", "check", "value", "limit", "margin", "result", "detail"], rows, title)
 
 
 def format_demands(size) -> str:
-    from .main import _format_table
-
     rows = [[f"LN{m.module}", m.tau_peak_Nmm, m.tau_rms_Nmm, m.speed_peak_rpm, m.speed_mean_rpm, m.motor_thrust_peak_N,
              m.axial_force_peak_N, m.axial_force_cubic_mean_N, m.load_inertia_max_kgmm2, m.regen_energy_J] for m in size.modules]
     header = ["module", "τ peak [N·mm]", "τ RMS [N·mm]", "n peak [rpm]", "n mean [rpm]", "motor thrust peak [N]",
               "axial screw load peak [N]", "cubic mean [N]", "M_θ,ii max [kg·mm²]", "regen [J/cycle]"]
-    return _format_table(header, rows, "At each screw shaft (motor thrust 2πτ/p; axial screw load 2π(τ − τ_L − τ_screw friction)/p)")
+    return format_table(header, rows, "At each screw shaft (motor thrust 2πτ/p; axial screw load 2π(τ − τ_L − τ_screw friction)/p)")
 
 
 def run(args) -> int:
     from ..analysis.runs import analyse
     from ..design.sizing import rank_drives, sizing
     from ..machine.drive import SizingRules, drive_from_motor_table, load_drive, load_gearbox_catalogue, load_motor_catalogue, load_screw_catalogue
-    from .main import _format_table, _parameters
+    from ..files import json_ready
 
-    params = _parameters(args)
+    params = parameters(args)
     if args.top is not None and args.top < 1:
         raise HipsimError(f"--top: expected a positive whole number, got {args.top}")
     if args.catalogue is None:
@@ -168,9 +147,9 @@ def run(args) -> int:
                 binding = "—" if b is None else f"{b.kind.label}, LN{b.module}" + (f", {b.trajectory}" if len(trajectories) > 1 else "")
                 rows.append([str(rank), c.drive.motor.name, c.drive.gearbox.name if c.drive.gearbox else "direct",
                              c.drive.screw.name if c.drive.screw else f"machine's ({params.lead * 1e3:g} mm)",
-                             _margin(c.margin), verdict, binding, f"{_number(b.value, b.kind.unit)} / {_number(b.limit, b.kind.unit)} {b.kind.unit}" if b else "—"])
+                             format_margin(c.margin), verdict, binding, f"{format_quantity(b.value, b.kind.unit)} / {format_quantity(b.limit, b.kind.unit)} {b.kind.unit}" if b else "—"])
             cycles = ", ".join(t.name for t, _ in trajectories)
-            print(_format_table(["rank", "motor", "gearbox", "screw", "smallest margin", "result", "binding constraint", "value / limit"], rows,
+            print(format_table(["rank", "motor", "gearbox", "screw", "smallest margin", "result", "binding constraint", "value / limit"], rows,
                                 f"{len(candidates)} combinations along {cycles}, ranked by their smallest margin"))
             unchecked = sorted({name for c in shown for name in c.unchecked})
             if unchecked:
@@ -207,8 +186,8 @@ def run(args) -> int:
                 b = size.binding
                 if b is not None:
                     verdict = "PASS" if size.passed else "FAIL"
-                    print(f"-> {verdict}; binding: {b.kind.label}, LN{b.module}: {_number(b.value, b.kind.unit)} against "
-                          f"{_number(b.limit, b.kind.unit)} {b.kind.unit} (margin {_margin(b.margin)})")
+                    print(f"-> {verdict}; binding: {b.kind.label}, LN{b.module}: {format_quantity(b.value, b.kind.unit)} against "
+                          f"{format_quantity(b.limit, b.kind.unit)} {b.kind.unit} (margin {format_margin(b.margin)})")
             print()
     failed = any(size.passed is False for _, size in results)
     return 1 if failed else 0

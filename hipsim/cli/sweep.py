@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import sys
 import time
 from pathlib import Path
 
-import numpy as np
-
 from ..exceptions import ArgumentError, HipsimError, OutputError
+from ..present.tables import format_table
+from .common import add_machine_options, parameters
+from .motion_options import add_trajectory_options, load_trajectory
 
 __all__ = ["add_parser", "run"]
 
@@ -44,14 +44,11 @@ examples:
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
     """Register ``sweep`` on the main parser's subcommands."""
-    from .main import _add_machine_options
-    from .motion_options import add_trajectory_options
-
     parser = subparsers.add_parser(
         "sweep", help="design variants (grid, Latin hypercube, tolerances, CSV) on a dask cluster -> Parquet/CSV, Pareto figure",
         description=_DESCRIPTION, epilog=_EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    _add_machine_options(parser)
+    add_machine_options(parser)
     add_trajectory_options(parser)
     variants = parser.add_argument_group("variants (one kind; default: the grid " + " × ".join(DEFAULT_GRID) + ")")
     variants.add_argument("--grid", action="append", default=[], metavar="KEY=START:STOP:STEP",
@@ -155,10 +152,8 @@ def _previous(out: Path, names: list[str]) -> dict[str, list]:
 def run(args) -> int:
     from ..design.sweep import OBJECTIVES, SweepSetup, metric_columns, parse_objective, run_sweep, variant_id
     from ..design.sweep_table import write_table
-    from .main import _parameters
-    from .motion_options import load_trajectory
 
-    params = _parameters(args)
+    params = parameters(args)
     # Every input is read and checked before the first variant runs.
     out = _check_out(args.out)
     try:
@@ -256,6 +251,8 @@ def _progress_bar(total: int):
 
 def _summary(columns: dict, keys, objectives: dict, pareto) -> dict:
     """Counts by status and rating, and the best variant of each objective, over every row of the table."""
+    import numpy as np
+
     status = np.array(columns["status"], dtype=object)
     rating = np.array(columns["rating"], dtype=object)
     rated = bool(np.any((rating == "pass") | (rating == "fail")))
@@ -289,6 +286,8 @@ def _summary(columns: dict, keys, objectives: dict, pareto) -> dict:
 
 
 def _figure(columns: dict, pareto, out: Path, summary: dict):
+    import numpy as np
+
     from ..design.sweep import pareto_front
     from ..present.figures import save_figure
     from ..present.sweep_figures import plot_pareto
@@ -307,8 +306,6 @@ def _figure(columns: dict, pareto, out: Path, summary: dict):
 
 def format_summary(summary: dict) -> str:
     """The sweep's summary as plain text."""
-    from .main import _format_table
-
     keys = summary["keys"]
     lines = [
         f"sweep of {summary['variants']} variants over {', '.join(keys)}: {summary['new']} run in {summary['seconds']:.1f} s, "
@@ -323,7 +320,7 @@ def format_summary(summary: dict) -> str:
     rows = []
     for name, best in summary["best"].items():
         rows.append([name, best["goal"], f"{best['value']:.6g}", *(f"{best['variant'][k]:.6g}" for k in keys), best["rating"]])
-    lines += ["", _format_table(["objective", "goal", "best", *keys, "rating"], rows, "Best variant per objective")]
+    lines += ["", format_table(["objective", "goal", "best", *keys, "rating"], rows, "Best variant per objective")]
     if "figure" in summary:
         lines += ["", f"Pareto front: {len(summary['pareto_front'])} variants; figure {', '.join(summary['figure'])}"]
     lines.append(f"\nwrote {summary['out']} ({summary['rows']} rows)")

@@ -2,16 +2,52 @@
 
 from __future__ import annotations
 
+import argparse
 import math
 import sys
-from typing import TextIO
+from typing import TYPE_CHECKING, TextIO
 
 from ..exceptions import HipsimError
-from ..files import write_atomic
-from ..machine.parameters import Parameters
-from ..motion.trajectories import Trajectory
+from .common import add_machine_options, parameters
+from .motion_options import add_trajectory_options, load_trajectory
 
-__all__ = ["run_view", "step_through"]
+if TYPE_CHECKING:  # loaded when the command runs, not with the parser
+    from ..machine.parameters import Parameters
+    from ..motion.trajectories import Trajectory
+
+__all__ = ["add_parser", "run", "run_view", "step_through"]
+
+
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Register ``view`` on the main parser's subcommands."""
+    view = subparsers.add_parser(
+        "view", help="the machine moving through a trajectory in meshcat (live on loopback, or an offline page)",
+        description="Starts a meshcat server on 127.0.0.1, prints its URL and plays the Pinocchio model's closed "
+        "configurations through the trajectory in real time, looping, until Ctrl-C. With --html, writes the same "
+        "animation as one self-contained offline page instead.",
+    )
+    add_machine_options(view)
+    add_trajectory_options(view)
+    view.add_argument("--html", metavar="FILE", help="write a self-contained offline page instead of serving")
+    view.add_argument("--speed", type=float, default=1.0, metavar="X", help="playback speed (0.25: four times slower)")
+    view.add_argument("--step", action="store_true", help="one frame per Enter (b: back, q: quit)")
+    view.add_argument("--fps", type=int, default=30, metavar="N", help="frames per second of playback (default 30); the trajectory is sampled at fps/speed")
+    view.add_argument("--forces", action="store_true", help="arrows for the motor force on each screw and the force at each spherical joint")
+    view.add_argument("--singularity", action="store_true", help="colour the levers by the singularity measure (red singular, green clear)")
+    view.add_argument("--human", action="store_true", help="the example-robot-data human model's hip moving beside the machine")
+    view.set_defaults(run=run)
+    return view
+
+
+def run(args) -> int:
+    """Play or write the machine's motion (:func:`run_view`)."""
+    from ..files import is_stdout
+
+    return run_view(
+        parameters(args), load_trajectory(args), html=args.html, speed=args.speed, step=args.step, forces=args.forces,
+        singularity=args.singularity, human=args.human, fps=args.fps,
+        stream=sys.stderr if args.html and is_stdout(args.html) else sys.stdout,
+    )
 
 
 def run_view(
@@ -45,6 +81,7 @@ def run_view(
     Returns:
         The exit status, 0.
     """
+    from ..files import write_atomic
     from ..present.viewer import DEFAULT_FPS, Viewer, describe
 
     fps = DEFAULT_FPS if fps is None else fps

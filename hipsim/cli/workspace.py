@@ -2,21 +2,44 @@
 
 from __future__ import annotations
 
+import argparse
 import json
 import math
 import sys
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TextIO
+from typing import TYPE_CHECKING, TextIO
 
-import numpy as np
+from ..exceptions import HipsimError
+from .common import add_machine_options, add_summary_format, numbers, parameters
+from .motion_options import add_trajectory_options, load_trajectory
 
-from ..design.workspace import OffsetSweep, SingularityMap, offset_sweep, singularity_map
-from ..files import check_folder, output_folder, write_atomic
-from ..machine.parameters import Parameters
-from ..motion.trajectories import Trajectory, iso14242
+if TYPE_CHECKING:  # the computing modules load when the command runs, not with the parser
+    import numpy as np
 
-__all__ = ["WorkspaceRun", "format_workspace_summary", "run_workspace"]
+    from ..design.workspace import OffsetSweep, SingularityMap
+    from ..machine.parameters import Parameters
+    from ..motion.trajectories import Trajectory
+
+__all__ = ["WorkspaceRun", "add_parser", "format_workspace_summary", "run", "run_workspace"]
+
+
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Register ``workspace`` on the main parser's subcommands."""
+    workspace = subparsers.add_parser(
+        "workspace", help="singularity map over orientations, and the platform-offset sweep",
+        description="Maps the singularity measure (inverse condition number of J) over flexion/extension x "
+        "abduction/adduction at a few rotations with the trajectory drawn on it, and sweeps the platform offset δ "
+        "showing the trajectory's singularity margin, peak torque and slider stroke.",
+    )
+    add_machine_options(workspace)
+    add_trajectory_options(workspace)
+    workspace.add_argument("--out", default="hipsim_workspace", metavar="DIR", help="folder to write (default hipsim_workspace)")
+    workspace.add_argument("--gamma", metavar="LIST", help="rotations γ in degrees, comma-separated (default -12,-8,-4,0,4)")
+    workspace.add_argument("--deltas", metavar="A:B:STEP", help="offsets δ to sweep in degrees (default -90:90:1)")
+    add_summary_format(workspace)
+    workspace.set_defaults(run=run)
+    return workspace
 
 
 @dataclass(frozen=True, eq=False)
@@ -40,6 +63,8 @@ def format_workspace_summary(smap: SingularityMap, sweep: OffsetSweep | None = N
     The sweep table lists the built machine's δ, the best δ by singularity margin
     and by peak torque, and every 10th δ, so it stays short on a fine sweep.
     """
+    import numpy as np
+
     lines = [f"singularity map: δ = {smap.delta_deg:g}°, {smap.alpha_deg.size} α × {smap.beta_deg.size} β × {smap.gamma_deg.size} γ = {smap.orientations:,} orientations"]
     for g, fraction, values in zip(smap.gamma_deg, smap.reachable_fraction(), smap.cond_inv):
         finite = values[np.isfinite(values)]
@@ -66,6 +91,8 @@ def format_workspace_summary(smap: SingularityMap, sweep: OffsetSweep | None = N
 
 
 def _sweep_table(sweep: OffsetSweep) -> str:
+    import numpy as np
+
     d = sweep.deltas_deg
     feasible = sweep.feasible
     picks = set(range(0, d.size, max(1, d.size // 10))) | {d.size - 1}
@@ -135,6 +162,9 @@ def run_workspace(
     Returns:
         The :class:`WorkspaceRun`.
     """
+    from ..design.workspace import offset_sweep, singularity_map
+    from ..files import check_folder, output_folder, write_atomic
+    from ..motion.trajectories import iso14242
     from ..present.figures import save_figure
     from ..present.workspace_figures import plot_offset_sweep, plot_singularity_map
 
@@ -173,7 +203,32 @@ def run_workspace(
 
 def _json_float(x):
     """JSON has no NaN: write null for it."""
+    import numpy as np
+
     if isinstance(x, (int, np.integer)):
         return int(x)
     x = float(x)
     return x if math.isfinite(x) else None
+
+
+def run(args) -> int:
+    """Check the angle options, then map, sweep, write and print (:func:`run_workspace`)."""
+    import numpy as np
+
+    params = parameters(args)
+    trajectory = load_trajectory(args)
+    gamma = numbers(args.gamma, ",", "--gamma", "comma-separated angles in degrees") if args.gamma is not None else None
+    if gamma is not None and np.any(np.abs(gamma) > 180):
+        raise HipsimError(f"--gamma: angles must lie within ±180°, got '{args.gamma}'")
+    deltas = None
+    if args.deltas is not None:
+        start, stop, step = numbers(args.deltas, ":", "--deltas", "START:STOP:STEP in degrees", count=3)
+        if step <= 0 or stop < start:
+            raise HipsimError(f"--deltas: expected START <= STOP and STEP > 0, got '{args.deltas}'")
+        if max(abs(start), abs(stop)) > 180:
+            raise HipsimError(f"--deltas: offsets must lie within ±180°, got '{args.deltas}'")
+        if (stop - start) / step > 100_000:
+            raise HipsimError(f"--deltas: {args.deltas} asks for more than 100,000 offsets")
+        deltas = np.arange(start, stop + step / 2, step)
+    run_workspace(params, trajectory, Path(args.out), gamma_deg=gamma, deltas_deg=deltas, summary_format=args.summary_format)
+    return 0

@@ -1,0 +1,128 @@
+"""What the commands share: the machine options, the summary format, and helpers every run uses.
+
+Only the standard library is imported here at module level, so that building
+the parser (``hipsim --help``) stays fast; each helper imports what it needs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from ..exceptions import HipsimError
+from .motion_options import builtin_frequency
+
+__all__ = [
+    "add_machine_options",
+    "add_summary_format",
+    "desired_motion",
+    "load_pinocchio_kernels",
+    "note",
+    "numbers",
+    "parameters",
+    "print_json",
+    "progress",
+]
+
+
+def add_machine_options(parser: argparse.ArgumentParser) -> None:
+    """``--params FILE`` and ``--set KEY=VALUE``: the machine a command runs on."""
+    group = parser.add_argument_group("machine")
+    group.add_argument("--params", metavar="FILE", help="parameter TOML file (default: the published machine)")
+    group.add_argument(
+        "--set", dest="overrides", metavar="KEY=VALUE", action="append", default=[],
+        help="override one parameter in the file's units, e.g. lever.length_mm=330 (repeatable)",
+    )
+
+
+def add_summary_format(parser: argparse.ArgumentParser, help: str = "summary on standard output: tables (default) or JSON") -> None:
+    """``--summary-format table|json``."""
+    parser.add_argument("--summary-format", choices=["table", "json"], default="table", help=help)
+
+
+def print_json(document, stream=None) -> None:
+    """A summary as indented JSON (NaN and infinities as null)."""
+    from ..files import json_ready
+
+    print(json.dumps(json_ready(document), indent=2), file=stream if stream is not None else sys.stdout)
+
+
+def parameters(args):
+    """The parameter set the machine options ask for: ``--params`` (or the published machine) with the ``--set`` overrides."""
+    from ..machine.parameters import load_parameters, parse_override
+
+    overrides = dict(parse_override(text, source="--set") for text in args.overrides)
+    return load_parameters(args.params, overrides, overrides_source="--set")
+
+
+def numbers(text: str, separator: str, option: str, expected: str, count: int | None = None) -> list[float]:
+    """Finite numbers from an option's text, or a one-line error naming the option."""
+    import numpy as np
+
+    try:
+        if "_" in text:  # Python's float() reads "1_0" as 10; a user would not mean that
+            raise ValueError(text)
+        values = [float(part) for part in text.split(separator)]
+    except ValueError:
+        raise HipsimError(f"{option}: expected {expected}, got '{text}'") from None
+    if (count is not None and len(values) != count) or not all(np.isfinite(values)):
+        raise HipsimError(f"{option}: expected {expected}, got '{text}'")
+    return values
+
+
+def progress(what: str):
+    """A progress callback (done, total) drawing a tqdm bar on a terminal once a run takes over 2 s; None elsewhere."""
+    if not sys.stderr.isatty():
+        return None
+    from tqdm import tqdm
+
+    bars = []
+
+    def update(done: int, total: int) -> None:
+        if not bars:
+            bars.append(tqdm(total=total, desc=what, unit=" samples", unit_scale=True, delay=2.0, file=sys.stderr, leave=False))
+        bars[0].update(done - bars[0].n)
+        if done >= total:
+            bars[0].close()
+
+    return update
+
+
+def note(message: str) -> None:
+    """A message of the library's for the user, on standard error (standard output may carry results)."""
+    print(message, file=sys.stderr, flush=True)
+
+
+def load_pinocchio_kernels() -> None:
+    """Load the Pinocchio model's compiled kernels before a run, saying so when numba compiles them (a machine's first run)."""
+    import threading
+
+    from ..closed_chain.model import warm_up
+
+    timer = threading.Timer(1.0, note, args=("Pinocchio model: compiling (first run only) ...",))
+    timer.daemon = True
+    timer.start()
+    try:
+        warm_up()
+    finally:
+        timer.cancel()
+
+
+def desired_motion(args, trajectory):
+    """The desired motion as a function of time, and the duration of the run in [s] (``simulate`` and ``report --simulate``).
+
+    Args:
+        args: the parsed options (the motion options).
+        trajectory: the ``--trajectory`` file's motion, read; None for the built-in cycle.
+    """
+    from ..motion.trajectories import interpolator, iso14242, iso14242_at
+
+    if args.trajectory:
+        span = trajectory.t[-1] - trajectory.t[0]
+        if trajectory.periodic:  # one whole period: the last sample's step closes it
+            span += trajectory.t[1] - trajectory.t[0]
+        return interpolator(trajectory), span
+    frequency = builtin_frequency(args)
+    iso = iso14242(rate=1000.0, cycles=1 if args.cycles is None else args.cycles, frequency=frequency)  # checks them as torques does
+    return (lambda t: iso14242_at(t, frequency)), len(iso) / 1000.0

@@ -1,0 +1,112 @@
+"""``hipsim report``: the design report (plots, sizing table, an HTML page) in a folder."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from ..exceptions import HipsimError
+from .common import add_machine_options, add_summary_format, desired_motion, load_pinocchio_kernels, note, parameters, print_json
+from .motion_options import add_trajectory_options, load_trajectory
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Register ``report`` on the main parser's subcommands."""
+    report = subparsers.add_parser(
+        "report", help="design report: plots, sizing table and an HTML page in a folder",
+        description="Plots of slider motion, motor torque parts, load and friction, joint forces (PNG and SVG) and a "
+        "self-contained index.html with the summary and the sizing table (per module peak and RMS torque, speed, power, "
+        "axial screw force; per joint the peak force), checked against the [motor] ratings when given. Exits with status 1 "
+        "(after writing the report) when the drive fails a rating check.",
+    )
+    add_machine_options(report)
+    add_trajectory_options(report)
+    report.add_argument("--out", required=True, metavar="DIR", help="folder to write (created if missing)")
+    report.add_argument("--model", choices=["auto", "analytic", "pinocchio"], default="auto", help="where joint forces come from (auto: Pinocchio)")
+    report.add_argument("--motor", metavar="FILE", help="drive file (TOML: [motor], [amplifier], [gearbox], [lead_screw], [rules]) to check "
+                        "(default: the parameter file's [motor] table); see hipsim size")
+    report.add_argument("--simulate", action="store_true", help="also simulate both controllers and plot their tracking errors")
+    report.add_argument("--mismatch", metavar="SPEC", help="with --simulate: plant off from the controllers' model, e.g. friction=+20%%,masses=-10%%")
+    add_summary_format(report, "what to print: the folder written and the rating check (default), or the run's summary and sizing as JSON")
+    report.set_defaults(run=run)
+    return report
+
+
+def run(args) -> int:
+    """Write the report; status 1 when the drive fails its rating check."""
+    from ..analysis.runs import analyse
+    from ..files import check_folder
+    from ..control.simulation import parse_mismatch
+    from ..machine.drive import drive_from_motor_table, load_drive
+    from ..present.report import write_report
+
+    params = parameters(args)
+    trajectory = load_trajectory(args)
+    if args.mismatch and not args.simulate:
+        raise HipsimError("--mismatch applies to the simulations: give --simulate too")
+    mismatch = parse_mismatch(args.mismatch) if args.mismatch else {}
+    if args.motor:
+        drive = load_drive(args.motor)
+    elif params.motor:
+        drive = drive_from_motor_table(params.motor, params.source)
+    else:
+        drive = None
+    if drive is not None and drive.screw is not None:  # the drive's screw, when it names one, is the machine's
+        screw = {"lead": drive.screw.lead, "screw_inertia": drive.screw.inertia}
+        params = params.replace(**{k: v for k, v in screw.items() if v is not None})
+    check_folder(Path(args.out))  # an unusable folder is refused before the computing
+    run = analyse(params, trajectory)
+    joint_run, notes = None, []
+    if args.model == "analytic":
+        notes.append("Joint reaction forces were not computed (analytic model only: it has no joint forces).")
+    else:
+        try:
+            load_pinocchio_kernels()
+            joint_run = analyse(params, trajectory, model="pinocchio")
+        except (ImportError, AttributeError) as error:
+            if args.model == "pinocchio":
+                raise HipsimError(f"the Pinocchio model is not available ({error})") from None
+            notes.append(f"Joint reaction forces are missing: the Pinocchio model is not available ({type(error).__name__}: {error}); torques are from the analytic model.")
+    simulations = None
+    if args.simulate:
+        desired_at, duration = desired_motion(args, trajectory)
+        simulations = _simulate_both(params, desired_at, duration, mismatch)
+        if mismatch:
+            notes.append("Tracking: the simulated plant is off from the controllers' model: " + ", ".join(f"{k} {v:+.0%}" for k, v in mismatch.items()) + ".")
+    cycles = 1.0 if args.trajectory or args.cycles is None else args.cycles  # a trajectory file is one test cycle
+    files = write_report(Path(args.out), run, joint_run, simulations=simulations, drive=drive, notes=tuple(notes), cycles=cycles)
+    passed = files.sizing.passed if files.sizing is not None else None
+    if args.summary_format == "json":
+        print_json((joint_run or run).summary() | {"sizing": files.sizing.as_dict() if files.sizing is not None else None,
+                                                    "rating_check": _verdict(passed), "index": str(files.index)})
+    else:
+        print(f"wrote {files.index}")
+        if passed is not None:
+            print(f"rating check of {files.sizing.drive.name}: {_verdict(passed)}" + ("" if passed else " (see the sizing table in the report)"))
+    if passed is False:
+        print("hipsim: the drive fails its rating check (exit status 1)", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _verdict(passed: bool | None) -> str:
+    return "not checked" if passed is None else ("pass" if passed else "FAIL")
+
+
+def _simulate_both(params, desired_at, duration, mismatch=None):
+    """Both controllers on the Pinocchio plant (the whole closed chain, the CLI's default), optionally off from their model: the report's tracking plots."""
+    from ..control.controllers import AugmentedPD, WorkspacePD
+    from ..closed_chain.plant import PinocchioPlant
+    from ..control.simulation import apply_mismatch, simulate
+
+    plant = PinocchioPlant(apply_mismatch(params, **(mismatch or {})))
+    return {
+        "pd": simulate(plant, WorkspacePD(params), desired_at, duration, progress=True, controller_name="pd", notify=note),
+        "augmented-pd": simulate(
+            plant, AugmentedPD(params, desired_at, params.control.servo_rate, duration), desired_at, duration,
+            progress=True, controller_name="augmented-pd", notify=note,
+        ),
+    }

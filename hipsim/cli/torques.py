@@ -1,0 +1,113 @@
+"""``hipsim torques``: slider motion and motor torques along a trajectory, streamed to CSV or Parquet, and a summary."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+
+from ..present.tables import format_table
+from .common import add_machine_options, add_summary_format, load_pinocchio_kernels, parameters, print_json, progress
+from .motion_options import add_trajectory_options, cycle_period, load_source, span
+
+__all__ = ["add_parser", "format_summary", "run"]
+
+
+def add_parser(subparsers) -> argparse.ArgumentParser:
+    """Register ``torques`` on the main parser's subcommands."""
+    torques = subparsers.add_parser(
+        "torques", help="slider motion and motor torques along a trajectory -> CSV + summary",
+        description="Slider positions, velocities and accelerations, motor torques split into platforms, levers, "
+        "sliders, screws and friction, motor speeds and the singularity measure along a trajectory. "
+        "Writes the CSV of spec §7.5 and prints a summary.",
+    )
+    add_machine_options(torques)
+    add_trajectory_options(torques)
+    torques.add_argument("--model", choices=["analytic", "pinocchio", "mujoco"], default="analytic", help="which model computes the torques (default analytic; mujoco needs the mujoco extra)")
+    torques.add_argument(
+        "--out", default="hipsim_torques.csv", metavar="FILE",
+        help="CSV to write (default hipsim_torques.csv); a .parquet name writes Apache Parquet (the same columns, the parameter set "
+        "and hipsim version in its metadata); - for CSV on standard output",
+    )
+    add_summary_format(torques)
+    torques.add_argument(
+        "--flag-bad-poses", action="store_true",
+        help="carry on through poses out of reach or singular and mark them in a 'flagged' column instead of stopping",
+    )
+    torques.set_defaults(run=run)
+    return torques
+
+
+def format_summary(summary: dict) -> str:
+    """The torque run summary as plain-text tables."""
+    out = [
+        f"model: {summary['model']}   trajectory: {summary['trajectory']} ({summary['samples']} samples)",
+        f"parameters: {summary['parameters']}",
+        "",
+    ]
+    if summary["flagged_samples"]:
+        out += [f"WARNING: {summary['flagged_samples']} samples out of reach or singular (flagged in the CSV, left out below)", ""]
+    rows = [[f"S{name}", s["L_max_mm"], s["L_min_mm"], s["stroke_mm"], s["Ld_max_mm_s"], s["Ldd_max_mm_s2"]] for name, s in summary["sliders"].items()]
+    out.append(format_table(["slider", "L max [mm]", "L min [mm]", "stroke [mm]", "|Ld| max [mm/s]", "|Ldd| max [mm/s²]"], rows, "Sliders"))
+    out.append("")
+    header = ["motor", "platforms", "levers", "sliders", "screws", "friction", "peak", "RMS", "speed [rpm]"]
+    rows = [
+        [f"M{i}", *(m[f"{p}_max_Nmm"] for p in ("tau_m", "tau_l", "tau_s", "tau_L", "tau_f")), m["tau_peak_Nmm"], m["tau_rms_Nmm"], m["speed_peak_rpm"]]
+        for i, m in summary["motors"].items()
+    ]
+    out.append(format_table(header, rows, "Motor torques [N·mm] (max |part|; peak and RMS of the total)"))
+    if "joints" in summary:
+        out.append("")
+        rows = [[name, j["peak_N"], j["rms_N"]] for name, j in summary["joints"].items()]
+        out.append(format_table(["joint", "peak [N]", "RMS [N]"], rows, "Joint forces (spherical joints a_ji, central joints o_j)"))
+    where = f"t = {summary['cond_inv_min_t_s']:.6g} s"
+    if "cond_inv_min_cycle" in summary:
+        where += f" (cycle {summary['cond_inv_min_cycle']}, {summary['cond_inv_min_t_in_cycle_s']:.4g} s into it)"
+    out += ["", f"smallest singularity measure (inverse condition number of J): {summary['cond_inv_min']:.4f} at {where}"]
+    return "\n".join(out)
+
+
+def _cycle_of(time: float, trajectory, period: float | None) -> dict:
+    """Which cycle (from 1) a time in [s] falls in and how far into it, when the run spans more than one cycle (a trajectory or a source)."""
+    start = float(trajectory.t[0]) if hasattr(trajectory, "t") else trajectory.time(0)
+    if period is None or span(trajectory) <= period * (1 + 1e-9):
+        return {}
+    # A hair over whole cycles: a time printed as 395.0 s is the start of cycle 396, not the end of 395.
+    cycle = math.floor((time - start) / period + 1e-9)
+    return {"cond_inv_min_cycle": cycle + 1, "cond_inv_min_t_in_cycle_s": max(0.0, time - start - cycle * period)}
+
+
+def _file_metadata(params) -> dict[str, str]:
+    """A results file's key-value metadata: the hipsim version and the parameter set as a parameter file's text."""
+    from .. import __version__
+    from ..rig.identification import parameter_toml
+
+    return {"hipsim.version": __version__, "hipsim.parameters_source": str(params.source), "hipsim.parameters": parameter_toml(params)}
+
+
+def run(args) -> int:
+    """Stream the run to ``--out`` and print its summary."""
+    from ..analysis.streaming import stream_run
+    from ..files import ColumnWriter, check_output, is_stdout
+
+    check_output(args.out)  # an unusable output is refused before the computing
+    params = parameters(args)
+    source = load_source(args)
+    if args.model == "pinocchio":
+        load_pinocchio_kernels()
+    with ColumnWriter(args.out, _file_metadata(params)) as writer:
+        summary = stream_run(
+            params, source, model=args.model, on_error="flag" if args.flag_bad_poses else "raise", write=writer.write,
+            progress=progress(f"{args.model} model"),
+        )
+        path = writer.close()
+    summary |= _cycle_of(summary["cond_inv_min_t_s"], source, cycle_period(args, source))
+    report = sys.stderr if is_stdout(args.out) else sys.stdout  # the CSV has standard output
+    kind = "Parquet" if writer.parquet else "CSV"
+    if args.summary_format == "json":
+        print_json(summary | {("parquet" if writer.parquet else "csv"): str(path)}, report)
+    else:
+        print(format_summary(summary), file=report)
+        where = "the CSV to standard output" if is_stdout(args.out) else path
+        print(f"\nwrote {where} ({summary['samples']} rows, {len(writer.names)} columns{', Parquet' if kind == 'Parquet' else ''})", file=report)
+    return 0
