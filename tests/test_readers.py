@@ -15,7 +15,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from hipsim import TrajectoryError
-from hipsim.motion.readers import load_trajectory_csv
+from hipsim.motion.csv_table import load_trajectory_csv
 from hipsim.motion.trajectories import ANGLE_NAMES, MIN_SAMPLES, iso14242_angles, iso14242_load
 
 DEG = math.pi / 180.0
@@ -262,7 +262,7 @@ def smooth_motion(draw):
     return rate, n, t0, amplitude, frequency, phase, offset, unit
 
 
-@pytest.mark.filterwarnings("ignore::hipsim.motion.readers.TrajectoryWarning")  # short windows of small motions
+@pytest.mark.filterwarnings("ignore::hipsim.motion.build.TrajectoryWarning")  # short windows of small motions
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(motion=smooth_motion())
 def test_csv_random_smooth_trajectories_round_trip(tmp_path, motion):
@@ -568,7 +568,9 @@ def test_digit_separators_are_not_numbers_in_a_csv(tmp_path):
 # semicolons and decimal commas, tabs, its own column names, units and signs. Written here
 # by string formatting of the formulas, never by the code under test.
 
-from hipsim.motion.readers import TrajectoryWarning, parse_columns, read_trajectory  # noqa: E402
+from hipsim.motion.build import TrajectoryWarning  # noqa: E402
+from hipsim.motion.columns import parse_columns  # noqa: E402
+from hipsim.motion.readers import read_trajectory  # noqa: E402
 from support import Rx, Ry, Rz  # noqa: E402
 
 
@@ -885,6 +887,6 @@ def test_the_readme_opensim_file_is_the_built_in_cycle():
     ],
 )
 def test_the_suggested_mapping_follows_the_names(header, suggestion):
-    from hipsim.motion.readers import suggest_mapping
+    from hipsim.motion.headers import suggest_mapping
 
     assert suggest_mapping(header) == suggestion
