@@ -52,7 +52,7 @@ __all__ = [
 
 #: The separators a table may use, in the order they are tried (:func:`detect_separator`).
 SEPARATORS = ("\t", ";", ",")
-#: The message for a file that is not UTF-8, ``{what}`` the kind of file (a reader may give its own).
+#: The message for a file that is not UTF-8, ``{what}`` the kind of file (a reader may give its own, :func:`read_text`).
 NOT_TEXT = "not a text (UTF-8) {what}"
 
 
@@ -66,7 +66,8 @@ def read_text(path: str | Path, what: str = "file", error: type[FileRowError] = 
         path: the file.
         what: the kind of file, for messages (``"trajectory file"``).
         error: the error class raised, called as ``error(message, source=path)``.
-        not_text: the message for a file that is not UTF-8 (``{what}`` filled in).
+        not_text: the message for a file that is not UTF-8 (``{what}`` and
+            ``{error}``, the decoding error, filled in).
         newline: as :func:`open` has it: None turns ``\\r\\n`` and ``\\r`` into ``\\n``, ``""`` keeps them.
 
     Raises:
@@ -83,8 +84,8 @@ def read_text(path: str | Path, what: str = "file", error: type[FileRowError] = 
         raise error(f"is a folder, not a {what}", source=source) from None
     except OSError as failure:
         raise error(f"cannot read ({failure.strerror})", source=source) from None
-    except UnicodeDecodeError:
-        raise error(not_text.format(what=what), source=source) from None
+    except UnicodeDecodeError as failure:
+        raise error(not_text.format(what=what, error=failure), source=source) from None
 
 
 def read_text_lines(path: str | Path, what: str = "file", error: type[FileRowError] = FileRowError) -> list[str]:

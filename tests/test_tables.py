@@ -49,6 +49,8 @@ def test_read_text_names_the_file_with_the_callers_error(tmp_path):
         read_text_lines(latin, "log", TrajectoryError)
     with pytest.raises(CatalogueError, match=r"latin\.csv: not a UTF-8 text file$"):
         read_text(latin, "motor catalogue", CatalogueError, not_text="not a UTF-8 text file")
+    with pytest.raises(FileRowError, match=r"latin\.csv: cannot read \('utf-8' codec can't decode byte 0xe9"):
+        read_text(latin, not_text="cannot read ({error})")
 
 
 def test_open_text_streams_lines_and_names_a_decoding_error(tmp_path):
