@@ -9,9 +9,7 @@ names standard output: the text is written there, as a whole.
 
 from __future__ import annotations
 
-import csv
 import math
-import io
 import os
 import signal
 import stat
@@ -25,9 +23,10 @@ from typing import Iterator, Mapping
 import numpy as np
 
 from .exceptions import OutputError
+from .tables import csv_header, csv_rows, parquet_concat, parquet_table, parquet_writer
 
 __all__ = [
-    "STDOUT", "ColumnWriter", "check_folder", "check_output", "csv_header", "csv_rows", "exit_on_terminate", "is_stdout", "json_ready", "make_folder", "output_folder", "write_atomic", "write_columns",
+    "STDOUT", "ColumnWriter", "check_folder", "check_output", "exit_on_terminate", "is_stdout", "json_ready", "make_folder", "output_folder", "write_atomic", "write_columns",
 ]
 
 #: The name of standard output as an output path.
@@ -237,22 +236,6 @@ def write_columns(path: str | Path, columns: Mapping[str, np.ndarray]) -> Path:
     return write_atomic(path, csv_header(columns) + csv_rows(columns))
 
 
-def csv_header(names) -> str:
-    """The CSV header line of these column names."""
-    buffer = io.StringIO()
-    csv.writer(buffer, lineterminator="\n").writerow(names)
-    return buffer.getvalue()
-
-
-def csv_rows(columns: Mapping[str, np.ndarray]) -> str:
-    """The rows of named columns as CSV text, 12 significant digits, each row ending in a newline."""
-    if not columns:
-        return ""
-    line = ",".join(["%.12g"] * len(columns))
-    rows = np.column_stack(list(columns.values())).tolist()
-    return "".join([line % tuple(row) + "\n" for row in rows])
-
-
 def check_output(path: str | Path) -> Path:
     """Check, before the work, that an output file could be written: what :func:`write_atomic` would refuse, refused now.
 
@@ -349,15 +332,11 @@ class ColumnWriter:
             raise OutputError(self.path, f"cannot write ({error.strerror or error})") from None
 
     def _write_parquet(self, columns: Mapping[str, np.ndarray]) -> None:
-        import pyarrow as pa  # loaded only when a Parquet file is written
-        import pyarrow.parquet as pq
-
-        table = pa.table({name: np.asarray(values, dtype=float) for name, values in columns.items()})
+        table = parquet_table(columns)
         if self._parquet is None:
             schema = table.schema.with_metadata(self.metadata)
             try:
-                # No dictionary encoding: measured floats hardly repeat, and trying costs 4x the write.
-                self._parquet = pq.ParquetWriter(str(self._temporary), schema, use_dictionary=False)
+                self._parquet = parquet_writer(self._temporary, schema)
             except OSError as error:
                 raise OutputError(self.path, f"cannot write ({error})") from None
         self._gathered.append(table.replace_schema_metadata(self.metadata))
@@ -366,9 +345,7 @@ class ColumnWriter:
 
     def _write_row_group(self) -> None:
         """The gathered pieces as one row group, encoded and written on a thread (pyarrow lets go of the GIL) while the next ones are computed."""
-        import pyarrow as pa
-
-        table, self._gathered = pa.concat_tables(self._gathered), []
+        table, self._gathered = parquet_concat(self._gathered), []
         self._finish_pending()
         self._pending = self._thread().submit(self._parquet.write_table, table, row_group_size=len(table))
 

@@ -15,7 +15,8 @@ import pytest
 
 from hipsim import TrajectoryError
 from hipsim.motion.opensim import load_opensim
-from hipsim.motion.readers import TrajectoryWarning, read_trajectory
+from hipsim.motion.build import TrajectoryWarning
+from hipsim.motion.readers import read_trajectory
 
 from hipsim.motion.hip_angles import PELVIS_AXES
 from support import Rx, Ry, Rz, machine_R, zxy_angles, zyx_angles

@@ -12,7 +12,8 @@ from hipsim.analysis.crosscheck import compare_models
 from hipsim.analysis.streaming import stream_run
 from hipsim.cli.main import main
 from hipsim.exceptions import MissingDependencyError, OutputError, PoseError, TrajectoryError
-from hipsim.files import ColumnWriter, check_output, csv_rows
+from hipsim.files import ColumnWriter, check_output
+from hipsim.tables import csv_rows
 from hipsim.motion.readers import read_trajectory
 from hipsim.motion.sources import CycleSource, FileSource, SampledSource
 from hipsim.motion.trajectories import Trajectory

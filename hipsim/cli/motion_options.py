@@ -80,7 +80,7 @@ def _check_frequency_and_period(args) -> None:
 
 def parse_body_weight(text: str) -> float:
     """``75``, ``75kg`` or ``736N`` → body weight in [N] (kg through standard gravity)."""
-    from ..motion.readers import STANDARD_GRAVITY
+    from ..motion.columns import STANDARD_GRAVITY
 
     match = re.fullmatch(r"\s*([0-9]*\.?[0-9]+(?:[eE][+-]?[0-9]+)?)\s*(kg|n)?\s*", text, flags=re.IGNORECASE)
     if not match or not float(match.group(1)) > 0:
@@ -107,7 +107,7 @@ def load_trajectory(args, source: bool = False):
     With ``source``, a :mod:`hipsim.motion.sources` source instead (a file's
     derivatives, the built-in cycle itself, made a piece at a time).
     """
-    from ..motion.readers import TrajectoryWarning, read_trajectory
+    from ..motion import TrajectoryWarning, read_trajectory
     from ..motion.sources import CycleSource, FileSource
     from ..motion.trajectories import iso14242
 

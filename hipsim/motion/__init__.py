@@ -3,9 +3,12 @@
 Layer 1 of hipsim, beside :mod:`hipsim.machine`: it knows nothing of the machine.
 """
 
+from .build import TrajectoryWarning
+from .columns import Column, ColumnMap, parse_columns
+from .csv_table import load_trajectory_csv
 from .hip_angles import hip_to_machine, machine_to_hip
 from .opensim import load_opensim
-from .readers import Column, ColumnMap, TrajectoryWarning, load_trajectory_csv, parse_columns, read_trajectory
+from .readers import read_trajectory
 from .sources import CycleSource, FileSource, SampledSource
 from .trajectories import Trajectory, interpolator, iso14242
 

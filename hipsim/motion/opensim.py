@@ -26,7 +26,9 @@ from pathlib import Path
 import numpy as np
 
 from ..exceptions import TrajectoryError
-from .readers import Column, ColumnMap, Table, _as_load_column, build_trajectory, decimals, number, read_text_lines
+from ..tables import decimals, number, read_text_lines
+from .build import Table, build_trajectory
+from .columns import Column, ColumnMap, as_load_column
 from .trajectories import MIN_SAMPLES, Trajectory
 
 __all__ = ["HIP_COORDINATES", "load_opensim"]
@@ -53,14 +55,14 @@ def load_opensim(
     Args:
         path: the file.
         side: ``"right"`` or ``"left"``: whose hip coordinates to read.
-        periodic: as :func:`hipsim.motion.readers.load_trajectory_csv`.
+        periodic: as :func:`hipsim.motion.csv_table.load_trajectory_csv`.
         load_column: a column holding the load (``[-]NAME[:UNIT]``: N by
             default, or % body weight when a body weight is given).
         body_weight: body weight in [N], for a load in % body weight.
         frequency: cycle frequency in [Hz]: the file holds one cycle, rescaled in time to it.
         period: cycle period in [s], instead of ``frequency``.
         resample: rate in [Hz] of an even grid to resample uneven data onto.
-        lazy: return a :class:`hipsim.motion.readers.SampledMotion` to evaluate piece by piece instead.
+        lazy: return a :class:`hipsim.motion.build.SampledMotion` to evaluate piece by piece instead.
 
     Returns:
         The platform trajectory, named by the path as given; 0 N of load
@@ -73,14 +75,14 @@ def load_opensim(
     if not isinstance(side, str) or side.strip().lower() not in _SIDES:
         raise TrajectoryError(f"side must be 'right' or 'left', got {side!r}", source=source)
     suffix = _SIDES[side.strip().lower()]
-    table = _read(source, path, suffix, _as_load_column(load_column))
+    table = _read(source, path, suffix, as_load_column(load_column))
     return build_trajectory(
         table, periodic=periodic, frequency=frequency, period=period, resample=resample, body_weight=body_weight, lazy=lazy
     )
 
 
 def _read(source: str, path, suffix: str, load: Column | None) -> Table:
-    lines = read_text_lines(path, "OpenSim file")
+    lines = read_text_lines(path, "OpenSim file", TrajectoryError)
     end = next((k for k, line in enumerate(lines) if line.strip().lower() == "endheader"), None)
     if end is None:
         raise TrajectoryError("no 'endheader' line: not an OpenSim .mot/.sto file", source=source)

@@ -3,7 +3,7 @@
 A Parquet trajectory has the columns a CSV trajectory has (``t_s``,
 ``alpha_deg`` … or a column mapping) as numbers; rows are counted from 1
 where an error names a line. From there it goes through the same steps as
-every reader (:func:`hipsim.motion.readers.build_trajectory`).
+every reader (:func:`hipsim.motion.build.build_trajectory`).
 """
 
 from __future__ import annotations
@@ -14,8 +14,11 @@ from typing import Mapping
 import numpy as np
 
 from ..exceptions import TrajectoryError
-from .readers import MIN_SAMPLES, Column, ColumnMap, Table, build_trajectory, column_options, table_columns
-from .trajectories import Trajectory
+from ..tables import open_parquet
+from .build import Table, build_trajectory
+from .columns import Column, ColumnMap, column_options
+from .headers import table_columns
+from .trajectories import MIN_SAMPLES, Trajectory
 
 __all__ = ["load_trajectory_parquet"]
 
@@ -32,23 +35,14 @@ def load_trajectory_parquet(
     resample: float | None = None,
     lazy: bool = False,
 ) -> Trajectory:
-    """Read a trajectory from a Parquet table and differentiate it (the arguments as :func:`hipsim.motion.readers.load_trajectory_csv`).
+    """Read a trajectory from a Parquet table and differentiate it (the arguments as :func:`hipsim.motion.csv_table.load_trajectory_csv`).
 
     Raises:
         TrajectoryError: naming the file, row and column of the first problem.
     """
-    import pyarrow.parquet as pq
-
     source = str(path)
     mapping, load = column_options(columns, load_column, source)
-    try:
-        parquet = pq.ParquetFile(path)
-    except FileNotFoundError:
-        raise TrajectoryError("no such trajectory file", source=source) from None
-    except IsADirectoryError:
-        raise TrajectoryError("is a folder, not a trajectory file", source=source) from None
-    except Exception as error:  # pyarrow's own errors for a file that is not Parquet
-        raise TrajectoryError(f"not a Parquet file ({error})", source=source) from None
+    parquet = open_parquet(path, "trajectory file", TrajectoryError)
     header = list(parquet.schema_arrow.names)
     mapping, index = table_columns(header, mapping, load, source, 1)
     n = parquet.metadata.num_rows

@@ -5,7 +5,7 @@ Every source has a ``name``, ``periodic`` (the samples cover whole periods),
 ``piece(start, stop) -> Trajectory`` (samples start … stop−1, not periodic).
 A piece equals that part of the whole trajectory to the last digit: the
 built-in cycle is exact at every sample, and a file's derivatives come from
-the one spline through all its samples (:class:`hipsim.motion.readers.SampledMotion`).
+the one spline through all its samples (:class:`hipsim.motion.build.SampledMotion`).
 """
 
 from __future__ import annotations

@@ -6,8 +6,9 @@ first and second time derivatives, and the hydraulic load F_e in [N], all
 sampled at the times t in [s].
 
 The built-in cycle (spec §7.2) has exact derivatives. Trajectories from files
-(hipsim's CSV, a lab's CSV, OpenSim .mot/.sto) come from
-:mod:`hipsim.motion.readers`, which differentiates them.
+(hipsim's CSV, a lab's CSV, Parquet, OpenSim .mot/.sto) come from
+:func:`hipsim.motion.readers.read_trajectory`, differentiated by
+:mod:`hipsim.motion.build`.
 """
 
 from __future__ import annotations

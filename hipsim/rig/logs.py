@@ -47,7 +47,7 @@ from scipy.signal import butter, sosfilt, sosfiltfilt
 
 from ..arrays import check_shapes
 from ..exceptions import TrajectoryError
-from ..motion.readers import MAX_LOAD, check_time
+from ..motion.build import MAX_LOAD, check_time
 from ..motion.trajectories import ANGLE_NAMES, Trajectory
 
 __all__ = [

@@ -1,0 +1,129 @@
+"""Trajectories from CSV tables: hipsim's own columns, or any lab's table through a column mapping.
+
+The text is read by :mod:`hipsim.tables`' rules: UTF-8 (a byte-order mark
+skipped); lines starting with ``#`` and blank lines skipped; separated by
+commas, semicolons or tabs (read from the header and the first row) and,
+when not by commas, possibly with decimal commas. The header is matched
+against the mapping by :mod:`hipsim.motion.headers`; the numbers go through
+the steps every reader shares (:func:`hipsim.motion.build.build_trajectory`).
+Every problem is reported on one line naming the file, its line and column.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Mapping
+
+import numpy as np
+
+from ..exceptions import TrajectoryError
+from ..tables import cells, data_lines, decimals, detect_separator, number, read_text_lines
+from .build import Table, build_trajectory
+from .columns import Column, ColumnMap, column_options
+from .headers import table_columns
+from .trajectories import MIN_SAMPLES, Trajectory
+
+__all__ = ["load_trajectory_csv"]
+
+
+def load_trajectory_csv(
+    path: str | Path,
+    periodic: bool | None = None,
+    *,
+    columns: ColumnMap | Mapping | str | None = None,
+    load_column: Column | str | None = None,
+    body_weight: float | None = None,
+    frequency: float | None = None,
+    period: float | None = None,
+    resample: float | None = None,
+    lazy: bool = False,
+) -> Trajectory:
+    """Read a trajectory from a CSV table and differentiate it.
+
+    Without ``columns`` the header names hipsim's columns with their unit:
+    ``t_s``, then ``alpha_deg``, ``beta_deg``, ``gamma_deg`` (or ``_rad`` for
+    all three), optionally ``Fe_N`` (the load; 0 N when absent), and no
+    others. With ``columns`` any header: the mapping names the columns to
+    read, and the others are ignored.
+
+    Args:
+        path: the CSV file (comma, semicolon or tab separated).
+        periodic: True if the motion repeats with the period of the file (its
+            last row equals its first); None to decide from the data.
+        columns: a column mapping (:func:`~hipsim.motion.columns.parse_columns` text, a mapping
+            ``{"time": "Time", "alpha": "FE", …}`` or a :class:`~hipsim.motion.columns.ColumnMap`).
+        load_column: the load's column (``[-]NAME[:UNIT]`` or a Column), in
+            place of ``Fe_N`` or of the mapping's load.
+        body_weight: body weight in [N], for a load in % body weight (the
+            default unit of the load when a body weight is given).
+        frequency: cycle frequency in [Hz]: the file holds one cycle, rescaled in time to it.
+        period: cycle period in [s], instead of ``frequency``.
+        resample: rate in [Hz] of an even grid to resample uneven data onto
+            (the quintic spline of the samples; the load linearly).
+        lazy: return a :class:`~hipsim.motion.build.SampledMotion` to evaluate piece by piece instead.
+
+    Returns:
+        The trajectory, named by the path as given.
+
+    Raises:
+        TrajectoryError: naming the file, line and column of the first problem.
+    """
+    source = str(path)
+    mapping, load = column_options(columns, load_column, source)
+    table = _read_csv_table(source, path, mapping, load)
+    return build_trajectory(
+        table, periodic=periodic, frequency=frequency, period=period, resample=resample, body_weight=body_weight, lazy=lazy
+    )
+
+
+
+def _read_csv_table(source: str, path, mapping: ColumnMap | None, load: Column | None) -> Table:
+    numbered = data_lines(read_text_lines(path, "trajectory file", TrajectoryError))
+    if not numbered:
+        raise TrajectoryError("the file is empty", source=source)
+    header_line, header_text = numbered[0]
+    try:
+        separator = detect_separator(header_text, numbered[1][1] if len(numbered) > 1 else None)
+    except ValueError as error:  # a cell beyond the field size limit
+        raise TrajectoryError(str(error), source=source, line=header_line) from None
+    header = [cell.strip() for cell in _cells(header_text, separator, 0, source, header_line)]
+    mapping, index = table_columns(header, mapping, load, source, header_line)
+    data = numbered[1:]
+    if len(data) < MIN_SAMPLES:
+        raise TrajectoryError(f"{len(data)} samples; at least {MIN_SAMPLES} are needed", source=source)
+    decimal_comma = separator != ","
+    used = sorted(set(index.values()))
+    values = np.empty((len(data), len(header)))
+    time_decimals = 0
+    for k, (number_of_line, line) in enumerate(data):
+        row = _cells(line, separator, len(header), source, number_of_line)
+        if len(row) != len(header):
+            hint = " (decimal commas? a comma-separated file needs decimal points)" if separator == "," and len(row) > len(header) else ""
+            raise TrajectoryError(f"{len(row)} cells, the header has {len(header)}{hint}", source=source, line=number_of_line)
+        for c in used:
+            try:
+                values[k, c] = number(row[c], decimal_comma)
+            except ValueError:
+                raise TrajectoryError(f"'{row[c].strip()}' is not a number", source=source, line=number_of_line, column=header[c]) from None
+            if not math.isfinite(values[k, c]):
+                raise TrajectoryError(f"'{row[c].strip()}' is not finite", source=source, line=number_of_line, column=header[c])
+        places = decimals(row[index["time"]])
+        time_decimals = max(time_decimals, places) if places is not None and time_decimals is not None else None
+    return Table(
+        source=source,
+        lines=np.array([n for n, _ in data]),
+        time=values[:, index["time"]],
+        angles=values[:, [index[key] for key in mapping.angle_keys]],
+        load=values[:, index["load"]] if "load" in index else None,
+        columns=mapping,
+        time_quantum=10.0 ** -time_decimals if time_decimals is not None else 0.0,
+    )
+
+
+def _cells(line: str, separator: str, width: int, source: str, line_number: int) -> list[str]:
+    """The line's cells (:func:`hipsim.tables.cells`), a cell beyond the field size limit named by its line."""
+    try:
+        return cells(line, separator, width)
+    except ValueError as error:
+        raise TrajectoryError(str(error), source=source, line=line_number) from None
