@@ -229,7 +229,7 @@ def _load_pinocchio_kernels() -> None:
     """Load the Pinocchio model's compiled kernels before a run, saying so when numba compiles them (a machine's first run)."""
     import threading
 
-    from ..closed_chain.model import warm_up
+    from ..closed_chain.dynamics import warm_up
 
     note = threading.Timer(1.0, _note, args=("Pinocchio model: compiling (first run only) ...",))
     note.daemon = True

@@ -7,7 +7,9 @@ import numpy as np
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 from ..results import Run
-from .model import ClosedChainModel, Continuation, load_model, trajectory_dynamics
+from .build import ClosedChainModel, load_model
+from .closure import Continuation
+from .dynamics import trajectory_dynamics
 
 __all__ = ["PinocchioModel"]
 

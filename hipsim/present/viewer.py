@@ -303,7 +303,7 @@ class Viewer:
         meshcat = _import_meshcat()
         from pinocchio.visualize import MeshcatVisualizer
 
-        from ..closed_chain.model import load_model
+        from ..closed_chain.build import load_model
 
         self.params = load_parameters() if params is None else params
         self.chain = load_model(self.params)
@@ -421,7 +421,7 @@ class Viewer:
         return names
 
     def _home(self) -> np.ndarray:
-        from ..closed_chain.model import kinematics
+        from ..closed_chain.closure import kinematics
 
         zero = Trajectory(np.zeros(1), np.zeros((1, 3)), np.zeros((1, 3)), np.zeros((1, 3)), np.zeros(1), name="home")
         return kinematics(self.chain, zero).q[0]
@@ -450,7 +450,8 @@ class Viewer:
         Raises:
             PoseError: a sample is out of reach or singular.
         """
-        from ..closed_chain.model import kinematics, trajectory_dynamics
+        from ..closed_chain.closure import kinematics
+        from ..closed_chain.dynamics import trajectory_dynamics
 
         if not (fps > 0 and speed > 0 and math.isfinite(fps) and math.isfinite(speed)):
             raise ArgumentError("fps, speed", (fps, speed), "positive numbers")
@@ -581,7 +582,7 @@ class Viewer:
         Raises:
             PoseError: the orientation is out of reach or singular.
         """
-        from ..closed_chain.model import kinematics
+        from ..closed_chain.closure import kinematics
 
         one = Trajectory(np.zeros(1), np.array([[alpha, beta, gamma]], dtype=float), np.zeros((1, 3)), np.zeros((1, 3)), np.zeros(1), name="orientation")
         q = kinematics(self.chain, one).q[0]
