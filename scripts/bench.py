@@ -79,7 +79,8 @@ def bench_analytic(params, quick: bool) -> None:
 def bench_pinocchio(params, quick: bool) -> None:
     import pinocchio as pin
 
-    from hipsim.closed_chain.model import load_model, trajectory_dynamics
+    from hipsim.closed_chain.build import load_model
+    from hipsim.closed_chain.dynamics import trajectory_dynamics
 
     chain = load_model(params)
     trajectory = hipsim.iso14242(rate=1000)
@@ -173,7 +174,7 @@ def bench_plants(params, quick: bool) -> None:
 
     import hipsim.control.simulation as simulation
     from hipsim.control.controllers import WorkspacePD
-    from hipsim.closed_chain.model import trajectory_dynamics
+    from hipsim.closed_chain.dynamics import trajectory_dynamics
     from hipsim.closed_chain.plant import PinocchioPlant
     from hipsim.motion.trajectories import iso14242_at
 
@@ -230,7 +231,8 @@ def bench_mujoco(params, quick: bool) -> None:
         print(f"MuJoCo: {error}; skipped")
         return
     import hipsim.control.simulation as simulation
-    from hipsim.closed_chain.model import load_model, trajectory_dynamics
+    from hipsim.closed_chain.build import load_model
+    from hipsim.closed_chain.dynamics import trajectory_dynamics
     from hipsim.closed_chain.plant import PinocchioPlant
     from hipsim.control.controllers import WorkspacePD
     from hipsim.motion.trajectories import iso14242_at
@@ -303,7 +305,8 @@ def bench_servo(params, quick: bool) -> None:
     import sys
     import tempfile
 
-    from hipsim.closed_chain.model import load_model, trajectory_dynamics
+    from hipsim.closed_chain.build import load_model
+    from hipsim.closed_chain.dynamics import trajectory_dynamics
     from hipsim.control import AugmentedPD, ReducedPlant, WorkspacePD, simulate
     from hipsim.motion.trajectories import iso14242_at
 

@@ -374,7 +374,7 @@ def test_a_slow_pinocchio_warm_up_is_announced_as_compiling(monkeypatch, capsys)
     """The closure kernels' first-run compile is said on standard error; a quick load says nothing."""
     import time
 
-    import hipsim.closed_chain.model as closed_chain
+    import hipsim.closed_chain.dynamics as closed_chain
     from hipsim.cli.common import load_pinocchio_kernels as _load_pinocchio_kernels
 
     monkeypatch.setattr(closed_chain, "warm_up", lambda: time.sleep(1.5))  # as long as a compilation, as far as the note can tell
@@ -390,7 +390,7 @@ def test_warm_up_loads_what_a_run_uses():
     code = """
 import hipsim
 from hipsim.closed_chain import closure_kernel
-from hipsim.closed_chain.model import warm_up
+from hipsim.closed_chain.dynamics import warm_up
 # The kernels the solver calls from Python (the others run inside them).
 kernels = [closure_kernel.predict, closure_kernel.gaps_and_chord_step, closure_kernel.closed_sample,
            closure_kernel.closure_frames, closure_kernel.actuator_and_closure_forces]

@@ -10,7 +10,7 @@ import yaml
 
 from hipsim import load_parameters
 from hipsim.cli.main import main
-from hipsim.closed_chain.model import load_closed_chain
+from hipsim.closed_chain.build import load_closed_chain
 from hipsim.machine.model_files import closure_file_path, closure_text, urdf_text, write_closures
 
 

@@ -17,16 +17,11 @@ import pytest
 
 from hipsim import load_parameters
 from hipsim.closed_chain import closure_kernel
-from hipsim.closed_chain.model import (
-    _BatchedRNEA,
-    _block_triangular_order,
-    _group_trees,
-    _k_order,
-    _Workspace,
-    constraint_jacobian,
-    kinematics,
-    load_model,
-)
+from hipsim.closed_chain.build import load_model
+from hipsim.closed_chain.closure import kinematics
+from hipsim.closed_chain.constraints import constraint_jacobian
+from hipsim.closed_chain.rnea import BatchedRNEA, group_trees
+from hipsim.closed_chain.workspace import Workspace, block_triangular_order, k_order
 
 DEG = math.pi / 180.0
 
@@ -44,13 +39,13 @@ def motion(t):
 def closed():
     chain = load_model(load_parameters())
     kin = kinematics(chain, motion(np.linspace(0.0, 1.0, 41)))
-    return SimpleNamespace(chain=chain, kin=kin, ws=_Workspace(chain), layout=chain.layout)
+    return SimpleNamespace(chain=chain, kin=kin, ws=Workspace(chain), layout=chain.layout)
 
 
 def _order(closed, blocks: bool = True):
     """B's rows, columns and block starts for closure_kernel.velocity: the solver's block order, or one block in the plain order."""
     if blocks:
-        return _k_order(closed.ws, closed.layout.platform_v[0])
+        return k_order(closed.ws, closed.layout.platform_v[0])
     others = np.setdiff1d(np.arange(closed.chain.model.nv), closed.layout.platform_v[0])
     return np.arange(len(others)), others, np.array([0, len(others)])
 
@@ -84,7 +79,7 @@ def test_closure_frames_and_jacobian_are_pinocchios(closed):
             ws.place(q)
             gaps, tips, p2, J_c = ws.residual().copy(), ws.tip_frames().copy(), ws.p2.copy(), ws.jacobian()
             # The other route: Pinocchio's own constraint computations, in a fresh Data.
-            reference = _Workspace(closed.chain)
+            reference = Workspace(closed.chain)
             pin.computeJointJacobians(model, reference.data, q)
             expected_J = reference.pinocchio_jacobian()
             np.testing.assert_allclose(gaps, np.concatenate([cd.c1Mc2.translation for cd in reference.cd_list]), rtol=0, atol=1e-15)
@@ -98,7 +93,7 @@ def test_placement_views_follow_pinocchio_and_the_copying_route_agrees(closed):
     """The strided views over data.oMi show every joint's current placement; a workspace without them (copies) places the closures bit for bit alike."""
     ws, model, q = closed.ws, closed.chain.model, closed.kin.q[21]
     assert ws.joint_rotations is not None  # this Pinocchio's layout is the one the views assume
-    copying = _Workspace(closed.chain)
+    copying = Workspace(closed.chain)
     copying.joint_rotations = copying.joint_origins = None
     for qk in (q, q + 0.01):
         ws.place(qk)
@@ -150,19 +145,19 @@ def test_block_triangular_order_finds_the_blocks():
         pattern[starts[b] : starts[b + 1], : starts[b + 1]] = rng.random((sizes[b], starts[b + 1])) < 0.6
         pattern[starts[b] : starts[b + 1], starts[b] : starts[b + 1]] = True  # each block irreducible
     row_mix, column_mix = rng.permutation(8), rng.permutation(8)
-    rows, columns, found = _block_triangular_order(pattern[row_mix][:, column_mix])
+    rows, columns, found = block_triangular_order(pattern[row_mix][:, column_mix])
     ordered = pattern[row_mix][:, column_mix][rows][:, columns]
     for b in range(len(found) - 1):
         assert not ordered[found[b] : found[b + 1], found[b + 1] :].any()
     assert np.sort(np.diff(found)).tolist() == sorted(sizes)
     singular = np.ones((3, 3), bool)
     singular[:, 0] = False
-    assert _block_triangular_order(singular)[2].tolist() == [0, 3]
+    assert block_triangular_order(singular)[2].tolist() == [0, 3]
 
 
 def test_hip_closure_jacobian_splits_into_blocks(closed):
     """The solver's order of B: blocks 3, 3, 3, 9 on the hip, zero above them at a real configuration, and K⁻¹ as the plain 18×18 inverse gives it."""
-    rows, columns, starts = _k_order(closed.ws, closed.layout.platform_v[0])
+    rows, columns, starts = k_order(closed.ws, closed.layout.platform_v[0])
     assert np.diff(starts).tolist() == [3, 3, 3, 9]
     closed.ws.place(closed.kin.q[7])
     B = closed.ws.jacobian()[rows][:, columns]
@@ -256,8 +251,8 @@ def test_body_group_torques_are_the_regressors(closed):
     """Batched RNEA of each body group's (reduced) tree equals Pinocchio's joint-torque regressor times that group's inertial parameters."""
     chain, kin = closed.chain, closed.kin
     model, data = chain.model, chain.model.createData()
-    groups = [_BatchedRNEA(*tree) for tree in _group_trees(chain)]
-    whole = _BatchedRNEA(model, np.arange(model.nv))
+    groups = [BatchedRNEA(*tree) for tree in group_trees(chain.model, chain.layout.groups)]
+    whole = BatchedRNEA(model, np.arange(model.nv))
     assert sorted(len(rnea.columns) for rnea in groups) == [3, 6, 15]  # carriages, platforms, levers: only their supports
     n = 8
     q, v, a = kin.q[:n], kin.v[:n] + 0.1, kin.a[:n] - 0.2  # any motion: RNEA does not know the closures
@@ -342,7 +337,7 @@ def test_threads_running_one_model_do_not_share_pinocchio_data(closed):
     """Two threads closing the same model at once give the serial results bit for bit (each thread has its own workspace and RNEA pools)."""
     from concurrent.futures import ThreadPoolExecutor
 
-    from hipsim.closed_chain.model import trajectory_dynamics
+    from hipsim.closed_chain.dynamics import trajectory_dynamics
 
     motions = [motion(np.linspace(0.0, 1.0, 301)), motion(np.linspace(0.3, 0.8, 301))]
     for m in motions:

@@ -21,7 +21,9 @@ import hipsim.analytic.inverse_kinematics as analytic_kinematics
 import hipsim.analytic.virtual_work as analytic_dynamics
 from hipsim import load_parameters, slender_levers
 from hipsim.analysis.crosscheck import compare_models
-from hipsim.closed_chain.model import load_model, platform_joint_positions, trajectory_dynamics
+from hipsim.closed_chain.build import load_model
+from hipsim.closed_chain.constraints import platform_joint_positions
+from hipsim.closed_chain.dynamics import trajectory_dynamics
 from hipsim.motion.trajectories import iso14242
 
 from support import SmoothMotion

@@ -26,7 +26,7 @@ except MissingDependencyError as error:  # installed, but a release the engine r
     pytest.skip(str(error), allow_module_level=True)
 
 from hipsim.analysis.engines import compare_mujoco  # noqa: E402
-from hipsim.closed_chain.model import load_model as load_pinocchio  # noqa: E402
+from hipsim.closed_chain.build import load_model as load_pinocchio  # noqa: E402
 from hipsim.closed_chain.plant import PinocchioPlant  # noqa: E402
 from hipsim.cli.main import main  # noqa: E402
 from hipsim.control.controllers import AugmentedPD, WorkspacePD  # noqa: E402

@@ -8,7 +8,9 @@ from scipy.integrate import simpson
 
 import hipsim
 from hipsim.control.controllers import AugmentedPD, WorkspacePD
-from hipsim.closed_chain.model import friction_forces, load_model, trajectory_dynamics
+from hipsim.closed_chain.build import load_model
+from hipsim.closed_chain.friction import friction_forces
+from hipsim.closed_chain.dynamics import trajectory_dynamics
 from hipsim.closed_chain.plant import PinocchioPlant
 from hipsim.control.simulation import ReducedPlant, apply_mismatch, simulate
 from hipsim.motion.trajectories import iso14242_at

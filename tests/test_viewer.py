@@ -21,7 +21,7 @@ import pytest
 from hipsim.analytic.inverse_kinematics import kinematics as analytic_kinematics
 from hipsim.analytic.inverse_kinematics import rotation_matrix
 from hipsim.machine.parameters import load_parameters
-from hipsim.closed_chain.model import closure_residuals
+from hipsim.closed_chain.constraints import closure_residuals
 from hipsim.present.human import HUMAN_PELVIS_POSITION, HUMAN_PELVIS_ROTATION
 from hipsim.present.browser import find_browser, screenshot
 from hipsim.motion.trajectories import interpolator, iso14242
@@ -156,7 +156,7 @@ def test_page_shows_closed_frames(offline, iso_motion, iso_page):
 
 
 def test_force_arrows_and_lever_colours_follow_the_dynamics(offline, iso_motion, iso_page):
-    from hipsim.closed_chain.model import trajectory_dynamics
+    from hipsim.closed_chain.dynamics import trajectory_dynamics
 
     motion = iso_motion
     samples = interpolator(iso14242(rate=1000))(np.arange(30) / FPS)  # what the viewer shows

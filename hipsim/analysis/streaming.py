@@ -11,7 +11,7 @@ model: each piece is run with the sample before it (and the first piece of a
 periodic motion with the last sample, the wrap-around), so the detection of
 a singularity crossed between two samples sees the same neighbours. The
 Pinocchio model closes the chain from the previous samples' solution: a
-:class:`~hipsim.closed_chain.model.Continuation` carries that solution from
+:class:`~hipsim.closed_chain.closure.Continuation` carries that solution from
 one piece to the next, so its pieces too give the one-piece results bit for bit.
 """
 
@@ -99,7 +99,7 @@ class PieceRunner:
             if self.analytic:
                 return self.model.run(trajectory, piece=True)
             if self.pinocchio:
-                from ..closed_chain.model import Continuation
+                from ..closed_chain.closure import Continuation
 
                 if offset == 0:
                     self.continuation = Continuation()

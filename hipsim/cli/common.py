@@ -98,7 +98,7 @@ def load_pinocchio_kernels() -> None:
     """Load the Pinocchio model's compiled kernels before a run, saying so when numba compiles them (a machine's first run)."""
     import threading
 
-    from ..closed_chain.model import warm_up
+    from ..closed_chain.dynamics import warm_up
 
     timer = threading.Timer(1.0, note, args=("Pinocchio model: compiling (first run only) ...",))
     timer.daemon = True

@@ -12,7 +12,7 @@ call (:func:`gaps_and_chord_step`, :func:`closed_sample`; the other
 functions are their parts, and the tests' handles on them).
 
 Nothing here knows the machine's geometry: every joint placement and
-Jacobian comes from Pinocchio (:mod:`hipsim.closed_chain.model` calls it),
+Jacobian comes from Pinocchio (:mod:`hipsim.closed_chain.closure` calls it),
 every closure frame's placement in its joint from the closure file; these
 functions only combine them. The closure velocities and accelerations
 solve

@@ -7,7 +7,9 @@ import numpy as np
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 from ..results import Run
-from .model import ClosedChainModel, Continuation, load_model, trajectory_dynamics
+from .build import ClosedChainModel, load_model
+from .closure import Continuation
+from .dynamics import trajectory_dynamics
 
 __all__ = ["PinocchioModel"]
 
@@ -39,7 +41,7 @@ class PinocchioModel:
 
         Args:
             trajectory: the motion.
-            continuation: for a run in pieces, one :class:`~hipsim.closed_chain.model.Continuation`
+            continuation: for a run in pieces, one :class:`~hipsim.closed_chain.closure.Continuation`
                 given to every piece in time order (the pieces then give the one-piece results bit for bit).
 
         Raises:

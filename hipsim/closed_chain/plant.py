@@ -1,16 +1,16 @@
 """The closed-chain Pinocchio model as a simulation plant (spec §6, §8).
 
 :class:`PinocchioPlant` integrates the forward dynamics of the whole kinematic
-tree of :func:`hipsim.pinocchio_model.load_model` (3 sliders, 12 universal-joint
+tree of :func:`hipsim.closed_chain.build.load_model` (3 sliders, 12 universal-joint
 angles, each platform's spherical joint as rz-ry-rx revolutes: 21 coordinates)
 with its six lever-tip ↔ platform-joint closures enforced as constraints. It
-is the independent counterpart of :class:`hipsim.simulation.ReducedPlant` (the
+is the independent counterpart of :class:`hipsim.control.simulation.ReducedPlant` (the
 3-DOF analytic model with lever spin); the two must agree.
 
 State. x = [q, v], the tree's 21 coordinates and 21 velocities. All joints
 are revolute or prismatic, so q is a plain vector and dq/dt = v. The state is
 redundant (18 closure equations): :meth:`PinocchioPlant.initial_state` closes
-the chain at the first sample with :func:`hipsim.pinocchio_model.kinematics`
+the chain at the first sample with :func:`hipsim.closed_chain.closure.kinematics`
 (gap ≤ 1e-12 m, J_c v = 0), and the integrator keeps it close (below).
 
 Derivative. dx/dt = [v, a] with a from Pinocchio's constrained forward
@@ -27,14 +27,14 @@ the actuator force (2π/p)·τ_motor on each slider's prismatic joint (the
 screw's rotor inertia is the joint's armature), minus the friction
 generalised forces Q_f of spec §4.3 / §7.3 — the laws of
 :mod:`hipsim.physics.laws`, as the closed-chain inverse dynamics adds them
-(:func:`hipsim.closed_chain.model.friction_forces`), so inverse then forward
+(:func:`hipsim.closed_chain.friction.friction_forces`), so inverse then forward
 dynamics is consistent. For the default friction (hip joint, thrust bearing,
 slider guides and screw; no U/S-joint friction) Q_f is evaluated by one
 compiled function (numba, calling the same laws): the platform's angular
 Jacobian is T(q) of spec §2, so the platform moment τ_mf(ω = T·q̇) maps to
 Q = Tᵀ·τ_mf; the plant checks once, at construction, that the tree's platform
 joints really give T and R(q) (else, and whenever the U or S joints have
-friction, it falls back on :func:`~hipsim.closed_chain.model.friction_forces`
+friction, it falls back on :func:`~hipsim.closed_chain.friction.friction_forces`
 with Pinocchio's Jacobians: same laws, slower).
 
 Settings (constructor arguments):
@@ -96,7 +96,9 @@ from ..physics.transmission import radians_per_travel
 from ..exceptions import ArgumentError
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
-from .model import ClosedChainModel, friction_forces, kinematics, load_model
+from .build import ClosedChainModel, load_model
+from .closure import kinematics
+from .friction import friction_forces
 
 __all__ = ["PinocchioPlant", "DEFAULT_BAUMGARTE", "DEFAULT_PROXIMAL"]
 

@@ -185,7 +185,7 @@ class Scene:
 
     Args:
         vis: the meshcat Visualizer to draw in.
-        chain: the closed-chain model (:func:`hipsim.closed_chain.model.load_model`)
+        chain: the closed-chain model (:func:`hipsim.closed_chain.build.load_model`)
             whose visuals are drawn.
         params: the machine ``chain`` was built from.
         human: also draw example-robot-data's human model beside the machine.

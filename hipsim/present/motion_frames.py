@@ -115,7 +115,7 @@ def platform_forces(chain, Q: np.ndarray, lambdas: np.ndarray) -> np.ndarray:
     """World force of each lever on its platform, −R_tip·λ, shape (N, 2, 3, 3).
 
     Args:
-        chain: the closed-chain model (:func:`hipsim.closed_chain.model.load_model`).
+        chain: the closed-chain model (:func:`hipsim.closed_chain.build.load_model`).
         Q: closed tree configurations, shape (N, nq).
         lambdas: closure forces in each lever tip's frame in [N], shape (N, 2, 3, 3).
     """
@@ -153,7 +153,8 @@ def closed_motion(
         ArgumentError: fps or speed is not a positive number.
         PoseError: a sample is out of reach or singular.
     """
-    from ..closed_chain.model import kinematics, trajectory_dynamics
+    from ..closed_chain.closure import kinematics
+    from ..closed_chain.dynamics import trajectory_dynamics
 
     if not (fps > 0 and speed > 0 and math.isfinite(fps) and math.isfinite(speed)):
         raise ArgumentError("fps, speed", (fps, speed), "positive numbers")

@@ -85,7 +85,7 @@ class Viewer:
     def __init__(self, params: Parameters | None = None, human: bool = False, *, serve: bool = True, force_scale: float | None = None):
         meshcat = import_meshcat()
 
-        from ..closed_chain.model import load_model
+        from ..closed_chain.build import load_model
 
         self.params = load_parameters() if params is None else params
         self.chain = load_model(self.params)
@@ -108,7 +108,7 @@ class Viewer:
             raise
 
     def _home(self) -> np.ndarray:
-        from ..closed_chain.model import kinematics
+        from ..closed_chain.closure import kinematics
 
         zero = Trajectory(np.zeros(1), np.zeros((1, 3)), np.zeros((1, 3)), np.zeros((1, 3)), np.zeros(1), name="home")
         return kinematics(self.chain, zero).q[0]
@@ -181,7 +181,7 @@ class Viewer:
         Raises:
             PoseError: the orientation is out of reach or singular.
         """
-        from ..closed_chain.model import kinematics
+        from ..closed_chain.closure import kinematics
 
         one = Trajectory(np.zeros(1), np.array([[alpha, beta, gamma]], dtype=float), np.zeros((1, 3)), np.zeros((1, 3)), np.zeros(1), name="orientation")
         q = kinematics(self.chain, one).q[0]

@@ -1,4 +1,4 @@
-"""The Pinocchio closed-chain model: closures, rates, and inverse dynamics checked by physics.
+"""The Pinocchio closed-chain model (hipsim.closed_chain: build, constraints, closure, dynamics): closures, rates, and inverse dynamics checked by physics.
 
 Nothing here compares against numbers produced by the code under test: the
 kinematics are checked against the constraints and finite differences, the
@@ -9,6 +9,7 @@ computed from Pinocchio's body motions or from the spec's formulas.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from types import SimpleNamespace
 
@@ -19,17 +20,10 @@ import yaml
 
 from hipsim import ModelError, PoseError, Torques, load_parameters
 from hipsim.machine.model_files import closure_file_path, default_urdf_path
-from hipsim.closed_chain.model import (
-    closure_residuals,
-    constraint_jacobian,
-    constraint_rank,
-    inverse_dynamics,
-    kinematics,
-    load_closed_chain,
-    load_model,
-    platform_joint_positions,
-    trajectory_dynamics,
-)
+from hipsim.closed_chain.build import load_closed_chain, load_model
+from hipsim.closed_chain.closure import kinematics
+from hipsim.closed_chain.constraints import closure_residuals, constraint_jacobian, constraint_rank, platform_joint_positions
+from hipsim.closed_chain.dynamics import inverse_dynamics, trajectory_dynamics
 
 DEG = math.pi / 180.0
 H = 1e-5  # time step of the central differences in [s]
@@ -245,7 +239,7 @@ def test_angle_signs_flip_the_platform_angles():
     traj = motion(np.linspace(0, 0.5, 11))
     flipped = kinematics(chain, traj)
     signs = np.array([-1.0, 1.0, -1.0])
-    direct = kinematics(chain.__class__(**{**chain.__dict__, "params": load_parameters()}), SimpleNamespace(
+    direct = kinematics(dataclasses.replace(chain, params=load_parameters()), SimpleNamespace(
         t=traj.t, q=traj.q * signs, qd=traj.qd * signs, qdd=traj.qdd * signs))  # fmt: skip
     np.testing.assert_array_equal(flipped.q[:, chain.layout.platform_v[0]], traj.q * signs)
     np.testing.assert_allclose(flipped.L, direct.L, atol=1e-14)
@@ -459,7 +453,7 @@ def test_a_closure_file_naming_an_unknown_frame_is_rejected(tmp_path):
 
 def test_one_pass_and_chunked_solves_agree(run, monkeypatch):
     """trajectory_dynamics reuses the kinematics' Jacobians; the batched solve works in chunks."""
-    import hipsim.closed_chain.model as module
+    import hipsim.closed_chain.dynamics as module
 
     separate = inverse_dynamics(run.chain, run.kin, run.traj.Fe)
     monkeypatch.setattr(module, "_CHUNK", 7)
