@@ -3,6 +3,7 @@
 Pure: functions here return data; they never print and never import :mod:`hipsim.present`.
 """
 
+from .ranking import rank_drives
 from .sizing import sizing
 
-__all__ = ["sizing"]
+__all__ = ["rank_drives", "sizing"]

@@ -38,9 +38,12 @@ from ..exceptions import ArgumentError, ClosureError, MissingDependencyError, Pa
 from ..machine.drive import Drive, drive_from_motor_table
 from ..machine.parameters import Parameters, file_values, override_parameters
 from ..motion.trajectories import Trajectory
+from ..physics.units import RPM_PER_RAD_S
 from ..results import peak_and_rms
 from ..analysis.runs import analyse
-from .sizing import Candidate, drive_checks, screw_side
+from .checks import drive_checks
+from .demand import screw_side
+from .ranking import Candidate
 from .variants import KeyRef, Variants
 
 __all__ = [
@@ -57,8 +60,6 @@ __all__ = [
     "run_sweep",
     "variant_id",
 ]
-
-_RPM = 60.0 / (2.0 * math.pi)
 
 #: A row's status: computed, a machine that cannot be built, or a motion out of its workspace.
 STATUSES = ("ok", "cannot_assemble", "out_of_workspace")
@@ -170,7 +171,7 @@ def evaluate(setup: SweepSetup, values: Sequence[float]) -> dict[str, Any]:
     # The same reductions as Run.summary, so a variant equal to the base gives its numbers to the last bit.
     ok = ~run.flagged  # none are (the run raises instead); indexing copies as Run.summary's does, so the sums round alike
     tau_peak, tau_rms = peak_and_rms(run.torques.total[ok] * 1e3)
-    speed_peak, _ = peak_and_rms(run.torques.motor_speed[ok] * _RPM)
+    speed_peak, _ = peak_and_rms(run.torques.motor_speed[ok] * RPM_PER_RAD_S)
     for quantity, unit, numbers in (("tau_peak", "Nmm", tau_peak), ("tau_rms", "Nmm", tau_rms), ("speed_peak", "rpm", speed_peak)):
         for i in range(3):
             row[f"{quantity}_{i + 1}_{unit}"] = float(numbers[i])

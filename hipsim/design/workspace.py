@@ -15,7 +15,7 @@ Two questions a designer asks before building or running the machine:
 
 Only positions enter J (row i = (r_i × e_i)ᵀ/e_i,z, spec §3), so the map needs
 no velocities: :func:`pose_jacobian` computes J for any batch of orientations
-from :func:`hipsim.kinematics.rotation_matrix` and the parameter set's joint
+from :func:`hipsim.analytic.inverse_kinematics.rotation_matrix` and the parameter set's joint
 points, and the grid is evaluated in large vectorised chunks (no Python loop
 over orientations). :func:`run_workspace` is what ``hipsim workspace`` calls:
 both computations, their figures (PNG and SVG) and a short text summary.
@@ -23,7 +23,7 @@ both computations, their figures (PNG and SVG) and a short text summary.
 Angles: the grid axes and all ``*_deg`` values are **gait angles** in degrees,
 the same convention as trajectory files; the parameter file's
 ``convention.angle_signs`` is applied before the geometry, exactly as
-:func:`hipsim.kinematics.kinematics` does, so a trajectory drawn on the map
+:func:`hipsim.analytic.kinematics` does, so a trajectory drawn on the map
 lands where the machine really is.
 
 Example:
@@ -100,7 +100,7 @@ def pose_jacobian(params: Parameters, q: np.ndarray) -> tuple[np.ndarray, np.nda
     Returns:
         J of shape (N, 3, 3), NaN where a pose is out of reach, and the
         boolean mask of reachable poses, shape (N,) (every lever spans its
-        horizontal gap: l² − gap² > 0, as in :func:`hipsim.kinematics.kinematics`).
+        horizontal gap: l² − gap² > 0, as in :func:`hipsim.analytic.kinematics`).
     """
     J = slider_jacobian(params, np.asarray(q, dtype=float).reshape(-1, 3))
     return J, np.all(np.isfinite(J), axis=(1, 2))
@@ -129,7 +129,7 @@ class TrajectoryMargin:
         q_deg: the gait orientation [α, β, γ] there in [deg], shape (3,).
         out_of_reach: number of samples out of reach.
         singular: number of samples below the singularity threshold
-            (:data:`hipsim.kinematics.SINGULAR_COND_INV`).
+            (:data:`hipsim.analytic.inverse_kinematics.SINGULAR_COND_INV`).
         crossings: how often the motion passes through a singularity between
             samples (sign changes of det J, :func:`singularity_crossings`).
     """
@@ -297,7 +297,7 @@ class OffsetSweep:
     """A trajectory run on machines that differ only in the platform offset δ (spec §7.1).
 
     Every array has one entry per δ. A δ at which the trajectory leaves the
-    reach of the levers, comes within :data:`hipsim.kinematics.SINGULAR_COND_INV`
+    reach of the levers, comes within :data:`hipsim.analytic.inverse_kinematics.SINGULAR_COND_INV`
     of a singularity at a sample, or passes through one between samples (det J
     changes sign) is *infeasible*: its peak torque and stroke are NaN (the
     machine cannot run the motion: the torque needed there is unbounded), and
@@ -367,8 +367,8 @@ def offset_sweep(
 ) -> OffsetSweep:
     """Singularity margin, peak motor torque and slider stroke of a trajectory against δ.
 
-    Each δ is one vectorised run of :func:`hipsim.kinematics.kinematics`
-    (``on_error="flag"``) and :func:`hipsim.dynamics.inverse_dynamics` on
+    Each δ is one vectorised run of :func:`hipsim.analytic.kinematics`
+    (``on_error="flag"``) and :func:`hipsim.analytic.inverse_dynamics` on
     ``params.replace(home_offset=δ)``; poses out of reach or singular are
     counted, not raised, and so are singularities crossed between samples.
 
