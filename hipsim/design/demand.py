@@ -26,6 +26,7 @@ from ..analytic.virtual_work import mass_and_bias, screw_friction_torque
 from ..machine.drive_parts import DIRECT, Drive
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
+from ..physics.transmission import angle_from_travel, radians_per_travel
 from ..results import Run
 
 __all__ = [
@@ -51,7 +52,7 @@ def motor_thrust(run: Run) -> np.ndarray:
     :func:`axial_screw_load`). It is the Pinocchio model's actuator force and
     what the viewer draws as "motor thrust".
     """
-    return 2.0 * math.pi * run.torques.total / run.params.lead
+    return angle_from_travel(run.torques.total, run.params.lead)
 
 
 def axial_screw_load(run: Run) -> np.ndarray:
@@ -65,7 +66,7 @@ def axial_screw_load(run: Run) -> np.ndarray:
     """
     params, torques = run.params, run.torques
     screw_friction = screw_friction_torque(params, torques.motor_speed)
-    return 2.0 * math.pi * (torques.total - torques.screws - screw_friction) / params.lead
+    return angle_from_travel(torques.total - torques.screws - screw_friction, params.lead)
 
 
 
@@ -86,7 +87,7 @@ def reflected_inertia(params: Parameters, trajectory: Trajectory) -> np.ndarray:
     M, _ = mass_and_bias(params, trajectory, lever_spin=True)
     kin = kinematics(params, trajectory)
     signs = params.angle_signs
-    G = (2.0 * math.pi / params.lead) * (kin.J @ angular_velocity_map(trajectory.q * signs)) * signs
+    G = radians_per_travel(params.lead) * (kin.J @ angular_velocity_map(trajectory.q * signs)) * signs
     # M·G⁻¹ = (G⁻ᵀ·Mᵀ)ᵀ
     return np.swapaxes(np.linalg.solve(np.swapaxes(G, 1, 2), np.swapaxes(M, 1, 2)), 1, 2)
 
@@ -148,7 +149,7 @@ def screw_side(run: Run, cycles: float = 1.0, load_inertia: bool = True) -> Scre
     if load_inertia and np.any(ok):
         diagonal = np.diagonal(reflected_inertia(run.params, run.trajectory.slice(ok)), axis1=1, axis2=2)
         inertia[ok] = diagonal
-    scale = 2.0 * math.pi / run.params.lead
+    scale = radians_per_travel(run.params.lead)
     zero = lambda x: np.where(ok[:, None], x, 0.0)  # noqa: E731 - flagged samples carry NaN
     return ScrewSide(
         run, float(cycles), weights, zero(run.torques.motor_speed), zero(scale * run.Ldd[:, 0]), zero(run.torques.total),
