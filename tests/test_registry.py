@@ -25,6 +25,11 @@ def test_reduced_is_the_analytic_plant():
     assert registry.plant_entry("reduced") is registry.plant_entry("analytic")
 
 
+def test_which_engines_and_plants_compile_kernels_before_a_run():
+    assert [name for name in registry.engine_names() if registry.engine_entry(name).warm_up] == ["pinocchio"]
+    assert [name for name in registry.plant_names() if registry.plant_entry(name).warm_up] == ["pinocchio"]
+
+
 def test_an_unknown_name_is_one_argument_error():
     with pytest.raises(ArgumentError, match=r"^model: expected one of analytic, pinocchio, mujoco, got 'bogus'$"):
         registry.engine_entry("bogus")

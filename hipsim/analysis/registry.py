@@ -42,8 +42,9 @@ class Entry:
         options: the keyword options of :func:`make_engine` / :func:`make_plant` its class takes.
         flags: (engines) it can carry on through poses out of reach, flagging them (``on_error="flag"``).
         reference: (engines) the model the others are checked against (``hipsim check``).
-        joint_forces: its runs carry the joint forces.
-        compiles: it runs numba kernels, compiled on a machine's first run (a caller may say so, or load them first).
+        joint_forces: (engines) its runs carry the joint forces.
+        warm_up: its first run compiles numba kernels (a machine's first run only) before it can report
+            progress: a caller may load them first and say so (:func:`hipsim.closed_chain.model.warm_up`).
         aliases: other names it answers to (not offered as choices).
     """
 
@@ -57,7 +58,7 @@ class Entry:
     flags: bool = False
     reference: bool = False
     joint_forces: bool = False
-    compiles: bool = False
+    warm_up: bool = False
     aliases: tuple[str, ...] = ()
 
     def load(self) -> type:
@@ -79,15 +80,15 @@ class Entry:
 ENGINES = (
     Entry("analytic", "hipsim.analytic.engine", "AnalyticModel", "The analytic model",
           options=("lever_spin", "on_error"), flags=True, reference=True),
-    Entry("pinocchio", "hipsim.closed_chain.engine", "PinocchioModel", "The Pinocchio model", joint_forces=True, compiles=True),
+    Entry("pinocchio", "hipsim.closed_chain.engine", "PinocchioModel", "The Pinocchio model", joint_forces=True, warm_up=True),
     Entry("mujoco", "hipsim.mujoco_engine", "MujocoModel", "The MuJoCo engine", extra="mujoco", package="mujoco", joint_forces=True),
 )  # fmt: skip
 
 #: The plants of :func:`hipsim.control.simulation.simulate`, in the order they are offered.
 PLANTS = (
-    Entry("analytic", "hipsim.control.simulation", "ReducedPlant", "The reduced plant", options=("lever_spin",),
-          compiles=True, aliases=("reduced",)),
-    Entry("pinocchio", "hipsim.closed_chain.plant", "PinocchioPlant", "The Pinocchio plant", compiles=True),
+    # The reduced plant's kernels compile too, but simulate() says so itself.
+    Entry("analytic", "hipsim.control.simulation", "ReducedPlant", "The reduced plant", options=("lever_spin",), aliases=("reduced",)),
+    Entry("pinocchio", "hipsim.closed_chain.plant", "PinocchioPlant", "The Pinocchio plant", warm_up=True),
     Entry("mujoco", "hipsim.mujoco_engine.plant", "MujocoPlant", "The MuJoCo engine", extra="mujoco", package="mujoco",
           options=("integrator",)),
 )  # fmt: skip
