@@ -12,7 +12,7 @@ LAYERS = [
     {"exceptions", "arrays", "files", "tables"},
     {"physics"},
     {"machine", "motion"},
-    {"results"},
+    {"results", "engine"},
     {"analytic"},
     {"closed_chain", "mujoco_engine"},
     {"control"},

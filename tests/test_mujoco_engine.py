@@ -25,7 +25,7 @@ try:
 except MissingDependencyError as error:  # installed, but a release the engine refuses
     pytest.skip(str(error), allow_module_level=True)
 
-from hipsim.analysis.engines import compare_mujoco  # noqa: E402
+from hipsim.analysis.crosscheck import compare_mujoco  # noqa: E402
 from hipsim.closed_chain.build import load_model as load_pinocchio  # noqa: E402
 from hipsim.closed_chain.plant import PinocchioPlant  # noqa: E402
 from hipsim.cli.main import main  # noqa: E402
@@ -35,7 +35,8 @@ from hipsim.machine.model_files import urdf_text  # noqa: E402
 from hipsim.motion.trajectories import iso14242_at  # noqa: E402
 from hipsim.mujoco_engine import MujocoModel, MujocoPlant, load_model  # noqa: E402
 from hipsim.mujoco_engine.mjcf import KEYFRAME, MjcfSettings, keyframe_gap, mjcf_text, write_mjcf  # noqa: E402
-from hipsim.mujoco_engine.model import FrictionForces, friction_forces, trajectory_dynamics  # noqa: E402
+from hipsim.mujoco_engine.friction import FrictionForces, friction_forces  # noqa: E402
+from hipsim.mujoco_engine.trajectory import trajectory_dynamics  # noqa: E402
 from support import ALL_FRICTION  # noqa: E402
 
 DURATION = 0.2  # [s] of closed-loop and open-loop runs

@@ -1,4 +1,4 @@
-"""The analytic and Pinocchio models side by side (``hipsim check``).
+"""The engines side by side (``hipsim check``): the analytic and Pinocchio models, and the MuJoCo engine against both.
 
 Three comparisons along one trajectory, column by column of the CSV contract:
 
@@ -13,6 +13,18 @@ Three comparisons along one trajectory, column by column of the CSV contract:
 3. **published, with spin** — the published I_l with the analytic model given
    the universal joint's spin (``lever_spin=True``): the difference vanishes
    again, which shows that the spin is the whole of (2). Required to 1e-8.
+
+MuJoCo's inverse dynamics (:func:`compare_mujoco`, ``hipsim check --engine
+mujoco``: M and bias from MuJoCo, the rigid closure solved with MuJoCo's
+constraint Jacobian, friction as applied forces) describes the same machine
+as the other two, the levers' universal-joint spin included. So it must agree
+column by column, within :data:`TOLERANCE` of each column's peak, with the
+analytic model given that spin (``lever_spin=True``) and with the Pinocchio
+model, for any lever inertia and any friction coefficients. The compared
+columns are every output of the spec §7.5 contract (slider motion, torques
+and their parts, motor speeds, the singularity measure, which MuJoCo's engine
+computes from its own Jacobians, and, against Pinocchio, the joint forces);
+the inputs (time, angles, load) are the same by construction.
 """
 
 from __future__ import annotations
@@ -28,9 +40,10 @@ from ..exceptions import HipsimError
 from ..motion.sources import TrajectorySource, pieces
 from ..motion.trajectories import Trajectory
 from ..results import Run
+from .runs import analyse
 from .streaming import CHUNK, PieceRunner, as_source
 
-__all__ = ["CONFIGURATIONS", "Comparison", "Differences", "TOLERANCE", "compare_models", "differences"]
+__all__ = ["CONFIGURATIONS", "Comparison", "Differences", "TOLERANCE", "compare_models", "compare_mujoco", "differences"]
 
 #: Largest allowed difference, relative to each column's peak, where the models must agree.
 TOLERANCE = 1e-8
@@ -150,3 +163,29 @@ def compare_models(
         if progress is not None:
             progress(stop, len(source))
     return [Comparison(name, description, required(params), gathered[name].rows()) for name, description, required, _, _ in CONFIGURATIONS]
+
+
+def compare_mujoco(params: Parameters, trajectory: Trajectory) -> list[Comparison]:
+    """MuJoCo's inverse dynamics against the analytic model (with lever spin) and the Pinocchio model.
+
+    Args:
+        params: the machine (any lever inertia, any friction).
+        trajectory: the motion and load.
+
+    Returns:
+        Two comparisons, both required to agree.
+
+    Raises:
+        MissingDependencyError: ``mujoco`` is not installed.
+    """
+    mujoco = analyse(params, trajectory, model="mujoco")
+    return [
+        Comparison(
+            "mujoco-analytic", "MuJoCo inverse dynamics vs the analytic model with the universal joints' lever spin", True,
+            differences(mujoco, analyse(params, trajectory, lever_spin=True)),
+        ),
+        Comparison(
+            "mujoco-pinocchio", "MuJoCo inverse dynamics vs the Pinocchio closed-chain model", True,
+            differences(mujoco, analyse(params, trajectory, model="pinocchio")),
+        ),
+    ]

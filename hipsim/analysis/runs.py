@@ -2,16 +2,15 @@
 
 from __future__ import annotations
 
-from ..analytic.engine import AnalyticModel
-from ..exceptions import ArgumentError
 from ..machine.parameters import Parameters, load_parameters
 from ..motion.trajectories import Trajectory, iso14242
 from ..results import Run
+from .registry import engine_names, make_engine
 
 __all__ = ["MODELS", "analyse"]
 
-#: The models :func:`analyse` runs, by name.
-MODELS = ("analytic", "pinocchio", "mujoco")
+#: The models :func:`analyse` runs, by name (:func:`hipsim.analysis.registry.engine_names`).
+MODELS = engine_names()
 
 
 def analyse(
@@ -38,16 +37,5 @@ def analyse(
     """
     params = params if params is not None else load_parameters()
     trajectory = trajectory if trajectory is not None else iso14242()
-    if model not in MODELS:
-        raise ArgumentError("model", model, f"one of {', '.join(MODELS)}")
-    if model == "analytic":
-        return AnalyticModel(params, lever_spin=lever_spin, on_error=on_error).run(trajectory)
-    if on_error != "raise":
-        raise ArgumentError("on_error", on_error, "'raise' with the Pinocchio model (it cannot carry on through poses out of reach; the analytic model flags them)")
-    if model == "mujoco":
-        from ..mujoco_engine import MujocoModel  # MissingDependencyError, with the install line, without the extra
-
-        return MujocoModel(params).run(trajectory)
-    from ..closed_chain.engine import PinocchioModel  # Pinocchio loads only when asked for
-
-    return PinocchioModel(params).run(trajectory)
+    # The engine loads only when asked for; MissingDependencyError, with the install line, without its extra.
+    return make_engine(model, params, on_error=on_error, lever_spin=lever_spin).run(trajectory)

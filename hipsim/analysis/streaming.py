@@ -6,12 +6,13 @@ to ``write`` and adds it to a :class:`~hipsim.results.Summary`; memory is set
 by the piece, not by the run. :class:`PieceRunner` runs one piece (``hipsim
 check`` runs five models side by side with it).
 
-The pieces give the one-piece results to the last digit with the analytic
-model: each piece is run with the sample before it (and the first piece of a
-periodic motion with the last sample, the wrap-around), so the detection of
-a singularity crossed between two samples sees the same neighbours. The
-Pinocchio model closes the chain from the previous samples' solution: a
-:class:`~hipsim.closed_chain.closure.Continuation` carries that solution from
+The pieces give the one-piece results to the last digit: each piece is run as
+the engine's :class:`~hipsim.engine.PieceNeeds` ask. The analytic model runs
+each piece with the sample before it (and the first piece of a periodic motion
+with the last sample, the wrap-around), so the detection of a singularity
+crossed between two samples sees the same neighbours. The Pinocchio model
+closes the chain from the previous samples' solution: its state, a
+:class:`~hipsim.closed_chain.closure.Continuation`, carries that solution from
 one piece to the next, so its pieces too give the one-piece results bit for bit.
 """
 
@@ -21,39 +22,18 @@ from typing import Callable, Mapping
 
 import numpy as np
 
+from ..engine import PieceNeeds
 from ..exceptions import ArgumentError, PoseError
-from ..machine.parameters import Parameters, slender_levers
+from ..machine.parameters import Parameters
 from ..motion.sources import SampledSource, TrajectorySource, pieces
 from ..motion.trajectories import Trajectory
 from ..results import Run, Summary
-from .runs import MODELS
+from .registry import make_engine
 
-__all__ = ["CHUNK", "PINOCCHIO_CHUNK", "PieceRunner", "as_source", "stream_run"]
+__all__ = ["CHUNK", "PieceRunner", "as_source", "stream_run"]
 
-#: Samples per piece: some 60 MB of the analytic model's working arrays, a few ms of its time.
-CHUNK = 20_000
-#: Samples per piece of the Pinocchio model: its working arrays take ~4 kB a sample (~10 MB a
-#: piece, 0.08 s of its time), and its process also carries numba's compiler (~100 MB).
-PINOCCHIO_CHUNK = 2_500
-
-
-def _model(params: Parameters, model: str, on_error: str, lever_spin: bool):
-    """The model object :func:`hipsim.analyse` would run, and how many samples of overlap its pieces need."""
-    if model not in MODELS:
-        raise ArgumentError("model", model, f"one of {', '.join(MODELS)}")
-    if model == "analytic":
-        from ..analytic.engine import AnalyticModel
-
-        return AnalyticModel(params, lever_spin=lever_spin, on_error=on_error), 1
-    if on_error != "raise":
-        raise ArgumentError("on_error", on_error, "'raise' with the Pinocchio model (it cannot carry on through poses out of reach; the analytic model flags them)")
-    if model == "mujoco":
-        from ..mujoco_engine import MujocoModel
-
-        return MujocoModel(params), 0
-    from ..closed_chain.engine import PinocchioModel
-
-    return PinocchioModel(params), 0
+#: Samples per piece unless an engine asks for fewer: some 60 MB of the analytic model's working arrays, a few ms of its time.
+CHUNK = PieceNeeds().chunk
 
 
 def _join(before: Trajectory, piece: Trajectory) -> Trajectory:
@@ -64,25 +44,28 @@ def _join(before: Trajectory, piece: Trajectory) -> Trajectory:
 
 
 class PieceRunner:
-    """One model along one source, piece by piece, each piece with the overlap the model needs (module docstring).
+    """One engine along one source, piece by piece, each piece as the engine's :class:`~hipsim.engine.PieceNeeds` ask (module docstring).
 
     Args:
         params: the machine.
         source: the motion.
         model, on_error, lever_spin: as :func:`hipsim.analyse`.
+
+    Attributes:
+        engine: the :class:`~hipsim.engine.Engine` run.
+        state: what the engine carries from the last piece run to the next.
     """
 
     def __init__(self, params, source: TrajectorySource, model: str, on_error: str = "raise", lever_spin: bool = False):
-        self.model, self.overlap = _model(params, model, on_error, lever_spin)
-        self.source, self.analytic, self.pinocchio = source, model == "analytic", model == "pinocchio"
-        self.continuation = None
+        self.engine = make_engine(model, params, on_error=on_error, lever_spin=lever_spin)
+        self.source, self.state = source, None
 
     def run(self, start: int, piece: Trajectory) -> Run:
-        """The model along ``piece``, the samples from ``start`` on."""
-        n = len(self.source)
-        if start > 0 and self.overlap:
-            before = self.source.piece(max(0, start - self.overlap), start)
-        elif start == 0 and self.analytic and self.source.periodic:
+        """The engine along ``piece``, the samples from ``start`` on."""
+        n, needs = len(self.source), self.engine.pieces
+        if start > 0 and needs.overlap:
+            before = self.source.piece(max(0, start - needs.overlap), start)
+        elif start == 0 and needs.wraps_around and self.source.periodic:
             before = self.source.piece(n - 1, n)  # the wrap-around: sample 0 follows the last
         else:
             return self._run(piece, piece, start)
@@ -96,17 +79,8 @@ class PieceRunner:
     def _run(self, trajectory: Trajectory, piece: Trajectory, offset: int) -> Run:
         """Run, a pose error's index made the run's and its file line added."""
         try:
-            if self.analytic:
-                return self.model.run(trajectory, piece=True)
-            if self.pinocchio:
-                from ..closed_chain.closure import Continuation
-
-                if offset == 0:
-                    self.continuation = Continuation()
-                elif self.continuation is None or self.continuation.samples != offset:
-                    raise ArgumentError("start", offset, "pieces of a Pinocchio run in time order, from 0")
-                return self.model.run(trajectory, continuation=self.continuation)
-            return self.model.run(trajectory)
+            self.state = self.engine.piece_state(offset, self.state)
+            return self.engine.run(trajectory, self.state)
         except PoseError as error:
             line = error.line if error.line is not None else piece.line_at(error.time)
             raise PoseError(error.reason, error.time, error.index + offset, source=error.source, line=line) from None
@@ -136,7 +110,7 @@ def stream_run(
         model: as :func:`hipsim.analyse`.
         on_error: as :func:`hipsim.analyse`; with "flag" every piece has the ``flagged`` column.
         lever_spin: as :func:`hipsim.analyse`.
-        chunk: samples per piece; None: :data:`CHUNK`, :data:`PINOCCHIO_CHUNK` for the Pinocchio model.
+        chunk: samples per piece; None: the engine's own (:attr:`hipsim.engine.PieceNeeds.chunk`).
         write: called with each piece's :meth:`~hipsim.results.Run.columns`, in order.
         progress: called with (samples done, samples in all) after each piece.
 
@@ -148,11 +122,11 @@ def stream_run(
             or every sample flagged.
     """
     source = as_source(source)
-    if chunk is None:
-        chunk = PINOCCHIO_CHUNK if model == "pinocchio" else CHUNK
-    if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
+    if chunk is not None and (isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1):
         raise ArgumentError("chunk", chunk, "a positive number of samples")
     runner = PieceRunner(params, source, model, on_error, lever_spin)
+    if chunk is None:
+        chunk = runner.engine.pieces.chunk
     summary = None
     n = len(source)
     for start, stop in pieces(source, chunk):

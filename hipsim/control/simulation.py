@@ -9,8 +9,8 @@ torques. Two plants describe the same physics:
   at the three unit accelerations give the columns of M, and
   q̈ = M⁻¹·(τ − h). The servo loop needs this for one state at a time, where
   the vectorised model spends its time in Python overhead, so the plant runs
-  the same equations compiled by :mod:`hipsim.reduced_kernel`.
-- :class:`hipsim.pinocchio_plant.PinocchioPlant`: the closed-chain tree with
+  the same equations compiled by :mod:`hipsim.analytic.kernel`.
+- :class:`hipsim.closed_chain.plant.PinocchioPlant`: the closed-chain tree with
   its loop closures enforced by Pinocchio's constrained dynamics.
 
 :func:`simulate` runs the servo loop: at each servo instant the controller
@@ -20,7 +20,8 @@ constant over the servo period (zero-order hold) while the plant is integrated
 with the classic fourth-order Runge–Kutta method at a step no longer than the
 period. A plant with an ``advance`` method (the reduced plant) integrates a
 whole servo period in one call; for any other plant :func:`simulate` steps
-RK4 itself through the plant's ``derivative``.
+RK4 itself through the plant's ``derivative``. What a plant offers is the
+:class:`~hipsim.engine.Plant` protocol (re-exported here).
 """
 
 from __future__ import annotations
@@ -30,13 +31,14 @@ import re
 import threading
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable, Protocol
+from typing import Callable
 
 import numpy as np
 from tqdm import tqdm
 
 from ..analytic import kernel as reduced_kernel
 from .controllers import AugmentedPD, Sample, WorkspacePD
+from ..engine import Plant
 from ..exceptions import ArgumentError, HipsimError, PoseError
 from ..files import write_columns
 from ..analytic.inverse_kinematics import kinematics
@@ -47,29 +49,6 @@ from ..physics.transmission import angle_from_travel
 from ..results import peak_and_rms
 
 __all__ = ["Plant", "ReducedPlant", "Simulation", "apply_mismatch", "parse_mismatch", "simulate"]
-
-class Plant(Protocol):
-    """What :func:`simulate` integrates. The state x is a flat vector.
-
-    A plant may also offer ``advance(t, x, tau, loads, h, substeps)``, the
-    state after ``substeps`` RK4 steps (as :meth:`ReducedPlant.advance`), to
-    integrate a servo period in one call; and, with it, ``angle_slots``:
-    (angle indices, rate indices, signs) such that the gait angles and rates
-    are signs·x[indices], so that the built-in controllers run compiled
-    around it (as for :class:`~hipsim.closed_chain.plant.PinocchioPlant`).
-    """
-
-    params: Parameters  # the plant's machine: servo defaults, and the motor speeds of the result
-    name: str  # for tables (optional: the class name otherwise)
-
-    def initial_state(self, desired: Trajectory) -> np.ndarray:
-        """The state at the first sample of ``desired`` (position and velocity)."""
-
-    def derivative(self, t: float, x: np.ndarray, tau: np.ndarray, Fe: float) -> np.ndarray:
-        """dx/dt under motor torques tau in [N·m] and load Fe in [N]."""
-
-    def angles(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Platform orientation [α, β, γ] in [rad] and its rate in [rad/s] in state x."""
 
 
 class ReducedPlant:
@@ -106,6 +85,14 @@ class ReducedPlant:
             Fe: load in [N].
         """
         return reduced_kernel.mass_and_bias(self._kernel_params, floats(q, (3,), "q"), floats(qd, (3,), "qd"), float(Fe))
+
+    def compiled_kernel(self) -> tuple | None:
+        """The parameters of :mod:`hipsim.analytic.kernel` whose equations this plant integrates, for the compiled servo loop.
+
+        None for a subclass: it may change the equations (its derivative, its
+        angles, its initial state), which the kernel would not see.
+        """
+        return self._kernel_params if type(self) is ReducedPlant else None
 
     def initial_state(self, desired: Trajectory) -> np.ndarray:
         return np.concatenate([desired.q[0], desired.qd[0]])
@@ -285,8 +272,9 @@ def simulate(
     kinematics(plant.params, desired)  # a desired pose out of reach or singular: a PoseError naming its time
     stage_times = np.arange(n * substeps * 2 + 1) * (h / 2)
     stage_loads = desired_at(stage_times).Fe  # the load at every RK4 stage, precomputed
+    kernel = plant.compiled_kernel() if hasattr(plant, "compiled_kernel") else None
     slotted = hasattr(plant, "angle_slots") and hasattr(plant, "advance")
-    can_compile = (type(plant) is ReducedPlant or slotted) and type(controller) in (WorkspacePD, AugmentedPD)
+    can_compile = (kernel is not None or slotted) and type(controller) in (WorkspacePD, AugmentedPD)
     if compiled and not can_compile:
         raise ArgumentError(
             "compiled", compiled,
@@ -302,8 +290,8 @@ def simulate(
     desc = f"{name} plant, {controller_name or 'controller'}"
     if use_compiled:
         log = (q, qd, tau_applied, tau_requested, saturated)
-        x = floats(x, (6,), "initial_state") if type(plant) is ReducedPlant else x
-        _compiled_loop(plant, controller, x, t, desired, limit, stage_loads, h, substeps, log, desc, progress, notify)
+        x = floats(x, (6,), "initial_state") if kernel is not None else x
+        _compiled_loop(plant, kernel, controller, x, t, desired, limit, stage_loads, h, substeps, log, desc, progress, notify)
     else:
         advance = getattr(plant, "advance", None) or (lambda *args: _rk4(plant, *args))
         for k, _ in _servo_chunks(n, 1, desc, progress, notify):
@@ -338,11 +326,12 @@ def _unstable(t: np.ndarray, k: int) -> PoseError:
 _CHUNK = 2000
 
 
-def _compiled_loop(plant, controller, x, t, desired, limit, loads, h, substeps, log, desc, progress, notify) -> None:
+def _compiled_loop(plant, kernel, controller, x, t, desired, limit, loads, h, substeps, log, desc, progress, notify) -> None:
     """The servo loop with the built-in controllers compiled (:mod:`hipsim.control.servo_kernel`), filling ``log``.
 
-    The reduced plant runs whole chunks of servo periods in one compiled call;
-    a plant with ``angle_slots`` steps itself through ``advance``, each
+    A plant with a compiled kernel (the reduced plant; ``kernel``, its
+    ``compiled_kernel()``) runs whole chunks of servo periods in one compiled
+    call; a plant with ``angle_slots`` steps itself through ``advance``, each
     period's control compiled around it.
     """
     from . import servo_kernel  # imports numba: only when a loop runs compiled
@@ -359,10 +348,10 @@ def _compiled_loop(plant, controller, x, t, desired, limit, loads, h, substeps, 
     )  # fmt: skip
     loads = np.ascontiguousarray(loads, dtype=float)
     q, qd, tau, tau_requested, saturated = log
-    if type(plant) is ReducedPlant:
+    if kernel is not None:
         for start, stop in _servo_chunks(n, _CHUNK, desc, progress, notify):
             reached = servo_kernel.servo_loop(
-                plant._kernel_params, controller._kernel_params, x, start, stop, *control, loads, float(h), int(substeps), *log
+                kernel, controller._kernel_params, x, start, stop, *control, loads, float(h), int(substeps), *log
             )
             if reached != stop:
                 raise _unstable(t, reached)

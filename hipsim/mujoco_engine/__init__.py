@@ -8,17 +8,25 @@ one line.
 - :mod:`~hipsim.mujoco_engine.mjcf`: the MJCF of any parameter set
   (:func:`mjcf_text`, :func:`write_mjcf`), converted from the same URDF and
   closure declaration as the Pinocchio model, with the settings it states.
-- :mod:`~hipsim.mujoco_engine.model`: closed-chain kinematics and rigid
-  inverse dynamics through MuJoCo's own functions (:func:`load_model`,
-  :func:`trajectory_dynamics`); :class:`MujocoModel` runs them behind the
-  common model protocol (``MujocoModel(params).run(trajectory) -> hipsim.Run``,
+- :mod:`~hipsim.mujoco_engine.machine` (the compiled model and its closure
+  rows), :mod:`~hipsim.mujoco_engine.closure`, :mod:`~hipsim.mujoco_engine.friction`,
+  :mod:`~hipsim.mujoco_engine.dynamics` and :mod:`~hipsim.mujoco_engine.trajectory`:
+  closed-chain kinematics and rigid inverse dynamics through MuJoCo's own
+  functions (:func:`trajectory_dynamics`).
+- :mod:`~hipsim.mujoco_engine.model`: :func:`load_model` and
+  :class:`MujocoModel`, which runs them behind the engine protocol
+  (:class:`hipsim.engine.Engine`; ``MujocoModel(params).run(trajectory) -> hipsim.Run``,
   also ``hipsim.analyse(..., model="mujoco")``).
 - :mod:`~hipsim.mujoco_engine.plant`: :class:`MujocoPlant`, MuJoCo's forward
   dynamics as a plant of :func:`hipsim.control.simulation.simulate`.
 """
 
 from .mjcf import KEYFRAME, MjcfSettings, mjcf_text, write_mjcf
-from .model import MujocoDynamics, MujocoKinematics, MujocoMachine, MujocoModel, load_model, trajectory_dynamics
+from .closure import MujocoKinematics
+from .dynamics import MujocoDynamics
+from .machine import MujocoMachine
+from .model import MujocoModel, load_model
+from .trajectory import trajectory_dynamics
 from .plant import MujocoPlant
 
 __all__ = [

@@ -76,6 +76,9 @@ from ..machine.model_files import closure_declaration, urdf_text
 from ..machine.parameters import Parameters, load_parameters
 from ..physics.transmission import radians_per_travel
 from ._dependency import mujoco
+from .dynamics import inverse_dynamics
+from .machine import MujocoMachine
+from .trajectory import kinematics
 
 __all__ = [
     "INTEGRATORS",
@@ -398,7 +401,6 @@ def mjcf_text(params: Parameters | None = None, settings: MjcfSettings | None = 
     ))  # fmt: skip
     if keyframe:
         from ..motion.trajectories import iso14242_at
-        from .model import MujocoMachine, inverse_dynamics, kinematics
 
         machine = MujocoMachine(compile_mjcf(_serialise(root)), params)
         start = iso14242_at(np.array([0.0]))

@@ -16,7 +16,7 @@ step first-order in friction: at the default settings the augmented PD's
 tracking then differs from the Pinocchio plant's by 6.8e-4° rather than
 2e-6°. The callback is process-wide in MuJoCo: the plant installs it only
 while it steps and restores whatever was there before. The law is
-:class:`hipsim.mujoco_engine.model.FrictionForces`, the inverse dynamics'
+:class:`hipsim.mujoco_engine.friction.FrictionForces`, the inverse dynamics'
 own.
 
 Closures. Unlike the Pinocchio plant, whose closures are rigid (a KKT solve
@@ -40,7 +40,10 @@ from ..motion.trajectories import Trajectory
 from ._dependency import mujoco
 from .mjcf import MjcfSettings, default_solref
 from ..exceptions import ArgumentError
-from .model import FrictionForces, MujocoMachine, kinematics, load_model
+from .friction import FrictionForces
+from .machine import MujocoMachine
+from .model import load_model
+from .trajectory import kinematics
 
 __all__ = ["MujocoPlant"]
 
