@@ -418,7 +418,7 @@ def test_import_and_the_parser_load_no_computing():
     code = """
 import sys
 import hipsim
-heavy = ("numpy", "scipy", "numba", "pinocchio", "xacro", "matplotlib", "hipsim.analysis")
+heavy = ("numpy", "scipy", "numba", "pinocchio", "xacro", "matplotlib", "hipsim.analysis.runs", "hipsim.analysis.streaming", "hipsim.analytic")
 after_import = [m for m in heavy if m in sys.modules]
 from hipsim.cli.main import build_parser
 build_parser()

@@ -17,10 +17,13 @@ from __future__ import annotations
 
 import importlib
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-from ..engine import Engine, Plant
 from ..exceptions import ArgumentError, MissingDependencyError
-from ..machine.parameters import Parameters
+
+if TYPE_CHECKING:  # the command line reads the names for its choices: no NumPy for that
+    from ..engine import Engine, Plant
+    from ..machine.parameters import Parameters
 
 __all__ = [
     "ENGINES", "PLANTS", "Entry", "check_names", "engine_entry", "engine_names", "make_engine", "make_plant", "plant_entry",

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from ..analysis.registry import check_names
 from ..present.tables import format_table
 from .common import add_machine_options, add_summary_format, load_pinocchio_kernels, parameters, print_json, progress
 from .motion_options import add_trajectory_options, load_source, load_trajectory
@@ -24,7 +25,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     add_machine_options(check)
     add_trajectory_options(check)
     check.add_argument(
-        "--engine", choices=["pinocchio", "mujoco"], default="pinocchio",
+        "--engine", choices=check_names(), default="pinocchio",
         help="mujoco: compare MuJoCo's inverse dynamics with the analytic (lever spin) and Pinocchio models instead",
     )
     add_summary_format(check, "the differences as tables (default) or JSON")
@@ -38,7 +39,7 @@ def run(args) -> int:
 
     params = parameters(args)
     if args.engine == "mujoco":
-        from ..analysis.engines import compare_mujoco
+        from ..analysis.crosscheck import compare_mujoco
 
         trajectory = load_trajectory(args)
         comparisons = compare_mujoco(params, trajectory)

@@ -12,7 +12,7 @@ from pathlib import Path
 
 from .common import add_machine_options, parameters
 
-__all__ = ["add_parser", "add_simulate_options", "format_gaps", "make_plant", "run"]
+__all__ = ["add_parser", "add_simulate_options", "format_gaps", "run"]
 
 _INTEGRATORS = ("RK4", "Euler", "implicitfast", "implicit")
 
@@ -66,13 +66,6 @@ def add_simulate_options(parser: argparse.ArgumentParser) -> None:
         "--mujoco-integrator", choices=_INTEGRATORS, default="RK4",
         help="with --plant mujoco: MuJoCo's integrator, stepped at --step (default RK4)",
     )  # fmt: skip
-
-
-def make_plant(params, integrator: str = "RK4"):
-    """The MuJoCo plant (raises MissingDependencyError without mujoco)."""
-    from ..mujoco_engine.plant import MujocoPlant
-
-    return MujocoPlant(params, integrator=integrator)
 
 
 def format_gaps(controller: str, plant) -> str:

@@ -6,6 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from ..analysis.registry import engine_names
 from ..exceptions import HipsimError
 from .common import add_machine_options, add_summary_format, desired_motion, load_pinocchio_kernels, note, parameters, print_json
 from .motion_options import add_trajectory_options, load_trajectory
@@ -25,7 +26,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     add_machine_options(report)
     add_trajectory_options(report)
     report.add_argument("--out", required=True, metavar="DIR", help="folder to write (created if missing)")
-    report.add_argument("--model", choices=["auto", "analytic", "pinocchio"], default="auto", help="where joint forces come from (auto: Pinocchio)")
+    report.add_argument("--model", choices=["auto", *engine_names(optional=False)], default="auto", help="where joint forces come from (auto: Pinocchio)")
     report.add_argument("--motor", metavar="FILE", help="drive file (TOML: [motor], [amplifier], [gearbox], [lead_screw], [rules]) to check "
                         "(default: the parameter file's [motor] table); see hipsim size")
     report.add_argument("--simulate", action="store_true", help="also simulate both controllers and plot their tracking errors")

@@ -6,6 +6,7 @@ import argparse
 import math
 import sys
 
+from ..analysis.registry import engine_entry, engine_names
 from ..present.tables import format_table
 from .common import add_machine_options, add_summary_format, load_pinocchio_kernels, parameters, print_json, progress
 from .motion_options import add_trajectory_options, cycle_period, load_source, span
@@ -23,7 +24,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     )
     add_machine_options(torques)
     add_trajectory_options(torques)
-    torques.add_argument("--model", choices=["analytic", "pinocchio", "mujoco"], default="analytic", help="which model computes the torques (default analytic; mujoco needs the mujoco extra)")
+    torques.add_argument("--model", choices=engine_names(), default="analytic", help="which model computes the torques (default analytic; mujoco needs the mujoco extra)")
     torques.add_argument(
         "--out", default="hipsim_torques.csv", metavar="FILE",
         help="CSV to write (default hipsim_torques.csv); a .parquet name writes Apache Parquet (the same columns, the parameter set "
@@ -93,7 +94,7 @@ def run(args) -> int:
     check_output(args.out)  # an unusable output is refused before the computing
     params = parameters(args)
     source = load_source(args)
-    if args.model == "pinocchio":
+    if engine_entry(args.model).warm_up:
         load_pinocchio_kernels()
     with ColumnWriter(args.out, _file_metadata(params)) as writer:
         summary = stream_run(
