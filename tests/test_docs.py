@@ -184,8 +184,20 @@ def test_readme_is_a_front_door():
 
     choices = next(a.choices for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
     assert names == set(choices), f"commands without a row in the README's table: {set(choices) - names}; rows of no command: {names - set(choices)}"
-    for _, target, _ in rows:
+    for _, target, anchor in rows:
         assert (ROOT / target).is_file(), target
+        if anchor:
+            assert anchor[1:] in headings(ROOT / target), f"{target}{anchor}: no such heading"
+
+
+def headings(page: Path) -> set[str]:
+    """The anchors of a page's headings, as GitHub and mkdocs' toc make them (lower case, punctuation dropped, spaces to hyphens)."""
+    found = set()
+    for line in page.read_text(encoding="utf-8").splitlines():
+        if line.startswith("#"):
+            title = line.lstrip("#").strip().lower()
+            found.add(re.sub(r"[\s]+", "-", re.sub(r"[^\w\s-]", "", title)))
+    return found
 
 
 # --------------------------------------------------------------------------- docstrings
