@@ -198,17 +198,16 @@ def test_an_impossible_inertia_is_brought_onto_the_rigid_body_limit():
             assert np.sum((A @ trial - b) ** 2) >= cost * (1 - 1e-6)
 
 
-def test_the_readme_example(noisy, monkeypatch, capsys):
-    """The README's "rig in the loop" example, run as written, on the synthetic logs."""
+def test_the_rig_guide_example(noisy, monkeypatch, capsys):
+    """The example of docs/guide/rig.md ("the rig in the loop"), run as written, on the synthetic logs."""
     import re
     from pathlib import Path
 
     folder, _, _, _ = noisy
     monkeypatch.chdir(folder)
-    text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
-    section = text.split("## The rig in the loop", 1)[1].split("\n## ", 1)[0]
-    block = re.search(r"```python\n(.*?)```", section, re.S).group(1)
-    exec(compile(block, "README.md", "exec"), {})
+    text = (Path(__file__).resolve().parents[1] / "docs" / "guide" / "rig.md").read_text()
+    block = re.search(r"```python\n(.*?)```", text, re.S).group(1)
+    exec(compile(block, "docs/guide/rig.md", "exec"), {})
     assert hipsim.load_parameters(folder / "identified.toml")
     assert hipsim.load_trajectory_csv(folder / "excite.csv").periodic
     assert "m_L + 0.5" in capsys.readouterr().out

@@ -123,6 +123,7 @@ def _pieces(path: str, params, args):
 
 
 def run_compare(args) -> int:
+    """Compare the model with ``--log``: write the figures, page and JSON to ``--out`` and print the errors; exit status 0."""
     from ..rig.compare import compare_log
     from ..files import check_folder
     from ..present.rig_figures import write_comparison
@@ -155,6 +156,7 @@ def run_compare(args) -> int:
 
 
 def run_identify(args) -> int:
+    """Identify the machine from the ``--log`` files, write the parameter file ``--out`` and print the fit; exit status 0."""
     from ..files import json_ready
     from ..rig.identification import identify
 
@@ -210,6 +212,7 @@ def _percent(fraction: float) -> str:
 
 
 def run_excite(args) -> int:
+    """Design the excitation, write it to ``--out`` as a trajectory CSV and print its condition number; exit status 0."""
     from ..files import json_ready
     from ..rig.excitation import Limits, excitation
 

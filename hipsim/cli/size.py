@@ -113,6 +113,7 @@ def format_demands(size) -> str:
 
 
 def run(args) -> int:
+    """Check ``--drive`` (or rank ``--catalogue``) along the cycles and print the checks; exit status 1 when the drive fails one."""
     from ..analysis.runs import analyse
     from ..design.sizing import rank_drives, sizing
     from ..machine.drive import SizingRules, drive_from_motor_table, load_drive, load_gearbox_catalogue, load_motor_catalogue, load_screw_catalogue

@@ -150,6 +150,7 @@ def _previous(out: Path, names: list[str]) -> dict[str, list]:
 
 
 def run(args) -> int:
+    """Run the variants, append their rows to ``--out`` and print the summary; exit status 1 when no variant passes."""
     from ..design.sweep import OBJECTIVES, SweepSetup, metric_columns, parse_objective, run_sweep, variant_id
     from ..design.sweep_table import write_table
 

@@ -196,8 +196,8 @@ def closed_sample(
     Args:
         rotations, origins, joints, placements, tips, p2, d: as in :func:`closure_frames`.
         limit: the largest |d|² [m²] accepted as closed.
-        J, masks, J_c, platform1, rows, columns, starts, platform2, sliders,
-        qd, qdd, V, A, row, J_rates, residual, k, K_inv: as in :func:`rates`.
+        J, masks, J_c, platform1, rows, columns, starts, platform2, sliders, qd, qdd, V, A, row, J_rates, residual, k, K_inv: as
+            in :func:`rates`.
         K_invs, angular, tip_rotations, slot: as ``K_invs, angular, rotations, slot`` in :func:`store`;
             slot < 0: nothing kept (no inverse dynamics asked for).
 
@@ -401,7 +401,7 @@ def _gauss_jordan_inverse(D, out):
 
 @laws.jit
 def acceleration(K_inv, J, V, A, row, masks, tips, d, qdd, platform2):
-    """The tree acceleration A[row] [m/s², rad/s²] from K a = [q̈; −J̇_c v] at a closed configuration.
+    """The tree acceleration A[row], in [m/s², rad/s²], from K a = [q̈; −J̇_c v] at a closed configuration.
 
     Args:
         K_inv: K⁻¹ from :func:`velocity`, (nv, nv).

@@ -86,8 +86,8 @@ def servo_loop(plant, control, x, start, stop, desired_q, desired_qd, kp, kd, fe
 def control_period(x, angle_slots, rate_slots, signs, control, k, desired_q, desired_qd, kp, kd, feedforward, rows, with_feedforward, limit, q, qd, tau, tau_requested, saturated):
     """Servo period k of a plant integrated outside this module (the Pinocchio plant): the same control as :func:`servo_loop`'s.
 
-    Logs the measured angles q[k] = signs·x[angle_slots] [rad] and rates
-    qd[k] = signs·x[rate_slots] [rad/s], then the torques. ``control`` is the
+    Logs the measured angles q[k] = signs·x[angle_slots], in [rad], and rates
+    qd[k] = signs·x[rate_slots], in [rad/s], then the torques. ``control`` is the
     controller's machine as :func:`hipsim.analytic.kernel.plain_parameters`
     gives it (called once a period: a named tuple would cost 2 µs more to
     pass); the other arguments are :func:`servo_loop`'s.

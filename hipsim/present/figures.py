@@ -231,6 +231,15 @@ def plot_tracking(simulations: Mapping[str, Any]):
 
 
 def tracking_arrays(name: str, sim) -> tuple[np.ndarray, np.ndarray]:
+    """A simulation's times (N,) in [s] and angle errors (N, 3) in [rad], checked.
+
+    Args:
+        name: the simulation's name, for the message.
+        sim: an object with ``t`` and ``err`` (a :class:`hipsim.control.Simulation`).
+
+    Raises:
+        HipsimError: ``sim`` has no ``t`` or ``err``, or they have other shapes.
+    """
     try:
         t = np.asarray(sim.t, dtype=float)
         err = np.asarray(sim.err, dtype=float)
