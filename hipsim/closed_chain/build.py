@@ -293,6 +293,11 @@ def _hip_layout(chain: ClosedChainModel, params: Parameters) -> HipLayout:
 
 
 def require_layout(chain: ClosedChainModel) -> HipLayout:
+    """The hip simulator's layout of ``chain`` (from :func:`load_model`).
+
+    Raises:
+        ModelError: ``chain`` is a general closed-chain model without the hip simulator's layout.
+    """
     if chain.layout is None:
         raise ModelError("this function needs the hip simulator model from load_model()")
     return chain.layout

@@ -16,6 +16,11 @@ __all__ = ["closure_residuals", "configurations", "constraint_jacobian", "constr
 
 
 def configurations(chain: ClosedChainModel, q) -> tuple[np.ndarray, bool]:
+    """Configurations q as rows (nq,) or (N, nq), and whether one was given alone.
+
+    Raises:
+        ArgumentError: rows of another size than the model's nq.
+    """
     q = np.asarray(q, dtype=float)
     single = q.ndim == 1
     q = np.atleast_2d(q)

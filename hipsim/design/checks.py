@@ -110,6 +110,7 @@ def _check(module: int, name: str, value, limit, detail: str = "", trajectory: s
 
 
 def binding_check(checks: Iterable[Check]) -> Check | None:
+    """The check with the smallest margin, the one that decides; None when no check could be made."""
     made = [c for c in checks if c.margin is not None]
     return min(made, key=lambda c: c.margin) if made else None
 

@@ -209,6 +209,7 @@ def motor_parts(values: dict[str, Any], names: dict[str, str], fail: Fail, defau
 
 
 def gearbox_from(values: dict[str, Any], names: dict[str, str], fail: Fail, default_name: str) -> Gearbox:
+    """A :class:`Gearbox` from checked SI values by field name (``name`` defaults to ``default_name``)."""
     attributes = {FIELDS["gearbox"][k].attribute: v for k, v in values.items() if k != "name"}
     return Gearbox(name=values.get("name", default_name), **attributes)
 
