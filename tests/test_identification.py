@@ -8,16 +8,11 @@ import scipy.optimize
 
 import hipsim
 from hipsim.rig import identify, load_log, regressor
-from hipsim.rig.identification import (
-    QUANTITIES,
-    _BLOCKS,
-    _SIGMA,
-    _consistent,
-    _matrix,
-    _violations,
-    standard_values,
-    with_values,
-)
+from hipsim.rig.consistency import _SIGMA, _matrix
+from hipsim.rig.consistency import consistent as _consistent
+from hipsim.rig.consistency import violations as _violations
+from hipsim.rig.quantities import BLOCKS as _BLOCKS
+from hipsim.rig.quantities import QUANTITIES, standard_values, with_values
 from hipsim.analytic import inverse_dynamics, kinematics
 from hipsim.cli.main import main
 
@@ -216,7 +211,7 @@ def test_the_readme_example(noisy, monkeypatch, capsys):
 
 def test_logs_in_pieces_give_the_same_fit(noisy):
     """The fit of logs read in pieces (cut mid-cycle, each shorter than its halo) against the fit of the whole logs."""
-    from hipsim.rig.compare import LogPieces
+    from hipsim.rig.logs import LogPieces
 
     _, fit, held_out, whole = noisy
     start, _ = machines()
