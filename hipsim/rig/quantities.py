@@ -128,10 +128,10 @@ QUANTITIES: tuple[Quantity, ...] = (
 #: The friction coefficients, in the order of QUANTITIES.
 FRICTION: tuple[Quantity, ...] = tuple(q for q in QUANTITIES if q.part == "friction")
 #: The inertia blocks whose consistency is a semidefinite constraint: indices of xx … yz in QUANTITIES, by body.
-BLOCKS: dict[str, list[int]] = {}
-for _k, _q in enumerate(QUANTITIES):
-    if _q.component is not None:
-        BLOCKS.setdefault(_q.key.partition(".")[0], []).append(_k)
+BLOCKS: dict[str, list[int]] = {
+    body: [k for k, q in enumerate(QUANTITIES) if q.component is not None and q.key.partition(".")[0] == body]
+    for body in dict.fromkeys(q.key.partition(".")[0] for q in QUANTITIES if q.component is not None)
+}
 #: The parameters bounded below by zero (inertias are held by their blocks instead).
 BOUNDED: list[int] = [k for k, q in enumerate(QUANTITIES) if q.nonnegative and not any(k in block for block in BLOCKS.values())]
 
