@@ -117,7 +117,8 @@ def test_compare_command_bad_log_leaves_nothing(tmp_path, capsys):
 
 # --- A log in pieces ---------------------------------------------------------------------------
 
-from hipsim.rig.compare import LogPieces, compare_log  # noqa: E402
+from hipsim.rig.compare import compare_log  # noqa: E402
+from hipsim.rig.logs import LogPieces  # noqa: E402
 
 #: Pieces give the whole log's values up to round-off: the filters start in another state and the
 #: forward kinematics' Newton from another pose, and their last digits differ; relative to the measured torque.

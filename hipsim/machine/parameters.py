@@ -1,10 +1,12 @@
-"""The machine's parameter set: one TOML file, loaded into an immutable object in SI units.
+"""The machine's parameter file read: one TOML file, checked and loaded into an immutable object in SI units.
 
 The file (``models/hip_simulator.toml`` is the default) is written in the
 design data's units (mm, kg, kg·mm², N·mm, degrees), with the unit in every
 key. :func:`load_parameters` checks every key against :data:`SCHEMA`, converts
 to SI and returns a frozen :class:`Parameters`. Both the analytic and the
 Pinocchio model read this one object, so a change in the file changes both.
+The objects are :mod:`hipsim.machine.parameter_set`'s, the layout
+:mod:`hipsim.machine.schema`'s; :mod:`hipsim.machine.toml_writer` writes a file back.
 
 Example:
     >>> import hipsim
@@ -18,10 +20,7 @@ from __future__ import annotations
 import codecs
 import dataclasses
 import difflib
-import math
 import tomllib
-from dataclasses import dataclass
-from functools import cached_property
 from importlib import resources
 from pathlib import Path
 from types import MappingProxyType
@@ -29,10 +28,12 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from ..arrays import readonly
 from ..exceptions import ParameterError
+from .parameter_set import ControlSettings, Friction, Parameters, slender_levers
+from .schema import OPTIONAL_SECTIONS, SCHEMA, Key
 
 __all__ = [
+    "ATTRIBUTES",
     "ControlSettings",
     "Friction",
     "Parameters",
@@ -48,273 +49,6 @@ __all__ = [
     "read_toml",
     "slender_levers",
 ]
-
-_MM = 1e-3
-_KGMM2 = 1e-6
-_NMM = 1e-3
-_DEG = math.pi / 180.0
-
-
-@dataclass(frozen=True)
-class _Key:
-    """One entry of the parameter file: its shape, SI scale, bound and meaning."""
-
-    kind: str  # "float", "vector", "inertia", "signs", "bool"
-    scale: float = 1.0
-    bound: str = "none"  # "positive", "nonnegative", "none"
-    length: int = 0  # for vectors
-    unit: str = ""
-    meaning: str = ""
-    finite: bool = True  # False to allow inf (e.g. "no limit")
-    # Largest magnitude, in the file's unit: far beyond any machine of this kind, so
-    # only a typo or a unit slip reaches it, and the physics never meets overflow.
-    limit: float = 1e9
-    # The value of a key that files may leave out (keys added after files were
-    # written, so that those files still load); None: the key is required.
-    default: Any = None
-
-
-#: Every section and key the parameter file must contain, with its SI scale and bound.
-SCHEMA: dict[str, dict[str, _Key]] = {
-    "environment": {
-        "gravity_m_s2": _Key("float", 1.0, "nonnegative", unit="m/s²", meaning="gravity g along -Z"),
-    },
-    "base": {
-        "screw_radius_mm": _Key("float", _MM, "positive", unit="mm", meaning="E, screw axes radius"),
-        "screw_angles_deg": _Key("vector", _DEG, "none", 3, "deg", "θ_i, screw base angles", limit=360.0),
-    },
-    "platform": {
-        "joint_radius_mm": _Key("float", _MM, "positive", unit="mm", meaning="e, platform joint radius"),
-        "home_offset_deg": _Key("float", _DEG, "none", unit="deg", meaning="δ, platform joint offset", limit=360.0),
-        "heights_mm": _Key("vector", _MM, "positive", 2, "mm", "h_1, h_2, platform centre heights"),
-        "mass_kg": _Key("float", 1.0, "nonnegative", unit="kg", meaning="m_m, platform mass (estimate)"),
-        "inertia_kgmm2": _Key("inertia", _KGMM2, unit="kg·mm²", meaning="I_m, platform inertia"),
-    },
-    "lever": {
-        "length_mm": _Key("float", _MM, "positive", unit="mm", meaning="l, lever length"),
-        "mass_kg": _Key("float", 1.0, "nonnegative", unit="kg", meaning="m_l, lever mass"),
-        "inertia_kgmm2": _Key("inertia", _KGMM2, unit="kg·mm²", meaning="I_l, lever inertia"),
-    },
-    "slider": {
-        "mass_kg": _Key("float", 1.0, "nonnegative", unit="kg", meaning="m_L, slider mass"),
-    },
-    "screw": {
-        "lead_mm": _Key("float", _MM, "positive", unit="mm", meaning="p, screw lead"),
-        "inertia_kgmm2": _Key("float", _KGMM2, "nonnegative", unit="kg·mm²", meaning="I_L, screw inertia"),
-    },
-    "friction": {
-        "epsilon_rad_s": _Key("float", 1.0, "positive", unit="rad/s", meaning="ε of the smooth sign"),
-        "hip_radius_mm": _Key("float", _MM, "nonnegative", unit="mm", meaning="r_h"),
-        "hip_mu": _Key("float", 1.0, "nonnegative", meaning="μ_h"),
-        "thrust_radius_mm": _Key("float", _MM, "nonnegative", unit="mm", meaning="r_t"),
-        "thrust_mu": _Key("float", 1.0, "nonnegative", meaning="μ_t"),
-        "screw_coulomb_Nmm": _Key("float", _NMM, "nonnegative", unit="N·mm", meaning="screw Coulomb torque"),
-        "screw_viscous_Nmm_s_rad": _Key("float", _NMM, "nonnegative", unit="N·mm·s/rad", meaning="screw viscous"),
-        "guide_coulomb_N": _Key("float", 1.0, "nonnegative", unit="N", meaning="slider guide Coulomb force"),
-        "guide_viscous_N_s_mm": _Key("float", 1.0 / _MM, "nonnegative", unit="N·s/mm", meaning="guide viscous"),
-        "ujoint_coulomb_Nmm": _Key("float", _NMM, "nonnegative", unit="N·mm", meaning="U-joint Coulomb moment"),
-        "ujoint_viscous_Nmm_s_rad": _Key("float", _NMM, "nonnegative", unit="N·mm·s/rad", meaning="U-joint viscous"),
-        "sjoint_coulomb_Nmm": _Key("float", _NMM, "nonnegative", unit="N·mm", meaning="S-joint Coulomb moment"),
-        "sjoint_viscous_Nmm_s_rad": _Key("float", _NMM, "nonnegative", unit="N·mm·s/rad", meaning="S-joint viscous"),
-        "thrust_bearing_axial_only": _Key(
-            "bool", meaning="thrust bearing resists only rotation about the platform's z axis (false: along ω)", default=False
-        ),
-    },
-    "convention": {
-        "angle_signs": _Key("signs", 1.0, "none", 3, meaning="sign flips of α, β, γ"),
-    },
-    "control": {
-        "servo_rate_Hz": _Key("float", 1.0, "positive", unit="Hz", meaning="servo (controller) rate"),
-        "integration_step_ms": _Key("float", 1e-3, "positive", unit="ms", meaning="plant integration step (RK4)"),
-        "kp_Nm_rad": _Key("vector", 1.0, "nonnegative", 3, "N·m/rad", "K_p, platform moment per orientation error"),
-        "kd_Nm_s_rad": _Key("vector", 1.0, "nonnegative", 3, "N·m·s/rad", "K_d, platform moment per rate error"),
-        "torque_limit_Nmm": _Key("float", _NMM, "positive", unit="N·mm", meaning="motor torque limit (inf: none)", finite=False),
-    },
-    # Optional: the motor and linear module to check a design against (hipsim report).
-    "motor": {
-        "rated_torque_Nmm": _Key("float", 1.0, "positive", unit="N·mm", meaning="rated (continuous) motor torque, vs RMS"),
-        "peak_torque_Nmm": _Key("float", 1.0, "positive", unit="N·mm", meaning="peak motor torque"),
-        "max_speed_rpm": _Key("float", 1.0, "positive", unit="rpm", meaning="maximum motor speed"),
-        "stroke_mm": _Key("float", 1.0, "positive", unit="mm", meaning="usable stroke of the linear module"),
-        "axial_force_N": _Key("float", 1.0, "positive", unit="N", meaning="permissible axial screw load"),
-    },
-}
-
-#: Sections whose keys may each be left out (their values are kept in the file's units).
-OPTIONAL_SECTIONS = {"motor"}
-
-
-
-
-@dataclass(frozen=True, eq=False)
-class Friction:
-    """Friction coefficients, SI. Coulomb terms use the smooth sign ŝ(w) = w/√(w² + ε²).
-
-    Attributes:
-        epsilon: ε of the smooth sign in [rad/s] (slider guides use it on the motor speed).
-        hip_radius: r_h in [m]; hip_mu: μ_h.
-        thrust_radius: r_t in [m]; thrust_mu: μ_t.
-        screw_coulomb: [N·m]; screw_viscous: [N·m·s/rad], on the motor shaft.
-        guide_coulomb: [N]; guide_viscous: [N·s/m], on each slider.
-        ujoint_coulomb: [N·m]; ujoint_viscous: [N·m·s/rad], lever relative to slider.
-        sjoint_coulomb: [N·m]; sjoint_viscous: [N·m·s/rad], lever relative to platform.
-        thrust_bearing_axial_only: False for the publication's central-chain
-            friction (the thrust bearing's moment along ŝ(ω), like the hip
-            joint's); True for a bearing that resists only rotation about its
-            own axis, the platform's z axis (:func:`hipsim.physics.laws.central_friction_moment`).
-    """
-
-    epsilon: float
-    hip_radius: float
-    hip_mu: float
-    thrust_radius: float
-    thrust_mu: float
-    screw_coulomb: float
-    screw_viscous: float
-    guide_coulomb: float
-    guide_viscous: float
-    ujoint_coulomb: float
-    ujoint_viscous: float
-    sjoint_coulomb: float
-    sjoint_viscous: float
-    thrust_bearing_axial_only: bool = False
-
-
-@dataclass(frozen=True, eq=False)
-class ControlSettings:
-    """Servo loop settings (spec §8), SI.
-
-    Attributes:
-        servo_rate: controller rate in [Hz].
-        integration_step: plant integration step in [s], at most one servo period.
-        kp: K_p per angle α, β, γ in [N·m/rad], shape (3,).
-        kd: K_d per angle in [N·m·s/rad], shape (3,).
-        torque_limit: motor torque limit in [N·m]; inf for none.
-    """
-
-    servo_rate: float
-    integration_step: float
-    kp: np.ndarray
-    kd: np.ndarray
-    torque_limit: float
-
-    def __post_init__(self):
-        for name in ("kp", "kd"):
-            value = readonly(np.asarray(getattr(self, name), dtype=float))
-            if value.shape != (3,):
-                raise ParameterError(f"expected shape (3,), got {value.shape}", key=f"control.{name}", value=value)
-            object.__setattr__(self, name, value)
-
-
-@dataclass(frozen=True, eq=False)
-class Parameters:
-    """The machine, in SI units. Build it with :func:`load_parameters`.
-
-    Attributes:
-        gravity: g in [m/s²], along -Z.
-        screw_radius: E in [m].
-        screw_angles: θ_i in [rad], shape (3,).
-        joint_radius: e in [m].
-        home_offset: δ in [rad].
-        heights: h_1, h_2 in [m], shape (2,).
-        platform_mass: m_m in [kg] (not published; an estimate by default).
-        platform_inertia: I_m about o_j in platform axes in [kg·m²], shape (3, 3).
-        lever_length: l in [m].
-        lever_mass: m_l in [kg].
-        lever_inertia: I_l about its centre in lever axes in [kg·m²], shape (3, 3).
-        slider_mass: m_L in [kg].
-        lead: p in [m] per motor turn.
-        screw_inertia: I_L in [kg·m²].
-        friction: the :class:`Friction` coefficients.
-        angle_signs: ±1 per angle α, β, γ, shape (3,).
-        control: the :class:`ControlSettings` (servo rate, gains, limits).
-        motor: the optional motor and module ratings, by key of the file's
-            ``[motor]`` table, in its units (N·mm, rpm, mm, N); empty if none.
-        source: where the values came from (file and overrides).
-    """
-
-    gravity: float
-    screw_radius: float
-    screw_angles: np.ndarray
-    joint_radius: float
-    home_offset: float
-    heights: np.ndarray
-    platform_mass: float
-    platform_inertia: np.ndarray
-    lever_length: float
-    lever_mass: float
-    lever_inertia: np.ndarray
-    slider_mass: float
-    lead: float
-    screw_inertia: float
-    friction: Friction
-    angle_signs: np.ndarray
-    control: "ControlSettings"
-    motor: Mapping[str, float] = dataclasses.field(default_factory=lambda: MappingProxyType({}))
-    source: str = "<built in>"
-
-    def __post_init__(self):
-        for name, shape in (
-            ("screw_angles", (3,)),
-            ("heights", (2,)),
-            ("platform_inertia", (3, 3)),
-            ("lever_inertia", (3, 3)),
-            ("angle_signs", (3,)),
-        ):
-            value = readonly(np.asarray(getattr(self, name), dtype=float))
-            if value.shape != shape:
-                raise ParameterError(f"expected shape {shape}, got {value.shape}", key=name, value=value)
-            object.__setattr__(self, name, value)
-
-    @cached_property
-    def platform_angles(self) -> np.ndarray:
-        """φ_i = θ_i + δ in [rad], shape (3,)."""
-        return readonly(self.screw_angles + self.home_offset)
-
-    @cached_property
-    def screw_points(self) -> np.ndarray:
-        """c_i, the screw feet on the base plane in [m], shape (3, 3) (row i = c_i)."""
-        th = self.screw_angles
-        return readonly(self.screw_radius * np.stack([np.cos(th), np.sin(th), np.zeros(3)], axis=1))
-
-    @cached_property
-    def platform_points(self) -> np.ndarray:
-        """r⁰_i, the platform joints in platform axes in [m], shape (3, 3) (row i = r⁰_i)."""
-        ph = self.platform_angles
-        return readonly(self.joint_radius * np.stack([np.cos(ph), np.sin(ph), np.zeros(3)], axis=1))
-
-    @cached_property
-    def ujoint_axes(self) -> np.ndarray:
-        """u1_i = ẑ × c_i/|c_i|, the universal joints' first (slider-fixed) axes, shape (3, 3)."""
-        th = self.screw_angles
-        return readonly(np.stack([-np.sin(th), np.cos(th), np.zeros(3)], axis=1))
-
-    def replace(self, **changes) -> "Parameters":
-        """A copy with some attributes changed, e.g. ``params.replace(lever_mass=0.0)``."""
-        if "friction" not in changes:
-            friction_changes = {k: changes.pop(k) for k in list(changes) if k in _FRICTION_FIELDS}
-            if friction_changes:
-                changes["friction"] = dataclasses.replace(self.friction, **friction_changes)
-        if "control" not in changes:
-            control_changes = {k: changes.pop(k) for k in list(changes) if k in _CONTROL_FIELDS}
-            if control_changes:
-                changes["control"] = dataclasses.replace(self.control, **control_changes)
-        return dataclasses.replace(self, **changes)
-
-
-_FRICTION_FIELDS = {f.name for f in dataclasses.fields(Friction)}
-_CONTROL_FIELDS = {f.name for f in dataclasses.fields(ControlSettings)}
-
-
-def slender_levers(params: Parameters) -> Parameters:
-    """The cross-check configuration of spec §7.4: each lever a slender rod.
-
-    I_l becomes diag(I_t, I_t, 0), I_t the mean of the two transverse values, so
-    that the lever's spin about its own axis carries no energy.
-    """
-    inertia = params.lever_inertia
-    transverse = 0.5 * (inertia[0, 0] + inertia[1, 1])
-    return params.replace(lever_inertia=np.diag([transverse, transverse, 0.0]))
 
 
 def default_parameters_path() -> Path:
@@ -448,7 +182,7 @@ def override_parameters(params: Parameters, overrides: Mapping[str, Any], overri
         ParameterError: as :func:`load_parameters`, naming the key.
     """
     values: dict[str, Any] = {}
-    for dotted, attribute in _ATTRIBUTES.items():
+    for dotted, attribute in ATTRIBUTES.items():
         value = params
         for part in attribute.split("."):
             value = getattr(value, part)
@@ -498,7 +232,7 @@ def _is_number(value) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
-def _convert(value, spec: _Key, key: str, source: str):
+def _convert(value, spec: Key, key: str, source: str):
     def fail(message):
         raise ParameterError(message, key=key, value=value, source=source)
 
@@ -559,8 +293,8 @@ def _inertia_matrix(value, fail) -> np.ndarray:
     return matrix
 
 
-#: Where each file entry lands in :class:`Parameters` (dotted attribute path).
-_ATTRIBUTES = {
+#: Where each file entry lands in :class:`Parameters`: dotted file key → dotted attribute path (``friction.hip_mu``).
+ATTRIBUTES = {
     "environment.gravity_m_s2": "gravity",
     "base.screw_radius_mm": "screw_radius",
     "base.screw_angles_deg": "screw_angles",
@@ -583,7 +317,7 @@ _ATTRIBUTES = {
 
 def _build(values: Mapping[str, Any], source: str) -> Parameters:
     def group(section):
-        return {_ATTRIBUTES[k].split(".")[1]: v for k, v in values.items() if k.startswith(section + ".")}
+        return {ATTRIBUTES[k].split(".")[1]: v for k, v in values.items() if k.startswith(section + ".")}
 
     friction = Friction(**group("friction"))
     control = ControlSettings(**group("control"))
@@ -593,7 +327,7 @@ def _build(values: Mapping[str, Any], source: str) -> Parameters:
             f"{1e3 / control.servo_rate:g} ms; the plant must be integrated at least as finely as the servo runs",
             key="control.integration_step_ms", value=control.integration_step, source=source,
         )
-    fields = {_ATTRIBUTES[k]: v for k, v in values.items() if k in _ATTRIBUTES and "." not in _ATTRIBUTES[k]}
+    fields = {ATTRIBUTES[k]: v for k, v in values.items() if k in ATTRIBUTES and "." not in ATTRIBUTES[k]}
     motor = MappingProxyType({k.split(".", 1)[1]: v for k, v in values.items() if k.startswith("motor.")})
     params = Parameters(**fields, friction=friction, control=control, motor=motor, source=source)
     _check_geometry(params, source)
@@ -646,7 +380,7 @@ def file_values(params: Parameters) -> dict[str, Any]:
                     out[dotted] = params.motor[key]
                 continue
             value = params
-            for part in _ATTRIBUTES[dotted].split("."):
+            for part in ATTRIBUTES[dotted].split("."):
                 value = getattr(value, part)
             if spec.kind == "bool":
                 out[dotted] = bool(value)

@@ -1,9 +1,8 @@
-"""The model against the rig: measured logs in machine terms, and the model's torques along them.
+"""The model against the rig: the model's torques along a rig log, beside the measured ones.
 
-:func:`load_log` reads a rig log (:mod:`hipsim.rig.logs`), turns
-encoder heights into platform angles with the forward kinematics (checking
-them against the attitude sensor when the log has both), low-passes and
-differentiates the motion, and low-passes the torques and the load alike.
+The logs are :mod:`hipsim.rig.logs`' (:func:`~hipsim.rig.logs.load_log` reads
+one whole, :class:`~hipsim.rig.logs.LogPieces` in pieces); a comparison goes
+through a log's windows, so it takes either.
 
 :func:`compare` runs the analytic model along the logged motion and load and
 sets its torques (total and parts) beside the measured ones, per motor: RMS
@@ -21,295 +20,35 @@ spin-free levers.
 from __future__ import annotations
 
 import math
-import tempfile
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ..analytic.engine import AnalyticModel
-from ..analytic.forward_kinematics import forward_kinematics
-from ..analytic.inverse_kinematics import slider_heights
-from ..exceptions import ArgumentError, PoseError, TrajectoryError
-from ..machine.parameters import Parameters, load_parameters
-from .logs import (
-    DEFAULT_CUTOFF,
-    MeasuredLog,
-    RigLogFile,
-    edge_samples,
-    filter_halo,
-    lowpass,
-    minimum_samples,
-    smooth_motion,
-)
-from ..motion.trajectories import ANGLE_NAMES
+from ..machine.parameters import Parameters
 from ..results import ExactSum, Run, Torques
+from .filtering import REVERSAL_PERIODS, lowpass
+from .logs import Log, LogInfo, MeasuredLog
+from .logs import DEFAULT_TOLERANCE_DEG, LogPieces, load_log  # noqa: F401 - hipsim.cli imports them from here
+from .reversals import reversal_mask
 
 __all__ = [
-    "DEFAULT_TOLERANCE_DEG",
-    "PIECE",
+    "FIGURE_SAMPLES",
+    "PERIOD_SAMPLES",
     "REVERSAL_PERIODS",
     "Comparison",
-    "LogInfo",
-    "LogPieces",
     "compare",
     "compare_log",
     "detect_period",
-    "load_log",
     "model_torques",
     "reversal_mask",
 ]
 
-#: Largest disagreement in [deg] allowed between the attitude sensor and the encoders' forward kinematics.
-DEFAULT_TOLERANCE_DEG = 0.5
-#: Half-width of the window around each motor's reversal, in periods of the low-pass cutoff (see :func:`reversal_mask`).
-REVERSAL_PERIODS = 1.5
-#: Samples per piece of a log compared in pieces (:class:`LogPieces`): some 70 MB of the model's working arrays.
-PIECE = 20_000
-#: How much an interpolating quintic spline's response to one sample shrinks per sample (its B-spline's root of largest modulus < 1).
-SPLINE_DECAY = 0.4305753470999737
-#: Samples beyond which that response is below round-off twice over (2⁻¹⁰⁶): a piece's spline reaches this far. Twice,
-#: because a piece's end condition errs by as much as the second derivative of noisy samples, many times the angles.
-SPLINE_HALO = int(math.ceil(106 * math.log(2) / -math.log(SPLINE_DECAY))) + 4
 #: Most samples the period is detected from (:func:`detect_period`); a longer log's angles are taken every k-th sample.
 PERIOD_SAMPLES = 1 << 18
 #: Most samples a comparison in pieces keeps for its figures (every k-th; the statistics use every sample).
 FIGURE_SAMPLES = 20_000
-
-
-def load_log(
-    path: str | Path,
-    params: Parameters | None = None,
-    torque_constant: float | None = None,
-    cutoff: float | None = DEFAULT_CUTOFF,
-    tolerance_deg: float = DEFAULT_TOLERANCE_DEG,
-) -> MeasuredLog:
-    """Read a rig log and make it ready for the models.
-
-    Args:
-        path: the CSV log (columns in :mod:`hipsim.rig.logs`).
-        params: the machine (for the encoders' forward kinematics); None for the published one.
-        torque_constant: the motors' torque constant in [N·m/A], for logs of motor currents.
-        cutoff: low-pass cutoff in [Hz] for motion, load and torques; None for
-            none (signals already clean: the angles are then only splined).
-        tolerance_deg: largest disagreement in [deg] between the attitude
-            sensor's angles and the encoders' when the log has both (the
-            encoders are used; beyond this the log is refused).
-
-    Returns:
-        The log, filtered and differentiated; its first and last
-        :func:`~hipsim.rig.logs.edge_samples` samples are marked as the filter's edges.
-
-    Raises:
-        TrajectoryError: naming the file, line and column: the reader's
-            errors, encoder heights no pose reaches, a disagreement of the two
-            motion sources, a log too short to filter.
-    """
-    with LogPieces(path, params, torque_constant, cutoff, tolerance_deg) as pieces:
-        return pieces.whole()
-
-
-class LogPieces:
-    """A rig log in overlapping pieces, each made ready for the models as :func:`load_log` makes the whole.
-
-    The file is scanned once (:class:`~hipsim.rig.logs.RigLogFile`:
-    every check, the times kept); encoder heights are turned into angles piece
-    by piece, each piece continuing from the last pose of the one before, and
-    the attitude sensor checked against them. :meth:`windows` then hands out
-    the log a piece (``piece`` samples) at a time with :attr:`halo` samples of
-    the log on either side: the low-pass, the spline, the model's low-pass and
-    the reversal windows of a piece so see the log around it as the whole log
-    does. The halo is two of the filter's transients
-    (:func:`~hipsim.rig.logs.filter_halo`: its impulse response below
-    round-off), the quintic spline's reach (its influence shrinks by
-    :data:`SPLINE_DECAY` a sample) and a reversal window: the pieces then give
-    the whole log's values to round-off (the forward kinematics, started from
-    another pose, and the filters, started in another state, round differently
-    in the last digits).
-
-    Args:
-        path, params, torque_constant, cutoff, tolerance_deg: as :func:`load_log`.
-        piece: samples per piece (at least what the filter needs).
-
-    Raises:
-        TrajectoryError: as :func:`load_log`.
-    """
-
-    def __init__(
-        self,
-        path: str | Path,
-        params: Parameters | None = None,
-        torque_constant: float | None = None,
-        cutoff: float | None = DEFAULT_CUTOFF,
-        tolerance_deg: float = DEFAULT_TOLERANCE_DEG,
-        piece: int = PIECE,
-    ):
-        if isinstance(piece, bool) or not isinstance(piece, int) or piece < 1:
-            raise ArgumentError("piece", piece, "a positive number of samples")
-        self.params = params if params is not None else load_parameters()
-        self.raw = raw = RigLogFile(path, torque_constant, block=max(piece, 1000))  # the scan's blocks no larger than a piece
-        self.name, self.rate, self.cutoff, self.source = Path(raw.source).name, raw.rate, cutoff, raw.source
-        notes = []
-        if raw.ignored:
-            notes.append(f"columns not used: {', '.join(raw.ignored)}")
-        if raw.torque_from == "currents":
-            notes.append(f"torques from the motor currents × {torque_constant:g} N·m/A")
-        elif torque_constant is not None:
-            notes.append("the log gives torques: the torque constant was not needed")
-        n = len(raw)
-        if cutoff is None:
-            self.edge, self.halo, smallest = 0, SPLINE_HALO, 6
-        else:
-            lowpass(raw.t, self.rate, cutoff, raw.source)  # refuses a log too short to filter, before any work
-            self.edge = edge_samples(self.rate, cutoff)
-            self.halo = 2 * filter_halo(self.rate, cutoff) + SPLINE_HALO + _reversal_half(self.rate, cutoff) + 2
-            smallest = minimum_samples(self.rate, cutoff)
-        self.piece = max(piece, smallest)
-        self._q = None
-        if raw.has_heights:
-            self.motion_from = "encoders"
-            self._q = tempfile.TemporaryFile()
-            worst = first = None  # (difference in deg, sample, angle) at worst and first beyond the tolerance
-            q0 = None
-            for a, b in self._cores():
-                part = raw.piece(a, b)
-                start = (part.angles[0] if part.angles is not None else None) if q0 is None else q0
-                try:
-                    q = forward_kinematics(self.params, part.heights, part.t, q0=start)
-                except PoseError as error:
-                    raise TrajectoryError(f"encoder heights L_11_mm … at {error}", source=raw.source, line=int(part.lines[error.index])) from None
-                q0 = q[-1]
-                np.ascontiguousarray(q).tofile(self._q)
-                if part.angles is not None:
-                    difference = np.degrees(np.abs(q - part.angles))
-                    k, j = np.unravel_index(np.argmax(difference), difference.shape)
-                    if worst is None or difference[k, j] > worst[0]:
-                        worst = (float(difference[k, j]), a + int(k), int(j))
-                    beyond = np.argwhere(difference > tolerance_deg)
-                    if first is None and beyond.size:
-                        k, j = beyond[0]
-                        first = (float(difference[k, j]), a + int(k), int(j))
-            if first is not None:
-                raise TrajectoryError(
-                    f"the attitude sensor and the encoders disagree by {first[0]:.3g}° in {ANGLE_NAMES[first[2]]} "
-                    f"(tolerance {tolerance_deg:g}°; {worst[0]:.3g}° at worst, line {int(raw.lines[worst[1]])}): "
-                    "check the sensor's mounting, zero and sign conventions, or the machine's parameters",
-                    source=raw.source, line=int(raw.lines[first[1]]), column=f"{ANGLE_NAMES[first[2]]}_{raw.angle_unit}",
-                )
-            if worst is not None:
-                notes.append(f"encoders used; the attitude sensor agrees within {worst[0]:.3g}° (tolerance {tolerance_deg:g}°)")
-        else:
-            self.motion_from = "angles"
-        if cutoff is not None:
-            notes.append(f"low-passed at {cutoff:g} Hz (zero-phase Butterworth); the first and last {self.edge / self.rate:.3g} s are the filter's edges")
-        self.notes = tuple(notes)
-
-    def __len__(self) -> int:
-        return len(self.raw)
-
-    def __enter__(self) -> "LogPieces":
-        return self
-
-    def __exit__(self, *exc) -> None:
-        self.close()
-
-    def close(self) -> None:
-        """Drop the temporary stores."""
-        self.raw.close()
-        if self._q is not None:
-            self._q.close()
-
-    @property
-    def usable(self) -> slice:
-        """The samples between the filter's edges."""
-        return slice(self.edge, len(self) - self.edge)
-
-    def _cores(self):
-        n = len(self)
-        for a in range(0, n, self.piece):
-            yield a, min(a + self.piece, n)
-
-    def _angles(self, lo: int, hi: int) -> np.ndarray:
-        if self._q is None:
-            return self.raw.piece(lo, hi).angles
-        self._q.seek(lo * 24)
-        return np.fromfile(self._q, dtype=float, count=3 * (hi - lo)).reshape(-1, 3)
-
-    def _window(self, lo: int, hi: int, edge: int) -> MeasuredLog:
-        raw = self.raw.piece(lo, hi)
-        trajectory = smooth_motion(raw.t, self._angles(lo, hi), raw.Fe, self.cutoff, self.name, rate=self.rate)
-        tau = raw.tau if self.cutoff is None else lowpass(raw.tau, self.rate, self.cutoff, self.source)
-        return MeasuredLog(trajectory, tau, self.cutoff, self.name, self.motion_from, self.notes, raw.lines, edge, self.rate)
-
-    def whole(self) -> MeasuredLog:
-        """The whole log at once: what :func:`load_log` returns."""
-        return self._window(0, len(self), self.edge)
-
-    def windows(self):
-        """The log in pieces.
-
-        Yields:
-            (window, core, start): a piece with its halo as a :class:`MeasuredLog` (no edges),
-            the piece's samples in it (a slice), and the log's index of the piece's first sample.
-        """
-        n = len(self)
-        for a, b in self._cores():
-            lo, hi = max(0, a - self.halo), min(n, b + self.halo)
-            yield self._window(lo, hi, 0), slice(a - lo, b - lo), a
-
-    def filtered_angles(self, most: int) -> tuple[np.ndarray, np.ndarray]:
-        """Times in [s] and low-passed angles in [rad] of the usable samples, every k-th so that at most ``most`` are kept."""
-        first, stop = self.usable.start, self.usable.stop
-        stride = max(1, -(-(stop - first) // most))
-        times, angles = [], []
-        n = len(self)
-        for a, b in self._cores():
-            lo, hi = max(0, a - self.halo), min(n, b + self.halo)
-            q = self._angles(lo, hi)
-            if self.cutoff is not None:
-                q = lowpass(q, self.rate, self.cutoff, self.source)
-            start = max(a, first)
-            start += (first - start) % stride
-            keep = np.arange(start, min(b, stop), stride)
-            times.append(self.raw.t[keep])
-            angles.append(q[keep - lo])
-        return np.concatenate(times), np.concatenate(angles)
-
-
-def _reversal_half(rate: float, cutoff: float) -> int:
-    """Half-width in samples of the window around a reversal."""
-    return int(math.ceil(REVERSAL_PERIODS * rate / cutoff))
-
-
-def reversal_mask(params: Parameters, log: MeasuredLog) -> np.ndarray:
-    """Samples near a reversal of each motor, (N, 3) bool.
-
-    Where a slider reverses, its Coulomb friction flips, and the real motion
-    sticks for a few milliseconds while the servo builds up the torque to
-    move on; the low-passed motion runs smoothly through it, so the model
-    along that motion cannot reproduce the torque there: the filtered
-    torques differ by a short doublet around the reversal. A fit leaves these
-    samples out of that motor's rows, and a comparison reports its errors
-    with and without them. The window is :data:`REVERSAL_PERIODS` periods of
-    the cutoff on either side of each sign change of the slider speed; an
-    unfiltered log has none.
-    """
-    n = len(log)
-    mask = np.zeros((n, 3), dtype=bool)
-    if log.cutoff is None:
-        return mask
-    with np.errstate(invalid="ignore"):
-        speed = np.gradient(slider_heights(params, log.trajectory.q * params.angle_signs)[:, 0, :], axis=0)
-    half = _reversal_half(log.rate, log.cutoff)
-    for i in range(3):
-        crossings = np.flatnonzero(np.sign(speed[1:, i]) != np.sign(speed[:-1, i]))
-        if crossings.size:
-            marks = np.zeros(n + 1, dtype=int)
-            np.add.at(marks, np.maximum(crossings - half, 0), 1)
-            np.add.at(marks, np.minimum(crossings + half + 2, n), -1)
-            mask[:, i] = np.cumsum(marks)[:n] > 0
-    return mask
 
 
 def model_torques(params: Parameters, log: MeasuredLog, lever_spin: bool = True) -> tuple[Run, dict[str, np.ndarray]]:
@@ -463,36 +202,16 @@ class _ErrorSums:
         return statistics, phase_rms
 
 
-@dataclass(frozen=True)
-class LogInfo:
-    """What a comparison reports of its log when the log was compared in pieces (a :class:`MeasuredLog`'s description).
-
-    Attributes:
-        name: the log's name (its file).
-        rate: sample rate in [Hz].
-        cutoff: the low-pass cutoff in [Hz], or None.
-        motion_from: "angles" or "encoders".
-        notes: how the log was read.
-    """
-
-    name: str
-    rate: float
-    cutoff: float | None
-    motion_from: str
-    notes: tuple[str, ...]
-
-
 @dataclass(frozen=True, eq=False)
 class Comparison:
     """The model's torques along a log, beside the measured ones (usable samples only).
 
     The statistics (:meth:`motor_errors`, :meth:`summary`, ``phase_rms``) are
     over every usable sample; the arrays are the samples kept for the figures:
-    all of a log compared whole (:func:`compare`), every k-th of one compared
-    in pieces (:func:`compare_log`).
+    all of them (:func:`compare`), or every k-th (:func:`compare_log`).
 
     Attributes:
-        log: the log (its description, :class:`LogInfo`, when compared in pieces).
+        log: the log's description (:meth:`hipsim.rig.logs.Log.info`).
         params: the machine the model ran with.
         lever_spin: whether the model's levers spin as their universal joints impose.
         t: sample times in [s], (N,).
@@ -506,7 +225,7 @@ class Comparison:
         statistics: the error statistics over every usable sample (``motors``, ``parts``, ``cond_inv_min``, ``samples``).
     """
 
-    log: MeasuredLog | LogInfo
+    log: LogInfo
     params: Parameters
     lever_spin: bool
     t: np.ndarray
@@ -595,21 +314,32 @@ def _gather(params: Parameters, windows, lever_spin: bool, period: float | None,
 
 def compare(
     params: Parameters,
-    log: MeasuredLog,
+    log: Log,
     lever_spin: bool = True,
     period: float | None = None,
     phase_bins: int = 10,
+    figure_samples: int | None = None,
+    period_samples: int | None = None,
+    progress=None,
 ) -> Comparison:
     """The analytic model's torques along a log against the measured ones.
 
+    The log goes window by window (:meth:`hipsim.rig.logs.Log.windows`): a log
+    read in pieces gives the statistics of the whole log to round-off (see
+    :class:`~hipsim.rig.logs.LogPieces`), in constant memory.
+
     Args:
         params: the machine.
-        log: the log (:func:`load_log`).
+        log: the log (:func:`~hipsim.rig.logs.load_log`, :class:`~hipsim.rig.logs.LogPieces`, or built from arrays).
         lever_spin: give the levers the universal joints' spin (the real
             joints' physics); False for the spec's spin-free levers.
-        period: the log's period in [s]; None to detect it from the angles
-            (:func:`detect_period`); 0 for none.
+        period: the log's period in [s]; None to detect it from the filtered
+            angles (:func:`detect_period`); 0 for none.
         phase_bins: bins of the cycle for the error per phase.
+        figure_samples: most samples kept for the figures (every k-th usable sample); None for all.
+        period_samples: most samples the period is detected from (every k-th, so a
+            very long log's period is found to a fraction of k samples rather than of one); None for all.
+        progress: called with (samples done, samples in all) after each window.
 
     Returns:
         The comparison over the log's usable samples.
@@ -617,53 +347,17 @@ def compare(
     Raises:
         PoseError: a logged pose out of reach or singular, naming its time.
     """
-    keep = log.usable
-    t = log.t[keep]
-    period = _period(period, t, log.trajectory.q[keep] if period is None else None, t[0], t[-1])
-    arrays, model, statistics, edges, phase_rms = _gather(params, [(log, keep, 0)], lever_spin, period, t[0], phase_bins, 1)
-    return Comparison(log, params, lever_spin, arrays["t"], arrays["measured"], model, arrays["cond_inv"], arrays["near"],
-                      period, edges, phase_rms, statistics)
-
-
-def compare_log(
-    params: Parameters,
-    pieces: LogPieces,
-    lever_spin: bool = True,
-    period: float | None = None,
-    phase_bins: int = 10,
-    figure_samples: int = FIGURE_SAMPLES,
-    progress=None,
-) -> Comparison:
-    """:func:`compare` of a log of any length in constant memory: the log in pieces (:class:`LogPieces`).
-
-    The statistics are :func:`compare`'s of the whole log to round-off (see
-    :class:`LogPieces`); the arrays kept for the figures are every k-th usable
-    sample, at most ``figure_samples``. The period, when detected, comes from
-    the filtered angles (every k-th when the log has more than
-    :data:`PERIOD_SAMPLES` usable samples, so a very long log's period is
-    found to a fraction of k samples rather than of one).
-
-    Args:
-        params: the machine.
-        pieces: the log.
-        lever_spin, period, phase_bins: as :func:`compare`.
-        figure_samples: most samples kept for the figures.
-        progress: called with (samples done, samples in all) after each piece.
-
-    Raises:
-        PoseError: a logged pose out of reach or singular, naming its time.
-    """
-    first, stop = pieces.usable.start, pieces.usable.stop
-    t = pieces.raw.t
+    first, stop = log.usable.start, log.usable.stop
+    t = log.t
     if period is None:
-        period = _period(None, *pieces.filtered_angles(PERIOD_SAMPLES), t[first], t[stop - 1])
+        period = _period(None, *log.filtered_angles(period_samples), t[first], t[stop - 1])
     else:
         period = _period(period, t, None, t[first], t[stop - 1])
-    stride = max(1, -(-(stop - first) // figure_samples))
+    stride = 1 if figure_samples is None else max(1, -(-(stop - first) // figure_samples))
 
     def windows():
-        n = len(pieces)
-        for window, core, start in pieces.windows():
+        n = len(log)
+        for window, core, start in log.windows():
             a, b = max(start, first), min(start + core.stop - core.start, stop)
             if a < b:
                 yield window, slice(core.start + a - start, core.start + b - start), a - first
@@ -671,6 +365,18 @@ def compare_log(
                 progress(start + core.stop - core.start, n)
 
     arrays, model, statistics, edges, phase_rms = _gather(params, windows(), lever_spin, period, t[first], phase_bins, stride)
-    info = LogInfo(pieces.name, pieces.rate, pieces.cutoff, pieces.motion_from, pieces.notes)
-    return Comparison(info, params, lever_spin, arrays["t"], arrays["measured"], model, arrays["cond_inv"], arrays["near"],
+    return Comparison(log.info(), params, lever_spin, arrays["t"], arrays["measured"], model, arrays["cond_inv"], arrays["near"],
                       period, edges, phase_rms, statistics)
+
+
+def compare_log(
+    params: Parameters,
+    log: Log,
+    lever_spin: bool = True,
+    period: float | None = None,
+    phase_bins: int = 10,
+    figure_samples: int = FIGURE_SAMPLES,
+    progress=None,
+) -> Comparison:
+    """:func:`compare` for a log of any length: at most ``figure_samples`` kept for the figures, the period from at most :data:`PERIOD_SAMPLES`."""
+    return compare(params, log, lever_spin, period, phase_bins, figure_samples, PERIOD_SAMPLES, progress)

@@ -1,132 +1,132 @@
-"""Measured logs from the rig: the reader, and the zero-phase low-pass that measured signals need.
+"""The rig log the models take: one type, handed out in windows, whether held in memory or read from its file in pieces.
 
-A rig log is a CSV file, read with the rules of trajectory files (header with
-units, evenly spaced ``t_s``, a clear error naming the file, line and column):
-
-- ``t_s`` and ``Fe_N`` (the measured load);
-- the motor torques ``tau_1_Nmm, tau_2_Nmm, tau_3_Nmm``, or the motor
-  currents ``current_1_A, current_2_A, current_3_A`` and the motors' torque
-  constant in N·m/A (torque = constant × current; with both, the torques are used);
-- the motion as the platform angles ``alpha_deg, beta_deg, gamma_deg`` (or
-  all three ``_rad``, as from an attitude sensor), or platform 1's slider
-  heights ``L_11_mm, L_12_mm, L_13_mm`` (the motor encoders), or both.
-
-Other columns (temperatures, set points …) are ignored and listed in
-:attr:`RigLog.ignored`. :func:`read_rig_log` returns the samples as they are,
-in SI units; turning encoder heights into angles needs the machine, so that
-is done a layer up (:func:`hipsim.rig.load_log`).
-
-Filtering. Measured signals are noisy and differentiating them twice
-amplifies the noise, so the motion is low-passed before it is differentiated:
-a Butterworth filter of order :data:`FILTER_ORDER` run forwards and backwards
-(SciPy's ``sosfiltfilt``: zero phase, so nothing is delayed, and the squared
-magnitude response of order 2·4) at ``cutoff`` Hz, :data:`DEFAULT_CUTOFF` by
-default: the ISO gait and the excitations of :mod:`hipsim.rig.excitation`
-have their content below ~6 Hz, so 20 Hz passes it unchanged (gain 1 − 3e-7
-at 6 Hz) while cutting the noise power of a 1 kHz log 25-fold. The filtered
-angles are then differentiated through an interpolating quintic spline, as
-trajectory files are. The same filter is applied to the torques and the load
-that a comparison or a fit uses, so that model and measurement see the same
-bandwidth. The first and last :func:`edge_samples` samples, where a
-forward-backward filter has no data on one side, are dropped.
+A :class:`Log` is motion with its derivatives, load and motor torques, filtered
+alike, and what a reader should know of it (its name, rate, cutoff, where the
+motion came from). Its samples come in windows (:meth:`Log.windows`): a log
+held in memory (:class:`MeasuredLog`, from arrays or :func:`load_log`) is its
+own one window; a log read from its file in pieces (:class:`LogPieces`, for
+logs of any length in constant memory) hands out overlapping windows that give
+the whole log's values to round-off. Comparisons and fits
+(:func:`hipsim.rig.compare`, :func:`hipsim.rig.identify`) go through the
+windows, so they take either without asking which.
 """
 
 from __future__ import annotations
 
-import difflib
-import io
 import math
 import tempfile
+from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
-from itertools import islice
 from pathlib import Path
+from typing import Iterator
 
 import numpy as np
-from scipy.interpolate import make_interp_spline
-from scipy.signal import butter, sosfilt, sosfiltfilt
 
+from ..analytic.forward_kinematics import forward_kinematics
 from ..arrays import check_shapes
-from ..exceptions import TrajectoryError
-from ..motion.build import MAX_LOAD, check_time
+from ..exceptions import ArgumentError, PoseError, TrajectoryError
+from ..machine.parameters import Parameters, load_parameters
 from ..motion.trajectories import ANGLE_NAMES, Trajectory
+from .filtering import DEFAULT_CUTOFF, edge_samples, filter_halo, lowpass, minimum_samples, reversal_half, smooth_motion
+from .reader import RigLogFile
 
 __all__ = [
     "DEFAULT_CUTOFF",
-    "FILTER_ORDER",
+    "DEFAULT_TOLERANCE_DEG",
+    "PIECE",
+    "Log",
+    "LogInfo",
+    "LogPieces",
     "MeasuredLog",
-    "RigLog",
-    "RigLogFile",
-    "edge_samples",
-    "filter_halo",
-    "lowpass",
-    "read_rig_log",
-    "smooth_motion",
+    "load_log",
 ]
 
-#: Default low-pass cutoff in [Hz] for measured motion and torques.
-DEFAULT_CUTOFF = 20.0
-#: Order of the Butterworth low-pass (run twice: forwards and backwards).
-FILTER_ORDER = 4
-#: Samples left out at each end of a filtered log, in periods of the cutoff: the
-#: forward-backward filter lacks data on one side there (its impulse response
-#: decays to 1e-4 within four periods at the order used).
-EDGE_PERIODS = 4.0
-
-TORQUE_COLUMNS = tuple(f"tau_{i}_Nmm" for i in (1, 2, 3))
-CURRENT_COLUMNS = tuple(f"current_{i}_A" for i in (1, 2, 3))
-HEIGHT_COLUMNS = tuple(f"L_1{i}_mm" for i in (1, 2, 3))
-#: Lines per block of the reader's scan: some 10 MB of values at a time.
-SCAN_LINES = 100_000
-#: Largest torque in [N·mm] and slider height in [mm] a log may give: beyond, a unit slip.
-MAX_TORQUE_NMM = 1e9
-MAX_HEIGHT_MM = 1e5
+#: Largest disagreement in [deg] allowed between the attitude sensor and the encoders' forward kinematics.
+DEFAULT_TOLERANCE_DEG = 0.5
+#: Samples per piece of a log compared in pieces (:class:`LogPieces`): some 70 MB of the model's working arrays.
+PIECE = 20_000
+#: How much an interpolating quintic spline's response to one sample shrinks per sample (its B-spline's root of largest modulus < 1).
+SPLINE_DECAY = 0.4305753470999737
+#: Samples beyond which that response is below round-off twice over (2⁻¹⁰⁶): a piece's spline reaches this far. Twice,
+#: because a piece's end condition errs by as much as the second derivative of noisy samples, many times the angles.
+SPLINE_HALO = int(math.ceil(106 * math.log(2) / -math.log(SPLINE_DECAY))) + 4
 
 
-@dataclass(frozen=True, eq=False)
-class RigLog:
-    """A rig log as read, SI units, one row per sample.
+@dataclass(frozen=True)
+class LogInfo:
+    """A log's description (:meth:`Log.info`): what a comparison reports of its log.
 
     Attributes:
-        t: sample times in [s], (N,), evenly spaced.
-        Fe: measured load in [N], (N,).
-        tau: motor torques in [N·m], (N, 3) (from the currents when the log has no torques).
-        angles: platform gait angles [α, β, γ] in [rad], (N, 3), or None when the log has none.
-        heights: platform 1's slider heights L_11, L_12, L_13 in [m], (N, 3), or None.
-        lines: the file line of each sample, (N,), for messages.
-        source: the file's path.
-        torque_from: "torques" or "currents".
-        ignored: columns the reader does not use.
-        angle_unit: "deg" or "rad", the unit of the file's angle columns (None without angles).
+        name: the log's name (its file).
+        rate: sample rate in [Hz].
+        cutoff: the low-pass cutoff in [Hz], or None.
+        motion_from: "angles" or "encoders".
+        notes: how the log was read.
     """
 
-    t: np.ndarray
-    Fe: np.ndarray
-    tau: np.ndarray
-    angles: np.ndarray | None
-    heights: np.ndarray | None
-    lines: np.ndarray
-    source: str
-    torque_from: str = "torques"
-    ignored: tuple[str, ...] = ()
-    angle_unit: str | None = None
+    name: str
+    rate: float
+    cutoff: float | None
+    motion_from: str
+    notes: tuple[str, ...]
 
-    def __post_init__(self):
-        shapes = {"t": ("N",), "Fe": ("N",), "tau": ("N", 3), "lines": ("N",)}
-        shapes |= {name: ("N", 3) for name in ("angles", "heights") if getattr(self, name) is not None}
-        check_shapes(self, shapes)
 
+class Log(ABC):
+    """The rig log the models take (module docstring): its samples in windows.
+
+    Attributes every log has: ``name`` (its file), ``rate`` (sample rate in
+    [Hz]), ``cutoff`` (the low-pass cutoff in [Hz], or None), ``motion_from``
+    ("angles", "encoders" or "exact"), ``notes`` (how it was read), ``edge``
+    (samples at each end that the filter left unreliable).
+    """
+
+    name: str
+    cutoff: float | None
+    motion_from: str
+    notes: tuple[str, ...]
+    edge: int
+
+    @abstractmethod
     def __len__(self) -> int:
-        return self.t.size
+        """Samples in the log."""
 
     @property
-    def rate(self) -> float:
-        """Sample rate in [Hz]."""
-        return (self.t.size - 1) / (self.t[-1] - self.t[0])
+    def usable(self) -> slice:
+        """The samples between the filter's edges."""
+        return slice(self.edge, len(self) - self.edge)
+
+    @abstractmethod
+    def windows(self) -> Iterator[tuple["MeasuredLog", slice, int]]:
+        """The log in windows.
+
+        Yields:
+            (window, core, start): a window of the log as a :class:`MeasuredLog`
+            (with as much of the log around its core as the filters need), the
+            core's samples in it (a slice), and the log's index of the core's
+            first sample. The cores tile the log.
+        """
+
+    @abstractmethod
+    def filtered_angles(self, most: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Times in [s] and low-passed angles in [rad] of the usable samples, every k-th so that at most ``most`` are kept (None: all)."""
+
+    def info(self) -> LogInfo:
+        """The log's description."""
+        return LogInfo(self.name, self.rate, self.cutoff, self.motion_from, self.notes)
+
+    def close(self) -> None:
+        """Drop what the log holds outside memory (nothing, for a log in memory)."""
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
 
 
 @dataclass(frozen=True, eq=False)
-class MeasuredLog:
-    """A measured (or synthetic) log ready for the models: smooth motion with derivatives, and torques.
+class MeasuredLog(Log):
+    """A log held in memory: smooth motion with derivatives, and torques; its whole self is its one window.
 
     Build it with :func:`hipsim.rig.load_log` from a file, or directly
     from arrays (e.g. a simulation's exact states, with ``cutoff=None``).
@@ -183,422 +183,206 @@ class MeasuredLog:
         t = self.trajectory.t
         return (t.size - 1) / (t[-1] - t[0])
 
-    @property
-    def usable(self) -> slice:
-        """The samples between the filter's edges."""
-        return slice(self.edge, len(self) - self.edge)
+    def windows(self) -> Iterator[tuple["MeasuredLog", slice, int]]:
+        """The log itself, whole: one window."""
+        yield self, slice(0, len(self)), 0
+
+    def filtered_angles(self, most: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Times in [s] and low-passed angles in [rad] of the usable samples, every k-th so that at most ``most`` are kept (None: all)."""
+        first, stop = self.usable.start, self.usable.stop
+        stride = 1 if most is None else max(1, -(-(stop - first) // most))
+        keep = slice(first, stop, stride)
+        return self.trajectory.t[keep], self.trajectory.q[keep]
 
 
-# --- Filtering ---------------------------------------------------------------------------
-
-
-def _check_cutoff(rate: float, cutoff: float, source: str | None) -> None:
-    if isinstance(cutoff, bool) or not (isinstance(cutoff, (int, float)) and math.isfinite(cutoff) and cutoff > 0):
-        raise TrajectoryError(f"the low-pass cutoff must be a positive frequency in Hz, got {cutoff!r}", source=source)
-    if cutoff >= 0.5 * rate:
-        raise TrajectoryError(
-            f"the low-pass cutoff {cutoff:g} Hz is not below the Nyquist frequency {0.5 * rate:g} Hz of a {rate:g} Hz log",
-            source=source,
-        )
-
-
-def edge_samples(rate: float, cutoff: float) -> int:
-    """Samples dropped at each end of a log filtered at ``cutoff`` [Hz] and sampled at ``rate`` [Hz]."""
-    return int(math.ceil(EDGE_PERIODS * rate / cutoff))
-
-
-def minimum_samples(rate: float, cutoff: float) -> int:
-    """The fewest samples a log needs to be filtered: both edges and as many samples again between them."""
-    padding = 3 * (2 * (FILTER_ORDER // 2 + FILTER_ORDER % 2) + 1)  # sosfiltfilt's default odd extension
-    return max(4 * edge_samples(rate, cutoff), padding + 1, 6)
-
-
-def filter_halo(rate: float, cutoff: float) -> int:
-    """Samples after which a start in the wrong state no longer shows in :func:`lowpass` (below round-off, 2⁻⁵³).
-
-    A piece of a log filtered on its own differs from the whole log filtered
-    only by the filter's response to the piece's ends, which decays as the
-    filter's impulse response: this is where that response (of one pass,
-    relative to its peak) stays below the double-precision round-off for good.
-    Args:
-        rate: sample rate in [Hz].
-        cutoff: cutoff frequency in [Hz].
-    """
-    _check_cutoff(rate, cutoff, None)
-    sos = butter(FILTER_ORDER, cutoff, fs=rate, output="sos")
-    length = 64
-    while True:
-        impulse = np.zeros(length)
-        impulse[0] = 1.0
-        response = np.abs(sosfilt(sos, impulse))
-        above = np.flatnonzero(response > 2.0**-53 * response.max())
-        if above[-1] < length // 2:
-            return int(above[-1]) + 1
-        length *= 2
-
-
-def lowpass(x: np.ndarray, rate: float, cutoff: float, source: str | None = None) -> np.ndarray:
-    """Zero-phase Butterworth low-pass along the first axis (``sosfiltfilt``, order :data:`FILTER_ORDER`).
+def load_log(
+    path: str | Path,
+    params: Parameters | None = None,
+    torque_constant: float | None = None,
+    cutoff: float | None = DEFAULT_CUTOFF,
+    tolerance_deg: float = DEFAULT_TOLERANCE_DEG,
+) -> MeasuredLog:
+    """Read a rig log and make it ready for the models.
 
     Args:
-        x: samples, (N, ...), in any unit.
-        rate: sample rate in [Hz].
-        cutoff: cutoff frequency in [Hz] (−3 dB of one pass, −6 dB of both).
-        source: the log's name, for messages.
-
-    Raises:
-        TrajectoryError: a cutoff not below the Nyquist frequency, or a log too short to filter.
-    """
-    _check_cutoff(rate, cutoff, source)
-    x = np.asarray(x, dtype=float)
-    needed = minimum_samples(rate, cutoff)
-    if len(x) < needed:
-        raise TrajectoryError(
-            f"{len(x)} samples ({len(x) / rate:.3g} s) are too short to filter at {cutoff:g} Hz: at least {needed} "
-            f"({needed / rate:.3g} s) are needed, {EDGE_PERIODS:g}/cutoff at each end being dropped",
-            source=source,
-        )
-    sos = butter(FILTER_ORDER, cutoff, fs=rate, output="sos")
-    # An odd extension as long as the dropped edge: the filter starts on a smooth continuation of the signal.
-    return sosfiltfilt(sos, x, axis=0, padlen=min(edge_samples(rate, cutoff), len(x) - 1))
-
-
-def smooth_motion(
-    t: np.ndarray, q: np.ndarray, Fe: np.ndarray, cutoff: float | None, name: str = "log", rate: float | None = None
-) -> Trajectory:
-    """Low-passed angles and load, the angles differentiated through an interpolating quintic spline.
-
-    Args:
-        t: evenly spaced sample times in [s], (N,).
-        q: gait angles in [rad], (N, 3).
-        Fe: load in [N], (N,).
-        cutoff: low-pass cutoff in [Hz]; None for no filter (the spline only).
-        name: the log's name, for messages and the trajectory.
-        rate: the sample rate in [Hz]; None for the times' (a piece of a log
-            passes the whole log's, so that every piece has the same filter).
+        path: the CSV log (columns in :mod:`hipsim.rig.reader`).
+        params: the machine (for the encoders' forward kinematics); None for the published one.
+        torque_constant: the motors' torque constant in [N·m/A], for logs of motor currents.
+        cutoff: low-pass cutoff in [Hz] for motion, load and torques; None for
+            none (signals already clean: the angles are then only splined).
+        tolerance_deg: largest disagreement in [deg] between the attitude
+            sensor's angles and the encoders' when the log has both (the
+            encoders are used; beyond this the log is refused).
 
     Returns:
-        The filtered trajectory, all N samples (the caller drops the edges).
-    """
-    if cutoff is not None:
-        rate = rate if rate is not None else (t.size - 1) / (t[-1] - t[0])
-        q = lowpass(q, rate, cutoff, name)
-        Fe = np.maximum(lowpass(Fe, rate, cutoff, name), 0.0)  # a magnitude; ringing must not make it negative
-    if t.size < 6:
-        raise TrajectoryError(f"{t.size} samples; at least 6 are needed to differentiate", source=name)
-    spline = make_interp_spline(t, q, k=5, axis=0)
-    return Trajectory(t, q, spline(t, 1), spline(t, 2), Fe, name=name)
-
-
-# --- The reader -----------------------------------------------------------------------------
-
-
-def _open(path: str | Path):
-    source = str(path)
-    try:
-        return open(path, encoding="utf-8-sig", newline="")  # utf-8-sig: spreadsheets add a byte-order mark
-    except FileNotFoundError:
-        raise TrajectoryError("no such log file", source=source) from None
-    except IsADirectoryError:
-        raise TrajectoryError("is a folder, not a log file", source=source) from None
-    except OSError as error:
-        raise TrajectoryError(f"cannot read ({error.strerror})", source=source) from None
-
-
-def _lines(stream, source: str):
-    """The stream's lines, a decoding error named as the file's."""
-    try:
-        yield from stream
-    except UnicodeDecodeError:
-        raise TrajectoryError("not a text (UTF-8) CSV file", source=source) from None
-
-
-def _blank(line: str) -> bool:
-    return not line.strip(" \t\r\n,")
-
-
-def _header(lines, source: str) -> tuple[list[str], int]:
-    """The header (the first line with anything on it) and its line number; a repeated name refused."""
-    for number, line in enumerate(lines, start=1):
-        if not _blank(line):
-            break
-    else:
-        raise TrajectoryError("the file is empty", source=source)
-    header = [cell.strip() for cell in line.rstrip("\r\n").split(",")]
-    seen = set()
-    for name in header:
-        if name in seen:
-            raise TrajectoryError(f"column '{name}' appears twice", source=source, line=number, column=name)
-        seen.add(name)
-    return header, number
-
-
-def _block(block: list[str], first_line: int, header: list[str], source: str) -> tuple[np.ndarray, np.ndarray]:
-    """Values (M, C) and file lines (M,) of a block of lines, the first being line ``first_line``; blank lines skipped."""
-    values = None
-    # The fast path: no blank lines (so line numbers follow from row numbers) and no "_" in a number
-    # (Python's float() would read "1_0" as 10; the slow path below refuses it by line).
-    if not any(_blank(line) for line in block) and not any("_" in line for line in block):
-        try:
-            values = np.loadtxt(io.StringIO("".join(block)), delimiter=",", ndmin=2, dtype=float)
-        except ValueError:
-            values = None
-        if values is not None and values.shape != (len(block), len(header)):
-            values = None
-        if values is not None:
-            return values, first_line + np.arange(len(values))
-    rows = [(number, line.rstrip("\r\n")) for number, line in enumerate(block, start=first_line) if not _blank(line)]
-    values = np.empty((len(rows), len(header)))
-    for k, (number, line) in enumerate(rows):
-        cells = line.split(",")
-        if len(cells) != len(header):
-            raise TrajectoryError(f"{len(cells)} cells, the header has {len(header)}", source=source, line=number)
-        for c, (name, cell) in enumerate(zip(header, cells)):
-            try:
-                if "_" in cell:
-                    raise ValueError(cell)
-                values[k, c] = float(cell)
-            except ValueError:
-                raise TrajectoryError(f"'{cell.strip()}' is not a number", source=source, line=number, column=name) from None
-    return values, np.array([number for number, _ in rows], dtype=np.int64)
-
-
-def _missing(name: str, header: list[str], what: str, source: str, line: int) -> TrajectoryError:
-    close = difflib.get_close_matches(name, header, n=1, cutoff=0.7)
-    hint = f" (the file has '{close[0]}': check the name and its unit)" if close else ""
-    return TrajectoryError(f"missing {what} column '{name}'{hint}", source=source, line=line)
-
-
-def _group(names: tuple[str, ...], header: list[str], what: str, source: str, line: int) -> bool:
-    """True if all of ``names`` are columns, False if none is; a partial group is an error naming the first missing."""
-    present = [name in header for name in names]
-    if all(present):
-        return True
-    if any(present):
-        raise _missing(names[present.index(False)], header, what, source, line)
-    return False
-
-
-class _Worst:
-    """The largest |value| of a column group seen so far, its first occurrence: (value, line, column name)."""
-
-    def __init__(self):
-        self.value, self.line, self.column = 0.0, 0, ""
-
-    def add(self, values: np.ndarray, lines: np.ndarray, names: tuple[str, ...]) -> None:
-        if values.size == 0:
-            return
-        k, c = np.unravel_index(np.argmax(np.abs(values)), values.shape)
-        if abs(values[k, c]) > abs(self.value):  # strictly: an equal later one is not the first
-            self.value, self.line, self.column = float(values[k, c]), int(lines[k]), names[c]
-
-
-class RigLogFile:
-    """A rig log scanned once in blocks, every value checked, its samples then read back a piece at a time.
-
-    The scan keeps the times and file lines in memory (16 bytes a sample) and
-    the rest, in SI units, in a temporary binary file; :meth:`piece` reads
-    samples back from it, :meth:`read` all of them. The checks and their
-    messages are :func:`read_rig_log`'s (which is this, read whole).
-
-    Args:
-        path: the CSV file (columns in the module docstring).
-        torque_constant: the motors' torque constant in [N·m/A], for logs of motor currents.
-        block: lines parsed at a time.
+        The log, filtered and differentiated; its first and last
+        :func:`~hipsim.rig.filtering.edge_samples` samples are marked as the filter's edges.
 
     Raises:
-        TrajectoryError: as :func:`read_rig_log`.
+        TrajectoryError: naming the file, line and column: the reader's
+            errors, encoder heights no pose reaches, a disagreement of the two
+            motion sources, a log too short to filter.
+    """
+    with LogPieces(path, params, torque_constant, cutoff, tolerance_deg) as pieces:
+        return pieces.whole()
+
+
+class LogPieces(Log):
+    """A rig log read from its file in overlapping pieces, each made ready for the models as :func:`load_log` makes the whole.
+
+    The file is scanned once (:class:`~hipsim.rig.reader.RigLogFile`:
+    every check, the times kept); encoder heights are turned into angles piece
+    by piece, each piece continuing from the last pose of the one before, and
+    the attitude sensor checked against them. :meth:`windows` then hands out
+    the log a piece (``piece`` samples) at a time with :attr:`halo` samples of
+    the log on either side: the low-pass, the spline, the model's low-pass and
+    the reversal windows of a piece so see the log around it as the whole log
+    does. The halo is two of the filter's transients
+    (:func:`~hipsim.rig.filtering.filter_halo`: its impulse response below
+    round-off), the quintic spline's reach (its influence shrinks by
+    :data:`SPLINE_DECAY` a sample) and a reversal window: the pieces then give
+    the whole log's values to round-off (the forward kinematics, started from
+    another pose, and the filters, started in another state, round differently
+    in the last digits).
+
+    Args:
+        path, params, torque_constant, cutoff, tolerance_deg: as :func:`load_log`.
+        piece: samples per piece (at least what the filter needs).
+
+    Raises:
+        TrajectoryError: as :func:`load_log`.
     """
 
-    def __init__(self, path: str | Path, torque_constant: float | None = None, block: int = SCAN_LINES):
-        self.source = source = str(path)
-        with _open(path) as stream:
-            lines = _lines(stream, source)
-            header, header_line = _header(lines, source)
-            self._layout(header, header_line, torque_constant)
-            self._store = tempfile.TemporaryFile()
-            times, numbers = [], []
-            worst = {"torque": _Worst(), "angle": _Worst(), "height": _Worst()}
-            low = high = None  # (load, line) of the least and largest load, first occurrences
-            bad = None
-            first = header_line + 1
-            while True:
-                chunk = list(islice(lines, block))
-                if not chunk:
-                    break
-                values, at = _block(chunk, first, header, source)
-                first += len(chunk)
-                if bad is None and not np.all(np.isfinite(values)):
-                    k, c = np.argwhere(~np.isfinite(values))[0]
-                    bad = (f"'{values[k, c]}' is not finite", int(at[k]), header[c])
-                if len(values) == 0:
-                    continue
-                columns = self._columns(values)
-                worst["torque"].add(values[:, self._torque_index], at, self._torque_names)
-                if self.angle_unit:
-                    worst["angle"].add(values[:, self._angle_index], at, self._angle_names)
-                if self._height_index:
-                    worst["height"].add(values[:, self._height_index], at, HEIGHT_COLUMNS)
-                load = columns[:, 1]
-                k, j = int(np.argmin(load)), int(np.argmax(load))
-                if low is None or load[k] < low[0]:
-                    low = (float(load[k]), int(at[k]))
-                if high is None or load[j] > high[0]:
-                    high = (float(load[j]), int(at[j]))
-                times.append(columns[:, 0].copy())
-                numbers.append(at)
-                columns.tofile(self._store)
-        if not times:
-            raise TrajectoryError("no samples below the header", source=source)
-        if bad is not None:
-            raise TrajectoryError(bad[0], source=source, line=bad[1], column=bad[2])
-        self.t = np.concatenate(times)
-        del times  # one copy at a time: an hour's log has 3.6 M of each
-        self.lines = np.concatenate(numbers)
-        del numbers
-        self._check(worst, low, high)
-
-    # The columns of the store, in SI: t, Fe, τ (3), then the angles (3) and the heights (3) when the log has them.
-    def _layout(self, header: list[str], header_line: int, torque_constant) -> None:
-        source = self.source
-        column = {name: k for k, name in enumerate(header)}
-        for name in ("t_s", "Fe_N"):
-            if name not in column:
-                raise _missing(name, header, "time" if name == "t_s" else "load", source, header_line)
-        has_torques = _group(TORQUE_COLUMNS, header, "torque", source, header_line)
-        has_currents = _group(CURRENT_COLUMNS, header, "current", source, header_line)
-        if has_torques:
-            self._torque_names, self._scale, self.torque_from = TORQUE_COLUMNS, 1e-3, "torques"
-        elif has_currents:
-            if torque_constant is None:
-                raise TrajectoryError(
-                    "the log gives motor currents (current_1_A …) but no torque constant in N·m/A was given to turn them into torques",
-                    source=source,
-                )
-            if isinstance(torque_constant, bool) or not (isinstance(torque_constant, (int, float)) and math.isfinite(torque_constant) and torque_constant > 0):
-                raise TrajectoryError(f"the torque constant must be a positive number in N·m/A, got {torque_constant!r}", source=source)
-            self._torque_names, self._scale, self.torque_from = CURRENT_COLUMNS, float(torque_constant), "currents"
+    def __init__(
+        self,
+        path: str | Path,
+        params: Parameters | None = None,
+        torque_constant: float | None = None,
+        cutoff: float | None = DEFAULT_CUTOFF,
+        tolerance_deg: float = DEFAULT_TOLERANCE_DEG,
+        piece: int = PIECE,
+    ):
+        if isinstance(piece, bool) or not isinstance(piece, int) or piece < 1:
+            raise ArgumentError("piece", piece, "a positive number of samples")
+        self.params = params if params is not None else load_parameters()
+        self.raw = raw = RigLogFile(path, torque_constant, block=max(piece, 1000))  # the scan's blocks no larger than a piece
+        self.name, self.rate, self.cutoff, self.source = Path(raw.source).name, raw.rate, cutoff, raw.source
+        notes = []
+        if raw.ignored:
+            notes.append(f"columns not used: {', '.join(raw.ignored)}")
+        if raw.torque_from == "currents":
+            notes.append(f"torques from the motor currents × {torque_constant:g} N·m/A")
+        elif torque_constant is not None:
+            notes.append("the log gives torques: the torque constant was not needed")
+        n = len(raw)
+        if cutoff is None:
+            self.edge, self.halo, smallest = 0, SPLINE_HALO, 6
         else:
-            close = [c for c in header if difflib.get_close_matches(c, TORQUE_COLUMNS + CURRENT_COLUMNS, n=1, cutoff=0.7)]
-            hint = f" (the file has {', '.join(repr(c) for c in close)}: check the names and units)" if close else ""
-            raise TrajectoryError(
-                f"missing torque columns: expected tau_1_Nmm, tau_2_Nmm, tau_3_Nmm, or current_1_A … with a torque constant{hint}",
-                source=source, line=header_line,
-            )
-        self._torque_index = [column[name] for name in self._torque_names]
-        self.angle_unit = None
-        self._angle_names: tuple[str, ...] = ()
-        units = [unit for unit in ("deg", "rad") if any(f"{a}_{unit}" in column for a in ANGLE_NAMES)]
-        if len(units) == 2:
-            raise TrajectoryError("angle columns mix _deg and _rad: give all three in one unit", source=source, line=header_line)
-        if units:
-            self.angle_unit = units[0]
-            self._angle_names = tuple(f"{a}_{self.angle_unit}" for a in ANGLE_NAMES)
-            _group(self._angle_names, header, "angle", source, header_line)
-        self._angle_index = [column[name] for name in self._angle_names]
-        has_heights = _group(HEIGHT_COLUMNS, header, "slider height", source, header_line)
-        self._height_index = [column[name] for name in HEIGHT_COLUMNS] if has_heights else []
-        if not self.angle_unit and not has_heights:
-            raise TrajectoryError(
-                "no motion: expected the platform angles alpha_deg, beta_deg, gamma_deg (attitude sensor) "
-                "or platform 1's slider heights L_11_mm, L_12_mm, L_13_mm (motor encoders)",
-                source=source, line=header_line,
-            )
-        self._time_index, self._load_index = column["t_s"], column["Fe_N"]
-        self.width = 5 + 3 * bool(self.angle_unit) + 3 * has_heights
-        used = {"t_s", "Fe_N", *TORQUE_COLUMNS, *CURRENT_COLUMNS, *HEIGHT_COLUMNS}
-        used |= {f"{a}_{u}" for a in ANGLE_NAMES for u in ("deg", "rad")}
-        self.ignored = tuple(name for name in header if name not in used)
-        if has_torques and has_currents:
-            self.ignored += CURRENT_COLUMNS
-
-    def _columns(self, values: np.ndarray) -> np.ndarray:
-        """The store's columns of a block, in SI."""
-        parts = [values[:, [self._time_index, self._load_index]], values[:, self._torque_index] * self._scale]
-        if self.angle_unit:
-            angles = values[:, self._angle_index]
-            parts.append(np.radians(angles) if self.angle_unit == "deg" else angles)
-        if self._height_index:
-            parts.append(values[:, self._height_index] * 1e-3)
-        return np.ascontiguousarray(np.column_stack(parts))
-
-    def _check(self, worst: dict[str, _Worst], low, high) -> None:
-        source = self.source
-        torque = worst["torque"]
-        if abs(torque.value) * self._scale * 1e3 > MAX_TORQUE_NMM:
-            raise TrajectoryError(
-                f"{torque.value:g} is beyond any motor of this machine ({MAX_TORQUE_NMM:g} N·mm): a unit slip?",
-                source=source, line=torque.line, column=torque.column,
-            )
-        angle = worst["angle"]
-        if self.angle_unit:
-            largest = math.pi if self.angle_unit == "rad" else 360.0
-            if abs(angle.value) > largest:
-                message = "is more than half a turn: these look like degrees; label the columns _deg" if self.angle_unit == "rad" else "is more than a full turn"
-                raise TrajectoryError(f"{angle.value:g} {self.angle_unit} {message}", source=source, line=angle.line, column=angle.column)
-        height = worst["height"]
-        if abs(height.value) > MAX_HEIGHT_MM:
-            raise TrajectoryError(f"{height.value:g} mm is beyond any machine of this kind: a unit slip?", source=source,
-                                  line=height.line, column=height.column)
-        if self.t.size < 2:
-            raise TrajectoryError(f"{self.t.size} sample; a log needs many", source=source)
-        check_time(self.t, 0.0, source, self.lines, "t_s", even=True)
-        for load, line in (low, high):
-            if load < 0:
-                raise TrajectoryError(f"load {load:g} N is negative (F_e is a magnitude)", source=source, line=line, column="Fe_N")
-            if load > MAX_LOAD:
-                raise TrajectoryError(f"load {load:g} N is beyond {MAX_LOAD:g} N (a unit slip?)", source=source, line=line, column="Fe_N")
+            lowpass(raw.t, self.rate, cutoff, raw.source)  # refuses a log too short to filter, before any work
+            self.edge = edge_samples(self.rate, cutoff)
+            self.halo = 2 * filter_halo(self.rate, cutoff) + SPLINE_HALO + reversal_half(self.rate, cutoff) + 2
+            smallest = minimum_samples(self.rate, cutoff)
+        self.piece = max(piece, smallest)
+        self._q = None
+        if raw.has_heights:
+            self.motion_from = "encoders"
+            self._q = tempfile.TemporaryFile()
+            worst = first = None  # (difference in deg, sample, angle) at worst and first beyond the tolerance
+            q0 = None
+            for a, b in self._cores():
+                part = raw.piece(a, b)
+                start = (part.angles[0] if part.angles is not None else None) if q0 is None else q0
+                try:
+                    q = forward_kinematics(self.params, part.heights, part.t, q0=start)
+                except PoseError as error:
+                    raise TrajectoryError(f"encoder heights L_11_mm … at {error}", source=raw.source, line=int(part.lines[error.index])) from None
+                q0 = q[-1]
+                np.ascontiguousarray(q).tofile(self._q)
+                if part.angles is not None:
+                    difference = np.degrees(np.abs(q - part.angles))
+                    k, j = np.unravel_index(np.argmax(difference), difference.shape)
+                    if worst is None or difference[k, j] > worst[0]:
+                        worst = (float(difference[k, j]), a + int(k), int(j))
+                    beyond = np.argwhere(difference > tolerance_deg)
+                    if first is None and beyond.size:
+                        k, j = beyond[0]
+                        first = (float(difference[k, j]), a + int(k), int(j))
+            if first is not None:
+                raise TrajectoryError(
+                    f"the attitude sensor and the encoders disagree by {first[0]:.3g}° in {ANGLE_NAMES[first[2]]} "
+                    f"(tolerance {tolerance_deg:g}°; {worst[0]:.3g}° at worst, line {int(raw.lines[worst[1]])}): "
+                    "check the sensor's mounting, zero and sign conventions, or the machine's parameters",
+                    source=raw.source, line=int(raw.lines[first[1]]), column=f"{ANGLE_NAMES[first[2]]}_{raw.angle_unit}",
+                )
+            if worst is not None:
+                notes.append(f"encoders used; the attitude sensor agrees within {worst[0]:.3g}° (tolerance {tolerance_deg:g}°)")
+        else:
+            self.motion_from = "angles"
+        if cutoff is not None:
+            notes.append(f"low-passed at {cutoff:g} Hz (zero-phase Butterworth); the first and last {self.edge / self.rate:.3g} s are the filter's edges")
+        self.notes = tuple(notes)
 
     def __len__(self) -> int:
-        return self.t.size
+        return len(self.raw)
 
     @property
-    def rate(self) -> float:
-        """Sample rate in [Hz]."""
-        return (self.t.size - 1) / (self.t[-1] - self.t[0])
-
-    @property
-    def has_heights(self) -> bool:
-        """Whether the log gives platform 1's slider heights."""
-        return bool(self._height_index)
-
-    def piece(self, start: int, stop: int) -> RigLog:
-        """Samples ``start`` … ``stop``−1 as a :class:`RigLog`."""
-        start, stop = max(0, start), min(len(self), stop)
-        self._store.seek(start * self.width * 8)
-        values = np.fromfile(self._store, dtype=float, count=(stop - start) * self.width).reshape(-1, self.width)
-        angles = values[:, 5:8] if self.angle_unit else None
-        heights = values[:, -3:] if self._height_index else None
-        return RigLog(self.t[start:stop], values[:, 1], values[:, 2:5], angles, heights, self.lines[start:stop], self.source,
-                      self.torque_from, self.ignored, self.angle_unit)
-
-    def read(self) -> RigLog:
-        """All samples."""
-        return self.piece(0, len(self))
+    def t(self) -> np.ndarray:
+        """Sample times in [s], (N,)."""
+        return self.raw.t
 
     def close(self) -> None:
-        """Drop the temporary store."""
-        self._store.close()
+        """Drop the temporary stores."""
+        self.raw.close()
+        if self._q is not None:
+            self._q.close()
 
+    def _cores(self):
+        n = len(self)
+        for a in range(0, n, self.piece):
+            yield a, min(a + self.piece, n)
 
-def read_rig_log(path: str | Path, torque_constant: float | None = None) -> RigLog:
-    """Read a rig log (columns in the module docstring) into SI units, checking every value.
+    def _angles(self, lo: int, hi: int) -> np.ndarray:
+        if self._q is None:
+            return self.raw.piece(lo, hi).angles
+        self._q.seek(lo * 24)
+        return np.fromfile(self._q, dtype=float, count=3 * (hi - lo)).reshape(-1, 3)
 
-    Args:
-        path: the CSV file.
-        torque_constant: the motors' torque constant in [N·m/A], needed when the
-            log gives motor currents instead of torques.
+    def _window(self, lo: int, hi: int, edge: int) -> MeasuredLog:
+        raw = self.raw.piece(lo, hi)
+        trajectory = smooth_motion(raw.t, self._angles(lo, hi), raw.Fe, self.cutoff, self.name, rate=self.rate)
+        tau = raw.tau if self.cutoff is None else lowpass(raw.tau, self.rate, self.cutoff, self.source)
+        return MeasuredLog(trajectory, tau, self.cutoff, self.name, self.motion_from, self.notes, raw.lines, edge, self.rate)
 
-    Returns:
-        The samples as they are in the file (no filtering).
+    def whole(self) -> MeasuredLog:
+        """The whole log at once: what :func:`load_log` returns."""
+        return self._window(0, len(self), self.edge)
 
-    Raises:
-        TrajectoryError: naming the file, line and column of the first problem:
-            missing torque or motion columns, currents without a torque
-            constant, uneven times, negative loads, values beyond any machine.
-    """
-    scanned = RigLogFile(path, torque_constant)
-    try:
-        return scanned.read()
-    finally:
-        scanned.close()
+    def windows(self):
+        """The log in pieces.
+
+        Yields:
+            (window, core, start): a piece with its halo as a :class:`MeasuredLog` (no edges),
+            the piece's samples in it (a slice), and the log's index of the piece's first sample.
+        """
+        n = len(self)
+        for a, b in self._cores():
+            lo, hi = max(0, a - self.halo), min(n, b + self.halo)
+            yield self._window(lo, hi, 0), slice(a - lo, b - lo), a
+
+    def filtered_angles(self, most: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Times in [s] and low-passed angles in [rad] of the usable samples, every k-th so that at most ``most`` are kept (None: all)."""
+        first, stop = self.usable.start, self.usable.stop
+        stride = 1 if most is None else max(1, -(-(stop - first) // most))
+        times, angles = [], []
+        n = len(self)
+        for a, b in self._cores():
+            lo, hi = max(0, a - self.halo), min(n, b + self.halo)
+            q = self._angles(lo, hi)
+            if self.cutoff is not None:
+                q = lowpass(q, self.rate, self.cutoff, self.source)
+            start = max(a, first)
+            start += (first - start) % stride
+            keep = np.arange(start, min(b, stop), stride)
+            times.append(self.raw.t[keep])
+            angles.append(q[keep - lo])
+        return np.concatenate(times), np.concatenate(angles)

@@ -1,0 +1,66 @@
+"""The one writer of parameter files: a machine back as the text of a TOML file every command reads.
+
+:func:`parameter_toml` writes every section of :data:`~hipsim.machine.schema.SCHEMA`
+in the file's units (:func:`~hipsim.machine.parameters.file_values`, 15
+significant digits), each key with its meaning as a comment; what it writes,
+:func:`~hipsim.machine.parameters.load_parameters` reads back to the same machine.
+Identified machines (:meth:`hipsim.rig.Identification.toml`), the parameter
+set stored in results files and ``hipsim params`` all go through it.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .parameter_set import Parameters
+from .parameters import file_values
+from .schema import SCHEMA
+
+__all__ = ["parameter_toml", "toml_value"]
+
+
+def toml_value(value) -> str:
+    """One value as TOML spells it: a bool, a string, a number (``inf`` for infinity) or a list of these."""
+    if isinstance(value, bool):  # before numbers: a bool is an int to Python
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(value, list):
+        return "[" + ", ".join(toml_value(v) for v in value) + "]"
+    if isinstance(value, float):
+        if math.isinf(value):
+            return "inf" if value > 0 else "-inf"
+        return repr(float(f"{value:.15g}"))
+    return repr(value)
+
+
+def parameter_toml(params: Parameters, title: str | None = None, units: bool = False, comment_column: int = 0) -> str:
+    """A machine as the text of a parameter file (every section, file units, 15 significant digits).
+
+    Args:
+        params: the machine.
+        title: a first comment line (``"parameters: <source>"``) and a blank line before the tables; None for none.
+        units: add each key's unit to its comment (``# l, lever length [mm]``).
+        comment_column: pad each entry to this many characters before its comment; 0 for two spaces.
+
+    Returns:
+        The text, one ``[section]`` table after another, each followed by a blank line.
+    """
+    values = file_values(params)
+    lines = [f"# {title}", ""] if title is not None else []
+    for section, keys in SCHEMA.items():
+        present = [key for key in keys if f"{section}.{key}" in values]  # an optional table may be absent
+        if not present:
+            continue
+        lines.append(f"[{section}]")
+        for key in present:
+            value = values[f"{section}.{key}"]
+            spec = SCHEMA[section][key]
+            note = spec.meaning + (f" [{spec.unit}]" if units and spec.unit else "")
+            entry = f"{key} = {toml_value(value)}"
+            if comment_column:
+                lines.append(entry.ljust(comment_column) + f"# {note}")
+            else:
+                lines.append(entry + (f"  # {note}" if note else ""))
+        lines.append("")
+    return "\n".join(lines)

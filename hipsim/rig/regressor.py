@@ -1,0 +1,152 @@
+"""The identification regressor: motor torque τ = Y(q, q̇, q̈, F_e)·θ, and its rows along a log.
+
+The analytic inverse dynamics (spec §4) is linear in the inertial parameters
+of each body group and in the friction coefficients, θ the
+:data:`~hipsim.rig.quantities.QUANTITIES`. :func:`regressor` builds Y from that
+linearity: the inverse dynamics of a machine whose parameters are all zero
+but one, set to one, is that parameter's column. Each body group lands in its
+own torque part (spec §4.4), so one call gives a column of every group at
+once, ten calls in all. The levers' centre of mass stays at mid-length, as the
+model has it; the hip-joint and thrust-bearing Coulomb terms scale with the
+load, the screw and guide terms with the motor speed, the lever-joint terms
+with their relative angular speeds, each through the same friction law the
+model uses (the friction coefficient is what is identified; radii, the
+platform mass and the smooth sign's ε are kept). The friction columns come
+from one function, :func:`~hipsim.rig.quantities.friction_unit`, so a
+different bearing law changes them there and nowhere else.
+
+Rows of a log (:func:`log_rows`): the regressor along the log's motion,
+low-passed like the log and kept every D-th sample (decimation to four times
+the cutoff), the samples around each motor's reversals
+(:func:`~hipsim.rig.reversals.reversal_mask`) marked out of that motor's rows,
+chunk by chunk and window by window, so memory does not grow with the log.
+"""
+
+from __future__ import annotations
+
+from typing import Iterator
+
+import numpy as np
+
+from ..analytic.inverse_kinematics import kinematics
+from ..analytic.virtual_work import inverse_dynamics
+from ..machine.parameters import Parameters
+from ..motion.trajectories import Trajectory
+from .filtering import lowpass, minimum_samples
+from .logs import Log, MeasuredLog
+from .quantities import FRICTION, QUANTITIES, friction_unit, with_values
+from .reversals import reversal_mask
+
+__all__ = ["CHUNK", "decimation", "inflation", "log_rows", "regressor", "regressor_from_kinematics"]
+
+#: Samples per chunk of the regressor (memory: ~2 kB per sample while a chunk is computed and filtered).
+CHUNK = 50_000
+
+
+def _unit_machines(params: Parameters) -> list[tuple[Parameters, dict[str, int]]]:
+    """Ten machines, each with one parameter per body group set to one, and where each part's column goes.
+
+    Machine s has the s-th parameter of each torque part (:attr:`Quantity.part`) at one, every other at zero.
+    """
+    members: dict[str, list[int]] = {}
+    for k, quantity in enumerate(QUANTITIES):
+        members.setdefault(quantity.part, []).append(k)
+    friction = members.pop("friction")
+    machines = []
+    for s in range(max(len(group) for group in (friction, *members.values()))):
+        theta = np.zeros(len(QUANTITIES))
+        columns: dict[str, int] = {}
+        for part, group in members.items():
+            if s < len(group):
+                theta[group[s]] = 1.0
+                columns[part] = group[s]
+        machine = with_values(params, theta)
+        if s < len(friction):
+            machine = friction_unit(machine, FRICTION[s].name)
+            columns["friction"] = friction[s]
+        machines.append((machine, columns))
+    return machines
+
+
+def regressor(params: Parameters, trajectory: Trajectory, lever_spin: bool = True) -> np.ndarray:
+    """Y with motor torque τ = Y·θ along a trajectory (θ: :func:`standard_values`).
+
+    Args:
+        params: the machine (its geometry, friction radii, ε and platform mass
+            are used; its dynamic parameters are not).
+        trajectory: the motion and load, N samples.
+        lever_spin: as in :func:`hipsim.analytic.inverse_dynamics`.
+
+    Returns:
+        Y in [N·m per SI unit of each parameter], (N, 3, P).
+
+    Raises:
+        PoseError: naming the time of a pose out of reach or singular.
+    """
+    return regressor_from_kinematics(params, kinematics(params, trajectory), trajectory.Fe, lever_spin)
+
+
+def regressor_from_kinematics(params: Parameters, kin, Fe: np.ndarray, lever_spin: bool = True) -> np.ndarray:
+    """:func:`regressor` from kinematics already computed (:func:`hipsim.analytic.kinematics`) and the load in [N], (N,)."""
+    Y = np.zeros((len(kin), 3, len(QUANTITIES)))
+    for machine, columns in _unit_machines(params):
+        torques = inverse_dynamics(machine, kin, Fe, lever_spin)
+        for part, k in columns.items():
+            Y[:, :, k] = getattr(torques, part)
+    return Y
+
+
+
+def decimation(log: MeasuredLog) -> int:
+    """Keep every D-th sample after the low-pass: four samples per period of the cutoff."""
+    return 1 if log.cutoff is None else max(1, int(log.rate // (4.0 * log.cutoff)))
+
+
+
+def inflation(log: Log) -> float:
+    """Samples per independent sample after the low-pass and decimation (1 without a filter)."""
+    if log.cutoff is None:
+        return 1.0
+    return max(1.0, log.rate / decimation(log) / (2.0 * log.cutoff))
+
+
+def _rows(params: Parameters, log: MeasuredLog, lever_spin: bool, chunk: int = CHUNK, span: tuple[int, int, int] | None = None):
+    """The log's regressor rows and torques, low-passed like the log and decimated, chunk by chunk.
+
+    Args:
+        span: (first, stop, origin): the rows of samples ``first`` … ``stop``−1
+            a whole number of decimation steps after sample ``origin`` (a piece
+            of a log: origin is where the whole log's usable samples start);
+            None for the log's usable samples.
+
+    Yields:
+        Y (m, 3, P), τ (m, 3) and the rows to use per motor (m, 3) bool (False near that motor's reversals).
+    """
+    n = len(log)
+    first, stop, origin = span if span is not None else (log.usable.start, log.usable.stop, log.usable.start)
+    step = decimation(log)
+    first += (origin - first) % step  # the first kept sample
+    margin = 0 if log.cutoff is None else minimum_samples(log.rate, log.cutoff)
+    trajectory = log.trajectory
+    use = ~reversal_mask(params, log)
+    chunk = max(step, chunk - chunk % step)  # whole decimation steps, so the kept samples line up across chunks
+    for a in range(first, stop, chunk):
+        b = min(a + chunk, stop)
+        lo, hi = max(0, a - margin), min(n, b + margin)
+        Y = regressor(params, trajectory.slice(slice(lo, hi)), lever_spin)
+        if log.cutoff is not None:
+            # The filter's transient from the chunk's own ends dies out within the margin.
+            Y = lowpass(Y, log.rate, log.cutoff, log.name)
+        keep = np.arange(a, b, step)
+        yield Y[keep - lo], log.tau[keep], use[keep]
+
+
+
+def log_rows(params: Parameters, log: Log, lever_spin: bool) -> Iterator[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """:func:`_rows` of a log window by window (a log in memory is one window: the same rows, to round-off, either way)."""
+    usable = log.usable
+    for window, core, start in log.windows():
+        first, stop = max(start, usable.start), min(start + core.stop - core.start, usable.stop)
+        if first < stop:
+            shift = core.start - start  # window index of a log index
+            yield from _rows(params, window, lever_spin, span=(first + shift, stop + shift, usable.start + shift))
