@@ -177,7 +177,7 @@ def _table(source: str, labels: list[str], data, index: dict[str, int], angle_ke
         lines=np.array([n for n, _ in data]),
         time=values[:, index["time"]],
         angles=np.column_stack([values[:, index[c]] if c in index else np.zeros(len(data)) for c in angle_keys]),
-        load=values[:, index["load"]] if load is not None else None,
+        load=values[:, index["load"]] if "load" in index else None,
         columns=columns,
         time_quantum=0.0 if None in places else 10.0 ** -max(places),
     )
