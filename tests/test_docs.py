@@ -178,7 +178,7 @@ def test_readme_is_a_front_door():
     """At most ~250 lines, and every command in its table links to its guide page (which exists)."""
     text = README.read_text(encoding="utf-8")
     assert len(text.splitlines()) <= 250
-    rows = re.findall(r"^\| \[`hipsim (\w+)[^`]*`\]\((docs/guide/[\w-]+\.md)(#[\w-]+)?\) \|", text, re.M)
+    rows = re.findall(r"^\| \[`hipsim ([\w-]+)[^`]*`\]\((docs/guide/[\w-]+\.md)(#[\w-]+)?\) \|", text, re.M)
     names = {name for name, _, _ in rows}
     from hipsim.cli.main import build_parser
 

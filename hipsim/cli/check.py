@@ -8,6 +8,7 @@ import sys
 from ..analysis.registry import check_names
 from ..present.tables import format_table
 from .common import add_machine_options, add_summary_format, load_pinocchio_kernels, parameters, print_json, progress
+from .feasible import add_strict_option
 from .motion_options import add_trajectory_options, load_source, load_trajectory
 
 __all__ = ["add_parser", "run"]
@@ -29,6 +30,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         help="mujoco: compare MuJoCo's inverse dynamics with the analytic (lever spin) and Pinocchio models instead",
     )
     add_summary_format(check, "the differences as tables (default) or JSON")
+    add_strict_option(check)
     check.set_defaults(run=run)
     return check
 
@@ -36,15 +38,20 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 def run(args) -> int:
     """Compare the models; status 1 when they disagree where they must agree."""
     from ..analysis.crosscheck import TOLERANCE, compare_models
+    from ..analysis.streaming import stream_run
+    from .feasible import FeasibilityWatch, limits, report_crossings
 
     params = parameters(args)
+    trajectory = load_trajectory(args) if args.engine == "mujoco" else load_source(args)
+    watch = FeasibilityWatch(limits(params))
+    stream_run(params, trajectory, write=watch.add)  # the analytic model, for the machine's limits
+    if report_crossings(watch.crossings(), args.strict):
+        return 1
     if args.engine == "mujoco":
         from ..analysis.crosscheck import compare_mujoco
 
-        trajectory = load_trajectory(args)
         comparisons = compare_mujoco(params, trajectory)
     else:
-        trajectory = load_source(args)
         load_pinocchio_kernels()
         comparisons = compare_models(params, trajectory, progress=progress("check"))
     failed = any(c.required and not c.ok for c in comparisons)

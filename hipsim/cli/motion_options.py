@@ -14,7 +14,7 @@ from ..exceptions import HipsimError, PoseError
 __all__ = ["add_trajectory_options", "builtin_frequency", "cycle_period", "load_source", "load_trajectory", "locate", "parse_body_weight", "span"]
 
 #: Options that only a trajectory file takes.
-FILE_OPTIONS = ("columns", "side", "load_column", "body_weight", "resample")
+FILE_OPTIONS = ("columns", "side", "load_column", "body_weight", "resample", "cutoff", "load", "load_scale")
 #: A body mass above this many kg is surely a weight in N typed without its unit.
 MAX_BODY_MASS_KG = 500.0
 
@@ -39,15 +39,26 @@ def add_trajectory_options(parser: argparse.ArgumentParser, rate: bool = True) -
     group.add_argument("--period", type=float, metavar="S", help="cycle period in s, instead of --frequency")
     group.add_argument(
         "--columns", metavar="MAP",
-        help="which CSV columns to read: time=COL,alpha=COL,beta=COL,gamma=COL[,load=COL] (or flexion=,adduction=,rotation= "
-        "for the hip's ISB joint angles); a unit after a colon (s, ms, %%; deg, rad; N, kN, %%BW), a leading - flips the sign",
+        help="which columns to read (CSV, Parquet, OpenSim): time=COL,alpha=COL,beta=COL,gamma=COL[,load=COL] (or flexion=,adduction=,rotation= "
+        "for the hip's ISB joint angles); a unit after a colon (s, ms, %%; deg, rad; N, kN, %%BW), a leading - flips the sign; "
+        "zero for an angle the file does not have (a planar model)",
     )
     group.add_argument(
         "--side", choices=["right", "left"], help="whose hip to read from an OpenSim file (default right)",
     )
     group.add_argument(
         "--load-column", metavar="COL[:UNIT]",
-        help="the file's column holding the load F_e (in N, or in %% body weight with --body-weight); a leading - flips the sign",
+        help="the column holding the load F_e (in N, or in %% body weight with --body-weight); a leading - flips the sign; "
+        "with --load, a column of that file, or NAME for the resultant of NAME_fx, NAME_fy, NAME_fz",
+    )
+    group.add_argument(
+        "--load", metavar="FILE",
+        help="the load from a second file (OpenSim .sto/.mot or CSV; time in s on the motion's clock), interpolated onto "
+        "the motion's times over the time both cover; name its column with --load-column",
+    )
+    group.add_argument(
+        "--load-scale", metavar="K|MIN:MAX",
+        help="with --load: multiply the load by K, or map its lowest to highest value linearly onto MIN to MAX N (e.g. 300:3000)",
     )
     group.add_argument(
         "--body-weight", metavar="KG", help="body weight for a load in %% body weight: in kg (75 or 75kg) or in N (736N)",
@@ -56,6 +67,11 @@ def add_trajectory_options(parser: argparse.ArgumentParser, rate: bool = True) -
         "--resample", type=float, metavar="HZ",
         help="resample a file with uneven times (dropped samples, clock jitter) onto an even grid at HZ: "
         "the quintic spline through its samples, the load linearly",
+    )
+    group.add_argument(
+        "--cutoff", type=float, metavar="HZ",
+        help="zero-phase low-pass of a file's angles before they are differentiated (Butterworth order 4, forwards and "
+        "backwards; 6 Hz is gait labs' usual); without it a noisy file is warned of",
     )
 
 
@@ -128,12 +144,21 @@ def load_trajectory(args, source: bool = False):
         hint = " (to resample a file, use --resample)" if args.rate is not None else ""
         raise HipsimError(f"{', '.join(given)} {verb} to the built-in cycle, not to --trajectory {args.trajectory}{hint}")
     _check_not_input(args)
+    cutoff = getattr(args, "cutoff", None)
+    if cutoff is not None and not (math.isfinite(cutoff) and cutoff > 0):
+        raise HipsimError(f"--cutoff: expected a positive frequency in Hz, got {cutoff:g}")
+    load, load_scale = getattr(args, "load", None), getattr(args, "load_scale", None)
+    if load is not None and args.load_column is None:
+        raise HipsimError(f"--load {load}: name its column with --load-column (a column, or NAME for NAME_fx/_fy/_fz)")
+    if load_scale is not None and load is None:
+        raise HipsimError("--load-scale applies to a --load file")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", TrajectoryWarning)
         trajectory = read_trajectory(
             args.trajectory, columns=args.columns, side=args.side, load_column=args.load_column,
             body_weight=parse_body_weight(args.body_weight) if args.body_weight is not None else None,
             frequency=args.frequency, period=args.period, resample=args.resample, lazy=source,
+            cutoff=cutoff, load=load, load_scale=load_scale,
         )  # fmt: skip
     for warning in caught:
         if issubclass(warning.category, TrajectoryWarning):

@@ -9,6 +9,7 @@ from pathlib import Path
 from ..analysis.registry import engine_names
 from ..exceptions import HipsimError
 from .common import add_machine_options, add_summary_format, desired_motion, load_pinocchio_kernels, note, parameters, print_json
+from .feasible import add_strict_option
 from .motion_options import add_trajectory_options, load_trajectory
 
 __all__ = ["add_parser", "run"]
@@ -32,6 +33,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     report.add_argument("--simulate", action="store_true", help="also simulate both controllers and plot their tracking errors")
     report.add_argument("--mismatch", metavar="SPEC", help="with --simulate: plant off from the controllers' model, e.g. friction=+20%%,masses=-10%%")
     add_summary_format(report, "what to print: the folder written and the rating check (default), or the run's summary and sizing as JSON")
+    add_strict_option(report)
     report.set_defaults(run=run)
     return report
 
@@ -60,6 +62,10 @@ def run(args) -> int:
         params = params.replace(**{k: v for k, v in screw.items() if v is not None})
     check_folder(Path(args.out))  # an unusable folder is refused before the computing
     run = analyse(params, trajectory)
+    from .feasible import check_run, report_crossings
+
+    if report_crossings(check_run(run, params, drive), args.strict):
+        return 1
     joint_run, notes = None, []
     if args.model == "analytic":
         notes.append("Joint reaction forces were not computed (analytic model only: it has no joint forces).")

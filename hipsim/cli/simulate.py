@@ -11,6 +11,7 @@ from ..exceptions import ArgumentError, HipsimError
 from ..analysis.registry import make_plant, plant_entry, plant_names
 from ..present.tables import format_table
 from .common import add_machine_options, add_summary_format, desired_motion, load_pinocchio_kernels, note, parameters, print_json
+from .feasible import add_strict_option
 from .mjcf import add_simulate_options, format_gaps
 from .motion_options import add_trajectory_options, load_trajectory
 
@@ -42,6 +43,12 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     sim.add_argument("--torque-limit", type=float, metavar="NMM", help="motor torque limit in N·mm (default control.torque_limit_Nmm)")
     sim.add_argument("--out", default="hipsim_simulation.csv", metavar="FILE", help="CSV to write; with both controllers, _pd and _augmented-pd are added to the name")
     add_summary_format(sim)
+    add_strict_option(sim)
+    sim.add_argument(
+        "--tolerance", metavar="SPEC",
+        help="ISO 14242-1 tolerances for the verdict on the tracked motion, e.g. alpha=3,beta=3,gamma=3,load=3%%,frequency=0.1 "
+        "(default: those values, assumed: confirm them against the standard; see hipsim iso-check)",
+    )
     sim.set_defaults(run=run)
     return sim
 
@@ -83,7 +90,14 @@ def run(args) -> int:
     if is_stdout(args.out) and args.controller == "both":
         raise HipsimError(f"--out {args.out} takes one CSV: choose one controller (--controller pd or --controller augmented-pd)")
     report = sys.stderr if is_stdout(args.out) else sys.stdout  # the CSV has standard output
-    desired_at, duration = desired_motion(args, load_trajectory(args) if args.trajectory else None)
+    trajectory = load_trajectory(args) if args.trajectory else None
+    desired_at, duration = desired_motion(args, trajectory)
+    from .feasible import report_crossings
+    from .iso_check import parse_tolerance_option
+
+    tolerances = parse_tolerance_option(args.tolerance)
+    if report_crossings(_feasibility(params, args, trajectory), args.strict):
+        return 1
     try:
         mismatch = parse_mismatch(args.mismatch) if args.mismatch else {}
     except ArgumentError as error:  # the library names its argument; the user typed an option
@@ -120,4 +134,28 @@ def run(args) -> int:
     print(format_simulations(simulations), file=report)
     for line in gaps:
         print(line, file=report)
+    from .iso_check import simulation_verdicts
+
+    for line in simulation_verdicts(simulations, tolerances, periodic=_repeats(args, trajectory)):
+        print(line, file=report)
     return 0
+
+
+def _feasibility(params, args, trajectory) -> list:
+    """The machine limits the desired motion crosses (the analytic model along it)."""
+    from ..analysis.runs import analyse
+    from ..motion.trajectories import iso14242
+    from .feasible import check_run
+    from .motion_options import builtin_frequency
+
+    if trajectory is None:
+        trajectory = iso14242(rate=1000.0, cycles=1 if args.cycles is None else args.cycles, frequency=builtin_frequency(args))
+    return check_run(analyse(params, trajectory, on_error="flag"), params)
+
+
+def _repeats(args, trajectory) -> bool:
+    """The desired motion covers whole periods and repeats: the tracked run is checked as one period of an endless run."""
+    if trajectory is not None:
+        return trajectory.periodic
+    cycles = 1 if args.cycles is None else args.cycles
+    return abs(cycles - round(cycles)) < 1e-12

@@ -9,6 +9,7 @@ import sys
 from ..analysis.registry import engine_entry, engine_names
 from ..present.tables import format_table
 from .common import add_machine_options, add_summary_format, load_pinocchio_kernels, parameters, print_json, progress
+from .feasible import add_strict_option
 from .motion_options import add_trajectory_options, cycle_period, load_source, span
 
 __all__ = ["add_parser", "format_summary", "run"]
@@ -35,6 +36,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "--flag-bad-poses", action="store_true",
         help="carry on through poses out of reach or singular and mark them in a 'flagged' column instead of stopping",
     )
+    add_strict_option(torques)
     torques.set_defaults(run=run)
     return torques
 
@@ -90,15 +92,22 @@ def run(args) -> int:
     """Stream the run to ``--out`` and print its summary."""
     from ..analysis.streaming import stream_run
     from ..files import ColumnWriter, check_output, is_stdout
+    from .feasible import FeasibilityWatch, limits, report_crossings
 
     check_output(args.out)  # an unusable output is refused before the computing
     params = parameters(args)
     source = load_source(args)
     if engine_entry(args.model).warm_up:
         load_pinocchio_kernels()
+    watch = FeasibilityWatch(limits(params))
+
+    def write(columns) -> None:
+        writer.write(columns)
+        watch.add(columns)
+
     with ColumnWriter(args.out, _file_metadata(params)) as writer:
         summary = stream_run(
-            params, source, model=args.model, on_error="flag" if args.flag_bad_poses else "raise", write=writer.write,
+            params, source, model=args.model, on_error="flag" if args.flag_bad_poses else "raise", write=write,
             progress=progress(f"{args.model} model"),
         )
         path = writer.close()
@@ -111,4 +120,4 @@ def run(args) -> int:
         print(format_summary(summary), file=report)
         where = "the CSV to standard output" if is_stdout(args.out) else path
         print(f"\nwrote {where} ({summary['samples']} rows, {len(writer.names)} columns{', Parquet' if kind == 'Parquet' else ''})", file=report)
-    return 0
+    return report_crossings(watch.crossings(), args.strict)

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, TextIO
 
 from ..exceptions import HipsimError
 from .common import add_machine_options, parameters
+from .feasible import add_strict_option
 from .motion_options import add_trajectory_options, load_trajectory
 
 if TYPE_CHECKING:  # loaded when the command runs, not with the parser
@@ -35,16 +36,22 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     view.add_argument("--forces", action="store_true", help="arrows for the motor force on each screw and the force at each spherical joint")
     view.add_argument("--singularity", action="store_true", help="colour the levers by the singularity measure (red singular, green clear)")
     view.add_argument("--human", action="store_true", help="the example-robot-data human model's hip moving beside the machine")
+    add_strict_option(view)
     view.set_defaults(run=run)
     return view
 
 
 def run(args) -> int:
     """Play or write the machine's motion (:func:`run_view`)."""
+    from ..analysis.runs import analyse
     from ..files import is_stdout
+    from .feasible import check_run, report_crossings
 
+    params, trajectory = parameters(args), load_trajectory(args)
+    if report_crossings(check_run(analyse(params, trajectory, on_error="flag"), params), args.strict):
+        return 1
     return run_view(
-        parameters(args), load_trajectory(args), html=args.html, speed=args.speed, step=args.step, forces=args.forces,
+        params, trajectory, html=args.html, speed=args.speed, step=args.step, forces=args.forces,
         singularity=args.singularity, human=args.human, fps=args.fps,
         stream=sys.stderr if args.html and is_stdout(args.html) else sys.stdout,
     )

@@ -6,6 +6,7 @@ Layer 1 of hipsim, beside :mod:`hipsim.machine`: it knows nothing of the machine
 from .build import TrajectoryWarning
 from .columns import Column, ColumnMap, parse_columns
 from .csv_table import load_trajectory_csv
+from .gait_events import gait_cycles
 from .hip_angles import hip_to_machine, machine_to_hip
 from .opensim import load_opensim
 from .readers import read_trajectory
@@ -21,6 +22,7 @@ __all__ = [
     "Trajectory",
     "TrajectoryWarning",
     "hip_to_machine",
+    "gait_cycles",
     "interpolator",
     "iso14242",
     "load_opensim",

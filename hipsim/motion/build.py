@@ -14,7 +14,15 @@ in their own units, with the file's line of each row. Then:
    taken to hold one cycle, so its derivatives scale with it);
 4. onto an even time grid when resampling is asked for; otherwise the times
    must be evenly spaced already (:func:`check_time`);
-5. derivatives from an interpolating quintic spline (periodic when the last
+5. the load from a second file when one is given (:mod:`hipsim.motion.load_file`:
+   interpolated onto the motion's times, which are cut to the overlap);
+6. a zero-phase low-pass of the angles when a cutoff is asked for
+   (:func:`hipsim.motion.filtering.lowpass_record`: wrapped around for a
+   periodic file, odd extensions at the ends otherwise; the load, which is
+   not differentiated, is not filtered); without one, a check of the
+   differentiated motion for measurement noise
+   (:mod:`hipsim.motion.noise_check`) that warns with the cutoff to use;
+7. derivatives from an interpolating quintic spline (periodic when the last
    row repeats the first, which is then dropped), evaluated whole or a piece
    at a time (:class:`SampledMotion`).
 
@@ -39,7 +47,9 @@ from scipy.interpolate import make_interp_spline
 
 from ..exceptions import TrajectoryError
 from .columns import ColumnMap
+from .filtering import lowpass_record
 from .hip_angles import hip_to_machine
+from .noise_check import check_noise
 from .trajectories import MIN_SAMPLES, Trajectory
 
 __all__ = ["MAX_LOAD", "SampledMotion", "Table", "TrajectoryWarning", "build_trajectory", "check_time"]
@@ -86,6 +96,8 @@ def build_trajectory(
     resample: float | None = None,
     body_weight: float | None = None,
     lazy: bool = False,
+    cutoff: float | None = None,
+    load_curve=None,
 ) -> "Trajectory | SampledMotion":
     """Units, hip chain, time scaling, resampling and derivatives: the steps every reader shares (module docstring).
 
@@ -99,6 +111,10 @@ def build_trajectory(
         body_weight: the subject's body weight in [N], for a load in % body weight.
         lazy: return the :class:`SampledMotion` (the samples and their
             spline, evaluated piece by piece) instead of the whole Trajectory.
+        cutoff: zero-phase low-pass cutoff in [Hz] for the angles before they
+            are differentiated; None for none (then noisy motion is warned of).
+        load_curve: the load from its own file
+            (:class:`hipsim.motion.load_file.LoadCurve`), in place of a load column.
 
     Raises:
         TrajectoryError: naming the file, line and column of the first problem.
@@ -120,6 +136,12 @@ def build_trajectory(
     t = check_time(t, quantum, source, lines, time_column.name, even=rate is None)
     q = _angles(table, source, lines)
     load = _load(table, body_weight, source, lines)
+    if load_curve is not None:
+        if table.columns.load is not None:
+            raise TrajectoryError("a load column and a load file are both given: which is the load?", source=source, column=table.columns.load.name)
+        keep, load = load_curve.onto(t, source)
+        if not keep.all():
+            t, q, lines = t[keep], q[keep], lines[keep]
     closes = _closes_on_itself(q, load)
     if cycle is not None and unit != "%":
         recorded = t[-1] - t[0] + (0.0 if closes else float(np.median(np.diff(t))))
@@ -131,8 +153,32 @@ def build_trajectory(
             "periodic was asked for, but the last row does not repeat the first (angles, load and slope)",
             source=source, line=int(lines[-1]),
         )
+    if cutoff is not None:
+        if rate is not None:  # the filter needs even samples: resample first
+            t, q, load, lines = _on_grid(_resampled(t, q, load, rate, periodic, source), periodic)
+            rate = None
+        step = (t[-1] - t[0]) / (t.size - 1)
+        q = lowpass_record(q, 1.0 / step, cutoff, bool(periodic), source)
+    else:
+        _warn_if_noisy(t, q, source)
     motion = _resampled(t, q, load, rate, periodic, source) if rate is not None else SampledMotion(t, load, lines, _spline(t, q, periodic), source, bool(periodic))
     return motion if lazy else motion.trajectory()
+
+
+def _warn_if_noisy(t: np.ndarray, q: np.ndarray, source: str) -> None:
+    """One TrajectoryWarning when the angles carry noise that differentiation would amplify (:mod:`hipsim.motion.noise_check`)."""
+    message = check_noise(t, q).warning(source)
+    if message is not None:
+        warnings.warn(message, TrajectoryWarning, stacklevel=4)
+
+
+def _on_grid(motion: "SampledMotion", periodic: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray, None]:
+    """A resampled motion's grid samples (t, q, load, no lines), a periodic one closed by its first sample again."""
+    t, q, load = motion.t, motion.spline(motion.t), np.interp(motion.t, motion.knots, motion.load)
+    if periodic:
+        t = np.append(t, motion.knots[-1])
+        q, load = np.vstack([q, q[:1]]), np.append(load, load[0])
+    return t, q, load, None
 
 
 class SampledMotion:

@@ -18,6 +18,7 @@ from .trajectories import ANGLE_NAMES
 __all__ = [
     "HIP_ANGLE_NAMES",
     "STANDARD_GRAVITY",
+    "ZERO",
     "UNITS",
     "Column",
     "ColumnMap",
@@ -27,6 +28,8 @@ __all__ = [
     "parse_columns",
 ]
 
+#: The column name that stands for an angle the file does not have: 0 throughout.
+ZERO = "zero"
 #: g in [m/s²] that turns a body mass in kg into a body weight in N (the kilogram-force).
 STANDARD_GRAVITY = 9.80665
 #: The ISB hip chain's angles, in the order of the chain (Z, X, Y).
@@ -79,6 +82,11 @@ class Column:
             raise TrajectoryError(f"no column name given for {key}", source="column mapping")
         return cls(text.strip(), unit, sign)
 
+    @property
+    def zero(self) -> bool:
+        """True for the name ``zero``: an angle the file does not have (a planar model's), read as 0 throughout."""
+        return self.name.strip().lower() == ZERO
+
     def text(self) -> str:
         """Back to ``[-]NAME[:UNIT]``."""
         return ("-" if self.sign < 0 else "") + self.name + (f":{self.unit}" if self.unit else "")
@@ -130,6 +138,8 @@ class ColumnMap:
             if key in columns:
                 raise TrajectoryError(f"{key} is mapped twice", source="column mapping")
             column = value if isinstance(value, Column) else Column.parse(str(value), key)
+            if column.zero and key in ("time", "load"):
+                raise TrajectoryError(f"'{ZERO}' stands for an angle the file does not have, not for the {key}", source="column mapping")
             if column.unit is not None and column.unit not in UNITS[key]:
                 raise TrajectoryError(f"'{column.unit}' is not a unit of {key} (expected {', '.join(UNITS[key])})", source="column mapping")
             columns[key] = column

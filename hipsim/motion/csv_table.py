@@ -38,6 +38,8 @@ def load_trajectory_csv(
     period: float | None = None,
     resample: float | None = None,
     lazy: bool = False,
+    cutoff: float | None = None,
+    load_curve=None,
 ) -> Trajectory:
     """Read a trajectory from a CSV table and differentiate it.
 
@@ -62,6 +64,8 @@ def load_trajectory_csv(
         resample: rate in [Hz] of an even grid to resample uneven data onto
             (the quintic spline of the samples; the load linearly).
         lazy: return a :class:`~hipsim.motion.build.SampledMotion` to evaluate piece by piece instead.
+        cutoff: zero-phase low-pass cutoff in [Hz] for the angles before differentiation (:mod:`hipsim.motion.filtering`).
+        load_curve: the load from its own file (:func:`hipsim.motion.load_file.read_load_curve`).
 
     Returns:
         The trajectory, named by the path as given.
@@ -73,7 +77,8 @@ def load_trajectory_csv(
     mapping, load = column_options(columns, load_column, source)
     table = _read_csv_table(source, path, mapping, load)
     return build_trajectory(
-        table, periodic=periodic, frequency=frequency, period=period, resample=resample, body_weight=body_weight, lazy=lazy
+        table, periodic=periodic, frequency=frequency, period=period, resample=resample, body_weight=body_weight, lazy=lazy,
+        cutoff=cutoff, load_curve=load_curve,
     )
 
 
@@ -114,7 +119,7 @@ def _read_csv_table(source: str, path, mapping: ColumnMap | None, load: Column |
         source=source,
         lines=np.array([n for n, _ in data]),
         time=values[:, index["time"]],
-        angles=values[:, [index[key] for key in mapping.angle_keys]],
+        angles=np.column_stack([values[:, index[key]] if key in index else np.zeros(len(data)) for key in mapping.angle_keys]),
         load=values[:, index["load"]] if "load" in index else None,
         columns=mapping,
         time_quantum=10.0 ** -time_decimals if time_decimals is not None else 0.0,

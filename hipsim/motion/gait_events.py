@@ -32,7 +32,7 @@ import numpy as np
 
 from ..exceptions import TrajectoryError
 
-__all__ = ["DEFAULT_FALL", "DEFAULT_RISE", "GaitEvents", "detect_gait_events", "gait_phase"]
+__all__ = ["DEFAULT_FALL", "DEFAULT_RISE", "GaitEvents", "detect_gait_events", "gait_cycles", "gait_phase"]
 
 #: Stance starts when the load rises above this fraction of its range above the swing level.
 DEFAULT_RISE = 0.25
@@ -202,3 +202,13 @@ def gait_phase(t: np.ndarray, events: GaitEvents) -> tuple[np.ndarray, np.ndarra
     typical = float(np.nanmedian(stance_percent)) if np.isfinite(stance_percent).any() else float("nan")
     stance_percent = np.where(np.isnan(stance_percent), typical, stance_percent)
     return phase, phase < np.where(inside, stance_percent[k], typical)
+
+
+def gait_cycles(motion) -> GaitEvents:
+    """The gait events of a trajectory or a log's motion (anything with ``t`` in [s] and ``Fe`` in [N]; a rig log's ``trajectory``).
+
+    Its :attr:`GaitEvents.cycles` is the log's cycle count (whole cycles,
+    heel strike to heel strike) and :attr:`GaitEvents.period` its cycle period in [s].
+    """
+    motion = getattr(motion, "trajectory", motion)
+    return detect_gait_events(motion.t, motion.Fe, source=getattr(motion, "name", "load"))

@@ -29,6 +29,8 @@ def _column_indices(header: list[str], mapping: ColumnMap, source: str, line: in
     """Where each mapped column is in the header (exactly, else ignoring case and spaces if that is unique)."""
     index = {}
     for key, column in mapping.items():
+        if column.zero:  # an angle the file does not have: no column
+            continue
         exact = [c for c, name in enumerate(header) if name == column.name]
         loose = [c for c, name in enumerate(header) if _loose(name) == _loose(column.name)]
         found = exact or loose

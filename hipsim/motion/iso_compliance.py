@@ -12,7 +12,10 @@ between samples, is matched to the same relative crossing of the standard's
 load. A cycle
 runs from one such crossing to the next, so its period and frequency come
 from them, and its phase s = (t − t₀)/T is what the standard's waveforms are
-evaluated at. Only whole cycles are checked.
+evaluated at. Only whole cycles are checked; a run that covers whole
+periods of a motion that repeats (``periodic``) is checked as one period of
+an endless run (:func:`periodic_extension`), so that its cycles are whole
+wherever its heel strikes fall.
 
 The default tolerances (:data:`DEFAULT_TOLERANCES`: ±3° on each angle, ±3 %
 of the standard's 3000 N peak on the load, ±0.1 Hz on the frequency) are
@@ -39,6 +42,7 @@ __all__ = [
     "Tolerances",
     "iso_check",
     "parse_tolerances",
+    "periodic_extension",
 ]
 
 #: The standard's cycle frequency in [Hz].
@@ -196,7 +200,25 @@ def _reference_crossing() -> float:
     return float(_rising_crossings(s, load, 0.5 * (low + high))[0])
 
 
-def iso_check(t: np.ndarray, q: np.ndarray, load: np.ndarray, tolerances: Tolerances = DEFAULT_TOLERANCES, source: str = "run") -> IsoCheck:
+def periodic_extension(t: np.ndarray, q: np.ndarray, load: np.ndarray, copies: int = 3) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A periodic run's samples repeated ``copies`` times, the original in the middle copy (t, q, load as given).
+
+    Args:
+        t: evenly spaced sample times in [s], (N,), covering whole periods (the last sample not repeating the first).
+        q: angles, (N, 3).
+        load: load in [N], (N,).
+        copies: an odd number of copies.
+    """
+    t, q, load = (np.asarray(x, dtype=float) for x in (t, q, load))
+    span = (t[-1] - t[0]) * t.size / (t.size - 1)
+    shifts = np.arange(copies) - copies // 2
+    return (np.concatenate([t + k * span for k in shifts]), np.tile(q, (copies, 1)), np.tile(load, copies))
+
+
+def iso_check(
+    t: np.ndarray, q: np.ndarray, load: np.ndarray, tolerances: Tolerances = DEFAULT_TOLERANCES, source: str = "run",
+    periodic: bool = False,
+) -> IsoCheck:
     """Check each whole cycle of a run against the ISO 14242-1 waveforms (see the module's description).
 
     Args:
@@ -205,6 +227,9 @@ def iso_check(t: np.ndarray, q: np.ndarray, load: np.ndarray, tolerances: Tolera
         load: axial load in [N], shape (N,).
         tolerances: the limits.
         source: the log or run, for messages and reports.
+        periodic: the samples cover whole periods of a motion that repeats
+            (evenly spaced, the last not repeating the first): checked as one
+            period of an endless run, each of its cycles once.
 
     Returns:
         The per-cycle deviations and the verdict.
@@ -215,6 +240,12 @@ def iso_check(t: np.ndarray, q: np.ndarray, load: np.ndarray, tolerances: Tolera
     t, q, load = (np.asarray(x, dtype=float) for x in (t, q, load))
     if t.ndim != 1 or q.shape != (t.size, 3) or load.shape != t.shape:
         raise TrajectoryError(f"times {t.shape}, angles {q.shape} and load {load.shape} do not match", source=source)
+    if periodic and t.size > 1:
+        step = (t[-1] - t[0]) / (t.size - 1)
+        span = step * t.size
+        whole = iso_check(*periodic_extension(t, q, load), tolerances, source)
+        cycles = tuple(c for c in whole.cycles if t[0] - 0.5 * step <= c.start < t[0] + span - 0.5 * step)
+        return IsoCheck(cycles, tolerances, source)
     low, high = _percentile_levels(load) if t.size else (0.0, 0.0)
     if not high - low > 1e-9 * max(abs(high), 1.0):
         raise TrajectoryError("the load has no stance and swing levels, so no heel strike to align the cycles on", source=source)

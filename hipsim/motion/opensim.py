@@ -21,14 +21,15 @@ positive on both sides). No OpenSim installation is needed.
 from __future__ import annotations
 
 import re
+import warnings
 from pathlib import Path
 
 import numpy as np
 
 from ..exceptions import TrajectoryError
 from ..tables import decimals, number, read_text_lines
-from .build import Table, build_trajectory
-from .columns import Column, ColumnMap, as_load_column
+from .build import Table, TrajectoryWarning, build_trajectory
+from .columns import Column, ColumnMap, as_column_map, as_load_column
 from .trajectories import MIN_SAMPLES, Trajectory
 
 __all__ = ["HIP_COORDINATES", "load_opensim"]
@@ -49,6 +50,9 @@ def load_opensim(
     period: float | None = None,
     resample: float | None = None,
     lazy: bool = False,
+    cutoff: float | None = None,
+    load_curve=None,
+    columns: ColumnMap | str | None = None,
 ) -> Trajectory:
     """Read one hip's motion from an OpenSim .mot or .sto file.
 
@@ -63,6 +67,11 @@ def load_opensim(
         period: cycle period in [s], instead of ``frequency``.
         resample: rate in [Hz] of an even grid to resample uneven data onto.
         lazy: return a :class:`hipsim.motion.build.SampledMotion` to evaluate piece by piece instead.
+        cutoff: zero-phase low-pass cutoff in [Hz] for the angles before differentiation.
+        load_curve: the load from its own file (:func:`hipsim.motion.load_file.read_load_curve`).
+        columns: a column mapping (:func:`hipsim.motion.columns.parse_columns`) instead of the hip
+            coordinates' names: angles without a unit in the file's (``inDegrees``),
+            ``zero`` for a coordinate the file does not have (a planar model).
 
     Returns:
         The platform trajectory, named by the path as given; 0 N of load
@@ -75,13 +84,19 @@ def load_opensim(
     if not isinstance(side, str) or side.strip().lower() not in _SIDES:
         raise TrajectoryError(f"side must be 'right' or 'left', got {side!r}", source=source)
     suffix = _SIDES[side.strip().lower()]
-    table = _read(source, path, suffix, as_load_column(load_column))
+    mapping, load = as_column_map(columns), as_load_column(load_column)
+    if mapping is not None and load is not None:
+        if mapping.load is not None:
+            raise TrajectoryError("the load column is named twice (in the column mapping and on its own)", source=source)
+        mapping = ColumnMap(mapping.time, mapping.angles, mapping.hip_chain, load)
+    table = _read(source, path, suffix, load, mapping)
     return build_trajectory(
-        table, periodic=periodic, frequency=frequency, period=period, resample=resample, body_weight=body_weight, lazy=lazy
+        table, periodic=periodic, frequency=frequency, period=period, resample=resample, body_weight=body_weight, lazy=lazy,
+        cutoff=cutoff, load_curve=load_curve,
     )
 
 
-def _read(source: str, path, suffix: str, load: Column | None) -> Table:
+def _read(source: str, path, suffix: str, load: Column | None, mapping: ColumnMap | None = None) -> Table:
     lines = read_text_lines(path, "OpenSim file", TrajectoryError)
     end = next((k for k, line in enumerate(lines) if line.strip().lower() == "endheader"), None)
     if end is None:
@@ -95,15 +110,20 @@ def _read(source: str, path, suffix: str, load: Column | None) -> Table:
     while labels and not labels[-1]:  # a trailing tab
         labels.pop()
     data = body[1:]
+    # OpenSim writes such headers itself (its tutorials' crouch2.mot): the data win, with a warning.
     if columns_declared is not None and columns_declared[1] != len(labels):
-        raise TrajectoryError(
-            f"the header says {columns_declared[1]} columns, the labels are {len(labels)}", source=source, line=columns_declared[0]
+        warnings.warn(
+            f"{source}, line {columns_declared[0]}: the header says {columns_declared[1]} columns, the labels are {len(labels)}: "
+            "the labels are read", TrajectoryWarning, stacklevel=4,
         )
     if rows_declared is not None and rows_declared[1] != len(data):
-        raise TrajectoryError(
-            f"the header says {rows_declared[1]} rows, the file has {len(data)} (cut short?)", source=source, line=rows_declared[0]
+        warnings.warn(
+            f"{source}, line {rows_declared[0]}: the header says {rows_declared[1]} rows, the file has {len(data)}: "
+            "the rows are read", TrajectoryWarning, stacklevel=4,
         )
     unit = "deg" if in_degrees else "rad"
+    if mapping is not None:
+        return _read_mapped(source, labels, label_line, data, mapping, unit)
     index = {"time": _find(labels, ("time",), "the time", source, label_line)}
     angles = []
     for coordinate in HIP_COORDINATES:
@@ -113,6 +133,28 @@ def _read(source: str, path, suffix: str, load: Column | None) -> Table:
     if load is not None:
         index["load"] = _find(labels, (load.name,), "the load", source, label_line)
         load = Column(labels[index["load"]], load.unit, load.sign)
+    columns = ColumnMap(Column(labels[index["time"]], "s"), tuple(angles), hip_chain=True, load=load)
+    return _table(source, labels, data, index, HIP_COORDINATES, columns)
+
+
+def _read_mapped(source: str, labels: list[str], label_line: int, data, mapping: ColumnMap, unit: str) -> Table:
+    """The columns a mapping names (an angle without a unit in the file's, ``zero`` for one the file lacks)."""
+    index = {"time": _find(labels, (mapping.time.name,), "the time", source, label_line)}
+    angles = []
+    for key, column in zip(mapping.angle_keys, mapping.angles):
+        if not column.zero:
+            index[key] = _find(labels, (column.name,), f"mapped to {key}", source, label_line)
+        angles.append(Column(labels[index[key]] if key in index else column.name, column.unit or unit, column.sign))
+    load = mapping.load
+    if load is not None:
+        index["load"] = _find(labels, (load.name,), "the load", source, label_line)
+        load = Column(labels[index["load"]], load.unit, load.sign)
+    columns = ColumnMap(mapping.time, tuple(angles), mapping.hip_chain, load)
+    return _table(source, labels, data, index, mapping.angle_keys, columns)
+
+
+def _table(source: str, labels: list[str], data, index: dict[str, int], angle_keys, columns: ColumnMap) -> Table:
+    """The numbers of the columns in ``index`` (angles absent from it are 0), checked, as a Table."""
     if len(data) < MIN_SAMPLES:
         raise TrajectoryError(f"{len(data)} samples; at least {MIN_SAMPLES} are needed", source=source)
     used = sorted(set(index.values()))
@@ -130,13 +172,12 @@ def _read(source: str, path, suffix: str, load: Column | None) -> Table:
             if not np.isfinite(values[k, c]):
                 raise TrajectoryError(f"'{row[c]}' is not finite", source=source, line=line_number, column=labels[c])
         places.append(decimals(row[index["time"]]))
-    columns = ColumnMap(Column(labels[index["time"]], "s"), tuple(angles), hip_chain=True, load=load)
     return Table(
         source=source,
         lines=np.array([n for n, _ in data]),
         time=values[:, index["time"]],
-        angles=values[:, [index[c] for c in HIP_COORDINATES]],
-        load=values[:, index["load"]] if load is not None else None,
+        angles=np.column_stack([values[:, index[c]] if c in index else np.zeros(len(data)) for c in angle_keys]),
+        load=values[:, index["load"]] if "load" in index else None,
         columns=columns,
         time_quantum=0.0 if None in places else 10.0 ** -max(places),
     )
@@ -183,4 +224,7 @@ def _find(labels: list[str], names: tuple[str, ...], what: str, source: str, lin
     found = f"its hip columns are {', '.join(hips[:6])}" if hips else f"its columns are {', '.join(labels[:8])}" + (" …" if len(labels) > 8 else "")
     other = name[:-2] + ("_l" if name.endswith("_r") else "_r")
     hint = " (the other hip's are there: choose that side?)" if any(label == other or label.endswith(f"/{other}/value") for label in labels) else ""
+    flexion = f"hip_flexion{name[-2:]}"
+    if not hint and name.startswith(("hip_adduction", "hip_rotation")) and flexion in labels:
+        hint = f" (a planar model? read it with --columns time=time,flexion={flexion},adduction=zero,rotation=zero)"
     raise TrajectoryError(f"no column '{name}' ({what}); {found}{hint}", source=source, line=line)

@@ -34,6 +34,8 @@ def load_trajectory_parquet(
     period: float | None = None,
     resample: float | None = None,
     lazy: bool = False,
+    cutoff: float | None = None,
+    load_curve=None,
 ) -> Trajectory:
     """Read a trajectory from a Parquet table and differentiate it (the arguments as :func:`hipsim.motion.csv_table.load_trajectory_csv`).
 
@@ -65,8 +67,9 @@ def load_trajectory_parquet(
     return build_trajectory(
         Table(
             source=source, lines=np.arange(2, n + 2), time=values["time"],
-            angles=np.column_stack([values[key] for key in mapping.angle_keys]),
+            angles=np.column_stack([values[key] if key in values else np.zeros(n) for key in mapping.angle_keys]),
             load=values.get("load"), columns=mapping, time_quantum=0.0,
         ),
         periodic=periodic, frequency=frequency, period=period, resample=resample, body_weight=body_weight, lazy=lazy,
+        cutoff=cutoff, load_curve=load_curve,
     )

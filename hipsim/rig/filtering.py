@@ -13,6 +13,9 @@ trajectory files are. The same filter is applied to the torques and the load
 that a comparison or a fit uses, so that model and measurement see the same
 bandwidth. The first and last :func:`edge_samples` samples, where a
 forward-backward filter has no data on one side, are dropped.
+
+The filter itself is :mod:`hipsim.motion.filtering`'s, the one trajectory
+files get with ``--cutoff``; this module adds what logs need of it.
 """
 
 from __future__ import annotations
@@ -21,9 +24,9 @@ import math
 
 import numpy as np
 from scipy.interpolate import make_interp_spline
-from scipy.signal import butter, sosfilt, sosfiltfilt
 
 from ..exceptions import TrajectoryError
+from ..motion.filtering import EDGE_PERIODS, FILTER_ORDER, edge_samples, filter_halo, lowpass, minimum_samples
 from ..motion.trajectories import Trajectory
 
 __all__ = [
@@ -41,85 +44,8 @@ __all__ = [
 
 #: Default low-pass cutoff in [Hz] for measured motion and torques.
 DEFAULT_CUTOFF = 20.0
-#: Order of the Butterworth low-pass (run twice: forwards and backwards).
-FILTER_ORDER = 4
-#: Samples left out at each end of a filtered log, in periods of the cutoff: the
-#: forward-backward filter lacks data on one side there (its impulse response
-#: decays to 1e-4 within four periods at the order used).
-EDGE_PERIODS = 4.0
 #: Half-width of the window around each motor's reversal, in periods of the low-pass cutoff (see :func:`reversal_mask`).
 REVERSAL_PERIODS = 1.5
-
-
-def _check_cutoff(rate: float, cutoff: float, source: str | None) -> None:
-    if isinstance(cutoff, bool) or not (isinstance(cutoff, (int, float)) and math.isfinite(cutoff) and cutoff > 0):
-        raise TrajectoryError(f"the low-pass cutoff must be a positive frequency in Hz, got {cutoff!r}", source=source)
-    if cutoff >= 0.5 * rate:
-        raise TrajectoryError(
-            f"the low-pass cutoff {cutoff:g} Hz is not below the Nyquist frequency {0.5 * rate:g} Hz of a {rate:g} Hz log",
-            source=source,
-        )
-
-
-def edge_samples(rate: float, cutoff: float) -> int:
-    """Samples dropped at each end of a log filtered at ``cutoff`` [Hz] and sampled at ``rate`` [Hz]."""
-    return int(math.ceil(EDGE_PERIODS * rate / cutoff))
-
-
-def minimum_samples(rate: float, cutoff: float) -> int:
-    """The fewest samples a log needs to be filtered: both edges and as many samples again between them."""
-    padding = 3 * (2 * (FILTER_ORDER // 2 + FILTER_ORDER % 2) + 1)  # sosfiltfilt's default odd extension
-    return max(4 * edge_samples(rate, cutoff), padding + 1, 6)
-
-
-def filter_halo(rate: float, cutoff: float) -> int:
-    """Samples after which a start in the wrong state no longer shows in :func:`lowpass` (below round-off, 2⁻⁵³).
-
-    A piece of a log filtered on its own differs from the whole log filtered
-    only by the filter's response to the piece's ends, which decays as the
-    filter's impulse response: this is where that response (of one pass,
-    relative to its peak) stays below the double-precision round-off for good.
-    Args:
-        rate: sample rate in [Hz].
-        cutoff: cutoff frequency in [Hz].
-    """
-    _check_cutoff(rate, cutoff, None)
-    sos = butter(FILTER_ORDER, cutoff, fs=rate, output="sos")
-    length = 64
-    while True:
-        impulse = np.zeros(length)
-        impulse[0] = 1.0
-        response = np.abs(sosfilt(sos, impulse))
-        above = np.flatnonzero(response > 2.0**-53 * response.max())
-        if above[-1] < length // 2:
-            return int(above[-1]) + 1
-        length *= 2
-
-
-def lowpass(x: np.ndarray, rate: float, cutoff: float, source: str | None = None) -> np.ndarray:
-    """Zero-phase Butterworth low-pass along the first axis (``sosfiltfilt``, order :data:`FILTER_ORDER`).
-
-    Args:
-        x: samples, (N, ...), in any unit.
-        rate: sample rate in [Hz].
-        cutoff: cutoff frequency in [Hz] (−3 dB of one pass, −6 dB of both).
-        source: the log's name, for messages.
-
-    Raises:
-        TrajectoryError: a cutoff not below the Nyquist frequency, or a log too short to filter.
-    """
-    _check_cutoff(rate, cutoff, source)
-    x = np.asarray(x, dtype=float)
-    needed = minimum_samples(rate, cutoff)
-    if len(x) < needed:
-        raise TrajectoryError(
-            f"{len(x)} samples ({len(x) / rate:.3g} s) are too short to filter at {cutoff:g} Hz: at least {needed} "
-            f"({needed / rate:.3g} s) are needed, {EDGE_PERIODS:g}/cutoff at each end being dropped",
-            source=source,
-        )
-    sos = butter(FILTER_ORDER, cutoff, fs=rate, output="sos")
-    # An odd extension as long as the dropped edge: the filter starts on a smooth continuation of the signal.
-    return sosfiltfilt(sos, x, axis=0, padlen=min(edge_samples(rate, cutoff), len(x) - 1))
 
 
 def smooth_motion(

@@ -1,0 +1,136 @@
+"""The ISO 14242-1 compliance check, drawn and written: each cycle over the standard's waveforms and their tolerance bands.
+
+:func:`write_iso_check` writes a folder a lab can hand on, as ``compare``
+does: the figure as PNG and SVG, ``index.html`` (one self-contained page, the
+PNG embedded) and ``iso_check.json`` (:func:`iso_summary`).
+"""
+
+from __future__ import annotations
+
+import base64
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..files import check_folder, json_ready, output_folder, write_atomic
+from ..motion.iso_compliance import QUANTITIES, IsoCheck
+from ..motion.trajectories import iso14242_angles, iso14242_load
+from .figures import save_figure
+
+__all__ = ["IsoCheckFiles", "iso_summary", "plot_iso_check", "write_iso_check"]
+
+#: Most cycles drawn (the first ones; every cycle is in the JSON).
+MAX_DRAWN = 50
+
+_LABELS = {"alpha": "α flexion/extension [°]", "beta": "β abduction/adduction [°]", "gamma": "γ rotation [°]", "load": "load [N]"}
+_UNITS = {"alpha": "deg", "beta": "deg", "gamma": "deg", "load": "N", "frequency": "Hz"}
+
+
+def iso_summary(check: IsoCheck) -> dict:
+    """The verdict as a JSON-ready dict: per quantity the worst deviation, tolerance and cycles failed; per cycle each deviation."""
+    quantities = {}
+    for q in QUANTITIES:
+        ok = check.passes(q)
+        quantities[q] = {"unit": _UNITS[q], "worst": check.worst(q), "tolerance": getattr(check.tolerances, q),
+                         "cycles_failed": int((~ok).sum()), "passed": bool(ok.all())}
+    cycles = [
+        {"cycle": k + 1, "start_s": c.start, "frequency_Hz": c.frequency, **{q: c.deviation(q) for q in QUANTITIES},
+         "passed": all(check.passes(q)[k] for q in QUANTITIES)}
+        for k, c in enumerate(check.cycles)
+    ]
+    return {"source": check.source, "passed": check.passed, "failing": list(check.failing), "cycles": len(check.cycles),
+            "tolerances_assumed": "defaults are assumed values: confirm them against your copy of ISO 14242-1",
+            "quantities": quantities, "per_cycle": cycles}
+
+
+def plot_iso_check(check: IsoCheck, t: np.ndarray, q: np.ndarray, load: np.ndarray):
+    """Each cycle's angles and load over % of the cycle from heel strike, on the standard's waveforms with their bands.
+
+    Args:
+        check: the verdict.
+        t, q, load: the samples it was made of, in [s], [rad] (N, 3) and [N].
+    """
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(10.0, 9.0), layout="constrained")
+    axes = fig.subplots(4, 1, sharex=True)
+    s = np.linspace(0.0, 1.0, 501)
+    reference = np.column_stack([np.degrees(iso14242_angles(s)[0]), iso14242_load(s)])
+    data = np.column_stack([np.degrees(q), load])
+    for k, cycle in enumerate(check.cycles[:MAX_DRAWN]):
+        inside = (t >= cycle.start) & (t < cycle.start + 1.0 / cycle.frequency)
+        phase = 100.0 * (t[inside] - cycle.start) * cycle.frequency
+        for j, name in enumerate(("alpha", "beta", "gamma", "load")):
+            good = check.passes(name)[k]
+            axes[j].plot(phase, data[inside, j], color="tab:blue" if good else "tab:red", linewidth=0.8, alpha=0.6)
+    for j, (ax, name) in enumerate(zip(axes, ("alpha", "beta", "gamma", "load"))):
+        band = getattr(check.tolerances, name)
+        ax.fill_between(100.0 * s, reference[:, j] - band, reference[:, j] + band, color="0.85", linewidth=0, label="tolerance")
+        ax.plot(100.0 * s, reference[:, j], color="black", linewidth=1.0, label="ISO 14242-1")
+        ok = check.passes(name)
+        ax.set_title(f"{name}: worst {check.worst(name):.3g} {_UNITS[name]} (tolerance {band:.3g}): "
+                     + ("pass" if ok.all() else f"FAIL in {int((~ok).sum())} of {ok.size} cycles"), fontsize=9)
+        ax.set_ylabel(_LABELS[name])
+        ax.grid(alpha=0.3)
+    axes[0].legend(loc="upper right", fontsize=8)
+    axes[-1].set_xlabel("% of the gait cycle from heel strike (blue: cycle within tolerance, red: outside)")
+    return fig
+
+
+@dataclass(frozen=True)
+class IsoCheckFiles:
+    """What :func:`write_iso_check` wrote."""
+
+    folder: Path
+    index: Path
+    summary: Path
+    figure: tuple[Path, Path]
+
+
+_PAGE = """<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>hipsim: ISO 14242-1 check, {{ s.source }}</title>
+<style>
+body { font-family: system-ui, sans-serif; max-width: 1100px; margin: 2em auto; color: #222; }
+table { border-collapse: collapse; margin: 1em 0; } td, th { border: 1px solid #ccc; padding: 0.3em 0.6em; text-align: right; }
+th:first-child, td:first-child { text-align: left; } img { max-width: 100%; } .fail { color: #b00; font-weight: bold; }
+</style></head><body>
+<h1>ISO 14242-1 check: {{ s.source }}</h1>
+<p>{{ s.cycles }} whole cycle(s), aligned by heel strike. Verdict: <span class="{{ '' if s.passed else 'fail' }}">{{ "PASS" if s.passed else "FAIL" }}</span>.
+The default tolerances are assumed values: confirm them against your copy of the standard.</p>
+<table><tr><th>quantity</th><th>worst deviation</th><th>tolerance</th><th>cycles failed</th><th>verdict</th></tr>
+{% for name, q in s.quantities.items() %}<tr><td>{{ name }}</td><td>{{ "%.3g"|format(q.worst) }} {{ q.unit }}</td><td>{{ "%.3g"|format(q.tolerance) }} {{ q.unit }}</td>
+<td>{{ q.cycles_failed }}</td><td class="{{ '' if q.passed else 'fail' }}">{{ "pass" if q.passed else "FAIL" }}</td></tr>
+{% endfor %}</table>
+<figure><img alt="cycles" src="data:image/png;base64,{{ figure }}"><figcaption>Each cycle over the standard's waveforms, the tolerance band grey
+(<a href="cycles.png">PNG</a>, <a href="cycles.svg">SVG</a>).</figcaption></figure>
+<table><tr><th>cycle</th><th>start [s]</th><th>frequency [Hz]</th><th>α [°]</th><th>β [°]</th><th>γ [°]</th><th>load [N]</th><th>verdict</th></tr>
+{% for c in s.per_cycle[:500] %}<tr><td>{{ c.cycle }}</td><td>{{ "%.4f"|format(c.start_s) }}</td><td>{{ "%.4f"|format(c.frequency_Hz) }}</td>
+<td>{{ "%.3g"|format(c.alpha) }}</td><td>{{ "%.3g"|format(c.beta) }}</td><td>{{ "%.3g"|format(c.gamma) }}</td><td>{{ "%.3g"|format(c.load) }}</td>
+<td class="{{ '' if c.passed else 'fail' }}">{{ "pass" if c.passed else "FAIL" }}</td></tr>
+{% endfor %}</table>
+<p>Numbers for scripts: <a href="iso_check.json">iso_check.json</a>.</p>
+</body></html>
+"""
+
+
+def write_iso_check(out_dir: str | Path, check: IsoCheck, t: np.ndarray, q: np.ndarray, load: np.ndarray) -> IsoCheckFiles:
+    """Write the figure (PNG, SVG), ``index.html`` and ``iso_check.json`` to ``out_dir``, each atomically.
+
+    Args:
+        out_dir: the folder (made if missing).
+        check: the verdict.
+        t, q, load: the samples checked, in [s], [rad] (N, 3), [N].
+    """
+    from jinja2 import Environment
+
+    out = Path(out_dir)
+    check_folder(out)
+    summary = json_ready(iso_summary(check))
+    with output_folder(out):
+        png, svg = save_figure(plot_iso_check(check, t, q, load), out, "cycles")
+        json_path = write_atomic(out / "iso_check.json", json.dumps(summary, indent=2) + "\n")
+        page = Environment(autoescape=True).from_string(_PAGE).render(s=summary, figure=base64.b64encode(png.read_bytes()).decode("ascii"))
+        index = write_atomic(out / "index.html", page)
+    return IsoCheckFiles(out, index, json_path, (png, svg))
