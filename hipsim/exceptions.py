@@ -3,9 +3,16 @@
 Every error names what is wrong and where: the file, the key, the row and
 column, or the sample time. The command line prints ``str(error)`` as one line
 and exits non-zero; library users catch :class:`HipsimError`.
+
+A message quotes what the user typed or a file held, so ``str(error)`` is
+made safe to print (:func:`printable`): control characters (a NUL byte, a
+terminal escape) are shown escaped (``\\x00``), and a message grown huge by a
+quoted 200 kB cell is shortened in its middle.
 """
 
 from __future__ import annotations
+
+import unicodedata
 
 __all__ = [
     "ArgumentError",
@@ -19,11 +26,37 @@ __all__ = [
     "ParameterError",
     "PoseError",
     "TrajectoryError",
+    "printable",
 ]
+
+#: The longest message printed whole, in characters; a longer one keeps its start and end.
+MAX_MESSAGE = 1200
+
+
+def printable(text: str) -> str:
+    """The text safe to print on one line: control characters escaped (``\\x00``, ``\\n``), a huge text cut in its middle.
+
+    Idempotent: escaping leaves no control character to escape again.
+    """
+    if any(unicodedata.category(c) in ("Cc", "Cf", "Zl", "Zp") and c != " " for c in text):
+        text = "".join(_escaped(c) for c in text)
+    if len(text) > MAX_MESSAGE:
+        head, tail = MAX_MESSAGE * 2 // 3, MAX_MESSAGE // 4
+        text = f"{text[:head]} … [{len(text) - head - tail:,} characters left out] … {text[-tail:]}"
+    return text
+
+
+def _escaped(c: str) -> str:
+    if unicodedata.category(c) not in ("Cc", "Cf", "Zl", "Zp"):
+        return c
+    return repr(c)[1:-1] if c.isascii() else f"\\u{ord(c):04x}"
 
 
 class HipsimError(Exception):
-    """Base class of every error hipsim raises on purpose."""
+    """Base class of every error hipsim raises on purpose; ``str()`` gives its message :func:`printable`."""
+
+    def __str__(self) -> str:
+        return printable(super().__str__())
 
 
 def _placed(message: str, *where) -> str:

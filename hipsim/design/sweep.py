@@ -35,6 +35,7 @@ from typing import Any, Callable, Iterator, Sequence
 import numpy as np
 
 from ..exceptions import ArgumentError, ClosureError, MissingDependencyError, ParameterError, PoseError
+from ..fingerprint import part_fingerprints
 from ..machine.drive import Drive, drive_from_motor_table
 from ..machine.parameters import Parameters, file_values, override_parameters
 from ..motion.trajectories import Trajectory
@@ -110,6 +111,24 @@ class SweepSetup:
     @property
     def joint_forces(self) -> bool:
         return self.model == "pinocchio"
+
+    def fingerprints(self) -> dict[str, str]:
+        """The fingerprint of everything that determines a row, per part and whole (``"setup"``; :mod:`hipsim.fingerprint`).
+
+        Parts: the machine's values (``--params`` and ``--set``, not the
+        file's name or comments), the trajectory's samples (file, rate,
+        frequency, cycles all end up there), the model, the drive's values,
+        the test cycles and the swept keys.
+        """
+        t = self.trajectory
+        return part_fingerprints({
+            "parameters": self.base,
+            "trajectory": {"t": t.t, "q": t.q, "qd": t.qd, "qdd": t.qdd, "Fe": t.Fe, "periodic": bool(t.periodic)},
+            "model": self.model,
+            "drive": self.drive,
+            "cycles": self.cycles,
+            "keys": [k.name for k in self.keys],
+        })  # fmt: skip
 
     def overrides(self, values: Sequence[float]) -> dict[str, Any]:
         """One variant's values as parameter overrides (a list key gets its whole list, one number changed)."""
