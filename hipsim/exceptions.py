@@ -12,6 +12,7 @@ quoted 200 kB cell is shortened in its middle.
 
 from __future__ import annotations
 
+import re
 import unicodedata
 
 __all__ = [
@@ -31,19 +32,28 @@ __all__ = [
 
 #: The longest message printed whole, in characters; a longer one keeps its start and end.
 MAX_MESSAGE = 1200
+#: The longest quoted text ('…') printed whole, in characters; a longer one keeps its start and end.
+MAX_QUOTE = 100
+_QUOTED = re.compile(r"(?<![\w'])'([^']{%d,})'(?![\w'])" % (MAX_QUOTE + 1))  # not an apostrophe: the drive's screw
 
 
 def printable(text: str) -> str:
-    """The text safe to print on one line: control characters escaped (``\\x00``, ``\\n``), a huge text cut in its middle.
+    """The text safe to print on one line: control characters escaped (``\\x00``, ``\\n``), a long quote or a huge text cut in its middle.
 
-    Idempotent: escaping leaves no control character to escape again.
+    Idempotent: escaping leaves no control character to escape again, and a shortened quote is short.
     """
-    if any(unicodedata.category(c) in ("Cc", "Cf", "Zl", "Zp") and c != " " for c in text):
+    if any(unicodedata.category(c) in ("Cc", "Cf", "Zl", "Zp") for c in text):
         text = "".join(_escaped(c) for c in text)
+    text = _QUOTED.sub(_shortened, text)
     if len(text) > MAX_MESSAGE:
         head, tail = MAX_MESSAGE * 2 // 3, MAX_MESSAGE // 4
         text = f"{text[:head]} … [{len(text) - head - tail:,} characters left out] … {text[-tail:]}"
     return text
+
+
+def _shortened(quoted: re.Match) -> str:
+    inner = quoted.group(1)
+    return f"'{inner[:60]}…{inner[-20:]}' ({len(inner):,} characters)"
 
 
 def _escaped(c: str) -> str:
