@@ -85,3 +85,18 @@ def test_the_same_values_by_another_route_are_the_same_set_up(out, capsys):
     """--set of the machine's own value changes nothing that determines a row: it resumes."""
     code, summary, _ = sweep(capsys, "--rate", str(RATE), "--set", "slider.mass_kg=3", *GRID, "--out", str(out))
     assert code == 0 and summary["skipped"] == 2
+
+
+def test_sample_without_range_or_tolerance_says_what_is_missing_not_both(tmp_path, capsys):
+    code, _, err = sweep(capsys, "--sample", "5", "--out", str(tmp_path / "s.csv"))
+    assert code == 2 and "--sample needs either --range" in err and "not both" not in err
+    code, _, err = sweep(capsys, "--sample", "5", "--range", "lever.length_mm=300:360", "--tolerance", "lever.length_mm=0.1", "--out", str(tmp_path / "s.csv"))
+    assert code == 2 and "not both" in err
+
+
+def test_a_nul_byte_or_a_terminal_escape_in_a_file_is_printed_escaped(tmp_path, capsys):
+    variants = tmp_path / "v.csv"
+    variants.write_bytes(b"lever.length_mm\n330\n3\x001\x1b[31m\n")
+    code, _, err = sweep(capsys, "--variants", str(variants), "--out", str(tmp_path / "s.csv"))
+    assert code == 2 and err.count("\n") == 1
+    assert "\x00" not in err and "\x1b" not in err and "got '3\\x001\\x1b[31m'" in err
