@@ -3,9 +3,17 @@
 Every error names what is wrong and where: the file, the key, the row and
 column, or the sample time. The command line prints ``str(error)`` as one line
 and exits non-zero; library users catch :class:`HipsimError`.
+
+A message quotes what the user typed or a file held, so ``str(error)`` is
+made safe to print (:func:`printable`): control characters (a NUL byte, a
+terminal escape) are shown escaped (``\\x00``), and a message grown huge by a
+quoted 200 kB cell is shortened in its middle.
 """
 
 from __future__ import annotations
+
+import re
+import unicodedata
 
 __all__ = [
     "ArgumentError",
@@ -19,11 +27,46 @@ __all__ = [
     "ParameterError",
     "PoseError",
     "TrajectoryError",
+    "printable",
 ]
+
+#: The longest message printed whole, in characters; a longer one keeps its start and end.
+MAX_MESSAGE = 1200
+#: The longest quoted text ('…') printed whole, in characters; a longer one keeps its start and end.
+MAX_QUOTE = 100
+_QUOTED = re.compile(r"(?<![\w'])'([^']{%d,})'(?![\w'])" % (MAX_QUOTE + 1))  # not an apostrophe: the drive's screw
+
+
+def printable(text: str) -> str:
+    """The text safe to print on one line: control characters escaped (``\\x00``, ``\\n``), a long quote or a huge text cut in its middle.
+
+    Idempotent: escaping leaves no control character to escape again, and a shortened quote is short.
+    """
+    if any(unicodedata.category(c) in ("Cc", "Cf", "Zl", "Zp") for c in text):
+        text = "".join(_escaped(c) for c in text)
+    text = _QUOTED.sub(_shortened, text)
+    if len(text) > MAX_MESSAGE:
+        head, tail = MAX_MESSAGE * 2 // 3, MAX_MESSAGE // 4
+        text = f"{text[:head]} … [{len(text) - head - tail:,} characters left out] … {text[-tail:]}"
+    return text
+
+
+def _shortened(quoted: re.Match) -> str:
+    inner = quoted.group(1)
+    return f"'{inner[:60]}…{inner[-20:]}' ({len(inner):,} characters)"
+
+
+def _escaped(c: str) -> str:
+    if unicodedata.category(c) not in ("Cc", "Cf", "Zl", "Zp"):
+        return c
+    return repr(c)[1:-1] if c.isascii() else f"\\u{ord(c):04x}"
 
 
 class HipsimError(Exception):
-    """Base class of every error hipsim raises on purpose."""
+    """Base class of every error hipsim raises on purpose; ``str()`` gives its message :func:`printable`."""
+
+    def __str__(self) -> str:
+        return printable(super().__str__())
 
 
 def _placed(message: str, *where) -> str:

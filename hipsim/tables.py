@@ -1,16 +1,19 @@
 """Tables in files: the rules every reader of delimited text (CSV, semicolon- or tab-separated) follows, and the CSV and Parquet encodings writers share.
 
-Reading: text is UTF-8, a spreadsheet's byte-order mark skipped
-(:func:`read_text`, :func:`open_text`); blank lines (only spaces and
-separators) and lines starting with ``#`` are skipped (:func:`data_lines`);
-the separator is the first of tab, semicolon, comma that splits the header
-and the first row alike (:func:`detect_separator`); cells are split as
-Python's ``csv`` module splits them (quotes honoured), a cell beyond its field
-size limit refused with a ValueError (:func:`cells`); a number is what a CSV
-writer would write, ``1_0`` refused, a decimal comma read where asked
-(:func:`number`). Each problem is reported by the caller's own error class
-(a :class:`~hipsim.exceptions.FileRowError`) naming the file, so a reader
-adds its line and column.
+Reading: text is UTF-8, a spreadsheet's byte-order mark skipped, a byte
+that is not UTF-8 named by its line (:func:`read_text`, :func:`open_text`);
+a line longer than :data:`MAX_LINE_BYTES` is refused as soon as it is met,
+before the rest of it is read (a table's line is never that long: a 12,000
+column header is some 150 kB; a file of one 300 MB line is refused in
+milliseconds, in a few MB); blank lines (only spaces and separators) and
+lines starting with ``#`` are skipped (:func:`data_lines`); the separator is
+the first of tab, semicolon, comma that splits the header and the first row
+alike (:func:`detect_separator`); cells are split as Python's ``csv`` module
+splits them (quotes honoured), a cell as long as its line allows
+(:func:`cells`); a number is what a CSV writer would write, ``1_0`` refused,
+a decimal comma read where asked (:func:`number`). Each problem is reported
+by the caller's own error class (a :class:`~hipsim.exceptions.FileRowError`)
+naming the file, so a reader adds its line and column.
 
 Writing: CSV text with 12 significant digits (:func:`csv_header`,
 :func:`csv_rows`); Parquet tables of float64 columns (:func:`parquet_table`),
@@ -30,6 +33,7 @@ import numpy as np
 from .exceptions import FileRowError
 
 __all__ = [
+    "MAX_LINE_BYTES",
     "SEPARATORS",
     "blank",
     "cells",
@@ -54,6 +58,11 @@ __all__ = [
 SEPARATORS = ("\t", ";", ",")
 #: The message for a file that is not UTF-8, ``{what}`` the kind of file (a reader may give its own, :func:`read_text`).
 NOT_TEXT = "not a text (UTF-8) {what}"
+#: The longest line a table may have, in bytes: 4 MiB, some 25 times a 12,000-column header.
+MAX_LINE_BYTES = 4 << 20
+#: Bytes read at a time by :func:`read_text`.
+_CHUNK = 4 << 20
+_BOM = b"\xef\xbb\xbf"
 
 
 # --------------------------------------------------------------------------- text files
@@ -65,27 +74,64 @@ def read_text(path: str | Path, what: str = "file", error: type[FileRowError] = 
     Args:
         path: the file.
         what: the kind of file, for messages (``"trajectory file"``).
-        error: the error class raised, called as ``error(message, source=path)``.
+        error: the error class raised, called as ``error(message, source=path, line=n)``.
         not_text: the message for a file that is not UTF-8 (``{what}`` and
-            ``{error}``, the decoding error, filled in).
+            ``{error}``, the decoding error, filled in); the line is named.
         newline: as :func:`open` has it: None turns ``\\r\\n`` and ``\\r`` into ``\\n``, ``""`` keeps them.
 
     Raises:
-        error: the file is missing, a folder, unreadable or not UTF-8.
+        error: the file is missing, a folder, unreadable or not UTF-8, or
+            has a line longer than :data:`MAX_LINE_BYTES` (refused before
+            more of it is read).
     """
     source = str(path)
     try:
-        # utf-8-sig: spreadsheets often start a "CSV UTF-8" file with a byte-order mark.
-        with Path(path).open(encoding="utf-8-sig", newline=newline) as stream:
-            return stream.read()
+        with Path(path).open("rb") as stream:
+            data = _bounded_bytes(stream, source, what, error)
     except FileNotFoundError:
         raise error(f"no such {what}", source=source) from None
     except IsADirectoryError:
         raise error(f"is a folder, not a {what}", source=source) from None
     except OSError as failure:
         raise error(f"cannot read ({failure.strerror})", source=source) from None
+    data = data.removeprefix(_BOM)  # spreadsheets often start a "CSV UTF-8" file with a byte-order mark
+    try:
+        text = data.decode("utf-8")
     except UnicodeDecodeError as failure:
-        raise error(not_text.format(what=what, error=failure), source=source) from None
+        line = data.count(b"\n", 0, failure.start) + 1
+        raise error(not_text.format(what=what, error=failure), source=source, line=line) from None
+    if newline is None and "\r" in text:
+        text = text.replace("\r\n", "\n").replace("\r", "\n")
+    return text
+
+
+def _too_long(what: str) -> str:
+    return f"a line longer than {MAX_LINE_BYTES >> 20} MiB: not a {what} (is it the right file?)"
+
+
+def _bounded_bytes(stream, source: str, what: str, error: type[FileRowError]) -> bytes:
+    """The stream's bytes, read a chunk at a time; a line longer than :data:`MAX_LINE_BYTES` refused once it is met.
+
+    A line ends at ``\\n`` or ``\\r``; the line named is counted in ``\\n``.
+    """
+    chunks: list[bytes] = []
+    lines = 1  # the line the current chunk starts in
+    run = 0  # bytes of that line before the chunk
+    while chunk := stream.read(_CHUNK):
+        codes = np.frombuffer(chunk, dtype=np.uint8)
+        ends = np.flatnonzero((codes == 10) | (codes == 13))
+        # Lengths of the lines this chunk ends (the first one begun before it), and of the one it leaves open.
+        starts = np.concatenate(([-1], ends))
+        lengths = np.diff(np.concatenate((starts, [len(chunk)]))) - 1
+        lengths[0] += run
+        long = np.flatnonzero(lengths > MAX_LINE_BYTES)
+        if long.size:
+            at = int(starts[long[0]]) + 1  # where the long line starts in the chunk (0 when before it)
+            raise error(_too_long(what), source=source, line=lines + chunk.count(b"\n", 0, max(at, 0)))
+        run = int(lengths[-1])
+        lines += chunk.count(b"\n")
+        chunks.append(chunk)
+    return b"".join(chunks)
 
 
 def read_text_lines(path: str | Path, what: str = "file", error: type[FileRowError] = FileRowError) -> list[str]:
@@ -94,14 +140,16 @@ def read_text_lines(path: str | Path, what: str = "file", error: type[FileRowErr
 
 
 def open_text(path: str | Path, what: str = "file", error: type[FileRowError] = FileRowError):
-    """A text file opened to read line by line (UTF-8, a byte-order mark skipped, line ends kept as written).
+    """A text file opened to read line by line (a binary stream: :func:`text_lines` decodes it).
 
-    Read it through :func:`text_lines`, which names a decoding error as the
-    file's. Errors as :func:`read_text`.
+    Read it through :func:`text_lines`, which decodes UTF-8 (a byte-order
+    mark skipped, line ends kept as written), names the line of a byte that
+    is not UTF-8, and refuses a line longer than :data:`MAX_LINE_BYTES`
+    before reading the rest of it. Errors as :func:`read_text`.
     """
     source = str(path)
     try:
-        return open(path, encoding="utf-8-sig", newline="")  # utf-8-sig: spreadsheets add a byte-order mark
+        return open(path, "rb")
     except FileNotFoundError:
         raise error(f"no such {what}", source=source) from None
     except IsADirectoryError:
@@ -111,11 +159,14 @@ def open_text(path: str | Path, what: str = "file", error: type[FileRowError] = 
 
 
 def text_lines(stream, source: str, what: str = "file", error: type[FileRowError] = FileRowError) -> Iterator[str]:
-    """The lines of a stream from :func:`open_text`, a decoding error raised as ``error`` naming the file."""
-    try:
-        yield from stream
-    except UnicodeDecodeError:
-        raise error(NOT_TEXT.format(what=what), source=source) from None
+    """The lines of a stream from :func:`open_text`, ends kept; a byte that is not UTF-8 or an over-long line raised as ``error`` naming the line."""
+    for number, raw in enumerate(iter(lambda: stream.readline(MAX_LINE_BYTES + 1), b""), start=1):
+        if len(raw) > MAX_LINE_BYTES:
+            raise error(_too_long(what), source=source, line=number)
+        try:
+            yield (raw.removeprefix(_BOM) if number == 1 else raw).decode("utf-8")
+        except UnicodeDecodeError:
+            raise error(NOT_TEXT.format(what=what), source=source, line=number) from None
 
 
 def blank(line: str, separators: str = ",;") -> bool:
@@ -132,7 +183,7 @@ def data_lines(lines: Iterable[str], separators: str = ",;") -> list[tuple[int, 
 
 
 def cells(line: str, separator: str = ",", width: int | None = None) -> list[str]:
-    """A line's cells, split as Python's ``csv`` module splits them (quotes honoured).
+    """A line's cells, split as Python's ``csv`` module splits them (quotes honoured), a cell of any length.
 
     Args:
         line: one line of the table.
@@ -141,12 +192,19 @@ def cells(line: str, separator: str = ",", width: int | None = None) -> list[str
             dropped down to ``width`` cells (a spreadsheet's trailing separators).
 
     Raises:
-        ValueError: a cell longer than the ``csv`` module's field size limit.
+        ValueError: a line the ``csv`` module cannot split (e.g. a NUL byte in a quoted cell).
     """
-    try:
-        row = next(csv.reader([line], delimiter=separator))
-    except csv.Error:
-        raise ValueError(f"a cell is longer than {csv.field_size_limit()} characters") from None
+    if '"' not in line and "\r" not in line and "\n" not in line:
+        row = line.split(separator) if line else []  # what csv gives for a line without quotes, without its field size limit
+    else:
+        limit = csv.field_size_limit()
+        try:
+            csv.field_size_limit(max(limit, len(line) + 1))  # a cell is as long as its line allows (MAX_LINE_BYTES)
+            row = next(csv.reader([line], delimiter=separator), [])
+        except csv.Error as failure:
+            raise ValueError(f"cannot split the line into cells ({failure})") from None
+        finally:
+            csv.field_size_limit(limit)
     if width is not None:
         while len(row) > width and not row[-1].strip():
             row.pop()

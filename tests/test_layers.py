@@ -9,7 +9,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "hipsim"
 
 #: Lowest first. A module may import its own layer and the layers below it, never one above.
 LAYERS = [
-    {"exceptions", "arrays", "files", "tables"},
+    {"exceptions", "arrays", "files", "tables", "fingerprint"},
     {"physics"},
     {"machine", "motion"},
     {"results", "engine"},

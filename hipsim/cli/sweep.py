@@ -28,8 +28,9 @@ be built or whose motion leaves the workspace are rows too, with their status an
 in the file's units (those of --set; a list's number with [i], counted from 1): a grid (--grid), a Latin hypercube
 (--sample N --range), a random tolerance study (--sample N --tolerance) or a CSV of variants (--variants); without any,
 the grid """ + " × ".join(DEFAULT_GRID) + """. They run on local worker processes (dask.distributed; --workers) or on a
-dask cluster (--scheduler). Output: Parquet or CSV by the suffix of --out; a rerun with the same --out skips the variants
-already in it and adds the new ones. Exit status: 0 when at least one variant passes the rating (without ratings: when at
+dask cluster (--scheduler). Output: Parquet or CSV by the suffix of --out, with a fingerprint of the set-up (machine,
+trajectory, model, drive); a rerun of the same set-up with the same --out skips the variants already in it and adds the new
+ones; a rerun of another set-up into it is refused (give another --out, or --restart to replace it). Exit status: 0 when at least one variant passes the rating (without ratings: when at
 least one could be computed), 1 when none does, 2 on bad input."""
 
 _EXAMPLES = """\
@@ -69,7 +70,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     engine.add_argument("--batch-size", type=int, metavar="N", help="variants per task (default: about eight tasks a worker, at most 200 variants each)")
     out = parser.add_argument_group("output")
     out.add_argument("--out", default="hipsim_sweep.csv", metavar="FILE",
-                     help="results, .parquet or .csv (default hipsim_sweep.csv); an existing file is resumed: its variants are skipped")
+                     help="results, .parquet or .csv (default hipsim_sweep.csv); an existing file of the same set-up is resumed: its variants are skipped")
+    out.add_argument("--restart", action="store_true", help="replace an existing --out instead of resuming it (its rows are dropped)")
     out.add_argument("--pareto", metavar="X,Y", help="write the Pareto front of two columns as OUT_pareto.png and .svg; a leading - maximises, "
                      "e.g. tau_peak_max_Nmm,-cond_inv_min")
     out.add_argument("--summary-format", choices=["table", "json"], default="table", help="summary on standard output")
@@ -90,8 +92,11 @@ def _variants(args, params):
     if args.sample is not None:
         if args.sample < 1:
             raise HipsimError(f"--sample: expected a positive number of variants, got {args.sample}")
-        if bool(args.ranges) == bool(args.tolerance):
-            raise HipsimError("--sample needs either --range KEY=LOW:HIGH (Latin hypercube) or --tolerance KEY=SIGMA (tolerance study), not both")
+        if args.ranges and args.tolerance:
+            raise HipsimError("--sample takes either --range KEY=LOW:HIGH (Latin hypercube) or --tolerance KEY=SIGMA (tolerance study), not both")
+        if not args.ranges and not args.tolerance:
+            raise HipsimError("--sample needs either --range KEY=LOW:HIGH (Latin hypercube) or --tolerance KEY=SIGMA (tolerance study): "
+                              "what to draw the variants over")
         if args.ranges:
             ranges = {}
             for text in args.ranges:
@@ -136,16 +141,37 @@ def _check_out(path: str) -> Path:
     return out
 
 
-def _previous(out: Path, names: list[str]) -> dict[str, list]:
-    """The rows already in ``out`` (empty columns when it does not exist yet); refused when they are another sweep's."""
-    from ..design.sweep_table import read_table
+#: What each part of a sweep's fingerprint comes from, for the message refusing another set-up's file.
+_PARTS = {
+    "parameters": "the machine (--params, --set)",
+    "trajectory": "the trajectory (--trajectory, --rate, --cycles, --frequency …)",
+    "model": "--model",
+    "drive": "--drive",
+    "cycles": "the test cycles (--cycles)",
+    "keys": "the swept keys",
+}
 
-    if not out.exists():
+
+def _previous(out: Path, names: list[str], fingerprints: dict[str, str], restart: bool) -> dict[str, list]:
+    """The rows already in ``out`` (empty columns when it does not exist yet, or with --restart); refused when they are another sweep's."""
+    from ..design.sweep_table import read_metadata, read_table
+    from ..fingerprint import changed_parts
+
+    if restart or not out.exists():
         return {name: [] for name in names}
     table = read_table(out)
     if list(table) != names:
         raise OutputError(out, f"holds other columns ({', '.join(list(table)[:4])}, …) than this sweep's ({', '.join(names[:4])}, …): "
-                          "give another --out, or remove it to start again")  # fmt: skip
+                          "give another --out, or --restart to replace it")  # fmt: skip
+    recorded = (read_metadata(out) or {}).get("fingerprints")
+    if not isinstance(recorded, dict):
+        raise OutputError(out, "records no set-up (another program's file, or an older hipsim's), so its rows cannot be matched to this "
+                          "sweep's: give another --out, or --restart to replace it")  # fmt: skip
+    changed = changed_parts(recorded, fingerprints)
+    if changed:
+        differ = ", ".join(_PARTS.get(name, name) for name in changed)
+        raise OutputError(out, f"holds the rows of another set-up ({differ} differ{'s' if len(changed) == 1 else ''}): "
+                          "give another --out, or --restart to replace it")  # fmt: skip
     return table
 
 
@@ -180,7 +206,8 @@ def run(args) -> int:
         raise HipsimError(f"--batch-size: expected a positive number of variants, got {args.batch_size}")
     if args.workers is not None and args.workers < 1:
         raise HipsimError(f"--workers: expected a positive number of processes, got {args.workers}")
-    table = _previous(out, names)
+    fingerprints = setup.fingerprints()
+    table = _previous(out, names, fingerprints, args.restart)
     done = {variant_id(row) for row in zip(*(table[k] for k in variants.names))}
     todo, queued = [], set()
     for index, values in enumerate(variants.values):
@@ -189,7 +216,8 @@ def run(args) -> int:
             queued.add(key)
             todo.append(index)
     metadata = {"hipsim": _version(), "trajectory": trajectory.name, "samples": len(trajectory), "model": args.model,
-                "parameters": params.source, "drive": drive.source if drive is not None else None, "keys": list(variants.names)}  # fmt: skip
+                "parameters": params.source, "drive": drive.source if drive is not None else None, "keys": list(variants.names),
+                "fingerprints": fingerprints}  # fmt: skip
     skipped = len(variants) - len(todo)
     new_rows: dict[int, dict] = {}
 
@@ -223,6 +251,7 @@ def run(args) -> int:
     path, columns = save()
     summary = _summary(columns, variants.names, OBJECTIVES, pareto)
     summary |= {"variants": len(variants), "new": len(todo), "skipped": skipped, "seconds": elapsed, "out": str(path)} | metadata
+    summary["fingerprints"] = {"setup": fingerprints["setup"]}  # the whole set-up's; its parts are in the file
     if pareto:
         summary["figure"] = [str(p) for p in _figure(columns, pareto, out, summary)]
     if args.summary_format == "json":

@@ -25,16 +25,20 @@ Example:
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import logging
 import math
 import os
+import shutil
+import tempfile
 from dataclasses import dataclass, field
 from typing import Any, Callable, Iterator, Sequence
 
 import numpy as np
 
 from ..exceptions import ArgumentError, ClosureError, MissingDependencyError, ParameterError, PoseError
+from ..fingerprint import part_fingerprints
 from ..machine.drive import Drive, drive_from_motor_table
 from ..machine.parameters import Parameters, file_values, override_parameters
 from ..motion.trajectories import Trajectory
@@ -110,6 +114,24 @@ class SweepSetup:
     @property
     def joint_forces(self) -> bool:
         return self.model == "pinocchio"
+
+    def fingerprints(self) -> dict[str, str]:
+        """The fingerprint of everything that determines a row, per part and whole (``"setup"``; :mod:`hipsim.fingerprint`).
+
+        Parts: the machine's values (``--params`` and ``--set``, not the
+        file's name or comments), the trajectory's samples (file, rate,
+        frequency, cycles all end up there), the model, the drive's values,
+        the test cycles and the swept keys.
+        """
+        t = self.trajectory
+        return part_fingerprints({
+            "parameters": self.base,
+            "trajectory": {"t": t.t, "q": t.q, "qd": t.qd, "qdd": t.qdd, "Fe": t.Fe, "periodic": bool(t.periodic)},
+            "model": self.model,
+            "drive": self.drive,
+            "cycles": self.cycles,
+            "keys": [k.name for k in self.keys],
+        })  # fmt: skip
 
     def overrides(self, values: Sequence[float]) -> dict[str, Any]:
         """One variant's values as parameter overrides (a list key gets its whole list, one number changed)."""
@@ -303,26 +325,53 @@ def run_sweep(
 def _on_cluster(setup: SweepSetup, work, workers: int, scheduler: str | None):
     """The batches' rows from a dask cluster, as they complete."""
     distributed = _distributed("hipsim sweep")
-    with contextlib.ExitStack() as stack:
-        if scheduler is not None:
+    # A local cluster's scratch space (lock files, spilled data) goes in a folder of this run's, removed once its
+    # processes are gone, also on Ctrl-C or SIGTERM: not dask's shared /tmp/dask-scratch-space, which it leaves behind.
+    scratch = tempfile.mkdtemp(prefix="hipsim-sweep-") if scheduler is None else None
+    try:
+        with contextlib.ExitStack() as stack:
+            if scheduler is not None:
+                try:
+                    client = stack.enter_context(distributed.Client(scheduler, timeout="20s"))
+                except (OSError, TimeoutError, ValueError) as error:
+                    raise ArgumentError("scheduler", scheduler, f"the address of a running dask scheduler ({' '.join(str(error).split())})") from None
+            else:
+                stack.enter_context(_dask_config(temporary_directory=scratch))
+                cluster = stack.enter_context(distributed.LocalCluster(
+                    n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=logging.CRITICAL,
+                    local_directory=scratch,
+                ))  # fmt: skip
+                client = stack.enter_context(distributed.Client(cluster))
+            shared = client.scatter(setup, broadcast=True, hash=False)
+            futures = client.map(evaluate_batch, work, setup=shared, pure=False)
             try:
-                client = stack.enter_context(distributed.Client(scheduler, timeout="20s"))
-            except (OSError, TimeoutError, ValueError) as error:
-                raise ArgumentError("scheduler", scheduler, f"the address of a running dask scheduler ({' '.join(str(error).split())})") from None
-        else:
-            cluster = stack.enter_context(distributed.LocalCluster(
-                n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=logging.CRITICAL,
-            ))  # fmt: skip
-            client = stack.enter_context(distributed.Client(cluster))
-        shared = client.scatter(setup, broadcast=True, hash=False)
-        futures = client.map(evaluate_batch, work, setup=shared, pure=False)
-        try:
-            for future in distributed.as_completed(futures):
-                rows = future.result()
-                future.release()
-                yield rows
-        finally:
-            client.cancel(futures)
+                for future in distributed.as_completed(futures):
+                    rows = future.result()
+                    future.release()
+                    yield rows
+            finally:
+                client.cancel(futures)
+    finally:
+        if scratch is not None:
+            _remove_scratch(scratch)
+
+
+def _remove_scratch(folder: str) -> None:
+    """Remove the cluster's scratch folder once its worker processes have ended (they write their locks until then)."""
+    import multiprocessing
+
+    for child in multiprocessing.active_children():
+        child.join(timeout=10.0)
+    shutil.rmtree(folder, ignore_errors=True)
+    # A cluster interrupted while it started may still have a worker starting, which makes its locks again: once more at exit.
+    atexit.register(shutil.rmtree, folder, True)
+
+
+def _dask_config(temporary_directory: str):
+    """dask's configuration with its temporary directory set, within the context (the scheduler and nannies read it)."""
+    import dask
+
+    return dask.config.set({"temporary-directory": temporary_directory})
 
 
 def variant_id(values: Sequence[float]) -> tuple[float, ...]:

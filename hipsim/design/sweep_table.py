@@ -4,6 +4,12 @@ One row a variant, one column a swept key (its name as typed, unit in it)
 or a metric (:func:`hipsim.design.sweep.metric_columns`). Numbers are
 written so that they read back to the same bits (CSV: Python's shortest
 round-trip form; Parquet: float64), NaN as an empty CSV cell.
+
+The sweep's description (its set-up's fingerprints among it, so that a
+rerun into the file can tell whether its rows are of the same set-up) is
+kept with the rows: in a Parquet file's key-value metadata (``hipsim``, as
+JSON), in a CSV file as its first line, a comment ``# hipsim sweep: {JSON}``
+(pandas: ``read_csv(path, comment="#")``) (:func:`read_metadata`).
 """
 
 from __future__ import annotations
@@ -17,12 +23,15 @@ from typing import Any, Mapping, Sequence
 
 from ..exceptions import FileRowError, MissingDependencyError, OutputError
 from ..files import write_atomic
+from ..tables import MAX_LINE_BYTES, cells, data_lines, read_text_lines
 from .sweep import TEXT_COLUMNS
 
-__all__ = ["FORMATS", "read_table", "table_format", "write_table"]
+__all__ = ["CSV_METADATA", "FORMATS", "read_metadata", "read_table", "table_format", "write_table"]
 
 #: Output formats by file suffix.
 FORMATS = {".parquet": "parquet", ".pq": "parquet", ".csv": "csv"}
+#: How a CSV file's first line, a comment, starts when it holds the sweep's description (JSON follows).
+CSV_METADATA = "# hipsim sweep: "
 
 
 def table_format(path: str | Path) -> str:
@@ -52,7 +61,8 @@ def write_table(path: str | Path, columns: Mapping[str, Sequence[Any]], metadata
     Args:
         path: a ``.parquet`` or ``.csv`` file.
         columns: column → values, all of one length; :data:`TEXT_COLUMNS` hold text, the rest numbers.
-        metadata: plain data describing the sweep (Parquet only; CSV has no place for it).
+        metadata: plain data describing the sweep (Parquet: the ``hipsim``
+            key-value metadata; CSV: a first line ``# hipsim sweep: {JSON}``).
 
     Raises:
         OutputError: an unknown suffix, or the file cannot be written.
@@ -70,6 +80,8 @@ def write_table(path: str | Path, columns: Mapping[str, Sequence[Any]], metadata
         pa.parquet.write_table(table, buffer)
         return write_atomic(path, buffer.getvalue())
     buffer = io.StringIO()
+    if metadata is not None:
+        buffer.write(CSV_METADATA + json.dumps(dict(metadata), separators=(",", ":")) + "\n")
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(columns)
     names = list(columns)
@@ -91,15 +103,14 @@ def read_table(path: str | Path) -> dict[str, list[Any]]:
             return pa.parquet.read_table(path).to_pydict()
         except (OSError, pa.ArrowException) as error:
             raise FileRowError(f"not a Parquet table of a sweep ({error})", source) from None
-    try:
-        with open(path, newline="", encoding="utf-8") as stream:
-            lines = list(csv.reader(stream))
-    except (OSError, UnicodeDecodeError) as error:
-        raise FileRowError(f"cannot read ({getattr(error, 'strerror', None) or error})", source) from None
+    lines = data_lines(read_text_lines(path, "sweep table", FileRowError), ",")  # the description's comment line left out
     if not lines:
         raise FileRowError("empty: no header", source)
-    header, columns = lines[0], {name: [] for name in lines[0]}
-    for number, row in enumerate(lines[1:], start=2):
+    header_line, text = lines[0]
+    header = _cells(text, source, header_line)
+    columns: dict[str, list[Any]] = {name: [] for name in header}
+    for number, line in lines[1:]:
+        row = _cells(line, source, number)
         if len(row) != len(header):
             raise FileRowError(f"{len(row)} cells, the header has {len(header)}", source, number)
         for name, cell in zip(header, row):
@@ -111,3 +122,33 @@ def read_table(path: str | Path) -> dict[str, list[Any]]:
             except ValueError:
                 raise FileRowError(f"expected a number, got '{cell}'", source, number, name) from None
     return columns
+
+
+def _cells(line: str, source: str, number: int) -> list[str]:
+    try:
+        return cells(line, ",")
+    except ValueError as error:
+        raise FileRowError(str(error), source, number) from None
+
+
+def read_metadata(path: str | Path) -> dict[str, Any] | None:
+    """The description :func:`write_table` kept with the rows; None when the file holds none (another program's, an older hipsim's).
+
+    Raises:
+        OutputError: an unknown suffix.
+    """
+    try:
+        if table_format(path) == "parquet":
+            pa = _pyarrow()
+            try:
+                text = (pa.parquet.read_schema(path).metadata or {}).get(b"hipsim")
+            except (OSError, pa.ArrowException):
+                return None
+        else:
+            with open(path, "rb") as stream:
+                first = stream.readline(MAX_LINE_BYTES).removeprefix(b"\xef\xbb\xbf").decode("utf-8")
+            text = first[len(CSV_METADATA):] if first.startswith(CSV_METADATA) else None
+        described = json.loads(text) if text else None
+    except (OSError, UnicodeDecodeError, ValueError):
+        return None
+    return described if isinstance(described, dict) else None

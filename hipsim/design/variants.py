@@ -17,7 +17,6 @@ Example:
 
 from __future__ import annotations
 
-import csv
 import math
 import re
 from dataclasses import dataclass
@@ -29,6 +28,7 @@ import numpy as np
 from ..arrays import readonly
 from ..exceptions import ArgumentError, FileRowError, ParameterError
 from ..machine.parameters import SCHEMA, Parameters, check_key, file_values
+from ..tables import cells, data_lines, detect_separator, number, read_text_lines
 
 __all__ = [
     "MAX_VARIANTS",
@@ -277,7 +277,10 @@ def parse_tolerance(text: str, option: str = "--tolerance") -> tuple[str, tuple[
 def read_variants(path: str | Path) -> Variants:
     """Variants from a CSV file: a header of keys, then one variant a line.
 
-    Lines starting with ``#`` and blank lines are skipped.
+    Read by :mod:`hipsim.tables`' rules, as trajectory files are: UTF-8,
+    lines starting with ``#`` and blank lines skipped, separated by commas,
+    semicolons or tabs (then possibly with decimal commas), no line longer
+    than :data:`hipsim.tables.MAX_LINE_BYTES`.
 
     Raises:
         FileRowError: naming the file, line and column of an unknown key, a
@@ -286,39 +289,39 @@ def read_variants(path: str | Path) -> Variants:
     """
     source = str(path)
     try:
-        with open(path, newline="", encoding="utf-8-sig") as stream:
-            lines = list(csv.reader(stream))
-    except FileNotFoundError:
-        raise ParameterError("no such variants file", source=source) from None
-    except IsADirectoryError:
-        raise ParameterError("is a folder, not a variants file", source=source) from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise ParameterError(f"cannot read ({getattr(error, 'strerror', None) or error})", source=source) from None
-    rows = [(number, row) for number, row in enumerate(lines, start=1) if any(c.strip() for c in row) and not row[0].lstrip().startswith("#")]
+        lines = read_text_lines(path, "variants file", FileRowError)
+    except FileRowError as error:
+        if error.line is not None:  # a byte that is not UTF-8, a line too long: the file's content, on its line
+            raise
+        raise ParameterError(str(error).removeprefix(f"{source}: "), source=source) from None
+    rows = data_lines(lines)
     if not rows:
         raise FileRowError("no header: expected a line of keys, e.g. lever.length_mm,platform.home_offset_deg", source)
-    header_line, header = rows[0]
+    header_line, header_text = rows[0]
+    separator = detect_separator(header_text, rows[1][1] if len(rows) > 1 else None)
+    header = cells(header_text, separator, 0)
     keys = []
     for name in header:
         try:
             keys.append(key_ref(name, source))
         except ParameterError as error:
             raise FileRowError(str(error).removeprefix(f"{source}, "), source, header_line, name.strip()) from None
+    decimal_comma = separator != ","
     values = []
-    for number, row in rows[1:]:
+    for line_number, line in rows[1:]:
+        row = cells(line, separator, len(keys))
         if len(row) != len(keys):
-            raise FileRowError(f"{len(row)} cells, the header has {len(keys)}", source, number)
+            raise FileRowError(f"{len(row)} cells, the header has {len(keys)}", source, line_number)
         numbers = []
         for key, cell in zip(keys, row):
             try:
-                value = float(cell)
+                value = number(cell, decimal_comma)
             except ValueError:
                 value = math.nan
             if not math.isfinite(value):
-                raise FileRowError(f"expected a number, got '{cell.strip()}'", source, number, key.name)
+                raise FileRowError(f"expected a number, got '{cell.strip()}'", source, line_number, key.name)
             numbers.append(value)
         values.append(numbers)
     if not values:
         raise FileRowError("no variants below the header", source, header_line)
     return Variants(tuple(keys), np.array(values))
-

@@ -1,97 +1,95 @@
 """Drive catalogues (CSV): motors with their amplifiers, lead screws and gearboxes, one part a line.
 
-``#`` starts a comment line; each cell takes the names and units of
-:data:`hipsim.machine.drive_fields.FIELDS` (a list's numbers separated by ``;``
-or spaces). A bad entry is one :class:`~hipsim.exceptions.CatalogueError`
-naming the file, line and column.
+Read by :mod:`hipsim.tables`' rules, as trajectory files are: UTF-8, ``#``
+starts a comment line, blank lines skipped, separated by commas, semicolons
+or tabs (then possibly with decimal commas), no line longer than
+:data:`hipsim.tables.MAX_LINE_BYTES`. Each cell takes the names and units of
+:data:`hipsim.machine.drive_fields.FIELDS` (a list's numbers separated by
+spaces, or by ``;`` in a comma-separated file). A bad entry is one
+:class:`~hipsim.exceptions.CatalogueError` naming the file, line and column.
 """
 
 from __future__ import annotations
 
-import csv
 from pathlib import Path
 from typing import NoReturn
 
 from ..exceptions import CatalogueError
+from ..tables import cells, data_lines, detect_separator, number, read_text
 from .drive_fields import FIELDS, MOTOR_CATALOGUE, REQUIRED_COLUMNS, Fail, Field, checked_value, field_lookup, gearbox_from, motor_parts
 from .drive_parts import Amplifier, Gearbox, LeadScrew, Motor
 
-__all__ = ["load_gearbox_catalogue", "load_motor_catalogue", "load_screw_catalogue"]
+__all__ = ["MAX_NAME", "load_gearbox_catalogue", "load_motor_catalogue", "load_screw_catalogue"]
+
+#: The longest text cell (a part's name, an end fixing), in characters: a longer one is another file's content.
+MAX_NAME = 200
 
 
 def _read_catalogue(path: str | Path, tables: tuple[str, ...], required: tuple[str, ...], what: str, exclude: tuple[str, ...] = ()):
     """Rows of a catalogue as (line number, values by base name, column names by base name, fail)."""
     source = str(path)
-    try:
-        text = Path(path).read_bytes().removeprefix(b"\xef\xbb\xbf").decode("utf-8")
-    except FileNotFoundError:
-        raise CatalogueError(f"no such {what}", source) from None
-    except IsADirectoryError:
-        raise CatalogueError(f"is a folder, not a {what}", source) from None
-    except OSError as error:
-        raise CatalogueError(f"cannot read ({error.strerror})", source) from None
-    except UnicodeDecodeError:
-        raise CatalogueError("not a UTF-8 text file", source) from None
+    text = read_text(path, what, CatalogueError, not_text="not a UTF-8 text file")
+    numbered = data_lines(text.split("\n"), "")  # a row of empty cells is an entry's error
     lookup = field_lookup(tables, exclude)
     header: list[str] | None = None
     header_line = 0
     rows = []
-    for number, line in enumerate(text.splitlines(), start=1):
-        if not line.strip() or line.lstrip().startswith("#"):
-            continue
-        cells = [cell.strip() for cell in next(csv.reader([line]))]
+    separator = detect_separator(numbered[0][1], numbered[1][1] if len(numbered) > 1 else None) if numbered else ","
+    decimal_comma = separator != ","
+    for line_number, line in numbered:
+        row = [cell.strip() for cell in cells(line, separator)]
         if header is None:
-            header, header_line = cells, number
+            header, header_line = row, line_number
             for column in header:
                 if column not in lookup:
-                    raise CatalogueError(f"unknown column (known: {', '.join(lookup)})", source, number, column)
+                    raise CatalogueError(f"unknown column (known: {', '.join(lookup)})", source, line_number, column)
             bases = [lookup[c][1] for c in header]
             for k, base in enumerate(bases):
                 if base in bases[:k]:
-                    raise CatalogueError("the same quantity in two columns", source, number, header[k])
+                    raise CatalogueError("the same quantity in two columns", source, line_number, header[k])
             for base in required:
                 if base not in bases:
                     spec = next(FIELDS[t][base] for t in tables if base in FIELDS[t])
                     alternatives = " or ".join(f"'{n}'" for n in spec.names(base))
-                    raise CatalogueError(f"missing column {alternatives} ({spec.meaning})", source, number)
+                    raise CatalogueError(f"missing column {alternatives} ({spec.meaning})", source, line_number)
             continue
-        if len(cells) != len(header):
-            raise CatalogueError(f"{len(cells)} cells for {len(header)} columns", source, number)
+        if len(row) != len(header):
+            raise CatalogueError(f"{len(row)} cells for {len(header)} columns", source, line_number)
 
-        def fail(message: str, column: str, number=number) -> NoReturn:
-            raise CatalogueError(message, source, number, column)
+        def fail(message: str, column: str, line_number=line_number) -> NoReturn:
+            raise CatalogueError(message, source, line_number, column)
 
         values, names = {}, {}
-        for column, cell in zip(header, cells):
+        for column, cell in zip(header, row):
             _, base, spec, factor = lookup[column]
             names[base] = column
             if not cell:
                 if base in required:
                     fail("empty, but this column is required", column)
                 continue
-            values[base] = checked_value(spec, factor, _parse_cell(cell, spec, column, fail), column, fail)
-        rows.append((number, values, names, fail))
+            values[base] = checked_value(spec, factor, _parse_cell(cell, spec, column, fail, decimal_comma), column, fail)
+        rows.append((line_number, values, names, fail))
     if header is None or not rows:
         raise CatalogueError(f"no entries (expected a header line and one {what.split()[0]} a line)", source, header_line or None)
     seen: dict[str, int] = {}
-    for number, values, names, fail in rows:
+    for line_number, values, names, fail in rows:
         if values["name"] in seen:
             fail(f"name '{values['name']}' already used on line {seen[values['name']]}", names["name"])
-        seen[values["name"]] = number
+        seen[values["name"]] = line_number
     return rows
 
 
-def _parse_cell(cell: str, spec: Field, column: str, fail: Fail):
+def _parse_cell(cell: str, spec: Field, column: str, fail: Fail, decimal_comma: bool = False):
     """A CSV cell as TOML would give it: text, a number, or (lists) numbers separated by ';' or spaces."""
     if spec.kind in ("text", "choice"):
+        if len(cell) > MAX_NAME:
+            fail(f"{len(cell):,} characters; a name is at most {MAX_NAME}", column)
         return cell
     parts = cell.replace(";", " ").split()
     numbers = []
     for part in parts:
         try:
-            if "_" in part:  # float() reads 1_0 as 10
-                raise ValueError(part)
-            numbers.append(float(part))
+            numbers.append(number(part, decimal_comma))  # refuses 1_0, which float() reads as 10
         except ValueError:
             fail(f"'{part}' is not a number", column)
     return numbers if spec.kind == "list" else (numbers[0] if len(numbers) == 1 else numbers)
