@@ -50,7 +50,7 @@ tr.unchecked td { color: #777; }
 .provenance { font-size: 0.85em; color: #333; border: 1px solid #ccc; padding: 0.4em 0.8em; margin: 0.6em 0; }
 .provenance table { margin: 0.3em 0; font-size: 1em; }
 .provenance td { text-align: left; }
-.provenance td.l + td.l + td.l code, .provenance td.path { word-break: break-all; }
+.provenance td code { word-break: break-all; }
 .provenance code { font-size: 0.95em; }
 tr.identified td { font-weight: bold; }
 figure { margin: 1em 0 2em; }

@@ -87,6 +87,8 @@ class ParameterOrigin:
         combined: keys that keep their starting value inside an identified combination.
         held: keys not identified (starting value kept), with the reason.
         overrides: the ``--set`` overrides, KEY=VALUE as typed.
+        made: for an identified file, the line saying which hipsim made it, when and with what command.
+        log_hashes: for an identified file, the SHA-256 of each input it names: (role, path, SHA-256).
     """
 
     file: InputFile
@@ -98,6 +100,8 @@ class ParameterOrigin:
     combined: tuple[str, ...] = ()
     held: tuple[tuple[str, str], ...] = ()
     overrides: tuple[str, ...] = ()
+    made: str = ""
+    log_hashes: tuple[tuple[str, str, str], ...] = ()
 
     def origin_of(self, dotted: str) -> tuple[str, list[IdentifiedValue]]:
         """How ``dotted`` (``lever.mass_kg``) got its value, in words, and its identified components (empty: none)."""
@@ -124,6 +128,8 @@ class ParameterOrigin:
                          + " N·mm RMS (starting parameters: " + ", ".join(f"{b:.3g}" for _, b in errors) + ")")
             if not self.validation:
                 text += "; no held-out log (the file names no validation)"
+            if self.made:
+                text += f"; {self.made[0].lower()}{self.made[1:]}"
         if self.overrides:
             text += "; overridden with --set " + ", ".join(self.overrides)
         return text
@@ -140,6 +146,8 @@ class ParameterOrigin:
             "identified": [{"key": v.key, "label": v.label, "value": v.value, "std": v.std, "unit": v.unit,
                             "combination": v.combination or None} for v in self.identified],
             "overrides": list(self.overrides),
+            "made": self.made or None,
+            "inputs_of_the_identification": [{"role": r, "path": p, "sha256": h} for r, p, h in self.log_hashes],
         }
 
 
@@ -185,9 +193,11 @@ def _input(role: str, path: str | Path) -> InputFile:
     return InputFile(role, str(path), file_sha256(path), path.stat().st_size)
 
 
-_QUANTITY_LINE = re.compile(r"^#   (?P<expr>.+?) = (?P<value>\S+) ± (?P<std>\S+) ?(?P<unit>[^(]*?) ?\((?P<relative>[^)]*)\)$")
-_VALIDATION_LINE = re.compile(r"^#   (?P<log>.+?): (?P<errors>M1 .*) N·mm$")
-_HELD_LINE = re.compile(r"^#   (?P<label>\S+) = \S+ .*?: (?P<reason>.+)$")
+_QUANTITY_LINE = re.compile(r"^# +(?P<expr>.+?) = (?P<value>\S+) ± (?P<std>\S+) ?(?P<unit>[^(]*?) ?\((?P<relative>[^)]*)\)$")
+_VALIDATION_LINE = re.compile(r"^# +(?P<log>.+?): (?P<errors>M1 .*) N·mm$")
+_MADE_LINE = re.compile(r"^# (?P<made>Made by hipsim .*)$")
+_HASH_LINE = re.compile(r"^#   (?P<role>\S+) (?P<path>.+): SHA-256 (?P<sha>[0-9a-f]{64})$")
+_HELD_LINE = re.compile(r"^# +(?P<label>\S+) = \S+ .*?: (?P<reason>.+)$")
 
 
 def _labels() -> dict[str, str]:
@@ -200,12 +210,17 @@ def _labels() -> dict[str, str]:
 def _read_identified_header(lines: Sequence[str]) -> dict[str, Any]:
     """What ``hipsim identify`` wrote in a parameter file's comment header (:meth:`hipsim.rig.identification.Identification.toml`)."""
     labels = _labels()
-    found: dict[str, Any] = {"logs": (), "start": "", "validation": [], "identified": [], "combined": [], "held": []}
+    found: dict[str, Any] = {"logs": (), "start": "", "validation": [], "identified": [], "combined": [], "held": [], "made": "", "hashes": []}
     section = ""
     for line in lines:
         if not line.startswith("#"):
             break
-        if line.startswith("# From the logs: "):
+        if _MADE_LINE.match(line):
+            found["made"] = _MADE_LINE.match(line)["made"]
+        elif not section and _HASH_LINE.match(line):
+            match = _HASH_LINE.match(line)
+            found["hashes"].append((match["role"], match["path"], match["sha"]))
+        elif line.startswith("# From the logs: "):
             names = line[len("# From the logs: "):].rsplit(" (", 1)[0]
             found["logs"] = tuple(name.strip() for name in names.split(", ") if name.strip())
         elif line.startswith("# Starting parameters: "):
@@ -216,7 +231,7 @@ def _read_identified_header(lines: Sequence[str]) -> dict[str, Any]:
             section = "held"
         elif line.startswith("# Validation"):
             section = "validation"
-        elif line.startswith("#   ") and section == "identified":
+        elif line.startswith("#  ") and section == "identified":  # identify writes these with two spaces
             match = _QUANTITY_LINE.match(line)
             if match is None:
                 continue
@@ -233,11 +248,11 @@ def _read_identified_header(lines: Sequence[str]) -> dict[str, Any]:
                 continue
             found["identified"].append(IdentifiedValue(labels[label], label, value, std, match["unit"].strip(),
                                                        expression if expression != label else ""))
-        elif line.startswith("#   ") and section == "held":
+        elif line.startswith("#  ") and section == "held":
             match = _HELD_LINE.match(line)
             if match is not None and match["label"] in labels:
                 found["held"].append((labels[match["label"]], match["reason"]))
-        elif line.startswith("#   ") and section == "validation":
+        elif line.startswith("#  ") and section == "validation":
             match = _VALIDATION_LINE.match(line)
             if match is None:
                 continue
@@ -273,7 +288,7 @@ def parameter_origin(path: str | Path | None, overrides: Iterable[str] = ()) -> 
     return ParameterOrigin(
         file, "identified", start=header["start"], logs=header["logs"], validation=tuple(header["validation"]),
         identified=tuple(header["identified"]), combined=tuple(dict.fromkeys(header["combined"])), held=tuple(header["held"]),
-        overrides=overrides,
+        overrides=overrides, made=header["made"], log_hashes=tuple(header["hashes"]),
     )
 
 

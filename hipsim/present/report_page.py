@@ -12,6 +12,7 @@ from __future__ import annotations
 import base64
 import json
 import math
+import re
 
 from ..design.sizing import CHECKS, Check, Sizing
 from ..machine.drive import Drive
@@ -25,8 +26,8 @@ from .provenance import ParameterOrigin, Provenance
 __all__ = ["report_html", "report_verdict"]
 
 _RPM = 60 / (2 * math.pi)
-#: An inertia's components in the order the parameter file lists them (and the identification names them).
-_INERTIA_AXES = ("xx", "yy", "zz", "xy", "xz", "yz")
+#: An inertia's components as the identification names them → (row, column) of the matrix.
+_INERTIA_AXES = {"xx": (0, 0), "yy": (1, 1), "zz": (2, 2), "xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}
 #: The drive parts' fields: SI inside → (factor, unit) a rig engineer reads.
 _PART_UNITS = {
     "peak_current": (1.0, "A"), "continuous_current": (1.0, "A"), "dc_bus_energy": (1.0, "J"), "braking_power": (1.0, "W"),
@@ -88,16 +89,32 @@ def _parameter_rows(params, origin: ParameterOrigin | None) -> list[dict]:
         if identified:
             plain = [v for v in identified if not v.combination]
             if isinstance(value, list):
-                axes = list(_INERTIA_AXES)
-                stds = {axes.index(v.key.split("[")[1].rstrip("]")): v.std for v in plain if "[" in v.key}
-                text = "[" + ", ".join(with_uncertainty(x, stds.get(k)) if k in stds else _input_value(x) for k, x in enumerate(value)) + "]"
+                stds = {_INERTIA_AXES[v.key.split("[")[1].rstrip("]")]: v.std for v in plain if "[" in v.key}
+                text = _inertia_text(value, stds)
             elif plain:
                 text = with_uncertainty(value, plain[0].std)
-            combos = [f"{v.combination} = {with_uncertainty(v.value, v.std)} {v.unit}".strip() for v in identified if v.combination]
+            combos = [f"{_shorter(v.combination)} = {with_uncertainty(v.value, v.std)} {v.unit}".strip() for v in identified if v.combination]
             if combos:
                 how += " as " + "; ".join(combos) + " (this value is what the combination leaves)"
         rows.append({"css": "identified" if identified else "", "cells": [dotted, text, spec.unit or "–", how, spec.meaning]})
     return rows
+
+
+def _inertia_text(value: list, stds: dict) -> str:
+    """An inertia as the file lists it (the diagonal, or the 3×3 matrix), identified components with ± their std."""
+    if value and isinstance(value[0], list):
+        def cell(a, b):
+            std = stds.get((a, b), stds.get((b, a)))
+            return with_uncertainty(value[a][b], std) if std is not None else _input_value(value[a][b])
+
+        return "[" + ", ".join("[" + ", ".join(cell(a, b) for b in range(3)) + "]" for a in range(3)) + "]"
+    return "[" + ", ".join(with_uncertainty(x, stds[(k, k)]) if (k, k) in stds else _input_value(x) for k, x in enumerate(value)) + "]"
+
+
+def _shorter(combination: str, terms: int = 3) -> str:
+    """An identified combination with its first ``terms`` terms and how many more it has."""
+    parts = re.split(r"(?= [+−] )", combination)
+    return "".join(parts[: terms + 1]) + (f" … ({len(parts) - terms - 1} more)" if len(parts) > terms + 1 else "")
 
 
 def _input_value(value) -> str:
