@@ -79,3 +79,37 @@ def test_input_motion_shows_the_angles_and_load(run):
     for ax in fig.axes:
         assert re.search(r"\[.+\]", ax.get_ylabel())
     assert "[s]" in fig.axes[-1].get_xlabel()
+
+
+def test_coinciding_platform_curves_are_named_and_drawn_apart(run):
+    """Platform 2's joint forces equal to platform 1's (as the machine gives them): every legend entry stays visible."""
+    n = len(run.trajectory)
+    Fa = np.empty((n, 2, 3))
+    Fa[:, 0, :] = 100.0 + 50.0 * np.sin(2 * np.pi * run.trajectory.t)[:, None] * [1.0, 2.0, 3.0]
+    Fa[:, 1, :] = Fa[:, 0, :]
+    Fa[:, 1, 2] += 40.0  # this pair differs
+    Fo = np.column_stack([run.trajectory.Fe + 200.0] * 2)
+    fig = figures.plot_joint_forces(dataclasses_replace(run, joint_forces=hipsim.JointForces(Fa, Fo)))
+    labels = [text.get_text() for ax in fig.axes if ax.get_legend() for text in ax.get_legend().get_texts()]
+    assert "a_21 = a_11" in labels and "a_22 = a_12" in labels and "a_23" in labels and "o_2 = o_1" in labels
+    for ax in fig.axes:
+        styles = [(line.get_color(), str(line.get_linestyle()), line.get_linewidth()) for line in ax.get_lines() if not line.get_label().startswith("_")]
+        assert len(set(styles)) == len(styles), styles  # no two entries drawn alike
+
+
+def test_pareto_points_carry_their_design_values():
+    from hipsim.present.sweep_figures import design_label, plot_pareto
+
+    x = np.array([1.0, 2.0, 3.0, 2.5, 4.0])
+    y = np.array([3.0, 2.0, 1.0, 2.5, 0.5])
+    front = np.array([True, True, True, False, True])
+    labels = [design_label({"lever.length_mm": 300.0 + 10 * k, "screw.lead_mm": 10.0}) for k in range(5)]
+    fig = plot_pareto(x, y, front, ("a", "b"), (False, False), ["pass"] * 5, labels=labels)
+    texts = {t.get_text() for t in fig.axes[0].texts}
+    assert texts == {labels[k] for k in (0, 1, 2, 4)} and labels[0] == "length_mm 300, lead_mm 10"
+
+
+def dataclasses_replace(obj, **changes):
+    import dataclasses
+
+    return dataclasses.replace(obj, **changes)

@@ -15,11 +15,13 @@ from .motion_options import builtin_frequency
 
 __all__ = [
     "add_machine_options",
+    "add_provenance_options",
     "add_summary_format",
     "desired_motion",
     "load_pinocchio_kernels",
     "note",
     "numbers",
+    "page_provenance",
     "parameters",
     "print_json",
     "progress",
@@ -33,6 +35,31 @@ def add_machine_options(parser: argparse.ArgumentParser) -> None:
     group.add_argument(
         "--set", dest="overrides", metavar="KEY=VALUE", action="append", default=[],
         help="override one parameter in the file's units, e.g. lever.length_mm=330 (repeatable)",
+    )
+
+
+def add_provenance_options(parser: argparse.ArgumentParser) -> None:
+    """``--title``, ``--author``, ``--rig``: the lab's own fields of a page's provenance block."""
+    group = parser.add_argument_group("provenance (shown on the page and in the JSON)")
+    group.add_argument("--title", metavar="TEXT", help="the page's title, e.g. 'Drive review, rig 2, March'")
+    group.add_argument("--author", metavar="NAME", help="who made the report")
+    group.add_argument("--rig", metavar="NAME", help="the rig's name or serial number")
+
+
+def page_provenance(args, **inputs):
+    """The provenance block of a command's page: version, time, this command line, the inputs hashed, the parameters' origin.
+
+    Args:
+        args: the parsed options (``--params``, ``--set`` and, when the command has them, ``--title``, ``--author``, ``--rig``).
+        inputs: role → a file path, a list of them, or None: the command's input files (trajectory, logs, drive, ...).
+    """
+    from ..present.provenance import parameter_origin, provenance
+
+    return provenance(
+        {role: value for role, value in inputs.items() if value},
+        parameter_origin(args.params, args.overrides),
+        getattr(args, "command_line", None) or ["hipsim", *sys.argv[1:]],
+        getattr(args, "title", None), getattr(args, "author", None), getattr(args, "rig", None),
     )
 
 

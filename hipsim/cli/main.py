@@ -68,7 +68,9 @@ def _join_signed_values(argv: list[str]) -> list[str]:
 def main(argv: list[str] | None = None) -> int:
     """Run ``hipsim`` with ``argv`` (default: the process's arguments) and return the exit status."""
     parser = build_parser()
-    args = parser.parse_args(_join_signed_values(sys.argv[1:] if argv is None else list(argv)))
+    words = _join_signed_values(sys.argv[1:] if argv is None else list(argv))
+    args = parser.parse_args(words)
+    args.command_line = ["hipsim", *words]  # what made a page, for its provenance block
     from ..files import exit_on_terminate  # after parsing: --help and --version load no NumPy
 
     if not getattr(args, "run", None):

@@ -8,7 +8,17 @@ from pathlib import Path
 
 from ..analysis.registry import engine_names
 from ..exceptions import HipsimError
-from .common import add_machine_options, add_summary_format, desired_motion, load_pinocchio_kernels, note, parameters, print_json
+from .common import (
+    add_machine_options,
+    add_provenance_options,
+    add_summary_format,
+    desired_motion,
+    load_pinocchio_kernels,
+    note,
+    page_provenance,
+    parameters,
+    print_json,
+)
 from .feasible import add_strict_option
 from .motion_options import add_trajectory_options, load_trajectory
 
@@ -32,6 +42,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                         "(default: the parameter file's [motor] table); see hipsim size")
     report.add_argument("--simulate", action="store_true", help="also simulate both controllers and plot their tracking errors")
     report.add_argument("--mismatch", metavar="SPEC", help="with --simulate: plant off from the controllers' model, e.g. friction=+20%%,masses=-10%%")
+    report.add_argument("--pdf", action="store_true", help="also print the page to DIR/report.pdf (needs Chromium on PATH)")
+    add_provenance_options(report)
     add_summary_format(report, "what to print: the folder written and the rating check (default), or the run's summary and sizing as JSON")
     add_strict_option(report)
     report.set_defaults(run=run)
@@ -61,6 +73,11 @@ def run(args) -> int:
         screw = {"lead": drive.screw.lead, "screw_inertia": drive.screw.inertia}
         params = params.replace(**{k: v for k, v in screw.items() if v is not None})
     check_folder(Path(args.out))  # an unusable folder is refused before the computing
+    if args.pdf:
+        from ..present.pages import require_pdf_renderer
+
+        require_pdf_renderer()  # no Chromium: said before the computing
+    provenance = page_provenance(args, trajectory=args.trajectory, drive=args.motor)
     run = analyse(params, trajectory)
     from .feasible import check_run, report_crossings
 
@@ -84,13 +101,17 @@ def run(args) -> int:
         if mismatch:
             notes.append("Tracking: the simulated plant is off from the controllers' model: " + ", ".join(f"{k} {v:+.0%}" for k, v in mismatch.items()) + ".")
     cycles = 1.0 if args.trajectory or args.cycles is None else args.cycles  # a trajectory file is one test cycle
-    files = write_report(Path(args.out), run, joint_run, simulations=simulations, drive=drive, notes=tuple(notes), cycles=cycles)
+    files = write_report(Path(args.out), run, joint_run, simulations=simulations, drive=drive, notes=tuple(notes), cycles=cycles,
+                         provenance=provenance, pdf=args.pdf)
     passed = files.sizing.passed if files.sizing is not None else None
+    pdf = files.folder / "report.pdf" if args.pdf else None
     if args.summary_format == "json":
         print_json((joint_run or run).summary() | {"sizing": files.sizing.as_dict() if files.sizing is not None else None,
-                                                    "rating_check": _verdict(passed), "index": str(files.index)})
+                                                    "rating_check": _verdict(passed), "index": str(files.index),
+                                                    "pdf": None if pdf is None else str(pdf),
+                                                    "verdict": files.verdict.as_dict(), "provenance": provenance.as_dict()})
     else:
-        print(f"wrote {files.index}")
+        print(f"wrote {files.index}" + (f" and {pdf}" if pdf is not None else ""))
         if passed is not None:
             print(f"rating check of {files.sizing.drive.name}: {_verdict(passed)}" + ("" if passed else " (see the sizing table in the report)"))
     if passed is False:

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from ..exceptions import HipsimError
 from ..present.tables import format_table
-from .common import add_machine_options, add_summary_format, numbers, parameters, progress
+from .common import add_machine_options, add_provenance_options, add_summary_format, numbers, page_provenance, parameters, progress
 
 __all__ = ["add_parser", "run", "run_compare", "run_excite", "run_identify"]
 
@@ -53,6 +53,9 @@ def add_parser(subparsers) -> None:
     _add_log_options(compare)
     compare.add_argument("--period", type=float, metavar="S", help="the log's period in s (default: detected; 0: not periodic)")
     compare.add_argument("--out", default="hipsim_compare", metavar="DIR", help="folder to write (default hipsim_compare)")
+    compare.add_argument("--accept", type=float, metavar="PERCENT",
+                         help="largest RMS error accepted, in %% of each motor's measured RMS torque: the page's verdict (default: not judged)")
+    add_provenance_options(compare)
     add_summary_format(compare, "what to print")
     compare.set_defaults(run=run)
 
@@ -75,6 +78,7 @@ def add_parser(subparsers) -> None:
                           "(labels such as m_l, keys, or prefixes such as lever, friction.ujoint)")
     identify.add_argument("--json", metavar="FILE", help="also write the results as JSON")
     identify.add_argument("--out", required=True, metavar="FILE", help="parameter TOML to write")
+    add_provenance_options(identify)
     add_summary_format(identify, "what to print: tables (default) or the fit's summary as JSON")
     identify.set_defaults(run=run)
 
@@ -129,14 +133,19 @@ def run_compare(args) -> int:
     from ..present.rig_figures import write_comparison
 
     params = parameters(args)
+    if args.accept is not None and not (math.isfinite(args.accept) and args.accept > 0):
+        raise HipsimError(f"--accept: expected a positive percentage, got {args.accept!r}")
     check_folder(Path(args.out))  # a bad folder is refused before the work
+    provenance = page_provenance(args, log=args.log)  # hashed before the work: the log as it was read
     with _pieces(args.log, params, args) as log:  # in pieces: memory does not grow with the log
         comparison = compare_log(params, log, lever_spin=not args.spin_free_levers, period=args.period, progress=progress("compare"))
-    files = write_comparison(args.out, comparison)
+    files = write_comparison(args.out, comparison, provenance=provenance, accept=None if args.accept is None else args.accept / 100)
     summary = comparison.summary()
     if args.summary_format == "json":
         print(json.dumps(json.loads(files.summary.read_text(encoding="utf-8")), indent=2))
         return 0
+    verdict = json.loads(files.summary.read_text(encoding="utf-8"))["verdict"]
+    print(f"{verdict['word']}: " + " ".join(verdict["lines"]))
     print(f"log: {log.name} ({summary['samples']} samples compared, motion from the {log.motion_from}); parameters: {params.source}")
     for note in log.notes:
         print(f"  {note}")
@@ -169,18 +178,21 @@ def run_identify(args) -> int:
     if not (math.isfinite(args.max_std) and args.max_std > 0):
         raise HipsimError(f"--max-std: expected a positive percentage, got {args.max_std!r}")
     fixed = [name.strip() for name in (args.fix or "").split(",") if name.strip()]
+    provenance = page_provenance(args, log=args.log, validate=args.validate)
     with contextlib.ExitStack() as stack:  # the logs in pieces: memory does not grow with their length
         logs = [stack.enter_context(_pieces(path, params, args)) for path in args.log]
         validate = [stack.enter_context(_pieces(path, params, args)) for path in args.validate]
         result = identify(logs, params, validate=validate, lever_spin=not args.spin_free_levers, fixed=fixed, max_relative_std=args.max_std / 100)
 
-    path = result.write_toml(args.out)
-    if args.json:
-        from ..files import write_atomic
+    from ..files import write_atomic
 
-        write_atomic(args.json, json.dumps(json_ready(result.summary()), indent=2) + "\n")
+    first, rest = result.toml().split("\n", 1)  # the header's first line marks the file as identified: it stays first
+    path = write_atomic(args.out, first + "\n" + _provenance_comment(provenance) + rest)
+    document = {"provenance": provenance.as_dict()} | result.summary()
+    if args.json:
+        write_atomic(args.json, json.dumps(json_ready(document), indent=2) + "\n")
     if args.summary_format == "json":
-        print(json.dumps(json_ready(result.summary() | {"toml": str(path), "json": args.json}), indent=2))
+        print(json.dumps(json_ready(document | {"toml": str(path), "json": args.json}), indent=2))
         return 0
     print(f"logs: {', '.join(result.logs)}; {result.rows} samples (after filtering, decimation and the windows around reversals)")
     print(f"starting parameters: {params.source}")
@@ -203,6 +215,14 @@ def run_identify(args) -> int:
                      f"\nPrediction error on {identified.log.name} (held out): RMS of model − measured"))
     print(f"\nwrote {path}" + (f" and {args.json}" if args.json else ""))
     return 0
+
+
+def _provenance_comment(provenance) -> str:
+    """Comment lines for an identified parameter file: the version, time, command and each input's SHA-256."""
+    lines = [f"# Made by hipsim {provenance.version} on {provenance.created} (UTC): {provenance.command}"]
+    lines += [f"#   {f.role} {f.path}: SHA-256 {f.sha256}" for f in provenance.inputs]
+    lines += [f"# {label}: {value}" for label, value in (("Title", provenance.title), ("Author", provenance.author), ("Rig", provenance.rig)) if value]
+    return "\n".join(lines) + "\n"
 
 
 def _percent(fraction: float) -> str:

@@ -10,7 +10,7 @@ from pathlib import Path
 
 from ..exceptions import ArgumentError, HipsimError, OutputError
 from ..present.tables import format_table
-from .common import add_machine_options, parameters
+from .common import add_machine_options, add_provenance_options, page_provenance, parameters
 from .motion_options import add_trajectory_options, load_trajectory
 
 __all__ = ["add_parser", "run"]
@@ -75,6 +75,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     out.add_argument("--pareto", metavar="X,Y", help="write the Pareto front of two columns as OUT_pareto.png and .svg; a leading - maximises, "
                      "e.g. tau_peak_max_Nmm,-cond_inv_min")
     out.add_argument("--summary-format", choices=["table", "json"], default="table", help="summary on standard output")
+    add_provenance_options(parser)
     parser.set_defaults(run=run)
     return parser
 
@@ -190,6 +191,7 @@ def run(args) -> int:
         raise HipsimError(str(error) if error.name == option else f"{option} {error}") from None
     trajectory = load_trajectory(args)
     drive = _drive(args)
+    provenance = page_provenance(args, trajectory=args.trajectory, drive=args.drive, variants=args.variants)
     cycles = args.cycles if args.cycles is not None and not args.trajectory else 1.0  # test cycles the motion holds, for the ratings
     setup = SweepSetup(params, trajectory, variants.keys, model=args.model, drive=drive, cycles=cycles)
     names = list(variants.names) + metric_columns(setup.joint_forces)
@@ -252,6 +254,7 @@ def run(args) -> int:
     summary = _summary(columns, variants.names, OBJECTIVES, pareto)
     summary |= {"variants": len(variants), "new": len(todo), "skipped": skipped, "seconds": elapsed, "out": str(path)} | metadata
     summary["fingerprints"] = {"setup": fingerprints["setup"]}  # the whole set-up's; its parts are in the file
+    summary["provenance"] = provenance.as_dict()
     if pareto:
         summary["figure"] = [str(p) for p in _figure(columns, pareto, out, summary)]
     if args.summary_format == "json":
@@ -320,7 +323,7 @@ def _figure(columns: dict, pareto, out: Path, summary: dict):
 
     from ..design.sweep import pareto_front
     from ..present.figures import save_figure
-    from ..present.sweep_figures import plot_pareto
+    from ..present.sweep_figures import design_label, plot_pareto
 
     (x_name, x_max), (y_name, y_max) = pareto
     values = np.column_stack([np.array(columns[x_name], dtype=float), np.array(columns[y_name], dtype=float)])
@@ -330,7 +333,8 @@ def _figure(columns: dict, pareto, out: Path, summary: dict):
         for k in np.flatnonzero(front)
     ]
     title = f"{summary['rows']} variants of {', '.join(summary['keys'])} along {summary['trajectory']} ({summary['model']} model)"
-    fig = plot_pareto(values[:, 0], values[:, 1], front, (x_name, y_name), (x_max, y_max), columns["rating"], title)
+    labels = [design_label({key: float(columns[key][k]) for key in summary["keys"]}) for k in range(values.shape[0])]
+    fig = plot_pareto(values[:, 0], values[:, 1], front, (x_name, y_name), (x_max, y_max), columns["rating"], title, labels)
     return save_figure(fig, out.parent if str(out.parent) else Path("."), f"{out.stem}_pareto")
 
 

@@ -48,7 +48,8 @@ FIGURE_CAPTIONS = {
     "motor_torques": "Each motor's torque split into its five parts (platforms, levers, sliders, screws, friction) and the total.",
     "load_friction": "The applied hydraulic load and the friction moment of each platform's central chain (hip joint + thrust bearing).",
     "joint_forces": "Reaction forces at the spherical joints a_ji and the central joints o_j (from the Pinocchio closed-chain model: "
-    "the analytic model has none).",
+    "the analytic model has none). Platform 2 is drawn dashed over platform 1; where its curve lies on platform 1's, "
+    "the legend says so (a_2i = a_1i).",
     "torque_speed": "Each motor's operating points (|speed|, |torque|) over the cycle, with the S1 (continuous) and peak "
     "torque–speed curves of the drive checked and the RMS torque at the mean speed (★).",
     "axial_load": "Share of each screw's revolutions at each axial screw load 2π(τ − τ_L − τ_screw friction)/p: the "
@@ -165,18 +166,29 @@ def plot_joint_forces(run: Run, model: str | None = None):
     Fa, Fo = run.joint_forces.Fa, run.joint_forces.Fo
     fig, axes = _figure(2)
     t = run.trajectory.t
-    for j, style in ((0, "-"), (1, "--")):
+    # Platform 2's curves often lie exactly on platform 1's (the two platforms move alike): they are drawn
+    # dashed and wider over the solid ones, and their legend entry says they coincide, so no entry hides.
+    for j, style in ((0, "-"), (1, (0, (4, 3)))):
         for i in range(3):
-            axes[0].plot(t, Fa[:, j, i], ls=style, color=_MODULE_COLOURS[i], lw=1.2, label=f"a_{j + 1}{i + 1}")
-        axes[1].plot(t, Fo[:, j], ls=style, color="black", lw=1.4, label=f"o_{j + 1}")
+            same = j == 1 and _coincide(Fa[:, 1, i], Fa[:, 0, i])
+            label = f"a_2{i + 1} = a_1{i + 1}" if same else f"a_{j + 1}{i + 1}"
+            axes[0].plot(t, Fa[:, j, i], ls=style, color=_MODULE_COLOURS[i], lw=1.2 if j == 0 else 2.0, label=label, zorder=2 + j)
+        label = "o_2 = o_1" if j == 1 and _coincide(Fo[:, 1], Fo[:, 0]) else f"o_{j + 1}"
+        axes[1].plot(t, Fo[:, j], ls=style, color="black" if j == 0 else "tab:grey", lw=1.4 if j == 0 else 2.0, label=label, zorder=2 + j)
     axes[0].set_ylabel("spherical joint force |F_a| [N]")
     axes[1].set_ylabel("central joint force |F_o| [N]")
-    axes[0].legend(ncol=6, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, 1.3))
-    axes[1].legend(fontsize=8, loc="upper right")
+    axes[0].legend(ncol=6, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, 1.3), handlelength=3.0)
+    axes[1].legend(fontsize=8, loc="upper right", handlelength=3.0)
     axes[-1].set_xlabel("time t [s]")
     source = model or run.model
     fig.suptitle(f"Joint reaction forces ({'Pinocchio closed-chain' if source == 'pinocchio' else source} model): {run.trajectory.name}")
     return fig
+
+
+def _coincide(a: np.ndarray, b: np.ndarray) -> bool:
+    """True when two curves lie within a line's width of each other (0.2 % of their range) everywhere."""
+    scale = max(float(np.nanmax(np.abs(a))), float(np.nanmax(np.abs(b))), 1e-12)
+    return bool(np.nanmax(np.abs(a - b)) <= 2e-3 * scale)
 
 
 def plot_singularity(run: Run):

@@ -7,7 +7,11 @@ embedded as data URIs, so it works offline and after the folder is moved or
 the page is mailed alone), ``report.json`` (the summary and sizing numbers)
 and ``torques.csv`` (the columns of spec §7.5). The numbers come from
 :mod:`hipsim.design.sizing`, the figures from :mod:`hipsim.present.figures`,
-the page from a Jinja template (``templates/report.html.j2``, autoescaped).
+the page from :mod:`hipsim.present.report_page` (``templates/report.html.j2``):
+the verdict at the top, then where the numbers came from
+(:mod:`hipsim.present.provenance`, also in ``report.json``), then the tables.
+With ``pdf=True`` the same page is printed to ``report.pdf`` by headless
+Chromium (:func:`hipsim.present.pages.print_pdf`).
 
 The folder is written whole or not at all: everything goes to a temporary
 folder beside it, which then takes its place. A report interrupted halfway
@@ -18,10 +22,8 @@ empty or holds a hipsim report, never a folder of other files.
 
 from __future__ import annotations
 
-import base64
 import dataclasses
 import json
-import math
 import os
 import shutil
 import tempfile
@@ -32,14 +34,13 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from ..design.sizing import CHECKS, Sizing, sizing
+from ..design.sizing import Sizing, sizing
 from ..exceptions import HipsimError
 from ..files import check_folder, json_ready, output_folder, write_atomic
 from ..machine.drive import Drive
-from ..machine.parameters import SCHEMA, file_values
-from ..results import Run, Torques, peak_and_rms
+from ..machine.parameters import file_values
+from ..results import Run, peak_and_rms
 from .figures import (
-    FIGURE_CAPTIONS,
     plot_axial_load_histogram,
     plot_input_motion,
     plot_joint_forces,
@@ -52,13 +53,16 @@ from .figures import (
     save_figure,
     tracking_arrays,
 )
+from .pages import Verdict, print_pdf, require_pdf_renderer
+from .provenance import Provenance, provenance as make_provenance
+from .report_page import report_html, report_verdict
 
 __all__ = ["ReportFiles", "write_report"]
 
 #: Marks a folder as a hipsim report, which a later report may replace.
 MARKER = ".hipsim-report"
 #: What an earlier report folder (before the marker) holds.
-_REPORT_SUFFIXES = {".png", ".svg", ".html", ".json", ".csv"}
+_REPORT_SUFFIXES = {".png", ".svg", ".html", ".json", ".csv", ".pdf"}
 
 
 @dataclass(frozen=True)
@@ -69,9 +73,10 @@ class ReportFiles:
         folder: the output folder.
         index: the HTML page.
         figures: figure stem → (PNG path, SVG path).
-        data: the other files (report.json, torques.csv).
+        data: the other files (report.json, torques.csv, and report.pdf when asked).
         notes: the notes shown on the page (model fallbacks, estimates).
         sizing: the sizing table.
+        verdict: the block at the top of the page (PASS, FAIL or NOT RATED, and why).
     """
 
     folder: Path
@@ -80,6 +85,7 @@ class ReportFiles:
     data: tuple[Path, ...]
     notes: tuple[str, ...] = field(default_factory=tuple)
     sizing: Sizing | None = None
+    verdict: Verdict | None = None
 
 
 def write_report(
@@ -90,6 +96,8 @@ def write_report(
     drive: Drive | None = None,
     notes: tuple[str, ...] = (),
     cycles: float = 1.0,
+    provenance: Provenance | None = None,
+    pdf: bool = False,
 ) -> ReportFiles:
     """Write the design report folder of a run.
 
@@ -97,7 +105,8 @@ def write_report(
     ``slider_motion``, ``motor_torques``, ``load_friction``, ``singularity``,
     ``torque_speed``, ``axial_load`` and, when available, ``joint_forces`` and
     ``tracking_errors``, each as ``.png`` and ``.svg``; ``index.html``;
-    ``report.json`` (summary and sizing) and ``torques.csv`` (spec §7.5 columns).
+    ``report.json`` (verdict, provenance, summary and sizing), ``torques.csv``
+    (spec §7.5 columns) and, with ``pdf``, ``report.pdf`` (the page printed).
 
     Args:
         out_dir: the folder to write; if it exists it must be empty or an earlier report, which this one replaces whole.
@@ -111,16 +120,23 @@ def write_report(
         drive: the drive train to check the sizing against; None for no check.
         notes: sentences shown at the top of the page (model fallbacks, estimates).
         cycles: test cycles the trajectory holds (screw life in cycles, energy per cycle).
+        provenance: where the numbers came from (:func:`hipsim.present.provenance.provenance`), shown
+            under the verdict and written to ``report.json``; None: a page without it.
+        pdf: also print the page to ``report.pdf`` with headless Chromium.
 
     Returns:
         The :class:`ReportFiles`.
 
     Raises:
-        HipsimError: for inputs that do not fit, a folder that holds other files, or a write that fails.
+        HipsimError: for inputs that do not fit, a folder that holds other files, a write that fails, or
+            ``pdf`` without a Chromium to print with.
     """
     out = Path(out_dir)
     check_folder(out)  # fail now, not after the plotting
     _check_replaceable(out)
+    browser = require_pdf_renderer() if pdf else None
+    if provenance is None:  # the version and the time on every page, even one made from Python
+        provenance = make_provenance()
     notes = list(notes)
     if run.params.platform_mass > 0:
         notes.append(f"The platform mass m_m = {run.params.platform_mass:g} kg is an estimate (not published); it enters only the thrust-bearing friction.")
@@ -162,22 +178,29 @@ def write_report(
         plots.append(("tracking_errors", lambda: plot_tracking(simulations)))
     summary = combined.summary()
     tracking = _tracking_table(simulations) if simulations is not None else None
+    verdict = report_verdict(size)
 
     def write(folder: Path) -> tuple[list[str], list[str]]:
         figures = {stem: save_figure(make(), folder, stem) for stem, make in plots}
-        document = {"summary": summary, "sizing": size.as_dict(), "tracking": tracking, "notes": notes,
+        document = {"verdict": verdict.as_dict(), "provenance": None if provenance is None else provenance.as_dict(),
+                    "summary": summary, "sizing": size.as_dict(), "tracking": tracking, "notes": notes,
                     "parameters": file_values(combined.params),
                     "figures": {stem: [p.name for p in paths] for stem, paths in figures.items()}}
         write_atomic(folder / "report.json", json.dumps(json_ready(document), indent=2, default=_plain) + "\n")
         combined.write_csv(folder / "torques.csv")
-        write_atomic(folder / "index.html", _html(combined, summary, size, tracking, figures, notes, joint_model))
+        page = report_html(combined, summary, size, tracking, figures, notes, joint_model, provenance, verdict)
+        write_atomic(folder / "index.html", page)
+        data = ["report.json", "torques.csv"]
+        if browser is not None:
+            print_pdf(folder / "index.html", folder / "report.pdf", browser)
+            data.append("report.pdf")
         write_atomic(folder / MARKER, "a hipsim report: `hipsim report` may replace this folder whole\n")
-        return list(figures), ["report.json", "torques.csv"]
+        return list(figures), data
 
     stems, data = _write_whole(out, write)
     folder = out
     figures = {stem: (folder / f"{stem}.png", folder / f"{stem}.svg") for stem in stems}
-    return ReportFiles(folder, folder / "index.html", figures, tuple(folder / name for name in data), tuple(notes), size)
+    return ReportFiles(folder, folder / "index.html", figures, tuple(folder / name for name in data), tuple(notes), size, verdict)
 
 
 def _check_replaceable(out: Path) -> None:
@@ -267,178 +290,3 @@ def _tracking_table(sims: Mapping[str, Any]) -> dict[str, dict[str, float]]:
             row |= {f"tau_rms_{i + 1}_Nmm": float(rms[i]) for i in range(3)}
         table[name] = row
     return table
-
-
-
-
-# ---------------------------------------------------------------------------
-# HTML
-
-_CSS = """
-body { font-family: system-ui, -apple-system, "Segoe UI", sans-serif; margin: 2em auto; max-width: 1200px; color: #222; padding: 0 1em; }
-h1 { font-size: 1.6em; margin-bottom: 0.2em; }
-h2 { font-size: 1.25em; border-bottom: 1px solid #ccc; padding-bottom: 0.2em; margin-top: 1.8em; }
-table { border-collapse: collapse; margin: 0.6em 0 1em; font-size: 0.85em; }
-th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: right; }
-th { background: #f0f0f0; }
-th.l, td.l { text-align: left; }
-tr.fail td { background: #fde8e8; }
-tr.binding td { font-weight: bold; }
-tr.unchecked td { color: #777; }
-.meta { color: #555; font-size: 0.9em; }
-.note { background: #fff8e0; border-left: 4px solid #e0b000; padding: 0.4em 0.8em; margin: 0.4em 0; }
-.pass { color: #0a7a0a; font-weight: bold; }
-.fail { color: #c00000; font-weight: bold; }
-figure { margin: 1em 0 2em; }
-figure img { max-width: 100%; border: 1px solid #ddd; }
-figcaption { font-size: 0.9em; color: #444; }
-"""
-
-
-def _environment():
-    import jinja2
-
-    return jinja2.Environment(
-        loader=jinja2.PackageLoader("hipsim.present", "templates"),
-        autoescape=True,
-        undefined=jinja2.StrictUndefined,
-        trim_blocks=True,
-        lstrip_blocks=True,
-    )
-
-
-def _fixed(value, digits: int = 1) -> str:
-    """A number with thousands separators and fixed decimals; — for none."""
-    if value is None or (isinstance(value, float) and not math.isfinite(value)):
-        return "—" if value is None or math.isnan(value) else ("∞" if value > 0 else "−∞")
-    return f"{value:,.{digits}f}"
-
-
-def _significant(value, digits: int = 3) -> str:
-    """A number to ``digits`` significant figures (small tracking errors stay readable); — for none."""
-    if value is None or (isinstance(value, float) and not math.isfinite(value)):
-        return "—" if value is None or math.isnan(value) else ("∞" if value > 0 else "−∞")
-    return f"{value:.{digits}g}"
-
-
-def _check_value(value, unit: str) -> str:
-    if value is None:
-        return "—"
-    if unit == "cycles" or (math.isfinite(value) and (abs(value) >= 1e6 or 0 < abs(value) < 0.01)):
-        return f"{_significant(value)} {unit}"
-    return f"{_fixed(value, 1 if abs(value) < 1e4 else 0)} {unit}"
-
-
-def _parameter_rows(params) -> list[list[str]]:
-    rows = []
-    for dotted, value in file_values(params).items():
-        section, key = dotted.split(".", 1)
-        spec = SCHEMA[section][key]
-        rows.append([dotted, json.dumps(value).replace("Infinity", "inf"), spec.unit or "–", spec.meaning])
-    return rows
-
-
-def _drive_rows(drive: Drive) -> list[list[str]]:
-    rows = []
-
-    def curve_text(curve):
-        torques = ", ".join(f"{x * 1e3:g}" for x in curve.torque)
-        if curve.flat:
-            return f"{torques} N·mm at every speed"
-        speeds = ", ".join(f"{x * 60 / (2 * math.pi):.0f}" for x in curve.speed)
-        return f"{torques} N·mm at {speeds} rpm"
-
-    motor = drive.motor
-    rows.append(["motor", "name", motor.name])
-    for label, curve in (("S1 curve", motor.continuous), ("peak curve", motor.peak)):
-        if curve is not None:
-            rows.append(["motor", label, curve_text(curve)])
-    for label, value, scale, unit in (
-        ("top speed", motor.top_speed, 60 / (2 * math.pi), "rpm"), ("rotor inertia", motor.rotor_inertia, 1e4, "kg·cm²"),
-        ("torque constant", motor.torque_constant, 1.0, "N·m/A"), ("winding resistance (phase-phase)", motor.winding_resistance, 1.0, "Ω"),
-        ("thermal time constant", motor.thermal_time_constant, 1.0, "s"), ("thermal resistance", motor.thermal_resistance, 1.0, "K/W"),
-    ):
-        if value is not None:
-            rows.append(["motor", label, f"{value * scale:.4g} {unit}"])
-    for part in (drive.amplifier, drive.gearbox, drive.screw):
-        if part is None:
-            continue
-        name = type(part).__name__.lower().replace("leadscrew", "lead screw")
-        for key, value in vars(part).items():
-            if value is not None:
-                rows.append([name, key.replace("_", " "), value if isinstance(value, str) else f"{value:.6g} (SI)"])
-    return rows
-
-
-def _html(result: Run, summary: dict, size: Sizing, tracking, figures, notes, joint_model: str) -> str:
-    from .. import __version__
-
-    traj = result.trajectory
-    duration = traj.t[-1] - traj.t[0] + (traj.t[1] - traj.t[0] if len(traj) > 1 else 0)
-    sliders = [[f"S{name}", *(_fixed(s[k]) for k in ("L_max_mm", "L_min_mm", "stroke_mm", "Ld_max_mm_s", "Ldd_max_mm_s2"))]
-               for name, s in summary["sliders"].items()]
-    motors = [[f"M{i}", *(_fixed(m[f"{Torques.COLUMN[p]}_max_Nmm"]) for p in Torques.PARTS), _fixed(m["tau_peak_Nmm"]),
-               _fixed(m["tau_rms_Nmm"]), _fixed(m["speed_peak_rpm"])] for i, m in summary["motors"].items()]
-    demands = [[f"LN{m.module}", *(_fixed(getattr(m, k)) for k in (
-        "tau_peak_Nmm", "tau_rms_Nmm", "speed_peak_rpm", "speed_mean_rpm", "power_peak_W", "motor_thrust_peak_N",
-        "axial_force_peak_N", "axial_force_cubic_mean_N", "revolutions_per_cycle", "load_inertia_max_kgmm2", "regen_energy_J", "stroke_mm"))]
-        for m in size.modules]
-    joints = [[j.joint, _fixed(j.peak_N), _fixed(j.rms_N)] for j in size.joints] if size.joints is not None else None
-    binding = size.binding
-    checks = []
-    for c in size.checks:
-        kind = CHECKS[c.name]
-        verdict = "not checked" if c.passed is None else ("pass" if c.passed else "FAIL")
-        css = "unchecked" if c.passed is None else ("fail" if not c.passed else "")
-        if c is binding:
-            css += " binding"
-        margin = "—" if c.margin is None else ("−∞" if math.isinf(c.margin) else f"{100 * c.margin:+.1f} %")
-        limit = "—" if c.limit is None else f"{'≥' if kind.bound == 'min' else '≤'} {_check_value(c.limit, kind.unit)}"
-        checks.append({"css": css.strip(), "cells": [f"LN{c.module}", kind.label, _check_value(c.value, kind.unit), limit, margin, verdict, c.detail, kind.basis]})
-    rules = size.rules
-    rule_texts = [f"inertia ratio ≤ {rules.inertia_ratio_max:g}:1", f"screw L10 life ≥ {rules.life_target_cycles:.3g} cycles",
-                  f"winding rise ≤ {rules.winding_rise_max:g} K (S1 rated at {rules.rated_winding_rise:g} K)",
-                  f"screw speed ≤ {rules.critical_speed_factor:g} × critical", f"axial load ≤ {rules.buckling_factor:g} × Euler buckling load"]
-    tracking_rows = tracking_torques = None
-    if tracking is not None:
-        tracking_rows = [[name, *(_significant(row[f"{a}_err_{s}_deg"]) for a in ("alpha", "beta", "gamma") for s in ("peak", "rms"))]
-                         for name, row in tracking.items()]
-        tracking_torques = [[name, *(_fixed(row[f"tau_{s}_{i}_Nmm"]) for i in (1, 2, 3) for s in ("peak", "rms"))]
-                            for name, row in tracking.items() if "tau_peak_1_Nmm" in row]
-    figure_items = [
-        {"stem": stem, "data": base64.b64encode(png.read_bytes()).decode("ascii"), "caption": FIGURE_CAPTIONS.get(stem, stem),
-         "png": png.name, "svg": svg.name}
-        for stem, (png, svg) in figures.items()
-    ]
-    binding_text = None
-    if binding is not None:
-        binding_text = (f"{CHECKS[binding.name].label}, LN{binding.module}: {_check_value(binding.value, CHECKS[binding.name].unit)} "
-                        f"against {_check_value(binding.limit, CHECKS[binding.name].unit)} (margin {100 * binding.margin:+.1f} %)"
-                        if math.isfinite(binding.margin) else f"{CHECKS[binding.name].label}, LN{binding.module}: beyond the limit")
-    return _environment().get_template("report.html.j2").render(
-        css=_CSS,
-        trajectory={"name": traj.name, "samples": len(traj), "duration": f"{duration:.4g}"},
-        params_source=result.params.source,
-        delta=f"{math.degrees(result.params.home_offset):g}",
-        version=__version__,
-        notes=notes,
-        sliders=sliders,
-        motors=motors,
-        cond_inv_min=f"{summary['cond_inv_min']:.4f}",
-        cond_inv_t=f"{summary['cond_inv_min_t_s']:.4g}",
-        demands=demands,
-        joints=joints,
-        joint_model="Pinocchio closed-chain" if joint_model == "pinocchio" else joint_model,
-        checks=checks,
-        passed=size.passed,
-        binding=binding_text,
-        drive_name=size.drive.name if size.drive is not None else "",
-        drive_source=size.drive.source if size.drive is not None else "",
-        rules=rule_texts,
-        tracking=tracking_rows,
-        tracking_torques=tracking_torques,
-        tracking_torque_header=["controller"] + [f"M{i} {s} [N·mm]" for i in (1, 2, 3) for s in ("peak", "RMS")],
-        figures=figure_items,
-        parameters=_parameter_rows(result.params),
-        drive_rows=_drive_rows(size.drive) if size.drive is not None else None,
-    )

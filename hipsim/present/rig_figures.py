@@ -2,7 +2,10 @@
 
 :func:`write_comparison` writes a folder a lab can hand on: the figures as
 PNG and SVG, ``index.html`` (one self-contained page, the PNGs embedded) and
-``comparison.json`` (:meth:`hipsim.rig.compare.Comparison.summary`).
+``comparison.json`` (:meth:`hipsim.rig.compare.Comparison.summary`, with the
+verdict and the provenance block). The page (``templates/compare.html.j2``)
+opens with the verdict: the worst motor's RMS error relative to its measured
+RMS torque, judged against ``accept`` when one is given.
 """
 
 from __future__ import annotations
@@ -20,8 +23,12 @@ from ..rig.compare import Comparison
 from ..files import check_folder, json_ready, output_folder, write_atomic
 from ..results import Torques
 from .figures import save_figure
+from .numbers import significant
+from .pages import CSS, Verdict, environment
+from .provenance import Provenance
 
-__all__ = ["ComparisonFiles", "plot_comparison", "plot_errors", "plot_model_parts", "plot_phase_errors", "write_comparison"]
+__all__ = ["ComparisonFiles", "comparison_verdict", "plot_comparison", "plot_errors", "plot_model_parts", "plot_phase_errors",
+           "write_comparison"]
 
 _PART_COLOURS = {"platforms": "tab:blue", "levers": "tab:orange", "sliders": "tab:green", "screws": "tab:purple", "friction": "tab:red"}
 
@@ -128,54 +135,61 @@ class ComparisonFiles:
 
 
 
-_PAGE = """<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8"><title>hipsim: model vs rig, {{ summary.log }}</title>
-<style>
-body { font-family: system-ui, sans-serif; max-width: 1100px; margin: 2em auto; color: #222; }
-table { border-collapse: collapse; margin: 1em 0; } td, th { border: 1px solid #ccc; padding: 0.3em 0.6em; text-align: right; }
-th:first-child, td:first-child { text-align: left; } figure { margin: 1.5em 0; } img { max-width: 100%; }
-figcaption { font-size: 0.9em; color: #555; } .notes { background: #f6f6f6; padding: 0.5em 1em; }
-</style></head><body>
-<h1>Model vs rig: {{ summary.log }}</h1>
-<p>{{ summary.samples }} samples at {{ "%.4g"|format(summary.rate_Hz) }} Hz{% if summary.cutoff_Hz %}, low-passed at {{ "%g"|format(summary.cutoff_Hz) }} Hz (model and measurement alike){% endif %};
-motion from the {{ summary.motion_from }}; parameters: {{ summary.parameters }}; lever spin {{ "on" if summary.lever_spin else "off" }}.
-{% if summary.period_s %}The log repeats every {{ "%.4g"|format(summary.period_s) }} s.{% endif %}</p>
-{% if notes %}<div class="notes"><ul>{% for note in notes %}<li>{{ note }}</li>{% endfor %}</ul></div>{% endif %}
-<table>
-<tr><th>motor</th><th>measured RMS [N·mm]</th><th>measured peak [N·mm]</th><th>RMS error [N·mm]</th><th>RMS error / RMS</th>
-<th>peak error [N·mm]</th><th>peak error / peak</th><th>at [s]</th><th>RMS error away from reversals [N·mm]</th></tr>
-{% for name, m in summary.motors.items() %}
-<tr><td>M{{ name }}</td><td>{{ "%.1f"|format(m.measured_rms_Nmm) }}</td><td>{{ "%.1f"|format(m.measured_peak_Nmm) }}</td>
-<td>{{ "%.2f"|format(m.rms_error_Nmm) }}</td><td>{{ "%.2f %%"|format(100 * m.relative_rms_error) }}</td>
-<td>{{ "%.2f"|format(m.peak_error_Nmm) }}</td><td>{{ "%.2f %%"|format(100 * m.relative_peak_error) }}</td><td>{{ "%.3f"|format(m.peak_error_t_s) }}</td>
-<td>{{ "%.2f"|format(m.rms_error_away_from_reversals_Nmm) }}</td></tr>
-{% endfor %}
-</table>
-{% for stem, figure in figures %}
-<figure><img alt="{{ stem }}" src="data:image/png;base64,{{ figure }}"><figcaption>{{ captions[stem] }}
-(<a href="{{ stem }}.png">PNG</a>, <a href="{{ stem }}.svg">SVG</a>)</figcaption></figure>
-{% endfor %}
-<p>Numbers for scripts: <a href="comparison.json">comparison.json</a>.</p>
-</body></html>
-"""
 
 
-def write_comparison(out_dir: str | Path, comparison: Comparison, extra: dict[str, Any] | None = None) -> ComparisonFiles:
+def comparison_verdict(summary: dict, accept: float | None = None) -> Verdict:
+    """The worst motor's RMS error relative to its measured RMS torque; PASS/FAIL against ``accept``, else not judged.
+
+    Args:
+        summary: :meth:`hipsim.rig.compare.Comparison.summary`.
+        accept: the largest relative RMS error accepted, as a fraction (0.05: 5 %); None: no threshold.
+    """
+    motors = summary["motors"]
+    worst = max(motors, key=lambda i: motors[i]["relative_rms_error"])
+    m = motors[worst]
+    numbers = (f"Worst: motor {worst}, RMS error {significant(m['rms_error_Nmm'], 3)} N·mm = "
+               f"{significant(100 * m['relative_rms_error'], 3)} % of its measured RMS torque "
+               f"({significant(m['rms_error_away_from_reversals_Nmm'], 3)} N·mm away from reversals).")
+    if accept is None:
+        return Verdict("open", "NOT JUDGED", ("No acceptance threshold given (--accept PERCENT).", numbers))
+    share = f"{100 * accept:g} %"
+    if all(motors[i]["relative_rms_error"] <= accept for i in motors):
+        return Verdict("pass", "PASS", (f"Every motor's RMS error is within {share} of its measured RMS torque.", numbers))
+    failing = [i for i in motors if motors[i]["relative_rms_error"] > accept]
+    return Verdict("fail", "FAIL", (f"{len(failing)} of {len(motors)} motors exceed the accepted {share} RMS error.", numbers))
+
+
+def _rows(summary: dict) -> list[list[str]]:
+    return [
+        [f"M{name}", significant(m["measured_rms_Nmm"]), significant(m["measured_peak_Nmm"]), significant(m["rms_error_Nmm"], 3),
+         significant(100 * m["relative_rms_error"], 3), significant(m["peak_error_Nmm"], 3), significant(100 * m["relative_peak_error"], 3),
+         f"{m['peak_error_t_s']:.3f}", significant(m["rms_error_away_from_reversals_Nmm"], 3)]
+        for name, m in summary["motors"].items()
+    ]
+
+
+def write_comparison(out_dir: str | Path, comparison: Comparison, extra: dict[str, Any] | None = None,
+                     provenance: Provenance | None = None, accept: float | None = None) -> ComparisonFiles:
     """Write the comparison folder: figures (PNG, SVG), ``index.html`` and ``comparison.json``, each atomically.
 
     Args:
         out_dir: the folder (made if missing; taken back if the writing fails and it is still empty).
         comparison: what :func:`hipsim.rig.compare.compare` returned.
         extra: more entries for the JSON.
+        provenance: where the numbers came from (:func:`hipsim.present.provenance.provenance`); None: the version and time only.
+        accept: the largest relative RMS error accepted, as a fraction; None: the verdict is not judged.
 
     Returns:
         The files written.
     """
-    from jinja2 import Environment
+    from .provenance import provenance as make_provenance
 
     out = Path(out_dir)
     check_folder(out)
+    provenance = provenance or make_provenance()
     summary = comparison.summary() | (extra or {})
+    verdict = comparison_verdict(summary, accept)
+    summary = {"verdict": verdict.as_dict(), "provenance": provenance.as_dict()} | summary
     plots = [("torques", plot_comparison), ("errors", plot_errors)]
     if comparison.phase_rms is not None:
         plots.append(("phases", plot_phase_errors))
@@ -186,8 +200,11 @@ def write_comparison(out_dir: str | Path, comparison: Comparison, extra: dict[st
             figures[stem] = save_figure(plot(comparison), out, stem)
         json_path = write_atomic(out / "comparison.json", json.dumps(json_ready(summary), indent=2) + "\n")
         embedded = [(stem, base64.b64encode(png.read_bytes()).decode("ascii")) for stem, (png, _) in figures.items()]
-        page = Environment(autoescape=True).from_string(_PAGE).render(
-            summary=json_ready(summary), notes=summary.get("notes", []), figures=embedded, captions=CAPTIONS
+        plain = json_ready(summary)
+        page = environment().get_template("compare.html.j2").render(
+            css=CSS, verdict=verdict, provenance=provenance, title=provenance.title, summary=plain, rows=_rows(plain),
+            rate=significant(plain["rate_Hz"]), period=significant(plain["period_s"]) if plain.get("period_s") else "",
+            notes=summary.get("notes", []), figures=embedded, captions=CAPTIONS,
         )
         index = write_atomic(out / "index.html", page)
     return ComparisonFiles(out, index, json_path, figures)

@@ -1,4 +1,4 @@
-"""The figure of a design sweep: its variants on two objectives, the Pareto front drawn through them."""
+"""The figure of a design sweep: its variants on two objectives, the Pareto front drawn through them, its points labelled."""
 
 from __future__ import annotations
 
@@ -6,7 +6,10 @@ from typing import Sequence
 
 import numpy as np
 
-__all__ = ["plot_pareto"]
+__all__ = ["MAX_LABELS", "design_label", "plot_pareto"]
+
+#: At most this many Pareto points are labelled with their design values; a longer front is labelled every k-th point.
+MAX_LABELS = 16
 
 _RATING_STYLE = {
     "pass": ("tab:green", "passes the rating"),
@@ -17,7 +20,7 @@ _RATING_STYLE = {
 
 def plot_pareto(
     x: np.ndarray, y: np.ndarray, front: np.ndarray, names: tuple[str, str], maximise: tuple[bool, bool],
-    ratings: Sequence[str], title: str = "",
+    ratings: Sequence[str], title: str = "", labels: Sequence[str] | None = None,
 ):
     """The variants on two objectives, coloured by their rating, the Pareto front joined and ringed.
 
@@ -28,6 +31,8 @@ def plot_pareto(
         maximise: per objective, True if larger is better (the axis label says which).
         ratings: per variant "pass", "fail", "unchecked" or "" (no metrics).
         title: above the plot.
+        labels: (n,) each variant's design values as text (:func:`design_label`); the Pareto points are
+            labelled with theirs. None: no labels.
 
     Returns:
         A matplotlib Figure (Agg; save it with :func:`hipsim.present.figures.save_figure`).
@@ -47,6 +52,8 @@ def plot_pareto(
         ax.plot(x[front][order], y[front][order], color="black", lw=1.0, zorder=3)
         ax.scatter(x[front], y[front], s=36, facecolors="none", edgecolors="black", linewidths=1.2, zorder=4,
                    label=f"Pareto front ({np.count_nonzero(front)})")  # fmt: skip
+    if labels is not None and np.any(front):
+        _label_front(ax, x, y, front, labels)
     for setter, name, larger in ((ax.set_xlabel, names[0], maximise[0]), (ax.set_ylabel, names[1], maximise[1])):
         setter(f"{name} ({'larger' if larger else 'smaller'} is better)")
     ax.grid(alpha=0.3)
@@ -54,3 +61,20 @@ def plot_pareto(
     if title:
         ax.set_title(title, fontsize=10)
     return fig
+
+
+def design_label(values: dict[str, float]) -> str:
+    """A variant's design values as a point label: "length_mm 330, lead_mm 10" (the key without its section)."""
+    return ", ".join(f"{key.split('.')[-1]} {value:.4g}" for key, value in values.items())
+
+
+def _label_front(ax, x, y, front, labels) -> None:
+    """Each Pareto point's design values beside it, alternately above and below so neighbours do not overlap."""
+    indices = np.flatnonzero(front & np.isfinite(x) & np.isfinite(y))
+    indices = indices[np.argsort(x[indices])]
+    step = max(1, int(np.ceil(len(indices) / MAX_LABELS)))
+    for n, k in enumerate(indices[::step]):
+        ax.annotate(labels[k], (x[k], y[k]), xytext=(6, 8 if n % 2 == 0 else -12), textcoords="offset points", fontsize=6.5,
+                    color="0.15", zorder=5)
+    if step > 1:
+        ax.text(0.99, 0.01, f"every {step}th Pareto point labelled", transform=ax.transAxes, ha="right", va="bottom", fontsize=7, color="0.3")

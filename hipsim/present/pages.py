@@ -1,0 +1,146 @@
+"""What the HTML pages share: the Jinja environment, the style sheet, the verdict block, and printing a page to PDF.
+
+Every page (the design report, the comparison) is rendered from a template in
+``templates/`` (autoescaped, undefined names an error) with the partials
+``provenance.html.j2`` (where the numbers came from) and ``verdict.html.j2``
+(the pass/fail block at the top of the page, its word and symbol readable in
+black and white, the colour only a second cue).
+
+PDF. :func:`print_pdf` prints a written page with headless Chromium
+(``--print-to-pdf``): the PDF is the same page, laid out by the same engine
+a reader's browser uses, with its tables, embedded figures and print styles.
+matplotlib's PDF backend draws figures, not HTML, so it could only give
+another document; WeasyPrint would add a native dependency (Pango) for what a
+browser already does. The tests and the viewer already use Chromium.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..exceptions import HipsimError
+from .browser import find_browser
+
+__all__ = ["CSS", "Verdict", "environment", "print_pdf", "require_pdf_renderer"]
+
+CSS = """
+body { font-family: system-ui, -apple-system, "Segoe UI", sans-serif; margin: 2em auto; max-width: 1200px; color: #222; padding: 0 1em; }
+h1 { font-size: 1.6em; margin-bottom: 0.2em; }
+h2 { font-size: 1.25em; border-bottom: 1px solid #ccc; padding-bottom: 0.2em; margin-top: 1.8em; }
+table { border-collapse: collapse; margin: 0.6em 0 1em; font-size: 0.85em; }
+th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: right; }
+th { background: #f0f0f0; }
+th.l, td.l { text-align: left; }
+tr.fail td { background: #fde8e8; }
+tr.binding td { font-weight: bold; }
+tr.unchecked td { color: #777; }
+.meta { color: #555; font-size: 0.9em; }
+.note { background: #fff8e0; border-left: 4px solid #e0b000; padding: 0.4em 0.8em; margin: 0.4em 0; }
+.pass { color: #0a7a0a; font-weight: bold; }
+.fail { color: #c00000; font-weight: bold; }
+.verdict { border: 3px solid #777; padding: 0.6em 1em; margin: 1em 0; }
+.verdict .word { font-size: 1.4em; font-weight: bold; letter-spacing: 0.05em; }
+.verdict p { margin: 0.3em 0; }
+.verdict.pass-box { border-color: #0a7a0a; background: #eef8ee; }
+.verdict.fail-box { border: 5px double #c00000; background: #fdeeee; }
+.verdict.open-box { border-style: dashed; background: #f6f6f6; }
+.provenance { font-size: 0.85em; color: #333; border: 1px solid #ccc; padding: 0.4em 0.8em; margin: 0.6em 0; }
+.provenance table { margin: 0.3em 0; font-size: 1em; }
+.provenance td { text-align: left; }
+.provenance td code { word-break: break-all; }
+.provenance code { font-size: 0.95em; }
+tr.identified td { font-weight: bold; }
+figure { margin: 1em 0 2em; }
+figure img { max-width: 100%; border: 1px solid #ddd; }
+figcaption { font-size: 0.9em; color: #444; }
+@media print {
+  body { margin: 0; max-width: none; font-size: 10pt; }
+  figure, table, .verdict, .provenance { break-inside: avoid; }
+  h2, h3 { break-after: avoid; }
+  a { color: inherit; text-decoration: none; }
+}
+@page { size: A4; margin: 14mm 12mm; }
+"""
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """The block at the top of a page.
+
+    Attributes:
+        state: "pass", "fail" or "open" (nothing decided: no rating, no acceptance threshold).
+        word: the verdict in words ("PASS", "FAIL", "NOT RATED").
+        lines: one or two sentences with the numbers that decide it (the binding check and its margin).
+    """
+
+    state: str
+    word: str
+    lines: tuple[str, ...]
+
+    @property
+    def symbol(self) -> str:
+        return {"pass": "✔", "fail": "✘"}.get(self.state, "–")
+
+    def as_dict(self) -> dict:
+        return {"state": self.state, "word": self.word, "lines": list(self.lines)}
+
+
+def environment():
+    """The Jinja environment of the page templates (autoescaped, strict)."""
+    import jinja2
+
+    return jinja2.Environment(
+        loader=jinja2.PackageLoader("hipsim.present", "templates"),
+        autoescape=True,
+        undefined=jinja2.StrictUndefined,
+        trim_blocks=True,
+        lstrip_blocks=True,
+    )
+
+
+def require_pdf_renderer() -> str:
+    """The Chromium that prints pages to PDF, or a clear error before any work is done."""
+    browser = find_browser()
+    if browser is None:
+        raise HipsimError("--pdf needs Chromium (or Chrome) to print the page, and none is on PATH "
+                          "(apt-get install chromium); run without --pdf and print index.html from a browser")
+    return browser
+
+
+def print_pdf(page: str | Path, out: str | Path, browser: str | None = None, timeout_s: float = 120.0) -> Path:
+    """Print an offline HTML page to a PDF with headless Chromium, no network, no header or footer lines.
+
+    Args:
+        page: the HTML file.
+        out: the PDF to write.
+        browser: the Chromium executable; default :func:`hipsim.present.browser.find_browser`.
+        timeout_s: give up after this long, in [s].
+
+    Returns:
+        The PDF's path.
+
+    Raises:
+        HipsimError: no browser, or it wrote no PDF.
+    """
+    browser = browser or require_pdf_renderer()
+    out = Path(out).resolve()
+    out.unlink(missing_ok=True)
+    with tempfile.TemporaryDirectory(prefix="hipsim-chromium-") as profile:
+        args = [
+            browser, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+            "--disable-background-networking", "--disable-component-update", "--disable-sync",
+            "--disable-extensions", "--mute-audio", f"--user-data-dir={profile}",
+            "--proxy-server=127.0.0.1:9", "--host-resolver-rules=MAP * ~NOTFOUND",
+            "--no-pdf-header-footer", "--print-to-pdf-no-header", f"--print-to-pdf={out}", Path(page).resolve().as_uri(),
+        ]  # fmt: skip
+        try:
+            run = subprocess.run(args, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, timeout=timeout_s)
+        except subprocess.TimeoutExpired:
+            raise HipsimError(f"{browser} did not print {page} to PDF in {timeout_s:g} s") from None
+    if not out.is_file() or out.stat().st_size == 0 or not out.read_bytes()[:5] == b"%PDF-":
+        tail = run.stderr.decode("utf-8", "replace").strip().splitlines()[-3:]
+        raise HipsimError(f"{browser} wrote no PDF of {page}: " + " / ".join(tail))
+    return out
