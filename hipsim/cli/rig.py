@@ -157,7 +157,11 @@ def run_compare(args) -> int:
     print(format_table(["motor", "RMS [N·mm]", "peak [N·mm]", "RMS error", "/ RMS", "peak error", "/ peak", "at [s]", "RMS error away from reversals"],
                  rows, "Model vs measured motor torque [N·mm]"))
     if comparison.phase_rms is not None:
-        print(f"\nthe log repeats every {comparison.period:.4g} s; RMS error per tenth of the cycle [N·mm]:")
+        anchor = "heel strike" if comparison.stance is not None else "the first sample"
+        print(f"\nthe log repeats every {comparison.period:.4g} s; RMS error per tenth of the gait cycle from {anchor} "
+              f"(t = {comparison.heel_strike:.4g} s) [N·mm]:")
+        if comparison.stance is not None:
+            print("      " + " ".join(f"{'stance' if s else 'swing':>6}" for s in comparison.stance))
         for i in range(3):
             print(f"  M{i + 1}: " + " ".join(f"{x * 1e3:6.2f}" for x in comparison.phase_rms[:, i]))
     print(f"\nwrote {files.index} (figures, comparison.json)")

@@ -103,7 +103,12 @@ def plot_phase_errors(comparison: Comparison):
     width = (edges[1] - edges[0]) / 4
     for i in range(3):
         ax.bar(centres + (i - 1) * width, comparison.phase_rms[:, i] * 1e3, width, label=f"motor {i + 1}")
-    ax.set_xlabel(f"phase of the cycle (period {comparison.period:.4g} s)")
+    if comparison.stance is not None:
+        stance_end = edges[1:][comparison.stance].max() if comparison.stance.any() else 0.0
+        ax.axvspan(0.0, stance_end, color="0.9", zorder=0, label="stance")
+        ax.set_xlabel(f"phase of the gait cycle from heel strike (period {comparison.period:.4g} s)")
+    else:
+        ax.set_xlabel(f"phase of the cycle from the first sample (period {comparison.period:.4g} s)")
     ax.set_ylabel("RMS error [N·mm]")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3, axis="y")

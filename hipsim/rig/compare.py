@@ -27,6 +27,7 @@ import numpy as np
 
 from ..analytic.engine import AnalyticModel
 from ..machine.parameters import Parameters
+from ..motion.gait_events import detect_gait_events
 from ..results import ExactSum, Run, Torques
 from .filtering import REVERSAL_PERIODS, lowpass
 from .logs import Log, LogInfo, MeasuredLog
@@ -222,6 +223,10 @@ class Comparison:
         period: the log's period in [s] when it repeats, else None.
         phase_edges: cycle fractions bounding the phase bins, (B + 1,), or None.
         phase_rms: RMS error per phase bin and motor in [N·m], (B, 3), or None.
+        heel_strike: the time in [s] phase 0 is anchored at: a heel strike found in the
+            load (:mod:`hipsim.motion.gait_events`), or the first usable sample when
+            the load shows none; None without phases.
+        stance: per phase bin, whether its middle lies in stance (from heel strike to toe-off), (B,) bool, or None.
         statistics: the error statistics over every usable sample (``motors``, ``parts``, ``cond_inv_min``, ``samples``).
     """
 
@@ -237,6 +242,8 @@ class Comparison:
     phase_edges: np.ndarray | None
     phase_rms: np.ndarray | None
     statistics: dict[str, Any]
+    heel_strike: float | None = None
+    stance: np.ndarray | None = None
 
     @property
     def error(self) -> np.ndarray:
@@ -272,6 +279,9 @@ class Comparison:
         if self.phase_rms is not None:
             out["phases"] = {
                 "edges": [float(x) for x in self.phase_edges],
+                "from": "heel strike" if self.stance is not None else "first sample",
+                "heel_strike_s": self.heel_strike,
+                "labels": None if self.stance is None else ["stance" if s else "swing" for s in self.stance],
                 "rms_error_Nmm": {str(i + 1): [float(x) for x in self.phase_rms[:, i] * 1e3] for i in range(3)},
             }
         return out
@@ -286,6 +296,23 @@ def _period(period: float | None, t: np.ndarray, q: np.ndarray | None, t_first: 
     if period is not None and (t_last - t_first) < 2 * period * (1 - 1e-9):
         period = None  # fewer than two cycles: no phases to average
     return period
+
+
+def _phase_anchor(log: Log, period: float, first: int) -> tuple[float, float | None]:
+    """Phase 0's time in [s] and the stance share of the cycle (None if unknown), from the load of the log's first window.
+
+    The first heel strike of that window anchors the phases, so the per-phase
+    table does not depend on where the log starts; a load without gait
+    events leaves phase 0 at the first usable sample, as before.
+    """
+    window, core, _ = next(iter(log.windows()))
+    t, load = window.trajectory.t, window.trajectory.Fe
+    events = detect_gait_events(t, load, source=log.name)
+    if events.heel_strikes.size == 0:
+        return float(log.t[first]), None
+    strikes, toes = events.t_heel_strikes, events.t_toe_offs
+    stance = [(toes[toes > hs][0] - hs) / period for hs in strikes if (toes > hs).any() and (toes[toes > hs][0] - hs) < period]
+    return float(strikes[0]), (float(np.median(stance)) if stance else None)
 
 
 def _gather(params: Parameters, windows, lever_spin: bool, period: float | None, t0: float, phase_bins: int, stride: int):
@@ -364,9 +391,15 @@ def compare(
             if progress is not None:
                 progress(start + core.stop - core.start, n)
 
-    arrays, model, statistics, edges, phase_rms = _gather(params, windows(), lever_spin, period, t[first], phase_bins, stride)
+    anchor, stance_share = _phase_anchor(log, period, first) if period is not None else (None, None)
+    arrays, model, statistics, edges, phase_rms = _gather(
+        params, windows(), lever_spin, period, anchor if anchor is not None else t[first], phase_bins, stride,
+    )
+    stance = None
+    if edges is not None and stance_share is not None:
+        stance = 0.5 * (edges[:-1] + edges[1:]) < stance_share
     return Comparison(log.info(), params, lever_spin, arrays["t"], arrays["measured"], model, arrays["cond_inv"], arrays["near"],
-                      period, edges, phase_rms, statistics)
+                      period, edges, phase_rms, statistics, anchor, stance)
 
 
 def compare_log(
