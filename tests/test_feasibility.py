@@ -90,3 +90,14 @@ def test_fitting_speed_is_where_the_speed_limit_binds(iso_run):
     assert fitting_speed(run_at, ISO, Limits()) == 1.0
     # A stroke does not change with speed: no time scale helps.
     assert fitting_speed(run_at, ISO, Limits(stroke=0.5 * need["stroke"])) is None
+
+
+def test_beyond_the_torque_curves_end_only_the_speed_is_crossed(iso_run):
+    """A torque–speed curve gives no torque past its end: that is an overspeed, not a torque of 0 N·mm allowed."""
+    speed = np.abs(iso_run.torques.motor_speed).max()
+    curve = lambda w: np.where(w <= 0.5 * speed, 10.0, 0.0)  # noqa: E731 - 10 N·m up to half the speed the run needs
+    kinds = {c.limit for c in check_feasibility(iso_run, Limits(motor_speed=0.5 * speed, motor_torque=curve))}
+    assert kinds == {"motor_speed"}
+    tight = lambda w: np.where(w <= 0.5 * speed, 1e-3, 0.0)  # noqa: E731 - a curve the run exceeds where it applies
+    crossing = [c for c in check_feasibility(iso_run, Limits(motor_torque=tight)) if c.limit == "motor_torque"][0]
+    assert crossing.allowed == pytest.approx(1e-3) and np.isfinite(crossing.excess)

@@ -180,8 +180,15 @@ def check_feasibility(run: Run, limits: Limits) -> list[Crossing]:
             _ceiling(crossings, "motor_speed", t, speed[:, i], limits.motor_speed, i + 1)
         if limits.motor_torque is not None:
             torque = limits.motor_torque
-            allowed = torque(np.abs(speed[:, i])) if callable(torque) else torque
-            _ceiling(crossings, "motor_torque", t, run.torques.total[:, i], allowed, i + 1)
+            tau = run.torques.total[:, i]
+            if callable(torque):
+                allowed = np.asarray(torque(np.abs(speed[:, i])), dtype=float)
+                # Beyond its curve's end the motor has no torque to give: that is the speed's crossing, reported as
+                # such; the torque is checked where the curve says what the motor gives.
+                on_curve = allowed > 0
+                _ceiling(crossings, "motor_torque", t[on_curve], tau[on_curve], allowed[on_curve], i + 1)
+            else:
+                _ceiling(crossings, "motor_torque", t, tau, torque, i + 1)
     below = run.cond_inv < limits.cond_inv_floor
     if below.any():
         crossings.append(Crossing("cond_inv", None, _first(t, below), float(np.nanmin(run.cond_inv)), limits.cond_inv_floor))
