@@ -107,3 +107,38 @@ def test_the_public_names_stay_where_the_readme_says():
         assert getattr(hipsim.machine.drive, name) is not None, name
     for name in ("load_drive", "load_motor_catalogue", "load_screw_catalogue", "load_gearbox_catalogue", "Drive", "SizingRules"):
         assert name in hipsim.machine.drive.__all__
+
+
+def test_size_ranks_the_example_catalogue_smallest_first_and_says_why_others_fail(capsys):
+    """`hipsim size --catalogue`: the 200 W motor first; an overspeeding line in rpm; --rank margin as before; JSON keeps its keys."""
+    import json
+    from importlib import resources
+
+    from hipsim.cli import main
+
+    folder = resources.files("hipsim.models")
+    files = ["--catalogue", str(folder / "motors_example.csv"), "--screws", str(folder / "screws_example.csv"),
+             "--gearboxes", str(folder / "gearboxes_example.csv")]
+    assert main(["size", "--rate", "200", *files]) == 0
+    out = capsys.readouterr().out
+    lines = [line for line in out.splitlines() if re.match(r"\d+\s{2,}EX-", line)]
+    assert len(lines) == 36 and "EX-S200" in lines[0] and "pass" in lines[0] and "201 W" in lines[0]
+    over = [line for line in lines if "EX-S200" in line and "belt" in line and "16x5" in line]
+    assert len(over) == 1 and re.search(r"needs [\d,]+ rpm; the motor's top speed is 6,000", over[0]) and "∞" not in over[0]
+    assert "rated power = rated torque × rated speed" in out and "Checks that do not depend on the motor" in out
+    assert main(["size", "--rate", "200", "--rank", "margin", *files]) == 0
+    lines = [line for line in capsys.readouterr().out.splitlines() if re.match(r"\d+\s{2,}EX-", line)]
+    assert "EX-S750" in lines[0] and "carriage stroke" in lines[0]  # today's order: the largest smallest margin
+    assert main(["size", "--rate", "200", "--format", "json", "--top", "2", *files]) == 0
+    document = json.loads(capsys.readouterr().out)
+    first = document["candidates"][0]
+    assert {"drive", "motor", "gearbox", "screw", "passed", "margin", "binding", "unchecked", "checks"} <= set(first)
+    assert first["rated_power_W"] == pytest.approx(0.64 * 3000 * 2 * 3.141592653589793 / 60) and document["rank"] == "size"
+    assert len(document["screw_checks"]) == 3
+
+
+def test_size_refuses_rank_without_a_catalogue(capsys):
+    from hipsim.cli import main
+
+    assert main(["size", "--rate", "100", "--rank", "margin"]) == 2
+    assert "--rank applies to a catalogue" in capsys.readouterr().err

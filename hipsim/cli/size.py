@@ -20,8 +20,11 @@ the load-to-rotor inertia ratio (the load from the model's M(q)), the winding te
 amplifier currents, the regenerated energy and power, and the lead screw's L10 life in test cycles
 (ISO 3408-5), critical speed, buckling load, stroke and permissible load; each with value, limit, margin
 and pass/fail. With --catalogue, every motor x screw x gearbox combination is checked (the model reruns
-for each screw lead) and ranked by its smallest margin, the binding constraint named. Exits with status 1
-when the drive (or every catalogue combination) fails a check."""
+for each screw lead) and ranked the way a drive engineer ranks: the smallest combination that passes
+every check first (by rated power, then rotor inertia, then a catalogue cost column), with its binding
+check and margin, the failing ones after, each with its first failing check in words and numbers; the
+screw's checks, the same for every motor, once per screw (--rank margin: by the smallest margin of all
+checks, largest first). Exits with status 1 when the drive (or every catalogue combination) fails a check."""
 
 _EXAMPLES = """\
 examples:
@@ -56,6 +59,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     rules.add_argument("--life-cycles", type=float, metavar="N", help="screw L10 life to reach in test cycles (default 5e6)")
     rules.add_argument("--inertia-ratio", type=float, metavar="R", help="largest load-to-rotor inertia ratio (default 10)")
     out = parser.add_argument_group("output")
+    out.add_argument("--rank", choices=["size", "margin"], default="size",
+                     help="catalogue order: size (default: the smallest drive that passes first, by rated power, rotor inertia, "
+                     "cost) or margin (the largest smallest margin first)")
     out.add_argument("--top", type=int, metavar="N", help="show the N best catalogue combinations (default all)")
     out.add_argument("--format", "--summary-format", dest="format", choices=["table", "json"], default="table", help="output on standard output")
     parser.set_defaults(run=run)
@@ -104,6 +110,73 @@ def format_checks(checks, title: str) -> str:
     return format_table(["module", "check", "value", "limit", "margin", "result", "detail"], rows, title)
 
 
+def _sentence(check, trajectories) -> str:
+    from ..present.check_text import check_sentence
+
+    return check_sentence(check) + (f" ({check.trajectory})" if len(trajectories) > 1 else "")
+
+
+def _screw_name(drive, params) -> str:
+    return drive.screw.name if drive.screw else f"machine's ({params.lead * 1e3:g} mm)"
+
+
+def format_ranking(candidates, shown, trajectories, params) -> str:
+    """The catalogue ranked by size: each line's rated power, and its binding check (pass) or first failing check (FAIL); then the screw's checks once."""
+    from ..design.ranking import screw_checks
+    from ..present.numbers import significant
+
+    rows = []
+    for rank, c in enumerate(shown, start=1):
+        power, source = c.rated_power
+        power_text = "—" if power is None else f"{significant(power, 3, zeros=False)} W" + ("" if source == "catalogue" else " *")
+        if c.passed:
+            b = c.motor_binding
+            verdict = "pass"
+            why = "—" if b is None else (f"{b.kind.label}, LN{b.module}: {format_quantity(b.value, b.kind.unit)} / "
+                                         f"{format_quantity(b.limit, b.kind.unit)} {b.kind.unit}" + (f" ({b.trajectory})" if len(trajectories) > 1 else ""))
+        elif c.passed is False:
+            b = c.failure
+            verdict, why = "FAIL", _sentence(b, trajectories)
+        else:
+            b, verdict, why = None, "—", "no check made"
+        rows.append([str(rank), c.drive.motor.name, c.drive.gearbox.name if c.drive.gearbox else "direct", _screw_name(c.drive, params),
+                     power_text, verdict, "—" if b is None else format_margin(b.margin), why])
+    cycles = ", ".join(t.name for t, _ in trajectories)
+    passing = sum(1 for c in candidates if c.passed)
+    title = (f"{len(candidates)} combinations along {cycles}, {passing} pass: the smallest that passes first "
+             "(by rated power, then rotor inertia, then cost); each with its binding check, or its first failing check")
+    lines = [format_table(["rank", "motor", "gearbox", "screw", "rated power", "result", "margin", "binding check / why it fails"], rows, title)]
+    sources = {c.rated_power[1] for c in shown}
+    if any(source != "catalogue" for source in sources):
+        lines.append("* rated power = rated torque × rated speed at the S1 curve's rated point (the catalogue gives no rated_power_W)")
+    rows = []
+    for screw, checks in screw_checks(candidates):
+        made = [c for c in checks if c.passed is not None]
+        failed = [c for c in made if c.passed is False]
+        b = min(failed or made, key=lambda c: c.margin) if made else None
+        rows.append([screw.name if screw is not None else f"machine's ({params.lead * 1e3:g} mm)",
+                     "—" if b is None else f"{b.kind.label}, LN{b.module}",
+                     "—" if b is None else f"{format_quantity(b.value, b.kind.unit)} / {format_quantity(b.limit, b.kind.unit)} {b.kind.unit}",
+                     "—" if b is None else format_margin(b.margin), "not checked" if b is None else ("FAIL" if failed else "pass")])
+    lines += ["", format_table(["screw", "binding check", "value / limit", "margin", "result"], rows,
+                               "Checks that do not depend on the motor (the screw against the machine's demand), once per screw; they break no tie")]
+    return "\n".join(lines)
+
+
+def format_margin_ranking(candidates, shown, trajectories, params) -> str:
+    """The catalogue ranked by the smallest margin of all checks (``--rank margin``), each line's binding constraint."""
+    rows = []
+    for rank, c in enumerate(shown, start=1):
+        b = c.binding
+        verdict = "—" if c.passed is None else ("pass" if c.passed else "FAIL")
+        binding = "—" if b is None else f"{b.kind.label}, LN{b.module}" + (f", {b.trajectory}" if len(trajectories) > 1 else "")
+        rows.append([str(rank), c.drive.motor.name, c.drive.gearbox.name if c.drive.gearbox else "direct", _screw_name(c.drive, params),
+                     format_margin(c.margin), verdict, binding, f"{format_quantity(b.value, b.kind.unit)} / {format_quantity(b.limit, b.kind.unit)} {b.kind.unit}" if b else "—"])
+    cycles = ", ".join(t.name for t, _ in trajectories)
+    return format_table(["rank", "motor", "gearbox", "screw", "smallest margin", "result", "binding constraint", "value / limit"], rows,
+                        f"{len(candidates)} combinations along {cycles}, ranked by their smallest margin")
+
+
 def format_demands(size) -> str:
     rows = [[f"LN{m.module}", m.tau_peak_Nmm, m.tau_rms_Nmm, m.speed_peak_rpm, m.speed_mean_rpm, m.motor_thrust_peak_N,
              m.axial_force_peak_N, m.axial_force_cubic_mean_N, m.load_inertia_max_kgmm2, m.regen_energy_J] for m in size.modules]
@@ -115,6 +188,7 @@ def format_demands(size) -> str:
 def run(args) -> int:
     """Check ``--drive`` (or rank ``--catalogue``) along the cycles and print the checks; exit status 1 when the drive fails one."""
     from ..analysis.runs import analyse
+    from ..design.ranking import screw_checks
     from ..design.sizing import rank_drives, sizing
     from ..machine.drive import SizingRules, drive_from_motor_table, load_drive, load_gearbox_catalogue, load_motor_catalogue, load_screw_catalogue
     from ..files import json_ready
@@ -123,6 +197,8 @@ def run(args) -> int:
     if args.top is not None and args.top < 1:
         raise HipsimError(f"--top: expected a positive whole number, got {args.top}")
     if args.catalogue is None:
+        if args.rank != "size":
+            raise HipsimError("--rank applies to a catalogue: give --catalogue FILE too")
         for option in ("screws", "gearboxes", "top"):
             if getattr(args, option) is not None:
                 raise HipsimError(f"--{option} applies to a catalogue: give --catalogue FILE too")
@@ -136,22 +212,21 @@ def run(args) -> int:
         gearboxes = load_gearbox_catalogue(args.gearboxes) if args.gearboxes else None
         rules = _rules(args, SizingRules())
         progress = None if args.format == "json" else (lambda text: print(f"running the model: {text}", file=sys.stderr))
-        candidates = rank_drives(params, trajectories, motors, screws, gearboxes, rules, progress)
+        candidates = rank_drives(params, trajectories, motors, screws, gearboxes, rules, progress, order=args.rank)
         shown = candidates[: args.top] if args.top else candidates
         if args.format == "json":
-            print(json.dumps(json_ready({"rules": vars(rules), "candidates": [c.as_dict() for c in shown]}), indent=2))
+            document = {"rules": vars(rules), "candidates": [c.as_dict() for c in shown], "rank": args.rank}
+            if args.rank == "size":
+                for entry, c in zip(document["candidates"], shown):
+                    entry["first_failure_text"] = None if c.failure is None else _sentence(c.failure, trajectories)
+                document["screw_checks"] = [{"screw": None if screw is None else screw.name, "checks": [c.as_dict() for c in checks]}
+                                            for screw, checks in screw_checks(candidates)]
+            print(json.dumps(json_ready(document), indent=2))
         else:
-            rows = []
-            for rank, c in enumerate(shown, start=1):
-                b = c.binding
-                verdict = "—" if c.passed is None else ("pass" if c.passed else "FAIL")
-                binding = "—" if b is None else f"{b.kind.label}, LN{b.module}" + (f", {b.trajectory}" if len(trajectories) > 1 else "")
-                rows.append([str(rank), c.drive.motor.name, c.drive.gearbox.name if c.drive.gearbox else "direct",
-                             c.drive.screw.name if c.drive.screw else f"machine's ({params.lead * 1e3:g} mm)",
-                             format_margin(c.margin), verdict, binding, f"{format_quantity(b.value, b.kind.unit)} / {format_quantity(b.limit, b.kind.unit)} {b.kind.unit}" if b else "—"])
-            cycles = ", ".join(t.name for t, _ in trajectories)
-            print(format_table(["rank", "motor", "gearbox", "screw", "smallest margin", "result", "binding constraint", "value / limit"], rows,
-                                f"{len(candidates)} combinations along {cycles}, ranked by their smallest margin"))
+            if args.rank == "size":
+                print(format_ranking(candidates, shown, trajectories, params))
+            else:
+                print(format_margin_ranking(candidates, shown, trajectories, params))
             unchecked = sorted({name for c in shown for name in c.unchecked})
             if unchecked:
                 print(f"\nnot checked for want of data (see --format json for which): {', '.join(unchecked)}")

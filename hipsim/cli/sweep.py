@@ -9,7 +9,7 @@ import time
 from pathlib import Path
 
 from ..exceptions import ArgumentError, HipsimError, OutputError
-from ..present.tables import format_table
+from ..present.tables import format_margin, format_table
 from .common import add_machine_options, add_provenance_options, page_provenance, parameters
 from .motion_options import add_trajectory_options, load_trajectory
 
@@ -302,6 +302,7 @@ def _summary(columns: dict, keys, objectives: dict, pareto) -> dict:
         k = int(np.nanargmax(values) if maximise else np.nanargmin(values))
         best[name] = {"goal": "max" if maximise else "min", "value": float(values[k]), "row": k,
                       "variant": {key: float(columns[key][k]) for key in keys}, "rating": str(rating[k])}  # fmt: skip
+        best[name] |= _onward(columns, keys, k, status, rating, values)
     ok = int(np.count_nonzero(status == "ok"))
     passing = int(np.count_nonzero(rating == "pass")) if rated else ok
     return {
@@ -318,24 +319,87 @@ def _summary(columns: dict, keys, objectives: dict, pareto) -> dict:
     }
 
 
+def _onward(columns: dict, keys, row: int, status, rating, objective) -> dict:
+    """Where to look next from the best row: the edges of the swept range it lies on, and its nearest failing neighbour.
+
+    An edge counts only when every row as good as the best (to 1e-9 of it) lies on it: a flat objective points nowhere.
+    """
+    import numpy as np
+
+    from ..design.sweep_edges import edges_of, nearest_failing
+
+    values = np.column_stack([np.array(columns[key], dtype=float) for key in keys])
+    best = objective[row]
+    tied = np.flatnonzero(np.abs(objective - best) <= 1e-9 * max(abs(best), 1e-300))
+    edges = edges_of(values, list(keys), row)
+    for k in tied:
+        theirs = {(e.key, e.side) for e in edges_of(values, list(keys), int(k))}
+        edges = [e for e in edges if (e.key, e.side) in theirs]
+    failing = (rating == "fail") | (status != "ok")
+    k = nearest_failing(values, failing, row)
+    neighbour = None
+    if k is not None:
+        margin = float(columns["margin"][k])
+        neighbour = {"row": k, "variant": {key: float(columns[key][k]) for key in keys}, "status": str(status[k]), "rating": str(rating[k]),
+                     "margin": None if np.isnan(margin) else margin, "binding": str(columns["binding"][k]) or None,
+                     "reason": str(columns["reason"][k]) or None}  # fmt: skip
+    own = float(columns["margin"][row])
+    return {"edges": [e.as_dict() for e in edges], "margin": None if np.isnan(own) else own,
+            "nearest_failing": neighbour}  # fmt: skip
+
+
 def _figure(columns: dict, pareto, out: Path, summary: dict):
     import numpy as np
 
     from ..design.sweep import pareto_front
+    from ..design.sweep_edges import edges_of
     from ..present.figures import save_figure
     from ..present.sweep_figures import design_label, plot_pareto
 
     (x_name, x_max), (y_name, y_max) = pareto
     values = np.column_stack([np.array(columns[x_name], dtype=float), np.array(columns[y_name], dtype=float)])
     front = pareto_front(values, (x_max, y_max))
+    keys = np.column_stack([np.array(columns[key], dtype=float) for key in summary["keys"]])
     summary["pareto_front"] = [
         {key: float(columns[key][k]) for key in summary["keys"]} | {x_name: float(values[k, 0]), y_name: float(values[k, 1])}
         for k in np.flatnonzero(front)
+    ]
+    summary["pareto_edges"] = [
+        {key: float(columns[key][k]) for key in summary["keys"]} | {"edges": [e.as_dict() for e in edges_of(keys, list(summary["keys"]), k)]}
+        for k in np.flatnonzero(front) if edges_of(keys, list(summary["keys"]), k)
     ]
     title = f"{summary['rows']} variants of {', '.join(summary['keys'])} along {summary['trajectory']} ({summary['model']} model)"
     labels = [design_label({key: float(columns[key][k]) for key in summary["keys"]}) for k in range(values.shape[0])]
     fig = plot_pareto(values[:, 0], values[:, 1], front, (x_name, y_name), (x_max, y_max), columns["rating"], title, labels)
     return save_figure(fig, out.parent if str(out.parent) else Path("."), f"{out.stem}_pareto")
+
+
+def _extend(edges) -> str:
+    """The extended ranges of a point's edges, as --grid or --range would take them."""
+    parts = []
+    for e in edges:
+        low, high = e["suggestion"]
+        parts.append(f"{e['key']}={low:.6g}:{high:.6g}" + (f":{e['step']:.6g}" if e["step"] is not None else ""))
+    return "sweep on, e.g. " + " ".join(parts)
+
+
+def _onward_lines(summary: dict) -> list[str]:
+    """Per objective: the best variant on an edge of the swept range (and the range to sweep next), and its nearest failing neighbour."""
+    lines: dict[str, list[str]] = {}  # one message, the objectives it is about
+    for name, best in summary["best"].items():
+        for e in best["edges"]:
+            text = (f"lies on the {e['side']} edge of {e['key']} ({e['value']:.6g}, swept {e['low']:.6g}…{e['high']:.6g}): "
+                    f"the optimum may lie beyond; {_extend([e])}")
+            lines.setdefault(text, []).append(name)
+        neighbour = best["nearest_failing"]
+        if neighbour is not None:
+            at = ", ".join(f"{key} {value:.6g}" for key, value in neighbour["variant"].items())
+            why = (f"FAIL, margin {format_margin(neighbour['margin'])}" + (f", {neighbour['binding']}" if neighbour["binding"] else "")
+                   if neighbour["status"] == "ok" else neighbour["status"].replace("_", " "))
+            own = "" if best["margin"] is None else f"; its own margin {format_margin(best['margin'])}"
+            mine = ", ".join(f"{key} {value:.6g}" for key, value in best["variant"].items())
+            lines.setdefault(f"(at {mine}): nearest failing neighbour at {at} ({why}){own}", []).append(name)
+    return [""] + [f"best {', '.join(names)} {text}" for text, names in lines.items()] if lines else []
 
 
 def format_summary(summary: dict) -> str:
@@ -355,7 +419,14 @@ def format_summary(summary: dict) -> str:
     for name, best in summary["best"].items():
         rows.append([name, best["goal"], f"{best['value']:.6g}", *(f"{best['variant'][k]:.6g}" for k in keys), best["rating"]])
     lines += ["", format_table(["objective", "goal", "best", *keys, "rating"], rows, "Best variant per objective")]
+    lines += _onward_lines(summary)
     if "figure" in summary:
         lines += ["", f"Pareto front: {len(summary['pareto_front'])} variants; figure {', '.join(summary['figure'])}"]
+        for point in summary["pareto_edges"][:5]:
+            where = "; ".join(f"{e['side']} edge of {e['key']}" for e in point["edges"])
+            values = ", ".join(f"{key} {point[key]:.6g}" for key in keys)
+            lines.append(f"  Pareto point ({values}) on the {where}: {_extend(point['edges'])}")
+        if len(summary["pareto_edges"]) > 5:
+            lines.append(f"  and {len(summary['pareto_edges']) - 5} more Pareto points on an edge (--summary-format json lists them)")
     lines.append(f"\nwrote {summary['out']} ({summary['rows']} rows)")
     return "\n".join(lines)

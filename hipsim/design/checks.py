@@ -29,7 +29,7 @@ from ..physics.units import RPM_PER_RAD_S
 from .demand import ScrewSide, motor_duty
 from .ratings import buckling_load, critical_speed, screw_life, weighted_mean, winding_rise
 
-__all__ = ["CHECKS", "Check", "binding_check", "drive_checks"]
+__all__ = ["CHECKS", "FAILURE_ORDER", "MOTOR_INDEPENDENT", "Check", "binding_check", "drive_checks", "first_failure"]
 
 
 @dataclass(frozen=True)
@@ -58,6 +58,14 @@ CHECKS = {
     "stroke": _CheckKind("carriage stroke", "mm", "max", "max L − min L against the usable stroke"),
     "axial_force": _CheckKind("peak axial screw load", "N", "max", "max |2π(τ − τ_L − τ_sf)/p| against the permissible load"),
 }
+
+#: The checks that compare the screw's figures with the machine's demand: the same for every motor
+#: and gearbox on one screw, so a ranking reports them once rather than breaking ties with them.
+MOTOR_INDEPENDENT = frozenset({"screw_life", "critical_speed", "buckling", "stroke", "axial_force"})
+
+#: The order a failure is read in: the top speed first (past it the torque curves are zero, so
+#: their "−∞" margin only repeats that the motor cannot turn so fast), then the rest as listed.
+FAILURE_ORDER = ("max_speed",) + tuple(key for key in CHECKS if key != "max_speed")
 
 
 @dataclass(frozen=True)
@@ -113,6 +121,15 @@ def binding_check(checks: Iterable[Check]) -> Check | None:
     """The check with the smallest margin, the one that decides; None when no check could be made."""
     made = [c for c in checks if c.margin is not None]
     return min(made, key=lambda c: c.margin) if made else None
+
+
+def first_failure(checks: Iterable[Check]) -> Check | None:
+    """The failing check that says most plainly why: the first failing kind in :data:`FAILURE_ORDER`, its worst module; None when none fails."""
+    failed = [c for c in checks if c.passed is False]
+    if not failed:
+        return None
+    kind = min(failed, key=lambda c: FAILURE_ORDER.index(c.name)).name
+    return min((c for c in failed if c.name == kind), key=lambda c: c.margin)
 
 
 

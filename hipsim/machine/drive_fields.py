@@ -62,6 +62,8 @@ FIELDS: dict[str, dict[str, Field]] = {
         "winding_resistance": Field("winding_resistance", {"ohm": 1.0}, "phase-to-phase winding resistance"),
         "thermal_time_constant": Field("thermal_time_constant", {"s": 1.0, "min": 60.0}, "winding thermal time constant"),
         "thermal_resistance": Field("thermal_resistance", {"K_W": 1.0}, "winding-to-ambient thermal resistance"),
+        "rated_power": Field("rated_power", {"W": 1.0, "kW": 1e3}, "rated power (ranks a catalogue)"),
+        "cost": Field("cost", {"": 1.0}, "price or any cost figure (breaks ties in a ranked catalogue)", bound="nonnegative"),
         # The module ratings of the parameter file's [motor] table; they belong to the screw.
         "stroke": Field("stroke", {"mm": 1e-3}, "usable stroke of the linear module"),
         "axial_force": Field("axial_force", {"N": 1.0}, "permissible axial screw load"),
@@ -199,6 +201,7 @@ def motor_parts(values: dict[str, Any], names: dict[str, str], fail: Fail, defau
         peak=torque_speed_curve(values, names, "peak", fail),
         **{FIELDS["motor"][k].attribute: values[k] for k in (
             "max_speed", "rotor_inertia", "torque_constant", "winding_resistance", "thermal_time_constant", "thermal_resistance",
+            "rated_power", "cost",
         ) if k in values},
     )
     amplifier_values = {FIELDS["amplifier"][k].attribute: values[k] for k in FIELDS["amplifier"] if k in values}

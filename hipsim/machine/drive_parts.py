@@ -101,6 +101,8 @@ class Motor:
         winding_resistance: R_pp, phase-to-phase, in [Ω] (copper loss 3/2·R_pp·I², star winding).
         thermal_time_constant: τ_th of the winding in [s].
         thermal_resistance: R_th, winding to ambient, in [K/W].
+        rated_power: the data sheet's rated power in [W] (ranks a catalogue; no check uses it).
+        cost: a price or any cost figure, lower first (breaks ties in a ranked catalogue).
     """
 
     name: str
@@ -112,6 +114,8 @@ class Motor:
     winding_resistance: float | None = None
     thermal_time_constant: float | None = None
     thermal_resistance: float | None = None
+    rated_power: float | None = None
+    cost: float | None = None
 
     @property
     def top_speed(self) -> float | None:
