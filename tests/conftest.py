@@ -1,18 +1,18 @@
 """The suite's set-up: test processes in parallel (pytest-xdist) over one warmed numba cache.
 
-With ``-n 2`` (the default in pyproject.toml) two worker processes share the
-tests file by file (``--dist loadfile``: a file's module fixtures are built
-once). Both would compile the same numba kernels at once on a machine's first
-run (tens of seconds each, and again in every command a test starts in a
-subprocess until the cache is written), so each worker first warms a group of
-kernels under a lock: the first worker compiles the closed-chain kernels while
-the second compiles the reduced plant's, then each loads the other's group from
-the cache numba writes next to the sources (and matplotlib's font list is
-built once). A serial run (``-n 0``) skips the
-warm-up: there its cost would only move.
+pyproject.toml's addopts start a worker process a core (at most four; two on
+a 2-core machine) and share the tests out file by file (``--dist loadfile``: a
+file's module fixtures are built once). On a machine's first run every worker
+would compile the same numba kernels at once (tens of seconds each, and again
+in every command a test starts in a subprocess until the cache is written), so
+each worker first warms the groups below in turn, each under a lock, starting
+at its own: the first worker compiles the closed-chain kernels while the second
+compiles the reduced plant's, then each loads the other's group from the cache
+numba writes next to the sources (and matplotlib's font list is built once).
+A run in one process (``-n 0``) skips the warm-up: there its cost would only move.
 
-The files that take longest run first, so that the two workers finish
-together instead of one waiting on a long file picked up last.
+The files that take longest run first, so that the workers finish together
+instead of one waiting on a long file picked up last.
 """
 
 from __future__ import annotations
