@@ -27,9 +27,9 @@ from pathlib import Path
 
 #: Test files by decreasing time (measured with ``--durations``): scheduled first.
 SLOW_FIRST = [
-    "test_cli.py", "test_report.py", "test_sweep.py", "test_streaming.py", "test_identification.py",
-    "test_pinocchio_model.py", "test_mujoco_engine.py", "test_compare.py", "test_simulation.py",
-    "test_pinocchio_plant.py", "test_cross_check.py", "test_closure_kernel.py",
+    "test_cli.py", "test_report.py", "test_identification.py", "test_files.py", "test_streaming.py",
+    "test_simulation.py", "test_pinocchio_model.py", "test_viewer.py", "test_mujoco_engine.py", "test_compare.py",
+    "test_meshcat_output.py", "test_sweep.py", "test_reduced_kernel.py", "test_laws.py",
 ]
 
 
