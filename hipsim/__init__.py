@@ -18,7 +18,7 @@ Each layer is a subpackage: :mod:`hipsim.machine`, :mod:`hipsim.motion`,
 
 from .exceptions import ArgumentError, ClosureError, HipsimError, ModelError, OutputError, ParameterError, PoseError, TrajectoryError
 
-__version__ = "0.3.0"
+from .version import __version__
 
 __all__ = [
     "ArgumentError",

@@ -15,7 +15,7 @@ import argparse
 import os
 import sys
 
-from .. import __version__
+from ..version import __version__
 from ..exceptions import HipsimError
 from . import check, feasible, iso_check, mjcf, params, report, rig, simulate, size, sweep, torques, urdf, view, workspace
 from .motion_options import locate

@@ -82,7 +82,7 @@ def _cycle_of(time: float, trajectory, period: float | None) -> dict:
 
 def _file_metadata(params) -> dict[str, str]:
     """A results file's key-value metadata: the hipsim version and the parameter set as a parameter file's text."""
-    from .. import __version__
+    from ..version import __version__
     from ..rig.identification import parameter_toml
 
     return {"hipsim.version": __version__, "hipsim.parameters_source": str(params.source), "hipsim.parameters": parameter_toml(params)}

@@ -318,7 +318,7 @@ def provenance(
     """
     import shlex
 
-    from .. import __version__
+    from ..version import __version__
 
     files = [] if parameters is None else [parameters.file]
     for role, value in dict(inputs).items():

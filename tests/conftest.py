@@ -1,0 +1,108 @@
+"""The suite's set-up: test processes in parallel (pytest-xdist) over one warmed numba cache.
+
+pyproject.toml's addopts start a worker process a core (at most four; two on
+a 2-core machine) and share the tests out file by file (``--dist loadfile``: a
+file's module fixtures are built once). On a machine's first run every worker
+would compile the same numba kernels at once (tens of seconds each, and again
+in every command a test starts in a subprocess until the cache is written), so
+each worker first warms the groups below in turn, each under a lock, starting
+at its own: the first worker compiles the closed-chain kernels while the second
+compiles the reduced plant's, then each loads the other's group from the cache
+numba writes next to the sources (and matplotlib's font list is built once).
+A run in one process (``-n 0``) skips the warm-up: there its cost would only move.
+
+The files that take longest run first, so that the workers finish together
+instead of one waiting on a long file picked up last.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import io
+import os
+import tempfile
+import warnings
+from pathlib import Path
+
+#: Test files by decreasing time (measured with ``--durations``): scheduled first.
+SLOW_FIRST = [
+    "test_cli.py", "test_report.py", "test_identification.py", "test_files.py", "test_streaming.py",
+    "test_simulation.py", "test_closed_chain.py", "test_viewer.py", "test_mujoco_engine.py", "test_compare.py",
+    "test_meshcat_output.py", "test_sweep.py", "test_reduced_kernel.py", "test_laws.py",
+]
+
+
+def warm_closed_chain() -> None:
+    """The Pinocchio model's kernels: a closed-chain run with its inverse dynamics, then its plant under the compiled control."""
+    import hipsim
+    from hipsim.closed_chain.plant import PinocchioPlant
+    from hipsim.control import AugmentedPD, WorkspacePD, simulate
+    from hipsim.motion.trajectories import iso14242_at
+
+    params = hipsim.load_parameters()
+    hipsim.analyse(params, hipsim.iso14242(rate=200), model="pinocchio")
+    plant = PinocchioPlant(params)
+    for controller in (WorkspacePD(params), AugmentedPD(params, iso14242_at, params.control.servo_rate, 0.003)):
+        simulate(plant, controller, iso14242_at, 0.003)
+
+
+def warm_reduced_plant() -> None:
+    """The analytic model's single-state kernels and the compiled servo loop on the reduced plant, both controllers."""
+    import hipsim
+    from hipsim.control import AugmentedPD, ReducedPlant, WorkspacePD, simulate
+    from hipsim.motion.trajectories import iso14242_at
+
+    params = hipsim.load_parameters()
+    plant = ReducedPlant(params)
+    for controller in (WorkspacePD(params), AugmentedPD(params, iso14242_at, params.control.servo_rate, 0.003)):
+        simulate(plant, controller, iso14242_at, 0.003)
+
+
+def warm_matplotlib() -> None:
+    """Matplotlib's font list, which its first import on a machine builds (and two processes would build twice)."""
+    from matplotlib import font_manager  # noqa: F401
+
+
+#: The groups, each warmed by one worker while the other warms the next.
+WARM_UPS = [warm_closed_chain, warm_reduced_plant, warm_matplotlib]
+
+
+def _lock_path(root: Path, name: str) -> Path:
+    key = hashlib.sha1(str(root.resolve()).encode()).hexdigest()[:12]
+    return Path(tempfile.gettempdir()) / f"hipsim-warm-up-{key}-{name}.lock"
+
+
+def warm_up(root: Path, worker: int) -> None:
+    """Warm every group, starting at the worker's own, one process per group at a time.
+
+    Args:
+        root: the checkout, naming the locks (another checkout's cache is its own).
+        worker: the xdist worker's number (gw0 → 0).
+    """
+    import fcntl
+
+    order = WARM_UPS[worker % len(WARM_UPS):] + WARM_UPS[: worker % len(WARM_UPS)]
+    for group in order:
+        with open(_lock_path(root, group.__name__), "w") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)  # the other worker compiling this group: wait, then load its cache
+            try:
+                with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+                    group()
+            except Exception as error:  # an optimisation only: the tests themselves say what is wrong
+                warnings.warn(f"numba warm-up {group.__name__} failed, the tests compile as they go: {error!r}", stacklevel=1)
+            finally:
+                fcntl.flock(lock, fcntl.LOCK_UN)
+
+
+def pytest_configure(config):
+    worker = getattr(config, "workerinput", None)
+    if worker is None or os.name != "posix":  # the controller, or a serial run
+        return
+    warm_up(Path(str(config.rootpath)), int(worker["workerid"].removeprefix("gw")))
+
+
+def pytest_collection_modifyitems(session, config, items):
+    """The slowest files first, each file's tests in their own order."""
+    rank = {name: k for k, name in enumerate(SLOW_FIRST)}
+    items.sort(key=lambda item: rank.get(item.path.name, len(rank)))  # stable: a file's order is kept
