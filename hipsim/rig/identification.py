@@ -55,9 +55,10 @@ from .base import BaseParameters, base_parameters
 from .compare import Comparison, compare_log
 from .consistency import consistent, violations
 from .logs import Log
-from .prior import prior as make_prior
+from .prior import HELD, prior as make_prior
 from .quantities import QUANTITIES, Quantity, friction_unit, standard_values, with_values
 from .regressor import inflation as _inflation, log_rows, regressor, regressor_from_kinematics
+from .validation import training_envelope, validation_note
 
 __all__ = [
     "DETERMINED",
@@ -448,9 +449,14 @@ def identify(
         T = base.transform
         rows_all = np.vstack([Rw[:, :P], T / belief.std[:, None]])
         rhs = np.concatenate([Rw[:, P], belief.mean / belief.std])
-        theta, active = consistent(rows_all, rhs, theta, index, list(base.dependent), theta0, sizes)
+        free = [j for j in base.dependent if belief.standard[j] > 10 * HELD * sizes[j]]  # held ones stay exactly
+        theta, active = consistent(rows_all, rhs, theta, index, free, theta0, sizes)
         theta_b = T @ theta
     _plausible(theta)
+    # The residual of the solution (constrained or not) against the noise the weights assumed: never narrower than it says.
+    chi2 = float(np.sum((Rw[:, :P] @ theta - Rw[:, P]) ** 2)) * inflation / max(rows - r, 1)
+    covariance *= max(1.0, chi2)
+    std = np.sqrt(np.diag(covariance))
 
     scale = base.scale
     determined = std <= DETERMINED * belief.std
@@ -463,9 +469,13 @@ def identify(
     names = tuple(log.name for log in logs)
     identified = with_values(params, theta, source=f"identified from {', '.join(names)}")
     validation = tuple((compare_log(identified, log, lever_spin), compare_log(params, log, lever_spin)) for log in validate)
+    notes: tuple = ()
+    if validate:
+        training = training_envelope(logs)
+        notes = tuple(validation_note(a, b, log, training) for (a, b), log in zip(validation, validate))
     return Identification(
         identified, params, base, estimates, covariance / np.outer(scale, scale), _condition(Rw[:, index][:, determined]),
-        residual, rows, names, lever_spin, active, validation,
+        residual, rows, names, lever_spin, active, validation, notes,
     )
 
 
