@@ -455,8 +455,9 @@ def identify(
     _plausible(theta)
     # The residual of the solution (constrained or not) against the noise the weights assumed: never narrower than it says.
     chi2 = float(np.sum((Rw[:, :P] @ theta - Rw[:, P]) ** 2)) * inflation / max(rows - r, 1)
-    covariance *= max(1.0, chi2)
-    std = np.sqrt(np.diag(covariance))
+    if chi2 > 1.0:  # the data's information shrinks by χ²; what the data do not see keeps its prior exactly
+        covariance = scipy.linalg.cho_solve(scipy.linalg.cho_factor(information / chi2 + np.eye(r)), np.eye(r)) * np.outer(belief.std, belief.std)
+        std = np.sqrt(np.diag(covariance))
 
     scale = base.scale
     determined = std <= DETERMINED * belief.std
