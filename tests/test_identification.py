@@ -6,20 +6,25 @@ import numpy as np
 import pytest
 
 import hipsim
+import hipsim.machine.parameters
 from hipsim.rig import identify, load_log, regressor
 from hipsim.rig.consistency import violations as _violations
 from hipsim.rig.quantities import QUANTITIES, standard_values, with_values
 from hipsim.analytic import inverse_dynamics, kinematics
 from hipsim.cli.main import main
+from hipsim.motion.trajectories import Trajectory, iso14242_at
+from hipsim.rig.base import derive
+from hipsim.rig.logs import MeasuredLog
+from hipsim.rig.uncertainty import Z95, read_covariance, torque_std
 
 from rig_synthetic import exact_run, fit_run, iso_run, machines, relative_to_size, write_log
 from support import ALL_FRICTION, SmoothMotion
 
 
 def sizes(result, start):
-    """Each identified quantity's size (file units): its starting value, or its nominal value where that is zero."""
+    """Each base parameter's size (file units): its starting value, or its nominal value where that is zero."""
     prior = standard_values(start)
-    return np.array([max(abs(prior[k]), QUANTITIES[k].nominal) / QUANTITIES[k].scale for k in result.base])
+    return np.array([max(abs(prior[k]), QUANTITIES[k].nominal) / QUANTITIES[k].scale for k in result.base.index])
 
 
 @pytest.mark.parametrize("lever_spin", [False, True])
@@ -33,42 +38,52 @@ def test_the_regressor_is_the_inverse_dynamics(lever_spin):
     np.testing.assert_array_equal(standard_values(with_values(params, standard_values(params))), standard_values(params))
 
 
-def test_noise_free_logs_recover_the_parameters():
+def test_noise_free_logs_recover_the_base_parameters():
     start, true = machines()
     result = identify([exact_run().exact_log()], start)
-    assert not any("too weakly" in reason for _, reason, _, _ in result.held)
-    error = relative_to_size(np.array([q.value for q in result.quantities]), result.combinations(true), sizes(result, start))
-    assert error.max() < 1e-6, dict(zip((q.label for q in result.quantities), error))
+    values = np.array([e.value for e in result.estimates])
+    error = relative_to_size(values, result.combinations(true), sizes(result, start))
+    assert error.max() < 1e-6, dict(zip((e.name for e in result.estimates), error))
     # The identified machine reproduces the plant's torques.
     run = exact_run()
     log = run.exact_log()
     tau = inverse_dynamics(result.params, kinematics(result.params, log.trajectory), log.trajectory.Fe, True).total
     assert np.abs(tau - run.tau).max() < 1e-8 * np.abs(run.tau).max()
+    # The prior is irrelevant in the limit of rich noise-free data: a far tighter, shifted prior changes nothing.
+    other = identify([log], start, prior={"platform": "1 %", "friction": "1 %", "slider": "1 %"})
+    assert relative_to_size(np.array([e.value for e in other.estimates]), values, sizes(result, start)).max() < 1e-6
 
 
-def test_collinear_parameters_are_reported_as_combinations():
-    start, true = machines()
-    result = identify([exact_run(constant_load=True).exact_log()], start)
-    by_label = {q.label: q for q in result.quantities}
-    held = {label: reason for label, reason, _, _ in result.held}
-    for label in ("μ_t", "F_c,guide", "b_guide", "m_l"):
-        assert "cannot be told apart" in held[label], label
-    # Under a constant load the hip joint and the thrust bearing act alike: μ_h·r_h·F_e + μ_t·r_t·(F_e + m_m·g).
-    f = start.friction
-    load = 1500.0
-    expected = f.thrust_radius * (load + start.platform_mass * start.gravity) / (f.hip_radius * load)
-    terms = dict((label, coefficient) for label, coefficient, _ in by_label["μ_h"].terms)
-    assert terms["μ_t"] == pytest.approx(expected, rel=1e-9)
-    # A guide force F reaches the motor as (p/2π)·F per platform, two platforms: 3.183 N·mm per N.
-    terms = dict((label, coefficient) for label, coefficient, _ in by_label["τ_c,screw"].terms)
-    assert terms["F_c,guide"] == pytest.approx(2 * start.lead / (2 * math.pi) * 1e3, rel=1e-9)
-    # The lever's mass regroups: half with the slider it stands on.
-    terms = dict((label, coefficient) for label, coefficient, _ in by_label["m_L"].terms)
-    assert terms["m_l"] == pytest.approx(0.5, rel=1e-9)
-    # The combinations are what comes back, exactly.
-    error = relative_to_size(np.array([q.value for q in result.quantities]), result.combinations(true), sizes(result, start))
-    assert error.max() < 1e-6
-    assert "μ_h + " in result.toml() and "cannot be told apart" in result.toml()
+def test_base_parameters_are_structural_and_named_by_the_geometry():
+    start, _ = machines()
+    a, b = derive(start, True, seed=0), derive(start, True, seed=1)
+    assert a.names == b.names and [p.definition for p in a.parameters] == [p.definition for p in b.parameters]
+    np.testing.assert_allclose(a.beta, b.beta, rtol=1e-9, atol=0)
+    definitions = {p.label: p.definition for p in a.parameters}
+    # The lever's mass regroups: half with the slider it stands on, l²/4 out of its transverse inertia.
+    assert definitions["m_L"] == "m_L + 0.5·m_l"
+    l_mm = start.lever_length * 1e3
+    assert definitions["I_l,xx"] == f"I_l,xx − {l_mm**2 / 4:.10g} mm²·m_l"
+    # A guide force F reaches the motor as (p/2π)·F per platform, two platforms.
+    assert definitions["τ_c,screw"] == f"τ_c,screw + {2 * start.lead / (2 * math.pi) * 1e3:.10g} mm·F_c,guide"
+    assert {"m_l", "F_c,guide", "b_guide"} == {QUANTITIES[j].label for j in a.dependent}
+
+
+def test_a_parameter_the_logs_cannot_see_returns_its_prior_exactly():
+    """A static log (the load varies, nothing moves): inertias and speed-dependent friction are unseen."""
+    start, _ = machines()
+    n = 3000
+    t = np.arange(n) * 1e-3
+    q = np.tile(np.radians([5.0, -3.0, 2.0]), (n, 1))
+    Fe = 1500 + 800 * np.sin(2 * np.pi * t)
+    trajectory = Trajectory(t, q, np.zeros((n, 3)), np.zeros((n, 3)), Fe)
+    tau = inverse_dynamics(start, kinematics(start, trajectory), Fe, True).total
+    result = identify([MeasuredLog(trajectory, tau + 1e-3, None, "static")], start)
+    by_name = {e.name: e for e in result.estimates}
+    for name in ("I_m,xx", "I_L", "b_screw", "τ_c,U"):
+        e = by_name[name]
+        assert e.value == e.prior and e.std == pytest.approx(e.prior_std, rel=1e-12), name
+    assert by_name["m_L"].determined
 
 
 @pytest.fixture(scope="module")
@@ -83,20 +98,41 @@ def noisy(tmp_path_factory):
     return folder, fit, held_out, result
 
 
-def test_noisy_logs_identify_the_combinations_within_two_percent(noisy):
+def test_noisy_logs_identify_each_base_parameter_within_three_std(noisy):
     _, _, _, result = noisy
     start, true = machines()
-    values = np.array([q.value for q in result.quantities])
+    values = np.array([e.value for e in result.estimates])
+    std = np.array([e.std for e in result.estimates])
     truth = result.combinations(true)
-    size = sizes(result, start)
-    error = relative_to_size(values, truth, size)
-    table = {q.expression(): (q.value, t, e) for q, t, e in zip(result.quantities, truth, error)}
-    assert error.max() < 0.02, table
-    # The standard deviations are honest: every error within four of them (and the platform inertia is identified).
-    std = np.array([q.std for q in result.quantities])
-    assert np.all(np.abs(values - truth) < 4 * std + 2e-3 * size), table
+    table = {e.definition: (e.value, t, e.std) for e, t in zip(result.estimates, truth)}
+    assert np.all(np.abs(values - truth) <= 3 * std + 1e-9 * sizes(result, start)), table
     assert {"I_m,xx", "I_m,yy", "I_m,zz", "m_L", "I_L", "μ_h", "τ_c,screw", "b_screw"} <= {q.label for q in result.quantities}
-    assert result.condition_number_base < 100
+    # The weight-dependent friction r_t·μ_t·m_m·g within 5 %, the load-proportional r_h·μ_h + r_t·μ_t within 2 %.
+    f, g = true.friction, true.platform_mass * true.gravity
+    mu = {e.name: e.value for e in result.estimates}
+    assert f.thrust_radius * mu["μ_t"] * g == pytest.approx(f.thrust_radius * f.thrust_mu * g, rel=0.05)
+    assert f.hip_radius * mu["μ_h"] + f.thrust_radius * mu["μ_t"] == pytest.approx(f.hip_radius * f.hip_mu + f.thrust_radius * f.thrust_mu, rel=0.02)
+
+
+def test_two_log_sets_give_the_same_base_definitions(noisy):
+    _, fit, held_out, result = noisy
+    start, _ = machines()
+    other = identify([load_log(held_out, start)], start)
+    assert [e.definition for e in other.estimates] == [e.definition for e in result.estimates]
+    assert [e.name for e in other.estimates] == result.base.names
+
+
+@pytest.mark.xfail(reason="coverage 88 % on this held-out run: the residual's correlation beyond the filter's band is not yet in the covariance (issue 26)", strict=False)
+def test_the_95_percent_band_covers_the_true_torque(noisy, tmp_path):
+    _, _, _, result = noisy
+    start, true = machines()
+    path = result.write_toml(tmp_path / "identified.toml")
+    covariance = read_covariance(path, hipsim.load_parameters(path))
+    trajectory = iso14242_at(np.arange(0, 2, 2e-3), frequency=1.2)
+    predicted = inverse_dynamics(result.params, kinematics(result.params, trajectory), trajectory.Fe, True).total
+    actual = inverse_dynamics(true, kinematics(true, trajectory), trajectory.Fe, True).total
+    half = Z95 * torque_std(result.params, trajectory, covariance)
+    assert np.mean(np.abs(predicted - actual) <= half) >= 0.9
 
 
 def test_noisy_logs_predict_the_held_out_trajectory_within_one_percent(noisy):
@@ -129,7 +165,7 @@ def test_identify_command(noisy, tmp_path, capsys):
     assert main(["identify", "--log", str(fit), "--validate", str(held_out), "--fix", "lever", "--out", str(out),
                  "--json", str(tmp_path / "id.json")]) == 0
     printed = capsys.readouterr().out
-    for words in ("identified quantity", "relative std", "condition number", "residual RMS per motor", "Prediction error", "held fixed as asked"):
+    for words in ("base parameter", "moved [prior std]", "condition number", "residual RMS per motor", "Prediction error", "gait cycle"):
         assert words in printed, words
     assert hipsim.load_parameters(out).lever_mass == machines()[0].lever_mass  # held at the start
     # A bad log: one line, and no file left.
@@ -153,7 +189,7 @@ def test_the_rig_guide_example(noisy, monkeypatch, capsys):
     exec(compile(block, "docs/guide/rig.md", "exec"), {})
     assert hipsim.load_parameters(folder / "identified.toml")
     assert hipsim.load_trajectory_csv(folder / "excite.csv").periodic
-    assert "m_L + 0.5" in capsys.readouterr().out
+    assert "m_L + 0.5·m_l" in capsys.readouterr().out
 
 
 def test_logs_in_pieces_give_the_same_fit(noisy):
@@ -164,12 +200,59 @@ def test_logs_in_pieces_give_the_same_fit(noisy):
     start, _ = machines()
     with LogPieces(fit, start, piece=3001) as log, LogPieces(held_out, start, piece=1234) as check:
         parts = identify([log], start, validate=[check])
-    assert parts.rows == whole.rows and parts.base == whole.base and parts.held == whole.held
-    for a, b in zip(whole.quantities, parts.quantities):
+    assert parts.rows == whole.rows and parts.base is whole.base
+    for a, b in zip(whole.estimates, parts.estimates):
         # Round-off of the filters and of the triangular factor updated in other blocks, times the condition number.
-        assert b.value == pytest.approx(a.value, rel=1e-9, abs=1e-9 * a.std) and b.std == pytest.approx(a.std, rel=1e-6), a.label
+        assert b.value == pytest.approx(a.value, rel=1e-7, abs=1e-7 * a.std) and b.std == pytest.approx(a.std, rel=1e-6), a.name
     np.testing.assert_allclose(parts.residual_rms, whole.residual_rms, rtol=1e-9)
     (identified, _), = parts.validation
     (reference, _), = whole.validation
     for i, entry in reference.motor_errors().items():
         assert identified.motor_errors()[i]["rms_error_Nmm"] == pytest.approx(entry["rms_error_Nmm"], rel=1e-6)
+
+
+def test_identify_base_lists_the_base_parameters(capsys):
+    assert main(["identify", "--base"]) == 0
+    out = capsys.readouterr().out
+    assert "m_L + 0.5·m_l" in out and "b_screw + 5.066059182 mm²/rad·b_guide" in out and "prior std" in out
+
+
+@pytest.mark.parametrize("case", ["negative prior", "prior table", "bad covariance", "other columns", "tolerance", "not toml"])
+def test_bad_input_is_one_line_and_writes_nothing(noisy, tmp_path, capsys, case):
+    folder, fit, held_out, result = noisy
+    out = tmp_path / "id.toml"
+    args = ["identify", "--log", str(fit), "--out", str(out)]
+    if case == "negative prior":
+        args += ["--prior", "μ_h=-0.01"]
+        expected = "non-negative"
+    elif case == "prior table":
+        start_file = tmp_path / "start.toml"
+        start_file.write_text(hipsim.machine.parameters.default_parameters_path().read_text() + '\n[identification.prior]\n"friction.hip_mu" = -1\n')
+        args += ["--params", str(start_file)]
+        expected = "non-negative"
+    elif case == "bad covariance":
+        identified = result.write_toml(tmp_path / "identified.toml")
+        text = identified.read_text()
+        r = len(result.estimates)
+        bad = [[1.0 if i != j else -1.0 for j in range(r)] for i in range(r)]
+        text = text[: text.index("covariance = ")] + f"covariance = {bad}\n"
+        identified.write_text(text)
+        args = ["torques", "--params", str(identified), "--rate", "100", "--out", str(tmp_path / "t.csv")]
+        out = tmp_path / "t.csv"
+        expected = "not positive semi-definite"
+    elif case == "other columns":
+        other = tmp_path / "other.csv"
+        other.write_text("t_s,Fe_N,tau_1_Nmm,tau_2_Nmm,tau_4_Nmm,alpha_deg,beta_deg,gamma_deg\n" + "\n".join(f"{k / 1000},5,1,2,3,1,2,3" for k in range(900)))
+        args += ["--validate", str(other)]
+        expected = "other.csv"
+    elif case == "tolerance":
+        args += ["--tolerance", "nan"]
+        expected = "--tolerance"
+    else:
+        out = tmp_path / "id.csv"
+        args = ["identify", "--log", str(fit), "--out", str(out)]
+        expected = ".toml"
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and expected in err, err
+    assert not out.exists()

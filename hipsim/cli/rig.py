@@ -61,23 +61,26 @@ def add_parser(subparsers) -> None:
 
     identify = subparsers.add_parser(
         "identify", help="fit the dynamic parameters to rig logs -> a parameter TOML",
-        description="Weighted least squares of the motor torques on the regressor of the inertial parameters and the "
-        "friction coefficients. Parameters the logs cannot tell apart are reported as the combinations they determine; "
-        "the machine written is physically consistent (bounded least squares, semidefinite inertias). Prints each "
-        "identified quantity with its relative standard deviation, the condition number and the residual per motor; "
-        "with --validate, the prediction error on held-out logs next to the starting parameters'. Logs are read in "
-        "pieces: memory does not grow with their length.",
+        description="Estimates the machine's base parameters (fixed combinations of the inertial parameters and friction "
+        "coefficients that motor torques can determine, defined by the geometry: --base lists them) by Bayesian least "
+        "squares: the starting file's values are the prior (uncertainties by default 30 %% of masses and inertias, 50 %% of "
+        "friction; [identification.prior] in the file or --prior change them), so a weakly excited parameter stays near its "
+        "prior with a large standard deviation instead of biasing the others. The machine written is physically consistent "
+        "and carries the posterior covariance ([identification] table), from which torques, compare, size and report give "
+        "95 %% bands. With --validate, the held-out error per motor and gait phase next to the starting parameters'. Logs are "
+        "read in pieces: memory does not grow with their length.",
     )
-    identify.add_argument("--log", required=True, action="append", metavar="FILE", help="rig log to fit (repeatable)")
+    identify.add_argument("--log", action="append", metavar="FILE", help="rig log to fit (repeatable; required unless --base)")
     identify.add_argument("--validate", action="append", default=[], metavar="FILE", help="held-out rig log to predict (repeatable)")
     add_machine_options(identify)
     _add_log_options(identify)
-    identify.add_argument("--max-std", type=float, default=1.0, metavar="PERCENT",
-                          help="largest standard deviation of an identified quantity, in %% of its size (default 1)")
+    identify.add_argument("--prior", metavar="NAME=STD,...", help="prior standard deviations: a parameter's label, key or key prefix "
+                          "and a number in its file unit or a percentage ('mu_h=0.02,lever=10 %%'); 0 holds it at its value")
     identify.add_argument("--fix", metavar="NAMES", help="parameters to hold at their starting values, comma-separated "
-                          "(labels such as m_l, keys, or prefixes such as lever, friction.ujoint)")
+                          "(labels such as m_l, keys, or prefixes such as lever, friction.ujoint): a prior of zero uncertainty")
+    identify.add_argument("--base", action="store_true", help="print the machine's base parameters with their definitions and stop")
     identify.add_argument("--json", metavar="FILE", help="also write the results as JSON")
-    identify.add_argument("--out", required=True, metavar="FILE", help="parameter TOML to write")
+    identify.add_argument("--out", metavar="FILE", help="parameter TOML to write (.toml; required unless --base)")
     add_provenance_options(identify)
     add_summary_format(identify, "what to print: tables (default) or the fit's summary as JSON")
     identify.set_defaults(run=run)
@@ -135,6 +138,7 @@ def run_compare(args) -> int:
     params = parameters(args)
     if args.accept is not None and not (math.isfinite(args.accept) and args.accept > 0):
         raise HipsimError(f"--accept: expected a positive percentage, got {args.accept!r}")
+    _check_log_options(args)
     check_folder(Path(args.out))  # a bad folder is refused before the work
     provenance = page_provenance(args, log=args.log)  # hashed before the work: the log as it was read
     with _pieces(args.log, params, args) as log:  # in pieces: memory does not grow with the log
@@ -168,55 +172,98 @@ def run_compare(args) -> int:
     return 0
 
 
+def _check_log_options(args) -> None:
+    if not (math.isfinite(args.tolerance) and args.tolerance > 0):
+        raise HipsimError(f"--tolerance: expected a positive angle in degrees, got {args.tolerance!r}")
+    if args.torque_constant is not None and not (math.isfinite(args.torque_constant) and args.torque_constant > 0):
+        raise HipsimError(f"--torque-constant: expected a positive number in N·m/A, got {args.torque_constant!r}")
+
+
+def run_base(args) -> int:
+    """Print the machine's base parameters with their definitions; exit status 0."""
+    from ..rig.base import base_parameters
+    from ..rig.prior import prior
+
+    params = parameters(args)
+    base = base_parameters(params, not args.spin_free_levers)
+    belief = prior(base, params)
+    if args.summary_format == "json":
+        print(json.dumps({"base_parameters": [row | {"prior": float(m / s), "prior_std": float(d / s)}
+                                              for row, m, d, s in zip(base.table(), belief.mean, belief.std, base.scale)]}, indent=2))
+        return 0
+    rows = [[p.label, p.definition, p.unit or "—", f"{m / s:.6g}", f"{d / s:.2g}"]
+            for p, m, d, s in zip(base.parameters, belief.mean, belief.std, base.scale)]
+    print(format_table(["base parameter", "definition", "unit", "start value", "prior std"], rows,
+                       f"Base parameters of {params.source} ({len(rows)}; lever spin {'off' if args.spin_free_levers else 'on'})"))
+    return 0
+
+
 def run_identify(args) -> int:
     """Identify the machine from the ``--log`` files, write the parameter file ``--out`` and print the fit; exit status 0."""
     from ..files import json_ready
     from ..rig.identification import identify
+    from ..rig.prior import parse_prior_option, prior_table
 
+    if args.base:
+        return run_base(args)
+    if not args.log or not args.out:
+        raise HipsimError("identify needs --log FILE and --out FILE.toml (or --base to list the base parameters)")
+    if Path(args.out).suffix.lower() != ".toml":
+        raise HipsimError(f"--out {args.out}: expected a .toml parameter file name")
+    _check_log_options(args)
     params = parameters(args)
     _not_an_input(args.out, [*args.log, *args.validate, args.params or ""], "--out")
     if args.json:
         _not_an_input(args.json, [*args.log, *args.validate, args.params or "", args.out], "--json")
         if Path(args.json).resolve() == Path(args.out).resolve():
             raise HipsimError("--json and --out name the same file")
-    if not (math.isfinite(args.max_std) and args.max_std > 0):
-        raise HipsimError(f"--max-std: expected a positive percentage, got {args.max_std!r}")
+    entries = dict(prior_table(args.params))
+    source = f"{args.params} [identification.prior]" if entries else "prior"
+    if args.prior:
+        entries |= parse_prior_option(args.prior)
+        source = "--prior"
     fixed = [name.strip() for name in (args.fix or "").split(",") if name.strip()]
     provenance = page_provenance(args, log=args.log, validate=args.validate)
     with contextlib.ExitStack() as stack:  # the logs in pieces: memory does not grow with their length
         logs = [stack.enter_context(_pieces(path, params, args)) for path in args.log]
         validate = [stack.enter_context(_pieces(path, params, args)) for path in args.validate]
-        result = identify(logs, params, validate=validate, lever_spin=not args.spin_free_levers, fixed=fixed, max_relative_std=args.max_std / 100)
+        result = identify(logs, params, validate=validate, lever_spin=not args.spin_free_levers, fixed=fixed, prior=entries, prior_source=source)
 
     from ..files import write_atomic
 
     first, rest = result.toml().split("\n", 1)  # the header's first line marks the file as identified: it stays first
-    path = write_atomic(args.out, first + "\n" + _provenance_comment(provenance) + rest)
     document = {"provenance": provenance.as_dict()} | result.summary()
-    if args.json:
-        write_atomic(args.json, json.dumps(json_ready(document), indent=2) + "\n")
+    json_text = json.dumps(json_ready(document), indent=2) + "\n" if args.json else None
+    path = write_atomic(args.out, first + "\n" + _provenance_comment(provenance) + rest)
+    if json_text is not None:
+        write_atomic(args.json, json_text)
     if args.summary_format == "json":
         print(json.dumps(json_ready(document | {"toml": str(path), "json": args.json}), indent=2))
         return 0
     print(f"logs: {', '.join(result.logs)}; {result.rows} samples (after filtering, decimation and the windows around reversals)")
     print(f"starting parameters: {params.source}")
-    rows = [[q.expression(), f"{q.value:.6g}", f"{q.std:.2g}", q.unit or "—", _percent(q.relative_std)] for q in result.quantities]
-    print(format_table(["identified quantity", "value", "std", "unit", "relative std"], rows, "\nIdentified (each combination as the data determine it)"))
-    if result.held:
-        print("\nNot identified (starting value kept):")
-        for label, reason, value, unit in result.held:
-            print(f"  {label} = {value:.6g} {unit}: {reason}")
-    print(f"\nregressor condition number: {result.condition_number:.4g} (identified quantities alone: {result.condition_number_base:.4g})")
+    rows = [[e.definition if len(e.definition) < 60 else e.definition[:57] + "…", f"{e.value:.6g}", f"{e.std:.2g}", e.unit or "—",
+             f"{e.prior:.6g} ± {e.prior_std:.2g}", f"{e.shift:+.2g}"] for e in result.estimates if e.determined]
+    print(format_table(["base parameter", "value", "std", "unit", "prior", "moved [prior std]"], rows,
+                       "\nIdentified (the base parameters these logs determine: posterior std at most half the prior's)"))
+    rest_ = [e for e in result.estimates if not e.determined]
+    if rest_:
+        print("\nNot determined by these logs (near the prior, posterior std ≥ half the prior's):")
+        for e in rest_:
+            print(f"  {e.name} = {e.value:.6g} ± {e.std:.2g} {e.unit} (prior {e.prior:.6g} ± {e.prior_std:.2g})")
+    print(f"\nregressor condition number (determined base parameters): {result.condition_number:.4g}")
     print("residual RMS per motor: " + ", ".join(f"M{i + 1} {r * 1e3:.3g} N·mm" for i, r in enumerate(result.residual_rms)))
     if result.active_constraints:
         print("physical consistency: " + "; ".join(result.active_constraints))
-    for identified, start in result.validation:
+    for (identified, start), note in zip(result.validation, result.notes or [None] * len(result.validation)):
         a, b = identified.motor_errors(), start.motor_errors()
         rows = [[f"M{i}", a[i]["rms_error_Nmm"], f"{100 * a[i]['relative_rms_error']:.2f} %",
                  b[i]["rms_error_Nmm"], f"{100 * b[i]['relative_rms_error']:.2f} %",
                  f"{100 * a[i]['relative_rms_error_away_from_reversals']:.2f} %"] for i in ("1", "2", "3")]
         print(format_table(["motor", "identified [N·mm]", "/ RMS", "starting [N·mm]", "/ RMS", "identified, away from reversals"], rows,
                      f"\nPrediction error on {identified.log.name} (held out): RMS of model − measured"))
+        if note is not None:
+            print(note.text())
     print(f"\nwrote {path}" + (f" and {args.json}" if args.json else ""))
     return 0
 
@@ -229,8 +276,6 @@ def _provenance_comment(provenance) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _percent(fraction: float) -> str:
-    return f"{100 * fraction:.2g} %" if fraction < 10 else "(value near zero)"
 
 
 

@@ -88,6 +88,36 @@ def _file_metadata(params) -> dict[str, str]:
     return {"hipsim.version": __version__, "hipsim.parameters_source": str(params.source), "hipsim.parameters": parameter_toml(params)}
 
 
+class _Bands:
+    """Adds the 95 % band columns to each piece of the run, from the parameter file's covariance (in order of the pieces)."""
+
+    def __init__(self, params, source, covariance):
+        self.params, self.source, self.covariance, self.done, self.widest = params, source, covariance, 0, 0.0
+
+    def __call__(self, columns):
+        import numpy as np
+
+        from ..rig.uncertainty import band_columns
+
+        n = len(columns["t_s"])
+        piece = self.source.piece(self.done, self.done + n)
+        self.done += n
+        extra = band_columns(self.params, piece, self.covariance, columns)
+        with np.errstate(invalid="ignore"):
+            widths = [np.nanmax(extra[f"tau_{i}_hi95_Nmm"] - columns[f"tau_{i}_Nmm"], initial=0.0) for i in (1, 2, 3)]
+        self.widest = max(self.widest, *widths)
+        return dict(columns) | extra
+
+
+def _bands(args, params, source):
+    """The band adder when ``--params`` names a file with an identified covariance, else None."""
+    from ..analysis.streaming import as_source
+    from ..rig.uncertainty import read_covariance
+
+    covariance = read_covariance(getattr(args, "params", None), params)
+    return None if covariance is None else _Bands(params, as_source(source), covariance)
+
+
 def run(args) -> int:
     """Stream the run to ``--out`` and print its summary."""
     from ..analysis.streaming import stream_run
@@ -100,8 +130,11 @@ def run(args) -> int:
     if engine_entry(args.model).warm_up:
         load_pinocchio_kernels()
     watch = FeasibilityWatch(limits(params))
+    bands = _bands(args, params, source)
 
     def write(columns) -> None:
+        if bands is not None:
+            columns = bands(columns)
         writer.write(columns)
         watch.add(columns)
 
@@ -118,6 +151,9 @@ def run(args) -> int:
         print_json(summary | {("parquet" if writer.parquet else "csv"): str(path)}, report)
     else:
         print(format_summary(summary), file=report)
+        if bands is not None:
+            print(f"\n95 % bands on the motor torques (tau_i_lo95_Nmm, tau_i_hi95_Nmm) from the covariance of {args.params}: "
+                  f"half-width up to {bands.widest:.3g} N·mm", file=report)
         where = "the CSV to standard output" if is_stdout(args.out) else path
         print(f"\nwrote {where} ({summary['samples']} rows, {len(writer.names)} columns{', Parquet' if kind == 'Parquet' else ''})", file=report)
     return report_crossings(watch.crossings(), args.strict)

@@ -16,7 +16,7 @@ from .parameter_set import Parameters
 from .parameters import file_values
 from .schema import SCHEMA
 
-__all__ = ["parameter_toml", "toml_value"]
+__all__ = ["parameter_toml", "table_toml", "toml_value"]
 
 
 def toml_value(value) -> str:
@@ -64,3 +64,15 @@ def parameter_toml(params: Parameters, title: str | None = None, units: bool = F
                 lines.append(entry + (f"  # {note}" if note else ""))
         lines.append("")
     return "\n".join(lines)
+
+
+def table_toml(name: str, entries: dict) -> str:
+    """One ``[name]`` table: each entry ``key = value`` (:func:`toml_value`; lists of lists for matrices), then a blank line.
+
+    Keys that are not bare TOML keys are quoted.
+    """
+    lines = [f"[{name}]"]
+    for key, value in entries.items():
+        bare = key.replace("_", "").replace("-", "").isalnum() and key.isascii()
+        lines.append(f"{key if bare else toml_value(key)} = {toml_value(value)}")
+    return "\n".join(lines) + "\n"

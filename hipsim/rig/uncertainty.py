@@ -1,0 +1,127 @@
+"""Uncertainty forward: the identified base parameters' covariance, read back, and 95 % bands on motor torques.
+
+An identified parameter file carries the ``[identification]`` table
+(:meth:`hipsim.rig.identification.Identification.table`): the base
+parameters by name (``base``), their definitions, posterior ``value`` and
+``std``, ``prior`` and ``prior_std``, and ``covariance`` (r × r, file units).
+:func:`read_covariance` reads and checks it; torque is linear in the base
+parameters, τ = Y_b·θ_b, so the standard deviation of a predicted torque sample
+is exactly √(y_kᵀ Σ y_k) (:func:`torque_std`), and its 95 % band ±1.96 of that.
+A nonlinear quantity of the torques (a sizing margin) takes draws of θ_b
+(:func:`torque_draws`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..exceptions import HipsimError
+from ..machine.parameters import Parameters, read_toml
+from ..motion.trajectories import Trajectory
+from .base import base_parameters
+from .regressor import regressor
+
+__all__ = ["Z95", "Covariance", "band_columns", "read_covariance", "torque_draws", "torque_std"]
+
+#: The two-sided 95 % quantile of the normal distribution.
+Z95 = 1.959963984540054
+
+
+@dataclass(frozen=True, eq=False)
+class Covariance:
+    """The base parameters' posterior covariance of an identified file.
+
+    Attributes:
+        names: the base parameters, by name.
+        matrix: their covariance in SI, (r, r).
+        determined: per base parameter, whether the logs determined it.
+        lever_spin: the model they were identified with.
+        source: the file.
+    """
+
+    names: tuple[str, ...]
+    matrix: np.ndarray
+    determined: tuple[bool, ...]
+    lever_spin: bool
+    source: str
+
+
+def read_covariance(path: str | Path | None, params: Parameters) -> Covariance | None:
+    """The ``[identification]`` covariance of a parameter file, checked; None when it has none.
+
+    Raises:
+        HipsimError: one line naming the file: a table of the wrong shape, not symmetric positive
+            semi-definite, or of base parameters other than this machine's.
+    """
+    if path is None:
+        return None
+    table = read_toml(path).get("identification")
+    if not isinstance(table, dict) or "covariance" not in table:
+        return None
+    where = f"{path}: [identification]"
+    names = table.get("base")
+    lever_spin = bool(table.get("lever_spin", True))
+    try:
+        matrix = np.array(table["covariance"], dtype=float)
+    except (TypeError, ValueError):
+        raise HipsimError(f"{where} covariance: expected a square table of numbers") from None
+    if not isinstance(names, list) or matrix.shape != (len(names), len(names)):
+        raise HipsimError(f"{where} covariance: expected {len(names) if isinstance(names, list) else 'one row per base parameter'} rows "
+                          f"and columns (one per name in base), got shape {matrix.shape}")
+    if not np.all(np.isfinite(matrix)):
+        raise HipsimError(f"{where} covariance: not finite")
+    size = max(np.abs(matrix).max(), 1e-300)
+    if np.abs(matrix - matrix.T).max() > 1e-9 * size:
+        raise HipsimError(f"{where} covariance: not symmetric")
+    scale = np.sqrt(np.maximum(np.diag(matrix), 1e-300))
+    eigen = np.linalg.eigvalsh(matrix / np.outer(scale, scale)) if len(names) else np.zeros(1)
+    if eigen.min() < -1e-8 * max(eigen.max(), 1.0):
+        raise HipsimError(f"{where} covariance: not positive semi-definite (smallest eigenvalue {eigen.min():.3g} of the correlation matrix)")
+    base = base_parameters(params, lever_spin)
+    if list(names) != base.names:
+        raise HipsimError(f"{where} base: {', '.join(map(str, names))} are not this machine's base parameters ({', '.join(base.names)})")
+    determined = table.get("determined", [True] * len(names))
+    si = matrix * np.outer(base.scale, base.scale)
+    return Covariance(tuple(names), si, tuple(bool(d) for d in determined), lever_spin, str(path))
+
+
+def _base_rows(params: Parameters, trajectory: Trajectory, covariance: Covariance) -> np.ndarray:
+    base = base_parameters(params, covariance.lever_spin)
+    return regressor(params, trajectory, covariance.lever_spin)[:, :, base.index]
+
+
+def torque_std(params: Parameters, trajectory: Trajectory, covariance: Covariance) -> np.ndarray:
+    """The standard deviation of each predicted motor torque sample in [N·m], (N, 3): √(y_kᵀ Σ y_k)."""
+    Yb = _base_rows(params, trajectory, covariance)
+    return np.sqrt(np.maximum(np.einsum("nip,pq,niq->ni", Yb, covariance.matrix, Yb), 0.0))
+
+
+def torque_draws(params: Parameters, trajectory: Trajectory, covariance: Covariance, draws: int = 200, seed: int = 0) -> np.ndarray:
+    """Draws of the motor torques' deviation from the prediction in [N·m], (draws, N, 3), θ_b ~ N(θ̂_b, Σ)."""
+    Yb = _base_rows(params, trajectory, covariance)
+    values, vectors = np.linalg.eigh(covariance.matrix)
+    root = vectors * np.sqrt(np.maximum(values, 0.0))
+    deltas = np.random.default_rng(seed).standard_normal((draws, len(values))) @ root.T
+    return np.einsum("nip,dp->dni", Yb, deltas)
+
+
+def band_columns(params: Parameters, trajectory: Trajectory, covariance: Covariance, tau_Nmm: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """The 95 % band columns ``tau_i_lo95_Nmm``, ``tau_i_hi95_Nmm`` of a piece of a torque CSV, from its ``tau_i_Nmm`` columns.
+
+    A sample whose pose the regressor cannot take (flagged) gets NaN.
+    """
+    from ..exceptions import PoseError
+
+    try:
+        half = Z95 * torque_std(params, trajectory, covariance) * 1e3
+    except PoseError:
+        half = np.full((len(trajectory), 3), np.nan)
+    out = {}
+    for i in range(3):
+        tau = np.asarray(tau_Nmm[f"tau_{i + 1}_Nmm"], dtype=float)
+        out[f"tau_{i + 1}_lo95_Nmm"] = tau - half[:, i]
+        out[f"tau_{i + 1}_hi95_Nmm"] = tau + half[:, i]
+    return out
