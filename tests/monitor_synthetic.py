@@ -31,11 +31,12 @@ def hip_mu(cycle: float, step_at: float | None = None, step: float = 0.0) -> flo
 
 def write_snapshot(path: Path, params, mu: float, first_cycle: int, rng, cycles: int = 3, rate: float = 250.0,
                    torque_noise_Nmm: float = 3.0, angle_noise_deg: float = 0.003, station_loads: tuple[float, float] | None = None,
-                   cycle_column: bool = True) -> Path:
+                   station_mu: tuple[float, float] | None = None, cycle_column: bool = True) -> Path:
     """One snapshot: ``cycles`` ISO cycles of the machine with μ_h = ``mu``, torques and angles noisy, the counter from ``first_cycle``.
 
     With ``station_loads`` = (s1, s2) the stations carry Fe·s1 and Fe·(s2 + 0.3·sin) (their loads differ in shape),
-    logged as Fe_1_N and Fe_2_N; the machine's torque is then the sum of each station's half.
+    logged as Fe_1_N and Fe_2_N, each station with its own μ_h (``station_mu``, default ``mu`` for both); the
+    machine's torque is then the sum of each station's half (the model counts both platforms alike).
     """
     trajectory = hipsim.iso14242(rate=rate, cycles=cycles)
     machine = params.replace(hip_mu=mu)
@@ -46,10 +47,11 @@ def write_snapshot(path: Path, params, mu: float, first_cycle: int, rng, cycles:
         phase = 2 * np.pi * trajectory.t
         loads = (trajectory.Fe * station_loads[0], trajectory.Fe * (station_loads[1] + 0.3 * np.sin(phase)))
         tau = np.zeros((len(trajectory), 3))
-        for load in loads:
+        for load, each_mu in zip(loads, station_mu or (mu, mu)):
             each = Trajectory(trajectory.t, trajectory.q, trajectory.qd, trajectory.qdd, load, name="station")
-            tau += 0.5 * hipsim.analyse(machine, each, lever_spin=True).torques.total
+            tau += 0.5 * hipsim.analyse(params.replace(hip_mu=each_mu), each, lever_spin=True).torques.total
         extra = {"Fe_1_N": loads[0], "Fe_2_N": loads[1]}
+        trajectory = Trajectory(trajectory.t, trajectory.q, trajectory.qd, trajectory.qdd, 0.5 * (loads[0] + loads[1]))  # Fe_N: the mean
     columns = {"t_s": trajectory.t}
     if cycle_column:
         columns["cycle"] = first_cycle + np.floor(trajectory.t * 1.0).astype(int)

@@ -4,7 +4,7 @@
 snapshots, the table's set-up), then estimates the snapshots the table does
 not have yet, in batches: in this process for one worker, else on a
 ``LocalCluster`` of worker processes or the cluster of a scheduler's address,
-the same :func:`~hipsim.rig.monitor.estimate_batch` on either path, so the
+the same :func:`~hipsim.rig.monitor_fit.estimate_batch` on either path, so the
 rows are the same to the last bit. Each worker holds one snapshot at a time
 and the main process only the rows: memory does not grow with the test.
 The chart (:func:`~hipsim.rig.control_chart.chart`) is then drawn over all
@@ -32,7 +32,7 @@ import numpy as np
 from ..exceptions import ArgumentError, HipsimError, MissingDependencyError
 from ..machine.parameters import Parameters
 from .control_chart import DEFAULT_ALARM_RISE, DEFAULT_BASELINE, Chart, chart
-from .monitor import MonitorSetup, estimate_batch, reference
+from .monitor_fit import MonitorSetup, estimate_batch, reference
 from .monitor_table import COLUMNS, check_out, previous_rows, write_table
 from .snapshots import Snapshot, find_snapshots
 
@@ -253,7 +253,7 @@ def monitor(
     """Follow a wear test's friction from its snapshots' motor torques (the library's ``hipsim monitor``).
 
     Args:
-        params: an identified parameter file (checked: :func:`hipsim.rig.monitor.identified_file`), or a
+        params: an identified parameter file (checked: :func:`hipsim.rig.monitor_fit.identified_file`), or a
             :class:`~hipsim.machine.parameters.Parameters` you vouch for (lever spin on).
         logs: snapshot files, a folder (its ``*.csv``) or a glob pattern, or a list of them; each with a ``cycle`` column.
         baseline: (FROM, TO) cycles, or ``"FROM:TO"``: the reference period after running-in.

@@ -1,7 +1,7 @@
 """The monitor's table as a file (CSV or Parquet by the suffix), keyed by its set-up's fingerprint so a rerun extends it.
 
 One row a snapshot, sorted by cycle, columns :data:`COLUMNS`. The set-up's
-fingerprints (:meth:`hipsim.rig.monitor.MonitorSetup.fingerprints`) are kept
+fingerprints (:meth:`hipsim.rig.monitor_fit.MonitorSetup.fingerprints`) are kept
 with the rows: a Parquet file's key-value metadata (``hipsim``, JSON), a CSV
 file's first line ``# hipsim monitor: {JSON}`` (pandas:
 ``read_csv(path, comment="#")``). A rerun of the same set-up keeps the rows of
@@ -25,7 +25,7 @@ from ..exceptions import FileRowError, MissingDependencyError, OutputError
 from ..files import write_atomic
 from ..fingerprint import changed_parts
 from ..tables import MAX_LINE_BYTES, cells, data_lines, read_text_lines
-from .monitor import ESTIMATE_COLUMNS
+from .monitor_fit import ESTIMATE_COLUMNS
 
 __all__ = ["COLUMNS", "CSV_METADATA", "TEXT_COLUMNS", "check_out", "previous_rows", "read_metadata", "read_table", "write_table"]
 

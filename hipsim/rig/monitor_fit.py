@@ -60,8 +60,9 @@ ESTIMATE_COLUMNS = (
     "load_friction_1_mm", "load_friction_1_mm_std", "load_friction_2_mm", "load_friction_2_mm_std", "stations",
     "residual_rms_Nmm",
 )  # fmt: skip
-#: A per-station split is reported when each station's standard deviation is below this fraction of the whole term.
-STATION_SEPARABLE = 0.05
+#: A per-station split is reported when each station's standard deviation is below this fraction of the whole term
+#: (and the stations' load columns are not proportional: smallest to largest singular value of the unit-norm columns above 1e-6).
+STATION_SEPARABLE = 0.2
 _INDEX = {q.name: k for k, q in enumerate(QUANTITIES)}
 _FITTED = ("hip_mu", "thrust_mu", "screw_coulomb", "screw_viscous")
 
@@ -167,10 +168,13 @@ def _station_columns(setup: MonitorSetup, log: MeasuredLog, loads: dict[str, np.
 
 
 def _solve(A: np.ndarray, y: np.ndarray, inflate: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Least squares with unit-norm columns: (estimate, standard deviations, residual)."""
+    """Least squares with unit-norm columns: (estimate, standard deviations, residual); infinite deviations for dependent columns."""
     norm = np.linalg.norm(A, axis=0)
     norm = np.where(norm > 0, norm, 1.0)
     An = A / norm
+    singular = np.linalg.svd(An, compute_uv=False)
+    if singular[-1] <= 1e-6 * singular[0]:
+        return np.full(A.shape[1], math.nan), np.full(A.shape[1], math.inf), np.full(A.shape[0], math.nan)
     x, *_ = np.linalg.lstsq(An, y, rcond=None)
     residual = y - An @ x
     dof = max(A.shape[0] - A.shape[1], 1)
@@ -238,7 +242,8 @@ def _stations(setup, log, loads, Y, use, columns, target, whole) -> dict[str, An
     A = np.concatenate([stations, np.stack(columns[1:], axis=-1)], axis=-1)[use]
     x, std, _ = _solve(A, target[use], inflation(log))
     if not np.all(std[:2] < STATION_SEPARABLE * abs(whole)):
-        out["stations"] = "not separable: the two stations' loads vary alike"
+        out["stations"] = ("not separable: the two stations' loads are proportional" if np.isinf(std[0]) else
+                           f"not separable: the two stations' loads vary too much alike (standard deviation over {STATION_SEPARABLE:.0%} of the term)")
         return out
     for p in range(2):
         out[f"load_friction_{p + 1}_mm"], out[f"load_friction_{p + 1}_mm_std"] = x[p] * 1e3, std[p] * 1e3
