@@ -42,10 +42,11 @@ from ..analytic.virtual_work import inverse_dynamics
 from ..exceptions import HipsimError, ParameterError
 from ..fingerprint import part_fingerprints
 from ..machine.parameters import Parameters, load_parameters
-from .filtering import DEFAULT_CUTOFF, lowpass
+from .filtering import DEFAULT_CUTOFF, lowpass, minimum_samples
 from .logs import DEFAULT_TOLERANCE_DEG, MeasuredLog, load_log
-from .quantities import QUANTITIES, friction_unit, standard_values
-from .regressor import decimation, inflation, log_rows
+from .quantities import friction_unit
+from .regressor import CHUNK, decimation, inflation
+from .reversals import reversal_mask
 from .snapshots import STATION_LOADS, Snapshot, read_columns, snapshot_text
 
 __all__ = ["ESTIMATE_COLUMNS", "ESTIMATOR", "MonitorSetup", "estimate", "estimate_batch", "identified_file"]
@@ -63,7 +64,6 @@ ESTIMATE_COLUMNS = (
 #: A per-station split is reported when each station's standard deviation is below this fraction of the whole term
 #: (and the stations' load columns are not proportional: smallest to largest singular value of the unit-norm columns above 1e-6).
 STATION_SEPARABLE = 0.2
-_INDEX = {q.name: k for k, q in enumerate(QUANTITIES)}
 _FITTED = ("hip_mu", "thrust_mu", "screw_coulomb", "screw_viscous")
 
 
@@ -146,25 +146,47 @@ def _load(setup: MonitorSetup, snapshot: Snapshot, folder: str) -> tuple[Measure
     return load_log(path, setup.params, setup.torque_constant, setup.cutoff, setup.tolerance_deg), path
 
 
-def _station_columns(setup: MonitorSetup, log: MeasuredLog, loads: dict[str, np.ndarray], rows: int) -> np.ndarray | None:
-    """Per station p the load column a_p multiplies, (rows, 3, 2), on the rows :func:`log_rows` keeps; None if not computable."""
-    params, kin = setup.params, None
-    unit = friction_unit(params, "hip_mu")
-    step, first, stop = decimation(log), log.usable.start, log.usable.stop
-    keep = np.arange(first, stop, step)
-    if keep.size != rows or len(log) >= 50_000:
-        return None  # a log in more than one chunk: the rows would not line up
-    kin = kinematics(params, log.trajectory)
-    out = np.empty((rows, 3, 2))
-    for p, name in enumerate(STATION_LOADS):
-        Fe = loads[name]
-        if log.cutoff is not None:
-            Fe = np.maximum(lowpass(Fe, log.rate, log.cutoff, log.name), 0.0)
-        Y = inverse_dynamics(unit, kin, Fe, setup.lever_spin).friction
+def _rows(setup: MonitorSetup, log: MeasuredLog, loads: dict[str, np.ndarray] | None):
+    """The fit's rows, chunk by chunk: the fixed machine's torque, the fitted terms' columns, the measured torque, the rows to use.
+
+    The regressor's columns (:func:`hipsim.rig.regressor.log_rows`) of only what is fitted: by the model's
+    linearity in θ, the torque of every held parameter is the inverse dynamics of the machine with the fitted
+    coefficients at zero, and each fitted coefficient's column that of the machine whose only friction is that
+    coefficient at one (:func:`~hipsim.rig.quantities.friction_unit`, as the regressor builds it): five runs of the
+    model instead of the regressor's ten, filtered and decimated exactly as :func:`~hipsim.rig.regressor.log_rows`
+    does. With per-station loads, two more runs give each station's load column.
+
+    Yields:
+        fixed (m, 3), columns (m, 3, 4) of μ_h, μ_t, the screw's Coulomb and viscous coefficients, τ (m, 3),
+        use (m, 3) bool, stations (m, 3, 2) or None.
+    """
+    params = setup.params
+    held = params.replace(**{name: 0.0 for name in _FITTED})
+    units = [friction_unit(params, name) for name in _FITTED]
+    n, step = len(log), decimation(log)
+    first, stop = log.usable.start, log.usable.stop
+    margin = 0 if log.cutoff is None else minimum_samples(log.rate, log.cutoff)
+    use_all = ~reversal_mask(params, log)
+    chunk = max(step, CHUNK - CHUNK % step)  # whole decimation steps, as the regressor's rows
+    for a in range(first, stop, chunk):
+        b = min(a + chunk, stop)
+        lo, hi = max(0, a - margin), min(n, b + margin)
+        trajectory = log.trajectory.slice(slice(lo, hi))
+        kin = kinematics(params, trajectory)
+        parts = [inverse_dynamics(held, kin, trajectory.Fe, setup.lever_spin).total]
+        parts += [inverse_dynamics(unit, kin, trajectory.Fe, setup.lever_spin).friction for unit in units]
+        if loads is not None:
+            for name in STATION_LOADS:
+                Fe = loads[name]
+                if log.cutoff is not None:
+                    Fe = np.maximum(lowpass(Fe, log.rate, log.cutoff, log.name), 0.0)  # as the log's own load
+                parts.append(inverse_dynamics(units[0], kin, Fe[lo:hi], setup.lever_spin).friction / params.heights.size)
+        Y = np.stack(parts, axis=-1)
         if log.cutoff is not None:
             Y = lowpass(Y, log.rate, log.cutoff, log.name)
-        out[:, :, p] = Y[keep] / (params.heights.size * params.friction.hip_radius)
-    return out
+        keep = np.arange(a, b, step)
+        Y = Y[keep - lo]
+        yield Y[:, :, 0], Y[:, :, 1:5], log.tau[keep], use_all[keep], (Y[:, :, 5:7] if loads is not None else None)
 
 
 def _solve(A: np.ndarray, y: np.ndarray, inflate: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -192,30 +214,28 @@ def estimate(setup: MonitorSetup, snapshot: Snapshot) -> dict[str, Any]:
     """
     params = setup.params
     f = params.friction
-    theta = standard_values(params)
-    fitted = [_INDEX[name] for name in _FITTED]
-    fixed = [k for k in range(len(QUANTITIES)) if k not in fitted]
-    H, T, SC, SV = fitted
     weight = params.platform_mass * params.gravity
     with tempfile.TemporaryDirectory(prefix="hipsim-monitor-") as folder:
         log, path = _load(setup, snapshot, folder)
         loads = read_columns(path, STATION_LOADS) if params.heights.size == 2 else None
-        blocks = list(log_rows(params, log, setup.lever_spin))
-    Y = np.concatenate([b[0] for b in blocks])
-    tau = np.concatenate([b[1] for b in blocks])
-    use = np.concatenate([b[2] for b in blocks])
-    load_column = Y[:, :, H] / f.hip_radius
+    blocks = list(_rows(setup, log, loads))
+    fixed = np.concatenate([b[0] for b in blocks])
+    Y = np.concatenate([b[1] for b in blocks])
+    tau = np.concatenate([b[2] for b in blocks])
+    use = np.concatenate([b[3] for b in blocks])
+    stations = np.concatenate([b[4] for b in blocks]) if loads is not None else None
+    load_column = Y[:, :, 0] / f.hip_radius
     columns = [load_column]
     if weight > 0 and f.thrust_radius > 0:
-        columns.append((Y[:, :, T] / f.thrust_radius - load_column) / weight)
-    columns += [Y[:, :, SC], Y[:, :, SV]]
-    target = tau - Y[:, :, fixed] @ theta[fixed]
+        columns.append((Y[:, :, 1] / f.thrust_radius - load_column) / weight)
+    columns += [Y[:, :, 2], Y[:, :, 3]]
+    target = tau - fixed
     if int(use.sum()) <= len(columns) + 2:
         raise HipsimError(f"{snapshot.name}: {int(use.sum())} samples left after the filter's edges and the reversals: too few to estimate from")
     A = np.stack(columns, axis=-1)[use]
     x, std, residual = _solve(A, target[use], inflation(log))
     has_weight = len(columns) == 4
-    values = dict(zip(("a", "b", "sc", "sv") if has_weight else ("a", "sc", "sv"), zip(x, std)))
+    values = dict(zip(("a", "b", "sc", "sv") if has_weight else ("a", "sc", "sv"), zip(x.tolist(), std.tolist())))
     values.setdefault("b", (math.nan, math.nan))
     row: dict[str, Any] = {
         "cycle": snapshot.first_cycle, "last_cycle": snapshot.last_cycle, "file": snapshot.name, "samples": len(log),
@@ -225,28 +245,24 @@ def estimate(setup: MonitorSetup, snapshot: Snapshot) -> dict[str, Any]:
         "screw_viscous_Nmm_s_rad": values["sv"][0] * 1e3, "screw_viscous_Nmm_s_rad_std": values["sv"][1] * 1e3,
         "residual_rms_Nmm": math.sqrt(float(residual @ residual) / residual.size) * 1e3,
     }  # fmt: skip
-    row |= _stations(setup, log, loads, Y, use, columns, target, values["a"][0])
+    row |= _stations(setup, stations, use, columns, target, values["a"][0], inflation(log))
     return row
 
 
-def _stations(setup, log, loads, Y, use, columns, target, whole) -> dict[str, Any]:
+def _stations(setup, stations, use, columns, target, whole, inflate) -> dict[str, Any]:
     """The per-station split of the load term, or why there is none."""
-    out: dict[str, Any] = {name: math.nan for name in ESTIMATE_COLUMNS if name.startswith("load_friction_") and name[14:15] in "12"}
-    if loads is None:
+    out: dict[str, Any] = {f"load_friction_{p}_mm{s}": math.nan for p in (1, 2) for s in ("", "_std")}
+    if stations is None:
         out["stations"] = "not logged" if setup.params.heights.size == 2 else "one station"
         return out
-    stations = _station_columns(setup, log, loads, Y.shape[0])
-    if stations is None:
-        out["stations"] = "not computed (snapshot too long)"
-        return out
-    A = np.concatenate([stations, np.stack(columns[1:], axis=-1)], axis=-1)[use]
-    x, std, _ = _solve(A, target[use], inflation(log))
+    A = np.concatenate([stations / setup.params.friction.hip_radius, np.stack(columns[1:], axis=-1)], axis=-1)[use]
+    x, std, _ = _solve(A, target[use], inflate)
     if not np.all(std[:2] < STATION_SEPARABLE * abs(whole)):
         out["stations"] = ("not separable: the two stations' loads are proportional" if np.isinf(std[0]) else
                            f"not separable: the two stations' loads vary too much alike (standard deviation over {STATION_SEPARABLE:.0%} of the term)")
         return out
     for p in range(2):
-        out[f"load_friction_{p + 1}_mm"], out[f"load_friction_{p + 1}_mm_std"] = x[p] * 1e3, std[p] * 1e3
+        out[f"load_friction_{p + 1}_mm"], out[f"load_friction_{p + 1}_mm_std"] = float(x[p]) * 1e3, float(std[p]) * 1e3
     out["stations"] = "separated"
     return out
 
