@@ -197,3 +197,13 @@ def test_a_long_log_in_windows(params, tmp_path):
     truth = (f.hip_radius * 0.1 + f.thrust_radius * f.thrust_mu) * 1e3
     assert result.columns["file"] == ["long.csv[100-101]", "long.csv[102-103]", "long.csv[104-105]"]
     assert np.allclose(result.columns["load_friction_mm"], truth, rtol=0.02)
+
+
+def test_without_pandas_a_table_of_columns(params, test_logs, monkeypatch):
+    import sys
+
+    from hipsim.rig.monitor_run import MonitorTable, monitor
+
+    monkeypatch.setitem(sys.modules, "pandas", None)  # import pandas raises ImportError
+    table = monitor(params, test_logs, baseline="500000:1000000")
+    assert isinstance(table, MonitorTable) and len(table) == 9 and table["alarm"][-1] == 1
