@@ -38,6 +38,7 @@ __all__ = [
     "iso14242",
     "load_parameters",
     "load_trajectory_csv",
+    "monitor",
     "read_trajectory",
     "slender_levers",
 ]
@@ -55,6 +56,7 @@ _HOMES = {
     "iso14242": "motion.trajectories",
     "load_trajectory_csv": "motion.readers",
     "read_trajectory": "motion.readers",
+    "monitor": "rig.monitor_run",
 }
 #: The subpackages an eager ``import hipsim`` used to load, still reachable as attributes (``hipsim.motion``).
 _SUBPACKAGES = ("analysis", "analytic", "arrays", "files", "machine", "motion", "physics", "results")
@@ -72,6 +74,8 @@ def __getattr__(name: str):
         import hipsim.motion.trajectories as module
     elif home == "motion.readers":
         import hipsim.motion.readers as module
+    elif home == "rig.monitor_run":
+        import hipsim.rig.monitor_run as module
     elif home == "results":
         import hipsim.results as module
     elif home == "analysis":

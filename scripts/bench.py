@@ -636,6 +636,79 @@ def bench_rig(quick: bool) -> None:
     print("  target: <= 400 MB for an hour's log")
 
 
+def _monitor_snapshots(folder, count: int, rate: float = 1000.0) -> None:
+    """``count`` snapshots of 3 ISO cycles at ``rate``, the hip friction rising through the test, with rig noise."""
+    from pathlib import Path
+
+    params = hipsim.load_parameters()
+    trajectory = hipsim.iso14242(rate=rate, cycles=3)
+    # The torque is linear in μ_h: two runs give every snapshot's.
+    low = hipsim.analyse(params.replace(hip_mu=0.09), trajectory, lever_spin=True).torques.total * 1e3
+    high = hipsim.analyse(params.replace(hip_mu=0.14), trajectory, lever_spin=True).torques.total * 1e3
+    rng = np.random.default_rng(1)
+    header = "t_s,cycle,Fe_N,tau_1_Nmm,tau_2_Nmm,tau_3_Nmm,alpha_deg,beta_deg,gamma_deg"
+    for k in range(count):
+        share = k / max(count - 1, 1)
+        tau = low + share * (high - low) + rng.normal(0.0, 3.0, low.shape)
+        angles = np.degrees(trajectory.q) + rng.normal(0.0, 0.003, trajectory.q.shape)
+        cycle = 5000 * k + np.floor(trajectory.t).astype(int)
+        data = np.column_stack([trajectory.t, cycle, trajectory.Fe, tau, angles])
+        np.savetxt(Path(folder) / f"snap_{k:05d}.csv", data, delimiter=",", fmt="%.10g", header=header, comments="")
+
+
+def bench_monitor(quick: bool) -> None:
+    """``hipsim monitor``: 1,000 snapshots of 3 cycles at 1 kHz on 2 dask workers, next to a plain loop of ``compare`` over the same files."""
+    import tempfile
+
+    import distributed
+
+    from hipsim.rig import compare, load_log
+    from hipsim.rig.monitor_fit import MonitorSetup
+    from hipsim.rig.monitor_run import run_monitor
+    from hipsim.rig.snapshots import find_snapshots
+
+    count = 100 if quick else 1000
+    params = hipsim.load_parameters()
+    print(f"hipsim monitor: {count} snapshots of 3 ISO cycles at 1 kHz ({3000 * count:,} samples), next to a loop of compare over the same files")
+    with tempfile.TemporaryDirectory() as folder:
+        started = time.perf_counter()
+        _monitor_snapshots(folder, count)
+        print(f"  (files written in {time.perf_counter() - started:.1f} s, not counted)")
+        started = time.perf_counter()
+        snapshots = find_snapshots(folder)
+        scan = time.perf_counter() - started
+        started = time.perf_counter()
+        for snapshot in snapshots:
+            compare(params, load_log(snapshot.path, params), lever_spin=True)
+        looped = time.perf_counter() - started
+        setup = MonitorSetup(params)
+        started = time.perf_counter()
+        with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                                      silence_logs=50, local_directory=folder) as cluster, distributed.Client(cluster) as client:
+            startup = time.perf_counter() - started
+            started = time.perf_counter()
+            result = run_monitor(setup, snapshots, workers=2, scheduler=cluster.scheduler_address)
+            elapsed = time.perf_counter() - started
+            namespace: dict = {}
+            exec(_PEAK_KB, namespace)
+            peaks = client.run(namespace["peak_kb"])
+        serial_snapshots = snapshots[: max(10, count // 20)]
+        started = time.perf_counter()
+        run_monitor(setup, serial_snapshots, workers=1)
+        serial = (time.perf_counter() - started) / len(serial_snapshots)
+    total = scan + startup + elapsed
+    print(f"  {'run':<60} {'wall [s]':>9} {'snapshots/s':>12}")
+    print(f"  {'loop of load_log + compare, one process (the baseline)':<60} {looped:>9.1f} {count / looped:>12.1f}")
+    print(f"  {'monitor estimate, one process (' + str(len(serial_snapshots)) + ' snapshots)':<60} {serial * count:>9.1f} {1 / serial:>12.1f}   (extrapolated to {count})")
+    print(f"  {'hipsim monitor on 2 workers: scan of the files':<60} {scan:>9.1f}")
+    print(f"  {'                             cluster start':<60} {startup:>9.1f}")
+    print(f"  {'                             estimates and chart':<60} {elapsed:>9.1f} {count / elapsed:>12.1f}")
+    print(f"  {'                             total':<60} {total:>9.1f}   target <= 60 s  {'OK' if total <= 60 else 'MISSED'}")
+    worst = max(peaks.values()) / 1024.0
+    print(f"  peak memory per worker: {', '.join(f'{v / 1024.0:.0f} MB' for v in peaks.values())}   target <= 500 MB  {'OK' if worst <= 500 else 'MISSED'}")
+    print(f"  alarms: {int(sum(result.columns['alarm']))} of {count} snapshots (the friction rises by 0.05 over the test)")
+
+
 def bench_startup(quick: bool) -> None:
     """Start-up: fresh processes, best of a few, each next to a bare interpreter's start."""
     import subprocess
@@ -666,7 +739,7 @@ def bench_startup(quick: bool) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer samples in the slow baselines")
-    parser.add_argument("--only", choices=["startup", "analytic", "pinocchio", "workspace", "plants", "servo", "identification", "sweep", "long", "rig"],
+    parser.add_argument("--only", choices=["startup", "analytic", "pinocchio", "workspace", "plants", "servo", "identification", "sweep", "long", "rig", "monitor"],
                         help="one section only")
     args = parser.parse_args()
     params = hipsim.load_parameters()
@@ -674,6 +747,7 @@ def main() -> None:
         sections = {"analytic": bench_analytic, "pinocchio": bench_pinocchio, "plants": bench_plants, "servo": bench_servo,
                     "identification": bench_identification, "sweep": bench_sweep,
                     "long": lambda params, quick: bench_long_runs(quick), "rig": lambda params, quick: bench_rig(quick),
+                    "monitor": lambda params, quick: bench_monitor(quick),
                     "startup": lambda params, quick: bench_startup(quick)}
         sections.get(args.only, lambda params, quick: bench_workspace(quick))(params, args.quick)
         return
@@ -698,6 +772,8 @@ def main() -> None:
     bench_long_runs(args.quick)
     print()
     bench_rig(args.quick)
+    print()
+    bench_monitor(args.quick)
 
 
 if __name__ == "__main__":

@@ -17,7 +17,7 @@ import sys
 
 from ..version import __version__
 from ..exceptions import HipsimError
-from . import check, feasible, iso_check, mjcf, params, report, rig, simulate, size, sweep, torques, urdf, view, workspace
+from . import check, feasible, iso_check, mjcf, monitor, params, report, rig, simulate, size, sweep, torques, urdf, view, workspace
 from .motion_options import locate
 
 __all__ = ["build_parser", "main"]
@@ -47,6 +47,7 @@ def build_parser() -> argparse.ArgumentParser:
     for command in (torques, simulate, report, workspace, check, feasible, iso_check, view, urdf, mjcf, size, sweep, params):
         command.add_parser(commands)
     rig.add_parser(commands)  # compare, identify, excite: the rig in the loop
+    monitor.add_parser(commands)
     return parser
 
 

@@ -15,11 +15,12 @@ from .excitation import Excitation, excitation
 from .filtering import lowpass
 from .identification import Identification, identify
 from .logs import Log, LogPieces, MeasuredLog, load_log
+from .monitor_run import monitor
 from .quantities import QUANTITIES
 from .reader import RigLog, read_rig_log
 from .regressor import regressor
 
 __all__ = [
     "QUANTITIES", "Comparison", "Excitation", "Identification", "Log", "LogPieces", "MeasuredLog", "RigLog",
-    "compare", "compare_log", "excitation", "identify", "load_log", "lowpass", "read_rig_log", "regressor",
+    "compare", "compare_log", "excitation", "identify", "load_log", "lowpass", "monitor", "read_rig_log", "regressor",
 ]

@@ -1,0 +1,143 @@
+"""The control chart of a wear test's friction: baseline, EWMA, engineering threshold, alarms.
+
+Per snapshot k (sorted by cycle) an estimate x_k of the load friction
+coefficient a = r_h·μ_h + r_t·μ_t with standard error s_k. A baseline period
+(cycles FROM…TO, after running-in) gives the reference level μ₀ (mean of its
+snapshots) and the between-snapshot spread σ₀ (their standard deviation, but
+never below the estimates' own RMS standard error: with few baseline
+snapshots the sample deviation can come out small by chance).
+
+The chart is an EWMA (Roberts 1959; Montgomery, *Introduction to Statistical
+Quality Control*, §9.2): z_k = λ·x_k + (1 − λ)·z_{k−1}, z₀ = μ₀, over the
+snapshots after the baseline, with the upper control limit
+μ₀ + L·σ₀·√(λ/(2 − λ)·(1 − (1 − λ)^{2k})), λ = 0.2, L = 3. Why EWMA rather
+than CUSUM: the failures a lab fears (lubricant breakdown, wear through a
+coating) start as small persistent shifts, which EWMA is best at; its
+statistic is itself an estimate of the current level in the estimates' unit,
+so it can be drawn on the same axes as the estimates and their band; and
+combined with the engineering threshold below it reacts to a large step at
+the first snapshot after it (a step of size Δ lifts z by λ·Δ, beyond the limit
+when Δ > 5σ₀ for λ = 0.2, L = 3).
+
+A snapshot is flagged (``alarm`` = 1) when both hold: the chart signals
+(z_k above its limit: the rise is statistically significant) and the
+snapshot's own change of the hip friction coefficient, (x_k − μ₀)/r_h,
+exceeds the engineering threshold D (``alarm_rise``; 0.01 by default): a
+change that is real but harmless raises no alarm. Snapshots before the
+baseline's end (running-in and the baseline itself) are shown, never flagged.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+
+from ..exceptions import ArgumentError
+
+__all__ = ["DEFAULT_ALARM_RISE", "DEFAULT_BASELINE", "EWMA_L", "EWMA_LAMBDA", "MIN_BASELINE", "Chart", "chart", "parse_baseline"]
+
+#: The default engineering threshold: a rise of the hip friction coefficient of 0.01.
+DEFAULT_ALARM_RISE = 0.01
+#: The default baseline, in cycles: after half a million cycles of running-in (ISO 14242-2 weighs wear from
+#: 0.5 million cycles on), the next half million.
+DEFAULT_BASELINE = (500_000, 1_000_000)
+#: EWMA weight λ and limit width L (in standard deviations of the EWMA statistic).
+EWMA_LAMBDA = 0.2
+EWMA_L = 3.0
+#: Snapshots the baseline needs before the chart starts.
+MIN_BASELINE = 3
+
+
+def parse_baseline(text: str) -> tuple[int, int]:
+    """``"500000:1000000"`` → (500000, 1000000), cycles, FROM ≤ TO.
+
+    Raises:
+        ArgumentError: anything else.
+    """
+    parts = str(text).replace("_", "").split(":")
+    try:
+        low, high = (int(float(p)) for p in parts) if len(parts) == 2 else (None, None)
+    except ValueError:
+        low = high = None
+    if low is None or low < 0 or high < low:
+        raise ArgumentError("baseline", text, "FROM:TO in cycles, 0 ≤ FROM ≤ TO, e.g. 500000:1000000")
+    return low, high
+
+
+@dataclass(frozen=True)
+class Chart:
+    """The chart over the snapshots (arrays in the snapshots' order, sorted by cycle).
+
+    Attributes:
+        phase: per snapshot "running-in", "baseline" or "monitoring".
+        mean: μ₀ in [mm], NaN without a complete baseline.
+        spread: σ₀ in [mm].
+        baseline_count: snapshots in the baseline.
+        change: the hip friction coefficient's change (x − μ₀)/r_h, NaN without a baseline.
+        change_std: its standard deviation (the snapshot's and the baseline mean's).
+        ewma: z_k in [mm] (NaN before the monitoring phase).
+        limit: the upper control limit in [mm] (NaN likewise).
+        alarm: 0/1 per snapshot.
+        threshold: μ₀ + D·r_h in [mm], the engineering threshold on the estimate.
+        note: why there is no chart yet, or "".
+    """
+
+    phase: np.ndarray
+    mean: float
+    spread: float
+    baseline_count: int
+    change: np.ndarray
+    change_std: np.ndarray
+    ewma: np.ndarray
+    limit: np.ndarray
+    alarm: np.ndarray
+    threshold: float
+    note: str = ""
+
+
+def chart(cycles: Sequence[int], estimate: Sequence[float], std: Sequence[float], hip_radius_mm: float,
+          baseline: tuple[int, int] = DEFAULT_BASELINE, alarm_rise: float = DEFAULT_ALARM_RISE,
+          lam: float = EWMA_LAMBDA, width: float = EWMA_L) -> Chart:
+    """The control chart of the load friction estimates.
+
+    Args:
+        cycles: each snapshot's first cycle, sorted ascending.
+        estimate: load friction coefficient in [mm] per snapshot.
+        std: its standard deviation in [mm].
+        hip_radius_mm: r_h in [mm], to turn a change of the estimate into one of μ_h.
+        baseline: (FROM, TO) cycles of the baseline period.
+        alarm_rise: the engineering threshold D, a rise of μ_h.
+        lam: EWMA weight λ in (0, 1].
+        width: limit width L.
+    """
+    if not (isinstance(alarm_rise, (int, float)) and math.isfinite(alarm_rise) and alarm_rise > 0):
+        raise ArgumentError("alarm_rise", alarm_rise, "a positive rise of the hip friction coefficient, e.g. 0.01")
+    cycles = np.asarray(cycles, dtype=np.int64)
+    x, s = np.asarray(estimate, dtype=float), np.asarray(std, dtype=float)
+    n = x.size
+    low, high = baseline
+    phase = np.where(cycles < low, "running-in", np.where(cycles <= high, "baseline", "monitoring")).astype(object)
+    nan = np.full(n, math.nan)
+    inside = phase == "baseline"
+    count = int(np.count_nonzero(inside))
+    if count < MIN_BASELINE:
+        note = (f"baseline incomplete: {count} of the {MIN_BASELINE} snapshots it needs within cycles {low}-{high}; "
+                "the chart starts once it has them")
+        return Chart(phase, math.nan, math.nan, count, nan, nan.copy(), nan.copy(), nan.copy(), np.zeros(n, dtype=int), math.nan, note)
+    mean = float(np.mean(x[inside]))
+    spread = max(float(np.std(x[inside], ddof=1)), float(np.sqrt(np.mean(s[inside] ** 2))))
+    change = (x - mean) / hip_radius_mm
+    change_std = np.sqrt(s**2 + spread**2 / count) / hip_radius_mm
+    ewma, limit = nan.copy(), nan.copy()
+    z, k = mean, 0
+    for j in np.flatnonzero(phase == "monitoring"):
+        k += 1
+        z = lam * x[j] + (1.0 - lam) * z
+        ewma[j] = z
+        limit[j] = mean + width * spread * math.sqrt(lam / (2.0 - lam) * (1.0 - (1.0 - lam) ** (2 * k)))
+    with np.errstate(invalid="ignore"):
+        alarm = ((phase == "monitoring") & (ewma > limit) & (change > alarm_rise)).astype(int)
+    return Chart(phase, mean, spread, count, change, change_std, ewma, limit, alarm, mean + alarm_rise * hip_radius_mm)

@@ -1,0 +1,289 @@
+"""The specimen's friction from the motor torques of one snapshot: the monitor's estimate.
+
+The reference machine (an identified parameter file) is held fixed: inertias,
+masses, the transmission, the guides' and lever joints' friction. What a
+snapshot re-estimates are the friction terms it determines (spec §4.3; the
+regressor's friction columns, :mod:`hipsim.rig.regressor`):
+
+- ``load_friction_mm``: a = r_h·μ_h + r_t·μ_t, the central chain's friction
+  moment per newton of axial load. The hip joint's column is ŝ(ω)·r_h·|F_e| and
+  the thrust bearing's ŝ(ω)·r_t·|F_e + m_m·g|: under the one shared load both
+  multiply ŝ(ω)·|F_e| alike, so only their sum a is seen;
+- ``weight_friction_Nmm``: b = r_t·μ_t·m_m·g, the thrust bearing's moment
+  from the platform's own weight (with m_m from the file, itself an estimate);
+- the screw's Coulomb and viscous friction (the guide's Coulomb and viscous
+  terms have the same columns; they are held at the file's values, so a change
+  of either shows in the screw's).
+
+Least squares over the snapshot's filtered, decimated rows (reversals left
+out, as identification does), with standard errors from σ²(AᵀA)⁻¹, σ² the
+residual variance inflated by the samples per independent sample the
+low-pass leaves. With per-station loads logged (``Fe_1_N``, ``Fe_2_N``) the
+load term is split per station (a_1, a_2) when the two loads vary
+differently enough to tell apart; when they are proportional they cannot be,
+and the row says so.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+import tempfile
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..analytic.inverse_kinematics import kinematics
+from ..analytic.virtual_work import inverse_dynamics
+from ..exceptions import HipsimError, ParameterError
+from ..fingerprint import part_fingerprints
+from ..machine.parameters import Parameters, load_parameters
+from .filtering import DEFAULT_CUTOFF, lowpass, minimum_samples
+from .logs import DEFAULT_TOLERANCE_DEG, MeasuredLog, load_log
+from .quantities import friction_unit
+from .regressor import CHUNK, decimation, inflation
+from .reversals import reversal_mask
+from .snapshots import STATION_LOADS, Snapshot, read_columns, snapshot_text
+
+__all__ = ["ESTIMATE_COLUMNS", "ESTIMATOR", "MonitorSetup", "estimate", "estimate_batch", "identified_file"]
+
+#: The estimator's version: part of the set-up's fingerprint, so a changed estimator never extends an older table.
+ESTIMATOR = "monitor-1"
+#: The per-snapshot columns :func:`estimate` fills (after ``cycle``), text columns marked in :data:`TEXT`.
+ESTIMATE_COLUMNS = (
+    "cycle", "last_cycle", "file", "samples",
+    "load_friction_mm", "load_friction_mm_std", "weight_friction_Nmm", "weight_friction_Nmm_std",
+    "screw_coulomb_Nmm", "screw_coulomb_Nmm_std", "screw_viscous_Nmm_s_rad", "screw_viscous_Nmm_s_rad_std",
+    "load_friction_1_mm", "load_friction_1_mm_std", "load_friction_2_mm", "load_friction_2_mm_std", "stations",
+    "residual_rms_Nmm",
+)  # fmt: skip
+#: A per-station split is reported when each station's standard deviation is below this fraction of the whole term
+#: (and the stations' load columns are not proportional: smallest to largest singular value of the unit-norm columns above 1e-6).
+STATION_SEPARABLE = 0.2
+_FITTED = ("hip_mu", "thrust_mu", "screw_coulomb", "screw_viscous")
+
+
+@dataclass(frozen=True, eq=False)
+class MonitorSetup:
+    """What every snapshot shares.
+
+    Attributes:
+        params: the identified reference machine.
+        lever_spin: the model's lever spin (as identification used; its file header says).
+        cutoff: the low-pass cutoff in [Hz] (None: signals already clean).
+        torque_constant: the motors' torque constant in [N·m/A], for logs of currents.
+        tolerance_deg: the attitude sensor's allowed disagreement with the encoders in [deg].
+        window: cycles per window of a long log, or None (one snapshot a file).
+    """
+
+    params: Parameters
+    lever_spin: bool = True
+    cutoff: float | None = DEFAULT_CUTOFF
+    torque_constant: float | None = None
+    tolerance_deg: float = DEFAULT_TOLERANCE_DEG
+    window: int | None = None
+
+    def __post_init__(self):
+        f = self.params.friction
+        if f.thrust_bearing_axial_only:
+            raise ParameterError("the monitor's load term r_h·μ_h + r_t·μ_t needs the thrust bearing's moment along ω "
+                                 "(friction.thrust_bearing_axial_only = false)", "friction.thrust_bearing_axial_only", True, self.params.source)
+        if not (f.hip_radius > 0):
+            raise ParameterError("the hip joint's friction radius must be positive to read its friction", "friction.hip_radius_mm",
+                                 f.hip_radius, self.params.source)
+
+    def fingerprints(self) -> dict[str, str]:
+        """The fingerprint of everything that determines an estimate, per part and whole (``"setup"``)."""
+        return part_fingerprints({
+            "parameters": self.params,
+            "model": {"lever_spin": self.lever_spin, "cutoff": self.cutoff, "torque_constant": self.torque_constant,
+                      "tolerance_deg": self.tolerance_deg},
+            "window": self.window,
+            "estimator": ESTIMATOR,
+        })  # fmt: skip
+
+
+def identified_file(path: str | Path) -> bool:
+    """The lever spin an identified parameter file was fitted with (True: on); refused when the file is not identified.
+
+    An identified file is recognised by an ``[identification]`` table or by the
+    comment header ``hipsim identify`` writes (``# Identified by hipsim identify``);
+    the lever spin is read from its ``# Model: … lever spin on|off`` line (default on).
+
+    Raises:
+        ParameterError: naming the file when it holds no identified values.
+    """
+    source = str(path)
+    try:
+        text = Path(path).read_text(encoding="utf-8-sig")
+    except OSError as error:
+        raise ParameterError(f"cannot read ({error.strerror})", source=source) from None
+    header = any(line.startswith("# Identified by hipsim identify") for line in text.splitlines())
+    try:
+        table = "identification" in tomllib.loads(text)
+    except tomllib.TOMLDecodeError:
+        table = False
+    if not (header or table):
+        raise ParameterError("holds no identified values (no [identification] table, no '# Identified by hipsim identify' header): "
+                             "the monitor holds the machine at identified values; run hipsim identify on a log of the rig first",
+                             source=source)  # fmt: skip
+    spin = re.search(r"^# Model: .*lever spin (on|off)", text, re.MULTILINE)
+    return spin is None or spin.group(1) == "on"
+
+
+def _load(setup: MonitorSetup, snapshot: Snapshot, folder: str) -> tuple[MeasuredLog, str]:
+    """The snapshot's log, and the file it was read from (a window is written to ``folder`` first)."""
+    text = snapshot_text(snapshot)
+    path = snapshot.path
+    if text is not None:
+        path = os.path.join(folder, f"{Path(snapshot.path).stem}_cycles_{snapshot.first_cycle}-{snapshot.last_cycle}.csv")
+        with open(path, "wb") as stream:
+            stream.write(text)
+    return load_log(path, setup.params, setup.torque_constant, setup.cutoff, setup.tolerance_deg), path
+
+
+def _rows(setup: MonitorSetup, log: MeasuredLog, loads: dict[str, np.ndarray] | None):
+    """The fit's rows, chunk by chunk: the fixed machine's torque, the fitted terms' columns, the measured torque, the rows to use.
+
+    The regressor's columns (:func:`hipsim.rig.regressor.log_rows`) of only what is fitted: by the model's
+    linearity in θ, the torque of every held parameter is the inverse dynamics of the machine with the fitted
+    coefficients at zero, and each fitted coefficient's column that of the machine whose only friction is that
+    coefficient at one (:func:`~hipsim.rig.quantities.friction_unit`, as the regressor builds it): five runs of the
+    model instead of the regressor's ten, filtered and decimated exactly as :func:`~hipsim.rig.regressor.log_rows`
+    does. With per-station loads, two more runs give each station's load column.
+
+    Yields:
+        fixed (m, 3), columns (m, 3, 4) of μ_h, μ_t, the screw's Coulomb and viscous coefficients, τ (m, 3),
+        use (m, 3) bool, stations (m, 3, 2) or None.
+    """
+    params = setup.params
+    held = params.replace(**{name: 0.0 for name in _FITTED})
+    units = [friction_unit(params, name) for name in _FITTED]
+    n, step = len(log), decimation(log)
+    first, stop = log.usable.start, log.usable.stop
+    margin = 0 if log.cutoff is None else minimum_samples(log.rate, log.cutoff)
+    use_all = ~reversal_mask(params, log)
+    chunk = max(step, CHUNK - CHUNK % step)  # whole decimation steps, as the regressor's rows
+    for a in range(first, stop, chunk):
+        b = min(a + chunk, stop)
+        lo, hi = max(0, a - margin), min(n, b + margin)
+        trajectory = log.trajectory.slice(slice(lo, hi))
+        kin = kinematics(params, trajectory)
+        parts = [inverse_dynamics(held, kin, trajectory.Fe, setup.lever_spin).total]
+        parts += [inverse_dynamics(unit, kin, trajectory.Fe, setup.lever_spin).friction for unit in units]
+        if loads is not None:
+            for name in STATION_LOADS:
+                Fe = loads[name]
+                if log.cutoff is not None:
+                    Fe = np.maximum(lowpass(Fe, log.rate, log.cutoff, log.name), 0.0)  # as the log's own load
+                parts.append(inverse_dynamics(units[0], kin, Fe[lo:hi], setup.lever_spin).friction / params.heights.size)
+        Y = np.stack(parts, axis=-1)
+        if log.cutoff is not None:
+            Y = lowpass(Y, log.rate, log.cutoff, log.name)
+        keep = np.arange(a, b, step)
+        Y = Y[keep - lo]
+        yield Y[:, :, 0], Y[:, :, 1:5], log.tau[keep], use_all[keep], (Y[:, :, 5:7] if loads is not None else None)
+
+
+def _solve(A: np.ndarray, y: np.ndarray, inflate: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Least squares with unit-norm columns: (estimate, standard deviations, residual); infinite deviations for dependent columns."""
+    norm = np.linalg.norm(A, axis=0)
+    norm = np.where(norm > 0, norm, 1.0)
+    An = A / norm
+    singular = np.linalg.svd(An, compute_uv=False)
+    if singular[-1] <= 1e-6 * singular[0]:
+        return np.full(A.shape[1], math.nan), np.full(A.shape[1], math.inf), np.full(A.shape[0], math.nan)
+    x, *_ = np.linalg.lstsq(An, y, rcond=None)
+    residual = y - An @ x
+    dof = max(A.shape[0] - A.shape[1], 1)
+    variance = float(residual @ residual) / dof * inflate
+    covariance = np.linalg.pinv(An.T @ An) * variance
+    return x / norm, np.sqrt(np.maximum(np.diag(covariance), 0.0)) / norm, residual
+
+
+def estimate(setup: MonitorSetup, snapshot: Snapshot) -> dict[str, Any]:
+    """One snapshot's row (:data:`ESTIMATE_COLUMNS`): the friction terms with standard deviations, in file units.
+
+    Raises:
+        TrajectoryError: the snapshot cannot be read (naming the file, line, column).
+        HipsimError: too few samples to estimate from.
+    """
+    params = setup.params
+    f = params.friction
+    weight = params.platform_mass * params.gravity
+    with tempfile.TemporaryDirectory(prefix="hipsim-monitor-") as folder:
+        log, path = _load(setup, snapshot, folder)
+        loads = read_columns(path, STATION_LOADS) if params.heights.size == 2 else None
+    blocks = list(_rows(setup, log, loads))
+    fixed = np.concatenate([b[0] for b in blocks])
+    Y = np.concatenate([b[1] for b in blocks])
+    tau = np.concatenate([b[2] for b in blocks])
+    use = np.concatenate([b[3] for b in blocks])
+    stations = np.concatenate([b[4] for b in blocks]) if loads is not None else None
+    load_column = Y[:, :, 0] / f.hip_radius
+    columns = [load_column]
+    if weight > 0 and f.thrust_radius > 0:
+        columns.append((Y[:, :, 1] / f.thrust_radius - load_column) / weight)
+    columns += [Y[:, :, 2], Y[:, :, 3]]
+    target = tau - fixed
+    if int(use.sum()) <= len(columns) + 2:
+        raise HipsimError(f"{snapshot.name}: {int(use.sum())} samples left after the filter's edges and the reversals: too few to estimate from")
+    A = np.stack(columns, axis=-1)[use]
+    x, std, residual = _solve(A, target[use], inflation(log))
+    has_weight = len(columns) == 4
+    values = dict(zip(("a", "b", "sc", "sv") if has_weight else ("a", "sc", "sv"), zip(x.tolist(), std.tolist())))
+    values.setdefault("b", (math.nan, math.nan))
+    row: dict[str, Any] = {
+        "cycle": snapshot.first_cycle, "last_cycle": snapshot.last_cycle, "file": snapshot.name, "samples": len(log),
+        "load_friction_mm": values["a"][0] * 1e3, "load_friction_mm_std": values["a"][1] * 1e3,
+        "weight_friction_Nmm": values["b"][0] * 1e3, "weight_friction_Nmm_std": values["b"][1] * 1e3,
+        "screw_coulomb_Nmm": values["sc"][0] * 1e3, "screw_coulomb_Nmm_std": values["sc"][1] * 1e3,
+        "screw_viscous_Nmm_s_rad": values["sv"][0] * 1e3, "screw_viscous_Nmm_s_rad_std": values["sv"][1] * 1e3,
+        "residual_rms_Nmm": math.sqrt(float(residual @ residual) / residual.size) * 1e3,
+    }  # fmt: skip
+    row |= _stations(setup, stations, use, columns, target, values["a"][0], inflation(log))
+    return row
+
+
+def _stations(setup, stations, use, columns, target, whole, inflate) -> dict[str, Any]:
+    """The per-station split of the load term, or why there is none."""
+    out: dict[str, Any] = {f"load_friction_{p}_mm{s}": math.nan for p in (1, 2) for s in ("", "_std")}
+    if stations is None:
+        out["stations"] = "not logged" if setup.params.heights.size == 2 else "one station"
+        return out
+    A = np.concatenate([stations / setup.params.friction.hip_radius, np.stack(columns[1:], axis=-1)], axis=-1)[use]
+    x, std, _ = _solve(A, target[use], inflate)
+    if not np.all(std[:2] < STATION_SEPARABLE * abs(whole)):
+        out["stations"] = ("not separable: the two stations' loads are proportional" if np.isinf(std[0]) else
+                           f"not separable: the two stations' loads vary too much alike (standard deviation over {STATION_SEPARABLE:.0%} of the term)")
+        return out
+    for p in range(2):
+        out[f"load_friction_{p + 1}_mm"], out[f"load_friction_{p + 1}_mm_std"] = float(x[p]) * 1e3, float(std[p]) * 1e3
+    out["stations"] = "separated"
+    return out
+
+
+def estimate_batch(batch: list[Snapshot], setup: MonitorSetup) -> list[tuple[str, Any]]:
+    """The rows of a batch of snapshots: ("row", row) pairs, or ("error", message) for a snapshot that cannot be read.
+
+    The task each worker runs; errors come back as text so that every kind pickles.
+    """
+    out: list[tuple[str, Any]] = []
+    for snapshot in batch:
+        try:
+            out.append(("row", estimate(setup, snapshot)))
+        except HipsimError as error:
+            out.append(("error", str(error)))
+    return out
+
+
+def reference(path: str | Path | None, params: Parameters | None = None) -> tuple[Parameters, bool]:
+    """The reference machine and its lever spin from an identified parameter file (checked, :func:`identified_file`)."""
+    if params is not None:
+        return params, True
+    spin = identified_file(path)
+    return load_parameters(path), spin

@@ -1,0 +1,85 @@
+"""Synthetic snapshots of a wear test, made by the analytic model (hipsim.analysis.analyse), not by the monitor's regressor.
+
+The hip friction coefficient follows a known curve over the test's cycles
+(running-in decay, a slow rise, and optionally a step); each snapshot is a few
+ISO 14242-1 cycles of that machine's motor torques, with noise as on a rig
+(3 N·mm on the torques, 0.003° on the angles) and the cycle counter.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+import hipsim
+from hipsim.motion.trajectories import Trajectory
+
+__all__ = ["MU0", "hip_mu", "write_snapshot", "write_test"]
+
+#: The published machine's hip friction coefficient, the curve's level after running-in.
+MU0 = 0.095
+
+
+def hip_mu(cycle: float, step_at: float | None = None, step: float = 0.0) -> float:
+    """μ_h at a cycle: running-in (+0.02 decaying over 150,000 cycles), a slow rise (+0.002 per million), a step."""
+    value = MU0 + 0.02 * np.exp(-cycle / 150_000.0) + 0.002 * cycle / 1e6
+    if step_at is not None and cycle >= step_at:
+        value += step
+    return float(value)
+
+
+def write_snapshot(path: Path, params, mu: float, first_cycle: int, rng, cycles: int = 3, rate: float = 250.0,
+                   torque_noise_Nmm: float = 3.0, angle_noise_deg: float = 0.003, station_loads: tuple[float, float] | None = None,
+                   station_mu: tuple[float, float] | None = None, cycle_column: bool = True) -> Path:
+    """One snapshot: ``cycles`` ISO cycles of the machine with μ_h = ``mu``, torques and angles noisy, the counter from ``first_cycle``.
+
+    With ``station_loads`` = (s1, s2) the stations carry Fe·s1 and Fe·(s2 + 0.3·sin) (their loads differ in shape),
+    logged as Fe_1_N and Fe_2_N, each station with its own μ_h (``station_mu``, default ``mu`` for both); the
+    machine's torque is then the sum of each station's half (the model counts both platforms alike).
+    """
+    trajectory = hipsim.iso14242(rate=rate, cycles=cycles)
+    machine = params.replace(hip_mu=mu)
+    if station_loads is None:
+        tau = hipsim.analyse(machine, trajectory, lever_spin=True).torques.total
+        extra = {}
+    else:
+        phase = 2 * np.pi * trajectory.t
+        loads = (trajectory.Fe * station_loads[0], trajectory.Fe * (station_loads[1] + 0.3 * np.sin(phase)))
+        tau = np.zeros((len(trajectory), 3))
+        for load, each_mu in zip(loads, station_mu or (mu, mu)):
+            each = Trajectory(trajectory.t, trajectory.q, trajectory.qd, trajectory.qdd, load, name="station")
+            tau += 0.5 * hipsim.analyse(params.replace(hip_mu=each_mu), each, lever_spin=True).torques.total
+        extra = {"Fe_1_N": loads[0], "Fe_2_N": loads[1]}
+        trajectory = Trajectory(trajectory.t, trajectory.q, trajectory.qd, trajectory.qdd, 0.5 * (loads[0] + loads[1]))  # Fe_N: the mean
+    columns = {"t_s": trajectory.t}
+    if cycle_column:
+        columns["cycle"] = first_cycle + np.floor(trajectory.t * 1.0).astype(int)
+    columns["Fe_N"] = trajectory.Fe
+    noisy = tau * 1e3 + rng.normal(0.0, torque_noise_Nmm, tau.shape)
+    for i in range(3):
+        columns[f"tau_{i + 1}_Nmm"] = noisy[:, i]
+    angles = np.degrees(trajectory.q) + rng.normal(0.0, angle_noise_deg, trajectory.q.shape)
+    for k, name in enumerate(("alpha", "beta", "gamma")):
+        columns[f"{name}_deg"] = angles[:, k]
+    columns |= extra
+    names = list(columns)
+    data = np.column_stack([columns[name] for name in names])
+    with open(path, "w", encoding="utf-8") as stream:
+        stream.write(",".join(names) + "\n")
+        for row in data:
+            stream.write(",".join(f"{v:.0f}" if name == "cycle" else f"{v:.10g}" for name, v in zip(names, row)) + "\n")
+    return path
+
+
+def write_test(folder: Path, params, every: int = 250_000, last: int = 3_000_000, step_at: float | None = None,
+               step: float = 0.0, seed: int = 7, **options) -> dict[int, float]:
+    """A test's snapshots every ``every`` cycles up to ``last``: {first cycle: true μ_h}."""
+    folder.mkdir(parents=True, exist_ok=True)
+    rng = np.random.default_rng(seed)
+    truth = {}
+    for cycle in range(0, last + 1, every):
+        mu = hip_mu(cycle, step_at, step)
+        write_snapshot(folder / f"snap_{cycle:08d}.csv", params, mu, cycle, rng, **options)
+        truth[cycle] = mu
+    return truth
