@@ -271,6 +271,7 @@ class RigLogFile:
         has_currents = _group(CURRENT_COLUMNS, header, "current", source, header_line)
         if has_torques:
             self._torque_names, self._scale, self.torque_from = TORQUE_COLUMNS, 1e-3, "torques"
+            self.torque_constant = None
         elif has_currents:
             if torque_constant is None:
                 raise TrajectoryError(
@@ -280,6 +281,7 @@ class RigLogFile:
             if isinstance(torque_constant, bool) or not (isinstance(torque_constant, (int, float)) and math.isfinite(torque_constant) and torque_constant > 0):
                 raise TrajectoryError(f"the torque constant must be a positive number in N·m/A, got {torque_constant!r}", source=source)
             self._torque_names, self._scale, self.torque_from = CURRENT_COLUMNS, float(torque_constant), "currents"
+            self.torque_constant = float(torque_constant)
         else:
             close = [c for c in header if difflib.get_close_matches(c, TORQUE_COLUMNS + CURRENT_COLUMNS, n=1, cutoff=0.7)]
             hint = f" (the file has {', '.join(repr(c) for c in close)}: check the names and units)" if close else ""
