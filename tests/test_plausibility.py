@@ -101,3 +101,48 @@ def test_the_check_can_be_turned_off(run, tmp_path, capsys):
     capsys.readouterr()
     with pytest.raises(TrajectoryError, match="1/1000"):
         check_log(hipsim.load_parameters(), load_log(log))
+
+
+# --- Tab- and semicolon-separated rig logs with decimal commas: read as the comma file, to the last digit ------------
+
+from hipsim.rig import compare, identify  # noqa: E402
+from hipsim.rig.quantities import standard_values  # noqa: E402
+
+
+def _without_names(document):
+    if isinstance(document, dict):
+        return {k: _without_names(v) for k, v in document.items() if k not in ("log", "provenance")}
+    if isinstance(document, list):
+        return [_without_names(v) for v in document]
+    return document
+
+
+def test_tab_and_semicolon_logs_give_the_comma_files_results(run, tmp_path, capsys):
+    import json
+
+    params = hipsim.load_parameters()
+    files = {
+        "comma": write(tmp_path / "comma.csv", run),
+        "tab": write(tmp_path / "tab.tsv", run, separator="\t", decimal_comma=True),
+        "semicolon": write(tmp_path / "semicolon.csv", run, separator=";", decimal_comma=True),
+    }
+    assert "\t" in files["tab"].read_text() and "," in files["tab"].read_text().splitlines()[1]
+    logs = {name: load_log(path, params) for name, path in files.items()}
+    for name in ("tab", "semicolon"):
+        np.testing.assert_array_equal(logs[name].tau, logs["comma"].tau)
+        np.testing.assert_array_equal(logs[name].trajectory.q, logs["comma"].trajectory.q)
+        assert compare(params, logs[name]).summary()["motors"] == compare(params, logs["comma"]).summary()["motors"]
+    fits = {name: identify([log], params) for name, log in logs.items()}
+    for name in ("tab", "semicolon"):
+        a, b = fits[name], fits["comma"]
+        np.testing.assert_array_equal([q.value for q in a.quantities], [q.value for q in b.quantities])
+        np.testing.assert_array_equal([q.std for q in a.quantities], [q.std for q in b.quantities])
+        np.testing.assert_array_equal(standard_values(a.params), standard_values(b.params))
+        np.testing.assert_array_equal(a.residual_rms, b.residual_rms)
+    # The command: the same comparison.json but for the log's name and hashes.
+    documents = {}
+    for name, path in files.items():
+        assert main(["compare", "--log", str(path), "--out", str(tmp_path / name)]) == 0
+        documents[name] = _without_names(json.loads((tmp_path / name / "comparison.json").read_text()))
+    capsys.readouterr()
+    assert documents["tab"] == documents["comma"] and documents["semicolon"] == documents["comma"]
