@@ -158,8 +158,8 @@ def run_compare(args) -> int:
     if args.accept is not None and not (math.isfinite(args.accept) and args.accept > 0):
         raise HipsimError(f"--accept: expected a positive percentage, got {args.accept!r}")
     check_folder(Path(args.out))  # a bad folder is refused before the work
-    provenance = page_provenance(args, log=args.log)  # hashed before the work: the log as it was read
     with _pieces(args.log, params, args) as log:  # in pieces: memory does not grow with the log
+        provenance = page_provenance(args, log=args.log)  # hashed before the work (once the log is known to be there): the log as it was read
         _plausible(log, params, args)  # a unit slip refused before the comparison
         comparison = compare_log(params, log, lever_spin=not args.spin_free_levers, period=args.period, progress=progress("compare"))
     files = write_comparison(args.out, comparison, provenance=provenance, accept=None if args.accept is None else args.accept / 100)

@@ -107,15 +107,17 @@ def read_toml(path: str | Path, what: str = "parameter file") -> dict[str, Any]:
         with open(path, "rb") as stream:
             data = stream.read()
         # Some editors start UTF-8 files with a byte-order mark, which TOML does not allow.
-        return tomllib.loads(data.removeprefix(codecs.BOM_UTF8).decode("utf-8"))
+        data = data.removeprefix(codecs.BOM_UTF8)
+        return tomllib.loads(data.decode("utf-8"))
     except FileNotFoundError:
         raise ParameterError(f"no such {what}", source=source) from None
     except IsADirectoryError:
         raise ParameterError(f"is a folder, not a {what}", source=source) from None
     except OSError as error:
         raise ParameterError(f"cannot read ({error.strerror})", source=source) from None
-    except UnicodeDecodeError:
-        raise ParameterError("not a UTF-8 text file", source=source) from None
+    except UnicodeDecodeError as error:  # a Latin-1 "é" in a comment, say: the line to look at
+        line = data.count(b"\n", 0, error.start) + 1
+        raise ParameterError(f"line {line}: not UTF-8 text (byte 0x{data[error.start]:02x}); save the file as UTF-8", source=source) from None
     except tomllib.TOMLDecodeError as error:
         raise ParameterError(f"not valid TOML ({error})", source=source) from None
 
@@ -269,6 +271,7 @@ def _check(raw: Mapping[str, Any], source: str) -> dict[str, Any]:
                 known = ", ".join(SCHEMA[section])
                 raise ParameterError(f"unknown key (known in [{section}]: {known})", key=f"{section}.{key}", source=source)
     values = {}
+    missing = []
     for section, keys in SCHEMA.items():
         for key, spec in keys.items():
             dotted = f"{section}.{key}"
@@ -278,8 +281,14 @@ def _check(raw: Mapping[str, Any], source: str) -> dict[str, Any]:
                 if spec.default is not None:
                     values[dotted] = spec.default
                     continue
-                raise ParameterError(f"missing ({spec.meaning}, in {spec.unit or 'no unit'})", key=dotted, source=source)
+                missing.append((dotted, spec))
+                continue
             values[dotted] = _convert(raw[section][key], spec, dotted, source)
+    # A wrong value first (a negative lever length is the file's problem, not the keys it leaves out), then the first missing key.
+    if missing:
+        dotted, spec = missing[0]
+        more = f" (and {len(missing) - 1} more keys: start from the file `hipsim params` prints)" if len(missing) > 1 else ""
+        raise ParameterError(f"missing ({spec.meaning}, in {spec.unit or 'no unit'}){more}", key=dotted, source=source)
     return values
 
 

@@ -268,7 +268,8 @@ class RigLogFile:
         elif has_currents:
             if torque_constant is None:
                 raise TrajectoryError(
-                    "the log gives motor currents (current_1_A …) but no torque constant in N·m/A was given to turn them into torques",
+                    "the log gives motor currents (current_1_A …) but no torque constant in N·m/A was given to turn them into torques: "
+                    "give --torque-constant NM_PER_A (torque_constant= in Python)",
                     source=source,
                 )
             if isinstance(torque_constant, bool) or not (isinstance(torque_constant, (int, float)) and math.isfinite(torque_constant) and torque_constant > 0):
