@@ -77,10 +77,20 @@ def print_json(document, stream=None) -> None:
 
 def parameters(args):
     """The parameter set the machine options ask for: ``--params`` (or the published machine) with the ``--set`` overrides."""
-    from ..machine.parameters import load_parameters, parse_override
+    import warnings
+
+    from ..machine.parameters import ParameterWarning, load_parameters, parse_override
 
     overrides = dict(parse_override(text, source="--set") for text in args.overrides)
-    return load_parameters(args.params, overrides, overrides_source="--set")
+    with warnings.catch_warnings(record=True) as caught:  # a value outside its plausible range: one line each
+        warnings.simplefilter("always", ParameterWarning)
+        params = load_parameters(args.params, overrides, overrides_source="--set")
+    for warning in caught:
+        if issubclass(warning.category, ParameterWarning):
+            print(f"hipsim: warning: {warning.message}", file=sys.stderr)
+        else:
+            warnings.showwarning(warning.message, warning.category, warning.filename, warning.lineno)
+    return params
 
 
 def numbers(text: str, separator: str, option: str, expected: str, count: int | None = None) -> list[float]:

@@ -36,6 +36,9 @@ def _add_log_options(parser: argparse.ArgumentParser) -> None:
                        help=f"largest disagreement of attitude sensor and encoders when a log has both (default {DEFAULT_TOLERANCE_DEG:g}°)")
     group.add_argument("--spin-free-levers", action="store_true",
                        help="the spec's levers without the universal joints' spin (default: with it, as real joints move)")
+    group.add_argument("--no-plausibility-check", dest="plausibility_check", action="store_false",
+                       help="skip the check of each logged signal against what the machine produces (a factor of ~1000 "
+                       "or ~57, a unit slip, is otherwise an error); for the rare log that is right")
 
 
 def add_parser(subparsers) -> None:
@@ -129,6 +132,25 @@ def _pieces(path: str, params, args):
     return LogPieces(path, params, torque_constant=args.torque_constant, cutoff=_cutoff(args), tolerance_deg=args.tolerance)
 
 
+def _plausible(log, params, args) -> None:
+    """The log's signals against the machine's (:func:`hipsim.rig.plausibility.check_log`): a unit slip raised, warnings printed."""
+    if not args.plausibility_check:
+        return
+    from ..rig.plausibility import check_log
+
+    for warning in check_log(params, log, lever_spin=not args.spin_free_levers, torque_constant=args.torque_constant):
+        print(f"hipsim: warning: {warning}", file=sys.stderr)
+
+
+def _check_logs(args, params) -> None:
+    """Each ``--log`` and ``--validate`` file checked by :func:`_plausible` before any fit (each read once more)."""
+    if not args.plausibility_check:
+        return
+    for path in [*args.log, *getattr(args, "validate", [])]:
+        with _pieces(path, params, args) as log:
+            _plausible(log, params, args)
+
+
 def run_compare(args) -> int:
     """Compare the model with ``--log``: write the figures, page and JSON to ``--out`` and print the errors; exit status 0."""
     from ..rig.compare import compare_log
@@ -140,8 +162,9 @@ def run_compare(args) -> int:
         raise HipsimError(f"--accept: expected a positive percentage, got {args.accept!r}")
     _check_log_options(args)
     check_folder(Path(args.out))  # a bad folder is refused before the work
-    provenance = page_provenance(args, log=args.log)  # hashed before the work: the log as it was read
     with _pieces(args.log, params, args) as log:  # in pieces: memory does not grow with the log
+        provenance = page_provenance(args, log=args.log)  # hashed before the work (once the log is known to be there): the log as it was read
+        _plausible(log, params, args)  # a unit slip refused before the comparison
         comparison = compare_log(params, log, lever_spin=not args.spin_free_levers, period=args.period, progress=progress("compare"))
     files = write_comparison(args.out, comparison, provenance=provenance, accept=None if args.accept is None else args.accept / 100)
     summary = comparison.summary()
@@ -212,6 +235,7 @@ def run_identify(args) -> int:
         raise HipsimError(f"--out {args.out}: expected a .toml parameter file name")
     _check_log_options(args)
     params = parameters(args)
+    _check_logs(args, params)  # a unit slip in a log refused before the fit (hipsim.rig.plausibility)
     _not_an_input(args.out, [*args.log, *args.validate, args.params or ""], "--out")
     if args.json:
         _not_an_input(args.json, [*args.log, *args.validate, args.params or "", args.out], "--json")

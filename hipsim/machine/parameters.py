@@ -21,6 +21,7 @@ import codecs
 import dataclasses
 import difflib
 import tomllib
+import warnings
 from importlib import resources
 from pathlib import Path
 from types import MappingProxyType
@@ -30,7 +31,7 @@ import numpy as np
 
 from ..exceptions import ParameterError
 from .parameter_set import ControlSettings, Friction, Parameters, slender_levers
-from .schema import OPTIONAL_SECTIONS, SCHEMA, Key
+from .schema import OPTIONAL_SECTIONS, SCHEMA, Key, plausible_ranges
 
 __all__ = [
     "ATTRIBUTES",
@@ -38,17 +39,28 @@ __all__ = [
     "Friction",
     "Parameters",
     "OPTIONAL_SECTIONS",
+    "ParameterWarning",
     "SCHEMA",
     "check_entry",
     "default_parameters_path",
     "file_values",
     "check_key",
+    "implausible",
+    "implausible_message",
     "load_parameters",
     "override_parameters",
     "parse_override",
     "read_toml",
     "slender_levers",
 ]
+
+
+class ParameterWarning(UserWarning):
+    """A parameter outside its plausible range for this class of machine (:func:`implausible`): loaded, but likely a slip.
+
+    The command line prints it as ``hipsim: warning: …``; in Python, turn it
+    into an error with ``warnings.simplefilter("error", ParameterWarning)``.
+    """
 
 
 def default_parameters_path() -> Path:
@@ -95,15 +107,17 @@ def read_toml(path: str | Path, what: str = "parameter file") -> dict[str, Any]:
         with open(path, "rb") as stream:
             data = stream.read()
         # Some editors start UTF-8 files with a byte-order mark, which TOML does not allow.
-        return tomllib.loads(data.removeprefix(codecs.BOM_UTF8).decode("utf-8"))
+        data = data.removeprefix(codecs.BOM_UTF8)
+        return tomllib.loads(data.decode("utf-8"))
     except FileNotFoundError:
         raise ParameterError(f"no such {what}", source=source) from None
     except IsADirectoryError:
         raise ParameterError(f"is a folder, not a {what}", source=source) from None
     except OSError as error:
         raise ParameterError(f"cannot read ({error.strerror})", source=source) from None
-    except UnicodeDecodeError:
-        raise ParameterError("not a UTF-8 text file", source=source) from None
+    except UnicodeDecodeError as error:  # a Latin-1 "é" in a comment, say: the line to look at
+        line = data.count(b"\n", 0, error.start) + 1
+        raise ParameterError(f"line {line}: not UTF-8 text (byte 0x{data[error.start]:02x}); save the file as UTF-8", source=source) from None
     except tomllib.TOMLDecodeError as error:
         raise ParameterError(f"not valid TOML ({error})", source=source) from None
 
@@ -151,7 +165,50 @@ def load_parameters(
         raw[section][key] = value
     if overrides:
         source += " with " + ", ".join(f"{k}={v}" for k, v in overrides.items())
-    return _build(_check(raw, source), source)
+    params = _build(_check(raw, source), source)
+    for key, value, (low, high) in implausible(params):
+        warnings.warn(implausible_message(key, value, (low, high), source), ParameterWarning, stacklevel=2)
+    return params
+
+
+def implausible(params: Parameters) -> list[tuple[str, Any, tuple[float, float]]]:
+    """The parameters outside their plausible range for this class of machine (:attr:`hipsim.machine.schema.Key.plausible`).
+
+    A vector is outside when one of its elements is; an inertia when one of its diagonal elements is.
+    Zero is plausible for a mass, an inertia and any key that may be zero
+    (:attr:`~hipsim.machine.schema.Key.bound` "nonnegative"): a part left out of the model.
+
+    Args:
+        params: the machine.
+
+    Returns:
+        (dotted key, value in the file's unit, (low, high) in the file's unit), in the file's order; empty when all are plausible.
+    """
+    values = file_values(params)
+    out = []
+    for key, (low, high, _) in plausible_ranges().items():
+        if key not in values:
+            continue  # an optional [motor] key the machine does not have
+        numbers = np.asarray(values[key], dtype=float)
+        if numbers.ndim == 2:
+            numbers = np.diag(numbers)
+        section, _, name = key.partition(".")
+        spec = SCHEMA[section][name]
+        off = (numbers == 0) & (spec.bound == "nonnegative" or spec.kind == "inertia")  # a part left out of the model
+        if np.any(((numbers < low) | (numbers > high)) & ~off):
+            out.append((key, values[key], (low, high)))
+    return out
+
+
+def implausible_message(key: str, value: Any, plausible: tuple[float, float], source: str | None = None) -> str:
+    """One line naming an implausible parameter, its value and its range (for :class:`ParameterWarning` and callers that refuse)."""
+    section, _, name = key.partition(".")
+    unit = SCHEMA[section][name].unit
+    shown = f"{value:g}" if isinstance(value, float) else str(value)
+    low, high = plausible
+    where = f"{source}: " if source else ""
+    return (f"{where}key '{key}' = {shown}{' ' + unit if unit else ''} is outside the plausible range {low:g} to {high:g}"
+            f"{' ' + unit if unit else ''} for this class of machine (a unit slip?)")
 
 
 def check_key(dotted: str, source: str = "overrides") -> tuple[str, str]:
@@ -216,6 +273,7 @@ def _check(raw: Mapping[str, Any], source: str) -> dict[str, Any]:
                 known = ", ".join(SCHEMA[section])
                 raise ParameterError(f"unknown key (known in [{section}]: {known})", key=f"{section}.{key}", source=source)
     values = {}
+    missing = []
     for section, keys in SCHEMA.items():
         for key, spec in keys.items():
             dotted = f"{section}.{key}"
@@ -225,8 +283,14 @@ def _check(raw: Mapping[str, Any], source: str) -> dict[str, Any]:
                 if spec.default is not None:
                     values[dotted] = spec.default
                     continue
-                raise ParameterError(f"missing ({spec.meaning}, in {spec.unit or 'no unit'})", key=dotted, source=source)
+                missing.append((dotted, spec))
+                continue
             values[dotted] = _convert(raw[section][key], spec, dotted, source)
+    # A wrong value first (a negative lever length is the file's problem, not the keys it leaves out), then the first missing key.
+    if missing:
+        dotted, spec = missing[0]
+        more = f" (and {len(missing) - 1} more keys: start from the file `hipsim params` prints)" if len(missing) > 1 else ""
+        raise ParameterError(f"missing ({spec.meaning}, in {spec.unit or 'no unit'}){more}", key=dotted, source=source)
     return values
 
 

@@ -46,7 +46,7 @@ import numpy as np
 from scipy.interpolate import make_interp_spline
 
 from ..exceptions import TrajectoryError
-from .columns import ColumnMap
+from .columns import ColumnMap, stated_unit
 from .filtering import lowpass_record
 from .hip_angles import hip_to_machine
 from .noise_check import check_noise
@@ -311,10 +311,15 @@ def _load(table: Table, body_weight: float | None, source: str, lines: np.ndarra
         if body_weight is not None:
             raise TrajectoryError("a body weight was given, but no load column", source=source)
         return np.zeros(table.time.size)
+    if column.unit is None and body_weight is None and stated_unit(column.name, "load") in ("%BW", "kN"):
+        stated = stated_unit(column.name, "load")
+        hint = "give the body weight (--body-weight, in kg or N)" if stated == "%BW" else f"map it with its unit, load={column.name}:kN"
+        raise TrajectoryError(f"the load column's name says {stated}, but it would be read as N: {hint}", source=source, column=column.name)
     unit = column.unit or ("%BW" if body_weight is not None else "N")
     if unit == "%BW":
         if body_weight is None:
-            raise TrajectoryError("the load is in % body weight: give the body weight", source=source, column=column.name)
+            raise TrajectoryError("the load is in % body weight: give the body weight (--body-weight, in kg or N)", source=source,
+                                  column=column.name)
         scale = body_weight / 100.0
     else:
         if body_weight is not None:

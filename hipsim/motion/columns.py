@@ -9,6 +9,7 @@ their names.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from typing import Mapping
 
@@ -26,6 +27,7 @@ __all__ = [
     "as_load_column",
     "column_options",
     "parse_columns",
+    "stated_unit",
 ]
 
 #: The column name that stands for an angle the file does not have: 0 throughout.
@@ -42,6 +44,27 @@ UNITS = {
 }
 #: Each unit by its spelling in lower case, for reading units case-blind.
 UNIT_SPELLINGS = {unit.lower(): unit for units in UNITS.values() for unit in units}
+
+
+#: Spellings of % body weight in a column's name.
+_BODY_WEIGHT = {"%bw": "%BW", "bw%": "%BW", "%body weight": "%BW", "%bodyweight": "%BW", "°": "deg"}
+
+
+def stated_unit(name: str, key: str) -> str | None:
+    """The unit a column's name states for quantity ``key`` (``Fz [kN]``, ``Fz (%BW)``, ``Fz_%BW``, ``Load %BW``), or None.
+
+    Only units of the quantity (:data:`UNITS`) count: ``[N]`` for a load, not for an angle.
+    """
+    match = re.search(r"[\[(]\s*([^\])]+?)\s*[\])]", name)
+    if match:
+        spelled = re.sub(r"\s+", "", match.group(1)).lower()
+    else:  # a unit after the last underscore or space: Fz_%BW, Load %BW, Fz_kN
+        parts = re.split(r"[_\s]+", name.strip())
+        spelled = parts[-1].lower() if len(parts) > 1 else ""
+        if spelled in ("bw", "%"):  # Fz_% BW, Fz %_BW
+            spelled = "".join(parts[-2:]).lower()
+    unit = _BODY_WEIGHT.get(spelled, UNIT_SPELLINGS.get(spelled))
+    return unit if unit in UNITS[key] else None
 
 
 @dataclass(frozen=True)

@@ -12,7 +12,7 @@ from __future__ import annotations
 import re
 
 from ..exceptions import TrajectoryError
-from .columns import HIP_ANGLE_NAMES, UNIT_SPELLINGS, UNITS, Column, ColumnMap
+from .columns import HIP_ANGLE_NAMES, UNITS, Column, ColumnMap, stated_unit
 from .trajectories import ANGLE_NAMES
 
 __all__ = ["suggest_mapping", "table_columns"]
@@ -86,9 +86,7 @@ def suggest_mapping(header: list[str]) -> str:
 
 def _unit_hint(key: str, name: str) -> str:
     """``:UNIT`` for a column whose name states a unit other than the default (``Fz [kN]`` → ``:kN``), else ''."""
-    match = re.search(r"[\[(]\s*([^\])]+?)\s*[\])]", name)
-    spelled = re.sub(r"\s+", "", match.group(1)).lower() if match else ("%" if "%" in name and key == "time" else "")
-    unit = {"%bw": "%BW", "bw%": "%BW", "%body weight": "%BW", "°": "deg"}.get(spelled, UNIT_SPELLINGS.get(spelled))
+    unit = "%" if key == "time" and "%" in name and not re.search(r"[\[(]", name) else stated_unit(name, key)
     return f":{unit}" if unit in UNITS[key][1:] else ""
 
 

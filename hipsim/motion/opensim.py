@@ -110,6 +110,13 @@ def _read(source: str, path, suffix: str, load: Column | None, mapping: ColumnMa
     while labels and not labels[-1]:  # a trailing tab
         labels.pop()
     data = body[1:]
+    by_comma = [label.strip() for label in label_text.split(",")]
+    if len(by_comma) > len(labels) and len(by_comma) >= 2 and all(by_comma):
+        raise TrajectoryError(
+            f"the labels are separated by commas ({len(by_comma)} of them): a .mot/.sto file is tab- or space-separated, "
+            "as OpenSim writes it; save it with tabs, or as a .csv read with --columns",
+            source=source, line=label_line,
+        )
     # OpenSim writes such headers itself (its tutorials' crouch2.mot): the data win, with a warning.
     if columns_declared is not None and columns_declared[1] != len(labels):
         warnings.warn(
@@ -223,7 +230,8 @@ def _find(labels: list[str], names: tuple[str, ...], what: str, source: str, lin
     hips = [label for label in labels if "hip_" in label.lower()]
     found = f"its hip columns are {', '.join(hips[:6])}" if hips else f"its columns are {', '.join(labels[:8])}" + (" …" if len(labels) > 8 else "")
     other = name[:-2] + ("_l" if name.endswith("_r") else "_r")
-    hint = " (the other hip's are there: choose that side?)" if any(label == other or label.endswith(f"/{other}/value") for label in labels) else ""
+    side = "left" if other.endswith("_l") else "right"
+    hint = f" (the other hip's are there: read them with --side {side}, side=\"{side}\" in Python)" if any(label == other or label.endswith(f"/{other}/value") for label in labels) else ""
     flexion = f"hip_flexion{name[-2:]}"
     if not hint and name.startswith(("hip_adduction", "hip_rotation")) and flexion in labels:
         hint = f" (a planar model? read it with --columns time=time,flexion={flexion},adduction=zero,rotation=zero)"

@@ -1,6 +1,7 @@
 """The rig-log reader: a CSV file scanned once, every value checked, its samples in SI units.
 
-A rig log is a CSV file, read with the rules of trajectory files (header with
+A rig log is a table read with the rules of trajectory files (:mod:`hipsim.tables`: comma, tab or
+``;`` separated, decimal commas in tab- or ``;``-separated files, ``#`` comments and blank lines skipped; header with
 units, evenly spaced ``t_s``, a clear error naming the file, line and column):
 
 - ``t_s`` and ``Fe_N`` (the measured load);
@@ -27,8 +28,9 @@ import io
 import math
 import tempfile
 from dataclasses import dataclass
-from itertools import islice
+from itertools import chain, islice
 from pathlib import Path
+from typing import Iterator
 
 import numpy as np
 
@@ -36,6 +38,8 @@ from ..arrays import check_shapes
 from ..exceptions import TrajectoryError
 from ..motion.build import MAX_LOAD, check_time
 from ..motion.trajectories import ANGLE_NAMES
+from ..tables import blank, cells, detect_separator, open_text, text_lines
+from ..tables import number as parse_number
 
 __all__ = ["CURRENT_COLUMNS", "HEIGHT_COLUMNS", "TORQUE_COLUMNS", "RigLog", "RigLogFile", "read_rig_log"]
 
@@ -95,74 +99,63 @@ class RigLog:
 # --- The reader -----------------------------------------------------------------------------
 
 
-def _open(path: str | Path):
-    source = str(path)
-    try:
-        return open(path, encoding="utf-8-sig", newline="")  # utf-8-sig: spreadsheets add a byte-order mark
-    except FileNotFoundError:
-        raise TrajectoryError("no such log file", source=source) from None
-    except IsADirectoryError:
-        raise TrajectoryError("is a folder, not a log file", source=source) from None
-    except OSError as error:
-        raise TrajectoryError(f"cannot read ({error.strerror})", source=source) from None
-
-
-def _lines(stream, source: str):
-    """The stream's lines, a decoding error named as the file's."""
-    try:
-        yield from stream
-    except UnicodeDecodeError:
-        raise TrajectoryError("not a text (UTF-8) CSV file", source=source) from None
-
-
-def _blank(line: str) -> bool:
-    return not line.strip(" \t\r\n,")
-
-
-def _header(lines, source: str) -> tuple[list[str], int]:
-    """The header (the first line with anything on it) and its line number; a repeated name refused."""
+def _data_lines(lines) -> Iterator[tuple[int, str]]:
+    """(1-based line number, line) of the lines that hold something: blank lines and ``#`` comments skipped (as in a trajectory file)."""
     for number, line in enumerate(lines, start=1):
-        if not _blank(line):
-            break
-    else:
+        if not blank(line) and not line.lstrip().startswith("#"):
+            yield number, line
+
+
+def _header(rows, source: str) -> tuple[list[str], int, str, tuple[int, str] | None]:
+    """The header, its line number, the separator and the first row (tab, ';' or ',': :func:`hipsim.tables.detect_separator`); a repeated name refused."""
+    first = next(rows, None)
+    if first is None:
         raise TrajectoryError("the file is empty", source=source)
-    header = [cell.strip() for cell in line.rstrip("\r\n").split(",")]
+    number, text = first
+    row = next(rows, None)
+    try:
+        separator = detect_separator(text, row[1] if row is not None else None)
+        header = [cell.strip() for cell in cells(text.rstrip("\r\n"), separator, 0)]
+    except ValueError as error:
+        raise TrajectoryError(str(error), source=source, line=number) from None
     seen = set()
     for name in header:
         if name in seen:
             raise TrajectoryError(f"column '{name}' appears twice", source=source, line=number, column=name)
         seen.add(name)
-    return header, number
+    return header, number, separator, row
 
 
-def _block(block: list[str], first_line: int, header: list[str], source: str) -> tuple[np.ndarray, np.ndarray]:
-    """Values (M, C) and file lines (M,) of a block of lines, the first being line ``first_line``; blank lines skipped."""
-    values = None
-    # The fast path: no blank lines (so line numbers follow from row numbers) and no "_" in a number
-    # (Python's float() would read "1_0" as 10; the slow path below refuses it by line).
-    if not any(_blank(line) for line in block) and not any("_" in line for line in block):
+def _block(block: list[tuple[int, str]], header: list[str], separator: str, source: str) -> tuple[np.ndarray, np.ndarray]:
+    """Values (M, C) and file lines (M,) of a block of (line number, line)."""
+    decimal_comma = separator != ","  # as in a trajectory file: 1,5 is 1.5 in a tab- or semicolon-separated log
+    numbers = np.array([number for number, _ in block], dtype=np.int64)
+    # The fast path: no "_" in a number (Python's float() would read "1_0" as 10; the slow path below refuses it by line).
+    if not any("_" in line for _, line in block):
+        text = "".join(line if line.endswith("\n") else line + "\n" for _, line in block)
+        if decimal_comma:
+            text = text.replace(",", ".")
         try:
-            values = np.loadtxt(io.StringIO("".join(block)), delimiter=",", ndmin=2, dtype=float)
+            values = np.loadtxt(io.StringIO(text), delimiter=separator, ndmin=2, dtype=float)
         except ValueError:
             values = None
-        if values is not None and values.shape != (len(block), len(header)):
-            values = None
-        if values is not None:
-            return values, first_line + np.arange(len(values))
-    rows = [(number, line.rstrip("\r\n")) for number, line in enumerate(block, start=first_line) if not _blank(line)]
-    values = np.empty((len(rows), len(header)))
-    for k, (number, line) in enumerate(rows):
-        cells = line.split(",")
-        if len(cells) != len(header):
-            raise TrajectoryError(f"{len(cells)} cells, the header has {len(header)}", source=source, line=number)
-        for c, (name, cell) in enumerate(zip(header, cells)):
+        if values is not None and values.shape == (len(block), len(header)):
+            return values, numbers
+    values = np.empty((len(block), len(header)))
+    for k, (number, line) in enumerate(block):
+        try:
+            row = cells(line.rstrip("\r\n"), separator, len(header))
+        except ValueError as error:
+            raise TrajectoryError(str(error), source=source, line=number) from None
+        if len(row) != len(header):
+            hint = " (decimal commas? a comma-separated log needs decimal points)" if separator == "," and len(row) > len(header) else ""
+            raise TrajectoryError(f"{len(row)} cells, the header has {len(header)}{hint}", source=source, line=number)
+        for c, (name, cell) in enumerate(zip(header, row)):
             try:
-                if "_" in cell:
-                    raise ValueError(cell)
-                values[k, c] = float(cell)
+                values[k, c] = parse_number(cell, decimal_comma)
             except ValueError:
                 raise TrajectoryError(f"'{cell.strip()}' is not a number", source=source, line=number, column=name) from None
-    return values, np.array([number for number, _ in rows], dtype=np.int64)
+    return values, numbers
 
 
 def _missing(name: str, header: list[str], what: str, source: str, line: int) -> TrajectoryError:
@@ -214,22 +207,22 @@ class RigLogFile:
 
     def __init__(self, path: str | Path, torque_constant: float | None = None, block: int = SCAN_LINES):
         self.source = source = str(path)
-        with _open(path) as stream:
-            lines = _lines(stream, source)
-            header, header_line = _header(lines, source)
+        with open_text(path, "log file", TrajectoryError) as stream:
+            rows = _data_lines(text_lines(stream, source, "log file", TrajectoryError))
+            header, header_line, separator, first_row = _header(rows, source)
+            if first_row is not None:
+                rows = chain([first_row], rows)
             self._layout(header, header_line, torque_constant)
             self._store = tempfile.TemporaryFile()
             times, numbers = [], []
             worst = {"torque": _Worst(), "angle": _Worst(), "height": _Worst()}
             low = high = None  # (load, line) of the least and largest load, first occurrences
             bad = None
-            first = header_line + 1
             while True:
-                chunk = list(islice(lines, block))
+                chunk = list(islice(rows, block))
                 if not chunk:
                     break
-                values, at = _block(chunk, first, header, source)
-                first += len(chunk)
+                values, at = _block(chunk, header, separator, source)
                 if bad is None and not np.all(np.isfinite(values)):
                     k, c = np.argwhere(~np.isfinite(values))[0]
                     bad = (f"'{values[k, c]}' is not finite", int(at[k]), header[c])
@@ -271,15 +264,18 @@ class RigLogFile:
         has_currents = _group(CURRENT_COLUMNS, header, "current", source, header_line)
         if has_torques:
             self._torque_names, self._scale, self.torque_from = TORQUE_COLUMNS, 1e-3, "torques"
+            self.torque_constant = None
         elif has_currents:
             if torque_constant is None:
                 raise TrajectoryError(
-                    "the log gives motor currents (current_1_A …) but no torque constant in N·m/A was given to turn them into torques",
+                    "the log gives motor currents (current_1_A …) but no torque constant in N·m/A was given to turn them into torques: "
+                    "give --torque-constant NM_PER_A (torque_constant= in Python)",
                     source=source,
                 )
             if isinstance(torque_constant, bool) or not (isinstance(torque_constant, (int, float)) and math.isfinite(torque_constant) and torque_constant > 0):
                 raise TrajectoryError(f"the torque constant must be a positive number in N·m/A, got {torque_constant!r}", source=source)
             self._torque_names, self._scale, self.torque_from = CURRENT_COLUMNS, float(torque_constant), "currents"
+            self.torque_constant = float(torque_constant)
         else:
             close = [c for c in header if difflib.get_close_matches(c, TORQUE_COLUMNS + CURRENT_COLUMNS, n=1, cutoff=0.7)]
             hint = f" (the file has {', '.join(repr(c) for c in close)}: check the names and units)" if close else ""

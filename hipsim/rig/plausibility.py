@@ -1,0 +1,181 @@
+"""Plausibility of a rig log: each measured signal against what the machine can produce along the logged motion.
+
+A unit slip in a log (torques in N·m under ``tau_i_Nmm``, the load in kN
+under ``Fe_N``, radians under ``_deg``, a torque constant in N·mm/A) reads
+as valid numbers, and a fit or a comparison on it gives a result that looks
+like one. :func:`check_log` looks before any fit or comparison:
+
+- the load's peak against a hip simulator's test loads (ISO 14242-1: 300 to
+  3000 N, :data:`LOAD_PEAK_N`);
+- the angles' ranges against a gait cycle's (a range of a degree or two
+  that is a plausible cycle when read as radians is radians);
+- each motor's RMS torque (or current × torque constant) against the
+  model's along the logged motion and load, with the starting parameters.
+
+A factor of about 1000 (or 57 for angles) is an error naming the column, the
+factor and the unit it looks like; a factor beyond :data:`ERROR_FACTOR` is an
+error too, one beyond :data:`WARNING_FACTOR` a warning (returned, one line
+each). The check runs on the log's first window (:meth:`Log.windows`: the
+first :data:`~hipsim.rig.logs.PIECE` samples of a log read in pieces), the
+model on at most :data:`MODEL_SAMPLES` of them: a fraction of a second.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..analytic.engine import AnalyticModel
+from ..exceptions import PoseError, TrajectoryError
+from ..machine.parameters import Parameters
+from ..motion.trajectories import ANGLE_NAMES
+from .logs import Log
+from .reader import CURRENT_COLUMNS, TORQUE_COLUMNS
+
+__all__ = ["ERROR_FACTOR", "LOAD_PEAK_N", "MODEL_SAMPLES", "WARNING_FACTOR", "check_log"]
+
+#: The peak loads of a hip simulator's tests in [N]: ISO 14242-1's 3000 N, and up to 5000 N for heavier patients' cycles.
+LOAD_PEAK_N = (300.0, 5000.0)
+#: A load peak below this in [N] is warned of (a light test, or a unit slip: kN give less than 5).
+LOAD_WARNING_N = 100.0
+#: Measured RMS torque against the model's: beyond this factor either way an error, beyond :data:`WARNING_FACTOR` a warning.
+ERROR_FACTOR = 30.0
+WARNING_FACTOR = 3.0
+#: The smallest and largest range in [deg] of a logged angle that is a gait cycle's (ISO 14242-1: 7° to 43°).
+ANGLE_RANGE_DEG = (5.0, 180.0)
+#: Below this range in [deg] for every angle, a log whose ranges would be a gait cycle's as radians is radians.
+SMALL_RANGE_DEG = 2.0
+#: Most samples of the first window the model runs on (every k-th).
+MODEL_SAMPLES = 4000
+
+_DEG_PER_RAD = 180.0 / math.pi
+
+
+def check_log(params: Parameters, log: Log, lever_spin: bool = True, torque_constant: float | None = None) -> list[str]:
+    """Check a log's load, angles and torques against the machine; raise on a unit slip, return the warnings.
+
+    Args:
+        params: the machine (the starting parameters of a fit).
+        log: the log (:class:`~hipsim.rig.logs.LogPieces` names its columns and units;
+            a :class:`~hipsim.rig.logs.MeasuredLog` built from arrays is checked by its values).
+        lever_spin: as in :class:`hipsim.analytic.AnalyticModel`.
+        torque_constant: the motors' torque constant in [N·m/A] the log's currents were turned into torques with, for messages
+            (None: the log's own, when it knows it).
+
+    Returns:
+        One line per milder implausibility (a factor of :data:`WARNING_FACTOR` to :data:`ERROR_FACTOR`).
+
+    Raises:
+        TrajectoryError: naming the log and column: a factor of about 1000
+            (or 57 for angles), or beyond :data:`ERROR_FACTOR`.
+    """
+    window, core, _ = next(iter(log.windows()))
+    usable = log.usable  # the first window starts at the log's first sample: its indices are the log's
+    part = slice(max(core.start, usable.start), min(core.stop, usable.stop))
+    if part.stop - part.start < 2:
+        return []
+    trajectory = window.trajectory.slice(part)
+    measured = window.tau[part]
+    raw = getattr(log, "raw", None)  # the file's layout, for a log read from its file
+    source = getattr(raw, "source", None) or log.name
+    warnings = []
+    warnings += _check_load(trajectory.Fe, source)
+    if raw is not None and log.motion_from == "angles" and raw.angle_unit == "deg":
+        _check_angles(np.degrees(trajectory.q), source)
+    torque_from = getattr(raw, "torque_from", "torques")
+    if torque_from == "currents" and torque_constant is None:
+        torque_constant = getattr(raw, "torque_constant", None)
+    warnings += _check_torques(params, trajectory, measured, lever_spin, source, torque_from, torque_constant)
+    return warnings
+
+
+def _check_load(load: np.ndarray, source: str) -> list[str]:
+    peak = float(np.max(load)) if load.size else 0.0
+    low, high = LOAD_PEAK_N
+    if peak < LOAD_WARNING_N:
+        if low <= peak * 1e3 <= high:
+            raise TrajectoryError(
+                f"Fe_N looks like kN: its peak is {peak:.4g}, 1/1000 of a hip simulator's test loads "
+                f"(ISO 14242-1: {low:g} to 3000 N); give the load in N",
+                source=source,
+            )
+        return [f"{source}: Fe_N peaks at {peak:.4g} N, far below a hip simulator's test loads (ISO 14242-1: {low:g} to 3000 N): "
+                "is it in N?"]
+    return []
+
+
+def _check_angles(degrees: np.ndarray, source: str) -> None:
+    ranges = np.ptp(degrees, axis=0) if len(degrees) else np.zeros(3)
+    k = int(np.argmax(ranges))
+    as_radians = ranges[k] * _DEG_PER_RAD
+    if ranges.max() < SMALL_RANGE_DEG and ANGLE_RANGE_DEG[0] <= as_radians <= ANGLE_RANGE_DEG[1]:
+        raise TrajectoryError(
+            f"{ANGLE_NAMES[k]}_deg looks like radians: its range is {ranges[k]:.3g}°, 1/57 of a gait cycle's "
+            f"({as_radians:.3g}° if read as radians); label the angle columns _rad",
+            source=source,
+        )
+
+
+def _slip(factor: float) -> float | None:
+    """1000 or 1/1000 when ``factor`` is within a factor 2 of it, else None."""
+    for slip in (1e3, 1e-3):
+        if slip / 2 <= factor <= slip * 2:
+            return slip
+    return None
+
+
+def _check_torques(params, trajectory, measured, lever_spin, source, torque_from, torque_constant) -> list[str]:
+    stride = max(1, -(-len(trajectory) // MODEL_SAMPLES))
+    try:
+        run = AnalyticModel(params, lever_spin=lever_spin).run(trajectory.slice(slice(None, None, stride)))
+    except PoseError:
+        return []  # the comparison or fit names the pose and its line
+    model = np.sqrt(np.nanmean(run.torques.total**2, axis=0))
+    logged = np.sqrt(np.mean(measured[::stride] ** 2, axis=0))
+    columns = CURRENT_COLUMNS if torque_from == "currents" else TORQUE_COLUMNS
+    errors: dict[float, list[int]] = {}
+    warnings = []
+    for i in range(3):
+        if not (model[i] > 1e-6 and np.isfinite(model[i])):  # a motor the model says is idle: nothing to compare with
+            continue
+        factor = float(logged[i] / model[i])
+        slip = _slip(factor)
+        if slip is not None or not 1 / ERROR_FACTOR < factor < ERROR_FACTOR:
+            errors.setdefault(slip, []).append(i)  # None: no unit's factor
+        elif not 1 / WARNING_FACTOR < factor < WARNING_FACTOR:
+            warnings.append(f"{source}: {columns[i]}: {_ratio(factor)} the model's with these parameters "
+                            f"({logged[i] * 1e3:.4g} against {model[i] * 1e3:.4g} N·mm): check its unit and the machine's parameters")
+    if not errors:
+        return warnings
+    slip, motors = next(iter(errors.items()))
+    names = ", ".join(columns[i] for i in motors)
+    verb = "looks" if len(motors) == 1 else "look"
+    i = motors[0]
+    factor = slip if slip is not None else float(logged[i] / model[i])
+    numbers = f"({logged[i] * 1e3:.4g} against {model[i] * 1e3:.4g} N·mm)"
+    if torque_from == "currents":
+        constant = f" {torque_constant:g} N·m/A" if torque_constant else ""
+        if slip == 1e3:
+            hint = (f": the torque constant looks like N·mm/A (give --torque-constant in N·m/A{f', {torque_constant / 1e3:g}' if torque_constant else ''}), "
+                    "or the currents like mA")
+        elif slip == 1e-3:
+            hint = ": the torque constant looks like kN·m/A, or the currents like kA (give --torque-constant in N·m/A, currents in A)"
+        else:
+            hint = ": check --torque-constant (N·m/A) and the currents' unit (A)"
+        message = f"{names} × --torque-constant{constant} {'gives' if len(motors) == 1 else 'give'} {_ratio(factor)} the model's torque {numbers}{hint}"
+    elif slip == 1e-3:
+        message = f"{names} {verb} like N·m: {'its' if len(motors) == 1 else 'their'} RMS is 1/1000 of the model's {numbers}; give torques in N·mm"
+    elif slip == 1e3:
+        message = f"{names} {verb} like µN·m: {'its' if len(motors) == 1 else 'their'} RMS is 1000 times the model's {numbers}; give torques in N·mm"
+    else:
+        message = (f"{names}: RMS {_ratio(factor)} the model's {numbers}: check the unit (N·mm), the load's (N) and the machine's "
+                   "parameters (--no-plausibility-check if the log is right)")
+    raise TrajectoryError(message, source=source)
+
+
+def _ratio(factor: float) -> str:
+    """'1000 times' or '1/1000 of'."""
+    if factor >= 1:
+        return f"{factor:.4g} times"
+    return f"1/{1 / factor:.4g} of"
