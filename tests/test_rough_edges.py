@@ -76,3 +76,12 @@ def test_currents_without_a_torque_constant_name_the_option(tmp_path):
                     + "\n".join(f"{k / 1000},500,1,2,3,1,2,3" for k in range(100)) + "\n")
     with pytest.raises(TrajectoryError, match=r"no torque constant .*--torque-constant"):
         read_rig_log(path)
+
+
+@pytest.mark.parametrize("command", ["identify", "compare"])
+def test_a_missing_log_is_one_line_even_without_the_plausibility_check(tmp_path, capsys, command):
+    out = tmp_path / ("x.toml" if command == "identify" else "cmp")
+    status = main([command, "--log", str(tmp_path / "nothere.csv"), "--no-plausibility-check", "--out", str(out)])
+    err = capsys.readouterr().err
+    assert status == 2 and err.count("\n") == 1 and "nothere.csv: no such log file" in err
+    assert not out.exists()

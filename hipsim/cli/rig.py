@@ -247,10 +247,10 @@ def run_identify(args) -> int:
         entries |= parse_prior_option(args.prior)
         source = "--prior"
     fixed = [name.strip() for name in (args.fix or "").split(",") if name.strip()]
-    provenance = page_provenance(args, log=args.log, validate=args.validate)
     with contextlib.ExitStack() as stack:  # the logs in pieces: memory does not grow with their length
         logs = [stack.enter_context(_pieces(path, params, args)) for path in args.log]
         validate = [stack.enter_context(_pieces(path, params, args)) for path in args.validate]
+        provenance = page_provenance(args, log=args.log, validate=args.validate)  # the files hashed once they are known to open
         result = identify(logs, params, validate=validate, lever_spin=not args.spin_free_levers, fixed=fixed, prior=entries, prior_source=source)
 
     from ..files import write_atomic

@@ -34,7 +34,7 @@ The identified machine: the parameters folded into others keep their
 starting values, each base parameter's own takes the rest. If that machine is
 not physically consistent, the fit (data and prior) is solved again under the
 constraints of :mod:`hipsim.rig.consistency`; and it is refused if a value is
-outside its plausible range (:data:`PLAUSIBLE`).
+outside the plausible ranges of this class of machine (:func:`hipsim.machine.parameters.implausible`).
 """
 
 from __future__ import annotations
@@ -49,7 +49,7 @@ import scipy.linalg
 
 from ..exceptions import HipsimError
 from ..files import write_atomic
-from ..machine.parameters import Parameters
+from ..machine.parameters import Parameters, implausible, implausible_message
 from ..machine.toml_writer import parameter_toml, table_toml
 from .base import BaseParameters, base_parameters
 from .compare import Comparison, compare_log
@@ -62,7 +62,6 @@ from .validation import training_envelope, validation_note
 
 __all__ = [
     "DETERMINED",
-    "PLAUSIBLE",
     "QUANTITIES",
     "BaseEstimate",
     "Identification",
@@ -79,24 +78,6 @@ __all__ = [
 
 #: A base parameter is determined by the logs when its posterior standard deviation is at most this of its prior's.
 DETERMINED = 0.5
-#: Plausible range of each identified value, by file key (file units): identify writes no machine outside them.
-PLAUSIBLE: dict[str, tuple[float, float]] = {
-    "platform.inertia_kgmm2": (-1e7, 1e7),
-    "slider.mass_kg": (1e-3, 100.0),
-    "screw.inertia_kgmm2": (0.0, 1e4),
-    "lever.inertia_kgmm2": (-1e6, 1e6),
-    "lever.mass_kg": (1e-3, 50.0),
-    "friction.hip_mu": (0.0, 1.0),
-    "friction.thrust_mu": (0.0, 1.0),
-    "friction.screw_coulomb_Nmm": (0.0, 1e4),
-    "friction.screw_viscous_Nmm_s_rad": (0.0, 1e3),
-    "friction.guide_coulomb_N": (0.0, 1e4),
-    "friction.guide_viscous_N_s_mm": (0.0, 10.0),
-    "friction.ujoint_coulomb_Nmm": (0.0, 1e4),
-    "friction.ujoint_viscous_Nmm_s_rad": (0.0, 1e3),
-    "friction.sjoint_coulomb_Nmm": (0.0, 1e4),
-    "friction.sjoint_viscous_Nmm_s_rad": (0.0, 1e3),
-}
 
 
 @dataclass(frozen=True)
@@ -348,15 +329,15 @@ def _condition(A: np.ndarray) -> float:
     return float(s[0] / s[-1]) if s.size and s[-1] > 0 else math.inf
 
 
-def _plausible(theta: np.ndarray) -> None:
-    for k, q in enumerate(QUANTITIES):
-        lo, hi = PLAUSIBLE[q.key.partition("[")[0]]
-        value = theta[k] / q.scale
-        if not lo <= value <= hi:
-            raise HipsimError(
-                f"the identified {q.key} = {value:.6g} {q.unit} is outside its plausible range [{lo:g}, {hi:g}]: "
-                "the logs and the model disagree (check the log's units, torque constant and sign convention); nothing written"
-            )
+def _plausible(params: Parameters, theta: np.ndarray) -> None:
+    """Refuse an identified machine outside the plausible ranges of this class of machine (:func:`hipsim.machine.parameters.implausible`)."""
+    found = implausible(with_values(params, theta))
+    if found:
+        key, value, plausible = found[0]
+        raise HipsimError(
+            f"the identified machine is implausible: {implausible_message(key, value, plausible)}; "
+            "the logs and the model disagree (check the log's units, torque constant and sign convention); nothing written"
+        )
 
 
 def identify(
@@ -452,7 +433,7 @@ def identify(
         free = [j for j in base.dependent if belief.standard[j] > 10 * HELD * sizes[j]]  # held ones stay exactly
         theta, active = consistent(rows_all, rhs, theta, index, free, theta0, sizes)
         theta_b = T @ theta
-    _plausible(theta)
+    _plausible(params, theta)
     # The residual of the solution (constrained or not) against the noise the weights assumed: never narrower than it says.
     chi2 = float(np.sum((Rw[:, :P] @ theta - Rw[:, P]) ** 2)) * inflation / max(rows - r, 1)
     if chi2 > 1.0:  # the data's information shrinks by χ²; what the data do not see keeps its prior exactly
