@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from .physics.units import RPM_PER_RAD_S
 from .arrays import check_shapes
 from .exceptions import ArgumentError, MissingDependencyError
 from .files import write_columns
@@ -28,7 +29,6 @@ from .motion.trajectories import Trajectory
 
 __all__ = ["ExactSum", "JointForces", "Run", "Summary", "Torques", "column_names", "peak_and_rms"]
 
-_RPM = 60.0 / (2.0 * math.pi)
 
 
 def peak_and_rms(values: np.ndarray, axis: int = 0) -> tuple[np.ndarray, np.ndarray]:
@@ -177,7 +177,7 @@ class Run:
             for i in (1, 2, 3):
                 out[f"{Torques.COLUMN[field]}_{i}_Nmm"] = values[:, i - 1]
         for i in (1, 2, 3):
-            out[f"speed_{i}_rpm"] = self.torques.motor_speed[:, i - 1] * _RPM
+            out[f"speed_{i}_rpm"] = self.torques.motor_speed[:, i - 1] * RPM_PER_RAD_S
         out["cond_inv"] = self.cond_inv
         if self.joint_forces is not None:
             for j in (1, 2):
@@ -292,7 +292,7 @@ class Summary:
             ok = slice(None)
         peaks = {
             "L": run.L[ok].max(axis=0) * 1e3, "Ld": np.abs(run.Ld[ok]).max(axis=0) * 1e3,
-            "Ldd": np.abs(run.Ldd[ok]).max(axis=0) * 1e3, "speed": np.abs(run.torques.motor_speed[ok]).max(axis=0) * _RPM,
+            "Ldd": np.abs(run.Ldd[ok]).max(axis=0) * 1e3, "speed": np.abs(run.torques.motor_speed[ok]).max(axis=0) * RPM_PER_RAD_S,
         }
         total = run.torques.total[ok] * 1e3
         squares = [total**2]

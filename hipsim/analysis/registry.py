@@ -49,6 +49,9 @@ class Entry:
         warm_up: its first run compiles numba kernels (a machine's first run only) before it can report
             progress: a caller may load them first and say so (:func:`hipsim.closed_chain.dynamics.warm_up`).
         aliases: other names it answers to (not offered as choices).
+        checked_whole: (engines) ``hipsim check`` compares it on the whole trajectory in memory, against both
+            other engines (:func:`hipsim.analysis.crosscheck.compare_mujoco`), rather than streamed against
+            the reference (:func:`hipsim.analysis.crosscheck.compare_models`).
     """
 
     name: str
@@ -63,6 +66,7 @@ class Entry:
     joint_forces: bool = False
     warm_up: bool = False
     aliases: tuple[str, ...] = ()
+    checked_whole: bool = False
 
     def load(self) -> type:
         """The class, its module imported now if not before.
@@ -84,7 +88,8 @@ ENGINES = (
     Entry("analytic", "hipsim.analytic.engine", "AnalyticModel", "The analytic model",
           options=("lever_spin", "on_error"), flags=True, reference=True),
     Entry("pinocchio", "hipsim.closed_chain.engine", "PinocchioModel", "The Pinocchio model", joint_forces=True, warm_up=True),
-    Entry("mujoco", "hipsim.mujoco_engine", "MujocoModel", "The MuJoCo engine", extra="mujoco", package="mujoco", joint_forces=True),
+    Entry("mujoco", "hipsim.mujoco_engine", "MujocoModel", "The MuJoCo engine", extra="mujoco", package="mujoco", joint_forces=True,
+          checked_whole=True),
 )  # fmt: skip
 
 #: The plants of :func:`hipsim.control.simulation.simulate`, in the order they are offered.

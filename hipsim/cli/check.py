@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..analysis.registry import check_names
+from ..analysis.registry import check_names, engine_entry
 from ..present.tables import format_table
 from .common import add_machine_options, add_summary_format, load_pinocchio_kernels, parameters, print_json, progress
 from .feasible import add_strict_option
@@ -42,12 +42,13 @@ def run(args) -> int:
     from .feasible import FeasibilityWatch, limits, report_crossings
 
     params = parameters(args)
-    trajectory = load_trajectory(args) if args.engine == "mujoco" else load_source(args)
+    whole = engine_entry(args.engine).checked_whole
+    trajectory = load_trajectory(args) if whole else load_source(args)
     watch = FeasibilityWatch(limits(params))
     stream_run(params, trajectory, write=watch.add)  # the analytic model, for the machine's limits
     if report_crossings(watch.crossings(), args.strict):
         return 1
-    if args.engine == "mujoco":
+    if whole:
         from ..analysis.crosscheck import compare_mujoco
 
         comparisons = compare_mujoco(params, trajectory)

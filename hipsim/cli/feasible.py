@@ -11,16 +11,15 @@ singularity measure's floor and the load's range.
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 
+from ..physics.units import RPM_PER_RAD_S as _RPM
 from ..present.tables import format_table
 from .common import add_machine_options, add_summary_format, parameters, print_json
 from .motion_options import add_trajectory_options, cycle_period, load_trajectory
 
 __all__ = ["FeasibilityWatch", "add_parser", "add_strict_option", "check_run", "limits", "report_crossings", "run"]
 
-_RPM = 60.0 / (2.0 * math.pi)
 #: (what a table calls the limit, unit, factor from SI) by Crossing.limit.
 _SHOWN = {
     "stroke": ("stroke", "mm", 1e3),

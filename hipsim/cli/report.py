@@ -6,7 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from ..analysis.registry import engine_names
+from ..analysis.registry import engine_entry, engine_names
 from ..exceptions import HipsimError
 from .common import (
     add_machine_options,
@@ -84,14 +84,17 @@ def run(args) -> int:
     if report_crossings(check_run(run, params, drive), args.strict):
         return 1
     joint_run, notes = None, []
-    if args.model == "analytic":
+    # auto: the first engine whose runs carry the joint forces (Pinocchio's)
+    joint_model = args.model if args.model != "auto" else next(n for n in engine_names(optional=False) if engine_entry(n).joint_forces)
+    if not engine_entry(joint_model).joint_forces:
         notes.append("Joint reaction forces were not computed (analytic model only: it has no joint forces).")
     else:
         try:
-            load_pinocchio_kernels()
-            joint_run = analyse(params, trajectory, model="pinocchio")
+            if engine_entry(joint_model).warm_up:
+                load_pinocchio_kernels()
+            joint_run = analyse(params, trajectory, model=joint_model)
         except (ImportError, AttributeError) as error:
-            if args.model == "pinocchio":
+            if args.model != "auto":
                 raise HipsimError(f"the Pinocchio model is not available ({error})") from None
             notes.append(f"Joint reaction forces are missing: the Pinocchio model is not available ({type(error).__name__}: {error}); torques are from the analytic model.")
     simulations = None

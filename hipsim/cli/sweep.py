@@ -8,6 +8,7 @@ import sys
 import time
 from pathlib import Path
 
+from ..analysis.registry import engine_names
 from ..exceptions import ArgumentError, HipsimError, OutputError
 from ..present.tables import format_margin, format_table
 from .common import add_machine_options, add_provenance_options, page_provenance, parameters
@@ -62,7 +63,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     variants.add_argument("--seed", type=int, default=1, metavar="N", help="random seed of --sample (default 1: a rerun draws the same variants)")
     variants.add_argument("--variants", metavar="CSV", help="a CSV of variants: a header of keys, one variant a line")
     check = parser.add_argument_group("model and rating")
-    check.add_argument("--model", choices=["analytic", "pinocchio"], default="analytic", help="analytic (default) or pinocchio (adds the peak joint forces; slower)")
+    check.add_argument("--model", choices=engine_names(optional=False), default="analytic", help="analytic (default) or pinocchio (adds the peak joint forces; slower)")
     check.add_argument("--drive", metavar="FILE", help="drive file to check every variant against (see hipsim size); default: each variant's [motor] table")
     engine = parser.add_argument_group("engine (dask.distributed; pip install 'hipsim[sweep]')")
     engine.add_argument("--workers", type=int, metavar="N", help="local worker processes (default: the cores; 1 runs in this process)")

@@ -36,10 +36,11 @@ from typing import Callable
 import numpy as np
 from tqdm import tqdm
 
+from ..physics.units import RPM_PER_RAD_S
 from ..analytic import kernel as reduced_kernel
 from .controllers import AugmentedPD, Sample, WorkspacePD
 from ..engine import Plant
-from ..exceptions import ArgumentError, HipsimError, PoseError
+from ..exceptions import ArgumentError, PoseError
 from ..files import write_columns
 from ..analytic.inverse_kinematics import kinematics
 from ..machine.parameters import Parameters
@@ -155,7 +156,7 @@ class Simulation:
         """Peak and RMS of each angle's error in [deg] and of each motor's torque in [N·mm], peak speeds in [rpm]."""
         err_peak, err_rms = peak_and_rms(np.degrees(self.err))
         tau_peak, tau_rms = peak_and_rms(self.tau * 1e3)
-        speed_peak, _ = peak_and_rms(self.motor_speed * 60.0 / (2.0 * math.pi))
+        speed_peak, _ = peak_and_rms(self.motor_speed * RPM_PER_RAD_S)
         names = ("alpha", "beta", "gamma")
         return {
             "plant": self.plant,
@@ -183,7 +184,7 @@ class Simulation:
         for i in range(3):
             out[f"tau_req_{i + 1}_Nmm"] = self.tau_requested[:, i] * 1e3
         for i in range(3):
-            out[f"speed_{i + 1}_rpm"] = self.motor_speed[:, i] * 60.0 / (2.0 * math.pi)
+            out[f"speed_{i + 1}_rpm"] = self.motor_speed[:, i] * RPM_PER_RAD_S
         out["saturated"] = self.saturated.astype(float)
         return out
 

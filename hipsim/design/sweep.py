@@ -37,6 +37,7 @@ from typing import Any, Callable, Iterator, Sequence
 
 import numpy as np
 
+from ..analysis.registry import engine_entry, engine_names
 from ..exceptions import ArgumentError, ClosureError, MissingDependencyError, ParameterError, PoseError
 from ..fingerprint import part_fingerprints
 from ..machine.drive import Drive, drive_from_motor_table
@@ -96,8 +97,9 @@ class SweepSetup:
     _lists: dict = field(default_factory=dict, repr=False)
 
     def __post_init__(self):
-        if self.model not in ("analytic", "pinocchio"):
-            raise ArgumentError("model", self.model, "'analytic' or 'pinocchio'")
+        installed = engine_names(optional=False)
+        if self.model not in installed:
+            raise ArgumentError("model", self.model, " or ".join(repr(name) for name in installed))
         if not (math.isfinite(self.cycles) and self.cycles > 0):
             raise ArgumentError("cycles", self.cycles, "a positive number of test cycles")
         screw = None if self.drive is None else self.drive.screw
@@ -113,7 +115,7 @@ class SweepSetup:
 
     @property
     def joint_forces(self) -> bool:
-        return self.model == "pinocchio"
+        return engine_entry(self.model).joint_forces
 
     def fingerprints(self) -> dict[str, str]:
         """The fingerprint of everything that determines a row, per part and whole (``"setup"``; :mod:`hipsim.fingerprint`).

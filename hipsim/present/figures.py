@@ -9,6 +9,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
+from ..physics.units import RPM_PER_RAD_S as _RPM_PER_RAD_S
 from ..design.sizing import Sizing
 from ..exceptions import HipsimError
 from ..files import write_atomic
@@ -341,4 +342,3 @@ def plot_axial_load_histogram(size: Sizing, bins: int = 40):
     return fig
 
 
-_RPM_PER_RAD_S = 60.0 / (2.0 * np.pi)

@@ -14,6 +14,7 @@ import json
 import math
 import re
 
+from ..physics.units import RPM_PER_RAD_S as _RPM
 from ..design.sizing import CHECKS, Check, Sizing
 from ..machine.drive import Drive
 from ..machine.parameters import SCHEMA, file_values
@@ -25,7 +26,6 @@ from .provenance import ParameterOrigin, Provenance
 
 __all__ = ["report_html", "report_verdict"]
 
-_RPM = 60 / (2 * math.pi)
 #: An inertia's components as the identification names them → (row, column) of the matrix.
 _INERTIA_AXES = {"xx": (0, 0), "yy": (1, 1), "zz": (2, 2), "xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}
 #: The drive parts' fields: SI inside → (factor, unit) a rig engineer reads.
