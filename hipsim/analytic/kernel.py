@@ -1,6 +1,6 @@
 """The reduced plant's equations for one state at a time, compiled with numba (spec §3, §4, §7.3, §8).
 
-Why this module exists. The servo loop of :func:`hipsim.simulation.simulate`
+Why this module exists. The servo loop of :func:`hipsim.control.simulation.simulate`
 evaluates the forward dynamics of one state at a time, eight times per servo
 period (two RK4 steps of four stages). Through the vectorised model of
 :mod:`hipsim.analytic.inverse_kinematics` and :mod:`hipsim.analytic.virtual_work` each evaluation is some

@@ -247,7 +247,7 @@ def mass_and_bias(params: Parameters, trajectory: Trajectory, lever_spin: bool =
         trajectory: the states (q, q̇) and loads F_e, N samples along a motion
             (as everywhere, a det J sign change between samples counts as a crossing).
         lever_spin: as in :func:`inverse_dynamics`, whose default (the spec's
-            spin-free levers) this keeps; :class:`hipsim.simulation.ReducedPlant`
+            spin-free levers) this keeps; :class:`hipsim.control.simulation.ReducedPlant`
             uses True.
 
     Returns:

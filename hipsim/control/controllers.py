@@ -50,7 +50,7 @@ class Sample:
 
 
 class Controller(Protocol):
-    """What :func:`hipsim.simulation.simulate` calls once per servo period."""
+    """What :func:`hipsim.control.simulation.simulate` calls once per servo period."""
 
     def __call__(self, t: float, state: Sample, desired: Sample) -> np.ndarray: ...
 
@@ -97,7 +97,7 @@ class AugmentedPD(WorkspacePD):
         params: the controller's model of the machine (its masses and friction
             may differ from the plant's).
         desired_at: the desired trajectory as a function of time (e.g.
-            :func:`hipsim.trajectories.iso14242_at`).
+            :func:`hipsim.motion.trajectories.iso14242_at`).
         servo_rate: servo rate in [Hz].
         duration: length of the run in [s].
         kp, kd: gains as in :class:`WorkspacePD`.

@@ -77,7 +77,7 @@ class ReducedPlant:
     def mass_and_bias(self, q: np.ndarray, qd: np.ndarray, Fe: float) -> tuple[np.ndarray, np.ndarray]:
         """M(q) in [N·m·s²/rad] (3, 3) and h(q, q̇, F_e) in [N·m] (3,) with τ = M·q̈ + h.
 
-        NaN where a lever cannot reach; :func:`hipsim.dynamics.mass_and_bias`
+        NaN where a lever cannot reach; :func:`hipsim.analytic.virtual_work.mass_and_bias`
         gives the same along a trajectory and names the time of a bad pose.
 
         Args:
