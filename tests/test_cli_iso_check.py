@@ -50,3 +50,23 @@ def test_tolerances_are_options_and_bad_ones_one_line(tmp_path, capsys):
     assert main(["iso-check", "--tolerance", "speed=3", "--out", str(tmp_path / "iso2")]) == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith("hipsim: error: --tolerance:") and "\n" not in err
+
+
+def test_the_page_opens_with_the_verdict_and_hashes_its_log(tmp_path, capsys):
+    """Like every hipsim page: the verdict above the first table, the log's SHA-256 in the provenance (page and JSON)."""
+    import hashlib
+
+    t = np.arange(3000) / 500.0
+    q, _, _ = iso14242_angles(t)
+    q[:, 0] *= 1.2
+    path = write_csv(tmp_path / "alpha.csv", t, q, iso14242_load(t))
+    out = tmp_path / "iso"
+    assert main(["iso-check", "--log", str(path), "--out", str(out), "--rig", "station 2"]) == 1
+    capsys.readouterr()
+    digest = hashlib.sha256(path.read_bytes()).hexdigest()
+    page = (out / "index.html").read_text()
+    assert digest in page and "station 2" in page
+    assert page.index('class="verdict') < page.index("<table") and "FAIL" in page[: page.index("<table")]
+    document = json.loads((out / "iso_check.json").read_text())
+    assert document["verdict"]["state"] == "fail" and "alpha" in document["verdict"]["lines"][0]
+    assert [entry["sha256"] for entry in document["provenance"]["inputs"] if entry["path"].endswith("alpha.csv")] == [digest]

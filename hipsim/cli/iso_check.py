@@ -13,7 +13,7 @@ from pathlib import Path
 
 from ..exceptions import ArgumentError, HipsimError
 from ..present.tables import format_table
-from .common import add_machine_options, add_summary_format, parameters, print_json
+from .common import add_machine_options, add_provenance_options, add_summary_format, page_provenance, parameters, print_json
 from .motion_options import add_trajectory_options, load_trajectory
 
 __all__ = ["add_parser", "format_check", "parse_tolerance_option", "run", "simulation_verdicts"]
@@ -55,6 +55,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                      "3000 N, Hz; unnamed ones keep these defaults)")
     iso.add_argument("--out", default="hipsim_iso_check", metavar="DIR", help="folder to write (default hipsim_iso_check)")
     add_summary_format(iso, "what to print: tables (default) or the verdict as JSON")
+    add_provenance_options(iso)
     iso.set_defaults(run=run)
     return iso
 
@@ -126,7 +127,7 @@ def run(args) -> int:
     check = iso_check(t, q, load, tolerances, source=name, periodic=periodic)
     if periodic:  # the cycles may run past the last sample: draw them on the repeated run
         t, q, load = periodic_extension(t, q, load)
-    files = write_iso_check(args.out, check, t, q, load)
+    files = write_iso_check(args.out, check, t, q, load, page_provenance(args, log=args.trajectory))
     if args.summary_format == "json":
         print_json(iso_summary(check) | {"index": str(files.index)})
     else:

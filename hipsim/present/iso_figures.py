@@ -18,8 +18,10 @@ from ..files import check_folder, json_ready, output_folder, write_atomic
 from ..motion.iso_compliance import QUANTITIES, IsoCheck
 from ..motion.trajectories import iso14242_angles, iso14242_load
 from .figures import save_figure
+from .pages import CSS, Verdict, environment
+from .provenance import Provenance
 
-__all__ = ["IsoCheckFiles", "iso_summary", "plot_iso_check", "write_iso_check"]
+__all__ = ["IsoCheckFiles", "iso_summary", "iso_verdict", "plot_iso_check", "write_iso_check"]
 
 #: Most cycles drawn (the first ones; every cycle is in the JSON).
 MAX_DRAWN = 50
@@ -89,48 +91,51 @@ class IsoCheckFiles:
     figure: tuple[Path, Path]
 
 
-_PAGE = """<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8"><title>hipsim: ISO 14242-1 check, {{ s.source }}</title>
-<style>
-body { font-family: system-ui, sans-serif; max-width: 1100px; margin: 2em auto; color: #222; }
-table { border-collapse: collapse; margin: 1em 0; } td, th { border: 1px solid #ccc; padding: 0.3em 0.6em; text-align: right; }
-th:first-child, td:first-child { text-align: left; } img { max-width: 100%; } .fail { color: #b00; font-weight: bold; }
-</style></head><body>
-<h1>ISO 14242-1 check: {{ s.source }}</h1>
-<p>{{ s.cycles }} whole cycle(s), aligned by heel strike. Verdict: <span class="{{ '' if s.passed else 'fail' }}">{{ "PASS" if s.passed else "FAIL" }}</span>.
-The default tolerances are assumed values: confirm them against your copy of the standard.</p>
-<table><tr><th>quantity</th><th>worst deviation</th><th>tolerance</th><th>cycles failed</th><th>verdict</th></tr>
-{% for name, q in s.quantities.items() %}<tr><td>{{ name }}</td><td>{{ "%.3g"|format(q.worst) }} {{ q.unit }}</td><td>{{ "%.3g"|format(q.tolerance) }} {{ q.unit }}</td>
-<td>{{ q.cycles_failed }}</td><td class="{{ '' if q.passed else 'fail' }}">{{ "pass" if q.passed else "FAIL" }}</td></tr>
-{% endfor %}</table>
-<figure><img alt="cycles" src="data:image/png;base64,{{ figure }}"><figcaption>Each cycle over the standard's waveforms, the tolerance band grey
-(<a href="cycles.png">PNG</a>, <a href="cycles.svg">SVG</a>).</figcaption></figure>
-<table><tr><th>cycle</th><th>start [s]</th><th>frequency [Hz]</th><th>α [°]</th><th>β [°]</th><th>γ [°]</th><th>load [N]</th><th>verdict</th></tr>
-{% for c in s.per_cycle[:500] %}<tr><td>{{ c.cycle }}</td><td>{{ "%.4f"|format(c.start_s) }}</td><td>{{ "%.4f"|format(c.frequency_Hz) }}</td>
-<td>{{ "%.3g"|format(c.alpha) }}</td><td>{{ "%.3g"|format(c.beta) }}</td><td>{{ "%.3g"|format(c.gamma) }}</td><td>{{ "%.3g"|format(c.load) }}</td>
-<td class="{{ '' if c.passed else 'fail' }}">{{ "pass" if c.passed else "FAIL" }}</td></tr>
-{% endfor %}</table>
-<p>Numbers for scripts: <a href="iso_check.json">iso_check.json</a>.</p>
-</body></html>
-"""
 
 
-def write_iso_check(out_dir: str | Path, check: IsoCheck, t: np.ndarray, q: np.ndarray, load: np.ndarray) -> IsoCheckFiles:
+def iso_verdict(check: IsoCheck) -> Verdict:
+    """The block at the top of the page: PASS or FAIL, and the quantity that decides it with its worst deviation."""
+    if check.passed:
+        worst = max(QUANTITIES, key=lambda q: check.worst(q) / getattr(check.tolerances, q))
+        return Verdict("pass", "PASS", (
+            f"Every one of {len(check.cycles)} whole cycle(s) kept every angle, the load and the frequency within tolerance.",
+            f"Closest: {worst}, worst deviation {check.worst(worst):.3g} {_UNITS[worst]} against ±{getattr(check.tolerances, worst):.3g} "
+            f"{_UNITS[worst]} (tolerances assumed: confirm them against your copy of ISO 14242-1).",
+        ))
+    first = check.failing[0]
+    failed = int((~check.passes(first)).sum())
+    return Verdict("fail", "FAIL", (
+        f"{', '.join(check.failing)} left the tolerance; {first} in {failed} of {len(check.cycles)} cycle(s).",
+        f"Worst {first}: {check.worst(first):.3g} {_UNITS[first]} against ±{getattr(check.tolerances, first):.3g} {_UNITS[first]}.",
+    ))
+
+
+def write_iso_check(out_dir: str | Path, check: IsoCheck, t: np.ndarray, q: np.ndarray, load: np.ndarray,
+                    provenance: Provenance | None = None) -> IsoCheckFiles:
     """Write the figure (PNG, SVG), ``index.html`` and ``iso_check.json`` to ``out_dir``, each atomically.
+
+    The page opens with the verdict and the provenance block, as every hipsim page does.
 
     Args:
         out_dir: the folder (made if missing).
         check: the verdict.
         t, q, load: the samples checked, in [s], [rad] (N, 3), [N].
+        provenance: the page's provenance (:func:`hipsim.present.provenance.provenance`); None for one without inputs.
     """
-    from jinja2 import Environment
+    from .provenance import provenance as make_provenance
 
     out = Path(out_dir)
     check_folder(out)
+    provenance = provenance or make_provenance()
+    verdict = iso_verdict(check)
     summary = json_ready(iso_summary(check))
+    document = {"verdict": verdict.as_dict(), "provenance": json_ready(provenance.as_dict())} | summary
     with output_folder(out):
         png, svg = save_figure(plot_iso_check(check, t, q, load), out, "cycles")
-        json_path = write_atomic(out / "iso_check.json", json.dumps(summary, indent=2) + "\n")
-        page = Environment(autoescape=True).from_string(_PAGE).render(s=summary, figure=base64.b64encode(png.read_bytes()).decode("ascii"))
+        json_path = write_atomic(out / "iso_check.json", json.dumps(document, indent=2) + "\n")
+        page = environment().get_template("iso_check.html.j2").render(
+            css=CSS, verdict=verdict, provenance=provenance, title=provenance.title, s=summary,
+            figure=base64.b64encode(png.read_bytes()).decode("ascii"),
+        )
         index = write_atomic(out / "index.html", page)
     return IsoCheckFiles(out, index, json_path, (png, svg))
