@@ -29,7 +29,7 @@ from pathlib import Path
 SLOW_FIRST = [
     "test_cli.py", "test_report.py", "test_identification.py", "test_files.py", "test_streaming.py",
     "test_simulation.py", "test_closed_chain.py", "test_viewer.py", "test_mujoco_engine.py", "test_compare.py",
-    "test_meshcat_output.py", "test_sweep.py", "test_reduced_kernel.py", "test_laws.py",
+    "test_meshcat_output.py", "test_sweep.py", "test_analytic_kernel.py", "test_laws.py",
 ]
 
 

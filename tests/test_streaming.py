@@ -112,7 +112,7 @@ def test_a_bad_file_gives_the_readers_error(tmp_path):
 
 
 def test_a_crossing_at_a_piece_boundary_is_caught_as_in_one_piece(params):
-    """δ = 5°: between γ = −7.3° and −4.1° the motion steps over the singularity at γ = −5° (tests/test_kinematics.py)."""
+    """δ = 5°: between γ = −7.3° and −4.1° the motion steps over the singularity at γ = −5° (tests/test_inverse_kinematics.py)."""
     machine = params.replace(home_offset=np.radians(5.0))
     gamma = np.radians([-9.7, -7.3, -4.1, -1.9])
     coarse = Trajectory(np.arange(4) * 0.1, np.column_stack([np.zeros(4), np.zeros(4), gamma]), np.zeros((4, 3)), np.zeros((4, 3)), np.zeros(4))
