@@ -87,7 +87,7 @@ class Entry:
 ENGINES = (
     Entry("analytic", "hipsim.analytic.engine", "AnalyticModel", "The analytic model",
           options=("lever_spin", "on_error"), flags=True, reference=True),
-    Entry("pinocchio", "hipsim.closed_chain.engine", "PinocchioModel", "The Pinocchio model", joint_forces=True, warm_up=True),
+    Entry("pinocchio", "hipsim.closed_chain.engine", "PinocchioModel", "The Pinocchio closed-chain model", joint_forces=True, warm_up=True),
     Entry("mujoco", "hipsim.mujoco_engine", "MujocoModel", "The MuJoCo engine", extra="mujoco", package="mujoco", joint_forces=True,
           checked_whole=True),
 )  # fmt: skip

@@ -14,6 +14,7 @@ import json
 import math
 import re
 
+from ..analysis.registry import engine_entry
 from ..physics.units import RPM_PER_RAD_S as _RPM
 from ..design.sizing import CHECKS, Check, Sizing
 from ..machine.drive import Drive
@@ -233,7 +234,7 @@ def report_html(result: Run, summary: dict, size: Sizing, tracking, figures, not
         cond_inv_t=significant(summary["cond_inv_min_t_s"]),
         demands=demands,
         joints=joints,
-        joint_model="Pinocchio closed-chain" if joint_model == "pinocchio" else joint_model,
+        joint_model=engine_entry(joint_model).title,
         checks=_check_rows(size) if size.checks else None,
         passed=size.passed,
         binding=_check_sentence(binding) if binding is not None else None,
