@@ -43,6 +43,7 @@ from ..engine import Plant
 from ..exceptions import ArgumentError, PoseError
 from ..files import write_columns
 from ..analytic.inverse_kinematics import kinematics
+from ..machine.parameter_set import FRICTION_COEFFICIENTS
 from ..machine.parameters import Parameters
 from ..analytic.kernel import floats
 from ..motion.trajectories import Trajectory
@@ -422,11 +423,7 @@ def apply_mismatch(params: Parameters, friction: float = 0.0, masses: float = 0.
     f, m = 1.0 + friction, 1.0 + masses
     fr = params.friction
     return params.replace(
-        hip_mu=fr.hip_mu * f, thrust_mu=fr.thrust_mu * f,
-        screw_coulomb=fr.screw_coulomb * f, screw_viscous=fr.screw_viscous * f,
-        guide_coulomb=fr.guide_coulomb * f, guide_viscous=fr.guide_viscous * f,
-        ujoint_coulomb=fr.ujoint_coulomb * f, ujoint_viscous=fr.ujoint_viscous * f,
-        sjoint_coulomb=fr.sjoint_coulomb * f, sjoint_viscous=fr.sjoint_viscous * f,
+        **{name: getattr(fr, name) * f for name in FRICTION_COEFFICIENTS},
         platform_mass=params.platform_mass * m, platform_inertia=params.platform_inertia * m,
         lever_mass=params.lever_mass * m, lever_inertia=params.lever_inertia * m,
         slider_mass=params.slider_mass * m, screw_inertia=params.screw_inertia * m,

@@ -17,7 +17,7 @@ import numpy as np
 from ..arrays import readonly
 from ..exceptions import ParameterError
 
-__all__ = ["ControlSettings", "Friction", "Parameters", "slender_levers"]
+__all__ = ["FRICTION_COEFFICIENTS", "ControlSettings", "Friction", "Parameters", "slender_levers"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -177,6 +177,12 @@ class Parameters:
 
 
 _FRICTION_FIELDS = {f.name for f in dataclasses.fields(Friction)}
+
+#: The friction coefficients proper, in the order of :class:`Friction`: what scales when friction is
+#: off by a fraction (not the smooth sign's ε, the friction radii or the bearing's switch).
+FRICTION_COEFFICIENTS = tuple(
+    f.name for f in dataclasses.fields(Friction) if f.name not in ("epsilon", "hip_radius", "thrust_radius", "thrust_bearing_axial_only")
+)
 _CONTROL_FIELDS = {f.name for f in dataclasses.fields(ControlSettings)}
 
 
