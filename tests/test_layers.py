@@ -22,7 +22,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "hipsim"
 # --- The rules --------------------------------------------------------------------------
 
 #: The foundation: errors, frozen arrays, files, tables and set-up fingerprints. Its modules may import one another.
-FOUNDATION = frozenset({"exceptions", "arrays", "files", "tables", "fingerprint", "version"})
+FOUNDATION = frozenset({"exceptions", "arrays", "files", "tables", "fingerprint", "version", "result_table"})
 #: The laws every model shares (vectors, friction, units, the screw transmission, numba's plumbing).
 PHYSICS = FOUNDATION | {"physics"}
 #: What a run is about, what it returns, and the engine and plant protocols.

@@ -25,20 +25,16 @@ Example:
 
 from __future__ import annotations
 
-import atexit
-import contextlib
-import logging
 import math
 import os
-import shutil
-import tempfile
 from dataclasses import dataclass, field
 from typing import Any, Callable, Iterator, Sequence
 
 import numpy as np
 
+from ..analysis.cluster import map_batches
 from ..analysis.registry import engine_entry, engine_names
-from ..exceptions import ArgumentError, ClosureError, MissingDependencyError, ParameterError, PoseError
+from ..exceptions import ArgumentError, ClosureError, ParameterError, PoseError
 from ..fingerprint import part_fingerprints
 from ..machine.drive import Drive, drive_from_motor_table
 from ..machine.parameters import Parameters, file_values, override_parameters
@@ -263,14 +259,6 @@ def _batch_size(count: int, workers: int) -> int:
     return max(1, min(200, math.ceil(count / (8 * max(workers, 1)))))
 
 
-def _distributed(what: str):
-    try:
-        import distributed
-    except ImportError:
-        raise MissingDependencyError("distributed", "sweep", what) from None
-    return distributed
-
-
 def run_sweep(
     setup: SweepSetup,
     variants: Variants,
@@ -317,63 +305,11 @@ def run_sweep(
                 progress(done, total)
             yield rows
         return
-    for rows in _on_cluster(setup, work, workers, scheduler):
+    for rows in map_batches(evaluate_batch, work, setup, workers, scheduler, "hipsim sweep"):
         done += len(rows)
         if progress is not None:
             progress(done, total)
         yield rows
-
-
-def _on_cluster(setup: SweepSetup, work, workers: int, scheduler: str | None):
-    """The batches' rows from a dask cluster, as they complete."""
-    distributed = _distributed("hipsim sweep")
-    # A local cluster's scratch space (lock files, spilled data) goes in a folder of this run's, removed once its
-    # processes are gone, also on Ctrl-C or SIGTERM: not dask's shared /tmp/dask-scratch-space, which it leaves behind.
-    scratch = tempfile.mkdtemp(prefix="hipsim-sweep-") if scheduler is None else None
-    try:
-        with contextlib.ExitStack() as stack:
-            if scheduler is not None:
-                try:
-                    client = stack.enter_context(distributed.Client(scheduler, timeout="20s"))
-                except (OSError, TimeoutError, ValueError) as error:
-                    raise ArgumentError("scheduler", scheduler, f"the address of a running dask scheduler ({' '.join(str(error).split())})") from None
-            else:
-                stack.enter_context(_dask_config(temporary_directory=scratch))
-                cluster = stack.enter_context(distributed.LocalCluster(
-                    n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=logging.CRITICAL,
-                    local_directory=scratch,
-                ))  # fmt: skip
-                client = stack.enter_context(distributed.Client(cluster))
-            shared = client.scatter(setup, broadcast=True, hash=False)
-            futures = client.map(evaluate_batch, work, setup=shared, pure=False)
-            try:
-                for future in distributed.as_completed(futures):
-                    rows = future.result()
-                    future.release()
-                    yield rows
-            finally:
-                client.cancel(futures)
-    finally:
-        if scratch is not None:
-            _remove_scratch(scratch)
-
-
-def _remove_scratch(folder: str) -> None:
-    """Remove the cluster's scratch folder once its worker processes have ended (they write their locks until then)."""
-    import multiprocessing
-
-    for child in multiprocessing.active_children():
-        child.join(timeout=10.0)
-    shutil.rmtree(folder, ignore_errors=True)
-    # A cluster interrupted while it started may still have a worker starting, which makes its locks again: once more at exit.
-    atexit.register(shutil.rmtree, folder, True)
-
-
-def _dask_config(temporary_directory: str):
-    """dask's configuration with its temporary directory set, within the context (the scheduler and nannies read it)."""
-    import dask
-
-    return dask.config.set({"temporary-directory": temporary_directory})
 
 
 def variant_id(values: Sequence[float]) -> tuple[float, ...]:

@@ -16,20 +16,15 @@ pandas DataFrame when pandas is installed, else a :class:`MonitorTable`.
 
 from __future__ import annotations
 
-import atexit
-import contextlib
-import logging
 import math
-import os
-import shutil
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Iterator, Sequence
 
 import numpy as np
 
-from ..exceptions import ArgumentError, HipsimError, MissingDependencyError
+from ..analysis.cluster import map_batches
+from ..exceptions import ArgumentError, HipsimError
 from ..machine.parameters import Parameters
 from .control_chart import DEFAULT_ALARM_RISE, DEFAULT_BASELINE, Chart, chart
 from .monitor_fit import MonitorSetup, estimate_batch, reference
@@ -132,50 +127,7 @@ def run_snapshots(setup: MonitorSetup, snapshots: Sequence[Snapshot], workers: i
         for batch in work:
             yield estimate_batch(batch, setup)
         return
-    yield from _on_cluster(setup, work, int(workers), scheduler)
-
-
-def _on_cluster(setup: MonitorSetup, work, workers: int, scheduler: str | None):
-    """The batches' results from a dask cluster, as they complete (as :func:`hipsim.design.sweep.run_sweep` runs its variants)."""
-    try:
-        import distributed
-    except ImportError:
-        raise MissingDependencyError("distributed", "sweep", "hipsim monitor on more than one worker") from None
-    # A local cluster's scratch space goes in a folder of this run's, removed once its processes are gone.
-    scratch = tempfile.mkdtemp(prefix="hipsim-monitor-") if scheduler is None else None
-    try:
-        with contextlib.ExitStack() as stack:
-            if scheduler is not None:
-                try:
-                    client = stack.enter_context(distributed.Client(scheduler, timeout="20s"))
-                except (OSError, TimeoutError, ValueError) as error:
-                    raise ArgumentError("scheduler", scheduler, f"the address of a running dask scheduler ({' '.join(str(error).split())})") from None
-            else:
-                import dask
-
-                stack.enter_context(dask.config.set({"temporary-directory": scratch}))
-                cluster = stack.enter_context(distributed.LocalCluster(
-                    n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=logging.CRITICAL,
-                    local_directory=scratch,
-                ))  # fmt: skip
-                client = stack.enter_context(distributed.Client(cluster))
-            shared = client.scatter(setup, broadcast=True, hash=False)
-            futures = client.map(estimate_batch, work, setup=shared, pure=False)
-            try:
-                for future in distributed.as_completed(futures):
-                    results = future.result()
-                    future.release()
-                    yield results
-            finally:
-                client.cancel(futures)
-    finally:
-        if scratch is not None:
-            import multiprocessing
-
-            for child in multiprocessing.active_children():
-                child.join(timeout=10.0)
-            shutil.rmtree(scratch, ignore_errors=True)
-            atexit.register(shutil.rmtree, scratch, True)
+    yield from map_batches(estimate_batch, work, setup, int(workers), scheduler, "hipsim monitor")
 
 
 def _columns(rows: list[dict[str, Any]], chart_: Chart) -> dict[str, list[Any]]:
