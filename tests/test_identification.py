@@ -122,7 +122,6 @@ def test_two_log_sets_give_the_same_base_definitions(noisy):
     assert [e.name for e in other.estimates] == result.base.names
 
 
-@pytest.mark.xfail(reason="coverage 88 % on this held-out run: the residual's correlation beyond the filter's band is not yet in the covariance (issue 26)", strict=False)
 def test_the_95_percent_band_covers_the_true_torque(noisy, tmp_path):
     _, _, _, result = noisy
     start, true = machines()
