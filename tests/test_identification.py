@@ -255,3 +255,29 @@ def test_bad_input_is_one_line_and_writes_nothing(noisy, tmp_path, capsys, case)
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and expected in err, err
     assert not out.exists()
+
+
+def test_compare_with_an_identified_file_shows_the_model_band(noisy, tmp_path, capsys):
+    """The model's 95 % band in compare's JSON and printout; the measured torque (noise included) mostly within it."""
+    import json
+
+    _, _, held_out, result = noisy
+    path = result.write_toml(tmp_path / "identified.toml")
+    assert main(["compare", "--log", str(held_out), "--params", str(path), "--out", str(tmp_path / "cmp")]) == 0
+    printed = capsys.readouterr().out
+    assert "model's 95 % band" in printed
+    bands = json.loads((tmp_path / "cmp" / "comparison.json").read_text())["model_band95"]
+    for i in "123":
+        assert 0 < bands[i]["rms_half_width_Nmm"] < bands[i]["max_half_width_Nmm"] < 20
+        assert 0 <= bands[i]["measured_within_band"] <= 1
+        # The model's band is its parameters' uncertainty; the log's noise and sticking at reversals need the prediction band.
+        assert bands[i]["prediction_rms_half_width_Nmm"] > bands[i]["rms_half_width_Nmm"]
+        assert bands[i]["measured_within_band"] < bands[i]["measured_within_prediction_band"]
+        assert bands[i]["measured_within_prediction_band"] > 0.75
+    comparison = json.loads((tmp_path / "cmp" / "comparison.json").read_text())
+    assert "95 % band" in (tmp_path / "cmp" / "index.html").read_text()
+    # Without a covariance: no band.
+    assert main(["compare", "--log", str(held_out), "--out", str(tmp_path / "plain")]) == 0
+    assert "model_band95" not in json.loads((tmp_path / "plain" / "comparison.json").read_text())
+    assert "model's 95 % band" not in capsys.readouterr().out
+    assert comparison["motors"]["1"]["rms_error_Nmm"] > 0

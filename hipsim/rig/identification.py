@@ -247,6 +247,7 @@ class Identification:
             "prior_std": [x.prior_std for x in e],
             "determined": [x.determined for x in e],
             "covariance": [list(map(float, row)) for row in self.covariance],
+            "residual_rms_Nmm": [float(r * 1e3) for r in self.residual_rms],
         }
         if self.validation:
             table["validation_logs"] = [identified.log.name for identified, _ in self.validation]
