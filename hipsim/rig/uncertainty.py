@@ -13,6 +13,7 @@ A nonlinear quantity of the torques (a sizing margin) takes draws of θ_b
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -24,7 +25,7 @@ from ..motion.trajectories import Trajectory
 from .base import base_parameters
 from .regressor import regressor
 
-__all__ = ["Z95", "Covariance", "band_columns", "band_summary", "log_torque_std", "read_covariance", "torque_draws", "torque_std"]
+__all__ = ["Z95", "Covariance", "band_columns", "band_summary", "log_torque_std", "read_covariance", "sigma_machines", "torque_draws", "torque_std"]
 
 #: The two-sided 95 % quantile of the normal distribution.
 Z95 = 1.959963984540054
@@ -178,4 +179,23 @@ def band_summary(half_Nm: np.ndarray, error_Nm: np.ndarray, residual: np.ndarray
             entry["prediction_rms_half_width_Nmm"] = float(np.sqrt(np.mean(wide[ok] ** 2)) * 1e3) if ok.any() else None
             entry["measured_within_prediction_band"] = float(np.mean(np.abs(error[ok]) <= wide[ok])) if ok.any() else None
         out[str(i + 1)] = entry
+    return out
+
+
+def sigma_machines(params: Parameters, covariance: Covariance) -> list[Parameters]:
+    """Machines one standard deviation away along each principal direction of the covariance: θ_b + √λ_k·v_k.
+
+    For any quantity g of a model run (a sizing margin), Σ_k (g(machine_k) − g(params))² is
+    ∇gᵀ Σ ∇g to first order (the columns √λ_k·v_k factor Σ), the variance of g: one model run per
+    base parameter instead of hundreds of draws. Directions of zero variance are left out.
+    """
+    from .quantities import standard_values, with_values
+
+    base = base_parameters(params, covariance.lever_spin)
+    theta = standard_values(params)
+    theta_b = base.transform @ theta
+    values, vectors = np.linalg.eigh(covariance.matrix)
+    out = []
+    for k in np.flatnonzero(values > 1e-12 * max(values.max(), 1e-300)):
+        out.append(with_values(params, base.standard(theta_b + math.sqrt(values[k]) * vectors[:, k], theta)))
     return out
