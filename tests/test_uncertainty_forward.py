@@ -68,3 +68,24 @@ def test_size_with_an_identified_file_says_which_margins_pass_with_confidence(id
     # Without a covariance: the output of before, no bands.
     assert main(["size", "--drive", str(DRIVE), "--rate", "500"]) in (0, 1)
     assert "95 % confidence" not in capsys.readouterr().out
+
+
+def test_the_parameter_origin_comes_from_the_identification_table(identified, tmp_path):
+    """Identified or published, per parameter, from the [identification] table: the comment header below the first line is not needed."""
+    import tomllib
+
+    from hipsim.present.provenance import parameter_origin
+
+    path, _ = identified
+    lines = path.read_text(encoding="utf-8").splitlines()
+    bare = tmp_path / "bare.toml"
+    bare.write_text("\n".join([lines[0]] + [line for line in lines[1:] if not line.startswith("#")]) + "\n", encoding="utf-8")
+    table = tomllib.loads(path.read_text(encoding="utf-8"))["identification"]
+    origin = parameter_origin(bare)
+    assert origin.kind == "identified" and origin.logs == ("fit.csv",)
+    determined = {label: (value, std) for label, value, std, d in zip(table["base"], table["value"], table["std"], table["determined"]) if d}
+    assert {v.label: (v.value, v.std) for v in origin.identified} == determined
+    assert {key for key, _ in origin.held} >= {key for key, d in zip(table["keys"], table["determined"]) if not d}
+    assert origin.origin_of("slider.mass_kg")[0] == "identified"
+    assert origin.origin_of("lever.mass_kg")[0].startswith("start value")  # folded into m_L, its own value the starting one
+    assert parameter_origin(None).kind == "published"
