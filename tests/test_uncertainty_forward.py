@@ -89,3 +89,18 @@ def test_the_parameter_origin_comes_from_the_identification_table(identified, tm
     assert origin.origin_of("slider.mass_kg")[0] == "identified"
     assert origin.origin_of("lever.mass_kg")[0].startswith("start value")  # folded into m_L, its own value the starting one
     assert parameter_origin(None).kind == "published"
+
+
+def test_report_with_an_identified_file_states_the_margins_confidence(identified, tmp_path, capsys):
+    path, _ = identified
+    args = ["report", "--params", str(path), "--motor", str(DRIVE), "--model", "analytic", "--rate", "200"]
+    assert main(args + ["--out", str(tmp_path / "a")]) in (0, 1)
+    page = (tmp_path / "a" / "index.html").read_text(encoding="utf-8")
+    assert "pass with 95 % confidence" in page and "identified" in page
+    printed = capsys.readouterr().out
+    assert "pass with 95 % confidence" in printed
+    assert main(args + ["--out", str(tmp_path / "b"), "--summary-format", "json"]) in (0, 1)
+    document = json.loads(capsys.readouterr().out)
+    assert len(document["margin_bands"]) == len(document["sizing"]["checks"])
+    assert main(["report", "--motor", str(DRIVE), "--model", "analytic", "--rate", "200", "--out", str(tmp_path / "c")]) in (0, 1)
+    assert "95 % confidence" not in (tmp_path / "c" / "index.html").read_text(encoding="utf-8")
