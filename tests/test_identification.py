@@ -132,6 +132,8 @@ def test_the_95_percent_band_covers_the_true_torque(noisy, tmp_path):
     actual = inverse_dynamics(true, kinematics(true, trajectory), trajectory.Fe, True).total
     half = Z95 * torque_std(result.params, trajectory, covariance)
     assert np.mean(np.abs(predicted - actual) <= half) >= 0.9
+    # ... and is not uselessly wide: a calibrated normal band's half-width is 1.96 RMS errors.
+    assert np.sqrt(np.mean(half**2)) <= 4 * np.sqrt(np.mean((predicted - actual) ** 2))
 
 
 def test_noisy_logs_predict_the_held_out_trajectory_within_one_percent(noisy):
