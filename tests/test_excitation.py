@@ -76,3 +76,22 @@ def test_excite_command(tmp_path, capsys):
     assert main(["excite", "--harmonics", "1", "--torque-limit", "-5", "--out", str(tmp_path / "x.csv")]) == 2
     assert "--torque-limit: expected a positive number" in capsys.readouterr().err
     assert not (tmp_path / "x.csv").exists()
+
+
+def test_sets_evaluated_together_give_what_each_gives_alone(design):
+    """The gradient's one model run over many coefficient sets: each set's objective and margins as if it ran alone."""
+    from hipsim.rig.excitation import DESIGN_QUANTITIES, _design_columns, _evaluate_many, _series
+
+    grid = np.arange(100) / (100 * design.frequency)
+    columns = _design_columns(DESIGN_QUANTITIES)
+    sets = [design.coefficients, design.coefficients * np.r_[1.0, 0.8, 0.9, 1.0][:, None], design.coefficients.copy()]
+    sets[2][:3, 1:] *= 0.5
+    together = _evaluate_many(PARAMS, sets, design.frequency, grid, columns, True, design.limits)
+    for coefficients, (value, margins) in zip(sets, together):
+        alone = _evaluate_many(PARAMS, [coefficients], design.frequency, grid, columns, True, design.limits)[0]
+        assert value == pytest.approx(alone[0], rel=1e-12) and np.allclose(margins, alone[1], rtol=1e-12, atol=1e-14)
+        # ... and the objective is the condition number computed by the public route.
+        values, rates, accelerations = _series(coefficients, design.frequency, grid)
+        trajectory = Trajectory(grid, values[:3].T, rates[:3].T, accelerations[:3].T, values[3])
+        assert math.exp(value) == pytest.approx(condition_number(PARAMS, trajectory), rel=1e-9)
+

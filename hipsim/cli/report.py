@@ -58,7 +58,11 @@ def run(args) -> int:
     from ..machine.drive import drive_from_motor_table, load_drive
     from ..present.report import write_report
 
+    from ..rig.uncertainty import read_covariance
+
     params = parameters(args)
+    covariance = read_covariance(args.params, params)  # a bad table refused before the work
+    identified = params
     trajectory = load_trajectory(args)
     if args.mismatch and not args.simulate:
         raise HipsimError("--mismatch applies to the simulations: give --simulate too")
@@ -104,6 +108,9 @@ def run(args) -> int:
         if mismatch:
             notes.append("Tracking: the simulated plant is off from the controllers' model: " + ", ".join(f"{k} {v:+.0%}" for k, v in mismatch.items()) + ".")
     cycles = 1.0 if args.trajectory or args.cycles is None else args.cycles  # a trajectory file is one test cycle
+    bands = _margin_bands(identified, params, covariance, run, trajectory, drive, cycles)
+    if bands:
+        notes.append(_bands_note(bands))
     files = write_report(Path(args.out), run, joint_run, simulations=simulations, drive=drive, notes=tuple(notes), cycles=cycles,
                          provenance=provenance, pdf=args.pdf)
     passed = files.sizing.passed if files.sizing is not None else None
@@ -112,15 +119,46 @@ def run(args) -> int:
         print_json((joint_run or run).summary() | {"sizing": files.sizing.as_dict() if files.sizing is not None else None,
                                                     "rating_check": _verdict(passed), "index": str(files.index),
                                                     "pdf": None if pdf is None else str(pdf),
-                                                    "verdict": files.verdict.as_dict(), "provenance": provenance.as_dict()})
+                                                    "verdict": files.verdict.as_dict(), "provenance": provenance.as_dict()}
+                   | ({"margin_bands": [b.as_dict() for b in bands]} if bands else {}))
     else:
         print(f"wrote {files.index}" + (f" and {pdf}" if pdf is not None else ""))
         if passed is not None:
             print(f"rating check of {files.sizing.drive.name}: {_verdict(passed)}" + ("" if passed else " (see the sizing table in the report)"))
+        if bands:
+            print(_bands_note(bands))
     if passed is False:
         print("hipsim: the drive fails its rating check (exit status 1)", file=sys.stderr)
         return 1
     return 0
+
+
+def _margin_bands(identified, params, covariance, run, trajectory, drive, cycles):
+    """The sizing margins with the identified parameters' uncertainty (:func:`hipsim.design.sizing.margin_bands`); None without a covariance or a drive."""
+    if covariance is None or drive is None:
+        return None
+    from ..analysis.runs import analyse
+    from ..design.sizing import margin_bands, sizing
+    from ..rig.uncertainty import sigma_machines
+
+    changes = {"lead": params.lead, "screw_inertia": params.screw_inertia} if params is not identified else {}
+    variants = [v.replace(**changes) if changes else v for v in sigma_machines(identified, covariance)]
+    return margin_bands(sizing(run, drive, None, cycles), [sizing(analyse(v, trajectory), drive, None, cycles) for v in variants])
+
+
+def _bands_note(bands) -> str:
+    """One sentence for the page's notes: how many margins pass with 95 % confidence, and which do not, with their intervals."""
+    made = [b for b in bands if b.confident is not None]
+    weak = [b for b in made if not b.confident]
+    text = (f"Sizing margins with the uncertainty of the identified parameters (the parameter file's covariance): "
+            f"{len(made) - len(weak)} of {len(made)} checks pass with 95 % confidence (margin at least 1.645 of its standard deviations)")
+    if not weak:
+        return text + "."
+    parts = []
+    for b in weak:
+        lo, hi = b.interval
+        parts.append(f"{b.check.kind.label}, LN{b.check.module}: margin {100 * b.check.margin:+.1f} % (95 %: {100 * lo:+.1f} % to {100 * hi:+.1f} %)")
+    return text + "; not: " + "; ".join(parts) + "."
 
 
 def _verdict(passed: bool | None) -> str:

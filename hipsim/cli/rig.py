@@ -157,7 +157,10 @@ def run_compare(args) -> int:
     from ..files import check_folder
     from ..present.rig_figures import write_comparison
 
+    from ..rig.uncertainty import read_covariance
+
     params = parameters(args)
+    covariance = read_covariance(args.params, params)  # a bad table refused before the work
     if args.accept is not None and not (math.isfinite(args.accept) and args.accept > 0):
         raise HipsimError(f"--accept: expected a positive percentage, got {args.accept!r}")
     _check_log_options(args)
@@ -166,7 +169,13 @@ def run_compare(args) -> int:
         provenance = page_provenance(args, log=args.log)  # hashed before the work (once the log is known to be there): the log as it was read
         _plausible(log, params, args)  # a unit slip refused before the comparison
         comparison = compare_log(params, log, lever_spin=not args.spin_free_levers, period=args.period, progress=progress("compare"))
-    files = write_comparison(args.out, comparison, provenance=provenance, accept=None if args.accept is None else args.accept / 100)
+        band = None
+        if covariance is not None:  # an identified file: the model's 95 % band at the samples kept
+            from ..rig.uncertainty import Z95, log_torque_std
+
+            band = Z95 * log_torque_std(params, log, comparison.t, covariance)
+    files = write_comparison(args.out, comparison, provenance=provenance, accept=None if args.accept is None else args.accept / 100, band=band,
+                             residual=None if covariance is None else covariance.residual)
     summary = comparison.summary()
     if args.summary_format == "json":
         print(json.dumps(json.loads(files.summary.read_text(encoding="utf-8")), indent=2))
@@ -176,6 +185,14 @@ def run_compare(args) -> int:
     print(f"log: {log.name} ({summary['samples']} samples compared, motion from the {log.motion_from}); parameters: {params.source}")
     for note in log.notes:
         print(f"  {note}")
+    if band is not None:
+        bands = json.loads(files.summary.read_text(encoding="utf-8"))["model_band95"]
+        print("model's 95 % band (the parameter file's covariance): " + ", ".join(
+            f"M{i} ±{b['rms_half_width_Nmm']:.3g} N·mm RMS" for i, b in bands.items()))
+        if "measured_within_prediction_band" in bands["1"]:
+            print("  with the fit's residual (a measurement's noise and model error), the prediction band: " + ", ".join(
+                f"M{i} ±{b['prediction_rms_half_width_Nmm']:.3g} N·mm RMS, {100 * b['measured_within_prediction_band']:.0f} % of measured samples within"
+                for i, b in bands.items()))
     rows = [
         [f"M{i}", m["measured_rms_Nmm"], m["measured_peak_Nmm"], m["rms_error_Nmm"], f"{100 * m['relative_rms_error']:.2f} %",
          m["peak_error_Nmm"], f"{100 * m['relative_peak_error']:.2f} %", f"{m['peak_error_t_s']:.3f}", m["rms_error_away_from_reversals_Nmm"]]

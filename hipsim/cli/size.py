@@ -185,6 +185,36 @@ def format_demands(size) -> str:
     return format_table(header, rows, "At each screw shaft (motor thrust 2πτ/p; axial screw load 2π(τ − τ_L − τ_screw friction)/p)")
 
 
+def _margin_bands(args, params, machine, drive, rules, trajectories, results):
+    """Each trajectory's margin bands from an identified parameter file's covariance (None without one, or without a drive)."""
+    from ..rig.uncertainty import read_covariance, sigma_machines
+
+    covariance = read_covariance(args.params, params)
+    if covariance is None or drive is None:
+        return None
+    from ..analysis.runs import analyse
+    from ..design.sizing import margin_bands, sizing
+
+    changes = {"lead": machine.lead, "screw_inertia": machine.screw_inertia} if machine is not params else {}
+    variants = [v.replace(**changes) if changes else v for v in sigma_machines(params, covariance)]
+    return [margin_bands(size, [sizing(analyse(v, trajectory), drive, rules, cycles) for v in variants])
+            for (trajectory, cycles), (_, size) in zip(trajectories, results)]
+
+
+def format_bands(bands) -> str:
+    """The checks' margins with the identified parameters' uncertainty: the 95 % interval, and whether each passes with 95 % confidence."""
+    rows = []
+    for b in bands:
+        if b.std is None:
+            continue
+        c = b.check
+        lo, hi = b.interval
+        rows.append([f"LN{c.module}", c.kind.label, format_margin(c.margin), f"±{100 * b.std:.2g} %", f"{format_margin(lo)} to {format_margin(hi)}",
+                     "yes" if b.confident else "NO"])
+    return format_table(["module", "check", "margin", "std", "95 % interval", "passes with 95 % confidence"], rows,
+                        "Margins with the uncertainty of the identified parameters (the parameter file's covariance; one-sided 95 %: margin ≥ 1.645 std)")
+
+
 def run(args) -> int:
     """Check ``--drive`` (or rank ``--catalogue``) along the cycles and print the checks; exit status 1 when the drive fails one."""
     from ..analysis.runs import analyse
@@ -248,8 +278,12 @@ def run(args) -> int:
         changes = {"lead": drive.screw.lead, "screw_inertia": drive.screw.inertia}
         machine = params.replace(**{k: v for k, v in changes.items() if v is not None})
     results = [(trajectory, sizing(analyse(machine, trajectory), drive, rules, cycles)) for trajectory, cycles in trajectories]
+    bands = _margin_bands(args, params, machine, drive, rules, trajectories, results)
     if args.format == "json":
-        print(json.dumps(json_ready({t.name: s.as_dict() for t, s in results}), indent=2))
+        document = {t.name: s.as_dict() for t, s in results}
+        for (t, _), b in zip(results, bands or []):
+            document[t.name]["margin_bands"] = [x.as_dict() for x in b]
+        print(json.dumps(json_ready(document), indent=2))
     else:
         for trajectory, size in results:
             print(f"trajectory: {trajectory.name} ({len(trajectory)} samples); parameters: {machine.source}; lead {machine.lead * 1e3:g} mm")
@@ -264,6 +298,9 @@ def run(args) -> int:
                     verdict = "PASS" if size.passed else "FAIL"
                     print(f"-> {verdict}; binding: {b.kind.label}, LN{b.module}: {format_quantity(b.value, b.kind.unit)} against "
                           f"{format_quantity(b.limit, b.kind.unit)} {b.kind.unit} (margin {format_margin(b.margin)})")
+                if bands:
+                    print()
+                    print(format_bands(bands[[t for t, _ in results].index(trajectory)]))
             print()
     failed = any(size.passed is False for _, size in results)
     return 1 if failed else 0

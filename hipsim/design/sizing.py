@@ -32,6 +32,9 @@ from .ratings import STEEL_DENSITY, STEEL_MODULUS, buckling_load, critical_speed
 
 __all__ = [
     "CHECKS",
+    "Z95_ONE_SIDED",
+    "MarginBand",
+    "margin_bands",
     "STEEL_DENSITY",
     "STEEL_MODULUS",
     "Candidate",
@@ -144,6 +147,56 @@ class Sizing:
             "passed": self.passed,
         }
 
+
+
+#: The one-sided 95 % quantile of the normal distribution: a margin passes with 95 % confidence when it exceeds this many of its standard deviations.
+Z95_ONE_SIDED = 1.6448536269514722
+
+
+@dataclass(frozen=True)
+class MarginBand:
+    """A check's margin with the uncertainty of the machine's identified parameters.
+
+    Attributes:
+        check: the check with the identified machine (its margin is the central value).
+        std: the margin's standard deviation (first order), or None when the check was not made.
+    """
+
+    check: Check
+    std: float | None
+
+    @property
+    def interval(self) -> tuple[float, float] | None:
+        """The margin's two-sided 95 % interval, or None."""
+        if self.std is None or self.check.margin is None:
+            return None
+        return self.check.margin - 1.959963984540054 * self.std, self.check.margin + 1.959963984540054 * self.std
+
+    @property
+    def confident(self) -> bool | None:
+        """Passes with 95 % confidence: margin ≥ 1.645 standard deviations (one-sided); None when not checked."""
+        if self.std is None or self.check.margin is None:
+            return None
+        return bool(self.check.margin - Z95_ONE_SIDED * self.std >= 0)
+
+    def as_dict(self) -> dict[str, Any]:
+        interval = self.interval
+        return {"module": self.check.module, "name": self.check.name, "margin": self.check.margin, "margin_std": self.std,
+                "margin_lo95": None if interval is None else interval[0], "margin_hi95": None if interval is None else interval[1],
+                "passes_with_95_confidence": self.confident}
+
+
+def margin_bands(nominal: Sizing, spread: "list[Sizing]") -> tuple[MarginBand, ...]:
+    """Each check's margin band from the sizing of the identified machine and of machines one standard deviation away
+    along each principal direction of its covariance (:func:`hipsim.rig.uncertainty.sigma_machines`): var = Σ_k (m_k − m_0)²."""
+    out = []
+    for j, check in enumerate(nominal.checks):
+        others = [s.checks[j].margin for s in spread]
+        if check.margin is None or not math.isfinite(check.margin) or any(m is None or not math.isfinite(m) for m in others):
+            out.append(MarginBand(check, None))
+            continue
+        out.append(MarginBand(check, float(math.sqrt(sum((m - check.margin) ** 2 for m in others)))))
+    return tuple(out)
 
 
 def _drive_dict(drive: Drive) -> dict[str, Any]:

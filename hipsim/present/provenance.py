@@ -9,10 +9,12 @@ template partial ``templates/provenance.html.j2`` shows it on a page.
 
 Where the parameter values came from (:func:`parameter_origin`): the
 package's own file is the published machine; a file that ``hipsim identify``
-wrote says so in its comment header, which names the logs fitted, the
-starting parameters, each identified quantity with its standard deviation and
-the held-out (validation) error, and those are read back from it; any other
-file is the user's; ``--set`` overrides are listed key by key.
+wrote carries its ``[identification]`` table (the logs fitted, the starting
+parameters, every base parameter with its definition, value, standard
+deviation and whether the logs determined it, the held-out (validation)
+errors), and those are read back from it (from its comment header for a file
+written before the table existed); any other file is the user's; ``--set``
+overrides are listed key by key.
 """
 
 from __future__ import annotations
@@ -264,6 +266,45 @@ def _read_identified_header(lines: Sequence[str]) -> dict[str, Any]:
     return found
 
 
+def _read_identification_table(path: str | Path) -> dict[str, Any]:
+    """What the file's ``[identification]`` table says (:meth:`hipsim.rig.identification.Identification.table`), in the
+    shape of :func:`_read_identified_header`; empty when the file has no such table (the header's reading then stands)."""
+    import tomllib
+
+    try:
+        table = tomllib.loads(Path(path).read_text(encoding="utf-8")).get("identification")
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        return {}
+    columns = ("base", "keys", "units", "value", "std", "determined", "definitions")
+    if not isinstance(table, dict) or not all(isinstance(table.get(c), list) for c in columns):
+        return {}
+    if len({len(table[c]) for c in columns}) != 1:
+        return {}
+    labels = _labels()
+    identified, combined, held = [], [], []
+    for label, key, unit, value, std, determined, definition in zip(*(table[c] for c in columns)):
+        terms = [term for term in re.findall(r"·([^\s·+−]+)", str(definition)) if term in labels]
+        if determined:
+            identified.append(IdentifiedValue(str(key), str(label), float(value), float(std), str(unit),
+                                              str(definition) if definition != label else ""))
+            combined += [labels[term] for term in terms]
+        else:
+            held.append((str(key), f"not determined by these logs: near its prior ({float(value):.6g} ± {float(std):.2g} {unit})".replace(" )", ")")))
+            held += [(labels[term], f"folded into {label}, not determined by these logs") for term in terms]
+    found: dict[str, Any] = {"identified": identified, "combined": combined, "held": held}
+    if isinstance(table.get("logs"), list):
+        found["logs"] = tuple(str(name) for name in table["logs"])
+    if isinstance(table.get("start"), str):
+        found["start"] = table["start"]
+    names, errors, starting = (table.get(c) for c in ("validation_logs", "validation_rms_error_Nmm", "validation_start_rms_error_Nmm"))
+    if isinstance(names, list) and isinstance(errors, list) and isinstance(starting, list) and len(names) == len(errors) == len(starting):
+        try:
+            found["validation"] = [(str(name), tuple((float(a), float(b)) for a, b in zip(e, s0))) for name, e, s0 in zip(names, errors, starting)]
+        except (TypeError, ValueError):
+            pass
+    return found
+
+
 def parameter_origin(path: str | Path | None, overrides: Iterable[str] = ()) -> ParameterOrigin:
     """Where the values of a parameter file (None: the published machine) and its ``--set`` overrides came from.
 
@@ -285,6 +326,7 @@ def parameter_origin(path: str | Path | None, overrides: Iterable[str] = ()) -> 
     if not lines or not lines[0].startswith(IDENTIFIED_MARK):
         return ParameterOrigin(file, "file", overrides=overrides)
     header = _read_identified_header(lines)
+    header |= _read_identification_table(path)
     return ParameterOrigin(
         file, "identified", start=header["start"], logs=header["logs"], validation=tuple(header["validation"]),
         identified=tuple(header["identified"]), combined=tuple(dict.fromkeys(header["combined"])), held=tuple(header["held"]),

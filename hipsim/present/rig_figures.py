@@ -51,8 +51,8 @@ def _figure(rows: int, height: float = 2.6, width: float = 10.0):
     return fig, axes
 
 
-def plot_comparison(comparison: Comparison):
-    """Measured (black) and model (blue) torque per motor, the error between them shaded red."""
+def plot_comparison(comparison: Comparison, band=None):
+    """Measured (black) and model (blue) torque per motor, the error between them shaded red; the model's 95 % band (half-widths in [N·m], (N, 3)) in light blue when given."""
     fig, axes = _figure(3)
     t = comparison.t
     errors = comparison.motor_errors()
@@ -60,6 +60,9 @@ def plot_comparison(comparison: Comparison):
         measured = comparison.measured[:, i] * 1e3
         model = comparison.model["total"][:, i] * 1e3
         ax.fill_between(t, measured, model, color="tab:red", alpha=0.3, linewidth=0, label="error")
+        if band is not None:
+            half = band[:, i] * 1e3
+            ax.fill_between(t, model - half, model + half, color="tab:blue", alpha=0.25, linewidth=0, label="model's 95 % band")
         ax.plot(t, measured, color="black", linewidth=1.0, label="measured")
         ax.plot(t, model, color="tab:blue", linewidth=1.0, linestyle="--", label="model")
         e = errors[str(i + 1)]
@@ -174,7 +177,7 @@ def _rows(summary: dict) -> list[list[str]]:
 
 
 def write_comparison(out_dir: str | Path, comparison: Comparison, extra: dict[str, Any] | None = None,
-                     provenance: Provenance | None = None, accept: float | None = None) -> ComparisonFiles:
+                     provenance: Provenance | None = None, accept: float | None = None, band=None, residual=None) -> ComparisonFiles:
     """Write the comparison folder: figures (PNG, SVG), ``index.html`` and ``comparison.json``, each atomically.
 
     Args:
@@ -183,6 +186,9 @@ def write_comparison(out_dir: str | Path, comparison: Comparison, extra: dict[st
         extra: more entries for the JSON.
         provenance: where the numbers came from (:func:`hipsim.present.provenance.provenance`); None: the version and time only.
         accept: the largest relative RMS error accepted, as a fraction; None: the verdict is not judged.
+        band: the model's 95 % band half-widths in [N·m] at the comparison's samples, (N, 3)
+            (:func:`hipsim.rig.uncertainty.log_torque_std` × 1.96), from an identified file's covariance; None: no band.
+        residual: the identification's residual RMS per motor in [N·m], (3,), for the prediction band in the JSON; None: none.
 
     Returns:
         The files written.
@@ -193,9 +199,15 @@ def write_comparison(out_dir: str | Path, comparison: Comparison, extra: dict[st
     check_folder(out)
     provenance = provenance or make_provenance()
     summary = comparison.summary() | (extra or {})
+    captions = CAPTIONS
+    if band is not None:
+        from ..rig.uncertainty import band_summary
+
+        summary["model_band95"] = band_summary(band, comparison.error, residual)
+        captions = CAPTIONS | {"torques": CAPTIONS["torques"] + " Light blue: the model's 95 % band from the parameter file's covariance."}
     verdict = comparison_verdict(summary, accept)
     summary = {"verdict": verdict.as_dict(), "provenance": provenance.as_dict()} | summary
-    plots = [("torques", plot_comparison), ("errors", plot_errors)]
+    plots = [("torques", lambda c: plot_comparison(c, band)), ("errors", plot_errors)]
     if comparison.phase_rms is not None:
         plots.append(("phases", plot_phase_errors))
     plots.append(("parts", plot_model_parts))
@@ -209,7 +221,7 @@ def write_comparison(out_dir: str | Path, comparison: Comparison, extra: dict[st
         page = environment().get_template("compare.html.j2").render(
             css=CSS, verdict=verdict, provenance=provenance, title=provenance.title, summary=plain, rows=_rows(plain),
             rate=significant(plain["rate_Hz"]), period=significant(plain["period_s"]) if plain.get("period_s") else "",
-            notes=summary.get("notes", []), figures=embedded, captions=CAPTIONS,
+            notes=summary.get("notes", []), figures=embedded, captions=captions,
         )
         index = write_atomic(out / "index.html", page)
     return ComparisonFiles(out, index, json_path, figures)

@@ -201,30 +201,57 @@ def _series(coefficients: np.ndarray, frequency: float, t: np.ndarray):
 
 def _evaluate(params, coefficients, frequency, grid, columns, lever_spin, limits):
     """log cond, and the constraint margins (≥ 0 when met, each scaled to its limit) over one period."""
-    values, rates, accelerations = _series(coefficients, frequency, grid)
-    trajectory = Trajectory(grid, values[:3].T, rates[:3].T, accelerations[:3].T, values[3], name="excitation")
-    margins = [
-        1.0 - np.abs(values[:3]).ravel() / limits.max_angle,
-        (values[3] - limits.min_load) / limits.max_load,
-        (limits.max_load - values[3]) / limits.max_load,
-    ]
+    return _evaluate_many(params, [coefficients], frequency, grid, columns, lever_spin, limits)[0]
+
+
+def _evaluate_many(params, sets, frequency, grid, columns, lever_spin, limits):
+    """:func:`_evaluate` of several coefficient sets at once: one model run over all their samples, (log cond, margins) per set.
+
+    One run of a few thousand samples costs little more than one of a hundred (the models are vectorised over
+    samples), so a finite-difference gradient (one set per coefficient) costs about two evaluations, not ninety.
+    """
+    n, m = grid.size, len(sets)
+    series = [_series(c, frequency, grid) for c in sets]
+    values = np.concatenate([v for v, _, _ in series], axis=1)  # (4, m·n)
+    rates = np.concatenate([r for _, r, _ in series], axis=1)
+    accelerations = np.concatenate([a for _, _, a in series], axis=1)
+    t = np.arange(m * n) / (n * frequency)
+    trajectory = Trajectory(t, values[:3].T, rates[:3].T, accelerations[:3].T, values[3], name="excitation")
     kin = kinematics(params, trajectory, on_error="flag")
-    if np.any(kin.flagged):  # out of reach, singular, or through a singularity: no numbers to give
-        return math.inf, np.concatenate(margins + [np.full(grid.size, -1.0)] + [np.full(3 * grid.size, -1.0)] * 3)
-    margins += [
-        kin.cond_inv / limits.min_cond_inv - 1.0,
-        1.0 - np.abs(kin.Ld[:, 0]).ravel() / limits.max_speed,
-        1.0 - np.abs(kin.Ldd[:, 0]).ravel() / limits.max_acceleration,
-    ]
+    flagged = np.array(kin.flagged, dtype=bool).reshape(m, n)
+    # A set's first sample is compared with the previous set's last for a det J sign change: not a crossing of its own.
+    first = kin.cond_inv.reshape(m, n)[:, 0]
+    flagged[:, 0] &= ~(np.isfinite(first) & (first >= 1e-6))
     with np.errstate(invalid="ignore", divide="ignore"):
-        tau = inverse_dynamics(params, kin, trajectory.Fe, lever_spin).total
-    margins.append(1.0 - np.abs(tau).ravel() / limits.torque_limit)
-    A = regressor_from_kinematics(params, kin, trajectory.Fe, lever_spin)[:, :, columns].reshape(-1, len(columns))
-    norms = np.linalg.norm(A, axis=0)
-    if np.any(norms == 0) or not np.all(np.isfinite(A)):
-        return math.inf, np.concatenate(margins)
-    s = np.linalg.svd(A / norms, compute_uv=False)
-    return (math.log(s[0] / s[-1]) if s[-1] > 0 else math.inf), np.concatenate(margins)
+        tau = inverse_dynamics(params, kin, trajectory.Fe, lever_spin).total.reshape(m, n, 3)
+        A_all = regressor_from_kinematics(params, kin, trajectory.Fe, lever_spin)[:, :, columns].reshape(m, n, 3, len(columns))
+    cond_inv = np.asarray(kin.cond_inv).reshape(m, n)
+    Ld, Ldd = np.asarray(kin.Ld[:, 0]).reshape(m, n, 3), np.asarray(kin.Ldd[:, 0]).reshape(m, n, 3)
+    out = []
+    for j in range(m):
+        v = values[:, j * n:(j + 1) * n]
+        margins = [
+            1.0 - np.abs(v[:3]).ravel() / limits.max_angle,
+            (v[3] - limits.min_load) / limits.max_load,
+            (limits.max_load - v[3]) / limits.max_load,
+        ]
+        if np.any(flagged[j]):  # out of reach, singular, or through a singularity: no numbers to give
+            out.append((math.inf, np.concatenate(margins + [np.full(n, -1.0)] + [np.full(3 * n, -1.0)] * 3)))
+            continue
+        margins += [
+            cond_inv[j] / limits.min_cond_inv - 1.0,
+            1.0 - np.abs(Ld[j]).ravel() / limits.max_speed,
+            1.0 - np.abs(Ldd[j]).ravel() / limits.max_acceleration,
+            1.0 - np.abs(tau[j]).ravel() / limits.torque_limit,
+        ]
+        A = A_all[j].reshape(-1, len(columns))
+        norms = np.linalg.norm(A, axis=0)
+        if np.any(norms == 0) or not np.all(np.isfinite(A)):
+            out.append((math.inf, np.concatenate(margins)))
+            continue
+        sv = np.linalg.svd(A / norms, compute_uv=False)
+        out.append(((math.log(sv[0] / sv[-1]) if sv[-1] > 0 else math.inf), np.concatenate(margins)))
+    return out
 
 
 def excitation(
@@ -286,6 +313,7 @@ def excitation(
         return x.reshape(4, 2 * H + 1) * span[:, None]
 
     cache: dict[bytes, tuple[float, np.ndarray]] = {}
+    slopes: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
 
     def evaluate(x):
         key = x.tobytes()
@@ -294,6 +322,25 @@ def excitation(
                 cache.clear()
             cache[key] = _evaluate(params, unpack(x), frequency, grid, columns, lever_spin, limits)
         return cache[key]
+
+    def gradient(x):
+        """Forward differences of the objective and the margins, every coefficient's step in one model run.
+
+        The steps are SciPy's own for SLSQP's default ('2-point', relative step √eps).
+        """
+        key = x.tobytes()
+        if key not in slopes:
+            if len(slopes) > 64:
+                slopes.clear()
+            h = math.sqrt(np.finfo(float).eps) * np.where(x >= 0, 1.0, -1.0) * np.maximum(1.0, np.abs(x))
+            h = (x + h) - x
+            stepped = x + np.diag(h)
+            results = _evaluate_many(params, [unpack(x)] + [unpack(row) for row in stepped], frequency, grid, columns, lever_spin, limits)
+            (f0, c0), rest = results[0], results[1:]
+            cache.setdefault(key, (f0, c0))
+            slopes[key] = (np.array([(f - f0) / d for (f, _), d in zip(rest, h)]),
+                           np.column_stack([(c - c0) / d for (_, c), d in zip(rest, h)]))
+        return slopes[key]
 
     best = None
     for _ in range(max(1, seeds)):
@@ -313,11 +360,12 @@ def excitation(
             coefficients[:3, 1:] *= 0.7
         else:
             continue
-        result = scipy.optimize.minimize(
-            lambda x: evaluate(x)[0], x, method="SLSQP",
-            constraints=[{"type": "ineq", "fun": lambda x: evaluate(x)[1]}],
-            options={"maxiter": max_iter, "ftol": 1e-6},
-        )
+        with np.errstate(invalid="ignore"):  # a step out of reach: inf − inf, as SciPy's own differences would give
+            result = scipy.optimize.minimize(
+                lambda x: evaluate(x)[0], x, method="SLSQP", jac=lambda x: gradient(x)[0],
+                constraints=[{"type": "ineq", "fun": lambda x: evaluate(x)[1], "jac": lambda x: gradient(x)[1]}],
+                options={"maxiter": max_iter, "ftol": 1e-6},
+            )
         candidate = result.x
         value, margins = evaluate(candidate)
         if not (np.isfinite(value) and np.all(margins >= -1e-9)):

@@ -13,6 +13,7 @@ A nonlinear quantity of the torques (a sizing margin) takes draws of θ_b
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -24,7 +25,7 @@ from ..motion.trajectories import Trajectory
 from .base import base_parameters
 from .regressor import regressor
 
-__all__ = ["Z95", "Covariance", "band_columns", "read_covariance", "torque_draws", "torque_std"]
+__all__ = ["Z95", "Covariance", "band_columns", "band_summary", "log_torque_std", "read_covariance", "sigma_machines", "torque_draws", "torque_std"]
 
 #: The two-sided 95 % quantile of the normal distribution.
 Z95 = 1.959963984540054
@@ -40,6 +41,7 @@ class Covariance:
         determined: per base parameter, whether the logs determined it.
         lever_spin: the model they were identified with.
         source: the file.
+        residual: the fit's residual RMS per motor in [N·m], (3,) (noise and model error of the training logs, filtered), or None.
     """
 
     names: tuple[str, ...]
@@ -47,6 +49,7 @@ class Covariance:
     determined: tuple[bool, ...]
     lever_spin: bool
     source: str
+    residual: np.ndarray | None = None
 
 
 def read_covariance(path: str | Path | None, params: Parameters) -> Covariance | None:
@@ -85,7 +88,14 @@ def read_covariance(path: str | Path | None, params: Parameters) -> Covariance |
         raise HipsimError(f"{where} base: {', '.join(map(str, names))} are not this machine's base parameters ({', '.join(base.names)})")
     determined = table.get("determined", [True] * len(names))
     si = matrix * np.outer(base.scale, base.scale)
-    return Covariance(tuple(names), si, tuple(bool(d) for d in determined), lever_spin, str(path))
+    residual = table.get("residual_rms_Nmm")
+    try:
+        residual = None if residual is None else np.array(residual, dtype=float).reshape(3) * 1e-3
+    except (TypeError, ValueError):
+        raise HipsimError(f"{where} residual_rms_Nmm: expected three numbers (N·mm per motor), got {table.get('residual_rms_Nmm')!r}") from None
+    if residual is not None and not np.all(np.isfinite(residual) & (residual >= 0)):
+        raise HipsimError(f"{where} residual_rms_Nmm: expected three non-negative numbers, got {table.get('residual_rms_Nmm')!r}")
+    return Covariance(tuple(names), si, tuple(bool(d) for d in determined), lever_spin, str(path), residual)
 
 
 def _base_rows(params: Parameters, trajectory: Trajectory, covariance: Covariance) -> np.ndarray:
@@ -124,4 +134,68 @@ def band_columns(params: Parameters, trajectory: Trajectory, covariance: Covaria
         tau = np.asarray(tau_Nmm[f"tau_{i + 1}_Nmm"], dtype=float)
         out[f"tau_{i + 1}_lo95_Nmm"] = tau - half[:, i]
         out[f"tau_{i + 1}_hi95_Nmm"] = tau + half[:, i]
+    return out
+
+
+def log_torque_std(params: Parameters, log, times: np.ndarray, covariance: Covariance) -> np.ndarray:
+    """:func:`torque_std` along a rig log (:class:`hipsim.rig.logs.Log`, window by window) at the samples of ``times`` in [s], (N, 3) [N·m].
+
+    ``times`` are samples of the log (a comparison's kept samples); one that is not gets NaN.
+    """
+    from ..exceptions import PoseError
+
+    times = np.asarray(times, dtype=float)
+    out = np.full((times.size, 3), np.nan)
+    for window, core, _ in log.windows():
+        trajectory = window.trajectory
+        chosen = np.flatnonzero(np.isin(trajectory.t[core], times)) + (core.start or 0)
+        if chosen.size == 0:
+            continue
+        part = Trajectory(trajectory.t[chosen], trajectory.q[chosen], trajectory.qd[chosen], trajectory.qdd[chosen], trajectory.Fe[chosen],
+                          name=trajectory.name)
+        try:
+            std = torque_std(params, part, covariance)
+        except PoseError:
+            continue
+        out[np.searchsorted(times, part.t)] = std
+    return out
+
+
+def band_summary(half_Nm: np.ndarray, error_Nm: np.ndarray, residual: np.ndarray | None = None) -> dict:
+    """Per motor ("1", "2", "3"): the model's 95 % band (its parameters' uncertainty) in [N·mm], RMS and largest half-width, and the share of
+    samples whose model − measured error lies within it; with the fit's ``residual`` RMS in [N·m], (3,), also the prediction band
+    ±1.96·√(σ_model² + residual²) (what a measurement adds: its noise and the model error of the training logs) and the share within that."""
+    out = {}
+    for i in range(3):
+        half, error = half_Nm[:, i], error_Nm[:, i]
+        ok = np.isfinite(half)
+        entry = {
+            "rms_half_width_Nmm": float(np.sqrt(np.mean(half[ok] ** 2)) * 1e3) if ok.any() else None,
+            "max_half_width_Nmm": float(half[ok].max() * 1e3) if ok.any() else None,
+            "measured_within_band": float(np.mean(np.abs(error[ok]) <= half[ok])) if ok.any() else None,
+        }
+        if residual is not None:
+            wide = np.sqrt(half**2 + (Z95 * residual[i]) ** 2)
+            entry["prediction_rms_half_width_Nmm"] = float(np.sqrt(np.mean(wide[ok] ** 2)) * 1e3) if ok.any() else None
+            entry["measured_within_prediction_band"] = float(np.mean(np.abs(error[ok]) <= wide[ok])) if ok.any() else None
+        out[str(i + 1)] = entry
+    return out
+
+
+def sigma_machines(params: Parameters, covariance: Covariance) -> list[Parameters]:
+    """Machines one standard deviation away along each principal direction of the covariance: θ_b + √λ_k·v_k.
+
+    For any quantity g of a model run (a sizing margin), Σ_k (g(machine_k) − g(params))² is
+    ∇gᵀ Σ ∇g to first order (the columns √λ_k·v_k factor Σ), the variance of g: one model run per
+    base parameter instead of hundreds of draws. Directions of zero variance are left out.
+    """
+    from .quantities import standard_values, with_values
+
+    base = base_parameters(params, covariance.lever_spin)
+    theta = standard_values(params)
+    theta_b = base.transform @ theta
+    values, vectors = np.linalg.eigh(covariance.matrix)
+    out = []
+    for k in np.flatnonzero(values > 1e-12 * max(values.max(), 1e-300)):
+        out.append(with_values(params, base.standard(theta_b + math.sqrt(values[k]) * vectors[:, k], theta)))
     return out
