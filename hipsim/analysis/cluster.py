@@ -15,7 +15,9 @@ import atexit
 import contextlib
 import logging
 import shutil
+import signal
 import tempfile
+import threading
 from typing import Any, Callable, Iterator, Sequence
 
 from ..exceptions import ArgumentError, MissingDependencyError
@@ -74,11 +76,14 @@ def map_batches(
                 import dask
 
                 stack.enter_context(dask.config.set({"temporary-directory": scratch}))  # the scheduler and nannies read it
-                cluster = stack.enter_context(distributed.LocalCluster(
-                    n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=logging.CRITICAL,
-                    local_directory=scratch,
-                ))  # fmt: skip
-                client = stack.enter_context(distributed.Client(cluster))
+                # Ctrl-C or SIGTERM while the cluster starts is held until it has started and will be closed on the way
+                # out: a cluster half started goes on starting nannies (and making their locks) after the clean-up.
+                with _signals_held():
+                    cluster = stack.enter_context(distributed.LocalCluster(
+                        n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                        silence_logs=logging.CRITICAL, local_directory=scratch,
+                    ))  # fmt: skip
+                    client = stack.enter_context(distributed.Client(cluster))
             shared = client.scatter(setup, broadcast=True, hash=False)
             futures = client.map(function, batches, setup=shared, pure=False)
             try:
@@ -91,6 +96,28 @@ def map_batches(
     finally:
         if scratch is not None:
             _remove_scratch(scratch)
+
+
+@contextlib.contextmanager
+def _signals_held() -> Iterator[None]:
+    """Within the body, SIGINT and SIGTERM are noted, not acted on; the first noted is raised again on leaving it.
+
+    Only in the main thread (where Python runs signal handlers); elsewhere the body runs as it is.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    held: list[int] = []
+    previous = {signum: signal.getsignal(signum) for signum in (signal.SIGINT, signal.SIGTERM)}
+    for signum in previous:
+        signal.signal(signum, lambda number, frame: held.append(number))
+    try:
+        yield
+    finally:
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
+        if held:
+            signal.raise_signal(held[0])  # now, to the handlers in force: KeyboardInterrupt, or SystemExit under exit_on_terminate
 
 
 def _remove_scratch(folder: str) -> None:
