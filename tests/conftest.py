@@ -106,3 +106,12 @@ def pytest_collection_modifyitems(session, config, items):
     """The slowest files first, each file's tests in their own order."""
     rank = {name: k for k, name in enumerate(SLOW_FIRST)}
     items.sort(key=lambda item: rank.get(item.path.name, len(rank)))  # stable: a file's order is kept
+
+
+def pytest_unconfigure(config):
+    """The controller, once every worker is done, removes the warm-up locks: a run leaves nothing in the temporary folder."""
+    if getattr(config, "workerinput", None) is not None or os.name != "posix":
+        return
+    for group in WARM_UPS:
+        with contextlib.suppress(OSError):
+            _lock_path(Path(str(config.rootpath)), group.__name__).unlink()
