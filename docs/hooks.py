@@ -22,11 +22,7 @@ def modules(package: str) -> list[str]:
     folder = ROOT.joinpath(*package.split("."))
     if not folder.is_dir():
         return []
-    return sorted(
-        f"{package}.{path.stem}"
-        for path in folder.glob("*.py")
-        if not path.stem.startswith("_")
-    )
+    return sorted(f"{package}.{path.stem}" for path in folder.glob("*.py") if not path.stem.startswith("_"))
 
 
 def directives(package: str) -> str:
@@ -34,7 +30,9 @@ def directives(package: str) -> str:
     subs = modules(package)
     if not subs:  # a plain module: its members
         return f"::: {package}\n    options:\n      show_root_heading: false\n      show_root_toc_entry: false\n"
-    parts = [f"::: {package}\n    options:\n      members: false\n      show_root_heading: false\n      show_root_toc_entry: false\n"]
+    parts = [
+        f"::: {package}\n    options:\n      members: false\n      show_root_heading: false\n      show_root_toc_entry: false\n"
+    ]
     parts += [f"::: {name}\n" for name in subs]
     return "\n".join(parts)
 

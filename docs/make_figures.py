@@ -50,7 +50,9 @@ def machine_frames(out: Path) -> None:
         side.plot([c[i, 0]] * 2, [c[i, 1]] * 2, [0.0, top], color="0.4", lw=2)
         side.text(c[i, 0], c[i, 1], top + 20, f"LN{i + 1}", ha="center")
         plan.plot(c[i, 0], c[i, 1], "s", color="0.4")
-        plan.annotate(f"LN{i + 1}  θ{i + 1} = {np.degrees(theta[i]):.0f}°", c[i, :2], textcoords="offset points", xytext=(6, 6))
+        plan.annotate(
+            f"LN{i + 1}  θ{i + 1} = {np.degrees(theta[i]):.0f}°", c[i, :2], textcoords="offset points", xytext=(6, 6)
+        )
     for j in range(2):
         ring = np.vstack([a[j], a[j][:1]])
         side.plot(ring[:, 0], ring[:, 1], ring[:, 2], color=colours[j], lw=2, label=f"platform {j + 1}")
@@ -90,7 +92,18 @@ def sweep_pareto(out: Path) -> None:
     with tempfile.TemporaryDirectory() as folder:
         table = Path(folder) / "sweep.csv"
         subprocess.run(
-            [sys.executable, "-m", "hipsim", "sweep", "--workers", "1", "--out", str(table), "--pareto", "tau_peak_max_Nmm,-cond_inv_min"],
+            [
+                sys.executable,
+                "-m",
+                "hipsim",
+                "sweep",
+                "--workers",
+                "1",
+                "--out",
+                str(table),
+                "--pareto",
+                "tau_peak_max_Nmm,-cond_inv_min",
+            ],
             check=True,
         )
         shutil.copyfile(Path(folder) / "sweep_pareto.png", out)

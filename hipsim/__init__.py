@@ -16,8 +16,16 @@ Each layer is a subpackage: :mod:`hipsim.machine`, :mod:`hipsim.motion`,
 :mod:`hipsim.analysis`, :mod:`hipsim.present`, :mod:`hipsim.cli`.
 """
 
-from .exceptions import ArgumentError, ClosureError, HipsimError, ModelError, OutputError, ParameterError, PoseError, TrajectoryError
-
+from .exceptions import (
+    ArgumentError,
+    ClosureError,
+    HipsimError,
+    ModelError,
+    OutputError,
+    ParameterError,
+    PoseError,
+    TrajectoryError,
+)
 from .version import __version__
 
 __all__ = [

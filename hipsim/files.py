@@ -16,9 +16,9 @@ import stat
 import sys
 import tempfile
 import threading
+from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Iterator, Mapping
 
 import numpy as np
 
@@ -26,7 +26,17 @@ from .exceptions import OutputError
 from .tables import csv_header, csv_rows, parquet_concat, parquet_table, parquet_writer
 
 __all__ = [
-    "STDOUT", "ColumnWriter", "check_folder", "check_output", "exit_on_terminate", "is_stdout", "json_ready", "make_folder", "output_folder", "write_atomic", "write_columns",
+    "STDOUT",
+    "ColumnWriter",
+    "check_folder",
+    "check_output",
+    "exit_on_terminate",
+    "is_stdout",
+    "json_ready",
+    "make_folder",
+    "output_folder",
+    "write_atomic",
+    "write_columns",
 ]
 
 #: The name of standard output as an output path.
@@ -54,7 +64,10 @@ def exit_on_terminate() -> Iterator[None]:
     only where SIGTERM still has its default action (a handler someone else
     installed is left alone); the previous handler comes back on exit.
     """
-    if threading.current_thread() is not threading.main_thread() or signal.getsignal(signal.SIGTERM) is not signal.SIG_DFL:
+    if (
+        threading.current_thread() is not threading.main_thread()
+        or signal.getsignal(signal.SIGTERM) is not signal.SIG_DFL
+    ):
         yield
         return
 
@@ -188,7 +201,10 @@ def _target(path) -> tuple[Path, Path]:
     given = Path(path)
     if str(given) in ("/dev/stderr", "/dev/stdin") or str(given).startswith(("/dev/fd/", "/proc/self/fd/")):
         # Renaming a file over what a descriptor points to would leave the descriptor on the old file.
-        raise OutputError(given, "names one of this process's open files, not a file to write; give a file name (or '-', standard output)")
+        raise OutputError(
+            given,
+            "names one of this process's open files, not a file to write; give a file name (or '-', standard output)",
+        )
     # A device, pipe or socket, reached through a link or not (/dev/stderr, /proc/self/fd/N): refused by the
     # name typed, before resolving a link into /proc would turn it into a name no one typed ('pipe:[1234]').
     try:
@@ -196,7 +212,9 @@ def _target(path) -> tuple[Path, Path]:
     except (OSError, ValueError):
         mode = None
     if mode is not None and not (stat.S_ISREG(mode) or stat.S_ISDIR(mode)):
-        raise OutputError(given, "not a regular file; hipsim writes results only to regular files (or '-', standard output)")
+        raise OutputError(
+            given, "not a regular file; hipsim writes results only to regular files (or '-', standard output)"
+        )
     # Through a symbolic link to its target: replacing the link itself would cut it.
     try:
         path = given.resolve() if given.is_symlink() else given
@@ -406,7 +424,7 @@ class ColumnWriter:
         self._temporary.unlink(missing_ok=True)
         self._temporary = None
 
-    def __enter__(self) -> "ColumnWriter":
+    def __enter__(self) -> ColumnWriter:
         return self
 
     def __exit__(self, kind, error, traceback) -> None:

@@ -21,8 +21,9 @@ import dataclasses
 import hashlib
 import json
 import math
+from collections.abc import Mapping
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any
 
 import numpy as np
 
@@ -58,7 +59,11 @@ def plain(value: Any, skip: tuple[str, ...] = ("source",)) -> Any:
         array = np.ascontiguousarray(value)
         if array.dtype.kind in "fc":
             array = array.astype(array.dtype.newbyteorder("<"), copy=False)
-        return {"dtype": array.dtype.str, "shape": list(array.shape), "sha256": hashlib.sha256(array.tobytes()).hexdigest()}
+        return {
+            "dtype": array.dtype.str,
+            "shape": list(array.shape),
+            "sha256": hashlib.sha256(array.tobytes()).hexdigest(),
+        }
     if isinstance(value, Path):
         return str(value)
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
@@ -101,5 +106,7 @@ def part_fingerprints(parts: Mapping[str, Any]) -> dict[str, str]:
 
 def changed_parts(recorded: Mapping[str, str], current: Mapping[str, str]) -> list[str]:
     """The parts whose fingerprints differ (a part in only one of them counts), in ``current``'s order."""
-    names = [name for name in current if name != "setup"] + [name for name in recorded if name not in current and name != "setup"]
+    names = [name for name in current if name != "setup"] + [
+        name for name in recorded if name not in current and name != "setup"
+    ]
     return [name for name in names if recorded.get(name) != current.get(name)]

@@ -17,9 +17,10 @@ import csv
 import io
 import json
 import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Mapping, Sequence
+from typing import Any
 
 from .exceptions import FileRowError, MissingDependencyError, OutputError
 from .files import write_atomic
@@ -58,7 +59,7 @@ class ResultTable:
         return f"# hipsim {self.what}: "
 
     def format(self, path: str | Path) -> str:
-        """"parquet" or "csv" from the file's suffix.
+        """ "parquet" or "csv" from the file's suffix.
 
         Raises:
             OutputError: any other suffix.
@@ -68,7 +69,9 @@ class ResultTable:
             raise OutputError(path, f"unknown suffix: give a {', '.join(FORMATS)} file")
         return kind
 
-    def write(self, path: str | Path, columns: Mapping[str, Sequence[Any]], metadata: Mapping[str, Any] | None = None) -> Path:
+    def write(
+        self, path: str | Path, columns: Mapping[str, Sequence[Any]], metadata: Mapping[str, Any] | None = None
+    ) -> Path:
         """Write the rows atomically, with ``metadata`` (plain data describing the set-up) beside them.
 
         Args:
@@ -82,11 +85,15 @@ class ResultTable:
         text = self.text_columns
         if self.format(path) == "parquet":
             pa = _pyarrow()
-            table = pa.table({
-                name: pa.array([str(v) for v in values] if name in text else [float(v) for v in values],
-                               type=pa.string() if name in text else pa.float64())
-                for name, values in columns.items()
-            })  # fmt: skip
+            table = pa.table(
+                {
+                    name: pa.array(
+                        [str(v) for v in values] if name in text else [float(v) for v in values],
+                        type=pa.string() if name in text else pa.float64(),
+                    )
+                    for name, values in columns.items()
+                }
+            )
             table = table.replace_schema_metadata({"hipsim": json.dumps(dict(metadata or {}))})
             buffer = io.BytesIO()
             pa.parquet.write_table(table, buffer)
@@ -98,7 +105,9 @@ class ResultTable:
         names = list(columns)
         writer.writerow(names)
         for row in zip(*(columns[name] for name in names)):
-            writer.writerow([v if name in text else ("" if math.isnan(float(v)) else repr(float(v))) for name, v in zip(names, row)])
+            writer.writerow(
+                [v if name in text else ("" if math.isnan(float(v)) else repr(float(v))) for name, v in zip(names, row)]
+            )
         return write_atomic(path, buffer.getvalue())
 
     def read(self, path: str | Path) -> dict[str, list[Any]]:
@@ -114,7 +123,9 @@ class ResultTable:
                 return pa.parquet.read_table(path).to_pydict()
             except (OSError, pa.ArrowException) as error:
                 raise FileRowError(f"not a Parquet table of a {self.what} ({error})", source) from None
-        lines = data_lines(read_text_lines(path, f"{self.what} table", FileRowError), ",")  # the description's comment line left out
+        lines = data_lines(
+            read_text_lines(path, f"{self.what} table", FileRowError), ","
+        )  # the description's comment line left out
         if not lines:
             raise FileRowError("empty: no header", source)
         header_line, first = lines[0]
@@ -150,7 +161,7 @@ class ResultTable:
             else:
                 with open(path, "rb") as stream:
                     first = stream.readline(MAX_LINE_BYTES).removeprefix(b"\xef\xbb\xbf").decode("utf-8")
-                text = first[len(self.csv_metadata):] if first.startswith(self.csv_metadata) else None
+                text = first[len(self.csv_metadata) :] if first.startswith(self.csv_metadata) else None
             described = json.loads(text) if text else None
         except (OSError, UnicodeDecodeError, ValueError):
             return None

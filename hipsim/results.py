@@ -13,22 +13,21 @@ Units: SI inside (m, s, rad, N, N·m); :meth:`Run.columns` and
 from __future__ import annotations
 
 import math
-from fractions import Fraction
 from dataclasses import dataclass
+from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from .physics.units import RPM_PER_RAD_S
 from .arrays import check_shapes
 from .exceptions import ArgumentError, MissingDependencyError
 from .files import write_columns
 from .machine.parameters import Parameters
 from .motion.trajectories import Trajectory
+from .physics.units import RPM_PER_RAD_S
 
 __all__ = ["ExactSum", "JointForces", "Run", "Summary", "Torques", "column_names", "peak_and_rms"]
-
 
 
 def peak_and_rms(values: np.ndarray, axis: int = 0) -> tuple[np.ndarray, np.ndarray]:
@@ -78,7 +77,14 @@ class Torques:
     #: The five parts, in the order of spec §4.4.
     PARTS = ("platforms", "levers", "sliders", "screws", "friction")
     #: Each field's name in the CSV columns of spec §7.5 (``tau_m_1_Nmm`` …).
-    COLUMN = {"total": "tau", "platforms": "tau_m", "levers": "tau_l", "sliders": "tau_s", "screws": "tau_L", "friction": "tau_f"}
+    COLUMN = {
+        "total": "tau",
+        "platforms": "tau_m",
+        "levers": "tau_l",
+        "sliders": "tau_s",
+        "screws": "tau_L",
+        "friction": "tau_f",
+    }
 
     def __post_init__(self):
         shapes = {name: ("N", 3) for name in ("total", *self.PARTS, "motor_speed")}
@@ -152,13 +158,23 @@ class Run:
         """Sample times in [s], (N,)."""
         return self.trajectory.t
 
-    def slice(self, index: slice) -> "Run":
+    def slice(self, index: slice) -> Run:
         """The samples selected by ``index`` (a slice), every field cut alike."""
         torques = Torques(**{name: getattr(self.torques, name)[index] for name in Torques.__dataclass_fields__})
-        forces = None if self.joint_forces is None else JointForces(self.joint_forces.Fa[index], self.joint_forces.Fo[index])
+        forces = (
+            None if self.joint_forces is None else JointForces(self.joint_forces.Fa[index], self.joint_forces.Fo[index])
+        )
         return Run(
-            self.model, self.params, self.trajectory.slice(index), self.L[index], self.Ld[index], self.Ldd[index], torques,
-            self.cond_inv[index], self.flagged[index], forces,
+            self.model,
+            self.params,
+            self.trajectory.slice(index),
+            self.L[index],
+            self.Ld[index],
+            self.Ldd[index],
+            torques,
+            self.cond_inv[index],
+            self.flagged[index],
+            forces,
         )
 
     def columns(self) -> dict[str, np.ndarray]:
@@ -239,7 +255,7 @@ class ExactSum:
         values = np.asarray(values, dtype=float).reshape(-1, self.width)
         if values.shape[0] > 2**26:
             for start in range(0, values.shape[0], 2**26):
-                self.add(values[start:start + 2**26])
+                self.add(values[start : start + 2**26])
             return
         mantissa, exponent = np.frexp(values)  # values = mantissa·2^exponent, mantissa·2^53 an integer
         whole = mantissa * 2.0**53
@@ -280,7 +296,7 @@ class Summary:
     def _fold(self, store: dict, key: str, values: np.ndarray, reduce) -> None:
         store[key] = values if key not in store else reduce(store[key], values)
 
-    def add(self, run: Run) -> "Summary":
+    def add(self, run: Run) -> Summary:
         """Take in one piece of the run (pieces in time order). Returns self."""
         ok = ~run.flagged
         self.samples += run.t.size
@@ -291,8 +307,10 @@ class Summary:
         if ok.all():  # the usual case: no copies through the mask
             ok = slice(None)
         peaks = {
-            "L": run.L[ok].max(axis=0) * 1e3, "Ld": np.abs(run.Ld[ok]).max(axis=0) * 1e3,
-            "Ldd": np.abs(run.Ldd[ok]).max(axis=0) * 1e3, "speed": np.abs(run.torques.motor_speed[ok]).max(axis=0) * RPM_PER_RAD_S,
+            "L": run.L[ok].max(axis=0) * 1e3,
+            "Ld": np.abs(run.Ld[ok]).max(axis=0) * 1e3,
+            "Ldd": np.abs(run.Ldd[ok]).max(axis=0) * 1e3,
+            "speed": np.abs(run.torques.motor_speed[ok]).max(axis=0) * RPM_PER_RAD_S,
         }
         total = run.torques.total[ok] * 1e3
         squares = [total**2]
@@ -323,13 +341,20 @@ class Summary:
             for i in (1, 2, 3):
                 high, bottom = peaks["L"][j - 1, i - 1], low[j - 1, i - 1]
                 sliders[f"{j}{i}"] = {
-                    "L_max_mm": float(high), "L_min_mm": float(bottom), "stroke_mm": float(high - bottom),
-                    "Ld_max_mm_s": float(peaks["Ld"][j - 1, i - 1]), "Ldd_max_mm_s2": float(peaks["Ldd"][j - 1, i - 1]),
+                    "L_max_mm": float(high),
+                    "L_min_mm": float(bottom),
+                    "stroke_mm": float(high - bottom),
+                    "Ld_max_mm_s": float(peaks["Ld"][j - 1, i - 1]),
+                    "Ldd_max_mm_s2": float(peaks["Ldd"][j - 1, i - 1]),
                 }
         motors = {}
         for i in range(3):
             entry = {f"{Torques.COLUMN[field]}_max_Nmm": float(peaks[field][i]) for field in Torques.PARTS}
-            entry |= {"tau_peak_Nmm": float(peaks["total"][i]), "tau_rms_Nmm": float(rms[i]), "speed_peak_rpm": float(peaks["speed"][i])}
+            entry |= {
+                "tau_peak_Nmm": float(peaks["total"][i]),
+                "tau_rms_Nmm": float(rms[i]),
+                "speed_peak_rpm": float(peaks["speed"][i]),
+            }
             motors[str(i + 1)] = entry
         summary = {
             "model": self.model,
@@ -345,5 +370,7 @@ class Summary:
         if self.joint_forces:
             names = [f"Fa_{j}{i}" for j in (1, 2) for i in (1, 2, 3)] + ["Fo_1", "Fo_2"]
             values = np.concatenate([peaks["Fa"], peaks["Fo"]])
-            summary["joints"] = {name: {"peak_N": float(values[k]), "rms_N": float(rms[3 + k])} for k, name in enumerate(names)}
+            summary["joints"] = {
+                name: {"peak_N": float(values[k]), "rms_N": float(rms[3 + k])} for k, name in enumerate(names)
+            }
         return summary

@@ -25,8 +25,8 @@ from __future__ import annotations
 
 import csv
 import io
+from collections.abc import Collection, Iterable, Iterator, Mapping
 from pathlib import Path
-from typing import Collection, Iterable, Iterator, Mapping
 
 import numpy as np
 
@@ -68,7 +68,14 @@ _BOM = b"\xef\xbb\xbf"
 # --------------------------------------------------------------------------- text files
 
 
-def read_text(path: str | Path, what: str = "file", error: type[FileRowError] = FileRowError, *, not_text: str = NOT_TEXT, newline: str | None = None) -> str:
+def read_text(
+    path: str | Path,
+    what: str = "file",
+    error: type[FileRowError] = FileRowError,
+    *,
+    not_text: str = NOT_TEXT,
+    newline: str | None = None,
+) -> str:
     """A text file's whole text (UTF-8, a byte-order mark skipped), or a one-line error naming it.
 
     Args:
@@ -176,7 +183,11 @@ def blank(line: str, separators: str = ",;") -> bool:
 
 def data_lines(lines: Iterable[str], separators: str = ",;") -> list[tuple[int, str]]:
     """(1-based line number, line) of the lines that hold something: blank lines and ``#`` comments left out."""
-    return [(k, line) for k, line in enumerate(lines, start=1) if not blank(line, separators) and not line.lstrip().startswith("#")]
+    return [
+        (k, line)
+        for k, line in enumerate(lines, start=1)
+        if not blank(line, separators) and not line.lstrip().startswith("#")
+    ]
 
 
 # --------------------------------------------------------------------------- cells and numbers
@@ -195,7 +206,9 @@ def cells(line: str, separator: str = ",", width: int | None = None) -> list[str
         ValueError: a line the ``csv`` module cannot split (e.g. a NUL byte in a quoted cell).
     """
     if '"' not in line and "\r" not in line and "\n" not in line:
-        row = line.split(separator) if line else []  # what csv gives for a line without quotes, without its field size limit
+        row = (
+            line.split(separator) if line else []
+        )  # what csv gives for a line without quotes, without its field size limit
     else:
         limit = csv.field_size_limit()
         try:
@@ -311,10 +324,14 @@ def parquet_table(columns: Mapping[str, object], metadata: Mapping[str, str] | N
     """
     import pyarrow as pa  # loaded only when a Parquet file is written
 
-    table = pa.table({
-        name: pa.array([str(v) for v in values], type=pa.string()) if name in text else np.asarray(values, dtype=float)
-        for name, values in columns.items()
-    })  # fmt: skip
+    table = pa.table(
+        {
+            name: pa.array([str(v) for v in values], type=pa.string())
+            if name in text
+            else np.asarray(values, dtype=float)
+            for name, values in columns.items()
+        }
+    )
     return table if metadata is None else table.replace_schema_metadata(dict(metadata))
 
 

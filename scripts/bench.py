@@ -22,9 +22,8 @@ import numpy as np  # noqa: E402
 
 import hipsim  # noqa: E402
 import hipsim.design.workspace as workspace  # noqa: E402
-from hipsim.analytic.virtual_work import inverse_dynamics  # noqa: E402
 from hipsim.analytic.inverse_kinematics import kinematics  # noqa: E402
-
+from hipsim.analytic.virtual_work import inverse_dynamics  # noqa: E402
 
 #: The peak resident memory of the process running it, in kB. From /proc: Linux carries ru_maxrss over
 #: fork and exec, so a process started by this (large) benchmark would report the benchmark's own peak.
@@ -37,6 +36,7 @@ def peak_kb():
         import resource
         return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
 """
+
 
 def best_time(function, repeats: int = 5) -> float:
     """Smallest wall time of ``repeats`` calls, in [s]."""
@@ -93,7 +93,9 @@ def bench_pinocchio(params, quick: bool) -> None:
     per_sample = elapsed / len(trajectory)
     print("Pinocchio closed-chain kinematics + inverse dynamics on the ISO 14242-1 cycle at 1 kHz")
     print(f"  {len(trajectory) / elapsed:,.0f} samples/s ({per_sample * 1e6:.1f} µs per sample)")
-    print(f"  floor, one bare pin.rnea call on the same {model.nv}-DoF tree: {rnea * 1e6:.1f} µs ({per_sample / rnea:.0f} rnea calls' worth per sample)")
+    print(
+        f"  floor, one bare pin.rnea call on the same {model.nv}-DoF tree: {rnea * 1e6:.1f} µs ({per_sample / rnea:.0f} rnea calls' worth per sample)"
+    )
     print("  target: >= 10,000 samples/s")
 
 
@@ -126,12 +128,13 @@ def bench_workspace(quick: bool = False) -> None:
         f"  {smap.alpha_deg.size} α × {smap.beta_deg.size} β × {smap.gamma_deg.size} γ = {n:,} orientations: "
         f"vectorised {vectorised:.3f} s ({n / vectorised:,.0f} orientations/s)"
     )
-    print(f"  per-orientation Python loop (measured on {subset:,}, extrapolated): {looped:.1f} s  -> {looped / vectorised:.0f}x")
+    print(
+        f"  per-orientation Python loop (measured on {subset:,}, extrapolated): {looped:.1f} s  -> {looped / vectorised:.0f}x"
+    )
     print(f"  target: < 2 s   {'OK' if vectorised < 2.0 else 'MISSED'}")
 
     sweep_time = best_time(lambda: workspace.offset_sweep(params, progress=False), repeats=2)
     print(f"  offset sweep, {workspace.DEFAULT_DELTAS_DEG.size} δ values × ISO cycle at 1 kHz: {sweep_time:.2f} s")
-
 
 
 class VectorisedReducedPlant:
@@ -151,7 +154,9 @@ class VectorisedReducedPlant:
         return np.concatenate([desired.q[0], desired.qd[0]])
 
     def derivative(self, t, x, tau, Fe):
-        four = hipsim.Trajectory(np.zeros(4), np.tile(x[:3], (4, 1)), np.tile(x[3:], (4, 1)), self.unit_accelerations, np.full(4, Fe))
+        four = hipsim.Trajectory(
+            np.zeros(4), np.tile(x[:3], (4, 1)), np.tile(x[3:], (4, 1)), self.unit_accelerations, np.full(4, Fe)
+        )
         torques = inverse_dynamics(self.params, kinematics(self.params, four), four.Fe, lever_spin=True).total
         M, h = (torques[1:] - torques[0]).T, torques[0]
         return np.concatenate([x[3:], np.linalg.solve(M, tau - h)])
@@ -173,15 +178,19 @@ def bench_plants(params, quick: bool) -> None:
     import pinocchio as pin
 
     import hipsim.control.simulation as simulation
-    from hipsim.control.controllers import WorkspacePD
     from hipsim.closed_chain.dynamics import trajectory_dynamics
     from hipsim.closed_chain.plant import PinocchioPlant
+    from hipsim.control.controllers import WorkspacePD
     from hipsim.motion.trajectories import iso14242_at
 
     control = params.control
-    print(f"Closed-loop simulation: workspace PD on the ISO cycle, servo {control.servo_rate:g} Hz, "
-          f"RK4 step {control.integration_step * 1e3:g} ms")  # fmt: skip
-    simulation.simulate(simulation.ReducedPlant(params), WorkspacePD(params), iso14242_at, 0.01)  # load or compile the kernels
+    print(
+        f"Closed-loop simulation: workspace PD on the ISO cycle, servo {control.servo_rate:g} Hz, "
+        f"RK4 step {control.integration_step * 1e3:g} ms"
+    )
+    simulation.simulate(
+        simulation.ReducedPlant(params), WorkspacePD(params), iso14242_at, 0.01
+    )  # load or compile the kernels
     controller = WorkspacePD(params)
     plants = (
         (simulation.ReducedPlant(params), 1.0 if quick else 4.0),
@@ -189,8 +198,12 @@ def bench_plants(params, quick: bool) -> None:
         (PinocchioPlant(params), 0.3 if quick else 1.0),
     )
     for plant, length in plants:
-        elapsed = best_time(lambda: simulation.simulate(plant, controller, iso14242_at, length), repeats=2 if quick else 3)
-        print(f"  {plant.name:<22} plant: {length / elapsed:7.2f}x real time ({elapsed / length / control.servo_rate * 1e6:7.0f} µs per servo period)")
+        elapsed = best_time(
+            lambda: simulation.simulate(plant, controller, iso14242_at, length), repeats=2 if quick else 3
+        )
+        print(
+            f"  {plant.name:<22} plant: {length / elapsed:7.2f}x real time ({elapsed / length / control.servo_rate * 1e6:7.0f} µs per servo period)"
+        )
     print("  targets: reduced >= 20x, Pinocchio >= 5x real time")
 
     # Issue 17: the Pinocchio plant with the control compiled around its advance, next to the Python
@@ -199,13 +212,16 @@ def bench_plants(params, quick: bool) -> None:
     plain = ThroughDerivative(plant)
     compiled, python_loop = alternated(
         lambda: simulation.simulate(plant, controller, iso14242_at, length),
-        lambda: simulation.simulate(plant, controller, iso14242_at, length, compiled=False), repeats=2 if quick else 3,
-    )  # fmt: skip
+        lambda: simulation.simulate(plant, controller, iso14242_at, length, compiled=False),
+        repeats=2 if quick else 3,
+    )
     through = best_time(lambda: simulation.simulate(plain, controller, iso14242_at, length), repeats=2 if quick else 3)
-    print(f"  pinocchio plant, control compiled around advance(): {length / compiled:6.2f}x ({compiled / length * per_period:5.0f} µs per period); "
-          f"Python loop around advance(): {length / python_loop:5.2f}x ({python_loop / length * per_period:4.0f} µs); "
-          f"through derivative(): {length / through:5.2f}x ({through / length * per_period:4.0f} µs); target >= 10x "
-          f"{'OK' if length / compiled >= 10 else 'MISSED'}")  # fmt: skip
+    print(
+        f"  pinocchio plant, control compiled around advance(): {length / compiled:6.2f}x ({compiled / length * per_period:5.0f} µs per period); "
+        f"Python loop around advance(): {length / python_loop:5.2f}x ({python_loop / length * per_period:4.0f} µs); "
+        f"through derivative(): {length / through:5.2f}x ({through / length * per_period:4.0f} µs); target >= 10x "
+        f"{'OK' if length / compiled >= 10 else 'MISSED'}"
+    )
 
     kin, torques = trajectory_dynamics(plant.chain, iso14242_at([0.13]))
     x, tau, Fe = np.concatenate([kin.q[0], kin.v[0]]), torques.torques.total[0], 1500.0
@@ -213,19 +229,27 @@ def bench_plants(params, quick: bool) -> None:
     calls = 2000 if quick else 20000
     reduced, baseline = simulation.ReducedPlant(params), VectorisedReducedPlant(params)
     per_call = lambda f: best_time(lambda: [f() for _ in range(calls)], repeats=3) / calls * 1e6  # noqa: E731
-    alone = per_call(lambda: pin.constraintDynamics(plant.model, plant.data, q, v, forces, plant.constraint_models, plant.constraint_datas, plant.proximal))
+    alone = per_call(
+        lambda: pin.constraintDynamics(
+            plant.model, plant.data, q, v, forces, plant.constraint_models, plant.constraint_datas, plant.proximal
+        )
+    )
     stages = 4 * math.ceil(1.0 / control.servo_rate / control.integration_step - 1e-9)
-    print(f"  one Pinocchio derivative: {per_call(lambda: plant.derivative(0.0, x, tau, Fe)):.1f} µs; "
-          f"pin.constraintDynamics alone {alone:.1f} µs, {stages} a servo period: {stages * alone:.0f} µs, "
-          f"the bound {1e6 / control.servo_rate / (stages * alone):.1f}x real time; "
-          f"reduced-plant derivative {per_call(lambda: reduced.derivative(0.0, np.zeros(6), tau, Fe)):.1f} µs "
-          f"(vectorised baseline {per_call(lambda: baseline.derivative(0.0, np.zeros(6), tau, Fe)) if not quick else float('nan'):.0f} µs)")  # fmt: skip
+    print(
+        f"  one Pinocchio derivative: {per_call(lambda: plant.derivative(0.0, x, tau, Fe)):.1f} µs; "
+        f"pin.constraintDynamics alone {alone:.1f} µs, {stages} a servo period: {stages * alone:.0f} µs, "
+        f"the bound {1e6 / control.servo_rate / (stages * alone):.1f}x real time; "
+        f"reduced-plant derivative {per_call(lambda: reduced.derivative(0.0, np.zeros(6), tau, Fe)):.1f} µs "
+        f"(vectorised baseline {per_call(lambda: baseline.derivative(0.0, np.zeros(6), tau, Fe)) if not quick else float('nan'):.0f} µs)"
+    )
 
 
 def bench_mujoco(params, quick: bool) -> None:
     """The MuJoCo engine: inverse dynamics and the plant, each next to hipsim's own engines in the same run."""
     try:
-        from hipsim.mujoco_engine import MujocoPlant, load_model as load_mujoco, trajectory_dynamics as mujoco_dynamics
+        from hipsim.mujoco_engine import MujocoPlant
+        from hipsim.mujoco_engine import load_model as load_mujoco
+        from hipsim.mujoco_engine import trajectory_dynamics as mujoco_dynamics
         from hipsim.mujoco_engine._dependency import mujoco
     except hipsim.HipsimError as error:  # MissingDependencyError: not installed, or too old
         print(f"MuJoCo: {error}; skipped")
@@ -244,14 +268,22 @@ def bench_mujoco(params, quick: bool) -> None:
     mujoco_time = best_time(lambda: mujoco_dynamics(machine, trajectory), repeats=3)
     pinocchio_time = best_time(lambda: trajectory_dynamics(chain, trajectory), repeats=3)
     n = len(trajectory)
-    print(f"MuJoCo {mujoco.__version__}: closed-chain kinematics + rigid inverse dynamics on the ISO 14242-1 cycle at 1 kHz")
-    print(f"  MuJoCo (constraint rows, mj_jacDot, M and bias, rne per body group): {n / mujoco_time:9,.0f} samples/s "
-          f"({mujoco_time / n * 1e6:.0f} µs each)")
-    print(f"  Pinocchio closed ID, same run:                                     {n / pinocchio_time:9,.0f} samples/s "
-          f"({pinocchio_time / n * 1e6:.0f} µs each)")  # fmt: skip
+    print(
+        f"MuJoCo {mujoco.__version__}: closed-chain kinematics + rigid inverse dynamics on the ISO 14242-1 cycle at 1 kHz"
+    )
+    print(
+        f"  MuJoCo (constraint rows, mj_jacDot, M and bias, rne per body group): {n / mujoco_time:9,.0f} samples/s "
+        f"({mujoco_time / n * 1e6:.0f} µs each)"
+    )
+    print(
+        f"  Pinocchio closed ID, same run:                                     {n / pinocchio_time:9,.0f} samples/s "
+        f"({pinocchio_time / n * 1e6:.0f} µs each)"
+    )
 
     control = params.control
-    print(f"Closed loop, workspace PD on the ISO cycle, servo {control.servo_rate:g} Hz (real-time factor; µs per servo period)")
+    print(
+        f"Closed loop, workspace PD on the ISO cycle, servo {control.servo_rate:g} Hz (real-time factor; µs per servo period)"
+    )
     controller = WorkspacePD(params)
     simulation.simulate(simulation.ReducedPlant(params), controller, iso14242_at, 0.01)  # load or compile the kernels
     coarse = params.replace(integration_step=1e-3)
@@ -264,8 +296,12 @@ def bench_mujoco(params, quick: bool) -> None:
         ("MuJoCo, Euler 1 ms", MujocoPlant(coarse, integrator="Euler"), 0.3 if quick else 1.0),
     )
     for label, plant, length in plants:
-        elapsed = best_time(lambda: simulation.simulate(plant, controller, iso14242_at, length), repeats=2 if quick else 3)
-        print(f"  {label:<24} {length / elapsed:7.2f}x real time ({elapsed / length / control.servo_rate * 1e6:5.0f} µs per period)")
+        elapsed = best_time(
+            lambda: simulation.simulate(plant, controller, iso14242_at, length), repeats=2 if quick else 3
+        )
+        print(
+            f"  {label:<24} {length / elapsed:7.2f}x real time ({elapsed / length / control.servo_rate * 1e6:5.0f} µs per period)"
+        )
     # The floor: MuJoCo stepping alone, no servo loop, no friction callback, motors held.
     for label, plant in (("mj_step alone, RK4 0.5 ms", plants[2][1]), ("mj_step alone, Euler 1 ms", plants[5][1])):
         factor, per_step = mj_step_speed(plant, quick)
@@ -274,8 +310,8 @@ def bench_mujoco(params, quick: bool) -> None:
 
 def mj_step_speed(plant, quick: bool) -> tuple[float, float]:
     """MuJoCo stepping a MujocoPlant's model alone (motors held, no servo loop): real-time factor and seconds per step."""
-    from hipsim.mujoco_engine._dependency import mujoco
     from hipsim.motion.trajectories import iso14242_at
+    from hipsim.mujoco_engine._dependency import mujoco
 
     model, data = plant.model, mujoco.MjData(plant.model)
     data.qpos[:], data.qvel[:] = np.split(plant.initial_state(iso14242_at([0.0])), 2)
@@ -311,10 +347,15 @@ def bench_servo(params, quick: bool) -> None:
     from hipsim.motion.trajectories import iso14242_at
 
     control = params.control
-    print(f"Servo loop on the reduced plant, ISO cycle, servo {control.servo_rate:g} Hz (real-time factor; µs per servo period)")
+    print(
+        f"Servo loop on the reduced plant, ISO cycle, servo {control.servo_rate:g} Hz (real-time factor; µs per servo period)"
+    )
     length, slow_length = (1.0, 0.25) if quick else (2.0, 0.5)
     plant = ReducedPlant(params)
-    controllers = (("workspace PD", WorkspacePD(params)), ("augmented PD", AugmentedPD(params, iso14242_at, control.servo_rate, length)))
+    controllers = (
+        ("workspace PD", WorkspacePD(params)),
+        ("augmented PD", AugmentedPD(params, iso14242_at, control.servo_rate, length)),
+    )
     for name, controller in controllers:
         for flag in (True, False):  # load or compile both paths before timing
             simulate(plant, controller, iso14242_at, 0.01, compiled=flag)
@@ -328,10 +369,14 @@ def bench_servo(params, quick: bool) -> None:
                 repeats=3 if quick else 5,
             )
             factors[name, label] = length / fast
-            print(f"  {name}, {label}: compiled {length / fast:7.1f}x ({fast / length / control.servo_rate * 1e6:5.1f} µs); "
-                  f"Python loop {slow_length / slow:6.1f}x ({slow / slow_length / control.servo_rate * 1e6:5.1f} µs)  "
-                  f"-> {length / fast / (slow_length / slow):4.1f}x faster")  # fmt: skip
-    print(f"  target: >= 100x real time at RK4 0.5 ms   {'OK' if factors['workspace PD', 'RK4 0.5 ms'] >= 100 else 'MISSED (see the ratio to the Python loop)'}")
+            print(
+                f"  {name}, {label}: compiled {length / fast:7.1f}x ({fast / length / control.servo_rate * 1e6:5.1f} µs); "
+                f"Python loop {slow_length / slow:6.1f}x ({slow / slow_length / control.servo_rate * 1e6:5.1f} µs)  "
+                f"-> {length / fast / (slow_length / slow):4.1f}x faster"
+            )
+    print(
+        f"  target: >= 100x real time at RK4 0.5 ms   {'OK' if factors['workspace PD', 'RK4 0.5 ms'] >= 100 else 'MISSED (see the ratio to the Python loop)'}"
+    )
     try:
         from hipsim.mujoco_engine import MujocoPlant
 
@@ -339,7 +384,9 @@ def bench_servo(params, quick: bool) -> None:
         for label, integrator in (("RK4 1 ms", "RK4"), ("Euler 1 ms", "Euler")):
             mj_factor, _ = mj_step_speed(MujocoPlant(coarse_params, integrator=integrator), quick)
             ours = factors["workspace PD", "RK4 1 ms"]
-            print(f"  mj_step alone, {label}: {mj_factor:6.1f}x real time; compiled loop (workspace PD, RK4 1 ms) / mj_step: {ours / mj_factor:4.2f}")
+            print(
+                f"  mj_step alone, {label}: {mj_factor:6.1f}x real time; compiled loop (workspace PD, RK4 1 ms) / mj_step: {ours / mj_factor:4.2f}"
+            )
     except hipsim.HipsimError as error:
         print(f"  MuJoCo: {error}; skipped")
 
@@ -350,33 +397,48 @@ def bench_servo(params, quick: bool) -> None:
     kin, _ = trajectory_dynamics(chain, trajectory)  # load or compile the closure kernels
     # In turn, so that the ratios between them hold on a machine whose speed drifts.
     with_parts, total_only, floor, rnea = alternated(
-        lambda: trajectory_dynamics(chain, trajectory), lambda: trajectory_dynamics(chain, trajectory, parts=False),
-        lambda: pinocchio_calls_alone(chain, kin), lambda: bare_rnea(chain, kin), repeats=7,
+        lambda: trajectory_dynamics(chain, trajectory),
+        lambda: trajectory_dynamics(chain, trajectory, parts=False),
+        lambda: pinocchio_calls_alone(chain, kin),
+        lambda: bare_rnea(chain, kin),
+        repeats=7,
     )
     n = len(trajectory)
     print("Pinocchio closed-chain kinematics + inverse dynamics, ISO cycle at 1 kHz")
-    print(f"  with parts {n / with_parts:9,.0f} samples/s ({with_parts / n * 1e6:4.1f} µs); total only (parts=False) "
-          f"{n / total_only:9,.0f} samples/s ({total_only / n * 1e6:4.1f} µs); targets 30,000 and 50,000 "
-          f"{'OK' if n / with_parts >= 30000 else 'MISSED'} / {'OK' if n / total_only >= 50000 else 'MISSED'}")  # fmt: skip
-    print(f"  the floor, same run: Pinocchio's calls of a sample alone (forward kinematics, joint Jacobians), "
-          f"nothing between them: {floor / n * 1e6:4.1f} µs a sample "
-          f"({n / floor:,.0f} samples/s)")  # fmt: skip
+    print(
+        f"  with parts {n / with_parts:9,.0f} samples/s ({with_parts / n * 1e6:4.1f} µs); total only (parts=False) "
+        f"{n / total_only:9,.0f} samples/s ({total_only / n * 1e6:4.1f} µs); targets 30,000 and 50,000 "
+        f"{'OK' if n / with_parts >= 30000 else 'MISSED'} / {'OK' if n / total_only >= 50000 else 'MISSED'}"
+    )
+    print(
+        f"  the floor, same run: Pinocchio's calls of a sample alone (forward kinematics, joint Jacobians), "
+        f"nothing between them: {floor / n * 1e6:4.1f} µs a sample "
+        f"({n / floor:,.0f} samples/s)"
+    )
     # The issue measured its starting point in bare rnea calls (69–92 µs, "28 bare rnea calls' worth"): a
     # yardstick that travels between machines, where samples/s do not. Its 50,000 samples/s were 20 µs
     # there, i.e. 6.1–8.1 of its rnea calls (2.5–3.3 µs each).
     in_rneas = total_only / rnea
     verdict = "OK" if in_rneas <= 6.1 else "OK at its lenient end only" if in_rneas <= 8.1 else "MISSED"
-    print(f"  in the issue's yardstick, a bare pin.rnea of the hip's tree from Python ({rnea / n * 1e6:.1f} µs here): "
-          f"with parts {with_parts / rnea:.1f}, total only {in_rneas:.1f} rnea calls' worth a sample "
-          f"(the issue started at 28; its 50,000 samples/s were 6.1–8.1: {verdict})")  # fmt: skip
+    print(
+        f"  in the issue's yardstick, a bare pin.rnea of the hip's tree from Python ({rnea / n * 1e6:.1f} µs here): "
+        f"with parts {with_parts / rnea:.1f}, total only {in_rneas:.1f} rnea calls' worth a sample "
+        f"(the issue started at 28; its 50,000 samples/s were 6.1–8.1: {verdict})"
+    )
 
     with tempfile.TemporaryDirectory() as cache:
         environment = {**os.environ, "NUMBA_CACHE_DIR": cache}
-        cold = subprocess.run([sys.executable, "-c", _COMPILE], capture_output=True, text=True, check=True, env=environment)
-        warm = subprocess.run([sys.executable, "-c", _COMPILE], capture_output=True, text=True, check=True, env=environment)
+        cold = subprocess.run(
+            [sys.executable, "-c", _COMPILE], capture_output=True, text=True, check=True, env=environment
+        )
+        warm = subprocess.run(
+            [sys.executable, "-c", _COMPILE], capture_output=True, text=True, check=True, env=environment
+        )
     (cold_s, cold_cpu, cold_notes), (warm_s, _, _) = ([float(v) for v in run.stdout.split()] for run in (cold, warm))
-    print(f"First run of simulate (both built-in controllers, empty numba cache, fresh process): {cold_s:.1f} s "
-          f"({cold_cpu:.1f} s of CPU in the whole process, imports included; {int(cold_notes)} 'compiling' note); second process, cache loaded: {warm_s:.1f} s; target < 20 s")
+    print(
+        f"First run of simulate (both built-in controllers, empty numba cache, fresh process): {cold_s:.1f} s "
+        f"({cold_cpu:.1f} s of CPU in the whole process, imports included; {int(cold_notes)} 'compiling' note); second process, cache loaded: {warm_s:.1f} s; target < 20 s"
+    )
 
 
 def pinocchio_calls_alone(chain, kin) -> None:
@@ -408,7 +470,9 @@ def bare_rnea(chain, kin) -> None:
         pin.rnea(model, data, q, v, a)
 
 
-_IDENTIFY = _PEAK_KB + """
+_IDENTIFY = (
+    _PEAK_KB
+    + """
 import json, sys, time
 import numpy as np
 import hipsim
@@ -429,6 +493,7 @@ baseline = time.perf_counter() - baseline
 print(json.dumps({"load": loaded - started, "identify": done - loaded, "peak_MB": peak, "baseline": baseline,
                   "samples": len(log), "quantities": len(result.quantities)}))
 """
+)
 
 
 def bench_identification(params, quick: bool) -> None:
@@ -438,7 +503,6 @@ def bench_identification(params, quick: bool) -> None:
     import sys
     import tempfile
     from pathlib import Path
-
 
     minutes = 1 if quick else 10
     n = minutes * 60_000
@@ -455,30 +519,54 @@ def bench_identification(params, quick: bool) -> None:
     qdd = -np.sum(amplitude * w[:, None] ** 2 * np.sin(arg), axis=1)
     load = 1650 + 1300 * np.sin(2 * np.pi * 0.5 * t)
     trajectory = hipsim.Trajectory(t, q, qd, qdd, load)
-    tau = np.concatenate([inverse_dynamics(true, kinematics(true, trajectory.slice(slice(a, a + 60_000))), load[a : a + 60_000], True).total
-                          for a in range(0, n, 60_000)])
-    columns = np.column_stack([t, load, tau * 1e3 + rng.normal(0, 3, tau.shape), np.degrees(q) + rng.normal(0, 0.003, q.shape)])
+    tau = np.concatenate(
+        [
+            inverse_dynamics(
+                true, kinematics(true, trajectory.slice(slice(a, a + 60_000))), load[a : a + 60_000], True
+            ).total
+            for a in range(0, n, 60_000)
+        ]
+    )
+    columns = np.column_stack(
+        [t, load, tau * 1e3 + rng.normal(0, 3, tau.shape), np.degrees(q) + rng.normal(0, 0.003, q.shape)]
+    )
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "log.csv"
         with open(path, "w") as stream:
             stream.write("t_s,Fe_N,tau_1_Nmm,tau_2_Nmm,tau_3_Nmm,alpha_deg,beta_deg,gamma_deg\n")
             np.savetxt(stream, columns, delimiter=",", fmt="%.10g")
-        done = subprocess.run([sys.executable, "-c", _IDENTIFY, str(path)], capture_output=True, text=True, check=True,
-                              env=_one_core_env(), preexec_fn=_one_core)
+        done = subprocess.run(
+            [sys.executable, "-c", _IDENTIFY, str(path)],
+            capture_output=True,
+            text=True,
+            check=True,
+            env=_one_core_env(),
+            preexec_fn=_one_core,
+        )
     figures = json.loads(done.stdout.strip().splitlines()[-1])
     total = figures["load"] + figures["identify"]
-    print(f"Identification of a {minutes}-minute log at 1 kHz ({figures['samples']:,} samples, angles and torques, fresh process, one core)")
-    print(f"  {total:.1f} s: read, filter, differentiate {figures['load']:.1f} s; regressor, fit, consistency {figures['identify']:.1f} s; "
-          f"peak memory {figures['peak_MB']:.0f} MB ({figures['quantities']} quantities identified)")
-    print(f"  baseline, one analytic model run over the same samples: {figures['baseline']:.2f} s ({total / figures['baseline']:.1f}x)")
-    print(f"  target (10 minutes): <= 10 s and <= 500 MB   {'OK' if total <= 10 and figures['peak_MB'] <= 500 else 'MISSED'}")
+    print(
+        f"Identification of a {minutes}-minute log at 1 kHz ({figures['samples']:,} samples, angles and torques, fresh process, one core)"
+    )
+    print(
+        f"  {total:.1f} s: read, filter, differentiate {figures['load']:.1f} s; regressor, fit, consistency {figures['identify']:.1f} s; "
+        f"peak memory {figures['peak_MB']:.0f} MB ({figures['quantities']} quantities identified)"
+    )
+    print(
+        f"  baseline, one analytic model run over the same samples: {figures['baseline']:.2f} s ({total / figures['baseline']:.1f}x)"
+    )
+    print(
+        f"  target (10 minutes): <= 10 s and <= 500 MB   {'OK' if total <= 10 and figures['peak_MB'] <= 500 else 'MISSED'}"
+    )
 
 
 def _one_core_env() -> dict:
     """The environment of a child held to one thread (BLAS, OpenMP, numba)."""
     import os
 
-    return os.environ | {name: "1" for name in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS")}
+    return os.environ | {
+        name: "1" for name in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS")
+    }
 
 
 def _one_core() -> None:
@@ -505,11 +593,15 @@ def bench_excite(params, quick: bool) -> None:
 
     with tempfile.TemporaryDirectory() as folder:
         out = Path(folder) / "excite.csv"
-        command = [sys.executable, "-m", "hipsim.cli.main", "excite", "--out", str(out)] + (["--harmonics", "2"] if quick else [])
+        command = [sys.executable, "-m", "hipsim.cli.main", "excite", "--out", str(out)] + (
+            ["--harmonics", "2"] if quick else []
+        )
         excite = cpu(command)
         baseline = cpu([sys.executable, "-c", "import hipsim.rig.excitation"])
-    print(f"hipsim excite, defaults{' (quick: 2 harmonics)' if quick else ''}, fresh process, one core: {excite:.1f} s of CPU "
-          f"(design, the finer grid's check, the CSV)")
+    print(
+        f"hipsim excite, defaults{' (quick: 2 harmonics)' if quick else ''}, fresh process, one core: {excite:.1f} s of CPU "
+        f"(design, the finer grid's check, the CSV)"
+    )
     print(f"  baseline, a process that only imports hipsim.rig.excitation: {baseline:.1f} s")
     print(f"  target: <= 10 s   {'OK' if excite <= 10 else 'MISSED'}")
 
@@ -526,7 +618,9 @@ def bench_sweep(params, quick: bool) -> None:
 
     count = 1000 if quick else 10_000
     trajectory = hipsim.iso14242(rate=1000)
-    variants = latin_hypercube({"lever.length_mm": (300.0, 360.0), "platform.home_offset_deg": (20.0, 50.0)}, count, seed=1)
+    variants = latin_hypercube(
+        {"lever.length_mm": (300.0, 360.0), "platform.home_offset_deg": (20.0, 50.0)}, count, seed=1
+    )
     setup = SweepSetup(params, trajectory, variants.keys)
     names = variants.names
 
@@ -548,9 +642,16 @@ def bench_sweep(params, quick: bool) -> None:
     figures = {}
     for workers in (1, 2):
         start = time.perf_counter()
-        with distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
-                                    silence_logs=logging.CRITICAL) as cluster, \
-                distributed.Client(cluster) as client:
+        with (
+            distributed.LocalCluster(
+                n_workers=workers,
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=None,
+                silence_logs=logging.CRITICAL,
+            ) as cluster,
+            distributed.Client(cluster) as client,
+        ):
             # Started, and hipsim imported in every worker (what a first task would otherwise pay).
             client.run(importlib.import_module, "hipsim.design.sweep")
             startup = time.perf_counter() - start
@@ -565,25 +666,42 @@ def bench_sweep(params, quick: bool) -> None:
                 distributed.wait(client.map(len, [(i,) for i in range(count)], pure=False))
                 empty_single = time.perf_counter() - start
     one, two = figures[1][1], figures[2][1]
-    print(f"Design sweep: {count:,} variants (Latin hypercube of lever length x platform offset) of the ISO 14242-1 cycle at 1 kHz, analytic model")
+    print(
+        f"Design sweep: {count:,} variants (Latin hypercube of lever length x platform offset) of the ISO 14242-1 cycle at 1 kHz, analytic model"
+    )
     print("  (wall clock; this machine's 2 cores are shared with other work, so the figures are an upper bound)")
-    print(f"  baseline, a plain loop of load_parameters + analyse + summary: {baseline:6.1f} s ({baseline / count * 1e3:.2f} ms/variant)")
-    print(f"  hipsim sweep engine, in this process (--workers 1):           {serial:6.1f} s ({serial / count * 1e3:.2f} ms/variant, {baseline / serial:.1f}x the loop)")
-    print(f"  dask LocalCluster, 1 worker process:                          {one:6.1f} s (+ {figures[1][0]:.1f} s to start the cluster and import hipsim)")
-    print(f"  dask LocalCluster, 2 worker processes:                        {two:6.1f} s (+ {figures[2][0]:.1f} s to start); speed-up {one / two:.2f}x over 1 worker")
-    print(f"  scheduler overhead, empty tasks on 2 workers: {empty_batched / count * 1e6:.0f} µs/variant in batches of 200 "
-          f"({empty_batched / len(work) * 1e3:.1f} ms/task); {empty_single / count * 1e3:.2f} ms/variant as one task each")
-    print(f"  target: <= 60 s on one worker ({'OK' if one <= 60 else 'MISSED'}), >= 1.7x on two ({'OK' if one / two >= 1.7 else 'MISSED'})"
-          + (" [--quick: 1,000 variants]" if quick else ""))
+    print(
+        f"  baseline, a plain loop of load_parameters + analyse + summary: {baseline:6.1f} s ({baseline / count * 1e3:.2f} ms/variant)"
+    )
+    print(
+        f"  hipsim sweep engine, in this process (--workers 1):           {serial:6.1f} s ({serial / count * 1e3:.2f} ms/variant, {baseline / serial:.1f}x the loop)"
+    )
+    print(
+        f"  dask LocalCluster, 1 worker process:                          {one:6.1f} s (+ {figures[1][0]:.1f} s to start the cluster and import hipsim)"
+    )
+    print(
+        f"  dask LocalCluster, 2 worker processes:                        {two:6.1f} s (+ {figures[2][0]:.1f} s to start); speed-up {one / two:.2f}x over 1 worker"
+    )
+    print(
+        f"  scheduler overhead, empty tasks on 2 workers: {empty_batched / count * 1e6:.0f} µs/variant in batches of 200 "
+        f"({empty_batched / len(work) * 1e3:.1f} ms/task); {empty_single / count * 1e3:.2f} ms/variant as one task each"
+    )
+    print(
+        f"  target: <= 60 s on one worker ({'OK' if one <= 60 else 'MISSED'}), >= 1.7x on two ({'OK' if one / two >= 1.7 else 'MISSED'})"
+        + (" [--quick: 1,000 variants]" if quick else "")
+    )
 
 
 #: Runs a piece of Python in a fresh process and reports its wall time and peak memory (what a user's shell sees).
-_MEASURED = _PEAK_KB + """
+_MEASURED = (
+    _PEAK_KB
+    + """
 import sys, time
 start = time.perf_counter()
 exec(sys.argv[1])
 print(f"{time.perf_counter() - start} {peak_kb()}", file=sys.stderr)
 """
+)
 
 
 def measured(code: str, folder) -> tuple[float, float]:
@@ -591,7 +709,9 @@ def measured(code: str, folder) -> tuple[float, float]:
     import subprocess
     import sys
 
-    done = subprocess.run([sys.executable, "-c", _MEASURED, code], cwd=folder, capture_output=True, text=True, check=True)
+    done = subprocess.run(
+        [sys.executable, "-c", _MEASURED, code], cwd=folder, capture_output=True, text=True, check=True
+    )
     seconds, kilobytes = done.stderr.strip().splitlines()[-1].split()
     return float(seconds), float(kilobytes) / 1024.0
 
@@ -602,19 +722,43 @@ def bench_long_runs(quick: bool) -> None:
 
     one_hour = 60 if quick else 3600
     baseline_cycles = 30 if quick else 120
-    print(f"hipsim torques end to end (fresh process each; wall time includes the ~1 s of imports)")
+    print("hipsim torques end to end (fresh process each; wall time includes the ~1 s of imports)")
     print(f"  {'run':<58} {'samples':>10} {'samples/s':>10} {'peak memory':>12}")
     rows = [
-        (f"one piece (analyse + write_csv), analytic, {baseline_cycles} s CSV",
-         f"import hipsim; hipsim.analyse(None, hipsim.iso14242(cycles={baseline_cycles})).write_csv('base.csv')", baseline_cycles),
-        (f"one piece, {baseline_cycles} s, Pinocchio, CSV",
-         f"import hipsim; hipsim.analyse(None, hipsim.iso14242(cycles={baseline_cycles}), model='pinocchio').write_csv('base.csv')", baseline_cycles),
-        (f"in pieces, {one_hour} s to Parquet, analytic", f"from hipsim.cli.main import main; main(['torques', '--cycles', '{one_hour}', '--out', 'run.parquet', '--summary-format', 'json'])", one_hour),
-        (f"in pieces, {one_hour // 6} s to CSV, analytic", f"from hipsim.cli.main import main; main(['torques', '--cycles', '{one_hour // 6}', '--out', 'run.csv', '--summary-format', 'json'])", one_hour // 6),
-        (f"in pieces, {one_hour // 6} s to CSV, Pinocchio", f"from hipsim.cli.main import main; main(['torques', '--model', 'pinocchio', '--cycles', '{one_hour // 6}', '--out', 'run.csv', '--summary-format', 'json'])", one_hour // 6),
+        (
+            f"one piece (analyse + write_csv), analytic, {baseline_cycles} s CSV",
+            f"import hipsim; hipsim.analyse(None, hipsim.iso14242(cycles={baseline_cycles})).write_csv('base.csv')",
+            baseline_cycles,
+        ),
+        (
+            f"one piece, {baseline_cycles} s, Pinocchio, CSV",
+            f"import hipsim; hipsim.analyse(None, hipsim.iso14242(cycles={baseline_cycles}), model='pinocchio').write_csv('base.csv')",
+            baseline_cycles,
+        ),
+        (
+            f"in pieces, {one_hour} s to Parquet, analytic",
+            f"from hipsim.cli.main import main; main(['torques', '--cycles', '{one_hour}', '--out', 'run.parquet', '--summary-format', 'json'])",
+            one_hour,
+        ),
+        (
+            f"in pieces, {one_hour // 6} s to CSV, analytic",
+            f"from hipsim.cli.main import main; main(['torques', '--cycles', '{one_hour // 6}', '--out', 'run.csv', '--summary-format', 'json'])",
+            one_hour // 6,
+        ),
+        (
+            f"in pieces, {one_hour // 6} s to CSV, Pinocchio",
+            f"from hipsim.cli.main import main; main(['torques', '--model', 'pinocchio', '--cycles', '{one_hour // 6}', '--out', 'run.csv', '--summary-format', 'json'])",
+            one_hour // 6,
+        ),
     ]
     if not quick:
-        rows.append((f"in pieces, {one_hour} s to Parquet, Pinocchio", f"from hipsim.cli.main import main; main(['torques', '--model', 'pinocchio', '--cycles', '{one_hour}', '--out', 'run.parquet', '--summary-format', 'json'])", one_hour))
+        rows.append(
+            (
+                f"in pieces, {one_hour} s to Parquet, Pinocchio",
+                f"from hipsim.cli.main import main; main(['torques', '--model', 'pinocchio', '--cycles', '{one_hour}', '--out', 'run.parquet', '--summary-format', 'json'])",
+                one_hour,
+            )
+        )
     with tempfile.TemporaryDirectory() as folder:
         for label, code, cycles in rows:
             seconds, megabytes = measured(code, folder)
@@ -632,7 +776,9 @@ def _tiled_log(source, path, seconds: float) -> None:
     with open(path, "w") as out:
         out.write(header + "\n")
         for start in range(0, total, len(rows)):
-            out.write("".join(f"{(start + k) * step:.6f},{rest}\n" for k, (_, rest) in enumerate(rows[: total - start])))
+            out.write(
+                "".join(f"{(start + k) * step:.6f},{rest}\n" for k, (_, rest) in enumerate(rows[: total - start]))
+            )
 
 
 def bench_rig(quick: bool) -> None:
@@ -646,24 +792,51 @@ def bench_rig(quick: bool) -> None:
 
     long, short = (360, 60) if quick else (3600, 600)
     start, _ = machines()
-    print("hipsim compare / identify end to end on a synthetic 1 kHz log (the ISO cycle on the Pinocchio plant, with noise, "
-          "repeated; fresh process each, wall time includes the imports)")
+    print(
+        "hipsim compare / identify end to end on a synthetic 1 kHz log (the ISO cycle on the Pinocchio plant, with noise, "
+        "repeated; fresh process each, wall time includes the imports)"
+    )
     print(f"  {'run':<66} {'samples':>10} {'samples/s':>10} {'peak memory':>12}")
     with tempfile.TemporaryDirectory() as folder:
         seed = write_log(Path(folder) / "seed.csv", iso_run(4.0), np.random.default_rng(1), motion="angles")
         for seconds in (short, long):
             _tiled_log(seed, Path(folder) / f"log{seconds}.csv", seconds)
-        whole = ("from hipsim.rig.compare import load_log, compare; import hipsim; "
-                 "p = hipsim.load_parameters(); log = load_log('log{s}.csv', p); ")
+        whole = (
+            "from hipsim.rig.compare import load_log, compare; import hipsim; "
+            "p = hipsim.load_parameters(); log = load_log('log{s}.csv', p); "
+        )
         rows = [
-            (f"whole log (load_log + compare + figures), {short} s",
-             whole.format(s=short) + "from hipsim.present.rig_figures import write_comparison; write_comparison('cmp0', compare(p, log))", short),
-            (f"hipsim compare in pieces, {short} s", f"from hipsim.cli.main import main; main(['compare', '--log', 'log{short}.csv', '--out', 'cmp1', '--summary-format', 'json'])", short),
-            (f"hipsim compare in pieces, {long} s", f"from hipsim.cli.main import main; main(['compare', '--log', 'log{long}.csv', '--out', 'cmp2', '--summary-format', 'json'])", long),
-            (f"whole log (load_log + identify), {short} s",
-             whole.format(s=short) + "from hipsim.rig.identification import identify; identify([log], p)", short),
-            (f"hipsim identify in pieces, {short} s", f"from hipsim.cli.main import main; main(['identify', '--log', 'log{short}.csv', '--out', 'id1.toml', '--summary-format', 'json'])", short),
-            (f"hipsim identify in pieces, {long} s", f"from hipsim.cli.main import main; main(['identify', '--log', 'log{long}.csv', '--out', 'id2.toml', '--summary-format', 'json'])", long),
+            (
+                f"whole log (load_log + compare + figures), {short} s",
+                whole.format(s=short)
+                + "from hipsim.present.rig_figures import write_comparison; write_comparison('cmp0', compare(p, log))",
+                short,
+            ),
+            (
+                f"hipsim compare in pieces, {short} s",
+                f"from hipsim.cli.main import main; main(['compare', '--log', 'log{short}.csv', '--out', 'cmp1', '--summary-format', 'json'])",
+                short,
+            ),
+            (
+                f"hipsim compare in pieces, {long} s",
+                f"from hipsim.cli.main import main; main(['compare', '--log', 'log{long}.csv', '--out', 'cmp2', '--summary-format', 'json'])",
+                long,
+            ),
+            (
+                f"whole log (load_log + identify), {short} s",
+                whole.format(s=short) + "from hipsim.rig.identification import identify; identify([log], p)",
+                short,
+            ),
+            (
+                f"hipsim identify in pieces, {short} s",
+                f"from hipsim.cli.main import main; main(['identify', '--log', 'log{short}.csv', '--out', 'id1.toml', '--summary-format', 'json'])",
+                short,
+            ),
+            (
+                f"hipsim identify in pieces, {long} s",
+                f"from hipsim.cli.main import main; main(['identify', '--log', 'log{long}.csv', '--out', 'id2.toml', '--summary-format', 'json'])",
+                long,
+            ),
         ]
         for label, code, seconds in rows:
             elapsed, megabytes = measured(code, folder)
@@ -705,7 +878,9 @@ def bench_monitor(quick: bool) -> None:
 
     count = 100 if quick else 1000
     params = hipsim.load_parameters()
-    print(f"hipsim monitor: {count} snapshots of 3 ISO cycles at 1 kHz ({3000 * count:,} samples), next to a loop of compare over the same files")
+    print(
+        f"hipsim monitor: {count} snapshots of 3 ISO cycles at 1 kHz ({3000 * count:,} samples), next to a loop of compare over the same files"
+    )
     with tempfile.TemporaryDirectory() as folder:
         started = time.perf_counter()
         _monitor_snapshots(folder, count)
@@ -719,8 +894,17 @@ def bench_monitor(quick: bool) -> None:
         looped = time.perf_counter() - started
         setup = MonitorSetup(params)
         started = time.perf_counter()
-        with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
-                                      silence_logs=50, local_directory=folder) as cluster, distributed.Client(cluster) as client:
+        with (
+            distributed.LocalCluster(
+                n_workers=2,
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=None,
+                silence_logs=50,
+                local_directory=folder,
+            ) as cluster,
+            distributed.Client(cluster) as client,
+        ):
             startup = time.perf_counter() - started
             started = time.perf_counter()
             result = run_monitor(setup, snapshots, workers=2, scheduler=cluster.scheduler_address)
@@ -735,14 +919,22 @@ def bench_monitor(quick: bool) -> None:
     total = scan + startup + elapsed
     print(f"  {'run':<60} {'wall [s]':>9} {'snapshots/s':>12}")
     print(f"  {'loop of load_log + compare, one process (the baseline)':<60} {looped:>9.1f} {count / looped:>12.1f}")
-    print(f"  {'monitor estimate, one process (' + str(len(serial_snapshots)) + ' snapshots)':<60} {serial * count:>9.1f} {1 / serial:>12.1f}   (extrapolated to {count})")
+    print(
+        f"  {'monitor estimate, one process (' + str(len(serial_snapshots)) + ' snapshots)':<60} {serial * count:>9.1f} {1 / serial:>12.1f}   (extrapolated to {count})"
+    )
     print(f"  {'hipsim monitor on 2 workers: scan of the files':<60} {scan:>9.1f}")
     print(f"  {'                             cluster start':<60} {startup:>9.1f}")
     print(f"  {'                             estimates and chart':<60} {elapsed:>9.1f} {count / elapsed:>12.1f}")
-    print(f"  {'                             total':<60} {total:>9.1f}   target <= 60 s  {'OK' if total <= 60 else 'MISSED'}")
+    print(
+        f"  {'                             total':<60} {total:>9.1f}   target <= 60 s  {'OK' if total <= 60 else 'MISSED'}"
+    )
     worst = max(peaks.values()) / 1024.0
-    print(f"  peak memory per worker: {', '.join(f'{v / 1024.0:.0f} MB' for v in peaks.values())}   target <= 500 MB  {'OK' if worst <= 500 else 'MISSED'}")
-    print(f"  alarms: {int(sum(result.columns['alarm']))} of {count} snapshots (the friction rises by 0.05 over the test)")
+    print(
+        f"  peak memory per worker: {', '.join(f'{v / 1024.0:.0f} MB' for v in peaks.values())}   target <= 500 MB  {'OK' if worst <= 500 else 'MISSED'}"
+    )
+    print(
+        f"  alarms: {int(sum(result.columns['alarm']))} of {count} snapshots (the friction rises by 0.05 over the test)"
+    )
 
 
 def bench_startup(quick: bool) -> None:
@@ -775,16 +967,40 @@ def bench_startup(quick: bool) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer samples in the slow baselines")
-    parser.add_argument("--only", choices=["startup", "analytic", "pinocchio", "workspace", "plants", "servo", "identification", "excite", "sweep", "long", "rig", "monitor"],
-                        help="one section only")
+    parser.add_argument(
+        "--only",
+        choices=[
+            "startup",
+            "analytic",
+            "pinocchio",
+            "workspace",
+            "plants",
+            "servo",
+            "identification",
+            "excite",
+            "sweep",
+            "long",
+            "rig",
+            "monitor",
+        ],
+        help="one section only",
+    )
     args = parser.parse_args()
     params = hipsim.load_parameters()
     if args.only:
-        sections = {"analytic": bench_analytic, "pinocchio": bench_pinocchio, "plants": bench_plants, "servo": bench_servo,
-                    "identification": bench_identification, "excite": bench_excite, "sweep": bench_sweep,
-                    "long": lambda params, quick: bench_long_runs(quick), "rig": lambda params, quick: bench_rig(quick),
-                    "monitor": lambda params, quick: bench_monitor(quick),
-                    "startup": lambda params, quick: bench_startup(quick)}
+        sections = {
+            "analytic": bench_analytic,
+            "pinocchio": bench_pinocchio,
+            "plants": bench_plants,
+            "servo": bench_servo,
+            "identification": bench_identification,
+            "excite": bench_excite,
+            "sweep": bench_sweep,
+            "long": lambda params, quick: bench_long_runs(quick),
+            "rig": lambda params, quick: bench_rig(quick),
+            "monitor": lambda params, quick: bench_monitor(quick),
+            "startup": lambda params, quick: bench_startup(quick),
+        }
         sections.get(args.only, lambda params, quick: bench_workspace(quick))(params, args.quick)
         return
     bench_startup(args.quick)

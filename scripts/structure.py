@@ -21,7 +21,13 @@ import test_layers as layers  # noqa: E402
 def main(argv: list[str]) -> int:
     checkout = Path(argv[0]).resolve() if argv else ROOT
     package = checkout / "hipsim"
-    sizes = sorted(((len(path.read_text(encoding="utf-8").splitlines()), path.relative_to(checkout)) for path in package.rglob("*.py")), reverse=True)
+    sizes = sorted(
+        (
+            (len(path.read_text(encoding="utf-8").splitlines()), path.relative_to(checkout))
+            for path in package.rglob("*.py")
+        ),
+        reverse=True,
+    )
     print(f"modules: {len(sizes)}, lines: {sum(n for n, _ in sizes):,}")
     print("largest modules:")
     for lines, path in sizes[:5]:

@@ -27,9 +27,20 @@ from pathlib import Path
 
 #: Test files by decreasing time (measured with ``--durations``): scheduled first.
 SLOW_FIRST = [
-    "test_cli.py", "test_report.py", "test_identification.py", "test_files.py", "test_streaming.py",
-    "test_simulation.py", "test_closed_chain.py", "test_viewer.py", "test_mujoco_engine.py", "test_compare.py",
-    "test_meshcat_output.py", "test_sweep.py", "test_analytic_kernel.py", "test_laws.py",
+    "test_cli.py",
+    "test_report.py",
+    "test_identification.py",
+    "test_files.py",
+    "test_streaming.py",
+    "test_simulation.py",
+    "test_closed_chain.py",
+    "test_viewer.py",
+    "test_mujoco_engine.py",
+    "test_compare.py",
+    "test_meshcat_output.py",
+    "test_sweep.py",
+    "test_analytic_kernel.py",
+    "test_laws.py",
 ]
 
 
@@ -82,7 +93,7 @@ def warm_up(root: Path, worker: int) -> None:
     """
     import fcntl
 
-    order = WARM_UPS[worker % len(WARM_UPS):] + WARM_UPS[: worker % len(WARM_UPS)]
+    order = WARM_UPS[worker % len(WARM_UPS) :] + WARM_UPS[: worker % len(WARM_UPS)]
     for group in order:
         with open(_lock_path(root, group.__name__), "w") as lock:
             fcntl.flock(lock, fcntl.LOCK_EX)  # the other worker compiling this group: wait, then load its cache
@@ -90,7 +101,9 @@ def warm_up(root: Path, worker: int) -> None:
                 with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
                     group()
             except Exception as error:  # an optimisation only: the tests themselves say what is wrong
-                warnings.warn(f"numba warm-up {group.__name__} failed, the tests compile as they go: {error!r}", stacklevel=1)
+                warnings.warn(
+                    f"numba warm-up {group.__name__} failed, the tests compile as they go: {error!r}", stacklevel=1
+                )
             finally:
                 fcntl.flock(lock, fcntl.LOCK_UN)
 

@@ -23,7 +23,9 @@ def constant_side(run, speed, torque, axial=0.0, acceleration=0.0, inertia=1e-4,
     """Screw-shaft demands held constant over the run's 1 s (100 samples of 10 ms): closed forms apply."""
     n = len(run.t)
     full = lambda x: np.full((n, 3), float(x))  # noqa: E731
-    return ScrewSide(run, cycles, np.full(n, 0.01), full(speed), full(acceleration), full(torque), full(axial), full(inertia))
+    return ScrewSide(
+        run, cycles, np.full(n, 0.01), full(speed), full(acceleration), full(torque), full(axial), full(inertia)
+    )
 
 
 def only(checks, name, module=1):

@@ -29,9 +29,20 @@ def hip_mu(cycle: float, step_at: float | None = None, step: float = 0.0) -> flo
     return float(value)
 
 
-def write_snapshot(path: Path, params, mu: float, first_cycle: int, rng, cycles: int = 3, rate: float = 250.0,
-                   torque_noise_Nmm: float = 3.0, angle_noise_deg: float = 0.003, station_loads: tuple[float, float] | None = None,
-                   station_mu: tuple[float, float] | None = None, cycle_column: bool = True) -> Path:
+def write_snapshot(
+    path: Path,
+    params,
+    mu: float,
+    first_cycle: int,
+    rng,
+    cycles: int = 3,
+    rate: float = 250.0,
+    torque_noise_Nmm: float = 3.0,
+    angle_noise_deg: float = 0.003,
+    station_loads: tuple[float, float] | None = None,
+    station_mu: tuple[float, float] | None = None,
+    cycle_column: bool = True,
+) -> Path:
     """One snapshot: ``cycles`` ISO cycles of the machine with μ_h = ``mu``, torques and angles noisy, the counter from ``first_cycle``.
 
     With ``station_loads`` = (s1, s2) the stations carry Fe·s1 and Fe·(s2 + 0.3·sin) (their loads differ in shape),
@@ -51,7 +62,9 @@ def write_snapshot(path: Path, params, mu: float, first_cycle: int, rng, cycles:
             each = Trajectory(trajectory.t, trajectory.q, trajectory.qd, trajectory.qdd, load, name="station")
             tau += 0.5 * hipsim.analyse(params.replace(hip_mu=each_mu), each, lever_spin=True).torques.total
         extra = {"Fe_1_N": loads[0], "Fe_2_N": loads[1]}
-        trajectory = Trajectory(trajectory.t, trajectory.q, trajectory.qd, trajectory.qdd, 0.5 * (loads[0] + loads[1]))  # Fe_N: the mean
+        trajectory = Trajectory(
+            trajectory.t, trajectory.q, trajectory.qd, trajectory.qdd, 0.5 * (loads[0] + loads[1])
+        )  # Fe_N: the mean
     columns = {"t_s": trajectory.t}
     if cycle_column:
         columns["cycle"] = first_cycle + np.floor(trajectory.t * 1.0).astype(int)
@@ -72,8 +85,16 @@ def write_snapshot(path: Path, params, mu: float, first_cycle: int, rng, cycles:
     return path
 
 
-def write_test(folder: Path, params, every: int = 250_000, last: int = 3_000_000, step_at: float | None = None,
-               step: float = 0.0, seed: int = 7, **options) -> dict[int, float]:
+def write_test(
+    folder: Path,
+    params,
+    every: int = 250_000,
+    last: int = 3_000_000,
+    step_at: float | None = None,
+    step: float = 0.0,
+    seed: int = 7,
+    **options,
+) -> dict[int, float]:
     """A test's snapshots every ``every`` cycles up to ``last``: {first cycle: true μ_h}."""
     folder.mkdir(parents=True, exist_ok=True)
     rng = np.random.default_rng(seed)

@@ -24,8 +24,8 @@ import numpy as np
 
 from hipsim.analytic.inverse_kinematics import slider_heights
 from hipsim.control import AugmentedPD, ReducedPlant, simulate
-from hipsim.rig.logs import MeasuredLog
 from hipsim.motion.trajectories import Trajectory
+from hipsim.rig.logs import MeasuredLog
 
 
 class FourierMotion:
@@ -98,7 +98,9 @@ class PlantRun:
         return MeasuredLog(Trajectory(self.t, self.q, self.qd, self.qdd, self.Fe, name=name), self.tau, None, name)
 
 
-def plant_run(true, model, desired_at, duration: float, plant: str = "pinocchio", servo_rate: float = 1000.0) -> PlantRun:
+def plant_run(
+    true, model, desired_at, duration: float, plant: str = "pinocchio", servo_rate: float = 1000.0
+) -> PlantRun:
     """Drive the plant of the ``true`` machine with an augmented PD that believes ``model``."""
     if plant == "pinocchio":
         from hipsim.closed_chain.plant import PinocchioPlant
@@ -139,7 +141,9 @@ def write_log(
         for k, name in enumerate(("alpha", "beta", "gamma")):
             columns[f"{name}_deg"] = angles[:, k]
     if motion in ("encoders", "both"):
-        heights = np.round(slider_heights(run.params, run.q * run.params.angle_signs)[:, 0] * 1e3, 4)  # a 0.1 µm encoder
+        heights = np.round(
+            slider_heights(run.params, run.q * run.params.angle_signs)[:, 0] * 1e3, 4
+        )  # a 0.1 µm encoder
         for i in range(3):
             columns[f"L_1{i + 1}_mm"] = heights[:, i]
     columns.update(extra or {})
@@ -182,7 +186,7 @@ import hipsim  # noqa: E402
 from hipsim.motion.trajectories import iso14242_at  # noqa: E402
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def machines():
     """(starting machine: the published one, true machine: :func:`mismatched`)."""
     start = hipsim.load_parameters()
@@ -193,28 +197,31 @@ def machines():
 FIT_MOTION = FourierMotion(3, amplitude_deg=24.0, harmonics=5, base=0.5)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def fit_run(duration: float = 20.0) -> PlantRun:
     """The Pinocchio plant of the true machine along the fit's excitation, driven by a controller that believes the start."""
     start, true = machines()
     return plant_run(true, start, FIT_MOTION, duration)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def iso_run(duration: float = 4.0) -> PlantRun:
     """The same along the ISO 14242-1 cycle: the held-out trajectory."""
     start, true = machines()
     return plant_run(true, start, lambda t: iso14242_at(t), duration)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def exact_run(duration: float = 6.0, constant_load: bool = False) -> PlantRun:
     """The reduced plant (compiled by numba, a route of its own) along the fit's excitation, for exact logs."""
     start, true = machines()
     if constant_load:
+
         def motion(t):
             trajectory = FIT_MOTION(t)
-            return Trajectory(trajectory.t, trajectory.q, trajectory.qd, trajectory.qdd, np.full(trajectory.t.shape, 1500.0))
+            return Trajectory(
+                trajectory.t, trajectory.q, trajectory.qd, trajectory.qdd, np.full(trajectory.t.shape, 1500.0)
+            )
     else:
         motion = FIT_MOTION
     return plant_run(true, start, motion, duration, plant="reduced")

@@ -6,11 +6,16 @@ import numpy as np
 
 from hipsim.motion.trajectories import Trajectory, iso14242_angles, iso14242_load
 
-
 #: Every friction coefficient on, U/S-joint friction (zero by default) included, for Parameters.replace.
 ALL_FRICTION = dict(
-    screw_coulomb=0.05, screw_viscous=2e-4, guide_coulomb=15.0, guide_viscous=40.0,
-    ujoint_coulomb=0.3, ujoint_viscous=0.02, sjoint_coulomb=0.4, sjoint_viscous=0.03,
+    screw_coulomb=0.05,
+    screw_viscous=2e-4,
+    guide_coulomb=15.0,
+    guide_viscous=40.0,
+    ujoint_coulomb=0.3,
+    ujoint_viscous=0.02,
+    sjoint_coulomb=0.4,
+    sjoint_viscous=0.03,
 )
 
 

@@ -4,14 +4,13 @@ import math
 
 import numpy as np
 import pytest
+from support import ALL_FRICTION, SmoothMotion, relative_error
 
 import hipsim
 import hipsim.analytic.kernel as kernel
-from hipsim.analytic.virtual_work import inverse_dynamics, mass_and_bias
 from hipsim.analytic.inverse_kinematics import kinematics, slider_jacobian
+from hipsim.analytic.virtual_work import inverse_dynamics, mass_and_bias
 from hipsim.control.simulation import _rk4
-
-from support import ALL_FRICTION, SmoothMotion, relative_error
 
 
 @pytest.fixture(scope="module")
@@ -44,7 +43,9 @@ def test_torques_match_the_vectorised_inverse_dynamics(params, machine, lever_sp
     motion = random_states()
     expected = inverse_dynamics(params, kinematics(params, motion), motion.Fe, lever_spin).total
     P = kernel.kernel_parameters(params, lever_spin)
-    actual = np.array([kernel.torques(P, motion.q[k], motion.qd[k], motion.qdd[k], motion.Fe[k]) for k in range(len(motion))])
+    actual = np.array(
+        [kernel.torques(P, motion.q[k], motion.qd[k], motion.qdd[k], motion.Fe[k]) for k in range(len(motion))]
+    )
     assert relative_error(actual, expected) < 1e-12  # round-off: the kernel sums in another order
 
 
@@ -71,7 +72,9 @@ def test_derivative_inverts_the_inverse_dynamics(params):
         x, tau = np.concatenate([motion.q[k], motion.qd[k]]), rng.normal(size=3)
         dx = kernel.derivative(P, x, tau, motion.Fe[k])
         np.testing.assert_array_equal(dx[:3], motion.qd[k])
-        np.testing.assert_allclose(kernel.torques(P, motion.q[k], motion.qd[k], dx[3:], motion.Fe[k]), tau, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(
+            kernel.torques(P, motion.q[k], motion.qd[k], dx[3:], motion.Fe[k]), tau, rtol=0, atol=1e-12
+        )
 
 
 class _DerivativeOnly:
@@ -125,7 +128,11 @@ def test_workspace_pd_is_the_jacobian_transpose_law(params):
 
 @pytest.mark.parametrize(
     ("value", "shape", "message"),
-    [([1.0, 2.0], (3,), r"x: expected shape \(3,\), got shape \(2,\)"), ("a", (3,), "x: expected numbers"), ([[1, 2, 3]], (3,), r"got shape \(1, 3\)")],
+    [
+        ([1.0, 2.0], (3,), r"x: expected shape \(3,\), got shape \(2,\)"),
+        ("a", (3,), "x: expected numbers"),
+        ([[1, 2, 3]], (3,), r"got shape \(1, 3\)"),
+    ],
 )
 def test_kernel_arguments_of_the_wrong_shape_are_refused_by_name(value, shape, message):
     # The compiled kernels do not check bounds: a short array would be read past its end.

@@ -10,13 +10,25 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from trajectory_files import (
+    DEG,
+    assert_same_trajectory,
+    assert_traj_error,
+    canonical,
+    csv_text,
+    iso_file,
+    iso_rows,
+    relative_errors,
+    set_cell,
+    small_csv,
+    write_iso_csv,
+    write_lines,
+)
 
 from hipsim import TrajectoryError
 from hipsim.motion.build import TrajectoryWarning
 from hipsim.motion.csv_table import load_trajectory_csv
 from hipsim.motion.trajectories import MIN_SAMPLES, iso14242_angles, iso14242_load
-from trajectory_files import DEG, assert_same_trajectory, assert_traj_error, canonical, csv_text, iso_file, iso_rows, relative_errors, set_cell, small_csv, write_iso_csv, write_lines
-
 
 # --------------------------------------------------------------------------- derivative accuracy
 #
@@ -63,7 +75,7 @@ def test_csv_derivative_accuracy(tmp_path, rate, cycles, closing, periodic, qd_i
     np.testing.assert_allclose(traj.q, q[:n], rtol=0, atol=1e-15)
     np.testing.assert_array_equal(traj.Fe, load[:n])
     e1, e2 = relative_errors(traj, qd, qdd)
-    ends = np.r_[0:10, n - 10:n]
+    ends = np.r_[0:10, n - 10 : n]
     assert e1[10:-10].max() <= qd_in
     assert e1[ends].max() <= qd_end
     assert e2[10:-10].max() <= qdd_in
@@ -218,7 +230,11 @@ def test_csv_negative_load(tmp_path):
 
 @pytest.mark.parametrize(
     "cell, column, message",
-    [("1e300", "alpha_deg", "more than a full turn"), ("-400", "gamma_deg", "more than a full turn"), ("1e30", "Fe_N", "a unit slip")],
+    [
+        ("1e300", "alpha_deg", "more than a full turn"),
+        ("-400", "gamma_deg", "more than a full turn"),
+        ("1e30", "Fe_N", "a unit slip"),
+    ],
 )
 def test_values_beyond_any_gait_are_refused_where_they_are(tmp_path, cell, column, message):
     lines = small_csv()
@@ -326,7 +342,11 @@ def test_load_units_and_signs(tmp_path):
     with pytest.raises(TrajectoryError, match="a body weight was given, but the load is in kN"):
         load_trajectory_csv(path, load_column="-Fz_kN:kN", body_weight=700.0)
     with pytest.raises(TrajectoryError, match="a body weight was given, but no load column"):
-        load_trajectory_csv(canonical(tmp_path / "c.csv", t, deg, load).with_name("c.csv"), columns="time=t_s,alpha=alpha_deg,beta=beta_deg,gamma=gamma_deg", body_weight=700.0)
+        load_trajectory_csv(
+            canonical(tmp_path / "c.csv", t, deg, load).with_name("c.csv"),
+            columns="time=t_s,alpha=alpha_deg,beta=beta_deg,gamma=gamma_deg",
+            body_weight=700.0,
+        )
 
 
 def test_radians_under_degree_headers_warn(tmp_path):
@@ -334,7 +354,10 @@ def test_radians_under_degree_headers_warn(tmp_path):
     q, _, _ = iso14242_angles(t)
     path = tmp_path / "rad.csv"
     path.write_text(csv_text(t, q, None, unit="rad").replace("_rad", "_deg"))  # radians written under _deg
-    with pytest.warns(TrajectoryWarning, match=r"rad.csv: the angles span less than a degree \(at most 0.\d+° in '(alpha|beta|gamma)_deg'\)"):
+    with pytest.warns(
+        TrajectoryWarning,
+        match=r"rad.csv: the angles span less than a degree \(at most 0.\d+° in '(alpha|beta|gamma)_deg'\)",
+    ):
         load_trajectory_csv(path)
 
 

@@ -4,14 +4,13 @@ import math
 
 import numpy as np
 import pytest
+from drive_support import RPM, constant_side, curve, only
 
 import hipsim
 from hipsim.design.checks import CHECKS, drive_checks
 from hipsim.design.demand import ScrewSide, reflected_inertia, screw_side
 from hipsim.machine.drive_parts import Amplifier, Drive, Gearbox, LeadScrew, Motor
 from hipsim.motion.trajectories import iso14242
-
-from drive_support import RPM, constant_side, curve, only
 
 
 @pytest.fixture(scope="module")
@@ -30,8 +29,11 @@ def run(params):
 
 def test_torque_curves_speed_and_currents_on_a_constant_duty(run):
     motor = Motor(
-        "m", continuous=curve([0, 3000], [0.5, 0.4]), peak=curve([0, 3000, 4000], [1.0, 1.0, 0.6]),
-        torque_constant=0.5, rotor_inertia=1e-4,
+        "m",
+        continuous=curve([0, 3000], [0.5, 0.4]),
+        peak=curve([0, 3000, 4000], [1.0, 1.0, 0.6]),
+        torque_constant=0.5,
+        rotor_inertia=1e-4,
     )
     amplifier = Amplifier(peak_current=2.0, continuous_current=0.5)
     checks = drive_checks(constant_side(run, speed=1500 * RPM, torque=0.3), Drive(motor, amplifier))
@@ -44,14 +46,20 @@ def test_torque_curves_speed_and_currents_on_a_constant_duty(run):
     assert speed.value == pytest.approx(1500.0) and speed.limit == pytest.approx(4000.0)  # the peak curve's end
     assert only(checks, "amplifier_peak_current").value == pytest.approx(0.6)
     rms_current = only(checks, "amplifier_rms_current")
-    assert rms_current.value == pytest.approx(0.6) and rms_current.passed is False and rms_current.margin == pytest.approx(1 - 0.6 / 0.5)
+    assert (
+        rms_current.value == pytest.approx(0.6)
+        and rms_current.passed is False
+        and rms_current.margin == pytest.approx(1 - 0.6 / 0.5)
+    )
 
 
 def test_the_worst_point_under_a_falling_peak_curve(run):
     """Constant torque, speed rising through the cycle: the worst point is the fastest, where the curve is lowest."""
     side = constant_side(run, speed=0.0, torque=0.5)
     ramp = np.linspace(0.0, 3500.0, 100)[:, None] * RPM * np.ones(3)
-    side = ScrewSide(side.run, 1.0, side.weights, ramp, side.acceleration, side.torque, side.axial_load, side.load_inertia)
+    side = ScrewSide(
+        side.run, 1.0, side.weights, ramp, side.acceleration, side.torque, side.axial_load, side.load_inertia
+    )
     peak = curve([0, 3000, 4000], [1.0, 1.0, 0.6])
     check = only(drive_checks(side, Drive(Motor("m", peak=peak))), "peak_curve")
     assert check.limit == pytest.approx((1.0 - 0.4 * 500 / 1000) * 1e3)  # 0.8 N·m at 3500 rpm
@@ -81,13 +89,24 @@ def test_winding_rise_of_a_constant_torque(run):
     assert check.value == pytest.approx(2.0 * 1.5 * 4.0 * (0.3 / 0.5) ** 2, rel=1e-9)
     assert check.limit == 100.0 and check.passed
     # Without R_th: the S1 stall torque is rated at the rated rise, so ΔT = 100 K·(τ/T_0)².
-    from_s1 = only(drive_checks(constant_side(run, 100.0, 0.3), Drive(Motor("m", continuous=curve([0, 3000], [0.6, 0.5])))), "winding_rise")
+    from_s1 = only(
+        drive_checks(constant_side(run, 100.0, 0.3), Drive(Motor("m", continuous=curve([0, 3000], [0.6, 0.5])))),
+        "winding_rise",
+    )
     assert from_s1.value == pytest.approx(100.0 * (0.3 / 0.6) ** 2)
 
 
 def test_missing_data_says_what_is_missing(run):
     checks = drive_checks(constant_side(run, 100.0, 0.3), Drive(Motor("bare")))
-    for name in ("peak_curve", "s1_rms", "inertia_ratio", "winding_rise", "screw_life", "critical_speed", "amplifier_peak_current"):
+    for name in (
+        "peak_curve",
+        "s1_rms",
+        "inertia_ratio",
+        "winding_rise",
+        "screw_life",
+        "critical_speed",
+        "amplifier_peak_current",
+    ):
         check = only(checks, name)
         assert check.passed is None and check.margin is None and check.detail.startswith("not checked: "), name
     assert "rotor inertia" in only(checks, "inertia_ratio").detail
@@ -102,16 +121,22 @@ def test_screw_life_of_a_constant_load_and_speed(run):
     """ISO 3408-5 without preload: L10 = (C_a/F)³·10⁶ rev; in test cycles, divided by the revolutions per cycle."""
     speed, force, rating = 1200 * RPM, 500.0, 10_000.0
     screw = LeadScrew("s", dynamic_load_rating=rating)
-    check = only(drive_checks(constant_side(run, speed, 0.1, axial=force), Drive(Motor("m"), screw=screw)), "screw_life")
+    check = only(
+        drive_checks(constant_side(run, speed, 0.1, axial=force), Drive(Motor("m"), screw=screw)), "screw_life"
+    )
     revolutions_per_cycle = 1200 / 60 * 1.0  # 20 rev in the 1 s cycle
     assert check.value == pytest.approx((rating / force) ** 3 * 1e6 / revolutions_per_cycle, rel=1e-12)
     assert check.limit == 5e6 and check.passed and check.margin == pytest.approx(1 - 5e6 / check.value)
 
 
 def test_screw_checks_use_the_screw_speed_and_the_axial_load(run):
-    screw = LeadScrew("s", root_diameter=0.0129, free_length=0.35, end_fixing="fixed-supported", axial_force=400.0, stroke=0.2)
+    screw = LeadScrew(
+        "s", root_diameter=0.0129, free_length=0.35, end_fixing="fixed-supported", axial_force=400.0, stroke=0.2
+    )
     gearbox = Gearbox("belt", ratio=2.0)
-    checks = drive_checks(constant_side(run, 1000 * RPM, 0.1, axial=-450.0), Drive(Motor("m"), gearbox=gearbox, screw=screw))
+    checks = drive_checks(
+        constant_side(run, 1000 * RPM, 0.1, axial=-450.0), Drive(Motor("m"), gearbox=gearbox, screw=screw)
+    )
     assert only(checks, "critical_speed").value == pytest.approx(1000.0)  # the screw's speed, not the motor's 2000 rpm
     assert only(checks, "buckling").value == pytest.approx(450.0)
     axial = only(checks, "axial_force")

@@ -1,8 +1,8 @@
 """The hipsim command line: defaults, options, and one-line errors."""
 
 import csv
-import math
 import json
+import math
 import subprocess
 import sys
 
@@ -31,8 +31,26 @@ def test_torques_defaults(tmp_path, monkeypatch):
 
 def test_torques_json_summary_and_options(tmp_path, capsys):
     out = tmp_path / "fast.csv"
-    assert main(["torques", "--rate", "500", "--cycles", "2", "--frequency", "2", "--out", str(out), "--summary-format", "json",
-                 "--set", "platform.mass_kg=30"]) == 0
+    assert (
+        main(
+            [
+                "torques",
+                "--rate",
+                "500",
+                "--cycles",
+                "2",
+                "--frequency",
+                "2",
+                "--out",
+                str(out),
+                "--summary-format",
+                "json",
+                "--set",
+                "platform.mass_kg=30",
+            ]
+        )
+        == 0
+    )
     summary = json.loads(capsys.readouterr().out)
     assert summary["samples"] == 500
     assert "mass_kg=30" in summary["parameters"]
@@ -86,7 +104,9 @@ def test_torques_from_trajectory_file(tmp_path, capsys):
 )
 def test_errors_are_one_line(tmp_path, args, message):
     args = [
-        a.replace("{far}", str(far_trajectory(tmp_path))).replace("{allfar}", str(far_trajectory(tmp_path, [180] * 8))).replace("{tmp}", str(tmp_path))
+        a.replace("{far}", str(far_trajectory(tmp_path)))
+        .replace("{allfar}", str(far_trajectory(tmp_path, [180] * 8)))
+        .replace("{tmp}", str(tmp_path))
         for a in args
     ]
     status, out, err = run(*args, *([] if "--out" in args or "--html" in args else ["--out", str(tmp_path / "x.csv")]))
@@ -176,7 +196,9 @@ def test_simulate_writes_errors_and_tables(tmp_path, capsys):
         assert len(rows) == 50
         assert {"err_alpha_deg", "err_beta_deg", "err_gamma_deg", "tau_1_Nmm", "alpha_des_deg"} <= set(rows[0])
     single = tmp_path / "one.csv"
-    assert main(["simulate", "--cycles", "0.01", "--controller", "pd", "--plant", "analytic", "--out", str(single)]) == 0
+    assert (
+        main(["simulate", "--cycles", "0.01", "--controller", "pd", "--plant", "analytic", "--out", str(single)]) == 0
+    )
     assert single.exists()
 
 
@@ -195,9 +217,43 @@ def test_simulate_help_does_not_offer_rate(capsys):
 
 def test_simulate_says_when_it_rounds_the_step(tmp_path, capsys):
     out = tmp_path / "sim.csv"
-    assert main(["simulate", "--cycles", "0.01", "--controller", "pd", "--plant", "analytic", "--step", "0.3", "--out", str(out)]) == 0
+    assert (
+        main(
+            [
+                "simulate",
+                "--cycles",
+                "0.01",
+                "--controller",
+                "pd",
+                "--plant",
+                "analytic",
+                "--step",
+                "0.3",
+                "--out",
+                str(out),
+            ]
+        )
+        == 0
+    )
     assert "RK4 step 0.25 ms, the 0.3 ms asked for rounded down" in capsys.readouterr().out
-    assert main(["simulate", "--cycles", "0.01", "--controller", "pd", "--plant", "analytic", "--step", "0.25", "--out", str(out)]) == 0
+    assert (
+        main(
+            [
+                "simulate",
+                "--cycles",
+                "0.01",
+                "--controller",
+                "pd",
+                "--plant",
+                "analytic",
+                "--step",
+                "0.25",
+                "--out",
+                str(out),
+            ]
+        )
+        == 0
+    )
     assert "rounded down" not in capsys.readouterr().out
 
 
@@ -209,7 +265,9 @@ def test_simulate_refuses_a_folder_before_running(tmp_path, capsys):
 
 def test_an_output_over_its_own_input_is_refused(tmp_path, capsys):
     trajectory = tmp_path / "motion.csv"
-    trajectory.write_text("t_s,alpha_deg,beta_deg,gamma_deg\n" + "".join(f"{k * 0.01:.2f},{k},1,-2\n" for k in range(8)))
+    trajectory.write_text(
+        "t_s,alpha_deg,beta_deg,gamma_deg\n" + "".join(f"{k * 0.01:.2f},{k},1,-2\n" for k in range(8))
+    )
     before = trajectory.read_text()
     assert main(["torques", "--trajectory", str(trajectory), "--out", str(trajectory)]) == 2
     assert "is the --trajectory file itself" in capsys.readouterr().err
@@ -238,10 +296,17 @@ def test_pose_errors_read_alike_in_torques_and_view(tmp_path):
     """Path as typed, the sample's time and the file's line, whichever command meets the pose."""
     (tmp_path / "data").mkdir()
     far_trajectory(tmp_path / "data")
-    expected = "hipsim: error: data/far.csv, t = 0.02 s, line 4: pose out of reach"  # t = 0.02 s is the third row, on line 4
+    expected = (
+        "hipsim: error: data/far.csv, t = 0.02 s, line 4: pose out of reach"  # t = 0.02 s is the third row, on line 4
+    )
     for args in (["torques", "--out", "x.csv"], ["view", "--html", "x.html"], ["check"]):
-        done = subprocess.run([sys.executable, "-m", "hipsim", *args, "--trajectory", "data/far.csv"], cwd=tmp_path,
-                              capture_output=True, text=True, timeout=120)  # fmt: skip
+        done = subprocess.run(
+            [sys.executable, "-m", "hipsim", *args, "--trajectory", "data/far.csv"],
+            cwd=tmp_path,
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
         assert done.returncode == 2, (args, done.stderr)
         lines = error_lines(done.stderr)
         assert len(lines) == 1 and lines[0].startswith(expected), (args, done.stderr)
@@ -252,14 +317,37 @@ def test_pose_error_carries_what_it_documents():
     from hipsim.exceptions import PoseError
 
     error = PoseError("pose out of reach", 0.25, 7, source="runs/gait.csv", line=9)
-    assert (error.reason, error.time, error.index, error.source, error.line) == ("pose out of reach", 0.25, 7, "runs/gait.csv", 9)
+    assert (error.reason, error.time, error.index, error.source, error.line) == (
+        "pose out of reach",
+        0.25,
+        7,
+        "runs/gait.csv",
+        9,
+    )
     assert str(error) == "runs/gait.csv, t = 0.25 s, line 9: pose out of reach"
     assert str(PoseError("singular pose", 1.5, 3)) == "t = 1.5 s: singular pose"
 
 
 def test_summary_gives_the_cycle_of_the_smallest_singularity_measure(tmp_path, capsys):
     out = tmp_path / "x.csv"
-    assert main(["torques", "--cycles", "600", "--rate", "100", "--frequency", "2", "--out", str(out), "--summary-format", "json"]) == 0
+    assert (
+        main(
+            [
+                "torques",
+                "--cycles",
+                "600",
+                "--rate",
+                "100",
+                "--frequency",
+                "2",
+                "--out",
+                str(out),
+                "--summary-format",
+                "json",
+            ]
+        )
+        == 0
+    )
     summary = json.loads(capsys.readouterr().out)
     t = summary["cond_inv_min_t_s"]
     cycle = summary["cond_inv_min_cycle"]
@@ -275,7 +363,10 @@ def test_cycle_of_a_time_late_in_a_long_run():
     from hipsim.motion.trajectories import iso14242
 
     long_run = iso14242(rate=10, cycles=600)
-    assert _cycle_of(395.123, long_run, 1.0) == {"cond_inv_min_cycle": 396, "cond_inv_min_t_in_cycle_s": pytest.approx(0.123, abs=1e-9)}
+    assert _cycle_of(395.123, long_run, 1.0) == {
+        "cond_inv_min_cycle": 396,
+        "cond_inv_min_t_in_cycle_s": pytest.approx(0.123, abs=1e-9),
+    }
     assert _cycle_of(395.0, long_run, 1.0)["cond_inv_min_cycle"] == 396  # the start of cycle 396, not the end of 395
     assert _cycle_of(0.5, iso14242(rate=10, cycles=1), 1.0) == {}  # one cycle: nothing to add
     assert _cycle_of(3.5, long_run, None) == {}  # no known cycle length
@@ -285,7 +376,7 @@ def test_check_words_informational_rows_so_they_cannot_be_read_as_failures(capsy
     assert main(["check", "--rate", "100"]) == 0
     out = capsys.readouterr().out
     assert "OUT OF" not in out and "FAIL" not in out
-    informational = out[out.index("published:"):out.index("published+spin:")]
+    informational = out[out.index("published:") : out.index("published+spin:")]
     assert "for information" in informational and "no tolerance applies" in informational
     assert out.count("within tolerance") == 2
 
@@ -298,7 +389,12 @@ def test_radians_under_a_degree_header_are_warned_about(tmp_path):
     status, out, err = run("torques", "--trajectory", str(path), "--out", str(tmp_path / "o.csv"))
     assert status == 0, err
     warning = [line for line in err.splitlines() if line.startswith("hipsim: warning:")]
-    assert len(warning) == 1 and "span less than a degree" in warning[0] and "alpha_deg" in warning[0] and "radians" in warning[0]
+    assert (
+        len(warning) == 1
+        and "span less than a degree" in warning[0]
+        and "alpha_deg" in warning[0]
+        and "radians" in warning[0]
+    )
 
 
 @pytest.mark.parametrize(
@@ -307,21 +403,35 @@ def test_radians_under_a_degree_header_are_warned_about(tmp_path):
         (["--columns", "time=t"], "--columns applies to a --trajectory file, not to the built-in cycle"),
         (["--resample", "100", "--side", "left"], "--side, --resample apply to a --trajectory file"),
         (["--trajectory", "{csv}", "--rate", "100"], "(to resample a file, use --resample)"),
-        (["--trajectory", "{csv}", "--side", "left"], "the side (left or right hip) applies to OpenSim .mot/.sto files"),
+        (
+            ["--trajectory", "{csv}", "--side", "left"],
+            "the side (left or right hip) applies to OpenSim .mot/.sto files",
+        ),
         (["--trajectory", "{csv}", "--frequency", "2", "--period", "0.5"], "give --frequency or --period, not both"),
         (["--trajectory", "{csv}", "--frequency", "-1"], "cycle frequency must be a positive number of Hz"),
         (["--trajectory", "{csv}", "--resample", "0"], "resample rate must be a positive number of Hz"),
-        (["--trajectory", "{csv}", "--load-column", "Fe_N", "--body-weight", "736"], "more than 500 kg; for a weight in newtons write 736N"),
+        (
+            ["--trajectory", "{csv}", "--load-column", "Fe_N", "--body-weight", "736"],
+            "more than 500 kg; for a weight in newtons write 736N",
+        ),
         (["--trajectory", "{csv}", "--body-weight", "heavy"], "--body-weight: expected a positive mass"),
-        (["--trajectory", "{csv}", "--columns", "time=t_s,alpha=alpha_deg,beta=beta_deg,gamma=gamma_deg:grad"], "'grad' is not a unit of gamma"),
-        (["--trajectory", "{csv}", "--columns", "time=t_s,alpha=FE,beta=beta_deg,gamma=gamma_deg"], "no column 'FE' (mapped to alpha)"),
+        (
+            ["--trajectory", "{csv}", "--columns", "time=t_s,alpha=alpha_deg,beta=beta_deg,gamma=gamma_deg:grad"],
+            "'grad' is not a unit of gamma",
+        ),
+        (
+            ["--trajectory", "{csv}", "--columns", "time=t_s,alpha=FE,beta=beta_deg,gamma=gamma_deg"],
+            "no column 'FE' (mapped to alpha)",
+        ),
         (["--trajectory", "{csv}", "--load-column", "Fz"], "both 'Fe_N' and the load column 'Fz' are given"),
         (["--period", "0"], "--period must be a positive number of seconds"),
     ],
 )
 def test_trajectory_option_mistakes_are_one_line(tmp_path, args, message):
     csv_path = tmp_path / "gait.csv"
-    csv_path.write_text("t_s,alpha_deg,beta_deg,gamma_deg,Fe_N\n" + "".join(f"{k / 100},{10 + k},2,-3,500\n" for k in range(10)))
+    csv_path.write_text(
+        "t_s,alpha_deg,beta_deg,gamma_deg,Fe_N\n" + "".join(f"{k / 100},{10 + k},2,-3,500\n" for k in range(10))
+    )
     args = [a.replace("{csv}", str(csv_path)) for a in args]
     status, _, err = run("torques", *args, "--out", str(tmp_path / "x.csv"))
     assert status == 2
@@ -335,13 +445,18 @@ def test_frequency_and_period_rescale_a_recorded_cycle(tmp_path, capsys):
     path = tmp_path / "cycle.csv"
     t = np.arange(101) / 100  # one closed cycle: the last row repeats the first
     alpha = 3.5 + 21.5 * np.cos(2 * np.pi * t)
-    path.write_text("t_s,alpha_deg,beta_deg,gamma_deg,Fe_N\n" + "".join(f"{float(x)!r},{float(a)!r},2.0,-3.0,800\n" for x, a in zip(t, alpha)))
+    path.write_text(
+        "t_s,alpha_deg,beta_deg,gamma_deg,Fe_N\n"
+        + "".join(f"{float(x)!r},{float(a)!r},2.0,-3.0,800\n" for x, a in zip(t, alpha))
+    )
     columns = {}
     for extra in ([], ["--frequency", "2"], ["--period", "0.5"]):
         out = tmp_path / f"o{len(columns)}.csv"
         assert main(["torques", "--trajectory", str(path), "--out", str(out), *extra]) == 0
         rows = list(csv.DictReader(open(out)))
-        columns[tuple(extra)] = {k: np.array([float(r[k]) for r in rows]) for k in ("t_s", "alpha_deg", "Ld_11_mm_s", "Ldd_11_mm_s2", "Fe_N")}
+        columns[tuple(extra)] = {
+            k: np.array([float(r[k]) for r in rows]) for k in ("t_s", "alpha_deg", "Ld_11_mm_s", "Ldd_11_mm_s2", "Fe_N")
+        }
     capsys.readouterr()
     base, fast, short = columns[()], columns[("--frequency", "2")], columns[("--period", "0.5")]
     np.testing.assert_allclose(fast["t_s"], base["t_s"] / 2, rtol=0, atol=1e-12)
@@ -357,16 +472,33 @@ def test_opensim_file_with_a_flipped_load_column_in_percent_body_weight(tmp_path
     """--load-column -COL (no '=' needed) with --body-weight: a compressive force component in % body weight as F_e in N."""
     t = np.arange(101) / 100
     flexion, force = 20 * np.cos(2 * np.pi * t), 250 + 150 * np.sin(np.pi * t) ** 2  # degrees, % body weight
-    lines = ["ik", "inDegrees=yes", "endheader", "time\thip_flexion_l\thip_adduction_l\thip_rotation_l\thip_l_on_pelvis_fy"]
+    lines = [
+        "ik",
+        "inDegrees=yes",
+        "endheader",
+        "time\thip_flexion_l\thip_adduction_l\thip_rotation_l\thip_l_on_pelvis_fy",
+    ]
     lines += ["\t".join(repr(float(v)) for v in (t[k], flexion[k], 0.0, 0.0, -force[k])) for k in range(101)]
     path = tmp_path / "walk.mot"
     path.write_text("\n".join(lines) + "\n")
     out = tmp_path / "o.csv"
-    args = ["torques", "--trajectory", str(path), "--side", "left", "--load-column", "-hip_l_on_pelvis_fy", "--body-weight", "80kg"]
+    args = [
+        "torques",
+        "--trajectory",
+        str(path),
+        "--side",
+        "left",
+        "--load-column",
+        "-hip_l_on_pelvis_fy",
+        "--body-weight",
+        "80kg",
+    ]
     assert main([*args, "--out", str(out)]) == 0
     rows = list(csv.DictReader(open(out)))
     np.testing.assert_allclose([float(r["Fe_N"]) for r in rows], force[:100] / 100 * 80 * 9.80665, rtol=1e-11)
-    np.testing.assert_allclose([float(r["alpha_deg"]) for r in rows], flexion[:100], rtol=0, atol=1e-9)  # flexion alone is α
+    np.testing.assert_allclose(
+        [float(r["alpha_deg"]) for r in rows], flexion[:100], rtol=0, atol=1e-9
+    )  # flexion alone is α
     assert str(path) in capsys.readouterr().out  # the summary names the file as typed
 
 
@@ -377,7 +509,9 @@ def test_a_slow_pinocchio_warm_up_is_announced_as_compiling(monkeypatch, capsys)
     import hipsim.closed_chain.dynamics as closed_chain
     from hipsim.cli.common import load_pinocchio_kernels as _load_pinocchio_kernels
 
-    monkeypatch.setattr(closed_chain, "warm_up", lambda: time.sleep(1.5))  # as long as a compilation, as far as the note can tell
+    monkeypatch.setattr(
+        closed_chain, "warm_up", lambda: time.sleep(1.5)
+    )  # as long as a compilation, as far as the note can tell
     _load_pinocchio_kernels()
     assert capsys.readouterr().err == "Pinocchio model: compiling (first run only) ...\n"
     monkeypatch.setattr(closed_chain, "warm_up", lambda: None)
@@ -400,7 +534,9 @@ hipsim.analyse(None, hipsim.iso14242(rate=200), model="pinocchio")
 import json
 print(json.dumps([before, [len(kernel.signatures) for kernel in kernels]]))
 """
-    before, after = json.loads(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout)
+    before, after = json.loads(
+        subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    )
     assert all(before) and after == before
 
 
@@ -437,6 +573,9 @@ def test_every_public_name_imports_lazily():
 
     for name in hipsim.__all__:
         assert getattr(hipsim, name) is not None
-    assert hipsim.analyse is hipsim.analysis.runs.analyse and hipsim.load_parameters is hipsim.machine.parameters.load_parameters
+    assert (
+        hipsim.analyse is hipsim.analysis.runs.analyse
+        and hipsim.load_parameters is hipsim.machine.parameters.load_parameters
+    )
     with pytest.raises(AttributeError, match="no attribute 'nothing'"):
         hipsim.nothing

@@ -15,11 +15,14 @@ def test_the_built_in_cycle_on_the_published_machine_reports_nothing(tmp_path, c
     assert "within every machine limit" in out and "crossed" not in out
 
 
-@pytest.mark.parametrize("setting, named", [
-    ("motor.max_speed_rpm=1000", "needs a speed of"),
-    ("motor.peak_torque_Nmm=200", "needs a torque of"),
-    ("motor.stroke_mm=20", "needs a stroke of"),
-])
+@pytest.mark.parametrize(
+    "setting, named",
+    [
+        ("motor.max_speed_rpm=1000", "needs a speed of"),
+        ("motor.peak_torque_Nmm=200", "needs a torque of"),
+        ("motor.stroke_mm=20", "needs a stroke of"),
+    ],
+)
 def test_a_limit_crossed_is_named_first_and_strict_makes_it_an_error(tmp_path, capsys, setting, named):
     out = tmp_path / "t.csv"
     assert main(["torques", "--set", setting, "--out", str(out)]) == 0

@@ -50,11 +50,14 @@ def test_cutoff_brings_a_noisy_60_hz_file_back_to_the_noise_free_torques(tmp_pat
             assert got == pytest.approx(want, rel=0.02), (i, got, want)
 
 
-@pytest.mark.parametrize("cutoff, message", [
-    ("-1", "--cutoff: expected a positive frequency in Hz, got -1"),
-    ("30.5", "the low-pass cutoff 30.5 Hz is not below the Nyquist frequency 30 Hz"),
-    ("45", "the low-pass cutoff 45 Hz is not below the Nyquist frequency 30 Hz"),
-])
+@pytest.mark.parametrize(
+    "cutoff, message",
+    [
+        ("-1", "--cutoff: expected a positive frequency in Hz, got -1"),
+        ("30.5", "the low-pass cutoff 30.5 Hz is not below the Nyquist frequency 30 Hz"),
+        ("45", "the low-pass cutoff 45 Hz is not below the Nyquist frequency 30 Hz"),
+    ],
+)
 def test_bad_cutoffs_are_one_line(tmp_path, capsys, cutoff, message):
     path = write_csv(tmp_path / "clean.csv", *iso_at())
     out = tmp_path / "o.csv"
@@ -70,8 +73,15 @@ def test_cutoff_applies_to_files_only(capsys):
 
 
 def write_sto(path, t, columns):
-    lines = ["JointReaction", "version=1", f"nRows={t.size}", f"nColumns={len(columns) + 1}", "inDegrees=no", "endheader",
-             "\t".join(["time", *columns])]
+    lines = [
+        "JointReaction",
+        "version=1",
+        f"nRows={t.size}",
+        f"nColumns={len(columns) + 1}",
+        "inDegrees=no",
+        "endheader",
+        "\t".join(["time", *columns]),
+    ]
     lines += ["\t".join(f"{v:.9g}" for v in (t[k], *(c[k] for c in columns.values()))) for k in range(t.size)]
     path.write_text("\n".join(lines) + "\n")
     return path
@@ -85,10 +95,21 @@ def test_a_load_file_shifted_and_sampled_otherwise_gives_the_merged_files_torque
     tl = np.arange(-500, 2501) / 1000.0
     fl = iso14242_load(tl)
     direction = np.array([0.3, -0.9, 0.2]) / np.linalg.norm([0.3, -0.9, 0.2])
-    sto = write_sto(tmp_path / "jr.sto", tl, {f"hip_r_on_pelvis_in_pelvis_f{a}": fl * d for a, d in zip("xyz", direction)})
+    sto = write_sto(
+        tmp_path / "jr.sto", tl, {f"hip_r_on_pelvis_in_pelvis_f{a}": fl * d for a, d in zip("xyz", direction)}
+    )
     reference, _ = torques(capsys, "--trajectory", str(merged), "--out", str(tmp_path / "a.csv"))
-    got, err = torques(capsys, "--trajectory", str(motion), "--load", str(sto), "--load-column", "hip_r_on_pelvis_in_pelvis",
-                       "--out", str(tmp_path / "b.csv"))
+    got, err = torques(
+        capsys,
+        "--trajectory",
+        str(motion),
+        "--load",
+        str(sto),
+        "--load-column",
+        "hip_r_on_pelvis_in_pelvis",
+        "--out",
+        str(tmp_path / "b.csv"),
+    )
     assert "warning" not in err
     for i in reference:
         for a, b in zip(got[i], reference[i]):
@@ -96,8 +117,19 @@ def test_a_load_file_shifted_and_sampled_otherwise_gives_the_merged_files_torque
     # The same load as a CSV column, scaled: half of it, times 2.
     csv = tmp_path / "load.csv"
     csv.write_text("time,F\n" + "".join(f"{a:.6f},{b / 2:.6f}\n" for a, b in zip(tl, fl)))
-    got, _ = torques(capsys, "--trajectory", str(motion), "--load", str(csv), "--load-column", "F", "--load-scale", "2",
-                     "--out", str(tmp_path / "c.csv"))
+    got, _ = torques(
+        capsys,
+        "--trajectory",
+        str(motion),
+        "--load",
+        str(csv),
+        "--load-column",
+        "F",
+        "--load-scale",
+        "2",
+        "--out",
+        str(tmp_path / "c.csv"),
+    )
     for i in reference:
         assert got[i][0] == pytest.approx(reference[i][0], rel=2e-3)
 
@@ -108,17 +140,38 @@ def test_a_load_file_covering_part_of_the_motion_cuts_it_with_a_warning(tmp_path
     tl = np.arange(0, 901) / 1000.0  # 0 to 0.9 s: 181 of the motion's samples
     csv = tmp_path / "load.csv"
     csv.write_text("t_s,F\n" + "".join(f"{a:.6f},{b:.6f}\n" for a, b in zip(tl, iso14242_load(tl))))
-    assert main(["torques", "--trajectory", str(motion), "--load", str(csv), "--load-column", "F", "--out", str(tmp_path / "o.csv")]) == 0
+    assert (
+        main(
+            [
+                "torques",
+                "--trajectory",
+                str(motion),
+                "--load",
+                str(csv),
+                "--load-column",
+                "F",
+                "--out",
+                str(tmp_path / "o.csv"),
+            ]
+        )
+        == 0
+    )
     err = capsys.readouterr().err
     assert "motion samples outside the overlap left out" in err
     assert sum(1 for _ in open(tmp_path / "o.csv")) - 1 == 181
 
 
-@pytest.mark.parametrize("case, message", [
-    ("no overlap", "no overlapping time: the motion"),
-    ("missing column", "no load column 'hip_r_on_pelvis_in_pelvi' (nor 'hip_r_on_pelvis_in_pelvi_fx', '_fy', '_fz' for a resultant); did you mean 'hip_r_on_pelvis_in_pelvis'?"),
-    ("gap", "a gap in the load from"),
-])
+@pytest.mark.parametrize(
+    "case, message",
+    [
+        ("no overlap", "no overlapping time: the motion"),
+        (
+            "missing column",
+            "no load column 'hip_r_on_pelvis_in_pelvi' (nor 'hip_r_on_pelvis_in_pelvi_fx', '_fy', '_fz' for a resultant); did you mean 'hip_r_on_pelvis_in_pelvis'?",
+        ),
+        ("gap", "a gap in the load from"),
+    ],
+)
 def test_bad_load_files_are_one_line(tmp_path, capsys, case, message):
     t, q, _ = iso_at(rate=200.0, cycles=2)
     motion = write_csv(tmp_path / "motion.csv", t, q)
@@ -129,7 +182,10 @@ def test_bad_load_files_are_one_line(tmp_path, capsys, case, message):
     sto = write_sto(tmp_path / "jr.sto", tl, {f"hip_r_on_pelvis_in_pelvis_f{a}": fl / np.sqrt(3) for a in "xyz"})
     column = "hip_r_on_pelvis_in_pelvi" if case == "missing column" else "hip_r_on_pelvis_in_pelvis"
     out = tmp_path / "o.csv"
-    assert main(["torques", "--trajectory", str(motion), "--load", str(sto), "--load-column", column, "--out", str(out)]) == 2
+    assert (
+        main(["torques", "--trajectory", str(motion), "--load", str(sto), "--load-column", column, "--out", str(out)])
+        == 2
+    )
     err = capsys.readouterr().err.strip()
     assert err.startswith("hipsim: error:") and message in err and "\n" not in err, err
     assert not out.exists()
@@ -138,14 +194,37 @@ def test_bad_load_files_are_one_line(tmp_path, capsys, case, message):
 def test_a_planar_opensim_file_reads_with_zero_columns(tmp_path, capsys):
     t = np.arange(0, 101) / 100.0
     flexion = 20.0 * np.cos(2 * np.pi * t)
-    lines = ["Coordinates", "version=1", "nRows=250", "nColumns=3", "inDegrees=yes", "endheader", "time\thip_flexion_r\tknee_angle_r"]
+    lines = [
+        "Coordinates",
+        "version=1",
+        "nRows=250",
+        "nColumns=3",
+        "inDegrees=yes",
+        "endheader",
+        "time\thip_flexion_r\tknee_angle_r",
+    ]
     lines += [f"{a:.6f}\t{b:.6f}\t10" for a, b in zip(t, flexion)]
     path = tmp_path / "planar.mot"
     path.write_text("\n".join(lines) + "\n")
     assert main(["torques", "--trajectory", str(path), "--out", str(tmp_path / "o.csv")]) == 2
-    assert "a planar model? read it with --columns time=time,flexion=hip_flexion_r,adduction=zero,rotation=zero" in capsys.readouterr().err
-    assert main(["torques", "--trajectory", str(path), "--columns", "time=time,flexion=hip_flexion_r,adduction=zero,rotation=zero",
-                 "--out", str(tmp_path / "o.csv")]) == 0
+    assert (
+        "a planar model? read it with --columns time=time,flexion=hip_flexion_r,adduction=zero,rotation=zero"
+        in capsys.readouterr().err
+    )
+    assert (
+        main(
+            [
+                "torques",
+                "--trajectory",
+                str(path),
+                "--columns",
+                "time=time,flexion=hip_flexion_r,adduction=zero,rotation=zero",
+                "--out",
+                str(tmp_path / "o.csv"),
+            ]
+        )
+        == 0
+    )
     err = capsys.readouterr().err
     assert "the header says 250 rows, the file has 101: the rows are read" in err
     rows = np.loadtxt(tmp_path / "o.csv", delimiter=",", skiprows=1, usecols=(1, 2, 3))

@@ -39,13 +39,43 @@ def test_alpha_scaled_by_1_2_fails_and_names_alpha(tmp_path, capsys):
 
 
 def test_a_cycle_at_1_2_hz_fails_and_names_the_frequency(tmp_path, capsys):
-    assert main(["iso-check", "--frequency", "1.2", "--cycles", "3", "--out", str(tmp_path / "iso"), "--summary-format", "json"]) == 1
+    assert (
+        main(
+            [
+                "iso-check",
+                "--frequency",
+                "1.2",
+                "--cycles",
+                "3",
+                "--out",
+                str(tmp_path / "iso"),
+                "--summary-format",
+                "json",
+            ]
+        )
+        == 1
+    )
     summary = json.loads(capsys.readouterr().out)
     assert summary["failing"] == ["frequency"] and summary["cycles"] == 3
 
 
 def test_tolerances_are_options_and_bad_ones_one_line(tmp_path, capsys):
-    assert main(["iso-check", "--frequency", "1.2", "--cycles", "3", "--tolerance", "frequency=0.25", "--out", str(tmp_path / "iso")]) == 0
+    assert (
+        main(
+            [
+                "iso-check",
+                "--frequency",
+                "1.2",
+                "--cycles",
+                "3",
+                "--tolerance",
+                "frequency=0.25",
+                "--out",
+                str(tmp_path / "iso"),
+            ]
+        )
+        == 0
+    )
     capsys.readouterr()
     assert main(["iso-check", "--tolerance", "speed=3", "--out", str(tmp_path / "iso2")]) == 2
     err = capsys.readouterr().err.strip()
@@ -69,4 +99,6 @@ def test_the_page_opens_with_the_verdict_and_hashes_its_log(tmp_path, capsys):
     assert page.index('class="verdict') < page.index("<table") and "FAIL" in page[: page.index("<table")]
     document = json.loads((out / "iso_check.json").read_text())
     assert document["verdict"]["state"] == "fail" and "alpha" in document["verdict"]["lines"][0]
-    assert [entry["sha256"] for entry in document["provenance"]["inputs"] if entry["path"].endswith("alpha.csv")] == [digest]
+    assert [entry["sha256"] for entry in document["provenance"]["inputs"] if entry["path"].endswith("alpha.csv")] == [
+        digest
+    ]

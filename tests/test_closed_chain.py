@@ -19,19 +19,30 @@ import pytest
 import yaml
 
 from hipsim import ModelError, PoseError, Torques, load_parameters
-from hipsim.machine.model_files import closure_file_path, default_urdf_path
 from hipsim.closed_chain.build import load_closed_chain, load_model
 from hipsim.closed_chain.closure import kinematics
-from hipsim.closed_chain.constraints import closure_residuals, constraint_jacobian, constraint_rank, platform_joint_positions
+from hipsim.closed_chain.constraints import (
+    closure_residuals,
+    constraint_jacobian,
+    constraint_rank,
+    platform_joint_positions,
+)
 from hipsim.closed_chain.dynamics import inverse_dynamics, trajectory_dynamics
+from hipsim.machine.model_files import closure_file_path, default_urdf_path
 
 DEG = math.pi / 180.0
 H = 1e-5  # time step of the central differences in [s]
 LWA = pin.LOCAL_WORLD_ALIGNED
 FRICTION = dict(
-    screw_coulomb=0.05, screw_viscous=2e-4, guide_coulomb=20.0, guide_viscous=30.0,
-    ujoint_coulomb=0.3, ujoint_viscous=0.05, sjoint_coulomb=0.2, sjoint_viscous=0.04,
-)  # fmt: skip
+    screw_coulomb=0.05,
+    screw_viscous=2e-4,
+    guide_coulomb=20.0,
+    guide_viscous=30.0,
+    ujoint_coulomb=0.3,
+    ujoint_viscous=0.05,
+    sjoint_coulomb=0.2,
+    sjoint_viscous=0.04,
+)
 
 
 def motion(t, frequency: float = 1.0):
@@ -127,7 +138,9 @@ class Run:
                 w = pin.getFrameVelocity(model, data, self.frame(f"platform_{j}"), LWA).angular
                 if fr.thrust_bearing_axial_only:  # the bearing turns only about the platform's z axis
                     spin = w @ data.oMf[self.frame(f"platform_{j}")].rotation[:, 2]
-                    power[n] += hip * w @ smooth_sign(w, fr.epsilon) + thrust * spin * spin / math.sqrt(spin**2 + fr.epsilon**2)
+                    power[n] += hip * w @ smooth_sign(w, fr.epsilon) + thrust * spin * spin / math.sqrt(
+                        spin**2 + fr.epsilon**2
+                    )
                 else:
                     power[n] += (hip + thrust) * w @ smooth_sign(w, fr.epsilon)
                 for i in (1, 2, 3):
@@ -218,7 +231,9 @@ def test_velocity_and_acceleration_satisfy_the_constraints(run):
         pin.computeJointJacobiansTimeVariation(model, data, q, v)
         pin.updateFramePlacements(model, data)
         J = np.vstack([pin.getFrameJacobian(model, data, f, LWA)[:3] for f in frames]).reshape(-1, 2, 3, model.nv)
-        dJ = np.vstack([pin.getFrameJacobianTimeVariation(model, data, f, LWA)[:3] for f in frames]).reshape(-1, 2, 3, model.nv)
+        dJ = np.vstack([pin.getFrameJacobianTimeVariation(model, data, f, LWA)[:3] for f in frames]).reshape(
+            -1, 2, 3, model.nv
+        )
         J, dJ = (J[:, 0] - J[:, 1]).reshape(-1, model.nv), (dJ[:, 0] - dJ[:, 1]).reshape(-1, model.nv)
         assert np.abs(J @ a + dJ @ v).max() <= 1e-12 * np.abs(a).max()
 
@@ -239,8 +254,10 @@ def test_angle_signs_flip_the_platform_angles():
     traj = motion(np.linspace(0, 0.5, 11))
     flipped = kinematics(chain, traj)
     signs = np.array([-1.0, 1.0, -1.0])
-    direct = kinematics(dataclasses.replace(chain, params=load_parameters()), SimpleNamespace(
-        t=traj.t, q=traj.q * signs, qd=traj.qd * signs, qdd=traj.qdd * signs))  # fmt: skip
+    direct = kinematics(
+        dataclasses.replace(chain, params=load_parameters()),
+        SimpleNamespace(t=traj.t, q=traj.q * signs, qd=traj.qd * signs, qdd=traj.qdd * signs),
+    )
     np.testing.assert_array_equal(flipped.q[:, chain.layout.platform_v[0]], traj.q * signs)
     np.testing.assert_allclose(flipped.L, direct.L, atol=1e-14)
 
@@ -252,9 +269,13 @@ def test_unreachable_pose_raises_at_its_time():
     gamma = 80.0 * DEG * t
     zeros = np.zeros_like(t)
     rate = np.full_like(t, 80.0 * DEG)
-    traj = SimpleNamespace(t=t, q=np.stack([zeros, zeros, gamma], 1), qd=np.stack([zeros, zeros, rate], 1), qdd=np.zeros((101, 3)))
+    traj = SimpleNamespace(
+        t=t, q=np.stack([zeros, zeros, gamma], 1), qd=np.stack([zeros, zeros, rate], 1), qdd=np.zeros((101, 3))
+    )
     # First sample where some lever cannot span the horizontal gap (spec §3's negative radicand).
-    gap = [np.linalg.norm((p.platform_points @ rotation([0, 0, g]).T - p.screw_points)[:, :2], axis=1).max() for g in gamma]
+    gap = [
+        np.linalg.norm((p.platform_points @ rotation([0, 0, g]).T - p.screw_points)[:, :2], axis=1).max() for g in gamma
+    ]
     first = int(np.argmax(np.array(gap) >= p.lever_length))
     assert first > 0
     with pytest.raises(PoseError, match=rf"t = {t[first]:.6g} s") as error:
@@ -302,8 +323,12 @@ def test_each_part_is_the_power_of_its_bodies(run):
         rate = run.rate_of(lambda q, v: run.body_energy(bodies, q, v))
         assert np.abs(power - rate).max() <= 1e-6 * np.abs(power).max(), part
     Ldd = run.kin.Ldd[:, 0]
-    np.testing.assert_allclose(run.dyn.torques.sliders, p.lead / (2 * math.pi) * 2 * p.slider_mass * (Ldd + p.gravity), rtol=1e-12)
-    np.testing.assert_allclose(run.dyn.torques.screws, 2 * math.pi * p.screw_inertia / p.lead * Ldd, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(
+        run.dyn.torques.sliders, p.lead / (2 * math.pi) * 2 * p.slider_mass * (Ldd + p.gravity), rtol=1e-12
+    )
+    np.testing.assert_allclose(
+        run.dyn.torques.screws, 2 * math.pi * p.screw_inertia / p.lead * Ldd, rtol=1e-12, atol=1e-15
+    )
     friction = np.sum(run.dyn.torques.friction * speed, axis=1)
     assert np.abs(friction - run.friction_power()).max() <= 1e-9 * np.abs(friction).max()
 
@@ -311,14 +336,21 @@ def test_each_part_is_the_power_of_its_bodies(run):
 def test_parts_add_up_to_the_plain_rnea_solution(rough):
     r = rough
     d = r.dyn
-    np.testing.assert_allclose(d.torques.total, d.torques.platforms + d.torques.levers + d.torques.sliders + d.torques.screws + d.torques.friction, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(
+        d.torques.total,
+        d.torques.platforms + d.torques.levers + d.torques.sliders + d.torques.screws + d.torques.friction,
+        rtol=0,
+        atol=1e-15,
+    )
     # Without friction, one RNEA with every inertia (and the armature) gives the same motor torque.
     S = np.zeros((r.model.nv, 3))
     S[r.chain.actuated_v, range(3)] = 1.0
     for n in range(0, 201, 20):
         q, v, a = r.kin.q[n], r.kin.v[n], r.kin.a[n]
         x = np.linalg.solve(np.hstack([S, constraint_jacobian(r.chain, q).T]), pin.rnea(r.model, r.data, q, v, a))
-        np.testing.assert_allclose(d.torques.total[n] - d.torques.friction[n], r.params.lead / (2 * math.pi) * x[:3], rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(
+            d.torques.total[n] - d.torques.friction[n], r.params.lead / (2 * math.pi) * x[:3], rtol=1e-10, atol=1e-12
+        )
 
 
 def _lever_tip_force(r, n, j, i):
@@ -402,13 +434,19 @@ def test_massless_levers_are_two_force_members():
     kin, dyn = trajectory_dynamics(chain, still)
     np.testing.assert_allclose(dyn.joint_forces.Fa, 0.0, atol=1e-9)
     np.testing.assert_allclose(dyn.joint_forces.Fo, params.platform_mass * params.gravity + still.Fe[0], rtol=1e-12)
-    np.testing.assert_allclose(dyn.torques.total, params.lead / (2 * math.pi) * 2 * params.slider_mass * params.gravity, rtol=1e-12)
+    np.testing.assert_allclose(
+        dyn.torques.total, params.lead / (2 * math.pi) * 2 * params.slider_mass * params.gravity, rtol=1e-12
+    )
 
 
 def test_results_are_frozen_and_shaped(run):
     n, nv = len(run.t), run.model.nv
     assert run.kin.q.shape == (n, nv) and run.kin.L.shape == (n, 2, 3)
-    assert run.dyn.torques.total.shape == (n, 3) and run.dyn.joint_forces.Fa.shape == (n, 2, 3) and run.dyn.joint_forces.Fo.shape == (n, 2)
+    assert (
+        run.dyn.torques.total.shape == (n, 3)
+        and run.dyn.joint_forces.Fa.shape == (n, 2, 3)
+        and run.dyn.joint_forces.Fo.shape == (n, 2)
+    )
     with pytest.raises(ValueError):
         run.dyn.torques.total[0, 0] = 1.0
     with pytest.raises(AttributeError):
@@ -459,6 +497,7 @@ def test_one_pass_and_chunked_solves_agree(run, monkeypatch):
     monkeypatch.setattr(module, "_CHUNK", 7)
     kin, chunked = trajectory_dynamics(run.chain, run.traj)
     np.testing.assert_array_equal(kin.q, run.kin.q)
+
     def fields(dyn):
         named = {name: getattr(dyn.torques, name) for name in ("total", *Torques.PARTS)}
         return named | {"Fa": dyn.joint_forces.Fa, "Fo": dyn.joint_forces.Fo, "lambdas": dyn.lambdas}

@@ -7,11 +7,11 @@ import pytest
 from scipy.integrate import simpson
 
 import hipsim
-from hipsim.control.controllers import AugmentedPD, WorkspacePD
 from hipsim.closed_chain.build import load_model
-from hipsim.closed_chain.friction import friction_forces
 from hipsim.closed_chain.dynamics import trajectory_dynamics
+from hipsim.closed_chain.friction import friction_forces
 from hipsim.closed_chain.plant import PinocchioPlant
+from hipsim.control.controllers import AugmentedPD, WorkspacePD
 from hipsim.control.simulation import ReducedPlant, apply_mismatch, simulate
 from hipsim.motion.trajectories import iso14242_at
 
@@ -125,7 +125,9 @@ def test_angle_signs_are_applied_as_in_the_analytic_model(params):
 def test_plant_does_not_change_the_callers_constraints(params):
     chain = load_model(params)
     PinocchioPlant(params, baumgarte=(1e4, 200.0), chain=chain)
-    assert all(cm.m_baumgarte_parameters.Kp == 0.0 and cm.m_baumgarte_parameters.Kd == 0.0 for cm in chain.constraint_models)
+    assert all(
+        cm.m_baumgarte_parameters.Kp == 0.0 and cm.m_baumgarte_parameters.Kd == 0.0 for cm in chain.constraint_models
+    )
     with pytest.raises(ValueError, match="mu"):
         PinocchioPlant(params, mu=0.0, chain=chain)
     with pytest.raises(ValueError, match="same params"):
@@ -191,7 +193,13 @@ def test_closures_stay_closed_along_a_run(plant, runs, controller):
     "changes",
     [
         {},  # hip joint and thrust bearing only (the default friction)
-        {"guide_coulomb": 10.0, "guide_viscous": 50.0, "sjoint_viscous": 0.05, "ujoint_coulomb": 0.01, "screw_viscous": 1e-4},
+        {
+            "guide_coulomb": 10.0,
+            "guide_viscous": 50.0,
+            "sjoint_viscous": 0.05,
+            "ujoint_coulomb": 0.01,
+            "screw_viscous": 1e-4,
+        },
     ],
 )
 def test_energy_never_increases_with_motors_off(params, changes):
@@ -200,7 +208,9 @@ def test_energy_never_increases_with_motors_off(params, changes):
     recorder = Recorder(plant)
     start = iso14242_at([0.3])
     desired_at = lambda t: iso14242_at(np.asarray(t) + 0.3)  # noqa: E731 - the load of the cycle from t = 0.3 s
-    sim = simulate(recorder, lambda t, s, d: np.zeros(3), desired_at, 0.06, step=1e-4, initial_state=plant.initial_state(start))
+    sim = simulate(
+        recorder, lambda t, s, d: np.zeros(3), desired_at, 0.06, step=1e-4, initial_state=plant.initial_state(start)
+    )
     assert np.degrees(np.abs(sim.q - sim.q[0])).max() > 3.0  # the machine does fall (measured 6–7°)
     energy = np.array([sum(plant.energy(x)) for x in recorder.states])  # kinetic (armature included) + potential
     # Measured: every 1 ms step loses 0.02–0.03 J of the ~394 J.

@@ -32,7 +32,13 @@ def motion(t):
     w = 2 * math.pi
     amplitude, phase = np.array([20.0, 6.0, 7.0]) * DEG, np.array([0.3, -0.7, 2.0])
     arg = w * t[:, None] + phase
-    return SimpleNamespace(t=t, q=amplitude * np.cos(arg), qd=-w * amplitude * np.sin(arg), qdd=-w * w * amplitude * np.cos(arg), name="test")
+    return SimpleNamespace(
+        t=t,
+        q=amplitude * np.cos(arg),
+        qd=-w * amplitude * np.sin(arg),
+        qdd=-w * w * amplitude * np.cos(arg),
+        name="test",
+    )
 
 
 @pytest.fixture(scope="module")
@@ -57,7 +63,18 @@ def _velocity(closed, k, blocks: bool = True):
     tips = ws.tip_frames()
     V, J_rates, K_inv = np.empty((1, nv)), np.empty((1, 3, 3)), np.empty((nv, nv))
     status = closure_kernel.velocity(
-        ws.jacobian(), layout.platform_v[0], *_order(closed, blocks), closed.kin.angle_rates[k], layout.platform_v[1], tips, V, 0, layout.slider_v, J_rates, 0, K_inv
+        ws.jacobian(),
+        layout.platform_v[0],
+        *_order(closed, blocks),
+        closed.kin.angle_rates[k],
+        layout.platform_v[1],
+        tips,
+        V,
+        0,
+        layout.slider_v,
+        J_rates,
+        0,
+        K_inv,
     )
     assert status == closure_kernel.OK
     return K_inv, tips, V[0], J_rates[0]
@@ -82,7 +99,9 @@ def test_closure_frames_and_jacobian_are_pinocchios(closed):
             reference = Workspace(closed.chain)
             pin.computeJointJacobians(model, reference.data, q)
             expected_J = reference.pinocchio_jacobian()
-            np.testing.assert_allclose(gaps, np.concatenate([cd.c1Mc2.translation for cd in reference.cd_list]), rtol=0, atol=1e-15)
+            np.testing.assert_allclose(
+                gaps, np.concatenate([cd.c1Mc2.translation for cd in reference.cd_list]), rtol=0, atol=1e-15
+            )
             np.testing.assert_allclose(tips, [cd.oMc1.homogeneous for cd in reference.cd_list], rtol=0, atol=1e-15)
             np.testing.assert_allclose(p2, [cd.oMc2.translation for cd in reference.cd_list], rtol=0, atol=1e-15)
             np.testing.assert_allclose(J_c, expected_J, rtol=0, atol=1e-14)
@@ -113,13 +132,21 @@ def test_block_lower_inverse_inverts_by_blocks():
     for b in range(len(starts) - 1):
         M[starts[b] : starts[b + 1], starts[b + 1] :] = 0.0
     np.testing.assert_allclose(closure_kernel.block_lower_inverse(M, starts), np.linalg.inv(M), rtol=0, atol=1e-14)
-    np.testing.assert_allclose(closure_kernel.block_lower_inverse(M, np.array([0, 10])), np.linalg.inv(M), rtol=0, atol=1e-14)
+    np.testing.assert_allclose(
+        closure_kernel.block_lower_inverse(M, np.array([0, 10])), np.linalg.inv(M), rtol=0, atol=1e-14
+    )
 
 
 def test_block_inverse_pivots_and_refuses_singular_blocks():
     """A block whose diagonal is zero needs row exchanges (a permutation times a scaling); a singular block raises LinAlgError, as LAPACK does."""
     D = np.zeros((5, 5))
-    D[[0, 1, 2, 3, 4], [3, 0, 4, 1, 2]] = [2.0, -3.0, 0.5, 7.0, 1.5]  # a scaled permutation: every pivot comes from another row
+    D[[0, 1, 2, 3, 4], [3, 0, 4, 1, 2]] = [
+        2.0,
+        -3.0,
+        0.5,
+        7.0,
+        1.5,
+    ]  # a scaled permutation: every pivot comes from another row
     D[4, 3] = 1e-3
     M = np.zeros((8, 8))
     M[:3, :3] = np.array([[0.0, 1.0, 2.0], [1.0, 0.0, 3.0], [4.0, 5.0, 0.0]])
@@ -199,8 +226,10 @@ def test_acceleration_drift_is_pinocchios_relative_classical_acceleration(closed
     pin.forwardKinematics(model, data, kin.q[k], v, np.zeros(model.nv))
     expected = []
     for cm, tip in zip(chain.constraint_models, tips):
-        ends = [pin.getFrameClassicalAcceleration(model, data, joint, placement, pin.LOCAL_WORLD_ALIGNED).linear
-                for joint, placement in ((cm.joint1_id, cm.joint1_placement), (cm.joint2_id, cm.joint2_placement))]  # fmt: skip
+        ends = [
+            pin.getFrameClassicalAcceleration(model, data, joint, placement, pin.LOCAL_WORLD_ALIGNED).linear
+            for joint, placement in ((cm.joint1_id, cm.joint1_placement), (cm.joint2_id, cm.joint2_placement))
+        ]
         expected.append(tip[:3, :3].T @ (ends[0] - ends[1]))
     expected = np.concatenate(expected)
     np.testing.assert_allclose(drift, expected, rtol=0, atol=1e-11 * np.abs(expected).max())
@@ -253,7 +282,11 @@ def test_body_group_torques_are_the_regressors(closed):
     model, data = chain.model, chain.model.createData()
     groups = [BatchedRNEA(*tree) for tree in group_trees(chain.model, chain.layout.groups)]
     whole = BatchedRNEA(model, np.arange(model.nv))
-    assert sorted(len(rnea.columns) for rnea in groups) == [3, 6, 15]  # carriages, platforms, levers: only their supports
+    assert sorted(len(rnea.columns) for rnea in groups) == [
+        3,
+        6,
+        15,
+    ]  # carriages, platforms, levers: only their supports
     n = 8
     q, v, a = kin.q[:n], kin.v[:n] + 0.1, kin.a[:n] - 0.2  # any motion: RNEA does not know the closures
     out = np.full((n, model.nv), np.nan)

@@ -1,5 +1,4 @@
-"""Tests of hipsim.motion.columns: column mappings as text, their mistakes named.
-"""
+"""Tests of hipsim.motion.columns: column mappings as text, their mistakes named."""
 
 from __future__ import annotations
 

@@ -4,14 +4,13 @@ import json
 
 import numpy as np
 import pytest
+from rig_synthetic import iso_run, machines, write_log
 
-from hipsim.rig import compare, load_log
-from hipsim.rig.compare import detect_period
 from hipsim.cli.main import main
 from hipsim.exceptions import TrajectoryError
 from hipsim.results import Torques
-
-from rig_synthetic import iso_run, machines, write_log
+from hipsim.rig import compare, load_log
+from hipsim.rig.compare import detect_period
 
 
 @pytest.fixture(scope="module")
@@ -74,7 +73,9 @@ def test_encoders_out_of_reach_name_the_line(tmp_path):
     cells[column] = "1500"
     lines[801] = ",".join(cells)
     path.write_text("\n".join(lines) + "\n")
-    with pytest.raises(TrajectoryError, match=r"enc\.csv, line 802: encoder heights L_11_mm … at t = 0\.8 s: no platform orientation"):
+    with pytest.raises(
+        TrajectoryError, match=r"enc\.csv, line 802: encoder heights L_11_mm … at t = 0\.8 s: no platform orientation"
+    ):
         load_log(path, start)
 
 
@@ -83,7 +84,15 @@ def test_compare_command_writes_the_folder(iso_log, tmp_path, capsys):
     assert main(["compare", "--log", str(iso_log), "--out", str(out)]) == 0
     printed = capsys.readouterr().out
     assert "RMS error" in printed and "M3" in printed and "repeats every" in printed
-    for name in ("index.html", "comparison.json", "torques.png", "torques.svg", "errors.png", "phases.png", "parts.svg"):
+    for name in (
+        "index.html",
+        "comparison.json",
+        "torques.png",
+        "torques.svg",
+        "errors.png",
+        "phases.png",
+        "parts.svg",
+    ):
         assert (out / name).is_file(), name
     summary = json.loads((out / "comparison.json").read_text())
     assert set(summary["motors"]) == {"1", "2", "3"} and summary["period_s"] == pytest.approx(1.0, abs=2e-3)
@@ -93,22 +102,30 @@ def test_compare_command_writes_the_folder(iso_log, tmp_path, capsys):
 
 def test_compare_command_bad_log_leaves_nothing(tmp_path, capsys):
     bad = tmp_path / "bad.csv"
-    bad.write_text("t_s,Fe_N,alpha_deg,beta_deg,gamma_deg\n" + "\n".join(f"{k / 1000},500,1,2,3" for k in range(500)) + "\n")
+    bad.write_text(
+        "t_s,Fe_N,alpha_deg,beta_deg,gamma_deg\n" + "\n".join(f"{k / 1000},500,1,2,3" for k in range(500)) + "\n"
+    )
     out = tmp_path / "cmp"
     assert main(["compare", "--log", str(bad), "--out", str(out)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "missing torque columns" in err
     assert not out.exists()
     short = tmp_path / "short.csv"
-    short.write_text("t_s,Fe_N,tau_1_Nmm,tau_2_Nmm,tau_3_Nmm,alpha_deg,beta_deg,gamma_deg\n"
-                     + "\n".join(f"{k / 1000},500,1,2,3,1,2,3" for k in range(100)) + "\n")
+    short.write_text(
+        "t_s,Fe_N,tau_1_Nmm,tau_2_Nmm,tau_3_Nmm,alpha_deg,beta_deg,gamma_deg\n"
+        + "\n".join(f"{k / 1000},500,1,2,3,1,2,3" for k in range(100))
+        + "\n"
+    )
     assert main(["compare", "--log", str(short), "--out", str(out)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "too short to filter" in err
     assert not out.exists()
     currents = tmp_path / "currents.csv"
-    currents.write_text("t_s,Fe_N,current_1_A,current_2_A,current_3_A,alpha_deg,beta_deg,gamma_deg\n"
-                        + "\n".join(f"{k / 1000},500,1,2,3,1,2,3" for k in range(1000)) + "\n")
+    currents.write_text(
+        "t_s,Fe_N,current_1_A,current_2_A,current_3_A,alpha_deg,beta_deg,gamma_deg\n"
+        + "\n".join(f"{k / 1000},500,1,2,3,1,2,3" for k in range(1000))
+        + "\n"
+    )
     assert main(["compare", "--log", str(currents), "--out", str(out)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "no torque constant" in err

@@ -2,14 +2,13 @@
 
 import numpy as np
 import scipy.optimize
+from rig_synthetic import machines
 
 from hipsim.rig.consistency import _SIGMA, _matrix
 from hipsim.rig.consistency import consistent as _consistent
 from hipsim.rig.consistency import violations as _violations
 from hipsim.rig.quantities import BLOCKS as _BLOCKS
 from hipsim.rig.quantities import QUANTITIES, standard_values
-
-from rig_synthetic import machines
 
 
 def _problem(seed, n=len(QUANTITIES)):
@@ -30,7 +29,12 @@ def test_bounds_alone_are_bounded_least_squares():
     kept = list(range(len(QUANTITIES)))
     theta, active = _consistent(A, b, theta_true, kept, [], prior, nominal)
     assert "τ_c,screw ≥ 0" in active and not _violations(theta)
-    lower = np.array([0.0 if q.nonnegative and not any(k in block for block in _BLOCKS.values()) else -np.inf for k, q in enumerate(QUANTITIES)])
+    lower = np.array(
+        [
+            0.0 if q.nonnegative and not any(k in block for block in _BLOCKS.values()) else -np.inf
+            for k, q in enumerate(QUANTITIES)
+        ]
+    )
     reference = scipy.optimize.lsq_linear(A, b, bounds=(lower, np.inf), method="trf", tol=1e-14).x
     assert not _violations(reference)  # the bounds are all that is active
     np.testing.assert_allclose(theta, reference, rtol=1e-7, atol=1e-12 * nominal.max())

@@ -11,11 +11,10 @@ analytic model's ``lever_spin=True`` option removes it.
 
 from __future__ import annotations
 
-import sys
-
 import numpy as np
 import pinocchio as pin
 import pytest
+from support import SmoothMotion
 
 import hipsim.analytic.inverse_kinematics as analytic_kinematics
 import hipsim.analytic.virtual_work as analytic_dynamics
@@ -26,15 +25,18 @@ from hipsim.closed_chain.constraints import platform_joint_positions
 from hipsim.closed_chain.dynamics import trajectory_dynamics
 from hipsim.motion.trajectories import iso14242
 
-from support import SmoothMotion
-
-
 MOTION = ("L", "Ld", "Ldd")
 TORQUES = ("total", "platforms", "levers", "sliders", "screws", "friction")
 FRICTION = dict(
-    screw_coulomb=0.05, screw_viscous=2e-4, guide_coulomb=20.0, guide_viscous=30.0,
-    ujoint_coulomb=0.3, ujoint_viscous=0.05, sjoint_coulomb=0.2, sjoint_viscous=0.04,
-)  # fmt: skip
+    screw_coulomb=0.05,
+    screw_viscous=2e-4,
+    guide_coulomb=20.0,
+    guide_viscous=30.0,
+    ujoint_coulomb=0.3,
+    ujoint_viscous=0.05,
+    sjoint_coulomb=0.2,
+    sjoint_viscous=0.04,
+)
 
 
 def trajectories():
@@ -80,8 +82,10 @@ def test_published_lever_inertia_difference_is_the_spin(published, name, capsys)
     kin, torques, pin_kin, pin_torques = both_models(published, traj)
     errors = column_errors(torques, pin_torques, TORQUES)
     with capsys.disabled():
-        print(f"\n[{name}] published I_l, analytic (no lever spin) vs Pinocchio, max |diff| / column peak: "
-              + ", ".join(f"{k} {v:.2e}" for k, v in errors.items()))  # fmt: skip
+        print(
+            f"\n[{name}] published I_l, analytic (no lever spin) vs Pinocchio, max |diff| / column peak: "
+            + ", ".join(f"{k} {v:.2e}" for k, v in errors.items())
+        )
     for part in ("platforms", "sliders", "screws", "friction"):
         assert errors[part] <= 1e-8, part
     # I_xx − I_yy = 56.5 kg·mm² against I ≈ 26 000 kg·mm²: a real but tiny effect.

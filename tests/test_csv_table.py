@@ -10,13 +10,23 @@ import csv
 
 import numpy as np
 import pytest
+from support import Rx, Ry, Rz
+from trajectory_files import (
+    DEG,
+    assert_same_trajectory,
+    assert_traj_error,
+    canonical,
+    csv_text,
+    iso_rows,
+    set_cell,
+    small_csv,
+    write_iso_csv,
+    write_lines,
+)
 
 from hipsim import TrajectoryError
 from hipsim.motion.csv_table import load_trajectory_csv
 from hipsim.motion.trajectories import MIN_SAMPLES, iso14242_angles, iso14242_load
-from support import Rx, Ry, Rz
-from trajectory_files import DEG, assert_same_trajectory, assert_traj_error, canonical, csv_text, iso_rows, set_cell, small_csv, write_iso_csv, write_lines
-
 
 # --------------------------------------------------------------------------- CSV: reading
 
@@ -202,9 +212,16 @@ def test_csv_non_numeric_cell_line_counts_blank_lines(tmp_path):
     assert_traj_error(info, path, line=7, column="t_s")
 
 
-@pytest.mark.parametrize("cell, column, name", [
-    ("nan", 1, "alpha_deg"), ("NaN", 4, "Fe_N"), ("inf", 3, "gamma_deg"), ("-inf", 2, "beta_deg"), ("inf", 0, "t_s"),
-])
+@pytest.mark.parametrize(
+    "cell, column, name",
+    [
+        ("nan", 1, "alpha_deg"),
+        ("NaN", 4, "Fe_N"),
+        ("inf", 3, "gamma_deg"),
+        ("-inf", 2, "beta_deg"),
+        ("inf", 0, "t_s"),
+    ],
+)
 def test_csv_non_finite_cell(tmp_path, cell, column, name):
     path = write_lines(tmp_path / "x.csv", set_cell(small_csv(), line=8, column=column, value=cell))
     with pytest.raises(TrajectoryError) as info:
@@ -310,7 +327,9 @@ def test_a_spreadsheet_export_with_decimal_commas_reads_as_the_canonical_file(tm
     t, deg, load = iso_rows()
     reference = load_trajectory_csv(canonical(tmp_path / "canonical.csv", t, deg, load))
     rows = [separator.join(repr(float(v)).replace(".", ",") for v in (t[k], *deg[k], load[k])) for k in range(len(t))]
-    export = write_lines(tmp_path / "export.csv", [separator.join(["t_s", "alpha_deg", "beta_deg", "gamma_deg", "Fe_N"]), *rows])
+    export = write_lines(
+        tmp_path / "export.csv", [separator.join(["t_s", "alpha_deg", "beta_deg", "gamma_deg", "Fe_N"]), *rows]
+    )
     traj = load_trajectory_csv(export)
     assert_same_trajectory(traj, reference)
     assert traj.periodic and len(traj) == 100
@@ -322,7 +341,11 @@ def test_a_mapped_lab_export_reads_as_the_canonical_file(tmp_path):
     reference = load_trajectory_csv(canonical(tmp_path / "canonical.csv", t, deg, load))
     header = "Frame;Event;Zeit [ms];Fz [kN];Hip IE [rad];Hip AA (abd+) [deg];Hip FE [deg];"
     rows = [
-        f"{k};{'HS' if k % 50 == 0 else ''};" + ";".join(repr(float(v)) for v in (t[k] * 1000, load[k] / 1000, np.radians(deg[k, 2]), -deg[k, 1], deg[k, 0])).replace(".", ",") + ";"
+        f"{k};{'HS' if k % 50 == 0 else ''};"
+        + ";".join(
+            repr(float(v)) for v in (t[k] * 1000, load[k] / 1000, np.radians(deg[k, 2]), -deg[k, 1], deg[k, 0])
+        ).replace(".", ",")
+        + ";"
         for k in range(len(t))
     ]
     export = write_lines(tmp_path / "lab.csv", ["# exported by the gait lab", header, *rows])
@@ -343,7 +366,9 @@ def test_hip_chain_columns_are_turned_into_platform_angles(tmp_path):
     hip = np.array(hip)
     rows = [",".join(repr(float(v)) for v in (t[k], *hip[k])) for k in range(len(t))]
     path = write_lines(tmp_path / "hip.csv", ["time,hip flexion,hip adduction,hip rotation", *rows])
-    traj = load_trajectory_csv(path, columns="time=time,flexion=hip flexion,adduction=hip adduction,rotation=hip rotation")
+    traj = load_trajectory_csv(
+        path, columns="time=time,flexion=hip flexion,adduction=hip adduction,rotation=hip rotation"
+    )
     np.testing.assert_allclose(traj.q, np.radians(deg[:100]), rtol=0, atol=1e-12)
     assert traj.periodic
 
@@ -367,5 +392,8 @@ def test_decimal_commas_in_a_comma_separated_file_are_named(tmp_path):
     lines = small_csv()
     lines[4] = lines[4].replace(".", ",", 1)  # one decimal comma: a cell too many
     path = write_lines(tmp_path / "x.csv", lines)
-    with pytest.raises(TrajectoryError, match="6 cells, the header has 5 \\(decimal commas\\? a comma-separated file needs decimal points\\)"):
+    with pytest.raises(
+        TrajectoryError,
+        match="6 cells, the header has 5 \\(decimal commas\\? a comma-separated file needs decimal points\\)",
+    ):
         load_trajectory_csv(path)

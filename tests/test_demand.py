@@ -4,6 +4,7 @@ import math
 
 import numpy as np
 import pytest
+from drive_support import constant_side
 
 import hipsim
 from hipsim.analytic import kinematics, mechanical_energy
@@ -11,8 +12,6 @@ from hipsim.analytic.inverse_kinematics import slider_heights
 from hipsim.design.demand import axial_screw_load, motor_duty, motor_thrust, reflected_inertia
 from hipsim.machine.drive_parts import Drive, Gearbox, Motor
 from hipsim.motion.trajectories import Trajectory, iso14242
-
-from drive_support import constant_side
 
 
 @pytest.fixture(scope="module")
@@ -36,8 +35,12 @@ def test_motor_thrust_and_axial_screw_load_differ_by_the_screw_rotor_and_frictio
     t = run.torques
     speed = t.motor_speed
     friction = 0.05 * speed / np.sqrt(speed**2 + rough.friction.epsilon**2) + 2e-4 * speed
-    np.testing.assert_allclose((thrust - load) * rough.lead / (2 * math.pi), t.screws + friction, rtol=1e-10, atol=1e-12)
-    assert np.abs(thrust - load).max() > 20.0  # the difference is not small on this machine: 50 N·mm of friction alone is 31 N
+    np.testing.assert_allclose(
+        (thrust - load) * rough.lead / (2 * math.pi), t.screws + friction, rtol=1e-10, atol=1e-12
+    )
+    assert (
+        np.abs(thrust - load).max() > 20.0
+    )  # the difference is not small on this machine: 50 N·mm of friction alone is 31 N
 
 
 # ---------------------------------------------------------------------------
@@ -74,9 +77,17 @@ def test_each_modules_load_inertia_is_the_energy_of_moving_that_motor_alone(para
     """M_θ,ii = 2·KE when only screw i turns at 1 rad/s: q̇ from finite differences of the slider heights."""
     q = iso14242(rate=8).q
     h = 1e-6
-    G = np.stack([(slider_heights(params, q + h * e)[:, 0] - slider_heights(params, q - h * e)[:, 0]) / (2 * h) for e in np.eye(3)], axis=-1)
+    G = np.stack(
+        [
+            (slider_heights(params, q + h * e)[:, 0] - slider_heights(params, q - h * e)[:, 0]) / (2 * h)
+            for e in np.eye(3)
+        ],
+        axis=-1,
+    )
     G *= 2 * math.pi / params.lead
-    M = reflected_inertia(params, Trajectory(np.arange(8) * 0.1, q, np.zeros_like(q), np.zeros_like(q), np.full(8, 300.0)))
+    M = reflected_inertia(
+        params, Trajectory(np.arange(8) * 0.1, q, np.zeros_like(q), np.zeros_like(q), np.full(8, 300.0))
+    )
     for i in range(3):
         qd = np.linalg.solve(G, np.eye(3)[i])
         alone = Trajectory(np.arange(8) * 0.1, q, qd, np.zeros_like(q), np.full(8, 300.0))

@@ -42,7 +42,9 @@ def blocks(page: Path) -> list[tuple[str, str, str, int]]:
     for match in _FENCE.finditer(text):
         before = text[: match.start()].rstrip("\n")
         marker = _MARKER.search(before.splitlines()[-1] if before else "")
-        found.append((match.group(1), match.group(2), marker.group(1) if marker else "", text.count("\n", 0, match.start()) + 1))
+        found.append(
+            (match.group(1), match.group(2), marker.group(1) if marker else "", text.count("\n", 0, match.start()) + 1)
+        )
     return found
 
 
@@ -89,7 +91,7 @@ def test_python_blocks_not_run_here_say_where():
 
 
 def _check_run_by(marker: str, page: Path, where: str) -> None:
-    target = marker[len("run by:"):].strip()
+    target = marker[len("run by:") :].strip()
     file, _, test = target.partition("::")
     source = (ROOT / file).read_text(encoding="utf-8")
     assert re.search(rf"^def {re.escape(test)}\(", source, re.M), f"{where}: {target} does not exist"
@@ -97,7 +99,10 @@ def _check_run_by(marker: str, page: Path, where: str) -> None:
 
 
 RUN_BLOCKS = [
-    (page, code, line) for page in PAGES for lang, code, marker, line in blocks(page) if lang in _SHELL and marker == "run"
+    (page, code, line)
+    for page in PAGES
+    for lang, code, marker, line in blocks(page)
+    if lang in _SHELL and marker == "run"
 ]
 
 
@@ -110,7 +115,9 @@ def test_shell_blocks_are_run_or_say_why_not():
             where = f"{_name(page)}:{line}"
             if page == README and _TWO_COMMANDS in code:
                 continue  # CI runs it; tests/test_results.py::test_ci_runs_the_readme_test_command
-            assert marker, f"{where}: a shell block needs <!-- run -->, <!-- run by: tests/FILE::TEST --> or <!-- not run: REASON --> on the line before it"
+            assert marker, (
+                f"{where}: a shell block needs <!-- run -->, <!-- run by: tests/FILE::TEST --> or <!-- not run: REASON --> on the line before it"
+            )
             if marker.startswith("not run:"):
                 assert len(marker) > len("not run:") + 5, f"{where}: say why the block is not run"
             elif marker.startswith("run by:"):
@@ -135,8 +142,17 @@ def test_shell_blocks_run(page, code, line, tmp_path):
     (tmp_path / "models").symlink_to(ROOT / "models")
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])}
     for words in commands(code):
-        done = subprocess.run([sys.executable, "-m", "hipsim", *words[1:]], cwd=tmp_path, env=env, capture_output=True, text=True, timeout=300)
-        assert done.returncode in (0, 1), f"{_name(page)}:{line}: {shlex.join(words)} exited {done.returncode}: {done.stderr[-2000:]}"
+        done = subprocess.run(
+            [sys.executable, "-m", "hipsim", *words[1:]],
+            cwd=tmp_path,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=300,
+        )
+        assert done.returncode in (0, 1), (
+            f"{_name(page)}:{line}: {shlex.join(words)} exited {done.returncode}: {done.stderr[-2000:]}"
+        )
 
 
 # --------------------------------------------------------------------------- names and links
@@ -183,7 +199,9 @@ def test_readme_is_a_front_door():
     from hipsim.cli.main import build_parser
 
     choices = next(a.choices for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
-    assert names == set(choices), f"commands without a row in the README's table: {set(choices) - names}; rows of no command: {names - set(choices)}"
+    assert names == set(choices), (
+        f"commands without a row in the README's table: {set(choices) - names}; rows of no command: {names - set(choices)}"
+    )
     for _, target, anchor in rows:
         assert (ROOT / target).is_file(), target
         if anchor:
@@ -210,13 +228,21 @@ def public_definitions() -> list[tuple[str, int, str, bool]]:
         tree = ast.parse(path.read_text(encoding="utf-8"))
         names: list[str] = []
         for node in tree.body:
-            targets = node.targets if isinstance(node, ast.Assign) else [node.target] if isinstance(node, ast.AnnAssign) else []
+            targets = (
+                node.targets
+                if isinstance(node, ast.Assign)
+                else [node.target]
+                if isinstance(node, ast.AnnAssign)
+                else []
+            )
             if any(isinstance(t, ast.Name) and t.id == "__all__" for t in targets) and node.value is not None:
                 names = list(ast.literal_eval(node.value))
         defined = {n.name: n for n in tree.body if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef))}
         for name in names:
             if name in defined:  # names imported from elsewhere are checked where they are defined
-                found.append((str(path.relative_to(ROOT)), defined[name].lineno, name, bool(ast.get_docstring(defined[name]))))
+                found.append(
+                    (str(path.relative_to(ROOT)), defined[name].lineno, name, bool(ast.get_docstring(defined[name])))
+                )
     return found
 
 
@@ -231,12 +257,15 @@ def test_a_missing_docstring_is_found(tmp_path, monkeypatch):
     """The check above, on a planted module: it sees a public function without a docstring."""
     package = tmp_path / "hipsim"
     package.mkdir()
-    (package / "planted.py").write_text('__all__ = ["f", "g"]\n\ndef f():\n    """Documented."""\n\ndef g():\n    pass\n')
+    (package / "planted.py").write_text(
+        '__all__ = ["f", "g"]\n\ndef f():\n    """Documented."""\n\ndef g():\n    pass\n'
+    )
     monkeypatch.setattr(sys.modules[__name__], "ROOT", tmp_path)
     assert [(name, documented) for _, _, name, documented in public_definitions()] == [("f", True), ("g", False)]
 
 
 # --------------------------------------------------------------------------- the site
+
 
 def _mkdocs() -> str | None:
     here = Path(sys.executable).with_name("mkdocs")
@@ -249,7 +278,11 @@ def test_the_site_builds_strictly(tmp_path):
     if mkdocs is None:
         pytest.skip("mkdocs is not installed: pip install -e '.[docs]' (the test extra includes it)")
     done = subprocess.run(
-        [mkdocs, "build", "--strict", "-d", str(tmp_path / "site")], cwd=ROOT, capture_output=True, text=True, timeout=600,
+        [mkdocs, "build", "--strict", "-d", str(tmp_path / "site")],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=600,
         env={**os.environ, "NO_MKDOCS_2_WARNING": "1"},
     )
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-5000:]
@@ -268,5 +301,11 @@ def test_a_broken_link_fails_the_build(tmp_path):
     for link in ("[a](missing.md)", "[a](index.md#nowhere)"):
         (tmp_path / "docs" / "other.md").write_text(f"# Other\n\n{link}\n")
         (tmp_path / "mkdocs.yml").write_text(f"site_name: t\nstrict: true\n{validation}")
-        done = subprocess.run([mkdocs, "build", "--strict", "-d", str(tmp_path / "site")], cwd=tmp_path, capture_output=True, text=True, timeout=120)
+        done = subprocess.run(
+            [mkdocs, "build", "--strict", "-d", str(tmp_path / "site")],
+            cwd=tmp_path,
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
         assert done.returncode != 0, link

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from drive_support import RPM, write
 
 from hipsim.exceptions import ParameterError
 from hipsim.machine.drive import (
@@ -17,8 +18,6 @@ from hipsim.machine.drive import (
     load_screw_catalogue,
 )
 
-from drive_support import RPM, write
-
 
 def test_a_curve_is_linear_between_points_and_zero_beyond():
     curve = TorqueSpeedCurve([100.0, 200.0], [2.0, 1.0])
@@ -26,7 +25,9 @@ def test_a_curve_is_linear_between_points_and_zero_beyond():
 
 
 def test_drive_file_tables(tmp_path):
-    path = write(tmp_path, """
+    path = write(
+        tmp_path,
+        """
 [motor]
 name = "m"
 s1_speed_rpm = [0, 3000]
@@ -44,10 +45,14 @@ end_fixing = "fixed-fixed"
 [rules]
 life_target_cycles = 1e7
 inertia_ratio_max = 5
-""", "drive.toml")
+""",
+        "drive.toml",
+    )
     drive = load_drive(path)
     assert drive.motor.continuous.at(1500 * RPM) == pytest.approx(0.62) and drive.motor.peak.flat
-    assert drive.amplifier.peak_current == 5.1 and drive.gearbox.ratio == 2.0 and drive.screw.lead == pytest.approx(0.005)
+    assert (
+        drive.amplifier.peak_current == 5.1 and drive.gearbox.ratio == 2.0 and drive.screw.lead == pytest.approx(0.005)
+    )
     assert drive.rules.life_target_cycles == 1e7 and drive.rules.inertia_ratio_max == 5.0
     assert drive.name == "m + gearbox + lead screw"
 
@@ -56,12 +61,20 @@ inertia_ratio_max = 5
     "text, key, message",
     [
         ("[motor]\npeak_speed_rpm = [0, 1000]\n", "motor.peak_speed_rpm", "speeds without torques"),
-        ("[motor]\npeak_speed_rpm = [0, 1000, 900]\npeak_torque_Nm = [1, 1, 1]\n", "motor.peak_speed_rpm", "rise strictly"),
+        (
+            "[motor]\npeak_speed_rpm = [0, 1000, 900]\npeak_torque_Nm = [1, 1, 1]\n",
+            "motor.peak_speed_rpm",
+            "rise strictly",
+        ),
         ("[motor]\nrated_torque_Nmm = 640\ns1_torque_Nmm = 600\n", "motor.rated_torque_Nmm", "either"),
         ("[motor]\npeak_torque_Nm = 1\npeak_torque_Nmm = 1000\n", "motor.peak_torque_Nmm", "given twice"),
         ("[motor]\npeak_torque_Nm = 1\n[lead_screw]\nend_fixing = 'glued'\n", "lead_screw.end_fixing", "fixed-free"),
         ("[motor]\npeak_torque_Nm = 1\n[rules]\nbuckling_factor = 2\n", "rules.buckling_factor", "(0, 1]"),
-        ("[motor]\nstroke_mm = 100\n[lead_screw]\nstroke_mm = 120\n", "lead_screw.stroke_mm", "in [motor] and in [lead_screw]"),
+        (
+            "[motor]\nstroke_mm = 100\n[lead_screw]\nstroke_mm = 120\n",
+            "lead_screw.stroke_mm",
+            "in [motor] and in [lead_screw]",
+        ),
     ],
 )
 def test_bad_drive_files_name_the_key(tmp_path, text, key, message):
@@ -72,14 +85,20 @@ def test_bad_drive_files_name_the_key(tmp_path, text, key, message):
 
 
 def test_the_parameter_files_motor_table_is_a_drive():
-    drive = drive_from_motor_table({"rated_torque_Nmm": 640.0, "peak_torque_Nmm": 1910.0, "stroke_mm": 200.0}, "machine.toml")
+    drive = drive_from_motor_table(
+        {"rated_torque_Nmm": 640.0, "peak_torque_Nmm": 1910.0, "stroke_mm": 200.0}, "machine.toml"
+    )
     assert drive.motor.continuous.at(0.0) == pytest.approx(0.64) and drive.screw.stroke == pytest.approx(0.2)
 
 
 def test_the_shipped_examples_load_and_say_they_are_examples():
     models = resources.files("hipsim.models")
-    for name, loader in (("motors_example.csv", load_motor_catalogue), ("screws_example.csv", load_screw_catalogue),
-                         ("gearboxes_example.csv", load_gearbox_catalogue), ("drive_example.toml", load_drive)):
+    for name, loader in (
+        ("motors_example.csv", load_motor_catalogue),
+        ("screws_example.csv", load_screw_catalogue),
+        ("gearboxes_example.csv", load_gearbox_catalogue),
+        ("drive_example.toml", load_drive),
+    ):
         path = Path(str(models.joinpath(name)))
         assert "EXAMPLE" in path.read_text(encoding="utf-8").upper(), name
         assert loader(path)

@@ -4,12 +4,10 @@ import re
 
 import numpy as np
 import pytest
+from drive_support import RPM, write
 
 from hipsim.exceptions import CatalogueError
 from hipsim.machine.drive_catalogues import load_gearbox_catalogue, load_motor_catalogue, load_screw_catalogue
-
-from drive_support import RPM, write
-
 
 MOTORS = """\
 # a comment line, then the header
@@ -32,8 +30,14 @@ def test_motor_catalogue_in_si(tmp_path):
 
 
 def test_screw_and_gearbox_catalogues(tmp_path):
-    screws = load_screw_catalogue(write(tmp_path, "name,lead_mm,dynamic_load_rating_N,end_fixing\nA,5,7700,Fixed-Supported\nB,20,,\n", "s.csv"))
-    assert screws[0].lead == pytest.approx(0.005) and screws[0].end_fixing == "fixed-supported" and screws[1].dynamic_load_rating is None
+    screws = load_screw_catalogue(
+        write(tmp_path, "name,lead_mm,dynamic_load_rating_N,end_fixing\nA,5,7700,Fixed-Supported\nB,20,,\n", "s.csv")
+    )
+    assert (
+        screws[0].lead == pytest.approx(0.005)
+        and screws[0].end_fixing == "fixed-supported"
+        and screws[1].dynamic_load_rating is None
+    )
     (belt,) = load_gearbox_catalogue(write(tmp_path, "name,ratio,efficiency,inertia_kgmm2\nbelt,2,0.95,4\n", "g.csv"))
     assert belt.ratio == 2.0 and belt.efficiency == 0.95 and belt.inertia == pytest.approx(4e-6)
 
@@ -43,16 +47,31 @@ def test_screw_and_gearbox_catalogues(tmp_path):
     [
         ("name,s1_torque_Nm\nA,1\n", 1, None, "missing column 'peak_torque_Nm' or 'peak_torque_Nmm'"),
         ("name,s1_torque_Nm,peak_torque_Nm,colour\nA,1,2,red\n", 1, "colour", "unknown column"),
-        ("name,s1_torque_Nm,peak_torque_Nm,peak_speed_rpm\nA,1,2 2 1,0;3000;2000\n", 2, "peak_speed_rpm", "speeds must rise strictly"),
+        (
+            "name,s1_torque_Nm,peak_torque_Nm,peak_speed_rpm\nA,1,2 2 1,0;3000;2000\n",
+            2,
+            "peak_speed_rpm",
+            "speeds must rise strictly",
+        ),
         ("name,s1_torque_Nm,peak_torque_Nm\nA,1,2\nB,-1,2\n", 3, "s1_torque_Nm", "must not be negative"),
-        ("name,s1_torque_Nm,peak_torque_Nm,rotor_inertia_kgcm2\nA,1,2,-0.1\n", 2, "rotor_inertia_kgcm2", "must be positive"),
+        (
+            "name,s1_torque_Nm,peak_torque_Nm,rotor_inertia_kgcm2\nA,1,2,-0.1\n",
+            2,
+            "rotor_inertia_kgcm2",
+            "must be positive",
+        ),
         ("name,s1_torque_Nm,peak_torque_Nm\nA,1,two\n", 2, "peak_torque_Nm", "'two' is not a number"),
         ("name,s1_torque_Nm,peak_torque_Nm\nA,1,nan\n", 2, "peak_torque_Nm", "finite"),
         ("name,s1_torque_Nm,peak_torque_Nm\nA,1\n", 2, None, "2 cells for 3 columns"),
         ("name,s1_torque_Nm,peak_torque_Nm\nA,1,\n", 2, "peak_torque_Nm", "required"),
         ("name,s1_torque_Nm,peak_torque_Nm\nA,1,2\nA,1,3\n", 3, "name", "already used on line 2"),
         ("name,s1_torque_Nm,s1_torque_Nmm,peak_torque_Nm\nA,1,1,2\n", 1, "s1_torque_Nmm", "two columns"),
-        ("name,s1_torque_Nm,peak_torque_Nm,peak_speed_rpm\nA,1,2;3,0;1000;2000\n", 2, "peak_torque_Nm", "2 torques for 3 speeds"),
+        (
+            "name,s1_torque_Nm,peak_torque_Nm,peak_speed_rpm\nA,1,2;3,0;1000;2000\n",
+            2,
+            "peak_torque_Nm",
+            "2 torques for 3 speeds",
+        ),
         ("# only a comment\n", None, None, "no entries"),
     ],
 )

@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 
 import hipsim
-from hipsim.rig import excitation
-from hipsim.rig.excitation import Limits, condition_number
 from hipsim.cli.main import main
 from hipsim.exceptions import HipsimError
 from hipsim.motion.trajectories import Trajectory
+from hipsim.rig import excitation
+from hipsim.rig.excitation import Limits, condition_number
 
 PARAMS = hipsim.load_parameters()
 
@@ -69,7 +69,10 @@ def test_impossible_limits_are_refused():
 
 def test_excite_command(tmp_path, capsys):
     out = tmp_path / "excite.csv"
-    assert main(["excite", "--harmonics", "1", "--iterations", "2", "--duration", "4", "--rate", "200", "--out", str(out)]) == 0
+    assert (
+        main(["excite", "--harmonics", "1", "--iterations", "2", "--duration", "4", "--rate", "200", "--out", str(out)])
+        == 0
+    )
     printed = capsys.readouterr().out
     assert "ISO 14242-1 cycle" in printed and "designed in" in printed
     assert hipsim.load_trajectory_csv(out).periodic
@@ -94,4 +97,3 @@ def test_sets_evaluated_together_give_what_each_gives_alone(design):
         values, rates, accelerations = _series(coefficients, design.frequency, grid)
         trajectory = Trajectory(grid, values[:3].T, rates[:3].T, accelerations[:3].T, values[3])
         assert math.exp(value) == pytest.approx(condition_number(PARAMS, trajectory), rel=1e-9)
-

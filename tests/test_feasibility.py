@@ -2,10 +2,10 @@
 
 from pathlib import Path
 
+import hipsim.models
 import numpy as np
 import pytest
 
-import hipsim.models
 from hipsim import iso14242, load_parameters
 from hipsim.analysis import analyse
 from hipsim.design.feasibility import Limits, check_feasibility, fitting_speed, time_scaled
@@ -35,21 +35,36 @@ def needs(run):
 
 def test_the_built_in_cycle_on_the_published_machine_crosses_nothing(iso_run):
     assert check_feasibility(iso_run, Limits.from_machine(PARAMS)) == []
-    drive = load_drive(Path(hipsim.models.__file__).with_name("drive_example.toml"))  # the example drive's motor and screw
+    drive = load_drive(
+        Path(hipsim.models.__file__).with_name("drive_example.toml")
+    )  # the example drive's motor and screw
     assert check_feasibility(iso_run, Limits.from_machine(PARAMS, drive)) == []
 
 
 def amplified(trajectory, gain):
     """The angles' swing about their mean scaled by ``gain`` (derivatives with it): a larger motion, same timing."""
     mean = trajectory.q.mean(axis=0)
-    return Trajectory(trajectory.t, mean + gain * (trajectory.q - mean), gain * trajectory.qd, gain * trajectory.qdd,
-                      trajectory.Fe, "amplified", trajectory.periodic)
+    return Trajectory(
+        trajectory.t,
+        mean + gain * (trajectory.q - mean),
+        gain * trajectory.qd,
+        gain * trajectory.qdd,
+        trajectory.Fe,
+        "amplified",
+        trajectory.periodic,
+    )
 
 
-@pytest.mark.parametrize("limit, scale", [
-    ("stroke", "amplitude"), ("slider_speed", "speed"), ("slider_acceleration", "speed"),
-    ("motor_speed", "speed"), ("motor_torque", "speed"),
-])
+@pytest.mark.parametrize(
+    "limit, scale",
+    [
+        ("stroke", "amplitude"),
+        ("slider_speed", "speed"),
+        ("slider_acceleration", "speed"),
+        ("motor_speed", "speed"),
+        ("motor_torque", "speed"),
+    ],
+)
 def test_a_motion_scaled_past_one_limit_names_that_limit_first(iso_run, limit, scale):
     need = needs(iso_run)
     # Every limit 10 % above what the ISO cycle needs; the scaled motion crosses the one under test most.
@@ -86,7 +101,9 @@ def test_fitting_speed_is_where_the_speed_limit_binds(iso_run):
     # Motor speed scales with k: a limit at 80 % of the need fits at k = 0.8.
     assert fitting_speed(run_at, ISO, Limits(motor_speed=0.8 * need["motor_speed"])) == pytest.approx(0.8, rel=2e-3)
     # Acceleration scales with k²: 64 % fits at k = 0.8.
-    assert fitting_speed(run_at, ISO, Limits(slider_acceleration=0.64 * need["slider_acceleration"])) == pytest.approx(0.8, rel=2e-3)
+    assert fitting_speed(run_at, ISO, Limits(slider_acceleration=0.64 * need["slider_acceleration"])) == pytest.approx(
+        0.8, rel=2e-3
+    )
     assert fitting_speed(run_at, ISO, Limits()) == 1.0
     # A stroke does not change with speed: no time scale helps.
     assert fitting_speed(run_at, ISO, Limits(stroke=0.5 * need["stroke"])) is None

@@ -23,7 +23,13 @@ def run():
 
 def drive():
     rpm = 2 * math.pi / 60
-    return Drive(Motor("m", continuous=TorqueSpeedCurve([0, 3000 * rpm], [0.64, 0.6]), peak=TorqueSpeedCurve([0, 3000 * rpm, 5000 * rpm], [1.9, 1.9, 1.0])))
+    return Drive(
+        Motor(
+            "m",
+            continuous=TorqueSpeedCurve([0, 3000 * rpm], [0.64, 0.6]),
+            peak=TorqueSpeedCurve([0, 3000 * rpm, 5000 * rpm], [1.9, 1.9, 1.0]),
+        )
+    )
 
 
 def test_torque_speed_cloud_is_the_cycle_over_the_curves(run):
@@ -62,7 +68,10 @@ def test_axial_load_histogram_weighs_revolutions(run):
 def test_tracking_panels_have_their_own_scales(run):
     t = run.t
     wave = np.sin(2 * np.pi * t)[:, None] * np.ones(3)
-    sims = {"pd": SimpleNamespace(t=t, err=np.radians(0.2) * wave), "augmented-pd": SimpleNamespace(t=t, err=np.radians(2e-5) * wave)}
+    sims = {
+        "pd": SimpleNamespace(t=t, err=np.radians(0.2) * wave),
+        "augmented-pd": SimpleNamespace(t=t, err=np.radians(2e-5) * wave),
+    }
     fig = figures.plot_tracking(sims)
     assert len(fig.axes) == 6
     pd, augmented = fig.axes[0], fig.axes[1]  # row α: PD, then augmented PD
@@ -93,7 +102,11 @@ def test_coinciding_platform_curves_are_named_and_drawn_apart(run):
     labels = [text.get_text() for ax in fig.axes if ax.get_legend() for text in ax.get_legend().get_texts()]
     assert "a_21 = a_11" in labels and "a_22 = a_12" in labels and "a_23" in labels and "o_2 = o_1" in labels
     for ax in fig.axes:
-        styles = [(line.get_color(), str(line.get_linestyle()), line.get_linewidth()) for line in ax.get_lines() if not line.get_label().startswith("_")]
+        styles = [
+            (line.get_color(), str(line.get_linestyle()), line.get_linewidth())
+            for line in ax.get_lines()
+            if not line.get_label().startswith("_")
+        ]
         assert len(set(styles)) == len(styles), styles  # no two entries drawn alike
 
 

@@ -162,11 +162,19 @@ _TERMINATED_DURING_RENAME = textwrap.dedent(
 
 
 def _terminated(call: str, cwd) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-c", _TERMINATED_DURING_RENAME.format(call=call)], cwd=cwd, capture_output=True, text=True, timeout=120)
+    return subprocess.run(
+        [sys.executable, "-c", _TERMINATED_DURING_RENAME.format(call=call)],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
 
 
 def test_sigterm_during_a_write_removes_the_part_file(tmp_path):
-    done = _terminated(f"from hipsim.files import write_atomic; write_atomic({str(tmp_path / 'out.csv')!r}, 'x' * 100000)", tmp_path)
+    done = _terminated(
+        f"from hipsim.files import write_atomic; write_atomic({str(tmp_path / 'out.csv')!r}, 'x' * 100000)", tmp_path
+    )
     assert done.returncode == 128 + signal.SIGTERM, done.stderr
     assert list(tmp_path.iterdir()) == []  # no out.csv, no hidden .out.csv.*.part
 

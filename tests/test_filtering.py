@@ -28,7 +28,9 @@ def test_the_ends_of_a_record_keep_its_curvature():
     x = np.cos(2 * np.pi * t)
     y = lowpass_record(x, 60.0, 6.0)
     n = edge_samples(60.0, 6.0)
-    assert np.abs(y - x)[n:-n].max() < 1e-4 and np.abs(y - x).max() < 2e-3  # a plain odd extension is 5x worse at the ends
+    assert (
+        np.abs(y - x)[n:-n].max() < 1e-4 and np.abs(y - x).max() < 2e-3
+    )  # a plain odd extension is 5x worse at the ends
 
 
 @pytest.mark.parametrize("cutoff", [-1.0, 0.0, 30.0, 40.0])

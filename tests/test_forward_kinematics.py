@@ -2,13 +2,17 @@
 
 import numpy as np
 import pytest
+from support import SmoothMotion
 
 import hipsim
 from hipsim.analytic.forward_kinematics import forward_kinematics, solve_pose
-from hipsim.analytic.inverse_kinematics import angular_velocity_map, inverse_condition_number, slider_heights, slider_jacobian
+from hipsim.analytic.inverse_kinematics import (
+    angular_velocity_map,
+    inverse_condition_number,
+    slider_heights,
+    slider_jacobian,
+)
 from hipsim.exceptions import PoseError
-
-from support import SmoothMotion
 
 PARAMS = hipsim.load_parameters()
 
@@ -22,7 +26,9 @@ def in_mode(params, q, margin=0.1):
     """Poses in the published machine's assembly mode (det J of home's sign), with a singularity measure above ``margin``."""
     J = slider_jacobian(params, q * params.angle_signs)
     home = np.sign(np.linalg.det(slider_jacobian(params, np.zeros((1, 3)))[0]))
-    return np.isfinite(J).all(axis=(1, 2)) & (np.sign(np.linalg.det(J)) == home) & (inverse_condition_number(J) > margin)
+    return (
+        np.isfinite(J).all(axis=(1, 2)) & (np.sign(np.linalg.det(J)) == home) & (inverse_condition_number(J) > margin)
+    )
 
 
 def test_round_trip_along_the_iso_cycle():
@@ -61,7 +67,9 @@ def test_newton_uses_the_true_jacobian():
     """∂L/∂q = J·T, the step the solver takes, against central differences of the slider heights."""
     q = np.radians([[10.0, -4.0, 6.0]])
     h = 1e-6
-    numeric = np.stack([(heights(PARAMS, q + h * e) - heights(PARAMS, q - h * e))[0] / (2 * h) for e in np.eye(3)], axis=1)
+    numeric = np.stack(
+        [(heights(PARAMS, q + h * e) - heights(PARAMS, q - h * e))[0] / (2 * h) for e in np.eye(3)], axis=1
+    )
     analytic = slider_jacobian(PARAMS, q)[0] @ angular_velocity_map(q)[0]
     np.testing.assert_allclose(analytic, numeric, rtol=0, atol=1e-8)
 
@@ -79,8 +87,11 @@ def test_another_assembly_mode_is_refused():
     rng = np.random.default_rng(3)
     q = np.radians(rng.uniform(-30, 30, (5000, 3)))
     J = slider_jacobian(PARAMS, q)
-    other = q[np.isfinite(J).all(axis=(1, 2)) & (np.linalg.det(J) * np.linalg.det(slider_jacobian(PARAMS, np.zeros((1, 3)))[0]) < 0)
-              & (inverse_condition_number(J) > 1e-3)]
+    other = q[
+        np.isfinite(J).all(axis=(1, 2))
+        & (np.linalg.det(J) * np.linalg.det(slider_jacobian(PARAMS, np.zeros((1, 3)))[0]) < 0)
+        & (inverse_condition_number(J) > 1e-3)
+    ]
     assert len(other), "the sample should hold poses of the other mode"
     with pytest.raises(PoseError, match="another assembly mode"):
         solve_pose(PARAMS, heights(PARAMS, other[:1]), other[:1])

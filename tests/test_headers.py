@@ -1,14 +1,13 @@
-"""Tests of hipsim.motion.headers: a header matched against a mapping, hipsim's own header checked, a mapping suggested.
-"""
+"""Tests of hipsim.motion.headers: a header matched against a mapping, hipsim's own header checked, a mapping suggested."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
+from trajectory_files import assert_traj_error, canonical, iso_rows, write_lines
 
 from hipsim import TrajectoryError
 from hipsim.motion.csv_table import load_trajectory_csv
-from trajectory_files import assert_traj_error, canonical, iso_rows, write_lines
 
 
 def test_a_header_that_does_not_match_lists_its_columns_and_suggests_a_mapping(tmp_path):
@@ -39,7 +38,10 @@ def test_a_mapped_column_that_is_missing_is_named_with_the_columns_found(tmp_pat
     "header, suggestion",
     [
         (["Time", "FE", "AA", "IE", "Fz"], "time=Time,alpha=FE,beta=AA,gamma=IE,load=Fz"),
-        (["Zeit (ms)", "FE (rad)", "AA", "IE", "Fz [kN]"], "time=Zeit (ms):ms,alpha=FE (rad):rad,beta=AA,gamma=IE,load=Fz [kN]:kN"),
+        (
+            ["Zeit (ms)", "FE (rad)", "AA", "IE", "Fz [kN]"],
+            "time=Zeit (ms):ms,alpha=FE (rad):rad,beta=AA,gamma=IE,load=Fz [kN]:kN",
+        ),
         (["frame", "x", "y"], "time=<column>,alpha=<column>,beta=<column>,gamma=<column>"),
     ],
 )

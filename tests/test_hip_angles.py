@@ -8,10 +8,16 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
-from hipsim.motion.hip_angles import PELVIS_AXES, hip_angles_of, hip_rotation, hip_to_machine, machine_rotation, machine_to_hip
 from support import Rx, Ry, Rz, machine_R, zxy_angles, zyx_angles
 
+from hipsim.motion.hip_angles import (
+    PELVIS_AXES,
+    hip_angles_of,
+    hip_rotation,
+    hip_to_machine,
+    machine_rotation,
+    machine_to_hip,
+)
 
 RNG = np.random.default_rng(11)
 SAMPLES = RNG.uniform(np.radians([-40, -30, -40]), np.radians([60, 30, 40]), (200, 3))

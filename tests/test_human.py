@@ -8,8 +8,8 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from hipsim.present.human import HUMAN_PELVIS_ROTATION, human_hip_angles, load_human
 from hipsim.analytic.inverse_kinematics import rotation_matrix
+from hipsim.present.human import HUMAN_PELVIS_ROTATION, human_hip_angles, load_human
 
 
 @pytest.fixture(scope="module")
@@ -27,7 +27,10 @@ def _human_pose(human, alpha, beta, gamma):
         q[model.joints[model.getJointId(name)].idx_q] = value
     pin.forwardKinematics(model, data, q)
     C = HUMAN_PELVIS_ROTATION
-    joint = {name: data.oMi[model.getJointId(name)] for name in ("right_hip_Z", "right_hip_Y", "right_knee_Z", "right_ankle_X")}
+    joint = {
+        name: data.oMi[model.getJointId(name)]
+        for name in ("right_hip_Z", "right_hip_Y", "right_knee_Z", "right_ankle_X")
+    }
     femur = C @ joint["right_hip_Y"].rotation @ C.T  # femur rotation, world axes, relative to standing
     knee = C @ (joint["right_knee_Z"].translation - joint["right_hip_Z"].translation)  # world axes
     toes = C @ joint["right_ankle_X"].rotation[:, 0]  # the foot's anterior axis, world axes

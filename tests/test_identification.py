@@ -4,21 +4,20 @@ import math
 
 import numpy as np
 import pytest
+from rig_synthetic import exact_run, fit_run, iso_run, machines, relative_to_size, write_log
+from support import ALL_FRICTION, SmoothMotion
 
 import hipsim
 import hipsim.machine.parameters
-from hipsim.rig import identify, load_log, regressor
-from hipsim.rig.consistency import violations as _violations
-from hipsim.rig.quantities import QUANTITIES, standard_values, with_values
 from hipsim.analytic import inverse_dynamics, kinematics
 from hipsim.cli.main import main
 from hipsim.motion.trajectories import Trajectory, iso14242_at
+from hipsim.rig import identify, load_log, regressor
 from hipsim.rig.base import derive
+from hipsim.rig.consistency import violations as _violations
 from hipsim.rig.logs import MeasuredLog
+from hipsim.rig.quantities import QUANTITIES, standard_values, with_values
 from hipsim.rig.uncertainty import Z95, read_covariance, torque_std
-
-from rig_synthetic import exact_run, fit_run, iso_run, machines, relative_to_size, write_log
-from support import ALL_FRICTION, SmoothMotion
 
 
 def sizes(result, start):
@@ -30,12 +29,16 @@ def sizes(result, start):
 @pytest.mark.parametrize("lever_spin", [False, True])
 def test_the_regressor_is_the_inverse_dynamics(lever_spin):
     params = hipsim.load_parameters().replace(**ALL_FRICTION)
-    params = params.replace(platform_inertia=params.platform_inertia + np.array([[0, 3, 2], [3, 0, 1], [2, 1, 0]]) * 1e-3)
+    params = params.replace(
+        platform_inertia=params.platform_inertia + np.array([[0, 3, 2], [3, 0, 1], [2, 1, 0]]) * 1e-3
+    )
     trajectory = SmoothMotion(seed=2)(np.arange(0, 2, 2e-3))
     Y = regressor(params, trajectory, lever_spin)
     tau = inverse_dynamics(params, kinematics(params, trajectory), trajectory.Fe, lever_spin).total
     assert np.abs(Y @ standard_values(params) - tau).max() < 1e-13 * np.abs(tau).max() * 10
-    np.testing.assert_array_equal(standard_values(with_values(params, standard_values(params))), standard_values(params))
+    np.testing.assert_array_equal(
+        standard_values(with_values(params, standard_values(params))), standard_values(params)
+    )
 
 
 def test_noise_free_logs_recover_the_base_parameters():
@@ -106,12 +109,16 @@ def test_noisy_logs_identify_each_base_parameter_within_three_std(noisy):
     truth = result.combinations(true)
     table = {e.definition: (e.value, t, e.std) for e, t in zip(result.estimates, truth)}
     assert np.all(np.abs(values - truth) <= 3 * std + 1e-9 * sizes(result, start)), table
-    assert {"I_m,xx", "I_m,yy", "I_m,zz", "m_L", "I_L", "μ_h", "τ_c,screw", "b_screw"} <= {q.label for q in result.quantities}
+    assert {"I_m,xx", "I_m,yy", "I_m,zz", "m_L", "I_L", "μ_h", "τ_c,screw", "b_screw"} <= {
+        q.label for q in result.quantities
+    }
     # The weight-dependent friction r_t·μ_t·m_m·g within 5 %, the load-proportional r_h·μ_h + r_t·μ_t within 2 %.
     f, g = true.friction, true.platform_mass * true.gravity
     mu = {e.name: e.value for e in result.estimates}
     assert f.thrust_radius * mu["μ_t"] * g == pytest.approx(f.thrust_radius * f.thrust_mu * g, rel=0.05)
-    assert f.hip_radius * mu["μ_h"] + f.thrust_radius * mu["μ_t"] == pytest.approx(f.hip_radius * f.hip_mu + f.thrust_radius * f.thrust_mu, rel=0.02)
+    assert f.hip_radius * mu["μ_h"] + f.thrust_radius * mu["μ_t"] == pytest.approx(
+        f.hip_radius * f.hip_mu + f.thrust_radius * f.thrust_mu, rel=0.02
+    )
 
 
 def test_two_log_sets_give_the_same_base_definitions(noisy):
@@ -138,7 +145,7 @@ def test_the_95_percent_band_covers_the_true_torque(noisy, tmp_path):
 
 def test_noisy_logs_predict_the_held_out_trajectory_within_one_percent(noisy):
     _, _, _, result = noisy
-    (identified, starting), = result.validation
+    ((identified, starting),) = result.validation
     for i, entry in identified.motor_errors().items():
         before = starting.motor_errors()[i]
         assert entry["relative_rms_error_away_from_reversals"] < 0.01
@@ -163,15 +170,41 @@ def test_the_parameter_file_round_trips_and_every_command_takes_it(noisy, tmp_pa
 def test_identify_command(noisy, tmp_path, capsys):
     _, fit, held_out, _ = noisy
     out = tmp_path / "id.toml"
-    assert main(["identify", "--log", str(fit), "--validate", str(held_out), "--fix", "lever", "--out", str(out),
-                 "--json", str(tmp_path / "id.json")]) == 0
+    assert (
+        main(
+            [
+                "identify",
+                "--log",
+                str(fit),
+                "--validate",
+                str(held_out),
+                "--fix",
+                "lever",
+                "--out",
+                str(out),
+                "--json",
+                str(tmp_path / "id.json"),
+            ]
+        )
+        == 0
+    )
     printed = capsys.readouterr().out
-    for words in ("base parameter", "moved [prior std]", "condition number", "residual RMS per motor", "Prediction error", "gait cycle"):
+    for words in (
+        "base parameter",
+        "moved [prior std]",
+        "condition number",
+        "residual RMS per motor",
+        "Prediction error",
+        "gait cycle",
+    ):
         assert words in printed, words
     assert hipsim.load_parameters(out).lever_mass == machines()[0].lever_mass  # held at the start
     # A bad log: one line, and no file left.
     bad = tmp_path / "bad.csv"
-    bad.write_text("t_s,Fe_N,tau_1_Nmm,tau_2_Nmm,alpha_deg,beta_deg,gamma_deg\n" + "\n".join(f"{k / 1000},5,1,2,1,2,3" for k in range(900)))
+    bad.write_text(
+        "t_s,Fe_N,tau_1_Nmm,tau_2_Nmm,alpha_deg,beta_deg,gamma_deg\n"
+        + "\n".join(f"{k / 1000},5,1,2,1,2,3" for k in range(900))
+    )
     assert main(["identify", "--log", str(bad), "--out", str(tmp_path / "none.toml")]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "missing torque column 'tau_3_Nmm'" in err and "bad.csv" in err
@@ -204,10 +237,12 @@ def test_logs_in_pieces_give_the_same_fit(noisy):
     assert parts.rows == whole.rows and parts.base is whole.base
     for a, b in zip(whole.estimates, parts.estimates):
         # Round-off of the filters and of the triangular factor updated in other blocks, times the condition number.
-        assert b.value == pytest.approx(a.value, rel=1e-7, abs=1e-7 * a.std) and b.std == pytest.approx(a.std, rel=1e-6), a.name
+        assert b.value == pytest.approx(a.value, rel=1e-7, abs=1e-7 * a.std) and b.std == pytest.approx(
+            a.std, rel=1e-6
+        ), a.name
     np.testing.assert_allclose(parts.residual_rms, whole.residual_rms, rtol=1e-9)
-    (identified, _), = parts.validation
-    (reference, _), = whole.validation
+    ((identified, _),) = parts.validation
+    ((reference, _),) = whole.validation
     for i, entry in reference.motor_errors().items():
         assert identified.motor_errors()[i]["rms_error_Nmm"] == pytest.approx(entry["rms_error_Nmm"], rel=1e-6)
 
@@ -218,7 +253,9 @@ def test_identify_base_lists_the_base_parameters(capsys):
     assert "m_L + 0.5·m_l" in out and "b_screw + 5.066059182 mm²/rad·b_guide" in out and "prior std" in out
 
 
-@pytest.mark.parametrize("case", ["negative prior", "prior table", "bad covariance", "other columns", "tolerance", "not toml"])
+@pytest.mark.parametrize(
+    "case", ["negative prior", "prior table", "bad covariance", "other columns", "tolerance", "not toml"]
+)
 def test_bad_input_is_one_line_and_writes_nothing(noisy, tmp_path, capsys, case):
     folder, fit, held_out, result = noisy
     out = tmp_path / "id.toml"
@@ -228,7 +265,10 @@ def test_bad_input_is_one_line_and_writes_nothing(noisy, tmp_path, capsys, case)
         expected = "non-negative"
     elif case == "prior table":
         start_file = tmp_path / "start.toml"
-        start_file.write_text(hipsim.machine.parameters.default_parameters_path().read_text() + '\n[identification.prior]\n"friction.hip_mu" = -1\n')
+        start_file.write_text(
+            hipsim.machine.parameters.default_parameters_path().read_text()
+            + '\n[identification.prior]\n"friction.hip_mu" = -1\n'
+        )
         args += ["--params", str(start_file)]
         expected = "non-negative"
     elif case == "bad covariance":
@@ -243,7 +283,10 @@ def test_bad_input_is_one_line_and_writes_nothing(noisy, tmp_path, capsys, case)
         expected = "not positive semi-definite"
     elif case == "other columns":
         other = tmp_path / "other.csv"
-        other.write_text("t_s,Fe_N,tau_1_Nmm,tau_2_Nmm,tau_4_Nmm,alpha_deg,beta_deg,gamma_deg\n" + "\n".join(f"{k / 1000},5,1,2,3,1,2,3" for k in range(900)))
+        other.write_text(
+            "t_s,Fe_N,tau_1_Nmm,tau_2_Nmm,tau_4_Nmm,alpha_deg,beta_deg,gamma_deg\n"
+            + "\n".join(f"{k / 1000},5,1,2,3,1,2,3" for k in range(900))
+        )
         args += ["--validate", str(other)]
         expected = "other.csv"
     elif case == "tolerance":

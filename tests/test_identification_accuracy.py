@@ -13,18 +13,19 @@ module fast; the margins below were measured on them (see docs/guide/rig.md).
 
 import numpy as np
 import pytest
+from rig_synthetic import machines, plant_run, write_log
 
 from hipsim.analytic import inverse_dynamics, kinematics
 from hipsim.motion.trajectories import Trajectory, iso14242_at
 from hipsim.rig import excitation, identify, load_log
 
-from rig_synthetic import machines, plant_run, write_log
-
 
 def _iso(frequency: float, load: float):
     def at(t):
         trajectory = iso14242_at(t, frequency=frequency)
-        return Trajectory(trajectory.t, trajectory.q, trajectory.qd, trajectory.qdd, trajectory.Fe * load, name="ISO 14242-1")
+        return Trajectory(
+            trajectory.t, trajectory.q, trajectory.qd, trajectory.qdd, trajectory.Fe * load, name="ISO 14242-1"
+        )
 
     return at
 
@@ -66,13 +67,20 @@ def friction_terms(params) -> tuple[float, float]:
     """The weight-dependent friction r_t·μ_t·m_m·g in [N·m] (of the true platform mass) and the load-proportional r_h·μ_h + r_t·μ_t in [m]."""
     _, true = machines()
     f = params.friction
-    return f.thrust_radius * f.thrust_mu * true.platform_mass * true.gravity, f.hip_radius * f.hip_mu + f.thrust_radius * f.thrust_mu
+    return (
+        f.thrust_radius * f.thrust_mu * true.platform_mass * true.gravity,
+        f.hip_radius * f.hip_mu + f.thrust_radius * f.thrust_mu,
+    )
 
 
 @pytest.fixture(scope="module")
 def identified(logs):
     start, _ = machines()
-    sets = {"excitation + ISO": ["excitation", "iso", "iso_light"], "ISO only": ["iso"], "excitation alone": ["excitation"]}
+    sets = {
+        "excitation + ISO": ["excitation", "iso", "iso_light"],
+        "ISO only": ["iso"],
+        "excitation alone": ["excitation"],
+    }
     return {name: identify([logs[k] for k in keys], start) for name, keys in sets.items()}
 
 

@@ -2,9 +2,9 @@
 
 import numpy as np
 import pytest
+from rig_synthetic import fit_run, machines, write_log
 
 from hipsim.rig import identify, load_log
-from rig_synthetic import fit_run, machines, write_log
 
 TORQUE_CONSTANT = 0.36  # N·m/A, the example drive's
 

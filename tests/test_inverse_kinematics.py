@@ -2,9 +2,9 @@
 
 import numpy as np
 import pytest
+from support import SmoothMotion, central_difference, iso_at, relative_error
 
 import hipsim
-from hipsim.exceptions import PoseError
 from hipsim.analytic.inverse_kinematics import (
     angular_velocity_map,
     inverse_condition_number,
@@ -15,9 +15,8 @@ from hipsim.analytic.inverse_kinematics import (
     rotation_matrix,
     slider_heights,
 )
+from hipsim.exceptions import PoseError
 from hipsim.motion.trajectories import Trajectory, iso14242
-
-from support import SmoothMotion, central_difference, iso_at, relative_error
 
 H = 1e-5  # finite-difference step in [s]
 TOL = 1e-6
@@ -72,7 +71,11 @@ def test_jacobian_maps_angular_velocity_to_slider_speeds(params):
     q0 = np.radians([[10.0, -3.0, 5.0]])
     dq = 1e-6
     dLdq = np.stack(
-        [(slider_heights(params, q0 + dq * np.eye(3)[k]) - slider_heights(params, q0 - dq * np.eye(3)[k]))[0, 0] / (2 * dq) for k in range(3)],
+        [
+            (slider_heights(params, q0 + dq * np.eye(3)[k]) - slider_heights(params, q0 - dq * np.eye(3)[k]))[0, 0]
+            / (2 * dq)
+            for k in range(3)
+        ],
         axis=1,
     )
     kin = kinematics(params, Trajectory([0.0], q0, np.zeros((1, 3)), np.zeros((1, 3)), [0.0]))
@@ -127,7 +130,9 @@ def test_closure_and_slider_offset(params):
     assert np.max(np.abs(lengths - params.lever_length)) < 1e-12  # 1e-9 mm
     np.testing.assert_allclose(kin.L[:, 0] - kin.L[:, 1], params.heights[0] - params.heights[1], atol=1e-13)
     # b_ji on its screw: horizontal position is c_i.
-    np.testing.assert_allclose(kin.b[..., :2], np.broadcast_to(params.screw_points[:, :2], kin.b[..., :2].shape), atol=1e-15)
+    np.testing.assert_allclose(
+        kin.b[..., :2], np.broadcast_to(params.screw_points[:, :2], kin.b[..., :2].shape), atol=1e-15
+    )
     assert np.all(kin.e[..., 2] > 0)  # the lever below its platform joint
 
 
@@ -160,7 +165,11 @@ def _still(q_deg, t=0.0):
 
 def test_out_of_reach_raises_with_time(params):
     far = Trajectory(
-        [0.0, 0.5, 1.0], np.radians([[0, 0, 0], [0, 0, 0], [0, 0, 180]]), np.zeros((3, 3)), np.zeros((3, 3)), np.zeros(3)
+        [0.0, 0.5, 1.0],
+        np.radians([[0, 0, 0], [0, 0, 0], [0, 0, 180]]),
+        np.zeros((3, 3)),
+        np.zeros((3, 3)),
+        np.zeros(3),
     )
     with pytest.raises(PoseError, match=r"t = 1 s: pose out of reach") as error:
         kinematics(params, far)

@@ -55,7 +55,13 @@ def test_tolerances_parse_like_the_command_line():
     assert (tol.alpha, tol.beta, tol.load, tol.frequency) == (2.0, 3.0, 150.0, 0.05)
     assert parse_tolerances("load=120").load == 120.0
     assert parse_tolerances("") == DEFAULT_TOLERANCES
-    for bad, match in (("alpha", "NAME=VALUE"), ("delta=3", "NAME=VALUE"), ("alpha=3%", "percentage"), ("beta=x", "number"), ("gamma=-1", "positive")):
+    for bad, match in (
+        ("alpha", "NAME=VALUE"),
+        ("delta=3", "NAME=VALUE"),
+        ("alpha=3%", "percentage"),
+        ("beta=x", "number"),
+        ("gamma=-1", "positive"),
+    ):
         with pytest.raises(ArgumentError, match=match):
             parse_tolerances(bad)
     with pytest.raises(ArgumentError):

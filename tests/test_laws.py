@@ -20,11 +20,10 @@ import warnings
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
+from support import ALL_FRICTION
 
 import hipsim
 from hipsim.physics import laws, vectors
-
-from support import ALL_FRICTION
 
 RNG = np.random.default_rng(11)
 
@@ -193,8 +192,11 @@ def test_central_friction_by_hand(published):
     moment = laws.central_friction_moment(published.friction, omega, (0.0, 0.0, 1.0), Fe, weight)
     np.testing.assert_allclose(moment, magnitude * omega, rtol=1e-6)  # ŝ(ω) = ω/√(1 + 1e-6)
     # The load's sign does not matter (|F_e|), nor does the thrust bearing's if the load lifts the platform.
-    np.testing.assert_allclose(laws.central_friction_moment(published.friction, omega, (0, 0, 1), -Fe, weight),
-                               (0.015 * 0.095 * 1500.0 + 0.064 * 0.025 * 1304.0) * omega, rtol=1e-6)  # fmt: skip
+    np.testing.assert_allclose(
+        laws.central_friction_moment(published.friction, omega, (0, 0, 1), -Fe, weight),
+        (0.015 * 0.095 * 1500.0 + 0.064 * 0.025 * 1304.0) * omega,
+        rtol=1e-6,
+    )
 
 
 def test_axial_only_thrust_bearing_by_hand(published):
@@ -207,7 +209,9 @@ def test_axial_only_thrust_bearing_by_hand(published):
     np.testing.assert_allclose(laws.central_friction_moment(F, across, z, Fe, weight), hip * across, rtol=1e-6)
     along = 2.0 * z  # ω ∥ z: the publication's moment
     np.testing.assert_allclose(laws.central_friction_moment(F, along, z, Fe, weight), (hip + thrust) * z, rtol=1e-6)
-    np.testing.assert_allclose(laws.central_friction_moment(published.friction, along, z, Fe, weight), (hip + thrust) * z, rtol=1e-6)
+    np.testing.assert_allclose(
+        laws.central_friction_moment(published.friction, along, z, Fe, weight), (hip + thrust) * z, rtol=1e-6
+    )
     omega = np.array([1.0, 2.0, 0.5])  # ω·z = 1.6 rad/s
     expected = hip * omega / np.linalg.norm(omega) + thrust * z
     np.testing.assert_allclose(laws.central_friction_moment(F, omega, z, Fe, weight), expected, rtol=1e-6)
@@ -267,13 +271,23 @@ def compiled_laws():
     @njit(cache=False, error_model="numpy")
     def evaluate(F, c, s, qd, v, J, u1, e, w_perp, w_perp_dot, m, omega_l, z, Fe, weight, Ld, speed):
         return (
-            laws.rotation(c, s), laws.t_times(c, s, v), laws.t_transpose_times(c, s, m), laws.t_dot_times(c, s, qd, v),
-            laws.inverse_transpose(J), laws.lever_axes(u1, e), laws.lever_angular_velocity(u1, e, w_perp),
-            laws.lever_angular_acceleration(u1, e, w_perp, w_perp_dot), laws.spin_transpose(u1, e, m),
-            laws.smooth_sign(speed, F.epsilon), laws.smooth_sign_vector(v, F.epsilon), laws.screw_friction(F, speed),
-            laws.guide_friction(F, Ld, speed), laws.central_friction_moment(F, v, z, Fe, weight),
-            laws.lever_joint_friction(F, omega_l, v), laws.lever_joint_friction_on(F),
-        )  # fmt: skip
+            laws.rotation(c, s),
+            laws.t_times(c, s, v),
+            laws.t_transpose_times(c, s, m),
+            laws.t_dot_times(c, s, qd, v),
+            laws.inverse_transpose(J),
+            laws.lever_axes(u1, e),
+            laws.lever_angular_velocity(u1, e, w_perp),
+            laws.lever_angular_acceleration(u1, e, w_perp, w_perp_dot),
+            laws.spin_transpose(u1, e, m),
+            laws.smooth_sign(speed, F.epsilon),
+            laws.smooth_sign_vector(v, F.epsilon),
+            laws.screw_friction(F, speed),
+            laws.guide_friction(F, Ld, speed),
+            laws.central_friction_moment(F, v, z, Fe, weight),
+            laws.lever_joint_friction(F, omega_l, v),
+            laws.lever_joint_friction_on(F),
+        )
 
     return evaluate
 
@@ -328,7 +342,8 @@ def test_editing_a_law_recompiles_its_cached_callers(tmp_path):
     """numba keys a cache on the caller's file only; laws.jit adds the laws' files."""
     law = tmp_path / "law.py"
     law.write_text("from hipsim.physics.vectors import jitable\n\n\n@jitable\ndef law(x):\n    return 2.0 * x\n")
-    (tmp_path / "caller.py").write_text(textwrap.dedent('''
+    (tmp_path / "caller.py").write_text(
+        textwrap.dedent("""
         from pathlib import Path
 
         import law
@@ -341,7 +356,8 @@ def test_editing_a_law_recompiles_its_cached_callers(tmp_path):
 
 
         print(caller(1.0))
-    '''))
+    """)
+    )
 
     def run():
         done = subprocess.run([sys.executable, "caller.py"], cwd=tmp_path, capture_output=True, text=True, timeout=300)

@@ -71,8 +71,12 @@ IMPORTLIB_DATA = frozenset({"importlib.resources", "importlib.metadata"})
 
 #: Third-party packages a package must never import.
 FORBIDDEN_THIRD_PARTY = [
-    ("analytic", "pinocchio"), ("machine", "pinocchio"), ("motion", "pinocchio"), ("results", "pinocchio"),
-    ("physics", "pinocchio"), ("analytic", "mujoco"),
+    ("analytic", "pinocchio"),
+    ("machine", "pinocchio"),
+    ("motion", "pinocchio"),
+    ("results", "pinocchio"),
+    ("physics", "pinocchio"),
+    ("analytic", "mujoco"),
 ]
 
 
@@ -103,7 +107,7 @@ def nodes(path: Path) -> tuple[ast.AST, ...]:
     return _nodes(path, stat.st_mtime_ns, stat.st_size)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _nodes(path: Path, mtime_ns: int, size: int) -> tuple[ast.AST, ...]:
     kinds = (ast.Import, ast.ImportFrom, ast.Call, ast.Name, ast.Attribute)
     return tuple(node for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))) if isinstance(node, kinds))
@@ -153,7 +157,9 @@ def imports(root: Path) -> list[Import]:
                     base = node.module.split(".")
                 base = ".".join(base)
                 # "from a import b" imports the module a.b when there is one, else a name of a.
-                targets = [f"{base}.{alias.name}" if f"{base}.{alias.name}" in modules else base for alias in node.names]
+                targets = [
+                    f"{base}.{alias.name}" if f"{base}.{alias.name}" in modules else base for alias in node.names
+                ]
             else:
                 continue
             for target in targets:
@@ -236,7 +242,8 @@ def describe_cycle(root: Path, cycle: frozenset[str]) -> str:
     """A circle's files and the imports that close it."""
     edges = sorted(
         f"  {where(root, imp.path, imp.line)} imports {imp.target}"
-        for imp in imports(root) if imp.source in cycle and imp.target in cycle and imp.source != imp.target
+        for imp in imports(root)
+        if imp.source in cycle and imp.target in cycle and imp.source != imp.target
     )
     return "circle between " + ", ".join(sorted(cycle)) + ":\n" + "\n".join(edges)
 
@@ -264,9 +271,10 @@ def dynamic_imports(root: Path) -> list[str]:
             else:
                 continue
             for name in names:
-                if name == "__import__" or (name.split(".")[0] == "importlib" and not any(
-                    name == data or name.startswith(data + ".") for data in IMPORTLIB_DATA
-                )):
+                if name == "__import__" or (
+                    name.split(".")[0] == "importlib"
+                    and not any(name == data or name.startswith(data + ".") for data in IMPORTLIB_DATA)
+                ):
                     found.append(f"{where(root, path, node.lineno)}: {name}")
     return found
 
@@ -275,8 +283,10 @@ def forbidden_imports(root: Path, package: str, forbidden: str) -> list[str]:
     """Imports of the third-party ``forbidden`` in ``package``."""
     return [
         where(root, path, line)
-        for path in files(root) if package_of(root, path) == package
-        for line, name in third_party_imports(path) if name.split(".")[0] == forbidden
+        for path in files(root)
+        if package_of(root, path) == package
+        for line, name in third_party_imports(path)
+        if name.split(".")[0] == forbidden
     ]
 
 
@@ -284,7 +294,8 @@ def imports_of_present(root: Path, packages=("analysis", "rig", "design")) -> li
     """Imports of ``present`` in the packages that return data."""
     return [
         f"{where(root, imp.path, imp.line)}: {package_of(root, imp.path)} imports present"
-        for imp in imports(root) if package_of(root, imp.path) in packages and package_of(root, imp.target) == "present"
+        for imp in imports(root)
+        if package_of(root, imp.path) in packages and package_of(root, imp.target) == "present"
     ]
 
 
@@ -293,7 +304,12 @@ def printing_calls(path: Path, streams=("stdout", "stderr", "stdin")):
     for node in nodes(path):
         if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in ("print", "input"):
             yield node.lineno
-        if isinstance(node, ast.Attribute) and node.attr in streams and isinstance(node.value, ast.Name) and node.value.id == "sys":
+        if (
+            isinstance(node, ast.Attribute)
+            and node.attr in streams
+            and isinstance(node.value, ast.Name)
+            and node.value.id == "sys"
+        ):
             yield node.lineno
 
 
@@ -391,9 +407,12 @@ def test_the_rules_catch_planted_violations(tmp_path):
 
     broken = "\n".join(layer_violations(root))
     for expected in [
-        "hipsim/motion/__init__.py:", "motion imports machine",
-        "hipsim/mujoco_engine/__init__.py:", "mujoco_engine imports closed_chain",
-        "hipsim/machine/__init__.py:", "machine imports motion",
+        "hipsim/motion/__init__.py:",
+        "motion imports machine",
+        "hipsim/mujoco_engine/__init__.py:",
+        "mujoco_engine imports closed_chain",
+        "hipsim/machine/__init__.py:",
+        "machine imports motion",
         "rig imports design",
     ]:
         assert expected in broken, (expected, broken)

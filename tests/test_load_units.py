@@ -14,7 +14,9 @@ def lab_file(path, load_name):
     rows = ["Time," + ",".join(["FE", "AA", "IE", load_name])]
     for k, s in enumerate(t):
         w = 2 * np.pi * s
-        rows.append(f"{s:.4f},{25 * np.cos(w):.6f},{5 * np.sin(w):.6f},{-10 * np.cos(w):.6f},{100 + 200 * np.sin(w / 2) ** 2:.6f}")
+        rows.append(
+            f"{s:.4f},{25 * np.cos(w):.6f},{5 * np.sin(w):.6f},{-10 * np.cos(w):.6f},{100 + 200 * np.sin(w / 2) ** 2:.6f}"
+        )
     path.write_text("\n".join(rows) + "\n")
     return path
 
@@ -31,7 +33,10 @@ def test_a_body_weight_load_without_a_body_weight_is_an_error(name, tmp_path, ca
     with pytest.raises(TrajectoryError, match="body weight"):
         hipsim.load_trajectory_csv(path, columns=columns)
     # With the body weight it is read as % of it: 75 kg, 100 % at t = 0.
-    assert main(["torques", "--trajectory", str(path), "--columns", columns, "--body-weight", "75", "--out", str(out)]) == 0
+    assert (
+        main(["torques", "--trajectory", str(path), "--columns", columns, "--body-weight", "75", "--out", str(out)])
+        == 0
+    )
     capsys.readouterr()
     trajectory = hipsim.load_trajectory_csv(path, columns=columns, body_weight=75 * 9.80665)
     assert trajectory.Fe[0] == pytest.approx(75 * 9.80665)

@@ -26,11 +26,21 @@ def trajectory_with(cell: str) -> str:
 
 #: reader → (the command reading it from FILE, writing OUT; the file's text with a 200 kB cell; the line and column named)
 READERS = {
-    "trajectory": (["torques", "--trajectory", "FILE", "--out", "OUT"], trajectory_with(CELL), "line 6, column 'alpha_deg'"),
-    "variants": (["sweep", "--variants", "FILE", "--workers", "1", "--rate", "100", "--out", "OUT"], f"lever.length_mm\n330\n{CELL}\n",
-                 "line 3, column 'lever.length_mm'"),
-    "catalogue": (["size", "--catalogue", "FILE", "--format", "json"], f"name,s1_torque_Nm,peak_torque_Nm\nm1,1,2\n{'x' * 200_000},1,2\n",
-                  "line 3, column 'name'"),
+    "trajectory": (
+        ["torques", "--trajectory", "FILE", "--out", "OUT"],
+        trajectory_with(CELL),
+        "line 6, column 'alpha_deg'",
+    ),
+    "variants": (
+        ["sweep", "--variants", "FILE", "--workers", "1", "--rate", "100", "--out", "OUT"],
+        f"lever.length_mm\n330\n{CELL}\n",
+        "line 3, column 'lever.length_mm'",
+    ),
+    "catalogue": (
+        ["size", "--catalogue", "FILE", "--format", "json"],
+        f"name,s1_torque_Nm,peak_torque_Nm\nm1,1,2\n{'x' * 200_000},1,2\n",
+        "line 3, column 'name'",
+    ),
 }
 
 
@@ -88,9 +98,18 @@ def test_a_300_MB_header_line_is_refused_at_once_in_bounded_memory(tmp_path, rea
     with path.open("wb") as stream:  # a header that never ends: its name cells, then a hole of 300 MB (sparse: no disk)
         stream.write(b"t_s,alpha_deg,beta_deg,gamma_deg," + b"c," * 1000)
         stream.truncate(300_000_000)
-    done = subprocess.run([sys.executable, "-c", PROBE, reader, str(path)], capture_output=True, text=True, cwd=ROOT,
-                          env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"}, timeout=60)  # fmt: skip
+    done = subprocess.run(
+        [sys.executable, "-c", PROBE, reader, str(path)],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"},
+        timeout=60,
+    )
     assert done.returncode == 0, done.stderr
     seconds, megabytes, message = done.stdout.splitlines()
     assert float(seconds) < 1.0 and float(megabytes) < 100.0, (seconds, megabytes)
-    assert message == f"{path}, line 1: a line longer than 4 MiB: not a {'trajectory file' if reader == 'trajectory' else reader + ' file' if reader == 'variants' else 'motor catalogue'} (is it the right file?)"
+    assert (
+        message
+        == f"{path}, line 1: a line longer than 4 MiB: not a {'trajectory file' if reader == 'trajectory' else reader + ' file' if reader == 'variants' else 'motor catalogue'} (is it the right file?)"
+    )

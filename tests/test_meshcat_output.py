@@ -15,8 +15,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hipsim.present.meshcat_output import DiscreteAnimation, OfflineWindow, offline_page
 from hipsim.motion.trajectories import iso14242
+from hipsim.present.meshcat_output import DiscreteAnimation, OfflineWindow, offline_page
 from hipsim.present.viewer import Viewer
 
 REPO = Path(__file__).resolve().parents[1]
@@ -127,8 +127,11 @@ def test_offline_page_holds_the_scene_with_the_animation_last():
     assert encoded == [base64.b64encode(c).decode("ascii") for c in window.commands()]
     commands = [umsgpack.unpackb(base64.b64decode(e)) for e in encoded]
     assert [(c["type"], c["path"]) for c in commands] == [
-        ("set_object", "/meshcat/box"), ("set_transform", "/meshcat/box"), ("set_object", "/meshcat/ball"), ("set_animation", ""),
-    ]  # fmt: skip
+        ("set_object", "/meshcat/box"),
+        ("set_transform", "/meshcat/box"),
+        ("set_object", "/meshcat/ball"),
+        ("set_animation", ""),
+    ]
     tracks = [t for entry in commands[-1]["animations"] for t in entry["clip"]["tracks"]]
     assert tracks and all(t["interpolation"] == 2300 for t in tracks)  # discrete: each frame held until the next
     assert "<title>a &lt;title&gt; &amp; more</title>" in html and "first line<br>second <b>line</b>" in html
@@ -169,9 +172,13 @@ sys.exit(main(["view", "--forces", "--singularity"]))
 
 def test_view_command_ends_cleanly_on_ctrl_c():
     child = subprocess.Popen(
-        [sys.executable, "-c", _SCRIPT], cwd=REPO, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        [sys.executable, "-c", _SCRIPT],
+        cwd=REPO,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
         env={**os.environ, "PYTHONPATH": str(REPO)},
-    )  # fmt: skip
+    )
     try:
         line = ""
         deadline = time.monotonic() + 30
@@ -200,7 +207,13 @@ def test_view_command_ends_cleanly_on_ctrl_c():
 
 def test_server_ends_with_its_parent():
     script = "from hipsim.present.viewer import Viewer; import time; v = Viewer(); print(v.server_pid, flush=True); time.sleep(60)"
-    child = subprocess.Popen([sys.executable, "-c", script], cwd=REPO, stdout=subprocess.PIPE, text=True, env={**os.environ, "PYTHONPATH": str(REPO)})
+    child = subprocess.Popen(
+        [sys.executable, "-c", script],
+        cwd=REPO,
+        stdout=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "PYTHONPATH": str(REPO)},
+    )
     try:
         server = int(child.stdout.readline())
         assert alive(server)

@@ -17,7 +17,14 @@ import yourdfpy
 
 import hipsim.machine.model_files as model_files
 from hipsim import ModelError, load_parameters
-from hipsim.machine.model_files import closure_file_path, default_urdf_path, urdf_text, write_urdf, xacro_arguments, xacro_path
+from hipsim.machine.model_files import (
+    closure_file_path,
+    default_urdf_path,
+    urdf_text,
+    write_urdf,
+    xacro_arguments,
+    xacro_path,
+)
 
 JOINTS = (
     [f"slider_{i}" for i in (1, 2, 3)]
@@ -223,7 +230,9 @@ def test_write_urdf_refuses_what_a_second_parser_cannot_read(tmp_path, monkeypat
     with pytest.raises(ModelError, match="no_such_link.*does not exist"):
         write_urdf(None, tmp_path / "broken.urdf")
     assert list(tmp_path.iterdir()) == []
-    monkeypatch.setattr(model_files, "urdf_text", lambda params=None: "<robot name='x'><link name='a'/>")  # not even XML
+    monkeypatch.setattr(
+        model_files, "urdf_text", lambda params=None: "<robot name='x'><link name='a'/>"
+    )  # not even XML
     with pytest.raises(ModelError, match="cannot read"):
         write_urdf(None, tmp_path / "cut.urdf")
     assert list(tmp_path.iterdir()) == []

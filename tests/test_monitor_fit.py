@@ -4,13 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from monitor_synthetic import write_snapshot, write_test
 
 import hipsim
 from hipsim.rig.monitor_fit import MonitorSetup, estimate
 from hipsim.rig.monitor_run import monitor
 from hipsim.rig.snapshots import find_snapshots
-
-from monitor_synthetic import hip_mu, write_snapshot, write_test
 
 STEP_AT = 2_100_000  # between the snapshots at 2,000,000 and 2,250,000
 BASELINE = (500_000, 1_000_000)
@@ -90,7 +89,9 @@ def test_per_station_refused_when_the_loads_vary_alike(tmp_path, params):
     lines = path.read_text().splitlines()
     header = lines[0].split(",")
     k = header.index("Fe_N")
-    out = [lines[0] + ",Fe_1_N,Fe_2_N"] + [line + f",{float(line.split(',')[k]) / 2:.10g},{float(line.split(',')[k]) / 2:.10g}" for line in lines[1:]]
+    out = [lines[0] + ",Fe_1_N,Fe_2_N"] + [
+        line + f",{float(line.split(',')[k]) / 2:.10g},{float(line.split(',')[k]) / 2:.10g}" for line in lines[1:]
+    ]
     path.write_text("\n".join(out) + "\n")
     row = estimate(MonitorSetup(params), find_snapshots(tmp_path)[0])
     assert row["stations"].startswith("not separable") and np.isnan(row["load_friction_1_mm"])

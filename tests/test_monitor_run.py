@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from monitor_synthetic import write_snapshot, write_test
 
 import hipsim
 from hipsim.cli import monitor as monitor_cli
@@ -17,8 +18,6 @@ from hipsim.rig.monitor_fit import MonitorSetup
 from hipsim.rig.monitor_run import run_monitor
 from hipsim.rig.monitor_table import read_table
 from hipsim.rig.snapshots import find_snapshots
-
-from monitor_synthetic import write_snapshot, write_test
 
 MODELS = Path(hipsim.__file__).resolve().parent.parent / "models"
 
@@ -33,8 +32,11 @@ def identified(tmp_path_factory):
     """An identified parameter file: the published machine with the header hipsim identify writes."""
     path = tmp_path_factory.mktemp("params") / "identified.toml"
     published = Path(hipsim.load_parameters().source).read_text(encoding="utf-8")
-    path.write_text("# Identified by hipsim identify: a parameter file every hipsim command accepts (--params).\n"
-                    "# Model: analytic, lever spin on; regressor condition number 10.\n\n" + published, encoding="utf-8")
+    path.write_text(
+        "# Identified by hipsim identify: a parameter file every hipsim command accepts (--params).\n"
+        "# Model: analytic, lever spin on; regressor condition number 10.\n\n" + published,
+        encoding="utf-8",
+    )
     return path
 
 
@@ -83,15 +85,48 @@ def test_another_set_up_into_the_same_table_is_refused(params, test_logs, tmp_pa
     out = tmp_path / "table.csv"
     run_monitor(MonitorSetup(params), find_snapshots(test_logs), out=out)
     before = out.read_bytes()
-    status = main(["monitor", "--params", str(identified), "--log", str(test_logs), "--out", str(out), "--cutoff", "15"])
+    status = main(
+        ["monitor", "--params", str(identified), "--log", str(test_logs), "--out", str(out), "--cutoff", "15"]
+    )
     assert status == 2 and "another set-up" in capsys.readouterr().err and out.read_bytes() == before
-    assert main(["monitor", "--params", str(identified), "--log", str(test_logs), "--out", str(out), "--cutoff", "15", "--restart"]) == 1
+    assert (
+        main(
+            [
+                "monitor",
+                "--params",
+                str(identified),
+                "--log",
+                str(test_logs),
+                "--out",
+                str(out),
+                "--cutoff",
+                "15",
+                "--restart",
+            ]
+        )
+        == 1
+    )
 
 
 def test_the_command_writes_table_report_and_exits_1_on_an_active_alarm(test_logs, identified, tmp_path, capsys):
     out, report = tmp_path / "friction.csv", tmp_path / "report"
-    status = main(["monitor", "--params", str(identified), "--log", str(test_logs), "--out", str(out), "--report", str(report),
-                   "--summary-format", "json", "--baseline", "500000:1000000"])
+    status = main(
+        [
+            "monitor",
+            "--params",
+            str(identified),
+            "--log",
+            str(test_logs),
+            "--out",
+            str(out),
+            "--report",
+            str(report),
+            "--summary-format",
+            "json",
+            "--baseline",
+            "500000:1000000",
+        ]
+    )
     assert status == 1
     import json
 
@@ -100,8 +135,19 @@ def test_the_command_writes_table_report_and_exits_1_on_an_active_alarm(test_log
     assert summary["first_alarm"]["hip_mu_change"] == pytest.approx(0.035, abs=0.004)
     assert summary["provenance"]["parameters"]
     table = read_table(out)
-    assert {"cycle", "load_friction_mm", "load_friction_mm_std", "hip_mu_change", "hip_mu_change_std", "screw_coulomb_Nmm",
-            "screw_coulomb_Nmm_std", "screw_viscous_Nmm_s_rad", "screw_viscous_Nmm_s_rad_std", "residual_rms_Nmm", "alarm"} <= set(table)
+    assert {
+        "cycle",
+        "load_friction_mm",
+        "load_friction_mm_std",
+        "hip_mu_change",
+        "hip_mu_change_std",
+        "screw_coulomb_Nmm",
+        "screw_coulomb_Nmm_std",
+        "screw_viscous_Nmm_s_rad",
+        "screw_viscous_Nmm_s_rad_std",
+        "residual_rms_Nmm",
+        "alarm",
+    } <= set(table)
     page = (report / "index.html").read_text(encoding="utf-8")
     assert 'id="verdict"' in page and 'id="provenance"' in page and "ALARM" in page and "snap_01750000.csv" in page
     for stem in ("chart", "screw", "residuals"):
@@ -124,7 +170,19 @@ def test_the_parser_defaults_are_the_library_s():
 
 def _bad(tmp_path, identified, capsys, logs, params_file=None) -> str:
     out, report = tmp_path / "out.csv", tmp_path / "report"
-    status = main(["monitor", "--params", str(params_file or identified), "--log", str(logs), "--out", str(out), "--report", str(report)])
+    status = main(
+        [
+            "monitor",
+            "--params",
+            str(params_file or identified),
+            "--log",
+            str(logs),
+            "--out",
+            str(out),
+            "--report",
+            str(report),
+        ]
+    )
     err = capsys.readouterr().err.strip()
     assert status == 2 and err.startswith("hipsim: error: ") and len(err.splitlines()) == 1
     assert not out.exists() and not report.exists()
@@ -191,7 +249,11 @@ def test_an_identification_table_is_accepted(one, tmp_path, capsys):
 def test_a_long_log_in_windows(params, tmp_path):
     write_snapshot(tmp_path / "long.csv", params, 0.1, 100, np.random.default_rng(2), cycles=7)
     snapshots = find_snapshots(tmp_path, window=2)
-    assert [(s.first_cycle, s.last_cycle) for s in snapshots] == [(100, 101), (102, 103), (104, 105)]  # 106 waits for 107
+    assert [(s.first_cycle, s.last_cycle) for s in snapshots] == [
+        (100, 101),
+        (102, 103),
+        (104, 105),
+    ]  # 106 waits for 107
     result = run_monitor(MonitorSetup(params, window=2), snapshots)
     f = params.friction
     truth = (f.hip_radius * 0.1 + f.thrust_radius * f.thrust_mu) * 1e3

@@ -25,19 +25,20 @@ try:
 except MissingDependencyError as error:  # installed, but a release the engine refuses
     pytest.skip(str(error), allow_module_level=True)
 
+from support import ALL_FRICTION  # noqa: E402
+
 from hipsim.analysis.crosscheck import compare_mujoco  # noqa: E402
+from hipsim.cli.main import main  # noqa: E402
 from hipsim.closed_chain.build import load_model as load_pinocchio  # noqa: E402
 from hipsim.closed_chain.plant import PinocchioPlant  # noqa: E402
-from hipsim.cli.main import main  # noqa: E402
 from hipsim.control.controllers import AugmentedPD, WorkspacePD  # noqa: E402
 from hipsim.control.simulation import apply_mismatch, simulate  # noqa: E402
 from hipsim.machine.model_files import urdf_text  # noqa: E402
 from hipsim.motion.trajectories import iso14242_at  # noqa: E402
 from hipsim.mujoco_engine import MujocoModel, MujocoPlant, load_model  # noqa: E402
-from hipsim.mujoco_engine.mjcf import KEYFRAME, MjcfSettings, keyframe_gap, mjcf_text, write_mjcf  # noqa: E402
 from hipsim.mujoco_engine.friction import FrictionForces, friction_forces  # noqa: E402
+from hipsim.mujoco_engine.mjcf import KEYFRAME, MjcfSettings, keyframe_gap, mjcf_text, write_mjcf  # noqa: E402
 from hipsim.mujoco_engine.trajectory import trajectory_dynamics  # noqa: E402
-from support import ALL_FRICTION  # noqa: E402
 
 DURATION = 0.2  # [s] of closed-loop and open-loop runs
 SERVO = 1000.0  # [Hz], with the parameter file's RK4 step of 0.5 ms
@@ -122,7 +123,9 @@ def test_the_mjcf_follows_the_parameters(params):
     mujoco.mj_forward(model, data)
     np.testing.assert_allclose(data.qfrc_actuator[sliders], 2 * np.pi / 0.005 * np.array([0.3, -0.2, 0.1]), rtol=1e-14)
     # Settings are written as asked: integrator, step, the closures' softness.
-    model = mujoco.MjModel.from_xml_string(mjcf_text(params, MjcfSettings(timestep=1e-3, integrator="Euler"), keyframe=False))
+    model = mujoco.MjModel.from_xml_string(
+        mjcf_text(params, MjcfSettings(timestep=1e-3, integrator="Euler"), keyframe=False)
+    )
     assert model.opt.timestep == 1e-3 and model.opt.integrator == mujoco.mjtIntegrator.mjINT_EULER and model.nkey == 0
     np.testing.assert_allclose(model.eq_solref, [[2e-3, 1.0]] * 6)  # two steps with Euler
     np.testing.assert_allclose(model.eq_solimp[:, :2], 0.9999)
@@ -131,8 +134,10 @@ def test_the_mjcf_follows_the_parameters(params):
 def _pinocchio_map(model, chain):
     """MuJoCo dof indices and the Pinocchio velocity indices of the same joints, by name."""
     names = [model.joint(k).name for k in range(model.njnt)]
-    return (np.array([model.joint(n).dofadr[0] for n in names]),
-            np.array([chain.model.joints[chain.model.getJointId(n)].idx_v for n in names]))  # fmt: skip
+    return (
+        np.array([model.joint(n).dofadr[0] for n in names]),
+        np.array([chain.model.joints[chain.model.getJointId(n)].idx_v for n in names]),
+    )
 
 
 def test_tree_is_the_urdf_tree_as_pinocchio_reads_it(params, model):
@@ -167,7 +172,9 @@ def test_tree_is_the_urdf_tree_as_pinocchio_reads_it(params, model):
 def test_visual_geometry_is_the_meshcat_scene(params, model):
     """Every URDF visual (what the meshcat viewer draws through Pinocchio) is a geom in the same place, size and colour."""
     chain = load_pinocchio(params)
-    links = {link.name: link for link in yourdfpy.URDF.load(io.StringIO(urdf_text(params)), load_meshes=False).robot.links}
+    links = {
+        link.name: link for link in yourdfpy.URDF.load(io.StringIO(urdf_text(params)), load_meshes=False).robot.links
+    }
     mj, pn = _pinocchio_map(model, chain)
     q_pin = np.random.default_rng(3).uniform(-0.4, 0.4, chain.model.nq)
     q_mj = np.empty(model.nq)
@@ -244,7 +251,10 @@ def test_the_axial_only_thrust_bearing_agrees_with_the_other_engines(params):
     for comparison in compare_mujoco(axial, traj):
         assert comparison.ok, (comparison.name, max(comparison.rows, key=lambda row: row[2]))
     publication = hipsim.analyse(params, traj, model="mujoco").torques.friction
-    assert np.abs(hipsim.analyse(axial, traj, model="mujoco").torques.friction - publication).max() > 0.2 * np.abs(publication).max()
+    assert (
+        np.abs(hipsim.analyse(axial, traj, model="mujoco").torques.friction - publication).max()
+        > 0.2 * np.abs(publication).max()
+    )
 
 
 def test_a_different_machine_is_detected(params):
@@ -252,7 +262,9 @@ def test_a_different_machine_is_detected(params):
     traj = hipsim.iso14242(rate=100)
     heavier = MujocoModel(params.replace(lever_mass=params.lever_mass * 1.1)).run(traj).columns()
     reference = hipsim.analyse(params, traj, lever_spin=True).columns()
-    difference = np.abs(heavier["tau_l_1_Nmm"] - reference["tau_l_1_Nmm"]).max() / np.abs(reference["tau_l_1_Nmm"]).max()
+    difference = (
+        np.abs(heavier["tau_l_1_Nmm"] - reference["tau_l_1_Nmm"]).max() / np.abs(reference["tau_l_1_Nmm"]).max()
+    )
     assert difference > 0.05
 
 
@@ -313,8 +325,10 @@ def test_forward_dynamics_at_a_rigid_state_is_the_inverse_dynamics_but_soft(para
     """At a closed state under the inverse-dynamics torques MuJoCo's acceleration is the rigid one, except for the
     closures' softness: impedance 0.9999 leaves 1e-4 of the constraint-space acceleration unenforced."""
     if not RECENT:
-        pytest.skip(f"MuJoCo {mujoco.__version__}: before 3.7 the closures are much softer at a rigid state "
-                    "(measured up to 1.05 of |a| with 3.3.1, 3.3e-3 with 3.6.0)")  # fmt: skip
+        pytest.skip(
+            f"MuJoCo {mujoco.__version__}: before 3.7 the closures are much softer at a rigid state "
+            "(measured up to 1.05 of |a| with 3.3.1, 3.3e-3 with 3.6.0)"
+        )
     traj = iso14242_at(np.array([0.0, 0.13, 0.5, 0.77]))
     kin, torques = trajectory_dynamics(plant.machine, traj)
     for k in range(4):
@@ -348,7 +362,10 @@ def runs(params, plant):
     """Both controllers over 0.2 s on the Pinocchio plant and on the MuJoCo plant (RK4 0.5 ms, Euler 1 ms)."""
     euler = MujocoPlant(params.replace(integration_step=1e-3), integrator="Euler")
     out = {}
-    for name, controller in (("pd", WorkspacePD(params)), ("augmented-pd", AugmentedPD(params, iso14242_at, SERVO, DURATION))):
+    for name, controller in (
+        ("pd", WorkspacePD(params)),
+        ("augmented-pd", AugmentedPD(params, iso14242_at, SERVO, DURATION)),
+    ):
         reference = simulate(PinocchioPlant(params), controller, iso14242_at, DURATION)
         rk4 = simulate(plant, controller, iso14242_at, DURATION)
         rk4_gaps = plant.gap_history()
@@ -392,7 +409,9 @@ def test_closure_gap_along_the_run(runs, controller):
 
 def test_mjcf_command_writes_a_model_that_loads(tmp_path, capsys):
     out = tmp_path / "machine.xml"
-    assert main(["mjcf", "--out", str(out), "--set", "screw.lead_mm=5", "--integrator", "Euler", "--timestep", "1"]) == 0
+    assert (
+        main(["mjcf", "--out", str(out), "--set", "screw.lead_mm=5", "--integrator", "Euler", "--timestep", "1"]) == 0
+    )
     printed = capsys.readouterr().out
     assert f"wrote {out}" in printed and "6 connect closures" in printed and "Euler, time step 1 ms" in printed
     model = mujoco.MjModel.from_xml_path(str(out))
@@ -422,8 +441,11 @@ def test_without_mujoco_the_commands_say_how_to_install_it(tmp_path):
         "from hipsim.cli.main import main\n"
         "sys.exit(main(sys.argv[1:]))\n"
     )
-    for args in (["mjcf", "--out", str(tmp_path / "m.xml")], ["check", "--engine", "mujoco", "--rate", "50"],
-                 ["simulate", "--plant", "mujoco", "--cycles", "0.01", "--out", str(tmp_path / "s.csv")]):  # fmt: skip
+    for args in (
+        ["mjcf", "--out", str(tmp_path / "m.xml")],
+        ["check", "--engine", "mujoco", "--rate", "50"],
+        ["simulate", "--plant", "mujoco", "--cycles", "0.01", "--out", str(tmp_path / "s.csv")],
+    ):
         done = subprocess.run([sys.executable, "-c", script, *args], capture_output=True, text=True, timeout=120)
         assert done.returncode == 2
         lines = done.stderr.strip().splitlines()
@@ -438,4 +460,6 @@ def test_the_plant_applies_the_torques_the_loop_asks_for(params):
     limited.derivative(0.2, x, np.array([2.0, -2.0, 1.0]), 1000.0)
     np.testing.assert_array_equal(limited.data.actuator_force, [2.0, -2.0, 1.0])  # not clamped to ±0.5 N·m
     sliders = limited.machine.slider_dof
-    np.testing.assert_allclose(limited.data.qfrc_actuator[sliders], 2 * np.pi / params.lead * np.array([2.0, -2.0, 1.0]), rtol=1e-14)
+    np.testing.assert_allclose(
+        limited.data.qfrc_actuator[sliders], 2 * np.pi / params.lead * np.array([2.0, -2.0, 1.0]), rtol=1e-14
+    )

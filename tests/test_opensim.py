@@ -12,14 +12,13 @@ import math
 
 import numpy as np
 import pytest
+from support import Rx, Ry, Rz, machine_R, zxy_angles, zyx_angles
 
 from hipsim import TrajectoryError
-from hipsim.motion.opensim import load_opensim
 from hipsim.motion.build import TrajectoryWarning
-from hipsim.motion.readers import read_trajectory
-
 from hipsim.motion.hip_angles import PELVIS_AXES
-from support import Rx, Ry, Rz, machine_R, zxy_angles, zyx_angles
+from hipsim.motion.opensim import load_opensim
+from hipsim.motion.readers import read_trajectory
 
 HIP = ("hip_flexion", "hip_adduction", "hip_rotation")
 
@@ -27,7 +26,12 @@ HIP = ("hip_flexion", "hip_adduction", "hip_rotation")
 def gait(t):
     """Platform angles [rad] of a smooth gait-like motion, (N, 3): well away from any gimbal lock."""
     s = 2 * np.pi * np.asarray(t)
-    return np.radians(np.stack([3.5 + 21.5 * np.cos(s), 1.5 + 5.5 * np.cos(s - 0.7) + 2 * np.sin(2 * s), -4 + 6 * np.cos(s - np.pi)], axis=1))
+    return np.radians(
+        np.stack(
+            [3.5 + 21.5 * np.cos(s), 1.5 + 5.5 * np.cos(s - 0.7) + 2 * np.sin(2 * s), -4 + 6 * np.cos(s - np.pi)],
+            axis=1,
+        )
+    )
 
 
 def hip_coordinates(q):
@@ -79,7 +83,9 @@ def test_mot_from_a_known_R_sequence_reproduces_alpha_beta_gamma(tmp_path, in_de
 def test_a_left_hip_drives_the_machine_as_its_mirror_image(tmp_path):
     """OpenSim's left hip turns about +z, −x, −y; mirrored through the sagittal plane it is a right hip."""
     t = np.arange(120) / 120
-    coordinates = np.radians(np.stack([20 * np.cos(2 * np.pi * t), 6 * np.sin(2 * np.pi * t), -8 + 5 * np.cos(2 * np.pi * t)], axis=1))
+    coordinates = np.radians(
+        np.stack([20 * np.cos(2 * np.pi * t), 6 * np.sin(2 * np.pi * t), -8 + 5 * np.cos(2 * np.pi * t)], axis=1)
+    )
     path = tmp_path / "left.mot"
     path.write_text(mot_text(t, {f"{name}_l": np.degrees(coordinates[:, k]) for k, name in enumerate(HIP)}))
     traj = load_opensim(path, side="left", periodic=False)
@@ -87,7 +93,9 @@ def test_a_left_hip_drives_the_machine_as_its_mirror_image(tmp_path):
     for k, (f, a, r) in enumerate(coordinates):
         left_femur = Rz(f) @ Rx(-a) @ Ry(-r)  # pelvis axes, OpenSim's left-side axes
         np.testing.assert_allclose(machine_R(*traj.q[k]), C @ M @ left_femur @ M @ C.T, rtol=0, atol=1e-13)
-    with pytest.raises(TrajectoryError, match=r"no column 'hip_flexion_r' \(the right hip's coordinate\).*the other hip's are there"):
+    with pytest.raises(
+        TrajectoryError, match=r"no column 'hip_flexion_r' \(the right hip's coordinate\).*the other hip's are there"
+    ):
         load_opensim(path)
 
 
@@ -109,7 +117,9 @@ def test_old_simm_header_space_separated_and_state_paths(tmp_path):
     q = gait(t)
     hip = np.degrees(hip_coordinates(q))
     lines = ["walk.mot", "datacolumns 4", "datarows 50", "range 0 0.49", "inDegrees yes", "endheader"]
-    lines.append("time   /jointset/hip_r/hip_flexion_r/value   /jointset/hip_r/hip_adduction_r/value   /jointset/hip_r/hip_rotation_r/value")
+    lines.append(
+        "time   /jointset/hip_r/hip_flexion_r/value   /jointset/hip_r/hip_adduction_r/value   /jointset/hip_r/hip_rotation_r/value"
+    )
     lines += ["  " + "   ".join(repr(float(v)) for v in (t[k], *hip[k])) for k in range(50)]
     path = tmp_path / "walk.mot"
     path.write_text("\n".join(lines) + "\n")
@@ -119,13 +129,18 @@ def test_old_simm_header_space_separated_and_state_paths(tmp_path):
 def test_inDegrees_absent_means_radians_as_OpenSim_reads_it(tmp_path):
     t = np.arange(40) / 100
     q = gait(t)
-    np.testing.assert_allclose(load_opensim(write_mot(tmp_path / "rad.mot", t, q, in_degrees=None)).q, q, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(
+        load_opensim(write_mot(tmp_path / "rad.mot", t, q, in_degrees=None)).q, q, rtol=0, atol=1e-12
+    )
     # Degrees in a file that does not say so: refused where they are, not read as radians.
     path = tmp_path / "deg.mot"
     flexion = np.degrees(hip_coordinates(q))
     path.write_text(mot_text(t, {f"{n}_r": flexion[:, k] for k, n in enumerate(HIP)}, in_degrees=None))
     line = 10 + int(np.argmax(np.abs(flexion[:, 0])))  # the labels are on line 9
-    with pytest.raises(TrajectoryError, match=rf"deg.mot, line {line}, column 'hip_flexion_r': .* rad is more than half a turn: these look like degrees"):
+    with pytest.raises(
+        TrajectoryError,
+        match=rf"deg.mot, line {line}, column 'hip_flexion_r': .* rad is more than half a turn: these look like degrees",
+    ):
         load_opensim(path)
 
 
@@ -137,7 +152,9 @@ def test_load_column_in_newtons_or_percent_body_weight(tmp_path):
     np.testing.assert_allclose(traj.Fe, force / 100 * 75 * 9.80665, rtol=1e-15)
     traj = read_trajectory(path, load_column="-hip_r_on_pelvis_fy:N")
     np.testing.assert_allclose(traj.Fe, force, rtol=1e-15)
-    with pytest.raises(TrajectoryError, match=r"jr.sto, line 11, column 'hip_r_on_pelvis_fy': load -\d.* N is negative"):
+    with pytest.raises(
+        TrajectoryError, match=r"jr.sto, line 11, column 'hip_r_on_pelvis_fy': load -\d.* N is negative"
+    ):
         read_trajectory(path, load_column="hip_r_on_pelvis_fy")
 
 
@@ -154,12 +171,21 @@ def set_cell(text: str, line: int, column: int, value: str) -> str:
     "edit, message",
     [
         (lambda text: text.replace("endheader\n", ""), "no 'endheader' line: not an OpenSim .mot/.sto file"),
-        (lambda text: text.replace("inDegrees=yes", "inDegrees=maybe"), "line 5: inDegrees must be yes or no, got 'maybe'"),
-        (lambda text: text.replace("hip_adduction_r", "hip_abduction_r"), "line 10: no column 'hip_adduction_r' (the right hip's coordinate)"),
+        (
+            lambda text: text.replace("inDegrees=yes", "inDegrees=maybe"),
+            "line 5: inDegrees must be yes or no, got 'maybe'",
+        ),
+        (
+            lambda text: text.replace("hip_adduction_r", "hip_abduction_r"),
+            "line 10: no column 'hip_adduction_r' (the right hip's coordinate)",
+        ),
         (lambda text: set_cell(text, 15, 3, "abc"), "line 15, column 'hip_adduction_r': 'abc' is not a number"),
         (lambda text: set_cell(text, 16, 0, "0.04"), "line 16, column 'time': time 0.04 s does not increase"),
         (lambda text: set_cell(text, 17, 2, "nan"), "line 17, column 'hip_flexion_r': 'nan' is not finite"),
-        (lambda text: "\n".join(x if k != 12 else x.rsplit("\t", 1)[0] for k, x in enumerate(text.split("\n"))), "line 13: 5 values, the labels are 6"),
+        (
+            lambda text: "\n".join(x if k != 12 else x.rsplit("\t", 1)[0] for k, x in enumerate(text.split("\n"))),
+            "line 13: 5 values, the labels are 6",
+        ),
     ],
 )
 def test_bad_files_are_one_line_naming_file_line_and_column(tmp_path, edit, message):
@@ -185,8 +211,14 @@ def test_side_and_mapping_mistakes_are_named(tmp_path):
 @pytest.mark.parametrize(
     "edit, message",
     [
-        (lambda text: text.replace("nRows=20", "nRows=25"), "line 3: the header says 25 rows, the file has 20: the rows are read"),
-        (lambda text: text.replace("nColumns=6", "nColumns=7"), "line 4: the header says 7 columns, the labels are 6: the labels are read"),
+        (
+            lambda text: text.replace("nRows=20", "nRows=25"),
+            "line 3: the header says 25 rows, the file has 20: the rows are read",
+        ),
+        (
+            lambda text: text.replace("nColumns=6", "nColumns=7"),
+            "line 4: the header says 7 columns, the labels are 6: the labels are read",
+        ),
     ],
 )
 def test_header_counts_that_disagree_with_the_data_are_a_warning_and_the_data_win(tmp_path, edit, message):
@@ -246,7 +278,9 @@ def test_opensim_reads_the_file_and_turns_the_femur_as_hipsim_says(osim, tmp_pat
     rng = np.random.default_rng(7)
     coordinates = np.degrees(gait(t)) + rng.uniform(-5, 5, (60, 3))
     path = tmp_path / f"ik_{side}.mot"
-    path.write_text(mot_text(t, {f"{n}_{side}": coordinates[:, k] for k, n in enumerate(HIP)} | {"knee_angle_r": np.ones(60)}))
+    path.write_text(
+        mot_text(t, {f"{n}_{side}": coordinates[:, k] for k, n in enumerate(HIP)} | {"knee_angle_r": np.ones(60)})
+    )
     traj = load_opensim(path, side="right" if side == "r" else "left", periodic=False)
 
     storage = osim.Storage(str(path))

@@ -117,15 +117,39 @@ def design(tmp_path_factory):
     folder = tmp_path_factory.mktemp("design")
     trajectory = folder / "cycle.csv"
     t = np.arange(0, 1, 0.01)
-    rows = [f"{x:.2f},{20 * np.sin(2 * np.pi * x):.6f},{5 * np.sin(2 * np.pi * x):.6f},{8 * np.cos(2 * np.pi * x):.6f},"
-            f"{1500 + 1000 * np.sin(2 * np.pi * x):.3f}" for x in t]
+    rows = [
+        f"{x:.2f},{20 * np.sin(2 * np.pi * x):.6f},{5 * np.sin(2 * np.pi * x):.6f},{8 * np.cos(2 * np.pi * x):.6f},"
+        f"{1500 + 1000 * np.sin(2 * np.pi * x):.3f}"
+        for x in t
+    ]
     trajectory.write_text("t_s,alpha_deg,beta_deg,gamma_deg,Fe_N\n" + "\n".join(rows) + "\n")
     drive = folder / "motor.toml"
-    drive.write_text("[motor]\nname = \"small motor\"\nrated_torque_Nmm = 200\npeak_torque_Nmm = 400\nmax_speed_rpm = 3000\n"
-                     "rotor_inertia_kgcm2 = 1.2\n[lead_screw]\nname = \"screw\"\nlead_mm = 10\nroot_diameter_mm = 12\nfree_length_mm = 400\n")
+    drive.write_text(
+        '[motor]\nname = "small motor"\nrated_torque_Nmm = 200\npeak_torque_Nmm = 400\nmax_speed_rpm = 3000\n'
+        'rotor_inertia_kgcm2 = 1.2\n[lead_screw]\nname = "screw"\nlead_mm = 10\nroot_diameter_mm = 12\nfree_length_mm = 400\n'
+    )
     out = folder / "site"
-    status = main(["report", "--trajectory", str(trajectory), "--motor", str(drive), "--model", "analytic", "--out", str(out),
-                   "--set", "lever.length_mm=330", "--title", "Drive review", "--author", "A. Tester", "--rig", "HS-2 #0042"])
+    status = main(
+        [
+            "report",
+            "--trajectory",
+            str(trajectory),
+            "--motor",
+            str(drive),
+            "--model",
+            "analytic",
+            "--out",
+            str(out),
+            "--set",
+            "lever.length_mm=330",
+            "--title",
+            "Drive review",
+            "--author",
+            "A. Tester",
+            "--rig",
+            "HS-2 #0042",
+        ]
+    )
     return {"status": status, "out": out, "trajectory": trajectory, "drive": drive}
 
 
@@ -223,7 +247,10 @@ def test_pdf_without_chromium_is_a_clear_error_and_writes_nothing(tmp_path, monk
 def test_pdf_is_the_same_page(design, tmp_path):
     chromium()
     out = tmp_path / "r"
-    assert main(["report", "--rate", "100", "--model", "analytic", "--pdf", "--out", str(out), "--title", "PDF review"]) == 0
+    assert (
+        main(["report", "--rate", "100", "--model", "analytic", "--pdf", "--out", str(out), "--title", "PDF review"])
+        == 0
+    )
     from pypdf import PdfReader
 
     reader = PdfReader(out / "report.pdf")
@@ -280,9 +307,16 @@ def test_identify_writes_provenance_to_its_json_and_its_file(log, tmp_path, caps
     assert main(["identify", "--log", str(log), "--out", str(out), "--json", str(report), "--author", "A. Tester"]) == 0
     capsys.readouterr()
     block = json.loads(report.read_text())["provenance"]
-    assert {f["role"]: f["sha256"] for f in block["inputs"]} == {"parameters": sha256(default_parameters_path()), "log": sha256(log)}
+    assert {f["role"]: f["sha256"] for f in block["inputs"]} == {
+        "parameters": sha256(default_parameters_path()),
+        "log": sha256(log),
+    }
     text = out.read_text()
-    assert text.startswith("# Identified by hipsim identify") and f"SHA-256 {sha256(log)}" in text and "# Author: A. Tester" in text
+    assert (
+        text.startswith("# Identified by hipsim identify")
+        and f"SHA-256 {sha256(log)}" in text
+        and "# Author: A. Tester" in text
+    )
     origin = parameter_origin(out)
     assert origin.kind == "identified" and origin.identified and origin.made.startswith("Made by hipsim")
     assert ("log", str(log), sha256(log)) in origin.log_hashes

@@ -128,7 +128,9 @@ def test_si_conversion_matches_published_figures(params):
     assert params.lever_mass == pytest.approx(1.43, rel=1e-15)
     assert params.slider_mass == pytest.approx(3.0, rel=1e-15)
     assert params.platform_mass == pytest.approx(20.0, rel=1e-15)  # the documented estimate
-    np.testing.assert_allclose(params.platform_inertia, np.diag([0.24803050, 0.24994025, 0.38650235]), rtol=1e-12, atol=0)
+    np.testing.assert_allclose(
+        params.platform_inertia, np.diag([0.24803050, 0.24994025, 0.38650235]), rtol=1e-12, atol=0
+    )
     np.testing.assert_allclose(params.lever_inertia, np.diag([0.02639581, 0.02633929, 0.00048007]), rtol=1e-12, atol=0)
     np.testing.assert_allclose(params.screw_angles, np.radians(THETA_DEG), rtol=1e-14)
     assert params.home_offset == pytest.approx(math.pi / 6, rel=1e-14)
@@ -142,16 +144,34 @@ def test_friction_defaults_in_si(params):
     assert f.hip_mu == pytest.approx(0.095, rel=1e-15)
     assert f.thrust_radius == pytest.approx(0.064, rel=1e-14)
     assert f.thrust_mu == pytest.approx(0.025, rel=1e-15)
-    for name in ("screw_coulomb", "screw_viscous", "guide_coulomb", "guide_viscous",
-                 "ujoint_coulomb", "ujoint_viscous", "sjoint_coulomb", "sjoint_viscous"):
+    for name in (
+        "screw_coulomb",
+        "screw_viscous",
+        "guide_coulomb",
+        "guide_viscous",
+        "ujoint_coulomb",
+        "ujoint_viscous",
+        "sjoint_coulomb",
+        "sjoint_viscous",
+    ):
         assert getattr(f, name) == 0.0, name
     assert f.thrust_bearing_axial_only is False  # the publication's central-chain friction
 
 
 def test_axial_thrust_bearing_switch(tmp_path):
     """A boolean key: set in the file or by override, and left out by files written before it existed."""
-    assert load_parameters(mutated(tmp_path, "friction", "thrust_bearing_axial_only", True)).friction.thrust_bearing_axial_only is True
-    assert load_parameters(overrides=dict([parse_override("friction.thrust_bearing_axial_only=true")])).friction.thrust_bearing_axial_only is True
+    assert (
+        load_parameters(
+            mutated(tmp_path, "friction", "thrust_bearing_axial_only", True)
+        ).friction.thrust_bearing_axial_only
+        is True
+    )
+    assert (
+        load_parameters(
+            overrides=dict([parse_override("friction.thrust_bearing_axial_only=true")])
+        ).friction.thrust_bearing_axial_only
+        is True
+    )
     raw = default_raw()
     del raw["friction"]["thrust_bearing_axial_only"]
     older = load_parameters(write_params(tmp_path, raw, "older.toml"))
@@ -176,15 +196,22 @@ def test_screw_points_from_spec_definition(params):
     np.testing.assert_allclose(
         params.screw_points,
         [[0.1325, -0.265 * half_sqrt3, 0.0], [0.1325, 0.265 * half_sqrt3, 0.0], [-0.265, 0.0, 0.0]],
-        rtol=0, atol=1e-15,
+        rtol=0,
+        atol=1e-15,
     )
 
 
 def test_platform_points_from_spec_definition(params):
     # r0_i = e·[cos φ_i, sin φ_i, 0] with φ_i = θ_i + δ.
-    expected = np.array(
-        [[SMALL_E_MM * math.cos((th + DELTA_DEG) * DEG), SMALL_E_MM * math.sin((th + DELTA_DEG) * DEG), 0.0] for th in THETA_DEG]
-    ) * 1e-3
+    expected = (
+        np.array(
+            [
+                [SMALL_E_MM * math.cos((th + DELTA_DEG) * DEG), SMALL_E_MM * math.sin((th + DELTA_DEG) * DEG), 0.0]
+                for th in THETA_DEG
+            ]
+        )
+        * 1e-3
+    )
     np.testing.assert_allclose(params.platform_points, expected, rtol=0, atol=1e-15)
     # The platform's y axis passes through a_j2.
     np.testing.assert_allclose(params.platform_points[1], [0.0, 0.144, 0.0], rtol=0, atol=1e-15)
@@ -245,17 +272,19 @@ def test_parse_override_then_load_lever_length():
 
 
 def test_override_units_are_the_files():
-    changed = load_parameters(overrides={
-        "friction.guide_viscous_N_s_mm": 0.5,      # 0.5 N·s/mm = 500 N·s/m
-        "friction.screw_coulomb_Nmm": 120.0,       # 0.12 N·m
-        "friction.sjoint_viscous_Nmm_s_rad": 7.0,  # 0.007 N·m·s/rad
-        "platform.home_offset_deg": 0.0,
-        "base.screw_angles_deg": [0.0, 120.0, 240.0],
-        "convention.angle_signs": [-1, 1, -1],
-        "environment.gravity_m_s2": 0.0,
-        "lever.mass_kg": 0.0,
-        "screw.inertia_kgmm2": 100.0,
-    })
+    changed = load_parameters(
+        overrides={
+            "friction.guide_viscous_N_s_mm": 0.5,  # 0.5 N·s/mm = 500 N·s/m
+            "friction.screw_coulomb_Nmm": 120.0,  # 0.12 N·m
+            "friction.sjoint_viscous_Nmm_s_rad": 7.0,  # 0.007 N·m·s/rad
+            "platform.home_offset_deg": 0.0,
+            "base.screw_angles_deg": [0.0, 120.0, 240.0],
+            "convention.angle_signs": [-1, 1, -1],
+            "environment.gravity_m_s2": 0.0,
+            "lever.mass_kg": 0.0,
+            "screw.inertia_kgmm2": 100.0,
+        }
+    )
     assert changed.friction.guide_viscous == pytest.approx(500.0, rel=1e-14)
     assert changed.friction.screw_coulomb == pytest.approx(0.12, rel=1e-14)
     assert changed.friction.sjoint_viscous == pytest.approx(0.007, rel=1e-14)
@@ -380,21 +409,21 @@ def test_slender_levers_of_a_custom_lever():
 @pytest.mark.parametrize(
     "section, key, value",
     [
-        ("lever", "length_mm", "328"),                   # string for a number
-        ("lever", "mass_kg", True),                      # bool is not a number
-        ("environment", "gravity_m_s2", [9.8]),          # list for a number
-        ("platform", "heights_mm", [899.0]),             # list length wrong
+        ("lever", "length_mm", "328"),  # string for a number
+        ("lever", "mass_kg", True),  # bool is not a number
+        ("environment", "gravity_m_s2", [9.8]),  # list for a number
+        ("platform", "heights_mm", [899.0]),  # list length wrong
         ("platform", "heights_mm", [899.0, 490.0, 100.0]),
         ("base", "screw_angles_deg", [-60.0, 60.0]),
         ("base", "screw_angles_deg", [-60.0, "60", 180.0]),
-        ("base", "screw_angles_deg", 30.0),              # number for a list
-        ("lever", "inertia_kgmm2", [1.0, 2.0]),          # inertia neither 3 nor 3x3
+        ("base", "screw_angles_deg", 30.0),  # number for a list
+        ("lever", "inertia_kgmm2", [1.0, 2.0]),  # inertia neither 3 nor 3x3
         ("lever", "inertia_kgmm2", [[1.0, 0.0], [0.0, 1.0]]),
         ("lever", "inertia_kgmm2", [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, "x"]]),
-        ("screw", "inertia_kgmm2", [54.91, 0.0, 0.0]),   # a scalar inertia given as a list
+        ("screw", "inertia_kgmm2", [54.91, 0.0, 0.0]),  # a scalar inertia given as a list
         ("convention", "angle_signs", [1, 1]),
         ("convention", "angle_signs", [True, True, True]),
-        ("friction", "thrust_bearing_axial_only", 1),       # a number for a switch
+        ("friction", "thrust_bearing_axial_only", 1),  # a number for a switch
         ("friction", "thrust_bearing_axial_only", "true"),  # a string for a switch
         ("friction", "thrust_bearing_axial_only", [True]),
     ],
@@ -506,7 +535,7 @@ def test_non_finite_number(tmp_path, value):
 @pytest.mark.parametrize(
     "section, value",
     [
-        ("lever", [26395.81, 26339.29, -480.07]),                          # diagonal with a negative entry
+        ("lever", [26395.81, 26339.29, -480.07]),  # diagonal with a negative entry
         ("platform", [[1.0, 2.0, 0.0], [2.0, 1.0, 0.0], [0.0, 0.0, 1.0]]),  # eigenvalues -1, 1, 3
         ("platform", [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, -1e-3]]),
         ("lever", [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, math.nan]]),

@@ -8,14 +8,13 @@ currents with a torque constant in N·mm/A.
 
 import numpy as np
 import pytest
+from rig_synthetic import mismatched
 
 import hipsim
 from hipsim.cli.main import main
 from hipsim.exceptions import TrajectoryError
 from hipsim.rig import load_log
 from hipsim.rig.plausibility import check_log
-
-from rig_synthetic import mismatched
 
 HEADER = ["t_s", "Fe_N", "alpha_deg", "beta_deg", "gamma_deg", "tau_1_Nmm", "tau_2_Nmm", "tau_3_Nmm"]
 CURRENTS = HEADER[:5] + ["current_1_A", "current_2_A", "current_3_A"]

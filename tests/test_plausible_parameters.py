@@ -62,7 +62,10 @@ def test_an_absurd_value_is_a_warning_naming_key_value_and_range(old, new, key, 
 
 def test_the_message_for_a_caller_that_refuses():
     message = implausible_message("lever.mass_kg", 1430.0, (0.1, 15.0))
-    assert message == "key 'lever.mass_kg' = 1430 kg is outside the plausible range 0.1 to 15 kg for this class of machine (a unit slip?)"
+    assert (
+        message
+        == "key 'lever.mass_kg' = 1430 kg is outside the plausible range 0.1 to 15 kg for this class of machine (a unit slip?)"
+    )
 
 
 def test_the_ranges_are_documented():

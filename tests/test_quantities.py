@@ -33,7 +33,9 @@ def test_writing_one_quantity_changes_that_field_alone():
 
 
 def test_groups_follow_from_the_quantities():
-    assert [QUANTITIES[k].key for k in BLOCKS["lever"]] == [f"lever.inertia_kgmm2[{a}]" for a in ("xx", "yy", "zz", "xy", "xz", "yz")]
+    assert [QUANTITIES[k].key for k in BLOCKS["lever"]] == [
+        f"lever.inertia_kgmm2[{a}]" for a in ("xx", "yy", "zz", "xy", "xz", "yz")
+    ]
     assert all(QUANTITIES[k].nonnegative and QUANTITIES[k].component is None for k in BOUNDED)
     unit = friction_unit(_machine(), "thrust_mu").friction
     assert unit.thrust_mu == 1.0 and all(getattr(unit, q.name) == 0.0 for q in FRICTION if q.name != "thrust_mu")

@@ -4,14 +4,13 @@ import math
 
 import numpy as np
 import pytest
+from drive_support import curve, only
 
 import hipsim
 from hipsim.design.ranking import rank_drives
 from hipsim.design.sizing import sizing
 from hipsim.machine.drive_parts import Drive, LeadScrew, Motor, TorqueSpeedCurve
 from hipsim.motion.trajectories import iso14242
-
-from drive_support import curve, only
 
 
 @pytest.fixture(scope="module")
@@ -46,8 +45,12 @@ def test_each_screw_lead_reruns_the_model(params):
 
 
 def test_an_undersized_and_a_right_motor_rank_with_the_binding_constraint_named(params):
-    small = Motor("small", continuous=curve([0, 3000], [1.0, 1.0]), peak=curve([0, 3000], [0.25, 0.25]), rotor_inertia=1e-4)
-    right = Motor("right", continuous=curve([0, 3000], [1.3, 1.2]), peak=curve([0, 5000], [3.8, 3.0]), rotor_inertia=1e-4)
+    small = Motor(
+        "small", continuous=curve([0, 3000], [1.0, 1.0]), peak=curve([0, 3000], [0.25, 0.25]), rotor_inertia=1e-4
+    )
+    right = Motor(
+        "right", continuous=curve([0, 3000], [1.3, 1.2]), peak=curve([0, 5000], [3.8, 3.0]), rotor_inertia=1e-4
+    )
     trajectory = iso14242(rate=200)
     candidates = rank_drives(params, [(trajectory, 1.0)], [(small, None), (right, None)])
     assert [c.drive.motor.name for c in candidates] == ["right", "small"]
@@ -83,7 +86,9 @@ def example():
 
 def _power_by_hand(motor):
     """Rated torque × rated speed read off the S1 curve's corner: the last point still at the stall torque."""
-    corner = max(k for k in range(len(motor.continuous.speed)) if motor.continuous.torque[k] == motor.continuous.torque[0])
+    corner = max(
+        k for k in range(len(motor.continuous.speed)) if motor.continuous.torque[k] == motor.continuous.torque[0]
+    )
     return motor.continuous.torque[corner] * motor.continuous.speed[corner]
 
 
@@ -92,7 +97,11 @@ def test_the_first_ranked_passing_drive_is_the_smallest_that_passes(example):
     passing = [c for c in ranked if c.passed]
     assert passing and all(c.passed for c in ranked[: len(passing)])  # every passing one before every failing one
     # Brute force: every combination whose every check passes, by its checks alone.
-    every = [c for c in ranked if all(check.passed is not False for check in c.checks) and any(check.passed for check in c.checks)]
+    every = [
+        c
+        for c in ranked
+        if all(check.passed is not False for check in c.checks) and any(check.passed for check in c.checks)
+    ]
     assert {c.drive.name for c in every} == {c.drive.name for c in passing}
     smallest = min(_power_by_hand(c.drive.motor) for c in every)
     assert _power_by_hand(ranked[0].drive.motor) == smallest
@@ -125,8 +134,13 @@ def test_an_overspeeding_motor_names_the_speed_it_needs_and_its_top_speed(exampl
     from hipsim.present.check_text import check_sentence
 
     # The 2:1 belt on the 5 mm screw: the motor turns 2 × 60/5 mm × the carriage speed.
-    over = next(c for c in example["size"] if c.drive.motor.name == "EX-S200 (example 200 W)"
-                and c.drive.gearbox.ratio == 2 and c.drive.screw.lead == pytest.approx(0.005))
+    over = next(
+        c
+        for c in example["size"]
+        if c.drive.motor.name == "EX-S200 (example 200 W)"
+        and c.drive.gearbox.ratio == 2
+        and c.drive.screw.lead == pytest.approx(0.005)
+    )
     failure = over.failure
     assert failure.name == "max_speed" and over.passed is False
     run = hipsim.analyse(params.replace(lead=0.005), iso14242(rate=200))
@@ -147,11 +161,37 @@ def test_rank_margin_keeps_the_order_by_the_smallest_margin(example):
 
 def test_a_catalogue_rated_power_and_cost_rank_before_the_s1_curve(params):
     """Two motors with the same curves: the catalogue's rated power decides, then the cost."""
-    a = Motor("a", continuous=curve([0, 3000], [1.3, 1.2]), peak=curve([0, 5000], [3.8, 3.0]), rotor_inertia=1e-4, rated_power=400.0, cost=9.0)
-    b = Motor("b", continuous=curve([0, 3000], [1.3, 1.2]), peak=curve([0, 5000], [3.8, 3.0]), rotor_inertia=1e-4, rated_power=400.0, cost=5.0)
-    c = Motor("c", continuous=curve([0, 3000], [1.3, 1.2]), peak=curve([0, 5000], [3.8, 3.0]), rotor_inertia=1e-4, rated_power=500.0, cost=1.0)
+    a = Motor(
+        "a",
+        continuous=curve([0, 3000], [1.3, 1.2]),
+        peak=curve([0, 5000], [3.8, 3.0]),
+        rotor_inertia=1e-4,
+        rated_power=400.0,
+        cost=9.0,
+    )
+    b = Motor(
+        "b",
+        continuous=curve([0, 3000], [1.3, 1.2]),
+        peak=curve([0, 5000], [3.8, 3.0]),
+        rotor_inertia=1e-4,
+        rated_power=400.0,
+        cost=5.0,
+    )
+    c = Motor(
+        "c",
+        continuous=curve([0, 3000], [1.3, 1.2]),
+        peak=curve([0, 5000], [3.8, 3.0]),
+        rotor_inertia=1e-4,
+        rated_power=500.0,
+        cost=1.0,
+    )
     ranked = rank_drives(params, [(iso14242(rate=100), 1.0)], [(c, None), (a, None), (b, None)])
     assert [x.drive.motor.name for x in ranked] == ["b", "a", "c"]
     assert ranked[0].rated_power == (400.0, "catalogue")
     document = ranked[0].as_dict()
-    assert document["rated_power_W"] == 400.0 and document["cost"] == 5.0 and "margin" in document and "binding" in document
+    assert (
+        document["rated_power_W"] == 400.0
+        and document["cost"] == 5.0
+        and "margin" in document
+        and "binding" in document
+    )

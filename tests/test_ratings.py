@@ -4,11 +4,10 @@ import math
 
 import numpy as np
 import pytest
+from drive_support import RPM
 
 from hipsim.design.ratings import buckling_load, critical_speed, screw_life, winding_rise
 from hipsim.machine.drive_parts import LeadScrew, SizingRules
-
-from drive_support import RPM
 
 
 def test_winding_rise_of_a_square_wave_has_the_first_order_closed_form():
@@ -51,11 +50,18 @@ def test_screw_life_under_a_load_that_changes_direction():
 @pytest.mark.parametrize(
     "fixing, thk_speed, thk_buckling",
     # Ball-screw makers' chart factors (safety factors 0.8 and 0.5 included): n = f·d₂/l²·10⁷ rpm, P = η·d₂⁴/l²·10⁴ N (mm).
-    [("fixed-free", 3.4, 1.3), ("supported-supported", 9.7, 5.1), ("fixed-supported", 15.1, 10.2), ("fixed-fixed", 21.9, 20.3)],
+    [
+        ("fixed-free", 3.4, 1.3),
+        ("supported-supported", 9.7, 5.1),
+        ("fixed-supported", 15.1, 10.2),
+        ("fixed-fixed", 21.9, 20.3),
+    ],
 )
 def test_critical_speed_and_buckling_match_the_makers_charts(fixing, thk_speed, thk_buckling):
     d, l = 12.9, 350.0  # mm
     screw = LeadScrew("s", root_diameter=d * 1e-3, free_length=l * 1e-3, end_fixing=fixing)
     rules = SizingRules()
-    assert rules.critical_speed_factor * critical_speed(screw) / RPM == pytest.approx(thk_speed * d / l**2 * 1e7, rel=0.02)
+    assert rules.critical_speed_factor * critical_speed(screw) / RPM == pytest.approx(
+        thk_speed * d / l**2 * 1e7, rel=0.02
+    )
     assert rules.buckling_factor * buckling_load(screw) == pytest.approx(thk_buckling * d**4 / l**2 * 1e4, rel=0.05)

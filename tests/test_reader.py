@@ -48,13 +48,31 @@ def one_line(error) -> str:
     "header, change, needle",
     [
         (["t_s", "Fe_N", "alpha_deg", "beta_deg", "gamma_deg"], None, "missing torque columns: expected tau_1_Nmm"),
-        (["t_s", "Fe_N", "tau_1_Nmm", "tau_2_Nmm", "tau_3_Nm", "alpha_deg", "beta_deg", "gamma_deg"], None,
-         "missing torque column 'tau_3_Nmm' (the file has 'tau_3_Nm'"),
-        (["t_s", "Fe_N", "current_1_A", "current_2_A", "current_3_A", "alpha_deg", "beta_deg", "gamma_deg"], None,
-         "motor currents (current_1_A …) but no torque constant"),
-        (["t_s", "Fe_N", "tau_1_Nmm", "tau_2_Nmm", "tau_3_Nmm", "x", "y", "z"], None, "no motion: expected the platform angles"),
-        (["t_s", "Fe_N", "tau_1_Nmm", "tau_2_Nmm", "tau_3_Nmm", "alpha_deg", "beta_rad", "gamma_deg"], None, "mix _deg and _rad"),
-        (["t_s", "tau_1_Nmm", "tau_2_Nmm", "tau_3_Nmm", "alpha_deg", "beta_deg", "gamma_deg", "Fe"], None, "missing load column 'Fe_N'"),
+        (
+            ["t_s", "Fe_N", "tau_1_Nmm", "tau_2_Nmm", "tau_3_Nm", "alpha_deg", "beta_deg", "gamma_deg"],
+            None,
+            "missing torque column 'tau_3_Nmm' (the file has 'tau_3_Nm'",
+        ),
+        (
+            ["t_s", "Fe_N", "current_1_A", "current_2_A", "current_3_A", "alpha_deg", "beta_deg", "gamma_deg"],
+            None,
+            "motor currents (current_1_A …) but no torque constant",
+        ),
+        (
+            ["t_s", "Fe_N", "tau_1_Nmm", "tau_2_Nmm", "tau_3_Nmm", "x", "y", "z"],
+            None,
+            "no motion: expected the platform angles",
+        ),
+        (
+            ["t_s", "Fe_N", "tau_1_Nmm", "tau_2_Nmm", "tau_3_Nmm", "alpha_deg", "beta_rad", "gamma_deg"],
+            None,
+            "mix _deg and _rad",
+        ),
+        (
+            ["t_s", "tau_1_Nmm", "tau_2_Nmm", "tau_3_Nmm", "alpha_deg", "beta_deg", "gamma_deg", "Fe"],
+            None,
+            "missing load column 'Fe_N'",
+        ),
         (HEADER, (5, 1, "-20"), "line 7, column 'Fe_N': load -20 N is negative"),
         (HEADER, (3, 0, "0.0031"), "line 5, column 't_s': uneven time step"),
         (HEADER, (8, 3, "abc"), "line 10, column 'tau_2_Nmm': 'abc' is not a number"),
@@ -87,7 +105,6 @@ def test_empty_and_missing_files(tmp_path):
     (tmp_path / "empty.csv").write_text("\n\n")
     with pytest.raises(TrajectoryError, match="the file is empty"):
         read_rig_log(tmp_path / "empty.csv")
-
 
 
 def test_blank_lines_keep_the_file_line_numbers(tmp_path):

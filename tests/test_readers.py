@@ -1,5 +1,4 @@
-"""Tests of hipsim.motion.readers: any trajectory file read by its suffix, and the README's worked examples.
-"""
+"""Tests of hipsim.motion.readers: any trajectory file read by its suffix, and the README's worked examples."""
 
 from __future__ import annotations
 
@@ -7,12 +6,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from trajectory_files import assert_same_trajectory, canonical, iso_rows
 
 from hipsim import TrajectoryError
 from hipsim.motion.csv_table import load_trajectory_csv
 from hipsim.motion.readers import read_trajectory
 from hipsim.motion.trajectories import iso14242_angles, iso14242_load
-from trajectory_files import assert_same_trajectory, canonical, iso_rows
 
 
 def test_read_trajectory_chooses_the_reader_by_suffix(tmp_path):

@@ -35,7 +35,10 @@ def test_an_unknown_name_is_one_argument_error():
         registry.engine_entry("bogus")
     with pytest.raises(ArgumentError, match=r"^plant: expected one of analytic, pinocchio, mujoco, got 'bogus'$"):
         registry.plant_entry("bogus")
-    for run in (lambda: hipsim.analyse(model="bogus"), lambda: hipsim.analysis.stream_run(hipsim.load_parameters(), hipsim.iso14242(rate=50), "bogus")):
+    for run in (
+        lambda: hipsim.analyse(model="bogus"),
+        lambda: hipsim.analysis.stream_run(hipsim.load_parameters(), hipsim.iso14242(rate=50), "bogus"),
+    ):
         with pytest.raises(ArgumentError, match=r"^model: expected one of analytic, pinocchio, mujoco, got 'bogus'$"):
             run()
 
@@ -70,8 +73,14 @@ def test_a_missing_extra_says_how_to_install_it(monkeypatch):
     monkeypatch.setitem(sys.modules, "mujoco", None)  # `import mujoco` fails as if it were not installed
     for module in [m for m in sys.modules if m.startswith("hipsim.mujoco_engine")]:
         monkeypatch.delitem(sys.modules, module)
-    for make in (lambda: registry.make_engine("mujoco", hipsim.load_parameters()), lambda: registry.make_plant("mujoco", hipsim.load_parameters())):
-        with pytest.raises(MissingDependencyError, match=r"The MuJoCo engine needs the optional package 'mujoco' .*: pip install -U 'hipsim\[mujoco\]'$"):
+    for make in (
+        lambda: registry.make_engine("mujoco", hipsim.load_parameters()),
+        lambda: registry.make_plant("mujoco", hipsim.load_parameters()),
+    ):
+        with pytest.raises(
+            MissingDependencyError,
+            match=r"The MuJoCo engine needs the optional package 'mujoco' .*: pip install -U 'hipsim\[mujoco\]'$",
+        ):
             make()
 
 

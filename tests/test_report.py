@@ -20,13 +20,21 @@ import hipsim
 import hipsim.present.figures as figures
 import hipsim.present.report as report
 from hipsim import Run
-from hipsim.design.sizing import axial_screw_load, motor_thrust, sizing
 from hipsim.cli import main
+from hipsim.design.sizing import axial_screw_load, sizing
 from hipsim.exceptions import HipsimError, ParameterError
 from hipsim.machine.drive import Drive, LeadScrew, Motor, TorqueSpeedCurve, load_drive
 from hipsim.motion.trajectories import Trajectory, iso14242
 
-BASE_FIGURES = ("input_motion", "slider_motion", "motor_torques", "load_friction", "singularity", "torque_speed", "axial_load")
+BASE_FIGURES = (
+    "input_motion",
+    "slider_motion",
+    "motor_torques",
+    "load_friction",
+    "singularity",
+    "torque_speed",
+    "axial_load",
+)
 
 
 @pytest.fixture(scope="module")
@@ -48,7 +56,9 @@ def fake_simulations(t):
     """Two controllers' tracking errors in [rad], of known peak and RMS."""
     wave = np.sin(2 * np.pi * t)[:, None]
     return {
-        "workspace PD": SimpleNamespace(t=t, err=np.radians(0.2) * wave * [1.0, 0.5, 0.25], tau=np.full((t.size, 3), 0.3)),
+        "workspace PD": SimpleNamespace(
+            t=t, err=np.radians(0.2) * wave * [1.0, 0.5, 0.25], tau=np.full((t.size, 3), 0.3)
+        ),
         "augmented PD": SimpleNamespace(t=t, err=np.radians(0.02) * wave * [1.0, 0.5, 0.25]),
     }
 
@@ -67,7 +77,9 @@ def written(tmp_path_factory, params, iso, result):
     """One full report: joint forces (stand-in), tracking, a failing rating check."""
     out = tmp_path_factory.mktemp("report")
     ratings = out / "motor.toml"
-    ratings.write_text("[motor]\nrated_torque_Nmm = 640\npeak_torque_Nmm = 400\nmax_speed_rpm = 3000\nstroke_mm = 200\naxial_force_N = 1000\n")
+    ratings.write_text(
+        "[motor]\nrated_torque_Nmm = 640\npeak_torque_Nmm = 400\nmax_speed_rpm = 3000\nstroke_mm = 200\naxial_force_N = 1000\n"
+    )
     return report.write_report(
         out / "site", result, with_joint_forces(result), simulations=fake_simulations(iso.t), drive=load_drive(ratings)
     )
@@ -95,7 +107,9 @@ def test_axial_force_is_the_thrust_of_the_parts_the_nut_carries(result, params):
     force = axial_screw_load(result)
     t = result.torques
     # Frictionless screw: the thrust is everything but the rotor's inertia.
-    np.testing.assert_allclose(force * params.lead / (2 * math.pi), t.platforms + t.levers + t.sliders + t.friction, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(
+        force * params.lead / (2 * math.pi), t.platforms + t.levers + t.sliders + t.friction, rtol=1e-12, atol=1e-15
+    )
     assert sizing(result).modules[1].axial_force_peak_N == pytest.approx(np.abs(force[:, 1]).max())
 
 
@@ -120,7 +134,9 @@ def flat(torque_Nmm):
 
 
 def test_joint_sizing_and_rating_checks(result):
-    drive = Drive(Motor("test", continuous=flat(640.0), peak=flat(400.0)), screw=LeadScrew("test", stroke=0.090), source="test")
+    drive = Drive(
+        Motor("test", continuous=flat(640.0), peak=flat(400.0)), screw=LeadScrew("test", stroke=0.090), source="test"
+    )
     size = sizing(with_joint_forces(result), drive)
     forces = with_joint_forces(result).joint_forces
     Fa, Fo = forces.Fa, forces.Fo
@@ -170,7 +186,9 @@ def test_rating_file_round_trip(tmp_path):
     path = tmp_path / "motor.toml"
     path.write_text("[motor]\nmax_speed_rpm = 3000\nstroke_mm = 150.5\n")
     drive = load_drive(path)
-    assert drive.motor.max_speed == pytest.approx(3000.0 * 2 * math.pi / 60) and drive.screw.stroke == pytest.approx(0.1505)
+    assert drive.motor.max_speed == pytest.approx(3000.0 * 2 * math.pi / 60) and drive.screw.stroke == pytest.approx(
+        0.1505
+    )
     assert drive.motor.peak is None
 
 
@@ -216,7 +234,10 @@ def test_every_figure_exists_and_is_non_trivial(written):
         assert root.tag == "{http://www.w3.org/2000/svg}svg" and svg.stat().st_size > 20_000, stem
 
 
-@pytest.mark.parametrize("plot", ["input_motion", "slider_motion", "torque_parts", "load_friction", "joint_forces", "singularity", "tracking"])
+@pytest.mark.parametrize(
+    "plot",
+    ["input_motion", "slider_motion", "torque_parts", "load_friction", "joint_forces", "singularity", "tracking"],
+)
 def test_figures_have_units_and_legends(result, plot):
     function = getattr(figures, f"plot_{plot}")
     fig = function(fake_simulations(result.trajectory.t) if plot == "tracking" else with_joint_forces(result))
@@ -237,7 +258,7 @@ def test_page_is_self_contained_and_references_every_figure(written):
     for stem, (png, svg) in written.figures.items():
         prefix = "data:image/png;base64,"
         assert embedded[stem].startswith(prefix)
-        assert base64.b64decode(embedded[stem][len(prefix):]) == png.read_bytes()
+        assert base64.b64decode(embedded[stem][len(prefix) :]) == png.read_bytes()
         assert svg.name in parser.links and png.name in parser.links
     assert parser.tables >= 8  # sliders, motors, sizing, joints, checks, tracking, torques, parameters, drive
 
@@ -275,7 +296,9 @@ def test_simulations_are_plotted_and_bad_ones_refused(result, tmp_path):
     files = report.write_report(tmp_path / "a", short, simulations=fake_simulations(short.t))
     assert "tracking_errors" in files.figures
     with pytest.raises(HipsimError, match="err"):
-        report.write_report(tmp_path / "b", short, simulations={"PD": SimpleNamespace(t=short.t, err=np.zeros((short.t.size, 2)))})
+        report.write_report(
+            tmp_path / "b", short, simulations={"PD": SimpleNamespace(t=short.t, err=np.zeros((short.t.size, 2)))}
+        )
     with pytest.raises(HipsimError, match="mapping"):
         report.write_report(tmp_path / "c", short, simulations={})
     assert not (tmp_path / "b").exists() and not (tmp_path / "c").exists()
@@ -312,9 +335,18 @@ def test_page_renders_in_headless_chromium(written, tmp_path):
     shutil.copy(written.index, page)
     shot = tmp_path / "shot.png"
     command = [
-        browser, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-        "--disable-background-networking", "--disable-component-update", "--disable-sync",
-        f"--user-data-dir={tmp_path / 'profile'}", f"--screenshot={shot}", "--window-size=1280,4000",
+        browser,
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--disable-quic",
+        "--no-first-run",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--disable-sync",
+        f"--user-data-dir={tmp_path / 'profile'}",
+        f"--screenshot={shot}",
+        "--window-size=1280,4000",
         page.as_uri(),
     ]
     completed = subprocess.run(command, capture_output=True, text=True, timeout=120)
@@ -448,7 +480,9 @@ def test_small_tracking_errors_are_printed_not_rounded_to_zero(written):
 
 
 def test_joint_forces_are_credited_to_the_model_that_gave_them(result):
-    fig = figures.plot_joint_forces(with_joint_forces(result).__class__(**{**with_joint_forces(result).__dict__, "model": "analytic"}), "pinocchio")
+    fig = figures.plot_joint_forces(
+        with_joint_forces(result).__class__(**{**with_joint_forces(result).__dict__, "model": "analytic"}), "pinocchio"
+    )
     assert "Pinocchio" in fig.get_suptitle() and "analytic" not in fig.get_suptitle()
 
 
@@ -456,10 +490,13 @@ def test_page_names_the_two_screw_forces_apart_and_lists_every_parameter(written
     from hipsim.machine.parameters import file_values
 
     page = written.index.read_text(encoding="utf-8")
-    assert "motor thrust</b> = 2πτ/p" in page and "axial screw load</b> = 2π(τ − τ<sub>L</sub> − τ<sub>screw friction</sub>)/p" in page
+    assert (
+        "motor thrust</b> = 2πτ/p" in page
+        and "axial screw load</b> = 2π(τ − τ<sub>L</sub> − τ<sub>screw friction</sub>)/p" in page
+    )
     assert "peak motor thrust [N]" in page and "peak axial screw load [N]" in page
     for key in file_values(params):
-        assert f"<td class=\"l\">{key}</td>" in page, key
+        assert f'<td class="l">{key}</td>' in page, key
     assert "Joint reaction forces (from the Pinocchio closed-chain model)" in page
     assert "input_motion" in written.figures
 
@@ -478,7 +515,23 @@ def test_report_simulate_takes_a_mismatch(tmp_path, monkeypatch, capsys):
 
     monkeypatch.setattr(cli, "_simulate_both", fake_simulate_both)
     out = tmp_path / "r"
-    assert main(["report", "--rate", "100", "--model", "analytic", "--simulate", "--mismatch", "friction=+20%", "--out", str(out)]) == 0
+    assert (
+        main(
+            [
+                "report",
+                "--rate",
+                "100",
+                "--model",
+                "analytic",
+                "--simulate",
+                "--mismatch",
+                "friction=+20%",
+                "--out",
+                str(out),
+            ]
+        )
+        == 0
+    )
     assert seen["mismatch"] == {"friction": pytest.approx(0.2)}
     assert "off from the controllers&#39; model: friction +20%" in (out / "index.html").read_text(encoding="utf-8")
     assert main(["report", "--mismatch", "friction=+20%", "--out", str(tmp_path / "x")]) == 2

@@ -37,6 +37,8 @@ def test_derivatives_of_the_smoothed_motion():
     q = np.column_stack([0.3 * np.sin(w * t), 0.1 * np.cos(w * t), 0.05 * np.sin(2 * w * t)])
     trajectory = smooth_motion(t, q, np.full(t.size, 500.0), 20.0)
     inside = slice(edge_samples(1000.0, 20.0), -edge_samples(1000.0, 20.0))
-    qdd = np.column_stack([-0.3 * w**2 * np.sin(w * t), -0.1 * w**2 * np.cos(w * t), -0.05 * 4 * w**2 * np.sin(2 * w * t)])
+    qdd = np.column_stack(
+        [-0.3 * w**2 * np.sin(w * t), -0.1 * w**2 * np.cos(w * t), -0.05 * 4 * w**2 * np.sin(2 * w * t)]
+    )
     assert np.abs(trajectory.qdd[inside] - qdd[inside]).max() < 1e-3 * np.abs(qdd).max()
     np.testing.assert_allclose(trajectory.Fe, 500.0)

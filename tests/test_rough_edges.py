@@ -32,7 +32,9 @@ def test_a_latin1_line_in_a_parameter_file_is_named(tmp_path):
     at = next(k for k, line in enumerate(lines) if line.startswith("[lever]"))
     before, after = "\n".join(lines[:at]) + "\n", "\n" + "\n".join(lines[at:])
     path = tmp_path / "latin.toml"  # UTF-8 but for one comment line written by a Latin-1 editor
-    path.write_bytes(before.encode("utf-8") + "# Hebelmasse gemessen (Prüfstand 2)".encode("latin-1") + after.encode("utf-8"))
+    path.write_bytes(
+        before.encode("utf-8") + "# Hebelmasse gemessen (Prüfstand 2)".encode("latin-1") + after.encode("utf-8")
+    )
     with pytest.raises(ParameterError, match=rf"latin.toml: line {at + 1}: not UTF-8 text \(byte 0xfc\)"):
         hipsim.load_parameters(path)
 
@@ -63,7 +65,10 @@ def test_a_comma_separated_mot_is_named_so(tmp_path, capsys):
     labels = ["time", "hip_flexion_r", "hip_adduction_r", "hip_rotation_r", "knee_angle_r", "ankle_angle_r"]
     rows = np.column_stack([_coordinates(), np.zeros((100, 2))])
     path = _mot(tmp_path / "commas.mot", labels, rows, separator=",")
-    with pytest.raises(TrajectoryError, match=r"line 7: the labels are separated by commas \(6 of them\): a .mot/.sto file is tab- or space-separated"):
+    with pytest.raises(
+        TrajectoryError,
+        match=r"line 7: the labels are separated by commas \(6 of them\): a .mot/.sto file is tab- or space-separated",
+    ):
         load_opensim(path)
     assert main(["torques", "--trajectory", str(path), "--out", str(tmp_path / "t.csv")]) == 2
     err = capsys.readouterr().err
@@ -72,8 +77,11 @@ def test_a_comma_separated_mot_is_named_so(tmp_path, capsys):
 
 def test_currents_without_a_torque_constant_name_the_option(tmp_path):
     path = tmp_path / "currents.csv"
-    path.write_text("t_s,Fe_N,current_1_A,current_2_A,current_3_A,alpha_deg,beta_deg,gamma_deg\n"
-                    + "\n".join(f"{k / 1000},500,1,2,3,1,2,3" for k in range(100)) + "\n")
+    path.write_text(
+        "t_s,Fe_N,current_1_A,current_2_A,current_3_A,alpha_deg,beta_deg,gamma_deg\n"
+        + "\n".join(f"{k / 1000},500,1,2,3,1,2,3" for k in range(100))
+        + "\n"
+    )
     with pytest.raises(TrajectoryError, match=r"no torque constant .*--torque-constant"):
         read_rig_log(path)
 

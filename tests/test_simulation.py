@@ -6,13 +6,12 @@ import numpy as np
 import pytest
 
 import hipsim
-from hipsim.exceptions import ArgumentError
-from hipsim.control.controllers import AugmentedPD, Sample, WorkspacePD, feedforward_torques
-from hipsim.analytic.virtual_work import inverse_dynamics, mechanical_energy
-from hipsim.exceptions import HipsimError, PoseError
 from hipsim.analytic.inverse_kinematics import angular_velocity_map, kinematics, slider_jacobian
+from hipsim.analytic.virtual_work import inverse_dynamics, mechanical_energy
 from hipsim.closed_chain.plant import PinocchioPlant
+from hipsim.control.controllers import AugmentedPD, Sample, WorkspacePD
 from hipsim.control.simulation import ReducedPlant, apply_mismatch, parse_mismatch, simulate
+from hipsim.exceptions import ArgumentError, HipsimError, PoseError
 from hipsim.motion.trajectories import Trajectory, iso14242_at
 
 
@@ -64,7 +63,9 @@ def test_inverse_then_forward_reproduces_the_motion(params, lever_spin):
     assert drift < 0.01
     # and it is the physics, not luck: torques of the wrong model drift far more.
     wrong = OpenLoop(apply_mismatch(params, masses=0.2), 1000.0, 0.2, lever_spin)
-    assert np.degrees(np.abs(simulate(ReducedPlant(params, lever_spin), wrong, iso14242_at, 0.2).err)).max() > 20 * drift
+    assert (
+        np.degrees(np.abs(simulate(ReducedPlant(params, lever_spin), wrong, iso14242_at, 0.2).err)).max() > 20 * drift
+    )
 
 
 def test_workspace_pd_maps_moment_through_jacobian_transpose(params):
@@ -100,7 +101,14 @@ def test_energy_never_increases_with_motors_off(params):
     plant = ReducedPlant(rough, lever_spin=True)
     start = iso14242_at([0.3])
     desired_at = lambda t: iso14242_at(np.asarray(t) + 0.3)  # noqa: E731 - the load of the cycle from t = 0.3 s
-    sim = simulate(plant, lambda t, s, d: np.zeros(3), desired_at, 0.06, step=1e-4, initial_state=np.concatenate([start.q[0], start.qd[0]]))
+    sim = simulate(
+        plant,
+        lambda t, s, d: np.zeros(3),
+        desired_at,
+        0.06,
+        step=1e-4,
+        initial_state=np.concatenate([start.q[0], start.qd[0]]),
+    )
     path = Trajectory(sim.t, sim.q, sim.qd, np.zeros_like(sim.q), np.zeros_like(sim.t))
     kinetic, potential = mechanical_energy(rough, kinematics(rough, path), lever_spin=True)
     energy = kinetic + potential
@@ -148,7 +156,10 @@ def test_plant_and_controller_refuse_states_of_the_wrong_shape(params):
 
 def test_one_gain_applies_to_every_angle(params):
     state, desired = Sample(np.radians([5.0, 1.0, -2.0]), np.zeros(3)), Sample(np.radians([6.0, 0.0, -1.0]), np.ones(3))
-    np.testing.assert_array_equal(WorkspacePD(params, kp=150.0, kd=2)(0.0, state, desired), WorkspacePD(params, kp=[150.0] * 3, kd=[2.0] * 3)(0.0, state, desired))
+    np.testing.assert_array_equal(
+        WorkspacePD(params, kp=150.0, kd=2)(0.0, state, desired),
+        WorkspacePD(params, kp=[150.0] * 3, kd=[2.0] * 3)(0.0, state, desired),
+    )
 
 
 def test_a_plant_subclass_is_stepped_through_its_own_derivative(params):
@@ -228,17 +239,31 @@ def test_a_slow_first_step_is_announced_as_compiling_not_timed(params, capsys):
     simulate(ReducedPlant(params), WorkspacePD(params), iso14242_at, 0.002)  # and the compiled loop the last run takes
     SlowFirstCall.calls = 0
     notes = []
-    sim = simulate(ReducedPlant(params), controller, iso14242_at, 0.02, progress=True, controller_name="slow", notify=notes.append)
+    sim = simulate(
+        ReducedPlant(params), controller, iso14242_at, 0.02, progress=True, controller_name="slow", notify=notes.append
+    )
     assert notes == ["reduced plant, slow: compiling (first run only) ..."]
     assert len(sim.t) == 20 and SlowFirstCall.calls == 20  # every step ran once, the first one included
-    simulate(ReducedPlant(params), WorkspacePD(params), iso14242_at, 0.02, progress=True, controller_name="fast", notify=notes.append)
+    simulate(
+        ReducedPlant(params),
+        WorkspacePD(params),
+        iso14242_at,
+        0.02,
+        progress=True,
+        controller_name="fast",
+        notify=notes.append,
+    )
     assert len(notes) == 1  # compiled now: nothing to announce
 
 
 def _mismatched_plant(kind: str, params):
     """A plant whose friction and masses the controller does not know, and how long to run it [s]."""
     plant_params = apply_mismatch(params, friction=0.3, masses=-0.1)
-    return (ReducedPlant(plant_params, lever_spin=True), 0.15) if kind == "reduced" else (PinocchioPlant(plant_params), 0.05)
+    return (
+        (ReducedPlant(plant_params, lever_spin=True), 0.15)
+        if kind == "reduced"
+        else (PinocchioPlant(plant_params), 0.05)
+    )
 
 
 @pytest.mark.parametrize("plant_kind", ["reduced", "pinocchio"])
@@ -251,7 +276,9 @@ def test_compiled_loop_is_the_python_loop(params, plant_kind, controller_kind, l
     controller = WorkspacePD(params) if controller_kind == "pd" else AugmentedPD(params, iso14242_at, 1000.0, duration)
     free = simulate(plant, controller, iso14242_at, duration, compiled=False)
     limit = 0.8 * np.abs(free.tau).max() if limited else None  # bites on the peaks only
-    fast, slow = (simulate(plant, controller, iso14242_at, duration, torque_limit=limit, compiled=flag) for flag in (True, False))
+    fast, slow = (
+        simulate(plant, controller, iso14242_at, duration, torque_limit=limit, compiled=flag) for flag in (True, False)
+    )
     np.testing.assert_allclose(fast.q, slow.q, rtol=0, atol=1e-12)
     np.testing.assert_allclose(fast.qd, slow.qd, rtol=0, atol=1e-9)
     np.testing.assert_allclose(fast.tau_requested, slow.tau_requested, rtol=0, atol=1e-9)

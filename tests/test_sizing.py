@@ -49,7 +49,12 @@ def test_size_ranks_a_catalogue(tmp_path, capsys):
     out = capsys.readouterr().out
     lines = [line for line in out.splitlines() if re.match(r"[12]\s{2,}", line)]
     assert lines[0].split()[1] == "right" and "pass" in lines[0]
-    assert lines[1].split()[1] == "small" and "FAIL" in lines[1] and "torque under the peak curve" in lines[1] and "LN1" in lines[1]
+    assert (
+        lines[1].split()[1] == "small"
+        and "FAIL" in lines[1]
+        and "torque under the peak curve" in lines[1]
+        and "LN1" in lines[1]
+    )
     assert "Every check of rank 1: right + ten" in out
     assert main(["size", "--rate", "200", "--catalogue", str(motors), "--format", "json", "--top", "1"]) == 0
     import json
@@ -105,7 +110,14 @@ def test_the_public_names_stay_where_the_readme_says():
         assert name in module.__all__
     for name in hipsim.machine.drive.__all__:
         assert getattr(hipsim.machine.drive, name) is not None, name
-    for name in ("load_drive", "load_motor_catalogue", "load_screw_catalogue", "load_gearbox_catalogue", "Drive", "SizingRules"):
+    for name in (
+        "load_drive",
+        "load_motor_catalogue",
+        "load_screw_catalogue",
+        "load_gearbox_catalogue",
+        "Drive",
+        "SizingRules",
+    ):
         assert name in hipsim.machine.drive.__all__
 
 
@@ -117,14 +129,24 @@ def test_size_ranks_the_example_catalogue_smallest_first_and_says_why_others_fai
     from hipsim.cli import main
 
     folder = resources.files("hipsim.models")
-    files = ["--catalogue", str(folder / "motors_example.csv"), "--screws", str(folder / "screws_example.csv"),
-             "--gearboxes", str(folder / "gearboxes_example.csv")]
+    files = [
+        "--catalogue",
+        str(folder / "motors_example.csv"),
+        "--screws",
+        str(folder / "screws_example.csv"),
+        "--gearboxes",
+        str(folder / "gearboxes_example.csv"),
+    ]
     assert main(["size", "--rate", "200", *files]) == 0
     out = capsys.readouterr().out
     lines = [line for line in out.splitlines() if re.match(r"\d+\s{2,}EX-", line)]
     assert len(lines) == 36 and "EX-S200" in lines[0] and "pass" in lines[0] and "201 W" in lines[0]
     over = [line for line in lines if "EX-S200" in line and "belt" in line and "16x5" in line]
-    assert len(over) == 1 and re.search(r"needs [\d,]+ rpm; the motor's top speed is 6,000", over[0]) and "∞" not in over[0]
+    assert (
+        len(over) == 1
+        and re.search(r"needs [\d,]+ rpm; the motor's top speed is 6,000", over[0])
+        and "∞" not in over[0]
+    )
     assert "rated power = rated torque × rated speed" in out and "Checks that do not depend on the motor" in out
     assert main(["size", "--rate", "200", "--rank", "margin", *files]) == 0
     lines = [line for line in capsys.readouterr().out.splitlines() if re.match(r"\d+\s{2,}EX-", line)]
@@ -133,7 +155,9 @@ def test_size_ranks_the_example_catalogue_smallest_first_and_says_why_others_fai
     document = json.loads(capsys.readouterr().out)
     first = document["candidates"][0]
     assert {"drive", "motor", "gearbox", "screw", "passed", "margin", "binding", "unchecked", "checks"} <= set(first)
-    assert first["rated_power_W"] == pytest.approx(0.64 * 3000 * 2 * 3.141592653589793 / 60) and document["rank"] == "size"
+    assert (
+        first["rated_power_W"] == pytest.approx(0.64 * 3000 * 2 * 3.141592653589793 / 60) and document["rank"] == "size"
+    )
     assert len(document["screw_checks"]) == 3
 
 

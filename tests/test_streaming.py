@@ -13,11 +13,11 @@ from hipsim.analysis.streaming import stream_run
 from hipsim.cli.main import main
 from hipsim.exceptions import MissingDependencyError, OutputError, PoseError, TrajectoryError
 from hipsim.files import ColumnWriter, check_output
-from hipsim.tables import csv_rows
 from hipsim.motion.readers import read_trajectory
 from hipsim.motion.sources import CycleSource, FileSource, SampledSource
 from hipsim.motion.trajectories import Trajectory
 from hipsim.results import ExactSum
+from hipsim.tables import csv_rows
 
 
 @pytest.fixture(scope="module")
@@ -103,7 +103,9 @@ def test_resampled_file_pieces_equal_the_resampled_trajectory(tmp_path):
 
 def test_a_bad_file_gives_the_readers_error(tmp_path):
     bad = tmp_path / "bad.csv"
-    bad.write_text("t_s,alpha_deg,beta_deg,gamma_deg\n" + "".join(f"{k / 100},0,0,{'x' if k == 4 else 0}\n" for k in range(8)))
+    bad.write_text(
+        "t_s,alpha_deg,beta_deg,gamma_deg\n" + "".join(f"{k / 100},0,0,{'x' if k == 4 else 0}\n" for k in range(8))
+    )
     with pytest.raises(TrajectoryError) as whole:
         read_trajectory(bad)
     with pytest.raises(TrajectoryError) as piecewise:
@@ -115,7 +117,13 @@ def test_a_crossing_at_a_piece_boundary_is_caught_as_in_one_piece(params):
     """δ = 5°: between γ = −7.3° and −4.1° the motion steps over the singularity at γ = −5° (tests/test_inverse_kinematics.py)."""
     machine = params.replace(home_offset=np.radians(5.0))
     gamma = np.radians([-9.7, -7.3, -4.1, -1.9])
-    coarse = Trajectory(np.arange(4) * 0.1, np.column_stack([np.zeros(4), np.zeros(4), gamma]), np.zeros((4, 3)), np.zeros((4, 3)), np.zeros(4))
+    coarse = Trajectory(
+        np.arange(4) * 0.1,
+        np.column_stack([np.zeros(4), np.zeros(4), gamma]),
+        np.zeros((4, 3)),
+        np.zeros((4, 3)),
+        np.zeros(4),
+    )
     with pytest.raises(PoseError, match="passes through a singular pose") as error:
         stream_run(machine, coarse, chunk=2)  # the crossing is the first sample of the second piece
     assert error.value.index == 2 and error.value.time == pytest.approx(0.2)
@@ -126,7 +134,13 @@ def test_a_crossing_at_a_piece_boundary_is_caught_as_in_one_piece(params):
 
 
 def test_a_pose_error_names_the_sample_of_the_whole_run(params):
-    far = Trajectory(np.arange(8) * 0.01, np.radians([[0, 0, g] for g in (0, 0, 0, 0, 0, 180, 0, 0)]), np.zeros((8, 3)), np.zeros((8, 3)), np.zeros(8))
+    far = Trajectory(
+        np.arange(8) * 0.01,
+        np.radians([[0, 0, g] for g in (0, 0, 0, 0, 0, 180, 0, 0)]),
+        np.zeros((8, 3)),
+        np.zeros((8, 3)),
+        np.zeros(8),
+    )
     for model in ("analytic", "pinocchio"):
         with pytest.raises(PoseError) as error:
             stream_run(params, far, model=model, chunk=3)
@@ -150,7 +164,7 @@ def test_exact_sum_does_not_depend_on_the_pieces():
     whole, pieces = ExactSum(2), ExactSum(2)
     whole.add(values)
     for start in range(0, 5000, 333):
-        pieces.add(values[start:start + 333])
+        pieces.add(values[start : start + 333])
     expected = [math.fsum(values[:, c]) for c in range(2)]  # correctly rounded, by another route
     assert whole.total().tolist() == expected == pieces.total().tolist()
 
@@ -183,12 +197,20 @@ def test_parquet_writer_is_atomic_and_keeps_the_pieces_in_order(tmp_path, monkey
             writer.write({"a_s": np.arange(start, min(start + 70, 1000), dtype=float)})
         writer.close()
     parquet = pq.ParquetFile(path)
-    assert [parquet.metadata.row_group(k).num_rows for k in range(parquet.metadata.num_row_groups)] == [210, 210, 210, 210, 160]
+    assert [parquet.metadata.row_group(k).num_rows for k in range(parquet.metadata.num_row_groups)] == [
+        210,
+        210,
+        210,
+        210,
+        160,
+    ]
     assert parquet.schema_arrow.metadata[b"note"] == b"x"
     np.testing.assert_array_equal(parquet.read().column("a_s").to_numpy(), np.arange(1000.0))
 
 
-@pytest.mark.parametrize("bad, reason", [("missing/x.csv", "does not exist"), (".", "is a folder"), ("/dev/null", "not a regular file")])
+@pytest.mark.parametrize(
+    "bad, reason", [("missing/x.csv", "does not exist"), (".", "is a folder"), ("/dev/null", "not a regular file")]
+)
 def test_outputs_are_checked_before_the_work(tmp_path, monkeypatch, capsys, bad, reason):
     import hipsim.analysis.streaming as streaming
 
@@ -278,10 +300,17 @@ def test_report_exits_1_and_says_so_when_the_drive_fails(tmp_path, capsys):
     assert (tmp_path / "r1" / "index.html").exists()  # the report is written all the same
     assert main([*common, "--out", str(tmp_path / "r2"), "--summary-format", "json"]) == 1
     document = json.loads(capsys.readouterr().out)
-    assert document["rating_check"] == "FAIL" and document["sizing"]["passed"] is False and document["motors"]["1"]["tau_rms_Nmm"] > 30
+    assert (
+        document["rating_check"] == "FAIL"
+        and document["sizing"]["passed"] is False
+        and document["motors"]["1"]["tau_rms_Nmm"] > 30
+    )
     strong = tmp_path / "strong.toml"
     strong.write_text('[motor]\nname = "big"\ns1_torque_Nmm = 5000\npeak_torque_Nmm = 9000\nmax_speed_rpm = 6000\n')
-    assert main(["report", "--rate", "100", "--model", "analytic", "--motor", str(strong), "--out", str(tmp_path / "r3")]) == 0
+    assert (
+        main(["report", "--rate", "100", "--model", "analytic", "--motor", str(strong), "--out", str(tmp_path / "r3")])
+        == 0
+    )
 
 
 def test_the_version_is_the_packages_own():

@@ -8,11 +8,19 @@ import numpy as np
 import pytest
 
 import hipsim
-from hipsim.design import variants as v
-from hipsim.design.sweep import SweepSetup, evaluate, evaluate_batch, metric_columns, pareto_front, parse_objective, run_sweep
-from hipsim.design.sweep_table import read_table, write_table
 from hipsim.cli import sweep as sweep_cli
 from hipsim.cli.main import main
+from hipsim.design import variants as v
+from hipsim.design.sweep import (
+    SweepSetup,
+    evaluate,
+    evaluate_batch,
+    metric_columns,
+    pareto_front,
+    parse_objective,
+    run_sweep,
+)
+from hipsim.design.sweep_table import read_table, write_table
 from hipsim.exceptions import ArgumentError, FileRowError, MissingDependencyError, ParameterError
 
 RATE = 100.0  # samples per second of the ISO cycle: the metrics' physics does not need more, and the tests stay quick
@@ -35,7 +43,10 @@ def rows_equal(a: dict, b: dict) -> bool:
     for key in a:
         x, y = a[key], b[key]
         if isinstance(x, float) and isinstance(y, float):
-            if not (np.array_equal(np.float64(x).view(np.int64), np.float64(y).view(np.int64)) or (math.isnan(x) and math.isnan(y))):
+            if not (
+                np.array_equal(np.float64(x).view(np.int64), np.float64(y).view(np.int64))
+                or (math.isnan(x) and math.isnan(y))
+            ):
                 return False
         elif x != y:
             return False
@@ -56,7 +67,9 @@ def test_grid_includes_its_stop_and_gives_the_values_as_typed():
     assert len({tuple(row) for row in variants.values}) == len(variants)
 
 
-@pytest.mark.parametrize("axis", [(300.0, 360.0, 0.0), (300.0, 360.0, -5.0), (360.0, 300.0, 5.0), (300.0, math.inf, 5.0)])
+@pytest.mark.parametrize(
+    "axis", [(300.0, 360.0, 0.0), (300.0, 360.0, -5.0), (360.0, 300.0, 5.0), (300.0, math.inf, 5.0)]
+)
 def test_a_bad_grid_axis_is_refused_naming_its_key(axis):
     with pytest.raises(ArgumentError, match="lever.length_mm"):
         v.grid({"lever.length_mm": axis})
@@ -77,7 +90,9 @@ def test_latin_hypercube_puts_one_variant_in_each_stratum_of_each_range():
 def test_tolerance_study_spreads_around_the_machines_own_values(base):
     machine = hipsim.load_parameters(overrides={"lever.length_mm": 331.0})
     n = 4000
-    variants = v.tolerance_study(machine, {"lever.length_mm": ("normal", 0.05), "platform.heights_mm[2]": ("uniform", 0.2)}, n, seed=3)
+    variants = v.tolerance_study(
+        machine, {"lever.length_mm": ("normal", 0.05), "platform.heights_mm[2]": ("uniform", 0.2)}, n, seed=3
+    )
     length, height = variants.values.T
     # Normal: mean within 4 standard errors of the nominal, σ within 5 %.
     assert abs(length.mean() - 331.0) < 4 * 0.05 / math.sqrt(n)
@@ -207,7 +222,14 @@ def test_a_real_dask_cluster_gives_the_serial_rows_to_the_last_bit(base, iso):
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
         seen = []
         remote = dict(
-            row for batch in run_sweep(setup, variants, scheduler=cluster.scheduler_address, batch_size=3, progress=lambda n, t: seen.append((n, t)))
+            row
+            for batch in run_sweep(
+                setup,
+                variants,
+                scheduler=cluster.scheduler_address,
+                batch_size=3,
+                progress=lambda n, t: seen.append((n, t)),
+            )
             for row in batch
         )
     assert remote.keys() == serial.keys()
@@ -230,7 +252,9 @@ def test_without_dask_the_sweep_says_how_to_install_it(base, iso, monkeypatch):
 def test_batches_cover_every_chosen_variant_once(base, iso):
     variants = v.grid({"lever.length_mm": (300.0, 360.0, 5.0)})
     setup = SweepSetup(base, iso, variants.keys)
-    rows = dict(row for batch in run_sweep(setup, variants, indices=[0, 5, 12], workers=1, batch_size=2) for row in batch)
+    rows = dict(
+        row for batch in run_sweep(setup, variants, indices=[0, 5, 12], workers=1, batch_size=2) for row in batch
+    )
     assert sorted(rows) == [0, 5, 12]
     assert rows_equal(rows[5], dict(evaluate_batch(([5], variants.values[[5]]), setup))[5])
 
@@ -251,7 +275,12 @@ def test_pareto_front_of_a_hand_made_set():
 
 @pytest.mark.parametrize("suffix", [".csv", ".parquet"])
 def test_the_table_reads_back_to_the_same_bits(tmp_path, suffix):
-    columns = {"lever.length_mm": [330.0, 0.1 + 0.2], "status": ["ok", "cannot_assemble"], "reason": ["", "a, b"], "cond_inv_min": [1 / 3, math.nan]}
+    columns = {
+        "lever.length_mm": [330.0, 0.1 + 0.2],
+        "status": ["ok", "cannot_assemble"],
+        "reason": ["", "a, b"],
+        "cond_inv_min": [1 / 3, math.nan],
+    }
     path = write_table(tmp_path / f"t{suffix}", columns, {"model": "analytic"})
     back = read_table(path)
     assert list(back) == list(columns)
@@ -275,7 +304,16 @@ def test_a_rerun_skips_the_variants_already_in_the_output(tmp_path, capsys):
     assert code == 0 and (first["new"], first["skipped"], first["rows"]) == (3, 0, 3)
     before = read_table(out)
     # A wider grid: 310 and 350 are new; 320, 330, 340 were run (written 320.0 …; given as 3.2e2 here).
-    code, second, _ = sweep(tmp_path, capsys, "--grid", "lever.length_mm=310:350:10", "--out", str(out), "--pareto", "tau_peak_max_Nmm,-cond_inv_min")
+    code, second, _ = sweep(
+        tmp_path,
+        capsys,
+        "--grid",
+        "lever.length_mm=310:350:10",
+        "--out",
+        str(out),
+        "--pareto",
+        "tau_peak_max_Nmm,-cond_inv_min",
+    )
     assert code == 0 and (second["new"], second["skipped"], second["rows"]) == (2, 3, 5)
     after = read_table(out)
     assert after["lever.length_mm"] == [320.0, 330.0, 340.0, 310.0, 350.0]
@@ -295,9 +333,13 @@ def test_an_output_of_another_sweep_is_not_mixed_in(tmp_path, capsys):
 
 def test_exit_status_says_whether_any_variant_passes_the_rating(tmp_path, capsys):
     grid = ("--grid", "lever.length_mm=320:330:10")
-    code, summary, err = sweep(tmp_path, capsys, *grid, "--set", "motor.peak_torque_Nmm=100", "--out", str(tmp_path / "a.csv"))
+    code, summary, err = sweep(
+        tmp_path, capsys, *grid, "--set", "motor.peak_torque_Nmm=100", "--out", str(tmp_path / "a.csv")
+    )
     assert code == 1 and summary["fail"] == 2 and "no variant passes the rating" in err
-    code, summary, _ = sweep(tmp_path, capsys, *grid, "--set", "motor.peak_torque_Nmm=5000", "--out", str(tmp_path / "b.csv"))
+    code, summary, _ = sweep(
+        tmp_path, capsys, *grid, "--set", "motor.peak_torque_Nmm=5000", "--out", str(tmp_path / "b.csv")
+    )
     assert code == 0 and summary["pass"] == 2 and summary["best"]["margin"]["goal"] == "max"
 
 
@@ -378,32 +420,47 @@ def _table(keys: dict, objective, rating=None, margin=None):
     """A sweep table built by hand: the keys' columns, one objective, every row computed."""
     n = len(objective)
     columns = {key: list(map(float, values)) for key, values in keys.items()}
-    columns |= {"status": ["ok"] * n, "reason": [""] * n, "rating": rating or ["unchecked"] * n,
-                "margin": margin or [math.nan] * n, "binding": [""] * n}
+    columns |= {
+        "status": ["ok"] * n,
+        "reason": [""] * n,
+        "rating": rating or ["unchecked"] * n,
+        "margin": margin or [math.nan] * n,
+        "binding": [""] * n,
+    }
     return columns | {"tau_peak_max_Nmm": list(map(float, objective))}
 
 
 def test_an_optimum_on_the_edge_of_a_grid_is_reported_with_a_range_beyond_it():
     x = np.arange(320.0, 341.0, 5.0)  # 320 … 340, step 5
-    on_edge = sweep_cli._summary(_table({"lever.length_mm": x}, (x - 400.0) ** 2), ["lever.length_mm"], {"tau_peak_max_Nmm": False}, None)
+    on_edge = sweep_cli._summary(
+        _table({"lever.length_mm": x}, (x - 400.0) ** 2), ["lever.length_mm"], {"tau_peak_max_Nmm": False}, None
+    )
     (edge,) = on_edge["best"]["tau_peak_max_Nmm"]["edges"]
     assert (edge["key"], edge["side"], edge["value"], edge["step"]) == ("lever.length_mm", "upper", 340.0, 5.0)
     low, high = edge["suggestion"]
     assert low == 320.0 and high > 340.0 and (high - 340.0) % 5.0 == 0.0
     text = "\n".join(sweep_cli._onward_lines(on_edge))
     assert "upper edge of lever.length_mm" in text and f"lever.length_mm=320:{high:g}:5" in text
-    inside = sweep_cli._summary(_table({"lever.length_mm": x}, (x - 331.0) ** 2), ["lever.length_mm"], {"tau_peak_max_Nmm": False}, None)
-    assert inside["best"]["tau_peak_max_Nmm"]["edges"] == [] and "edge" not in "\n".join(sweep_cli._onward_lines(inside))
+    inside = sweep_cli._summary(
+        _table({"lever.length_mm": x}, (x - 331.0) ** 2), ["lever.length_mm"], {"tau_peak_max_Nmm": False}, None
+    )
+    assert inside["best"]["tau_peak_max_Nmm"]["edges"] == [] and "edge" not in "\n".join(
+        sweep_cli._onward_lines(inside)
+    )
 
 
 def test_a_flat_objective_points_to_no_edge_and_a_sample_has_edges_too():
     x = np.arange(1.0, 6.0)
-    flat = sweep_cli._summary(_table({"lever.mass_kg": x}, np.ones(5)), ["lever.mass_kg"], {"tau_peak_max_Nmm": False}, None)
+    flat = sweep_cli._summary(
+        _table({"lever.mass_kg": x}, np.ones(5)), ["lever.mass_kg"], {"tau_peak_max_Nmm": False}, None
+    )
     assert flat["best"]["tau_peak_max_Nmm"]["edges"] == []  # the first row ties with every other
     from hipsim.design.sweep_edges import edges_of
 
     rng = np.random.default_rng(3)
-    sample = (np.arange(20) + rng.random(20))[rng.permutation(20)] / 20 * 4 + 1  # one value in each of 20 strata of 1 … 5
+    sample = (np.arange(20) + rng.random(20))[
+        rng.permutation(20)
+    ] / 20 * 4 + 1  # one value in each of 20 strata of 1 … 5
     values = np.column_stack([sample, sample[::-1]])
     low_row = int(np.argmin(sample))
     assert ("a", "lower") in [(e.key, e.side) for e in edges_of(values, ["a", "b"], low_row)]
@@ -421,14 +478,21 @@ def test_the_best_variant_names_its_nearest_failing_neighbour():
     summary = sweep_cli._summary(columns, ["a.x", "a.y"], {"tau_peak_max_Nmm": False}, None)
     best = summary["best"]["margin"]
     assert best["variant"] == {"a.x": 3.0, "a.y": 10.0} and best["margin"] == 0.3
-    assert best["nearest_failing"]["variant"] == {"a.x": 4.0, "a.y": 10.0} and best["nearest_failing"]["margin"] == -0.05
-    assert "nearest failing neighbour at a.x 4, a.y 10 (FAIL, margin -5.0 %); its own margin +30.0 %" in "\n".join(sweep_cli._onward_lines(summary))
+    assert (
+        best["nearest_failing"]["variant"] == {"a.x": 4.0, "a.y": 10.0} and best["nearest_failing"]["margin"] == -0.05
+    )
+    assert "nearest failing neighbour at a.x 4, a.y 10 (FAIL, margin -5.0 %); its own margin +30.0 %" in "\n".join(
+        sweep_cli._onward_lines(summary)
+    )
 
 
 def test_the_sweep_says_its_best_variant_is_on_the_edge(tmp_path, capsys):
     """Heavier levers need more torque: the lightest lever of the grid is the best, on its lower edge."""
     out = tmp_path / "s.csv"
-    assert main(["sweep", "--rate", str(RATE), "--workers", "1", "--grid", "lever.mass_kg=0.5:1.5:0.5", "--out", str(out)]) == 0
+    assert (
+        main(["sweep", "--rate", str(RATE), "--workers", "1", "--grid", "lever.mass_kg=0.5:1.5:0.5", "--out", str(out)])
+        == 0
+    )
     text = capsys.readouterr().out
     assert "tau_peak_max_Nmm" in text and "lies on the lower edge of lever.mass_kg (0.5, swept 0.5…1.5)" in text
     assert "lever.mass_kg=0.25:1.5:0.5" in text

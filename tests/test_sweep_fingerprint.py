@@ -22,7 +22,10 @@ def first(request, tmp_path_factory):
     """A first sweep's file (written once per format), copied by each test."""
     folder = tmp_path_factory.mktemp("first")
     out = folder / f"s{request.param}"
-    assert main(["sweep", "--workers", "1", "--summary-format", "json", "--rate", str(RATE), *GRID, "--out", str(out)]) == 0
+    assert (
+        main(["sweep", "--workers", "1", "--summary-format", "json", "--rate", str(RATE), *GRID, "--out", str(out)])
+        == 0
+    )
     return out
 
 
@@ -54,7 +57,10 @@ def test_the_same_set_up_resumes(out, capsys):
     [
         (("--rate", "200"), "the trajectory"),
         (("--rate", str(RATE), "--set", "slider.mass_kg=3.5"), "the machine (--params, --set) differs"),
-        (("--rate", str(RATE), "--cycles", "2"), "the trajectory (--trajectory, --rate, --cycles, --frequency …), the test cycles (--cycles) differ"),
+        (
+            ("--rate", str(RATE), "--cycles", "2"),
+            "the trajectory (--trajectory, --rate, --cycles, --frequency …), the test cycles (--cycles) differ",
+        ),
         (("--rate", str(RATE), "--model", "pinocchio"), "holds other columns"),
         (("--rate", str(RATE), "--set", "motor.peak_torque_Nmm=500"), "the machine"),
     ],
@@ -90,7 +96,17 @@ def test_the_same_values_by_another_route_are_the_same_set_up(out, capsys):
 def test_sample_without_range_or_tolerance_says_what_is_missing_not_both(tmp_path, capsys):
     code, _, err = sweep(capsys, "--sample", "5", "--out", str(tmp_path / "s.csv"))
     assert code == 2 and "--sample needs either --range" in err and "not both" not in err
-    code, _, err = sweep(capsys, "--sample", "5", "--range", "lever.length_mm=300:360", "--tolerance", "lever.length_mm=0.1", "--out", str(tmp_path / "s.csv"))
+    code, _, err = sweep(
+        capsys,
+        "--sample",
+        "5",
+        "--range",
+        "lever.length_mm=300:360",
+        "--tolerance",
+        "lever.length_mm=0.1",
+        "--out",
+        str(tmp_path / "s.csv"),
+    )
     assert code == 2 and "not both" in err
 
 

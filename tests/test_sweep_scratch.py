@@ -20,8 +20,23 @@ def test_an_interrupted_sweep_removes_its_dask_scratch_space(tmp_path, signum):
     temporary.mkdir()
     out = tmp_path / "s.csv"
     env = dict(os.environ, TMPDIR=str(temporary), PYTHONPATH=str(ROOT))
-    command = [sys.executable, "-m", "hipsim", "sweep", "--workers", "2", "--rate", "100", "--grid", "lever.length_mm=300:360:0.01", "--out", str(out)]
-    process = subprocess.Popen(command, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, cwd=tmp_path)
+    command = [
+        sys.executable,
+        "-m",
+        "hipsim",
+        "sweep",
+        "--workers",
+        "2",
+        "--rate",
+        "100",
+        "--grid",
+        "lever.length_mm=300:360:0.01",
+        "--out",
+        str(out),
+    ]
+    process = subprocess.Popen(
+        command, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, cwd=tmp_path
+    )
     try:
         deadline = time.monotonic() + 120
         while not any(temporary.rglob("*.dirlock")) and process.poll() is None and time.monotonic() < deadline:

@@ -17,7 +17,9 @@ def test_values_as_toml_spells_them():
 
 
 def test_a_written_machine_reads_back_the_same(tmp_path):
-    params = hipsim.load_parameters(overrides={"lever.length_mm": 331.5, "platform.inertia_kgmm2": [[300, 2, 0], [2, 310, 0], [0, 0, 200]]})
+    params = hipsim.load_parameters(
+        overrides={"lever.length_mm": 331.5, "platform.inertia_kgmm2": [[300, 2, 0], [2, 310, 0], [0, 0, 200]]}
+    )
     path = tmp_path / "machine.toml"
     path.write_text(parameter_toml(params))
     again = load_parameters(path)
@@ -29,4 +31,6 @@ def test_the_params_command_layout(capsys):
     """With a title, units and a comment column, the text is what ``hipsim params`` prints."""
     assert main(["params"]) == 0
     params = hipsim.load_parameters()
-    assert capsys.readouterr().out == parameter_toml(params, title=f"parameters: {params.source}", units=True, comment_column=60)
+    assert capsys.readouterr().out == parameter_toml(
+        params, title=f"parameters: {params.source}", units=True, comment_column=60
+    )

@@ -8,12 +8,9 @@ derivatives of the ISO curves.
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
-from hypothesis import strategies as st
 
 from hipsim import TrajectoryError
 from hipsim.motion.trajectories import Trajectory, iso14242, iso14242_angles, iso14242_load
@@ -40,11 +37,17 @@ def test_iso_values_match_spec_formulas():
     # α(s) = 3.5° + 21.5°·cos(2πs); β(s) = 1.5° + 5.5°·cos(2πs − 40°); γ(s) = −4° + 6°·cos(2πs − π).
     traj = iso14242(rate=250)
     s = traj.t
-    expected = np.stack([
-        3.5 + 21.5 * np.cos(2 * np.pi * s),
-        1.5 + 5.5 * np.cos(2 * np.pi * s - 40 * DEG),
-        -4.0 + 6.0 * np.cos(2 * np.pi * s - np.pi),
-    ], axis=1) * DEG
+    expected = (
+        np.stack(
+            [
+                3.5 + 21.5 * np.cos(2 * np.pi * s),
+                1.5 + 5.5 * np.cos(2 * np.pi * s - 40 * DEG),
+                -4.0 + 6.0 * np.cos(2 * np.pi * s - np.pi),
+            ],
+            axis=1,
+        )
+        * DEG
+    )
     np.testing.assert_allclose(traj.q, expected, rtol=0, atol=1e-14)
 
 

@@ -3,11 +3,12 @@
 import json
 from pathlib import Path
 
+import hipsim.models
 import numpy as np
 import pytest
+from rig_synthetic import fit_run, machines, write_log
 
 import hipsim
-import hipsim.models
 from hipsim.analysis.runs import analyse
 from hipsim.cli.main import main
 from hipsim.design.sizing import margin_bands, sizing
@@ -16,8 +17,6 @@ from hipsim.rig import identify, load_log
 from hipsim.rig.base import base_parameters
 from hipsim.rig.quantities import standard_values, with_values
 from hipsim.rig.uncertainty import read_covariance, sigma_machines
-
-from rig_synthetic import fit_run, machines, write_log
 
 DRIVE = Path(hipsim.models.__file__).with_name("drive_example.toml")
 
@@ -43,7 +42,15 @@ def test_margin_bands_agree_with_draws_of_the_parameters(identified):
     base = base_parameters(params, covariance.lever_spin)
     theta = standard_values(params)
     draws = np.random.default_rng(0).multivariate_normal(base.transform @ theta, covariance.matrix, size=300)
-    margins = np.array([[np.nan if c.margin is None else c.margin for c in sizing(analyse(with_values(params, base.standard(d, theta)), trajectory), drive).checks] for d in draws])
+    margins = np.array(
+        [
+            [
+                np.nan if c.margin is None else c.margin
+                for c in sizing(analyse(with_values(params, base.standard(d, theta)), trajectory), drive).checks
+            ]
+            for d in draws
+        ]
+    )
     compared = 0
     for j, band in enumerate(bands):
         spread = np.std(margins[:, j])
@@ -79,15 +86,23 @@ def test_the_parameter_origin_comes_from_the_identification_table(identified, tm
     path, _ = identified
     lines = path.read_text(encoding="utf-8").splitlines()
     bare = tmp_path / "bare.toml"
-    bare.write_text("\n".join([lines[0]] + [line for line in lines[1:] if not line.startswith("#")]) + "\n", encoding="utf-8")
+    bare.write_text(
+        "\n".join([lines[0]] + [line for line in lines[1:] if not line.startswith("#")]) + "\n", encoding="utf-8"
+    )
     table = tomllib.loads(path.read_text(encoding="utf-8"))["identification"]
     origin = parameter_origin(bare)
     assert origin.kind == "identified" and origin.logs == ("fit.csv",)
-    determined = {label: (value, std) for label, value, std, d in zip(table["base"], table["value"], table["std"], table["determined"]) if d}
+    determined = {
+        label: (value, std)
+        for label, value, std, d in zip(table["base"], table["value"], table["std"], table["determined"])
+        if d
+    }
     assert {v.label: (v.value, v.std) for v in origin.identified} == determined
     assert {key for key, _ in origin.held} >= {key for key, d in zip(table["keys"], table["determined"]) if not d}
     assert origin.origin_of("slider.mass_kg")[0] == "identified"
-    assert origin.origin_of("lever.mass_kg")[0].startswith("start value")  # folded into m_L, its own value the starting one
+    assert origin.origin_of("lever.mass_kg")[0].startswith(
+        "start value"
+    )  # folded into m_L, its own value the starting one
     assert parameter_origin(None).kind == "published"
 
 
@@ -102,5 +117,7 @@ def test_report_with_an_identified_file_states_the_margins_confidence(identified
     assert main(args + ["--out", str(tmp_path / "b"), "--summary-format", "json"]) in (0, 1)
     document = json.loads(capsys.readouterr().out)
     assert len(document["margin_bands"]) == len(document["sizing"]["checks"])
-    assert main(["report", "--motor", str(DRIVE), "--model", "analytic", "--rate", "200", "--out", str(tmp_path / "c")]) in (0, 1)
+    assert main(
+        ["report", "--motor", str(DRIVE), "--model", "analytic", "--rate", "200", "--out", str(tmp_path / "c")]
+    ) in (0, 1)
     assert "95 % confidence" not in (tmp_path / "c" / "index.html").read_text(encoding="utf-8")

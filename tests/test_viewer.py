@@ -17,17 +17,17 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
+from support import SmoothMotion
 
 from hipsim.analytic.inverse_kinematics import kinematics as analytic_kinematics
 from hipsim.analytic.inverse_kinematics import rotation_matrix
-from hipsim.machine.parameters import load_parameters
-from hipsim.closed_chain.constraints import closure_residuals
-from hipsim.present.human import HUMAN_PELVIS_POSITION, HUMAN_PELVIS_ROTATION
-from hipsim.present.browser import find_browser, screenshot
-from hipsim.motion.trajectories import interpolator, iso14242
 from hipsim.cli.view import run_view, step_through
+from hipsim.closed_chain.constraints import closure_residuals
+from hipsim.machine.parameters import load_parameters
+from hipsim.motion.trajectories import interpolator, iso14242
+from hipsim.present.browser import find_browser, screenshot
+from hipsim.present.human import HUMAN_PELVIS_POSITION, HUMAN_PELVIS_ROTATION
 from hipsim.present.viewer import Viewer, force_scale_for, singularity_colour
-from support import SmoothMotion
 
 FPS = 30.0
 
@@ -72,7 +72,10 @@ def page_tracks(html: str, fps: float = FPS) -> tuple[dict, dict]:
     for entry in animations[0]["animations"]:
         for track in entry["clip"]["tracks"]:
             keys = track["keys"]
-            tracks[(entry["path"], track["name"])] = (np.array([k["time"] for k in keys]), np.array([k["value"] for k in keys], dtype=float))
+            tracks[(entry["path"], track["name"])] = (
+                np.array([k["time"] for k in keys]),
+                np.array([k["value"] for k in keys], dtype=float),
+            )
             assert track["interpolation"] == 2300  # discrete: every frame shown is a closed sample
         assert entry["clip"]["fps"] == pytest.approx(fps)
     return tracks, animations[0]["options"]
@@ -169,7 +172,9 @@ def test_force_arrows_and_lever_colours_follow_the_dynamics(offline, iso_motion,
     for i in range(3):
         length = tracks[(f"/meshcat/hipsim/forces/screw_{i + 1}/shaft", ".scale")][1][:, 1]
         assert np.allclose(length, np.maximum(np.abs(motion.F_act[:, i]) * scale, 1e-5))
-        direction = quaternion_matrix(tracks[(f"/meshcat/hipsim/forces/screw_{i + 1}/shaft", ".quaternion")][1])[:, :, 1]
+        direction = quaternion_matrix(tracks[(f"/meshcat/hipsim/forces/screw_{i + 1}/shaft", ".quaternion")][1])[
+            :, :, 1
+        ]
         assert np.allclose(direction[:, 2], np.sign(motion.F_act[:, i]))  # along the screw, with the force
     for j in range(2):
         for i in range(3):
@@ -181,7 +186,10 @@ def test_force_arrows_and_lever_colours_follow_the_dynamics(offline, iso_motion,
     assert np.allclose(motion.cond_inv, cond_inv)
     colour = tracks[(node("lever_11_0") + "/<object>", ".material.color")][1]
     assert np.allclose(colour, singularity_colour(cond_inv))
-    assert np.allclose(singularity_colour([0.0, 0.25, 0.5, 0.9, np.nan]), [[0.85, 0.1, 0.1], [0.95, 0.85, 0.1], [0.45, 0.9, 0.1], [0.45, 0.9, 0.1], [0.85, 0.1, 0.1]])
+    assert np.allclose(
+        singularity_colour([0.0, 0.25, 0.5, 0.9, np.nan]),
+        [[0.85, 0.1, 0.1], [0.95, 0.85, 0.1], [0.45, 0.9, 0.1], [0.45, 0.9, 0.1], [0.85, 0.1, 0.1]],
+    )
 
 
 def test_page_is_self_contained(iso_page):
@@ -291,7 +299,9 @@ def test_page_renders_the_animation_in_chromium(offline, iso_motion, iso_page, t
         pixels = project([p for _, p in checks], target, position, size)
         for (colour, point), pixel in zip(checks, pixels):
             found = _classify(patch(image, pixel, 6), colour)
-            assert found.mean() > 0.3, f"t = {t} s: expected {colour} around {pixel} (world {point}), got {patch(image, pixel, 1)}"
+            assert found.mean() > 0.3, (
+                f"t = {t} s: expected {colour} around {pixel} (world {point}), got {patch(image, pixel, 1)}"
+            )
         # Platform 2, seen through the levers and carriages: purple somewhere around its centre.
         assert _classify(patch(image, project([0.0, 0.0, h2], target, position, size)[0], 40), "purple").sum() > 20
     # The animation plays: the machine moves between the two times.

@@ -5,16 +5,15 @@ import math
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
+from support import ALL_FRICTION, SmoothMotion, central_difference, iso_at
 
 import hipsim
 from hipsim import Torques
-from hipsim.analytic.virtual_work import inverse_dynamics, mass_and_bias, mechanical_energy
-from hipsim.physics.friction import smooth_sign
-from hipsim.exceptions import PoseError
 from hipsim.analytic.inverse_kinematics import kinematics, lever_frames, lever_jacobians
+from hipsim.analytic.virtual_work import inverse_dynamics, mass_and_bias, mechanical_energy
+from hipsim.exceptions import PoseError
 from hipsim.motion.trajectories import Trajectory, iso14242
-
-from support import ALL_FRICTION, SmoothMotion, central_difference, iso_at
+from hipsim.physics.friction import smooth_sign
 
 H = 1e-5  # finite-difference step in [s]
 T_SAMPLES = np.linspace(0.0, 1.0, 200, endpoint=False)
@@ -124,7 +123,11 @@ def test_central_friction_resists_rotation(params):
     """Only the hip and thrust friction: the platform's friction power is τ_mf·ω with
     |τ_mf| = r_h μ_h F_e + r_t μ_t (F_e + m_m g) far from ω = 0 (spec §4.3)."""
     bare = params.replace(
-        platform_inertia=np.zeros((3, 3)), lever_mass=0.0, lever_inertia=np.zeros((3, 3)), slider_mass=0.0, screw_inertia=0.0
+        platform_inertia=np.zeros((3, 3)),
+        lever_mass=0.0,
+        lever_inertia=np.zeros((3, 3)),
+        slider_mass=0.0,
+        screw_inertia=0.0,
     )
     traj = iso_at(T_SAMPLES)
     kin = kinematics(bare, traj)
@@ -141,9 +144,13 @@ def test_axial_only_thrust_bearing_dissipates_only_its_spin(params):
     """friction.thrust_bearing_axial_only: with only central friction, the motor power is
     2·[r_h μ_h F_e·|ω|²/√(|ω|² + ε²) + r_t μ_t (F_e + m_m g)·(ω·z)²/√((ω·z)² + ε²)], z the platform's axis."""
     bare = params.replace(
-        platform_inertia=np.zeros((3, 3)), lever_mass=0.0, lever_inertia=np.zeros((3, 3)), slider_mass=0.0, screw_inertia=0.0,
+        platform_inertia=np.zeros((3, 3)),
+        lever_mass=0.0,
+        lever_inertia=np.zeros((3, 3)),
+        slider_mass=0.0,
+        screw_inertia=0.0,
         thrust_bearing_axial_only=True,
-    )  # fmt: skip
+    )
     traj = iso_at(T_SAMPLES)
     kin = kinematics(bare, traj)
     torques = inverse_dynamics(bare, kin, traj.Fe)
@@ -191,7 +198,15 @@ def test_reduced_mass_matrix_gives_the_kinetic_energy(params):
     kinetic, _ = mechanical_energy(params, kinematics(params, motion), lever_spin=True)
     # G's columns: motor speeds 2π·L̇/p at unit rates of each angle (L̇ is linear in q̇).
     G = np.stack(
-        [2 * math.pi / params.lead * kinematics(params, Trajectory(motion.t, motion.q, np.broadcast_to(unit, motion.q.shape), motion.qdd, motion.Fe)).Ld[:, 0] for unit in np.eye(3)],
+        [
+            2
+            * math.pi
+            / params.lead
+            * kinematics(
+                params, Trajectory(motion.t, motion.q, np.broadcast_to(unit, motion.q.shape), motion.qdd, motion.Fe)
+            ).Ld[:, 0]
+            for unit in np.eye(3)
+        ],
         axis=-1,
     )
     from_M = 0.5 * np.einsum("ni,nji,njk,nk->n", motion.qd, G, M, motion.qd)

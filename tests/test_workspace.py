@@ -7,14 +7,13 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 import pytest
+from support import SmoothMotion
 
 import hipsim
 import hipsim.design.workspace as ws
-from hipsim.cli.workspace import run_workspace
 from hipsim.analytic.inverse_kinematics import kinematics, slider_heights
+from hipsim.cli.workspace import run_workspace
 from hipsim.motion.trajectories import Trajectory, iso14242
-
-from support import SmoothMotion
 
 
 @pytest.fixture(scope="module")
@@ -63,7 +62,9 @@ def test_map_applies_the_angle_signs_like_kinematics(params):
     plain = ws.singularity_map(params, -alpha, beta, -gamma)
     np.testing.assert_allclose(signed.cond_inv, plain.cond_inv, rtol=1e-12)
     motion = SmoothMotion(seed=2)(np.linspace(0, 2, 50))
-    np.testing.assert_allclose(ws.trajectory_margin(flipped, motion).cond_inv, kinematics(flipped, motion).cond_inv, rtol=1e-12)
+    np.testing.assert_allclose(
+        ws.trajectory_margin(flipped, motion).cond_inv, kinematics(flipped, motion).cond_inv, rtol=1e-12
+    )
 
 
 def test_zero_offset_is_singular_at_home_and_the_singularity_follows_gamma(params):
@@ -188,11 +189,23 @@ def test_run_workspace_writes_figures_json_and_summary(params, iso, tmp_path):
     out = tmp_path / "ws"
     stream = io.StringIO()
     run = run_workspace(
-        params, iso, out, alpha_deg=np.linspace(-30, 35, 40), beta_deg=np.linspace(-15, 15, 30),
-        gamma_deg=[-12.0, -4.0, 4.0], deltas_deg=np.arange(-30.0, 61.0, 10.0), stream=stream,
+        params,
+        iso,
+        out,
+        alpha_deg=np.linspace(-30, 35, 40),
+        beta_deg=np.linspace(-15, 15, 30),
+        gamma_deg=[-12.0, -4.0, 4.0],
+        deltas_deg=np.arange(-30.0, 61.0, 10.0),
+        stream=stream,
     )
     names = {p.name for p in run.files}
-    assert names == {"singularity_map.png", "singularity_map.svg", "offset_sweep.png", "offset_sweep.svg", "workspace.json"}
+    assert names == {
+        "singularity_map.png",
+        "singularity_map.svg",
+        "offset_sweep.png",
+        "offset_sweep.svg",
+        "workspace.json",
+    }
     for stem in ("singularity_map", "offset_sweep"):
         png, svg = out / f"{stem}.png", out / f"{stem}.svg"
         assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20_000
@@ -205,7 +218,9 @@ def test_run_workspace_writes_figures_json_and_summary(params, iso, tmp_path):
     assert "smallest inverse condition number" in text and "built" in text and "passes through a singularity" in text
 
 
-def test_a_workspace_run_failing_at_its_first_write_takes_back_only_the_folders_it_made(params, iso, tmp_path, monkeypatch):
+def test_a_workspace_run_failing_at_its_first_write_takes_back_only_the_folders_it_made(
+    params, iso, tmp_path, monkeypatch
+):
     def refuse_to_write(*args, **kwargs):  # as on a full disk: after the folder is made, before anything is in it
         raise hipsim.HipsimError("singularity_map.png: cannot write (No space left on device)")
 

@@ -12,7 +12,6 @@ import numpy as np
 
 from hipsim.motion.trajectories import ANGLE_NAMES, iso14242_angles, iso14242_load
 
-
 DEG = math.pi / 180.0
 
 

@@ -18,7 +18,8 @@ import shutil
 import signal
 import tempfile
 import threading
-from typing import Any, Callable, Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
+from typing import Any
 
 from ..exceptions import ArgumentError, MissingDependencyError
 
@@ -71,18 +72,30 @@ def map_batches(
                 try:
                     client = stack.enter_context(distributed.Client(scheduler, timeout="20s"))
                 except (OSError, TimeoutError, ValueError) as error:
-                    raise ArgumentError("scheduler", scheduler, f"the address of a running dask scheduler ({' '.join(str(error).split())})") from None
+                    raise ArgumentError(
+                        "scheduler",
+                        scheduler,
+                        f"the address of a running dask scheduler ({' '.join(str(error).split())})",
+                    ) from None
             else:
                 import dask
 
-                stack.enter_context(dask.config.set({"temporary-directory": scratch}))  # the scheduler and nannies read it
+                stack.enter_context(
+                    dask.config.set({"temporary-directory": scratch})
+                )  # the scheduler and nannies read it
                 # Ctrl-C or SIGTERM while the cluster starts is held until it has started and will be closed on the way
                 # out: a cluster half started goes on starting nannies (and making their locks) after the clean-up.
                 with _signals_held():
-                    cluster = stack.enter_context(distributed.LocalCluster(
-                        n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
-                        silence_logs=logging.CRITICAL, local_directory=scratch,
-                    ))  # fmt: skip
+                    cluster = stack.enter_context(
+                        distributed.LocalCluster(
+                            n_workers=workers,
+                            threads_per_worker=1,
+                            processes=True,
+                            dashboard_address=None,
+                            silence_logs=logging.CRITICAL,
+                            local_directory=scratch,
+                        )
+                    )
                     client = stack.enter_context(distributed.Client(cluster))
             shared = client.scatter(setup, broadcast=True, hash=False)
             futures = client.map(function, batches, setup=shared, pure=False)
@@ -117,7 +130,9 @@ def _signals_held() -> Iterator[None]:
         for signum, handler in previous.items():
             signal.signal(signum, handler)
         if held:
-            signal.raise_signal(held[0])  # now, to the handlers in force: KeyboardInterrupt, or SystemExit under exit_on_terminate
+            signal.raise_signal(
+                held[0]
+            )  # now, to the handlers in force: KeyboardInterrupt, or SystemExit under exit_on_terminate
 
 
 def _remove_scratch(folder: str) -> None:

@@ -29,21 +29,29 @@ the inputs (time, angles, load) are the same by construction.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 
-from ..physics import laws
-from ..machine.parameters import Parameters, slender_levers
 from ..exceptions import HipsimError
+from ..machine.parameters import Parameters, slender_levers
 from ..motion.sources import TrajectorySource, pieces
 from ..motion.trajectories import Trajectory
+from ..physics import laws
 from ..results import Run
 from .runs import analyse
 from .streaming import CHUNK, PieceRunner, as_source
 
-__all__ = ["CONFIGURATIONS", "Comparison", "Differences", "TOLERANCE", "compare_models", "compare_mujoco", "differences"]
+__all__ = [
+    "CONFIGURATIONS",
+    "Comparison",
+    "Differences",
+    "TOLERANCE",
+    "compare_models",
+    "compare_mujoco",
+    "differences",
+]
 
 #: Largest allowed difference, relative to each column's peak, where the models must agree.
 TOLERANCE = 1e-8
@@ -87,7 +95,7 @@ class Differences:
         self.largest: dict[str, float] = {}
         self.peaks: dict[str, float] = {}
 
-    def add(self, run: Run, reference: Run) -> "Differences":
+    def add(self, run: Run, reference: Run) -> Differences:
         """Take in one piece of both runs (the same samples). Returns self."""
         if run.trajectory.t.shape != reference.trajectory.t.shape or np.any(run.trajectory.t != reference.trajectory.t):
             raise HipsimError(f"the {run.model} and {reference.model} runs are not along the same trajectory")
@@ -121,17 +129,36 @@ def differences(run: Run, reference: Run) -> tuple[tuple[str, float, float], ...
 
 #: The three comparisons: name, description, whether required (of the machine), the run and its reference.
 CONFIGURATIONS = (
-    ("exact", "spec §7.4: slender-rod levers, spin-free analytic levers",
-     lambda params: not laws.lever_joint_friction_on(params.friction), "analytic slender", "pinocchio slender"),
-    ("published", "published lever inertia, spin-free analytic levers (the paper model's error)",
-     lambda params: False, "analytic published", "pinocchio published"),
-    ("published+spin", "published lever inertia, analytic levers with the universal joints' spin",
-     lambda params: True, "analytic spin", "pinocchio published"),
+    (
+        "exact",
+        "spec §7.4: slender-rod levers, spin-free analytic levers",
+        lambda params: not laws.lever_joint_friction_on(params.friction),
+        "analytic slender",
+        "pinocchio slender",
+    ),
+    (
+        "published",
+        "published lever inertia, spin-free analytic levers (the paper model's error)",
+        lambda params: False,
+        "analytic published",
+        "pinocchio published",
+    ),
+    (
+        "published+spin",
+        "published lever inertia, analytic levers with the universal joints' spin",
+        lambda params: True,
+        "analytic spin",
+        "pinocchio published",
+    ),
 )
 
 
 def compare_models(
-    params: Parameters, trajectory: Trajectory | TrajectorySource, *, chunk: int = CHUNK, progress: Callable[[int, int], None] | None = None
+    params: Parameters,
+    trajectory: Trajectory | TrajectorySource,
+    *,
+    chunk: int = CHUNK,
+    progress: Callable[[int, int], None] | None = None,
 ) -> list[Comparison]:
     """Run both models in the three configurations of the module docstring, a piece at a time.
 
@@ -162,7 +189,10 @@ def compare_models(
             gathered[name].add(runs[run], runs[reference])
         if progress is not None:
             progress(stop, len(source))
-    return [Comparison(name, description, required(params), gathered[name].rows()) for name, description, required, _, _ in CONFIGURATIONS]
+    return [
+        Comparison(name, description, required(params), gathered[name].rows())
+        for name, description, required, _, _ in CONFIGURATIONS
+    ]
 
 
 def compare_mujoco(params: Parameters, trajectory: Trajectory) -> list[Comparison]:
@@ -181,11 +211,15 @@ def compare_mujoco(params: Parameters, trajectory: Trajectory) -> list[Compariso
     mujoco = analyse(params, trajectory, model="mujoco")
     return [
         Comparison(
-            "mujoco-analytic", "MuJoCo inverse dynamics vs the analytic model with the universal joints' lever spin", True,
+            "mujoco-analytic",
+            "MuJoCo inverse dynamics vs the analytic model with the universal joints' lever spin",
+            True,
             differences(mujoco, analyse(params, trajectory, lever_spin=True)),
         ),
         Comparison(
-            "mujoco-pinocchio", "MuJoCo inverse dynamics vs the Pinocchio closed-chain model", True,
+            "mujoco-pinocchio",
+            "MuJoCo inverse dynamics vs the Pinocchio closed-chain model",
+            True,
             differences(mujoco, analyse(params, trajectory, model="pinocchio")),
         ),
     ]

@@ -26,7 +26,15 @@ if TYPE_CHECKING:  # the command line reads the names for its choices: no NumPy 
     from ..machine.parameters import Parameters
 
 __all__ = [
-    "ENGINES", "PLANTS", "Entry", "check_names", "engine_entry", "engine_names", "make_engine", "make_plant", "plant_entry",
+    "ENGINES",
+    "PLANTS",
+    "Entry",
+    "check_names",
+    "engine_entry",
+    "engine_names",
+    "make_engine",
+    "make_plant",
+    "plant_entry",
     "plant_names",
 ]
 
@@ -85,21 +93,57 @@ class Entry:
 
 #: The engines, in the order they are offered.
 ENGINES = (
-    Entry("analytic", "hipsim.analytic.engine", "AnalyticModel", "The analytic model",
-          options=("lever_spin", "on_error"), flags=True, reference=True),
-    Entry("pinocchio", "hipsim.closed_chain.engine", "PinocchioModel", "The Pinocchio closed-chain model", joint_forces=True, warm_up=True),
-    Entry("mujoco", "hipsim.mujoco_engine", "MujocoModel", "The MuJoCo engine", extra="mujoco", package="mujoco", joint_forces=True,
-          checked_whole=True),
-)  # fmt: skip
+    Entry(
+        "analytic",
+        "hipsim.analytic.engine",
+        "AnalyticModel",
+        "The analytic model",
+        options=("lever_spin", "on_error"),
+        flags=True,
+        reference=True,
+    ),
+    Entry(
+        "pinocchio",
+        "hipsim.closed_chain.engine",
+        "PinocchioModel",
+        "The Pinocchio closed-chain model",
+        joint_forces=True,
+        warm_up=True,
+    ),
+    Entry(
+        "mujoco",
+        "hipsim.mujoco_engine",
+        "MujocoModel",
+        "The MuJoCo engine",
+        extra="mujoco",
+        package="mujoco",
+        joint_forces=True,
+        checked_whole=True,
+    ),
+)
 
 #: The plants of :func:`hipsim.control.simulation.simulate`, in the order they are offered.
 PLANTS = (
     # The reduced plant's kernels compile too, but simulate() says so itself.
-    Entry("analytic", "hipsim.control.simulation", "ReducedPlant", "The reduced plant", options=("lever_spin",), aliases=("reduced",)),
+    Entry(
+        "analytic",
+        "hipsim.control.simulation",
+        "ReducedPlant",
+        "The reduced plant",
+        options=("lever_spin",),
+        aliases=("reduced",),
+    ),
     Entry("pinocchio", "hipsim.closed_chain.plant", "PinocchioPlant", "The Pinocchio plant", warm_up=True),
-    Entry("mujoco", "hipsim.mujoco_engine.plant", "MujocoPlant", "The MuJoCo engine", extra="mujoco", package="mujoco",
-          options=("integrator",)),
-)  # fmt: skip
+    Entry(
+        "mujoco",
+        "hipsim.mujoco_engine.plant",
+        "MujocoPlant",
+        "The MuJoCo engine",
+        extra="mujoco",
+        package="mujoco",
+        options=("integrator",),
+    ),
+)
 
 
 def _find(entries: tuple[Entry, ...], argument: str, name: str) -> Entry:
@@ -149,7 +193,11 @@ def make_engine(name: str, params: Parameters, *, on_error: str = "raise", lever
     """
     entry = engine_entry(name)
     if on_error != "raise" and not entry.flags:
-        raise ArgumentError("on_error", on_error, "'raise' with the Pinocchio model (it cannot carry on through poses out of reach; the analytic model flags them)")
+        raise ArgumentError(
+            "on_error",
+            on_error,
+            "'raise' with the Pinocchio model (it cannot carry on through poses out of reach; the analytic model flags them)",
+        )
     given = {"on_error": on_error, "lever_spin": lever_spin}
     return entry.load()(params, **{option: given[option] for option in entry.options})
 
@@ -185,5 +233,9 @@ def make_plant(name: str, params: Parameters, **options) -> Plant:
     entry = plant_entry(name)
     unknown = sorted(set(options) - {option for plant in PLANTS for option in plant.options})
     if unknown:
-        raise ArgumentError("options", unknown, f"options of the plants: {', '.join(sorted({o for plant in PLANTS for o in plant.options}))}")
+        raise ArgumentError(
+            "options",
+            unknown,
+            f"options of the plants: {', '.join(sorted({o for plant in PLANTS for o in plant.options}))}",
+        )
     return entry.load()(params, **{option: value for option, value in options.items() if option in entry.options})

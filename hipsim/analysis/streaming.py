@@ -18,7 +18,7 @@ one piece to the next, so its pieces too give the one-piece results bit for bit.
 
 from __future__ import annotations
 
-from typing import Callable, Mapping
+from collections.abc import Callable, Mapping
 
 import numpy as np
 
@@ -38,8 +38,12 @@ CHUNK = PieceNeeds().chunk
 
 def _join(before: Trajectory, piece: Trajectory) -> Trajectory:
     return Trajectory(
-        np.concatenate([before.t, piece.t]), np.vstack([before.q, piece.q]), np.vstack([before.qd, piece.qd]),
-        np.vstack([before.qdd, piece.qdd]), np.concatenate([before.Fe, piece.Fe]), piece.name,
+        np.concatenate([before.t, piece.t]),
+        np.vstack([before.q, piece.q]),
+        np.vstack([before.qd, piece.qd]),
+        np.vstack([before.qdd, piece.qdd]),
+        np.concatenate([before.Fe, piece.Fe]),
+        piece.name,
     )
 
 
@@ -142,5 +146,7 @@ def stream_run(
         if progress is not None:
             progress(stop, n)
     if not summary.kept:
-        raise PoseError(f"all {n} samples are out of reach or singular; nothing to compute", source.time(0), 0, source=source.name)
+        raise PoseError(
+            f"all {n} samples are out of reach or singular; nothing to compute", source.time(0), 0, source=source.name
+        )
     return summary.result()

@@ -9,5 +9,12 @@ from .inverse_kinematics import Kinematics, kinematics
 from .virtual_work import inverse_dynamics, mass_and_bias, mechanical_energy
 
 __all__ = [
-    "AnalyticModel", "Kinematics", "forward_kinematics", "inverse_dynamics", "kinematics", "mass_and_bias", "mechanical_energy", "solve_pose",
+    "AnalyticModel",
+    "Kinematics",
+    "forward_kinematics",
+    "inverse_dynamics",
+    "kinematics",
+    "mass_and_bias",
+    "mechanical_energy",
+    "solve_pose",
 ]

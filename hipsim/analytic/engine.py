@@ -58,7 +58,9 @@ class AnalyticModel:
         if np.all(kin.flagged) and not state:
             raise PoseError(
                 f"all {len(trajectory)} samples are out of reach or singular; nothing to compute",
-                float(trajectory.t[0]), 0, source=trajectory.name,
+                float(trajectory.t[0]),
+                0,
+                source=trajectory.name,
             )
         with np.errstate(invalid="ignore", divide="ignore"):  # flagged samples are NaN and stay NaN
             torques = inverse_dynamics(self.params, kin, trajectory.Fe, lever_spin=self.lever_spin)

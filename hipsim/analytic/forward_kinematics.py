@@ -30,7 +30,13 @@ import numpy as np
 
 from ..exceptions import PoseError
 from ..machine.parameters import Parameters
-from .inverse_kinematics import SINGULAR_COND_INV, angular_velocity_map, inverse_condition_number, slider_heights, slider_jacobian
+from .inverse_kinematics import (
+    SINGULAR_COND_INV,
+    angular_velocity_map,
+    inverse_condition_number,
+    slider_heights,
+    slider_jacobian,
+)
 
 __all__ = ["forward_kinematics", "solve_pose"]
 
@@ -265,7 +271,10 @@ def forward_kinematics(
     if np.any(bad):
         k = int(np.argmax(bad))
         if k > 0 and same_mode[k - 1] and not same_mode[k]:
-            fail(k, "the slider heights jump to another assembly mode since the previous sample (det J changes sign): "
-                    "an encoder glitch, or a motion through a singular pose")
+            fail(
+                k,
+                "the slider heights jump to another assembly mode since the previous sample (det J changes sign): "
+                "an encoder glitch, or a motion through a singular pose",
+            )
         fail(k, _failure(True, same_mode[k], L1[k]))
     return p * signs

@@ -290,7 +290,9 @@ def _kinematics(params: Parameters, trajectory: Trajectory, on_error: str) -> Ki
     singular = ~(cond_inv >= SINGULAR_COND_INV)
     # A motion can also pass through a singularity between two samples without
     # coming close to it at either: det J then changes sign.
-    crossed = _sign_changes(dot(reachable_J[:, 0], cross_array(reachable_J[:, 1], reachable_J[:, 2])), trajectory.periodic)
+    crossed = _sign_changes(
+        dot(reachable_J[:, 0], cross_array(reachable_J[:, 1], reachable_J[:, 2])), trajectory.periodic
+    )
     flagged = out_of_reach | singular | crossed
     if on_error == "raise" and np.any(flagged):
         k = int(np.argmax(flagged))
@@ -316,10 +318,27 @@ def _kinematics(params: Parameters, trajectory: Trajectory, on_error: str) -> Ki
         return np.broadcast_to(x[..., None, :], x.shape[:-1] + (2, x.shape[-1]))
 
     return Kinematics(
-        t=trajectory.t, q=q.T, qd=qd.T, qdd=qdd.T, R=np.moveaxis(R, -1, 0), omega=omega.T, omega_dot=omega_dot.T,
-        r=r.T, a=a.T, b=b.T, e=e.T, L=L.T, Ld=both_platforms(Ld).T, Ldd=both_platforms(Ldd).T, J=J.T,
-        cond_inv=cond_inv, omega_l=omega_l.T, omega_l_dot=omega_l_dot.T,
-        v_l=both_platforms(v_l).T, a_l=both_platforms(a_l).T, flagged=flagged,
+        t=trajectory.t,
+        q=q.T,
+        qd=qd.T,
+        qdd=qdd.T,
+        R=np.moveaxis(R, -1, 0),
+        omega=omega.T,
+        omega_dot=omega_dot.T,
+        r=r.T,
+        a=a.T,
+        b=b.T,
+        e=e.T,
+        L=L.T,
+        Ld=both_platforms(Ld).T,
+        Ldd=both_platforms(Ldd).T,
+        J=J.T,
+        cond_inv=cond_inv,
+        omega_l=omega_l.T,
+        omega_l_dot=omega_l_dot.T,
+        v_l=both_platforms(v_l).T,
+        a_l=both_platforms(a_l).T,
+        flagged=flagged,
     )
 
 

@@ -39,7 +39,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..exceptions import ArgumentError, HipsimError
+from ..exceptions import ArgumentError
 from ..machine.parameters import Parameters
 from ..physics import laws
 from ..physics.laws import FrictionRecord
@@ -105,14 +105,22 @@ def kernel_parameters(params: Parameters, lever_spin: bool = True) -> KernelPara
         return tuple(tuple(float(x) for x in row) for row in np.asarray(matrix))
 
     return KernelParameters(
-        gravity=float(params.gravity), lever_length=float(params.lever_length), lead=float(params.lead),
-        screw_inertia=float(params.screw_inertia), slider_mass=float(params.slider_mass),
-        lever_mass=float(params.lever_mass), platform_mass=float(params.platform_mass),
+        gravity=float(params.gravity),
+        lever_length=float(params.lever_length),
+        lead=float(params.lead),
+        screw_inertia=float(params.screw_inertia),
+        slider_mass=float(params.slider_mass),
+        lever_mass=float(params.lever_mass),
+        platform_mass=float(params.platform_mass),
         n_platforms=float(params.heights.size),
-        platform_inertia=rows(params.platform_inertia), lever_inertia=rows(params.lever_inertia),
-        platform_points=rows(params.platform_points), screw_points=rows(params.screw_points),
-        ujoint_axes=rows(params.ujoint_axes), angle_signs=tuple(float(s) for s in params.angle_signs),
-        lever_spin=bool(lever_spin), friction=laws.friction_record(params.friction),
+        platform_inertia=rows(params.platform_inertia),
+        lever_inertia=rows(params.lever_inertia),
+        platform_points=rows(params.platform_points),
+        screw_points=rows(params.screw_points),
+        ujoint_axes=rows(params.ujoint_axes),
+        angle_signs=tuple(float(s) for s in params.angle_signs),
+        lever_spin=bool(lever_spin),
+        friction=laws.friction_record(params.friction),
     )
 
 
@@ -322,7 +330,14 @@ def _state(P, q, qd, Fe):
     Q2, slider2, screw2 = _leg_friction(P, levers[2], J[2], omega)
     Q_f = sub(add(add(Q0, Q1), Q2), tau_mf)
     return _State(
-        (c, s), platform_axes, omega, laws.inverse_transpose(J), levers, Q_f, (slider0, slider1, slider2), (screw0, screw1, screw2)
+        (c, s),
+        platform_axes,
+        omega,
+        laws.inverse_transpose(J),
+        levers,
+        Q_f,
+        (slider0, slider1, slider2),
+        (screw0, screw1, screw2),
     )
 
 
@@ -340,7 +355,9 @@ def _torques_at(P, S, omega_dot, full):
         Q_m = _euler_moment(S.platform_axes, P.platform_inertia, S.omega, omega_dot)
         Q = add(add(add(add(Q_m, Q0), Q1), Q2), S.Q_f)
     else:
-        Q_m = transpose_times(S.platform_axes, scale(matvec(P.platform_inertia, matvec(S.platform_axes, omega_dot)), -1.0))
+        Q_m = transpose_times(
+            S.platform_axes, scale(matvec(P.platform_inertia, matvec(S.platform_axes, omega_dot)), -1.0)
+        )
         Q = add(add(add(Q_m, Q0), Q1), Q2)
     scale_ = -P.n_platforms * travel_per_radian(P.lead)  # n is 1 or 2: exact, so the same bits as −n·p/2π
     screw = angle_from_travel(P.screw_inertia, P.lead)
@@ -364,7 +381,7 @@ def _mass_and_bias(P, x, Fe):
     c, s = S.cos_sin
     bias = laws.t_dot_times(c, s, qd, qd)  # ω̇ at q̈ = 0
     # bool(...): a plain boolean, not a literal, so that numba compiles _torques_at once, not per value.
-    full, inertial = bool(True), bool(False)
+    full, inertial = True, False
     h = _torques_at(P, S, bias, full)
     sg = P.angle_signs
     # τ is affine in q̈: column k of M is the part proportional to ω̇ = T·(sign_k·unit_k),
@@ -416,7 +433,7 @@ def torques(P, q, qd, qdd, Fe):
     S = _state(P, q_s, qd_s, Fe)
     c, s = S.cos_sin
     omega_dot = add(laws.t_times(c, s, qdd_s), laws.t_dot_times(c, s, qd_s, qd_s))
-    return np.array(_torques_at(P, S, omega_dot, bool(True)))
+    return np.array(_torques_at(P, S, omega_dot, True))
 
 
 @_compile
@@ -480,8 +497,13 @@ def workspace_pd(P, q, qd, q_desired, qd_desired, kp, kd):
     """
     return np.array(
         _workspace_pd(
-            P, (q[0], q[1], q[2]), (qd[0], qd[1], qd[2]), (q_desired[0], q_desired[1], q_desired[2]),
-            (qd_desired[0], qd_desired[1], qd_desired[2]), (kp[0], kp[1], kp[2]), (kd[0], kd[1], kd[2]),
+            P,
+            (q[0], q[1], q[2]),
+            (qd[0], qd[1], qd[2]),
+            (q_desired[0], q_desired[1], q_desired[2]),
+            (qd_desired[0], qd_desired[1], qd_desired[2]),
+            (kp[0], kp[1], kp[2]),
+            (kd[0], kd[1], kd[2]),
         )
     )
 

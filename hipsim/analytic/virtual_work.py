@@ -37,19 +37,16 @@ there; ``tests/test_analytic_kernel.py`` ties the two to round-off.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
-from ..exceptions import HipsimError
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
-from ..results import Torques
 from ..physics import laws
 from ..physics.friction import central_chain_friction_components
 from ..physics.transmission import angle_from_travel, travel_per_radian
-from .inverse_kinematics import Kinematics, kinematics
 from ..physics.vectors import cross_array, dot, per_leg, stack
+from ..results import Torques
+from .inverse_kinematics import Kinematics, kinematics
 
 __all__ = [
     "inverse_dynamics",
@@ -206,7 +203,9 @@ def inverse_dynamics(params: Parameters, kin: Kinematics, Fe: np.ndarray, lever_
     F_L = params.slider_mass * (-params.gravity - Ldd)
 
     # Friction: central chain, lever joints, slider guides and screws.
-    tau_mf = central_chain_friction_components(params.friction, params.platform_mass * params.gravity, omega, Fe, kin.R[:, :, 2].T)
+    tau_mf = central_chain_friction_components(
+        params.friction, params.platform_mass * params.gravity, omega, Fe, kin.R[:, :, 2].T
+    )
     Q_lf, Fz_lf, power_lf = _lever_joint_friction(params, kin, lever_spin, omega_l)
     Q_f = Q_lf - tau_mf
     F_Lf = laws.guide_friction(f, Ld, motor_speed)
@@ -227,13 +226,21 @@ def inverse_dynamics(params: Parameters, kin: Kinematics, Fe: np.ndarray, lever_
     )
     tau = tau_m + tau_l + tau_s + tau_L + tau_f
     return Torques(
-        total=tau.T, platforms=tau_m.T, levers=tau_l.T, sliders=tau_s.T, screws=tau_L.T, friction=tau_f.T,
-        motor_speed=motor_speed.T, friction_moment=np.sqrt(dot(tau_mf, tau_mf)),
+        total=tau.T,
+        platforms=tau_m.T,
+        levers=tau_l.T,
+        sliders=tau_s.T,
+        screws=tau_L.T,
+        friction=tau_f.T,
+        motor_speed=motor_speed.T,
+        friction_moment=np.sqrt(dot(tau_mf, tau_mf)),
         friction_power=friction_power,
     )
 
 
-def mass_and_bias(params: Parameters, trajectory: Trajectory, lever_spin: bool = False) -> tuple[np.ndarray, np.ndarray]:
+def mass_and_bias(
+    params: Parameters, trajectory: Trajectory, lever_spin: bool = False
+) -> tuple[np.ndarray, np.ndarray]:
     """The reduced model τ = M(q)·q̈ + h(q, q̇, F_e) along a trajectory, in gait angles.
 
     The inverse dynamics is affine in q̈, so its value at q̈ = 0 is h and its
@@ -259,12 +266,17 @@ def mass_and_bias(params: Parameters, trajectory: Trajectory, lever_spin: bool =
     kinematics(params, trajectory)  # raises on a bad pose, naming its time
     n = len(trajectory.t)
     states = Trajectory(
-        np.tile(trajectory.t, 4), np.tile(trajectory.q, (4, 1)), np.tile(trajectory.qd, (4, 1)),
+        np.tile(trajectory.t, 4),
+        np.tile(trajectory.q, (4, 1)),
+        np.tile(trajectory.qd, (4, 1)),
         np.repeat(np.vstack([np.zeros(3), np.eye(3)]), n, axis=0),  # q̈ = 0 for the first N samples, then e_1, e_2, e_3
-        np.tile(trajectory.Fe, 4), name=trajectory.name,
+        np.tile(trajectory.Fe, 4),
+        name=trajectory.name,
     )
     # Already checked: the copies' boundaries are not motions, so do not look for crossings there.
-    tau = inverse_dynamics(params, kinematics(params, states, on_error="flag"), states.Fe, lever_spin).total.reshape(4, n, 3)
+    tau = inverse_dynamics(params, kinematics(params, states, on_error="flag"), states.Fe, lever_spin).total.reshape(
+        4, n, 3
+    )
     h = tau[0]
     return np.moveaxis(tau[1:] - h, 0, -1), h
 

@@ -17,7 +17,8 @@ __all__ = ["add_parser", "run"]
 def add_parser(subparsers) -> argparse.ArgumentParser:
     """Register ``check`` on the main parser's subcommands."""
     check = subparsers.add_parser(
-        "check", help="run the analytic and Pinocchio models and compare every output column",
+        "check",
+        help="run the analytic and Pinocchio models and compare every output column",
         description="Runs both models along the trajectory and prints, per CSV column, the largest absolute and "
         "relative difference: in spec §7.4's exact configuration (slender-rod levers), with the published lever "
         "inertia (the paper model's error: the universal joints' lever spin), and with that spin added to the "
@@ -26,7 +27,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     add_machine_options(check)
     add_trajectory_options(check)
     check.add_argument(
-        "--engine", choices=check_names(), default="pinocchio",
+        "--engine",
+        choices=check_names(),
+        default="pinocchio",
         help="mujoco: compare MuJoCo's inverse dynamics with the analytic (lever spin) and Pinocchio models instead",
     )
     add_summary_format(check, "the differences as tables (default) or JSON")
@@ -57,15 +60,26 @@ def run(args) -> int:
         comparisons = compare_models(params, trajectory, progress=progress("check"))
     failed = any(c.required and not c.ok for c in comparisons)
     if args.summary_format == "json":
-        print_json({
-            "trajectory": trajectory.name, "samples": len(trajectory), "parameters": params.source, "tolerance": TOLERANCE,
-            "agree": not failed,
-            "comparisons": [
-                {"name": c.name, "description": c.description, "required": c.required, "ok": c.ok, "worst": c.worst,
-                 "columns": [{"column": name, "max_abs_diff": a, "max_rel_diff": r} for name, a, r in c.rows]}
-                for c in comparisons
-            ],
-        })
+        print_json(
+            {
+                "trajectory": trajectory.name,
+                "samples": len(trajectory),
+                "parameters": params.source,
+                "tolerance": TOLERANCE,
+                "agree": not failed,
+                "comparisons": [
+                    {
+                        "name": c.name,
+                        "description": c.description,
+                        "required": c.required,
+                        "ok": c.ok,
+                        "worst": c.worst,
+                        "columns": [{"column": name, "max_abs_diff": a, "max_rel_diff": r} for name, a, r in c.rows],
+                    }
+                    for c in comparisons
+                ],
+            }
+        )
     else:
         _print_comparisons(comparisons)
         print(f"trajectory: {trajectory.name} ({len(trajectory)} samples); parameters: {params.source}")
@@ -81,12 +95,26 @@ def _print_comparisons(comparisons) -> None:
     for comparison in comparisons:
         header = ["column", "max |diff| [column unit]", "max |diff| / peak"]
         if comparison.required:  # a check: each row passes or fails
-            rows = [[name, f"{a:.3e}", f"{r:.3e}", "ok" if r <= TOLERANCE else "FAILS"] for name, a, r in comparison.rows]
-            print(format_table([*header, f"≤ {TOLERANCE:g}"], rows, f"{comparison.name}: {comparison.description} (must agree)"))
+            rows = [
+                [name, f"{a:.3e}", f"{r:.3e}", "ok" if r <= TOLERANCE else "FAILS"] for name, a, r in comparison.rows
+            ]
+            print(
+                format_table(
+                    [*header, f"≤ {TOLERANCE:g}"], rows, f"{comparison.name}: {comparison.description} (must agree)"
+                )
+            )
             status = "within" if comparison.ok else "OUT OF"
-            print(f"-> {comparison.name}: largest relative difference {comparison.worst:.3e}, {status} tolerance {TOLERANCE:g}\n")
+            print(
+                f"-> {comparison.name}: largest relative difference {comparison.worst:.3e}, {status} tolerance {TOLERANCE:g}\n"
+            )
         else:  # a measurement of a known modelling difference: nothing to pass or fail
             rows = [[name, f"{a:.3e}", f"{r:.3e}"] for name, a, r in comparison.rows]
-            print(format_table(header, rows, f"{comparison.name}: {comparison.description} (for information: not a check)"))
-            print(f"-> {comparison.name}: largest relative difference {comparison.worst:.3e} "
-                  "(for information: a known modelling difference, no tolerance applies)\n")  # fmt: skip
+            print(
+                format_table(
+                    header, rows, f"{comparison.name}: {comparison.description} (for information: not a check)"
+                )
+            )
+            print(
+                f"-> {comparison.name}: largest relative difference {comparison.worst:.3e} "
+                "(for information: a known modelling difference, no tolerance applies)\n"
+            )

@@ -33,7 +33,11 @@ def add_machine_options(parser: argparse.ArgumentParser) -> None:
     group = parser.add_argument_group("machine")
     group.add_argument("--params", metavar="FILE", help="parameter TOML file (default: the published machine)")
     group.add_argument(
-        "--set", dest="overrides", metavar="KEY=VALUE", action="append", default=[],
+        "--set",
+        dest="overrides",
+        metavar="KEY=VALUE",
+        action="append",
+        default=[],
         help="override one parameter in the file's units, e.g. lever.length_mm=330 (repeatable)",
     )
 
@@ -59,11 +63,15 @@ def page_provenance(args, **inputs):
         {role: value for role, value in inputs.items() if value},
         parameter_origin(args.params, args.overrides),
         getattr(args, "command_line", None) or ["hipsim", *sys.argv[1:]],
-        getattr(args, "title", None), getattr(args, "author", None), getattr(args, "rig", None),
+        getattr(args, "title", None),
+        getattr(args, "author", None),
+        getattr(args, "rig", None),
     )
 
 
-def add_summary_format(parser: argparse.ArgumentParser, help: str = "summary on standard output: tables (default) or JSON") -> None:
+def add_summary_format(
+    parser: argparse.ArgumentParser, help: str = "summary on standard output: tables (default) or JSON"
+) -> None:
     """``--summary-format table|json``."""
     parser.add_argument("--summary-format", choices=["table", "json"], default="table", help=help)
 
@@ -118,7 +126,9 @@ def progress(what: str):
 
     def update(done: int, total: int) -> None:
         if not bars:
-            bars.append(tqdm(total=total, desc=what, unit=" samples", unit_scale=True, delay=2.0, file=sys.stderr, leave=False))
+            bars.append(
+                tqdm(total=total, desc=what, unit=" samples", unit_scale=True, delay=2.0, file=sys.stderr, leave=False)
+            )
         bars[0].update(done - bars[0].n)
         if done >= total:
             bars[0].close()
@@ -161,5 +171,7 @@ def desired_motion(args, trajectory):
             span += trajectory.t[1] - trajectory.t[0]
         return interpolator(trajectory), span
     frequency = builtin_frequency(args)
-    iso = iso14242(rate=1000.0, cycles=1 if args.cycles is None else args.cycles, frequency=frequency)  # checks them as torques does
+    iso = iso14242(
+        rate=1000.0, cycles=1 if args.cycles is None else args.cycles, frequency=frequency
+    )  # checks them as torques does
     return (lambda t: iso14242_at(t, frequency)), len(iso) / 1000.0

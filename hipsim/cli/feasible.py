@@ -36,7 +36,8 @@ _SHOWN = {
 def add_strict_option(parser: argparse.ArgumentParser) -> None:
     """``--strict``: a crossed machine limit is an error (exit status 1) instead of a warning."""
     parser.add_argument(
-        "--strict", action="store_true",
+        "--strict",
+        action="store_true",
         help="a machine limit the motion crosses (stroke, slider speed and acceleration, motor speed and torque from the "
         "[motor] table, singularity floor, load range) is an error with exit status 1 instead of a warning",
     )
@@ -61,8 +62,10 @@ def report_crossings(crossings, strict: bool) -> int:
     if not crossings:
         return 0
     kind = "error" if strict else "warning"
-    print(f"hipsim: {kind}: the motion crosses {len(crossings)} of the machine's limits (hipsim feasible: the speed at which it fits):",
-          file=sys.stderr)
+    print(
+        f"hipsim: {kind}: the motion crosses {len(crossings)} of the machine's limits (hipsim feasible: the speed at which it fits):",
+        file=sys.stderr,
+    )
     for crossing in crossings:
         print(f"  {crossing.message()}", file=sys.stderr)
     return 1 if strict else 0
@@ -101,13 +104,19 @@ class FeasibilityWatch:
             return
 
         def motion(name, unit):
-            return np.stack([np.asarray(columns[f"{name}_1{i}_{unit}"])[keep] * 1e-3 for i in (1, 2, 3)], axis=1)[:, None, :]
+            return np.stack([np.asarray(columns[f"{name}_1{i}_{unit}"])[keep] * 1e-3 for i in (1, 2, 3)], axis=1)[
+                :, None, :
+            ]
 
         speed = np.stack([np.asarray(columns[f"speed_{i}_rpm"])[keep] / _RPM for i in (1, 2, 3)], axis=1)
         total = np.stack([np.asarray(columns[f"tau_{i}_Nmm"])[keep] * 1e-3 for i in (1, 2, 3)], axis=1)
         run = SimpleNamespace(
-            t=t, L=motion("L", "mm"), Ld=motion("Ld", "mm_s"), Ldd=motion("Ldd", "mm_s2"),
-            torques=SimpleNamespace(motor_speed=speed, total=total), cond_inv=np.asarray(columns["cond_inv"])[keep],
+            t=t,
+            L=motion("L", "mm"),
+            Ld=motion("Ld", "mm_s"),
+            Ldd=motion("Ldd", "mm_s2"),
+            torques=SimpleNamespace(motor_speed=speed, total=total),
+            cond_inv=np.asarray(columns["cond_inv"])[keep],
             trajectory=SimpleNamespace(Fe=np.asarray(columns["Fe_N"])[keep]),
         )
         for crossing in check_feasibility(run, self.limits):
@@ -117,7 +126,9 @@ class FeasibilityWatch:
                 self.found[key] = crossing
             else:
                 worst = crossing if crossing.excess > seen.excess else seen
-                self.found[key] = Crossing(crossing.limit, crossing.motor, min(seen.t, crossing.t), worst.needed, worst.allowed)
+                self.found[key] = Crossing(
+                    crossing.limit, crossing.motor, min(seen.t, crossing.t), worst.needed, worst.allowed
+                )
         if self.stroke is not None:
             L = run.L[:, 0, :]
             low = np.minimum.accumulate(np.vstack([L[:1] if self.low is None else self.low, L]), axis=0)[1:]
@@ -142,7 +153,8 @@ class FeasibilityWatch:
 def add_parser(subparsers) -> argparse.ArgumentParser:
     """Register ``feasible`` on the main parser's subcommands."""
     feasible = subparsers.add_parser(
-        "feasible", help="is the protocol within the machine's limits? each limit crossed, and the speed at which it fits",
+        "feasible",
+        help="is the protocol within the machine's limits? each limit crossed, and the speed at which it fits",
         description="Runs the analytic model along the motion and holds it against the machine's limits: slider stroke, "
         "speed and acceleration, motor speed and peak torque (the parameter file's [motor] table or --drive), the "
         "singularity measure's floor and the load's range. Prints each limit crossed (first time, worst value, by how much) "
@@ -150,8 +162,12 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     )
     add_machine_options(feasible)
     add_trajectory_options(feasible)
-    feasible.add_argument("--drive", metavar="FILE", help="drive file (TOML, see hipsim size) whose motor and screw limits apply "
-                          "(default: the parameter file's [motor] table)")
+    feasible.add_argument(
+        "--drive",
+        metavar="FILE",
+        help="drive file (TOML, see hipsim size) whose motor and screw limits apply "
+        "(default: the parameter file's [motor] table)",
+    )
     add_summary_format(feasible)
     feasible.set_defaults(run=run)
     return feasible
@@ -165,10 +181,19 @@ def _cell(value: float, limit: str) -> str:
 def format_crossings(crossings) -> str:
     """The crossings as a table: limit, motor, first time, needed, allowed, excess."""
     rows = [
-        [_SHOWN[c.limit][0], "—" if c.motor is None else f"M{c.motor}", f"{c.t:.4g}", _cell(c.needed, c.limit), _cell(c.allowed, c.limit), f"{c.excess:.3g}×"]
+        [
+            _SHOWN[c.limit][0],
+            "—" if c.motor is None else f"M{c.motor}",
+            f"{c.t:.4g}",
+            _cell(c.needed, c.limit),
+            _cell(c.allowed, c.limit),
+            f"{c.excess:.3g}×",
+        ]
         for c in crossings
     ]
-    return format_table(["limit", "motor", "first at [s]", "needed", "allowed", "excess"], rows, "Machine limits crossed (worst first)")
+    return format_table(
+        ["limit", "motor", "first at [s]", "needed", "allowed", "excess"], rows, "Machine limits crossed (worst first)"
+    )
 
 
 def run(args) -> int:
@@ -185,16 +210,33 @@ def run(args) -> int:
     k = fitting_speed(lambda motion: analyse(params, motion), trajectory, machine) if crossings else 1.0
     period = cycle_period(args, trajectory)
     if args.summary_format == "json":
-        print_json({
-            "trajectory": trajectory.name, "parameters": params.source, "feasible": not crossings,
-            "crossings": [{"limit": c.limit, "motor": c.motor, "t_s": c.t, "needed": c.needed, "allowed": c.allowed,
-                           "excess": c.excess, "message": c.message()} for c in crossings],
-            "speed_factor": k, "cycle_frequency_Hz": (k / period if k is not None and period else None),
-        })
+        print_json(
+            {
+                "trajectory": trajectory.name,
+                "parameters": params.source,
+                "feasible": not crossings,
+                "crossings": [
+                    {
+                        "limit": c.limit,
+                        "motor": c.motor,
+                        "t_s": c.t,
+                        "needed": c.needed,
+                        "allowed": c.allowed,
+                        "excess": c.excess,
+                        "message": c.message(),
+                    }
+                    for c in crossings
+                ],
+                "speed_factor": k,
+                "cycle_frequency_Hz": (k / period if k is not None and period else None),
+            }
+        )
     else:
         print(f"trajectory: {trajectory.name} ({len(trajectory)} samples); parameters: {params.source}")
         if not crossings:
-            print("within every machine limit with a figure (stroke, speeds and torque need a [motor] table or --drive)")
+            print(
+                "within every machine limit with a figure (stroke, speeds and torque need a [motor] table or --drive)"
+            )
         else:
             print(format_crossings(crossings))
             print(_suggestion(k, period))
@@ -206,4 +248,3 @@ def _suggestion(k: float | None, period: float | None) -> str:
         return "does not fit at any speed: a limit that does not depend on speed (stroke, singularity measure, load) is crossed"
     frequency = f" (cycle frequency {k / period:.3g} Hz)" if period else ""
     return f"fits at up to {k:.3g}× its speed{frequency}"
-

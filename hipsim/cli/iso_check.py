@@ -13,7 +13,14 @@ from pathlib import Path
 
 from ..exceptions import ArgumentError, HipsimError
 from ..present.tables import format_table
-from .common import add_machine_options, add_provenance_options, add_summary_format, page_provenance, parameters, print_json
+from .common import (
+    add_machine_options,
+    add_provenance_options,
+    add_summary_format,
+    page_provenance,
+    parameters,
+    print_json,
+)
 from .motion_options import add_trajectory_options, load_trajectory
 
 __all__ = ["add_parser", "format_check", "parse_tolerance_option", "run", "simulation_verdicts"]
@@ -39,21 +46,32 @@ def parse_tolerance_option(text: str | None):
 def add_parser(subparsers) -> argparse.ArgumentParser:
     """Register ``iso-check`` on the main parser's subcommands."""
     iso = subparsers.add_parser(
-        "iso-check", help="ISO 14242-1 compliance of a log or trajectory, per cycle -> table, figure, HTML, JSON",
+        "iso-check",
+        help="ISO 14242-1 compliance of a log or trajectory, per cycle -> table, figure, HTML, JSON",
         description="Aligns each whole cycle of the run on heel strike (from the load curve) and compares each angle and "
         "the load with the standard's waveforms (hipsim's built-in cycle), and the cycle's frequency with 1 Hz. Prints pass "
         "or fail per quantity and per cycle; writes the figure with the tolerance bands (PNG, SVG), index.html and "
         "iso_check.json to --out. Exits with status 1 when a cycle leaves a tolerance. The default tolerances (±3° on each "
         "angle, ±3 %% of the 3000 N peak load, ±0.1 Hz) are assumed values: confirm them against your copy of the standard.",
     )
-    iso.add_argument("--log", metavar="FILE", help="rig log CSV (torques or currents, angles and/or slider heights) or any "
-                     "trajectory file (same as --trajectory); default: the built-in cycle")
+    iso.add_argument(
+        "--log",
+        metavar="FILE",
+        help="rig log CSV (torques or currents, angles and/or slider heights) or any "
+        "trajectory file (same as --trajectory); default: the built-in cycle",
+    )
     add_machine_options(iso)
     add_trajectory_options(iso)
     iso.add_argument("--torque-constant", type=float, metavar="NM_PER_A", help="for a rig log of motor currents")
-    iso.add_argument("--tolerance", metavar="SPEC", help="alpha=3,beta=3,gamma=3,load=3%%,frequency=0.1 (degrees, N or %% of "
-                     "3000 N, Hz; unnamed ones keep these defaults)")
-    iso.add_argument("--out", default="hipsim_iso_check", metavar="DIR", help="folder to write (default hipsim_iso_check)")
+    iso.add_argument(
+        "--tolerance",
+        metavar="SPEC",
+        help="alpha=3,beta=3,gamma=3,load=3%%,frequency=0.1 (degrees, N or %% of "
+        "3000 N, Hz; unnamed ones keep these defaults)",
+    )
+    iso.add_argument(
+        "--out", default="hipsim_iso_check", metavar="DIR", help="folder to write (default hipsim_iso_check)"
+    )
     add_summary_format(iso, "what to print: tables (default) or the verdict as JSON")
     add_provenance_options(iso)
     iso.set_defaults(run=run)
@@ -61,8 +79,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
 
 def _is_rig_log(path: str) -> bool:
-    from ..tables import cells, data_lines, detect_separator, read_text_lines
     from ..exceptions import TrajectoryError
+    from ..tables import cells, data_lines, detect_separator, read_text_lines
 
     if Path(path).suffix.lower() in (".mot", ".sto", ".parquet"):
         return False
@@ -70,7 +88,9 @@ def _is_rig_log(path: str) -> bool:
     if not numbered:
         return False
     header = numbered[0][1]
-    names = {cell.strip() for cell in cells(header, detect_separator(header, numbered[1][1] if len(numbered) > 1 else None))}
+    names = {
+        cell.strip() for cell in cells(header, detect_separator(header, numbered[1][1] if len(numbered) > 1 else None))
+    }
     return any(name in names for name in _RIG_COLUMNS)
 
 
@@ -98,19 +118,46 @@ def format_check(check) -> str:
     for q in QUANTITIES:
         ok = check.passes(q)
         unit = {"load": "N", "frequency": "Hz"}.get(q, "°")
-        rows.append([q, f"{check.worst(q):.3g} {unit}", f"{getattr(check.tolerances, q):.3g} {unit}",
-                     "pass" if ok.all() else f"FAIL ({int((~ok).sum())} of {ok.size} cycles)"])
-    out = [format_table(["quantity", "worst deviation", "tolerance", "verdict"], rows,
-                        f"ISO 14242-1 check of {check.source}: {len(check.cycles)} whole cycle(s), aligned by heel strike")]
+        rows.append(
+            [
+                q,
+                f"{check.worst(q):.3g} {unit}",
+                f"{getattr(check.tolerances, q):.3g} {unit}",
+                "pass" if ok.all() else f"FAIL ({int((~ok).sum())} of {ok.size} cycles)",
+            ]
+        )
+    out = [
+        format_table(
+            ["quantity", "worst deviation", "tolerance", "verdict"],
+            rows,
+            f"ISO 14242-1 check of {check.source}: {len(check.cycles)} whole cycle(s), aligned by heel strike",
+        )
+    ]
     ok = [all(check.passes(q)[k] for q in QUANTITIES) for k in range(len(check.cycles))]
     listed = [k for k in range(len(check.cycles)) if len(check.cycles) <= MAX_LISTED or not ok[k]][:MAX_LISTED]
     if listed:
-        rows = [[str(k + 1), f"{c.start:.4f}", f"{c.frequency:.4f}", *(f"{c.deviation(q):.3g}" for q in ("alpha", "beta", "gamma", "load")),
-                 "pass" if ok[k] else "FAIL"] for k, c in ((k, check.cycles[k]) for k in listed)]
+        rows = [
+            [
+                str(k + 1),
+                f"{c.start:.4f}",
+                f"{c.frequency:.4f}",
+                *(f"{c.deviation(q):.3g}" for q in ("alpha", "beta", "gamma", "load")),
+                "pass" if ok[k] else "FAIL",
+            ]
+            for k, c in ((k, check.cycles[k]) for k in listed)
+        ]
         title = "Per cycle" if len(listed) == len(check.cycles) else f"Failing cycles (first {len(listed)})"
-        out += ["", format_table(["cycle", "start [s]", "f [Hz]", "α [°]", "β [°]", "γ [°]", "load [N]", "verdict"], rows, title)]
-    out += ["", f"verdict: {'PASS' if check.passed else 'FAIL: ' + ', '.join(check.failing)} "
-            "(tolerances assumed: confirm them against your copy of ISO 14242-1)"]
+        out += [
+            "",
+            format_table(
+                ["cycle", "start [s]", "f [Hz]", "α [°]", "β [°]", "γ [°]", "load [N]", "verdict"], rows, title
+            ),
+        ]
+    out += [
+        "",
+        f"verdict: {'PASS' if check.passed else 'FAIL: ' + ', '.join(check.failing)} "
+        "(tolerances assumed: confirm them against your copy of ISO 14242-1)",
+    ]
     return "\n".join(out)
 
 
@@ -150,6 +197,8 @@ def simulation_verdicts(simulations, tolerances, periodic: bool) -> list[str]:
             continue
         verdict = "PASS" if check.passed else "FAIL: " + ", ".join(check.failing)
         worst = ", ".join(f"{q} {check.worst(q):.3g}" for q in ("alpha", "beta", "gamma"))
-        lines.append(f"ISO 14242-1 check of {sim.controller}'s tracked motion ({len(check.cycles)} cycle(s)): {verdict} "
-                     f"(worst deviation [°]: {worst}; tolerances assumed, see hipsim iso-check)")
+        lines.append(
+            f"ISO 14242-1 check of {sim.controller}'s tracked motion ({len(check.cycles)} cycle(s)): {verdict} "
+            f"(worst deviation [°]: {worst}; tolerances assumed, see hipsim iso-check)"
+        )
     return lines

@@ -15,9 +15,25 @@ import argparse
 import os
 import sys
 
-from ..version import __version__
 from ..exceptions import HipsimError
-from . import check, feasible, iso_check, mjcf, monitor, params, report, rig, simulate, size, sweep, torques, urdf, view, workspace
+from ..version import __version__
+from . import (
+    check,
+    feasible,
+    iso_check,
+    mjcf,
+    monitor,
+    params,
+    report,
+    rig,
+    simulate,
+    size,
+    sweep,
+    torques,
+    urdf,
+    view,
+    workspace,
+)
 from .motion_options import locate
 
 __all__ = ["build_parser", "main"]
@@ -44,7 +60,21 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--version", action="version", version=f"hipsim {__version__}")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for command in (torques, simulate, report, workspace, check, feasible, iso_check, view, urdf, mjcf, size, sweep, params):
+    for command in (
+        torques,
+        simulate,
+        report,
+        workspace,
+        check,
+        feasible,
+        iso_check,
+        view,
+        urdf,
+        mjcf,
+        size,
+        sweep,
+        params,
+    ):
         command.add_parser(commands)
     rig.add_parser(commands)  # compare, identify, excite: the rig in the loop
     monitor.add_parser(commands)

@@ -38,28 +38,63 @@ examples:
 def add_parser(subparsers) -> argparse.ArgumentParser:
     """Register ``monitor``."""
     parser = subparsers.add_parser(
-        "monitor", help="follow a wear test's friction from snapshot logs; alarm when it departs (exit 1)",
-        description=_DESCRIPTION, epilog=_EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter,
+        "monitor",
+        help="follow a wear test's friction from snapshot logs; alarm when it departs (exit 1)",
+        description=_DESCRIPTION,
+        epilog=_EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    parser.add_argument("--params", required=True, metavar="FILE", help="identified parameter TOML (hipsim identify --out)")
-    parser.add_argument("--log", required=True, action="append", metavar="DIR_OR_FILES",
-                        help="snapshot logs: a folder (its *.csv), a file or a glob pattern (repeatable)")
+    parser.add_argument(
+        "--params", required=True, metavar="FILE", help="identified parameter TOML (hipsim identify --out)"
+    )
+    parser.add_argument(
+        "--log",
+        required=True,
+        action="append",
+        metavar="DIR_OR_FILES",
+        help="snapshot logs: a folder (its *.csv), a file or a glob pattern (repeatable)",
+    )
     parser.add_argument("--window", type=int, metavar="N", help="cut each log into windows of N cycles (one long log)")
     chart = parser.add_argument_group("chart")
-    chart.add_argument("--baseline", default=DEFAULT_BASELINE, metavar="FROM:TO",
-                       help=f"baseline cycles, after running-in (default {DEFAULT_BASELINE})")
-    chart.add_argument("--alarm-rise", type=float, default=DEFAULT_ALARM_RISE, metavar="D",
-                       help=f"engineering threshold: rise of the hip friction coefficient (default {DEFAULT_ALARM_RISE:g})")
+    chart.add_argument(
+        "--baseline",
+        default=DEFAULT_BASELINE,
+        metavar="FROM:TO",
+        help=f"baseline cycles, after running-in (default {DEFAULT_BASELINE})",
+    )
+    chart.add_argument(
+        "--alarm-rise",
+        type=float,
+        default=DEFAULT_ALARM_RISE,
+        metavar="D",
+        help=f"engineering threshold: rise of the hip friction coefficient (default {DEFAULT_ALARM_RISE:g})",
+    )
     logs = parser.add_argument_group("logs")
-    logs.add_argument("--torque-constant", type=float, metavar="NM_PER_A", help="motor torque constant in N·m/A, for logs of currents")
-    logs.add_argument("--cutoff", type=float, default=DEFAULT_CUTOFF, metavar="HZ", help=f"low-pass cutoff (default {DEFAULT_CUTOFF:g} Hz; 0: none)")
+    logs.add_argument(
+        "--torque-constant", type=float, metavar="NM_PER_A", help="motor torque constant in N·m/A, for logs of currents"
+    )
+    logs.add_argument(
+        "--cutoff",
+        type=float,
+        default=DEFAULT_CUTOFF,
+        metavar="HZ",
+        help=f"low-pass cutoff (default {DEFAULT_CUTOFF:g} Hz; 0: none)",
+    )
     engine = parser.add_argument_group("engine (dask.distributed; pip install 'hipsim[sweep]')")
-    engine.add_argument("--workers", type=int, default=1, metavar="N", help="local worker processes (default 1: in this process)")
-    engine.add_argument("--scheduler", metavar="ADDRESS", help="run on the dask cluster of this scheduler, e.g. tcp://10.0.0.5:8786")
+    engine.add_argument(
+        "--workers", type=int, default=1, metavar="N", help="local worker processes (default 1: in this process)"
+    )
+    engine.add_argument(
+        "--scheduler", metavar="ADDRESS", help="run on the dask cluster of this scheduler, e.g. tcp://10.0.0.5:8786"
+    )
     out = parser.add_argument_group("output")
-    out.add_argument("--out", metavar="FILE", help="the table, .csv or .parquet; an existing one of the same set-up is extended")
+    out.add_argument(
+        "--out", metavar="FILE", help="the table, .csv or .parquet; an existing one of the same set-up is extended"
+    )
     out.add_argument("--restart", action="store_true", help="replace an existing --out instead of extending it")
-    out.add_argument("--report", metavar="DIR", help="write the report (index.html, figures PNG/SVG, monitor.json) to this folder")
+    out.add_argument(
+        "--report", metavar="DIR", help="write the report (index.html, figures PNG/SVG, monitor.json) to this folder"
+    )
     add_provenance_options(parser)
     add_summary_format(parser)
     parser.set_defaults(run=run)
@@ -78,13 +113,17 @@ def run(args) -> int:
     if args.workers is not None and args.workers < 1:
         raise HipsimError(f"--workers: expected a positive number of processes, got {args.workers}")
     if not (args.alarm_rise > 0):
-        raise HipsimError(f"--alarm-rise: expected a positive rise of the hip friction coefficient, got {args.alarm_rise:g}")
+        raise HipsimError(
+            f"--alarm-rise: expected a positive rise of the hip friction coefficient, got {args.alarm_rise:g}"
+        )
     if args.window is not None and args.window < 1:
         raise HipsimError(f"--window: expected a positive number of cycles, got {args.window}")
     try:
         baseline = parse_baseline(args.baseline)
     except HipsimError:
-        raise HipsimError(f"--baseline: expected FROM:TO in cycles, 0 ≤ FROM ≤ TO, e.g. {DEFAULT_BASELINE}, got '{args.baseline}'") from None
+        raise HipsimError(
+            f"--baseline: expected FROM:TO in cycles, 0 ≤ FROM ≤ TO, e.g. {DEFAULT_BASELINE}, got '{args.baseline}'"
+        ) from None
     cutoff = args.cutoff if args.cutoff and args.cutoff > 0 else None
     # Every input is read and checked before the first estimate: nothing is written on bad input.
     params, spin = reference(args.params)
@@ -92,14 +131,25 @@ def run(args) -> int:
         check_out(args.out)
     if args.report:
         check_folder(args.report)
-    setup = MonitorSetup(params, lever_spin=spin, cutoff=cutoff, torque_constant=args.torque_constant, window=args.window)
+    setup = MonitorSetup(
+        params, lever_spin=spin, cutoff=cutoff, torque_constant=args.torque_constant, window=args.window
+    )
     snapshots = find_snapshots(args.log, args.window, cutoff)
     provenance = page_provenance(argparse.Namespace(**(vars(args) | {"overrides": []})), parameters=args.params)
     bar = _progress_bar(len(snapshots))
     try:
-        result = run_monitor(setup, snapshots, baseline, args.alarm_rise, args.out, args.restart, args.workers, args.scheduler,
-                             progress=lambda n, total: bar.update(n - bar.n),
-                             metadata={"hipsim": provenance.version, "parameters_file": args.params})  # fmt: skip
+        result = run_monitor(
+            setup,
+            snapshots,
+            baseline,
+            args.alarm_rise,
+            args.out,
+            args.restart,
+            args.workers,
+            args.scheduler,
+            progress=lambda n, total: bar.update(n - bar.n),
+            metadata={"hipsim": provenance.version, "parameters_file": args.params},
+        )
     finally:
         bar.close()
     summary = result.summary() | {"out": args.out, "provenance": provenance.as_dict()}
@@ -135,19 +185,40 @@ def format_summary(summary: dict, result) -> str:
     if summary["note"]:
         lines.append(summary["note"])
     else:
-        lines.append(f"baseline cycles {b['from']}-{b['to']}: {b['snapshots']} snapshots, load friction {significant(b['load_friction_mm'], 5)} mm "
-                     f"± {significant(b['spread_mm'], 2)} mm between snapshots; threshold {significant(summary['threshold_mm'], 5)} mm")
+        lines.append(
+            f"baseline cycles {b['from']}-{b['to']}: {b['snapshots']} snapshots, load friction {significant(b['load_friction_mm'], 5)} mm "
+            f"± {significant(b['spread_mm'], 2)} mm between snapshots; threshold {significant(summary['threshold_mm'], 5)} mm"
+        )
     c = result.columns
     rows = []
     for k in range(len(c["cycle"])):
         change = c["hip_mu_change"][k]
-        rows.append([str(c["cycle"][k]), c["file"][k], c["phase"][k], f"{c['load_friction_mm'][k]:.4f}", f"{c['load_friction_mm_std'][k]:.4f}",
-                     "" if change != change else f"{change:+.4f}", f"{c['residual_rms_Nmm'][k]:.3g}", "ALARM" if c["alarm"][k] else ""])
-    lines += ["", format_table(["cycle", "file", "phase", "load friction [mm]", "std [mm]", "Δμ_h", "residual [N·mm]", "alarm"], rows, "Snapshots")]
+        rows.append(
+            [
+                str(c["cycle"][k]),
+                c["file"][k],
+                c["phase"][k],
+                f"{c['load_friction_mm'][k]:.4f}",
+                f"{c['load_friction_mm_std'][k]:.4f}",
+                "" if change != change else f"{change:+.4f}",
+                f"{c['residual_rms_Nmm'][k]:.3g}",
+                "ALARM" if c["alarm"][k] else "",
+            ]
+        )
+    lines += [
+        "",
+        format_table(
+            ["cycle", "file", "phase", "load friction [mm]", "std [mm]", "Δμ_h", "residual [N·mm]", "alarm"],
+            rows,
+            "Snapshots",
+        ),
+    ]
     first = summary["first_alarm"]
     if first:
-        lines.append(f"\nfirst alarm at cycle {first['cycle']} ({first['file']}): hip friction coefficient up by {first['hip_mu_change']:+.4f} "
-                     f"± {first['hip_mu_change_std']:.2g} (load friction {first['load_friction_change_mm']:+.4g} mm)")
+        lines.append(
+            f"\nfirst alarm at cycle {first['cycle']} ({first['file']}): hip friction coefficient up by {first['hip_mu_change']:+.4f} "
+            f"± {first['hip_mu_change_std']:.2g} (load friction {first['load_friction_change_mm']:+.4g} mm)"
+        )
     else:
         lines.append("\nno alarm")
     lines.append("ALARM ACTIVE at the last snapshot" if summary["alarm_active"] else "no alarm at the last snapshot")

@@ -16,7 +16,15 @@ from pathlib import Path
 
 from ..exceptions import HipsimError
 from ..present.tables import format_table
-from .common import add_machine_options, add_provenance_options, add_summary_format, numbers, page_provenance, parameters, progress
+from .common import (
+    add_machine_options,
+    add_provenance_options,
+    add_summary_format,
+    numbers,
+    page_provenance,
+    parameters,
+    progress,
+)
 
 __all__ = ["add_parser", "run", "run_compare", "run_excite", "run_identify"]
 
@@ -28,42 +36,78 @@ DEFAULT_TOLERANCE_DEG = 0.5
 
 def _add_log_options(parser: argparse.ArgumentParser) -> None:
     group = parser.add_argument_group("logs")
-    group.add_argument("--torque-constant", type=float, metavar="NM_PER_A",
-                       help="motor torque constant in N·m/A, for logs of motor currents (current_1_A …)")
-    group.add_argument("--cutoff", type=float, default=DEFAULT_CUTOFF, metavar="HZ",
-                       help=f"zero-phase low-pass cutoff for measured motion, load and torques (default {DEFAULT_CUTOFF:g} Hz; 0: none)")
-    group.add_argument("--tolerance", type=float, default=DEFAULT_TOLERANCE_DEG, metavar="DEG",
-                       help=f"largest disagreement of attitude sensor and encoders when a log has both (default {DEFAULT_TOLERANCE_DEG:g}°)")
-    group.add_argument("--spin-free-levers", action="store_true",
-                       help="the spec's levers without the universal joints' spin (default: with it, as real joints move)")
-    group.add_argument("--no-plausibility-check", dest="plausibility_check", action="store_false",
-                       help="skip the check of each logged signal against what the machine produces (a factor of ~1000 "
-                       "or ~57, a unit slip, is otherwise an error); for the rare log that is right")
+    group.add_argument(
+        "--torque-constant",
+        type=float,
+        metavar="NM_PER_A",
+        help="motor torque constant in N·m/A, for logs of motor currents (current_1_A …)",
+    )
+    group.add_argument(
+        "--cutoff",
+        type=float,
+        default=DEFAULT_CUTOFF,
+        metavar="HZ",
+        help=f"zero-phase low-pass cutoff for measured motion, load and torques (default {DEFAULT_CUTOFF:g} Hz; 0: none)",
+    )
+    group.add_argument(
+        "--tolerance",
+        type=float,
+        default=DEFAULT_TOLERANCE_DEG,
+        metavar="DEG",
+        help=f"largest disagreement of attitude sensor and encoders when a log has both (default {DEFAULT_TOLERANCE_DEG:g}°)",
+    )
+    group.add_argument(
+        "--spin-free-levers",
+        action="store_true",
+        help="the spec's levers without the universal joints' spin (default: with it, as real joints move)",
+    )
+    group.add_argument(
+        "--no-plausibility-check",
+        dest="plausibility_check",
+        action="store_false",
+        help="skip the check of each logged signal against what the machine produces (a factor of ~1000 "
+        "or ~57, a unit slip, is otherwise an error); for the rare log that is right",
+    )
 
 
 def add_parser(subparsers) -> None:
     """Register ``compare``, ``identify`` and ``excite``."""
     compare = subparsers.add_parser(
-        "compare", help="the model's torques along a rig log against the measured ones -> figures, HTML, JSON",
+        "compare",
+        help="the model's torques along a rig log against the measured ones -> figures, HTML, JSON",
         description="Runs the analytic model along a rig log's motion and load and compares its motor torques (total "
         "and parts) with the measured ones, per motor: RMS and peak error, absolute and relative, where the peak occurs, "
         "and the error per phase of the cycle when the log repeats. Model and measurement are low-passed alike. Writes "
         "figures (PNG, SVG), index.html and comparison.json to --out and prints the table. The log is read and compared "
         "in pieces: memory does not grow with its length.",
     )
-    compare.add_argument("--log", required=True, metavar="FILE", help="rig log CSV: t_s, Fe_N, tau_i_Nmm (or current_i_A), angles and/or L_1i_mm")
+    compare.add_argument(
+        "--log",
+        required=True,
+        metavar="FILE",
+        help="rig log CSV: t_s, Fe_N, tau_i_Nmm (or current_i_A), angles and/or L_1i_mm",
+    )
     add_machine_options(compare)
     _add_log_options(compare)
-    compare.add_argument("--period", type=float, metavar="S", help="the log's period in s (default: detected; 0: not periodic)")
-    compare.add_argument("--out", default="hipsim_compare", metavar="DIR", help="folder to write (default hipsim_compare)")
-    compare.add_argument("--accept", type=float, metavar="PERCENT",
-                         help="largest RMS error accepted, in %% of each motor's measured RMS torque: the page's verdict (default: not judged)")
+    compare.add_argument(
+        "--period", type=float, metavar="S", help="the log's period in s (default: detected; 0: not periodic)"
+    )
+    compare.add_argument(
+        "--out", default="hipsim_compare", metavar="DIR", help="folder to write (default hipsim_compare)"
+    )
+    compare.add_argument(
+        "--accept",
+        type=float,
+        metavar="PERCENT",
+        help="largest RMS error accepted, in %% of each motor's measured RMS torque: the page's verdict (default: not judged)",
+    )
     add_provenance_options(compare)
     add_summary_format(compare, "what to print")
     compare.set_defaults(run=run)
 
     identify = subparsers.add_parser(
-        "identify", help="fit the dynamic parameters to rig logs -> a parameter TOML",
+        "identify",
+        help="fit the dynamic parameters to rig logs -> a parameter TOML",
         description="Estimates the machine's base parameters (fixed combinations of the inertial parameters and friction "
         "coefficients that motor torques can determine, defined by the geometry: --base lists them) by Bayesian least "
         "squares: the starting file's values are the prior (uncertainties by default 30 %% of masses and inertias, 50 %% of "
@@ -73,15 +117,29 @@ def add_parser(subparsers) -> None:
         "95 %% bands. With --validate, the held-out error per motor and gait phase next to the starting parameters'. Logs are "
         "read in pieces: memory does not grow with their length.",
     )
-    identify.add_argument("--log", action="append", metavar="FILE", help="rig log to fit (repeatable; required unless --base)")
-    identify.add_argument("--validate", action="append", default=[], metavar="FILE", help="held-out rig log to predict (repeatable)")
+    identify.add_argument(
+        "--log", action="append", metavar="FILE", help="rig log to fit (repeatable; required unless --base)"
+    )
+    identify.add_argument(
+        "--validate", action="append", default=[], metavar="FILE", help="held-out rig log to predict (repeatable)"
+    )
     add_machine_options(identify)
     _add_log_options(identify)
-    identify.add_argument("--prior", metavar="NAME=STD,...", help="prior standard deviations: a parameter's label, key or key prefix "
-                          "and a number in its file unit or a percentage ('mu_h=0.02,lever=10 %%'); 0 holds it at its value")
-    identify.add_argument("--fix", metavar="NAMES", help="parameters to hold at their starting values, comma-separated "
-                          "(labels such as m_l, keys, or prefixes such as lever, friction.ujoint): a prior of zero uncertainty")
-    identify.add_argument("--base", action="store_true", help="print the machine's base parameters with their definitions and stop")
+    identify.add_argument(
+        "--prior",
+        metavar="NAME=STD,...",
+        help="prior standard deviations: a parameter's label, key or key prefix "
+        "and a number in its file unit or a percentage ('mu_h=0.02,lever=10 %%'); 0 holds it at its value",
+    )
+    identify.add_argument(
+        "--fix",
+        metavar="NAMES",
+        help="parameters to hold at their starting values, comma-separated "
+        "(labels such as m_l, keys, or prefixes such as lever, friction.ujoint): a prior of zero uncertainty",
+    )
+    identify.add_argument(
+        "--base", action="store_true", help="print the machine's base parameters with their definitions and stop"
+    )
     identify.add_argument("--json", metavar="FILE", help="also write the results as JSON")
     identify.add_argument("--out", metavar="FILE", help="parameter TOML to write (.toml; required unless --base)")
     add_provenance_options(identify)
@@ -89,21 +147,42 @@ def add_parser(subparsers) -> None:
     identify.set_defaults(run=run)
 
     excite = subparsers.add_parser(
-        "excite", help="design an excitation trajectory for identification -> trajectory CSV",
+        "excite",
+        help="design an excitation trajectory for identification -> trajectory CSV",
         description="A periodic finite Fourier series in the three angles and the load, optimised for the identification "
         "regressor's condition number within the rig's reach, singularity margin, slider speed and acceleration and motor "
         "torque limits. Writes a trajectory CSV every command reads and prints its condition number next to the ISO cycle's.",
     )
     add_machine_options(excite)
-    excite.add_argument("--duration", type=float, default=10.0, metavar="S", help="length of the CSV in s, whole periods (default 10)")
+    excite.add_argument(
+        "--duration", type=float, default=10.0, metavar="S", help="length of the CSV in s, whole periods (default 10)"
+    )
     excite.add_argument("--harmonics", type=int, default=5, metavar="N", help="harmonics per series (default 5)")
-    excite.add_argument("--frequency", type=float, default=0.5, metavar="HZ", help="base frequency, 1/period (default 0.5)")
-    excite.add_argument("--rate", type=float, default=1000.0, metavar="HZ", help="sample rate of the CSV (default 1000)")
+    excite.add_argument(
+        "--frequency", type=float, default=0.5, metavar="HZ", help="base frequency, 1/period (default 0.5)"
+    )
+    excite.add_argument(
+        "--rate", type=float, default=1000.0, metavar="HZ", help="sample rate of the CSV (default 1000)"
+    )
     excite.add_argument("--seeds", type=int, default=1, metavar="N", help="random starts of the optimiser (default 1)")
-    excite.add_argument("--iterations", type=int, default=40, metavar="N", help="optimiser iterations per start (default 40)")
-    excite.add_argument("--max-speed", type=float, metavar="MM_S", help="slider speed limit in mm/s (default 350, or the [motor] rating)")
-    excite.add_argument("--max-acceleration", type=float, metavar="MM_S2", help="slider acceleration limit in mm/s² (default 2500)")
-    excite.add_argument("--torque-limit", type=float, metavar="NMM", help="motor torque limit in N·mm (default: control.torque_limit_Nmm, [motor] peak, or 600)")
+    excite.add_argument(
+        "--iterations", type=int, default=40, metavar="N", help="optimiser iterations per start (default 40)"
+    )
+    excite.add_argument(
+        "--max-speed",
+        type=float,
+        metavar="MM_S",
+        help="slider speed limit in mm/s (default 350, or the [motor] rating)",
+    )
+    excite.add_argument(
+        "--max-acceleration", type=float, metavar="MM_S2", help="slider acceleration limit in mm/s² (default 2500)"
+    )
+    excite.add_argument(
+        "--torque-limit",
+        type=float,
+        metavar="NMM",
+        help="motor torque limit in N·mm (default: control.torque_limit_Nmm, [motor] peak, or 600)",
+    )
     excite.add_argument("--min-cond-inv", type=float, metavar="X", help="smallest singularity measure (default 0.25)")
     excite.add_argument("--max-angle", type=float, metavar="DEG", help="largest |angle| in degrees (default 30)")
     excite.add_argument("--load", metavar="MIN:MAX", help="load range in N (default 300:3000)")
@@ -129,7 +208,9 @@ def _not_an_input(out: str, inputs: list[str], option: str) -> None:
 def _pieces(path: str, params, args):
     from ..rig.compare import LogPieces
 
-    return LogPieces(path, params, torque_constant=args.torque_constant, cutoff=_cutoff(args), tolerance_deg=args.tolerance)
+    return LogPieces(
+        path, params, torque_constant=args.torque_constant, cutoff=_cutoff(args), tolerance_deg=args.tolerance
+    )
 
 
 def _plausible(log, params, args) -> None:
@@ -153,10 +234,9 @@ def _check_logs(args, params) -> None:
 
 def run_compare(args) -> int:
     """Compare the model with ``--log``: write the figures, page and JSON to ``--out`` and print the errors; exit status 0."""
-    from ..rig.compare import compare_log
     from ..files import check_folder
     from ..present.rig_figures import write_comparison
-
+    from ..rig.compare import compare_log
     from ..rig.uncertainty import read_covariance
 
     params = parameters(args)
@@ -166,44 +246,88 @@ def run_compare(args) -> int:
     _check_log_options(args)
     check_folder(Path(args.out))  # a bad folder is refused before the work
     with _pieces(args.log, params, args) as log:  # in pieces: memory does not grow with the log
-        provenance = page_provenance(args, log=args.log)  # hashed before the work (once the log is known to be there): the log as it was read
+        provenance = page_provenance(
+            args, log=args.log
+        )  # hashed before the work (once the log is known to be there): the log as it was read
         _plausible(log, params, args)  # a unit slip refused before the comparison
-        comparison = compare_log(params, log, lever_spin=not args.spin_free_levers, period=args.period, progress=progress("compare"))
+        comparison = compare_log(
+            params, log, lever_spin=not args.spin_free_levers, period=args.period, progress=progress("compare")
+        )
         band = None
         if covariance is not None:  # an identified file: the model's 95 % band at the samples kept
             from ..rig.uncertainty import Z95, log_torque_std
 
             band = Z95 * log_torque_std(params, log, comparison.t, covariance)
-    files = write_comparison(args.out, comparison, provenance=provenance, accept=None if args.accept is None else args.accept / 100, band=band,
-                             residual=None if covariance is None else covariance.residual)
+    files = write_comparison(
+        args.out,
+        comparison,
+        provenance=provenance,
+        accept=None if args.accept is None else args.accept / 100,
+        band=band,
+        residual=None if covariance is None else covariance.residual,
+    )
     summary = comparison.summary()
     if args.summary_format == "json":
         print(json.dumps(json.loads(files.summary.read_text(encoding="utf-8")), indent=2))
         return 0
     verdict = json.loads(files.summary.read_text(encoding="utf-8"))["verdict"]
     print(f"{verdict['word']}: " + " ".join(verdict["lines"]))
-    print(f"log: {log.name} ({summary['samples']} samples compared, motion from the {log.motion_from}); parameters: {params.source}")
+    print(
+        f"log: {log.name} ({summary['samples']} samples compared, motion from the {log.motion_from}); parameters: {params.source}"
+    )
     for note in log.notes:
         print(f"  {note}")
     if band is not None:
         bands = json.loads(files.summary.read_text(encoding="utf-8"))["model_band95"]
-        print("model's 95 % band (the parameter file's covariance): " + ", ".join(
-            f"M{i} ±{b['rms_half_width_Nmm']:.3g} N·mm RMS" for i, b in bands.items()))
+        print(
+            "model's 95 % band (the parameter file's covariance): "
+            + ", ".join(f"M{i} ±{b['rms_half_width_Nmm']:.3g} N·mm RMS" for i, b in bands.items())
+        )
         if "measured_within_prediction_band" in bands["1"]:
-            print("  with the fit's residual (a measurement's noise and model error), the prediction band: " + ", ".join(
-                f"M{i} ±{b['prediction_rms_half_width_Nmm']:.3g} N·mm RMS, {100 * b['measured_within_prediction_band']:.0f} % of measured samples within"
-                for i, b in bands.items()))
+            print(
+                "  with the fit's residual (a measurement's noise and model error), the prediction band: "
+                + ", ".join(
+                    f"M{i} ±{b['prediction_rms_half_width_Nmm']:.3g} N·mm RMS, {100 * b['measured_within_prediction_band']:.0f} % of measured samples within"
+                    for i, b in bands.items()
+                )
+            )
     rows = [
-        [f"M{i}", m["measured_rms_Nmm"], m["measured_peak_Nmm"], m["rms_error_Nmm"], f"{100 * m['relative_rms_error']:.2f} %",
-         m["peak_error_Nmm"], f"{100 * m['relative_peak_error']:.2f} %", f"{m['peak_error_t_s']:.3f}", m["rms_error_away_from_reversals_Nmm"]]
+        [
+            f"M{i}",
+            m["measured_rms_Nmm"],
+            m["measured_peak_Nmm"],
+            m["rms_error_Nmm"],
+            f"{100 * m['relative_rms_error']:.2f} %",
+            m["peak_error_Nmm"],
+            f"{100 * m['relative_peak_error']:.2f} %",
+            f"{m['peak_error_t_s']:.3f}",
+            m["rms_error_away_from_reversals_Nmm"],
+        ]
         for i, m in summary["motors"].items()
     ]
-    print(format_table(["motor", "RMS [N·mm]", "peak [N·mm]", "RMS error", "/ RMS", "peak error", "/ peak", "at [s]", "RMS error away from reversals"],
-                 rows, "Model vs measured motor torque [N·mm]"))
+    print(
+        format_table(
+            [
+                "motor",
+                "RMS [N·mm]",
+                "peak [N·mm]",
+                "RMS error",
+                "/ RMS",
+                "peak error",
+                "/ peak",
+                "at [s]",
+                "RMS error away from reversals",
+            ],
+            rows,
+            "Model vs measured motor torque [N·mm]",
+        )
+    )
     if comparison.phase_rms is not None:
         anchor = "heel strike" if comparison.stance is not None else "the first sample"
-        print(f"\nthe log repeats every {comparison.period:.4g} s; RMS error per tenth of the gait cycle from {anchor} "
-              f"(t = {comparison.heel_strike:.4g} s) [N·mm]:")
+        print(
+            f"\nthe log repeats every {comparison.period:.4g} s; RMS error per tenth of the gait cycle from {anchor} "
+            f"(t = {comparison.heel_strike:.4g} s) [N·mm]:"
+        )
         if comparison.stance is not None:
             print("      " + " ".join(f"{'stance' if s else 'swing':>6}" for s in comparison.stance))
         for i in range(3):
@@ -228,13 +352,29 @@ def run_base(args) -> int:
     base = base_parameters(params, not args.spin_free_levers)
     belief = prior(base, params)
     if args.summary_format == "json":
-        print(json.dumps({"base_parameters": [row | {"prior": float(m / s), "prior_std": float(d / s)}
-                                              for row, m, d, s in zip(base.table(), belief.mean, belief.std, base.scale)]}, indent=2))
+        print(
+            json.dumps(
+                {
+                    "base_parameters": [
+                        row | {"prior": float(m / s), "prior_std": float(d / s)}
+                        for row, m, d, s in zip(base.table(), belief.mean, belief.std, base.scale)
+                    ]
+                },
+                indent=2,
+            )
+        )
         return 0
-    rows = [[p.label, p.definition, p.unit or "—", f"{m / s:.6g}", f"{d / s:.2g}"]
-            for p, m, d, s in zip(base.parameters, belief.mean, belief.std, base.scale)]
-    print(format_table(["base parameter", "definition", "unit", "start value", "prior std"], rows,
-                       f"Base parameters of {params.source} ({len(rows)}; lever spin {'off' if args.spin_free_levers else 'on'})"))
+    rows = [
+        [p.label, p.definition, p.unit or "—", f"{m / s:.6g}", f"{d / s:.2g}"]
+        for p, m, d, s in zip(base.parameters, belief.mean, belief.std, base.scale)
+    ]
+    print(
+        format_table(
+            ["base parameter", "definition", "unit", "start value", "prior std"],
+            rows,
+            f"Base parameters of {params.source} ({len(rows)}; lever spin {'off' if args.spin_free_levers else 'on'})",
+        )
+    )
     return 0
 
 
@@ -267,8 +407,18 @@ def run_identify(args) -> int:
     with contextlib.ExitStack() as stack:  # the logs in pieces: memory does not grow with their length
         logs = [stack.enter_context(_pieces(path, params, args)) for path in args.log]
         validate = [stack.enter_context(_pieces(path, params, args)) for path in args.validate]
-        provenance = page_provenance(args, log=args.log, validate=args.validate)  # the files hashed once they are known to open
-        result = identify(logs, params, validate=validate, lever_spin=not args.spin_free_levers, fixed=fixed, prior=entries, prior_source=source)
+        provenance = page_provenance(
+            args, log=args.log, validate=args.validate
+        )  # the files hashed once they are known to open
+        result = identify(
+            logs,
+            params,
+            validate=validate,
+            lever_spin=not args.spin_free_levers,
+            fixed=fixed,
+            prior=entries,
+            prior_source=source,
+        )
 
     from ..files import write_atomic
 
@@ -281,28 +431,61 @@ def run_identify(args) -> int:
     if args.summary_format == "json":
         print(json.dumps(json_ready(document | {"toml": str(path), "json": args.json}), indent=2))
         return 0
-    print(f"logs: {', '.join(result.logs)}; {result.rows} samples (after filtering, decimation and the windows around reversals)")
+    print(
+        f"logs: {', '.join(result.logs)}; {result.rows} samples (after filtering, decimation and the windows around reversals)"
+    )
     print(f"starting parameters: {params.source}")
-    rows = [[e.definition if len(e.definition) < 60 else e.definition[:57] + "…", f"{e.value:.6g}", f"{e.std:.2g}", e.unit or "—",
-             f"{e.prior:.6g} ± {e.prior_std:.2g}", f"{e.shift:+.2g}"] for e in result.estimates if e.determined]
-    print(format_table(["base parameter", "value", "std", "unit", "prior", "moved [prior std]"], rows,
-                       "\nIdentified (the base parameters these logs determine: posterior std at most half the prior's)"))
+    rows = [
+        [
+            e.definition if len(e.definition) < 60 else e.definition[:57] + "…",
+            f"{e.value:.6g}",
+            f"{e.std:.2g}",
+            e.unit or "—",
+            f"{e.prior:.6g} ± {e.prior_std:.2g}",
+            f"{e.shift:+.2g}",
+        ]
+        for e in result.estimates
+        if e.determined
+    ]
+    print(
+        format_table(
+            ["base parameter", "value", "std", "unit", "prior", "moved [prior std]"],
+            rows,
+            "\nIdentified (the base parameters these logs determine: posterior std at most half the prior's)",
+        )
+    )
     rest_ = [e for e in result.estimates if not e.determined]
     if rest_:
         print("\nNot determined by these logs (near the prior, posterior std ≥ half the prior's):")
         for e in rest_:
             print(f"  {e.name} = {e.value:.6g} ± {e.std:.2g} {e.unit} (prior {e.prior:.6g} ± {e.prior_std:.2g})")
     print(f"\nregressor condition number (determined base parameters): {result.condition_number:.4g}")
-    print("residual RMS per motor: " + ", ".join(f"M{i + 1} {r * 1e3:.3g} N·mm" for i, r in enumerate(result.residual_rms)))
+    print(
+        "residual RMS per motor: "
+        + ", ".join(f"M{i + 1} {r * 1e3:.3g} N·mm" for i, r in enumerate(result.residual_rms))
+    )
     if result.active_constraints:
         print("physical consistency: " + "; ".join(result.active_constraints))
     for (identified, start), note in zip(result.validation, result.notes or [None] * len(result.validation)):
         a, b = identified.motor_errors(), start.motor_errors()
-        rows = [[f"M{i}", a[i]["rms_error_Nmm"], f"{100 * a[i]['relative_rms_error']:.2f} %",
-                 b[i]["rms_error_Nmm"], f"{100 * b[i]['relative_rms_error']:.2f} %",
-                 f"{100 * a[i]['relative_rms_error_away_from_reversals']:.2f} %"] for i in ("1", "2", "3")]
-        print(format_table(["motor", "identified [N·mm]", "/ RMS", "starting [N·mm]", "/ RMS", "identified, away from reversals"], rows,
-                     f"\nPrediction error on {identified.log.name} (held out): RMS of model − measured"))
+        rows = [
+            [
+                f"M{i}",
+                a[i]["rms_error_Nmm"],
+                f"{100 * a[i]['relative_rms_error']:.2f} %",
+                b[i]["rms_error_Nmm"],
+                f"{100 * b[i]['relative_rms_error']:.2f} %",
+                f"{100 * a[i]['relative_rms_error_away_from_reversals']:.2f} %",
+            ]
+            for i in ("1", "2", "3")
+        ]
+        print(
+            format_table(
+                ["motor", "identified [N·mm]", "/ RMS", "starting [N·mm]", "/ RMS", "identified, away from reversals"],
+                rows,
+                f"\nPrediction error on {identified.log.name} (held out): RMS of model − measured",
+            )
+        )
         if note is not None:
             print(note.text())
     print(f"\nwrote {path}" + (f" and {args.json}" if args.json else ""))
@@ -313,12 +496,12 @@ def _provenance_comment(provenance) -> str:
     """Comment lines for an identified parameter file: the version, time, command and each input's SHA-256."""
     lines = [f"# Made by hipsim {provenance.version} on {provenance.created} (UTC): {provenance.command}"]
     lines += [f"#   {f.role} {f.path}: SHA-256 {f.sha256}" for f in provenance.inputs]
-    lines += [f"# {label}: {value}" for label, value in (("Title", provenance.title), ("Author", provenance.author), ("Rig", provenance.rig)) if value]
+    lines += [
+        f"# {label}: {value}"
+        for label, value in (("Title", provenance.title), ("Author", provenance.author), ("Rig", provenance.rig))
+        if value
+    ]
     return "\n".join(lines) + "\n"
-
-
-
-
 
 
 def run_excite(args) -> int:
@@ -333,7 +516,9 @@ def run_excite(args) -> int:
         if not (math.isfinite(value) and value > 0):
             raise HipsimError(f"{option}: expected a positive number, got {value!r}")
     if args.rate < 4 * args.harmonics * args.frequency:
-        raise HipsimError(f"--rate {args.rate:g} Hz is too low for harmonics up to {args.harmonics * args.frequency:g} Hz")
+        raise HipsimError(
+            f"--rate {args.rate:g} Hz is too low for harmonics up to {args.harmonics * args.frequency:g} Hz"
+        )
     changes = {}
     if args.max_speed is not None:
         changes["max_speed"] = args.max_speed * 1e-3
@@ -347,35 +532,65 @@ def run_excite(args) -> int:
         changes["max_angle"] = math.radians(args.max_angle)
     if args.load is not None:
         changes["min_load"], changes["max_load"] = numbers(args.load, ":", "--load", "MIN:MAX in N", count=2)
-    for option, key in (("--max-speed", "max_speed"), ("--max-acceleration", "max_acceleration"), ("--torque-limit", "torque_limit"),
-                        ("--min-cond-inv", "min_cond_inv"), ("--max-angle", "max_angle")):
+    for option, key in (
+        ("--max-speed", "max_speed"),
+        ("--max-acceleration", "max_acceleration"),
+        ("--torque-limit", "torque_limit"),
+        ("--min-cond-inv", "min_cond_inv"),
+        ("--max-angle", "max_angle"),
+    ):
         if key in changes and not (math.isfinite(changes[key]) and changes[key] > 0):
             raise HipsimError(f"{option}: expected a positive number, got {getattr(args, key)!r}")
     if "min_load" in changes and not 0 <= changes["min_load"] < changes["max_load"]:
         raise HipsimError(f"--load: expected 0 <= MIN < MAX, got '{args.load}'")
     limits = Limits.for_machine(params, **changes)
     json_out = args.summary_format == "json"
-    print(f"designing: {args.harmonics} harmonics of {args.frequency:g} Hz (period {1 / args.frequency:g} s), {args.seeds} start(s) …",
-          flush=True, file=sys.stderr if json_out else sys.stdout)
+    print(
+        f"designing: {args.harmonics} harmonics of {args.frequency:g} Hz (period {1 / args.frequency:g} s), {args.seeds} start(s) …",
+        flush=True,
+        file=sys.stderr if json_out else sys.stdout,
+    )
     if args.seeds < 1 or args.iterations < 1:
         raise HipsimError(f"--seeds and --iterations must be at least 1, got {args.seeds} and {args.iterations}")
-    design = excitation(params, frequency=args.frequency, harmonics=args.harmonics, limits=limits, seeds=args.seeds, max_iter=args.iterations)
+    design = excitation(
+        params,
+        frequency=args.frequency,
+        harmonics=args.harmonics,
+        limits=limits,
+        seeds=args.seeds,
+        max_iter=args.iterations,
+    )
     path = design.write_csv(args.out, rate=args.rate, duration=args.duration)
     peaks = design.peaks
     if json_out:
-        print(json.dumps(json_ready({
-            "condition_number": design.condition_number, "iso_condition_number": design.iso_condition_number,
-            "quantities": list(design.quantities), "peaks": peaks, "seconds": design.seconds, "csv": str(path),
-        }), indent=2))
+        print(
+            json.dumps(
+                json_ready(
+                    {
+                        "condition_number": design.condition_number,
+                        "iso_condition_number": design.iso_condition_number,
+                        "quantities": list(design.quantities),
+                        "peaks": peaks,
+                        "seconds": design.seconds,
+                        "csv": str(path),
+                    }
+                ),
+                indent=2,
+            )
+        )
         return 0
-    print(f"condition number of the identification regressor: {design.condition_number:.4g} "
-          f"(ISO 14242-1 cycle: {design.iso_condition_number:.4g}), for {', '.join(design.quantities)}")
-    print(f"largest |angle| {peaks['angle_deg']:.3g}° (limit {math.degrees(limits.max_angle):.3g}°), "
-          f"slider speed {peaks['speed_mm_s']:.4g} mm/s (limit {limits.max_speed * 1e3:.4g}), "
-          f"acceleration {peaks['acceleration_mm_s2']:.4g} mm/s² (limit {limits.max_acceleration * 1e3:.4g}), "
-          f"motor torque {peaks['torque_Nmm']:.4g} N·mm (limit {limits.torque_limit * 1e3:.4g}), "
-          f"singularity measure ≥ {peaks['cond_inv_min']:.3g} (limit {limits.min_cond_inv:.3g}), "
-          f"load {peaks['load_min_N']:.4g} to {peaks['load_max_N']:.4g} N")
+    print(
+        f"condition number of the identification regressor: {design.condition_number:.4g} "
+        f"(ISO 14242-1 cycle: {design.iso_condition_number:.4g}), for {', '.join(design.quantities)}"
+    )
+    print(
+        f"largest |angle| {peaks['angle_deg']:.3g}° (limit {math.degrees(limits.max_angle):.3g}°), "
+        f"slider speed {peaks['speed_mm_s']:.4g} mm/s (limit {limits.max_speed * 1e3:.4g}), "
+        f"acceleration {peaks['acceleration_mm_s2']:.4g} mm/s² (limit {limits.max_acceleration * 1e3:.4g}), "
+        f"motor torque {peaks['torque_Nmm']:.4g} N·mm (limit {limits.torque_limit * 1e3:.4g}), "
+        f"singularity measure ≥ {peaks['cond_inv_min']:.3g} (limit {limits.min_cond_inv:.3g}), "
+        f"load {peaks['load_min_N']:.4g} to {peaks['load_max_N']:.4g} N"
+    )
     print(f"designed in {design.seconds:.1f} s; wrote {path}")
     return 0
 

@@ -7,10 +7,18 @@ import math
 import sys
 from pathlib import Path
 
-from ..exceptions import ArgumentError, HipsimError
 from ..analysis.registry import make_plant, plant_entry, plant_names
+from ..exceptions import ArgumentError, HipsimError
 from ..present.tables import format_table
-from .common import add_machine_options, add_summary_format, desired_motion, load_pinocchio_kernels, note, parameters, print_json
+from .common import (
+    add_machine_options,
+    add_summary_format,
+    desired_motion,
+    load_pinocchio_kernels,
+    note,
+    parameters,
+    print_json,
+)
 from .feasible import add_strict_option
 from .mjcf import add_simulate_options, format_gaps
 from .motion_options import add_trajectory_options, load_trajectory
@@ -21,7 +29,8 @@ __all__ = ["add_parser", "format_simulations", "run"]
 def add_parser(subparsers) -> argparse.ArgumentParser:
     """Register ``simulate`` on the main parser's subcommands."""
     sim = subparsers.add_parser(
-        "simulate", help="closed-loop trajectory tracking: workspace PD and augmented PD on a plant",
+        "simulate",
+        help="closed-loop trajectory tracking: workspace PD and augmented PD on a plant",
         description="Simulates the servo loop: the controller runs at the servo rate on the measured platform state, "
         "its torques are held over each period and drive the plant's forward dynamics (RK4). Prints the tracking errors "
         "of the three angles and the motor torques; writes desired and actual angles, errors and torques to CSV. "
@@ -30,22 +39,44 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     )
     add_machine_options(sim)
     add_trajectory_options(sim, rate=False)
-    sim.add_argument("--controller", choices=["pd", "augmented-pd", "both"], default="both", help="controller (default both, one after the other)")
     sim.add_argument(
-        "--plant", choices=plant_names(), default="pinocchio",
+        "--controller",
+        choices=["pd", "augmented-pd", "both"],
+        default="both",
+        help="controller (default both, one after the other)",
+    )
+    sim.add_argument(
+        "--plant",
+        choices=plant_names(),
+        default="pinocchio",
         help="pinocchio = closed-chain model (default), analytic = reduced 3-DOF model, compiled (about 4x faster); "
         "they agree to 1e-11 deg. mujoco = MuJoCo's forward dynamics of the MJCF (soft closures; needs the mujoco extra)",
     )
     add_simulate_options(sim)
-    sim.add_argument("--mismatch", metavar="SPEC", help="plant off from the controller's model, e.g. friction=+20%%,masses=-10%%")
+    sim.add_argument(
+        "--mismatch", metavar="SPEC", help="plant off from the controller's model, e.g. friction=+20%%,masses=-10%%"
+    )
     sim.add_argument("--servo-rate", type=float, metavar="HZ", help="servo rate (default control.servo_rate_Hz)")
-    sim.add_argument("--step", type=float, metavar="MS", help="integration step in ms (default control.integration_step_ms)")
-    sim.add_argument("--torque-limit", type=float, metavar="NMM", help="motor torque limit in N·mm (default control.torque_limit_Nmm)")
-    sim.add_argument("--out", default="hipsim_simulation.csv", metavar="FILE", help="CSV to write; with both controllers, _pd and _augmented-pd are added to the name")
+    sim.add_argument(
+        "--step", type=float, metavar="MS", help="integration step in ms (default control.integration_step_ms)"
+    )
+    sim.add_argument(
+        "--torque-limit",
+        type=float,
+        metavar="NMM",
+        help="motor torque limit in N·mm (default control.torque_limit_Nmm)",
+    )
+    sim.add_argument(
+        "--out",
+        default="hipsim_simulation.csv",
+        metavar="FILE",
+        help="CSV to write; with both controllers, _pd and _augmented-pd are added to the name",
+    )
     add_summary_format(sim)
     add_strict_option(sim)
     sim.add_argument(
-        "--tolerance", metavar="SPEC",
+        "--tolerance",
+        metavar="SPEC",
         help="ISO 14242-1 tolerances for the verdict on the tracked motion, e.g. alpha=3,beta=3,gamma=3,load=3%%,frequency=0.1 "
         "(default: those values, assumed: confirm them against the standard; see hipsim iso-check)",
     )
@@ -59,16 +90,38 @@ def format_simulations(simulations) -> str:
     for sim in simulations:
         s = sim.summary()
         e = s["errors_deg"]
-        rows.append([s["controller"], s["plant"], *(e[n][k] for n in ("alpha", "beta", "gamma") for k in ("peak", "rms")), str(s["saturated_samples"])])
+        rows.append(
+            [
+                s["controller"],
+                s["plant"],
+                *(e[n][k] for n in ("alpha", "beta", "gamma") for k in ("peak", "rms")),
+                str(s["saturated_samples"]),
+            ]
+        )
     header = ["controller", "plant", "α peak", "α RMS", "β peak", "β RMS", "γ peak", "γ RMS", "saturated"]
     cells = [[c if isinstance(c, str) else f"{c:.3g}" for c in row] for row in rows]
-    out = [format_table(header, cells, "Tracking errors [deg] (flexion/extension α, abduction/adduction β, rotation γ)"), ""]
+    out = [
+        format_table(header, cells, "Tracking errors [deg] (flexion/extension α, abduction/adduction β, rotation γ)"),
+        "",
+    ]
     rows = []
     for sim in simulations:
         s = sim.summary()
         for i in ("1", "2", "3"):
-            rows.append([s["controller"], f"M{i}", s["torques_Nmm"][i]["peak"], s["torques_Nmm"][i]["rms"], s["speed_peak_rpm"][i]])
-    out.append(format_table(["controller", "motor", "peak [N·mm]", "RMS [N·mm]", "peak speed [rpm]"], rows, "Motor torques and speeds"))
+            rows.append(
+                [
+                    s["controller"],
+                    f"M{i}",
+                    s["torques_Nmm"][i]["peak"],
+                    s["torques_Nmm"][i]["rms"],
+                    s["speed_peak_rpm"][i],
+                ]
+            )
+    out.append(
+        format_table(
+            ["controller", "motor", "peak [N·mm]", "RMS [N·mm]", "peak speed [rpm]"], rows, "Motor torques and speeds"
+        )
+    )
     return "\n".join(out)
 
 
@@ -81,14 +134,20 @@ def run(args) -> int:
     if args.rate is not None:
         raise HipsimError("--rate does not apply to simulate: the run is sampled at the servo rate (--servo-rate)")
     # The shortcuts are parameter overrides, so they get the parameter file's checks.
-    for option, key in (("servo_rate", "servo_rate_Hz"), ("step", "integration_step_ms"), ("torque_limit", "torque_limit_Nmm")):
+    for option, key in (
+        ("servo_rate", "servo_rate_Hz"),
+        ("step", "integration_step_ms"),
+        ("torque_limit", "torque_limit_Nmm"),
+    ):
         if getattr(args, option) is not None:
             args.overrides.append(f"control.{key}={getattr(args, option)!r}")
     params = parameters(args)
     if Path(args.out).is_dir():  # before the run, not after it
         raise HipsimError(f"--out {args.out} is a folder; give a CSV file name")
     if is_stdout(args.out) and args.controller == "both":
-        raise HipsimError(f"--out {args.out} takes one CSV: choose one controller (--controller pd or --controller augmented-pd)")
+        raise HipsimError(
+            f"--out {args.out} takes one CSV: choose one controller (--controller pd or --controller augmented-pd)"
+        )
     report = sys.stderr if is_stdout(args.out) else sys.stdout  # the CSV has standard output
     trajectory = load_trajectory(args) if args.trajectory else None
     desired_at, duration = desired_motion(args, trajectory)
@@ -112,7 +171,9 @@ def run(args) -> int:
             controller = WorkspacePD(params)
         else:
             controller = AugmentedPD(params, desired_at, params.control.servo_rate, duration)
-        simulations.append(simulate(plant, controller, desired_at, duration, progress=True, controller_name=name, notify=note))
+        simulations.append(
+            simulate(plant, controller, desired_at, duration, progress=True, controller_name=name, notify=note)
+        )
         if hasattr(plant, "gap_history"):  # a plant with soft closures (MuJoCo's) says how far they opened
             gaps.append(format_gaps(name, plant))
     out = Path(args.out)
@@ -120,17 +181,30 @@ def run(args) -> int:
     written = []
     for sim in simulations:
         if not math.isclose(sim.step, params.control.integration_step, rel_tol=1e-9) and not json_out:
-            print(f"{sim.controller}: RK4 step {sim.step * 1e3:g} ms, the {params.control.integration_step * 1e3:g} ms asked "
-                  f"for rounded down so that whole steps fill the {1e3 / params.control.servo_rate:g} ms servo period", file=report)  # fmt: skip
+            print(
+                f"{sim.controller}: RK4 step {sim.step * 1e3:g} ms, the {params.control.integration_step * 1e3:g} ms asked "
+                f"for rounded down so that whole steps fill the {1e3 / params.control.servo_rate:g} ms servo period",
+                file=report,
+            )
         path = args.out if len(simulations) == 1 else out.with_name(f"{out.stem}_{sim.controller}{out.suffix}")
         written.append(str(sim.write_csv(path)))
         if not json_out:
             print(f"wrote {written[-1]}", file=report)
     if json_out:
-        print_json({"simulations": [sim.summary() | {"step_s": sim.step} for sim in simulations], "mismatch": mismatch, "csv": written}, report)
+        print_json(
+            {
+                "simulations": [sim.summary() | {"step_s": sim.step} for sim in simulations],
+                "mismatch": mismatch,
+                "csv": written,
+            },
+            report,
+        )
         return 0
     if mismatch:
-        print("plant off from the controller's model: " + ", ".join(f"{k} {v:+.0%}" for k, v in mismatch.items()), file=report)
+        print(
+            "plant off from the controller's model: " + ", ".join(f"{k} {v:+.0%}" for k, v in mismatch.items()),
+            file=report,
+        )
     print(format_simulations(simulations), file=report)
     for line in gaps:
         print(line, file=report)
@@ -149,7 +223,9 @@ def _feasibility(params, args, trajectory) -> list:
     from .motion_options import builtin_frequency
 
     if trajectory is None:
-        trajectory = iso14242(rate=1000.0, cycles=1 if args.cycles is None else args.cycles, frequency=builtin_frequency(args))
+        trajectory = iso14242(
+            rate=1000.0, cycles=1 if args.cycles is None else args.cycles, frequency=builtin_frequency(args)
+        )
     return check_run(analyse(params, trajectory, on_error="flag"), params)
 
 

@@ -21,18 +21,22 @@ DEFAULT_GRID = ("lever.length_mm=300:360:5", "platform.home_offset_deg=20:50:1")
 #: Seconds between two writes of the results so far (an interrupted sweep resumes from the last).
 CHECKPOINT_S = 60.0
 
-_DESCRIPTION = """\
+_DESCRIPTION = (
+    """\
 Runs design variants of the machine along a trajectory (default one ISO 14242-1 cycle at 1 kHz) and writes one row per
 variant: peak and RMS torque and peak speed per motor, stroke per slider, the smallest singularity measure, joint forces
 (--model pinocchio) and the rating check against the parameter file's [motor] table or --drive FILE. Variants that cannot
 be built or whose motion leaves the workspace are rows too, with their status and reason. The variants are parameter keys
 in the file's units (those of --set; a list's number with [i], counted from 1): a grid (--grid), a Latin hypercube
 (--sample N --range), a random tolerance study (--sample N --tolerance) or a CSV of variants (--variants); without any,
-the grid """ + " × ".join(DEFAULT_GRID) + """. They run on local worker processes (dask.distributed; --workers) or on a
+the grid """
+    + " × ".join(DEFAULT_GRID)
+    + """. They run on local worker processes (dask.distributed; --workers) or on a
 dask cluster (--scheduler). Output: Parquet or CSV by the suffix of --out, with a fingerprint of the set-up (machine,
 trajectory, model, drive); a rerun of the same set-up with the same --out skips the variants already in it and adds the new
 ones; a rerun of another set-up into it is refused (give another --out, or --restart to replace it). Exit status: 0 when at least one variant passes the rating (without ratings: when at
 least one could be computed), 1 when none does, 2 on bad input."""
+)
 
 _EXAMPLES = """\
 examples:
@@ -47,34 +51,94 @@ examples:
 def add_parser(subparsers) -> argparse.ArgumentParser:
     """Register ``sweep`` on the main parser's subcommands."""
     parser = subparsers.add_parser(
-        "sweep", help="design variants (grid, Latin hypercube, tolerances, CSV) on a dask cluster -> Parquet/CSV, Pareto figure",
-        description=_DESCRIPTION, epilog=_EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter,
+        "sweep",
+        help="design variants (grid, Latin hypercube, tolerances, CSV) on a dask cluster -> Parquet/CSV, Pareto figure",
+        description=_DESCRIPTION,
+        epilog=_EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     add_machine_options(parser)
     add_trajectory_options(parser)
     variants = parser.add_argument_group("variants (one kind; default: the grid " + " × ".join(DEFAULT_GRID) + ")")
-    variants.add_argument("--grid", action="append", default=[], metavar="KEY=START:STOP:STEP",
-                          help="a grid axis in the key's file unit, stop included (repeatable: every combination)")
-    variants.add_argument("--sample", type=int, metavar="N", help="N random variants: a Latin hypercube over --range, or a tolerance study with --tolerance")
-    variants.add_argument("--range", dest="ranges", action="append", default=[], metavar="KEY=LOW:HIGH",
-                          help="with --sample: a key's range for the Latin hypercube (scipy.stats.qmc; repeatable)")
-    variants.add_argument("--tolerance", action="append", default=[], metavar="KEY=SIGMA|KEY=±X",
-                          help="with --sample: a normal spread of σ, or a uniform one within ±X (also +-X), around the machine's value (repeatable)")
-    variants.add_argument("--seed", type=int, default=1, metavar="N", help="random seed of --sample (default 1: a rerun draws the same variants)")
+    variants.add_argument(
+        "--grid",
+        action="append",
+        default=[],
+        metavar="KEY=START:STOP:STEP",
+        help="a grid axis in the key's file unit, stop included (repeatable: every combination)",
+    )
+    variants.add_argument(
+        "--sample",
+        type=int,
+        metavar="N",
+        help="N random variants: a Latin hypercube over --range, or a tolerance study with --tolerance",
+    )
+    variants.add_argument(
+        "--range",
+        dest="ranges",
+        action="append",
+        default=[],
+        metavar="KEY=LOW:HIGH",
+        help="with --sample: a key's range for the Latin hypercube (scipy.stats.qmc; repeatable)",
+    )
+    variants.add_argument(
+        "--tolerance",
+        action="append",
+        default=[],
+        metavar="KEY=SIGMA|KEY=±X",
+        help="with --sample: a normal spread of σ, or a uniform one within ±X (also +-X), around the machine's value (repeatable)",
+    )
+    variants.add_argument(
+        "--seed",
+        type=int,
+        default=1,
+        metavar="N",
+        help="random seed of --sample (default 1: a rerun draws the same variants)",
+    )
     variants.add_argument("--variants", metavar="CSV", help="a CSV of variants: a header of keys, one variant a line")
     check = parser.add_argument_group("model and rating")
-    check.add_argument("--model", choices=engine_names(optional=False), default="analytic", help="analytic (default) or pinocchio (adds the peak joint forces; slower)")
-    check.add_argument("--drive", metavar="FILE", help="drive file to check every variant against (see hipsim size); default: each variant's [motor] table")
+    check.add_argument(
+        "--model",
+        choices=engine_names(optional=False),
+        default="analytic",
+        help="analytic (default) or pinocchio (adds the peak joint forces; slower)",
+    )
+    check.add_argument(
+        "--drive",
+        metavar="FILE",
+        help="drive file to check every variant against (see hipsim size); default: each variant's [motor] table",
+    )
     engine = parser.add_argument_group("engine (dask.distributed; pip install 'hipsim[sweep]')")
-    engine.add_argument("--workers", type=int, metavar="N", help="local worker processes (default: the cores; 1 runs in this process)")
-    engine.add_argument("--scheduler", metavar="ADDRESS", help="run on the dask cluster of this scheduler, e.g. tcp://10.0.0.5:8786 (README 'Design sweeps')")
-    engine.add_argument("--batch-size", type=int, metavar="N", help="variants per task (default: about eight tasks a worker, at most 200 variants each)")
+    engine.add_argument(
+        "--workers", type=int, metavar="N", help="local worker processes (default: the cores; 1 runs in this process)"
+    )
+    engine.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="run on the dask cluster of this scheduler, e.g. tcp://10.0.0.5:8786 (README 'Design sweeps')",
+    )
+    engine.add_argument(
+        "--batch-size",
+        type=int,
+        metavar="N",
+        help="variants per task (default: about eight tasks a worker, at most 200 variants each)",
+    )
     out = parser.add_argument_group("output")
-    out.add_argument("--out", default="hipsim_sweep.csv", metavar="FILE",
-                     help="results, .parquet or .csv (default hipsim_sweep.csv); an existing file of the same set-up is resumed: its variants are skipped")
-    out.add_argument("--restart", action="store_true", help="replace an existing --out instead of resuming it (its rows are dropped)")
-    out.add_argument("--pareto", metavar="X,Y", help="write the Pareto front of two columns as OUT_pareto.png and .svg; a leading - maximises, "
-                     "e.g. tau_peak_max_Nmm,-cond_inv_min")
+    out.add_argument(
+        "--out",
+        default="hipsim_sweep.csv",
+        metavar="FILE",
+        help="results, .parquet or .csv (default hipsim_sweep.csv); an existing file of the same set-up is resumed: its variants are skipped",
+    )
+    out.add_argument(
+        "--restart", action="store_true", help="replace an existing --out instead of resuming it (its rows are dropped)"
+    )
+    out.add_argument(
+        "--pareto",
+        metavar="X,Y",
+        help="write the Pareto front of two columns as OUT_pareto.png and .svg; a leading - maximises, "
+        "e.g. tau_peak_max_Nmm,-cond_inv_min",
+    )
     out.add_argument("--summary-format", choices=["table", "json"], default="table", help="summary on standard output")
     add_provenance_options(parser)
     parser.set_defaults(run=run)
@@ -84,7 +148,11 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 def _variants(args, params):
     from ..design import variants as v
 
-    kinds = [name for name, given in (("--grid", args.grid), ("--sample", args.sample is not None), ("--variants", args.variants)) if given]
+    kinds = [
+        name
+        for name, given in (("--grid", args.grid), ("--sample", args.sample is not None), ("--variants", args.variants))
+        if given
+    ]
     if len(kinds) > 1:
         raise HipsimError(f"{' and '.join(kinds)}: choose one kind of variants")
     if args.sample is None and (args.ranges or args.tolerance):
@@ -95,10 +163,14 @@ def _variants(args, params):
         if args.sample < 1:
             raise HipsimError(f"--sample: expected a positive number of variants, got {args.sample}")
         if args.ranges and args.tolerance:
-            raise HipsimError("--sample takes either --range KEY=LOW:HIGH (Latin hypercube) or --tolerance KEY=SIGMA (tolerance study), not both")
+            raise HipsimError(
+                "--sample takes either --range KEY=LOW:HIGH (Latin hypercube) or --tolerance KEY=SIGMA (tolerance study), not both"
+            )
         if not args.ranges and not args.tolerance:
-            raise HipsimError("--sample needs either --range KEY=LOW:HIGH (Latin hypercube) or --tolerance KEY=SIGMA (tolerance study): "
-                              "what to draw the variants over")
+            raise HipsimError(
+                "--sample needs either --range KEY=LOW:HIGH (Latin hypercube) or --tolerance KEY=SIGMA (tolerance study): "
+                "what to draw the variants over"
+            )
         if args.ranges:
             ranges = {}
             for text in args.ranges:
@@ -163,17 +235,26 @@ def _previous(out: Path, names: list[str], fingerprints: dict[str, str], restart
         return {name: [] for name in names}
     table = read_table(out)
     if list(table) != names:
-        raise OutputError(out, f"holds other columns ({', '.join(list(table)[:4])}, …) than this sweep's ({', '.join(names[:4])}, …): "
-                          "give another --out, or --restart to replace it")  # fmt: skip
+        raise OutputError(
+            out,
+            f"holds other columns ({', '.join(list(table)[:4])}, …) than this sweep's ({', '.join(names[:4])}, …): "
+            "give another --out, or --restart to replace it",
+        )
     recorded = (read_metadata(out) or {}).get("fingerprints")
     if not isinstance(recorded, dict):
-        raise OutputError(out, "records no set-up (another program's file, or an older hipsim's), so its rows cannot be matched to this "
-                          "sweep's: give another --out, or --restart to replace it")  # fmt: skip
+        raise OutputError(
+            out,
+            "records no set-up (another program's file, or an older hipsim's), so its rows cannot be matched to this "
+            "sweep's: give another --out, or --restart to replace it",
+        )
     changed = changed_parts(recorded, fingerprints)
     if changed:
         differ = ", ".join(_PARTS.get(name, name) for name in changed)
-        raise OutputError(out, f"holds the rows of another set-up ({differ} differ{'s' if len(changed) == 1 else ''}): "
-                          "give another --out, or --restart to replace it")  # fmt: skip
+        raise OutputError(
+            out,
+            f"holds the rows of another set-up ({differ} differ{'s' if len(changed) == 1 else ''}): "
+            "give another --out, or --restart to replace it",
+        )
     return table
 
 
@@ -188,19 +269,27 @@ def run(args) -> int:
     try:
         variants = _variants(args, params)
     except ArgumentError as error:  # the library names the key; the user typed an option
-        option = "--variants" if args.variants else ("--grid" if args.sample is None else ("--range" if args.ranges else "--tolerance"))
+        option = (
+            "--variants"
+            if args.variants
+            else ("--grid" if args.sample is None else ("--range" if args.ranges else "--tolerance"))
+        )
         raise HipsimError(str(error) if error.name == option else f"{option} {error}") from None
     trajectory = load_trajectory(args)
     drive = _drive(args)
     provenance = page_provenance(args, trajectory=args.trajectory, drive=args.drive, variants=args.variants)
-    cycles = args.cycles if args.cycles is not None and not args.trajectory else 1.0  # test cycles the motion holds, for the ratings
+    cycles = (
+        args.cycles if args.cycles is not None and not args.trajectory else 1.0
+    )  # test cycles the motion holds, for the ratings
     setup = SweepSetup(params, trajectory, variants.keys, model=args.model, drive=drive, cycles=cycles)
     names = list(variants.names) + metric_columns(setup.joint_forces)
     pareto = None
     if args.pareto:
         parts = args.pareto.split(",")
         if len(parts) != 2:
-            raise HipsimError(f"--pareto: expected two columns X,Y, e.g. tau_peak_max_Nmm,-cond_inv_min, got '{args.pareto}'")
+            raise HipsimError(
+                f"--pareto: expected two columns X,Y, e.g. tau_peak_max_Nmm,-cond_inv_min, got '{args.pareto}'"
+            )
         try:
             pareto = [parse_objective(part, metric_columns(setup.joint_forces)) for part in parts]
         except ArgumentError as error:
@@ -218,9 +307,16 @@ def run(args) -> int:
         if key not in done and key not in queued:
             queued.add(key)
             todo.append(index)
-    metadata = {"hipsim": _version(), "trajectory": trajectory.name, "samples": len(trajectory), "model": args.model,
-                "parameters": params.source, "drive": drive.source if drive is not None else None, "keys": list(variants.names),
-                "fingerprints": fingerprints}  # fmt: skip
+    metadata = {
+        "hipsim": _version(),
+        "trajectory": trajectory.name,
+        "samples": len(trajectory),
+        "model": args.model,
+        "parameters": params.source,
+        "drive": drive.source if drive is not None else None,
+        "keys": list(variants.names),
+        "fingerprints": fingerprints,
+    }
     skipped = len(variants) - len(todo)
     new_rows: dict[int, dict] = {}
 
@@ -230,15 +326,22 @@ def run(args) -> int:
         for index in sorted(new_rows):
             for key, value in zip(variants.names, variants.values[index]):
                 columns[key].append(float(value))
-        for name in names[len(variants.names):]:
+        for name in names[len(variants.names) :]:
             columns[name] += [row[name] for row in ordered]
         return write_table(out, columns, metadata), columns
 
     bar = _progress_bar(len(todo))
     started = last_save = time.monotonic()
     try:
-        for rows in run_sweep(setup, variants, indices=todo, workers=args.workers, scheduler=args.scheduler, batch_size=args.batch_size,
-                              progress=lambda n, total: bar.update(n - bar.n)):  # fmt: skip
+        for rows in run_sweep(
+            setup,
+            variants,
+            indices=todo,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            batch_size=args.batch_size,
+            progress=lambda n, total: bar.update(n - bar.n),
+        ):
             new_rows.update(rows)
             if time.monotonic() - last_save > CHECKPOINT_S:
                 save()
@@ -246,14 +349,23 @@ def run(args) -> int:
     except BaseException:
         if new_rows:  # Ctrl-C, SIGTERM, a lost cluster: keep what is done, so a rerun resumes
             save()
-            print(f"hipsim: kept the {len(new_rows)} variants done in {out}; rerun the same command to resume", file=sys.stderr)
+            print(
+                f"hipsim: kept the {len(new_rows)} variants done in {out}; rerun the same command to resume",
+                file=sys.stderr,
+            )
         raise
     finally:
         bar.close()
     elapsed = time.monotonic() - started
     path, columns = save()
     summary = _summary(columns, variants.names, OBJECTIVES, pareto)
-    summary |= {"variants": len(variants), "new": len(todo), "skipped": skipped, "seconds": elapsed, "out": str(path)} | metadata
+    summary |= {
+        "variants": len(variants),
+        "new": len(todo),
+        "skipped": skipped,
+        "seconds": elapsed,
+        "out": str(path),
+    } | metadata
     summary["fingerprints"] = {"setup": fingerprints["setup"]}  # the whole set-up's; its parts are in the file
     summary["provenance"] = provenance.as_dict()
     if pareto:
@@ -265,7 +377,10 @@ def run(args) -> int:
     else:
         print(format_summary(summary))
     if not summary["passing"]:
-        print("hipsim: no variant passes the rating" if summary["rated"] else "hipsim: no variant could be computed", file=sys.stderr)
+        print(
+            "hipsim: no variant passes the rating" if summary["rated"] else "hipsim: no variant could be computed",
+            file=sys.stderr,
+        )
         return 1
     return 0
 
@@ -301,8 +416,13 @@ def _summary(columns: dict, keys, objectives: dict, pareto) -> dict:
         if not np.any(np.isfinite(values)):
             continue
         k = int(np.nanargmax(values) if maximise else np.nanargmin(values))
-        best[name] = {"goal": "max" if maximise else "min", "value": float(values[k]), "row": k,
-                      "variant": {key: float(columns[key][k]) for key in keys}, "rating": str(rating[k])}  # fmt: skip
+        best[name] = {
+            "goal": "max" if maximise else "min",
+            "value": float(values[k]),
+            "row": k,
+            "variant": {key: float(columns[key][k]) for key in keys},
+            "rating": str(rating[k]),
+        }
         best[name] |= _onward(columns, keys, k, status, rating, values)
     ok = int(np.count_nonzero(status == "ok"))
     passing = int(np.count_nonzero(rating == "pass")) if rated else ok
@@ -341,12 +461,21 @@ def _onward(columns: dict, keys, row: int, status, rating, objective) -> dict:
     neighbour = None
     if k is not None:
         margin = float(columns["margin"][k])
-        neighbour = {"row": k, "variant": {key: float(columns[key][k]) for key in keys}, "status": str(status[k]), "rating": str(rating[k]),
-                     "margin": None if np.isnan(margin) else margin, "binding": str(columns["binding"][k]) or None,
-                     "reason": str(columns["reason"][k]) or None}  # fmt: skip
+        neighbour = {
+            "row": k,
+            "variant": {key: float(columns[key][k]) for key in keys},
+            "status": str(status[k]),
+            "rating": str(rating[k]),
+            "margin": None if np.isnan(margin) else margin,
+            "binding": str(columns["binding"][k]) or None,
+            "reason": str(columns["reason"][k]) or None,
+        }
     own = float(columns["margin"][row])
-    return {"edges": [e.as_dict() for e in edges], "margin": None if np.isnan(own) else own,
-            "nearest_failing": neighbour}  # fmt: skip
+    return {
+        "edges": [e.as_dict() for e in edges],
+        "margin": None if np.isnan(own) else own,
+        "nearest_failing": neighbour,
+    }
 
 
 def _figure(columns: dict, pareto, out: Path, summary: dict):
@@ -362,16 +491,21 @@ def _figure(columns: dict, pareto, out: Path, summary: dict):
     front = pareto_front(values, (x_max, y_max))
     keys = np.column_stack([np.array(columns[key], dtype=float) for key in summary["keys"]])
     summary["pareto_front"] = [
-        {key: float(columns[key][k]) for key in summary["keys"]} | {x_name: float(values[k, 0]), y_name: float(values[k, 1])}
+        {key: float(columns[key][k]) for key in summary["keys"]}
+        | {x_name: float(values[k, 0]), y_name: float(values[k, 1])}
         for k in np.flatnonzero(front)
     ]
     summary["pareto_edges"] = [
-        {key: float(columns[key][k]) for key in summary["keys"]} | {"edges": [e.as_dict() for e in edges_of(keys, list(summary["keys"]), k)]}
-        for k in np.flatnonzero(front) if edges_of(keys, list(summary["keys"]), k)
+        {key: float(columns[key][k]) for key in summary["keys"]}
+        | {"edges": [e.as_dict() for e in edges_of(keys, list(summary["keys"]), k)]}
+        for k in np.flatnonzero(front)
+        if edges_of(keys, list(summary["keys"]), k)
     ]
     title = f"{summary['rows']} variants of {', '.join(summary['keys'])} along {summary['trajectory']} ({summary['model']} model)"
     labels = [design_label({key: float(columns[key][k]) for key in summary["keys"]}) for k in range(values.shape[0])]
-    fig = plot_pareto(values[:, 0], values[:, 1], front, (x_name, y_name), (x_max, y_max), columns["rating"], title, labels)
+    fig = plot_pareto(
+        values[:, 0], values[:, 1], front, (x_name, y_name), (x_max, y_max), columns["rating"], title, labels
+    )
     return save_figure(fig, out.parent if str(out.parent) else Path("."), f"{out.stem}_pareto")
 
 
@@ -389,14 +523,20 @@ def _onward_lines(summary: dict) -> list[str]:
     lines: dict[str, list[str]] = {}  # one message, the objectives it is about
     for name, best in summary["best"].items():
         for e in best["edges"]:
-            text = (f"lies on the {e['side']} edge of {e['key']} ({e['value']:.6g}, swept {e['low']:.6g}…{e['high']:.6g}): "
-                    f"the optimum may lie beyond; {_extend([e])}")
+            text = (
+                f"lies on the {e['side']} edge of {e['key']} ({e['value']:.6g}, swept {e['low']:.6g}…{e['high']:.6g}): "
+                f"the optimum may lie beyond; {_extend([e])}"
+            )
             lines.setdefault(text, []).append(name)
         neighbour = best["nearest_failing"]
         if neighbour is not None:
             at = ", ".join(f"{key} {value:.6g}" for key, value in neighbour["variant"].items())
-            why = (f"FAIL, margin {format_margin(neighbour['margin'])}" + (f", {neighbour['binding']}" if neighbour["binding"] else "")
-                   if neighbour["status"] == "ok" else neighbour["status"].replace("_", " "))
+            why = (
+                f"FAIL, margin {format_margin(neighbour['margin'])}"
+                + (f", {neighbour['binding']}" if neighbour["binding"] else "")
+                if neighbour["status"] == "ok"
+                else neighbour["status"].replace("_", " ")
+            )
             own = "" if best["margin"] is None else f"; its own margin {format_margin(best['margin'])}"
             mine = ", ".join(f"{key} {value:.6g}" for key, value in best["variant"].items())
             lines.setdefault(f"(at {mine}): nearest failing neighbour at {at} ({why}){own}", []).append(name)
@@ -413,12 +553,18 @@ def format_summary(summary: dict) -> str:
         f"rows: {summary['rows']}: {summary['ok']} ok, {summary['cannot_assemble']} cannot assemble, {summary['out_of_workspace']} out of the workspace",
     ]
     if summary["rated"]:
-        lines.append(f"rating ({summary['drive'] or 'the [motor] table'}): {summary['pass']} pass, {summary['fail']} FAIL, {summary['unchecked']} unchecked")
+        lines.append(
+            f"rating ({summary['drive'] or 'the [motor] table'}): {summary['pass']} pass, {summary['fail']} FAIL, {summary['unchecked']} unchecked"
+        )
     else:
-        lines.append("rating: none checked (give --drive FILE or a [motor] table, e.g. --set motor.peak_torque_Nmm=500)")
+        lines.append(
+            "rating: none checked (give --drive FILE or a [motor] table, e.g. --set motor.peak_torque_Nmm=500)"
+        )
     rows = []
     for name, best in summary["best"].items():
-        rows.append([name, best["goal"], f"{best['value']:.6g}", *(f"{best['variant'][k]:.6g}" for k in keys), best["rating"]])
+        rows.append(
+            [name, best["goal"], f"{best['value']:.6g}", *(f"{best['variant'][k]:.6g}" for k in keys), best["rating"]]
+        )
     lines += ["", format_table(["objective", "goal", "best", *keys, "rating"], rows, "Best variant per objective")]
     lines += _onward_lines(summary)
     if "figure" in summary:
@@ -428,6 +574,8 @@ def format_summary(summary: dict) -> str:
             values = ", ".join(f"{key} {point[key]:.6g}" for key in keys)
             lines.append(f"  Pareto point ({values}) on the {where}: {_extend(point['edges'])}")
         if len(summary["pareto_edges"]) > 5:
-            lines.append(f"  and {len(summary['pareto_edges']) - 5} more Pareto points on an edge (--summary-format json lists them)")
+            lines.append(
+                f"  and {len(summary['pareto_edges']) - 5} more Pareto points on an edge (--summary-format json lists them)"
+            )
     lines.append(f"\nwrote {summary['out']} ({summary['rows']} rows)")
     return "\n".join(lines)

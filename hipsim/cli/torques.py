@@ -18,22 +18,31 @@ __all__ = ["add_parser", "format_summary", "run"]
 def add_parser(subparsers) -> argparse.ArgumentParser:
     """Register ``torques`` on the main parser's subcommands."""
     torques = subparsers.add_parser(
-        "torques", help="slider motion and motor torques along a trajectory -> CSV + summary",
+        "torques",
+        help="slider motion and motor torques along a trajectory -> CSV + summary",
         description="Slider positions, velocities and accelerations, motor torques split into platforms, levers, "
         "sliders, screws and friction, motor speeds and the singularity measure along a trajectory. "
         "Writes the CSV of spec §7.5 and prints a summary.",
     )
     add_machine_options(torques)
     add_trajectory_options(torques)
-    torques.add_argument("--model", choices=engine_names(), default="analytic", help="which model computes the torques (default analytic; mujoco needs the mujoco extra)")
     torques.add_argument(
-        "--out", default="hipsim_torques.csv", metavar="FILE",
+        "--model",
+        choices=engine_names(),
+        default="analytic",
+        help="which model computes the torques (default analytic; mujoco needs the mujoco extra)",
+    )
+    torques.add_argument(
+        "--out",
+        default="hipsim_torques.csv",
+        metavar="FILE",
         help="CSV to write (default hipsim_torques.csv); a .parquet name writes Apache Parquet (the same columns, the parameter set "
         "and hipsim version in its metadata); - for CSV on standard output",
     )
     add_summary_format(torques)
     torques.add_argument(
-        "--flag-bad-poses", action="store_true",
+        "--flag-bad-poses",
+        action="store_true",
         help="carry on through poses out of reach or singular and mark them in a 'flagged' column instead of stopping",
     )
     add_strict_option(torques)
@@ -49,24 +58,49 @@ def format_summary(summary: dict) -> str:
         "",
     ]
     if summary["flagged_samples"]:
-        out += [f"WARNING: {summary['flagged_samples']} samples out of reach or singular (flagged in the CSV, left out below)", ""]
-    rows = [[f"S{name}", s["L_max_mm"], s["L_min_mm"], s["stroke_mm"], s["Ld_max_mm_s"], s["Ldd_max_mm_s2"]] for name, s in summary["sliders"].items()]
-    out.append(format_table(["slider", "L max [mm]", "L min [mm]", "stroke [mm]", "|Ld| max [mm/s]", "|Ldd| max [mm/s²]"], rows, "Sliders"))
+        out += [
+            f"WARNING: {summary['flagged_samples']} samples out of reach or singular (flagged in the CSV, left out below)",
+            "",
+        ]
+    rows = [
+        [f"S{name}", s["L_max_mm"], s["L_min_mm"], s["stroke_mm"], s["Ld_max_mm_s"], s["Ldd_max_mm_s2"]]
+        for name, s in summary["sliders"].items()
+    ]
+    out.append(
+        format_table(
+            ["slider", "L max [mm]", "L min [mm]", "stroke [mm]", "|Ld| max [mm/s]", "|Ldd| max [mm/s²]"],
+            rows,
+            "Sliders",
+        )
+    )
     out.append("")
     header = ["motor", "platforms", "levers", "sliders", "screws", "friction", "peak", "RMS", "speed [rpm]"]
     rows = [
-        [f"M{i}", *(m[f"{p}_max_Nmm"] for p in ("tau_m", "tau_l", "tau_s", "tau_L", "tau_f")), m["tau_peak_Nmm"], m["tau_rms_Nmm"], m["speed_peak_rpm"]]
+        [
+            f"M{i}",
+            *(m[f"{p}_max_Nmm"] for p in ("tau_m", "tau_l", "tau_s", "tau_L", "tau_f")),
+            m["tau_peak_Nmm"],
+            m["tau_rms_Nmm"],
+            m["speed_peak_rpm"],
+        ]
         for i, m in summary["motors"].items()
     ]
     out.append(format_table(header, rows, "Motor torques [N·mm] (max |part|; peak and RMS of the total)"))
     if "joints" in summary:
         out.append("")
         rows = [[name, j["peak_N"], j["rms_N"]] for name, j in summary["joints"].items()]
-        out.append(format_table(["joint", "peak [N]", "RMS [N]"], rows, "Joint forces (spherical joints a_ji, central joints o_j)"))
+        out.append(
+            format_table(
+                ["joint", "peak [N]", "RMS [N]"], rows, "Joint forces (spherical joints a_ji, central joints o_j)"
+            )
+        )
     where = f"t = {summary['cond_inv_min_t_s']:.6g} s"
     if "cond_inv_min_cycle" in summary:
         where += f" (cycle {summary['cond_inv_min_cycle']}, {summary['cond_inv_min_t_in_cycle_s']:.4g} s into it)"
-    out += ["", f"smallest singularity measure (inverse condition number of J): {summary['cond_inv_min']:.4f} at {where}"]
+    out += [
+        "",
+        f"smallest singularity measure (inverse condition number of J): {summary['cond_inv_min']:.4f} at {where}",
+    ]
     return "\n".join(out)
 
 
@@ -82,10 +116,14 @@ def _cycle_of(time: float, trajectory, period: float | None) -> dict:
 
 def _file_metadata(params) -> dict[str, str]:
     """A results file's key-value metadata: the hipsim version and the parameter set as a parameter file's text."""
-    from ..version import __version__
     from ..rig.identification import parameter_toml
+    from ..version import __version__
 
-    return {"hipsim.version": __version__, "hipsim.parameters_source": str(params.source), "hipsim.parameters": parameter_toml(params)}
+    return {
+        "hipsim.version": __version__,
+        "hipsim.parameters_source": str(params.source),
+        "hipsim.parameters": parameter_toml(params),
+    }
 
 
 class _Bands:
@@ -140,7 +178,11 @@ def run(args) -> int:
 
     with ColumnWriter(args.out, _file_metadata(params)) as writer:
         summary = stream_run(
-            params, source, model=args.model, on_error="flag" if args.flag_bad_poses else "raise", write=write,
+            params,
+            source,
+            model=args.model,
+            on_error="flag" if args.flag_bad_poses else "raise",
+            write=write,
             progress=progress(f"{args.model} model"),
         )
         path = writer.close()
@@ -152,8 +194,14 @@ def run(args) -> int:
     else:
         print(format_summary(summary), file=report)
         if bands is not None:
-            print(f"\n95 % bands on the motor torques (tau_i_lo95_Nmm, tau_i_hi95_Nmm) from the covariance of {args.params}: "
-                  f"half-width up to {bands.widest:.3g} N·mm", file=report)
+            print(
+                f"\n95 % bands on the motor torques (tau_i_lo95_Nmm, tau_i_hi95_Nmm) from the covariance of {args.params}: "
+                f"half-width up to {bands.widest:.3g} N·mm",
+                file=report,
+            )
         where = "the CSV to standard output" if is_stdout(args.out) else path
-        print(f"\nwrote {where} ({summary['samples']} rows, {len(writer.names)} columns{', Parquet' if kind == 'Parquet' else ''})", file=report)
+        print(
+            f"\nwrote {where} ({summary['samples']} rows, {len(writer.names)} columns{', Parquet' if kind == 'Parquet' else ''})",
+            file=report,
+        )
     return report_crossings(watch.crossings(), args.strict)

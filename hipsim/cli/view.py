@@ -22,7 +22,8 @@ __all__ = ["add_parser", "run", "run_view", "step_through"]
 def add_parser(subparsers) -> argparse.ArgumentParser:
     """Register ``view`` on the main parser's subcommands."""
     view = subparsers.add_parser(
-        "view", help="the machine moving through a trajectory in meshcat (live on loopback, or an offline page)",
+        "view",
+        help="the machine moving through a trajectory in meshcat (live on loopback, or an offline page)",
         description="Starts a meshcat server on 127.0.0.1, prints its URL and plays the Pinocchio model's closed "
         "configurations through the trajectory in real time, looping, until Ctrl-C. With --html, writes the same "
         "animation as one self-contained offline page instead.",
@@ -32,10 +33,26 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     view.add_argument("--html", metavar="FILE", help="write a self-contained offline page instead of serving")
     view.add_argument("--speed", type=float, default=1.0, metavar="X", help="playback speed (0.25: four times slower)")
     view.add_argument("--step", action="store_true", help="one frame per Enter (b: back, q: quit)")
-    view.add_argument("--fps", type=int, default=30, metavar="N", help="frames per second of playback (default 30); the trajectory is sampled at fps/speed")
-    view.add_argument("--forces", action="store_true", help="arrows for the motor force on each screw and the force at each spherical joint")
-    view.add_argument("--singularity", action="store_true", help="colour the levers by the singularity measure (red singular, green clear)")
-    view.add_argument("--human", action="store_true", help="the example-robot-data human model's hip moving beside the machine")
+    view.add_argument(
+        "--fps",
+        type=int,
+        default=30,
+        metavar="N",
+        help="frames per second of playback (default 30); the trajectory is sampled at fps/speed",
+    )
+    view.add_argument(
+        "--forces",
+        action="store_true",
+        help="arrows for the motor force on each screw and the force at each spherical joint",
+    )
+    view.add_argument(
+        "--singularity",
+        action="store_true",
+        help="colour the levers by the singularity measure (red singular, green clear)",
+    )
+    view.add_argument(
+        "--human", action="store_true", help="the example-robot-data human model's hip moving beside the machine"
+    )
     add_strict_option(view)
     view.set_defaults(run=run)
     return view
@@ -51,8 +68,15 @@ def run(args) -> int:
     if report_crossings(check_run(analyse(params, trajectory, on_error="flag"), params), args.strict):
         return 1
     return run_view(
-        params, trajectory, html=args.html, speed=args.speed, step=args.step, forces=args.forces,
-        singularity=args.singularity, human=args.human, fps=args.fps,
+        params,
+        trajectory,
+        html=args.html,
+        speed=args.speed,
+        step=args.step,
+        forces=args.forces,
+        singularity=args.singularity,
+        human=args.human,
+        fps=args.fps,
         stream=sys.stderr if args.html and is_stdout(args.html) else sys.stdout,
     )
 
@@ -143,7 +167,11 @@ def step_through(viewer, motion, input: TextIO, stream: TextIO, loop: bool = Tru
         if on_frame is not None:
             on_frame(k, motion)
         a, b, g = np.degrees(motion.angles[k])
-        print(f"frame {k + 1}/{n}  t = {motion.t[k]:.4f} s  α = {a:7.2f}°  β = {b:6.2f}°  γ = {g:6.2f}°", file=stream, flush=True)
+        print(
+            f"frame {k + 1}/{n}  t = {motion.t[k]:.4f} s  α = {a:7.2f}°  β = {b:6.2f}°  γ = {g:6.2f}°",
+            file=stream,
+            flush=True,
+        )
         line = input.readline()
         if not line or line.strip().lower().startswith("q"):
             return

@@ -27,15 +27,20 @@ __all__ = ["WorkspaceRun", "add_parser", "format_workspace_summary", "run", "run
 def add_parser(subparsers) -> argparse.ArgumentParser:
     """Register ``workspace`` on the main parser's subcommands."""
     workspace = subparsers.add_parser(
-        "workspace", help="singularity map over orientations, and the platform-offset sweep",
+        "workspace",
+        help="singularity map over orientations, and the platform-offset sweep",
         description="Maps the singularity measure (inverse condition number of J) over flexion/extension x "
         "abduction/adduction at a few rotations with the trajectory drawn on it, and sweeps the platform offset δ "
         "showing the trajectory's singularity margin, peak torque and slider stroke.",
     )
     add_machine_options(workspace)
     add_trajectory_options(workspace)
-    workspace.add_argument("--out", default="hipsim_workspace", metavar="DIR", help="folder to write (default hipsim_workspace)")
-    workspace.add_argument("--gamma", metavar="LIST", help="rotations γ in degrees, comma-separated (default -12,-8,-4,0,4)")
+    workspace.add_argument(
+        "--out", default="hipsim_workspace", metavar="DIR", help="folder to write (default hipsim_workspace)"
+    )
+    workspace.add_argument(
+        "--gamma", metavar="LIST", help="rotations γ in degrees, comma-separated (default -12,-8,-4,0,4)"
+    )
     workspace.add_argument("--deltas", metavar="A:B:STEP", help="offsets δ to sweep in degrees (default -90:90:1)")
     add_summary_format(workspace)
     workspace.set_defaults(run=run)
@@ -65,7 +70,9 @@ def format_workspace_summary(smap: SingularityMap, sweep: OffsetSweep | None = N
     """
     import numpy as np
 
-    lines = [f"singularity map: δ = {smap.delta_deg:g}°, {smap.alpha_deg.size} α × {smap.beta_deg.size} β × {smap.gamma_deg.size} γ = {smap.orientations:,} orientations"]
+    lines = [
+        f"singularity map: δ = {smap.delta_deg:g}°, {smap.alpha_deg.size} α × {smap.beta_deg.size} β × {smap.gamma_deg.size} γ = {smap.orientations:,} orientations"
+    ]
     for g, fraction, values in zip(smap.gamma_deg, smap.reachable_fraction(), smap.cond_inv):
         finite = values[np.isfinite(values)]
         low = f"{finite.min():.3f} … {finite.max():.3f}" if finite.size else "—"
@@ -178,19 +185,29 @@ def run_workspace(
         "parameters": params.source,
         "trajectory": trajectory.name,
         "delta_deg": smap.delta_deg,
-        "grid": {"alpha_deg": [float(smap.alpha_deg[0]), float(smap.alpha_deg[-1]), int(smap.alpha_deg.size)],
-                 "beta_deg": [float(smap.beta_deg[0]), float(smap.beta_deg[-1]), int(smap.beta_deg.size)],
-                 "gamma_deg": smap.gamma_deg.tolist()},
-        "reachable_fraction": dict(zip((f"{g:g}" for g in smap.gamma_deg), smap.reachable_fraction().round(6).tolist())),
+        "grid": {
+            "alpha_deg": [float(smap.alpha_deg[0]), float(smap.alpha_deg[-1]), int(smap.alpha_deg.size)],
+            "beta_deg": [float(smap.beta_deg[0]), float(smap.beta_deg[-1]), int(smap.beta_deg.size)],
+            "gamma_deg": smap.gamma_deg.tolist(),
+        },
+        "reachable_fraction": dict(
+            zip((f"{g:g}" for g in smap.gamma_deg), smap.reachable_fraction().round(6).tolist())
+        ),
         "trajectory_margin": {
-            "cond_inv_min": _json_float(m.cond_inv_min), "t_s": _json_float(m.t_s),
-            "q_deg": [_json_float(x) for x in m.q_deg], "out_of_reach_samples": m.out_of_reach, "singular_samples": m.singular,
+            "cond_inv_min": _json_float(m.cond_inv_min),
+            "t_s": _json_float(m.t_s),
+            "q_deg": [_json_float(x) for x in m.q_deg],
+            "out_of_reach_samples": m.out_of_reach,
+            "singular_samples": m.singular,
             "singularity_crossings": m.crossings,
         },
         "offset_sweep": [{k: _json_float(v) for k, v in row.items()} for row in sweep.rows()],
     }
     with output_folder(out):  # a failure from here on takes back the folder if this run made it and it is empty
-        files = [*save_figure(plot_singularity_map(smap), out, "singularity_map"), *save_figure(plot_offset_sweep(sweep), out, "offset_sweep")]
+        files = [
+            *save_figure(plot_singularity_map(smap), out, "singularity_map"),
+            *save_figure(plot_offset_sweep(sweep), out, "offset_sweep"),
+        ]
         files.append(write_atomic(out / "workspace.json", json.dumps(document, indent=2) + "\n"))
     stream = stream if stream is not None else sys.stdout
     if summary_format == "json":
@@ -230,5 +247,7 @@ def run(args) -> int:
         if (stop - start) / step > 100_000:
             raise HipsimError(f"--deltas: {args.deltas} asks for more than 100,000 offsets")
         deltas = np.arange(start, stop + step / 2, step)
-    run_workspace(params, trajectory, Path(args.out), gamma_deg=gamma, deltas_deg=deltas, summary_format=args.summary_format)
+    run_workspace(
+        params, trajectory, Path(args.out), gamma_deg=gamma, deltas_deg=deltas, summary_format=args.summary_format
+    )
     return 0

@@ -16,9 +16,17 @@ other. Modules, by job:
 * :mod:`~hipsim.closed_chain.plant`: the forward-dynamics plant.
 """
 
-from .engine import PinocchioModel
 from .build import ClosedChainModel, load_model
 from .closure import Continuation, kinematics
 from .dynamics import inverse_dynamics, trajectory_dynamics
+from .engine import PinocchioModel
 
-__all__ = ["ClosedChainModel", "Continuation", "PinocchioModel", "inverse_dynamics", "kinematics", "load_model", "trajectory_dynamics"]
+__all__ = [
+    "ClosedChainModel",
+    "Continuation",
+    "PinocchioModel",
+    "inverse_dynamics",
+    "kinematics",
+    "load_model",
+    "trajectory_dynamics",
+]

@@ -20,10 +20,10 @@ import numpy as np
 import pinocchio as pin
 import yaml
 
-from ..physics.transmission import radians_per_travel
 from ..exceptions import ModelError
 from ..machine.model_files import closure_file_path, urdf_text
 from ..machine.parameters import Parameters, load_parameters
+from ..physics.transmission import radians_per_travel
 from .solver import ClosedChainSolver
 
 __all__ = ["ClosedChainModel", "HipLayout", "load_closed_chain", "load_model", "require_layout"]
@@ -168,9 +168,14 @@ def load_closed_chain(
         if contact is None:
             raise ModelError(f"{closure_file}: closure type '{kind}' of {name1}-{name2} is not '3d' or '6d'")
         constraint = pin.RigidConstraintModel(
-            contact, model, frames[0].parentJoint, frames[0].placement,
-            frames[1].parentJoint, frames[1].placement, pin.ReferenceFrame.LOCAL,
-        )  # fmt: skip
+            contact,
+            model,
+            frames[0].parentJoint,
+            frames[0].placement,
+            frames[1].parentJoint,
+            frames[1].placement,
+            pin.ReferenceFrame.LOCAL,
+        )
         constraint.name = f"{name1}-{name2}"
         constraint_models.append(constraint)
 
@@ -264,7 +269,9 @@ def _hip_layout(chain: ClosedChainModel, params: Parameters) -> HipLayout:
     if sorted(chain.actuated_v) != sorted(slider_v) or chain.n_closures != 6:
         raise ModelError("the hip simulator needs six closures and the three sliders as actuated joints")
 
-    placement_z = np.array([[model.jointPlacements[joint(f"u1_{j}{i}")].translation[2] for i in (1, 2, 3)] for j in (1, 2)])
+    placement_z = np.array(
+        [[model.jointPlacements[joint(f"u1_{j}{i}")].translation[2] for i in (1, 2, 3)] for j in (1, 2)]
+    )
     leg_v = np.array(sorted(set(slider_v) | set(ujoint_v.ravel())))
 
     # Dynamic parameters (10 per joint, Pinocchio's regressor order) of each body group.

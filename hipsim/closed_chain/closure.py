@@ -38,17 +38,18 @@ tip and frame 2 the platform joint.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
 
-from ..physics import laws
-from ..physics.orientation import angular_velocity_map, inverse_condition_number
 from ..arrays import check_shapes
 from ..exceptions import ClosureError, PoseError
 from ..motion.trajectories import trajectory_arrays
+from ..physics import laws
+from ..physics.orientation import angular_velocity_map, inverse_condition_number
 from . import closure_kernel
 from .build import ClosedChainModel, require_layout
 
@@ -95,13 +96,23 @@ class ClosedKinematics:
         check_shapes(
             self,
             {
-                "t": ("N",), "angles": ("N", 3), "angle_rates": ("N", 3), "angle_accels": ("N", 3),
-                "q": ("N", nq), "v": ("N", nv), "a": ("N", nv),
-                "L": ("N", 2, 3), "Ld": ("N", 2, 3), "Ldd": ("N", 2, 3),
-                "J": ("N", 3, 3), "cond_inv": ("N",), "residual": ("N",), "iterations": ("N",),
+                "t": ("N",),
+                "angles": ("N", 3),
+                "angle_rates": ("N", 3),
+                "angle_accels": ("N", 3),
+                "q": ("N", nq),
+                "v": ("N", nv),
+                "a": ("N", nv),
+                "L": ("N", 2, 3),
+                "Ld": ("N", 2, 3),
+                "Ldd": ("N", 2, 3),
+                "J": ("N", 3, 3),
+                "cond_inv": ("N",),
+                "residual": ("N",),
+                "iterations": ("N",),
             },
             samples=len(self.t),
-        )  # fmt: skip
+        )
 
 
 class Closer:
@@ -124,8 +135,21 @@ class Closer:
         self.evaluations = 0
         # closure_kernel.closed_sample's arguments after the gaps' limit, up to the sample's own (fixed for a run).
         ws, layout = self.ws, self.layout
-        self.constants = (ws.J, ws.support_masks, ws.J_c, self.platform1, *self.order, layout.platform_v[1], layout.slider_v)
-        self.keep_nothing = (np.empty((0, nv, nv)), np.empty((0, 3, nv)), np.empty((0, len(ws.cms), 3, 3)), -1)  # sample()'s keep without dynamics
+        self.constants = (
+            ws.J,
+            ws.support_masks,
+            ws.J_c,
+            self.platform1,
+            *self.order,
+            layout.platform_v[1],
+            layout.slider_v,
+        )
+        self.keep_nothing = (
+            np.empty((0, nv, nv)),
+            np.empty((0, 3, nv)),
+            np.empty((0, len(ws.cms), 3, 3)),
+            -1,
+        )  # sample()'s keep without dynamics
 
     def _evaluate(self, q: np.ndarray, jacobians: bool = True) -> float:
         """|gaps|² at q [m²]; q's placements, gaps (and Jacobians) are left in the workspace."""
@@ -159,7 +183,9 @@ class Closer:
                     out[:] = q
                 return
             # The kernel of sample()'s usual course (gaps at q again, the same bits; limit −1: always step).
-            closure_kernel.gaps_and_chord_step(*ws.frame_arguments(), q, self.K_inv, self.platforms, angles, -1.0, trial)
+            closure_kernel.gaps_and_chord_step(
+                *ws.frame_arguments(), q, self.K_inv, self.platforms, angles, -1.0, trial
+            )
             size_trial = self._evaluate(trial)
             if size_trial > 0.01 * size:  # the gap must shrink tenfold per step, else fresh Jacobians
                 out[:] = self._levenberg_marquardt(q, self._evaluate(q))
@@ -186,12 +212,16 @@ class Closer:
         """
         ws, tol2 = self.ws, self.tol2
         args = (rates, accels, V, A, row, J_rates, residual, k, self.K_inv, *keep)
-        frames = ws.frame_args if ws.joint_rotations is not None else None  # the usual course reads Pinocchio's placements through the views
+        frames = (
+            ws.frame_args if ws.joint_rotations is not None else None
+        )  # the usual course reads Pinocchio's placements through the views
         if self.have_K_inv and frames is not None:
             # close()'s usual course in two Pinocchio and two compiled calls: forward kinematics at
             # the prediction, one chord step (into out), the Jacobians there; anything else goes to close().
             pin.forwardKinematics(ws.model, ws.data, prediction)
-            size = closure_kernel.gaps_and_chord_step(*frames, prediction, self.K_inv, self.platforms, angles, tol2, out)
+            size = closure_kernel.gaps_and_chord_step(
+                *frames, prediction, self.K_inv, self.platforms, angles, tol2, out
+            )
             if size > tol2:
                 pin.computeJointJacobians(ws.model, ws.data, out)
                 status, _ = closure_kernel.closed_sample(*frames, min(tol2, 0.01 * size), *self.constants, *args)
@@ -233,11 +263,17 @@ class Closer:
                 if damping > 1e8 or np.abs(step).max() < 1e-15:
                     raise ClosureError(
                         f"cannot close the loops: the closure gap stays at {math.sqrt(cost):.3g} m "
-                        "(the pose is out of the levers' reach)", math.sqrt(cost), iteration + 1,
+                        "(the pose is out of the levers' reach)",
+                        math.sqrt(cost),
+                        iteration + 1,
                     )
         if cost <= self.tol2:
             return q
-        raise ClosureError(f"cannot close the loops in {self.max_iter} iterations (gap {math.sqrt(cost):.3g} m)", math.sqrt(cost), self.max_iter)
+        raise ClosureError(
+            f"cannot close the loops in {self.max_iter} iterations (gap {math.sqrt(cost):.3g} m)",
+            math.sqrt(cost),
+            self.max_iter,
+        )
 
 
 @dataclass(eq=False)
@@ -287,7 +323,11 @@ def kinematics(chain: ClosedChainModel, traj, *, tol: float = 1e-12, max_iter: i
 
 
 def close_chain(
-    chain: ClosedChainModel, traj, tol: float, max_iter: int, dynamics_for: Callable[..., Any] | None = None,
+    chain: ClosedChainModel,
+    traj,
+    tol: float,
+    max_iter: int,
+    dynamics_for: Callable[..., Any] | None = None,
     continuation: Continuation | None = None,
 ) -> tuple[ClosedKinematics, Any]:
     """The kinematics loop; with ``dynamics_for`` it also runs the inverse dynamics on the fly.
@@ -329,7 +369,13 @@ def close_chain(
     # The closer leaves Pinocchio's data at the closed q: the dynamics reuse its Jacobians.
     dynamics = dynamics_for(Q[before:], V[before:], A[before:]) if dynamics_for is not None else None
     # Bound once: at some 30,000 samples a second, each attribute read in the loop (~30 ns) shows.
-    platforms, predict, prediction, sample, ws = closer.platforms, closure_kernel.predict, closer.prediction, closer.sample, closer.ws
+    platforms, predict, prediction, sample, ws = (
+        closer.platforms,
+        closure_kernel.predict,
+        closer.prediction,
+        closer.sample,
+        closer.ws,
+    )
     keep = closer.keep_nothing
     for k in range(n):
         row = before + k  # this sample's row in Q, V, A and T, after the previous piece's last samples
@@ -353,7 +399,12 @@ def close_chain(
     if continuation is not None and n:
         last = slice(max(0, before + n - 2), before + n)
         continuation.samples += n
-        continuation.t, continuation.q, continuation.v, continuation.a = T[last].copy(), Q[last].copy(), V[last].copy(), A[last].copy()
+        continuation.t, continuation.q, continuation.v, continuation.a = (
+            T[last].copy(),
+            Q[last].copy(),
+            V[last].copy(),
+            A[last].copy(),
+        )
         continuation.K_inv = closer.K_inv.copy()
     Q, V, A = Q[before:], V[before:], A[before:]
     sliders = layout.slider_v
@@ -362,7 +413,9 @@ def close_chain(
     # solve on 3×3 matrices cost 0.5 µs a sample, 2 % of the whole). The product is three
     # elementwise terms, not einsum, whose rounding depends on the array's length: a run in
     # pieces must give the one-piece bits.
-    T_inverse_rows = laws.inverse_transpose(np.moveaxis(angular_velocity_map(angles), (1, 2), (0, 1)))  # T⁻ᵀ's rows b, each (xyz, n)
+    T_inverse_rows = laws.inverse_transpose(
+        np.moveaxis(angular_velocity_map(angles), (1, 2), (0, 1))
+    )  # T⁻ᵀ's rows b, each (xyz, n)
     T_inverse = np.stack([np.stack(row, axis=-1) for row in T_inverse_rows], axis=-1)  # (n, c, b) = T⁻¹
     J = sum(J_rates[:, :, c, None] * T_inverse[:, None, c, :] for c in range(3))
     kin = ClosedKinematics(

@@ -35,9 +35,23 @@ from ..physics import laws
 from ..physics.vectors import add, cross, dot, matvec, scale, sub, transpose_times
 
 __all__ = [
-    "OK", "LEVER_DOWN", "OPEN", "SINGULAR", "acceleration", "actuator_and_closure_forces", "block_lower_inverse", "chord_step",
-    "closed_sample", "closure_frames", "closure_jacobian", "gaps_and_chord_step", "predict", "rates", "store", "velocity",
-]  # fmt: skip
+    "OK",
+    "LEVER_DOWN",
+    "OPEN",
+    "SINGULAR",
+    "acceleration",
+    "actuator_and_closure_forces",
+    "block_lower_inverse",
+    "chord_step",
+    "closed_sample",
+    "closure_frames",
+    "closure_jacobian",
+    "gaps_and_chord_step",
+    "predict",
+    "rates",
+    "store",
+    "velocity",
+]
 
 #: Status codes of :func:`velocity` (and :func:`closed_sample`'s OPEN: the gaps are not within the limit).
 OK, SINGULAR, LEVER_DOWN, OPEN = 0, 1, 2, 3
@@ -183,11 +197,37 @@ def gaps_and_chord_step(rotations, origins, joints, placements, tips, p2, d, q, 
 
 @laws.jit
 def closed_sample(
-    rotations, origins, joints, placements, tips, p2, d, limit,
-    J, masks, J_c, platform1, rows, columns, starts, platform2, sliders,
-    qd, qdd, V, A, row, J_rates, residual, k, K_inv,
-    K_invs, angular, tip_rotations, slot,
-):  # fmt: skip
+    rotations,
+    origins,
+    joints,
+    placements,
+    tips,
+    p2,
+    d,
+    limit,
+    J,
+    masks,
+    J_c,
+    platform1,
+    rows,
+    columns,
+    starts,
+    platform2,
+    sliders,
+    qd,
+    qdd,
+    V,
+    A,
+    row,
+    J_rates,
+    residual,
+    k,
+    K_inv,
+    K_invs,
+    angular,
+    tip_rotations,
+    slot,
+):
     """After the joint Jacobians at a corrected q: its frames and gaps and, if |d|² ≤ ``limit`` [m²], all the solver keeps of sample k.
 
     :func:`closure_frames`, then :func:`rates` and :func:`store`, in one
@@ -208,7 +248,29 @@ def closed_sample(
     size = closure_frames(rotations, origins, joints, placements, tips, p2, d)
     if size > limit:
         return OPEN, size
-    status = rates(J, masks, tips, p2, d, J_c, platform1, rows, columns, starts, platform2, sliders, qd, qdd, V, A, row, J_rates, residual, k, K_inv)
+    status = rates(
+        J,
+        masks,
+        tips,
+        p2,
+        d,
+        J_c,
+        platform1,
+        rows,
+        columns,
+        starts,
+        platform2,
+        sliders,
+        qd,
+        qdd,
+        V,
+        A,
+        row,
+        J_rates,
+        residual,
+        k,
+        K_inv,
+    )
     if status == OK and slot >= 0:
         store(K_invs, angular, tip_rotations, slot, k, K_inv, J, tips)
     return status, size
@@ -281,7 +343,29 @@ def velocity(J_c, platform1, rows, columns, starts, qd, platform2, tips, V, row,
 
 
 @laws.jit
-def rates(J, masks, tips, p2, d, J_c, platform1, rows, columns, starts, platform2, sliders, qd, qdd, V, A, row, J_rates, residual, k, K_inv):
+def rates(
+    J,
+    masks,
+    tips,
+    p2,
+    d,
+    J_c,
+    platform1,
+    rows,
+    columns,
+    starts,
+    platform2,
+    sliders,
+    qd,
+    qdd,
+    V,
+    A,
+    row,
+    J_rates,
+    residual,
+    k,
+    K_inv,
+):
     """Everything the solver needs of sample k once it is closed, in one call: J_c, K⁻¹, V[row], A[row], J_rates[k] and residual[k].
 
     :func:`closure_jacobian`, :func:`velocity` and :func:`acceleration` in
@@ -424,8 +508,11 @@ def acceleration(K_inv, J, V, A, row, masks, tips, d, qdd, platform2):
     n, nv = tips.shape[0], V.shape[1]
     drift = np.empty(3 * n)
     for c in range(n):
-        R = ((tips[c, 0, 0], tips[c, 0, 1], tips[c, 0, 2]), (tips[c, 1, 0], tips[c, 1, 1], tips[c, 1, 2]),
-             (tips[c, 2, 0], tips[c, 2, 1], tips[c, 2, 2]))  # fmt: skip
+        R = (
+            (tips[c, 0, 0], tips[c, 0, 1], tips[c, 0, 2]),
+            (tips[c, 1, 0], tips[c, 1, 1], tips[c, 1, 2]),
+            (tips[c, 2, 0], tips[c, 2, 1], tips[c, 2, 2]),
+        )
         p1 = (tips[c, 0, 3], tips[c, 1, 3], tips[c, 2, 3])
         p2 = add(p1, matvec(R, (d[3 * c], d[3 * c + 1], d[3 * c + 2])))
         twist1, rate1 = _frame_motion(masks[2 * c], V[row], J)
@@ -520,9 +607,11 @@ def actuator_and_closure_forces(K_invs, tau, actuated, F, lambdas):
     m, nv, parts = tau.shape
     for s in range(m):
         K_inv = K_invs[s]
-        G = ((K_inv[actuated[0], 0], K_inv[actuated[1], 0], K_inv[actuated[2], 0]),
-             (K_inv[actuated[0], 1], K_inv[actuated[1], 1], K_inv[actuated[2], 1]),
-             (K_inv[actuated[0], 2], K_inv[actuated[1], 2], K_inv[actuated[2], 2]))  # Gᵀ by rows  # fmt: skip
+        G = (
+            (K_inv[actuated[0], 0], K_inv[actuated[1], 0], K_inv[actuated[2], 0]),
+            (K_inv[actuated[0], 1], K_inv[actuated[1], 1], K_inv[actuated[2], 1]),
+            (K_inv[actuated[0], 2], K_inv[actuated[1], 2], K_inv[actuated[2], 2]),
+        )  # Gᵀ by rows
         rest = tau[s].sum(axis=1)
         for p in range(parts):
             b = (0.0, 0.0, 0.0)

@@ -25,13 +25,13 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
+from ..arrays import check_shapes
+from ..exceptions import PoseError
+from ..machine.parameters import load_parameters
 from ..physics import laws
 from ..physics.friction import central_chain_friction
 from ..physics.orientation import angular_velocity_map, rotation_matrix
 from ..physics.transmission import angle_from_travel, travel_per_radian
-from ..arrays import check_shapes
-from ..exceptions import PoseError
-from ..machine.parameters import load_parameters
 from ..results import JointForces, Torques
 from . import closure_kernel
 from .build import ClosedChainModel, load_model, require_layout
@@ -140,7 +140,9 @@ class _InverseDynamics:
         else:
             rhs[0] += friction
         tau = np.moveaxis(rhs, 0, 2)  # (m, nv, parts)
-        closure_kernel.actuator_and_closure_forces(K_inv, tau, self.chain.actuated_v, self.parts[start:stop], self.lambdas[start:stop].reshape(m, -1))
+        closure_kernel.actuator_and_closure_forces(
+            K_inv, tau, self.chain.actuated_v, self.parts[start:stop], self.lambdas[start:stop].reshape(m, -1)
+        )
         self.start = stop
 
     def result(self, kin: ClosedKinematics) -> ClosedChainDynamics:
@@ -159,14 +161,25 @@ class _InverseDynamics:
         centre[:, :, 2] += params.platform_mass * params.gravity + self.Fe[:, None]
         torques = Torques(
             total=total,
-            platforms=tau_m, levers=tau_l, sliders=tau_s, screws=tau_L, friction=tau_f,
+            platforms=tau_m,
+            levers=tau_l,
+            sliders=tau_s,
+            screws=tau_L,
+            friction=tau_f,
             motor_speed=motor_speed,
-            friction_moment=np.linalg.norm(central_chain_friction(params.friction, params.platform_mass * params.gravity, omega, self.Fe, rotation_matrix(kin.angles)), axis=-1),
+            friction_moment=np.linalg.norm(
+                central_chain_friction(
+                    params.friction, params.platform_mass * params.gravity, omega, self.Fe, rotation_matrix(kin.angles)
+                ),
+                axis=-1,
+            ),
             # By virtual power the motors' friction share times their speed is the whole friction loss.
             friction_power=np.sum(tau_f * motor_speed, axis=1),
         )
         joint_forces = JointForces(Fa=np.linalg.norm(lambdas, axis=-1), Fo=np.linalg.norm(centre, axis=-1))
-        return ClosedChainDynamics(torques=torques, F_act=self.parts.sum(axis=2), lambdas=lambdas, joint_forces=joint_forces)
+        return ClosedChainDynamics(
+            torques=torques, F_act=self.parts.sum(axis=2), lambdas=lambdas, joint_forces=joint_forces
+        )
 
 
 def inverse_dynamics(chain: ClosedChainModel, kin: ClosedKinematics, Fe, *, parts: bool = True) -> ClosedChainDynamics:
@@ -212,8 +225,20 @@ def inverse_dynamics(chain: ClosedChainModel, kin: ClosedKinematics, Fe, *, part
     for k, q in enumerate(kin.q):
         pin.computeJointJacobians(ws.model, ws.data, q)
         status, _ = closure_kernel.closed_sample(
-            *ws.frame_arguments(), math.inf, *closer.constants, rates, accels, V, A, 0, J_rates, residual, k, closer.K_inv, *dynamics.keep(k)
-        )  # fmt: skip
+            *ws.frame_arguments(),
+            math.inf,
+            *closer.constants,
+            rates,
+            accels,
+            V,
+            A,
+            0,
+            J_rates,
+            residual,
+            k,
+            closer.K_inv,
+            *dynamics.keep(k),
+        )
         if status != closure_kernel.OK:
             raise PoseError("singular pose: the closure Jacobian loses rank (spec §3)", float(kin.t[k]), k)
         dynamics.stored(k, ws)
@@ -234,7 +259,12 @@ def warm_up() -> None:
 
 
 def trajectory_dynamics(
-    chain: ClosedChainModel, traj, *, tol: float = 1e-12, max_iter: int = 50, parts: bool = True,
+    chain: ClosedChainModel,
+    traj,
+    *,
+    tol: float = 1e-12,
+    max_iter: int = 50,
+    parts: bool = True,
     continuation: Continuation | None = None,
 ) -> tuple[ClosedKinematics, ClosedChainDynamics]:
     """:func:`~hipsim.closed_chain.closure.kinematics` and :func:`inverse_dynamics` in one pass, with the trajectory's own load.

@@ -68,6 +68,14 @@ class PinocchioModel:
         """
         kin, dynamics = trajectory_dynamics(self.chain, trajectory, parts=self.parts, continuation=state)
         return Run(
-            self.name, self.params, trajectory, kin.L, kin.Ld, kin.Ldd, dynamics.torques, kin.cond_inv,
-            np.zeros(len(trajectory.t), dtype=bool), joint_forces=dynamics.joint_forces,
+            self.name,
+            self.params,
+            trajectory,
+            kin.L,
+            kin.Ld,
+            kin.Ldd,
+            dynamics.torques,
+            kin.cond_inv,
+            np.zeros(len(trajectory.t), dtype=bool),
+            joint_forces=dynamics.joint_forces,
         )

@@ -11,10 +11,10 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
+from ..exceptions import ArgumentError
 from ..physics import laws
 from ..physics.transmission import radians_per_travel
 from ..physics.vectors import stack
-from ..exceptions import ArgumentError
 from .build import ClosedChainModel, require_layout
 from .constraints import configurations
 
@@ -52,7 +52,9 @@ def friction_from_jacobians(chain: ClosedChainModel, v, Fe, platform_J, lever_J,
     z = None if platform_z is None else np.moveaxis(platform_z, -1, 0)
     moment = stack(laws.central_friction_moment(fr, omega, z, Fe[:, None], params.platform_mass * params.gravity))
     if lever_J is not None:
-        omega_lever = np.moveaxis(np.einsum("njiab,njib->njia", lever_J, v[:, layout.ujoint_v]), -1, 0)  # (xyz, n, j, i)
+        omega_lever = np.moveaxis(
+            np.einsum("njiab,njib->njia", lever_J, v[:, layout.ujoint_v]), -1, 0
+        )  # (xyz, n, j, i)
         # U joint: the lever relative to the slider; S joint: relative to the platform, and oppositely on it.
         u_moment, s_moment = (stack(m) for m in laws.lever_joint_friction(fr, omega_lever, omega[..., None]))
         moment -= s_moment.sum(axis=-1)
@@ -104,6 +106,10 @@ def friction_forces(chain: ClosedChainModel, q, v, Fe, data=None) -> np.ndarray:
         if axial:
             platform_z[k] = platform_z_axes(data, frames)
     platform_J = np.moveaxis(angular[:, :, layout.platform_v], 1, 2)
-    lever_J = np.moveaxis(angular[:, :, layout.ujoint_v], 1, 3) if laws.lever_joint_friction_on(chain.params.friction) else None
+    lever_J = (
+        np.moveaxis(angular[:, :, layout.ujoint_v], 1, 3)
+        if laws.lever_joint_friction_on(chain.params.friction)
+        else None
+    )
     out = friction_from_jacobians(chain, v, Fe, platform_J, lever_J, platform_z)
     return out[0] if single else out

@@ -90,12 +90,12 @@ import math
 import numpy as np
 import pinocchio as pin
 
-from ..physics import laws
-from ..physics.orientation import angular_velocity_map
-from ..physics.transmission import radians_per_travel
 from ..exceptions import ArgumentError
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
+from ..physics import laws
+from ..physics.orientation import angular_velocity_map
+from ..physics.transmission import radians_per_travel
 from .build import ClosedChainModel, load_model
 from .closure import kinematics
 from .friction import friction_forces
@@ -131,7 +131,9 @@ def _generalised_forces(buf, x, tau, Fe, friction, weight, gain, platforms, slid
         s = (math.sin(x[slot[0]]), math.sin(x[slot[1]]), math.sin(x[slot[2]]))
         R = laws.rotation(c, s)
         omega = laws.t_times(c, s, (x[slot[3]], x[slot[4]], x[slot[5]]))
-        Q = laws.t_transpose_times(c, s, laws.central_friction_moment(F, omega, (R[0][2], R[1][2], R[2][2]), Fe, weight))
+        Q = laws.t_transpose_times(
+            c, s, laws.central_friction_moment(F, omega, (R[0][2], R[1][2], R[2][2]), Fe, weight)
+        )
         buf[slot[0]], buf[slot[1]], buf[slot[2]] = -Q[0], -Q[1], -Q[2]
     for i in range(sliders.shape[0]):
         rate = x[sliders[i, 1]]
@@ -262,10 +264,14 @@ class PinocchioPlant:
         nq = self.nq
         q, v = x[:nq], x[nq:]
         buf = self._fill_forces(x, tau, Fe)
-        a = pin.constraintDynamics(self.model, self.data, q, v, buf, self.constraint_models, self.constraint_datas, self.proximal)
+        a = pin.constraintDynamics(
+            self.model, self.data, q, v, buf, self.constraint_models, self.constraint_datas, self.proximal
+        )
         return np.concatenate((v, a))
 
-    def advance(self, t: float, x: np.ndarray, tau: np.ndarray, loads: np.ndarray, h: float, substeps: int) -> np.ndarray:
+    def advance(
+        self, t: float, x: np.ndarray, tau: np.ndarray, loads: np.ndarray, h: float, substeps: int
+    ) -> np.ndarray:
         """The state after ``substeps`` classic RK4 steps of h [s] from x at time t [s], under motor torques tau [N·m].
 
         ``loads`` are the loads F_e in [N] at every half step, (2·substeps + 1,).
@@ -284,7 +290,13 @@ class PinocchioPlant:
         if tau.shape != (3,):
             raise ArgumentError("tau", tau, "three motor torques in N·m")
         if self._fast and type(self).derivative is PinocchioPlant.derivative:
-            model, data, cms, cds, proximal = self.model, self.data, self.constraint_models, self.constraint_datas, self.proximal
+            model, data, cms, cds, proximal = (
+                self.model,
+                self.data,
+                self.constraint_models,
+                self.constraint_datas,
+                self.proximal,
+            )
             y, q, v, k, buf = self._y, self._y_q, self._y_v, self._stages, self._tau
             forces = (self._friction, self._weight, self._force_gain, self._platform_slots, self._slider_slots)
             a = buf  # stage 0 reads no derivative
@@ -297,14 +309,23 @@ class PinocchioPlant:
         nq = self.nq
         k = self._stages
         if type(self).derivative is not PinocchioPlant.derivative:
+
             def rate(y, Fe, out):
                 out[:] = self.derivative(t, y, tau, Fe)
         else:
-            model, data, cms, cds, proximal = self.model, self.data, self.constraint_models, self.constraint_datas, self.proximal
+            model, data, cms, cds, proximal = (
+                self.model,
+                self.data,
+                self.constraint_models,
+                self.constraint_datas,
+                self.proximal,
+            )
 
             def rate(y, Fe, out):
                 out[:nq] = y[nq:]
-                out[nq:] = pin.constraintDynamics(model, data, y[:nq], y[nq:], self._fill_forces(y, tau, Fe), cms, cds, proximal)
+                out[nq:] = pin.constraintDynamics(
+                    model, data, y[:nq], y[nq:], self._fill_forces(y, tau, Fe), cms, cds, proximal
+                )
 
         for s in range(substeps):
             rate(x, loads[2 * s], k[0])
@@ -363,7 +384,15 @@ class PinocchioPlant:
         buf = self._tau
         if self._fast:
             return _generalised_forces(
-                buf, x, tau, float(Fe), self._friction, self._weight, self._force_gain, self._platform_slots, self._slider_slots
+                buf,
+                x,
+                tau,
+                float(Fe),
+                self._friction,
+                self._weight,
+                self._force_gain,
+                self._platform_slots,
+                self._slider_slots,
             )
         nq = self.nq
         buf[:] = -friction_forces(self.chain, x[:nq], x[nq:], Fe, data=self._jdata)
@@ -387,7 +416,9 @@ class PinocchioPlant:
                 T = angular_velocity_map(angles[None])[0]
                 R = np.array(laws.rotation(np.cos(angles), np.sin(angles)))
                 placement = data.oMi[frame.parentJoint] * frame.placement
-                if not (np.allclose(data.J[3:, [ix, iy, iz]], T, rtol=0.0, atol=1e-12)
-                        and np.allclose(placement.rotation, R, rtol=0.0, atol=1e-12)):  # fmt: skip
+                if not (
+                    np.allclose(data.J[3:, [ix, iy, iz]], T, rtol=0.0, atol=1e-12)
+                    and np.allclose(placement.rotation, R, rtol=0.0, atol=1e-12)
+                ):
                     return False
         return True

@@ -60,7 +60,9 @@ class Workspace:
                     self.support_masks[2 * c + end, self.model.joints[k].idx_v] = 1.0
         # Each closure's two joints, and its frames' placements in them (closure_kernel.closure_frames).
         self.closure_joints = np.array([[cm.joint1_id, cm.joint2_id] for cm in self.cms])
-        self.closure_placements = np.array([[cm.joint1_placement.homogeneous, cm.joint2_placement.homogeneous] for cm in self.cms])
+        self.closure_placements = np.array(
+            [[cm.joint1_placement.homogeneous, cm.joint2_placement.homogeneous] for cm in self.cms]
+        )
         self.joint_rotations, self.joint_origins = _joint_placement_views(self.model, self.data)
         self.J = self.data.J
         self.tips = np.empty((n, 4, 4))  # frame 1's world placement per closure, at the last place()
@@ -69,9 +71,18 @@ class Workspace:
         self.J_c = np.empty((3 * n, nv))
         # closure_kernel.closure_frames' arguments, in its order (None without live views of data.oMi).
         self.frame_args = (
-            None if self.joint_rotations is None
-            else (self.joint_rotations, self.joint_origins, self.closure_joints, self.closure_placements, self.tips, self.p2, self.gaps)
-        )  # fmt: skip
+            None
+            if self.joint_rotations is None
+            else (
+                self.joint_rotations,
+                self.joint_origins,
+                self.closure_joints,
+                self.closure_placements,
+                self.tips,
+                self.p2,
+                self.gaps,
+            )
+        )
 
     def place(self, q: np.ndarray, jacobians: bool = True) -> float:
         """Forward kinematics, joint Jacobians (unless not asked for) and the closures' frames and gaps at q; returns |gaps|² [m²]."""
@@ -142,8 +153,11 @@ def _joint_placement_views(model, data) -> tuple[np.ndarray | None, np.ndarray |
     if model.njoints < 2 or rotation.strides != (8, 24) or translation.strides != (8,):
         return None, None
     stride = address(data.oMi[1].rotation) - address(rotation)
-    if any(address(data.oMi[j].rotation) != address(rotation) + j * stride or address(data.oMi[j].translation) != address(rotation) + j * stride + 72
-           for j in range(model.njoints)):  # fmt: skip
+    if any(
+        address(data.oMi[j].rotation) != address(rotation) + j * stride
+        or address(data.oMi[j].translation) != address(rotation) + j * stride + 72
+        for j in range(model.njoints)
+    ):
         return None, None
     rotations = as_strided(rotation, shape=(model.njoints, 3, 3), strides=(stride, 8, 24), writeable=False)
     origins = as_strided(translation, shape=(model.njoints, 3), strides=(stride, 8), writeable=False)

@@ -17,16 +17,17 @@ two of the spec:
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable, Protocol
+from typing import Protocol
 
 import numpy as np
 
 from ..analytic import kernel as reduced_kernel
-from ..analytic.virtual_work import inverse_dynamics
 from ..analytic.inverse_kinematics import kinematics
-from ..machine.parameters import Parameters
 from ..analytic.kernel import floats
+from ..analytic.virtual_work import inverse_dynamics
+from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 
 __all__ = ["AugmentedPD", "Controller", "Sample", "WorkspacePD", "feedforward_torques"]
@@ -103,7 +104,15 @@ class AugmentedPD(WorkspacePD):
         kp, kd: gains as in :class:`WorkspacePD`.
     """
 
-    def __init__(self, params: Parameters, desired_at: Callable[[np.ndarray], Trajectory], servo_rate: float, duration: float, kp=None, kd=None):
+    def __init__(
+        self,
+        params: Parameters,
+        desired_at: Callable[[np.ndarray], Trajectory],
+        servo_rate: float,
+        duration: float,
+        kp=None,
+        kd=None,
+    ):
         super().__init__(params, kp, kd)
         self.servo_rate = servo_rate
         n = int(round(duration * servo_rate))

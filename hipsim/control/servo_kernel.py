@@ -41,7 +41,29 @@ _DEPENDS_ON = (*laws.LAW_FILES, Path(kernel.__file__))
 
 
 @laws.jit(depends_on=_DEPENDS_ON)
-def servo_loop(plant, control, x, start, stop, desired_q, desired_qd, kp, kd, feedforward, rows, with_feedforward, limit, loads, h, substeps, q, qd, tau, tau_requested, saturated):
+def servo_loop(
+    plant,
+    control,
+    x,
+    start,
+    stop,
+    desired_q,
+    desired_qd,
+    kp,
+    kd,
+    feedforward,
+    rows,
+    with_feedforward,
+    limit,
+    loads,
+    h,
+    substeps,
+    q,
+    qd,
+    tau,
+    tau_requested,
+    saturated,
+):
     """Run servo periods ``start`` … ``stop − 1`` from state x, logging into the given arrays.
 
     Args:
@@ -75,7 +97,23 @@ def servo_loop(plant, control, x, start, stop, desired_q, desired_qd, kp, kd, fe
                 for j in range(6):
                     x[j] = y[j]
                 return k
-        _control(control, k, desired_q, desired_qd, kp, kd, feedforward, rows, with_feedforward, limit, q, qd, tau, tau_requested, saturated)
+        _control(
+            control,
+            k,
+            desired_q,
+            desired_qd,
+            kp,
+            kd,
+            feedforward,
+            rows,
+            with_feedforward,
+            limit,
+            q,
+            qd,
+            tau,
+            tau_requested,
+            saturated,
+        )
         y = kernel._advance(plant, y, (tau[k, 0], tau[k, 1], tau[k, 2]), loads, 2 * substeps * k, h, substeps)
     for j in range(6):
         x[j] = y[j]
@@ -83,7 +121,27 @@ def servo_loop(plant, control, x, start, stop, desired_q, desired_qd, kp, kd, fe
 
 
 @laws.jit(depends_on=_DEPENDS_ON)
-def control_period(x, angle_slots, rate_slots, signs, control, k, desired_q, desired_qd, kp, kd, feedforward, rows, with_feedforward, limit, q, qd, tau, tau_requested, saturated):
+def control_period(
+    x,
+    angle_slots,
+    rate_slots,
+    signs,
+    control,
+    k,
+    desired_q,
+    desired_qd,
+    kp,
+    kd,
+    feedforward,
+    rows,
+    with_feedforward,
+    limit,
+    q,
+    qd,
+    tau,
+    tau_requested,
+    saturated,
+):
     """Servo period k of a plant integrated outside this module (the Pinocchio plant): the same control as :func:`servo_loop`'s.
 
     Logs the measured angles q[k] = signs·x[angle_slots], in [rad], and rates
@@ -100,18 +158,54 @@ def control_period(x, angle_slots, rate_slots, signs, control, k, desired_q, des
             return False
     for i in range(3):
         q[k, i], qd[k, i] = signs[i] * x[angle_slots[i]], signs[i] * x[rate_slots[i]]
-    _control(kernel.named_parameters(control), k, desired_q, desired_qd, kp, kd, feedforward, rows, with_feedforward, limit, q, qd, tau, tau_requested, saturated)
+    _control(
+        kernel.named_parameters(control),
+        k,
+        desired_q,
+        desired_qd,
+        kp,
+        kd,
+        feedforward,
+        rows,
+        with_feedforward,
+        limit,
+        q,
+        qd,
+        tau,
+        tau_requested,
+        saturated,
+    )
     return True
 
 
 @laws.jit(depends_on=_DEPENDS_ON)
-def _control(control, k, desired_q, desired_qd, kp, kd, feedforward, rows, with_feedforward, limit, q, qd, tau, tau_requested, saturated):
+def _control(
+    control,
+    k,
+    desired_q,
+    desired_qd,
+    kp,
+    kd,
+    feedforward,
+    rows,
+    with_feedforward,
+    limit,
+    q,
+    qd,
+    tau,
+    tau_requested,
+    saturated,
+):
     """The built-in controllers' torques at period k from the logged state q[k], qd[k], clipped to the limit and logged."""
     wanted = kernel._workspace_pd(
-        control, (q[k, 0], q[k, 1], q[k, 2]), (qd[k, 0], qd[k, 1], qd[k, 2]),
-        (desired_q[k, 0], desired_q[k, 1], desired_q[k, 2]), (desired_qd[k, 0], desired_qd[k, 1], desired_qd[k, 2]),
-        (kp[0], kp[1], kp[2]), (kd[0], kd[1], kd[2]),
-    )  # fmt: skip
+        control,
+        (q[k, 0], q[k, 1], q[k, 2]),
+        (qd[k, 0], qd[k, 1], qd[k, 2]),
+        (desired_q[k, 0], desired_q[k, 1], desired_q[k, 2]),
+        (desired_qd[k, 0], desired_qd[k, 1], desired_qd[k, 2]),
+        (kp[0], kp[1], kp[2]),
+        (kd[0], kd[1], kd[2]),
+    )
     if with_feedforward:
         row = rows[k]
         wanted = (feedforward[row, 0] + wanted[0], feedforward[row, 1] + wanted[1], feedforward[row, 2] + wanted[2])

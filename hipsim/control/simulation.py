@@ -29,26 +29,26 @@ from __future__ import annotations
 import math
 import re
 import threading
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 from tqdm import tqdm
 
-from ..physics.units import RPM_PER_RAD_S
 from ..analytic import kernel as reduced_kernel
-from .controllers import AugmentedPD, Sample, WorkspacePD
+from ..analytic.inverse_kinematics import kinematics
+from ..analytic.kernel import floats
 from ..engine import Plant
 from ..exceptions import ArgumentError, PoseError
 from ..files import write_columns
-from ..analytic.inverse_kinematics import kinematics
 from ..machine.parameter_set import FRICTION_COEFFICIENTS
 from ..machine.parameters import Parameters
-from ..analytic.kernel import floats
 from ..motion.trajectories import Trajectory
 from ..physics.transmission import angle_from_travel
+from ..physics.units import RPM_PER_RAD_S
 from ..results import peak_and_rms
+from .controllers import AugmentedPD, Sample, WorkspacePD
 
 __all__ = ["Plant", "ReducedPlant", "Simulation", "apply_mismatch", "parse_mismatch", "simulate"]
 
@@ -86,7 +86,9 @@ class ReducedPlant:
             qd: its rate in [rad/s], (3,).
             Fe: load in [N].
         """
-        return reduced_kernel.mass_and_bias(self._kernel_params, floats(q, (3,), "q"), floats(qd, (3,), "qd"), float(Fe))
+        return reduced_kernel.mass_and_bias(
+            self._kernel_params, floats(q, (3,), "q"), floats(qd, (3,), "qd"), float(Fe)
+        )
 
     def compiled_kernel(self) -> tuple | None:
         """The parameters of :mod:`hipsim.analytic.kernel` whose equations this plant integrates, for the compiled servo loop.
@@ -100,9 +102,13 @@ class ReducedPlant:
         return np.concatenate([desired.q[0], desired.qd[0]])
 
     def derivative(self, t: float, x: np.ndarray, tau: np.ndarray, Fe: float) -> np.ndarray:
-        return reduced_kernel.derivative(self._kernel_params, floats(x, (6,), "state x"), floats(tau, (3,), "tau"), float(Fe))
+        return reduced_kernel.derivative(
+            self._kernel_params, floats(x, (6,), "state x"), floats(tau, (3,), "tau"), float(Fe)
+        )
 
-    def advance(self, t: float, x: np.ndarray, tau: np.ndarray, loads: np.ndarray, h: float, substeps: int) -> np.ndarray:
+    def advance(
+        self, t: float, x: np.ndarray, tau: np.ndarray, loads: np.ndarray, h: float, substeps: int
+    ) -> np.ndarray:
         """The state after ``substeps`` RK4 steps of h [s] from x at time t [s], under motor torques tau [N·m].
 
         ``loads`` are the loads F_e in [N] at every half step, (2·substeps + 1,).
@@ -190,7 +196,9 @@ class Simulation:
         return out
 
 
-def _rk4(plant: Plant, t: float, x: np.ndarray, tau: np.ndarray, loads: np.ndarray, h: float, substeps: int) -> np.ndarray:
+def _rk4(
+    plant: Plant, t: float, x: np.ndarray, tau: np.ndarray, loads: np.ndarray, h: float, substeps: int
+) -> np.ndarray:
     """``substeps`` classic RK4 steps of h [s] through ``plant.derivative``; loads at every half step."""
     for s in range(substeps):
         time = t + s * h
@@ -279,12 +287,17 @@ def simulate(
     can_compile = (kernel is not None or slotted) and type(controller) in (WorkspacePD, AugmentedPD)
     if compiled and not can_compile:
         raise ArgumentError(
-            "compiled", compiled,
+            "compiled",
+            compiled,
             "False, or None, unless the controller is a WorkspacePD or AugmentedPD and the plant a ReducedPlant or one with angle_slots (the PinocchioPlant)",
-        )  # fmt: skip
+        )
     use_compiled = can_compile if compiled is None else bool(compiled)
 
-    x = plant.initial_state(desired.slice(slice(0, 1))) if initial_state is None else np.asarray(initial_state, dtype=float)
+    x = (
+        plant.initial_state(desired.slice(slice(0, 1)))
+        if initial_state is None
+        else np.asarray(initial_state, dtype=float)
+    )
     q, qd = np.empty((n, 3)), np.empty((n, 3))
     tau_applied, tau_requested = np.empty((n, 3)), np.empty((n, 3))
     saturated = np.zeros(n, dtype=bool)
@@ -293,7 +306,9 @@ def simulate(
     if use_compiled:
         log = (q, qd, tau_applied, tau_requested, saturated)
         x = floats(x, (6,), "initial_state") if kernel is not None else x
-        _compiled_loop(plant, kernel, controller, x, t, desired, limit, stage_loads, h, substeps, log, desc, progress, notify)
+        _compiled_loop(
+            plant, kernel, controller, x, t, desired, limit, stage_loads, h, substeps, log, desc, progress, notify
+        )
     else:
         advance = getattr(plant, "advance", None) or (lambda *args: _rk4(plant, *args))
         for k, _ in _servo_chunks(n, 1, desc, progress, notify):
@@ -301,13 +316,19 @@ def simulate(
             if not np.all(np.isfinite(x)):
                 raise _unstable(t, k)
             wanted = np.asarray(
-                controller(t[k], Sample(q[k].copy(), qd[k].copy()), Sample(desired.q[k], desired.qd[k], desired.qdd[k], float(desired.Fe[k]))),
+                controller(
+                    t[k],
+                    Sample(q[k].copy(), qd[k].copy()),
+                    Sample(desired.q[k], desired.qd[k], desired.qdd[k], float(desired.Fe[k])),
+                ),
                 dtype=float,
             )
             tau_requested[k] = wanted
             tau_applied[k] = np.clip(wanted, -limit, limit)
             saturated[k] = np.any(np.abs(wanted) > limit)
-            x = advance(t[k], x, tau_applied[k], stage_loads[2 * substeps * k : 2 * substeps * (k + 1) + 1], h, substeps)
+            x = advance(
+                t[k], x, tau_applied[k], stage_loads[2 * substeps * k : 2 * substeps * (k + 1) + 1], h, substeps
+            )
 
     actual = Trajectory(t, q, qd, np.zeros_like(q), desired.Fe, name="actual")
     try:
@@ -320,7 +341,9 @@ def simulate(
 def _unstable(t: np.ndarray, k: int) -> PoseError:
     return PoseError(
         "the plant's state is no longer finite: the loop went unstable or the machine left its workspace "
-        "(check the gains control.kp_Nm_rad and kd_Nm_s_rad, the integration step and the masses)", t[k], k,
+        "(check the gains control.kp_Nm_rad and kd_Nm_s_rad, the integration step and the masses)",
+        t[k],
+        k,
     )
 
 
@@ -328,7 +351,9 @@ def _unstable(t: np.ndarray, k: int) -> PoseError:
 _CHUNK = 2000
 
 
-def _compiled_loop(plant, kernel, controller, x, t, desired, limit, loads, h, substeps, log, desc, progress, notify) -> None:
+def _compiled_loop(
+    plant, kernel, controller, x, t, desired, limit, loads, h, substeps, log, desc, progress, notify
+) -> None:
     """The servo loop with the built-in controllers compiled (:mod:`hipsim.control.servo_kernel`), filling ``log``.
 
     A plant with a compiled kernel (the reduced plant; ``kernel``, its
@@ -345,9 +370,15 @@ def _compiled_loop(plant, kernel, controller, x, t, desired, limit, loads, h, su
     else:
         feedforward, rows, with_feedforward = np.zeros((1, 3)), np.zeros(n, dtype=np.int64), False
     control = (
-        np.ascontiguousarray(desired.q, dtype=float), np.ascontiguousarray(desired.qd, dtype=float), controller.kp, controller.kd,
-        np.ascontiguousarray(feedforward, dtype=float), rows, with_feedforward, float(limit),
-    )  # fmt: skip
+        np.ascontiguousarray(desired.q, dtype=float),
+        np.ascontiguousarray(desired.qd, dtype=float),
+        controller.kp,
+        controller.kd,
+        np.ascontiguousarray(feedforward, dtype=float),
+        rows,
+        with_feedforward,
+        float(limit),
+    )
     loads = np.ascontiguousarray(loads, dtype=float)
     q, qd, tau, tau_requested, saturated = log
     if kernel is not None:
@@ -360,11 +391,17 @@ def _compiled_loop(plant, kernel, controller, x, t, desired, limit, loads, h, su
         return
     angles, rates, signs = (np.ascontiguousarray(a) for a in plant.angle_slots)
     if x.ndim != 1 or max(angles.max(), rates.max()) >= x.size:  # the compiled control reads x there, unchecked
-        raise ArgumentError("initial_state", x, f"a state of the {getattr(plant, 'name', 'plant')} plant, holding its angles at {angles} and rates at {rates}")
+        raise ArgumentError(
+            "initial_state",
+            x,
+            f"a state of the {getattr(plant, 'name', 'plant')} plant, holding its angles at {angles} and rates at {rates}",
+        )
     step, machine = 2 * substeps, reduced_kernel.plain_parameters(controller._kernel_params)
     for start, stop in _servo_chunks(n, _CHUNK, desc, progress, notify):
         for k in range(start, stop):
-            if not servo_kernel.control_period(x, angles, rates, signs, machine, k, *control, q, qd, tau, tau_requested, saturated):
+            if not servo_kernel.control_period(
+                x, angles, rates, signs, machine, k, *control, q, qd, tau, tau_requested, saturated
+            ):
                 raise _unstable(t, k)
             x = plant.advance(t[k], x, tau[k], loads[step * k : step * (k + 1) + 1], h, substeps)
 
@@ -419,12 +456,19 @@ def apply_mismatch(params: Parameters, friction: float = 0.0, masses: float = 0.
             sliders, screws), e.g. -0.1 for −10 %.
     """
     if friction <= -1 or masses <= -1:
-        raise ArgumentError("mismatch", {"friction": friction, "masses": masses}, "fractions above -1 (a mismatch of -100 % or less leaves nothing)")
+        raise ArgumentError(
+            "mismatch",
+            {"friction": friction, "masses": masses},
+            "fractions above -1 (a mismatch of -100 % or less leaves nothing)",
+        )
     f, m = 1.0 + friction, 1.0 + masses
     fr = params.friction
     return params.replace(
         **{name: getattr(fr, name) * f for name in FRICTION_COEFFICIENTS},
-        platform_mass=params.platform_mass * m, platform_inertia=params.platform_inertia * m,
-        lever_mass=params.lever_mass * m, lever_inertia=params.lever_inertia * m,
-        slider_mass=params.slider_mass * m, screw_inertia=params.screw_inertia * m,
+        platform_mass=params.platform_mass * m,
+        platform_inertia=params.platform_inertia * m,
+        lever_mass=params.lever_mass * m,
+        lever_inertia=params.lever_inertia * m,
+        slider_mass=params.slider_mass * m,
+        screw_inertia=params.screw_inertia * m,
     )

@@ -69,7 +69,6 @@ def axial_screw_load(run: Run) -> np.ndarray:
     return angle_from_travel(torques.total - torques.screws - screw_friction, params.lead)
 
 
-
 # ---------------------------------------------------------------------------
 # The machine seen from the screw shafts
 
@@ -152,8 +151,14 @@ def screw_side(run: Run, cycles: float = 1.0, load_inertia: bool = True) -> Scre
     scale = radians_per_travel(run.params.lead)
     zero = lambda x: np.where(ok[:, None], x, 0.0)  # noqa: E731 - flagged samples carry NaN
     return ScrewSide(
-        run, float(cycles), weights, zero(run.torques.motor_speed), zero(scale * run.Ldd[:, 0]), zero(run.torques.total),
-        zero(axial_screw_load(run)), inertia,
+        run,
+        float(cycles),
+        weights,
+        zero(run.torques.motor_speed),
+        zero(scale * run.Ldd[:, 0]),
+        zero(run.torques.total),
+        zero(axial_screw_load(run)),
+        inertia,
     )
 
 
@@ -187,4 +192,3 @@ def motor_duty(side: ScrewSide, drive: Drive | None) -> Duty:
     speed = i * side.speed
     torque = through + (rotor + gearbox.inertia) * i * side.acceleration
     return Duty(side, drive, speed, torque, torque * speed)
-

@@ -20,8 +20,8 @@ reruns of the model.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 
@@ -29,7 +29,15 @@ from ..motion.trajectories import Trajectory
 from ..physics.units import RAD_S_PER_RPM, RPM_PER_RAD_S
 from ..results import Run
 
-__all__ = ["Crossing", "Limits", "DEFAULT_COND_INV_FLOOR", "DEFAULT_LOAD_RANGE", "check_feasibility", "fitting_speed", "time_scaled"]
+__all__ = [
+    "Crossing",
+    "Limits",
+    "DEFAULT_COND_INV_FLOOR",
+    "DEFAULT_LOAD_RANGE",
+    "check_feasibility",
+    "fitting_speed",
+    "time_scaled",
+]
 
 #: Below this inverse condition number of J a pose is too close to a singularity to run (forces amplified 20×).
 DEFAULT_COND_INV_FLOOR = 0.05
@@ -77,7 +85,7 @@ class Limits:
     load_range: tuple[float, float] = DEFAULT_LOAD_RANGE
 
     @classmethod
-    def from_machine(cls, params, drive=None, **overrides) -> "Limits":
+    def from_machine(cls, params, drive=None, **overrides) -> Limits:
         """The limits a parameter set's ``[motor]`` table and a drive (:class:`hipsim.machine.drive.Drive`) give.
 
         The drive's figures win over the parameter file's: its motor's top speed
@@ -191,7 +199,9 @@ def check_feasibility(run: Run, limits: Limits) -> list[Crossing]:
                 _ceiling(crossings, "motor_torque", t, tau, torque, i + 1)
     below = run.cond_inv < limits.cond_inv_floor
     if below.any():
-        crossings.append(Crossing("cond_inv", None, _first(t, below), float(np.nanmin(run.cond_inv)), limits.cond_inv_floor))
+        crossings.append(
+            Crossing("cond_inv", None, _first(t, below), float(np.nanmin(run.cond_inv)), limits.cond_inv_floor)
+        )
     low, high = limits.load_range
     Fe = run.trajectory.Fe
     if (Fe > high).any():
@@ -204,12 +214,20 @@ def check_feasibility(run: Run, limits: Limits) -> list[Crossing]:
 def time_scaled(trajectory: Trajectory, k: float) -> Trajectory:
     """The same motion and load at k times the speed: t/k, q̇·k, q̈·k²; k > 0."""
     return Trajectory(
-        trajectory.t / k, trajectory.q, trajectory.qd * k, trajectory.qdd * k * k, trajectory.Fe,
-        f"{trajectory.name} at {k:.4g}× speed", trajectory.periodic, trajectory.lines,
+        trajectory.t / k,
+        trajectory.q,
+        trajectory.qd * k,
+        trajectory.qdd * k * k,
+        trajectory.Fe,
+        f"{trajectory.name} at {k:.4g}× speed",
+        trajectory.periodic,
+        trajectory.lines,
     )
 
 
-def fitting_speed(run_at: Callable[[Trajectory], Run], trajectory: Trajectory, limits: Limits, tolerance: float = 1e-3) -> float | None:
+def fitting_speed(
+    run_at: Callable[[Trajectory], Run], trajectory: Trajectory, limits: Limits, tolerance: float = 1e-3
+) -> float | None:
     """The largest speed factor k in (0, 1] at which the protocol crosses no limit.
 
     Args:

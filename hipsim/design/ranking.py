@@ -16,8 +16,9 @@ margin of all checks instead, largest first, as before.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any, Callable, Sequence
+from typing import Any
 
 from ..analysis.runs import analyse
 from ..machine.drive_parts import Drive, Gearbox, LeadScrew, Motor, SizingRules
@@ -125,7 +126,9 @@ class Candidate:
             "checks": [c.as_dict() for c in self.checks],
             "rated_power_W": power,
             "rated_power_source": source,
-            "rotor_inertia_kgcm2": None if self.drive.motor.rotor_inertia is None else self.drive.motor.rotor_inertia * 1e4,
+            "rotor_inertia_kgcm2": None
+            if self.drive.motor.rotor_inertia is None
+            else self.drive.motor.rotor_inertia * 1e4,
             "cost": self.drive.motor.cost,
             "motor_binding": None if motor_binding is None else motor_binding.as_dict(),
             "first_failure": None if failure is None else failure.as_dict(),
@@ -179,7 +182,10 @@ def rank_drives(
         sides = []
         for trajectory, cycles in trajectories:
             if progress is not None:
-                progress(f"{trajectory.name}, lead {machine.lead * 1e3:g} mm" + (f" ({screw.name})" if screw is not None else ""))
+                progress(
+                    f"{trajectory.name}, lead {machine.lead * 1e3:g} mm"
+                    + (f" ({screw.name})" if screw is not None else "")
+                )
             sides.append(screw_side(analyse(machine, trajectory), cycles))
         for motor, amplifier in motors:
             for gearbox in gearboxes if gearboxes is not None else [None]:

@@ -33,8 +33,9 @@ def weighted_mean(values: np.ndarray, weights: np.ndarray) -> np.ndarray:
     return np.sum(values * weights, axis=0) / np.sum(weights, axis=0)
 
 
-
-def winding_rise(heating: np.ndarray, weights: np.ndarray, time_constant: float | None) -> tuple[np.ndarray, np.ndarray]:
+def winding_rise(
+    heating: np.ndarray, weights: np.ndarray, time_constant: float | None
+) -> tuple[np.ndarray, np.ndarray]:
     """Mean and peak winding temperature rise of a first-order thermal model under a repeated cycle.
 
     dΔT/dt = (H(t) − ΔT)/τ_th with H = R_th·P_cu(t) the rise each instant's loss
@@ -66,7 +67,9 @@ def winding_rise(heating: np.ndarray, weights: np.ndarray, time_constant: float 
     return mean, peak
 
 
-def screw_life(axial_load: np.ndarray, speed: np.ndarray, weights: np.ndarray, rating: float, preload: float = 0.0) -> tuple[float, float]:
+def screw_life(
+    axial_load: np.ndarray, speed: np.ndarray, weights: np.ndarray, rating: float, preload: float = 0.0
+) -> tuple[float, float]:
     """L10 life of a ball screw in revolutions, and its equivalent load, per ISO 3408-5.
 
     Each nut half (or, without preload, each flank direction) carries
@@ -117,4 +120,3 @@ def buckling_load(screw: LeadScrew) -> float:
     """Euler buckling load of the screw in [N]: m·π²·E·I/l², I = π·d₂⁴/64, m from the end fixing."""
     m = END_FIXINGS[screw.end_fixing][1]
     return m * math.pi**2 * STEEL_MODULUS * math.pi * screw.root_diameter**4 / 64.0 / screw.free_length**2
-

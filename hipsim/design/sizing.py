@@ -28,7 +28,15 @@ from ..results import Run, peak_and_rms
 from .checks import CHECKS, Check, binding_check, drive_checks
 from .demand import Duty, ScrewSide, axial_screw_load, motor_duty, motor_thrust, reflected_inertia, screw_side
 from .ranking import Candidate, rank_drives
-from .ratings import STEEL_DENSITY, STEEL_MODULUS, buckling_load, critical_speed, screw_life, weighted_mean, winding_rise
+from .ratings import (
+    STEEL_DENSITY,
+    STEEL_MODULUS,
+    buckling_load,
+    critical_speed,
+    screw_life,
+    weighted_mean,
+    winding_rise,
+)
 
 __all__ = [
     "CHECKS",
@@ -148,7 +156,6 @@ class Sizing:
         }
 
 
-
 #: The one-sided 95 % quantile of the normal distribution: a margin passes with 95 % confidence when it exceeds this many of its standard deviations.
 Z95_ONE_SIDED = 1.6448536269514722
 
@@ -181,18 +188,28 @@ class MarginBand:
 
     def as_dict(self) -> dict[str, Any]:
         interval = self.interval
-        return {"module": self.check.module, "name": self.check.name, "margin": self.check.margin, "margin_std": self.std,
-                "margin_lo95": None if interval is None else interval[0], "margin_hi95": None if interval is None else interval[1],
-                "passes_with_95_confidence": self.confident}
+        return {
+            "module": self.check.module,
+            "name": self.check.name,
+            "margin": self.check.margin,
+            "margin_std": self.std,
+            "margin_lo95": None if interval is None else interval[0],
+            "margin_hi95": None if interval is None else interval[1],
+            "passes_with_95_confidence": self.confident,
+        }
 
 
-def margin_bands(nominal: Sizing, spread: "list[Sizing]") -> tuple[MarginBand, ...]:
+def margin_bands(nominal: Sizing, spread: list[Sizing]) -> tuple[MarginBand, ...]:
     """Each check's margin band from the sizing of the identified machine and of machines one standard deviation away
     along each principal direction of its covariance (:func:`hipsim.rig.uncertainty.sigma_machines`): var = Σ_k (m_k − m_0)²."""
     out = []
     for j, check in enumerate(nominal.checks):
         others = [s.checks[j].margin for s in spread]
-        if check.margin is None or not math.isfinite(check.margin) or any(m is None or not math.isfinite(m) for m in others):
+        if (
+            check.margin is None
+            or not math.isfinite(check.margin)
+            or any(m is None or not math.isfinite(m) for m in others)
+        ):
             out.append(MarginBand(check, None))
             continue
         out.append(MarginBand(check, float(math.sqrt(sum((m - check.margin) ** 2 for m in others)))))
@@ -205,11 +222,21 @@ def _drive_dict(drive: Drive) -> dict[str, Any]:
             return None
         out = {}
         for key, value in vars(x).items():
-            out[key] = {"speed_rad_s": value.speed.tolist(), "torque_Nm": value.torque.tolist()} if hasattr(value, "speed") else value
+            out[key] = (
+                {"speed_rad_s": value.speed.tolist(), "torque_Nm": value.torque.tolist()}
+                if hasattr(value, "speed")
+                else value
+            )
         return out
 
-    return {"name": drive.name, "source": drive.source, "motor": plain(drive.motor), "amplifier": plain(drive.amplifier),
-            "gearbox": plain(drive.gearbox), "screw": plain(drive.screw)}
+    return {
+        "name": drive.name,
+        "source": drive.source,
+        "motor": plain(drive.motor),
+        "amplifier": plain(drive.amplifier),
+        "gearbox": plain(drive.gearbox),
+        "screw": plain(drive.screw),
+    }
 
 
 def sizing(run: Run, drive: Drive | None = None, rules: SizingRules | None = None, cycles: float = 1.0) -> Sizing:
@@ -269,8 +296,9 @@ def sizing(run: Run, drive: Drive | None = None, rules: SizingRules | None = Non
         Fa_peak, Fa_rms = peak_and_rms(run.joint_forces.Fa[ok])
         Fo_peak, Fo_rms = peak_and_rms(run.joint_forces.Fo[ok])
         joints = tuple(
-            JointSizing(f"a_{j + 1}{i + 1}", float(Fa_peak[j, i]), float(Fa_rms[j, i])) for j in range(2) for i in range(3)
+            JointSizing(f"a_{j + 1}{i + 1}", float(Fa_peak[j, i]), float(Fa_rms[j, i]))
+            for j in range(2)
+            for i in range(3)
         ) + tuple(JointSizing(f"o_{j + 1}", float(Fo_peak[j]), float(Fo_rms[j])) for j in range(2))
     checks = tuple(drive_checks(side, drive, rules)) if drive is not None else ()
     return Sizing(modules, joints, checks, drive, rules, motor_duty(side, drive))
-

@@ -27,13 +27,15 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Callable, Iterator, Sequence
+from typing import Any
 
 import numpy as np
 
 from ..analysis.cluster import map_batches
 from ..analysis.registry import engine_entry, engine_names
+from ..analysis.runs import analyse
 from ..exceptions import ArgumentError, ClosureError, ParameterError, PoseError
 from ..fingerprint import part_fingerprints
 from ..machine.drive import Drive, drive_from_motor_table
@@ -41,7 +43,6 @@ from ..machine.parameters import Parameters, file_values, override_parameters
 from ..motion.trajectories import Trajectory
 from ..physics.units import RPM_PER_RAD_S
 from ..results import peak_and_rms
-from ..analysis.runs import analyse
 from .checks import drive_checks
 from .demand import screw_side
 from .ranking import Candidate
@@ -67,7 +68,13 @@ STATUSES = ("ok", "cannot_assemble", "out_of_workspace")
 #: Columns holding text; every other column is a number (NaN where there is none).
 TEXT_COLUMNS = ("status", "reason", "rating", "binding")
 #: The objectives the summary names the best variant of, and whether larger is better.
-OBJECTIVES = {"tau_peak_max_Nmm": False, "tau_rms_max_Nmm": False, "speed_peak_max_rpm": False, "stroke_max_mm": False, "cond_inv_min": True}
+OBJECTIVES = {
+    "tau_peak_max_Nmm": False,
+    "tau_rms_max_Nmm": False,
+    "speed_peak_max_rpm": False,
+    "stroke_max_mm": False,
+    "cond_inv_min": True,
+}
 
 
 @dataclass(frozen=True, eq=False)
@@ -102,7 +109,11 @@ class SweepSetup:
         if screw is not None and screw.lead is not None:
             swept = [k.name for k in self.keys if k.dotted in ("screw.lead_mm", "screw.inertia_kgmm2")]
             if swept:
-                raise ArgumentError("keys", swept, f"no screw key: the drive ({self.drive.source}) names its screw's lead, which is the machine's")
+                raise ArgumentError(
+                    "keys",
+                    swept,
+                    f"no screw key: the drive ({self.drive.source}) names its screw's lead, which is the machine's",
+                )
         # A list key's other numbers stay the base machine's: keep the whole lists once, in the file's units.
         listed = [k.dotted for k in self.keys if k.index is not None]
         values = file_values(self.base) if listed else {}
@@ -122,14 +133,16 @@ class SweepSetup:
         the test cycles and the swept keys.
         """
         t = self.trajectory
-        return part_fingerprints({
-            "parameters": self.base,
-            "trajectory": {"t": t.t, "q": t.q, "qd": t.qd, "qdd": t.qdd, "Fe": t.Fe, "periodic": bool(t.periodic)},
-            "model": self.model,
-            "drive": self.drive,
-            "cycles": self.cycles,
-            "keys": [k.name for k in self.keys],
-        })  # fmt: skip
+        return part_fingerprints(
+            {
+                "parameters": self.base,
+                "trajectory": {"t": t.t, "q": t.q, "qd": t.qd, "qdd": t.qdd, "Fe": t.Fe, "periodic": bool(t.periodic)},
+                "model": self.model,
+                "drive": self.drive,
+                "cycles": self.cycles,
+                "keys": [k.name for k in self.keys],
+            }
+        )
 
     def overrides(self, values: Sequence[float]) -> dict[str, Any]:
         """One variant's values as parameter overrides (a list key gets its whole list, one number changed)."""
@@ -150,7 +163,12 @@ def metric_columns(joint_forces: bool = False) -> list[str]:
         names += [f"{quantity}_{i}_{unit}" for i in (1, 2, 3)] + [f"{quantity}_max_{unit}"]
     names += [f"stroke_{j}{i}_mm" for j in (1, 2) for i in (1, 2, 3)] + ["stroke_max_mm", "cond_inv_min"]
     if joint_forces:
-        names += [f"Fa_{j}{i}_peak_N" for j in (1, 2) for i in (1, 2, 3)] + ["Fo_1_peak_N", "Fo_2_peak_N", "Fa_peak_max_N", "Fo_peak_max_N"]
+        names += [f"Fa_{j}{i}_peak_N" for j in (1, 2) for i in (1, 2, 3)] + [
+            "Fo_1_peak_N",
+            "Fo_2_peak_N",
+            "Fa_peak_max_N",
+            "Fo_peak_max_N",
+        ]
     return names + ["rating", "margin", "binding"]
 
 
@@ -178,7 +196,9 @@ def evaluate(setup: SweepSetup, values: Sequence[float]) -> dict[str, Any]:
     try:
         params = override_parameters(setup.base, setup.overrides(values), overrides_source="variant")
         drive = _drive(setup, params)
-        if drive is not None and drive.screw is not None:  # the drive's screw, when it names one, is the machine's (as hipsim size)
+        if (
+            drive is not None and drive.screw is not None
+        ):  # the drive's screw, when it names one, is the machine's (as hipsim size)
             screw = {"lead": drive.screw.lead, "screw_inertia": drive.screw.inertia}
             params = params.replace(**{k: v for k, v in screw.items() if v is not None})
     except ParameterError as error:
@@ -189,10 +209,16 @@ def evaluate(setup: SweepSetup, values: Sequence[float]) -> dict[str, Any]:
         return row | {"status": "out_of_workspace", "reason": _reason(error)}
     row["status"] = "ok"
     # The same reductions as Run.summary, so a variant equal to the base gives its numbers to the last bit.
-    ok = ~run.flagged  # none are (the run raises instead); indexing copies as Run.summary's does, so the sums round alike
+    ok = (
+        ~run.flagged
+    )  # none are (the run raises instead); indexing copies as Run.summary's does, so the sums round alike
     tau_peak, tau_rms = peak_and_rms(run.torques.total[ok] * 1e3)
     speed_peak, _ = peak_and_rms(run.torques.motor_speed[ok] * RPM_PER_RAD_S)
-    for quantity, unit, numbers in (("tau_peak", "Nmm", tau_peak), ("tau_rms", "Nmm", tau_rms), ("speed_peak", "rpm", speed_peak)):
+    for quantity, unit, numbers in (
+        ("tau_peak", "Nmm", tau_peak),
+        ("tau_rms", "Nmm", tau_rms),
+        ("speed_peak", "rpm", speed_peak),
+    ):
         for i in range(3):
             row[f"{quantity}_{i + 1}_{unit}"] = float(numbers[i])
         row[f"{quantity}_max_{unit}"] = float(numbers.max())
@@ -246,7 +272,9 @@ def evaluate_batch(batch: tuple[np.ndarray, np.ndarray], setup: SweepSetup) -> l
     return [(int(index), evaluate(setup, row)) for index, row in zip(indices, values)]
 
 
-def batches(variants: Variants, indices: Sequence[int] | None = None, size: int = 100) -> list[tuple[np.ndarray, np.ndarray]]:
+def batches(
+    variants: Variants, indices: Sequence[int] | None = None, size: int = 100
+) -> list[tuple[np.ndarray, np.ndarray]]:
     """The variants (or those at ``indices``) in batches of at most ``size``: (indices, values) pairs."""
     if size < 1:
         raise ArgumentError("size", size, "at least 1 variant a batch")
@@ -328,7 +356,11 @@ def parse_objective(text: str, columns: Sequence[str] | None = None) -> tuple[st
     name = text.lstrip("+-").strip()
     if not name or name in TEXT_COLUMNS or (columns is not None and name not in columns):
         known = [c for c in (columns or []) if c not in TEXT_COLUMNS]
-        raise ArgumentError("objective", text, "a numeric column" + (f" ({', '.join(known)})" if known else "") + ", with a leading - to maximise it")
+        raise ArgumentError(
+            "objective",
+            text,
+            "a numeric column" + (f" ({', '.join(known)})" if known else "") + ", with a leading - to maximise it",
+        )
     return name, maximise
 
 

@@ -15,8 +15,8 @@ width range / m, so only the outermost one counts).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Sequence
 
 import numpy as np
 
@@ -45,8 +45,15 @@ class Edge:
     suggestion: tuple[float, float]
 
     def as_dict(self) -> dict:
-        return {"key": self.key, "side": self.side, "value": self.value, "low": self.low, "high": self.high,
-                "step": self.step, "suggestion": list(self.suggestion)}  # fmt: skip
+        return {
+            "key": self.key,
+            "side": self.side,
+            "value": self.value,
+            "low": self.low,
+            "high": self.high,
+            "step": self.step,
+            "suggestion": list(self.suggestion),
+        }
 
 
 def _step(distinct: np.ndarray) -> float | None:

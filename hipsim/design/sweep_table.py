@@ -14,8 +14,9 @@ JSON), in a CSV file as its first line, a comment ``# hipsim sweep: {JSON}``
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any, Mapping, Sequence
+from typing import Any
 
 from ..result_table import FORMATS, ResultTable
 from .sweep import TEXT_COLUMNS
@@ -29,7 +30,7 @@ CSV_METADATA = SWEEP_TABLE.csv_metadata
 
 
 def table_format(path: str | Path) -> str:
-    """"parquet" or "csv" from the file's suffix.
+    """ "parquet" or "csv" from the file's suffix.
 
     Raises:
         OutputError: any other suffix.
@@ -37,7 +38,9 @@ def table_format(path: str | Path) -> str:
     return SWEEP_TABLE.format(path)
 
 
-def write_table(path: str | Path, columns: Mapping[str, Sequence[Any]], metadata: Mapping[str, Any] | None = None) -> Path:
+def write_table(
+    path: str | Path, columns: Mapping[str, Sequence[Any]], metadata: Mapping[str, Any] | None = None
+) -> Path:
     """Write the rows atomically; ``metadata`` goes into a Parquet file's key-value metadata (``hipsim``, as JSON).
 
     Args:

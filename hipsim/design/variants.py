@@ -19,9 +19,9 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Mapping, Sequence
 
 import numpy as np
 
@@ -75,7 +75,11 @@ def key_ref(name: str, source: str = "sweep") -> KeyRef:
     """
     match = re.fullmatch(r"\s*([^\[\]\s]+)\s*(?:\[\s*(\d+)\s*\])?\s*", name)
     if not match:
-        raise ParameterError("expected section.key or section.key[i], e.g. lever.length_mm or platform.heights_mm[2]", key=name, source=source)
+        raise ParameterError(
+            "expected section.key or section.key[i], e.g. lever.length_mm or platform.heights_mm[2]",
+            key=name,
+            source=source,
+        )
     dotted, index = match.group(1), match.group(2)
     section, key = check_key(dotted, source)
     spec = SCHEMA[section][key]
@@ -85,11 +89,17 @@ def key_ref(name: str, source: str = "sweep") -> KeyRef:
         return KeyRef(f"{dotted}", dotted)
     if spec.kind == "vector":
         if index is None:
-            raise ParameterError(f"is a list of {spec.length} numbers: sweep one at a time, e.g. {dotted}[1]", key=name, source=source)
+            raise ParameterError(
+                f"is a list of {spec.length} numbers: sweep one at a time, e.g. {dotted}[1]", key=name, source=source
+            )
         if not 1 <= int(index) <= spec.length:
-            raise ParameterError(f"index {index} is out of the list of {spec.length} numbers (counted from 1)", key=name, source=source)
+            raise ParameterError(
+                f"index {index} is out of the list of {spec.length} numbers (counted from 1)", key=name, source=source
+            )
         return KeyRef(f"{dotted}[{int(index)}]", dotted, int(index) - 1)
-    raise ParameterError(f"cannot be swept (a {spec.kind}); a sweep varies numbers and numbers of lists", key=name, source=source)
+    raise ParameterError(
+        f"cannot be swept (a {spec.kind}); a sweep varies numbers and numbers of lists", key=name, source=source
+    )
 
 
 @dataclass(frozen=True, eq=False)
@@ -105,7 +115,9 @@ class Variants:
     values: np.ndarray
 
     def __post_init__(self):
-        values = readonly(np.asarray(self.values, dtype=float).reshape(-1, len(self.keys)) if self.keys else np.zeros((0, 0)))
+        values = readonly(
+            np.asarray(self.values, dtype=float).reshape(-1, len(self.keys)) if self.keys else np.zeros((0, 0))
+        )
         names = [k.name for k in self.keys]
         if len(set(names)) != len(names):
             raise ArgumentError("keys", names, "each key once")
@@ -151,7 +163,9 @@ def grid(axes: Mapping[str | KeyRef, tuple[float, float, float]]) -> Variants:
     for name, (start, stop, step) in axes.items():
         key = name if isinstance(name, KeyRef) else key_ref(name)
         if not all(map(math.isfinite, (start, stop, step))) or step <= 0 or stop < start:
-            raise ArgumentError(key.name, f"{start:g}:{stop:g}:{step:g}", "START:STOP:STEP with STOP >= START and STEP > 0")
+            raise ArgumentError(
+                key.name, f"{start:g}:{stop:g}:{step:g}", "START:STOP:STEP with STOP >= START and STEP > 0"
+            )
         n = math.floor((stop - start) / step + 1e-9) + 1
         _count(n)
         keys.append(key)
@@ -248,7 +262,9 @@ def parse_axis(text: str, option: str, parts: int) -> tuple[str, list[float]]:
     except ValueError:
         values = []
     if not equals or not key.strip() or len(values) != parts or not all(map(math.isfinite, values)):
-        raise ArgumentError(option, text, f"{shape}, e.g. lever.length_mm=" + ("300:360:5" if parts == 3 else "300:360"))
+        raise ArgumentError(
+            option, text, f"{shape}, e.g. lever.length_mm=" + ("300:360:5" if parts == 3 else "300:360")
+        )
     return key.strip(), values
 
 
@@ -263,7 +279,7 @@ def parse_tolerance(text: str, option: str = "--tolerance") -> tuple[str, tuple[
     kind = "normal"
     for prefix in ("±", "+-", "+/-"):
         if spread.startswith(prefix):
-            kind, spread = "uniform", spread[len(prefix):]
+            kind, spread = "uniform", spread[len(prefix) :]
             break
     try:
         width = float(spread)

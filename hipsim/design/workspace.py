@@ -42,9 +42,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..analytic.inverse_kinematics import (
+    SINGULAR_COND_INV,
+    inverse_condition_number,
+    kinematics,
+    singularity_crossings,
+    slider_jacobian,
+)
 from ..analytic.virtual_work import inverse_dynamics
-from ..exceptions import ArgumentError, HipsimError
-from ..analytic.inverse_kinematics import SINGULAR_COND_INV, inverse_condition_number, kinematics, singularity_crossings, slider_jacobian
+from ..exceptions import ArgumentError
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 
@@ -268,7 +274,9 @@ def singularity_map(
     margin = trajectory_margin(params, trajectory) if trajectory is not None else None
     times = np.asarray(trajectory.t) if trajectory is not None else None
     path = np.degrees(trajectory.q) if trajectory is not None else None
-    return SingularityMap(alpha, beta, gamma, cond_inv, math.degrees(params.home_offset), params.source, margin, times, path)
+    return SingularityMap(
+        alpha, beta, gamma, cond_inv, math.degrees(params.home_offset), params.source, margin, times, path
+    )
 
 
 #: Most values one grid axis may have (a typo such as a step of 1e-9 would ask for billions).
@@ -353,8 +361,14 @@ class OffsetSweep:
                 "singularity_crossings": int(x),
             }
             for d, c, t, m, s, o, g, x in zip(
-                self.deltas_deg, self.cond_inv_min, self.tau_peak_Nmm, self.tau_peak_motor,
-                self.stroke_max_mm, self.out_of_reach, self.singular, self.crossings,
+                self.deltas_deg,
+                self.cond_inv_min,
+                self.tau_peak_Nmm,
+                self.tau_peak_motor,
+                self.stroke_max_mm,
+                self.out_of_reach,
+                self.singular,
+                self.crossings,
             )
         ]
 
@@ -412,7 +426,16 @@ def offset_sweep(
     for array in (deltas, cond_min, tau_peak, motor, stroke, out_of_reach, singular, crossings):
         array.setflags(write=False)
     return OffsetSweep(
-        deltas, cond_min, tau_peak, motor, stroke, out_of_reach, singular, crossings, trajectory.name, math.degrees(params.home_offset)
+        deltas,
+        cond_min,
+        tau_peak,
+        motor,
+        stroke,
+        out_of_reach,
+        singular,
+        crossings,
+        trajectory.name,
+        math.degrees(params.home_offset),
     )
 
 
@@ -420,8 +443,5 @@ def offset_sweep(
 # Figures
 
 
-
 # ---------------------------------------------------------------------------
 # The command
-
-

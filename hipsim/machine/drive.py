@@ -22,8 +22,9 @@ are in :mod:`hipsim.machine.drive_fields`.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
-from typing import Any, Mapping, NoReturn
+from typing import Any, NoReturn
 
 from ..exceptions import ParameterError
 from .drive_catalogues import load_gearbox_catalogue, load_motor_catalogue, load_screw_catalogue
@@ -111,14 +112,15 @@ def load_drive(path: str | Path) -> Drive:
     if s or module:
         for key in module:
             if key in s:
-                fail(f"given in [motor] and in [lead_screw]", s_names[key])
+                fail("given in [motor] and in [lead_screw]", s_names[key])
         s = s | module
-        screw = LeadScrew(**{FIELDS["lead_screw"][k].attribute: v for k, v in s.items() if k != "name"}, name=s.get("name", "lead screw"))
+        screw = LeadScrew(
+            **{FIELDS["lead_screw"][k].attribute: v for k, v in s.items() if k != "name"},
+            name=s.get("name", "lead screw"),
+        )
     r, _ = read("rules", ("rules",))
     rules = SizingRules(**{FIELDS["rules"][k].attribute: v for k, v in r.items()})
     return Drive(motor, amplifier, gearbox, screw, rules, source)
-
-
 
 
 def drive_from_motor_table(table: Mapping[str, float], source: str) -> Drive:
@@ -138,4 +140,3 @@ def drive_from_motor_table(table: Mapping[str, float], source: str) -> Drive:
     motor, amplifier, module = motor_parts(values, names, fail, default_name="motor of the parameter file")
     screw = LeadScrew(name="lead screw of the parameter file", **module) if module else None
     return Drive(motor, amplifier, None, screw, SizingRules(), source)
-

@@ -16,7 +16,17 @@ from typing import NoReturn
 
 from ..exceptions import CatalogueError
 from ..tables import cells, data_lines, detect_separator, number, read_text
-from .drive_fields import FIELDS, MOTOR_CATALOGUE, REQUIRED_COLUMNS, Fail, Field, checked_value, field_lookup, gearbox_from, motor_parts
+from .drive_fields import (
+    FIELDS,
+    MOTOR_CATALOGUE,
+    REQUIRED_COLUMNS,
+    Fail,
+    Field,
+    checked_value,
+    field_lookup,
+    gearbox_from,
+    motor_parts,
+)
 from .drive_parts import Amplifier, Gearbox, LeadScrew, Motor
 
 __all__ = ["MAX_NAME", "load_gearbox_catalogue", "load_motor_catalogue", "load_screw_catalogue"]
@@ -25,7 +35,9 @@ __all__ = ["MAX_NAME", "load_gearbox_catalogue", "load_motor_catalogue", "load_s
 MAX_NAME = 200
 
 
-def _read_catalogue(path: str | Path, tables: tuple[str, ...], required: tuple[str, ...], what: str, exclude: tuple[str, ...] = ()):
+def _read_catalogue(
+    path: str | Path, tables: tuple[str, ...], required: tuple[str, ...], what: str, exclude: tuple[str, ...] = ()
+):
     """Rows of a catalogue as (line number, values by base name, column names by base name, fail)."""
     source = str(path)
     text = read_text(path, what, CatalogueError, not_text="not a UTF-8 text file")
@@ -67,10 +79,14 @@ def _read_catalogue(path: str | Path, tables: tuple[str, ...], required: tuple[s
                 if base in required:
                     fail("empty, but this column is required", column)
                 continue
-            values[base] = checked_value(spec, factor, _parse_cell(cell, spec, column, fail, decimal_comma), column, fail)
+            values[base] = checked_value(
+                spec, factor, _parse_cell(cell, spec, column, fail, decimal_comma), column, fail
+            )
         rows.append((line_number, values, names, fail))
     if header is None or not rows:
-        raise CatalogueError(f"no entries (expected a header line and one {what.split()[0]} a line)", source, header_line or None)
+        raise CatalogueError(
+            f"no entries (expected a header line and one {what.split()[0]} a line)", source, header_line or None
+        )
     seen: dict[str, int] = {}
     for line_number, values, names, fail in rows:
         if values["name"] in seen:
@@ -114,7 +130,9 @@ def load_motor_catalogue(path: str | Path) -> list[tuple[Motor, Amplifier | None
     out = []
     # A catalogue line gives whole curves: no scalar rated torque; the module ratings belong to the screws.
     exclude = ("rated_torque", "stroke", "axial_force")
-    for number, values, names, fail in _read_catalogue(path, MOTOR_CATALOGUE, REQUIRED_COLUMNS["motor"], "motor catalogue", exclude):
+    for number, values, names, fail in _read_catalogue(
+        path, MOTOR_CATALOGUE, REQUIRED_COLUMNS["motor"], "motor catalogue", exclude
+    ):
         motor, amplifier, _ = motor_parts(values, names, fail, default_name="")
         out.append((motor, amplifier))
     return out
@@ -128,7 +146,10 @@ def load_screw_catalogue(path: str | Path) -> list[LeadScrew]:
         CatalogueError: one line naming the file, line and column.
     """
     rows = _read_catalogue(path, ("lead_screw",), REQUIRED_COLUMNS["lead_screw"], "screw catalogue")
-    return [LeadScrew(name=v["name"], **{FIELDS["lead_screw"][k].attribute: x for k, x in v.items() if k != "name"}) for _, v, _, _ in rows]
+    return [
+        LeadScrew(name=v["name"], **{FIELDS["lead_screw"][k].attribute: x for k, x in v.items() if k != "name"})
+        for _, v, _, _ in rows
+    ]
 
 
 def load_gearbox_catalogue(path: str | Path) -> list[Gearbox]:

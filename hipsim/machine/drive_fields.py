@@ -7,8 +7,9 @@ One table of fields (:data:`FIELDS`) serves the drive file (TOML,
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Callable, NoReturn
+from typing import Any, NoReturn
 
 import numpy as np
 
@@ -51,19 +52,27 @@ _INERTIA = {"kgcm2": 1e-4, "kgmm2": 1e-6}
 FIELDS: dict[str, dict[str, Field]] = {
     "motor": {
         "name": Field("name", {"": 1.0}, "the motor's name", "text"),
-        "s1_speed": Field("s1_speed", {"rpm": RAD_S_PER_RPM}, "speeds of the S1 (continuous) curve", "list", "nonnegative"),
+        "s1_speed": Field(
+            "s1_speed", {"rpm": RAD_S_PER_RPM}, "speeds of the S1 (continuous) curve", "list", "nonnegative"
+        ),
         "s1_torque": Field("s1_torque", _TORQUE, "torques of the S1 curve (one value: flat)", "list", "nonnegative"),
         "peak_speed": Field("peak_speed", {"rpm": RAD_S_PER_RPM}, "speeds of the peak curve", "list", "nonnegative"),
-        "peak_torque": Field("peak_torque", _TORQUE, "torques of the peak curve (one value: flat)", "list", "nonnegative"),
+        "peak_torque": Field(
+            "peak_torque", _TORQUE, "torques of the peak curve (one value: flat)", "list", "nonnegative"
+        ),
         "rated_torque": Field("rated_torque", _TORQUE, "rated (continuous) torque: a flat S1 curve"),
         "max_speed": Field("max_speed", {"rpm": RAD_S_PER_RPM}, "highest permitted speed"),
         "rotor_inertia": Field("rotor_inertia", _INERTIA, "rotor inertia J_m"),
         "torque_constant": Field("torque_constant", {"Nm_A": 1.0}, "torque constant k_t"),
         "winding_resistance": Field("winding_resistance", {"ohm": 1.0}, "phase-to-phase winding resistance"),
-        "thermal_time_constant": Field("thermal_time_constant", {"s": 1.0, "min": 60.0}, "winding thermal time constant"),
+        "thermal_time_constant": Field(
+            "thermal_time_constant", {"s": 1.0, "min": 60.0}, "winding thermal time constant"
+        ),
         "thermal_resistance": Field("thermal_resistance", {"K_W": 1.0}, "winding-to-ambient thermal resistance"),
         "rated_power": Field("rated_power", {"W": 1.0, "kW": 1e3}, "rated power (ranks a catalogue)"),
-        "cost": Field("cost", {"": 1.0}, "price or any cost figure (breaks ties in a ranked catalogue)", bound="nonnegative"),
+        "cost": Field(
+            "cost", {"": 1.0}, "price or any cost figure (breaks ties in a ranked catalogue)", bound="nonnegative"
+        ),
         # The module ratings of the parameter file's [motor] table; they belong to the screw.
         "stroke": Field("stroke", {"mm": 1e-3}, "usable stroke of the linear module"),
         "axial_force": Field("axial_force", {"N": 1.0}, "permissible axial screw load"),
@@ -98,8 +107,12 @@ FIELDS: dict[str, dict[str, Field]] = {
         "life_target": Field("life_target_cycles", {"cycles": 1.0}, "screw L10 life to reach"),
         "winding_rise_max": Field("winding_rise_max", {"K": 1.0}, "largest winding temperature rise"),
         "rated_winding_rise": Field("rated_winding_rise", {"K": 1.0}, "rise at which the S1 stall torque is rated"),
-        "critical_speed_factor": Field("critical_speed_factor", {"": 1.0}, "fraction of the critical speed allowed", bound="fraction"),
-        "buckling_factor": Field("buckling_factor", {"": 1.0}, "fraction of the buckling load allowed", bound="fraction"),
+        "critical_speed_factor": Field(
+            "critical_speed_factor", {"": 1.0}, "fraction of the critical speed allowed", bound="fraction"
+        ),
+        "buckling_factor": Field(
+            "buckling_factor", {"": 1.0}, "fraction of the buckling load allowed", bound="fraction"
+        ),
     },
 }
 
@@ -168,7 +181,9 @@ def checked_value(spec: Field, factor: float, raw: Any, name: str, fail: Fail):
     return values if spec.kind == "list" else float(values[0])
 
 
-def torque_speed_curve(values: dict[str, Any], names: dict[str, str], prefix: str, fail: Fail) -> TorqueSpeedCurve | None:
+def torque_speed_curve(
+    values: dict[str, Any], names: dict[str, str], prefix: str, fail: Fail
+) -> TorqueSpeedCurve | None:
     """The S1 or peak curve from ``<prefix>_speed`` and ``<prefix>_torque`` (one torque alone: flat)."""
     speed, torque = values.get(f"{prefix}_speed"), values.get(f"{prefix}_torque")
     if torque is None:
@@ -177,14 +192,20 @@ def torque_speed_curve(values: dict[str, Any], names: dict[str, str], prefix: st
         return None
     if speed is None:
         if torque.size != 1:
-            fail(f"{torque.size} torques without speeds: give {prefix}_speed_rpm too (or one torque for a flat curve)", names[f"{prefix}_torque"])
+            fail(
+                f"{torque.size} torques without speeds: give {prefix}_speed_rpm too (or one torque for a flat curve)",
+                names[f"{prefix}_torque"],
+            )
         return TorqueSpeedCurve(np.zeros(1), torque)
     if speed.size != torque.size:
         fail(f"{torque.size} torques for {speed.size} speeds", names[f"{prefix}_torque"])
     steps = np.diff(speed)
     if np.any(steps <= 0):
         k = int(np.argmax(steps <= 0))
-        fail(f"speeds must rise strictly (point {k + 2} is at {speed[k + 1] / RAD_S_PER_RPM:g} rpm after {speed[k] / RAD_S_PER_RPM:g} rpm)", names[f"{prefix}_speed"])
+        fail(
+            f"speeds must rise strictly (point {k + 2} is at {speed[k + 1] / RAD_S_PER_RPM:g} rpm after {speed[k] / RAD_S_PER_RPM:g} rpm)",
+            names[f"{prefix}_speed"],
+        )
     return TorqueSpeedCurve(speed, torque)
 
 
@@ -199,10 +220,20 @@ def motor_parts(values: dict[str, Any], names: dict[str, str], fail: Fail, defau
         name=values.get("name", default_name),
         continuous=continuous,
         peak=torque_speed_curve(values, names, "peak", fail),
-        **{FIELDS["motor"][k].attribute: values[k] for k in (
-            "max_speed", "rotor_inertia", "torque_constant", "winding_resistance", "thermal_time_constant", "thermal_resistance",
-            "rated_power", "cost",
-        ) if k in values},
+        **{
+            FIELDS["motor"][k].attribute: values[k]
+            for k in (
+                "max_speed",
+                "rotor_inertia",
+                "torque_constant",
+                "winding_resistance",
+                "thermal_time_constant",
+                "thermal_resistance",
+                "rated_power",
+                "cost",
+            )
+            if k in values
+        },
     )
     amplifier_values = {FIELDS["amplifier"][k].attribute: values[k] for k in FIELDS["amplifier"] if k in values}
     amplifier = Amplifier(**amplifier_values) if amplifier_values else None
@@ -210,9 +241,7 @@ def motor_parts(values: dict[str, Any], names: dict[str, str], fail: Fail, defau
     return motor, amplifier, module
 
 
-
 def gearbox_from(values: dict[str, Any], names: dict[str, str], fail: Fail, default_name: str) -> Gearbox:
     """A :class:`Gearbox` from checked SI values by field name (``name`` defaults to ``default_name``)."""
     attributes = {FIELDS["gearbox"][k].attribute: v for k, v in values.items() if k != "name"}
     return Gearbox(name=values.get("name", default_name), **attributes)
-

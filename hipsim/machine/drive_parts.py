@@ -63,7 +63,9 @@ class TorqueSpeedCurve:
         speed = readonly(np.atleast_1d(np.asarray(self.speed, dtype=float)))
         torque = readonly(np.atleast_1d(np.asarray(self.torque, dtype=float)))
         if speed.ndim != 1 or speed.shape != torque.shape or speed.size == 0:
-            raise ValueError(f"TorqueSpeedCurve: speed {speed.shape} and torque {torque.shape} must be equal non-empty 1-D arrays")
+            raise ValueError(
+                f"TorqueSpeedCurve: speed {speed.shape} and torque {torque.shape} must be equal non-empty 1-D arrays"
+            )
         if np.any(np.diff(speed) <= 0) or np.any(speed < 0) or np.any(torque < 0):
             raise ValueError("TorqueSpeedCurve: speeds must rise strictly from ≥ 0 and torques must not be negative")
         object.__setattr__(self, "speed", speed)
@@ -245,11 +247,10 @@ class Drive:
 
     @property
     def name(self) -> str:
-        """"motor", "motor + gearbox", "motor + gearbox + screw"."""
+        """ "motor", "motor + gearbox", "motor + gearbox + screw"."""
         parts = [self.motor.name]
         if self.gearbox is not None and self.gearbox is not DIRECT:
             parts.append(self.gearbox.name)
         if self.screw is not None:
             parts.append(self.screw.name)
         return " + ".join(parts)
-

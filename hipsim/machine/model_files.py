@@ -236,7 +236,9 @@ def validate_urdf(text: str, source: str = "generated URDF") -> None:
     finally:
         log.disabled = quiet
     if not valid:
-        raise ModelError(f"{source}: yourdfpy finds its links and joints inconsistent ({'; '.join(map(str, robot.errors))})")
+        raise ModelError(
+            f"{source}: yourdfpy finds its links and joints inconsistent ({'; '.join(map(str, robot.errors))})"
+        )
     # yourdfpy's validate() checks each element alone; a URDF must also be one tree.
     links = {link.name for link in robot.robot.links}
     for joint in robot.robot.joints:

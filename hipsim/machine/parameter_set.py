@@ -7,10 +7,10 @@ Frozen dataclasses; build them with :func:`hipsim.machine.parameters.load_parame
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cached_property
 from types import MappingProxyType
-from typing import Mapping
 
 import numpy as np
 
@@ -123,7 +123,7 @@ class Parameters:
     screw_inertia: float
     friction: Friction
     angle_signs: np.ndarray
-    control: "ControlSettings"
+    control: ControlSettings
     motor: Mapping[str, float] = dataclasses.field(default_factory=lambda: MappingProxyType({}))
     source: str = "<built in>"
 
@@ -163,7 +163,7 @@ class Parameters:
         th = self.screw_angles
         return readonly(np.stack([-np.sin(th), np.cos(th), np.zeros(3)], axis=1))
 
-    def replace(self, **changes) -> "Parameters":
+    def replace(self, **changes) -> Parameters:
         """A copy with some attributes changed, e.g. ``params.replace(lever_mass=0.0)``."""
         if "friction" not in changes:
             friction_changes = {k: changes.pop(k) for k in list(changes) if k in _FRICTION_FIELDS}
@@ -181,7 +181,9 @@ _FRICTION_FIELDS = {f.name for f in dataclasses.fields(Friction)}
 #: The friction coefficients proper, in the order of :class:`Friction`: what scales when friction is
 #: off by a fraction (not the smooth sign's ε, the friction radii or the bearing's switch).
 FRICTION_COEFFICIENTS = tuple(
-    f.name for f in dataclasses.fields(Friction) if f.name not in ("epsilon", "hip_radius", "thrust_radius", "thrust_bearing_axial_only")
+    f.name
+    for f in dataclasses.fields(Friction)
+    if f.name not in ("epsilon", "hip_radius", "thrust_radius", "thrust_bearing_axial_only")
 )
 _CONTROL_FIELDS = {f.name for f in dataclasses.fields(ControlSettings)}
 

@@ -22,10 +22,11 @@ import dataclasses
 import difflib
 import tomllib
 import warnings
+from collections.abc import Mapping
 from importlib import resources
 from pathlib import Path
 from types import MappingProxyType
-from typing import Any, Mapping
+from typing import Any
 
 import numpy as np
 
@@ -117,7 +118,9 @@ def read_toml(path: str | Path, what: str = "parameter file") -> dict[str, Any]:
         raise ParameterError(f"cannot read ({error.strerror})", source=source) from None
     except UnicodeDecodeError as error:  # a Latin-1 "é" in a comment, say: the line to look at
         line = data.count(b"\n", 0, error.start) + 1
-        raise ParameterError(f"line {line}: not UTF-8 text (byte 0x{data[error.start]:02x}); save the file as UTF-8", source=source) from None
+        raise ParameterError(
+            f"line {line}: not UTF-8 text (byte 0x{data[error.start]:02x}); save the file as UTF-8", source=source
+        ) from None
     except tomllib.TOMLDecodeError as error:
         raise ParameterError(f"not valid TOML ({error})", source=source) from None
 
@@ -207,8 +210,10 @@ def implausible_message(key: str, value: Any, plausible: tuple[float, float], so
     shown = f"{value:g}" if isinstance(value, float) else str(value)
     low, high = plausible
     where = f"{source}: " if source else ""
-    return (f"{where}key '{key}' = {shown}{' ' + unit if unit else ''} is outside the plausible range {low:g} to {high:g}"
-            f"{' ' + unit if unit else ''} for this class of machine (a unit slip?)")
+    return (
+        f"{where}key '{key}' = {shown}{' ' + unit if unit else ''} is outside the plausible range {low:g} to {high:g}"
+        f"{' ' + unit if unit else ''} for this class of machine (a unit slip?)"
+    )
 
 
 def check_key(dotted: str, source: str = "overrides") -> tuple[str, str]:
@@ -219,11 +224,15 @@ def check_key(dotted: str, source: str = "overrides") -> tuple[str, str]:
     """
     section, _, key = dotted.partition(".")
     if section not in SCHEMA or key not in SCHEMA[section]:
-        raise ParameterError(f"unknown key{_did_you_mean(dotted)}; `hipsim params` lists them all", key=dotted, source=source)
+        raise ParameterError(
+            f"unknown key{_did_you_mean(dotted)}; `hipsim params` lists them all", key=dotted, source=source
+        )
     return section, key
 
 
-def override_parameters(params: Parameters, overrides: Mapping[str, Any], overrides_source: str = "overrides") -> Parameters:
+def override_parameters(
+    params: Parameters, overrides: Mapping[str, Any], overrides_source: str = "overrides"
+) -> Parameters:
     """``params`` with single entries replaced, checked as :func:`load_parameters` checks them, without reading a file.
 
     For many variants of one machine (``hipsim sweep``): only the replaced
@@ -248,7 +257,9 @@ def override_parameters(params: Parameters, overrides: Mapping[str, Any], overri
     for dotted, value in overrides.items():
         section, key = check_key(dotted, overrides_source)
         values[dotted] = _convert(value, SCHEMA[section][key], dotted, overrides_source)
-    source = params.source + " with " + ", ".join(f"{k}={v}" for k, v in overrides.items()) if overrides else params.source
+    source = (
+        params.source + " with " + ", ".join(f"{k}={v}" for k, v in overrides.items()) if overrides else params.source
+    )
     return _build(values, source)
 
 
@@ -271,7 +282,9 @@ def _check(raw: Mapping[str, Any], source: str) -> dict[str, Any]:
         for key in table:
             if key not in SCHEMA[section]:
                 known = ", ".join(SCHEMA[section])
-                raise ParameterError(f"unknown key (known in [{section}]: {known})", key=f"{section}.{key}", source=source)
+                raise ParameterError(
+                    f"unknown key (known in [{section}]: {known})", key=f"{section}.{key}", source=source
+                )
     values = {}
     missing = []
     for section, keys in SCHEMA.items():
@@ -289,7 +302,11 @@ def _check(raw: Mapping[str, Any], source: str) -> dict[str, Any]:
     # A wrong value first (a negative lever length is the file's problem, not the keys it leaves out), then the first missing key.
     if missing:
         dotted, spec = missing[0]
-        more = f" (and {len(missing) - 1} more keys: start from the file `hipsim params` prints)" if len(missing) > 1 else ""
+        more = (
+            f" (and {len(missing) - 1} more keys: start from the file `hipsim params` prints)"
+            if len(missing) > 1
+            else ""
+        )
         raise ParameterError(f"missing ({spec.meaning}, in {spec.unit or 'no unit'}){more}", key=dotted, source=source)
     return values
 
@@ -354,8 +371,10 @@ def _inertia_matrix(value, fail) -> np.ndarray:
         fail(f"inertia is not positive semi-definite (eigenvalues {np.round(eigenvalues, 6).tolist()})")
     # Every rigid body's principal moments obey I_a ≤ I_b + I_c (a slender rod is the equality).
     if eigenvalues[2] > eigenvalues[0] + eigenvalues[1] + tolerance:
-        fail(f"no rigid body has these principal moments: {eigenvalues[2]:g} exceeds the sum of the other two "
-             f"({eigenvalues[0]:g} + {eigenvalues[1]:g})")  # fmt: skip
+        fail(
+            f"no rigid body has these principal moments: {eigenvalues[2]:g} exceeds the sum of the other two "
+            f"({eigenvalues[0]:g} + {eigenvalues[1]:g})"
+        )
     return matrix
 
 
@@ -376,8 +395,14 @@ ATTRIBUTES = {
     "screw.lead_mm": "lead",
     "screw.inertia_kgmm2": "screw_inertia",
     "convention.angle_signs": "angle_signs",
-    **{f"friction.{key}": f"friction.{name}" for key, name in zip(SCHEMA["friction"], (f.name for f in dataclasses.fields(Friction)))},
-    **{f"control.{key}": f"control.{name}" for key, name in zip(SCHEMA["control"], (f.name for f in dataclasses.fields(ControlSettings)))},
+    **{
+        f"friction.{key}": f"friction.{name}"
+        for key, name in zip(SCHEMA["friction"], (f.name for f in dataclasses.fields(Friction)))
+    },
+    **{
+        f"control.{key}": f"control.{name}"
+        for key, name in zip(SCHEMA["control"], (f.name for f in dataclasses.fields(ControlSettings)))
+    },
 }
 
 
@@ -391,7 +416,9 @@ def _build(values: Mapping[str, Any], source: str) -> Parameters:
         raise ParameterError(
             f"integration step {control.integration_step * 1e3:g} ms is longer than the servo period "
             f"{1e3 / control.servo_rate:g} ms; the plant must be integrated at least as finely as the servo runs",
-            key="control.integration_step_ms", value=control.integration_step, source=source,
+            key="control.integration_step_ms",
+            value=control.integration_step,
+            source=source,
         )
     fields = {ATTRIBUTES[k]: v for k, v in values.items() if k in ATTRIBUTES and "." not in ATTRIBUTES[k]}
     motor = MappingProxyType({k.split(".", 1)[1]: v for k, v in values.items() if k.startswith("motor.")})
@@ -408,7 +435,9 @@ def _check_geometry(params: Parameters, source: str) -> None:
             raise ParameterError(
                 f"screws {i + 1} and {k + 1} stand at the same place (angles {np.degrees(params.screw_angles[i]):g}° "
                 f"and {np.degrees(params.screw_angles[k]):g}°): the three legs must be distinct",
-                key="base.screw_angles_deg", value=np.degrees(params.screw_angles), source=source,
+                key="base.screw_angles_deg",
+                value=np.degrees(params.screw_angles),
+                source=source,
             )
     gaps = np.linalg.norm(params.platform_points[:, :2] - params.screw_points[:, :2], axis=1)
     if gaps.max() >= params.lever_length:
@@ -423,7 +452,9 @@ def _check_geometry(params: Parameters, source: str) -> None:
     if not h1 > h2:
         raise ParameterError(
             f"platform 1 must be the upper one: h_1 = {h1 * 1e3:g} mm is not above h_2 = {h2 * 1e3:g} mm",
-            key="platform.heights_mm", value=params.heights, source=source,
+            key="platform.heights_mm",
+            value=params.heights,
+            source=source,
         )
     # At home the platform joints lie at height h_j, and each lever drops √(l² − gap²) below its joint.
     lowest = h2 - np.sqrt(params.lever_length**2 - gaps.max() ** 2)
@@ -431,7 +462,9 @@ def _check_geometry(params: Parameters, source: str) -> None:
         raise ParameterError(
             f"at home the lower platform's sliders would sit {-lowest * 1e3:.1f} mm below the base: "
             f"raise h_2 ({h2 * 1e3:g} mm) or shorten the levers",
-            key="platform.heights_mm", value=params.heights, source=source,
+            key="platform.heights_mm",
+            value=params.heights,
+            source=source,
         )
 
 

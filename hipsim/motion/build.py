@@ -98,7 +98,7 @@ def build_trajectory(
     lazy: bool = False,
     cutoff: float | None = None,
     load_curve=None,
-) -> "Trajectory | SampledMotion":
+) -> Trajectory | SampledMotion:
     """Units, hip chain, time scaling, resampling and derivatives: the steps every reader shares (module docstring).
 
     Args:
@@ -127,7 +127,9 @@ def build_trajectory(
     if unit == "%":
         if cycle is None:
             raise TrajectoryError(
-                "time is in % of the cycle: give the cycle's period or frequency", source=source, column=time_column.name
+                "time is in % of the cycle: give the cycle's period or frequency",
+                source=source,
+                column=time_column.name,
             )
         t, quantum = table.time / 100.0 * cycle, table.time_quantum / 100.0 * cycle
     else:
@@ -138,7 +140,11 @@ def build_trajectory(
     load = _load(table, body_weight, source, lines)
     if load_curve is not None:
         if table.columns.load is not None:
-            raise TrajectoryError("a load column and a load file are both given: which is the load?", source=source, column=table.columns.load.name)
+            raise TrajectoryError(
+                "a load column and a load file are both given: which is the load?",
+                source=source,
+                column=table.columns.load.name,
+            )
         keep, load = load_curve.onto(t, source)
         if not keep.all():
             t, q, lines = t[keep], q[keep], lines[keep]
@@ -151,7 +157,8 @@ def build_trajectory(
     elif periodic and not closes:
         raise TrajectoryError(
             "periodic was asked for, but the last row does not repeat the first (angles, load and slope)",
-            source=source, line=int(lines[-1]),
+            source=source,
+            line=int(lines[-1]),
         )
     if cutoff is not None:
         if rate is not None:  # the filter needs even samples: resample first
@@ -161,7 +168,11 @@ def build_trajectory(
         q = lowpass_record(q, 1.0 / step, cutoff, bool(periodic), source)
     else:
         _warn_if_noisy(t, q, source)
-    motion = _resampled(t, q, load, rate, periodic, source) if rate is not None else SampledMotion(t, load, lines, _spline(t, q, periodic), source, bool(periodic))
+    motion = (
+        _resampled(t, q, load, rate, periodic, source)
+        if rate is not None
+        else SampledMotion(t, load, lines, _spline(t, q, periodic), source, bool(periodic))
+    )
     return motion if lazy else motion.trajectory()
 
 
@@ -172,7 +183,7 @@ def _warn_if_noisy(t: np.ndarray, q: np.ndarray, source: str) -> None:
         warnings.warn(message, TrajectoryWarning, stacklevel=4)
 
 
-def _on_grid(motion: "SampledMotion", periodic: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray, None]:
+def _on_grid(motion: SampledMotion, periodic: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray, None]:
     """A resampled motion's grid samples (t, q, load, no lines), a periodic one closed by its first sample again."""
     t, q, load = motion.t, motion.spline(motion.t), np.interp(motion.t, motion.knots, motion.load)
     if periodic:
@@ -199,7 +210,14 @@ class SampledMotion:
     """
 
     def __init__(self, t, load, lines, spline, source: str, periodic: bool, grid: np.ndarray | None = None):
-        self.knots, self.load, self.spline, self.source, self.periodic, self.grid = t, load, spline, source, periodic, grid
+        self.knots, self.load, self.spline, self.source, self.periodic, self.grid = (
+            t,
+            load,
+            spline,
+            source,
+            periodic,
+            grid,
+        )
         self.lines = None if lines is None or grid is not None else np.asarray(lines)
         self.t = grid if grid is not None else (t[:-1] if periodic else t)
 
@@ -242,7 +260,10 @@ def check_time(t: np.ndarray, quantum: float, source: str, lines: np.ndarray, co
     if np.any(dt <= 0):
         k = int(np.argmax(dt <= 0)) + 1
         raise TrajectoryError(
-            f"time {t[k]:g} s does not increase (previous {t[k - 1]:g} s)", source=source, line=int(lines[k]), column=column
+            f"time {t[k]:g} s does not increase (previous {t[k - 1]:g} s)",
+            source=source,
+            line=int(lines[k]),
+            column=column,
         )
     if not even:
         return t
@@ -259,12 +280,16 @@ def check_time(t: np.ndarray, quantum: float, source: str, lines: np.ndarray, co
         raise TrajectoryError(
             f"uneven time step: {t[k] - t[k - 1]:g} s here, {step:g} s elsewhere "
             "(a dropped or repeated sample, or clock jitter): resample the data onto an even grid",
-            source=source, line=int(lines[k]), column=column,
+            source=source,
+            line=int(lines[k]),
+            column=column,
         )
     spacing = (t[-1] - t[0]) / (t.size - 1)
     block = 1 << 16
-    deviation = max(float(np.abs(t[0] + np.arange(a, min(a + block, t.size)) * spacing - t[a:a + block]).max())
-                    for a in range(0, t.size, block))
+    deviation = max(
+        float(np.abs(t[0] + np.arange(a, min(a + block, t.size)) * spacing - t[a : a + block]).max())
+        for a in range(0, t.size, block)
+    )
     # Times printed to fewer digits than they have: the even grid they round from.
     return t if deviation <= 1e-6 * step else t[0] + np.arange(t.size) * spacing
 
@@ -281,10 +306,15 @@ def _angles(table: Table, source: str, lines: np.ndarray) -> np.ndarray:
         k = int(np.argmax(np.abs(x)))
         if unit == "rad" and abs(x[k]) > math.pi:
             raise TrajectoryError(
-                f"{x[k]:g} rad is more than half a turn: these look like degrees", source=source, line=int(lines[k]), column=column.name
+                f"{x[k]:g} rad is more than half a turn: these look like degrees",
+                source=source,
+                line=int(lines[k]),
+                column=column.name,
             )
         if unit == "deg" and abs(x[k]) > 360.0:
-            raise TrajectoryError(f"{x[k]:g}° is more than a full turn", source=source, line=int(lines[k]), column=column.name)
+            raise TrajectoryError(
+                f"{x[k]:g}° is more than a full turn", source=source, line=int(lines[k]), column=column.name
+            )
         if unit == "deg":
             in_degrees.append(c)
         out[:, c] = column.sign * (np.radians(x) if unit == "deg" else x)
@@ -295,7 +325,8 @@ def _angles(table: Table, source: str, lines: np.ndarray) -> np.ndarray:
             warnings.warn(
                 f"{source}: the angles span less than a degree (at most {spans[widest]:.3g}° in "
                 f"'{columns.angles[in_degrees[widest]].name}'): if they are radians, label them so",
-                TrajectoryWarning, stacklevel=3,
+                TrajectoryWarning,
+                stacklevel=3,
             )
     if columns.hip_chain:
         out = np.unwrap(hip_to_machine(out), axis=0)
@@ -313,29 +344,47 @@ def _load(table: Table, body_weight: float | None, source: str, lines: np.ndarra
         return np.zeros(table.time.size)
     if column.unit is None and body_weight is None and stated_unit(column.name, "load") in ("%BW", "kN"):
         stated = stated_unit(column.name, "load")
-        hint = "give the body weight (--body-weight, in kg or N)" if stated == "%BW" else f"map it with its unit, load={column.name}:kN"
-        raise TrajectoryError(f"the load column's name says {stated}, but it would be read as N: {hint}", source=source, column=column.name)
+        hint = (
+            "give the body weight (--body-weight, in kg or N)"
+            if stated == "%BW"
+            else f"map it with its unit, load={column.name}:kN"
+        )
+        raise TrajectoryError(
+            f"the load column's name says {stated}, but it would be read as N: {hint}",
+            source=source,
+            column=column.name,
+        )
     unit = column.unit or ("%BW" if body_weight is not None else "N")
     if unit == "%BW":
         if body_weight is None:
-            raise TrajectoryError("the load is in % body weight: give the body weight (--body-weight, in kg or N)", source=source,
-                                  column=column.name)
+            raise TrajectoryError(
+                "the load is in % body weight: give the body weight (--body-weight, in kg or N)",
+                source=source,
+                column=column.name,
+            )
         scale = body_weight / 100.0
     else:
         if body_weight is not None:
-            raise TrajectoryError(f"a body weight was given, but the load is in {unit}", source=source, column=column.name)
+            raise TrajectoryError(
+                f"a body weight was given, but the load is in {unit}", source=source, column=column.name
+            )
         scale = {"N": 1.0, "kN": 1e3}[unit]
     load = column.sign * np.asarray(table.load, dtype=float) * scale
     if np.any(load < 0):
         k = int(np.argmax(load < 0))
         raise TrajectoryError(
             f"load {load[k]:g} N is negative (F_e is a magnitude: flip the column's sign if it is a compressive component)",
-            source=source, line=int(lines[k]), column=column.name,
+            source=source,
+            line=int(lines[k]),
+            column=column.name,
         )
     if np.any(load > MAX_LOAD):
         k = int(np.argmax(load > MAX_LOAD))
         raise TrajectoryError(
-            f"load {load[k]:g} N is beyond {MAX_LOAD:g} N (a unit slip?)", source=source, line=int(lines[k]), column=column.name
+            f"load {load[k]:g} N is beyond {MAX_LOAD:g} N (a unit slip?)",
+            source=source,
+            line=int(lines[k]),
+            column=column.name,
         )
     return load
 
@@ -348,7 +397,9 @@ def _closes_on_itself(angles: np.ndarray, load: np.ndarray) -> bool:
     size of the file's own second differences.
     """
     scale = max(1.0, float(np.abs(angles).max()))
-    same_values = np.allclose(angles[0], angles[-1], rtol=0, atol=1e-9 * scale) and abs(load[0] - load[-1]) <= 1e-9 * max(1.0, load.max())
+    same_values = np.allclose(angles[0], angles[-1], rtol=0, atol=1e-9 * scale) and abs(
+        load[0] - load[-1]
+    ) <= 1e-9 * max(1.0, load.max())
     leaving, arriving = angles[1] - angles[0], angles[-1] - angles[-2]
     curvature = np.abs(np.diff(angles, 2, axis=0)).max(axis=0)
     same_slope = np.all(np.abs(leaving - arriving) <= 10.0 * curvature + 1e-12 * scale)
@@ -363,7 +414,9 @@ def _spline(t: np.ndarray, angles: np.ndarray, periodic: bool):
     return make_interp_spline(t, angles, k=5, bc_type="periodic" if periodic else None, axis=0)
 
 
-def _resampled(t: np.ndarray, q: np.ndarray, load: np.ndarray, rate: float, periodic: bool, source: str) -> SampledMotion:
+def _resampled(
+    t: np.ndarray, q: np.ndarray, load: np.ndarray, rate: float, periodic: bool, source: str
+) -> SampledMotion:
     """The samples' quintic spline (and the load, linearly) on an even grid of ``rate`` samples per second.
 
     A periodic file keeps a whole period: the grid's step is the period over
@@ -377,5 +430,7 @@ def _resampled(t: np.ndarray, q: np.ndarray, load: np.ndarray, rate: float, peri
         n = int(math.floor(span * rate + 1e-9)) + 1
         grid = t[0] + np.arange(n) / rate
     if n < MIN_SAMPLES:
-        raise TrajectoryError(f"resampling {span:g} s at {rate:g} Hz gives {n} samples; at least {MIN_SAMPLES} are needed", source=source)
+        raise TrajectoryError(
+            f"resampling {span:g} s at {rate:g} Hz gives {n} samples; at least {MIN_SAMPLES} are needed", source=source
+        )
     return SampledMotion(t, load, None, _spline(t, q, periodic), source, bool(periodic), grid=grid)

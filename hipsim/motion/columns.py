@@ -10,8 +10,8 @@ their names.
 from __future__ import annotations
 
 import re
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Mapping
 
 from ..exceptions import TrajectoryError
 from .trajectories import ANGLE_NAMES
@@ -85,10 +85,12 @@ class Column:
         if not isinstance(self.name, str) or not self.name.strip():
             raise TrajectoryError(f"a column needs a name, got {self.name!r}", source="column mapping")
         if self.sign not in (1.0, -1.0):
-            raise TrajectoryError(f"column '{self.name}': sign must be +1 or -1, got {self.sign!r}", source="column mapping")
+            raise TrajectoryError(
+                f"column '{self.name}': sign must be +1 or -1, got {self.sign!r}", source="column mapping"
+            )
 
     @classmethod
-    def parse(cls, text: str, key: str) -> "Column":
+    def parse(cls, text: str, key: str) -> Column:
         """``[-]NAME[:UNIT]`` → Column; ``key`` (time, alpha, …, load) says which units are allowed."""
         text = text.strip()
         sign = -1.0 if text.startswith("-") else 1.0
@@ -99,7 +101,8 @@ class Column:
             unit = UNIT_SPELLINGS.get(given.strip().lower())
             if unit not in UNITS[key]:
                 raise TrajectoryError(
-                    f"'{given.strip()}' is not a unit of {key} (expected {', '.join(UNITS[key])})", source="column mapping"
+                    f"'{given.strip()}' is not a unit of {key} (expected {', '.join(UNITS[key])})",
+                    source="column mapping",
                 )
         if not text.strip():
             raise TrajectoryError(f"no column name given for {key}", source="column mapping")
@@ -147,7 +150,7 @@ class ColumnMap:
         return ",".join(f"{key}={column.text()}" for key, column in self.items())
 
     @classmethod
-    def from_mapping(cls, mapping: Mapping[str, str | Column]) -> "ColumnMap":
+    def from_mapping(cls, mapping: Mapping[str, str | Column]) -> ColumnMap:
         """From ``{"time": "Time", "alpha": "FE", "beta": "-AA:rad", …}`` (values Column or ``[-]NAME[:UNIT]``)."""
         known = ("time", *ANGLE_NAMES, *HIP_ANGLE_NAMES, "load")
         columns = {}
@@ -162,9 +165,14 @@ class ColumnMap:
                 raise TrajectoryError(f"{key} is mapped twice", source="column mapping")
             column = value if isinstance(value, Column) else Column.parse(str(value), key)
             if column.zero and key in ("time", "load"):
-                raise TrajectoryError(f"'{ZERO}' stands for an angle the file does not have, not for the {key}", source="column mapping")
+                raise TrajectoryError(
+                    f"'{ZERO}' stands for an angle the file does not have, not for the {key}", source="column mapping"
+                )
             if column.unit is not None and column.unit not in UNITS[key]:
-                raise TrajectoryError(f"'{column.unit}' is not a unit of {key} (expected {', '.join(UNITS[key])})", source="column mapping")
+                raise TrajectoryError(
+                    f"'{column.unit}' is not a unit of {key} (expected {', '.join(UNITS[key])})",
+                    source="column mapping",
+                )
             columns[key] = column
         machine = [a for a in ANGLE_NAMES if a in columns]
         hip = [a for a in HIP_ANGLE_NAMES if a in columns]
@@ -176,7 +184,9 @@ class ColumnMap:
         names = HIP_ANGLE_NAMES if hip else ANGLE_NAMES
         missing = [k for k in ("time", *names) if k not in columns]
         if missing:
-            raise TrajectoryError(f"{', '.join(missing)} not mapped (time and all three angles are needed)", source="column mapping")
+            raise TrajectoryError(
+                f"{', '.join(missing)} not mapped (time and all three angles are needed)", source="column mapping"
+            )
         if "time" in columns and columns["time"].sign < 0:
             raise TrajectoryError("the time column cannot have its sign flipped", source="column mapping")
         return cls(columns["time"], tuple(columns[k] for k in names), bool(hip), columns.get("load"))
@@ -195,7 +205,9 @@ def parse_columns(text: str) -> ColumnMap:
         TrajectoryError: naming the entry that is wrong.
     """
     if not isinstance(text, str) or not text.strip():
-        raise TrajectoryError("empty column mapping (expected e.g. time=Time,alpha=FE,beta=AA,gamma=IE)", source="column mapping")
+        raise TrajectoryError(
+            "empty column mapping (expected e.g. time=Time,alpha=FE,beta=AA,gamma=IE)", source="column mapping"
+        )
     mapping: dict[str, str] = {}
     for entry in text.split(","):
         key, sep, value = entry.partition("=")
@@ -230,7 +242,8 @@ def column_options(columns, load_column, source: str) -> tuple[ColumnMap | None,
     mapping, load = as_column_map(columns), as_load_column(load_column)
     if mapping is not None and load is not None:
         if mapping.load is not None:
-            raise TrajectoryError("the load column is named twice (in the column mapping and on its own)", source=source)
+            raise TrajectoryError(
+                "the load column is named twice (in the column mapping and on its own)", source=source
+            )
         mapping = ColumnMap(mapping.time, mapping.angles, mapping.hip_chain, load)
     return mapping, load
-

@@ -12,8 +12,8 @@ Every problem is reported on one line naming the file, its line and column.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from pathlib import Path
-from typing import Mapping
 
 import numpy as np
 
@@ -77,10 +77,16 @@ def load_trajectory_csv(
     mapping, load = column_options(columns, load_column, source)
     table = _read_csv_table(source, path, mapping, load)
     return build_trajectory(
-        table, periodic=periodic, frequency=frequency, period=period, resample=resample, body_weight=body_weight, lazy=lazy,
-        cutoff=cutoff, load_curve=load_curve,
+        table,
+        periodic=periodic,
+        frequency=frequency,
+        period=period,
+        resample=resample,
+        body_weight=body_weight,
+        lazy=lazy,
+        cutoff=cutoff,
+        load_curve=load_curve,
     )
-
 
 
 def _read_csv_table(source: str, path, mapping: ColumnMap | None, load: Column | None) -> Table:
@@ -104,25 +110,37 @@ def _read_csv_table(source: str, path, mapping: ColumnMap | None, load: Column |
     for k, (number_of_line, line) in enumerate(data):
         row = _cells(line, separator, len(header), source, number_of_line)
         if len(row) != len(header):
-            hint = " (decimal commas? a comma-separated file needs decimal points)" if separator == "," and len(row) > len(header) else ""
-            raise TrajectoryError(f"{len(row)} cells, the header has {len(header)}{hint}", source=source, line=number_of_line)
+            hint = (
+                " (decimal commas? a comma-separated file needs decimal points)"
+                if separator == "," and len(row) > len(header)
+                else ""
+            )
+            raise TrajectoryError(
+                f"{len(row)} cells, the header has {len(header)}{hint}", source=source, line=number_of_line
+            )
         for c in used:
             try:
                 values[k, c] = number(row[c], decimal_comma)
             except ValueError:
-                raise TrajectoryError(f"'{row[c].strip()}' is not a number", source=source, line=number_of_line, column=header[c]) from None
+                raise TrajectoryError(
+                    f"'{row[c].strip()}' is not a number", source=source, line=number_of_line, column=header[c]
+                ) from None
             if not math.isfinite(values[k, c]):
-                raise TrajectoryError(f"'{row[c].strip()}' is not finite", source=source, line=number_of_line, column=header[c])
+                raise TrajectoryError(
+                    f"'{row[c].strip()}' is not finite", source=source, line=number_of_line, column=header[c]
+                )
         places = decimals(row[index["time"]])
         time_decimals = max(time_decimals, places) if places is not None and time_decimals is not None else None
     return Table(
         source=source,
         lines=np.array([n for n, _ in data]),
         time=values[:, index["time"]],
-        angles=np.column_stack([values[:, index[key]] if key in index else np.zeros(len(data)) for key in mapping.angle_keys]),
+        angles=np.column_stack(
+            [values[:, index[key]] if key in index else np.zeros(len(data)) for key in mapping.angle_keys]
+        ),
         load=values[:, index["load"]] if "load" in index else None,
         columns=mapping,
-        time_quantum=10.0 ** -time_decimals if time_decimals is not None else 0.0,
+        time_quantum=10.0**-time_decimals if time_decimals is not None else 0.0,
     )
 
 

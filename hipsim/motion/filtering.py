@@ -139,10 +139,12 @@ def lowpass_periodic(x: np.ndarray, rate: float, cutoff: float, source: str | No
     copies = int(math.ceil(edge_samples(rate, cutoff) / n)) + 1
     tiled = np.concatenate([x] * (2 * copies + 1), axis=0)
     sos = butter(FILTER_ORDER, cutoff, fs=rate, output="sos")
-    return sosfiltfilt(sos, tiled, axis=0, padlen=0)[copies * n:(copies + 1) * n]
+    return sosfiltfilt(sos, tiled, axis=0, padlen=0)[copies * n : (copies + 1) * n]
 
 
-def lowpass_record(x: np.ndarray, rate: float, cutoff: float, periodic: bool = False, source: str | None = None) -> np.ndarray:
+def lowpass_record(
+    x: np.ndarray, rate: float, cutoff: float, periodic: bool = False, source: str | None = None
+) -> np.ndarray:
     """The low-pass of a whole record that keeps every sample: wrapped around when periodic, else with odd extensions at the ends.
 
     Unlike the rig-log path, nothing is dropped: a record of any length from a
@@ -169,7 +171,7 @@ def lowpass_record(x: np.ndarray, rate: float, cutoff: float, periodic: bool = F
     if n < 8:
         return sosfiltfilt(sos, x, axis=0, padlen=pad)
     extended = np.concatenate([_extension(x[::-1], pad)[::-1], x, _extension(x, pad)], axis=0)
-    return sosfiltfilt(sos, extended, axis=0, padlen=0)[pad:pad + n]
+    return sosfiltfilt(sos, extended, axis=0, padlen=0)[pad : pad + n]
 
 
 def _extension(x: np.ndarray, pad: int) -> np.ndarray:
@@ -183,7 +185,7 @@ def _extension(x: np.ndarray, pad: int) -> np.ndarray:
     m = max(min(pad // 4, n // 2), 3)  # one period of the cutoff: short enough for a quadratic to follow
     k = np.arange(-m + 1, 1, dtype=float)  # the last m samples, the end at 0
     flat = x.reshape(n, -1)
-    trend = np.polynomial.polynomial.polyfit(k, flat[n - m:], 2)  # (3, columns)
+    trend = np.polynomial.polynomial.polyfit(k, flat[n - m :], 2)  # (3, columns)
     ahead = np.arange(1, pad + 1, dtype=float)
     powers = np.vstack([np.ones_like(ahead), ahead, ahead**2]).T
     behind = np.arange(-1, -pad - 1, -1, dtype=float)

@@ -82,7 +82,7 @@ class GaitEvents:
 
 def _swing_baseline(load: np.ndarray, start: int, stop: int) -> tuple[float, float]:
     """(median, noise) of the load over samples start:stop of a swing; noise from the sample-to-sample differences."""
-    segment = load[max(start, 0):max(stop, start + 1)]
+    segment = load[max(start, 0) : max(stop, start + 1)]
     if segment.size == 0:
         return float("nan"), 0.0
     baseline = float(np.median(segment))
@@ -119,7 +119,9 @@ def detect_gait_events(
     if t.shape != load.shape or t.ndim != 1:
         raise TrajectoryError(f"times {t.shape} and load {load.shape} must be 1-D of one length", source=source)
     if not (0.0 < fall <= rise < 1.0):
-        raise TrajectoryError(f"gait event thresholds must satisfy 0 < fall ≤ rise < 1, got rise {rise}, fall {fall}", source=source)
+        raise TrajectoryError(
+            f"gait event thresholds must satisfy 0 < fall ≤ rise < 1, got rise {rise}, fall {fall}", source=source
+        )
     empty = np.zeros(0, dtype=int)
     if load.size < 3:
         return GaitEvents(empty, empty, np.zeros(0), np.zeros(0), float("nan"), float("nan"))

@@ -18,7 +18,9 @@ from .trajectories import ANGLE_NAMES
 __all__ = ["suggest_mapping", "table_columns"]
 
 
-def table_columns(header: list[str], mapping: ColumnMap | None, load: Column | None, source: str, line: int) -> tuple[ColumnMap, dict[str, int]]:
+def table_columns(
+    header: list[str], mapping: ColumnMap | None, load: Column | None, source: str, line: int
+) -> tuple[ColumnMap, dict[str, int]]:
     """The mapping (hipsim's own header checked when none is given) and where each mapped column sits in the header."""
     if mapping is None:
         mapping = _canonical_columns(header, source, line, load)
@@ -35,10 +37,14 @@ def _column_indices(header: list[str], mapping: ColumnMap, source: str, line: in
         loose = [c for c, name in enumerate(header) if _loose(name) == _loose(column.name)]
         found = exact or loose
         if len(found) > 1:
-            raise TrajectoryError(f"column '{column.name}' appears {len(found)} times", source=source, line=line, column=column.name)
+            raise TrajectoryError(
+                f"column '{column.name}' appears {len(found)} times", source=source, line=line, column=column.name
+            )
         if not found:
             raise TrajectoryError(
-                f"no column '{column.name}' (mapped to {key}); the header has {_listing(header)}", source=source, line=line
+                f"no column '{column.name}' (mapped to {key}); the header has {_listing(header)}",
+                source=source,
+                line=line,
             )
         index[key] = found[0]
     return index
@@ -69,7 +75,12 @@ def suggest_mapping(header: list[str]) -> str:
     parts = []
     for key, patterns in _HINTS.items():
         choice = next(
-            (c for pattern in patterns for c, name in enumerate(header) if c not in taken and re.search(pattern, name.strip().lower())),
+            (
+                c
+                for pattern in patterns
+                for c, name in enumerate(header)
+                if c not in taken and re.search(pattern, name.strip().lower())
+            ),
             None,
         )
         if choice is None:
@@ -100,7 +111,8 @@ def _canonical_columns(header: list[str], source: str, line: int, load: Column |
     def mismatch(problem: str) -> TrajectoryError:
         return TrajectoryError(
             f"{problem}; the header has {_listing(header)}: map the columns to read, e.g. {suggest_mapping(header)}",
-            source=source, line=line,
+            source=source,
+            line=line,
         )
 
     if "t_s" not in columns:
@@ -116,7 +128,9 @@ def _canonical_columns(header: list[str], source: str, line: int, load: Column |
         if f"{a}_{unit}" not in columns:
             raise mismatch(f"missing angle column '{a}_{unit}'")
     if load is not None and "Fe_N" in columns:
-        raise TrajectoryError(f"both 'Fe_N' and the load column '{load.name}' are given: which is the load?", source=source, line=line)
+        raise TrajectoryError(
+            f"both 'Fe_N' and the load column '{load.name}' are given: which is the load?", source=source, line=line
+        )
     load = load if load is not None else (Column("Fe_N", "N") if "Fe_N" in columns else None)
     known = {"t_s", *(f"{a}_{unit}" for a in ANGLE_NAMES)} | ({load.name} if load is not None else set())
     for c in header:
@@ -124,7 +138,8 @@ def _canonical_columns(header: list[str], source: str, line: int, load: Column |
             raise TrajectoryError(
                 f"unknown column (expected t_s, {', '.join(f'{a}_{unit}' for a in ANGLE_NAMES)}, optionally Fe_N; "
                 "map the columns to read any others)",
-                source=source, line=line, column=c,
+                source=source,
+                line=line,
+                column=c,
             )
     return ColumnMap(Column("t_s", "s"), tuple(Column(f"{a}_{unit}", unit) for a in ANGLE_NAMES), False, load)
-

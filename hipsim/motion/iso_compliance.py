@@ -176,7 +176,9 @@ class IsoCheck:
         for q in QUANTITIES:
             ok = self.passes(q)
             verdict = "pass" if ok.all() else f"FAIL in {int((~ok).sum())} of {ok.size} cycles"
-            lines.append(f"{q}: worst {self.worst(q):.3g} {_UNITS[q]} (tolerance {getattr(self.tolerances, q):.3g} {_UNITS[q]}): {verdict}")
+            lines.append(
+                f"{q}: worst {self.worst(q):.3g} {_UNITS[q]} (tolerance {getattr(self.tolerances, q):.3g} {_UNITS[q]}): {verdict}"
+            )
         return lines
 
 
@@ -200,7 +202,9 @@ def _reference_crossing() -> float:
     return float(_rising_crossings(s, load, 0.5 * (low + high))[0])
 
 
-def periodic_extension(t: np.ndarray, q: np.ndarray, load: np.ndarray, copies: int = 3) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def periodic_extension(
+    t: np.ndarray, q: np.ndarray, load: np.ndarray, copies: int = 3
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """A periodic run's samples repeated ``copies`` times, the original in the middle copy (t, q, load as given).
 
     Args:
@@ -216,7 +220,11 @@ def periodic_extension(t: np.ndarray, q: np.ndarray, load: np.ndarray, copies: i
 
 
 def iso_check(
-    t: np.ndarray, q: np.ndarray, load: np.ndarray, tolerances: Tolerances = DEFAULT_TOLERANCES, source: str = "run",
+    t: np.ndarray,
+    q: np.ndarray,
+    load: np.ndarray,
+    tolerances: Tolerances = DEFAULT_TOLERANCES,
+    source: str = "run",
     periodic: bool = False,
 ) -> IsoCheck:
     """Check each whole cycle of a run against the ISO 14242-1 waveforms (see the module's description).
@@ -248,7 +256,9 @@ def iso_check(
         return IsoCheck(cycles, tolerances, source)
     low, high = _percentile_levels(load) if t.size else (0.0, 0.0)
     if not high - low > 1e-9 * max(abs(high), 1.0):
-        raise TrajectoryError("the load has no stance and swing levels, so no heel strike to align the cycles on", source=source)
+        raise TrajectoryError(
+            "the load has no stance and swing levels, so no heel strike to align the cycles on", source=source
+        )
     # The twin-peak load rises through its middle twice a cycle: take the first rise after each heel strike.
     mid = _rising_crossings(t, load, 0.5 * (low + high))
     strikes = detect_gait_events(t, load, source=source).t_heel_strikes

@@ -87,7 +87,9 @@ def parse_load_scale(text: str) -> LoadScale:
     except ValueError:
         values = []
     if len(values) != len(parts) or len(parts) not in (1, 2) or not all(math.isfinite(v) for v in values):
-        raise TrajectoryError(f"expected a factor (2.5) or a range MIN:MAX in N (300:3000), got '{text}'", source="--load-scale")
+        raise TrajectoryError(
+            f"expected a factor (2.5) or a range MIN:MAX in N (300:3000), got '{text}'", source="--load-scale"
+        )
     if len(values) == 1:
         if values[0] <= 0:
             raise TrajectoryError(f"the factor must be positive, got '{text}'", source="--load-scale")
@@ -127,7 +129,8 @@ class LoadCurve:
         if last < first or keep.sum() < MIN_SAMPLES:
             raise TrajectoryError(
                 f"no overlapping time: the motion {motion} covers {t[0]:g} to {t[-1]:g} s, the load {self.t[0]:g} to {self.t[-1]:g} s",
-                source=self.source, column=self.column,
+                source=self.source,
+                column=self.column,
             )
         inside = (self.t >= first) & (self.t <= last)
         k = np.flatnonzero(inside)
@@ -139,19 +142,24 @@ class LoadCurve:
             j = span.start + int(gap[0])
             raise TrajectoryError(
                 f"a gap in the load from {self.t[j]:g} to {self.t[j + 1]:g} s ({steps[j] / typical:.3g} steps of {typical:g} s)",
-                source=self.source, line=int(self.lines[j + 1]), column=self.column,
+                source=self.source,
+                line=int(self.lines[j + 1]),
+                column=self.column,
             )
         dropped = int((~keep).sum())
         if dropped:
             warnings.warn(
                 f"{self.source}: the load covers {self.t[0]:g} to {self.t[-1]:g} s, the motion {t[0]:g} to {t[-1]:g} s: "
                 f"{dropped} motion samples outside the overlap left out",
-                TrajectoryWarning, stacklevel=3,
+                TrajectoryWarning,
+                stacklevel=3,
             )
         return keep, np.interp(t[keep], self.t, self.load)
 
 
-def read_load_curve(path: str | Path, column: Column | str, *, scale: LoadScale | None = None, body_weight: float | None = None) -> LoadCurve:
+def read_load_curve(
+    path: str | Path, column: Column | str, *, scale: LoadScale | None = None, body_weight: float | None = None
+) -> LoadCurve:
     """Read the load from its own file (module docstring).
 
     Args:
@@ -180,15 +188,24 @@ def read_load_curve(path: str | Path, column: Column | str, *, scale: LoadScale 
             try:
                 values[k, j] = number(row[c], separator not in ("", ","))
             except ValueError:
-                raise TrajectoryError(f"'{row[c].strip()}' is not a number", source=source, line=line_number, column=labels[c]) from None
+                raise TrajectoryError(
+                    f"'{row[c].strip()}' is not a number", source=source, line=line_number, column=labels[c]
+                ) from None
             if not math.isfinite(values[k, j]):
-                raise TrajectoryError(f"'{row[c].strip()}' is not finite", source=source, line=line_number, column=labels[c])
+                raise TrajectoryError(
+                    f"'{row[c].strip()}' is not finite", source=source, line=line_number, column=labels[c]
+                )
     lines = np.array([n for n, _ in rows])
     t = values[:, 0]
     steps = np.diff(t)
     if np.any(steps <= 0):
         k = int(np.argmax(steps <= 0)) + 1
-        raise TrajectoryError(f"time {t[k]:g} s does not increase (previous {t[k - 1]:g} s)", source=source, line=int(lines[k]), column=labels[time])
+        raise TrajectoryError(
+            f"time {t[k]:g} s does not increase (previous {t[k - 1]:g} s)",
+            source=source,
+            line=int(lines[k]),
+            column=labels[time],
+        )
     raw = np.sqrt((values[:, 1:] ** 2).sum(axis=1)) if len(picked) == 3 else column.sign * values[:, 1]
     load = raw * _unit_scale(column, body_weight, source, name)
     if scale is not None:
@@ -197,7 +214,9 @@ def read_load_curve(path: str | Path, column: Column | str, *, scale: LoadScale 
         k = int(np.argmax(load < 0))
         raise TrajectoryError(
             f"load {load[k]:g} N is negative (F_e is a magnitude: flip the column's sign with a leading '-' if it is a compressive component)",
-            source=source, line=int(lines[k]), column=name,
+            source=source,
+            line=int(lines[k]),
+            column=name,
         )
     return LoadCurve(t, load, lines, source, name)
 
@@ -218,7 +237,7 @@ def _table(path, source: str) -> tuple[list[str], int, list[tuple[int, str]], st
         end = next((k for k, line in enumerate(lines) if line.strip().lower() == "endheader"), None)
         if end is None:
             raise TrajectoryError("no 'endheader' line: not an OpenSim .mot/.sto file", source=source)
-        body = [(k, line) for k, line in enumerate(lines[end + 1:], start=end + 2) if line.strip()]
+        body = [(k, line) for k, line in enumerate(lines[end + 1 :], start=end + 2) if line.strip()]
         if not body:
             raise TrajectoryError("no column labels after 'endheader'", source=source, line=end + 1)
         label_line, text = body[0]
@@ -243,7 +262,15 @@ def _load_columns(labels: list[str], name: str, source: str, line: int) -> tuple
         parts = [[c for c, label in enumerate(labels) if match(label, name + suffix)] for suffix in _RESULTANT]
         if all(len(p) == 1 for p in parts):
             return [p[0] for p in parts], f"{name}_fx/_fy/_fz resultant"
-    bases = sorted({re.sub(r"_f[xyz]$", "", label, flags=re.IGNORECASE) for label in labels if re.search(r"_f[xyz]$", label, re.IGNORECASE)})
+    bases = sorted(
+        {
+            re.sub(r"_f[xyz]$", "", label, flags=re.IGNORECASE)
+            for label in labels
+            if re.search(r"_f[xyz]$", label, re.IGNORECASE)
+        }
+    )
     near = difflib.get_close_matches(name, labels + bases, n=1, cutoff=0.0)
     hint = f"; did you mean '{near[0]}'?" if near else ""
-    raise TrajectoryError(f"no load column '{name}' (nor '{name}_fx', '_fy', '_fz' for a resultant){hint}", source=source, line=line)
+    raise TrajectoryError(
+        f"no load column '{name}' (nor '{name}_fx', '_fy', '_fz' for a resultant){hint}", source=source, line=line
+    )

@@ -87,12 +87,21 @@ def load_opensim(
     mapping, load = as_column_map(columns), as_load_column(load_column)
     if mapping is not None and load is not None:
         if mapping.load is not None:
-            raise TrajectoryError("the load column is named twice (in the column mapping and on its own)", source=source)
+            raise TrajectoryError(
+                "the load column is named twice (in the column mapping and on its own)", source=source
+            )
         mapping = ColumnMap(mapping.time, mapping.angles, mapping.hip_chain, load)
     table = _read(source, path, suffix, load, mapping)
     return build_trajectory(
-        table, periodic=periodic, frequency=frequency, period=period, resample=resample, body_weight=body_weight, lazy=lazy,
-        cutoff=cutoff, load_curve=load_curve,
+        table,
+        periodic=periodic,
+        frequency=frequency,
+        period=period,
+        resample=resample,
+        body_weight=body_weight,
+        lazy=lazy,
+        cutoff=cutoff,
+        load_curve=load_curve,
     )
 
 
@@ -115,18 +124,23 @@ def _read(source: str, path, suffix: str, load: Column | None, mapping: ColumnMa
         raise TrajectoryError(
             f"the labels are separated by commas ({len(by_comma)} of them): a .mot/.sto file is tab- or space-separated, "
             "as OpenSim writes it; save it with tabs, or as a .csv read with --columns",
-            source=source, line=label_line,
+            source=source,
+            line=label_line,
         )
     # OpenSim writes such headers itself (its tutorials' crouch2.mot): the data win, with a warning.
     if columns_declared is not None and columns_declared[1] != len(labels):
         warnings.warn(
             f"{source}, line {columns_declared[0]}: the header says {columns_declared[1]} columns, the labels are {len(labels)}: "
-            "the labels are read", TrajectoryWarning, stacklevel=4,
+            "the labels are read",
+            TrajectoryWarning,
+            stacklevel=4,
         )
     if rows_declared is not None and rows_declared[1] != len(data):
         warnings.warn(
             f"{source}, line {rows_declared[0]}: the header says {rows_declared[1]} rows, the file has {len(data)}: "
-            "the rows are read", TrajectoryWarning, stacklevel=4,
+            "the rows are read",
+            TrajectoryWarning,
+            stacklevel=4,
         )
     unit = "deg" if in_degrees else "rad"
     if mapping is not None:
@@ -135,7 +149,9 @@ def _read(source: str, path, suffix: str, load: Column | None, mapping: ColumnMa
     angles = []
     for coordinate in HIP_COORDINATES:
         name = f"{coordinate}_{suffix}"
-        index[coordinate] = _find(labels, (name,), f"the {'right' if suffix == 'r' else 'left'} hip's coordinate", source, label_line)
+        index[coordinate] = _find(
+            labels, (name,), f"the {'right' if suffix == 'r' else 'left'} hip's coordinate", source, label_line
+        )
         angles.append(Column(labels[index[coordinate]], unit))
     if load is not None:
         index["load"] = _find(labels, (load.name,), "the load", source, label_line)
@@ -175,7 +191,9 @@ def _table(source: str, labels: list[str], data, index: dict[str, int], angle_ke
             try:
                 values[k, c] = number(row[c])
             except ValueError:
-                raise TrajectoryError(f"'{row[c]}' is not a number", source=source, line=line_number, column=labels[c]) from None
+                raise TrajectoryError(
+                    f"'{row[c]}' is not a number", source=source, line=line_number, column=labels[c]
+                ) from None
             if not np.isfinite(values[k, c]):
                 raise TrajectoryError(f"'{row[c]}' is not finite", source=source, line=line_number, column=labels[c])
         places.append(decimals(row[index["time"]]))
@@ -207,7 +225,9 @@ def _header(lines: list[str], source: str) -> tuple[bool, tuple[int, int] | None
             try:
                 count = int(value)
             except ValueError:
-                raise TrajectoryError(f"{match.group(1)} must be a whole number, got '{value}'", source=source, line=k) from None
+                raise TrajectoryError(
+                    f"{match.group(1)} must be a whole number, got '{value}'", source=source, line=k
+                ) from None
             if key in ("nrows", "datarows"):
                 rows = (k, count)
             else:
@@ -228,10 +248,18 @@ def _find(labels: list[str], names: tuple[str, ...], what: str, source: str, lin
             return found[0]
     name = names[0]
     hips = [label for label in labels if "hip_" in label.lower()]
-    found = f"its hip columns are {', '.join(hips[:6])}" if hips else f"its columns are {', '.join(labels[:8])}" + (" …" if len(labels) > 8 else "")
+    found = (
+        f"its hip columns are {', '.join(hips[:6])}"
+        if hips
+        else f"its columns are {', '.join(labels[:8])}" + (" …" if len(labels) > 8 else "")
+    )
     other = name[:-2] + ("_l" if name.endswith("_r") else "_r")
     side = "left" if other.endswith("_l") else "right"
-    hint = f" (the other hip's are there: read them with --side {side}, side=\"{side}\" in Python)" if any(label == other or label.endswith(f"/{other}/value") for label in labels) else ""
+    hint = (
+        f' (the other hip\'s are there: read them with --side {side}, side="{side}" in Python)'
+        if any(label == other or label.endswith(f"/{other}/value") for label in labels)
+        else ""
+    )
     flexion = f"hip_flexion{name[-2:]}"
     if not hint and name.startswith(("hip_adduction", "hip_rotation")) and flexion in labels:
         hint = f" (a planar model? read it with --columns time=time,flexion={flexion},adduction=zero,rotation=zero)"

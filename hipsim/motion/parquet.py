@@ -8,8 +8,8 @@ every reader (:func:`hipsim.motion.build.build_trajectory`).
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
-from typing import Mapping
 
 import numpy as np
 
@@ -57,7 +57,9 @@ def load_trajectory_parquet(
         try:
             column = data.column(name).to_numpy(zero_copy_only=False).astype(float)
         except (TypeError, ValueError):
-            raise TrajectoryError(f"holds {data.schema.field(name).type}, not numbers", source=source, column=name) from None
+            raise TrajectoryError(
+                f"holds {data.schema.field(name).type}, not numbers", source=source, column=name
+            ) from None
         bad = ~np.isfinite(column)
         if bad.any():
             k = int(np.argmax(bad))
@@ -66,10 +68,20 @@ def load_trajectory_parquet(
     # Rows are numbered as the CSV's lines would be: the header is line 1.
     return build_trajectory(
         Table(
-            source=source, lines=np.arange(2, n + 2), time=values["time"],
+            source=source,
+            lines=np.arange(2, n + 2),
+            time=values["time"],
             angles=np.column_stack([values[key] if key in values else np.zeros(n) for key in mapping.angle_keys]),
-            load=values.get("load"), columns=mapping, time_quantum=0.0,
+            load=values.get("load"),
+            columns=mapping,
+            time_quantum=0.0,
         ),
-        periodic=periodic, frequency=frequency, period=period, resample=resample, body_weight=body_weight, lazy=lazy,
-        cutoff=cutoff, load_curve=load_curve,
+        periodic=periodic,
+        frequency=frequency,
+        period=period,
+        resample=resample,
+        body_weight=body_weight,
+        lazy=lazy,
+        cutoff=cutoff,
+        load_curve=load_curve,
     )

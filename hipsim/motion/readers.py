@@ -11,8 +11,8 @@ naming the file, its line and column.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
-from typing import Mapping
 
 from ..exceptions import TrajectoryError
 from .columns import Column, ColumnMap
@@ -71,7 +71,9 @@ def read_trajectory(
     curve = None
     if load is not None:
         if load_column is None:
-            raise TrajectoryError("name the load file's column (load_column: a column, or NAME for NAME_fx/_fy/_fz)", source=str(load))
+            raise TrajectoryError(
+                "name the load file's column (load_column: a column, or NAME for NAME_fx/_fy/_fz)", source=str(load)
+            )
         scale = parse_load_scale(load_scale) if isinstance(load_scale, str) else load_scale
         curve = read_load_curve(load, load_column, scale=scale, body_weight=body_weight)
         load_column = body_weight = None
@@ -81,13 +83,32 @@ def read_trajectory(
         if columns is not None and side is not None:
             raise TrajectoryError("a column mapping names the columns itself: the side does not apply", source=source)
         return load_opensim(
-            path, side="right" if side is None else side, periodic=periodic, load_column=load_column, body_weight=body_weight,
-            frequency=frequency, period=period, resample=resample, lazy=lazy, cutoff=cutoff, load_curve=curve, columns=columns,
+            path,
+            side="right" if side is None else side,
+            periodic=periodic,
+            load_column=load_column,
+            body_weight=body_weight,
+            frequency=frequency,
+            period=period,
+            resample=resample,
+            lazy=lazy,
+            cutoff=cutoff,
+            load_curve=curve,
+            columns=columns,
         )
     if side is not None:
         raise TrajectoryError("the side (left or right hip) applies to OpenSim .mot/.sto files", source=source)
     reader = load_trajectory_parquet if Path(source).suffix.lower() == PARQUET_SUFFIX else load_trajectory_csv
     return reader(
-        path, periodic, columns=columns, load_column=load_column, body_weight=body_weight, frequency=frequency, period=period,
-        resample=resample, lazy=lazy, cutoff=cutoff, load_curve=curve,
+        path,
+        periodic,
+        columns=columns,
+        load_column=load_column,
+        body_weight=body_weight,
+        frequency=frequency,
+        period=period,
+        resample=resample,
+        lazy=lazy,
+        cutoff=cutoff,
+        load_curve=curve,
     )

@@ -10,7 +10,8 @@ the one spline through all its samples (:class:`hipsim.motion.build.SampledMotio
 
 from __future__ import annotations
 
-from typing import Iterator, Protocol
+from collections.abc import Iterator
+from typing import Protocol
 
 import numpy as np
 
@@ -97,7 +98,7 @@ class FileSource:
         self.name, self.periodic = motion.source, motion.periodic
 
     @classmethod
-    def read(cls, path, **options) -> "FileSource":
+    def read(cls, path, **options) -> FileSource:
         """Read ``path`` with :func:`hipsim.motion.readers.read_trajectory`'s options, checks and errors."""
         from .readers import read_trajectory
 

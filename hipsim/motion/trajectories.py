@@ -92,7 +92,9 @@ class Trajectory:
         if self.lines is not None:
             lines = np.asarray(self.lines)
             if lines.shape != (n,) or not np.issubdtype(lines.dtype, np.integer):
-                raise TrajectoryError(f"lines must be integers of shape ({n},), got {lines.dtype} {lines.shape}", source=self.name)
+                raise TrajectoryError(
+                    f"lines must be integers of shape ({n},), got {lines.dtype} {lines.shape}", source=self.name
+                )
             lines = lines.astype(int)
             lines.setflags(write=False)
             object.__setattr__(self, "lines", lines)
@@ -100,10 +102,12 @@ class Trajectory:
     def __len__(self) -> int:
         return self.t.size
 
-    def slice(self, index) -> "Trajectory":
+    def slice(self, index) -> Trajectory:
         """The samples selected by ``index`` (a slice, mask or index array)."""
         lines = None if self.lines is None else self.lines[index]
-        return Trajectory(self.t[index], self.q[index], self.qd[index], self.qdd[index], self.Fe[index], self.name, False, lines)
+        return Trajectory(
+            self.t[index], self.q[index], self.qd[index], self.qdd[index], self.Fe[index], self.name, False, lines
+        )
 
     def line_at(self, time: float) -> int | None:
         """The file line of the sample at ``time`` in [s]; None if no file row holds that time.
@@ -176,7 +180,9 @@ def iso14242(rate: float = 1000.0, cycles: float = 1, frequency: float = 1.0) ->
     return Trajectory(t, q, qd, qdd, iso14242_load(t, frequency), name="ISO 14242-1", periodic=whole)
 
 
-def iso14242_samples(rate: float, cycles: float, frequency: float, limit: int, why: str = "fit in memory") -> tuple[int, bool]:
+def iso14242_samples(
+    rate: float, cycles: float, frequency: float, limit: int, why: str = "fit in memory"
+) -> tuple[int, bool]:
     """How many samples ``cycles`` built-in cycles of ``frequency`` [Hz] at ``rate`` [Hz] have, and whether they are whole cycles.
 
     Raises:
@@ -191,7 +197,9 @@ def iso14242_samples(rate: float, cycles: float, frequency: float, limit: int, w
             f"{cycles} cycle(s) of {frequency} Hz sampled at {rate} Hz give fewer than 2 samples", source="ISO 14242-1"
         )
     if n > limit:
-        raise TrajectoryError(f"{cycles} cycle(s) at {rate} Hz gives {n:,} samples; at most {limit:,} {why}", source="ISO 14242-1")
+        raise TrajectoryError(
+            f"{cycles} cycle(s) at {rate} Hz gives {n:,} samples; at most {limit:,} {why}", source="ISO 14242-1"
+        )
     return n, abs(cycles - round(cycles)) < 1e-12 and abs(n - cycles * rate / frequency) < 1e-9
 
 
@@ -219,7 +227,9 @@ def interpolator(trajectory: Trajectory):
     """
     t, q, load = trajectory.t, trajectory.q, trajectory.Fe
     if t.size < MIN_SAMPLES:
-        raise TrajectoryError(f"{t.size} samples; at least {MIN_SAMPLES} are needed to interpolate", source=trajectory.name)
+        raise TrajectoryError(
+            f"{t.size} samples; at least {MIN_SAMPLES} are needed to interpolate", source=trajectory.name
+        )
     if trajectory.periodic:
         dt = (t[-1] - t[0]) / (t.size - 1)
         period = t[-1] - t[0] + dt
@@ -237,7 +247,9 @@ def interpolator(trajectory: Trajectory):
                     source=trajectory.name,
                 )
             local = np.clip(times, t[0], t[-1])
-        return Trajectory(times, spline(local), spline(local, 1), spline(local, 2), np.interp(local, t, load), trajectory.name)
+        return Trajectory(
+            times, spline(local), spline(local, 1), spline(local, 2), np.interp(local, t, load), trajectory.name
+        )
 
     return at
 

@@ -21,13 +21,13 @@ one line.
   dynamics as a plant of :func:`hipsim.control.simulation.simulate`.
 """
 
-from .mjcf import KEYFRAME, MjcfSettings, mjcf_text, write_mjcf
 from .closure import MujocoKinematics
 from .dynamics import MujocoDynamics
 from .machine import MujocoMachine
+from .mjcf import KEYFRAME, MjcfSettings, mjcf_text, write_mjcf
 from .model import MujocoModel, load_model
-from .trajectory import trajectory_dynamics
 from .plant import MujocoPlant
+from .trajectory import trajectory_dynamics
 
 __all__ = [
     "KEYFRAME",

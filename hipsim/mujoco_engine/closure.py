@@ -50,8 +50,17 @@ class MujocoKinematics:
 
     def __post_init__(self):
         nv = np.shape(self.q)[1]
-        shapes = {"t": ("N",), "q": ("N", nv), "v": ("N", nv), "a": ("N", nv), "L": ("N", 2, 3), "Ld": ("N", 2, 3),
-                  "Ldd": ("N", 2, 3), "cond_inv": ("N",), "residual": ("N",)}  # fmt: skip
+        shapes = {
+            "t": ("N",),
+            "q": ("N", nv),
+            "v": ("N", nv),
+            "a": ("N", nv),
+            "L": ("N", 2, 3),
+            "Ld": ("N", 2, 3),
+            "Ldd": ("N", 2, 3),
+            "cond_inv": ("N",),
+            "residual": ("N",),
+        }
         check_shapes(self, shapes, samples=len(self.t))
 
 
@@ -68,8 +77,11 @@ class _Closer:
         self.K_inv = None  # K⁻¹ at the last closed sample: the chord steps' Jacobian
         self.platforms = machine.platform_dof.ravel()
         # Both ends of every closure, (site, body), closure after closure; their J̇ stacked.
-        self.ends = [(int(site), int(model.site_bodyid[site])) for k in range(model.neq)
-                     for site in (model.eq_obj1id[k], model.eq_obj2id[k])]  # fmt: skip
+        self.ends = [
+            (int(site), int(model.site_bodyid[site]))
+            for k in range(model.neq)
+            for site in (model.eq_obj1id[k], model.eq_obj2id[k])
+        ]
         self.jacdot = np.zeros((len(self.ends), 3, model.nv))
 
     def _rows(self, q: np.ndarray):
@@ -107,7 +119,10 @@ class _Closer:
             q[legs] -= step
             e, J, gap = self._rows(q)
         if gap > 1e3 * self.tol:
-            raise ClosureError(f"cannot close the loops: the closure gap stays at {gap:.3g} m (the pose is out of the levers' reach)", gap)
+            raise ClosureError(
+                f"cannot close the loops: the closure gap stays at {gap:.3g} m (the pose is out of the levers' reach)",
+                gap,
+            )
         return q, e, J
 
     def rates(self, J: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -136,7 +151,6 @@ def _inverse(matrix: np.ndarray) -> np.ndarray | None:
         return None
     inverse, info = lapack.dgetri(lu, pivots)
     return inverse if info == 0 else None
-
 
 
 def _initial_guess(machine: MujocoMachine) -> np.ndarray:

@@ -54,14 +54,12 @@ class MujocoDynamics:
         check_shapes(self, {"F_act": ("N", 3), "lambdas": ("N", 2, 3, 3)})
 
 
-
 def _full_inertia(model, data, out: np.ndarray) -> None:
     """The dense mass matrix M (armature included) into ``out``; MuJoCo 3.x and 4.x spell the call differently."""
     if hasattr(data, "qM"):  # MuJoCo 3.x: mj_fullM(m, dst, M)
         mujoco.mj_fullM(model, out, data.qM)
     else:  # MuJoCo 4: mj_fullM(m, d, dst)
         mujoco.mj_fullM(model, data, out)
-
 
 
 class _InverseDynamics:
@@ -112,8 +110,14 @@ class _InverseDynamics:
         centre[:, :, 2] += params.platform_mass * params.gravity + self.Fe[:, None]
         motor_speed = radians_per_travel(machine.lead) * kin.Ld[:, 0]
         torques = Torques(
-            total=tau, platforms=tau_m, levers=tau_l, sliders=tau_s, screws=tau_L, friction=tau_f,
-            motor_speed=motor_speed, friction_moment=self.friction_moment,
+            total=tau,
+            platforms=tau_m,
+            levers=tau_l,
+            sliders=tau_s,
+            screws=tau_L,
+            friction=tau_f,
+            motor_speed=motor_speed,
+            friction_moment=self.friction_moment,
             # By virtual power the motors' friction share times their speed is the whole friction loss.
             friction_power=np.sum(tau_f * motor_speed, axis=1),
         )

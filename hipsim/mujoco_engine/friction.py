@@ -96,7 +96,11 @@ class FrictionForces:
         self.joints = machine.model.dof_jntid[machine.platform_dof.ravel()]
         self.sliders = [int(k) for k in machine.slider_dof]
         gain = radians_per_travel(machine.lead)
-        self.slider_terms = (2.0 * fr.guide_coulomb + gain * fr.screw_coulomb, 2.0 * fr.guide_viscous + gain * gain * fr.screw_viscous, gain)
+        self.slider_terms = (
+            2.0 * fr.guide_coulomb + gain * fr.screw_coulomb,
+            2.0 * fr.guide_viscous + gain * gain * fr.screw_viscous,
+            gain,
+        )
         self.slider_friction = any(c != 0.0 for c in self.slider_terms[:2])
 
     def add(self, data, Fe: float, out: np.ndarray) -> None:

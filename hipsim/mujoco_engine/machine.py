@@ -117,7 +117,6 @@ class MujocoMachine:
         return data.efc_pos.copy(), data.efc_J.reshape(rows, self.model.nv).copy()
 
 
-
 def closure_gaps(machine: MujocoMachine, q) -> np.ndarray:
     """|p₁ − p₂| of each closure in [m] at configuration(s) q: shape (6,) or (N, 6), lever order of the equalities."""
     q = np.asarray(q, dtype=float)

@@ -69,6 +69,14 @@ class MujocoModel:
         """
         kin, dynamics = trajectory_dynamics(self.machine, trajectory)
         return Run(
-            self.name, self.params, trajectory, kin.L, kin.Ld, kin.Ldd, dynamics.torques, kin.cond_inv,
-            np.zeros(len(trajectory.t), dtype=bool), joint_forces=dynamics.joint_forces,
+            self.name,
+            self.params,
+            trajectory,
+            kin.L,
+            kin.Ld,
+            kin.Ldd,
+            dynamics.torques,
+            kin.cond_inv,
+            np.zeros(len(trajectory.t), dtype=bool),
+            joint_forces=dynamics.joint_forces,
         )

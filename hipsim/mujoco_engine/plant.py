@@ -35,13 +35,13 @@ import math
 
 import numpy as np
 
+from ..exceptions import ArgumentError
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 from ._dependency import mujoco
-from .mjcf import MjcfSettings, default_solref
-from ..exceptions import ArgumentError
 from .friction import FrictionForces
 from .machine import MujocoMachine
+from .mjcf import MjcfSettings, default_solref
 from .model import load_model
 from .trajectory import kinematics
 
@@ -79,9 +79,11 @@ class MujocoPlant:
         self.params = params
         defaults = MjcfSettings()
         self.settings = MjcfSettings(
-            timestep=params.control.integration_step, integrator=integrator, solref=solref,
+            timestep=params.control.integration_step,
+            integrator=integrator,
+            solref=solref,
             solimp=defaults.solimp if solimp is None else tuple(solimp),
-        )  # fmt: skip
+        )
         if machine is not None and machine.params is not params:
             raise ArgumentError("machine", machine, "load_model(params) of the same params object")
         self.machine = load_model(params, self.settings) if machine is None else machine
@@ -103,10 +105,14 @@ class MujocoPlant:
         model = self.model
         model.opt.timestep = step
         model.opt.integrator = {
-            "Euler": mujoco.mjtIntegrator.mjINT_EULER, "RK4": mujoco.mjtIntegrator.mjINT_RK4,
-            "implicitfast": mujoco.mjtIntegrator.mjINT_IMPLICITFAST, "implicit": mujoco.mjtIntegrator.mjINT_IMPLICIT,
-        }[self.settings.integrator]  # fmt: skip
-        solref = self.settings.solref if self.settings.solref is not None else default_solref(step, self.settings.integrator)
+            "Euler": mujoco.mjtIntegrator.mjINT_EULER,
+            "RK4": mujoco.mjtIntegrator.mjINT_RK4,
+            "implicitfast": mujoco.mjtIntegrator.mjINT_IMPLICITFAST,
+            "implicit": mujoco.mjtIntegrator.mjINT_IMPLICIT,
+        }[self.settings.integrator]
+        solref = (
+            self.settings.solref if self.settings.solref is not None else default_solref(step, self.settings.integrator)
+        )
         model.eq_solref[:] = solref
         model.eq_solimp[:] = self.settings.solimp
         # The servo loop limits the torques (and counts it); the MJCF's ctrlrange must not clamp them again.
@@ -135,7 +141,9 @@ class MujocoPlant:
             mujoco.set_mjcb_passive(previous)
         return np.concatenate([data.qvel, data.qacc])
 
-    def advance(self, t: float, x: np.ndarray, tau: np.ndarray, loads: np.ndarray, h: float, substeps: int) -> np.ndarray:
+    def advance(
+        self, t: float, x: np.ndarray, tau: np.ndarray, loads: np.ndarray, h: float, substeps: int
+    ) -> np.ndarray:
         """The state after ``substeps`` MuJoCo steps of h [s] from x at time t [s] under motor torques tau [N·m].
 
         ``loads``: F_e in [N] at every half step, (2·substeps + 1,); friction

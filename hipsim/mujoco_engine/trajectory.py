@@ -60,7 +60,9 @@ def _close(machine: MujocoMachine, traj, tol: float, max_iter: int, Fe):
     for k in range(n):
         if k > 1:
             h = t[k] - t[k - 1]
-            q = Q[k - 1] + h * (V[k - 1] + h * (0.5 * A[k - 1] + h / 6.0 * (A[k - 1] - A[k - 2]) / (t[k - 1] - t[k - 2])))
+            q = Q[k - 1] + h * (
+                V[k - 1] + h * (0.5 * A[k - 1] + h / 6.0 * (A[k - 1] - A[k - 2]) / (t[k - 1] - t[k - 2]))
+            )
         elif k == 1:
             h = t[1] - t[0]
             q = Q[0] + h * (V[0] + 0.5 * h * A[0])
@@ -84,18 +86,29 @@ def _close(machine: MujocoMachine, traj, tol: float, max_iter: int, Fe):
             dynamics.add(k, q, v, a, J)
     sliders = machine.slider_dof
     kin = MujocoKinematics(
-        t=t, q=Q, v=V, a=A, L=L,
-        Ld=np.repeat(V[:, None, sliders], 2, axis=1), Ldd=np.repeat(A[:, None, sliders], 2, axis=1),
-        cond_inv=cond_inv, residual=residual,
-    )  # fmt: skip
+        t=t,
+        q=Q,
+        v=V,
+        a=A,
+        L=L,
+        Ld=np.repeat(V[:, None, sliders], 2, axis=1),
+        Ldd=np.repeat(A[:, None, sliders], 2, axis=1),
+        cond_inv=cond_inv,
+        residual=residual,
+    )
     if dynamics is None:
         return kin, None
     # The central chain's friction moment, for the summary: the law of spec §4.3 at the platforms' motion.
     omega = np.einsum("nab,nb->na", angular_velocity_map(angles), rates)
-    moment = central_chain_friction(machine.params.friction, machine.params.platform_mass * machine.params.gravity, omega, dynamics.Fe, rotation_matrix(angles))
+    moment = central_chain_friction(
+        machine.params.friction,
+        machine.params.platform_mass * machine.params.gravity,
+        omega,
+        dynamics.Fe,
+        rotation_matrix(angles),
+    )
     dynamics.friction_moment = np.linalg.norm(moment, axis=-1)
     return kin, dynamics.result(kin)
-
 
 
 def trajectory_dynamics(machine: MujocoMachine, traj, *, tol: float = 1e-13, max_iter: int = 30):

@@ -30,7 +30,9 @@ def smooth_sign(w: np.ndarray, epsilon: float, vector: bool = False) -> np.ndarr
     return np.moveaxis(stack(laws.smooth_sign_vector(np.moveaxis(w, -1, 0), epsilon)), 0, -1)
 
 
-def central_chain_friction(friction, weight: float, omega: np.ndarray, Fe: np.ndarray, R: np.ndarray | None = None) -> np.ndarray:
+def central_chain_friction(
+    friction, weight: float, omega: np.ndarray, Fe: np.ndarray, R: np.ndarray | None = None
+) -> np.ndarray:
     """Friction moment τ_mf of one platform's central chain (hip joint + thrust bearing), spec §4.3.
 
     Args:
@@ -50,7 +52,9 @@ def central_chain_friction(friction, weight: float, omega: np.ndarray, Fe: np.nd
     if friction.thrust_bearing_axial_only and R is None:
         raise HipsimError("the axial-only thrust bearing's friction needs the platform rotations R")
     z = None if R is None else np.asarray(R, dtype=float)[..., 2].T
-    return central_chain_friction_components(friction, weight, np.asarray(omega, dtype=float).T, np.asarray(Fe, dtype=float), z).T
+    return central_chain_friction_components(
+        friction, weight, np.asarray(omega, dtype=float).T, np.asarray(Fe, dtype=float), z
+    ).T
 
 
 def central_chain_friction_components(friction, weight: float, omega: np.ndarray, Fe: np.ndarray, z) -> np.ndarray:

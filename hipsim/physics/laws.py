@@ -282,11 +282,25 @@ def lever_joint_friction_on(F):
 #: The friction coefficients as compiled code reads them: the fields of
 #: :class:`hipsim.machine.parameters.Friction`, in order, SI (a test holds the two lists equal;
 #: the laws sit below the machine, so they name the fields rather than import the class).
-FrictionRecord = namedtuple("FrictionRecord", [
-    "epsilon", "hip_radius", "hip_mu", "thrust_radius", "thrust_mu", "screw_coulomb", "screw_viscous",
-    "guide_coulomb", "guide_viscous", "ujoint_coulomb", "ujoint_viscous", "sjoint_coulomb", "sjoint_viscous",
-    "thrust_bearing_axial_only",
-])
+FrictionRecord = namedtuple(
+    "FrictionRecord",
+    [
+        "epsilon",
+        "hip_radius",
+        "hip_mu",
+        "thrust_radius",
+        "thrust_mu",
+        "screw_coulomb",
+        "screw_viscous",
+        "guide_coulomb",
+        "guide_viscous",
+        "ujoint_coulomb",
+        "ujoint_viscous",
+        "sjoint_coulomb",
+        "sjoint_viscous",
+        "thrust_bearing_axial_only",
+    ],
+)
 
 
 def friction_record(friction) -> FrictionRecord:
@@ -309,7 +323,7 @@ def _warn_once(message: str) -> None:
         warnings.warn(f"hipsim: {message}", stacklevel=3)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _content_hash(paths: tuple[Path, ...]) -> str:
     digest = hashlib.sha256()
     for path in paths:
@@ -350,6 +364,8 @@ def jit(function=None, *, depends_on: tuple[Path, ...] = LAW_FILES):
         index = compiled._cache._cache_file  # numba.core.caching.IndexDataCacheFile
         index._source_stamp = (index._source_stamp, stamp)
     except AttributeError:
-        _warn_once("this numba cannot key its cache on hipsim's laws; compiled models are compiled in every run (~10 s)")
+        _warn_once(
+            "this numba cannot key its cache on hipsim's laws; compiled models are compiled in every run (~10 s)"
+        )
         return njit(cache=False, error_model="numpy")(function)
     return compiled

@@ -12,8 +12,12 @@ from . import laws
 from .vectors import stack
 
 __all__ = [
-    "angular_velocity_map", "angular_velocity_map_rate", "inverse_condition_number", "inverse_condition_number_components",
-    "rotation_matrix", "rotation_matrix_components",
+    "angular_velocity_map",
+    "angular_velocity_map_rate",
+    "inverse_condition_number",
+    "inverse_condition_number_components",
+    "rotation_matrix",
+    "rotation_matrix_components",
 ]
 
 

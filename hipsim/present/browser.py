@@ -63,16 +63,32 @@ def screenshot(
     url = Path(page).resolve().as_uri() + (f"#t={float(time_s)!r}" if time_s is not None else "")
     with tempfile.TemporaryDirectory(prefix="hipsim-chromium-") as profile:
         args = [
-            browser, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-            "--disable-background-networking", "--disable-component-update", "--disable-sync",
-            "--disable-extensions", "--hide-scrollbars", "--mute-audio", f"--user-data-dir={profile}",
-            "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
-            "--proxy-server=127.0.0.1:9", "--host-resolver-rules=MAP * ~NOTFOUND",
-            f"--window-size={int(size[0])},{int(size[1])}", "--virtual-time-budget=4000",
-            f"--screenshot={out}", url,
-        ]  # fmt: skip
+            browser,
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-quic",
+            "--no-first-run",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--disable-extensions",
+            "--hide-scrollbars",
+            "--mute-audio",
+            f"--user-data-dir={profile}",
+            "--use-angle=swiftshader",
+            "--enable-unsafe-swiftshader",
+            "--proxy-server=127.0.0.1:9",
+            "--host-resolver-rules=MAP * ~NOTFOUND",
+            f"--window-size={int(size[0])},{int(size[1])}",
+            "--virtual-time-budget=4000",
+            f"--screenshot={out}",
+            url,
+        ]
         try:
-            run = subprocess.run(args, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, timeout=timeout_s)
+            run = subprocess.run(
+                args, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, timeout=timeout_s
+            )
         except subprocess.TimeoutExpired:
             raise HipsimError(f"{browser} did not finish the screenshot of {page} in {timeout_s:g} s") from None
     if not out.is_file():

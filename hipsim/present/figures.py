@@ -4,15 +4,16 @@ joint forces, singularity, tracking, and the sizing figures (torque–speed clou
 from __future__ import annotations
 
 import io
+from collections.abc import Mapping
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any
 
 import numpy as np
 
-from ..physics.units import RPM_PER_RAD_S as _RPM_PER_RAD_S
 from ..design.sizing import Sizing
 from ..exceptions import HipsimError
 from ..files import write_atomic
+from ..physics.units import RPM_PER_RAD_S as _RPM_PER_RAD_S
 from ..results import Run
 
 __all__ = [
@@ -34,7 +35,13 @@ __all__ = [
 _MODULE_COLOURS = ("tab:blue", "tab:orange", "tab:green")
 
 
-_PART_COLOURS = {"platforms": "tab:blue", "levers": "tab:orange", "sliders": "tab:green", "screws": "tab:purple", "friction": "tab:red"}
+_PART_COLOURS = {
+    "platforms": "tab:blue",
+    "levers": "tab:orange",
+    "sliders": "tab:green",
+    "screws": "tab:purple",
+    "friction": "tab:red",
+}
 
 
 _ANGLE_LABELS = ("α flexion/extension", "β abduction/adduction", "γ internal/external rotation")
@@ -109,10 +116,24 @@ def plot_slider_motion(run: Run):
         values = getattr(run, quantity) * 1e3
         for j, style in ((0, "-"), (1, "--")):
             for i in range(3):
-                ax.plot(t, values[:, j, i], ls=style, color=_MODULE_COLOURS[i], lw=1.4 if j == 0 else 1.1, label=f"S{j + 1}{i + 1}")
+                ax.plot(
+                    t,
+                    values[:, j, i],
+                    ls=style,
+                    color=_MODULE_COLOURS[i],
+                    lw=1.4 if j == 0 else 1.1,
+                    label=f"S{j + 1}{i + 1}",
+                )
         name = {"L": "height L_ji", "Ld": "velocity L̇_ji", "Ldd": "acceleration L̈_ji"}[quantity]
         ax.set_ylabel(f"slider {name} [{unit}]")
-    axes[0].legend(ncol=6, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, 1.32), title="slider S_ji (platform j, module i)", title_fontsize=8)
+    axes[0].legend(
+        ncol=6,
+        fontsize=8,
+        loc="upper center",
+        bbox_to_anchor=(0.5, 1.32),
+        title="slider S_ji (platform j, module i)",
+        title_fontsize=8,
+    )
     axes[-1].set_xlabel("time t [s]")
     fig.suptitle(f"Slider motion: {run.trajectory.name}")
     return fig
@@ -143,7 +164,13 @@ def plot_load_friction(run: Run):
     axes[0].set_ylabel("load F_e [N]")
     axes[0].set_ylim(bottom=0.0)
     axes[0].legend(fontsize=8, loc="upper right")
-    axes[1].plot(t, run.torques.friction_moment * 1e3, color="tab:red", lw=1.6, label="|τ_mf|, each platform (hip joint + thrust bearing)")
+    axes[1].plot(
+        t,
+        run.torques.friction_moment * 1e3,
+        color="tab:red",
+        lw=1.6,
+        label="|τ_mf|, each platform (hip joint + thrust bearing)",
+    )
     axes[1].set_ylabel("friction moment [N·mm]")
     axes[1].set_ylim(bottom=0.0)
     axes[1].legend(fontsize=8, loc="upper right")
@@ -173,16 +200,28 @@ def plot_joint_forces(run: Run, model: str | None = None):
         for i in range(3):
             same = j == 1 and _coincide(Fa[:, 1, i], Fa[:, 0, i])
             label = f"a_2{i + 1} = a_1{i + 1}" if same else f"a_{j + 1}{i + 1}"
-            axes[0].plot(t, Fa[:, j, i], ls=style, color=_MODULE_COLOURS[i], lw=1.2 if j == 0 else 2.0, label=label, zorder=2 + j)
+            axes[0].plot(
+                t, Fa[:, j, i], ls=style, color=_MODULE_COLOURS[i], lw=1.2 if j == 0 else 2.0, label=label, zorder=2 + j
+            )
         label = "o_2 = o_1" if j == 1 and _coincide(Fo[:, 1], Fo[:, 0]) else f"o_{j + 1}"
-        axes[1].plot(t, Fo[:, j], ls=style, color="black" if j == 0 else "tab:grey", lw=1.4 if j == 0 else 2.0, label=label, zorder=2 + j)
+        axes[1].plot(
+            t,
+            Fo[:, j],
+            ls=style,
+            color="black" if j == 0 else "tab:grey",
+            lw=1.4 if j == 0 else 2.0,
+            label=label,
+            zorder=2 + j,
+        )
     axes[0].set_ylabel("spherical joint force |F_a| [N]")
     axes[1].set_ylabel("central joint force |F_o| [N]")
     axes[0].legend(ncol=6, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, 1.3), handlelength=3.0)
     axes[1].legend(fontsize=8, loc="upper right", handlelength=3.0)
     axes[-1].set_xlabel("time t [s]")
     source = model or run.model
-    fig.suptitle(f"Joint reaction forces ({'Pinocchio closed-chain' if source == 'pinocchio' else source} model): {run.trajectory.name}")
+    fig.suptitle(
+        f"Joint reaction forces ({'Pinocchio closed-chain' if source == 'pinocchio' else source} model): {run.trajectory.name}"
+    )
     return fig
 
 
@@ -199,7 +238,9 @@ def plot_singularity(run: Run):
     t, c = run.trajectory.t, run.cond_inv
     ax.plot(t, c, color="tab:blue", lw=1.6, label="inverse condition number of J")
     k = int(np.nanargmin(c))
-    ax.plot(t[k], c[k], marker="*", ms=14, color="tab:orange", mec="black", label=f"minimum {c[k]:.4f} at t = {t[k]:.4g} s")
+    ax.plot(
+        t[k], c[k], marker="*", ms=14, color="tab:orange", mec="black", label=f"minimum {c[k]:.4f} at t = {t[k]:.4g} s"
+    )
     ax.set_ylim(0.0, max(1e-3, float(np.nanmax(c))) * 1.1)
     ax.set_ylabel("inverse condition number [–]\n(0 singular, 1 isotropic)")
     ax.set_xlabel("time t [s]")
@@ -230,7 +271,9 @@ def plot_tracking(simulations: Mapping[str, Any]):
             ax = axes[k, n]
             ax.grid(alpha=0.3)
             peak = float(np.abs(np.degrees(err[:, k])).max())
-            ax.plot(t, np.degrees(err[:, k]), color=colours[n % len(colours)], lw=1.3, label=f"{name} (peak {peak:.3g}°)")
+            ax.plot(
+                t, np.degrees(err[:, k]), color=colours[n % len(colours)], lw=1.3, label=f"{name} (peak {peak:.3g}°)"
+            )
             ax.axhline(0.0, color="0.5", lw=0.6)
             ax.set_ylabel(f"{_ANGLE_LABELS[k].split()[0]} error [deg]")
             ax.legend(fontsize=8, loc="upper right")
@@ -294,7 +337,7 @@ def plot_torque_speed(size: Sizing):
     axes = fig.subplots(1, 3, sharey=True)
     motor = size.drive.motor if size.drive is not None else None
     top_speed = max(float(np.abs(duty.speed[ok]).max()) * _RPM_PER_RAD_S * 1.15, 1.0)
-    for curve in (() if motor is None else (motor.continuous, motor.peak)):
+    for curve in () if motor is None else (motor.continuous, motor.peak):
         if curve is not None and not curve.flat:
             top_speed = max(top_speed, curve.end_speed * _RPM_PER_RAD_S * 1.05)
     speeds = np.linspace(0.0, top_speed / _RPM_PER_RAD_S, 400)
@@ -306,7 +349,16 @@ def plot_torque_speed(size: Sizing):
         ax.plot(speed, torque, ".", ms=2.5, color=_MODULE_COLOURS[i], alpha=0.6, label="cycle samples")
         rms = np.sqrt(np.sum(duty.torque[:, i] ** 2 * weights) / weights.sum()) * 1e3
         mean_speed = np.sum(np.abs(duty.speed[:, i]) * weights) / weights.sum() * _RPM_PER_RAD_S
-        ax.plot(mean_speed, rms, marker="*", ms=14, color="gold", mec="black", ls="none", label=f"RMS {rms:.0f} N·mm at mean {mean_speed:.0f} rpm")
+        ax.plot(
+            mean_speed,
+            rms,
+            marker="*",
+            ms=14,
+            color="gold",
+            mec="black",
+            ls="none",
+            label=f"RMS {rms:.0f} N·mm at mean {mean_speed:.0f} rpm",
+        )
         if motor is not None:
             for curve, style, label in ((motor.continuous, "-", "S1 (continuous)"), (motor.peak, "--", "peak")):
                 if curve is not None:
@@ -340,5 +392,3 @@ def plot_axial_load_histogram(size: Sizing, bins: int = 40):
     axes[-1].set_xlabel("axial screw load |F| = |2π(τ − τ_L − τ_screw friction)/p| [N]")
     fig.suptitle(f"Axial load spectrum of the lead screws: {side.run.trajectory.name}")
     return fig
-
-

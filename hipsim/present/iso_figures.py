@@ -26,7 +26,12 @@ __all__ = ["IsoCheckFiles", "iso_summary", "iso_verdict", "plot_iso_check", "wri
 #: Most cycles drawn (the first ones; every cycle is in the JSON).
 MAX_DRAWN = 50
 
-_LABELS = {"alpha": "α flexion/extension [°]", "beta": "β abduction/adduction [°]", "gamma": "γ rotation [°]", "load": "load [N]"}
+_LABELS = {
+    "alpha": "α flexion/extension [°]",
+    "beta": "β abduction/adduction [°]",
+    "gamma": "γ rotation [°]",
+    "load": "load [N]",
+}
 _UNITS = {"alpha": "deg", "beta": "deg", "gamma": "deg", "load": "N", "frequency": "Hz"}
 
 
@@ -35,16 +40,32 @@ def iso_summary(check: IsoCheck) -> dict:
     quantities = {}
     for q in QUANTITIES:
         ok = check.passes(q)
-        quantities[q] = {"unit": _UNITS[q], "worst": check.worst(q), "tolerance": getattr(check.tolerances, q),
-                         "cycles_failed": int((~ok).sum()), "passed": bool(ok.all())}
+        quantities[q] = {
+            "unit": _UNITS[q],
+            "worst": check.worst(q),
+            "tolerance": getattr(check.tolerances, q),
+            "cycles_failed": int((~ok).sum()),
+            "passed": bool(ok.all()),
+        }
     cycles = [
-        {"cycle": k + 1, "start_s": c.start, "frequency_Hz": c.frequency, **{q: c.deviation(q) for q in QUANTITIES},
-         "passed": all(check.passes(q)[k] for q in QUANTITIES)}
+        {
+            "cycle": k + 1,
+            "start_s": c.start,
+            "frequency_Hz": c.frequency,
+            **{q: c.deviation(q) for q in QUANTITIES},
+            "passed": all(check.passes(q)[k] for q in QUANTITIES),
+        }
         for k, c in enumerate(check.cycles)
     ]
-    return {"source": check.source, "passed": check.passed, "failing": list(check.failing), "cycles": len(check.cycles),
-            "tolerances_assumed": "defaults are assumed values: confirm them against your copy of ISO 14242-1",
-            "quantities": quantities, "per_cycle": cycles}
+    return {
+        "source": check.source,
+        "passed": check.passed,
+        "failing": list(check.failing),
+        "cycles": len(check.cycles),
+        "tolerances_assumed": "defaults are assumed values: confirm them against your copy of ISO 14242-1",
+        "quantities": quantities,
+        "per_cycle": cycles,
+    }
 
 
 def plot_iso_check(check: IsoCheck, t: np.ndarray, q: np.ndarray, load: np.ndarray):
@@ -69,11 +90,16 @@ def plot_iso_check(check: IsoCheck, t: np.ndarray, q: np.ndarray, load: np.ndarr
             axes[j].plot(phase, data[inside, j], color="tab:blue" if good else "tab:red", linewidth=0.8, alpha=0.6)
     for j, (ax, name) in enumerate(zip(axes, ("alpha", "beta", "gamma", "load"))):
         band = getattr(check.tolerances, name)
-        ax.fill_between(100.0 * s, reference[:, j] - band, reference[:, j] + band, color="0.85", linewidth=0, label="tolerance")
+        ax.fill_between(
+            100.0 * s, reference[:, j] - band, reference[:, j] + band, color="0.85", linewidth=0, label="tolerance"
+        )
         ax.plot(100.0 * s, reference[:, j], color="black", linewidth=1.0, label="ISO 14242-1")
         ok = check.passes(name)
-        ax.set_title(f"{name}: worst {check.worst(name):.3g} {_UNITS[name]} (tolerance {band:.3g}): "
-                     + ("pass" if ok.all() else f"FAIL in {int((~ok).sum())} of {ok.size} cycles"), fontsize=9)
+        ax.set_title(
+            f"{name}: worst {check.worst(name):.3g} {_UNITS[name]} (tolerance {band:.3g}): "
+            + ("pass" if ok.all() else f"FAIL in {int((~ok).sum())} of {ok.size} cycles"),
+            fontsize=9,
+        )
         ax.set_ylabel(_LABELS[name])
         ax.grid(alpha=0.3)
     axes[0].legend(loc="upper right", fontsize=8)
@@ -91,27 +117,39 @@ class IsoCheckFiles:
     figure: tuple[Path, Path]
 
 
-
-
 def iso_verdict(check: IsoCheck) -> Verdict:
     """The block at the top of the page: PASS or FAIL, and the quantity that decides it with its worst deviation."""
     if check.passed:
         worst = max(QUANTITIES, key=lambda q: check.worst(q) / getattr(check.tolerances, q))
-        return Verdict("pass", "PASS", (
-            f"Every one of {len(check.cycles)} whole cycle(s) kept every angle, the load and the frequency within tolerance.",
-            f"Closest: {worst}, worst deviation {check.worst(worst):.3g} {_UNITS[worst]} against ±{getattr(check.tolerances, worst):.3g} "
-            f"{_UNITS[worst]} (tolerances assumed: confirm them against your copy of ISO 14242-1).",
-        ))
+        return Verdict(
+            "pass",
+            "PASS",
+            (
+                f"Every one of {len(check.cycles)} whole cycle(s) kept every angle, the load and the frequency within tolerance.",
+                f"Closest: {worst}, worst deviation {check.worst(worst):.3g} {_UNITS[worst]} against ±{getattr(check.tolerances, worst):.3g} "
+                f"{_UNITS[worst]} (tolerances assumed: confirm them against your copy of ISO 14242-1).",
+            ),
+        )
     first = check.failing[0]
     failed = int((~check.passes(first)).sum())
-    return Verdict("fail", "FAIL", (
-        f"{', '.join(check.failing)} left the tolerance; {first} in {failed} of {len(check.cycles)} cycle(s).",
-        f"Worst {first}: {check.worst(first):.3g} {_UNITS[first]} against ±{getattr(check.tolerances, first):.3g} {_UNITS[first]}.",
-    ))
+    return Verdict(
+        "fail",
+        "FAIL",
+        (
+            f"{', '.join(check.failing)} left the tolerance; {first} in {failed} of {len(check.cycles)} cycle(s).",
+            f"Worst {first}: {check.worst(first):.3g} {_UNITS[first]} against ±{getattr(check.tolerances, first):.3g} {_UNITS[first]}.",
+        ),
+    )
 
 
-def write_iso_check(out_dir: str | Path, check: IsoCheck, t: np.ndarray, q: np.ndarray, load: np.ndarray,
-                    provenance: Provenance | None = None) -> IsoCheckFiles:
+def write_iso_check(
+    out_dir: str | Path,
+    check: IsoCheck,
+    t: np.ndarray,
+    q: np.ndarray,
+    load: np.ndarray,
+    provenance: Provenance | None = None,
+) -> IsoCheckFiles:
     """Write the figure (PNG, SVG), ``index.html`` and ``iso_check.json`` to ``out_dir``, each atomically.
 
     The page opens with the verdict and the provenance block, as every hipsim page does.
@@ -133,9 +171,17 @@ def write_iso_check(out_dir: str | Path, check: IsoCheck, t: np.ndarray, q: np.n
     with output_folder(out):
         png, svg = save_figure(plot_iso_check(check, t, q, load), out, "cycles")
         json_path = write_atomic(out / "iso_check.json", json.dumps(document, indent=2) + "\n")
-        page = environment().get_template("iso_check.html.j2").render(
-            css=CSS, verdict=verdict, provenance=provenance, title=provenance.title, s=summary,
-            figure=base64.b64encode(png.read_bytes()).decode("ascii"),
+        page = (
+            environment()
+            .get_template("iso_check.html.j2")
+            .render(
+                css=CSS,
+                verdict=verdict,
+                provenance=provenance,
+                title=provenance.title,
+                s=summary,
+                figure=base64.b64encode(png.read_bytes()).decode("ascii"),
+            )
         )
         index = write_atomic(out / "index.html", page)
     return IsoCheckFiles(out, index, json_path, (png, svg))

@@ -18,9 +18,9 @@ import warnings
 import numpy as np
 import pinocchio as pin
 
+from ..machine.parameters import Parameters
 from .human import HIP_JOINTS, HUMAN_PELVIS_POSITION, HUMAN_PELVIS_ROTATION, load_human
 from .motion_frames import Motion
-from ..machine.parameters import Parameters
 
 __all__ = [
     "JOINT_FORCE_COLOUR",
@@ -140,7 +140,13 @@ def _cone_class():
             self.height, self.radius, self.segments = height, radius, segments
 
         def lower(self, object_data):
-            return {"uuid": self.uuid, "type": "ConeGeometry", "radius": self.radius, "height": self.height, "radialSegments": self.segments}
+            return {
+                "uuid": self.uuid,
+                "type": "ConeGeometry",
+                "radius": self.radius,
+                "height": self.height,
+                "radialSegments": self.segments,
+            }
 
     return Cone
 
@@ -166,7 +172,10 @@ def _arrow_pose(tail: np.ndarray, force: np.ndarray, scale: float):
 
 def _arrow_poses(name, tail, force, scale):
     shaft, length, head = _arrow_pose(np.asarray(tail, dtype=float), np.asarray(force, dtype=float), scale)
-    return [(f"{FORCES_ROOT}/{name}/shaft", shaft, np.array([1.0, length, 1.0])), (f"{FORCES_ROOT}/{name}/head", head, None)]
+    return [
+        (f"{FORCES_ROOT}/{name}/shaft", shaft, np.array([1.0, length, 1.0])),
+        (f"{FORCES_ROOT}/{name}/head", head, None),
+    ]
 
 
 def _arrow_names():
@@ -206,11 +215,14 @@ class Scene:
         self.machine_data = model.createData()
         self._machine_gdata = visual.createData()
         # Geometry attached to the base never moves: send only the rest.
-        self._moving = [(k, f"{MACHINE_ROOT}/visuals/{g.name}") for k, g in enumerate(visual.geometryObjects) if g.parentJoint != 0]
+        self._moving = [
+            (k, f"{MACHINE_ROOT}/visuals/{g.name}") for k, g in enumerate(visual.geometryObjects) if g.parentJoint != 0
+        ]
         self._levers = [
-            k for k, g in enumerate(visual.geometryObjects)
+            k
+            for k, g in enumerate(visual.geometryObjects)
             if g.name.startswith("lever_") and model.names[g.parentJoint].startswith("u2_")
-        ]  # fmt: skip
+        ]
         self._lever_colour: tuple | None = None
         self._forces_visible: bool | None = None
         self._arrows_ready = False
@@ -243,8 +255,9 @@ class Scene:
         leg = set(model.subtrees[model.getJointId(HIP_JOINTS[0])])
         self._human_moving = [
             (k, f"{HUMAN_ROOT}/visuals/{g.name}", np.asarray(g.meshScale, dtype=float))
-            for k, g in enumerate(visual.geometryObjects) if g.parentJoint in leg
-        ]  # fmt: skip
+            for k, g in enumerate(visual.geometryObjects)
+            if g.parentJoint in leg
+        ]
         self._human_q0 = pin.neutral(model)
         # Draw the whole body once at its neutral pose, then place the pelvis in the world.
         pin.forwardKinematics(model, self._human_data, self._human_q0)
@@ -328,7 +341,9 @@ class Scene:
 
     def lever_paths(self) -> list[str]:
         """meshcat paths of the six levers' objects (whose colour shows the singularity measure)."""
-        return [f"{MACHINE_ROOT}/visuals/{self.chain.visual_model.geometryObjects[g].name}/<object>" for g in self._levers]
+        return [
+            f"{MACHINE_ROOT}/visuals/{self.chain.visual_model.geometryObjects[g].name}/<object>" for g in self._levers
+        ]
 
     # -- sending ------------------------------------------------------------------------
 
@@ -367,7 +382,15 @@ class Scene:
         forces = motion.F_act is not None
         if forces:
             self._setup_arrows()
-        self.send(self.poses(motion.q[k], motion.hip[k], motion.F_act[k] if forces else None, motion.F_joint[k] if forces else None, scale))
+        self.send(
+            self.poses(
+                motion.q[k],
+                motion.hip[k],
+                motion.F_act[k] if forces else None,
+                motion.F_joint[k] if forces else None,
+                scale,
+            )
+        )
         self._show_forces(forces)
         self.colour_levers(singularity_colour(motion.cond_inv[k]) if motion.cond_inv is not None else None)
 

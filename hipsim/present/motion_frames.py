@@ -16,9 +16,9 @@ import numpy as np
 import pinocchio as pin
 
 from ..exceptions import ArgumentError, PoseError
-from .human import human_hip_angles
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory, interpolator
+from .human import human_hip_angles
 
 __all__ = ["Motion", "closed_motion", "platform_forces"]
 
@@ -106,7 +106,9 @@ def _check_reach(params: Parameters, trajectory: Trajectory) -> None:
     if not reached.all():
         k = int(np.argmin(reached))
         try:
-            analytic_kinematics(params, trajectory.slice(slice(k, k + 1)))  # the analytic model's message for that sample
+            analytic_kinematics(
+                params, trajectory.slice(slice(k, k + 1))
+            )  # the analytic model's message for that sample
         except PoseError as error:
             raise PoseError(error.reason, error.time, k, source=error.source) from None
 
@@ -132,7 +134,14 @@ def platform_forces(chain, Q: np.ndarray, lambdas: np.ndarray) -> np.ndarray:
 
 
 def closed_motion(
-    chain, params: Parameters, trajectory: Trajectory, *, fps: float, speed: float = 1.0, forces: bool = False, singularity: bool = False
+    chain,
+    params: Parameters,
+    trajectory: Trajectory,
+    *,
+    fps: float,
+    speed: float = 1.0,
+    forces: bool = False,
+    singularity: bool = False,
 ) -> Motion:
     """The closed frames that show ``trajectory`` at ``fps`` frames per second, played ``speed`` times real time.
 
@@ -174,7 +183,16 @@ def closed_motion(
 
     hip = human_hip_angles(rotation_matrix(np.asarray(kin.angles)))
     return Motion(
-        t=np.array(samples.t), fps=float(fps), speed=float(speed), angles=np.array(kin.angles), q=np.array(kin.q),
-        residual=np.array(kin.residual), F_act=F_act, F_joint=F_joint, cond_inv=cond_inv, hip=hip,
-        periodic=periodic, name=trajectory.name,
-    )  # fmt: skip
+        t=np.array(samples.t),
+        fps=float(fps),
+        speed=float(speed),
+        angles=np.array(kin.angles),
+        q=np.array(kin.q),
+        residual=np.array(kin.residual),
+        F_act=F_act,
+        F_joint=F_joint,
+        cond_inv=cond_inv,
+        hip=hip,
+        periodic=periodic,
+        name=trajectory.name,
+    )

@@ -105,8 +105,10 @@ def require_pdf_renderer() -> str:
     """The Chromium that prints pages to PDF, or a clear error before any work is done."""
     browser = find_browser()
     if browser is None:
-        raise HipsimError("--pdf needs Chromium (or Chrome) to print the page, and none is on PATH "
-                          "(apt-get install chromium); run without --pdf and print index.html from a browser")
+        raise HipsimError(
+            "--pdf needs Chromium (or Chrome) to print the page, and none is on PATH "
+            "(apt-get install chromium); run without --pdf and print index.html from a browser"
+        )
     return browser
 
 
@@ -130,14 +132,29 @@ def print_pdf(page: str | Path, out: str | Path, browser: str | None = None, tim
     out.unlink(missing_ok=True)
     with tempfile.TemporaryDirectory(prefix="hipsim-chromium-") as profile:
         args = [
-            browser, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-            "--disable-background-networking", "--disable-component-update", "--disable-sync",
-            "--disable-extensions", "--mute-audio", f"--user-data-dir={profile}",
-            "--proxy-server=127.0.0.1:9", "--host-resolver-rules=MAP * ~NOTFOUND",
-            "--no-pdf-header-footer", "--print-to-pdf-no-header", f"--print-to-pdf={out}", Path(page).resolve().as_uri(),
-        ]  # fmt: skip
+            browser,
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-quic",
+            "--no-first-run",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--disable-extensions",
+            "--mute-audio",
+            f"--user-data-dir={profile}",
+            "--proxy-server=127.0.0.1:9",
+            "--host-resolver-rules=MAP * ~NOTFOUND",
+            "--no-pdf-header-footer",
+            "--print-to-pdf-no-header",
+            f"--print-to-pdf={out}",
+            Path(page).resolve().as_uri(),
+        ]
         try:
-            run = subprocess.run(args, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, timeout=timeout_s)
+            run = subprocess.run(
+                args, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, timeout=timeout_s
+            )
         except subprocess.TimeoutExpired:
             raise HipsimError(f"{browser} did not print {page} to PDF in {timeout_s:g} s") from None
     if not out.is_file() or out.stat().st_size == 0 or not out.read_bytes()[:5] == b"%PDF-":

@@ -22,9 +22,10 @@ from __future__ import annotations
 import datetime as _datetime
 import hashlib
 import re
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Iterable, Mapping, Sequence
+from typing import Any
 
 __all__ = [
     "IdentifiedValue",
@@ -126,8 +127,13 @@ class ParameterOrigin:
         if self.kind == "identified":
             text += f" from {', '.join(self.logs) or 'logs not named'}; starting parameters {self.start or 'not named'}"
             for log, errors in self.validation:
-                text += (f"; held-out error on {log}: " + ", ".join(f"M{i + 1} {a:.3g}" for i, (a, _) in enumerate(errors))
-                         + " N·mm RMS (starting parameters: " + ", ".join(f"{b:.3g}" for _, b in errors) + ")")
+                text += (
+                    f"; held-out error on {log}: "
+                    + ", ".join(f"M{i + 1} {a:.3g}" for i, (a, _) in enumerate(errors))
+                    + " N·mm RMS (starting parameters: "
+                    + ", ".join(f"{b:.3g}" for _, b in errors)
+                    + ")"
+                )
             if not self.validation:
                 text += "; no held-out log (the file names no validation)"
             if self.made:
@@ -143,10 +149,21 @@ class ParameterOrigin:
             "summary": self.summary(),
             "start": self.start or None,
             "logs": list(self.logs),
-            "validation": [{"log": log, "rms_error_Nmm": [{"identified": a, "starting": b} for a, b in errors]}
-                           for log, errors in self.validation],
-            "identified": [{"key": v.key, "label": v.label, "value": v.value, "std": v.std, "unit": v.unit,
-                            "combination": v.combination or None} for v in self.identified],
+            "validation": [
+                {"log": log, "rms_error_Nmm": [{"identified": a, "starting": b} for a, b in errors]}
+                for log, errors in self.validation
+            ],
+            "identified": [
+                {
+                    "key": v.key,
+                    "label": v.label,
+                    "value": v.value,
+                    "std": v.std,
+                    "unit": v.unit,
+                    "combination": v.combination or None,
+                }
+                for v in self.identified
+            ],
             "overrides": list(self.overrides),
             "made": self.made or None,
             "inputs_of_the_identification": [{"role": r, "path": p, "sha256": h} for r, p, h in self.log_hashes],
@@ -195,7 +212,9 @@ def _input(role: str, path: str | Path) -> InputFile:
     return InputFile(role, str(path), file_sha256(path), path.stat().st_size)
 
 
-_QUANTITY_LINE = re.compile(r"^# +(?P<expr>.+?) = (?P<value>\S+) ± (?P<std>\S+) ?(?P<unit>[^(]*?) ?\((?P<relative>[^)]*)\)$")
+_QUANTITY_LINE = re.compile(
+    r"^# +(?P<expr>.+?) = (?P<value>\S+) ± (?P<std>\S+) ?(?P<unit>[^(]*?) ?\((?P<relative>[^)]*)\)$"
+)
 _VALIDATION_LINE = re.compile(r"^# +(?P<log>.+?): (?P<errors>M1 .*) N·mm$")
 _MADE_LINE = re.compile(r"^# (?P<made>Made by hipsim .*)$")
 _HASH_LINE = re.compile(r"^#   (?P<role>\S+) (?P<path>.+): SHA-256 (?P<sha>[0-9a-f]{64})$")
@@ -212,7 +231,16 @@ def _labels() -> dict[str, str]:
 def _read_identified_header(lines: Sequence[str]) -> dict[str, Any]:
     """What ``hipsim identify`` wrote in a parameter file's comment header (:meth:`hipsim.rig.identification.Identification.toml`)."""
     labels = _labels()
-    found: dict[str, Any] = {"logs": (), "start": "", "validation": [], "identified": [], "combined": [], "held": [], "made": "", "hashes": []}
+    found: dict[str, Any] = {
+        "logs": (),
+        "start": "",
+        "validation": [],
+        "identified": [],
+        "combined": [],
+        "held": [],
+        "made": "",
+        "hashes": [],
+    }
     section = ""
     for line in lines:
         if not line.startswith("#"):
@@ -223,10 +251,10 @@ def _read_identified_header(lines: Sequence[str]) -> dict[str, Any]:
             match = _HASH_LINE.match(line)
             found["hashes"].append((match["role"], match["path"], match["sha"]))
         elif line.startswith("# From the logs: "):
-            names = line[len("# From the logs: "):].rsplit(" (", 1)[0]
+            names = line[len("# From the logs: ") :].rsplit(" (", 1)[0]
             found["logs"] = tuple(name.strip() for name in names.split(", ") if name.strip())
         elif line.startswith("# Starting parameters: "):
-            found["start"] = line[len("# Starting parameters: "):].rstrip(".")
+            found["start"] = line[len("# Starting parameters: ") :].rstrip(".")
         elif line.startswith("# Identified ("):
             section = "identified"
         elif line.startswith("# Not identified"):
@@ -248,8 +276,11 @@ def _read_identified_header(lines: Sequence[str]) -> dict[str, Any]:
                 value, std = float(match["value"]), float(match["std"])
             except ValueError:
                 continue
-            found["identified"].append(IdentifiedValue(labels[label], label, value, std, match["unit"].strip(),
-                                                       expression if expression != label else ""))
+            found["identified"].append(
+                IdentifiedValue(
+                    labels[label], label, value, std, match["unit"].strip(), expression if expression != label else ""
+                )
+            )
         elif line.startswith("#  ") and section == "held":
             match = _HELD_LINE.match(line)
             if match is not None and match["label"] in labels:
@@ -285,21 +316,46 @@ def _read_identification_table(path: str | Path) -> dict[str, Any]:
     for label, key, unit, value, std, determined, definition in zip(*(table[c] for c in columns)):
         terms = [term for term in re.findall(r"·([^\s·+−]+)", str(definition)) if term in labels]
         if determined:
-            identified.append(IdentifiedValue(str(key), str(label), float(value), float(std), str(unit),
-                                              str(definition) if definition != label else ""))
+            identified.append(
+                IdentifiedValue(
+                    str(key),
+                    str(label),
+                    float(value),
+                    float(std),
+                    str(unit),
+                    str(definition) if definition != label else "",
+                )
+            )
             combined += [labels[term] for term in terms]
         else:
-            held.append((str(key), f"not determined by these logs: near its prior ({float(value):.6g} ± {float(std):.2g} {unit})".replace(" )", ")")))
+            held.append(
+                (
+                    str(key),
+                    f"not determined by these logs: near its prior ({float(value):.6g} ± {float(std):.2g} {unit})".replace(
+                        " )", ")"
+                    ),
+                )
+            )
             held += [(labels[term], f"folded into {label}, not determined by these logs") for term in terms]
     found: dict[str, Any] = {"identified": identified, "combined": combined, "held": held}
     if isinstance(table.get("logs"), list):
         found["logs"] = tuple(str(name) for name in table["logs"])
     if isinstance(table.get("start"), str):
         found["start"] = table["start"]
-    names, errors, starting = (table.get(c) for c in ("validation_logs", "validation_rms_error_Nmm", "validation_start_rms_error_Nmm"))
-    if isinstance(names, list) and isinstance(errors, list) and isinstance(starting, list) and len(names) == len(errors) == len(starting):
+    names, errors, starting = (
+        table.get(c) for c in ("validation_logs", "validation_rms_error_Nmm", "validation_start_rms_error_Nmm")
+    )
+    if (
+        isinstance(names, list)
+        and isinstance(errors, list)
+        and isinstance(starting, list)
+        and len(names) == len(errors) == len(starting)
+    ):
         try:
-            found["validation"] = [(str(name), tuple((float(a), float(b)) for a, b in zip(e, s0))) for name, e, s0 in zip(names, errors, starting)]
+            found["validation"] = [
+                (str(name), tuple((float(a), float(b)) for a, b in zip(e, s0)))
+                for name, e, s0 in zip(names, errors, starting)
+            ]
         except (TypeError, ValueError):
             pass
     return found
@@ -328,14 +384,22 @@ def parameter_origin(path: str | Path | None, overrides: Iterable[str] = ()) -> 
     header = _read_identified_header(lines)
     header |= _read_identification_table(path)
     return ParameterOrigin(
-        file, "identified", start=header["start"], logs=header["logs"], validation=tuple(header["validation"]),
-        identified=tuple(header["identified"]), combined=tuple(dict.fromkeys(header["combined"])), held=tuple(header["held"]),
-        overrides=overrides, made=header["made"], log_hashes=tuple(header["hashes"]),
+        file,
+        "identified",
+        start=header["start"],
+        logs=header["logs"],
+        validation=tuple(header["validation"]),
+        identified=tuple(header["identified"]),
+        combined=tuple(dict.fromkeys(header["combined"])),
+        held=tuple(header["held"]),
+        overrides=overrides,
+        made=header["made"],
+        log_hashes=tuple(header["hashes"]),
     )
 
 
 def _now() -> str:
-    return _datetime.datetime.now(_datetime.timezone.utc).replace(microsecond=0).isoformat().replace("+00:00", "Z")
+    return _datetime.datetime.now(_datetime.UTC).replace(microsecond=0).isoformat().replace("+00:00", "Z")
 
 
 def provenance(

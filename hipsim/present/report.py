@@ -28,9 +28,10 @@ import os
 import shutil
 import tempfile
 import uuid
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any
 
 import numpy as np
 
@@ -54,7 +55,8 @@ from .figures import (
     tracking_arrays,
 )
 from .pages import Verdict, print_pdf, require_pdf_renderer
-from .provenance import Provenance, provenance as make_provenance
+from .provenance import Provenance
+from .provenance import provenance as make_provenance
 from .report_page import report_html, report_verdict
 
 __all__ = ["ReportFiles", "write_report"]
@@ -139,13 +141,17 @@ def write_report(
         provenance = make_provenance()
     notes = list(notes)
     if run.params.platform_mass > 0:
-        notes.append(f"The platform mass m_m = {run.params.platform_mass:g} kg is an estimate (not published); it enters only the thrust-bearing friction.")
+        notes.append(
+            f"The platform mass m_m = {run.params.platform_mass:g} kg is an estimate (not published); it enters only the thrust-bearing friction."
+        )
     combined = run
     joint_model = run.model
     if joint_forces_run is not None and joint_forces_run is not run:
         if joint_forces_run.joint_forces is None:
             raise HipsimError(f"the {joint_forces_run.model} run has no joint forces to report")
-        if joint_forces_run.trajectory.t.shape != run.trajectory.t.shape or np.any(joint_forces_run.trajectory.t != run.trajectory.t):
+        if joint_forces_run.trajectory.t.shape != run.trajectory.t.shape or np.any(
+            joint_forces_run.trajectory.t != run.trajectory.t
+        ):
             raise HipsimError("the joint-force run is not along the report's trajectory")
         total, other = run.torques.total, joint_forces_run.torques.total
         difference = np.abs(other - total).max() / np.abs(total).max()
@@ -182,10 +188,16 @@ def write_report(
 
     def write(folder: Path) -> tuple[list[str], list[str]]:
         figures = {stem: save_figure(make(), folder, stem) for stem, make in plots}
-        document = {"verdict": verdict.as_dict(), "provenance": None if provenance is None else provenance.as_dict(),
-                    "summary": summary, "sizing": size.as_dict(), "tracking": tracking, "notes": notes,
-                    "parameters": file_values(combined.params),
-                    "figures": {stem: [p.name for p in paths] for stem, paths in figures.items()}}
+        document = {
+            "verdict": verdict.as_dict(),
+            "provenance": None if provenance is None else provenance.as_dict(),
+            "summary": summary,
+            "sizing": size.as_dict(),
+            "tracking": tracking,
+            "notes": notes,
+            "parameters": file_values(combined.params),
+            "figures": {stem: [p.name for p in paths] for stem, paths in figures.items()},
+        }
         write_atomic(folder / "report.json", json.dumps(json_ready(document), indent=2, default=_plain) + "\n")
         combined.write_csv(folder / "torques.csv")
         page = report_html(combined, summary, size, tracking, figures, notes, joint_model, provenance, verdict)
@@ -200,7 +212,9 @@ def write_report(
     stems, data = _write_whole(out, write)
     folder = out
     figures = {stem: (folder / f"{stem}.png", folder / f"{stem}.svg") for stem in stems}
-    return ReportFiles(folder, folder / "index.html", figures, tuple(folder / name for name in data), tuple(notes), size, verdict)
+    return ReportFiles(
+        folder, folder / "index.html", figures, tuple(folder / name for name in data), tuple(notes), size, verdict
+    )
 
 
 def _check_replaceable(out: Path) -> None:
@@ -214,9 +228,13 @@ def _check_replaceable(out: Path) -> None:
     looks_like_report = [p.is_file() and p.suffix in _REPORT_SUFFIXES for p in entries]
     if all(looks_like_report) and {"index.html", "report.json"} <= {p.name for p in entries}:
         return  # a report from before the marker
-    other = next((p.name for p, ok in sorted(zip(entries, looks_like_report)) if not ok), sorted(p.name for p in entries)[0])
-    raise HipsimError(f"{out}: the folder holds other files (e.g. '{other}'), and a report replaces its folder whole: "
-                      "choose a new or empty folder")
+    other = next(
+        (p.name for p, ok in sorted(zip(entries, looks_like_report)) if not ok), sorted(p.name for p in entries)[0]
+    )
+    raise HipsimError(
+        f"{out}: the folder holds other files (e.g. '{other}'), and a report replaces its folder whole: "
+        "choose a new or empty folder"
+    )
 
 
 def _target(out: Path) -> Path:

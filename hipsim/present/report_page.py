@@ -15,10 +15,10 @@ import math
 import re
 
 from ..analysis.registry import engine_entry
-from ..physics.units import RPM_PER_RAD_S as _RPM
 from ..design.sizing import CHECKS, Check, Sizing
 from ..machine.drive import Drive
 from ..machine.parameters import SCHEMA, file_values
+from ..physics.units import RPM_PER_RAD_S as _RPM
 from ..results import Run, Torques
 from .figures import FIGURE_CAPTIONS
 from .numbers import quantity, significant, with_uncertainty
@@ -31,11 +31,22 @@ __all__ = ["report_html", "report_verdict"]
 _INERTIA_AXES = {"xx": (0, 0), "yy": (1, 1), "zz": (2, 2), "xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}
 #: The drive parts' fields: SI inside → (factor, unit) a rig engineer reads.
 _PART_UNITS = {
-    "peak_current": (1.0, "A"), "continuous_current": (1.0, "A"), "dc_bus_energy": (1.0, "J"), "braking_power": (1.0, "W"),
-    "braking_peak_power": (1.0, "W"), "ratio": (1.0, ":1"), "efficiency": (100.0, "%"), "inertia": (1e6, "kg·mm²"),
-    "lead": (1e3, "mm"), "dynamic_load_rating": (1.0, "N"), "preload": (1.0, "N"), "root_diameter": (1e3, "mm"),
-    "free_length": (1e3, "mm"), "stroke": (1e3, "mm"), "axial_force": (1.0, "N"),
-}  # fmt: skip
+    "peak_current": (1.0, "A"),
+    "continuous_current": (1.0, "A"),
+    "dc_bus_energy": (1.0, "J"),
+    "braking_power": (1.0, "W"),
+    "braking_peak_power": (1.0, "W"),
+    "ratio": (1.0, ":1"),
+    "efficiency": (100.0, "%"),
+    "inertia": (1e6, "kg·mm²"),
+    "lead": (1e3, "mm"),
+    "dynamic_load_rating": (1.0, "N"),
+    "preload": (1.0, "N"),
+    "root_diameter": (1e3, "mm"),
+    "free_length": (1e3, "mm"),
+    "stroke": (1e3, "mm"),
+    "axial_force": (1.0, "N"),
+}
 
 
 def _margin(check: Check) -> str:
@@ -45,13 +56,15 @@ def _margin(check: Check) -> str:
 
 
 def _check_sentence(check: Check) -> str:
-    """"RMS torque under the S1 curve at the mean speed, LN1: 216.6 N·mm against ≤ 300 N·mm (margin +27.8 %)"."""
+    """ "RMS torque under the S1 curve at the mean speed, LN1: 216.6 N·mm against ≤ 300 N·mm (margin +27.8 %)"."""
     kind = CHECKS[check.name]
     bound = "≥" if kind.bound == "min" else "≤"
     if check.margin is not None and math.isinf(check.margin):
         return f"{kind.label}, LN{check.module}: beyond the limit ({check.detail or 'no finite margin'})"
-    return (f"{kind.label}, LN{check.module}: {quantity(check.value, kind.unit)} against {bound} {quantity(check.limit, kind.unit)} "
-            f"(margin {_margin(check)})")
+    return (
+        f"{kind.label}, LN{check.module}: {quantity(check.value, kind.unit)} against {bound} {quantity(check.limit, kind.unit)} "
+        f"(margin {_margin(check)})"
+    )
 
 
 def report_verdict(size: Sizing) -> Verdict:
@@ -62,21 +75,34 @@ def report_verdict(size: Sizing) -> Verdict:
         peak = max(size.modules, key=lambda m: m.tau_peak_Nmm)
         rms = max(size.modules, key=lambda m: m.tau_rms_Nmm)
         fast = max(size.modules, key=lambda m: m.speed_peak_rpm)
-        return Verdict("open", "NOT RATED", (
-            "No drive was checked: give --motor FILE or a [motor] table in the parameter file.",
-            f"The cycle asks at most {quantity(peak.tau_peak_Nmm, 'N·mm')} peak (LN{peak.module}), "
-            f"{quantity(rms.tau_rms_Nmm, 'N·mm')} RMS (LN{rms.module}) and {quantity(fast.speed_peak_rpm, 'rpm')} (LN{fast.module}) "
-            "at the screw shafts.",
-        ))
+        return Verdict(
+            "open",
+            "NOT RATED",
+            (
+                "No drive was checked: give --motor FILE or a [motor] table in the parameter file.",
+                f"The cycle asks at most {quantity(peak.tau_peak_Nmm, 'N·mm')} peak (LN{peak.module}), "
+                f"{quantity(rms.tau_rms_Nmm, 'N·mm')} RMS (LN{rms.module}) and {quantity(fast.speed_peak_rpm, 'rpm')} (LN{fast.module}) "
+                "at the screw shafts.",
+            ),
+        )
     name = size.drive.name if size.drive is not None else "the drive"
     not_made = f"; {missing} not made for want of data" if missing else ""
     binding = size.binding
     if size.passed:
-        return Verdict("pass", "PASS", (f"{name} passes all {len(made)} rating checks made{not_made}.",
-                                        f"Binding: {_check_sentence(binding)}."))
+        return Verdict(
+            "pass",
+            "PASS",
+            (f"{name} passes all {len(made)} rating checks made{not_made}.", f"Binding: {_check_sentence(binding)}."),
+        )
     failing = [c for c in made if not c.passed]
-    return Verdict("fail", "FAIL", (f"{name} fails {len(failing)} of the {len(made)} rating checks made{not_made}.",
-                                    f"Worst: {_check_sentence(binding)}."))
+    return Verdict(
+        "fail",
+        "FAIL",
+        (
+            f"{name} fails {len(failing)} of the {len(made)} rating checks made{not_made}.",
+            f"Worst: {_check_sentence(binding)}.",
+        ),
+    )
 
 
 def _parameter_rows(params, origin: ParameterOrigin | None) -> list[dict]:
@@ -94,22 +120,35 @@ def _parameter_rows(params, origin: ParameterOrigin | None) -> list[dict]:
                 text = _inertia_text(value, stds)
             elif plain:
                 text = with_uncertainty(value, plain[0].std)
-            combos = [f"{_shorter(v.combination)} = {with_uncertainty(v.value, v.std)} {v.unit}".strip() for v in identified if v.combination]
+            combos = [
+                f"{_shorter(v.combination)} = {with_uncertainty(v.value, v.std)} {v.unit}".strip()
+                for v in identified
+                if v.combination
+            ]
             if combos:
                 how += " as " + "; ".join(combos) + " (this value is what the combination leaves)"
-        rows.append({"css": "identified" if identified else "", "cells": [dotted, text, spec.unit or "–", how, spec.meaning]})
+        rows.append(
+            {"css": "identified" if identified else "", "cells": [dotted, text, spec.unit or "–", how, spec.meaning]}
+        )
     return rows
 
 
 def _inertia_text(value: list, stds: dict) -> str:
     """An inertia as the file lists it (the diagonal, or the 3×3 matrix), identified components with ± their std."""
     if value and isinstance(value[0], list):
+
         def cell(a, b):
             std = stds.get((a, b), stds.get((b, a)))
             return with_uncertainty(value[a][b], std) if std is not None else _input_value(value[a][b])
 
         return "[" + ", ".join("[" + ", ".join(cell(a, b) for b in range(3)) + "]" for a in range(3)) + "]"
-    return "[" + ", ".join(with_uncertainty(x, stds[(k, k)]) if (k, k) in stds else _input_value(x) for k, x in enumerate(value)) + "]"
+    return (
+        "["
+        + ", ".join(
+            with_uncertainty(x, stds[(k, k)]) if (k, k) in stds else _input_value(x) for k, x in enumerate(value)
+        )
+        + "]"
+    )
 
 
 def _shorter(combination: str, terms: int = 3) -> str:
@@ -146,9 +185,12 @@ def _drive_rows(drive: Drive) -> list[list[str]]:
         if curve is not None:
             rows.append(["motor", label, curve_text(curve)])
     for label, value, scale, unit in (
-        ("top speed", motor.top_speed, _RPM, "rpm"), ("rotor inertia", motor.rotor_inertia, 1e6, "kg·mm²"),
-        ("torque constant", motor.torque_constant, 1.0, "N·m/A"), ("winding resistance (phase-phase)", motor.winding_resistance, 1.0, "Ω"),
-        ("thermal time constant", motor.thermal_time_constant, 1.0, "s"), ("thermal resistance", motor.thermal_resistance, 1.0, "K/W"),
+        ("top speed", motor.top_speed, _RPM, "rpm"),
+        ("rotor inertia", motor.rotor_inertia, 1e6, "kg·mm²"),
+        ("torque constant", motor.torque_constant, 1.0, "N·m/A"),
+        ("winding resistance (phase-phase)", motor.winding_resistance, 1.0, "Ω"),
+        ("thermal time constant", motor.thermal_time_constant, 1.0, "s"),
+        ("thermal resistance", motor.thermal_resistance, 1.0, "K/W"),
     ):
         if value is not None:
             rows.append(["motor", label, quantity(value * scale, unit)])
@@ -169,9 +211,13 @@ def _drive_rows(drive: Drive) -> list[list[str]]:
 
 def _rule_texts(size: Sizing) -> list[str]:
     rules = size.rules
-    return [f"inertia ratio ≤ {rules.inertia_ratio_max:g}:1", f"screw L10 life ≥ {significant(rules.life_target_cycles, 3)} cycles",
-            f"winding rise ≤ {rules.winding_rise_max:g} K (S1 rated at {rules.rated_winding_rise:g} K)",
-            f"screw speed ≤ {rules.critical_speed_factor:g} × critical", f"axial load ≤ {rules.buckling_factor:g} × Euler buckling load"]
+    return [
+        f"inertia ratio ≤ {rules.inertia_ratio_max:g}:1",
+        f"screw L10 life ≥ {significant(rules.life_target_cycles, 3)} cycles",
+        f"winding rise ≤ {rules.winding_rise_max:g} K (S1 rated at {rules.rated_winding_rise:g} K)",
+        f"screw speed ≤ {rules.critical_speed_factor:g} × critical",
+        f"axial load ≤ {rules.buckling_factor:g} × Euler buckling load",
+    ]
 
 
 def _check_rows(size: Sizing) -> list[dict]:
@@ -183,68 +229,148 @@ def _check_rows(size: Sizing) -> list[dict]:
         if c is size.binding:
             css += " binding"
         limit = "—" if c.limit is None else f"{'≥' if kind.bound == 'min' else '≤'} {quantity(c.limit, kind.unit)}"
-        rows.append({"css": css.strip(), "cells": [f"LN{c.module}", kind.label, quantity(c.value, kind.unit), limit, _margin(c), verdict, c.detail, kind.basis]})
+        rows.append(
+            {
+                "css": css.strip(),
+                "cells": [
+                    f"LN{c.module}",
+                    kind.label,
+                    quantity(c.value, kind.unit),
+                    limit,
+                    _margin(c),
+                    verdict,
+                    c.detail,
+                    kind.basis,
+                ],
+            }
+        )
     return rows
 
 
 def _tracking_rows(tracking):
     if tracking is None:
         return None, None
-    angles = [[name, *(significant(row[f"{a}_err_{s}_deg"], 3, zeros=False) for a in ("alpha", "beta", "gamma") for s in ("peak", "rms"))]
-              for name, row in tracking.items()]
-    torques = [[name, *(significant(row[f"tau_{s}_{i}_Nmm"]) for i in (1, 2, 3) for s in ("peak", "rms"))]
-               for name, row in tracking.items() if "tau_peak_1_Nmm" in row]
+    angles = [
+        [
+            name,
+            *(
+                significant(row[f"{a}_err_{s}_deg"], 3, zeros=False)
+                for a in ("alpha", "beta", "gamma")
+                for s in ("peak", "rms")
+            ),
+        ]
+        for name, row in tracking.items()
+    ]
+    torques = [
+        [name, *(significant(row[f"tau_{s}_{i}_Nmm"]) for i in (1, 2, 3) for s in ("peak", "rms"))]
+        for name, row in tracking.items()
+        if "tau_peak_1_Nmm" in row
+    ]
     return angles, torques
 
 
-def report_html(result: Run, summary: dict, size: Sizing, tracking, figures, notes, joint_model: str,
-                provenance: Provenance | None, verdict: Verdict) -> str:
+def report_html(
+    result: Run,
+    summary: dict,
+    size: Sizing,
+    tracking,
+    figures,
+    notes,
+    joint_model: str,
+    provenance: Provenance | None,
+    verdict: Verdict,
+) -> str:
     """The page of :func:`hipsim.present.report.write_report`."""
     traj = result.trajectory
     duration = traj.t[-1] - traj.t[0] + (traj.t[1] - traj.t[0] if len(traj) > 1 else 0)
-    sliders = [[f"S{name}", *(significant(s[k]) for k in ("L_max_mm", "L_min_mm", "stroke_mm", "Ld_max_mm_s", "Ldd_max_mm_s2"))]
-               for name, s in summary["sliders"].items()]
-    motors = [[f"M{i}", *(significant(m[f"{Torques.COLUMN[p]}_max_Nmm"]) for p in Torques.PARTS), significant(m["tau_peak_Nmm"]),
-               significant(m["tau_rms_Nmm"]), significant(m["speed_peak_rpm"])] for i, m in summary["motors"].items()]
-    demands = [[f"LN{m.module}", *(significant(getattr(m, k)) for k in (
-        "tau_peak_Nmm", "tau_rms_Nmm", "speed_peak_rpm", "speed_mean_rpm", "power_peak_W", "motor_thrust_peak_N",
-        "axial_force_peak_N", "axial_force_cubic_mean_N", "revolutions_per_cycle", "load_inertia_max_kgmm2", "regen_energy_J", "stroke_mm"))]
-        for m in size.modules]
-    joints = [[j.joint, significant(j.peak_N), significant(j.rms_N)] for j in size.joints] if size.joints is not None else None
+    sliders = [
+        [
+            f"S{name}",
+            *(significant(s[k]) for k in ("L_max_mm", "L_min_mm", "stroke_mm", "Ld_max_mm_s", "Ldd_max_mm_s2")),
+        ]
+        for name, s in summary["sliders"].items()
+    ]
+    motors = [
+        [
+            f"M{i}",
+            *(significant(m[f"{Torques.COLUMN[p]}_max_Nmm"]) for p in Torques.PARTS),
+            significant(m["tau_peak_Nmm"]),
+            significant(m["tau_rms_Nmm"]),
+            significant(m["speed_peak_rpm"]),
+        ]
+        for i, m in summary["motors"].items()
+    ]
+    demands = [
+        [
+            f"LN{m.module}",
+            *(
+                significant(getattr(m, k))
+                for k in (
+                    "tau_peak_Nmm",
+                    "tau_rms_Nmm",
+                    "speed_peak_rpm",
+                    "speed_mean_rpm",
+                    "power_peak_W",
+                    "motor_thrust_peak_N",
+                    "axial_force_peak_N",
+                    "axial_force_cubic_mean_N",
+                    "revolutions_per_cycle",
+                    "load_inertia_max_kgmm2",
+                    "regen_energy_J",
+                    "stroke_mm",
+                )
+            ),
+        ]
+        for m in size.modules
+    ]
+    joints = (
+        [[j.joint, significant(j.peak_N), significant(j.rms_N)] for j in size.joints]
+        if size.joints is not None
+        else None
+    )
     tracking_rows, tracking_torques = _tracking_rows(tracking)
     figure_items = [
-        {"stem": stem, "data": base64.b64encode(png.read_bytes()).decode("ascii"), "caption": FIGURE_CAPTIONS.get(stem, stem),
-         "png": png.name, "svg": svg.name}
+        {
+            "stem": stem,
+            "data": base64.b64encode(png.read_bytes()).decode("ascii"),
+            "caption": FIGURE_CAPTIONS.get(stem, stem),
+            "png": png.name,
+            "svg": svg.name,
+        }
         for stem, (png, svg) in figures.items()
     ]
     binding = size.binding
     origin = provenance.parameters if provenance is not None else None
-    return environment().get_template("report.html.j2").render(
-        css=CSS,
-        verdict=verdict,
-        provenance=provenance,
-        title=provenance.title if provenance is not None and provenance.title else None,
-        trajectory={"name": traj.name, "samples": len(traj), "duration": significant(duration)},
-        params_source=result.params.source,
-        delta=f"{math.degrees(result.params.home_offset):g}",
-        notes=notes,
-        sliders=sliders,
-        motors=motors,
-        cond_inv_min=f"{summary['cond_inv_min']:.4f}",
-        cond_inv_t=significant(summary["cond_inv_min_t_s"]),
-        demands=demands,
-        joints=joints,
-        joint_model=engine_entry(joint_model).title,
-        checks=_check_rows(size) if size.checks else None,
-        passed=size.passed,
-        binding=_check_sentence(binding) if binding is not None else None,
-        drive_name=size.drive.name if size.drive is not None else "",
-        drive_source=size.drive.source if size.drive is not None else "",
-        rules=_rule_texts(size),
-        tracking=tracking_rows,
-        tracking_torques=tracking_torques,
-        tracking_torque_header=["controller"] + [f"M{i} {s} [N·mm]" for i in (1, 2, 3) for s in ("peak", "RMS")],
-        figures=figure_items,
-        parameters=_parameter_rows(result.params, origin),
-        drive_rows=_drive_rows(size.drive) if size.drive is not None else None,
+    return (
+        environment()
+        .get_template("report.html.j2")
+        .render(
+            css=CSS,
+            verdict=verdict,
+            provenance=provenance,
+            title=provenance.title if provenance is not None and provenance.title else None,
+            trajectory={"name": traj.name, "samples": len(traj), "duration": significant(duration)},
+            params_source=result.params.source,
+            delta=f"{math.degrees(result.params.home_offset):g}",
+            notes=notes,
+            sliders=sliders,
+            motors=motors,
+            cond_inv_min=f"{summary['cond_inv_min']:.4f}",
+            cond_inv_t=significant(summary["cond_inv_min_t_s"]),
+            demands=demands,
+            joints=joints,
+            joint_model=engine_entry(joint_model).title,
+            checks=_check_rows(size) if size.checks else None,
+            passed=size.passed,
+            binding=_check_sentence(binding) if binding is not None else None,
+            drive_name=size.drive.name if size.drive is not None else "",
+            drive_source=size.drive.source if size.drive is not None else "",
+            rules=_rule_texts(size),
+            tracking=tracking_rows,
+            tracking_torques=tracking_torques,
+            tracking_torque_header=["controller"] + [f"M{i} {s} [N·mm]" for i in (1, 2, 3) for s in ("peak", "RMS")],
+            figures=figure_items,
+            parameters=_parameter_rows(result.params, origin),
+            drive_rows=_drive_rows(size.drive) if size.drive is not None else None,
+        )
     )

@@ -12,30 +12,40 @@ from __future__ import annotations
 
 import base64
 import json
-import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
-from ..rig.compare import Comparison
 from ..files import check_folder, json_ready, output_folder, write_atomic
 from ..results import Torques
+from ..rig.compare import Comparison
 from .figures import save_figure
 from .numbers import significant
 from .pages import CSS, Verdict, environment
 from .provenance import Provenance
 
-__all__ = ["ComparisonFiles", "comparison_verdict", "plot_comparison", "plot_errors", "plot_model_parts", "plot_phase_errors",
-           "write_comparison"]
+__all__ = [
+    "ComparisonFiles",
+    "comparison_verdict",
+    "plot_comparison",
+    "plot_errors",
+    "plot_model_parts",
+    "plot_phase_errors",
+    "write_comparison",
+]
 
-_PART_COLOURS = {"platforms": "tab:blue", "levers": "tab:orange", "sliders": "tab:green", "screws": "tab:purple", "friction": "tab:red"}
+_PART_COLOURS = {
+    "platforms": "tab:blue",
+    "levers": "tab:orange",
+    "sliders": "tab:green",
+    "screws": "tab:purple",
+    "friction": "tab:red",
+}
 
 CAPTIONS = {
     "torques": "Measured and model motor torque per motor; the shaded band is the error between them.",
     "errors": "Model minus measured torque per motor, with ±RMS lines; grey: windows around the motor's reversals, "
-              "where the real motion sticks and the filtered model cannot follow.",
+    "where the real motion sticks and the filtered model cannot follow.",
     "phases": "RMS error per phase of the cycle (the log repeats).",
     "parts": "The model's torque split into its parts (platforms, levers, sliders, screws, friction).",
 }
@@ -62,12 +72,17 @@ def plot_comparison(comparison: Comparison, band=None):
         ax.fill_between(t, measured, model, color="tab:red", alpha=0.3, linewidth=0, label="error")
         if band is not None:
             half = band[:, i] * 1e3
-            ax.fill_between(t, model - half, model + half, color="tab:blue", alpha=0.25, linewidth=0, label="model's 95 % band")
+            ax.fill_between(
+                t, model - half, model + half, color="tab:blue", alpha=0.25, linewidth=0, label="model's 95 % band"
+            )
         ax.plot(t, measured, color="black", linewidth=1.0, label="measured")
         ax.plot(t, model, color="tab:blue", linewidth=1.0, linestyle="--", label="model")
         e = errors[str(i + 1)]
-        ax.set_title(f"motor {i + 1}: RMS error {e['rms_error_Nmm']:.3g} N·mm ({100 * e['relative_rms_error']:.2g} %), "
-                     f"peak {e['peak_error_Nmm']:.3g} N·mm at {e['peak_error_t_s']:.3g} s", fontsize=9)
+        ax.set_title(
+            f"motor {i + 1}: RMS error {e['rms_error_Nmm']:.3g} N·mm ({100 * e['relative_rms_error']:.2g} %), "
+            f"peak {e['peak_error_Nmm']:.3g} N·mm at {e['peak_error_t_s']:.3g} s",
+            fontsize=9,
+        )
         ax.set_ylabel("torque [N·mm]")
     axes[0].legend(loc="upper right", fontsize=8, ncol=3)
     axes[-1].set_xlabel("time [s]")
@@ -123,7 +138,9 @@ def plot_model_parts(comparison: Comparison):
     fig, axes = _figure(3, height=2.2)
     for i, ax in enumerate(axes):
         for part in Torques.PARTS:
-            ax.plot(comparison.t, comparison.model[part][:, i] * 1e3, color=_PART_COLOURS[part], linewidth=0.9, label=part)
+            ax.plot(
+                comparison.t, comparison.model[part][:, i] * 1e3, color=_PART_COLOURS[part], linewidth=0.9, label=part
+            )
         ax.plot(comparison.t, comparison.model["total"][:, i] * 1e3, color="black", linewidth=1.0, label="total")
         ax.set_ylabel(f"M{i + 1} [N·mm]")
     axes[0].legend(fontsize=7, ncol=6, loc="upper right")
@@ -141,10 +158,6 @@ class ComparisonFiles:
     figures: dict[str, tuple[Path, Path]]
 
 
-
-
-
-
 def comparison_verdict(summary: dict, accept: float | None = None) -> Verdict:
     """The worst motor's RMS error relative to its measured RMS torque; PASS/FAIL against ``accept``, else not judged.
 
@@ -155,29 +168,50 @@ def comparison_verdict(summary: dict, accept: float | None = None) -> Verdict:
     motors = summary["motors"]
     worst = max(motors, key=lambda i: motors[i]["relative_rms_error"])
     m = motors[worst]
-    numbers = (f"Worst: motor {worst}, RMS error {significant(m['rms_error_Nmm'], 3)} N·mm = "
-               f"{significant(100 * m['relative_rms_error'], 3)} % of its measured RMS torque "
-               f"({significant(m['rms_error_away_from_reversals_Nmm'], 3)} N·mm away from reversals).")
+    numbers = (
+        f"Worst: motor {worst}, RMS error {significant(m['rms_error_Nmm'], 3)} N·mm = "
+        f"{significant(100 * m['relative_rms_error'], 3)} % of its measured RMS torque "
+        f"({significant(m['rms_error_away_from_reversals_Nmm'], 3)} N·mm away from reversals)."
+    )
     if accept is None:
         return Verdict("open", "NOT JUDGED", ("No acceptance threshold given (--accept PERCENT).", numbers))
     share = f"{100 * accept:g} %"
     if all(motors[i]["relative_rms_error"] <= accept for i in motors):
-        return Verdict("pass", "PASS", (f"Every motor's RMS error is within {share} of its measured RMS torque.", numbers))
+        return Verdict(
+            "pass", "PASS", (f"Every motor's RMS error is within {share} of its measured RMS torque.", numbers)
+        )
     failing = [i for i in motors if motors[i]["relative_rms_error"] > accept]
-    return Verdict("fail", "FAIL", (f"{len(failing)} of {len(motors)} motors exceed the accepted {share} RMS error.", numbers))
+    return Verdict(
+        "fail", "FAIL", (f"{len(failing)} of {len(motors)} motors exceed the accepted {share} RMS error.", numbers)
+    )
 
 
 def _rows(summary: dict) -> list[list[str]]:
     return [
-        [f"M{name}", significant(m["measured_rms_Nmm"]), significant(m["measured_peak_Nmm"]), significant(m["rms_error_Nmm"], 3),
-         significant(100 * m["relative_rms_error"], 3), significant(m["peak_error_Nmm"], 3), significant(100 * m["relative_peak_error"], 3),
-         f"{m['peak_error_t_s']:.3f}", significant(m["rms_error_away_from_reversals_Nmm"], 3)]
+        [
+            f"M{name}",
+            significant(m["measured_rms_Nmm"]),
+            significant(m["measured_peak_Nmm"]),
+            significant(m["rms_error_Nmm"], 3),
+            significant(100 * m["relative_rms_error"], 3),
+            significant(m["peak_error_Nmm"], 3),
+            significant(100 * m["relative_peak_error"], 3),
+            f"{m['peak_error_t_s']:.3f}",
+            significant(m["rms_error_away_from_reversals_Nmm"], 3),
+        ]
         for name, m in summary["motors"].items()
     ]
 
 
-def write_comparison(out_dir: str | Path, comparison: Comparison, extra: dict[str, Any] | None = None,
-                     provenance: Provenance | None = None, accept: float | None = None, band=None, residual=None) -> ComparisonFiles:
+def write_comparison(
+    out_dir: str | Path,
+    comparison: Comparison,
+    extra: dict[str, Any] | None = None,
+    provenance: Provenance | None = None,
+    accept: float | None = None,
+    band=None,
+    residual=None,
+) -> ComparisonFiles:
     """Write the comparison folder: figures (PNG, SVG), ``index.html`` and ``comparison.json``, each atomically.
 
     Args:
@@ -204,7 +238,9 @@ def write_comparison(out_dir: str | Path, comparison: Comparison, extra: dict[st
         from ..rig.uncertainty import band_summary
 
         summary["model_band95"] = band_summary(band, comparison.error, residual)
-        captions = CAPTIONS | {"torques": CAPTIONS["torques"] + " Light blue: the model's 95 % band from the parameter file's covariance."}
+        captions = CAPTIONS | {
+            "torques": CAPTIONS["torques"] + " Light blue: the model's 95 % band from the parameter file's covariance."
+        }
     verdict = comparison_verdict(summary, accept)
     summary = {"verdict": verdict.as_dict(), "provenance": provenance.as_dict()} | summary
     plots = [("torques", lambda c: plot_comparison(c, band)), ("errors", plot_errors)]
@@ -218,10 +254,22 @@ def write_comparison(out_dir: str | Path, comparison: Comparison, extra: dict[st
         json_path = write_atomic(out / "comparison.json", json.dumps(json_ready(summary), indent=2) + "\n")
         embedded = [(stem, base64.b64encode(png.read_bytes()).decode("ascii")) for stem, (png, _) in figures.items()]
         plain = json_ready(summary)
-        page = environment().get_template("compare.html.j2").render(
-            css=CSS, verdict=verdict, provenance=provenance, title=provenance.title, summary=plain, rows=_rows(plain),
-            rate=significant(plain["rate_Hz"]), period=significant(plain["period_s"]) if plain.get("period_s") else "",
-            notes=summary.get("notes", []), figures=embedded, captions=captions,
+        page = (
+            environment()
+            .get_template("compare.html.j2")
+            .render(
+                css=CSS,
+                verdict=verdict,
+                provenance=provenance,
+                title=provenance.title,
+                summary=plain,
+                rows=_rows(plain),
+                rate=significant(plain["rate_Hz"]),
+                period=significant(plain["period_s"]) if plain.get("period_s") else "",
+                notes=summary.get("notes", []),
+                figures=embedded,
+                captions=captions,
+            )
         )
         index = write_atomic(out / "index.html", page)
     return ComparisonFiles(out, index, json_path, figures)

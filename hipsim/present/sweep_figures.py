@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -19,8 +19,14 @@ _RATING_STYLE = {
 
 
 def plot_pareto(
-    x: np.ndarray, y: np.ndarray, front: np.ndarray, names: tuple[str, str], maximise: tuple[bool, bool],
-    ratings: Sequence[str], title: str = "", labels: Sequence[str] | None = None,
+    x: np.ndarray,
+    y: np.ndarray,
+    front: np.ndarray,
+    names: tuple[str, str],
+    maximise: tuple[bool, bool],
+    ratings: Sequence[str],
+    title: str = "",
+    labels: Sequence[str] | None = None,
 ):
     """The variants on two objectives, coloured by their rating, the Pareto front joined and ringed.
 
@@ -46,12 +52,28 @@ def plot_pareto(
     for rating, (colour, label) in _RATING_STYLE.items():
         chosen = (ratings == rating) & np.isfinite(x) & np.isfinite(y)
         if np.any(chosen):
-            ax.scatter(x[chosen], y[chosen], s=10, color=colour, alpha=0.55, linewidths=0, label=f"{label} ({np.count_nonzero(chosen)})")
+            ax.scatter(
+                x[chosen],
+                y[chosen],
+                s=10,
+                color=colour,
+                alpha=0.55,
+                linewidths=0,
+                label=f"{label} ({np.count_nonzero(chosen)})",
+            )
     if np.any(front):
         order = np.argsort(x[front])
         ax.plot(x[front][order], y[front][order], color="black", lw=1.0, zorder=3)
-        ax.scatter(x[front], y[front], s=36, facecolors="none", edgecolors="black", linewidths=1.2, zorder=4,
-                   label=f"Pareto front ({np.count_nonzero(front)})")  # fmt: skip
+        ax.scatter(
+            x[front],
+            y[front],
+            s=36,
+            facecolors="none",
+            edgecolors="black",
+            linewidths=1.2,
+            zorder=4,
+            label=f"Pareto front ({np.count_nonzero(front)})",
+        )
     if labels is not None and np.any(front):
         _label_front(ax, x, y, front, labels)
     for setter, name, larger in ((ax.set_xlabel, names[0], maximise[0]), (ax.set_ylabel, names[1], maximise[1])):
@@ -74,7 +96,23 @@ def _label_front(ax, x, y, front, labels) -> None:
     indices = indices[np.argsort(x[indices])]
     step = max(1, int(np.ceil(len(indices) / MAX_LABELS)))
     for n, k in enumerate(indices[::step]):
-        ax.annotate(labels[k], (x[k], y[k]), xytext=(6, 8 if n % 2 == 0 else -12), textcoords="offset points", fontsize=6.5,
-                    color="0.15", zorder=5)
+        ax.annotate(
+            labels[k],
+            (x[k], y[k]),
+            xytext=(6, 8 if n % 2 == 0 else -12),
+            textcoords="offset points",
+            fontsize=6.5,
+            color="0.15",
+            zorder=5,
+        )
     if step > 1:
-        ax.text(0.99, 0.01, f"every {step}th Pareto point labelled", transform=ax.transAxes, ha="right", va="bottom", fontsize=7, color="0.3")
+        ax.text(
+            0.99,
+            0.01,
+            f"every {step}th Pareto point labelled",
+            transform=ax.transAxes,
+            ha="right",
+            va="bottom",
+            fontsize=7,
+            color="0.3",
+        )

@@ -46,18 +46,18 @@ Not thread-safe: use one Viewer from one thread at a time.
 from __future__ import annotations
 
 import time
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 
 from ..exceptions import ArgumentError, HipsimError
+from ..machine.parameters import Parameters, load_parameters
+from ..motion.trajectories import Trajectory
 from .human import human_hip_angles
 from .meshcat_output import DiscreteAnimation, LiveWindow, OfflineWindow, Server, TeeWindow, offline_page
 from .meshcat_scene import FORCES_ROOT, Scene, arrow_scale, force_scale_for, import_meshcat, singularity_colour
 from .motion_frames import Motion, closed_motion
 from .viewer_text import description_lines, legend_lines
-from ..machine.parameters import Parameters, load_parameters
-from ..motion.trajectories import Trajectory
 
 __all__ = ["DEFAULT_FPS", "Motion", "Viewer", "describe", "force_scale_for", "singularity_colour"]
 
@@ -82,7 +82,14 @@ class Viewer:
         HipsimError: the meshcat server does not start.
     """
 
-    def __init__(self, params: Parameters | None = None, human: bool = False, *, serve: bool = True, force_scale: float | None = None):
+    def __init__(
+        self,
+        params: Parameters | None = None,
+        human: bool = False,
+        *,
+        serve: bool = True,
+        force_scale: float | None = None,
+    ):
         meshcat = import_meshcat()
 
         from ..closed_chain.build import load_model
@@ -136,7 +143,15 @@ class Viewer:
 
     # -- computing what to show ---------------------------------------------------------
 
-    def motion(self, trajectory: Trajectory, *, fps: float = DEFAULT_FPS, speed: float = 1.0, forces: bool = False, singularity: bool = False) -> Motion:
+    def motion(
+        self,
+        trajectory: Trajectory,
+        *,
+        fps: float = DEFAULT_FPS,
+        speed: float = 1.0,
+        forces: bool = False,
+        singularity: bool = False,
+    ) -> Motion:
         """The closed frames that show ``trajectory`` at ``fps`` frames per second, played ``speed`` times real time.
 
         The trajectory is resampled at fps/speed samples per second of its time
@@ -147,7 +162,9 @@ class Viewer:
         Raises:
             PoseError: a sample is out of reach or singular.
         """
-        return closed_motion(self.chain, self.params, trajectory, fps=fps, speed=speed, forces=forces, singularity=singularity)
+        return closed_motion(
+            self.chain, self.params, trajectory, fps=fps, speed=speed, forces=forces, singularity=singularity
+        )
 
     def _scale(self, motion: Motion) -> float:
         """The arrow scale of a motion with forces in [m per N]."""
@@ -183,7 +200,14 @@ class Viewer:
         """
         from ..closed_chain.closure import kinematics
 
-        one = Trajectory(np.zeros(1), np.array([[alpha, beta, gamma]], dtype=float), np.zeros((1, 3)), np.zeros((1, 3)), np.zeros(1), name="orientation")
+        one = Trajectory(
+            np.zeros(1),
+            np.array([[alpha, beta, gamma]], dtype=float),
+            np.zeros((1, 3)),
+            np.zeros((1, 3)),
+            np.zeros(1),
+            name="orientation",
+        )
         q = kinematics(self.chain, one).q[0]
         self.show(q)
         return q
@@ -217,7 +241,11 @@ class Viewer:
         Returns:
             The motion shown.
         """
-        motion = trajectory if isinstance(trajectory, Motion) else self.motion(trajectory, fps=fps, speed=speed, forces=forces, singularity=singularity)
+        motion = (
+            trajectory
+            if isinstance(trajectory, Motion)
+            else self.motion(trajectory, fps=fps, speed=speed, forces=forces, singularity=singularity)
+        )
         scale = self._scale(motion) if motion.F_act is not None else 0.0
         n = len(motion)
         frame_rate = motion.fps
@@ -276,7 +304,11 @@ class Viewer:
         Returns:
             The HTML text.
         """
-        motion = trajectory if isinstance(trajectory, Motion) else self.motion(trajectory, fps=fps, speed=speed, forces=forces, singularity=singularity)
+        motion = (
+            trajectory
+            if isinstance(trajectory, Motion)
+            else self.motion(trajectory, fps=fps, speed=speed, forces=forces, singularity=singularity)
+        )
         animation = self._animation(motion)
         from meshcat.commands import SetAnimation
 
@@ -295,7 +327,13 @@ class Viewer:
         animation = DiscreteAnimation(default_framerate=motion.fps)
         lever_paths = self.scene.lever_paths()
         for k in range(len(motion)):
-            poses = self.scene.poses(motion.q[k], motion.hip[k], motion.F_act[k] if forces else None, motion.F_joint[k] if forces else None, scale)
+            poses = self.scene.poses(
+                motion.q[k],
+                motion.hip[k],
+                motion.F_act[k] if forces else None,
+                motion.F_joint[k] if forces else None,
+                scale,
+            )
             with animation.at_frame(self.vis, k) as frame:
                 for path, T, s in poses:
                     frame[path].set_transform(T)
@@ -323,7 +361,7 @@ class Viewer:
             server.close()
             self._server = None
 
-    def __enter__(self) -> "Viewer":
+    def __enter__(self) -> Viewer:
         return self
 
     def __exit__(self, *exc) -> None:

@@ -20,7 +20,9 @@ def legend_lines(motion: Motion, scale: float | None, human: bool) -> list[str]:
     """
     import html
 
-    lines = [f"hipsim: {html.escape(motion.name)}, {motion.duration:.3g} s in {len(motion)} frames at {motion.fps:g} fps, speed {motion.speed:g}&times;"]
+    lines = [
+        f"hipsim: {html.escape(motion.name)}, {motion.duration:.3g} s in {len(motion)} frames at {motion.fps:g} fps, speed {motion.speed:g}&times;"
+    ]
     if motion.F_act is not None:
         lines.append(
             f"arrows ({scale_text(scale)}): <span style='color:#d91acc'>&#9632;</span> motor thrust 2πτ/p on each screw's carriage, "
@@ -61,5 +63,7 @@ def description_lines(motion: Motion, scale: float | None, human: bool) -> list[
             f"here {float(np.nanmin(motion.cond_inv)):.3f} to {float(np.nanmax(motion.cond_inv)):.3f}"
         )
     if human:
-        lines.append("human model: its right hip turns as the platforms do (alpha flexion, beta adduction, gamma internal rotation)")
+        lines.append(
+            "human model: its right hip turns as the platforms do (alpha flexion, beta adduction, gamma internal rotation)"
+        )
     return lines

@@ -45,21 +45,42 @@ def plot_singularity_map(smap: SingularityMap, levels: tuple[float, ...] = (0.1,
         ax = axes[g]
         ax.set_facecolor("0.82")  # NaN (out of reach) stays transparent: grey shows through
         image = ax.imshow(
-            np.ma.masked_invalid(smap.cond_inv[g]), origin="lower", extent=extent, aspect="auto",
-            cmap="viridis", vmin=0.0, vmax=vmax, interpolation="nearest",
+            np.ma.masked_invalid(smap.cond_inv[g]),
+            origin="lower",
+            extent=extent,
+            aspect="auto",
+            cmap="viridis",
+            vmin=0.0,
+            vmax=vmax,
+            interpolation="nearest",
         )
         if finite.size and np.ptp(finite) > 0:
-            contours = ax.contour(smap.alpha_deg, smap.beta_deg, smap.cond_inv[g], levels=list(levels), colors="white", linewidths=0.6)
+            contours = ax.contour(
+                smap.alpha_deg, smap.beta_deg, smap.cond_inv[g], levels=list(levels), colors="white", linewidths=0.6
+            )
             ax.clabel(contours, fontsize=7, fmt="%.1f")
         if has_path:
             ax.plot(path[:, 0], path[:, 1], color="white", lw=0.8, ls="--", alpha=0.8, label="trajectory (all γ)")
             if np.any(nearest == g):
                 mine = np.where(nearest == g, path[:, 1], np.nan)
-                ax.plot(path[:, 0], mine, color="tab:red", lw=2.0, label=f"trajectory where γ is nearest {smap.gamma_deg[g]:g}°")
+                ax.plot(
+                    path[:, 0],
+                    mine,
+                    color="tab:red",
+                    lw=2.0,
+                    label=f"trajectory where γ is nearest {smap.gamma_deg[g]:g}°",
+                )
             m = smap.margin
             if m is not None and m.index >= 0 and nearest[m.index] == g:
-                ax.plot(m.q_deg[0], m.q_deg[1], marker="*", ms=14, color="tab:orange", mec="black",
-                        label=f"min {m.cond_inv_min:.3f} at t = {m.t_s:.3f} s")
+                ax.plot(
+                    m.q_deg[0],
+                    m.q_deg[1],
+                    marker="*",
+                    ms=14,
+                    color="tab:orange",
+                    mec="black",
+                    label=f"min {m.cond_inv_min:.3f} at t = {m.t_s:.3f} s",
+                )
             ax.legend(loc="lower left", fontsize=7, framealpha=0.85)
         ax.set_title(f"γ = {smap.gamma_deg[g]:g}° (internal/external rotation)", fontsize=10)
         ax.set_xlabel("α flexion/extension [deg]")
@@ -69,8 +90,15 @@ def plot_singularity_map(smap: SingularityMap, levels: tuple[float, ...] = (0.1,
         m = smap.margin
         ax.plot(smap.trajectory_t_s, m.cond_inv, color="tab:blue", label="inverse condition number of J")
         if m.index >= 0:
-            ax.plot(m.t_s, m.cond_inv_min, marker="*", ms=14, color="tab:orange", mec="black",
-                    label=f"min {m.cond_inv_min:.3f} at t = {m.t_s:.3f} s")
+            ax.plot(
+                m.t_s,
+                m.cond_inv_min,
+                marker="*",
+                ms=14,
+                color="tab:orange",
+                mec="black",
+                label=f"min {m.cond_inv_min:.3f} at t = {m.t_s:.3f} s",
+            )
         ax.set_ylim(0.0, max(vmax, np.nanmax(m.cond_inv) if np.any(np.isfinite(m.cond_inv)) else 1.0) * 1.05)
         ax.set_xlabel("time t [s]")
         ax.set_ylabel("inverse condition number of J [–]")
@@ -128,12 +156,26 @@ def plot_offset_sweep(sweep: OffsetSweep):
         k = sweep.built_index
         if k is not None and np.isfinite(values[k]):
             ax.plot(d[k], values[k], "o", color="tab:red")
-            ax.annotate(f"{values[k]:.3g}", (d[k], values[k]), textcoords="offset points", xytext=(6, 6), fontsize=8, color="tab:red")
+            ax.annotate(
+                f"{values[k]:.3g}",
+                (d[k], values[k]),
+                textcoords="offset points",
+                xytext=(6, 6),
+                fontsize=8,
+                color="tab:red",
+            )
         _shade(ax, d, ~sweep.feasible)
     axes[0].set_ylim(bottom=0.0)
     axes[0].legend(loc="upper left", fontsize=8)
     if np.any(~sweep.feasible):
-        axes[1].text(0.01, 0.95, "shaded: motion out of reach, singular, or passing through a singularity", transform=axes[1].transAxes, fontsize=8, va="top")
+        axes[1].text(
+            0.01,
+            0.95,
+            "shaded: motion out of reach, singular, or passing through a singularity",
+            transform=axes[1].transAxes,
+            fontsize=8,
+            va="top",
+        )
     axes[-1].set_xlabel("platform offset δ [deg] (platform joint i at φ_i = θ_i + δ)")
     fig.suptitle(f"Platform offset sweep: {sweep.trajectory}")
     return fig

@@ -21,6 +21,21 @@ from .reader import RigLog, read_rig_log
 from .regressor import regressor
 
 __all__ = [
-    "QUANTITIES", "Comparison", "Excitation", "Identification", "Log", "LogPieces", "MeasuredLog", "RigLog",
-    "compare", "compare_log", "excitation", "identify", "load_log", "lowpass", "monitor", "read_rig_log", "regressor",
+    "QUANTITIES",
+    "Comparison",
+    "Excitation",
+    "Identification",
+    "Log",
+    "LogPieces",
+    "MeasuredLog",
+    "RigLog",
+    "compare",
+    "compare_log",
+    "excitation",
+    "identify",
+    "load_log",
+    "lowpass",
+    "monitor",
+    "read_rig_log",
+    "regressor",
 ]

@@ -198,8 +198,13 @@ def derive(params: Parameters, lever_spin: bool = True, seed: int = 0) -> BasePa
     for k in kept:
         q = QUANTITIES[k]
         terms = tuple(
-            (QUANTITIES[j].label, _round(beta[k, j] * QUANTITIES[j].scale / q.scale), _ratio_unit(q.unit, QUANTITIES[j].unit))
-            for j in dependent if beta[k, j]
+            (
+                QUANTITIES[j].label,
+                _round(beta[k, j] * QUANTITIES[j].scale / q.scale),
+                _ratio_unit(q.unit, QUANTITIES[j].unit),
+            )
+            for j in dependent
+            if beta[k, j]
         )
         parameters.append(BaseParameter(k, q.label, q.key, q.unit, terms))
     beta.setflags(write=False)

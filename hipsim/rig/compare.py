@@ -30,8 +30,7 @@ from ..machine.parameters import Parameters
 from ..motion.gait_events import detect_gait_events
 from ..results import ExactSum, Run, Torques
 from .filtering import REVERSAL_PERIODS, lowpass
-from .logs import Log, LogInfo, MeasuredLog
-from .logs import DEFAULT_TOLERANCE_DEG, LogPieces, load_log  # noqa: F401 - hipsim.cli imports them from here
+from .logs import DEFAULT_TOLERANCE_DEG, Log, LogInfo, LogPieces, MeasuredLog, load_log  # noqa: F401 - hipsim.cli imports them from here
 from .reversals import reversal_mask
 
 __all__ = [
@@ -108,6 +107,7 @@ def detect_period(t: np.ndarray, q: np.ndarray, threshold: float = 0.9) -> float
     k = candidates[0]
     while k + 1 <= n // 2 and correlation[k + 1] > correlation[k]:
         k += 1
+
     def misfit(lag):
         return np.mean((x[lag:] - x[:-lag]) ** 2) if 0 < lag <= n // 2 else np.inf
 
@@ -133,24 +133,41 @@ class _ErrorSums:
         # Columns: error², measured², error² and measured² away from reversals (N·mm², 3 each),
         # the parts² (N·mm², 3 per part), the error² per phase bin (N·m², 3 per bin).
         self.sums = ExactSum(12 + 3 * len(Torques.PARTS) + (3 * phase_bins if period is not None else 0))
-        self.samples, self.away, self.phase_samples = 0, np.zeros(3, dtype=np.int64), np.zeros(phase_bins, dtype=np.int64)
+        self.samples, self.away, self.phase_samples = (
+            0,
+            np.zeros(3, dtype=np.int64),
+            np.zeros(phase_bins, dtype=np.int64),
+        )
         self.error_peak, self.error_peak_t, self.measured_peak = np.full(3, -1.0), np.zeros(3), np.zeros(3)
         self.cond_inv_min = math.inf
 
     #: Samples summed at a time: the exact sums' working arrays (some 60 columns) stay near 100 MB.
     BLOCK = 1 << 15
 
-    def add(self, t: np.ndarray, measured: np.ndarray, model: dict[str, np.ndarray], cond_inv: np.ndarray, near: np.ndarray) -> None:
+    def add(
+        self, t: np.ndarray, measured: np.ndarray, model: dict[str, np.ndarray], cond_inv: np.ndarray, near: np.ndarray
+    ) -> None:
         """Add samples: times in [s] (M,), torques in [N·m] (M, 3), singularity measure (M,), near reversals (M, 3)."""
         for a in range(0, t.size, self.BLOCK):
             part = slice(a, a + self.BLOCK)
-            self._add(t[part], measured[part], {field: values[part] for field, values in model.items()}, cond_inv[part], near[part])
+            self._add(
+                t[part],
+                measured[part],
+                {field: values[part] for field, values in model.items()},
+                cond_inv[part],
+                near[part],
+            )
 
     def _add(self, t, measured, model, cond_inv, near) -> None:
         error = model["total"] - measured
         error_nmm, measured_nmm = error * 1e3, measured * 1e3
         away = ~near
-        columns = [error_nmm**2, measured_nmm**2, np.where(away, error_nmm**2, 0.0), np.where(away, measured_nmm**2, 0.0)]
+        columns = [
+            error_nmm**2,
+            measured_nmm**2,
+            np.where(away, error_nmm**2, 0.0),
+            np.where(away, measured_nmm**2, 0.0),
+        ]
         columns += [(model[part] * 1e3) ** 2 for part in Torques.PARTS]
         if self.period is not None:
             phase = np.mod((t - self.t0) / self.period, 1.0)
@@ -175,7 +192,7 @@ class _ErrorSums:
         error_rms, measured_rms = np.sqrt(total[0:3] / n), np.sqrt(total[3:6] / n)
         with np.errstate(invalid="ignore", divide="ignore"):
             away_rms, away_measured = np.sqrt(total[6:9] / self.away), np.sqrt(total[9:12] / self.away)
-        parts = total[12:12 + 3 * len(Torques.PARTS)].reshape(-1, 3)
+        parts = total[12 : 12 + 3 * len(Torques.PARTS)].reshape(-1, 3)
         motors, part_rms = {}, {}
         for i in range(3):
             has_away = self.away[i] > 0
@@ -190,12 +207,16 @@ class _ErrorSums:
                 "measured_rms_Nmm": float(measured_rms[i]),
                 "measured_peak_Nmm": float(self.measured_peak[i]),
                 "relative_rms_error": float(error_rms[i] / measured_rms[i]) if measured_rms[i] > 0 else math.inf,
-                "relative_peak_error": float(self.error_peak[i] / self.measured_peak[i]) if self.measured_peak[i] > 0 else math.inf,
+                "relative_peak_error": float(self.error_peak[i] / self.measured_peak[i])
+                if self.measured_peak[i] > 0
+                else math.inf,
             }
-            part_rms[str(i + 1)] = {Torques.COLUMN[field]: float(np.sqrt(parts[p, i] / n)) for p, field in enumerate(Torques.PARTS)}
+            part_rms[str(i + 1)] = {
+                Torques.COLUMN[field]: float(np.sqrt(parts[p, i] / n)) for p, field in enumerate(Torques.PARTS)
+            }
         phase_rms = None
         if self.period is not None:
-            squares = total[12 + 3 * len(Torques.PARTS):].reshape(self.bins, 3)
+            squares = total[12 + 3 * len(Torques.PARTS) :].reshape(self.bins, 3)
             phase_rms = np.full((self.bins, 3), np.nan)
             filled = self.phase_samples > 0
             phase_rms[filled] = np.sqrt(squares[filled] / self.phase_samples[filled, None])
@@ -311,14 +332,24 @@ def _phase_anchor(log: Log, period: float, first: int) -> tuple[float, float | N
     if events.heel_strikes.size == 0:
         return float(log.t[first]), None
     strikes, toes = events.t_heel_strikes, events.t_toe_offs
-    stance = [(toes[toes > hs][0] - hs) / period for hs in strikes if (toes > hs).any() and (toes[toes > hs][0] - hs) < period]
+    stance = [
+        (toes[toes > hs][0] - hs) / period for hs in strikes if (toes > hs).any() and (toes[toes > hs][0] - hs) < period
+    ]
     return float(strikes[0]), (float(np.median(stance)) if stance else None)
 
 
-def _gather(params: Parameters, windows, lever_spin: bool, period: float | None, t0: float, phase_bins: int, stride: int):
+def _gather(
+    params: Parameters, windows, lever_spin: bool, period: float | None, t0: float, phase_bins: int, stride: int
+):
     """Run the model along each (window, usable part, index of its first sample), its statistics and every ``stride``-th sample kept."""
     sums = _ErrorSums(period, t0, phase_bins)
-    kept: dict[str, list] = {"t": [], "measured": [], "cond_inv": [], "near": [], **{f"model.{f}": [] for f in ("total", *Torques.PARTS)}}
+    kept: dict[str, list] = {
+        "t": [],
+        "measured": [],
+        "cond_inv": [],
+        "near": [],
+        **{f"model.{f}": [] for f in ("total", *Torques.PARTS)},
+    }
     for window, part, start in windows:
         run, parts = model_torques(params, window, lever_spin)
         near = reversal_mask(params, window)[part]
@@ -393,13 +424,33 @@ def compare(
 
     anchor, stance_share = _phase_anchor(log, period, first) if period is not None else (None, None)
     arrays, model, statistics, edges, phase_rms = _gather(
-        params, windows(), lever_spin, period, anchor if anchor is not None else t[first], phase_bins, stride,
+        params,
+        windows(),
+        lever_spin,
+        period,
+        anchor if anchor is not None else t[first],
+        phase_bins,
+        stride,
     )
     stance = None
     if edges is not None and stance_share is not None:
         stance = 0.5 * (edges[:-1] + edges[1:]) < stance_share
-    return Comparison(log.info(), params, lever_spin, arrays["t"], arrays["measured"], model, arrays["cond_inv"], arrays["near"],
-                      period, edges, phase_rms, statistics, anchor, stance)
+    return Comparison(
+        log.info(),
+        params,
+        lever_spin,
+        arrays["t"],
+        arrays["measured"],
+        model,
+        arrays["cond_inv"],
+        arrays["near"],
+        period,
+        edges,
+        phase_rms,
+        statistics,
+        anchor,
+        stance,
+    )
 
 
 def compare_log(

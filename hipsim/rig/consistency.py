@@ -31,14 +31,16 @@ PRIOR_SPREAD = 0.1
 
 #: Σ = ½·tr(I)·𝟙 − I as a linear map of (Ixx, Iyy, Izz, Ixy, Ixz, Iyz), to (Σxx, Σyy, Σzz, √2Σxy, √2Σxz, √2Σyz)
 #: (the √2 makes the Euclidean norm of the vector the Frobenius norm of the matrix).
-_SIGMA = np.array([
-    [-0.5, 0.5, 0.5, 0, 0, 0],
-    [0.5, -0.5, 0.5, 0, 0, 0],
-    [0.5, 0.5, -0.5, 0, 0, 0],
-    [0, 0, 0, -math.sqrt(2), 0, 0],
-    [0, 0, 0, 0, -math.sqrt(2), 0],
-    [0, 0, 0, 0, 0, -math.sqrt(2)],
-])
+_SIGMA = np.array(
+    [
+        [-0.5, 0.5, 0.5, 0, 0, 0],
+        [0.5, -0.5, 0.5, 0, 0, 0],
+        [0.5, 0.5, -0.5, 0, 0, 0],
+        [0, 0, 0, -math.sqrt(2), 0, 0],
+        [0, 0, 0, 0, -math.sqrt(2), 0],
+        [0, 0, 0, 0, 0, -math.sqrt(2)],
+    ]
+)
 
 
 def _matrix(sigma: np.ndarray) -> np.ndarray:
@@ -86,7 +88,7 @@ def consistent(Aw, zw, theta0, kept, dependent, prior, nominal, max_iter: int = 
     # (the data term is a χ², its rows weighted by the inverse noise), which holds them wherever the
     # data leave them free and gives way where the data pull.
     dep = np.zeros(len(variables))
-    dep[len(kept):] = 1.0
+    dep[len(kept) :] = 1.0
     target = prior[variables] / scale
     pull = 1.0 / PRIOR_SPREAD
     A_reg = np.vstack([A, pull * np.diag(dep)[dep > 0]])
@@ -110,7 +112,9 @@ def _active(theta, movable, nominal) -> tuple[str, ...]:
     for body, block in BLOCKS.items():
         eigen = np.linalg.eigvalsh(_matrix(_SIGMA @ theta[block]))
         if eigen[0] <= 1e-9 * eigen[-1]:
-            active.append(f"{body} inertia on the rigid-body limit (one principal moment equals the sum of the other two)")
+            active.append(
+                f"{body} inertia on the rigid-body limit (one principal moment equals the sum of the other two)"
+            )
     return tuple(active)
 
 

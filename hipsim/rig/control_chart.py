@@ -30,14 +30,23 @@ baseline's end (running-in and the baseline itself) are shown, never flagged.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Sequence
 
 import numpy as np
 
 from ..exceptions import ArgumentError
 
-__all__ = ["DEFAULT_ALARM_RISE", "DEFAULT_BASELINE", "EWMA_L", "EWMA_LAMBDA", "MIN_BASELINE", "Chart", "chart", "parse_baseline"]
+__all__ = [
+    "DEFAULT_ALARM_RISE",
+    "DEFAULT_BASELINE",
+    "EWMA_L",
+    "EWMA_LAMBDA",
+    "MIN_BASELINE",
+    "Chart",
+    "chart",
+    "parse_baseline",
+]
 
 #: The default engineering threshold: a rise of the hip friction coefficient of 0.01.
 DEFAULT_ALARM_RISE = 0.01
@@ -98,9 +107,16 @@ class Chart:
     note: str = ""
 
 
-def chart(cycles: Sequence[int], estimate: Sequence[float], std: Sequence[float], hip_radius_mm: float,
-          baseline: tuple[int, int] = DEFAULT_BASELINE, alarm_rise: float = DEFAULT_ALARM_RISE,
-          lam: float = EWMA_LAMBDA, width: float = EWMA_L) -> Chart:
+def chart(
+    cycles: Sequence[int],
+    estimate: Sequence[float],
+    std: Sequence[float],
+    hip_radius_mm: float,
+    baseline: tuple[int, int] = DEFAULT_BASELINE,
+    alarm_rise: float = DEFAULT_ALARM_RISE,
+    lam: float = EWMA_LAMBDA,
+    width: float = EWMA_L,
+) -> Chart:
     """The control chart of the load friction estimates.
 
     Args:
@@ -124,9 +140,23 @@ def chart(cycles: Sequence[int], estimate: Sequence[float], std: Sequence[float]
     inside = phase == "baseline"
     count = int(np.count_nonzero(inside))
     if count < MIN_BASELINE:
-        note = (f"baseline incomplete: {count} of the {MIN_BASELINE} snapshots it needs within cycles {low}-{high}; "
-                "the chart starts once it has them")
-        return Chart(phase, math.nan, math.nan, count, nan, nan.copy(), nan.copy(), nan.copy(), np.zeros(n, dtype=int), math.nan, note)
+        note = (
+            f"baseline incomplete: {count} of the {MIN_BASELINE} snapshots it needs within cycles {low}-{high}; "
+            "the chart starts once it has them"
+        )
+        return Chart(
+            phase,
+            math.nan,
+            math.nan,
+            count,
+            nan,
+            nan.copy(),
+            nan.copy(),
+            nan.copy(),
+            np.zeros(n, dtype=int),
+            math.nan,
+            note,
+        )
     mean = float(np.mean(x[inside]))
     spread = max(float(np.std(x[inside], ddof=1)), float(np.sqrt(np.mean(s[inside] ** 2))))
     change = (x - mean) / hip_radius_mm

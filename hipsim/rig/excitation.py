@@ -31,9 +31,10 @@ parameter file's ``[motor]`` table or torque limit says otherwise.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 import scipy.optimize
@@ -50,7 +51,20 @@ from .regressor import regressor, regressor_from_kinematics
 __all__ = ["DESIGN_QUANTITIES", "Excitation", "Limits", "condition_number", "excitation"]
 
 #: The parameters an excitation is designed for, by label (see the module docstring).
-DESIGN_QUANTITIES = ("I_m,xx", "I_m,yy", "I_m,zz", "I_m,xy", "I_m,xz", "I_m,yz", "m_L", "I_L", "μ_h", "μ_t", "τ_c,screw", "b_screw")
+DESIGN_QUANTITIES = (
+    "I_m,xx",
+    "I_m,yy",
+    "I_m,zz",
+    "I_m,xy",
+    "I_m,xz",
+    "I_m,yz",
+    "m_L",
+    "I_L",
+    "μ_h",
+    "μ_t",
+    "τ_c,screw",
+    "b_screw",
+)
 
 
 @dataclass(frozen=True)
@@ -75,7 +89,7 @@ class Limits:
     min_cond_inv: float = 0.25
 
     @classmethod
-    def for_machine(cls, params: Parameters, **changes) -> "Limits":
+    def for_machine(cls, params: Parameters, **changes) -> Limits:
         """The defaults, with the parameter file's motor ratings and torque limit where it has them."""
         values: dict[str, Any] = {}
         if math.isfinite(params.control.torque_limit):
@@ -98,7 +112,9 @@ def _design_columns(labels: Sequence[str]) -> list[int]:
     return out
 
 
-def condition_number(params: Parameters, trajectory: Trajectory, quantities: Sequence[str] = DESIGN_QUANTITIES, lever_spin: bool = True) -> float:
+def condition_number(
+    params: Parameters, trajectory: Trajectory, quantities: Sequence[str] = DESIGN_QUANTITIES, lever_spin: bool = True
+) -> float:
     """The identification regressor's condition number along a trajectory (unit-norm columns of ``quantities``).
 
     Parameters the trajectory cannot tell apart make it infinite.
@@ -163,7 +179,11 @@ class Excitation:
         closing = self.at(t[-1:])
         q = np.vstack([trajectory.q, closing.q])
         load = np.append(trajectory.Fe, closing.Fe)
-        columns = {"t_s": t, **{f"{name}_deg": np.degrees(q[:, k]) for k, name in enumerate(("alpha", "beta", "gamma"))}, "Fe_N": load}
+        columns = {
+            "t_s": t,
+            **{f"{name}_deg": np.degrees(q[:, k]) for k, name in enumerate(("alpha", "beta", "gamma"))},
+            "Fe_N": load,
+        }
         return write_columns(path, columns)
 
     def summary(self) -> dict[str, Any]:
@@ -181,7 +201,15 @@ class Excitation:
 
 def _replaced(trajectory: Trajectory, **changes) -> Trajectory:
     """A copy of a trajectory with some fields changed."""
-    fields = dict(t=trajectory.t, q=trajectory.q, qd=trajectory.qd, qdd=trajectory.qdd, Fe=trajectory.Fe, name=trajectory.name, periodic=trajectory.periodic)
+    fields = dict(
+        t=trajectory.t,
+        q=trajectory.q,
+        qd=trajectory.qd,
+        qdd=trajectory.qdd,
+        Fe=trajectory.Fe,
+        name=trajectory.name,
+        periodic=trajectory.periodic,
+    )
     fields.update(changes)
     return Trajectory(**fields)
 
@@ -224,12 +252,14 @@ def _evaluate_many(params, sets, frequency, grid, columns, lever_spin, limits):
     flagged[:, 0] &= ~(np.isfinite(first) & (first >= 1e-6))
     with np.errstate(invalid="ignore", divide="ignore"):
         tau = inverse_dynamics(params, kin, trajectory.Fe, lever_spin).total.reshape(m, n, 3)
-        A_all = regressor_from_kinematics(params, kin, trajectory.Fe, lever_spin)[:, :, columns].reshape(m, n, 3, len(columns))
+        A_all = regressor_from_kinematics(params, kin, trajectory.Fe, lever_spin)[:, :, columns].reshape(
+            m, n, 3, len(columns)
+        )
     cond_inv = np.asarray(kin.cond_inv).reshape(m, n)
     Ld, Ldd = np.asarray(kin.Ld[:, 0]).reshape(m, n, 3), np.asarray(kin.Ldd[:, 0]).reshape(m, n, 3)
     out = []
     for j in range(m):
-        v = values[:, j * n:(j + 1) * n]
+        v = values[:, j * n : (j + 1) * n]
         margins = [
             1.0 - np.abs(v[:3]).ravel() / limits.max_angle,
             (v[3] - limits.min_load) / limits.max_load,
@@ -335,11 +365,15 @@ def excitation(
             h = math.sqrt(np.finfo(float).eps) * np.where(x >= 0, 1.0, -1.0) * np.maximum(1.0, np.abs(x))
             h = (x + h) - x
             stepped = x + np.diag(h)
-            results = _evaluate_many(params, [unpack(x)] + [unpack(row) for row in stepped], frequency, grid, columns, lever_spin, limits)
+            results = _evaluate_many(
+                params, [unpack(x)] + [unpack(row) for row in stepped], frequency, grid, columns, lever_spin, limits
+            )
             (f0, c0), rest = results[0], results[1:]
             cache.setdefault(key, (f0, c0))
-            slopes[key] = (np.array([(f - f0) / d for (f, _), d in zip(rest, h)]),
-                           np.column_stack([(c - c0) / d for (_, c), d in zip(rest, h)]))
+            slopes[key] = (
+                np.array([(f - f0) / d for (f, _), d in zip(rest, h)]),
+                np.column_stack([(c - c0) / d for (_, c), d in zip(rest, h)]),
+            )
         return slopes[key]
 
     best = None
@@ -351,7 +385,9 @@ def excitation(
         coefficients[:3, 1:] = rng.normal(size=(3, 2 * H)) * decay * span[:3, None] * 0.5
         # The load swings over most of its range: the hip joint and the thrust bearing differ only in
         # the bearing's share of the platform weight, which shows where the load is small.
-        coefficients[3, 1:3] = 0.9 * span[3] * np.array([math.cos(phase := rng.uniform(0, 2 * math.pi)), math.sin(phase)])
+        coefficients[3, 1:3] = (
+            0.9 * span[3] * np.array([math.cos(phase := rng.uniform(0, 2 * math.pi)), math.sin(phase)])
+        )
         for _ in range(40):
             x = pack(coefficients)
             value, margins = evaluate(x)
@@ -362,7 +398,10 @@ def excitation(
             continue
         with np.errstate(invalid="ignore"):  # a step out of reach: inf − inf, as SciPy's own differences would give
             result = scipy.optimize.minimize(
-                lambda x: evaluate(x)[0], x, method="SLSQP", jac=lambda x: gradient(x)[0],
+                lambda x: evaluate(x)[0],
+                x,
+                method="SLSQP",
+                jac=lambda x: gradient(x)[0],
                 constraints=[{"type": "ineq", "fun": lambda x: evaluate(x)[1], "jac": lambda x: gradient(x)[1]}],
                 options={"maxiter": max_iter, "ftol": 1e-6},
             )
@@ -374,7 +413,9 @@ def excitation(
         if best is None or value < best[0]:
             best = (value, candidate)
     if best is None:
-        raise HipsimError("no excitation within the limits was found: relax the limits (speed, acceleration, torque, singularity measure)")
+        raise HipsimError(
+            "no excitation within the limits was found: relax the limits (speed, acceleration, torque, singularity measure)"
+        )
     coefficients = unpack(best[1])
     # The limits held at the design samples; check them on a grid ten times finer, and shrink the
     # harmonics a little at a time where the motion overshoots between the samples.
@@ -400,4 +441,14 @@ def excitation(
         "load_max_N": float(trajectory.Fe.max()),
     }
     iso = condition_number(params, iso14242(rate=10 * samples), quantities, lever_spin)
-    return Excitation(frequency, H, coefficients, math.exp(value), iso, tuple(quantities), limits, peaks, time.perf_counter() - started)
+    return Excitation(
+        frequency,
+        H,
+        coefficients,
+        math.exp(value),
+        iso,
+        tuple(quantities),
+        limits,
+        peaks,
+        time.perf_counter() - started,
+    )

@@ -43,9 +43,10 @@ outside the plausible ranges of this class of machine (:func:`hipsim.machine.par
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Mapping, Sequence
+from typing import Any
 
 import numpy as np
 import scipy.linalg
@@ -58,9 +59,11 @@ from .base import BaseParameters, base_parameters
 from .compare import Comparison, compare_log
 from .consistency import consistent, violations
 from .logs import Log
-from .prior import HELD, prior as make_prior
+from .prior import HELD
+from .prior import prior as make_prior
 from .quantities import QUANTITIES, Quantity, friction_unit, standard_values, with_values
-from .regressor import decimation, inflation as _filter_inflation, log_rows, regressor, regressor_from_kinematics
+from .regressor import decimation, log_rows, regressor, regressor_from_kinematics
+from .regressor import inflation as _filter_inflation
 from .validation import training_envelope, validation_note
 
 __all__ = [
@@ -122,7 +125,7 @@ class IdentifiedQuantity:
     terms: tuple[tuple[str, float, str], ...] = ()
 
     def expression(self, terms: int | None = 4) -> str:
-        """"m_L + 0.5·m_l": the combination, its first ``terms`` terms (None: all) and how many more there are."""
+        """ "m_L + 0.5·m_l": the combination, its first ``terms`` terms (None: all) and how many more there are."""
         text = self.label
         shown = self.terms if terms is None else self.terms[:terms]
         for label, coefficient, unit in shown:
@@ -165,9 +168,18 @@ class BaseEstimate:
         return (self.value - self.prior) / self.prior_std if self.prior_std > 0 else 0.0
 
     def as_dict(self) -> dict[str, Any]:
-        return {"name": self.name, "definition": self.definition, "key": self.key, "unit": self.unit, "value": self.value,
-                "std": self.std, "prior": self.prior, "prior_std": self.prior_std, "determined": self.determined,
-                "shift_in_prior_std": self.shift}
+        return {
+            "name": self.name,
+            "definition": self.definition,
+            "key": self.key,
+            "unit": self.unit,
+            "value": self.value,
+            "std": self.std,
+            "prior": self.prior,
+            "prior_std": self.prior_std,
+            "determined": self.determined,
+            "shift_in_prior_std": self.shift,
+        }
 
 
 @dataclass(frozen=True, eq=False)
@@ -211,18 +223,40 @@ class Identification:
         for estimate, parameter in zip(self.estimates, self.base.parameters):
             if estimate.determined:
                 relative = estimate.std / abs(estimate.value) if estimate.value else math.inf
-                out.append(IdentifiedQuantity(estimate.name, estimate.key, estimate.unit, estimate.value, relative, estimate.std, parameter.terms))
+                out.append(
+                    IdentifiedQuantity(
+                        estimate.name,
+                        estimate.key,
+                        estimate.unit,
+                        estimate.value,
+                        relative,
+                        estimate.std,
+                        parameter.terms,
+                    )
+                )
         return tuple(out)
 
     @property
     def held(self) -> tuple[tuple[str, str, float, str], ...]:
         """What the logs did not determine: (label, reason, value, unit), file units."""
         theta = standard_values(self.params)
-        out = [(e.name, f"not determined by these logs: near its prior {e.prior:.6g} ± {e.prior_std:.2g} (posterior std {e.std:.2g})",
-                e.value, e.unit) for e in self.estimates if not e.determined]
+        out = [
+            (
+                e.name,
+                f"not determined by these logs: near its prior {e.prior:.6g} ± {e.prior_std:.2g} (posterior std {e.std:.2g})",
+                e.value,
+                e.unit,
+            )
+            for e in self.estimates
+            if not e.determined
+        ]
         for j in self.base.dependent:
             into = [p.label for p in self.base.parameters if self.base.beta[p.index, j]]
-            reason = f"folded into {', '.join(into)} (starting value kept)" if into else "no effect on the motor torques (starting value kept)"
+            reason = (
+                f"folded into {', '.join(into)} (starting value kept)"
+                if into
+                else "no effect on the motor torques (starting value kept)"
+            )
             out.append((QUANTITIES[j].label, reason, float(theta[j] / QUANTITIES[j].scale), QUANTITIES[j].unit))
         return tuple(out)
 
@@ -251,8 +285,12 @@ class Identification:
         }
         if self.validation:
             table["validation_logs"] = [identified.log.name for identified, _ in self.validation]
-            table["validation_rms_error_Nmm"] = [[identified.motor_errors()[i]["rms_error_Nmm"] for i in "123"] for identified, _ in self.validation]
-            table["validation_start_rms_error_Nmm"] = [[start.motor_errors()[i]["rms_error_Nmm"] for i in "123"] for _, start in self.validation]
+            table["validation_rms_error_Nmm"] = [
+                [identified.motor_errors()[i]["rms_error_Nmm"] for i in "123"] for identified, _ in self.validation
+            ]
+            table["validation_start_rms_error_Nmm"] = [
+                [start.motor_errors()[i]["rms_error_Nmm"] for i in "123"] for _, start in self.validation
+            ]
         return table
 
     def summary(self) -> dict[str, Any]:
@@ -266,10 +304,20 @@ class Identification:
             "residual_rms_Nmm": {str(i + 1): float(self.residual_rms[i] * 1e3) for i in range(3)},
             "base_parameters": [x.as_dict() for x in self.estimates],
             "identified": [
-                {"quantity": q.expression(None), "key": q.key, "value": q.value, "std": q.std, "unit": q.unit, "relative_std": q.relative_std}
+                {
+                    "quantity": q.expression(None),
+                    "key": q.key,
+                    "value": q.value,
+                    "std": q.std,
+                    "unit": q.unit,
+                    "relative_std": q.relative_std,
+                }
                 for q in self.quantities
             ],
-            "held": [{"quantity": label, "reason": reason, "value": value, "unit": unit} for label, reason, value, unit in self.held],
+            "held": [
+                {"quantity": label, "reason": reason, "value": value, "unit": unit}
+                for label, reason, value, unit in self.held
+            ],
             "active_constraints": list(self.active_constraints),
         }
         if self.validation:
@@ -287,13 +335,19 @@ class Identification:
             f"# From the logs: {', '.join(self.logs)} ({self.rows} samples per motor after filtering and decimation).",
             f"# Starting parameters: {self.start.source}.",
             f"# Model: analytic, lever spin {'on' if self.lever_spin else 'off'}; regressor condition number {self.condition_number:.4g}.",
-            "# Residual RMS per motor: " + ", ".join(f"M{i + 1} {self.residual_rms[i] * 1e3:.3g} N·mm" for i in range(3)) + ".",
+            "# Residual RMS per motor: "
+            + ", ".join(f"M{i + 1} {self.residual_rms[i] * 1e3:.3g} N·mm" for i in range(3))
+            + ".",
             "#",
             "# Identified (value, relative standard deviation); each base parameter is a fixed combination (hipsim identify --base);",
             "# the parameters it folds in keep their starting values below and the first takes the rest:",
         ]
         for q in self.quantities:
-            header.append(f"#   {q.expression(None)} = {q.value:.6g} ± {q.std:.2g} {q.unit} ({_percent(q.relative_std)})".replace("  ", " "))
+            header.append(
+                f"#   {q.expression(None)} = {q.value:.6g} ± {q.std:.2g} {q.unit} ({_percent(q.relative_std)})".replace(
+                    "  ", " "
+                )
+            )
         if self.held:
             header.append("# Not identified from these logs:")
             for label, reason, value, unit in self.held:
@@ -304,10 +358,16 @@ class Identification:
             header.append("# Validation (RMS error of the motor torque, identified vs starting parameters):")
             for identified, start in self.validation:
                 a, b = identified.motor_errors(), start.motor_errors()
-                parts = [f"M{i} {a[i]['rms_error_Nmm']:.3g} vs {b[i]['rms_error_Nmm']:.3g} N·mm" for i in ("1", "2", "3")]
+                parts = [
+                    f"M{i} {a[i]['rms_error_Nmm']:.3g} vs {b[i]['rms_error_Nmm']:.3g} N·mm" for i in ("1", "2", "3")
+                ]
                 header.append(f"#   {identified.log.name}: " + ", ".join(parts))
-        header.append("# The [identification] table at the end: base parameters, prior and posterior covariance (file units).")
-        return "\n".join(header) + "\n\n" + parameter_toml(self.params) + "\n" + table_toml("identification", self.table())
+        header.append(
+            "# The [identification] table at the end: base parameters, prior and posterior covariance (file units)."
+        )
+        return (
+            "\n".join(header) + "\n\n" + parameter_toml(self.params) + "\n" + table_toml("identification", self.table())
+        )
 
     def write_toml(self, path: str | Path) -> Path:
         """Write :meth:`toml` atomically. Returns the path."""
@@ -441,7 +501,9 @@ def identify(
     covariance = covariance_x * np.outer(belief.std, belief.std)
     std = np.sqrt(np.diag(covariance))
     if np.all(std > (1 - 1e-3) * belief.std):
-        raise HipsimError("these logs determine none of the base parameters (is anything moving, and is the torque logged?)")
+        raise HipsimError(
+            "these logs determine none of the base parameters (is anything moving, and is the torque logged?)"
+        )
 
     theta = base.standard(theta_b, theta0)
     active: tuple[str, ...] = ()
@@ -457,27 +519,52 @@ def identify(
     # The residual of the solution (constrained or not) against the noise the weights assumed: never narrower than it says.
     chi2 = float(np.sum((Rw[:, :P] @ theta - Rw[:, P]) ** 2)) * inflation / max(rows - r, 1)
     if chi2 > 1.0:  # the data's information shrinks by χ²; what the data do not see keeps its prior exactly
-        covariance = scipy.linalg.cho_solve(scipy.linalg.cho_factor(information / chi2 + np.eye(r)), np.eye(r)) * np.outer(belief.std, belief.std)
+        covariance = scipy.linalg.cho_solve(
+            scipy.linalg.cho_factor(information / chi2 + np.eye(r)), np.eye(r)
+        ) * np.outer(belief.std, belief.std)
         std = np.sqrt(np.diag(covariance))
 
     scale = base.scale
     determined = std <= DETERMINED * belief.std
     estimates = tuple(
-        BaseEstimate(p.label, p.definition, p.key, p.unit, float(theta_b[k] / scale[k]), float(std[k] / scale[k]),
-                     float(belief.mean[k] / scale[k]), float(belief.std[k] / scale[k]))
+        BaseEstimate(
+            p.label,
+            p.definition,
+            p.key,
+            p.unit,
+            float(theta_b[k] / scale[k]),
+            float(std[k] / scale[k]),
+            float(belief.mean[k] / scale[k]),
+            float(belief.std[k] / scale[k]),
+        )
         for k, p in enumerate(base.parameters)
     )
-    residual = np.array([np.linalg.norm(Ri[:, :P] @ theta - Ri[:, P]) / math.sqrt(max(n, 1)) for Ri, n in zip(R, rows_per_motor)])
+    residual = np.array(
+        [np.linalg.norm(Ri[:, :P] @ theta - Ri[:, P]) / math.sqrt(max(n, 1)) for Ri, n in zip(R, rows_per_motor)]
+    )
     names = tuple(log.name for log in logs)
     identified = with_values(params, theta, source=f"identified from {', '.join(names)}")
-    validation = tuple((compare_log(identified, log, lever_spin), compare_log(params, log, lever_spin)) for log in validate)
+    validation = tuple(
+        (compare_log(identified, log, lever_spin), compare_log(params, log, lever_spin)) for log in validate
+    )
     notes: tuple = ()
     if validate:
         training = training_envelope(logs)
         notes = tuple(validation_note(a, b, log, training) for (a, b), log in zip(validation, validate))
     return Identification(
-        identified, params, base, estimates, covariance / np.outer(scale, scale), _condition(Rw[:, index][:, determined]),
-        residual, rows, names, lever_spin, active, validation, notes,
+        identified,
+        params,
+        base,
+        estimates,
+        covariance / np.outer(scale, scale),
+        _condition(Rw[:, index][:, determined]),
+        residual,
+        rows,
+        names,
+        lever_spin,
+        active,
+        validation,
+        notes,
     )
 
 

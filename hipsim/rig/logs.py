@@ -16,9 +16,9 @@ from __future__ import annotations
 import math
 import tempfile
 from abc import ABC, abstractmethod
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Iterator
 
 import numpy as np
 
@@ -96,7 +96,7 @@ class Log(ABC):
         return slice(self.edge, len(self) - self.edge)
 
     @abstractmethod
-    def windows(self) -> Iterator[tuple["MeasuredLog", slice, int]]:
+    def windows(self) -> Iterator[tuple[MeasuredLog, slice, int]]:
         """The log in windows.
 
         Yields:
@@ -183,7 +183,7 @@ class MeasuredLog(Log):
         t = self.trajectory.t
         return (t.size - 1) / (t[-1] - t[0])
 
-    def windows(self) -> Iterator[tuple["MeasuredLog", slice, int]]:
+    def windows(self) -> Iterator[tuple[MeasuredLog, slice, int]]:
         """The log itself, whole: one window."""
         yield self, slice(0, len(self)), 0
 
@@ -265,7 +265,9 @@ class LogPieces(Log):
         if isinstance(piece, bool) or not isinstance(piece, int) or piece < 1:
             raise ArgumentError("piece", piece, "a positive number of samples")
         self.params = params if params is not None else load_parameters()
-        self.raw = raw = RigLogFile(path, torque_constant, block=max(piece, 1000))  # the scan's blocks no larger than a piece
+        self.raw = raw = RigLogFile(
+            path, torque_constant, block=max(piece, 1000)
+        )  # the scan's blocks no larger than a piece
         self.name, self.rate, self.cutoff, self.source = Path(raw.source).name, raw.rate, cutoff, raw.source
         notes = []
         if raw.ignored:
@@ -295,7 +297,9 @@ class LogPieces(Log):
                 try:
                     q = forward_kinematics(self.params, part.heights, part.t, q0=start)
                 except PoseError as error:
-                    raise TrajectoryError(f"encoder heights L_11_mm … at {error}", source=raw.source, line=int(part.lines[error.index])) from None
+                    raise TrajectoryError(
+                        f"encoder heights L_11_mm … at {error}", source=raw.source, line=int(part.lines[error.index])
+                    ) from None
                 q0 = q[-1]
                 np.ascontiguousarray(q).tofile(self._q)
                 if part.angles is not None:
@@ -312,14 +316,20 @@ class LogPieces(Log):
                     f"the attitude sensor and the encoders disagree by {first[0]:.3g}° in {ANGLE_NAMES[first[2]]} "
                     f"(tolerance {tolerance_deg:g}°; {worst[0]:.3g}° at worst, line {int(raw.lines[worst[1]])}): "
                     "check the sensor's mounting, zero and sign conventions, or the machine's parameters",
-                    source=raw.source, line=int(raw.lines[first[1]]), column=f"{ANGLE_NAMES[first[2]]}_{raw.angle_unit}",
+                    source=raw.source,
+                    line=int(raw.lines[first[1]]),
+                    column=f"{ANGLE_NAMES[first[2]]}_{raw.angle_unit}",
                 )
             if worst is not None:
-                notes.append(f"encoders used; the attitude sensor agrees within {worst[0]:.3g}° (tolerance {tolerance_deg:g}°)")
+                notes.append(
+                    f"encoders used; the attitude sensor agrees within {worst[0]:.3g}° (tolerance {tolerance_deg:g}°)"
+                )
         else:
             self.motion_from = "angles"
         if cutoff is not None:
-            notes.append(f"low-passed at {cutoff:g} Hz (zero-phase Butterworth); the first and last {self.edge / self.rate:.3g} s are the filter's edges")
+            notes.append(
+                f"low-passed at {cutoff:g} Hz (zero-phase Butterworth); the first and last {self.edge / self.rate:.3g} s are the filter's edges"
+            )
         self.notes = tuple(notes)
 
     def __len__(self) -> int:
@@ -351,7 +361,9 @@ class LogPieces(Log):
         raw = self.raw.piece(lo, hi)
         trajectory = smooth_motion(raw.t, self._angles(lo, hi), raw.Fe, self.cutoff, self.name, rate=self.rate)
         tau = raw.tau if self.cutoff is None else lowpass(raw.tau, self.rate, self.cutoff, self.source)
-        return MeasuredLog(trajectory, tau, self.cutoff, self.name, self.motion_from, self.notes, raw.lines, edge, self.rate)
+        return MeasuredLog(
+            trajectory, tau, self.cutoff, self.name, self.motion_from, self.notes, raw.lines, edge, self.rate
+        )
 
     def whole(self) -> MeasuredLog:
         """The whole log at once: what :func:`load_log` returns."""

@@ -55,12 +55,25 @@ __all__ = ["ESTIMATE_COLUMNS", "ESTIMATOR", "MonitorSetup", "estimate", "estimat
 ESTIMATOR = "monitor-1"
 #: The per-snapshot columns :func:`estimate` fills (after ``cycle``), text columns marked in :data:`TEXT`.
 ESTIMATE_COLUMNS = (
-    "cycle", "last_cycle", "file", "samples",
-    "load_friction_mm", "load_friction_mm_std", "weight_friction_Nmm", "weight_friction_Nmm_std",
-    "screw_coulomb_Nmm", "screw_coulomb_Nmm_std", "screw_viscous_Nmm_s_rad", "screw_viscous_Nmm_s_rad_std",
-    "load_friction_1_mm", "load_friction_1_mm_std", "load_friction_2_mm", "load_friction_2_mm_std", "stations",
+    "cycle",
+    "last_cycle",
+    "file",
+    "samples",
+    "load_friction_mm",
+    "load_friction_mm_std",
+    "weight_friction_Nmm",
+    "weight_friction_Nmm_std",
+    "screw_coulomb_Nmm",
+    "screw_coulomb_Nmm_std",
+    "screw_viscous_Nmm_s_rad",
+    "screw_viscous_Nmm_s_rad_std",
+    "load_friction_1_mm",
+    "load_friction_1_mm_std",
+    "load_friction_2_mm",
+    "load_friction_2_mm_std",
+    "stations",
     "residual_rms_Nmm",
-)  # fmt: skip
+)
 #: A per-station split is reported when each station's standard deviation is below this fraction of the whole term
 #: (and the stations' load columns are not proportional: smallest to largest singular value of the unit-norm columns above 1e-6).
 STATION_SEPARABLE = 0.2
@@ -90,21 +103,36 @@ class MonitorSetup:
     def __post_init__(self):
         f = self.params.friction
         if f.thrust_bearing_axial_only:
-            raise ParameterError("the monitor's load term r_h·μ_h + r_t·μ_t needs the thrust bearing's moment along ω "
-                                 "(friction.thrust_bearing_axial_only = false)", "friction.thrust_bearing_axial_only", True, self.params.source)
+            raise ParameterError(
+                "the monitor's load term r_h·μ_h + r_t·μ_t needs the thrust bearing's moment along ω "
+                "(friction.thrust_bearing_axial_only = false)",
+                "friction.thrust_bearing_axial_only",
+                True,
+                self.params.source,
+            )
         if not (f.hip_radius > 0):
-            raise ParameterError("the hip joint's friction radius must be positive to read its friction", "friction.hip_radius_mm",
-                                 f.hip_radius, self.params.source)
+            raise ParameterError(
+                "the hip joint's friction radius must be positive to read its friction",
+                "friction.hip_radius_mm",
+                f.hip_radius,
+                self.params.source,
+            )
 
     def fingerprints(self) -> dict[str, str]:
         """The fingerprint of everything that determines an estimate, per part and whole (``"setup"``)."""
-        return part_fingerprints({
-            "parameters": self.params,
-            "model": {"lever_spin": self.lever_spin, "cutoff": self.cutoff, "torque_constant": self.torque_constant,
-                      "tolerance_deg": self.tolerance_deg},
-            "window": self.window,
-            "estimator": ESTIMATOR,
-        })  # fmt: skip
+        return part_fingerprints(
+            {
+                "parameters": self.params,
+                "model": {
+                    "lever_spin": self.lever_spin,
+                    "cutoff": self.cutoff,
+                    "torque_constant": self.torque_constant,
+                    "tolerance_deg": self.tolerance_deg,
+                },
+                "window": self.window,
+                "estimator": ESTIMATOR,
+            }
+        )
 
 
 def identified_file(path: str | Path) -> bool:
@@ -128,9 +156,11 @@ def identified_file(path: str | Path) -> bool:
     except tomllib.TOMLDecodeError:
         table = False
     if not (header or table):
-        raise ParameterError("holds no identified values (no [identification] table, no '# Identified by hipsim identify' header): "
-                             "the monitor holds the machine at identified values; run hipsim identify on a log of the rig first",
-                             source=source)  # fmt: skip
+        raise ParameterError(
+            "holds no identified values (no [identification] table, no '# Identified by hipsim identify' header): "
+            "the monitor holds the machine at identified values; run hipsim identify on a log of the rig first",
+            source=source,
+        )
     spin = re.search(r"^# Model: .*lever spin (on|off)", text, re.MULTILINE)
     return spin is None or spin.group(1) == "on"
 
@@ -140,7 +170,9 @@ def _load(setup: MonitorSetup, snapshot: Snapshot, folder: str) -> tuple[Measure
     text = snapshot_text(snapshot)
     path = snapshot.path
     if text is not None:
-        path = os.path.join(folder, f"{Path(snapshot.path).stem}_cycles_{snapshot.first_cycle}-{snapshot.last_cycle}.csv")
+        path = os.path.join(
+            folder, f"{Path(snapshot.path).stem}_cycles_{snapshot.first_cycle}-{snapshot.last_cycle}.csv"
+        )
         with open(path, "wb") as stream:
             stream.write(text)
     return load_log(path, setup.params, setup.torque_constant, setup.cutoff, setup.tolerance_deg), path
@@ -180,7 +212,9 @@ def _rows(setup: MonitorSetup, log: MeasuredLog, loads: dict[str, np.ndarray] | 
                 Fe = loads[name]
                 if log.cutoff is not None:
                     Fe = np.maximum(lowpass(Fe, log.rate, log.cutoff, log.name), 0.0)  # as the log's own load
-                parts.append(inverse_dynamics(units[0], kin, Fe[lo:hi], setup.lever_spin).friction / params.heights.size)
+                parts.append(
+                    inverse_dynamics(units[0], kin, Fe[lo:hi], setup.lever_spin).friction / params.heights.size
+                )
         Y = np.stack(parts, axis=-1)
         if log.cutoff is not None:
             Y = lowpass(Y, log.rate, log.cutoff, log.name)
@@ -231,20 +265,29 @@ def estimate(setup: MonitorSetup, snapshot: Snapshot) -> dict[str, Any]:
     columns += [Y[:, :, 2], Y[:, :, 3]]
     target = tau - fixed
     if int(use.sum()) <= len(columns) + 2:
-        raise HipsimError(f"{snapshot.name}: {int(use.sum())} samples left after the filter's edges and the reversals: too few to estimate from")
+        raise HipsimError(
+            f"{snapshot.name}: {int(use.sum())} samples left after the filter's edges and the reversals: too few to estimate from"
+        )
     A = np.stack(columns, axis=-1)[use]
     x, std, residual = _solve(A, target[use], inflation(log))
     has_weight = len(columns) == 4
     values = dict(zip(("a", "b", "sc", "sv") if has_weight else ("a", "sc", "sv"), zip(x.tolist(), std.tolist())))
     values.setdefault("b", (math.nan, math.nan))
     row: dict[str, Any] = {
-        "cycle": snapshot.first_cycle, "last_cycle": snapshot.last_cycle, "file": snapshot.name, "samples": len(log),
-        "load_friction_mm": values["a"][0] * 1e3, "load_friction_mm_std": values["a"][1] * 1e3,
-        "weight_friction_Nmm": values["b"][0] * 1e3, "weight_friction_Nmm_std": values["b"][1] * 1e3,
-        "screw_coulomb_Nmm": values["sc"][0] * 1e3, "screw_coulomb_Nmm_std": values["sc"][1] * 1e3,
-        "screw_viscous_Nmm_s_rad": values["sv"][0] * 1e3, "screw_viscous_Nmm_s_rad_std": values["sv"][1] * 1e3,
+        "cycle": snapshot.first_cycle,
+        "last_cycle": snapshot.last_cycle,
+        "file": snapshot.name,
+        "samples": len(log),
+        "load_friction_mm": values["a"][0] * 1e3,
+        "load_friction_mm_std": values["a"][1] * 1e3,
+        "weight_friction_Nmm": values["b"][0] * 1e3,
+        "weight_friction_Nmm_std": values["b"][1] * 1e3,
+        "screw_coulomb_Nmm": values["sc"][0] * 1e3,
+        "screw_coulomb_Nmm_std": values["sc"][1] * 1e3,
+        "screw_viscous_Nmm_s_rad": values["sv"][0] * 1e3,
+        "screw_viscous_Nmm_s_rad_std": values["sv"][1] * 1e3,
         "residual_rms_Nmm": math.sqrt(float(residual @ residual) / residual.size) * 1e3,
-    }  # fmt: skip
+    }
     row |= _stations(setup, stations, use, columns, target, values["a"][0], inflation(log))
     return row
 
@@ -258,8 +301,11 @@ def _stations(setup, stations, use, columns, target, whole, inflate) -> dict[str
     A = np.concatenate([stations / setup.params.friction.hip_radius, np.stack(columns[1:], axis=-1)], axis=-1)[use]
     x, std, _ = _solve(A, target[use], inflate)
     if not np.all(std[:2] < STATION_SEPARABLE * abs(whole)):
-        out["stations"] = ("not separable: the two stations' loads are proportional" if np.isinf(std[0]) else
-                           f"not separable: the two stations' loads vary too much alike (standard deviation over {STATION_SEPARABLE:.0%} of the term)")
+        out["stations"] = (
+            "not separable: the two stations' loads are proportional"
+            if np.isinf(std[0])
+            else f"not separable: the two stations' loads vary too much alike (standard deviation over {STATION_SEPARABLE:.0%} of the term)"
+        )
         return out
     for p in range(2):
         out[f"load_friction_{p + 1}_mm"], out[f"load_friction_{p + 1}_mm_std"] = float(x[p]) * 1e3, float(std[p]) * 1e3

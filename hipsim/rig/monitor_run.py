@@ -17,9 +17,10 @@ pandas DataFrame when pandas is installed, else a :class:`MonitorTable`.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Iterator, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -86,19 +87,38 @@ class MonitorResult:
         first = None
         if alarms:
             k = alarms[0]
-            first = {"cycle": int(c["cycle"][k]), "file": c["file"][k], "hip_mu_change": c["hip_mu_change"][k],
-                     "hip_mu_change_std": c["hip_mu_change_std"][k], "load_friction_mm": c["load_friction_mm"][k],
-                     "load_friction_change_mm": c["load_friction_mm"][k] - chart.mean}  # fmt: skip
+            first = {
+                "cycle": int(c["cycle"][k]),
+                "file": c["file"][k],
+                "hip_mu_change": c["hip_mu_change"][k],
+                "hip_mu_change_std": c["hip_mu_change_std"][k],
+                "load_friction_mm": c["load_friction_mm"][k],
+                "load_friction_change_mm": c["load_friction_mm"][k] - chart.mean,
+            }
         last = len(c["cycle"]) - 1
         return {
-            "snapshots": len(c["cycle"]), "new": self.new, "kept": self.kept,
-            "first_cycle": int(c["cycle"][0]) if c["cycle"] else None, "last_cycle": int(c["last_cycle"][-1]) if c["cycle"] else None,
-            "baseline": {"from": self.baseline[0], "to": self.baseline[1], "snapshots": chart.baseline_count,
-                         "load_friction_mm": chart.mean, "spread_mm": chart.spread},
-            "alarm_rise": self.alarm_rise, "threshold_mm": chart.threshold, "chart": "EWMA (lambda 0.2, L 3) with the engineering threshold",
-            "alarms": len(alarms), "first_alarm": first, "alarm_active": bool(last >= 0 and c["alarm"][last]),
-            "note": chart.note, "fingerprint": self.fingerprints["setup"], "parameters": self.setup.params.source,
-        }  # fmt: skip
+            "snapshots": len(c["cycle"]),
+            "new": self.new,
+            "kept": self.kept,
+            "first_cycle": int(c["cycle"][0]) if c["cycle"] else None,
+            "last_cycle": int(c["last_cycle"][-1]) if c["cycle"] else None,
+            "baseline": {
+                "from": self.baseline[0],
+                "to": self.baseline[1],
+                "snapshots": chart.baseline_count,
+                "load_friction_mm": chart.mean,
+                "spread_mm": chart.spread,
+            },
+            "alarm_rise": self.alarm_rise,
+            "threshold_mm": chart.threshold,
+            "chart": "EWMA (lambda 0.2, L 3) with the engineering threshold",
+            "alarms": len(alarms),
+            "first_alarm": first,
+            "alarm_active": bool(last >= 0 and c["alarm"][last]),
+            "note": chart.note,
+            "fingerprint": self.fingerprints["setup"],
+            "parameters": self.setup.params.source,
+        }
 
 
 def _batch_size(count: int, workers: int) -> int:
@@ -106,8 +126,13 @@ def _batch_size(count: int, workers: int) -> int:
     return max(1, min(50, math.ceil(count / (8 * max(workers, 1)))))
 
 
-def run_snapshots(setup: MonitorSetup, snapshots: Sequence[Snapshot], workers: int = 1, scheduler: str | None = None,
-                  batch_size: int | None = None) -> Iterator[list[tuple[str, Any]]]:
+def run_snapshots(
+    setup: MonitorSetup,
+    snapshots: Sequence[Snapshot],
+    workers: int = 1,
+    scheduler: str | None = None,
+    batch_size: int | None = None,
+) -> Iterator[list[tuple[str, Any]]]:
     """Estimate snapshots in batches, yielding each batch's results as it completes (("row", row) or ("error", message)).
 
     Args:
@@ -133,12 +158,22 @@ def run_snapshots(setup: MonitorSetup, snapshots: Sequence[Snapshot], workers: i
 def _columns(rows: list[dict[str, Any]], chart_: Chart) -> dict[str, list[Any]]:
     """The table's columns from the estimate rows (sorted by cycle) and the chart over them."""
     out: dict[str, list[Any]] = {name: [] for name in COLUMNS}
-    derived = {"phase": chart_.phase, "hip_mu_change": chart_.change, "hip_mu_change_std": chart_.change_std,
-               "ewma_mm": chart_.ewma, "ucl_mm": chart_.limit, "alarm": chart_.alarm}  # fmt: skip
+    derived = {
+        "phase": chart_.phase,
+        "hip_mu_change": chart_.change,
+        "hip_mu_change_std": chart_.change_std,
+        "ewma_mm": chart_.ewma,
+        "ucl_mm": chart_.limit,
+        "alarm": chart_.alarm,
+    }
     for k, row in enumerate(rows):
         for name in COLUMNS:
             value = derived[name][k] if name in derived else row[name]
-            out[name].append(value if isinstance(value, str) else (int(value) if name in ("cycle", "last_cycle", "samples", "alarm") else float(value)))
+            out[name].append(
+                value
+                if isinstance(value, str)
+                else (int(value) if name in ("cycle", "last_cycle", "samples", "alarm") else float(value))
+            )
     return out
 
 
@@ -180,8 +215,14 @@ def run_monitor(
     if not rows:
         raise HipsimError("no snapshots to monitor")
     f = setup.params.friction
-    chart_ = chart([r["cycle"] for r in rows], [r["load_friction_mm"] for r in rows], [r["load_friction_mm_std"] for r in rows],
-                   f.hip_radius * 1e3, baseline, alarm_rise)
+    chart_ = chart(
+        [r["cycle"] for r in rows],
+        [r["load_friction_mm"] for r in rows],
+        [r["load_friction_mm_std"] for r in rows],
+        f.hip_radius * 1e3,
+        baseline,
+        alarm_rise,
+    )
     columns = _columns(rows, chart_)
     if out is not None:
         write_table(out, columns, (metadata or {}) | {"fingerprints": fingerprints, "parameters": setup.params.source})

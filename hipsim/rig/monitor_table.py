@@ -14,23 +14,46 @@ empty CSV cell.
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any, Mapping, Sequence
+from typing import Any
 
 from ..exceptions import OutputError
 from ..fingerprint import changed_parts
 from ..result_table import ResultTable
 from .monitor_fit import ESTIMATE_COLUMNS
 
-__all__ = ["COLUMNS", "CSV_METADATA", "TEXT_COLUMNS", "check_out", "previous_rows", "read_metadata", "read_table", "write_table"]
+__all__ = [
+    "COLUMNS",
+    "CSV_METADATA",
+    "TEXT_COLUMNS",
+    "check_out",
+    "previous_rows",
+    "read_metadata",
+    "read_table",
+    "write_table",
+]
 
 #: The table's columns, in order.
 COLUMNS = (
-    "cycle", "last_cycle", "file", "samples", "phase",
-    "load_friction_mm", "load_friction_mm_std", "hip_mu_change", "hip_mu_change_std",
-    *[name for name in ESTIMATE_COLUMNS if name not in ("cycle", "last_cycle", "file", "samples", "load_friction_mm", "load_friction_mm_std")],
-    "ewma_mm", "ucl_mm", "alarm",
-)  # fmt: skip
+    "cycle",
+    "last_cycle",
+    "file",
+    "samples",
+    "phase",
+    "load_friction_mm",
+    "load_friction_mm_std",
+    "hip_mu_change",
+    "hip_mu_change_std",
+    *[
+        name
+        for name in ESTIMATE_COLUMNS
+        if name not in ("cycle", "last_cycle", "file", "samples", "load_friction_mm", "load_friction_mm_std")
+    ],
+    "ewma_mm",
+    "ucl_mm",
+    "alarm",
+)
 #: Columns holding text.
 TEXT_COLUMNS = ("file", "phase", "stations")
 #: The monitor's table: its rows, the set-up beside them (:class:`hipsim.result_table.ResultTable`).
@@ -38,8 +61,12 @@ MONITOR_TABLE = ResultTable("monitor", TEXT_COLUMNS)
 #: A CSV file's first line, a comment, holding the set-up (JSON follows).
 CSV_METADATA = MONITOR_TABLE.csv_metadata
 #: What each part of the fingerprint comes from, for a refusal.
-PARTS = {"parameters": "the parameter file", "model": "the model options (cutoff, torque constant, tolerance)",
-         "window": "--window", "estimator": "the estimator (another hipsim version)"}  # fmt: skip
+PARTS = {
+    "parameters": "the parameter file",
+    "model": "the model options (cutoff, torque constant, tolerance)",
+    "window": "--window",
+    "estimator": "the estimator (another hipsim version)",
+}
 
 
 def _format(path: str | Path) -> str:
@@ -87,15 +114,23 @@ def previous_rows(out: Path | None, fingerprints: Mapping[str, str], restart: bo
         return []
     table = read_table(out)
     if tuple(table) != COLUMNS:
-        raise OutputError(out, "holds other columns than a monitor's table: give another --out, or --restart to replace it")
+        raise OutputError(
+            out, "holds other columns than a monitor's table: give another --out, or --restart to replace it"
+        )
     recorded = (read_metadata(out) or {}).get("fingerprints")
     if not isinstance(recorded, dict):
-        raise OutputError(out, "records no set-up, so its rows cannot be matched to this monitor's: give another --out, or --restart to replace it")
+        raise OutputError(
+            out,
+            "records no set-up, so its rows cannot be matched to this monitor's: give another --out, or --restart to replace it",
+        )
     changed = changed_parts(recorded, fingerprints)
     if changed:
         differ = ", ".join(PARTS.get(name, name) for name in changed)
-        raise OutputError(out, f"holds the rows of another set-up ({differ} differ{'s' if len(changed) == 1 else ''}): "
-                          "give another --out, or --restart to replace it")  # fmt: skip
+        raise OutputError(
+            out,
+            f"holds the rows of another set-up ({differ} differ{'s' if len(changed) == 1 else ''}): "
+            "give another --out, or --restart to replace it",
+        )
     rows = []
     for k in range(len(table["cycle"])):
         row = {name: table[name][k] for name in ESTIMATE_COLUMNS}

@@ -100,8 +100,10 @@ def _check_load(load: np.ndarray, source: str) -> list[str]:
                 f"(ISO 14242-1: {low:g} to 3000 N); give the load in N",
                 source=source,
             )
-        return [f"{source}: Fe_N peaks at {peak:.4g} N, far below a hip simulator's test loads (ISO 14242-1: {low:g} to 3000 N): "
-                "is it in N?"]
+        return [
+            f"{source}: Fe_N peaks at {peak:.4g} N, far below a hip simulator's test loads (ISO 14242-1: {low:g} to 3000 N): "
+            "is it in N?"
+        ]
     return []
 
 
@@ -144,8 +146,10 @@ def _check_torques(params, trajectory, measured, lever_spin, source, torque_from
         if slip is not None or not 1 / ERROR_FACTOR < factor < ERROR_FACTOR:
             errors.setdefault(slip, []).append(i)  # None: no unit's factor
         elif not 1 / WARNING_FACTOR < factor < WARNING_FACTOR:
-            warnings.append(f"{source}: {columns[i]}: {_ratio(factor)} the model's with these parameters "
-                            f"({logged[i] * 1e3:.4g} against {model[i] * 1e3:.4g} N·mm): check its unit and the machine's parameters")
+            warnings.append(
+                f"{source}: {columns[i]}: {_ratio(factor)} the model's with these parameters "
+                f"({logged[i] * 1e3:.4g} against {model[i] * 1e3:.4g} N·mm): check its unit and the machine's parameters"
+            )
     if not errors:
         return warnings
     slip, motors = next(iter(errors.items()))
@@ -157,8 +161,10 @@ def _check_torques(params, trajectory, measured, lever_spin, source, torque_from
     if torque_from == "currents":
         constant = f" {torque_constant:g} N·m/A" if torque_constant else ""
         if slip == 1e3:
-            hint = (f": the torque constant looks like N·mm/A (give --torque-constant in N·m/A{f', {torque_constant / 1e3:g}' if torque_constant else ''}), "
-                    "or the currents like mA")
+            hint = (
+                f": the torque constant looks like N·mm/A (give --torque-constant in N·m/A{f', {torque_constant / 1e3:g}' if torque_constant else ''}), "
+                "or the currents like mA"
+            )
         elif slip == 1e-3:
             hint = ": the torque constant looks like kN·m/A, or the currents like kA (give --torque-constant in N·m/A, currents in A)"
         else:
@@ -169,8 +175,10 @@ def _check_torques(params, trajectory, measured, lever_spin, source, torque_from
     elif slip == 1e3:
         message = f"{names} {verb} like µN·m: {'its' if len(motors) == 1 else 'their'} RMS is 1000 times the model's {numbers}; give torques in N·mm"
     else:
-        message = (f"{names}: RMS {_ratio(factor)} the model's {numbers}: check the unit (N·mm), the load's (N) and the machine's "
-                   "parameters (--no-plausibility-check if the log is right)")
+        message = (
+            f"{names}: RMS {_ratio(factor)} the model's {numbers}: check the unit (N·mm), the load's (N) and the machine's "
+            "parameters (--no-plausibility-check if the log is right)"
+        )
     raise TrajectoryError(message, source=source)
 
 

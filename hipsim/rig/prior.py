@@ -23,8 +23,9 @@ back exactly at its prior).
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any
 
 import numpy as np
 
@@ -54,17 +55,25 @@ def _entry(name: str, value: Any, source: str) -> tuple[list[int], float | None,
     matches = _matches(name)
     if not matches:
         known = ", ".join(q.label for q in QUANTITIES)
-        raise HipsimError(f"{source}: prior of '{name}': no such parameter (known: {known}, or a key prefix such as 'lever')")
+        raise HipsimError(
+            f"{source}: prior of '{name}': no such parameter (known: {known}, or a key prefix such as 'lever')"
+        )
     if isinstance(value, str):
         text = value.strip()
         if not text.endswith("%"):
-            raise HipsimError(f"{source}: prior of '{name}': expected a number in the parameter's unit or a percentage such as '10 %', got {value!r}")
+            raise HipsimError(
+                f"{source}: prior of '{name}': expected a number in the parameter's unit or a percentage such as '10 %', got {value!r}"
+            )
         try:
             relative = float(text[:-1]) / 100
         except ValueError:
-            raise HipsimError(f"{source}: prior of '{name}': expected a percentage such as '10 %', got {value!r}") from None
+            raise HipsimError(
+                f"{source}: prior of '{name}': expected a percentage such as '10 %', got {value!r}"
+            ) from None
         if not (math.isfinite(relative) and relative >= 0):
-            raise HipsimError(f"{source}: prior of '{name}': the uncertainty must be a non-negative percentage, got {value!r}")
+            raise HipsimError(
+                f"{source}: prior of '{name}': the uncertainty must be a non-negative percentage, got {value!r}"
+            )
         return matches, None, relative
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0:
         raise HipsimError(f"{source}: prior of '{name}': the uncertainty must be a non-negative number, got {value!r}")
@@ -98,7 +107,9 @@ def parse_prior_option(text: str) -> dict[str, str | float]:
             try:
                 out[name.strip()] = float(value)
             except ValueError:
-                raise HipsimError(f"--prior: {name.strip()}: expected a number or a percentage, got {value!r}") from None
+                raise HipsimError(
+                    f"--prior: {name.strip()}: expected a number or a percentage, got {value!r}"
+                ) from None
     return out
 
 

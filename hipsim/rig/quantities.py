@@ -11,8 +11,9 @@ from a machine without indices kept by hand (:func:`standard_values`,
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -101,7 +102,15 @@ class Quantity:
 
 def _inertia(body: str, label: str, part: str, nominal: float) -> list[Quantity]:
     return [
-        Quantity(f"{body}.inertia_kgmm2[{axes}]", f"{label},{axes}", "kg·mm²", 1e-6, part, nominal, nonnegative=axes[0] == axes[1])
+        Quantity(
+            f"{body}.inertia_kgmm2[{axes}]",
+            f"{label},{axes}",
+            "kg·mm²",
+            1e-6,
+            part,
+            nominal,
+            nonnegative=axes[0] == axes[1],
+        )
         for axes in AXES
     ]
 
@@ -133,7 +142,9 @@ BLOCKS: dict[str, list[int]] = {
     for body in dict.fromkeys(q.key.partition(".")[0] for q in QUANTITIES if q.component is not None)
 }
 #: The parameters bounded below by zero (inertias are held by their blocks instead).
-BOUNDED: list[int] = [k for k, q in enumerate(QUANTITIES) if q.nonnegative and not any(k in block for block in BLOCKS.values())]
+BOUNDED: list[int] = [
+    k for k, q in enumerate(QUANTITIES) if q.nonnegative and not any(k in block for block in BLOCKS.values())
+]
 
 
 def standard_values(params: Parameters) -> np.ndarray:

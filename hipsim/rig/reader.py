@@ -27,10 +27,10 @@ import difflib
 import io
 import math
 import tempfile
+from collections.abc import Iterator
 from dataclasses import dataclass
 from itertools import chain, islice
 from pathlib import Path
-from typing import Iterator
 
 import numpy as np
 
@@ -95,7 +95,6 @@ class RigLog:
         return (self.t.size - 1) / (self.t[-1] - self.t[0])
 
 
-
 # --- The reader -----------------------------------------------------------------------------
 
 
@@ -126,7 +125,9 @@ def _header(rows, source: str) -> tuple[list[str], int, str, tuple[int, str] | N
     return header, number, separator, row
 
 
-def _block(block: list[tuple[int, str]], header: list[str], separator: str, source: str) -> tuple[np.ndarray, np.ndarray]:
+def _block(
+    block: list[tuple[int, str]], header: list[str], separator: str, source: str
+) -> tuple[np.ndarray, np.ndarray]:
     """Values (M, C) and file lines (M,) of a block of (line number, line)."""
     decimal_comma = separator != ","  # as in a trajectory file: 1,5 is 1.5 in a tab- or semicolon-separated log
     numbers = np.array([number for number, _ in block], dtype=np.int64)
@@ -148,13 +149,19 @@ def _block(block: list[tuple[int, str]], header: list[str], separator: str, sour
         except ValueError as error:
             raise TrajectoryError(str(error), source=source, line=number) from None
         if len(row) != len(header):
-            hint = " (decimal commas? a comma-separated log needs decimal points)" if separator == "," and len(row) > len(header) else ""
+            hint = (
+                " (decimal commas? a comma-separated log needs decimal points)"
+                if separator == "," and len(row) > len(header)
+                else ""
+            )
             raise TrajectoryError(f"{len(row)} cells, the header has {len(header)}{hint}", source=source, line=number)
         for c, (name, cell) in enumerate(zip(header, row)):
             try:
                 values[k, c] = parse_number(cell, decimal_comma)
             except ValueError:
-                raise TrajectoryError(f"'{cell.strip()}' is not a number", source=source, line=number, column=name) from None
+                raise TrajectoryError(
+                    f"'{cell.strip()}' is not a number", source=source, line=number, column=name
+                ) from None
     return values, numbers
 
 
@@ -272,23 +279,32 @@ class RigLogFile:
                     "give --torque-constant NM_PER_A (torque_constant= in Python)",
                     source=source,
                 )
-            if isinstance(torque_constant, bool) or not (isinstance(torque_constant, (int, float)) and math.isfinite(torque_constant) and torque_constant > 0):
-                raise TrajectoryError(f"the torque constant must be a positive number in N·m/A, got {torque_constant!r}", source=source)
+            if isinstance(torque_constant, bool) or not (
+                isinstance(torque_constant, (int, float)) and math.isfinite(torque_constant) and torque_constant > 0
+            ):
+                raise TrajectoryError(
+                    f"the torque constant must be a positive number in N·m/A, got {torque_constant!r}", source=source
+                )
             self._torque_names, self._scale, self.torque_from = CURRENT_COLUMNS, float(torque_constant), "currents"
             self.torque_constant = float(torque_constant)
         else:
-            close = [c for c in header if difflib.get_close_matches(c, TORQUE_COLUMNS + CURRENT_COLUMNS, n=1, cutoff=0.7)]
+            close = [
+                c for c in header if difflib.get_close_matches(c, TORQUE_COLUMNS + CURRENT_COLUMNS, n=1, cutoff=0.7)
+            ]
             hint = f" (the file has {', '.join(repr(c) for c in close)}: check the names and units)" if close else ""
             raise TrajectoryError(
                 f"missing torque columns: expected tau_1_Nmm, tau_2_Nmm, tau_3_Nmm, or current_1_A … with a torque constant{hint}",
-                source=source, line=header_line,
+                source=source,
+                line=header_line,
             )
         self._torque_index = [column[name] for name in self._torque_names]
         self.angle_unit = None
         self._angle_names: tuple[str, ...] = ()
         units = [unit for unit in ("deg", "rad") if any(f"{a}_{unit}" in column for a in ANGLE_NAMES)]
         if len(units) == 2:
-            raise TrajectoryError("angle columns mix _deg and _rad: give all three in one unit", source=source, line=header_line)
+            raise TrajectoryError(
+                "angle columns mix _deg and _rad: give all three in one unit", source=source, line=header_line
+            )
         if units:
             self.angle_unit = units[0]
             self._angle_names = tuple(f"{a}_{self.angle_unit}" for a in ANGLE_NAMES)
@@ -300,7 +316,8 @@ class RigLogFile:
             raise TrajectoryError(
                 "no motion: expected the platform angles alpha_deg, beta_deg, gamma_deg (attitude sensor) "
                 "or platform 1's slider heights L_11_mm, L_12_mm, L_13_mm (motor encoders)",
-                source=source, line=header_line,
+                source=source,
+                line=header_line,
             )
         self._time_index, self._load_index = column["t_s"], column["Fe_N"]
         self.width = 5 + 3 * bool(self.angle_unit) + 3 * has_heights
@@ -326,26 +343,42 @@ class RigLogFile:
         if abs(torque.value) * self._scale * 1e3 > MAX_TORQUE_NMM:
             raise TrajectoryError(
                 f"{torque.value:g} is beyond any motor of this machine ({MAX_TORQUE_NMM:g} N·mm): a unit slip?",
-                source=source, line=torque.line, column=torque.column,
+                source=source,
+                line=torque.line,
+                column=torque.column,
             )
         angle = worst["angle"]
         if self.angle_unit:
             largest = math.pi if self.angle_unit == "rad" else 360.0
             if abs(angle.value) > largest:
-                message = "is more than half a turn: these look like degrees; label the columns _deg" if self.angle_unit == "rad" else "is more than a full turn"
-                raise TrajectoryError(f"{angle.value:g} {self.angle_unit} {message}", source=source, line=angle.line, column=angle.column)
+                message = (
+                    "is more than half a turn: these look like degrees; label the columns _deg"
+                    if self.angle_unit == "rad"
+                    else "is more than a full turn"
+                )
+                raise TrajectoryError(
+                    f"{angle.value:g} {self.angle_unit} {message}", source=source, line=angle.line, column=angle.column
+                )
         height = worst["height"]
         if abs(height.value) > MAX_HEIGHT_MM:
-            raise TrajectoryError(f"{height.value:g} mm is beyond any machine of this kind: a unit slip?", source=source,
-                                  line=height.line, column=height.column)
+            raise TrajectoryError(
+                f"{height.value:g} mm is beyond any machine of this kind: a unit slip?",
+                source=source,
+                line=height.line,
+                column=height.column,
+            )
         if self.t.size < 2:
             raise TrajectoryError(f"{self.t.size} sample; a log needs many", source=source)
         check_time(self.t, 0.0, source, self.lines, "t_s", even=True)
         for load, line in (low, high):
             if load < 0:
-                raise TrajectoryError(f"load {load:g} N is negative (F_e is a magnitude)", source=source, line=line, column="Fe_N")
+                raise TrajectoryError(
+                    f"load {load:g} N is negative (F_e is a magnitude)", source=source, line=line, column="Fe_N"
+                )
             if load > MAX_LOAD:
-                raise TrajectoryError(f"load {load:g} N is beyond {MAX_LOAD:g} N (a unit slip?)", source=source, line=line, column="Fe_N")
+                raise TrajectoryError(
+                    f"load {load:g} N is beyond {MAX_LOAD:g} N (a unit slip?)", source=source, line=line, column="Fe_N"
+                )
 
     def __len__(self) -> int:
         return self.t.size
@@ -367,8 +400,18 @@ class RigLogFile:
         values = np.fromfile(self._store, dtype=float, count=(stop - start) * self.width).reshape(-1, self.width)
         angles = values[:, 5:8] if self.angle_unit else None
         heights = values[:, -3:] if self._height_index else None
-        return RigLog(self.t[start:stop], values[:, 1], values[:, 2:5], angles, heights, self.lines[start:stop], self.source,
-                      self.torque_from, self.ignored, self.angle_unit)
+        return RigLog(
+            self.t[start:stop],
+            values[:, 1],
+            values[:, 2:5],
+            angles,
+            heights,
+            self.lines[start:stop],
+            self.source,
+            self.torque_from,
+            self.ignored,
+            self.angle_unit,
+        )
 
     def read(self) -> RigLog:
         """All samples."""

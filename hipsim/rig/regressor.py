@@ -24,7 +24,7 @@ chunk by chunk and window by window, so memory does not grow with the log.
 
 from __future__ import annotations
 
-from typing import Iterator
+from collections.abc import Iterator
 
 import numpy as np
 
@@ -96,11 +96,9 @@ def regressor_from_kinematics(params: Parameters, kin, Fe: np.ndarray, lever_spi
     return Y
 
 
-
 def decimation(log: MeasuredLog) -> int:
     """Keep every D-th sample after the low-pass: four samples per period of the cutoff."""
     return 1 if log.cutoff is None else max(1, int(log.rate // (4.0 * log.cutoff)))
-
 
 
 def inflation(log: Log) -> float:
@@ -110,7 +108,9 @@ def inflation(log: Log) -> float:
     return max(1.0, log.rate / decimation(log) / (2.0 * log.cutoff))
 
 
-def _rows(params: Parameters, log: MeasuredLog, lever_spin: bool, chunk: int = CHUNK, span: tuple[int, int, int] | None = None):
+def _rows(
+    params: Parameters, log: MeasuredLog, lever_spin: bool, chunk: int = CHUNK, span: tuple[int, int, int] | None = None
+):
     """The log's regressor rows and torques, low-passed like the log and decimated, chunk by chunk.
 
     Args:
@@ -139,7 +139,6 @@ def _rows(params: Parameters, log: MeasuredLog, lever_spin: bool, chunk: int = C
             Y = lowpass(Y, log.rate, log.cutoff, log.name)
         keep = np.arange(a, b, step)
         yield Y[keep - lo], log.tau[keep], use[keep]
-
 
 
 def log_rows(params: Parameters, log: Log, lever_spin: bool) -> Iterator[tuple[np.ndarray, np.ndarray, np.ndarray]]:

@@ -23,9 +23,9 @@ from __future__ import annotations
 import glob
 import math
 import os
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Iterable, Sequence
 
 import numpy as np
 
@@ -110,7 +110,9 @@ def _number(cell: bytes, source: str, line: int, column: str) -> float:
     try:
         return float(cell)
     except ValueError:
-        raise TrajectoryError(f"'{cell.decode('utf-8', 'replace').strip()}' is not a number", source=source, line=line, column=column) from None
+        raise TrajectoryError(
+            f"'{cell.decode('utf-8', 'replace').strip()}' is not a number", source=source, line=line, column=column
+        ) from None
 
 
 @dataclass
@@ -129,7 +131,9 @@ def _scan(path: str) -> _Scan:
     with open(path, "rb") as stream:
         header, number, position = _header(stream, path)
         if CYCLE_COLUMN not in header:
-            raise TrajectoryError(f"no '{CYCLE_COLUMN}' column: a snapshot needs the machine's cycle counter", source=path, line=number)
+            raise TrajectoryError(
+                f"no '{CYCLE_COLUMN}' column: a snapshot needs the machine's cycle counter", source=path, line=number
+            )
         if "t_s" not in header:
             raise TrajectoryError("missing time column 't_s'", source=path, line=number)
         c, k = header.index(CYCLE_COLUMN), header.index("t_s")
@@ -145,11 +149,19 @@ def _scan(path: str) -> _Scan:
                 raise TrajectoryError(f"{len(cells)} cells, the header has {len(header)}", source=path, line=number)
             value = _number(cells[c], path, number, CYCLE_COLUMN)
             if not (math.isfinite(value) and value == int(value) and value >= 0):
-                raise TrajectoryError(f"the cycle counter must be a whole number ≥ 0, got '{cells[c].decode().strip()}'",
-                                      source=path, line=number, column=CYCLE_COLUMN)
+                raise TrajectoryError(
+                    f"the cycle counter must be a whole number ≥ 0, got '{cells[c].decode().strip()}'",
+                    source=path,
+                    line=number,
+                    column=CYCLE_COLUMN,
+                )
             if value < previous:
-                raise TrajectoryError(f"the cycle counter decreases ({previous:.0f} → {value:.0f}): one snapshot a file, its counter non-decreasing",
-                                      source=path, line=number, column=CYCLE_COLUMN)
+                raise TrajectoryError(
+                    f"the cycle counter decreases ({previous:.0f} → {value:.0f}): one snapshot a file, its counter non-decreasing",
+                    source=path,
+                    line=number,
+                    column=CYCLE_COLUMN,
+                )
             previous = value
             cycles.append(int(value))
             times.append(_number(cells[k], path, number, "t_s"))
@@ -157,7 +169,13 @@ def _scan(path: str) -> _Scan:
             lines.append(number)
     if len(cycles) < 2:
         raise TrajectoryError(f"{len(cycles)} samples; a snapshot needs many", source=path)
-    return _Scan(np.array(cycles, dtype=np.int64), np.array(times), np.array(offsets, dtype=np.int64), np.array(lines, dtype=np.int64), position)
+    return _Scan(
+        np.array(cycles, dtype=np.int64),
+        np.array(times),
+        np.array(offsets, dtype=np.int64),
+        np.array(lines, dtype=np.int64),
+        position,
+    )
 
 
 def _check_length(path: str, samples: int, rate: float, cutoff: float | None, what: str) -> None:
@@ -170,7 +188,9 @@ def _check_length(path: str, samples: int, rate: float, cutoff: float | None, wh
     if samples < need:
         raise TrajectoryError(
             f"{what} has {samples} samples, too short for the {cutoff:g} Hz low-pass at {rate:.6g} Hz (at least {need}, "
-            f"{need / rate:.3g} s): log longer snapshots or give a higher cutoff", source=path)
+            f"{need / rate:.3g} s): log longer snapshots or give a higher cutoff",
+            source=path,
+        )
 
 
 def find_snapshots(logs, window: int | None = None, cutoff: float | None = 20.0) -> list[Snapshot]:
@@ -218,10 +238,20 @@ def _windows(path: str, scan: _Scan, window: int, cutoff: float | None) -> list[
             break  # the last window is not complete yet
         stop_byte = int(scan.offset[b]) if b < n else scan.end
         _check_length(path, int(b - a), rate, cutoff, f"the window of cycles {scan.cycle[a]}-{scan.cycle[b - 1]}")
-        out.append(Snapshot(path, int(scan.cycle[a]), int(scan.cycle[b - 1]), int(b - a), float(rate),
-                            (int(scan.offset[a]), stop_byte, int(scan.line[a]))))
+        out.append(
+            Snapshot(
+                path,
+                int(scan.cycle[a]),
+                int(scan.cycle[b - 1]),
+                int(b - a),
+                float(rate),
+                (int(scan.offset[a]), stop_byte, int(scan.line[a])),
+            )
+        )
     if not out:
-        raise TrajectoryError(f"holds no whole window of {window} cycles (cycles {scan.cycle[0]}-{scan.cycle[-1]})", source=path)
+        raise TrajectoryError(
+            f"holds no whole window of {window} cycles (cycles {scan.cycle[0]}-{scan.cycle[-1]})", source=path
+        )
     return out
 
 
@@ -232,7 +262,9 @@ def _check_overlaps(snapshots: Sequence[Snapshot]) -> None:
         if after.first_cycle <= before.last_cycle and after.path != before.path:
             raise TrajectoryError(
                 f"covers cycles {after.first_cycle}-{after.last_cycle}, as does {before.path} ({before.first_cycle}-{before.last_cycle}): "
-                "each cycle in one snapshot only (a copied file?)", source=after.path)
+                "each cycle in one snapshot only (a copied file?)",
+                source=after.path,
+            )
 
 
 def snapshot_text(snapshot: Snapshot) -> bytes | None:

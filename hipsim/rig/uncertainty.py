@@ -25,7 +25,17 @@ from ..motion.trajectories import Trajectory
 from .base import base_parameters
 from .regressor import regressor
 
-__all__ = ["Z95", "Covariance", "band_columns", "band_summary", "log_torque_std", "read_covariance", "sigma_machines", "torque_draws", "torque_std"]
+__all__ = [
+    "Z95",
+    "Covariance",
+    "band_columns",
+    "band_summary",
+    "log_torque_std",
+    "read_covariance",
+    "sigma_machines",
+    "torque_draws",
+    "torque_std",
+]
 
 #: The two-sided 95 % quantile of the normal distribution.
 Z95 = 1.959963984540054
@@ -72,8 +82,10 @@ def read_covariance(path: str | Path | None, params: Parameters) -> Covariance |
     except (TypeError, ValueError):
         raise HipsimError(f"{where} covariance: expected a square table of numbers") from None
     if not isinstance(names, list) or matrix.shape != (len(names), len(names)):
-        raise HipsimError(f"{where} covariance: expected {len(names) if isinstance(names, list) else 'one row per base parameter'} rows "
-                          f"and columns (one per name in base), got shape {matrix.shape}")
+        raise HipsimError(
+            f"{where} covariance: expected {len(names) if isinstance(names, list) else 'one row per base parameter'} rows "
+            f"and columns (one per name in base), got shape {matrix.shape}"
+        )
     if not np.all(np.isfinite(matrix)):
         raise HipsimError(f"{where} covariance: not finite")
     size = max(np.abs(matrix).max(), 1e-300)
@@ -82,19 +94,27 @@ def read_covariance(path: str | Path | None, params: Parameters) -> Covariance |
     scale = np.sqrt(np.maximum(np.diag(matrix), 1e-300))
     eigen = np.linalg.eigvalsh(matrix / np.outer(scale, scale)) if len(names) else np.zeros(1)
     if eigen.min() < -1e-8 * max(eigen.max(), 1.0):
-        raise HipsimError(f"{where} covariance: not positive semi-definite (smallest eigenvalue {eigen.min():.3g} of the correlation matrix)")
+        raise HipsimError(
+            f"{where} covariance: not positive semi-definite (smallest eigenvalue {eigen.min():.3g} of the correlation matrix)"
+        )
     base = base_parameters(params, lever_spin)
     if list(names) != base.names:
-        raise HipsimError(f"{where} base: {', '.join(map(str, names))} are not this machine's base parameters ({', '.join(base.names)})")
+        raise HipsimError(
+            f"{where} base: {', '.join(map(str, names))} are not this machine's base parameters ({', '.join(base.names)})"
+        )
     determined = table.get("determined", [True] * len(names))
     si = matrix * np.outer(base.scale, base.scale)
     residual = table.get("residual_rms_Nmm")
     try:
         residual = None if residual is None else np.array(residual, dtype=float).reshape(3) * 1e-3
     except (TypeError, ValueError):
-        raise HipsimError(f"{where} residual_rms_Nmm: expected three numbers (N·mm per motor), got {table.get('residual_rms_Nmm')!r}") from None
+        raise HipsimError(
+            f"{where} residual_rms_Nmm: expected three numbers (N·mm per motor), got {table.get('residual_rms_Nmm')!r}"
+        ) from None
     if residual is not None and not np.all(np.isfinite(residual) & (residual >= 0)):
-        raise HipsimError(f"{where} residual_rms_Nmm: expected three non-negative numbers, got {table.get('residual_rms_Nmm')!r}")
+        raise HipsimError(
+            f"{where} residual_rms_Nmm: expected three non-negative numbers, got {table.get('residual_rms_Nmm')!r}"
+        )
     return Covariance(tuple(names), si, tuple(bool(d) for d in determined), lever_spin, str(path), residual)
 
 
@@ -109,7 +129,9 @@ def torque_std(params: Parameters, trajectory: Trajectory, covariance: Covarianc
     return np.sqrt(np.maximum(np.einsum("nip,pq,niq->ni", Yb, covariance.matrix, Yb), 0.0))
 
 
-def torque_draws(params: Parameters, trajectory: Trajectory, covariance: Covariance, draws: int = 200, seed: int = 0) -> np.ndarray:
+def torque_draws(
+    params: Parameters, trajectory: Trajectory, covariance: Covariance, draws: int = 200, seed: int = 0
+) -> np.ndarray:
     """Draws of the motor torques' deviation from the prediction in [N·m], (draws, N, 3), θ_b ~ N(θ̂_b, Σ)."""
     Yb = _base_rows(params, trajectory, covariance)
     values, vectors = np.linalg.eigh(covariance.matrix)
@@ -118,7 +140,9 @@ def torque_draws(params: Parameters, trajectory: Trajectory, covariance: Covaria
     return np.einsum("nip,dp->dni", Yb, deltas)
 
 
-def band_columns(params: Parameters, trajectory: Trajectory, covariance: Covariance, tau_Nmm: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+def band_columns(
+    params: Parameters, trajectory: Trajectory, covariance: Covariance, tau_Nmm: dict[str, np.ndarray]
+) -> dict[str, np.ndarray]:
     """The 95 % band columns ``tau_i_lo95_Nmm``, ``tau_i_hi95_Nmm`` of a piece of a torque CSV, from its ``tau_i_Nmm`` columns.
 
     A sample whose pose the regressor cannot take (flagged) gets NaN.
@@ -151,8 +175,14 @@ def log_torque_std(params: Parameters, log, times: np.ndarray, covariance: Covar
         chosen = np.flatnonzero(np.isin(trajectory.t[core], times)) + (core.start or 0)
         if chosen.size == 0:
             continue
-        part = Trajectory(trajectory.t[chosen], trajectory.q[chosen], trajectory.qd[chosen], trajectory.qdd[chosen], trajectory.Fe[chosen],
-                          name=trajectory.name)
+        part = Trajectory(
+            trajectory.t[chosen],
+            trajectory.q[chosen],
+            trajectory.qd[chosen],
+            trajectory.qdd[chosen],
+            trajectory.Fe[chosen],
+            name=trajectory.name,
+        )
         try:
             std = torque_std(params, part, covariance)
         except PoseError:
@@ -177,7 +207,9 @@ def band_summary(half_Nm: np.ndarray, error_Nm: np.ndarray, residual: np.ndarray
         if residual is not None:
             wide = np.sqrt(half**2 + (Z95 * residual[i]) ** 2)
             entry["prediction_rms_half_width_Nmm"] = float(np.sqrt(np.mean(wide[ok] ** 2)) * 1e3) if ok.any() else None
-            entry["measured_within_prediction_band"] = float(np.mean(np.abs(error[ok]) <= wide[ok])) if ok.any() else None
+            entry["measured_within_prediction_band"] = (
+                float(np.mean(np.abs(error[ok]) <= wide[ok])) if ok.any() else None
+            )
         out[str(i + 1)] = entry
     return out
 

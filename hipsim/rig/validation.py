@@ -10,8 +10,9 @@ speed) that reaches beyond the training logs' by more than
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -36,12 +37,18 @@ class Envelope:
     angles: np.ndarray
     speeds: np.ndarray
 
-    def union(self, other: "Envelope") -> "Envelope":
-        return Envelope((min(self.load[0], other.load[0]), max(self.load[1], other.load[1])),
-                        np.column_stack([np.minimum(self.angles[:, 0], other.angles[:, 0]), np.maximum(self.angles[:, 1], other.angles[:, 1])]),
-                        np.column_stack([np.minimum(self.speeds[:, 0], other.speeds[:, 0]), np.maximum(self.speeds[:, 1], other.speeds[:, 1])]))
+    def union(self, other: Envelope) -> Envelope:
+        return Envelope(
+            (min(self.load[0], other.load[0]), max(self.load[1], other.load[1])),
+            np.column_stack(
+                [np.minimum(self.angles[:, 0], other.angles[:, 0]), np.maximum(self.angles[:, 1], other.angles[:, 1])]
+            ),
+            np.column_stack(
+                [np.minimum(self.speeds[:, 0], other.speeds[:, 0]), np.maximum(self.speeds[:, 1], other.speeds[:, 1])]
+            ),
+        )
 
-    def beyond(self, training: "Envelope") -> list[str]:
+    def beyond(self, training: Envelope) -> list[str]:
         """Where these ranges leave ``training``'s by more than :data:`MARGIN` of its width, in words."""
         out = []
 
@@ -108,9 +115,17 @@ class ValidationNote:
     def text(self) -> str:
         lines = []
         if self.phase_edges is not None:
-            lines.append(f"RMS error per tenth of the gait cycle from heel strike [N·mm], identified (starting) on {self.log}:")
+            lines.append(
+                f"RMS error per tenth of the gait cycle from heel strike [N·mm], identified (starting) on {self.log}:"
+            )
             for i in range(3):
-                lines.append(f"  M{i + 1}: " + " ".join(f"{a:.3g} ({b:.3g})" for a, b in zip(self.identified_phase_rms[:, i], self.starting_phase_rms[:, i])))
+                lines.append(
+                    f"  M{i + 1}: "
+                    + " ".join(
+                        f"{a:.3g} ({b:.3g})"
+                        for a, b in zip(self.identified_phase_rms[:, i], self.starting_phase_rms[:, i])
+                    )
+                )
         else:
             lines.append(f"{self.log}: no two heel strikes in the load, so no error per gait phase")
         for warning in self.warnings:
