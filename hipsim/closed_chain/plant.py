@@ -13,9 +13,7 @@ redundant (18 closure equations): :meth:`PinocchioPlant.initial_state` closes
 the chain at the first sample with :func:`hipsim.closed_chain.closure.kinematics`
 (gap ≤ 1e-12 m, J_c v = 0), and the integrator keeps it close (below).
 
-Derivative. dx/dt = [v, a] with a from Pinocchio's constrained forward
-dynamics, ``pin.constraintDynamics`` (``initConstraintDynamics`` once per
-plant; Data and constraint Data are created once and reused), which solves
+Derivative. dx/dt = [v, a] with a the constrained forward dynamics
 
     M a + h(q, v) = τ + J_cᵀ λ,   J_c a = −J̇_c v − K_d·(J_c v) − K_p·g(q)
 
@@ -28,7 +26,24 @@ screw's rotor inertia is the joint's armature), minus the friction
 generalised forces Q_f of spec §4.3 / §7.3 — the laws of
 :mod:`hipsim.physics.laws`, as the closed-chain inverse dynamics adds them
 (:func:`hipsim.closed_chain.friction.friction_forces`), so inverse then forward
-dynamics is consistent. For the default friction (hip joint, thrust bearing,
+dynamics is consistent. Two routes solve it (``route``, :data:`ROUTES`):
+
+* ``"kernel"`` (the default): ``pin.crba`` in the WORLD convention (M with the
+  armature, and the joints' world placements and Jacobians as by-products),
+  then one compiled call (:func:`~hipsim.closed_chain.plant_kernel.constrained_acceleration`)
+  that evaluates h by Newton–Euler, the closures' frames, Jacobian and drift,
+  and solves exactly by coordinate partitioning (18 eliminated coordinates,
+  platform 1's three angles kept). It agrees with the converged
+  ``constraintDynamics`` to 1e-14 m/s², on and off the closures.
+* ``"constraint_dynamics"``: Pinocchio's ``pin.constraintDynamics``
+  (``initConstraintDynamics`` once per plant; Data and constraint Data are
+  created once and reused), with the proximal settings below.
+
+``pin.lcaba`` (Pinocchio 4.1's loop-constrained ABA, O(n + m)) was tried as a
+third: on this 21-coordinate, 18-row tree it is no faster than
+``constraintDynamics`` at equal accuracy (μ = 1e-6 and three proximal
+iterations for 3e-9 m/s²; with μ = 1e-12 its error is 4e-3 m/s²), and it
+ignores the Baumgarte corrector, so the closures would drift. For the default friction (hip joint, thrust bearing,
 slider guides and screw; no U/S-joint friction) Q_f is evaluated by one
 compiled function (numba, calling the same laws): the platform's angular
 Jacobian is T(q) of spec §2, so the platform moment τ_mf(ω = T·q̇) maps to
@@ -39,7 +54,7 @@ with Pinocchio's Jacobians: same laws, slower).
 
 Settings (constructor arguments):
 
-* Proximal solver: ``pin.ProximalSettings(1e-12, 1e-12, mu=1e-12, max_iter=2)``.
+* Proximal solver (the ``"constraint_dynamics"`` route): ``pin.ProximalSettings(1e-12, 1e-12, mu=1e-12, max_iter=2)``.
   Away from singular poses the closure Jacobian has full row rank (18 of 21
   columns: mobility 3), so the KKT system is regular and μ only guards against
   rank loss near singularities (with μ = 0, Pinocchio 4.1 returns NaN on a
@@ -75,11 +90,12 @@ coordinates rx, ry, rz = α, β, γ (R = Rz(γ)·Ry(β)·Rx(α)), and multiplies
 them by ``params.angle_signs`` (the model's angles are the platform's; the
 gait angles differ by those sign flips, as in the analytic model).
 
-Cost. One derivative call is about 13 µs on the development machine (Python
-3.11, pin 4.1): ``constraintDynamics`` (CRBA, bias forces, the constraint
-Cholesky, two proximal solves) ~10.5 µs, the generalised forces ~1 µs (one
-compiled call, most of it in passing the arguments: 1.1 µs against 1.7 µs for
-the plain-Python sums it replaced, measured side by side), the rest (call,
+Cost (27 Nov, Python 3.11, pin 4.1, best single calls on a shared 2-core
+machine): ``crba`` 2.6 µs and the compiled solve 4.6 µs (1.2 µs of it numba
+unboxing 13 arguments), 7.4 µs, against ``constraintDynamics`` (CRBA, bias
+forces, the constraint Cholesky, two proximal solves) 12.5 µs; ``lcaba``
+14.7 µs at μ = 1e-6 and three iterations. The generalised forces add ~1 µs
+(one compiled call, most of it in passing the arguments), the rest (call,
 slicing, concatenating [v, a]) ~1 µs. See scripts/bench.py.
 """
 
@@ -99,14 +115,19 @@ from ..physics.transmission import radians_per_travel
 from .build import ClosedChainModel, load_model
 from .closure import kinematics
 from .friction import friction_forces
+from .plant_kernel import constrained_acceleration, tree_constants
+from .workspace import _joint_placement_views
 
-__all__ = ["PinocchioPlant", "DEFAULT_BAUMGARTE", "DEFAULT_PROXIMAL"]
+__all__ = ["PinocchioPlant", "DEFAULT_BAUMGARTE", "DEFAULT_PROXIMAL", "ROUTES"]
 
 
 #: Baumgarte gains (K_p [1/s²], K_d [1/s]): critically damped at ω_n = 10 rad/s.
 DEFAULT_BAUMGARTE = (10.0**2, 2.0 * 10.0)
 #: Proximal settings (absolute accuracy, relative accuracy [N], μ [1/kg], max iterations).
 DEFAULT_PROXIMAL = (1e-12, 1e-12, 1e-12, 2)
+#: The forward dynamics' routes: the compiled closure solver (:mod:`~hipsim.closed_chain.plant_kernel`) after
+#: ``pin.crba``, or ``pin.constraintDynamics``. The same equations; the first is the faster.
+ROUTES = ("kernel", "constraint_dynamics")
 
 
 @laws.jit
@@ -186,6 +207,11 @@ class PinocchioPlant:
         max_iter: proximal iterations at most.
         chain: ``load_model(params)`` for these very params, to skip
             building it again (its constraint models are copied, not modified).
+        route: how a derivative is evaluated (:data:`ROUTES`): ``"kernel"``, the
+            compiled closure solver (falls back on ``"constraint_dynamics"`` for a
+            tree with multi-DoF joints, or where Pinocchio's placements cannot be
+            viewed; :attr:`route` says which runs), or ``"constraint_dynamics"``.
+            mu and max_iter only concern the latter.
 
     Raises:
         ValueError: mu not positive, or a chain built from other parameters.
@@ -203,7 +229,10 @@ class PinocchioPlant:
         mu: float = DEFAULT_PROXIMAL[2],
         max_iter: int = DEFAULT_PROXIMAL[3],
         chain: ClosedChainModel | None = None,
+        route: str = "kernel",
     ):
+        if route not in ROUTES:
+            raise ArgumentError("route", route, f"one of {', '.join(ROUTES)}")
         if not mu > 0:
             raise ArgumentError("mu", mu, "a positive proximal regularisation")
         if chain is not None and chain.params is not params:
@@ -211,6 +240,8 @@ class PinocchioPlant:
         self.params = params
         self.chain = load_model(params) if chain is None else chain
         layout = self.chain.layout
+        if layout is None:
+            raise ArgumentError("chain", chain, "the hip's tree (load_model), whose layout names its joints")
         model = self.model = self.chain.model
         self.nq, self.nv = model.nq, model.nv
         self.data = model.createData()
@@ -251,6 +282,10 @@ class PinocchioPlant:
         self._jdatas = pin.StdVec_RigidConstraintData()
         for cm in self.constraint_models:
             self._jdatas.append(cm.createData())
+        self._kernel = self._kernel_arguments() if route == "kernel" else None
+        #: The route derivatives take (:data:`ROUTES`).
+        self.route = "kernel" if self._kernel is not None else "constraint_dynamics"
+        self._a = np.empty(self.nv)  # the kernel's acceleration, reused by advance()
 
     # -- the Plant protocol -------------------------------------------------
 
@@ -264,9 +299,15 @@ class PinocchioPlant:
         nq = self.nq
         q, v = x[:nq], x[nq:]
         buf = self._fill_forces(x, tau, Fe)
-        a = pin.constraintDynamics(
-            self.model, self.data, q, v, buf, self.constraint_models, self.constraint_datas, self.proximal
-        )
+        if self._kernel is not None:
+            data, views, constants = self._kernel
+            pin.crba(self.model, data, q, pin.Convention.WORLD)
+            a = np.empty(self.nv)
+            constrained_acceleration(*views, x, buf, *constants, a)
+        else:
+            a = pin.constraintDynamics(
+                self.model, self.data, q, v, buf, self.constraint_models, self.constraint_datas, self.proximal
+            )
         return np.concatenate((v, a))
 
     def advance(
@@ -300,6 +341,15 @@ class PinocchioPlant:
             y, q, v, k, buf = self._y, self._y_q, self._y_v, self._stages, self._tau
             forces = (self._friction, self._weight, self._force_gain, self._platform_slots, self._slider_slots)
             a = buf  # stage 0 reads no derivative
+            if self._kernel is not None:
+                kdata, views, constants, world, a = *self._kernel, pin.Convention.WORLD, self._a
+                for step in range(substeps):
+                    for s in range(4):
+                        _rk4_stage(s, x, y, k, a, h, buf, tau, float(loads[2 * step + (s + 1) // 2]), *forces)
+                        pin.crba(model, kdata, q, world)
+                        constrained_acceleration(*views, y, buf, *constants, a)
+                    _rk4_stage(4, x, y, k, a, h, buf, tau, 0.0, *forces)
+                return x
             for step in range(substeps):
                 for s in range(4):
                     _rk4_stage(s, x, y, k, a, h, buf, tau, float(loads[2 * step + (s + 1) // 2]), *forces)
@@ -308,7 +358,7 @@ class PinocchioPlant:
             return x
         nq = self.nq
         k = self._stages
-        if type(self).derivative is not PinocchioPlant.derivative:
+        if type(self).derivative is not PinocchioPlant.derivative or self._kernel is not None:
 
             def rate(y, Fe, out):
                 out[:] = self.derivative(t, y, tau, Fe)
@@ -399,6 +449,34 @@ class PinocchioPlant:
         for i, s in enumerate(self._sliders):
             buf[s] += self._force_gain * tau[i]
         return buf
+
+    def _kernel_arguments(self) -> tuple | None:
+        """The compiled route's Data, its views (``data.M``, ``data.J``, ``data.oMi``) and constants, or None where it cannot run.
+
+        It needs one velocity per joint (revolute, prismatic: the hip's tree),
+        and Pinocchio's placements as views (:mod:`~hipsim.closed_chain.workspace`).
+        """
+        model = self.model
+        if model.nq != model.nv or any(joint.nv != 1 for joint in list(model.joints)[1:]):
+            return None
+        data = model.createData()
+        rotations, origins = _joint_placement_views(model, data)
+        if rotations is None:
+            return None
+        angles = np.asarray(self._platforms[0], dtype=np.int64)
+        others = np.setdiff1d(np.arange(model.nv), angles)
+        if 3 * len(self.constraint_models) != others.size:
+            return None
+        order = np.zeros((2, model.nv), dtype=np.int64)
+        order[0] = np.concatenate([angles, others])
+        order[1, others], order[1, angles] = np.arange(others.size), others.size + np.arange(3)
+        bodies, joints = tree_constants(model)
+        closures = np.array([[cm.joint1_id, cm.joint2_id] for cm in self.constraint_models], dtype=np.int64)
+        placements = np.array(
+            [[cm.joint1_placement.homogeneous, cm.joint2_placement.homogeneous] for cm in self.constraint_models]
+        )
+        settings = np.array([*self.baumgarte, *model.gravity.linear])
+        return data, (data.M, data.J, rotations, origins), (bodies, joints, closures, placements, order, settings)
 
     def _platform_follows_the_spec(self) -> bool:
         """Do the platforms turn by R(q) of spec §2, with world angular Jacobians T(q) (columns rx, ry, rz)?
