@@ -1,10 +1,13 @@
 """The hipsim command line: defaults, options, and one-line errors."""
 
 import csv
+import io
 import json
 import math
 import subprocess
 import sys
+import warnings
+from contextlib import redirect_stderr, redirect_stdout
 
 import numpy as np
 import pytest
@@ -13,15 +16,41 @@ from hipsim.cli.main import main
 from hipsim.results import column_names
 
 
-def run(*args):
-    """Run the installed console script and return (status, stdout, stderr)."""
+def run_process(*args):
+    """Run the console script in a process of its own and return (status, stdout, stderr)."""
     done = subprocess.run([sys.executable, "-m", "hipsim", *args], capture_output=True, text=True, timeout=120)
     return done.returncode, done.stdout, done.stderr
 
 
+#: Warnings a fresh ``python -m hipsim`` does not print (Python's default filters).
+_HIDDEN = (DeprecationWarning, PendingDeprecationWarning, ImportWarning, ResourceWarning)
+
+
+def run(*args):
+    """``hipsim`` with these arguments in this process: (status, stdout, stderr), as :func:`run_process` returns them.
+
+    A process a command costs 1–2 s of imports and numba cache loads, most of
+    this file's time; the console script itself runs as a process in
+    test_torques_defaults and test_pose_errors_read_alike_in_torques_and_view.
+    Warnings go to stderr as a fresh process would print them, so that "one
+    line" still means one line.
+    """
+    out, err = io.StringIO(), io.StringIO()
+    with warnings.catch_warnings(record=True) as caught, redirect_stdout(out), redirect_stderr(err):
+        warnings.simplefilter("default")
+        for category in _HIDDEN:
+            warnings.simplefilter("ignore", category)
+        try:
+            status = main(list(args))
+        except SystemExit as exit:  # argparse: --help, or a usage error
+            status = exit.code if isinstance(exit.code, int) else (0 if exit.code is None else 1)
+    shown = "".join(warnings.formatwarning(w.message, w.category, w.filename, w.lineno) for w in caught)
+    return status, out.getvalue(), err.getvalue() + shown
+
+
 def test_torques_defaults(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    status, out, err = run("torques")
+    status, out, err = run_process("torques")
     assert status == 0, err
     header = next(csv.reader(open(tmp_path / "hipsim_torques.csv")))
     assert header == column_names()
@@ -292,24 +321,24 @@ def test_params_prints_no_empty_tables(capsys):
 # --------------------------------------------------------------------------- issue 15: what a new user hit
 
 
-def test_pose_errors_read_alike_in_torques_and_view(tmp_path):
+def test_pose_errors_read_alike_in_torques_and_view(tmp_path, monkeypatch):
     """Path as typed, the sample's time and the file's line, whichever command meets the pose."""
     (tmp_path / "data").mkdir()
     far_trajectory(tmp_path / "data")
     expected = (
         "hipsim: error: data/far.csv, t = 0.02 s, line 4: pose out of reach"  # t = 0.02 s is the third row, on line 4
     )
-    for args in (["torques", "--out", "x.csv"], ["view", "--html", "x.html"], ["check"]):
-        done = subprocess.run(
-            [sys.executable, "-m", "hipsim", *args, "--trajectory", "data/far.csv"],
-            cwd=tmp_path,
-            capture_output=True,
-            text=True,
-            timeout=120,
-        )
-        assert done.returncode == 2, (args, done.stderr)
-        lines = error_lines(done.stderr)
-        assert len(lines) == 1 and lines[0].startswith(expected), (args, done.stderr)
+    monkeypatch.chdir(tmp_path)
+    # The first in a process of its own, as typed in a shell; the others in this one (same main()).
+    for start, args in (
+        (run_process, ["torques", "--out", "x.csv"]),
+        (run, ["view", "--html", "x.html"]),
+        (run, ["check"]),
+    ):
+        status, _, err = start(*args, "--trajectory", "data/far.csv")
+        assert status == 2, (args, err)
+        lines = error_lines(err)
+        assert len(lines) == 1 and lines[0].startswith(expected), (args, err)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["data"]
 
 

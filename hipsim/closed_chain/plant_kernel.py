@@ -261,8 +261,9 @@ def constrained_acceleration(
     for i in range(nv):
         for k in range(nv):
             Mik = M[i, k] if i <= k else M[k, i]
-            for j in range(4):
-                MG[i, j] += Mik * G[k, j]
+            if Mik != 0.0:  # M is block sparse (the platforms' and the legs' subtrees): 93 of 441 entries here
+                for j in range(4):
+                    MG[i, j] += Mik * G[k, j]
     A = np.zeros((3, 3))
     b = np.zeros(3)
     for r in range(3):
