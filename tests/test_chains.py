@@ -62,7 +62,7 @@ def test_a_zero_table_is_the_drawing(tmp_path):
 
 
 def test_the_drawings_functions_refuse_a_per_chain_machine():
-    with pytest.raises(ParameterError, match="per-chain geometry"):
+    with pytest.raises(ParameterError, match="per-chain geometry is not supported"):
         slider_heights(DEVIATED, np.zeros((1, 3)))
 
 
