@@ -25,8 +25,9 @@ stay the drawing's (ẑ × c_i/|c_i|): a centre offset moves the joint, not its 
 Example:
     >>> import numpy as np
     >>> g = ChainGeometry.zeros().replace(lever=np.array([[0.0, 0.0, 0.0], [0.0, 0.3e-3, 0.0]]))
-    >>> geometry_table(g)["lever_offset_mm"]
-    [0.0, 0.0, 0.0, 0.0, 0.3, 0.0]
+    >>> lever_mm = geometry_table(g)["lever_offset_mm"]  # chains 11 … 23, in mm
+    >>> lever_mm[4]
+    0.3
 """
 
 from __future__ import annotations
