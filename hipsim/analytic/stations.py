@@ -113,6 +113,7 @@ def platform_attitude(
     t: np.ndarray | None = None,
     q0: np.ndarray | None = None,
     source: str | None = None,
+    guess: np.ndarray | None = None,
 ) -> np.ndarray:
     """The attitude of platform ``platform`` along a log of carriage readings (its forward kinematics).
 
@@ -127,6 +128,8 @@ def platform_attitude(
         t: sample times in [s], (N,), for messages; None for the indices.
         q0: gait angles in [rad] near the first sample, (3,); None for home.
         source: the log's name, for messages.
+        guess: gait angles in [rad] near each sample's solution, (N, 3) (e.g. the other platform's, or the
+            desired motion): Newton then needs two or three steps a sample; None for the linearisation about q0.
 
     Returns:
         Gait angles [α, β, γ] of that platform in [rad], (N, 3).
@@ -136,7 +139,7 @@ def platform_attitude(
     """
     _platform_index(platform)
     return forward_kinematics(
-        params, L, t=t, q0=q0, source=source, platform=None if params.geometry is None else platform
+        params, L, t=t, q0=q0, source=source, platform=None if params.geometry is None else platform, guess=guess
     )
 
 
@@ -172,6 +175,7 @@ def follower_motion(
     t: np.ndarray | None = None,
     q0: np.ndarray | None = None,
     source: str | None = None,
+    guess: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The motion of platform ``platform`` driven by given carriage motion: forward kinematics through its own Jacobian.
 
@@ -182,7 +186,7 @@ def follower_motion(
         params: the machine.
         L, Ld, Ldd: carriage readings in [m], velocities in [m/s], accelerations in [m/s²], each (N, 3).
         platform: 1 or 2.
-        t, q0, source: as in :func:`platform_attitude`.
+        t, q0, source, guess: as in :func:`platform_attitude`.
 
     Returns:
         Gait angles q in [rad], q̇ in [rad/s], q̈ in [rad/s²], each (N, 3).
@@ -191,7 +195,7 @@ def follower_motion(
         PoseError: as :func:`platform_attitude`, or where the Jacobian is singular.
     """
     j = _platform_index(platform)
-    q = platform_attitude(params, L, platform, t=t, q0=q0, source=source)
+    q = platform_attitude(params, L, platform, t=t, q0=q0, source=source, guess=guess)
     signs = params.angle_signs
     p = q * signs
     _, r, d = chain_positions(params.chains, p, j)
