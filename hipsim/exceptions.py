@@ -17,6 +17,7 @@ import unicodedata
 
 __all__ = [
     "ArgumentError",
+    "CalibrationError",
     "CatalogueError",
     "ClosureError",
     "FileRowError",
@@ -210,3 +211,15 @@ class MissingDependencyError(HipsimError):
 
 class CatalogueError(FileRowError):
     """A motor, screw or gearbox catalogue (CSV) or drive file is invalid (source, line and column as in :class:`FileRowError`)."""
+
+
+class CalibrationError(HipsimError):
+    """A kinematic calibration cannot be made from its logs: it does not converge, or its machine leaves the workspace.
+
+    Attributes:
+        reason: what went wrong, in words (the log and sample time where one is to blame).
+    """
+
+    def __init__(self, reason: str):
+        super().__init__(reason)
+        self.reason = reason

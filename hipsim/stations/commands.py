@@ -1,0 +1,197 @@
+"""Carriage commands for two platforms on one set of carriages: control platform 1, platform 2, or both.
+
+Both platforms hang on the same three carriages. With every chain built to
+the drawing they turn alike; with per-chain deviations one carriage reading
+L = (L_1, L_2, L_3) puts each platform at its own attitude q_j(L) (the forward
+kinematics of :mod:`hipsim.analytic.stations`), and no command puts both
+exactly where they are wanted. For a desired attitude q_d per sample:
+
+- ``control="1"`` (or ``"2"``): L = the inverse kinematics of that platform, so
+  it is exact and the other follows with its own error (the paper controls m_2
+  and m_1 follows);
+- ``control="both"``: L minimises w_1·|q_1(L) − q_d|² + w_2·|q_2(L) − q_d|²
+  (angles in degrees, w = (1, 1) by default). The deviations are small, so
+  q_j(L) ≈ q_d + A_j·(L − L_j*), A_j = (∂L/∂q)_j⁻¹ at q_d, L_j* platform j's own
+  command: the weighted least squares L = (Σ w_j A_jᵀA_j)⁻¹ Σ w_j A_jᵀA_j L_j*,
+  then Gauss–Newton steps on the exact forward kinematics. Each sample keeps
+  the best of that command and the two single-platform ones, so ``both`` is
+  never worse than either in its summed squared error, and with identical
+  chains (both single commands equal) all three are the same.
+
+Every function works on whole arrays of samples.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..analytic.forward_kinematics import solve_pose
+from ..analytic.stations import carriages_for_platform, platform_attitude
+from ..arrays import readonly
+from ..exceptions import ArgumentError, PoseError
+from ..machine.parameters import Parameters
+from .sensitivity import inverse3, reading_rate
+
+__all__ = ["CONTROLS", "StationMotion", "attitudes", "station_commands", "squared_errors"]
+
+#: The platforms a command can serve.
+CONTROLS = ("1", "2", "both")
+#: Gauss–Newton steps of ``both`` on the exact forward kinematics after the linear start (the weights in [deg⁻²] scale
+#: H and the gradient alike, so the degrees cancel in the step).
+REFINEMENTS = 2
+
+
+@dataclass(frozen=True, eq=False)
+class StationMotion:
+    """Carriage commands and the two platforms' attitudes they give, per sample, SI.
+
+    Attributes:
+        t: sample times in [s], (N,).
+        desired: the desired attitude [α, β, γ] in [rad], (N, 3).
+        carriages: the carriage readings L_1, L_2, L_3 in [m] (the encoders' reading), (N, 3).
+        attitudes: each platform's attitude q_j in [rad], (N, 2, 3).
+        control: "1", "2" or "both".
+        weights: (w_1, w_2) of ``both``'s sum of squared errors.
+    """
+
+    t: np.ndarray
+    desired: np.ndarray
+    carriages: np.ndarray
+    attitudes: np.ndarray
+    control: str
+    weights: tuple[float, float] = (1.0, 1.0)
+
+    def __post_init__(self):
+        n = np.shape(self.t)[0]
+        for name, shape in (("t", (n,)), ("desired", (n, 3)), ("carriages", (n, 3)), ("attitudes", (n, 2, 3))):
+            value = np.asarray(getattr(self, name), dtype=float)
+            if value.shape != shape:
+                raise ArgumentError(name, value, f"shape {shape}")
+            object.__setattr__(self, name, readonly(value))
+
+    @property
+    def errors(self) -> np.ndarray:
+        """q_j − q_d in [rad], (N, 2, 3)."""
+        return self.attitudes - self.desired[:, None, :]
+
+
+def squared_errors(errors: np.ndarray, weights=(1.0, 1.0)) -> np.ndarray:
+    """Σ_j w_j·|e_j|² per sample in [deg²], from errors (N, 2, 3) in [rad]."""
+    e = np.degrees(errors)
+    return weights[0] * np.einsum("nk,nk->n", e[:, 0], e[:, 0]) + weights[1] * np.einsum("nk,nk->n", e[:, 1], e[:, 1])
+
+
+def attitudes(
+    params: Parameters,
+    carriages: np.ndarray,
+    guess: np.ndarray | None = None,
+    t: np.ndarray | None = None,
+    source: str | None = None,
+) -> np.ndarray:
+    """Both platforms' attitudes in [rad], (N, 2, 3), from carriage readings (N, 3) in [m].
+
+    Args:
+        params: the machine.
+        carriages: carriage readings L_i in [m], (N, 3).
+        guess: attitudes near the solution in [rad], (N, 3) for both platforms or (N, 2, 3) one each: each sample
+            is solved from its own guess at once; None: each sample continues the previous one from home
+            (:func:`hipsim.analytic.stations.platform_attitude`).
+        t: sample times in [s], (N,), for messages.
+        source: the log's or trajectory's name, for messages.
+
+    Raises:
+        PoseError: naming the sample (time) a platform cannot take.
+    """
+    out = np.empty((len(carriages), 2, 3))
+    for j in (1, 2):
+        if guess is None:
+            out[:, j - 1] = platform_attitude(params, carriages, j, t=t, source=source)
+            continue
+        start = guess[:, j - 1] if np.ndim(guess) == 3 else guess
+        try:
+            out[:, j - 1] = solve_pose(params, carriages, start, platform=None if params.geometry is None else j)
+        except PoseError as error:
+            time = float(t[error.index]) if t is not None else float(error.index)
+            raise PoseError(f"platform {j}: {error.reason}", time, error.index, source=source) from None
+    return out
+
+
+def _weights(weights) -> tuple[float, float]:
+    w = tuple(float(x) for x in weights)
+    if len(w) != 2 or not all(math.isfinite(x) and x >= 0 for x in w) or sum(w) == 0:
+        raise ArgumentError("weights", weights, "two finite weights >= 0, not both zero")
+    return w[0], w[1]
+
+
+def station_commands(
+    params: Parameters,
+    t: np.ndarray,
+    desired: np.ndarray,
+    control: str = "2",
+    weights=(1.0, 1.0),
+    source: str | None = None,
+) -> StationMotion:
+    """The carriage commands for a desired attitude and what each platform does with them.
+
+    Args:
+        params: the machine (per-chain values or the drawing).
+        t: sample times in [s], (N,).
+        desired: desired attitude [α, β, γ] in [rad], (N, 3).
+        control: "1" or "2" (that platform exact, the other follows) or "both" (least squares over the two).
+        weights: (w_1, w_2) for "both", dimensionless.
+        source: the trajectory's name, for messages.
+
+    Raises:
+        ArgumentError: an unknown control or bad weights.
+        PoseError: a sample a platform cannot reach (naming it and the chain).
+    """
+    if control not in CONTROLS:
+        raise ArgumentError("control", control, "one of 1, 2, both")
+    w = _weights(weights)
+    q_d = np.asarray(desired, dtype=float)
+    t = np.asarray(t, dtype=float)
+    own = {}
+    for j in (1, 2):
+        own[j] = carriages_for_platform(params, q_d, j)
+        bad = ~np.all(np.isfinite(own[j]), axis=1)
+        if bad.any():
+            k = int(np.argmax(bad))
+            leg = int(np.argmax(~np.isfinite(own[j][k]))) + 1
+            raise PoseError(f"chain {j}{leg}'s lever cannot reach platform {j}'s desired attitude", t[k], k, source)
+    if control in ("1", "2"):
+        j = int(control)
+        q = np.empty((len(q_d), 2, 3))
+        q[:, j - 1] = q_d  # exact by construction: forward ∘ inverse is the identity to 1e-12
+        q[:, 2 - j] = attitudes(params, own[j], q_d, t, source)[:, 2 - j]
+        return StationMotion(t, q_d, own[j], q, control, w)
+    return _both(params, t, q_d, own, w, source)
+
+
+def _both(params, t, q_d, own, w, source) -> StationMotion:
+    """``control="both"``: the weighted least squares, refined, and each sample's best of it and the single commands."""
+    A = {j: inverse3(reading_rate(params, q_d, j)) for j in (1, 2)}  # ∂q_j/∂L at q_d
+    AtA = {j: np.matmul(np.swapaxes(A[j], 1, 2), A[j]) for j in (1, 2)}
+    H = w[0] * AtA[1] + w[1] * AtA[2]
+    H_inverse = inverse3(H)
+    L = np.matmul(
+        H_inverse, (w[0] * np.matmul(AtA[1], own[1][..., None]) + w[1] * np.matmul(AtA[2], own[2][..., None]))
+    )[..., 0]
+    q = attitudes(params, L, q_d, t, source)
+    for _ in range(REFINEMENTS):
+        e = q - q_d[:, None]
+        g = sum(w[j - 1] * np.matmul(np.swapaxes(A[j], 1, 2), e[:, j - 1, :, None]) for j in (1, 2))
+        L = L - np.matmul(H_inverse, g)[..., 0]
+        q = attitudes(params, L, q, t, source)
+    # The single-platform commands, each exact on its own platform.
+    best = squared_errors(q - q_d[:, None], w)
+    for j in (1, 2):
+        qj = np.empty_like(q)
+        qj[:, j - 1] = q_d
+        qj[:, 2 - j] = attitudes(params, own[j], q_d, t, source)[:, 2 - j]
+        cost = squared_errors(qj - q_d[:, None], w)
+        better = cost < best
+        L[better], q[better], best[better] = own[j][better], qj[better], cost[better]
+    return StationMotion(t, q_d, L, q, "both", w)

@@ -1,0 +1,99 @@
+"""The per-chain values as one vector: what calibration estimates and tolerance analysis draws.
+
+A machine's :class:`~hipsim.machine.chains.ChainGeometry` holds each chain's
+deviation from the drawing: per platform j and module i the U-joint centre's
+horizontal offset from its screw axis (x, y), the slider's height offset on its
+carriage, the platform joint's offset in platform axes (x, y, z) and the lever
+length's; per platform the rotation centre's offset (x, y, z). Here they are
+one vector δ of :data:`COUNT` = 48 values in [m], in the order of
+:meth:`ChainGeometry.as_vector` (names :func:`names`: ``ujoint_x_11`` …
+``centre_z_2``). δ = 0 is the drawing; a manufacturing tolerance bounds δ and
+a calibration's prior is centred on the starting file's δ.
+
+Every value moves one platform's slider equations only, and a chain's values
+only its own leg (:func:`platform_columns`, :func:`kinds`).
+"""
+
+from __future__ import annotations
+
+from functools import cache
+
+import numpy as np
+
+from ..exceptions import ArgumentError
+from ..machine.chains import ChainGeometry
+from ..machine.parameters import Parameters
+
+__all__ = [
+    "COUNT",
+    "FAMILIES",
+    "deviation",
+    "family",
+    "kinds",
+    "machine",
+    "names",
+    "platform_columns",
+    "platform_of",
+]
+
+#: The families a tolerance names (``--tolerance ujoint=0.1,...``), as the fields of :class:`ChainGeometry`.
+FAMILIES = ("ujoint", "slider", "joint", "lever", "centre")
+
+
+@cache
+def names() -> tuple[str, ...]:
+    """The name of each entry of δ (:meth:`ChainGeometry.names`): ``ujoint_x_11`` … ``lever_23``, ``centre_x_1`` … ``centre_z_2``."""
+    return ChainGeometry.names()
+
+
+COUNT = len(names())
+
+
+def family(name: str) -> str:
+    """The tolerance family of an entry of δ by name (``joint_z_21`` → ``joint``)."""
+    head = name.split("_", 1)[0]
+    if head not in FAMILIES or name not in names():
+        raise ArgumentError("name", name, "an entry of the per-chain vector (see names())")
+    return head
+
+
+def platform_of(name: str) -> int:
+    """The platform (1 or 2) an entry of δ moves."""
+    return int(name.rsplit("_", 1)[1][0])
+
+
+@cache
+def platform_columns(j: int) -> np.ndarray:
+    """The entries of δ that move platform j (1 or 2): its chains' and its centre's, in δ's order."""
+    return np.array([k for k, name in enumerate(names()) if platform_of(name) == j])
+
+
+@cache
+def kinds(j: int) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
+    """Platform j's values grouped by kind: per kind (``ujoint_x``, …, ``centre_z``), its entries of δ and their legs.
+
+    Each group holds one value per chain (legs 0, 1, 2) or, for the centre, one value that moves every leg (leg −1).
+    """
+    groups: dict[str, list[tuple[int, int]]] = {}
+    for k, name in enumerate(names()):
+        if platform_of(name) != j:
+            continue
+        kind, label = name.rsplit("_", 1)
+        groups.setdefault(kind, []).append((k, int(label[1]) - 1 if len(label) == 2 else -1))
+    return tuple((np.array([k for k, _ in g]), np.array([leg for _, leg in g])) for g in groups.values())
+
+
+def deviation(params: Parameters) -> np.ndarray:
+    """δ in [m], (COUNT,), of a machine (zero for the drawing)."""
+    return np.zeros(COUNT) if params.geometry is None else params.geometry.as_vector()
+
+
+def machine(params: Parameters, delta: np.ndarray) -> Parameters:
+    """The machine ``params`` with its chains' deviations set to δ in [m] (COUNT,).
+
+    Always a per-chain machine (even for δ = 0), so that every value is differentiated along one code path.
+    """
+    delta = np.asarray(delta, dtype=float)
+    if delta.shape != (COUNT,):
+        raise ArgumentError("delta", delta, f"shape ({COUNT},)")
+    return params.replace(geometry=ChainGeometry.from_vector(delta))
