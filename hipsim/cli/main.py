@@ -28,6 +28,7 @@ from . import (
     rig,
     simulate,
     size,
+    stations,
     sweep,
     torques,
     urdf,
@@ -73,6 +74,7 @@ def build_parser() -> argparse.ArgumentParser:
         mjcf,
         size,
         sweep,
+        stations,
         params,
     ):
         command.add_parser(commands)

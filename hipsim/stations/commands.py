@@ -116,7 +116,9 @@ def attitudes(
         if guess is None:
             out[:, j - 1] = platform_attitude(params, carriages, j, t=t, source=source)
         else:
-            out[:, j - 1] = _attitude(params, carriages, guess[:, j - 1] if np.ndim(guess) == 3 else guess, j, t, source)
+            out[:, j - 1] = _attitude(
+                params, carriages, guess[:, j - 1] if np.ndim(guess) == 3 else guess, j, t, source
+            )
     return out
 
 

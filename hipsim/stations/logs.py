@@ -27,7 +27,7 @@ from ..exceptions import TrajectoryError
 from ..tables import cells, data_lines, detect_separator, number, open_parquet, read_text_lines
 from .calibration import CalibrationLog
 
-__all__ = ["CARRIAGE_COLUMNS", "MOTOR_COLUMNS", "SENSOR_COLUMNS", "read_calibration_log"]
+__all__ = ["CARRIAGE_COLUMNS", "MOTOR_COLUMNS", "SENSOR_COLUMNS", "read_calibration_log", "read_carriage_log"]
 
 CARRIAGE_COLUMNS = tuple(f"L_1{i}_mm" for i in (1, 2, 3))
 MOTOR_COLUMNS = tuple(f"motor_{i}_deg" for i in (1, 2, 3))
@@ -80,17 +80,11 @@ def _table(path: str | Path) -> tuple[list[str], dict[str, np.ndarray], np.ndarr
     return header, {name: values[:, c] for c, name in enumerate(keep)}, lines
 
 
-def read_calibration_log(path: str | Path, lead: float) -> CalibrationLog:
-    """A calibration log from its file (module docstring), SI.
-
-    Args:
-        path: the file (CSV or Parquet).
-        lead: the screw's lead p in [m] per motor turn, for motor-angle columns.
-
-    Raises:
-        TrajectoryError: a missing column, a cell that is no finite number, time that does not increase, too few rows.
-    """
+def _read(path: str | Path, lead: float, sensors: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """(t [s], carriages [m] (N, 3), sensors [rad] (N, 2, 3) or None when not asked for)."""
     source = str(path)
+    if not math.isfinite(lead) or lead <= 0:
+        raise TrajectoryError(f"the screw lead must be positive, got {lead!r}", source=source)
     header, columns, lines = _table(path)
 
     def missing(names, what):
@@ -104,18 +98,19 @@ def read_calibration_log(path: str | Path, lead: float) -> CalibrationLog:
     missing(("t_s",), "time")
     if all(name in columns for name in CARRIAGE_COLUMNS):
         carriages = np.stack([columns[name] for name in CARRIAGE_COLUMNS], axis=1) * 1e-3
-        used = CARRIAGE_COLUMNS
+        used: tuple[str, ...] = CARRIAGE_COLUMNS
     elif all(name in columns for name in MOTOR_COLUMNS):
         carriages = np.stack([columns[name] for name in MOTOR_COLUMNS], axis=1) / 360.0 * lead
         used = MOTOR_COLUMNS
     else:
         missing(CARRIAGE_COLUMNS, "carriage encoders (or motor angles motor_1_deg, motor_2_deg, motor_3_deg)")
         raise AssertionError("unreachable")
-    for j, names in enumerate(SENSOR_COLUMNS, start=1):
-        missing(names, f"attitude sensor of platform {j}")
-    sensors = np.radians(np.stack([np.stack([columns[n] for n in names], axis=1) for names in SENSOR_COLUMNS], axis=1))
+    if sensors:
+        for j, names in enumerate(SENSOR_COLUMNS, start=1):
+            missing(names, f"attitude sensor of platform {j}")
+        used = used + sum(SENSOR_COLUMNS, ())
     t = columns["t_s"]
-    for name in ("t_s", *used, *sum(SENSOR_COLUMNS, ())):
+    for name in ("t_s", *used):
         bad = ~np.isfinite(columns[name])
         if bad.any():
             row = int(np.argmax(bad))
@@ -123,7 +118,7 @@ def read_calibration_log(path: str | Path, lead: float) -> CalibrationLog:
                 "not a finite number", source=source, line=None if lines is None else int(lines[row]), column=name
             )
     if len(t) < 2:
-        raise TrajectoryError(f"{len(t)} row(s): a calibration log needs at least 2", source=source)
+        raise TrajectoryError(f"{len(t)} row(s): a log needs at least 2", source=source)
     steps = np.diff(t)
     if np.any(steps <= 0):
         row = int(np.argmax(steps <= 0)) + 1
@@ -133,6 +128,33 @@ def read_calibration_log(path: str | Path, lead: float) -> CalibrationLog:
             line=None if lines is None else int(lines[row]),
             column="t_s",
         )
-    if not math.isfinite(lead) or lead <= 0:
-        raise TrajectoryError(f"the screw lead must be positive, got {lead!r}", source=source)
-    return CalibrationLog(source, t, carriages, sensors)
+    if not sensors:
+        return t, carriages, None
+    angles = np.radians(np.stack([np.stack([columns[n] for n in names], axis=1) for names in SENSOR_COLUMNS], axis=1))
+    return t, carriages, angles
+
+
+def read_calibration_log(path: str | Path, lead: float) -> CalibrationLog:
+    """A calibration log from its file (module docstring), SI.
+
+    Args:
+        path: the file (CSV or Parquet).
+        lead: the screw's lead p in [m] per motor turn, for motor-angle columns.
+
+    Raises:
+        TrajectoryError: a missing column (a platform's sensor, the carriages), a cell that is no finite number,
+            time that does not increase, too few rows.
+    """
+    t, carriages, sensors = _read(path, lead, sensors=True)
+    assert sensors is not None
+    return CalibrationLog(str(path), t, carriages, sensors)
+
+
+def read_carriage_log(path: str | Path, lead: float) -> tuple[np.ndarray, np.ndarray]:
+    """A log's times in [s] (N,) and carriage readings in [m] (N, 3), the sensors not needed (``stations --sliders``).
+
+    Raises:
+        TrajectoryError: as :func:`read_calibration_log`, but for the sensors.
+    """
+    t, carriages, _ = _read(path, lead, sensors=False)
+    return t, carriages
