@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import Any
 
 from ..exceptions import HipsimError
 from .common import (
@@ -194,7 +195,7 @@ def _sliders(args, params, out: Path, table: Path) -> int:
     columns = {"t_s": t} | {f"L_1{i + 1}_mm": carriages[:, i] * 1e3 for i in range(3)}
     columns |= {name: flat[:, k] for k, name in enumerate(attitude_columns())}
     difference = np.degrees(q[:, 0] - q[:, 1])
-    document = {
+    document: dict[str, Any] = {
         "sliders": {
             "log": args.sliders,
             "samples": len(t),
@@ -242,7 +243,7 @@ def _tolerance(args, params, weights, out: Path) -> int:
         progress=progress("hipsim stations --tolerance"),
     )
     rms95, peak95 = np.degrees(result.percentile("rms")), np.degrees(result.percentile("peak"))
-    tolerance = {
+    tolerance: dict[str, Any] = {
         "draws": args.draws,
         "seed": args.seed,
         "samples_per_draw": len(t),

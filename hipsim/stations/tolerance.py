@@ -102,17 +102,20 @@ def half_widths(bands: Mapping[str, float]) -> np.ndarray:
 def error_sensitivity(params: Parameters, desired: np.ndarray, control: str, weights=(1.0, 1.0)) -> np.ndarray:
     """S = ∂e/∂δ of each platform's attitude error under a control, at the machine ``params``, (N, 2, 3, 48) [rad/m].
 
-    With F_j = ∂f_j/∂θ and A_j = (∂f_j/∂q)⁻¹ at the desired attitude: platform j's error is
+    With F_j = ∂f_j/∂θ and A_j = (∂f_j/∂q)⁻¹ at the attitude platform j takes: its error is
     e_j = A_j·(dL − F_j·dθ); control "1" or "2" sets dL = F_c·dθ, "both" the weighted least squares
-    dL = H⁻¹·Σ w_j A_jᵀA_j F_j·dθ, H = Σ w_j A_jᵀA_j.
+    dL = H⁻¹·Σ w_j A_jᵀA_j F_j·dθ, H = Σ w_j A_jᵀA_j (Gauss–Newton: the residuals' curvature left out, exact
+    on the drawing, where they vanish).
     """
-    q = np.asarray(desired, dtype=float)
-    n = len(q)
+    q_d = np.asarray(desired, dtype=float)
+    n = len(q_d)
+    # At the attitudes the platforms take (a deviated machine's follower is off the desired), first order in δ.
+    q = station_commands(params, np.arange(n, dtype=float), q_d, control, weights).attitudes
     A, F = {}, {}
     for j in (1, 2):
-        A[j] = inverse3(reading_rate(params, q, j))
+        A[j] = inverse3(reading_rate(params, q[:, j - 1], j))
         F[j] = np.zeros((n, 3, dv.COUNT))
-        F[j][:, :, dv.platform_columns(j)] = reading_jacobian(params, j, q)
+        F[j][:, :, dv.platform_columns(j)] = reading_jacobian(params, j, q[:, j - 1])
     if control in ("1", "2"):
         dL = F[int(control)]
     else:
