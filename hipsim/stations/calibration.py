@@ -42,7 +42,7 @@ from ..exceptions import ArgumentError, CalibrationError, PoseError
 from ..machine.parameters import Parameters
 from . import deviations as dv
 from .commands import attitudes
-from .sensitivity import Structure, attitude_jacobian, structure
+from .sensitivity import Structure, attitude_jacobian, platform_attitude_jacobian, structure
 
 __all__ = [
     "DEFAULT_PRIOR",
@@ -181,8 +181,8 @@ def prediction_errors(
     return r - o, o, q
 
 
-def _check_agreement(machine: Parameters, log: CalibrationLog, offsets: bool) -> np.ndarray:
-    """The starting machine's predictions, refusing a sensor that disagrees with the encoders beyond reach."""
+def _check_agreement(machine: Parameters, log: CalibrationLog, offsets: bool) -> tuple[np.ndarray, np.ndarray]:
+    """The starting machine's predictions and RMS residual, refusing a sensor that disagrees with the encoders beyond reach."""
     r, _, q = prediction_errors(machine, log, offsets)
     worst = np.abs(r).max(axis=0)
     if np.any(worst > MAX_DISAGREEMENT):
@@ -194,7 +194,7 @@ def _check_agreement(machine: Parameters, log: CalibrationLog, offsets: bool) ->
             f"the encoders put the platform at {math.degrees(q[n, j, k]):.4g}° (more than {math.degrees(MAX_DISAGREEMENT):g}° "
             "apart: a wrong column, unit or sensor; no per-chain deviation explains it)"
         )
-    return q
+    return q, np.sqrt((r**2).mean(axis=0))
 
 
 def calibrate(
@@ -227,9 +227,17 @@ def calibrate(
     p = ind.size
     n_off = 6 * K if offsets else 0
     x0 = np.concatenate([theta0[ind], np.zeros(n_off)])
+    # Per platform: the positions in x of its estimated values (own) and their columns among its 24 (local).
+    own, local = [], []
+    for j in (1, 2):
+        platform = list(dv.platform_columns(j))
+        mine = [c for c, k in enumerate(ind) if k in platform]
+        own.append(np.array(mine, dtype=int))
+        local.append(np.array([platform.index(ind[c]) for c in mine], dtype=int))
     prior_info = np.concatenate([np.full(p, prior**-2), np.full(n_off, OFFSET_PRIOR**-2)])
-    starts = [_check_agreement(start, log, offsets) for log in logs]
-    start_rms = np.array([np.sqrt((prediction_errors(start, log, offsets)[0] ** 2).mean(axis=0)) for log in logs])
+    checked = [_check_agreement(start, log, offsets) for log in logs]
+    starts = [q for q, _ in checked]
+    start_rms = np.array([rms for _, rms in checked])
     x = x0.copy()
     noise = np.full((2, 3), START_NOISE)
     theta = theta0.copy()
@@ -245,22 +253,29 @@ def calibrate(
             q = _checked_attitudes(machine, log, starts[k], "the calibrated machine leaves the workspace")
             starts[k] = q
             o = x[p + 6 * k : p + 6 * k + 6].reshape(2, 3) if offsets else np.zeros((2, 3))
-            rows.append((log.sensors - o - q, attitude_jacobian(machine, q, ind)))  # r (N, 2, 3), ∂q/∂θ_b (N, 2, 3, p)
+            # Each platform's rows see only its own values: ∂q_j/∂δ_b per platform, (N, 3, its estimated values).
+            blocks = [platform_attitude_jacobian(machine, q[:, j], j + 1)[..., local[j]] for j in (0, 1)]
+            rows.append((log.sensors - o - q, blocks))
+        residual_rms = np.array(
+            [np.sqrt((r**2).mean(axis=0)) for r, _ in rows]
+        )  # the last iteration's: the step is tiny
         if iterations > 1:  # the noise from this iteration's residuals (the first's are the start's, too large)
             squares = sum((r**2).sum(axis=0) for r, _ in rows)
             noise = np.sqrt(np.maximum(squares / sum(len(r) for r, _ in rows), 1e-24))
         w = 1.0 / noise**2  # (2, 3)
-        for k, (r, Jq) in enumerate(rows):
-            Jw = Jq * w[None, :, :, None]
-            A[:p, :p] += Jw.reshape(-1, p).T @ Jq.reshape(-1, p)
-            b[:p] += Jw.reshape(-1, p).T @ r.ravel()
-            if offsets:
-                block = slice(p + 6 * k, p + 6 * k + 6)
-                cross = Jw.sum(axis=0).reshape(6, p)  # ∂r/∂o = −I per sensor angle
-                A[:p, block] += cross.T
-                A[block, :p] += cross
-                A[block, block] += np.diag(np.full(6, len(r)) * w.ravel())
-                b[block] += (r * w).sum(axis=0).ravel()
+        for k, (r, blocks) in enumerate(rows):
+            for j, Jj in enumerate(blocks):
+                Jw = Jj * w[j][None, :, None]
+                # einsum, not a matrix product: threaded BLAS on these thin matrices stalls on a busy machine.
+                A[np.ix_(own[j], own[j])] += np.einsum("nkp,nkr->pr", Jw, Jj)
+                b[own[j]] += np.einsum("nkp,nk->p", Jw, r[:, j])
+                if offsets:
+                    rows_j = p + 6 * k + 3 * j + np.arange(3)
+                    cross = Jw.sum(axis=0)  # (3, p_j): ∂r/∂o = −I per sensor angle
+                    A[np.ix_(own[j], rows_j)] += cross.T
+                    A[np.ix_(rows_j, own[j])] += cross
+                    A[rows_j, rows_j] += len(r) * w[j]
+                    b[rows_j] += (r[:, j] * w[j]).sum(axis=0)
         del rows
         try:
             step = np.linalg.solve(A, b)
@@ -285,10 +300,6 @@ def calibrate(
     determined = np.zeros(dv.COUNT, dtype=bool)
     determined[ind] = theta_std[ind] <= DETERMINED * prior
     offsets_out = x[p:].reshape(K, 2, 3) if offsets else np.zeros((K, 2, 3))
-    residual_rms = []
-    for k, log in enumerate(logs):
-        q = _checked_attitudes(machine, log, starts[k], "the calibrated machine leaves the workspace")
-        residual_rms.append(np.sqrt(((log.sensors - offsets_out[k] - q) ** 2).mean(axis=0)))
     return Calibration(
         machine=machine,
         start=start,
@@ -300,7 +311,7 @@ def calibrate(
         prior=prior,
         offsets=readonly(offsets_out),
         noise=readonly(noise),
-        residual_rms=readonly(np.array(residual_rms)),
+        residual_rms=readonly(residual_rms),
         start_rms=readonly(start_rms),
         logs=tuple(log.name for log in logs),
         samples=sum(len(log.t) for log in logs),

@@ -19,10 +19,11 @@ exactly where they are wanted. For a desired attitude q_d per sample:
   summed squared error, and with identical chains (both single commands
   equal) all three are the same.
 
-The attitudes a command gives are solved exactly (Newton on each platform's
-forward kinematics, :func:`hipsim.analytic.forward_kinematics.solve_pose`),
-each sample from its linear prediction q_d + A_j·(L − L_j*), so two Newton
-steps reach round-off.
+The attitudes a command gives are solved exactly: Newton on each platform's
+forward kinematics from its linear prediction q_d + A_j·(L − L_j*), which two
+steps bring to round-off; a sample that has not converged then goes through
+:func:`hipsim.analytic.forward_kinematics.solve_pose` with its assembly-mode
+and singularity checks.
 
 Every function works on whole arrays of samples.
 """
@@ -34,17 +35,23 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..analytic.chain_kinematics import chain_jacobian, chain_positions
 from ..analytic.forward_kinematics import solve_pose
 from ..analytic.stations import carriages_for_platform, platform_attitude
 from ..arrays import readonly
 from ..exceptions import ArgumentError, PoseError
 from ..machine.parameters import Parameters
+from ..physics.orientation import angular_velocity_map
 from .sensitivity import inverse3, reading_rate
 
 __all__ = ["CONTROLS", "StationMotion", "attitudes", "station_commands", "squared_errors"]
 
 #: The platforms a command can serve.
 CONTROLS = ("1", "2", "both")
+#: Newton steps from a guess within ~1e-6 rad (quadratic convergence: 1e-12, then round-off).
+NEWTON_STEPS = 2
+#: A carriage reading reproduced this closely in [m] (~3e-13 rad) is converged; the full solve reaches ~1e-15.
+CONVERGED_GAP = 1e-13
 #: How far (relative) a single-platform command's predicted cost may be above the least squares' before it is solved
 #: exactly to compare: far above the prediction's own error (~1e-5 at 0.3 mm deviations).
 SAFETY = 1e-2
@@ -164,7 +171,8 @@ def station_commands(
             k = int(np.argmax(bad))
             leg = int(np.argmax(~np.isfinite(own[j][k]))) + 1
             raise PoseError(f"chain {j}{leg}'s lever cannot reach platform {j}'s desired attitude", t[k], k, source)
-    A = {j: inverse3(reading_rate(params, q_d, j)) for j in (1, 2)}  # ∂q_j/∂L at q_d
+    needed = (1, 2) if control == "both" else (3 - int(control),)
+    A = {j: inverse3(reading_rate(params, q_d, j)) for j in needed}  # ∂q_j/∂L at q_d
 
     def follows(j: int, L: np.ndarray) -> np.ndarray:
         """Platform j's attitude at carriages L, from its linear prediction about its own command."""
@@ -205,9 +213,35 @@ def station_commands(
 
 
 def _attitude(params: Parameters, L: np.ndarray, guess: np.ndarray, j: int, t, source) -> np.ndarray:
-    """Platform j's attitude at carriages L (N, 3) [m], each sample solved from its guess (N, 3) [rad]."""
-    try:
-        return solve_pose(params, L, guess, platform=None if params.geometry is None else j)
-    except PoseError as error:
-        time = float(t[error.index]) if t is not None else float(error.index)
-        raise PoseError(f"platform {j}: {error.reason}", time, error.index, source=source) from None
+    """Platform j's attitude at carriages L (N, 3) [m], each sample solved from its guess (N, 3) [rad].
+
+    A guess within ~1e-6 rad (a linear prediction from the same machine's exact inverse kinematics) reaches round-off
+    in two Newton steps, each from one evaluation of the chains (:func:`_newton_from_close`); a sample that has not,
+    and every sample of a drawing machine, goes through the full solve with its assembly-mode and singularity checks.
+    """
+    q = np.empty_like(guess)
+    rest = np.arange(len(L))
+    if params.geometry is not None:
+        q[:], done = _newton_from_close(params, L, guess, j)
+        rest = np.flatnonzero(~done)
+    if rest.size:
+        try:
+            q[rest] = solve_pose(params, L[rest], guess[rest], platform=None if params.geometry is None else j)
+        except PoseError as error:
+            k = int(rest[error.index])
+            time = float(t[k]) if t is not None else float(k)
+            raise PoseError(f"platform {j}: {error.reason}", time, k, source=source) from None
+    return q
+
+
+def _newton_from_close(params: Parameters, L: np.ndarray, guess: np.ndarray, j: int) -> tuple[np.ndarray, np.ndarray]:
+    """Newton on a per-chain platform's angles from close guesses: (gait angles (N, 3), converged (N,) bool)."""
+    signs = params.angle_signs
+    p = np.asarray(guess, dtype=float) * signs
+    with np.errstate(invalid="ignore", divide="ignore"):
+        for _ in range(NEWTON_STEPS):
+            heights, r, d = chain_positions(params.chains, p, j - 1)
+            D = np.matmul(chain_jacobian(r, d), angular_velocity_map(p))  # ∂L/∂p
+            p = p - np.matmul(inverse3(D), (heights - L)[..., None])[..., 0]
+        gap = np.abs(chain_positions(params.chains, p, j - 1)[0] - L).max(axis=1)
+    return p * signs, gap <= CONVERGED_GAP

@@ -45,6 +45,7 @@ __all__ = [
     "Structure",
     "attitude_jacobian",
     "inverse3",
+    "platform_attitude_jacobian",
     "random_poses",
     "reading_jacobian",
     "reading_rate",
@@ -100,6 +101,14 @@ def inverse3(P: np.ndarray) -> np.ndarray:
     return np.array(rows).transpose(2, 1, 0)
 
 
+def platform_attitude_jacobian(params: Parameters, q: np.ndarray, j: int) -> np.ndarray:
+    """∂q_j/∂δ of platform j at its gait angles q (N, 3) [rad], for its own values, (N, 3, 24) [rad/m].
+
+    The columns follow :func:`hipsim.stations.deviations.platform_columns`; the other platform's values do not move it.
+    """
+    return -np.matmul(inverse3(reading_rate(params, q, j)), reading_jacobian(params, j, q))
+
+
 def attitude_jacobian(params: Parameters, q: np.ndarray, columns: np.ndarray | None = None) -> np.ndarray:
     """∂q_j/∂δ at both platforms' gait angles q (N, 2, 3) [rad], (N, 2, 3, 48) [rad/m]; zero across platforms.
 
@@ -110,8 +119,7 @@ def attitude_jacobian(params: Parameters, q: np.ndarray, columns: np.ndarray | N
     """
     out = np.zeros((len(q), 2, 3, dv.COUNT))
     for j in (1, 2):
-        inverse = inverse3(reading_rate(params, q[:, j - 1], j))
-        out[:, j - 1][..., dv.platform_columns(j)] = -np.matmul(inverse, reading_jacobian(params, j, q[:, j - 1]))
+        out[:, j - 1][..., dv.platform_columns(j)] = platform_attitude_jacobian(params, q[:, j - 1], j)
     return out if columns is None else out[..., columns]
 
 
