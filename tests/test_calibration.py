@@ -188,3 +188,15 @@ def test_calibrate_command(tmp_path, drawing, truth, train, capsys):
     error = capsys.readouterr().err
     assert error.count("\n") == 1 and "attitude sensor of platform 1" in error
     assert not again.exists()
+
+
+def test_a_designed_calibration_motion_is_better_posed_than_the_iso_cycle(drawing):
+    from hipsim.rig.identification.excitation import Limits
+    from hipsim.stations.excitation import calibration_excitation
+
+    limits = Limits.for_machine(drawing, max_angle=np.radians(20.0))
+    design = calibration_excitation(drawing, frequency=0.2, harmonics=4, limits=limits, seeds=2)
+    assert design.condition_number < design.iso_condition_number / 5
+    assert design.peaks["angle_deg"] <= 20.0 + 1e-9
+    assert design.peaks["speed_mm_s"] <= limits.max_speed * 1e3
+    assert design.peaks["cond_inv_min"] >= limits.min_cond_inv

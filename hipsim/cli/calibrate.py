@@ -22,7 +22,7 @@ from .common import (
     print_json,
 )
 
-__all__ = ["add_parser", "run"]
+__all__ = ["add_parser", "run", "run_excite_calibration"]
 
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
@@ -190,4 +190,46 @@ def run(args) -> int:
     else:
         _print(summary)
         print(f"wrote {path}")
+    return 0
+
+
+def run_excite_calibration(args, params, limits) -> int:
+    """``hipsim excite --for calibration``: design the motion, write it as a trajectory CSV, print its condition number."""
+    import dataclasses
+    import sys
+
+    from ..stations.excitation import calibration_excitation
+
+    if args.max_angle is None:
+        limits = dataclasses.replace(limits, max_angle=math.radians(20.0))
+    json_out = args.summary_format == "json"
+    print(
+        f"designing a calibration motion: {args.harmonics} harmonics of {args.frequency:g} Hz, {8 * args.seeds} candidates …",
+        flush=True,
+        file=sys.stderr if json_out else sys.stdout,
+    )
+    design = calibration_excitation(
+        params, frequency=args.frequency, harmonics=args.harmonics, limits=limits, seeds=8 * args.seeds
+    )
+    path = design.write_csv(args.out, rate=args.rate, duration=args.duration)
+    document = {
+        "for": "calibration",
+        "condition_number": design.condition_number,
+        "iso_condition_number": design.iso_condition_number,
+        "peaks": design.peaks,
+        "csv": str(path),
+    }
+    if json_out:
+        print_json(document)
+        return 0
+    peaks = design.peaks
+    print(
+        f"condition number of the calibration Jacobian: {design.condition_number:.4g} "
+        f"(ISO 14242-1 cycle: {design.iso_condition_number:.4g})"
+    )
+    print(
+        f"largest |angle| {peaks['angle_deg']:.3g}°, slider speed {peaks['speed_mm_s']:.4g} mm/s, acceleration "
+        f"{peaks['acceleration_mm_s2']:.4g} mm/s², singularity measure ≥ {peaks['cond_inv_min']:.3g}"
+    )
+    print(f"wrote {path}: drive platform m_2 along it with both attitude sensors logging, then hipsim calibrate --log")
     return 0

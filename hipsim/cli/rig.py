@@ -186,6 +186,14 @@ def add_parser(subparsers) -> None:
     excite.add_argument("--min-cond-inv", type=float, metavar="X", help="smallest singularity measure (default 0.25)")
     excite.add_argument("--max-angle", type=float, metavar="DEG", help="largest |angle| in degrees (default 30)")
     excite.add_argument("--load", metavar="MIN:MAX", help="load range in N (default 300:3000)")
+    excite.add_argument(
+        "--for",
+        dest="target",
+        choices=["dynamics", "calibration"],
+        default="dynamics",
+        help="what the motion is for: identify's dynamics (default), or hipsim calibrate's kinematics (both attitude "
+        "sensors; 8 random candidates per --seeds, ±20° unless --max-angle, no load)",
+    )
     excite.add_argument("--out", required=True, metavar="FILE", help="trajectory CSV to write")
     add_summary_format(excite, "what to print: a text summary (default) or JSON")
     excite.set_defaults(run=run)
@@ -544,6 +552,10 @@ def run_excite(args) -> int:
     if "min_load" in changes and not 0 <= changes["min_load"] < changes["max_load"]:
         raise HipsimError(f"--load: expected 0 <= MIN < MAX, got '{args.load}'")
     limits = Limits.for_machine(params, **changes)
+    if args.target == "calibration":
+        from .calibrate import run_excite_calibration
+
+        return run_excite_calibration(args, params, limits)
     json_out = args.summary_format == "json"
     print(
         f"designing: {args.harmonics} harmonics of {args.frequency:g} Hz (period {1 / args.frequency:g} s), {args.seeds} start(s) …",
