@@ -62,7 +62,7 @@ def test_a_zero_table_is_the_drawing(tmp_path):
 
 
 def test_the_drawings_functions_refuse_a_per_chain_machine():
-    with pytest.raises(ParameterError, match="per-chain geometry"):
+    with pytest.raises(ParameterError, match="per-chain geometry is not supported"):
         slider_heights(DEVIATED, np.zeros((1, 3)))
 
 
@@ -200,8 +200,9 @@ def test_follower_motion_against_finite_differences_and_round_trip():
 
 def test_file_round_trip(tmp_path):
     path = tmp_path / "built.toml"
-    path.write_text(parameter_toml(DEVIATED), encoding="utf-8")
+    path.write_text(parameter_toml(DEVIATED.replace(geometry=DEVIATED.geometry.replace(control=1))), encoding="utf-8")
     back = hipsim.load_parameters(path)
+    assert back.geometry.control == 1
     np.testing.assert_allclose(back.geometry.as_vector(), DEVIATED.geometry.as_vector(), rtol=1e-14, atol=1e-19)
     assert "[geometry]" in parameter_toml(DEVIATED) and "[geometry]" not in parameter_toml(PARAMS)
 
@@ -234,6 +235,7 @@ def test_vector_names_and_round_trip():
         ("slider_offset_mm = [0, 0, 0, 0, 0, 80]", "at most 50 mm"),
         ("lever_offset = [0, 0, 0, 0, 0, 0]", "geometry.lever_offset.*unknown key"),
         ('centre_offset_mm = [[0, 0, "x"], [0, 0, 0]]', "centre_offset_mm"),
+        ("control = 3\nlever_offset_mm = [0.1, 0, 0, 0, 0, 0]", "geometry.control.*1 or 2"),
     ],
 )
 def test_bad_tables_are_refused_by_name(tmp_path, table, message):

@@ -99,7 +99,7 @@ def slider_heights(params: Parameters, q: np.ndarray) -> np.ndarray:
     Poses out of reach give NaN; :func:`kinematics` turns them into errors.
     The drawing only: a per-chain machine is refused (:mod:`hipsim.analytic.stations` serves it).
     """
-    params.require_drawing("the drawing's slider heights")
+    params.require_drawing("the drawing's inverse kinematics")
     r = _platform_vectors(params, rotation_matrix_components(np.cos(q.T), np.sin(q.T)))
     d, radicand = _lever_vectors(params, r)
     L1 = params.heights[0] + r[2] - d[2]

@@ -25,8 +25,9 @@ stay the drawing's (ẑ × c_i/|c_i|): a centre offset moves the joint, not its 
 Example:
     >>> import numpy as np
     >>> g = ChainGeometry.zeros().replace(lever=np.array([[0.0, 0.0, 0.0], [0.0, 0.3e-3, 0.0]]))
-    >>> geometry_table(g)["lever_offset_mm"]
-    [0.0, 0.0, 0.0, 0.0, 0.3, 0.0]
+    >>> lever_mm = geometry_table(g)["lever_offset_mm"]  # chains 11 … 23, in mm
+    >>> lever_mm[4]
+    0.3
 """
 
 from __future__ import annotations
@@ -44,12 +45,14 @@ from ..exceptions import ParameterError
 
 __all__ = [
     "CHAIN_LABELS",
+    "CONTROL_MEANING",
     "GEOMETRY_KEYS",
     "ChainGeometry",
     "Chains",
     "MAX_DEVIATION",
     "geometry_from_table",
     "geometry_table",
+    "per_chain_urdf",
 ]
 
 _MM = 1e-3
@@ -84,6 +87,9 @@ GEOMETRY_KEYS: dict[str, tuple[str, int, int, str]] = {
     "centre_offset_mm": ("centre", 2, 3, "rotation centre o_j off (0, 0, h_j), [x, y, z] in base axes, per platform"),
 }
 
+#: What the ``control`` key of ``[geometry]`` means.
+CONTROL_MEANING = "the platform whose motion a trajectory gives (1 or 2; the other follows the carriages)"
+
 _SHAPES = {"ujoint": (2, 3, 2), "slider": (2, 3), "joint": (2, 3, 3), "lever": (2, 3), "centre": (2, 3)}
 
 
@@ -97,6 +103,8 @@ class ChainGeometry:
         joint: platform joint's offset in platform axes [x, y, z], (2, 3, 3).
         lever: lever length deviation, (2, 3).
         centre: rotation centre's offset [x, y, z] in base axes, (2, 3).
+        control: the platform whose motion a trajectory gives (1 or 2; the paper controls m_2, the default);
+            the carriages follow from its inverse kinematics and the other platform follows them.
     """
 
     ujoint: np.ndarray
@@ -104,8 +112,13 @@ class ChainGeometry:
     joint: np.ndarray
     lever: np.ndarray
     centre: np.ndarray
+    control: int = 2
 
     def __post_init__(self):
+        if self.control not in (1, 2) or isinstance(self.control, bool):
+            raise ParameterError(
+                f"expected 1 or 2 (the controlled platform), got {self.control!r}", key="geometry.control"
+            )
         for name, shape in _SHAPES.items():
             value = readonly(np.array(getattr(self, name), dtype=float))
             if value.shape != shape:
@@ -117,7 +130,8 @@ class ChainGeometry:
     @classmethod
     def zeros(cls) -> ChainGeometry:
         """The drawing: every deviation zero."""
-        return cls(**{name: np.zeros(shape) for name, shape in _SHAPES.items()})
+        fields: dict[str, Any] = {name: np.zeros(shape) for name, shape in _SHAPES.items()}
+        return cls(**fields)
 
     def is_drawing(self) -> bool:
         """True when every deviation is exactly zero."""
@@ -157,7 +171,8 @@ class ChainGeometry:
         if x.shape != (sum(sizes),):
             raise ParameterError(f"expected {sum(sizes)} deviations, got shape {x.shape}", key="geometry")
         parts = np.split(x, np.cumsum(sizes)[:-1])
-        return cls(**{name: part.reshape(shape) for (name, shape), part in zip(_SHAPES.items(), parts)})
+        fields: dict[str, Any] = {name: part.reshape(shape) for (name, shape), part in zip(_SHAPES.items(), parts)}
+        return cls(**fields)
 
 
 @dataclass(frozen=True, eq=False)
@@ -234,11 +249,22 @@ def geometry_from_table(table: Any, source: str) -> ChainGeometry | None:
     """
     if not isinstance(table, Mapping):
         raise ParameterError("expected a [geometry] table", key="geometry", source=source)
-    fields: dict[str, np.ndarray] = {}
+    fields: dict[str, Any] = {}
     for key, value in table.items():
+        if key == "control":
+            if value not in (1, 2) or isinstance(value, bool):
+                raise ParameterError(
+                    f"expected 1 or 2 (the platform whose motion a trajectory gives), got {value!r}",
+                    key="geometry.control",
+                    source=source,
+                )
+            fields["control"] = int(value)
+            continue
         if key not in GEOMETRY_KEYS:
             raise ParameterError(
-                f"unknown key (known in [geometry]: {', '.join(GEOMETRY_KEYS)})", key=f"geometry.{key}", source=source
+                f"unknown key (known in [geometry]: control, {', '.join(GEOMETRY_KEYS)})",
+                key=f"geometry.{key}",
+                source=source,
             )
         name, rows, width, _ = GEOMETRY_KEYS[key]
         fields[name] = _rows(value, rows, width, f"geometry.{key}", source).reshape(_SHAPES[name]) * _MM
@@ -275,10 +301,52 @@ def _rows(value: Any, rows: int, width: int, key: str, source: str) -> np.ndarra
     return numbers
 
 
-def geometry_table(geometry: ChainGeometry) -> dict[str, list]:
-    """The ``[geometry]`` table of a parameter file (every key, in mm, 15 significant digits); reads back the same."""
-    out = {}
+def geometry_table(geometry: ChainGeometry) -> dict[str, Any]:
+    """The ``[geometry]`` table of a parameter file (``control``, then every deviation in mm, 15 significant digits); reads back the same."""
+    out: dict[str, Any] = {"control": geometry.control}
     for key, (name, rows, width, _) in GEOMETRY_KEYS.items():
         values = np.vectorize(lambda x: float(f"{x:.15g}"))(getattr(geometry, name) / _MM)
         out[key] = values.reshape(rows, width).tolist() if width else values.reshape(rows).tolist()
     return out
+
+
+def _number(value: float) -> str:
+    return repr(float(value))
+
+
+def per_chain_urdf(doc: Any, chains: Chains, screw_points: np.ndarray) -> None:
+    """Move the drawing's URDF (an xml.dom document of ``hip_simulator.urdf.xacro``'s expansion) onto per-chain geometry, in place.
+
+    Chain ji's U-joint (joint ``u1_ji``, on carriage i whose frame is at c_i + L_i·ẑ) moves to
+    ``chains.screw_points[j, i] − c_i``; lever ji's centre of mass, drawing and tip frame to its own length;
+    platform j's centre (joint ``platform_j_rz``) to ``chains.centres[j]``; its joint frames
+    (``platform_j_joint_i_fixed``) to ``chains.platform_points[j, i]``.
+
+    Args:
+        doc: the URDF document.
+        chains: the resolved chains (:attr:`hipsim.machine.parameter_set.Parameters.chains`).
+        screw_points: the drawing's c_i in [m], (3, 3).
+    """
+    joints = {element.getAttribute("name"): element for element in doc.getElementsByTagName("joint")}
+    links = {element.getAttribute("name"): element for element in doc.getElementsByTagName("link")}
+
+    def set_origin(element, xyz):
+        element.getElementsByTagName("origin")[0].setAttribute("xyz", " ".join(_number(x) for x in xyz))
+
+    for j in range(2):
+        set_origin(joints[f"platform_{j + 1}_rz"], chains.centres[j])
+        for i in range(3):
+            name = f"{j + 1}{i + 1}"
+            set_origin(joints[f"u1_{name}"], chains.screw_points[j, i] - np.array([*screw_points[i, :2], 0.0]))
+            set_origin(joints[f"platform_{j + 1}_joint_{i + 1}_fixed"], chains.platform_points[j, i])
+            length = chains.lever_lengths[j, i]
+            set_origin(joints[f"lever_{name}_tip_fixed"], (0.0, 0.0, length))
+            lever = links[f"lever_{name}"]
+            for origin in lever.getElementsByTagName("origin"):  # its inertial and its visual, at mid-length
+                origin.setAttribute("xyz", f"0 0 {_number(length / 2)}")
+            for cylinder in lever.getElementsByTagName("cylinder"):
+                cylinder.setAttribute("length", _number(length))
+    for visual in doc.getElementsByTagName("visual"):  # the drawn hip joints at the rotation centres
+        name = visual.getAttribute("name")
+        if name in ("hip_joint_1", "hip_joint_2"):
+            set_origin(visual, chains.centres[int(name[-1]) - 1])

@@ -129,7 +129,8 @@ class Parameters:
     control: ControlSettings
     motor: Mapping[str, float] = dataclasses.field(default_factory=lambda: MappingProxyType({}))
     source: str = "<built in>"
-    geometry: ChainGeometry | None = None
+    # Left out of fingerprints while None, so the drawing's keep theirs (hipsim.fingerprint.plain).
+    geometry: ChainGeometry | None = dataclasses.field(default=None, metadata={"omit_when_none": True})
 
     def __post_init__(self):
         if self.geometry is not None and not isinstance(self.geometry, ChainGeometry):
@@ -189,7 +190,9 @@ class Parameters:
         """
         if self.geometry is not None:
             raise ParameterError(
-                f"{what} cannot use per-chain geometry yet: remove the [geometry] table to run it on the drawing",
+                f"per-chain geometry is not supported by {what} yet (it assumes both platforms alike); remove "
+                "the [geometry] table to run on the drawing (torques, check, feasible, sweep, params, urdf and "
+                "mjcf take it)",
                 key="geometry",
                 source=self.source,
             )

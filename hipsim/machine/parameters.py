@@ -279,9 +279,9 @@ def _geometry_key(dotted: str, source: str) -> tuple[str, str] | None:
     section, _, key = dotted.partition(".")
     if section != "geometry":
         return None
-    if key not in GEOMETRY_KEYS:
+    if key != "control" and key not in GEOMETRY_KEYS:
         raise ParameterError(
-            f"unknown key (known in [geometry]: {', '.join(GEOMETRY_KEYS)})", key=dotted, source=source
+            f"unknown key (known in [geometry]: control, {', '.join(GEOMETRY_KEYS)})", key=dotted, source=source
         )
     return section, key
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 
-from .chains import GEOMETRY_KEYS, geometry_table
+from .chains import CONTROL_MEANING, GEOMETRY_KEYS, geometry_table
 from .parameter_set import Parameters
 from .parameters import file_values
 from .schema import SCHEMA
@@ -77,7 +77,7 @@ def _geometry_lines(params: Parameters) -> list[str]:
         "[geometry]",
     ]
     for key, value in geometry_table(params.geometry).items():
-        lines.append(f"# {GEOMETRY_KEYS[key][3]}")
+        lines.append(f"# {GEOMETRY_KEYS[key][3] if key in GEOMETRY_KEYS else CONTROL_MEANING}")
         lines.append(f"{key} = {toml_value(value)}")
     lines.append("")
     return lines
