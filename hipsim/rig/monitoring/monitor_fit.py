@@ -28,9 +28,7 @@ from __future__ import annotations
 
 import math
 import os
-import re
 import tempfile
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -42,6 +40,7 @@ from ...analytic.virtual_work import inverse_dynamics
 from ...exceptions import HipsimError, ParameterError
 from ...fingerprint import part_fingerprints
 from ...machine.parameters import Parameters, load_parameters
+from ..identification.identified_file import read_identified_file
 from ..identification.quantities import friction_unit
 from ..identification.regressor import CHUNK, decimation, inflation
 from ..logs.log import DEFAULT_TOLERANCE_DEG, MeasuredLog, load_log
@@ -138,31 +137,20 @@ class MonitorSetup:
 def identified_file(path: str | Path) -> bool:
     """The lever spin an identified parameter file was fitted with (True: on); refused when the file is not identified.
 
-    An identified file is recognised by an ``[identification]`` table or by the
-    comment header ``hipsim identify`` writes (``# Identified by hipsim identify``);
-    the lever spin is read from its ``# Model: … lever spin on|off`` line (default on).
+    Read through :func:`hipsim.rig.identification.identified_file.read_identified_file`: the ``[identification]``
+    table's ``lever_spin`` (an old file's ``# Model: … lever spin on|off`` header line when it has no table).
 
     Raises:
         ParameterError: naming the file when it holds no identified values.
     """
-    source = str(path)
-    try:
-        text = Path(path).read_text(encoding="utf-8-sig")
-    except OSError as error:
-        raise ParameterError(f"cannot read ({error.strerror})", source=source) from None
-    header = any(line.startswith("# Identified by hipsim identify") for line in text.splitlines())
-    try:
-        table = "identification" in tomllib.loads(text)
-    except tomllib.TOMLDecodeError:
-        table = False
-    if not (header or table):
+    found = read_identified_file(path)
+    if found is None:
         raise ParameterError(
             "holds no identified values (no [identification] table, no '# Identified by hipsim identify' header): "
             "the monitor holds the machine at identified values; run hipsim identify on a log of the rig first",
-            source=source,
+            source=str(path),
         )
-    spin = re.search(r"^# Model: .*lever spin (on|off)", text, re.MULTILINE)
-    return spin is None or spin.group(1) == "on"
+    return found.lever_spin
 
 
 def _load(setup: MonitorSetup, snapshot: Snapshot, folder: str) -> tuple[MeasuredLog, str]:
