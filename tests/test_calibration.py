@@ -180,7 +180,12 @@ def test_calibrate_command(tmp_path, drawing, truth, train, capsys):
     assert np.max(summary["validation"][0]["start_rms_deg"]) > NOISE_DEG * 2
     machine = load_parameters(out)
     assert machine.geometry is not None
-    assert out.read_text().startswith("# Calibrated by hipsim calibrate")
+    assert "# Calibrated by hipsim calibrate" in out.read_text()
+    from hipsim.rig.identification.identified_file import read_identified_file
+
+    found = read_identified_file(out)
+    assert found is not None and found.provenance is not None and found.logs == (str(train_csv),)
+    assert found.table["kind"] == "kinematic calibration"
     # Bad input: one line, status 2, nothing written.
     (tmp_path / "bad.csv").write_text("t_s,L_11_mm,L_12_mm,L_13_mm\n0,500,500,500\n0.1,500,500,500\n")
     again = tmp_path / "again.toml"

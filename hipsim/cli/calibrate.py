@@ -173,13 +173,9 @@ def run(args) -> int:
             {"log": log.name, "rms": np.sqrt((after**2).mean(axis=0)), "start_rms": np.sqrt((before**2).mean(axis=0))}
         )
     provenance = page_provenance(args, log=args.log, validation=args.validate or None)
-    record = {
-        "hipsim": provenance.version,
-        "created_utc": provenance.created,
-        "command": provenance.command,
-        "inputs": [f.path for f in provenance.inputs],
-        "sha256": [f.sha256 for f in provenance.inputs],
-    }
+    from ..rig.identification.identified_file import FileProvenance
+
+    record = FileProvenance.from_dict(provenance.as_dict())
     summary = _summary(calibration, validation)
     path = write_calibrated(args.out, calibration, validation, record, start=args.params or "the published machine")
     document = {"summary": summary, "out": str(path), "provenance": provenance.as_dict()}

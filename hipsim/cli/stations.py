@@ -49,10 +49,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     add_trajectory_options(p)
     p.add_argument(
         "--control",
-        default="2",
         choices=["1", "2", "both", "all"],
-        help="which platform the carriages serve: 1, 2 (default: the paper's, m_1 follows), both; 'all' with "
-        "--tolerance evaluates the three",
+        help="which platform the carriages serve: 1, 2, both (default: the parameter file's [geometry] control, else 2: "
+        "the paper's, m_1 follows); 'all' with --tolerance evaluates the three",
     )
     p.add_argument(
         "--weights", metavar="W1,W2", help="weights of the two platforms' squared errors for both (default 1,1)"
@@ -139,6 +138,8 @@ def run(args) -> int:
     _check(args)
     weights = _weights(args)
     params = parameters(args)
+    if args.control is None:
+        args.control = str(params.geometry.control) if params.geometry is not None else "2"
     out = Path(args.out)
     check_folder(out)
     table = Path(args.table) if args.table else out / "stations.csv"

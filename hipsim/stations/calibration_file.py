@@ -7,10 +7,12 @@ made (``kind = "kinematic calibration"``: the logs, the prior, every value with
 its deviation and standard deviation and whether the logs determined it, the
 values no log can see and the combinations that hold them, each sensor's noise
 and residual, the held-out checks) and its ``[identification.provenance]``
-(hipsim's version, the time, the command line, each log's SHA-256). Loading
-skips the ``[identification]`` table. One function writes it
-(:func:`write_calibrated`), to be switched to the rig's identified-file
-schema when there is one.
+(hipsim's version, the time, the command line, each log's SHA-256). Written
+through the rig's one identified-file schema
+(:mod:`hipsim.rig.identification.identified_file`), which reads it back
+(:func:`~hipsim.rig.identification.identified_file.read_identified_file`:
+its logs, start and provenance; no dynamic base parameters); loading the
+machine skips the ``[identification]`` table.
 """
 
 from __future__ import annotations
@@ -21,8 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from ..files import write_atomic
-from ..machine.toml_writer import parameter_toml, table_toml
+from ..rig.identification.identified_file import FileProvenance, identified_toml, write_identified_file
 from . import deviations as dv
 from .calibration import Calibration
 
@@ -58,7 +59,7 @@ def calibration_record(
         "values": names,
         "deviation_mm": np.round(calibration.theta * 1e3, 12).tolist(),
         "std_mm": np.round(calibration.theta_std * 1e3, 12).tolist(),
-        "determined": calibration.determined.tolist(),
+        "value_determined": calibration.determined.tolist(),
         "unseen": calibration.unseen,
         "combinations": calibration.structure.definitions(),
         "noise_deg": _deg(calibration.noise.ravel()),
@@ -71,37 +72,34 @@ def calibration_record(
     }
 
 
-def calibrated_toml(
-    calibration: Calibration,
-    validation: Sequence[Mapping[str, Any]] = (),
-    provenance: Mapping[str, Any] | None = None,
-    start: str = "the published machine",
-) -> str:
-    """The text of the calibrated parameter file (module docstring)."""
-    record = calibration_record(calibration, validation, start)
-    header = [
+def _comments(calibration: Calibration, record: Mapping[str, Any], start: str) -> list[str]:
+    return [
         f"{CALIBRATED_MARK} from {len(calibration.logs)} log(s), {calibration.samples} samples: "
         + ", ".join(calibration.logs),
         f"# Start: {start}; prior ±{calibration.prior * 1e3:g} mm on every per-chain value.",
         "# Sensor noise [deg] m_1 α β γ, m_2 α β γ: " + ", ".join(f"{v:.4g}" for v in record["noise_deg"]),
         "# Not seen by these logs (kept at the start): " + (", ".join(calibration.unseen) or "none"),
-        "# The combinations estimated and the [identification] record follow the machine's tables.",
     ]
-    text = (
-        "\n".join(header) + "\n\n" + parameter_toml(calibration.machine) + "\n" + table_toml("identification", record)
-    )
-    if provenance:
-        flat = {k: v for k, v in provenance.items() if isinstance(v, (str, int, float, bool, list))}
-        text += "\n" + table_toml("identification.provenance", flat)
-    return text
+
+
+def calibrated_toml(
+    calibration: Calibration,
+    validation: Sequence[Mapping[str, Any]] = (),
+    provenance: FileProvenance | None = None,
+    start: str = "the published machine",
+) -> str:
+    """The text of the calibrated parameter file (module docstring)."""
+    record = calibration_record(calibration, validation, start)
+    return identified_toml(calibration.machine, record, provenance, _comments(calibration, record, start))
 
 
 def write_calibrated(
     path: str | Path,
     calibration: Calibration,
     validation: Sequence[Mapping[str, Any]] = (),
-    provenance: Mapping[str, Any] | None = None,
+    provenance: FileProvenance | None = None,
     start: str = "the published machine",
 ) -> Path:
     """Write the calibrated parameter file atomically (nothing is written if anything fails)."""
-    return write_atomic(path, calibrated_toml(calibration, validation, provenance, start))
+    record = calibration_record(calibration, validation, start)
+    return write_identified_file(path, calibration.machine, record, provenance, _comments(calibration, record, start))

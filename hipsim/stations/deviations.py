@@ -91,9 +91,13 @@ def deviation(params: Parameters) -> np.ndarray:
 def machine(params: Parameters, delta: np.ndarray) -> Parameters:
     """The machine ``params`` with its chains' deviations set to δ in [m] (COUNT,).
 
-    Always a per-chain machine (even for δ = 0), so that every value is differentiated along one code path.
+    Always a per-chain machine (even for δ = 0), so that every value is differentiated along one code path; the
+    file's controlled platform (``[geometry] control``) is kept.
     """
     delta = np.asarray(delta, dtype=float)
     if delta.shape != (COUNT,):
         raise ArgumentError("delta", delta, f"shape ({COUNT},)")
-    return params.replace(geometry=ChainGeometry.from_vector(delta))
+    geometry = ChainGeometry.from_vector(delta)
+    if params.geometry is not None:
+        geometry = geometry.replace(control=params.geometry.control)
+    return params.replace(geometry=geometry)
