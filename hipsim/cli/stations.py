@@ -257,6 +257,7 @@ def _tolerance(args, params, weights, out: Path) -> int:
                     for j in range(2)
                 ],
                 "sensitivity": result.sensitivity[control],
+                "family_share": _family_shares(result.sensitivity[control]),
             }
             for c, control in enumerate(controls)
         ],
@@ -282,6 +283,8 @@ def _tolerance(args, params, weights, out: Path) -> int:
     header = ["control", "platform", "α RMS p95", "β RMS p95", "γ RMS p95", "α peak p95", "β peak p95", "γ peak p95"]
     print(format_table(header, rows, f"{args.draws} machines drawn, errors in degrees"))
     for c in tolerance["controls"]:
+        families = ", ".join(f"{name} {100 * share:.0f} %" for name, share in c["family_share"].items())
+        print(f"--control {c['control']}: share of the follower's mean square by tolerance: {families}")
         top = c["sensitivity"][:5]
         print(
             f"--control {c['control']}: largest shares: "
@@ -289,6 +292,14 @@ def _tolerance(args, params, weights, out: Path) -> int:
         )
     print(f"wrote {files.index}")
     return 0
+
+
+def _family_shares(rows) -> dict[str, float]:
+    """Each tolerance family's share of the expected mean square, largest first."""
+    shares: dict[str, float] = {}
+    for row in rows:
+        shares[row["family"]] = shares.get(row["family"], 0.0) + row["share"]
+    return dict(sorted(shares.items(), key=lambda item: -item[1]))
 
 
 def _file(text: str) -> str | None:
