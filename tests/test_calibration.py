@@ -154,6 +154,14 @@ def test_reading_a_log(tmp_path, train):
     log = read_calibration_log(path, 0.01)
     assert np.allclose(log.carriages, train.carriages, atol=1e-14)
     assert np.allclose(log.sensors, train.sensors, atol=1e-13)
+    # The motor angles instead of the encoders: L = p·angle/360°.
+    lines = path.read_text().splitlines()
+    names = lines[0].replace("L_1", "motor_").replace("_mm", "_deg").split(",")
+    rows = [[float(x) for x in line.split(",")] for line in lines[1:]]
+    motor = np.array(rows)
+    motor[:, 1:4] *= 1e-3 / 0.01 * 360.0
+    np.savetxt(tmp_path / "motor.csv", motor, delimiter=",", header=",".join(names), comments="", fmt="%.15g")
+    assert np.allclose(read_calibration_log(tmp_path / "motor.csv", 0.01).carriages, train.carriages, atol=1e-12)
     text = path.read_text().splitlines()
     header = text[0].split(",")
     keep = [k for k, name in enumerate(header) if not name.startswith(("alpha_1", "beta_1", "gamma_1"))]

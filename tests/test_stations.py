@@ -174,6 +174,15 @@ def test_stations_command(tmp_path, capsys):
     )
     assert summary["platforms"][0]["iso"]["verdict"] == "PASS"
     assert (out / "index.html").exists() and (out / "errors.png").exists()
+    # The same table as Parquet, by its suffix.
+    parquet = tmp_path / "run.parquet"
+    argv = ["stations", "--set", lever, "--control", "both", "--rate", "100", "--out", str(tmp_path / "p")]
+    assert main([*argv, "--table", str(parquet)]) == 0
+    import pyarrow.parquet as pq
+
+    frame = pq.read_table(parquet)
+    assert frame.column_names == header
+    assert np.allclose(frame.column("err_gamma_1_deg").to_numpy(), table["err_gamma_1_deg"], rtol=1e-10, atol=1e-13)
     # --sliders: the attitudes of both platforms from the logged carriages are those the run reported.
     again = tmp_path / "sliders"
     assert main(["stations", "--set", lever, "--sliders", str(out / "stations.csv"), "--out", str(again)]) == 0
