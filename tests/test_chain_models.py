@@ -63,7 +63,7 @@ def test_the_trajectory_is_the_controlled_platforms_and_the_other_follows(cycle,
     # The carriages are the controlled platform's inverse kinematics; the follower is the forward kinematics of them.
     np.testing.assert_allclose(motion.L, carriages_for_platform(params, cycle.q, control), rtol=0, atol=0)
     follower = platform_attitude(params, motion.L, 3 - control, t=cycle.t, q0=cycle.q[0])
-    np.testing.assert_allclose(motion.platforms[2 - control].q, follower * signs, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(motion.platforms[2 - control].q, follower * signs, rtol=0, atol=1e-12)
     error = np.degrees(np.abs(follower - cycle.q).max())
     assert 0.01 < error < 3.0  # ~0.3 mm over lever arms of a few hundred mm
 

@@ -6,6 +6,8 @@ import pytest
 import hipsim
 from hipsim.analytic.inverse_kinematics import slider_heights, slider_jacobian
 from hipsim.analytic.stations import (
+    attitude_sensitivities,
+    carriage_sensitivities,
     carriages_for_platform,
     follower_motion,
     platform_attitude,
@@ -244,3 +246,65 @@ def test_bad_tables_are_refused_by_name(tmp_path, table, message):
     with pytest.raises(ParameterError, match=message) as caught:
         hipsim.load_parameters(path)
     assert "bad.toml" in str(caught.value) and "\n" not in str(caught.value)
+
+
+# --- Sensitivities to the geometry (for calibration and tolerances) --------------------------
+
+
+def with_values(x):
+    return PARAMS.replace(geometry=ChainGeometry.from_vector(x))
+
+
+@pytest.mark.parametrize("platform", [1, 2])
+def test_carriage_sensitivities_against_finite_differences(platform):
+    x = DEVIATED.geometry.as_vector()
+    q = random_poses(5)
+    S = carriage_sensitivities(DEVIATED, q, platform)
+    h = 1e-7
+    for k in range(48):
+        step = np.zeros(48)
+        step[k] = h
+        fd = (
+            carriages_for_platform(with_values(x + step), q, platform)
+            - carriages_for_platform(with_values(x - step), q, platform)
+        ) / (2 * h)
+        np.testing.assert_allclose(S[:, :, k], fd, rtol=0, atol=1e-8, err_msg=ChainGeometry.names()[k])
+    # Only the platform's own chains and centre move its carriages; its slider offset one for one.
+    own = [
+        k
+        for k, name in enumerate(ChainGeometry.names())
+        if name[-2:-1] == str(platform) or name.endswith(f"_{platform}")
+    ]
+    assert np.all(np.delete(S, own, axis=2) == 0.0)
+    assert np.all(S[:, :, 12 + 3 * (platform - 1) : 15 + 3 * (platform - 1)] == -np.eye(3))
+
+
+@pytest.mark.parametrize("platform", [1, 2])
+def test_attitude_sensitivities_against_finite_differences_of_the_forward_kinematics(platform):
+    x = DEVIATED.geometry.as_vector()
+    q = random_poses(4)
+    L = carriages_for_platform(DEVIATED, q, platform)
+    A = attitude_sensitivities(DEVIATED, q, platform)
+    h = 1e-6
+    names = ChainGeometry.names()
+    for name in (
+        f"ujoint_x_{platform}1",
+        f"slider_{platform}2",
+        f"joint_z_{platform}3",
+        f"lever_{platform}1",
+        f"centre_y_{platform}",
+    ):
+        k = names.index(name)
+        step = np.zeros(48)
+        step[k] = h
+        moved = [
+            np.array([platform_attitude(with_values(x + s), L[n : n + 1], platform, q0=q[n])[0] for n in range(len(q))])
+            for s in (step, -step)
+        ]
+        np.testing.assert_allclose(
+            A[:, :, k],
+            (moved[0] - moved[1]) / (2 * h),
+            rtol=0,
+            atol=1e-6 * np.abs(A[:, :, k]).max() + 1e-9,
+            err_msg=name,
+        )

@@ -153,7 +153,8 @@ def chain_motion(params: Parameters, trajectory: Trajectory) -> ChainMotion:
         )
     follower = 3 - control
     motions = {control: (q, qd, qdd)}
-    motions[follower] = follower_motion(params, L, Ld, Ldd, follower, t=t, q0=q[0], source=trajectory.name)
+    # The follower turns a fraction of a degree off the controlled platform: its attitude is the guess.
+    motions[follower] = follower_motion(params, L, Ld, Ldd, follower, t=t, q0=q[0], source=trajectory.name, guess=q)
     platforms = [platform_kinematics(params, j - 1, t, *motions[j]) for j in (1, 2)]
     for j, kin in enumerate(platforms, start=1):
         if np.any(kin.flagged):

@@ -27,7 +27,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..machine.chains import Chains
-from ..physics.orientation import rotation_matrix
+from ..physics.orientation import rotation_matrix_components
+from ..physics.vectors import cross_array
 
 __all__ = ["chain_accelerations", "chain_jacobian", "chain_positions"]
 
@@ -45,21 +46,28 @@ def chain_positions(chains: Chains, p: np.ndarray, j: int) -> tuple[np.ndarray, 
         r: platform joint vectors R·r⁰_ji in [m], (N, 3, 3);
         d: lever vectors a_ji − b_ji in [m], (N, 3, 3) (NaN z where out of reach).
     """
-    R = rotation_matrix(np.asarray(p, dtype=float))
-    r = np.einsum("nab,ib->nia", R, chains.platform_points[j])
-    g = r + (chains.centres[j] - chains.screw_points[j])
-    radicand = chains.lever_lengths[j] ** 2 - (g[..., 0] ** 2 + g[..., 1] ** 2)
+    # Components first inside, (xyz, leg, N), as hipsim.analytic.inverse_kinematics computes: each
+    # operation then runs over one contiguous block; the results are the .T views, sample first.
+    p = np.asarray(p, dtype=float).T
+    R = rotation_matrix_components(np.cos(p), np.sin(p))
+    r = np.einsum("im,kmn->kin", chains.platform_points[j], R)  # not BLAS: see inverse_kinematics._platform_vectors
+    d = r + (chains.centres[j] - chains.screw_points[j]).T[:, :, None]  # g = a − c, then d in place
+    radicand = chains.lever_lengths[j][:, None] ** 2 - (d[0] ** 2 + d[1] ** 2)
+    reach = radicand > 0
     with np.errstate(invalid="ignore"):
-        dz = np.where(radicand > 0, np.sqrt(np.where(radicand > 0, radicand, np.nan)), np.nan)
-    d = g.copy()
-    d[..., 2] = dz
-    return g[..., 2] - dz, r, d
+        dz = np.sqrt(np.where(reach, radicand, np.nan))  # NaN where the lever cannot reach
+    L = d[2] - dz
+    d[2] = dz
+    return L.T, r.T, d.T
 
 
 def chain_jacobian(r: np.ndarray, d: np.ndarray) -> np.ndarray:
     """J with L̇ = J·ω, rows (r_i × d_i)/d_i,z, (N, 3, 3), from :func:`chain_positions`' r and d."""
+    r, d = r.T, d.T  # components first: the arrays chain_positions computed
     with np.errstate(invalid="ignore", divide="ignore"):
-        return np.cross(r, d) / d[..., 2:3]
+        J = cross_array(r, d)
+        J /= d[2]
+    return J.T
 
 
 def chain_accelerations(r: np.ndarray, d: np.ndarray, omega: np.ndarray, omega_dot: np.ndarray) -> np.ndarray:
@@ -67,11 +75,16 @@ def chain_accelerations(r: np.ndarray, d: np.ndarray, omega: np.ndarray, omega_d
 
     The velocity terms Φ = L̈ − J·ω̇ are the result with ``omega_dot`` zero.
     """
-    w = omega[:, None, :]
-    a_dot = np.cross(w, r)
-    a_ddot = np.cross(omega_dot[:, None, :], r) + np.cross(w, a_dot)
-    J = chain_jacobian(r, d)
-    d_dot = a_dot
-    d_dot[..., 2] -= np.einsum("nik,nk->ni", J, omega)
+    r_c, d_c = r.T, d.T  # components first, (xyz, leg, N)
+    w, w_dot = np.asarray(omega, dtype=float).T[:, None], np.asarray(omega_dot, dtype=float).T[:, None]
+    a_dot = cross_array(w, r_c)
+    a_ddot = cross_array(w_dot, r_c)
+    a_ddot += cross_array(w, a_dot)
     with np.errstate(invalid="ignore", divide="ignore"):
-        return (np.sum(d * a_ddot, axis=-1) + np.sum(d_dot * d_dot, axis=-1)) / d[..., 2]
+        J = cross_array(r_c, d_c)
+        J /= d_c[2]
+        d_dot = a_dot  # ḋ = ȧ − L̇·ẑ, in place
+        d_dot[2] -= J[0] * w[0] + J[1] * w[1] + J[2] * w[2]
+        Ldd = np.sum(d_c * a_ddot, axis=0) + np.sum(d_dot * d_dot, axis=0)
+        Ldd /= d_c[2]
+    return Ldd.T

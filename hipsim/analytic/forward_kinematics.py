@@ -214,6 +214,7 @@ def forward_kinematics(
     source: str | None = None,
     max_iter: int = 50,
     platform: int | None = None,
+    guess: np.ndarray | None = None,
 ) -> np.ndarray:
     """Platform orientations along a log of slider heights, each sample continuing the previous one.
 
@@ -235,6 +236,10 @@ def forward_kinematics(
         platform: None for the drawing (both platforms alike; L1 are platform 1's slider
             heights); 1 or 2 for that platform's own chains (:mod:`hipsim.machine.chains`),
             L1 then the carriage readings.
+        guess: gait angles in [rad] near each sample's solution, (N, 3), for the all-at-once solve
+            (e.g. the other platform's attitude on a per-chain machine, a fraction of a degree off);
+            None for the linearisation about the start pose. Each result is still checked to continue
+            the previous sample's.
 
     Returns:
         Gait angles [α, β, γ] in [rad], (N, 3).
@@ -267,8 +272,11 @@ def forward_kinematics(
             fail(0, _failure(False, True, L1[0]))
         first = solved[0]
 
-    # Every sample at once, from the linearisation about the start pose.
-    guess = start + np.linalg.solve(_jacobian(params, start[None], platform)[0], (L1 - L_start).T).T
+    # Every sample at once, from the guesses given or the linearisation about the start pose.
+    if guess is None:
+        guess = start + np.linalg.solve(_jacobian(params, start[None], platform)[0], (L1 - L_start).T).T
+    else:
+        guess = np.broadcast_to(np.asarray(guess, dtype=float), L1.shape) * signs
     p, converged = _newton(params, L1, guess, max_iter, platform)
     p[~converged] = np.nan  # left to the walk below
     broken = np.zeros(n, dtype=bool)

@@ -39,12 +39,14 @@ import numpy as np
 
 from ..exceptions import ArgumentError, PoseError
 from ..machine.parameters import Parameters
-from ..physics.orientation import angular_velocity_map, angular_velocity_map_rate
+from ..physics.orientation import angular_velocity_map, angular_velocity_map_rate, rotation_matrix
 from .chain_kinematics import chain_accelerations, chain_jacobian, chain_positions
 from .forward_kinematics import forward_kinematics
 from .inverse_kinematics import slider_heights, slider_jacobian
 
 __all__ = [
+    "attitude_sensitivities",
+    "carriage_sensitivities",
     "carriages_for_platform",
     "follower_motion",
     "platform_attitude",
@@ -113,6 +115,7 @@ def platform_attitude(
     t: np.ndarray | None = None,
     q0: np.ndarray | None = None,
     source: str | None = None,
+    guess: np.ndarray | None = None,
 ) -> np.ndarray:
     """The attitude of platform ``platform`` along a log of carriage readings (its forward kinematics).
 
@@ -127,6 +130,8 @@ def platform_attitude(
         t: sample times in [s], (N,), for messages; None for the indices.
         q0: gait angles in [rad] near the first sample, (3,); None for home.
         source: the log's name, for messages.
+        guess: gait angles in [rad] near each sample's solution, (N, 3) (e.g. the other platform's, or the
+            desired motion): Newton then needs two or three steps a sample; None for the linearisation about q0.
 
     Returns:
         Gait angles [α, β, γ] of that platform in [rad], (N, 3).
@@ -136,7 +141,7 @@ def platform_attitude(
     """
     _platform_index(platform)
     return forward_kinematics(
-        params, L, t=t, q0=q0, source=source, platform=None if params.geometry is None else platform
+        params, L, t=t, q0=q0, source=source, platform=None if params.geometry is None else platform, guess=guess
     )
 
 
@@ -172,6 +177,7 @@ def follower_motion(
     t: np.ndarray | None = None,
     q0: np.ndarray | None = None,
     source: str | None = None,
+    guess: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The motion of platform ``platform`` driven by given carriage motion: forward kinematics through its own Jacobian.
 
@@ -182,7 +188,7 @@ def follower_motion(
         params: the machine.
         L, Ld, Ldd: carriage readings in [m], velocities in [m/s], accelerations in [m/s²], each (N, 3).
         platform: 1 or 2.
-        t, q0, source: as in :func:`platform_attitude`.
+        t, q0, source, guess: as in :func:`platform_attitude`.
 
     Returns:
         Gait angles q in [rad], q̇ in [rad/s], q̈ in [rad/s²], each (N, 3).
@@ -191,7 +197,7 @@ def follower_motion(
         PoseError: as :func:`platform_attitude`, or where the Jacobian is singular.
     """
     j = _platform_index(platform)
-    q = platform_attitude(params, L, platform, t=t, q0=q0, source=source)
+    q = platform_attitude(params, L, platform, t=t, q0=q0, source=source, guess=guess)
     signs = params.angle_signs
     p = q * signs
     _, r, d = chain_positions(params.chains, p, j)
@@ -208,3 +214,63 @@ def follower_motion(
         ..., 0
     ]
     return q, pd * signs, pdd * signs
+
+
+def carriage_sensitivities(params: Parameters, q: np.ndarray, platform: int) -> np.ndarray:
+    """∂L/∂θ: how the carriage readings that give platform ``platform`` the attitude ``q`` move with each geometry value θ.
+
+    θ are the 48 deviations of :meth:`hipsim.machine.chains.ChainGeometry.names` (in [m], that order). With
+    g_i = a_ji − c_ji and the lever vector d_i of :mod:`hipsim.analytic.chain_kinematics`,
+    L_i = g_i,z − √(l_ji² − g_i,x² − g_i,y²), so ∂L_i/∂g_i = d_i/d_i,z and ∂L_i/∂l_ji = −l_ji/d_i,z:
+    the U-joint offset moves L_i by −d_i,xy/d_i,z, the slider offset by −1, the platform joint offset
+    (platform axes) by Rᵀd_i/d_i,z, the rotation centre by d_i/d_i,z. The other platform's values do not enter.
+
+    Args:
+        params: the machine (per-chain or the drawing).
+        q: gait angles of that platform in [rad], (N, 3).
+        platform: 1 or 2.
+
+    Returns:
+        ∂L/∂θ, dimensionless ([m/m]), (N, 3, 48); NaN where a lever cannot reach.
+    """
+    j = _platform_index(platform)
+    p = _angles(params, q)
+    chains = params.chains
+    _, _, d = chain_positions(chains, p, j)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        n = d / d[..., 2:3]  # ∂L_i/∂g_i, (N, leg, xyz)
+    R = rotation_matrix(p)
+    out = np.zeros((len(p), 3, 48))
+    legs = np.arange(3)
+    # Offsets into the vector of ChainGeometry.names(): ujoint (12), slider (6), joint (18), lever (6), centre (6).
+    chain = 3 * j + legs  # this platform's chains, in the file's row order
+    for k in range(2):
+        out[:, legs, 2 * chain + k] = -n[..., k]
+    out[:, legs, 12 + chain] = -1.0
+    joint = np.einsum("nik,nkm->nim", n, R)  # ∂L_i/∂δr = (∂L_i/∂g)·R
+    for k in range(3):
+        out[:, legs, 18 + 3 * chain + k] = joint[..., k]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        out[:, legs, 36 + chain] = -chains.lever_lengths[j] / d[..., 2]
+    out[:, :, 42 + 3 * j : 45 + 3 * j] = n
+    return out
+
+
+def attitude_sensitivities(params: Parameters, q: np.ndarray, platform: int) -> np.ndarray:
+    """∂q/∂θ at fixed carriages: how platform ``platform``'s attitude moves with each geometry value θ.
+
+    From L(q, θ) = L_measured: ∂q/∂θ = −(∂L/∂q)⁻¹·∂L/∂θ with ∂L/∂q = J·T (gait angles: the angle
+    signs applied). What a kinematic calibration's Gauss–Newton and a tolerance study need.
+
+    Args:
+        params: the machine.
+        q: gait angles of that platform in [rad] (its attitude for the carriages in question), (N, 3).
+        platform: 1 or 2.
+
+    Returns:
+        ∂q/∂θ in [rad/m], (N, 3, 48), in the order of :meth:`hipsim.machine.chains.ChainGeometry.names`.
+    """
+    p = _angles(params, q)
+    D = np.einsum("nij,njk->nik", platform_jacobian(params, q, platform), angular_velocity_map(p))
+    D *= params.angle_signs  # ∂L/∂(gait angles) = ∂L/∂p·diag(signs)
+    return -np.linalg.solve(D, carriage_sensitivities(params, q, platform))
