@@ -22,6 +22,7 @@ __all__ = [
     "ClosureError",
     "FileRowError",
     "HipsimError",
+    "IdentificationError",
     "ModelError",
     "MissingDependencyError",
     "OutputError",
@@ -222,4 +223,18 @@ class CalibrationError(HipsimError):
 
     def __init__(self, reason: str):
         super().__init__(reason)
+        self.reason = reason
+
+
+class IdentificationError(HipsimError):
+    """Logs that cannot give an identification: none given, too few samples, nothing determined, an implausible result.
+
+    Attributes:
+        logs: the logs fitted, by name (empty when none was given).
+        reason: what went wrong, in words, without the logs' names.
+    """
+
+    def __init__(self, reason: str, logs: tuple[str, ...] = ()):
+        super().__init__(_placed(reason, ", ".join(logs)))
+        self.logs = tuple(logs)
         self.reason = reason
