@@ -11,7 +11,7 @@ one vector δ of :data:`COUNT` = 48 values in [m], in the order of
 a calibration's prior is centred on the starting file's δ.
 
 Every value moves one platform's slider equations only, and a chain's values
-only its own leg (:func:`platform_columns`, :func:`kinds`).
+only its own leg (:func:`platform_columns`).
 """
 
 from __future__ import annotations
@@ -29,7 +29,6 @@ __all__ = [
     "FAMILIES",
     "deviation",
     "family",
-    "kinds",
     "machine",
     "names",
     "platform_columns",
@@ -66,21 +65,6 @@ def platform_of(name: str) -> int:
 def platform_columns(j: int) -> np.ndarray:
     """The entries of δ that move platform j (1 or 2): its chains' and its centre's, in δ's order."""
     return np.array([k for k, name in enumerate(names()) if platform_of(name) == j])
-
-
-@cache
-def kinds(j: int) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
-    """Platform j's values grouped by kind: per kind (``ujoint_x``, …, ``centre_z``), its entries of δ and their legs.
-
-    Each group holds one value per chain (legs 0, 1, 2) or, for the centre, one value that moves every leg (leg −1).
-    """
-    groups: dict[str, list[tuple[int, int]]] = {}
-    for k, name in enumerate(names()):
-        if platform_of(name) != j:
-            continue
-        kind, label = name.rsplit("_", 1)
-        groups.setdefault(kind, []).append((k, int(label[1]) - 1 if len(label) == 2 else -1))
-    return tuple((np.array([k for k, _ in g]), np.array([leg for _, leg in g])) for g in groups.values())
 
 
 def deviation(params: Parameters) -> np.ndarray:

@@ -7,11 +7,8 @@ sees moves by
 
     ∂q_j/∂θ = −(∂f_j/∂q)⁻¹·∂f_j/∂θ,
 
-∂f_j/∂q being :func:`reading_rate` (from :func:`hipsim.analytic.stations.platform_jacobian`) and ∂f_j/∂θ a
-central difference of :func:`hipsim.analytic.stations.carriages_for_platform`
-(the kinematics live once, there). A chain's value moves its own leg only, so
-one difference perturbs the same value of the three chains together and reads
-each leg's column from its own row: 20 evaluations per platform, not 48.
+∂f_j/∂q being :func:`reading_rate` (from :func:`hipsim.analytic.stations.platform_jacobian`) and ∂f_j/∂θ
+:func:`hipsim.analytic.stations.carriage_sensitivities` in closed form (the kinematics live once, there).
 Here θ is the deviation vector δ of :mod:`hipsim.stations.deviations`.
 
 :func:`structure` finds the combinations of θ that no log can see, from the
@@ -34,14 +31,13 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from ..analytic.stations import carriages_for_platform, platform_jacobian
+from ..analytic.stations import carriage_sensitivities, platform_jacobian
 from ..machine.parameters import Parameters
 from ..physics import laws
 from ..physics.orientation import angular_velocity_map
 from . import deviations as dv
 
 __all__ = [
-    "STEP",
     "Structure",
     "attitude_jacobian",
     "inverse3",
@@ -52,8 +48,6 @@ __all__ = [
     "structure",
 ]
 
-#: Central-difference step on a per-chain value in [m]: the truncation error (~step²·curvature) is below 1e-12 rad.
-STEP = 1e-6
 #: A pivot of R this far below the largest (in units of the prior) is a direction no log can see.
 RANK_TOL = 1e-7
 #: Random poses for the structure, and their range in [rad] per angle.
@@ -73,25 +67,10 @@ def reading_rate(params: Parameters, q: np.ndarray, j: int) -> np.ndarray:
 def reading_jacobian(params: Parameters, j: int, q: np.ndarray) -> np.ndarray:
     """∂f_j/∂δ: how platform j's carriage readings at gait angles q (N, 3) move with its values, (N, 3, 24) [m/m].
 
-    The columns follow :func:`hipsim.stations.deviations.platform_columns`.
+    The columns follow :func:`hipsim.stations.deviations.platform_columns`
+    (:func:`hipsim.analytic.stations.carriage_sensitivities`, closed form).
     """
-    delta = dv.deviation(params)
-    columns = list(dv.platform_columns(j))
-    out = np.zeros((len(q), 3, len(columns)))
-    for entries, legs in dv.kinds(j):
-        diffs = []
-        for sign in (1.0, -1.0):
-            shifted = delta.copy()
-            shifted[entries] += sign * STEP
-            diffs.append(carriages_for_platform(dv.machine(params, shifted), q, j))
-        dL = (diffs[0] - diffs[1]) / (2 * STEP)
-        for entry, leg in zip(entries, legs):
-            c = columns.index(entry)
-            if leg < 0:
-                out[:, :, c] = dL
-            else:
-                out[:, leg, c] = dL[:, leg]
-    return out
+    return carriage_sensitivities(params, q, j)[..., dv.platform_columns(j)]
 
 
 def inverse3(P: np.ndarray) -> np.ndarray:
@@ -105,6 +84,7 @@ def platform_attitude_jacobian(params: Parameters, q: np.ndarray, j: int) -> np.
     """∂q_j/∂δ of platform j at its gait angles q (N, 3) [rad], for its own values, (N, 3, 24) [rad/m].
 
     The columns follow :func:`hipsim.stations.deviations.platform_columns`; the other platform's values do not move it.
+    ∂q_j/∂δ = −(∂f_j/∂q)⁻¹·∂f_j/∂δ, from :func:`reading_rate` and :func:`reading_jacobian`.
     """
     return -np.matmul(inverse3(reading_rate(params, q, j)), reading_jacobian(params, j, q))
 
