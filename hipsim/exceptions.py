@@ -17,10 +17,12 @@ import unicodedata
 
 __all__ = [
     "ArgumentError",
+    "CalibrationError",
     "CatalogueError",
     "ClosureError",
     "FileRowError",
     "HipsimError",
+    "IdentificationError",
     "ModelError",
     "MissingDependencyError",
     "OutputError",
@@ -210,3 +212,29 @@ class MissingDependencyError(HipsimError):
 
 class CatalogueError(FileRowError):
     """A motor, screw or gearbox catalogue (CSV) or drive file is invalid (source, line and column as in :class:`FileRowError`)."""
+
+
+class CalibrationError(HipsimError):
+    """A kinematic calibration cannot be made from its logs: it does not converge, or its machine leaves the workspace.
+
+    Attributes:
+        reason: what went wrong, in words (the log and sample time where one is to blame).
+    """
+
+    def __init__(self, reason: str):
+        super().__init__(reason)
+        self.reason = reason
+
+
+class IdentificationError(HipsimError):
+    """Logs that cannot give an identification: none given, too few samples, nothing determined, an implausible result.
+
+    Attributes:
+        logs: the logs fitted, by name (empty when none was given).
+        reason: what went wrong, in words, without the logs' names.
+    """
+
+    def __init__(self, reason: str, logs: tuple[str, ...] = ()):
+        super().__init__(_placed(reason, ", ".join(logs)))
+        self.logs = tuple(logs)
+        self.reason = reason
