@@ -170,7 +170,6 @@ def write_atomic(path: str | Path, text: str | bytes) -> Path:
         _write_stdout(text)
         return Path(STDOUT)
     given, path = _target(path)
-    folder = path.parent if str(path.parent) else Path(".")
     mode = "wb" if isinstance(text, bytes) else "w"
     with exit_on_terminate():
         try:
