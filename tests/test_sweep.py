@@ -219,7 +219,9 @@ def test_a_real_dask_cluster_gives_the_serial_rows_to_the_last_bit(base, iso):
     serial = dict(row for batch in run_sweep(setup, variants, workers=1, batch_size=3) for row in batch)
     assert len(serial) == len(variants)
     assert {r["status"] for r in serial.values()} >= {"ok", "cannot_assemble", "out_of_workspace"}
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+    # One worker process here (each costs seconds of imports): the rows still cross a process boundary; the
+    # default path below shares the batches between two.
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
         seen = []
         remote = dict(
             row
