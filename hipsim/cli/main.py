@@ -32,6 +32,7 @@ from . import (
     torques,
     urdf,
     view,
+    wear,
     workspace,
 )
 from .motion_options import locate
@@ -68,6 +69,7 @@ def build_parser() -> argparse.ArgumentParser:
         check,
         feasible,
         iso_check,
+        wear,
         view,
         urdf,
         mjcf,
