@@ -239,8 +239,6 @@ def read_motion(args, spec: str | None):
         raise HipsimError(f"--cycle-time: expected a positive number of seconds, got {cycle_time:g}")
     if cycle_time is None and kind != "rig log" and (args.frequency is not None or args.period is not None):
         cycle_time = 1.0 / builtin_frequency(args)
-    if cycle_time is None and trajectory.periodic:
-        cycle_time = span(trajectory)
     if args.iso_load:
         frequency = 1.0 / (cycle_time or 1.0)
         trajectory = Trajectory(
@@ -253,7 +251,10 @@ def read_motion(args, spec: str | None):
             trajectory.periodic,
             trajectory.lines,
         )
-        notes.append(f"the built-in ISO 14242-1 load at {frequency:g} Hz from the motion's first sample (--iso-load)")
+        notes.append(
+            f"the built-in ISO 14242-1 load at {frequency:g} Hz from the motion's first sample (--iso-load; "
+            "--cycle-time sets its frequency)"
+        )
     if not (trajectory.Fe > 0).any():
         raise HipsimError(
             f"{trajectory.name}: the motion carries no load (no load column, or zero throughout): work, CS and wear need "
@@ -261,15 +262,16 @@ def read_motion(args, spec: str | None):
         )
     if cycle_time is None:
         events = gait_cycles(trajectory)
-        if not math.isfinite(events.period):
+        if math.isfinite(events.period):
+            cycle_time = events.period
+            notes.append(f"cycle time {cycle_time:.4g} s: the median heel-strike interval of the load")
+        elif trajectory.periodic:  # one whole cycle, repeating
+            cycle_time = span(trajectory)
+        else:
             raise HipsimError(
-                f"{trajectory.name}: cannot tell the length of a cycle (the load marks fewer than two heel strikes): "
-                "give --cycle-time S"
+                f"{trajectory.name}: cannot tell the length of a cycle (the load marks fewer than two heel strikes and "
+                "the file does not repeat): give --cycle-time S"
             )
-        cycle_time = events.period
-        notes.append(
-            f"cycle time {cycle_time:.4g} s: the median heel-strike interval of the load ({events.cycles} cycles)"
-        )
     return trajectory, cycle_time, trajectory.name, path, notes
 
 
@@ -350,6 +352,7 @@ def _write_table(path: str, columns: dict) -> None:
 
     with ColumnWriter(path) as writer:
         writer.write(columns)
+        writer.close()
 
 
 def format_summary(summary: dict, notes=()) -> str:

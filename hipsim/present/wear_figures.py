@@ -9,7 +9,14 @@ import numpy as np
 from ..wear.maps import WearMaps
 from ..wear.tracks import Tracks
 
-__all__ = ["WEAR_CAPTIONS", "plot_cup_maps", "plot_difference_maps", "plot_force_track", "plot_slide_tracks"]
+__all__ = [
+    "WEAR_CAPTIONS",
+    "plot_cup_maps",
+    "plot_difference_maps",
+    "plot_force_track",
+    "plot_slide_tracks",
+    "plot_slide_tracks_pair",
+]
 
 #: Each figure's caption, by file stem.
 WEAR_CAPTIONS = {
@@ -37,7 +44,21 @@ def plot_slide_tracks(tracks: Tracks, r: float, title: str = ""):
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(6.4, 6.0), layout="constrained")
-    ax = fig.subplots()
+    _draw_tracks(fig.subplots(), tracks, r, title or "Slide tracks and force track")
+    return fig
+
+
+def plot_slide_tracks_pair(a: Tracks, b: Tracks, r: float, names: tuple[str, str]):
+    """Two runs' slide tracks side by side, A left (caption :data:`WEAR_CAPTIONS`)."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(12.0, 6.0), layout="constrained")
+    for ax, tracks, side, name in zip(fig.subplots(1, 2), (a, b), "AB", names, strict=True):
+        _draw_tracks(ax, tracks, r, f"{side}: {name}")
+    return fig
+
+
+def _draw_tracks(ax, tracks: Tracks, r: float, title: str) -> None:
     _cup_axes(ax, r)
     for path in tracks.slide:
         ax.plot(r * path[:, 0], r * path[:, 1], color="tab:blue", lw=0.9)
@@ -45,13 +66,13 @@ def plot_slide_tracks(tracks: Tracks, r: float, title: str = ""):
     ax.plot(r * tracks.force[:, 0], r * tracks.force[:, 1], color="tab:red", lw=2.2, label="force track")
     ax.plot([], [], color="tab:blue", label="slide tracks")
     ax.legend(loc="lower right", fontsize=8)
-    ax.set_title(title or "Slide tracks and force track", fontsize=10)
-    return fig
+    ax.set_title(title, fontsize=10)
 
 
 def _grid_mesh(maps: WearMaps, r: float):
     """The grid's cell corners in the top view, (n_theta + 1, n_phi + 1) each."""
     theta, phi = maps.points.theta, maps.points.phi
+    assert theta is not None and phi is not None  # a grid's
     d_theta, d_phi = theta[1] - theta[0] if theta.size > 1 else np.pi / 2, phi[1] - phi[0]
     th = np.concatenate([theta - d_theta / 2, [theta[-1] + d_theta / 2]])
     ph = np.concatenate([phi - d_phi / 2, [phi[-1] + d_phi / 2]])

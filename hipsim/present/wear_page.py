@@ -23,7 +23,14 @@ from .figures import save_figure
 from .pages import CSS, Verdict, environment, print_pdf
 from .provenance import Provenance
 from .provenance import provenance as make_provenance
-from .wear_figures import WEAR_CAPTIONS, plot_cup_maps, plot_difference_maps, plot_force_track, plot_slide_tracks
+from .wear_figures import (
+    WEAR_CAPTIONS,
+    plot_cup_maps,
+    plot_difference_maps,
+    plot_force_track,
+    plot_slide_tracks,
+    plot_slide_tracks_pair,
+)
 
 __all__ = ["DEFAULT_TOLERANCE", "WearPage", "compare_verdict", "write_wear_compare", "write_wear_page"]
 
@@ -108,8 +115,8 @@ def write_wear_page(
 
 
 def compare_verdict(rows: list[dict], tolerance: float, names: tuple[str, str]) -> Verdict:
-    """ALIKE when every compared quantity differs by at most ``tolerance`` (relative), else DIFFERENT, naming the largest."""
-    known = [row for row in rows if row["relative"] is not None]
+    """ALIKE when every deciding quantity differs by at most ``tolerance`` (relative), else DIFFERENT, naming the largest."""
+    known = [row for row in rows if row["relative"] is not None and row["decides"]]
     if not known:
         return Verdict("open", "NOT COMPARED", ("No quantity is known in both runs.",))
     worst = max(known, key=lambda row: abs(row["relative"]))
@@ -124,7 +131,7 @@ def compare_verdict(rows: list[dict], tolerance: float, names: tuple[str, str]) 
             "DIFFERENT",
             (head, f"Beyond ±{100 * tolerance:g} %: {', '.join(beyond)}."),
         )
-    return Verdict("pass", "ALIKE", (head, f"Every compared quantity is within ±{100 * tolerance:g} %."))
+    return Verdict("pass", "ALIKE", (head, f"Every quantity judged is within ±{100 * tolerance:g} %."))
 
 
 def write_wear_compare(
@@ -170,18 +177,11 @@ def write_wear_compare(
                     "difference_maps",
                     plot_difference_maps(maps_a, differences, f"B ({maps_b.name}) − A ({maps_a.name})"),
                 ),
-                ("slide_tracks_a", plot_slide_tracks(tracks_a, r, f"A: {maps_a.name}")),
-                ("slide_tracks_b", plot_slide_tracks(tracks_b, r, f"B: {maps_b.name}")),
-                ("cup_maps_a", plot_cup_maps(maps_a, f"A: {maps_a.name}")),
-                ("cup_maps_b", plot_cup_maps(maps_b, f"B: {maps_b.name}")),
+                ("slide_tracks_ab", plot_slide_tracks_pair(tracks_a, tracks_b, r, (maps_a.name, maps_b.name))),
             ),
         )
         json_path = write_atomic(out / "wear.json", json.dumps(json_ready(document), indent=2) + "\n")
-        captions = WEAR_CAPTIONS | {
-            f"{stem}_{side}": f"{side.upper()}: {WEAR_CAPTIONS[stem]}"
-            for stem in ("slide_tracks", "cup_maps")
-            for side in ("a", "b")
-        }
+        captions = WEAR_CAPTIONS | {"slide_tracks_ab": f"A (left) and B (right): {WEAR_CAPTIONS['slide_tracks']}"}
         page = (
             environment()
             .get_template("wear_compare.html.j2")

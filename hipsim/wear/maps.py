@@ -159,7 +159,8 @@ def wear_maps(
         piece: samples per piece (memory is bounded by it, not by the motion's length).
 
     Raises:
-        TrajectoryError: a motion shorter than one cycle, or with a negative load.
+        TrajectoryError: a motion shorter than one cycle (a motion that is not periodic may lack the cycle's closing
+            sample: one step short still counts), or with a negative load.
     """
     source = SampledSource(motion) if isinstance(motion, Trajectory) else motion
     setup = setup or CupSetup()
@@ -172,7 +173,9 @@ def wear_maps(
             f"the cycle time must be a positive number of seconds, got {cycle_time_s!r}", source=source.name
         )
     duration = _duration(source)
-    if duration < cycle_time_s * (1.0 - 1e-9):
+    # A file of one cycle sampled without its closing sample covers a step less than the cycle: still one cycle.
+    step = (source.time(n - 1) - source.time(0)) / (n - 1)
+    if duration < cycle_time_s * (1.0 - 1e-9) - (0.0 if source.periodic else step * (1.0 + 1e-9)):
         raise TrajectoryError(
             f"the motion covers {duration:.6g} s, shorter than one cycle of {cycle_time_s:.6g} s: "
             "wear is given per cycle, and this motion has no whole one",

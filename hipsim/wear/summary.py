@@ -17,19 +17,20 @@ from .maps import WearMaps
 
 __all__ = ["QUANTITIES", "compare_summaries", "difference_maps", "wear_summary"]
 
-#: The numbers two runs are compared by: key, label, unit.
+#: The numbers two runs are compared by: key, label, unit, and whether it decides the verdict (the extremes of
+#: a few rim points with little work are shown, not judged).
 QUANTITIES = (
-    ("force_track_mm", "force track length", "mm"),
-    ("force_track_load_Nm", "force track load integral", "N·m"),
-    ("sliding_mm_max", "largest sliding distance", "mm"),
-    ("sliding_mm_mean", "mean sliding distance (loaded area)", "mm"),
-    ("work_N_per_mm_max", "largest work", "N/mm"),
-    ("load_slide_integral_Nm", "work over the cup ΣW·dA", "N·m"),
-    ("cross_shear_mean", "mean CS (loaded area)", ""),
-    ("cross_shear_max", "largest CS", ""),
-    ("cross_shear_work_weighted", "work-weighted CS", ""),
-    ("worn_area_mm2", "area worn (W > 0)", "mm²"),
-    ("wear_mm3_per_Mc", "wear volume", "mm³/Mc"),
+    ("force_track_mm", "force track length", "mm", True),
+    ("force_track_load_Nm", "force track load integral", "N·m", True),
+    ("sliding_mm_max", "largest sliding distance", "mm", False),
+    ("sliding_mm_mean", "mean sliding distance (loaded area)", "mm", True),
+    ("work_N_per_mm_max", "largest work", "N/mm", False),
+    ("load_slide_integral_Nm", "work over the cup ΣW·dA", "N·m", True),
+    ("cross_shear_mean", "mean CS (loaded area)", "", True),
+    ("cross_shear_max", "largest CS", "", False),
+    ("cross_shear_work_weighted", "work-weighted CS", "", True),
+    ("worn_area_mm2", "area worn (W > 0)", "mm²", True),
+    ("wear_mm3_per_Mc", "wear volume", "mm³/Mc", True),
 )
 
 
@@ -78,11 +79,14 @@ def wear_summary(maps: WearMaps, wear: Wear | None = None) -> dict[str, Any]:
 
 
 def compare_summaries(a: dict[str, Any], b: dict[str, Any]) -> list[dict[str, Any]]:
-    """Per quantity of :data:`QUANTITIES`: A, B, B − A and (B − A)/|A| (None where a value is missing)."""
+    """Per quantity of :data:`QUANTITIES`: A, B, B − A and (B − A)/|A| (None where a value is missing), and whether it decides."""
     rows = []
-    for key, label, unit in QUANTITIES:
+    for key, label, unit, decides in QUANTITIES:
         x, y = a.get(key), b.get(key)
-        known = x is not None and y is not None and math.isfinite(x) and math.isfinite(y)
+        difference = relative = None
+        if x is not None and y is not None and math.isfinite(x) and math.isfinite(y):
+            difference = y - x
+            relative = difference / abs(x) if x != 0 else None
         rows.append(
             {
                 "key": key,
@@ -90,8 +94,9 @@ def compare_summaries(a: dict[str, Any], b: dict[str, Any]) -> list[dict[str, An
                 "unit": unit,
                 "a": x,
                 "b": y,
-                "difference": (y - x) if known else None,
-                "relative": ((y - x) / abs(x)) if known and x != 0 else None,
+                "difference": difference,
+                "relative": relative,
+                "decides": decides,
             }
         )
     return rows
