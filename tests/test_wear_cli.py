@@ -247,3 +247,21 @@ def test_a_wear_law_table_scales_with_cross_shear(tmp_path, capsys):
     status, text, _ = _run(capsys, "--points", points, "--wear-factor", "1e-7", "--out", tmp_path / "c.csv")
     assert status == 0 and "no areas" in text
     assert "wear_depth_um_per_Mc" in (tmp_path / "c.csv").read_text().splitlines()[0]
+
+
+def test_a_rig_log_is_read_as_the_rig_reads_it(tmp_path, capsys):
+    """A log of three ISO cycles (angles, load, torques): read by the rig's reader, the filter's edges left out; its
+    per-cycle force track is the built-in cycle's."""
+    t = np.arange(1500) / 500
+    q = np.degrees(iso14242_angles(t)[0])
+    columns = {"t_s": t, "Fe_N": iso14242_load(t), "tau_1_Nmm": 0 * t, "tau_2_Nmm": 0 * t, "tau_3_Nmm": 0 * t}
+    columns |= {f"{name}_deg": q[:, k] for k, name in enumerate(ERR)}
+    path = tmp_path / "log.csv"
+    np.savetxt(path, np.column_stack(list(columns.values())), delimiter=",", header=",".join(columns), comments="")
+    status, text, _ = _run(capsys, "--trajectory", path, "--summary-format", "json", "--out", tmp_path / "t.csv")
+    assert status == 0
+    summary = json.loads(text)
+    assert any("a rig log" in note for note in summary["notes"])
+    assert 2.0 < summary["cycles"] < 3.0
+    expected = wear_maps(iso14242(rate=500), 1.0, points=cup_grid(12, 24, 14.0))
+    assert summary["force_track_mm"] == pytest.approx(expected.force_track_mm, rel=1e-2)
