@@ -9,7 +9,11 @@
   arrows and singularity colours, rendered by headless Chromium
   (:func:`hipsim.present.browser.screenshot`; needs ``chromium`` on PATH).
 
-With no name, all three. Each is written next to this script.
+- ``wear_slide_tracks.png`` and ``wear_cup_maps.png``: the slide tracks,
+  force track and maps of sliding, work and cross-shear of the built-in ISO
+  cycle, as ``hipsim wear --report`` draws them.
+
+With no name, all of them. Each is written next to this script.
 """
 
 from __future__ import annotations
@@ -123,7 +127,38 @@ def iso_cycle(out: Path) -> None:
         screenshot(html, out, time_s=0.12)
 
 
-FIGURES = {"machine_frames": machine_frames, "sweep_pareto": sweep_pareto, "iso_cycle": iso_cycle}
+def _wear_iso():
+    import hipsim
+    from hipsim.wear import CupSetup, wear_maps
+    from hipsim.wear.tracks import cycle_tracks
+
+    cycle = hipsim.iso14242(rate=1000)
+    return wear_maps(cycle, 1.0), cycle_tracks(cycle, 1.0, CupSetup())
+
+
+def wear_slide_tracks(out: Path) -> None:
+    """Slide tracks and the force track of the built-in ISO cycle on a 28 mm head's cup."""
+    from hipsim.present.wear_figures import plot_slide_tracks
+
+    maps, tracks = _wear_iso()
+    plot_slide_tracks(tracks, maps.setup.radius_mm, "ISO 14242-1 (built-in cycle), 28 mm head").savefig(out, dpi=110)
+
+
+def wear_cup_maps(out: Path) -> None:
+    """Sliding distance, work and cross-shear per cycle of the built-in ISO cycle on a 28 mm head's cup."""
+    from hipsim.present.wear_figures import plot_cup_maps
+
+    maps, _ = _wear_iso()
+    plot_cup_maps(maps, "ISO 14242-1 (built-in cycle), 28 mm head: per cycle").savefig(out, dpi=90)
+
+
+FIGURES = {
+    "machine_frames": machine_frames,
+    "sweep_pareto": sweep_pareto,
+    "iso_cycle": iso_cycle,
+    "wear_slide_tracks": wear_slide_tracks,
+    "wear_cup_maps": wear_cup_maps,
+}
 
 
 def main(names: list[str]) -> None:

@@ -265,3 +265,11 @@ def test_a_rig_log_is_read_as_the_rig_reads_it(tmp_path, capsys):
     assert 2.0 < summary["cycles"] < 3.0
     expected = wear_maps(iso14242(rate=500), 1.0, points=cup_grid(12, 24, 14.0))
     assert summary["force_track_mm"] == pytest.approx(expected.force_track_mm, rel=1e-2)
+
+
+def test_pdf_needs_a_page_and_a_browser(tmp_path, capsys, monkeypatch):
+    status, _, err = _run(capsys, "--pdf", "--out", tmp_path / "t.csv")
+    assert status == 2 and "--report" in err
+    monkeypatch.setattr("hipsim.present.pages.find_browser", lambda: None)
+    status, _, err = _run(capsys, "--pdf", "--report", tmp_path / "page", "--out", tmp_path / "t.csv")
+    assert status == 2 and "Chromium" in err and not (tmp_path / "page").exists()

@@ -123,7 +123,7 @@ def compare_verdict(rows: list[dict], tolerance: float, names: tuple[str, str]) 
     beyond = [row["label"] for row in known if abs(row["relative"]) > tolerance]
     head = (
         f"B ({names[1]}) against A ({names[0]}): {worst['label']} differs most, by {100 * worst['relative']:+.3g} % "
-        f"({worst['a']:.4g} → {worst['b']:.4g} {worst['unit']})."
+        f"({worst['a']:.4g} → {worst['b']:.4g}{' ' + worst['unit'] if worst['unit'] else ''})."
     )
     if beyond:
         return Verdict(
