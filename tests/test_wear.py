@@ -223,3 +223,34 @@ def test_points_off_the_sphere_or_the_cup_are_refused():
 def test_a_motion_shorter_than_a_cycle_is_refused():
     with pytest.raises(TrajectoryError, match="shorter than one cycle"):
         wear_maps(iso14242(rate=100, cycles=0.5), 1.0, points=cup_grid(4, 8, R_MM))
+
+
+def test_a_cup_mount_turns_the_maps_with_the_cup():
+    """Mounted turned by M, the cup's point w sits where the unmounted cup's M·w does: same s, W and CS."""
+    trajectory = iso14242(rate=400)
+    grid = cup_grid(6, 12, R_MM)
+    M = sequence_rotation(np.array([[0.0, 0.0, math.radians(90.0)]]))[0]
+    mounted = wear_maps(trajectory, 1.0, CupSetup(cup_mount_rad=(0.0, 0.0, math.radians(90.0))), grid)
+    plain = wear_maps(trajectory, 1.0, CupSetup(), cup_points(grid.w @ M.T))
+    np.testing.assert_allclose(mounted.sliding_mm, plain.sliding_mm, rtol=1e-12)
+    np.testing.assert_allclose(mounted.work_N_per_mm, plain.work_N_per_mm, rtol=1e-12)
+    np.testing.assert_allclose(mounted.cross_shear, plain.cross_shear, atol=1e-12)
+
+
+def test_wear_laws_by_hand():
+    """V = 10⁻³·Σ k(CS)·W·dA per cycle (k linear in CS from a table), and C·Σ s_loaded·dA for the contact-area law."""
+    from hipsim.wear.laws import ContactAreaLaw, CrossShearLaw, WearFactor, predict_wear
+
+    maps = wear_maps(iso14242(rate=400), 1.0, points=cup_grid(10, 20, R_MM))
+    W, CS, dA = maps.work_N_per_mm, maps.cross_shear, maps.points.area_mm2
+    table = predict_wear(maps, CrossShearLaw(np.array([0.0, 0.5]), np.array([1e-7, 6e-7])))
+    k = 1e-7 + 1e-6 * CS  # the table's line
+    assert table.total_mm3_per_Mc == pytest.approx(1e-3 * np.sum(k * W * dA) * 1e6, rel=1e-12)
+    constant = predict_wear(maps, WearFactor(2e-7))
+    assert constant.total_mm3_per_Mc == pytest.approx(1e-3 * 2e-7 * np.sum(W * dA) * 1e6, rel=1e-12)
+    np.testing.assert_allclose(constant.depth_um_per_Mc, 1e-3 * 2e-7 * W * 1e6 * 1e3, rtol=1e-12)
+    area = predict_wear(maps, ContactAreaLaw(1e-9))
+    assert area.total_mm3_per_Mc == pytest.approx(1e-9 * np.sum(maps.sliding_loaded_mm * dA) * 1e6, rel=1e-12)
+    narrow = CrossShearLaw(np.array([0.1, 0.2]), np.array([1e-7, 2e-7]))
+    beyond = int(np.sum((CS < 0.1) | (CS > 0.2)))
+    assert beyond > 0 and predict_wear(maps, narrow).beyond_table == beyond
