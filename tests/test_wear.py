@@ -254,3 +254,18 @@ def test_wear_laws_by_hand():
     narrow = CrossShearLaw(np.array([0.1, 0.2]), np.array([1e-7, 2e-7]))
     beyond = int(np.sum((CS < 0.1) | (CS > 0.2)))
     assert beyond > 0 and predict_wear(maps, narrow).beyond_table == beyond
+
+
+def test_trapezoid_weights_of_an_open_motion_in_pieces():
+    """Uneven times, not periodic: the trapezoid's weights (half steps at the ends), the same whether cut in pieces."""
+    from hipsim.motion.sources import SampledSource
+    from hipsim.wear.maps import quadrature_weights
+
+    t = np.array([0.0, 0.1, 0.3, 0.35, 0.6, 1.0])
+    source = SampledSource(Trajectory(t, np.zeros((6, 3)), np.zeros((6, 3)), np.zeros((6, 3)), np.ones(6)))
+    expected = [0.05, 0.15, 0.125, 0.15, 0.325, 0.2]
+    np.testing.assert_allclose(quadrature_weights(source, 0, 6), expected, atol=1e-15)
+    parts = np.concatenate(
+        [quadrature_weights(source, 0, 2), quadrature_weights(source, 2, 5, t[2:5]), quadrature_weights(source, 5, 6)]
+    )
+    np.testing.assert_allclose(parts, expected, atol=1e-15)

@@ -85,18 +85,18 @@ class WearMaps:
         return self.work_N_per_mm > 0.0
 
 
-def quadrature_weights(source: TrajectorySource, start: int, stop: int) -> np.ndarray:
-    """The trapezoidal weights dt in [s] of samples start … stop−1 of the source (module docstring), (stop − start,)."""
+def quadrature_weights(source: TrajectorySource, start: int, stop: int, t: np.ndarray | None = None) -> np.ndarray:
+    """The trapezoidal weights dt in [s] of samples start … stop−1 of the source (module docstring), (stop − start,).
+
+    Args:
+        source: the motion.
+        start, stop: the samples.
+        t: their times in [s], if at hand (else asked of the source).
+    """
     n = len(source)
-    t = np.array([source.time(k) for k in range(max(start - 1, 0), min(stop + 1, n))])
-    if start > 0:
-        before = t[0]
-        t = t[1:]
-    else:
-        before = None
-    after = t[-1] if stop < n else None
-    if after is not None:
-        t = t[:-1]
+    t = np.array([source.time(k) for k in range(start, stop)]) if t is None else np.asarray(t, dtype=float)
+    before = source.time(start - 1) if start > 0 else None
+    after = source.time(stop) if stop < n else None
     if source.periodic:
         step = (source.time(n - 1) - source.time(0)) / (n - 1)
         before = t[0] - step if before is None else before
@@ -132,7 +132,7 @@ def _pieces(source: TrajectorySource, setup: CupSetup, piece: int):
                 source=source.name,
             )
         motion = relative_motion(part, setup)
-        dt = quadrature_weights(source, start, stop)
+        dt = quadrature_weights(source, start, stop, part.t)
         yield _Piece(
             np.ascontiguousarray(motion.omega),
             np.ascontiguousarray(motion.n),
