@@ -273,3 +273,33 @@ def test_pdf_needs_a_page_and_a_browser(tmp_path, capsys, monkeypatch):
     monkeypatch.setattr("hipsim.present.pages.find_browser", lambda: None)
     status, _, err = _run(capsys, "--pdf", "--report", tmp_path / "page", "--out", tmp_path / "t.csv")
     assert status == 2 and "Chromium" in err and not (tmp_path / "page").exists()
+
+
+def test_self_check_passes_and_finds_a_planted_error(capsys, monkeypatch):
+    status, text, _ = _run(
+        capsys, "--self-check", "--head-diameter", "32", "--cup-mount", "5,-3,20", "--summary-format", "json"
+    )
+    document = json.loads(text)
+    assert (
+        status == 0
+        and document["passed"]
+        and [c["name"] for c in document["checks"]]
+        == [
+            "pure flexion",
+            "time reversal",
+            "flexion arc",
+        ]
+    )
+    import dataclasses
+
+    import hipsim.wear.checks as checks
+
+    real = checks.wear_maps
+
+    def biased(*args, **kwargs):  # a cross-shear off by 1e-6 where there is work
+        maps = real(*args, **kwargs)
+        return dataclasses.replace(maps, cross_shear=maps.cross_shear + 1e-6)
+
+    monkeypatch.setattr(checks, "wear_maps", biased)
+    status, text, _ = _run(capsys, "--self-check")
+    assert status == 1 and "pure flexion" in text and "FAIL" in text

@@ -124,6 +124,12 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         help="folder for the page (index.html, figures, wear.json); default none, hipsim_wear_compare with --compare",
     )
     wear.add_argument("--pdf", action="store_true", help="also print the page to wear.pdf (needs Chromium)")
+    wear.add_argument(
+        "--self-check",
+        action="store_true",
+        help="run the analytic checks on this cup and grid instead (pure flexion: CS = 0; time reversal: the same s, W, "
+        "CS; flexion alone: a force track r·(range of α)·2 long); exits 1 if one fails",
+    )
     add_summary_format(wear)
     add_provenance_options(wear)
     wear.set_defaults(run=run)
@@ -416,6 +422,8 @@ def run(args) -> int:
 
     setup = _setup(args)
     points = _points(args, setup)
+    if args.self_check:
+        return _self_check(args, setup, points)
     law = _law(args)
     if not (math.isfinite(args.tolerance) and args.tolerance >= 0):
         raise HipsimError(f"--tolerance: expected a percentage ≥ 0, got {args.tolerance:g}")
@@ -452,6 +460,43 @@ def run(args) -> int:
         print(format_summary(summary, notes))
         print(f"wrote {', '.join(written.values())}")
     return 0
+
+
+def _self_check(args, setup, points) -> int:
+    from ..present.tables import format_table
+    from ..wear.checks import self_checks
+
+    checks = self_checks(setup, points)
+    passed = all(check.passed for check in checks)
+    if args.summary_format == "json":
+        print_json(
+            {
+                "passed": passed,
+                "checks": [
+                    {
+                        "name": c.name,
+                        "law": c.law,
+                        "deviation": c.deviation,
+                        "tolerance": c.tolerance,
+                        "passed": c.passed,
+                    }
+                    for c in checks
+                ],
+            }
+        )
+    else:
+        rows = [
+            [c.name, c.law, f"{c.deviation:.3g}", f"{c.tolerance:.3g}", "pass" if c.passed else "FAIL"] for c in checks
+        ]
+        print(
+            format_table(
+                ["check", "what must hold", "worst deviation", "tolerance", "verdict"],
+                rows,
+                f"Analytic checks on a {setup.head_diameter_mm:g} mm head, {len(points)} points",
+            )
+        )
+        print(f"verdict: {'PASS' if passed else 'FAIL'}")
+    return 0 if passed else 1
 
 
 def _compare(args, setup, points, law, report) -> int:
