@@ -13,9 +13,11 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from ..physics.laws import jit
 
-__all__ = ["COARSE_ANGLES", "direction_pass", "first_pass"]
+__all__ = ["COARSE_ANGLES", "direction_pass", "exact_direction", "first_pass"]
 
 #: The fixed directions of :func:`first_pass` in [rad] from t1.
 COARSE_ANGLES = (0.0, math.pi / 4, math.pi / 2, 3 * math.pi / 4)
@@ -128,3 +130,112 @@ def direction_pass(t1, t2, w, omega, n, load_dt, coef, active, m, pull, along, a
         pull[i, 1] += py
         along[i] += fa
         across[i] += fc
+
+
+@jit(depends_on=())
+def exact_direction(t1, t2, w, omega, n, load_dt, coef, active, theta, along, across):  # pragma: no cover
+    """The direction of most work at each active point, exactly: the global maximum of f(θ) = Σ a_k·|cos(θ − φ_k)|.
+
+    With u_k = |u_k|·(cos φ_k, sin φ_k), φ_k ∈ [0, π), and a_k = c_k·|u_k|, f is A·cos θ + B·sin θ between
+    consecutive kinks β_k = φ_k ± π/2 ∈ [0, π), where one term's sign flips; every kink is convex, so the maximum
+    lies inside an arc: the one where f' goes from ≥ 0 to ≤ 0, and there f = √(A² + B²) along (A, B). The kinks
+    are sorted once per point (by −cos β, which rises with β on [0, π): no angle is computed) and walked round one
+    period, A and B updated at each, without a trigonometric call. Needs the whole motion in memory:
+    O(N log N) a point.
+
+    Args:
+        t1, t2, w, omega, n, load_dt, coef: as :func:`first_pass`, over the whole motion.
+        active: which points to do, (P,) booleans.
+        theta: the direction m of most work, its angle from t1 in [rad] in [0, π), (P,), written.
+        along, across: Σ c·|u·m| and Σ c·|u·m⊥| at it, (P,), written.
+    """
+    P, N = w.shape[0], omega.shape[0]
+    cx = np.empty(N)  # a_k·cos φ_k
+    cy = np.empty(N)  # a_k·sin φ_k (≥ 0)
+    kx = np.empty(N)  # the kink's direction (cos β_k, sin β_k), sin β_k ≥ 0
+    ky = np.empty(N)
+    key = np.empty(N)
+    sign = np.empty(N)
+    for i in range(P):
+        if not active[i]:
+            continue
+        K = 0
+        for k in range(N):
+            cos = w[i, 0] * n[k, 0] + w[i, 1] * n[k, 1] + w[i, 2] * n[k, 2]
+            if cos <= 0.0:
+                continue
+            ux = omega[k, 0] * t1[i, 0] + omega[k, 1] * t1[i, 1] + omega[k, 2] * t1[i, 2]
+            uy = omega[k, 0] * t2[i, 0] + omega[k, 1] * t2[i, 1] + omega[k, 2] * t2[i, 2]
+            if ux == 0.0 and uy == 0.0:
+                continue
+            if uy < 0.0 or (uy == 0.0 and ux < 0.0):  # φ into [0, π)
+                ux, uy = -ux, -uy
+            c = coef * load_dt[k] * cos
+            cx[K], cy[K] = c * ux, c * uy
+            speed = math.sqrt(ux * ux + uy * uy)
+            # β = φ + π/2 when φ < π/2 (direction (−sin φ, cos φ)), else φ − π/2 (direction (sin φ, −cos φ)).
+            if ux > 0.0:
+                kx[K], ky[K] = -uy / speed, ux / speed
+            else:
+                kx[K], ky[K] = uy / speed, -ux / speed
+            if ky[K] <= 0.0:  # β = 0 exactly: the direction (1, 0)
+                kx[K], ky[K] = 1.0, 0.0
+            key[K] = -kx[K]
+            K += 1
+        if K == 0:
+            theta[i], along[i], across[i] = 0.0, 0.0, 0.0
+            continue
+        order = np.argsort(key[:K])
+        # Start in the middle of the widest gap between kinks (round π: the last to the first's opposite), where
+        # every sign is clear; 1 − cos of a gap rises with its width on [0, π].
+        g = 0
+        widest = -1.0
+        for j in range(K):
+            a, b = order[j], order[(j + 1) % K]
+            turn = -1.0 if j + 1 == K else 1.0
+            gap = 1.0 - turn * (kx[a] * kx[b] + ky[a] * ky[b])
+            if gap > widest:
+                widest, g = gap, j
+        a, b = order[g], order[(g + 1) % K]
+        turn = -1.0 if g + 1 == K else 1.0
+        sx, sy = kx[a] + turn * kx[b], ky[a] + turn * ky[b]
+        if widest >= 2.0 or sx * sx + sy * sy < 1e-24:  # a gap of π: all the kinks at one angle
+            sx, sy = -ky[a], kx[a]
+        A = 0.0
+        B = 0.0
+        for j in range(K):
+            s = 1.0 if sx * cx[j] + sy * cy[j] >= 0.0 else -1.0
+            sign[j] = s
+            A += s * cx[j]
+            B += s * cy[j]
+        best = -1.0
+        best_x, best_y = 1.0, 0.0
+        low_x, low_y = kx[a], ky[a]
+        for step in range(K):  # arcs from kink g round one period; past π a kink's direction is negated
+            j = g + step
+            nxt = order[(j + 1) % K]
+            flip = -1.0 if j + 1 >= K else 1.0
+            high_x, high_y = flip * kx[nxt], flip * ky[nxt]
+            rising = -A * low_y + B * low_x  # f' at the arc's start and end
+            falling = -A * high_y + B * high_x
+            if rising >= 0.0 and falling <= 0.0 and (high_x != low_x or high_y != low_y):
+                value = math.sqrt(A * A + B * B)
+                if value > best:
+                    best, best_x, best_y = value, A, B
+            value = A * low_x + B * low_y  # a kink, for safety
+            if value > best:
+                best, best_x, best_y = value, low_x, low_y
+            A -= 2.0 * sign[nxt] * cx[nxt]
+            B -= 2.0 * sign[nxt] * cy[nxt]
+            sign[nxt] = -sign[nxt]
+            low_x, low_y = high_x, high_y
+        size = math.sqrt(best_x * best_x + best_y * best_y)
+        mx, my = best_x / size, best_y / size
+        fa = 0.0
+        fc = 0.0
+        for j in range(K):
+            fa += abs(cx[j] * mx + cy[j] * my)
+            fc += abs(cy[j] * mx - cx[j] * my)
+        theta[i] = math.atan2(my, mx) % math.pi
+        along[i] = fa
+        across[i] = fc

@@ -29,7 +29,7 @@ import numpy as np
 from ..exceptions import TrajectoryError
 from ..motion.sources import SampledSource, TrajectorySource, pieces
 from ..motion.trajectories import Trajectory
-from .kernel import COARSE_ANGLES, direction_pass, first_pass
+from .kernel import COARSE_ANGLES, direction_pass, exact_direction, first_pass
 from .kinematics import CupSetup, relative_motion
 from .points import CupPoints, cup_grid, tangent_basis
 
@@ -203,7 +203,15 @@ def wear_maps(
     def again():
         return kept if kept is not None else _pieces(source, setup, piece)
 
-    along, across, m, iterations = _principal(t1, t2, w, coef, again, work > 0.0, tensor, coarse, directions)
+    if kept is not None:  # the whole motion at hand: the exact search
+        omega = np.ascontiguousarray(np.concatenate([part.omega for part in kept]))
+        normal = np.ascontiguousarray(np.concatenate([part.n for part in kept]))
+        load_dt = np.ascontiguousarray(np.concatenate([part.load_dt for part in kept]))
+        theta, along, across = np.zeros(P), np.zeros(P), np.zeros(P)
+        exact_direction(t1, t2, w, omega, normal, load_dt, coef, work > 0.0, theta, along, across)
+        m, iterations = np.stack([np.cos(theta), np.sin(theta)], axis=1), 0
+    else:
+        along, across, m, iterations = _principal(t1, t2, w, coef, again, work > 0.0, tensor, coarse, directions)
     with np.errstate(invalid="ignore", divide="ignore"):
         cross_shear = np.where(work > 0.0, across / (along + across), np.nan)
     m3 = m[:, :1] * t1 + m[:, 1:] * t2
