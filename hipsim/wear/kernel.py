@@ -133,6 +133,70 @@ def direction_pass(t1, t2, w, omega, n, load_dt, coef, active, m, pull, along, a
 
 
 @jit(depends_on=())
+def _run_order(key, K, order, spare, bounds):  # pragma: no cover
+    """``order[:K]``: the indices of ``key[:K]`` sorted, by merging its monotone runs (a natural merge sort).
+
+    A point's kinks, taken in time order, turn smoothly: a few long runs up or down, so the sort costs
+    O(K·log runs), not quicksort's O(K·log K), and the sort was most of the exact search's cost.
+    ``spare`` (K integers) and ``bounds`` (K + 1 integers) are scratch.
+    """
+    runs = 0
+    start = 0
+    while start < K:
+        end = start + 1
+        if end < K and key[end] < key[start]:
+            while end < K and key[end] <= key[end - 1]:
+                end += 1
+            for j in range(start, end):  # a run down, reversed
+                order[j] = end - 1 - (j - start)
+        else:
+            while end < K and key[end] >= key[end - 1]:
+                end += 1
+            for j in range(start, end):
+                order[j] = j
+        bounds[runs] = start
+        runs += 1
+        start = end
+    bounds[runs] = K
+    in_spare = False
+    while runs > 1:
+        src = spare if in_spare else order
+        dst = order if in_spare else spare
+        merged = 0
+        r = 0
+        while r < runs:
+            lo = bounds[r]
+            mid = bounds[r + 1]
+            hi = bounds[r + 2] if r + 2 <= runs else mid
+            i, j, o = lo, mid, lo
+            while i < mid and j < hi:
+                if key[src[j]] < key[src[i]]:
+                    dst[o] = src[j]
+                    j += 1
+                else:
+                    dst[o] = src[i]
+                    i += 1
+                o += 1
+            while i < mid:
+                dst[o] = src[i]
+                i += 1
+                o += 1
+            while j < hi:
+                dst[o] = src[j]
+                j += 1
+                o += 1
+            bounds[merged] = lo
+            merged += 1
+            r += 2
+        bounds[merged] = K
+        runs = merged
+        in_spare = not in_spare
+    if in_spare:
+        for j in range(K):
+            order[j] = spare[j]
+
+
+@jit(depends_on=())
 def exact_direction(t1, t2, w, omega, n, load_dt, coef, active, theta, along, across):  # pragma: no cover
     """The direction of most work at each active point, exactly: the global maximum of f(θ) = Σ a_k·|cos(θ − φ_k)|.
 
@@ -156,6 +220,9 @@ def exact_direction(t1, t2, w, omega, n, load_dt, coef, active, theta, along, ac
     ky = np.empty(N)
     key = np.empty(N)
     sign = np.empty(N)
+    order = np.empty(N, dtype=np.int64)
+    spare = np.empty(N, dtype=np.int64)
+    bounds = np.empty(N + 1, dtype=np.int64)
     for i in range(P):
         if not active[i]:
             continue
@@ -185,7 +252,7 @@ def exact_direction(t1, t2, w, omega, n, load_dt, coef, active, theta, along, ac
         if K == 0:
             theta[i], along[i], across[i] = 0.0, 0.0, 0.0
             continue
-        order = np.argsort(key[:K])
+        _run_order(key, K, order, spare, bounds)
         # Start in the middle of the widest gap between kinks (round π: the last to the first's opposite), where
         # every sign is clear; 1 − cos of a gap rises with its width on [0, π].
         g = 0
