@@ -24,7 +24,7 @@ COARSE_ANGLES = (0.0, math.pi / 4, math.pi / 2, 3 * math.pi / 4)
 
 
 @jit(depends_on=())
-def first_pass(t1, t2, w, omega, n, load_dt, dt, coef, s, s_loaded, work, tensor, coarse):  # pragma: no cover
+def first_pass(t1, t2, w, omega, n, load_dt, dt, coef, s, s_loaded, work, tensor, coarse, rough):  # pragma: no cover
     """Add a piece's sliding, work, work tensor and work along fixed directions to each point's sums.
 
     Args:
@@ -35,6 +35,7 @@ def first_pass(t1, t2, w, omega, n, load_dt, dt, coef, s, s_loaded, work, tensor
         s, s_loaded, work: Σ|u|·dt, the same while loaded, Σ c·|u| (in [rad], [rad], [N·rad/mm²]), (P,), added to.
         tensor: Σ c·u·uᵀ/|u| as (xx, xy, yy), (P, 3), added to; coarse: Σ c·|u·m_d| along the
             directions m_d at 0°, 45°, 90° and 135° from t1 (:data:`COARSE_ANGLES`), (P, 4), added to.
+        rough: whether to sum ``tensor`` and ``coarse`` (the iteration's start and check; the exact search needs neither).
     """
     P, N = w.shape[0], omega.shape[0]
     half = math.sqrt(0.5)
@@ -64,6 +65,8 @@ def first_pass(t1, t2, w, omega, n, load_dt, dt, coef, s, s_loaded, work, tensor
             sl += speed * dt[k]
             c = coef * load_dt[k] * cos
             wi += c * speed
+            if not rough:
+                continue
             if speed > 0.0:
                 g = c / speed
                 txx += g * ux * ux

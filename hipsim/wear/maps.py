@@ -194,7 +194,9 @@ def wear_maps(
     track = track_load = 0.0
     kept: list[_Piece] | None = [] if n <= KEEP_SAMPLES else None
     for part in _pieces(source, setup, piece):
-        first_pass(t1, t2, w, part.omega, part.n, part.load_dt, part.dt, coef, s, s_loaded, work, tensor, coarse)
+        first_pass(
+            t1, t2, w, part.omega, part.n, part.load_dt, part.dt, coef, s, s_loaded, work, tensor, coarse, kept is None
+        )
         track += float(np.sum(part.n_speed * part.dt))
         track_load += float(np.sum(part.n_speed * part.load_dt))
         if kept is not None:
