@@ -37,8 +37,10 @@ __all__ = ["PIECE", "WearMaps", "quadrature_weights", "wear_maps"]
 
 #: Samples per piece of the motion: a piece's kinematics is some 10 arrays of (PIECE, 3).
 PIECE = 20_000
-#: A motion of at most this many samples keeps its kinematics between passes (some 50 MB); a longer one is re-read.
-KEEP_SAMPLES = 500_000
+#: A motion of at most this many samples is held between passes and gets the exact search (its cost per sample grows
+#: with the motion: some 100 cycles at 1 kHz take minutes on the default grid); a longer one is re-read in pieces by the
+#: L1 iteration, in constant memory.
+KEEP_SAMPLES = 100_000
 #: Most fixed-point iterations per point (they stop in a handful).
 MAX_ITERATIONS = 200
 
