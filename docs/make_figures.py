@@ -9,6 +9,9 @@
   arrows and singularity colours, rendered by headless Chromium
   (:func:`hipsim.present.browser.screenshot`; needs ``chromium`` on PATH).
 
+- ``chain_geometry.png``: what each value of the parameter file's ``[geometry]``
+  table is (one module's two chains, side and plan views; matplotlib only).
+
 - ``wear_slide_tracks.png`` and ``wear_cup_maps.png``: the slide tracks,
   force track and maps of sliding, work and cross-shear of the built-in ISO
   cycle, as ``hipsim wear --report`` draws them.
@@ -152,10 +155,109 @@ def wear_cup_maps(out: Path) -> None:
     plot_cup_maps(maps, "ISO 14242-1 (built-in cycle), 28 mm head: per cycle").savefig(out, dpi=90)
 
 
+def chain_geometry(out: Path) -> None:
+    """One module's two chains as built: each value of the ``[geometry]`` table drawn (deviations exaggerated)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    fig, (side, plan) = plt.subplots(1, 2, figsize=(11, 6), gridspec_kw={"width_ratios": [1.25, 1]})
+    grey, drawn = "0.45", dict(color="0.7", lw=1.2, ls="--")
+    colours = ("tab:green", "tab:purple")
+
+    def arrow(ax, start, end, text, colour, offset=(4, 0), ha="left"):
+        ax.annotate("", end, start, arrowprops=dict(arrowstyle="->", color=colour, lw=1.6))
+        middle = (np.asarray(start) + np.asarray(end)) / 2
+        ax.annotate(text, middle, textcoords="offset points", xytext=offset, color=colour, ha=ha, fontsize=9)
+
+    # Side view (schematic, mm-like units; deviations drawn some 60 times their size).
+    screw_x, carriage = 0.0, 560.0
+    side.plot([screw_x, screw_x], [0, 1040], color=grey, lw=3)
+    side.text(screw_x, 1050, "screw axis of module i (vertical through c_i)", ha="left", va="bottom", fontsize=9)
+    side.add_patch(plt.Rectangle((-22, carriage - 445), 44, 490, color="tab:blue", alpha=0.15))
+    side.text(
+        -30,
+        carriage - 200,
+        "carriage i\nat reading L_i\n(the encoder's)",
+        ha="right",
+        va="center",
+        fontsize=9,
+        color="tab:blue",
+    )
+    heights = (899.0, 490.0)
+    for j, (h, colour) in enumerate(zip(heights, colours)):
+        b_drawing = np.array([screw_x, carriage - (heights[0] - h)])
+        b = b_drawing + np.array([28.0, 30.0 if j == 0 else -30.0])  # u_ji,x and s_ji
+        o_drawing = np.array([420.0, h + 60])
+        o = o_drawing + np.array([22.0, 24.0])  # the rotation centre's offset δo_j
+        a_drawing = np.array([250.0, h + 60])
+        a_moved = a_drawing + (o - o_drawing)  # the drawing's joint, carried by the centre
+        a = a_moved + np.array([-24.0, 30.0])  # δr_ji on top
+        side.plot(*b_drawing, "o", mfc="white", mec="0.5", ms=7)
+        side.plot(*b, "o", color=colour, ms=7)
+        side.plot([b_drawing[0], b[0]], [b_drawing[1]] * 2, color=colour, lw=1.2)
+        side.text(b[0] + 4, b_drawing[1] + (-30 if j == 0 else 14), f"u_{j + 1}i,x", color=colour, fontsize=9)
+        arrow(side, (b[0], b_drawing[1]), b, f"s_{j + 1}i", colour, offset=(8, -4 if j == 0 else -10))
+        side.plot([b[0], a[0]], [b[1], a[1]], color=colour, lw=2.5)
+        mid = 0.5 * (b + a)
+        side.text(mid[0] + 22, mid[1] - 10, f"lever\nl_{j + 1}i = l + δl_{j + 1}i", color=colour, fontsize=9)
+        side.plot([a_drawing[0], o_drawing[0] + 60], [h + 60] * 2, **drawn)
+        side.plot([a[0], o[0] + 60], [a[1], o[1]], color=colour, lw=5, alpha=0.45)
+        side.plot(*o_drawing, "o", mfc="white", mec="0.5", ms=7)
+        side.plot(*o, "o", color=colour, ms=7)
+        arrow(side, o_drawing, o, f"δo_{j + 1}", colour, offset=(8, -12))
+        side.plot(*a_drawing, "o", mfc="white", mec="0.5", ms=7)
+        side.plot(*a, "o", color=colour, ms=7)
+        arrow(side, a_moved, a, f"δr_{j + 1}i", colour, offset=(-44, 6))
+        side.text(
+            o[0] + 70, o[1], f"platform m_{j + 1}\ncentre o_{j + 1} at h_{j + 1}", va="center", fontsize=9, color=colour
+        )
+    side.plot([], [], "o", mfc="white", mec="0.5", label="the drawing's point")
+    side.plot([], [], "o", color="0.3", label="as built")
+    side.legend(loc="lower right", fontsize=8)
+    side.set(xlim=(-170, 620), ylim=(-20, 1130), title="side view of module i (deviations exaggerated)")
+    side.set_aspect("equal")
+    side.axis("off")
+
+    # Plan view: the screw axis, the U-joint centre's horizontal offset, the platform joint's offset.
+    theta, phi = np.radians(-60.0), np.radians(-30.0)
+    c = 265.0 * np.array([np.cos(theta), np.sin(theta)])
+    r0 = 144.0 * np.array([np.cos(phi), np.sin(phi)])
+    plan.plot(*np.array([[0, 0], c]).T, color=grey, lw=0.8, ls=":")
+    plan.plot(*c, "s", color=grey, ms=9)
+    plan.annotate("screw axis c_i", c, textcoords="offset points", xytext=(8, -14), fontsize=9)
+    u = np.array([18.0, 14.0])
+    plan.plot(*(c + u), "o", color=colours[0])
+    arrow(plan, c, c + u, "", colours[0])
+    plan.text(*(c + u + np.array([10.0, 0.0])), "U-joint centre: u_ji = (x, y)", color=colours[0], fontsize=9)
+    ring = 144.0 * np.stack([np.cos(np.linspace(0, 2 * np.pi, 200)), np.sin(np.linspace(0, 2 * np.pi, 200))], 1)
+    plan.plot(*ring.T, **drawn)
+    plan.plot(*r0, "o", mfc="white", mec="0.6")
+    dr = np.array([-16.0, 12.0])
+    plan.plot(*(r0 + dr), "o", color=colours[0])
+    arrow(plan, r0, r0 + dr, "δr_ji (x, y; z up)", colours[0], offset=(-100, 6))
+    plan.annotate(
+        "r⁰_i = e·[cos φ_i, sin φ_i, 0]\n(platform axes)", r0, textcoords="offset points", xytext=(10, -26), fontsize=9
+    )
+    plan.plot(0, 0, "+", color="k", ms=12)
+    plan.plot(*np.array([c + u, r0 + dr]).T, color=colours[0], lw=2.5, alpha=0.6)
+    plan.text(6, 6, "O (δo_j: the centre's offset)", fontsize=9)
+    plan.set(xlim=(-170, 230), ylim=(-300, 120), title="plan view (base axes x right, y up)")
+    plan.set_aspect("equal")
+    plan.grid(alpha=0.2)
+    fig.suptitle("[geometry]: each chain ji's deviation from the drawing (platform j, module i), in mm", fontsize=11)
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+
+
 FIGURES = {
     "machine_frames": machine_frames,
     "sweep_pareto": sweep_pareto,
     "iso_cycle": iso_cycle,
+    "chain_geometry": chain_geometry,
     "wear_slide_tracks": wear_slide_tracks,
     "wear_cup_maps": wear_cup_maps,
 }

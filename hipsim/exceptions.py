@@ -17,10 +17,12 @@ import unicodedata
 
 __all__ = [
     "ArgumentError",
+    "CalibrationError",
     "CatalogueError",
     "ClosureError",
     "FileRowError",
     "HipsimError",
+    "IdentificationError",
     "ModelError",
     "MissingDependencyError",
     "OutputError",
@@ -34,7 +36,7 @@ __all__ = [
 MAX_MESSAGE = 1200
 #: The longest quoted text ('…') printed whole, in characters; a longer one keeps its start and end.
 MAX_QUOTE = 100
-_QUOTED = re.compile(r"(?<![\w'])'([^']{%d,})'(?![\w'])" % (MAX_QUOTE + 1))  # not an apostrophe: the drive's screw
+_QUOTED = re.compile(rf"(?<![\w'])'([^']{{{MAX_QUOTE + 1},}})'(?![\w'])")  # not an apostrophe: the drive's screw
 
 
 def printable(text: str) -> str:
@@ -87,7 +89,7 @@ class ArgumentError(HipsimError, ValueError):
     """
 
     def __init__(self, name: str, value, expected: str):
-        shown = f"shape {value.shape}" if hasattr(value, "shape") and getattr(value, "ndim", 0) else repr(value)
+        shown = f"shape {value.shape}" if hasattr(value, "shape") and getattr(value, "ndim", False) else repr(value)
         super().__init__(f"{name}: expected {expected}, got {shown}")
         self.name = name
         self.value = value
@@ -210,3 +212,29 @@ class MissingDependencyError(HipsimError):
 
 class CatalogueError(FileRowError):
     """A motor, screw or gearbox catalogue (CSV) or drive file is invalid (source, line and column as in :class:`FileRowError`)."""
+
+
+class CalibrationError(HipsimError):
+    """A kinematic calibration cannot be made from its logs: it does not converge, or its machine leaves the workspace.
+
+    Attributes:
+        reason: what went wrong, in words (the log and sample time where one is to blame).
+    """
+
+    def __init__(self, reason: str):
+        super().__init__(reason)
+        self.reason = reason
+
+
+class IdentificationError(HipsimError):
+    """Logs that cannot give an identification: none given, too few samples, nothing determined, an implausible result.
+
+    Attributes:
+        logs: the logs fitted, by name (empty when none was given).
+        reason: what went wrong, in words, without the logs' names.
+    """
+
+    def __init__(self, reason: str, logs: tuple[str, ...] = ()):
+        super().__init__(_placed(reason, ", ".join(logs)))
+        self.logs = tuple(logs)
+        self.reason = reason

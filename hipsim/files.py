@@ -9,6 +9,7 @@ names standard output: the text is written there, as a whole.
 
 from __future__ import annotations
 
+import glob
 import math
 import os
 import signal
@@ -19,6 +20,7 @@ import threading
 from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -168,11 +170,10 @@ def write_atomic(path: str | Path, text: str | bytes) -> Path:
         _write_stdout(text)
         return Path(STDOUT)
     given, path = _target(path)
-    folder = path.parent if str(path.parent) else Path(".")
     mode = "wb" if isinstance(text, bytes) else "w"
     with exit_on_terminate():
         try:
-            handle, temporary = tempfile.mkstemp(dir=folder, prefix=f".{path.name}.", suffix=".part")
+            handle, temporary = _temporary_beside(path)
         except OSError as error:
             raise OutputError(path, f"cannot write ({error.strerror})") from None
         try:
@@ -180,7 +181,8 @@ def write_atomic(path: str | Path, text: str | bytes) -> Path:
             umask = os.umask(0)
             os.umask(umask)
             os.chmod(temporary, 0o666 & ~umask)
-            with os.fdopen(handle, mode, **({} if mode == "wb" else {"encoding": "utf-8", "newline": ""})) as stream:
+            text_options: dict[str, Any] = {} if mode == "wb" else {"encoding": "utf-8", "newline": ""}
+            with os.fdopen(handle, mode, **text_options) as stream:
                 stream.write(text)
             os.replace(temporary, path)
         except OSError as error:  # disk full, permissions, a rename refused
@@ -190,6 +192,32 @@ def write_atomic(path: str | Path, text: str | bytes) -> Path:
             Path(temporary).unlink(missing_ok=True)
             raise
     return path
+
+
+def _temporary_beside(path: Path) -> tuple[int, str]:
+    """A new hidden ``.NAME.PID.XXXX.part`` file beside ``path`` (handle, path).
+
+    A process killed outright (SIGKILL, a power cut) cannot remove its ``.part``
+    file; the writer's process id in the name lets the next write of the same
+    path remove those whose process no longer runs, and leave a live writer's.
+    """
+    folder = path.parent if str(path.parent) else Path(".")
+    for stale in folder.glob(f".{glob.escape(path.name)}.*.part"):
+        pid = stale.name[len(path.name) + 2 :].split(".", 1)[0]
+        if pid.isdigit() and not _running(int(pid)):
+            stale.unlink(missing_ok=True)
+    return tempfile.mkstemp(dir=folder, prefix=f".{path.name}.{os.getpid()}.", suffix=".part")
+
+
+def _running(pid: int) -> bool:
+    """Whether a process with this id runs on this machine (a process of another user counts)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
 
 
 def _target(path) -> tuple[Path, Path]:
@@ -308,13 +336,17 @@ class ColumnWriter:
         self.metadata = dict(metadata or {})
         self.names: list[str] | None = None
         self.rows = 0
-        self._stream = self._temporary = self._parquet = self._pending = self._executor = None
+        self._stream: Any = None
+        self._temporary: Any = None
+        self._parquet: Any = None
+        self._pending: Any = None
+        self._executor: Any = None
         if is_stdout(path):
             self._stream = sys.stdout
             return
         self._target = target = _target(self.path)[1]
         try:
-            handle, temporary = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".part")
+            handle, temporary = _temporary_beside(target)
         except OSError as error:
             raise OutputError(self.path, f"cannot write ({error.strerror})") from None
         self._temporary = Path(temporary)

@@ -67,7 +67,13 @@ def plain(value: Any, skip: tuple[str, ...] = ("source",)) -> Any:
     if isinstance(value, Path):
         return str(value)
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
-        return {f.name: plain(getattr(value, f.name), skip) for f in dataclasses.fields(value) if f.name not in skip}
+        # A field added later with ``metadata={"omit_when_none": True}`` is left out while None, so
+        # what existed before it keeps its fingerprint (Parameters.geometry: the drawing).
+        return {
+            f.name: plain(getattr(value, f.name), skip)
+            for f in dataclasses.fields(value)
+            if f.name not in skip and not (f.metadata.get("omit_when_none") and getattr(value, f.name) is None)
+        }
     if isinstance(value, Mapping):
         return {str(key): plain(item, skip) for key, item in value.items()}
     if isinstance(value, (list, tuple)):

@@ -356,7 +356,7 @@ def bench_servo(params, quick: bool) -> None:
         ("workspace PD", WorkspacePD(params)),
         ("augmented PD", AugmentedPD(params, iso14242_at, control.servo_rate, length)),
     )
-    for name, controller in controllers:
+    for _name, controller in controllers:
         for flag in (True, False):  # load or compile both paths before timing
             simulate(plant, controller, iso14242_at, 0.01, compiled=flag)
     coarse = ReducedPlant(params.replace(integration_step=1e-3))
@@ -597,12 +597,12 @@ def bench_excite(params, quick: bool) -> None:
             ["--harmonics", "2"] if quick else []
         )
         excite = cpu(command)
-        baseline = cpu([sys.executable, "-c", "import hipsim.rig.excitation"])
+        baseline = cpu([sys.executable, "-c", "import hipsim.rig.identification.excitation"])
     print(
         f"hipsim excite, defaults{' (quick: 2 harmonics)' if quick else ''}, fresh process, one core: {excite:.1f} s of CPU "
         f"(design, the finer grid's check, the CSV)"
     )
-    print(f"  baseline, a process that only imports hipsim.rig.excitation: {baseline:.1f} s")
+    print(f"  baseline, a process that only imports hipsim.rig.identification.excitation: {baseline:.1f} s")
     print(f"  target: <= 10 s   {'OK' if excite <= 10 else 'MISSED'}")
 
 
@@ -802,14 +802,14 @@ def bench_rig(quick: bool) -> None:
         for seconds in (short, long):
             _tiled_log(seed, Path(folder) / f"log{seconds}.csv", seconds)
         whole = (
-            "from hipsim.rig.compare import load_log, compare; import hipsim; "
+            "from hipsim.rig import load_log, compare_torques; import hipsim; "
             "p = hipsim.load_parameters(); log = load_log('log{s}.csv', p); "
         )
         rows = [
             (
                 f"whole log (load_log + compare + figures), {short} s",
                 whole.format(s=short)
-                + "from hipsim.present.rig_figures import write_comparison; write_comparison('cmp0', compare(p, log))",
+                + "from hipsim.present.rig_figures import write_comparison; write_comparison('cmp0', compare_torques(p, log))",
                 short,
             ),
             (
@@ -824,7 +824,7 @@ def bench_rig(quick: bool) -> None:
             ),
             (
                 f"whole log (load_log + identify), {short} s",
-                whole.format(s=short) + "from hipsim.rig.identification import identify; identify([log], p)",
+                whole.format(s=short) + "from hipsim.rig.identification.fit import identify; identify([log], p)",
                 short,
             ),
             (
@@ -871,10 +871,10 @@ def bench_monitor(quick: bool) -> None:
 
     import distributed
 
-    from hipsim.rig import compare, load_log
-    from hipsim.rig.monitor_fit import MonitorSetup
-    from hipsim.rig.monitor_run import run_monitor
-    from hipsim.rig.snapshots import find_snapshots
+    from hipsim.rig import compare_torques, load_log
+    from hipsim.rig.monitoring.monitor_fit import MonitorSetup
+    from hipsim.rig.monitoring.monitor_run import run_monitor
+    from hipsim.rig.monitoring.snapshots import find_snapshots
 
     count = 100 if quick else 1000
     params = hipsim.load_parameters()
@@ -890,7 +890,7 @@ def bench_monitor(quick: bool) -> None:
         scan = time.perf_counter() - started
         started = time.perf_counter()
         for snapshot in snapshots:
-            compare(params, load_log(snapshot.path, params), lever_spin=True)
+            compare_torques(params, load_log(snapshot.path, params), lever_spin=True)
         looped = time.perf_counter() - started
         setup = MonitorSetup(params)
         started = time.perf_counter()
@@ -1019,6 +1019,86 @@ def bench_wear(quick: bool) -> None:
     )
 
 
+def _deviated_machine(params, seed: int = 3, size_mm: float = 0.3):
+    """The machine with each of its 48 per-chain values off the drawing by up to ±size_mm (uniform)."""
+    from hipsim.stations import deviations as dv
+
+    return dv.machine(params, np.random.default_rng(seed).uniform(-size_mm, size_mm, dv.COUNT) * 1e-3)
+
+
+def bench_calibration(params, quick: bool) -> None:
+    """Kinematic calibration of both stations from 25,000 samples of the encoders and both sensors (0.05° noise)."""
+    from hipsim.analytic.stations import carriages_for_platform
+    from hipsim.stations import CalibrationLog, attitudes, calibrate
+
+    n = 5000 if quick else 25_000
+    true = _deviated_machine(params)
+    t = np.arange(n) / 1000.0
+    rng = np.random.default_rng(1)
+    q = sum(
+        np.radians(rng.uniform(2.0, 5.0, 3)) * np.sin(2 * np.pi * f * t[:, None] + rng.uniform(0, 2 * np.pi, 3))
+        for f in (0.31, 0.73, 1.17, 1.91)
+    )
+    L = carriages_for_platform(true, q, 2)
+    sensors = attitudes(true, L, q) + rng.normal(0.0, np.radians(0.05), (n, 2, 3))
+    log = CalibrationLog("bench", t, L, sensors)
+    # Baseline: one evaluation of the model the fit iterates on, both platforms' forward kinematics along the log.
+    model, fit = alternated(lambda: attitudes(params, L, sensors), lambda: calibrate([log], params), repeats=2)
+    result = calibrate([log], params)
+    print(
+        f"Kinematic calibration from {n:,} samples (both sensors, 0.05° noise, 48 per-chain values, {result.iterations} iterations)"
+    )
+    print(
+        f"  calibration: {fit:.2f} s; baseline, both platforms' forward kinematics along the log once: {model:.2f} s "
+        f"({fit / model:.0f}x)"
+    )
+    print(f"  residual RMS [°]: {np.degrees(result.residual_rms).round(4).ravel().tolist()}")
+    print("  target: <= 10 s from 25,000 samples")
+
+
+def bench_stations(params, quick: bool) -> None:
+    """hipsim stations on a 10-minute 1 kHz trajectory: carriage commands and both attitudes, --control 2 and both."""
+    from hipsim.stations import station_commands
+
+    minutes = 1 if quick else 10
+    trajectory = hipsim.iso14242(rate=1000, cycles=60 * minutes)
+    machine = _deviated_machine(params)
+    print(f"Two stations on a {minutes}-minute 1 kHz trajectory ({len(trajectory):,} samples), a machine 0.3 mm off")
+    baseline, two, both = alternated(
+        lambda: kinematics(params, trajectory),
+        lambda: station_commands(machine, trajectory.t, trajectory.q, "2"),
+        lambda: station_commands(machine, trajectory.t, trajectory.q, "both"),
+        repeats=1 if not quick else 2,
+    )
+    print(f"  baseline, the drawing's analytic kinematics (slider motion, Jacobians, levers): {baseline:.2f} s")
+    print(f"  --control 2: {two:.2f} s ({two / baseline:.1f}x);  --control both: {both:.2f} s ({both / baseline:.1f}x)")
+    print("  target: <= 5 s")
+
+
+def bench_tolerance(params, quick: bool) -> None:
+    """10,000 tolerance draws (±0.3 mm on every per-chain value, --control 2, 200 samples each) on two dask workers."""
+    from hipsim.stations import parse_tolerances, tolerance_draws
+
+    draws = 1000 if quick else 10_000
+    cycle = hipsim.iso14242(rate=200)
+    bands = parse_tolerances("all=0.3")
+    local_draws = 250
+    start = time.perf_counter()
+    tolerance_draws(params, cycle.t, cycle.q, bands, ("2",), draws=local_draws, workers=0)
+    local = (time.perf_counter() - start) / local_draws
+    start = time.perf_counter()
+    result = tolerance_draws(params, cycle.t, cycle.q, bands, ("2",), draws=draws, workers=2)
+    spread = time.perf_counter() - start
+    p95 = np.degrees(result.percentile("rms")[0, 0]).round(3).tolist()
+    print(f"Tolerance Monte Carlo: {draws:,} machines, ±0.3 mm, --control 2, {len(cycle)} samples each")
+    print(
+        f"  two dask workers: {spread:.1f} s (cluster start included); baseline, in this process: {local * 1e3:.1f} ms a draw, "
+        f"{local * draws:.1f} s for all ({local * draws / spread:.1f}x)"
+    )
+    print(f"  follower m_1 RMS error, 95th percentile α β γ [°]: {p95}")
+    print("  target: <= 60 s on 2 workers")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer samples in the slow baselines")
@@ -1037,6 +1117,9 @@ def main() -> None:
             "long",
             "rig",
             "monitor",
+            "calibration",
+            "stations",
+            "tolerance",
             "wear",
         ],
         help="one section only",
@@ -1056,6 +1139,9 @@ def main() -> None:
             "rig": lambda params, quick: bench_rig(quick),
             "monitor": lambda params, quick: bench_monitor(quick),
             "startup": lambda params, quick: bench_startup(quick),
+            "calibration": bench_calibration,
+            "stations": bench_stations,
+            "tolerance": bench_tolerance,
             "wear": lambda params, quick: bench_wear(quick),
         }
         sections.get(args.only, lambda params, quick: bench_workspace(quick))(params, args.quick)
@@ -1085,6 +1171,12 @@ def main() -> None:
     bench_rig(args.quick)
     print()
     bench_monitor(args.quick)
+    print()
+    bench_calibration(params, args.quick)
+    print()
+    bench_stations(params, args.quick)
+    print()
+    bench_tolerance(params, args.quick)
     print()
     bench_wear(args.quick)
 

@@ -258,3 +258,32 @@ def test_output_errors_carry_the_path_and_the_reason(tmp_path):
     assert isinstance(info.value, HipsimError)
     assert str(info.value.path) == str(missing) and "does not exist" in info.value.reason
     assert str(info.value) == f"{missing}: {info.value.reason}"
+
+
+def test_a_killed_writers_part_file_is_removed_by_the_next_write_a_live_ones_kept(tmp_path):
+    import subprocess
+    import sys
+
+    from hipsim.files import ColumnWriter, write_atomic
+
+    # A process that has ended: its id is free (it was reaped), as a SIGKILL'd run's is.
+    ended = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True)
+    dead_pid = int(ended.stdout)
+    live = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    try:
+        for name in ("out.csv", "table.csv"):
+            (tmp_path / f".{name}.{dead_pid}.abc123.part").write_text("half a file")
+            (tmp_path / f".{name}.{live.pid}.def456.part").write_text("being written")
+        (tmp_path / ".other.csv.1.xyz.part").write_text("another file's")
+        write_atomic(tmp_path / "out.csv", "a\n1\n")
+        writer = ColumnWriter(tmp_path / "table.csv")
+        writer.write({"a": np.array([1.0])})
+        writer.close()
+        left = sorted(p.name for p in tmp_path.glob(".*.part"))
+        assert left == sorted(
+            [f".out.csv.{live.pid}.def456.part", f".table.csv.{live.pid}.def456.part", ".other.csv.1.xyz.part"]
+        )
+        assert (tmp_path / "out.csv").read_text() == "a\n1\n"
+    finally:
+        live.kill()
+        live.wait()

@@ -9,6 +9,7 @@ from ..exceptions import ArgumentError, PoseError
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 from ..results import Run
+from .chain_dynamics import chain_inverse_dynamics, chain_motion, chain_slider_motion
 from .inverse_kinematics import kinematics
 from .virtual_work import inverse_dynamics
 
@@ -54,6 +55,8 @@ class AnalyticModel:
             PoseError: a pose out of reach or singular (with ``on_error="raise"``),
                 or every sample flagged (unless the trajectory is a piece).
         """
+        if self.params.geometry is not None:
+            return self._run_chains(trajectory)
         kin = kinematics(self.params, trajectory, on_error=self.on_error)
         if np.all(kin.flagged) and not state:
             raise PoseError(
@@ -65,3 +68,15 @@ class AnalyticModel:
         with np.errstate(invalid="ignore", divide="ignore"):  # flagged samples are NaN and stay NaN
             torques = inverse_dynamics(self.params, kin, trajectory.Fe, lever_spin=self.lever_spin)
         return Run(self.name, self.params, trajectory, kin.L, kin.Ld, kin.Ldd, torques, kin.cond_inv, kin.flagged)
+
+    def _run_chains(self, trajectory: Trajectory) -> Run:
+        """A per-chain machine (:mod:`hipsim.analytic.chain_dynamics`): the trajectory is the controlled platform's.
+
+        A pose out of reach or singular of either platform raises, whatever ``on_error`` says
+        (a per-chain machine carries no flagged samples).
+        """
+        motion = chain_motion(self.params, trajectory)
+        torques = chain_inverse_dynamics(self.params, motion, trajectory.Fe, lever_spin=self.lever_spin)
+        L, Ld, Ldd = chain_slider_motion(self.params, motion)
+        flagged = np.zeros(len(trajectory.t), dtype=bool)
+        return Run(self.name, self.params, trajectory, L, Ld, Ldd, torques, motion.controlled.cond_inv, flagged)

@@ -30,6 +30,7 @@ import numpy as np
 
 from ..exceptions import PoseError
 from ..machine.parameters import Parameters
+from .chain_kinematics import chain_jacobian, chain_positions
 from .inverse_kinematics import (
     SINGULAR_COND_INV,
     angular_velocity_map,
@@ -48,16 +49,31 @@ _MAX_STEP = 0.05
 _SAME_POSE = 1e-8
 
 
-def _residual(params: Parameters, p: np.ndarray, L1: np.ndarray) -> np.ndarray:
-    """L_1(p) − L1 in [m], (n, 3); NaN where a lever cannot reach (p: platform angles)."""
+def _heights(params: Parameters, p: np.ndarray, platform: int | None) -> np.ndarray:
+    """The carriage readings at platform angles p, (n, 3): the drawing's L_1 (platform None) or platform j's own (1 or 2)."""
     with np.errstate(invalid="ignore"):
-        return slider_heights(params, p)[:, 0, :] - L1
+        if platform is None:
+            return slider_heights(params, p)[:, 0, :]
+        return chain_positions(params.chains, p, platform - 1)[0]
 
 
-def _jacobian(params: Parameters, p: np.ndarray) -> np.ndarray:
-    """∂L_1/∂p = J(p)·T(p) in [m/rad], (n, 3, 3); NaN where a lever cannot reach."""
+def _slider_jacobian(params: Parameters, p: np.ndarray, platform: int | None) -> np.ndarray:
+    """J(p) of the drawing (platform None) or of platform j's own chains, (n, 3, 3)."""
+    if platform is None:
+        return slider_jacobian(params, p)
+    _, r, d = chain_positions(params.chains, p, platform - 1)
+    return chain_jacobian(r, d)
+
+
+def _residual(params: Parameters, p: np.ndarray, L1: np.ndarray, platform: int | None = None) -> np.ndarray:
+    """L(p) − L1 in [m], (n, 3); NaN where a lever cannot reach (p: platform angles)."""
+    return _heights(params, p, platform) - L1
+
+
+def _jacobian(params: Parameters, p: np.ndarray, platform: int | None = None) -> np.ndarray:
+    """∂L/∂p = J(p)·T(p) in [m/rad], (n, 3, 3); NaN where a lever cannot reach."""
     with np.errstate(invalid="ignore", divide="ignore"):
-        return np.einsum("nij,njk->nik", slider_jacobian(params, p), angular_velocity_map(p))
+        return np.einsum("nij,njk->nik", _slider_jacobian(params, p, platform), angular_velocity_map(p))
 
 
 def _solve3(D: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -72,7 +88,9 @@ def _solve3(D: np.ndarray, b: np.ndarray) -> np.ndarray:
     return x / det[:, None]
 
 
-def _newton(params: Parameters, L1: np.ndarray, guess: np.ndarray, max_iter: int) -> tuple[np.ndarray, np.ndarray]:
+def _newton(
+    params: Parameters, L1: np.ndarray, guess: np.ndarray, max_iter: int, platform: int | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """Newton on the platform angles p (after the angle signs) from ``guess``, damped where a step leaves the reach.
 
     Returns:
@@ -81,12 +99,12 @@ def _newton(params: Parameters, L1: np.ndarray, guess: np.ndarray, max_iter: int
     p = np.array(guess, dtype=float)
     converged = np.zeros(len(p), dtype=bool)
     active = np.flatnonzero(np.all(np.isfinite(p), axis=1))
-    residual = _residual(params, p[active], L1[active])
+    residual = _residual(params, p[active], L1[active], platform)
     for _ in range(max_iter):
         if active.size == 0:
             break
         with np.errstate(invalid="ignore", divide="ignore"):
-            step = -_solve3(_jacobian(params, p[active]), residual)
+            step = -_solve3(_jacobian(params, p[active], platform), residual)
         ok = np.all(np.isfinite(step), axis=1)
         step[~ok] = 0.0
         # At most _MAX_STEP per iteration: far from the solution a full Newton step can leap into another assembly mode.
@@ -94,14 +112,14 @@ def _newton(params: Parameters, L1: np.ndarray, guess: np.ndarray, max_iter: int
         step *= np.minimum(1.0, _MAX_STEP / np.maximum(size, 1e-300))
         # Halve a step that takes a lever out of reach (a few times at most).
         trial = p[active] + step
-        new_residual = _residual(params, trial, L1[active])
+        new_residual = _residual(params, trial, L1[active], platform)
         for _ in range(20):
             out = ~np.all(np.isfinite(new_residual), axis=1) & ok
             if not np.any(out):
                 break
             step[out] *= 0.5
             trial[out] = p[active][out] + step[out]
-            new_residual[out] = _residual(params, trial[out], L1[active][out])
+            new_residual[out] = _residual(params, trial[out], L1[active][out], platform)
         p[active] = trial
         residual = new_residual
         done = ok & (np.abs(step).max(axis=1) < _STEP_TOL) & np.all(np.isfinite(residual), axis=1)
@@ -112,21 +130,27 @@ def _newton(params: Parameters, L1: np.ndarray, guess: np.ndarray, max_iter: int
     return p, converged
 
 
-def _home_sign(params: Parameters) -> float:
+def _home_sign(params: Parameters, platform: int | None = None) -> float:
     """The sign of det J at home: the published machine's assembly mode."""
-    return float(np.sign(np.linalg.det(slider_jacobian(params, np.zeros((1, 3)))[0])))
+    return float(np.sign(np.linalg.det(_slider_jacobian(params, np.zeros((1, 3)), platform)[0])))
 
 
-def _check_mode(params: Parameters, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _check_mode(params: Parameters, p: np.ndarray, platform: int | None = None) -> tuple[np.ndarray, np.ndarray]:
     """(in the machine's assembly mode, clear of singular poses) per pose (n,), bool each."""
     with np.errstate(invalid="ignore"):
-        J = slider_jacobian(params, p)
-        same_mode = np.sign(np.linalg.det(J)) == _home_sign(params)
+        J = _slider_jacobian(params, p, platform)
+        same_mode = np.sign(np.linalg.det(J)) == _home_sign(params, platform)
         clear = inverse_condition_number(J) >= SINGULAR_COND_INV
     return same_mode, clear
 
 
-def solve_pose(params: Parameters, L1: np.ndarray, guess: np.ndarray | None = None, max_iter: int = 50) -> np.ndarray:
+def solve_pose(
+    params: Parameters,
+    L1: np.ndarray,
+    guess: np.ndarray | None = None,
+    max_iter: int = 50,
+    platform: int | None = None,
+) -> np.ndarray:
     """Platform orientations from platform 1's slider heights, each from its own guess.
 
     Args:
@@ -135,6 +159,9 @@ def solve_pose(params: Parameters, L1: np.ndarray, guess: np.ndarray | None = No
         guess: gait angles [α, β, γ] in [rad] to start from, (N, 3) or (3,);
             None for home (all zero).
         max_iter: Newton iterations at most.
+        platform: None for the drawing (both platforms alike; L1 are platform 1's slider
+            heights); 1 or 2 for that platform's own chains (:mod:`hipsim.machine.chains`),
+            L1 then the carriage readings.
 
     Returns:
         Gait angles [α, β, γ] in [rad], (N, 3) (after the parameter file's angle signs).
@@ -146,8 +173,8 @@ def solve_pose(params: Parameters, L1: np.ndarray, guess: np.ndarray | None = No
     L1 = np.atleast_2d(np.asarray(L1, dtype=float))
     signs = params.angle_signs
     guess = np.zeros_like(L1) if guess is None else np.broadcast_to(np.asarray(guess, dtype=float), L1.shape)
-    p, converged = _newton(params, L1, guess * signs, max_iter)
-    same_mode, clear = _check_mode(params, p)
+    p, converged = _newton(params, L1, guess * signs, max_iter, platform)
+    same_mode, clear = _check_mode(params, p, platform)
     bad = ~(converged & same_mode & clear)
     if np.any(bad):
         k = int(np.argmax(bad))
@@ -164,7 +191,7 @@ def _failure(converged: bool, same_mode: bool, L1: np.ndarray) -> str:
     return f"the slider heights ({heights}) mm give a singular pose (inverse condition number of J below {SINGULAR_COND_INV:g})"
 
 
-def _continues(params: Parameters, p: np.ndarray, L1: np.ndarray) -> np.ndarray:
+def _continues(params: Parameters, p: np.ndarray, L1: np.ndarray, platform: int | None = None) -> np.ndarray:
     """Does each pose p[k] (k ≥ 1) continue p[k − 1]? (n − 1,) bool.
 
     The step between two samples must match its first-order prediction
@@ -173,7 +200,7 @@ def _continues(params: Parameters, p: np.ndarray, L1: np.ndarray) -> np.ndarray:
     so another solution fails this by far.
     """
     with np.errstate(invalid="ignore"):
-        predicted = _solve3(_jacobian(params, p[:-1]), np.diff(L1, axis=0))
+        predicted = _solve3(_jacobian(params, p[:-1], platform), np.diff(L1, axis=0))
     step = np.diff(p, axis=0)
     size = np.abs(predicted).max(axis=1)
     return np.abs(step - predicted).max(axis=1) <= 0.5 * size + _SAME_POSE
@@ -186,6 +213,8 @@ def forward_kinematics(
     q0: np.ndarray | None = None,
     source: str | None = None,
     max_iter: int = 50,
+    platform: int | None = None,
+    guess: np.ndarray | None = None,
 ) -> np.ndarray:
     """Platform orientations along a log of slider heights, each sample continuing the previous one.
 
@@ -204,6 +233,13 @@ def forward_kinematics(
         q0: gait angles in [rad] near the first sample, (3,); None for home.
         source: the log's name, for messages.
         max_iter: Newton iterations at most per solve.
+        platform: None for the drawing (both platforms alike; L1 are platform 1's slider
+            heights); 1 or 2 for that platform's own chains (:mod:`hipsim.machine.chains`),
+            L1 then the carriage readings.
+        guess: gait angles in [rad] near each sample's solution, (N, 3), for the all-at-once solve
+            (e.g. the other platform's attitude on a per-chain machine, a fraction of a degree off);
+            None for the linearisation about the start pose. Each result is still checked to continue
+            the previous sample's.
 
     Returns:
         Gait angles [α, β, γ] in [rad], (N, 3).
@@ -224,28 +260,31 @@ def forward_kinematics(
         fail(int(np.argmax(~np.all(np.isfinite(L1), axis=1))), "slider heights are not finite")
     signs = params.angle_signs
     start = np.zeros(3) if q0 is None else np.asarray(q0, dtype=float) * signs
-    L_start = slider_heights(params, start[None])[0, 0]
+    L_start = _heights(params, start[None], platform)[0]
     if not np.all(np.isfinite(L_start)):
         raise PoseError("the start pose q0 is out of reach", float(times[0]), 0, source=source)
 
     # The first sample by continuation from the start pose, in ten steps of slider heights.
     first = start
     for s in np.linspace(0.1, 1.0, 10):
-        solved, ok = _newton(params, (L_start + s * (L1[0] - L_start))[None], first[None], max_iter)
+        solved, ok = _newton(params, (L_start + s * (L1[0] - L_start))[None], first[None], max_iter, platform)
         if not ok[0]:
             fail(0, _failure(False, True, L1[0]))
         first = solved[0]
 
-    # Every sample at once, from the linearisation about the start pose.
-    guess = start + np.linalg.solve(_jacobian(params, start[None])[0], (L1 - L_start).T).T
-    p, converged = _newton(params, L1, guess, max_iter)
+    # Every sample at once, from the guesses given or the linearisation about the start pose.
+    if guess is None:
+        guess = start + np.linalg.solve(_jacobian(params, start[None], platform)[0], (L1 - L_start).T).T
+    else:
+        guess = np.broadcast_to(np.asarray(guess, dtype=float), L1.shape) * signs
+    p, converged = _newton(params, L1, guess, max_iter, platform)
     p[~converged] = np.nan  # left to the walk below
     broken = np.zeros(n, dtype=bool)
     if not np.allclose(p[0], first, rtol=0.0, atol=_SAME_POSE):
         p[0] = first
         broken[1:2] = True
     if n > 1:
-        broken[1:] |= ~_continues(params, p, L1)
+        broken[1:] |= ~_continues(params, p, L1, platform)
 
     # Walk from each break, one sample at a time, until the old poses continue the new ones again.
     k = 1
@@ -255,18 +294,22 @@ def forward_kinematics(
             break
         k += int(later[0])
         while k < n:
-            solved, ok = _newton(params, L1[k][None], p[k - 1][None], max_iter)
+            solved, ok = _newton(params, L1[k][None], p[k - 1][None], max_iter, platform)
             if not ok[0]:
                 fail(k, _failure(False, True, L1[k]))
             p[k] = solved[0]
             k += 1
-            if k < n and np.all(np.isfinite(p[k])) and _continues(params, p[k - 1 : k + 1], L1[k - 1 : k + 1])[0]:
+            if (
+                k < n
+                and np.all(np.isfinite(p[k]))
+                and _continues(params, p[k - 1 : k + 1], L1[k - 1 : k + 1], platform)[0]
+            ):
                 break
         if k >= n:
             break
         broken[k] = False  # p[k] continues the walked pose before it
 
-    same_mode, clear = _check_mode(params, p)
+    same_mode, clear = _check_mode(params, p, platform)
     bad = ~(same_mode & clear)
     if np.any(bad):
         k = int(np.argmax(bad))

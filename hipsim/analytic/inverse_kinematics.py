@@ -97,7 +97,9 @@ def slider_heights(params: Parameters, q: np.ndarray) -> np.ndarray:
     """L_ji, the slider heights in [m], shape (N, 2, 3), from orientations q in [rad], shape (N, 3).
 
     Poses out of reach give NaN; :func:`kinematics` turns them into errors.
+    The drawing only: a per-chain machine is refused (:mod:`hipsim.analytic.stations` serves it).
     """
+    params.require_drawing("the drawing's inverse kinematics")
     r = _platform_vectors(params, rotation_matrix_components(np.cos(q.T), np.sin(q.T)))
     d, radicand = _lever_vectors(params, r)
     L1 = params.heights[0] + r[2] - d[2]
@@ -117,6 +119,7 @@ def slider_jacobian(params: Parameters, q: np.ndarray) -> np.ndarray:
     Returns:
         J, shape (N, 3, 3); NaN rows where a lever cannot reach.
     """
+    params.require_drawing("the drawing's Jacobian")
     r = _platform_vectors(params, rotation_matrix_components(np.cos(q.T), np.sin(q.T)))
     d, radicand = _lever_vectors(params, r)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -238,6 +241,7 @@ def kinematics(params: Parameters, trajectory: Trajectory, on_error: str = "rais
     """
     if on_error not in ("raise", "flag"):
         raise ArgumentError("on_error", on_error, "'raise' or 'flag'")
+    params.require_drawing("the drawing's kinematics")
     with np.errstate(divide="ignore", invalid="ignore"):  # poses out of reach give NaN and are flagged
         return _kinematics(params, trajectory, on_error)
 

@@ -100,6 +100,8 @@ def kernel_parameters(params: Parameters, lever_spin: bool = True) -> KernelPara
             (as :func:`hipsim.analytic.virtual_work.inverse_dynamics` with ``lever_spin=True``).
     """
 
+    params.require_drawing("the compiled single-state model (reduced plant, servo loop, controllers)")
+
     # Plain floats throughout: numba compiles once per combination of argument types.
     def rows(matrix) -> Matrix:
         return tuple(tuple(float(x) for x in row) for row in np.asarray(matrix))

@@ -117,8 +117,12 @@ def _platform_axes(kin: Kinematics):
 _NO_FORCE = np.zeros((3, 1, 1))
 
 
-def _lever_ends(params: Parameters, kin: Kinematics, lever_spin: bool, force: np.ndarray, moment: np.ndarray):
+def _lever_ends(
+    params: Parameters, kin: Kinematics, lever_spin: bool, force: np.ndarray, moment: np.ndarray, lever_length=None
+):
     """A wrench on each lever (force at its centre, moment), as the two end forces of the module docstring.
+
+    ``lever_length``: l in [m], or per leg (3, 1) on a per-chain machine; None for the drawing's.
 
     Returns:
         Σ_i r_i × f_a,i, the moment of the platform-end forces about the centre (3, N),
@@ -128,21 +132,21 @@ def _lever_ends(params: Parameters, kin: Kinematics, lever_spin: bool, force: np
     if lever_spin:
         moment = laws.spin_transpose(per_leg(params.ujoint_axes), e, moment)
     m_cross_e = cross_array(moment, e)
-    m_cross_e /= params.lever_length
+    m_cross_e /= params.lever_length if lever_length is None else lever_length
     f_a = 0.5 * force + m_cross_e
     f_b_z = 0.5 * force[2] - m_cross_e[2]
     return np.sum(cross_array(kin.r.T, f_a), axis=1), f_b_z
 
 
-def _lever_inertia(params: Parameters, kin: Kinematics, lever_spin: bool, omega_l, omega_l_dot):
+def _lever_inertia(params: Parameters, kin: Kinematics, lever_spin: bool, omega_l, omega_l_dot, lever_length=None):
     """Levers' gravity and D'Alembert wrench, mapped to their ends by :func:`_lever_ends`."""
     gravity = np.array([0.0, 0.0, -params.gravity])[:, None, None]
     F_l = params.lever_mass * (gravity - kin.a_l[:, 0].T)
     M_l = _euler_moment(_lever_axes(params, kin), params.lever_inertia, omega_l, omega_l_dot)
-    return _lever_ends(params, kin, lever_spin, F_l, M_l)
+    return _lever_ends(params, kin, lever_spin, F_l, M_l, lever_length)
 
 
-def _lever_joint_friction(params: Parameters, kin: Kinematics, lever_spin: bool, omega_l):
+def _lever_joint_friction(params: Parameters, kin: Kinematics, lever_spin: bool, omega_l, lever_length=None):
     """Friction in the levers' universal (U) and spherical (S) joints.
 
     U: the lever relative to the non-rotating slider; S: the lever relative to
@@ -157,7 +161,7 @@ def _lever_joint_friction(params: Parameters, kin: Kinematics, lever_spin: bool,
         return 0.0, 0.0, 0.0
     omega = kin.omega.T
     tau_bf, tau_af = (stack(moment) for moment in laws.lever_joint_friction(params.friction, omega_l, omega))
-    Q, f_b_z = _lever_ends(params, kin, lever_spin, _NO_FORCE, -tau_af - tau_bf)
+    Q, f_b_z = _lever_ends(params, kin, lever_spin, _NO_FORCE, -tau_af - tau_bf, lever_length)
     Q += np.sum(tau_af, axis=1)
     power = np.sum(dot(tau_bf, omega_l) + dot(tau_af, omega_l - omega[:, None]), axis=0)
     return Q, f_b_z, power

@@ -18,6 +18,7 @@ import sys
 from ..exceptions import HipsimError
 from ..version import __version__
 from . import (
+    calibrate,
     check,
     feasible,
     iso_check,
@@ -28,6 +29,7 @@ from . import (
     rig,
     simulate,
     size,
+    stations,
     sweep,
     torques,
     urdf,
@@ -75,10 +77,12 @@ def build_parser() -> argparse.ArgumentParser:
         mjcf,
         size,
         sweep,
+        stations,
         params,
     ):
         command.add_parser(commands)
     rig.add_parser(commands)  # compare, identify, excite: the rig in the loop
+    calibrate.add_parser(commands)
     monitor.add_parser(commands)
     return parser
 

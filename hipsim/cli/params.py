@@ -35,4 +35,11 @@ def run(args) -> int:
             note = spec.meaning + (f" [{spec.unit}]" if spec.unit else "")
             shown = json.dumps(value).replace("Infinity", "inf")  # TOML spells it inf
             print(f"{key} = {shown}".ljust(60) + f"# {note}")
+    if params.geometry is not None:  # per-chain deviations from the drawing (hipsim.machine.chains)
+        from ..machine.chains import CONTROL_MEANING, GEOMETRY_KEYS, geometry_table
+
+        print("\n[geometry]")
+        for key, value in geometry_table(params.geometry).items():
+            note = f"{GEOMETRY_KEYS[key][3]} [mm]" if key in GEOMETRY_KEYS else CONTROL_MEANING
+            print(f"{key} = {json.dumps(value)}".ljust(59) + f" # {note}")
     return 0

@@ -26,7 +26,7 @@ from ..machine.parameters import Parameters, load_parameters
 from ..physics.transmission import radians_per_travel
 from .solver import ClosedChainSolver
 
-__all__ = ["ClosedChainModel", "HipLayout", "load_closed_chain", "load_model", "require_layout"]
+__all__ = ["ClosedChainModel", "HipLayout", "controlled_platform", "load_closed_chain", "load_model", "require_layout"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -292,7 +292,10 @@ def _hip_layout(chain: ClosedChainModel, params: Parameters) -> HipLayout:
         slider_v=slider_v,
         ujoint_v=ujoint_v,
         closure=closure,
-        slider_offset=placement_z[0] - placement_z[1],
+        # A per-chain machine reports carriage readings: L_2i = L_1i − (h_1 − h_2), as on the drawing.
+        slider_offset=placement_z[0] - placement_z[1]
+        if params.geometry is None
+        else np.full(3, params.heights[0] - params.heights[1]),
         leg_v=leg_v,
         groups=groups,
         initial_guess=initial_guess,
@@ -308,3 +311,16 @@ def require_layout(chain: ClosedChainModel) -> HipLayout:
     if chain.layout is None:
         raise ModelError("this function needs the hip simulator model from load_model()")
     return chain.layout
+
+
+def controlled_platform(chain: ClosedChainModel) -> int | None:
+    """On a per-chain machine, the index (0: m_1, 1: m_2) of the platform whose angles a trajectory gives; None on the drawing.
+
+    The drawing's platforms turn alike, so a trajectory holds both; a per-chain machine's
+    ``[geometry] control`` platform is held at the trajectory and the other one is solved
+    with the legs (:class:`~hipsim.closed_chain.closure.Closer`).
+    """
+    params = chain.params
+    if params is None or params.geometry is None:
+        return None
+    return params.geometry.control - 1

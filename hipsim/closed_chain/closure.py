@@ -51,7 +51,7 @@ from ..motion.trajectories import trajectory_arrays
 from ..physics import laws
 from ..physics.orientation import angular_velocity_map, inverse_condition_number
 from . import closure_kernel
-from .build import ClosedChainModel, require_layout
+from .build import ClosedChainModel, controlled_platform, require_layout
 
 __all__ = ["ClosedKinematics", "Closer", "Continuation", "close_chain", "kinematics"]
 
@@ -124,24 +124,38 @@ class Closer:
         self.ws = solver.workspace()
         self.tol2, self.max_iter = tol * tol, max_iter
         nv = chain.model.nv
-        self.platforms = self.layout.platform_v.ravel()
-        # K = [P₁; J_c]'s selection P₁: platform 1's coordinates, and the others.
-        self.platform1 = self.layout.platform_v[0]
-        self.order = solver.k_order()
+        layout = self.layout
+        controlled = controlled_platform(chain)
+        self.per_chain = controlled is not None
+        if controlled is None:
+            # The drawing: both platforms held at the trajectory's angles, the 15 leg coordinates solved.
+            self.platforms = layout.platform_v.ravel()
+            # K = [P₁; J_c]'s selection P₁: platform 1's coordinates, and the others.
+            self.platform1 = layout.platform_v[0]
+            platform2 = layout.platform_v[1]  # set to the given rates exactly
+            self.free = layout.leg_v
+            self.order = solver.k_order()
+        else:
+            # Per chain: the controlled platform held, the other one solved with the legs (18 unknowns,
+            # 18 closure equations); K = [P_c; J_c], and no platform's rates are overwritten.
+            self.platforms = self.platform1 = platform2 = layout.platform_v[controlled]
+            self.follower = layout.platform_v[1 - controlled]
+            self.free = np.sort(np.concatenate([layout.leg_v, self.follower]))
+            self.order = solver.k_order(controlled)
         self.K_inv = np.empty((nv, nv))  # K⁻¹ at the last closed sample: the chord method's Jacobian
         self.have_K_inv = False
         self.prediction = np.empty(nv)  # where the loop puts a sample's predicted q
         self._scratch = np.empty(nv)  # a second iterate for chord steps beyond the first
         self.evaluations = 0
         # closure_kernel.closed_sample's arguments after the gaps' limit, up to the sample's own (fixed for a run).
-        ws, layout = self.ws, self.layout
+        ws = self.ws
         self.constants = (
             ws.J,
             ws.support_masks,
             ws.J_c,
             self.platform1,
             *self.order,
-            layout.platform_v[1],
+            platform2,
             layout.slider_v,
         )
         self.keep_nothing = (
@@ -242,8 +256,9 @@ class Closer:
         self.have_K_inv = True
 
     def _levenberg_marquardt(self, q: np.ndarray, cost: float) -> np.ndarray:
-        """Damped Gauss–Newton on the 15 leg coordinates with fresh Jacobians, from q whose gaps (|gaps|² = cost) the workspace holds."""
-        legs = self.layout.leg_v
+        """Damped Gauss–Newton on the 15 leg coordinates (and a per-chain machine's follower platform's 3) with fresh Jacobians,
+        from q whose gaps (|gaps|² = cost) the workspace holds."""
+        legs = self.free
         damping = 1e-6
         for iteration in range(self.max_iter):
             if cost <= self.tol2:
@@ -351,12 +366,13 @@ def close_chain(
     t, q_in, qd_in, qdd_in = trajectory_arrays(traj)
     signs = chain.params.angle_signs if chain.params is not None else np.ones(3)
     angles, rates, accels = (np.ascontiguousarray(x * signs) for x in (q_in, qd_in, qdd_in))
-    both = np.tile(angles, 2)  # both platforms' coordinates, in platform_v.ravel() order
+    closer = Closer(chain, tol, max_iter)
+    # The drawing: both platforms' coordinates, in platform_v.ravel() order; per chain: the controlled platform's.
+    both = angles if closer.per_chain else np.tile(angles, 2)
     n, nq, nv = len(t), chain.model.nq, chain.model.nv
     residual = np.empty(n)  # the largest closure gap per sample [m]
     iterations = np.empty(n, dtype=int)
     J_rates = np.empty((n, 3, 3))  # ∂L̇/∂(angle rates) of the sliders
-    closer = Closer(chain, tol, max_iter)
     # The samples before this piece (if any) come first, so that the predictor sees one run.
     go_on = continuation if continuation is not None and continuation.samples else None
     before = len(go_on.t) if go_on else 0
@@ -385,6 +401,10 @@ def close_chain(
         else:
             prediction[:] = layout.initial_guess
             prediction[platforms] = angles_k
+            if (
+                closer.per_chain
+            ):  # the follower starts at the controlled platform's attitude, a fraction of a degree off
+                prediction[closer.follower] = angles_k
         if dynamics is not None:
             keep = dynamics.keep(k)
         evaluations = closer.evaluations

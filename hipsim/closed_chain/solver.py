@@ -26,7 +26,9 @@ class _ThreadShare:
     """What the solver of one model needs in one thread: its workspace, and (once asked for) K's block order and its batched RNEAs."""
 
     def __init__(self, workspace: Workspace):
-        self.workspace, self.rneas, self.k_order = workspace, {}, None
+        self.workspace = workspace
+        self.rneas: dict[bool, list[BatchedRNEA]] = {}
+        self.k_order: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
 
 
 class ClosedChainSolver:
@@ -58,12 +60,13 @@ class ClosedChainSolver:
         """This thread's workspace (Pinocchio Data and constraint Datas, with their views)."""
         return self._share().workspace
 
-    def k_order(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """K's block order (:func:`~hipsim.closed_chain.workspace.k_order`) with P₁ on platform 1's coordinates: ~0.7 ms of SciPy graph work, once."""
+    def k_order(self, platform: int = 0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """K's block order (:func:`~hipsim.closed_chain.workspace.k_order`) with P₁ on platform ``platform``'s coordinates
+        (0: m_1, the drawing's; 1: m_2, the controlled platform of a per-chain machine): ~0.7 ms of SciPy graph work, once."""
         share = self._share()
-        if share.k_order is None:
-            share.k_order = k_order(share.workspace, self.chain.layout.platform_v[0])
-        return share.k_order
+        if platform not in share.k_order:
+            share.k_order[platform] = k_order(share.workspace, self.chain.layout.platform_v[platform])
+        return share.k_order[platform]
 
     def rneas(self, parts: bool) -> list[BatchedRNEA]:
         """This thread's batched RNEAs: the body groups' (parts), or the whole tree's, armature included."""

@@ -141,7 +141,7 @@ def field_lookup(tables: tuple[str, ...], exclude: tuple[str, ...] = ()) -> dict
         for base, spec in FIELDS[table].items():
             if base in exclude:
                 continue
-            for (unit, factor), name in zip(spec.units.items(), spec.names(base)):
+            for (_unit, factor), name in zip(spec.units.items(), spec.names(base)):
                 out[name] = (table, base, spec, factor)
     return out
 

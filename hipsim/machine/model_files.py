@@ -30,6 +30,7 @@ import yaml
 
 from ..exceptions import ModelError
 from ..files import write_atomic
+from .chains import per_chain_urdf
 from .parameters import Parameters, load_parameters
 
 __all__ = [
@@ -131,6 +132,8 @@ def urdf_text(params: Parameters | None = None) -> str:
             xacro.process_doc(doc, mappings=dict(xacro_arguments(params)))
         except Exception as error:  # xacro raises bare Exceptions and XacroException alike
             raise ModelError(f"{path}: xacro expansion failed: {error}") from error
+    if params.geometry is not None:  # each chain as built ([geometry]); the drawing's text is left as it is
+        per_chain_urdf(doc, params.chains, params.screw_points)
     doc.insertBefore(xml.dom.minidom.Comment(_BANNER), doc.firstChild)
     return doc.toprettyxml(indent="  ")
 
@@ -147,7 +150,7 @@ def write_urdf(params: Parameters | None = None, path: str | os.PathLike | None 
     """
     text = urdf_text(params)
     validate_urdf(text)
-    return write_atomic(default_urdf_path() if path is None else path, text)
+    return write_atomic(default_urdf_path() if path is None else Path(path), text)
 
 
 def _yaml_number(value: float) -> str:
@@ -204,7 +207,7 @@ def write_closures(params: Parameters | None = None, path: str | os.PathLike = "
     Returns:
         The path written.
     """
-    return write_atomic(path, closure_text(params))
+    return write_atomic(Path(path), closure_text(params))
 
 
 def validate_urdf(text: str, source: str = "generated URDF") -> None:

@@ -16,6 +16,7 @@ import numpy as np
 
 from ..arrays import readonly
 from ..exceptions import ParameterError
+from .chains import ChainGeometry, Chains
 
 __all__ = ["FRICTION_COEFFICIENTS", "ControlSettings", "Friction", "Parameters", "slender_levers"]
 
@@ -105,6 +106,8 @@ class Parameters:
         motor: the optional motor and module ratings, by key of the file's
             ``[motor]`` table, in its units (N·mm, rpm, mm, N); empty if none.
         source: where the values came from (file and overrides).
+        geometry: the per-chain deviations from the drawing (the file's ``[geometry]``
+            table, :mod:`hipsim.machine.chains`); None for the drawing.
     """
 
     gravity: float
@@ -126,8 +129,14 @@ class Parameters:
     control: ControlSettings
     motor: Mapping[str, float] = dataclasses.field(default_factory=lambda: MappingProxyType({}))
     source: str = "<built in>"
+    # Left out of fingerprints while None, so the drawing's keep theirs (hipsim.fingerprint.plain).
+    geometry: ChainGeometry | None = dataclasses.field(default=None, metadata={"omit_when_none": True})
 
     def __post_init__(self):
+        if self.geometry is not None and not isinstance(self.geometry, ChainGeometry):
+            raise ParameterError(
+                f"expected a ChainGeometry or None, got {type(self.geometry).__name__}", key="geometry"
+            )
         for name, shape in (
             ("screw_angles", (3,)),
             ("heights", (2,)),
@@ -162,6 +171,31 @@ class Parameters:
         """u1_i = ẑ × c_i/|c_i|, the universal joints' first (slider-fixed) axes, shape (3, 3)."""
         th = self.screw_angles
         return readonly(np.stack([-np.sin(th), np.cos(th), np.zeros(3)], axis=1))
+
+    @cached_property
+    def chains(self) -> Chains:
+        """The six chains and two rotation centres, absolute, with the per-chain deviations (the drawing's without)."""
+        return Chains.build(self.screw_points, self.platform_points, self.lever_length, self.heights, self.geometry)
+
+    @property
+    def per_chain(self) -> bool:
+        """True when the machine has per-chain geometry (a ``[geometry]`` table that is not the drawing)."""
+        return self.geometry is not None
+
+    def require_drawing(self, what: str) -> None:
+        """Refuse a per-chain machine in one line: ``what`` (e.g. "the reduced plant") uses the drawing's geometry only.
+
+        Raises:
+            ParameterError: naming the file's ``[geometry]`` table, when the machine has one.
+        """
+        if self.geometry is not None:
+            raise ParameterError(
+                f"per-chain geometry is not supported by {what} yet (it assumes both platforms alike); remove "
+                "the [geometry] table to run on the drawing (torques, check, feasible, sweep, params, urdf and "
+                "mjcf take it)",
+                key="geometry",
+                source=self.source,
+            )
 
     def replace(self, **changes) -> Parameters:
         """A copy with some attributes changed, e.g. ``params.replace(lever_mass=0.0)``."""

@@ -31,11 +31,13 @@ from typing import Any
 import numpy as np
 
 from ..exceptions import ParameterError
+from .chains import GEOMETRY_KEYS, ChainGeometry, geometry_from_table, geometry_table
 from .parameter_set import ControlSettings, Friction, Parameters, slender_levers
 from .schema import OPTIONAL_SECTIONS, SCHEMA, Key, plausible_ranges
 
 __all__ = [
     "ATTRIBUTES",
+    "ChainGeometry",
     "ControlSettings",
     "Friction",
     "Parameters",
@@ -162,13 +164,14 @@ def load_parameters(
     source = str(path)
     raw = read_toml(path, "parameter file")
     for dotted, value in (overrides or {}).items():
-        section, key = check_key(dotted, overrides_source)
+        section, key = _geometry_key(dotted, overrides_source) or check_key(dotted, overrides_source)
         if not isinstance(raw.setdefault(section, {}), dict):
             raise ParameterError("expected a [section] table", key=section, source=source)
         raw[section][key] = value
     if overrides:
         source += " with " + ", ".join(f"{k}={v}" for k, v in overrides.items())
-    params = _build(_check(raw, source), source)
+    geometry = geometry_from_table(raw["geometry"], source) if "geometry" in raw else None
+    params = _build(_check(raw, source), source, geometry)
     for key, value, (low, high) in implausible(params):
         warnings.warn(implausible_message(key, value, (low, high), source), ParameterWarning, stacklevel=2)
     return params
@@ -254,13 +257,33 @@ def override_parameters(
             value = getattr(value, part)
         values[dotted] = value
     values |= {f"motor.{key}": value for key, value in params.motor.items()}
+    geometry = params.geometry
+    geometry_overrides = {}
     for dotted, value in overrides.items():
+        if _geometry_key(dotted, overrides_source):
+            geometry_overrides[dotted.partition(".")[2]] = value
+            continue
         section, key = check_key(dotted, overrides_source)
         values[dotted] = _convert(value, SCHEMA[section][key], dotted, overrides_source)
     source = (
         params.source + " with " + ", ".join(f"{k}={v}" for k, v in overrides.items()) if overrides else params.source
     )
-    return _build(values, source)
+    if geometry_overrides:
+        kept = geometry_table(geometry) if geometry is not None else {}
+        geometry = geometry_from_table(kept | geometry_overrides, overrides_source)
+    return _build(values, source, geometry)
+
+
+def _geometry_key(dotted: str, source: str) -> tuple[str, str] | None:
+    """("geometry", key) for a key of the ``[geometry]`` table (:data:`~hipsim.machine.chains.GEOMETRY_KEYS`), else None."""
+    section, _, key = dotted.partition(".")
+    if section != "geometry":
+        return None
+    if key != "control" and key not in GEOMETRY_KEYS:
+        raise ParameterError(
+            f"unknown key (known in [geometry]: control, {', '.join(GEOMETRY_KEYS)})", key=dotted, source=source
+        )
+    return section, key
 
 
 def _did_you_mean(dotted: str) -> str:
@@ -273,7 +296,8 @@ def _did_you_mean(dotted: str) -> str:
 def _check(raw: Mapping[str, Any], source: str) -> dict[str, Any]:
     """Every key of SCHEMA present, typed and within bounds; returns SI values by dotted key."""
     for section, table in raw.items():
-        if section == "identification":  # what hipsim identify read or wrote: hipsim.rig.uncertainty reads it
+        # what hipsim identify read or wrote (hipsim.rig.identification.uncertainty reads it); per-chain geometry (read apart)
+        if section in ("identification", "geometry"):
             continue
         if section not in SCHEMA:
             raise ParameterError(f"unknown section (known: {', '.join(SCHEMA)})", key=section, source=source)
@@ -406,7 +430,7 @@ ATTRIBUTES = {
 }
 
 
-def _build(values: Mapping[str, Any], source: str) -> Parameters:
+def _build(values: Mapping[str, Any], source: str, geometry: ChainGeometry | None = None) -> Parameters:
     def group(section):
         return {ATTRIBUTES[k].split(".")[1]: v for k, v in values.items() if k.startswith(section + ".")}
 
@@ -422,8 +446,10 @@ def _build(values: Mapping[str, Any], source: str) -> Parameters:
         )
     fields = {ATTRIBUTES[k]: v for k, v in values.items() if k in ATTRIBUTES and "." not in ATTRIBUTES[k]}
     motor = MappingProxyType({k.split(".", 1)[1]: v for k, v in values.items() if k.startswith("motor.")})
-    params = Parameters(**fields, friction=friction, control=control, motor=motor, source=source)
+    params = Parameters(**fields, friction=friction, control=control, motor=motor, source=source, geometry=geometry)
     _check_geometry(params, source)
+    if geometry is not None:
+        _check_chains(params, source)
     return params
 
 
@@ -468,6 +494,23 @@ def _check_geometry(params: Parameters, source: str) -> None:
         )
 
 
+def _check_chains(params: Parameters, source: str) -> None:
+    """Each chain of a per-chain machine must assemble at home: its lever spans the horizontal gap, its U-joint below its platform joint."""
+    chains = params.chains
+    for j in range(2):
+        a = chains.centres[j] + chains.platform_points[j]  # the platform joints at home (R = I)
+        gap = a[:, :2] - chains.screw_points[j, :, :2]
+        radicand = chains.lever_lengths[j] ** 2 - np.sum(gap**2, axis=1)
+        if np.any(radicand <= 0):
+            i = int(np.argmax(radicand <= 0))
+            raise ParameterError(
+                f"chain {j + 1}{i + 1}: its lever of {chains.lever_lengths[j, i] * 1e3:g} mm cannot reach from its U-joint "
+                f"to its platform joint ({np.hypot(*gap[i]) * 1e3:.1f} mm apart horizontally at home)",
+                key="geometry",
+                source=source,
+            )
+
+
 def file_values(params: Parameters) -> dict[str, Any]:
     """The parameter set back in the file's units, by dotted key (what ``hipsim params`` prints)."""
     out = {}
@@ -478,7 +521,7 @@ def file_values(params: Parameters) -> dict[str, Any]:
                 if key in params.motor:
                     out[dotted] = params.motor[key]
                 continue
-            value = params
+            value: Any = params
             for part in ATTRIBUTES[dotted].split("."):
                 value = getattr(value, part)
             if spec.kind == "bool":

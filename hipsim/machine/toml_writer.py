@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 
+from .chains import CONTROL_MEANING, GEOMETRY_KEYS, geometry_table
 from .parameter_set import Parameters
 from .parameters import file_values
 from .schema import SCHEMA
@@ -63,7 +64,23 @@ def parameter_toml(params: Parameters, title: str | None = None, units: bool = F
             else:
                 lines.append(entry + (f"  # {note}" if note else ""))
         lines.append("")
+    if params.geometry is not None:
+        lines += _geometry_lines(params)
     return "\n".join(lines)
+
+
+def _geometry_lines(params: Parameters) -> list[str]:
+    """The ``[geometry]`` table: each chain's deviation from the drawing, in mm (:mod:`hipsim.machine.chains`)."""
+    assert params.geometry is not None
+    lines = [
+        "# Per-chain deviations from the drawing in mm; rows: chains 11, 12, 13, 21, 22, 23 (platform j, module i).",
+        "[geometry]",
+    ]
+    for key, value in geometry_table(params.geometry).items():
+        lines.append(f"# {GEOMETRY_KEYS[key][3] if key in GEOMETRY_KEYS else CONTROL_MEANING}")
+        lines.append(f"{key} = {toml_value(value)}")
+    lines.append("")
+    return lines
 
 
 def table_toml(name: str, entries: dict) -> str:

@@ -72,10 +72,17 @@ class _Closer:
         model = machine.model
         if np.any(model.eq_objtype != mujoco.mjtObj.mjOBJ_SITE):
             raise ModelError("the closures must be site-to-site connect equalities")
+        geometry = machine.params.geometry
+        # The drawing: both platforms held at the trajectory's angles, K = [P₁; J_c]. A per-chain machine
+        # (hipsim.machine.chains): only the controlled platform held, K = [P_c; J_c], the other one solved with the legs.
+        self.controlled = 0 if geometry is None else geometry.control - 1
+        self.per_chain = geometry is not None
         self.K = np.zeros((model.nv, model.nv))
-        self.K[np.arange(3), machine.platform_dof[0]] = 1.0
-        self.K_inv = None  # K⁻¹ at the last closed sample: the chord steps' Jacobian
-        self.platforms = machine.platform_dof.ravel()
+        self.K[np.arange(3), machine.platform_dof[self.controlled]] = 1.0
+        self.K_inv: np.ndarray | None = None  # K⁻¹ at the last closed sample: the chord steps' Jacobian
+        self.platforms = machine.platform_dof[self.controlled] if self.per_chain else machine.platform_dof.ravel()
+        self.follower = machine.platform_dof[1 - self.controlled]
+        self.free = np.sort(np.concatenate([machine.leg_dof, self.follower])) if self.per_chain else machine.leg_dof
         # Both ends of every closure, (site, body), closure after closure; their J̇ stacked.
         self.ends = [
             (int(site), int(model.site_bodyid[site]))
@@ -90,12 +97,12 @@ class _Closer:
         return e, J, float(np.abs(e).max())
 
     def close(self, q: np.ndarray, angles: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """q with both platforms at ``angles`` and the legs moved until the closures hold; its residual and J_c.
+        """q with both platforms (per chain: the controlled one) at ``angles`` and the legs moved until the closures hold; its residual and J_c.
 
         On return MuJoCo's data holds q's positions. Raises ClosureError (with the gap) if the loops cannot close.
         """
         q = q.copy()
-        q[self.platforms] = np.tile(angles, 2)
+        q[self.platforms] = angles if self.per_chain else np.tile(angles, 2)
         e, J, gap = self._rows(q)
         if self.K_inv is not None:
             # Chord steps: Newton with the previous sample's K⁻¹ while the gap shrinks tenfold a step.
@@ -108,7 +115,7 @@ class _Closer:
                 if gap_trial > 0.1 * gap:
                     break
                 q, e, J, gap = trial, e_trial, J_trial, gap_trial
-        legs, best = self.machine.leg_dof, math.inf
+        legs, best = self.free, math.inf
         for _ in range(self.max_iter):
             if gap <= self.tol:
                 return q, e, J

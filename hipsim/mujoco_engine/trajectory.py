@@ -57,6 +57,11 @@ def _close(machine: MujocoMachine, traj, tol: float, max_iter: int, Fe):
     dynamics = _InverseDynamics(machine, n, Fe) if Fe is not None else None
     jacr = np.zeros((3, nv))
     q = _initial_guess(machine)
+    if closer.per_chain:  # the follower starts at the controlled platform's attitude, a fraction of a degree off
+        q[closer.follower] = angles[0]
+    # Per chain: the carriage readings, L_2i = L_1i − (h_1 − h_2) (hipsim.analytic.chain_dynamics); else b_ji's heights.
+    dh = np.array([0.0, machine.params.heights[0] - machine.params.heights[1]])[:, None]
+    c = closer.controlled
     for k in range(n):
         if k > 1:
             h = t[k] - t[k - 1]
@@ -75,10 +80,10 @@ def _close(machine: MujocoMachine, traj, tol: float, max_iter: int, Fe):
             raise PoseError(str(error), float(t[k]), k, source=getattr(traj, "name", None)) from None
         Q[k], V[k], A[k] = q, v, a
         residual[k] = np.linalg.norm(e.reshape(-1, 3), axis=1).max()
-        L[k] = data.xanchor[machine.ujoint_anchor][:, :, 2]
-        # J = ∂L̇/∂ω = (∂L̇/∂q̇)·T⁻¹, both from MuJoCo: K⁻¹ gives the first, platform 1's angular Jacobian T.
-        mujoco.mj_jacBody(model, data, None, jacr, machine.platform_body[0])
-        T = jacr[:, machine.platform_dof[0]]
+        L[k] = q[machine.slider_dof] - dh if closer.per_chain else data.xanchor[machine.ujoint_anchor][:, :, 2]
+        # J = ∂L̇/∂ω = (∂L̇/∂q̇)·T⁻¹, both from MuJoCo: K⁻¹ gives the first, the held platform's angular Jacobian T.
+        mujoco.mj_jacBody(model, data, None, jacr, machine.platform_body[c])
+        T = jacr[:, machine.platform_dof[c]]
         G = closer.K_inv[machine.slider_dof, :3]
         singular = np.linalg.svd(G @ _inverse(T), compute_uv=False)
         cond_inv[k] = singular[-1] / singular[0]

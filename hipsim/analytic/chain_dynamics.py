@@ -1,0 +1,268 @@
+"""The analytic model on a per-chain machine: both platforms, each with its own chains and Jacobian (spec §3–4).
+
+On the drawing both platforms turn alike and every term is computed once and
+counted twice (:mod:`hipsim.analytic.virtual_work`). On a per-chain machine
+(:mod:`hipsim.machine.chains`) the trajectory gives the motion of one platform,
+the *controlled* one (``[geometry] control``, m_2 by default as in the paper):
+
+1. the carriages follow from its inverse kinematics, L = L_c(q_c), and their
+   rates and accelerations from its Jacobian, L̇ = J_c·ω_c, L̈ = J_c·ω̇_c + Φ_c;
+2. the other platform's attitude from its forward kinematics through its own
+   chains, and its rates and accelerations through its own Jacobian,
+   ω_f = J_f⁻¹·L̇, ω̇_f = J_f⁻¹·(L̈ − Φ_f) (:func:`hipsim.analytic.stations.follower_motion`);
+3. the motor torques by virtual power, the two platforms summed each through its own J_j:
+
+       τ = τ_L + τ_f − (p/2π)·Σ_j [ J_j⁻ᵀ·Q_j + F_L,j − F_Lf,j ]
+
+   with Q_j the generalised moment of platform j, its three levers (each with
+   its own length) and its friction — the same terms as the drawing's, per platform.
+
+The outputs keep the CSV contract: ``L_1i`` are the carriage readings (what the
+encoders read) and ``L_2i = L_1i − (h_1 − h_2)``, as on the drawing; the
+singularity measure and the friction moment are the controlled platform's.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..exceptions import PoseError
+from ..machine.parameters import Parameters
+from ..motion.trajectories import Trajectory
+from ..physics import laws
+from ..physics.friction import central_chain_friction_components
+from ..physics.orientation import (
+    angular_velocity_map,
+    angular_velocity_map_rate,
+    inverse_condition_number,
+    rotation_matrix,
+)
+from ..physics.transmission import angle_from_travel, travel_per_radian
+from ..physics.vectors import dot, per_leg, stack
+from ..results import Torques
+from .chain_kinematics import chain_accelerations, chain_jacobian, chain_positions
+from .inverse_kinematics import SINGULAR_COND_INV, Kinematics
+from .stations import follower_motion, platform_motion
+from .virtual_work import _euler_moment, _lever_inertia, _lever_joint_friction, _platform_axes
+
+__all__ = [
+    "ChainMotion",
+    "chain_inverse_dynamics",
+    "chain_mechanical_energy",
+    "chain_motion",
+    "chain_slider_motion",
+    "platform_kinematics",
+]
+
+
+def platform_kinematics(params: Parameters, j: int, t: np.ndarray, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray):
+    """Platform ``j``'s (0 or 1) own kinematics as a :class:`~hipsim.analytic.inverse_kinematics.Kinematics`.
+
+    The fields are those of the drawing's, for this platform alone: the
+    per-platform fields ``a, b, L, Ld, Ldd, v_l, a_l`` have one platform
+    ((N, 1, 3) and (N, 1, 3, 3)); ``L`` is the U-joint centres' heights b_ji,z.
+
+    Args:
+        params: the machine.
+        j: platform index, 0 for m_1, 1 for m_2.
+        t: sample times in [s], (N,).
+        q, qd, qdd: that platform's gait angles in [rad], rates in [rad/s], accelerations in [rad/s²], (N, 3).
+    """
+    chains = params.chains
+    signs = params.angle_signs
+    p, pd, pdd = q * signs, qd * signs, qdd * signs
+    R = rotation_matrix(p)
+    T = angular_velocity_map(p)
+    omega = np.einsum("nij,nj->ni", T, pd)
+    omega_dot = np.einsum("nij,nj->ni", T, pdd) + np.einsum("nij,nj->ni", angular_velocity_map_rate(p, pd), pd)
+    L, r, d = chain_positions(chains, p, j)
+    l = chains.lever_lengths[j][None, :, None]
+    e = d / l
+    J = chain_jacobian(r, d)
+    Ld = np.einsum("nij,nj->ni", J, omega)
+    Ldd = chain_accelerations(r, d, omega, omega_dot)
+    z = np.array([0.0, 0.0, 1.0])
+    a_dot = np.cross(omega[:, None], r)
+    a_ddot = np.cross(omega_dot[:, None], r) + np.cross(omega[:, None], a_dot)
+    omega_l = np.cross(e, a_dot - Ld[..., None] * z) / l
+    omega_l_dot = np.cross(e, a_ddot - Ldd[..., None] * z) / l
+    a = chains.centres[j] + r
+    b = chains.screw_points[j] + L[..., None] * z
+    cond_inv = inverse_condition_number(J)
+    return Kinematics(
+        t=t,
+        q=p,
+        qd=pd,
+        qdd=pdd,
+        R=R,
+        omega=omega,
+        omega_dot=omega_dot,
+        r=r,
+        a=a[:, None],
+        b=b[:, None],
+        e=e,
+        L=b[:, None, :, 2],
+        Ld=Ld[:, None],
+        Ldd=Ldd[:, None],
+        J=J,
+        cond_inv=cond_inv,
+        omega_l=omega_l,
+        omega_l_dot=omega_l_dot,
+        v_l=(0.5 * (a_dot + Ld[..., None] * z))[:, None],
+        a_l=(0.5 * (a_ddot + Ldd[..., None] * z))[:, None],
+        flagged=~(cond_inv >= SINGULAR_COND_INV),
+    )
+
+
+class ChainMotion:
+    """Both platforms' kinematics along a trajectory on a per-chain machine.
+
+    Attributes:
+        control: the controlled platform (1 or 2).
+        platforms: the two platforms' :class:`Kinematics` (index 0 for m_1).
+        L, Ld, Ldd: carriage readings in [m], rates [m/s], accelerations [m/s²], (N, 3).
+    """
+
+    def __init__(self, control: int, platforms: list, L: np.ndarray, Ld: np.ndarray, Ldd: np.ndarray):
+        self.control, self.platforms, self.L, self.Ld, self.Ldd = control, platforms, L, Ld, Ldd
+
+    @property
+    def controlled(self) -> Kinematics:
+        """The controlled platform's kinematics."""
+        return self.platforms[self.control - 1]
+
+
+def chain_motion(params: Parameters, trajectory: Trajectory) -> ChainMotion:
+    """The carriages and both platforms' motion when the trajectory is the controlled platform's (module docstring).
+
+    Raises:
+        PoseError: naming the time of the first pose out of reach or singular, of either platform.
+    """
+    assert params.geometry is not None
+    control = params.geometry.control
+    t, q, qd, qdd = trajectory.t, trajectory.q, trajectory.qd, trajectory.qdd
+    L, Ld, Ldd = platform_motion(params, q, qd, qdd, control)
+    bad = ~np.all(np.isfinite(L), axis=1)
+    if np.any(bad):
+        k = int(np.argmax(bad))
+        raise PoseError(
+            f"pose out of reach for platform {control}: a lever cannot span the gap from its U-joint to its platform joint",
+            float(t[k]),
+            k,
+            source=trajectory.name,
+        )
+    follower = 3 - control
+    motions = {control: (q, qd, qdd)}
+    # The follower turns a fraction of a degree off the controlled platform: its attitude is the guess.
+    motions[follower] = follower_motion(params, L, Ld, Ldd, follower, t=t, q0=q[0], source=trajectory.name, guess=q)
+    platforms = [platform_kinematics(params, j - 1, t, *motions[j]) for j in (1, 2)]
+    for j, kin in enumerate(platforms, start=1):
+        if np.any(kin.flagged):
+            k = int(np.argmax(kin.flagged))
+            raise PoseError(
+                f"singular pose of platform {j}: inverse condition number of its J is {kin.cond_inv[k]:.3g}",
+                float(t[k]),
+                k,
+                source=trajectory.name,
+            )
+    return ChainMotion(control, platforms, L, Ld, Ldd)
+
+
+def chain_inverse_dynamics(
+    params: Parameters, motion: ChainMotion, Fe: np.ndarray, lever_spin: bool = False
+) -> Torques:
+    """Motor torques and their parts on a per-chain machine: both platforms, each through its own Jacobian.
+
+    Args:
+        params: the machine (per-chain).
+        motion: :func:`chain_motion`'s result.
+        Fe: hydraulic load magnitude in [N], (N,).
+        lever_spin: as in :func:`hipsim.analytic.virtual_work.inverse_dynamics`.
+
+    Returns:
+        The torques; their parts add up to the total. The friction moment is the controlled platform's.
+    """
+    Fe = np.asarray(Fe, dtype=float)
+    f, p = params.friction, params.lead
+    chains = params.chains
+    Ld, Ldd = motion.Ld.T, motion.Ldd.T  # components first, (3, N)
+    motor_speed = angle_from_travel(Ld, p)
+    scale = -travel_per_radian(p)
+    parts = {name: np.zeros_like(Ldd) for name in ("m", "l", "f")}
+    friction_power = laws.screw_friction(f, motor_speed) * motor_speed
+    friction_power = np.sum(friction_power, axis=0)
+    F_Lf = laws.guide_friction(f, Ld, motor_speed)
+    tau_mf_controlled = None
+    for j, kin in enumerate(motion.platforms):
+        omega = kin.omega.T
+        omega_l, omega_l_dot = kin.omega_l.T, kin.omega_l_dot.T
+        if lever_spin:
+            u1, e = per_leg(params.ujoint_axes), kin.e.T
+            omega_l, omega_l_dot = (
+                stack(laws.lever_angular_velocity(u1, e, omega_l)),
+                stack(laws.lever_angular_acceleration(u1, e, omega_l, omega_l_dot)),
+            )
+        lengths = chains.lever_lengths[j][:, None]
+        Q_m = _euler_moment(_platform_axes(kin), params.platform_inertia, omega, kin.omega_dot.T)
+        Q_l, Fz_l = _lever_inertia(params, kin, lever_spin, omega_l, omega_l_dot, lengths)
+        tau_mf = central_chain_friction_components(
+            f, params.platform_mass * params.gravity, omega, Fe, kin.R[:, :, 2].T
+        )
+        Q_lf, Fz_lf, power_lf = _lever_joint_friction(params, kin, lever_spin, omega_l, lengths)
+        rows = laws.inverse_transpose(np.moveaxis(kin.J.T, 1, 0))
+        J_inv_T = np.array([[row[k] for row in rows] for k in range(3)])
+        parts["m"] = parts["m"] + scale * dot(J_inv_T, Q_m)
+        parts["l"] = parts["l"] + scale * (dot(J_inv_T, Q_l) + Fz_l)
+        parts["f"] = parts["f"] + scale * (dot(J_inv_T, Q_lf - tau_mf) + Fz_lf - F_Lf)
+        friction_power = friction_power + np.sum(F_Lf * Ld, axis=0) + dot(tau_mf, omega) + power_lf
+        if j == motion.control - 1:
+            tau_mf_controlled = tau_mf
+    tau_m, tau_l = parts["m"], parts["l"]
+    tau_s = 2 * scale * (params.slider_mass * (-params.gravity - Ldd))  # both sliders of each carriage
+    tau_L = angle_from_travel(params.screw_inertia, p) * Ldd
+    tau_f = laws.screw_friction(f, motor_speed) + parts["f"]
+    tau = tau_m + tau_l + tau_s + tau_L + tau_f
+    assert tau_mf_controlled is not None
+    return Torques(
+        total=tau.T,
+        platforms=tau_m.T,
+        levers=tau_l.T,
+        sliders=tau_s.T,
+        screws=tau_L.T,
+        friction=tau_f.T,
+        motor_speed=motor_speed.T,
+        friction_moment=np.sqrt(dot(tau_mf_controlled, tau_mf_controlled)),
+        friction_power=friction_power,
+    )
+
+
+def chain_slider_motion(params: Parameters, motion: ChainMotion) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The CSV contract's L, L̇, L̈ (N, 2, 3): L_1i the carriage readings, L_2i = L_1i − (h_1 − h_2)."""
+    offset = np.array([0.0, params.heights[1] - params.heights[0]])[None, :, None]
+    L = motion.L[:, None, :] + offset
+    return L, np.repeat(motion.Ld[:, None], 2, axis=1), np.repeat(motion.Ldd[:, None], 2, axis=1)
+
+
+def chain_mechanical_energy(params: Parameters, motion: ChainMotion, lever_spin: bool = False):
+    """Kinetic and potential energy of the whole per-chain machine in [J], each (N,), from body motions alone.
+
+    Independent of :func:`chain_inverse_dynamics`: the power balance Σ τ·θ̇ = dE/dt + friction power checks it.
+    """
+    from .virtual_work import _lever_axes, _rotational_energy
+
+    kinetic = 0.5 * params.screw_inertia * np.sum(angle_from_travel(motion.Ld, params.lead) ** 2, axis=1)
+    potential = np.zeros(len(motion.L))
+    for kin in motion.platforms:
+        omega_l = kin.omega_l.T
+        if lever_spin:
+            omega_l = laws.lever_angular_velocity(per_leg(params.ujoint_axes), kin.e.T, omega_l)
+        v_l = kin.v_l[:, 0].T
+        kinetic = kinetic + _rotational_energy(_platform_axes(kin), params.platform_inertia, kin.omega.T)
+        kinetic = kinetic + np.sum(0.5 * params.lever_mass * dot(v_l, v_l), axis=0)
+        kinetic = kinetic + np.sum(_rotational_energy(_lever_axes(params, kin), params.lever_inertia, omega_l), axis=0)
+        kinetic = kinetic + 0.5 * params.slider_mass * np.sum(motion.Ld**2, axis=1)
+        lever_height = 0.5 * (kin.a[:, 0, :, 2] + kin.b[:, 0, :, 2])
+        potential = potential + params.gravity * (
+            params.lever_mass * lever_height.sum(axis=1) + params.slider_mass * kin.b[:, 0, :, 2].sum(axis=1)
+        )
+    return kinetic, potential

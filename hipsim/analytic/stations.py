@@ -1,0 +1,276 @@
+"""Each platform on its own: inverse and forward kinematics of platform m_1 or m_2 from the shared carriages.
+
+On the drawing both platforms turn alike; on a per-chain machine
+(:mod:`hipsim.machine.chains`, the parameter file's ``[geometry]`` table) each
+platform's chains differ, so the same carriages turn the two platforms
+differently. These functions work on either machine, vectorised over samples:
+
+- :func:`carriages_for_platform`: the carriage readings that put platform j at
+  an attitude (its inverse kinematics);
+- :func:`platform_jacobian`: its Jacobian, L̇ = J_j·ω_j;
+- :func:`platform_attitude`: the attitude of platform j for given carriages
+  (its forward kinematics, along a log);
+- :func:`platform_motion` and :func:`follower_motion`: the same with rates and
+  accelerations, for the dynamics of a machine driven by one platform's motion.
+
+Carriage readings L_i are what module i's encoder reads: on the drawing the
+slider heights L_1i of platform 1 (so a log's ``L_11_mm, L_12_mm, L_13_mm``),
+and L_2i = L_1i − (h_1 − h_2). Angles are gait angles [α, β, γ] (the parameter
+file's angle signs are applied inside, as everywhere); angular velocities are
+world-frame, ω = T(q)·q̇.
+
+On the drawing (no ``[geometry]``) the carriages are the drawing's L_1i for
+either platform, bit for bit those of
+:func:`hipsim.analytic.inverse_kinematics.slider_heights`.
+
+Example:
+    >>> import numpy as np, hipsim
+    >>> from hipsim.analytic.stations import carriages_for_platform, platform_attitude
+    >>> params = hipsim.load_parameters()
+    >>> q = np.radians([[10.0, 3.0, -5.0]])
+    >>> L = carriages_for_platform(params, q, platform=2)
+    >>> bool(np.allclose(platform_attitude(params, L, platform=1, q0=q[0]), q, atol=1e-12))
+    True
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..exceptions import ArgumentError, PoseError
+from ..machine.parameters import Parameters
+from ..physics.orientation import angular_velocity_map, angular_velocity_map_rate, rotation_matrix
+from .chain_kinematics import chain_accelerations, chain_jacobian, chain_positions
+from .forward_kinematics import forward_kinematics
+from .inverse_kinematics import slider_heights, slider_jacobian
+
+__all__ = [
+    "attitude_sensitivities",
+    "carriage_sensitivities",
+    "carriages_for_platform",
+    "follower_motion",
+    "platform_attitude",
+    "platform_jacobian",
+    "platform_motion",
+]
+
+
+def _platform_index(platform: int) -> int:
+    if platform not in (1, 2) or isinstance(platform, bool):
+        raise ArgumentError("platform", platform, "1 (m_1) or 2 (m_2)")
+    return platform - 1
+
+
+def _angles(params: Parameters, q: np.ndarray, name: str = "q") -> np.ndarray:
+    """Gait angles (N, 3) to platform angles (after the angle signs)."""
+    q = np.asarray(q, dtype=float)
+    if q.ndim != 2 or q.shape[1] != 3:
+        raise ArgumentError(name, q.shape, "an array of shape (N, 3)")
+    return q * params.angle_signs
+
+
+def carriages_for_platform(params: Parameters, q: np.ndarray, platform: int) -> np.ndarray:
+    """The carriage readings L_1, L_2, L_3 that give platform ``platform`` the attitude ``q``.
+
+    Args:
+        params: the machine (per-chain or the drawing).
+        q: gait angles [α, β, γ] of that platform in [rad], (N, 3).
+        platform: 1 for m_1, 2 for m_2.
+
+    Returns:
+        Carriage readings in [m], (N, 3); NaN where a lever cannot reach.
+    """
+    j = _platform_index(platform)
+    p = _angles(params, q)
+    if params.geometry is None:
+        with np.errstate(invalid="ignore"):
+            return slider_heights(params, p)[:, 0, :]
+    return chain_positions(params.chains, p, j)[0]
+
+
+def platform_jacobian(params: Parameters, q: np.ndarray, platform: int) -> np.ndarray:
+    """J_j at attitude ``q`` of platform ``platform``: L̇ = J_j·ω_j (ω_j its world-frame angular velocity).
+
+    Args:
+        params: the machine.
+        q: gait angles of that platform in [rad], (N, 3).
+        platform: 1 or 2.
+
+    Returns:
+        J_j in [m/rad], (N, 3, 3); NaN rows where a lever cannot reach.
+    """
+    j = _platform_index(platform)
+    p = _angles(params, q)
+    if params.geometry is None:
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return slider_jacobian(params, p)
+    _, r, d = chain_positions(params.chains, p, j)
+    return chain_jacobian(r, d)
+
+
+def platform_attitude(
+    params: Parameters,
+    L: np.ndarray,
+    platform: int,
+    t: np.ndarray | None = None,
+    q0: np.ndarray | None = None,
+    source: str | None = None,
+    guess: np.ndarray | None = None,
+) -> np.ndarray:
+    """The attitude of platform ``platform`` along a log of carriage readings (its forward kinematics).
+
+    Each sample continues the previous one from the start pose ``q0``, as
+    :func:`hipsim.analytic.forward_kinematics.forward_kinematics` does; the
+    round trip through :func:`carriages_for_platform` is the identity to ~1e-13 rad.
+
+    Args:
+        params: the machine.
+        L: carriage readings in [m], (N, 3).
+        platform: 1 or 2.
+        t: sample times in [s], (N,), for messages; None for the indices.
+        q0: gait angles in [rad] near the first sample, (3,); None for home.
+        source: the log's name, for messages.
+        guess: gait angles in [rad] near each sample's solution, (N, 3) (e.g. the other platform's, or the
+            desired motion): Newton then needs two or three steps a sample; None for the linearisation about q0.
+
+    Returns:
+        Gait angles [α, β, γ] of that platform in [rad], (N, 3).
+
+    Raises:
+        PoseError: naming the time of a sample out of reach, singular, or in another assembly mode.
+    """
+    _platform_index(platform)
+    return forward_kinematics(
+        params, L, t=t, q0=q0, source=source, platform=None if params.geometry is None else platform, guess=guess
+    )
+
+
+def platform_motion(
+    params: Parameters, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, platform: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Carriage readings, velocities and accelerations that give platform ``platform`` the motion (q, q̇, q̈).
+
+    Args:
+        params: the machine.
+        q, qd, qdd: gait angles in [rad], rates in [rad/s], accelerations in [rad/s²], each (N, 3).
+        platform: 1 or 2.
+
+    Returns:
+        L in [m], L̇ in [m/s], L̈ in [m/s²], each (N, 3); NaN where out of reach.
+    """
+    j = _platform_index(platform)
+    p, pd, pdd = _angles(params, q), _angles(params, qd, "qd"), _angles(params, qdd, "qdd")
+    T = angular_velocity_map(p)
+    omega = np.einsum("nij,nj->ni", T, pd)
+    omega_dot = np.einsum("nij,nj->ni", T, pdd) + np.einsum("nij,nj->ni", angular_velocity_map_rate(p, pd), pd)
+    L, r, d = chain_positions(params.chains, p, j)
+    Ld = np.einsum("nij,nj->ni", chain_jacobian(r, d), omega)
+    return L, Ld, chain_accelerations(r, d, omega, omega_dot)
+
+
+def follower_motion(
+    params: Parameters,
+    L: np.ndarray,
+    Ld: np.ndarray,
+    Ldd: np.ndarray,
+    platform: int,
+    t: np.ndarray | None = None,
+    q0: np.ndarray | None = None,
+    source: str | None = None,
+    guess: np.ndarray | None = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The motion of platform ``platform`` driven by given carriage motion: forward kinematics through its own Jacobian.
+
+    q from :func:`platform_attitude`; ω = J⁻¹·L̇; ω̇ = J⁻¹·(L̈ − Φ(ω)), Φ the
+    velocity terms of L̈; then q̇ = T⁻¹·ω and q̈ = T⁻¹·(ω̇ − Ṫ·q̇).
+
+    Args:
+        params: the machine.
+        L, Ld, Ldd: carriage readings in [m], velocities in [m/s], accelerations in [m/s²], each (N, 3).
+        platform: 1 or 2.
+        t, q0, source, guess: as in :func:`platform_attitude`.
+
+    Returns:
+        Gait angles q in [rad], q̇ in [rad/s], q̈ in [rad/s²], each (N, 3).
+
+    Raises:
+        PoseError: as :func:`platform_attitude`, or where the Jacobian is singular.
+    """
+    j = _platform_index(platform)
+    q = platform_attitude(params, L, platform, t=t, q0=q0, source=source, guess=guess)
+    signs = params.angle_signs
+    p = q * signs
+    _, r, d = chain_positions(params.chains, p, j)
+    J = chain_jacobian(r, d)
+    try:
+        omega = np.linalg.solve(J, np.asarray(Ld, dtype=float)[..., None])[..., 0]
+        phi = chain_accelerations(r, d, omega, np.zeros_like(omega))
+        omega_dot = np.linalg.solve(J, (np.asarray(Ldd, dtype=float) - phi)[..., None])[..., 0]
+    except np.linalg.LinAlgError:
+        raise PoseError("singular pose: the Jacobian of the following platform is singular", 0.0, 0, source) from None
+    T = angular_velocity_map(p)
+    pd = np.linalg.solve(T, omega[..., None])[..., 0]
+    pdd = np.linalg.solve(T, (omega_dot - np.einsum("nij,nj->ni", angular_velocity_map_rate(p, pd), pd))[..., None])[
+        ..., 0
+    ]
+    return q, pd * signs, pdd * signs
+
+
+def carriage_sensitivities(params: Parameters, q: np.ndarray, platform: int) -> np.ndarray:
+    """∂L/∂θ: how the carriage readings that give platform ``platform`` the attitude ``q`` move with each geometry value θ.
+
+    θ are the 48 deviations of :meth:`hipsim.machine.chains.ChainGeometry.names` (in [m], that order). With
+    g_i = a_ji − c_ji and the lever vector d_i of :mod:`hipsim.analytic.chain_kinematics`,
+    L_i = g_i,z − √(l_ji² − g_i,x² − g_i,y²), so ∂L_i/∂g_i = d_i/d_i,z and ∂L_i/∂l_ji = −l_ji/d_i,z:
+    the U-joint offset moves L_i by −d_i,xy/d_i,z, the slider offset by −1, the platform joint offset
+    (platform axes) by Rᵀd_i/d_i,z, the rotation centre by d_i/d_i,z. The other platform's values do not enter.
+
+    Args:
+        params: the machine (per-chain or the drawing).
+        q: gait angles of that platform in [rad], (N, 3).
+        platform: 1 or 2.
+
+    Returns:
+        ∂L/∂θ, dimensionless ([m/m]), (N, 3, 48); NaN where a lever cannot reach.
+    """
+    j = _platform_index(platform)
+    p = _angles(params, q)
+    chains = params.chains
+    _, _, d = chain_positions(chains, p, j)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        n = d / d[..., 2:3]  # ∂L_i/∂g_i, (N, leg, xyz)
+    R = rotation_matrix(p)
+    out = np.zeros((len(p), 3, 48))
+    legs = np.arange(3)
+    # Offsets into the vector of ChainGeometry.names(): ujoint (12), slider (6), joint (18), lever (6), centre (6).
+    chain = 3 * j + legs  # this platform's chains, in the file's row order
+    for k in range(2):
+        out[:, legs, 2 * chain + k] = -n[..., k]
+    out[:, legs, 12 + chain] = -1.0
+    joint = np.einsum("nik,nkm->nim", n, R)  # ∂L_i/∂δr = (∂L_i/∂g)·R
+    for k in range(3):
+        out[:, legs, 18 + 3 * chain + k] = joint[..., k]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        out[:, legs, 36 + chain] = -chains.lever_lengths[j] / d[..., 2]
+    out[:, :, 42 + 3 * j : 45 + 3 * j] = n
+    return out
+
+
+def attitude_sensitivities(params: Parameters, q: np.ndarray, platform: int) -> np.ndarray:
+    """∂q/∂θ at fixed carriages: how platform ``platform``'s attitude moves with each geometry value θ.
+
+    From L(q, θ) = L_measured: ∂q/∂θ = −(∂L/∂q)⁻¹·∂L/∂θ with ∂L/∂q = J·T (gait angles: the angle
+    signs applied). What a kinematic calibration's Gauss–Newton and a tolerance study need.
+
+    Args:
+        params: the machine.
+        q: gait angles of that platform in [rad] (its attitude for the carriages in question), (N, 3).
+        platform: 1 or 2.
+
+    Returns:
+        ∂q/∂θ in [rad/m], (N, 3, 48), in the order of :meth:`hipsim.machine.chains.ChainGeometry.names`.
+    """
+    p = _angles(params, q)
+    D = np.einsum("nij,njk->nik", platform_jacobian(params, q, platform), angular_velocity_map(p))
+    D *= params.angle_signs  # ∂L/∂(gait angles) = ∂L/∂p·diag(signs)
+    return -np.linalg.solve(D, carriage_sensitivities(params, q, platform))

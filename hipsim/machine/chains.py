@@ -1,0 +1,352 @@
+"""Per-chain geometry: each of the six P-U-S chains and each platform's rotation centre as built, not as drawn.
+
+The drawing (spec §1, §7.1) makes the two platforms alike: the same joint
+circle, one lever length, the sliders of a carriage h_1 − h_2 apart, so both
+platforms always turn alike. A real machine is built to tolerance. The
+optional ``[geometry]`` table of the parameter file holds each chain's
+*deviation from the drawing* (platform j = 1, 2; module i = 1, 2, 3), in mm;
+a key left out is zero, and a table that is all zero (or no table) is the
+drawing, bit for bit (:func:`geometry_from_table` returns None for it).
+
+With the carriage reading L_i of module i (what its encoder reads: the
+drawing's L_1i), chain ji is
+
+    b_ji = c_i + (u_ji,x, u_ji,y, 0) + (L_i + h_j − h_1 + s_ji)·ẑ      (U-joint centre)
+    a_ji = o_j + R_j·(r⁰_i + δr_ji),   o_j = h_j·ẑ + δo_j             (platform joint)
+    |a_ji − b_ji| = l + δl_ji                                          (lever)
+
+with u_ji the U-joint centre's horizontal offset from its screw axis (base
+axes), s_ji the slider's height offset on its carriage, δr_ji the platform
+joint's offset in platform axes, δl_ji the lever's length deviation and δo_j
+the rotation centre's offset (base axes). :class:`Chains` holds the resolved
+absolute values; ``Parameters.chains`` builds them. The U-joints' first axes
+stay the drawing's (ẑ × c_i/|c_i|): a centre offset moves the joint, not its axis.
+
+Example:
+    >>> import numpy as np
+    >>> g = ChainGeometry.zeros().replace(lever=np.array([[0.0, 0.0, 0.0], [0.0, 0.3e-3, 0.0]]))
+    >>> lever_mm = geometry_table(g)["lever_offset_mm"]  # chains 11 … 23, in mm
+    >>> lever_mm[4]
+    0.3
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..arrays import readonly
+from ..exceptions import ParameterError
+
+__all__ = [
+    "CHAIN_LABELS",
+    "CONTROL_MEANING",
+    "GEOMETRY_KEYS",
+    "ChainGeometry",
+    "Chains",
+    "MAX_DEVIATION",
+    "geometry_from_table",
+    "geometry_table",
+    "per_chain_urdf",
+]
+
+_MM = 1e-3
+
+#: The chains in the file's row order: platform j, module i.
+CHAIN_LABELS = ("11", "12", "13", "21", "22", "23")
+
+#: Largest deviation magnitude a file may give, in [m]: a built machine, not another design.
+MAX_DEVIATION = 0.05
+
+#: The ``[geometry]`` keys: file key → (field of :class:`ChainGeometry`, rows, row length (0: a number per row), meaning).
+GEOMETRY_KEYS: dict[str, tuple[str, int, int, str]] = {
+    "ujoint_offset_mm": (
+        "ujoint",
+        6,
+        2,
+        "U-joint centre b_ji off its screw axis, horizontal [x, y] in base axes, per chain 11 12 13 21 22 23",
+    ),
+    "slider_offset_mm": (
+        "slider",
+        6,
+        0,
+        "U-joint centre b_ji above its drawing height on the carriage, per chain",
+    ),
+    "joint_offset_mm": (
+        "joint",
+        6,
+        3,
+        "platform joint a_ji off e·[cos φ_i, sin φ_i, 0], [x, y, z] in platform axes, per chain",
+    ),
+    "lever_offset_mm": ("lever", 6, 0, "lever length l_ji minus l, per chain"),
+    "centre_offset_mm": ("centre", 2, 3, "rotation centre o_j off (0, 0, h_j), [x, y, z] in base axes, per platform"),
+}
+
+#: What the ``control`` key of ``[geometry]`` means.
+CONTROL_MEANING = "the platform whose motion a trajectory gives (1 or 2; the other follows the carriages)"
+
+_SHAPES = {"ujoint": (2, 3, 2), "slider": (2, 3), "joint": (2, 3, 3), "lever": (2, 3), "centre": (2, 3)}
+
+
+@dataclass(frozen=True, eq=False)
+class ChainGeometry:
+    """Each chain's deviation from the drawing, in [m] (j = platform index 0, 1; i = module index 0, 1, 2).
+
+    Attributes:
+        ujoint: U-joint centre's horizontal offset from its screw axis [x, y] in base axes, (2, 3, 2).
+        slider: U-joint centre's height offset on its carriage, (2, 3).
+        joint: platform joint's offset in platform axes [x, y, z], (2, 3, 3).
+        lever: lever length deviation, (2, 3).
+        centre: rotation centre's offset [x, y, z] in base axes, (2, 3).
+        control: the platform whose motion a trajectory gives (1 or 2; the paper controls m_2, the default);
+            the carriages follow from its inverse kinematics and the other platform follows them.
+    """
+
+    ujoint: np.ndarray
+    slider: np.ndarray
+    joint: np.ndarray
+    lever: np.ndarray
+    centre: np.ndarray
+    control: int = 2
+
+    def __post_init__(self):
+        if self.control not in (1, 2) or isinstance(self.control, bool):
+            raise ParameterError(
+                f"expected 1 or 2 (the controlled platform), got {self.control!r}", key="geometry.control"
+            )
+        for name, shape in _SHAPES.items():
+            value = readonly(np.array(getattr(self, name), dtype=float))
+            if value.shape != shape:
+                raise ParameterError(f"expected shape {shape}, got {value.shape}", key=f"geometry.{name}")
+            if not np.all(np.isfinite(value)):
+                raise ParameterError("expected finite numbers", key=f"geometry.{name}")
+            object.__setattr__(self, name, value)
+
+    @classmethod
+    def zeros(cls) -> ChainGeometry:
+        """The drawing: every deviation zero."""
+        fields: dict[str, Any] = {name: np.zeros(shape) for name, shape in _SHAPES.items()}
+        return cls(**fields)
+
+    def is_drawing(self) -> bool:
+        """True when every deviation is exactly zero."""
+        return all(not np.any(getattr(self, name)) for name in _SHAPES)
+
+    def replace(self, **changes) -> ChainGeometry:
+        """A copy with some fields changed, e.g. ``g.replace(lever=np.full((2, 3), 1e-4))``."""
+        return dataclasses.replace(self, **changes)
+
+    @staticmethod
+    def names() -> tuple[str, ...]:
+        """The 48 scalar values' names, in the order of :meth:`as_vector`.
+
+        ``ujoint_x_11`` … ``ujoint_y_23``, ``slider_11`` … ``slider_23``,
+        ``joint_x_11`` … ``joint_z_23``, ``lever_11`` … ``lever_23``,
+        ``centre_x_1`` … ``centre_z_2`` (chain ji: platform j, module i).
+        """
+        out: list[str] = []
+        for name, shape in _SHAPES.items():
+            if name == "centre":
+                out += [f"centre_{axis}_{j}" for j in (1, 2) for axis in "xyz"]
+            elif len(shape) == 2:
+                out += [f"{name}_{label}" for label in CHAIN_LABELS]
+            else:
+                out += [f"{name}_{axis}_{label}" for label in CHAIN_LABELS for axis in "xyz"[: shape[2]]]
+        return tuple(out)
+
+    def as_vector(self) -> np.ndarray:
+        """The 48 deviations in [m] as one vector, in the order of :meth:`names`."""
+        return np.concatenate([getattr(self, name).ravel() for name in _SHAPES])
+
+    @classmethod
+    def from_vector(cls, x: np.ndarray) -> ChainGeometry:
+        """The inverse of :meth:`as_vector` (``x`` in [m], shape (48,))."""
+        x = np.asarray(x, dtype=float)
+        sizes = [math.prod(shape) for shape in _SHAPES.values()]
+        if x.shape != (sum(sizes),):
+            raise ParameterError(f"expected {sum(sizes)} deviations, got shape {x.shape}", key="geometry")
+        parts = np.split(x, np.cumsum(sizes)[:-1])
+        fields: dict[str, Any] = {name: part.reshape(shape) for (name, shape), part in zip(_SHAPES.items(), parts)}
+        return cls(**fields)
+
+
+@dataclass(frozen=True, eq=False)
+class Chains:
+    """The six chains resolved to absolute values, in [m] (index j = platform 0, 1; i = module 0, 1, 2).
+
+    Chain ji's U-joint centre is ``b_ji = screw_points[j, i] + L_i·ẑ`` for the
+    carriage reading L_i, its platform joint ``a_ji = centres[j] + R_j·platform_points[j, i]``,
+    and ``|a_ji − b_ji| = lever_lengths[j, i]``.
+
+    Attributes:
+        screw_points: U-joint centre at carriage reading 0, (2, 3, 3): c_i + (u_ji, h_j − h_1 + s_ji).
+        platform_points: platform joints in platform axes, r⁰_i + δr_ji, (2, 3, 3).
+        lever_lengths: l + δl_ji, (2, 3).
+        centres: rotation centres o_j = h_j·ẑ + δo_j, (2, 3).
+        drawing: True when these are the drawing's values (no deviations).
+    """
+
+    screw_points: np.ndarray
+    platform_points: np.ndarray
+    lever_lengths: np.ndarray
+    centres: np.ndarray
+    drawing: bool = False
+
+    def __post_init__(self):
+        for name, shape in (
+            ("screw_points", (2, 3, 3)),
+            ("platform_points", (2, 3, 3)),
+            ("lever_lengths", (2, 3)),
+            ("centres", (2, 3)),
+        ):
+            value = readonly(np.array(getattr(self, name), dtype=float))
+            if value.shape != shape:
+                raise ParameterError(f"expected shape {shape}, got {value.shape}", key=name)
+            object.__setattr__(self, name, value)
+
+    @classmethod
+    def build(
+        cls,
+        screw_points: np.ndarray,
+        platform_points: np.ndarray,
+        lever_length: float,
+        heights: np.ndarray,
+        geometry: ChainGeometry | None,
+    ) -> Chains:
+        """The chains of a drawing (c_i (3, 3), r⁰_i (3, 3), l, h_j (2,) in [m]) with ``geometry``'s deviations (None: none)."""
+        g = ChainGeometry.zeros() if geometry is None else geometry
+        heights = np.asarray(heights, dtype=float)
+        screw = np.repeat(np.asarray(screw_points, dtype=float)[None], 2, axis=0)
+        screw[..., :2] += g.ujoint
+        screw[..., 2] += (heights - heights[0])[:, None] + g.slider
+        platform = np.asarray(platform_points, dtype=float)[None] + g.joint
+        centres = np.zeros((2, 3))
+        centres[:, 2] = heights
+        return cls(
+            screw_points=screw,
+            platform_points=platform,
+            lever_lengths=lever_length + g.lever,
+            centres=centres + g.centre,
+            drawing=geometry is None,
+        )
+
+
+def geometry_from_table(table: Any, source: str) -> ChainGeometry | None:
+    """The ``[geometry]`` table of a parameter file, checked and in SI; None when it is all zero (the drawing).
+
+    Args:
+        table: the table as TOML reads it (keys of :data:`GEOMETRY_KEYS`, each optional, in mm).
+        source: the file, for errors.
+
+    Raises:
+        ParameterError: naming the file and key of an unknown key, a wrong shape, a number that is not
+            finite or a deviation beyond :data:`MAX_DEVIATION`.
+    """
+    if not isinstance(table, Mapping):
+        raise ParameterError("expected a [geometry] table", key="geometry", source=source)
+    fields: dict[str, Any] = {}
+    for key, value in table.items():
+        if key == "control":
+            if value not in (1, 2) or isinstance(value, bool):
+                raise ParameterError(
+                    f"expected 1 or 2 (the platform whose motion a trajectory gives), got {value!r}",
+                    key="geometry.control",
+                    source=source,
+                )
+            fields["control"] = int(value)
+            continue
+        if key not in GEOMETRY_KEYS:
+            raise ParameterError(
+                f"unknown key (known in [geometry]: control, {', '.join(GEOMETRY_KEYS)})",
+                key=f"geometry.{key}",
+                source=source,
+            )
+        name, rows, width, _ = GEOMETRY_KEYS[key]
+        fields[name] = _rows(value, rows, width, f"geometry.{key}", source).reshape(_SHAPES[name]) * _MM
+    geometry = ChainGeometry.zeros().replace(**fields)
+    return None if geometry.is_drawing() else geometry
+
+
+def _rows(value: Any, rows: int, width: int, key: str, source: str) -> np.ndarray:
+    """A list of ``rows`` numbers (width 0) or of ``rows`` lists of ``width`` numbers, checked, in the file's unit."""
+
+    def number(x):
+        return isinstance(x, (int, float)) and not isinstance(x, bool)
+
+    def fail(expected):
+        raise ParameterError(f"expected {expected}, got {value!r}", key=key, source=source)
+
+    expected = f"a list of {rows} numbers" if width == 0 else f"{rows} rows of [{', '.join('xyz'[:width])}] in mm"
+    if not isinstance(value, list) or len(value) != rows:
+        fail(expected)
+    if width == 0:
+        if not all(map(number, value)):
+            fail(expected)
+    elif not all(isinstance(row, list) and len(row) == width and all(map(number, row)) for row in value):
+        fail(expected)
+    numbers = np.array(value, dtype=float)
+    if not np.all(np.isfinite(numbers)):
+        fail("finite numbers")
+    if np.any(np.abs(numbers) > MAX_DEVIATION / _MM):
+        raise ParameterError(
+            f"a deviation from the drawing of at most {MAX_DEVIATION / _MM:g} mm, got {value!r}",
+            key=key,
+            source=source,
+        )
+    return numbers
+
+
+def geometry_table(geometry: ChainGeometry) -> dict[str, Any]:
+    """The ``[geometry]`` table of a parameter file (``control``, then every deviation in mm, 15 significant digits); reads back the same."""
+    out: dict[str, Any] = {"control": geometry.control}
+    for key, (name, rows, width, _) in GEOMETRY_KEYS.items():
+        values = np.vectorize(lambda x: float(f"{x:.15g}"))(getattr(geometry, name) / _MM)
+        out[key] = values.reshape(rows, width).tolist() if width else values.reshape(rows).tolist()
+    return out
+
+
+def _number(value: float) -> str:
+    return repr(float(value))
+
+
+def per_chain_urdf(doc: Any, chains: Chains, screw_points: np.ndarray) -> None:
+    """Move the drawing's URDF (an xml.dom document of ``hip_simulator.urdf.xacro``'s expansion) onto per-chain geometry, in place.
+
+    Chain ji's U-joint (joint ``u1_ji``, on carriage i whose frame is at c_i + L_i·ẑ) moves to
+    ``chains.screw_points[j, i] − c_i``; lever ji's centre of mass, drawing and tip frame to its own length;
+    platform j's centre (joint ``platform_j_rz``) to ``chains.centres[j]``; its joint frames
+    (``platform_j_joint_i_fixed``) to ``chains.platform_points[j, i]``.
+
+    Args:
+        doc: the URDF document.
+        chains: the resolved chains (:attr:`hipsim.machine.parameter_set.Parameters.chains`).
+        screw_points: the drawing's c_i in [m], (3, 3).
+    """
+    joints = {element.getAttribute("name"): element for element in doc.getElementsByTagName("joint")}
+    links = {element.getAttribute("name"): element for element in doc.getElementsByTagName("link")}
+
+    def set_origin(element, xyz):
+        element.getElementsByTagName("origin")[0].setAttribute("xyz", " ".join(_number(x) for x in xyz))
+
+    for j in range(2):
+        set_origin(joints[f"platform_{j + 1}_rz"], chains.centres[j])
+        for i in range(3):
+            name = f"{j + 1}{i + 1}"
+            set_origin(joints[f"u1_{name}"], chains.screw_points[j, i] - np.array([*screw_points[i, :2], 0.0]))
+            set_origin(joints[f"platform_{j + 1}_joint_{i + 1}_fixed"], chains.platform_points[j, i])
+            length = chains.lever_lengths[j, i]
+            set_origin(joints[f"lever_{name}_tip_fixed"], (0.0, 0.0, length))
+            lever = links[f"lever_{name}"]
+            for origin in lever.getElementsByTagName("origin"):  # its inertial and its visual, at mid-length
+                origin.setAttribute("xyz", f"0 0 {_number(length / 2)}")
+            for cylinder in lever.getElementsByTagName("cylinder"):
+                cylinder.setAttribute("length", _number(length))
+    for visual in doc.getElementsByTagName("visual"):  # the drawn hip joints at the rotation centres
+        name = visual.getAttribute("name")
+        if name in ("hip_joint_1", "hip_joint_2"):
+            set_origin(visual, chains.centres[int(name[-1]) - 1])

@@ -1,0 +1,120 @@
+"""Two stations drawn and written: each platform's three angle errors over the motion (the paper's Fig. 7), the
+tolerance table, and the calibration's record.
+
+:func:`write_stations` writes a folder a lab can hand on, as ``iso-check``
+does: the figure as PNG and SVG, ``index.html`` (one self-contained page, the
+PNG embedded) and ``stations.json``.
+"""
+
+from __future__ import annotations
+
+import base64
+import json
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..files import check_folder, json_ready, output_folder, write_atomic
+from .figures import _figure, save_figure
+from .pages import CSS, Verdict, environment
+from .provenance import Provenance
+
+__all__ = ["StationFiles", "plot_station_errors", "station_verdict", "write_stations"]
+
+_ANGLES = (("α flexion/extension", "tab:blue"), ("β abduction/adduction", "tab:orange"), ("γ rotation", "tab:green"))
+
+
+@dataclass(frozen=True)
+class StationFiles:
+    """What :func:`write_stations` wrote: the folder, the page, the JSON, the figure (PNG, SVG) if drawn."""
+
+    folder: Path
+    index: Path
+    json: Path
+    figure: tuple[Path, Path] | None
+
+
+def plot_station_errors(t: np.ndarray, errors_deg: np.ndarray, control: str):
+    """Each platform's attitude error α, β, γ in [deg] (N, 2, 3) over time t in [s] (N,): one panel per platform."""
+    fig, axes = _figure(2, height=2.4)
+    for j, ax in enumerate(axes):
+        role = "controlled" if control in (str(j + 1), "both") else "following"
+        for k, (label, colour) in enumerate(_ANGLES):
+            ax.plot(t, errors_deg[:, j, k], color=colour, lw=1.0, label=label)
+        ax.axhline(0.0, color="0.5", lw=0.6)
+        ax.set_ylabel(f"m_{j + 1} error [°]")
+        ax.set_title(f"platform m_{j + 1} ({role})", fontsize=10, loc="left")
+        ax.legend(fontsize=8, loc="upper right", ncol=3)
+    axes[-1].set_xlabel("t [s]")
+    return fig
+
+
+def station_verdict(summary: dict[str, Any]) -> Verdict:
+    """The block at the top of the page: the largest error of the two stations and each station's ISO verdict."""
+    worst = max(
+        ((p["platform"], a, v) for p in summary["platforms"] for a, v in p["angles"].items()),
+        key=lambda item: abs(item[2]["peak_deg"]),
+    )
+    j, angle, value = worst
+    lines = [
+        f"--control {summary['control']}: the largest attitude error is {abs(value['peak_deg']):.3g}° ({angle} of m_{j}, "
+        f"t = {value['peak_at_s']:.4g} s); RMS over both platforms and angles {summary['rms_error_deg']:.3g}°."
+    ]
+    verdicts = [p.get("iso", {}).get("verdict") for p in summary["platforms"]]
+    if all(v is None or v == "not made" for v in verdicts):
+        return Verdict("open", "NO ISO CHECK", tuple(lines + ["No whole ISO 14242-1 cycle with a load to check."]))
+    lines.append(
+        "ISO 14242-1 (tolerances assumed): "
+        + ", ".join(f"station {p['platform']} {p['iso']['verdict']}" for p in summary["platforms"] if "iso" in p)
+    )
+    failed = any(v == "FAIL" for v in verdicts)
+    return Verdict("fail" if failed else "pass", "FAIL" if failed else "PASS", tuple(lines))
+
+
+def write_stations(
+    out_dir: str | Path,
+    document: dict[str, Any],
+    t: np.ndarray | None = None,
+    errors_deg: np.ndarray | None = None,
+    provenance: Provenance | None = None,
+) -> StationFiles:
+    """Write ``stations.json``, ``index.html`` and, given the errors, the figure ``errors.png``/``.svg``, atomically.
+
+    Args:
+        out_dir: the folder (made if missing).
+        document: what the run found: ``summary`` (:func:`hipsim.stations.summary.station_summary`), and any of
+            ``tolerance`` (percentiles and sensitivity), ``sliders`` (attitudes from a log); JSON-ready data.
+        t: sample times in [s] (N,) for the figure; None for no figure.
+        errors_deg: each platform's errors in [deg] (N, 2, 3).
+        provenance: the page's provenance block.
+    """
+    from .provenance import provenance as make_provenance
+
+    out = Path(out_dir)
+    check_folder(out)
+    provenance = provenance or make_provenance()
+    summary = document.get("summary")
+    verdict = station_verdict(summary) if summary else Verdict("open", "TOLERANCES", ("Manufacturing tolerances.",))
+    full = {"verdict": verdict.as_dict(), "provenance": json_ready(provenance.as_dict())} | json_ready(document)
+    with output_folder(out):
+        figure = None
+        if t is not None and errors_deg is not None:
+            control = summary["control"] if summary else "2"
+            figure = save_figure(plot_station_errors(t, errors_deg, control), out, "errors")
+        json_path = write_atomic(out / "stations.json", json.dumps(full, indent=2) + "\n")
+        page = (
+            environment()
+            .get_template("stations.html.j2")
+            .render(
+                css=CSS,
+                verdict=verdict,
+                provenance=provenance,
+                title=provenance.title,
+                d=full,
+                figure=None if figure is None else base64.b64encode(figure[0].read_bytes()).decode("ascii"),
+            )
+        )
+        index = write_atomic(out / "index.html", page)
+    return StationFiles(out, index, json_path, figure)

@@ -1,0 +1,319 @@
+"""Kinematic calibration of the two stations from the carriage encoders and the two attitude sensors.
+
+A calibration log holds, per sample, the carriage readings L (the encoders) and
+each platform's attitude as its sensor reads it, y_j. The model is
+
+    y_j = q_j(L; θ) + o_j + noise,
+
+q_j the forward kinematics of platform j on the machine with per-chain values
+θ (:mod:`hipsim.stations.deviations`), o_j a constant offset per sensor angle
+and log when asked (``offsets=True``: the paper's sensor drifts at its zero
+between runs) and zero otherwise.
+
+What is estimated (:func:`hipsim.stations.sensitivity.structure`): the
+combinations of θ the sensors can see; the others are kept at their prior and
+reported. The fit is Bayesian least squares by Gauss–Newton: every estimated
+value has a prior N(drawing, s₀²) (s₀ = 0.5 mm by default), each offset a wide
+one (10°), each sensor angle's residual is weighted by the inverse of its
+standard deviation, estimated from the residuals as the fit goes (the noise),
+and
+
+    Δ = (JᵀWJ + Σ₀⁻¹)⁻¹ (JᵀW r − Σ₀⁻¹(x − x₀)),   Σ_post = (JᵀWJ + Σ₀⁻¹)⁻¹
+
+with J = ∂q/∂θ (:func:`hipsim.stations.sensitivity.attitude_jacobian`). It
+stops when no step exceeds 1e-4 of its posterior standard deviation; a fit
+that has not stopped after :data:`MAX_ITERATIONS`, or whose machine leaves the
+workspace at a logged reading, is refused (:class:`~hipsim.exceptions.CalibrationError`).
+The samples are taken as independent (sensor noise white at the log's rate):
+filtered or oversampled sensors make Σ_post optimistic by the ratio of the
+rate to twice the bandwidth.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..arrays import readonly
+from ..exceptions import ArgumentError, CalibrationError, PoseError
+from ..machine.parameters import Parameters
+from . import deviations as dv
+from .commands import attitudes
+from .sensitivity import Structure, attitude_jacobian, platform_attitude_jacobian, structure
+
+__all__ = [
+    "DEFAULT_PRIOR",
+    "DETERMINED",
+    "MAX_ITERATIONS",
+    "Calibration",
+    "CalibrationLog",
+    "calibrate",
+    "prediction_errors",
+]
+
+#: The prior standard deviation of every per-chain value in [m] (0.5 mm).
+DEFAULT_PRIOR = 0.5e-3
+#: The prior standard deviation of a sensor's offset in [rad].
+OFFSET_PRIOR = math.radians(10.0)
+#: A value is determined by the logs when its posterior standard deviation is at most this of its prior's.
+DETERMINED = 0.5
+#: The fit has converged when no step exceeds this fraction of its posterior standard deviation.
+STEP_TOL = 1e-4
+#: Gauss–Newton iterations at most.
+MAX_ITERATIONS = 25
+#: Largest disagreement in [rad] between a sensor and the drawing's forward kinematics before the fit: beyond, the
+#: sensor does not read this machine (a wrong column, a unit slip), 5°.
+MAX_DISAGREEMENT = math.radians(5.0)
+#: The noise assumed before the residuals say, in [rad] (0.05°).
+START_NOISE = math.radians(0.05)
+
+
+@dataclass(frozen=True, eq=False)
+class CalibrationLog:
+    """One calibration log, SI.
+
+    Attributes:
+        name: where it came from (its file).
+        t: sample times in [s], (N,).
+        carriages: the carriage readings L_1, L_2, L_3 in [m], (N, 3).
+        sensors: each platform's attitude [α, β, γ] as its sensor reads it, in [rad], (N, 2, 3).
+    """
+
+    name: str
+    t: np.ndarray
+    carriages: np.ndarray
+    sensors: np.ndarray
+
+    def __post_init__(self):
+        n = np.shape(self.t)[0]
+        for attr, shape in (("t", (n,)), ("carriages", (n, 3)), ("sensors", (n, 2, 3))):
+            value = np.asarray(getattr(self, attr), dtype=float)
+            if value.shape != shape:
+                raise ArgumentError(attr, value, f"shape {shape}")
+            object.__setattr__(self, attr, readonly(value))
+
+
+@dataclass(frozen=True, eq=False)
+class Calibration:
+    """A calibrated machine and what the logs said of it.
+
+    Attributes:
+        machine: the calibrated machine (the start with the calibrated chains).
+        start: the machine the prior was centred on (the drawing, or the starting file's chains).
+        theta, theta_std: each per-chain deviation δ and its posterior standard deviation in [m], (48,); a value
+            kept at its prior has its prior's.
+        covariance: the posterior covariance of the estimated values in [m²], in the order of ``structure.independent``.
+        structure: which combinations the logs can see.
+        determined: per value, whether the logs determined it (posterior std ≤ DETERMINED × prior's), (48,).
+        prior: the prior standard deviation in [m].
+        offsets: each log's sensor offsets in [rad], (K, 2, 3) (zero when not estimated).
+        noise: each sensor angle's residual standard deviation in [rad], (2, 3).
+        residual_rms: per log, the RMS residual per sensor angle in [rad] with the calibrated machine, (K, 2, 3).
+        start_rms: the same with the starting machine (offsets fitted alike when estimated), (K, 2, 3).
+        logs: the logs' names.
+        samples: samples fitted.
+        iterations: Gauss–Newton iterations made.
+    """
+
+    machine: Parameters
+    start: Parameters
+    theta: np.ndarray
+    theta_std: np.ndarray
+    covariance: np.ndarray
+    structure: Structure
+    determined: np.ndarray
+    prior: float
+    offsets: np.ndarray
+    noise: np.ndarray
+    residual_rms: np.ndarray
+    start_rms: np.ndarray
+    logs: tuple[str, ...]
+    samples: int
+    iterations: int
+
+    @property
+    def unseen(self) -> list[str]:
+        """The values no log of this kind can see (kept at their prior), by name."""
+        return [dv.names()[k] for k in self.structure.dependent]
+
+    @property
+    def weak(self) -> list[str]:
+        """The estimated values these logs barely saw (posterior std above DETERMINED of the prior's), by name."""
+        labels = dv.names()
+        return [labels[k] for k in self.structure.independent if not self.determined[k]]
+
+    def prediction_std(self, q: np.ndarray) -> np.ndarray:
+        """The standard deviation in [rad] of the predicted attitudes q (N, 2, 3) [rad] from θ's uncertainty, (N, 2, 3)."""
+        Jq = attitude_jacobian(self.machine, np.asarray(q, dtype=float), self.structure.independent)
+        return np.sqrt(np.einsum("njkp,pr,njkr->njk", Jq, self.covariance, Jq))
+
+
+def _checked_attitudes(machine: Parameters, log: CalibrationLog, guess: np.ndarray, what: str) -> np.ndarray:
+    try:
+        return attitudes(machine, log.carriages, guess, log.t, log.name)
+    except PoseError as error:
+        raise CalibrationError(f"{log.name}, t = {error.time:.6g} s: {what} ({error.reason})") from None
+
+
+def _fit_offsets(residual: np.ndarray) -> np.ndarray:
+    return residual.mean(axis=0)
+
+
+def prediction_errors(
+    machine: Parameters, log: CalibrationLog, offsets: bool
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The sensors' residuals against a machine's predictions from the log's carriages.
+
+    Args:
+        machine: the machine.
+        log: the log.
+        offsets: fit (and take out) a constant offset per sensor angle first.
+
+    Returns:
+        residuals (N, 2, 3) in [rad], the offsets taken out (2, 3) in [rad], the predictions (N, 2, 3) in [rad].
+    """
+    q = _checked_attitudes(machine, log, log.sensors, "the machine does not reach the logged carriages")
+    r = log.sensors - q
+    o = _fit_offsets(r) if offsets else np.zeros((2, 3))
+    return r - o, o, q
+
+
+def _check_agreement(machine: Parameters, log: CalibrationLog, offsets: bool) -> tuple[np.ndarray, np.ndarray]:
+    """The starting machine's predictions and RMS residual, refusing a sensor that disagrees with the encoders beyond reach."""
+    r, _, q = prediction_errors(machine, log, offsets)
+    worst = np.abs(r).max(axis=0)
+    if np.any(worst > MAX_DISAGREEMENT):
+        j, k = np.unravel_index(int(np.argmax(worst)), worst.shape)
+        n = int(np.argmax(np.abs(r[:, j, k])))
+        column = f"{('alpha', 'beta', 'gamma')[k]}_{j + 1}_deg"
+        raise CalibrationError(
+            f"{log.name}, t = {log.t[n]:.6g} s, column '{column}': the sensor reads {math.degrees(log.sensors[n, j, k]):.4g}°, "
+            f"the encoders put the platform at {math.degrees(q[n, j, k]):.4g}° (more than {math.degrees(MAX_DISAGREEMENT):g}° "
+            "apart: a wrong column, unit or sensor; no per-chain deviation explains it)"
+        )
+    return q, np.sqrt((r**2).mean(axis=0))
+
+
+def calibrate(
+    logs: Sequence[CalibrationLog],
+    start: Parameters,
+    prior: float = DEFAULT_PRIOR,
+    offsets: bool = False,
+    structure_of: Structure | None = None,
+) -> Calibration:
+    """Calibrate the per-chain values from logs of the encoders and both attitude sensors.
+
+    Args:
+        logs: the logs fitted together.
+        start: the machine the prior is centred on (the drawing, or a file's chains).
+        prior: prior standard deviation of every per-chain value in [m].
+        offsets: estimate a constant offset per sensor angle and log (``--sensor-offset per-log``).
+        structure_of: the combinations to estimate (default: :func:`~hipsim.stations.sensitivity.structure` of ``start``).
+
+    Raises:
+        CalibrationError: a sensor far from the encoders, a machine leaving the workspace, no convergence.
+    """
+    if not logs:
+        raise ArgumentError("logs", logs, "at least one calibration log")
+    if not (math.isfinite(prior) and prior > 0):
+        raise ArgumentError("prior", prior, "a positive standard deviation in m")
+    seen = structure_of or structure(start, offsets)
+    ind = seen.independent
+    theta0 = dv.deviation(start)
+    K = len(logs)
+    p = ind.size
+    n_off = 6 * K if offsets else 0
+    x0 = np.concatenate([theta0[ind], np.zeros(n_off)])
+    # Per platform: the positions in x of its estimated values (own) and their columns among its 24 (local).
+    own, local = [], []
+    for j in (1, 2):
+        platform = list(dv.platform_columns(j))
+        mine = [c for c, k in enumerate(ind) if k in platform]
+        own.append(np.array(mine, dtype=int))
+        local.append(np.array([platform.index(ind[c]) for c in mine], dtype=int))
+    prior_info = np.concatenate([np.full(p, prior**-2), np.full(n_off, OFFSET_PRIOR**-2)])
+    checked = [_check_agreement(start, log, offsets) for log in logs]
+    starts = [q for q, _ in checked]
+    start_rms = np.array([rms for _, rms in checked])
+    x = x0.copy()
+    noise = np.full((2, 3), START_NOISE)
+    theta = theta0.copy()
+    converged = False
+    iterations = 0
+    for iterations in range(1, MAX_ITERATIONS + 1):
+        theta[ind] = x[:p]
+        machine = dv.machine(start, theta)
+        A = np.diag(prior_info)
+        b = -prior_info * (x - x0)
+        rows = []
+        for k, log in enumerate(logs):
+            q = _checked_attitudes(machine, log, starts[k], "the calibrated machine leaves the workspace")
+            starts[k] = q
+            o = x[p + 6 * k : p + 6 * k + 6].reshape(2, 3) if offsets else np.zeros((2, 3))
+            # Each platform's rows see only its own values: ∂q_j/∂δ_b per platform, (N, 3, its estimated values).
+            blocks = [platform_attitude_jacobian(machine, q[:, j], j + 1)[..., local[j]] for j in (0, 1)]
+            rows.append((log.sensors - o - q, blocks))
+        residual_rms = np.array(
+            [np.sqrt((r**2).mean(axis=0)) for r, _ in rows]
+        )  # the last iteration's: the step is tiny
+        if iterations > 1:  # the noise from this iteration's residuals (the first's are the start's, too large)
+            squares = sum((r**2).sum(axis=0) for r, _ in rows)
+            noise = np.sqrt(np.maximum(squares / sum(len(r) for r, _ in rows), 1e-24))
+        w = 1.0 / noise**2  # (2, 3)
+        for k, (r, blocks) in enumerate(rows):
+            for j, Jj in enumerate(blocks):
+                Jw = Jj * w[j][None, :, None]
+                # einsum, not a matrix product: threaded BLAS on these thin matrices stalls on a busy machine.
+                A[np.ix_(own[j], own[j])] += np.einsum("nkp,nkr->pr", Jw, Jj)
+                b[own[j]] += np.einsum("nkp,nk->p", Jw, r[:, j])
+                if offsets:
+                    rows_j = p + 6 * k + 3 * j + np.arange(3)
+                    cross = Jw.sum(axis=0)  # (3, p_j): ∂r/∂o = −I per sensor angle
+                    A[np.ix_(own[j], rows_j)] += cross.T
+                    A[np.ix_(rows_j, own[j])] += cross
+                    A[rows_j, rows_j] += len(r) * w[j]
+                    b[rows_j] += (r[:, j] * w[j]).sum(axis=0)
+        del rows
+        try:
+            step = np.linalg.solve(A, b)
+            covariance = np.linalg.inv(A)
+        except np.linalg.LinAlgError:
+            raise CalibrationError("the calibration's normal equations are singular") from None
+        x = x + step
+        if not np.all(np.isfinite(x)):
+            raise CalibrationError(f"the calibration diverged at iteration {iterations}")
+        if iterations > 1 and np.all(np.abs(step) <= STEP_TOL * np.sqrt(np.diag(covariance))):
+            converged = True
+            break
+    if not converged:
+        raise CalibrationError(
+            f"the calibration did not converge in {MAX_ITERATIONS} iterations (the logs may not excite the machine, or the "
+            "start is too far from it: try --prior or a richer motion, hipsim excite --for calibration)"
+        )
+    theta[ind] = x[:p]
+    machine = dv.machine(start, theta)
+    theta_std = np.full(dv.COUNT, prior)
+    theta_std[ind] = np.sqrt(np.diag(covariance)[:p])
+    determined = np.zeros(dv.COUNT, dtype=bool)
+    determined[ind] = theta_std[ind] <= DETERMINED * prior
+    offsets_out = x[p:].reshape(K, 2, 3) if offsets else np.zeros((K, 2, 3))
+    return Calibration(
+        machine=machine,
+        start=start,
+        theta=readonly(theta),
+        theta_std=readonly(theta_std),
+        covariance=readonly(covariance[:p, :p]),
+        structure=seen,
+        determined=readonly(determined),
+        prior=prior,
+        offsets=readonly(offsets_out),
+        noise=readonly(noise),
+        residual_rms=readonly(residual_rms),
+        start_rms=readonly(start_rms),
+        logs=tuple(log.name for log in logs),
+        samples=sum(len(log.t) for log in logs),
+        iterations=iterations,
+    )

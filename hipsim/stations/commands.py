@@ -1,0 +1,247 @@
+"""Carriage commands for two platforms on one set of carriages: control platform 1, platform 2, or both.
+
+Both platforms hang on the same three carriages. With every chain built to
+the drawing they turn alike; with per-chain deviations one carriage reading
+L = (L_1, L_2, L_3) puts each platform at its own attitude q_j(L) (the forward
+kinematics of :mod:`hipsim.analytic.stations`), and no command puts both
+exactly where they are wanted. For a desired attitude q_d per sample:
+
+- ``control="1"`` (or ``"2"``): L = the inverse kinematics of that platform, so
+  it is exact and the other follows with its own error (the paper controls m_2
+  and m_1 follows);
+- ``control="both"``: L minimises w_1·|q_1(L) − q_d|² + w_2·|q_2(L) − q_d|²
+  (angles in degrees, w = (1, 1) by default). The deviations are small, so
+  q_j(L) ≈ q_d + A_j·(L − L_j*), A_j = (∂L/∂q)_j⁻¹ at q_d, L_j* platform j's own
+  command: the weighted least squares L = (Σ w_j A_jᵀA_j)⁻¹ Σ w_j A_jᵀA_j L_j*,
+  whose cost is the true minimum's to second order in δ/l (δ the deviations,
+  l the lever; 1e-5 relative at 0.3 mm). Each sample keeps the best of that command and
+  the two single-platform ones, so ``both`` is never worse than either in its
+  summed squared error, and with identical chains (both single commands
+  equal) all three are the same.
+
+The attitudes a command gives are solved exactly: Newton on each platform's
+forward kinematics from its linear prediction q_d + A_j·(L − L_j*), which two
+steps bring to round-off; a sample that has not converged then goes through
+:func:`hipsim.analytic.forward_kinematics.solve_pose` with its assembly-mode
+and singularity checks.
+
+Every function works on whole arrays of samples.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..analytic.chain_kinematics import chain_jacobian, chain_positions
+from ..analytic.forward_kinematics import solve_pose
+from ..analytic.stations import carriages_for_platform, platform_attitude
+from ..arrays import readonly
+from ..exceptions import ArgumentError, PoseError
+from ..machine.parameters import Parameters
+from ..physics.orientation import angular_velocity_map
+from .sensitivity import inverse3, reading_rate
+
+__all__ = ["CONTROLS", "StationMotion", "attitudes", "station_commands", "squared_errors"]
+
+#: The platforms a command can serve.
+CONTROLS = ("1", "2", "both")
+#: Newton steps from a guess within ~1e-6 rad (quadratic convergence: 1e-12, then round-off).
+NEWTON_STEPS = 2
+#: A carriage reading reproduced this closely in [m] (~3e-13 rad) is converged; the full solve reaches ~1e-15.
+CONVERGED_GAP = 1e-13
+#: How far (relative) a single-platform command's predicted cost may be above the least squares' before it is solved
+#: exactly to compare: far above the prediction's own error (~1e-5 at 0.3 mm deviations).
+SAFETY = 1e-2
+
+
+@dataclass(frozen=True, eq=False)
+class StationMotion:
+    """Carriage commands and the two platforms' attitudes they give, per sample, SI.
+
+    Attributes:
+        t: sample times in [s], (N,).
+        desired: the desired attitude [α, β, γ] in [rad], (N, 3).
+        carriages: the carriage readings L_1, L_2, L_3 in [m] (the encoders' reading), (N, 3).
+        attitudes: each platform's attitude q_j in [rad], (N, 2, 3).
+        control: "1", "2" or "both".
+        weights: (w_1, w_2) of ``both``'s sum of squared errors.
+    """
+
+    t: np.ndarray
+    desired: np.ndarray
+    carriages: np.ndarray
+    attitudes: np.ndarray
+    control: str
+    weights: tuple[float, float] = (1.0, 1.0)
+
+    def __post_init__(self):
+        n = np.shape(self.t)[0]
+        for name, shape in (("t", (n,)), ("desired", (n, 3)), ("carriages", (n, 3)), ("attitudes", (n, 2, 3))):
+            value = np.asarray(getattr(self, name), dtype=float)
+            if value.shape != shape:
+                raise ArgumentError(name, value, f"shape {shape}")
+            object.__setattr__(self, name, readonly(value))
+
+    @property
+    def errors(self) -> np.ndarray:
+        """q_j − q_d in [rad], (N, 2, 3)."""
+        return self.attitudes - self.desired[:, None, :]
+
+
+def squared_errors(errors: np.ndarray, weights=(1.0, 1.0)) -> np.ndarray:
+    """Σ_j w_j·|e_j|² per sample in [deg²], from errors (N, 2, 3) in [rad]."""
+    e = np.degrees(errors)
+    return weights[0] * np.einsum("nk,nk->n", e[:, 0], e[:, 0]) + weights[1] * np.einsum("nk,nk->n", e[:, 1], e[:, 1])
+
+
+def attitudes(
+    params: Parameters,
+    carriages: np.ndarray,
+    guess: np.ndarray | None = None,
+    t: np.ndarray | None = None,
+    source: str | None = None,
+) -> np.ndarray:
+    """Both platforms' attitudes in [rad], (N, 2, 3), from carriage readings (N, 3) in [m].
+
+    Args:
+        params: the machine.
+        carriages: carriage readings L_i in [m], (N, 3).
+        guess: attitudes near the solution in [rad], (N, 3) for both platforms or (N, 2, 3) one each: each sample
+            is solved from its own guess at once; None: each sample continues the previous one from home
+            (:func:`hipsim.analytic.stations.platform_attitude`).
+        t: sample times in [s], (N,), for messages.
+        source: the log's or trajectory's name, for messages.
+
+    Raises:
+        PoseError: naming the sample (time) a platform cannot take.
+    """
+    out = np.empty((len(carriages), 2, 3))
+    for j in (1, 2):
+        if guess is None:
+            out[:, j - 1] = platform_attitude(params, carriages, j, t=t, source=source)
+        else:
+            out[:, j - 1] = _attitude(
+                params, carriages, guess[:, j - 1] if np.ndim(guess) == 3 else guess, j, t, source
+            )
+    return out
+
+
+def _weights(weights) -> tuple[float, float]:
+    w = tuple(float(x) for x in weights)
+    if len(w) != 2 or not all(math.isfinite(x) and x >= 0 for x in w) or sum(w) == 0:
+        raise ArgumentError("weights", weights, "two finite weights >= 0, not both zero")
+    return w[0], w[1]
+
+
+def station_commands(
+    params: Parameters,
+    t: np.ndarray,
+    desired: np.ndarray,
+    control: str = "2",
+    weights=(1.0, 1.0),
+    source: str | None = None,
+) -> StationMotion:
+    """The carriage commands for a desired attitude and what each platform does with them.
+
+    Args:
+        params: the machine (per-chain values or the drawing).
+        t: sample times in [s], (N,).
+        desired: desired attitude [α, β, γ] in [rad], (N, 3).
+        control: "1" or "2" (that platform exact, the other follows) or "both" (least squares over the two).
+        weights: (w_1, w_2) for "both", dimensionless.
+        source: the trajectory's name, for messages.
+
+    Raises:
+        ArgumentError: an unknown control or bad weights.
+        PoseError: a sample a platform cannot reach (naming it and the chain).
+    """
+    if control not in CONTROLS:
+        raise ArgumentError("control", control, "one of 1, 2, both")
+    w = _weights(weights)
+    q_d = np.asarray(desired, dtype=float)
+    t = np.asarray(t, dtype=float)
+    own = {}
+    for j in (1, 2):
+        own[j] = carriages_for_platform(params, q_d, j)
+        bad = ~np.all(np.isfinite(own[j]), axis=1)
+        if bad.any():
+            k = int(np.argmax(bad))
+            leg = int(np.argmax(~np.isfinite(own[j][k]))) + 1
+            raise PoseError(f"chain {j}{leg}'s lever cannot reach platform {j}'s desired attitude", t[k], k, source)
+    needed = (1, 2) if control == "both" else (3 - int(control),)
+    A = {j: inverse3(reading_rate(params, q_d, j)) for j in needed}  # ∂q_j/∂L at q_d
+
+    def follows(j: int, L: np.ndarray) -> np.ndarray:
+        """Platform j's attitude at carriages L, from its linear prediction about its own command."""
+        guess = q_d + np.matmul(A[j], (L - own[j])[..., None])[..., 0]
+        return _attitude(params, L, guess, j, t, source)
+
+    q = np.empty((len(q_d), 2, 3))
+    if control in ("1", "2"):
+        j = int(control)
+        q[:, j - 1] = q_d  # exact by construction: forward ∘ inverse is the identity to 1e-12
+        q[:, 2 - j] = follows(3 - j, own[j])
+        return StationMotion(t, q_d, own[j], q, control, w)
+    AtA = {j: np.matmul(np.swapaxes(A[j], 1, 2), A[j]) for j in (1, 2)}
+    H = w[0] * AtA[1] + w[1] * AtA[2]
+    rhs = w[0] * np.matmul(AtA[1], own[1][..., None]) + w[1] * np.matmul(AtA[2], own[2][..., None])
+    L = np.matmul(inverse3(H), rhs)[..., 0]
+    q[:, 0], q[:, 1] = follows(1, L), follows(2, L)
+    # The single-platform commands, each exact on its own platform: a sample keeps the best of the three. Their costs
+    # are first predicted (platform j's error at the other's command is A_j·(L_o* − L_j*) to second order); only the
+    # samples where one may beat the least squares are solved exactly (with identical chains, all of them).
+    best = squared_errors(q - q_d[:, None], w)
+    for j in (1, 2):
+        o = 3 - j
+        predicted = np.zeros_like(q)
+        predicted[:, o - 1] = np.matmul(A[o], (own[j] - own[o])[..., None])[..., 0]
+        close = np.flatnonzero(squared_errors(predicted, w) * (1.0 - SAFETY) <= best)
+        if close.size == 0:
+            continue
+        qj = np.empty((close.size, 2, 3))
+        qj[:, j - 1] = q_d[close]
+        guess = q_d[close] + predicted[close, o - 1]
+        qj[:, o - 1] = _attitude(params, own[j][close], guess, o, t[close], source)
+        cost = squared_errors(qj - q_d[close, None], w)
+        better = cost < best[close]
+        chosen = close[better]
+        L[chosen], q[chosen], best[chosen] = own[j][chosen], qj[better], cost[better]
+    return StationMotion(t, q_d, L, q, "both", w)
+
+
+def _attitude(params: Parameters, L: np.ndarray, guess: np.ndarray, j: int, t, source) -> np.ndarray:
+    """Platform j's attitude at carriages L (N, 3) [m], each sample solved from its guess (N, 3) [rad].
+
+    A guess within ~1e-6 rad (a linear prediction from the same machine's exact inverse kinematics) reaches round-off
+    in two Newton steps, each from one evaluation of the chains (:func:`_newton_from_close`); a sample that has not,
+    and every sample of a drawing machine, goes through the full solve with its assembly-mode and singularity checks.
+    """
+    q = np.empty_like(guess)
+    rest = np.arange(len(L))
+    if params.geometry is not None:
+        q[:], done = _newton_from_close(params, L, guess, j)
+        rest = np.flatnonzero(~done)
+    if rest.size:
+        try:
+            q[rest] = solve_pose(params, L[rest], guess[rest], platform=None if params.geometry is None else j)
+        except PoseError as error:
+            k = int(rest[error.index])
+            time = float(t[k]) if t is not None else float(k)
+            raise PoseError(f"platform {j}: {error.reason}", time, k, source=source) from None
+    return q
+
+
+def _newton_from_close(params: Parameters, L: np.ndarray, guess: np.ndarray, j: int) -> tuple[np.ndarray, np.ndarray]:
+    """Newton on a per-chain platform's angles from close guesses: (gait angles (N, 3), converged (N,) bool)."""
+    signs = params.angle_signs
+    p = np.asarray(guess, dtype=float) * signs
+    with np.errstate(invalid="ignore", divide="ignore"):
+        for _ in range(NEWTON_STEPS):
+            heights, r, d = chain_positions(params.chains, p, j - 1)
+            D = np.matmul(chain_jacobian(r, d), angular_velocity_map(p))  # ∂L/∂p
+            p = p - np.matmul(inverse3(D), (heights - L)[..., None])[..., 0]
+        gap = np.abs(chain_positions(params.chains, p, j - 1)[0] - L).max(axis=1)
+    return p * signs, gap <= CONVERGED_GAP

@@ -1,0 +1,160 @@
+"""Calibration logs read from their files: the carriage encoders and the two platforms' attitude sensors.
+
+A calibration log is a table (CSV, ``;``- or tab-separated, with ``#``
+comments and blank lines skipped, or Parquet) with the columns
+
+- ``t_s``, evenly or unevenly spaced but increasing;
+- the carriages: ``L_11_mm, L_12_mm, L_13_mm`` (the encoders' reading, as the
+  rig logs have it), or the motor angles ``motor_1_deg, motor_2_deg,
+  motor_3_deg`` (read as L_i = p·angle/360°, the carriage's zero where the
+  motor's is);
+- both attitude sensors: ``alpha_1_deg, beta_1_deg, gamma_1_deg`` (platform 1)
+  and ``alpha_2_deg, beta_2_deg, gamma_2_deg`` (platform 2), in the spec's
+  angles (R = Rz(γ)·Ry(β)·Rx(α)).
+
+Other columns are ignored. A missing column, a cell that is no finite number,
+or time that does not increase is refused by file, line and column.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from ..exceptions import TrajectoryError
+from ..tables import cells, data_lines, detect_separator, number, open_parquet, read_text_lines
+from .calibration import CalibrationLog
+
+__all__ = ["CARRIAGE_COLUMNS", "MOTOR_COLUMNS", "SENSOR_COLUMNS", "read_calibration_log", "read_carriage_log"]
+
+CARRIAGE_COLUMNS = tuple(f"L_1{i}_mm" for i in (1, 2, 3))
+MOTOR_COLUMNS = tuple(f"motor_{i}_deg" for i in (1, 2, 3))
+#: The sensors' columns, platform by platform.
+SENSOR_COLUMNS = tuple(tuple(f"{a}_{j}_deg" for a in ("alpha", "beta", "gamma")) for j in (1, 2))
+WHAT = "calibration log"
+
+
+def _table(path: str | Path) -> tuple[list[str], dict[str, np.ndarray], np.ndarray | None]:
+    """(header, columns by name as float arrays, the file line of each row or None for Parquet)."""
+    source = str(path)
+    if Path(path).suffix.lower() in (".parquet", ".pq"):
+        table = open_parquet(path, WHAT, TrajectoryError).read()
+        columns = {}
+        for name in table.column_names:
+            try:
+                columns[name] = np.asarray(table.column(name).to_numpy(zero_copy_only=False), dtype=float)
+            except (TypeError, ValueError):
+                continue  # a text column: ignored like any other unknown one
+        return list(table.column_names), columns, None
+    numbered = data_lines(read_text_lines(path, WHAT, TrajectoryError))
+    if not numbered:
+        raise TrajectoryError("empty: no header and no rows", source=source)
+    header_line, header_text = numbered[0]
+    try:
+        separator = detect_separator(header_text, numbered[1][1] if len(numbered) > 1 else None)
+        header = [c.strip() for c in cells(header_text, separator)]
+    except ValueError as error:
+        raise TrajectoryError(str(error), source=source, line=header_line) from None
+    wanted = {name: k for k, name in enumerate(header)}
+    keep = [name for name in (("t_s",) + CARRIAGE_COLUMNS + MOTOR_COLUMNS + sum(SENSOR_COLUMNS, ())) if name in wanted]
+    values = np.empty((len(numbered) - 1, len(keep)))
+    lines = np.empty(len(numbered) - 1, dtype=int)
+    decimal_comma = separator != ","
+    for row, (line, text) in enumerate(numbered[1:]):
+        try:
+            row_cells = cells(text, separator)
+        except ValueError as error:
+            raise TrajectoryError(str(error), source=source, line=line) from None
+        lines[row] = line
+        for c, name in enumerate(keep):
+            k = wanted[name]
+            cell = row_cells[k] if k < len(row_cells) else ""
+            try:
+                values[row, c] = number(cell, decimal_comma)
+            except ValueError:
+                raise TrajectoryError(
+                    f"'{cell.strip()}' is not a number", source=source, line=line, column=name
+                ) from None
+    return header, {name: values[:, c] for c, name in enumerate(keep)}, lines
+
+
+def _read(path: str | Path, lead: float, sensors: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """(t [s], carriages [m] (N, 3), sensors [rad] (N, 2, 3) or None when not asked for)."""
+    source = str(path)
+    if not math.isfinite(lead) or lead <= 0:
+        raise TrajectoryError(f"the screw lead must be positive, got {lead!r}", source=source)
+    header, columns, lines = _table(path)
+
+    def missing(names, what):
+        absent = [name for name in names if name not in columns]
+        if absent:
+            raise TrajectoryError(
+                f"no {what}: missing column(s) {', '.join(absent)} (the header has {', '.join(header) or 'nothing'})",
+                source=source,
+            )
+
+    missing(("t_s",), "time")
+    if all(name in columns for name in CARRIAGE_COLUMNS):
+        carriages = np.stack([columns[name] for name in CARRIAGE_COLUMNS], axis=1) * 1e-3
+        used: tuple[str, ...] = CARRIAGE_COLUMNS
+    elif all(name in columns for name in MOTOR_COLUMNS):
+        carriages = np.stack([columns[name] for name in MOTOR_COLUMNS], axis=1) / 360.0 * lead
+        used = MOTOR_COLUMNS
+    else:
+        missing(CARRIAGE_COLUMNS, "carriage encoders (or motor angles motor_1_deg, motor_2_deg, motor_3_deg)")
+        raise AssertionError("unreachable")
+    if sensors:
+        for j, names in enumerate(SENSOR_COLUMNS, start=1):
+            missing(names, f"attitude sensor of platform {j}")
+        used = used + sum(SENSOR_COLUMNS, ())
+    t = columns["t_s"]
+    for name in ("t_s", *used):
+        bad = ~np.isfinite(columns[name])
+        if bad.any():
+            row = int(np.argmax(bad))
+            raise TrajectoryError(
+                "not a finite number", source=source, line=None if lines is None else int(lines[row]), column=name
+            )
+    if len(t) < 2:
+        raise TrajectoryError(f"{len(t)} row(s): a log needs at least 2", source=source)
+    steps = np.diff(t)
+    if np.any(steps <= 0):
+        row = int(np.argmax(steps <= 0)) + 1
+        raise TrajectoryError(
+            f"time does not increase (t = {t[row]:.6g} s after {t[row - 1]:.6g} s)",
+            source=source,
+            line=None if lines is None else int(lines[row]),
+            column="t_s",
+        )
+    if not sensors:
+        return t, carriages, None
+    angles = np.radians(np.stack([np.stack([columns[n] for n in names], axis=1) for names in SENSOR_COLUMNS], axis=1))
+    return t, carriages, angles
+
+
+def read_calibration_log(path: str | Path, lead: float) -> CalibrationLog:
+    """A calibration log from its file (module docstring), SI.
+
+    Args:
+        path: the file (CSV or Parquet).
+        lead: the screw's lead p in [m] per motor turn, for motor-angle columns.
+
+    Raises:
+        TrajectoryError: a missing column (a platform's sensor, the carriages), a cell that is no finite number,
+            time that does not increase, too few rows.
+    """
+    t, carriages, sensors = _read(path, lead, sensors=True)
+    assert sensors is not None
+    return CalibrationLog(str(path), t, carriages, sensors)
+
+
+def read_carriage_log(path: str | Path, lead: float) -> tuple[np.ndarray, np.ndarray]:
+    """A log's times in [s] (N,) and carriage readings in [m] (N, 3), the sensors not needed (``stations --sliders``).
+
+    Raises:
+        TrajectoryError: as :func:`read_calibration_log`, but for the sensors.
+    """
+    t, carriages, _ = _read(path, lead, sensors=False)
+    return t, carriages

@@ -1,0 +1,298 @@
+"""Tolerances before building: what manufacturing deviations of the chains do to each platform's attitude.
+
+Each per-chain value (:mod:`hipsim.stations.deviations`) is drawn uniformly
+within its family's band ±V (a tolerance says the value lies in the band, no
+more), independently, around the drawing; each draw is a machine, commanded
+as ``hipsim stations`` commands it (:func:`hipsim.stations.commands.station_commands`),
+along the desired motion. Per draw and control, the RMS and the peak of each
+platform's three angle errors; over the draws, their distribution (the 95th
+percentile is what a lab plans with). The draws run on a dask cluster
+(:func:`hipsim.analysis.cluster.map_batches`, as ``sweep`` does) or in this
+process; each batch draws from its own seed, so the result does not depend on
+how the batches were spread.
+
+The sensitivity table is first order: for a small deviation δ the errors are
+e(t) = S(t)·δ (:func:`error_sensitivity`), so a value p drawn within ±V_p adds
+V_p²/3·mean_t S_k(t, p)² to the expected mean square error of angle k, exactly
+additive over the values. That names the chain and the value that drive the
+follower's error most.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..analytic.stations import carriages_for_platform
+from ..arrays import readonly
+from ..exceptions import ArgumentError, HipsimError, ParameterError, PoseError
+from ..machine.parameters import Parameters
+from . import deviations as dv
+from .commands import CONTROLS, station_commands
+from .sensitivity import inverse3, reading_jacobian, reading_rate
+
+__all__ = [
+    "ToleranceResult",
+    "error_sensitivity",
+    "half_widths",
+    "parse_tolerances",
+    "sensitivity_table",
+    "tolerance_batch",
+    "tolerance_draws",
+]
+
+#: Draws per batch handed to a worker.
+BATCH = 250
+
+
+def parse_tolerances(text: str) -> dict[str, float]:
+    """Tolerance bands in [m] by family, from ``KEY=±V,...`` in mm or a TOML file of such keys (``[tolerance]`` or top level).
+
+    Keys: the families ujoint, slider, joint, lever, centre (the fields of
+    :class:`~hipsim.machine.chains.ChainGeometry`), and ``all`` (every family not named). A family not named (and no ``all``) is built exactly.
+
+    Raises:
+        ParameterError: an unknown key, a value that is not a finite number >= 0, an unreadable file.
+    """
+    source = "--tolerance"
+    if "=" not in text and Path(text).suffix.lower() == ".toml":
+        source = text
+        try:
+            data = tomllib.loads(Path(text).read_text(encoding="utf-8"))
+        except FileNotFoundError:
+            raise ParameterError("no such tolerance file", source=text) from None
+        except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as error:
+            raise ParameterError(f"cannot read the tolerance file ({error})", source=text) from None
+        entries = list(data.get("tolerance", data).items())
+    else:
+        entries = []
+        for part in filter(None, (p.strip() for p in text.split(","))):
+            key, sep, value = part.partition("=")
+            if not sep:
+                raise ParameterError(f"expected KEY=±V in mm, got '{part}'", source=source)
+            entries.append((key.strip(), value.strip().replace("±", "").replace("+-", "")))
+    if not entries:
+        raise ParameterError("no tolerance given (e.g. all=0.1 or ujoint=0.1,lever=0.05, in mm)", source=source)
+    bands: dict[str, float] = {}
+    for key, value in entries:
+        if key != "all" and key not in dv.FAMILIES:
+            raise ParameterError(f"unknown tolerance (known: all, {', '.join(dv.FAMILIES)})", key=key, source=source)
+        try:
+            v = float(value)
+        except (TypeError, ValueError):
+            v = math.nan
+        if not (math.isfinite(v) and v >= 0):
+            raise ParameterError(f"expected a band ±V in mm (V >= 0), got '{value}'", key=key, source=source)
+        bands[key] = v * 1e-3
+    default = bands.pop("all", 0.0)
+    return {family: bands.get(family, default) for family in dv.FAMILIES}
+
+
+def half_widths(bands: Mapping[str, float]) -> np.ndarray:
+    """Each per-chain value's half band in [m], (48,), from the bands by family."""
+    return np.array([bands.get(dv.family(name), 0.0) for name in dv.names()])
+
+
+def error_sensitivity(params: Parameters, desired: np.ndarray, control: str, weights=(1.0, 1.0)) -> np.ndarray:
+    """S = ∂e/∂δ of each platform's attitude error under a control, at the machine ``params``, (N, 2, 3, 48) [rad/m].
+
+    With F_j = ∂f_j/∂θ and A_j = (∂f_j/∂q)⁻¹ at the attitude platform j takes: its error is
+    e_j = A_j·(dL − F_j·dθ); control "1" or "2" sets dL = F_c·dθ, "both" the weighted least squares
+    dL = H⁻¹·Σ w_j A_jᵀA_j F_j·dθ, H = Σ w_j A_jᵀA_j (Gauss–Newton: the residuals' curvature left out, exact
+    on the drawing, where they vanish).
+    """
+    q_d = np.asarray(desired, dtype=float)
+    n = len(q_d)
+    # At the attitudes the platforms take (a deviated machine's follower is off the desired), first order in δ.
+    q = station_commands(params, np.arange(n, dtype=float), q_d, control, weights).attitudes
+    A, F = {}, {}
+    for j in (1, 2):
+        A[j] = inverse3(reading_rate(params, q[:, j - 1], j))
+        F[j] = np.zeros((n, 3, dv.COUNT))
+        F[j][:, :, dv.platform_columns(j)] = reading_jacobian(params, j, q[:, j - 1])
+    if control in ("1", "2"):
+        dL = F[int(control)]
+    else:
+        H = sum(w * np.matmul(np.swapaxes(A[j], 1, 2), A[j]) for j, w in zip((1, 2), weights))
+        rhs = sum(w * np.matmul(np.matmul(np.swapaxes(A[j], 1, 2), A[j]), F[j]) for j, w in zip((1, 2), weights))
+        dL = np.matmul(inverse3(H), rhs)
+    return np.stack([np.matmul(A[j], dL - F[j]) for j in (1, 2)], axis=1)
+
+
+def sensitivity_table(S: np.ndarray, widths: np.ndarray, platforms=(0, 1)) -> list[dict]:
+    """Each per-chain value's share of the expected mean square error of the given platforms, largest first.
+
+    Args:
+        S: the error sensitivity (N, 2, 3, 48) in [rad/m] (:func:`error_sensitivity`).
+        widths: each value's half band in [m], (48,).
+        platforms: the platforms (0-based) whose error counts (the follower's, or both).
+
+    Returns:
+        Rows: ``value`` (name), ``chain`` ("ji" or "centre j"), ``family``, ``rms_deg`` (the RMS error per angle
+        α, β, γ in [deg] this value's band alone gives, root of the expected mean square over the platforms),
+        ``share`` (its fraction of the expected mean square summed over the three angles).
+    """
+    variance = widths**2 / 3.0  # a uniform draw within ±V
+    ms = (S[:, list(platforms)] ** 2).mean(axis=0).sum(axis=0) * variance  # (3, 48) [rad²]
+    total = ms.sum()
+    rows = []
+    for p, name in enumerate(dv.names()):
+        tail = name.rsplit("_", 1)[1]
+        rows.append(
+            {
+                "value": name,
+                "chain": tail if len(tail) == 2 else f"centre {tail}",
+                "family": dv.family(name),
+                "rms_deg": np.degrees(np.sqrt(ms[:, p])).tolist(),
+                "share": float(ms[:, p].sum() / total) if total > 0 else 0.0,
+            }
+        )
+    return sorted(rows, key=lambda row: -row["share"])
+
+
+@dataclass(frozen=True)
+class _Setup:
+    drawing: Parameters
+    t: np.ndarray
+    desired: np.ndarray
+    controls: tuple[str, ...]
+    widths: np.ndarray
+    weights: tuple[float, float]
+    seed: int
+
+
+def _out_of_reach(machine: Parameters, desired: np.ndarray) -> str | None:
+    """The first chain "ji" that cannot reach the desired motion, or None."""
+    for j in (1, 2):
+        try:
+            L = carriages_for_platform(machine, desired, j)
+        except PoseError as error:
+            return f"platform {j} ({error.reason})"
+        bad = ~np.isfinite(L)
+        if bad.any():
+            return f"chain {j}{int(np.argmax(bad.any(axis=0))) + 1}"
+    return None
+
+
+def tolerance_batch(batch: tuple[int, int], setup: _Setup) -> tuple[int, np.ndarray, np.ndarray, str | None]:
+    """One batch of draws: (first draw, RMS (count, controls, 2, 3) [rad], peaks alike, or the first failure's text)."""
+    first, count = batch
+    rng = np.random.default_rng([setup.seed, first])
+    theta0 = dv.deviation(setup.drawing)
+    rms = np.empty((count, len(setup.controls), 2, 3))
+    peak = np.empty_like(rms)
+    for k in range(count):
+        delta = rng.uniform(-1.0, 1.0, dv.COUNT) * setup.widths
+        machine = dv.machine(setup.drawing, theta0 + delta)
+        try:
+            for c, control in enumerate(setup.controls):
+                e = station_commands(machine, setup.t, setup.desired, control, setup.weights).errors
+                rms[k, c] = np.sqrt((e**2).mean(axis=0))
+                peak[k, c] = np.abs(e).max(axis=0)
+        except (PoseError, np.linalg.LinAlgError) as error:
+            where = _out_of_reach(machine, setup.desired) or str(error)
+            return first, rms[:k], peak[:k], f"draw {first + k + 1}: {where} is out of reach"
+        if not (np.all(np.isfinite(rms[k])) and np.all(np.isfinite(peak[k]))):
+            where = _out_of_reach(machine, setup.desired) or "a platform"
+            return first, rms[:k], peak[:k], f"draw {first + k + 1}: {where} is out of reach"
+    return first, rms, peak, None
+
+
+@dataclass(frozen=True, eq=False)
+class ToleranceResult:
+    """The distribution of the attitude errors over the draws.
+
+    Attributes:
+        bands: the half bands in [m] by family.
+        controls: the controls, in the order of the arrays' second axis.
+        rms, peak: per draw, control, platform and angle, the error's RMS and peak over the motion in [rad],
+            (draws, controls, 2, 3).
+        sensitivity: per control, the first-order sensitivity table (:func:`sensitivity_table`) of the follower
+            (control "1": platform 2, "2": platform 1, "both": both platforms).
+        seed: the draws' seed.
+    """
+
+    bands: dict[str, float]
+    controls: tuple[str, ...]
+    rms: np.ndarray
+    peak: np.ndarray
+    sensitivity: dict[str, list[dict]]
+    seed: int
+
+    def percentile(self, which: str = "rms", q: float = 95.0) -> np.ndarray:
+        """The q-th percentile over the draws of the RMS (``which="rms"``) or peak error in [rad], (controls, 2, 3)."""
+        return np.percentile(self.rms if which == "rms" else self.peak, q, axis=0)
+
+
+def tolerance_draws(
+    drawing: Parameters,
+    t: np.ndarray,
+    desired: np.ndarray,
+    bands: Mapping[str, float],
+    controls=("2",),
+    draws: int = 1000,
+    seed: int = 0,
+    weights=(1.0, 1.0),
+    workers: int = 2,
+    scheduler: str | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> ToleranceResult:
+    """Monte Carlo of the manufacturing deviations (module docstring).
+
+    Args:
+        drawing: the machine as drawn (the draws are centred on its deviations, none for the drawing).
+        t: sample times in [s], (N,); desired: the desired attitude in [rad], (N, 3).
+        bands: half band in [m] per family (:func:`parse_tolerances`).
+        controls: the controls to evaluate, each of "1", "2", "both".
+        draws: how many machines to draw.
+        seed: the draws' seed.
+        weights: (w_1, w_2) of control "both".
+        workers: worker processes of a local dask cluster; 0 runs the draws in this process.
+        scheduler: a running dask scheduler's address (instead of a local cluster).
+        progress: called with (draws done, draws) as batches complete.
+
+    Raises:
+        HipsimError: a draw puts a chain out of reach (naming the draw and the chain).
+    """
+    controls = tuple(controls)
+    for control in controls:
+        if control not in CONTROLS:
+            raise ArgumentError("control", control, "one of 1, 2, both")
+    if draws < 1:
+        raise ArgumentError("draws", draws, "at least 1")
+    desired = np.asarray(desired, dtype=float)
+    widths = half_widths(bands)
+    setup = _Setup(drawing, np.asarray(t, dtype=float), desired, controls, widths, tuple(weights), seed)
+    batches = [(first, min(BATCH, draws - first)) for first in range(0, draws, BATCH)]
+    results: Iterable[Any]
+    if workers == 0 and scheduler is None:
+        results = (tolerance_batch(batch, setup) for batch in batches)
+    else:
+        from ..analysis.cluster import map_batches
+
+        results = map_batches(tolerance_batch, batches, setup, workers, scheduler, "hipsim stations")
+    rms = np.empty((draws, len(controls), 2, 3))
+    peak = np.empty_like(rms)
+    done = 0
+    for first, batch_rms, batch_peak, failure in results:
+        if failure is not None:
+            raise HipsimError(
+                f"--tolerance: {failure} on the desired motion: the band is too wide for this machine (nothing written)"
+            )
+        rms[first : first + len(batch_rms)] = batch_rms
+        peak[first : first + len(batch_peak)] = batch_peak
+        done += len(batch_rms)
+        if progress is not None:
+            progress(done, draws)
+    follower = {"1": (1,), "2": (0,), "both": (0, 1)}
+    sensitivity = {
+        control: sensitivity_table(error_sensitivity(drawing, desired, control, weights), widths, follower[control])
+        for control in controls
+    }
+    return ToleranceResult(dict(bands), controls, readonly(rms), readonly(peak), sensitivity, seed)
