@@ -18,9 +18,9 @@ GRID = "12x24"
 ERR = ("alpha", "beta", "gamma")
 
 
-def _stations(path, follower_gamma_deg=0.0, load=True, cycles=2, rate=500):
+def _stations(path, follower_gamma_deg=0.0, load=True, cycles=2, rate=500, closing=True):
     """A 'hipsim stations'-like CSV: platform 2 follows the ISO cycle, platform 1 adds an error about Z."""
-    t = np.arange(int(cycles * rate) + 1) / rate  # both ends: whole cycles, first to last sample
+    t = np.arange(int(cycles * rate) + closing) / rate  # with the closing sample: whole cycles, first to last sample
     q2 = np.degrees(iso14242_angles(t)[0])
     q1 = q2.copy()
     q1[:, 2] += follower_gamma_deg * np.sin(2 * math.pi * t + 0.7)
@@ -303,3 +303,12 @@ def test_self_check_passes_and_finds_a_planted_error(capsys, monkeypatch):
     monkeypatch.setattr(checks, "wear_maps", biased)
     status, text, _ = _run(capsys, "--self-check")
     assert status == 1 and "pure flexion" in text and "FAIL" in text
+
+
+def test_one_cycle_without_its_closing_sample_is_one_cycle(tmp_path, capsys):
+    """As 'hipsim stations' writes the built-in cycle: 500 samples over [0, 0.998] s, one heel strike."""
+    path = _stations(tmp_path / "one.csv", cycles=1, closing=False)
+    status, text, _ = _run(capsys, "--trajectory", f"{path}:2", "--summary-format", "json", "--out", tmp_path / "t.csv")
+    summary = json.loads(text)
+    assert status == 0 and summary["cycles"] == pytest.approx(0.998)
+    assert any("taken as one cycle of 1 s" in note for note in summary["notes"])

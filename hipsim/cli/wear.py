@@ -273,10 +273,12 @@ def read_motion(args, spec: str | None):
             notes.append(f"cycle time {cycle_time:.4g} s: the median heel-strike interval of the load")
         elif trajectory.periodic:  # one whole cycle, repeating
             cycle_time = span(trajectory)
-        else:
-            raise HipsimError(
-                f"{trajectory.name}: cannot tell the length of a cycle (the load marks fewer than two heel strikes and "
-                "the file does not repeat): give --cycle-time S"
+        else:  # one cycle without its closing sample, as the commands write the built-in cycle
+            step = (trajectory.t[-1] - trajectory.t[0]) / (len(trajectory) - 1)
+            cycle_time = span(trajectory) + step
+            notes.append(
+                f"the load marks fewer than two heel strikes: the file taken as one cycle of {cycle_time:.4g} s "
+                "(its span and one step); --cycle-time says otherwise"
             )
     return trajectory, cycle_time, trajectory.name, path, notes
 
