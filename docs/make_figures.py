@@ -12,7 +12,11 @@
 - ``chain_geometry.png``: what each value of the parameter file's ``[geometry]``
   table is (one module's two chains, side and plan views; matplotlib only).
 
-With no name, all four. Each is written next to this script.
+- ``wear_slide_tracks.png`` and ``wear_cup_maps.png``: the slide tracks,
+  force track and maps of sliding, work and cross-shear of the built-in ISO
+  cycle, as ``hipsim wear --report`` draws them.
+
+With no name, all of them. Each is written next to this script.
 """
 
 from __future__ import annotations
@@ -126,6 +130,31 @@ def iso_cycle(out: Path) -> None:
         screenshot(html, out, time_s=0.12)
 
 
+def _wear_iso():
+    import hipsim
+    from hipsim.wear import CupSetup, wear_maps
+    from hipsim.wear.tracks import cycle_tracks
+
+    cycle = hipsim.iso14242(rate=1000)
+    return wear_maps(cycle, 1.0), cycle_tracks(cycle, 1.0, CupSetup())
+
+
+def wear_slide_tracks(out: Path) -> None:
+    """Slide tracks and the force track of the built-in ISO cycle on a 28 mm head's cup."""
+    from hipsim.present.wear_figures import plot_slide_tracks
+
+    maps, tracks = _wear_iso()
+    plot_slide_tracks(tracks, maps.setup.radius_mm, "ISO 14242-1 (built-in cycle), 28 mm head").savefig(out, dpi=110)
+
+
+def wear_cup_maps(out: Path) -> None:
+    """Sliding distance, work and cross-shear per cycle of the built-in ISO cycle on a 28 mm head's cup."""
+    from hipsim.present.wear_figures import plot_cup_maps
+
+    maps, _ = _wear_iso()
+    plot_cup_maps(maps, "ISO 14242-1 (built-in cycle), 28 mm head: per cycle").savefig(out, dpi=90)
+
+
 def chain_geometry(out: Path) -> None:
     """One module's two chains as built: each value of the ``[geometry]`` table drawn (deviations exaggerated)."""
     import matplotlib
@@ -229,6 +258,8 @@ FIGURES = {
     "sweep_pareto": sweep_pareto,
     "iso_cycle": iso_cycle,
     "chain_geometry": chain_geometry,
+    "wear_slide_tracks": wear_slide_tracks,
+    "wear_cup_maps": wear_cup_maps,
 }
 
 

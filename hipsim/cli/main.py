@@ -34,6 +34,7 @@ from . import (
     torques,
     urdf,
     view,
+    wear,
     workspace,
 )
 from .motion_options import locate
@@ -70,6 +71,7 @@ def build_parser() -> argparse.ArgumentParser:
         check,
         feasible,
         iso_check,
+        wear,
         view,
         urdf,
         mjcf,

@@ -1,0 +1,204 @@
+"""The pages of ``hipsim wear``: one run (its numbers and figures) and two runs compared (verdict first), with provenance.
+
+Each page is a folder: ``index.html`` (figures embedded), the figures as PNG
+and SVG, and ``wear.json`` (the numbers, the verdict and the provenance block),
+every file written atomically. ``pdf=True`` prints ``index.html`` to
+``wear.pdf`` with headless Chromium (:func:`hipsim.present.pages.print_pdf`).
+"""
+
+from __future__ import annotations
+
+import base64
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..files import check_folder, json_ready, output_folder, write_atomic
+from ..wear.laws import Wear
+from ..wear.maps import WearMaps
+from ..wear.summary import compare_summaries, difference_maps, wear_summary
+from ..wear.tracks import Tracks
+from .figures import save_figure
+from .pages import CSS, Verdict, environment, print_pdf
+from .provenance import Provenance
+from .provenance import provenance as make_provenance
+from .wear_figures import (
+    WEAR_CAPTIONS,
+    plot_cup_maps,
+    plot_difference_maps,
+    plot_force_track,
+    plot_slide_tracks,
+    plot_slide_tracks_pair,
+)
+
+__all__ = ["DEFAULT_TOLERANCE", "WearPage", "compare_verdict", "write_wear_compare", "write_wear_page"]
+
+#: The relative difference below which two runs count as alike, by default (5 %).
+DEFAULT_TOLERANCE = 0.05
+
+
+@dataclass(frozen=True)
+class WearPage:
+    """What a page writer wrote: the folder, the page, the JSON, the figures and the PDF (or None)."""
+
+    folder: Path
+    index: Path
+    json: Path
+    figures: tuple[Path, ...]
+    pdf: Path | None
+
+
+def _figures(out: Path, figures) -> tuple[list[tuple[str, str]], list[Path]]:
+    embedded, paths = [], []
+    for stem, fig in figures:
+        png, svg = save_figure(fig, out, stem)
+        embedded.append((stem, base64.b64encode(png.read_bytes()).decode("ascii")))
+        paths += [png, svg]
+    return embedded, paths
+
+
+def write_wear_page(
+    out_dir: str | Path,
+    maps: WearMaps,
+    tracks: Tracks,
+    wear: Wear | None = None,
+    provenance: Provenance | None = None,
+    notes: tuple[str, ...] = (),
+    pdf: bool = False,
+) -> WearPage:
+    """One run's page: its summary, the slide tracks, the maps, the force track (module docstring)."""
+    out = Path(out_dir)
+    check_folder(out)
+    provenance = provenance or make_provenance()
+    summary = json_ready(wear_summary(maps, wear))
+    verdict = Verdict(
+        "open",
+        "NOT RATED",
+        (
+            f"Per cycle: force track {maps.force_track_mm:.4g} mm, load integral {maps.force_track_load_Nm:.4g} N·m; "
+            f"CS {summary['cross_shear_mean']:.3g} mean and {summary['cross_shear_max']:.3g} at most over the loaded area.",
+            f"Wear {summary['wear_mm3_per_Mc']:.4g} mm³/Mc ({wear.law})."
+            if wear is not None and wear.total_mm3_per_Mc is not None
+            else "No wear predicted: give a wear factor or law (no default k is assumed).",
+        ),
+    )
+    document = {"verdict": verdict.as_dict(), "provenance": json_ready(provenance.as_dict())} | summary
+    r = maps.setup.radius_mm
+    with output_folder(out):
+        embedded, paths = _figures(
+            out,
+            (
+                ("slide_tracks", plot_slide_tracks(tracks, r, f"{maps.name}: slide tracks")),
+                ("cup_maps", plot_cup_maps(maps)),
+                ("force_track", plot_force_track(tracks, r, f"{maps.name}: force track")),
+            ),
+        )
+        json_path = write_atomic(out / "wear.json", json.dumps(document, indent=2) + "\n")
+        page = (
+            environment()
+            .get_template("wear.html.j2")
+            .render(
+                css=CSS,
+                verdict=verdict,
+                provenance=provenance,
+                title=provenance.title,
+                s=summary,
+                notes=notes,
+                figures=embedded,
+                captions=WEAR_CAPTIONS,
+            )
+        )
+        index = write_atomic(out / "index.html", page)
+        printed = print_pdf(index, out / "wear.pdf") if pdf else None
+    return WearPage(out, index, json_path, tuple(paths), printed)
+
+
+def compare_verdict(rows: list[dict], tolerance: float, names: tuple[str, str]) -> Verdict:
+    """ALIKE when every deciding quantity differs by at most ``tolerance`` (relative), else DIFFERENT, naming the largest."""
+    known = [row for row in rows if row["relative"] is not None and row["decides"]]
+    if not known:
+        return Verdict("open", "NOT COMPARED", ("No quantity is known in both runs.",))
+    worst = max(known, key=lambda row: abs(row["relative"]))
+    beyond = [row["label"] for row in known if abs(row["relative"]) > tolerance]
+    head = (
+        f"B ({names[1]}) against A ({names[0]}): {worst['label']} differs most, by {100 * worst['relative']:+.3g} % "
+        f"({worst['a']:.4g} → {worst['b']:.4g}{' ' + worst['unit'] if worst['unit'] else ''})."
+    )
+    if beyond:
+        return Verdict(
+            "fail",
+            "DIFFERENT",
+            (head, f"Beyond ±{100 * tolerance:g} %: {', '.join(beyond)}."),
+        )
+    return Verdict("pass", "ALIKE", (head, f"Every quantity judged is within ±{100 * tolerance:g} %."))
+
+
+def write_wear_compare(
+    out_dir: str | Path,
+    a: tuple[WearMaps, Tracks, Wear | None],
+    b: tuple[WearMaps, Tracks, Wear | None],
+    tolerance: float = DEFAULT_TOLERANCE,
+    provenance: Provenance | None = None,
+    notes: tuple[str, ...] = (),
+    pdf: bool = False,
+) -> tuple[WearPage, Verdict, dict]:
+    """Two runs on the same cup points compared: the verdict, B − A per quantity and per point (module docstring).
+
+    Returns:
+        The page, its verdict, and the JSON document written.
+    """
+    out = Path(out_dir)
+    check_folder(out)
+    provenance = provenance or make_provenance()
+    (maps_a, tracks_a, wear_a), (maps_b, tracks_b, wear_b) = a, b
+    summary_a, summary_b = json_ready(wear_summary(maps_a, wear_a)), json_ready(wear_summary(maps_b, wear_b))
+    rows = compare_summaries(summary_a, summary_b)
+    verdict = compare_verdict(rows, tolerance, (maps_a.name, maps_b.name))
+    differences = difference_maps(maps_a, maps_b)
+    document = {
+        "verdict": verdict.as_dict(),
+        "provenance": json_ready(provenance.as_dict()),
+        "tolerance": tolerance,
+        "a": summary_a,
+        "b": summary_b,
+        "differences": json_ready(rows),
+        "largest_point_differences": {
+            key: (float(max(abs(x) for x in values if math.isfinite(x))) if any(map(math.isfinite, values)) else None)
+            for key, values in differences.items()
+        },
+    }
+    r = maps_a.setup.radius_mm
+    with output_folder(out):
+        embedded, paths = _figures(
+            out,
+            (
+                (
+                    "difference_maps",
+                    plot_difference_maps(maps_a, differences, f"B ({maps_b.name}) − A ({maps_a.name})"),
+                ),
+                ("slide_tracks_ab", plot_slide_tracks_pair(tracks_a, tracks_b, r, (maps_a.name, maps_b.name))),
+            ),
+        )
+        json_path = write_atomic(out / "wear.json", json.dumps(json_ready(document), indent=2) + "\n")
+        captions = WEAR_CAPTIONS | {"slide_tracks_ab": f"A (left) and B (right): {WEAR_CAPTIONS['slide_tracks']}"}
+        page = (
+            environment()
+            .get_template("wear_compare.html.j2")
+            .render(
+                css=CSS,
+                verdict=verdict,
+                provenance=provenance,
+                title=provenance.title,
+                a=summary_a,
+                b=summary_b,
+                rows=rows,
+                tolerance=tolerance,
+                notes=notes,
+                figures=embedded,
+                captions=captions,
+            )
+        )
+        index = write_atomic(out / "index.html", page)
+        printed = print_pdf(index, out / "wear.pdf") if pdf else None
+    return WearPage(out, index, json_path, tuple(paths), printed), verdict, document
