@@ -31,7 +31,9 @@ Every function works on whole arrays of samples.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -44,7 +46,19 @@ from ..machine.parameters import Parameters
 from ..physics.orientation import angular_velocity_map
 from .sensitivity import inverse3, reading_rate
 
-__all__ = ["CONTROLS", "StationMotion", "attitudes", "station_commands", "squared_errors"]
+__all__ = [
+    "CONTROLS",
+    "Positions",
+    "StationMotion",
+    "attitudes",
+    "newton_from_close",
+    "own_command",
+    "squared_errors",
+    "station_commands",
+]
+
+#: (platform angles (n, 3) [rad], the samples' rows) → (L, r, d) of :func:`hipsim.analytic.chain_kinematics.chain_positions`.
+Positions = Callable[[np.ndarray, Any], tuple[np.ndarray, np.ndarray, np.ndarray]]
 
 #: The platforms a command can serve.
 CONTROLS = ("1", "2", "both")
@@ -242,9 +256,16 @@ def _own_command(params: Parameters, q_d: np.ndarray, j: int, rate: bool) -> tup
     """
     if params.geometry is None:
         return carriages_for_platform(params, q_d, j), reading_rate(params, q_d, j) if rate else None
-    signs = params.angle_signs
+    return own_command(lambda p, rows: chain_positions(params.chains, p, j - 1), params.angle_signs, q_d, rate)
+
+
+def own_command(
+    positions: Positions, signs: np.ndarray, q_d: np.ndarray, rate: bool
+) -> tuple[np.ndarray, np.ndarray | None]:
+    """A platform's carriages at gait angles q_d (n, 3) [rad] and, if ``rate``, ∂f/∂q, its chains given by ``positions``
+    (as in :func:`newton_from_close`): (L (n, 3) [m], (n, 3, 3) [m/rad] or None)."""
     p = q_d * signs
-    L, r, d = chain_positions(params.chains, p, j - 1)
+    L, r, d = positions(p, slice(None))
     if not rate:
         return L, None
     return L, np.matmul(chain_jacobian(r, d), angular_velocity_map(p)) * signs
@@ -275,11 +296,29 @@ def _attitude(params: Parameters, L: np.ndarray, guess: np.ndarray, j: int, t, s
 
 def _newton_from_close(params: Parameters, L: np.ndarray, guess: np.ndarray, j: int) -> tuple[np.ndarray, np.ndarray]:
     """Newton on a per-chain platform's angles from close guesses: (gait angles (N, 3), converged (N,) bool)."""
-    signs = params.angle_signs
+    return newton_from_close(lambda p, rows: chain_positions(params.chains, p, j - 1), params.angle_signs, L, guess)
+
+
+def newton_from_close(
+    positions: Positions, signs: np.ndarray, L: np.ndarray, guess: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Newton on a platform's angles from close guesses, its chains given by ``positions``.
+
+    Args:
+        positions: (p, rows) → :func:`hipsim.analytic.chain_kinematics.chain_positions`' (L, r, d) at platform
+            angles p [rad] of the samples ``rows`` (a slice or indices: for chains that differ by sample).
+        signs: the parameter file's angle signs, (3,).
+        L: carriage readings in [m], (N, 3).
+        guess: gait angles in [rad] within ~1e-6 rad of the solution, (N, 3).
+
+    Returns:
+        Gait angles in [rad], (N, 3), and converged (N,) bool.
+    """
     p = np.asarray(guess, dtype=float) * signs
+    every = slice(None)
     with np.errstate(invalid="ignore", divide="ignore"):
         for _ in range(NEWTON_STEPS):
-            heights, r, d = chain_positions(params.chains, p, j - 1)
+            heights, r, d = positions(p, every)
             D = np.matmul(chain_jacobian(r, d), angular_velocity_map(p))  # ∂L/∂p
             step = np.matmul(inverse3(D), (heights - L)[..., None])[..., 0]
             p = p - step
@@ -288,6 +327,6 @@ def _newton_from_close(params: Parameters, L: np.ndarray, guess: np.ndarray, j: 
         converged = np.abs(step).max(axis=1) <= CONVERGED_STEP
         rest = np.flatnonzero(~converged)
         if rest.size:
-            gap = np.abs(chain_positions(params.chains, p[rest], j - 1)[0] - L[rest]).max(axis=1)
+            gap = np.abs(positions(p[rest], rest)[0] - L[rest]).max(axis=1)
             converged[rest] = gap <= CONVERGED_GAP
     return p * signs, converged

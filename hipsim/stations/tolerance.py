@@ -29,12 +29,13 @@ from typing import Any
 
 import numpy as np
 
+from ..analytic.chain_kinematics import chain_positions_per_sample
 from ..analytic.stations import carriages_for_platform
 from ..arrays import readonly
 from ..exceptions import ArgumentError, HipsimError, ParameterError, PoseError
 from ..machine.parameters import Parameters
 from . import deviations as dv
-from .commands import CONTROLS, station_commands
+from .commands import CONTROLS, Positions, newton_from_close, own_command, station_commands
 from .sensitivity import inverse3, reading_jacobian, reading_rate
 
 __all__ = [
@@ -181,17 +182,28 @@ def _out_of_reach(machine: Parameters, desired: np.ndarray) -> str | None:
 
 
 def tolerance_batch(batch: tuple[int, int], setup: _Setup) -> tuple[int, np.ndarray, np.ndarray, str | None]:
-    """One batch of draws: (first draw, RMS (count, controls, 2, 3) [rad], peaks alike, or the first failure's text)."""
+    """One batch of draws: (first draw, RMS (count, controls, 2, 3) [rad], peaks alike, or the first failure's text).
+
+    Controls "1" and "2" are solved for all the batch's draws at once (:func:`_followers`); control "both", and a
+    draw that does not converge there, go through :func:`hipsim.stations.commands.station_commands` one by one.
+    """
     first, count = batch
     rng = np.random.default_rng([setup.seed, first])
     theta0 = dv.deviation(setup.drawing)
+    deltas = rng.uniform(-1.0, 1.0, (count, dv.COUNT)) * setup.widths  # the stream of one draw after the other
+    machines = [dv.machine(setup.drawing, theta0 + delta) for delta in deltas]
     rms = np.empty((count, len(setup.controls), 2, 3))
     peak = np.empty_like(rms)
-    for k in range(count):
-        delta = rng.uniform(-1.0, 1.0, dv.COUNT) * setup.widths
-        machine = dv.machine(setup.drawing, theta0 + delta)
+    solved = np.zeros((count, len(setup.controls)), dtype=bool)
+    if all(machine.geometry is not None for machine in machines):
+        for c, control in enumerate(setup.controls):
+            if control != "both":
+                rms[:, c], peak[:, c], solved[:, c] = _followers(machines, setup.desired, int(control))
+    for k, machine in enumerate(machines):
         try:
             for c, control in enumerate(setup.controls):
+                if solved[k, c]:
+                    continue
                 e = station_commands(machine, setup.t, setup.desired, control, setup.weights).errors
                 rms[k, c] = np.sqrt((e**2).mean(axis=0))
                 peak[k, c] = np.abs(e).max(axis=0)
@@ -202,6 +214,45 @@ def tolerance_batch(batch: tuple[int, int], setup: _Setup) -> tuple[int, np.ndar
             where = _out_of_reach(machine, setup.desired) or "a platform"
             return first, rms[:k], peak[:k], f"draw {first + k + 1}: {where} is out of reach"
     return first, rms, peak, None
+
+
+def _followers(
+    machines: list[Parameters], desired: np.ndarray, control: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Control "1" or "2" on many per-chain machines at once, as :func:`station_commands` computes it for each.
+
+    Every machine's samples are stacked, each sample with its own machine's chains
+    (:func:`hipsim.analytic.chain_kinematics.chain_positions_per_sample`): the controlled platform's own command,
+    the follower's linear prediction and its Newton steps (:func:`hipsim.stations.commands.newton_from_close`).
+
+    Returns:
+        RMS and peak error per machine, platform and angle in [rad], (K, 2, 3) each, and per machine whether every
+        sample converged (K,) bool (the others are left to :func:`station_commands`).
+    """
+    n, count = len(desired), len(machines)
+    q_d = np.tile(desired, (count, 1))
+    signs = machines[0].angle_signs
+
+    def positions(j: int) -> Positions:
+        chains = [machine.chains for machine in machines]
+        P = np.repeat(np.stack([ch.platform_points[j - 1] for ch in chains]), n, axis=0)
+        offsets = np.repeat(np.stack([ch.centres[j - 1] - ch.screw_points[j - 1] for ch in chains]), n, axis=0)
+        levers = np.repeat(np.stack([ch.lever_lengths[j - 1] for ch in chains]), n, axis=0)
+        return lambda p, rows: chain_positions_per_sample(P[rows], offsets[rows], levers[rows], p)
+
+    follower = 3 - control
+    L, _ = own_command(positions(control), signs, q_d, False)
+    own, rate = own_command(positions(follower), signs, q_d, True)
+    assert rate is not None
+    guess = q_d + np.matmul(inverse3(rate), (L - own)[..., None])[..., 0]
+    q, converged = newton_from_close(positions(follower), signs, L, guess)
+    e = (q - q_d).reshape(count, n, 3)
+    ok = converged.reshape(count, n).all(axis=1)
+    ok &= np.isfinite(L).reshape(count, -1).all(axis=1) & np.isfinite(own).reshape(count, -1).all(axis=1)
+    rms, peak = np.zeros((count, 2, 3)), np.zeros((count, 2, 3))  # the controlled platform is exact
+    rms[:, follower - 1] = np.sqrt((e**2).mean(axis=1))
+    peak[:, follower - 1] = np.abs(e).max(axis=1)
+    return rms, peak, ok
 
 
 @dataclass(frozen=True, eq=False)
