@@ -191,15 +191,19 @@ def tolerance_batch(batch: tuple[int, int], setup: _Setup) -> tuple[int, np.ndar
     rng = np.random.default_rng([setup.seed, first])
     theta0 = dv.deviation(setup.drawing)
     deltas = rng.uniform(-1.0, 1.0, (count, dv.COUNT)) * setup.widths  # the stream of one draw after the other
-    machines = [dv.machine(setup.drawing, theta0 + delta) for delta in deltas]
     rms = np.empty((count, len(setup.controls), 2, 3))
     peak = np.empty_like(rms)
     solved = np.zeros((count, len(setup.controls)), dtype=bool)
-    if all(machine.geometry is not None for machine in machines):
-        for c, control in enumerate(setup.controls):
-            if control != "both":
-                rms[:, c], peak[:, c], solved[:, c] = _followers(machines, setup.desired, int(control))
-    for k, machine in enumerate(machines):
+    chains = _draw_chains(setup.drawing, theta0 + deltas)
+    for c, control in enumerate(setup.controls):
+        if control != "both":
+            rms[:, c], peak[:, c], solved[:, c] = _followers(
+                chains, setup.drawing.angle_signs, setup.desired, int(control)
+            )
+    for k in range(count):
+        if solved[k].all():
+            continue
+        machine = dv.machine(setup.drawing, theta0 + deltas[k])
         try:
             for c, control in enumerate(setup.controls):
                 if solved[k, c]:
@@ -216,8 +220,32 @@ def tolerance_batch(batch: tuple[int, int], setup: _Setup) -> tuple[int, np.ndar
     return first, rms, peak, None
 
 
+#: Each draw's chains of one platform: platform joints r⁰ (K, leg, xyz), o − c (K, leg, xyz), levers l (K, leg), in [m].
+_DrawChains = tuple[np.ndarray, np.ndarray, np.ndarray]
+
+
+def _draw_chains(drawing: Parameters, thetas: np.ndarray) -> dict[int, _DrawChains]:
+    """Each draw's chains, by platform (1, 2), for per-chain values θ in [m], (K, 48).
+
+    :meth:`hipsim.machine.chains.Chains.build` adds the values to the drawing's, so the chains are affine in θ: they
+    are found from the chains at θ = 0 and at each unit θ, rather than by building a machine a draw.
+    """
+
+    def fields(theta: np.ndarray) -> np.ndarray:
+        ch = dv.machine(drawing, theta).chains
+        offsets = ch.centres[:, None, :] - ch.screw_points
+        return np.concatenate([ch.platform_points.ravel(), offsets.ravel(), ch.lever_lengths.ravel()])
+
+    zero = fields(np.zeros(dv.COUNT))
+    slope = np.stack([fields(unit) - zero for unit in np.eye(dv.COUNT)], axis=1)  # (fields, 48)
+    values = zero + thetas @ slope.T
+    P, offsets, levers = np.split(values, [18, 36], axis=1)
+    P, offsets, levers = P.reshape(-1, 2, 3, 3), offsets.reshape(-1, 2, 3, 3), levers.reshape(-1, 2, 3)
+    return {j: (P[:, j - 1], offsets[:, j - 1], levers[:, j - 1]) for j in (1, 2)}
+
+
 def _followers(
-    machines: list[Parameters], desired: np.ndarray, control: int
+    chains: dict[int, _DrawChains], signs: np.ndarray, desired: np.ndarray, control: int
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Control "1" or "2" on many per-chain machines at once, as :func:`station_commands` computes it for each.
 
@@ -225,19 +253,21 @@ def _followers(
     (:func:`hipsim.analytic.chain_kinematics.chain_positions_per_sample`): the controlled platform's own command,
     the follower's linear prediction and its Newton steps (:func:`hipsim.stations.commands.newton_from_close`).
 
+    Args:
+        chains: each machine's chains (:func:`_draw_chains`).
+        signs: the angle signs, (3,).
+        desired: the desired attitude in [rad], (N, 3).
+        control: the platform commanded exactly, 1 or 2.
+
     Returns:
         RMS and peak error per machine, platform and angle in [rad], (K, 2, 3) each, and per machine whether every
         sample converged (K,) bool (the others are left to :func:`station_commands`).
     """
-    n, count = len(desired), len(machines)
+    n, count = len(desired), len(chains[1][0])
     q_d = np.tile(desired, (count, 1))
-    signs = machines[0].angle_signs
 
     def positions(j: int) -> Positions:
-        chains = [machine.chains for machine in machines]
-        P = np.repeat(np.stack([ch.platform_points[j - 1] for ch in chains]), n, axis=0)
-        offsets = np.repeat(np.stack([ch.centres[j - 1] - ch.screw_points[j - 1] for ch in chains]), n, axis=0)
-        levers = np.repeat(np.stack([ch.lever_lengths[j - 1] for ch in chains]), n, axis=0)
+        P, offsets, levers = (np.repeat(x, n, axis=0) for x in chains[j])
         return lambda p, rows: chain_positions_per_sample(P[rows], offsets[rows], levers[rows], p)
 
     follower = 3 - control
