@@ -315,10 +315,19 @@ def newton_from_close(
         Gait angles in [rad], (N, 3), and converged (N,) bool.
     """
     p = np.asarray(guess, dtype=float) * signs
-    every = slice(None)
+    converged = np.empty(len(p), dtype=bool)
+    for start in range(0, len(p), BLOCK):  # blocks that stay in the cache; every sample is independent
+        rows = slice(start, start + BLOCK)
+        p[rows], converged[rows] = _newton_block(positions, L[rows], p[rows], start)
+    return p * signs, converged
+
+
+def _newton_block(positions: Positions, L: np.ndarray, p: np.ndarray, start: int) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`newton_from_close` on the samples start, start + 1, ... (platform angles p (n, 3)): (p, converged)."""
+    rows = slice(start, start + len(p))
     with np.errstate(invalid="ignore", divide="ignore"):
         for _ in range(NEWTON_STEPS):
-            heights, r, d = positions(p, every)
+            heights, r, d = positions(p, rows)
             D = np.matmul(chain_jacobian(r, d), angular_velocity_map(p))  # ∂L/∂p
             step = np.matmul(inverse3(D), (heights - L)[..., None])[..., 0]
             p = p - step
@@ -327,6 +336,6 @@ def newton_from_close(
         converged = np.abs(step).max(axis=1) <= CONVERGED_STEP
         rest = np.flatnonzero(~converged)
         if rest.size:
-            gap = np.abs(positions(p[rest], rest)[0] - L[rest]).max(axis=1)
+            gap = np.abs(positions(p[rest], start + rest)[0] - L[rest]).max(axis=1)
             converged[rest] = gap <= CONVERGED_GAP
-    return p * signs, converged
+    return p, converged
