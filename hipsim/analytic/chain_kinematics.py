@@ -30,7 +30,7 @@ from ..machine.chains import Chains
 from ..physics.orientation import rotation_matrix_components
 from ..physics.vectors import cross_array
 
-__all__ = ["chain_accelerations", "chain_jacobian", "chain_positions"]
+__all__ = ["chain_accelerations", "chain_jacobian", "chain_positions", "chain_positions_per_sample"]
 
 
 def chain_positions(chains: Chains, p: np.ndarray, j: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -46,13 +46,42 @@ def chain_positions(chains: Chains, p: np.ndarray, j: int) -> tuple[np.ndarray, 
         r: platform joint vectors R·r⁰_ji in [m], (N, 3, 3);
         d: lever vectors a_ji − b_ji in [m], (N, 3, 3) (NaN z where out of reach).
     """
+    return _positions(chains.platform_points[j], chains.centres[j] - chains.screw_points[j], chains.lever_lengths[j], p)
+
+
+def chain_positions_per_sample(
+    platform_points: np.ndarray, offsets: np.ndarray, lever_lengths: np.ndarray, p: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`chain_positions` with each sample on its own chains (many machines at once, e.g. tolerance draws).
+
+    Args:
+        platform_points: each sample's platform joints in platform axes in [m], (N, leg, xyz).
+        offsets: each sample's o_j − c_ji (rotation centre minus the U-joint centre at reading 0) in [m], (N, leg, xyz).
+        lever_lengths: each sample's lever lengths in [m], (N, leg).
+        p: platform angles in [rad] (after angle signs), (N, 3).
+
+    Returns:
+        L, r, d as :func:`chain_positions`.
+    """
+    return _positions(platform_points.T.swapaxes(0, 1), offsets.T.swapaxes(0, 1), lever_lengths.T, p)
+
+
+def _positions(
+    P: np.ndarray, g0: np.ndarray, lever: np.ndarray, p: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`chain_positions` from r⁰ (leg, xyz[, N]), o − c (leg, xyz[, N]) and l (leg[, N]), one machine or one a sample."""
     # Components first inside, (xyz, leg, N), as hipsim.analytic.inverse_kinematics computes: each
     # operation then runs over one contiguous block; the results are the .T views, sample first.
     p = np.asarray(p, dtype=float).T
     R = rotation_matrix_components(np.cos(p), np.sin(p))
-    r = np.einsum("im,kmn->kin", chains.platform_points[j], R)  # not BLAS: see inverse_kinematics._platform_vectors
-    d = r + (chains.centres[j] - chains.screw_points[j]).T[:, :, None]  # g = a − c, then d in place
-    radicand = chains.lever_lengths[j][:, None] ** 2 - (d[0] ** 2 + d[1] ** 2)
+    if P.ndim == 2:
+        r = np.einsum("im,kmn->kin", P, R)  # not BLAS: see inverse_kinematics._platform_vectors
+        d = r + g0.T[:, :, None]  # g = a − c, then d in place
+        radicand = lever[:, None] ** 2 - (d[0] ** 2 + d[1] ** 2)
+    else:
+        r = np.einsum("imn,kmn->kin", P, R)
+        d = r + g0.swapaxes(0, 1)
+        radicand = lever**2 - (d[0] ** 2 + d[1] ** 2)
     reach = radicand > 0
     with np.errstate(invalid="ignore"):
         dz = np.sqrt(np.where(reach, radicand, np.nan))  # NaN where the lever cannot reach

@@ -47,6 +47,8 @@ _STEP_TOL = 1e-12
 _MAX_STEP = 0.05
 #: Two solutions of one sample farther apart than this in [rad] are different poses.
 _SAME_POSE = 1e-8
+#: Samples solved together along a log (a 600,000-sample log ran about twice as fast in blocks as at once).
+_BLOCK = 8192
 
 
 def _heights(params: Parameters, p: np.ndarray, platform: int | None) -> np.ndarray:
@@ -277,7 +279,11 @@ def forward_kinematics(
         guess = start + np.linalg.solve(_jacobian(params, start[None], platform)[0], (L1 - L_start).T).T
     else:
         guess = np.broadcast_to(np.asarray(guess, dtype=float), L1.shape) * signs
-    p, converged = _newton(params, L1, guess, max_iter, platform)
+    p = np.empty((n, 3))
+    converged = np.empty(n, dtype=bool)
+    for begin in range(0, n, _BLOCK):  # every sample on its own: blocks whose arrays stay in the cache
+        rows = slice(begin, begin + _BLOCK)
+        p[rows], converged[rows] = _newton(params, L1[rows], guess[rows], max_iter, platform)
     p[~converged] = np.nan  # left to the walk below
     broken = np.zeros(n, dtype=bool)
     if not np.allclose(p[0], first, rtol=0.0, atol=_SAME_POSE):

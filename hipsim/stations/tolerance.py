@@ -29,12 +29,13 @@ from typing import Any
 
 import numpy as np
 
+from ..analytic.chain_kinematics import chain_positions_per_sample
 from ..analytic.stations import carriages_for_platform
 from ..arrays import readonly
 from ..exceptions import ArgumentError, HipsimError, ParameterError, PoseError
 from ..machine.parameters import Parameters
 from . import deviations as dv
-from .commands import CONTROLS, station_commands
+from .commands import CONTROLS, Positions, newton_from_close, own_command, station_commands
 from .sensitivity import inverse3, reading_jacobian, reading_rate
 
 __all__ = [
@@ -181,17 +182,32 @@ def _out_of_reach(machine: Parameters, desired: np.ndarray) -> str | None:
 
 
 def tolerance_batch(batch: tuple[int, int], setup: _Setup) -> tuple[int, np.ndarray, np.ndarray, str | None]:
-    """One batch of draws: (first draw, RMS (count, controls, 2, 3) [rad], peaks alike, or the first failure's text)."""
+    """One batch of draws: (first draw, RMS (count, controls, 2, 3) [rad], peaks alike, or the first failure's text).
+
+    Controls "1" and "2" are solved for all the batch's draws at once (:func:`_followers`); control "both", and a
+    draw that does not converge there, go through :func:`hipsim.stations.commands.station_commands` one by one.
+    """
     first, count = batch
     rng = np.random.default_rng([setup.seed, first])
     theta0 = dv.deviation(setup.drawing)
+    deltas = rng.uniform(-1.0, 1.0, (count, dv.COUNT)) * setup.widths  # the stream of one draw after the other
     rms = np.empty((count, len(setup.controls), 2, 3))
     peak = np.empty_like(rms)
+    solved = np.zeros((count, len(setup.controls)), dtype=bool)
+    chains = _draw_chains(setup.drawing, theta0 + deltas)
+    for c, control in enumerate(setup.controls):
+        if control != "both":
+            rms[:, c], peak[:, c], solved[:, c] = _followers(
+                chains, setup.drawing.angle_signs, setup.desired, int(control)
+            )
     for k in range(count):
-        delta = rng.uniform(-1.0, 1.0, dv.COUNT) * setup.widths
-        machine = dv.machine(setup.drawing, theta0 + delta)
+        if solved[k].all():
+            continue
+        machine = dv.machine(setup.drawing, theta0 + deltas[k])
         try:
             for c, control in enumerate(setup.controls):
+                if solved[k, c]:
+                    continue
                 e = station_commands(machine, setup.t, setup.desired, control, setup.weights).errors
                 rms[k, c] = np.sqrt((e**2).mean(axis=0))
                 peak[k, c] = np.abs(e).max(axis=0)
@@ -202,6 +218,71 @@ def tolerance_batch(batch: tuple[int, int], setup: _Setup) -> tuple[int, np.ndar
             where = _out_of_reach(machine, setup.desired) or "a platform"
             return first, rms[:k], peak[:k], f"draw {first + k + 1}: {where} is out of reach"
     return first, rms, peak, None
+
+
+#: Each draw's chains of one platform: platform joints r⁰ (K, leg, xyz), o − c (K, leg, xyz), levers l (K, leg), in [m].
+_DrawChains = tuple[np.ndarray, np.ndarray, np.ndarray]
+
+
+def _draw_chains(drawing: Parameters, thetas: np.ndarray) -> dict[int, _DrawChains]:
+    """Each draw's chains, by platform (1, 2), for per-chain values θ in [m], (K, 48).
+
+    :meth:`hipsim.machine.chains.Chains.build` adds the values to the drawing's, so the chains are affine in θ: they
+    are found from the chains at θ = 0 and at each unit θ, rather than by building a machine a draw.
+    """
+
+    def fields(theta: np.ndarray) -> np.ndarray:
+        ch = dv.machine(drawing, theta).chains
+        offsets = ch.centres[:, None, :] - ch.screw_points
+        return np.concatenate([ch.platform_points.ravel(), offsets.ravel(), ch.lever_lengths.ravel()])
+
+    zero = fields(np.zeros(dv.COUNT))
+    slope = np.stack([fields(unit) - zero for unit in np.eye(dv.COUNT)], axis=1)  # (fields, 48)
+    values = zero + thetas @ slope.T
+    P, offsets, levers = np.split(values, [18, 36], axis=1)
+    P, offsets, levers = P.reshape(-1, 2, 3, 3), offsets.reshape(-1, 2, 3, 3), levers.reshape(-1, 2, 3)
+    return {j: (P[:, j - 1], offsets[:, j - 1], levers[:, j - 1]) for j in (1, 2)}
+
+
+def _followers(
+    chains: dict[int, _DrawChains], signs: np.ndarray, desired: np.ndarray, control: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Control "1" or "2" on many per-chain machines at once, as :func:`station_commands` computes it for each.
+
+    Every machine's samples are stacked, each sample with its own machine's chains
+    (:func:`hipsim.analytic.chain_kinematics.chain_positions_per_sample`): the controlled platform's own command,
+    the follower's linear prediction and its Newton steps (:func:`hipsim.stations.commands.newton_from_close`).
+
+    Args:
+        chains: each machine's chains (:func:`_draw_chains`).
+        signs: the angle signs, (3,).
+        desired: the desired attitude in [rad], (N, 3).
+        control: the platform commanded exactly, 1 or 2.
+
+    Returns:
+        RMS and peak error per machine, platform and angle in [rad], (K, 2, 3) each, and per machine whether every
+        sample converged (K,) bool (the others are left to :func:`station_commands`).
+    """
+    n, count = len(desired), len(chains[1][0])
+    q_d = np.tile(desired, (count, 1))
+
+    def positions(j: int) -> Positions:
+        P, offsets, levers = (np.repeat(x, n, axis=0) for x in chains[j])
+        return lambda p, rows: chain_positions_per_sample(P[rows], offsets[rows], levers[rows], p)
+
+    follower = 3 - control
+    L, _ = own_command(positions(control), signs, q_d, False)
+    own, rate = own_command(positions(follower), signs, q_d, True)
+    assert rate is not None
+    guess = q_d + np.matmul(inverse3(rate), (L - own)[..., None])[..., 0]
+    q, converged = newton_from_close(positions(follower), signs, L, guess)
+    e = (q - q_d).reshape(count, n, 3)
+    ok = converged.reshape(count, n).all(axis=1)
+    ok &= np.isfinite(L).reshape(count, -1).all(axis=1) & np.isfinite(own).reshape(count, -1).all(axis=1)
+    rms, peak = np.zeros((count, 2, 3)), np.zeros((count, 2, 3))  # the controlled platform is exact
+    rms[:, follower - 1] = np.sqrt((e**2).mean(axis=1))
+    peak[:, follower - 1] = np.abs(e).max(axis=1)
+    return rms, peak, ok
 
 
 @dataclass(frozen=True, eq=False)
