@@ -49,7 +49,7 @@ table = {
     "only_mutate": target["mutate"],
     "pytest_add_cli_args": args,
     # Test files missing from this tree are left out (an older checkout measured with today's targets).
-    "pytest_add_cli_args_test_selection": [test for test in target["tests"] if (pyproject.parent / test).exists()],
+    "pytest_add_cli_args_test_selection": [test for test in target["tests"] if (pyproject.parent / test.split("::")[0]).exists()],
     "use_git_change_detection": False,
 }
 lines = ["", "[tool.mutmut]"] + [f"{key} = {json.dumps(value)}" for key, value in table.items()]

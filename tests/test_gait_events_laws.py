@@ -7,6 +7,8 @@ a rise) and toe-off (the first sample back at it) is known by construction.
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 
@@ -157,3 +159,14 @@ def test_gait_phase_with_a_cycle_missing_its_toe_off_uses_the_typical_stance():
     phase, stance = gait_phase(t, held)
     # Cycle 0 (0.39 → 1.39 s) lost its toe-off: 55 % is stance, 65 % swing by the typical 60 %.
     assert stance[39 + 55] and not stance[39 + 65]
+
+
+def test_gait_cycles_of_a_log_or_a_trajectory():
+    # A rig log hands its trajectory; a bad one is named by its source.
+    tr = iso14242(rate=100.0, cycles=3)
+    np.testing.assert_array_equal(gait_cycles(SimpleNamespace(trajectory=tr)).heel_strikes, [0, 100, 200])
+    bad = SimpleNamespace(t=np.arange(5.0), Fe=np.zeros(4), name="walk.csv")
+    with pytest.raises(TrajectoryError, match="walk.csv"):
+        gait_cycles(bad)
+    with pytest.raises(TrajectoryError, match="load"):
+        gait_cycles(SimpleNamespace(t=np.arange(5.0), Fe=np.zeros(4)))
