@@ -90,14 +90,14 @@ def test_ceilings_on_the_absolute_value(field, limit):
 
 def test_a_torque_against_a_number_and_against_a_torque_speed_curve():
     c = only(check_feasibility(fake_run(tau=[1.0, -2.0, 0.5]), Limits(motor_torque=1.5)))
-    assert (c.limit, c.t, c.needed, c.allowed) == ("motor_torque", 0.01, 2.0, 1.5)
+    assert (c.limit, c.motor, c.t, c.needed, c.allowed) == ("motor_torque", 1, 0.01, 2.0, 1.5)
     # Peak torque 2 − 0.01·|speed| N·m: at 50 rad/s 1.5 N·m, at 150 rad/s 0.5 N·m, at 250 rad/s nothing
     # (beyond the curve's end: the speed's crossing, not the torque's). Torques 1.0, 0.6, 5.0:
     # only the second (0.6 > 0.5) is a torque crossing, allowed 0.5, excess 1.2.
     curve = lambda w: np.maximum(2.0 - 0.01 * np.abs(w), -1.0)  # noqa: E731
     run = fake_run(speed=[50.0, -150.0, 250.0], tau=[1.0, 0.6, 5.0])
     c = only(check_feasibility(run, Limits(motor_torque=curve)))
-    assert (c.limit, c.t, c.needed, c.allowed) == ("motor_torque", 0.01, 0.6, pytest.approx(0.5))
+    assert (c.limit, c.motor, c.t, c.needed, c.allowed) == ("motor_torque", 1, 0.01, 0.6, pytest.approx(0.5))
     assert c.excess == pytest.approx(1.2)
 
 
@@ -163,7 +163,7 @@ def protocol():
     t = np.linspace(0.0, 1.0, 5)
     q = np.zeros((5, 3))
     qd = np.column_stack([np.sin(2 * np.pi * t), np.zeros(5), np.zeros(5)])
-    return Trajectory(t, q, qd, 2.0 * qd, np.full(5, 1000.0), name="walk")
+    return Trajectory(t, q, qd, 2.0 * qd, np.full(5, 1000.0), name="walk", periodic=True, lines=np.arange(2, 7))
 
 
 def test_time_scaled():
@@ -175,6 +175,9 @@ def test_time_scaled():
     np.testing.assert_allclose(fast.qdd, 4 * tr.qdd)
     np.testing.assert_array_equal(fast.Fe, tr.Fe)
     assert fast.name == "walk at 2× speed"
+    # Still periodic, each sample still on its file line.
+    assert fast.periodic
+    np.testing.assert_array_equal(fast.lines, [2, 3, 4, 5, 6])
 
 
 def test_fitting_speed_by_bisection():
