@@ -103,23 +103,23 @@ def test_the_cutoff_must_be_below_the_nyquist_frequency():
 
 
 def test_the_filter_halo_is_where_the_impulse_response_falls_below_round_off():
-    # Another route to the same response: the filter's difference equation run on an impulse, written
-    # out from its (b, a) coefficients of the same Butterworth design (scipy.signal.butter, ba form).
+    # Another route to the same response: the filter's second-order sections run on an impulse as
+    # their difference equations (transposed direct form II), written out here; the halo is one past
+    # the last sample above 2⁻⁵³ of the peak.
     from scipy.signal import butter
 
-    for rate, cutoff in [(1000.0, 20.0), (60.0, 6.0)]:
-        b, a = butter(FILTER_ORDER, cutoff, fs=rate)
-        n = 4000
-        h = np.zeros(n)
-        for k in range(n):
-            acc = b[k] if k < b.size else 0.0
-            for j in range(1, a.size):
-                if k - j >= 0:
-                    acc -= a[j] * h[k - j]
-            h[k] = acc / a[0]
-        above = np.flatnonzero(np.abs(h) > 2.0**-53 * np.abs(h).max())
-        # The ba form's round-off differs from the sections' by a sample or two.
-        assert filter_halo(rate, cutoff) == pytest.approx(above[-1] + 1, abs=3)
+    for rate, cutoff in [(1000.0, 20.0), (60.0, 6.0), (100.0, 30.0)]:
+        x = np.zeros(4096)
+        x[0] = 1.0
+        for b0, b1, b2, _, a1, a2 in butter(FILTER_ORDER, cutoff, fs=rate, output="sos"):
+            y, z1, z2 = np.zeros_like(x), 0.0, 0.0
+            for k, xk in enumerate(x):
+                y[k] = b0 * xk + z1
+                z1 = b1 * xk - a1 * y[k] + z2
+                z2 = b2 * xk - a2 * y[k]
+            x = y
+        above = np.flatnonzero(np.abs(x) > 2.0**-53 * np.abs(x).max())
+        assert filter_halo(rate, cutoff) == above[-1] + 1
     with pytest.raises(TrajectoryError):
         filter_halo(100.0, 60.0)
 
@@ -138,8 +138,11 @@ def test_a_periodic_record_is_filtered_as_an_endless_repetition():
     y = lowpass_record(closed, rate, cutoff, periodic=True)
     np.testing.assert_allclose(y[:-1], expected, atol=1e-9)
     assert y[-1] == y[0]
-    with pytest.raises(TrajectoryError, match="cutoff"):
-        lowpass_periodic(x, rate, 48.0)
+    # Columns along the first axis: each its own periodic signal.
+    both = lowpass_periodic(np.stack([x, -2.0 * x], axis=1), rate, cutoff)
+    np.testing.assert_allclose(both, np.stack([expected, -2.0 * expected], axis=1), atol=1e-9)
+    with pytest.raises(TrajectoryError, match="^loop.csv: .*cutoff"):
+        lowpass_periodic(x, rate, 48.0, source="loop.csv")
 
 
 def test_the_ends_of_an_open_record_carry_its_quadratic_trend():

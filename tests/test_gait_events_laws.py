@@ -149,6 +149,15 @@ def test_gait_phase_by_hand():
         gait_phase(*curve(cycles=1)[:1], detect_gait_events(*curve(cycles=1)))
 
 
+def test_gait_phase_with_two_heel_strikes():
+    # Exactly one whole cycle (heel strikes at 0.39 and 1.39 s) is enough: 0.89 s is 50 %.
+    t, load = curve(cycles=2)
+    events = detect_gait_events(t, load)
+    assert events.heel_strikes.size == 2
+    phase, stance = gait_phase(t, events)
+    assert phase[89] == pytest.approx(50.0) and stance[89]
+
+
 def test_gait_phase_with_a_cycle_missing_its_toe_off_uses_the_typical_stance():
     # Whole cycles of 1 s; stance 60 % in each with a toe-off, so the typical stance is 60 %.
     t, load = curve(cycles=4)

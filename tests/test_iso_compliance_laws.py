@@ -123,12 +123,16 @@ def test_the_verdict_on_hand_made_deviations():
         "frequency: worst 0.5 Hz (tolerance 0.25 Hz): FAIL in 1 of 2 cycles",
     ]
     assert IsoCheck((on_limits,), tol, "x").passed
+    # Two of three cycles failing β: the count is of the failing ones.
+    three = IsoCheck((on_limits, over, over), tol, "x")
+    assert "beta: worst 2.5 ° (tolerance 2 °): FAIL in 2 of 3 cycles" in three.summary()
 
 
 def test_tolerances_refuse_what_is_not_a_positive_number():
     for bad in (0.0, -1.0, float("nan"), float("inf"), True, "3"):
-        with pytest.raises(ArgumentError, match="a positive finite number"):
+        with pytest.raises(ArgumentError) as refused:
             Tolerances(alpha=bad)
+        assert str(refused.value) == f"tolerance: expected a positive finite number, got {f'alpha={bad!r}'!r}"
     assert Tolerances(load=1).load == 1
 
 
@@ -136,12 +140,20 @@ def test_parse_tolerances_by_hand():
     # 2 % of the 3000 N peak is 60 N; names and values may have spaces; unnamed ones keep the base's.
     tol = parse_tolerances(" gamma = 1.5 , load = 2 % ", base=Tolerances(alpha=7.0))
     assert (tol.alpha, tol.beta, tol.gamma, tol.load, tol.frequency) == (7.0, 3.0, 1.5, 60.0, 0.1)
-    with pytest.raises(ArgumentError, match="a percentage for the load only"):
-        parse_tolerances("alpha=5%")
-    with pytest.raises(ArgumentError, match="a number after '='"):
-        parse_tolerances("beta=three")
-    with pytest.raises(ArgumentError, match="NAME=VALUE"):
-        parse_tolerances("beta 3")
+    # Empty entries are skipped, not the end: beta after one is read.
+    assert parse_tolerances("alpha=2,,beta=1").beta == 1.0
+    for text, expected in [
+        ("alpha=5%", "--tolerance: expected a percentage for the load only, got 'alpha=5%'"),
+        ("beta=three", "--tolerance: expected a number after '=', got 'beta=three'"),
+        ("beta==3", "--tolerance: expected a number after '=', got 'beta==3'"),
+        (
+            "beta 3",
+            "--tolerance: expected NAME=VALUE with NAME one of alpha, beta, gamma, load, frequency, got 'beta 3'",
+        ),
+    ]:
+        with pytest.raises(ArgumentError) as refused:
+            parse_tolerances(text)
+        assert str(refused.value) == expected
 
 
 def test_runs_that_cannot_be_checked():

@@ -175,6 +175,9 @@ def test_trajectory_arrays_of_anything_trajectory_like():
     tr, _ = polynomial_trajectory(4)
     t, q, qd, qdd = trajectory_arrays(SimpleNamespace(t=list(tr.t), q=tr.q, qd=tr.qd, qdd=tr.qdd))
     assert t.dtype == float
+    # Integers come back as floats.
+    ints = trajectory_arrays(SimpleNamespace(t=[0, 1], q=[[1, 2, 3]] * 2, qd=[[0, 0, 0]] * 2, qdd=[[0, 0, 0]] * 2))
+    assert all(a.dtype == float for a in ints)
     np.testing.assert_array_equal(qdd, tr.qdd)
     with pytest.raises(TrajectoryError, match="expected a trajectory with t, q, qd, qdd"):
         trajectory_arrays(SimpleNamespace(t=tr.t, q=tr.q, qd=tr.qd))
