@@ -64,16 +64,23 @@ def test_margin_bands_agree_with_draws_of_the_parameters(identified):
 
 def test_size_with_an_identified_file_says_which_margins_pass_with_confidence(identified, capsys):
     path, params = identified
-    assert main(["size", "--params", str(path), "--drive", str(DRIVE), "--rate", "500"]) in (0, 1)
-    printed = capsys.readouterr().out
-    assert "passes with 95 % confidence" in printed and "95 % interval" in printed
-    assert main(["size", "--params", str(path), "--drive", str(DRIVE), "--rate", "500", "--format", "json"]) in (0, 1)
+    # The exit status is the verdict: 1 when the drive fails a check, else 0 (the JSON's "passed").
+    size = ["size", "--params", str(path), "--drive", str(DRIVE), "--rate", "500"]
+    json_status = main(size + ["--format", "json"])
     document = json.loads(capsys.readouterr().out)
     (entry,) = document.values()
+    assert json_status == (1 if entry["passed"] is False else 0)
     assert len(entry["margin_bands"]) == len(entry["checks"])
     assert {"margin_std", "margin_lo95", "margin_hi95", "passes_with_95_confidence"} <= set(entry["margin_bands"][0])
+    assert main(size) == json_status
+    printed = capsys.readouterr().out
+    assert "passes with 95 % confidence" in printed and "95 % interval" in printed
     # Without a covariance: the output of before, no bands.
-    assert main(["size", "--drive", str(DRIVE), "--rate", "500"]) in (0, 1)
+    published = ["size", "--drive", str(DRIVE), "--rate", "500"]
+    json_status = main(published + ["--format", "json"])
+    (entry,) = json.loads(capsys.readouterr().out).values()
+    assert json_status == (1 if entry["passed"] is False else 0)
+    assert main(published) == json_status
     assert "95 % confidence" not in capsys.readouterr().out
 
 
@@ -109,15 +116,17 @@ def test_the_parameter_origin_comes_from_the_identification_table(identified, tm
 def test_report_with_an_identified_file_states_the_margins_confidence(identified, tmp_path, capsys):
     path, _ = identified
     args = ["report", "--params", str(path), "--motor", str(DRIVE), "--model", "analytic", "--rate", "200"]
-    assert main(args + ["--out", str(tmp_path / "a")]) in (0, 1)
+    # The exit status is the rating check's verdict: 1 on FAIL, else 0.
+    json_status = main(args + ["--out", str(tmp_path / "b"), "--summary-format", "json"])
+    document = json.loads(capsys.readouterr().out)
+    assert json_status == (1 if document["rating_check"] == "FAIL" else 0)
+    assert len(document["margin_bands"]) == len(document["sizing"]["checks"])
+    assert main(args + ["--out", str(tmp_path / "a")]) == json_status
     page = (tmp_path / "a" / "index.html").read_text(encoding="utf-8")
     assert "pass with 95 % confidence" in page and "identified" in page
     printed = capsys.readouterr().out
     assert "pass with 95 % confidence" in printed
-    assert main(args + ["--out", str(tmp_path / "b"), "--summary-format", "json"]) in (0, 1)
-    document = json.loads(capsys.readouterr().out)
-    assert len(document["margin_bands"]) == len(document["sizing"]["checks"])
-    assert main(
-        ["report", "--motor", str(DRIVE), "--model", "analytic", "--rate", "200", "--out", str(tmp_path / "c")]
-    ) in (0, 1)
+    published = ["report", "--motor", str(DRIVE), "--model", "analytic", "--rate", "200", "--out", str(tmp_path / "c")]
+    json_status = main(published + ["--summary-format", "json"])
+    assert json_status == (1 if json.loads(capsys.readouterr().out)["rating_check"] == "FAIL" else 0)
     assert "95 % confidence" not in (tmp_path / "c" / "index.html").read_text(encoding="utf-8")

@@ -1,0 +1,110 @@
+"""hipsim.rig.monitoring.control_chart pinned by hand: baseline mean and spread, the EWMA, its limits, the alarms.
+
+Seven snapshots: one in running-in, three in the baseline (cycles 500 000 to
+1 000 000, both ends included), three after. Every number below is worked out
+from the formulas of the module's description with λ = 0.2, L = 3:
+λ/(2 − λ) = 1/9, and the limit's factor √(1/9·(1 − 0.8^{2k})) is 0.2, 0.256125,
+0.286328 for k = 1, 2, 3.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from hipsim.exceptions import ArgumentError
+from hipsim.rig.monitoring.control_chart import (
+    DEFAULT_ALARM_RISE,
+    DEFAULT_BASELINE,
+    EWMA_L,
+    EWMA_LAMBDA,
+    MIN_BASELINE,
+    chart,
+    parse_baseline,
+)
+
+CYCLES = [100_000, 500_000, 750_000, 1_000_000, 1_100_000, 1_200_000, 1_300_000]
+#: Running-in far off (never flagged), baseline 10.0, 10.2, 9.8 mm, then 10.5, 11.0, 10.0 mm.
+ESTIMATE = [20.0, 10.0, 10.2, 9.8, 10.5, 11.0, 10.0]
+HIP_RADIUS_MM = 25.0
+
+
+def test_the_defaults():
+    assert (EWMA_LAMBDA, EWMA_L, MIN_BASELINE) == (0.2, 3.0, 3)
+    assert DEFAULT_BASELINE == (500_000, 1_000_000) and DEFAULT_ALARM_RISE == 0.01
+
+
+def test_the_chart_by_hand():
+    c = chart(CYCLES, ESTIMATE, [0.1] * 7, HIP_RADIUS_MM)
+    assert list(c.phase) == ["running-in"] + ["baseline"] * 3 + ["monitoring"] * 3
+    assert c.baseline_count == 3 and c.note == ""
+    # μ₀ = (10.0 + 10.2 + 9.8)/3 = 10; σ₀ = √((0² + 0.2² + 0.2²)/2) = 0.2 (above the RMS error 0.1).
+    assert c.mean == pytest.approx(10.0, abs=1e-12)
+    assert c.spread == pytest.approx(0.2, rel=1e-12)
+    # z₁ = 0.2·10.5 + 0.8·10 = 10.1; z₂ = 0.2·11 + 0.8·10.1 = 10.28; z₃ = 0.2·10 + 0.8·10.28 = 10.224.
+    np.testing.assert_allclose(c.ewma[4:], [10.1, 10.28, 10.224], rtol=1e-12)
+    assert np.isnan(c.ewma[:4]).all() and np.isnan(c.limit[:4]).all()
+    # Limits 10 + 3·0.2·(0.2, 0.256125, 0.286328).
+    limits = [10.0 + 0.6 * math.sqrt((1 - 0.8 ** (2 * k)) / 9) for k in (1, 2, 3)]
+    np.testing.assert_allclose(limits, [10.12, 10.153675, 10.171797], rtol=1e-6)
+    np.testing.assert_allclose(c.limit[4:], limits, rtol=1e-12)
+    # Change of μ_h: (x − 10)/25 → 0.02, 0.04, 0; its deviation √(0.1² + 0.2²/3)/25 = 0.0061101.
+    np.testing.assert_allclose(c.change[4:], [0.02, 0.04, 0.0], atol=1e-12)
+    np.testing.assert_allclose(c.change_std, math.sqrt(0.01 + 0.04 / 3) / 25.0, rtol=1e-12)
+    # k = 1: z 10.1 under 10.12, no alarm; k = 2: 10.28 over 10.1537 and the change 0.04 over 0.01: alarm;
+    # k = 3: 10.224 over 10.1718 but the change 0 is harmless: no alarm. Running-in at 20 mm: never.
+    assert list(c.alarm) == [0, 0, 0, 0, 0, 1, 0]
+    # The engineering threshold on the estimate: 10 + 0.01·25 = 10.25 mm.
+    assert c.threshold == pytest.approx(10.25, rel=1e-12)
+
+
+def test_the_spread_never_below_the_estimates_own_error():
+    # Baseline standard errors 0.3 mm (RMS 0.3) above the sample deviation 0.2: σ₀ = 0.3.
+    # The RMS, not the mean: errors 0.1, 0.1, 0.5 have RMS √(0.27/3) = 0.3 (mean 0.233).
+    c = chart(CYCLES, ESTIMATE, [0.1, 0.1, 0.1, 0.5, 0.1, 0.1, 0.1], HIP_RADIUS_MM)
+    assert c.spread == pytest.approx(0.3, rel=1e-12)
+    # The first limit: 10 + 3·0.3·0.2 = 10.18.
+    assert c.limit[4] == pytest.approx(10.18, rel=1e-12)
+
+
+def test_other_weight_width_and_rise():
+    # λ = 0.5, L = 2, D = 0.05: z₁ = 0.5·10.5 + 0.5·10 = 10.25, z₂ = 10.625, z₃ = 10.3125;
+    # limit factor √(0.5/1.5·(1 − 0.5^{2k})): k = 1 √(1/3·3/4) = 0.5, so 10 + 2·0.2·0.5 = 10.2.
+    c = chart(CYCLES, ESTIMATE, [0.1] * 7, HIP_RADIUS_MM, lam=0.5, width=2.0, alarm_rise=0.05)
+    np.testing.assert_allclose(c.ewma[4:], [10.25, 10.625, 10.3125], rtol=1e-12)
+    assert c.limit[4] == pytest.approx(10.2, rel=1e-12)
+    # Changes 0.02, 0.04, 0 never exceed 0.05: no alarm although z is above its limit.
+    assert not c.alarm.any()
+    assert c.threshold == pytest.approx(10.0 + 0.05 * 25.0)
+    # With D = 0.03 the second snapshot (change 0.04) alarms.
+    assert list(chart(CYCLES, ESTIMATE, [0.1] * 7, HIP_RADIUS_MM, alarm_rise=0.03).alarm) == [0, 0, 0, 0, 0, 1, 0]
+
+
+def test_another_baseline_window():
+    # Baseline (0, 600 000): the first two snapshots only, fewer than 3: no chart yet.
+    c = chart(CYCLES, ESTIMATE, [0.1] * 7, HIP_RADIUS_MM, baseline=(0, 600_000))
+    assert c.baseline_count == 2 and math.isnan(c.mean) and math.isnan(c.spread) and math.isnan(c.threshold)
+    assert c.note == (
+        "baseline incomplete: 2 of the 3 snapshots it needs within cycles 0-600000; the chart starts once it has them"
+    )
+    assert np.isnan(c.ewma).all() and np.isnan(c.change).all() and np.isnan(c.change_std).all()
+    assert not c.alarm.any() and c.alarm.dtype.kind == "i" and c.alarm.size == 7
+    assert list(c.phase[:2]) == ["baseline", "baseline"] and c.phase[2] == "monitoring"
+
+
+def test_the_alarm_rise_must_be_a_positive_number():
+    for bad in (0.0, -0.01, math.nan, math.inf, "0.01"):
+        with pytest.raises(ArgumentError, match="a positive rise of the hip friction coefficient"):
+            chart(CYCLES, ESTIMATE, [0.1] * 7, HIP_RADIUS_MM, alarm_rise=bad)
+
+
+def test_parse_baseline():
+    assert parse_baseline("500000:1000000") == (500_000, 1_000_000)
+    assert parse_baseline("500_000:1_000_000") == (500_000, 1_000_000)
+    assert parse_baseline("1e6:2e6") == (1_000_000, 2_000_000)
+    assert parse_baseline("0:0") == (0, 0)
+    for bad in ("5:3", "-1:3", "abc", "1:2:3", "1", ":5", "1:x"):
+        with pytest.raises(ArgumentError, match="FROM:TO in cycles"):
+            parse_baseline(bad)

@@ -1,0 +1,181 @@
+"""hipsim.motion.gait_events pinned on load curves drawn by hand: where each event falls, sample by sample.
+
+The curves are piecewise linear and written out here (swing level, ramps,
+stance level), so each heel strike (the last sample at the swing level before
+a rise) and toe-off (the first sample back at it) is known by construction.
+"""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from hipsim.exceptions import TrajectoryError
+from hipsim.motion.gait_events import DEFAULT_FALL, DEFAULT_RISE, detect_gait_events, gait_cycles, gait_phase
+from hipsim.motion.trajectories import iso14242
+
+RATE = 100.0
+
+
+def cycle(swing=40, ramp=10, stance=40, low=200.0, high=1200.0):
+    """One cycle: ``swing`` samples at ``low``, a rise over ``ramp`` samples, ``stance`` at ``high``, a fall."""
+    up = low + (high - low) * np.arange(1, ramp + 1) / ramp
+    return np.concatenate([np.full(swing, low), up, np.full(stance, high), up[::-1][1:], [low]])
+
+
+def curve(cycles=3, **shape):
+    load = np.concatenate([cycle(**shape) for _ in range(cycles)] + [np.full(40, shape.get("low", 200.0))])
+    return np.arange(load.size) / RATE, load
+
+
+def test_heel_strikes_and_toe_offs_of_a_drawn_curve():
+    # One cycle is 40 + 10 + 40 + 10 = 100 samples. In cycle c (starting at 100c) the last swing
+    # sample is 100c + 39, the load is back at 200 N at 100c + 99 (the fall's last value is 200).
+    t, load = curve()
+    events = detect_gait_events(t, load)
+    np.testing.assert_array_equal(events.heel_strikes, [39, 139, 239])
+    np.testing.assert_array_equal(events.toe_offs, [99, 199, 299])
+    np.testing.assert_allclose(events.t_heel_strikes, [0.39, 1.39, 2.39])
+    np.testing.assert_allclose(events.t_toe_offs, [0.99, 1.99, 2.99])
+    assert events.low == 200.0 and events.high == 1200.0
+    assert events.cycles == 2
+    np.testing.assert_allclose(events.periods, [1.0, 1.0])
+    assert events.period == pytest.approx(1.0)
+
+
+def test_the_period_is_the_median_of_the_cycles():
+    # Swings of 40, 60 and 40 samples: periods 1.2 s and 1.0 s and 1.0 s... median of (1.2, 1.0) is 1.1;
+    # with three whole cycles (1.0, 1.2, 1.0) it is 1.0.
+    low = np.concatenate([cycle(swing=40), cycle(swing=60), cycle(swing=40), cycle(swing=40), np.full(40, 200.0)])
+    events = detect_gait_events(np.arange(low.size) / RATE, low)
+    # Heel strikes at 39, 100 + 59 = 159, 220 + 39 = 259, 320 + 39 = 359.
+    np.testing.assert_array_equal(events.heel_strikes, [39, 159, 259, 359])
+    np.testing.assert_allclose(events.periods, [1.2, 1.0, 1.0])
+    assert events.period == pytest.approx(1.0)
+
+
+def test_no_whole_cycle_gives_no_period_and_the_count_is_never_negative():
+    t, load = curve(cycles=1)
+    events = detect_gait_events(t, load)
+    assert events.cycles == 0 and np.isnan(events.period)
+    flat = detect_gait_events(np.arange(50) / RATE, np.full(50, 300.0))
+    assert flat.cycles == 0 and flat.heel_strikes.size == 0 and flat.toe_offs.size == 0
+
+
+def test_the_thresholds_are_a_quarter_and_a_tenth_of_the_range():
+    assert (DEFAULT_RISE, DEFAULT_FALL) == (0.25, 0.10)
+    # A bump to 24 % of the 1000 N range above the swing is not a stance; one to 26 % is.
+    base = np.concatenate([cycle(), cycle(), np.full(40, 200.0)])
+    for height, strikes in [(0.24, 2), (0.26, 3)]:
+        bump = np.concatenate([np.full(30, 200.0), np.full(20, 200.0 + height * 1000.0), np.full(30, 200.0)])
+        load = np.concatenate([base, bump])
+        assert detect_gait_events(np.arange(load.size) / RATE, load).heel_strikes.size == strikes, height
+    # In stance, a dip to 11 % of the range does not end it (hysteresis); a dip to 9 % does.
+    for depth, toe_offs in [(0.11, 3), (0.09, 4)]:
+        dipped = cycle(stance=40).copy()
+        dipped[70:75] = 200.0 + depth * 1000.0
+        load = np.concatenate([cycle(), dipped, cycle(), np.full(40, 200.0)])
+        assert detect_gait_events(np.arange(load.size) / RATE, load).toe_offs.size == toe_offs, depth
+
+
+def test_custom_thresholds_are_checked():
+    t, load = curve()
+    for rise, fall in [(0.1, 0.2), (0.0, 0.0), (1.0, 0.1), (0.5, 0.0)]:
+        with pytest.raises(TrajectoryError, match="0 < fall ≤ rise < 1"):
+            detect_gait_events(t, load, rise=rise, fall=fall, source="gait.csv")
+    # fall = rise is allowed.
+    assert detect_gait_events(t, load, rise=0.3, fall=0.3).cycles == 2
+    with pytest.raises(TrajectoryError, match="1-D of one length"):
+        detect_gait_events(t[:-1], load)
+    with pytest.raises(TrajectoryError, match="1-D of one length"):
+        detect_gait_events(np.stack([t, t]), np.stack([load, load]))
+
+
+def test_the_swing_noise_widens_the_baseline_by_three_times_its_estimate():
+    # The swing before the second rise: 200 N (the fall's end), 19 pairs 200/202 N less the last
+    # pair, then 205 and 206 N, then the load jumps to stance. Its 40 steps: 0, 19 × +2, 18 × −2,
+    # +3, +1; their median is (1 + 2)/2 = 1.5, the median of |step − 1.5| is (0.5 + 1.5)/2 = 1.0,
+    # so σ = 1.0/(0.6745·√2) = 1.0483 N; the baseline (median of the 41 samples) is 202 N.
+    # Level 202 + 3σ = 205.145 N: 205 N is at the baseline, 206 N is not, so the heel strike is the
+    # 205 N sample (with 2σ it would be the 202 N before it, with 4σ the 206 N after).
+    swing = np.tile([200.0, 202.0], 20)
+    first = cycle()
+    second = np.concatenate([swing[:-2], [205.0, 206.0], np.full(40, 1200.0), np.linspace(1100.0, 200.0, 10)])
+    load = np.concatenate([first, second, swing])
+    events = detect_gait_events(np.arange(load.size) / RATE, load)
+    assert events.heel_strikes[1] == first.size + 38  # the 205 N sample
+
+
+def test_a_log_starting_in_stance_or_in_the_rise():
+    t, load = curve()
+    # Starting mid-stance: the first toe-off counts, the first heel strike is not in the log.
+    events = detect_gait_events(t[60:] - t[60], load[60:])
+    np.testing.assert_array_equal(events.heel_strikes, [139 - 60, 239 - 60])
+    np.testing.assert_array_equal(events.toe_offs, [99 - 60, 199 - 60, 299 - 60])
+    # Starting in the rise (sample 45): no sample of that swing, so no heel strike there.
+    events = detect_gait_events(t[45:] - t[45], load[45:])
+    np.testing.assert_array_equal(events.heel_strikes, [139 - 45, 239 - 45])
+
+
+def test_the_iso_cycle_has_its_heel_strike_at_each_cycle_start():
+    # 4.5 cycles of 0.8 s at 200 Hz: the load sits at 300 N from 62 % of the cycle to 100 % and rises
+    # from each cycle's start, so the heel strikes are the samples 0, 160, 320, 480, 640 (4 whole cycles);
+    # toe-off at 62 % + nothing: the first sample back at 300 N, 0.62·160 = 99.2 → sample 100.
+    events = gait_cycles(iso14242(rate=200.0, cycles=4.5, frequency=1.25))
+    np.testing.assert_array_equal(events.heel_strikes, [0, 160, 320, 480, 640])
+    np.testing.assert_array_equal(events.toe_offs, [100, 260, 420, 580])
+    assert events.cycles == 4
+    assert events.period == pytest.approx(0.8, abs=1e-12)
+
+
+def test_gait_phase_by_hand():
+    # Heel strikes at 0.39, 1.39, 2.39 s; toe-offs 0.6 s after each: stance is 60 % of the cycle.
+    t, load = curve()
+    events = detect_gait_events(t, load)
+    phase, stance = gait_phase(t, events)
+    # At 0.89 s: half a cycle after 0.39 → 50 %, stance. At 1.19 s: 80 %, swing.
+    i, j = 89, 119
+    assert phase[i] == pytest.approx(50.0) and stance[i]
+    assert phase[j] == pytest.approx(80.0) and not stance[j]
+    # Before the first heel strike the median period (1 s) continues: 0.19 s is 80 % (0.2 s before).
+    assert phase[19] == pytest.approx(80.0) and not stance[19]
+    # After the last: 2.99 s is 60 % after 2.39; stance ended at 60 %.
+    assert phase[299] == pytest.approx(60.0) and not stance[299]
+    assert phase[290] == pytest.approx(51.0) and stance[290]
+    assert phase[39] == 0.0 and stance[39]
+    with pytest.raises(TrajectoryError, match="1 heel strike"):
+        gait_phase(*curve(cycles=1)[:1], detect_gait_events(*curve(cycles=1)))
+
+
+def test_gait_phase_with_two_heel_strikes():
+    # Exactly one whole cycle (heel strikes at 0.39 and 1.39 s) is enough: 0.89 s is 50 %.
+    t, load = curve(cycles=2)
+    events = detect_gait_events(t, load)
+    assert events.heel_strikes.size == 2
+    phase, stance = gait_phase(t, events)
+    assert phase[89] == pytest.approx(50.0) and stance[89]
+
+
+def test_gait_phase_with_a_cycle_missing_its_toe_off_uses_the_typical_stance():
+    # Whole cycles of 1 s; stance 60 % in each with a toe-off, so the typical stance is 60 %.
+    t, load = curve(cycles=4)
+    events = detect_gait_events(t, load)
+    held = type(events)(
+        events.heel_strikes, events.toe_offs[1:], events.t_heel_strikes, events.t_toe_offs[1:], 200.0, 1200.0
+    )
+    phase, stance = gait_phase(t, held)
+    # Cycle 0 (0.39 → 1.39 s) lost its toe-off: 55 % is stance, 65 % swing by the typical 60 %.
+    assert stance[39 + 55] and not stance[39 + 65]
+
+
+def test_gait_cycles_of_a_log_or_a_trajectory():
+    # A rig log hands its trajectory; a bad one is named by its source.
+    tr = iso14242(rate=100.0, cycles=3)
+    np.testing.assert_array_equal(gait_cycles(SimpleNamespace(trajectory=tr)).heel_strikes, [0, 100, 200])
+    bad = SimpleNamespace(t=np.arange(5.0), Fe=np.zeros(4), name="walk.csv")
+    with pytest.raises(TrajectoryError, match="walk.csv"):
+        gait_cycles(bad)
+    with pytest.raises(TrajectoryError, match="load"):
+        gait_cycles(SimpleNamespace(t=np.arange(5.0), Fe=np.zeros(4)))

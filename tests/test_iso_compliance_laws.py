@@ -1,0 +1,168 @@
+"""hipsim.motion.iso_compliance pinned both ways: a deviation above the tolerance fails, below passes, on either side.
+
+Each run is the standard's own waveform (hipsim's built-in cycle) with one
+change written here: a constant offset of one angle or of the load (whose
+largest deviation is then the offset itself), or another frequency (whose
+deviation is |f − 1 Hz|). Then the verdict's arithmetic on hand-made
+deviations: the limit itself passes, the order and wording of the summary.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from hipsim.exceptions import ArgumentError, TrajectoryError
+from hipsim.motion.iso_compliance import (
+    DEFAULT_TOLERANCES,
+    NOMINAL_FREQUENCY,
+    PEAK_LOAD,
+    CycleDeviation,
+    IsoCheck,
+    Tolerances,
+    iso_check,
+    parse_tolerances,
+    periodic_extension,
+)
+from hipsim.motion.trajectories import iso14242_angles, iso14242_load
+
+
+def run(frequency=1.0, cycles=3.0, rate=400.0, angle_offset=(0.0, 0.0, 0.0), load_offset=0.0):
+    """The standard's waveforms at ``frequency`` with constant offsets: angles in [°], load in [N]."""
+    t = 0.137 + np.arange(int(cycles * rate / frequency)) / rate
+    q, _, _ = iso14242_angles(t, frequency)
+    return t, q + np.radians(angle_offset), iso14242_load(t, frequency) + load_offset
+
+
+def test_the_default_tolerances():
+    # ±3° on each angle, ±3 % of the 3000 N peak = 90 N, ±0.1 Hz around 1 Hz.
+    assert PEAK_LOAD == 3000.0 and NOMINAL_FREQUENCY == 1.0
+    tol = DEFAULT_TOLERANCES
+    assert (tol.alpha, tol.beta, tol.gamma, tol.load, tol.frequency) == (3.0, 3.0, 3.0, pytest.approx(90.0), 0.1)
+
+
+@pytest.mark.parametrize("frequency, passed", [(0.8, False), (1.2, False), (0.95, True), (1.05, True)])
+def test_the_frequency_deviation_both_ways(frequency, passed):
+    check = iso_check(*run(frequency=frequency))
+    # Each cycle's frequency is the run's; its deviation |f − 1| is 0.2 Hz or 0.05 Hz.
+    for cycle in check.cycles:
+        assert cycle.frequency == pytest.approx(frequency, abs=1e-6)
+    assert check.worst("frequency") == pytest.approx(abs(frequency - 1.0), abs=1e-6)
+    assert check.passed is passed
+    assert check.failing == (() if passed else ("frequency",))
+
+
+@pytest.mark.parametrize("index, name", [(0, "alpha"), (1, "beta"), (2, "gamma")])
+@pytest.mark.parametrize("offset, passed", [(4.0, False), (-4.0, False), (2.0, True), (-2.0, True)])
+def test_each_angle_deviation_both_ways(index, name, offset, passed):
+    # A constant offset of one angle: its largest |deviation| is |offset|, the other angles' stay 0.
+    angles = [0.0, 0.0, 0.0]
+    angles[index] = offset
+    check = iso_check(*run(angle_offset=angles))
+    # The cycles are aligned by a linear interpolation of the load's crossing, to ~0.1 ms at 400 Hz:
+    # 0.4 m° on the angles, a few newtons on the load's steepest rise (22 kN/s).
+    assert check.worst(name) == pytest.approx(abs(offset), abs=2e-3)
+    for other in {"alpha", "beta", "gamma"} - {name}:
+        assert check.worst(other) < 2e-3
+    assert check.failing == (() if passed else (name,))
+    assert check.passes(name).all() if passed else not check.passes(name).any()
+
+
+@pytest.mark.parametrize("offset, passed", [(100.0, False), (-100.0, False), (60.0, True), (-60.0, True)])
+def test_the_load_deviation_both_ways(offset, passed):
+    # A constant load offset moves the 5th/95th percentiles and their middle with it: the cycles are
+    # aligned as without it, so the largest |deviation| is |offset|; tolerance 90 N.
+    check = iso_check(*run(load_offset=offset))
+    assert check.worst("load") == pytest.approx(abs(offset), abs=3.0)
+    assert check.failing == (() if passed else ("load",))
+
+
+def test_the_cycles_start_at_the_heel_strikes():
+    # The run starts at 0.137 s, 0.137 into a 1 s cycle: the whole cycles start at 1.0 and 2.0 s.
+    check = iso_check(*run(cycles=3.0))
+    np.testing.assert_allclose([c.start for c in check.cycles], [1.0, 2.0], atol=2e-4)
+    assert check.source == "run" and check.tolerances is DEFAULT_TOLERANCES
+
+
+def test_a_periodic_run_is_checked_once_per_cycle():
+    # Two whole periods at 1 Hz sampled at 200 Hz, starting at 0.5 s: as one period of an endless run,
+    # cycles start at 1.0 and 2.0 s (the 2.0 s one wraps around), each once; checked as open, only 1.0 s.
+    t = 0.5 + np.arange(400) / 200.0
+    q, _, _ = iso14242_angles(t)
+    check = iso_check(t, q, iso14242_load(t), periodic=True)
+    np.testing.assert_allclose([c.start for c in check.cycles], [1.0, 2.0], atol=2e-4)
+    assert check.passed
+    open_check = iso_check(t, q, iso14242_load(t))
+    np.testing.assert_allclose([c.start for c in open_check.cycles], [1.0], atol=2e-4)
+    # The extension: three copies, the original in the middle, shifted by the span (2 s).
+    te, qe, le = periodic_extension(t, q, iso14242_load(t))
+    assert te.size == 1200 and te[0] == pytest.approx(-1.5) and te[400] == 0.5 and te[-1] == pytest.approx(4.495)
+    np.testing.assert_array_equal(qe[800:], q)
+    np.testing.assert_array_equal(le[:400], iso14242_load(t))
+
+
+def test_the_verdict_on_hand_made_deviations():
+    # Tolerances 2°, 2°, 2°, 50 N, 0.25 Hz. Cycle 1 sits exactly on every limit (passes: ≤);
+    # cycle 2 exceeds β (2.5°) and the frequency (0.75 Hz: |0.75 − 1| = 0.25 passes, so 0.5 Hz fails).
+    tol = Tolerances(alpha=2.0, beta=2.0, gamma=2.0, load=50.0, frequency=0.25)
+    on_limits = CycleDeviation(0.0, 1.25, 2.0, 2.0, 2.0, 50.0)
+    over = CycleDeviation(1.0, 0.5, 1.0, 2.5, 0.0, 10.0)
+    check = IsoCheck((on_limits, over), tol, "walk.csv")
+    assert on_limits.deviation("frequency") == 0.25 and over.deviation("frequency") == 0.5
+    np.testing.assert_array_equal(check.passes("beta"), [True, False])
+    np.testing.assert_array_equal(check.passes("frequency"), [True, False])
+    np.testing.assert_array_equal(check.passes("load"), [True, True])
+    assert check.failing == ("beta", "frequency")
+    assert not check.passed
+    assert check.worst("beta") == 2.5 and check.worst("frequency") == 0.5 and check.worst("load") == 50.0
+    assert check.summary() == [
+        "alpha: worst 2 ° (tolerance 2 °): pass",
+        "beta: worst 2.5 ° (tolerance 2 °): FAIL in 1 of 2 cycles",
+        "gamma: worst 2 ° (tolerance 2 °): pass",
+        "load: worst 50 N (tolerance 50 N): pass",
+        "frequency: worst 0.5 Hz (tolerance 0.25 Hz): FAIL in 1 of 2 cycles",
+    ]
+    assert IsoCheck((on_limits,), tol, "x").passed
+    # Two of three cycles failing β: the count is of the failing ones.
+    three = IsoCheck((on_limits, over, over), tol, "x")
+    assert "beta: worst 2.5 ° (tolerance 2 °): FAIL in 2 of 3 cycles" in three.summary()
+
+
+def test_tolerances_refuse_what_is_not_a_positive_number():
+    for bad in (0.0, -1.0, float("nan"), float("inf"), True, "3"):
+        with pytest.raises(ArgumentError) as refused:
+            Tolerances(alpha=bad)
+        assert str(refused.value) == f"tolerance: expected a positive finite number, got {f'alpha={bad!r}'!r}"
+    assert Tolerances(load=1).load == 1
+
+
+def test_parse_tolerances_by_hand():
+    # 2 % of the 3000 N peak is 60 N; names and values may have spaces; unnamed ones keep the base's.
+    tol = parse_tolerances(" gamma = 1.5 , load = 2 % ", base=Tolerances(alpha=7.0))
+    assert (tol.alpha, tol.beta, tol.gamma, tol.load, tol.frequency) == (7.0, 3.0, 1.5, 60.0, 0.1)
+    # Empty entries are skipped, not the end: beta after one is read.
+    assert parse_tolerances("alpha=2,,beta=1").beta == 1.0
+    for text, expected in [
+        ("alpha=5%", "--tolerance: expected a percentage for the load only, got 'alpha=5%'"),
+        ("beta=three", "--tolerance: expected a number after '=', got 'beta=three'"),
+        ("beta==3", "--tolerance: expected a number after '=', got 'beta==3'"),
+        (
+            "beta 3",
+            "--tolerance: expected NAME=VALUE with NAME one of alpha, beta, gamma, load, frequency, got 'beta 3'",
+        ),
+    ]:
+        with pytest.raises(ArgumentError) as refused:
+            parse_tolerances(text)
+        assert str(refused.value) == expected
+
+
+def test_runs_that_cannot_be_checked():
+    t, q, load = run()
+    with pytest.raises(TrajectoryError, match="do not match"):
+        iso_check(t, q[:-1], load, source="walk.csv")
+    with pytest.raises(TrajectoryError, match="do not match"):
+        iso_check(t, q, load[:-1])
+    with pytest.raises(TrajectoryError, match="no stance and swing levels"):
+        iso_check(t, q, np.full(t.size, 500.0))
+    with pytest.raises(TrajectoryError, match="no whole gait cycle"):
+        iso_check(t[:500], q[:500], load[:500])

@@ -1,0 +1,190 @@
+"""hipsim.motion.trajectories pinned by hand: the built-in cycle's formulas and knots, sampling, interpolation, checks.
+
+The cycle of spec §7.2: α = 3.5° + 21.5°·cos(2πft), β = 1.5° + 5.5°·cos(2πft − 40°),
+γ = −4° − 6°·cos(2πft) (a phase of 180°), and the twin-peak load through the
+knots (0, 300 N), (0.12, 3000 N), (0.32, 1500 N), (0.5, 3000 N), (0.62, 300 N).
+"""
+
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from hipsim.exceptions import TrajectoryError
+from hipsim.motion.trajectories import (
+    MIN_SAMPLES,
+    Trajectory,
+    interpolator,
+    iso14242,
+    iso14242_angles,
+    iso14242_at,
+    iso14242_load,
+    iso14242_samples,
+    trajectory_arrays,
+)
+
+DEG = math.pi / 180.0
+
+
+def test_the_cycle_angles_and_their_derivatives_by_hand():
+    # t = 0: α = 3.5 + 21.5 = 25°, β = 1.5 + 5.5·cos 40° = 5.7132°, γ = −4 − 6 = −10°.
+    q, qd, qdd = iso14242_angles(np.array([0.0, 0.25]), frequency=2.0)
+    np.testing.assert_allclose(q[0] / DEG, [25.0, 1.5 + 5.5 * math.cos(40 * DEG), -10.0], rtol=1e-12)
+    # ω = 2π·2 = 4π: α̇(0) = 0, β̇(0) = −5.5°·4π·sin(−40°) = 5.5°·4π·sin 40°, γ̇(0) = 0.
+    w = 4 * math.pi
+    np.testing.assert_allclose(qd[0] / DEG, [0.0, 5.5 * w * math.sin(40 * DEG), 0.0], atol=1e-12)
+    # α̈(0) = −21.5°·ω², β̈(0) = −5.5°·ω²·cos 40°, γ̈(0) = +6°·ω².
+    np.testing.assert_allclose(qdd[0] / DEG, [-21.5 * w**2, -5.5 * w**2 * math.cos(40 * DEG), 6.0 * w**2], rtol=1e-12)
+    # t = 0.25 s at 2 Hz is half a cycle: α = 3.5 − 21.5 = −18°, γ = −4 + 6 = 2°.
+    assert q[1, 0] / DEG == pytest.approx(-18.0) and q[1, 2] / DEG == pytest.approx(2.0)
+
+
+def test_the_load_through_its_knots_periodically():
+    s = np.array([0.0, 0.12, 0.32, 0.5, 0.62, 0.8, 1.0])
+    np.testing.assert_allclose(iso14242_load(s), [300, 3000, 1500, 3000, 300, 300, 300], rtol=1e-12)
+    # At 2 Hz, 0.06 s is 12 % of a cycle; 1.16 s is 2.32 cycles: 32 %.
+    np.testing.assert_allclose(iso14242_load(np.array([0.06, 1.16]), 2.0), [3000.0, 1500.0], rtol=1e-12)
+    # Between the knots the curve stays within them (no overshoot) and rises over 0–12 %.
+    fine = iso14242_load(np.linspace(0.0, 0.12, 50))
+    assert np.all(np.diff(fine) >= 0) and fine.max() == pytest.approx(3000.0)
+
+
+def test_sampling_the_cycle():
+    tr = iso14242(rate=100.0, cycles=2)
+    assert len(tr) == 200 and tr.periodic and tr.name == "ISO 14242-1"
+    assert tr.t[1] == 0.01 and tr.t[-1] == pytest.approx(1.99)
+    half = iso14242(rate=100.0, cycles=1.5, frequency=1.0)
+    assert len(half) == 150 and not half.periodic
+    # 3 cycles at 2 Hz and 10 Hz: 15 samples, whole.
+    assert iso14242_samples(10.0, 3, 2.0, 100) == (15, True)
+    # 1.25 cycles at 8 Hz, 1 Hz: 10 samples, not whole cycles.
+    assert iso14242_samples(8.0, 1.25, 1.0, 100) == (10, False)
+    with pytest.raises(TrajectoryError, match="10 cycle\\(s\\) at 1000.0 Hz gives 10,000 samples; at most 5,000 fit"):
+        iso14242_samples(1000.0, 10, 1.0, 5000)
+    assert iso14242_samples(1000.0, 5, 1.0, 5000) == (5000, True)
+    with pytest.raises(TrajectoryError, match="fewer than 2 samples"):
+        iso14242(rate=1.0, cycles=1)
+    for name, value in (("rate", 0.0), ("cycles", math.nan), ("frequency", True), ("rate", "100"), ("cycles", -1)):
+        with pytest.raises(TrajectoryError, match=f"{name} must be a positive number"):
+            iso14242(**{name: value})
+
+
+def test_the_cycle_at_any_times():
+    at = iso14242_at(0.25, frequency=2.0)
+    assert len(at) == 1 and not at.periodic
+    q, qd, qdd = iso14242_angles(np.array([0.25]), 2.0)
+    np.testing.assert_array_equal(at.q, q)
+    np.testing.assert_array_equal(at.qdd, qdd)
+    assert at.Fe[0] == pytest.approx(3000.0)  # half a cycle: 50 %, the second peak
+
+
+def polynomial_trajectory(n=11):
+    """Angles cubic in t (a quintic spline is exact on them), the load linear, on t = 0 … 1 s."""
+    t = np.linspace(0.0, 1.0, n)
+    c = np.array([0.1, -0.2, 0.3])
+    q = np.outer(t**3, c) + np.outer(t, [0.05, 0.0, -0.1])
+    qd = np.outer(3 * t**2, c) + [0.05, 0.0, -0.1]
+    qdd = np.outer(6 * t, c)
+    return Trajectory(t, q, qd, qdd, 100.0 + 50.0 * t, name="cubic"), c
+
+
+def test_interpolation_is_exact_on_a_cubic_and_linear_on_the_load():
+    tr, c = polynomial_trajectory()
+    at = interpolator(tr)
+    times = np.array([0.0, 0.05, 0.33, 0.999, 1.0])
+    out = at(times)
+    np.testing.assert_allclose(out.q, np.outer(times**3, c) + np.outer(times, [0.05, 0.0, -0.1]), atol=1e-12)
+    np.testing.assert_allclose(out.qd, np.outer(3 * times**2, c) + [0.05, 0.0, -0.1], atol=1e-10)
+    np.testing.assert_allclose(out.qdd, np.outer(6 * times, c), atol=1e-8)
+    np.testing.assert_allclose(out.Fe, 100.0 + 50.0 * times, rtol=1e-12)
+    assert out.name == "cubic"
+    assert len(at(0.5)) == 1
+    with pytest.raises(TrajectoryError, match="times -0.1 to 0.5 s reach outside the trajectory \\(0 to 1 s\\)"):
+        at(np.array([-0.1, 0.5]))
+    with pytest.raises(TrajectoryError, match="reach outside"):
+        at(1.01)
+    with pytest.raises(TrajectoryError, match=f"5 samples; at least {MIN_SAMPLES} are needed to interpolate"):
+        interpolator(tr.slice(slice(0, 5)))
+
+
+def test_a_periodic_trajectory_interpolates_around_and_beyond_its_period():
+    tr = iso14242(rate=50.0, cycles=1)
+    at = interpolator(tr)
+    # At its samples it is the samples; one and two periods later the same again.
+    np.testing.assert_allclose(at(tr.t).q, tr.q, atol=1e-12)
+    np.testing.assert_allclose(at(tr.t + 1.0).q, tr.q, atol=1e-12)
+    np.testing.assert_allclose(at(tr.t - 2.0).Fe, tr.Fe, rtol=1e-12)
+    # Between the last sample (0.98 s) and the period's end the curve wraps to the first: at 0.99 s the
+    # angles are the cycle's (a periodic spline of 50 samples a cycle, to 1e-5 rad), the load halfway.
+    mid = at(0.99)
+    np.testing.assert_allclose(mid.q[0], iso14242_angles(np.array([0.99]))[0][0], atol=1e-5)
+    assert mid.Fe[0] == pytest.approx(0.5 * (tr.Fe[-1] + tr.Fe[0]))
+
+
+def test_a_trajectory_checks_its_arrays():
+    tr, _ = polynomial_trajectory(4)
+    arrays = dict(t=tr.t, q=tr.q, qd=tr.qd, qdd=tr.qdd, Fe=tr.Fe)
+    with pytest.raises(TrajectoryError, match="t must be a non-empty 1-D array, got shape \\(0,\\)"):
+        Trajectory(np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0))
+    with pytest.raises(TrajectoryError, match="t must be a non-empty 1-D array"):
+        Trajectory(**(arrays | {"t": tr.t[None]}))
+    for name, bad, shape in (("q", tr.q[:, :2], "\\(4, 3\\)"), ("Fe", tr.Fe[:3], "\\(4,\\)")):
+        with pytest.raises(TrajectoryError, match=f"{name} must have shape {shape}"):
+            Trajectory(**(arrays | {name: bad}))
+    qd = tr.qd.copy()
+    qd[2, 1] = math.inf
+    with pytest.raises(TrajectoryError, match="qd is not finite at t = 0.666667 s"):
+        Trajectory(**(arrays | {"qd": qd}))
+    # The arrays are frozen, floats, whatever came in.
+    t = Trajectory(**(arrays | {"Fe": [1, 2, 3, 4]}))
+    assert t.Fe.dtype == float and not t.Fe.flags.writeable and not t.q.flags.writeable and not t.t.flags.writeable
+    with pytest.raises(ValueError):
+        t.qdd[0, 0] = 1.0
+
+
+def test_lines_slices_and_the_line_at_a_time():
+    tr, _ = polynomial_trajectory(4)  # t = 0, 1/3, 2/3, 1
+    arrays = dict(t=tr.t, q=tr.q, qd=tr.qd, qdd=tr.qdd, Fe=tr.Fe)
+    with pytest.raises(TrajectoryError, match="lines must be integers of shape \\(4,\\)"):
+        Trajectory(**arrays, lines=np.array([1.0, 2.0, 3.0, 4.0]))
+    with pytest.raises(TrajectoryError, match="lines must be integers"):
+        Trajectory(**arrays, lines=np.array([1, 2, 3]))
+    lined = Trajectory(**arrays, name="walk.csv", periodic=True, lines=np.array([10, 11, 12, 14], dtype=np.int32))
+    assert lined.lines.dtype == int and not lined.lines.flags.writeable
+    # A sample's own time (to a millionth of a step) has its line; between samples none.
+    assert lined.line_at(0.0) == 10 and lined.line_at(1.0) == 14
+    assert lined.line_at(2 / 3) == 12 and lined.line_at(2 / 3 + 1e-8) == 12 and lined.line_at(2 / 3 - 1e-8) == 12
+    assert lined.line_at(0.5) is None and lined.line_at(2 / 3 + 1e-5) is None
+    assert lined.line_at(math.nan) is None and lined.line_at(5.0) is None and lined.line_at(-1.0) is None
+    assert tr.line_at(0.0) is None
+    one = lined.slice(slice(2, 3))
+    assert one.line_at(2 / 3) == 12 and one.line_at(2 / 3 + 0.5e-6) == 12 and one.line_at(2 / 3 + 2e-6) is None
+    # A slice: the selected samples, their lines, no longer periodic.
+    part = lined.slice(np.array([True, False, True, True]))
+    assert len(part) == 3 and not part.periodic and part.name == "walk.csv"
+    np.testing.assert_array_equal(part.lines, [10, 12, 14])
+    np.testing.assert_array_equal(part.qd, tr.qd[[0, 2, 3]])
+    np.testing.assert_array_equal(part.Fe, tr.Fe[[0, 2, 3]])
+    assert tr.slice(slice(1, 3)).lines is None
+
+
+def test_trajectory_arrays_of_anything_trajectory_like():
+    tr, _ = polynomial_trajectory(4)
+    t, q, qd, qdd = trajectory_arrays(SimpleNamespace(t=list(tr.t), q=tr.q, qd=tr.qd, qdd=tr.qdd))
+    assert t.dtype == float
+    # Integers come back as floats.
+    ints = trajectory_arrays(SimpleNamespace(t=[0, 1], q=[[1, 2, 3]] * 2, qd=[[0, 0, 0]] * 2, qdd=[[0, 0, 0]] * 2))
+    assert all(a.dtype == float for a in ints)
+    np.testing.assert_array_equal(qdd, tr.qdd)
+    with pytest.raises(TrajectoryError, match="expected a trajectory with t, q, qd, qdd"):
+        trajectory_arrays(SimpleNamespace(t=tr.t, q=tr.q, qd=tr.qd))
+    with pytest.raises(TrajectoryError, match="t must be a non-empty 1-D array"):
+        trajectory_arrays(SimpleNamespace(t=[], q=tr.q, qd=tr.qd, qdd=tr.qdd))
+    with pytest.raises(TrajectoryError, match="qd must have shape \\(4, 3\\), got \\(4, 2\\)"):
+        trajectory_arrays(SimpleNamespace(t=tr.t, q=tr.q, qd=tr.qd[:, :2], qdd=tr.qdd))
+    with pytest.raises(TrajectoryError, match="t must increase strictly"):
+        trajectory_arrays(SimpleNamespace(t=[0.0, 1.0, 1.0, 2.0], q=tr.q, qd=tr.qd, qdd=tr.qdd))
+    assert len(trajectory_arrays(SimpleNamespace(t=[0.0], q=tr.q[:1], qd=tr.qd[:1], qdd=tr.qdd[:1]))[0]) == 1
