@@ -1,10 +1,10 @@
-"""hipsim.rig.reader: the rig-log reader's rules and errors."""
+"""hipsim.rig.logs.reader: the rig-log reader's rules and errors."""
 
 import numpy as np
 import pytest
 
 from hipsim.exceptions import TrajectoryError
-from hipsim.rig.reader import read_rig_log
+from hipsim.rig.logs.reader import read_rig_log
 
 
 def write(path, header, rows):
@@ -122,7 +122,7 @@ def test_blank_lines_keep_the_file_line_numbers(tmp_path):
 
 def test_a_log_scanned_in_small_blocks(tmp_path):
     """Blocks of 7 lines (blank lines among them) give the samples, lines and errors of the file read in one block."""
-    from hipsim.rig.reader import RigLogFile
+    from hipsim.rig.logs.reader import RigLogFile
 
     rows = good_rows(60)
     text = ",".join(HEADER) + "\n" + "\n".join(",".join(str(x) for x in row) for row in rows[:10]) + "\n\n\n"
@@ -146,3 +146,22 @@ def test_a_log_scanned_in_small_blocks(tmp_path):
     write(path, HEADER, rows)
     with pytest.raises(TrajectoryError, match="line 47, column 'Fe_N': load -1 N is negative"):
         RigLogFile(path, block=7)
+
+
+def test_a_fault_far_into_a_long_log_names_its_line(tmp_path):
+    """The scan reads megabytes at a time; a byte that is not UTF-8, a comment, a blank line deep in the file keep their lines."""
+    rows = good_rows(200_000)
+    text = ",".join(HEADER) + "\n" + "\n".join(",".join(str(x) for x in row) for row in rows) + "\n"
+    lines = text.split("\n")
+    lines.insert(150_000, "# a comment deep in the file")  # file line 150001: sample 149999 is on line 150002
+    lines.insert(150_011, " ,, ")  # file line 150012, a spreadsheet's empty row: sample 150009 on line 150013
+    path = tmp_path / "long.csv"
+    path.write_text("\n".join(lines))
+    log = read_rig_log(path)
+    assert len(log) == 200_000 and log.lines[149_998] == 150_000 and log.lines[149_999] == 150_002
+    assert log.lines[150_008] == 150_011 and log.lines[150_009] == 150_013
+    data = path.read_bytes().split(b"\n")
+    data[180_000] = data[180_000].replace(b"100.0", b"100\xff0")  # file line 180001
+    path.write_bytes(b"\n".join(data))
+    with pytest.raises(TrajectoryError, match="line 180001: not a text"):
+        read_rig_log(path)

@@ -13,8 +13,9 @@ import json
 import math
 import sys
 from pathlib import Path
+from typing import Any
 
-from ..exceptions import HipsimError
+from ..exceptions import ArgumentError, OutputError
 from ..present.tables import format_table
 from .common import (
     add_machine_options,
@@ -29,7 +30,7 @@ from .common import (
 __all__ = ["add_parser", "run", "run_compare", "run_excite", "run_identify"]
 
 #: The defaults of ``--cutoff`` in [Hz] and ``--tolerance`` in [deg], written out so that the parser loads no signal processing;
-#: they are the library's :data:`hipsim.rig.logs.DEFAULT_CUTOFF` and :data:`hipsim.rig.compare.DEFAULT_TOLERANCE_DEG` (a test checks).
+#: they are the library's :data:`hipsim.rig.logs.DEFAULT_CUTOFF` and :data:`hipsim.rig.logs.DEFAULT_TOLERANCE_DEG` (a test checks).
 DEFAULT_CUTOFF = 20.0
 DEFAULT_TOLERANCE_DEG = 0.5
 
@@ -195,18 +196,18 @@ def _cutoff(args) -> float | None:
     if args.cutoff is None or args.cutoff == 0:
         return None
     if not (math.isfinite(args.cutoff) and args.cutoff > 0):
-        raise HipsimError(f"--cutoff: expected a positive frequency in Hz (or 0 for none), got {args.cutoff!r}")
+        raise ArgumentError("--cutoff", args.cutoff, "a positive frequency in Hz (or 0 for none)")
     return args.cutoff
 
 
 def _not_an_input(out: str, inputs: list[str], option: str) -> None:
     for name in inputs:
         if name and Path(out).exists() and Path(name).exists() and Path(out).resolve() == Path(name).resolve():
-            raise HipsimError(f"--out {out} is the input {name} itself: choose another output")
+            raise OutputError(out, f"is the input {name} itself ({option}): choose another output")
 
 
 def _pieces(path: str, params, args):
-    from ..rig.compare import LogPieces
+    from ..rig.logs import LogPieces
 
     return LogPieces(
         path, params, torque_constant=args.torque_constant, cutoff=_cutoff(args), tolerance_deg=args.tolerance
@@ -223,13 +224,11 @@ def _plausible(log, params, args) -> None:
         print(f"hipsim: warning: {warning}", file=sys.stderr)
 
 
-def _check_logs(args, params) -> None:
-    """Each ``--log`` and ``--validate`` file checked by :func:`_plausible` before any fit (each read once more)."""
-    if not args.plausibility_check:
-        return
-    for path in [*args.log, *getattr(args, "validate", [])]:
-        with _pieces(path, params, args) as log:
-            _plausible(log, params, args)
+def _hashed(log):
+    """A log's file as the page's provenance lists it, hashed as it was read (the file is not opened again)."""
+    from ..present.provenance import InputFile
+
+    return InputFile("log", str(Path(log.source)), log.sha256, log.size)
 
 
 def run_compare(args) -> int:
@@ -237,25 +236,23 @@ def run_compare(args) -> int:
     from ..files import check_folder
     from ..present.rig_figures import write_comparison
     from ..rig.compare import compare_log
-    from ..rig.uncertainty import read_covariance
+    from ..rig.identification.uncertainty import read_covariance
 
     params = parameters(args)
     covariance = read_covariance(args.params, params)  # a bad table refused before the work
     if args.accept is not None and not (math.isfinite(args.accept) and args.accept > 0):
-        raise HipsimError(f"--accept: expected a positive percentage, got {args.accept!r}")
+        raise ArgumentError("--accept", args.accept, "a positive percentage")
     _check_log_options(args)
     check_folder(Path(args.out))  # a bad folder is refused before the work
     with _pieces(args.log, params, args) as log:  # in pieces: memory does not grow with the log
-        provenance = page_provenance(
-            args, log=args.log
-        )  # hashed before the work (once the log is known to be there): the log as it was read
+        provenance = page_provenance(args, log=_hashed(log))  # the log as it was read, hashed by its one read
         _plausible(log, params, args)  # a unit slip refused before the comparison
         comparison = compare_log(
             params, log, lever_spin=not args.spin_free_levers, period=args.period, progress=progress("compare")
         )
         band = None
         if covariance is not None:  # an identified file: the model's 95 % band at the samples kept
-            from ..rig.uncertainty import Z95, log_torque_std
+            from ..rig.identification.uncertainty import Z95, log_torque_std
 
             band = Z95 * log_torque_std(params, log, comparison.t, covariance)
     files = write_comparison(
@@ -338,15 +335,15 @@ def run_compare(args) -> int:
 
 def _check_log_options(args) -> None:
     if not (math.isfinite(args.tolerance) and args.tolerance > 0):
-        raise HipsimError(f"--tolerance: expected a positive angle in degrees, got {args.tolerance!r}")
+        raise ArgumentError("--tolerance", args.tolerance, "a positive angle in degrees")
     if args.torque_constant is not None and not (math.isfinite(args.torque_constant) and args.torque_constant > 0):
-        raise HipsimError(f"--torque-constant: expected a positive number in N·m/A, got {args.torque_constant!r}")
+        raise ArgumentError("--torque-constant", args.torque_constant, "a positive number in N·m/A")
 
 
 def run_base(args) -> int:
     """Print the machine's base parameters with their definitions; exit status 0."""
-    from ..rig.base import base_parameters
-    from ..rig.prior import prior
+    from ..rig.identification.base import base_parameters
+    from ..rig.identification.prior import prior
 
     params = parameters(args)
     base = base_parameters(params, not args.spin_free_levers)
@@ -381,23 +378,26 @@ def run_base(args) -> int:
 def run_identify(args) -> int:
     """Identify the machine from the ``--log`` files, write the parameter file ``--out`` and print the fit; exit status 0."""
     from ..files import json_ready
-    from ..rig.identification import identify
-    from ..rig.prior import parse_prior_option, prior_table
+    from ..rig.identification.fit import identify
+    from ..rig.identification.prior import parse_prior_option, prior_table
 
     if args.base:
         return run_base(args)
     if not args.log or not args.out:
-        raise HipsimError("identify needs --log FILE and --out FILE.toml (or --base to list the base parameters)")
+        raise ArgumentError(
+            "--log, --out",
+            [args.log, args.out],
+            "--log FILE and --out FILE.toml (or --base to list the base parameters)",
+        )
     if Path(args.out).suffix.lower() != ".toml":
-        raise HipsimError(f"--out {args.out}: expected a .toml parameter file name")
+        raise ArgumentError("--out", args.out, "a .toml parameter file name")
     _check_log_options(args)
     params = parameters(args)
-    _check_logs(args, params)  # a unit slip in a log refused before the fit (hipsim.rig.plausibility)
     _not_an_input(args.out, [*args.log, *args.validate, args.params or ""], "--out")
     if args.json:
         _not_an_input(args.json, [*args.log, *args.validate, args.params or "", args.out], "--json")
         if Path(args.json).resolve() == Path(args.out).resolve():
-            raise HipsimError("--json and --out name the same file")
+            raise OutputError(args.json, "--json and --out name the same file")
     entries = dict(prior_table(args.params))
     source = f"{args.params} [identification.prior]" if entries else "prior"
     if args.prior:
@@ -405,11 +405,15 @@ def run_identify(args) -> int:
         source = "--prior"
     fixed = [name.strip() for name in (args.fix or "").split(",") if name.strip()]
     with contextlib.ExitStack() as stack:  # the logs in pieces: memory does not grow with their length
-        logs = [stack.enter_context(_pieces(path, params, args)) for path in args.log]
-        validate = [stack.enter_context(_pieces(path, params, args)) for path in args.validate]
+        logs: list[Any] = []
+        validate: list[Any] = []
+        for paths, opened in ((args.log, logs), (args.validate, validate)):
+            for path in paths:  # each file read once: scanned, checked, hashed; its pieces then come from that read
+                opened.append(stack.enter_context(_pieces(path, params, args)))
+                _plausible(opened[-1], params, args)  # a unit slip refused before the fit (hipsim.rig.plausibility)
         provenance = page_provenance(
-            args, log=args.log, validate=args.validate
-        )  # the files hashed once they are known to open
+            args, log=[_hashed(log) for log in logs], validate=[_hashed(log) for log in validate]
+        )
         result = identify(
             logs,
             params,
@@ -421,11 +425,11 @@ def run_identify(args) -> int:
         )
 
     from ..files import write_atomic
+    from ..rig.identification.identified_file import FileProvenance
 
-    first, rest = result.toml().split("\n", 1)  # the header's first line marks the file as identified: it stays first
     document = {"provenance": provenance.as_dict()} | result.summary()
     json_text = json.dumps(json_ready(document), indent=2) + "\n" if args.json else None
-    path = write_atomic(args.out, first + "\n" + _provenance_comment(provenance) + rest)
+    path = result.write_toml(args.out, FileProvenance.from_dict(provenance.as_dict()))
     if json_text is not None:
         write_atomic(args.json, json_text)
     if args.summary_format == "json":
@@ -435,7 +439,7 @@ def run_identify(args) -> int:
         f"logs: {', '.join(result.logs)}; {result.rows} samples (after filtering, decimation and the windows around reversals)"
     )
     print(f"starting parameters: {params.source}")
-    rows = [
+    rows: list[list[Any]] = [
         [
             e.definition if len(e.definition) < 60 else e.definition[:57] + "…",
             f"{e.value:.6g}",
@@ -492,32 +496,22 @@ def run_identify(args) -> int:
     return 0
 
 
-def _provenance_comment(provenance) -> str:
-    """Comment lines for an identified parameter file: the version, time, command and each input's SHA-256."""
-    lines = [f"# Made by hipsim {provenance.version} on {provenance.created} (UTC): {provenance.command}"]
-    lines += [f"#   {f.role} {f.path}: SHA-256 {f.sha256}" for f in provenance.inputs]
-    lines += [
-        f"# {label}: {value}"
-        for label, value in (("Title", provenance.title), ("Author", provenance.author), ("Rig", provenance.rig))
-        if value
-    ]
-    return "\n".join(lines) + "\n"
-
-
 def run_excite(args) -> int:
     """Design the excitation, write it to ``--out`` as a trajectory CSV and print its condition number; exit status 0."""
     from ..files import json_ready
-    from ..rig.excitation import Limits, excitation
+    from ..rig.identification.excitation import Limits, excitation
 
     params = parameters(args)
     if Path(args.out).is_dir():
-        raise HipsimError(f"--out {args.out} is a folder; give a CSV file name")
+        raise OutputError(args.out, "is a folder; give a CSV file name")
     for option, value in (("--duration", args.duration), ("--rate", args.rate)):
         if not (math.isfinite(value) and value > 0):
-            raise HipsimError(f"{option}: expected a positive number, got {value!r}")
+            raise ArgumentError(option, value, "a positive number")
     if args.rate < 4 * args.harmonics * args.frequency:
-        raise HipsimError(
-            f"--rate {args.rate:g} Hz is too low for harmonics up to {args.harmonics * args.frequency:g} Hz"
+        raise ArgumentError(
+            "--rate",
+            args.rate,
+            f"at least {4 * args.harmonics * args.frequency:g} Hz for harmonics up to {args.harmonics * args.frequency:g} Hz",
         )
     changes = {}
     if args.max_speed is not None:
@@ -540,9 +534,9 @@ def run_excite(args) -> int:
         ("--max-angle", "max_angle"),
     ):
         if key in changes and not (math.isfinite(changes[key]) and changes[key] > 0):
-            raise HipsimError(f"{option}: expected a positive number, got {getattr(args, key)!r}")
+            raise ArgumentError(option, getattr(args, key), "a positive number")
     if "min_load" in changes and not 0 <= changes["min_load"] < changes["max_load"]:
-        raise HipsimError(f"--load: expected 0 <= MIN < MAX, got '{args.load}'")
+        raise ArgumentError("--load", args.load, "MIN:MAX with 0 <= MIN < MAX")
     limits = Limits.for_machine(params, **changes)
     json_out = args.summary_format == "json"
     print(
@@ -551,7 +545,7 @@ def run_excite(args) -> int:
         file=sys.stderr if json_out else sys.stdout,
     )
     if args.seeds < 1 or args.iterations < 1:
-        raise HipsimError(f"--seeds and --iterations must be at least 1, got {args.seeds} and {args.iterations}")
+        raise ArgumentError("--seeds, --iterations", (args.seeds, args.iterations), "at least 1 each")
     design = excitation(
         params,
         frequency=args.frequency,

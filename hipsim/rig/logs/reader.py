@@ -18,28 +18,29 @@ in SI units; turning encoder heights into angles needs the machine, so that
 is done a layer up (:func:`hipsim.rig.load_log`).
 
 The reader's :class:`RigLog` is the samples as the file has them; the log the
-models take, filtered and differentiated, is :mod:`hipsim.rig.logs`'.
+models take, filtered and differentiated, is :mod:`hipsim.rig.logs.log`'.
 """
 
 from __future__ import annotations
 
 import difflib
+import hashlib
 import io
 import math
 import tempfile
 from collections.abc import Iterator
 from dataclasses import dataclass
-from itertools import chain, islice
+from itertools import chain
 from pathlib import Path
 
 import numpy as np
 
-from ..arrays import check_shapes
-from ..exceptions import TrajectoryError
-from ..motion.build import MAX_LOAD, check_time
-from ..motion.trajectories import ANGLE_NAMES
-from ..tables import blank, cells, detect_separator, open_text, text_lines
-from ..tables import number as parse_number
+from ...arrays import check_shapes
+from ...exceptions import TrajectoryError
+from ...motion.build import MAX_LOAD, check_time
+from ...motion.trajectories import ANGLE_NAMES
+from ...tables import MAX_LINE_BYTES, blank, cells, detect_separator, open_text, text_lines
+from ...tables import number as parse_number
 
 __all__ = ["CURRENT_COLUMNS", "HEIGHT_COLUMNS", "TORQUE_COLUMNS", "RigLog", "RigLogFile", "read_rig_log"]
 
@@ -165,6 +166,26 @@ def _block(
     return values, numbers
 
 
+def _lines_block(
+    number: int, lines: list[str], header: list[str], separator: str, source: str
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_block` of consecutive lines from line ``number``: at once when every one is a row of numbers."""
+    text = "\n".join(lines) + "\n"
+    if "#" not in text and "_" not in text:
+        try:
+            values = np.loadtxt(
+                io.StringIO(text.replace(",", ".") if separator != "," else text),
+                delimiter=separator,
+                ndmin=2,
+                dtype=float,
+            )
+        except ValueError:
+            values = None
+        if values is not None and values.shape == (len(lines), len(header)):  # a blank line would be one row less
+            return values, np.arange(number, number + len(lines), dtype=np.int64)
+    return _block(_data(number, lines), header, separator, source)
+
+
 def _missing(name: str, header: list[str], what: str, source: str, line: int) -> TrajectoryError:
     close = difflib.get_close_matches(name, header, n=1, cutoff=0.7)
     hint = f" (the file has '{close[0]}': check the name and its unit)" if close else ""
@@ -195,6 +216,77 @@ class _Worst:
             self.value, self.line, self.column = float(values[k, c]), int(lines[k]), names[c]
 
 
+_BOM = b"\xef\xbb\xbf"
+
+
+class _Hashed(io.RawIOBase):
+    """A binary file read in large blocks that hashes them as they pass: the file's SHA-256 costs no second read."""
+
+    def __init__(self, stream):
+        self.stream, self.digest, self.size = stream, hashlib.sha256(), 0
+
+    def readable(self) -> bool:
+        return True
+
+    def readinto(self, buffer) -> int:
+        n = self.stream.readinto(buffer)
+        if n:
+            self.digest.update(memoryview(buffer)[:n])
+            self.size += n
+        return n
+
+
+def _text_blocks(stream, source: str, size: int = 1 << 22) -> Iterator[tuple[int, list[str]]]:
+    """The file's lines in blocks: (the first's 1-based line number, the lines without their ``\n``).
+
+    Bytes are split at ``\n`` and decoded a block at a time, which is what :func:`hipsim.tables.text_lines`
+    does line by line (``\n`` never occurs inside a UTF-8 character). A block that is not UTF-8, or a line
+    longer than :data:`~hipsim.tables.MAX_LINE_BYTES`, raises :class:`_Reread`: the caller then reads the file
+    again line by line from its start, so that the error names the line as :func:`~hipsim.tables.text_lines` does.
+    """
+    number, carry, first = 1, b"", True
+    while True:
+        chunk = stream.read(size)
+        if first and chunk.startswith(_BOM):
+            chunk = chunk[len(_BOM) :]
+        first = False
+        data = carry + chunk
+        if not chunk:
+            if data:
+                if len(data) > MAX_LINE_BYTES:
+                    raise _Reread
+                yield number, [_decoded(data)]
+            return
+        end = data.rfind(b"\n") + 1
+        carry = data[end:]
+        if len(carry) > MAX_LINE_BYTES:
+            raise _Reread
+        if end:
+            lines = _decoded(data[: end - 1]).split("\n")
+            # A line with its "\n" longer than MAX_LINE_BYTES, as text_lines counts; 4-byte characters first by length.
+            if max(map(len, lines)) >= MAX_LINE_BYTES // 4:
+                if max(len(line.encode("utf-8")) for line in lines) >= MAX_LINE_BYTES:
+                    raise _Reread
+            yield number, lines
+            number += len(lines)
+
+
+class _Reread(Exception):
+    """A block the fast reading cannot take: read the file again line by line for the exact error."""
+
+
+def _decoded(data: bytes) -> str:
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError:
+        raise _Reread from None
+
+
+def _data(number: int, lines: list[str]) -> list[tuple[int, str]]:
+    """(line number, line) of a block's lines that hold something: blank lines and ``#`` comments left out."""
+    return [(number + k, line) for k, line in enumerate(lines) if not blank(line) and not line.lstrip().startswith("#")]
+
+
 class RigLogFile:
     """A rig log scanned once in blocks, every value checked, its samples then read back a piece at a time.
 
@@ -214,42 +306,21 @@ class RigLogFile:
 
     def __init__(self, path: str | Path, torque_constant: float | None = None, block: int = SCAN_LINES):
         self.source = source = str(path)
-        with open_text(path, "log file", TrajectoryError) as stream:
-            rows = _data_lines(text_lines(stream, source, "log file", TrajectoryError))
-            header, header_line, separator, first_row = _header(rows, source)
-            if first_row is not None:
-                rows = chain([first_row], rows)
-            self._layout(header, header_line, torque_constant)
-            self._store = tempfile.TemporaryFile()
-            times, numbers = [], []
-            worst = {"torque": _Worst(), "angle": _Worst(), "height": _Worst()}
-            low = high = None  # (load, line) of the least and largest load, first occurrences
-            bad = None
-            while True:
-                chunk = list(islice(rows, block))
-                if not chunk:
-                    break
-                values, at = _block(chunk, header, separator, source)
-                if bad is None and not np.all(np.isfinite(values)):
-                    k, c = np.argwhere(~np.isfinite(values))[0]
-                    bad = (f"'{values[k, c]}' is not finite", int(at[k]), header[c])
-                if len(values) == 0:
-                    continue
-                columns = self._columns(values)
-                worst["torque"].add(values[:, self._torque_index], at, self._torque_names)
-                if self.angle_unit:
-                    worst["angle"].add(values[:, self._angle_index], at, self._angle_names)
-                if self._height_index:
-                    worst["height"].add(values[:, self._height_index], at, HEIGHT_COLUMNS)
-                load = columns[:, 1]
-                k, j = int(np.argmin(load)), int(np.argmax(load))
-                if low is None or load[k] < low[0]:
-                    low = (float(load[k]), int(at[k]))
-                if high is None or load[j] > high[0]:
-                    high = (float(load[j]), int(at[j]))
-                times.append(columns[:, 0].copy())
-                numbers.append(at)
-                columns.tofile(self._store)
+        with open_text(path, "log file", TrajectoryError) as opened:
+            hashed = _Hashed(opened)
+            stream = io.BufferedReader(hashed, 1 << 20)
+            try:
+                times, numbers, state = self._scan(_text_blocks(stream, source), torque_constant, block)
+            except _Reread:  # not UTF-8, or a line too long: read line by line from the start for the exact error
+                opened.seek(0)
+                for _ in text_lines(opened, source, "log file", TrajectoryError):
+                    pass
+                raise TrajectoryError("cannot be read as text", source=source) from None
+            for _ in iter(lambda: stream.read(1 << 20), b""):  # hash what is left after the last line (nothing)
+                pass
+        #: The file's SHA-256 (hex) and size in [bytes], of the bytes this one read parsed.
+        self.sha256, self.size = hashed.digest.hexdigest(), hashed.size
+        worst, low, high, bad = state
         if not times:
             raise TrajectoryError("no samples below the header", source=source)
         if bad is not None:
@@ -259,6 +330,60 @@ class RigLogFile:
         self.lines = np.concatenate(numbers)
         del numbers
         self._check(worst, low, high)
+
+    def _scan(self, blocks, torque_constant, block: int):
+        """Parse the blocks: the header, then every data line's values checked and stored; the times and lines kept."""
+        source = self.source
+        found: list[tuple[int, str]] = []  # the header and the first row, line by line
+        after: tuple[int, list[str]] = (1, [])  # the lines after them in their block
+        for number, lines in blocks:
+            for k, line in enumerate(lines):
+                if not blank(line) and not line.lstrip().startswith("#"):
+                    found.append((number + k, line))
+                    if len(found) == 2:
+                        after = (number + k + 1, lines[k + 1 :])
+                        break
+            if len(found) == 2:
+                break
+        rows = iter(found)
+        header, header_line, separator, first_row = _header(rows, source)
+        self._layout(header, header_line, torque_constant)
+        self._store = tempfile.TemporaryFile()
+        times, numbers = [], []
+        worst = {"torque": _Worst(), "angle": _Worst(), "height": _Worst()}
+        low = high = None  # (load, line) of the least and largest load, first occurrences
+        bad = None
+
+        def parsed():
+            if first_row is not None:
+                yield _block([first_row], header, separator, source)
+            # The rest of the header's block, then the blocks after it (a comment or blank line: line by line).
+            for number, lines in chain([after], blocks):
+                for a in range(0, len(lines), block):
+                    yield _lines_block(number + a, lines[a : a + block], header, separator, source)
+
+        for values, at in parsed():
+            if bad is None and not np.all(np.isfinite(values)):
+                k, c = np.argwhere(~np.isfinite(values))[0]
+                bad = (f"'{values[k, c]}' is not finite", int(at[k]), header[c])
+            if len(values) == 0:
+                continue
+            columns = self._columns(values)
+            worst["torque"].add(values[:, self._torque_index], at, self._torque_names)
+            if self.angle_unit:
+                worst["angle"].add(values[:, self._angle_index], at, self._angle_names)
+            if self._height_index:
+                worst["height"].add(values[:, self._height_index], at, HEIGHT_COLUMNS)
+            load = columns[:, 1]
+            k, j = int(np.argmin(load)), int(np.argmax(load))
+            if low is None or load[k] < low[0]:
+                low = (float(load[k]), int(at[k]))
+            if high is None or load[j] > high[0]:
+                high = (float(load[j]), int(at[j]))
+            times.append(columns[:, 0].copy())
+            numbers.append(at)
+            columns.tofile(self._store)
+        return times, numbers, (worst, low, high, bad)
 
     # The columns of the store, in SI: t, Fe, τ (3), then the angles (3) and the heights (3) when the log has them.
     def _layout(self, header: list[str], header_line: int, torque_constant) -> None:

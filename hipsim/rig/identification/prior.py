@@ -1,7 +1,7 @@
 """The prior of an identification: the starting machine's values and how uncertain they are.
 
 Every base parameter is estimated with a prior N(θ_b0, diag(s_b²)) instead of
-being dropped when the logs excite it weakly (:mod:`hipsim.rig.identification`).
+being dropped when the logs excite it weakly (:mod:`hipsim.rig.identification.fit`).
 θ_b0 is the starting machine's base parameters; s_b comes from each standard
 parameter's prior standard deviation s:
 
@@ -29,9 +29,10 @@ from typing import Any
 
 import numpy as np
 
-from ..exceptions import HipsimError
-from ..machine.parameters import Parameters, read_toml
+from ...exceptions import ArgumentError, ParameterError
+from ...machine.parameters import Parameters
 from .base import BaseParameters
+from .identified_file import identification_table
 from .quantities import QUANTITIES, standard_values
 
 __all__ = ["DEFAULT_RELATIVE", "HELD", "Prior", "parse_prior_option", "prior", "prior_table", "standard_std"]
@@ -55,39 +56,50 @@ def _entry(name: str, value: Any, source: str) -> tuple[list[int], float | None,
     matches = _matches(name)
     if not matches:
         known = ", ".join(q.label for q in QUANTITIES)
-        raise HipsimError(
-            f"{source}: prior of '{name}': no such parameter (known: {known}, or a key prefix such as 'lever')"
+        raise ParameterError(
+            f"prior of '{name}': no such parameter (known: {known}, or a key prefix such as 'lever')", source=source
         )
     if isinstance(value, str):
         text = value.strip()
         if not text.endswith("%"):
-            raise HipsimError(
-                f"{source}: prior of '{name}': expected a number in the parameter's unit or a percentage such as '10 %', got {value!r}"
+            raise ParameterError(
+                f"prior of '{name}': expected a number in the parameter's unit or a percentage such as '10 %', got {value!r}",
+                source=source,
             )
         try:
             relative = float(text[:-1]) / 100
         except ValueError:
-            raise HipsimError(
-                f"{source}: prior of '{name}': expected a percentage such as '10 %', got {value!r}"
+            raise ParameterError(
+                f"prior of '{name}': expected a percentage such as '10 %', got {value!r}", source=source
             ) from None
         if not (math.isfinite(relative) and relative >= 0):
-            raise HipsimError(
-                f"{source}: prior of '{name}': the uncertainty must be a non-negative percentage, got {value!r}"
+            raise ParameterError(
+                f"prior of '{name}': the uncertainty must be a non-negative percentage, got {value!r}", source=source
             )
         return matches, None, relative
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0:
-        raise HipsimError(f"{source}: prior of '{name}': the uncertainty must be a non-negative number, got {value!r}")
+        raise ParameterError(
+            f"prior of '{name}': the uncertainty must be a non-negative number, got {value!r}", source=source
+        )
     return matches, float(value), None
 
 
 def prior_table(path: str | Path | None) -> dict[str, Any]:
-    """The ``[identification.prior]`` table of a parameter file (empty without one, or for None)."""
+    """The ``[identification.prior]`` table of a parameter file (empty without one, or for None).
+
+    An identified file's ``[identification]`` table has a ``prior`` column of its own (the prior means, one per base
+    parameter): such a file, the start of a new fit, brings no prior table, and the defaults apply around its values.
+    """
     if path is None:
         return {}
-    table = read_toml(path).get("identification", {})
-    entries = table.get("prior", {}) if isinstance(table, dict) else {}
+    table = identification_table(path)
+    entries = table.get("prior", {})
+    if isinstance(entries, list) and isinstance(table.get("base"), list):
+        return {}
     if not isinstance(entries, dict):
-        raise HipsimError(f"{path}: [identification.prior] must be a table of parameter = uncertainty")
+        raise ParameterError(
+            "expected a table of parameter = uncertainty", key="identification.prior", source=str(path)
+        )
     return entries
 
 
@@ -99,7 +111,7 @@ def parse_prior_option(text: str) -> dict[str, str | float]:
             continue
         name, sep, value = item.partition("=")
         if not sep or not name.strip() or not value.strip():
-            raise HipsimError(f"--prior: expected NAME=STD or NAME=PERCENT %, comma-separated, got {item.strip()!r}")
+            raise ArgumentError("--prior", item.strip(), "NAME=STD or NAME=PERCENT %, comma-separated")
         value = value.strip()
         if value.endswith("%"):
             out[name.strip()] = value
@@ -107,18 +119,16 @@ def parse_prior_option(text: str) -> dict[str, str | float]:
             try:
                 out[name.strip()] = float(value)
             except ValueError:
-                raise HipsimError(
-                    f"--prior: {name.strip()}: expected a number or a percentage, got {value!r}"
-                ) from None
+                raise ArgumentError(f"--prior: {name.strip()}", value, "a number or a percentage") from None
     return out
 
 
-def standard_std(params: Parameters, entries: Mapping[str, Any] = (), source: str = "prior") -> np.ndarray:
+def standard_std(params: Parameters, entries: Mapping[str, Any] | None = None, source: str = "prior") -> np.ndarray:
     """Each standard parameter's prior standard deviation in SI, (P,) (module docstring)."""
     theta = standard_values(params)
     size = _sizes(theta)
     std = np.array([DEFAULT_RELATIVE["friction" if q.part == "friction" else "inertial"] for q in QUANTITIES]) * size
-    for name, value in dict(entries).items():
+    for name, value in dict(entries or {}).items():
         matches, absolute, relative = _entry(str(name), value, source)
         for k in matches:
             std[k] = absolute * QUANTITIES[k].scale if absolute is not None else relative * size[k]
@@ -141,6 +151,8 @@ class Prior:
         self.standard = standard
 
 
-def prior(base: BaseParameters, params: Parameters, entries: Mapping[str, Any] = (), source: str = "prior") -> Prior:
+def prior(
+    base: BaseParameters, params: Parameters, entries: Mapping[str, Any] | None = None, source: str = "prior"
+) -> Prior:
     """The prior of ``base`` from the starting machine and the overrides ``entries`` (module docstring)."""
     return Prior(base, params, standard_std(params, entries, source))

@@ -1,7 +1,7 @@
 """Identification of the machine's dynamic parameters from measured motor torques: the fit.
 
-What is estimated are the base parameters (:mod:`hipsim.rig.base`): the fixed
-combinations of the :data:`~hipsim.rig.quantities.QUANTITIES` that motor torques
+What is estimated are the base parameters (:mod:`hipsim.rig.identification.base`): the fixed
+combinations of the :data:`~hipsim.rig.identification.quantities.QUANTITIES` that motor torques
 can ever determine, defined by the machine's geometry alone, so every
 identification of one machine reports the same quantities with the same
 definitions, whatever the logs.
@@ -10,18 +10,18 @@ The fit (:func:`identify`). Each log's regressor rows and torques go
 through the log's own low-pass (the torques already have), so model and
 measurement share one bandwidth, and are kept every D-th sample (decimation
 to four times the cutoff); the samples around each motor's reversals are left
-out of that motor's rows (:func:`hipsim.rig.regressor.log_rows`). Rows are
+out of that motor's rows (:func:`hipsim.rig.identification.regressor.log_rows`). Rows are
 accumulated log by log and chunk by chunk into the triangular factor of a QR
 decomposition of [Y | τ] per motor, so memory does not grow with the log.
 
 Bayesian least squares. Every base parameter has a prior N(θ_b0, s_b²) from
-the starting machine (:mod:`hipsim.rig.prior`); each motor's rows are weighted
+the starting machine (:mod:`hipsim.rig.identification.prior`); each motor's rows are weighted
 by the inverse of its residual's standard deviation (from a first,
 unweighted fit), the information divided by the rows per independent row:
 those the low-pass leaves (rate/(2·cutoff) after decimation), or those of the
 model error the residual carries besides the noise, whichever is more
-(rate/(2·:data:`MODEL_ERROR_BANDWIDTH`): 4.2 at 1 kHz and 20 Hz), so that a
-95 % band covers the truth on held-out runs, and
+(rate/(2·:data:`~hipsim.rig.identification.regressor.MODEL_ERROR_BANDWIDTH`): 4.2 at 1 kHz and 20 Hz;
+:func:`~hipsim.rig.identification.regressor.rows_per_independent_row`), so that a 95 % band covers the truth on held-out runs, and
 
     θ̂_b = (YᵀWY + Σ₀⁻¹)⁻¹ (YᵀWτ + Σ₀⁻¹θ_b0),   Σ_post = (YᵀWY + Σ₀⁻¹)⁻¹.
 
@@ -36,7 +36,7 @@ far the data moved it from its prior, in prior standard deviations.
 The identified machine: the parameters folded into others keep their
 starting values, each base parameter's own takes the rest. If that machine is
 not physically consistent, the fit (data and prior) is solved again under the
-constraints of :mod:`hipsim.rig.consistency`; and it is refused if a value is
+constraints of :mod:`hipsim.rig.identification.consistency`; and it is refused if a value is
 outside the plausible ranges of this class of machine (:func:`hipsim.machine.parameters.implausible`).
 """
 
@@ -51,55 +51,29 @@ from typing import Any
 import numpy as np
 import scipy.linalg
 
-from ..exceptions import HipsimError
-from ..files import write_atomic
-from ..machine.parameters import Parameters, implausible, implausible_message
-from ..machine.toml_writer import parameter_toml, table_toml
+from ...exceptions import IdentificationError
+from ...machine.parameters import Parameters, implausible, implausible_message
+from ..compare import Comparison, compare_log
+from ..logs.log import Log
 from .base import BaseParameters, base_parameters
-from .compare import Comparison, compare_log
 from .consistency import consistent, violations
-from .logs import Log
+from .identified_file import IDENTIFIED_MARK, FileProvenance, identified_toml, write_identified_file
 from .prior import HELD
 from .prior import prior as make_prior
-from .quantities import QUANTITIES, Quantity, friction_unit, standard_values, with_values
-from .regressor import decimation, log_rows, regressor, regressor_from_kinematics
-from .regressor import inflation as _filter_inflation
+from .quantities import QUANTITIES, standard_values, with_values
+from .regressor import log_rows, rows_per_independent_row
 from .validation import training_envelope, validation_note
 
 __all__ = [
     "DETERMINED",
-    "MODEL_ERROR_BANDWIDTH",
-    "QUANTITIES",
     "BaseEstimate",
     "Identification",
     "IdentifiedQuantity",
-    "Quantity",
-    "friction_unit",
     "identify",
-    "parameter_toml",
-    "regressor",
-    "regressor_from_kinematics",
-    "standard_values",
-    "with_values",
 ]
 
 #: A base parameter is determined by the logs when its posterior standard deviation is at most this of its prior's.
 DETERMINED = 0.5
-#: The bandwidth in [Hz] of the model error a residual carries besides the noise (sticking at reversals, the torque
-#: sensor's timing, the motion's own harmonics): rows closer than 1/(2·this) are not independent evidence of it.
-MODEL_ERROR_BANDWIDTH = 10.0
-
-
-def _inflation(log: Log) -> float:
-    """Rows per independent row of a log: the low-pass's ratio, and at least the model error's (:data:`MODEL_ERROR_BANDWIDTH`).
-
-    The residual's autocorrelation cannot show the model error's share: the part of it in the regressor's span is
-    absorbed by the fit, biasing the parameters without leaving a trace (measured on synthetic logs: a held-out
-    prediction's 95 % band covered 88 % of the true torque with the filter's ratio alone, 98 % with this).
-    """
-    rate = log.rate / decimation(log)  # the rows kept per second
-    bandwidth = MODEL_ERROR_BANDWIDTH if log.cutoff is None else min(log.cutoff, MODEL_ERROR_BANDWIDTH)
-    return max(_filter_inflation(log), rate / (2.0 * bandwidth))
 
 
 @dataclass(frozen=True)
@@ -199,7 +173,7 @@ class Identification:
         lever_spin: the model's lever spin.
         active_constraints: the physical-consistency constraints the solution sits on.
         validation: per held-out log, (the identified machine's comparison, the starting machine's).
-        notes: per held-out log, what :mod:`hipsim.rig.validation` says of it (per-phase errors, envelope warnings).
+        notes: per held-out log, what :mod:`hipsim.rig.identification.validation` says of it (per-phase errors, envelope warnings).
     """
 
     params: Parameters
@@ -328,10 +302,10 @@ class Identification:
             ]
         return out
 
-    def toml(self) -> str:
-        """The identified machine as a parameter file: a comment header, the machine, and the ``[identification]`` table."""
+    def comments(self) -> list[str]:
+        """The file's comment header, for people (programs read the tables): the logs, the model, each value."""
         header = [
-            "# Identified by hipsim identify: a parameter file every hipsim command accepts (--params).",
+            f"{IDENTIFIED_MARK}: a parameter file every hipsim command accepts (--params).",
             f"# From the logs: {', '.join(self.logs)} ({self.rows} samples per motor after filtering and decimation).",
             f"# Starting parameters: {self.start.source}.",
             f"# Model: analytic, lever spin {'on' if self.lever_spin else 'off'}; regressor condition number {self.condition_number:.4g}.",
@@ -365,13 +339,19 @@ class Identification:
         header.append(
             "# The [identification] table at the end: base parameters, prior and posterior covariance (file units)."
         )
-        return (
-            "\n".join(header) + "\n\n" + parameter_toml(self.params) + "\n" + table_toml("identification", self.table())
-        )
+        return header
 
-    def write_toml(self, path: str | Path) -> Path:
+    def toml(self, provenance: FileProvenance | None = None) -> str:
+        """The identified machine as a parameter file (:mod:`~hipsim.rig.identification.identified_file`).
+
+        Args:
+            provenance: what made it (the ``[identification.provenance]`` table); None for none.
+        """
+        return identified_toml(self.params, self.table(), provenance, self.comments())
+
+    def write_toml(self, path: str | Path, provenance: FileProvenance | None = None) -> Path:
         """Write :meth:`toml` atomically. Returns the path."""
-        return write_atomic(path, self.toml())
+        return write_identified_file(path, self.params, self.table(), provenance, self.comments())
 
 
 # --- The fit ----------------------------------------------------------------------------------
@@ -409,14 +389,15 @@ def _condition(A: np.ndarray) -> float:
     return float(s[0] / s[-1]) if s.size and s[-1] > 0 else math.inf
 
 
-def _plausible(params: Parameters, theta: np.ndarray) -> None:
+def _plausible(params: Parameters, theta: np.ndarray, logs: tuple[str, ...]) -> None:
     """Refuse an identified machine outside the plausible ranges of this class of machine (:func:`hipsim.machine.parameters.implausible`)."""
     found = implausible(with_values(params, theta))
     if found:
         key, value, plausible = found[0]
-        raise HipsimError(
+        raise IdentificationError(
             f"the identified machine is implausible: {implausible_message(key, value, plausible)}; "
-            "the logs and the model disagree (check the log's units, torque constant and sign convention); nothing written"
+            "the logs and the model disagree (check the log's units, torque constant and sign convention); nothing written",
+            logs,
         )
 
 
@@ -433,7 +414,7 @@ def identify(
 
     Args:
         logs: the logs to fit (:func:`hipsim.rig.load_log`, or built from arrays), or logs
-            of any length read in pieces (:class:`~hipsim.rig.logs.LogPieces`: memory then does
+            of any length read in pieces (:class:`~hipsim.rig.logs.log.LogPieces`: memory then does
             not grow with the log, the fit is the same to round-off).
         params: the starting machine: its geometry and friction radii are used,
             and its values are the prior's means.
@@ -441,7 +422,7 @@ def identify(
         lever_spin: the model's levers spin as their universal joints impose (default) or not.
         fixed: parameters to hold at their starting values (a prior of zero uncertainty), by label, key or
             key prefix (``"lever"``, ``"friction.ujoint"``, ``"m_l"``).
-        prior: prior standard deviations by parameter (:mod:`hipsim.rig.prior`): a number in the file's
+        prior: prior standard deviations by parameter (:mod:`hipsim.rig.identification.prior`): a number in the file's
             unit or a text such as ``"10 %"``; None for the defaults.
         prior_source: what to call ``prior`` in messages (a file, ``--prior``).
 
@@ -449,12 +430,14 @@ def identify(
         The identification.
 
     Raises:
-        HipsimError: no logs, a bad prior, logs that determine nothing, or an implausible result.
+        IdentificationError: no logs, too few samples, logs that determine nothing, or an implausible result.
+        ParameterError: a bad prior.
         PoseError: a logged pose out of reach or singular, naming the log and time.
     """
     logs = list(logs)
     if not logs:
-        raise HipsimError("identification needs at least one log")
+        raise IdentificationError("identification needs at least one log")
+    names = tuple(log.name for log in logs)
     P = len(QUANTITIES)
     base = base_parameters(params, lever_spin)
     entries = dict(prior or {})
@@ -468,12 +451,12 @@ def identify(
 
     accumulator = _Accumulator(P)
     for log in logs:
-        inflation = _inflation(log)
+        inflation = rows_per_independent_row(log)
         for Y, tau, use in log_rows(params, log, lever_spin):
             accumulator.add(Y, tau, use, inflation)
     rows_per_motor = np.asarray(accumulator.rows)
     if rows_per_motor.sum() <= 3:
-        raise HipsimError(f"{int(rows_per_motor.sum())} samples are too few to identify anything")
+        raise IdentificationError(f"{int(rows_per_motor.sum())} samples are too few to identify anything", names)
     R = accumulator.R  # per motor, (P + 1, P + 1): columns θ then τ
     rows = int(rows_per_motor.sum())
     inflation = accumulator.inflation / rows
@@ -501,8 +484,8 @@ def identify(
     covariance = covariance_x * np.outer(belief.std, belief.std)
     std = np.sqrt(np.diag(covariance))
     if np.all(std > (1 - 1e-3) * belief.std):
-        raise HipsimError(
-            "these logs determine none of the base parameters (is anything moving, and is the torque logged?)"
+        raise IdentificationError(
+            "these logs determine none of the base parameters (is anything moving, and is the torque logged?)", names
         )
 
     theta = base.standard(theta_b, theta0)
@@ -515,7 +498,7 @@ def identify(
         free = [j for j in base.dependent if belief.standard[j] > 10 * HELD * sizes[j]]  # held ones stay exactly
         theta, active = consistent(rows_all, rhs, theta, index, free, theta0, sizes)
         theta_b = T @ theta
-    _plausible(params, theta)
+    _plausible(params, theta, names)
     # The residual of the solution (constrained or not) against the noise the weights assumed: never narrower than it says.
     chi2 = float(np.sum((Rw[:, :P] @ theta - Rw[:, P]) ** 2)) * inflation / max(rows - r, 1)
     if chi2 > 1.0:  # the data's information shrinks by χ²; what the data do not see keeps its prior exactly
@@ -542,7 +525,6 @@ def identify(
     residual = np.array(
         [np.linalg.norm(Ri[:, :P] @ theta - Ri[:, P]) / math.sqrt(max(n, 1)) for Ri, n in zip(R, rows_per_motor)]
     )
-    names = tuple(log.name for log in logs)
     identified = with_values(params, theta, source=f"identified from {', '.join(names)}")
     validation = tuple(
         (compare_log(identified, log, lever_spin), compare_log(params, log, lever_spin)) for log in validate
