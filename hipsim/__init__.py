@@ -83,7 +83,7 @@ def __getattr__(name: str):
     elif home == "motion.readers":
         import hipsim.motion.readers as module
     elif home == "rig.monitor_run":
-        import hipsim.rig.monitor_run as module
+        import hipsim.rig.monitoring.monitor_run as module
     elif home == "results":
         import hipsim.results as module
     elif home == "analysis":

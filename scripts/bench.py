@@ -597,12 +597,12 @@ def bench_excite(params, quick: bool) -> None:
             ["--harmonics", "2"] if quick else []
         )
         excite = cpu(command)
-        baseline = cpu([sys.executable, "-c", "import hipsim.rig.excitation"])
+        baseline = cpu([sys.executable, "-c", "import hipsim.rig.identification.excitation"])
     print(
         f"hipsim excite, defaults{' (quick: 2 harmonics)' if quick else ''}, fresh process, one core: {excite:.1f} s of CPU "
         f"(design, the finer grid's check, the CSV)"
     )
-    print(f"  baseline, a process that only imports hipsim.rig.excitation: {baseline:.1f} s")
+    print(f"  baseline, a process that only imports hipsim.rig.identification.excitation: {baseline:.1f} s")
     print(f"  target: <= 10 s   {'OK' if excite <= 10 else 'MISSED'}")
 
 
@@ -802,14 +802,14 @@ def bench_rig(quick: bool) -> None:
         for seconds in (short, long):
             _tiled_log(seed, Path(folder) / f"log{seconds}.csv", seconds)
         whole = (
-            "from hipsim.rig.compare import load_log, compare; import hipsim; "
+            "from hipsim.rig import load_log, compare_torques; import hipsim; "
             "p = hipsim.load_parameters(); log = load_log('log{s}.csv', p); "
         )
         rows = [
             (
                 f"whole log (load_log + compare + figures), {short} s",
                 whole.format(s=short)
-                + "from hipsim.present.rig_figures import write_comparison; write_comparison('cmp0', compare(p, log))",
+                + "from hipsim.present.rig_figures import write_comparison; write_comparison('cmp0', compare_torques(p, log))",
                 short,
             ),
             (
@@ -824,7 +824,7 @@ def bench_rig(quick: bool) -> None:
             ),
             (
                 f"whole log (load_log + identify), {short} s",
-                whole.format(s=short) + "from hipsim.rig.identification import identify; identify([log], p)",
+                whole.format(s=short) + "from hipsim.rig.identification.fit import identify; identify([log], p)",
                 short,
             ),
             (
@@ -871,10 +871,10 @@ def bench_monitor(quick: bool) -> None:
 
     import distributed
 
-    from hipsim.rig import compare, load_log
-    from hipsim.rig.monitor_fit import MonitorSetup
-    from hipsim.rig.monitor_run import run_monitor
-    from hipsim.rig.snapshots import find_snapshots
+    from hipsim.rig import compare_torques, load_log
+    from hipsim.rig.monitoring.monitor_fit import MonitorSetup
+    from hipsim.rig.monitoring.monitor_run import run_monitor
+    from hipsim.rig.monitoring.snapshots import find_snapshots
 
     count = 100 if quick else 1000
     params = hipsim.load_parameters()
@@ -890,7 +890,7 @@ def bench_monitor(quick: bool) -> None:
         scan = time.perf_counter() - started
         started = time.perf_counter()
         for snapshot in snapshots:
-            compare(params, load_log(snapshot.path, params), lever_spin=True)
+            compare_torques(params, load_log(snapshot.path, params), lever_spin=True)
         looped = time.perf_counter() - started
         setup = MonitorSetup(params)
         started = time.perf_counter()

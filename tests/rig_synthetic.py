@@ -25,7 +25,7 @@ import numpy as np
 from hipsim.analytic.inverse_kinematics import slider_heights
 from hipsim.control import AugmentedPD, ReducedPlant, simulate
 from hipsim.motion.trajectories import Trajectory
-from hipsim.rig.logs import MeasuredLog
+from hipsim.rig.logs.log import MeasuredLog
 
 
 class FourierMotion:

@@ -543,8 +543,7 @@ print(json.dumps([before, [len(kernel.signatures) for kernel in kernels]]))
 def test_the_log_options_defaults_are_the_librarys():
     """--cutoff and --tolerance print their defaults without loading SciPy: the CLI's copies must be the library's values."""
     from hipsim.cli import rig
-    from hipsim.rig.compare import DEFAULT_TOLERANCE_DEG
-    from hipsim.rig.logs import DEFAULT_CUTOFF
+    from hipsim.rig.logs import DEFAULT_CUTOFF, DEFAULT_TOLERANCE_DEG
 
     assert (rig.DEFAULT_CUTOFF, rig.DEFAULT_TOLERANCE_DEG) == (DEFAULT_CUTOFF, DEFAULT_TOLERANCE_DEG)
 

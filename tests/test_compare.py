@@ -9,7 +9,7 @@ from rig_synthetic import iso_run, machines, write_log
 from hipsim.cli.main import main
 from hipsim.exceptions import TrajectoryError
 from hipsim.results import Torques
-from hipsim.rig import compare, load_log
+from hipsim.rig import compare_torques, load_log
 from hipsim.rig.compare import detect_period
 
 
@@ -24,7 +24,7 @@ def test_the_true_machine_explains_the_log(iso_log):
     start, true = machines()
     log = load_log(iso_log, start)
     assert log.motion_from == "encoders" and any("attitude sensor agrees" in note for note in log.notes)
-    right, wrong = compare(true, log), compare(start, log)
+    right, wrong = compare_torques(true, log), compare_torques(start, log)
     for i, entry in right.motor_errors().items():
         # Noise (3 N·mm, 0.003°) and the sticking at reversals are all that is left.
         assert entry["relative_rms_error_away_from_reversals"] < 0.006
@@ -36,10 +36,10 @@ def test_the_true_machine_explains_the_log(iso_log):
 
 def test_the_period_and_phases(iso_log):
     start, _ = machines()
-    comparison = compare(start, load_log(iso_log, start))
+    comparison = compare_torques(start, load_log(iso_log, start))
     assert comparison.period == pytest.approx(1.0, abs=2e-3)
     assert comparison.phase_rms.shape == (10, 3) and np.all(comparison.phase_rms > 0)
-    assert compare(start, load_log(iso_log, start), period=0).phase_rms is None
+    assert compare_torques(start, load_log(iso_log, start), period=0).phase_rms is None
     t = np.arange(2000) / 1000.0
     assert detect_period(t, np.column_stack([t, t**2, np.sin(t)])) is None  # not a repeating motion
 
@@ -135,7 +135,7 @@ def test_compare_command_bad_log_leaves_nothing(tmp_path, capsys):
 # --- A log in pieces ---------------------------------------------------------------------------
 
 from hipsim.rig.compare import compare_log  # noqa: E402
-from hipsim.rig.logs import LogPieces  # noqa: E402
+from hipsim.rig.logs.log import LogPieces  # noqa: E402
 
 #: Pieces give the whole log's values up to round-off: the filters start in another state and the
 #: forward kinematics' Newton from another pose, and their last digits differ; relative to the measured torque.
@@ -168,7 +168,7 @@ def assert_same_statistics(whole, parts):
 def test_a_log_in_pieces_gives_the_whole_logs_comparison(iso_log, piece):
     """The statistics of a log compared in pieces against the whole log's, computed by the one-piece route."""
     start, true = machines()
-    whole = compare(true, load_log(iso_log, start))
+    whole = compare_torques(true, load_log(iso_log, start))
     with LogPieces(iso_log, start, piece=piece) as pieces:
         assert pieces.halo > piece and len(pieces) > 3 * piece  # every piece needs its neighbours
         parts = compare_log(true, pieces)
@@ -184,7 +184,7 @@ def test_a_log_in_pieces_gives_the_whole_logs_comparison(iso_log, piece):
 
 def test_one_piece_is_the_whole_log_to_the_last_digit(iso_log):
     start, true = machines()
-    whole = compare(true, load_log(iso_log, start))
+    whole = compare_torques(true, load_log(iso_log, start))
     with LogPieces(iso_log, start, piece=10**6) as pieces:
         one = compare_log(true, pieces)
     assert one.summary() == whole.summary()
@@ -195,7 +195,7 @@ def test_a_log_in_pieces_without_a_filter(tmp_path):
     twice at 1 kHz, would be all the difference there is)."""
     start, true = machines()
     path = write_log(tmp_path / "angles.csv", iso_run(), np.random.default_rng(5), motion="angles")
-    whole = compare(true, load_log(path, start, cutoff=None))
+    whole = compare_torques(true, load_log(path, start, cutoff=None))
     with LogPieces(path, start, cutoff=None, piece=900) as pieces:
         assert_same_statistics(whole, compare_log(true, pieces))
 

@@ -6,8 +6,8 @@ import pytest
 from hipsim import load_parameters
 from hipsim.analysis import analyse
 from hipsim.motion.trajectories import iso14242_at
-from hipsim.rig import compare
-from hipsim.rig.logs import MeasuredLog
+from hipsim.rig import compare_torques
+from hipsim.rig.logs.log import MeasuredLog
 
 PARAMS = load_parameters()
 RATE = 500.0
@@ -25,7 +25,7 @@ def iso_log(start: float, cycles: float = 3.0) -> MeasuredLog:
 def test_the_per_phase_table_does_not_depend_on_the_first_sample():
     tables = []
     for start in np.random.default_rng(7).uniform(0.0, 1.0, 20):
-        comparison = compare(PARAMS, iso_log(start), period=1.0)
+        comparison = compare_torques(PARAMS, iso_log(start), period=1.0)
         # Heel strike is the load's rise at whole seconds: found within one sample.
         assert abs(comparison.heel_strike - np.round(comparison.heel_strike)) <= 1.0 / RATE + 1e-9
         tables.append(comparison.phase_rms * 1e3)
@@ -42,7 +42,7 @@ def test_the_per_phase_table_does_not_depend_on_the_first_sample():
 
 
 def test_phases_are_labelled_in_the_summary():
-    summary = compare(PARAMS, iso_log(0.37), period=1.0).summary()
+    summary = compare_torques(PARAMS, iso_log(0.37), period=1.0).summary()
     phases = summary["phases"]
     assert phases["from"] == "heel strike"
     assert phases["labels"] == ["stance"] * 6 + ["swing"] * 4

@@ -1,14 +1,14 @@
-"""hipsim.rig.consistency: the fit under the physical-consistency constraints (bounds, rigid-body inertias)."""
+"""hipsim.rig.identification.consistency: the fit under the physical-consistency constraints (bounds, rigid-body inertias)."""
 
 import numpy as np
 import scipy.optimize
 from rig_synthetic import machines
 
-from hipsim.rig.consistency import _SIGMA, _matrix
-from hipsim.rig.consistency import consistent as _consistent
-from hipsim.rig.consistency import violations as _violations
-from hipsim.rig.quantities import BLOCKS as _BLOCKS
-from hipsim.rig.quantities import QUANTITIES, standard_values
+from hipsim.rig.identification.consistency import _SIGMA, _matrix
+from hipsim.rig.identification.consistency import consistent as _consistent
+from hipsim.rig.identification.consistency import violations as _violations
+from hipsim.rig.identification.quantities import BLOCKS as _BLOCKS
+from hipsim.rig.identification.quantities import QUANTITIES, standard_values
 
 
 def _problem(seed, n=len(QUANTITIES)):

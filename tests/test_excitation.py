@@ -10,7 +10,7 @@ from hipsim.cli.main import main
 from hipsim.exceptions import HipsimError
 from hipsim.motion.trajectories import Trajectory
 from hipsim.rig import excitation
-from hipsim.rig.excitation import Limits, condition_number
+from hipsim.rig.identification.excitation import Limits, condition_number
 
 PARAMS = hipsim.load_parameters()
 
@@ -83,7 +83,7 @@ def test_excite_command(tmp_path, capsys):
 
 def test_sets_evaluated_together_give_what_each_gives_alone(design):
     """The gradient's one model run over many coefficient sets: each set's objective and margins as if it ran alone."""
-    from hipsim.rig.excitation import DESIGN_QUANTITIES, _design_columns, _evaluate_many, _series
+    from hipsim.rig.identification.excitation import DESIGN_QUANTITIES, _design_columns, _evaluate_many, _series
 
     grid = np.arange(100) / (100 * design.frequency)
     columns = _design_columns(DESIGN_QUANTITIES)

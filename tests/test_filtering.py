@@ -7,7 +7,7 @@ from hipsim.exceptions import TrajectoryError
 from hipsim.motion.filtering import edge_samples, lowpass, lowpass_record
 from hipsim.motion.gait_events import gait_cycles
 from hipsim.motion.trajectories import iso14242
-from hipsim.rig.logs import lowpass as rig_lowpass
+from hipsim.rig.logs.log import lowpass as rig_lowpass
 
 
 def test_the_copy_is_the_rig_logs_filter():

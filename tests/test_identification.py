@@ -13,11 +13,11 @@ from hipsim.analytic import inverse_dynamics, kinematics
 from hipsim.cli.main import main
 from hipsim.motion.trajectories import Trajectory, iso14242_at
 from hipsim.rig import identify, load_log, regressor
-from hipsim.rig.base import derive
-from hipsim.rig.consistency import violations as _violations
-from hipsim.rig.logs import MeasuredLog
-from hipsim.rig.quantities import QUANTITIES, standard_values, with_values
-from hipsim.rig.uncertainty import Z95, read_covariance, torque_std
+from hipsim.rig.identification.base import derive
+from hipsim.rig.identification.consistency import violations as _violations
+from hipsim.rig.identification.quantities import QUANTITIES, standard_values, with_values
+from hipsim.rig.identification.uncertainty import Z95, read_covariance, torque_std
+from hipsim.rig.logs.log import MeasuredLog
 
 
 def sizes(result, start):
@@ -228,7 +228,7 @@ def test_the_rig_guide_example(noisy, monkeypatch, capsys):
 
 def test_logs_in_pieces_give_the_same_fit(noisy):
     """The fit of logs read in pieces (cut mid-cycle, each shorter than its halo) against the fit of the whole logs."""
-    from hipsim.rig.logs import LogPieces
+    from hipsim.rig.logs.log import LogPieces
 
     _, fit, held_out, whole = noisy
     start, _ = machines()

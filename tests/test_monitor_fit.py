@@ -7,9 +7,9 @@ import pytest
 from monitor_synthetic import write_snapshot, write_test
 
 import hipsim
-from hipsim.rig.monitor_fit import MonitorSetup, estimate
-from hipsim.rig.monitor_run import monitor
-from hipsim.rig.snapshots import find_snapshots
+from hipsim.rig.monitoring.monitor_fit import MonitorSetup, estimate
+from hipsim.rig.monitoring.monitor_run import monitor
+from hipsim.rig.monitoring.snapshots import find_snapshots
 
 STEP_AT = 2_100_000  # between the snapshots at 2,000,000 and 2,250,000
 BASELINE = (500_000, 1_000_000)

@@ -13,11 +13,11 @@ from monitor_synthetic import write_snapshot, write_test
 import hipsim
 from hipsim.cli import monitor as monitor_cli
 from hipsim.cli.main import main
-from hipsim.rig import control_chart
-from hipsim.rig.monitor_fit import MonitorSetup
-from hipsim.rig.monitor_run import run_monitor
-from hipsim.rig.monitor_table import read_table
-from hipsim.rig.snapshots import find_snapshots
+from hipsim.rig.monitoring import control_chart
+from hipsim.rig.monitoring.monitor_fit import MonitorSetup
+from hipsim.rig.monitoring.monitor_run import run_monitor
+from hipsim.rig.monitoring.monitor_table import read_table
+from hipsim.rig.monitoring.snapshots import find_snapshots
 
 MODELS = Path(hipsim.__file__).resolve().parent.parent / "models"
 
@@ -241,7 +241,7 @@ def test_an_identification_table_is_accepted(one, tmp_path, capsys):
     published = Path(hipsim.load_parameters().source).read_text(encoding="utf-8")
     path = tmp_path / "with_table.toml"
     path.write_text(published + "\n[identification]\nlogs = ['rig.csv']\n", encoding="utf-8")
-    from hipsim.rig.monitor_fit import identified_file
+    from hipsim.rig.monitoring.monitor_fit import identified_file
 
     assert identified_file(path) is True
 
@@ -264,7 +264,7 @@ def test_a_long_log_in_windows(params, tmp_path):
 def test_without_pandas_a_table_of_columns(params, test_logs, monkeypatch):
     import sys
 
-    from hipsim.rig.monitor_run import MonitorTable, monitor
+    from hipsim.rig.monitoring.monitor_run import MonitorTable, monitor
 
     monkeypatch.setitem(sys.modules, "pandas", None)  # import pandas raises ImportError
     table = monitor(params, test_logs, baseline="500000:1000000")

@@ -104,8 +104,8 @@ def test_the_check_can_be_turned_off(run, tmp_path, capsys):
 
 # --- Tab- and semicolon-separated rig logs with decimal commas: read as the comma file, to the last digit ------------
 
-from hipsim.rig import compare, identify  # noqa: E402
-from hipsim.rig.quantities import standard_values  # noqa: E402
+from hipsim.rig import compare_torques, identify  # noqa: E402
+from hipsim.rig.identification.quantities import standard_values  # noqa: E402
 
 
 def _without_names(document):
@@ -130,7 +130,10 @@ def test_tab_and_semicolon_logs_give_the_comma_files_results(run, tmp_path, caps
     for name in ("tab", "semicolon"):
         np.testing.assert_array_equal(logs[name].tau, logs["comma"].tau)
         np.testing.assert_array_equal(logs[name].trajectory.q, logs["comma"].trajectory.q)
-        assert compare(params, logs[name]).summary()["motors"] == compare(params, logs["comma"]).summary()["motors"]
+        assert (
+            compare_torques(params, logs[name]).summary()["motors"]
+            == compare_torques(params, logs["comma"]).summary()["motors"]
+        )
     fits = {name: identify([log], params) for name, log in logs.items()}
     for name in ("tab", "semicolon"):
         a, b = fits[name], fits["comma"]

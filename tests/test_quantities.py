@@ -1,9 +1,17 @@
-"""hipsim.rig.quantities: each identified quantity reads and writes its own parameter field."""
+"""hipsim.rig.identification.quantities: each identified quantity reads and writes its own parameter field."""
 
 import numpy as np
 
 import hipsim
-from hipsim.rig.quantities import BLOCKS, BOUNDED, FRICTION, QUANTITIES, friction_unit, standard_values, with_values
+from hipsim.rig.identification.quantities import (
+    BLOCKS,
+    BOUNDED,
+    FRICTION,
+    QUANTITIES,
+    friction_unit,
+    standard_values,
+    with_values,
+)
 
 
 def _machine():

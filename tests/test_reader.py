@@ -1,10 +1,10 @@
-"""hipsim.rig.reader: the rig-log reader's rules and errors."""
+"""hipsim.rig.logs.reader: the rig-log reader's rules and errors."""
 
 import numpy as np
 import pytest
 
 from hipsim.exceptions import TrajectoryError
-from hipsim.rig.reader import read_rig_log
+from hipsim.rig.logs.reader import read_rig_log
 
 
 def write(path, header, rows):
@@ -122,7 +122,7 @@ def test_blank_lines_keep_the_file_line_numbers(tmp_path):
 
 def test_a_log_scanned_in_small_blocks(tmp_path):
     """Blocks of 7 lines (blank lines among them) give the samples, lines and errors of the file read in one block."""
-    from hipsim.rig.reader import RigLogFile
+    from hipsim.rig.logs.reader import RigLogFile
 
     rows = good_rows(60)
     text = ",".join(HEADER) + "\n" + "\n".join(",".join(str(x) for x in row) for row in rows[:10]) + "\n\n\n"

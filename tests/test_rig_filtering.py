@@ -1,4 +1,4 @@
-"""hipsim.rig.filtering: the zero-phase low-pass of measured signals, and the smoothed motion's derivatives."""
+"""hipsim.rig.logs.smoothing: the zero-phase low-pass of measured signals, and the smoothed motion's derivatives."""
 
 import math
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from hipsim.exceptions import TrajectoryError
-from hipsim.rig.filtering import edge_samples, lowpass, minimum_samples, smooth_motion
+from hipsim.rig.logs.smoothing import edge_samples, lowpass, minimum_samples, smooth_motion
 
 
 def test_the_low_pass_has_no_delay_and_cuts_noise():

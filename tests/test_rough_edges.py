@@ -9,7 +9,7 @@ from hipsim.cli.main import main
 from hipsim.exceptions import ParameterError, TrajectoryError
 from hipsim.machine.parameters import default_parameters_path
 from hipsim.motion.opensim import load_opensim
-from hipsim.rig.reader import read_rig_log
+from hipsim.rig.logs.reader import read_rig_log
 
 
 def test_a_negative_length_is_named_before_the_missing_keys(tmp_path, capsys):

@@ -14,9 +14,9 @@ from hipsim.cli.main import main
 from hipsim.design.sizing import margin_bands, sizing
 from hipsim.machine.drive import load_drive
 from hipsim.rig import identify, load_log
-from hipsim.rig.base import base_parameters
-from hipsim.rig.quantities import standard_values, with_values
-from hipsim.rig.uncertainty import read_covariance, sigma_machines
+from hipsim.rig.identification.base import base_parameters
+from hipsim.rig.identification.quantities import standard_values, with_values
+from hipsim.rig.identification.uncertainty import read_covariance, sigma_machines
 
 DRIVE = Path(hipsim.models.__file__).with_name("drive_example.toml")
 

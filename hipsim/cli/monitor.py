@@ -10,7 +10,7 @@ from .common import add_provenance_options, add_summary_format, page_provenance,
 
 __all__ = ["add_parser", "format_summary", "run"]
 
-#: Defaults written out so that the parser loads nothing heavy (the library's: hipsim.rig.control_chart; a test checks).
+#: Defaults written out so that the parser loads nothing heavy (the library's: hipsim.rig.monitoring.control_chart; a test checks).
 DEFAULT_BASELINE = "500000:1000000"
 DEFAULT_ALARM_RISE = 0.01
 DEFAULT_CUTOFF = 20.0
@@ -104,11 +104,11 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 def run(args) -> int:
     """Estimate, chart, write; exit status 1 when an alarm is active at the last snapshot."""
     from ..files import check_folder
-    from ..rig.control_chart import parse_baseline
-    from ..rig.monitor_fit import MonitorSetup, reference
-    from ..rig.monitor_run import run_monitor
-    from ..rig.monitor_table import check_out
-    from ..rig.snapshots import find_snapshots
+    from ..rig.monitoring.control_chart import parse_baseline
+    from ..rig.monitoring.monitor_fit import MonitorSetup, reference
+    from ..rig.monitoring.monitor_run import run_monitor
+    from ..rig.monitoring.monitor_table import check_out
+    from ..rig.monitoring.snapshots import find_snapshots
 
     if args.workers is not None and args.workers < 1:
         raise HipsimError(f"--workers: expected a positive number of processes, got {args.workers}")

@@ -78,7 +78,7 @@ def run(args) -> int:
     from ..files import check_folder
     from ..machine.drive import drive_from_motor_table, load_drive
     from ..present.report import write_report
-    from ..rig.uncertainty import read_covariance
+    from ..rig.identification.uncertainty import read_covariance
 
     params = parameters(args)
     covariance = read_covariance(args.params, params)  # a bad table refused before the work
@@ -188,7 +188,7 @@ def _margin_bands(identified, params, covariance, run, trajectory, drive, cycles
         return None
     from ..analysis.runs import analyse
     from ..design.sizing import margin_bands, sizing
-    from ..rig.uncertainty import sigma_machines
+    from ..rig.identification.uncertainty import sigma_machines
 
     changes = {"lead": params.lead, "screw_inertia": params.screw_inertia} if params is not identified else {}
     variants = [v.replace(**changes) if changes else v for v in sigma_machines(identified, covariance)]

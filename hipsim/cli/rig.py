@@ -29,7 +29,7 @@ from .common import (
 __all__ = ["add_parser", "run", "run_compare", "run_excite", "run_identify"]
 
 #: The defaults of ``--cutoff`` in [Hz] and ``--tolerance`` in [deg], written out so that the parser loads no signal processing;
-#: they are the library's :data:`hipsim.rig.logs.DEFAULT_CUTOFF` and :data:`hipsim.rig.compare.DEFAULT_TOLERANCE_DEG` (a test checks).
+#: they are the library's :data:`hipsim.rig.logs.DEFAULT_CUTOFF` and :data:`hipsim.rig.logs.DEFAULT_TOLERANCE_DEG` (a test checks).
 DEFAULT_CUTOFF = 20.0
 DEFAULT_TOLERANCE_DEG = 0.5
 
@@ -206,7 +206,7 @@ def _not_an_input(out: str, inputs: list[str], option: str) -> None:
 
 
 def _pieces(path: str, params, args):
-    from ..rig.compare import LogPieces
+    from ..rig.logs import LogPieces
 
     return LogPieces(
         path, params, torque_constant=args.torque_constant, cutoff=_cutoff(args), tolerance_deg=args.tolerance
@@ -237,7 +237,7 @@ def run_compare(args) -> int:
     from ..files import check_folder
     from ..present.rig_figures import write_comparison
     from ..rig.compare import compare_log
-    from ..rig.uncertainty import read_covariance
+    from ..rig.identification.uncertainty import read_covariance
 
     params = parameters(args)
     covariance = read_covariance(args.params, params)  # a bad table refused before the work
@@ -255,7 +255,7 @@ def run_compare(args) -> int:
         )
         band = None
         if covariance is not None:  # an identified file: the model's 95 % band at the samples kept
-            from ..rig.uncertainty import Z95, log_torque_std
+            from ..rig.identification.uncertainty import Z95, log_torque_std
 
             band = Z95 * log_torque_std(params, log, comparison.t, covariance)
     files = write_comparison(
@@ -345,8 +345,8 @@ def _check_log_options(args) -> None:
 
 def run_base(args) -> int:
     """Print the machine's base parameters with their definitions; exit status 0."""
-    from ..rig.base import base_parameters
-    from ..rig.prior import prior
+    from ..rig.identification.base import base_parameters
+    from ..rig.identification.prior import prior
 
     params = parameters(args)
     base = base_parameters(params, not args.spin_free_levers)
@@ -381,8 +381,8 @@ def run_base(args) -> int:
 def run_identify(args) -> int:
     """Identify the machine from the ``--log`` files, write the parameter file ``--out`` and print the fit; exit status 0."""
     from ..files import json_ready
-    from ..rig.identification import identify
-    from ..rig.prior import parse_prior_option, prior_table
+    from ..rig.identification.fit import identify
+    from ..rig.identification.prior import parse_prior_option, prior_table
 
     if args.base:
         return run_base(args)
@@ -507,7 +507,7 @@ def _provenance_comment(provenance) -> str:
 def run_excite(args) -> int:
     """Design the excitation, write it to ``--out`` as a trajectory CSV and print its condition number; exit status 0."""
     from ..files import json_ready
-    from ..rig.excitation import Limits, excitation
+    from ..rig.identification.excitation import Limits, excitation
 
     params = parameters(args)
     if Path(args.out).is_dir():

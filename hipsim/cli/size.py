@@ -326,7 +326,7 @@ def format_demands(size) -> str:
 
 def _margin_bands(args, params, machine, drive, rules, trajectories, results):
     """Each trajectory's margin bands from an identified parameter file's covariance (None without one, or without a drive)."""
-    from ..rig.uncertainty import read_covariance, sigma_machines
+    from ..rig.identification.uncertainty import read_covariance, sigma_machines
 
     covariance = read_covariance(args.params, params)
     if covariance is None or drive is None:

@@ -116,7 +116,7 @@ def _cycle_of(time: float, trajectory, period: float | None) -> dict:
 
 def _file_metadata(params) -> dict[str, str]:
     """A results file's key-value metadata: the hipsim version and the parameter set as a parameter file's text."""
-    from ..rig.identification import parameter_toml
+    from ..machine.toml_writer import parameter_toml
     from ..version import __version__
 
     return {
@@ -135,7 +135,7 @@ class _Bands:
     def __call__(self, columns):
         import numpy as np
 
-        from ..rig.uncertainty import band_columns
+        from ..rig.identification.uncertainty import band_columns
 
         n = len(columns["t_s"])
         piece = self.source.piece(self.done, self.done + n)
@@ -150,7 +150,7 @@ class _Bands:
 def _bands(args, params, source):
     """The band adder when ``--params`` names a file with an identified covariance, else None."""
     from ..analysis.streaming import as_source
-    from ..rig.uncertainty import read_covariance
+    from ..rig.identification.uncertainty import read_covariance
 
     covariance = read_covariance(getattr(args, "params", None), params)
     return None if covariance is None else _Bands(params, as_source(source), covariance)

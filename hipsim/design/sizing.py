@@ -201,7 +201,7 @@ class MarginBand:
 
 def margin_bands(nominal: Sizing, spread: list[Sizing]) -> tuple[MarginBand, ...]:
     """Each check's margin band from the sizing of the identified machine and of machines one standard deviation away
-    along each principal direction of its covariance (:func:`hipsim.rig.uncertainty.sigma_machines`): var = Σ_k (m_k − m_0)²."""
+    along each principal direction of its covariance (:func:`hipsim.rig.identification.uncertainty.sigma_machines`): var = Σ_k (m_k − m_0)²."""
     out = []
     for j, check in enumerate(nominal.checks):
         others = [s.checks[j].margin for s in spread]

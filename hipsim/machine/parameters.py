@@ -273,7 +273,7 @@ def _did_you_mean(dotted: str) -> str:
 def _check(raw: Mapping[str, Any], source: str) -> dict[str, Any]:
     """Every key of SCHEMA present, typed and within bounds; returns SI values by dotted key."""
     for section, table in raw.items():
-        if section == "identification":  # what hipsim identify read or wrote: hipsim.rig.uncertainty reads it
+        if section == "identification":  # what hipsim identify read or wrote: hipsim.rig.identification.uncertainty reads it
             continue
         if section not in SCHEMA:
             raise ParameterError(f"unknown section (known: {', '.join(SCHEMA)})", key=section, source=source)

@@ -15,7 +15,7 @@ filtered values are the least reliable. :func:`lowpass_periodic` filters one
 period of a periodic record as if it repeated endlessly (the period wrapped
 around on both sides), so a periodic record has no edges at all.
 
-The rig-log path (:mod:`hipsim.rig.logs`) uses the same functions and drops
+The rig-log path (:mod:`hipsim.rig.logs.log`) uses the same functions and drops
 the :func:`edge_samples` samples at each end of a log.
 """
 

@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from ..files import check_folder, json_ready, output_folder, write_atomic
-from ..rig.monitor_run import MonitorResult
+from ..rig.monitoring.monitor_run import MonitorResult
 from .figures import save_figure
 from .numbers import significant
 from .pages import CSS, Verdict, environment

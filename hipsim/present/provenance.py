@@ -223,13 +223,13 @@ _HELD_LINE = re.compile(r"^# +(?P<label>\S+) = \S+ .*?: (?P<reason>.+)$")
 
 def _labels() -> dict[str, str]:
     """The identification's short names → parameter keys (``m_L`` → ``slider.mass_kg``)."""
-    from ..rig.identification import QUANTITIES
+    from ..rig.identification.quantities import QUANTITIES
 
     return {q.label: q.key for q in QUANTITIES}
 
 
 def _read_identified_header(lines: Sequence[str]) -> dict[str, Any]:
-    """What ``hipsim identify`` wrote in a parameter file's comment header (:meth:`hipsim.rig.identification.Identification.toml`)."""
+    """What ``hipsim identify`` wrote in a parameter file's comment header (:meth:`hipsim.rig.identification.fit.Identification.toml`)."""
     labels = _labels()
     found: dict[str, Any] = {
         "logs": (),
@@ -298,7 +298,7 @@ def _read_identified_header(lines: Sequence[str]) -> dict[str, Any]:
 
 
 def _read_identification_table(path: str | Path) -> dict[str, Any]:
-    """What the file's ``[identification]`` table says (:meth:`hipsim.rig.identification.Identification.table`), in the
+    """What the file's ``[identification]`` table says (:meth:`hipsim.rig.identification.fit.Identification.table`), in the
     shape of :func:`_read_identified_header`; empty when the file has no such table (the header's reading then stands)."""
     import tomllib
 

@@ -221,7 +221,7 @@ def write_comparison(
         provenance: where the numbers came from (:func:`hipsim.present.provenance.provenance`); None: the version and time only.
         accept: the largest relative RMS error accepted, as a fraction; None: the verdict is not judged.
         band: the model's 95 % band half-widths in [N·m] at the comparison's samples, (N, 3)
-            (:func:`hipsim.rig.uncertainty.log_torque_std` × 1.96), from an identified file's covariance; None: no band.
+            (:func:`hipsim.rig.identification.uncertainty.log_torque_std` × 1.96), from an identified file's covariance; None: no band.
         residual: the identification's residual RMS per motor in [N·m], (3,), for the prediction band in the JSON; None: none.
 
     Returns:
@@ -235,7 +235,7 @@ def write_comparison(
     summary = comparison.summary() | (extra or {})
     captions = CAPTIONS
     if band is not None:
-        from ..rig.uncertainty import band_summary
+        from ..rig.identification.uncertainty import band_summary
 
         summary["model_band95"] = band_summary(band, comparison.error, residual)
         captions = CAPTIONS | {

@@ -1,24 +1,25 @@
-"""The rig in the loop: rig logs, the model against them, identification of the machine from them, and the excitation that makes it well posed.
+"""The rig in the loop: rig logs, the model against them, identification of the machine from them, monitoring a wear test.
 
-Modules: :mod:`~hipsim.rig.reader` (the CSV reader), :mod:`~hipsim.rig.filtering`
-(the zero-phase low-pass), :mod:`~hipsim.rig.logs` (the one log type the models
-take, in memory or in pieces), :mod:`~hipsim.rig.reversals`,
-:mod:`~hipsim.rig.compare`; for identification :mod:`~hipsim.rig.quantities`,
-:mod:`~hipsim.rig.regressor`, :mod:`~hipsim.rig.identification` (the fit) and
-:mod:`~hipsim.rig.consistency`; :mod:`~hipsim.rig.excitation`.
+By job: :mod:`hipsim.rig.logs` (the reader, the low-pass, the one log type the
+models take), :mod:`hipsim.rig.compare` (the model's torques against a log's),
+:mod:`hipsim.rig.identification` (the regressor, base parameters, prior, the fit,
+its uncertainty, the excitation that makes it well posed),
+:mod:`hipsim.rig.monitoring` (a long wear test's friction, snapshot by
+snapshot, and its control chart), and :mod:`hipsim.rig.plausibility` (a log's
+signals against what the machine can produce).
 
 Pure: functions here return data; they never print and never import :mod:`hipsim.present`.
 """
 
-from .compare import Comparison, compare, compare_log
-from .excitation import Excitation, excitation
-from .filtering import lowpass
-from .identification import Identification, identify
-from .logs import Log, LogPieces, MeasuredLog, load_log
-from .monitor_run import monitor
-from .quantities import QUANTITIES
-from .reader import RigLog, read_rig_log
-from .regressor import regressor
+from .compare import Comparison, compare_log, compare_torques
+from .identification.excitation import Excitation, excitation
+from .identification.fit import Identification, identify
+from .identification.quantities import QUANTITIES
+from .identification.regressor import regressor
+from .logs.log import Log, LogPieces, MeasuredLog, load_log
+from .logs.reader import RigLog, read_rig_log
+from .logs.smoothing import lowpass
+from .monitoring.monitor_run import monitor
 
 __all__ = [
     "QUANTITIES",
@@ -29,8 +30,8 @@ __all__ = [
     "LogPieces",
     "MeasuredLog",
     "RigLog",
-    "compare",
     "compare_log",
+    "compare_torques",
     "excitation",
     "identify",
     "load_log",

@@ -1,10 +1,10 @@
 """The model against the rig: the model's torques along a rig log, beside the measured ones.
 
-The logs are :mod:`hipsim.rig.logs`' (:func:`~hipsim.rig.logs.load_log` reads
-one whole, :class:`~hipsim.rig.logs.LogPieces` in pieces); a comparison goes
+The logs are :mod:`hipsim.rig.logs.log`' (:func:`~hipsim.rig.logs.log.load_log` reads
+one whole, :class:`~hipsim.rig.logs.log.LogPieces` in pieces); a comparison goes
 through a log's windows, so it takes either.
 
-:func:`compare` runs the analytic model along the logged motion and load and
+:func:`compare_torques` runs the analytic model along the logged motion and load and
 sets its torques (total and parts) beside the measured ones, per motor: RMS
 and peak error, absolute and relative, where the peak error occurs, and the
 error per phase of the cycle when the log repeats. The model's torques go
@@ -29,16 +29,16 @@ from ..analytic.engine import AnalyticModel
 from ..machine.parameters import Parameters
 from ..motion.gait_events import detect_gait_events
 from ..results import ExactSum, Run, Torques
-from .filtering import REVERSAL_PERIODS, lowpass
-from .logs import DEFAULT_TOLERANCE_DEG, Log, LogInfo, LogPieces, MeasuredLog, load_log  # noqa: F401 - hipsim.cli imports them from here
-from .reversals import reversal_mask
+from .logs.log import Log, LogInfo, MeasuredLog
+from .logs.reversals import reversal_mask
+from .logs.smoothing import REVERSAL_PERIODS, lowpass
 
 __all__ = [
     "FIGURE_SAMPLES",
     "PERIOD_SAMPLES",
     "REVERSAL_PERIODS",
     "Comparison",
-    "compare",
+    "compare_torques",
     "compare_log",
     "detect_period",
     "model_torques",
@@ -230,10 +230,10 @@ class Comparison:
 
     The statistics (:meth:`motor_errors`, :meth:`summary`, ``phase_rms``) are
     over every usable sample; the arrays are the samples kept for the figures:
-    all of them (:func:`compare`), or every k-th (:func:`compare_log`).
+    all of them (:func:`compare_torques`), or every k-th (:func:`compare_log`).
 
     Attributes:
-        log: the log's description (:meth:`hipsim.rig.logs.Log.info`).
+        log: the log's description (:meth:`hipsim.rig.logs.log.Log.info`).
         params: the machine the model ran with.
         lever_spin: whether the model's levers spin as their universal joints impose.
         t: sample times in [s], (N,).
@@ -370,7 +370,7 @@ def _gather(
     return arrays, model, statistics, edges, phase_rms
 
 
-def compare(
+def compare_torques(
     params: Parameters,
     log: Log,
     lever_spin: bool = True,
@@ -382,13 +382,13 @@ def compare(
 ) -> Comparison:
     """The analytic model's torques along a log against the measured ones.
 
-    The log goes window by window (:meth:`hipsim.rig.logs.Log.windows`): a log
+    The log goes window by window (:meth:`hipsim.rig.logs.log.Log.windows`): a log
     read in pieces gives the statistics of the whole log to round-off (see
-    :class:`~hipsim.rig.logs.LogPieces`), in constant memory.
+    :class:`~hipsim.rig.logs.log.LogPieces`), in constant memory.
 
     Args:
         params: the machine.
-        log: the log (:func:`~hipsim.rig.logs.load_log`, :class:`~hipsim.rig.logs.LogPieces`, or built from arrays).
+        log: the log (:func:`~hipsim.rig.logs.log.load_log`, :class:`~hipsim.rig.logs.log.LogPieces`, or built from arrays).
         lever_spin: give the levers the universal joints' spin (the real
             joints' physics); False for the spec's spin-free levers.
         period: the log's period in [s]; None to detect it from the filtered
@@ -462,5 +462,5 @@ def compare_log(
     figure_samples: int = FIGURE_SAMPLES,
     progress=None,
 ) -> Comparison:
-    """:func:`compare` for a log of any length: at most ``figure_samples`` kept for the figures, the period from at most :data:`PERIOD_SAMPLES`."""
-    return compare(params, log, lever_spin, period, phase_bins, figure_samples, PERIOD_SAMPLES, progress)
+    """:func:`compare_torques` for a log of any length: at most ``figure_samples`` kept for the figures, the period from at most :data:`PERIOD_SAMPLES`."""
+    return compare_torques(params, log, lever_spin, period, phase_bins, figure_samples, PERIOD_SAMPLES, progress)

@@ -16,7 +16,7 @@ A factor of about 1000 (or 57 for angles) is an error naming the column, the
 factor and the unit it looks like; a factor beyond :data:`ERROR_FACTOR` is an
 error too, one beyond :data:`WARNING_FACTOR` a warning (returned, one line
 each). The check runs on the log's first window (:meth:`Log.windows`: the
-first :data:`~hipsim.rig.logs.PIECE` samples of a log read in pieces), the
+first :data:`~hipsim.rig.logs.log.PIECE` samples of a log read in pieces), the
 model on at most :data:`MODEL_SAMPLES` of them: a fraction of a second.
 """
 
@@ -30,8 +30,8 @@ from ..analytic.engine import AnalyticModel
 from ..exceptions import PoseError, TrajectoryError
 from ..machine.parameters import Parameters
 from ..motion.trajectories import ANGLE_NAMES
-from .logs import Log
-from .reader import CURRENT_COLUMNS, TORQUE_COLUMNS
+from .logs.log import Log
+from .logs.reader import CURRENT_COLUMNS, TORQUE_COLUMNS
 
 __all__ = ["ERROR_FACTOR", "LOAD_PEAK_N", "MODEL_SAMPLES", "WARNING_FACTOR", "check_log"]
 
@@ -57,8 +57,8 @@ def check_log(params: Parameters, log: Log, lever_spin: bool = True, torque_cons
 
     Args:
         params: the machine (the starting parameters of a fit).
-        log: the log (:class:`~hipsim.rig.logs.LogPieces` names its columns and units;
-            a :class:`~hipsim.rig.logs.MeasuredLog` built from arrays is checked by its values).
+        log: the log (:class:`~hipsim.rig.logs.log.LogPieces` names its columns and units;
+            a :class:`~hipsim.rig.logs.log.MeasuredLog` built from arrays is checked by its values).
         lever_spin: as in :class:`hipsim.analytic.AnalyticModel`.
         torque_constant: the motors' torque constant in [N·m/A] the log's currents were turned into torques with, for messages
             (None: the log's own, when it knows it).

@@ -16,10 +16,10 @@ from typing import Any
 
 import numpy as np
 
-from ..exceptions import HipsimError
-from ..motion.gait_events import detect_gait_events, gait_phase
-from .compare import Comparison
-from .logs import Log
+from ...exceptions import HipsimError
+from ...motion.gait_events import detect_gait_events, gait_phase
+from ..compare import Comparison
+from ..logs.log import Log
 
 __all__ = ["MARGIN", "Envelope", "ValidationNote", "envelope", "training_envelope", "validation_note"]
 

@@ -1,7 +1,7 @@
 """The base parameters: the fixed combinations of the dynamic parameters that motor torques can ever determine.
 
 Motor torque is linear in the standard parameters θ (the
-:data:`~hipsim.rig.quantities.QUANTITIES`): τ = Y(q, q̇, q̈, F_e)·θ. Some columns
+:data:`~hipsim.rig.identification.quantities.QUANTITIES`): τ = Y(q, q̇, q̈, F_e)·θ. Some columns
 of Y are linear combinations of others for *every* motion the machine can make
 (the levers' mass regroups into the sliders and the platform; the guide's
 friction acts exactly as the screw's), whatever the log. Those structural
@@ -31,8 +31,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from ..machine.parameters import Parameters, file_values
-from ..motion.trajectories import Trajectory
+from ...machine.parameters import Parameters, file_values
+from ...motion.trajectories import Trajectory
 from .quantities import QUANTITIES, standard_values
 from .regressor import regressor
 

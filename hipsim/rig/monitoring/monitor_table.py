@@ -1,7 +1,7 @@
 """The monitor's table as a file (CSV or Parquet by the suffix), keyed by its set-up's fingerprint so a rerun extends it.
 
 One row a snapshot, sorted by cycle, columns :data:`COLUMNS`. The set-up's
-fingerprints (:meth:`hipsim.rig.monitor_fit.MonitorSetup.fingerprints`) are kept
+fingerprints (:meth:`hipsim.rig.monitoring.monitor_fit.MonitorSetup.fingerprints`) are kept
 with the rows: a Parquet file's key-value metadata (``hipsim``, JSON), a CSV
 file's first line ``# hipsim monitor: {JSON}`` (pandas:
 ``read_csv(path, comment="#")``). A rerun of the same set-up keeps the rows of
@@ -18,9 +18,9 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from ..exceptions import OutputError
-from ..fingerprint import changed_parts
-from ..result_table import ResultTable
+from ...exceptions import OutputError
+from ...fingerprint import changed_parts
+from ...result_table import ResultTable
 from .monitor_fit import ESTIMATE_COLUMNS
 
 __all__ = [

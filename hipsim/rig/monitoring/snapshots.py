@@ -1,7 +1,7 @@
 """The snapshots of a long wear test: finding their files, reading their cycle counters, cutting a long log into windows, and the checks.
 
 A lab logs a snapshot every so often (say 3 cycles at 1 kHz every 250,000
-cycles): a rig log (:mod:`hipsim.rig.reader`'s columns) with one more column,
+cycles): a rig log (:mod:`hipsim.rig.logs.reader`'s columns) with one more column,
 ``cycle``, the machine's cycle counter (a whole number, non-decreasing within
 the file). :func:`find_snapshots` takes files, folders (their ``*.csv``) and
 glob patterns in any order, scans each file's ``t_s`` and ``cycle`` once (a
@@ -29,8 +29,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..exceptions import ArgumentError, TrajectoryError
-from .filtering import edge_samples, minimum_samples
+from ...exceptions import ArgumentError, TrajectoryError
+from ..logs.smoothing import edge_samples, minimum_samples
 
 __all__ = ["CYCLE_COLUMN", "STATION_LOADS", "Snapshot", "find_snapshots", "read_columns", "snapshot_text"]
 

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..analytic.inverse_kinematics import slider_heights
-from ..machine.parameters import Parameters
-from .filtering import REVERSAL_PERIODS, reversal_half
-from .logs import MeasuredLog
+from ...analytic.inverse_kinematics import slider_heights
+from ...machine.parameters import Parameters
+from .log import MeasuredLog
+from .smoothing import REVERSAL_PERIODS, reversal_half
 
 __all__ = ["REVERSAL_PERIODS", "reversal_mask"]
 

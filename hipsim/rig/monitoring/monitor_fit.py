@@ -3,7 +3,7 @@
 The reference machine (an identified parameter file) is held fixed: inertias,
 masses, the transmission, the guides' and lever joints' friction. What a
 snapshot re-estimates are the friction terms it determines (spec §4.3; the
-regressor's friction columns, :mod:`hipsim.rig.regressor`):
+regressor's friction columns, :mod:`hipsim.rig.identification.regressor`):
 
 - ``load_friction_mm``: a = r_h·μ_h + r_t·μ_t, the central chain's friction
   moment per newton of axial load. The hip joint's column is ŝ(ω)·r_h·|F_e| and
@@ -37,16 +37,16 @@ from typing import Any
 
 import numpy as np
 
-from ..analytic.inverse_kinematics import kinematics
-from ..analytic.virtual_work import inverse_dynamics
-from ..exceptions import HipsimError, ParameterError
-from ..fingerprint import part_fingerprints
-from ..machine.parameters import Parameters, load_parameters
-from .filtering import DEFAULT_CUTOFF, lowpass, minimum_samples
-from .logs import DEFAULT_TOLERANCE_DEG, MeasuredLog, load_log
-from .quantities import friction_unit
-from .regressor import CHUNK, decimation, inflation
-from .reversals import reversal_mask
+from ...analytic.inverse_kinematics import kinematics
+from ...analytic.virtual_work import inverse_dynamics
+from ...exceptions import HipsimError, ParameterError
+from ...fingerprint import part_fingerprints
+from ...machine.parameters import Parameters, load_parameters
+from ..identification.quantities import friction_unit
+from ..identification.regressor import CHUNK, decimation, inflation
+from ..logs.log import DEFAULT_TOLERANCE_DEG, MeasuredLog, load_log
+from ..logs.reversals import reversal_mask
+from ..logs.smoothing import DEFAULT_CUTOFF, lowpass, minimum_samples
 from .snapshots import STATION_LOADS, Snapshot, read_columns, snapshot_text
 
 __all__ = ["ESTIMATE_COLUMNS", "ESTIMATOR", "MonitorSetup", "estimate", "estimate_batch", "identified_file"]
@@ -181,11 +181,11 @@ def _load(setup: MonitorSetup, snapshot: Snapshot, folder: str) -> tuple[Measure
 def _rows(setup: MonitorSetup, log: MeasuredLog, loads: dict[str, np.ndarray] | None):
     """The fit's rows, chunk by chunk: the fixed machine's torque, the fitted terms' columns, the measured torque, the rows to use.
 
-    The regressor's columns (:func:`hipsim.rig.regressor.log_rows`) of only what is fitted: by the model's
+    The regressor's columns (:func:`hipsim.rig.identification.regressor.log_rows`) of only what is fitted: by the model's
     linearity in θ, the torque of every held parameter is the inverse dynamics of the machine with the fitted
     coefficients at zero, and each fitted coefficient's column that of the machine whose only friction is that
-    coefficient at one (:func:`~hipsim.rig.quantities.friction_unit`, as the regressor builds it): five runs of the
-    model instead of the regressor's ten, filtered and decimated exactly as :func:`~hipsim.rig.regressor.log_rows`
+    coefficient at one (:func:`~hipsim.rig.identification.quantities.friction_unit`, as the regressor builds it): five runs of the
+    model instead of the regressor's ten, filtered and decimated exactly as :func:`~hipsim.rig.identification.regressor.log_rows`
     does. With per-station loads, two more runs give each station's load column.
 
     Yields:

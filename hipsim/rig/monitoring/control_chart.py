@@ -35,7 +35,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..exceptions import ArgumentError
+from ...exceptions import ArgumentError
 
 __all__ = [
     "DEFAULT_ALARM_RISE",

@@ -4,10 +4,10 @@
 snapshots, the table's set-up), then estimates the snapshots the table does
 not have yet, in batches: in this process for one worker, else on a
 ``LocalCluster`` of worker processes or the cluster of a scheduler's address,
-the same :func:`~hipsim.rig.monitor_fit.estimate_batch` on either path, so the
+the same :func:`~hipsim.rig.monitoring.monitor_fit.estimate_batch` on either path, so the
 rows are the same to the last bit. Each worker holds one snapshot at a time
 and the main process only the rows: memory does not grow with the test.
-The chart (:func:`~hipsim.rig.control_chart.chart`) is then drawn over all
+The chart (:func:`~hipsim.rig.monitoring.control_chart.chart`) is then drawn over all
 rows, old and new, and the table written whole, atomically.
 
 :func:`monitor` is the library's entry (``hipsim.monitor``): the table as a
@@ -24,9 +24,9 @@ from typing import Any
 
 import numpy as np
 
-from ..analysis.cluster import map_batches
-from ..exceptions import ArgumentError, HipsimError
-from ..machine.parameters import Parameters
+from ...analysis.cluster import map_batches
+from ...exceptions import ArgumentError, HipsimError
+from ...machine.parameters import Parameters
 from .control_chart import DEFAULT_ALARM_RISE, DEFAULT_BASELINE, Chart, chart
 from .monitor_fit import MonitorSetup, estimate_batch, reference
 from .monitor_table import COLUMNS, check_out, previous_rows, write_table
@@ -37,7 +37,7 @@ __all__ = ["MonitorResult", "MonitorTable", "monitor", "run_monitor", "run_snaps
 
 @dataclass(frozen=True)
 class MonitorTable:
-    """The table without pandas: columns by name (:data:`~hipsim.rig.monitor_table.COLUMNS`), one row a snapshot."""
+    """The table without pandas: columns by name (:data:`~hipsim.rig.monitoring.monitor_table.COLUMNS`), one row a snapshot."""
 
     columns: dict[str, list[Any]]
 
@@ -246,7 +246,7 @@ def monitor(
     """Follow a wear test's friction from its snapshots' motor torques (the library's ``hipsim monitor``).
 
     Args:
-        params: an identified parameter file (checked: :func:`hipsim.rig.monitor_fit.identified_file`), or a
+        params: an identified parameter file (checked: :func:`hipsim.rig.monitoring.monitor_fit.identified_file`), or a
             :class:`~hipsim.machine.parameters.Parameters` you vouch for (lever spin on).
         logs: snapshot files, a folder (its ``*.csv``) or a glob pattern, or a list of them; each with a ``cycle`` column.
         baseline: (FROM, TO) cycles, or ``"FROM:TO"``: the reference period after running-in.
@@ -260,7 +260,7 @@ def monitor(
         scheduler: a dask scheduler's address.
 
     Returns:
-        The table (columns :data:`~hipsim.rig.monitor_table.COLUMNS`): a pandas DataFrame when pandas is installed,
+        The table (columns :data:`~hipsim.rig.monitoring.monitor_table.COLUMNS`): a pandas DataFrame when pandas is installed,
         else a :class:`MonitorTable`.
     """
     from .control_chart import parse_baseline

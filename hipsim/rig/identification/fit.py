@@ -1,7 +1,7 @@
 """Identification of the machine's dynamic parameters from measured motor torques: the fit.
 
-What is estimated are the base parameters (:mod:`hipsim.rig.base`): the fixed
-combinations of the :data:`~hipsim.rig.quantities.QUANTITIES` that motor torques
+What is estimated are the base parameters (:mod:`hipsim.rig.identification.base`): the fixed
+combinations of the :data:`~hipsim.rig.identification.quantities.QUANTITIES` that motor torques
 can ever determine, defined by the machine's geometry alone, so every
 identification of one machine reports the same quantities with the same
 definitions, whatever the logs.
@@ -10,18 +10,18 @@ The fit (:func:`identify`). Each log's regressor rows and torques go
 through the log's own low-pass (the torques already have), so model and
 measurement share one bandwidth, and are kept every D-th sample (decimation
 to four times the cutoff); the samples around each motor's reversals are left
-out of that motor's rows (:func:`hipsim.rig.regressor.log_rows`). Rows are
+out of that motor's rows (:func:`hipsim.rig.identification.regressor.log_rows`). Rows are
 accumulated log by log and chunk by chunk into the triangular factor of a QR
 decomposition of [Y | τ] per motor, so memory does not grow with the log.
 
 Bayesian least squares. Every base parameter has a prior N(θ_b0, s_b²) from
-the starting machine (:mod:`hipsim.rig.prior`); each motor's rows are weighted
+the starting machine (:mod:`hipsim.rig.identification.prior`); each motor's rows are weighted
 by the inverse of its residual's standard deviation (from a first,
 unweighted fit), the information divided by the rows per independent row:
 those the low-pass leaves (rate/(2·cutoff) after decimation), or those of the
 model error the residual carries besides the noise, whichever is more
-(rate/(2·:data:`MODEL_ERROR_BANDWIDTH`): 4.2 at 1 kHz and 20 Hz), so that a
-95 % band covers the truth on held-out runs, and
+(rate/(2·:data:`~hipsim.rig.identification.regressor.MODEL_ERROR_BANDWIDTH`): 4.2 at 1 kHz and 20 Hz;
+:func:`~hipsim.rig.identification.regressor.rows_per_independent_row`), so that a 95 % band covers the truth on held-out runs, and
 
     θ̂_b = (YᵀWY + Σ₀⁻¹)⁻¹ (YᵀWτ + Σ₀⁻¹θ_b0),   Σ_post = (YᵀWY + Σ₀⁻¹)⁻¹.
 
@@ -36,7 +36,7 @@ far the data moved it from its prior, in prior standard deviations.
 The identified machine: the parameters folded into others keep their
 starting values, each base parameter's own takes the rest. If that machine is
 not physically consistent, the fit (data and prior) is solved again under the
-constraints of :mod:`hipsim.rig.consistency`; and it is refused if a value is
+constraints of :mod:`hipsim.rig.identification.consistency`; and it is refused if a value is
 outside the plausible ranges of this class of machine (:func:`hipsim.machine.parameters.implausible`).
 """
 
@@ -51,55 +51,30 @@ from typing import Any
 import numpy as np
 import scipy.linalg
 
-from ..exceptions import HipsimError
-from ..files import write_atomic
-from ..machine.parameters import Parameters, implausible, implausible_message
-from ..machine.toml_writer import parameter_toml, table_toml
+from ...exceptions import HipsimError
+from ...files import write_atomic
+from ...machine.parameters import Parameters, implausible, implausible_message
+from ...machine.toml_writer import parameter_toml, table_toml
+from ..compare import Comparison, compare_log
+from ..logs.log import Log
 from .base import BaseParameters, base_parameters
-from .compare import Comparison, compare_log
 from .consistency import consistent, violations
-from .logs import Log
 from .prior import HELD
 from .prior import prior as make_prior
-from .quantities import QUANTITIES, Quantity, friction_unit, standard_values, with_values
-from .regressor import decimation, log_rows, regressor, regressor_from_kinematics
-from .regressor import inflation as _filter_inflation
+from .quantities import QUANTITIES, standard_values, with_values
+from .regressor import log_rows, rows_per_independent_row
 from .validation import training_envelope, validation_note
 
 __all__ = [
     "DETERMINED",
-    "MODEL_ERROR_BANDWIDTH",
-    "QUANTITIES",
     "BaseEstimate",
     "Identification",
     "IdentifiedQuantity",
-    "Quantity",
-    "friction_unit",
     "identify",
-    "parameter_toml",
-    "regressor",
-    "regressor_from_kinematics",
-    "standard_values",
-    "with_values",
 ]
 
 #: A base parameter is determined by the logs when its posterior standard deviation is at most this of its prior's.
 DETERMINED = 0.5
-#: The bandwidth in [Hz] of the model error a residual carries besides the noise (sticking at reversals, the torque
-#: sensor's timing, the motion's own harmonics): rows closer than 1/(2·this) are not independent evidence of it.
-MODEL_ERROR_BANDWIDTH = 10.0
-
-
-def _inflation(log: Log) -> float:
-    """Rows per independent row of a log: the low-pass's ratio, and at least the model error's (:data:`MODEL_ERROR_BANDWIDTH`).
-
-    The residual's autocorrelation cannot show the model error's share: the part of it in the regressor's span is
-    absorbed by the fit, biasing the parameters without leaving a trace (measured on synthetic logs: a held-out
-    prediction's 95 % band covered 88 % of the true torque with the filter's ratio alone, 98 % with this).
-    """
-    rate = log.rate / decimation(log)  # the rows kept per second
-    bandwidth = MODEL_ERROR_BANDWIDTH if log.cutoff is None else min(log.cutoff, MODEL_ERROR_BANDWIDTH)
-    return max(_filter_inflation(log), rate / (2.0 * bandwidth))
 
 
 @dataclass(frozen=True)
@@ -199,7 +174,7 @@ class Identification:
         lever_spin: the model's lever spin.
         active_constraints: the physical-consistency constraints the solution sits on.
         validation: per held-out log, (the identified machine's comparison, the starting machine's).
-        notes: per held-out log, what :mod:`hipsim.rig.validation` says of it (per-phase errors, envelope warnings).
+        notes: per held-out log, what :mod:`hipsim.rig.identification.validation` says of it (per-phase errors, envelope warnings).
     """
 
     params: Parameters
@@ -433,7 +408,7 @@ def identify(
 
     Args:
         logs: the logs to fit (:func:`hipsim.rig.load_log`, or built from arrays), or logs
-            of any length read in pieces (:class:`~hipsim.rig.logs.LogPieces`: memory then does
+            of any length read in pieces (:class:`~hipsim.rig.logs.log.LogPieces`: memory then does
             not grow with the log, the fit is the same to round-off).
         params: the starting machine: its geometry and friction radii are used,
             and its values are the prior's means.
@@ -441,7 +416,7 @@ def identify(
         lever_spin: the model's levers spin as their universal joints impose (default) or not.
         fixed: parameters to hold at their starting values (a prior of zero uncertainty), by label, key or
             key prefix (``"lever"``, ``"friction.ujoint"``, ``"m_l"``).
-        prior: prior standard deviations by parameter (:mod:`hipsim.rig.prior`): a number in the file's
+        prior: prior standard deviations by parameter (:mod:`hipsim.rig.identification.prior`): a number in the file's
             unit or a text such as ``"10 %"``; None for the defaults.
         prior_source: what to call ``prior`` in messages (a file, ``--prior``).
 
@@ -468,7 +443,7 @@ def identify(
 
     accumulator = _Accumulator(P)
     for log in logs:
-        inflation = _inflation(log)
+        inflation = rows_per_independent_row(log)
         for Y, tau, use in log_rows(params, log, lever_spin):
             accumulator.add(Y, tau, use, inflation)
     rows_per_motor = np.asarray(accumulator.rows)

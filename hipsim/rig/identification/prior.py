@@ -1,7 +1,7 @@
 """The prior of an identification: the starting machine's values and how uncertain they are.
 
 Every base parameter is estimated with a prior N(θ_b0, diag(s_b²)) instead of
-being dropped when the logs excite it weakly (:mod:`hipsim.rig.identification`).
+being dropped when the logs excite it weakly (:mod:`hipsim.rig.identification.fit`).
 θ_b0 is the starting machine's base parameters; s_b comes from each standard
 parameter's prior standard deviation s:
 
@@ -29,8 +29,8 @@ from typing import Any
 
 import numpy as np
 
-from ..exceptions import HipsimError
-from ..machine.parameters import Parameters, read_toml
+from ...exceptions import HipsimError
+from ...machine.parameters import Parameters, read_toml
 from .base import BaseParameters
 from .quantities import QUANTITIES, standard_values
 

@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from ..machine.parameters import ATTRIBUTES, Parameters
+from ...machine.parameters import ATTRIBUTES, Parameters
 
 __all__ = [
     "AXES",

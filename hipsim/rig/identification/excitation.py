@@ -9,7 +9,7 @@ frequency f (so that cycles can be averaged):
     q_k(t) = c_k0 + Σ_{l=1..H} a_kl·sin(2πlft) + b_kl·cos(2πlft),   k = α, β, γ, F_e,
 
 whose coefficients minimise the condition number of the identification
-regressor (:func:`hipsim.rig.regressor.regressor`, columns scaled
+regressor (:func:`hipsim.rig.identification.regressor.regressor`, columns scaled
 to unit norm, for the parameters of ``quantities``; by default the platform
 inertia, the sliders' mass, the screws' rotor inertia and the hip, thrust
 and screw friction: what moves the motor torques most) over one period, subject, at
@@ -39,12 +39,12 @@ from typing import Any
 import numpy as np
 import scipy.optimize
 
-from ..analytic.inverse_kinematics import kinematics
-from ..analytic.virtual_work import inverse_dynamics
-from ..exceptions import HipsimError
-from ..files import write_columns
-from ..machine.parameters import Parameters
-from ..motion.trajectories import Trajectory, iso14242
+from ...analytic.inverse_kinematics import kinematics
+from ...analytic.virtual_work import inverse_dynamics
+from ...exceptions import HipsimError
+from ...files import write_columns
+from ...machine.parameters import Parameters
+from ...motion.trajectories import Trajectory, iso14242
 from .quantities import QUANTITIES
 from .regressor import regressor, regressor_from_kinematics
 

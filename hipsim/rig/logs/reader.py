@@ -18,7 +18,7 @@ in SI units; turning encoder heights into angles needs the machine, so that
 is done a layer up (:func:`hipsim.rig.load_log`).
 
 The reader's :class:`RigLog` is the samples as the file has them; the log the
-models take, filtered and differentiated, is :mod:`hipsim.rig.logs`'.
+models take, filtered and differentiated, is :mod:`hipsim.rig.logs.log`'.
 """
 
 from __future__ import annotations
@@ -34,12 +34,12 @@ from pathlib import Path
 
 import numpy as np
 
-from ..arrays import check_shapes
-from ..exceptions import TrajectoryError
-from ..motion.build import MAX_LOAD, check_time
-from ..motion.trajectories import ANGLE_NAMES
-from ..tables import blank, cells, detect_separator, open_text, text_lines
-from ..tables import number as parse_number
+from ...arrays import check_shapes
+from ...exceptions import TrajectoryError
+from ...motion.build import MAX_LOAD, check_time
+from ...motion.trajectories import ANGLE_NAMES
+from ...tables import blank, cells, detect_separator, open_text, text_lines
+from ...tables import number as parse_number
 
 __all__ = ["CURRENT_COLUMNS", "HEIGHT_COLUMNS", "TORQUE_COLUMNS", "RigLog", "RigLogFile", "read_rig_log"]
 

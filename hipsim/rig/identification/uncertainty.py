@@ -1,7 +1,7 @@
 """Uncertainty forward: the identified base parameters' covariance, read back, and 95 % bands on motor torques.
 
 An identified parameter file carries the ``[identification]`` table
-(:meth:`hipsim.rig.identification.Identification.table`): the base
+(:meth:`hipsim.rig.identification.fit.Identification.table`): the base
 parameters by name (``base``), their definitions, posterior ``value`` and
 ``std``, ``prior`` and ``prior_std``, and ``covariance`` (r × r, file units).
 :func:`read_covariance` reads and checks it; torque is linear in the base
@@ -19,9 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..exceptions import HipsimError
-from ..machine.parameters import Parameters, read_toml
-from ..motion.trajectories import Trajectory
+from ...exceptions import HipsimError
+from ...machine.parameters import Parameters, read_toml
+from ...motion.trajectories import Trajectory
 from .base import base_parameters
 from .regressor import regressor
 
@@ -147,7 +147,7 @@ def band_columns(
 
     A sample whose pose the regressor cannot take (flagged) gets NaN.
     """
-    from ..exceptions import PoseError
+    from ...exceptions import PoseError
 
     try:
         half = Z95 * torque_std(params, trajectory, covariance) * 1e3
@@ -162,11 +162,11 @@ def band_columns(
 
 
 def log_torque_std(params: Parameters, log, times: np.ndarray, covariance: Covariance) -> np.ndarray:
-    """:func:`torque_std` along a rig log (:class:`hipsim.rig.logs.Log`, window by window) at the samples of ``times`` in [s], (N, 3) [N·m].
+    """:func:`torque_std` along a rig log (:class:`hipsim.rig.logs.log.Log`, window by window) at the samples of ``times`` in [s], (N, 3) [N·m].
 
     ``times`` are samples of the log (a comparison's kept samples); one that is not gets NaN.
     """
-    from ..exceptions import PoseError
+    from ...exceptions import PoseError
 
     times = np.asarray(times, dtype=float)
     out = np.full((times.size, 3), np.nan)

@@ -22,13 +22,13 @@ from pathlib import Path
 
 import numpy as np
 
-from ..analytic.forward_kinematics import forward_kinematics
-from ..arrays import check_shapes
-from ..exceptions import ArgumentError, PoseError, TrajectoryError
-from ..machine.parameters import Parameters, load_parameters
-from ..motion.trajectories import ANGLE_NAMES, Trajectory
-from .filtering import DEFAULT_CUTOFF, edge_samples, filter_halo, lowpass, minimum_samples, reversal_half, smooth_motion
+from ...analytic.forward_kinematics import forward_kinematics
+from ...arrays import check_shapes
+from ...exceptions import ArgumentError, PoseError, TrajectoryError
+from ...machine.parameters import Parameters, load_parameters
+from ...motion.trajectories import ANGLE_NAMES, Trajectory
 from .reader import RigLogFile
+from .smoothing import DEFAULT_CUTOFF, edge_samples, filter_halo, lowpass, minimum_samples, reversal_half, smooth_motion
 
 __all__ = [
     "DEFAULT_CUTOFF",
@@ -114,7 +114,7 @@ class Log(ABC):
         """The log's description."""
         return LogInfo(self.name, self.rate, self.cutoff, self.motion_from, self.notes)
 
-    def close(self) -> None:
+    def close(self) -> None:  # noqa: B027 - a hook: a log in memory holds nothing to drop
         """Drop what the log holds outside memory (nothing, for a log in memory)."""
 
     def __enter__(self):
@@ -205,7 +205,7 @@ def load_log(
     """Read a rig log and make it ready for the models.
 
     Args:
-        path: the CSV log (columns in :mod:`hipsim.rig.reader`).
+        path: the CSV log (columns in :mod:`hipsim.rig.logs.reader`).
         params: the machine (for the encoders' forward kinematics); None for the published one.
         torque_constant: the motors' torque constant in [N·m/A], for logs of motor currents.
         cutoff: low-pass cutoff in [Hz] for motion, load and torques; None for
@@ -216,7 +216,7 @@ def load_log(
 
     Returns:
         The log, filtered and differentiated; its first and last
-        :func:`~hipsim.rig.filtering.edge_samples` samples are marked as the filter's edges.
+        :func:`~hipsim.rig.logs.smoothing.edge_samples` samples are marked as the filter's edges.
 
     Raises:
         TrajectoryError: naming the file, line and column: the reader's
@@ -230,7 +230,7 @@ def load_log(
 class LogPieces(Log):
     """A rig log read from its file in overlapping pieces, each made ready for the models as :func:`load_log` makes the whole.
 
-    The file is scanned once (:class:`~hipsim.rig.reader.RigLogFile`:
+    The file is scanned once (:class:`~hipsim.rig.logs.reader.RigLogFile`:
     every check, the times kept); encoder heights are turned into angles piece
     by piece, each piece continuing from the last pose of the one before, and
     the attitude sensor checked against them. :meth:`windows` then hands out
@@ -238,7 +238,7 @@ class LogPieces(Log):
     the log on either side: the low-pass, the spline, the model's low-pass and
     the reversal windows of a piece so see the log around it as the whole log
     does. The halo is two of the filter's transients
-    (:func:`~hipsim.rig.filtering.filter_halo`: its impulse response below
+    (:func:`~hipsim.rig.logs.smoothing.filter_halo`: its impulse response below
     round-off), the quintic spline's reach (its influence shrinks by
     :data:`SPLINE_DECAY` a sample) and a reversal window: the pieces then give
     the whole log's values to round-off (the forward kinematics, started from
@@ -276,7 +276,6 @@ class LogPieces(Log):
             notes.append(f"torques from the motor currents × {torque_constant:g} N·m/A")
         elif torque_constant is not None:
             notes.append("the log gives torques: the torque constant was not needed")
-        n = len(raw)
         if cutoff is None:
             self.edge, self.halo, smallest = 0, SPLINE_HALO, 6
         else:
@@ -340,7 +339,7 @@ class LogPieces(Log):
         """Sample times in [s], (N,)."""
         return self.raw.t
 
-    def close(self) -> None:
+    def close(self) -> None:  # noqa: B027 - a hook: a log in memory holds nothing to drop
         """Drop the temporary stores."""
         self.raw.close()
         if self._q is not None:

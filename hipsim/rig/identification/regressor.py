@@ -2,7 +2,7 @@
 
 The analytic inverse dynamics (spec §4) is linear in the inertial parameters
 of each body group and in the friction coefficients, θ the
-:data:`~hipsim.rig.quantities.QUANTITIES`. :func:`regressor` builds Y from that
+:data:`~hipsim.rig.identification.quantities.QUANTITIES`. :func:`regressor` builds Y from that
 linearity: the inverse dynamics of a machine whose parameters are all zero
 but one, set to one, is that parameter's column. Each body group lands in its
 own torque part (spec §4.4), so one call gives a column of every group at
@@ -12,13 +12,13 @@ load, the screw and guide terms with the motor speed, the lever-joint terms
 with their relative angular speeds, each through the same friction law the
 model uses (the friction coefficient is what is identified; radii, the
 platform mass and the smooth sign's ε are kept). The friction columns come
-from one function, :func:`~hipsim.rig.quantities.friction_unit`, so a
+from one function, :func:`~hipsim.rig.identification.quantities.friction_unit`, so a
 different bearing law changes them there and nowhere else.
 
 Rows of a log (:func:`log_rows`): the regressor along the log's motion,
 low-passed like the log and kept every D-th sample (decimation to four times
 the cutoff), the samples around each motor's reversals
-(:func:`~hipsim.rig.reversals.reversal_mask`) marked out of that motor's rows,
+(:func:`~hipsim.rig.logs.reversals.reversal_mask`) marked out of that motor's rows,
 chunk by chunk and window by window, so memory does not grow with the log.
 """
 
@@ -28,19 +28,31 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from ..analytic.inverse_kinematics import kinematics
-from ..analytic.virtual_work import inverse_dynamics
-from ..machine.parameters import Parameters
-from ..motion.trajectories import Trajectory
-from .filtering import lowpass, minimum_samples
-from .logs import Log, MeasuredLog
+from ...analytic.inverse_kinematics import kinematics
+from ...analytic.virtual_work import inverse_dynamics
+from ...machine.parameters import Parameters
+from ...motion.trajectories import Trajectory
+from ..logs.log import Log, MeasuredLog
+from ..logs.reversals import reversal_mask
+from ..logs.smoothing import lowpass, minimum_samples
 from .quantities import FRICTION, QUANTITIES, friction_unit, with_values
-from .reversals import reversal_mask
 
-__all__ = ["CHUNK", "decimation", "inflation", "log_rows", "regressor", "regressor_from_kinematics"]
+__all__ = [
+    "CHUNK",
+    "MODEL_ERROR_BANDWIDTH",
+    "decimation",
+    "inflation",
+    "log_rows",
+    "regressor",
+    "regressor_from_kinematics",
+    "rows_per_independent_row",
+]
 
 #: Samples per chunk of the regressor (memory: ~2 kB per sample while a chunk is computed and filtered).
 CHUNK = 50_000
+#: The bandwidth in [Hz] of the model error a residual carries besides the noise (sticking at reversals, the torque
+#: sensor's timing, the motion's own harmonics): rows closer than 1/(2·this) are not independent evidence of it.
+MODEL_ERROR_BANDWIDTH = 10.0
 
 
 def _unit_machines(params: Parameters) -> list[tuple[Parameters, dict[str, int]]]:
@@ -96,7 +108,7 @@ def regressor_from_kinematics(params: Parameters, kin, Fe: np.ndarray, lever_spi
     return Y
 
 
-def decimation(log: MeasuredLog) -> int:
+def decimation(log: Log) -> int:
     """Keep every D-th sample after the low-pass: four samples per period of the cutoff."""
     return 1 if log.cutoff is None else max(1, int(log.rate // (4.0 * log.cutoff)))
 
@@ -106,6 +118,27 @@ def inflation(log: Log) -> float:
     if log.cutoff is None:
         return 1.0
     return max(1.0, log.rate / decimation(log) / (2.0 * log.cutoff))
+
+
+def rows_per_independent_row(log: Log) -> float:
+    """Rows per independent row of a log: the low-pass's ratio (:func:`inflation`), and at least the model error's.
+
+    The floor every estimate from a log's rows divides its information by (identification, the monitor): the rows
+    kept per second over twice the bandwidth of the model error (:data:`MODEL_ERROR_BANDWIDTH`, or the cutoff when
+    that is lower), 4.2 at 1 kHz and a 20 Hz cutoff. The residual's autocorrelation cannot show the model error's
+    share: the part of it in the regressor's span is absorbed by the fit, biasing the parameters without leaving a
+    trace (measured on synthetic logs: a held-out prediction's 95 % band covered 88 % of the true torque with the
+    filter's ratio alone, 98 % with this).
+
+    Args:
+        log: the log (its rate in [Hz] and cutoff in [Hz] are used).
+
+    Returns:
+        Rows per independent row, ≥ 1.
+    """
+    rate = log.rate / decimation(log)  # the rows kept per second
+    bandwidth = MODEL_ERROR_BANDWIDTH if log.cutoff is None else min(log.cutoff, MODEL_ERROR_BANDWIDTH)
+    return max(inflation(log), rate / (2.0 * bandwidth))
 
 
 def _rows(

@@ -5,7 +5,7 @@ amplifies the noise, so the motion is low-passed before it is differentiated:
 a Butterworth filter of order :data:`FILTER_ORDER` run forwards and backwards
 (SciPy's ``sosfiltfilt``: zero phase, so nothing is delayed, and the squared
 magnitude response of order 2·4) at ``cutoff`` Hz, :data:`DEFAULT_CUTOFF` by
-default: the ISO gait and the excitations of :mod:`hipsim.rig.excitation`
+default: the ISO gait and the excitations of :mod:`hipsim.rig.identification.excitation`
 have their content below ~6 Hz, so 20 Hz passes it unchanged (gain 1 − 3e-7
 at 6 Hz) while cutting the noise power of a 1 kHz log 25-fold. The filtered
 angles are then differentiated through an interpolating quintic spline, as
@@ -25,9 +25,9 @@ import math
 import numpy as np
 from scipy.interpolate import make_interp_spline
 
-from ..exceptions import TrajectoryError
-from ..motion.filtering import EDGE_PERIODS, FILTER_ORDER, edge_samples, filter_halo, lowpass, minimum_samples
-from ..motion.trajectories import Trajectory
+from ...exceptions import TrajectoryError
+from ...motion.filtering import EDGE_PERIODS, FILTER_ORDER, edge_samples, filter_halo, lowpass, minimum_samples
+from ...motion.trajectories import Trajectory
 
 __all__ = [
     "DEFAULT_CUTOFF",
@@ -76,5 +76,5 @@ def smooth_motion(
 
 
 def reversal_half(rate: float, cutoff: float) -> int:
-    """Half-width in samples of the window around a reversal (:func:`hipsim.rig.reversals.reversal_mask`)."""
+    """Half-width in samples of the window around a reversal (:func:`hipsim.rig.logs.reversals.reversal_mask`)."""
     return int(math.ceil(REVERSAL_PERIODS * rate / cutoff))
