@@ -29,7 +29,7 @@ import math
 import tempfile
 from collections.abc import Iterator
 from dataclasses import dataclass
-from itertools import chain, islice
+from itertools import chain, dropwhile, islice, takewhile
 from pathlib import Path
 
 import numpy as np
@@ -207,19 +207,39 @@ class RigLogFile:
         path: the CSV file (columns in the module docstring).
         torque_constant: the motors' torque constant in [N·m/A], for logs of motor currents.
         block: lines parsed at a time.
+        keep: other columns to keep as they are (numbers, checked finite like every cell), in :attr:`kept` by name
+            when the file has them (e.g. a wear test's ``cycle`` counter).
+        rate: the sample rate in [Hz] to take the times from the sample index (t₀ + k/rate) when the file's time
+            stamps are too coarse to order the samples (too few significant digits); they must still not decrease
+            and span the same time to 1 %. None: the file's times, checked evenly spaced.
+        lines: (first, stop): read only the data lines first ≤ line < stop (a window of a long log; the header is
+            the file's), or None for all.
 
     Raises:
         TrajectoryError: as :func:`read_rig_log`.
     """
 
-    def __init__(self, path: str | Path, torque_constant: float | None = None, block: int = SCAN_LINES):
+    def __init__(
+        self,
+        path: str | Path,
+        torque_constant: float | None = None,
+        block: int = SCAN_LINES,
+        keep: tuple[str, ...] = (),
+        rate: float | None = None,
+        lines: tuple[int, int] | None = None,
+    ):
         self.source = source = str(path)
         with open_text(path, "log file", TrajectoryError) as stream:
             rows = _data_lines(text_lines(stream, source, "log file", TrajectoryError))
             header, header_line, separator, first_row = _header(rows, source)
             if first_row is not None:
                 rows = chain([first_row], rows)
+            if lines is not None:
+                first, stop = lines
+                rows = takewhile(lambda row: row[0] < stop, dropwhile(lambda row: row[0] < first, rows))
             self._layout(header, header_line, torque_constant)
+            kept_index = {name: header.index(name) for name in keep if name in header}
+            kept: dict[str, list[np.ndarray]] = {name: [] for name in kept_index}
             self._store = tempfile.TemporaryFile()
             times, numbers = [], []
             worst = {"torque": _Worst(), "angle": _Worst(), "height": _Worst()}
@@ -249,6 +269,8 @@ class RigLogFile:
                     high = (float(load[j]), int(at[j]))
                 times.append(columns[:, 0].copy())
                 numbers.append(at)
+                for name, c in kept_index.items():
+                    kept[name].append(values[:, c].copy())
                 columns.tofile(self._store)
         if not times:
             raise TrajectoryError("no samples below the header", source=source)
@@ -258,7 +280,9 @@ class RigLogFile:
         del times  # one copy at a time: an hour's log has 3.6 M of each
         self.lines = np.concatenate(numbers)
         del numbers
-        self._check(worst, low, high)
+        #: The columns asked for with ``keep`` that the file has, by name, (N,) each.
+        self.kept = {name: np.concatenate(parts) for name, parts in kept.items()}
+        self._check(worst, low, high, rate)
 
     # The columns of the store, in SI: t, Fe, τ (3), then the angles (3) and the heights (3) when the log has them.
     def _layout(self, header: list[str], header_line: int, torque_constant) -> None:
@@ -337,7 +361,7 @@ class RigLogFile:
             parts.append(values[:, self._height_index] * 1e-3)
         return np.ascontiguousarray(np.column_stack(parts))
 
-    def _check(self, worst: dict[str, _Worst], low, high) -> None:
+    def _check(self, worst: dict[str, _Worst], low, high, rate: float | None = None) -> None:
         source = self.source
         torque = worst["torque"]
         if abs(torque.value) * self._scale * 1e3 > MAX_TORQUE_NMM:
@@ -369,7 +393,10 @@ class RigLogFile:
             )
         if self.t.size < 2:
             raise TrajectoryError(f"{self.t.size} sample; a log needs many", source=source)
-        check_time(self.t, 0.0, source, self.lines, "t_s", even=True)
+        if rate is None:
+            check_time(self.t, 0.0, source, self.lines, "t_s", even=True)
+        else:
+            self._times_from_index(rate)
         for load, line in (low, high):
             if load < 0:
                 raise TrajectoryError(
@@ -379,6 +406,31 @@ class RigLogFile:
                 raise TrajectoryError(
                     f"load {load:g} N is beyond {MAX_LOAD:g} N (a unit slip?)", source=source, line=line, column="Fe_N"
                 )
+
+    def _times_from_index(self, rate: float) -> None:
+        """t₀ + k/rate in place of time stamps too coarse to order the samples; they must not decrease and must span
+        the same time to 1 % (else the rate is not the log's)."""
+        source = self.source
+        if isinstance(rate, bool) or not (isinstance(rate, (int, float)) and math.isfinite(rate) and rate > 0):
+            raise TrajectoryError(f"the sample rate must be a positive number in Hz, got {rate!r}", source=source)
+        down = np.flatnonzero(np.diff(self.t) < 0)
+        if down.size:
+            k = int(down[0]) + 1
+            raise TrajectoryError(
+                f"time {self.t[k]:g} s decreases (previous {self.t[k - 1]:g} s)",
+                source=source,
+                line=int(self.lines[k]),
+                column="t_s",
+            )
+        span, expected = float(self.t[-1] - self.t[0]), (self.t.size - 1) / rate
+        if abs(span - expected) > 0.01 * expected:
+            raise TrajectoryError(
+                f"the times span {span:.6g} s, the {self.t.size} samples at {rate:g} Hz {expected:.6g} s: "
+                "is the sample rate the log's?",
+                source=source,
+                column="t_s",
+            )
+        self.t = self.t[0] + np.arange(self.t.size) / rate
 
     def __len__(self) -> int:
         return self.t.size
