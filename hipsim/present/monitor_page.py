@@ -196,7 +196,10 @@ def _shown(result: MonitorResult) -> tuple[str, ...]:
             "hip_mu_change_2",
         ]
     names += ["weight_friction_Nmm", "weight_friction_Nmm_std", "screw_coulomb_Nmm", "screw_viscous_Nmm_s_rad"]
-    names += ["ewma_mm", "lcl_mm", "ucl_mm", "residual_rms_Nmm"]
+    names += ["ewma_mm", "lcl_mm", "ucl_mm"]
+    if result.findings.stations is not None:
+        names += [f"{name}_{p}_mm" for p in (1, 2) for name in ("ewma", "lcl", "ucl")]
+    names += ["residual_rms_Nmm"]
     if any(math.isfinite(v) for v in c["load_gain"]):
         names += ["load_gain", "load_gain_change"]
     return (*names, "stations", "flag", "note")

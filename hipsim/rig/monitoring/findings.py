@@ -75,15 +75,34 @@ def _gain_for(change: float, a0_mm: float, hip_radius_mm: float) -> float:
     return a0_mm / (a0_mm + change * hip_radius_mm) - 1.0
 
 
-def load_cell_text(change: float, a0_mm: float, hip_radius_mm: float) -> str:
-    """The sentence on the load-cell alternative to a change of μ_h."""
+def load_cell_text(change: float, a0_mm: float, hip_radius_mm: float, gain_change: float = math.nan) -> str:
+    """The sentence on the load-cell alternative to a change of μ_h, and what the commanded load says when logged.
+
+    Args:
+        change: the change of μ_h.
+        a0_mm: the baseline's load term in [mm].
+        hip_radius_mm: r_h in [mm].
+        gain_change: the snapshot's measured over commanded load relative to the baseline's, minus 1 (NaN: not logged).
+    """
     g = _gain_for(change, a0_mm, hip_radius_mm)
     three = 0.03 / 1.03 * a0_mm / hip_radius_mm
-    return (
-        f"or the load cell's calibration: the load term cannot tell friction from a load-cell gain drift, and a drift "
-        f"of {g:+.1%} alone reads as this change (±3 % reads as ∓{three:.4f}); tell them apart by checking the load "
-        "cell against a reference load, or by logging the commanded load (Fe_cmd_N) to compare with the measured one "
-        "per snapshot"
+    text = (
+        "or the load cell's calibration: the load term cannot tell friction from a load-cell gain drift, and a drift "
+        f"of {100 * g:+.1f} % alone reads as this change (±3 % reads as ∓{three:.4f}); "
+    )
+    if not math.isfinite(gain_change):
+        return text + (
+            "tell them apart by checking the load cell against a reference load, or log the commanded load "
+            "(Fe_cmd_N) to compare with the measured one per snapshot"
+        )
+    if abs(gain_change) > LOAD_GAIN_DRIFT:
+        return text + (
+            f"the commanded load logged with it says the measured load drifted by {100 * gain_change:+.1f} % since "
+            "the baseline: check the load cell's calibration"
+        )
+    return text + (
+        f"the commanded load logged with it agrees with the measured one within {LOAD_GAIN_DRIFT:.0%} of the "
+        "baseline's ratio: not the load cell"
     )
 
 
@@ -94,7 +113,9 @@ def change_text(change: float, worst: float, where: str) -> str:
     return f"{change:+.4f} in {where}"
 
 
-def _describe(k: int, rows, c: Chart, where: str, a0_mm: float, hip_radius_mm: float, kind: str) -> dict[str, Any]:
+def _describe(
+    k: int, rows, c: Chart, where: str, a0_mm: float, hip_radius_mm: float, kind: str, gain_change: float
+) -> dict[str, Any]:
     change = float(c.change[k])
     return {
         "cycle": int(rows[k]["cycle"]),
@@ -110,7 +131,7 @@ def _describe(k: int, rows, c: Chart, where: str, a0_mm: float, hip_radius_mm: f
         "text": f"{kind}: the hip friction coefficient {'rose' if change > 0 else 'fell'} by "
         + change_text(change, c.worst, where)
         + f" ± {c.change_std[k] * c.worst:.2g}: the specimen's friction, "
-        + load_cell_text(change, a0_mm, hip_radius_mm),
+        + load_cell_text(change, a0_mm, hip_radius_mm, gain_change),
     }
 
 
@@ -152,6 +173,9 @@ def find(
         ]
         if all(not c.note for c in each):
             stations = (each[0], each[1])
+    gain = column("load_gain") if rows else np.zeros(0)
+    inside = (mean.phase == "baseline") & np.isfinite(gain)
+    gain_change = gain / float(np.mean(gain[inside])) - 1.0 if inside.any() else np.full(len(rows), math.nan)
     flag, alarm = [], np.zeros(len(rows), dtype=int)
     first = latest = None
     for k in range(len(rows)):
@@ -166,16 +190,13 @@ def find(
                 continue
             verb = "rises" if c.change[k] > 0 else "falls"
             texts.append(f"{kind}: {where} {verb}" + (" (up to twice in one station)" if c.worst > 1 else ""))
-            described = _describe(k, rows, c, where, mean.mean, hip_radius_mm, kind)
+            described = _describe(k, rows, c, where, mean.mean, hip_radius_mm, kind, float(gain_change[k]))
             if kind == "alarm":
                 alarm[k] = 1
                 first = first or described
             else:
                 latest = described
         flag.append("; ".join(texts))
-    gain = column("load_gain") if rows else np.zeros(0)
-    inside = (mean.phase == "baseline") & np.isfinite(gain)
-    gain_change = gain / float(np.mean(gain[inside])) - 1.0 if inside.any() else np.full(len(rows), math.nan)
     notes = _notes(rows, gain_change)
     return Findings(mean, stations, flag, alarm, first, latest, gain_change, notes)
 
@@ -189,7 +210,7 @@ def _notes(rows, gain_change: np.ndarray) -> list[str]:
         if samples[k] < INCOMPLETE * typical:
             said.append(f"incomplete: {samples[k]:,} of {typical:,.0f} samples")
         if abs(gain_change[k]) > LOAD_GAIN_DRIFT:
-            said.append(f"load cell: measured over commanded load {gain_change[k]:+.1%} since the baseline")
+            said.append(f"load cell: measured over commanded load {100 * gain_change[k]:+.1f} % since the baseline")
         notes.append("; ".join(said))
     return notes
 

@@ -158,6 +158,7 @@ class MonitorResult:
             "note": chart.note,
             "fingerprint": self.fingerprints["setup"],
             "parameters": self.setup.params.source,
+            "table": self.columns,
         }
 
 
