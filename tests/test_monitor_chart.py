@@ -14,6 +14,7 @@ import pytest
 
 from hipsim.exceptions import ArgumentError
 from hipsim.rig.monitoring.control_chart import chart
+from hipsim.rig.monitoring.findings import missing_cycles
 
 R_H = 10.0  # mm
 CYCLES = [0, 10, 20, 30, 40, 50]
@@ -81,3 +82,16 @@ def test_bad_options_refused(name, value):
     options = {"alarm_rise": 0.01, "worst": 1.0} | {name: value}
     with pytest.raises(ArgumentError, match=name):
         chart(CYCLES, [1.0] * 6, [0.1] * 6, R_H, BASELINE, options["alarm_rise"], options["worst"])
+
+
+@pytest.mark.parametrize(
+    ("cycles", "missing"),
+    [
+        ([0, 250, 500, 1000, 1500], [750, 1250]),  # two gone: the spacing is still 250
+        ([0, 250, 500, 1250], [750, 1000]),
+        ([0, 100, 205, 300, 390], []),  # irregular, no gap beyond 1.5 spacings
+        ([0, 250], []),  # too few to know the spacing
+    ],
+)
+def test_missing_snapshots_by_hand(cycles, missing):
+    assert missing_cycles(cycles) == missing

@@ -216,14 +216,17 @@ def _notes(rows, gain_change: np.ndarray) -> list[str]:
 
 
 def missing_cycles(cycles: Sequence[int]) -> list[int]:
-    """The first cycles of snapshots missing from a regular sequence: gaps beyond 1.5 times the median spacing.
+    """The first cycles of snapshots missing from a regular sequence: gaps beyond 1.5 times the spacing.
 
-    Needs three snapshots or more (two spacings) to know the spacing; none missing otherwise.
+    The spacing is the median of the spacings near the smallest (within 1.5 times it) when they are a third of all
+    or more (several snapshots missing do not widen it), else the median spacing. Needs three snapshots or more.
     """
     first = sorted(set(int(c) for c in cycles))
     if len(first) < 3:
         return []
-    spacing = float(np.median(np.diff(first)))
+    steps = np.diff(first)
+    regular = steps[steps <= 1.5 * steps.min()]
+    spacing = float(np.median(regular if 3 * regular.size >= steps.size else steps))
     missing = []
     for before, after in zip(first, first[1:]):
         if after - before > 1.5 * spacing:
