@@ -275,8 +275,23 @@ def test_an_identification_table_is_accepted(one, tmp_path, capsys):
     assert identified_file(path) is True
 
 
-def test_a_long_log_in_windows(params, tmp_path):
+def test_a_long_log_in_windows_writes_no_temporary_file(params, tmp_path, monkeypatch):
+    import builtins
+    import hashlib
+    import tempfile
+
     write_snapshot(tmp_path / "long.csv", params, 0.1, 100, np.random.default_rng(2), cycles=7)
+    opened = []
+
+    def reading_only(file, mode="r", *args, **kwargs):
+        assert not set(mode) & set("wax+"), f"{file} opened to write"
+        opened.append(str(file))
+        return real_open(file, mode, *args, **kwargs)
+
+    real_open = builtins.open
+    monkeypatch.setattr(builtins, "open", reading_only)
+    for name in ("TemporaryDirectory", "NamedTemporaryFile", "mkstemp", "mkdtemp"):
+        monkeypatch.setattr(tempfile, name, None)  # calling any of them fails
     snapshots = find_snapshots(tmp_path, window=2)
     assert [(s.first_cycle, s.last_cycle) for s in snapshots] == [
         (100, 101),
@@ -284,10 +299,20 @@ def test_a_long_log_in_windows(params, tmp_path):
         (104, 105),
     ]  # 106 waits for 107
     result = run_monitor(MonitorSetup(params, window=2), snapshots)
+    monkeypatch.undo()
     f = params.friction
     truth = (f.hip_radius * 0.1 + f.thrust_radius * f.thrust_mu) * 1e3
     assert result.columns["file"] == ["long.csv[100-101]", "long.csv[102-103]", "long.csv[104-105]"]
     assert np.allclose(result.columns["load_friction_mm"], truth, rtol=0.02)
+    # The finder reads the file twice (the reader's scan of its counter, one pass hashing each window's lines),
+    # each window's estimate once (its lines).
+    assert opened == [str(tmp_path / "long.csv")] * 5
+    # A window's identity is the SHA-256 of its own lines: those of cycles 102-103 (the header not among them).
+    lines = (tmp_path / "long.csv").read_text(encoding="utf-8").splitlines(keepends=True)
+    cycle = [line.split(",")[1] for line in lines[1:]]
+    window = "".join(line for line, c in zip(lines[1:], cycle) if c in ("102", "103"))
+    assert snapshots[1].sha256 == hashlib.sha256(window.encode()).hexdigest()
+    assert snapshots[1].size == len(window.encode())
 
 
 def test_without_pandas_a_table_of_columns(params, test_logs, monkeypatch):

@@ -210,31 +210,32 @@ def find_snapshots(
     left: list[Skipped] = []
     now = time.time()
     for path in _paths(logs):
+        name = Path(path).name
         try:
-            age = now - os.stat(path).st_mtime
-            size, sha, newline = _identity(path, cache)
-        except OSError as error:  # gone between the listing and now
-            left.append(Skipped(Path(path).name, path, f"{path}: cannot read ({error.strerror})"))
-            continue
-        whole = Snapshot(path, size, sha, ends_with_newline=newline)
-        if age < settle:
-            left.append(
-                Skipped(
-                    whole.name,
-                    path,
-                    f"{path}: changed {max(age, 0.0):.3g} s ago: still being written? read once unchanged for "
-                    f"{settle:g} s",
-                    "waiting",
+            status = os.stat(path)
+            age = now - status.st_mtime
+            if age < settle:
+                left.append(
+                    Skipped(
+                        name,
+                        path,
+                        f"{path}: changed {max(age, 0.0):.3g} s ago: still being written? read once unchanged for "
+                        f"{settle:g} s",
+                        "waiting",
+                    )
                 )
-            )
-            continue
-        if window is None:
-            snapshots.append(whole)
+                continue
+            if window is None:
+                size, sha, newline = _identity(path, cache)
+                snapshots.append(Snapshot(path, size, sha, ends_with_newline=newline))
+                continue
+        except OSError as error:  # gone between the listing and now
+            left.append(Skipped(name, path, f"{path}: cannot read ({error.strerror})"))
             continue
         try:
             snapshots += _windows(path, int(window), torque_constant, rate)
         except HipsimError as error:
-            left.append(skipped(whole, error))
+            left.append(skipped(Snapshot(path, status.st_size, ""), error))
     return snapshots, left
 
 
