@@ -239,11 +239,15 @@ def run(args) -> int:
     return 1 if summary["alarm_active"] else 0
 
 
-def _outputs(args, result, provenance) -> dict:
-    """Warnings for the skipped snapshots (standard error), the page when asked; the summary."""
+def _outputs(args, result, provenance, said: set | None = None) -> dict:
+    """Warnings for the skipped snapshots (standard error; with ``said``, each once), the page when asked; the summary."""
     for skipped in result.skipped:
         label = "waiting" if skipped.kind == "waiting" else "skipped"
-        print(f"hipsim: warning: {label} {skipped.name}: {skipped.reason}", file=sys.stderr)
+        line = f"hipsim: warning: {label} {skipped.name}: {skipped.reason}"
+        if said is None or line not in said:
+            print(line, file=sys.stderr)
+        if said is not None:
+            said.add(line)
     summary = result.summary() | {"out": args.out, "provenance": provenance.as_dict()}
     if args.report:
         from ..present.monitor_page import write_monitor_report
@@ -261,8 +265,10 @@ def _watch(args, setup, baseline, provenance, metadata) -> int:
     from ..files import json_ready
     from ..rig.monitoring.watch import watch
 
+    said: set[str] = set()
+
     def update(result) -> None:
-        summary = _outputs(args, result, provenance)
+        summary = _outputs(args, result, provenance, said)
         last = result.columns
         print(
             f"{len(last['cycle'])} snapshots to cycle {summary['last_cycle']}: "

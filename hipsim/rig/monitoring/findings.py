@@ -190,7 +190,7 @@ def find(
                 continue
             verb = "rises" if c.change[k] > 0 else "falls"
             texts.append(f"{kind}: {where} {verb}" + (" (up to twice in one station)" if c.worst > 1 else ""))
-            described = _describe(k, rows, c, where, mean.mean, hip_radius_mm, kind, float(gain_change[k]))
+            described = _describe(k, rows, c, where, c.mean, hip_radius_mm, kind, float(gain_change[k]))
             if kind == "alarm":
                 alarm[k] = 1
                 first = first or described
