@@ -13,6 +13,7 @@ import json
 import math
 import sys
 from pathlib import Path
+from typing import Any
 
 from ..exceptions import HipsimError
 from ..present.tables import format_table
@@ -223,13 +224,11 @@ def _plausible(log, params, args) -> None:
         print(f"hipsim: warning: {warning}", file=sys.stderr)
 
 
-def _check_logs(args, params) -> None:
-    """Each ``--log`` and ``--validate`` file checked by :func:`_plausible` before any fit (each read once more)."""
-    if not args.plausibility_check:
-        return
-    for path in [*args.log, *getattr(args, "validate", [])]:
-        with _pieces(path, params, args) as log:
-            _plausible(log, params, args)
+def _hashed(log):
+    """A log's file as the page's provenance lists it, hashed as it was read (the file is not opened again)."""
+    from ..present.provenance import InputFile
+
+    return InputFile("log", str(Path(log.source)), log.sha256, log.size)
 
 
 def run_compare(args) -> int:
@@ -246,9 +245,7 @@ def run_compare(args) -> int:
     _check_log_options(args)
     check_folder(Path(args.out))  # a bad folder is refused before the work
     with _pieces(args.log, params, args) as log:  # in pieces: memory does not grow with the log
-        provenance = page_provenance(
-            args, log=args.log
-        )  # hashed before the work (once the log is known to be there): the log as it was read
+        provenance = page_provenance(args, log=_hashed(log))  # the log as it was read, hashed by its one read
         _plausible(log, params, args)  # a unit slip refused before the comparison
         comparison = compare_log(
             params, log, lever_spin=not args.spin_free_levers, period=args.period, progress=progress("compare")
@@ -392,7 +389,6 @@ def run_identify(args) -> int:
         raise HipsimError(f"--out {args.out}: expected a .toml parameter file name")
     _check_log_options(args)
     params = parameters(args)
-    _check_logs(args, params)  # a unit slip in a log refused before the fit (hipsim.rig.plausibility)
     _not_an_input(args.out, [*args.log, *args.validate, args.params or ""], "--out")
     if args.json:
         _not_an_input(args.json, [*args.log, *args.validate, args.params or "", args.out], "--json")
@@ -405,11 +401,15 @@ def run_identify(args) -> int:
         source = "--prior"
     fixed = [name.strip() for name in (args.fix or "").split(",") if name.strip()]
     with contextlib.ExitStack() as stack:  # the logs in pieces: memory does not grow with their length
-        logs = [stack.enter_context(_pieces(path, params, args)) for path in args.log]
-        validate = [stack.enter_context(_pieces(path, params, args)) for path in args.validate]
+        logs: list[Any] = []
+        validate: list[Any] = []
+        for paths, opened in ((args.log, logs), (args.validate, validate)):
+            for path in paths:  # each file read once: scanned, checked, hashed; its pieces then come from that read
+                opened.append(stack.enter_context(_pieces(path, params, args)))
+                _plausible(opened[-1], params, args)  # a unit slip refused before the fit (hipsim.rig.plausibility)
         provenance = page_provenance(
-            args, log=args.log, validate=args.validate
-        )  # the files hashed once they are known to open
+            args, log=[_hashed(log) for log in logs], validate=[_hashed(log) for log in validate]
+        )
         result = identify(
             logs,
             params,
@@ -421,11 +421,11 @@ def run_identify(args) -> int:
         )
 
     from ..files import write_atomic
+    from ..rig.identification.identified_file import FileProvenance
 
-    first, rest = result.toml().split("\n", 1)  # the header's first line marks the file as identified: it stays first
     document = {"provenance": provenance.as_dict()} | result.summary()
     json_text = json.dumps(json_ready(document), indent=2) + "\n" if args.json else None
-    path = write_atomic(args.out, first + "\n" + _provenance_comment(provenance) + rest)
+    path = result.write_toml(args.out, FileProvenance.from_dict(provenance.as_dict()))
     if json_text is not None:
         write_atomic(args.json, json_text)
     if args.summary_format == "json":
@@ -435,7 +435,7 @@ def run_identify(args) -> int:
         f"logs: {', '.join(result.logs)}; {result.rows} samples (after filtering, decimation and the windows around reversals)"
     )
     print(f"starting parameters: {params.source}")
-    rows = [
+    rows: list[list[Any]] = [
         [
             e.definition if len(e.definition) < 60 else e.definition[:57] + "…",
             f"{e.value:.6g}",
@@ -490,18 +490,6 @@ def run_identify(args) -> int:
             print(note.text())
     print(f"\nwrote {path}" + (f" and {args.json}" if args.json else ""))
     return 0
-
-
-def _provenance_comment(provenance) -> str:
-    """Comment lines for an identified parameter file: the version, time, command and each input's SHA-256."""
-    lines = [f"# Made by hipsim {provenance.version} on {provenance.created} (UTC): {provenance.command}"]
-    lines += [f"#   {f.role} {f.path}: SHA-256 {f.sha256}" for f in provenance.inputs]
-    lines += [
-        f"# {label}: {value}"
-        for label, value in (("Title", provenance.title), ("Author", provenance.author), ("Rig", provenance.rig))
-        if value
-    ]
-    return "\n".join(lines) + "\n"
 
 
 def run_excite(args) -> int:

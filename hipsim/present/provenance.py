@@ -12,16 +12,16 @@ package's own file is the published machine; a file that ``hipsim identify``
 wrote carries its ``[identification]`` table (the logs fitted, the starting
 parameters, every base parameter with its definition, value, standard
 deviation and whether the logs determined it, the held-out (validation)
-errors), and those are read back from it (from its comment header for a file
-written before the table existed); any other file is the user's; ``--set``
-overrides are listed key by key.
+errors, and what made it), read back through
+:mod:`hipsim.rig.identification.identified_file` (the one reader of those
+files; a file written before the tables is read from its comment header); any
+other file is the user's; ``--set`` overrides are listed key by key.
 """
 
 from __future__ import annotations
 
 import datetime as _datetime
 import hashlib
-import re
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -36,9 +36,6 @@ __all__ = [
     "parameter_origin",
     "provenance",
 ]
-
-#: The first line of a parameter file ``hipsim identify`` wrote.
-IDENTIFIED_MARK = "# Identified by hipsim identify"
 
 
 @dataclass(frozen=True)
@@ -207,194 +204,51 @@ def file_sha256(path: str | Path) -> str:
     return digest.hexdigest()
 
 
-def _input(role: str, path: str | Path) -> InputFile:
+def _input(role: str, path: str | Path | InputFile) -> InputFile:
+    if isinstance(path, InputFile):  # hashed already, as it was read
+        return InputFile(role, path.path, path.sha256, path.size)
     path = Path(path)
     return InputFile(role, str(path), file_sha256(path), path.stat().st_size)
 
 
-_QUANTITY_LINE = re.compile(
-    r"^# +(?P<expr>.+?) = (?P<value>\S+) ± (?P<std>\S+) ?(?P<unit>[^(]*?) ?\((?P<relative>[^)]*)\)$"
-)
-_VALIDATION_LINE = re.compile(r"^# +(?P<log>.+?): (?P<errors>M1 .*) N·mm$")
-_MADE_LINE = re.compile(r"^# (?P<made>Made by hipsim .*)$")
-_HASH_LINE = re.compile(r"^#   (?P<role>\S+) (?P<path>.+): SHA-256 (?P<sha>[0-9a-f]{64})$")
-_HELD_LINE = re.compile(r"^# +(?P<label>\S+) = \S+ .*?: (?P<reason>.+)$")
-
-
-def _labels() -> dict[str, str]:
-    """The identification's short names → parameter keys (``m_L`` → ``slider.mass_kg``)."""
-    from ..rig.identification.quantities import QUANTITIES
-
-    return {q.label: q.key for q in QUANTITIES}
-
-
-def _read_identified_header(lines: Sequence[str]) -> dict[str, Any]:
-    """What ``hipsim identify`` wrote in a parameter file's comment header (:meth:`hipsim.rig.identification.fit.Identification.toml`)."""
-    labels = _labels()
-    found: dict[str, Any] = {
-        "logs": (),
-        "start": "",
-        "validation": [],
-        "identified": [],
-        "combined": [],
-        "held": [],
-        "made": "",
-        "hashes": [],
-    }
-    section = ""
-    for line in lines:
-        if not line.startswith("#"):
-            break
-        if _MADE_LINE.match(line):
-            found["made"] = _MADE_LINE.match(line)["made"]
-        elif not section and _HASH_LINE.match(line):
-            match = _HASH_LINE.match(line)
-            found["hashes"].append((match["role"], match["path"], match["sha"]))
-        elif line.startswith("# From the logs: "):
-            names = line[len("# From the logs: ") :].rsplit(" (", 1)[0]
-            found["logs"] = tuple(name.strip() for name in names.split(", ") if name.strip())
-        elif line.startswith("# Starting parameters: "):
-            found["start"] = line[len("# Starting parameters: ") :].rstrip(".")
-        elif line.startswith("# Identified ("):
-            section = "identified"
-        elif line.startswith("# Not identified"):
-            section = "held"
-        elif line.startswith("# Validation"):
-            section = "validation"
-        elif line.startswith("#  ") and section == "identified":  # identify writes these with two spaces
-            match = _QUANTITY_LINE.match(line)
-            if match is None:
-                continue
-            expression = match["expr"]
-            label = re.split(r" [+−] ", expression, maxsplit=1)[0]
-            if label not in labels:
-                continue
-            for term in re.findall(r"·([^\s·+−]+)", expression):
-                if term in labels:
-                    found["combined"].append(labels[term])
-            try:
-                value, std = float(match["value"]), float(match["std"])
-            except ValueError:
-                continue
-            found["identified"].append(
-                IdentifiedValue(
-                    labels[label], label, value, std, match["unit"].strip(), expression if expression != label else ""
-                )
-            )
-        elif line.startswith("#  ") and section == "held":
-            match = _HELD_LINE.match(line)
-            if match is not None and match["label"] in labels:
-                found["held"].append((labels[match["label"]], match["reason"]))
-        elif line.startswith("#  ") and section == "validation":
-            match = _VALIDATION_LINE.match(line)
-            if match is None:
-                continue
-            pairs = re.findall(r"M\d (\S+) vs (\S+)", match["errors"])
-            try:
-                found["validation"].append((match["log"], tuple((float(a), float(b)) for a, b in pairs)))
-            except ValueError:
-                continue
-    return found
-
-
-def _read_identification_table(path: str | Path) -> dict[str, Any]:
-    """What the file's ``[identification]`` table says (:meth:`hipsim.rig.identification.fit.Identification.table`), in the
-    shape of :func:`_read_identified_header`; empty when the file has no such table (the header's reading then stands)."""
-    import tomllib
-
-    try:
-        table = tomllib.loads(Path(path).read_text(encoding="utf-8")).get("identification")
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
-        return {}
-    columns = ("base", "keys", "units", "value", "std", "determined", "definitions")
-    if not isinstance(table, dict) or not all(isinstance(table.get(c), list) for c in columns):
-        return {}
-    if len({len(table[c]) for c in columns}) != 1:
-        return {}
-    labels = _labels()
-    identified, combined, held = [], [], []
-    for label, key, unit, value, std, determined, definition in zip(*(table[c] for c in columns)):
-        terms = [term for term in re.findall(r"·([^\s·+−]+)", str(definition)) if term in labels]
-        if determined:
-            identified.append(
-                IdentifiedValue(
-                    str(key),
-                    str(label),
-                    float(value),
-                    float(std),
-                    str(unit),
-                    str(definition) if definition != label else "",
-                )
-            )
-            combined += [labels[term] for term in terms]
-        else:
-            held.append(
-                (
-                    str(key),
-                    f"not determined by these logs: near its prior ({float(value):.6g} ± {float(std):.2g} {unit})".replace(
-                        " )", ")"
-                    ),
-                )
-            )
-            held += [(labels[term], f"folded into {label}, not determined by these logs") for term in terms]
-    found: dict[str, Any] = {"identified": identified, "combined": combined, "held": held}
-    if isinstance(table.get("logs"), list):
-        found["logs"] = tuple(str(name) for name in table["logs"])
-    if isinstance(table.get("start"), str):
-        found["start"] = table["start"]
-    names, errors, starting = (
-        table.get(c) for c in ("validation_logs", "validation_rms_error_Nmm", "validation_start_rms_error_Nmm")
-    )
-    if (
-        isinstance(names, list)
-        and isinstance(errors, list)
-        and isinstance(starting, list)
-        and len(names) == len(errors) == len(starting)
-    ):
-        try:
-            found["validation"] = [
-                (str(name), tuple((float(a), float(b)) for a, b in zip(e, s0)))
-                for name, e, s0 in zip(names, errors, starting)
-            ]
-        except (TypeError, ValueError):
-            pass
-    return found
-
-
 def parameter_origin(path: str | Path | None, overrides: Iterable[str] = ()) -> ParameterOrigin:
     """Where the values of a parameter file (None: the published machine) and its ``--set`` overrides came from.
+
+    An identified file is read through :func:`hipsim.rig.identification.identified_file.read_identified_file`
+    (its tables; an old file's comment header), so its comments change nothing.
 
     Args:
         path: the ``--params`` file; None for the package's published machine.
         overrides: the ``--set`` texts, KEY=VALUE.
     """
     from ..machine.parameters import default_parameters_path
+    from ..rig.identification.identified_file import read_identified_file
 
     published = default_parameters_path()
     file = _input("parameters", published if path is None else path)
     overrides = tuple(overrides)
     if path is None or Path(path).resolve() == published.resolve():
         return ParameterOrigin(file, "published", overrides=overrides)
-    try:
-        lines = Path(path).read_text(encoding="utf-8").splitlines()
-    except (OSError, UnicodeDecodeError):
-        lines = []
-    if not lines or not lines[0].startswith(IDENTIFIED_MARK):
+    found = read_identified_file(path)
+    if found is None:
         return ParameterOrigin(file, "file", overrides=overrides)
-    header = _read_identified_header(lines)
-    header |= _read_identification_table(path)
+    made = found.provenance
     return ParameterOrigin(
         file,
         "identified",
-        start=header["start"],
-        logs=header["logs"],
-        validation=tuple(header["validation"]),
-        identified=tuple(header["identified"]),
-        combined=tuple(dict.fromkeys(header["combined"])),
-        held=tuple(header["held"]),
+        start=found.start,
+        logs=found.logs,
+        validation=found.validation,
+        identified=tuple(
+            IdentifiedValue(e.key, e.label, e.value, e.std, e.unit, e.definition if e.definition != e.label else "")
+            for e in found.estimates
+            if e.determined
+        ),
+        combined=found.combined,
+        held=found.held,
         overrides=overrides,
-        made=header["made"],
-        log_hashes=tuple(header["hashes"]),
+        made="" if made is None else made.made(),
+        log_hashes=() if made is None else tuple((f.role, f.path, f.sha256) for f in made.inputs),
     )
 
 
@@ -403,7 +257,7 @@ def _now() -> str:
 
 
 def provenance(
-    inputs: Mapping[str, str | Path | Sequence[str | Path] | None] = (),
+    inputs: Mapping[str, str | Path | InputFile | Sequence[str | Path | InputFile] | None] | None = None,
     parameters: ParameterOrigin | None = None,
     command: Sequence[str] | str | None = None,
     title: str | None = None,
@@ -414,7 +268,8 @@ def provenance(
     """The provenance block of one page.
 
     Args:
-        inputs: role → a file path, a list of paths, or None (left out); each file is hashed (SHA-256).
+        inputs: role → a file path, a list of paths, or None (left out); each file is hashed (SHA-256), but
+            an :class:`InputFile` (a file hashed as it was read, e.g. a rig log's single read) is taken as it is.
         parameters: the parameter set's origin (:func:`parameter_origin`); its file is listed among the inputs.
         command: the command line (a list of words, shell-quoted here) or its text; None: "(called from Python)".
         title: the report's title (``--title``).
@@ -427,14 +282,16 @@ def provenance(
     from ..version import __version__
 
     files = [] if parameters is None else [parameters.file]
-    for role, value in dict(inputs).items():
+    for role, value in dict(inputs or {}).items():
         if value is None:
             continue
-        for path in [value] if isinstance(value, (str, Path)) else value:
+        for path in [value] if isinstance(value, (str, Path, InputFile)) else value:
             files.append(_input(role, path))
     if command is None:
         text = "(called from Python, not the command line)"
     else:
         text = command if isinstance(command, str) else shlex.join(str(word) for word in command)
     clean = [None if value is None or not str(value).strip() else str(value).strip() for value in (title, author, rig)]
-    return Provenance(__version__, created or _now(), text, tuple(files), parameters, *clean)
+    return Provenance(
+        __version__, created or _now(), text, tuple(files), parameters, title=clean[0], author=clean[1], rig=clean[2]
+    )

@@ -52,13 +52,12 @@ import numpy as np
 import scipy.linalg
 
 from ...exceptions import HipsimError
-from ...files import write_atomic
 from ...machine.parameters import Parameters, implausible, implausible_message
-from ...machine.toml_writer import parameter_toml, table_toml
 from ..compare import Comparison, compare_log
 from ..logs.log import Log
 from .base import BaseParameters, base_parameters
 from .consistency import consistent, violations
+from .identified_file import IDENTIFIED_MARK, FileProvenance, identified_toml, write_identified_file
 from .prior import HELD
 from .prior import prior as make_prior
 from .quantities import QUANTITIES, standard_values, with_values
@@ -303,10 +302,10 @@ class Identification:
             ]
         return out
 
-    def toml(self) -> str:
-        """The identified machine as a parameter file: a comment header, the machine, and the ``[identification]`` table."""
+    def comments(self) -> list[str]:
+        """The file's comment header, for people (programs read the tables): the logs, the model, each value."""
         header = [
-            "# Identified by hipsim identify: a parameter file every hipsim command accepts (--params).",
+            f"{IDENTIFIED_MARK}: a parameter file every hipsim command accepts (--params).",
             f"# From the logs: {', '.join(self.logs)} ({self.rows} samples per motor after filtering and decimation).",
             f"# Starting parameters: {self.start.source}.",
             f"# Model: analytic, lever spin {'on' if self.lever_spin else 'off'}; regressor condition number {self.condition_number:.4g}.",
@@ -340,13 +339,19 @@ class Identification:
         header.append(
             "# The [identification] table at the end: base parameters, prior and posterior covariance (file units)."
         )
-        return (
-            "\n".join(header) + "\n\n" + parameter_toml(self.params) + "\n" + table_toml("identification", self.table())
-        )
+        return header
 
-    def write_toml(self, path: str | Path) -> Path:
+    def toml(self, provenance: FileProvenance | None = None) -> str:
+        """The identified machine as a parameter file (:mod:`~hipsim.rig.identification.identified_file`).
+
+        Args:
+            provenance: what made it (the ``[identification.provenance]`` table); None for none.
+        """
+        return identified_toml(self.params, self.table(), provenance, self.comments())
+
+    def write_toml(self, path: str | Path, provenance: FileProvenance | None = None) -> Path:
         """Write :meth:`toml` atomically. Returns the path."""
-        return write_atomic(path, self.toml())
+        return write_identified_file(path, self.params, self.table(), provenance, self.comments())
 
 
 # --- The fit ----------------------------------------------------------------------------------

@@ -30,8 +30,9 @@ from typing import Any
 import numpy as np
 
 from ...exceptions import HipsimError
-from ...machine.parameters import Parameters, read_toml
+from ...machine.parameters import Parameters
 from .base import BaseParameters
+from .identified_file import identification_table
 from .quantities import QUANTITIES, standard_values
 
 __all__ = ["DEFAULT_RELATIVE", "HELD", "Prior", "parse_prior_option", "prior", "prior_table", "standard_std"]
@@ -81,11 +82,17 @@ def _entry(name: str, value: Any, source: str) -> tuple[list[int], float | None,
 
 
 def prior_table(path: str | Path | None) -> dict[str, Any]:
-    """The ``[identification.prior]`` table of a parameter file (empty without one, or for None)."""
+    """The ``[identification.prior]`` table of a parameter file (empty without one, or for None).
+
+    An identified file's ``[identification]`` table has a ``prior`` column of its own (the prior means, one per base
+    parameter): such a file, the start of a new fit, brings no prior table, and the defaults apply around its values.
+    """
     if path is None:
         return {}
-    table = read_toml(path).get("identification", {})
-    entries = table.get("prior", {}) if isinstance(table, dict) else {}
+    table = identification_table(path)
+    entries = table.get("prior", {})
+    if isinstance(entries, list) and isinstance(table.get("base"), list):
+        return {}
     if not isinstance(entries, dict):
         raise HipsimError(f"{path}: [identification.prior] must be a table of parameter = uncertainty")
     return entries
@@ -113,12 +120,12 @@ def parse_prior_option(text: str) -> dict[str, str | float]:
     return out
 
 
-def standard_std(params: Parameters, entries: Mapping[str, Any] = (), source: str = "prior") -> np.ndarray:
+def standard_std(params: Parameters, entries: Mapping[str, Any] | None = None, source: str = "prior") -> np.ndarray:
     """Each standard parameter's prior standard deviation in SI, (P,) (module docstring)."""
     theta = standard_values(params)
     size = _sizes(theta)
     std = np.array([DEFAULT_RELATIVE["friction" if q.part == "friction" else "inertial"] for q in QUANTITIES]) * size
-    for name, value in dict(entries).items():
+    for name, value in dict(entries or {}).items():
         matches, absolute, relative = _entry(str(name), value, source)
         for k in matches:
             std[k] = absolute * QUANTITIES[k].scale if absolute is not None else relative * size[k]
@@ -141,6 +148,8 @@ class Prior:
         self.standard = standard
 
 
-def prior(base: BaseParameters, params: Parameters, entries: Mapping[str, Any] = (), source: str = "prior") -> Prior:
+def prior(
+    base: BaseParameters, params: Parameters, entries: Mapping[str, Any] | None = None, source: str = "prior"
+) -> Prior:
     """The prior of ``base`` from the starting machine and the overrides ``entries`` (module docstring)."""
     return Prior(base, params, standard_std(params, entries, source))

@@ -20,9 +20,10 @@ from pathlib import Path
 import numpy as np
 
 from ...exceptions import HipsimError
-from ...machine.parameters import Parameters, read_toml
+from ...machine.parameters import Parameters
 from ...motion.trajectories import Trajectory
 from .base import base_parameters
+from .identified_file import identification_table
 from .regressor import regressor
 
 __all__ = [
@@ -71,8 +72,8 @@ def read_covariance(path: str | Path | None, params: Parameters) -> Covariance |
     """
     if path is None:
         return None
-    table = read_toml(path).get("identification")
-    if not isinstance(table, dict) or "covariance" not in table:
+    table = identification_table(path)
+    if "covariance" not in table:
         return None
     where = f"{path}: [identification]"
     names = table.get("base")

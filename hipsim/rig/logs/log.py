@@ -337,6 +337,16 @@ class LogPieces(Log):
         return len(self.raw)
 
     @property
+    def sha256(self) -> str:
+        """The file's SHA-256 (hex), of the bytes its one read parsed."""
+        return self.raw.sha256
+
+    @property
+    def size(self) -> int:
+        """The file's size in [bytes]."""
+        return self.raw.size
+
+    @property
     def t(self) -> np.ndarray:
         """Sample times in [s], (N,)."""
         return self.raw.t

@@ -24,6 +24,7 @@ models take, filtered and differentiated, is :mod:`hipsim.rig.logs.log`'.
 from __future__ import annotations
 
 import difflib
+import hashlib
 import io
 import math
 import tempfile
@@ -195,6 +196,25 @@ class _Worst:
             self.value, self.line, self.column = float(values[k, c]), int(lines[k]), names[c]
 
 
+class _Hashed:
+    """A binary stream read line by line that hashes what it hands out: the file's SHA-256 costs no second read."""
+
+    def __init__(self, stream):
+        self.stream, self.digest, self.size = stream, hashlib.sha256(), 0
+
+    def readline(self, size: int = -1) -> bytes:
+        line = self.stream.readline(size)
+        self.digest.update(line)
+        self.size += len(line)
+        return line
+
+    def finish(self) -> None:
+        """Hash what is left after the last line read (nothing, when the lines were read to the end)."""
+        for block in iter(lambda: self.stream.read(1 << 20), b""):
+            self.digest.update(block)
+            self.size += len(block)
+
+
 class RigLogFile:
     """A rig log scanned once in blocks, every value checked, its samples then read back a piece at a time.
 
@@ -229,7 +249,8 @@ class RigLogFile:
         lines: tuple[int, int] | None = None,
     ):
         self.source = source = str(path)
-        with open_text(path, "log file", TrajectoryError) as stream:
+        with open_text(path, "log file", TrajectoryError) as opened:
+            stream = _Hashed(opened)
             rows = _data_lines(text_lines(stream, source, "log file", TrajectoryError))
             header, header_line, separator, first_row = _header(rows, source)
             if first_row is not None:
@@ -272,6 +293,10 @@ class RigLogFile:
                 for name, c in kept_index.items():
                     kept[name].append(values[:, c].copy())
                 columns.tofile(self._store)
+            if lines is None:  # a window's lines are its read; the file's hash is the whole file's
+                stream.finish()
+        #: The file's SHA-256 (hex) and size in [bytes], of the bytes this one read parsed.
+        self.sha256, self.size = stream.digest.hexdigest(), stream.size
         if not times:
             raise TrajectoryError("no samples below the header", source=source)
         if bad is not None:
