@@ -48,10 +48,19 @@ from ..identification.regressor import CHUNK, decimation, rows_per_independent_r
 from ..logs.log import DEFAULT_TOLERANCE_DEG, MeasuredLog
 from ..logs.reversals import reversal_mask
 from ..logs.smoothing import DEFAULT_CUTOFF, lowpass, minimum_samples
+from .reference import identified_file, reference
 from .snapshot_log import read_snapshot
 from .snapshots import Skipped, Snapshot, skipped
 
-__all__ = ["ESTIMATE_COLUMNS", "ESTIMATOR", "MonitorSetup", "estimate", "estimate_batch"]
+__all__ = [
+    "ESTIMATE_COLUMNS",
+    "ESTIMATOR",
+    "MonitorSetup",
+    "estimate",
+    "estimate_batch",
+    "identified_file",  # from .reference, where it lives; kept here for the callers that import it from the fit
+    "reference",
+]
 
 #: The estimator's version: part of the set-up's fingerprint, so a changed estimator never extends an older table.
 ESTIMATOR = "monitor-2"
