@@ -138,3 +138,14 @@ def test_nothing_usable_is_exit_2_naming_why(tmp_path, clean, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert status == 2 and err[-1].startswith("hipsim: error: ") and "no usable snapshot" in err[-1]
     assert "snap_00000000.csv" in err[-1] and "line 201" in err[-1]
+
+
+def test_a_rate_that_is_not_the_log_s_is_refused(clean, params):
+    from hipsim.exceptions import TrajectoryError
+    from hipsim.rig.monitoring.snapshot_log import read_snapshot
+    from hipsim.rig.monitoring.snapshots import find_snapshots
+
+    snapshot = find_snapshots(clean / "snap_00000000.csv")[0][0]
+    assert read_snapshot(snapshot, params, rate=RATE).log.rate == pytest.approx(RATE)
+    with pytest.raises(TrajectoryError, match="the times span 2.996 s, the 750 samples at 500 Hz 1.498 s"):
+        read_snapshot(snapshot, params, rate=2 * RATE)
