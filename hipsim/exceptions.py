@@ -21,6 +21,7 @@ __all__ = [
     "ClosureError",
     "FileRowError",
     "HipsimError",
+    "IdentificationError",
     "ModelError",
     "MissingDependencyError",
     "OutputError",
@@ -210,3 +211,17 @@ class MissingDependencyError(HipsimError):
 
 class CatalogueError(FileRowError):
     """A motor, screw or gearbox catalogue (CSV) or drive file is invalid (source, line and column as in :class:`FileRowError`)."""
+
+
+class IdentificationError(HipsimError):
+    """Logs that cannot give an identification: none given, too few samples, nothing determined, an implausible result.
+
+    Attributes:
+        logs: the logs fitted, by name (empty when none was given).
+        reason: what went wrong, in words, without the logs' names.
+    """
+
+    def __init__(self, reason: str, logs: tuple[str, ...] = ()):
+        super().__init__(_placed(reason, ", ".join(logs)))
+        self.logs = tuple(logs)
+        self.reason = reason

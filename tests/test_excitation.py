@@ -63,7 +63,7 @@ def test_inseparable_parameters_make_the_condition_infinite_or_huge():
 def test_impossible_limits_are_refused():
     with pytest.raises(HipsimError, match="no excitation within the limits"):
         excitation(PARAMS, harmonics=1, limits=Limits(torque_limit=1e-4), max_iter=1, samples=100)
-    with pytest.raises(HipsimError, match="harmonics must be a whole number"):
+    with pytest.raises(HipsimError, match="harmonics: expected a whole number"):
         excitation(PARAMS, harmonics=0)
 
 

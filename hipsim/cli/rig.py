@@ -15,7 +15,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from ..exceptions import HipsimError
+from ..exceptions import ArgumentError, OutputError
 from ..present.tables import format_table
 from .common import (
     add_machine_options,
@@ -196,14 +196,14 @@ def _cutoff(args) -> float | None:
     if args.cutoff is None or args.cutoff == 0:
         return None
     if not (math.isfinite(args.cutoff) and args.cutoff > 0):
-        raise HipsimError(f"--cutoff: expected a positive frequency in Hz (or 0 for none), got {args.cutoff!r}")
+        raise ArgumentError("--cutoff", args.cutoff, "a positive frequency in Hz (or 0 for none)")
     return args.cutoff
 
 
 def _not_an_input(out: str, inputs: list[str], option: str) -> None:
     for name in inputs:
         if name and Path(out).exists() and Path(name).exists() and Path(out).resolve() == Path(name).resolve():
-            raise HipsimError(f"--out {out} is the input {name} itself: choose another output")
+            raise OutputError(out, f"is the input {name} itself ({option}): choose another output")
 
 
 def _pieces(path: str, params, args):
@@ -241,7 +241,7 @@ def run_compare(args) -> int:
     params = parameters(args)
     covariance = read_covariance(args.params, params)  # a bad table refused before the work
     if args.accept is not None and not (math.isfinite(args.accept) and args.accept > 0):
-        raise HipsimError(f"--accept: expected a positive percentage, got {args.accept!r}")
+        raise ArgumentError("--accept", args.accept, "a positive percentage")
     _check_log_options(args)
     check_folder(Path(args.out))  # a bad folder is refused before the work
     with _pieces(args.log, params, args) as log:  # in pieces: memory does not grow with the log
@@ -335,9 +335,9 @@ def run_compare(args) -> int:
 
 def _check_log_options(args) -> None:
     if not (math.isfinite(args.tolerance) and args.tolerance > 0):
-        raise HipsimError(f"--tolerance: expected a positive angle in degrees, got {args.tolerance!r}")
+        raise ArgumentError("--tolerance", args.tolerance, "a positive angle in degrees")
     if args.torque_constant is not None and not (math.isfinite(args.torque_constant) and args.torque_constant > 0):
-        raise HipsimError(f"--torque-constant: expected a positive number in N·m/A, got {args.torque_constant!r}")
+        raise ArgumentError("--torque-constant", args.torque_constant, "a positive number in N·m/A")
 
 
 def run_base(args) -> int:
@@ -384,16 +384,20 @@ def run_identify(args) -> int:
     if args.base:
         return run_base(args)
     if not args.log or not args.out:
-        raise HipsimError("identify needs --log FILE and --out FILE.toml (or --base to list the base parameters)")
+        raise ArgumentError(
+            "--log, --out",
+            [args.log, args.out],
+            "--log FILE and --out FILE.toml (or --base to list the base parameters)",
+        )
     if Path(args.out).suffix.lower() != ".toml":
-        raise HipsimError(f"--out {args.out}: expected a .toml parameter file name")
+        raise ArgumentError("--out", args.out, "a .toml parameter file name")
     _check_log_options(args)
     params = parameters(args)
     _not_an_input(args.out, [*args.log, *args.validate, args.params or ""], "--out")
     if args.json:
         _not_an_input(args.json, [*args.log, *args.validate, args.params or "", args.out], "--json")
         if Path(args.json).resolve() == Path(args.out).resolve():
-            raise HipsimError("--json and --out name the same file")
+            raise OutputError(args.json, "--json and --out name the same file")
     entries = dict(prior_table(args.params))
     source = f"{args.params} [identification.prior]" if entries else "prior"
     if args.prior:
@@ -499,13 +503,15 @@ def run_excite(args) -> int:
 
     params = parameters(args)
     if Path(args.out).is_dir():
-        raise HipsimError(f"--out {args.out} is a folder; give a CSV file name")
+        raise OutputError(args.out, "is a folder; give a CSV file name")
     for option, value in (("--duration", args.duration), ("--rate", args.rate)):
         if not (math.isfinite(value) and value > 0):
-            raise HipsimError(f"{option}: expected a positive number, got {value!r}")
+            raise ArgumentError(option, value, "a positive number")
     if args.rate < 4 * args.harmonics * args.frequency:
-        raise HipsimError(
-            f"--rate {args.rate:g} Hz is too low for harmonics up to {args.harmonics * args.frequency:g} Hz"
+        raise ArgumentError(
+            "--rate",
+            args.rate,
+            f"at least {4 * args.harmonics * args.frequency:g} Hz for harmonics up to {args.harmonics * args.frequency:g} Hz",
         )
     changes = {}
     if args.max_speed is not None:
@@ -528,9 +534,9 @@ def run_excite(args) -> int:
         ("--max-angle", "max_angle"),
     ):
         if key in changes and not (math.isfinite(changes[key]) and changes[key] > 0):
-            raise HipsimError(f"{option}: expected a positive number, got {getattr(args, key)!r}")
+            raise ArgumentError(option, getattr(args, key), "a positive number")
     if "min_load" in changes and not 0 <= changes["min_load"] < changes["max_load"]:
-        raise HipsimError(f"--load: expected 0 <= MIN < MAX, got '{args.load}'")
+        raise ArgumentError("--load", args.load, "MIN:MAX with 0 <= MIN < MAX")
     limits = Limits.for_machine(params, **changes)
     json_out = args.summary_format == "json"
     print(
@@ -539,7 +545,7 @@ def run_excite(args) -> int:
         file=sys.stderr if json_out else sys.stdout,
     )
     if args.seeds < 1 or args.iterations < 1:
-        raise HipsimError(f"--seeds and --iterations must be at least 1, got {args.seeds} and {args.iterations}")
+        raise ArgumentError("--seeds, --iterations", (args.seeds, args.iterations), "at least 1 each")
     design = excitation(
         params,
         frequency=args.frequency,

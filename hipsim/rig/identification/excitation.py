@@ -41,7 +41,7 @@ import scipy.optimize
 
 from ...analytic.inverse_kinematics import kinematics
 from ...analytic.virtual_work import inverse_dynamics
-from ...exceptions import HipsimError
+from ...exceptions import ArgumentError, HipsimError
 from ...files import write_columns
 from ...machine.parameters import Parameters
 from ...motion.trajectories import Trajectory, iso14242
@@ -107,7 +107,7 @@ def _design_columns(labels: Sequence[str]) -> list[int]:
     out = []
     for label in labels:
         if label not in names:
-            raise HipsimError(f"unknown parameter '{label}' (known: {', '.join(names)})")
+            raise ArgumentError("quantities", label, f"a parameter's label ({', '.join(names)})")
         out.append(names.index(label))
     return out
 
@@ -316,18 +316,19 @@ def excitation(
         The excitation.
 
     Raises:
-        HipsimError: impossible settings, or no start within the limits.
+        ArgumentError: impossible settings.
+        HipsimError: no start within the limits.
     """
     import time
 
     started = time.perf_counter()
     if isinstance(harmonics, bool) or not isinstance(harmonics, (int, np.integer)) or not 1 <= harmonics <= 50:
-        raise HipsimError(f"harmonics must be a whole number from 1 to 50, got {harmonics!r}")
+        raise ArgumentError("harmonics", harmonics, "a whole number from 1 to 50")
     if not (isinstance(frequency, (int, float)) and math.isfinite(frequency) and 0 < frequency <= 20):
-        raise HipsimError(f"the base frequency must be between 0 and 20 Hz, got {frequency!r}")
+        raise ArgumentError("frequency", frequency, "a base frequency above 0 and at most 20 Hz")
     limits = limits if limits is not None else Limits.for_machine(params)
     if not limits.min_load < limits.max_load:
-        raise HipsimError(f"the load range must not be empty (got {limits.min_load:g} to {limits.max_load:g} N)")
+        raise ArgumentError("limits", (limits.min_load, limits.max_load), "a load range in [N] that is not empty")
     columns = _design_columns(quantities)
     samples = samples or max(100, 20 * harmonics)
     grid = np.arange(samples) / (samples * frequency)

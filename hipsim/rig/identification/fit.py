@@ -51,7 +51,7 @@ from typing import Any
 import numpy as np
 import scipy.linalg
 
-from ...exceptions import HipsimError
+from ...exceptions import IdentificationError
 from ...machine.parameters import Parameters, implausible, implausible_message
 from ..compare import Comparison, compare_log
 from ..logs.log import Log
@@ -389,14 +389,15 @@ def _condition(A: np.ndarray) -> float:
     return float(s[0] / s[-1]) if s.size and s[-1] > 0 else math.inf
 
 
-def _plausible(params: Parameters, theta: np.ndarray) -> None:
+def _plausible(params: Parameters, theta: np.ndarray, logs: tuple[str, ...]) -> None:
     """Refuse an identified machine outside the plausible ranges of this class of machine (:func:`hipsim.machine.parameters.implausible`)."""
     found = implausible(with_values(params, theta))
     if found:
         key, value, plausible = found[0]
-        raise HipsimError(
+        raise IdentificationError(
             f"the identified machine is implausible: {implausible_message(key, value, plausible)}; "
-            "the logs and the model disagree (check the log's units, torque constant and sign convention); nothing written"
+            "the logs and the model disagree (check the log's units, torque constant and sign convention); nothing written",
+            logs,
         )
 
 
@@ -429,12 +430,14 @@ def identify(
         The identification.
 
     Raises:
-        HipsimError: no logs, a bad prior, logs that determine nothing, or an implausible result.
+        IdentificationError: no logs, too few samples, logs that determine nothing, or an implausible result.
+        ParameterError: a bad prior.
         PoseError: a logged pose out of reach or singular, naming the log and time.
     """
     logs = list(logs)
     if not logs:
-        raise HipsimError("identification needs at least one log")
+        raise IdentificationError("identification needs at least one log")
+    names = tuple(log.name for log in logs)
     P = len(QUANTITIES)
     base = base_parameters(params, lever_spin)
     entries = dict(prior or {})
@@ -453,7 +456,7 @@ def identify(
             accumulator.add(Y, tau, use, inflation)
     rows_per_motor = np.asarray(accumulator.rows)
     if rows_per_motor.sum() <= 3:
-        raise HipsimError(f"{int(rows_per_motor.sum())} samples are too few to identify anything")
+        raise IdentificationError(f"{int(rows_per_motor.sum())} samples are too few to identify anything", names)
     R = accumulator.R  # per motor, (P + 1, P + 1): columns θ then τ
     rows = int(rows_per_motor.sum())
     inflation = accumulator.inflation / rows
@@ -481,8 +484,8 @@ def identify(
     covariance = covariance_x * np.outer(belief.std, belief.std)
     std = np.sqrt(np.diag(covariance))
     if np.all(std > (1 - 1e-3) * belief.std):
-        raise HipsimError(
-            "these logs determine none of the base parameters (is anything moving, and is the torque logged?)"
+        raise IdentificationError(
+            "these logs determine none of the base parameters (is anything moving, and is the torque logged?)", names
         )
 
     theta = base.standard(theta_b, theta0)
@@ -495,7 +498,7 @@ def identify(
         free = [j for j in base.dependent if belief.standard[j] > 10 * HELD * sizes[j]]  # held ones stay exactly
         theta, active = consistent(rows_all, rhs, theta, index, free, theta0, sizes)
         theta_b = T @ theta
-    _plausible(params, theta)
+    _plausible(params, theta, names)
     # The residual of the solution (constrained or not) against the noise the weights assumed: never narrower than it says.
     chi2 = float(np.sum((Rw[:, :P] @ theta - Rw[:, P]) ** 2)) * inflation / max(rows - r, 1)
     if chi2 > 1.0:  # the data's information shrinks by χ²; what the data do not see keeps its prior exactly
@@ -522,7 +525,6 @@ def identify(
     residual = np.array(
         [np.linalg.norm(Ri[:, :P] @ theta - Ri[:, P]) / math.sqrt(max(n, 1)) for Ri, n in zip(R, rows_per_motor)]
     )
-    names = tuple(log.name for log in logs)
     identified = with_values(params, theta, source=f"identified from {', '.join(names)}")
     validation = tuple(
         (compare_log(identified, log, lever_spin), compare_log(params, log, lever_spin)) for log in validate

@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 
-from ...exceptions import HipsimError
+from ...exceptions import ArgumentError, ParameterError
 from ...machine.parameters import Parameters
 from .base import BaseParameters
 from .identified_file import identification_table
@@ -56,28 +56,31 @@ def _entry(name: str, value: Any, source: str) -> tuple[list[int], float | None,
     matches = _matches(name)
     if not matches:
         known = ", ".join(q.label for q in QUANTITIES)
-        raise HipsimError(
-            f"{source}: prior of '{name}': no such parameter (known: {known}, or a key prefix such as 'lever')"
+        raise ParameterError(
+            f"prior of '{name}': no such parameter (known: {known}, or a key prefix such as 'lever')", source=source
         )
     if isinstance(value, str):
         text = value.strip()
         if not text.endswith("%"):
-            raise HipsimError(
-                f"{source}: prior of '{name}': expected a number in the parameter's unit or a percentage such as '10 %', got {value!r}"
+            raise ParameterError(
+                f"prior of '{name}': expected a number in the parameter's unit or a percentage such as '10 %', got {value!r}",
+                source=source,
             )
         try:
             relative = float(text[:-1]) / 100
         except ValueError:
-            raise HipsimError(
-                f"{source}: prior of '{name}': expected a percentage such as '10 %', got {value!r}"
+            raise ParameterError(
+                f"prior of '{name}': expected a percentage such as '10 %', got {value!r}", source=source
             ) from None
         if not (math.isfinite(relative) and relative >= 0):
-            raise HipsimError(
-                f"{source}: prior of '{name}': the uncertainty must be a non-negative percentage, got {value!r}"
+            raise ParameterError(
+                f"prior of '{name}': the uncertainty must be a non-negative percentage, got {value!r}", source=source
             )
         return matches, None, relative
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0:
-        raise HipsimError(f"{source}: prior of '{name}': the uncertainty must be a non-negative number, got {value!r}")
+        raise ParameterError(
+            f"prior of '{name}': the uncertainty must be a non-negative number, got {value!r}", source=source
+        )
     return matches, float(value), None
 
 
@@ -94,7 +97,9 @@ def prior_table(path: str | Path | None) -> dict[str, Any]:
     if isinstance(entries, list) and isinstance(table.get("base"), list):
         return {}
     if not isinstance(entries, dict):
-        raise HipsimError(f"{path}: [identification.prior] must be a table of parameter = uncertainty")
+        raise ParameterError(
+            "expected a table of parameter = uncertainty", key="identification.prior", source=str(path)
+        )
     return entries
 
 
@@ -106,7 +111,7 @@ def parse_prior_option(text: str) -> dict[str, str | float]:
             continue
         name, sep, value = item.partition("=")
         if not sep or not name.strip() or not value.strip():
-            raise HipsimError(f"--prior: expected NAME=STD or NAME=PERCENT %, comma-separated, got {item.strip()!r}")
+            raise ArgumentError("--prior", item.strip(), "NAME=STD or NAME=PERCENT %, comma-separated")
         value = value.strip()
         if value.endswith("%"):
             out[name.strip()] = value
@@ -114,9 +119,7 @@ def parse_prior_option(text: str) -> dict[str, str | float]:
             try:
                 out[name.strip()] = float(value)
             except ValueError:
-                raise HipsimError(
-                    f"--prior: {name.strip()}: expected a number or a percentage, got {value!r}"
-                ) from None
+                raise ArgumentError(f"--prior: {name.strip()}", value, "a number or a percentage") from None
     return out
 
 

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...exceptions import HipsimError
+from ...exceptions import ParameterError
 from ...machine.parameters import Parameters
 from ...motion.trajectories import Trajectory
 from .base import base_parameters
@@ -63,11 +63,16 @@ class Covariance:
     residual: np.ndarray | None = None
 
 
+def _table_error(key: str, path: str | Path, message: str) -> ParameterError:
+    """An entry of the file's ``[identification]`` table that cannot be read, named by file and key."""
+    return ParameterError(message, key=f"identification.{key}", source=str(path))
+
+
 def read_covariance(path: str | Path | None, params: Parameters) -> Covariance | None:
     """The ``[identification]`` covariance of a parameter file, checked; None when it has none.
 
     Raises:
-        HipsimError: one line naming the file: a table of the wrong shape, not symmetric positive
+        ParameterError: naming the file and key: a table of the wrong shape, not symmetric positive
             semi-definite, or of base parameters other than this machine's.
     """
     if path is None:
@@ -75,33 +80,38 @@ def read_covariance(path: str | Path | None, params: Parameters) -> Covariance |
     table = identification_table(path)
     if "covariance" not in table:
         return None
-    where = f"{path}: [identification]"
     names = table.get("base")
     lever_spin = bool(table.get("lever_spin", True))
     try:
         matrix = np.array(table["covariance"], dtype=float)
     except (TypeError, ValueError):
-        raise HipsimError(f"{where} covariance: expected a square table of numbers") from None
+        raise _table_error("covariance", path, "expected a square table of numbers") from None
     if not isinstance(names, list) or matrix.shape != (len(names), len(names)):
-        raise HipsimError(
-            f"{where} covariance: expected {len(names) if isinstance(names, list) else 'one row per base parameter'} rows "
-            f"and columns (one per name in base), got shape {matrix.shape}"
+        raise _table_error(
+            "covariance",
+            path,
+            f"expected {len(names) if isinstance(names, list) else 'one row per base parameter'} rows "
+            f"and columns (one per name in base), got shape {matrix.shape}",
         )
     if not np.all(np.isfinite(matrix)):
-        raise HipsimError(f"{where} covariance: not finite")
+        raise _table_error("covariance", path, "not finite")
     size = max(np.abs(matrix).max(), 1e-300)
     if np.abs(matrix - matrix.T).max() > 1e-9 * size:
-        raise HipsimError(f"{where} covariance: not symmetric")
+        raise _table_error("covariance", path, "not symmetric")
     scale = np.sqrt(np.maximum(np.diag(matrix), 1e-300))
     eigen = np.linalg.eigvalsh(matrix / np.outer(scale, scale)) if len(names) else np.zeros(1)
     if eigen.min() < -1e-8 * max(eigen.max(), 1.0):
-        raise HipsimError(
-            f"{where} covariance: not positive semi-definite (smallest eigenvalue {eigen.min():.3g} of the correlation matrix)"
+        raise _table_error(
+            "covariance",
+            path,
+            f"not positive semi-definite (smallest eigenvalue {eigen.min():.3g} of the correlation matrix)",
         )
     base = base_parameters(params, lever_spin)
     if list(names) != base.names:
-        raise HipsimError(
-            f"{where} base: {', '.join(map(str, names))} are not this machine's base parameters ({', '.join(base.names)})"
+        raise _table_error(
+            "base",
+            path,
+            f"{', '.join(map(str, names))} are not this machine's base parameters ({', '.join(base.names)})",
         )
     determined = table.get("determined", [True] * len(names))
     si = matrix * np.outer(base.scale, base.scale)
@@ -109,12 +119,12 @@ def read_covariance(path: str | Path | None, params: Parameters) -> Covariance |
     try:
         residual = None if residual is None else np.array(residual, dtype=float).reshape(3) * 1e-3
     except (TypeError, ValueError):
-        raise HipsimError(
-            f"{where} residual_rms_Nmm: expected three numbers (N·mm per motor), got {table.get('residual_rms_Nmm')!r}"
+        raise _table_error(
+            "residual_rms_Nmm", path, f"expected three numbers (N·mm per motor), got {table.get('residual_rms_Nmm')!r}"
         ) from None
     if residual is not None and not np.all(np.isfinite(residual) & (residual >= 0)):
-        raise HipsimError(
-            f"{where} residual_rms_Nmm: expected three non-negative numbers, got {table.get('residual_rms_Nmm')!r}"
+        raise _table_error(
+            "residual_rms_Nmm", path, f"expected three non-negative numbers, got {table.get('residual_rms_Nmm')!r}"
         )
     return Covariance(tuple(names), si, tuple(bool(d) for d in determined), lever_spin, str(path), residual)
 
