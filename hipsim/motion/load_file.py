@@ -72,7 +72,10 @@ class LoadScale:
         lo, hi = float(load.min()), float(load.max())
         if hi - lo <= 0.0:
             return np.full_like(load, self.low)
-        return self.low + (load - lo) * ((self.high - self.low) / (hi - lo))
+        # As a blend of the two ends, so the file's extremes land on low and high exactly (a sum with a
+        # rescaled difference rounds 3000 N to 3000.0000000000005 N, past the machine's load limit).
+        u = (load - lo) / (hi - lo)
+        return self.low * (1.0 - u) + self.high * u
 
 
 def parse_load_scale(text: str) -> LoadScale:
