@@ -39,8 +39,10 @@ __all__ = [
     "MS_STEP_S",
     "REL_TOL",
     "SMALL_RANGE_DEG",
+    "DRIVE_RANGES",
     "beyond",
     "below",
+    "drive_slip",
     "epoch_warning",
     "factor_name",
     "load_slip",
@@ -74,6 +76,50 @@ ANGLE_RANGE_DEG = (5.0, 180.0)
 SMALL_RANGE_DEG = 1.0
 
 _DEG_PER_RAD = 180.0 / math.pi
+
+
+#: The plausible range in SI of a drive's figures for a machine of this size (a 100 W to 2 kW servo, a ball screw):
+#: field base name → (low, high, SI unit). A value out of it that a factor of 1000 brings in is a unit slip.
+DRIVE_RANGES = {
+    "s1_torque": (0.01, 100.0, "N·m"),
+    "peak_torque": (0.01, 300.0, "N·m"),
+    "rated_torque": (0.01, 100.0, "N·m"),
+    "max_speed": (100.0 * math.pi / 30.0, 30000.0 * math.pi / 30.0, "rad/s"),
+    "lead": (1e-3, 0.1, "m"),
+    "stroke": (0.01, 3.0, "m"),
+}
+
+
+def drive_slip(field: str, values_si, given_unit: str, factor: float = 1.0) -> str | None:
+    """Why a drive figure (in SI) looks like another unit than its key's, or None.
+
+    Args:
+        field: the field's base name (a key of :data:`DRIVE_RANGES`; others pass).
+        values_si: the value(s) in SI, as converted from the key's unit.
+        given_unit: the key's unit as written (``Nm``, ``Nmm``, ``rpm``, ``mm``), for the message.
+        factor: SI per unit of ``given_unit`` (1e-3 for ``Nmm``), to show the value as written.
+
+    Returns:
+        The reason in words, naming the factor (the caller names the file and key and raises).
+    """
+    if field not in DRIVE_RANGES:
+        return None
+    low, high, unit = DRIVE_RANGES[field]
+    values = np.atleast_1d(np.asarray(values_si, dtype=float))
+    values = values[values > 0]
+    if values.size == 0:
+        return None
+    worst = float(values.max()) if values.max() > high else float(values.min())
+    slip = unit_slip(worst, low, high)
+    if slip is None:
+        return None
+    shown = f"{worst / factor:.4g} {given_unit}"
+    plausible = f"{low:.3g} to {high:.3g} {unit}"
+    return (
+        f"{shown} is {factor_name(slip)} a plausible figure for this machine's drive ({plausible}): "
+        f"a unit slip by {factor_name(slip).split()[0]} (N·mm under an _Nm key, N·m under _Nmm, m under _mm, krpm under _rpm?): "
+        "check the key's unit against the data sheet"
+    )
 
 
 def beyond(value, limit, rel: float = REL_TOL):
