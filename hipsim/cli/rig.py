@@ -382,6 +382,7 @@ def run_identify(args) -> int:
     """Identify the machine from the ``--log`` files, write the parameter file ``--out`` and print the fit; exit status 0."""
     from ..files import json_ready
     from ..rig.identification import identify
+    from ..rig.plausibility import far_from_priors
     from ..rig.prior import parse_prior_option, prior_table
 
     if args.base:
@@ -419,6 +420,8 @@ def run_identify(args) -> int:
             prior=entries,
             prior_source=source,
         )
+    for line in far_from_priors(result.estimates):  # issue 38: a common cause named (hipsim/rig/plausibility.py)
+        print(f"hipsim: warning: {line}", file=sys.stderr)
 
     from ..files import write_atomic
 

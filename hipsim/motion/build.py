@@ -55,6 +55,7 @@ from .trajectories import MIN_SAMPLES, Trajectory
 
 __all__ = [
     "MAX_LOAD",
+    "NoLoadWarning",
     "NoiseWarning",
     "SampledMotion",
     "Table",
@@ -70,6 +71,10 @@ MAX_LOAD = 1e9
 
 class TrajectoryWarning(UserWarning):
     """A trajectory file that reads, but looks wrong (e.g. radians under a degree header)."""
+
+
+class NoLoadWarning(TrajectoryWarning):
+    """A trajectory with no load: F_e = 0, so the load's friction is missing from its torques."""
 
 
 class NoiseWarning(TrajectoryWarning):
@@ -175,7 +180,7 @@ def build_trajectory(
         warnings.warn(
             f"{source}: no load column: F_e = 0 N, so the friction parts are those of an unloaded machine "
             "(give the load: a Fe_N column, --load-column or --load)",
-            TrajectoryWarning,
+            NoLoadWarning,
             stacklevel=2,
         )
     closes = _closes_on_itself(q, load)
@@ -263,7 +268,7 @@ def _warn_if_not_one_stride(t: np.ndarray, q: np.ndarray, closes: bool, source: 
     span = float(t[-1] - t[0])
     if count >= 2 and period is not None and period < 0.75 * span:
         warnings.warn(
-            f"{source}: the file holds about {span / period:.3g} strides (a {('alpha', 'beta', 'gamma')[k]} cycle every "
+            f"{source}: the file holds about {span / period:.2g} strides (one {('alpha', 'beta', 'gamma')[k]} cycle every "
             f"{period:.4g} s of its time, over {span:.4g} s), but --frequency/--period rescale the whole file as one cycle: "
             "each stride then runs that much faster; cut one stride out, or scale the period by the stride count",
             TrajectoryWarning,

@@ -44,6 +44,7 @@ from ..fingerprint import part_fingerprints
 from ..machine.parameters import Parameters, load_parameters
 from .filtering import DEFAULT_CUTOFF, lowpass, minimum_samples
 from .logs import DEFAULT_TOLERANCE_DEG, MeasuredLog, load_log
+from .plausibility import check_log
 from .quantities import friction_unit
 from .regressor import CHUNK, decimation, inflation
 from .reversals import reversal_mask
@@ -251,6 +252,7 @@ def estimate(setup: MonitorSetup, snapshot: Snapshot) -> dict[str, Any]:
     weight = params.platform_mass * params.gravity
     with tempfile.TemporaryDirectory(prefix="hipsim-monitor-") as folder:
         log, path = _load(setup, snapshot, folder)
+        check_log(params, log, setup.lever_spin, setup.torque_constant)  # a unit slip skips the snapshot (issue 38)
         loads = read_columns(path, STATION_LOADS) if params.heights.size == 2 else None
     blocks = list(_rows(setup, log, loads))
     fixed = np.concatenate([b[0] for b in blocks])

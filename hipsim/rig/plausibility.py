@@ -45,6 +45,7 @@ __all__ = [
     "WARNING_FACTOR",
     "check_log",
     "constant_factor",
+    "far_from_priors",
 ]
 
 #: Measured RMS torque against the model's: beyond this factor either way an error, beyond :data:`WARNING_FACTOR` a warning.
@@ -54,6 +55,10 @@ WARNING_FACTOR = 3.0
 CONSTANT_SPREAD = 0.15
 #: ... named when it is beyond this either way (a 2:1 belt, a gear ratio; the model's own error is well within it).
 CONSTANT_FACTOR = 1.5
+#: An identified base parameter this many prior standard deviations from its prior has moved far ...
+FAR_SHIFT = 3.0
+#: ... and this many of them, all in one direction, are one cause rather than the machine's own spread.
+FAR_COUNT = 2
 #: Most samples of the first window the model runs on (every k-th).
 MODEL_SAMPLES = 4000
 
@@ -213,6 +218,35 @@ def constant_factor(factors: np.ndarray) -> float | None:
     if 1.0 / CONSTANT_FACTOR < common < CONSTANT_FACTOR:
         return None
     return common
+
+
+def far_from_priors(estimates) -> list[str]:
+    """A warning when several identified base parameters moved beyond :data:`FAR_SHIFT` prior standard deviations, all one way.
+
+    A machine's parameters differ from the published ones each its own way; all of them moving far in one
+    direction is one cause scaling the torques: a transmission ratio the parameters do not have (a belt,
+    a gearbox), a unit, or the logs of another machine.
+
+    Args:
+        estimates: the identification's base parameters (:class:`hipsim.rig.identification.BaseEstimate`:
+            ``name``, ``shift`` in prior standard deviations, ``determined``).
+
+    Returns:
+        One line, or nothing.
+    """
+    far = [e for e in estimates if e.determined and abs(e.shift) > FAR_SHIFT]
+    if len(far) < FAR_COUNT:
+        return []
+    signs = {e.shift > 0 for e in far}
+    if len(signs) != 1:
+        return []
+    moved = ", ".join(f"{e.name} {e.shift:+.2g}" for e in sorted(far, key=lambda e: -abs(e.shift)))
+    way = "up" if signs == {True} else "down"
+    return [
+        f"{len(far)} of {len(estimates)} base parameters moved more than {FAR_SHIFT:g} prior standard deviations, all {way} "
+        f"({moved}): one cause scales the logged torques; a transmission ratio not in the parameters (a belt, a gearbox), "
+        "a unit, or another machine's logs; check it before using the identified file"
+    ]
 
 
 def _ratio(factor: float) -> str:
