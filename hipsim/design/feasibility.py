@@ -166,6 +166,11 @@ class Crossing:
         needed, allowed = self.needed * factor, self.allowed * factor
         unit = f" {unit}" if unit else ""
         bound = "lowest allowed" if floor else "limit"
+        if self.excess < 1.0005:  # 4 digits would show the same number twice and "1×": show the digits that differ
+            return (
+                f"{who} needs a {name} of {needed:,.10g}{unit} at t = {self.t:.4g} s; the {bound} is {allowed:,.10g}{unit} "
+                f"({self.excess - 1.0:.2g} beyond it, relative)"
+            )
         return f"{who} needs a {name} of {needed:,.4g}{unit} at t = {self.t:.4g} s; the {bound} is {allowed:,.4g}{unit} ({self.excess:.3g}×)"
 
 
