@@ -193,7 +193,7 @@ def time_slip(t: np.ndarray, unit: str) -> str | None:
     if unit == "s" and step >= MS_STEP_S and low <= span * 1e-3 <= high:
         return (
             f"the times look like milliseconds: a sample every {step:.4g} s over {span:.4g} s is no gait recording "
-            f"({span * 1e-3:.4g} s in ms); label the time column in ms (--columns time=COLUMN:ms)"
+            f"({span * 1e-3:.4g} s in ms); give the times in s (or, for a trajectory file, map the column with :ms)"
         )
     if unit == "ms" and span < low and low <= span * 1e3 <= high:
         return (

@@ -212,6 +212,13 @@ def _check_out(path: str) -> Path:
     folder = out.parent if str(out.parent) else Path(".")
     if not folder.is_dir():
         raise OutputError(out, f"cannot write, folder '{folder}' does not exist")
+    import tempfile
+
+    try:  # an unwritable folder refused before the variants run, not after them (permissions alone miss a read-only mount)
+        with tempfile.TemporaryFile(dir=folder, prefix=".hipsim-probe-"):
+            pass
+    except OSError as error:
+        raise OutputError(out, f"cannot write in folder '{folder}' ({error.strerror or error})") from None
     return out
 
 
@@ -277,7 +284,9 @@ def run(args) -> int:
         raise HipsimError(str(error) if error.name == option else f"{option} {error}") from None
     trajectory = load_trajectory(args)
     drive = _drive(args)
-    provenance = page_provenance(args, trajectory=args.trajectory, drive=args.drive, variants=args.variants)
+    provenance = page_provenance(
+        args, trajectory=args.trajectory, load=getattr(args, "load", None), drive=args.drive, variants=args.variants
+    )
     cycles = (
         args.cycles if args.cycles is not None and not args.trajectory else 1.0
     )  # test cycles the motion holds, for the ratings

@@ -62,6 +62,7 @@ __all__ = [
     "TrajectoryWarning",
     "build_trajectory",
     "check_time",
+    "check_time_unit",
     "relative_time",
 ]
 
@@ -159,10 +160,7 @@ def build_trajectory(
             float(table.time[0] - relative[0]) * scale if relative.size else 0.0
         )  # the epoch, for a load file's clock
         t, quantum = relative * scale, table.time_quantum * scale
-        if t.size > 1 and t[-1] > t[0]:
-            slip = time_slip(t, unit)
-            if slip is not None:
-                raise TrajectoryError(slip, source=source, column=time_column.name)
+        check_time_unit(t, unit, source, time_column.name)
     t = check_time(t, quantum, source, lines, time_column.name, even=rate is None)
     q = _angles(table, source, lines)
     load = _load(table, body_weight, source, lines)
@@ -218,6 +216,23 @@ def _warn_if_noisy(t: np.ndarray, q: np.ndarray, source: str) -> None:
     message = check_noise(t, q).warning(source)
     if message is not None:
         warnings.warn(message, NoiseWarning, stacklevel=4)
+
+
+def check_time_unit(t: np.ndarray, unit: str, source: str, column: str) -> None:
+    """Refuse times that are in another unit than their label (:func:`hipsim.plausibility.time_slip`).
+
+    Args:
+        t: the times in [s] as read and converted from ``unit``, (N,).
+        unit: the unit they were read in, "s" or "ms".
+        source, column: the file and column, for the message.
+
+    Raises:
+        TrajectoryError: milliseconds read as seconds, or seconds as milliseconds.
+    """
+    if t.size > 1 and t[-1] > t[0]:
+        slip = time_slip(t, unit)
+        if slip is not None:
+            raise TrajectoryError(slip, source=source, column=column)
 
 
 def relative_time(time: np.ndarray, source: str, column: str, stacklevel: int = 2) -> np.ndarray:

@@ -36,7 +36,7 @@ import numpy as np
 
 from ..arrays import check_shapes
 from ..exceptions import TrajectoryError
-from ..motion.build import MAX_LOAD, check_time
+from ..motion.build import MAX_LOAD, check_time, check_time_unit
 from ..motion.trajectories import ANGLE_NAMES
 from ..tables import blank, cells, detect_separator, open_text, text_lines
 from ..tables import number as parse_number
@@ -370,6 +370,7 @@ class RigLogFile:
         if self.t.size < 2:
             raise TrajectoryError(f"{self.t.size} sample; a log needs many", source=source)
         check_time(self.t, 0.0, source, self.lines, "t_s", even=True)
+        check_time_unit(self.t, "s", source, "t_s")  # issue 38: milliseconds under t_s (hipsim/plausibility.py)
         for load, line in (low, high):
             if load < 0:
                 raise TrajectoryError(
