@@ -13,7 +13,6 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..motion.noise_check import SUGGESTED_CUTOFF as _SUGGESTED_CUTOFF
 from ..physics.units import RPM_PER_RAD_S as _RPM
 from ..present.tables import format_table
 from .common import add_machine_options, add_summary_format, parameters, print_json
@@ -273,6 +272,8 @@ def verdict(machine, crossings, drive_given: bool, noisy: bool) -> str:
         )
         text += f"; not checked: {', '.join(unchecked)} ({where})"
     if noisy:
+        from ..motion.noise_check import SUGGESTED_CUTOFF as _SUGGESTED_CUTOFF  # NumPy: not at the parser's import
+
         text += (
             f"; on a motion the noise check flagged: its speeds and accelerations carry the noise "
             f"(filter it with --cutoff {_SUGGESTED_CUTOFF:g})"

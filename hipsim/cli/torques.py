@@ -6,8 +6,6 @@ import argparse
 import math
 import sys
 
-import numpy as np
-
 from ..analysis.registry import engine_entry, engine_names
 from ..present.tables import format_table
 from .common import add_machine_options, add_summary_format, load_pinocchio_kernels, parameters, print_json, progress
@@ -168,7 +166,10 @@ def no_load_note(args, params, source) -> str | None:
     Runs the analytic model twice on (at most :data:`_NO_LOAD_SAMPLES` of) the file's samples; None when
     the file has a load (no :class:`hipsim.motion.build.NoLoadWarning` while reading it).
     """
+    import numpy as np
+
     from ..analysis.runs import analyse
+    from ..exceptions import HipsimError
     from ..motion.build import NoLoadWarning
     from ..motion.trajectories import Trajectory, iso14242_load
 
@@ -181,8 +182,11 @@ def no_load_note(args, params, source) -> str | None:
     loaded = Trajectory(
         motion.t, motion.q, motion.qd, motion.qdd, iso14242_load((motion.t - motion.t[0]) / cycle), motion.name
     )
-    bare = np.abs(analyse(params, motion).torques.friction).max(axis=0) * 1e3
-    iso = np.abs(analyse(params, loaded).torques.friction).max(axis=0) * 1e3
+    try:
+        bare = np.abs(analyse(params, motion).torques.friction).max(axis=0) * 1e3
+        iso = np.abs(analyse(params, loaded).torques.friction).max(axis=0) * 1e3
+    except HipsimError:  # a pose out of reach: the run itself names it (or flags it)
+        return None
     return (
         f"{source.name}: no load, so the friction parts peak at {bare.min():.3g}–{bare.max():.3g} N·mm per motor; "
         f"with ISO 14242-1's load (300–3000 N, the file's {cycle:.4g} s as one cycle) they would peak at "

@@ -130,7 +130,7 @@ def _parameter_rows(params, origin: ParameterOrigin | None) -> list[dict]:
         spec = SCHEMA[section][key]
         how, identified = origin.origin_of(dotted) if origin is not None else ("", [])
         text = _input_value(value)
-        held = _held_reason(origin, dotted) if how == "start value, not identified" else None
+        held = _held_reason(origin, dotted) if origin is not None and how == "start value, not identified" else None
         if held is not None:  # issue 38: the file holds the posterior, near its prior, not the start value
             how, std = held
             if std is not None and not isinstance(value, list):
