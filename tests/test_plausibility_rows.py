@@ -403,3 +403,11 @@ def test_strict_writes_nothing_when_a_limit_is_crossed(tmp_path, capsys):
     assert main(["torques", "--set", "motor.max_speed_rpm=1000", "--strict", "--out", str(out)]) == 1
     assert capsys.readouterr().err.startswith("hipsim: error: the motion crosses")
     assert not out.exists() and list(tmp_path.iterdir()) == []
+
+
+def test_the_guide_shows_the_verdict_feasible_prints(capsys):
+    """docs/guide/gait-checks.md quotes the verdict on the published machine: it must be what the command prints."""
+    page = (DOCS / "guide" / "gait-checks.md").read_text(encoding="utf-8")
+    quoted = next(line for line in page.splitlines() if line.startswith("within the limits checked"))
+    assert main(["feasible"]) == 0
+    assert quoted in capsys.readouterr().out.splitlines()
