@@ -28,7 +28,7 @@ from .exceptions import (
     PoseError,
     TrajectoryError,
 )
-from .version import __version__
+from .version import __version__ as __version__
 
 __all__ = [
     "ArgumentError",

@@ -34,7 +34,7 @@ __all__ = [
 MAX_MESSAGE = 1200
 #: The longest quoted text ('…') printed whole, in characters; a longer one keeps its start and end.
 MAX_QUOTE = 100
-_QUOTED = re.compile(r"(?<![\w'])'([^']{%d,})'(?![\w'])" % (MAX_QUOTE + 1))  # not an apostrophe: the drive's screw
+_QUOTED = re.compile(rf"(?<![\w'])'([^']{{{MAX_QUOTE + 1},}})'(?![\w'])")  # not an apostrophe: the drive's screw
 
 
 def printable(text: str) -> str:
@@ -87,7 +87,7 @@ class ArgumentError(HipsimError, ValueError):
     """
 
     def __init__(self, name: str, value, expected: str):
-        shown = f"shape {value.shape}" if hasattr(value, "shape") and getattr(value, "ndim", 0) else repr(value)
+        shown = f"shape {value.shape}" if hasattr(value, "shape") and getattr(value, "ndim", False) else repr(value)
         super().__init__(f"{name}: expected {expected}, got {shown}")
         self.name = name
         self.value = value

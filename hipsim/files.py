@@ -19,6 +19,7 @@ import threading
 from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -180,7 +181,8 @@ def write_atomic(path: str | Path, text: str | bytes) -> Path:
             umask = os.umask(0)
             os.umask(umask)
             os.chmod(temporary, 0o666 & ~umask)
-            with os.fdopen(handle, mode, **({} if mode == "wb" else {"encoding": "utf-8", "newline": ""})) as stream:
+            text_options: dict[str, Any] = {} if mode == "wb" else {"encoding": "utf-8", "newline": ""}
+            with os.fdopen(handle, mode, **text_options) as stream:
                 stream.write(text)
             os.replace(temporary, path)
         except OSError as error:  # disk full, permissions, a rename refused
@@ -308,7 +310,11 @@ class ColumnWriter:
         self.metadata = dict(metadata or {})
         self.names: list[str] | None = None
         self.rows = 0
-        self._stream = self._temporary = self._parquet = self._pending = self._executor = None
+        self._stream: Any = None
+        self._temporary: Any = None
+        self._parquet: Any = None
+        self._pending: Any = None
+        self._executor: Any = None
         if is_stdout(path):
             self._stream = sys.stdout
             return

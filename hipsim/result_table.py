@@ -95,9 +95,9 @@ class ResultTable:
                 }
             )
             table = table.replace_schema_metadata({"hipsim": json.dumps(dict(metadata or {}))})
-            buffer = io.BytesIO()
-            pa.parquet.write_table(table, buffer)
-            return write_atomic(path, buffer.getvalue())
+            binary = io.BytesIO()
+            pa.parquet.write_table(table, binary)
+            return write_atomic(path, binary.getvalue())
         buffer = io.StringIO()
         if metadata is not None:
             buffer.write(self.csv_metadata + json.dumps(dict(metadata), separators=(",", ":")) + "\n")

@@ -305,7 +305,7 @@ class Summary:
             return self
         self.kept += int(np.count_nonzero(ok))
         if ok.all():  # the usual case: no copies through the mask
-            ok = slice(None)
+            ok = slice(None)  # type: ignore[assignment]
         peaks = {
             "L": run.L[ok].max(axis=0) * 1e3,
             "Ld": np.abs(run.Ld[ok]).max(axis=0) * 1e3,

@@ -27,6 +27,7 @@ import csv
 import io
 from collections.abc import Collection, Iterable, Iterator, Mapping
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -314,7 +315,7 @@ def open_parquet(path: str | Path, what: str = "file", error: type[FileRowError]
         raise error(f"not a Parquet file ({failure})", source=source) from None
 
 
-def parquet_table(columns: Mapping[str, object], metadata: Mapping[str, str] | None = None, text: Collection[str] = ()):
+def parquet_table(columns: Mapping[str, Any], metadata: Mapping[str, str] | None = None, text: Collection[str] = ()):
     """Named columns as an Arrow table: float64 columns, strings for the names in ``text``.
 
     Args:

@@ -356,7 +356,7 @@ def bench_servo(params, quick: bool) -> None:
         ("workspace PD", WorkspacePD(params)),
         ("augmented PD", AugmentedPD(params, iso14242_at, control.servo_rate, length)),
     )
-    for name, controller in controllers:
+    for _name, controller in controllers:
         for flag in (True, False):  # load or compile both paths before timing
             simulate(plant, controller, iso14242_at, 0.01, compiled=flag)
     coarse = ReducedPlant(params.replace(integration_step=1e-3))

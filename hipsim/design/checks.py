@@ -217,7 +217,7 @@ def drive_checks(side: ScrewSide, drive: Drive, rules: SizingRules | None = None
     for i in range(3):
         module = i + 1
 
-        def add(key, value, limit, detail="", missing=""):
+        def add(key, value, limit, detail="", missing="", module=module):
             checks.append(_check(module, key, value, limit, detail, name, missing))
 
         # Motor: peak curve, S1, speed.

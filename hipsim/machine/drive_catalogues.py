@@ -130,7 +130,7 @@ def load_motor_catalogue(path: str | Path) -> list[tuple[Motor, Amplifier | None
     out = []
     # A catalogue line gives whole curves: no scalar rated torque; the module ratings belong to the screws.
     exclude = ("rated_torque", "stroke", "axial_force")
-    for number, values, names, fail in _read_catalogue(
+    for _line, values, names, fail in _read_catalogue(
         path, MOTOR_CATALOGUE, REQUIRED_COLUMNS["motor"], "motor catalogue", exclude
     ):
         motor, amplifier, _ = motor_parts(values, names, fail, default_name="")

@@ -147,7 +147,7 @@ def write_urdf(params: Parameters | None = None, path: str | os.PathLike | None 
     """
     text = urdf_text(params)
     validate_urdf(text)
-    return write_atomic(default_urdf_path() if path is None else path, text)
+    return write_atomic(default_urdf_path() if path is None else Path(path), text)
 
 
 def _yaml_number(value: float) -> str:
@@ -204,7 +204,7 @@ def write_closures(params: Parameters | None = None, path: str | os.PathLike = "
     Returns:
         The path written.
     """
-    return write_atomic(path, closure_text(params))
+    return write_atomic(Path(path), closure_text(params))
 
 
 def validate_urdf(text: str, source: str = "generated URDF") -> None:

@@ -38,7 +38,6 @@ def friction_forces(machine: MujocoMachine, data, Fe: float) -> np.ndarray:
     """
     model, params = machine.model, machine.params
     fr = params.friction
-    eps = fr.epsilon
     out = np.zeros(model.nv)
     velocity = np.empty(6)
     zero = np.zeros(3)

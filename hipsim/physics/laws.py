@@ -361,7 +361,7 @@ def jit(function=None, *, depends_on: tuple[Path, ...] = LAW_FILES):
         return njit(cache=False, error_model="numpy")(function)
     stamp = _content_hash(tuple(Path(path) for path in depends_on))
     try:
-        index = compiled._cache._cache_file  # numba.core.caching.IndexDataCacheFile
+        index = compiled._cache._cache_file  # type: ignore[attr-defined]  # numba.core.caching.IndexDataCacheFile
         index._source_stamp = (index._source_stamp, stamp)
     except AttributeError:
         _warn_once(

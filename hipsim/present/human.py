@@ -83,7 +83,7 @@ def _human_urdf() -> tuple[Path, Path]:
     try:
         from importlib import metadata
 
-        candidates.append(Path(metadata.distribution("example-robot-data").locate_file("cmeel.prefix/share")))
+        candidates.append(Path(str(metadata.distribution("example-robot-data").locate_file("cmeel.prefix/share"))))
     except Exception:  # noqa: BLE001 - any failure: try the paths below
         pass
     candidates += [Path(p) / "cmeel.prefix" / "share" for p in sys.path if p]

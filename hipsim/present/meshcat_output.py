@@ -30,6 +30,7 @@ import tempfile
 import threading
 import time
 from pathlib import Path
+from typing import Any
 
 from ..exceptions import HipsimError
 
@@ -149,7 +150,7 @@ class LiveWindow:
         import zmq
 
         self.zmq_url, self.web_url, self.server_proc = zmq_url, web_url, None
-        self.context = zmq.Context.instance()
+        self.context: Any = zmq.Context.instance()
         self.socket = self.context.socket(zmq.REQ)
         self.socket.setsockopt(zmq.LINGER, 0)
         self.socket.setsockopt(zmq.RCVTIMEO, int(timeout_s * 1000))

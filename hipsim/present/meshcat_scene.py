@@ -14,6 +14,7 @@ Visualizer's window (:mod:`hipsim.present.meshcat_output`).
 from __future__ import annotations
 
 import warnings
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
@@ -316,7 +317,9 @@ class Scene:
         model, data, visual, gdata = self.chain.model, self.machine_data, self.chain.visual_model, self._machine_gdata
         pin.framesForwardKinematics(model, data, q)
         pin.updateGeometryPlacements(model, data, visual, gdata)
-        poses = [(path, gdata.oMg[k].homogeneous, None) for k, path in self._moving]
+        poses: list[tuple[str, Any, np.ndarray | None]] = [
+            (path, gdata.oMg[k].homogeneous, None) for k, path in self._moving
+        ]
         if self.human and hip is not None:
             hq = self._human_q0.copy()
             hq[self._hip_q] = hip

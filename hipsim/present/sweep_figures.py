@@ -46,11 +46,11 @@ def plot_pareto(
     from matplotlib.figure import Figure
 
     x, y, front = np.asarray(x, dtype=float), np.asarray(y, dtype=float), np.asarray(front, dtype=bool)
-    ratings = np.asarray(ratings, dtype=object)
+    rating_cells = np.asarray(ratings, dtype=object)
     fig = Figure(figsize=(7.5, 5.5), layout="constrained")
     ax = fig.subplots()
     for rating, (colour, label) in _RATING_STYLE.items():
-        chosen = (ratings == rating) & np.isfinite(x) & np.isfinite(y)
+        chosen = (rating_cells == rating) & np.isfinite(x) & np.isfinite(y)
         if np.any(chosen):
             ax.scatter(
                 x[chosen],

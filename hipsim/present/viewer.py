@@ -47,6 +47,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
@@ -99,7 +100,7 @@ class Viewer:
         self.human = bool(human)
         self.force_scale = force_scale
         self._server = None
-        self._window = None
+        self._window: Any = None
         try:
             self._offline = OfflineWindow()
             if serve:
