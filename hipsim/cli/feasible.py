@@ -120,7 +120,7 @@ class FeasibilityWatch:
             cond_inv=np.asarray(columns["cond_inv"])[keep],
             trajectory=SimpleNamespace(Fe=np.asarray(columns["Fe_N"])[keep]),
         )
-        for crossing in check_feasibility(run, self.limits):
+        for crossing in check_feasibility(run, self.limits):  # type: ignore[arg-type]  # a Run's columns, duck-typed
             key = (crossing.limit, crossing.motor)
             seen = self.found.get(key)
             if seen is None:
