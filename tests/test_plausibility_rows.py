@@ -411,3 +411,40 @@ def test_the_guide_shows_the_verdict_feasible_prints(capsys):
     quoted = next(line for line in page.splitlines() if line.startswith("within the limits checked"))
     assert main(["feasible"]) == 0
     assert quoted in capsys.readouterr().out.splitlines()
+
+
+# --- The smaller points ---------------------------------------------------------------------------------------------
+
+
+def test_excel_s_sep_line_is_read(files, tmp_path):
+    plain = hipsim.read_trajectory(files["s"])
+    text = files["s"].read_text(encoding="utf-8").replace(",", ";")
+    lines = text.splitlines()
+    excel = tmp_path / "excel.csv"
+    excel.write_text("sep=;\n" + "\n".join(line + ";" for line in lines) + "\n")  # and a trailing separator
+    read = hipsim.read_trajectory(excel)
+    np.testing.assert_array_equal(read.q, plain.q)
+    np.testing.assert_array_equal(read.Fe, plain.Fe)
+
+
+def test_a_sweep_to_a_folder_it_cannot_write_is_refused_before_the_variants(capsys):
+    # /proc takes no new files, even for root (whom permission bits let write anywhere).
+    assert main(["sweep", "--grid", "lever.length_mm=300:340:3", "--out", "/proc/hipsim_sweep.parquet"]) == 2
+    one_line_error(capsys, "cannot write in folder '/proc'")
+
+
+def test_iso_check_hashes_the_load_file(tmp_path, capsys):
+    import hashlib
+
+    t = np.arange(101) / 100.0
+    q, _, _ = iso14242_angles(t)
+    motion = tmp_path / "walk.csv"
+    motion.write_text(csv_text(t, q))
+    load = tmp_path / "load.csv"
+    load.write_text("time,F\n" + "".join(f"{x:.17g},{f:.17g}\n" for x, f in zip(t, iso14242_load(t))))
+    args = ["iso-check", "--trajectory", str(motion), "--load", str(load), "--load-column", "F"]
+    assert main([*args, "--out", str(tmp_path / "iso")]) in (0, 1)
+    capsys.readouterr()
+    document = json.loads((tmp_path / "iso" / "iso_check.json").read_text(encoding="utf-8"))
+    digest = hashlib.sha256(load.read_bytes()).hexdigest()
+    assert digest in json.dumps(document["provenance"]), document["provenance"]
