@@ -448,3 +448,16 @@ def test_iso_check_hashes_the_load_file(tmp_path, capsys):
     document = json.loads((tmp_path / "iso" / "iso_check.json").read_text(encoding="utf-8"))
     digest = hashlib.sha256(load.read_bytes()).hexdigest()
     assert digest in json.dumps(document["provenance"]), document["provenance"]
+
+
+def test_a_load_file_in_milliseconds_is_refused(tmp_path, capsys):
+    t = np.arange(101) / 100.0
+    q, _, _ = iso14242_angles(t)
+    motion = tmp_path / "walk.csv"
+    motion.write_text(csv_text(t, q))
+    load = tmp_path / "load_ms.csv"
+    load.write_text("time,F\n" + "".join(f"{1e3 * x:.17g},{f:.17g}\n" for x, f in zip(t, iso14242_load(t))))
+    args = ["torques", "--trajectory", str(motion), "--load", str(load), "--load-column", "F"]
+    assert main([*args, "--out", str(tmp_path / "t.csv")]) == 2
+    one_line_error(capsys, "load_ms.csv, column 'time'", "look like milliseconds")
+    assert not (tmp_path / "t.csv").exists()

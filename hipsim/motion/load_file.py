@@ -39,7 +39,7 @@ import numpy as np
 
 from ..exceptions import TrajectoryError
 from ..tables import cells, data_lines, detect_separator, number, read_text_lines
-from .build import TrajectoryWarning
+from .build import TrajectoryWarning, check_time_unit
 from .columns import Column
 from .trajectories import MIN_SAMPLES
 
@@ -209,6 +209,7 @@ def read_load_curve(
             line=int(lines[k]),
             column=labels[time],
         )
+    check_time_unit(t, "s", source, labels[time])  # a load logged in ms on the motion's clock in s (issue 38)
     raw = np.sqrt((values[:, 1:] ** 2).sum(axis=1)) if len(picked) == 3 else column.sign * values[:, 1]
     load = raw * _unit_scale(column, body_weight, source, name)
     if scale is not None:
