@@ -152,7 +152,8 @@ class ResultTable:
         return columns
 
     def check_out(self, path: str | Path) -> Path:
-        """The table's path, checked before anything runs: a known suffix, a file (not a folder) in an existing folder.
+        """The table's path, checked before anything runs: a known suffix, a file (not a folder) in an existing folder
+        that can be written (a temporary file made and dropped there).
 
         Raises:
             OutputError: naming the path.
@@ -164,6 +165,13 @@ class ResultTable:
         folder = out.parent if str(out.parent) else Path(".")
         if not folder.is_dir():
             raise OutputError(out, f"cannot write, folder '{folder}' does not exist")
+        import tempfile
+
+        try:  # an unwritable folder refused before the run, not after it (permissions alone miss a read-only mount)
+            with tempfile.TemporaryFile(dir=folder, prefix=".hipsim-probe-"):
+                pass
+        except OSError as error:
+            raise OutputError(out, f"cannot write in folder '{folder}' ({error.strerror or error})") from None
         return out
 
     def resume(

@@ -245,7 +245,9 @@ def run(args) -> int:
         raise HipsimError(str(error) if error.name == option else f"{option} {error}") from None
     trajectory = load_trajectory(args)
     drive = _drive(args)
-    provenance = page_provenance(args, trajectory=args.trajectory, drive=args.drive, variants=args.variants)
+    provenance = page_provenance(
+        args, trajectory=args.trajectory, load=getattr(args, "load", None), drive=args.drive, variants=args.variants
+    )
     cycles = (
         args.cycles if args.cycles is not None and not args.trajectory else 1.0
     )  # test cycles the motion holds, for the ratings
@@ -421,8 +423,8 @@ def _onward(columns: dict, keys, row: int, status, rating, objective) -> dict:
     best = objective[row]
     tied = np.flatnonzero(np.abs(objective - best) <= 1e-9 * max(abs(best), 1e-300))
     edges = edges_of(values, list(keys), row)
-    for k in tied:
-        theirs = {(e.key, e.side) for e in edges_of(values, list(keys), int(k))}
+    for tie in tied:
+        theirs = {(e.key, e.side) for e in edges_of(values, list(keys), int(tie))}
         edges = [e for e in edges if (e.key, e.side) in theirs]
     failing = (rating == "fail") | (status != "ok")
     k = nearest_failing(values, failing, row)
@@ -465,9 +467,9 @@ def _figure(columns: dict, pareto, out: Path, summary: dict):
     ]
     summary["pareto_edges"] = [
         {key: float(columns[key][k]) for key in summary["keys"]}
-        | {"edges": [e.as_dict() for e in edges_of(keys, list(summary["keys"]), k)]}
+        | {"edges": [e.as_dict() for e in edges_of(keys, list(summary["keys"]), int(k))]}
         for k in np.flatnonzero(front)
-        if edges_of(keys, list(summary["keys"]), k)
+        if edges_of(keys, list(summary["keys"]), int(k))
     ]
     title = f"{summary['rows']} variants of {', '.join(summary['keys'])} along {summary['trajectory']} ({summary['model']} model)"
     labels = [design_label({key: float(columns[key][k]) for key in summary["keys"]}) for k in range(values.shape[0])]

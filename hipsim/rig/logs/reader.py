@@ -37,7 +37,7 @@ import numpy as np
 
 from ...arrays import check_shapes
 from ...exceptions import TrajectoryError
-from ...motion.build import MAX_LOAD, check_time
+from ...motion.build import MAX_LOAD, check_time, check_time_unit
 from ...motion.trajectories import ANGLE_NAMES
 from ...tables import MAX_LINE_BYTES, blank, cells, detect_separator, open_text, text_lines
 from ...tables import number as parse_number
@@ -547,6 +547,7 @@ class RigLogFile:
             check_time(self.t, 0.0, source, self.lines, "t_s", even=True)
         else:
             self._times_from_index(rate)
+        check_time_unit(self.t, "s", source, "t_s")  # issue 38: milliseconds under t_s (hipsim/plausibility.py)
         for load, line in (low, high):
             if load < 0:
                 raise TrajectoryError(

@@ -48,6 +48,7 @@ from ..identification.regressor import CHUNK, decimation, rows_per_independent_r
 from ..logs.log import DEFAULT_TOLERANCE_DEG, MeasuredLog
 from ..logs.reversals import reversal_mask
 from ..logs.smoothing import DEFAULT_CUTOFF, lowpass, minimum_samples
+from ..plausibility import check_log
 from .reference import identified_file, reference
 from .snapshot_log import read_snapshot
 from .snapshots import Skipped, Snapshot, skipped
@@ -242,6 +243,7 @@ def estimate(setup: MonitorSetup, snapshot: Snapshot) -> dict[str, Any]:
     weight = params.platform_mass * params.gravity
     read = read_snapshot(snapshot, params, setup.torque_constant, setup.cutoff, setup.tolerance_deg, setup.rate)
     log = read.log
+    check_log(params, log, setup.lever_spin, setup.torque_constant)  # a unit slip skips the snapshot (issue 38)
     loads = read.loads if params.heights.size == 2 else None
     blocks = list(_rows(setup, log, loads))
     fixed = np.concatenate([b[0] for b in blocks])
