@@ -298,7 +298,7 @@ class RigLogFile:
     Args:
         path: the CSV file (columns in the module docstring).
         torque_constant: the motors' torque constant in [N·m/A], for logs of motor currents.
-        block: lines parsed at a time.
+        block: lines parsed at a time (and some hundred bytes a line read at a time, 4 MiB at most).
 
     Raises:
         TrajectoryError: as :func:`read_rig_log`.
@@ -308,9 +308,10 @@ class RigLogFile:
         self.source = source = str(path)
         with open_text(path, "log file", TrajectoryError) as opened:
             hashed = _Hashed(opened)
-            stream = io.BufferedReader(hashed, 1 << 20)
+            size = min(max(block * 100, 1 << 16), 1 << 22)  # bytes read at a time: some ``block`` lines, 4 MiB at most
+            stream = io.BufferedReader(hashed, min(size, 1 << 20))
             try:
-                times, numbers, state = self._scan(_text_blocks(stream, source), torque_constant, block)
+                times, numbers, state = self._scan(_text_blocks(stream, source, size), torque_constant, block)
             except _Reread:  # not UTF-8, or a line too long: read line by line from the start for the exact error
                 opened.seek(0)
                 for _ in text_lines(opened, source, "log file", TrajectoryError):
