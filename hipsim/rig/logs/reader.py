@@ -311,7 +311,7 @@ class RigLogFile:
     Args:
         path: the CSV file (columns in the module docstring).
         torque_constant: the motors' torque constant in [N·m/A], for logs of motor currents.
-        block: lines parsed at a time.
+        block: lines parsed at a time (and some hundred bytes a line read at a time, 4 MiB at most).
         keep: other columns to keep as they are (numbers, checked finite like every cell), in :attr:`kept` by name
             when the file has them (e.g. a wear test's ``cycle`` counter).
         rate: the sample rate in [Hz] to take the times from the sample index (t₀ + k/rate) when the file's time
@@ -338,9 +338,11 @@ class RigLogFile:
         window = (1, math.inf) if lines is None else lines
         with open_text(path, "log file", TrajectoryError) as opened:
             hashed = _Hashed(opened)
-            stream = io.BufferedReader(hashed, 1 << 20)
+            size = min(max(block * 100, 1 << 16), 1 << 22)  # bytes read at a time: some ``block`` lines, 4 MiB at most
+            stream = io.BufferedReader(hashed, min(size, 1 << 20))
             try:
-                times, numbers, state = self._scan(_text_blocks(stream, source), torque_constant, block, keep, window)
+                blocks = _text_blocks(stream, source, size)
+                times, numbers, state = self._scan(blocks, torque_constant, block, keep, window)
             except _Reread:  # not UTF-8, or a line too long: again line by line from the start, for the exact line
                 if hasattr(self, "_store"):  # the first try's store
                     self._store.close()
