@@ -24,13 +24,12 @@ models take, filtered and differentiated, is :mod:`hipsim.rig.logs.log`'.
 from __future__ import annotations
 
 import difflib
-import hashlib
 import io
 import math
 import tempfile
 from collections.abc import Iterator
 from dataclasses import dataclass
-from itertools import chain, islice
+from itertools import chain
 from pathlib import Path
 
 import numpy as np
@@ -39,8 +38,9 @@ from ...arrays import check_shapes
 from ...exceptions import TrajectoryError
 from ...motion.build import MAX_LOAD, check_time, check_time_unit
 from ...motion.trajectories import ANGLE_NAMES
-from ...tables import MAX_LINE_BYTES, blank, cells, detect_separator, open_text, text_lines
+from ...tables import blank, cells, detect_separator, open_text
 from ...tables import number as parse_number
+from .blocks import Hashed, Reread, line_blocks, text_blocks
 
 __all__ = ["CURRENT_COLUMNS", "HEIGHT_COLUMNS", "TORQUE_COLUMNS", "RigLog", "RigLogFile", "read_rig_log"]
 
@@ -216,85 +216,6 @@ class _Worst:
             self.value, self.line, self.column = float(values[k, c]), int(lines[k]), names[c]
 
 
-_BOM = b"\xef\xbb\xbf"
-
-
-class _Hashed(io.RawIOBase):
-    """A binary file read in large blocks that hashes them as they pass: the file's SHA-256 costs no second read."""
-
-    def __init__(self, stream):
-        self.stream, self.digest, self.size = stream, hashlib.sha256(), 0
-
-    def readable(self) -> bool:
-        return True
-
-    def readinto(self, buffer) -> int:
-        n = self.stream.readinto(buffer)
-        if n:
-            self.digest.update(memoryview(buffer)[:n])
-            self.size += n
-        return n
-
-
-def _text_blocks(stream, source: str, size: int = 1 << 22) -> Iterator[tuple[int, list[str]]]:
-    """The file's lines in blocks: (the first's 1-based line number, the lines without their ``\n``).
-
-    Bytes are split at ``\n`` and decoded a block at a time, which is what :func:`hipsim.tables.text_lines`
-    does line by line (``\n`` never occurs inside a UTF-8 character). A block that is not UTF-8, or a line
-    longer than :data:`~hipsim.tables.MAX_LINE_BYTES`, raises :class:`_Reread`: the caller then reads the file
-    again line by line from its start, so that the error names the line as :func:`~hipsim.tables.text_lines` does.
-    """
-    number, carry, first = 1, b"", True
-    while True:
-        chunk = stream.read(size)
-        if first and chunk.startswith(_BOM):
-            chunk = chunk[len(_BOM) :]
-        first = False
-        data = carry + chunk
-        if not chunk:
-            if data:
-                if len(data) > MAX_LINE_BYTES:
-                    raise _Reread
-                yield number, [_decoded(data)]
-            return
-        end = data.rfind(b"\n") + 1
-        carry = data[end:]
-        if len(carry) > MAX_LINE_BYTES:
-            raise _Reread
-        if end:
-            lines = _decoded(data[: end - 1]).split("\n")
-            # A line with its "\n" longer than MAX_LINE_BYTES, as text_lines counts; 4-byte characters first by length.
-            if max(map(len, lines)) >= MAX_LINE_BYTES // 4:
-                if max(len(line.encode("utf-8")) for line in lines) >= MAX_LINE_BYTES:
-                    raise _Reread
-            yield number, lines
-            number += len(lines)
-
-
-def _line_blocks(stream, source: str, size: int, stop: float) -> Iterator[tuple[int, list[str]]]:
-    """:func:`_text_blocks` read line by line through :func:`~hipsim.tables.text_lines` (which names the line of a
-    byte that is not UTF-8 or of an over-long line), ``size`` lines at a time; no line read from ``stop`` on."""
-    lines = text_lines(stream, source, "log file", TrajectoryError)
-    number = 1
-    while number < stop:
-        group = [line.removesuffix("\n") for line in islice(lines, int(min(size, stop - number)))]
-        if not group:
-            return
-        yield number, group
-        number += len(group)
-
-
-class _Reread(Exception):
-    """A block the fast reading cannot take: read the file again line by line for the exact error."""
-
-
-def _decoded(data: bytes) -> str:
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError:
-        raise _Reread from None
-
-
 def _data(number: int, lines: list[str]) -> list[tuple[int, str]]:
     """(line number, line) of a block's lines that hold something: blank lines and ``#`` comments left out."""
     return [(number + k, line) for k, line in enumerate(lines) if not blank(line) and not line.lstrip().startswith("#")]
@@ -337,19 +258,19 @@ class RigLogFile:
         self.source = source = str(path)
         window = (1, math.inf) if lines is None else lines
         with open_text(path, "log file", TrajectoryError) as opened:
-            hashed = _Hashed(opened)
+            hashed = Hashed(opened)
             size = min(max(block * 100, 1 << 16), 1 << 22)  # bytes read at a time: some ``block`` lines, 4 MiB at most
             stream = io.BufferedReader(hashed, min(size, 1 << 20))
             try:
-                blocks = _text_blocks(stream, source, size)
+                blocks = text_blocks(stream, source, size)
                 times, numbers, state = self._scan(blocks, torque_constant, block, keep, window)
-            except _Reread:  # not UTF-8, or a line too long: again line by line from the start, for the exact line
+            except Reread:  # not UTF-8, or a line too long: again line by line from the start, for the exact line
                 if hasattr(self, "_store"):  # the first try's store
                     self._store.close()
                 opened.seek(0)
-                hashed = _Hashed(opened)
+                hashed = Hashed(opened)
                 stream = io.BufferedReader(hashed, 1 << 20)
-                blocks = _line_blocks(stream, source, block, window[1])
+                blocks = line_blocks(stream, source, block, window[1])
                 times, numbers, state = self._scan(blocks, torque_constant, block, keep, window)
             if lines is None:  # hash what is left after the last line (nothing); a window's read stops after it
                 for _ in iter(lambda: stream.read(1 << 20), b""):
