@@ -1,19 +1,21 @@
 """hipsim: kinematics, closed-chain dynamics and control of the 2(3PUS+S) hip joint simulator.
 
-A few calls give what the command line gives::
+A few calls give what the command line gives:
 
-    import hipsim
+```python
+import hipsim
 
-    params = hipsim.load_parameters()                 # the published machine (SI inside)
-    trajectory = hipsim.iso14242(rate=1000)           # or hipsim.read_trajectory("gait.csv" / "walk.mot")
-    run = hipsim.analyse(params, trajectory)          # analytic model; model="pinocchio" for the other
-    run.torques.total                                 # (N, 3) motor torques in N·m; parts in run.torques.PARTS
-    run.columns()["tau_1_Nmm"]                        # the CSV columns of spec §7.5
-    run.write_csv("iso.csv")
+params = hipsim.load_parameters()                 # the published machine (SI inside)
+trajectory = hipsim.iso14242(rate=1000)           # or hipsim.read_trajectory("gait.csv" / "walk.mot")
+run = hipsim.analyse(params, trajectory)          # analytic model; model="pinocchio" for the other
+run.torques.total                                 # (N, 3) motor torques in N·m; parts in run.torques.PARTS
+run.columns()["tau_1_Nmm"]                        # the CSV columns of spec §7.5
+run.write_csv("iso.csv")
+```
 
-Each layer is a subpackage: :mod:`hipsim.machine`, :mod:`hipsim.motion`,
-:mod:`hipsim.analytic`, :mod:`hipsim.closed_chain`, :mod:`hipsim.control`,
-:mod:`hipsim.analysis`, :mod:`hipsim.present`, :mod:`hipsim.cli`.
+Each layer is a subpackage: `hipsim.machine`, `hipsim.motion`, `hipsim.analytic`,
+`hipsim.closed_chain`, `hipsim.control`, `hipsim.analysis`, `hipsim.present`, `hipsim.cli`
+(markdown, not reStructuredText: this docstring heads the API reference's home page).
 """
 
 from .exceptions import (

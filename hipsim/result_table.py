@@ -9,6 +9,11 @@ into the file can tell whether its rows are of the same set-up) is kept with
 the rows: in a Parquet file's key-value metadata (``hipsim``, as JSON), in a
 CSV file as its first line, a comment ``# hipsim WHAT: {JSON}`` (pandas:
 ``read_csv(path, comment="#")``).
+
+Resuming (:meth:`ResultTable.resume`) is one rule for both: a rerun into an
+existing file keeps its rows when the file holds the same columns and the
+same set-up (its fingerprints, :mod:`hipsim.fingerprint`), and is refused,
+naming what differs, otherwise; ``restart`` replaces the file.
 """
 
 from __future__ import annotations
@@ -24,6 +29,7 @@ from typing import Any
 
 from .exceptions import FileRowError, MissingDependencyError, OutputError
 from .files import write_atomic
+from .fingerprint import changed_parts
 from .tables import MAX_LINE_BYTES, cells, data_lines, read_text_lines
 
 __all__ = ["FORMATS", "ResultTable"]
@@ -144,6 +150,77 @@ class ResultTable:
                 except ValueError:
                     raise FileRowError(f"expected a number, got '{cell}'", source, number, name) from None
         return columns
+
+    def check_out(self, path: str | Path) -> Path:
+        """The table's path, checked before anything runs: a known suffix, a file (not a folder) in an existing folder
+        that can be written (a temporary file made and dropped there).
+
+        Raises:
+            OutputError: naming the path.
+        """
+        out = Path(path)
+        self.format(out)
+        if out.is_dir():
+            raise OutputError(out, f"is a folder; give a {', '.join(FORMATS)} file name")
+        folder = out.parent if str(out.parent) else Path(".")
+        if not folder.is_dir():
+            raise OutputError(out, f"cannot write, folder '{folder}' does not exist")
+        import tempfile
+
+        try:  # an unwritable folder refused before the run, not after it (permissions alone miss a read-only mount)
+            with tempfile.TemporaryFile(dir=folder, prefix=".hipsim-probe-"):
+                pass
+        except OSError as error:
+            raise OutputError(out, f"cannot write in folder '{folder}' ({error.strerror or error})") from None
+        return out
+
+    def resume(
+        self,
+        path: str | Path,
+        names: Sequence[str],
+        fingerprints: Mapping[str, str],
+        restart: bool = False,
+        parts: Mapping[str, str] | None = None,
+    ) -> dict[str, list[Any]]:
+        """The rows already in ``path`` to extend, by column; empty columns when it does not exist yet or with ``restart``.
+
+        Args:
+            path: the table.
+            names: this run's columns, in order.
+            fingerprints: this run's set-up, part by part (and whole, ``"setup"``).
+            restart: replace the file: its rows are not kept.
+            parts: what each part of the fingerprint comes from (an option, a file), for the refusal.
+
+        Raises:
+            OutputError: the file holds other columns, no set-up (another program's file, an older hipsim's), or
+                another set-up's rows (naming the parts that differ).
+            FileRowError: the file cannot be read as such a table.
+        """
+        out = Path(path)
+        if restart or not out.exists():
+            return {name: [] for name in names}
+        again = "give another --out, or --restart to replace it"
+        table = self.read(out)
+        if list(table) != list(names):
+            raise OutputError(
+                out,
+                f"holds other columns ({', '.join(list(table)[:4])}, …) than this {self.what}'s "
+                f"({', '.join(list(names)[:4])}, …): {again}",
+            )
+        recorded = (self.metadata(out) or {}).get("fingerprints")
+        if not isinstance(recorded, dict):
+            raise OutputError(
+                out,
+                "records no set-up (another program's file, or an older hipsim's), so its rows cannot be matched to "
+                f"this {self.what}'s: {again}",
+            )
+        changed = changed_parts(recorded, fingerprints)
+        if changed:
+            differ = ", ".join((parts or {}).get(name, name) for name in changed)
+            raise OutputError(
+                out, f"holds the rows of another set-up ({differ} differ{'s' if len(changed) == 1 else ''}): {again}"
+            )
+        return table
 
     def metadata(self, path: str | Path) -> dict[str, Any] | None:
         """The description :meth:`write` kept with the rows; None when the file holds none (another program's, an older hipsim's).

@@ -967,7 +967,7 @@ def bench_monitor(quick: bool) -> None:
         _monitor_snapshots(folder, count)
         print(f"  (files written in {time.perf_counter() - started:.1f} s, not counted)")
         started = time.perf_counter()
-        snapshots = find_snapshots(folder)
+        snapshots, _ = find_snapshots(folder)  # listed and hashed (read once, where estimated)
         scan = time.perf_counter() - started
         started = time.perf_counter()
         for snapshot in snapshots:
@@ -1003,7 +1003,7 @@ def bench_monitor(quick: bool) -> None:
     print(
         f"  {'monitor estimate, one process (' + str(len(serial_snapshots)) + ' snapshots)':<60} {serial * count:>9.1f} {1 / serial:>12.1f}   (extrapolated to {count})"
     )
-    print(f"  {'hipsim monitor on 2 workers: scan of the files':<60} {scan:>9.1f}")
+    print(f"  {'hipsim monitor on 2 workers: listing and hashing the files':<60} {scan:>9.1f}")
     print(f"  {'                             cluster start':<60} {startup:>9.1f}")
     print(f"  {'                             estimates and chart':<60} {elapsed:>9.1f} {count / elapsed:>12.1f}")
     print(

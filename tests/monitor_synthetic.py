@@ -15,7 +15,7 @@ import numpy as np
 import hipsim
 from hipsim.motion.trajectories import Trajectory
 
-__all__ = ["MU0", "hip_mu", "write_snapshot", "write_test"]
+__all__ = ["MU0", "hip_mu", "write_identified", "write_snapshot", "write_test"]
 
 #: The published machine's hip friction coefficient, the curve's level after running-in.
 MU0 = 0.095
@@ -42,21 +42,35 @@ def write_snapshot(
     station_loads: tuple[float, float] | None = None,
     station_mu: tuple[float, float] | None = None,
     cycle_column: bool = True,
+    load_gain: float = 1.0,
+    commanded: bool = False,
+    wobble: tuple[float, float] = (0.3, 1.0),
 ) -> Path:
     """One snapshot: ``cycles`` ISO cycles of the machine with μ_h = ``mu``, torques and angles noisy, the counter from ``first_cycle``.
 
-    With ``station_loads`` = (s1, s2) the stations carry Fe·s1 and Fe·(s2 + 0.3·sin) (their loads differ in shape),
+    With ``station_loads`` = (s1, s2) the stations carry Fe·s1 and Fe·(s2 + A·sin(2π·f·t)) (their loads differ in
+    shape; ``wobble`` = (A, f in [Hz])),
     logged as Fe_1_N and Fe_2_N, each station with its own μ_h (``station_mu``, default ``mu`` for both); the
-    machine's torque is then the sum of each station's half (the model counts both platforms alike).
+    machine's torque is then the sum of each station's half (the model counts both platforms alike). With
+    ``station_mu`` alone the two stations share the one load (nothing tells them apart), each with its own μ_h.
+    ``load_gain``: the load cell reads this times the true load (the torques are the true load's); ``commanded``:
+    log the true load as the commanded one, ``Fe_cmd_N``.
     """
     trajectory = hipsim.iso14242(rate=rate, cycles=cycles)
     machine = params.replace(hip_mu=mu)
-    if station_loads is None:
+    true_load = trajectory.Fe
+    if station_loads is None and station_mu is not None:
+        tau = sum(
+            0.5 * hipsim.analyse(params.replace(hip_mu=each), trajectory, lever_spin=True).torques.total
+            for each in station_mu
+        )
+        extra = {}
+    elif station_loads is None:
         tau = hipsim.analyse(machine, trajectory, lever_spin=True).torques.total
         extra = {}
     else:
-        phase = 2 * np.pi * trajectory.t
-        loads = (trajectory.Fe * station_loads[0], trajectory.Fe * (station_loads[1] + 0.3 * np.sin(phase)))
+        phase = 2 * np.pi * wobble[1] * trajectory.t
+        loads = (trajectory.Fe * station_loads[0], trajectory.Fe * (station_loads[1] + wobble[0] * np.sin(phase)))
         tau = np.zeros((len(trajectory), 3))
         for load, each_mu in zip(loads, station_mu or (mu, mu)):
             each = Trajectory(trajectory.t, trajectory.q, trajectory.qd, trajectory.qdd, load, name="station")
@@ -68,7 +82,9 @@ def write_snapshot(
     columns = {"t_s": trajectory.t}
     if cycle_column:
         columns["cycle"] = first_cycle + np.floor(trajectory.t * 1.0).astype(int)
-    columns["Fe_N"] = trajectory.Fe
+    columns["Fe_N"] = trajectory.Fe * load_gain
+    if commanded:
+        columns["Fe_cmd_N"] = true_load
     noisy = tau * 1e3 + rng.normal(0.0, torque_noise_Nmm, tau.shape)
     for i in range(3):
         columns[f"tau_{i + 1}_Nmm"] = noisy[:, i]
@@ -93,14 +109,31 @@ def write_test(
     step_at: float | None = None,
     step: float = 0.0,
     seed: int = 7,
+    vary=None,
     **options,
 ) -> dict[int, float]:
-    """A test's snapshots every ``every`` cycles up to ``last``: {first cycle: true μ_h}."""
+    """A test's snapshots every ``every`` cycles up to ``last``: {first cycle: true μ_h}.
+
+    ``vary(cycle, mu)``: more options of :func:`write_snapshot` for the snapshot at that cycle (a station's own μ_h,
+    a load-cell drift), or None.
+    """
     folder.mkdir(parents=True, exist_ok=True)
     rng = np.random.default_rng(seed)
     truth = {}
     for cycle in range(0, last + 1, every):
         mu = hip_mu(cycle, step_at, step)
-        write_snapshot(folder / f"snap_{cycle:08d}.csv", params, mu, cycle, rng, **options)
+        more = vary(cycle, mu) if vary is not None else {}
+        write_snapshot(folder / f"snap_{cycle:08d}.csv", params, mu, cycle, rng, **(options | more))
         truth[cycle] = mu
     return truth
+
+
+def write_identified(path: Path) -> Path:
+    """An identified parameter file: the published machine with the header hipsim identify writes."""
+    published = Path(hipsim.load_parameters().source).read_text(encoding="utf-8")
+    path.write_text(
+        "# Identified by hipsim identify: a parameter file every hipsim command accepts (--params).\n"
+        "# Model: analytic, lever spin on; regressor condition number 10.\n\n" + published,
+        encoding="utf-8",
+    )
+    return path

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 from trajectory_files import (
     DEG,
@@ -29,6 +29,7 @@ from hipsim import TrajectoryError
 from hipsim.motion.build import TrajectoryWarning
 from hipsim.motion.csv_table import load_trajectory_csv
 from hipsim.motion.trajectories import MIN_SAMPLES, iso14242_angles, iso14242_load
+from hipsim.plausibility import radians_slip
 
 # --------------------------------------------------------------------------- derivative accuracy
 #
@@ -133,6 +134,8 @@ def test_csv_random_smooth_trajectories_round_trip(tmp_path, motion):
     q = offset + a * np.sin(w * t[:, None] + phi)
     qd = a * w * np.cos(w * t[:, None] + phi)
     qdd = -a * w**2 * np.sin(w * t[:, None] + phi)
+    # A sub-degree motion in degrees that would be a gait's range as radians is refused as radians (issue 38).
+    assume(unit == "rad" or radians_slip(np.degrees(np.ptp(q, axis=0))) is None)
     path = tmp_path / "random.csv"
     path.write_text(csv_text(t, q, None, unit))
     traj = load_trajectory_csv(path, periodic=False)
@@ -349,20 +352,31 @@ def test_load_units_and_signs(tmp_path):
         )
 
 
-def test_radians_under_degree_headers_warn(tmp_path):
+def test_radians_under_degree_headers_are_refused(tmp_path):
+    """The ISO cycle in radians under _deg headers: α spans 0.75 "°", a gait's 43° as radians (issue 38: refused)."""
     t = np.arange(50) / 100
     q, _, _ = iso14242_angles(t)
     path = tmp_path / "rad.csv"
     path.write_text(csv_text(t, q, None, unit="rad").replace("_rad", "_deg"))  # radians written under _deg
-    with pytest.warns(
-        TrajectoryWarning,
-        match=r"rad.csv: the angles span less than a degree \(at most 0.\d+° in '(alpha|beta|gamma)_deg'\)",
+    with pytest.raises(
+        TrajectoryError,
+        match=r"rad.csv, column 'alpha_deg': the angles look like radians: the widest spans 0.75°, a gait's 43° if read as radians",
     ):
         load_trajectory_csv(path)
 
 
+def test_a_motion_under_a_degree_that_is_no_gait_as_radians_is_warned_of(tmp_path):
+    """Spans of 0.05° are 2.9° as radians: below a gait's range, so doubtful (a warning), not a clear slip."""
+    t = np.arange(50) / 100
+    q = np.radians(0.05) * np.sin(2 * np.pi * t)[:, None] * np.ones(3)
+    path = tmp_path / "tiny.csv"
+    path.write_text(csv_text(t, q, np.full(t.size, 1000.0), unit="deg"))
+    with pytest.warns(TrajectoryWarning, match=r"the angles span less than a degree"):
+        load_trajectory_csv(path)
+
+
 def test_a_still_pose_and_real_degrees_do_not_warn(tmp_path, recwarn):
-    lines = ["t_s,alpha_deg,beta_deg,gamma_deg"] + [f"{k / 100},10,2,-3" for k in range(10)]
+    lines = ["t_s,alpha_deg,beta_deg,gamma_deg,Fe_N"] + [f"{k / 100},10,2,-3,1000" for k in range(10)]
     load_trajectory_csv(write_lines(tmp_path / "still.csv", lines))
     write_iso_csv(tmp_path / "iso.csv", 100, 1, True)
     load_trajectory_csv(tmp_path / "iso.csv")

@@ -154,7 +154,10 @@ def error_lines(err: str) -> list[str]:
 def far_trajectory(folder, gamma=(0, 60, 120, 180, 120, 60, 30, 10)):
     """Rotation about Z that turns the platform joints away from their screws, out of reach from t = 0.02 s."""
     path = folder / ("far.csv" if gamma[0] == 0 else "allfar.csv")
-    path.write_text("t_s,alpha_deg,beta_deg,gamma_deg\n" + "".join(f"{k / 100},0,0,{g}\n" for k, g in enumerate(gamma)))
+    # With a load: a file without one is warned of (issue 38), and these tests are about poses.
+    path.write_text(
+        "t_s,alpha_deg,beta_deg,gamma_deg,Fe_N\n" + "".join(f"{k / 100},0,0,{g},1000\n" for k, g in enumerate(gamma))
+    )
     return path
 
 
@@ -410,20 +413,19 @@ def test_check_words_informational_rows_so_they_cannot_be_read_as_failures(capsy
     assert out.count("within tolerance") == 2
 
 
-def test_radians_under_a_degree_header_are_warned_about(tmp_path):
+def test_radians_under_a_degree_header_are_refused(tmp_path):
+    """A gait's flexion in radians under alpha_deg: spans 0.75 "°", 43° as radians: a clear slip (issue 38), exit 2."""
     path = tmp_path / "rad_as_deg.csv"
     t = np.arange(100) / 100
     q = [float(np.radians(3.5 + 21.5 * np.cos(2 * np.pi * x))) for x in t]  # radians, written under alpha_deg
-    path.write_text("t_s,alpha_deg,beta_deg,gamma_deg\n" + "".join(f"{x},{a!r},0.02,-0.07\n" for x, a in zip(t, q)))
-    status, out, err = run("torques", "--trajectory", str(path), "--out", str(tmp_path / "o.csv"))
-    assert status == 0, err
-    warning = [line for line in err.splitlines() if line.startswith("hipsim: warning:")]
-    assert (
-        len(warning) == 1
-        and "span less than a degree" in warning[0]
-        and "alpha_deg" in warning[0]
-        and "radians" in warning[0]
+    path.write_text(
+        "t_s,alpha_deg,beta_deg,gamma_deg,Fe_N\n" + "".join(f"{x},{a!r},0.02,-0.07,1000\n" for x, a in zip(t, q))
     )
+    status, out, err = run("torques", "--trajectory", str(path), "--out", str(tmp_path / "o.csv"))
+    assert status == 2, err
+    lines = error_lines(err)
+    assert len(lines) == 1 and "column 'alpha_deg': the angles look like radians" in lines[0] and "43°" in lines[0]
+    assert not (tmp_path / "o.csv").exists()
 
 
 @pytest.mark.parametrize(

@@ -12,7 +12,12 @@ def test_the_built_in_cycle_on_the_published_machine_reports_nothing(tmp_path, c
     assert "limit" not in capsys.readouterr().err
     assert main(["feasible"]) == 0
     out = capsys.readouterr().out
-    assert "within every machine limit" in out and "crossed" not in out
+    # The published machine has no [motor] table: the verdict covers only what it could check (issue 38).
+    assert (
+        "within the limits checked (singularity measure, load range); not checked: stroke, motor speed, motor torque"
+        in out
+    )
+    assert "within every machine limit" not in out and "crossed" not in out
 
 
 @pytest.mark.parametrize(

@@ -60,10 +60,14 @@ def test_alarm_at_the_first_snapshot_after_the_step_and_none_before(stepped):
     assert phase[0] == "running-in" and alarm[0] == 0 and table["hip_mu_change"][0] > 0.01
 
 
-def test_no_alarm_for_a_step_below_the_threshold(tmp_path_factory, params):
-    _, table = _run(tmp_path_factory, params, 0.005)
+def test_a_step_below_the_threshold_is_a_notice_not_an_alarm(tmp_path_factory, params):
+    # The mean up by 0.005 (+ the slow rise): up to twice that in one station, still below a threshold of 0.02.
+    folder = tmp_path_factory.mktemp("small_step")
+    write_test(folder, params, step_at=STEP_AT, step=0.005)
+    table = monitor(params, folder, baseline=BASELINE, alarm_rise=0.02)
     assert not any(table["alarm"])
     assert table["hip_mu_change"].iloc[-1] > 0.005  # the step is seen, it is just below what matters
+    assert table["flag"].iloc[-1].startswith("notice: the two stations' mean rises")
 
 
 def test_no_chart_without_a_complete_baseline(tmp_path, params):
@@ -75,7 +79,7 @@ def test_no_chart_without_a_complete_baseline(tmp_path, params):
 def test_per_station_estimates_when_the_loads_differ(tmp_path, params):
     rng = np.random.default_rng(3)
     write_snapshot(tmp_path / "s.csv", params, 0.1, 0, rng, station_loads=(0.9, 1.1), station_mu=(0.09, 0.13))
-    row = estimate(MonitorSetup(params), find_snapshots(tmp_path)[0])
+    row = estimate(MonitorSetup(params), find_snapshots(tmp_path)[0][0])
     assert row["stations"] == "separated"
     for p, mu in ((1, 0.09), (2, 0.13)):
         assert abs(row[f"load_friction_{p}_mm"] - _load_term(params, mu)) < 3 * row[f"load_friction_{p}_mm_std"]
@@ -93,6 +97,6 @@ def test_per_station_refused_when_the_loads_vary_alike(tmp_path, params):
         line + f",{float(line.split(',')[k]) / 2:.10g},{float(line.split(',')[k]) / 2:.10g}" for line in lines[1:]
     ]
     path.write_text("\n".join(out) + "\n")
-    row = estimate(MonitorSetup(params), find_snapshots(tmp_path)[0])
+    row = estimate(MonitorSetup(params), find_snapshots(tmp_path)[0][0])
     assert row["stations"].startswith("not separable") and np.isnan(row["load_friction_1_mm"])
     assert row["load_friction_mm"] == pytest.approx(_load_term(params, 0.1), rel=0.02)

@@ -17,7 +17,15 @@ from hipsim.rig.monitoring import control_chart
 from hipsim.rig.monitoring.monitor_fit import MonitorSetup
 from hipsim.rig.monitoring.monitor_run import run_monitor
 from hipsim.rig.monitoring.monitor_table import read_table
-from hipsim.rig.monitoring.snapshots import find_snapshots
+from hipsim.rig.monitoring.snapshots import find_snapshots as _find
+
+
+def find_snapshots(logs, **options):
+    """The snapshots alone (none is left out in these tests)."""
+    snapshots, skipped = _find(logs, **options)
+    assert not skipped
+    return snapshots
+
 
 MODELS = Path(hipsim.__file__).resolve().parent.parent / "models"
 
@@ -86,13 +94,27 @@ def test_another_set_up_into_the_same_table_is_refused(params, test_logs, tmp_pa
     run_monitor(MonitorSetup(params), find_snapshots(test_logs), out=out)
     before = out.read_bytes()
     status = main(
-        ["monitor", "--params", str(identified), "--log", str(test_logs), "--out", str(out), "--cutoff", "15"]
+        [
+            "monitor",
+            "--settle",
+            "0",
+            "--params",
+            str(identified),
+            "--log",
+            str(test_logs),
+            "--out",
+            str(out),
+            "--cutoff",
+            "15",
+        ]
     )
     assert status == 2 and "another set-up" in capsys.readouterr().err and out.read_bytes() == before
     assert (
         main(
             [
                 "monitor",
+                "--settle",
+                "0",
                 "--params",
                 str(identified),
                 "--log",
@@ -113,6 +135,8 @@ def test_the_command_writes_table_report_and_exits_1_on_an_active_alarm(test_log
     status = main(
         [
             "monitor",
+            "--settle",
+            "0",
             "--params",
             str(identified),
             "--log",
@@ -150,13 +174,13 @@ def test_the_command_writes_table_report_and_exits_1_on_an_active_alarm(test_log
     } <= set(table)
     page = (report / "index.html").read_text(encoding="utf-8")
     assert 'id="verdict"' in page and 'id="provenance"' in page and "ALARM" in page and "snap_01750000.csv" in page
-    for stem in ("chart", "screw", "residuals"):
+    for stem in ("chart", "terms", "residuals"):
         assert (report / f"{stem}.png").stat().st_size > 0 and (report / f"{stem}.svg").stat().st_size > 0
 
 
 def test_no_alarm_at_the_last_snapshot_exits_0(params, tmp_path, identified, capsys):
     write_test(tmp_path / "logs", params, every=250_000, last=1_500_000)
-    assert main(["monitor", "--params", str(identified), "--log", str(tmp_path / "logs")]) == 0
+    assert main(["monitor", "--settle", "0", "--params", str(identified), "--log", str(tmp_path / "logs")]) == 0
     assert "no alarm at the last snapshot" in capsys.readouterr().out
 
 
@@ -173,6 +197,8 @@ def _bad(tmp_path, identified, capsys, logs, params_file=None) -> str:
     status = main(
         [
             "monitor",
+            "--settle",
+            "0",
             "--params",
             str(params_file or identified),
             "--log",
@@ -217,9 +243,12 @@ def test_a_decreasing_counter(one, tmp_path, identified, capsys):
 
 
 def test_two_files_with_the_same_cycles(one, tmp_path, identified, capsys):
+    # The copy is skipped and named (each cycle in one snapshot only); the original goes on.
     shutil.copy(one / "a.csv", one / "b.csv")
-    err = _bad(tmp_path, identified, capsys, one)
-    assert "b.csv" in err and "a.csv" in err and "1000-1002" in err
+    status = main(["monitor", "--settle", "0", "--params", str(identified), "--log", str(one)])
+    captured = capsys.readouterr()
+    assert status == 0 and "1 snapshots" in captured.out
+    assert "skipped b.csv" in captured.err and "as does a.csv" in captured.err and "1000-1002" in captured.err
 
 
 def test_a_snapshot_too_short_for_its_filter(params, tmp_path, identified, capsys):
@@ -241,13 +270,28 @@ def test_an_identification_table_is_accepted(one, tmp_path, capsys):
     published = Path(hipsim.load_parameters().source).read_text(encoding="utf-8")
     path = tmp_path / "with_table.toml"
     path.write_text(published + "\n[identification]\nlogs = ['rig.csv']\n", encoding="utf-8")
-    from hipsim.rig.monitoring.monitor_fit import identified_file
+    from hipsim.rig.monitoring.reference import identified_file
 
     assert identified_file(path) is True
 
 
-def test_a_long_log_in_windows(params, tmp_path):
+def test_a_long_log_in_windows_writes_no_temporary_file(params, tmp_path, monkeypatch):
+    import builtins
+    import hashlib
+    import tempfile
+
     write_snapshot(tmp_path / "long.csv", params, 0.1, 100, np.random.default_rng(2), cycles=7)
+    opened = []
+
+    def reading_only(file, mode="r", *args, **kwargs):
+        assert not set(mode) & set("wax+"), f"{file} opened to write"
+        opened.append(str(file))
+        return real_open(file, mode, *args, **kwargs)
+
+    real_open = builtins.open
+    monkeypatch.setattr(builtins, "open", reading_only)
+    for name in ("TemporaryDirectory", "NamedTemporaryFile", "mkstemp", "mkdtemp"):
+        monkeypatch.setattr(tempfile, name, None)  # calling any of them fails
     snapshots = find_snapshots(tmp_path, window=2)
     assert [(s.first_cycle, s.last_cycle) for s in snapshots] == [
         (100, 101),
@@ -255,10 +299,20 @@ def test_a_long_log_in_windows(params, tmp_path):
         (104, 105),
     ]  # 106 waits for 107
     result = run_monitor(MonitorSetup(params, window=2), snapshots)
+    monkeypatch.undo()
     f = params.friction
     truth = (f.hip_radius * 0.1 + f.thrust_radius * f.thrust_mu) * 1e3
     assert result.columns["file"] == ["long.csv[100-101]", "long.csv[102-103]", "long.csv[104-105]"]
     assert np.allclose(result.columns["load_friction_mm"], truth, rtol=0.02)
+    # The finder reads the file twice (the reader's scan of its counter, one pass hashing each window's lines),
+    # each window's estimate once (its lines).
+    assert opened == [str(tmp_path / "long.csv")] * 5
+    # A window's identity is the SHA-256 of its own lines: those of cycles 102-103 (the header not among them).
+    lines = (tmp_path / "long.csv").read_text(encoding="utf-8").splitlines(keepends=True)
+    cycle = [line.split(",")[1] for line in lines[1:]]
+    window = "".join(line for line, c in zip(lines[1:], cycle) if c in ("102", "103"))
+    assert snapshots[1].sha256 == hashlib.sha256(window.encode()).hexdigest()
+    assert snapshots[1].size == len(window.encode())
 
 
 def test_without_pandas_a_table_of_columns(params, test_logs, monkeypatch):

@@ -231,11 +231,11 @@ def test_header_counts_that_disagree_with_the_data_are_a_warning_and_the_data_wi
     assert np.array_equal(read.q, clean.q) and np.array_equal(read.qdd, clean.qdd)
 
 
-def test_a_tiny_motion_in_degrees_is_warned_about(tmp_path):
+def test_a_gait_in_radians_under_inDegrees_yes_is_refused(tmp_path):
     t = np.arange(40) / 100
     path = write_mot(tmp_path / "rad_labelled_deg.mot", t, gait(t), in_degrees=False)
     path.write_text(path.read_text().replace("inDegrees=no", "inDegrees=yes"))  # radians under inDegrees=yes
-    with pytest.warns(TrajectoryWarning, match="span less than a degree"):
+    with pytest.raises(TrajectoryError, match="the angles look like radians"):
         load_opensim(path)
 
 

@@ -165,3 +165,31 @@ def test_a_fault_far_into_a_long_log_names_its_line(tmp_path):
     path.write_bytes(b"\n".join(data))
     with pytest.raises(TrajectoryError, match="line 180001: not a text"):
         read_rig_log(path)
+
+
+def test_a_window_of_lines_reads_nothing_after_it(tmp_path):
+    """lines=(first, stop): the samples on those file lines only; what follows (a cell that is no number, a byte that is
+    not UTF-8) is neither parsed nor read beyond the block that holds the window's end; kept columns and --rate's times
+    cover the window alone."""
+    from hipsim.rig.logs.reader import RigLogFile
+
+    rows = [row + [k // 100] for k, row in enumerate(good_rows(200_000))]  # a cycle counter, 100 samples a cycle
+    text = ",".join(HEADER + ["cycle"]) + "\n" + "\n".join(",".join(str(x) for x in row) for row in rows) + "\n"
+    path = tmp_path / "long.csv"
+    bad = b"9.9,x\xff\xfe,oops\n"  # 3 cells, not UTF-8, not numbers: any read of it fails
+    path.write_bytes(text.encode() + bad)
+    with pytest.raises(TrajectoryError):
+        RigLogFile(path)
+    window = RigLogFile(path, block=500, keep=("cycle", "absent"), lines=(1002, 1302))  # samples 1000-1299
+    assert len(window) == 300 and window.lines[0] == 1002 and window.lines[-1] == 1301
+    np.testing.assert_array_equal(window.t, np.arange(1000, 1300) / 1000.0)
+    np.testing.assert_array_equal(window.kept["cycle"], np.arange(1000, 1300) // 100)
+    assert set(window.kept) == {"cycle"}
+    assert window.size < path.stat().st_size // 10  # read (and hashed): a block or two of 50,000 bytes, not 13 MB
+    coarse = RigLogFile(path, block=500, rate=1000.0, lines=(1002, 1302))
+    np.testing.assert_allclose(coarse.t, 1.0 + np.arange(300) / 1000.0, rtol=0, atol=1e-12)
+    # The window's first line may be the header's block; its end after the last line of the file reads it whole.
+    head = RigLogFile(path, lines=(1, 12))
+    assert len(head) == 10 and head.lines[0] == 2
+    with pytest.raises(TrajectoryError, match=f"line {len(rows) + 2}"):
+        RigLogFile(path, lines=(150_000, 10**9))

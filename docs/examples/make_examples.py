@@ -56,7 +56,8 @@ def lab_export():
         "Cycle [%];Hip Flexion [deg];Hip Adduction [deg];Hip Int. Rotation [deg];F res [%BW];Event",
     ]
     for k, x in enumerate(s):
-        cells = [f"{100 * x:.1f}", *(f"{v:.6f}" for v in hip[k]), f"{100 * load[k] / BODY_WEIGHT_N:.4f}"]
+        # 7 decimals of %BW: the peak maps back onto 3000 N to 1e-9 (4 gave 3000.0001 N, a false crossing of the load limit)
+        cells = [f"{100 * x:.1f}", *(f"{v:.6f}" for v in hip[k]), f"{100 * load[k] / BODY_WEIGHT_N:.7f}"]
         lines.append(";".join(c.replace(".", ",") for c in cells) + ";" + events.get(round(100 * x), ""))
     (HERE / "gait_lab_export.csv").write_text("\n".join(lines) + "\n", encoding="utf-8")
 

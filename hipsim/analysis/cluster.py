@@ -1,9 +1,14 @@
-"""Work in batches on a dask cluster: a local one of worker processes, or an existing scheduler's.
+"""Work in batches, in this process or on a dask cluster (a local one of worker processes, or an existing scheduler's).
 
-``hipsim sweep`` (its variants) and ``hipsim monitor`` (its snapshots) hand
-their batches to :func:`map_batches`, which yields each batch's result as it
-completes. The set-up every batch needs is sent to the workers once
-(``scatter``, broadcast). A local cluster keeps its scratch space (lock files,
+``hipsim sweep`` (its variants) and ``hipsim monitor`` (its snapshots) share
+this: :func:`batch_size` (about eight batches a worker, so they stay busy to
+the end), :func:`run_batches` (one worker and no scheduler: the batches in
+this process; else :func:`map_batches`), each batch's result yielded as it
+completes, the same function on either path so the results are the same to
+the last bit. The set-up every batch needs is sent to the workers once
+(``scatter``, broadcast). An error a batch raises on a worker is raised here
+with its type and its place (file, line, column: a :class:`~hipsim.exceptions.HipsimError`'s
+attributes do not survive pickling by its message alone, so they travel beside it). A local cluster keeps its scratch space (lock files,
 spilled data) in a folder of this run's, removed once its worker processes
 are gone, also on Ctrl-C or SIGTERM: not dask's shared
 ``/tmp/dask-scratch-space``, which dask leaves behind.
@@ -14,16 +19,84 @@ from __future__ import annotations
 import atexit
 import contextlib
 import logging
+import math
 import shutil
 import signal
 import tempfile
 import threading
 from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass
 from typing import Any
 
-from ..exceptions import ArgumentError, MissingDependencyError
+from ..exceptions import ArgumentError, HipsimError, MissingDependencyError
 
-__all__ = ["distributed_module", "map_batches"]
+__all__ = ["Raised", "batch_size", "distributed_module", "map_batches", "run_batches"]
+
+
+def batch_size(count: int, workers: int, most: int) -> int:
+    """Items per batch: about eight batches a worker (so they stay busy to the end), 1 to ``most`` items each.
+
+    Args:
+        count: items to do.
+        workers: worker processes.
+        most: the largest batch (a batch's cost should stay small next to the whole).
+    """
+    return max(1, min(most, math.ceil(count / (8 * max(workers, 1)))))
+
+
+@dataclass(frozen=True)
+class Raised:
+    """A :class:`~hipsim.exceptions.HipsimError` as it travels from a worker: its type, arguments and attributes.
+
+    Pickling an exception keeps its type and message but calls its constructor again with the message alone, so
+    a :class:`~hipsim.exceptions.FileRowError`'s file, line and column would come back as None.
+    """
+
+    kind: type[HipsimError]
+    args: tuple
+    attributes: dict
+
+    @classmethod
+    def of(cls, error: HipsimError) -> Raised:
+        return cls(type(error), error.args, dict(vars(error)))
+
+    def error(self) -> HipsimError:
+        """The error again: its type, message and attributes."""
+        error = self.kind.__new__(self.kind)
+        Exception.__init__(error, *self.args)
+        vars(error).update(self.attributes)
+        return error
+
+
+def _guarded(batch: Any, function: Callable[..., Any], setup: Any) -> Any:
+    """``function(batch, setup=setup)`` on a worker, a HipsimError returned as :class:`Raised` (raised again by the caller)."""
+    try:
+        return function(batch, setup=setup)
+    except HipsimError as error:
+        return Raised.of(error)
+
+
+def run_batches(
+    function: Callable[..., Any],
+    batches: Sequence[Any],
+    setup: Any,
+    workers: int,
+    scheduler: str | None,
+    what: str,
+) -> Iterator[Any]:
+    """``function(batch, setup=setup)`` for each batch, the results as they complete: in this process for one worker
+    and no scheduler (in order), else on a dask cluster (:func:`map_batches`).
+
+    Raises:
+        HipsimError: what a batch raised, with its type and attributes, wherever it ran.
+    """
+    if not batches:
+        return
+    if scheduler is None and workers == 1:
+        for batch in batches:
+            yield function(batch, setup=setup)
+        return
+    yield from map_batches(function, batches, setup, workers, scheduler, what)
 
 
 def distributed_module(what: str):
@@ -98,11 +171,13 @@ def map_batches(
                     )
                     client = stack.enter_context(distributed.Client(cluster))
             shared = client.scatter(setup, broadcast=True, hash=False)
-            futures = client.map(function, batches, setup=shared, pure=False)
+            futures = client.map(_guarded, batches, function=function, setup=shared, pure=False)
             try:
                 for future in distributed.as_completed(futures):
                     result = future.result()
                     future.release()
+                    if isinstance(result, Raised):
+                        raise result.error()
                     yield result
             finally:
                 client.cancel(futures)

@@ -97,6 +97,7 @@ class FeasibilityWatch:
         import numpy as np
 
         from ..design.feasibility import Crossing, check_feasibility
+        from ..plausibility import beyond
 
         keep = columns["flagged"] == 0 if "flagged" in columns else slice(None)
         t = np.asarray(columns["t_s"])[keep]
@@ -119,7 +120,7 @@ class FeasibilityWatch:
             cond_inv=np.asarray(columns["cond_inv"])[keep],
             trajectory=SimpleNamespace(Fe=np.asarray(columns["Fe_N"])[keep]),
         )
-        for crossing in check_feasibility(run, self.limits):
+        for crossing in check_feasibility(run, self.limits):  # type: ignore[arg-type]  # a Run's columns, duck-typed
             key = (crossing.limit, crossing.motor)
             seen = self.found.get(key)
             if seen is None:
@@ -134,7 +135,7 @@ class FeasibilityWatch:
             low = np.minimum.accumulate(np.vstack([L[:1] if self.low is None else self.low, L]), axis=0)[1:]
             high = np.maximum.accumulate(np.vstack([L[:1] if self.high is None else self.high, L]), axis=0)[1:]
             for i in range(3):
-                over = high[:, i] - low[:, i] > self.stroke
+                over = beyond(high[:, i] - low[:, i], self.stroke)
                 if self.stroke_t[i] is None and over.any():
                     self.stroke_t[i] = float(t[np.argmax(over)])
             self.low, self.high = low[-1:], high[-1:]
@@ -209,12 +210,20 @@ def run(args) -> int:
     crossings = check_feasibility(analyse(params, trajectory), machine)
     k = fitting_speed(lambda motion: analyse(params, motion), trajectory, machine) if crossings else 1.0
     period = cycle_period(args, trajectory)
+    noisy = noise_flagged(args)
+    unchecked = machine.unchecked()
+    line = verdict(machine, crossings, drive is not None, noisy)
     if args.summary_format == "json":
         print_json(
             {
                 "trajectory": trajectory.name,
                 "parameters": params.source,
-                "feasible": not crossings,
+                # True only when every limit had a figure; None when nothing checked was crossed but some were not checked.
+                "feasible": False if crossings else (None if unchecked else True),
+                "checked": machine.checked(),
+                "not_checked": unchecked,
+                "noise_flagged": noisy,
+                "verdict": line,
                 "crossings": [
                     {
                         "limit": c.limit,
@@ -233,14 +242,50 @@ def run(args) -> int:
         )
     else:
         print(f"trajectory: {trajectory.name} ({len(trajectory)} samples); parameters: {params.source}")
-        if not crossings:
-            print(
-                "within every machine limit with a figure (stroke, speeds and torque need a [motor] table or --drive)"
-            )
-        else:
+        if crossings:
             print(format_crossings(crossings))
-            print(_suggestion(k, period))
+        print(line)
+        if crossings:
+            print(_suggestion(k, period) + (" (by the noisy motion's accelerations)" if noisy else ""))
     return 1 if crossings else 0
+
+
+def verdict(machine, crossings, drive_given: bool, noisy: bool) -> str:
+    """The verdict in one line: what was checked, what was not (and why), and whether noise stands behind it.
+
+    "within every machine limit" only when every limit of
+    :data:`hipsim.design.feasibility.CHECKED_LIMITS` had a figure; otherwise
+    the limits checked and those not, with the file that would give them.
+    """
+    unchecked = machine.unchecked()
+    if crossings:
+        text = f"crosses {len(crossings)} of the limits checked ({', '.join(machine.checked())})"
+    elif not unchecked:
+        text = f"within every machine limit ({', '.join(machine.checked())})"
+    else:
+        text = f"within the limits checked ({', '.join(machine.checked())})"
+    if unchecked:
+        where = (
+            "not in the drive file or the parameter file's [motor] table"
+            if drive_given
+            else "no drive data: give --drive, or a [motor] table in the parameter file"
+        )
+        text += f"; not checked: {', '.join(unchecked)} ({where})"
+    if noisy:
+        from ..motion.noise_check import SUGGESTED_CUTOFF as _SUGGESTED_CUTOFF  # NumPy: not at the parser's import
+
+        text += (
+            f"; on a motion the noise check flagged: its speeds and accelerations carry the noise "
+            f"(filter it with --cutoff {_SUGGESTED_CUTOFF:g})"
+        )
+    return text
+
+
+def noise_flagged(args) -> bool:
+    """True when reading the motion gave a noise warning (:class:`hipsim.motion.build.NoiseWarning`)."""
+    from ..motion.build import NoiseWarning
+
+    return any(issubclass(category, NoiseWarning) for category, _ in getattr(args, "trajectory_warnings", ()))
 
 
 def _suggestion(k: float | None, period: float | None) -> str:

@@ -174,7 +174,9 @@ def run(args) -> int:
     check = iso_check(t, q, load, tolerances, source=name, periodic=periodic)
     if periodic:  # the cycles may run past the last sample: draw them on the repeated run
         t, q, load = periodic_extension(t, q, load)
-    files = write_iso_check(args.out, check, t, q, load, page_provenance(args, log=args.trajectory))
+    files = write_iso_check(
+        args.out, check, t, q, load, page_provenance(args, log=args.trajectory, load=getattr(args, "load", None))
+    )
     if args.summary_format == "json":
         print_json(iso_summary(check) | {"index": str(files.index)})
     else:

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import argparse
+import shlex
+import subprocess
 import sys
 
 from ..exceptions import HipsimError
@@ -10,28 +12,36 @@ from .common import add_provenance_options, add_summary_format, page_provenance,
 
 __all__ = ["add_parser", "format_summary", "run"]
 
-#: Defaults written out so that the parser loads nothing heavy (the library's: hipsim.rig.monitoring.control_chart; a test checks).
+#: Defaults written out so that the parser loads nothing heavy (the library's: hipsim.rig.monitoring; a test checks).
 DEFAULT_BASELINE = "500000:1000000"
 DEFAULT_ALARM_RISE = 0.01
 DEFAULT_CUTOFF = 20.0
+#: Seconds between looks at the logs with --watch, and since a file's last change before it is read.
+DEFAULT_POLL = 30.0
+DEFAULT_SETTLE = 5.0
 
 _DESCRIPTION = """\
 Holds the identified machine (--params, a file written by hipsim identify) fixed and re-estimates, per snapshot, the
 friction the motor torques determine: the load term r_h·μ_h + r_t·μ_t (the hip joint's and the thrust bearing's, which one
 shared load cannot tell apart), the thrust bearing's weight term, the screw's Coulomb and viscous friction, each with its
 standard deviation; with per-station loads logged (Fe_1_N, Fe_2_N), the load term per station when the loads allow.
-A change of the load term is attributed to the specimen (thrust bearing unchanged): hip_mu_change. A baseline period after
-running-in (--baseline) gives the reference level and spread; an EWMA chart tells significant rises, and an alarm is raised
-when a significant rise of the hip friction coefficient exceeds --alarm-rise. Snapshots: CSV rig logs with a 'cycle' column
-(files, folders, glob patterns), or long logs cut into --window N cycles. Runs on local worker processes (dask.distributed,
---workers) or a dask cluster (--scheduler). --out is resumed: a rerun estimates only new snapshots. Exit status: 0 no alarm
-at the last snapshot, 1 an alarm active at the last snapshot, 2 bad input."""
+A change of the load term is attributed to the specimen (thrust bearing unchanged) or to the load cell's calibration
+(which it cannot tell apart; with the commanded load logged, Fe_cmd_N, the two loads are compared per snapshot).
+A baseline period after running-in (--baseline) gives the reference level and spread; a two-sided EWMA chart tells
+significant rises and falls: an alarm when the change exceeds --alarm-rise in one station (on the stations' mean: its
+worst case, twice its change), a notice when it is significant but smaller. Snapshots: CSV rig logs with a 'cycle'
+column (files, folders, glob patterns), or long logs cut into --window N cycles. A snapshot that cannot be read is
+skipped and named with its reason; one changed less than --settle seconds ago waits. --watch follows a test in
+progress. Runs on local worker processes (dask.distributed, --workers) or a dask cluster (--scheduler). --out is
+resumed: a rerun estimates only new or changed snapshots. Exit status: 0 no alarm at the last snapshot, 1 an alarm
+active at the last snapshot, 2 bad input or no usable snapshot."""
 
 _EXAMPLES = """\
 examples:
   hipsim monitor --params identified.toml --log snapshots/ --out friction.csv --report monitor_report
   hipsim monitor --params identified.toml --log 'logs/snap_*.csv' --baseline 250000:750000 --alarm-rise 0.02
   hipsim monitor --params identified.toml --log long.csv --window 10 --summary-format json
+  hipsim monitor --params identified.toml --log snapshots/ --out friction.csv --report page --watch --on-alarm 'notify.sh'
 """
 
 
@@ -67,7 +77,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         type=float,
         default=DEFAULT_ALARM_RISE,
         metavar="D",
-        help=f"engineering threshold: rise of the hip friction coefficient (default {DEFAULT_ALARM_RISE:g})",
+        help="engineering threshold: change of the hip friction coefficient in one station, either way "
+        f"(default {DEFAULT_ALARM_RISE:g})",
     )
     logs = parser.add_argument_group("logs")
     logs.add_argument(
@@ -79,6 +90,35 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         default=DEFAULT_CUTOFF,
         metavar="HZ",
         help=f"low-pass cutoff (default {DEFAULT_CUTOFF:g} Hz; 0: none)",
+    )
+    logs.add_argument(
+        "--rate",
+        type=float,
+        metavar="HZ",
+        help="sample rate: read the times from the sample index (time stamps too coarse to order the samples)",
+    )
+    logs.add_argument(
+        "--settle",
+        type=float,
+        default=DEFAULT_SETTLE,
+        metavar="SECONDS",
+        help=f"a file changed less than this ago is still being written and waits (default {DEFAULT_SETTLE:g})",
+    )
+    follow = parser.add_argument_group("following a test in progress")
+    follow.add_argument(
+        "--watch", action="store_true", help="keep watching the logs, updating table and page (Ctrl-C stops)"
+    )
+    follow.add_argument(
+        "--poll",
+        type=float,
+        default=DEFAULT_POLL,
+        metavar="SECONDS",
+        help=f"seconds between looks at the logs with --watch (default {DEFAULT_POLL:g})",
+    )
+    follow.add_argument(
+        "--on-alarm",
+        metavar="CMD",
+        help="with --watch, run this command once each time an alarm is raised (the summary JSON on its standard input)",
     )
     engine = parser.add_argument_group("engine (dask.distributed; pip install 'hipsim[sweep]')")
     engine.add_argument(
@@ -95,29 +135,52 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     out.add_argument(
         "--report", metavar="DIR", help="write the report (index.html, figures PNG/SVG, monitor.json) to this folder"
     )
+    out.add_argument(
+        "--pdf", action="store_true", help="also print the page to DIR/report.pdf (needs Chromium on PATH)"
+    )
     add_provenance_options(parser)
     add_summary_format(parser)
     parser.set_defaults(run=run)
     return parser
 
 
-def run(args) -> int:
-    """Estimate, chart, write; exit status 1 when an alarm is active at the last snapshot."""
-    from ..files import check_folder
-    from ..rig.monitoring.control_chart import parse_baseline
-    from ..rig.monitoring.monitor_fit import MonitorSetup, reference
-    from ..rig.monitoring.monitor_run import run_monitor
-    from ..rig.monitoring.monitor_table import check_out
-    from ..rig.monitoring.snapshots import find_snapshots
-
+def _check(args) -> None:
+    """The options, one line each when wrong."""
     if args.workers is not None and args.workers < 1:
         raise HipsimError(f"--workers: expected a positive number of processes, got {args.workers}")
     if not (args.alarm_rise > 0):
         raise HipsimError(
-            f"--alarm-rise: expected a positive rise of the hip friction coefficient, got {args.alarm_rise:g}"
+            f"--alarm-rise: expected a positive change of the hip friction coefficient, got {args.alarm_rise:g}"
         )
     if args.window is not None and args.window < 1:
         raise HipsimError(f"--window: expected a positive number of cycles, got {args.window}")
+    if args.rate is not None and not (0 < args.rate < float("inf")):
+        raise HipsimError(f"--rate: expected a positive sample rate in Hz, got {args.rate:g}")
+    if not (0 <= args.settle < float("inf")):
+        raise HipsimError(f"--settle: expected seconds ≥ 0, got {args.settle:g}")
+    if not (0 < args.poll < float("inf")):
+        raise HipsimError(f"--poll: expected seconds > 0, got {args.poll:g}")
+    if args.on_alarm and not args.watch:
+        raise HipsimError("--on-alarm: runs with --watch only (a single run's alarm is its exit status 1)")
+    if args.pdf and not args.report:
+        raise HipsimError("--pdf: prints the page, so it needs --report DIR")
+    if args.on_alarm:
+        try:
+            if not shlex.split(args.on_alarm):
+                raise ValueError("empty")
+        except ValueError as error:
+            raise HipsimError(f"--on-alarm: expected a command, got '{args.on_alarm}' ({error})") from None
+
+
+def run(args) -> int:
+    """Estimate, chart, write; exit status 1 when an alarm is active at the last snapshot."""
+    from ..files import check_folder
+    from ..rig.monitoring.control_chart import parse_baseline
+    from ..rig.monitoring.monitor_fit import MonitorSetup
+    from ..rig.monitoring.monitor_table import MONITOR_TABLE
+    from ..rig.monitoring.reference import reference
+
+    _check(args)
     try:
         baseline = parse_baseline(args.baseline)
     except HipsimError:
@@ -128,14 +191,29 @@ def run(args) -> int:
     # Every input is read and checked before the first estimate: nothing is written on bad input.
     params, spin = reference(args.params)
     if args.out:
-        check_out(args.out)
+        MONITOR_TABLE.check_out(args.out)
     if args.report:
         check_folder(args.report)
+    if args.pdf:
+        from ..present.pages import require_pdf_renderer
+
+        require_pdf_renderer()  # no Chromium: said before the computing
     setup = MonitorSetup(
-        params, lever_spin=spin, cutoff=cutoff, torque_constant=args.torque_constant, window=args.window
+        params,
+        lever_spin=spin,
+        cutoff=cutoff,
+        torque_constant=args.torque_constant,
+        window=args.window,
+        rate=args.rate,
     )
-    snapshots = find_snapshots(args.log, args.window, cutoff)
-    provenance = page_provenance(argparse.Namespace(**(vars(args) | {"overrides": []})), parameters=args.params)
+    provenance = page_provenance(argparse.Namespace(**(vars(args) | {"overrides": []})))
+    metadata = {"hipsim": provenance.version, "parameters_file": args.params}
+    if args.watch:
+        return _watch(args, setup, baseline, provenance, metadata)
+    from ..rig.monitoring.monitor_run import run_monitor
+    from ..rig.monitoring.snapshots import find_snapshots
+
+    snapshots, skipped = find_snapshots(args.log, args.window, args.settle, args.torque_constant, args.rate)
     bar = _progress_bar(len(snapshots))
     try:
         result = run_monitor(
@@ -148,21 +226,84 @@ def run(args) -> int:
             args.workers,
             args.scheduler,
             progress=lambda n, total: bar.update(n - bar.n),
-            metadata={"hipsim": provenance.version, "parameters_file": args.params},
+            metadata=metadata,
+            skipped=skipped,
         )
     finally:
         bar.close()
-    summary = result.summary() | {"out": args.out, "provenance": provenance.as_dict()}
-    if args.report:
-        from ..present.monitor_page import write_monitor_report
-
-        files = write_monitor_report(args.report, result, provenance)
-        summary["report"] = str(files.index)
+    summary = _outputs(args, result, provenance)
     if args.summary_format == "json":
         print_json(summary)
     else:
         print(format_summary(summary, result))
     return 1 if summary["alarm_active"] else 0
+
+
+def _outputs(args, result, provenance, said: set | None = None) -> dict:
+    """Warnings for the skipped snapshots (standard error; with ``said``, each once), the page when asked; the summary."""
+    for skipped in result.skipped:
+        label = "waiting" if skipped.kind == "waiting" else "skipped"
+        line = f"hipsim: warning: {label} {skipped.name}: {skipped.reason}"
+        if said is None or line not in said:
+            print(line, file=sys.stderr)
+        if said is not None:
+            said.add(line)
+    summary = result.summary() | {"out": args.out, "provenance": provenance.as_dict()}
+    if args.report:
+        from ..present.monitor_page import write_monitor_report
+
+        files = write_monitor_report(args.report, result, provenance, pdf=args.pdf)
+        summary["report"] = str(files.index)
+        summary["pdf"] = str(files.pdf) if files.pdf is not None else None
+    return summary
+
+
+def _watch(args, setup, baseline, provenance, metadata) -> int:
+    """--watch: follow the logs until Ctrl-C; each update's line on standard output."""
+    import json
+
+    from ..files import json_ready
+    from ..rig.monitoring.watch import watch
+
+    said: set[str] = set()
+
+    def update(result) -> None:
+        summary = _outputs(args, result, provenance, said)
+        last = result.columns
+        print(
+            f"{len(last['cycle'])} snapshots to cycle {summary['last_cycle']}: "
+            + ("ALARM ACTIVE" if summary["alarm_active"] else "no alarm at the last snapshot")
+            + (f"; {last['flag'][-1]}" if last["flag"][-1] else ""),
+            flush=True,
+        )
+
+    def on_alarm(result) -> None:
+        document = json.dumps(json_ready(result.summary()))
+        try:
+            subprocess.run(shlex.split(args.on_alarm), input=document, text=True, check=False, timeout=600)
+        except (OSError, subprocess.TimeoutExpired) as error:
+            print(f"hipsim: warning: --on-alarm '{args.on_alarm}' did not run: {error}", file=sys.stderr)
+
+    try:
+        result = watch(
+            setup,
+            args.log,
+            baseline,
+            args.alarm_rise,
+            args.out,
+            args.restart,
+            args.poll,
+            args.settle,
+            update=update,
+            on_alarm=on_alarm if args.on_alarm else None,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            metadata=metadata,
+        )
+    except KeyboardInterrupt:
+        print("hipsim: stopped watching; the table and page are those of the last update", file=sys.stderr)
+        return 130
+    return 1 if result is not None and result.findings.alarm[-1] else 0
 
 
 def _progress_bar(total: int):
@@ -180,50 +321,55 @@ def format_summary(summary: dict, result) -> str:
     lines = [
         f"monitor of {summary['snapshots']} snapshots, cycles {summary['first_cycle']}-{summary['last_cycle']}: "
         f"{summary['new']} estimated, {summary['kept']} kept from {summary['out'] or 'no table'}",
-        f"parameters: {summary['parameters']}; chart: {summary['chart']}; alarm rise {summary['alarm_rise']:g}",
+        f"parameters: {summary['parameters']}; chart: {summary['chart']}; alarm at a change of {summary['alarm_rise']:g} "
+        f"in one station, judged on {summary['judged']}",
     ]
     if summary["note"]:
         lines.append(summary["note"])
     else:
         lines.append(
-            f"baseline cycles {b['from']}-{b['to']}: {b['snapshots']} snapshots, load friction {significant(b['load_friction_mm'], 5)} mm "
-            f"± {significant(b['spread_mm'], 2)} mm between snapshots; threshold {significant(summary['threshold_mm'], 5)} mm"
+            f"baseline cycles {b['from']}-{b['to']}: {b['snapshots']} snapshots, load friction "
+            f"{significant(b['load_friction_mm'], 5)} mm ± {significant(b['spread_mm'], 2)} mm between snapshots"
         )
+    for item in summary["skipped"]:
+        lines.append(f"skipped {item['file']}: {item['reason']}")
+    for item in summary["waiting"]:
+        lines.append(f"waiting {item['file']}: {item['reason']}")
+    if summary["missing"]:
+        lines.append("missing: " + ", ".join(f"{c:,}" for c in summary["missing"]))
     c = result.columns
     rows = []
     for k in range(len(c["cycle"])):
         change = c["hip_mu_change"][k]
         rows.append(
             [
-                str(c["cycle"][k]),
+                f"{c['cycle'][k] / 1e6:.3f}",
                 c["file"][k],
                 c["phase"][k],
                 f"{c['load_friction_mm'][k]:.4f}",
                 f"{c['load_friction_mm_std'][k]:.4f}",
                 "" if change != change else f"{change:+.4f}",
                 f"{c['residual_rms_Nmm'][k]:.3g}",
-                "ALARM" if c["alarm"][k] else "",
+                c["flag"][k],
+                c["note"][k],
             ]
         )
     lines += [
         "",
         format_table(
-            ["cycle", "file", "phase", "load friction [mm]", "std [mm]", "Δμ_h", "residual [N·mm]", "alarm"],
+            ["Mc", "file", "phase", "load friction [mm]", "std [mm]", "Δμ_h", "residual [N·mm]", "flag", "note"],
             rows,
             "Snapshots",
         ),
     ]
     first = summary["first_alarm"]
-    if first:
-        lines.append(
-            f"\nfirst alarm at cycle {first['cycle']} ({first['file']}): hip friction coefficient up by {first['hip_mu_change']:+.4f} "
-            f"± {first['hip_mu_change_std']:.2g} (load friction {first['load_friction_change_mm']:+.4g} mm)"
-        )
-    else:
-        lines.append("\nno alarm")
+    lines.append("\nfirst " + first["text"] + f" (cycle {first['cycle']}, {first['file']})" if first else "\nno alarm")
+    notice = summary["latest_notice"]
+    if notice:
+        lines.append("latest " + notice["text"] + f" (cycle {notice['cycle']}, {notice['file']})")
     lines.append("ALARM ACTIVE at the last snapshot" if summary["alarm_active"] else "no alarm at the last snapshot")
     if summary.get("out"):
         lines.append(f"wrote {summary['out']} ({summary['snapshots']} rows)")
     if summary.get("report"):
-        lines.append(f"wrote {summary['report']}")
+        lines.append(f"wrote {summary['report']}" + (f" and {summary['pdf']}" if summary.get("pdf") else ""))
     return "\n".join(lines)

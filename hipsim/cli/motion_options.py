@@ -200,6 +200,7 @@ def load_trajectory(args, source: bool = False):
             load=load,
             load_scale=load_scale,
         )
+    args.trajectory_warnings = [(w.category, str(w.message)) for w in caught]
     for warning in caught:
         if issubclass(warning.category, TrajectoryWarning):
             print(f"hipsim: warning: {warning.message}", file=sys.stderr)

@@ -101,7 +101,7 @@ def run(args) -> int:
         from ..present.pages import require_pdf_renderer
 
         require_pdf_renderer()  # no Chromium: said before the computing
-    provenance = page_provenance(args, trajectory=args.trajectory, drive=args.motor)
+    provenance = page_provenance(args, trajectory=args.trajectory, load=getattr(args, "load", None), drive=args.motor)
     run = analyse(params, trajectory)
     from .feasible import check_run, report_crossings
 

@@ -388,6 +388,7 @@ def run_identify(args) -> int:
     from ..files import json_ready
     from ..rig.identification.fit import identify
     from ..rig.identification.prior import parse_prior_option, prior_table
+    from ..rig.plausibility import far_from_priors
 
     if args.base:
         return run_base(args)
@@ -431,6 +432,8 @@ def run_identify(args) -> int:
             prior=entries,
             prior_source=source,
         )
+    for line in far_from_priors(result.estimates):  # issue 38: a common cause named (hipsim/rig/plausibility.py)
+        print(f"hipsim: warning: {line}", file=sys.stderr)
 
     from ..files import write_atomic
     from ..rig.identification.identified_file import FileProvenance

@@ -9,7 +9,7 @@ import time
 from pathlib import Path
 
 from ..analysis.registry import engine_names
-from ..exceptions import ArgumentError, HipsimError, OutputError
+from ..exceptions import ArgumentError, HipsimError
 from ..present.tables import format_margin, format_table
 from .common import add_machine_options, add_provenance_options, page_provenance, parameters
 from .motion_options import add_trajectory_options, load_trajectory
@@ -203,16 +203,9 @@ def _drive(args):
 
 def _check_out(path: str) -> Path:
     """The output must be a .parquet/.csv file in an existing folder: checked before any variant runs."""
-    from ..design.sweep_table import table_format
+    from ..design.sweep_table import SWEEP_TABLE
 
-    out = Path(path)
-    table_format(out)
-    if out.is_dir():
-        raise OutputError(out, "is a folder; give a .parquet or .csv file name")
-    folder = out.parent if str(out.parent) else Path(".")
-    if not folder.is_dir():
-        raise OutputError(out, f"cannot write, folder '{folder}' does not exist")
-    return out
+    return SWEEP_TABLE.check_out(path)
 
 
 #: What each part of a sweep's fingerprint comes from, for the message refusing another set-up's file.
@@ -228,34 +221,9 @@ _PARTS = {
 
 def _previous(out: Path, names: list[str], fingerprints: dict[str, str], restart: bool) -> dict[str, list]:
     """The rows already in ``out`` (empty columns when it does not exist yet, or with --restart); refused when they are another sweep's."""
-    from ..design.sweep_table import read_metadata, read_table
-    from ..fingerprint import changed_parts
+    from ..design.sweep_table import SWEEP_TABLE
 
-    if restart or not out.exists():
-        return {name: [] for name in names}
-    table = read_table(out)
-    if list(table) != names:
-        raise OutputError(
-            out,
-            f"holds other columns ({', '.join(list(table)[:4])}, …) than this sweep's ({', '.join(names[:4])}, …): "
-            "give another --out, or --restart to replace it",
-        )
-    recorded = (read_metadata(out) or {}).get("fingerprints")
-    if not isinstance(recorded, dict):
-        raise OutputError(
-            out,
-            "records no set-up (another program's file, or an older hipsim's), so its rows cannot be matched to this "
-            "sweep's: give another --out, or --restart to replace it",
-        )
-    changed = changed_parts(recorded, fingerprints)
-    if changed:
-        differ = ", ".join(_PARTS.get(name, name) for name in changed)
-        raise OutputError(
-            out,
-            f"holds the rows of another set-up ({differ} differ{'s' if len(changed) == 1 else ''}): "
-            "give another --out, or --restart to replace it",
-        )
-    return table
+    return SWEEP_TABLE.resume(out, names, fingerprints, restart, _PARTS)
 
 
 def run(args) -> int:
@@ -277,7 +245,9 @@ def run(args) -> int:
         raise HipsimError(str(error) if error.name == option else f"{option} {error}") from None
     trajectory = load_trajectory(args)
     drive = _drive(args)
-    provenance = page_provenance(args, trajectory=args.trajectory, drive=args.drive, variants=args.variants)
+    provenance = page_provenance(
+        args, trajectory=args.trajectory, load=getattr(args, "load", None), drive=args.drive, variants=args.variants
+    )
     cycles = (
         args.cycles if args.cycles is not None and not args.trajectory else 1.0
     )  # test cycles the motion holds, for the ratings
@@ -453,8 +423,8 @@ def _onward(columns: dict, keys, row: int, status, rating, objective) -> dict:
     best = objective[row]
     tied = np.flatnonzero(np.abs(objective - best) <= 1e-9 * max(abs(best), 1e-300))
     edges = edges_of(values, list(keys), row)
-    for k in tied:
-        theirs = {(e.key, e.side) for e in edges_of(values, list(keys), int(k))}
+    for tie in tied:
+        theirs = {(e.key, e.side) for e in edges_of(values, list(keys), int(tie))}
         edges = [e for e in edges if (e.key, e.side) in theirs]
     failing = (rating == "fail") | (status != "ok")
     k = nearest_failing(values, failing, row)
@@ -497,9 +467,9 @@ def _figure(columns: dict, pareto, out: Path, summary: dict):
     ]
     summary["pareto_edges"] = [
         {key: float(columns[key][k]) for key in summary["keys"]}
-        | {"edges": [e.as_dict() for e in edges_of(keys, list(summary["keys"]), k)]}
+        | {"edges": [e.as_dict() for e in edges_of(keys, list(summary["keys"]), int(k))]}
         for k in np.flatnonzero(front)
-        if edges_of(keys, list(summary["keys"]), k)
+        if edges_of(keys, list(summary["keys"]), int(k))
     ]
     title = f"{summary['rows']} variants of {', '.join(summary['keys'])} along {summary['trajectory']} ({summary['model']} model)"
     labels = [design_label({key: float(columns[key][k]) for key in summary["keys"]}) for k in range(values.shape[0])]

@@ -156,6 +156,44 @@ def _bands(args, params, source):
     return None if covariance is None else _Bands(params, as_source(source), covariance)
 
 
+#: The most samples of a file without load run again with the ISO load, for the friction it would add.
+_NO_LOAD_SAMPLES = 20_000
+
+
+def no_load_note(args, params, source) -> str | None:
+    """For a file with no load: the friction parts' peaks now, and with ISO 14242-1's load over the file as one cycle.
+
+    Runs the analytic model twice on (at most :data:`_NO_LOAD_SAMPLES` of) the file's samples; None when
+    the file has a load (no :class:`hipsim.motion.build.NoLoadWarning` while reading it).
+    """
+    import numpy as np
+
+    from ..analysis.runs import analyse
+    from ..exceptions import HipsimError
+    from ..motion.build import NoLoadWarning
+    from ..motion.trajectories import Trajectory, iso14242_load
+
+    if not any(issubclass(category, NoLoadWarning) for category, _ in getattr(args, "trajectory_warnings", ())):
+        return None
+    motion = source.motion.piece(0, min(len(source), _NO_LOAD_SAMPLES))
+    cycle = span(source)
+    if not cycle > 0:
+        return None
+    loaded = Trajectory(
+        motion.t, motion.q, motion.qd, motion.qdd, iso14242_load((motion.t - motion.t[0]) / cycle), motion.name
+    )
+    try:
+        bare = np.abs(analyse(params, motion).torques.friction).max(axis=0) * 1e3
+        iso = np.abs(analyse(params, loaded).torques.friction).max(axis=0) * 1e3
+    except HipsimError:  # a pose out of reach: the run itself names it (or flags it)
+        return None
+    return (
+        f"{source.name}: no load, so the friction parts peak at {bare.min():.3g}–{bare.max():.3g} N·mm per motor; "
+        f"with ISO 14242-1's load (300–3000 N, the file's {cycle:.4g} s as one cycle) they would peak at "
+        f"{iso.min():.3g}–{iso.max():.3g} N·mm"
+    )
+
+
 def run(args) -> int:
     """Stream the run to ``--out`` and print its summary."""
     from ..analysis.streaming import stream_run
@@ -165,6 +203,9 @@ def run(args) -> int:
     check_output(args.out)  # an unusable output is refused before the computing
     params = parameters(args)
     source = load_source(args)
+    note = no_load_note(args, params, source) if args.trajectory else None
+    if note is not None:
+        print(f"hipsim: warning: {note}", file=sys.stderr)
     if engine_entry(args.model).warm_up:
         load_pinocchio_kernels()
     watch = FeasibilityWatch(limits(params))
@@ -185,6 +226,9 @@ def run(args) -> int:
             write=write,
             progress=progress(f"{args.model} model"),
         )
+        if args.strict and watch.crossings() and not is_stdout(args.out):
+            writer.abort()  # --strict: a crossed limit is an error, and an error writes nothing
+            return report_crossings(watch.crossings(), True)
         path = writer.close()
     summary |= _cycle_of(summary["cond_inv_min_t_s"], source, cycle_period(args, source))
     report = sys.stderr if is_stdout(args.out) else sys.stdout  # the CSV has standard output
@@ -195,8 +239,9 @@ def run(args) -> int:
         print(format_summary(summary), file=report)
         if bands is not None:
             print(
-                f"\n95 % bands on the motor torques (tau_i_lo95_Nmm, tau_i_hi95_Nmm) from the covariance of {args.params}: "
-                f"half-width up to {bands.widest:.3g} N·mm",
+                f"\nthe model's 95 % band on the motor torques (tau_i_lo95_Nmm, tau_i_hi95_Nmm): the uncertainty of the "
+                f"identified parameters in {args.params}, half-width up to {bands.widest:.3g} N·mm; not a band for measured "
+                "torques, which add the sensors' noise and the model's own error (hipsim compare gives that prediction band)",
                 file=report,
             )
         where = "the CSV to standard output" if is_stdout(args.out) else path

@@ -27,9 +27,11 @@ import numpy as np
 
 from ..motion.trajectories import Trajectory
 from ..physics.units import RAD_S_PER_RPM, RPM_PER_RAD_S
+from ..plausibility import below, beyond
 from ..results import Run
 
 __all__ = [
+    "CHECKED_LIMITS",
     "Crossing",
     "Limits",
     "DEFAULT_COND_INV_FLOOR",
@@ -57,6 +59,18 @@ _LIMITS = {
     "load_min": ("load", "N", 1.0, True),
 }
 
+#: The limits a verdict may cover, in the order it names them: (field of :class:`Limits`, name in words).
+#: The slider's speed and acceleration are not among them: the motor's speed (through the lead) and torque cover them,
+#: and no file gives them; set as overrides, they are checked and named.
+CHECKED_LIMITS = (
+    ("stroke", "stroke"),
+    ("motor_speed", "motor speed"),
+    ("motor_torque", "motor torque"),
+    ("cond_inv_floor", "singularity measure"),
+    ("load_range", "load range"),
+)
+_EXTRA_LIMITS = (("slider_speed", "slider speed"), ("slider_acceleration", "slider acceleration"))
+
 #: Limits that do not change when the protocol runs slower.
 _POSITION_LIMITS = ("stroke", "cond_inv", "load_max", "load_min")
 
@@ -83,6 +97,14 @@ class Limits:
     motor_torque: float | Callable[[np.ndarray], np.ndarray] | None = None
     cond_inv_floor: float = DEFAULT_COND_INV_FLOOR
     load_range: tuple[float, float] = DEFAULT_LOAD_RANGE
+
+    def unchecked(self) -> list[str]:
+        """The limits with no figure, in words (:data:`CHECKED_LIMITS` order): a verdict does not cover them."""
+        return [name for field, name in CHECKED_LIMITS if getattr(self, field) is None]
+
+    def checked(self) -> list[str]:
+        """The limits with a figure, in words: what a verdict covers."""
+        return [name for field, name in CHECKED_LIMITS + _EXTRA_LIMITS if getattr(self, field) is not None]
 
     @classmethod
     def from_machine(cls, params, drive=None, **overrides) -> Limits:
@@ -144,6 +166,11 @@ class Crossing:
         needed, allowed = self.needed * factor, self.allowed * factor
         unit = f" {unit}" if unit else ""
         bound = "lowest allowed" if floor else "limit"
+        if self.excess < 1.0005:  # 4 digits would show the same number twice and "1×": show the digits that differ
+            return (
+                f"{who} needs a {name} of {needed:,.10g}{unit} at t = {self.t:.4g} s; the {bound} is {allowed:,.10g}{unit} "
+                f"({self.excess - 1.0:.2g} beyond it, relative)"
+            )
         return f"{who} needs a {name} of {needed:,.4g}{unit} at t = {self.t:.4g} s; the {bound} is {allowed:,.4g}{unit} ({self.excess:.3g}×)"
 
 
@@ -154,7 +181,7 @@ def _first(t: np.ndarray, over: np.ndarray) -> float:
 def _ceiling(crossings, limit, t, values, allowed, motor=None):
     """Add a crossing where |values| exceed ``allowed`` (a number or an array per sample)."""
     allowed = np.broadcast_to(np.asarray(allowed, dtype=float), values.shape)
-    over = np.abs(values) > allowed
+    over = beyond(np.abs(values), allowed)  # at the limit within rounding is not beyond it
     if over.any():
         worst = int(np.argmax(np.where(over, np.abs(values) / np.maximum(allowed, 1e-300), -np.inf)))
         crossings.append(Crossing(limit, motor, _first(t, over), float(abs(values[worst])), float(allowed[worst])))
@@ -177,7 +204,7 @@ def check_feasibility(run: Run, limits: Limits) -> list[Crossing]:
     for i in range(3):
         if limits.stroke is not None:
             travel = L[:, i] - L[:, i].min()
-            over = travel > limits.stroke
+            over = beyond(travel, limits.stroke)
             if over.any():
                 crossings.append(Crossing("stroke", i + 1, _first(t, over), float(np.ptp(L[:, i])), limits.stroke))
         if limits.slider_speed is not None:
@@ -197,17 +224,18 @@ def check_feasibility(run: Run, limits: Limits) -> list[Crossing]:
                 _ceiling(crossings, "motor_torque", t[on_curve], tau[on_curve], allowed[on_curve], i + 1)
             else:
                 _ceiling(crossings, "motor_torque", t, tau, torque, i + 1)
-    below = run.cond_inv < limits.cond_inv_floor
-    if below.any():
+    under = below(run.cond_inv, limits.cond_inv_floor)
+    if under.any():
         crossings.append(
-            Crossing("cond_inv", None, _first(t, below), float(np.nanmin(run.cond_inv)), limits.cond_inv_floor)
+            Crossing("cond_inv", None, _first(t, under), float(np.nanmin(run.cond_inv)), limits.cond_inv_floor)
         )
     low, high = limits.load_range
     Fe = run.trajectory.Fe
-    if (Fe > high).any():
-        crossings.append(Crossing("load_max", None, _first(t, Fe > high), float(Fe.max()), high))
-    if (Fe < low).any():
-        crossings.append(Crossing("load_min", None, _first(t, Fe < low), float(Fe.min()), low))
+    over, under = beyond(Fe, high), below(Fe, low)
+    if over.any():
+        crossings.append(Crossing("load_max", None, _first(t, over), float(Fe.max()), high))
+    if under.any():
+        crossings.append(Crossing("load_min", None, _first(t, under), float(Fe.min()), low))
     return sorted(crossings, key=lambda c: -c.excess)
 
 

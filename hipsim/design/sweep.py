@@ -33,7 +33,8 @@ from typing import Any
 
 import numpy as np
 
-from ..analysis.cluster import map_batches
+from ..analysis.cluster import batch_size as _batch_size
+from ..analysis.cluster import run_batches
 from ..analysis.registry import engine_entry, engine_names
 from ..analysis.runs import analyse
 from ..exceptions import ArgumentError, ClosureError, ParameterError, PoseError
@@ -282,9 +283,8 @@ def batches(
     return [(chosen[k : k + size], variants.values[chosen[k : k + size]]) for k in range(0, chosen.size, size)]
 
 
-def _batch_size(count: int, workers: int) -> int:
-    """About eight batches a worker (so they stay busy to the end), each of 1 to 200 variants."""
-    return max(1, min(200, math.ceil(count / (8 * max(workers, 1)))))
+#: The largest batch of variants a task gets.
+MOST_PER_BATCH = 200
 
 
 def run_sweep(
@@ -320,20 +320,10 @@ def run_sweep(
         raise ArgumentError("workers", workers, "a whole number of worker processes, at least 1")
     workers = int(workers) if workers is not None else (os.cpu_count() or 1)
     chosen = np.arange(len(variants)) if indices is None else np.asarray(indices, dtype=int)
-    size = batch_size if batch_size is not None else _batch_size(chosen.size, workers)
+    size = batch_size if batch_size is not None else _batch_size(chosen.size, workers, MOST_PER_BATCH)
     work = batches(variants, chosen, size)
     done, total = 0, int(chosen.size)
-    if not work:
-        return
-    if scheduler is None and workers == 1:
-        for batch in work:
-            rows = evaluate_batch(batch, setup)
-            done += len(rows)
-            if progress is not None:
-                progress(done, total)
-            yield rows
-        return
-    for rows in map_batches(evaluate_batch, work, setup, workers, scheduler, "hipsim sweep"):
+    for rows in run_batches(evaluate_batch, work, setup, workers, scheduler, "hipsim sweep"):
         done += len(rows)
         if progress is not None:
             progress(done, total)

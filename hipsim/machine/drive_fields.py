@@ -14,6 +14,7 @@ from typing import Any, NoReturn
 import numpy as np
 
 from ..physics.units import RAD_S_PER_RPM
+from ..plausibility import drive_slip
 from .drive_parts import END_FIXINGS, Amplifier, Gearbox, Motor, TorqueSpeedCurve
 
 __all__ = [
@@ -178,6 +179,9 @@ def checked_value(spec: Field, factor: float, raw: Any, name: str, fail: Fail):
     if np.any(np.abs(values) > 1e9):
         fail(f"out of range (a unit slip?): {raw!r}", name)
     values = values * factor
+    slip = drive_slip(spec.attribute, values, name.rsplit("_", 1)[-1] if "_" in name else "", factor)
+    if slip is not None:
+        fail(slip, name)
     return values if spec.kind == "list" else float(values[0])
 
 

@@ -46,13 +46,25 @@ import numpy as np
 from scipy.interpolate import make_interp_spline
 
 from ..exceptions import TrajectoryError
+from ..plausibility import epoch_warning, load_slip, radians_slip, time_slip
 from .columns import ColumnMap, stated_unit
 from .filtering import lowpass_record
 from .hip_angles import hip_to_machine
 from .noise_check import check_noise
 from .trajectories import MIN_SAMPLES, Trajectory
 
-__all__ = ["MAX_LOAD", "SampledMotion", "Table", "TrajectoryWarning", "build_trajectory", "check_time"]
+__all__ = [
+    "MAX_LOAD",
+    "NoLoadWarning",
+    "NoiseWarning",
+    "SampledMotion",
+    "Table",
+    "TrajectoryWarning",
+    "build_trajectory",
+    "check_time",
+    "check_time_unit",
+    "relative_time",
+]
 
 #: Largest load a trajectory file may give, in [N]: far above any hip simulator, so only a unit slip reaches it.
 MAX_LOAD = 1e9
@@ -60,6 +72,14 @@ MAX_LOAD = 1e9
 
 class TrajectoryWarning(UserWarning):
     """A trajectory file that reads, but looks wrong (e.g. radians under a degree header)."""
+
+
+class NoLoadWarning(TrajectoryWarning):
+    """A trajectory with no load: F_e = 0, so the load's friction is missing from its torques."""
+
+
+class NoiseWarning(TrajectoryWarning):
+    """A trajectory whose angles carry measurement noise that differentiation amplifies (:mod:`hipsim.motion.noise_check`)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -132,9 +152,15 @@ def build_trajectory(
                 column=time_column.name,
             )
         t, quantum = table.time / 100.0 * cycle, table.time_quantum / 100.0 * cycle
+        offset = 0.0
     else:
         scale = {"s": 1.0, "ms": 1e-3}[unit]
-        t, quantum = table.time * scale, table.time_quantum * scale
+        relative = relative_time(table.time, source, time_column.name, stacklevel=3)
+        offset = (
+            float(table.time[0] - relative[0]) * scale if relative.size else 0.0
+        )  # the epoch, for a load file's clock
+        t, quantum = relative * scale, table.time_quantum * scale
+        check_time_unit(t, unit, source, time_column.name)
     t = check_time(t, quantum, source, lines, time_column.name, even=rate is None)
     q = _angles(table, source, lines)
     load = _load(table, body_weight, source, lines)
@@ -145,10 +171,19 @@ def build_trajectory(
                 source=source,
                 column=table.columns.load.name,
             )
-        keep, load = load_curve.onto(t, source)
+        keep, load = load_curve.onto(t + offset if offset else t, source)
         if not keep.all():
             t, q, lines = t[keep], q[keep], lines[keep]
+    elif table.columns.load is None:
+        warnings.warn(
+            f"{source}: no load column: F_e = 0 N, so the friction parts are those of an unloaded machine "
+            "(give the load: a Fe_N column, --load-column or --load)",
+            NoLoadWarning,
+            stacklevel=2,
+        )
     closes = _closes_on_itself(q, load)
+    if cycle is not None:
+        _warn_if_not_one_stride(t, q, closes, source)
     if cycle is not None and unit != "%":
         recorded = t[-1] - t[0] + (0.0 if closes else float(np.median(np.diff(t))))
         t = t[0] + (t - t[0]) * (cycle / recorded)
@@ -180,7 +215,91 @@ def _warn_if_noisy(t: np.ndarray, q: np.ndarray, source: str) -> None:
     """One TrajectoryWarning when the angles carry noise that differentiation would amplify (:mod:`hipsim.motion.noise_check`)."""
     message = check_noise(t, q).warning(source)
     if message is not None:
-        warnings.warn(message, TrajectoryWarning, stacklevel=4)
+        warnings.warn(message, NoiseWarning, stacklevel=4)
+
+
+def check_time_unit(t: np.ndarray, unit: str, source: str, column: str) -> None:
+    """Refuse times that are in another unit than their label (:func:`hipsim.plausibility.time_slip`).
+
+    Args:
+        t: the times in [s] as read and converted from ``unit``, (N,).
+        unit: the unit they were read in, "s" or "ms".
+        source, column: the file and column, for the message.
+
+    Raises:
+        TrajectoryError: milliseconds read as seconds, or seconds as milliseconds.
+    """
+    if t.size > 1 and t[-1] > t[0]:
+        slip = time_slip(t, unit)
+        if slip is not None:
+            raise TrajectoryError(slip, source=source, column=column)
+
+
+def relative_time(time: np.ndarray, source: str, column: str, stacklevel: int = 2) -> np.ndarray:
+    """Times as read, or, for Unix epoch time stamps, relative to the first (a warning says so).
+
+    The subtraction is exact in floating point (the stamps lie within a factor 2 of
+    each other), so the times keep every digit they were read with, and the
+    spline and the output work on small numbers (10 significant digits of an
+    epoch stamp are whole seconds).
+    """
+    time = np.asarray(time, dtype=float)
+    note = epoch_warning(float(time[0])) if time.size else None
+    if note is None:
+        return time
+    warnings.warn(f"{source}: column '{column}': {note}", TrajectoryWarning, stacklevel=stacklevel + 1)
+    return time - time[0]
+
+
+#: Flexion crossings of its mid-level, with this hysteresis as a fraction of its range, count strides.
+_STRIDE_HYSTERESIS = 0.25
+
+
+def stride_count(t: np.ndarray, angle: np.ndarray) -> tuple[int, float | None]:
+    """How many strides an angle's samples hold: (upward crossings of its mid-level, their median interval in [s] or None).
+
+    A crossing counts once the angle has been below ``mid − 25 %`` of its range and rises above ``mid + 25 %``:
+    noise near the middle cannot count twice.
+    """
+    low, high = float(np.min(angle)), float(np.max(angle))
+    if not high > low:
+        return 0, None
+    mid, band = 0.5 * (low + high), _STRIDE_HYSTERESIS * (high - low)
+    rising, armed = [], False
+    for k, value in enumerate(angle):
+        if value < mid - band:
+            armed = True
+        elif armed and value > mid + band:
+            rising.append(k)
+            armed = False
+    period = float(np.median(np.diff(t[rising]))) if len(rising) > 1 else None
+    return len(rising), period
+
+
+def _warn_if_not_one_stride(t: np.ndarray, q: np.ndarray, closes: bool, source: str) -> None:
+    """Warn when a file rescaled as one cycle holds several strides, or only part of one (by the widest angle: flexion)."""
+    k = int(np.argmax(np.ptp(q, axis=0)))
+    count, period = stride_count(t, q[:, k])
+    span = float(t[-1] - t[0])
+    if count >= 2 and period is not None and period < 0.75 * span:
+        warnings.warn(
+            f"{source}: the file holds about {span / period:.2g} strides (one {('alpha', 'beta', 'gamma')[k]} cycle every "
+            f"{period:.4g} s of its time, over {span:.4g} s), but --frequency/--period rescale the whole file as one cycle: "
+            "each stride then runs that much faster; cut one stride out, or scale the period by the stride count",
+            TrajectoryWarning,
+            stacklevel=3,
+        )
+        return
+    rng = float(np.ptp(q[:, k]))
+    gap = abs(float(q[-1, k] - q[0, k]))
+    if not closes and rng > 0 and gap > 0.25 * rng:
+        warnings.warn(
+            f"{source}: the motion does not come back to its start ({('alpha', 'beta', 'gamma')[k]} starts at "
+            f"{math.degrees(q[0, k]):.3g}° and ends at {math.degrees(q[-1, k]):.3g}°, {100 * gap / rng:.0f} % of its range "
+            "away): part of a stride, rescaled as a whole cycle by --frequency/--period",
+            TrajectoryWarning,
+            stacklevel=3,
+        )
 
 
 def _on_grid(motion: SampledMotion, periodic: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray, None]:
@@ -321,6 +440,14 @@ def _angles(table: Table, source: str, lines: np.ndarray) -> np.ndarray:
     if in_degrees:
         spans = np.ptp(values[:, in_degrees], axis=0)
         widest = int(np.argmax(spans))
+        slip = radians_slip(spans) if len(in_degrees) == 3 else None
+        if slip is not None:
+            raise TrajectoryError(
+                f"the angles look like radians: the widest spans {spans[widest]:.3g}°, a gait's {slip[1]:.3g}° if read "
+                "as radians; label them in rad (_rad, or :rad in --columns)",
+                source=source,
+                column=columns.angles[in_degrees[widest]].name,
+            )
         if 0.0 < spans[widest] < 1.0:
             warnings.warn(
                 f"{source}: the angles span less than a degree (at most {spans[widest]:.3g}° in "
@@ -378,6 +505,11 @@ def _load(table: Table, body_weight: float | None, source: str, lines: np.ndarra
             line=int(lines[k]),
             column=column.name,
         )
+    error, doubt = load_slip(float(load.max()) if load.size else 0.0, unit)
+    if error is not None:
+        raise TrajectoryError(error, source=source, column=column.name)
+    if doubt is not None:
+        warnings.warn(f"{source}: column '{column.name}': {doubt}", TrajectoryWarning, stacklevel=3)
     if np.any(load > MAX_LOAD):
         k = int(np.argmax(load > MAX_LOAD))
         raise TrajectoryError(

@@ -12,6 +12,7 @@ Every problem is reported on one line naming the file, its line and column.
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -25,6 +26,9 @@ from .headers import table_columns
 from .trajectories import MIN_SAMPLES, Trajectory
 
 __all__ = ["load_trajectory_csv"]
+
+#: Excel's first line naming the separator of a CSV it writes or reads ("sep=;").
+_EXCEL_SEPARATOR = re.compile(r"sep=(;|,|\t|\\t)", re.IGNORECASE)
 
 
 def load_trajectory_csv(
@@ -93,9 +97,18 @@ def _read_csv_table(source: str, path, mapping: ColumnMap | None, load: Column |
     numbered = data_lines(read_text_lines(path, "trajectory file", TrajectoryError))
     if not numbered:
         raise TrajectoryError("the file is empty", source=source)
+    declared = _EXCEL_SEPARATOR.fullmatch(numbered[0][1].strip())
+    if declared:  # Excel's "sep=;" line names the separator: the header follows
+        numbered = numbered[1:]
+        if not numbered:
+            raise TrajectoryError("the file holds only Excel's 'sep=' line", source=source)
     header_line, header_text = numbered[0]
     try:
-        separator = detect_separator(header_text, numbered[1][1] if len(numbered) > 1 else None)
+        separator = (
+            declared.group(1).replace("\\t", "\t")
+            if declared
+            else detect_separator(header_text, numbered[1][1] if len(numbered) > 1 else None)
+        )
     except ValueError as error:  # a cell beyond the field size limit
         raise TrajectoryError(str(error), source=source, line=header_line) from None
     header = [cell.strip() for cell in _cells(header_text, separator, 0, source, header_line)]

@@ -39,7 +39,7 @@ import numpy as np
 
 from ..exceptions import TrajectoryError
 from ..tables import cells, data_lines, detect_separator, number, read_text_lines
-from .build import TrajectoryWarning
+from .build import TrajectoryWarning, check_time_unit
 from .columns import Column
 from .trajectories import MIN_SAMPLES
 
@@ -72,7 +72,10 @@ class LoadScale:
         lo, hi = float(load.min()), float(load.max())
         if hi - lo <= 0.0:
             return np.full_like(load, self.low)
-        return self.low + (load - lo) * ((self.high - self.low) / (hi - lo))
+        # As a blend of the two ends, so the file's extremes land on low and high exactly (a sum with a
+        # rescaled difference rounds 3000 N to 3000.0000000000005 N, past the machine's load limit).
+        u = (load - lo) / (hi - lo)
+        return self.low * (1.0 - u) + self.high * u
 
 
 def parse_load_scale(text: str) -> LoadScale:
@@ -206,6 +209,7 @@ def read_load_curve(
             line=int(lines[k]),
             column=labels[time],
         )
+    check_time_unit(t, "s", source, labels[time])  # a load logged in ms on the motion's clock in s (issue 38)
     raw = np.sqrt((values[:, 1:] ** 2).sum(axis=1)) if len(picked) == 3 else column.sign * values[:, 1]
     load = raw * _unit_scale(column, body_weight, source, name)
     if scale is not None:

@@ -105,6 +105,23 @@ def report_verdict(size: Sizing) -> Verdict:
     )
 
 
+_POSTERIOR_STD = re.compile(r"(?:posterior std |± )([-+0-9.eE]+)")
+
+
+def _held_reason(origin: ParameterOrigin, dotted: str) -> tuple[str, float | None] | None:
+    """A parameter the logs did not determine: its origin in words ("prior-held: …") and posterior std, or None.
+
+    Identification writes the posterior mean of such a parameter, pulled little from its prior (or
+    kept, for one with no effect on the torques): not the start value as such.
+    """
+    reason = next((text for key, text in origin.held if key.split("[")[0] == dotted), None)
+    if reason is None:
+        return None
+    match = _POSTERIOR_STD.search(reason)
+    std = float(match.group(1)) if match else None
+    return f"prior-held ({reason})", std
+
+
 def _parameter_rows(params, origin: ParameterOrigin | None) -> list[dict]:
     """Key, value (identified ones with ± their standard deviation), unit, origin, meaning."""
     rows = []
@@ -113,6 +130,11 @@ def _parameter_rows(params, origin: ParameterOrigin | None) -> list[dict]:
         spec = SCHEMA[section][key]
         how, identified = origin.origin_of(dotted) if origin is not None else ("", [])
         text = _input_value(value)
+        held = _held_reason(origin, dotted) if origin is not None and how == "start value, not identified" else None
+        if held is not None:  # issue 38: the file holds the posterior, near its prior, not the start value
+            how, std = held
+            if std is not None and not isinstance(value, list):
+                text = with_uncertainty(value, std)
         if identified:
             plain = [v for v in identified if not v.combination]
             if isinstance(value, list):

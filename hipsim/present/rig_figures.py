@@ -216,7 +216,7 @@ def write_comparison(
 
     Args:
         out_dir: the folder (made if missing; taken back if the writing fails and it is still empty).
-        comparison: what :func:`hipsim.rig.compare.compare` returned.
+        comparison: what :func:`hipsim.rig.compare.compare_torques` returned.
         extra: more entries for the JSON.
         provenance: where the numbers came from (:func:`hipsim.present.provenance.provenance`); None: the version and time only.
         accept: the largest relative RMS error accepted, as a fraction; None: the verdict is not judged.

@@ -30,22 +30,35 @@ from ..analytic.engine import AnalyticModel
 from ..exceptions import PoseError, TrajectoryError
 from ..machine.parameters import Parameters
 from ..motion.trajectories import ANGLE_NAMES
+from ..plausibility import ANGLE_RANGE_DEG, LOAD_PEAK_N, LOAD_WARNING_N, SMALL_RANGE_DEG, radians_slip
 from .logs.log import Log
 from .logs.reader import CURRENT_COLUMNS, TORQUE_COLUMNS
 
-__all__ = ["ERROR_FACTOR", "LOAD_PEAK_N", "MODEL_SAMPLES", "WARNING_FACTOR", "check_log"]
+__all__ = [
+    "ANGLE_RANGE_DEG",
+    "CONSTANT_FACTOR",
+    "ERROR_FACTOR",
+    "LOAD_PEAK_N",
+    "LOAD_WARNING_N",
+    "MODEL_SAMPLES",
+    "SMALL_RANGE_DEG",
+    "WARNING_FACTOR",
+    "check_log",
+    "constant_factor",
+    "far_from_priors",
+]
 
-#: The peak loads of a hip simulator's tests in [N]: ISO 14242-1's 3000 N, and up to 5000 N for heavier patients' cycles.
-LOAD_PEAK_N = (300.0, 5000.0)
-#: A load peak below this in [N] is warned of (a light test, or a unit slip: kN give less than 5).
-LOAD_WARNING_N = 100.0
 #: Measured RMS torque against the model's: beyond this factor either way an error, beyond :data:`WARNING_FACTOR` a warning.
 ERROR_FACTOR = 30.0
 WARNING_FACTOR = 3.0
-#: The smallest and largest range in [deg] of a logged angle that is a gait cycle's (ISO 14242-1: 7° to 43°).
-ANGLE_RANGE_DEG = (5.0, 180.0)
-#: Below this range in [deg] for every angle, a log whose ranges would be a gait cycle's as radians is radians.
-SMALL_RANGE_DEG = 2.0
+#: Three motors' factors within this relative spread of their median are one constant factor (a ratio, a unit) ...
+CONSTANT_SPREAD = 0.15
+#: ... named when it is beyond this either way (a 2:1 belt, a gear ratio; the model's own error is well within it).
+CONSTANT_FACTOR = 1.5
+#: An identified base parameter this many prior standard deviations from its prior has moved far ...
+FAR_SHIFT = 3.0
+#: ... and this many of them, all in one direction, are one cause rather than the machine's own spread.
+FAR_COUNT = 2
 #: Most samples of the first window the model runs on (every k-th).
 MODEL_SAMPLES = 4000
 
@@ -111,7 +124,7 @@ def _check_angles(degrees: np.ndarray, source: str) -> None:
     ranges = np.ptp(degrees, axis=0) if len(degrees) else np.zeros(3)
     k = int(np.argmax(ranges))
     as_radians = ranges[k] * _DEG_PER_RAD
-    if ranges.max() < SMALL_RANGE_DEG and ANGLE_RANGE_DEG[0] <= as_radians <= ANGLE_RANGE_DEG[1]:
+    if radians_slip(ranges) is not None:
         raise TrajectoryError(
             f"{ANGLE_NAMES[k]}_deg looks like radians: its range is {ranges[k]:.3g}°, 1/57 of a gait cycle's "
             f"({as_radians:.3g}° if read as radians); label the angle columns _rad",
@@ -151,6 +164,13 @@ def _check_torques(params, trajectory, measured, lever_spin, source, torque_from
                 f"({logged[i] * 1e3:.4g} against {model[i] * 1e3:.4g} N·mm): check its unit and the machine's parameters"
             )
     if not errors:
+        common = constant_factor(logged / np.where(model > 1e-6, model, np.nan))
+        if common is not None:  # one line naming the common factor, in place of one per motor
+            return [
+                f"{source}: {', '.join(columns)}: all three {_ratio(common)} the model's with these parameters (a constant "
+                f"factor of {common:.3g}): a transmission ratio not in the parameters (a belt, a gearbox), a unit, or "
+                "another machine; a fit on this log moves every parameter to absorb it"
+            ]
         return warnings
     slip, motors = next(iter(errors.items()))
     names = ", ".join(columns[i] for i in motors)
@@ -180,6 +200,53 @@ def _check_torques(params, trajectory, measured, lever_spin, source, torque_from
             "parameters (--no-plausibility-check if the log is right)"
         )
     raise TrajectoryError(message, source=source)
+
+
+def constant_factor(factors: np.ndarray) -> float | None:
+    """The factor all three motors share (measured RMS over the model's), when it is one and beyond :data:`CONSTANT_FACTOR`; else None.
+
+    Args:
+        factors: per motor, measured RMS torque / model RMS torque, (3,) (NaN for a motor the model says is idle).
+    """
+    factors = np.asarray(factors, dtype=float)
+    factors = factors[np.isfinite(factors) & (factors > 0)]
+    if factors.size < 2:
+        return None
+    common = float(np.median(factors))
+    if np.max(np.abs(factors / common - 1.0)) > CONSTANT_SPREAD:
+        return None
+    if 1.0 / CONSTANT_FACTOR < common < CONSTANT_FACTOR:
+        return None
+    return common
+
+
+def far_from_priors(estimates) -> list[str]:
+    """A warning when several identified base parameters moved beyond :data:`FAR_SHIFT` prior standard deviations, all one way.
+
+    A machine's parameters differ from the published ones each its own way; all of them moving far in one
+    direction is one cause scaling the torques: a transmission ratio the parameters do not have (a belt,
+    a gearbox), a unit, or the logs of another machine.
+
+    Args:
+        estimates: the identification's base parameters (:class:`hipsim.rig.identification.BaseEstimate`:
+            ``name``, ``shift`` in prior standard deviations, ``determined``).
+
+    Returns:
+        One line, or nothing.
+    """
+    far = [e for e in estimates if e.determined and abs(e.shift) > FAR_SHIFT]
+    if len(far) < FAR_COUNT:
+        return []
+    signs = {e.shift > 0 for e in far}
+    if len(signs) != 1:
+        return []
+    moved = ", ".join(f"{e.name} {e.shift:+.2g}" for e in sorted(far, key=lambda e: -abs(e.shift)))
+    way = "up" if signs == {True} else "down"
+    return [
+        f"{len(far)} of {len(estimates)} base parameters moved more than {FAR_SHIFT:g} prior standard deviations, all {way} "
+        f"({moved}): one cause scales the logged torques; a transmission ratio not in the parameters (a belt, a gearbox), "
+        "a unit, or another machine's logs; check it before using the identified file"
+    ]
 
 
 def _ratio(factor: float) -> str:

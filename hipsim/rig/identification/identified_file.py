@@ -203,7 +203,7 @@ def identified_toml(
         tables: more sub-tables of ``[identification]`` by name (``calibration`` → ``[identification.calibration]``).
 
     Raises:
-        ParameterError: a table that names ``provenance`` or ``prior`` (the writer's and the starting file's).
+        ParameterError: a table or sub-table named ``provenance``: the writer's own.
     """
     reserved = {"provenance"} & (set(table) | set(tables or {}))
     if reserved:

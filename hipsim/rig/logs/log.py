@@ -248,6 +248,8 @@ class LogPieces(Log):
     Args:
         path, params, torque_constant, cutoff, tolerance_deg: as :func:`load_log`.
         piece: samples per piece (at least what the filter needs).
+        raw: the file already scanned (:class:`~hipsim.rig.logs.reader.RigLogFile`, e.g. with kept columns or a
+            window of its lines), or None to scan ``path``.
 
     Raises:
         TrajectoryError: as :func:`load_log`.
@@ -261,13 +263,13 @@ class LogPieces(Log):
         cutoff: float | None = DEFAULT_CUTOFF,
         tolerance_deg: float = DEFAULT_TOLERANCE_DEG,
         piece: int = PIECE,
+        raw: RigLogFile | None = None,
     ):
         if isinstance(piece, bool) or not isinstance(piece, int) or piece < 1:
             raise ArgumentError("piece", piece, "a positive number of samples")
         self.params = params if params is not None else load_parameters()
-        self.raw = raw = RigLogFile(
-            path, torque_constant, block=max(piece, 1000)
-        )  # the scan's blocks no larger than a piece
+        # The scan's blocks no larger than a piece; a file scanned already (with the reader's options) is taken as is.
+        self.raw = raw = raw if raw is not None else RigLogFile(path, torque_constant, block=max(piece, 1000))
         self.name, self.rate, self.cutoff, self.source = Path(raw.source).name, raw.rate, cutoff, raw.source
         notes = []
         if raw.ignored:

@@ -24,7 +24,6 @@ models take, filtered and differentiated, is :mod:`hipsim.rig.logs.log`'.
 from __future__ import annotations
 
 import difflib
-import hashlib
 import io
 import math
 import tempfile
@@ -37,10 +36,11 @@ import numpy as np
 
 from ...arrays import check_shapes
 from ...exceptions import TrajectoryError
-from ...motion.build import MAX_LOAD, check_time
+from ...motion.build import MAX_LOAD, check_time, check_time_unit
 from ...motion.trajectories import ANGLE_NAMES
-from ...tables import MAX_LINE_BYTES, blank, cells, detect_separator, open_text, text_lines
+from ...tables import blank, cells, detect_separator, open_text
 from ...tables import number as parse_number
+from .blocks import Hashed, Reread, line_blocks, text_blocks
 
 __all__ = ["CURRENT_COLUMNS", "HEIGHT_COLUMNS", "TORQUE_COLUMNS", "RigLog", "RigLogFile", "read_rig_log"]
 
@@ -216,72 +216,6 @@ class _Worst:
             self.value, self.line, self.column = float(values[k, c]), int(lines[k]), names[c]
 
 
-_BOM = b"\xef\xbb\xbf"
-
-
-class _Hashed(io.RawIOBase):
-    """A binary file read in large blocks that hashes them as they pass: the file's SHA-256 costs no second read."""
-
-    def __init__(self, stream):
-        self.stream, self.digest, self.size = stream, hashlib.sha256(), 0
-
-    def readable(self) -> bool:
-        return True
-
-    def readinto(self, buffer) -> int:
-        n = self.stream.readinto(buffer)
-        if n:
-            self.digest.update(memoryview(buffer)[:n])
-            self.size += n
-        return n
-
-
-def _text_blocks(stream, source: str, size: int = 1 << 22) -> Iterator[tuple[int, list[str]]]:
-    """The file's lines in blocks: (the first's 1-based line number, the lines without their ``\n``).
-
-    Bytes are split at ``\n`` and decoded a block at a time, which is what :func:`hipsim.tables.text_lines`
-    does line by line (``\n`` never occurs inside a UTF-8 character). A block that is not UTF-8, or a line
-    longer than :data:`~hipsim.tables.MAX_LINE_BYTES`, raises :class:`_Reread`: the caller then reads the file
-    again line by line from its start, so that the error names the line as :func:`~hipsim.tables.text_lines` does.
-    """
-    number, carry, first = 1, b"", True
-    while True:
-        chunk = stream.read(size)
-        if first and chunk.startswith(_BOM):
-            chunk = chunk[len(_BOM) :]
-        first = False
-        data = carry + chunk
-        if not chunk:
-            if data:
-                if len(data) > MAX_LINE_BYTES:
-                    raise _Reread
-                yield number, [_decoded(data)]
-            return
-        end = data.rfind(b"\n") + 1
-        carry = data[end:]
-        if len(carry) > MAX_LINE_BYTES:
-            raise _Reread
-        if end:
-            lines = _decoded(data[: end - 1]).split("\n")
-            # A line with its "\n" longer than MAX_LINE_BYTES, as text_lines counts; 4-byte characters first by length.
-            if max(map(len, lines)) >= MAX_LINE_BYTES // 4:
-                if max(len(line.encode("utf-8")) for line in lines) >= MAX_LINE_BYTES:
-                    raise _Reread
-            yield number, lines
-            number += len(lines)
-
-
-class _Reread(Exception):
-    """A block the fast reading cannot take: read the file again line by line for the exact error."""
-
-
-def _decoded(data: bytes) -> str:
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError:
-        raise _Reread from None
-
-
 def _data(number: int, lines: list[str]) -> list[tuple[int, str]]:
     """(line number, line) of a block's lines that hold something: blank lines and ``#`` comments left out."""
     return [(number + k, line) for k, line in enumerate(lines) if not blank(line) and not line.lstrip().startswith("#")]
@@ -298,29 +232,52 @@ class RigLogFile:
     Args:
         path: the CSV file (columns in the module docstring).
         torque_constant: the motors' torque constant in [N·m/A], for logs of motor currents.
-        block: lines parsed at a time.
+        block: lines parsed at a time (and some hundred bytes a line read at a time, 4 MiB at most).
+        keep: other columns to keep as they are (numbers, checked finite like every cell), in :attr:`kept` by name
+            when the file has them (e.g. a wear test's ``cycle`` counter).
+        rate: the sample rate in [Hz] to take the times from the sample index (t₀ + k/rate) when the file's time
+            stamps are too coarse to order the samples (too few significant digits); they must still not decrease
+            and span the same time to 1 %. None: the file's times, checked evenly spaced.
+        lines: (first, stop): read only the data lines first ≤ line < stop (a window of a long log; the header is
+            the file's), or None for all. The file is read no further than the block holding line stop − 1, and
+            nothing after the window is parsed; :attr:`sha256` is then of the bytes read, not the file's.
 
     Raises:
         TrajectoryError: as :func:`read_rig_log`.
     """
 
-    def __init__(self, path: str | Path, torque_constant: float | None = None, block: int = SCAN_LINES):
+    def __init__(
+        self,
+        path: str | Path,
+        torque_constant: float | None = None,
+        block: int = SCAN_LINES,
+        keep: tuple[str, ...] = (),
+        rate: float | None = None,
+        lines: tuple[int, int] | None = None,
+    ):
         self.source = source = str(path)
+        window = (1, math.inf) if lines is None else lines
         with open_text(path, "log file", TrajectoryError) as opened:
-            hashed = _Hashed(opened)
-            stream = io.BufferedReader(hashed, 1 << 20)
+            hashed = Hashed(opened)
+            size = min(max(block * 100, 1 << 16), 1 << 22)  # bytes read at a time: some ``block`` lines, 4 MiB at most
+            stream = io.BufferedReader(hashed, min(size, 1 << 20))
             try:
-                times, numbers, state = self._scan(_text_blocks(stream, source), torque_constant, block)
-            except _Reread:  # not UTF-8, or a line too long: read line by line from the start for the exact error
+                blocks = text_blocks(stream, source, size)
+                times, numbers, state = self._scan(blocks, torque_constant, block, keep, window)
+            except Reread:  # not UTF-8, or a line too long: again line by line from the start, for the exact line
+                if hasattr(self, "_store"):  # the first try's store
+                    self._store.close()
                 opened.seek(0)
-                for _ in text_lines(opened, source, "log file", TrajectoryError):
+                hashed = Hashed(opened)
+                stream = io.BufferedReader(hashed, 1 << 20)
+                blocks = line_blocks(stream, source, block, window[1])
+                times, numbers, state = self._scan(blocks, torque_constant, block, keep, window)
+            if lines is None:  # hash what is left after the last line (nothing); a window's read stops after it
+                for _ in iter(lambda: stream.read(1 << 20), b""):
                     pass
-                raise TrajectoryError("cannot be read as text", source=source) from None
-            for _ in iter(lambda: stream.read(1 << 20), b""):  # hash what is left after the last line (nothing)
-                pass
         #: The file's SHA-256 (hex) and size in [bytes], of the bytes this one read parsed.
         self.sha256, self.size = hashed.digest.hexdigest(), hashed.size
-        worst, low, high, bad = state
+        worst, low, high, bad, kept = state
         if not times:
             raise TrajectoryError("no samples below the header", source=source)
         if bad is not None:
@@ -329,10 +286,15 @@ class RigLogFile:
         del times  # one copy at a time: an hour's log has 3.6 M of each
         self.lines = np.concatenate(numbers)
         del numbers
-        self._check(worst, low, high)
+        #: The columns asked for with ``keep`` that the file has, by name, (N,) each.
+        self.kept = {name: np.concatenate(parts) for name, parts in kept.items()}
+        self._check(worst, low, high, rate)
 
-    def _scan(self, blocks, torque_constant, block: int):
-        """Parse the blocks: the header, then every data line's values checked and stored; the times and lines kept."""
+    def _scan(self, blocks, torque_constant, block: int, keep: tuple[str, ...], window: tuple[int, float]):
+        """Parse the blocks: the header, then every data line's values checked and stored; the times and lines kept.
+
+        Only the data lines first ≤ line < stop of ``window`` are parsed; the blocks are not read past stop.
+        """
         source = self.source
         found: list[tuple[int, str]] = []  # the header and the first row, line by line
         after: tuple[int, list[str]] = (1, [])  # the lines after them in their block
@@ -348,19 +310,27 @@ class RigLogFile:
         rows = iter(found)
         header, header_line, separator, first_row = _header(rows, source)
         self._layout(header, header_line, torque_constant)
+        kept_index = {name: header.index(name) for name in keep if name in header}
+        kept: dict[str, list[np.ndarray]] = {name: [] for name in kept_index}
         self._store = tempfile.TemporaryFile()
         times, numbers = [], []
+        first, stop = window
         worst = {"torque": _Worst(), "angle": _Worst(), "height": _Worst()}
         low = high = None  # (load, line) of the least and largest load, first occurrences
         bad = None
 
         def parsed():
-            if first_row is not None:
+            if first_row is not None and first <= first_row[0] < stop:
                 yield _block([first_row], header, separator, source)
-            # The rest of the header's block, then the blocks after it (a comment or blank line: line by line).
+            # The rest of the header's block, then the blocks after it (a comment or blank line: line by line);
+            # of a window, only its lines, and no block read after the one that holds its last.
             for number, lines in chain([after], blocks):
-                for a in range(0, len(lines), block):
-                    yield _lines_block(number + a, lines[a : a + block], header, separator, source)
+                lo = max(0, first - number)
+                hi = len(lines) if number + len(lines) <= stop else max(0, int(stop - number))
+                for a in range(lo, hi, block):
+                    yield _lines_block(number + a, lines[a : min(a + block, hi)], header, separator, source)
+                if number + len(lines) >= stop:
+                    return
 
         for values, at in parsed():
             if bad is None and not np.all(np.isfinite(values)):
@@ -380,10 +350,12 @@ class RigLogFile:
                 low = (float(load[k]), int(at[k]))
             if high is None or load[j] > high[0]:
                 high = (float(load[j]), int(at[j]))
+            for name, c in kept_index.items():
+                kept[name].append(values[:, c].copy())
             times.append(columns[:, 0].copy())
             numbers.append(at)
             columns.tofile(self._store)
-        return times, numbers, (worst, low, high, bad)
+        return times, numbers, (worst, low, high, bad, kept)
 
     # The columns of the store, in SI: t, Fe, τ (3), then the angles (3) and the heights (3) when the log has them.
     def _layout(self, header: list[str], header_line: int, torque_constant) -> None:
@@ -462,7 +434,7 @@ class RigLogFile:
             parts.append(values[:, self._height_index] * 1e-3)
         return np.ascontiguousarray(np.column_stack(parts))
 
-    def _check(self, worst: dict[str, _Worst], low, high) -> None:
+    def _check(self, worst: dict[str, _Worst], low, high, rate: float | None = None) -> None:
         source = self.source
         torque = worst["torque"]
         if abs(torque.value) * self._scale * 1e3 > MAX_TORQUE_NMM:
@@ -494,7 +466,11 @@ class RigLogFile:
             )
         if self.t.size < 2:
             raise TrajectoryError(f"{self.t.size} sample; a log needs many", source=source)
-        check_time(self.t, 0.0, source, self.lines, "t_s", even=True)
+        if rate is None:
+            check_time(self.t, 0.0, source, self.lines, "t_s", even=True)
+        else:
+            self._times_from_index(rate)
+        check_time_unit(self.t, "s", source, "t_s")  # issue 38: milliseconds under t_s (hipsim/plausibility.py)
         for load, line in (low, high):
             if load < 0:
                 raise TrajectoryError(
@@ -504,6 +480,31 @@ class RigLogFile:
                 raise TrajectoryError(
                     f"load {load:g} N is beyond {MAX_LOAD:g} N (a unit slip?)", source=source, line=line, column="Fe_N"
                 )
+
+    def _times_from_index(self, rate: float) -> None:
+        """t₀ + k/rate in place of time stamps too coarse to order the samples; they must not decrease and must span
+        the same time to 1 % (else the rate is not the log's)."""
+        source = self.source
+        if isinstance(rate, bool) or not (isinstance(rate, (int, float)) and math.isfinite(rate) and rate > 0):
+            raise TrajectoryError(f"the sample rate must be a positive number in Hz, got {rate!r}", source=source)
+        down = np.flatnonzero(np.diff(self.t) < 0)
+        if down.size:
+            k = int(down[0]) + 1
+            raise TrajectoryError(
+                f"time {self.t[k]:g} s decreases (previous {self.t[k - 1]:g} s)",
+                source=source,
+                line=int(self.lines[k]),
+                column="t_s",
+            )
+        span, expected = float(self.t[-1] - self.t[0]), (self.t.size - 1) / rate
+        if abs(span - expected) > 0.01 * expected:
+            raise TrajectoryError(
+                f"the times span {span:.6g} s, the {self.t.size} samples at {rate:g} Hz {expected:.6g} s: "
+                "is the sample rate the log's?",
+                source=source,
+                column="t_s",
+            )
+        self.t = self.t[0] + np.arange(self.t.size) / rate
 
     def __len__(self) -> int:
         return self.t.size

@@ -16,21 +16,24 @@ regressor's friction columns, :mod:`hipsim.rig.identification.regressor`):
   of either shows in the screw's).
 
 Least squares over the snapshot's filtered, decimated rows (reversals left
-out, as identification does), with standard errors from σ²(AᵀA)⁻¹, σ² the
-residual variance inflated by the samples per independent sample the
-low-pass leaves. With per-station loads logged (``Fe_1_N``, ``Fe_2_N``) the
-load term is split per station (a_1, a_2) when the two loads vary
-differently enough to tell apart; when they are proportional they cannot be,
-and the row says so.
+out, as identification does). The standard errors hold for correlated
+residuals: a sandwich (Newey–West) covariance whose correlation window is the
+rows per independent row identification floors its information by
+(:func:`~hipsim.rig.identification.regressor.rows_per_independent_row`: the
+low-pass's and the model error's bandwidth), so a residual correlated over that
+window widens the errors as much as it is correlated, and a white one (noise
+only) does not: repeated noise-only snapshots give z-scores of spread 1. A
+slower model error that moves between snapshots shows in the chart's
+between-snapshot spread σ₀ instead. With per-station loads logged (``Fe_1_N``,
+``Fe_2_N``) the load term is split per station (a_1, a_2) when the two loads
+vary differently enough to tell apart; when they are proportional they cannot
+be, and the row says so.
 """
 
 from __future__ import annotations
 
 import math
-import os
-import tempfile
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -39,20 +42,30 @@ from ...analytic.inverse_kinematics import kinematics
 from ...analytic.virtual_work import inverse_dynamics
 from ...exceptions import HipsimError, ParameterError
 from ...fingerprint import part_fingerprints
-from ...machine.parameters import Parameters, load_parameters
-from ..identification.identified_file import read_identified_file
+from ...machine.parameters import Parameters
 from ..identification.quantities import friction_unit
-from ..identification.regressor import CHUNK, decimation, inflation
-from ..logs.log import DEFAULT_TOLERANCE_DEG, MeasuredLog, load_log
+from ..identification.regressor import CHUNK, decimation, rows_per_independent_row
+from ..logs.log import DEFAULT_TOLERANCE_DEG, MeasuredLog
 from ..logs.reversals import reversal_mask
 from ..logs.smoothing import DEFAULT_CUTOFF, lowpass, minimum_samples
-from .snapshots import STATION_LOADS, Snapshot, read_columns, snapshot_text
+from ..plausibility import check_log
+from .reference import identified_file, reference
+from .snapshot_log import read_snapshot
+from .snapshots import Skipped, Snapshot, skipped
 
-__all__ = ["ESTIMATE_COLUMNS", "ESTIMATOR", "MonitorSetup", "estimate", "estimate_batch", "identified_file"]
+__all__ = [
+    "ESTIMATE_COLUMNS",
+    "ESTIMATOR",
+    "MonitorSetup",
+    "estimate",
+    "estimate_batch",
+    "identified_file",  # from .reference, where it lives; kept here for the callers that import it from the fit
+    "reference",
+]
 
 #: The estimator's version: part of the set-up's fingerprint, so a changed estimator never extends an older table.
-ESTIMATOR = "monitor-1"
-#: The per-snapshot columns :func:`estimate` fills (after ``cycle``), text columns marked in :data:`TEXT`.
+ESTIMATOR = "monitor-2"
+#: The per-snapshot columns :func:`estimate` fills.
 ESTIMATE_COLUMNS = (
     "cycle",
     "last_cycle",
@@ -71,7 +84,11 @@ ESTIMATE_COLUMNS = (
     "load_friction_2_mm",
     "load_friction_2_mm_std",
     "stations",
+    "load_gain",
     "residual_rms_Nmm",
+    "note",
+    "bytes",
+    "sha256",
 )
 #: A per-station split is reported when each station's standard deviation is below this fraction of the whole term
 #: (and the stations' load columns are not proportional: smallest to largest singular value of the unit-norm columns above 1e-6).
@@ -90,6 +107,7 @@ class MonitorSetup:
         torque_constant: the motors' torque constant in [N·m/A], for logs of currents.
         tolerance_deg: the attitude sensor's allowed disagreement with the encoders in [deg].
         window: cycles per window of a long log, or None (one snapshot a file).
+        rate: the sample rate in [Hz] the times are read from (the sample index), or None for the logs' time stamps.
     """
 
     params: Parameters
@@ -98,6 +116,7 @@ class MonitorSetup:
     torque_constant: float | None = None
     tolerance_deg: float = DEFAULT_TOLERANCE_DEG
     window: int | None = None
+    rate: float | None = None
 
     def __post_init__(self):
         f = self.params.friction
@@ -127,6 +146,7 @@ class MonitorSetup:
                     "cutoff": self.cutoff,
                     "torque_constant": self.torque_constant,
                     "tolerance_deg": self.tolerance_deg,
+                    "rate": self.rate,
                 },
                 "window": self.window,
                 "estimator": ESTIMATOR,
@@ -134,47 +154,15 @@ class MonitorSetup:
         )
 
 
-def identified_file(path: str | Path) -> bool:
-    """The lever spin an identified parameter file was fitted with (True: on); refused when the file is not identified.
-
-    Read through :func:`hipsim.rig.identification.identified_file.read_identified_file`: the ``[identification]``
-    table's ``lever_spin`` (an old file's ``# Model: … lever spin on|off`` header line when it has no table).
-
-    Raises:
-        ParameterError: naming the file when it holds no identified values.
-    """
-    found = read_identified_file(path)
-    if found is None:
-        raise ParameterError(
-            "holds no identified values (no [identification] table, no '# Identified by hipsim identify' header): "
-            "the monitor holds the machine at identified values; run hipsim identify on a log of the rig first",
-            source=str(path),
-        )
-    return found.lever_spin
-
-
-def _load(setup: MonitorSetup, snapshot: Snapshot, folder: str) -> tuple[MeasuredLog, str]:
-    """The snapshot's log, and the file it was read from (a window is written to ``folder`` first)."""
-    text = snapshot_text(snapshot)
-    path = snapshot.path
-    if text is not None:
-        path = os.path.join(
-            folder, f"{Path(snapshot.path).stem}_cycles_{snapshot.first_cycle}-{snapshot.last_cycle}.csv"
-        )
-        with open(path, "wb") as stream:
-            stream.write(text)
-    return load_log(path, setup.params, setup.torque_constant, setup.cutoff, setup.tolerance_deg), path
-
-
-def _rows(setup: MonitorSetup, log: MeasuredLog, loads: dict[str, np.ndarray] | None):
+def _rows(setup: MonitorSetup, log: MeasuredLog, loads: np.ndarray | None):
     """The fit's rows, chunk by chunk: the fixed machine's torque, the fitted terms' columns, the measured torque, the rows to use.
 
-    The regressor's columns (:func:`hipsim.rig.identification.regressor.log_rows`) of only what is fitted: by the model's
-    linearity in θ, the torque of every held parameter is the inverse dynamics of the machine with the fitted
+    The regressor's columns (:func:`hipsim.rig.identification.regressor.log_rows`) of only what is fitted: by the
+    model's linearity in θ, the torque of every held parameter is the inverse dynamics of the machine with the fitted
     coefficients at zero, and each fitted coefficient's column that of the machine whose only friction is that
-    coefficient at one (:func:`~hipsim.rig.identification.quantities.friction_unit`, as the regressor builds it): five runs of the
-    model instead of the regressor's ten, filtered and decimated exactly as :func:`~hipsim.rig.identification.regressor.log_rows`
-    does. With per-station loads, two more runs give each station's load column.
+    coefficient at one (:func:`~hipsim.rig.identification.quantities.friction_unit`, as the regressor builds it): five
+    runs of the model instead of the regressor's ten, filtered and decimated as the regressor's rows are. With
+    per-station loads, two more runs give each station's load column.
 
     Yields:
         fixed (m, 3), columns (m, 3, 4) of μ_h, μ_t, the screw's Coulomb and viscous coefficients, τ (m, 3),
@@ -187,6 +175,8 @@ def _rows(setup: MonitorSetup, log: MeasuredLog, loads: dict[str, np.ndarray] | 
     first, stop = log.usable.start, log.usable.stop
     margin = 0 if log.cutoff is None else minimum_samples(log.rate, log.cutoff)
     use_all = ~reversal_mask(params, log)
+    if loads is not None and log.cutoff is not None:
+        loads = np.maximum(lowpass(loads, log.rate, log.cutoff, log.name), 0.0)  # as the log's own load
     chunk = max(step, CHUNK - CHUNK % step)  # whole decimation steps, as the regressor's rows
     for a in range(first, stop, chunk):
         b = min(a + chunk, stop)
@@ -196,13 +186,9 @@ def _rows(setup: MonitorSetup, log: MeasuredLog, loads: dict[str, np.ndarray] | 
         parts = [inverse_dynamics(held, kin, trajectory.Fe, setup.lever_spin).total]
         parts += [inverse_dynamics(unit, kin, trajectory.Fe, setup.lever_spin).friction for unit in units]
         if loads is not None:
-            for name in STATION_LOADS:
-                Fe = loads[name]
-                if log.cutoff is not None:
-                    Fe = np.maximum(lowpass(Fe, log.rate, log.cutoff, log.name), 0.0)  # as the log's own load
-                parts.append(
-                    inverse_dynamics(units[0], kin, Fe[lo:hi], setup.lever_spin).friction / params.heights.size
-                )
+            for p in range(2):
+                column = inverse_dynamics(units[0], kin, loads[lo:hi, p], setup.lever_spin).friction
+                parts.append(column / params.heights.size)
         Y = np.stack(parts, axis=-1)
         if log.cutoff is not None:
             Y = lowpass(Y, log.rate, log.cutoff, log.name)
@@ -211,8 +197,20 @@ def _rows(setup: MonitorSetup, log: MeasuredLog, loads: dict[str, np.ndarray] | 
         yield Y[:, :, 0], Y[:, :, 1:5], log.tau[keep], use_all[keep], (Y[:, :, 5:7] if loads is not None else None)
 
 
-def _solve(A: np.ndarray, y: np.ndarray, inflate: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Least squares with unit-norm columns: (estimate, standard deviations, residual); infinite deviations for dependent columns."""
+def _solve(A: np.ndarray, y: np.ndarray, time: np.ndarray, window: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Least squares with a standard error that holds for correlated residuals: (estimate, standard deviations, residual).
+
+    The covariance is the sandwich (AᵀA)⁻¹·S·(AᵀA)⁻¹ with S the rows' scores g_t = Σ_motors A_t·r_t summed with their
+    neighbours up to ``window`` rows apart, Bartlett-weighted (Newey & West 1987): a white residual gets the plain
+    σ²(AᵀA)⁻¹, a residual correlated over the window (the low-pass, the model error) its wider spread, as the data
+    show it. Columns are scaled to unit norm first; dependent columns give NaN estimates and infinite deviations.
+
+    Args:
+        A: (rows, k) columns, rows of every motor.
+        y: (rows,) targets.
+        time: (rows,) each row's sample (its decimated row index), non-decreasing.
+        window: rows a residual may be correlated over (≥ 0).
+    """
     norm = np.linalg.norm(A, axis=0)
     norm = np.where(norm > 0, norm, 1.0)
     An = A / norm
@@ -221,9 +219,16 @@ def _solve(A: np.ndarray, y: np.ndarray, inflate: float) -> tuple[np.ndarray, np
         return np.full(A.shape[1], math.nan), np.full(A.shape[1], math.inf), np.full(A.shape[0], math.nan)
     x, *_ = np.linalg.lstsq(An, y, rcond=None)
     residual = y - An @ x
-    dof = max(A.shape[0] - A.shape[1], 1)
-    variance = float(residual @ residual) / dof * inflate
-    covariance = np.linalg.pinv(An.T @ An) * variance
+    samples = int(time[-1]) + 1 if time.size else 0
+    scores = np.zeros((samples, A.shape[1]))
+    np.add.at(scores, time, An * residual[:, None])
+    S = scores.T @ scores
+    for lag in range(1, window + 1):
+        C = scores[:-lag].T @ scores[lag:]
+        S += (1.0 - lag / (window + 1.0)) * (C + C.T)
+    bread = np.linalg.pinv(An.T @ An)
+    dof = A.shape[0] / max(A.shape[0] - A.shape[1], 1)  # the residual is short of k degrees of freedom
+    covariance = bread @ S @ bread * dof
     return x / norm, np.sqrt(np.maximum(np.diag(covariance), 0.0)) / norm, residual
 
 
@@ -231,15 +236,15 @@ def estimate(setup: MonitorSetup, snapshot: Snapshot) -> dict[str, Any]:
     """One snapshot's row (:data:`ESTIMATE_COLUMNS`): the friction terms with standard deviations, in file units.
 
     Raises:
-        TrajectoryError: the snapshot cannot be read (naming the file, line, column).
-        HipsimError: too few samples to estimate from.
+        HipsimError: the snapshot cannot be read (naming the file, line, column), or too few samples to estimate from.
     """
     params = setup.params
     f = params.friction
     weight = params.platform_mass * params.gravity
-    with tempfile.TemporaryDirectory(prefix="hipsim-monitor-") as folder:
-        log, path = _load(setup, snapshot, folder)
-        loads = read_columns(path, STATION_LOADS) if params.heights.size == 2 else None
+    read = read_snapshot(snapshot, params, setup.torque_constant, setup.cutoff, setup.tolerance_deg, setup.rate)
+    log = read.log
+    check_log(params, log, setup.lever_spin, setup.torque_constant)  # a unit slip skips the snapshot (issue 38)
+    loads = read.loads if params.heights.size == 2 else None
     blocks = list(_rows(setup, log, loads))
     fixed = np.concatenate([b[0] for b in blocks])
     Y = np.concatenate([b[1] for b in blocks])
@@ -254,16 +259,19 @@ def estimate(setup: MonitorSetup, snapshot: Snapshot) -> dict[str, Any]:
     target = tau - fixed
     if int(use.sum()) <= len(columns) + 2:
         raise HipsimError(
-            f"{snapshot.name}: {int(use.sum())} samples left after the filter's edges and the reversals: too few to estimate from"
+            f"{snapshot.path}: {int(use.sum())} samples left after the filter's edges and the reversals: too few to "
+            "estimate from"
         )
+    time = np.nonzero(use)[0]
+    window = math.ceil(rows_per_independent_row(log))
     A = np.stack(columns, axis=-1)[use]
-    x, std, residual = _solve(A, target[use], inflation(log))
+    x, std, residual = _solve(A, target[use], time, window)
     has_weight = len(columns) == 4
     values = dict(zip(("a", "b", "sc", "sv") if has_weight else ("a", "sc", "sv"), zip(x.tolist(), std.tolist())))
     values.setdefault("b", (math.nan, math.nan))
     row: dict[str, Any] = {
-        "cycle": snapshot.first_cycle,
-        "last_cycle": snapshot.last_cycle,
+        "cycle": int(read.cycles[0]),
+        "last_cycle": int(read.cycles[-1]),
         "file": snapshot.name,
         "samples": len(log),
         "load_friction_mm": values["a"][0] * 1e3,
@@ -275,24 +283,29 @@ def estimate(setup: MonitorSetup, snapshot: Snapshot) -> dict[str, Any]:
         "screw_viscous_Nmm_s_rad": values["sv"][0] * 1e3,
         "screw_viscous_Nmm_s_rad_std": values["sv"][1] * 1e3,
         "residual_rms_Nmm": math.sqrt(float(residual @ residual) / residual.size) * 1e3,
+        "load_gain": read.load_gain,
+        "note": "" if snapshot.ends_with_newline else "no line end after its last line: the file may be cut",
+        "bytes": snapshot.size,
+        "sha256": snapshot.sha256,
     }
-    row |= _stations(setup, stations, use, columns, target, values["a"][0], inflation(log))
+    row |= _stations(setup, stations, use, time, window, columns, target, values["a"][0])
     return row
 
 
-def _stations(setup, stations, use, columns, target, whole, inflate) -> dict[str, Any]:
+def _stations(setup, stations, use, time, window, columns, target, whole) -> dict[str, Any]:
     """The per-station split of the load term, or why there is none."""
     out: dict[str, Any] = {f"load_friction_{p}_mm{s}": math.nan for p in (1, 2) for s in ("", "_std")}
     if stations is None:
         out["stations"] = "not logged" if setup.params.heights.size == 2 else "one station"
         return out
     A = np.concatenate([stations / setup.params.friction.hip_radius, np.stack(columns[1:], axis=-1)], axis=-1)[use]
-    x, std, _ = _solve(A, target[use], inflate)
+    x, std, _ = _solve(A, target[use], time, window)
     if not np.all(std[:2] < STATION_SEPARABLE * abs(whole)):
         out["stations"] = (
             "not separable: the two stations' loads are proportional"
             if np.isinf(std[0])
-            else f"not separable: the two stations' loads vary too much alike (standard deviation over {STATION_SEPARABLE:.0%} of the term)"
+            else "not separable: the two stations' loads vary too much alike (standard deviation over "
+            f"{STATION_SEPARABLE:.0%} of the term)"
         )
         return out
     for p in range(2):
@@ -301,23 +314,13 @@ def _stations(setup, stations, use, columns, target, whole, inflate) -> dict[str
     return out
 
 
-def estimate_batch(batch: list[Snapshot], setup: MonitorSetup) -> list[tuple[str, Any]]:
-    """The rows of a batch of snapshots: ("row", row) pairs, or ("error", message) for a snapshot that cannot be read.
-
-    The task each worker runs; errors come back as text so that every kind pickles.
-    """
-    out: list[tuple[str, Any]] = []
+def estimate_batch(batch: list[Snapshot], setup: MonitorSetup) -> list[dict[str, Any] | Skipped]:
+    """The rows of a batch of snapshots; a snapshot that cannot be read or estimated is a :class:`Skipped`, its reason
+    the error's message (file, line, column), so one bad file never stops a test. The task each worker runs."""
+    out: list[dict[str, Any] | Skipped] = []
     for snapshot in batch:
         try:
-            out.append(("row", estimate(setup, snapshot)))
+            out.append(estimate(setup, snapshot))
         except HipsimError as error:
-            out.append(("error", str(error)))
+            out.append(skipped(snapshot, error))
     return out
-
-
-def reference(path: str | Path | None, params: Parameters | None = None) -> tuple[Parameters, bool]:
-    """The reference machine and its lever spin from an identified parameter file (checked, :func:`identified_file`)."""
-    if params is not None:
-        return params, True
-    spin = identified_file(path)
-    return load_parameters(path), spin

@@ -1,14 +1,16 @@
-"""Following a wear test: every snapshot's estimate (in this process or on dask.distributed), the chart over them, the table.
+"""Following a wear test: every snapshot's estimate (in this process or on dask.distributed), the charts, the table.
 
-:func:`run_monitor` checks every input first (the parameter file, the
-snapshots, the table's set-up), then estimates the snapshots the table does
-not have yet, in batches: in this process for one worker, else on a
-``LocalCluster`` of worker processes or the cluster of a scheduler's address,
-the same :func:`~hipsim.rig.monitoring.monitor_fit.estimate_batch` on either path, so the
-rows are the same to the last bit. Each worker holds one snapshot at a time
-and the main process only the rows: memory does not grow with the test.
-The chart (:func:`~hipsim.rig.monitoring.control_chart.chart`) is then drawn over all
-rows, old and new, and the table written whole, atomically.
+:func:`run_monitor` estimates the snapshots the table does not hold yet (by
+file name and SHA-256: a file that changed is estimated again), in batches: in
+this process for one worker, else on a ``LocalCluster`` of worker processes or
+the cluster of a scheduler's address (:func:`hipsim.analysis.cluster.run_batches`,
+the path ``hipsim sweep`` takes), the same
+:func:`~hipsim.rig.monitoring.monitor_fit.estimate_batch` on either path, so the
+rows are the same to the last bit. A snapshot that cannot be read is skipped
+and named with its reason, never averaged in and never stopping the test; the
+run fails only when nothing usable remains. The charts and findings
+(:mod:`~hipsim.rig.monitoring.findings`) are then drawn over all rows, old and
+new, and the table written whole, atomically.
 
 :func:`monitor` is the library's entry (``hipsim.monitor``): the table as a
 pandas DataFrame when pandas is installed, else a :class:`MonitorTable`.
@@ -17,22 +19,28 @@ pandas DataFrame when pandas is installed, else a :class:`MonitorTable`.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from ...analysis.cluster import map_batches
-from ...exceptions import ArgumentError, HipsimError
+from ...analysis.cluster import batch_size as _batch_size
+from ...analysis.cluster import run_batches
+from ...exceptions import ArgumentError, TrajectoryError
 from ...machine.parameters import Parameters
-from .control_chart import DEFAULT_ALARM_RISE, DEFAULT_BASELINE, Chart, chart
-from .monitor_fit import MonitorSetup, estimate_batch, reference
-from .monitor_table import COLUMNS, check_out, previous_rows, write_table
-from .snapshots import Snapshot, find_snapshots
+from .control_chart import DEFAULT_ALARM_RISE, DEFAULT_BASELINE, EWMA_L, EWMA_LAMBDA
+from .findings import Findings, duplicates, find, missing_cycles
+from .monitor_fit import MonitorSetup, estimate_batch
+from .monitor_table import COLUMNS, MONITOR_TABLE, PARTS, table_rows, write_table
+from .reference import reference
+from .snapshots import Skipped, Snapshot, find_snapshots
 
-__all__ = ["MonitorResult", "MonitorTable", "monitor", "run_monitor", "run_snapshots"]
+__all__ = ["MOST_PER_BATCH", "MonitorResult", "MonitorTable", "monitor", "run_monitor"]
+
+#: The largest batch of snapshots a task gets.
+MOST_PER_BATCH = 50
 
 
 @dataclass(frozen=True)
@@ -60,42 +68,48 @@ class MonitorResult:
 
     Attributes:
         setup: what the snapshots shared.
+        rows: the estimate rows, sorted by cycle.
         columns: the table by column (:data:`COLUMNS`), sorted by cycle.
-        chart: the control chart over the rows.
+        findings: the charts and what they find.
         new: snapshots estimated in this run.
         kept: rows kept from the table already there.
+        skipped: snapshots left out, each with its reason (unreadable, still being written, duplicate).
+        missing: first cycles of snapshots missing from the regular sequence.
         baseline: (FROM, TO) cycles.
         alarm_rise: the engineering threshold.
         fingerprints: the set-up's fingerprints.
-        paths: each row's file path (the rows estimated in this run; kept rows by name only).
     """
 
     setup: MonitorSetup
+    rows: list[dict[str, Any]]
     columns: dict[str, list[Any]]
-    chart: Chart
+    findings: Findings
     new: int
     kept: int
+    skipped: list[Skipped]
+    missing: list[int]
     baseline: tuple[int, int]
     alarm_rise: float
     fingerprints: dict[str, str]
     paths: dict[str, str] = field(default_factory=dict)
 
+    @property
+    def two_stations(self) -> bool:
+        return self.setup.params.heights.size == 2
+
     def summary(self) -> dict[str, Any]:
-        """The run's summary, JSON-ready: counts, baseline, first alarm, the alarm at the last snapshot."""
-        c, chart = self.columns, self.chart
-        alarms = [k for k, a in enumerate(c["alarm"]) if a]
-        first = None
-        if alarms:
-            k = alarms[0]
-            first = {
-                "cycle": int(c["cycle"][k]),
-                "file": c["file"][k],
-                "hip_mu_change": c["hip_mu_change"][k],
-                "hip_mu_change_std": c["hip_mu_change_std"][k],
-                "load_friction_mm": c["load_friction_mm"][k],
-                "load_friction_change_mm": c["load_friction_mm"][k] - chart.mean,
-            }
+        """The run's summary, JSON-ready: counts, baseline, alarms and notices, skipped and missing snapshots, files."""
+        c, found = self.columns, self.findings
+        chart = found.mean
         last = len(c["cycle"]) - 1
+        stations = None
+        if found.stations is not None:
+            stations = [
+                {"station": p + 1, "load_friction_mm": s.mean, "spread_mm": s.spread, "snapshots": s.baseline_count}
+                for p, s in enumerate(found.stations)
+            ]
+        gain = found.load_gain_change
+        known = np.isfinite(gain)
         return {
             "snapshots": len(c["cycle"]),
             "new": self.new,
@@ -108,72 +122,77 @@ class MonitorResult:
                 "snapshots": chart.baseline_count,
                 "load_friction_mm": chart.mean,
                 "spread_mm": chart.spread,
+                "stations": stations,
             },
             "alarm_rise": self.alarm_rise,
-            "threshold_mm": chart.threshold,
-            "chart": "EWMA (lambda 0.2, L 3) with the engineering threshold",
-            "alarms": len(alarms),
-            "first_alarm": first,
-            "alarm_active": bool(last >= 0 and c["alarm"][last]),
+            "threshold_mm": list(chart.threshold),
+            "worst_case_factor": chart.worst,
+            "chart": f"two-sided EWMA (lambda {EWMA_LAMBDA:g}, L {EWMA_L:g}) with the engineering threshold",
+            "judged": "per station"
+            if found.stations is not None
+            else (
+                "the two stations' mean, worst case (up to twice its change in one station)"
+                if self.two_stations
+                else "the station"
+            ),
+            "alarms": int(found.alarm.sum()),
+            "first_alarm": found.first,
+            "notices": sum(1 for f in found.flag if "notice" in f),
+            "latest_notice": found.latest_notice,
+            "alarm_active": bool(last >= 0 and found.alarm[last]),
+            "notice_active": bool(last >= 0 and found.flag[last] and not found.alarm[last]),
+            "load_cell": {
+                "commanded_load_logged": bool(known.any()),
+                "three_percent": 0.03 / 1.03 * chart.mean / (self.setup.params.friction.hip_radius * 1e3),
+                "gain_change_last": float(gain[known][-1]) if known.any() else None,
+                "drifted": [c["file"][k] for k in range(len(gain)) if known[k] and abs(gain[k]) > 0.01],
+            },
+            "skipped": [s.as_dict() for s in self.skipped if s.kind != "waiting"],
+            "waiting": [s.as_dict() for s in self.skipped if s.kind == "waiting"],
+            "missing": self.missing,
+            "incomplete": [c["file"][k] for k in range(len(c["cycle"])) if "incomplete" in c["note"][k]],
+            "files": [
+                {"file": c["file"][k], "bytes": int(c["bytes"][k]), "sha256": c["sha256"][k]}
+                for k in range(len(c["cycle"]))
+            ],
             "note": chart.note,
             "fingerprint": self.fingerprints["setup"],
             "parameters": self.setup.params.source,
+            "table": self.columns,
         }
 
 
-def _batch_size(count: int, workers: int) -> int:
-    """About eight batches a worker, each of 1 to 50 snapshots."""
-    return max(1, min(50, math.ceil(count / (8 * max(workers, 1)))))
-
-
-def run_snapshots(
-    setup: MonitorSetup,
-    snapshots: Sequence[Snapshot],
-    workers: int = 1,
-    scheduler: str | None = None,
-    batch_size: int | None = None,
-) -> Iterator[list[tuple[str, Any]]]:
-    """Estimate snapshots in batches, yielding each batch's results as it completes (("row", row) or ("error", message)).
-
-    Args:
-        setup: what the snapshots share (sent to each worker once).
-        snapshots: the snapshots.
-        workers: worker processes of a local cluster; 1 without ``scheduler`` runs in this process.
-        scheduler: a dask scheduler's address, to run on its cluster (the files must be readable there).
-        batch_size: snapshots per task (default: about eight tasks a worker, at most 50 each).
-    """
-    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
-        raise ArgumentError("workers", workers, "a whole number of worker processes, at least 1")
-    size = batch_size or _batch_size(len(snapshots), int(workers))
-    work = [list(snapshots[k : k + size]) for k in range(0, len(snapshots), size)]
-    if not work:
-        return
-    if scheduler is None and workers == 1:
-        for batch in work:
-            yield estimate_batch(batch, setup)
-        return
-    yield from map_batches(estimate_batch, work, setup, int(workers), scheduler, "hipsim monitor")
-
-
-def _columns(rows: list[dict[str, Any]], chart_: Chart) -> dict[str, list[Any]]:
-    """The table's columns from the estimate rows (sorted by cycle) and the chart over them."""
-    out: dict[str, list[Any]] = {name: [] for name in COLUMNS}
-    derived = {
-        "phase": chart_.phase,
-        "hip_mu_change": chart_.change,
-        "hip_mu_change_std": chart_.change_std,
-        "ewma_mm": chart_.ewma,
-        "ucl_mm": chart_.limit,
-        "alarm": chart_.alarm,
+def _columns(rows: list[dict[str, Any]], found: Findings) -> dict[str, list[Any]]:
+    """The table's columns from the estimate rows (sorted by cycle) and the findings over them."""
+    mean = found.mean
+    nan = np.full(len(rows), math.nan)
+    derived: dict[str, Any] = {
+        "phase": mean.phase,
+        "hip_mu_change": mean.change,
+        "hip_mu_change_std": mean.change_std,
+        "ewma_mm": mean.ewma,
+        "lcl_mm": mean.lower,
+        "ucl_mm": mean.upper,
+        "load_gain_change": found.load_gain_change,
+        "flag": found.flag,
+        "alarm": found.alarm,
+        "note": found.notes,
     }
+    for p in (1, 2):
+        s = found.stations[p - 1] if found.stations is not None else None
+        derived |= {
+            f"hip_mu_change_{p}": s.change if s is not None else nan,
+            f"hip_mu_change_{p}_std": s.change_std if s is not None else nan,
+            f"ewma_{p}_mm": s.ewma if s is not None else nan,
+            f"lcl_{p}_mm": s.lower if s is not None else nan,
+            f"ucl_{p}_mm": s.upper if s is not None else nan,
+        }
+    out: dict[str, list[Any]] = {name: [] for name in COLUMNS}
+    integers = ("cycle", "last_cycle", "samples", "alarm", "bytes")
     for k, row in enumerate(rows):
         for name in COLUMNS:
             value = derived[name][k] if name in derived else row[name]
-            out[name].append(
-                value
-                if isinstance(value, str)
-                else (int(value) if name in ("cycle", "last_cycle", "samples", "alarm") else float(value))
-            )
+            out[name].append(value if isinstance(value, str) else (int(value) if name in integers else float(value)))
     return out
 
 
@@ -189,45 +208,73 @@ def run_monitor(
     batch_size: int | None = None,
     progress: Callable[[int, int], None] | None = None,
     metadata: dict[str, Any] | None = None,
+    skipped: Sequence[Skipped] = (),
+    previous: Sequence[dict[str, Any]] | None = None,
 ) -> MonitorResult:
-    """Estimate the snapshots ``out`` does not hold yet, draw the chart over all, write ``out`` (when given).
+    """Estimate the snapshots ``out`` (or ``previous``) does not hold yet, chart over all, write ``out`` (when given).
+
+    Args:
+        setup: what the snapshots share.
+        snapshots: the snapshots (:func:`~hipsim.rig.monitoring.snapshots.find_snapshots`).
+        baseline: (FROM, TO) cycles.
+        alarm_rise: the engineering threshold, a change of μ_h in one station.
+        out: the table to extend and write, or None.
+        restart: replace ``out`` instead of extending it.
+        workers: local worker processes (1: in this process).
+        scheduler: a dask scheduler's address.
+        batch_size: snapshots per task (default: about eight tasks a worker, at most :data:`MOST_PER_BATCH`).
+        progress: called with (snapshots done, to do) after each batch.
+        metadata: more to keep with the table.
+        skipped: snapshots already left out (still being written, unreadable), carried into the result.
+        previous: estimate rows already made (a watch keeps them in memory), used instead of ``out``'s.
 
     Raises:
         OutputError: ``out`` cannot be written or holds another set-up's rows.
-        HipsimError: a snapshot that cannot be read (naming it); nothing is written then.
+        TrajectoryError: no usable snapshot at all (naming the first left out and why).
     """
-    out = check_out(out) if out is not None else None
+    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
+        raise ArgumentError("workers", workers, "a whole number of worker processes, at least 1")
+    out = MONITOR_TABLE.check_out(out) if out is not None else None
     fingerprints = setup.fingerprints()
-    kept = previous_rows(out, fingerprints, restart)
-    done = {(row["file"], int(row["cycle"])) for row in kept}
-    todo = [s for s in snapshots if (s.name, s.first_cycle) not in done]
+    if previous is None:
+        previous = table_rows(MONITOR_TABLE.resume(out, COLUMNS, fingerprints, restart, PARTS)) if out else []
+    present = {(s.name, s.sha256) for s in snapshots}
+    names = {s.name for s in snapshots}
+    # A row whose file is there with other bytes is estimated again; rows of files no longer given are kept.
+    kept = [r for r in previous if (r["file"], r["sha256"]) in present or r["file"] not in names]
+    done = {(r["file"], r["sha256"]) for r in kept}
+    todo = [s for s in snapshots if (s.name, s.sha256) not in done]
     rows = list(kept)
+    left = list(skipped)
+    size = batch_size or _batch_size(len(todo), int(workers), MOST_PER_BATCH)
+    work = [list(todo[k : k + size]) for k in range(0, len(todo), size)]
     count = 0
-    for results in run_snapshots(setup, todo, workers, scheduler, batch_size):
-        for kind, value in results:
-            if kind == "error":
-                raise HipsimError(value)
-            rows.append(value)
+    for results in run_batches(estimate_batch, work, setup, int(workers), scheduler, "hipsim monitor"):
+        for value in results:
+            (left if isinstance(value, Skipped) else rows).append(value)
         count += len(results)
         if progress is not None:
             progress(count, len(todo))
     rows.sort(key=lambda row: (int(row["cycle"]), row["file"]))
+    paths = {s.name: s.path for s in snapshots}
+    rows, twice = duplicates(rows, paths)
+    left += twice
     if not rows:
-        raise HipsimError("no snapshots to monitor")
+        first = next((s for s in left if s.kind != "waiting"), left[0] if left else None)
+        raise TrajectoryError(
+            "no usable snapshot"
+            + (f" ({len(left)} left out; the first: {first.reason})" if first is not None else ": none given"),
+            source=None if first is None else first.path,
+        )
     f = setup.params.friction
-    chart_ = chart(
-        [r["cycle"] for r in rows],
-        [r["load_friction_mm"] for r in rows],
-        [r["load_friction_mm_std"] for r in rows],
-        f.hip_radius * 1e3,
-        baseline,
-        alarm_rise,
-    )
-    columns = _columns(rows, chart_)
+    found = find(rows, f.hip_radius * 1e3, setup.params.heights.size == 2, baseline, alarm_rise)
+    columns = _columns(rows, found)
     if out is not None:
         write_table(out, columns, (metadata or {}) | {"fingerprints": fingerprints, "parameters": setup.params.source})
-    paths = {s.name: s.path for s in snapshots}
-    return MonitorResult(setup, columns, chart_, len(todo), len(kept), baseline, alarm_rise, fingerprints, paths)
+    missing = missing_cycles([r["cycle"] for r in rows])
+    return MonitorResult(
+        setup, rows, columns, found, len(todo), len(kept), left, missing, baseline, alarm_rise, fingerprints, paths
+    )
 
 
 def monitor(
@@ -242,15 +289,17 @@ def monitor(
     restart: bool = False,
     workers: int = 1,
     scheduler: str | None = None,
+    rate: float | None = None,
+    settle: float = 0.0,
 ):
     """Follow a wear test's friction from its snapshots' motor torques (the library's ``hipsim monitor``).
 
     Args:
-        params: an identified parameter file (checked: :func:`hipsim.rig.monitoring.monitor_fit.identified_file`), or a
-            :class:`~hipsim.machine.parameters.Parameters` you vouch for (lever spin on).
+        params: an identified parameter file (checked), or a :class:`~hipsim.machine.parameters.Parameters` you
+            vouch for (lever spin on).
         logs: snapshot files, a folder (its ``*.csv``) or a glob pattern, or a list of them; each with a ``cycle`` column.
         baseline: (FROM, TO) cycles, or ``"FROM:TO"``: the reference period after running-in.
-        alarm_rise: the engineering threshold, a rise of the hip friction coefficient.
+        alarm_rise: the engineering threshold, a change of the hip friction coefficient in one station.
         window: cut each file into windows of this many cycles (one long log); None: a snapshot a file.
         cutoff: low-pass cutoff in [Hz] (None: none).
         torque_constant: motor torque constant in [N·m/A], for logs of currents.
@@ -258,22 +307,25 @@ def monitor(
         restart: replace ``out`` instead of extending it.
         workers: local worker processes (dask.distributed) for more than 1.
         scheduler: a dask scheduler's address.
+        rate: sample rate in [Hz] to read the times from the sample index (time stamps too coarse), or None.
+        settle: a file changed less than this many seconds ago is still being written and waits.
 
     Returns:
-        The table (columns :data:`~hipsim.rig.monitoring.monitor_table.COLUMNS`): a pandas DataFrame when pandas is installed,
-        else a :class:`MonitorTable`.
+        The table (columns :data:`~hipsim.rig.monitoring.monitor_table.COLUMNS`): a pandas DataFrame when pandas is
+        installed, else a :class:`MonitorTable`.
     """
     from .control_chart import parse_baseline
 
     if isinstance(baseline, str):
         baseline = parse_baseline(baseline)
-    if isinstance(params, Parameters):
-        machine, spin = reference(None, params)
-    else:
-        machine, spin = reference(params)
-    setup = MonitorSetup(machine, lever_spin=spin, cutoff=cutoff, torque_constant=torque_constant, window=window)
-    snapshots = find_snapshots(logs, window, cutoff)
-    result = run_monitor(setup, snapshots, tuple(baseline), alarm_rise, out, restart, workers, scheduler)
+    machine, spin = reference(None, params) if isinstance(params, Parameters) else reference(params)
+    setup = MonitorSetup(
+        machine, lever_spin=spin, cutoff=cutoff, torque_constant=torque_constant, window=window, rate=rate
+    )
+    snapshots, skipped = find_snapshots(logs, window, settle, torque_constant, rate)
+    result = run_monitor(
+        setup, snapshots, (baseline[0], baseline[1]), alarm_rise, out, restart, workers, scheduler, skipped=skipped
+    )
     try:
         import pandas
     except ImportError:

@@ -1,43 +1,56 @@
-"""The snapshots of a long wear test: finding their files, reading their cycle counters, cutting a long log into windows, and the checks.
+"""The snapshots of a long wear test: their files, which are complete, each file's identity, and a long log cut into windows.
 
 A lab logs a snapshot every so often (say 3 cycles at 1 kHz every 250,000
-cycles): a rig log (:mod:`hipsim.rig.logs.reader`'s columns) with one more column,
-``cycle``, the machine's cycle counter (a whole number, non-decreasing within
-the file). :func:`find_snapshots` takes files, folders (their ``*.csv``) and
-glob patterns in any order, scans each file's ``t_s`` and ``cycle`` once (a
-few bytes a sample kept, the file read line by line), and returns
-:class:`Snapshot` records sorted by their first cycle. With ``window=N`` every
-file is instead one long log cut into windows of N cycles (whole windows
-only: a last, incomplete window waits for the next run), each window located
-by its byte offsets in the file, so a worker reads just its window
-(:func:`snapshot_text`).
+cycles): a rig log (the rig-log reader's columns, :mod:`hipsim.rig.logs.reader`:
+comments, ``;`` or tab separators, decimal commas as everywhere) with one more
+column, ``cycle``, the machine's cycle counter. :func:`find_snapshots` takes
+files, folders (their ``*.csv``) and glob patterns in any order and lists each
+file with its size and SHA-256, without reading its values: a snapshot is read
+once, by the rig-log reader, where it is estimated
+(:mod:`~hipsim.rig.monitoring.snapshot_log`), so a file the reader refuses is
+a skipped snapshot with the reader's reason, not a stopped test.
 
-Everything is checked before any estimate is made, each problem one line
-naming the file: no ``cycle`` column, a counter that is not a whole number
-or decreases (with the line), two snapshots covering the same cycles, a
-snapshot too short for the low-pass filter.
+A file changed less than ``settle`` seconds ago is taken as still being
+written: it waits for the next run (listed, not read). With ``window=N`` every
+file is one long log, scanned once by the reader for its cycle counter and cut
+into windows of N cycles (whole windows only: a last, incomplete window waits
+for the next run), each window its file lines, which a worker reads alone.
 """
 
 from __future__ import annotations
 
 import glob
+import hashlib
 import math
 import os
+import time
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from ...exceptions import ArgumentError, TrajectoryError
-from ..logs.smoothing import edge_samples, minimum_samples
+from ...exceptions import ArgumentError, HipsimError, TrajectoryError
+from ..logs.reader import RigLogFile
 
-__all__ = ["CYCLE_COLUMN", "STATION_LOADS", "Snapshot", "find_snapshots", "read_columns", "snapshot_text"]
+__all__ = [
+    "COMMANDED_LOAD",
+    "CYCLE_COLUMN",
+    "STATION_LOADS",
+    "Skipped",
+    "Snapshot",
+    "check_counter",
+    "find_snapshots",
+    "skipped",
+]
 
 #: The cycle counter's column.
 CYCLE_COLUMN = "cycle"
 #: Per-station load columns in [N], when the rig logs them.
 STATION_LOADS = ("Fe_1_N", "Fe_2_N")
+#: The commanded load in [N], when the rig logs it (compared with the measured ``Fe_N``: a load-cell drift).
+COMMANDED_LOAD = "Fe_cmd_N"
+_HASH_BLOCK = 1 << 20
 
 
 @dataclass(frozen=True)
@@ -46,30 +59,59 @@ class Snapshot:
 
     Attributes:
         path: the file.
-        first_cycle: the counter's value at its first sample.
-        last_cycle: the counter's value at its last sample.
-        samples: its samples.
-        rate: sample rate in [Hz].
-        span: (first byte, stop byte, first line) of a window of a long log; None for a whole file.
+        size: its bytes (a window's: its lines').
+        sha256: the SHA-256 of those bytes, hex.
+        lines: (first, stop) file lines of a window of a long log; None for a whole file.
+        first_cycle: a window's first cycle (None for a whole file until it is read).
+        last_cycle: a window's last cycle (likewise).
+        ends_with_newline: whether the file's last line has its line end (a file cut mid-line has none).
     """
 
     path: str
-    first_cycle: int
-    last_cycle: int
-    samples: int
-    rate: float
-    span: tuple[int, int, int] | None = None
+    size: int
+    sha256: str
+    lines: tuple[int, int] | None = None
+    first_cycle: int | None = None
+    last_cycle: int | None = None
+    ends_with_newline: bool = True
 
     @property
     def name(self) -> str:
         """The file's name, with the window's cycles for a window."""
         base = Path(self.path).name
-        return base if self.span is None else f"{base}[{self.first_cycle}-{self.last_cycle}]"
+        return base if self.lines is None else f"{base}[{self.first_cycle}-{self.last_cycle}]"
 
-    @property
-    def cycles(self) -> int:
-        """Cycles it spans (counter values it holds)."""
-        return self.last_cycle - self.first_cycle + 1
+
+@dataclass(frozen=True)
+class Skipped:
+    """A snapshot that is not in the chart, and why.
+
+    Attributes:
+        name: the snapshot's name (its file; a window's cycles).
+        path: the file.
+        reason: the reason, as the error said it (file, line, column).
+        kind: "unreadable" (the reader or a check refused it), "waiting" (still being written),
+            or "duplicate" (its cycles are another snapshot's).
+        line: the file line the reason names, or None.
+    """
+
+    name: str
+    path: str
+    reason: str
+    kind: str = "unreadable"
+    line: int | None = None
+
+    def as_dict(self) -> dict:
+        return {"file": self.name, "path": self.path, "kind": self.kind, "reason": self.reason, "line": self.line}
+
+
+def skipped(snapshot: Snapshot, error: HipsimError, kind: str = "unreadable") -> Skipped:
+    """The skipped snapshot an error makes: its message is the reason, its line (when it names one) kept."""
+    line = getattr(error, "line", None)
+    reason = str(error)
+    if getattr(error, "column", None) == "t_s" or "'t_s'" in reason and "increase" in reason:
+        reason += " (time stamps too coarse for the rate? give --rate HZ to read the times from the sample index)"
+    return Skipped(snapshot.name, snapshot.path, reason, kind, line if isinstance(line, int) else None)
 
 
 def _paths(logs: str | Path | Iterable[str | Path]) -> list[str]:
@@ -81,222 +123,165 @@ def _paths(logs: str | Path | Iterable[str | Path]) -> list[str]:
         if os.path.isdir(text):
             found += sorted(str(p) for p in Path(text).glob("*.csv") if p.is_file())
         elif glob.has_magic(text):
-            matches = sorted(p for p in glob.glob(text) if os.path.isfile(p))
-            if not matches:
-                raise TrajectoryError("no file matches this pattern", source=text)
-            found += matches
+            found += sorted(p for p in glob.glob(text) if os.path.isfile(p))
         elif os.path.isfile(text):
             found.append(text)
         else:
             raise TrajectoryError("no such log file or folder", source=text)
-    unique = list(dict.fromkeys(os.path.normpath(p) for p in found))
-    if not unique:
-        raise TrajectoryError("no rig logs (*.csv) found", source=", ".join(str(i) for i in items))
-    return unique
+    return list(dict.fromkeys(os.path.normpath(p) for p in found))
 
 
-def _header(stream, source: str) -> tuple[list[str], int, int]:
-    """(column names, line number, byte offset after it) of the first line with anything on it."""
-    number = 0
-    for raw in iter(stream.readline, b""):
-        number += 1
-        text = raw.decode("utf-8-sig" if number == 1 else "utf-8", errors="replace")
-        if text.strip(" \t\r\n,"):
-            return [cell.strip() for cell in text.rstrip("\r\n").split(",")], number, stream.tell()
-    raise TrajectoryError("the file is empty", source=source)
-
-
-def _number(cell: bytes, source: str, line: int, column: str) -> float:
-    try:
-        return float(cell)
-    except ValueError:
-        raise TrajectoryError(
-            f"'{cell.decode('utf-8', 'replace').strip()}' is not a number", source=source, line=line, column=column
-        ) from None
-
-
-@dataclass
-class _Scan:
-    """What the scan of one file keeps: per sample its cycle, time, byte offset and line."""
-
-    cycle: np.ndarray
-    t: np.ndarray
-    offset: np.ndarray
-    line: np.ndarray
-    end: int  # byte offset of the file's end
-
-
-def _scan(path: str) -> _Scan:
-    """Read a file's ``cycle`` and ``t_s`` columns, checking the counter."""
+def _identity(path: str, cache: dict | None) -> tuple[int, str, bool]:
+    """(bytes, SHA-256, ends with a line end) of a file; ``cache`` keyed by (path, size, mtime) spares a rehash."""
+    status = os.stat(path)
+    key = (path, status.st_size, status.st_mtime_ns)
+    if cache is not None and key in cache:
+        return cache[key]
+    digest = hashlib.sha256()
+    last = b"\n"
     with open(path, "rb") as stream:
-        header, number, position = _header(stream, path)
-        if CYCLE_COLUMN not in header:
-            raise TrajectoryError(
-                f"no '{CYCLE_COLUMN}' column: a snapshot needs the machine's cycle counter", source=path, line=number
-            )
-        if "t_s" not in header:
-            raise TrajectoryError("missing time column 't_s'", source=path, line=number)
-        c, k = header.index(CYCLE_COLUMN), header.index("t_s")
-        cycles, times, offsets, lines = [], [], [], []
-        previous = -math.inf
-        for raw in iter(stream.readline, b""):
-            number += 1
-            start, position = position, position + len(raw)
-            if not raw.strip(b" \t\r\n,"):
-                continue
-            cells = raw.split(b",")
-            if len(cells) != len(header):
-                raise TrajectoryError(f"{len(cells)} cells, the header has {len(header)}", source=path, line=number)
-            value = _number(cells[c], path, number, CYCLE_COLUMN)
-            if not (math.isfinite(value) and value == int(value) and value >= 0):
-                raise TrajectoryError(
-                    f"the cycle counter must be a whole number ≥ 0, got '{cells[c].decode().strip()}'",
-                    source=path,
-                    line=number,
-                    column=CYCLE_COLUMN,
-                )
-            if value < previous:
-                raise TrajectoryError(
-                    f"the cycle counter decreases ({previous:.0f} → {value:.0f}): one snapshot a file, its counter non-decreasing",
-                    source=path,
-                    line=number,
-                    column=CYCLE_COLUMN,
-                )
-            previous = value
-            cycles.append(int(value))
-            times.append(_number(cells[k], path, number, "t_s"))
-            offsets.append(start)
-            lines.append(number)
-    if len(cycles) < 2:
-        raise TrajectoryError(f"{len(cycles)} samples; a snapshot needs many", source=path)
-    return _Scan(
-        np.array(cycles, dtype=np.int64),
-        np.array(times),
-        np.array(offsets, dtype=np.int64),
-        np.array(lines, dtype=np.int64),
-        position,
-    )
+        for block in iter(lambda: stream.read(_HASH_BLOCK), b""):
+            digest.update(block)
+            last = block[-1:]
+    found = (status.st_size, digest.hexdigest(), last == b"\n" or status.st_size == 0)
+    if cache is not None:
+        cache[key] = found
+    return found
 
 
-def _check_length(path: str, samples: int, rate: float, cutoff: float | None, what: str) -> None:
-    """A snapshot must be long enough for the filter, and leave samples between its edges."""
-    if not (math.isfinite(rate) and rate > 0):
-        raise TrajectoryError(f"{what}: its times do not increase", source=path)
-    if cutoff is None:
-        return
-    need = max(minimum_samples(rate, cutoff), 2 * edge_samples(rate, cutoff) + 8)
-    if samples < need:
+def check_counter(cycles: np.ndarray, lines: np.ndarray, source: str) -> np.ndarray:
+    """The cycle counter as whole numbers, checked: ≥ 0, whole, non-decreasing (naming the line of the first that is not).
+
+    Raises:
+        TrajectoryError: naming the file, line and column.
+    """
+    bad = ~(np.isfinite(cycles) & (cycles >= 0) & (cycles == np.floor(cycles)))
+    if bad.any():
+        k = int(np.argmax(bad))
         raise TrajectoryError(
-            f"{what} has {samples} samples, too short for the {cutoff:g} Hz low-pass at {rate:.6g} Hz (at least {need}, "
-            f"{need / rate:.3g} s): log longer snapshots or give a higher cutoff",
-            source=path,
+            f"the cycle counter must be a whole number ≥ 0, got {cycles[k]:g}",
+            source=source,
+            line=int(lines[k]),
+            column=CYCLE_COLUMN,
         )
+    down = np.flatnonzero(np.diff(cycles) < 0)
+    if down.size:
+        k = int(down[0]) + 1
+        raise TrajectoryError(
+            f"the cycle counter decreases ({cycles[k - 1]:.0f} → {cycles[k]:.0f}): one snapshot a file, its counter "
+            "non-decreasing",
+            source=source,
+            line=int(lines[k]),
+            column=CYCLE_COLUMN,
+        )
+    return cycles.astype(np.int64)
 
 
-def find_snapshots(logs, window: int | None = None, cutoff: float | None = 20.0) -> list[Snapshot]:
-    """The snapshots of the given logs, checked, sorted by first cycle.
+def find_snapshots(
+    logs,
+    window: int | None = None,
+    settle: float = 0.0,
+    torque_constant: float | None = None,
+    rate: float | None = None,
+    cache: dict | None = None,
+) -> tuple[list[Snapshot], list[Skipped]]:
+    """The snapshots of the given logs, and those left out (still being written; with windows, a file the reader refuses).
 
     Args:
         logs: a file, folder (its ``*.csv``) or glob pattern, or a list of them.
         window: cycles per window to cut each file into (a long log); None: one snapshot a file.
-        cutoff: the low-pass cutoff in [Hz] the snapshots will get (None: none), for the length check.
+        settle: a file changed less than this many seconds ago is still being written: it waits.
+        torque_constant: the motors' torque constant in [N·m/A] (a window's scan reads the log: logs of currents need it).
+        rate: sample rate in [Hz] to read the times from the sample index (time stamps too coarse), or None.
+        cache: identities already computed, (path, size, mtime) → (bytes, SHA-256, line end), filled in.
 
     Returns:
-        The snapshots, by first cycle.
+        The snapshots (in file order; whole files' cycles are known once read), and the skipped.
 
     Raises:
-        TrajectoryError: naming the file (and line): see the module docstring.
-        ArgumentError: a window that is not a positive whole number of cycles.
+        TrajectoryError: a name that is no file, folder or matching pattern.
+        ArgumentError: a window that is not a positive whole number of cycles, a negative settle time.
     """
     if window is not None and (isinstance(window, bool) or not isinstance(window, (int, np.integer)) or window < 1):
         raise ArgumentError("window", window, "a positive whole number of cycles")
+    if not (math.isfinite(settle) and settle >= 0):
+        raise ArgumentError("settle", settle, "seconds ≥ 0")
     snapshots: list[Snapshot] = []
+    left: list[Skipped] = []
+    now = time.time()
     for path in _paths(logs):
-        scan = _scan(path)
-        if window is None:
-            n = scan.cycle.size
-            rate = (n - 1) / (scan.t[-1] - scan.t[0]) if scan.t[-1] != scan.t[0] else math.nan
-            _check_length(path, n, rate, cutoff, "the snapshot")
-            snapshots.append(Snapshot(path, int(scan.cycle[0]), int(scan.cycle[-1]), n, float(rate)))
+        name = Path(path).name
+        try:
+            status = os.stat(path)
+            age = now - status.st_mtime
+            if age < settle:
+                left.append(
+                    Skipped(
+                        name,
+                        path,
+                        f"{path}: changed {max(age, 0.0):.3g} s ago: still being written? read once unchanged for "
+                        f"{settle:g} s",
+                        "waiting",
+                    )
+                )
+                continue
+            if window is None:
+                size, sha, newline = _identity(path, cache)
+                snapshots.append(Snapshot(path, size, sha, ends_with_newline=newline))
+                continue
+        except OSError as error:  # gone between the listing and now
+            left.append(Skipped(name, path, f"{path}: cannot read ({error.strerror})"))
             continue
-        snapshots += _windows(path, scan, int(window), cutoff)
-    _check_overlaps(snapshots)
-    return sorted(snapshots, key=lambda s: (s.first_cycle, s.path))
+        try:
+            snapshots += _windows(path, int(window), torque_constant, rate)
+        except HipsimError as error:
+            left.append(skipped(Snapshot(path, status.st_size, ""), error))
+    return snapshots, left
 
 
-def _windows(path: str, scan: _Scan, window: int, cutoff: float | None) -> list[Snapshot]:
-    """Whole windows of ``window`` cycles of one long log (the first starting at its first cycle)."""
-    first = int(scan.cycle[0])
-    index = (scan.cycle - first) // window
-    n = scan.cycle.size
-    rate = (n - 1) / (scan.t[-1] - scan.t[0]) if scan.t[-1] != scan.t[0] else math.nan
-    out = []
+def _windows(path: str, window: int, torque_constant: float | None, rate: float | None) -> list[Snapshot]:
+    """Whole windows of ``window`` cycles of one long log (the first starting at its first cycle), each its lines."""
+    raw = RigLogFile(path, torque_constant, keep=(CYCLE_COLUMN,), rate=rate)
+    try:
+        if CYCLE_COLUMN not in raw.kept:
+            raise TrajectoryError(
+                f"no '{CYCLE_COLUMN}' column: a snapshot needs the machine's cycle counter", source=path
+            )
+        cycles = check_counter(raw.kept[CYCLE_COLUMN], raw.lines, path)
+        lines = raw.lines
+    finally:
+        raw.close()
+    first = int(cycles[0])
+    index = (cycles - first) // window
+    n = cycles.size
     bounds = np.flatnonzero(np.diff(index)) + 1
     starts, stops = np.concatenate([[0], bounds]), np.concatenate([bounds, [n]])
+    spans = []
     for a, b in zip(starts, stops):
-        if index[a] == index[-1] and scan.cycle[-1] < first + (index[a] + 1) * window - 1:
+        if index[a] == index[-1] and cycles[-1] < first + (index[a] + 1) * window - 1:
             break  # the last window is not complete yet
-        stop_byte = int(scan.offset[b]) if b < n else scan.end
-        _check_length(path, int(b - a), rate, cutoff, f"the window of cycles {scan.cycle[a]}-{scan.cycle[b - 1]}")
-        out.append(
-            Snapshot(
-                path,
-                int(scan.cycle[a]),
-                int(scan.cycle[b - 1]),
-                int(b - a),
-                float(rate),
-                (int(scan.offset[a]), stop_byte, int(scan.line[a])),
-            )
-        )
-    if not out:
+        stop_line = int(lines[b]) if b < n else int(lines[-1]) + 1
+        spans.append((int(lines[a]), stop_line, int(cycles[a]), int(cycles[b - 1])))
+    if not spans:
         raise TrajectoryError(
-            f"holds no whole window of {window} cycles (cycles {scan.cycle[0]}-{scan.cycle[-1]})", source=path
+            f"holds no whole window of {window} cycles (cycles {cycles[0]}-{cycles[-1]})", source=path
         )
-    return out
+    identities = _line_identities(path, [(a, b) for a, b, _, _ in spans])
+    return [Snapshot(path, size, sha, (a, b), c0, c1) for (a, b, c0, c1), (size, sha) in zip(spans, identities)]
 
 
-def _check_overlaps(snapshots: Sequence[Snapshot]) -> None:
-    """Two snapshots may not cover the same cycles (the same snapshot twice, or a copy)."""
-    ordered = sorted(snapshots, key=lambda s: (s.first_cycle, s.last_cycle))
-    for before, after in zip(ordered, ordered[1:]):
-        if after.first_cycle <= before.last_cycle and after.path != before.path:
-            raise TrajectoryError(
-                f"covers cycles {after.first_cycle}-{after.last_cycle}, as does {before.path} ({before.first_cycle}-{before.last_cycle}): "
-                "each cycle in one snapshot only (a copied file?)",
-                source=after.path,
-            )
-
-
-def snapshot_text(snapshot: Snapshot) -> bytes | None:
-    """A window's CSV text (the file's header and the window's lines); None for a whole file (read it by its path)."""
-    if snapshot.span is None:
-        return None
-    start, stop, _ = snapshot.span
-    with open(snapshot.path, "rb") as stream:
-        header = b""
-        for raw in iter(stream.readline, b""):
-            if raw.strip(b" \t\r\n,"):
-                header = raw
-                break
-        stream.seek(start)
-        return header + stream.read(stop - start)
-
-
-def read_columns(path: str | Path, names: Sequence[str]) -> dict[str, np.ndarray] | None:
-    """The named columns of a CSV file as floats (blank lines skipped); None when any is missing.
-
-    Only for files the rig-log reader has already checked (every cell a number).
-    """
+def _line_identities(path: str, spans: Sequence[tuple[int, int]]) -> list[tuple[int, str]]:
+    """(bytes, SHA-256) of each span of file lines [first, stop), in one pass over the file."""
+    digests = [hashlib.sha256() for _ in spans]
+    sizes = [0] * len(spans)
+    k = 0
     with open(path, "rb") as stream:
-        header, _, _ = _header(stream, str(path))
-        if any(name not in header for name in names):
-            return None
-        where = [header.index(name) for name in names]
-        values: list[list[float]] = [[] for _ in names]
-        for raw in iter(stream.readline, b""):
-            if not raw.strip(b" \t\r\n,"):
-                continue
-            cells = raw.split(b",")
-            for column, k in zip(values, where):
-                column.append(float(cells[k]))
-    return {name: np.array(column) for name, column in zip(names, values)}
+        for number, raw in enumerate(stream, start=1):
+            while k < len(spans) and number >= spans[k][1]:
+                k += 1
+            if k == len(spans):
+                break
+            if number >= spans[k][0]:
+                digests[k].update(raw)
+                sizes[k] += len(raw)
+    return [(size, digest.hexdigest()) for size, digest in zip(sizes, digests)]

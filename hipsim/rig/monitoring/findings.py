@@ -1,0 +1,259 @@
+"""What the charts and the checks find, per snapshot and over the test: alarms and notices (which station, which way),
+the worst case of a shared load, the load cell, snapshots missing from the sequence, incomplete and duplicate ones.
+
+The two stations' mean is charted always (:func:`~hipsim.rig.monitoring.control_chart.chart`, ``worst`` = 2 on a
+two-station machine: a change d of the mean is up to 2d in one station); each station's own term is charted too
+when the logs separate the stations (per-station loads that vary differently) in at least the baseline's
+snapshots. A snapshot whose stations are separated is judged by its stations' charts (full threshold, the station
+named); any other by the mean's worst case.
+
+A change of the load term is the specimen's friction *or* the load cell's calibration: the fit sees the friction
+moment per newton *measured*, so a load cell reading (1 + g) times the true load gives a/(1 + g): a gain drift g
+reads as Δμ_h = −g/(1 + g)·a₀/r_h (±3 % as ∓0.005 on the published machine). Every flag's sentence says so, with
+the drift that would explain the change; where the logs carry the commanded load (``Fe_cmd_N``) the measured over
+commanded load per snapshot (``load_gain``) is compared with its baseline mean and a drift beyond
+:data:`LOAD_GAIN_DRIFT` is flagged in the snapshot's note.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .control_chart import Chart, chart
+from .snapshots import Skipped
+
+__all__ = [
+    "INCOMPLETE",
+    "LOAD_GAIN_DRIFT",
+    "Findings",
+    "change_text",
+    "duplicates",
+    "find",
+    "load_cell_text",
+    "missing_cycles",
+]
+
+#: A snapshot with fewer samples than this fraction of the median snapshot's is marked incomplete.
+INCOMPLETE = 0.9
+#: A drift of the measured over the commanded load beyond this fraction since the baseline is flagged.
+LOAD_GAIN_DRIFT = 0.01
+
+
+@dataclass(frozen=True, eq=False)
+class Findings:
+    """The charts over the rows and what they find.
+
+    Attributes:
+        mean: the chart of the two stations' mean (or the one station's) load term.
+        stations: the per-station charts (station 1, station 2), or None when the logs do not separate them.
+        flag: per snapshot the flag's text ("" none; "alarm: …", "notice: …").
+        alarm: per snapshot 1 for an alarm, else 0.
+        first: the first alarm's description (JSON-ready), or None.
+        latest_notice: the last notice's description, or None.
+        load_gain_change: per snapshot the measured over commanded load relative to its baseline mean, minus 1 (NaN
+            without the commanded load or its baseline).
+        notes: per snapshot the notes (incomplete, cut, load-cell drift).
+    """
+
+    mean: Chart
+    stations: tuple[Chart, Chart] | None
+    flag: list[str]
+    alarm: np.ndarray
+    first: dict[str, Any] | None
+    latest_notice: dict[str, Any] | None
+    load_gain_change: np.ndarray
+    notes: list[str]
+
+
+def _gain_for(change: float, a0_mm: float, hip_radius_mm: float) -> float:
+    """The load-cell gain drift g that alone reads as a change ``change`` of μ_h: a₀/(a₀ + Δa) − 1."""
+    return a0_mm / (a0_mm + change * hip_radius_mm) - 1.0
+
+
+def load_cell_text(change: float, a0_mm: float, hip_radius_mm: float, gain_change: float = math.nan) -> str:
+    """The sentence on the load-cell alternative to a change of μ_h, and what the commanded load says when logged.
+
+    Args:
+        change: the change of μ_h.
+        a0_mm: the baseline's load term in [mm].
+        hip_radius_mm: r_h in [mm].
+        gain_change: the snapshot's measured over commanded load relative to the baseline's, minus 1 (NaN: not logged).
+    """
+    g = _gain_for(change, a0_mm, hip_radius_mm)
+    three = 0.03 / 1.03 * a0_mm / hip_radius_mm
+    text = (
+        "or the load cell's calibration: the load term cannot tell friction from a load-cell gain drift, and a drift "
+        f"of {100 * g:+.1f} % alone reads as this change (±3 % reads as ∓{three:.4f}); "
+    )
+    if not math.isfinite(gain_change):
+        return text + (
+            "tell them apart by checking the load cell against a reference load, or log the commanded load "
+            "(Fe_cmd_N) to compare with the measured one per snapshot"
+        )
+    if abs(gain_change) > LOAD_GAIN_DRIFT:
+        return text + (
+            f"the commanded load logged with it says the measured load drifted by {100 * gain_change:+.1f} % since "
+            "the baseline: check the load cell's calibration"
+        )
+    return text + (
+        f"the commanded load logged with it agrees with the measured one within {LOAD_GAIN_DRIFT:.0%} of the "
+        "baseline's ratio: not the load cell"
+    )
+
+
+def change_text(change: float, worst: float, where: str) -> str:
+    """``"+0.0074 in the two stations' mean: up to +0.015 in one of them"``, or ``"+0.015 in station 2"``."""
+    if worst > 1:
+        return f"{change:+.4f} in the two stations' mean: up to {worst * change:+.4f} in one of them"
+    return f"{change:+.4f} in {where}"
+
+
+def _describe(
+    k: int, rows, c: Chart, where: str, a0_mm: float, hip_radius_mm: float, kind: str, gain_change: float
+) -> dict[str, Any]:
+    change = float(c.change[k])
+    return {
+        "cycle": int(rows[k]["cycle"]),
+        "file": rows[k]["file"],
+        "kind": kind,
+        "where": where,
+        "direction": "rise" if change > 0 else "fall",
+        "hip_mu_change": change,
+        "hip_mu_change_std": float(c.change_std[k]),
+        "worst_case_change": c.worst * change,
+        "load_friction_mm": float(rows[k]["load_friction_mm"]),
+        "load_friction_change_mm": float(rows[k]["load_friction_mm"]) - c.mean,
+        "text": f"{kind}: the hip friction coefficient {'rose' if change > 0 else 'fell'} by "
+        + change_text(change, c.worst, where)
+        + f" ± {c.change_std[k] * c.worst:.2g}: the specimen's friction, "
+        + load_cell_text(change, a0_mm, hip_radius_mm, gain_change),
+    }
+
+
+def find(
+    rows: Sequence[dict[str, Any]],
+    hip_radius_mm: float,
+    two_stations: bool,
+    baseline: tuple[int, int],
+    alarm_rise: float,
+) -> Findings:
+    """The charts over the rows (sorted by cycle) and what they find (module docstring)."""
+    cycles = [int(r["cycle"]) for r in rows]
+
+    def column(name: str) -> np.ndarray:
+        return np.array([float(r[name]) for r in rows])
+
+    mean = chart(
+        cycles,
+        column("load_friction_mm"),
+        column("load_friction_mm_std"),
+        hip_radius_mm,
+        baseline,
+        alarm_rise,
+        worst=2.0 if two_stations else 1.0,
+    )
+    separated = np.array([r["stations"] == "separated" for r in rows], dtype=bool)
+    stations: tuple[Chart, Chart] | None = None
+    if two_stations and separated.any():
+        each = [
+            chart(
+                cycles,
+                column(f"load_friction_{p}_mm"),
+                column(f"load_friction_{p}_mm_std"),
+                hip_radius_mm,
+                baseline,
+                alarm_rise,
+            )
+            for p in (1, 2)
+        ]
+        if all(not c.note for c in each):
+            stations = (each[0], each[1])
+    gain = column("load_gain") if rows else np.zeros(0)
+    inside = (mean.phase == "baseline") & np.isfinite(gain)
+    gain_change = gain / float(np.mean(gain[inside])) - 1.0 if inside.any() else np.full(len(rows), math.nan)
+    flag, alarm = [], np.zeros(len(rows), dtype=int)
+    first = latest = None
+    for k in range(len(rows)):
+        if stations is not None and separated[k]:
+            judged = [(c, f"station {p + 1}") for p, c in enumerate(stations)]
+        else:
+            judged = [(mean, "the two stations' mean" if two_stations else "the station")]
+        texts = []
+        for c, where in judged:
+            kind = c.flag[k]
+            if not kind:
+                continue
+            verb = "rises" if c.change[k] > 0 else "falls"
+            texts.append(f"{kind}: {where} {verb}" + (" (up to twice in one station)" if c.worst > 1 else ""))
+            described = _describe(k, rows, c, where, c.mean, hip_radius_mm, kind, float(gain_change[k]))
+            if kind == "alarm":
+                alarm[k] = 1
+                first = first or described
+            else:
+                latest = described
+        flag.append("; ".join(texts))
+    notes = _notes(rows, gain_change)
+    return Findings(mean, stations, flag, alarm, first, latest, gain_change, notes)
+
+
+def _notes(rows, gain_change: np.ndarray) -> list[str]:
+    samples = np.array([int(r["samples"]) for r in rows]) if rows else np.zeros(0, dtype=int)
+    typical = float(np.median(samples)) if rows else 0.0
+    notes = []
+    for k, row in enumerate(rows):
+        said = [row["note"]] if row["note"] else []
+        if samples[k] < INCOMPLETE * typical:
+            said.append(f"incomplete: {samples[k]:,} of {typical:,.0f} samples")
+        if abs(gain_change[k]) > LOAD_GAIN_DRIFT:
+            said.append(f"load cell: measured over commanded load {100 * gain_change[k]:+.1f} % since the baseline")
+        notes.append("; ".join(said))
+    return notes
+
+
+def missing_cycles(cycles: Sequence[int]) -> list[int]:
+    """The first cycles of snapshots missing from a regular sequence: gaps beyond 1.5 times the spacing.
+
+    The spacing is the median of the spacings near the smallest (within 1.5 times it) when they are a third of all
+    or more (several snapshots missing do not widen it), else the median spacing. Needs three snapshots or more.
+    """
+    first = sorted(set(int(c) for c in cycles))
+    if len(first) < 3:
+        return []
+    steps = np.diff(first)
+    regular = steps[steps <= 1.5 * steps.min()]
+    spacing = float(np.median(regular if 3 * regular.size >= steps.size else steps))
+    missing = []
+    for before, after in zip(first, first[1:]):
+        if after - before > 1.5 * spacing:
+            k = 1
+            while before + k * spacing < after - 0.5 * spacing:
+                missing.append(int(round(before + k * spacing)))
+                k += 1
+    return missing
+
+
+def duplicates(rows: list[dict[str, Any]], paths: dict[str, str]) -> tuple[list[dict[str, Any]], list[Skipped]]:
+    """Rows (sorted by cycle) whose cycles another's already cover are skipped: each cycle in one snapshot only."""
+    kept: list[dict[str, Any]] = []
+    left: list[Skipped] = []
+    for row in rows:
+        before = kept[-1] if kept else None
+        if before is not None and int(row["cycle"]) <= int(before["last_cycle"]) and row["file"] != before["file"]:
+            path = paths.get(row["file"], row["file"])
+            left.append(
+                Skipped(
+                    row["file"],
+                    path,
+                    f"{path}: covers cycles {row['cycle']}-{row['last_cycle']}, as does {before['file']} "
+                    f"({before['cycle']}-{before['last_cycle']}): each cycle in one snapshot only (a copied file?)",
+                    "duplicate",
+                )
+            )
+            continue
+        kept.append(row)
+    return kept, left
