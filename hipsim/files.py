@@ -150,7 +150,7 @@ def output_folder(path: str | Path) -> Iterator[Path]:
         raise
 
 
-def write_atomic(path: str | Path, text: str | bytes) -> Path:
+def write_atomic(path: str | os.PathLike, text: str | bytes) -> Path:
     """Write a file so that readers see either the old file or the whole new one.
 
     The text goes to a temporary file beside ``path`` that is renamed over it

@@ -122,7 +122,7 @@ def progress(what: str):
         return None
     from tqdm import tqdm
 
-    bars = []
+    bars: list[tqdm] = []
 
     def update(done: int, total: int) -> None:
         if not bars:

@@ -234,7 +234,11 @@ def run(args) -> int:
 
     params = parameters(args)
     trajectory = load_trajectory(args)
-    gamma = numbers(args.gamma, ",", "--gamma", "comma-separated angles in degrees") if args.gamma is not None else None
+    gamma = (
+        np.array(numbers(args.gamma, ",", "--gamma", "comma-separated angles in degrees"))
+        if args.gamma is not None
+        else None
+    )
     if gamma is not None and np.any(np.abs(gamma) > 180):
         raise HipsimError(f"--gamma: angles must lie within ±180°, got '{args.gamma}'")
     deltas = None

@@ -255,7 +255,7 @@ def warm_up() -> None:
     """
     from ..motion.trajectories import iso14242_at
 
-    trajectory_dynamics(load_model(load_parameters()), iso14242_at([0.0, 0.001, 0.002]))
+    trajectory_dynamics(load_model(load_parameters()), iso14242_at(np.array([0.0, 0.001, 0.002])))
 
 
 def trajectory_dynamics(

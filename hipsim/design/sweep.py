@@ -274,7 +274,7 @@ def evaluate_batch(batch: tuple[np.ndarray, np.ndarray], setup: SweepSetup) -> l
 
 
 def batches(
-    variants: Variants, indices: Sequence[int] | None = None, size: int = 100
+    variants: Variants, indices: Sequence[int] | np.ndarray | None = None, size: int = 100
 ) -> list[tuple[np.ndarray, np.ndarray]]:
     """The variants (or those at ``indices``) in batches of at most ``size``: (indices, values) pairs."""
     if size < 1:

@@ -81,15 +81,16 @@ def load_drive(path: str | Path) -> Drive:
             raise ParameterError("expected a table", key=section, source=source)
     motor_table = raw.get("motor")
     if not isinstance(motor_table, dict) or not motor_table:
-        names = ", ".join(file_fields("motor"))
-        raise ParameterError(f"expected a [motor] table with any of {names}", key="motor", source=source)
+        known = ", ".join(file_fields("motor"))
+        raise ParameterError(f"expected a [motor] table with any of {known}", key="motor", source=source)
 
     def fail(message: str, name: str) -> NoReturn:
         raise ParameterError(message, key=name, source=source)
 
     def read(section: str, tables: tuple[str, ...]) -> tuple[dict[str, Any], dict[str, str]]:
         lookup = field_lookup(tables)
-        values, names = {}, {}
+        values: dict[str, Any] = {}
+        names: dict[str, str] = {}
         for key, raw_value in raw.get(section, {}).items():
             if key not in lookup:
                 fail(f"unknown key (known in [{section}]: {', '.join(lookup)})", f"{section}.{key}")

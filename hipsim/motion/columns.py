@@ -189,7 +189,8 @@ class ColumnMap:
             )
         if "time" in columns and columns["time"].sign < 0:
             raise TrajectoryError("the time column cannot have its sign flipped", source="column mapping")
-        return cls(columns["time"], tuple(columns[k] for k in names), bool(hip), columns.get("load"))
+        first, second, third = (columns[k] for k in names)
+        return cls(columns["time"], (first, second, third), bool(hip), columns.get("load"))
 
 
 def parse_columns(text: str) -> ColumnMap:

@@ -20,7 +20,7 @@ import numpy as np
 
 from ..exceptions import TrajectoryError
 from ..tables import cells, data_lines, decimals, detect_separator, number, read_text_lines
-from .build import Table, build_trajectory
+from .build import SampledMotion, Table, build_trajectory
 from .columns import Column, ColumnMap, column_options
 from .headers import table_columns
 from .trajectories import MIN_SAMPLES, Trajectory
@@ -44,7 +44,7 @@ def load_trajectory_csv(
     lazy: bool = False,
     cutoff: float | None = None,
     load_curve=None,
-) -> Trajectory:
+) -> Trajectory | SampledMotion:
     """Read a trajectory from a CSV table and differentiate it.
 
     Without ``columns`` the header names hipsim's columns with their unit:

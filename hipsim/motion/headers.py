@@ -142,4 +142,5 @@ def _canonical_columns(header: list[str], source: str, line: int, load: Column |
                 line=line,
                 column=c,
             )
-    return ColumnMap(Column("t_s", "s"), tuple(Column(f"{a}_{unit}", unit) for a in ANGLE_NAMES), False, load)
+    alpha, beta, gamma = (Column(f"{a}_{unit}", unit) for a in ANGLE_NAMES)
+    return ColumnMap(Column("t_s", "s"), (alpha, beta, gamma), False, load)

@@ -252,8 +252,8 @@ def iso_check(
         step = (t[-1] - t[0]) / (t.size - 1)
         span = step * t.size
         whole = iso_check(*periodic_extension(t, q, load), tolerances, source)
-        cycles = tuple(c for c in whole.cycles if t[0] - 0.5 * step <= c.start < t[0] + span - 0.5 * step)
-        return IsoCheck(cycles, tolerances, source)
+        within = tuple(c for c in whole.cycles if t[0] - 0.5 * step <= c.start < t[0] + span - 0.5 * step)
+        return IsoCheck(within, tolerances, source)
     low, high = _percentile_levels(load) if t.size else (0.0, 0.0)
     if not high - low > 1e-9 * max(abs(high), 1.0):
         raise TrajectoryError(
@@ -266,7 +266,7 @@ def iso_check(
     crossings = np.unique(mid[after[after < mid.size]])
     s_ref = _reference_crossing()
     dt = float(np.median(np.diff(t)))
-    cycles = []
+    cycles: list[CycleDeviation] = []
     for first, second in zip(crossings[:-1], crossings[1:]):
         period = second - first
         start = first - s_ref * period
@@ -278,7 +278,8 @@ def iso_check(
         q_ref, _, _ = iso14242_angles(s)
         deviation = np.degrees(np.abs(q[inside] - q_ref)).max(axis=0)
         load_deviation = float(np.abs(load[inside] - iso14242_load(s)).max())
-        cycles.append(CycleDeviation(float(start), 1.0 / period, *(float(d) for d in deviation), load_deviation))
+        alpha, beta, gamma = (float(d) for d in deviation)
+        cycles.append(CycleDeviation(float(start), 1.0 / period, alpha, beta, gamma, load_deviation))
     if not cycles:
         raise TrajectoryError(
             f"found no whole gait cycle ({crossings.size} heel strike(s) in {t[-1] - t[0]:.3g} s): the check needs at least one",

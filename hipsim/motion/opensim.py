@@ -22,13 +22,14 @@ from __future__ import annotations
 
 import re
 import warnings
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 
 from ..exceptions import TrajectoryError
 from ..tables import decimals, number, read_text_lines
-from .build import Table, TrajectoryWarning, build_trajectory
+from .build import SampledMotion, Table, TrajectoryWarning, build_trajectory
 from .columns import Column, ColumnMap, as_column_map, as_load_column
 from .trajectories import MIN_SAMPLES, Trajectory
 
@@ -52,8 +53,8 @@ def load_opensim(
     lazy: bool = False,
     cutoff: float | None = None,
     load_curve=None,
-    columns: ColumnMap | str | None = None,
-) -> Trajectory:
+    columns: ColumnMap | Mapping | str | None = None,
+) -> Trajectory | SampledMotion:
     """Read one hip's motion from an OpenSim .mot or .sto file.
 
     Args:
@@ -156,7 +157,8 @@ def _read(source: str, path, suffix: str, load: Column | None, mapping: ColumnMa
     if load is not None:
         index["load"] = _find(labels, (load.name,), "the load", source, label_line)
         load = Column(labels[index["load"]], load.unit, load.sign)
-    columns = ColumnMap(Column(labels[index["time"]], "s"), tuple(angles), hip_chain=True, load=load)
+    first, second, third = angles  # one per hip coordinate: always three
+    columns = ColumnMap(Column(labels[index["time"]], "s"), (first, second, third), hip_chain=True, load=load)
     return _table(source, labels, data, index, HIP_COORDINATES, columns)
 
 
@@ -172,7 +174,8 @@ def _read_mapped(source: str, labels: list[str], label_line: int, data, mapping:
     if load is not None:
         index["load"] = _find(labels, (load.name,), "the load", source, label_line)
         load = Column(labels[index["load"]], load.unit, load.sign)
-    columns = ColumnMap(mapping.time, tuple(angles), mapping.hip_chain, load)
+    first, second, third = angles  # one per angle key: always three
+    columns = ColumnMap(mapping.time, (first, second, third), mapping.hip_chain, load)
     return _table(source, labels, data, index, mapping.angle_keys, columns)
 
 
@@ -248,7 +251,7 @@ def _find(labels: list[str], names: tuple[str, ...], what: str, source: str, lin
             return found[0]
     name = names[0]
     hips = [label for label in labels if "hip_" in label.lower()]
-    found = (
+    present = (
         f"its hip columns are {', '.join(hips[:6])}"
         if hips
         else f"its columns are {', '.join(labels[:8])}" + (" …" if len(labels) > 8 else "")
@@ -263,4 +266,4 @@ def _find(labels: list[str], names: tuple[str, ...], what: str, source: str, lin
     flexion = f"hip_flexion{name[-2:]}"
     if not hint and name.startswith(("hip_adduction", "hip_rotation")) and flexion in labels:
         hint = f" (a planar model? read it with --columns time=time,flexion={flexion},adduction=zero,rotation=zero)"
-    raise TrajectoryError(f"no column '{name}' ({what}); {found}{hint}", source=source, line=line)
+    raise TrajectoryError(f"no column '{name}' ({what}); {present}{hint}", source=source, line=line)

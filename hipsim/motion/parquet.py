@@ -15,7 +15,7 @@ import numpy as np
 
 from ..exceptions import TrajectoryError
 from ..tables import open_parquet
-from .build import Table, build_trajectory
+from .build import SampledMotion, Table, build_trajectory
 from .columns import Column, ColumnMap, column_options
 from .headers import table_columns
 from .trajectories import MIN_SAMPLES, Trajectory
@@ -36,7 +36,7 @@ def load_trajectory_parquet(
     lazy: bool = False,
     cutoff: float | None = None,
     load_curve=None,
-) -> Trajectory:
+) -> Trajectory | SampledMotion:
     """Read a trajectory from a Parquet table and differentiate it (the arguments as :func:`hipsim.motion.csv_table.load_trajectory_csv`).
 
     Raises:

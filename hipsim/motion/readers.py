@@ -15,6 +15,7 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from ..exceptions import TrajectoryError
+from .build import SampledMotion
 from .columns import Column, ColumnMap
 from .csv_table import load_trajectory_csv
 from .load_file import LoadScale, parse_load_scale, read_load_curve
@@ -45,7 +46,7 @@ def read_trajectory(
     cutoff: float | None = None,
     load: str | Path | None = None,
     load_scale: LoadScale | str | None = None,
-) -> Trajectory:
+) -> Trajectory | SampledMotion:
     """Read a trajectory file of any format hipsim knows, by its suffix.
 
     ``.mot`` and ``.sto``: OpenSim (:func:`hipsim.motion.opensim.load_opensim`,

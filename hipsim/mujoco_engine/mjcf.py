@@ -117,7 +117,7 @@ class MjcfSettings:
     timestep: float = 0.5e-3
     integrator: str = "RK4"
     solref: tuple[float, float] | None = None
-    solimp: tuple[float, float, float, float, float] = (_MAX_IMPEDANCE, _MAX_IMPEDANCE, 0.001, 0.5, 2.0)
+    solimp: tuple[float, ...] = (_MAX_IMPEDANCE, _MAX_IMPEDANCE, 0.001, 0.5, 2.0)
 
     def __post_init__(self):
         if not (math.isfinite(self.timestep) and self.timestep > 0):

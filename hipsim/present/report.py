@@ -139,9 +139,9 @@ def write_report(
     browser = require_pdf_renderer() if pdf else None
     if provenance is None:  # the version and the time on every page, even one made from Python
         provenance = make_provenance()
-    notes = list(notes)
+    page_notes = list(notes)
     if run.params.platform_mass > 0:
-        notes.append(
+        page_notes.append(
             f"The platform mass m_m = {run.params.platform_mass:g} kg is an estimate (not published); it enters only the thrust-bearing friction."
         )
     combined = run
@@ -155,7 +155,7 @@ def write_report(
             raise HipsimError("the joint-force run is not along the report's trajectory")
         total, other = run.torques.total, joint_forces_run.torques.total
         difference = np.abs(other - total).max() / np.abs(total).max()
-        notes.append(
+        page_notes.append(
             f"Torques are from the {run.model} model; joint forces from the {joint_forces_run.model} model, whose motor "
             f"torques differ from these by at most {difference:.2e} of the peak (the analytic lever does not spin, spec §7.4)."
         )
@@ -194,13 +194,13 @@ def write_report(
             "summary": summary,
             "sizing": size.as_dict(),
             "tracking": tracking,
-            "notes": notes,
+            "page_notes": page_notes,
             "parameters": file_values(combined.params),
             "figures": {stem: [p.name for p in paths] for stem, paths in figures.items()},
         }
         write_atomic(folder / "report.json", json.dumps(json_ready(document), indent=2, default=_plain) + "\n")
         combined.write_csv(folder / "torques.csv")
-        page = report_html(combined, summary, size, tracking, figures, notes, joint_model, provenance, verdict)
+        page = report_html(combined, summary, size, tracking, figures, page_notes, joint_model, provenance, verdict)
         write_atomic(folder / "index.html", page)
         data = ["report.json", "torques.csv"]
         if browser is not None:
@@ -213,7 +213,7 @@ def write_report(
     folder = out
     figures = {stem: (folder / f"{stem}.png", folder / f"{stem}.svg") for stem in stems}
     return ReportFiles(
-        folder, folder / "index.html", figures, tuple(folder / name for name in data), tuple(notes), size, verdict
+        folder, folder / "index.html", figures, tuple(folder / name for name in data), tuple(page_notes), size, verdict
     )
 
 

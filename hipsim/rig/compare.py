@@ -281,7 +281,7 @@ class Comparison:
 
     def summary(self) -> dict[str, Any]:
         """Everything a script needs, JSON-ready, torques in [N·mm]."""
-        motors = self.motor_errors()
+        motors: dict[str, dict[str, Any]] = self.motor_errors()  # gains a table per motor below
         for i, entry in motors.items():
             entry["model_parts_rms_Nmm"] = dict(self.statistics["parts"][i])
         out: dict[str, Any] = {

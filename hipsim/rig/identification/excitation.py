@@ -201,7 +201,7 @@ class Excitation:
 
 def _replaced(trajectory: Trajectory, **changes) -> Trajectory:
     """A copy of a trajectory with some fields changed."""
-    fields = dict(
+    fields: dict[str, Any] = dict(
         t=trajectory.t,
         q=trajectory.q,
         qd=trajectory.qd,

@@ -84,7 +84,7 @@ class Quantity:
 
     def read(self, params: Parameters) -> float:
         """Its value in a machine, SI."""
-        value = params
+        value: Any = params  # walks down the dotted attribute: a sub-record, then a number or matrix
         for part in self.attribute.split("."):
             value = getattr(value, part)
         return value[self.component] if self.component is not None else value

@@ -75,7 +75,7 @@ class Log(ABC):
     """The rig log the models take (module docstring): its samples in windows.
 
     Attributes every log has: ``name`` (its file), ``rate`` (sample rate in
-    [Hz]), ``cutoff`` (the low-pass cutoff in [Hz], or None), ``motion_from``
+    [Hz]), ``t`` (sample times in [s], (N,)), ``cutoff`` (the low-pass cutoff in [Hz], or None), ``motion_from``
     ("angles", "encoders" or "exact"), ``notes`` (how it was read), ``edge``
     (samples at each end that the filter left unreliable).
     """
@@ -89,6 +89,18 @@ class Log(ABC):
     @abstractmethod
     def __len__(self) -> int:
         """Samples in the log."""
+
+    # Properties, not plain annotations: the variants compute them (a subclass may not
+    # override a writeable attribute with a read-only property).
+    @property
+    @abstractmethod
+    def rate(self) -> float:
+        """Sample rate in [Hz]."""
+
+    @property
+    @abstractmethod
+    def t(self) -> np.ndarray:
+        """Sample times in [s], (N,)."""
 
     @property
     def usable(self) -> slice:
@@ -270,7 +282,7 @@ class LogPieces(Log):
         self.params = params if params is not None else load_parameters()
         # The scan's blocks no larger than a piece; a file scanned already (with the reader's options) is taken as is.
         self.raw = raw = raw if raw is not None else RigLogFile(path, torque_constant, block=max(piece, 1000))
-        self.name, self.rate, self.cutoff, self.source = Path(raw.source).name, raw.rate, cutoff, raw.source
+        self.name, self._rate, self.cutoff, self.source = Path(raw.source).name, raw.rate, cutoff, raw.source
         notes = []
         if raw.ignored:
             notes.append(f"columns not used: {', '.join(raw.ignored)}")
@@ -345,6 +357,11 @@ class LogPieces(Log):
     def size(self) -> int:
         """The file's size in [bytes]."""
         return self.raw.size
+
+    @property
+    def rate(self) -> float:
+        """Sample rate in [Hz], the file's."""
+        return self._rate
 
     @property
     def t(self) -> np.ndarray:
