@@ -45,19 +45,23 @@ def test_the_chart_by_hand():
     assert c.spread == pytest.approx(0.2, rel=1e-12)
     # z₁ = 0.2·10.5 + 0.8·10 = 10.1; z₂ = 0.2·11 + 0.8·10.1 = 10.28; z₃ = 0.2·10 + 0.8·10.28 = 10.224.
     np.testing.assert_allclose(c.ewma[4:], [10.1, 10.28, 10.224], rtol=1e-12)
-    assert np.isnan(c.ewma[:4]).all() and np.isnan(c.limit[:4]).all()
-    # Limits 10 + 3·0.2·(0.2, 0.256125, 0.286328).
+    assert np.isnan(c.ewma[:4]).all() and np.isnan(c.upper[:4]).all() and np.isnan(c.lower[:4]).all()
+    # Limits 10 ± 3·0.2·(0.2, 0.256125, 0.286328), both sides.
     limits = [10.0 + 0.6 * math.sqrt((1 - 0.8 ** (2 * k)) / 9) for k in (1, 2, 3)]
     np.testing.assert_allclose(limits, [10.12, 10.153675, 10.171797], rtol=1e-6)
-    np.testing.assert_allclose(c.limit[4:], limits, rtol=1e-12)
+    np.testing.assert_allclose(c.upper[4:], limits, rtol=1e-12)
+    np.testing.assert_allclose(c.lower[4:], [20.0 - u for u in limits], rtol=1e-12)
     # Change of μ_h: (x − 10)/25 → 0.02, 0.04, 0; its deviation √(0.1² + 0.2²/3)/25 = 0.0061101.
     np.testing.assert_allclose(c.change[4:], [0.02, 0.04, 0.0], atol=1e-12)
     np.testing.assert_allclose(c.change_std, math.sqrt(0.01 + 0.04 / 3) / 25.0, rtol=1e-12)
     # k = 1: z 10.1 under 10.12, no alarm; k = 2: 10.28 over 10.1537 and the change 0.04 over 0.01: alarm;
-    # k = 3: 10.224 over 10.1718 but the change 0 is harmless: no alarm. Running-in at 20 mm: never.
+    # k = 3: 10.224 over 10.1718 (significant) but the change 0 is harmless: a notice, not an alarm.
+    # Running-in at 20 mm: never flagged.
     assert list(c.alarm) == [0, 0, 0, 0, 0, 1, 0]
-    # The engineering threshold on the estimate: 10 + 0.01·25 = 10.25 mm.
-    assert c.threshold == pytest.approx(10.25, rel=1e-12)
+    assert list(c.flag) == ["", "", "", "", "", "alarm", "notice"]
+    assert list(c.signal) == [0, 0, 0, 0, 0, 1, 1]
+    # The engineering threshold on the estimate: 10 ∓ 0.01·25 = 9.75 and 10.25 mm (one station: worst = 1).
+    assert c.threshold == pytest.approx((9.75, 10.25), rel=1e-12)
 
 
 def test_the_spread_never_below_the_estimates_own_error():
@@ -65,8 +69,9 @@ def test_the_spread_never_below_the_estimates_own_error():
     # The RMS, not the mean: errors 0.1, 0.1, 0.5 have RMS √(0.27/3) = 0.3 (mean 0.233).
     c = chart(CYCLES, ESTIMATE, [0.1, 0.1, 0.1, 0.5, 0.1, 0.1, 0.1], HIP_RADIUS_MM)
     assert c.spread == pytest.approx(0.3, rel=1e-12)
-    # The first limit: 10 + 3·0.3·0.2 = 10.18.
-    assert c.limit[4] == pytest.approx(10.18, rel=1e-12)
+    # The first limits: 10 ± 3·0.3·0.2 = 9.82 and 10.18.
+    assert c.upper[4] == pytest.approx(10.18, rel=1e-12)
+    assert c.lower[4] == pytest.approx(9.82, rel=1e-12)
 
 
 def test_other_weight_width_and_rise():
@@ -74,10 +79,10 @@ def test_other_weight_width_and_rise():
     # limit factor √(0.5/1.5·(1 − 0.5^{2k})): k = 1 √(1/3·3/4) = 0.5, so 10 + 2·0.2·0.5 = 10.2.
     c = chart(CYCLES, ESTIMATE, [0.1] * 7, HIP_RADIUS_MM, lam=0.5, width=2.0, alarm_rise=0.05)
     np.testing.assert_allclose(c.ewma[4:], [10.25, 10.625, 10.3125], rtol=1e-12)
-    assert c.limit[4] == pytest.approx(10.2, rel=1e-12)
+    assert c.upper[4] == pytest.approx(10.2, rel=1e-12) and c.lower[4] == pytest.approx(9.8, rel=1e-12)
     # Changes 0.02, 0.04, 0 never exceed 0.05: no alarm although z is above its limit.
     assert not c.alarm.any()
-    assert c.threshold == pytest.approx(10.0 + 0.05 * 25.0)
+    assert c.threshold == pytest.approx((10.0 - 0.05 * 25.0, 10.0 + 0.05 * 25.0))
     # With D = 0.03 the second snapshot (change 0.04) alarms.
     assert list(chart(CYCLES, ESTIMATE, [0.1] * 7, HIP_RADIUS_MM, alarm_rise=0.03).alarm) == [0, 0, 0, 0, 0, 1, 0]
 
@@ -85,7 +90,7 @@ def test_other_weight_width_and_rise():
 def test_another_baseline_window():
     # Baseline (0, 600 000): the first two snapshots only, fewer than 3: no chart yet.
     c = chart(CYCLES, ESTIMATE, [0.1] * 7, HIP_RADIUS_MM, baseline=(0, 600_000))
-    assert c.baseline_count == 2 and math.isnan(c.mean) and math.isnan(c.spread) and math.isnan(c.threshold)
+    assert c.baseline_count == 2 and math.isnan(c.mean) and math.isnan(c.spread) and all(map(math.isnan, c.threshold))
     assert c.note == (
         "baseline incomplete: 2 of the 3 snapshots it needs within cycles 0-600000; the chart starts once it has them"
     )
@@ -108,3 +113,19 @@ def test_parse_baseline():
     for bad in ("5:3", "-1:3", "abc", "1:2:3", "1", ":5", "1:x"):
         with pytest.raises(ArgumentError, match="FROM:TO in cycles"):
             parse_baseline(bad)
+
+
+def test_a_fall_is_flagged_and_the_mean_of_two_stations_counts_twice():
+    # Baseline 10.0, 10.2, 9.8 (μ₀ 10, σ₀ 0.2), then 9.5, 9.0: z₁ = 0.2·9.5 + 0.8·10 = 9.9 (above the lower
+    # limit 10 − 0.12 = 9.88: nothing); z₂ = 0.2·9 + 0.8·9.9 = 9.72 below 10 − 0.153675: significant, falling.
+    # Its change (9 − 10)/25 = −0.04: an alarm at D = 0.01. With D = 0.05 one station's −0.04 is a notice,
+    # but as the mean of two stations (worst = 2) it is up to −0.08 in one of them: an alarm.
+    cycles, x = CYCLES[:6], [20.0, 10.0, 10.2, 9.8, 9.5, 9.0]
+    c = chart(cycles, x, [0.1] * 6, HIP_RADIUS_MM)
+    np.testing.assert_allclose(c.ewma[4:], [9.9, 9.72], rtol=1e-12)
+    assert list(c.signal) == [0, 0, 0, 0, 0, -1] and list(c.flag) == ["", "", "", "", "", "alarm"]
+    one = chart(cycles, x, [0.1] * 6, HIP_RADIUS_MM, alarm_rise=0.05)
+    two = chart(cycles, x, [0.1] * 6, HIP_RADIUS_MM, alarm_rise=0.05, worst=2.0)
+    assert one.flag[5] == "notice" and two.flag[5] == "alarm"
+    # The threshold on the estimate halves with the worst case: 10 ∓ 0.05·25/2.
+    assert two.threshold == pytest.approx((9.375, 10.625), rel=1e-12)
