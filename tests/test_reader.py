@@ -193,3 +193,19 @@ def test_a_window_of_lines_reads_nothing_after_it(tmp_path):
     assert len(head) == 10 and head.lines[0] == 2
     with pytest.raises(TrajectoryError, match=f"line {len(rows) + 2}"):
         RigLogFile(path, lines=(150_000, 10**9))
+
+
+def test_epoch_time_stamps_are_read_from_the_first_with_every_digit(tmp_path):
+    from hipsim.motion.build import TrajectoryWarning
+
+    # 1 kHz stamps from 1,733,000,000 s (Nov 2024) with their 13 digits; relative, the same log as from 0.
+    rows = good_rows()
+    epoch = [[f"{1_733_000_000 + k / 1000:.3f}"] + row[1:] for k, row in enumerate(rows)]
+    with pytest.warns(TrajectoryWarning, match="Unix"):
+        stamped = read_rig_log(write(tmp_path / "epoch.csv", HEADER, epoch))
+    plain = read_rig_log(write(tmp_path / "plain.csv", HEADER, rows))
+    assert stamped.t[0] == 0.0 and np.unique(stamped.t).size == 400
+    # A stamp of 1.7e9 s holds its digits to half a double's step there, 2^-23 s (1.2e-7 s): that is the precision.
+    np.testing.assert_allclose(stamped.t, np.arange(400) / 1000.0, rtol=0, atol=2.0**-23)
+    np.testing.assert_allclose(stamped.tau, plain.tau) and np.testing.assert_allclose(stamped.Fe, plain.Fe)
+    assert stamped.rate == pytest.approx(1000.0, rel=1e-6)  # the last stamp to 1.2e-7 s of 0.399 s

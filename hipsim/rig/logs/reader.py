@@ -36,7 +36,7 @@ import numpy as np
 
 from ...arrays import check_shapes
 from ...exceptions import TrajectoryError
-from ...motion.build import MAX_LOAD, check_time, check_time_unit
+from ...motion.build import MAX_LOAD, check_time, check_time_unit, relative_time
 from ...motion.trajectories import ANGLE_NAMES
 from ...tables import blank, cells, detect_separator, open_text
 from ...tables import number as parse_number
@@ -466,6 +466,9 @@ class RigLogFile:
             )
         if self.t.size < 2:
             raise TrajectoryError(f"{self.t.size} sample; a log needs many", source=source)
+        self.t = relative_time(
+            self.t, source, "t_s", stacklevel=4
+        )  # Unix epoch stamps: from the first, every digit kept
         if rate is None:
             check_time(self.t, 0.0, source, self.lines, "t_s", even=True)
         else:
