@@ -20,6 +20,7 @@ from ..version import __version__
 from . import (
     calibrate,
     check,
+    excite,
     feasible,
     iso_check,
     mjcf,
@@ -81,7 +82,8 @@ def build_parser() -> argparse.ArgumentParser:
         params,
     ):
         command.add_parser(commands)
-    rig.add_parser(commands)  # compare, identify, excite: the rig in the loop
+    rig.add_parser(commands)  # compare, identify: the rig in the loop
+    excite.add_parser(commands)
     calibrate.add_parser(commands)
     monitor.add_parser(commands)
     return parser
