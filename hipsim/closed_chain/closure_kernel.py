@@ -29,10 +29,17 @@ Indices are velocity indices (all the tree's joints are 1-DoF).
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
 from ..physics import laws
-from ..physics.vectors import add, cross, dot, matvec, scale, sub, transpose_times
+from ..physics.vectors import add, cross, matvec, scale, sub, transpose_times
+from . import block_inverse
+from .block_inverse import block_lower_inverse, cramer
+
+#: The kernels call the block inverse's: its source is part of their cache key.
+_DEPENDS_ON = (*laws.LAW_FILES, Path(block_inverse.__file__))
 
 __all__ = [
     "OK",
@@ -62,7 +69,7 @@ _SINGULAR_ENTRY = 1e8
 _LEVER_DOWN_Z = 1e-6
 
 
-@laws.jit
+@laws.jit(depends_on=_DEPENDS_ON)
 def closure_frames(rotations, origins, joints, placements, tips, p2, d):
     """The closures' frames and gaps from the joints' world placements: frame 1's placement, frame 2's origin, d = R₁ᵀ(p₂ − p₁).
 
@@ -105,7 +112,7 @@ def closure_frames(rotations, origins, joints, placements, tips, p2, d):
     return size
 
 
-@laws.jit
+@laws.jit(depends_on=_DEPENDS_ON)
 def closure_jacobian(J, masks, tips, p2, J_c):
     """The closure Jacobian J_c = ∂/∂v of R₁ᵀ(ṗ₁ − ṗ₂), (3·n, nv), from the world-frame joint Jacobians J (6, nv).
 
@@ -134,7 +141,7 @@ def closure_jacobian(J, masks, tips, p2, J_c):
                 J_c[3 * c + i, col] = tips[c, 0, i] * world[0] + tips[c, 1, i] * world[1] + tips[c, 2, i] * world[2]
 
 
-@laws.jit
+@laws.jit(depends_on=_DEPENDS_ON)
 def predict(t, Q, V, A, row, platforms, angles, out):
     """``out``, the configuration at sample ``row`` predicted from the closed samples before it, its platforms' coordinates at ``angles``.
 
@@ -167,7 +174,7 @@ def predict(t, Q, V, A, row, platforms, angles, out):
         out[platforms[k]] = angles[k]
 
 
-@laws.jit
+@laws.jit(depends_on=_DEPENDS_ON)
 def chord_step(q, K_inv, d, platforms, angles, trial):
     """``trial``, a Newton step from q on the closure gaps d = R₁ᵀ(p₂ − p₁) [m] with an earlier K⁻¹.
 
@@ -183,7 +190,7 @@ def chord_step(q, K_inv, d, platforms, angles, trial):
         trial[platforms[k]] = angles[k]
 
 
-@laws.jit
+@laws.jit(depends_on=_DEPENDS_ON)
 def gaps_and_chord_step(rotations, origins, joints, placements, tips, p2, d, q, K_inv, platforms, angles, limit, trial):
     """After forward kinematics at q: the closures' frames and gaps (:func:`closure_frames`) and, unless |d|² ≤ ``limit`` [m²], a chord step from q into ``trial`` (:func:`chord_step`).
 
@@ -195,7 +202,7 @@ def gaps_and_chord_step(rotations, origins, joints, placements, tips, p2, d, q, 
     return size
 
 
-@laws.jit
+@laws.jit(depends_on=_DEPENDS_ON)
 def closed_sample(
     rotations,
     origins,
@@ -276,7 +283,7 @@ def closed_sample(
     return status, size
 
 
-@laws.jit
+@laws.jit(depends_on=_DEPENDS_ON)
 def velocity(J_c, platform1, rows, columns, starts, qd, platform2, tips, V, row, sliders, J_rates, k, K_inv):
     """K⁻¹ and the tree velocity v = V[row] at a closed configuration; J_rates[k], the sliders' rows of K⁻¹'s first three columns.
 
@@ -342,7 +349,7 @@ def velocity(J_c, platform1, rows, columns, starts, qd, platform2, tips, V, row,
     return OK
 
 
-@laws.jit
+@laws.jit(depends_on=_DEPENDS_ON)
 def rates(
     J,
     masks,
@@ -396,94 +403,7 @@ def rates(
     return OK
 
 
-@laws.jit
-def block_lower_inverse(M, starts):
-    """The inverse of a block lower triangular matrix, block row by block row.
-
-    With D_b the diagonal blocks, X = M⁻¹ is block lower triangular too:
-    X_bb = D_b⁻¹ and, for the columns before block b, X_b,<b = −D_b⁻¹ M_b,<b X_<b,<b.
-    A few small inverses instead of one large one (the hip's B: three 3×3
-    blocks and a 9×9, against 18×18), and no pivoting across blocks is
-    needed: det M is the product of the blocks' determinants. The blocks are
-    inverted here, not by LAPACK, whose inverse costs ~2 µs a call whatever
-    the size (more than this whole function's arithmetic on the hip): a 3×3
-    in closed form, a larger one by Gauss–Jordan elimination with partial
-    pivoting. M_b,<b is mostly zeros (a lever couples to few earlier
-    coordinates), which the product skips.
-
-    Args:
-        M: the matrix, (n, n), zero above its diagonal blocks.
-        starts: where each diagonal block starts, and n at the end, (blocks + 1,).
-
-    Raises:
-        numpy.linalg.LinAlgError: a diagonal block is singular to machine precision.
-    """
-    n = M.shape[0]
-    X = np.zeros((n, n))
-    T = np.empty((n, n))  # M_b,<b X_<b,<b, in its first rows
-    for b in range(starts.size - 1):
-        s, e = starts[b], starts[b + 1]
-        D_inv = X[s:e, s:e]
-        if e - s == 3:
-            _inverse_3x3(M[s:e, s:e], D_inv)
-        else:
-            _gauss_jordan_inverse(M[s:e, s:e], D_inv)
-        if s == 0:
-            continue
-        for i in range(e - s):
-            for j in range(s):
-                T[i, j] = 0.0
-            for m in range(s):
-                f = M[s + i, m]
-                if f != 0.0:
-                    for j in range(s):
-                        T[i, j] += f * X[m, j]
-        for i in range(e - s):
-            for j in range(s):
-                total = 0.0
-                for m in range(e - s):
-                    total += D_inv[i, m] * T[m, j]
-                X[s + i, j] = -total
-    return X
-
-
-@laws.jit
-def _gauss_jordan_inverse(D, out):
-    """out = D⁻¹ by Gauss–Jordan elimination with partial pivoting (the textbook algorithm, as LAPACK's getrf + getri).
-
-    Raises:
-        numpy.linalg.LinAlgError: a pivot is zero (D singular to machine precision), as LAPACK would.
-    """
-    m = D.shape[0]
-    W = np.empty((m, m))
-    for i in range(m):
-        for j in range(m):
-            W[i, j] = D[i, j]
-            out[i, j] = 1.0 if i == j else 0.0
-    for col in range(m):
-        pivot, largest = col, abs(W[col, col])
-        for r in range(col + 1, m):
-            if abs(W[r, col]) > largest:
-                pivot, largest = r, abs(W[r, col])
-        if largest == 0.0:
-            raise np.linalg.LinAlgError("Singular matrix")
-        if pivot != col:
-            for j in range(m):
-                W[col, j], W[pivot, j] = W[pivot, j], W[col, j]
-                out[col, j], out[pivot, j] = out[pivot, j], out[col, j]
-        scale_ = 1.0 / W[col, col]
-        for j in range(m):
-            W[col, j] *= scale_
-            out[col, j] *= scale_
-        for r in range(m):
-            f = W[r, col]
-            if r != col and f != 0.0:
-                for j in range(m):
-                    W[r, j] -= f * W[col, j]
-                    out[r, j] -= f * out[col, j]
-
-
-@laws.jit
+@laws.jit(depends_on=_DEPENDS_ON)
 def acceleration(K_inv, J, V, A, row, masks, tips, d, qdd, platform2):
     """The tree acceleration A[row], in [m/s², rad/s²], from K a = [q̈; −J̇_c v] at a closed configuration.
 
@@ -528,7 +448,7 @@ def acceleration(K_inv, J, V, A, row, masks, tips, d, qdd, platform2):
         A[row, platform2[k]] = qdd[k]
 
 
-@laws.jit
+@laws.jit(depends_on=_DEPENDS_ON)
 def _frame_motion(mask, v, J):
     """A closure frame's spatial velocity (v_o, ω) = Σ J·v and acceleration at a = 0 (a_o, ω̇) = Σ J̇·v over its supporting joints, (6-tuples).
 
@@ -562,7 +482,7 @@ def _frame_motion(mask, v, J):
     return (v0, v1, v2, w0, w1, w2), (a0, a1, a2, b0, b1, b2)
 
 
-@laws.jit
+@laws.jit(depends_on=_DEPENDS_ON)
 def _point_velocity(v_o, omega, p):
     """ṗ = v_o + ω × p of the point at p [m] on a body moving at (v_o, ω) (world origin).
 
@@ -571,7 +491,7 @@ def _point_velocity(v_o, omega, p):
     return add(v_o, cross(omega, p))
 
 
-@laws.jit
+@laws.jit(depends_on=_DEPENDS_ON)
 def _point_acceleration(twist, rate, p):
     """p̈ at a = 0 of the point at p [m] on a body of spatial velocity ``twist`` and acceleration ``rate`` (world origin)."""
     v_o, omega = (twist[0], twist[1], twist[2]), (twist[3], twist[4], twist[5])
@@ -579,7 +499,7 @@ def _point_acceleration(twist, rate, p):
     return add(_point_velocity(a_o, omega_dot, p), cross(omega, _point_velocity(v_o, omega, p)))
 
 
-@laws.jit
+@laws.jit(depends_on=_DEPENDS_ON)
 def store(K_invs, angular, rotations, slot, k, K_inv, J, tips):
     """Keep what the inverse dynamics reuse of sample k: K⁻¹ and the joint Jacobians' angular rows at ``slot`` of the chunk, the lever-tip rotations at k."""
     K_invs[slot] = K_inv
@@ -587,7 +507,7 @@ def store(K_invs, angular, rotations, slot, k, K_inv, J, tips):
     rotations[k] = tips[:, :3, :3]
 
 
-@laws.jit
+@laws.jit(depends_on=_DEPENDS_ON)
 def actuator_and_closure_forces(K_invs, tau, actuated, F, lambdas):
     """Per sample, the actuator forces F and closure forces λ of Sᵀ F + J_cᵀ λ = τ, from K⁻¹.
 
@@ -617,7 +537,7 @@ def actuator_and_closure_forces(K_invs, tau, actuated, F, lambdas):
             b = (0.0, 0.0, 0.0)
             for k in range(nv):
                 b = add(b, (K_inv[k, 0] * tau[s, k, p], K_inv[k, 1] * tau[s, k, p], K_inv[k, 2] * tau[s, k, p]))
-            f = _cramer(G, b)
+            f = cramer(G, b)
             for i in range(3):
                 F[s, i, p] = f[i]
                 rest[actuated[i]] -= f[i]
@@ -626,27 +546,3 @@ def actuator_and_closure_forces(K_invs, tau, actuated, F, lambdas):
             for k in range(nv):
                 total += K_inv[k, 3 + c] * rest[k]
             lambdas[s, c] = total
-
-
-@laws.jit
-def _inverse_3x3(D, out):
-    """out = D⁻¹ of a 3×3 matrix from its cofactors (adjugate over determinant); singular D raises LinAlgError as LAPACK would."""
-    rows = ((D[0, 0], D[0, 1], D[0, 2]), (D[1, 0], D[1, 1], D[1, 2]), (D[2, 0], D[2, 1], D[2, 2]))
-    # The inverse's columns are the cross products of D's rows over det D.
-    c0, c1, c2 = cross(rows[1], rows[2]), cross(rows[2], rows[0]), cross(rows[0], rows[1])
-    det = dot(rows[0], c0)
-    if det == 0.0:
-        raise np.linalg.LinAlgError("Matrix is singular to machine precision.")
-    for i in range(3):
-        out[i, 0], out[i, 1], out[i, 2] = c0[i] / det, c1[i] / det, c2[i] / det
-
-
-@laws.jit
-def _cramer(rows, b):
-    """x with M·x = b, M given by its rows, by Cramer's rule."""
-    c0 = (rows[0][0], rows[1][0], rows[2][0])
-    c1 = (rows[0][1], rows[1][1], rows[2][1])
-    c2 = (rows[0][2], rows[1][2], rows[2][2])
-    c12 = cross(c1, c2)
-    det = dot(c0, c12)
-    return (dot(b, c12) / det, dot(c0, cross(b, c2)) / det, dot(c0, cross(c1, b)) / det)

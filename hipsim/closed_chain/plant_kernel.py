@@ -36,11 +36,17 @@ Pinocchio's corrector with the same scalar gains.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
 from ..physics import laws
 from ..physics.vectors import add, cross, matvec, scale, sub, transpose_times
+from . import block_inverse, closure_kernel
 from .closure_kernel import _point_acceleration, closure_frames
+
+#: The kernels call closure_kernel's: its source (and what it calls) is part of their cache key.
+_DEPENDS_ON = (*laws.LAW_FILES, Path(closure_kernel.__file__), Path(block_inverse.__file__))
 
 __all__ = ["constrained_acceleration", "tree_constants"]
 
@@ -63,7 +69,7 @@ def tree_constants(model) -> tuple[np.ndarray, np.ndarray]:
     return bodies, joints
 
 
-@laws.jit
+@laws.jit(depends_on=_DEPENDS_ON)
 def _motion_cross(a, b):
     """The motion cross product (v, ω) × (v', ω') = (ω × v' + v × ω', ω × ω') of two 6-tuples (linear first)."""
     v, w = (a[0], a[1], a[2]), (a[3], a[4], a[5])
@@ -73,7 +79,7 @@ def _motion_cross(a, b):
     return (lin[0], lin[1], lin[2], ang[0], ang[1], ang[2])
 
 
-@laws.jit
+@laws.jit(depends_on=_DEPENDS_ON)
 def _motions(J, joints, v, twists, rates):
     """Every joint's body spatial velocity V (world origin, linear first) and its acceleration at a = 0, into (njoints, 6) each.
 
@@ -104,7 +110,7 @@ def _motions(J, joints, v, twists, rates):
             rates[j, i] = rates[parent, i] + bias[i]
 
 
-@laws.jit
+@laws.jit(depends_on=_DEPENDS_ON)
 def _nonlinear_effects(J, rotations, origins, bodies, joints, gravity, twists, rates, wrenches, h):
     """h = C(q, v)·v + g(q) [N, N·m] into h, by Newton–Euler in the world frame from the bodies' motions at a = 0.
 
@@ -153,7 +159,7 @@ def _nonlinear_effects(J, rotations, origins, bodies, joints, gravity, twists, r
                 wrenches[parent, i] += wrenches[j, i]
 
 
-@laws.jit
+@laws.jit(depends_on=_DEPENDS_ON)
 def constrained_acceleration(
     M, J, rotations, origins, y, tau, bodies, joints, closures, placements, order, settings, a
 ):  # pragma: no cover - compiled
