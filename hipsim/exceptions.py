@@ -20,6 +20,7 @@ __all__ = [
     "CalibrationError",
     "CatalogueError",
     "ClosureError",
+    "ExcitationError",
     "FileRowError",
     "HipsimError",
     "IdentificationError",
@@ -237,4 +238,16 @@ class IdentificationError(HipsimError):
     def __init__(self, reason: str, logs: tuple[str, ...] = ()):
         super().__init__(_placed(reason, ", ".join(logs)))
         self.logs = tuple(logs)
+        self.reason = reason
+
+
+class ExcitationError(HipsimError):
+    """No excitation (a motion designed to identify or calibrate the machine) meets its limits.
+
+    Attributes:
+        reason: what could not be met, in words, with what to relax.
+    """
+
+    def __init__(self, reason: str):
+        super().__init__(reason)
         self.reason = reason

@@ -129,3 +129,71 @@ def test_a_fall_is_flagged_and_the_mean_of_two_stations_counts_twice():
     assert one.flag[5] == "notice" and two.flag[5] == "alarm"
     # The threshold on the estimate halves with the worst case: 10 ∓ 0.05·25/2.
     assert two.threshold == pytest.approx((9.375, 10.625), rel=1e-12)
+
+
+def test_an_incomplete_baseline_leaves_every_column_blank():
+    # Beside the test above: the limits and signal are blank too, the flags empty texts, the worst case kept.
+    c = chart(CYCLES, ESTIMATE, [0.1] * 7, HIP_RADIUS_MM, baseline=(0, 600_000), worst=2.0)
+    assert np.isnan(c.lower).all() and np.isnan(c.upper).all()
+    assert list(c.signal) == [0] * 7 and c.signal.dtype.kind == "i"
+    assert list(c.flag) == [""] * 7 and c.flag.dtype == object
+    assert c.worst == 2.0
+
+
+def test_on_a_limit_or_on_the_threshold_is_not_beyond():
+    # λ = 1, L = 1: z = x and the limit is μ₀ ± σ₀. Baseline 9, 10, 11: μ₀ = 10, σ₀ = √((1 + 0 + 1)/2) = 1 (above
+    # the errors' 0), so the limits are 9 and 11 exactly. 11 and 9 lie on them: not significant; 11.5 and 8.5 are.
+    cycles = [500_000, 750_000, 1_000_000, 1_100_000, 1_200_000, 1_300_000, 1_400_000]
+    x = [9.0, 10.0, 11.0, 11.0, 9.0, 11.5, 8.5]
+    c = chart(cycles, x, [0.0] * 7, HIP_RADIUS_MM, lam=1.0, width=1.0)
+    assert (c.mean, c.spread, c.worst) == (10.0, 1.0, 1.0)
+    assert chart(cycles, x, [0.0] * 7, HIP_RADIUS_MM, worst=2.0).worst == 2.0
+    assert list(c.upper[3:]) == [11.0] * 4 and list(c.lower[3:]) == [9.0] * 4
+    assert list(c.signal) == [0, 0, 0, 0, 0, 1, -1]
+    # The change 1.5/25 = 0.06 either way: against D = 0.06 it is on the threshold, not beyond: notices.
+    on = chart(cycles, x, [0.0] * 7, HIP_RADIUS_MM, lam=1.0, width=1.0, alarm_rise=0.06)
+    assert list(on.flag[5:]) == ["notice", "notice"]
+    assert list(chart(cycles, x, [0.0] * 7, HIP_RADIUS_MM, lam=1.0, width=1.0, alarm_rise=0.059).flag[5:]) == [
+        "alarm",
+        "alarm",
+    ]
+
+
+def test_integer_inputs_chart_as_floats():
+    # Cycles, estimates and errors given as whole numbers: the same chart as given as floats.
+    cycles = [500_000, 750_000, 1_000_000, 1_100_000]
+    whole = chart(cycles, [9, 10, 11, 14], [0, 0, 0, 0], HIP_RADIUS_MM)
+    floats = chart([float(c) for c in cycles], [9.0, 10.0, 11.0, 14.0], [0.0] * 4, HIP_RADIUS_MM)
+    np.testing.assert_array_equal(whole.ewma, floats.ewma)
+    assert whole.ewma[3] == pytest.approx(0.2 * 14 + 0.8 * 10, rel=1e-15)  # 10.8, above 10 + 3·1·0.2
+    assert list(whole.flag) == list(floats.flag) == ["", "", "", "alarm"]
+
+
+@pytest.mark.parametrize("bad", [0.5, math.nan, math.inf])
+def test_the_worst_case_factor_is_at_least_one(bad):
+    with pytest.raises(ArgumentError) as refused:
+        chart(CYCLES, ESTIMATE, [0.1] * 7, HIP_RADIUS_MM, worst=bad)
+    assert str(refused.value) == (
+        f"worst: expected the worst station's change per change of the estimate, at least 1, got {bad!r}"
+    )
+    assert (refused.value.name, refused.value.value) == ("worst", bad)
+
+
+def test_a_bad_alarm_rise_is_named_whole():
+    with pytest.raises(ArgumentError) as refused:
+        chart(CYCLES, ESTIMATE, [0.1] * 7, HIP_RADIUS_MM, alarm_rise=-0.01)
+    assert (
+        str(refused.value)
+        == "alarm_rise: expected a positive rise of the hip friction coefficient, e.g. 0.01, got -0.01"
+    )
+    assert (refused.value.name, refused.value.value) == ("alarm_rise", -0.01)
+
+
+@pytest.mark.parametrize("bad", ["5:3", "1:2:3", "1", "x:y"])
+def test_a_bad_baseline_is_named_whole(bad):
+    with pytest.raises(ArgumentError) as refused:
+        parse_baseline(bad)
+    assert (
+        str(refused.value) == f"baseline: expected FROM:TO in cycles, 0 ≤ FROM ≤ TO, e.g. 500000:1000000, got {bad!r}"
+    )
+    assert (refused.value.name, refused.value.value) == ("baseline", bad)

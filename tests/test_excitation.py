@@ -7,7 +7,7 @@ import pytest
 
 import hipsim
 from hipsim.cli.main import main
-from hipsim.exceptions import HipsimError
+from hipsim.exceptions import ExcitationError, HipsimError
 from hipsim.motion.trajectories import Trajectory
 from hipsim.rig import excitation
 from hipsim.rig.identification.excitation import Limits, condition_number
@@ -61,7 +61,7 @@ def test_inseparable_parameters_make_the_condition_infinite_or_huge():
 
 
 def test_impossible_limits_are_refused():
-    with pytest.raises(HipsimError, match="no excitation within the limits"):
+    with pytest.raises(ExcitationError, match="no excitation within the limits"):
         excitation(PARAMS, harmonics=1, limits=Limits(torque_limit=1e-4), max_iter=1, samples=100)
     with pytest.raises(HipsimError, match="harmonics: expected a whole number"):
         excitation(PARAMS, harmonics=0)

@@ -19,13 +19,14 @@ import numpy as np
 import pytest
 
 import hipsim
-from hipsim.exceptions import HipsimError
+from hipsim.exceptions import HipsimError, ParameterError
 from hipsim.rig.identification.prior import (
     DEFAULT_RELATIVE,
     HELD,
     Prior,
     parse_prior_option,
     prior,
+    prior_table,
     standard_std,
 )
 from hipsim.rig.identification.quantities import QUANTITIES
@@ -73,29 +74,69 @@ def test_prior_entries_absolute_relative_and_held(params):
 
 
 @pytest.mark.parametrize(
-    "name, value, match",
+    "name, value, message",
     [
-        ("nothing", 1.0, "no such parameter"),
-        ("μ_h", "10", "a number in the parameter's unit or a percentage"),
-        ("μ_h", "ten %", "a percentage such as '10 %'"),
-        ("μ_h", "-5 %", "non-negative percentage"),
-        ("μ_h", "nan %", "non-negative percentage"),
-        ("μ_h", -0.1, "non-negative number"),
-        ("μ_h", True, "non-negative number"),
-        ("μ_h", math.inf, "non-negative number"),
+        ("μ_h", "10", "expected a number in the parameter's unit or a percentage such as '10 %', got '10'"),
+        ("μ_h", "ten %", "expected a percentage such as '10 %', got 'ten %'"),
+        ("μ_h", "-5 %", "the uncertainty must be a non-negative percentage, got '-5 %'"),
+        ("μ_h", "nan %", "the uncertainty must be a non-negative percentage, got 'nan %'"),
+        ("μ_h", -0.1, "the uncertainty must be a non-negative number, got -0.1"),
+        ("μ_h", True, "the uncertainty must be a non-negative number, got True"),
+        ("μ_h", math.inf, "the uncertainty must be a non-negative number, got inf"),
     ],
 )
-def test_bad_prior_entries(params, name, value, match):
-    with pytest.raises(HipsimError, match=match):
+def test_bad_prior_entries(params, name, value, message):
+    # Each names the file it came from and the entry.
+    with pytest.raises(ParameterError) as refused:
         standard_std(params, {name: value}, source="start.toml")
+    assert str(refused.value) == f"start.toml: prior of '{name}': {message}"
+    assert refused.value.source == "start.toml"
+
+
+def test_an_unknown_parameter_lists_the_known_ones(params):
+    known = ", ".join(q.label for q in QUANTITIES)
+    assert known.startswith("I_m,xx, I_m,yy, ") and ", μ_h, " in known
+    with pytest.raises(ParameterError) as refused:
+        standard_std(params, {"nothing": 1.0}, source="start.toml")
+    assert str(refused.value) == (
+        f"start.toml: prior of 'nothing': no such parameter (known: {known}, or a key prefix such as 'lever')"
+    )
+
+
+def test_the_prior_names_its_source(params):
+    # Without a file the entries are the command line's: "prior" (standard_std and prior alike).
+    base = SimpleNamespace(transform=np.eye(len(QUANTITIES)))
+    for call in (
+        lambda **k: standard_std(params, {"μ_h": -1.0}, **k),
+        lambda **k: prior(base, params, {"μ_h": -1.0}, **k),
+    ):
+        with pytest.raises(ParameterError, match=r"^prior: prior of 'μ_h'"):
+            call()
+        with pytest.raises(ParameterError, match=r"^given\.toml: prior of 'μ_h'"):
+            call(source="given.toml")
+
+
+def test_percentages_with_or_without_a_space_and_zero(params):
+    # "10%" as "10 %": 10 % of μ_h's 0.095; "0 %" holds it (HELD of its size).
+    assert standard_std(params, {"μ_h": "10%"})[INDEX["μ_h"]] == pytest.approx(0.0095, rel=1e-12)
+    assert standard_std(params, {"μ_h": " 10 % "})[INDEX["μ_h"]] == pytest.approx(0.0095, rel=1e-12)
+    assert standard_std(params, {"μ_h": "0 %"})[INDEX["μ_h"]] == pytest.approx(HELD * 0.095, rel=1e-12)
 
 
 def test_parse_prior_option():
     assert parse_prior_option("μ_h=0.02, lever=10 %,") == {"μ_h": 0.02, "lever": "10 %"}
+    # An empty item is skipped, not the end of the list.
+    assert parse_prior_option("μ_h=0.02,,lever=10 %") == {"μ_h": 0.02, "lever": "10 %"}
     assert parse_prior_option("") == {}
-    for bad in ("μ_h", "=3", "μ_h=", "μ_h=abc"):
-        with pytest.raises(HipsimError, match="--prior"):
-            parse_prior_option(bad)
+    for bad in ("μ_h", "=3", "μ_h="):
+        with pytest.raises(HipsimError) as refused:
+            parse_prior_option(f"lever=10 %,{bad} ")
+        assert str(refused.value) == f"--prior: expected NAME=STD or NAME=PERCENT %, comma-separated, got '{bad}'"
+    # The first "=" splits: "μ_h=0.02=3" is μ_h with the value "0.02=3", no number.
+    for text, name, value in (("μ_h=abc", "μ_h", "abc"), ("μ_h=0.02=3", "μ_h", "0.02=3")):
+        with pytest.raises(HipsimError) as refused:
+            parse_prior_option(text)
+        assert str(refused.value) == f"--prior: {name}: expected a number or a percentage, got '{value}'"
 
 
 def test_the_prior_propagates_through_the_base_map(params):
@@ -146,3 +187,58 @@ def test_the_filter_ratio_is_never_below_one():
     # which the reader refuses) would give 10/12 < 1: held at 1.
     assert inflation(SimpleNamespace(rate=100.0, cutoff=49.0)) == pytest.approx(100 / 98, rel=1e-12)
     assert inflation(SimpleNamespace(rate=10.0, cutoff=6.0)) == 1.0
+
+
+# --- A starting file's [identification.prior] table, read from tiny TOML files ----------------------------------------
+
+
+def test_prior_table_of_a_starting_file(tmp_path):
+    path = tmp_path / "start.toml"
+    path.write_text('[identification.prior]\n"μ_h" = 0.02\nlever = "10 %"\n')
+    assert prior_table(path) == {"μ_h": 0.02, "lever": "10 %"}
+    assert prior_table(str(path)) == {"μ_h": 0.02, "lever": "10 %"}
+
+
+def test_no_file_no_table_or_an_identified_file_bring_no_prior_table(tmp_path):
+    assert prior_table(None) == {}
+    plain = tmp_path / "plain.toml"
+    plain.write_text("[lever]\nlength_mm = 100.0\n")
+    assert prior_table(plain) == {}
+    empty = tmp_path / "empty.toml"
+    empty.write_text("[identification]\nlever_spin = true\n")
+    assert prior_table(empty) == {}
+    # An identified file's own `prior` column (one mean per base parameter, beside `base`): no table of uncertainties.
+    identified = tmp_path / "identified.toml"
+    identified.write_text('[identification]\nbase = ["b1", "b2"]\nprior = [1.0, 2.0]\n')
+    assert prior_table(identified) == {}
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "[identification]\nprior = 3.0\n",
+        # A list without the identified file's `base` beside it is no prior table either.
+        "[identification]\nprior = [1.0, 2.0]\n",
+        "[identification]\nbase = 3\nprior = [1.0, 2.0]\n",
+    ],
+)
+def test_a_prior_that_is_no_table_names_the_file_and_key(tmp_path, text):
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    with pytest.raises(ParameterError) as refused:
+        prior_table(path)
+    assert str(refused.value) == f"{path}, key 'identification.prior': expected a table of parameter = uncertainty"
+    assert (refused.value.key, refused.value.source) == ("identification.prior", str(path))
+
+
+def test_the_prior_table_drives_the_prior(params, tmp_path):
+    # The file's 0.02 for μ_h reaches the standard deviations, and a bad entry's message names the file.
+    path = tmp_path / "start.toml"
+    path.write_text('[identification.prior]\n"μ_h" = 0.02\n')
+    assert standard_std(params, prior_table(path), str(path))[INDEX["μ_h"]] == pytest.approx(0.02, rel=1e-12)
+    path.write_text('[identification.prior]\n"μ_h" = "2"\n')
+    with pytest.raises(ParameterError) as refused:
+        standard_std(params, prior_table(path), str(path))
+    assert str(refused.value) == (
+        f"{path}: prior of 'μ_h': expected a number in the parameter's unit or a percentage such as '10 %', got '2'"
+    )

@@ -41,7 +41,7 @@ import scipy.optimize
 
 from ...analytic.inverse_kinematics import kinematics
 from ...analytic.virtual_work import inverse_dynamics
-from ...exceptions import ArgumentError, HipsimError
+from ...exceptions import ArgumentError, ExcitationError
 from ...files import write_columns
 from ...machine.parameters import Parameters
 from ...motion.trajectories import Trajectory, iso14242
@@ -317,7 +317,7 @@ def excitation(
 
     Raises:
         ArgumentError: impossible settings.
-        HipsimError: no start within the limits.
+        ExcitationError: no start within the limits, or a design that breaks them between its samples.
     """
     import time
 
@@ -414,7 +414,7 @@ def excitation(
         if best is None or value < best[0]:
             best = (value, candidate)
     if best is None:
-        raise HipsimError(
+        raise ExcitationError(
             "no excitation within the limits was found: relax the limits (speed, acceleration, torque, singularity measure)"
         )
     coefficients = unpack(best[1])
@@ -427,7 +427,9 @@ def excitation(
             break
         coefficients[:, 1:] *= 0.995
     else:
-        raise HipsimError("the designed excitation breaks the limits between its samples: give more samples per period")
+        raise ExcitationError(
+            "the designed excitation breaks the limits between its samples: give more samples per period"
+        )
     design = Excitation(frequency, H, coefficients, math.exp(value), math.nan, tuple(quantities), limits)
     trajectory = design.at(fine)
     kin = kinematics(params, trajectory)

@@ -40,7 +40,7 @@ import numpy as np
 
 from ...analytic.inverse_kinematics import kinematics
 from ...analytic.virtual_work import inverse_dynamics
-from ...exceptions import HipsimError, ParameterError
+from ...exceptions import HipsimError, IdentificationError, ParameterError
 from ...fingerprint import part_fingerprints
 from ...machine.parameters import Parameters
 from ..identification.quantities import friction_unit
@@ -236,7 +236,8 @@ def estimate(setup: MonitorSetup, snapshot: Snapshot) -> dict[str, Any]:
     """One snapshot's row (:data:`ESTIMATE_COLUMNS`): the friction terms with standard deviations, in file units.
 
     Raises:
-        HipsimError: the snapshot cannot be read (naming the file, line, column), or too few samples to estimate from.
+        TrajectoryError: the snapshot cannot be read (naming the file, line, column).
+        IdentificationError: too few samples to estimate from (naming the file).
     """
     params = setup.params
     f = params.friction
@@ -258,9 +259,9 @@ def estimate(setup: MonitorSetup, snapshot: Snapshot) -> dict[str, Any]:
     columns += [Y[:, :, 2], Y[:, :, 3]]
     target = tau - fixed
     if int(use.sum()) <= len(columns) + 2:
-        raise HipsimError(
-            f"{snapshot.path}: {int(use.sum())} samples left after the filter's edges and the reversals: too few to "
-            "estimate from"
+        raise IdentificationError(
+            f"{int(use.sum())} samples left after the filter's edges and the reversals: too few to estimate from",
+            (str(snapshot.path),),
         )
     time = np.nonzero(use)[0]
     window = math.ceil(rows_per_independent_row(log))
