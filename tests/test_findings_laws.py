@@ -9,6 +9,7 @@ notice. Its standard deviation √(0.1² + 0.2²/3)/25 = 0.0061101.
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -20,6 +21,7 @@ from hipsim.rig.monitoring.findings import (
     duplicates,
     find,
     load_cell_text,
+    missing_cycles,
 )
 from hipsim.rig.monitoring.snapshots import Skipped
 
@@ -76,10 +78,12 @@ def test_the_load_cell_alternative_by_hand():
             f"the commanded load logged with it says the measured load drifted by {signed} % since the baseline: "
             "check the load cell's calibration"
         )
-    assert load_cell_text(0.04, 10.0, R_H, 0.005) == start + (
-        "the commanded load logged with it agrees with the measured one within 1% of the baseline's ratio: "
-        "not the load cell"
-    )
+    for gain in (0.005, 0.01):  # a drift of 1 % exactly is within 1 %
+        assert load_cell_text(0.04, 10.0, R_H, gain) == start + (
+            "the commanded load logged with it agrees with the measured one within 1% of the baseline's ratio: "
+            "not the load cell"
+        )
+    assert "drifted by +10.0 % since" in load_cell_text(0.04, 10.0, R_H, 0.1)
     # A fall: g = 10/9 − 1 = +11.1 %.
     assert "a drift of +11.1 % alone" in load_cell_text(-0.04, 10.0, R_H)
 
@@ -92,10 +96,12 @@ def test_the_change_in_words():
 
 
 def test_one_station_an_alarm_then_a_notice():
-    f = find(rows(), R_H, False, BASELINE, 0.03)
-    assert f.stations is None
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no NumPy warning (a mean of no commanded loads) reaches the user
+        f = find(rows(), R_H, False, BASELINE, 0.03)
+    assert f.stations is None and f.mean.mean == pytest.approx(10.0) and f.mean.worst == 1.0
     assert f.flag == ["", "", "", "", "", "alarm: the station rises", "notice: the station rises"]
-    assert list(f.alarm) == [0, 0, 0, 0, 0, 1, 0]
+    assert list(f.alarm) == [0, 0, 0, 0, 0, 1, 0] and f.alarm.dtype.kind == "i"
     text = "the hip friction coefficient rose by +0.0400 in the station ± 0.0061: the specimen's friction, "
     assert f.first == {
         "cycle": 1_200_000,
@@ -158,11 +164,11 @@ def test_stations_without_a_baseline_fall_back_to_the_mean():
 def test_the_notes_incomplete_and_load_cell():
     # Median 1000 samples: 899 is incomplete (below 0.9·1000), 900 is not. Gains: baseline 2.0 (mean), then a
     # snapshot at 2.04 (+2.0 %, beyond 1 %) and one at 2.01 (+0.5 %).
-    gain = [NAN, 2.0, 2.0, 2.0, 2.04, 2.01, 1.96]
-    samples = [1000, 1000, 899, 1000, 900, 1000, 1000]
-    notes = ["", "", "", "", "", "cut at line 7", ""]
+    gain = [NAN, 2.0, 2.0, 2.0, 2.04, 2.01, 1.8]
+    samples = [1000, 1000, 899, 1000, 900, 1000, 890]
+    notes = ["", "", "", "", "", "cut at line 7", "cut at line 9"]
     f = find(rows(gain=gain, samples=samples, notes=notes), R_H, False, BASELINE, 0.03)
-    np.testing.assert_allclose(f.load_gain_change[1:], [0.0, 0.0, 0.0, 0.02, 0.005, -0.02], atol=1e-12)
+    np.testing.assert_allclose(f.load_gain_change[1:], [0.0, 0.0, 0.0, 0.02, 0.005, -0.1], atol=1e-12)
     assert math.isnan(f.load_gain_change[0])
     assert f.notes == [
         "",
@@ -171,10 +177,37 @@ def test_the_notes_incomplete_and_load_cell():
         "",
         "load cell: measured over commanded load +2.0 % since the baseline",
         "cut at line 7",
-        "load cell: measured over commanded load -2.0 % since the baseline",
+        "cut at line 9; incomplete: 890 of 1,000 samples; load cell: measured over commanded load -10.0 % since the "
+        "baseline",
     ]
     # The alarm's sentence quotes the snapshot's gain change: +0.5 % agrees with the commanded load.
     assert f.first["text"].endswith("within 1% of the baseline's ratio: not the load cell")
+
+
+def test_both_stations_flagged_are_both_said():
+    f = find(rows(station_1=ESTIMATE, station_2=ESTIMATE, separated=True), R_H, True, BASELINE, 0.03)
+    assert f.flag[5] == "alarm: station 1 rises; alarm: station 2 rises"
+    assert f.first["where"] == "station 1"
+
+
+@pytest.mark.parametrize(
+    "cycles, missing",
+    [
+        ([0, 100, 300], [200]),  # three are enough
+        ([0, 300], []),  # two are not
+        # Spacing 100 (a third of the steps or more are within 1.5 times the smallest): a gap of 250 misses one
+        # snapshot (at 400; 500 is within half a spacing of 550).
+        ([0, 100, 200, 300, 550], [400]),
+        ([0, 100, 600, 1100], [200, 300, 400, 500, 700, 800, 900, 1000]),  # one step of three is a third
+        # Two steps of seven are fewer than a third: the spacing is the median step (500), no gap beyond 750.
+        ([0, 100, 200, 700, 1200, 1700, 2200, 2700], []),
+        # Steps of 100, 100 and three of 150 (1.5 times the smallest, included): spacing 150; the gap of 400
+        # misses two (800, 950).
+        ([0, 100, 200, 350, 500, 650, 1050], [800, 950]),
+    ],
+)
+def test_missing_cycles_by_hand(cycles, missing):
+    assert missing_cycles(cycles) == missing
 
 
 def test_no_rows_find_nothing():
