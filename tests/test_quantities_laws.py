@@ -32,7 +32,7 @@ SI = {"kg·mm²": 1e-6, "kg": 1.0, "": 1.0, "N·mm": 1e-3, "N·mm·s/rad": 1e-3,
 @pytest.fixture(scope="module")
 def file(tmp_path_factory):
     """The published machine's file with inertia matrices and friction coefficients of their own (its dict, path)."""
-    with open(Path(__file__).parents[1] / "models" / "hip_simulator.toml", "rb") as f:
+    with open(Path(hipsim.load_parameters().source), "rb") as f:  # the published machine
         data = tomllib.load(f)
     data["platform"]["inertia_kgmm2"] = [
         [248030.5, 1200.0, -300.0],
