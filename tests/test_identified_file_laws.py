@@ -4,6 +4,7 @@ and combinations derived from them, an old file's comment header, and each malfo
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -189,8 +190,8 @@ def test_an_old_files_comment_header(tmp_path):
         "# Made by hipsim 0.1.0 on 2026-01-02T03:04:05Z (UTC): hipsim identify --log a.csv --log b.csv\n"
         f"#   log a.csv: SHA-256 {'ab' * 32}\n"
         f"#   log b.csv: SHA-256 {'ef' * 32}\n"
-        "# From the logs: a.csv, b.csv (1000 samples per motor after filtering and decimation).\n"
-        "# Starting parameters: start.toml.\n"
+        "# From the logs: a (1).csv, b.csv (1000 samples per motor after filtering and decimation).\n"
+        "# Starting parameters: start_X.\n"
         "# Model: analytic, lever spin on; regressor condition number 12.\n"
         "# Identified (value, relative standard deviation):\n"
         "#  m_L + 0.5·m_l = 3.5 ± 0.01 kg (±0.3 %)\n"
@@ -202,13 +203,14 @@ def test_an_old_files_comment_header(tmp_path):
         "#  b_S = 0 N·mm·s/rad: not determined by these logs\n"
         "#  zz = 0 kg: unknown\n"
         "# Validation (RMS torque error, identified vs starting):\n"
-        "#  c.csv: M1 1.5 vs 4 M2 2 vs 5 M3 3 vs 6 N·mm\n"
         "#  d.csv: M1 x vs 4 N·mm\n"
-        "#  no validation line\n" + published
+        "#  no validation line\n"
+        "# e.csv: M1 1 vs 2 N·mm\n"
+        "#  c.csv: M1 1.5 vs 4 M2 2 vs 5 M3 3 vs 6 N·mm\n" + published
     )
     found = read_identified_file(path)
     assert found.from_comments and found.table == {} and found.source == str(path)
-    assert found.lever_spin is True and found.logs == ("a.csv", "b.csv") and found.start == "start.toml"
+    assert found.lever_spin is True and found.logs == ("a (1).csv", "b.csv") and found.start == "start_X"
     assert found.provenance == FileProvenance(
         "0.1.0",
         "2026-01-02T03:04:05Z",
@@ -239,3 +241,74 @@ def test_not_an_identified_file(tmp_path):
     )
     found = read_identified_file(stops)
     assert found.logs == ("a.csv",) and found.start == "" and found.provenance is None
+
+
+def test_sub_tables_a_bare_header_and_logs_that_are_no_list(tmp_path):
+    path = write_identified_file(
+        tmp_path / "cal.toml", PARAMS, TABLE | {"logs": "a.csv"}, tables={"calibration": {"torque_constant": [0.1]}}
+    )
+    found = read_identified_file(path)
+    assert found.table["calibration"] == {"torque_constant": [0.1]} and found.table["base"] == TABLE["base"]
+    assert found.logs == ()  # not a list: no logs named
+    # A header of the mark alone: no logs, no start, lever spin on (the analytic model's default for identify).
+    bare = tmp_path / "bare.toml"
+    bare.write_text(f"{IDENTIFIED_MARK}\n\n" + Path(PARAMS.source).read_text())
+    found = read_identified_file(bare)
+    assert (found.logs, found.start, found.lever_spin, found.estimates, found.provenance) == ((), "", True, (), None)
+
+
+def test_a_table_without_its_provenance_takes_the_headers(tmp_path):
+    # Files of the version between: the [identification] table, the provenance still in the comments.
+    path = write_identified_file(tmp_path / "mid.toml", PARAMS, TABLE, comments=MADE.comments())
+    assert read_identified_file(path).provenance == FileProvenance(
+        MADE.version, MADE.created, MADE.command, tuple(replace(f, size=None) for f in MADE.inputs)
+    )
+    plain = write_identified_file(tmp_path / "plain.toml", PARAMS, TABLE)
+    assert read_identified_file(plain).provenance is None
+    # A provenance without inputs has none.
+    path.write_text(
+        identified_toml(PARAMS, TABLE)
+        + '\n[identification.provenance]\nhipsim = "1"\ncreated_utc = "x"\ncommand = "c"\n'
+    )
+    assert read_identified_file(path).provenance == FileProvenance("1", "x", "c")
+    assert FileProvenance.from_dict({"hipsim": "1", "created_utc": "x", "command": "c"}).inputs == ()
+
+
+def test_a_header_after_a_byte_order_mark(tmp_path):
+    path = tmp_path / "bom.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + f"{IDENTIFIED_MARK}\n# From the logs: a.csv (1).\n\n".encode())
+    found = read_identified_file(path)
+    assert found is not None and found.logs == ("a.csv",)
+
+
+def test_a_prior_alone_is_no_identification(tmp_path):
+    path = tmp_path / "start.toml"
+    path.write_text(Path(PARAMS.source).read_text() + '\n[identification.prior]\n"μ_h" = 0.02\n')
+    assert read_identified_file(path) is None
+
+
+def test_identification_that_is_no_table(tmp_path):
+    path = tmp_path / "bad.toml"
+    path.write_text("identification = 3\n")
+    with pytest.raises(ParameterError) as refused:
+        read_identified_file(path)
+    assert str(refused.value) == f"{path}, key 'identification': expected a table"
+    assert (refused.value.key, refused.value.source) == ("identification", str(path))
+
+
+def test_a_long_bad_value_is_quoted_in_200_characters(tmp_path):
+    path = write_identified_file(tmp_path / "long.toml", PARAMS, TABLE | {"std": list(range(100))})
+    with pytest.raises(ParameterError) as refused:
+        read_identified_file(path)
+    prefix = f"{path}, key 'identification.std': "
+    assert str(refused.value).startswith(prefix + "expected a list of 3 (one per base parameter), got [0, 1, 2,")
+    assert len(str(refused.value)) == len(prefix) + 200
+
+
+@pytest.mark.parametrize(
+    "drop",
+    [("validation_start_rms_error_Nmm",), ("validation_rms_error_Nmm",), ("validation_logs",)],
+)
+def test_validation_needs_all_three_lists(tmp_path, drop):
+    table = {k: v for k, v in TABLE.items() if k not in drop}
+    assert read_identified_file(write_identified_file(tmp_path / "v.toml", PARAMS, table)).validation == ()
