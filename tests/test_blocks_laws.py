@@ -93,3 +93,23 @@ def test_the_reread_in_groups_up_to_a_line():
     # Nothing read from line `stop` on: lines 1 to 3 only.
     assert list(line_blocks(io.BytesIO(data), "r.csv", 2, 4)) == [(1, ["a", "b"]), (3, ["c"])]
     assert list(line_blocks(io.BytesIO(data), "r.csv", 10, 1)) == []
+
+
+def test_hashed_counts_every_small_read():
+    stream = Hashed(io.BytesIO(DATA))
+    parts = iter(lambda: stream.read(5), b"")
+    assert b"".join(parts) == DATA
+    assert stream.size == len(DATA) and stream.digest.hexdigest() == hashlib.sha256(DATA).hexdigest()
+
+
+def test_a_bom_in_a_later_block_is_text():
+    # Blocks of 3 bytes: the second starts with the BOM's bytes, which are then a character of line 2.
+    bom = b"\xef\xbb\xbf"
+    lines = [line for _, group in text_blocks(io.BytesIO(b"ab\n" + bom + b"c\n"), "b.csv", 3) for line in group]
+    assert lines == ["ab", "\ufeffc"]
+
+
+@pytest.mark.parametrize("size", [1 << 20, 1 << 22])
+def test_a_last_line_of_the_longest_without_its_end_is_read(size):
+    blocks = list(text_blocks(io.BytesIO(b"a\n" + b"x" * MAX_LINE_BYTES), "r.csv", size))
+    assert [len(x) for _, group in blocks for x in group] == [1, MAX_LINE_BYTES]
