@@ -104,3 +104,12 @@ def test_writing_theta_back_gives_the_same_machine(file):
     assert again.source == "moved" and with_values(params, theta).source == params.source
     # Whole numbers are taken as floats.
     assert standard_values(with_values(params, np.round(moved * 0).astype(int)))[6] == 0.0
+
+
+def test_theta_of_another_length_is_refused(file):
+    _, path = file
+    params = hipsim.load_parameters(path)
+    theta = standard_values(params)
+    for wrong in (theta[:-1], np.append(theta, 1.0)):
+        with pytest.raises(ValueError):
+            with_values(params, wrong)
