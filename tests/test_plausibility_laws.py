@@ -525,3 +525,20 @@ def test_the_model_has_the_lever_spin_the_caller_names(stand_in, params):
     check_log(params, constant([1.0, 1.0, 1.0]), lever_spin=False)
     check_log(params, constant([1.0, 1.0, 1.0]), lever_spin=True)
     assert [spin for spin, _ in stand_in.calls] == [False, True]
+
+
+def test_a_log_read_in_pieces_is_checked_on_its_first(exact, params, tmp_path):
+    # Torques in N·mm for the first 100 samples, then in µN·m: read whole the log is refused (its RMS is 600 to
+    # 1000 times the model's, within 2 of 1000); read in pieces of 100 samples, the check takes the first piece's samples
+    # only (its window reaches further, for the spline), which are right.
+    traj, tau, _ = exact
+    scale = np.where(np.arange(len(traj)) < 100, 1.0, 1e3)[:, None]
+    header = ["t_s", "Fe_N", "alpha_deg", "beta_deg", "gamma_deg", "tau_1_Nmm", "tau_2_Nmm", "tau_3_Nmm"]
+    values = np.column_stack([traj.t, traj.Fe, np.degrees(traj.q), tau * 1e3 * scale])
+    path = tmp_path / "pieces.csv"
+    path.write_text("\n".join([",".join(header)] + [",".join(f"{v:.12g}" for v in row) for row in values]) + "\n")
+    with pytest.raises(TrajectoryError, match="look like µN·m"):
+        check_log(params, LogPieces(path, None, None, cutoff=None))
+    pieces = LogPieces(path, None, None, cutoff=None, piece=100)
+    assert pieces.piece == 100 and len(pieces) == 500
+    assert check_log(params, pieces) == []
