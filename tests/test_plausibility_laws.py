@@ -529,7 +529,7 @@ def test_the_model_has_the_lever_spin_the_caller_names(stand_in, params):
 
 def test_a_log_read_in_pieces_is_checked_on_its_first(exact, params, tmp_path):
     # Torques in N·mm for the first 100 samples, then in µN·m: read whole the log is refused (its RMS is 600 to
-    # 1000 times the model's, within 2 of 1000); read in pieces of 100 samples, the check takes the first piece's samples
+    # 1000 times the model's, within a factor 2 of 1000); read in pieces of 100 samples, the check takes the first piece's samples
     # only (its window reaches further, for the spline), which are right.
     traj, tau, _ = exact
     scale = np.where(np.arange(len(traj)) < 100, 1.0, 1e3)[:, None]
