@@ -26,9 +26,18 @@ screw's rotor inertia is the joint's armature), minus the friction
 generalised forces Q_f of spec §4.3 / §7.3 — the laws of
 :mod:`hipsim.physics.laws`, as the closed-chain inverse dynamics adds them
 (:func:`hipsim.closed_chain.friction.friction_forces`), so inverse then forward
-dynamics is consistent. Two routes solve it (``route``, :data:`ROUTES`):
+dynamics is consistent. Three routes solve it (``route``, :data:`ROUTES`):
 
-* ``"kernel"`` (the default): ``pin.crba`` in the WORLD convention (M with the
+* ``"compiled"`` (the default): all of it compiled, no Pinocchio call on the
+  way (:mod:`~hipsim.closed_chain.plant_step`): the tree's forward kinematics
+  and CRBA (:mod:`~hipsim.closed_chain.tree_kernel`, from the model's joint
+  placements, axes and inertias read once; held equal to ``pin.crba``'s at
+  construction), then the closure solver below; :meth:`PinocchioPlant.advance`
+  runs a servo period's RK4 steps in one compiled call, and
+  :func:`hipsim.control.simulate` the built-in controllers' whole loop around
+  them (:meth:`PinocchioPlant.compiled_stepper`). The same arithmetic as
+  ``"kernel"`` but for M's rounding (~1e-15 relative).
+* ``"kernel"``: ``pin.crba`` in the WORLD convention (M with the
   armature, and the joints' world placements and Jacobians as by-products),
   then one compiled call (:func:`~hipsim.closed_chain.plant_kernel.constrained_acceleration`)
   that evaluates h by Newton–Euler, the closures' frames, Jacobian and drift,
@@ -94,9 +103,11 @@ Cost (27 Nov, Python 3.11, pin 4.1, best single calls on a shared 2-core
 machine): ``crba`` 2.6 µs and the compiled solve 4.6 µs (1.2 µs of it numba
 unboxing 13 arguments), 7.4 µs, against ``constraintDynamics`` (CRBA, bias
 forces, the constraint Cholesky, two proximal solves) 12.5 µs; ``lcaba``
-14.7 µs at μ = 1e-6 and three iterations. The generalised forces add ~1 µs
+14.7 µs at μ = 1e-6 and three iterations; the ``"compiled"`` route's
+derivative inside its loop ~4–5 µs (forward kinematics 0.7, CRBA 0.7–1.1,
+the solve 2.4–3). The generalised forces add ~1 µs
 (one compiled call, most of it in passing the arguments), the rest (call,
-slicing, concatenating [v, a]) ~1 µs. See scripts/bench.py.
+slicing, concatenating [v, a]) ~1 µs. See scripts/bench.py and docs/guide/speed.md.
 """
 
 from __future__ import annotations
@@ -113,7 +124,7 @@ from ..physics.transmission import radians_per_travel
 from .build import ClosedChainModel, load_model
 from .closure import kinematics
 from .friction import friction_forces
-from .plant_kernel import constrained_acceleration, tree_constants
+from .plant_kernel import block_order, constrained_acceleration, tree_constants
 from .plant_step import acceleration as compiled_acceleration
 from .plant_step import advance as compiled_advance
 from .plant_step import generalised_forces, rk4_stage
@@ -436,16 +447,21 @@ class PinocchioPlant:
         others = np.setdiff1d(np.arange(model.nv), angles)
         if 3 * len(self.constraint_models) != others.size:
             return None
+        bodies, joints = tree_constants(model)
+        closures = np.array([[cm.joint1_id, cm.joint2_id] for cm in self.constraint_models], dtype=np.int64)
+        others, blocks = block_order(joints, closures, others)
         order = np.zeros((2, model.nv), dtype=np.int64)
         order[0] = np.concatenate([angles, others])
         order[1, others], order[1, angles] = np.arange(others.size), others.size + np.arange(3)
-        bodies, joints = tree_constants(model)
-        closures = np.array([[cm.joint1_id, cm.joint2_id] for cm in self.constraint_models], dtype=np.int64)
         placements = np.array(
             [[cm.joint1_placement.homogeneous, cm.joint2_placement.homogeneous] for cm in self.constraint_models]
         )
         settings = np.array([*self.baumgarte, *model.gravity.linear])
-        return data, (data.M, data.J, rotations, origins), (bodies, joints, closures, placements, order, settings)
+        return (
+            data,
+            (data.M, data.J, rotations, origins),
+            (bodies, joints, closures, placements, order, blocks, settings),
+        )
 
     def _tree_arguments(self) -> tuple | None:
         """The compiled route's tree and scratch arrays (:func:`~hipsim.closed_chain.plant_step.acceleration`), or None where it cannot run.
@@ -457,9 +473,8 @@ class PinocchioPlant:
         geometry = tree_geometry(model)
         if geometry is None or self._kernel is None:
             return None
-        bodies, joints, closures, placements, order, settings = self._kernel[2]
         armature = np.array(model.armature, dtype=float)
-        tree = (*geometry, armature, bodies, joints, closures, placements, order, settings)
+        tree = (*geometry, armature, *self._kernel[2])
         nj, nv = model.njoints, model.nv
         scratch = (np.empty((nj, 3, 3)), np.empty((nj, 3)), np.empty((6, nv)), np.empty((nv, nv)), np.empty((nj, 13)))
         rng, data = np.random.default_rng(2024), model.createData()

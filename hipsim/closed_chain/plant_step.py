@@ -106,17 +106,17 @@ def acceleration(y, tau, tree, scratch, a):  # pragma: no cover - compiled
         y: the state [q, v], (2·nv,) (every joint has one coordinate and one velocity).
         tau: the generalised forces, (nv,).
         tree: (placements, motions) of :func:`~hipsim.closed_chain.tree_kernel.tree_geometry`, the armature (nv,),
-            then ``bodies, joints, closures, placements, order, settings`` as
+            then ``bodies, joints, closures, placements, order, blocks, settings`` as
             :func:`~hipsim.closed_chain.plant_kernel.constrained_acceleration` takes them.
         scratch: (rotations (njoints, 3, 3), origins (njoints, 3), J (6, nv), M (nv, nv), composites (njoints, 13)).
         a: out, (nv,).
     """
-    frames, motions, armature, bodies, joints, closures, placements, order, settings = tree
+    frames, motions, armature, bodies, joints, closures, placements, order, blocks, settings = tree
     rotations, origins, J, M, composites = scratch
     forward_kinematics(frames, motions, joints, y[: a.size], rotations, origins, J)
     mass_matrix(J, rotations, origins, bodies, joints, armature, composites, M)
     return constrained_acceleration(
-        M, J, rotations, origins, y, tau, bodies, joints, closures, placements, order, settings, a
+        M, J, rotations, origins, y, tau, bodies, joints, closures, placements, order, blocks, settings, a
     )
 
 

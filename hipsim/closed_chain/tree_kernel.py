@@ -148,6 +148,9 @@ def mass_matrix(J, rotations, origins, bodies, joints, armature, composites, M):
     M[:] = 0.0  # the entries of two joints on different branches stay 0
     for j in range(1, nj):
         m = bodies[j, 0]
+        if m == 0.0 and not bodies[j, 4:].any():  # a massless link (a universal joint's cross): nothing to add
+            composites[j, :] = 0.0
+            continue
         R = rotations[j]
         Rm = ((R[0, 0], R[0, 1], R[0, 2]), (R[1, 0], R[1, 1], R[1, 2]), (R[2, 0], R[2, 1], R[2, 2]))
         c = add((origins[j, 0], origins[j, 1], origins[j, 2]), matvec(Rm, (bodies[j, 1], bodies[j, 2], bodies[j, 3])))
