@@ -324,3 +324,25 @@ def test_advance_names_a_state_or_torques_of_the_wrong_size(params, plant):
 def test_compiled_control_names_an_initial_state_of_the_wrong_size(params, plant):
     with pytest.raises(hipsim.ArgumentError, match="initial_state"):
         simulate(plant, WorkspacePD(params), iso14242_at, 0.01, initial_state=np.zeros(6))
+
+
+def test_the_compiled_loop_keeps_the_closures_closed(params, plant, monkeypatch):
+    """The whole servo loop compiled (the default route): the closures along it, read between its chunks of periods."""
+    from hipsim.control import closed_chain_loop, simulation
+
+    residuals, loop = [], closed_chain_loop.stepped_loop
+
+    def watched(stepper, x, *args):
+        reached = loop(stepper, x, *args)
+        residuals.append(plant.closure_residual(x))
+        return reached
+
+    monkeypatch.setattr(simulation, "_CHUNK", 20)
+    monkeypatch.setattr(closed_chain_loop, "stepped_loop", watched)
+    sim = simulate(plant, WorkspacePD(params), iso14242_at, DURATION)
+    residuals = np.array(residuals)
+    assert len(residuals) >= DURATION * SERVO / 20  # the loop really ran in chunks, compiled
+    # Measured over 2 s: gaps ≤ 1.2e-13 m, closure velocities ≤ 2.0e-12 m/s, as along the other routes.
+    assert residuals[:, 0].max() < 1e-12
+    assert residuals[:, 1].max() < 2e-11
+    assert np.degrees(np.abs(sim.err)).max() > 0.01
