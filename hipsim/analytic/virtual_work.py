@@ -33,6 +33,14 @@ kernel and the Pinocchio model call too. The assembly below is transcribed
 once more, for one state on plain floats, in :mod:`hipsim.analytic.kernel`,
 because whole-array NumPy code costs ~700 calls of Python overhead per state
 there; ``tests/test_analytic_kernel.py`` ties the two to round-off.
+
+What depends on the motion and the geometry alone (the levers' spin, the body
+components of the angular velocities, J⁻ᵀ) is computed first
+(:func:`motion_terms`), and each torque part from it and the machine's masses,
+inertias and friction coefficients (:data:`PARTS`). :func:`inverse_dynamics`
+is the two in a row; the identification's regressor computes the terms once
+and a part per column, for many machines of one geometry, with the same
+arithmetic, hence the same numbers.
 """
 
 from __future__ import annotations
@@ -92,7 +100,12 @@ def _from_body(axes, w_body: np.ndarray) -> np.ndarray:
 
 def _lever_axes(params: Parameters, kin: Kinematics):
     """The levers' body axes x, y, z = e (spec §7.1), components-first arrays (xyz, leg, N)."""
-    x, y, e = laws.lever_axes(per_leg(params.ujoint_axes), kin.e.T)
+    return _lever_axes_of(params, kin.e.T)
+
+
+def _lever_axes_of(params: Parameters, e: np.ndarray):
+    """:func:`_lever_axes` from the lever unit vectors e, components-first (3, 3, N)."""
+    x, y, e = laws.lever_axes(per_leg(params.ujoint_axes), e)
     return stack(x), stack(y), e
 
 
@@ -190,15 +203,19 @@ def _lever_joint_friction(params: Parameters, kin: Kinematics, lever_spin: bool,
     return _lever_joint_friction_terms(params, kin.e.T, kin.r.T, kin.omega.T, lever_spin, omega_l, lever_length)
 
 
-def _lever_joint_friction_terms(params: Parameters, e, r, omega, lever_spin: bool, omega_l, lever_length=None):
-    """:func:`_lever_joint_friction` with e, r (3, 3, N) and ω (3, N) components-first."""
+def _lever_joint_friction_terms(
+    params: Parameters, e, r, omega, lever_spin: bool, omega_l, lever_length=None, power: bool = True
+):
+    """:func:`_lever_joint_friction` with e, r (3, 3, N) and ω (3, N) components-first; ``power`` False: 0.0 for it."""
     if not laws.lever_joint_friction_on(params.friction):
         return 0.0, 0.0, 0.0
     tau_bf, tau_af = (stack(moment) for moment in laws.lever_joint_friction(params.friction, omega_l, omega))
     Q, f_b_z = _lever_end_forces(params, e, r, lever_spin, _NO_FORCE, -tau_af - tau_bf, lever_length)
     Q += np.sum(tau_af, axis=1)
-    power = np.sum(dot(tau_bf, omega_l) + dot(tau_af, omega_l - omega[:, None]), axis=0)
-    return Q, f_b_z, power
+    if not power:
+        return Q, f_b_z, 0.0
+    lost = np.sum(dot(tau_bf, omega_l) + dot(tau_af, omega_l - omega[:, None]), axis=0)
+    return Q, f_b_z, lost
 
 
 # --- The motion's terms, once; the machine's torques from them --------------------------
@@ -275,7 +292,9 @@ class MotionTerms:
         return MotionTerms(**{f.name: cut(getattr(self, f.name)) for f in fields(self)})
 
 
-def motion_terms(params: Parameters, kin: Kinematics, Fe: np.ndarray, lever_spin: bool = False) -> MotionTerms:
+def motion_terms(
+    params: Parameters, kin: Kinematics, Fe: np.ndarray, lever_spin: bool = False, samples: slice = slice(None)
+) -> MotionTerms:
     """The terms of :class:`MotionTerms` along a motion.
 
     Args:
@@ -284,43 +303,50 @@ def motion_terms(params: Parameters, kin: Kinematics, Fe: np.ndarray, lever_spin
         kin: kinematics along the trajectory (:func:`hipsim.analytic.inverse_kinematics.kinematics`).
         Fe: hydraulic load magnitude in [N], (N,).
         lever_spin: as in :func:`inverse_dynamics`.
+        samples: the samples to compute them for (a block of a long motion), all by default.
     """
     p = params.lead
-    omega = kin.omega.T
-    platform_axes = _platform_axes(kin)
-    Ld, Ldd = kin.Ld[:, 0].T, kin.Ldd[:, 0].T
-    omega_l, omega_l_dot = kin.omega_l.T, kin.omega_l_dot.T
+
+    def cut(first: np.ndarray) -> np.ndarray:
+        """A field of ``kin`` (sample first) components-first, the samples asked for: a view."""
+        return first.T[..., samples]
+
+    omega = cut(kin.omega)
+    platform_axes = cut(kin.R[:, :, 0]), cut(kin.R[:, :, 1]), cut(kin.R[:, :, 2])
+    Ld, Ldd = cut(kin.Ld[:, 0]), cut(kin.Ldd[:, 0])
+    e = cut(kin.e)
+    omega_l, omega_l_dot = cut(kin.omega_l), cut(kin.omega_l_dot)
+    u1 = per_leg(params.ujoint_axes)
     if lever_spin:
-        u1, e = per_leg(params.ujoint_axes), kin.e.T
         omega_l, omega_l_dot = (
             stack(laws.lever_angular_velocity(u1, e, omega_l)),
             stack(laws.lever_angular_acceleration(u1, e, omega_l, omega_l_dot)),
         )
-    lever_axes = _lever_axes(params, kin)
+    lever_axes = _lever_axes_of(params, e)
     # y = J⁻ᵀ·Q for the platform, lever and friction moments: y_i = (row i of J⁻ᵀ)·Q.
-    rows = laws.inverse_transpose(np.moveaxis(kin.J.T, 1, 0))  # from J's rows, (xyz, N) each
+    rows = laws.inverse_transpose(np.moveaxis(cut(kin.J), 1, 0))  # from J's rows, (xyz, N) each
     gravity = np.array([0.0, 0.0, -params.gravity])[:, None, None]
     return MotionTerms(
         lever_spin=lever_spin,
         n_platforms=params.heights.size,
         # n is 1 or 2: exact, so the same bits as −n·p/2π
         scale=-params.heights.size * travel_per_radian(p),
-        Fe=np.asarray(Fe, dtype=float),
+        Fe=np.asarray(Fe, dtype=float)[samples],
         omega=omega,
-        platform_z=kin.R[:, :, 2].T,
+        platform_z=platform_axes[2],
         platform_axes=platform_axes,
         omega_body=_body_components(platform_axes, omega),
-        omega_dot_body=_body_components(platform_axes, kin.omega_dot.T),
+        omega_dot_body=_body_components(platform_axes, cut(kin.omega_dot)),
         Ld=Ld,
         Ldd=Ldd,
         motor_speed=angle_from_travel(Ld, p),
-        e=kin.e.T,
-        r=kin.r.T,
+        e=e,
+        r=cut(kin.r),
         omega_l=omega_l,
         lever_axes=lever_axes,
         omega_l_body=_body_components(lever_axes, omega_l),
         omega_l_dot_body=_body_components(lever_axes, omega_l_dot),
-        gravity_minus_a_l=gravity - kin.a_l[:, 0].T,
+        gravity_minus_a_l=gravity - cut(kin.a_l[:, 0]),
         J_inv_T=np.array([[row[k] for row in rows] for k in range(3)]),  # its rows as vectors per leg (xyz, row, N)
     )
 
@@ -357,20 +383,23 @@ def screw_torques(params: Parameters, m: MotionTerms) -> np.ndarray:
     return angle_from_travel(params.screw_inertia, params.lead) * m.Ldd
 
 
-def friction_torques(params: Parameters, m: MotionTerms) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Friction: central chain, lever joints, slider guides and screws.
+def friction_torques(params: Parameters, m: MotionTerms) -> np.ndarray:
+    """The motor torques in [N·m] of friction: central chain, lever joints, slider guides and screws, (3, N)."""
+    return _friction(params, m, power=False)[0]
 
-    Returns:
-        The motor torques in [N·m] (3, N), the central chain's friction moment τ_mf in [N·m] (3, N),
-        and the power all friction dissipates in [W] (N,).
-    """
+
+def _friction(params: Parameters, m: MotionTerms, power: bool = True):
+    """:func:`friction_torques`, the central chain's friction moment τ_mf in [N·m] (3, N), and the power all
+    friction dissipates in [W] (N,) (None unless ``power``)."""
     f = params.friction
     tau_mf = central_chain_friction_components(f, params.platform_mass * params.gravity, m.omega, m.Fe, m.platform_z)
-    Q_lf, Fz_lf, power_lf = _lever_joint_friction_terms(params, m.e, m.r, m.omega, m.lever_spin, m.omega_l)
+    Q_lf, Fz_lf, power_lf = _lever_joint_friction_terms(params, m.e, m.r, m.omega, m.lever_spin, m.omega_l, power=power)
     Q_f = Q_lf - tau_mf
     F_Lf = laws.guide_friction(f, m.Ld, m.motor_speed)
     tau_screw_f = laws.screw_friction(f, m.motor_speed)
     tau_f = tau_screw_f + m.scale * (dot(m.J_inv_T, Q_f) + Fz_lf - F_Lf)
+    if not power:
+        return tau_f, tau_mf, None
     friction_power = np.sum(tau_screw_f * m.motor_speed, axis=0) + m.n_platforms * (
         np.sum(F_Lf * m.Ld, axis=0) + dot(tau_mf, m.omega) + power_lf
     )
@@ -383,7 +412,7 @@ PARTS = {
     "levers": lever_torques,
     "sliders": slider_torques,
     "screws": screw_torques,
-    "friction": lambda params, m: friction_torques(params, m)[0],
+    "friction": friction_torques,
 }
 
 
@@ -393,7 +422,7 @@ def torques_of(params: Parameters, m: MotionTerms) -> Torques:
     tau_l = lever_torques(params, m)
     tau_s = slider_torques(params, m)
     tau_L = screw_torques(params, m)
-    tau_f, tau_mf, friction_power = friction_torques(params, m)
+    tau_f, tau_mf, friction_power = _friction(params, m)
     tau = tau_m + tau_l + tau_s + tau_L + tau_f
     return Torques(
         total=tau.T,

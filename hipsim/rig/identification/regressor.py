@@ -58,9 +58,10 @@ __all__ = [
 
 #: Samples per chunk of the regressor (memory: ~2 kB per sample while a chunk is computed and filtered).
 CHUNK = 50_000
-#: Samples per block of the regressor's arithmetic: its working arrays (~70 a column, up to 9 numbers a sample) then
-#: stay in a core's cache; at a chunk's 50,000 samples they spill to memory and the same arithmetic runs ~3x slower.
-BLOCK = 4096
+#: Samples per block of the regressor's arithmetic: its working arrays (up to 9 numbers a sample, 0.6 MB) then stay
+#: near the core; at a chunk's 50,000 samples they spill to memory and the same arithmetic runs 2-3x slower (CPU time
+#: of a chunk's columns, 27 Nov, loaded machine: 1,024 samples 270 ms, 4,096 172 ms, 8,192 142-166 ms, 16,384 151 ms).
+BLOCK = 8192
 #: The bandwidth in [Hz] of the model error a residual carries besides the noise (sticking at reversals, the torque
 #: sensor's timing, the motion's own harmonics): rows closer than 1/(2·this) are not independent evidence of it.
 MODEL_ERROR_BANDWIDTH = 10.0
@@ -121,13 +122,12 @@ def _regressor_columns(
     ``machines``: :func:`_column_machines` of ``params``, if already made.
     """
     machines = _column_machines(params) if machines is None else machines
-    terms = motion_terms(params, kin, Fe, lever_spin)
     n = len(kin)
     Y = np.empty((len(machines), 3, n))
     for a in range(0, n, block):
-        part = terms[a : a + block]
+        terms = motion_terms(params, kin, Fe, lever_spin, slice(a, a + block))
         for k, (name, machine) in enumerate(machines):
-            Y[k, :, a : a + block] = PARTS[name](machine, part)
+            Y[k, :, a : a + block] = PARTS[name](machine, terms)
     return Y
 
 
