@@ -204,8 +204,8 @@ def bench_plants(params, quick: bool) -> None:
         )
     print("  targets: reduced >= 20x, Pinocchio >= 5x real time")
 
-    # Issue 17: the Pinocchio plant with the control compiled around its advance, next to the Python
-    # loop around the same advance, and to the plain path through derivative() (simulate's own RK4).
+    # Issue 17: the Pinocchio plant in the compiled loop (on the default route, the whole loop compiled; issue 39),
+    # next to the Python loop around its advance, and to the plain path through derivative() (simulate's own RK4).
     plant, length, per_period = PinocchioPlant(params), 0.3 if quick else 1.0, 1e6 / control.servo_rate
     plain = ThroughDerivative(plant)
     compiled, python_loop = alternated(
@@ -215,7 +215,7 @@ def bench_plants(params, quick: bool) -> None:
     )
     through = best_time(lambda: simulation.simulate(plain, controller, iso14242_at, length), repeats=2 if quick else 3)
     print(
-        f"  pinocchio plant, control compiled around advance(): {length / compiled:6.2f}x ({compiled / length * per_period:5.0f} µs per period); "
+        f"  pinocchio plant ({plant.route} route), compiled loop: {length / compiled:6.2f}x ({compiled / length * per_period:5.0f} µs per period); "
         f"Python loop around advance(): {length / python_loop:5.2f}x ({python_loop / length * per_period:4.0f} µs); "
         f"through derivative(): {length / through:5.2f}x ({through / length * per_period:4.0f} µs)"
     )
@@ -240,18 +240,21 @@ def per_call(function, calls: int = 20, batches: int = 300) -> float:
 
 def bench_plant_routes(params, quick: bool) -> None:
     """Issue 39: the Pinocchio plant's routes to a derivative, each with its error, and the closed loop on each beside MuJoCo's plant."""
+    import statistics
+
     import pinocchio as pin
 
     import hipsim.control.simulation as simulation
-    from hipsim.closed_chain import plant_kernel
+    from hipsim.closed_chain import plant_kernel, plant_step, tree_kernel
     from hipsim.closed_chain.dynamics import trajectory_dynamics
     from hipsim.closed_chain.plant import PinocchioPlant
     from hipsim.control.controllers import WorkspacePD
     from hipsim.motion.trajectories import iso14242_at
 
     control, controller = params.control, WorkspacePD(params)
-    kernel = PinocchioPlant(params)
-    pinocchio = PinocchioPlant(params, route="constraint_dynamics", chain=kernel.chain)
+    compiled = PinocchioPlant(params)
+    kernel = PinocchioPlant(params, route="kernel", chain=compiled.chain)
+    pinocchio = PinocchioPlant(params, route="constraint_dynamics", chain=compiled.chain)
     kin, torques = trajectory_dynamics(kernel.chain, iso14242_at([0.13]))
     x, tau, Fe = np.concatenate([kin.q[0], kin.v[0]]), torques.torques.total[0], 1500.0
     q, v, forces = x[: kernel.nq], x[kernel.nq :], kernel.generalised_forces(x, tau, Fe)
@@ -265,6 +268,7 @@ def bench_plant_routes(params, quick: bool) -> None:
     pin.computeJointMinimalOrdering(model, lcaba_data, cms)
     lcaba_settings = pin.ProximalSettings(1e-12, 1e-12, 1e-6, 3)  # the fewest iterations to 3e-9 m/s²
     kdata, views, constants = kernel._kernel
+    tree, scratch = compiled._tree
     accelerations = np.empty(kernel.nv)
 
     def by_kernel():
@@ -272,11 +276,18 @@ def bench_plant_routes(params, quick: bool) -> None:
         plant_kernel.constrained_acceleration(*views, x, forces, *constants, accelerations)
         return accelerations
 
+    def by_tree():
+        plant_step.acceleration(x, forces, tree, scratch, accelerations)
+        return accelerations
+
+    frames, motions, armature, bodies, joints, *_ = tree
+    rotations, origins, J, M, composites = scratch
     routes = (
         ("pin.constraintDynamics (2 proximal iterations)", lambda: pin.constraintDynamics(
             model, pinocchio.data, q, v, forces, cms, pinocchio.constraint_datas, pinocchio.proximal)),
         ("pin.lcaba (mu 1e-6, 3 iterations)", lambda: pin.lcaba(model, lcaba_data, q, v, forces, cms, lcaba_cds, lcaba_settings)),
         ("pin.crba + compiled closure solver", by_kernel),
+        ("compiled tree + closure solver, one call", by_tree),
     )  # fmt: skip
     batches = 100 if quick else 300
     print(
@@ -287,42 +298,64 @@ def bench_plant_routes(params, quick: bool) -> None:
         print(
             f"    {label:<48} {per_call(route, batches=batches):6.1f} µs  (error {error:.0e} m/s², |a| {np.abs(exact).max():.0f})"
         )
-    for plant in (pinocchio, kernel):
+    parts = (
+        ("pin.crba (WORLD)", lambda: pin.crba(model, kdata, q, pin.Convention.WORLD)),
+        ("compiled forward kinematics", lambda: tree_kernel.forward_kinematics(
+            frames, motions, joints, q, rotations, origins, J)),
+        ("compiled CRBA", lambda: tree_kernel.mass_matrix(J, rotations, origins, bodies, joints, armature, composites, M)),
+        ("compiled closure solver (Newton-Euler, J_c, solve)", lambda: plant_kernel.constrained_acceleration(
+            *views, x, forces, *constants, accelerations)),
+    )  # fmt: skip
+    print("    their parts, each a call from Python (~1 µs of each is the call):")
+    for label, part in parts:
+        print(f"      {label:<50} {per_call(part, batches=batches):6.1f} µs")
+    for plant in (pinocchio, kernel, compiled):
         print(
             f"    derivative(), route {plant.route:<20}         "
             f"{per_call(lambda plant=plant: plant.derivative(0.0, x, tau, Fe), batches=batches):6.1f} µs (generalised forces included)"
         )
-    plants = [("Pinocchio, compiled closure solver", kernel), ("Pinocchio, constraintDynamics", pinocchio)]
+    plants = [
+        ("Pinocchio, compiled (tree, solver, loop)", compiled),
+        ("Pinocchio, pin.crba + compiled solver", kernel),
+        ("Pinocchio, constraintDynamics", pinocchio),
+    ]
     try:
         from hipsim.mujoco_engine import MujocoPlant
 
         plants.append(("MuJoCo plant", MujocoPlant(params)))
     except hipsim.HipsimError as error:
         print(f"  MuJoCo: {error}; its plant is not compared")
-    length = 0.3 if quick else 1.0
+    length, repeats = (0.3, 3) if quick else (2.0, 5)
     for _, plant in plants:
         simulation.simulate(plant, controller, iso14242_at, 0.01)  # load or compile the kernels
     # On a shared machine a process waits for a core: its CPU time (one thread: BLAS pinned to one) is what an idle
-    # core would take, its wall time what this one took. Both, best of alternated runs.
-    wall, cpu = [math.inf] * len(plants), [math.inf] * len(plants)
-    for _ in range(2 if quick else 3):
+    # core would take, its wall time what this one took. Both, alternated runs; the median and the best.
+    wall, cpu = [[] for _ in plants], [[] for _ in plants]
+    for _ in range(repeats):
         for k, (_, plant) in enumerate(plants):
             start, start_cpu = time.perf_counter(), time.process_time()
             simulation.simulate(plant, controller, iso14242_at, length)
-            wall[k] = min(wall[k], time.perf_counter() - start)
-            cpu[k] = min(cpu[k], time.process_time() - start_cpu)
+            wall[k].append(time.perf_counter() - start)
+            cpu[k].append(time.process_time() - start_cpu)
+    periods = length * control.servo_rate
     print(
-        f"  closed loop, workspace PD, RK4 {control.integration_step * 1e3:g} ms, {length:g} s, alternated in one run (CPU time; wall):"
+        f"  closed loop, workspace PD, RK4 {control.integration_step * 1e3:g} ms, {periods:.0f} servo periods, "
+        f"{repeats} alternated runs, load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores "
+        "(CPU time, median [best]; wall, median):"
     )
-    for (label, _), used, elapsed in zip(plants, cpu, wall):
+    median = [statistics.median(times) for times in cpu]
+    for (label, _), times, used, elapsed in zip(plants, cpu, median, wall):
         print(
-            f"    {label:<36} {length / used:6.2f}x real time ({used / length / control.servo_rate * 1e6:5.0f} µs per servo period); "
-            f"wall {length / elapsed:6.2f}x"
+            f"    {label:<42} {length / used:6.2f}x real time [{length / min(times):6.2f}x] "
+            f"({used / periods * 1e6:5.0f} µs per servo period); wall {length / statistics.median(elapsed):6.2f}x"
         )
-    verdict = f"{length / cpu[0]:.1f}x real time in CPU time (target >= 10x)"
-    if len(cpu) > 2:
-        verdict += f", {cpu[2] / cpu[0]:.1f}x the MuJoCo plant (target >= 5x)"
-    print(f"  compiled route: {verdict}, {cpu[1] / cpu[0]:.2f}x the constraintDynamics route")
+    verdict = f"{length / median[0]:.1f}x real time in CPU time (target >= 10x)"
+    if len(median) > 3:
+        verdict += f", {median[3] / median[0]:.1f}x the MuJoCo plant (target >= 5x)"
+    print(
+        f"  compiled route: {verdict}, {median[1] / median[0]:.2f}x the crba + solver route, "
+        f"{median[2] / median[0]:.2f}x the constraintDynamics route"
+    )
 
 
 def bench_mujoco(params, quick: bool) -> None:
@@ -561,17 +594,18 @@ from hipsim.rig import identify, load_log
 from hipsim.analytic import inverse_dynamics, kinematics
 
 params = hipsim.load_parameters()
-started = time.perf_counter()
+started, started_cpu = time.perf_counter(), time.process_time()
 log = load_log(sys.argv[1], params)
-loaded = time.perf_counter()
+loaded, loaded_cpu = time.perf_counter(), time.process_time()
 result = identify([log], params)
-done = time.perf_counter()
+done, done_cpu = time.perf_counter(), time.process_time()
 peak = peak_kb() / 1024
 # Baseline in the same process: one analytic model run over the same samples (kinematics + inverse dynamics).
-baseline = time.perf_counter()
+baseline, baseline_cpu = time.perf_counter(), time.process_time()
 inverse_dynamics(params, kinematics(params, log.trajectory), log.trajectory.Fe, True)
-baseline = time.perf_counter() - baseline
+baseline, baseline_cpu = time.perf_counter() - baseline, time.process_time() - baseline_cpu
 print(json.dumps({"load": loaded - started, "identify": done - loaded, "peak_MB": peak, "baseline": baseline,
+                  "cpu": [loaded_cpu - started_cpu, done_cpu - loaded_cpu, baseline_cpu],
                   "samples": len(log), "quantities": len(result.quantities)}))
 """
 )
@@ -635,6 +669,11 @@ def bench_identification(params, quick: bool) -> None:
     )
     print(
         f"  baseline, one analytic model run over the same samples: {figures['baseline']:.2f} s ({total / figures['baseline']:.1f}x)"
+    )
+    load_cpu, identify_cpu, baseline_cpu = figures["cpu"]
+    print(
+        f"  CPU time (steadier on a shared machine): {load_cpu + identify_cpu:.1f} s (read {load_cpu:.1f} s, fit {identify_cpu:.1f} s) "
+        f"against the model run's {baseline_cpu:.2f} s ({(load_cpu + identify_cpu) / baseline_cpu:.1f}x)"
     )
     print(
         f"  target (10 minutes): <= 10 s and <= 500 MB   {'OK' if total <= 10 and figures['peak_MB'] <= 500 else 'MISSED'}"

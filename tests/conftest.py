@@ -62,6 +62,7 @@ def warm_closed_chain() -> None:
     plant = PinocchioPlant(params)
     for controller in (WorkspacePD(params), AugmentedPD(params, iso14242_at, params.control.servo_rate, 0.003)):
         simulate(plant, controller, iso14242_at, 0.003)
+    simulate(plant, WorkspacePD(params), iso14242_at, 0.003, compiled=False)  # the plant's advance() on its own
 
 
 def warm_reduced_plant() -> None:

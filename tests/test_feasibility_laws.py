@@ -139,6 +139,29 @@ def test_the_message():
     )
 
 
+def test_the_message_of_a_near_miss_shows_the_digits_that_differ():
+    # 40.01 mm against 40 mm: excess 1.00025 < 1.0005, so 10 significant digits and the relative excess
+    # 0.01/40 = 2.5e-4 (not "1×", and not 1 + 2.5e-4).
+    near = Crossing("stroke", 3, 1.5, 0.04001, 0.04)
+    assert near.message() == (
+        "motor 3 needs a stroke of 40.01 mm at t = 1.5 s; the limit is 40 mm (0.00025 beyond it, relative)"
+    )
+    # From an excess of 1.0005 on (here exactly: 1.0005 m against 1 m), four digits and the ratio.
+    assert Crossing("stroke", 1, 0.0, 1.0005, 1.0).message() == (
+        "motor 1 needs a stroke of 1,000 mm at t = 0 s; the limit is 1,000 mm (1×)"
+    )
+
+
+def test_which_limits_a_verdict_covers():
+    # The singularity floor and the load range have defaults; the motor's figures come from a machine.
+    assert Limits().checked() == ["singularity measure", "load range"]
+    assert Limits().unchecked() == ["stroke", "motor speed", "motor torque"]
+    some = Limits(stroke=0.1, motor_torque=2.0, slider_speed=0.3, cond_inv_floor=None, load_range=None)
+    # The verdict's own order; the slider's speed and acceleration are covered when given but never "unchecked".
+    assert some.checked() == ["stroke", "motor torque", "slider speed"]
+    assert some.unchecked() == ["motor speed", "singularity measure", "load range"]
+
+
 def test_limits_from_the_machine_and_a_drive():
     motor = {"stroke_mm": 120.0, "max_speed_rpm": 3000.0, "peak_torque_Nmm": 2500.0}
     limits = Limits.from_machine(SimpleNamespace(motor=motor))

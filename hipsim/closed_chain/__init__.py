@@ -13,7 +13,9 @@ other. Modules, by job:
 * :mod:`~hipsim.closed_chain.rnea`, :mod:`~hipsim.closed_chain.friction`: the tree's batched RNEA, friction as generalised forces;
 * :mod:`~hipsim.closed_chain.dynamics`: the closed-chain inverse dynamics (:func:`inverse_dynamics`, :func:`trajectory_dynamics`);
 * :mod:`~hipsim.closed_chain.engine`: the model behind the common model protocol (:class:`PinocchioModel`);
-* :mod:`~hipsim.closed_chain.plant`: the forward-dynamics plant.
+* :mod:`~hipsim.closed_chain.plant`: the forward-dynamics plant; its compiled parts:
+  :mod:`~hipsim.closed_chain.tree_kernel` (the tree's kinematics and CRBA),
+  :mod:`~hipsim.closed_chain.plant_kernel` (the closure solver), :mod:`~hipsim.closed_chain.plant_step` (RK4).
 """
 
 from .build import ClosedChainModel, load_model

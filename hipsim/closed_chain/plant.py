@@ -26,9 +26,18 @@ screw's rotor inertia is the joint's armature), minus the friction
 generalised forces Q_f of spec §4.3 / §7.3 — the laws of
 :mod:`hipsim.physics.laws`, as the closed-chain inverse dynamics adds them
 (:func:`hipsim.closed_chain.friction.friction_forces`), so inverse then forward
-dynamics is consistent. Two routes solve it (``route``, :data:`ROUTES`):
+dynamics is consistent. Three routes solve it (``route``, :data:`ROUTES`):
 
-* ``"kernel"`` (the default): ``pin.crba`` in the WORLD convention (M with the
+* ``"compiled"`` (the default): all of it compiled, no Pinocchio call on the
+  way (:mod:`~hipsim.closed_chain.plant_step`): the tree's forward kinematics
+  and CRBA (:mod:`~hipsim.closed_chain.tree_kernel`, from the model's joint
+  placements, axes and inertias read once; held equal to ``pin.crba``'s at
+  construction), then the closure solver below; :meth:`PinocchioPlant.advance`
+  runs a servo period's RK4 steps in one compiled call, and
+  :func:`hipsim.control.simulate` the built-in controllers' whole loop around
+  them (:meth:`PinocchioPlant.compiled_stepper`). The same arithmetic as
+  ``"kernel"`` but for M's rounding (~1e-15 relative).
+* ``"kernel"``: ``pin.crba`` in the WORLD convention (M with the
   armature, and the joints' world placements and Jacobians as by-products),
   then one compiled call (:func:`~hipsim.closed_chain.plant_kernel.constrained_acceleration`)
   that evaluates h by Newton–Euler, the closures' frames, Jacobian and drift,
@@ -94,14 +103,14 @@ Cost (27 Nov, Python 3.11, pin 4.1, best single calls on a shared 2-core
 machine): ``crba`` 2.6 µs and the compiled solve 4.6 µs (1.2 µs of it numba
 unboxing 13 arguments), 7.4 µs, against ``constraintDynamics`` (CRBA, bias
 forces, the constraint Cholesky, two proximal solves) 12.5 µs; ``lcaba``
-14.7 µs at μ = 1e-6 and three iterations. The generalised forces add ~1 µs
+14.7 µs at μ = 1e-6 and three iterations; the ``"compiled"`` route's
+derivative inside its loop ~4–5 µs (forward kinematics 0.7, CRBA 0.7–1.1,
+the solve 2.4–3). The generalised forces add ~1 µs
 (one compiled call, most of it in passing the arguments), the rest (call,
-slicing, concatenating [v, a]) ~1 µs. See scripts/bench.py.
+slicing, concatenating [v, a]) ~1 µs. See scripts/bench.py and docs/guide/speed.md.
 """
 
 from __future__ import annotations
-
-import math
 
 import numpy as np
 import pinocchio as pin
@@ -115,7 +124,11 @@ from ..physics.transmission import radians_per_travel
 from .build import ClosedChainModel, load_model
 from .closure import kinematics
 from .friction import friction_forces
-from .plant_kernel import constrained_acceleration, tree_constants
+from .plant_kernel import block_order, constrained_acceleration, tree_constants
+from .plant_step import acceleration as compiled_acceleration
+from .plant_step import advance as compiled_advance
+from .plant_step import generalised_forces, rk4_stage
+from .tree_kernel import tree_geometry
 from .workspace import _joint_placement_views
 
 __all__ = ["PinocchioPlant", "DEFAULT_BAUMGARTE", "DEFAULT_PROXIMAL", "ROUTES"]
@@ -125,75 +138,11 @@ __all__ = ["PinocchioPlant", "DEFAULT_BAUMGARTE", "DEFAULT_PROXIMAL", "ROUTES"]
 DEFAULT_BAUMGARTE = (10.0**2, 2.0 * 10.0)
 #: Proximal settings (absolute accuracy, relative accuracy [N], μ [1/kg], max iterations).
 DEFAULT_PROXIMAL = (1e-12, 1e-12, 1e-12, 2)
-#: The forward dynamics' routes: the compiled closure solver (:mod:`~hipsim.closed_chain.plant_kernel`) after
-#: ``pin.crba``, or ``pin.constraintDynamics``. The same equations; the first is the faster.
-ROUTES = ("kernel", "constraint_dynamics")
-
-
-@laws.jit
-def _generalised_forces(buf, x, tau, Fe, friction, weight, gain, platforms, sliders):
-    """Sᵀ(2π/p)·τ − Q_f into buf (the closed-form path, see the module docstring).
-
-    Args:
-        buf: the tree's generalised forces, written at the platforms' and sliders' entries, (nv,).
-        x: state [q, v], (2·nv,).
-        tau: motor torques in [N·m], (3,).
-        Fe: load in [N].
-        friction: the friction coefficients as a plain tuple (:func:`hipsim.physics.laws.friction_record`).
-        weight: the platform's weight m_m·g in [N].
-        gain: 2π/p in [1/m].
-        platforms: per platform, the state slots of q_rx, q_ry, q_rz, v_rx, v_ry, v_rz, (2, 6).
-        sliders: per motor, the slots of the slider's q (= its force entry) and v, (3, 2).
-    """
-    F = laws.FrictionRecord(*friction)
-    for j in range(platforms.shape[0]):
-        slot = platforms[j]
-        c = (math.cos(x[slot[0]]), math.cos(x[slot[1]]), math.cos(x[slot[2]]))
-        s = (math.sin(x[slot[0]]), math.sin(x[slot[1]]), math.sin(x[slot[2]]))
-        R = laws.rotation(c, s)
-        omega = laws.t_times(c, s, (x[slot[3]], x[slot[4]], x[slot[5]]))
-        Q = laws.t_transpose_times(
-            c, s, laws.central_friction_moment(F, omega, (R[0][2], R[1][2], R[2][2]), Fe, weight)
-        )
-        buf[slot[0]], buf[slot[1]], buf[slot[2]] = -Q[0], -Q[1], -Q[2]
-    for i in range(sliders.shape[0]):
-        rate = x[sliders[i, 1]]
-        speed = gain * rate
-        # Two guides per carriage; the screw's torque on the motor shaft as a carriage force.
-        friction_force = 2.0 * laws.guide_friction(F, rate, speed) + gain * laws.screw_friction(F, speed)
-        buf[sliders[i, 0]] = gain * tau[i] - friction_force
-    return buf
-
-
-@laws.jit
-def _rk4_stage(s, x, y, stages, a, h, buf, tau, Fe, friction, weight, gain, platforms, sliders):
-    """What a classic RK4 step of h [s] does between two ``constraintDynamics`` calls, in place.
-
-    Stage s = 0 starts a step at x: y = x. Stages 1, 2, 3 keep the derivative
-    the previous stage gave, k_s = [v, a] (v read from y, a from Pinocchio),
-    and move to y = x + (h/2, h/2, h)·k_s. Then the generalised forces at y
-    (:func:`_generalised_forces`, under motor torques tau [N·m] and load
-    Fe [N]) go into buf, for Pinocchio to evaluate the stage. s = 4 keeps k₄
-    and ends the step: x += h/6·(k₁ + 2k₂ + 2k₃ + k₄). The arithmetic is
-    that of :func:`hipsim.control.simulation._rk4`, operation for operation.
-    """
-    n = x.size
-    nq = n // 2
-    if s >= 1:
-        for i in range(nq):
-            stages[s - 1, i] = y[nq + i]
-            stages[s - 1, nq + i] = a[i]
-    if s == 4:
-        for i in range(n):
-            x[i] = x[i] + h / 6 * (stages[0, i] + 2 * stages[1, i] + 2 * stages[2, i] + stages[3, i])
-        return
-    if s == 0:
-        y[:] = x
-    else:
-        step = h if s == 3 else h / 2
-        for i in range(n):
-            y[i] = x[i] + step * stages[s - 1, i]
-    _generalised_forces(buf, y, tau, Fe, friction, weight, gain, platforms, sliders)
+#: The forward dynamics' routes: all compiled (:mod:`~hipsim.closed_chain.plant_step`: the tree's kinematics and
+#: inertia, the closure solver, a servo period's RK4 steps in one call), the compiled closure solver
+#: (:mod:`~hipsim.closed_chain.plant_kernel`) after ``pin.crba``, or ``pin.constraintDynamics``. The same
+#: equations, fastest first.
+ROUTES = ("compiled", "kernel", "constraint_dynamics")
 
 
 class PinocchioPlant:
@@ -207,11 +156,14 @@ class PinocchioPlant:
         max_iter: proximal iterations at most.
         chain: ``load_model(params)`` for these very params, to skip
             building it again (its constraint models are copied, not modified).
-        route: how a derivative is evaluated (:data:`ROUTES`): ``"kernel"``, the
-            compiled closure solver (falls back on ``"constraint_dynamics"`` for a
-            tree with multi-DoF joints, or where Pinocchio's placements cannot be
-            viewed; :attr:`route` says which runs), or ``"constraint_dynamics"``.
-            mu and max_iter only concern the latter.
+        route: how a derivative is evaluated (:data:`ROUTES`): ``"compiled"``, all of
+            it compiled (falls back on ``"kernel"`` for a tree whose joints are not
+            plain revolute or prismatic ones, or whose compiled inertia differs from
+            ``pin.crba``'s), ``"kernel"``, the compiled closure solver after ``pin.crba``
+            (falls back on ``"constraint_dynamics"`` for a tree with multi-DoF joints,
+            or where Pinocchio's placements cannot be viewed), or
+            ``"constraint_dynamics"``; :attr:`route` says which runs. mu and max_iter
+            only concern the last.
 
     Raises:
         ValueError: mu not positive, or a chain built from other parameters.
@@ -229,7 +181,7 @@ class PinocchioPlant:
         mu: float = DEFAULT_PROXIMAL[2],
         max_iter: int = DEFAULT_PROXIMAL[3],
         chain: ClosedChainModel | None = None,
-        route: str = "kernel",
+        route: str = "compiled",
     ):
         if route not in ROUTES:
             raise ArgumentError("route", route, f"one of {', '.join(ROUTES)}")
@@ -277,14 +229,19 @@ class PinocchioPlant:
         self._friction = tuple(laws.friction_record(params.friction))
         self._weight = float(params.platform_mass * params.gravity)
         self._fast = not laws.lever_joint_friction_on(params.friction) and self._platform_follows_the_spec()
+        #: The closed-form friction's arguments (:func:`~hipsim.closed_chain.plant_step.generalised_forces`).
+        self._forces = (self._friction, self._weight, self._force_gain, self._platform_slots, self._slider_slots)
         # For the general friction path and the diagnostics: their own Data, not the dynamics'.
         self._jdata = model.createData()
         self._jdatas = pin.StdVec_RigidConstraintData()
         for cm in self.constraint_models:
             self._jdatas.append(cm.createData())
-        self._kernel = self._kernel_arguments() if route == "kernel" else None
+        self._kernel = self._kernel_arguments() if route in ("compiled", "kernel") else None
+        self._tree = self._tree_arguments() if route == "compiled" and self._kernel is not None else None
         #: The route derivatives take (:data:`ROUTES`).
-        self.route = "kernel" if self._kernel is not None else "constraint_dynamics"
+        self.route = (
+            "compiled" if self._tree is not None else "kernel" if self._kernel is not None else "constraint_dynamics"
+        )
         self._a = np.empty(self.nv)  # the kernel's acceleration, reused by advance()
 
     # -- the Plant protocol -------------------------------------------------
@@ -299,7 +256,10 @@ class PinocchioPlant:
         nq = self.nq
         q, v = x[:nq], x[nq:]
         buf = self._fill_forces(x, tau, Fe)
-        if self._kernel is not None:
+        if self._tree is not None:
+            a = np.empty(self.nv)
+            compiled_acceleration(np.ascontiguousarray(x, dtype=float), buf, *self._tree, a)
+        elif self._kernel is not None:
             data, views, constants = self._kernel
             pin.crba(self.model, data, q, pin.Convention.WORLD)
             a = np.empty(self.nv)
@@ -339,26 +299,32 @@ class PinocchioPlant:
                 self.proximal,
             )
             y, q, v, k, buf = self._y, self._y_q, self._y_v, self._stages, self._tau
-            forces = (self._friction, self._weight, self._force_gain, self._platform_slots, self._slider_slots)
+            forces = self._forces
+            if self._tree is not None:
+                compiled_advance(
+                    x, tau, np.ascontiguousarray(loads, dtype=float), float(h), int(substeps), forces, *self._tree,
+                    y, k, buf, self._a,
+                )  # fmt: skip
+                return x
             a = buf  # stage 0 reads no derivative
             if self._kernel is not None:
                 kdata, views, constants, world, a = *self._kernel, pin.Convention.WORLD, self._a
                 for step in range(substeps):
                     for s in range(4):
-                        _rk4_stage(s, x, y, k, a, h, buf, tau, float(loads[2 * step + (s + 1) // 2]), *forces)
+                        rk4_stage(s, x, y, k, a, h, buf, tau, float(loads[2 * step + (s + 1) // 2]), *forces)
                         pin.crba(model, kdata, q, world)
                         constrained_acceleration(*views, y, buf, *constants, a)
-                    _rk4_stage(4, x, y, k, a, h, buf, tau, 0.0, *forces)
+                    rk4_stage(4, x, y, k, a, h, buf, tau, 0.0, *forces)
                 return x
             for step in range(substeps):
                 for s in range(4):
-                    _rk4_stage(s, x, y, k, a, h, buf, tau, float(loads[2 * step + (s + 1) // 2]), *forces)
+                    rk4_stage(s, x, y, k, a, h, buf, tau, float(loads[2 * step + (s + 1) // 2]), *forces)
                     a = pin.constraintDynamics(model, data, q, v, buf, cms, cds, proximal)
-                _rk4_stage(4, x, y, k, a, h, buf, tau, 0.0, *forces)
+                rk4_stage(4, x, y, k, a, h, buf, tau, 0.0, *forces)
             return x
         nq = self.nq
         k = self._stages
-        if type(self).derivative is not PinocchioPlant.derivative or self._kernel is not None:
+        if type(self).derivative is not PinocchioPlant.derivative or self._kernel is not None or self._tree is not None:
 
             def rate(y, Fe, out):
                 out[:] = self.derivative(t, y, tau, Fe)
@@ -384,6 +350,20 @@ class PinocchioPlant:
             rate(x + h * k[2], loads[2 * s + 2], k[3])
             x = x + h / 6 * (k[0] + 2 * k[1] + 2 * k[2] + k[3])
         return x
+
+    def compiled_stepper(self) -> tuple | None:
+        """This plant's RK4 steps compiled, for the compiled servo loop (:mod:`hipsim.control.closed_chain_loop`), or None.
+
+        ``(forces, tree, scratch, y, stages, buf, a)`` as
+        :func:`~hipsim.closed_chain.plant_step.advance` takes them (its work
+        arrays are this plant's: one run at a time). None unless the route is
+        ``"compiled"`` with the closed-form friction, and for a subclass: it may
+        change the equations (its derivative, its steps), which the compiled
+        loop would not see.
+        """
+        if self._tree is None or not self._fast or type(self) is not PinocchioPlant:
+            return None
+        return (self._forces, *self._tree, self._y, self._stages, self._tau, self._a)
 
     @property
     def angle_slots(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -433,7 +413,7 @@ class PinocchioPlant:
         """Write Sᵀ(2π/p)·τ − Q_f into the reused buffer and return it."""
         buf = self._tau
         if self._fast:
-            return _generalised_forces(
+            return generalised_forces(
                 buf,
                 x,
                 tau,
@@ -467,16 +447,50 @@ class PinocchioPlant:
         others = np.setdiff1d(np.arange(model.nv), angles)
         if 3 * len(self.constraint_models) != others.size:
             return None
+        bodies, joints = tree_constants(model)
+        closures = np.array([[cm.joint1_id, cm.joint2_id] for cm in self.constraint_models], dtype=np.int64)
+        others, blocks = block_order(joints, closures, others)
         order = np.zeros((2, model.nv), dtype=np.int64)
         order[0] = np.concatenate([angles, others])
         order[1, others], order[1, angles] = np.arange(others.size), others.size + np.arange(3)
-        bodies, joints = tree_constants(model)
-        closures = np.array([[cm.joint1_id, cm.joint2_id] for cm in self.constraint_models], dtype=np.int64)
         placements = np.array(
             [[cm.joint1_placement.homogeneous, cm.joint2_placement.homogeneous] for cm in self.constraint_models]
         )
         settings = np.array([*self.baumgarte, *model.gravity.linear])
-        return data, (data.M, data.J, rotations, origins), (bodies, joints, closures, placements, order, settings)
+        return (
+            data,
+            (data.M, data.J, rotations, origins),
+            (bodies, joints, closures, placements, order, blocks, settings),
+        )
+
+    def _tree_arguments(self) -> tuple | None:
+        """The compiled route's tree and scratch arrays (:func:`~hipsim.closed_chain.plant_step.acceleration`), or None where it cannot run.
+
+        It needs plain revolute and prismatic joints (:func:`~hipsim.closed_chain.tree_kernel.tree_geometry`),
+        and its inertia must be ``pin.crba``'s: checked here at random configurations.
+        """
+        model = self.model
+        geometry = tree_geometry(model)
+        if geometry is None or self._kernel is None:
+            return None
+        armature = np.array(model.armature, dtype=float)
+        tree = (*geometry, armature, *self._kernel[2])
+        nj, nv = model.njoints, model.nv
+        scratch = (np.empty((nj, 3, 3)), np.empty((nj, 3)), np.empty((6, nv)), np.empty((nv, nv)), np.empty((nj, 13)))
+        rng, data = np.random.default_rng(2024), model.createData()
+        for _ in range(3):
+            q = rng.uniform(-1.0, 1.0, model.nq)
+            y, a = np.concatenate([q, rng.normal(size=nv)]), np.empty(nv)
+            compiled_acceleration(y, np.zeros(nv), tree, scratch, a)
+            M = pin.crba(model, data, q, pin.Convention.WORLD)
+            M = np.triu(M) + np.triu(M, 1).T
+            scale = np.abs(M).max()
+            if not (
+                np.allclose(scratch[3], M, rtol=0.0, atol=1e-12 * scale)
+                and np.allclose(scratch[2], data.J, rtol=0.0, atol=1e-12)
+            ):
+                return None
+        return tree, scratch
 
     def _platform_follows_the_spec(self) -> bool:
         """Do the platforms turn by R(q) of spec §2, with world angular Jacobians T(q) (columns rx, ry, rz)?

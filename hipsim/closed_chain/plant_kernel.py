@@ -24,7 +24,9 @@ forces, the constraint Cholesky, the proximal loop) and ``pin.lcaba`` as
 much or more at equal accuracy (it needs μ ≈ 1e-6 and three proximal
 iterations for 3e-9 m/s², and ignores the Baumgarte corrector); ``crba``
 costs 2.6 µs and this call 4.6 µs (1.2 µs of it numba's unboxing of the
-arguments; an 18×18 elimination, a 3×3 system). The closures' frames, gaps, Jacobian and drift J̇_c v are those of
+arguments; an 18×18 elimination, block by block in B's block lower
+triangular order (:func:`block_order`: three 3×3 blocks and a 9×9 for the
+hip), M·G over M's nonzero entries, a 3×3 system). The closures' frames, gaps, Jacobian and drift J̇_c v are those of
 :mod:`~hipsim.closed_chain.closure_kernel`, held equal to Pinocchio's by
 its tests; the acceleration is held equal to ``constraintDynamics``'s by
 this module's tests.
@@ -44,11 +46,12 @@ from ..physics import laws
 from ..physics.vectors import add, cross, matvec, scale, sub, transpose_times
 from . import block_inverse, closure_kernel
 from .closure_kernel import _point_acceleration, closure_frames
+from .workspace import block_triangular_order
 
 #: The kernels call closure_kernel's: its source (and what it calls) is part of their cache key.
 _DEPENDS_ON = (*laws.LAW_FILES, Path(closure_kernel.__file__), Path(block_inverse.__file__))
 
-__all__ = ["constrained_acceleration", "tree_constants"]
+__all__ = ["block_order", "constrained_acceleration", "tree_constants"]
 
 
 def tree_constants(model) -> tuple[np.ndarray, np.ndarray]:
@@ -67,6 +70,37 @@ def tree_constants(model) -> tuple[np.ndarray, np.ndarray]:
         bodies[j, 0], bodies[j, 1:4], bodies[j, 4:] = inertia.mass, inertia.lever, inertia.inertia.ravel()
         joints[j] = model.parents[j], model.joints[j].idx_v if j else -1
     return bodies, joints
+
+
+def block_order(joints: np.ndarray, closures: np.ndarray, others: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The orders of the eliminated system's rows and columns that make B block lower triangular, for :func:`constrained_acceleration`.
+
+    Closure c's three rows of J_c reach the columns of the joints that support
+    its two frames, and no other: from that pattern, the Dulmage–Mendelsohn
+    block triangular form (:func:`~hipsim.closed_chain.workspace.block_triangular_order`).
+    For the hip: each platform-1 lever's slider and universal joint (3×3, three
+    of them), then platform 2's levers and spherical joint together (9×9).
+
+    Args:
+        joints: per joint (parent, velocity slot), (njoints, 2) (:func:`tree_constants`).
+        closures: per closure, its frames' joints, (n, 2).
+        others: the velocity slots of B's columns, (3·n,).
+
+    Returns:
+        others in the system's column order (3·n,), and ``blocks`` as :func:`constrained_acceleration` takes it.
+    """
+    reach = np.zeros((closures.shape[0], joints.shape[0] - 1), dtype=bool)
+    for c, ends in enumerate(closures):
+        for j in ends:
+            while j > 0:
+                reach[c, joints[j, 1]] = True
+                j = joints[j, 0]
+    rows, columns, starts = block_triangular_order(np.repeat(reach[:, others], 3, axis=0))
+    blocks = np.zeros((2, others.size), dtype=np.int64)
+    blocks[0, rows] = np.arange(others.size)
+    for start, stop in zip(starts[:-1], starts[1:]):
+        blocks[1, start:stop] = stop
+    return others[columns], blocks
 
 
 @laws.jit(depends_on=_DEPENDS_ON)
@@ -161,7 +195,7 @@ def _nonlinear_effects(J, rotations, origins, bodies, joints, gravity, twists, r
 
 @laws.jit(depends_on=_DEPENDS_ON)
 def constrained_acceleration(
-    M, J, rotations, origins, y, tau, bodies, joints, closures, placements, order, settings, a
+    M, J, rotations, origins, y, tau, bodies, joints, closures, placements, order, blocks, settings, a
 ):  # pragma: no cover - compiled
     """The tree acceleration a [m/s², rad/s²] at state y = [q, v] under generalised forces tau, the closures held; returns |d|² [m²].
 
@@ -175,6 +209,9 @@ def constrained_acceleration(
         closures, placements: per closure, its frames' joints (n, 2) and their placements in them (n, 2, 4, 4).
         order: row 0, platform 1's three angle slots, then the other nv − 3 (J_c's columns of those: square,
             regular); row 1, each slot's column in the eliminated system (the others' first, the angles' after), (2, nv).
+        blocks: row 0, each row of J_c's row in the eliminated system; row 1, for each row (and column) of the
+            system, where its diagonal block ends, (2, nv − 3). The system's rows and columns are in an order
+            that makes B block lower triangular (:func:`block_order`; a single block is the plain order).
         settings: Baumgarte's K_p [1/s²], K_d [1/s], then the gravity vector [m/s²].
         a: out, (nv,).
     """
@@ -219,7 +256,7 @@ def constrained_acceleration(
         )
         drift, rate = transpose_times(R, p_ddot), transpose_times(R, p_dot)
         for i in range(3):
-            work[3 * c + i, nv] = -drift[i] + kp * d[3 * c + i] - kd * rate[i]
+            work[blocks[0, 3 * c + i], nv] = -drift[i] + kp * d[3 * c + i] - kd * rate[i]
         # J_c's columns: ∂/∂v of R₁ᵀ(ṗ₁ − ṗ₂) along each frame's supporting chain (closure_kernel.closure_jacobian).
         for end in range(2):
             point, sign = (p1, 1.0) if end == 0 else (q2, -1.0)
@@ -230,12 +267,15 @@ def constrained_acceleration(
                 local = transpose_times(R, world)
                 column = order[1, slot]
                 for i in range(3):
-                    work[3 * c + i, column] += sign * local[i]
+                    work[blocks[0, 3 * c + i], column] += sign * local[i]
                 j = joints[j, 0]
-    # Eliminate with partial pivoting over the m dependent columns; X = B⁻¹[J_i | r] ends in columns m … nv.
+    # Eliminate over the m dependent columns, X = B⁻¹[J_i | r] ending in columns m … nv. B is block lower
+    # triangular: pivots are sought within a diagonal block (det B is the product of the blocks'), and a pivot
+    # row, whose earlier blocks' entries are gone by then, only reaches its own block's columns and the last four.
     for k in range(m):
+        end = blocks[1, k]
         pivot, best = k, abs(work[k, k])
-        for i in range(k + 1, m):
+        for i in range(k + 1, end):
             if abs(work[i, k]) > best:
                 pivot, best = i, abs(work[i, k])
         if pivot != k:
@@ -245,13 +285,15 @@ def constrained_acceleration(
         for i in range(k + 1, m):
             factor = work[i, k] * inverse
             if factor != 0.0:
-                for j in range(k + 1, nv + 1):
+                for j in range(k + 1, end):
+                    work[i, j] -= factor * work[k, j]
+                for j in range(m, nv + 1):
                     work[i, j] -= factor * work[k, j]
     for k in range(m - 1, -1, -1):
         inverse = 1.0 / work[k, k]
         for j in range(m, nv + 1):
             total = work[k, j]
-            for i in range(k + 1, m):
+            for i in range(k + 1, blocks[1, k]):
                 total -= work[k, i] * work[i, j]
             work[k, j] = total * inverse
     # G = [I; −X_i] over the slots (three columns) and c = [0; X_r] (the fourth).
@@ -263,13 +305,21 @@ def constrained_acceleration(
         for j in range(3):
             G[slot, j] = -work[k, m + j]
         G[slot, 3] = work[k, nv]
+    # M·G over M's nonzero entries only: M[i, k] ≠ 0 needs joint i on k's path to the root (or the reverse),
+    # 93 of 441 entries here; an ancestor's velocity slot comes first, so M[i, k] is in the upper triangle.
     MG = np.zeros((nv, 4))
-    for i in range(nv):
-        for k in range(nv):
-            Mik = M[i, k] if i <= k else M[k, i]
-            if Mik != 0.0:  # M is block sparse (the platforms' and the legs' subtrees): 93 of 441 entries here
-                for j in range(4):
-                    MG[i, j] += Mik * G[k, j]
+    for j in range(1, nj):
+        k = joints[j, 1]
+        for c in range(4):
+            MG[k, c] += M[k, k] * G[k, c]
+        i = joints[j, 0]
+        while i > 0:
+            slot = joints[i, 1]
+            Mik = M[slot, k]
+            for c in range(4):
+                MG[slot, c] += Mik * G[k, c]
+                MG[k, c] += Mik * G[slot, c]
+            i = joints[i, 0]
     A = np.zeros((3, 3))
     b = np.zeros(3)
     for r in range(3):

@@ -358,8 +358,11 @@ def _compiled_loop(
 
     A plant with a compiled kernel (the reduced plant; ``kernel``, its
     ``compiled_kernel()``) runs whole chunks of servo periods in one compiled
-    call; a plant with ``angle_slots`` steps itself through ``advance``, each
-    period's control compiled around it.
+    call, and so does a plant whose ``compiled_stepper()`` offers its RK4
+    steps compiled (the Pinocchio plant on its ``"compiled"`` route,
+    :mod:`~hipsim.control.closed_chain_loop`); another plant with
+    ``angle_slots`` steps itself through ``advance``, each period's control
+    compiled around it.
     """
     from . import servo_kernel  # imports numba: only when a loop runs compiled
 
@@ -397,6 +400,19 @@ def _compiled_loop(
             f"a state of the {getattr(plant, 'name', 'plant')} plant, holding its angles at {angles} and rates at {rates}",
         )
     step, machine = 2 * substeps, reduced_kernel.plain_parameters(controller._kernel_params)
+    stepper = plant.compiled_stepper() if hasattr(plant, "compiled_stepper") else None
+    if stepper is not None:
+        if x.shape != stepper[3].shape:  # the compiled steps index the state by its size, unchecked
+            raise ArgumentError("initial_state", x, f"a state of the {plant.name} plant, of shape {stepper[3].shape}")
+        from . import closed_chain_loop  # imports Pinocchio: only for a plant that offers a compiled RK4
+
+        for start, stop in _servo_chunks(n, _CHUNK, desc, progress, notify):
+            reached = closed_chain_loop.stepped_loop(
+                stepper, x, angles, rates, signs, machine, start, stop, *control, loads, float(h), int(substeps), *log
+            )
+            if reached != stop:
+                raise _unstable(t, reached)
+        return
     for start, stop in _servo_chunks(n, _CHUNK, desc, progress, notify):
         for k in range(start, stop):
             if not servo_kernel.control_period(

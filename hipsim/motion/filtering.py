@@ -94,14 +94,16 @@ def filter_halo(rate: float, cutoff: float) -> int:
         length *= 2
 
 
-def lowpass(x: np.ndarray, rate: float, cutoff: float, source: str | None = None) -> np.ndarray:
-    """Zero-phase Butterworth low-pass along the first axis (``sosfiltfilt``, order :data:`FILTER_ORDER`).
+def lowpass(x: np.ndarray, rate: float, cutoff: float, source: str | None = None, axis: int = 0) -> np.ndarray:
+    """Zero-phase Butterworth low-pass along the first axis, or ``axis`` (``sosfiltfilt``, order :data:`FILTER_ORDER`).
 
     Args:
         x: samples, (N, ...), in any unit.
         rate: sample rate in [Hz].
         cutoff: cutoff frequency in [Hz] (−3 dB of one pass, −6 dB of both).
         source: the log's name, for messages.
+        axis: the samples' axis, if not the first (the last, of components-first arrays (..., N), filters them
+            without SciPy's transposing copies; each signal's numbers are the same either way).
 
     Raises:
         TrajectoryError: a cutoff not below the Nyquist frequency, or a log too short to filter.
@@ -109,15 +111,16 @@ def lowpass(x: np.ndarray, rate: float, cutoff: float, source: str | None = None
     check_cutoff(rate, cutoff, source)
     x = np.asarray(x, dtype=float)
     needed = minimum_samples(rate, cutoff)
-    if len(x) < needed:
+    n = x.shape[axis]
+    if n < needed:
         raise TrajectoryError(
-            f"{len(x)} samples ({len(x) / rate:.3g} s) are too short to filter at {cutoff:g} Hz: at least {needed} "
+            f"{n} samples ({n / rate:.3g} s) are too short to filter at {cutoff:g} Hz: at least {needed} "
             f"({needed / rate:.3g} s) are needed, {EDGE_PERIODS:g}/cutoff at each end being dropped",
             source=source,
         )
     sos = butter(FILTER_ORDER, cutoff, fs=rate, output="sos")
     # An odd extension as long as the dropped edge: the filter starts on a smooth continuation of the signal.
-    return sosfiltfilt(sos, x, axis=0, padlen=min(edge_samples(rate, cutoff), len(x) - 1))
+    return sosfiltfilt(sos, x, axis=axis, padlen=min(edge_samples(rate, cutoff), n - 1))
 
 
 def lowpass_periodic(x: np.ndarray, rate: float, cutoff: float, source: str | None = None) -> np.ndarray:

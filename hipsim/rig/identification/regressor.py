@@ -5,8 +5,15 @@ of each body group and in the friction coefficients, θ the
 :data:`~hipsim.rig.identification.quantities.QUANTITIES`. :func:`regressor` builds Y from that
 linearity: the inverse dynamics of a machine whose parameters are all zero
 but one, set to one, is that parameter's column. Each body group lands in its
-own torque part (spec §4.4), so one call gives a column of every group at
-once, ten calls in all. The levers' centre of mass stays at mid-length, as the
+own torque part (spec §4.4), so a column is that part alone
+(:data:`hipsim.analytic.virtual_work.PARTS`) of its machine, evaluated on the
+motion's terms (:func:`hipsim.analytic.virtual_work.motion_terms`: the
+lever's spin, body components, J⁻ᵀ), which are the same for every column and
+computed once, :data:`BLOCK` samples at a time so that the arithmetic runs in
+the processor's cache. The numbers are those of the full inverse dynamics of
+the ten machines that carry one parameter of every group each
+(:func:`_regressor_by_unit_machines`, kept as the reference a test holds the
+columns to, bit for bit). The levers' centre of mass stays at mid-length, as the
 model has it; the hip-joint and thrust-bearing Coulomb terms scale with the
 load, the screw and guide terms with the motor speed, the lever-joint terms
 with their relative angular speeds, each through the same friction law the
@@ -29,7 +36,7 @@ from collections.abc import Iterator
 import numpy as np
 
 from ...analytic.inverse_kinematics import kinematics
-from ...analytic.virtual_work import inverse_dynamics
+from ...analytic.virtual_work import PARTS, inverse_dynamics, motion_terms
 from ...machine.parameters import Parameters
 from ...motion.trajectories import Trajectory
 from ..logs.log import Log, MeasuredLog
@@ -38,6 +45,7 @@ from ..logs.smoothing import lowpass, minimum_samples
 from .quantities import FRICTION, QUANTITIES, friction_unit, with_values
 
 __all__ = [
+    "BLOCK",
     "CHUNK",
     "MODEL_ERROR_BANDWIDTH",
     "decimation",
@@ -50,6 +58,10 @@ __all__ = [
 
 #: Samples per chunk of the regressor (memory: ~2 kB per sample while a chunk is computed and filtered).
 CHUNK = 50_000
+#: Samples per block of the regressor's arithmetic: its working arrays (up to 9 numbers a sample, 0.6 MB) then stay
+#: near the core; at a chunk's 50,000 samples they spill to memory and the same arithmetic runs 2-3x slower (CPU time
+#: of a chunk's columns, 27 Nov, loaded machine: 1,024 samples 270 ms, 4,096 172 ms, 8,192 142-166 ms, 16,384 151 ms).
+BLOCK = 8192
 #: The bandwidth in [Hz] of the model error a residual carries besides the noise (sticking at reversals, the torque
 #: sensor's timing, the motion's own harmonics): rows closer than 1/(2·this) are not independent evidence of it.
 MODEL_ERROR_BANDWIDTH = 10.0
@@ -80,6 +92,45 @@ def _unit_machines(params: Parameters) -> list[tuple[Parameters, dict[str, int]]
     return machines
 
 
+def _column_machines(params: Parameters) -> list[tuple[str, Parameters]]:
+    """Per column of Y: its torque part and the machine whose only dynamic parameter is that column's, at one."""
+    zero = with_values(params, np.zeros(len(QUANTITIES)))
+    machines = []
+    for k, quantity in enumerate(QUANTITIES):
+        if quantity.part == "friction":
+            machines.append((quantity.part, friction_unit(zero, quantity.name)))
+        else:
+            machines.append((quantity.part, with_values(params, np.eye(len(QUANTITIES))[k])))
+    return machines
+
+
+def _regressor_by_unit_machines(params: Parameters, kin, Fe: np.ndarray, lever_spin: bool = True) -> np.ndarray:
+    """Y, (N, 3, P), from the full inverse dynamics of the ten unit machines: the reference route the fast one equals."""
+    Y = np.zeros((len(kin), 3, len(QUANTITIES)))
+    for machine, columns in _unit_machines(params):
+        torques = inverse_dynamics(machine, kin, Fe, lever_spin)
+        for part, k in columns.items():
+            Y[:, :, k] = getattr(torques, part)
+    return Y
+
+
+def _regressor_columns(
+    params: Parameters, kin, Fe: np.ndarray, lever_spin: bool = True, machines=None, block: int = BLOCK
+) -> np.ndarray:
+    """Y components first, (P, 3, N): column k is part ``QUANTITIES[k].part`` of its machine, block by block.
+
+    ``machines``: :func:`_column_machines` of ``params``, if already made.
+    """
+    machines = _column_machines(params) if machines is None else machines
+    n = len(kin)
+    Y = np.empty((len(machines), 3, n))
+    for a in range(0, n, block):
+        terms = motion_terms(params, kin, Fe, lever_spin, slice(a, a + block))
+        for k, (name, machine) in enumerate(machines):
+            Y[k, :, a : a + block] = PARTS[name](machine, terms)
+    return Y
+
+
 def regressor(params: Parameters, trajectory: Trajectory, lever_spin: bool = True) -> np.ndarray:
     """Y with motor torque τ = Y·θ along a trajectory (θ: :func:`standard_values`).
 
@@ -100,12 +151,7 @@ def regressor(params: Parameters, trajectory: Trajectory, lever_spin: bool = Tru
 
 def regressor_from_kinematics(params: Parameters, kin, Fe: np.ndarray, lever_spin: bool = True) -> np.ndarray:
     """:func:`regressor` from kinematics already computed (:func:`hipsim.analytic.kinematics`) and the load in [N], (N,)."""
-    Y = np.zeros((len(kin), 3, len(QUANTITIES)))
-    for machine, columns in _unit_machines(params):
-        torques = inverse_dynamics(machine, kin, Fe, lever_spin)
-        for part, k in columns.items():
-            Y[:, :, k] = getattr(torques, part)
-    return Y
+    return np.ascontiguousarray(_regressor_columns(params, kin, Fe, lever_spin).transpose(2, 1, 0))
 
 
 def decimation(log: Log) -> int:
@@ -162,16 +208,19 @@ def _rows(
     margin = 0 if log.cutoff is None else minimum_samples(log.rate, log.cutoff)
     trajectory = log.trajectory
     use = ~reversal_mask(params, log)
+    machines = _column_machines(params)
     chunk = max(step, chunk - chunk % step)  # whole decimation steps, so the kept samples line up across chunks
     for a in range(first, stop, chunk):
         b = min(a + chunk, stop)
         lo, hi = max(0, a - margin), min(n, b + margin)
-        Y = regressor(params, trajectory.slice(slice(lo, hi)), lever_spin)
+        piece = trajectory.slice(slice(lo, hi))
+        Y = _regressor_columns(params, kinematics(params, piece), piece.Fe, lever_spin, machines)
         if log.cutoff is not None:
-            # The filter's transient from the chunk's own ends dies out within the margin.
-            Y = lowpass(Y, log.rate, log.cutoff, log.name)
+            # The filter's transient from the chunk's own ends dies out within the margin. Along the last axis,
+            # each column's signal is contiguous (the same numbers as along the first axis of (N, 3, P), faster).
+            Y = lowpass(Y, log.rate, log.cutoff, log.name, axis=-1)
         keep = np.arange(a, b, step)
-        yield Y[keep - lo], log.tau[keep], use[keep]
+        yield Y[:, :, keep - lo].transpose(2, 1, 0), log.tau[keep], use[keep]
 
 
 def log_rows(params: Parameters, log: Log, lever_spin: bool) -> Iterator[tuple[np.ndarray, np.ndarray, np.ndarray]]:
