@@ -1,0 +1,84 @@
+"""hipsim.rig.identification.consistency's conditions by hand: the bounds, the rigid-body (triangle) condition on
+an inertia, and which constraints a solution sits on.
+
+An inertia I is a rigid body's when Σ = ½·tr(I)·𝟙 − I ⪰ 0: for a diagonal I = diag(a, b, c), Σ = ½·diag(b + c − a,
+a + c − b, a + b − c), so diag(1, 1, 3) breaks it (1 + 1 < 3) and diag(1, 1, 2) lies on its limit.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import hipsim
+from hipsim.rig.identification.consistency import (
+    _SIGMA,
+    PRIOR_SPREAD,
+    _active,
+    _matrix,
+    _project_psd,
+    _vector,
+    violations,
+)
+from hipsim.rig.identification.quantities import BLOCKS, BOUNDED, QUANTITIES, standard_values
+
+INDEX = {q.label: k for k, q in enumerate(QUANTITIES)}
+NOMINAL = np.array([q.nominal for q in QUANTITIES])
+#: The published machine, its friction coefficients of 0 (on their bounds) at their typical sizes.
+THETA = standard_values(hipsim.load_parameters())
+THETA = np.where((THETA == 0) & np.isin(np.arange(len(THETA)), BOUNDED), NOMINAL, THETA)
+RIGID = "platform inertia of a rigid body (principal moments within the triangle inequalities)"
+LIMIT = "platform inertia on the rigid-body limit (one principal moment equals the sum of the other two)"
+
+
+def with_platform(diagonal, off=(0.0, 0.0, 0.0)):
+    theta = THETA.copy()
+    theta[BLOCKS["platform"]] = [*diagonal, *off]
+    return theta
+
+
+def test_the_constants():
+    assert PRIOR_SPREAD == 0.1
+
+
+def test_sigma_is_half_the_trace_less_the_inertia():
+    inertia = np.array([[2.0, 0.3, -0.2], [0.3, 3.0, 0.1], [-0.2, 0.1, 4.0]])
+    vector = [inertia[a, b] for a, b in ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))]
+    np.testing.assert_allclose(_matrix(_SIGMA @ vector), 0.5 * np.trace(inertia) * np.eye(3) - inertia, atol=1e-15)
+    np.testing.assert_allclose(_vector(_matrix(_SIGMA @ vector)), _SIGMA @ vector, atol=1e-15)
+    # The vector's length is the matrix's Frobenius norm.
+    assert np.linalg.norm(_vector(inertia)) == pytest.approx(np.linalg.norm(inertia), rel=1e-15)
+
+
+def test_the_projection_on_the_semidefinite_cone():
+    np.testing.assert_allclose(_project_psd(_vector(np.diag([-1.0, 2.0, 3.0]))), _vector(np.diag([0.0, 2.0, 3.0])))
+    psd = _vector(np.array([[2.0, 1.0, 0.0], [1.0, 2.0, 0.0], [0.0, 0.0, 1.0]]))
+    np.testing.assert_allclose(_project_psd(psd), psd, atol=1e-15)
+
+
+def test_violations_by_hand():
+    assert violations(THETA) == []
+    theta = THETA.copy()
+    theta[INDEX["m_L"]], theta[INDEX["μ_t"]] = -1.0, -0.01
+    assert violations(theta) == ["m_L ≥ 0", "μ_t ≥ 0"]
+    # Products of inertia take any sign.
+    assert violations(with_platform((1.0, 1.0, 1.0), (-0.1, 0.1, -0.1))) == []
+    assert violations(with_platform((1.0, 1.0, 3.0))) == [RIGID]
+    assert violations(with_platform((1.0, 1.0, 2.0))) == []  # on the limit
+    # A tolerance relative to the largest principal moment: 1e-12 of it either side of the limit.
+    assert violations(with_platform((1.0, 1.0, 2.0 + 1e-13))) == []
+    assert violations(with_platform((1.0, 1.0, 2.0 + 1e-9))) == [RIGID]
+    assert violations(with_platform((1.0, 1.0, 2.0 + 1e-9)), tolerance=1e-6) == []
+
+
+def test_active_constraints_by_hand():
+    movable = list(range(len(QUANTITIES)))
+    assert _active(THETA, movable, NOMINAL) == ()
+    theta = THETA.copy()
+    theta[INDEX["m_L"]] = 1e-9 * NOMINAL[INDEX["m_L"]]  # at the bound (within 1e-9 of its size)
+    theta[INDEX["m_l"]] = 2e-9 * NOMINAL[INDEX["m_l"]]  # just off it
+    assert _active(theta, movable, NOMINAL) == ("m_L ≥ 0",)
+    # A parameter that could not move is not said to sit on its bound.
+    assert _active(theta, [k for k in movable if k != INDEX["m_L"]], NOMINAL) == ()
+    assert _active(with_platform((1.0, 1.0, 2.0)), movable, NOMINAL) == (LIMIT,)
+    assert _active(with_platform((1.0, 1.0, 2.0 - 1e-8)), movable, NOMINAL) == ()
