@@ -18,6 +18,7 @@ from hipsim.rig.identification.consistency import (
     _matrix,
     _project_psd,
     _vector,
+    consistent,
     violations,
 )
 from hipsim.rig.identification.quantities import BLOCKS, BOUNDED, QUANTITIES, standard_values
@@ -82,3 +83,48 @@ def test_active_constraints_by_hand():
     assert _active(theta, [k for k in movable if k != INDEX["m_L"]], NOMINAL) == ()
     assert _active(with_platform((1.0, 1.0, 2.0)), movable, NOMINAL) == (LIMIT,)
     assert _active(with_platform((1.0, 1.0, 2.0 - 1e-8)), movable, NOMINAL) == ()
+
+
+def _problem(total, alone):
+    """Rows m_L + m_l + 10·μ_h = total + 0.95 and m_l = alone (χ² units); m_L kept, m_l dependent with prior 1.43."""
+    m_L, m_l, mu_h = INDEX["m_L"], INDEX["m_l"], INDEX["μ_h"]
+    Aw = np.zeros((2, len(QUANTITIES)))
+    Aw[0, [m_L, m_l, mu_h]] = 1.0, 1.0, 10.0
+    Aw[1, m_l] = 1.0
+    zw = np.array([total + 10 * THETA[mu_h], alone])
+    prior = np.zeros(len(QUANTITIES))
+    prior[m_l] = 1.43
+    return consistent(Aw, zw, THETA, [m_L], [m_l], prior, NOMINAL)
+
+
+def test_a_dependent_parameter_is_held_by_its_prior_of_a_tenth_of_its_size():
+    # μ_h stays at its start (0.095: the first row's 0.95). m_L, free, closes the first row; m_l balances the second
+    # row (m_l = 2) against its prior, 1.43 with a spread of 10 % of its size 1.5: weight w = (1/0.1)²/1.5² = 44.4,
+    # m_l = (2 + 1.43·w)/(1 + w).
+    w = 100 / 1.5**2
+    m_l = (2 + 1.43 * w) / (1 + w)
+    theta, active = _problem(5.0, 2.0)
+    assert theta[INDEX["m_l"]] == pytest.approx(m_l, rel=1e-9)
+    assert theta[INDEX["m_L"]] == pytest.approx(5.0 - m_l, rel=1e-9)
+    assert theta[INDEX["μ_h"]] == THETA[INDEX["μ_h"]] and active == ()
+
+
+def test_a_kept_parameter_on_its_bound():
+    # The first row now wants m_L + m_l = 1 with m_l near 1.43: m_L goes to its bound 0, and m_l balances three
+    # terms: (m_l − 1)² + (m_l − 1.43)² + w·(m_l − 1.43)².
+    w = 100 / 1.5**2
+    theta, active = _problem(1.0, 1.43)
+    assert theta[INDEX["m_L"]] == 0.0
+    assert theta[INDEX["m_l"]] == pytest.approx((1 + (1 + w) * 1.43) / (2 + w), rel=1e-9)
+    assert active == ("m_L ≥ 0",)
+
+
+def test_the_tolerances_scale_with_the_inertia():
+    # Σ of diag(a, a, 2a + δ) has principal values −δ/2, a, a: a violation beyond 1e-12 of the largest, |Σ| (a), and
+    # at least 1e-300.
+    assert violations(with_platform((10.0, 10.0, 20.0 + 1e-11))) == []  # 5e-12 within 1e-11
+    assert violations(with_platform((0.1, 0.1, 0.2 + 1e-12))) == [RIGID]  # 5e-13 beyond 1e-13
+    # On the limit within 1e-9 of the largest principal value of Σ: diag(10, 12, 22 − ε) has 0.5·ε, 10 − 0.5·ε and
+    # 12 − 0.5·ε; ε/2 = 1.1e-8 is within 1.2e-8 (not 1e-8).
+    assert _active(with_platform((10.0, 12.0, 22.0 - 2.2e-8)), [], NOMINAL) == (LIMIT,)
+    assert _active(with_platform((10.0, 10.0, 20.0 - 1e-8)), [], NOMINAL) == (LIMIT,)  # 5e-9 within 1e-8
