@@ -165,3 +165,107 @@ def test_a_skipped_snapshot_keeps_the_errors_line_and_hints_at_coarse_times():
         "reason": one.reason,
         "line": 7,
     }
+
+
+def test_windows_from_the_first_cycle_one_line_a_cycle(tmp_path):
+    # Cycles 9…19, one line each, windows of 4: 9-12, 13-16; 17-19 lacks cycle 20. With 20 logged it is whole.
+    path = tmp_path / "one.csv"
+    path.write_text(log_text(range(9, 20)))
+    found, _ = find_snapshots(str(path), window=4)
+    assert [(s.lines, s.first_cycle, s.last_cycle) for s in found] == [((2, 6), 9, 12), ((6, 10), 13, 16)]
+    path.write_text(log_text(range(9, 21)))
+    found, _ = find_snapshots(str(path), window=4)
+    assert [(s.first_cycle, s.last_cycle, s.lines) for s in found][-1] == (17, 20, (10, 14))
+    # One cycle a window is a window.
+    assert len(find_snapshots(str(path), window=1)[0]) == 12
+    # Several files, each in its windows.
+    other = tmp_path / "other.csv"
+    other.write_text(log_text(range(0, 4)))
+    found, _ = find_snapshots([str(path), str(other)], window=4)
+    assert [s.name for s in found] == ["one.csv[9-12]", "one.csv[13-16]", "one.csv[17-20]", "other.csv[0-3]"]
+
+
+def test_a_long_log_is_read_with_the_callers_torque_constant(tmp_path):
+    # Currents need the torque constant. (The rate, for coarse time stamps: tests/test_monitor_files.py.)
+    text = log_text(range(0, 8)).replace("tau_1_Nmm,tau_2_Nmm,tau_3_Nmm", "current_1_A,current_2_A,current_3_A")
+    path = tmp_path / "currents.csv"
+    path.write_text(text)
+    assert len(find_snapshots(str(path), window=4, torque_constant=0.1)[0]) == 2
+    (refused,) = find_snapshots(str(path), window=4)[1]
+    assert "no torque constant in N·m/A was given" in refused.reason
+
+
+def test_a_long_logs_counter_is_checked_naming_its_line(tmp_path):
+    path = tmp_path / "down.csv"
+    path.write_text(log_text([0, 1, 2, 1, 3]))
+    (refused,) = find_snapshots(str(path), window=2)[1]
+    assert refused.reason == (
+        f"{path}, line 5, column 'cycle': the cycle counter decreases (2 → 1): one snapshot a file, its counter "
+        "non-decreasing"
+    )
+    assert refused.line == 5 and refused.name == "down.csv" and refused.path == str(path)
+    short = tmp_path / "short.csv"
+    short.write_text(log_text([4, 5, 6]))
+    assert (
+        find_snapshots(str(short), window=4)[1][0].reason == f"{short}: holds no whole window of 4 cycles (cycles 4-6)"
+    )
+
+
+def test_a_waiting_file_does_not_stop_the_others(tmp_path):
+    old, new = tmp_path / "a.csv", tmp_path / "b.csv"
+    old.write_text("x\n")
+    new.write_text("y\n")
+    past = time.time() - 100.0
+    os.utime(old, (past, past))
+    found, (waiting,) = find_snapshots([str(new), str(old)], settle=50.0)
+    assert [s.path for s in found] == [str(old)] and waiting.path == str(new)
+    age = float(waiting.reason.split("changed ")[1].split(" s ago")[0])
+    assert 0.0 <= age < 1.0  # just written
+
+
+def test_a_file_gone_between_listing_and_reading(tmp_path, monkeypatch):
+    import hipsim.rig.monitoring.snapshots as snapshots
+
+    for name in ("a.csv", "b.csv"):
+        (tmp_path / name).write_text("x\n")
+    real = snapshots._identity
+
+    def gone(path, cache):
+        if path.endswith("a.csv"):
+            raise FileNotFoundError(2, "No such file or directory")
+        return real(path, cache)
+
+    monkeypatch.setattr(snapshots, "_identity", gone)
+    found, left = find_snapshots(str(tmp_path))
+    a = str(tmp_path / "a.csv")
+    assert left == [Skipped("a.csv", a, f"{a}: cannot read (No such file or directory)")]
+    assert [s.name for s in found] == ["b.csv"]
+
+
+def test_two_folders_and_two_patterns(tmp_path):
+    for folder in ("x", "y"):
+        (tmp_path / folder).mkdir()
+        (tmp_path / folder / f"{folder}.csv").write_text("x\n")
+    both = [str(tmp_path / "x"), str(tmp_path / "y")]
+    assert [s.name for s in find_snapshots(both)[0]] == ["x.csv", "y.csv"]
+    patterns = [str(tmp_path / "x" / "*.csv"), str(tmp_path / "y" / "*.csv")]
+    assert [s.name for s in find_snapshots(patterns)[0]] == ["x.csv", "y.csv"]
+
+
+def test_line_ends_of_short_files(tmp_path):
+    (tmp_path / "a.csv").write_bytes(b"ab\n")
+    (tmp_path / "b.csv").write_bytes(b"a")
+    a, b = find_snapshots(str(tmp_path))[0]
+    assert (a.ends_with_newline, b.ends_with_newline) == (True, False)
+
+
+def test_the_options_refused_name_their_values(tmp_path):
+    with pytest.raises(ArgumentError) as refused:
+        find_snapshots(str(tmp_path), window=0)
+    assert refused.value.value == 0
+    with pytest.raises(ArgumentError) as refused:
+        find_snapshots(str(tmp_path), settle=-1.0)
+    assert refused.value.value == -1.0
+    # A time column refused by its column alone gets the --rate hint too.
+    hinted = skipped(Snapshot("a.csv", 1, ""), TrajectoryError("bad time", source="a.csv", line=2, column="t_s"))
+    assert hinted.reason.endswith("give --rate HZ to read the times from the sample index)")
