@@ -176,6 +176,10 @@ def test_windows_from_the_first_cycle_one_line_a_cycle(tmp_path):
     path.write_text(log_text(range(9, 21)))
     found, _ = find_snapshots(str(path), window=4)
     assert [(s.first_cycle, s.last_cycle, s.lines) for s in found][-1] == (17, 20, (10, 14))
+    # A last window of one line (cycle 17 alone) waits too.
+    path.write_text(log_text(range(9, 18)))
+    assert [s.last_cycle for s in find_snapshots(str(path), window=4)[0]] == [12, 16]
+    path.write_text(log_text(range(9, 21)))
     # One cycle a window is a window.
     assert len(find_snapshots(str(path), window=1)[0]) == 12
     # Several files, each in its windows.
