@@ -128,3 +128,23 @@ def test_the_tolerances_scale_with_the_inertia():
     # 12 − 0.5·ε; ε/2 = 1.1e-8 is within 1.2e-8 (not 1e-8).
     assert _active(with_platform((10.0, 12.0, 22.0 - 2.2e-8)), [], NOMINAL) == (LIMIT,)
     assert _active(with_platform((10.0, 10.0, 20.0 - 1e-8)), [], NOMINAL) == (LIMIT,)  # 5e-9 within 1e-8
+
+
+def test_an_impossible_inertia_and_a_bound_together_by_hand():
+    # Rows: I_xx = 1, I_yy = 1, I_zz + m_L = 3, m_L = −1, the products of inertia 0 (kg·m², kg; χ² units). Free,
+    # m_L = −1 and I = diag(1, 1, 4), which no rigid body has. Under m_L ≥ 0 and Σ ⪰ 0 (for a diagonal I, the
+    # triangle inequalities): m_L = 0 (its gradient there is 2(c − 3) + 2 = 4/3 > 0 at the solution), and
+    # diag(1, 1, 3) projected onto a + b ≥ c along (1, 1, −1) by 1/3: diag(4/3, 4/3, 8/3), on the limit.
+    block, m_L = BLOCKS["platform"], INDEX["m_L"]
+    Aw = np.zeros((7, len(QUANTITIES)))
+    for row, k in enumerate(block):
+        Aw[row, k] = 1.0
+    Aw[2, m_L] = 1.0
+    Aw[6, m_L] = 1.0
+    zw = np.array([1.0, 1.0, 3.0, 0.0, 0.0, 0.0, -1.0])
+    theta, active = consistent(Aw, zw, THETA, [*block, m_L], [], np.zeros(len(QUANTITIES)), NOMINAL)
+    np.testing.assert_allclose(theta[block], [4 / 3, 4 / 3, 8 / 3, 0.0, 0.0, 0.0], atol=1e-7)
+    assert theta[m_L] == 0.0
+    assert active == ("m_L ≥ 0", LIMIT)
+    others = [k for k in range(len(QUANTITIES)) if k not in (*block, m_L)]
+    np.testing.assert_array_equal(theta[others], THETA[others])
