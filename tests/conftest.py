@@ -13,6 +13,10 @@ A run in one process (``-n 0``) skips the warm-up: there its cost would only mov
 
 The files that take longest run first, so that the workers finish together
 instead of one waiting on a long file picked up last.
+
+``quick_figures`` (a fixture) and ``figures_undrawn`` (for module fixtures): a
+report's figures built but not drawn, in the tests that read a page's text, its
+JSON or an exit status; drawing was most of the suite's end-to-end time.
 """
 
 from __future__ import annotations
@@ -27,28 +31,28 @@ from pathlib import Path
 
 import pytest
 
-#: Test files by decreasing time (``--durations=40`` of a fresh clone, 27 Nov, the sums of each file's entries): scheduled first.
+#: Test files by decreasing time (``--durations=0`` of a fresh clone, 27 Nov after the figures undrawn, the sums of each file's entries): scheduled first.
 SLOW_FIRST = [
     "test_docs.py",
-    "test_report.py",
-    "test_identification.py",
-    "test_pages.py",
-    "test_plausibility.py",
-    "test_streaming.py",
-    "test_sweep.py",
     "test_uncertainty_forward.py",
-    "test_identification_accuracy.py",
     "test_cli.py",
-    "test_closed_chain.py",
-    "test_compare.py",
-    "test_monitor_run.py",
-    "test_mujoco_engine.py",
-    "test_simulation.py",
     "test_files.py",
-    "test_viewer.py",
+    "test_identification_accuracy.py",
+    "test_identification.py",
+    "test_closed_chain.py",
+    "test_simulation.py",
+    "test_report.py",
+    "test_sweep_scratch.py",
     "test_meshcat_output.py",
+    "test_pages.py",
+    "test_monitor_run.py",
+    "test_sweep.py",
+    "test_mujoco_engine.py",
+    "test_viewer.py",
     "test_analytic_kernel.py",
-    "test_laws.py",
+    "test_identified_file.py",
+    "test_reader.py",
+    "test_identification_sensors.py",
 ]
 
 
