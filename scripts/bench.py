@@ -963,6 +963,49 @@ def bench_rig(quick: bool) -> None:
             samples = seconds * 1000
             print(f"  {label:<66} {samples:>10,} {samples / elapsed:>10,.0f} {megabytes:>9,.0f} MB")
     print("  target: <= 400 MB for an hour's log")
+    print()
+    bench_compare_memory(seed_motion="both")
+
+
+def bench_compare_memory(seed_motion: str = "both") -> None:
+    """Compare in pieces: the peak of Python's allocations (tracemalloc) for a log four times longer, beside the shorter one's.
+
+    Was tests/test_compare.py's ``test_memory_does_not_grow_with_the_log`` (tracemalloc slows every allocation,
+    10 s of the suite): a measurement, so it lives here, with its bound printed beside it.
+    """
+    import sys
+    import tempfile
+    import tracemalloc
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+    from rig_synthetic import iso_run, machines, write_log
+
+    from hipsim.rig.compare import compare_log
+    from hipsim.rig.logs.log import LogPieces
+
+    start, _ = machines()
+    print(
+        "compare in pieces (2000 samples a piece), peak of Python's allocations, the ISO cycle on the Pinocchio plant"
+    )
+    with tempfile.TemporaryDirectory() as folder:
+        seed = write_log(Path(folder) / "seed.csv", iso_run(), np.random.default_rng(11), motion=seed_motion)
+        peaks = []
+        for seconds in (8.0, 32.0):
+            path = Path(folder) / f"log{seconds:.0f}.csv"
+            _tiled_log(seed, path, seconds)
+            tracemalloc.start()
+            with LogPieces(path, start, piece=2000) as pieces:
+                samples = compare_log(start, pieces, period=1.0, figure_samples=500).summary()["samples"]
+            peaks.append(tracemalloc.get_traced_memory()[1])
+            tracemalloc.stop()
+            print(f"  {seconds:>4.0f} s log ({samples:,} usable samples): peak {peaks[-1] / 1e6:7.2f} MB")
+    # The times and file lines (16 bytes a sample) are all that should grow: 24,000 more samples, 0.4 MB (× 1.5).
+    bound = peaks[0] + 24_000 * 16 * 1.5
+    verdict = "within" if peaks[1] < bound else "OVER"
+    print(
+        f"  the 32 s log's peak {verdict} the 8 s log's + 0.58 MB ({bound / 1e6:.2f} MB): memory does not grow with the log"
+    )
 
 
 def _monitor_snapshots(folder, count: int, rate: float = 1000.0) -> None:

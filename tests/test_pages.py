@@ -9,6 +9,7 @@ from html.parser import HTMLParser
 
 import numpy as np
 import pytest
+from conftest import figures_undrawn
 
 import hipsim
 from hipsim.cli.main import main
@@ -129,27 +130,28 @@ def design(tmp_path_factory):
         'rotor_inertia_kgcm2 = 1.2\n[lead_screw]\nname = "screw"\nlead_mm = 10\nroot_diameter_mm = 12\nfree_length_mm = 400\n'
     )
     out = folder / "site"
-    status = main(
-        [
-            "report",
-            "--trajectory",
-            str(trajectory),
-            "--motor",
-            str(drive),
-            "--model",
-            "analytic",
-            "--out",
-            str(out),
-            "--set",
-            "lever.length_mm=330",
-            "--title",
-            "Drive review",
-            "--author",
-            "A. Tester",
-            "--rig",
-            "HS-2 #0042",
-        ]
-    )
+    with figures_undrawn():  # the page's text is tested here, the figures drawn in tests/test_report.py
+        status = main(
+            [
+                "report",
+                "--trajectory",
+                str(trajectory),
+                "--motor",
+                str(drive),
+                "--model",
+                "analytic",
+                "--out",
+                str(out),
+                "--set",
+                "lever.length_mm=330",
+                "--title",
+                "Drive review",
+                "--author",
+                "A. Tester",
+                "--rig",
+                "HS-2 #0042",
+            ]
+        )
     return {"status": status, "out": out, "trajectory": trajectory, "drive": drive}
 
 
@@ -198,6 +200,7 @@ def test_report_values_carry_units_and_no_si(design):
             assert re.search(r"\d ?(mm|N·mm|kg·mm²|rpm|A|J|W|N|%|N·m/A|Ω|s|K/W)\b|:1$", value), (figure, value)
 
 
+@pytest.mark.usefixtures("quick_figures")
 def test_built_in_cycle_unrated_says_so_first(tmp_path):
     out = tmp_path / "r"
     assert main(["report", "--rate", "100", "--model", "analytic", "--out", str(out)]) == 0
@@ -207,6 +210,7 @@ def test_built_in_cycle_unrated_says_so_first(tmp_path):
     assert verdict["word"] == "NOT RATED" and "N·mm peak" in verdict["lines"][1]
 
 
+@pytest.mark.usefixtures("quick_figures")
 def test_identified_parameters_are_marked_with_their_uncertainty(tmp_path):
     published = default_parameters_path().read_text()
     identified = tmp_path / "identified.toml"
@@ -283,6 +287,7 @@ def log(tmp_path_factory):
     return path
 
 
+@pytest.mark.usefixtures("quick_figures")
 def test_compare_page_and_json_carry_provenance_and_verdict(log, tmp_path, capsys):
     out = tmp_path / "cmp"
     assert main(["compare", "--log", str(log), "--out", str(out), "--accept", "5", "--rig", "HS-2 #0042"]) == 0

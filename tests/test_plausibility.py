@@ -19,6 +19,10 @@ from hipsim.rig.plausibility import check_log
 HEADER = ["t_s", "Fe_N", "alpha_deg", "beta_deg", "gamma_deg", "tau_1_Nmm", "tau_2_Nmm", "tau_3_Nmm"]
 CURRENTS = HEADER[:5] + ["current_1_A", "current_2_A", "current_3_A"]
 
+#: What is tested here is what the commands accept, refuse and warn of, and the numbers: the comparison's
+#: figures are built but not drawn (tests/conftest.py); tests/test_compare.py draws them.
+pytestmark = pytest.mark.usefixtures("quick_figures")
+
 
 @pytest.fixture(scope="module")
 def run():

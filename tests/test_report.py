@@ -280,6 +280,7 @@ def test_page_and_json_carry_the_numbers(written, params, iso):
     assert (written.folder / "torques.csv").stat().st_size > 10_000
 
 
+@pytest.mark.usefixtures("quick_figures")
 def test_missing_pinocchio_model_falls_back_with_a_note(tmp_path, monkeypatch, capsys):
     monkeypatch.setitem(sys.modules, "hipsim.closed_chain.engine", None)  # importing it raises ImportError
     assert main(["report", "--rate", "100", "--out", str(tmp_path / "auto")]) == 0
@@ -291,6 +292,7 @@ def test_missing_pinocchio_model_falls_back_with_a_note(tmp_path, monkeypatch, c
     assert not (tmp_path / "pin").exists()
 
 
+@pytest.mark.usefixtures("quick_figures")
 def test_simulations_are_plotted_and_bad_ones_refused(result, tmp_path):
     short = result
     files = report.write_report(tmp_path / "a", short, simulations=fake_simulations(short.t))
@@ -409,6 +411,7 @@ def short_runs(params, iso):
     return hipsim.analyse(params, part), hipsim.analyse(params.replace(slider_mass=6.0), part)
 
 
+@pytest.mark.usefixtures("quick_figures")
 def test_an_interrupted_rerun_leaves_the_earlier_report_whole(tmp_path, short_runs, monkeypatch):
     first, second = short_runs
     out = tmp_path / "report"
@@ -430,6 +433,7 @@ def test_an_interrupted_rerun_leaves_the_earlier_report_whole(tmp_path, short_ru
     assert sorted(p.name for p in tmp_path.iterdir()) == ["report"]  # no temporary folder left beside it
 
 
+@pytest.mark.usefixtures("quick_figures")
 def test_a_rerun_leaves_no_figure_of_the_earlier_run(tmp_path, short_runs):
     first, second = short_runs
     out = tmp_path / "report"
@@ -450,6 +454,7 @@ def test_a_folder_of_other_files_is_never_replaced(tmp_path, short_runs):
     assert snapshot(out) == {"chapter1.tex": b"precious"}
 
 
+@pytest.mark.usefixtures("quick_figures")
 def test_a_report_through_a_symbolic_link_keeps_the_link(tmp_path, short_runs):
     real = tmp_path / "real"
     real.mkdir()
@@ -463,6 +468,7 @@ def test_a_report_through_a_symbolic_link_keeps_the_link(tmp_path, short_runs):
 # What a new user found (issue 14, item 5)
 
 
+@pytest.mark.usefixtures("quick_figures")
 def test_page_escapes_what_it_did_not_write(tmp_path, short_runs):
     run = short_runs[0]
     odd = dataclasses.replace(run, trajectory=dataclasses.replace(run.trajectory, name="<script>alert(1)</script>"))
@@ -501,6 +507,7 @@ def test_page_names_the_two_screw_forces_apart_and_lists_every_parameter(written
     assert "input_motion" in written.figures
 
 
+@pytest.mark.usefixtures("quick_figures")
 def test_report_simulate_takes_a_mismatch(tmp_path, monkeypatch, capsys):
     import importlib
 
