@@ -179,3 +179,47 @@ def test_gait_cycles_of_a_log_or_a_trajectory():
         gait_cycles(bad)
     with pytest.raises(TrajectoryError, match="load"):
         gait_cycles(SimpleNamespace(t=np.arange(5.0), Fe=np.zeros(4)))
+
+
+def refusal(call, *args, **kwargs) -> str:
+    """The whole message of the TrajectoryError that ``call`` raises."""
+    with pytest.raises(TrajectoryError) as refused:
+        call(*args, **kwargs)
+    return str(refused.value)
+
+
+def test_refusals_name_the_file_and_what_is_wrong():
+    t, load = curve()
+    assert refusal(detect_gait_events, t[:-1], load, source="gait.csv") == (
+        f"gait.csv: times ({t.size - 1},) and load ({t.size},) must be 1-D of one length"
+    )
+    assert refusal(detect_gait_events, t, load, rise=0.1, fall=0.2, source="gait.csv") == (
+        "gait.csv: gait event thresholds must satisfy 0 < fall ≤ rise < 1, got rise 0.1, fall 0.2"
+    )
+    # Without a source, the load is named as "load".
+    assert refusal(detect_gait_events, t, load, rise=1.0) == (
+        "load: gait event thresholds must satisfy 0 < fall ≤ rise < 1, got rise 1.0, fall 0.1"
+    )
+    one = detect_gait_events(*curve(cycles=1))
+    assert refusal(gait_phase, curve(cycles=1)[0], one) == (
+        "found 1 heel strike(s) in the load; a whole gait cycle (two heel strikes) is needed to know the phase"
+    )
+
+
+def test_three_samples_are_enough_for_events_and_two_are_not():
+    # 200, 1200, 200 N: the 5th and 95th percentiles are 200 and 1100 N (linear between the sorted
+    # samples 200, 200, 1200 at positions 0.1 and 1.9); the middle sample is stance, the ends swing.
+    # The heel strike is the first sample, the toe-off the last.
+    events = detect_gait_events(np.arange(3) / RATE, np.array([200.0, 1200.0, 200.0]))
+    assert (events.low, events.high) == (200.0, 1100.0)
+    np.testing.assert_array_equal(events.heel_strikes, [0])
+    np.testing.assert_array_equal(events.toe_offs, [2])
+    two = detect_gait_events(np.arange(2) / RATE, np.array([200.0, 1200.0]))
+    assert two.heel_strikes.size == 0 and two.toe_offs.size == 0 and np.isnan(two.low) and np.isnan(two.high)
+    assert two.heel_strikes.dtype == int and two.t_heel_strikes.size == 0
+
+
+def test_a_constant_load_keeps_its_level_and_has_no_events():
+    flat = detect_gait_events(np.arange(50) / RATE, np.full(50, 300.0))
+    assert (flat.low, flat.high) == (300.0, 300.0)
+    assert flat.heel_strikes.dtype == int and flat.t_toe_offs.size == 0

@@ -79,3 +79,10 @@ def test_shapes_follow_the_input():
     assert hip_angles_of(np.eye(3)).shape == (3,)
     with pytest.raises(ValueError, match="shape"):
         hip_to_machine(np.zeros(4))
+
+
+def test_a_wrong_shape_is_named_with_the_shape_given():
+    for call in (hip_to_machine, machine_to_hip, hip_rotation, machine_rotation):
+        with pytest.raises(ValueError) as refused:
+            call(np.zeros((2, 4)))
+        assert str(refused.value) == "expected angles of shape (3,) or (N, 3), got (2, 4)"

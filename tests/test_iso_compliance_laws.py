@@ -166,3 +166,62 @@ def test_runs_that_cannot_be_checked():
         iso_check(t, q, np.full(t.size, 500.0))
     with pytest.raises(TrajectoryError, match="no whole gait cycle"):
         iso_check(t[:500], q[:500], load[:500])
+
+
+def refusal(call, *args, **kwargs) -> str:
+    """The whole message of the TrajectoryError that ``call`` raises."""
+    with pytest.raises(TrajectoryError) as refused:
+        call(*args, **kwargs)
+    return str(refused.value)
+
+
+def test_refusals_name_the_run_and_what_is_wrong():
+    t, q, load = run(rate=100.0)  # 300 samples
+    assert refusal(iso_check, t, q[:-1], load, source="walk.csv") == (
+        "walk.csv: times (300,), angles (299, 3) and load (300,) do not match"
+    )
+    assert refusal(iso_check, t, q, load[:, None], source="walk.csv") == (
+        "walk.csv: times (300,), angles (300, 3) and load (300, 1) do not match"
+    )
+    flat = "the load has no stance and swing levels, so no heel strike to align the cycles on"
+    assert refusal(iso_check, t, q, np.full(t.size, 500.0), source="walk.csv") == f"walk.csv: {flat}"
+    # Periodic: the same refusal, still naming the run (checked as its extension).
+    assert refusal(iso_check, t, q, np.full(t.size, 500.0), source="walk.csv", periodic=True) == f"walk.csv: {flat}"
+    assert refusal(iso_check, t[:0], q[:0], load[:0], source="walk.csv") == f"walk.csv: {flat}"
+    # 1.5 s from 0.137 s at 100 Hz: heel strikes at 1.0 s only (t[0] is in mid-cycle), no whole cycle.
+    assert refusal(iso_check, t[:150], q[:150], load[:150], source="walk.csv") == (
+        "walk.csv: found no whole gait cycle (1 heel strike(s) in 1.49 s): the check needs at least one"
+    )
+
+
+def test_a_run_that_starts_on_a_heel_strike_keeps_its_first_cycle():
+    # The built-in cycle from t = 0 s at 100 Hz, 3 cycles: the load rises from each whole second, so the
+    # first sample is a heel strike and the cycle from 0 s is whole; the one from 2 s has no next
+    # crossing in the run (it ends at 2.99 s). Checked as periodic, it wraps around: 0, 1 and 2 s.
+    t = np.arange(300) / 100.0
+    q, _, _ = iso14242_angles(t)
+    check = iso_check(t, q, iso14242_load(t))
+    np.testing.assert_allclose([c.start for c in check.cycles], [0.0, 1.0], atol=1e-3)
+    periodic = iso_check(t, q, iso14242_load(t), periodic=True)
+    np.testing.assert_allclose([c.start for c in periodic.cycles], [0.0, 1.0, 2.0], atol=1e-3)
+
+
+@pytest.mark.parametrize("fraction, starts", [(0.3, [1.0, 2.0]), (0.7, [2.0, 3.0])])
+def test_a_periodic_run_owns_the_cycles_that_start_within_half_a_sample_of_its_first(fraction, starts):
+    # Two periods at 1 Hz sampled at 50 Hz (step 0.02 s), the first sample a fraction of a step after
+    # the heel strike at 1 s. The run owns the cycles that start from half a step before its first
+    # sample up to half a step before the first sample of its next repetition (t₀ + 2 s): a start
+    # 0.3 step before t₀ is its first cycle, and 3 s (0.3 step before t₀ + 2 s) is not; a start
+    # 0.7 step before t₀ is not, and 3 s is.
+    step = 0.02
+    t = 1.0 + fraction * step + np.arange(100) * step
+    q, _, _ = iso14242_angles(t)
+    check = iso_check(t, q, iso14242_load(t), periodic=True)
+    np.testing.assert_allclose([c.start for c in check.cycles], starts, atol=2e-3)
+    assert check.passed
+
+
+def test_a_periodic_run_of_one_sample_is_refused_like_an_open_one():
+    t, q, load = np.array([0.5]), np.zeros((1, 3)), np.array([900.0])
+    expected = "walk.csv: the load has no stance and swing levels, so no heel strike to align the cycles on"
+    assert refusal(iso_check, t, q, load, source="walk.csv", periodic=True) == expected

@@ -188,3 +188,105 @@ def test_trajectory_arrays_of_anything_trajectory_like():
     with pytest.raises(TrajectoryError, match="t must increase strictly"):
         trajectory_arrays(SimpleNamespace(t=[0.0, 1.0, 1.0, 2.0], q=tr.q, qd=tr.qd, qdd=tr.qdd))
     assert len(trajectory_arrays(SimpleNamespace(t=[0.0], q=tr.q[:1], qd=tr.qd[:1], qdd=tr.qdd[:1]))[0]) == 1
+
+
+def refusal(call, *args, **kwargs) -> str:
+    """The whole message of the TrajectoryError that ``call`` raises."""
+    with pytest.raises(TrajectoryError) as refused:
+        call(*args, **kwargs)
+    return str(refused.value)
+
+
+def test_a_trajectorys_refusals_name_it_the_array_and_the_sample_time():
+    tr, _ = polynomial_trajectory(4)  # t = 0, 1/3, 2/3, 1
+    arrays = dict(t=tr.t, q=tr.q, qd=tr.qd, qdd=tr.qdd, Fe=tr.Fe, name="walk.csv")
+    assert refusal(Trajectory, **(arrays | {"t": tr.t[None]})) == (
+        "walk.csv: t must be a non-empty 1-D array, got shape (1, 4)"
+    )
+    assert refusal(Trajectory, **(arrays | {"qdd": tr.qdd[:3]})) == "walk.csv: qdd must have shape (4, 3), got (3, 3)"
+    assert refusal(Trajectory, **(arrays | {"Fe": tr.Fe[:, None]})) == "walk.csv: Fe must have shape (4,), got (4, 1)"
+    # The first non-finite sample of q is the second (t = 1/3 s), whatever its column.
+    q = tr.q.copy()
+    q[3, 0] = math.nan
+    q[1, 2] = -math.inf
+    assert refusal(Trajectory, **(arrays | {"q": q})) == "walk.csv: q is not finite at t = 0.333333 s"
+    Fe = tr.Fe.copy()
+    Fe[3] = math.nan
+    assert refusal(Trajectory, **(arrays | {"Fe": Fe})) == "walk.csv: Fe is not finite at t = 1 s"
+    assert refusal(Trajectory, **arrays, lines=np.array([1.0, 2.0, 3.0, 4.0])) == (
+        "walk.csv: lines must be integers of shape (4,), got float64 (4,)"
+    )
+    assert refusal(Trajectory, **arrays, lines=np.array([[1, 2, 3, 4]])) == (
+        "walk.csv: lines must be integers of shape (4,), got int64 (1, 4)"
+    )
+    # Unnamed, a trajectory is "trajectory".
+    assert refusal(Trajectory, tr.t, tr.q[:, :2], tr.qd, tr.qdd, tr.Fe) == (
+        "trajectory: q must have shape (4, 3), got (4, 2)"
+    )
+
+
+def test_the_built_in_cycles_refusals_name_it_and_the_numbers():
+    assert refusal(iso14242_samples, 0.0, 1, 1.0, 100) == "ISO 14242-1: rate must be a positive number, got 0.0"
+    assert refusal(iso14242_samples, 10.0, 1, -2.0, 100) == (
+        "ISO 14242-1: frequency must be a positive number, got -2.0"
+    )
+    assert refusal(iso14242_samples, 10.0, math.inf, 1.0, 100) == (
+        "ISO 14242-1: cycles must be a positive number, got inf"
+    )
+    # 0.1 cycle of 1 Hz at 10 Hz is 1 sample.
+    assert refusal(iso14242_samples, 10.0, 0.1, 1.0, 100) == (
+        "ISO 14242-1: 0.1 cycle(s) of 1.0 Hz sampled at 10.0 Hz give fewer than 2 samples"
+    )
+    # 0.15 cycle of 1 Hz at 10 Hz rounds to 2 samples (1.5 → 2): enough, and not whole.
+    assert iso14242_samples(10.0, 0.15, 1.0, 100) == (2, False)
+    assert refusal(iso14242_samples, 1000.0, 3, 0.5, 5000, "to keep the run short") == (
+        "ISO 14242-1: 3 cycle(s) at 1000.0 Hz gives 6,000 samples; at most 5,000 to keep the run short"
+    )
+    assert iso14242_samples(1000.0, 3, 0.6, 5000) == (5000, True)
+
+
+def test_whole_cycles_are_whole_numbers_of_cycles_and_of_samples():
+    # 2 cycles of 3 Hz at 10 Hz: 20/3 = 6.67 samples, rounded to 7: a whole number of cycles but not of
+    # samples, so not whole; 2 cycles of 2 Hz at 10 Hz: 10 samples, whole.
+    assert iso14242_samples(10.0, 2, 3.0, 100) == (7, False)
+    assert iso14242_samples(10.0, 2, 2.0, 100) == (10, True)
+    # 2.0000001 cycles: not a whole number (further from 2 than 1e-12).
+    assert iso14242_samples(10.0, 2.0000001, 2.0, 100) == (10, False)
+
+
+def test_interpolations_refusals_name_the_trajectory():
+    tr, _ = polynomial_trajectory()
+    named = Trajectory(tr.t, tr.q, tr.qd, tr.qdd, tr.Fe, name="walk.csv")
+    at = interpolator(named)
+    assert refusal(at, np.array([0.5, 1.25])) == (
+        "walk.csv: times 0.5 to 1.25 s reach outside the trajectory (0 to 1 s)"
+    )
+    assert (
+        refusal(interpolator, named.slice(slice(0, 5))) == "walk.csv: 5 samples; at least 6 are needed to interpolate"
+    )
+    # The ends themselves, and a round-off (1e-13 s) beyond them, are inside: clipped to the ends.
+    out = at(np.array([-1e-13, 1.0 + 1e-13]))
+    np.testing.assert_allclose(out.q, [tr.q[0], tr.q[-1]], atol=1e-12)
+    assert out.name == "walk.csv" and not out.periodic
+    # 1e-11 s beyond the end is outside.
+    assert refusal(at, 1.0 + 1e-11).startswith("walk.csv: times 1 to 1 s reach outside")
+    assert refusal(at, -1e-11).startswith("walk.csv: times -1e-11 to -1e-11 s reach outside")
+
+
+def test_trajectory_arrays_refusals_name_the_column():
+    tr, _ = polynomial_trajectory(4)
+    assert refusal(trajectory_arrays, SimpleNamespace(t=tr.t, q=tr.q, qd=tr.qd[:, :2], qdd=tr.qdd)) == (
+        "column 'qd': qd must have shape (4, 3), got (4, 2)"
+    )
+    assert refusal(trajectory_arrays, SimpleNamespace(t=tr.t, q=tr.q, qd=tr.qd, qdd=tr.qdd[:3])) == (
+        "column 'qdd': qdd must have shape (4, 3), got (3, 3)"
+    )
+    assert refusal(trajectory_arrays, SimpleNamespace(t=[0.0, 2.0, 1.0, 3.0], q=tr.q, qd=tr.qd, qdd=tr.qdd)) == (
+        "column 't': t must increase strictly"
+    )
+    assert refusal(trajectory_arrays, SimpleNamespace(t=np.zeros((2, 2)), q=tr.q, qd=tr.qd, qdd=tr.qdd)) == (
+        "t must be a non-empty 1-D array, got shape (2, 2)"
+    )
+    assert refusal(trajectory_arrays, SimpleNamespace(t=tr.t, q=tr.q, qdd=tr.qdd)) == (
+        "expected a trajectory with t, q, qd, qdd ('types.SimpleNamespace' object has no attribute 'qd')"
+    )
