@@ -216,10 +216,69 @@ def test_three_samples_are_enough_for_events_and_two_are_not():
     np.testing.assert_array_equal(events.toe_offs, [2])
     two = detect_gait_events(np.arange(2) / RATE, np.array([200.0, 1200.0]))
     assert two.heel_strikes.size == 0 and two.toe_offs.size == 0 and np.isnan(two.low) and np.isnan(two.high)
-    assert two.heel_strikes.dtype == int and two.t_heel_strikes.size == 0
+    assert two.heel_strikes.dtype == int and two.t_heel_strikes.size == 0 and two.t_toe_offs.size == 0
 
 
 def test_a_constant_load_keeps_its_level_and_has_no_events():
     flat = detect_gait_events(np.arange(50) / RATE, np.full(50, 300.0))
     assert (flat.low, flat.high) == (300.0, 300.0)
-    assert flat.heel_strikes.dtype == int and flat.t_toe_offs.size == 0
+    assert flat.heel_strikes.dtype == int and flat.t_toe_offs.size == 0 and flat.t_heel_strikes.size == 0
+
+
+@pytest.mark.parametrize(
+    "low, span, found",
+    [(1000.0, 2e-6, True), (1000.0, 0.5e-6, False), (0.5, 1.5e-9, True), (0.5, 0.5e-9, False)],
+)
+def test_a_load_is_constant_when_it_varies_by_less_than_a_billionth_of_its_level(low, span, found):
+    # Constant up to round-off: the 95th − 5th percentile at most 1e-9 of the stance level, or of 1 N
+    # when the load is below 1 N. 1000 N varying by 2e-6 N has its events (above 1e-6 N), by 0.5e-6 N
+    # none; 0.5 N varying by 1.5e-9 N has them (above 1e-9 N), by 0.5e-9 N none.
+    t, load = curve(low=low, high=low + span)
+    events = detect_gait_events(t, load)
+    if found:
+        np.testing.assert_array_equal(events.heel_strikes, [39, 139, 239])
+        np.testing.assert_array_equal(events.toe_offs, [99, 199, 299])
+    else:
+        assert events.heel_strikes.size == 0 and events.toe_offs.size == 0
+
+
+def test_a_swing_sample_above_its_level_by_round_off_is_at_the_level():
+    # A noise-free swing (its steps all 0, so no noise estimate) whose last sample is 1e-7 N above
+    # 200 N: within the floor of 1e-9 of the 1000 N range (1e-6 N), so it is the heel strike, not the
+    # sample before it; 1e-5 N above is above the floor.
+    t, load = curve()
+    load[139] += 1e-7
+    assert detect_gait_events(t, load).heel_strikes[1] == 139
+    load[139] += 1e-5
+    assert detect_gait_events(t, load).heel_strikes[1] == 138
+
+
+def test_gait_phase_of_every_sample_with_cycles_of_three_lengths():
+    # Swings of 40, 60, 50 and 40 samples: cycles of 100, 120, 110 and 100 samples. Heel strikes at
+    # 0.39, 1.59, 2.69 and 3.69 s (periods 1.2, 1.1 and 1.0 s, median 1.1 s); toe-offs at 0.99, 2.19,
+    # 3.29 and 4.29 s (the last after the last heel strike). Stance: 0.6/1.2 = 50 %, 0.6/1.1 = 54.5 %,
+    # 0.6/1.0 = 60 % of the three whole cycles; before the first and after the last heel strike the
+    # phase runs on with the median period and stance is the median stance, 54.5 %.
+    load = np.concatenate([cycle(swing=40), cycle(swing=60), cycle(swing=50), cycle(swing=40), np.full(40, 200.0)])
+    t = np.arange(load.size) / RATE
+    events = detect_gait_events(t, load)
+    strikes = np.array([0.39, 1.59, 2.69, 3.69])
+    np.testing.assert_allclose(events.t_heel_strikes, strikes)
+    np.testing.assert_allclose(events.t_toe_offs, [0.99, 2.19, 3.29, 4.29])
+    phase, stance = gait_phase(t, events)
+    expected, limit = np.empty(t.size), np.empty(t.size)
+    for i, ti in enumerate(t):
+        if ti < strikes[0] or ti >= strikes[-1]:
+            start = strikes[0] if ti < strikes[0] else strikes[-1]
+            expected[i] = (100.0 * (ti - start) / 1.1) % 100.0
+            limit[i] = 100.0 * 0.6 / 1.1
+        else:
+            c = np.searchsorted(strikes, ti, side="right") - 1
+            expected[i] = 100.0 * (ti - strikes[c]) / (strikes[c + 1] - strikes[c])
+            limit[i] = 100.0 * 0.6 / (strikes[c + 1] - strikes[c])
+    np.testing.assert_allclose(phase, expected, atol=1e-9)
+    # Away from the stance's end (where the sample and the limit coincide), stance is phase < limit.
+    clear = np.abs(expected - limit) > 1e-6
+    np.testing.assert_array_equal(stance[clear], (expected < limit)[clear])
+    # A toe-off on a cycle's last sample is stance's end: 0.99 s is swing, 0.98 s stance.
+    assert not stance[99] and stance[98]

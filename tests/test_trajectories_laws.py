@@ -290,3 +290,36 @@ def test_trajectory_arrays_refusals_name_the_column():
     assert refusal(trajectory_arrays, SimpleNamespace(t=tr.t, q=tr.q, qdd=tr.qdd)) == (
         "expected a trajectory with t, q, qd, qdd ('types.SimpleNamespace' object has no attribute 'qd')"
     )
+
+
+def test_a_periodic_trajectory_that_does_not_start_at_zero():
+    # One cycle of the built-in angles sampled at 50 Hz from t₀ = 0.3 s (the samples end at 1.28 s, the
+    # period is 1 s). A sample's time, one period later or earlier, gives its angles; halfway between
+    # the last sample and t₀ + 1 s the load is the mean of the last and the first.
+    t = 0.3 + np.arange(50) / 50.0
+    q, qd, qdd = iso14242_angles(t)
+    tr = Trajectory(t, q, qd, qdd, iso14242_load(t), name="loop", periodic=True)
+    at = interpolator(tr)
+    np.testing.assert_allclose(at(t + 1.0).q, q, atol=1e-12)
+    np.testing.assert_allclose(at(t - 3.0).Fe, tr.Fe, rtol=1e-12)
+    assert at(1.29).Fe[0] == pytest.approx(0.5 * (tr.Fe[-1] + tr.Fe[0]))
+    np.testing.assert_allclose(at(1.29).q[0], iso14242_angles(np.array([1.29]))[0][0], atol=1e-5)
+    # Its velocity and acceleration are the spline's: the exact ones of the cycle to a small error.
+    out = at(np.array([0.31, 0.77, 1.295]))
+    exact = iso14242_angles(np.array([0.31, 0.77, 1.295]))
+    np.testing.assert_allclose(out.qd, exact[1], atol=1e-3)
+    np.testing.assert_allclose(out.qdd, exact[2], atol=0.1)
+    assert out.name == "loop" and not out.periodic
+
+
+def test_the_line_at_a_time_is_to_a_millionth_of_the_step():
+    # Samples every 10 s: a time 5e-6 s from a sample (half a millionth of the step) is that sample's;
+    # 2e-5 s from it is not. Samples every 1/3 s: 1e-6 s is three millionths of the step, too far.
+    t = np.array([0.0, 10.0, 20.0])
+    zeros = np.zeros((3, 3))
+    slow = Trajectory(t, zeros, zeros, zeros, np.zeros(3), lines=np.array([2, 3, 4]))
+    assert slow.line_at(10.0 + 5e-6) == 3 and slow.line_at(10.0 - 5e-6) == 3
+    assert slow.line_at(10.0 + 2e-5) is None and slow.line_at(20.0 + 5e-6) == 4 and slow.line_at(-5e-6) == 2
+    tr, _ = polynomial_trajectory(4)
+    lined = Trajectory(tr.t, tr.q, tr.qd, tr.qdd, tr.Fe, lines=np.array([5, 6, 7, 8]))
+    assert lined.line_at(1 / 3 + 1e-6) is None and lined.line_at(1 / 3 + 1e-7) == 6
