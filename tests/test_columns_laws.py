@@ -181,3 +181,8 @@ def test_a_columns_refusals_are_named_by_the_column_mapping():
         assert str(refused.value) == f"column mapping: {message}"
     # A leading minus flips the sign; a minus elsewhere is part of the name.
     assert Column.parse("F-E", "alpha") == Column("F-E") and Column.parse(" - FE", "alpha").sign == -1.0
+
+
+def test_only_the_first_equals_sign_ends_the_quantity():
+    m = parse_columns("time=T,alpha=F=E,beta=B,gamma=C")
+    assert m.angles[0] == Column("F=E")

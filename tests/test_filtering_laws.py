@@ -267,3 +267,28 @@ def test_the_ends_quadratic_is_fitted_to_one_period_of_the_cutoff():
     extended[pad + n :] += 2.0 * r[-1] - r[-2 : -pad - 2 : -1]  # r(end − i), i = 1 … pad
     expected = sosfiltfilt(butter(4, cutoff, fs=rate, output="sos"), extended, padlen=0)[inside]
     np.testing.assert_allclose(lowpass_record(p[inside] + r, rate, cutoff), expected, rtol=1e-9, atol=1e-9)
+
+
+def test_a_short_records_ends_follow_the_quadratic_through_its_last_three_samples():
+    # 10 samples at 100 Hz, cut-off 30 Hz: each end is extended by min(14, 9) = 9 samples, and a quarter
+    # of that is under three, so the quadratic is the one through the last three samples, a, b, c at
+    # −2, −1, 0: p(s) = c + s·(c − b) + s·(s + 1)/2·(c − 2b + a) (Newton's differences). Carried on with
+    # the odd reflection of what it leaves (it leaves nothing at its own three samples):
+    # x(end + i) = p(i) + p(−i) − x(end − i).
+    from scipy.signal import butter, sosfiltfilt
+
+    rate, cutoff, n, pad = 100.0, 30.0, 10, 9
+    x = (np.arange(n, dtype=float) - 3.0) ** 3 / 50.0
+
+    def after(y):
+        a, b, c = y[-3:]
+        i = np.arange(1, pad + 1, dtype=float)
+
+        def p(s):
+            return c + s * (c - b) + s * (s + 1) / 2 * (c - 2 * b + a)
+
+        return p(i) + p(-i) - y[-1 - np.arange(1, pad + 1)]
+
+    extended = np.concatenate([after(x[::-1])[::-1], x, after(x)])
+    expected = sosfiltfilt(butter(4, cutoff, fs=rate, output="sos"), extended, padlen=0)[pad : pad + n]
+    np.testing.assert_allclose(lowpass_record(x, rate, cutoff), expected, rtol=1e-9, atol=1e-9)

@@ -146,6 +146,7 @@ def test_parse_tolerances_by_hand():
         ("alpha=5%", "--tolerance: expected a percentage for the load only, got 'alpha=5%'"),
         ("beta=three", "--tolerance: expected a number after '=', got 'beta=three'"),
         ("beta==3", "--tolerance: expected a number after '=', got 'beta==3'"),
+        ("load=3X", "--tolerance: expected a number after '=', got 'load=3X'"),
         (
             "beta 3",
             "--tolerance: expected NAME=VALUE with NAME one of alpha, beta, gamma, load, frequency, got 'beta 3'",
@@ -225,3 +226,13 @@ def test_a_periodic_run_of_one_sample_is_refused_like_an_open_one():
     t, q, load = np.array([0.5]), np.zeros((1, 3)), np.array([900.0])
     expected = "walk.csv: the load has no stance and swing levels, so no heel strike to align the cycles on"
     assert refusal(iso_check, t, q, load, source="walk.csv", periodic=True) == expected
+
+
+def test_a_periodic_extension_of_five_copies_keeps_the_original_in_the_middle():
+    # Samples at 0.5, 0.75, 1.0, 1.25 s: a span of 1 s; five copies shifted by −2 … +2 s.
+    t = np.array([0.5, 0.75, 1.0, 1.25])
+    q = np.arange(12.0).reshape(4, 3)
+    te, qe, le = periodic_extension(t, q, np.array([1.0, 2.0, 3.0, 4.0]), copies=5)
+    np.testing.assert_allclose(te, np.concatenate([t - 2.0, t - 1.0, t, t + 1.0, t + 2.0]))
+    np.testing.assert_array_equal(qe[8:12], q)
+    np.testing.assert_array_equal(le, np.tile([1.0, 2.0, 3.0, 4.0], 5))

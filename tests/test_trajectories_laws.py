@@ -313,13 +313,56 @@ def test_a_periodic_trajectory_that_does_not_start_at_zero():
 
 
 def test_the_line_at_a_time_is_to_a_millionth_of_the_step():
-    # Samples every 10 s: a time 5e-6 s from a sample (half a millionth of the step) is that sample's;
-    # 2e-5 s from it is not. Samples every 1/3 s: 1e-6 s is three millionths of the step, too far.
-    t = np.array([0.0, 10.0, 20.0])
+    # Samples every 10 s from 100 s: a time 8e-6 s from a sample (0.8 millionth of the step) is that
+    # sample's; 1.5e-5 s from it is not. Two samples 10 s apart: the same. Samples every 1/3 s: 1e-6 s
+    # is three millionths of the step, too far. Exactly a millionth of a 1 s step still counts.
     zeros = np.zeros((3, 3))
-    slow = Trajectory(t, zeros, zeros, zeros, np.zeros(3), lines=np.array([2, 3, 4]))
-    assert slow.line_at(10.0 + 5e-6) == 3 and slow.line_at(10.0 - 5e-6) == 3
-    assert slow.line_at(10.0 + 2e-5) is None and slow.line_at(20.0 + 5e-6) == 4 and slow.line_at(-5e-6) == 2
+    slow = Trajectory(np.array([100.0, 110.0, 120.0]), zeros, zeros, zeros, np.zeros(3), lines=np.array([2, 3, 4]))
+    assert slow.line_at(110.0 + 8e-6) == 3 and slow.line_at(110.0 - 8e-6) == 3
+    assert slow.line_at(110.0 + 1.5e-5) is None and slow.line_at(110.0 - 1.5e-5) is None
+    assert slow.line_at(120.0 + 8e-6) == 4 and slow.line_at(100.0 - 8e-6) == 2 and slow.line_at(125.0) is None
+    pair = Trajectory(np.array([100.0, 110.0]), zeros[:2], zeros[:2], zeros[:2], np.zeros(2), lines=np.array([7, 9]))
+    assert pair.line_at(110.0 + 8e-6) == 9 and pair.line_at(110.0 + 1.5e-5) is None
     tr, _ = polynomial_trajectory(4)
     lined = Trajectory(tr.t, tr.q, tr.qd, tr.qdd, tr.Fe, lines=np.array([5, 6, 7, 8]))
     assert lined.line_at(1 / 3 + 1e-6) is None and lined.line_at(1 / 3 + 1e-7) == 6
+    unit = Trajectory(np.array([0.0, 1.0, 2.0]), zeros, zeros, zeros, np.zeros(3), lines=np.array([1, 2, 3]))
+    assert unit.line_at(1e-6) == 1
+
+
+def test_the_ends_of_an_open_trajectory_take_round_off_of_a_picosecond():
+    # 1e-12 s beyond either end is still inside (the comparison is strict); the samples at the ends.
+    tr, _ = polynomial_trajectory()
+    at = interpolator(tr)
+    out = at(np.array([0.0 - 1e-12, 1.0 + 1e-12]))
+    np.testing.assert_allclose(out.q, [tr.q[0], tr.q[-1]], atol=1e-11)
+    np.testing.assert_allclose(out.Fe, [tr.Fe[0], tr.Fe[-1]], rtol=1e-12)
+    with pytest.raises(TrajectoryError, match="reach outside"):
+        at(0.0 - 3e-12)
+
+
+def test_interpolation_is_quintic_and_needs_six_samples():
+    # A quintic spline reproduces a polynomial of degree 5 (a cubic one would not): t⁵ and t⁴ on
+    # six samples and between them, with their derivatives 5t⁴, 20t³ and 4t³, 12t².
+    t = np.linspace(0.0, 1.0, MIN_SAMPLES)
+    q = np.stack([t**5, t**4, -(t**5)], axis=1)
+    zeros = np.zeros_like(q)
+    at = interpolator(Trajectory(t, q, zeros, zeros, 10.0 * t))
+    x = np.array([0.05, 0.37, 0.81, 0.99])
+    out = at(x)
+    np.testing.assert_allclose(out.q, np.stack([x**5, x**4, -(x**5)], axis=1), atol=1e-10)
+    np.testing.assert_allclose(out.qd, np.stack([5 * x**4, 4 * x**3, -5 * x**4], axis=1), atol=1e-8)
+    np.testing.assert_allclose(out.qdd, np.stack([20 * x**3, 12 * x**2, -20 * x**3], axis=1), atol=1e-6)
+    np.testing.assert_allclose(out.Fe, 10.0 * x, rtol=1e-12)
+
+
+def test_the_cycle_at_any_times_is_named_and_open():
+    at = iso14242_at([0, 1])
+    assert at.name == "ISO 14242-1" and at.periodic is False and at.t.dtype == float
+    np.testing.assert_allclose(at.Fe, [300.0, 300.0])
+
+
+def test_integer_times_become_floats():
+    zeros = np.zeros((3, 3), dtype=int)
+    tr = Trajectory([0, 1, 2], zeros, zeros, zeros, [0, 0, 0])
+    assert tr.t.dtype == float and tr.q.dtype == float and tr.Fe.dtype == float
