@@ -236,3 +236,24 @@ def test_a_periodic_extension_of_five_copies_keeps_the_original_in_the_middle():
     np.testing.assert_allclose(te, np.concatenate([t - 2.0, t - 1.0, t, t + 1.0, t + 2.0]))
     np.testing.assert_array_equal(qe[8:12], q)
     np.testing.assert_array_equal(le, np.tile([1.0, 2.0, 3.0, 4.0], 5))
+
+
+@pytest.mark.parametrize(
+    "level, span, checked",
+    [(1000.0, 2e-6, True), (1000.0, 0.5e-6, False), (0.5, 1.5e-9, True), (0.5, 0.5e-9, False)],
+)
+def test_a_load_varying_by_less_than_a_billionth_of_its_level_is_refused(level, span, checked):
+    # The standard's load shape scaled to a span (95th − 5th percentile) of about ``span`` above
+    # ``level``: above 1e-9 of the level (of 1 N below 1 N) its cycles are found and checked (and fail
+    # the load's tolerance by far); below, the load is constant.
+    t = 0.137 + np.arange(600) / 200.0
+    q, _, _ = iso14242_angles(t)
+    shape = (iso14242_load(t) - 300.0) / 2700.0
+    load = level + span * shape
+    if checked:
+        # 3 s from 0.137 s: whole cycles from 1 s and 2 s (the next rise's crossing at 3.06 s is in the run).
+        np.testing.assert_allclose([c.start for c in iso_check(t, q, load).cycles], [1.0, 2.0], atol=2e-3)
+    else:
+        assert refusal(iso_check, t, q, load, source="walk.csv") == (
+            "walk.csv: the load has no stance and swing levels, so no heel strike to align the cycles on"
+        )
