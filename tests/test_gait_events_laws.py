@@ -252,6 +252,12 @@ def test_a_swing_sample_above_its_level_by_round_off_is_at_the_level():
     assert detect_gait_events(t, load).heel_strikes[1] == 139
     load[139] += 1e-5
     assert detect_gait_events(t, load).heel_strikes[1] == 138
+    # The same at a toe-off: the fall's last sample (199) 1e-7 N above 200 N is back at the level.
+    t, load = curve()
+    load[199] += 1e-7
+    assert detect_gait_events(t, load).toe_offs[1] == 199
+    load[199] += 1e-5
+    assert detect_gait_events(t, load).toe_offs[1] == 200
 
 
 def test_gait_phase_of_every_sample_with_cycles_of_three_lengths():
@@ -283,3 +289,60 @@ def test_gait_phase_of_every_sample_with_cycles_of_three_lengths():
     np.testing.assert_array_equal(stance[clear], (expected < limit)[clear])
     # A toe-off on a cycle's last sample is stance's end: 0.99 s is swing, 0.98 s stance.
     assert not stance[99] and stance[98]
+
+
+def test_the_swing_noise_estimate_by_hand():
+    from hipsim.motion.gait_events import _swing_baseline
+
+    load = np.array([200.0, 202.0, 200.0, 206.0, 203.0])
+    # Four samples: steps 2, −2, 6; their median 2; |step − 2| = 0, 4, 4, median 4: σ = 4/(0.6745·√2).
+    baseline, noise = _swing_baseline(load, 0, 4)
+    assert baseline == 201.0 and noise == pytest.approx(4.0 / (0.6745 * np.sqrt(2.0)), rel=1e-12)
+    # Three samples (two steps) are too few to estimate the noise: 0. One sample: its value.
+    assert _swing_baseline(load, 0, 3) == (200.0, 0.0)
+    assert _swing_baseline(load, 1, 2) == (202.0, 0.0)
+    assert _swing_baseline(load, 3, 3) == (206.0, 0.0)  # an empty range is widened to its first sample
+    # From the last sample on and past the end: nothing, no level.
+    assert _swing_baseline(load, 4, 9) == (203.0, 0.0)
+    empty_baseline, empty_noise = _swing_baseline(load, 5, 9)
+    assert np.isnan(empty_baseline) and empty_noise == 0.0
+
+
+def test_the_levels_are_the_5th_and_95th_percentiles():
+    # 0, 10, …, 1000 N: the 5th percentile is 50 N, the 95th 950 N.
+    load = np.arange(101) * 10.0
+    events = detect_gait_events(np.arange(101) / RATE, load)
+    assert (events.low, events.high) == (50.0, 950.0)
+
+
+def test_a_load_exactly_on_a_threshold_has_not_crossed_it():
+    # Swing 200 N, stance 1200 N: stance begins above 200 + 0.25·1000 = 450 N and ends below 300 N.
+    base = np.concatenate([cycle(), cycle(), np.full(40, 200.0)])
+    bump = np.concatenate([np.full(30, 200.0), np.full(20, 450.0), np.full(30, 200.0)])
+    load = np.concatenate([base, bump])
+    assert detect_gait_events(np.arange(load.size) / RATE, load).heel_strikes.size == 2
+    dipped = cycle().copy()
+    dipped[70:75] = 300.0
+    load = np.concatenate([cycle(), dipped, cycle(), np.full(40, 200.0)])
+    assert detect_gait_events(np.arange(load.size) / RATE, load).toe_offs.size == 3
+
+
+def test_one_step_up_or_down():
+    # A load that only rises has a heel strike and no toe-off; one that only falls, the opposite.
+    up = np.concatenate([np.full(50, 200.0), np.full(50, 1200.0)])
+    events = detect_gait_events(np.arange(100) / RATE, up)
+    np.testing.assert_array_equal(events.heel_strikes, [49])
+    assert events.toe_offs.size == 0 and events.toe_offs.dtype == int and events.t_toe_offs.size == 0
+    events = detect_gait_events(np.arange(100) / RATE, up[::-1])
+    np.testing.assert_array_equal(events.toe_offs, [50])
+    assert events.heel_strikes.size == 0 and events.heel_strikes.dtype == int and events.t_heel_strikes.size == 0
+
+
+def test_a_log_starting_between_the_thresholds_has_no_state_until_it_crosses_one():
+    # The first 20 samples at 15 % of the range (between 10 % and 25 %): neither stance nor swing. Their
+    # fall to the swing level is no toe-off (stance was never seen); the cycles after are counted.
+    t, load = curve()
+    start = np.concatenate([np.full(20, 350.0), load])
+    events = detect_gait_events(np.arange(start.size) / RATE, start)
+    np.testing.assert_array_equal(events.heel_strikes, [59, 159, 259])
+    np.testing.assert_array_equal(events.toe_offs, [119, 219, 319])
