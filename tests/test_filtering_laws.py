@@ -100,6 +100,7 @@ def test_the_cutoff_must_be_below_the_nyquist_frequency():
         check_cutoff(100.0, 50.0, None)
     check_cutoff(100.0, 49.9, None)
     check_cutoff(100.0, 3, None)
+    check_cutoff(100.0, 0.5, None)  # below 1 Hz is a frequency too
 
 
 def test_the_filter_halo_is_where_the_impulse_response_falls_below_round_off():

@@ -346,3 +346,13 @@ def test_a_log_starting_between_the_thresholds_has_no_state_until_it_crosses_one
     events = detect_gait_events(np.arange(start.size) / RATE, start)
     np.testing.assert_array_equal(events.heel_strikes, [59, 159, 259])
     np.testing.assert_array_equal(events.toe_offs, [119, 219, 319])
+
+
+def test_gait_phase_without_any_toe_off_has_no_stance():
+    t, load = curve()
+    events = detect_gait_events(t, load)
+    held = type(events)(
+        events.heel_strikes, events.toe_offs[:0], events.t_heel_strikes, events.t_toe_offs[:0], 200.0, 1200.0
+    )
+    phase, stance = gait_phase(t, held)
+    assert phase[89] == pytest.approx(50.0) and not stance.any()

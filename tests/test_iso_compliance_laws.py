@@ -257,3 +257,37 @@ def test_a_load_varying_by_less_than_a_billionth_of_its_level_is_refused(level, 
         assert refusal(iso_check, t, q, load, source="walk.csv") == (
             "walk.csv: the load has no stance and swing levels, so no heel strike to align the cycles on"
         )
+
+
+def test_a_run_ending_in_its_last_rise_does_not_start_a_cycle_there():
+    # From 0.137 s to 3.05 s at 200 Hz: the load rises from 3.0 s (a heel strike, past the 25 % rise
+    # threshold by 3.05 s) but does not reach the middle of its range: that heel strike has no crossing
+    # (and the cycle from 2 s, no end). One whole cycle, from 1 s.
+    t = 0.137 + np.arange(583) / 200.0
+    q, _, _ = iso14242_angles(t)
+    check = iso_check(t, q, iso14242_load(t))
+    np.testing.assert_allclose([c.start for c in check.cycles], [1.0], atol=2e-3)
+
+
+def test_cycles_that_start_off_the_whole_seconds_and_one_that_deviates():
+    # The standard's waveforms delayed by 0.3 s: cycles start at 0.3 + k s and follow the standard. Then
+    # the second whole cycle only (1.3 to 2.3 s) with α 4° higher: only that cycle deviates by 4°.
+    t = np.arange(800) / 200.0
+    q, _, _ = iso14242_angles(t - 0.3)
+    load = iso14242_load(t - 0.3)
+    check = iso_check(t, q, load)
+    np.testing.assert_allclose([c.start for c in check.cycles], [0.3, 1.3, 2.3], atol=2e-3)
+    assert check.worst("alpha") < 0.02 and check.passed  # aligned to about 0.1 ms: 0.015° of α
+    q[(t >= 1.3) & (t < 2.3), 0] += np.radians(4.0)
+    deviations = [c.alpha for c in iso_check(t, q, load).cycles]
+    np.testing.assert_allclose(deviations, [0.0, 4.0, 0.0], atol=0.05)
+
+
+def test_a_periodic_check_is_named_and_two_samples_are_one_period():
+    t = 0.5 + np.arange(400) / 200.0
+    q, _, _ = iso14242_angles(t)
+    check = iso_check(t, q, iso14242_load(t), source="walk.csv", periodic=True)
+    assert check.source == "walk.csv"
+    # 300 N and 3000 N repeating every 0.02 s: one cycle of 50 Hz in the period.
+    two = iso_check(np.array([0.0, 0.01]), np.zeros((2, 3)), np.array([300.0, 3000.0]), periodic=True)
+    assert len(two.cycles) == 1 and two.cycles[0].frequency == pytest.approx(50.0)

@@ -366,3 +366,23 @@ def test_integer_times_become_floats():
     zeros = np.zeros((3, 3), dtype=int)
     tr = Trajectory([0, 1, 2], zeros, zeros, zeros, [0, 0, 0])
     assert tr.t.dtype == float and tr.q.dtype == float and tr.Fe.dtype == float
+
+
+def test_trajectory_arrays_name_q_and_refuse_two_samples_back_in_time():
+    tr, _ = polynomial_trajectory(4)
+    assert refusal(trajectory_arrays, SimpleNamespace(t=tr.t, q=tr.q[:, :1], qd=tr.qd, qdd=tr.qdd)) == (
+        "column 'q': q must have shape (4, 3), got (4, 1)"
+    )
+    two = SimpleNamespace(t=[1.0, 0.0], q=tr.q[:2], qd=tr.qd[:2], qdd=tr.qdd[:2])
+    assert refusal(trajectory_arrays, two) == "column 't': t must increase strictly"
+
+
+def test_a_periodic_spline_is_smooth_across_the_wrap():
+    # Velocity and acceleration just before t₀ + 1 s equal those at t₀ (a periodic spline's boundary
+    # conditions; an open spline's ends would not meet).
+    t = 0.3 + np.arange(50) / 50.0
+    q, qd, qdd = iso14242_angles(t)
+    at = interpolator(Trajectory(t, q, qd, qdd, iso14242_load(t), periodic=True))
+    start, end = at(0.3), at(1.3 - 1e-9)
+    np.testing.assert_allclose(end.qd, start.qd, atol=1e-6)
+    np.testing.assert_allclose(end.qdd, start.qdd, atol=1e-5)
