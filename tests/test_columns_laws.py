@@ -165,3 +165,24 @@ def test_the_readers_options():
     # Merged into a hip-chain mapping: its angles and chain kept.
     hip, _ = column_options("time=T,flexion=F,adduction=A,rotation=R", "Fz", "walk.csv")
     assert hip.hip_chain and hip.angles == (Column("F"), Column("A"), Column("R")) and hip.load == Column("Fz")
+
+
+def test_a_columns_refusals_are_named_by_the_column_mapping():
+    for text, key, message in [
+        ("FE:kN", "alpha", "'kN' is not a unit of alpha (expected deg, rad)"),
+        ("Fz: lbf ", "load", "'lbf' is not a unit of load (expected N, kN, %BW)"),
+        ("T:rad", "time", "'rad' is not a unit of time (expected s, ms, %)"),
+        ("- :N", "load", "no column name given for load"),
+        (":s", "time", "no column name given for time"),
+        ("-", "gamma", "no column name given for gamma"),
+    ]:
+        with pytest.raises(TrajectoryError) as refused:
+            Column.parse(text, key)
+        assert str(refused.value) == f"column mapping: {message}"
+    # A leading minus flips the sign; a minus elsewhere is part of the name.
+    assert Column.parse("F-E", "alpha") == Column("F-E") and Column.parse(" - FE", "alpha").sign == -1.0
+
+
+def test_only_the_first_equals_sign_ends_the_quantity():
+    m = parse_columns("time=T,alpha=F=E,beta=B,gamma=C")
+    assert m.angles[0] == Column("F=E")

@@ -100,6 +100,7 @@ def test_the_cutoff_must_be_below_the_nyquist_frequency():
         check_cutoff(100.0, 50.0, None)
     check_cutoff(100.0, 49.9, None)
     check_cutoff(100.0, 3, None)
+    check_cutoff(100.0, 0.5, None)  # below 1 Hz is a frequency too
 
 
 def test_the_filter_halo_is_where_the_impulse_response_falls_below_round_off():
@@ -158,3 +159,137 @@ def test_the_ends_of_an_open_record_carry_its_quadratic_trend():
     np.testing.assert_allclose(both[:, 1], -y, atol=1e-12)
     with pytest.raises(TrajectoryError, match="cutoff"):
         lowpass_record(x, 60.0, 30.0)
+
+
+def refusal(call, *args, **kwargs) -> str:
+    """The whole message of the TrajectoryError that ``call`` raises."""
+    with pytest.raises(TrajectoryError) as refused:
+        call(*args, **kwargs)
+    return str(refused.value)
+
+
+@pytest.mark.parametrize("cutoff", [0.0, -3.0, float("nan"), True, "20"])
+def test_a_refused_cutoff_names_the_log_and_the_value(cutoff):
+    assert refusal(check_cutoff, 100.0, cutoff, "run.csv") == (
+        f"run.csv: the low-pass cutoff must be a positive frequency in Hz, got {cutoff!r}"
+    )
+
+
+def test_a_cutoff_at_the_nyquist_frequency_names_the_log_and_both_frequencies():
+    # 200 Hz samples: the Nyquist frequency is 100 Hz; a 100 Hz cutoff is refused, a 99.5 Hz one is not.
+    assert refusal(check_cutoff, 200.0, 100.0, "run.csv") == (
+        "run.csv: the low-pass cutoff 100 Hz is not below the Nyquist frequency 100 Hz of a 200 Hz log"
+    )
+    check_cutoff(200.0, 99.5, "run.csv")
+    # Each entry point names the record it was given.
+    for call in (lowpass, lowpass_periodic, lowpass_record):
+        assert refusal(call, np.zeros(900), 200.0, 150.0, source="walk.csv").startswith(
+            "walk.csv: the low-pass cutoff 150 Hz is not below"
+        )
+    assert refusal(lowpass_record, np.zeros(901), 200.0, 0.0, True, "loop.csv").startswith("loop.csv: ")
+
+
+def test_a_log_too_short_names_itself_its_length_and_what_is_needed():
+    # 500 Hz, cut-off 10 Hz: edges of 4·500/10 = 200 samples, so 800 are needed (1.6 s); 300 are 0.6 s.
+    assert refusal(lowpass, np.zeros(300), 500.0, 10.0, source="run.csv") == (
+        "run.csv: 300 samples (0.6 s) are too short to filter at 10 Hz: at least 800 (1.6 s) are needed, "
+        "4/cutoff at each end being dropped"
+    )
+
+
+def test_the_minimum_is_the_filters_own_padding_when_the_edges_are_shorter():
+    # Edges of ⌈4·10/40⌉ = 1 sample (a cut-off above the sample rate, which lowpass refuses): four of
+    # them are fewer than SciPy's own odd extension, 3·(2·2 sections + 1) = 15 samples, plus one.
+    assert edge_samples(10.0, 40.0) == 1
+    assert minimum_samples(10.0, 40.0) == 16
+    assert minimum_samples(10.0, 10.0) == 16  # edges of 4: 4 × 4 = 16 as well
+    assert minimum_samples(100.0, 10.0) == 160
+
+
+@pytest.mark.parametrize("n", [2, 3, 5, 7])
+def test_a_record_of_a_few_samples_gets_an_odd_extension_as_long_as_it_allows(n):
+    # Fewer than 8 samples: too few to fit the ends' quadratic, so each end is extended by its odd
+    # reflection, n − 1 samples long (the 4/cutoff = 40 samples do not fit), and filtered forwards and
+    # backwards: SciPy's sosfiltfilt with padlen n − 1, column by column.
+    from scipy.signal import butter, sosfiltfilt
+
+    rate, cutoff = 100.0, 10.0
+    x = np.array([0.0, 3.0, -1.0, 2.0, 5.0, 4.0, -2.0])[:n]
+    columns = np.stack([x, 2.0 * x[::-1] + 1.0], axis=1)
+    sos = butter(4, cutoff, fs=rate, output="sos")
+    expected = np.stack([sosfiltfilt(sos, c, padlen=n - 1) for c in columns.T], axis=1)
+    np.testing.assert_allclose(lowpass_record(columns, rate, cutoff), expected, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(lowpass_record(x, rate, cutoff), expected[:, 0], rtol=1e-12, atol=1e-12)
+
+
+def quadratic(k):
+    return 1.0 + 0.5 * k - 0.2 * k**2
+
+
+@pytest.mark.parametrize("n", [8, 12])
+def test_from_eight_samples_on_the_ends_carry_the_quadratic(n):
+    # 100 Hz, cut-off 30 Hz: edges of ⌈4·100/30⌉ = 14 samples, so each end is extended by
+    # min(14, n − 1) samples. On a quadratic the extension is the quadratic itself (its fit is exact):
+    # the record filtered is q(k) for k = −pad … n − 1 + pad, with no further padding.
+    from scipy.signal import butter, sosfiltfilt
+
+    rate, cutoff, pad = 100.0, 30.0, min(14, n - 1)
+    k = np.arange(n, dtype=float)
+    extended = quadratic(np.arange(-pad, n + pad, dtype=float))
+    expected = sosfiltfilt(butter(4, cutoff, fs=rate, output="sos"), extended, padlen=0)[pad : pad + n]
+    np.testing.assert_allclose(lowpass_record(quadratic(k), rate, cutoff), expected, rtol=1e-9, atol=1e-9)
+    both = lowpass_record(np.stack([quadratic(k), -quadratic(k)], axis=1), rate, cutoff)
+    np.testing.assert_allclose(both, np.stack([expected, -expected], axis=1), rtol=1e-9, atol=1e-9)
+
+
+def test_the_ends_quadratic_is_fitted_to_one_period_of_the_cutoff():
+    # 100 Hz, cut-off 5 Hz: edges of 80 samples, the quadratic fitted to one period, 100/5 = 20 samples.
+    # The record is a quadratic p plus a residual r: a bump in the middle and, on the first and on
+    # the last 20 samples, a cubic with no part along 1, j, j² there (so a 20-sample least-squares
+    # fit is p exactly; 19 or 21 samples would not be). Each end is then carried on along p, plus
+    # the residual reflected oddly about the end sample: x(end + i) = p(end + i) + 2·r(end) − r(end − i).
+    from scipy.signal import butter, sosfiltfilt
+
+    rate, cutoff, n, pad = 100.0, 5.0, 200, 80
+    j = np.arange(20, dtype=float)
+    basis = np.stack([np.ones(20), j, j**2], axis=1)
+    cubic = j**3 - basis @ np.linalg.lstsq(basis, j**3, rcond=None)[0]
+    cubic *= 0.05 / np.abs(cubic).max()
+    k = np.arange(-pad, n + pad, dtype=float)
+    p = 2.0 - 0.01 * k + 3e-4 * k**2
+    r = np.zeros(n)
+    r[20:-20] = np.sin(np.pi * np.arange(1, n - 39) / (n - 39)) ** 2
+    r[-20:] += cubic
+    r[:20] += cubic[::-1]
+    inside = slice(pad, pad + n)
+    extended = p.copy()
+    extended[inside] += r
+    extended[:pad] += 2.0 * r[0] - r[pad:0:-1]  # r(start + i) reflected, i = pad … 1
+    extended[pad + n :] += 2.0 * r[-1] - r[-2 : -pad - 2 : -1]  # r(end − i), i = 1 … pad
+    expected = sosfiltfilt(butter(4, cutoff, fs=rate, output="sos"), extended, padlen=0)[inside]
+    np.testing.assert_allclose(lowpass_record(p[inside] + r, rate, cutoff), expected, rtol=1e-9, atol=1e-9)
+
+
+def test_a_short_records_ends_follow_the_quadratic_through_its_last_three_samples():
+    # 10 samples at 100 Hz, cut-off 30 Hz: each end is extended by min(14, 9) = 9 samples, and a quarter
+    # of that is under three, so the quadratic is the one through the last three samples, a, b, c at
+    # −2, −1, 0: p(s) = c + s·(c − b) + s·(s + 1)/2·(c − 2b + a) (Newton's differences). Carried on with
+    # the odd reflection of what it leaves (it leaves nothing at its own three samples):
+    # x(end + i) = p(i) + p(−i) − x(end − i).
+    from scipy.signal import butter, sosfiltfilt
+
+    rate, cutoff, n, pad = 100.0, 30.0, 10, 9
+    x = (np.arange(n, dtype=float) - 3.0) ** 3 / 50.0
+
+    def after(y):
+        a, b, c = y[-3:]
+        i = np.arange(1, pad + 1, dtype=float)
+
+        def p(s):
+            return c + s * (c - b) + s * (s + 1) / 2 * (c - 2 * b + a)
+
+        return p(i) + p(-i) - y[-1 - np.arange(1, pad + 1)]
+
+    extended = np.concatenate([after(x[::-1])[::-1], x, after(x)])
+    expected = sosfiltfilt(butter(4, cutoff, fs=rate, output="sos"), extended, padlen=0)[pad : pad + n]
+    np.testing.assert_allclose(lowpass_record(x, rate, cutoff), expected, rtol=1e-9, atol=1e-9)

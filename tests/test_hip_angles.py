@@ -30,6 +30,15 @@ def test_pelvis_axes_map_the_body_onto_the_machine():
     np.testing.assert_array_equal(PELVIS_AXES @ [0, 0, 1], [1, 0, 0])
 
 
+def test_compositions_of_many_rows_at_once():
+    stacked = hip_rotation(SAMPLES[:5])
+    assert stacked.shape == (5, 3, 3) and hip_rotation(SAMPLES[:1]).shape == (1, 3, 3)
+    for R, hip in zip(stacked, SAMPLES[:5]):
+        np.testing.assert_allclose(R, Rz(hip[0]) @ Rx(hip[1]) @ Ry(hip[2]), rtol=0, atol=1e-15)
+    assert machine_rotation(SAMPLES[:4]).shape == (4, 3, 3)
+    assert hip_angles_of(machine_rotation(SAMPLES[:4])).shape == (4, 3)
+
+
 def test_compositions_are_the_written_out_products():
     for hip, q in zip(SAMPLES[:20], SAMPLES[20:40]):
         np.testing.assert_allclose(hip_rotation(hip), Rz(hip[0]) @ Rx(hip[1]) @ Ry(hip[2]), rtol=0, atol=1e-15)
@@ -79,3 +88,10 @@ def test_shapes_follow_the_input():
     assert hip_angles_of(np.eye(3)).shape == (3,)
     with pytest.raises(ValueError, match="shape"):
         hip_to_machine(np.zeros(4))
+
+
+def test_a_wrong_shape_is_named_with_the_shape_given():
+    for call in (hip_to_machine, machine_to_hip, hip_rotation, machine_rotation):
+        with pytest.raises(ValueError) as refused:
+            call(np.zeros((2, 4)))
+        assert str(refused.value) == "expected angles of shape (3,) or (N, 3), got (2, 4)"

@@ -146,6 +146,7 @@ def test_parse_tolerances_by_hand():
         ("alpha=5%", "--tolerance: expected a percentage for the load only, got 'alpha=5%'"),
         ("beta=three", "--tolerance: expected a number after '=', got 'beta=three'"),
         ("beta==3", "--tolerance: expected a number after '=', got 'beta==3'"),
+        ("load=3X", "--tolerance: expected a number after '=', got 'load=3X'"),
         (
             "beta 3",
             "--tolerance: expected NAME=VALUE with NAME one of alpha, beta, gamma, load, frequency, got 'beta 3'",
@@ -166,3 +167,127 @@ def test_runs_that_cannot_be_checked():
         iso_check(t, q, np.full(t.size, 500.0))
     with pytest.raises(TrajectoryError, match="no whole gait cycle"):
         iso_check(t[:500], q[:500], load[:500])
+
+
+def refusal(call, *args, **kwargs) -> str:
+    """The whole message of the TrajectoryError that ``call`` raises."""
+    with pytest.raises(TrajectoryError) as refused:
+        call(*args, **kwargs)
+    return str(refused.value)
+
+
+def test_refusals_name_the_run_and_what_is_wrong():
+    t, q, load = run(rate=100.0)  # 300 samples
+    assert refusal(iso_check, t, q[:-1], load, source="walk.csv") == (
+        "walk.csv: times (300,), angles (299, 3) and load (300,) do not match"
+    )
+    assert refusal(iso_check, t, q, load[:, None], source="walk.csv") == (
+        "walk.csv: times (300,), angles (300, 3) and load (300, 1) do not match"
+    )
+    flat = "the load has no stance and swing levels, so no heel strike to align the cycles on"
+    assert refusal(iso_check, t, q, np.full(t.size, 500.0), source="walk.csv") == f"walk.csv: {flat}"
+    # Periodic: the same refusal, still naming the run (checked as its extension).
+    assert refusal(iso_check, t, q, np.full(t.size, 500.0), source="walk.csv", periodic=True) == f"walk.csv: {flat}"
+    assert refusal(iso_check, t[:0], q[:0], load[:0], source="walk.csv") == f"walk.csv: {flat}"
+    # 1.5 s from 0.137 s at 100 Hz: heel strikes at 1.0 s only (t[0] is in mid-cycle), no whole cycle.
+    assert refusal(iso_check, t[:150], q[:150], load[:150], source="walk.csv") == (
+        "walk.csv: found no whole gait cycle (1 heel strike(s) in 1.49 s): the check needs at least one"
+    )
+
+
+def test_a_run_that_starts_on_a_heel_strike_keeps_its_first_cycle():
+    # The built-in cycle from t = 0 s at 100 Hz, 3 cycles: the load rises from each whole second, so the
+    # first sample is a heel strike and the cycle from 0 s is whole; the one from 2 s has no next
+    # crossing in the run (it ends at 2.99 s). Checked as periodic, it wraps around: 0, 1 and 2 s.
+    t = np.arange(300) / 100.0
+    q, _, _ = iso14242_angles(t)
+    check = iso_check(t, q, iso14242_load(t))
+    np.testing.assert_allclose([c.start for c in check.cycles], [0.0, 1.0], atol=1e-3)
+    periodic = iso_check(t, q, iso14242_load(t), periodic=True)
+    np.testing.assert_allclose([c.start for c in periodic.cycles], [0.0, 1.0, 2.0], atol=1e-3)
+
+
+@pytest.mark.parametrize("fraction, starts", [(0.3, [1.0, 2.0]), (0.7, [2.0, 3.0])])
+def test_a_periodic_run_owns_the_cycles_that_start_within_half_a_sample_of_its_first(fraction, starts):
+    # Two periods at 1 Hz sampled at 50 Hz (step 0.02 s), the first sample a fraction of a step after
+    # the heel strike at 1 s. The run owns the cycles that start from half a step before its first
+    # sample up to half a step before the first sample of its next repetition (t₀ + 2 s): a start
+    # 0.3 step before t₀ is its first cycle, and 3 s (0.3 step before t₀ + 2 s) is not; a start
+    # 0.7 step before t₀ is not, and 3 s is.
+    step = 0.02
+    t = 1.0 + fraction * step + np.arange(100) * step
+    q, _, _ = iso14242_angles(t)
+    check = iso_check(t, q, iso14242_load(t), periodic=True)
+    np.testing.assert_allclose([c.start for c in check.cycles], starts, atol=2e-3)
+    assert check.passed
+
+
+def test_a_periodic_run_of_one_sample_is_refused_like_an_open_one():
+    t, q, load = np.array([0.5]), np.zeros((1, 3)), np.array([900.0])
+    expected = "walk.csv: the load has no stance and swing levels, so no heel strike to align the cycles on"
+    assert refusal(iso_check, t, q, load, source="walk.csv", periodic=True) == expected
+
+
+def test_a_periodic_extension_of_five_copies_keeps_the_original_in_the_middle():
+    # Samples at 0.5, 0.75, 1.0, 1.25 s: a span of 1 s; five copies shifted by −2 … +2 s.
+    t = np.array([0.5, 0.75, 1.0, 1.25])
+    q = np.arange(12.0).reshape(4, 3)
+    te, qe, le = periodic_extension(t, q, np.array([1.0, 2.0, 3.0, 4.0]), copies=5)
+    np.testing.assert_allclose(te, np.concatenate([t - 2.0, t - 1.0, t, t + 1.0, t + 2.0]))
+    np.testing.assert_array_equal(qe[8:12], q)
+    np.testing.assert_array_equal(le, np.tile([1.0, 2.0, 3.0, 4.0], 5))
+
+
+@pytest.mark.parametrize(
+    "level, span, checked",
+    [(1000.0, 2e-6, True), (1000.0, 0.5e-6, False), (0.5, 1.5e-9, True), (0.5, 0.5e-9, False)],
+)
+def test_a_load_varying_by_less_than_a_billionth_of_its_level_is_refused(level, span, checked):
+    # The standard's load shape scaled to a span (95th − 5th percentile) of about ``span`` above
+    # ``level``: above 1e-9 of the level (of 1 N below 1 N) its cycles are found and checked (and fail
+    # the load's tolerance by far); below, the load is constant.
+    t = 0.137 + np.arange(600) / 200.0
+    q, _, _ = iso14242_angles(t)
+    shape = (iso14242_load(t) - 300.0) / 2700.0
+    load = level + span * shape
+    if checked:
+        # 3 s from 0.137 s: whole cycles from 1 s and 2 s (the next rise's crossing at 3.06 s is in the run).
+        np.testing.assert_allclose([c.start for c in iso_check(t, q, load).cycles], [1.0, 2.0], atol=2e-3)
+    else:
+        assert refusal(iso_check, t, q, load, source="walk.csv") == (
+            "walk.csv: the load has no stance and swing levels, so no heel strike to align the cycles on"
+        )
+
+
+def test_a_run_ending_in_its_last_rise_does_not_start_a_cycle_there():
+    # From 0.137 s to 3.05 s at 200 Hz: the load rises from 3.0 s (a heel strike, past the 25 % rise
+    # threshold by 3.05 s) but does not reach the middle of its range: that heel strike has no crossing
+    # (and the cycle from 2 s, no end). One whole cycle, from 1 s.
+    t = 0.137 + np.arange(583) / 200.0
+    q, _, _ = iso14242_angles(t)
+    check = iso_check(t, q, iso14242_load(t))
+    np.testing.assert_allclose([c.start for c in check.cycles], [1.0], atol=2e-3)
+
+
+def test_cycles_that_start_off_the_whole_seconds_and_one_that_deviates():
+    # The standard's waveforms delayed by 0.3 s: cycles start at 0.3 + k s and follow the standard. Then
+    # the second whole cycle only (1.3 to 2.3 s) with α 4° higher: only that cycle deviates by 4°.
+    t = np.arange(800) / 200.0
+    q, _, _ = iso14242_angles(t - 0.3)
+    load = iso14242_load(t - 0.3)
+    check = iso_check(t, q, load)
+    np.testing.assert_allclose([c.start for c in check.cycles], [0.3, 1.3, 2.3], atol=2e-3)
+    assert check.worst("alpha") < 0.02 and check.passed  # aligned to about 0.1 ms: 0.015° of α
+    q[(t >= 1.3) & (t < 2.3), 0] += np.radians(4.0)
+    deviations = [c.alpha for c in iso_check(t, q, load).cycles]
+    np.testing.assert_allclose(deviations, [0.0, 4.0, 0.0], atol=0.05)
+
+
+def test_a_periodic_check_is_named_and_two_samples_are_one_period():
+    t = 0.5 + np.arange(400) / 200.0
+    q, _, _ = iso14242_angles(t)
+    check = iso_check(t, q, iso14242_load(t), source="walk.csv", periodic=True)
+    assert check.source == "walk.csv"
+    # 300 N and 3000 N repeating every 0.02 s: one cycle of 50 Hz in the period.
+    two = iso_check(np.array([0.0, 0.01]), np.zeros((2, 3)), np.array([300.0, 3000.0]), periodic=True)
+    assert len(two.cycles) == 1 and two.cycles[0].frequency == pytest.approx(50.0)
