@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from support import Rx, Ry, Rz, machine_R, zxy_angles, zyx_angles
 
+from hipsim.exceptions import ArgumentError
 from hipsim.motion.hip_angles import (
     PELVIS_AXES,
     hip_angles_of,
@@ -92,6 +93,8 @@ def test_shapes_follow_the_input():
 
 def test_a_wrong_shape_is_named_with_the_shape_given():
     for call in (hip_to_machine, machine_to_hip, hip_rotation, machine_rotation):
-        with pytest.raises(ValueError) as refused:
+        # A HipsimError (one line at the command line), still a ValueError for code that catches that.
+        with pytest.raises(ArgumentError) as refused:
             call(np.zeros((2, 4)))
-        assert str(refused.value) == "expected angles of shape (3,) or (N, 3), got (2, 4)"
+        assert isinstance(refused.value, ValueError)
+        assert str(refused.value) == "angles: expected shape (3,) or (N, 3), got shape (2, 4)"

@@ -36,6 +36,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from ..exceptions import ArgumentError
+
 __all__ = ["PELVIS_AXES", "hip_to_machine", "machine_to_hip", "hip_angles_of", "hip_rotation", "machine_rotation"]
 
 #: The pelvis axes (ISB: x anterior, y superior, z right) in machine axes, as columns:
@@ -48,7 +50,7 @@ _C = Rotation.from_matrix(PELVIS_AXES)
 def _rows(angles) -> tuple[np.ndarray, tuple[int, ...]]:
     angles = np.asarray(angles, dtype=float)
     if angles.shape[-1:] != (3,):
-        raise ValueError(f"expected angles of shape (3,) or (N, 3), got {angles.shape}")
+        raise ArgumentError("angles", angles, "shape (3,) or (N, 3)")
     return angles.reshape(-1, 3), angles.shape
 
 
