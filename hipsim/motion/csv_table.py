@@ -97,7 +97,8 @@ def _read_csv_table(source: str, path, mapping: ColumnMap | None, load: Column |
     numbered = data_lines(read_text_lines(path, "trajectory file", TrajectoryError))
     if not numbered:
         raise TrajectoryError("the file is empty", source=source)
-    declared = _EXCEL_SEPARATOR.fullmatch(numbered[0][1].strip())
+    # Stripped of spaces only: "sep=" and a tab is Excel's line for a tab-separated file.
+    declared = _EXCEL_SEPARATOR.fullmatch(numbered[0][1].strip(" \r\n"))
     if declared:  # Excel's "sep=;" line names the separator: the header follows
         numbered = numbered[1:]
         if not numbered:

@@ -138,7 +138,11 @@ class LoadCurve:
         inside = (self.t >= first) & (self.t <= last)
         k = np.flatnonzero(inside)
         steps = np.diff(self.t)
-        span = slice(max(k[0] - 1, 0), min(k[-1] + 1, steps.size))
+        if k.size:  # the steps into, between and out of the load's samples inside the overlap
+            span = slice(max(k[0] - 1, 0), min(k[-1] + 1, steps.size))
+        else:  # the overlap lies between two load samples: the one step across it
+            j = int(np.searchsorted(self.t, first, side="right")) - 1
+            span = slice(j, j + 1)
         typical = float(np.median(steps))
         gap = np.flatnonzero(steps[span] > GAP_STEPS * typical)
         if gap.size:
