@@ -358,6 +358,15 @@ def test_a_missing_mapped_column_names_the_header_twelve_at_most():
         (["t (s)", "rot", "Fres"], "time=t (s),alpha=<column>,beta=<column>,gamma=rot,load=Fres"),
         (["Percent", "f (N)"], "time=Percent,alpha=<column>,beta=<column>,gamma=<column>,load=f (N)"),
         (["time", "FE", "AA", "IE", "Fz_kN"], "time=time,alpha=FE,beta=AA,gamma=IE,load=Fz_kN:kN"),
+        (["Gang [%]", "FE", "AA", "IE"], "time=Gang [%]:%,alpha=FE,beta=AA,gamma=IE"),
+        (["% Gang", "FE", "AA", "IE"], "time=% Gang:%,alpha=FE,beta=AA,gamma=IE"),
+        # A name that starts with the initials wins over one that holds them later, whatever the order.
+        (["t", "hip fe", "fe", "hip aa", "aa", "hip ie", "ie"], "time=t,alpha=fe,beta=aa,gamma=ie"),
+        (["t", "hip fe", "hip aa", "hip ie"], "time=t,flexion=hip fe,adduction=hip aa,rotation=hip ie"),
+        (["t", "FE", "AA", "int ext", "Force"], "time=t,alpha=FE,beta=AA,gamma=int ext,load=Force"),
+        (["t", "flex rot", "x"], "time=t,alpha=flex rot,beta=<column>,gamma=<column>"),  # one column, one quantity
+        (["t", "FE", "AA", "IE", "f_res"], "time=t,alpha=FE,beta=AA,gamma=IE,load=f_res"),
+        (["t", "FE", "AA", "IE", "F [kN]"], "time=t,alpha=FE,beta=AA,gamma=IE,load=F [kN]:kN"),
     ],
 )
 def test_the_suggested_mapping_by_hand(header, suggestion):

@@ -38,6 +38,8 @@ def test_a_factor_multiplies_and_a_range_maps_the_ends_exactly():
     np.testing.assert_allclose(LoadScale(1.0, 300.0, 3000.0).apply(load), [300.0, 1650.0, 3000.0], rtol=1e-15)
     assert LoadScale(7.0, 300.0, 3000.0).apply(load)[-1] == 3000.0  # the factor is not used with a range
     np.testing.assert_array_equal(LoadScale(1.0, 300.0, 3000.0).apply(np.array([5.0, 5.0])), [300.0, 300.0])
+    # A range of half a newton is a range still.
+    np.testing.assert_array_equal(LoadScale(1.0, 300.0, 3000.0).apply(np.array([5.0, 5.5])), [300.0, 3000.0])
 
 
 @pytest.mark.parametrize(
@@ -117,6 +119,8 @@ def test_no_overlap_or_too_little_is_an_error_naming_both_spans():
 
 def test_ends_within_a_billionth_count_as_covered():
     motion = np.arange(11) * 0.01
+    keep, _ = curve(np.arange(11) * 0.01 * (1 - 5e-10)).onto(motion, "m.csv")
+    assert keep.all()
     keep, _ = curve(np.arange(11) * 0.01 * (1 + 5e-10)).onto(motion, "m.csv")
     assert keep.all()
     with pytest.warns(TrajectoryWarning):

@@ -204,6 +204,15 @@ def test_a_parquet_tables_problems_are_named_by_row_and_column(tmp_path):
     assert str(error_of(lambda: load_trajectory_parquet(nothing))) == f"{nothing}: no such trajectory file"
 
 
+def test_a_parquet_tables_times_must_be_even_to_the_last_digit(tmp_path):
+    # No printed resolution in a binary table: a step 1 % long is uneven.
+    t = T.copy()
+    t[4:] += 0.0001
+    path = parquet_file(tmp_path / "a.parquet", {**own_columns(), "t_s": t})
+    error = error_of(lambda: load_trajectory_parquet(path))
+    assert error.line == 6 and error.column == "t_s" and "uneven time step" in str(error)
+
+
 def test_a_parquet_table_through_a_mapping(tmp_path):
     path = parquet_file(tmp_path / "a.parquet", {"Time": T, "FE": ALPHA, "Force": LOAD / 1000.0})
     trajectory = load_trajectory_parquet(path, columns="time=Time,alpha=FE,beta=zero,gamma=zero,load=Force:kN")
