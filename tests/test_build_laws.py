@@ -16,6 +16,7 @@ import pytest
 from hipsim import TrajectoryError
 from hipsim.motion.build import (
     MAX_LOAD,
+    NoiseWarning,
     NoLoadWarning,
     SampledMotion,
     Table,
@@ -31,6 +32,7 @@ from hipsim.motion.build import (
     stride_count,
 )
 from hipsim.motion.columns import Column, ColumnMap
+from hipsim.motion.filtering import lowpass_record
 from hipsim.motion.load_file import LoadCurve
 
 DEG = ColumnMap(Column("t", "s"), (Column("a", "deg"), Column("b", "deg"), Column("c", "deg")), False, Column("F", "N"))
@@ -145,6 +147,8 @@ def test_an_uneven_step_is_named_and_the_tolerance_is_a_thousandth_or_the_print_
     # Printed to 1e-4 s: a step off by 1e-4 is even to that resolution.
     t = np.array([0.0, 0.01, 0.02, 0.0301, 0.04, 0.05, 0.06])
     np.testing.assert_allclose(check_time(t, 1e-4, "f", np.arange(7), "t", True), np.arange(7) * 0.01, atol=1e-17)
+    t = np.array([0.0, 0.01, 0.02, 0.03015, 0.04, 0.05, 0.06])
+    assert error_of(lambda: check_time(t, 1e-4, "f", np.arange(7), "t", True)).line == 3
     # ... but never more than a quarter step.
     t = np.array([0.0, 1.0, 2.0, 3.2, 4.0, 5.0, 6.0])
     np.testing.assert_allclose(check_time(t, 1.0, "f", np.arange(7), "t", True), np.arange(7.0), atol=1e-15)
@@ -413,7 +417,7 @@ def test_a_last_row_that_repeats_the_first_with_its_slope_is_periodic():
     load[-1] = 1000.0 + 5e-7
     assert _closes_on_itself(q_rad, load)
     shifted = q_rad.copy()
-    shifted[-1, 2] += 2e-9
+    shifted[-1, 2] += 1.5e-9  # beyond 1e-9 of the largest angle (under 1 rad: of 1)
     assert not _closes_on_itself(shifted, np.zeros(9))
     shifted[-1, 2] = shifted[0, 2] + 5e-10
     assert _closes_on_itself(shifted, np.zeros(9))
@@ -571,3 +575,55 @@ def test_a_cutoff_filters_the_angles_and_not_the_load():
     assert resampled.periodic  # the file closes (40 Hz whole in one second): the grid holds one period
     np.testing.assert_allclose(resampled.t, t[:-1], rtol=0, atol=1e-14)
     np.testing.assert_allclose(resampled.Fe, load[:-1], rtol=1e-12)
+
+
+def test_percent_times_are_even_to_their_printed_resolution_in_the_cycle():
+    q, _, _ = cubic(T10)
+    columns = ColumnMap(Column("t", "%"), DEG.angles, False, DEG.load)
+    percent = np.arange(10) * 10.0
+    percent[4] += 0.05  # printed to 0.1 %: even
+    trajectory = quiet(lambda: build_trajectory(table(percent, q, columns=columns, quantum=0.1), period=1.0))
+    np.testing.assert_allclose(trajectory.t, np.arange(10) * 0.1, rtol=0, atol=1e-15)
+    percent[4] += 1.95  # 2 % off: a fifth of a step
+    error = error_of(lambda: build_trajectory(table(percent, q, columns=columns, quantum=0.1), period=1.0))
+    assert error.line == 6 and "uneven time step" in str(error)
+
+
+def test_two_strides_are_warned_of_and_two_crossings_a_cycle_apart_are_not():
+    t = np.arange(21) / 20.0
+    two = np.column_stack([-20 * np.cos(4 * np.pi * t), np.zeros(21), np.zeros(21)])  # risen at 1/8 and 5/8 s
+    with pytest.warns(TrajectoryWarning, match="holds about 2 strides"):
+        build_trajectory(table(t, two), period=1.0)
+    # Risen at 0.05 s and at 0.95 s: the interval, 0.9 s, is more than three quarters of the file's 1 s.
+    ends = np.zeros((21, 3))
+    ends[1, 0] = ends[19, 0] = 10.0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        build_trajectory(table(t, ends), period=1.0)
+
+
+def test_a_cutoff_is_the_records_low_pass_at_the_files_rate():
+    t = np.arange(41) / 50.0  # 50 Hz
+    q = np.column_stack([20 * np.sin(2 * np.pi * t) + np.sin(2 * np.pi * 20 * t), 5 * t, np.zeros(41)])
+    trajectory = quiet(lambda: build_trajectory(table(t, q), cutoff=5.0))
+    expected = lowpass_record(np.radians(q), 50.0, 5.0, False)
+    np.testing.assert_allclose(trajectory.q, expected, rtol=0, atol=1e-9)
+    # A periodic file is filtered wrapped around.
+    t = np.arange(51) / 50.0
+    q = np.column_stack([20 * np.sin(2 * np.pi * t) + np.sin(2 * np.pi * 20 * t), np.zeros(51), np.zeros(51)])
+    trajectory = quiet(lambda: build_trajectory(table(t, q), cutoff=5.0))
+    assert trajectory.periodic
+    expected = lowpass_record(np.radians(q), 50.0, 5.0, True)
+    np.testing.assert_allclose(trajectory.q, expected[:-1], rtol=0, atol=1e-9)
+
+
+def test_noisy_angles_are_warned_of_without_a_cutoff_only():
+    t = np.arange(40) / 100.0
+    q = np.column_stack([10 + 0.5 * (-1.0) ** np.arange(40), np.arange(40.0), -np.arange(40.0)])
+    with pytest.warns(NoiseWarning) as record:
+        build_trajectory(table(t, q))
+    noise = [str(w.message) for w in record if issubclass(w.category, NoiseWarning)]
+    assert len(noise) == 1 and noise[0].startswith("f.csv: ") and noise[0].endswith("--cutoff 6")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", NoiseWarning)
+        build_trajectory(table(t, q), cutoff=6.0)

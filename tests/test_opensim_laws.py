@@ -286,3 +286,16 @@ def test_every_option_reaches_the_builder(tmp_path):
 
     curve = LoadCurve(np.array([-1.0, 1.0]), np.array([0.0, 2000.0]), np.array([2, 3]), "l.csv", "F")
     np.testing.assert_allclose(load_opensim(path, load_curve=curve).Fe, 1000.0 * (T + 1.0), rtol=1e-15)
+
+
+def test_the_right_sides_spellings_extra_values_and_two_comma_labels(tmp_path):
+    path = mot(tmp_path / "a.mot")
+    for side in ("r", "RIGHT", "right"):
+        np.testing.assert_allclose(load_opensim(path, side, load_column="F").q[:, 0], np.radians(FLEXION), atol=1e-12)
+    rows = [[T[k], FLEXION[k], 0, 0, 5, 1000] for k in range(N)]
+    rows[1] = rows[1] + [7]
+    extra = mot(tmp_path / "b.mot", rows=rows)
+    assert str(error_of(lambda: load_opensim(extra))) == f"{extra}, line 6: 7 values, the labels are 6"
+    two = tmp_path / "c.mot"
+    two.write_text("endheader\ntime,hip_flexion_r\n0,1\n")
+    assert "the labels are separated by commas (2 of them)" in str(error_of(lambda: load_opensim(two)))
