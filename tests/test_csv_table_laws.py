@@ -385,3 +385,82 @@ def test_hip_angles_are_turned_into_the_machines_by_the_suggested_mapping(tmp_pa
     # Flexion alone is a rotation about Z: α = flexion (hipsim.motion.hip_angles).
     np.testing.assert_allclose(trajectory.q[:, 0], np.radians(ALPHA), rtol=0, atol=1e-12)
     assert math.isclose(float(np.abs(trajectory.q[:, 1:]).max()), 0.0, abs_tol=1e-12)
+
+
+# --------------------------------------------------------------------------- survivors of the first run
+
+
+def test_the_source_names_a_load_given_twice_and_a_missing_file(tmp_path):
+    path = write(tmp_path / "a.csv", [HEADER, *rows()])
+    mapping = "time=t_s,alpha=alpha_deg,beta=beta_deg,gamma=gamma_deg,load=Fe_N"
+    error = error_of(lambda: load_trajectory_csv(path, columns=mapping, load_column="Fe_N"))
+    assert str(error) == f"{path}: the load column is named twice (in the column mapping and on its own)"
+    missing = str(tmp_path / "none.csv")
+    assert str(error_of(lambda: load_trajectory_csv(missing))) == f"{missing}: no such trajectory file"
+
+
+def test_the_separator_is_judged_on_the_header_and_the_first_row(tmp_path):
+    # By ';' the header has two cells and the rows one: the comma, which splits both into five, wins.
+    mapping = "time=t_s,alpha=alpha_deg,beta=beta_deg,gamma=gamma_deg"
+    header = "t_s,alpha_deg,beta_deg,gamma_deg,note; remark"
+    path = write(tmp_path / "a.csv", [header] + [r.rsplit(",", 1)[0] + ",x" for r in rows()])
+    trajectory = quiet(lambda: load_trajectory_csv(path, columns=mapping))
+    np.testing.assert_allclose(trajectory.q, expected_q(), rtol=0, atol=1e-15)
+    # So with a single row too: the header is read by commas, and the row count is what is wrong.
+    path = write(tmp_path / "b.csv", [header, rows()[0].rsplit(",", 1)[0] + ",x"])
+    assert (
+        str(error_of(lambda: load_trajectory_csv(path, columns=mapping))) == f"{path}: 1 samples; at least 6 are needed"
+    )
+
+
+def test_a_quoted_decimal_comma_in_a_comma_separated_file_is_not_a_number(tmp_path):
+    lines = with_cell([HEADER, *rows()], 3, 2, '"2,5"')
+    path = write(tmp_path / "a.csv", lines)
+    assert (
+        str(error_of(lambda: load_trajectory_csv(path))) == f"{path}, line 4, column 'beta_deg': '2,5' is not a number"
+    )
+
+
+def test_a_line_that_cannot_be_split_is_named_at_its_line(tmp_path, monkeypatch):
+    # The csv module refuses only a line end inside an unquoted cell, which reading the text turns into a
+    # line break; the reader still names such a refusal at its line (here a stand-in splitter refuses "?").
+    import hipsim.motion.csv_table as csv_table
+
+    def cells(line, separator, width=None):
+        if "?" in line:
+            raise ValueError("cannot split the line into cells (?)")
+        return line.split(separator)
+
+    def detect_separator(header, first_row):
+        if "?" in header:
+            raise ValueError("cannot split the header (?)")
+        return ","
+
+    monkeypatch.setattr(csv_table, "cells", cells)
+    monkeypatch.setattr(csv_table, "detect_separator", detect_separator)
+    path = write(tmp_path / "a.csv", ["# x", HEADER + "?", *rows()])
+    assert str(error_of(lambda: load_trajectory_csv(path))) == f"{path}, line 2: cannot split the header (?)"
+    path = write(tmp_path / "b.csv", ["sep=,", HEADER + ",?", *rows()])
+    assert str(error_of(lambda: load_trajectory_csv(path))) == f"{path}, line 2: cannot split the line into cells (?)"
+    lines = [HEADER, *rows()]
+    lines[5] += "?"
+    path = write(tmp_path / "c.csv", lines)
+    assert str(error_of(lambda: load_trajectory_csv(path))) == f"{path}, line 6: cannot split the line into cells (?)"
+
+
+def test_a_mapped_name_is_found_without_its_spaces_and_case():
+    mapping = ColumnMap(Column("Time"), (Column("HipFE"), Column("hip aa"), Column("zero")))
+    assert _column_indices(["TIME", "Hip  FE", "HIPAA"], mapping, "f", 1) == {"time": 0, "alpha": 1, "beta": 2}
+
+
+def test_a_suggested_hip_chain_keeps_names_with_an_equals_sign_and_the_load():
+    header = ["time", "hip flex=1", "hip add", "hip rot", "Force"]
+    assert suggest_mapping(header) == "time=time,flexion=hip flex=1,adduction=hip add,rotation=hip rot,load=Force"
+
+
+def test_a_spreadsheets_trailing_separators_are_dropped(tmp_path):
+    lines = [HEADER + ",,", *rows()]
+    lines[3] += ",,"
+    path = write(tmp_path / "a.csv", lines)
+    trajectory = load_trajectory_csv(path)
+    np.testing.assert_allclose(trajectory.q, expected_q(), rtol=0, atol=1e-15)
