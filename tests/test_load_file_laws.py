@@ -299,3 +299,94 @@ def test_a_missing_column_is_answered_with_the_nearest_label(tmp_path):
     lines = ["time,F_fx,F_fx,F_fy,F_fz"] + [f"{k / 100},1,2,3,4" for k in range(8)]
     path = write(tmp_path / "b.csv", lines)
     assert "no load column 'F'" in str(error_of(lambda: read_load_curve(path, "F")))
+
+
+# --------------------------------------------------------------------------- survivors of the first run
+
+
+def test_a_constant_load_maps_to_low_at_every_sample_and_factors_below_one():
+    scaled = LoadScale(1.0, 300.0, 3000.0).apply(np.array([5.0, 5.0, 5.0]))
+    assert scaled.shape == (3,)
+    np.testing.assert_array_equal(scaled, [300.0, 300.0, 300.0])
+    assert parse_load_scale("0.5") == LoadScale(0.5)
+
+
+def test_a_motion_sample_a_little_outside_the_load_is_left_out():
+    # The load starts at 0.02 s; a motion sample 3e-9 relative before it is outside (more than 1e-9 of 0.02 s).
+    motion = 0.02 * (1 - 3e-9) + np.arange(8) * 0.01
+    with pytest.warns(TrajectoryWarning):
+        keep, _ = curve(np.arange(10) * 0.01 + 0.02).onto(motion, "m.csv")
+    np.testing.assert_array_equal(keep, [False] + [True] * 7)
+    # Times before 0: a motion ending at 0 s where the load ends keeps its last sample.
+    motion = np.arange(-7, 1) * 0.01
+    keep, _ = curve(np.arange(-9, 1) * 0.01).onto(motion, "m.csv")
+    assert keep.all()
+
+
+def test_only_steps_that_reach_into_the_overlap_can_be_gaps():
+    motion = np.arange(8) * 0.01 + 0.09
+    # A load sample exactly at the motion's first time: the step before it lies outside.
+    t = [0.0, 0.09, 0.1, 0.11, 0.12, 0.13, 0.14, 0.15, 0.16]
+    keep, _ = curve(t).onto(motion, "m.csv")
+    assert keep.all()
+    # And exactly at its last: the step after it lies outside.
+    t = [0.09, 0.1, 0.11, 0.12, 0.13, 0.14, 0.15, 0.16, 0.9]
+    keep, _ = curve(t).onto(motion, "m.csv")
+    assert keep.all()
+    # A step that straddles the last time is a gap.
+    t = [0.09, 0.1, 0.11, 0.12, 0.13, 0.14, 0.15, 0.155, 0.9]
+    assert "a gap in the load from 0.155 to 0.9 s" in str(error_of(lambda: curve(t).onto(motion, "m.csv")))
+    # Between two load samples far apart: the one step across the motion is no gap of its own median.
+    keep, _ = curve([0.0, 0.5, 1.0, 1.01, 1.02]).onto(motion, "m.csv")
+    assert keep.all()
+    assert "a gap in the load from 0 to 0.5 s" in str(
+        error_of(lambda: curve([0.0, 0.5, 0.51, 0.52, 0.53]).onto(motion, "m.csv"))
+    )
+
+
+def test_six_rows_are_enough_and_a_label_line_alone_is_not(tmp_path):
+    path = write(tmp_path / "a.csv", ["t,F"] + [f"{k / 100},{k}" for k in range(6)])
+    assert len(read_load_curve(path, "F").t) == 6
+    path = write(tmp_path / "b.csv", ["t,F"])
+    assert str(error_of(lambda: read_load_curve(path, "F"))) == f"{path}: 0 samples; at least 6 are needed"
+
+
+def test_decimal_commas_are_read_only_between_semicolons_or_tabs(tmp_path):
+    rows = [f"{k / 100},{k}" for k in range(8)]
+    rows[2] = '0.02,"2,5"'
+    path = write(tmp_path / "a.csv", ["t,F", *rows])
+    assert str(error_of(lambda: read_load_curve(path, "F"))) == f"{path}, line 4, column 'F': '2,5' is not a number"
+    lines = ["endheader", "time F"] + [f"{k / 100} {k}" for k in range(8)]
+    lines[4] = "0.02 2,5"
+    path = write(tmp_path / "b.sto", lines)
+    assert str(error_of(lambda: read_load_curve(path, "F"))) == f"{path}, line 5, column 'F': '2,5' is not a number"
+
+
+def test_the_file_is_named_in_its_time_unit_and_when_missing(tmp_path):
+    path = write(tmp_path / "a.csv", ["t,F"] + [f"{10 * k},{k}" for k in range(8)])
+    assert str(error_of(lambda: read_load_curve(path, "F"))).startswith(
+        f"{path}, column 't': the times look like milliseconds"
+    )
+    missing = str(tmp_path / "none.csv")
+    assert str(error_of(lambda: read_load_curve(missing, "F"))) == f"{missing}: no such load file"
+
+
+def test_tab_separated_labels_may_hold_spaces(tmp_path):
+    lines = ["endheader", "time\thip r_fx\thip r_fy\thip r_fz"] + [
+        f"{k / 100}\t{3 * k}\t{4 * k}\t{12 * k}" for k in range(8)
+    ]
+    path = write(tmp_path / "a.mot", lines)
+    np.testing.assert_allclose(read_load_curve(path, "hip r").load, 13.0 * np.arange(8), rtol=1e-15)
+
+
+def test_the_load_files_separator_is_judged_on_the_labels_and_the_first_row(tmp_path):
+    # By ';' the labels have two cells and the rows one: the comma, which splits both into three, wins.
+    path = write(tmp_path / "a.csv", ["t,F,note; remark"] + [f"{k / 100},{k},x" for k in range(8)])
+    np.testing.assert_array_equal(read_load_curve(path, "F").load, np.arange(8.0))
+
+
+def test_the_nearest_label_is_found_in_any_case_and_for_any_name(tmp_path):
+    lines = ["time,HIP_R_FX,HIP_R_FY,HIP_R_FZ"] + [f"{k / 100},1,2,3" for k in range(8)]
+    path = write(tmp_path / "a.csv", lines)
+    assert str(error_of(lambda: read_load_curve(path, "HIP_L"))).endswith("did you mean 'HIP_R'?")
+    assert "; did you mean '" in str(error_of(lambda: read_load_curve(path, "zzz")))

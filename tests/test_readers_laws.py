@@ -330,7 +330,7 @@ def test_the_mean_acceleration_is_not_counted():
 def test_too_slow_or_too_short_to_tell_at_the_edges():
     alternating = np.column_stack([(-1.0) ** np.arange(16)] * 3)
     assert check_noise(np.arange(16) / 25.0, alternating).noisy
-    slow = check_noise(np.arange(16) / 24.0, alternating)
+    slow = check_noise(np.arange(16) / 24.0, alternating)  # at 24 Hz nothing lies above 12 Hz
     assert not slow.noisy and slow.rate == 24.0
     np.testing.assert_array_equal(slow.share, np.zeros(3))
     short = check_noise(np.arange(15) / 100.0, alternating[:15])
@@ -363,3 +363,57 @@ def test_a_noisy_file_is_warned_of_once_with_the_cutoff(tmp_path):
         warnings.simplefilter("error", NoiseWarning)
         quiet_enough = read_trajectory(path, cutoff=6.0)
     assert quiet_enough.q.shape == (40, 3)
+
+
+# --------------------------------------------------------------------------- survivors of the first run
+
+
+def test_the_warning_names_alpha_or_gamma_and_rounds_the_percentage():
+    assert (
+        NoiseCheck(np.array([0.8, 0.5, 0.1]), 60.0, True).warning("w").startswith("w: 80 % of the alpha acceleration")
+    )
+    assert (
+        NoiseCheck(np.array([0.1, 0.2, 0.306]), 60.0, True).warning("w").startswith("w: 31 % of the gamma acceleration")
+    )
+
+
+def test_the_band_edge_on_exact_bins_and_tiny_or_zero_motions():
+    # At 64 Hz the times and the rate are exact: 128 second differences, bins 0.5 Hz apart, 12 Hz one of them.
+    t = np.arange(130) / 64.0
+    q = np.column_stack([np.sin(2 * np.pi * 12.5 * t), 1e-9 * np.sin(2 * np.pi * 20 * t), np.zeros(130)])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no division by a zero total
+        check = check_noise(t, q)
+    assert check.rate == 64.0
+    assert check.share[0] == pytest.approx(5 / 6, abs=0.01)  # the bin at 12 Hz is not above the band
+    assert check.share[1] == pytest.approx(1.0, abs=1e-6)  # a tiny motion's share is a share all the same
+    assert check.share[2] == 0.0
+    assert check.noisy is True
+    two = check_noise(np.array([0.0, 0.01]), np.zeros((2, 3)))
+    assert two.rate == 100.0 and two.noisy is False
+    assert check_noise(np.arange(16) / 24.0, np.zeros((16, 3))).noisy is False
+
+
+def test_a_parquet_load_column_without_a_mapping_and_its_errors(tmp_path):
+    columns = {**own_columns(False), "Fz": LOAD / 1000.0}
+    path = parquet_file(tmp_path / "a.parquet", columns)
+    np.testing.assert_allclose(load_trajectory_parquet(path, load_column="Fz:kN").Fe, LOAD, rtol=1e-15)
+    error = error_of(
+        lambda: load_trajectory_parquet(
+            path, columns="time=t_s,alpha=alpha_deg,beta=zero,gamma=zero,load=Fz", load_column="Fz"
+        )
+    )
+    assert str(error) == f"{path}: the load column is named twice (in the column mapping and on its own)"
+    other = parquet_file(tmp_path / "b.parquet", {"time": T, "alpha_deg": ALPHA, "beta_deg": BETA, "gamma_deg": GAMMA})
+    assert str(error_of(lambda: load_trajectory_parquet(other))).startswith(f"{other}, line 1: no time column 't_s'")
+    six = parquet_file(tmp_path / "c.parquet", {key: value[:6] for key, value in own_columns().items()})
+    assert len(load_trajectory_parquet(six)) == 6
+
+
+def test_a_parquet_tables_rows_keep_their_lines_when_a_load_file_cuts_them(tmp_path):
+    load = tmp_path / "f.csv"
+    load.write_text("time,F\n" + "".join(f"{k / 100},{1000 + k}\n" for k in range(1, 8)))
+    path = parquet_file(tmp_path / "a.parquet", own_columns(False))
+    trajectory = read_trajectory(path, load=load, load_column="F")
+    np.testing.assert_array_equal(trajectory.lines, np.arange(3, N + 2))
+    np.testing.assert_array_equal(trajectory.Fe, 1000.0 + np.arange(1, 8))

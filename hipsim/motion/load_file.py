@@ -135,14 +135,10 @@ class LoadCurve:
                 source=self.source,
                 column=self.column,
             )
-        inside = (self.t >= first) & (self.t <= last)
-        k = np.flatnonzero(inside)
         steps = np.diff(self.t)
-        if k.size:  # the steps into, between and out of the load's samples inside the overlap
-            span = slice(max(k[0] - 1, 0), min(k[-1] + 1, steps.size))
-        else:  # the overlap lies between two load samples: the one step across it
-            j = int(np.searchsorted(self.t, first, side="right")) - 1
-            span = slice(j, j + 1)
+        # The steps that reach into the overlap: from the one that starts at or before its first time to the last
+        # that starts before its last (one step when the overlap lies between two load samples).
+        span = slice(int(np.searchsorted(self.t, first, side="right")) - 1, int(np.searchsorted(self.t, last)))
         typical = float(np.median(steps))
         gap = np.flatnonzero(steps[span] > GAP_STEPS * typical)
         if gap.size:
