@@ -627,3 +627,59 @@ def test_noisy_angles_are_warned_of_without_a_cutoff_only():
     with warnings.catch_warnings():
         warnings.simplefilter("error", NoiseWarning)
         build_trajectory(table(t, q), cutoff=6.0)
+
+
+# --------------------------------------------------------------------------- survivors of the first run
+
+
+def test_strides_of_an_angle_away_from_zero_and_the_edges_of_the_band():
+    t = np.arange(7.0)
+    # 10 to 20: mid 15, band 2.5 (a quarter of the range, not of the sum).
+    assert stride_count(t, np.array([10, 20, 10, 20, 10, 20, 10.0])) == (3, 2.0)
+    assert stride_count(t, np.array([10, 20, 16, 20, 10, 20, 10.0])) == (2, 4.0)
+    t = np.arange(6.0)
+    assert stride_count(t, np.array([0, 10, 2.5, 10, 0, 10.0])) == (2, 4.0)  # 2.5 is not below 2.5: not armed
+    assert stride_count(t, np.array([0, 10, 6, 10, 0, 10.0])) == (2, 4.0)  # 6 is between: not armed
+    assert stride_count(t, np.array([0, 10, 0, 7.5, 0, 10.0])) == (2, 4.0)  # 7.5 is not above 7.5
+
+
+@pytest.mark.parametrize("k, name", [(0, "alpha"), (1, "beta"), (2, "gamma")])
+def test_the_stride_warnings_name_the_widest_angle(k, name):
+    t = 1.0 + np.arange(41) / 10.0  # a file that starts at 1 s
+    strides = np.zeros((41, 3))
+    strides[:, k] = 20 * np.sin(2 * np.pi * t)
+    with pytest.warns(TrajectoryWarning) as record:
+        build_trajectory(table(t, strides), period=1.0)
+    assert str(record[0].message).startswith(
+        f"f.csv: the file holds about 4 strides (one {name} cycle every 1 s of its time, over 4 s)"
+    )
+    part = np.zeros((11, 3))
+    part[:, k] = np.linspace(10, 30, 11)  # 20° from 10°: 0.35 rad, more than a quarter of its range
+    with pytest.warns(TrajectoryWarning) as record:
+        build_trajectory(table(1.0 + np.arange(11) / 10.0, part), period=1.0)
+    assert str(record[0].message).startswith(
+        f"f.csv: the motion does not come back to its start ({name} starts at 10° and ends at 30°, 100 % of its range"
+    )
+
+
+def test_two_crossings_three_quarters_of_the_file_apart_are_one_stride():
+    t = np.arange(9) * 0.5  # 4 s
+    q = np.zeros((9, 3))
+    q[1, 0] = q[7, 0] = 10.0  # risen at 0.5 s and 3.5 s: 3 s apart, exactly 3/4 of the file
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        build_trajectory(table(t, q), period=1.0)
+
+
+def test_a_resampled_motion_keeps_its_name_start_and_periodic_spline():
+    q, _, _ = cubic(T10)
+    trajectory = build_trajectory(table(1.0 + T10, q), resample=200.0)
+    assert trajectory.name == "f.csv"
+    np.testing.assert_allclose(trajectory.t, 1.0 + np.arange(19) / 200.0, rtol=0, atol=1e-14)
+    # A periodic file resampled at its own rate is its own samples, through the same periodic spline.
+    t, q = closing_sine(n=33)
+    whole = build_trajectory(table(t, q))
+    resampled = build_trajectory(table(t, q), resample=32.0)
+    assert resampled.periodic and len(resampled) == 32
+    np.testing.assert_allclose(resampled.qd, whole.qd, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(resampled.qdd, whole.qdd, rtol=0, atol=1e-10)

@@ -299,3 +299,41 @@ def test_the_right_sides_spellings_extra_values_and_two_comma_labels(tmp_path):
     two = tmp_path / "c.mot"
     two.write_text("endheader\ntime,hip_flexion_r\n0,1\n")
     assert "the labels are separated by commas (2 of them)" in str(error_of(lambda: load_opensim(two)))
+
+
+def test_a_mapping_with_a_separate_load_column_keeps_its_columns_and_chain(tmp_path):
+    rows = [[T[k], 0.1 * k, 0, 0, 0.5, -1.5] for k in range(N)]
+    path = mot(tmp_path / "a.mot", header=("inDegrees=no",), rows=rows)
+    trajectory = load_opensim(
+        path, columns="time=time,alpha=hip_flexion_r,beta=zero,gamma=-knee_angle_r", load_column="-F:kN"
+    )
+    np.testing.assert_allclose(trajectory.q[:, 2], np.full(N, -0.5), rtol=0, atol=1e-15)
+    np.testing.assert_array_equal(trajectory.Fe, np.full(N, 1500.0))
+    trajectory = load_opensim(path, columns="time=time,alpha=hip_flexion_r,beta=zero,gamma=zero,load=-F:kN")
+    np.testing.assert_array_equal(trajectory.Fe, np.full(N, 1500.0))
+    chain = "time=time,flexion=hip_flexion_r,adduction=knee_angle_r,rotation=zero"
+    plain = "time=time,alpha=hip_flexion_r,beta=knee_angle_r,gamma=zero"
+    with_load = load_opensim(path, columns=chain, load_column="-F:kN")
+    np.testing.assert_array_equal(with_load.q, quiet(lambda: load_opensim(path, columns=chain)).q)
+    assert np.abs(with_load.q - load_opensim(path, columns=plain, load_column="-F:kN").q).max() > 1e-3
+
+
+def test_a_mappings_problems_name_the_file_line_and_the_files_label(tmp_path):
+    rows = [[T[k], 0.1 * k, 0, 0, 0.5, 1000] for k in range(N)]
+    path = mot(tmp_path / "a.mot", header=("inDegrees=no",), rows=rows)
+    error = error_of(lambda: load_opensim(path, columns="time=t,alpha=a,beta=zero,gamma=zero"))
+    assert str(error).startswith(f"{path}, line 4: no column 't' (the time)")
+    error = error_of(lambda: load_opensim(path, columns="time=time,alpha=hip_flexion_r,beta=zero,gamma=zero,load=G"))
+    assert str(error).startswith(f"{path}, line 4: no column 'G' (the load)")
+    short = mot(tmp_path / "b.mot", header=("inDegrees=no",), rows=rows[:5])
+    error = error_of(lambda: load_opensim(short, columns="time=time,alpha=hip_flexion_r,beta=zero,gamma=zero"))
+    assert str(error) == f"{short}: 5 samples; at least 6 are needed"
+    six = mot(tmp_path / "c.mot", header=("inDegrees=no",), rows=rows[:6])
+    assert len(quiet(lambda: load_opensim(six))) == 6
+    # A column found by its name in another case is named as the file has it.
+    rows[3][4] = 4.0
+    bad = mot(tmp_path / "d.mot", header=("inDegrees=no",), rows=rows)
+    error = error_of(lambda: load_opensim(bad, columns="time=time,alpha=hip_flexion_r,beta=zero,gamma=KNEE_ANGLE_R"))
+    assert (
+        str(error) == f"{bad}, line 8, column 'knee_angle_r': 4 rad is more than half a turn: these look like degrees"
+    )
