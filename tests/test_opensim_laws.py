@@ -133,7 +133,7 @@ def test_labels_by_tabs_spaces_or_a_trailing_tab(tmp_path):
     # Tab-separated labels may hold spaces.
     labels = ["time", "hip_flexion_r", "hip_adduction_r", "hip_rotation_r", "knee angle", "F"]
     path = mot(tmp_path / "c.mot", labels=labels)
-    assert len(load_opensim(path)) == N
+    assert len(quiet(lambda: load_opensim(path))) == N
 
 
 def test_comma_separated_labels_are_named(tmp_path):
@@ -145,9 +145,9 @@ def test_comma_separated_labels_are_named(tmp_path):
     )
     # One label with a comma in it, or an empty cell between commas, is not a comma-separated file.
     path = mot(tmp_path / "b.mot", labels=["time", "hip_flexion_r", "hip_adduction_r", "hip_rotation_r", "a,b", "F"])
-    assert len(load_opensim(path)) == N
+    assert len(quiet(lambda: load_opensim(path))) == N
     path = mot(tmp_path / "c.mot", labels=["time", "hip_flexion_r", "hip_adduction_r", "hip_rotation_r", "k,,l", "F"])
-    assert len(load_opensim(path)) == N
+    assert len(quiet(lambda: load_opensim(path))) == N
 
 
 def test_problems_are_named_at_their_lines(tmp_path):
@@ -172,7 +172,7 @@ def test_problems_are_named_at_their_lines(tmp_path):
     assert str(error_of(lambda: load_opensim(bad))) == f"{bad}, line 9, column 'hip_rotation_r': 'inf' is not finite"
     rows[4][3] = 0
     rows[4][4] = "x"  # the knee is not read
-    assert len(load_opensim(mot(tmp_path / "f.mot", rows=rows))) == N
+    assert len(quiet(lambda: load_opensim(mot(tmp_path / "f.mot", rows=rows)))) == N
 
 
 def test_the_side_and_its_spellings(tmp_path):

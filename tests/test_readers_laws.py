@@ -414,6 +414,7 @@ def test_a_parquet_tables_rows_keep_their_lines_when_a_load_file_cuts_them(tmp_p
     load = tmp_path / "f.csv"
     load.write_text("time,F\n" + "".join(f"{k / 100},{1000 + k}\n" for k in range(1, 8)))
     path = parquet_file(tmp_path / "a.parquet", own_columns(False))
-    trajectory = read_trajectory(path, load=load, load_column="F")
+    with pytest.warns(TrajectoryWarning, match="1 motion samples outside the overlap left out"):
+        trajectory = read_trajectory(path, load=load, load_column="F")
     np.testing.assert_array_equal(trajectory.lines, np.arange(3, N + 2))
     np.testing.assert_array_equal(trajectory.Fe, 1000.0 + np.arange(1, 8))
