@@ -383,6 +383,9 @@ def test_the_load_files_separator_is_judged_on_the_labels_and_the_first_row(tmp_
     # By ';' the labels have two cells and the rows one: the comma, which splits both into three, wins.
     path = write(tmp_path / "a.csv", ["t,F,note; remark"] + [f"{k / 100},{k},x" for k in range(8)])
     np.testing.assert_array_equal(read_load_curve(path, "F").load, np.arange(8.0))
+    # So with one row too: the labels are read by commas, and the row count is what is wrong.
+    path = write(tmp_path / "b.csv", ["t,F,note; remark", "0,1,x"])
+    assert str(error_of(lambda: read_load_curve(path, "F"))) == f"{path}: 1 samples; at least 6 are needed"
 
 
 def test_the_nearest_label_is_found_in_any_case_and_for_any_name(tmp_path):
