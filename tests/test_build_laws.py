@@ -417,9 +417,9 @@ def test_a_last_row_that_repeats_the_first_with_its_slope_is_periodic():
     load[-1] = 1000.0 + 5e-7
     assert _closes_on_itself(q_rad, load)
     shifted = q_rad.copy()
-    shifted[-1, 2] += 1.5e-9  # beyond 1e-9 of the largest angle (under 1 rad: of 1)
+    shifted[-1, 1] += 1.5e-9  # beyond 1e-9 of the largest angle (under 1 rad: of 1), with no share of 0.17 rad
     assert not _closes_on_itself(shifted, np.zeros(9))
-    shifted[-1, 2] = shifted[0, 2] + 5e-10
+    shifted[-1, 1] = shifted[0, 1] + 5e-10
     assert _closes_on_itself(shifted, np.zeros(9))
 
 
@@ -683,3 +683,15 @@ def test_a_resampled_motion_keeps_its_name_start_and_periodic_spline():
     assert resampled.periodic and len(resampled) == 32
     np.testing.assert_allclose(resampled.qd, whole.qd, rtol=0, atol=1e-12)
     np.testing.assert_allclose(resampled.qdd, whole.qdd, rtol=0, atol=1e-10)
+
+
+def test_closing_tolerances_of_small_loads_and_each_angles_own_curvature():
+    t, q = closing_sine()
+    q_rad = np.radians(q)
+    load = np.full(9, 0.5)
+    load[-1] += 1.5e-9  # beyond 1e-9 of 1 N (a load under 1 N counts as 1)
+    assert not _closes_on_itself(q_rad, load)
+    # An angle that comes back with another slope is not excused by another angle's larger curvature.
+    u = np.arange(41) / 40
+    mixed = np.column_stack([np.sin(2 * np.pi * u), 1e-3 * u * (1 - u), np.zeros(41)])
+    assert not _closes_on_itself(mixed, np.zeros(41))

@@ -337,3 +337,28 @@ def test_a_mappings_problems_name_the_file_line_and_the_files_label(tmp_path):
     assert (
         str(error) == f"{bad}, line 8, column 'knee_angle_r': 4 rad is more than half a turn: these look like degrees"
     )
+
+
+def test_the_hip_paths_messages_name_the_file_and_line(tmp_path):
+    missing = str(tmp_path / "none.mot")
+    assert str(error_of(lambda: load_opensim(missing))) == f"{missing}: no such OpenSim file"
+    path = mot(tmp_path / "a.mot", labels=["t", *LABELS[1:]])
+    assert str(error_of(lambda: load_opensim(path))).startswith(f"{path}, line 4: no column 'time' (the time); its hip")
+    path = mot(tmp_path / "b.mot")
+    assert str(error_of(lambda: load_opensim(path, load_column="G"))).startswith(
+        f"{path}, line 4: no column 'G' (the load); its hip columns are"
+    )
+    # Labels with a comma in one of two: not a comma-separated file, but one without the hip's columns.
+    two = tmp_path / "c.mot"
+    two.write_text("endheader\ntime x,y\n" + "".join(f"{k / 100} 1\n" for k in range(8)))
+    assert str(error_of(lambda: load_opensim(two))).startswith(f"{two}, line 2: no column 'hip_flexion_r'")
+    # "time" exactly, beside "Time".
+    labels = ["Time", "time", *LABELS[1:]]
+    rows = [[9.0, T[k], FLEXION[k], 0, 0, 5, 1000] for k in range(N)]
+    np.testing.assert_array_equal(quiet(lambda: load_opensim(mot(tmp_path / "d.mot", labels=labels, rows=rows))).t, T)
+
+
+def test_the_other_hips_hint_comes_before_the_planar_one():
+    labels = ["time", "hip_flexion_r", "hip_adduction_l"]
+    error = error_of(lambda: _find(labels, ("hip_adduction_r",), "x", "f", 2))
+    assert "read them with --side left" in str(error) and "planar" not in str(error)
