@@ -695,3 +695,34 @@ def test_closing_tolerances_of_small_loads_and_each_angles_own_curvature():
     u = np.arange(41) / 40
     mixed = np.column_stack([np.sin(2 * np.pi * u), 1e-3 * u * (1 - u), np.zeros(41)])
     assert not _closes_on_itself(mixed, np.zeros(41))
+
+
+def test_the_edges_of_a_turn_and_the_widest_angle_named():
+    columns = ColumnMap(DEG.time, (Column("a", "rad"), Column("b", "rad"), Column("c", "rad")), False, DEG.load)
+    q = np.column_stack([np.arange(10.0) * 0.1, np.zeros(10), np.zeros(10)])
+    q[5, 1] = math.pi  # half a turn exactly is allowed
+    assert quiet(lambda: build_trajectory(table(T10, q, columns=columns))).q[5, 1] == pytest.approx(math.pi, abs=1e-12)
+    q = np.column_stack([np.arange(10.0), np.zeros(10), np.zeros(10)])
+    q[5, 2] = 360.5
+    assert (
+        str(error_of(lambda: build_trajectory(table(T10, q))))
+        == "f.csv, line 7, column 'c': 360.5° is more than a full turn"
+    )
+    q = np.column_stack([np.linspace(0, 0.05, 10), np.linspace(0, 0.3, 10), np.zeros(10)])
+    with pytest.warns(TrajectoryWarning, match="at most 0.3° in 'b'"):
+        build_trajectory(table(T10, q))
+
+
+def test_the_first_negative_or_huge_load_is_named_and_slips_by_unit():
+    q, _, _ = cubic(T10)
+    load = np.full(10, 1000.0)
+    load[3], load[6] = 0.0, -3.0
+    assert error_of(lambda: build_trajectory(table(T10, q, load=load))).line == 8
+    load = np.full(10, 1000.0)
+    load[2], load[3] = 1e9, 2e9
+    assert error_of(lambda: build_trajectory(table(T10, q, load=load))).line == 5
+    columns = ColumnMap(DEG.time, DEG.angles, False, Column("F", "kN"))
+    error = error_of(lambda: build_trajectory(table(T10, q, load=np.full(10, 1500.0), columns=columns)))
+    assert str(error).startswith("f.csv, column 'F': the load looks like N read as kN: its peak is 1.5e+06 N")
+    error = error_of(lambda: build_trajectory(table(T10, q, load=np.full(10, 2.0))))
+    assert str(error).startswith("f.csv, column 'F': the load looks like kN: its peak is 2 N")
