@@ -709,8 +709,10 @@ def test_the_edges_of_a_turn_and_the_widest_angle_named():
         == "f.csv, line 7, column 'c': 360.5° is more than a full turn"
     )
     q = np.column_stack([np.linspace(0, 0.05, 10), np.linspace(0, 0.3, 10), np.zeros(10)])
-    with pytest.warns(TrajectoryWarning, match="at most 0.3° in 'b'"):
-        build_trajectory(table(T10, q))
+    error = error_of(lambda: build_trajectory(table(T10, q)))
+    assert str(error).startswith(
+        "f.csv, column 'b': the angles look like radians: the widest spans 0.3°, a gait's 17.2°"
+    )
 
 
 def test_the_first_negative_or_huge_load_is_named_and_slips_by_unit():
