@@ -728,3 +728,10 @@ def test_the_first_negative_or_huge_load_is_named_and_slips_by_unit():
     assert str(error).startswith("f.csv, column 'F': the load looks like N read as kN: its peak is 1.5e+06 N")
     error = error_of(lambda: build_trajectory(table(T10, q, load=np.full(10, 2.0))))
     assert str(error).startswith("f.csv, column 'F': the load looks like kN: its peak is 2 N")
+
+
+def test_the_tiny_span_warning_names_the_widest_degree_angle():
+    columns = ColumnMap(DEG.time, (Column("a", "rad"), Column("b", "deg"), Column("c", "deg")), False, DEG.load)
+    q = np.column_stack([np.linspace(0, 0.5, 10), np.linspace(0, 0.05, 10), np.linspace(0, 0.3, 10)])
+    with pytest.warns(TrajectoryWarning, match="at most 0.3° in 'c'"):
+        build_trajectory(table(T10, q, columns=columns))
