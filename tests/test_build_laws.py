@@ -735,3 +735,90 @@ def test_the_tiny_span_warning_names_the_widest_degree_angle():
     q = np.column_stack([np.linspace(0, 0.5, 10), np.linspace(0, 0.05, 10), np.linspace(0, 0.3, 10)])
     with pytest.warns(TrajectoryWarning, match="at most 0.3° in 'c'"):
         build_trajectory(table(T10, q, columns=columns))
+
+
+def test_messages_of_the_arguments_name_the_file():
+    q, _, _ = cubic(T10)
+    assert str(error_of(lambda: build_trajectory(table(T10, q), resample=-1))) == (
+        "f.csv: resample rate must be a positive number of Hz, got -1"
+    )
+    assert str(error_of(lambda: build_trajectory(table(T10, q), frequency=1.0, period=1.0))) == (
+        "f.csv: give the cycle's frequency or its period, not both"
+    )
+    assert str(error_of(lambda: build_trajectory(table(T10, q), cutoff=6.0, resample=50.0))) == (
+        "f.csv: resampling 0.09 s at 50 Hz gives 5 samples; at least 6 are needed"
+    )
+    assert str(error_of(lambda: build_trajectory(table(T10, q), cutoff=60.0))) == (
+        "f.csv: the low-pass cutoff 60 Hz is not below the Nyquist frequency 50 Hz of a 100 Hz log"
+    )
+    curve = LoadCurve(np.array([5.0, 6.0]), np.array([0.0, 1.0]), np.array([2, 3]), "l.csv", "F")
+    columns = ColumnMap(DEG.time, DEG.angles)
+    assert str(error_of(lambda: build_trajectory(table(T10, q, columns=columns), load_curve=curve))) == (
+        "l.csv, column 'F': no overlapping time: the motion f.csv covers 0 to 0.09 s, the load 5 to 6 s"
+    )
+    error = error_of(lambda: build_trajectory(table(T10 * 1000, q)))
+    assert str(error).startswith("f.csv, column 't': the times look like milliseconds")
+    with pytest.warns(TrajectoryWarning) as record:
+        build_trajectory(table(1.7e9 + T10 * 100, q))
+    assert str(record[0].message).startswith("f.csv: column 't': the times are Unix time stamps")
+
+
+def test_a_cutoff_on_a_file_that_starts_late_uses_its_own_step():
+    t = 1.0 + np.arange(41) / 50.0
+    q = np.column_stack([20 * np.sin(2 * np.pi * t) + np.sin(2 * np.pi * 20 * t), 5 * t, np.zeros(41)])
+    trajectory = quiet(lambda: build_trajectory(table(t, q), cutoff=5.0))
+    np.testing.assert_allclose(trajectory.q, lowpass_record(np.radians(q), 50.0, 5.0, False), rtol=0, atol=1e-9)
+
+
+def test_percent_times_of_part_of_a_cycle_and_their_resolution_in_seconds():
+    q, _, _ = cubic(T10)
+    columns = ColumnMap(Column("t", "%"), DEG.angles, False, DEG.load)
+    half = np.arange(10) * 5.0  # 0 to 45 % of a 1 s cycle: not rescaled again
+    trajectory = quiet(lambda: build_trajectory(table(half, q, columns=columns), period=1.0))
+    np.testing.assert_allclose(trajectory.t, np.arange(10) * 0.05, rtol=0, atol=1e-15)
+    # Printed to 0.1 % of a 2 s cycle: 2 ms; a time 0.0995 % (1.99 ms) off is even to it.
+    percent = np.arange(10) * 10.0
+    percent[4] += 0.0995
+    trajectory = quiet(lambda: build_trajectory(table(percent, q, columns=columns, quantum=0.1), period=2.0))
+    np.testing.assert_allclose(trajectory.t, np.arange(10) * 0.2, rtol=0, atol=1e-14)
+    # A load file on the cycle's clock: percent times have no epoch.
+    curve = LoadCurve(np.array([0.0, 2.0]), np.array([0.0, 2000.0]), np.array([2, 3]), "l.csv", "F")
+    plain = ColumnMap(Column("t", "%"), DEG.angles)
+    trajectory = quiet(
+        lambda: build_trajectory(table(percent, q, columns=plain, quantum=0.1), period=2.0, load_curve=curve)
+    )
+    np.testing.assert_allclose(trajectory.Fe, 1000.0 * trajectory.t, rtol=1e-12)
+
+
+def test_milliseconds_since_a_late_start_meet_a_load_file_in_seconds_and_keep_their_resolution():
+    q, _, _ = cubic(T10)
+    columns = ColumnMap(Column("t", "ms"), DEG.angles)
+    stamps = 2e8 + 10.0 * np.arange(10)  # ms: read as from an epoch, 2e5 s
+    curve = LoadCurve(2e5 + np.array([-1.0, 1.0]), np.array([0.0, 2000.0]), np.array([2, 3]), "l.csv", "F")
+    trajectory = quiet(lambda: build_trajectory(table(stamps, q, columns=columns), load_curve=curve))
+    np.testing.assert_allclose(trajectory.Fe, 1000.0 * (1.0 + T10), rtol=1e-9)
+    # Printed in whole ms: a step 2 ms off (a fifth) is not even to 1 ms.
+    times = 10.0 * np.arange(10)
+    times[4] += 2.0
+    columns = ColumnMap(Column("t", "ms"), DEG.angles, False, DEG.load)
+    error = error_of(lambda: build_trajectory(table(times, q, columns=columns, quantum=1.0)))
+    assert error.line == 6 and "uneven time step" in str(error)
+
+
+def test_two_times_are_enough_to_tell_milliseconds_and_the_first_time_tells_an_epoch():
+    error = error_of(lambda: check_time_unit(np.array([0.0, 100.0]), "s", "f.csv", "t"))
+    assert "the times look like milliseconds" in str(error)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        np.testing.assert_array_equal(relative_time(np.array([5e7, 2e8]), "f", "t"), [5e7, 2e8])
+
+
+def test_a_long_files_times_are_evened_block_by_block():
+    # 70 000 times: two blocks of 65 536; a wobble of 5e-8 s in the second is within the step's thousandth
+    # (even) but beyond its millionth (so the even grid is returned).
+    t = np.arange(70_000) * 1e-3
+    t[69_000] += 5e-8
+    out = check_time(t, 0.0, "f", np.arange(70_000), "t", True)
+    assert out is not t
+    np.testing.assert_allclose(out, np.arange(70_000) * (t[-1] / 69_999), rtol=0, atol=1e-12)
+    assert abs(out[69_000] - 69.0) < 1e-12
