@@ -822,3 +822,11 @@ def test_a_long_files_times_are_evened_block_by_block():
     assert out is not t
     np.testing.assert_allclose(out, np.arange(70_000) * (t[-1] / 69_999), rtol=0, atol=1e-12)
     assert abs(out[69_000] - 69.0) < 1e-12
+
+
+def test_a_load_file_meets_a_motion_that_starts_late_on_the_same_clock():
+    q, _, _ = cubic(T10)
+    columns = ColumnMap(DEG.time, DEG.angles)
+    curve = LoadCurve(np.array([0.0, 2.0]), np.array([0.0, 2000.0]), np.array([2, 3]), "l.csv", "F")
+    trajectory = build_trajectory(table(1.0 + T10, q, columns=columns), load_curve=curve)
+    np.testing.assert_allclose(trajectory.Fe, 1000.0 * (1.0 + T10), rtol=1e-12)
