@@ -136,8 +136,9 @@ def _dependent_columns(seed: int = 4, rows: int = 60) -> np.ndarray:
     Y[:, INDEX["b_guide"]] = 0.0
     # Dependent up to a trace far below the rank tolerance, whose coefficient is then zero.
     Y[:, INDEX["b_S"]] = 0.25 * Y[:, INDEX["τ_c,S"]] + 1e-13 * Y[:, INDEX["I_m,xx"]] * NOMINAL[0] / NOMINAL[-1]
-    # Nearly dependent, yet a thousand times the rank tolerance away: independent.
-    Y[:, INDEX["b_U"]] = Y[:, INDEX["τ_c,U"]] * 2.0 + 1e-5 * rng.normal(size=rows) / NOMINAL[INDEX["b_U"]]
+    # Nearly dependent, yet a thousand times the rank tolerance away: independent (its typical effect 1e-5 of
+    # the others': each column is scaled to unit norm first).
+    Y[:, INDEX["b_U"]] = (Y[:, INDEX["τ_c,U"]] * 2.0 + 1e-5 * rng.normal(size=rows) / NOMINAL[INDEX["b_U"]]) * 1e-5
     return Y
 
 
@@ -153,9 +154,11 @@ def hand_made(params, monkeypatch):
     return derive(params, lever_spin=False, seed=4), calls
 
 
-def test_the_rank_and_the_columns_kept_in_order(hand_made):
+def test_the_rank_and_the_columns_kept_in_order(params, hand_made):
     base, calls = hand_made
     assert calls == [(4, False)] and base.lever_spin is False
+    # By default: the model with lever spin, the first draw.
+    assert derive(params).lever_spin is True and calls[-1] == (0, True)
     dependent = [INDEX[label] for label in ("m_l", "F_c,guide", "b_guide", "b_S")]
     assert base.dependent == tuple(dependent)
     assert base.index == [k for k in range(P) if k not in dependent]

@@ -114,6 +114,8 @@ def test_the_unit_machines_route_is_the_same_regressor(machine, motion, lever_sp
     kin = kinematics(machine, motion)
     reference = _regressor_by_unit_machines(machine, kin, motion.Fe, lever_spin)
     np.testing.assert_array_equal(regressor_from_kinematics(machine, kin, motion.Fe, lever_spin), reference)
+    if lever_spin:  # the default: the model with lever spin
+        np.testing.assert_array_equal(_regressor_by_unit_machines(machine, kin, motion.Fe), reference)
     expected = _finite_columns(machine, motion, lever_spin)
     np.testing.assert_allclose(reference, expected, rtol=0, atol=1e-6 * np.abs(expected).max())
 
