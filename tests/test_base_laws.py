@@ -66,6 +66,8 @@ def test_rounding_and_units_by_hand():
     assert _ratio_unit("kg", "N") == "kg/N"
     assert _ratio_unit("N", "kg") == "N/kg"
     assert _ratio_unit("kg·mm²", "N") == "kg·mm²/N"
+    assert _ratio_unit("N·mm·s/rad", "kg") == "N·mm·s/rad/kg"
+    assert _ratio_unit("kg", "N·s/mm") == "kg/N·s/mm"
     assert _ratio_unit("N·mm", "kg") == "N·mm/kg"
 
 
@@ -117,6 +119,9 @@ def test_the_map_to_base_parameters_by_hand(params):
     np.testing.assert_allclose(T @ back, values, rtol=1e-13, atol=1e-18)
     assert back[INDEX["m_L"]] == pytest.approx(params.slider_mass + 0.5 * (params.lever_mass - other[INDEX["m_l"]]))
     np.testing.assert_allclose(base.standard(values, theta), theta, rtol=1e-13, atol=1e-18)
+    # Whole numbers in, numbers out: 0.5 stays 0.5.
+    whole = base.standard(np.full(P - 2, 0.5), [1] * P)
+    assert whole.dtype == float and whole[INDEX["μ_h"]] == 0.5
     assert base.standard(values, theta) is not theta
     assert base.table()[base.index.index(INDEX["m_L"])] == {
         "name": "m_L",
@@ -247,10 +252,10 @@ def test_random_samples_in_the_workspace(params, monkeypatch):
         return regressor(params, trajectory, lever_spin)
 
     monkeypatch.setattr(base_module, "regressor", spy)
-    Y = random_regressor(params, 3, lever_spin=False, samples=40)
+    Y = random_regressor(params, 3, lever_spin=False, samples=300)
     ((trajectory, lever_spin),) = seen
-    assert lever_spin is False and len(trajectory) == 40
-    np.testing.assert_array_equal(trajectory.t, np.arange(40) * 1e-3)
+    assert lever_spin is False and len(trajectory) == 300
+    np.testing.assert_array_equal(trajectory.t, np.arange(300) * 1e-3)
     # Within, and reaching towards, the stated ranges.
     for values, low, high in (
         (np.degrees(trajectory.q), -20.0, 20.0),
@@ -261,11 +266,11 @@ def test_random_samples_in_the_workspace(params, monkeypatch):
         assert low <= values.min() < low + 0.2 * (high - low) and high - 0.2 * (high - low) < values.max() <= high
     # The rows of every motor stacked: sample n, motor i is row 3n + i.
     full = regressor(params, trajectory, False)
-    assert Y.shape == (120, P)
+    assert Y.shape == (900, P)
     np.testing.assert_array_equal(Y[3 * 7 + 2], full[7, 2])
     # A seed is a draw: again the same, another a different one; the default is the model with lever spin, SAMPLES rows.
-    np.testing.assert_array_equal(random_regressor(params, 3, False, 40), Y)
-    assert not np.array_equal(random_regressor(params, 4, False, 40), Y)
+    np.testing.assert_array_equal(random_regressor(params, 3, False, 300), Y)
+    assert not np.array_equal(random_regressor(params, 4, False, 20), Y[:60])
     seen.clear()
     random_regressor(params, 3)
     assert seen[0][1] is True and len(seen[0][0]) == SAMPLES

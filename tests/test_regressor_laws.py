@@ -153,6 +153,7 @@ def test_blocks_and_layout_change_no_number(machine, motion):
     kin = kinematics(machine, motion)
     whole = _regressor_columns(machine, kin, motion.Fe, True)
     assert whole.shape == (P, 3, 30) and BLOCK > 30
+    np.testing.assert_array_equal(_regressor_columns(machine, kin, motion.Fe), whole)  # with lever spin by default
     for block in (1, 7, 29, 30):
         np.testing.assert_array_equal(_regressor_columns(machine, kin, motion.Fe, True, block=block), whole)
     # Machines made once serve again; the lever spin reaches the columns.
@@ -287,3 +288,39 @@ def test_a_log_in_windows_gives_the_rows_of_the_whole(machine, filtered_log):
     np.testing.assert_allclose(
         off[0], _joined(log_rows(machine, filtered_log, False))[0], atol=1e-9 * np.abs(off[0]).max()
     )
+
+
+@pytest.fixture(scope="module")
+def log_in_threes(machine):
+    """1200 Hz low-passed at 100 Hz: every third sample kept, edges of 48 samples, chunk margins of 192."""
+    trajectory = _reversing(400, 1200.0)
+    tau = np.random.default_rng(6).normal(size=(400, 3))
+    return MeasuredLog(trajectory, tau, CUTOFF, "threes.csv", edge=edge_samples(1200.0, CUTOFF), sample_rate=1200.0)
+
+
+def test_rows_every_third_sample_in_chunks_spans_and_windows(machine, log_in_threes):
+    log = log_in_threes
+    assert log.usable == slice(48, 352)
+    rows = np.arange(48, 352, 3)
+    Y, t, use = _joined(log_rows(machine, log, True))
+    np.testing.assert_array_equal(t, log.tau[rows])
+    whole = lowpass(regressor(machine, log.trajectory, True), 1200.0, CUTOFF)
+    np.testing.assert_allclose(Y, whole[rows], rtol=0, atol=1e-12 * np.abs(whole).max())
+    # Chunks of 100 samples are cut to 99, whole steps: the kept samples line up across them.
+    chunked = _joined(_rows(machine, log, True, chunk=100))
+    np.testing.assert_array_equal(chunked[1], t)
+    assert [len(tau) for _, tau, _ in _rows(machine, log, True, chunk=100)] == [33, 33, 33, 3]
+    # A span from 101: its first row is 102 = 48 + 18·3.
+    _, ts, _ = _joined(_rows(machine, log, True, span=(101, 160, 48)))
+    np.testing.assert_array_equal(ts, log.tau[np.arange(102, 160, 3)])
+    # Windows whose cores start off the step: the rows of the whole.
+    pieces = _joined(log_rows(machine, _Windowed(log, 97, 200), True))
+    np.testing.assert_array_equal(pieces[1], t)
+    np.testing.assert_allclose(pieces[0], Y, rtol=0, atol=1e-9 * np.abs(Y).max())
+
+
+def test_a_log_too_short_to_filter_is_named(machine):
+    """A log built from arrays, shorter than the filter needs (128 samples at 800 Hz and 100 Hz): its name in the error."""
+    short = MeasuredLog(_reversing(100), np.zeros((100, 3)), CUTOFF, "short.csv", edge=32, sample_rate=RATE)
+    with pytest.raises(hipsim.TrajectoryError, match="short.csv"):
+        list(log_rows(machine, short, True))
