@@ -234,10 +234,11 @@ def test_plausible_by_hand(start):
     theta[INDEX["m_L"]] = 3000.0
     with pytest.raises(IdentificationError) as error:
         _plausible(start, theta, ("a", "b"))
-    assert (
-        error.value.logs == ("a", "b")
-        and "slider" in str(error.value)
-        and str(error.value).startswith("a, b: the identified machine is implausible: ")
+    assert error.value.logs == ("a", "b")
+    assert str(error.value) == (
+        "a, b: the identified machine is implausible: key 'slider.mass_kg' = 3000 kg is outside the plausible range "
+        "0.3 to 30 kg for this class of machine (a unit slip?); the logs and the model disagree (check the log's "
+        "units, torque constant and sign convention); nothing written"
     )
 
 
