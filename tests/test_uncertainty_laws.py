@@ -340,3 +340,26 @@ def test_sigma_machines_factor_the_covariance_along_its_principal_directions():
     norms = sorted(np.linalg.norm(d) for d in steps)
     assert norms == pytest.approx([2e-4, 1e-3], rel=1e-9)
     assert sigma_machines(PARAMS, _covariance(np.zeros((R, R)))) == []
+
+
+def test_a_table_where_numbers_belong_is_named(tmp_path):
+    path = tmp_path / "identified.toml"
+    names = "[" + ", ".join(f'"{n}"' for n in NAMES) + "]"
+    path.write_text(f"[identification]\nbase = {names}\ncovariance = {{ a = 1 }}\n", encoding="utf-8")
+    _refused(path, "covariance", "expected a square table of numbers")
+    eye = "[" + ", ".join("[" + ", ".join("1.0" if i == j else "0.0" for j in range(R)) + "]" for i in range(R)) + "]"
+    path.write_text(
+        f"[identification]\nbase = {names}\ncovariance = {eye}\nresidual_rms_Nmm = {{ a = 1 }}\n", encoding="utf-8"
+    )
+    _refused(path, "residual_rms_Nmm", "expected three numbers (N·mm per motor), got {'a': 1}")
+
+
+def test_sigma_machines_of_tiny_variances_keep_every_direction():
+    """The cut for directions of no variance is relative to the largest: variances of 1e-26 are still two directions."""
+    S = np.zeros((R, R))
+    S[6, 6], S[14, 14] = 1e-26, 4e-28
+    machines = sigma_machines(PARAMS, _covariance(S))
+    assert len(machines) == 2
+    theta_b = BASE.transform @ standard_values(PARAMS)
+    steps = sorted(np.abs(BASE.transform @ standard_values(m) - theta_b).max() for m in machines)
+    assert steps == pytest.approx([2e-14, 1e-13], rel=1e-2)
