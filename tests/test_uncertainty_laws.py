@@ -131,6 +131,9 @@ def test_symmetry_to_a_billionth_of_the_largest_entry(tmp_path):
     _refused(_file(tmp_path, base=NAMES, covariance=C), "covariance", "not symmetric")
     C[0, 1] = 1.0 + 3e-9  # 0.75e-9 of it: accepted
     assert read_covariance(_file(tmp_path, base=NAMES, covariance=C), PARAMS).matrix.shape == (R, R)
+    C = 4.0 * np.eye(R)
+    C[0, 1] = 1e-9 * 4.0  # exactly a billionth of the largest: accepted
+    assert read_covariance(_file(tmp_path, base=NAMES, covariance=C), PARAMS) is not None
     C = -4e-6 * np.eye(R)  # the largest by magnitude: 4e-6
     C[0, 1] = 5e-15
     _refused(_file(tmp_path, base=NAMES, covariance=C), "covariance", "not symmetric")
@@ -323,6 +326,10 @@ def test_band_summary_by_hand():
     assert wide["3"]["prediction_rms_half_width_Nmm"] == pytest.approx(5.0, rel=1e-12)
     assert wide["3"]["measured_within_prediction_band"] == 1.0
     assert set(wide) == {"1", "2", "3"}
+    # On the edge of a band is within it: |error| = half, and = √(0 + (1.96·residual)²).
+    edge = band_summary(np.array([[2e-3, 0.0, 0.0]]), np.array([[-2e-3, Z95 * 3e-3, 0.0]]), np.array([1e-3, 3e-3, 0.0]))
+    assert edge["1"]["measured_within_band"] == 1.0 and edge["2"]["measured_within_band"] == 0.0
+    assert edge["2"]["measured_within_prediction_band"] == 1.0 and edge["3"]["measured_within_prediction_band"] == 1.0
 
 
 def test_sigma_machines_factor_the_covariance_along_its_principal_directions():

@@ -12,6 +12,7 @@ from hipsim.rig.identification.validation import (
     MARGIN,
     Envelope,
     ValidationNote,
+    _core,
     _phase_rms,
     envelope,
     training_envelope,
@@ -110,6 +111,17 @@ def test_the_envelope_covers_the_usable_samples_window_by_window(piece, halo):
     assert isinstance(envelope(log).load[0], float)
 
 
+@pytest.mark.parametrize("piece, halo", [(5, 3), (4, 0), (6, 2), (1, 1), (16, 16)])
+def test_the_windows_give_each_usable_sample_once(piece, halo):
+    q, qd = _motion()
+    whole = _log(np.arange(N) * 0.01, q, qd, LOAD, edge=2)
+    parts = list(_core(Pieces(whole, piece, halo)))
+    np.testing.assert_array_equal(np.concatenate([p[0] for p in parts]), whole.t[2:-2])
+    np.testing.assert_array_equal(np.concatenate([p[1] for p in parts]), LOAD[2:-2])
+    np.testing.assert_allclose(np.degrees(np.concatenate([p[2] for p in parts])), q[2:-2], rtol=1e-14)
+    np.testing.assert_allclose(np.degrees(np.concatenate([p[3] for p in parts])), qd[2:-2], rtol=1e-14)
+
+
 def test_union_takes_the_outer_ends_of_each_range():
     a = _envelope((100, 900), [[-1, 2], [-3, 4], [-5, 6]], [[-10, 20], [-30, 40], [-50, 60]])
     b = _envelope((50, 500), [[0, 3], [-4, 1], [-2, 7]], [[-20, 10], [-10, 50], [-70, 0]])
@@ -177,7 +189,7 @@ def test_phase_rms_bins_tenths_in_newton_millimetres():
                 [-1.0, -2.0, 3.0],
                 [4.0, 0.0, -1.0],
                 [3.0, 3.0, 3.0],
-                [1.0, 2.0, 3.0],
+                [2.0, -4.0, 0.0],
                 [4.0, 4.0, 0.0],
                 [2.0, 1.0, 1.0],
                 [0.0, 0.0, 0.0],
@@ -189,7 +201,7 @@ def test_phase_rms_bins_tenths_in_newton_millimetres():
     assert out.shape == (10, 3)
     # Bin 0: phases 5, 5 and -3 (below 0: clipped to the first); bin 1: 15 and 10 (an edge opens its bin);
     # bin 9: 100 (clipped to the last), 95, 99.9.
-    np.testing.assert_allclose(out[0], [1.0, 2.0, 3.0], rtol=1e-12)
+    np.testing.assert_allclose(out[0], [np.sqrt(6 / 3), np.sqrt(24 / 3), np.sqrt(18 / 3)], rtol=1e-12)
     np.testing.assert_allclose(out[1], [np.sqrt((16 + 4) / 2), np.sqrt(1 / 2), np.sqrt(2 / 2)], rtol=1e-12)
     np.testing.assert_allclose(out[9], [np.sqrt(25 / 3), np.sqrt(25 / 3), np.sqrt(9 / 3)], rtol=1e-12)
     assert np.isnan(out[2:9]).all()
