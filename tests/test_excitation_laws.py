@@ -476,6 +476,8 @@ class FineFails:
 
     def __call__(self, params, coefficients, frequency, grid, columns, lever_spin, limits):
         self.seen.append((grid.size, coefficients.copy()))
+        if grid.size == self.fine and self.times > 10**5:  # failing for good: no model run needed
+            return 1.0, np.full(15 * grid.size, -1.0)
         value, margins = self.real(params, coefficients, frequency, grid, columns, lever_spin, limits)
         if grid.size == self.fine and self.times > 0:
             self.times -= 1
@@ -597,3 +599,19 @@ def test_the_optimiser_moves_from_its_start(tiny):
 def test_the_ends_of_the_settings_are_allowed():
     assert _run(Watch(lambda x: x), harmonics=np.int64(1)).harmonics == 1
     assert _run(Watch(lambda x: x), frequency=20, samples=4).frequency == 20
+
+
+def test_each_start_gets_forty_tries(monkeypatch):
+    """Two starts that never hold (a stand-in that says so, and says the objective is finite): 2 × 40 tries, then refused."""
+    seen = []
+
+    def never(params, coefficients, frequency, grid, columns, lever_spin, limits):
+        seen.append(coefficients.copy())
+        return 1.0, np.r_[np.zeros(15 * grid.size - 1), -1e-12]
+
+    monkeypatch.setattr(module, "_evaluate", never)
+    with pytest.raises(ExcitationError, match="no excitation within the limits"):
+        _run(Watch(lambda x: x), seeds=2)
+    assert len(seen) == 80
+    # The second start is a new draw, not the first one shrunk further.
+    assert not np.allclose(seen[40][:3, 1:], 0.7 * seen[39][:3, 1:])
