@@ -5,6 +5,7 @@ the best of the starts, the fall-back to the start and the shrink on the finer g
 
 import csv
 import math
+import warnings
 from types import SimpleNamespace
 
 import numpy as np
@@ -194,9 +195,11 @@ def test_the_condition_number_of_a_hand_made_regressor(monkeypatch):
     assert seen[-1] is True
     monkeypatch.setattr(module, "regressor", _fake_regressor({m: u, i: np.zeros(12)}, seen))
     assert condition_number(PARAMS, None, ("m_L", "I_L")) == math.inf  # a column the motion does not move
-    monkeypatch.setattr(module, "regressor", _fake_regressor({m: u, i: 7 * u}, seen))
+    monkeypatch.setattr(module, "regressor", _fake_regressor({m: u, i: 7 * u, 0: w}, seen))
     with np.errstate(divide="raise"):
         assert condition_number(PARAMS, None, ("m_L", "I_L")) == math.inf  # two columns the motion cannot tell apart
+        # ... and with a third it can: singular values √2, 1 and 0.
+        assert condition_number(PARAMS, None, ("m_L", "I_L", "I_m,xx")) == math.inf
 
 
 def test_the_condition_number_along_a_trajectory_by_its_gram_matrix():
@@ -348,18 +351,25 @@ def _run(watch, **kwargs):
         return excitation(PARAMS, **options)
 
 
-@pytest.fixture(scope="module")
-def tiny():
+def test_a_tiny_design_from_start_to_end():
+    """One harmonic, ten samples, six SLSQP iterations; run inside the test (not a fixture), so that the mutation tool
+    runs every check below against each change of the design. SciPy must know every option it is given."""
     watch = Watch()
-    return _run(watch, max_iter=10), watch
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", scipy.optimize.OptimizeWarning)
+        design = _run(watch, max_iter=6)
+    _check_start(design, watch)
+    _check_gradients(design, watch)
+    _check_result(design, watch)
+    _check_moved(design, watch)
 
 
 def _unpack(x, H=1):
     return x.reshape(4, 2 * H + 1) * SPAN[:, None]
 
 
-def test_the_start_is_feasible_and_centred_with_the_load_swinging(tiny):
-    _, watch = tiny
+def _check_start(design, watch):
+    """The start is feasible and centred, the load swinging over 0.9 of its half range."""
     (call,) = watch.calls
     start = _unpack(call.x0)
     np.testing.assert_allclose(start[:, 0], [0.0, 0.0, 0.0, 1650.0], atol=1e-12)
@@ -372,15 +382,15 @@ def test_the_start_is_feasible_and_centred_with_the_load_swinging(tiny):
     assert constraint["type"] == "ineq"
     margins = constraint["fun"](call.x0)
     assert margins.shape == (15 * SAMPLES,) and np.all(margins >= 0)
-    assert call.kwargs["method"] == "SLSQP" and call.kwargs["options"]["maxiter"] == 10
+    assert call.kwargs["method"] == "SLSQP" and call.kwargs["options"]["maxiter"] == 6
 
 
 def _central(fun, x, h=1e-6):
     return np.array([(fun(x + h * e) - fun(x - h * e)) / (2 * h) for e in np.eye(x.size)])
 
 
-def test_the_gradients_given_to_slsqp_are_the_objectives_and_margins_slopes(tiny):
-    _, watch = tiny
+def _check_gradients(design, watch):
+    """The gradients given to SLSQP are the objective's and the margins' slopes."""
     (call,) = watch.calls
     x = call.x0
     slope = call.kwargs["jac"](x)
@@ -396,8 +406,8 @@ def test_the_gradients_given_to_slsqp_are_the_objectives_and_margins_slopes(tiny
     assert call.fun(x) == call.f0
 
 
-def test_the_design_says_what_it_achieves(tiny):
-    design, _ = tiny
+def _check_result(design, watch):
+    """The design says what it achieves."""
     assert design.frequency == 0.5 and design.harmonics == 1 and design.coefficients.shape == (4, 3)
     assert design.quantities == DESIGN_QUANTITIES and design.limits == Limits()
     fine = np.arange(10 * SAMPLES) / (10 * SAMPLES * 0.5)
@@ -530,19 +540,6 @@ def test_a_start_is_shrunk_by_0_7_until_it_is_feasible(monkeypatch):
         assert not (math.isfinite(value) and np.all(margins >= 0))
 
 
-def test_no_feasible_start_is_refused_after_forty_tries(monkeypatch):
-    fails = FineFails(0)
-    monkeypatch.setattr(module, "_evaluate", fails)
-    with pytest.raises(ExcitationError) as caught:
-        _run(Watch(lambda x: x), limits=Limits(torque_limit=1e-4), samples=2)
-    assert str(caught.value) == (
-        "no excitation within the limits was found: relax the limits (speed, acceleration, torque, singularity measure)"
-    )
-    assert len(fails.seen) == 40  # forty tries, each smaller by 0.7
-    for before, after in zip(fails.seen, fails.seen[1:]):
-        np.testing.assert_allclose(after[1][:3, 1:], 0.7 * before[1][:3, 1:], rtol=1e-12)
-
-
 def test_the_design_is_for_its_quantities_and_model():
     quantities = ("m_L", "I_L", "μ_h", "μ_t")
     watch = Watch(lambda x: x)
@@ -558,22 +555,21 @@ def test_the_design_is_for_its_quantities_and_model():
 
 
 def test_default_samples_are_twenty_per_harmonic_and_at_least_a_hundred(monkeypatch):
-    fails = FineFails(0)
-    monkeypatch.setattr(module, "_evaluate", fails)
-    with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(scipy.optimize, "minimize", Watch(lambda x: x))
-        excitation(PARAMS, harmonics=1, frequency=0.5)
-        assert {size for size, _ in fails.seen} == {100, 1000}
-        fails.seen.clear()
-        excitation(PARAMS, harmonics=6, frequency=0.5)
-        assert {size for size, _ in fails.seen} == {120, 1200}
+    for harmonics, samples in ((1, 100), (5, 100), (6, 120)):
+        recorder = Recorder()
+        monkeypatch.setattr(module, "_evaluate", recorder)
+        with pytest.raises(Stop), pytest.MonkeyPatch.context() as patch:
+            patch.setattr(scipy.optimize, "minimize", Watch(lambda x: x))
+            excitation(PARAMS, harmonics=harmonics, frequency=0.5)
+        assert [r.grid.size for r in recorder.seen] == [samples, 10 * samples]
 
 
 def test_the_random_start_falls_with_the_harmonic_and_swings_the_load_over_most_of_its_range(monkeypatch):
     """The first start by hand from the seed's numbers: angles N(0, 1)·l^-1.5·span/2, the load 0.9 of its half range at a random phase."""
-    fails = FineFails(0)
-    monkeypatch.setattr(module, "_evaluate", fails)
-    _run(Watch(lambda x: x), harmonics=2, seed=3)
+    recorder = Recorder()
+    monkeypatch.setattr(module, "_evaluate", recorder)
+    with pytest.raises(Stop):
+        _run(Watch(lambda x: x), harmonics=2, seed=3)
     rng = np.random.default_rng(3)
     normal = rng.normal(size=(3, 4))
     phase = rng.uniform(0, 2 * math.pi)
@@ -581,11 +577,11 @@ def test_the_random_start_falls_with_the_harmonic_and_swings_the_load_over_most_
     want[:, 0] = [0.0, 0.0, 0.0, 1650.0]
     want[:3, 1:] = normal * np.array([1.0, 1.0, 2**-1.5, 2**-1.5]) * 0.5 * math.radians(30.0)
     want[3, 1:3] = 0.9 * 1350.0 * np.array([math.cos(phase), math.sin(phase)])
-    np.testing.assert_allclose(fails.seen[0][1], want, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(recorder.seen[0].coefficients, want, rtol=1e-12, atol=1e-15)
 
 
-def test_the_optimiser_moves_from_its_start(tiny):
-    design, watch = tiny
+def _check_moved(design, watch):
+    """The optimiser moves from its start."""
     start = _unpack(watch.calls[0].x0)
     assert not np.allclose(design.coefficients[:3, 1:], start[:3, 1:], rtol=1e-3)
     # Better posed than its start on the design's samples (its last step breaks a margin by ~1e-10: accepted).
@@ -596,9 +592,49 @@ def test_the_optimiser_moves_from_its_start(tiny):
     assert value < watch.calls[0].f0 - 0.5 and margins.min() > -1e-9
 
 
-def test_the_ends_of_the_settings_are_allowed():
-    assert _run(Watch(lambda x: x), harmonics=np.int64(1)).harmonics == 1
-    assert _run(Watch(lambda x: x), frequency=20, samples=4).frequency == 20
+class Stop(Exception):
+    """Raised by a stand-in model: the design got past its checks of the settings."""
+
+
+class Recorder:
+    """``_evaluate`` standing in for the model: every set feasible, objective 1; stops at the finer grid (or at once)."""
+
+    def __init__(self, at_once=False):
+        self.at_once, self.seen = at_once, []
+
+    def __call__(self, params, coefficients, frequency, grid, columns, lever_spin, limits):
+        self.seen.append(SimpleNamespace(coefficients=coefficients.copy(), grid=grid.copy(), lever_spin=lever_spin))
+        if self.at_once or len(self.seen) > 1:
+            raise Stop
+        return 1.0, np.zeros(15 * grid.size)
+
+
+@pytest.mark.parametrize(
+    "kwargs", [{"harmonics": np.int64(1)}, {"harmonics": 50}, {"frequency": 20}, {"frequency": 1e-3}]
+)
+def test_the_ends_of_the_settings_are_allowed(monkeypatch, kwargs):
+    monkeypatch.setattr(module, "_evaluate", Recorder(at_once=True))
+    with pytest.raises(Stop):
+        excitation(PARAMS, **kwargs)
+
+
+def test_the_defaults(monkeypatch):
+    """0.5 Hz, five harmonics, 100 samples, the levers' spin, one start of seed 0, forty SLSQP iterations."""
+    recorder = Recorder()
+    monkeypatch.setattr(module, "_evaluate", recorder)
+    watch = Watch(lambda x: x)
+    with pytest.raises(Stop), pytest.MonkeyPatch.context() as patch:
+        patch.setattr(scipy.optimize, "minimize", watch)
+        excitation(PARAMS)
+    (call,) = watch.calls
+    assert call.kwargs["options"]["maxiter"] == 40
+    first, fine = recorder.seen
+    np.testing.assert_allclose(first.grid, np.arange(100) / 50.0, rtol=1e-15)
+    np.testing.assert_allclose(fine.grid, np.arange(1000) / 500.0, rtol=1e-15)
+    assert first.lever_spin is True and first.coefficients.shape == (4, 11)
+    rng = np.random.default_rng(0)
+    decay = np.repeat(np.arange(1, 6), 2) ** -1.5
+    np.testing.assert_allclose(first.coefficients[:3, 1:], rng.normal(size=(3, 10)) * decay * 0.5 * SPAN[0], rtol=1e-12)
 
 
 def test_each_start_gets_forty_tries(monkeypatch):
@@ -610,8 +646,15 @@ def test_each_start_gets_forty_tries(monkeypatch):
         return 1.0, np.r_[np.zeros(15 * grid.size - 1), -1e-12]
 
     monkeypatch.setattr(module, "_evaluate", never)
-    with pytest.raises(ExcitationError, match="no excitation within the limits"):
+    with pytest.raises(ExcitationError) as caught:
         _run(Watch(lambda x: x), seeds=2)
+    assert str(caught.value) == (
+        "no excitation within the limits was found: relax the limits (speed, acceleration, torque, singularity measure)"
+    )
     assert len(seen) == 80
+    for before, after in zip(seen[:39], seen[1:40]):  # each try smaller by 0.7, the load and centres kept
+        np.testing.assert_allclose(after[:3, 1:], 0.7 * before[:3, 1:], rtol=1e-12)
+        np.testing.assert_array_equal(after[3], before[3])
+        np.testing.assert_array_equal(after[:, 0], before[:, 0])
     # The second start is a new draw, not the first one shrunk further.
     assert not np.allclose(seen[40][:3, 1:], 0.7 * seen[39][:3, 1:])
