@@ -267,13 +267,31 @@ def test_the_objective_and_margins_against_the_public_model_run(spin):
 def test_a_set_out_of_reach_has_no_objective_and_fails_every_model_margin():
     far = COEFFICIENTS.copy()
     far[0, 0] = math.radians(120.0)  # lever 2 cannot span the gap
-    value, margins = module._evaluate(PARAMS, far, 0.5, GRID, _columns(("m_L", "I_L")), True, LIMITS)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # quietly: NumPy's warnings of the NaNs out of reach are silenced
+        value, margins = module._evaluate(PARAMS, far, 0.5, GRID, _columns(("m_L", "I_L")), True, LIMITS)
+        both = module._evaluate_many(PARAMS, [far, COEFFICIENTS], 0.5, GRID, _columns(("m_L", "I_L")), True, LIMITS)
     assert value == math.inf and margins.shape == (15 * 8,)
+    # The set after it is still evaluated, as if alone.
+    assert len(both) == 2 and both[0][0] == math.inf
+    alone = module._evaluate(PARAMS, COEFFICIENTS, 0.5, GRID, _columns(("m_L", "I_L")), True, LIMITS)
+    assert both[1][0] == pytest.approx(alone[0], rel=1e-12)
     q, F = _by_hand(far, 0.5, GRID)[0][:3], _by_hand(far, 0.5, GRID)[0][3]
     np.testing.assert_allclose(margins[:24], 1 - np.abs(q).ravel() / 0.4, rtol=1e-12)
     np.testing.assert_allclose(margins[24:32], (F - 250.0) / 2600.0, rtol=1e-12)
     np.testing.assert_allclose(margins[32:40], (2600.0 - F) / 2600.0, rtol=1e-12)
     assert np.all(margins[40:] == -1.0)
+
+
+def test_a_first_sample_out_of_reach_flags_its_set():
+    """α = 60° + 60°·cos(πt) on two samples: 120° (out of reach) at t = 0, 0° at t = 1 s."""
+    far = np.zeros((4, 3))
+    far[0, [0, 2]] = math.radians(60.0)
+    far[3, 0] = 1000.0
+    value, margins = module._evaluate(PARAMS, far, 0.5, np.array([0.0, 1.0]), _columns(("m_L", "I_L")), True, LIMITS)
+    assert value == math.inf and margins.shape == (30,)
+    np.testing.assert_allclose(margins[:2], [1 - math.radians(120.0) / 0.4, 1.0], rtol=1e-12, atol=1e-15)
+    assert np.all(margins[10:] == -1.0)
 
 
 def test_a_motion_that_leaves_a_column_still_has_no_objective_but_its_margins():
@@ -540,18 +558,40 @@ def test_a_start_is_shrunk_by_0_7_until_it_is_feasible(monkeypatch):
         assert not (math.isfinite(value) and np.all(margins >= 0))
 
 
-def test_the_design_is_for_its_quantities_and_model():
-    quantities = ("m_L", "I_L", "μ_h", "μ_t")
+@pytest.mark.parametrize("spin", [True, False])
+def test_the_design_is_for_its_quantities_and_model(spin):
+    """With the levers' inertia among the quantities, whose columns the levers' spin changes (I_l,xz: ~100 times).
+
+    (Not I_l,zz: without the spin its column is round-off, ~1e-21, and the condition number of such a column is noise.)
+    """
+    quantities = ("m_L", "I_L", "I_l,xx", "I_l,xz")
     watch = Watch(lambda x: x)
-    design = _run(watch, lever_spin=False, quantities=list(quantities))
-    start = _unpack(watch.calls[0].x0)
+    design = _run(watch, lever_spin=spin, quantities=list(quantities))
+    (call,) = watch.calls
+    start = _unpack(call.x0)
     grid = np.arange(SAMPLES) / (SAMPLES * 0.5)
-    want = math.log(condition_number(PARAMS, _trajectory(start, 0.5, grid), quantities, lever_spin=False))
-    assert watch.calls[0].f0 == pytest.approx(want, rel=1e-9)
+    want = math.log(condition_number(PARAMS, _trajectory(start, 0.5, grid), quantities, lever_spin=spin))
+    assert call.f0 == pytest.approx(want, rel=1e-9)
     assert design.quantities == quantities
     assert design.iso_condition_number == pytest.approx(
-        condition_number(PARAMS, hipsim.iso14242(rate=10 * SAMPLES), quantities, False), rel=1e-12
+        condition_number(PARAMS, hipsim.iso14242(rate=10 * SAMPLES), quantities, spin), rel=1e-12
     )
+    fine = np.arange(10 * SAMPLES) / (10 * SAMPLES * 0.5)
+    assert design.condition_number == pytest.approx(
+        condition_number(PARAMS, design.at(fine), quantities, spin), rel=1e-9
+    )
+    # The gradient's model too: the slope along the first angle's first sine, by central differences.
+    e = np.zeros(call.x0.size)
+    e[1] = 1e-6
+    slope = (call.fun(call.x0 + e) - call.fun(call.x0 - e)) / 2e-6
+    assert call.kwargs["jac"](call.x0)[1] == pytest.approx(slope, rel=1e-4, abs=1e-6)
+
+
+def test_a_result_that_breaks_a_limit_falls_back_to_its_start():
+    """A result within reach (a finite objective) whose load exceeds its largest by 1350 N: its start is kept."""
+    watch = Watch(lambda x: x + np.r_[np.zeros(9), 1.0, 0.0, 0.0])  # the load's centre up by one half range
+    design = _run(watch, seed=1)
+    _shrunk(design.coefficients, _unpack(watch.calls[0].x0))
 
 
 def test_default_samples_are_twenty_per_harmonic_and_at_least_a_hundred(monkeypatch):
