@@ -8,6 +8,7 @@ ISO 14242-1 cycles of that machine's motor torques, with noise as on a rig
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -15,7 +16,7 @@ import numpy as np
 import hipsim
 from hipsim.motion.trajectories import Trajectory
 
-__all__ = ["MU0", "hip_mu", "write_identified", "write_snapshot", "write_test"]
+__all__ = ["EXACT_MACHINE", "MU0", "hip_mu", "write_exact", "write_identified", "write_snapshot", "write_test"]
 
 #: The published machine's hip friction coefficient, the curve's level after running-in.
 MU0 = 0.095
@@ -136,4 +137,30 @@ def write_identified(path: Path) -> Path:
         "# Model: analytic, lever spin on; regressor condition number 10.\n\n" + published,
         encoding="utf-8",
     )
+    return path
+
+
+#: The machine the exact logs are made with: every term the monitor fits non-zero (N·m, N·m·s/rad).
+EXACT_MACHINE = hipsim.load_parameters().replace(hip_mu=0.1, screw_coulomb=0.05, screw_viscous=0.002)
+
+
+def write_exact(
+    path: Path,
+    machine=None,
+    rate: float = 50.0,
+    cycles: int = 1,
+    first_cycle: int = 0,
+    lever_spin: bool = True,
+    newline: bool = True,
+) -> Path:
+    """The ISO cycle on ``machine`` logged without noise (17 digits): the analytic model's torques, the counter."""
+    machine = EXACT_MACHINE if machine is None else machine
+    trajectory = hipsim.iso14242(rate=rate, cycles=cycles)
+    tau = hipsim.analyse(machine, trajectory, lever_spin=lever_spin).torques.total * 1e3
+    angles = np.degrees(trajectory.q)
+    lines = ["t_s,cycle,Fe_N,alpha_deg,beta_deg,gamma_deg,tau_1_Nmm,tau_2_Nmm,tau_3_Nmm"]
+    for k, t in enumerate(trajectory.t):
+        values = [t, first_cycle + math.floor(t), trajectory.Fe[k], *angles[k], *tau[k]]
+        lines.append(",".join(f"{v:.17g}" for v in values))
+    path.write_text("\n".join(lines) + ("\n" if newline else ""), encoding="utf-8")
     return path
