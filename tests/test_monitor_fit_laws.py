@@ -325,3 +325,57 @@ def test_every_part_of_the_set_up_is_in_its_fingerprint():
         other = MonitorSetup(**({"params": PARAMS} | change)).fingerprints()
         assert [name for name in prints if prints[name] != other[name]] == [part, "setup"], change
     assert ESTIMATOR == "monitor-2"
+
+
+def test_the_stations_loads_filtered_as_the_log_s(tmp_path):
+    # At 250 Hz through 20 Hz: the stations' loads go through the torques' low-pass, so each station's term is
+    # recovered as without a filter (to the filter's edges and the derivatives: 0.5 %).
+    path = write_snapshot(
+        tmp_path / "s.csv",
+        MACHINE,
+        0.1,
+        0,
+        np.random.default_rng(3),
+        cycles=2,
+        rate=250.0,
+        torque_noise_Nmm=0.0,
+        angle_noise_deg=0.0,
+        station_loads=(0.9, 1.1),
+        station_mu=(0.09, 0.13),
+    )
+    row = estimate(MonitorSetup(MACHINE, cutoff=20.0), snapshot(path))
+    assert row["stations"] == "separated"
+    for p, mu in ((1, 0.09), (2, 0.13)):
+        expected = terms(MACHINE.replace(hip_mu=mu))["load_friction_mm"]
+        assert row[f"load_friction_{p}_mm"] == pytest.approx(expected, rel=5e-3)
+
+
+def test_chunks_give_the_rows_of_one(tmp_path, monkeypatch):
+    # 500 samples at 250 Hz through 20 Hz, every 3rd kept. Chunks of 101 samples are cut to whole steps (99, 33 rows
+    # each): the same samples kept as in one chunk, and each chunk's filter run over the 200 samples around it
+    # (16 periods of the cutoff) gives the same columns to round-off.
+    snap = snapshot(write_exact(tmp_path / "c.csv", rate=250.0, cycles=2))
+    blocks = []
+    real = monitor_fit._rows
+
+    def spy(*args):
+        blocks.append(list(real(*args)))
+        return iter(blocks[-1])
+
+    monkeypatch.setattr(monitor_fit, "_rows", spy)
+    one = estimate(MonitorSetup(MACHINE, cutoff=20.0), snap)
+    monkeypatch.setattr(monitor_fit, "CHUNK", 101)
+    chunked = estimate(MonitorSetup(MACHINE, cutoff=20.0), snap)
+    whole, parts = blocks
+    assert len(whole) == 1 and [len(b[0]) for b in parts] == [33, 33, 33, 33, 2]
+    for k in range(5):  # fixed torque, columns, measured torque, rows to use, stations
+        if k == 4:
+            assert whole[0][k] is None and all(b[k] is None for b in parts)
+            continue
+        joined = np.concatenate([b[k] for b in parts])
+        if k in (2, 3):
+            np.testing.assert_array_equal(joined, whole[0][k])
+        else:
+            np.testing.assert_allclose(joined, whole[0][k], rtol=0, atol=1e-12 * np.abs(whole[0][k]).max())
+    for name in terms():
+        assert chunked[name] == pytest.approx(one[name], rel=1e-9), name
