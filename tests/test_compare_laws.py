@@ -103,6 +103,14 @@ def test_the_motors_statistics_by_hand():
     np.testing.assert_allclose(phase_rms, expected, rtol=1e-14)
 
 
+def test_a_motor_without_error_peaks_at_its_first_sample():
+    s = _ErrorSums(None, 0.0, 1)
+    zeros = np.zeros((3, 3))
+    s.add(np.array([5.0, 5.5, 6.0]), zeros, model(zeros, zeros), np.ones(3), np.zeros((3, 3), dtype=bool))
+    for m in s.result()[0]["motors"].values():
+        assert (m["peak_error_Nmm"], m["peak_error_t_s"], m["rms_error_Nmm"]) == (0.0, 5.0, 0.0)
+
+
 def test_pieces_and_blocks_give_the_same_numbers():
     whole = sums()
     for pieces, block in ((4, None), (2, None), (1, 1), (1, 3), (3, 2)):
@@ -146,6 +154,25 @@ def test_the_period_of_a_repeating_motion():
     assert detect_period(t, np.column_stack([t, t**2, t**3])) is None
 
 
+def test_the_period_at_the_edges_of_the_search():
+    # Eight samples, two periods of four: x = (0, 1, 0, -1, ...); the correlation at lag 4 (the last one searched,
+    # n // 2) is that of lag 0, lag 1's is 0: period 4 samples of 0.1 s. Each angle about its own mean (0.3, -0.2, 0.1 rad).
+    t = np.arange(8) * 0.1
+    x = np.array([0.0, 1.0, 0.0, -1.0] * 2)
+    q = np.column_stack([0.3 + x, -0.2 + 0.5 * x, 0.1 + x])
+    assert detect_period(t, q) == pytest.approx(0.4, rel=1e-12)
+    assert detect_period(t[:7], q[:7]) is None  # fewer than eight samples
+    # Alternating samples: lag 1 is the first dip, lag 2 the period (0.2 s at 10 Hz), lag 3 no better.
+    t = np.arange(20) * 0.1
+    x = np.array([1.0, -1.0] * 10)
+    assert detect_period(t, np.column_stack([x, x, 2 * x])) == pytest.approx(0.2, rel=1e-12)
+    # Small angles (a sum of squares below one) and an offset from zero change nothing.
+    t = np.arange(500) / 100.0
+    q = np.column_stack([np.sin(2 * np.pi * t / 0.987), 0.5 * np.cos(4 * np.pi * t / 0.987), np.zeros_like(t)])
+    assert detect_period(t, 1e-3 * q) == pytest.approx(0.987, abs=1e-4)
+    assert detect_period(t, q + [2.0, -1.0, 0.5]) == pytest.approx(0.987, abs=1e-4)
+
+
 def test_the_threshold_decides_a_weak_repeat():
     # A period-1 s motion with white noise of 0.7 of its size: its repeat correlates at about half, below 0.9.
     rng = np.random.default_rng(1)
@@ -165,6 +192,8 @@ def test_the_period_to_bin_by():
     assert _period(2.0, t, None, 0.0, 4.0) == 2.0  # exactly two cycles
     assert _period(2.0, t, None, 1.0, 5.0 - 1e-10) == 2.0  # two cycles to round-off
     assert _period(2.0, t, None, 0.0, 3.99) is None  # fewer than two
+    assert _period(2.0, t, None, 1.0, 4.9) is None  # 3.9 s from the first to the last
+    assert _period(2.0, t, None, 0.0, 2 * 2.0 * (1 - 1e-9)) == 2.0  # at the tolerance itself
 
 
 # -------------------------------------------------------------------------------------------- whole comparisons
@@ -268,6 +297,32 @@ def test_the_phases_start_at_the_first_heel_strike():
     assert (anchor, share) == (pytest.approx(0.42), None)
     anchor, share = _phase_anchor(exact(), 1.0, 0)
     assert anchor == 0.0 and share == pytest.approx(0.62, abs=0.011)
+    anchor, share = _phase_anchor(exact(), 2.0, 0)  # the share of a 2 s cycle
+    assert anchor == 0.0 and share == pytest.approx(0.31, abs=0.006)
+    # An error in stance only, on a log from 0.37 s: the bins from the heel strike at 1 s see it in stance alone.
+    log0 = exact(start=0.37)
+    c = compare_torques(PARAMS, exact(start=0.37, error=stance_error(log0.trajectory)))
+    assert c.phase_rms[7:, 1].max() < 1e-4 and c.phase_rms[:5, 1].min() > 1e-3
+
+
+def test_a_first_window_without_toe_off_gives_no_stance():
+    # Windows of half a cycle: the first has the heel strike at 0 s, not the toe-off at 0.62 s.
+    c = compare_torques(PARAMS, Windows(exact(), 50))
+    assert c.heel_strike == pytest.approx(0.0, abs=0.021) and c.stance is None and c.phase_rms.shape == (10, 3)
+
+
+def test_the_model_s_lever_spin_is_the_comparison_s():
+    trajectory = exact().trajectory
+    free = hipsim.analyse(PARAMS, trajectory, lever_spin=False).torques.total
+    log = MeasuredLog(trajectory, free, name="free")
+    c = compare_torques(PARAMS, log, lever_spin=False)
+    assert not c.lever_spin and all(m["rms_error_Nmm"] < 1e-9 for m in c.motor_errors().values())
+    assert max(m["rms_error_Nmm"] for m in compare_torques(PARAMS, log).motor_errors().values()) > 1e-5
+
+
+def test_two_cycles_to_the_sample_are_enough():
+    # 201 samples at 100 Hz (int(201.1)): 2 s from the first to the last, two whole cycles of 1 s.
+    assert compare_torques(PARAMS, exact(cycles=2.011), period=1.0).period == 1.0
 
 
 def test_no_phases_without_a_period():
@@ -294,7 +349,7 @@ def test_the_usable_samples_and_the_reversals():
 
 
 class Windows(Log):
-    """A log in memory given out in windows of ``size`` samples (no halo: the tests' logs have no filter)."""
+    """A log in memory given out in windows whose cores are ``size`` samples (the tests' logs have no filter)."""
 
     def __init__(self, log: MeasuredLog, size: int):
         self.log, self.size = log, size
@@ -312,11 +367,12 @@ class Windows(Log):
         return self.log.t
 
     def windows(self) -> Iterator[tuple[MeasuredLog, slice, int]]:
-        tr = self.log.trajectory
+        tr, halo = self.log.trajectory, 5  # each window with 5 samples around its core, as a log read in pieces
         for a in range(0, len(self), self.size):
             b = min(a + self.size, len(self))
-            piece = Trajectory(tr.t[a:b], tr.q[a:b], tr.qd[a:b], tr.qdd[a:b], tr.Fe[a:b])
-            yield MeasuredLog(piece, self.log.tau[a:b], name=self.name), slice(0, b - a), a
+            lo, hi = max(0, a - halo), min(len(self), b + halo)
+            piece = Trajectory(tr.t[lo:hi], tr.q[lo:hi], tr.qd[lo:hi], tr.qdd[lo:hi], tr.Fe[lo:hi])
+            yield MeasuredLog(piece, self.log.tau[lo:hi], name=self.name), slice(a - lo, b - lo), a
 
     def filtered_angles(self, most=None):
         return self.log.filtered_angles(most)
@@ -358,6 +414,8 @@ def test_the_period_from_every_kth_sample_and_compare_log_s_limits(monkeypatch):
     assert asked == [50]
     calls = []
     monkeypatch.setattr(compare, "compare_torques", lambda *args: calls.append(args))
+    compare_log(PARAMS, log)
+    assert calls.pop() == (PARAMS, log, True, None, 10, FIGURE_SAMPLES, PERIOD_SAMPLES, None)
     progress = object()
     compare_log(PARAMS, log, False, 2.0, 7, progress=progress)
     assert calls == [(PARAMS, log, False, 2.0, 7, FIGURE_SAMPLES, PERIOD_SAMPLES, progress)]

@@ -191,8 +191,8 @@ def test_the_table_written_and_resumed(estimates, tmp_path):
     ]
     assert read_table(out)["cycle"] == [0, 10, 20]
     assert run_monitor(SETUP, snapshots, out=out, restart=True).new == 2 and read_table(out)["cycle"] == [0, 10]
-    # Another set-up's table is refused, not extended.
-    with pytest.raises(OutputError):
+    # Another set-up's table is refused, not extended, naming what differs.
+    with pytest.raises(OutputError, match=r"the model options \(cutoff, torque constant, tolerance, rate\) differs"):
         run_monitor(MonitorSetup(PARAMS, cutoff=None), snapshots, out=out)
     with pytest.raises(OutputError):
         run_monitor(SETUP, snapshots, out=tmp_path / "table.txt")
@@ -280,6 +280,7 @@ def test_the_summary_s_counts(estimates):
     assert (s["snapshots"], s["new"], s["kept"], s["first_cycle"], s["last_cycle"]) == (11, 11, 0, 0, 109)
     assert s["baseline"]["from"] == 20 and s["baseline"]["to"] == 50 and s["baseline"]["snapshots"] == 4
     assert s["baseline"]["load_friction_mm"] == pytest.approx(3.0, abs=1e-12) and s["baseline"]["stations"] is None
+    assert s["baseline"]["spread_mm"] == result.findings.mean.spread > 0
     assert s["alarm_rise"] == 0.01 and s["threshold_mm"] == list(result.findings.mean.threshold)
     assert s["chart"] == "two-sided EWMA (lambda 0.2, L 3) with the engineering threshold"
     assert s["judged"] == "the two stations' mean, worst case (up to twice its change in one station)"
@@ -410,8 +411,9 @@ def world(monkeypatch):
 
 def test_the_poll_must_be_positive():
     for poll in (0.0, -1.0, math.nan):
-        with pytest.raises(ArgumentError, match="^poll: expected seconds > 0 between looks at the logs"):
+        with pytest.raises(ArgumentError, match="^poll: expected seconds > 0 between looks at the logs") as error:
             watch.watch(SETUP, "x", (0, 1), 0.01, poll=poll)
+        assert error.value.name == "poll" and error.value.value is poll
 
 
 def test_a_round_estimates_only_when_the_snapshots_change(world):
@@ -425,6 +427,7 @@ def test_a_round_estimates_only_when_the_snapshots_change(world):
 
     # Round 1: nothing yet. 2: one snapshot. 3: the same. 4: another, alarm. 5: another, still alarm.
     # 6: another, alarm gone. 7: another, alarm again.
+    world.skipped = [Skipped("w.csv", "/logs/w.csv", "still being written", "waiting")]
     stop = Rounds(
         [
             add(snap(0)),
@@ -466,6 +469,7 @@ def test_a_round_estimates_only_when_the_snapshots_change(world):
         "tcp://s:1",
     )
     assert first.metadata == {"m": 1} and list(first.previous) == [] and second.previous == updates[0].rows
+    assert first.setup is setup and first.skipped == world.skipped
 
 
 def test_nothing_usable_waits_for_the_next_change(world):
@@ -508,6 +512,32 @@ def test_without_a_stop_it_watches_its_rounds(world):
     result = watch.watch(SETUP, "logs", (0, 1), 0.01, poll=1e-3, rounds=2)
     assert len(world.finds) == 2 and len(world.runs) == 1 and result.rows == [{"file": "snap_0000000.csv"}]
     assert world.finds[0][2] == 10.0  # the settle's default: ten seconds
+    assert (world.runs[0].workers, world.runs[0].scheduler, world.runs[0].metadata) == (1, None, None)
+
+
+def test_an_alarm_at_the_first_result_is_raised(world):
+    world.snapshots, world.alarm = [snap(0)], 1
+    alarms = []
+    watch.watch(SETUP, "logs", (0, 1), 0.01, on_alarm=alarms.append, stop=Rounds([]), rounds=2)
+    assert len(alarms) == 1 and len(world.runs) == 1
+
+
+def test_the_watch_refuses_another_set_up_s_table(world, tmp_path, estimates):
+    out = tmp_path / "t.csv"
+    run_monitor(SETUP, [snap(0)], out=out)
+    with pytest.raises(OutputError, match=r"the model options \(cutoff, torque constant, tolerance, rate\) differs"):
+        watch.watch(MonitorSetup(PARAMS, cutoff=None), "logs", (0, 1), 0.01, out=out, stop=Rounds([]), rounds=1)
+
+
+def test_the_alarm_and_notice_at_the_last_snapshot_alone(estimates):
+    # The step at the last snapshot only: the alarm is active there, not before.
+    s = run_monitor(SETUP, stepped(estimates, 100, 0.5), baseline=(20, 50), alarm_rise=0.01).summary()
+    assert s["table"]["alarm"][-2:] == [0, 1] and s["alarm_active"] and s["alarms"] == 1
+    assert not s["notice_active"]
+    # Below the threshold (0.1 mm: 0.0067 of μ_h, twice that still under 0.02): a notice, active at the last only.
+    s = run_monitor(SETUP, stepped(estimates, 100, 0.1), baseline=(20, 50), alarm_rise=0.02).summary()
+    assert s["table"]["flag"][-2] == "" and s["table"]["flag"][-1].startswith("notice")
+    assert s["notice_active"] and not s["alarm_active"] and s["notices"] == 1
 
 
 def test_monitor_from_an_identified_file_and_windows_of_a_long_log(estimates, tmp_path):
