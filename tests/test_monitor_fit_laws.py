@@ -15,7 +15,7 @@ import pytest
 from monitor_synthetic import EXACT_MACHINE, write_exact, write_snapshot
 
 import hipsim
-from hipsim.exceptions import IdentificationError, ParameterError
+from hipsim.exceptions import IdentificationError, ParameterError, TrajectoryError
 from hipsim.rig.monitoring import monitor_fit
 from hipsim.rig.monitoring.monitor_fit import (
     ESTIMATE_COLUMNS,
@@ -379,3 +379,41 @@ def test_chunks_give_the_rows_of_one(tmp_path, monkeypatch):
             np.testing.assert_allclose(joined, whole[0][k], rtol=0, atol=1e-12 * np.abs(whole[0][k]).max())
     for name in terms():
         assert chunked[name] == pytest.approx(one[name], rel=1e-9), name
+
+
+def test_the_set_up_s_reading_options_reach_the_snapshot(tmp_path):
+    a = terms()["load_friction_mm"]
+    # Slider heights from the encoders (the machine's kinematics read them) beside angles 1° off: refused at the
+    # default tolerance of 0.5°, read at 2°.
+    path = write_exact(tmp_path / "enc.csv", encoders=True, angle_offset_deg=1.0)
+    with pytest.raises(TrajectoryError, match="disagree by 1° in alpha"):
+        estimate(MonitorSetup(MACHINE, cutoff=None), snapshot(path))
+    row = estimate(MonitorSetup(MACHINE, cutoff=None, tolerance_deg=2.0), snapshot(path))
+    assert row["load_friction_mm"] == pytest.approx(a, rel=2e-4)
+    # Currents through the torque constant.
+    path = write_exact(tmp_path / "amps.csv", torque_constant=0.5)
+    row = estimate(MonitorSetup(MACHINE, cutoff=None, torque_constant=0.5), snapshot(path))
+    assert row["load_friction_mm"] == pytest.approx(a, rel=2e-4)
+    # Time stamps rounded down to 30 ms at 50 Hz (some repeat): read from the sample index at the rate given.
+    path = write_exact(tmp_path / "coarse.csv", cycles=2, stamp_step=0.03)
+    row = estimate(MonitorSetup(MACHINE, cutoff=None, rate=50.0), snapshot(path))
+    assert row["load_friction_mm"] == pytest.approx(a, rel=2e-4)
+
+
+def test_a_light_platform_s_weight_term(tmp_path):
+    # 50 g: a weight of 0.49 N, below one newton, still a term of its own (r_t·μ_t·m_m·g = 0.784 N·mm).
+    machine = MACHINE.replace(platform_mass=0.05)
+    row = estimate(MonitorSetup(machine, cutoff=None), snapshot(write_exact(tmp_path / "w.csv", machine)))
+    # Weakly determined beside a load term of 3.1 N·mm per N (the derivatives' error moves it by a fifth): fitted.
+    assert row["weight_friction_Nmm"] == pytest.approx(terms(machine)["weight_friction_Nmm"], rel=0.3)
+    assert row["load_friction_mm"] == pytest.approx(terms(machine)["load_friction_mm"], rel=2e-4)
+
+
+def test_the_first_and_last_cycles_are_the_counter_s_ends(tmp_path):
+    path = write_exact(tmp_path / "c.csv")
+    lines = path.read_text().splitlines()
+    counter = [7] + [8] * (len(lines) - 3) + [9]  # 7 on the first sample, 9 on the last
+    lines[1:] = [",".join([ln.split(",")[0], str(c), *ln.split(",")[2:]]) for ln, c in zip(lines[1:], counter)]
+    path.write_text("\n".join(lines) + "\n")
+    row = estimate(MonitorSetup(MACHINE, cutoff=None), snapshot(path))
+    assert (row["cycle"], row["last_cycle"]) == (7, 9)
