@@ -111,6 +111,24 @@ def test_a_motor_without_error_peaks_at_its_first_sample():
         assert (m["peak_error_Nmm"], m["peak_error_t_s"], m["rms_error_Nmm"]) == (0.0, 5.0, 0.0)
 
 
+def test_torques_below_one_newton_millimetre_and_one_sample_away():
+    # Motor 1: measured 0.3, 0.4 N·mm, error 0.1, 0.2, near its reversal at the first sample: away, the one sample
+    # 1 (0.2 of 0.4). Motor 3: no measured torque, an error of 1 N·mm: relative errors infinite.
+    measured = np.array([[0.3, 1.0, 0.0], [0.4, 1.0, 0.0]]) * 1e-3
+    error = np.array([[0.1, 0.0, 1.0], [0.2, 0.0, 1.0]]) * 1e-3
+    near = np.array([[True, False, False], [False, False, False]])
+    s = _ErrorSums(None, 0.0, 1)
+    s.add(np.array([0.0, 1.0]), measured, model(measured, error), np.ones(2), near)
+    one, _, three = s.result()[0]["motors"].values()
+    assert one["rms_error_away_from_reversals_Nmm"] == pytest.approx(0.2, rel=1e-14)
+    assert one["relative_rms_error_away_from_reversals"] == pytest.approx(0.5, rel=1e-14)
+    assert one["relative_rms_error"] == pytest.approx(math.sqrt(0.025 / 0.125), rel=1e-14)
+    assert one["relative_peak_error"] == pytest.approx(0.5, rel=1e-14) and one["peak_error_t_s"] == 1.0
+    assert three["relative_rms_error"] == math.inf and three["relative_peak_error"] == math.inf
+    assert three["relative_rms_error_away_from_reversals"] == math.inf
+    assert three["rms_error_away_from_reversals_Nmm"] == pytest.approx(1.0, rel=1e-14)
+
+
 def test_pieces_and_blocks_give_the_same_numbers():
     whole = sums()
     for pieces, block in ((4, None), (2, None), (1, 1), (1, 3), (3, 2)):
