@@ -16,6 +16,7 @@ from monitor_synthetic import EXACT_MACHINE, write_exact, write_snapshot
 
 import hipsim
 from hipsim.exceptions import IdentificationError, ParameterError, TrajectoryError
+from hipsim.fingerprint import fingerprint
 from hipsim.rig.monitoring import monitor_fit
 from hipsim.rig.monitoring.monitor_fit import (
     ESTIMATE_COLUMNS,
@@ -88,9 +89,16 @@ def test_dependent_columns_give_nan_and_infinite_deviations():
         x, s, residual = _solve(columns, Y, np.array([0, 1, 2]), 0)
         assert np.all(np.isnan(x)) and np.all(np.isinf(s)) and np.all(np.isnan(residual))
         assert x.shape == (2,) and s.shape == (2,) and residual.shape == (3,)
-    # Nearly dependent, within 1e-6 of the largest singular value, but not quite: solved.
-    close = np.column_stack([A[:, 0], A[:, 0] + [0.0, 1e-5, 0.0]])
-    assert np.all(np.isfinite(_solve(close, Y, np.array([0, 1, 2]), 0)[0]))
+    # Columns (1, 0, 1) and (1, d, 1), each of unit norm: singular values √2 and d/2 (to first order in d). Dependent
+    # below d/2 = 1e-6·√2: d = 2e-6 is, d = 4e-6 is not.
+    for d, dependent in ((2e-6, True), (4e-6, False)):
+        close = np.column_stack([A[:, 0], A[:, 0] + [0.0, d, 0.0]])
+        assert np.all(np.isnan(_solve(close, Y, np.array([0, 1, 2]), 0)[0])) == dependent, d
+    # Columns of very different sizes are each scaled to unit norm first: not mistaken for dependent ones.
+    for scale in (1e7, 1e-7):
+        x, s, _ = _solve(A * [scale, 1.0], Y, np.array([0, 1, 2]), 0)
+        np.testing.assert_allclose(x, [4 / 3 / scale, 7 / 3], rtol=1e-9)
+        np.testing.assert_allclose(s, [math.sqrt(2) / 3 / scale, math.sqrt(2) / 3], rtol=1e-9)
 
 
 # ---------------------------------------------------------------------------------------------------- the snapshot's row
@@ -213,7 +221,7 @@ def test_too_few_samples_left_are_refused_at_the_edge(tmp_path, monkeypatch):
             assert np.isfinite(row["load_friction_mm"])
 
 
-def test_the_stations_apart_when_their_loads_differ(tmp_path):
+def test_the_stations_apart_when_their_loads_differ(tmp_path, solved):
     rng = np.random.default_rng(3)
     path = write_snapshot(
         tmp_path / "s.csv",
@@ -229,7 +237,9 @@ def test_the_stations_apart_when_their_loads_differ(tmp_path):
         station_mu=(0.09, 0.13),
     )
     row = estimate(MonitorSetup(MACHINE, cutoff=None), snapshot(path))
-    assert row["stations"] == "separated"
+    assert row["stations"] == "separated" and set(row) == set(ESTIMATE_COLUMNS)
+    _, std, _ = solved[1]["out"]  # the fit with the stations' two columns
+    assert (row["load_friction_1_mm_std"], row["load_friction_2_mm_std"]) == (std[0] * 1e3, std[1] * 1e3)
     for p, mu in ((1, 0.09), (2, 0.13)):
         assert row[f"load_friction_{p}_mm"] == pytest.approx(
             terms(MACHINE.replace(hip_mu=mu))["load_friction_mm"], rel=1e-3
@@ -291,13 +301,19 @@ def test_the_set_up_refuses_what_the_load_term_cannot_read():
     with pytest.raises(ParameterError) as error:
         MonitorSetup(PARAMS.replace(thrust_bearing_axial_only=True))
     assert error.value.key == "friction.thrust_bearing_axial_only" and error.value.value is True
-    assert "needs the thrust bearing's moment along ω" in str(error.value)
+    assert str(error.value) == (
+        f"{PARAMS.source}, key 'friction.thrust_bearing_axial_only': the monitor's load term r_h·μ_h + r_t·μ_t "
+        "needs the thrust bearing's moment along ω (friction.thrust_bearing_axial_only = false)"
+    )
     assert error.value.source == PARAMS.source
     for radius in (0.0, -0.01):
         with pytest.raises(ParameterError) as error:
             MonitorSetup(PARAMS.replace(hip_radius=radius))
         assert error.value.key == "friction.hip_radius_mm" and error.value.value == radius
-        assert "the hip joint's friction radius must be positive" in str(error.value)
+        assert str(error.value) == (
+            f"{PARAMS.source}, key 'friction.hip_radius_mm': the hip joint's friction radius must be positive to read "
+            "its friction"
+        )
     MonitorSetup(PARAMS.replace(hip_radius=1e-6))  # any positive radius
 
 
@@ -325,6 +341,11 @@ def test_every_part_of_the_set_up_is_in_its_fingerprint():
         other = MonitorSetup(**({"params": PARAMS} | change)).fingerprints()
         assert [name for name in prints if prints[name] != other[name]] == [part, "setup"], change
     assert ESTIMATOR == "monitor-2"
+    # Each part is the fingerprint of what it names (a table written by an earlier run stays resumable).
+    model = {"lever_spin": True, "cutoff": 20.0, "torque_constant": None, "tolerance_deg": 0.5, "rate": None}
+    parts = {"parameters": fingerprint(PARAMS), "model": fingerprint(model), "window": fingerprint(None)}
+    parts["estimator"] = fingerprint("monitor-2")
+    assert prints == parts | {"setup": fingerprint(parts)}
 
 
 def test_the_stations_loads_filtered_as_the_log_s(tmp_path):

@@ -84,6 +84,7 @@ def test_workers_must_be_a_whole_number_of_at_least_one(estimates):
         with pytest.raises(ArgumentError) as error:
             run_monitor(SETUP, [snap(0)], workers=workers)
         assert str(error.value).startswith("workers: expected a whole number of worker processes, at least 1, got")
+        assert error.value.value is workers
     assert run_monitor(SETUP, [snap(0)], workers=np.int64(1)).new == 1 and len(estimates.batches) == 1
 
 
@@ -332,12 +333,17 @@ def test_monitor_takes_its_options_and_gives_a_table(estimates, tmp_path):
     )
     assert list(table["phase"]) == ["baseline", "baseline"]
     # Files just written wait for a settle of a minute: nothing usable.
-    with pytest.raises(TrajectoryError, match="no usable snapshot"):
+    with pytest.raises(TrajectoryError, match=r"no usable snapshot \(2 left out; the first: .* still being written"):
         monitor(PARAMS, tmp_path, settle=60.0)
     out = tmp_path / "out" / "t.csv"
     out.parent.mkdir()
     monitor(PARAMS, tmp_path, baseline=(0, 10), out=out)
     assert read_table(out)["cycle"] == [0, 10]
+    estimates.batches.clear()
+    monitor(PARAMS, tmp_path, baseline=(0, 10), out=out)  # resumed: nothing new
+    assert estimates.batches == []
+    monitor(PARAMS, tmp_path, baseline=(0, 10), out=out, restart=True)
+    assert len(estimates.batches) == 2
 
 
 def test_monitor_without_pandas_gives_its_own_table(estimates, tmp_path, monkeypatch):
@@ -544,12 +550,29 @@ def test_monitor_from_an_identified_file_and_windows_of_a_long_log(estimates, tm
     from monitor_synthetic import write_identified
 
     params = write_identified(tmp_path / "identified.toml")
+    text = params.read_text().replace("lever spin on", "lever spin off")
+    params.write_text(text)
     logs = tmp_path / "logs"
     logs.mkdir()
-    write_exact(logs / "long.csv", first_cycle=100, cycles=3)
+    # Stamps rounded down to 30 ms at 50 Hz: the long log's scan reads its times from the rate too.
+    write_exact(logs / "long.csv", first_cycle=100, cycles=3, stamp_step=0.03)
     table = monitor(params, logs, baseline=(100, 102), window=1, rate=50.0)
     assert list(table["cycle"]) == [100, 101, 102]
     assert list(table["file"]) == ["long.csv[100-100]", "long.csv[101-101]", "long.csv[102-102]"]
     setup = estimates.batches[0][1]
-    assert setup.window == 1 and setup.lever_spin is True and setup.params.source == str(params)
+    assert setup.window == 1 and setup.lever_spin is False and setup.params.source == str(params)
     assert setup.rate == 50.0 and setup.cutoff == 20.0 and setup.torque_constant is None
+
+
+def test_monitor_hands_its_workers_and_scheduler_on(monkeypatch, tmp_path):
+    calls = []
+
+    def run_batches(function, work, setup, workers, scheduler, what):
+        calls.append((workers, scheduler))
+        for batch in work:
+            yield [row(s) for s in batch]
+
+    monkeypatch.setattr(monitor_run, "run_batches", run_batches)
+    (tmp_path / "snap_0000000.csv").write_text("x\n")
+    monitor(PARAMS, tmp_path, workers=3, scheduler="tcp://s:1")
+    assert calls == [(3, "tcp://s:1")]

@@ -18,17 +18,17 @@ PARAMS = hipsim.load_parameters()
 N = 40  # samples, 1 ms apart
 
 
-def write(path, extra: dict[str, list[float]] | None = None, cycle: bool = True, load=None, jitter: float = 0.0):
+def write(path, extra: dict[str, list[float]] | None = None, cycle: bool = True, load=None, jitter: float = 0.0, n=N):
     """A still machine (angles 1°, 2°, 3°), the load ``load`` (default 1000 + 10·k N), torques 10, 20, 30 N·mm;
     the time stamps ``jitter`` seconds late at every odd sample."""
-    load = [1000.0 + 10 * k for k in range(N)] if load is None else load
-    columns = {"t_s": [k / 1000 + jitter * (k % 2) for k in range(N)], "Fe_N": load}
+    load = [1000.0 + 10 * k for k in range(n)] if load is None else load
+    columns = {"t_s": [k / 1000 + jitter * (k % 2) for k in range(n)], "Fe_N": load}
     if cycle:
-        columns["cycle"] = [5 + k // 10 for k in range(N)]
-    columns |= {"alpha_deg": [1.0] * N, "beta_deg": [2.0] * N, "gamma_deg": [3.0] * N}
-    columns |= {f"tau_{i}_Nmm": [10.0 * i] * N for i in (1, 2, 3)}
+        columns["cycle"] = [5 + k // 10 for k in range(n)]
+    columns |= {"alpha_deg": [1.0] * n, "beta_deg": [2.0] * n, "gamma_deg": [3.0] * n}
+    columns |= {f"tau_{i}_Nmm": [10.0 * i] * n for i in (1, 2, 3)}
     columns |= extra or {}
-    lines = [",".join(columns)] + [",".join(repr(columns[c][k]) for c in columns) for k in range(N)]
+    lines = [",".join(columns)] + [",".join(repr(columns[c][k]) for c in columns) for k in range(n)]
     path.write_text("\n".join(lines) + "\n")
     (found,), _ = find_snapshots(str(path))
     return found
@@ -54,6 +54,8 @@ def test_the_options_reach_the_log(tmp_path):
     with pytest.raises(TrajectoryError, match="40 samples .* too short to filter at 100 Hz"):
         read_snapshot(write(tmp_path / "b.csv"), PARAMS, cutoff=100.0)
     assert read_snapshot(write(tmp_path / "b.csv"), PARAMS, cutoff=450.0).log.cutoff == 450.0
+    # By default through 20 Hz (800 samples needed at 1 kHz).
+    assert read_snapshot(write(tmp_path / "e.csv", n=1000), PARAMS).log.cutoff == 20.0
     path = tmp_path / "c.csv"
     text = write(path).path
     lines = open(text).read().splitlines()
@@ -81,9 +83,9 @@ def test_the_station_loads_and_the_load_cell_s_gain(tmp_path):
     assert only_two.loads is None
     # A gain from a commanded load that is zero but once: (Σ F·F_cmd) over F_cmd² of the one sample.
     once = [0.0] * N
-    once[3] = 4.0
+    once[3] = 0.5  # a square below one
     read = read_snapshot(write(tmp_path / "d.csv", {"Fe_cmd_N": once}), PARAMS, cutoff=None)
-    assert read.load_gain == pytest.approx((1000.0 + 30.0) * 4.0 / 16.0, rel=1e-15)
+    assert read.load_gain == pytest.approx((1000.0 + 30.0) * 0.5 / 0.25, rel=1e-15)
 
 
 def test_a_negative_station_load_is_named_by_line_and_column(tmp_path):
@@ -91,6 +93,7 @@ def test_a_negative_station_load_is_named_by_line_and_column(tmp_path):
     second[7] = -2.5
     first = [400.0] * N
     first[9] = -1.0  # later in the file than the other: the first by line is named
+    first[2], second[4] = 0.0, 0.5  # loads of zero and below one newton before it are loads
     path = tmp_path / "a.csv"
     with pytest.raises(TrajectoryError) as error:
         read_snapshot(write(path, {"Fe_1_N": first, "Fe_2_N": second}), PARAMS, cutoff=None)
@@ -118,7 +121,7 @@ def test_no_counter_and_a_counter_that_goes_back(tmp_path):
     (found,), _ = find_snapshots(str(path))
     with pytest.raises(TrajectoryError) as error:
         read_snapshot(found, PARAMS, cutoff=None)
-    assert (error.value.line, error.value.column) == (13, "cycle") and text
+    assert (error.value.line, error.value.column, error.value.source) == (13, "cycle", str(path)) and text
 
 
 def test_a_window_of_a_long_log_reads_its_lines_only(tmp_path):
