@@ -438,3 +438,12 @@ def test_the_first_and_last_cycles_are_the_counter_s_ends(tmp_path):
     path.write_text("\n".join(lines) + "\n")
     row = estimate(MonitorSetup(MACHINE, cutoff=None), snapshot(path))
     assert (row["cycle"], row["last_cycle"]) == (7, 9)
+
+
+def test_the_encoders_are_read_with_the_set_up_s_machine(tmp_path):
+    # Levers 5 % longer than the published machine's: its slider heights are no pose of the published one.
+    machine = MACHINE.replace(lever_length=MACHINE.lever_length * 1.05)
+    row = estimate(
+        MonitorSetup(machine, cutoff=None), snapshot(write_exact(tmp_path / "e.csv", machine, encoders=True))
+    )
+    assert row["load_friction_mm"] == pytest.approx(terms(machine)["load_friction_mm"], rel=2e-4)
