@@ -576,3 +576,10 @@ def test_monitor_hands_its_workers_and_scheduler_on(monkeypatch, tmp_path):
     (tmp_path / "snap_0000000.csv").write_text("x\n")
     monitor(PARAMS, tmp_path, workers=3, scheduler="tcp://s:1")
     assert calls == [(3, "tcp://s:1")]
+
+
+def test_windows_of_a_long_log_of_currents(estimates, tmp_path):
+    # The long log's scan reads currents through the torque constant given.
+    write_exact(tmp_path / "amps.csv", first_cycle=0, cycles=3, torque_constant=0.5)
+    table = monitor(PARAMS, tmp_path, baseline=(0, 2), window=1, torque_constant=0.5)
+    assert list(table["file"]) == ["amps.csv[0-0]", "amps.csv[1-1]", "amps.csv[2-2]"]
