@@ -44,14 +44,18 @@ def motion(n: int) -> tuple[np.ndarray, np.ndarray]:
     return t, q
 
 
-def write_log(path, n: int, params=None, angles=True, heights=False, extra="", offsets=(), load=None):
+def write_log(path, n: int, params=None, angles=True, heights=False, extra="", offsets=(), ripple=False):
     """A log of the swing: load 1000 + k N, torques 100 + k, −50, 25.5 N·mm; the angles (each ``offsets`` entry
-    (sample, angle, degrees) added to the sensor's) and/or platform 1's slider heights from the inverse kinematics."""
+    (sample, angle, degrees) added to the sensor's) and/or platform 1's slider heights from the inverse kinematics.
+    ``ripple``: ±1 N·mm on τ₂ and ±0.01° on α alternating each sample (50 Hz, which a 20 Hz low-pass removes)."""
     t, q = motion(n)
+    sign = (-1.0) ** np.arange(n) if ripple else np.zeros(n)
     columns = {"t_s": [f"{x:.2f}" for x in t], "Fe_N": [f"{1000 + k}" for k in range(n)]}
-    columns |= {"tau_1_Nmm": [f"{100 + k}" for k in range(n)], "tau_2_Nmm": ["-50"] * n, "tau_3_Nmm": ["25.5"] * n}
+    columns |= {"tau_1_Nmm": [f"{100 + k}" for k in range(n)], "tau_2_Nmm": [f"{-50 + x:g}" for x in sign]}
+    columns["tau_3_Nmm"] = ["25.5"] * n
     if angles:
         sensor = q.copy()
+        sensor[:, 0] += 0.01 * sign
         for k, j, degrees in offsets:
             sensor[k, j] += degrees
         for j, name in enumerate(("alpha", "beta", "gamma")):
@@ -205,7 +209,7 @@ def assert_windows_give_the_whole(pieces, starts, piece):
 
 
 def test_a_filtered_log_in_pieces(tmp_path, params):
-    path = write_log(tmp_path / "f.csv", 400)
+    path = write_log(tmp_path / "f.csv", 400, ripple=True)
     with LogPieces(path, params, cutoff=20.0, piece=10) as pieces:
         # 1.5 periods of the cutoff at 100 Hz: 7.5, so 8 samples; the filter's edges 20 (four periods); 80 at least.
         assert pieces.halo == 2 * filter_halo(RATE, 20.0) + SPLINE_HALO + 8 + 2 == 298
@@ -215,6 +219,11 @@ def test_a_filtered_log_in_pieces(tmp_path, params):
         )
         whole = pieces.whole()
         assert (whole.edge, whole.cutoff, whole.usable) == (20, 20.0, slice(20, 380))
+        # The ripple is gone from the angles and the torques (the swing's 0.5 and 1 Hz pass unchanged).
+        usable = whole.usable
+        np.testing.assert_allclose(whole.trajectory.q[usable], np.radians(motion(400)[1])[usable], rtol=0, atol=1e-6)
+        np.testing.assert_allclose(whole.tau[usable, 1], -0.05, rtol=0, atol=1e-6)
+        np.testing.assert_allclose(whole.tau[usable, 0], (100 + np.arange(20, 380)) * 1e-3, rtol=0, atol=1e-6)
         assert_windows_give_the_whole(pieces, [0, 80, 160, 240, 320], 80)
         # The angles the figures take, every k-th of the usable samples, through the pieces as through the whole.
         for most in (None, 52, 1000, 7):
@@ -305,6 +314,16 @@ def test_the_attitude_sensor_beyond_its_tolerance(tmp_path, params):
     with LogPieces(path, params, cutoff=None, piece=25, tolerance_deg=0.75) as pieces:
         assert pieces.notes == ("encoders used; the attitude sensor agrees within 0.7° (tolerance 0.75°)",)
     assert load_log(path, params, cutoff=None, tolerance_deg=0.75).motion_from == "encoders"
+
+
+def test_the_machine_turns_heights_into_angles(tmp_path, params):
+    """The encoders' angles are the given machine's: heights written for a machine whose α turns the other way
+    agree with the attitude sensor through that machine, not through the published one."""
+    mirrored = params.replace(angle_signs=np.array([-1.0, 1.0, 1.0]))
+    path = write_log(tmp_path / "m.csv", 60, mirrored, heights=True)
+    assert load_log(path, mirrored, cutoff=None).motion_from == "encoders"
+    with pytest.raises(TrajectoryError, match=r"in alpha \(tolerance 0.5°; 24° at worst, line 52\)"):  # 2 × 12° at 0.5 s
+        load_log(path, cutoff=None)
 
 
 def test_heights_no_pose_reaches_are_named_by_line(tmp_path, params):

@@ -282,6 +282,10 @@ def test_spaces_around_names_and_crlf_line_ends(tmp_path):
     lines[4] += ",, "
     path.write_bytes(("\r\n".join(lines) + "\r\n").encode())
     assert_plain(read_rig_log(path), 5, [2, 3, 4, 5, 6])
+    # A spreadsheet's empty cells after the header's names are no columns.
+    log = read_rig_log(write(tmp_path, [HEADER + ",,", *(line + ",," for line in rows(4))], "sheet.csv"))
+    assert_plain(log, 4, [2, 3, 4, 5])
+    assert log.ignored == ()
 
 
 def test_a_block_of_plain_numbers_is_read_at_once(tmp_path, monkeypatch):
@@ -292,14 +296,25 @@ def test_a_block_of_plain_numbers_is_read_at_once(tmp_path, monkeypatch):
         calls.append(cell)
         return float(cell)
 
+    loads = []
+    loadtxt = np.loadtxt
+
+    def loaded(*args, **kwargs):
+        loads.append(1)
+        return loadtxt(*args, **kwargs)
+
     monkeypatch.setattr(reader, "parse_number", counted)
+    monkeypatch.setattr(np, "loadtxt", loaded)
+    # Two reads each: the first row (read with the header, to tell the separator), then the rest of the block.
     assert_plain(read_rig_log(write(tmp_path, [HEADER, *rows(5)])), 5, [2, 3, 4, 5, 6])
+    assert len(loads) == 2
     tab = [HEADER.replace(",", "\t")] + [decimal_commas(line, "\t") for line in rows(5)]
     assert_plain(read_rig_log(write(tmp_path, tab, "tab.csv")), 5, [2, 3, 4, 5, 6])
+    assert len(loads) == 4
     semi = [HEADER.replace(",", ";")] + [decimal_commas(line, ";") for line in rows(5)]
     semi.insert(2, "# a comment among the rows")  # the block's rows without it, still at once
     assert_plain(read_rig_log(write(tmp_path, semi, "semi.csv")), 5, [2, 4, 5, 6, 7])
-    assert calls == []
+    assert len(loads) == 6 and calls == []
 
 
 # --- A row's cells ------------------------------------------------------------------------------------------------
@@ -567,21 +582,41 @@ def test_a_window_parses_nothing_after_it_and_nothing_before_it(tmp_path):
     refused(path, "line 21, column 'Fe_N': 'oops' is not a number", lines=(7, 22), block=3)
     refused(path, ": no samples below the header", lines=(40, 50))
     refused(path, ": 1 sample; a log needs many", lines=(7, 8))
+    # A window that ends on the first row's line, or just after it (the rest of its block not read).
+    refused(path, ": no samples below the header", lines=(1, 2))
+    refused(path, ": 1 sample; a log needs many", lines=(1, 3))
+    assert len(RigLogFile(path, lines=(1, 4))) == 2  # two samples are a log
+
+
+def long_file(tmp_path, lines, size: int, name="long.csv", encoding="utf-8"):
+    """The lines, then comments of 100 bytes up to ``size`` bytes: a long file whose tail costs nothing to parse."""
+    head = ("\n".join(lines) + "\n").encode(encoding)
+    comment = b"#" + b"c" * 98 + b"\n"
+    path = tmp_path / name
+    path.write_bytes(head + comment * ((size - len(head)) // 100 + 1))
+    return path, path.read_bytes()
 
 
 def test_a_window_reads_its_block_alone(tmp_path):
-    """Of a file larger than a block (64 KiB for small ``block``), a window near the start reads and hashes that
-    block alone; ``block`` sets how large (some hundred bytes a line), a whole read hashes every byte."""
-    lines = [HEADER + ",cycle"] + [row(k) + f",{k}" for k in range(3500)]  # some 150 kB
-    path = write(tmp_path, lines)
-    data = path.read_bytes()
-    assert len(data) > 100_000
-    for block, size in ((5, 1 << 16), (1000, 100_000)):
+    """Of a file larger than a block (64 KiB for small ``block``, 100 bytes a line of ``block`` up to 4 MiB), a window
+    near the start reads and hashes that block alone; a whole read hashes every byte."""
+    path, data = long_file(tmp_path, [HEADER] + rows(30), 4_300_000)
+    for block, size in ((5, 1 << 16), (1000, 100_000), (10_000, 1_000_000), (100_000, 1 << 22)):
         window = RigLogFile(path, block=block, lines=(10, 20))
         assert (window.size, window.sha256) == (size, hashlib.sha256(data[:size]).hexdigest())
         assert window.lines.tolist() == list(range(10, 20))
-    whole = RigLogFile(path, block=5)
-    assert (whole.size, whole.sha256, len(whole)) == (len(data), hashlib.sha256(data).hexdigest(), 3500)
+    # A window that ends where the second block starts reads the first alone.
+    stop = data[: 1 << 16].count(b"\n") + 1
+    assert RigLogFile(path, block=5, lines=(10, stop)).size == 1 << 16
+    whole = RigLogFile(path)
+    assert (whole.size, whole.sha256, len(whole)) == (len(data), hashlib.sha256(data).hexdigest(), 30)
+
+
+def test_a_window_before_a_fault_read_again_reads_a_mebibyte(tmp_path):
+    lines = [HEADER] + rows(20) + ["# caf\xe9"]  # line 22
+    path, data = long_file(tmp_path, lines, 1_500_000, encoding="latin-1")
+    window = RigLogFile(path, block=5, lines=(1, 22))
+    assert (len(window), window.size, window.sha256) == (20, 1 << 20, hashlib.sha256(data[: 1 << 20]).hexdigest())
 
 
 def test_a_window_before_a_fault_is_read_line_by_line(tmp_path):
