@@ -44,13 +44,17 @@ def motion(n: int) -> tuple[np.ndarray, np.ndarray]:
     return t, q
 
 
-def write_log(path, n: int, params=None, angles=True, heights=False, extra="", offsets=(), ripple=False):
+def write_log(path, n: int, params=None, angles=True, heights=False, extra=(), offsets=(), ripple=False, late=False):
     """A log of the swing: load 1000 + k N, torques 100 + k, −50, 25.5 N·mm; the angles (each ``offsets`` entry
     (sample, angle, degrees) added to the sensor's) and/or platform 1's slider heights from the inverse kinematics.
-    ``ripple``: ±1 N·mm on τ₂ and ±0.01° on α alternating each sample (50 Hz, which a 20 Hz low-pass removes)."""
+    ``ripple``: ±1 N·mm on τ₂ and ±0.01° on α alternating each sample (50 Hz, which a 20 Hz low-pass removes), and
+    100 N at 20 Hz on the load (halved by it). ``late``: the last time stamp 9 µs late (within the 10 µs allowed)."""
     t, q = motion(n)
     sign = (-1.0) ** np.arange(n) if ripple else np.zeros(n)
-    columns = {"t_s": [f"{x:.2f}" for x in t], "Fe_N": [f"{1000 + k}" for k in range(n)]}
+    load = 1000 + np.arange(n) + (100 * np.sin(40 * np.pi * t) if ripple else 0)
+    columns = {"t_s": [f"{x:.2f}" for x in t], "Fe_N": [f"{x:.15g}" for x in load]}
+    if late:
+        columns["t_s"][-1] = f"{t[-1] + 9e-6:.6f}"
     columns |= {"tau_1_Nmm": [f"{100 + k}" for k in range(n)], "tau_2_Nmm": [f"{-50 + x:g}" for x in sign]}
     columns["tau_3_Nmm"] = ["25.5"] * n
     if angles:
@@ -64,8 +68,8 @@ def write_log(path, n: int, params=None, angles=True, heights=False, extra="", o
         L = slider_heights(params, np.radians(q) * params.angle_signs)[:, 0] * 1e3
         for j in range(3):
             columns[f"L_1{j + 1}_mm"] = [f"{x:.15g}" for x in L[:, j]]
-    if extra:
-        columns[extra] = ["21"] * n
+    for name in extra:
+        columns[name] = ["21"] * n
     names = list(columns)
     text = ",".join(names) + "\n" + "".join(",".join(columns[c][k] for c in names) + "\n" for k in range(n))
     path.write_text(text)
@@ -126,6 +130,7 @@ def test_a_log_in_memory_is_its_own_one_window():
     assert measured(20, sample_rate=7.5).rate == 7.5
     assert list(log.windows()) == [(log, slice(0, 20), 0)] and next(log.windows())[0] is log
     assert log.info() == LogInfo("m.csv", 8.0, 2.0, "exact", ("a note",))
+    assert measured(20, cutoff=0.5).cutoff == 0.5  # any positive frequency, below 1 Hz too
     with log as same:
         assert same is log
 
@@ -161,11 +166,11 @@ def test_a_piece_that_is_no_positive_whole_number(tmp_path, piece):
 
 
 def test_an_unfiltered_log_of_angles_in_pieces(tmp_path, params):
-    path = write_log(tmp_path / "a.csv", 200, extra="temp_C")
+    path = write_log(tmp_path / "a.csv", 200, extra=("temp_C", "note"))
     with LogPieces(path, params, cutoff=None, piece=40) as pieces:
         assert (pieces.edge, pieces.halo, pieces.piece, len(pieces)) == (0, SPLINE_HALO, 40, 200)
         assert (pieces.name, pieces.source, pieces.motion_from, pieces.cutoff) == ("a.csv", str(path), "angles", None)
-        assert pieces.notes == ("columns not used: temp_C",) and pieces.params is params
+        assert pieces.notes == ("columns not used: temp_C, note",) and pieces.params is params
         assert pieces.rate == pytest.approx(RATE, rel=1e-12) and pieces.t is pieces.raw.t
         data = path.read_bytes()
         assert (pieces.sha256, pieces.size) == (hashlib.sha256(data).hexdigest(), len(data))
@@ -176,13 +181,14 @@ def test_an_unfiltered_log_of_angles_in_pieces(tmp_path, params):
         np.testing.assert_array_equal(whole.trajectory.Fe, 1000.0 + np.arange(200))
         assert (whole.edge, whole.cutoff, whole.sample_rate, whole.name) == (0, None, pieces.rate, "a.csv")
         assert_windows_give_the_whole(pieces, [0, 40, 80, 120, 160], 40)
-        assert pieces.info() == LogInfo("a.csv", pieces.rate, None, "angles", ("columns not used: temp_C",))
+        assert pieces.info() == LogInfo("a.csv", pieces.rate, None, "angles", ("columns not used: temp_C, note",))
     assert pieces.raw._store.closed
 
 
-def test_the_smallest_piece_without_a_filter_is_six_samples(tmp_path, params):
+@pytest.mark.parametrize("piece", [1, 2])
+def test_the_smallest_piece_without_a_filter_is_six_samples(tmp_path, params, piece):
     path = write_log(tmp_path / "a.csv", 30)
-    with LogPieces(path, params, cutoff=None, piece=2) as pieces:
+    with LogPieces(path, params, cutoff=None, piece=piece) as pieces:
         assert pieces.piece == 6 and [start for _, _, start in pieces.windows()] == [0, 6, 12, 18, 24]
 
 
@@ -196,6 +202,7 @@ def assert_windows_give_the_whole(pieces, starts, piece):
         assert core == slice(start - lo, min(start + piece, n) - lo) and len(window) == hi - lo
         assert (window.edge, window.sample_rate, window.cutoff) == (0, pieces.rate, pieces.cutoff)
         assert (window.name, window.motion_from, window.notes) == (pieces.name, pieces.motion_from, pieces.notes)
+        assert window.trajectory.name == pieces.name
         np.testing.assert_array_equal(window.lines, pieces.raw.lines[lo:hi])
         np.testing.assert_array_equal(window.t, pieces.t[lo:hi])
         part = slice(start, start + core.stop - core.start)
@@ -209,7 +216,8 @@ def assert_windows_give_the_whole(pieces, starts, piece):
 
 
 def test_a_filtered_log_in_pieces(tmp_path, params):
-    path = write_log(tmp_path / "f.csv", 400, ripple=True)
+    # The last stamp late: a window's own times give another rate than the log's, and the 20 Hz load would show it.
+    path = write_log(tmp_path / "f.csv", 400, ripple=True, late=True)
     with LogPieces(path, params, cutoff=20.0, piece=10) as pieces:
         # 1.5 periods of the cutoff at 100 Hz: 7.5, so 8 samples; the filter's edges 20 (four periods); 80 at least.
         assert pieces.halo == 2 * filter_halo(RATE, 20.0) + SPLINE_HALO + 8 + 2 == 298
@@ -277,15 +285,16 @@ def test_notes_on_the_torques(tmp_path, params):
 
 
 def test_angles_from_the_encoders_piece_by_piece(tmp_path, params):
-    path = write_log(tmp_path / "e.csv", 120, params, angles=False, heights=True)
+    path = write_log(tmp_path / "e.csv", 250, params, angles=False, heights=True)
     with LogPieces(path, params, cutoff=None, piece=25) as pieces:
         assert pieces.motion_from == "encoders" and pieces.notes == ()
         whole = pieces.whole()
-        np.testing.assert_allclose(whole.trajectory.q, np.radians(motion(120)[1]), rtol=0, atol=1e-12)
-        assert_windows_give_the_whole(pieces, [0, 25, 50, 75, 100], 25)
-        t, q = pieces.filtered_angles(40)  # every 3rd
-        np.testing.assert_array_equal(t, np.arange(0, 120, 3) / RATE)
-        np.testing.assert_allclose(q, np.radians(motion(120)[1][::3]), rtol=0, atol=1e-12)
+        np.testing.assert_allclose(whole.trajectory.q, np.radians(motion(250)[1]), rtol=0, atol=1e-12)
+        # Windows inside the log (samples 33 … 241 around 125 … 149, say) read their angles alone from the store.
+        assert_windows_give_the_whole(pieces, list(range(0, 250, 25)), 25)
+        t, q = pieces.filtered_angles(84)  # every 3rd
+        np.testing.assert_array_equal(t, np.arange(0, 250, 3) / RATE)
+        np.testing.assert_allclose(q, np.radians(motion(250)[1][::3]), rtol=0, atol=1e-12)
         stored = pieces._q
     assert stored.closed and pieces.raw._store.closed
 
@@ -322,7 +331,9 @@ def test_the_machine_turns_heights_into_angles(tmp_path, params):
     mirrored = params.replace(angle_signs=np.array([-1.0, 1.0, 1.0]))
     path = write_log(tmp_path / "m.csv", 60, mirrored, heights=True)
     assert load_log(path, mirrored, cutoff=None).motion_from == "encoders"
-    with pytest.raises(TrajectoryError, match=r"in alpha \(tolerance 0.5°; 24° at worst, line 52\)"):  # 2 × 12° at 0.5 s
+    with pytest.raises(
+        TrajectoryError, match=r"in alpha \(tolerance 0.5°; 24° at worst, line 52\)"
+    ):  # 2 × 12° at 0.5 s
         load_log(path, cutoff=None)
 
 
