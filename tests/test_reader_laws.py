@@ -110,7 +110,7 @@ def test_heights_alone_and_angles_in_radians(tmp_path):
     lines = [header] + [f"{k / 100:.2f},800,1,2,3,0.5,-1.5,3.14159" for k in range(4)]
     scanned = RigLogFile(write(tmp_path, lines, "rad.csv"))
     log = scanned.read()
-    assert log.heights is None and log.angle_unit == "rad" and not scanned.has_heights
+    assert log.heights is None and log.angle_unit == "rad" and not scanned.has_heights and log.ignored == ()
     np.testing.assert_array_equal(log.angles[2], [0.5, -1.5, 3.14159])  # as written: no conversion
 
 
@@ -181,6 +181,10 @@ def test_currents_without_a_torque_constant(tmp_path):
             "missing torque columns: expected tau_1_Nmm, tau_2_Nmm, tau_3_Nmm, or current_1_A … with a torque constant "
             "(the file has 'tau_1_N', 'tau_2_N', 'tau_3_N': check the names and units)",
         ),
+        (
+            "t_s,Fe_N,tau1",
+            "missing torque columns: expected tau_1_Nmm, tau_2_Nmm, tau_3_Nmm, or current_1_A … with a torque constant",
+        ),  # 0.62 < 0.7
         (
             "t_s,Fe_N,torque",
             "missing torque columns: expected tau_1_Nmm, tau_2_Nmm, tau_3_Nmm, or current_1_A … with a torque constant",
@@ -315,6 +319,9 @@ def test_a_block_of_plain_numbers_is_read_at_once(tmp_path, monkeypatch):
     semi.insert(2, "# a comment among the rows")  # the block's rows without it, still at once
     assert_plain(read_rig_log(write(tmp_path, semi, "semi.csv")), 5, [2, 4, 5, 6, 7])
     assert len(loads) == 6 and calls == []
+    # Two rows: the second is a block of one row, read at once too.
+    assert len(RigLogFile(write(tmp_path, [HEADER, *rows(2)], "two.csv"))) == 2
+    assert len(loads) == 8 and calls == []
 
 
 # --- A row's cells ------------------------------------------------------------------------------------------------
@@ -326,6 +333,7 @@ def test_a_block_of_plain_numbers_is_read_at_once(tmp_path, monkeypatch):
         (row(3, tau2="abc"), "line 5, column 'tau_2_Nmm': 'abc' is not a number"),
         (row(3, tau2=" x1 "), "line 5, column 'tau_2_Nmm': 'x1' is not a number"),
         (row(3, Fe="1_000"), "line 5, column 'Fe_N': '1_000' is not a number"),  # float() would read 1000
+        (row(3, g="3X"), "line 5, column 'gamma_deg': '3X' is not a number"),  # the last cell as written
         (
             row(3, g="3,5"),
             "line 5: 9 cells, the header has 8 (decimal commas? a comma-separated log needs decimal points)",
@@ -463,16 +471,19 @@ def test_times_that_do_not_increase_or_are_uneven(tmp_path):
 
 def test_milliseconds_under_t_s_are_refused(tmp_path):
     lines = [HEADER] + [row(k, t=str(k)) for k in range(60)]  # 59 "s" of a gait at 1 Hz: 59 ms in fact
-    with pytest.raises(TrajectoryError, match=r"column 't_s': the times look like milliseconds") as error:
-        RigLogFile(write(tmp_path, lines))
+    path = write(tmp_path, lines)
+    with pytest.raises(TrajectoryError) as error:
+        RigLogFile(path)
+    assert str(error.value).startswith(f"{path}, column 't_s': the times look like milliseconds: a sample every 1 s")
     assert (error.value.line, error.value.column) == (None, "t_s")
 
 
 def test_epoch_stamps_are_read_from_the_first(tmp_path):
     lines = [HEADER] + [row(k, t=f"{1_733_000_000 + k / 100:.2f}") for k in range(5)]
     path = write(tmp_path, lines)
-    with pytest.warns(TrajectoryWarning, match="column 't_s': the times are Unix time stamps"):
+    with pytest.warns(TrajectoryWarning) as record:
         log = read_rig_log(path)
+    assert str(record[0].message).startswith(f"{path}: column 't_s': the times are Unix time stamps (from 2024-11-30")
     np.testing.assert_allclose(log.t, np.arange(5) / 100, rtol=0, atol=2.0**-22)
     assert log.t[0] == 0.0
 
@@ -495,6 +506,33 @@ def test_times_from_the_sample_index(tmp_path):
     refused(write(tmp_path, lines), "line 41, column 't_s': time 5.03 s decreases (previous 5.04 s)", rate=1000.0)
 
 
+def test_times_from_the_index_at_the_edge_of_the_span(tmp_path):
+    """Stamps in whole 10 ms of 1002 samples at 1 kHz from 5.009 s: 5.00, 5.01 (the first two differ) … 6.00, 6.01
+    (so do the last two): a span of 1.01 s. At 985 Hz, 1001 samples span 1.01624 s: within 1 % of 1.01 s (not of
+    1.00 s, the span from the second stamp or to the one but last)."""
+    lines = [HEADER] + [row(k, t=f"{(5009 + k) // 10 / 100:.2f}") for k in range(1002)]
+    path = write(tmp_path, lines)
+    scanned = RigLogFile(path, rate=985)
+    assert len(scanned) == 1002 and scanned.t[0] == 5.0 and scanned.t[1] == 5.0 + 1 / 985
+    refused(
+        path,
+        "column 't_s': the times span 1.01 s, the 1002 samples at 1030 Hz 0.971845 s: is the sample rate the log's?",
+        rate=1030,
+    )
+
+
+def test_times_from_the_index_below_one_hertz(tmp_path):
+    lines = [HEADER] + [row(k, t=f"{2 * k}") for k in range(20)]  # 0.5 Hz for 38 s
+    scanned = RigLogFile(write(tmp_path, lines), rate=0.5)
+    np.testing.assert_array_equal(scanned.t, 2.0 * np.arange(20))
+
+
+def test_the_time_that_decreases_and_the_one_before_it(tmp_path):
+    lines = [HEADER] + [row(k, t=f"{k / 1000:.4f}") for k in range(10)]
+    lines[5] = row(4, t="0.0025")  # after 0.003, before 0.005
+    refused(write(tmp_path, lines), "line 6, column 't_s': time 0.0025 s decreases (previous 0.003 s)", rate=1000)
+
+
 @pytest.mark.parametrize("rate", [0.0, -1000.0, math.nan, math.inf, True, "1000"])
 def test_a_rate_that_is_no_positive_number(tmp_path, rate):
     refused(
@@ -515,7 +553,7 @@ def numbered(n: int, comment_at=(), blank_at=(), sheet_at=()):
     while k < n:
         number = len(lines) + 1
         if number in comment_at:
-            lines.append(f"# note on line {number}")
+            lines.append(("  " if number % 2 else "") + f"# note on line {number}")  # some indented
         elif number in blank_at:
             lines.append("")
         elif number in sheet_at:
