@@ -215,7 +215,7 @@ def test_currents_without_a_torque_constant(tmp_path):
 )
 def test_a_missing_column_named_on_the_headers_line(tmp_path, header, message):
     width = header.count(",") + 1
-    path = write(tmp_path, ["# a rig log", "", header] + [",".join(["1"] * width)] * 3)
+    path = write(tmp_path, ["  # a rig log", "", header] + [",".join(["1"] * width)] * 3)
     error = refused(path, f"line 3: {message}")
     assert (error.line, error.column) == (3, None)
 
@@ -273,6 +273,13 @@ def test_decimal_commas_in_tab_and_semicolon_logs(tmp_path, sep):
     # Decimal points are read too.
     lines = [HEADER.replace(",", sep)] + [line.replace(",", sep) for line in rows(6)]
     assert_plain(read_rig_log(write(tmp_path, lines, "c.csv")), 6, [2, 3, 4, 5, 6, 7])
+
+
+def test_the_first_row_decides_the_separator(tmp_path):
+    """A header that ';' splits too (a name holding one) is split as its first row is: by ','."""
+    log = read_rig_log(write(tmp_path, [HEADER + ",a;b,flag_X", *(line + ",1,0" for line in rows(4))]))
+    assert_plain(log, 4, [2, 3, 4, 5])
+    assert log.ignored == ("a;b", "flag_X")
 
 
 def test_spaces_around_names_and_crlf_line_ends(tmp_path):
@@ -334,6 +341,7 @@ def test_a_block_of_plain_numbers_is_read_at_once(tmp_path, monkeypatch):
         (row(3, tau2=" x1 "), "line 5, column 'tau_2_Nmm': 'x1' is not a number"),
         (row(3, Fe="1_000"), "line 5, column 'Fe_N': '1_000' is not a number"),  # float() would read 1000
         (row(3, g="3X"), "line 5, column 'gamma_deg': '3X' is not a number"),  # the last cell as written
+        (row(0, a="ten"), "line 2, column 'alpha_deg': 'ten' is not a number"),  # the first row, read with the header
         (
             row(3, g="3,5"),
             "line 5: 9 cells, the header has 8 (decimal commas? a comma-separated log needs decimal points)",
@@ -347,9 +355,8 @@ def test_a_block_of_plain_numbers_is_read_at_once(tmp_path, monkeypatch):
 )
 def test_a_bad_row_named_by_line_and_column(tmp_path, line, message):
     lines = [HEADER, *rows(6)]
-    lines[4] = line
-    error = refused(write(tmp_path, lines), message)
-    assert error.line == 5
+    lines[int(message.split()[1].rstrip(",:")) - 1] = line  # the line the message names
+    refused(write(tmp_path, lines), message)
 
 
 def test_too_many_cells_in_a_semicolon_log_has_no_hint(tmp_path):
@@ -648,6 +655,16 @@ def test_a_window_reads_its_block_alone(tmp_path):
     assert RigLogFile(path, block=5, lines=(10, stop)).size == 1 << 16
     whole = RigLogFile(path)
     assert (whole.size, whole.sha256, len(whole)) == (len(data), hashlib.sha256(data).hexdigest(), 30)
+
+
+def test_a_log_of_currents_read_again_keeps_its_torque_constant(tmp_path):
+    header = "t_s,Fe_N,current_1_A,current_2_A,current_3_A,alpha_deg,beta_deg,gamma_deg"
+    lines = [header] + [f"{k / 100:.2f},800,1,-2,0.5,1,2,3" for k in range(6)] + ["# caf\xe9"]
+    path = tmp_path / "c.csv"
+    path.write_bytes(("\n".join(lines) + "\n").encode("latin-1"))
+    window = RigLogFile(path, torque_constant=0.25, lines=(1, 8))
+    assert window.torque_from == "currents" and len(window) == 6
+    np.testing.assert_array_equal(window.read().tau[5], [0.25, -0.5, 0.125])
 
 
 def test_a_window_before_a_fault_read_again_reads_a_mebibyte(tmp_path):

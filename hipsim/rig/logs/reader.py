@@ -267,9 +267,7 @@ class RigLogFile:
                 stream = io.BufferedReader(hashed, 1 << 20)
                 blocks = line_blocks(stream, source, block, window[1])
                 times, numbers, state = self._scan(blocks, torque_constant, block, keep, window)
-            if lines is None:  # hash what is left after the last line (nothing); a window's read stops after it
-                for _ in iter(lambda: stream.read(1 << 20), b""):
-                    pass
+            # Read whole, the scan has reached the file's end (hashed to its last byte); a window's read stops after it.
         #: The file's SHA-256 (hex) and size in [bytes], of the bytes this one read parsed.
         self.sha256, self.size = hashed.digest.hexdigest(), hashed.size
         worst, low, high, bad, kept = state
