@@ -8,6 +8,7 @@ code.
 
 from __future__ import annotations
 
+import gc
 import hashlib
 import math
 import warnings
@@ -490,7 +491,8 @@ def test_epoch_stamps_are_read_from_the_first(tmp_path):
     path = write(tmp_path, lines)
     with pytest.warns(TrajectoryWarning) as record:
         log = read_rig_log(path)
-    assert str(record[0].message).startswith(f"{path}: column 't_s': the times are Unix time stamps (from 2024-11-30")
+    (message,) = [str(r.message) for r in record if issubclass(r.category, TrajectoryWarning)]
+    assert message.startswith(f"{path}: column 't_s': the times are Unix time stamps (from 2024-11-30")
     np.testing.assert_allclose(log.t, np.arange(5) / 100, rtol=0, atol=2.0**-22)
     assert log.t[0] == 0.0
 
@@ -751,3 +753,15 @@ def test_read_rig_log_is_the_file_read_whole(tmp_path):
     np.testing.assert_array_equal(
         read_rig_log(write(tmp_path, [header, *rows(3)], "d.csv"), 2.0).tau[0], [200.0, -100.0, 51.0]
     )
+
+
+def test_a_refused_log_leaves_no_temporary_store_open(tmp_path):
+    """The scan's temporary store is closed when the file is refused after it (here: no samples in the window)."""
+    path = write(tmp_path, [HEADER] + [row(k) for k in range(5)])
+    with warnings.catch_warnings(record=True) as record:
+        warnings.simplefilter("always")
+        for _ in range(3):
+            with pytest.raises(TrajectoryError):
+                RigLogFile(path, lines=(100, 200))
+        gc.collect()
+    assert not [r for r in record if issubclass(r.category, ResourceWarning)]

@@ -250,8 +250,17 @@ class RigLogFile:
         rate: float | None = None,
         lines: tuple[int, int] | None = None,
     ):
-        self.source = source = str(path)
-        window = (1, math.inf) if lines is None else lines
+        self.source = str(path)
+        try:
+            self._read(path, torque_constant, block, keep, rate, (1, math.inf) if lines is None else lines)
+        except BaseException:  # a refused file leaves no temporary store open until the garbage collector's turn
+            if hasattr(self, "_store"):
+                self._store.close()
+            raise
+
+    def _read(self, path, torque_constant, block: int, keep: tuple[str, ...], rate, window: tuple[int, float]) -> None:
+        """Scan the file (see the class's arguments), storing its lines and setting the attributes."""
+        source = self.source
         with open_text(path, "log file", TrajectoryError) as opened:
             hashed = Hashed(opened)
             size = min(max(block * 100, 1 << 16), 1 << 22)  # bytes read at a time: some ``block`` lines, 4 MiB at most
