@@ -758,6 +758,7 @@ def test_read_rig_log_is_the_file_read_whole(tmp_path):
 def test_a_refused_log_leaves_no_temporary_store_open(tmp_path):
     """The scan's temporary store is closed when the file is refused after it (here: no samples in the window)."""
     path = write(tmp_path, [HEADER] + [row(k) for k in range(5)])
+    gc.collect()  # earlier tests' garbage is not this test's
     with warnings.catch_warnings(record=True) as record:
         warnings.simplefilter("always")
         for _ in range(3):
