@@ -6,8 +6,10 @@ the inverse kinematics, another route) against the attitude sensor, and errors n
 
 from __future__ import annotations
 
+import gc
 import hashlib
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -248,6 +250,19 @@ def test_a_log_too_short_to_filter_is_refused_before_any_work(tmp_path, params):
     with pytest.raises(TrajectoryError) as error:
         LogPieces(path, params)
     assert str(error.value).startswith(f"{path}: 60 samples (0.6 s) are too short to filter at 20 Hz")
+
+
+def test_a_refused_log_in_pieces_leaves_no_temporary_store_open(tmp_path, params):
+    """The scan's store, opened before the refusal, is closed at once (not left to the garbage collector)."""
+    path = write_log(tmp_path / "short.csv", 60, heights=True, params=params)
+    gc.collect()  # earlier tests' garbage is not this test's
+    with warnings.catch_warnings(record=True) as record:
+        warnings.simplefilter("always")
+        for _ in range(3):
+            with pytest.raises(TrajectoryError):
+                LogPieces(path, params)
+        gc.collect()
+    assert not [r for r in record if issubclass(r.category, ResourceWarning)]
 
 
 def test_load_log_is_the_whole_log_of_its_pieces(tmp_path, params):
