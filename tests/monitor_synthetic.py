@@ -8,6 +8,7 @@ ISO 14242-1 cycles of that machine's motor torques, with noise as on a rig
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -15,7 +16,7 @@ import numpy as np
 import hipsim
 from hipsim.motion.trajectories import Trajectory
 
-__all__ = ["MU0", "hip_mu", "write_identified", "write_snapshot", "write_test"]
+__all__ = ["EXACT_MACHINE", "MU0", "hip_mu", "write_exact", "write_identified", "write_snapshot", "write_test"]
 
 #: The published machine's hip friction coefficient, the curve's level after running-in.
 MU0 = 0.095
@@ -136,4 +137,53 @@ def write_identified(path: Path) -> Path:
         "# Model: analytic, lever spin on; regressor condition number 10.\n\n" + published,
         encoding="utf-8",
     )
+    return path
+
+
+#: The machine the exact logs are made with: every term the monitor fits non-zero (N·m, N·m·s/rad).
+EXACT_MACHINE = hipsim.load_parameters().replace(hip_mu=0.1, screw_coulomb=0.05, screw_viscous=0.002)
+
+
+def write_exact(
+    path: Path,
+    machine=None,
+    rate: float = 50.0,
+    cycles: int = 1,
+    first_cycle: int = 0,
+    lever_spin: bool = True,
+    newline: bool = True,
+    torque_constant: float | None = None,
+    encoders: bool = False,
+    angle_offset_deg: float = 0.0,
+    stamp_step: float | None = None,
+) -> Path:
+    """The ISO cycle on ``machine`` logged without noise (17 digits): the analytic model's torques, the counter.
+
+    ``torque_constant``: log motor currents τ/k (``current_i_A``) instead of torques; ``encoders``: log platform 1's
+    slider heights (``L_1i_mm``, from the machine's inverse kinematics) beside the angles, these ``angle_offset_deg``
+    off; ``stamp_step``: time stamps rounded down to this step in [s] (too coarse: the rate must be given).
+    """
+    from hipsim.analytic.inverse_kinematics import slider_heights
+
+    machine = EXACT_MACHINE if machine is None else machine
+    trajectory = hipsim.iso14242(rate=rate, cycles=cycles)
+    tau = hipsim.analyse(machine, trajectory, lever_spin=lever_spin).torques.total
+    angles = np.degrees(trajectory.q) + angle_offset_deg
+    torques = ["tau_1_Nmm", "tau_2_Nmm", "tau_3_Nmm"]
+    if torque_constant is None:
+        tau = tau * 1e3
+    else:
+        tau, torques = tau / torque_constant, ["current_1_A", "current_2_A", "current_3_A"]
+    names = ["t_s", "cycle", "Fe_N", "alpha_deg", "beta_deg", "gamma_deg", *torques]
+    heights = None
+    if encoders:
+        names += ["L_11_mm", "L_12_mm", "L_13_mm"]
+        heights = slider_heights(machine, trajectory.q * machine.angle_signs)[:, 0, :] * 1e3
+    lines = [",".join(names)]
+    for k, t in enumerate(trajectory.t):
+        stamp = t if stamp_step is None else math.floor(t / stamp_step) * stamp_step
+        values = [stamp, first_cycle + math.floor(t), trajectory.Fe[k], *angles[k], *tau[k]]
+        values += [] if heights is None else list(heights[k])
+        lines.append(",".join(f"{v:.17g}" for v in values))
+    path.write_text("\n".join(lines) + ("\n" if newline else ""), encoding="utf-8")
     return path

@@ -31,7 +31,7 @@ PAGES = [README, *sorted((ROOT / "docs").rglob("*.md"))]
 _FENCE = re.compile(r"^```([\w-]*)[^\n]*\n(.*?)^```[ \t]*$", re.M | re.S)
 _MARKER = re.compile(r"<!--\s*(run|run by:[^>]*?|not run:[^>]*?)\s*-->\s*\Z")
 #: The README's "Two commands" block: CI runs it (.ci/run), and tests/test_results.py holds the two equal.
-_TWO_COMMANDS = "python3 -m venv .venv && .venv/bin/pip install -q -e . && .venv/bin/hipsim torques"
+_TWO_COMMANDS = "python3 -m venv .venv && .venv/bin/pip install -q 'uv>=0.9,<1' && .venv/bin/uv pip install -q --compile-bytecode --python .venv/bin/python -e . && .venv/bin/hipsim torques"
 _SHELL = {"sh", "bash", "console", "shell"}
 
 

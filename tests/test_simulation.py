@@ -1,6 +1,7 @@
 """Closed-loop simulation (spec §8): forward dynamics, controllers, energy."""
 
 import math
+import os
 
 import numpy as np
 import pytest
@@ -308,3 +309,24 @@ def test_compiled_loop_stops_where_the_python_loop_does(params, plant_kind):
 def test_compiled_loop_is_refused_for_a_controller_of_your_own(params):
     with pytest.raises(ArgumentError, match="compiled"):
         simulate(ReducedPlant(params), lambda t, s, d: np.zeros(3), iso14242_at, 0.01, compiled=True)
+
+
+@pytest.mark.skipif(os.environ.get("NUMBA_DISABLE_JIT") == "1", reason="counts numba's compiled signatures")
+@pytest.mark.parametrize("plant_kind", ["reduced", "pinocchio"])
+def test_gains_given_or_read_from_the_file_compile_the_loop_once(params, plant_kind):
+    """Writable gains (given) and read-only ones (the parameter file's) reach the compiled loop as one
+    array type: numba compiles each loop once, not once per kind of array (seconds of a first run)."""
+    from hipsim.control import closed_chain_loop, servo_kernel
+
+    loop = servo_kernel.servo_loop if plant_kind == "reduced" else closed_chain_loop.stepped_loop
+    plant = ReducedPlant(params) if plant_kind == "reduced" else PinocchioPlant(params)
+    given = np.array([400.0, 400.0, 400.0])
+    assert not WorkspacePD(params).kp.flags.writeable and WorkspacePD(params, kp=given).kp.flags.writeable
+    controllers = (
+        WorkspacePD(params),
+        WorkspacePD(params, kp=given, kd=given / 80),
+        AugmentedPD(params, iso14242_at, 1000.0, 0.004),
+    )
+    for controller in controllers:
+        simulate(plant, controller, iso14242_at, 0.004)
+    assert len(loop.signatures) == 1, loop.signatures

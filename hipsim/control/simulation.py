@@ -373,12 +373,12 @@ def _compiled_loop(
     else:
         feedforward, rows, with_feedforward = np.zeros((1, 3)), np.zeros(n, dtype=np.int64), False
     control = (
-        np.ascontiguousarray(desired.q, dtype=float),
-        np.ascontiguousarray(desired.qd, dtype=float),
-        controller.kp,
-        controller.kd,
-        np.ascontiguousarray(feedforward, dtype=float),
-        rows,
+        _read_only(desired.q, float),
+        _read_only(desired.qd, float),
+        _read_only(controller.kp, float),
+        _read_only(controller.kd, float),
+        _read_only(feedforward, float),
+        _read_only(rows, np.int64),
         with_feedforward,
         float(limit),
     )
@@ -420,6 +420,19 @@ def _compiled_loop(
             ):
                 raise _unstable(t, k)
             x = plant.advance(t[k], x, tau[k], loads[step * k : step * (k + 1) + 1], h, substeps)
+
+
+def _read_only(values, dtype) -> np.ndarray:
+    """A C-contiguous read-only view of ``values`` (a copy only where the dtype or layout differs).
+
+    numba compiles a function once per argument type, and a writable and a
+    read-only array are two types: gains a controller was given and gains read
+    from a parameter file would compile the whole servo loop twice (seconds
+    of a machine's first run each) for the same arithmetic.
+    """
+    view = np.ascontiguousarray(values, dtype=dtype).view()
+    view.flags.writeable = False
+    return view
 
 
 def _servo_chunks(n: int, size: int, desc: str, progress: bool, notify: Callable[[str], None] | None):

@@ -53,18 +53,37 @@ def winding_rise(
     mean = weighted_mean(heating, weights)
     if time_constant is None:
         return mean, mean
-    decay = np.exp(-weights / time_constant)[:, None]
-    # Once through from ΔT = 0 gives ΔT_end = A·0 + B; the periodic start solves x = A·x + B.
-    x = np.zeros(heating.shape[1])
-    for k in range(heating.shape[0]):
-        x = decay[k] * x + (1.0 - decay[k]) * heating[k]
+    decay = np.exp(-weights / time_constant)
     total_decay = float(np.prod(decay))
-    start = x / (1.0 - total_decay) if total_decay < 1.0 else mean
-    peak, x = start.copy(), start.copy()
-    for k in range(heating.shape[0]):
-        x = decay[k] * x + (1.0 - decay[k]) * heating[k]
-        peak = np.maximum(peak, x)
+    steps = decay.tolist()
+    peak = np.array([_periodic_peak(steps, column.tolist(), total_decay, m) for column, m in zip(heating.T, mean)])
     return mean, peak
+
+
+def _periodic_peak(decay: list[float], heating: list[float], total_decay: float, mean: float) -> float:
+    """The largest ΔT along the cycle-periodic solution of ΔT_k = a_k·ΔT_{k−1} + (1 − a_k)·H_k.
+
+    Once through from ΔT = 0 gives ΔT_end = A·0 + B; the periodic start solves
+    x = A·x + B (A = Π a_k, ``total_decay``). Plain floats: a sample's step is
+    nanoseconds where a NumPy call on one number is microseconds (sizing ran
+    this loop for most of its time).
+
+    Args:
+        decay: a_k = exp(−Δt_k/τ_th) per sample.
+        heating: H_k in [K] per sample.
+        total_decay: Π a_k over the cycle.
+        mean: the time-weighted mean of H in [K], the start when nothing decays.
+    """
+    x = 0.0
+    for a, h in zip(decay, heating, strict=True):
+        x = a * x + (1.0 - a) * h
+    x = x / (1.0 - total_decay) if total_decay < 1.0 else mean
+    peak = x
+    for a, h in zip(decay, heating, strict=True):
+        x = a * x + (1.0 - a) * h
+        if not x <= peak:  # NaN propagates, as np.maximum's would
+            peak = x
+    return peak
 
 
 def screw_life(

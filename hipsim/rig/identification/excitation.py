@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -430,7 +430,8 @@ def excitation(
         raise ExcitationError(
             "the designed excitation breaks the limits between its samples: give more samples per period"
         )
-    design = Excitation(frequency, H, coefficients, math.exp(value), math.nan, tuple(quantities), limits)
+    iso = condition_number(params, iso14242(rate=10 * samples), quantities, lever_spin)
+    design = Excitation(frequency, H, coefficients, math.exp(value), iso, tuple(quantities), limits)
     trajectory = design.at(fine)
     kin = kinematics(params, trajectory)
     tau = inverse_dynamics(params, kin, trajectory.Fe, lever_spin).total
@@ -443,15 +444,4 @@ def excitation(
         "load_min_N": float(trajectory.Fe.min()),
         "load_max_N": float(trajectory.Fe.max()),
     }
-    iso = condition_number(params, iso14242(rate=10 * samples), quantities, lever_spin)
-    return Excitation(
-        frequency,
-        H,
-        coefficients,
-        math.exp(value),
-        iso,
-        tuple(quantities),
-        limits,
-        peaks,
-        time.perf_counter() - started,
-    )
+    return replace(design, peaks=peaks, seconds=time.perf_counter() - started)

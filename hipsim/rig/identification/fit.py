@@ -30,7 +30,8 @@ standard deviation (exactly, for one the logs cannot see at all) and, its
 prior being its own, never biases the others; rich logs make the prior
 irrelevant. A base parameter counts as *determined* by the logs when its
 posterior standard deviation is at most :data:`DETERMINED` of its prior's;
-logs that determine none are refused. Per base parameter the result says how
+logs that determine none are refused, and so are logs of no more rows than base parameters
+(the unweighted fit would match every row: no residual level to weigh the motors by). Per base parameter the result says how
 far the data moved it from its prior, in prior standard deviations.
 
 The identified machine: the parameters folded into others keep their
@@ -459,6 +460,12 @@ def identify(
         raise IdentificationError(f"{int(rows_per_motor.sum())} samples are too few to identify anything", names)
     R = accumulator.R  # per motor, (P + 1, P + 1): columns θ then τ
     rows = int(rows_per_motor.sum())
+    if rows <= r:
+        # The unweighted fit would match every row, leaving no residual to weigh the motors by (its round-off would).
+        raise IdentificationError(
+            f"{rows} samples are too few to identify {r} base parameters and measure the noise (more than {r} needed)",
+            names,
+        )
     inflation = accumulator.inflation / rows
 
     # Scaled deviations from the prior: x = (θ_b − θ_b0)/s_b, prior N(0, 1).

@@ -281,7 +281,18 @@ class LogPieces(Log):
             raise ArgumentError("piece", piece, "a positive number of samples")
         self.params = params if params is not None else load_parameters()
         # The scan's blocks no larger than a piece; a file scanned already (with the reader's options) is taken as is.
+        given = raw is not None
         self.raw = raw = raw if raw is not None else RigLogFile(path, torque_constant, block=max(piece, 1000))
+        try:
+            self._describe(torque_constant, cutoff, tolerance_deg, piece)
+        except BaseException:  # refused: the store this one opened is dropped now, not at the garbage collector's turn
+            if not given:
+                raw.close()
+            raise
+
+    def _describe(self, torque_constant: float | None, cutoff: float | None, tolerance_deg: float, piece: int) -> None:
+        """The notes, edge, halo and piece size; the encoders' angles checked and stored (arguments: :class:`LogPieces`'s)."""
+        raw = self.raw
         self.name, self._rate, self.cutoff, self.source = Path(raw.source).name, raw.rate, cutoff, raw.source
         notes = []
         if raw.ignored:

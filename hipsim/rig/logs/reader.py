@@ -27,7 +27,6 @@ import difflib
 import io
 import math
 import tempfile
-from collections.abc import Iterator
 from dataclasses import dataclass
 from itertools import chain
 from pathlib import Path
@@ -99,13 +98,6 @@ class RigLog:
 # --- The reader -----------------------------------------------------------------------------
 
 
-def _data_lines(lines) -> Iterator[tuple[int, str]]:
-    """(1-based line number, line) of the lines that hold something: blank lines and ``#`` comments skipped (as in a trajectory file)."""
-    for number, line in enumerate(lines, start=1):
-        if not blank(line) and not line.lstrip().startswith("#"):
-            yield number, line
-
-
 def _header(rows, source: str) -> tuple[list[str], int, str, tuple[int, str] | None]:
     """The header, its line number, the separator and the first row (tab, ';' or ',': :func:`hipsim.tables.detect_separator`); a repeated name refused."""
     first = next(rows, None)
@@ -132,6 +124,8 @@ def _block(
     """Values (M, C) and file lines (M,) of a block of (line number, line)."""
     decimal_comma = separator != ","  # as in a trajectory file: 1,5 is 1.5 in a tab- or semicolon-separated log
     numbers = np.array([number for number, _ in block], dtype=np.int64)
+    if not block:  # a block of comments and blank lines: NumPy's loadtxt would warn of no data
+        return np.empty((0, len(header))), numbers
     # The fast path: no "_" in a number (Python's float() would read "1_0" as 10; the slow path below refuses it by line).
     if not any("_" in line for _, line in block):
         text = "".join(line if line.endswith("\n") else line + "\n" for _, line in block)
@@ -171,7 +165,8 @@ def _lines_block(
 ) -> tuple[np.ndarray, np.ndarray]:
     """:func:`_block` of consecutive lines from line ``number``: at once when every one is a row of numbers."""
     text = "\n".join(lines) + "\n"
-    if "#" not in text and "_" not in text:
+    # Not for empty lines alone: NumPy's loadtxt would warn of no data.
+    if "#" not in text and "_" not in text and any(lines):
         try:
             values = np.loadtxt(
                 io.StringIO(text.replace(",", ".") if separator != "," else text),
@@ -255,8 +250,17 @@ class RigLogFile:
         rate: float | None = None,
         lines: tuple[int, int] | None = None,
     ):
-        self.source = source = str(path)
-        window = (1, math.inf) if lines is None else lines
+        self.source = str(path)
+        try:
+            self._read(path, torque_constant, block, keep, rate, (1, math.inf) if lines is None else lines)
+        except BaseException:  # a refused file leaves no temporary store open until the garbage collector's turn
+            if hasattr(self, "_store"):
+                self._store.close()
+            raise
+
+    def _read(self, path, torque_constant, block: int, keep: tuple[str, ...], rate, window: tuple[int, float]) -> None:
+        """Scan the file (see the class's arguments), storing its lines and setting the attributes."""
+        source = self.source
         with open_text(path, "log file", TrajectoryError) as opened:
             hashed = Hashed(opened)
             size = min(max(block * 100, 1 << 16), 1 << 22)  # bytes read at a time: some ``block`` lines, 4 MiB at most
@@ -272,9 +276,7 @@ class RigLogFile:
                 stream = io.BufferedReader(hashed, 1 << 20)
                 blocks = line_blocks(stream, source, block, window[1])
                 times, numbers, state = self._scan(blocks, torque_constant, block, keep, window)
-            if lines is None:  # hash what is left after the last line (nothing); a window's read stops after it
-                for _ in iter(lambda: stream.read(1 << 20), b""):
-                    pass
+            # Read whole, the scan has reached the file's end (hashed to its last byte); a window's read stops after it.
         #: The file's SHA-256 (hex) and size in [bytes], of the bytes this one read parsed.
         self.sha256, self.size = hashed.digest.hexdigest(), hashed.size
         worst, low, high, bad, kept = state
