@@ -252,6 +252,18 @@ def test_a_log_too_short_to_filter_is_refused_before_any_work(tmp_path, params):
     assert str(error.value).startswith(f"{path}: 60 samples (0.6 s) are too short to filter at 20 Hz")
 
 
+def test_a_scan_handed_to_a_refused_log_in_pieces_stays_its_callers(tmp_path, params):
+    """A scan passed in (``raw=``) is the caller's to close: a refusal leaves it readable."""
+    path = write_log(tmp_path / "short.csv", 60, heights=True, params=params)
+    scanned = RigLogFile(path)
+    try:
+        with pytest.raises(TrajectoryError):
+            LogPieces(path, params, raw=scanned)
+        assert len(scanned.read().t) == 60
+    finally:
+        scanned.close()
+
+
 def test_a_refused_log_in_pieces_leaves_no_temporary_store_open(tmp_path, params):
     """The scan's store, opened before the refusal, is closed at once (not left to the garbage collector)."""
     path = write_log(tmp_path / "short.csv", 60, heights=True, params=params)
