@@ -766,3 +766,19 @@ def test_a_refused_log_leaves_no_temporary_store_open(tmp_path):
                 RigLogFile(path, lines=(100, 200))
         gc.collect()
     assert not [r for r in record if issubclass(r.category, ResourceWarning)]
+
+
+def test_a_reread_closes_the_first_tries_store(tmp_path):
+    """A byte that is not UTF-8 past the first 64 KiB read starts the scan again line by line: the first try's
+    temporary store (made once its first block was parsed) is closed then, and the second's on the refusal."""
+    comments = ["#" + "c" * 98] * 700  # 70 kB: the bad byte in the second block read
+    path = tmp_path / "latin.csv"
+    path.write_bytes(("\n".join([HEADER, *rows(20), *comments, "# caf\xe9"]) + "\n").encode("latin-1"))
+    gc.collect()  # earlier tests' garbage is not this test's
+    with warnings.catch_warnings(record=True) as record:
+        warnings.simplefilter("always")
+        for _ in range(3):
+            with pytest.raises(TrajectoryError, match="line 722: not a text"):
+                RigLogFile(path, block=5)
+        gc.collect()
+    assert not [r for r in record if issubclass(r.category, ResourceWarning)]
