@@ -213,3 +213,15 @@ def test_a_designed_calibration_motion_is_better_posed_than_the_iso_cycle(drawin
     assert design.peaks["angle_deg"] <= 20.0 + 1e-9
     assert design.peaks["speed_mm_s"] <= limits.max_speed * 1e3
     assert design.peaks["cond_inv_min"] >= limits.min_cond_inv
+
+
+def test_limits_no_calibration_motion_meets_are_an_excitation_error(drawing):
+    """A singularity measure above any pose's (1.1 > 1, the isotropic pose's): no candidate passes, and the error is
+    the excitation's kind, naming what to relax."""
+    from hipsim.exceptions import ExcitationError
+    from hipsim.rig.identification.excitation import Limits
+    from hipsim.stations.excitation import calibration_excitation
+
+    limits = Limits.for_machine(drawing, max_angle=np.radians(20.0), min_cond_inv=1.1)
+    with pytest.raises(ExcitationError, match="no calibration motion within the limits: relax --max-angle"):
+        calibration_excitation(drawing, frequency=0.2, harmonics=2, limits=limits, seeds=1)

@@ -22,7 +22,7 @@ import hipsim.present.report as report
 from hipsim import Run
 from hipsim.cli import main
 from hipsim.design.sizing import axial_screw_load, sizing
-from hipsim.exceptions import HipsimError, ParameterError
+from hipsim.exceptions import HipsimError, OutputError, ParameterError
 from hipsim.machine.drive import Drive, LeadScrew, Motor, TorqueSpeedCurve, load_drive
 from hipsim.motion.trajectories import Trajectory, iso14242
 
@@ -449,8 +449,9 @@ def test_a_folder_of_other_files_is_never_replaced(tmp_path, short_runs):
     out = tmp_path / "thesis"
     out.mkdir()
     (out / "chapter1.tex").write_text("precious")
-    with pytest.raises(HipsimError, match="chapter1.tex"):
+    with pytest.raises(OutputError, match="chapter1.tex") as error:
         report.write_report(out, short_runs[0])
+    assert error.value.path == out and str(error.value).startswith(f"{out}: the folder holds other files")
     assert snapshot(out) == {"chapter1.tex": b"precious"}
 
 

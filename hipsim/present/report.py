@@ -36,7 +36,7 @@ from typing import Any
 import numpy as np
 
 from ..design.sizing import Sizing, sizing
-from ..exceptions import HipsimError
+from ..exceptions import HipsimError, OutputError
 from ..files import check_folder, json_ready, output_folder, write_atomic
 from ..machine.drive import Drive
 from ..machine.parameters import file_values
@@ -231,9 +231,10 @@ def _check_replaceable(out: Path) -> None:
     other = next(
         (p.name for p, ok in sorted(zip(entries, looks_like_report)) if not ok), sorted(p.name for p in entries)[0]
     )
-    raise HipsimError(
-        f"{out}: the folder holds other files (e.g. '{other}'), and a report replaces its folder whole: "
-        "choose a new or empty folder"
+    raise OutputError(
+        out,
+        f"the folder holds other files (e.g. '{other}'), and a report replaces its folder whole: "
+        "choose a new or empty folder",
     )
 
 
@@ -256,7 +257,7 @@ def _write_whole(out: Path, write):
         try:
             staging = Path(tempfile.mkdtemp(dir=target.parent, prefix=f".{target.name}.", suffix=".part"))
         except OSError as error:
-            raise HipsimError(f"{out}: cannot make the output folder ({error.strerror or error})") from None
+            raise OutputError(out, f"cannot make the output folder ({error.strerror or error})") from None
         try:
             umask = os.umask(0)
             os.umask(umask)
@@ -275,7 +276,7 @@ def _write_whole(out: Path, write):
                 os.rename(staging, target)
         except OSError as error:
             shutil.rmtree(staging, ignore_errors=True)
-            raise HipsimError(f"{out}: cannot write the report ({error.strerror or error})") from None
+            raise OutputError(out, f"cannot write the report ({error.strerror or error})") from None
         except BaseException:
             shutil.rmtree(staging, ignore_errors=True)
             raise

@@ -170,9 +170,11 @@ def calibration_excitation(
         if best is None or condition < best.condition_number:
             best = CalibrationExcitation(frequency, coefficients, condition, math.nan, peaks)
     if best is None:
-        from ..exceptions import HipsimError
+        from ..exceptions import ExcitationError
 
-        raise HipsimError("no calibration motion within the limits: relax --max-angle, --max-speed or --min-cond-inv")
+        raise ExcitationError(
+            "no calibration motion within the limits: relax --max-angle, --max-speed or --min-cond-inv"
+        )
     iso = iso14242(rate=DESIGN_SAMPLES)
     return CalibrationExcitation(
         best.frequency,
