@@ -12,7 +12,7 @@ import math
 import numpy as np
 import pytest
 
-from hipsim.exceptions import HipsimError
+from hipsim.exceptions import ArgumentError
 from hipsim.machine.parameter_set import Friction
 from hipsim.physics import friction, laws, transmission, units, vectors
 
@@ -67,7 +67,10 @@ def test_central_chain_friction_with_an_axial_only_thrust_bearing():
     tau = friction.central_chain_friction(F, 30.0, omega, np.array([100.0]), R=np.eye(3)[None])
     thrust = 1.3 * 4.0 / math.sqrt(160.0)
     np.testing.assert_allclose(tau, [[0.2 * 3 / 13, 0.0, 0.2 * 4 / 13 + thrust]], rtol=1e-14)
-    with pytest.raises(HipsimError, match=r"^the axial-only thrust bearing's friction needs the platform rotations R$"):
+    with pytest.raises(
+        ArgumentError,
+        match=r"^R: expected the platform rotations \(N, 3, 3\): the axial-only thrust bearing's friction needs them, got None$",
+    ):
         friction.central_chain_friction(F, 30.0, omega, np.array([100.0]))
 
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..exceptions import HipsimError
+from ..exceptions import ArgumentError
 from . import laws
 from .vectors import stack
 
@@ -47,10 +47,12 @@ def central_chain_friction(
         τ_mf in [N·m], (N, 3); it resists the platform's rotation.
 
     Raises:
-        HipsimError: the axial-only thrust bearing without R.
+        ArgumentError: the axial-only thrust bearing without R.
     """
     if friction.thrust_bearing_axial_only and R is None:
-        raise HipsimError("the axial-only thrust bearing's friction needs the platform rotations R")
+        raise ArgumentError(
+            "R", None, "the platform rotations (N, 3, 3): the axial-only thrust bearing's friction needs them"
+        )
     z = None if R is None else np.asarray(R, dtype=float)[..., 2].T
     return central_chain_friction_components(
         friction, weight, np.asarray(omega, dtype=float).T, np.asarray(Fe, dtype=float), z
