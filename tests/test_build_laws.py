@@ -12,8 +12,8 @@ import warnings
 
 import numpy as np
 import pytest
+from motion_support import error_of, quiet
 
-from hipsim import TrajectoryError
 from hipsim.motion.build import (
     MAX_LOAD,
     NoiseWarning,
@@ -53,18 +53,6 @@ def cubic(t):
     qd = np.column_stack([20 + 60 * t, -120 * t**2, 2 + 2 * t - 30 * t**2])
     qdd = np.column_stack([60 + 0 * t, -240 * t, 2 - 60 * t])
     return q, qd, qdd
-
-
-def quiet(call):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", TrajectoryWarning)
-        return call()
-
-
-def error_of(call) -> TrajectoryError:
-    with pytest.raises(TrajectoryError) as info:
-        quiet(call)
-    return info.value
 
 
 T10 = np.arange(10) / 100.0

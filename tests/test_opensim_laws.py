@@ -10,8 +10,8 @@ import warnings
 
 import numpy as np
 import pytest
+from motion_support import error_of, quiet
 
-from hipsim import TrajectoryError
 from hipsim.motion.build import SampledMotion, TrajectoryWarning
 from hipsim.motion.columns import Column
 from hipsim.motion.opensim import HIP_COORDINATES, _find, _header, _read, load_opensim
@@ -29,18 +29,6 @@ def mot(path, header=("inDegrees=yes",), labels=LABELS, rows=None, separator="\t
     lines += [separator.join(v if isinstance(v, str) else f"{v:g}" for v in row) for row in rows]
     path.write_text("\n".join(lines) + "\n")
     return str(path)
-
-
-def quiet(call):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", TrajectoryWarning)
-        return call()
-
-
-def error_of(call) -> TrajectoryError:
-    with pytest.raises(TrajectoryError) as info:
-        quiet(call)
-    return info.value
 
 
 def test_the_right_hip_in_degrees_with_its_load(tmp_path):

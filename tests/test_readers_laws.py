@@ -14,8 +14,8 @@ import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
+from motion_support import error_of, quiet
 
-from hipsim import TrajectoryError
 from hipsim.motion.build import NoiseWarning, SampledMotion, TrajectoryWarning
 from hipsim.motion.noise_check import MOTION_BAND, NOISE_SHARE, SUGGESTED_CUTOFF, NoiseCheck, check_noise
 from hipsim.motion.parquet import load_trajectory_parquet
@@ -30,18 +30,6 @@ BETA = 2.0 * np.arange(N)
 GAMMA = -1.0 * np.arange(N)
 LOAD = 1000.0 + 100.0 * np.arange(N)  # [N]
 Q = np.radians(np.column_stack([ALPHA, BETA, GAMMA]))
-
-
-def quiet(call):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", TrajectoryWarning)
-        return call()
-
-
-def error_of(call) -> TrajectoryError:
-    with pytest.raises(TrajectoryError) as info:
-        quiet(call)
-    return info.value
 
 
 def csv_file(path, load=True, closing=False) -> str:
