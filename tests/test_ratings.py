@@ -65,3 +65,12 @@ def test_critical_speed_and_buckling_match_the_makers_charts(fixing, thk_speed, 
         thk_speed * d / l**2 * 1e7, rel=0.02
     )
     assert rules.buckling_factor * buckling_load(screw) == pytest.approx(thk_buckling * d**4 / l**2 * 1e4, rel=0.05)
+
+
+def test_a_winding_rise_with_an_undefined_sample_is_undefined():
+    """A NaN heating makes the peak NaN wherever it falls in the cycle (as np.maximum would), never a smaller number."""
+    for k in (0, 2, 4):
+        heating = np.array([[10.0], [40.0], [20.0], [30.0], [5.0]])
+        heating[k, 0] = np.nan
+        mean, peak = winding_rise(heating, np.full(5, 0.2), 0.5)
+        assert np.isnan(peak[0]) and np.isnan(mean[0])
