@@ -378,6 +378,19 @@ class PinocchioPlant:
         """Gait angles [α, β, γ] in [rad] and their rates in [rad/s], from platform 1's spherical joint."""
         return self._signs * x[self._angles], self._signs * x[self._rates]
 
+    def readings(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The carriages' readings L_1i [m] and rates [m/s], (3,), and both platforms' gait angles [rad] and rates [rad/s], (2, 3).
+
+        The slider joints are the carriages' readings (the drawing's L_1i, per chain the encoders').
+        """
+        nq, platforms, sliders = self.nq, self.chain.layout.platform_v, self._sliders
+        return (
+            x[sliders].copy(),
+            x[[nq + k for k in sliders]].copy(),
+            self._signs * x[platforms],
+            self._signs * x[platforms + nq],
+        )
+
     # -- diagnostics --------------------------------------------------------
 
     @property
