@@ -22,6 +22,7 @@ from .common import (
 from .feasible import add_strict_option
 from .mjcf import add_simulate_options, format_gaps
 from .motion_options import add_trajectory_options, load_trajectory
+from .simulate_machine import add_machine_loop_options, format_tracking, machine_loop_asked, run_machine_loop
 
 __all__ = ["add_parser", "format_simulations", "run"]
 
@@ -70,8 +71,10 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "--out",
         default="hipsim_simulation.csv",
         metavar="FILE",
-        help="CSV to write; with both controllers, _pd and _augmented-pd are added to the name",
+        help="CSV to write (with --plant-params or --feedback also .parquet); with both controllers, _pd and "
+        "_augmented-pd are added to the name",
     )
+    add_machine_loop_options(sim)
     add_summary_format(sim)
     add_strict_option(sim)
     sim.add_argument(
@@ -161,6 +164,22 @@ def run(args) -> int:
         mismatch = parse_mismatch(args.mismatch) if args.mismatch else {}
     except ArgumentError as error:  # the library names its argument; the user typed an option
         raise HipsimError(f"--mismatch: expected {error.expected}, got {error.value!r}") from None
+    if _plant_and_model_apart(args, params):
+        runs, written = run_machine_loop(args, params, desired_at, duration, mismatch)
+        if args.summary_format == "json":
+            document = {
+                "model": params.source,
+                "plant": args.plant_params or params.source,
+                "simulations": [run.summary().to_json() for run in runs],
+                "mismatch": mismatch,
+                "files": written,
+            }
+            print_json(document, report)
+            return 0
+        for path in written:
+            print(f"wrote {path}", file=report)
+        print(format_tracking(runs), file=report)
+        return 0
     if plant_entry(args.plant).warm_up:
         load_pinocchio_kernels()  # its initial state is closed before the first servo period
     plant = make_plant(args.plant, apply_mismatch(params, **mismatch), integrator=args.mujoco_integrator)
@@ -213,6 +232,23 @@ def run(args) -> int:
     for line in simulation_verdicts(simulations, tolerances, periodic=_repeats(args, trajectory)):
         print(line, file=report)
     return 0
+
+
+def _plant_and_model_apart(args, params) -> bool:
+    """Run the plant and the model apart: an option of that run given, unless it only names the model's own machine.
+
+    ``--plant-params`` naming the very machine of ``--params`` (equal values) with no feedback option is today's run,
+    bit for bit: the controller then sees the platform it drives, as it always did.
+    """
+    if not machine_loop_asked(args):
+        return False
+    others = [name for name in ("feedback", "encoder_step", "sensor_noise", "sensor_drift", "sensor_seed", "control")]
+    if args.plant_params is not None and not any(getattr(args, name) is not None for name in others):
+        from ..fingerprint import fingerprint
+        from ..machine.parameters import load_parameters
+
+        return fingerprint(load_parameters(args.plant_params)) != fingerprint(params)
+    return True
 
 
 def _feasibility(params, args, trajectory) -> list:

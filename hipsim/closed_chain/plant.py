@@ -378,6 +378,16 @@ class PinocchioPlant:
         """Gait angles [α, β, γ] in [rad] and their rates in [rad/s], from platform 1's spherical joint."""
         return self._signs * x[self._angles], self._signs * x[self._rates]
 
+    @property
+    def reading_slots(self) -> tuple[np.ndarray, np.ndarray, int]:
+        """Where :meth:`readings` reads in x: (slider coordinates (3,), platform coordinates (2, 3), nq), for compiled loops."""
+        layout = self.chain.layout
+        return (
+            np.ascontiguousarray(layout.slider_v, dtype=np.int64),
+            np.ascontiguousarray(layout.platform_v, dtype=np.int64),
+            int(self.nq),
+        )
+
     def readings(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """The carriages' readings L_1i [m] and rates [m/s], (3,), and both platforms' gait angles [rad] and rates [rad/s], (2, 3).
 

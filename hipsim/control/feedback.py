@@ -78,6 +78,12 @@ class Feedback(ABC):
         """
 
 
+    def sensing(self) -> tuple[bool, float, np.ndarray, np.ndarray]:
+        """For the compiled loop (:mod:`hipsim.control.machine_kernel`), after :meth:`start`: (read the encoders?,
+        encoder step [m], the sensor's offsets [rad] (n, 3), the last attitude read [rad] (3,))."""
+        raise NotImplementedError
+
+
 class EncoderFeedback(Feedback):
     """The controlled platform's attitude from the carriage encoders through the model's forward kinematics.
 
@@ -99,6 +105,9 @@ class EncoderFeedback(Feedback):
 
     def start(self, t: np.ndarray, q0: np.ndarray) -> None:
         self._last = np.array(q0, dtype=float)
+
+    def sensing(self):
+        return True, self.step, np.zeros((1, 3)), self._last
 
     def measure(self, k, t, L, Ld, q, qd):
         reading = encoder_reading(L, self.step)
@@ -144,6 +153,9 @@ class SensorFeedback(Feedback):
         t = np.asarray(t, dtype=float)
         white = np.random.default_rng(self.seed).standard_normal((t.size, 3)) if self.noise > 0 else 0.0
         self._offsets = self.noise * white + self.drift * t[:, None]
+
+    def sensing(self):
+        return False, self.step, self._offsets, np.zeros(3)
 
     def measure(self, k, t, L, Ld, q, qd):
         c = self.control - 1

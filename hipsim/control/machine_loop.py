@@ -35,17 +35,18 @@ import numpy as np
 from ..analytic.chain_dynamics import chain_inverse_dynamics, chain_motion
 from ..analytic.stations import carriages_for_platform
 from ..engine import Plant
-from ..exceptions import ArgumentError, PoseError
+from ..exceptions import ArgumentError, ParameterError, PoseError
+from ..machine.chains import CHAIN_LABELS, MAX_DEVIATION
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 from ..physics.transmission import angle_from_travel
 from . import chain_kernel
 from .controllers import _gains, feedforward_torques
-from .feedback import Feedback
+from .feedback import EncoderFeedback, Feedback, SensorFeedback
 from .simulation import _rk4, _servo_chunks, _unstable
 from .tracking import MachineRun
 
-__all__ = ["ModelPD", "controlled_machine", "model_feedforward", "run_machine"]
+__all__ = ["ModelPD", "check_plant", "controlled_machine", "model_feedforward", "run_machine"]
 
 
 def controlled_machine(params: Parameters, control: int) -> Parameters:
@@ -121,6 +122,7 @@ def run_machine(
     progress: bool = False,
     notify: Callable[[str], None] | None = None,
     controller_name: str = "",
+    compiled: bool | None = None,
 ) -> MachineRun:
     """Run the servo loop of ``controller`` (which knows its model) on ``plant`` (the machine as built).
 
@@ -135,6 +137,9 @@ def run_machine(
             or a learnt one); None for none.
         servo_rate, step, torque_limit: as :func:`hipsim.control.simulation.simulate` (defaults: the model's settings).
         progress, notify, controller_name: as :func:`hipsim.control.simulation.simulate`.
+        compiled: run the loop compiled (:mod:`hipsim.control.machine_kernel`), which needs a plant with a
+            ``compiled_stepper()`` (the Pinocchio plant on its compiled route), a :class:`ModelPD` and one of the two
+            feedbacks (not subclasses); False: the Python loop; None: compiled where possible. The same arithmetic.
 
     Raises:
         PoseError: naming the time when the desired motion is out of the model's reach, the plant leaves its
@@ -165,7 +170,7 @@ def run_machine(
     t = np.arange(n) * period
     desired = desired_at(t)
     _check_reach(controller.model, controller.control, desired)
-    loads = desired_at(np.arange(n * substeps * 2 + 1) * (h / 2)).Fe
+    loads = np.ascontiguousarray(desired_at(np.arange(n * substeps * 2 + 1) * (h / 2)).Fe, dtype=float)
     advance = getattr(plant, "advance", None) or (lambda *args: _rk4(plant, *args))
 
     x = plant.initial_state(desired.slice(slice(0, 1)))
@@ -175,6 +180,35 @@ def run_machine(
     tau, tau_requested, saturated = np.empty((n, 3)), np.empty((n, 3)), np.zeros(n, dtype=bool)
     name = getattr(plant, "name", type(plant).__name__)
     desc = f"{name} plant, {controller_name or 'controller'}, {feedback.name}"
+    log = (carriages, attitudes, rates, speeds, measured, tau, tau_requested, saturated)
+    stepper = plant.compiled_stepper() if hasattr(plant, "compiled_stepper") else None
+    can_compile = (
+        stepper is not None and type(controller) is ModelPD and type(feedback) in (EncoderFeedback, SensorFeedback)
+    )
+    if compiled and not can_compile:
+        raise ArgumentError(
+            "compiled", compiled, "False or None, unless the plant offers compiled_stepper() (the PinocchioPlant)"
+        )
+    if can_compile and compiled is not False:
+        from . import machine_kernel  # imports Pinocchio: only when such a run starts
+
+        arguments = (
+            plant.reading_slots,
+            np.ascontiguousarray(plant.angle_slots[2], dtype=float),
+            feedback.sensing(),
+            (*controller._platform, controller._lead),
+            (controller.kp, controller.kd),
+            controller.control - 1,
+        )
+        for start, stop in _servo_chunks(n, 2000, desc, progress, notify):
+            reached = machine_kernel.machine_loop(
+                stepper, x, *arguments, start, stop, desired.q, desired.qd, ff, float(limit), loads, h, substeps, log
+            )
+            if reached != stop:
+                if np.all(np.isfinite(x)):
+                    raise _no_attitude(feedback, carriages[reached], t, reached)
+                raise _unstable(t, reached)
+        return _run(plant, controller, feedback, controller_name, t, desired, log, h)
     for start, stop in _servo_chunks(n, 500, desc, progress, notify):
         for k in range(start, stop):
             if not np.all(np.isfinite(x)):
@@ -183,18 +217,28 @@ def run_machine(
             attitudes[k], rates[k], speeds[k] = q, qd, Ld
             carriages[k], q_seen, qd_seen = feedback.measure(k, t[k], L, Ld, q, qd)
             if not np.all(np.isfinite(q_seen)):
-                raise PoseError(
-                    f"the model's forward kinematics finds no attitude of platform {feedback.control} for what the "
-                    f"encoders read ({', '.join(f'{v * 1e3:.4f}' for v in carriages[k])} mm)",
-                    float(t[k]),
-                    k,
-                )
+                raise _no_attitude(feedback, carriages[k], t, k)
             measured[k] = q_seen
             wanted = ff[k] + controller.torques(q_seen, qd_seen, desired.q[k], desired.qd[k])
             tau_requested[k] = wanted
             tau[k] = np.clip(wanted, -limit, limit)
             saturated[k] = np.any(np.abs(wanted) > limit)
             x = advance(t[k], x, tau[k], loads[2 * substeps * k : 2 * substeps * (k + 1) + 1], h, substeps)
+    return _run(plant, controller, feedback, controller_name, t, desired, log, h)
+
+
+def _no_attitude(feedback: Feedback, reading: np.ndarray, t: np.ndarray, k: int) -> PoseError:
+    return PoseError(
+        f"the model's forward kinematics finds no attitude of platform {feedback.control} for what the encoders "
+        f"read ({', '.join(f'{v * 1e3:.4f}' for v in reading)} mm)",
+        float(t[k]),
+        k,
+    )
+
+
+def _run(plant, controller, feedback, controller_name, t, desired, log, h) -> MachineRun:
+    carriages, attitudes, rates, speeds, measured, tau, tau_requested, saturated = log
+    name = getattr(plant, "name", type(plant).__name__)
     return MachineRun(
         t=t,
         desired=desired,
@@ -227,3 +271,58 @@ def _check_reach(model: Parameters, control: int, desired: Trajectory) -> None:
             k,
             source=desired.name,
         )
+
+
+def check_plant(model: Parameters, plant: Parameters, desired: Trajectory, control: int) -> None:
+    """Refuse a plant that is not the model's machine as built: another drawing, or one the model's commands cannot drive.
+
+    The plant may deviate from the model chain by chain as a built machine
+    deviates from its drawing (each U-joint centre, platform joint, lever length
+    and rotation centre within :data:`~hipsim.machine.chains.MAX_DEVIATION` of the
+    model's), with its own masses, friction and drive, and the same angle
+    conventions; and its controlled platform must reach the desired motion where
+    the model puts the carriages for it.
+
+    Args:
+        model: the controller's model; plant: the plant's machine.
+        desired: the desired motion of the controlled platform; control: that platform (1, 2).
+
+    Raises:
+        ParameterError: naming the plant's file and what contradicts the model.
+    """
+    if not np.array_equal(model.angle_signs, plant.angle_signs):
+        raise ParameterError(
+            f"the plant's angle signs {plant.angle_signs.tolist()} are not the model's {model.angle_signs.tolist()}: "
+            "one machine has one convention",
+            key="angles",
+            source=plant.source,
+        )
+    a, b = model.chains, plant.chains
+    parts = (
+        ("U-joint centre", a.screw_points - b.screw_points),
+        ("platform joint", a.platform_points - b.platform_points),
+        ("lever length", (a.lever_lengths - b.lever_lengths)[..., None]),
+        ("rotation centre", np.repeat((a.centres - b.centres)[:, None], 3, axis=1)),
+    )
+    for what, difference in parts:
+        off = np.linalg.norm(difference, axis=-1)
+        k = int(np.argmax(off))
+        if off.flat[k] > MAX_DEVIATION:
+            where = f"platform {k // 3 + 1}" if what == "rotation centre" else f"chain {CHAIN_LABELS[k]}"
+            raise ParameterError(
+                f"not the model's machine as built: the {what} of {where} is {off.flat[k] * 1e3:.1f} mm off the "
+                f"model's (a built machine deviates by at most {MAX_DEVIATION * 1e3:g} mm; give the plant and the "
+                "model of one design)",
+                source=plant.source,
+            )
+    from ..analytic.stations import platform_attitude
+
+    L = carriages_for_platform(model, desired.q, control)
+    try:
+        _check_reach(model, control, desired)
+        platform_attitude(plant, L, control, t=desired.t, q0=desired.q[0], guess=desired.q)
+    except PoseError as error:
+        raise ParameterError(
+            f"the plant's platform {control} cannot follow the carriages the model commands: {error}",
+            source=plant.source,
+        ) from None
