@@ -164,7 +164,10 @@ def run(args) -> int:
         mismatch = parse_mismatch(args.mismatch) if args.mismatch else {}
     except ArgumentError as error:  # the library names its argument; the user typed an option
         raise HipsimError(f"--mismatch: expected {error.expected}, got {error.value!r}") from None
-    if _plant_and_model_apart(args, params):
+    apart = _plant_and_model_apart(args, params)
+    if args.fig7 and not apart:
+        raise HipsimError("--fig7 draws both platforms of a run with --plant-params or --feedback; give one of them")
+    if apart:
         runs, written = run_machine_loop(args, params, desired_at, duration, mismatch)
         if args.summary_format == "json":
             document = {

@@ -65,6 +65,12 @@ def add_machine_loop_options(parser: argparse.ArgumentParser) -> None:
         "--sensor-seed", type=int, metavar="N", help="with --feedback sensors: the noise's seed (default 0)"
     )
     group.add_argument(
+        "--fig7",
+        action="store_true",
+        help="also draw the paper's Fig. 7 of each run (AA, IER, FE panels; desired and both platforms' true "
+        "attitudes) as OUT_fig7.png and .svg beside the table",
+    )
+    group.add_argument(
         "--control",
         choices=["1", "2"],
         help="the controlled platform (default: the model's [geometry] control, else the plant's, else 2: the paper's)",
@@ -95,6 +101,9 @@ def check_options(args) -> None:
                 )
     if args.out != "-" and Path(args.out).suffix.lower() not in (".csv", ".parquet"):
         raise HipsimError(f"--out {args.out}: expected a .csv or .parquet file")
+    from ..files import check_output
+
+    check_output(args.out)  # before the run: a missing folder is said now, not after minutes
 
 
 def _plant_machine(args, model):
@@ -172,7 +181,24 @@ def run_machine_loop(args, model, desired_at, duration, mismatch: dict) -> tuple
     for run in runs:
         path = args.out if len(runs) == 1 else out.with_name(f"{out.stem}_{run.controller}{out.suffix}")
         written.append(str(run.write(path)))
+        if args.fig7 and args.out != "-":
+            written += [str(p) for p in _write_fig7(run, Path(path))]
     return runs, written
+
+
+def _write_fig7(run, table: Path):
+    import numpy as np
+
+    from ..present.figures import save_figure
+    from ..present.fig7 import Curve, plot_fig7
+
+    curves = [
+        Curve("desired", np.degrees(run.desired.q), "k", ":"),
+        Curve("m_1 true", np.degrees(run.attitudes[:, 0]), "tab:blue"),
+        Curve("m_2 true", np.degrees(run.attitudes[:, 1]), "tab:red"),
+    ]
+    title = f"Fig. 7: {run.controller}, {run.feedback} close the loop on m_{run.control} ({run.plant} plant)"
+    return save_figure(plot_fig7(run.t, curves, title), table.parent, f"{table.stem}_fig7")
 
 
 def _instants(duration: float, servo_rate: float):

@@ -187,10 +187,10 @@ def _sliders(args, params, out: Path, table: Path) -> int:
     from ..files import output_folder
     from ..present.stations_page import write_stations
     from ..stations.commands import attitudes
-    from ..stations.logs import read_carriage_log
+    from ..stations.logs import read_slider_log
     from ..stations.summary import attitude_columns
 
-    t, carriages = read_carriage_log(args.sliders, params.lead)
+    t, carriages, sensors = read_slider_log(args.sliders, params.lead)
     q = attitudes(params, carriages, None, t, args.sliders)
     flat = np.degrees(q).reshape(len(t), 6)
     columns = {"t_s": t} | {f"L_1{i + 1}_mm": carriages[:, i] * 1e3 for i in range(3)}
@@ -205,17 +205,76 @@ def _sliders(args, params, out: Path, table: Path) -> int:
         },
         "table": str(table),
     }
+    comparison = None
+    if sensors is not None:
+        comparison = _sensor_comparison(args, params, t, q, sensors)
+        document["sensors"] = comparison.to_json()
     provenance = page_provenance(args, log=args.sliders)
     with output_folder(out):
         _write_table(table, columns)
         files = write_stations(out, document, provenance=provenance)
+        if sensors is not None:
+            _write_fig7(out, t, q, sensors, args.sliders)
     if args.summary_format == "json":
         print_json(document | {"index": str(files.index), "provenance": provenance.as_dict()})
     else:
         rms = document["sliders"]["platform_difference_rms_deg"]
         print(f"{len(t)} samples; m_1 − m_2 attitude RMS α {rms[0]:.4g}°, β {rms[1]:.4g}°, γ {rms[2]:.4g}°")
+        if comparison is not None:
+            _print_comparison(comparison)
         print(f"wrote {table} and {files.index}")
     return 0
+
+
+def _sensor_comparison(args, params, t, q, sensors):
+    """The log's sensors against the prediction, with the calibrated file's uncertainty when it records one."""
+    import numpy as np
+
+    from ..rig.identification.identified_file import identification_table
+    from ..stations.sensor_check import compare_sensors
+
+    theta_std, origin = None, "none"
+    if args.params:
+        record = identification_table(args.params)
+        if record.get("kind") == "kinematic calibration" and len(record.get("std_mm", ())) == 48:
+            theta_std = np.asarray(record["std_mm"], dtype=float) * 1e-3
+            origin = f"{args.params}: the calibration's standard deviation of each per-chain value"
+    return compare_sensors(params, t, q, sensors, theta_std, origin)
+
+
+def _print_comparison(comparison) -> None:
+    from ..present.tables import format_table
+
+    rows = [
+        [
+            f"m_{e.platform}",
+            e.angle,
+            f"{e.rms_deg:.4g}",
+            f"{e.mean_deg:+.4g}",
+            f"{e.peak_deg:+.4g}",
+            f"{e.peak_at_s:.3f}",
+            "-" if e.prediction_std_deg != e.prediction_std_deg else f"{e.prediction_std_deg:.3g}",
+        ]
+        for e in comparison.entries
+    ]
+    header = ["platform", "angle", "RMS [deg]", "mean [deg]", "peak [deg]", "at [s]", "prediction std [deg]"]
+    print(format_table(header, rows, "The log's sensors against the prediction from its carriages (measured - predicted)"))
+
+
+def _write_fig7(out: Path, t, q, sensors, log: str) -> None:
+    """Fig. 7 of the log: each platform measured (sensors) and predicted (carriages) on the three panels."""
+    import numpy as np
+
+    from ..present.figures import save_figure
+    from ..present.fig7 import Curve, plot_fig7
+
+    curves = [
+        Curve("m_1 measured", np.degrees(sensors[:, 0]), "tab:blue", "-"),
+        Curve("m_1 predicted", np.degrees(q[:, 0]), "tab:blue", "--"),
+        Curve("m_2 measured", np.degrees(sensors[:, 1]), "tab:red", "-"),
+        Curve("m_2 predicted", np.degrees(q[:, 1]), "tab:red", "--"),
+    ]
+    save_figure(plot_fig7(t, curves, f"Fig. 7 from {Path(log).name}"), out, "fig7")
 
 
 def _tolerance(args, params, weights, out: Path) -> int:

@@ -27,7 +27,7 @@ from ..exceptions import TrajectoryError
 from ..tables import cells, data_lines, detect_separator, number, open_parquet, read_text_lines
 from .calibration import CalibrationLog
 
-__all__ = ["CARRIAGE_COLUMNS", "MOTOR_COLUMNS", "SENSOR_COLUMNS", "read_calibration_log", "read_carriage_log"]
+__all__ = ["CARRIAGE_COLUMNS", "MOTOR_COLUMNS", "SENSOR_COLUMNS", "read_calibration_log", "read_carriage_log", "read_slider_log"]
 
 CARRIAGE_COLUMNS = tuple(f"L_1{i}_mm" for i in (1, 2, 3))
 MOTOR_COLUMNS = tuple(f"motor_{i}_deg" for i in (1, 2, 3))
@@ -80,8 +80,11 @@ def _table(path: str | Path) -> tuple[list[str], dict[str, np.ndarray], np.ndarr
     return header, {name: values[:, c] for c, name in enumerate(keep)}, lines
 
 
-def _read(path: str | Path, lead: float, sensors: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
-    """(t [s], carriages [m] (N, 3), sensors [rad] (N, 2, 3) or None when not asked for)."""
+def _read(path: str | Path, lead: float, sensors: bool | None) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """(t [s], carriages [m] (N, 3), sensors [rad] (N, 2, 3) or None when not asked for).
+
+    ``sensors`` None: the sensors when the log has any of their columns (then all of them), else None.
+    """
     source = str(path)
     if not math.isfinite(lead) or lead <= 0:
         raise TrajectoryError(f"the screw lead must be positive, got {lead!r}", source=source)
@@ -105,6 +108,8 @@ def _read(path: str | Path, lead: float, sensors: bool) -> tuple[np.ndarray, np.
     else:
         missing(CARRIAGE_COLUMNS, "carriage encoders (or motor angles motor_1_deg, motor_2_deg, motor_3_deg)")
         raise AssertionError("unreachable")
+    if sensors is None:
+        sensors = any(name in columns for name in sum(SENSOR_COLUMNS, ()))
     if sensors:
         for j, names in enumerate(SENSOR_COLUMNS, start=1):
             missing(names, f"attitude sensor of platform {j}")
@@ -148,6 +153,15 @@ def read_calibration_log(path: str | Path, lead: float) -> CalibrationLog:
     t, carriages, sensors = _read(path, lead, sensors=True)
     assert sensors is not None
     return CalibrationLog(str(path), t, carriages, sensors)
+
+
+def read_slider_log(path: str | Path, lead: float) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """A log's times [s] (N,), carriages [m] (N, 3) and, when it has their columns, both attitude sensors [rad] (N, 2, 3).
+
+    Raises:
+        TrajectoryError: as :func:`read_calibration_log`; a log with some sensor columns must have all six.
+    """
+    return _read(path, lead, sensors=None)
 
 
 def read_carriage_log(path: str | Path, lead: float) -> tuple[np.ndarray, np.ndarray]:

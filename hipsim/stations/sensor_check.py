@@ -1,0 +1,122 @@
+"""A log's attitude sensors against what the machine's model predicts from its carriages, per platform and angle.
+
+``hipsim stations --sliders LOG`` predicts both platforms' attitudes from the
+log's carriages (each platform's forward kinematics on the parameter file's
+machine). When the log also has the sensors' columns (``alpha_1_deg`` …
+``gamma_2_deg``, as a rig's acquisition or ``hipsim simulate`` write them),
+:func:`compare_sensors` says how far measured is from predicted, per platform
+and angle, beside the prediction's own uncertainty: for a machine from
+``hipsim calibrate``, the standard deviation of each per-chain value its
+``[identification]`` table records (``std_mm``), carried to the attitudes
+through their sensitivity (:func:`hipsim.stations.sensitivity.attitude_jacobian`;
+the values taken as independent, since the file keeps their standard
+deviations, not their covariance); for any other file, none (NaN).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..machine.parameters import Parameters
+from .sensitivity import attitude_jacobian
+
+__all__ = ["SensorAgreement", "SensorComparison", "compare_sensors", "prediction_std"]
+
+_ANGLES = ("alpha", "beta", "gamma")
+
+
+@dataclass(frozen=True)
+class SensorAgreement:
+    """One platform's angle over a log: measured − predicted.
+
+    Attributes:
+        platform: 1 or 2; angle: "alpha", "beta" or "gamma".
+        rms_deg, mean_deg: RMS and mean of measured − predicted in [deg].
+        peak_deg, peak_at_s: the difference of largest magnitude (signed) and when.
+        prediction_std_deg: the prediction's standard deviation from the model's uncertainty, RMS over the
+            samples, in [deg]; NaN when the model carries none.
+    """
+
+    platform: int
+    angle: str
+    rms_deg: float
+    mean_deg: float
+    peak_deg: float
+    peak_at_s: float
+    prediction_std_deg: float
+
+
+@dataclass(frozen=True)
+class SensorComparison:
+    """A log's sensors against the model's prediction; ``uncertainty`` says where the prediction's spread came from."""
+
+    samples: int
+    uncertainty: str
+    entries: tuple[SensorAgreement, ...]
+
+    def entry(self, platform: int, angle: str) -> SensorAgreement:
+        return self.entries[3 * (platform - 1) + _ANGLES.index(angle)]
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "samples": self.samples,
+            "uncertainty": self.uncertainty,
+            "entries": [
+                {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in vars(e).items()}
+                for e in self.entries
+            ],
+        }
+
+
+def prediction_std(params: Parameters, q: np.ndarray, theta_std: np.ndarray) -> np.ndarray:
+    """Standard deviation in [rad] of both platforms' predicted attitudes q (N, 2, 3) [rad] from independent per-chain
+    values of standard deviations ``theta_std`` [m] (48,): √Σ_p (∂q/∂δ_p · σ_p)², (N, 2, 3)."""
+    J = attitude_jacobian(params, np.asarray(q, dtype=float))
+    return np.sqrt(np.sum((J * np.asarray(theta_std, dtype=float)) ** 2, axis=-1))
+
+
+def compare_sensors(
+    params: Parameters,
+    t: np.ndarray,
+    predicted: np.ndarray,
+    measured: np.ndarray,
+    theta_std: np.ndarray | None = None,
+    uncertainty: str = "none: the parameter file records no calibration",
+) -> SensorComparison:
+    """Measured − predicted attitudes per platform and angle, with the prediction's spread.
+
+    Args:
+        params: the model that predicted.
+        t: sample times [s], (N,).
+        predicted: both platforms' predicted attitudes [rad], (N, 2, 3).
+        measured: the sensors' [rad], (N, 2, 3).
+        theta_std: the per-chain values' standard deviations [m], (48,); None: the prediction carries none.
+        uncertainty: where ``theta_std`` came from, for the record.
+    """
+    difference = np.degrees(np.asarray(measured, dtype=float) - np.asarray(predicted, dtype=float))
+    if theta_std is None:
+        spread = np.full(3 * 2, math.nan)
+    else:
+        std = np.degrees(prediction_std(params, predicted, theta_std))
+        spread = np.sqrt(np.mean(std**2, axis=0)).ravel()
+    entries = []
+    for j in range(2):
+        for k, angle in enumerate(_ANGLES):
+            d = difference[:, j, k]
+            peak = int(np.argmax(np.abs(d)))
+            entries.append(
+                SensorAgreement(
+                    platform=j + 1,
+                    angle=angle,
+                    rms_deg=float(np.sqrt(np.mean(d**2))),
+                    mean_deg=float(np.mean(d)),
+                    peak_deg=float(d[peak]),
+                    peak_at_s=float(t[peak]),
+                    prediction_std_deg=float(spread[3 * j + k]),
+                )
+            )
+    return SensorComparison(len(t), uncertainty if theta_std is not None else "none", tuple(entries))
