@@ -172,3 +172,21 @@ def test_summary_by_hand(drawing):
     }
     assert error_columns() == station_error_columns()  # the stations' column names
     assert run.columns()["err_alpha_1_deg"][4] == pytest.approx(0.4)
+
+
+def test_the_mujoco_plant_per_chain_agrees_with_pinocchio(drawing, built, plant):
+    """MuJoCo's soft closures against Pinocchio's rigid ones, the same built machine and loop: within 1e-4°."""
+    pytest.importorskip("mujoco")
+    from hipsim.mujoco_engine.plant import MujocoPlant
+
+    feedback = SensorFeedback(2, noise=0.0, encoder_step=0.0)
+    a = _run(MujocoPlant(built), drawing, feedback)
+    b = _run(plant, drawing, SensorFeedback(2, noise=0.0, encoder_step=0.0))
+    assert np.degrees(np.abs(a.attitudes - b.attitudes)).max() < 1e-4
+    assert np.abs(a.carriages - b.carriages).max() < 1e-7  # m
+    # Its readings on the drawing: the carriages of the drawing's inverse kinematics.
+    mujoco_plant = MujocoPlant(drawing)
+    x = mujoco_plant.initial_state(iso14242_at(np.zeros(1)))
+    L, _, q, _ = mujoco_plant.readings(x)
+    expected = chain_kernel.carriages(*chain_kernel.platform_arrays(drawing, 1), q[0])
+    assert L == pytest.approx(expected, abs=1e-12)
