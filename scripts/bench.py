@@ -1284,7 +1284,10 @@ def bench_machine_plant(params, quick: bool) -> None:
         return lambda length: run_machine(plant, ModelPD(params, 2), EncoderFeedback(params, 2), iso14242_at, length)
 
     runs = [
-        ("drawing's plant, today's loop (baseline)", lambda length: simulation.simulate(drawing, WorkspacePD(params), iso14242_at, length)),
+        (
+            "drawing's plant, today's loop (baseline)",
+            lambda length: simulation.simulate(drawing, WorkspacePD(params), iso14242_at, length),
+        ),
         ("per-chain Pinocchio plant, encoders", new_loop(per_chain)),
         ("drawing's plant, encoders", new_loop(drawing)),
     ]

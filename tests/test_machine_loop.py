@@ -57,7 +57,10 @@ def test_sensor_drift_and_noise():
     q = np.zeros((2, 3))
     _, seen, _ = drift.measure(1000, 1.0, np.zeros(3), np.zeros(3), q, q)
     assert np.degrees(seen) == pytest.approx([0.01] * 3, rel=1e-12)
-    noisy, again = SensorFeedback(1, noise=math.radians(0.05), seed=3), SensorFeedback(1, noise=math.radians(0.05), seed=3)
+    noisy, again = (
+        SensorFeedback(1, noise=math.radians(0.05), seed=3),
+        SensorFeedback(1, noise=math.radians(0.05), seed=3),
+    )
     for sensor in (noisy, again):
         sensor.start(t, np.zeros(3))
     offsets = np.array([noisy.measure(k, t[k], np.zeros(3), np.zeros(3), q, q)[1] for k in range(t.size)])
@@ -86,7 +89,12 @@ def test_chain_kernel_against_the_hand_reference(drawing, built, j):
 
 
 def test_model_pd_on_the_drawing_is_the_workspace_pd(drawing):
-    q, qd, qe, qde = np.radians([10.0, 2.0, -3.0]), np.array([0.1, 0.2, -0.1]), np.radians([11.0, 1.0, -2.0]), np.zeros(3)
+    q, qd, qe, qde = (
+        np.radians([10.0, 2.0, -3.0]),
+        np.array([0.1, 0.2, -0.1]),
+        np.radians([11.0, 1.0, -2.0]),
+        np.zeros(3),
+    )
     pd = ModelPD(drawing, 2)
     expected = reduced_kernel.workspace_pd(reduced_kernel.kernel_parameters(drawing), q, qd, qe, qde, pd.kp, pd.kd)
     assert pd.torques(q, qd, qe, qde) == pytest.approx(expected, rel=1e-12)
@@ -105,7 +113,9 @@ def test_a_per_chain_plant_agrees_with_the_stations(built, plant, drawing):
 def test_noiseless_sensor_tracks_as_on_the_drawing(drawing, built, plant):
     """Sensor feedback, a model that is the machine: m_2 tracks as today's run on the drawing; m_1 as the stations say."""
     run = _run(plant, built, SensorFeedback(2, noise=0.0, encoder_step=0.0))
-    today = simulate(PinocchioPlant(drawing), AugmentedPD(drawing, iso14242_at, 1000.0, DURATION), iso14242_at, DURATION)
+    today = simulate(
+        PinocchioPlant(drawing), AugmentedPD(drawing, iso14242_at, 1000.0, DURATION), iso14242_at, DURATION
+    )
     assert np.degrees(np.abs(run.errors[:, 1] - today.err)).max() < 1e-4
     follower = platform_attitude(built, run.carriages, 1, q0=run.desired.q[0], guess=run.desired.q)
     assert np.degrees(np.abs((run.desired.q - follower) - run.errors[:, 0])).max() < 1e-9

@@ -46,7 +46,22 @@ def test_a_built_machine_under_the_drawing_and_the_stations_on_its_log(files, tm
         (j, a) for j in (1, 2) for a in ("alpha", "beta", "gamma")
     ]
     table = tmp_path / "stations.parquet"
-    assert main(["stations", "--params", str(built), "--sliders", str(run), "--table", str(table), "--out", str(tmp_path / "st")]) == 0
+    assert (
+        main(
+            [
+                "stations",
+                "--params",
+                str(built),
+                "--sliders",
+                str(run),
+                "--table",
+                str(table),
+                "--out",
+                str(tmp_path / "st"),
+            ]
+        )
+        == 0
+    )
     simulated, stations = pq.read_table(run).to_pydict(), pq.read_table(table).to_pydict()
     for name in ("alpha_1_deg", "beta_1_deg", "gamma_1_deg", "alpha_2_deg", "beta_2_deg", "gamma_2_deg"):
         assert np.abs(np.array(simulated[name]) - np.array(stations[name])).max() < 1e-9, name

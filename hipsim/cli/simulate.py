@@ -179,8 +179,8 @@ def run(args) -> int:
             }
             print_json(document, report)
             return 0
-        for path in written:
-            print(f"wrote {path}", file=report)
+        for name in written:
+            print(f"wrote {name}", file=report)
         print(format_tracking(runs), file=report)
         return 0
     if plant_entry(args.plant).warm_up:

@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import math
 from pathlib import Path
+from typing import cast
 
 from ..exceptions import HipsimError
 
@@ -27,7 +28,9 @@ SENSOR_DRIFT_DEG_PER_MIN = (-10.0, 10.0)
 
 def add_machine_loop_options(parser: argparse.ArgumentParser) -> None:
     """``--plant-params``, ``--feedback``, ``--encoder-step``, ``--sensor-noise``, ``--sensor-drift``, ``--sensor-seed``, ``--control``."""
-    group = parser.add_argument_group("plant and model apart (the machine as built under a controller that knows its model)")
+    group = parser.add_argument_group(
+        "plant and model apart (the machine as built under a controller that knows its model)"
+    )
     group.add_argument(
         "--plant-params",
         metavar="FILE",
@@ -130,8 +133,15 @@ def run_machine_loop(args, model, desired_at, duration, mismatch: dict) -> tuple
             or an option out of its range (one line, before anything is written).
     """
     from ..analysis.registry import make_plant, plant_entry
-    from ..control.feedback import EncoderFeedback, SensorFeedback
-    from ..control.machine_loop import ModelPD, check_plant, controlled_machine, model_feedforward, run_machine
+    from ..control.feedback import EncoderFeedback, Feedback, SensorFeedback
+    from ..control.machine_loop import (
+        MachinePlant,
+        ModelPD,
+        check_plant,
+        controlled_machine,
+        model_feedforward,
+        run_machine,
+    )
     from ..control.simulation import apply_mismatch
     from .common import load_pinocchio_kernels, note
 
@@ -149,10 +159,11 @@ def run_machine_loop(args, model, desired_at, duration, mismatch: dict) -> tuple
     plant_params = plant_params.replace(control=model.control)  # the servo settings are the controller's
     if plant_entry(args.plant).warm_up:
         load_pinocchio_kernels()
-    plant = make_plant(args.plant, plant_params, integrator=args.mujoco_integrator)
+    plant = cast(MachinePlant, make_plant(args.plant, plant_params, integrator=args.mujoco_integrator))
     step = (args.encoder_step if args.encoder_step is not None else 0.001) * 1e-3
     chosen = ["pd", "augmented-pd"] if args.controller == "both" else [args.controller]
     runs = []
+    feedback: Feedback
     for name in chosen:
         if args.feedback == "sensors":
             noise = math.radians(0.05 if args.sensor_noise is None else args.sensor_noise)
@@ -189,8 +200,8 @@ def run_machine_loop(args, model, desired_at, duration, mismatch: dict) -> tuple
 def _write_fig7(run, table: Path):
     import numpy as np
 
-    from ..present.figures import save_figure
     from ..present.fig7 import Curve, plot_fig7
+    from ..present.figures import save_figure
 
     curves = [
         Curve("desired", np.degrees(run.desired.q), "k", ":"),
@@ -240,7 +251,13 @@ def format_tracking(runs) -> str:
         s = run.summary()
         for m in s.motors:
             rows.append(
-                [s.controller, f"M{m.motor}", f"{m.torque_peak_Nmm:.4g}", f"{m.torque_rms_Nmm:.4g}", f"{m.speed_peak_rpm:.4g}"]
+                [
+                    s.controller,
+                    f"M{m.motor}",
+                    f"{m.torque_peak_Nmm:.4g}",
+                    f"{m.torque_rms_Nmm:.4g}",
+                    f"{m.speed_peak_rpm:.4g}",
+                ]
             )
     out.append(
         format_table(

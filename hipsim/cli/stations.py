@@ -258,15 +258,17 @@ def _print_comparison(comparison) -> None:
         for e in comparison.entries
     ]
     header = ["platform", "angle", "RMS [deg]", "mean [deg]", "peak [deg]", "at [s]", "prediction std [deg]"]
-    print(format_table(header, rows, "The log's sensors against the prediction from its carriages (measured - predicted)"))
+    print(
+        format_table(header, rows, "The log's sensors against the prediction from its carriages (measured - predicted)")
+    )
 
 
 def _write_fig7(out: Path, t, q, sensors, log: str) -> None:
     """Fig. 7 of the log: each platform measured (sensors) and predicted (carriages) on the three panels."""
     import numpy as np
 
-    from ..present.figures import save_figure
     from ..present.fig7 import Curve, plot_fig7
+    from ..present.figures import save_figure
 
     curves = [
         Curve("m_1 measured", np.degrees(sensors[:, 0]), "tab:blue", "-"),

@@ -51,7 +51,9 @@ def platform_arrays(params: Parameters, platform: int) -> tuple[np.ndarray, np.n
 @_compile
 def _rows(points, offsets, levers, p):
     """Carriage readings L (3-tuple) and J's rows (L̇ = J·ω) at platform angles p; NaN where a lever cannot reach."""
-    R = laws.rotation((math.cos(p[0]), math.cos(p[1]), math.cos(p[2])), (math.sin(p[0]), math.sin(p[1]), math.sin(p[2])))
+    R = laws.rotation(
+        (math.cos(p[0]), math.cos(p[1]), math.cos(p[2])), (math.sin(p[0]), math.sin(p[1]), math.sin(p[2]))
+    )
     L = [0.0, 0.0, 0.0]
     J = []
     for i in range(3):

@@ -34,7 +34,14 @@ from ..exceptions import ArgumentError
 from ..machine.parameters import Parameters
 from . import chain_kernel
 
-__all__ = ["EncoderFeedback", "Feedback", "SensorFeedback", "DEFAULT_ENCODER_STEP", "DEFAULT_SENSOR_NOISE", "encoder_reading"]
+__all__ = [
+    "EncoderFeedback",
+    "Feedback",
+    "SensorFeedback",
+    "DEFAULT_ENCODER_STEP",
+    "DEFAULT_SENSOR_NOISE",
+    "encoder_reading",
+]
 
 #: The encoders' step, [m] (0.001 mm).
 DEFAULT_ENCODER_STEP = 1e-6
@@ -62,6 +69,7 @@ class Feedback(ABC):
             raise ArgumentError("control", control, "1 (m_1) or 2 (m_2)")
         self.control = int(control)
 
+    @abstractmethod
     def start(self, t: np.ndarray, q0: np.ndarray) -> None:
         """Prepare a run whose servo instants are t [s], (n,), starting near gait angles q0 [rad], (3,)."""
 
@@ -76,7 +84,6 @@ class Feedback(ABC):
             L, Ld: the carriages' true readings [m] and rates [m/s], (3,).
             q, qd: both platforms' true gait angles [rad] and rates [rad/s], (2, 3).
         """
-
 
     def sensing(self) -> tuple[bool, float, np.ndarray, np.ndarray]:
         """For the compiled loop (:mod:`hipsim.control.machine_kernel`), after :meth:`start`: (read the encoders?,

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -46,7 +47,15 @@ from .feedback import EncoderFeedback, Feedback, SensorFeedback
 from .simulation import _rk4, _servo_chunks, _unstable
 from .tracking import MachineRun
 
-__all__ = ["ModelPD", "check_plant", "controlled_machine", "model_feedforward", "run_machine"]
+__all__ = ["MachinePlant", "ModelPD", "check_plant", "controlled_machine", "model_feedforward", "run_machine"]
+
+
+class MachinePlant(Plant, Protocol):
+    """A plant the loop reads as the machine's sensors do: the carriages and both platforms' attitudes."""
+
+    def readings(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Carriage readings [m] and rates [m/s], (3,); both platforms' gait angles [rad] and rates [rad/s], (2, 3)."""
+        ...
 
 
 def controlled_machine(params: Parameters, control: int) -> Parameters:
@@ -110,7 +119,7 @@ def model_feedforward(
 
 
 def run_machine(
-    plant: Plant,
+    plant: MachinePlant,
     controller: ModelPD,
     feedback: Feedback,
     desired_at: Callable[[np.ndarray], Trajectory],
@@ -156,7 +165,9 @@ def run_machine(
         raise ArgumentError("torque_limit", limit, "a positive torque in N·m (inf for none)")
     period = 1.0 / servo_rate
     if not (step > 0 and step <= period * (1 + 1e-9)):
-        raise ArgumentError("step", step, f"an integration step in s, positive and at most the servo period {period:g} s")
+        raise ArgumentError(
+            "step", step, f"an integration step in s, positive and at most the servo period {period:g} s"
+        )
     if feedback.control != controller.control:
         raise ArgumentError("feedback", feedback.control, f"the controller's platform {controller.control}")
     substeps = math.ceil(period / step - 1e-9)
@@ -192,9 +203,10 @@ def run_machine(
     if can_compile and compiled is not False:
         from . import machine_kernel  # imports Pinocchio: only when such a run starts
 
+        compiled_plant: Any = plant  # the PinocchioPlant: its slots in the state
         arguments = (
-            plant.reading_slots,
-            np.ascontiguousarray(plant.angle_slots[2], dtype=float),
+            compiled_plant.reading_slots,
+            np.ascontiguousarray(compiled_plant.angle_slots[2], dtype=np.float64),
             feedback.sensing(),
             (*controller._platform, controller._lead),
             (controller.kp, controller.kd),

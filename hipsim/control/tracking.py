@@ -195,9 +195,7 @@ class MachineRun:
                 )
         tau_peak, tau_rms = peak_and_rms(self.tau * 1e3)
         speed_peak, _ = peak_and_rms(self.motor_speed * RPM_PER_RAD_S)
-        motors = tuple(
-            MotorLoad(i + 1, float(tau_peak[i]), float(tau_rms[i]), float(speed_peak[i])) for i in range(3)
-        )
+        motors = tuple(MotorLoad(i + 1, float(tau_peak[i]), float(tau_rms[i]), float(speed_peak[i])) for i in range(3))
         return TrackingSummary(
             plant=self.plant,
             controller=self.controller,

@@ -18,7 +18,11 @@ import numpy as np
 __all__ = ["PANELS", "Curve", "plot_fig7"]
 
 #: (panel title, angle index in [α, β, γ]) in the paper's order.
-PANELS = (("AA (abduction/adduction, β)", 1), ("IER (internal/external rotation, γ)", 2), ("FE (flexion/extension, α)", 0))
+PANELS = (
+    ("AA (abduction/adduction, β)", 1),
+    ("IER (internal/external rotation, γ)", 2),
+    ("FE (flexion/extension, α)", 0),
+)
 
 
 @dataclass(frozen=True)
