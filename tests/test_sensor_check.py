@@ -40,7 +40,7 @@ def test_prediction_std_is_the_sensitivity_times_the_deviation(drawing):
     sigma = np.zeros(48)
     k = ChainGeometry.names().index("lever_12")
     sigma[k] = 1e-4
-    spread = prediction_std(drawing, np.repeat(q[:, None], 2, axis=1), sigma)[0, 0]
+    spread = prediction_std(drawing, np.repeat(q[:, None], 2, axis=1), np.diag(sigma**2))[0, 0]
     moved = drawing.replace(geometry=ChainGeometry.from_vector(sigma))
     shifted = platform_attitude(moved, L, 1, q0=q[0])[0]
     assert spread == pytest.approx(np.abs(shifted - q[0]), rel=2e-3)
@@ -81,3 +81,27 @@ def test_a_log_with_half_the_sensors_is_refused(drawing, tmp_path, capsys):
     err = capsys.readouterr().err
     assert "attitude sensor of platform 2: missing column(s) alpha_2_deg, beta_2_deg, gamma_2_deg" in err
     assert not (tmp_path / "out").exists()
+
+
+def test_the_calibrations_covariance_carries_its_correlations(drawing):
+    """Levers 12 and 13 anticorrelated (σ = 0.1 mm each, ρ = −1): the spread is |J₁₂ − J₁₃|·σ, not √(J₁₂² + J₁₃²)·σ."""
+    from hipsim.stations.sensitivity import attitude_jacobian
+    from hipsim.stations.sensor_check import calibration_covariance
+
+    record = {
+        "kind": "kinematic calibration",
+        "estimated": ["lever_12", "lever_13"],
+        "covariance_mm2": [[0.01, -0.01], [-0.01, 0.01]],
+        "std_mm": [0.0] * 48,
+    }
+    covariance = calibration_covariance(record)
+    q = np.repeat(np.radians([[10.0, 4.0, -6.0]])[:, None], 2, axis=1)
+    names = ChainGeometry.names()
+    J = attitude_jacobian(drawing, q)[0, 0]
+    a, b = J[:, names.index("lever_12")], J[:, names.index("lever_13")]
+    assert prediction_std(drawing, q, covariance)[0, 0] == pytest.approx(np.abs(a - b) * 1e-4, rel=1e-9)
+    old = calibration_covariance(
+        {"kind": "kinematic calibration", "std_mm": [0.1 if n in ("lever_12", "lever_13") else 0.0 for n in names]}
+    )
+    assert prediction_std(drawing, q, old)[0, 0] == pytest.approx(np.hypot(a, b) * 1e-4, rel=1e-9)
+    assert calibration_covariance({"kind": "dynamic identification"}) is None

@@ -228,18 +228,12 @@ def _sliders(args, params, out: Path, table: Path) -> int:
 
 def _sensor_comparison(args, params, t, q, sensors):
     """The log's sensors against the prediction, with the calibrated file's uncertainty when it records one."""
-    import numpy as np
-
     from ..rig.identification.identified_file import identification_table
-    from ..stations.sensor_check import compare_sensors
+    from ..stations.sensor_check import calibration_covariance, compare_sensors
 
-    theta_std, origin = None, "none"
-    if args.params:
-        record = identification_table(args.params)
-        if record.get("kind") == "kinematic calibration" and len(record.get("std_mm", ())) == 48:
-            theta_std = np.asarray(record["std_mm"], dtype=float) * 1e-3
-            origin = f"{args.params}: the calibration's standard deviation of each per-chain value"
-    return compare_sensors(params, t, q, sensors, theta_std, origin)
+    covariance = calibration_covariance(identification_table(args.params)) if args.params else None
+    origin = f"{args.params}: the calibration's posterior covariance of the per-chain values"
+    return compare_sensors(params, t, q, sensors, covariance, origin)
 
 
 def _print_comparison(comparison) -> None:

@@ -6,25 +6,28 @@ machine). When the log also has the sensors' columns (``alpha_1_deg`` …
 ``gamma_2_deg``, as a rig's acquisition or ``hipsim simulate`` write them),
 :func:`compare_sensors` says how far measured is from predicted, per platform
 and angle, beside the prediction's own uncertainty: for a machine from
-``hipsim calibrate``, the standard deviation of each per-chain value its
-``[identification]`` table records (``std_mm``), carried to the attitudes
-through their sensitivity (:func:`hipsim.stations.sensitivity.attitude_jacobian`;
-the values taken as independent, since the file keeps their standard
-deviations, not their covariance); for any other file, none (NaN).
+``hipsim calibrate``, the posterior covariance of the per-chain values its
+``[identification]`` table records (:func:`calibration_covariance`), carried
+to the attitudes through their sensitivity
+(:func:`hipsim.stations.sensitivity.attitude_jacobian`), as
+:meth:`hipsim.stations.calibration.Calibration.prediction_std` does; for any
+other file, none (NaN).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from ..machine.chains import ChainGeometry
 from ..machine.parameters import Parameters
 from .sensitivity import attitude_jacobian
 
-__all__ = ["SensorAgreement", "SensorComparison", "compare_sensors", "prediction_std"]
+__all__ = ["SensorAgreement", "SensorComparison", "calibration_covariance", "compare_sensors", "prediction_std"]
 
 _ANGLES = ("alpha", "beta", "gamma")
 
@@ -72,11 +75,33 @@ class SensorComparison:
         }
 
 
-def prediction_std(params: Parameters, q: np.ndarray, theta_std: np.ndarray) -> np.ndarray:
-    """Standard deviation in [rad] of both platforms' predicted attitudes q (N, 2, 3) [rad] from independent per-chain
-    values of standard deviations ``theta_std`` [m] (48,): √Σ_p (∂q/∂δ_p · σ_p)², (N, 2, 3)."""
+def prediction_std(params: Parameters, q: np.ndarray, theta_covariance: np.ndarray) -> np.ndarray:
+    """Standard deviation in [rad] of both platforms' predicted attitudes q (N, 2, 3) [rad] from the per-chain values'
+    covariance [m²] (48, 48): √(J·Σ·Jᵀ) per platform and angle with J = ∂q/∂δ, (N, 2, 3)."""
     J = attitude_jacobian(params, np.asarray(q, dtype=float))
-    return np.sqrt(np.sum((J * np.asarray(theta_std, dtype=float)) ** 2, axis=-1))
+    return np.sqrt(np.einsum("njkp,pr,njkr->njk", J, np.asarray(theta_covariance, dtype=float), J))
+
+
+def calibration_covariance(record: Mapping[str, Any]) -> np.ndarray | None:
+    """The per-chain values' covariance [m²] (48, 48) from a calibrated file's ``[identification]`` table; None without one.
+
+    The posterior covariance of the estimated values where the file has it (``estimated``, ``covariance_mm2``), the
+    values kept at the start with none (the attitudes do not see them); else, for a file written before it, the
+    standard deviations ``std_mm`` taken as independent (which overstates the spread of correlated values).
+    """
+    if record.get("kind") != "kinematic calibration":
+        return None
+    names = ChainGeometry.names()
+    estimated, covariance = record.get("estimated"), record.get("covariance_mm2")
+    if isinstance(estimated, list) and isinstance(covariance, list) and all(n in names for n in estimated):
+        index = [names.index(n) for n in estimated]
+        out = np.zeros((len(names), len(names)))
+        out[np.ix_(index, index)] = np.asarray(covariance, dtype=float) * 1e-6
+        return out
+    std = record.get("std_mm")
+    if isinstance(std, list) and len(std) == len(names):
+        return np.diag((np.asarray(std, dtype=float) * 1e-3) ** 2)
+    return None
 
 
 def compare_sensors(
@@ -84,7 +109,7 @@ def compare_sensors(
     t: np.ndarray,
     predicted: np.ndarray,
     measured: np.ndarray,
-    theta_std: np.ndarray | None = None,
+    theta_covariance: np.ndarray | None = None,
     uncertainty: str = "none: the parameter file records no calibration",
 ) -> SensorComparison:
     """Measured − predicted attitudes per platform and angle, with the prediction's spread.
@@ -94,14 +119,14 @@ def compare_sensors(
         t: sample times [s], (N,).
         predicted: both platforms' predicted attitudes [rad], (N, 2, 3).
         measured: the sensors' [rad], (N, 2, 3).
-        theta_std: the per-chain values' standard deviations [m], (48,); None: the prediction carries none.
-        uncertainty: where ``theta_std`` came from, for the record.
+        theta_covariance: the per-chain values' covariance [m²], (48, 48); None: the prediction carries none.
+        uncertainty: where ``theta_covariance`` came from, for the record.
     """
     difference = np.degrees(np.asarray(measured, dtype=float) - np.asarray(predicted, dtype=float))
-    if theta_std is None:
+    if theta_covariance is None:
         spread = np.full(3 * 2, math.nan)
     else:
-        std = np.degrees(prediction_std(params, predicted, theta_std))
+        std = np.degrees(prediction_std(params, predicted, theta_covariance))
         spread = np.sqrt(np.mean(std**2, axis=0)).ravel()
     entries = []
     for j in range(2):
@@ -119,4 +144,4 @@ def compare_sensors(
                     prediction_std_deg=float(spread[3 * j + k]),
                 )
             )
-    return SensorComparison(len(t), uncertainty if theta_std is not None else "none", tuple(entries))
+    return SensorComparison(len(t), uncertainty if theta_covariance is not None else "none", tuple(entries))
