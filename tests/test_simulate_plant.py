@@ -108,3 +108,14 @@ def test_plant_params_where_there_is_no_plant(files, tmp_path, capsys, command):
     assert main([*command, "--plant-params", str(built)]) == 2
     err = capsys.readouterr().err
     assert f"--plant-params: {command[0]} has no plant to give it" in err and err.count("\n") == 1
+
+
+def test_a_calibrated_model_alone_drives_its_own_machine(files, tmp_path, capsys):
+    """A per-chain --params without --plant-params: the plant is that machine, the encoders read through it."""
+    _, built = files
+    out = tmp_path / "run.csv"
+    assert main(["simulate", *SHORT, "--params", str(built), "--out", str(out), "--summary-format", "json"]) == 0
+    entry = json.loads(capsys.readouterr().out)["simulations"][0]
+    assert (entry["feedback"], entry["control"]) == ("encoders", 2)
+    header = out.read_text().splitlines()[0].split(",")
+    assert header[:4] == ["t_s", "L_11_mm", "L_12_mm", "L_13_mm"] and "err_gamma_2_deg" in header

@@ -241,8 +241,12 @@ def _plant_and_model_apart(args, params) -> bool:
     """Run the plant and the model apart: an option of that run given, unless it only names the model's own machine.
 
     ``--plant-params`` naming the very machine of ``--params`` (equal values) with no feedback option is today's run,
-    bit for bit: the controller then sees the platform it drives, as it always did.
+    bit for bit: the controller then sees the platform it drives, as it always did. A per-chain ``--params`` (a
+    calibrated file) runs apart too, the plant that very machine: its platforms do not turn alike, so the loop must
+    say which one it closes on and how it sees it.
     """
+    if params.per_chain:
+        return True
     if not machine_loop_asked(args):
         return False
     others = [name for name in ("feedback", "encoder_step", "sensor_noise", "sensor_drift", "sensor_seed", "control")]
