@@ -12,6 +12,7 @@ from hipsim.analytic.stations import platform_attitude
 from hipsim.cli.main import main
 from hipsim.machine.chains import ChainGeometry
 from hipsim.present.fig7 import Curve, plot_fig7
+from hipsim.stations.logs import read_desired
 from hipsim.stations.sensor_check import compare_sensors, prediction_std
 
 
@@ -69,6 +70,13 @@ def test_stations_sliders_with_sensors(drawing, tmp_path, capsys):
     expected = np.sqrt(np.mean(np.degrees(true - predicted) ** 2, axis=0)).ravel()
     assert [e["rms_deg"] for e in entries] == pytest.approx(expected, rel=1e-6)
     assert (out / "fig7.png").exists() and (out / "fig7.svg").exists()
+    assert read_desired(log) is None  # a calibration log has no desired motion; a simulated run has
+
+
+def test_the_desired_motion_of_a_simulated_run(tmp_path):
+    log = tmp_path / "run.csv"
+    log.write_text("t_s,alpha_des_deg,beta_des_deg,gamma_des_deg\n0,1,2,3\n0.001,4,5,6\n")
+    assert np.degrees(read_desired(log)) == pytest.approx(np.array([[1, 2, 3], [4, 5, 6]]))
 
 
 def test_a_log_with_half_the_sensors_is_refused(drawing, tmp_path, capsys):

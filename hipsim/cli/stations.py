@@ -264,7 +264,11 @@ def _write_fig7(out: Path, t, q, sensors, log: str) -> None:
     from ..present.fig7 import Curve, plot_fig7
     from ..present.figures import save_figure
 
-    curves = [
+    from ..stations.logs import read_desired
+
+    desired = read_desired(log)
+    curves = [] if desired is None else [Curve("desired", np.degrees(desired), "k", ":")]
+    curves += [
         Curve("m_1 measured", np.degrees(sensors[:, 0]), "tab:blue", "-"),
         Curve("m_1 predicted", np.degrees(q[:, 0]), "tab:blue", "--"),
         Curve("m_2 measured", np.degrees(sensors[:, 1]), "tab:red", "-"),

@@ -41,6 +41,8 @@ MOTOR_COLUMNS = tuple(f"motor_{i}_deg" for i in (1, 2, 3))
 #: The sensors' columns, platform by platform.
 SENSOR_COLUMNS = tuple(tuple(f"{a}_{j}_deg" for a in ("alpha", "beta", "gamma")) for j in (1, 2))
 WHAT = "calibration log"
+#: The desired motion's columns a run of ``hipsim simulate`` carries (the controlled platform's), read when present.
+DESIRED_COLUMNS = ("alpha_des_deg", "beta_des_deg", "gamma_des_deg")
 
 
 def _table(path: str | Path) -> tuple[list[str], dict[str, np.ndarray], np.ndarray | None]:
@@ -65,7 +67,8 @@ def _table(path: str | Path) -> tuple[list[str], dict[str, np.ndarray], np.ndarr
     except ValueError as error:
         raise TrajectoryError(str(error), source=source, line=header_line) from None
     wanted = {name: k for k, name in enumerate(header)}
-    keep = [name for name in (("t_s",) + CARRIAGE_COLUMNS + MOTOR_COLUMNS + sum(SENSOR_COLUMNS, ())) if name in wanted]
+    known = ("t_s",) + CARRIAGE_COLUMNS + MOTOR_COLUMNS + sum(SENSOR_COLUMNS, ()) + DESIRED_COLUMNS
+    keep = [name for name in known if name in wanted]
     values = np.empty((len(numbered) - 1, len(keep)))
     lines = np.empty(len(numbered) - 1, dtype=int)
     decimal_comma = separator != ","
@@ -169,6 +172,16 @@ def read_slider_log(path: str | Path, lead: float) -> tuple[np.ndarray, np.ndarr
         TrajectoryError: as :func:`read_calibration_log`; a log with some sensor columns must have all six.
     """
     return _read(path, lead, sensors=None)
+
+
+def read_desired(path: str | Path) -> np.ndarray | None:
+    """The desired attitude [rad] (N, 3) of a log that carries it (``alpha_des_deg`` …, as ``hipsim simulate`` writes);
+    None for a log without those columns (or with a cell that is no finite number)."""
+    _, columns, _ = _table(path)
+    if not all(name in columns for name in DESIRED_COLUMNS):
+        return None
+    desired = np.radians(np.stack([columns[name] for name in DESIRED_COLUMNS], axis=1))
+    return desired if np.all(np.isfinite(desired)) else None
 
 
 def read_carriage_log(path: str | Path, lead: float) -> tuple[np.ndarray, np.ndarray]:
