@@ -263,7 +263,6 @@ def _write_fig7(out: Path, t, q, sensors, log: str) -> None:
 
     from ..present.fig7 import Curve, plot_fig7
     from ..present.figures import save_figure
-
     from ..stations.logs import read_desired
 
     desired = read_desired(log)
