@@ -22,7 +22,13 @@ from .common import (
 from .feasible import add_strict_option
 from .mjcf import add_simulate_options, format_gaps
 from .motion_options import add_trajectory_options, load_trajectory
-from .simulate_machine import add_machine_loop_options, format_tracking, machine_loop_asked, run_machine_loop
+from .simulate_machine import (
+    add_machine_loop_options,
+    check_options,
+    format_tracking,
+    machine_loop_asked,
+    run_machine_loop,
+)
 
 __all__ = ["add_parser", "format_simulations", "run"]
 
@@ -145,6 +151,11 @@ def run(args) -> int:
         if getattr(args, option) is not None:
             args.overrides.append(f"control.{key}={getattr(args, option)!r}")
     params = parameters(args)
+    apart = _plant_and_model_apart(args, params)
+    if args.fig7 and not apart:
+        raise HipsimError("--fig7 draws both platforms of a run with --plant-params or --feedback; give one of them")
+    if apart:
+        check_options(args)  # each option in its range before any work
     if Path(args.out).is_dir():  # before the run, not after it
         raise HipsimError(f"--out {args.out} is a folder; give a CSV file name")
     if is_stdout(args.out) and args.controller == "both":
@@ -164,9 +175,6 @@ def run(args) -> int:
         mismatch = parse_mismatch(args.mismatch) if args.mismatch else {}
     except ArgumentError as error:  # the library names its argument; the user typed an option
         raise HipsimError(f"--mismatch: expected {error.expected}, got {error.value!r}") from None
-    apart = _plant_and_model_apart(args, params)
-    if args.fig7 and not apart:
-        raise HipsimError("--fig7 draws both platforms of a run with --plant-params or --feedback; give one of them")
     if apart:
         runs, written = run_machine_loop(args, params, desired_at, duration, mismatch)
         if args.summary_format == "json":

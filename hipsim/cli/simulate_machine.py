@@ -15,7 +15,14 @@ from typing import cast
 
 from ..exceptions import HipsimError
 
-__all__ = ["MACHINE_OPTIONS", "add_machine_loop_options", "format_tracking", "machine_loop_asked", "run_machine_loop"]
+__all__ = [
+    "MACHINE_OPTIONS",
+    "add_machine_loop_options",
+    "check_options",
+    "format_tracking",
+    "machine_loop_asked",
+    "run_machine_loop",
+]
 
 #: The options that make ``simulate`` run the plant and the model apart (their ``args`` names).
 MACHINE_OPTIONS = ("plant_params", "feedback", "encoder_step", "sensor_noise", "sensor_drift", "sensor_seed", "control")
