@@ -13,7 +13,7 @@ from hipsim.closed_chain.plant import PinocchioPlant
 from hipsim.control import chain_kernel
 from hipsim.control.controllers import AugmentedPD
 from hipsim.control.feedback import EncoderFeedback, SensorFeedback, encoder_reading
-from hipsim.control.machine_loop import ModelPD, check_plant, model_feedforward, run_machine
+from hipsim.control.machine_loop import ModelPD, check_plant, controlled_machine, model_feedforward, run_machine
 from hipsim.control.simulation import simulate
 from hipsim.control.tracking import MachineRun, error_columns
 from hipsim.exceptions import ArgumentError, ParameterError
@@ -40,8 +40,9 @@ def plant(built):
 
 
 def _run(plant, model, feedback, augmented=True, compiled=None):
-    ff = model_feedforward(model, 2, iso14242_at, model.control.servo_rate, DURATION) if augmented else None
-    return run_machine(plant, ModelPD(model, 2), feedback, iso14242_at, DURATION, feedforward=ff, compiled=compiled)
+    c = feedback.control
+    ff = model_feedforward(model, c, iso14242_at, model.control.servo_rate, DURATION) if augmented else None
+    return run_machine(plant, ModelPD(model, c), feedback, iso14242_at, DURATION, feedforward=ff, compiled=compiled)
 
 
 def test_encoders_round_to_their_step():
@@ -110,16 +111,20 @@ def test_a_per_chain_plant_agrees_with_the_stations(built, plant, drawing):
     assert 1e-3 < np.degrees(np.abs(run.errors[:, 1])).max() < 1.0
 
 
-def test_noiseless_sensor_tracks_as_on_the_drawing(drawing, built, plant):
-    """Sensor feedback, a model that is the machine: m_2 tracks as today's run on the drawing; m_1 as the stations say."""
-    run = _run(plant, built, SensorFeedback(2, noise=0.0, encoder_step=0.0))
+@pytest.mark.parametrize("control", [2, 1])
+def test_noiseless_sensor_tracks_as_on_the_drawing(drawing, built, control):
+    """Sensor feedback, a model that is the machine: the controlled platform tracks as today's run on the drawing;
+    the follower as the stations say for the carriages."""
+    plant = PinocchioPlant(controlled_machine(built, control))
+    run = _run(plant, controlled_machine(built, control), SensorFeedback(control, noise=0.0, encoder_step=0.0))
     today = simulate(
         PinocchioPlant(drawing), AugmentedPD(drawing, iso14242_at, 1000.0, DURATION), iso14242_at, DURATION
     )
-    assert np.degrees(np.abs(run.errors[:, 1] - today.err)).max() < 1e-4
-    follower = platform_attitude(built, run.carriages, 1, q0=run.desired.q[0], guess=run.desired.q)
-    assert np.degrees(np.abs((run.desired.q - follower) - run.errors[:, 0])).max() < 1e-9
-    assert np.degrees(np.abs(run.errors[:, 0])).max() > 0.01  # the follower carries the machine's deviation
+    c, f = control - 1, 2 - control
+    assert np.degrees(np.abs(run.errors[:, c] - today.err)).max() < 1e-4
+    follower = platform_attitude(built, run.carriages, f + 1, q0=run.desired.q[0], guess=run.desired.q)
+    assert np.degrees(np.abs((run.desired.q - follower) - run.errors[:, f])).max() < 1e-9
+    assert np.degrees(np.abs(run.errors[:, f])).max() > 0.01  # the follower carries the machine's deviation
 
 
 def test_the_drawing_as_plant_in_the_new_loop_is_todays_run(drawing):
@@ -144,6 +149,8 @@ def test_compiled_and_python_loops_are_one_arithmetic(drawing, plant, sensors):
 def test_the_loop_refuses_what_does_not_fit(drawing, plant):
     with pytest.raises(ArgumentError, match="feedback"):
         run_machine(plant, ModelPD(drawing, 2), SensorFeedback(1), iso14242_at, DURATION)
+    with pytest.raises(ArgumentError, match="controlled_machine"):
+        run_machine(plant, ModelPD(drawing, 1), SensorFeedback(1), iso14242_at, DURATION)
     with pytest.raises(ArgumentError, match="feedforward"):
         run_machine(plant, ModelPD(drawing, 2), SensorFeedback(2), iso14242_at, DURATION, feedforward=np.zeros((3, 3)))
 

@@ -170,6 +170,14 @@ def run_machine(
         )
     if feedback.control != controller.control:
         raise ArgumentError("feedback", feedback.control, f"the controller's platform {controller.control}")
+    geometry = plant.params.geometry
+    if geometry is not None and geometry.control != controller.control:  # its first state holds that platform
+        raise ArgumentError(
+            "plant",
+            f"a plant whose [geometry] control is {geometry.control}",
+            f"a plant built from controlled_machine(params, {controller.control}), whose first state holds the "
+            "controlled platform at the desired motion",
+        )
     substeps = math.ceil(period / step - 1e-9)
     h = period / substeps
     n = int(round(duration * servo_rate))
