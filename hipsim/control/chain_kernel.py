@@ -14,7 +14,11 @@ A platform is given by :func:`platform_arrays` as three arrays: its joints
 r⁰_ji in platform axes (3, 3), o_j − c_ji (3, 3) and its lever lengths (3,),
 all in [m]; on the drawing these are the drawing's, on a per-chain machine
 platform j's own (``Parameters.chains``), so whatever ``[geometry]`` holds
-reaches the loop through the same builder the stations use.
+reaches the loop through the same builder the stations use. That is the
+seam: a ``[geometry]`` feature that moves a platform's joints or centre in
+``Chains`` reaches the controller's model here, as it reaches the plants
+through the per-chain URDF; one that couples the two platforms (a platform's
+centre moving with the other's attitude) would need the other's attitude here.
 """
 
 from __future__ import annotations
