@@ -210,11 +210,10 @@ def _sliders(args, params, out: Path, table: Path) -> int:
         comparison = _sensor_comparison(args, params, t, q, sensors)
         document["sensors"] = comparison.to_json()
     provenance = page_provenance(args, log=args.sliders)
+    fig7 = None if sensors is None else _fig7(t, q, sensors, args.sliders)
     with output_folder(out):
         _write_table(table, columns)
-        files = write_stations(out, document, provenance=provenance)
-        if sensors is not None:
-            _write_fig7(out, t, q, sensors, args.sliders)
+        files = write_stations(out, document, provenance=provenance, fig7=fig7)
     if args.summary_format == "json":
         print_json(document | {"index": str(files.index), "provenance": provenance.as_dict()})
     else:
@@ -257,12 +256,11 @@ def _print_comparison(comparison) -> None:
     )
 
 
-def _write_fig7(out: Path, t, q, sensors, log: str) -> None:
+def _fig7(t, q, sensors, log: str):
     """Fig. 7 of the log: each platform measured (sensors) and predicted (carriages) on the three panels."""
     import numpy as np
 
     from ..present.fig7 import Curve, plot_fig7
-    from ..present.figures import save_figure
     from ..stations.logs import read_desired
 
     desired = read_desired(log)
@@ -273,7 +271,7 @@ def _write_fig7(out: Path, t, q, sensors, log: str) -> None:
         Curve("m_2 measured", np.degrees(sensors[:, 1]), "tab:red", "-"),
         Curve("m_2 predicted", np.degrees(q[:, 1]), "tab:red", "--"),
     ]
-    save_figure(plot_fig7(t, curves, f"Fig. 7 from {Path(log).name}"), out, "fig7")
+    return plot_fig7(t, curves, f"Fig. 7 from {Path(log).name}")
 
 
 def _tolerance(args, params, weights, out: Path) -> int:

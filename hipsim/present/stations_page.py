@@ -79,6 +79,7 @@ def write_stations(
     t: np.ndarray | None = None,
     errors_deg: np.ndarray | None = None,
     provenance: Provenance | None = None,
+    fig7=None,
 ) -> StationFiles:
     """Write ``stations.json``, ``index.html`` and, given the errors, the figure ``errors.png``/``.svg``, atomically.
 
@@ -89,6 +90,8 @@ def write_stations(
         t: sample times in [s] (N,) for the figure; None for no figure.
         errors_deg: each platform's errors in [deg] (N, 2, 3).
         provenance: the page's provenance block.
+        fig7: a log's Fig. 7 (:func:`hipsim.present.fig7.plot_fig7`), written as ``fig7.png``/``.svg`` and shown on
+            the page when there is no error figure; None for none.
     """
     from .provenance import provenance as make_provenance
 
@@ -103,6 +106,9 @@ def write_stations(
         if t is not None and errors_deg is not None:
             control = summary["control"] if summary else "2"
             figure = save_figure(plot_station_errors(t, errors_deg, control), out, "errors")
+        if fig7 is not None:
+            drawn = save_figure(fig7, out, "fig7")
+            figure = figure or drawn
         json_path = write_atomic(out / "stations.json", json.dumps(full, indent=2) + "\n")
         page = (
             environment()
