@@ -119,3 +119,13 @@ def test_a_calibrated_model_alone_drives_its_own_machine(files, tmp_path, capsys
     assert (entry["feedback"], entry["control"]) == ("encoders", 2)
     header = out.read_text().splitlines()[0].split(",")
     assert header[:4] == ["t_s", "L_11_mm", "L_12_mm", "L_13_mm"] and "err_gamma_2_deg" in header
+
+
+def test_fig7_of_a_run(tmp_path, capsys):
+    out = tmp_path / "run.csv"
+    argv = ["simulate", *SHORT, "--plant", "analytic", "--feedback", "sensors", "--fig7", "--out", str(out)]
+    assert main(argv) == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run.csv", "run_fig7.png", "run_fig7.svg"]
+    assert main(["simulate", *SHORT, "--plant", "analytic", "--fig7", "--out", str(tmp_path / "x.csv")]) == 2
+    assert "--fig7 draws both platforms of a run with --plant-params or --feedback" in capsys.readouterr().err
+    assert not (tmp_path / "x.csv").exists()
