@@ -126,6 +126,9 @@ def test_fig7_of_a_run(tmp_path, capsys):
     argv = ["simulate", *SHORT, "--plant", "analytic", "--feedback", "sensors", "--fig7", "--out", str(out)]
     assert main(argv) == 0
     assert sorted(p.name for p in tmp_path.iterdir()) == ["run.csv", "run_fig7.png", "run_fig7.svg"]
+    printed = capsys.readouterr().out
+    assert "ISO 14242-1 check of station 1's motion under pd (m_1, following)" in printed
+    assert "ISO 14242-1 check of station 2's motion under pd (m_2, controlled)" in printed
     assert main(["simulate", *SHORT, "--plant", "analytic", "--fig7", "--out", str(tmp_path / "x.csv")]) == 2
     assert "--fig7 draws both platforms of a run with --plant-params or --feedback" in capsys.readouterr().err
     assert not (tmp_path / "x.csv").exists()

@@ -28,6 +28,7 @@ from .simulate_machine import (
     format_tracking,
     machine_loop_asked,
     run_machine_loop,
+    station_verdicts,
 )
 
 __all__ = ["add_parser", "format_simulations", "run"]
@@ -190,6 +191,8 @@ def run(args) -> int:
         for name in written:
             print(f"wrote {name}", file=report)
         print(format_tracking(runs), file=report)
+        for line in station_verdicts(runs, tolerances, periodic=_repeats(args, trajectory)):
+            print(line, file=report)
         return 0
     if plant_entry(args.plant).warm_up:
         load_pinocchio_kernels()  # its initial state is closed before the first servo period

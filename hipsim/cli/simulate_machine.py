@@ -22,6 +22,7 @@ __all__ = [
     "format_tracking",
     "machine_loop_asked",
     "run_machine_loop",
+    "station_verdicts",
 ]
 
 #: The options that make ``simulate`` run the plant and the model apart (their ``args`` names).
@@ -272,3 +273,28 @@ def format_tracking(runs) -> str:
         )
     )
     return "\n".join(out)
+
+
+def station_verdicts(runs, tolerances, periodic: bool) -> list[str]:
+    """One ISO 14242-1 verdict line per run and station: the motion that platform truly went through, and its load."""
+    from ..exceptions import TrajectoryError
+    from ..motion.iso_compliance import iso_check
+
+    lines = []
+    for run in runs:
+        for j in (1, 2):
+            what = f"station {j}'s motion under {run.controller} (m_{j}, {'controlled' if j == run.control else 'following'})"
+            try:
+                check = iso_check(
+                    run.t, run.attitudes[:, j - 1], run.desired.Fe, tolerances, source=what, periodic=periodic
+                )
+            except TrajectoryError as error:
+                lines.append(f"ISO 14242-1 check of {what}: not made ({error})")
+                continue
+            verdict = "PASS" if check.passed else "FAIL: " + ", ".join(check.failing)
+            worst = ", ".join(f"{q} {check.worst(q):.3g}" for q in ("alpha", "beta", "gamma"))
+            lines.append(
+                f"ISO 14242-1 check of {what} ({len(check.cycles)} cycle(s)): {verdict} "
+                f"(worst deviation [°]: {worst}; tolerances assumed, see hipsim iso-check)"
+            )
+    return lines
