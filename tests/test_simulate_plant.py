@@ -132,3 +132,17 @@ def test_fig7_of_a_run(tmp_path, capsys):
     assert main(["simulate", *SHORT, "--plant", "analytic", "--fig7", "--out", str(tmp_path / "x.csv")]) == 2
     assert "--fig7 draws both platforms of a run with --plant-params or --feedback" in capsys.readouterr().err
     assert not (tmp_path / "x.csv").exists()
+
+
+def test_the_sensor_drift_and_encoder_step_in_their_units(tmp_path):
+    """--sensor-drift 6 deg/min: the controller sees 0.1°·t[s] above the truth; --encoder-step 0.01 mm: readings on 0.01 mm."""
+    out = tmp_path / "run.parquet"
+    argv = ["simulate", *SHORT, "--plant", "analytic", "--feedback", "sensors", "--sensor-noise", "0"]
+    assert main([*argv, "--sensor-drift", "6", "--encoder-step", "0.01", "--out", str(out)]) == 0
+    run = pq.read_table(out).to_pydict()
+    t = np.array(run["t_s"])
+    for a in ("alpha", "beta", "gamma"):
+        seen = np.array(run[f"{a}_meas_deg"]) - np.array(run[f"{a}_2_deg"])
+        assert seen == pytest.approx(0.1 * t, abs=1e-12)
+    L = np.array(run["L_12_mm"]) / 0.01
+    assert np.abs(L - np.rint(L)).max() < 1e-6 and np.ptp(L) > 1
