@@ -141,7 +141,13 @@ def run_machine_loop(args, model, desired_at, duration, mismatch: dict) -> tuple
             or an option out of its range (one line, before anything is written).
     """
     from ..analysis.registry import make_plant, plant_entry
-    from ..control.feedback import EncoderFeedback, Feedback, SensorFeedback
+    from ..control.feedback import (
+        DEFAULT_ENCODER_STEP,
+        DEFAULT_SENSOR_NOISE,
+        EncoderFeedback,
+        Feedback,
+        SensorFeedback,
+    )
     from ..control.machine_loop import (
         MachinePlant,
         ModelPD,
@@ -168,13 +174,13 @@ def run_machine_loop(args, model, desired_at, duration, mismatch: dict) -> tuple
     if plant_entry(args.plant).warm_up:
         load_pinocchio_kernels()
     plant = cast(MachinePlant, make_plant(args.plant, plant_params, integrator=args.mujoco_integrator))
-    step = (args.encoder_step if args.encoder_step is not None else 0.001) * 1e-3
+    step = DEFAULT_ENCODER_STEP if args.encoder_step is None else args.encoder_step * 1e-3
     chosen = ["pd", "augmented-pd"] if args.controller == "both" else [args.controller]
     runs = []
     feedback: Feedback
     for name in chosen:
         if args.feedback == "sensors":
-            noise = math.radians(0.05 if args.sensor_noise is None else args.sensor_noise)
+            noise = DEFAULT_SENSOR_NOISE if args.sensor_noise is None else math.radians(args.sensor_noise)
             drift = math.radians(args.sensor_drift or 0.0) / 60.0
             feedback = SensorFeedback(control, noise, drift, args.sensor_seed or 0, step)
         else:
