@@ -1,0 +1,231 @@
+"""``hipsim wear --weighings FILE`` / ``--test DIR``: a wear test's gravimetric result per station, its wear factors
+fitted, its wear predicted over the motion each station had, and the test's report (the guide's page "A wear test's
+report"). The options are declared in :mod:`hipsim.cli.wear`; their ranges are checked here, where they enter.
+"""
+
+from __future__ import annotations
+
+import math
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+from ..exceptions import HipsimError
+
+__all__ = ["run_test"]
+
+#: A test folder's files, by role (each used when present and not given by its option).
+TEST_FILES = {
+    "weighings": "weighings.csv",
+    "stations": "stations.csv",
+    "snapshots": "snapshots",
+    "params": "params.toml",
+    "friction": "friction.csv",
+}
+
+
+def _test_folder(args, notes: list[str]) -> None:
+    """Fill the options a test folder's files stand for (module constants), noting each file taken."""
+    if not args.test:
+        return
+    folder = Path(args.test)
+    if not folder.is_dir():
+        raise HipsimError(f"--test: {folder} is not a folder")
+    found = {role: folder / name for role, name in TEST_FILES.items() if (folder / name).exists()}
+    if args.weighings is None:
+        if "weighings" not in found:
+            raise HipsimError(f"--test: {folder} has no {TEST_FILES['weighings']} (or give --weighings)")
+        args.weighings = str(found["weighings"])
+    if args.params is None and "params" in found:
+        args.params = str(found["params"])
+    if args.friction is None and "friction" in found:
+        args.friction = str(found["friction"])
+    if not args.snapshots and not args.station:
+        if "snapshots" in found:
+            args.snapshots = [str(found["snapshots"])]
+        elif "stations" in found:
+            args.station = [f"{j}={found['stations']}:{j}" for j in ("1", "2")]
+            notes.append(f"{found['stations']}: stations named 1 and 2 take its platforms 1 and 2")
+    if args.report is None:
+        args.report = str(folder / "report")
+    notes.append("test folder " + str(folder) + ": " + ", ".join(str(path.name) for path in found.values()))
+
+
+def _checked(args) -> int | None:
+    """--from and --workers checked at entry (one line each)."""
+    from .wear import WORKERS_RANGE
+
+    low, high = WORKERS_RANGE
+    if args.workers is not None and not low <= args.workers <= high:
+        raise HipsimError(f"--workers: expected a whole number of worker processes in [{low}, {high}], got {args.workers}")
+    if args.from_cycle is None:
+        return None
+    c = args.from_cycle
+    if not (math.isfinite(c) and c >= 0 and c == round(c)):
+        raise HipsimError(f"--from: expected a cycle, a whole number ≥ 0, got {c:g}")
+    return int(c)
+
+
+def _given(args):
+    from ..wear.factors import ForceTrackFactor
+    from ..wear.laws import WearFactor
+    from ..wear.test_result import GivenFactor
+    from .wear import _law
+
+    if args.wear_law or args.area_law is not None:
+        raise HipsimError(
+            "with --weighings a law is given as --wear-factor K:KIND; the fitted k(CS) table is written for --wear-law"
+        )
+    law = _law(args)
+    if isinstance(law, WearFactor):
+        return GivenFactor(law.k, "local")
+    if isinstance(law, ForceTrackFactor):
+        return GivenFactor(law.k, "force-track")
+    return None
+
+
+def _integrals(args, spec, setup, points):
+    from ..wear import wear_maps
+    from ..wear.factors import motion_integrals
+    from .wear import read_motion
+
+    motion, cycle_time, _, path, notes = read_motion(args, spec)
+    return motion_integrals(wear_maps(motion, cycle_time, setup, points)), path, notes
+
+
+def _snapshot_task(task):
+    """One snapshot's per-cycle integrals per station load column (a worker's job; top level to be picklable)."""
+    from ..motion.trajectories import Trajectory
+    from ..rig.monitoring.snapshot_log import read_snapshot
+    from ..wear import wear_maps
+    from ..wear.accumulate import whole_cycles
+    from ..wear.factors import motion_integrals
+
+    snapshot, params, torque_constant, js, setup, points = task
+    read = read_snapshot(snapshot, params, torque_constant)
+    trajectory = read.log.trajectory.slice(read.log.usable)
+    cycle = float(read.cycles.mean())
+    out = {}
+    for j in js:
+        t = trajectory
+        if j and read.loads is not None:
+            loads = read.loads[read.log.usable, int(j) - 1] if len(read.loads) == len(read.log.trajectory) else None
+            if loads is not None:
+                t = Trajectory(t.t, t.q, t.qd, t.qdd, loads, f"{t.name}:Fe_{j}_N")
+        whole, cycle_time = whole_cycles(t)
+        out[j] = motion_integrals(wear_maps(whole, cycle_time, setup, points))
+    return cycle, snapshot.path, snapshot.sha256, out
+
+
+def _exposures(args, gravimetry, setup, points, notes: list[str], inputs: dict):
+    """Per station its Exposure (snapshots, a source per station, or the built-in cycle)."""
+    import numpy as np
+
+    from ..wear.accumulate import Exposure, snapshot_intervals
+
+    names = [rate.station for rate in gravimetry.stations]
+    first = min(rate.cycles[0] for rate in gravimetry.stations)
+    last = max(rate.cycles[-1] for rate in gravimetry.stations)
+    specs: dict[str, str] = {}
+    for text in args.station or ():
+        name, sep, spec = text.partition("=")
+        if not sep or not name or not spec:
+            raise HipsimError(f"--station: expected NAME=SOURCE, got '{text}'")
+        if name not in names:
+            raise HipsimError(f"--station: no station '{name}' in the weighings (stations: {', '.join(names)})")
+        specs[name] = spec
+    if args.snapshots:
+        for k, name in enumerate(names):
+            specs.setdefault(name, f"snapshots:{k + 1}" if k < 2 else "snapshots")
+    exposures = {}
+    snapshot_js = {name: spec.partition(":")[2] for name, spec in specs.items() if spec.split(":")[0] == "snapshots"}
+    if snapshot_js:
+        if not args.snapshots:
+            raise HipsimError("--station NAME=snapshots: give the snapshots with --snapshots")
+        cycles, motions = _snapshot_motions(args, setup, points, sorted(set(snapshot_js.values())), inputs)
+        boundaries = snapshot_intervals(np.array(cycles), first, last)
+        for name, j in snapshot_js.items():
+            what = f"the monitor's {len(cycles)} snapshots" + (f", load Fe_{j}_N" if j else ", load Fe_N")
+            exposures[name] = Exposure(name, boundaries, tuple(m[j] for m in motions), what)
+        notes.append(
+            f"each snapshot's motion stands for the cycles from the midpoint with the one before to the midpoint with "
+            f"the one after ({len(cycles)} snapshots, cycles {cycles[0]:.0f} to {cycles[-1]:.0f})"
+        )
+    for name in names:
+        if name in exposures:
+            continue
+        spec = specs.get(name, "iso")
+        integrals, path, more = _integrals(args, spec, setup, points)
+        notes += [f"station {name}: {note}" for note in more]
+        if path:
+            inputs[f"motion of station {name}"] = path
+        if name not in specs:
+            notes.append(f"station {name}: no motion given, the built-in ISO cycle taken (--station NAME=SOURCE)")
+        exposures[name] = Exposure(name, np.array([first, max(last, first + 1)], dtype=float), (integrals,), spec)
+    return exposures
+
+
+def _snapshot_motions(args, setup, points, js, inputs):
+    from ..rig.monitoring.snapshots import find_snapshots
+    from .common import parameters
+
+    if args.params is None:
+        raise HipsimError("--snapshots: give --params (the machine whose encoders the logs read)")
+    params = parameters(args)
+    found, skipped = find_snapshots(args.snapshots, torque_constant=args.torque_constant)
+    if skipped:
+        raise HipsimError(f"--snapshots: {skipped[0].path} is still being written")
+    if not found:
+        raise HipsimError("--snapshots: no snapshot found")
+    tasks = [(snapshot, params, args.torque_constant, js, setup, points) for snapshot in found]
+    workers = args.workers or 1
+    if workers > 1:
+        with ProcessPoolExecutor(max_workers=workers) as pool:
+            results = list(pool.map(_snapshot_task, tasks))
+    else:
+        results = [_snapshot_task(task) for task in tasks]
+    results.sort(key=lambda r: r[0])
+    inputs["snapshots"] = [path for _, path, _, _ in results]
+    return [r[0] for r in results], [r[3] for r in results]
+
+
+def run_test(args, setup, points) -> int:
+    """The test's result: table (--out), summary, and page (--report)."""
+    from ..files import check_folder, check_output
+    from ..motion.sources import CycleSource
+    from ..present.pages import require_pdf_renderer
+    from ..wear import wear_maps
+    from ..wear.factors import motion_integrals
+    from ..wear.gravimetric import gravimetry
+    from ..wear.test_result import wear_test
+    from ..wear.weighings import read_weighings
+    from .wear_test_output import context, print_result, write_outputs
+
+    notes: list[str] = []
+    _test_folder(args, notes)
+    if args.compare:
+        raise HipsimError("--compare and --weighings: give one")
+    from_cycle = _checked(args)
+    given = _given(args)
+    check_output(args.out)
+    if args.report:
+        check_folder(Path(args.report))
+    if args.pdf:
+        if not args.report:
+            raise HipsimError("--pdf prints the page: give --report DIR")
+        require_pdf_renderer()
+    result_gravimetry = gravimetry(read_weighings(args.weighings), args.density, from_cycle)
+    inputs: dict = {"weighings": args.weighings, "friction": args.friction}
+    exposures = _exposures(args, result_gravimetry, setup, points, notes, inputs)
+    reference = motion_integrals(wear_maps(CycleSource(1000.0, 1, 1.0), 1.0, setup, points))
+    result = wear_test(result_gravimetry, exposures, given, reference)
+    for rate in result_gravimetry.stations:
+        if rate.bedding_in == "detected":
+            notes.append(
+                f"station {rate.station}: bedding-in found up to cycle {rate.from_cycle} "
+                f"({rate.bedding_in_rate_mg_per_Mc:.3g} mg/Mc before it); the rate is fitted from there (--from says otherwise)"
+            )
+        notes += [outlier.describe() for outlier in rate.outliers]
+    stations_context = context(args, result)
+    written = write_outputs(args, result, stations_context, notes, inputs)
+    print_result(args, result, stations_context, notes, written)
+    return 0
