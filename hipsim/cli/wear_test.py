@@ -92,6 +92,13 @@ def _integrals(args, spec, setup, points):
     return motion_integrals(wear_maps(motion, cycle_time, setup, points)), path, notes
 
 
+def _machine(path: str, overrides: tuple[str, ...]):
+    """The parameter set from its file and --set overrides (a worker loads its own: a Parameters does not pickle)."""
+    from ..machine.parameters import load_parameters, parse_override
+
+    return load_parameters(path, dict(parse_override(text, source="--set") for text in overrides), overrides_source="--set")
+
+
 def _snapshot_task(task):
     """One snapshot's per-cycle integrals per station load column (a worker's job; top level to be picklable)."""
     from ..motion.trajectories import Trajectory
@@ -100,7 +107,8 @@ def _snapshot_task(task):
     from ..wear.accumulate import whole_cycles
     from ..wear.factors import motion_integrals
 
-    snapshot, params, torque_constant, js, setup, points = task
+    snapshot, machine, torque_constant, js, setup, points = task
+    params = _machine(*machine)
     read = read_snapshot(snapshot, params, torque_constant)
     trajectory = read.log.trajectory.slice(read.log.usable)
     cycle = float(read.cycles.mean())
@@ -170,13 +178,14 @@ def _snapshot_motions(args, setup, points, js, inputs):
 
     if args.params is None:
         raise HipsimError("--snapshots: give --params (the machine whose encoders the logs read)")
-    params = parameters(args)
+    parameters(args)  # checked here, once, with its warnings; each worker loads its own
+    machine = (args.params, tuple(args.overrides))
     found, skipped = find_snapshots(args.snapshots, torque_constant=args.torque_constant)
     if skipped:
         raise HipsimError(f"--snapshots: {skipped[0].path} is still being written")
     if not found:
         raise HipsimError("--snapshots: no snapshot found")
-    tasks = [(snapshot, params, args.torque_constant, js, setup, points) for snapshot in found]
+    tasks = [(snapshot, machine, args.torque_constant, js, setup, points) for snapshot in found]
     workers = args.workers or 1
     if workers > 1:
         with ProcessPoolExecutor(max_workers=workers) as pool:

@@ -108,7 +108,7 @@ def write_outputs(args, result, contexts, notes, inputs) -> dict:
 
 def _ci(pair) -> str:
     low, high = pair
-    return "–" if not (math.isfinite(low) and math.isfinite(high)) else f"[{low:.3g}, {high:.3g}]"
+    return "–" if not (math.isfinite(low) and math.isfinite(high)) else f"[{low:.4g}, {high:.4g}]"
 
 
 def format_result(result, contexts, notes) -> str:

@@ -1,0 +1,142 @@
+"""A simulated wear test, made by its own route (the truth written down, not computed by the code under test).
+
+Two stations on one machine share its motion (the built-in ISO 14242-1
+cycle) and carry their own loads: station 1 the ISO load times s₁(c), station
+2 times s₂(c), which steps up half-way through the test (a change the
+snapshots record). Each wears V = k_j·I(c) with I the sum over cycles of the
+local integral ΣW·dA: the ISO cycle's ``I0`` (N·m per cycle at load scale 1,
+the guide's value; the work is linear in the load) times the load scale. Plus
+bedding-in (an extra volume worn over the first 0.5 Mc), fluid uptake by each
+cup equal to its own soak control's (different per station), and balance
+noise on every reading. The snapshots (rig logs with the cycle counter, the
+motor torques of the analytic model, angles and loads with noise) are what
+``hipsim monitor`` reads.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+import hipsim
+
+__all__ = ["I0_LOCAL", "I0_TRACK", "TRUTH", "Truth", "write_simulated_test"]
+
+#: The built-in ISO cycle's ΣW·dA and ∫F ds per cycle in [N·m], 28 mm head (docs/guide/wear.md).
+I0_LOCAL = 36.5075
+I0_TRACK = 28.2980
+
+
+@dataclass(frozen=True)
+class Truth:
+    """The simulated test's truth: per station its local k in [mm³/(N·m)], load scale before and after
+    ``step_cycle``, bedding-in volume in [mm³], soak uptake in [mg] (saturating with ``soak_cycles``)."""
+
+    k: tuple[float, float] = (4.0e-7, 5.5e-7)
+    scale_before: tuple[float, float] = (1.0, 1.1)
+    scale_after: tuple[float, float] = (1.0, 1.3)
+    step_cycle: float = 2_500_000
+    bedding_mm3: tuple[float, float] = (2.0, 1.0)
+    soak_mg: tuple[float, float] = (3.0, 1.5)
+    soak_cycles: tuple[float, float] = (0.8e6, 1.5e6)
+    density: float = 0.935
+    noise_mg: float = 0.05
+
+    def scale(self, j: int, cycle: float) -> float:
+        return (self.scale_before if cycle < self.step_cycle else self.scale_after)[j]
+
+    def exposure(self, j: int, cycle: float) -> float:
+        """Σ over cycles 0 … cycle of ΣW·dA in [N·m]."""
+        before = min(cycle, self.step_cycle)
+        after = max(cycle - self.step_cycle, 0.0)
+        return I0_LOCAL * (self.scale_before[j] * before + self.scale_after[j] * after)
+
+    def volume(self, j: int, cycle: float) -> float:
+        """The volume worn by station j by ``cycle`` in [mm³]."""
+        return self.k[j] * self.exposure(j, cycle) + self.bedding_mm3[j] * min(cycle / 0.5e6, 1.0)
+
+    def uptake(self, j: int, cycle: float) -> float:
+        return self.soak_mg[j] * (1.0 - math.exp(-cycle / self.soak_cycles[j]))
+
+    def rate(self, j: int, c0: float, c1: float) -> float:
+        """The true mean rate from c0 to c1 in [mm³/Mc] (the steady state's, after bedding-in)."""
+        return (self.volume(j, c1) - self.volume(j, c0)) / (c1 - c0) * 1e6
+
+
+TRUTH = Truth()
+
+
+def write_weighings(path: Path, truth: Truth, stops: np.ndarray, rng) -> Path:
+    lines = ["# simulated weighings: masses in mg, each cup's own soak control", "cycle,station,mass_mg"]
+    for c in stops:
+        for j in (0, 1):
+            uptake = truth.uptake(j, c)
+            cup = 30_000.0 + 500 * j - truth.density * truth.volume(j, c) + uptake + rng.normal(0, truth.noise_mg)
+            soak = 29_800.0 + 500 * j + uptake + rng.normal(0, truth.noise_mg)
+            lines += [f"{int(c)},{j + 1},{cup:.3f}", f"{int(c)},soak_{j + 1},{soak:.3f}"]
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path
+
+
+def write_snapshots(folder: Path, truth: Truth, cycles: np.ndarray, rng, rate: float = 250.0) -> list[Path]:
+    """One rig log of 3 ISO cycles per snapshot cycle: torques (analytic model), angles (0.003° noise), loads."""
+    folder.mkdir(parents=True, exist_ok=True)
+    params = hipsim.load_parameters()
+    trajectory = hipsim.iso14242(rate=rate, cycles=3)
+    tau = hipsim.analyse(params, trajectory, lever_spin=True).torques.total * 1e3
+    paths = []
+    for c in cycles:
+        loads = [trajectory.Fe * truth.scale(j, c) for j in (0, 1)]
+        columns = {
+            "t_s": trajectory.t,
+            "cycle": c + np.floor(trajectory.t).astype(int),
+            "Fe_N": 0.5 * (loads[0] + loads[1]),
+            "Fe_1_N": loads[0],
+            "Fe_2_N": loads[1],
+        }
+        noisy = tau + rng.normal(0.0, 3.0, tau.shape)
+        columns |= {f"tau_{i + 1}_Nmm": noisy[:, i] for i in range(3)}
+        angles = np.degrees(trajectory.q) + rng.normal(0.0, 0.003, trajectory.q.shape)
+        columns |= {f"{name}_deg": angles[:, k] for k, name in enumerate(("alpha", "beta", "gamma"))}
+        names = list(columns)
+        rows = np.column_stack([columns[name] for name in names])
+        path = folder / f"snap_{int(c):08d}.csv"
+        with open(path, "w", encoding="utf-8") as stream:
+            stream.write(",".join(names) + "\n")
+            for row in rows:
+                stream.write(",".join(f"{v:.0f}" if n == "cycle" else f"{v:.10g}" for n, v in zip(names, row)) + "\n")
+        paths.append(path)
+    return paths
+
+
+def write_identified(path: Path) -> Path:
+    """The published machine as an identified file (the monitor's requirement; the wear needs only the encoders)."""
+    published = Path(hipsim.load_parameters().source).read_text(encoding="utf-8")
+    path.write_text(
+        "# Identified by hipsim identify: a parameter file every hipsim command accepts (--params).\n"
+        "# Model: analytic, lever spin on; regressor condition number 10.\n\n" + published,
+        encoding="utf-8",
+    )
+    return path
+
+
+def write_simulated_test(
+    folder: Path,
+    truth: Truth = TRUTH,
+    stops: np.ndarray | None = None,
+    snapshots: np.ndarray | None = None,
+    seed: int = 11,
+    rate: float = 250.0,
+) -> Path:
+    """A test folder: weighings.csv, snapshots/, params.toml (the layout ``hipsim wear --test`` reads)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    rng = np.random.default_rng(seed)
+    stops = np.arange(0, 5_000_001, 500_000) if stops is None else stops
+    snapshots = np.arange(0, 5_000_000, 250_000) if snapshots is None else snapshots
+    write_weighings(folder / "weighings.csv", truth, stops, rng)
+    write_snapshots(folder / "snapshots", truth, snapshots, rng, rate)
+    write_identified(folder / "params.toml")
+    return folder
