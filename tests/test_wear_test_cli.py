@@ -1,0 +1,117 @@
+"""hipsim wear --weighings / --test: a simulated test through the command (rates, fitted k, report, provenance),
+motions per station from a stations output, and bad input refused in one line with nothing written."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from wear_test_synthetic import I0_LOCAL, TRUTH, write_simulated_test
+
+from hipsim.cli.main import main
+
+GRID = "12x24"
+
+
+def _run(capsys, *words):
+    status = main(["wear", "--grid", GRID, *map(str, words)])
+    captured = capsys.readouterr()
+    return status, captured.out, captured.err
+
+
+@pytest.fixture(scope="module")
+def test_folder(tmp_path_factory):
+    """Stops every 0.5 Mc to 2 Mc, three snapshots: station 2's load steps up at 1 Mc."""
+    truth = TRUTH.__class__(step_cycle=1_000_000)
+    folder = write_simulated_test(
+        tmp_path_factory.mktemp("wear_test") / "test",
+        truth,
+        stops=np.arange(0, 2_000_001, 500_000),
+        snapshots=np.array([0, 750_000, 1_500_000]),
+    )
+    return folder, truth
+
+
+def test_a_simulated_test_through_the_report(test_folder, tmp_path, capsys):
+    folder, truth = test_folder
+    report = tmp_path / "report"
+    status, text, err = _run(
+        capsys, "--test", folder, "--report", report, "--out", tmp_path / "stops.csv", "--summary-format", "json",
+        "--wear-factor", "4e-7:local", "--from", "500000",
+    )
+    assert status == 0, err
+    result = json.loads(text)
+    assert result["verdict"] == "DIFFERENT" and result["wear_factor"] == {"k_mm3_per_Nm": 4e-7, "kind": "local"}
+    assert result["density_mg_per_mm3"] == 0.935 and "default" in result["density"]
+    one, two = result["stations"]["1"], result["stations"]["2"]
+    # station 1: load scale 1 throughout, k = 4e-7: 4e-7·I0·1e6 mm³/Mc from 0.5 Mc on (bedding-in before)
+    assert one["wear_rate_mm3_per_Mc"] == pytest.approx(truth.rate(0, 500_000, 2_000_000), rel=0.01)
+    assert one["fitted"]["k_local_mm3_per_Nm"] == pytest.approx(4e-7, rel=0.01)
+    assert one["predicted_mm3_per_Mc"] == pytest.approx(4e-7 * I0_LOCAL * 1e6, rel=0.01)
+    assert two["fitted"]["k_local_mm3_per_Nm"] == pytest.approx(truth.k[1], rel=0.03)
+    low, high = two["wear_rate_ci95_mm3_per_Mc"]
+    assert low < two["wear_rate_mm3_per_Mc"] < high
+    assert two["wear_rate_mg_per_Mc"] == pytest.approx(0.935 * two["wear_rate_mm3_per_Mc"], rel=1e-12)
+    # the load steps from 1.1 to 1.3 at 1 Mc: the snapshots at 0.75 and 1.5 Mc carry it (boundary 1.125 Mc)
+    rows = two["intervals"]
+    assert rows[-1]["predicted_mm3"] > rows[0]["predicted_mm3"] * 1.1
+    document = json.loads((report / "wear_test.json").read_text())
+    roles = {item["role"]: item for item in document["provenance"]["inputs"]}
+    assert len(roles["weighings"]["sha256"]) == 64 and any(role.startswith("snapshots") for role in roles)
+    assert document["provenance"]["parameters"] is not None
+    page = (report / "index.html").read_text()
+    assert page.index("DIFFERENT") < page.index("Per station") and "local" in page
+    stops = (tmp_path / "stops.csv").read_text().splitlines()
+    assert stops[0] == "station,cycle,loss_mg,volume_mm3,predicted_mm3" and len(stops) == 1 + 2 * 5
+
+
+def test_station_motions_from_a_stations_output(tmp_path, capsys):
+    """Each station its platform of a stations output: its k from its own motion, the motion error in the summary."""
+    assert main(["stations", "--out", str(tmp_path / "st"), "--summary-format", "json"]) == 0
+    capsys.readouterr()
+    weighings = tmp_path / "w.csv"
+    weighings.write_text(
+        "cycle,station,mass_mg,soak_mg\n"
+        + "".join(f"{c},{s},{30000 - r * c / 1e6:.4f},{29000 + 0.1 * c / 1e6:.4f}\n" for c in range(0, 2_000_001, 500_000) for s, r in (("1", 10.0), ("2", 12.0)))
+    )
+    stations = tmp_path / "st" / "stations.csv"
+    status, text, err = _run(
+        capsys, "--weighings", weighings, "--station", f"1={stations}:1", "--station", f"2={stations}:2",
+        "--density", "0.94", "--summary-format", "json", "--out", tmp_path / "t.csv",
+    )
+    assert status == 0, err
+    result = json.loads(text)
+    one = result["stations"]["1"]
+    # the soak control gains 0.1 mg/Mc and the cups are written without uptake: the corrected loss is (r + 0.1)·c
+    assert one["wear_rate_mg_per_Mc"] == pytest.approx(10.1, rel=1e-9)
+    assert one["wear_rate_mm3_per_Mc"] == pytest.approx(10.1 / 0.94, rel=1e-9)
+    assert one["motion_error"]["rms_deg"] == pytest.approx([0.0, 0.0, 0.0], abs=1e-9)
+    integrals = one["fitted"]["motion"]
+    assert one["fitted"]["k_local_mm3_per_Nm"] == pytest.approx(10.1 / 0.94 / (integrals["load_slide_integral_Nm"] * 1e6))
+    assert one["fitted"]["k_force_track_mm3_per_Nm"] == pytest.approx(10.1 / 0.94 / (integrals["force_track_load_Nm"] * 1e6))
+
+
+GOOD = "cycle,station,mass_mg\n0,1,30000\n0,soak,29000\n500000,1,29990\n500000,soak,29000.5\n1000000,1,29981\n1000000,soak,29000.7\n"
+
+
+@pytest.mark.parametrize(
+    ("text", "words", "message"),
+    [
+        (GOOD.replace("500000,1,29990", "1500000,1,29990"), (), "weighings out of order"),
+        (GOOD.replace("soak", "spare"), (), "station 1 has no soak control"),
+        (GOOD, ("--density=-0.9",), "--density: expected a density in (0, 25] mg/mm³, got -0.9"),
+        (GOOD.replace("29990", "29.990"), (), "a change larger than the cup weighs"),
+        (GOOD, ("--from", "0.5"), "--from: expected a cycle, a whole number ≥ 0"),
+        (GOOD, ("--wear-factor", "4e-7"), "a value without its kind is ambiguous"),
+        (GOOD, ("--workers", "0"), "--workers: expected a whole number of worker processes in [1, 64]"),
+        (GOOD, ("--station", "3=iso"), "--station: no station '3' in the weighings"),
+    ],
+)
+def test_bad_input_one_line_nothing_written(tmp_path, capsys, text, words, message):
+    weighings = tmp_path / "w.csv"
+    weighings.write_text(text)
+    out, report = tmp_path / "t.csv", tmp_path / "report"
+    status, _, err = _run(capsys, "--weighings", weighings, *words, "--out", out, "--report", report)
+    assert status == 2 and message in err and len(err.strip().splitlines()) == 1, err
+    assert not out.exists() and not report.exists()
