@@ -1201,7 +1201,16 @@ def bench_wear_test(quick: bool) -> None:
         def run(workers: int) -> float:
             start = time.perf_counter()
             subprocess.run(
-                [hipsim_cli, "wear", "--test", str(test), "--workers", str(workers), "--out", str(Path(folder) / "t.csv")],
+                [
+                    hipsim_cli,
+                    "wear",
+                    "--test",
+                    str(test),
+                    "--workers",
+                    str(workers),
+                    "--out",
+                    str(Path(folder) / "t.csv"),
+                ],
                 check=True,
                 capture_output=True,
             )

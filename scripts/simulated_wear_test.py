@@ -33,7 +33,18 @@ def main() -> None:
     hipsim = str(Path(sys.executable).parent / "hipsim")
     start = time.perf_counter()
     run = subprocess.run(
-        [hipsim, "wear", "--test", str(folder), "--workers", "2", "--summary-format", "json", "--out", str(folder / "stops.csv")],
+        [
+            hipsim,
+            "wear",
+            "--test",
+            str(folder),
+            "--workers",
+            "2",
+            "--summary-format",
+            "json",
+            "--out",
+            str(folder / "stops.csv"),
+        ],
         capture_output=True,
         text=True,
         check=True,
@@ -57,9 +68,7 @@ def main() -> None:
             f"({100 * (k / TRUTH.k[j] - 1):+.2f} %); k force-track {s['fitted']['k_force_track_mm3_per_Nm']:.4g}"
         )
         errors = [row["predicted_mm3"] - row["measured_mm3"] for row in s["intervals"]]
-        print(
-            "  predicted − measured per 0.5 Mc interval [mm³]: " + ", ".join(f"{e:+.2f}" for e in errors)
-        )
+        print("  predicted − measured per 0.5 Mc interval [mm³]: " + ", ".join(f"{e:+.2f}" for e in errors))
     d = result["differences"][0]
     truth_difference = TRUTH.rate(1, result["stations"]["2"]["from_cycle"], 5e6) - TRUTH.rate(
         0, result["stations"]["1"]["from_cycle"], 5e6

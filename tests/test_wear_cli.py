@@ -67,7 +67,15 @@ def test_a_stations_platform_is_read_and_matches_the_motion_it_holds(stations, t
     """Platform 2 holds the ISO cycle: its numbers are the built-in cycle's (to the file's spline)."""
     out = tmp_path / "p2.csv"
     status, text, _ = _run(
-        capsys, "--trajectory", f"{stations[0]}:2", "--wear-factor", "8e-8:local", "--out", out, "--summary-format", "json"
+        capsys,
+        "--trajectory",
+        f"{stations[0]}:2",
+        "--wear-factor",
+        "8e-8:local",
+        "--out",
+        out,
+        "--summary-format",
+        "json",
     )
     assert status == 0
     summary = json.loads(text)
@@ -242,7 +250,9 @@ def test_a_wear_law_table_scales_with_cross_shear(tmp_path, capsys):
     law = tmp_path / "law.csv"
     law.write_text("cross_shear,k_mm3_per_Nm\n0,1e-7\n0.5,1e-7\n")
     _, table_law, _ = _run(capsys, "--wear-law", law, "--summary-format", "json", "--out", tmp_path / "a.csv")
-    _, constant, _ = _run(capsys, "--wear-factor", "1e-7:local", "--summary-format", "json", "--out", tmp_path / "b.csv")
+    _, constant, _ = _run(
+        capsys, "--wear-factor", "1e-7:local", "--summary-format", "json", "--out", tmp_path / "b.csv"
+    )
     assert json.loads(table_law)["wear_mm3_per_Mc"] == pytest.approx(json.loads(constant)["wear_mm3_per_Mc"], rel=1e-12)
     points = tmp_path / "points.csv"
     points.write_text("x,y,z\n0,0,1\n0.6,0,0.8\n")

@@ -185,7 +185,9 @@ def test_exposure_over_intervals_by_hand():
     assert exposure.integral("force-track", 0.0, 3e6) == pytest.approx((0.5e6 * 10 + 1e6 * 20 + 1.5e6 * 40) / 2)
     assert exposure.integral("local", -1e6, 0.0) == pytest.approx(1e6 * 10)  # before the first: the first's motion
     rows = interval_table("1", (0, 1_000_000, 3_000_000), (0.0, 1.0, 5.0), exposure, 1e-7, "local")
-    assert [r.predicted_mm3 for r in rows] == pytest.approx([1e-7 * (0.5e6 * 10 + 0.5e6 * 20), 1e-7 * (0.5e6 * 20 + 1.5e6 * 40)])
+    assert [r.predicted_mm3 for r in rows] == pytest.approx(
+        [1e-7 * (0.5e6 * 10 + 0.5e6 * 20), 1e-7 * (0.5e6 * 20 + 1.5e6 * 40)]
+    )
     assert [r.measured_mm3 for r in rows] == pytest.approx([1.0, 4.0])
     assert exposure.mean(0.0, 3e6).load_slide_integral_Nm == pytest.approx(exposure.integral("local", 0.0, 3e6) / 3e6)
 

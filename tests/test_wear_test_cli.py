@@ -37,8 +37,19 @@ def test_a_simulated_test_through_the_report(test_folder, tmp_path, capsys):
     folder, truth = test_folder
     report = tmp_path / "report"
     status, text, err = _run(
-        capsys, "--test", folder, "--report", report, "--out", tmp_path / "stops.csv", "--summary-format", "json",
-        "--wear-factor", "4e-7:local", "--from", "500000",
+        capsys,
+        "--test",
+        folder,
+        "--report",
+        report,
+        "--out",
+        tmp_path / "stops.csv",
+        "--summary-format",
+        "json",
+        "--wear-factor",
+        "4e-7:local",
+        "--from",
+        "500000",
     )
     assert status == 0, err
     result = json.loads(text)
@@ -73,12 +84,27 @@ def test_station_motions_from_a_stations_output(tmp_path, capsys):
     weighings = tmp_path / "w.csv"
     weighings.write_text(
         "cycle,station,mass_mg,soak_mg\n"
-        + "".join(f"{c},{s},{30000 - r * c / 1e6:.4f},{29000 + 0.1 * c / 1e6:.4f}\n" for c in range(0, 2_000_001, 500_000) for s, r in (("1", 10.0), ("2", 12.0)))
+        + "".join(
+            f"{c},{s},{30000 - r * c / 1e6:.4f},{29000 + 0.1 * c / 1e6:.4f}\n"
+            for c in range(0, 2_000_001, 500_000)
+            for s, r in (("1", 10.0), ("2", 12.0))
+        )
     )
     stations = tmp_path / "st" / "stations.csv"
     status, text, err = _run(
-        capsys, "--weighings", weighings, "--station", f"1={stations}:1", "--station", f"2={stations}:2",
-        "--density", "0.94", "--summary-format", "json", "--out", tmp_path / "t.csv",
+        capsys,
+        "--weighings",
+        weighings,
+        "--station",
+        f"1={stations}:1",
+        "--station",
+        f"2={stations}:2",
+        "--density",
+        "0.94",
+        "--summary-format",
+        "json",
+        "--out",
+        tmp_path / "t.csv",
     )
     assert status == 0, err
     result = json.loads(text)
@@ -88,8 +114,12 @@ def test_station_motions_from_a_stations_output(tmp_path, capsys):
     assert one["wear_rate_mm3_per_Mc"] == pytest.approx(10.1 / 0.94, rel=1e-9)
     assert one["motion_error"]["rms_deg"] == pytest.approx([0.0, 0.0, 0.0], abs=1e-9)
     integrals = one["fitted"]["motion"]
-    assert one["fitted"]["k_local_mm3_per_Nm"] == pytest.approx(10.1 / 0.94 / (integrals["load_slide_integral_Nm"] * 1e6))
-    assert one["fitted"]["k_force_track_mm3_per_Nm"] == pytest.approx(10.1 / 0.94 / (integrals["force_track_load_Nm"] * 1e6))
+    assert one["fitted"]["k_local_mm3_per_Nm"] == pytest.approx(
+        10.1 / 0.94 / (integrals["load_slide_integral_Nm"] * 1e6)
+    )
+    assert one["fitted"]["k_force_track_mm3_per_Nm"] == pytest.approx(
+        10.1 / 0.94 / (integrals["force_track_load_Nm"] * 1e6)
+    )
 
 
 GOOD = "cycle,station,mass_mg\n0,1,30000\n0,soak,29000\n500000,1,29990\n500000,soak,29000.5\n1000000,1,29981\n1000000,soak,29000.7\n"

@@ -23,6 +23,7 @@ from .common import (
     print_json,
 )
 from .motion_options import add_trajectory_options, builtin_frequency, load_trajectory, span
+from .wear_test import WORKERS_RANGE
 
 __all__ = ["add_parser", "format_summary", "read_motion", "run"]
 
@@ -142,10 +143,6 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     return wear
 
 
-#: --workers' hard range (the others' ranges live with their laws: hipsim.wear.gravimetric, hipsim.wear.factors).
-WORKERS_RANGE = (1, 64)
-
-
 def _add_test_options(wear: argparse.ArgumentParser) -> None:
     """The gravimetric test's options (docs/guide/wear-test.md), declared here, each with its unit and range."""
     test = wear.add_argument_group("a wear test's weighings (ISO 14242-2) and report")
@@ -190,11 +187,12 @@ def _add_test_options(wear: argparse.ArgumentParser) -> None:
         help="a test's folder: weighings.csv, and when present stations.csv, snapshots/, params.toml, friction.csv "
         "(the options above override); the report goes to DIR/report unless --report",
     )
+    low, high = WORKERS_RANGE
     test.add_argument(
         "--workers",
         type=int,
         metavar="N",
-        help="worker processes for the snapshots' maps, 1 to 64 (default 1)",
+        help=f"worker processes for the snapshots' maps, {low} to {high} (default 1)",
     )
 
 
@@ -381,9 +379,8 @@ def _points(args, setup):
 
 
 def _law(args):
-    from ..wear.laws import ContactAreaLaw, read_wear_law
-
     from ..wear.factors import parse_wear_factor
+    from ..wear.laws import ContactAreaLaw, read_wear_law
 
     if args.wear_factor is not None:
         return parse_wear_factor(args.wear_factor)
@@ -493,7 +490,7 @@ def run(args) -> int:
     if args.weighings or args.test:
         from .wear_test import run_test
 
-        return run_test(args, setup, points)
+        return run_test(args, setup, points, read_motion, _law)
     law = _law(args)
     if not (math.isfinite(args.tolerance) and args.tolerance >= 0):
         raise HipsimError(f"--tolerance: expected a percentage ≥ 0, got {args.tolerance:g}")

@@ -11,7 +11,10 @@ from pathlib import Path
 
 from ..exceptions import HipsimError
 
-__all__ = ["run_test"]
+__all__ = ["WORKERS_RANGE", "run_test"]
+
+#: --workers' hard range (the other options' ranges live with their laws: hipsim.wear.gravimetric, hipsim.wear.factors).
+WORKERS_RANGE = (1, 64)
 
 #: A test folder's files, by role (each used when present and not given by its option).
 TEST_FILES = {
@@ -52,11 +55,11 @@ def _test_folder(args, notes: list[str]) -> None:
 
 def _checked(args) -> int | None:
     """--from and --workers checked at entry (one line each)."""
-    from .wear import WORKERS_RANGE
-
     low, high = WORKERS_RANGE
     if args.workers is not None and not low <= args.workers <= high:
-        raise HipsimError(f"--workers: expected a whole number of worker processes in [{low}, {high}], got {args.workers}")
+        raise HipsimError(
+            f"--workers: expected a whole number of worker processes in [{low}, {high}], got {args.workers}"
+        )
     if args.from_cycle is None:
         return None
     c = args.from_cycle
@@ -65,17 +68,16 @@ def _checked(args) -> int | None:
     return int(c)
 
 
-def _given(args):
+def _given(args, parse_law):
     from ..wear.factors import ForceTrackFactor
     from ..wear.laws import WearFactor
     from ..wear.test_result import GivenFactor
-    from .wear import _law
 
     if args.wear_law or args.area_law is not None:
         raise HipsimError(
             "with --weighings a law is given as --wear-factor K:KIND; the fitted k(CS) table is written for --wear-law"
         )
-    law = _law(args)
+    law = parse_law(args)
     if isinstance(law, WearFactor):
         return GivenFactor(law.k, "local")
     if isinstance(law, ForceTrackFactor):
@@ -83,10 +85,9 @@ def _given(args):
     return None
 
 
-def _integrals(args, spec, setup, points):
+def _integrals(args, spec, setup, points, read_motion):
     from ..wear import wear_maps
     from ..wear.factors import motion_integrals
-    from .wear import read_motion
 
     motion, cycle_time, _, path, notes = read_motion(args, spec)
     return motion_integrals(wear_maps(motion, cycle_time, setup, points)), path, notes
@@ -96,7 +97,9 @@ def _machine(path: str, overrides: tuple[str, ...]):
     """The parameter set from its file and --set overrides (a worker loads its own: a Parameters does not pickle)."""
     from ..machine.parameters import load_parameters, parse_override
 
-    return load_parameters(path, dict(parse_override(text, source="--set") for text in overrides), overrides_source="--set")
+    return load_parameters(
+        path, dict(parse_override(text, source="--set") for text in overrides), overrides_source="--set"
+    )
 
 
 def _snapshot_task(task):
@@ -124,7 +127,7 @@ def _snapshot_task(task):
     return cycle, snapshot.path, snapshot.sha256, out
 
 
-def _exposures(args, gravimetry, setup, points, notes: list[str], inputs: dict):
+def _exposures(args, gravimetry, setup, points, notes: list[str], inputs: dict, read_motion):
     """Per station its Exposure (snapshots, a source per station, or the built-in cycle)."""
     import numpy as np
 
@@ -162,7 +165,7 @@ def _exposures(args, gravimetry, setup, points, notes: list[str], inputs: dict):
         if name in exposures:
             continue
         spec = specs.get(name, "iso")
-        integrals, path, more = _integrals(args, spec, setup, points)
+        integrals, path, more = _integrals(args, spec, setup, points, read_motion)
         notes += [f"station {name}: {note}" for note in more]
         if path:
             inputs[f"motion of station {name}"] = path
@@ -197,8 +200,15 @@ def _snapshot_motions(args, setup, points, js, inputs):
     return [r[0] for r in results], [r[3] for r in results]
 
 
-def run_test(args, setup, points) -> int:
-    """The test's result: table (--out), summary, and page (--report)."""
+def run_test(args, setup, points, read_motion, parse_law) -> int:
+    """The test's result: table (--out), summary, and page (--report).
+
+    Args:
+        args: the parsed options of ``hipsim wear``.
+        setup, points: the cup and its points.
+        read_motion: ``hipsim.cli.wear.read_motion`` (a source's motion), passed in: wear imports this module.
+        parse_law: ``hipsim.cli.wear._law`` (the law the options give).
+    """
     from ..files import check_folder, check_output
     from ..motion.sources import CycleSource
     from ..present.pages import require_pdf_renderer
@@ -214,7 +224,7 @@ def run_test(args, setup, points) -> int:
     if args.compare:
         raise HipsimError("--compare and --weighings: give one")
     from_cycle = _checked(args)
-    given = _given(args)
+    given = _given(args, parse_law)
     check_output(args.out)
     if args.report:
         check_folder(Path(args.report))
@@ -224,7 +234,7 @@ def run_test(args, setup, points) -> int:
         require_pdf_renderer()
     result_gravimetry = gravimetry(read_weighings(args.weighings), args.density, from_cycle)
     inputs: dict = {"weighings": args.weighings, "friction": args.friction}
-    exposures = _exposures(args, result_gravimetry, setup, points, notes, inputs)
+    exposures = _exposures(args, result_gravimetry, setup, points, notes, inputs, read_motion)
     reference = motion_integrals(wear_maps(CycleSource(1000.0, 1, 1.0), 1.0, setup, points))
     result = wear_test(result_gravimetry, exposures, given, reference)
     for rate in result_gravimetry.stations:

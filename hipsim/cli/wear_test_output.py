@@ -161,10 +161,16 @@ def format_result(result, contexts, notes) -> str:
         for s in result.stations:
             predicted = s.fitted.predict(result.reference)
             rows += [[s.rate.station, kind, f"{v:.4g}", _ci((lo, hi))] for kind, (v, lo, hi) in predicted.items()]
-        out.append(format_table(["station", "k kind", "mm³/Mc", "95 %"], rows, "Each station's k on the built-in ISO cycle"))
+        out.append(
+            format_table(["station", "k kind", "mm³/Mc", "95 %"], rows, "Each station's k on the built-in ISO cycle")
+        )
     for c in contexts:
         if c.motion is not None:
-            out.append(f"station {c.station} motion error RMS α, β, γ: " + ", ".join(f"{x:.3g}" for x in c.motion.rms_deg) + " deg")
+            out.append(
+                f"station {c.station} motion error RMS α, β, γ: "
+                + ", ".join(f"{x:.3g}" for x in c.motion.rms_deg)
+                + " deg"
+            )
         if c.friction is not None:
             out.append(f"station {c.station} friction: {c.friction.describe()}")
     out += [f"note: {note}" for note in notes]

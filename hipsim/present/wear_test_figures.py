@@ -36,13 +36,17 @@ def plot_measured_predicted(result):
         rows = s.intervals
         centres = np.arange(len(rows)) + (i - (n - 1) / 2) * width
         right.bar(centres - width / 4, [r.measured_mm3 for r in rows], width / 2, color=colour)
-        right.bar(centres + width / 4, [r.predicted_mm3 for r in rows], width / 2, color="white", edgecolor=colour, hatch="//")
+        right.bar(
+            centres + width / 4, [r.predicted_mm3 for r in rows], width / 2, color="white", edgecolor=colour, hatch="//"
+        )
     left.set_xlabel("cycles [Mc]")
     left.set_ylabel("volume lost [mm³]")
     left.legend(fontsize=8)
     left.grid(alpha=0.3)
     first = result.stations[0].intervals if result.stations else ()
-    right.set_xticks(np.arange(len(first)), [f"{r.first_cycle / 1e6:.3g}–{r.last_cycle / 1e6:.3g}" for r in first], rotation=45)
+    right.set_xticks(
+        np.arange(len(first)), [f"{r.first_cycle / 1e6:.3g}–{r.last_cycle / 1e6:.3g}" for r in first], rotation=45
+    )
     right.set_xlabel("interval [Mc]")
     right.set_ylabel("volume per interval [mm³]")
     right.grid(alpha=0.3, axis="y")

@@ -41,7 +41,9 @@ def whole_cycles(trajectory: Trajectory) -> tuple[Trajectory, float]:
             trajectory.name, "fewer than two heel strikes", "a snapshot of at least one whole cycle (two heel strikes)"
         )
     first, last = int(events.heel_strikes[0]), int(events.heel_strikes[-1])
-    return trajectory.slice(slice(first, last)), float(events.t_heel_strikes[-1] - events.t_heel_strikes[0]) / events.cycles
+    return trajectory.slice(slice(first, last)), float(
+        events.t_heel_strikes[-1] - events.t_heel_strikes[0]
+    ) / events.cycles
 
 
 def snapshot_intervals(snapshot_cycles: np.ndarray, first: float, last: float) -> np.ndarray:

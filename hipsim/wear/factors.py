@@ -66,7 +66,11 @@ class ForceTrackFactor:
     def depth_mm(self, maps: WearMaps) -> np.ndarray:
         area = maps.points.area_mm2
         if area is None:
-            raise ArgumentError("points", "points given one by one", "a cup grid (a force-track factor spreads the cup's volume by the work)")
+            raise ArgumentError(
+                "points",
+                "points given one by one",
+                "a cup grid (a force-track factor spreads the cup's volume by the work)",
+            )
         total = float(np.sum(maps.work_N_per_mm * area))  # ΣW·dA in [N·mm]
         volume = self.k * maps.force_track_load_Nm  # [mm³] per cycle
         return maps.work_N_per_mm * (volume / total if total > 0 else 0.0)
@@ -197,14 +201,18 @@ class FittedFactors:
         return document
 
 
-def fit_factors(station: str, rate_mm3_per_Mc: float, ci95: tuple[float, float], motion: MotionIntegrals) -> FittedFactors:
+def fit_factors(
+    station: str, rate_mm3_per_Mc: float, ci95: tuple[float, float], motion: MotionIntegrals
+) -> FittedFactors:
     """A station's k of both kinds (module docstring).
 
     Raises:
         ArgumentError: a motion with no work (its integrals 0).
     """
     if not (motion.load_slide_integral_Nm > 0 and motion.force_track_load_Nm > 0):
-        raise ArgumentError(f"station {station}'s motion", motion.name, "a loaded motion that slides (ΣW·dA and ∫F ds > 0)")
+        raise ArgumentError(
+            f"station {station}'s motion", motion.name, "a loaded motion that slides (ΣW·dA and ∫F ds > 0)"
+        )
     return FittedFactors(station, motion, rate_mm3_per_Mc, ci95)
 
 
@@ -222,4 +230,3 @@ def fitted_wear_law(fits: tuple[FittedFactors, ...]) -> CrossShearLaw | None:
     if np.any(k < 0):
         return None
     return CrossShearLaw(cs, k, "fitted from the weighings")
-

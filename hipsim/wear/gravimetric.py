@@ -100,7 +100,11 @@ def _below_prediction(x: np.ndarray, y: np.ndarray, k: int) -> bool:
     if fit.dof < 1 or not fit.s > 0:
         return False
     xm, sxx = xs.mean(), float(np.sum((xs - xs.mean()) ** 2))
-    half = float(stats.t.ppf(0.5 + BEDDING_LEVEL / 2, fit.dof)) * fit.s * math.sqrt(1 + 1 / xs.size + (x[k] - xm) ** 2 / sxx)
+    half = (
+        float(stats.t.ppf(0.5 + BEDDING_LEVEL / 2, fit.dof))
+        * fit.s
+        * math.sqrt(1 + 1 / xs.size + (x[k] - xm) ** 2 / sxx)
+    )
     return bool(y[k] < fit.intercept + fit.slope * x[k] - half)
 
 

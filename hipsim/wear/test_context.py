@@ -38,7 +38,9 @@ def motion_error(errors_deg: np.ndarray, source: str) -> MotionError:
     e = np.asarray(errors_deg, dtype=float)
     rms = np.sqrt(np.mean(e**2, axis=0))
     top = np.max(np.abs(e), axis=0)
-    return MotionError(source, (float(rms[0]), float(rms[1]), float(rms[2])), (float(top[0]), float(top[1]), float(top[2])))
+    return MotionError(
+        source, (float(rms[0]), float(rms[1]), float(rms[2])), (float(top[0]), float(top[1]), float(top[2]))
+    )
 
 
 @dataclass(frozen=True)
@@ -90,7 +92,9 @@ def friction_state(table: Mapping[str, Sequence[Any]], j: int | None, source: st
     cycles = table.get("cycle", ())
     if not len(cycles):
         return None
-    own = j is not None and f"hip_mu_change_{j}" in table and math.isfinite(_last_finite(table[f"hip_mu_change_{j}"])[0])
+    own = (
+        j is not None and f"hip_mu_change_{j}" in table and math.isfinite(_last_finite(table[f"hip_mu_change_{j}"])[0])
+    )
     key = f"hip_mu_change_{j}" if own else "hip_mu_change"
     value, k = _last_finite(table.get(key, ()))
     std, _ = _last_finite(table.get(f"{key}_std", ())[: k + 1])

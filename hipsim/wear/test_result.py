@@ -167,5 +167,5 @@ def wear_test(
         rows = interval_table(rate.station, rate.cycles, rate.volume_mm3, exposure, k, kind)
         out.append(StationWear(rate, exposure, fitted, predicted, rows, law))
     stations = tuple(out)
-    law = fitted_wear_law(tuple(s.fitted for s in stations))
-    return WearTest(gravimetry, stations, given, reference, law, wear_verdict(gravimetry, stations, given))
+    table = fitted_wear_law(tuple(s.fitted for s in stations))
+    return WearTest(gravimetry, stations, given, reference, table, wear_verdict(gravimetry, stations, given))

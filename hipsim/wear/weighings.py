@@ -117,7 +117,9 @@ def _rows(path: str | Path) -> tuple[list[tuple[int, float, str, float, float | 
         soak = value("soak_mg") if has_soak else None
         for name, x in (("mass_mg", mass), ("soak_mg", soak)):
             if x is not None and x <= 0:
-                raise FileRowError(f"a mass of {x:g} mg: a cup weighs more than 0", source=source, line=line, column=name)
+                raise FileRowError(
+                    f"a mass of {x:g} mg: a cup weighs more than 0", source=source, line=line, column=name
+                )
         out.append((line, cycle, station, mass, soak))
     return out, has_soak
 
