@@ -23,12 +23,10 @@ from .common import (
     print_json,
 )
 from .motion_options import add_trajectory_options, builtin_frequency, load_trajectory, span
+from .wear_sources import header, kind_of, split_source
 from .wear_test import WORKERS_RANGE
 
 __all__ = ["add_parser", "format_summary", "read_motion", "run"]
-
-#: Columns that tell a file's kind, checked in this order (a simulate output has torque columns too).
-_KINDS = (("simulate", ("alpha_des_deg",)), ("stations", ("alpha_1_deg",)), ("rig log", ("tau_1_Nmm", "current_1_A")))
 
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
@@ -196,36 +194,6 @@ def _add_test_options(wear: argparse.ArgumentParser) -> None:
     )
 
 
-def _header(path: str) -> set[str]:
-    """A table's column names (CSV or Parquet); empty for an OpenSim file or an unreadable one (its reader says why)."""
-    from ..exceptions import TrajectoryError
-    from ..tables import cells, data_lines, detect_separator, open_parquet, read_text_lines
-
-    suffix = Path(path).suffix.lower()
-    if suffix in (".mot", ".sto") or not Path(path).is_file():
-        return set()
-    if suffix == ".parquet":
-        return set(open_parquet(path, "trajectory file", TrajectoryError).schema_arrow.names)
-    numbered = data_lines(read_text_lines(path, "trajectory file", TrajectoryError))
-    if not numbered:
-        return set()
-    header = numbered[0][1]
-    separator = detect_separator(header, numbered[1][1] if len(numbered) > 1 else None)
-    return {cell.strip() for cell in cells(header, separator)}
-
-
-def _split(spec: str) -> tuple[str, str | None]:
-    """``FILE[:TAG]`` → (FILE, TAG); a file whose name holds a colon is taken whole."""
-    if Path(spec).exists() or ":" not in spec:
-        return spec, None
-    path, tag = spec.rsplit(":", 1)
-    if tag not in ("1", "2", "desired"):
-        raise HipsimError(
-            f"{spec}: expected FILE, FILE:1, FILE:2 (a stations output) or FILE:desired (a simulate output)"
-        )
-    return path, tag
-
-
 def read_motion(args, spec: str | None):
     """The motion a source names, as (trajectory or source, cycle time in [s], name, input file or None, notes)."""
     from ..motion.gait_events import gait_cycles
@@ -247,11 +215,11 @@ def read_motion(args, spec: str | None):
         frequency = builtin_frequency(args)
         cycle = CycleSource(args.rate or 1000.0, args.cycles or 1, frequency)
         return cycle, 1.0 / frequency, cycle.name, None, notes
-    path, tag = _split(spec)
+    path, tag = split_source(spec)
     if tag is None and args.platform and spec == args.trajectory:
         tag = args.platform
-    names = _header(path)
-    kind = next((kind for kind, marks in _KINDS if any(mark in names for mark in marks)), "trajectory")
+    names = header(path)
+    kind = kind_of(names)
     ns = argparse.Namespace(**vars(args))
     ns.trajectory, ns.rate, ns.cycles = path, None, None
     if kind == "rig log":
