@@ -204,3 +204,44 @@ def test_a_cycle_written_without_its_closing_sample_counts_one_cycle():
     np.testing.assert_allclose(b.work_N_per_mm, a.work_N_per_mm, rtol=1e-12)
     cut = open_file.slice(slice(0, 150))  # 0.745 s: a step short of 0.75 s, but the angles do not run on into the first
     assert wear_maps(cut, 0.75, points=grid).cycles == pytest.approx(0.745 / 0.75, rel=1e-12)
+
+
+def test_motion_error_against_iso_by_gait_phase():
+    """The built-in cycle itself has no error; an offset of 1° on α and a delay of 10 ms show as such."""
+    from hipsim.wear.test_context import iso_error, motion_error
+
+    base = iso14242(rate=500, cycles=3)
+    assert np.max(np.abs(iso_error(base))) < 1e-9
+    q = base.q.copy()
+    q[:, 0] += math.radians(1.0)
+    shifted = Trajectory(base.t + 7.3, q, base.qd, base.qdd, base.Fe, "offset")  # another clock: the phase decides
+    error = motion_error(iso_error(shifted), "offset")
+    assert error.rms_deg == pytest.approx((1.0, 0.0, 0.0), abs=1e-9)
+    assert error.max_deg[0] == pytest.approx(1.0, abs=1e-9)
+
+
+def test_friction_state_reads_the_monitors_last_snapshot():
+    from hipsim.wear.test_context import friction_state
+
+    table = {
+        "cycle": [0, 250_000, 500_000],
+        "hip_mu_change": [0.0, 0.001, 0.004],
+        "hip_mu_change_std": [0.0005, 0.0005, 0.0006],
+        "hip_mu_change_1": [0.0, float("nan"), float("nan")],
+        "hip_mu_change_1_std": [0.001, float("nan"), float("nan")],
+        "flag": ["", "", "notice"],
+    }
+    mean = friction_state(table, None, "friction.csv")
+    assert (mean.hip_mu_change, mean.hip_mu_change_std, mean.own, mean.flag, mean.last_cycle) == (
+        0.004,
+        0.0006,
+        False,
+        "notice",
+        500_000,
+    )
+    station = friction_state(table, 1, "friction.csv")  # its own column has no value at the last snapshots: the mean
+    assert station.own is False and station.hip_mu_change == 0.004
+    assert friction_state({"cycle": []}, 1, "f") is None
+    table["hip_mu_change_1"][2], table["hip_mu_change_1_std"][2] = 0.007, 0.001
+    own = friction_state(table, 1, "friction.csv")
+    assert (own.own, own.hip_mu_change, own.hip_mu_change_std) == (True, 0.007, 0.001)

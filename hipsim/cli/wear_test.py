@@ -103,12 +103,16 @@ def _machine(path: str, overrides: tuple[str, ...]):
 
 
 def _snapshot_task(task):
-    """One snapshot's per-cycle integrals per station load column (a worker's job; top level to be picklable)."""
+    """One snapshot's per-cycle integrals per station load column, and its angle errors against ISO (sum of squares,
+    samples, largest) (a worker's job; top level to be picklable)."""
+    import numpy as np
+
     from ..motion.trajectories import Trajectory
     from ..rig.monitoring.snapshot_log import read_snapshot
     from ..wear import wear_maps
     from ..wear.accumulate import whole_cycles
     from ..wear.factors import motion_integrals
+    from ..wear.test_context import iso_error
 
     snapshot, machine, torque_constant, js, setup, points = task
     params = _machine(*machine)
@@ -123,15 +127,23 @@ def _snapshot_task(task):
             if loads is not None:
                 t = Trajectory(t.t, t.q, t.qd, t.qdd, loads, f"{t.name}:Fe_{j}_N")
         whole, cycle_time = whole_cycles(t)
-        out[j] = motion_integrals(wear_maps(whole, cycle_time, setup, points))
+        errors = iso_error(t)
+        out[j] = (
+            motion_integrals(wear_maps(whole, cycle_time, setup, points)),
+            np.sum(errors**2, axis=0),
+            len(errors),
+            np.max(np.abs(errors), axis=0),
+        )
     return cycle, snapshot.path, snapshot.sha256, out
 
 
-def _exposures(args, gravimetry, setup, points, notes: list[str], inputs: dict, read_motion):
-    """Per station its Exposure (snapshots, a source per station, or the built-in cycle)."""
+def _exposures(args, gravimetry, setup, points, notes: list[str], inputs: dict, read_motion, errors: dict):
+    """Per station its Exposure (snapshots, a source per station, or the built-in cycle); ``errors`` filled with the
+    snapshots' motion errors against ISO per station."""
     import numpy as np
 
     from ..wear.accumulate import Exposure, snapshot_intervals
+    from ..wear.test_context import MotionError
 
     names = [rate.station for rate in gravimetry.stations]
     first = min(rate.cycles[0] for rate in gravimetry.stations)
@@ -156,7 +168,15 @@ def _exposures(args, gravimetry, setup, points, notes: list[str], inputs: dict, 
         boundaries = snapshot_intervals(np.array(cycles), first, last)
         for name, j in snapshot_js.items():
             what = f"the monitor's {len(cycles)} snapshots" + (f", load Fe_{j}_N" if j else ", load Fe_N")
-            exposures[name] = Exposure(name, boundaries, tuple(m[j] for m in motions), what)
+            exposures[name] = Exposure(name, boundaries, tuple(m[j][0] for m in motions), what)
+            squares, count = sum(m[j][1] for m in motions), sum(m[j][2] for m in motions)
+            largest = np.max([m[j][3] for m in motions], axis=0)
+            rms = np.sqrt(squares / count)
+            errors[name] = MotionError(
+                f"{what}, against ISO 14242-1 by gait phase",
+                (float(rms[0]), float(rms[1]), float(rms[2])),
+                (float(largest[0]), float(largest[1]), float(largest[2])),
+            )
         notes.append(
             f"each snapshot's motion stands for the cycles from the midpoint with the one before to the midpoint with "
             f"the one after ({len(cycles)} snapshots, cycles {cycles[0]:.0f} to {cycles[-1]:.0f})"
@@ -234,7 +254,8 @@ def run_test(args, setup, points, read_motion, parse_law) -> int:
         require_pdf_renderer()
     result_gravimetry = gravimetry(read_weighings(args.weighings), args.density, from_cycle)
     inputs: dict = {"weighings": args.weighings, "friction": args.friction}
-    exposures = _exposures(args, result_gravimetry, setup, points, notes, inputs, read_motion)
+    errors: dict = {}
+    exposures = _exposures(args, result_gravimetry, setup, points, notes, inputs, read_motion, errors)
     reference = motion_integrals(wear_maps(CycleSource(1000.0, 1, 1.0), 1.0, setup, points))
     result = wear_test(result_gravimetry, exposures, given, reference)
     for rate in result_gravimetry.stations:
@@ -244,7 +265,7 @@ def run_test(args, setup, points, read_motion, parse_law) -> int:
                 f"({rate.bedding_in_rate_mg_per_Mc:.3g} mg/Mc before it); the rate is fitted from there (--from says otherwise)"
             )
         notes += [outlier.describe() for outlier in rate.outliers]
-    stations_context = context(args, result)
+    stations_context = context(args, result, errors)
     written = write_outputs(args, result, stations_context, notes, inputs)
     print_result(args, result, stations_context, notes, written)
     return 0

@@ -1,8 +1,9 @@
 """What a station went through beside its wear, for the test's report: its motion's error against ISO and its friction.
 
 - Motion: the error of each of α, β, γ against the commanded ISO motion
-  (a ``stations`` output's ``err_alpha_J_deg`` … columns), RMS and largest, in
-  [deg] (:func:`motion_error`).
+  (a ``stations`` output's ``err_alpha_J_deg`` … columns, or a logged motion
+  against the built-in cycle at the same gait phase, :func:`iso_error`), RMS
+  and largest, in [deg] (:func:`motion_error`).
 - Friction: the monitor's table (``hipsim monitor --out``) at its last
   snapshot: the change of the hip friction coefficient since the baseline (the
   station's own column when the monitor separated the stations, else the two
@@ -18,7 +19,10 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["FrictionState", "MotionError", "StationContext", "friction_state", "motion_error"]
+from ..motion.gait_events import gait_cycles, gait_phase
+from ..motion.trajectories import Trajectory, iso14242, iso14242_angles
+
+__all__ = ["FrictionState", "MotionError", "StationContext", "friction_state", "iso_error", "motion_error"]
 
 
 @dataclass(frozen=True)
@@ -41,6 +45,22 @@ def motion_error(errors_deg: np.ndarray, source: str) -> MotionError:
     return MotionError(
         source, (float(rms[0]), float(rms[1]), float(rms[2])), (float(top[0]), float(top[1]), float(top[2]))
     )
+
+
+def iso_error(trajectory: Trajectory) -> np.ndarray:
+    """A logged motion's angles minus the built-in ISO cycle's at the same gait phase, in [deg], (N, 3).
+
+    The phase runs from each heel strike of the motion's load (:func:`hipsim.motion.gait_events.gait_phase`); the
+    built-in cycle's own heel strike (found by the same rule on its load) is where its phase 0 lies.
+
+    Raises:
+        TrajectoryError: fewer than two heel strikes in the load.
+    """
+    phase, _ = gait_phase(trajectory.t, gait_cycles(trajectory))
+    reference = gait_cycles(iso14242(rate=1000.0, cycles=2))
+    start = float(reference.t_heel_strikes[0]) % 1.0
+    q_iso, _, _ = iso14242_angles(np.mod(phase / 100.0 + start, 1.0))
+    return np.degrees(trajectory.q - q_iso)
 
 
 @dataclass(frozen=True)
@@ -87,20 +107,32 @@ def _last_finite(values: Sequence[Any]) -> tuple[float, int]:
     return math.nan, len(values) - 1
 
 
+def _number(values: Sequence[Any], k: int) -> float:
+    try:
+        return float(values[k])
+    except (TypeError, ValueError, IndexError):
+        return math.nan
+
+
 def friction_state(table: Mapping[str, Sequence[Any]], j: int | None, source: str) -> FrictionState | None:
-    """Station j's (1 or 2; None: the mean) friction at the table's last snapshot with a value; None for no rows."""
+    """Station j's (1 or 2; None: the mean) friction at the table's last snapshot with an estimate: the station's own
+    column when it has a value there (the monitor separated the stations), else the two stations' mean; None for no
+    rows."""
     cycles = table.get("cycle", ())
     if not len(cycles):
         return None
-    own = (
-        j is not None and f"hip_mu_change_{j}" in table and math.isfinite(_last_finite(table[f"hip_mu_change_{j}"])[0])
-    )
+    _, k = _last_finite(table.get("hip_mu_change", ()))
+    own = j is not None and math.isfinite(_number(table.get(f"hip_mu_change_{j}", ()), k))
     key = f"hip_mu_change_{j}" if own else "hip_mu_change"
-    value, k = _last_finite(table.get(key, ()))
-    std, _ = _last_finite(table.get(f"{key}_std", ())[: k + 1])
     flags = table.get("flag", ())
     return FrictionState(
-        source, len(cycles), int(float(cycles[k])), value, std, bool(own), str(flags[k]) if len(flags) > k else ""
+        source,
+        len(cycles),
+        int(float(cycles[k])),
+        _number(table.get(key, ()), k),
+        _number(table.get(f"{key}_std", ()), k),
+        bool(own),
+        str(flags[k]) if len(flags) > k else "",
     )
 
 
