@@ -113,6 +113,7 @@ def test_station_motions_from_a_stations_output(tmp_path, capsys):
     assert one["wear_rate_mg_per_Mc"] == pytest.approx(10.1, rel=1e-9)
     assert one["wear_rate_mm3_per_Mc"] == pytest.approx(10.1 / 0.94, rel=1e-9)
     assert one["motion_error"]["rms_deg"] == pytest.approx([0.0, 0.0, 0.0], abs=1e-9)
+    assert two_motions_differ(result) is False  # both platforms follow the drawing's ISO cycle
     integrals = one["fitted"]["motion"]
     assert one["fitted"]["k_local_mm3_per_Nm"] == pytest.approx(
         10.1 / 0.94 / (integrals["load_slide_integral_Nm"] * 1e6)
@@ -120,6 +121,27 @@ def test_station_motions_from_a_stations_output(tmp_path, capsys):
     assert one["fitted"]["k_force_track_mm3_per_Nm"] == pytest.approx(
         10.1 / 0.94 / (integrals["force_track_load_Nm"] * 1e6)
     )
+
+
+def two_motions_differ(result) -> bool:
+    a, b = (result["stations"][name]["fitted"]["motion"] for name in ("1", "2"))
+    return abs(a["load_slide_integral_Nm"] - b["load_slide_integral_Nm"]) > 1e-9 * a["load_slide_integral_Nm"]
+
+
+def test_a_test_folder_with_a_stations_output(tmp_path, capsys):
+    """--test DIR: weighings.csv and stations.csv (stations 1 and 2 its platforms); the report in DIR/report."""
+    folder = tmp_path / "test"
+    assert main(["stations", "--out", str(folder), "--summary-format", "json"]) == 0
+    capsys.readouterr()
+    (folder / "index.html").unlink()
+    (folder / "weighings.csv").write_text(GOOD.replace(",1,", ",2,") + GOOD.replace("soak", "soak_1").split("\n", 1)[1])
+    status, text, err = _run(capsys, "--test", folder, "--summary-format", "json", "--out", tmp_path / "t.csv")
+    assert status == 0, err
+    result = json.loads(text)
+    assert any("stations named 1 and 2 take its platforms" in note for note in result["notes"])
+    assert result["stations"]["2"]["soak_control"] == "soak" and result["stations"]["1"]["soak_control"] == "soak_1"
+    assert result["stations"]["1"]["motion_error"]["source"].endswith("platform 1")
+    assert (folder / "report" / "index.html").is_file() and result["index"] == str(folder / "report" / "index.html")
 
 
 GOOD = "cycle,station,mass_mg\n0,1,30000\n0,soak,29000\n500000,1,29990\n500000,soak,29000.5\n1000000,1,29981\n1000000,soak,29000.7\n"
