@@ -179,6 +179,7 @@ def format_result(result, contexts, notes) -> str:
 
 
 def print_result(args, result, contexts, notes, written) -> None:
+    """The summary on standard output: tables (verdict first) or JSON."""
     from .common import print_json
 
     if args.summary_format == "json":

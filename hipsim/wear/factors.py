@@ -36,8 +36,10 @@ __all__ = [
     "MotionIntegrals",
     "fit_factors",
     "fitted_wear_law",
+    "kind_of",
     "motion_integrals",
     "parse_wear_factor",
+    "predicted_rate",
 ]
 
 #: The kinds a wear factor is given with: ``local`` (Archard, V = ∫k·W dA) and ``force-track`` (Saikko, V = k·∫F ds).
@@ -179,9 +181,9 @@ class FittedFactors:
         """Per kind: the rate (and interval) this station's k predicts for another motion in [mm³/Mc]."""
         out = {}
         for kind in KINDS:
-            scale = other.integral(kind) * MC
             low, high = self.ci95(kind)
-            out[kind] = (self.k(kind) * scale, low * scale, high * scale)
+            rate = predicted_rate(self.k(kind), kind, other)
+            out[kind] = (rate, predicted_rate(low, kind, other), predicted_rate(high, kind, other))
         return out
 
     def to_json(self, other: MotionIntegrals | None = None) -> dict:

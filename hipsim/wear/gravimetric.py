@@ -42,7 +42,9 @@ __all__ = [
     "RateDifference",
     "StationRate",
     "gravimetry",
+    "LineFit",
     "line_fit",
+    "rate_difference",
     "station_rate",
 ]
 

@@ -21,7 +21,7 @@ import math
 from dataclasses import dataclass
 
 from .accumulate import Exposure, IntervalRow, interval_table
-from .factors import FittedFactors, MotionIntegrals, fit_factors, fitted_wear_law
+from .factors import FittedFactors, MotionIntegrals, fit_factors, fitted_wear_law, predicted_rate
 from .gravimetric import Gravimetry, StationRate
 from .laws import CrossShearLaw
 
@@ -159,7 +159,7 @@ def wear_test(
         steady = exposure.mean(rate.from_cycle, rate.cycles[-1])
         fitted = fit_factors(rate.station, rate.rate_mm3_per_Mc, rate.ci95_mm3_per_Mc, steady)
         if given is not None:
-            predicted = given.k * steady.integral(given.kind) * 1e6
+            predicted = predicted_rate(given.k, given.kind, steady)
             k, kind, law = given.k, given.kind, given.describe()
         else:
             predicted, k, kind = math.nan, fitted.k("local"), "local"
