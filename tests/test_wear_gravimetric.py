@@ -218,6 +218,11 @@ def test_motion_error_against_iso_by_gait_phase():
     error = motion_error(iso_error(shifted), "offset")
     assert error.rms_deg == pytest.approx((1.0, 0.0, 0.0), abs=1e-9)
     assert error.max_deg[0] == pytest.approx(1.0, abs=1e-9)
+    from hipsim.motion.trajectories import iso14242_angles
+
+    late = iso14242_angles(base.t - 0.006)  # the angles 6 ms behind the load: a timing offset, not a motion error
+    delayed = Trajectory(base.t, late[0], late[1], late[2], base.Fe, "delayed")
+    assert np.max(np.abs(iso_error(delayed))) < 1e-6
 
 
 def test_friction_state_reads_the_monitors_last_snapshot():

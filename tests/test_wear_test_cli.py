@@ -7,7 +7,7 @@ import json
 
 import numpy as np
 import pytest
-from wear_test_synthetic import I0_LOCAL, TRUTH, write_simulated_test
+from wear_test_synthetic import I0_LOCAL, TRUTH, platform_i0, write_simulated_test
 
 from hipsim.cli.main import main
 
@@ -121,6 +121,27 @@ def test_station_motions_from_a_stations_output(tmp_path, capsys):
     assert one["fitted"]["k_force_track_mm3_per_Nm"] == pytest.approx(
         10.1 / 0.94 / (integrals["force_track_load_Nm"] * 1e6)
     )
+
+
+def test_each_platform_its_own_motion_on_a_per_chain_machine(tmp_path, capsys):
+    """A machine 0.3 mm off the drawing, its logs of carriages: each station's integral is its own platform's (the
+    truth by tests/stations_synthetic.py's forward kinematics), platform 2 (controlled) on ISO, platform 1 off it."""
+    from stations_synthetic import deviated
+
+    geometry = deviated(3, 0.3)
+    folder = write_simulated_test(
+        tmp_path / "test", stops=np.arange(0, 1_000_001, 500_000), snapshots=np.array([0, 500_000]), geometry=geometry
+    )
+    status, text, err = _run(capsys, "--test", folder, "--summary-format", "json", "--out", tmp_path / "t.csv")
+    assert status == 0, err
+    result = json.loads(text)
+    one, two = result["stations"]["1"], result["stations"]["2"]
+    assert "platform 1's own motion" in one["motion"] and "platform 2's own motion" in two["motion"]
+    i1, i2 = platform_i0(geometry, rate=250.0, grid=(12, 24))
+    measured = one["fitted"]["motion"]["load_slide_integral_Nm"] / two["fitted"]["motion"]["load_slide_integral_Nm"]
+    assert i1 != pytest.approx(i2, rel=1e-3)  # the platforms differ
+    assert measured == pytest.approx(i1 * 1.0 / (i2 * 1.1), rel=5e-4)  # loads 1.0 and 1.1 times ISO's
+    assert max(two["motion_error"]["rms_deg"]) < 1e-3 < 0.03 < max(one["motion_error"]["rms_deg"])
 
 
 def two_motions_differ(result) -> bool:

@@ -24,7 +24,7 @@ import numpy as np
 import hipsim
 from hipsim.motion.trajectories import Trajectory
 
-__all__ = ["I0_LOCAL", "I0_TRACK", "TRUTH", "Truth", "write_simulated_test"]
+__all__ = ["I0_LOCAL", "I0_TRACK", "TRUTH", "Truth", "platform_i0", "platform_motions", "write_simulated_test"]
 
 #: The built-in ISO cycle's ΣW·dA and ∫F ds per cycle in [N·m], 28 mm head, 1 kHz (ΣW·dA converged: 36.4950 on a
 #: 180 x 360 grid, 36.4961 on 90 x 180, 36.5004 on 45 x 90).
@@ -46,6 +46,7 @@ class Truth:
     soak_cycles: tuple[float, float] = (0.8e6, 1.5e6)
     density: float = 0.935
     noise_mg: float = 0.05
+    i0_local: tuple[float, float] = (I0_LOCAL, I0_LOCAL)
 
     def scale(self, j: int, cycle: float) -> float:
         return (self.scale_before if cycle < self.step_cycle else self.scale_after)[j]
@@ -54,7 +55,7 @@ class Truth:
         """Σ over cycles 0 … cycle of ΣW·dA in [N·m]."""
         before = min(cycle, self.step_cycle)
         after = max(cycle - self.step_cycle, 0.0)
-        return I0_LOCAL * (self.scale_before[j] * before + self.scale_after[j] * after)
+        return self.i0_local[j] * (self.scale_before[j] * before + self.scale_after[j] * after)
 
     def volume(self, j: int, cycle: float) -> float:
         """The volume worn by station j by ``cycle`` in [mm³]."""
@@ -83,11 +84,46 @@ def write_weighings(path: Path, truth: Truth, stops: np.ndarray, rng) -> Path:
     return path
 
 
-def write_snapshots(folder: Path, truth: Truth, cycles: np.ndarray, rng, rate: float = 250.0) -> list[Path]:
-    """One rig log of 3 ISO cycles per snapshot cycle: torques (analytic model), angles (0.003° noise), loads."""
+def platform_motions(geometry, rate: float, cycles: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A per-chain machine whose carriages serve platform 2's ISO cycle: (t, carriages in [m] (N, 3), each platform's
+    true attitude in [rad] (N, 2, 3)), by tests/stations_synthetic.py's own forward kinematics."""
+    from stations_synthetic import reference_attitude, reference_carriages
+
+    params = hipsim.load_parameters()
+    cycle = hipsim.iso14242(rate=rate, cycles=cycles)
+    carriages = reference_carriages(params, geometry, 2, cycle.q)
+    q = np.stack([reference_attitude(params, geometry, j, carriages, cycle.q) for j in (1, 2)], axis=1)
+    return cycle.t, carriages, q
+
+
+def platform_i0(geometry, rate: float = 1000.0, grid: tuple[int, int] = (90, 180)) -> tuple[float, float]:
+    """Each platform's true ΣW·dA per cycle at load scale 1 in [N·m]: its true motion (at ``rate``, derivatives of
+    the periodic spline through it) on a ``grid``."""
+    from scipy.interpolate import make_interp_spline
+
+    from hipsim.wear import cup_grid, wear_maps
+    from hipsim.wear.factors import motion_integrals
+
+    t, _, q = platform_motions(geometry, rate)
+    load = hipsim.iso14242(rate=rate).Fe
+    out = []
+    for j in (0, 1):
+        closed = np.concatenate([q[:, j], q[:1, j]])
+        spline = make_interp_spline(np.append(t, 1.0), closed, k=5, bc_type="periodic", axis=0)
+        motion = Trajectory(t, q[:, j], spline(t, 1), spline(t, 2), load, f"platform {j + 1}", periodic=True)
+        out.append(motion_integrals(wear_maps(motion, 1.0, points=cup_grid(*grid))).load_slide_integral_Nm)
+    return out[0], out[1]
+
+
+def write_snapshots(
+    folder: Path, truth: Truth, cycles: np.ndarray, rng, rate: float = 250.0, geometry=None
+) -> list[Path]:
+    """One rig log of 3 ISO cycles per snapshot cycle: torques (analytic model), angles (0.003° noise), loads; with
+    ``geometry`` (a per-chain machine) the carriages (L_1i_mm) instead of the angles, each platform its own motion."""
     folder.mkdir(parents=True, exist_ok=True)
     params = hipsim.load_parameters()
     trajectory = hipsim.iso14242(rate=rate, cycles=3)
+    carriages = platform_motions(geometry, rate, 3)[1] if geometry is not None else None
     torques: dict[float, np.ndarray] = {}  # the machine's torques under the mean of the stations' loads, by its scale
     paths = []
     for c in cycles:
@@ -106,8 +142,12 @@ def write_snapshots(folder: Path, truth: Truth, cycles: np.ndarray, rng, rate: f
         }
         noisy = tau + rng.normal(0.0, 3.0, tau.shape)
         columns |= {f"tau_{i + 1}_Nmm": noisy[:, i] for i in range(3)}
-        angles = np.degrees(trajectory.q) + rng.normal(0.0, 0.003, trajectory.q.shape)
-        columns |= {f"{name}_deg": angles[:, k] for k, name in enumerate(("alpha", "beta", "gamma"))}
+        if carriages is None:
+            angles = np.degrees(trajectory.q) + rng.normal(0.0, 0.003, trajectory.q.shape)
+            columns |= {f"{name}_deg": angles[:, k] for k, name in enumerate(("alpha", "beta", "gamma"))}
+        else:  # encoders of 0.1 µm
+            heights = carriages * 1e3 + rng.normal(0.0, 1e-4, carriages.shape)
+            columns |= {f"L_1{i + 1}_mm": heights[:, i] for i in range(3)}
         names = list(columns)
         rows = np.column_stack([columns[name] for name in names])
         path = folder / f"snap_{int(c):08d}.csv"
@@ -119,12 +159,19 @@ def write_snapshots(folder: Path, truth: Truth, cycles: np.ndarray, rng, rate: f
     return paths
 
 
-def write_identified(path: Path) -> Path:
-    """The published machine as an identified file (the monitor's requirement; the wear needs only the encoders)."""
+def write_identified(path: Path, geometry=None) -> Path:
+    """The published machine as an identified file (the monitor's requirement; the wear needs only the encoders),
+    with ``geometry`` its [geometry] table."""
+    from hipsim.machine.chains import geometry_table
+
     published = Path(hipsim.load_parameters().source).read_text(encoding="utf-8")
+    table = ""
+    if geometry is not None:
+        rows = geometry_table(geometry)
+        table = "\n[geometry]\n" + "".join(f"{key} = {value!r}\n".replace("'", '"') for key, value in rows.items())
     path.write_text(
         "# Identified by hipsim identify: a parameter file every hipsim command accepts (--params).\n"
-        "# Model: analytic, lever spin on; regressor condition number 10.\n\n" + published,
+        "# Model: analytic, lever spin on; regressor condition number 10.\n\n" + published + table,
         encoding="utf-8",
     )
     return path
@@ -137,13 +184,16 @@ def write_simulated_test(
     snapshots: np.ndarray | None = None,
     seed: int = 11,
     rate: float = 250.0,
+    geometry=None,
 ) -> Path:
-    """A test folder: weighings.csv, snapshots/, params.toml (the layout ``hipsim wear --test`` reads)."""
+    """A test folder: weighings.csv, snapshots/, params.toml (the layout ``hipsim wear --test`` reads). With
+    ``geometry`` the machine is per-chain: the logs hold carriages, each platform moves its own way and wears by its
+    own ΣW·dA (``truth.i0_local`` should hold :func:`platform_i0`'s)."""
     folder.mkdir(parents=True, exist_ok=True)
     rng = np.random.default_rng(seed)
     stops = np.arange(0, 5_000_001, 500_000) if stops is None else stops
     snapshots = np.arange(0, 5_000_000, 250_000) if snapshots is None else snapshots
     write_weighings(folder / "weighings.csv", truth, stops, rng)
-    write_snapshots(folder / "snapshots", truth, snapshots, rng, rate)
-    write_identified(folder / "params.toml")
+    write_snapshots(folder / "snapshots", truth, snapshots, rng, rate, geometry)
+    write_identified(folder / "params.toml", geometry)
     return folder

@@ -116,16 +116,21 @@ def _snapshot_task(task):
 
     snapshot, machine, torque_constant, js, setup, points = task
     params = _machine(*machine)
-    read = read_snapshot(snapshot, params, torque_constant)
+    # The log's reader knows the drawing (its forward kinematics takes both platforms alike); each platform's own
+    # motion comes from the per-chain machine below.
+    drawing = params if params.geometry is None else params.replace(geometry=None)
+    read = read_snapshot(snapshot, drawing, torque_constant)
     trajectory = read.log.trajectory.slice(read.log.usable)
     cycle = float(read.cycles.mean())
     out = {}
     for j in js:
         t = trajectory
-        if j and read.loads is not None:
-            loads = read.loads[read.log.usable, int(j) - 1] if len(read.loads) == len(read.log.trajectory) else None
-            if loads is not None:
-                t = Trajectory(t.t, t.q, t.qd, t.qdd, loads, f"{t.name}:Fe_{j}_N")
+        loads = None
+        if j and read.loads is not None and len(read.loads) == len(read.log.trajectory):
+            loads = read.loads[:, int(j) - 1]
+            t = Trajectory(t.t, t.q, t.qd, t.qdd, loads[read.log.usable], f"{t.name}:Fe_{j}_N")
+        own = _platform_motion(snapshot, params, read, j, loads)
+        t = own if own is not None else t
         whole, cycle_time = whole_cycles(t)
         errors = iso_error(t)
         out[j] = (
@@ -133,8 +138,33 @@ def _snapshot_task(task):
             np.sum(errors**2, axis=0),
             len(errors),
             np.max(np.abs(errors), axis=0),
+            own is not None,
         )
     return cycle, snapshot.path, snapshot.sha256, out
+
+
+def _platform_motion(snapshot, params, read, j: str, loads):
+    """Platform j's own motion: the log's carriages through that platform's forward kinematics (per-chain geometry),
+    filtered and differentiated as the log's motion is, its usable samples; None when the machine has no per-chain
+    geometry, the log no carriage readings, or the snapshot is a window of a long log."""
+    if params.geometry is None or snapshot.lines is not None or j not in ("1", "2"):
+        return None
+    from ..analytic.stations import platform_attitude
+    from ..exceptions import TrajectoryError
+    from ..rig.logs.smoothing import smooth_motion
+    from ..stations.logs import read_carriage_log
+
+    log = read.log
+    try:
+        _, carriages = read_carriage_log(snapshot.path, params.lead)
+    except TrajectoryError:
+        return None
+    if len(carriages) != len(log.trajectory):
+        return None
+    t = log.trajectory.t
+    q = platform_attitude(params, carriages, int(j), t=t, q0=log.trajectory.q[0], source=snapshot.path)
+    load = loads if loads is not None else log.trajectory.Fe
+    return smooth_motion(t, q, load, log.cutoff, f"{snapshot.path}:platform {j}", log.sample_rate).slice(log.usable)
 
 
 def _exposures(args, gravimetry, setup, points, notes: list[str], inputs: dict, read_motion, errors: dict):
@@ -168,6 +198,8 @@ def _exposures(args, gravimetry, setup, points, notes: list[str], inputs: dict, 
         boundaries = snapshot_intervals(np.array(cycles), first, last)
         for name, j in snapshot_js.items():
             what = f"the monitor's {len(cycles)} snapshots" + (f", load Fe_{j}_N" if j else ", load Fe_N")
+            if any(m[j][4] for m in motions):
+                what += f", platform {j}'s own motion from the carriages (per-chain geometry)"
             exposures[name] = Exposure(name, boundaries, tuple(m[j][0] for m in motions), what)
             squares, count = sum(m[j][1] for m in motions), sum(m[j][2] for m in motions)
             largest = np.max([m[j][3] for m in motions], axis=0)

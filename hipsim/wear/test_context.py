@@ -47,20 +47,38 @@ def motion_error(errors_deg: np.ndarray, source: str) -> MotionError:
     )
 
 
+#: How far [cycles] the phase from heel strikes may be shifted to match the built-in cycle's angles (a heel strike is
+#: found to a sample, and a low-passed load crosses its threshold a little off).
+PHASE_SEARCH = 0.02
+
+
 def iso_error(trajectory: Trajectory) -> np.ndarray:
     """A logged motion's angles minus the built-in ISO cycle's at the same gait phase, in [deg], (N, 3).
 
-    The phase runs from each heel strike of the motion's load (:func:`hipsim.motion.gait_events.gait_phase`); the
-    built-in cycle's own heel strike (found by the same rule on its load) is where its phase 0 lies.
+    The phase runs from each heel strike of the motion's load (:func:`hipsim.motion.gait_events.gait_phase`), the
+    built-in cycle's own heel strike (found by the same rule on its load) its phase 0; then the one constant shift
+    (within ±:data:`PHASE_SEARCH` cycles) that best matches the angles (least squares) is taken out: a timing offset
+    of the heel strike is not an error of the motion.
 
     Raises:
         TrajectoryError: fewer than two heel strikes in the load.
     """
+    from scipy.optimize import minimize_scalar
+
     phase, _ = gait_phase(trajectory.t, gait_cycles(trajectory))
     reference = gait_cycles(iso14242(rate=1000.0, cycles=2))
-    start = float(reference.t_heel_strikes[0]) % 1.0
-    q_iso, _, _ = iso14242_angles(np.mod(phase / 100.0 + start, 1.0))
-    return np.degrees(trajectory.q - q_iso)
+    start = float(reference.t_heel_strikes[0]) % 1.0 + phase / 100.0
+
+    def error(shift: float) -> np.ndarray:
+        return trajectory.q - iso14242_angles(np.mod(start + shift, 1.0))[0]
+
+    best = minimize_scalar(
+        lambda shift: float(np.sum(error(shift) ** 2)),
+        bounds=(-PHASE_SEARCH, PHASE_SEARCH),
+        method="bounded",
+        options={"xatol": 1e-9},
+    )
+    return np.degrees(error(float(best.x)))
 
 
 @dataclass(frozen=True)
