@@ -143,6 +143,15 @@ def _snapshot_task(task):
     return cycle, snapshot.path, snapshot.sha256, out
 
 
+def _worker(task):
+    """:func:`_snapshot_task` in a worker process: a refusal comes back as its one line (an error with arguments of
+    its own may not unpickle in the parent)."""
+    try:
+        return _snapshot_task(task)
+    except HipsimError as error:
+        return str(error)
+
+
 def _platform_motion(snapshot, params, read, j: str, loads):
     """Platform j's own motion: the log's carriages through that platform's forward kinematics (per-chain geometry),
     filtered and differentiated as the log's motion is, its usable samples; None when the machine has no per-chain
@@ -244,7 +253,10 @@ def _snapshot_motions(args, setup, points, js, inputs):
     workers = args.workers or 1
     if workers > 1:
         with ProcessPoolExecutor(max_workers=workers) as pool:
-            results = list(pool.map(_snapshot_task, tasks))
+            results = list(pool.map(_worker, tasks))
+        failed = next((r for r in results if isinstance(r, str)), None)
+        if failed is not None:
+            raise HipsimError(failed)
     else:
         results = [_snapshot_task(task) for task in tasks]
     results.sort(key=lambda r: r[0])
