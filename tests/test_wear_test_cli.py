@@ -179,6 +179,7 @@ GOOD = "cycle,station,mass_mg\n0,1,30000\n0,soak,29000\n500000,1,29990\n500000,s
         (GOOD, ("--wear-factor", "4e-7"), "a value without its kind is ambiguous"),
         (GOOD, ("--workers", "0"), "--workers: expected a whole number of worker processes in [1, 64]"),
         (GOOD, ("--station", "3=iso"), "--station: no station '3' in the weighings"),
+        (GOOD, ("--area-law", "1e-9"), "with --weighings a law is given as --wear-factor K:KIND"),
     ],
 )
 def test_bad_input_one_line_nothing_written(tmp_path, capsys, text, words, message):
@@ -188,3 +189,45 @@ def test_bad_input_one_line_nothing_written(tmp_path, capsys, text, words, messa
     status, _, err = _run(capsys, "--weighings", weighings, *words, "--out", out, "--report", report)
     assert status == 2 and message in err and len(err.strip().splitlines()) == 1, err
     assert not out.exists() and not report.exists()
+
+
+def test_stations_that_differ_in_cross_shear_give_a_wear_law_table(tmp_path, capsys):
+    """Station 1 on ISO (CS 0.16), station 2 on flexion alone (CS 0): their local k at their CS, a table --wear-law
+    reads, each row the station's rate over its ΣW·dA."""
+    from hipsim.motion.trajectories import iso14242
+
+    cycle = iso14242(rate=200)
+    flexion = tmp_path / "flexion.csv"
+    rows = np.column_stack([cycle.t, np.degrees(cycle.q[:, 0]), 0 * cycle.t, 0 * cycle.t, cycle.Fe])
+    np.savetxt(flexion, rows, delimiter=",", header="t_s,alpha_deg,beta_deg,gamma_deg,Fe_N", comments="")
+    weighings = tmp_path / "w.csv"
+    weighings.write_text(GOOD + GOOD.replace(",1,", ",2,").replace("soak", "soak_2").replace("29990", "29995").split("\n", 1)[1])
+    report = tmp_path / "report"
+    status, text, err = _run(
+        capsys,
+        "--weighings",
+        weighings,
+        "--station",
+        "1=iso",
+        "--station",
+        f"2={flexion}",
+        "--report",
+        report,
+        "--summary-format",
+        "json",
+        "--out",
+        tmp_path / "t.csv",
+    )
+    assert status == 0, err
+    result = json.loads(text)
+    law = result["fitted_wear_law"]
+    one, two = (result["stations"][n]["fitted"] for n in ("1", "2"))
+    assert law["cross_shear"] == pytest.approx(
+        [two["motion"]["cross_shear_work_weighted"], one["motion"]["cross_shear_work_weighted"]]
+    )
+    assert law["cross_shear"][0] < 0.01 < law["cross_shear"][1]
+    assert law["k_mm3_per_Nm"] == pytest.approx([two["k_local_mm3_per_Nm"], one["k_local_mm3_per_Nm"]])
+    from hipsim.wear.laws import read_wear_law
+
+    table = read_wear_law(report / "fitted_wear_law.csv")  # as --wear-law reads it
+    assert table.k.tolist() == pytest.approx(law["k_mm3_per_Nm"], rel=1e-15)
