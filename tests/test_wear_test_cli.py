@@ -180,15 +180,17 @@ GOOD = "cycle,station,mass_mg\n0,1,30000\n0,soak,29000\n500000,1,29990\n500000,s
         (GOOD, ("--workers", "0"), "--workers: expected a whole number of worker processes in [1, 64]"),
         (GOOD, ("--station", "3=iso"), "--station: no station '3' in the weighings"),
         (GOOD, ("--area-law", "1e-9"), "with --weighings a law is given as --wear-factor K:KIND"),
+        (GOOD, ("--out", "stops.parquet"), "the table of stops is CSV"),
     ],
 )
-def test_bad_input_one_line_nothing_written(tmp_path, capsys, text, words, message):
+def test_bad_input_one_line_nothing_written(tmp_path, capsys, monkeypatch, text, words, message):
+    monkeypatch.chdir(tmp_path)
     weighings = tmp_path / "w.csv"
     weighings.write_text(text)
     out, report = tmp_path / "t.csv", tmp_path / "report"
-    status, _, err = _run(capsys, "--weighings", weighings, *words, "--out", out, "--report", report)
+    status, _, err = _run(capsys, "--weighings", weighings, "--out", out, "--report", report, *words)
     assert status == 2 and message in err and len(err.strip().splitlines()) == 1, err
-    assert not out.exists() and not report.exists()
+    assert sorted(path.name for path in tmp_path.iterdir()) == ["w.csv"]
 
 
 def test_stations_that_differ_in_cross_shear_give_a_wear_law_table(tmp_path, capsys):

@@ -289,6 +289,8 @@ def run_test(args, setup, points, read_motion, parse_law) -> int:
         raise HipsimError("--compare and --weighings: give one")
     from_cycle = _checked(args)
     given = _given(args, parse_law)
+    if Path(args.out).suffix.lower() == ".parquet":
+        raise HipsimError(f"--out {args.out}: the table of stops is CSV (it has a text column, the station)")
     check_output(args.out)
     if args.report:
         check_folder(Path(args.report))
