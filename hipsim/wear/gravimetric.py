@@ -29,7 +29,6 @@ from dataclasses import dataclass
 from itertools import combinations
 
 import numpy as np
-from scipy import stats
 
 from ..exceptions import ArgumentError
 from .weighings import StationWeighings, Weighings
@@ -60,6 +59,13 @@ BEDDING_LEVEL = 0.99
 MC = 1e6
 
 
+def _t_quantile(p: float, dof: float) -> float:
+    """Student's t quantile (SciPy's stats imported when first needed: it costs a quarter of a second)."""
+    from scipy import stats
+
+    return float(stats.t.ppf(p, dof))
+
+
 @dataclass(frozen=True)
 class LineFit:
     """y = intercept + slope·x by least squares: slope, its standard error, degrees of freedom and residuals."""
@@ -76,7 +82,7 @@ class LineFit:
         """The slope's two-sided interval (NaN without degrees of freedom)."""
         if self.dof < 1:
             return (math.nan, math.nan)
-        half = float(stats.t.ppf(0.5 + level / 2, self.dof)) * self.se
+        half = float(_t_quantile(0.5 + level / 2, self.dof)) * self.se
         return (self.slope - half, self.slope + half)
 
 
@@ -103,7 +109,7 @@ def _below_prediction(x: np.ndarray, y: np.ndarray, k: int) -> bool:
         return False
     xm, sxx = xs.mean(), float(np.sum((xs - xs.mean()) ** 2))
     half = (
-        float(stats.t.ppf(0.5 + BEDDING_LEVEL / 2, fit.dof))
+        float(_t_quantile(0.5 + BEDDING_LEVEL / 2, fit.dof))
         * fit.s
         * math.sqrt(1 + 1 / xs.size + (x[k] - xm) ** 2 / sxx)
     )
@@ -223,7 +229,7 @@ def station_rate(
     if fit.dof >= 2:
         residuals, leverage = np.array(fit.residuals), np.array(fit.leverage)
         sse = float(residuals @ residuals)
-        bound = float(stats.t.ppf(1 - OUTLIER_ALPHA / (2 * residuals.size), fit.dof - 1))
+        bound = float(_t_quantile(1 - OUTLIER_ALPHA / (2 * residuals.size), fit.dof - 1))
         for k, (e, h) in enumerate(zip(residuals, leverage, strict=True)):
             s_without = math.sqrt(max(sse - e * e / (1 - h), 0.0) / (fit.dof - 1)) if h < 1 else math.nan
             t = e / (s_without * math.sqrt(1 - h)) if s_without > 0 else (math.inf if e else 0.0)
@@ -292,7 +298,7 @@ def rate_difference(a: StationRate, b: StationRate) -> RateDifference:
     interval = (math.nan, math.nan)
     if a.dof >= 1 and b.dof >= 1 and se2 > 0:
         dof = se2**2 / (a.se_mg_per_Mc**4 / a.dof + b.se_mg_per_Mc**4 / b.dof)
-        half = float(stats.t.ppf(0.975, dof)) * math.sqrt(se2)
+        half = float(_t_quantile(0.975, dof)) * math.sqrt(se2)
         interval = (difference - half, difference + half)
     return RateDifference(a.station, b.station, difference, interval, a.density_mg_per_mm3)
 
