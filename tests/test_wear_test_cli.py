@@ -4,6 +4,7 @@ motions per station from a stations output, and bad input refused in one line wi
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -203,7 +204,9 @@ def test_stations_that_differ_in_cross_shear_give_a_wear_law_table(tmp_path, cap
     rows = np.column_stack([cycle.t, np.degrees(cycle.q[:, 0]), 0 * cycle.t, 0 * cycle.t, cycle.Fe])
     np.savetxt(flexion, rows, delimiter=",", header="t_s,alpha_deg,beta_deg,gamma_deg,Fe_N", comments="")
     weighings = tmp_path / "w.csv"
-    weighings.write_text(GOOD + GOOD.replace(",1,", ",2,").replace("soak", "soak_2").replace("29990", "29995").split("\n", 1)[1])
+    weighings.write_text(
+        GOOD + GOOD.replace(",1,", ",2,").replace("soak", "soak_2").replace("29990", "29995").split("\n", 1)[1]
+    )
     report = tmp_path / "report"
     status, text, err = _run(
         capsys,
@@ -233,3 +236,38 @@ def test_stations_that_differ_in_cross_shear_give_a_wear_law_table(tmp_path, cap
 
     table = read_wear_law(report / "fitted_wear_law.csv")  # as --wear-law reads it
     assert table.k.tolist() == pytest.approx(law["k_mm3_per_Nm"], rel=1e-15)
+
+
+def test_the_report_prints_to_pdf(tmp_path, capsys, monkeypatch):
+    """--pdf: the page printed by the browser (a stand-in here) to wear_test.pdf; without a browser, refused first."""
+    weighings = tmp_path / "w.csv"
+    weighings.write_text(GOOD)
+    monkeypatch.setattr("hipsim.present.pages.find_browser", lambda: None)
+    status, _, err = _run(
+        capsys, "--weighings", weighings, "--pdf", "--report", tmp_path / "page", "--out", tmp_path / "t.csv"
+    )
+    assert status == 2 and "Chromium" in err and not (tmp_path / "page").exists()
+    printed = []
+
+    def fake_print(page, out, browser=None, timeout_s=120.0):
+        printed.append(page)
+        Path(out).write_bytes(b"%PDF-1.4 stand-in")
+        return Path(out)
+
+    monkeypatch.setattr("hipsim.present.pages.find_browser", lambda: "chromium")
+    monkeypatch.setattr("hipsim.present.wear_test_page.print_pdf", fake_print)
+    status, text, err = _run(
+        capsys,
+        "--weighings",
+        weighings,
+        "--pdf",
+        "--report",
+        tmp_path / "page",
+        "--out",
+        tmp_path / "t.csv",
+        "--summary-format",
+        "json",
+    )
+    assert status == 0, err
+    assert json.loads(text)["pdf"] == str(tmp_path / "page" / "wear_test.pdf")
+    assert printed == [tmp_path / "page" / "index.html"]
