@@ -270,4 +270,5 @@ def test_the_report_prints_to_pdf(tmp_path, capsys, monkeypatch):
     )
     assert status == 0, err
     assert json.loads(text)["pdf"] == str(tmp_path / "page" / "wear_test.pdf")
+    assert json.loads(text)["verdict"] == "ONE STATION"
     assert printed == [tmp_path / "page" / "index.html"]

@@ -32,7 +32,7 @@ def write_wear_test_page(
     """The test's page (module docstring)."""
     out = Path(out_dir)
     check_folder(out)
-    state = "fail" if result.verdict.word == "DIFFERENT" else "pass"
+    state = {"DIFFERENT": "fail", "ALIKE": "pass"}.get(result.verdict.word, "open")
     verdict = Verdict(state, result.verdict.word, result.verdict.lines)
     document = result.to_json()
     for c in contexts:

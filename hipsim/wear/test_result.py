@@ -10,7 +10,8 @@ volume per interval between stops (the given factor, else the station's own
 fitted local k, which matches the total by construction and shows the shape).
 
 The verdict (:func:`wear_verdict`) comes first on every page: DIFFERENT when
-some pair of stations' rates differs (its 95 % interval excludes 0), else ALIKE;
+some pair of stations' rates differs (its 95 % interval excludes 0), else ALIKE
+(ONE STATION when only one was weighed);
 then, with a given factor, per station whether its prediction lies in the
 measured rate's 95 % interval.
 """
@@ -136,6 +137,8 @@ def wear_verdict(gravimetry: Gravimetry, stations: tuple[StationWear, ...], give
                 f"station {s.rate.station}: predicted {s.predicted_mm3_per_Mc:.3g} mm³/Mc ({given.describe()}), "
                 f"measured {s.rate.rate_mm3_per_Mc:.3g} [{low:.3g}, {high:.3g}]: {state}"
             )
+    if not gravimetry.differences:
+        return WearVerdict("ONE STATION", ("one station weighed: no other to compare its rate with", *lines))
     return WearVerdict("DIFFERENT" if different else "ALIKE", tuple(lines))
 
 
