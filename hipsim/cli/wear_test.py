@@ -300,9 +300,10 @@ def run_test(args, setup, points, read_motion, parse_law) -> int:
         require_pdf_renderer()
     result_gravimetry = gravimetry(read_weighings(args.weighings), args.density, from_cycle)
     inputs: dict = {"weighings": args.weighings, "friction": args.friction}
+    # The reference first: its kernels loaded here, the snapshots' worker processes (forked) start with them.
+    reference = motion_integrals(wear_maps(CycleSource(1000.0, 1, 1.0), 1.0, setup, points))
     errors: dict = {}
     exposures = _exposures(args, result_gravimetry, setup, points, notes, inputs, read_motion, errors)
-    reference = motion_integrals(wear_maps(CycleSource(1000.0, 1, 1.0), 1.0, setup, points))
     result = wear_test(result_gravimetry, exposures, given, reference)
     for rate in result_gravimetry.stations:
         if rate.bedding_in == "detected":
