@@ -199,7 +199,7 @@ def test_stations_that_differ_in_cross_shear_give_a_wear_law_table(tmp_path, cap
     reads, each row the station's rate over its ΣW·dA."""
     from hipsim.motion.trajectories import iso14242
 
-    cycle = iso14242(rate=200)
+    cycle = iso14242(rate=200, cycles=2)
     flexion = tmp_path / "flexion.csv"
     rows = np.column_stack([cycle.t, np.degrees(cycle.q[:, 0]), 0 * cycle.t, 0 * cycle.t, cycle.Fe])
     np.savetxt(flexion, rows, delimiter=",", header="t_s,alpha_deg,beta_deg,gamma_deg,Fe_N", comments="")
@@ -225,6 +225,11 @@ def test_stations_that_differ_in_cross_shear_give_a_wear_law_table(tmp_path, cap
     )
     assert status == 0, err
     result = json.loads(text)
+    # its error against ISO: β and γ missing, RMS √(1.5² + 5.5²/2) and √(4² + 6²/2) deg (spec §7.2's means and
+    # amplitudes); α none
+    error = result["stations"]["2"]["motion_error"]
+    assert error["rms_deg"] == pytest.approx([0.0, (1.5**2 + 5.5**2 / 2) ** 0.5, (4**2 + 6**2 / 2) ** 0.5], abs=1e-6)
+    assert result["stations"]["1"]["motion_error"] is None  # the built-in cycle: nothing to compare
     law = result["fitted_wear_law"]
     one, two = (result["stations"][n]["fitted"] for n in ("1", "2"))
     assert law["cross_shear"] == pytest.approx(

@@ -86,11 +86,21 @@ def _given(args, parse_law):
 
 
 def _integrals(args, spec, setup, points, read_motion):
+    """A source's per-cycle integrals, its file, the notes, and its error against ISO (None for the built-in cycle
+    or a motion of fewer than two heel strikes)."""
+    from ..motion.trajectories import Trajectory
     from ..wear import wear_maps
     from ..wear.factors import motion_integrals
+    from ..wear.test_context import iso_error, motion_error
 
-    motion, cycle_time, _, path, notes = read_motion(args, spec)
-    return motion_integrals(wear_maps(motion, cycle_time, setup, points)), path, notes
+    motion, cycle_time, name, path, notes = read_motion(args, spec)
+    error = None
+    if isinstance(motion, Trajectory):
+        try:
+            error = motion_error(iso_error(motion), f"{name}, against ISO 14242-1 by gait phase")
+        except HipsimError:
+            pass  # one heel strike: no phase to compare by; a stations output's own error columns may still say
+    return motion_integrals(wear_maps(motion, cycle_time, setup, points)), path, notes, error
 
 
 def _machine(path: str, overrides: tuple[str, ...]):
@@ -226,7 +236,9 @@ def _exposures(args, gravimetry, setup, points, notes: list[str], inputs: dict, 
         if name in exposures:
             continue
         spec = specs.get(name, "iso")
-        integrals, path, more = _integrals(args, spec, setup, points, read_motion)
+        integrals, path, more, error = _integrals(args, spec, setup, points, read_motion)
+        if error is not None:
+            errors[name] = error
         notes += [f"station {name}: {note}" for note in more]
         if path:
             inputs[f"motion of station {name}"] = path

@@ -35,8 +35,8 @@ def _motion(args, name: str):
 
 
 def context(args, result, errors: dict):
-    """Per station: its motion error (from a stations output, or ``errors``: the snapshots') and its friction (from
-    the monitor's table)."""
+    """Per station: its motion error (a stations output's own columns, else ``errors``: the snapshots' or the
+    motion's against ISO by gait phase) and its friction (from the monitor's table)."""
     from ..wear.test_context import StationContext, friction_state
 
     table = None
@@ -48,7 +48,7 @@ def context(args, result, errors: dict):
     for station in result.stations:
         name = station.rate.station
         friction = None if table is None else friction_state(table, _station_number(args, name), args.friction)
-        out.append(StationContext(name, errors.get(name) or _motion(args, name), friction))
+        out.append(StationContext(name, _motion(args, name) or errors.get(name), friction))
     return tuple(out)
 
 
