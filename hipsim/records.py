@@ -55,7 +55,7 @@ SCHEMA_VERSION = "1"
 REFUSED = 2
 
 
-class Level(str, enum.Enum):
+class Level(enum.StrEnum):
     """What a verdict says, in the word a user reads; each level is passing, failing or open (nothing decided)."""
 
     PASS = "PASS"
