@@ -185,7 +185,11 @@ def _record_schema(cls: type, defs: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
-_SIMPLE = {float: {"type": ["number", "null"]}, int: {"type": "integer"}, str: {"type": "string"}}
+_SIMPLE: dict[type, dict[str, Any]] = {
+    float: {"type": ["number", "null"]},
+    int: {"type": "integer"},
+    str: {"type": "string"},
+}
 
 
 def _schema(hint: Any, defs: dict[str, Any]) -> dict[str, Any]:
