@@ -28,18 +28,18 @@ from __future__ import annotations
 import dataclasses
 import enum
 import math
+import sys
 import types
 import typing
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
-import numpy as np
-
 __all__ = [
     "EXIT_RULE",
     "REFUSED",
     "SCHEMA_VERSION",
+    "Judged",
     "Level",
     "Record",
     "Verdict",
@@ -92,10 +92,17 @@ EXIT_RULE: dict[int, tuple[str, ...]] = {
 }
 
 
-def exit_status(verdicts: Iterable[Verdict | Level | None]) -> int:
+class Judged(typing.Protocol):
+    """Anything that carries a verdict's level (a :class:`Verdict`, a command's own verdict record)."""
+
+    @property
+    def level(self) -> Level: ...
+
+
+def exit_status(verdicts: Iterable[Judged | Level | None]) -> int:
     """The exit status of a command that states ``verdicts``: 1 when any is failing, else 0 (None: no verdict)."""
     for verdict in verdicts:
-        level = verdict.level if isinstance(verdict, Verdict) else verdict
+        level = verdict if verdict is None or isinstance(verdict, Level) else verdict.level
         if level is not None and level.failed:
             return 1
     return 0
@@ -113,10 +120,9 @@ def json_value(value: Any) -> Any:
         return value.to_json()
     if isinstance(value, enum.Enum):
         return value.value
-    if isinstance(value, np.ndarray):
+    np = sys.modules.get("numpy")  # not imported here: ``hipsim --help`` loads no NumPy; none loaded, no arrays
+    if np is not None and isinstance(value, (np.ndarray, np.generic)):
         return json_value(value.tolist())
-    if isinstance(value, np.generic):
-        return json_value(value.item())
     if isinstance(value, Mapping):
         return {str(k): json_value(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):

@@ -111,28 +111,23 @@ def _print_summary(summary) -> None:
     from ..present.tables import format_table
 
     rows = []
-    for p in summary["platforms"]:
-        role = "controlled" if p["controlled"] else "following"
-        for name, a in p["angles"].items():
+    for p in summary.platforms:
+        role = "controlled" if p.controlled else "following"
+        for name, a in p.angles.items():
             rows.append(
-                [
-                    f"m_{p['platform']} ({role})",
-                    name,
-                    f"{a['rms_deg']:.4g}",
-                    f"{a['peak_deg']:.4g}",
-                    f"{a['peak_at_s']:.4g}",
-                ]
+                [f"m_{p.platform} ({role})", name, f"{a.rms_deg:.4g}", f"{a.peak_deg:.4g}", f"{a.peak_at_s:.4g}"]
             )
-    print(
-        format_table(["platform", "angle", "RMS [°]", "peak [°]", "at t [s]"], rows, f"--control {summary['control']}")
-    )
-    for p in summary["platforms"]:
-        if "iso" in p:
-            print(f"station {p['platform']}: ISO 14242-1 check of its motion: {p['iso']['verdict']}")
+    print(format_table(["platform", "angle", "RMS [°]", "peak [°]", "at t [s]"], rows, f"--control {summary.control}"))
+    for p in summary.platforms:
+        if p.iso is not None:
+            reason = f" ({p.iso.reason})" if p.iso.reason else ""
+            print(f"station {p.platform}: ISO 14242-1: {p.iso.verdict.value}: {p.iso.judged}{reason}")
+            if p.iso.desired_line:
+                print(f"station {p.platform}: {p.iso.desired_line}")
 
 
 def run(args) -> int:
-    """Run the mode the options ask for; write the folder; exit status 0."""
+    """Run the mode the options ask for; write the folder; exit status 1 when a station's ISO verdict fails."""
     from ..files import check_folder, check_output
 
     _check(args)
@@ -156,7 +151,9 @@ def _commands(args, params, weights, out: Path, table: Path) -> int:
     from ..files import output_folder
     from ..present.stations_page import write_stations
     from ..stations.commands import station_commands
+    from ..records import exit_status
     from ..stations.summary import station_columns, station_summary
+    from .documents import StationsRun
 
     trajectory = load_trajectory(args)
     motion = station_commands(params, trajectory.t, trajectory.q, args.control, weights, source=trajectory.name)
@@ -168,17 +165,13 @@ def _commands(args, params, weights, out: Path, table: Path) -> int:
 
     with output_folder(out):
         _write_table(table, station_columns(motion, load))
-        files = write_stations(
-            out, {"summary": summary, "table": str(table)}, motion.t, np.degrees(motion.errors), provenance
-        )
+        files = write_stations(out, {"table": str(table)}, summary, motion.t, np.degrees(motion.errors), provenance)
     if args.summary_format == "json":
-        print_json(
-            {"summary": summary, "table": str(table), "index": str(files.index), "provenance": provenance.as_dict()}
-        )
+        print_json(StationsRun(summary, str(table), str(files.index), provenance.as_dict()).to_json())
     else:
         _print_summary(summary)
         print(f"wrote {table} and {files.index}")
-    return 0
+    return exit_status(summary.verdicts)
 
 
 def _sliders(args, params, out: Path, table: Path) -> int:
