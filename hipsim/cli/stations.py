@@ -150,8 +150,8 @@ def run(args) -> int:
 def _commands(args, params, weights, out: Path, table: Path) -> int:
     from ..files import output_folder
     from ..present.stations_page import write_stations
-    from ..stations.commands import station_commands
     from ..records import exit_status
+    from ..stations.commands import station_commands
     from ..stations.summary import station_columns, station_summary
     from .documents import StationsRun
 
