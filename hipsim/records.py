@@ -20,7 +20,8 @@ its values, a nested record an object of its own fields (every field required,
 no other key), ``X | None`` X or null. A field whose metadata says
 ``{"omit_none": True}`` is left out of the JSON when it is None (a key a
 document has only sometimes); ``{"key": "name"}`` prints the field under
-another key.
+another key; ``{"flatten": True}`` (:func:`flattened`) lays a nested record's
+keys into this one's (a summary with the paths a command wrote beside it).
 """
 
 from __future__ import annotations
@@ -44,6 +45,7 @@ __all__ = [
     "Record",
     "Verdict",
     "exit_status",
+    "flattened",
     "json_value",
     "optional",
 ]
@@ -108,6 +110,11 @@ def exit_status(verdicts: Iterable[Judged | Level | None]) -> int:
     return 0
 
 
+def flattened() -> Any:
+    """A record field whose record's keys are laid into the enclosing record's JSON (and schema)."""
+    return field(metadata={"flatten": True})
+
+
 def optional(**metadata: Any) -> Any:
     """A record field that defaults to None and is left out of the JSON when None (a key a document has sometimes)."""
     return field(default=None, metadata={"omit_none": True, **metadata})
@@ -148,6 +155,9 @@ class Record:
             value = getattr(self, f.name)
             if value is None and f.metadata.get("omit_none"):
                 continue
+            if f.metadata.get("flatten"):  # a record's keys laid into this one's
+                out |= json_value(value)
+                continue
             out[f.metadata.get("key", f.name)] = json_value(value)
         return out
 
@@ -178,6 +188,11 @@ def _record_schema(cls: type, defs: dict[str, Any]) -> dict[str, Any]:
     properties: dict[str, Any] = {}
     required: list[str] = []
     for f in dataclasses.fields(cls):
+        if f.metadata.get("flatten"):
+            inner = _record_schema(hints[f.name], defs)
+            properties |= inner["properties"]
+            required += inner["required"]
+            continue
         key = f.metadata.get("key", f.name)
         properties[key] = _schema(hints[f.name], defs)
         if "description" in f.metadata:

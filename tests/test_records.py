@@ -9,7 +9,7 @@ import jsonschema
 import numpy as np
 import pytest
 
-from hipsim.records import EXIT_RULE, REFUSED, Level, Record, Verdict, exit_status, optional
+from hipsim.records import EXIT_RULE, REFUSED, Level, Record, Verdict, exit_status, flattened, optional
 
 
 @dataclass(frozen=True)
@@ -108,3 +108,27 @@ def test_verdict_json():
     }
     jsonschema.validate(verdict.to_json(), Verdict.json_schema())
     assert verdict.failed and not Verdict(Level.PASS, "x").failed
+
+
+@dataclass(frozen=True)
+class _Document(Record):
+    """A summary with what was written beside it."""
+
+    summary: _Inner = flattened()
+    table: str = ""
+    index: str | None = optional()
+
+
+def test_a_flattened_record_lays_its_keys_into_the_document():
+    document = _Document(_Inner(2.0, ("a",)), "t.csv").to_json()
+    assert document == {"x_deg": 2.0, "tags": ["a"], "table": "t.csv"}
+    schema = _Document.json_schema("demo")
+    assert schema["required"] == ["x_deg", "tags", "table"] and set(schema["properties"]) == {
+        "x_deg",
+        "tags",
+        "table",
+        "index",
+    }
+    jsonschema.validate(document, schema)
+    with pytest.raises(jsonschema.ValidationError):
+        jsonschema.validate({"tags": [], "table": "t"}, schema)

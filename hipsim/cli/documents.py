@@ -15,10 +15,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from ..records import Record
+from ..present.wear_page import WearComparison
+from ..records import Record, flattened, optional
 from ..stations.summary import StationSummary
+from ..wear.summary import WearSummary
 
-__all__ = ["SCHEMAS", "StationsRun", "schema"]
+__all__ = ["SCHEMAS", "StationsRun", "WearCompare", "WearRun", "schema"]
 
 
 @dataclass(frozen=True)
@@ -31,9 +33,30 @@ class StationsRun(Record):
     provenance: dict[str, Any]
 
 
+@dataclass(frozen=True)
+class WearRun(Record):
+    """``hipsim wear`` on one motion: the summary's keys, the notes, the table and the page written."""
+
+    summary: WearSummary = flattened()
+    notes: tuple[str, ...] = ()
+    table: str = ""
+    index: str | None = optional()
+
+
+@dataclass(frozen=True)
+class WearCompare(Record):
+    """``hipsim wear --compare A B``: the comparison's keys (as ``wear.json``), the page and the table written."""
+
+    comparison: WearComparison = flattened()
+    index: str = ""
+    table: str = ""
+
+
 #: Command (and mode) → the record of what it prints with ``--summary-format json``.
 SCHEMAS: dict[str, type[Record]] = {
     "stations": StationsRun,
+    "wear": WearRun,
+    "wear-compare": WearCompare,
 }
 
 
