@@ -8,6 +8,7 @@ import subprocess
 import sys
 
 from ..exceptions import HipsimError
+from ..records import exit_status
 from .common import add_provenance_options, add_summary_format, page_provenance, print_json
 
 __all__ = ["add_parser", "format_summary", "run"]
@@ -236,7 +237,7 @@ def run(args) -> int:
         print_json(summary)
     else:
         print(format_summary(summary, result))
-    return 1 if summary["alarm_active"] else 0
+    return exit_status([result.state])
 
 
 def _outputs(args, result, provenance, said: set | None = None) -> dict:
@@ -303,7 +304,7 @@ def _watch(args, setup, baseline, provenance, metadata) -> int:
     except KeyboardInterrupt:
         print("hipsim: stopped watching; the table and page are those of the last update", file=sys.stderr)
         return 130
-    return 1 if result is not None and result.findings.alarm[-1] else 0
+    return exit_status([None if result is None else result.state])
 
 
 def _progress_bar(total: int):

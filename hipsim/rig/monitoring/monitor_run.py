@@ -33,6 +33,7 @@ from ...machine.parameters import Parameters
 from .control_chart import DEFAULT_ALARM_RISE, DEFAULT_BASELINE, EWMA_L, EWMA_LAMBDA
 from .findings import Findings, duplicates, find, missing_cycles
 from .monitor_fit import MonitorSetup, estimate_batch
+from .monitor_state import MonitorState, monitor_state
 from .monitor_table import COLUMNS, MONITOR_TABLE, PARTS, table_rows, write_table
 from .reference import reference
 from .snapshots import Skipped, Snapshot, find_snapshots
@@ -97,11 +98,15 @@ class MonitorResult:
     def two_stations(self) -> bool:
         return self.setup.params.heights.size == 2
 
+    @property
+    def state(self) -> MonitorState:
+        """The state at the last snapshot: ALARM, NOTICE, OK or NOT MADE (:func:`monitor_state`)."""
+        return monitor_state(self.findings.alarm, self.findings.flag, self.findings.mean.note)
+
     def summary(self) -> dict[str, Any]:
         """The run's summary, JSON-ready: counts, baseline, alarms and notices, skipped and missing snapshots, files."""
         c, found = self.columns, self.findings
         chart = found.mean
-        last = len(c["cycle"]) - 1
         stations = None
         if found.stations is not None:
             stations = [
@@ -139,8 +144,8 @@ class MonitorResult:
             "first_alarm": found.first,
             "notices": sum(1 for f in found.flag if "notice" in f),
             "latest_notice": found.latest_notice,
-            "alarm_active": bool(last >= 0 and found.alarm[last]),
-            "notice_active": bool(last >= 0 and found.flag[last] and not found.alarm[last]),
+            "alarm_active": self.state.alarm_active,
+            "notice_active": self.state.notice_active,
             "load_cell": {
                 "commanded_load_logged": bool(known.any()),
                 "three_percent": 0.03 / 1.03 * chart.mean / (self.setup.params.friction.hip_radius * 1e3),
