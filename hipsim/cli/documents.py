@@ -17,10 +17,19 @@ from typing import Any
 
 from ..present.wear_page import WearComparison
 from ..records import Record, flattened, optional
-from ..stations.summary import StationSummary
+from ..stations.summary import SlidersSummary, StationSummary
+from ..stations.tolerance_summary import ToleranceSummary
 from ..wear.summary import WearSummary
 
-__all__ = ["SCHEMAS", "StationsRun", "WearCompare", "WearRun", "schema"]
+__all__ = [
+    "SCHEMAS",
+    "StationsRun",
+    "StationsSliders",
+    "StationsTolerance",
+    "WearCompare",
+    "WearRun",
+    "schema",
+]
 
 
 @dataclass(frozen=True)
@@ -52,9 +61,30 @@ class WearCompare(Record):
     table: str = ""
 
 
+@dataclass(frozen=True)
+class StationsSliders(Record):
+    """``hipsim stations --sliders LOG``: both platforms from the log's carriages, the table and the page written."""
+
+    sliders: SlidersSummary
+    table: str
+    index: str
+    provenance: dict[str, Any]
+
+
+@dataclass(frozen=True)
+class StationsTolerance(Record):
+    """``hipsim stations --tolerance SPEC``: the tolerance study and the page written."""
+
+    tolerance: ToleranceSummary
+    index: str
+    provenance: dict[str, Any]
+
+
 #: Command (and mode) → the record of what it prints with ``--summary-format json``.
 SCHEMAS: dict[str, type[Record]] = {
     "stations": StationsRun,
+    "stations-sliders": StationsSliders,
+    "stations-tolerance": StationsTolerance,
     "wear": WearRun,
     "wear-compare": WearCompare,
 }

@@ -18,7 +18,8 @@ import numpy as np
 
 from ..files import check_folder, json_ready, output_folder, write_atomic
 from ..records import Level
-from ..stations.summary import StationSummary, stations_verdict
+from ..stations.summary import SlidersSummary, StationSummary, stations_verdict
+from ..stations.tolerance_summary import ToleranceSummary
 from .figures import _figure, save_figure
 from .pages import CSS, Verdict, environment
 from .provenance import Provenance
@@ -77,17 +78,20 @@ def write_stations(
     t: np.ndarray | None = None,
     errors_deg: np.ndarray | None = None,
     provenance: Provenance | None = None,
+    tolerance: ToleranceSummary | None = None,
+    sliders: SlidersSummary | None = None,
 ) -> StationFiles:
     """Write ``stations.json``, ``index.html`` and, given the errors, the figure ``errors.png``/``.svg``, atomically.
 
     Args:
         out_dir: the folder (made if missing).
-        document: what else the run found, JSON-ready: any of ``table`` (the per-sample table's path),
-            ``tolerance`` (percentiles and sensitivity), ``sliders`` (attitudes from a log).
+        document: what else the run found, JSON-ready: ``table`` (the per-sample table's path) or nothing.
         summary: the run's summary on the desired motion (:func:`hipsim.stations.summary.station_summary`).
         t: sample times in [s] (N,) for the figure; None for no figure.
         errors_deg: each platform's errors in [deg] (N, 2, 3).
         provenance: the page's provenance block.
+        tolerance: a tolerance study's summary (percentiles and sensitivity).
+        sliders: the attitudes from a log's carriages.
     """
     from .provenance import provenance as make_provenance
 
@@ -96,7 +100,10 @@ def write_stations(
     provenance = provenance or make_provenance()
     verdict = station_verdict(summary) if summary else Verdict("open", "TOLERANCES", ("Manufacturing tolerances.",))
     full = {"verdict": verdict.as_dict(), "provenance": json_ready(provenance.as_dict())}
-    full |= ({"summary": summary.to_json()} if summary else {}) | json_ready(document)
+    for key, record in (("summary", summary), ("tolerance", tolerance), ("sliders", sliders)):
+        if record is not None:
+            full[key] = record.to_json()
+    full |= json_ready(document)
     with output_folder(out):
         figure = None
         if t is not None and errors_deg is not None:
@@ -113,6 +120,8 @@ def write_stations(
                 title=provenance.title,
                 d=full,
                 summary=summary,
+                tolerance=tolerance,
+                sliders=sliders,
                 figure=None if figure is None else base64.b64encode(figure[0].read_bytes()).decode("ascii"),
             )
         )

@@ -23,10 +23,12 @@ __all__ = [
     "ANGLES",
     "AngleError",
     "PlatformSummary",
+    "SlidersSummary",
     "StationSummary",
     "angle_error",
     "attitude_columns",
     "error_columns",
+    "sliders_summary",
     "station_columns",
     "station_summary",
     "stations_verdict",
@@ -186,3 +188,33 @@ def stations_verdict(summary: StationSummary) -> Verdict:
     level = Level.FAIL if any(iso.verdict == Level.FAIL for _, iso in made) else Level.PASS
     judged = "ISO 14242-1 (tolerances assumed): " + ", ".join(f"station {p} {iso.verdict.value}" for p, iso in made)
     return Verdict(level, judged, not_judged, numbers)
+
+
+@dataclass(frozen=True)
+class SlidersSummary(Record):
+    """Both platforms' attitudes from a log's carriages: how far apart they turn.
+
+    Attributes:
+        log: the log's path.
+        samples: its samples.
+        platform_difference_rms_deg: RMS of q_1 − q_2 per angle α, β, γ in [deg].
+        platform_difference_peak_deg: the largest |q_1 − q_2| per angle in [deg].
+    """
+
+    log: str
+    samples: int
+    platform_difference_rms_deg: tuple[float, float, float]
+    platform_difference_peak_deg: tuple[float, float, float]
+
+
+def sliders_summary(log: str, attitudes: np.ndarray) -> SlidersSummary:
+    """How far apart the two platforms turn, from their attitudes (N, 2, 3) in [rad]."""
+    difference = np.degrees(attitudes[:, 0] - attitudes[:, 1])
+    rms = np.sqrt((difference**2).mean(axis=0))
+    peak = np.abs(difference).max(axis=0)
+    return SlidersSummary(
+        log,
+        len(attitudes),
+        (float(rms[0]), float(rms[1]), float(rms[2])),
+        (float(peak[0]), float(peak[1]), float(peak[2])),
+    )
