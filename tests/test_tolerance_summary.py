@@ -47,3 +47,12 @@ def test_family_shares_add_a_familys_values_largest_first():
     shares = family_shares(rows)
     assert list(shares) == ["ujoint", "lever"] and shares["lever"] == pytest.approx(0.45)
     assert list(family_shares(rows[:1] + rows[2:])) == ["lever"]
+
+
+def test_the_95th_percentile_interpolates_between_draws():
+    """20 draws of 1 … 20°: rank 0.95·19 = 18.05, so 19 + 0.05·(20 − 19) = 19.05° (not a draw's own value)."""
+    rms = np.radians(np.arange(1.0, 21.0))[::-1, None, None, None] * np.ones((1, 1, 2, 3))
+    result = ToleranceResult({"lever": 1e-4}, ("1",), rms, rms, {"1": []}, 0)
+    (control,) = tolerance_summary(result, 10).controls
+    assert control.platforms[0].rms_p95_deg == pytest.approx((19.05,) * 3, rel=1e-12)
+    assert control.family_share == {} and control.sensitivity == ()
