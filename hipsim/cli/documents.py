@@ -15,6 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+from ..motion.iso_verdict import IsoCheckSummary
 from ..present.wear_page import WearComparison
 from ..records import Record, flattened, optional
 from ..stations.summary import SlidersSummary, StationSummary
@@ -23,6 +24,7 @@ from ..wear.summary import WearSummary
 
 __all__ = [
     "SCHEMAS",
+    "IsoCheckRun",
     "StationsRun",
     "StationsSliders",
     "StationsTolerance",
@@ -80,8 +82,17 @@ class StationsTolerance(Record):
     provenance: dict[str, Any]
 
 
+@dataclass(frozen=True)
+class IsoCheckRun(Record):
+    """``hipsim iso-check``: the run's check per quantity and per cycle, and the page written."""
+
+    check: IsoCheckSummary = flattened()
+    index: str = ""
+
+
 #: Command (and mode) → the record of what it prints with ``--summary-format json``.
 SCHEMAS: dict[str, type[Record]] = {
+    "iso-check": IsoCheckRun,
     "stations": StationsRun,
     "stations-sliders": StationsSliders,
     "stations-tolerance": StationsTolerance,

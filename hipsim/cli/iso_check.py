@@ -165,7 +165,10 @@ def run(args) -> int:
     """Check the run; write the folder; status 1 when a cycle leaves a tolerance."""
     from ..files import check_folder
     from ..motion.iso_compliance import iso_check, periodic_extension
-    from ..present.iso_figures import iso_summary, write_iso_check
+    from ..motion.iso_verdict import iso_check_summary
+    from ..present.iso_figures import write_iso_check
+    from ..records import exit_status
+    from .documents import IsoCheckRun
 
     tolerances = parse_tolerance_option(args.tolerance)
     params = parameters(args)
@@ -177,12 +180,13 @@ def run(args) -> int:
     files = write_iso_check(
         args.out, check, t, q, load, page_provenance(args, log=args.trajectory, load=getattr(args, "load", None))
     )
+    summary = iso_check_summary(check)
     if args.summary_format == "json":
-        print_json(iso_summary(check) | {"index": str(files.index)})
+        print_json(IsoCheckRun(summary, str(files.index)).to_json())
     else:
         print(format_check(check))
         print(f"wrote {files.index}")
-    return 0 if check.passed else 1
+    return exit_status([summary])
 
 
 def simulation_verdicts(simulations, tolerances, periodic: bool) -> list[str]:

@@ -26,12 +26,27 @@ import numpy as np
 
 from ..exceptions import TrajectoryError
 from ..records import Level, Record, optional
-from .iso_compliance import DEFAULT_TOLERANCES, IsoCheck, Tolerances, iso_check
+from .iso_compliance import DEFAULT_TOLERANCES, QUANTITIES, IsoCheck, Tolerances, iso_check
 
-__all__ = ["ANGLES", "DesiredIso", "StationIso", "Tracking", "station_iso", "station_iso_verdict"]
+__all__ = [
+    "ANGLES",
+    "UNITS",
+    "CycleCheck",
+    "DesiredIso",
+    "IsoCheckSummary",
+    "QuantityCheck",
+    "StationIso",
+    "Tracking",
+    "iso_check_summary",
+    "station_iso",
+    "station_iso_verdict",
+]
 
 #: The angles, as the checks and the columns name them.
 ANGLES = ("alpha", "beta", "gamma")
+
+#: Each checked quantity's unit, as the JSON names it.
+UNITS = {"alpha": "deg", "beta": "deg", "gamma": "deg", "load": "N", "frequency": "Hz"}
 
 
 @dataclass(frozen=True)
@@ -178,3 +193,86 @@ def station_iso(
         return StationIso(Level.NOT_MADE, f"{name}'s motion: no ISO 14242-1 check", tracking=tracking, reason=reason)
     desired = iso_check(t, q_d, load, tolerances, source=source, periodic=periodic)
     return station_iso_verdict(name, achieved, desired, tracking)
+
+
+@dataclass(frozen=True)
+class QuantityCheck(Record):
+    """One quantity over every cycle: its worst deviation, the tolerance, the cycles that left it."""
+
+    unit: str
+    worst: float
+    tolerance: float
+    cycles_failed: int
+    passed: bool
+
+
+@dataclass(frozen=True)
+class CycleCheck(Record):
+    """One cycle: its start, its frequency, each quantity's deviation (the frequency's from 1 Hz), and its verdict."""
+
+    cycle: int
+    start_s: float
+    frequency_Hz: float
+    alpha: float
+    beta: float
+    gamma: float
+    load: float
+    frequency: float
+    passed: bool
+
+
+@dataclass(frozen=True)
+class IsoCheckSummary(Record):
+    """A run checked against ISO 14242-1 (``hipsim iso-check``): per quantity and per cycle, and the verdict.
+
+    Attributes:
+        source: the log or run checked.
+        passed: every cycle kept every quantity within tolerance (PASS), else FAIL.
+        failing: the quantities that left their tolerance in a cycle.
+        cycles: whole cycles checked.
+        tolerances_assumed: the reminder that the default tolerances are assumed.
+        quantities: per quantity (alpha, beta, gamma, load, frequency) its check.
+        per_cycle: each cycle's check.
+    """
+
+    source: str
+    passed: bool
+    failing: tuple[str, ...]
+    cycles: int
+    tolerances_assumed: str
+    quantities: dict[str, QuantityCheck]
+    per_cycle: tuple[CycleCheck, ...]
+
+    @property
+    def level(self) -> Level:
+        """PASS or FAIL (for :func:`hipsim.records.exit_status`)."""
+        return Level.PASS if self.passed else Level.FAIL
+
+
+def iso_check_summary(check: IsoCheck) -> IsoCheckSummary:
+    """The check as a record: per quantity the worst deviation, tolerance and cycles failed; per cycle each deviation."""
+    quantities = {}
+    for q in QUANTITIES:
+        ok = check.passes(q)
+        quantities[q] = QuantityCheck(
+            UNITS[q], check.worst(q), getattr(check.tolerances, q), int((~ok).sum()), bool(ok.all())
+        )
+    cycles = tuple(
+        CycleCheck(
+            k + 1,
+            c.start,
+            c.frequency,
+            *(c.deviation(q) for q in QUANTITIES),  # type: ignore[arg-type]
+            passed=all(bool(check.passes(q)[k]) for q in QUANTITIES),
+        )
+        for k, c in enumerate(check.cycles)
+    )
+    return IsoCheckSummary(
+        check.source,
+        check.passed,
+        check.failing,
+        len(check.cycles),
+        "defaults are assumed values: confirm them against your copy of ISO 14242-1",
+        quantities,
+        cycles,
+    )
