@@ -15,6 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+from ..control.simulation_summary import SimulationSummary
 from ..motion.iso_verdict import IsoCheckSummary
 from ..present.wear_page import WearComparison
 from ..records import Record, flattened, optional
@@ -25,6 +26,7 @@ from ..wear.summary import WearSummary
 __all__ = [
     "SCHEMAS",
     "IsoCheckRun",
+    "SimulateRun",
     "StationsRun",
     "StationsSliders",
     "StationsTolerance",
@@ -90,9 +92,19 @@ class IsoCheckRun(Record):
     index: str = ""
 
 
+@dataclass(frozen=True)
+class SimulateRun(Record):
+    """``hipsim simulate``: per controller the run's summary with the ISO 14242-1 verdict, the mismatch, the CSVs."""
+
+    simulations: tuple[SimulationSummary, ...]
+    mismatch: dict[str, float]
+    csv: tuple[str, ...]
+
+
 #: Command (and mode) → the record of what it prints with ``--summary-format json``.
 SCHEMAS: dict[str, type[Record]] = {
     "iso-check": IsoCheckRun,
+    "simulate": SimulateRun,
     "stations": StationsRun,
     "stations-sliders": StationsSliders,
     "stations-tolerance": StationsTolerance,

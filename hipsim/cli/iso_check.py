@@ -1,4 +1,4 @@
-"""``hipsim iso-check``: did a run follow the ISO 14242-1 waveforms within tolerance, cycle by cycle? And the verdict ``simulate`` prints.
+"""``hipsim iso-check``: did a run follow the ISO 14242-1 waveforms within tolerance, cycle by cycle?
 
 The run: a rig log (a CSV with motor torques or currents, read as ``compare``
 reads it), any trajectory file the readers take, or the built-in cycle. Each
@@ -23,7 +23,7 @@ from .common import (
 )
 from .motion_options import add_trajectory_options, load_trajectory
 
-__all__ = ["add_parser", "format_check", "parse_tolerance_option", "run", "simulation_verdicts"]
+__all__ = ["add_parser", "format_check", "parse_tolerance_option", "run"]
 
 #: Cycles listed one by one on the terminal (the JSON and the page list them all).
 MAX_LISTED = 20
@@ -187,24 +187,3 @@ def run(args) -> int:
         print(format_check(check))
         print(f"wrote {files.index}")
     return exit_status([summary])
-
-
-def simulation_verdicts(simulations, tolerances, periodic: bool) -> list[str]:
-    """One verdict line per simulated run: its tracked (actual) motion and its load against ISO 14242-1."""
-    from ..exceptions import TrajectoryError
-    from ..motion.iso_compliance import iso_check
-
-    lines = []
-    for sim in simulations:
-        try:
-            check = iso_check(sim.t, sim.q, sim.desired.Fe, tolerances, source=sim.controller, periodic=periodic)
-        except TrajectoryError as error:
-            lines.append(f"ISO 14242-1 check of {sim.controller}'s tracked motion: not made ({error})")
-            continue
-        verdict = "PASS" if check.passed else "FAIL: " + ", ".join(check.failing)
-        worst = ", ".join(f"{q} {check.worst(q):.3g}" for q in ("alpha", "beta", "gamma"))
-        lines.append(
-            f"ISO 14242-1 check of {sim.controller}'s tracked motion ({len(check.cycles)} cycle(s)): {verdict} "
-            f"(worst deviation [°]: {worst}; tolerances assumed, see hipsim iso-check)"
-        )
-    return lines
