@@ -114,3 +114,13 @@ def test_the_exit_rule_table_in_the_docs_is_the_codes():
             assert f"`{level}`" in row, (status, level)
     for name in SCHEMAS:
         assert f"`hipsim schema {name}`" in page, name
+
+
+def test_feasible(tmp_path, capsys):
+    status, document = _json(capsys, ["feasible", "--summary-format", "json"])
+    assert status == 0 and document["crossings"] == []
+    _valid(capsys, "feasible", document)
+    fast = ["feasible", "--set", "motor.max_speed_rpm=100", "--summary-format", "json"]
+    status, document = _json(capsys, fast)
+    assert status == 1 and document["feasible"] is False and document["crossings"][0]["limit"] == "motor_speed"
+    _valid(capsys, "feasible", document)

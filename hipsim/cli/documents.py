@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..control.simulation_summary import SimulationSummary
+from ..design.feasibility_summary import FeasibilitySummary
 from ..motion.iso_verdict import IsoCheckSummary
 from ..present.wear_page import WearComparison
 from ..records import Record, flattened, optional
@@ -103,6 +104,7 @@ class SimulateRun(Record):
 
 #: Command (and mode) → the record of what it prints with ``--summary-format json``.
 SCHEMAS: dict[str, type[Record]] = {
+    "feasible": FeasibilitySummary,
     "iso-check": IsoCheckRun,
     "simulate": SimulateRun,
     "stations": StationsRun,
