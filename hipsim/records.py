@@ -189,9 +189,11 @@ def _record_schema(cls: type, defs: dict[str, Any]) -> dict[str, Any]:
     required: list[str] = []
     for f in dataclasses.fields(cls):
         if f.metadata.get("flatten"):
-            inner = _record_schema(hints[f.name], defs)
+            record = next((h for h in typing.get_args(hints[f.name]) if h is not type(None)), hints[f.name])
+            inner = _record_schema(record, defs)
             properties |= inner["properties"]
-            required += inner["required"]
+            if not f.metadata.get("omit_none"):  # an optional record's keys come all together or not at all
+                required += inner["required"]
             continue
         key = f.metadata.get("key", f.name)
         properties[key] = _schema(hints[f.name], defs)

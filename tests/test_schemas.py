@@ -124,3 +124,17 @@ def test_feasible(tmp_path, capsys):
     status, document = _json(capsys, fast)
     assert status == 1 and document["feasible"] is False and document["crossings"][0]["limit"] == "motor_speed"
     _valid(capsys, "feasible", document)
+
+
+def test_torques(tmp_path, capsys):
+    argv = ["torques", "--rate", "50", "--cycles", "2", "--summary-format", "json", "--out", str(tmp_path / "t.csv")]
+    status, document = _json(capsys, argv)
+    assert status == 0 and document["cond_inv_min_cycle"] in (1, 2) and document["csv"].endswith("t.csv")
+    assert "joints" not in document  # the analytic model gives no joint forces
+    _valid(capsys, "torques", document)
+    one = ["torques", "--rate", "50", "--model", "pinocchio", "--summary-format", "json", "--out"]
+    status, document = _json(capsys, [*one, str(tmp_path / "p.parquet")])
+    assert (
+        status == 0 and "cond_inv_min_cycle" not in document and "parquet" in document and "Fo_1" in document["joints"]
+    )
+    _valid(capsys, "torques", document)

@@ -12,7 +12,7 @@ records load NumPy).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from ..control.simulation_summary import SimulationSummary
@@ -20,6 +20,7 @@ from ..design.feasibility_summary import FeasibilitySummary
 from ..motion.iso_verdict import IsoCheckSummary
 from ..present.wear_page import WearComparison
 from ..records import Record, flattened, optional
+from ..results import RunSummary
 from ..stations.summary import SlidersSummary, StationSummary
 from ..stations.tolerance_summary import ToleranceSummary
 from ..wear.summary import WearSummary
@@ -31,6 +32,7 @@ __all__ = [
     "StationsRun",
     "StationsSliders",
     "StationsTolerance",
+    "TorquesRun",
     "WearCompare",
     "WearRun",
     "schema",
@@ -102,12 +104,32 @@ class SimulateRun(Record):
     csv: tuple[str, ...]
 
 
+@dataclass(frozen=True)
+class CycleOf(Record):
+    """Which cycle (from 1) the smallest singularity measure falls in, and how far into it in [s]."""
+
+    cond_inv_min_cycle: int
+    cond_inv_min_t_in_cycle_s: float
+
+
+@dataclass(frozen=True)
+class TorquesRun(Record):
+    """``hipsim torques``: the run's summary keys, the cycle of its smallest singularity measure (a run of more than
+    one cycle), and the table written (``csv`` or ``parquet``, the path given; ``-`` for standard output)."""
+
+    summary: RunSummary = flattened()
+    cycle: CycleOf | None = field(default=None, metadata={"flatten": True, "omit_none": True})
+    csv: str | None = optional()
+    parquet: str | None = optional()
+
+
 #: Command (and mode) → the record of what it prints with ``--summary-format json``.
 SCHEMAS: dict[str, type[Record]] = {
     "feasible": FeasibilitySummary,
     "iso-check": IsoCheckRun,
     "simulate": SimulateRun,
     "stations": StationsRun,
+    "torques": TorquesRun,
     "stations-sliders": StationsSliders,
     "stations-tolerance": StationsTolerance,
     "wear": WearRun,

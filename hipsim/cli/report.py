@@ -156,7 +156,7 @@ def run(args) -> int:
     pdf = files.folder / "report.pdf" if args.pdf else None
     if args.summary_format == "json":
         print_json(
-            (joint_run or run).summary()
+            (joint_run or run).summary().to_json()
             | {
                 "sizing": files.sizing.as_dict() if files.sizing is not None else None,
                 "rating_check": _verdict(passed),
