@@ -419,7 +419,11 @@ class Summary:
                 )
         motors = {
             str(i + 1): MotorPeaks(
-                *(float(peaks[field][i]) for field in Torques.PARTS),  # type: ignore[arg-type]
+                tau_m_max_Nmm=float(peaks["platforms"][i]),
+                tau_l_max_Nmm=float(peaks["levers"][i]),
+                tau_s_max_Nmm=float(peaks["sliders"][i]),
+                tau_L_max_Nmm=float(peaks["screws"][i]),
+                tau_f_max_Nmm=float(peaks["friction"][i]),
                 tau_peak_Nmm=float(peaks["total"][i]),
                 tau_rms_Nmm=float(rms[i]),
                 speed_peak_rpm=float(peaks["speed"][i]),

@@ -19,15 +19,32 @@ from ..results import peak_and_rms
 class Run(Protocol):
     """What a summary reads of a run (:class:`hipsim.control.simulation.Simulation`)."""
 
-    t: np.ndarray
-    desired: Trajectory
-    q: np.ndarray
-    tau: np.ndarray
-    saturated: np.ndarray
-    motor_speed: np.ndarray
-    plant: str
-    controller: str
-    step: float
+    @property
+    def t(self) -> np.ndarray: ...
+
+    @property
+    def desired(self) -> Trajectory: ...
+
+    @property
+    def q(self) -> np.ndarray: ...
+
+    @property
+    def tau(self) -> np.ndarray: ...
+
+    @property
+    def saturated(self) -> np.ndarray: ...
+
+    @property
+    def motor_speed(self) -> np.ndarray: ...
+
+    @property
+    def plant(self) -> str: ...
+
+    @property
+    def controller(self) -> str: ...
+
+    @property
+    def step(self) -> float: ...
 
     @property
     def err(self) -> np.ndarray: ...

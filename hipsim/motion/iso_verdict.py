@@ -259,10 +259,14 @@ def iso_check_summary(check: IsoCheck) -> IsoCheckSummary:
         )
     cycles = tuple(
         CycleCheck(
-            k + 1,
-            c.start,
-            c.frequency,
-            *(c.deviation(q) for q in QUANTITIES),  # type: ignore[arg-type]
+            cycle=k + 1,
+            start_s=c.start,
+            frequency_Hz=c.frequency,
+            alpha=c.alpha,
+            beta=c.beta,
+            gamma=c.gamma,
+            load=c.load,
+            frequency=c.deviation("frequency"),
             passed=all(bool(check.passes(q)[k]) for q in QUANTITIES),
         )
         for k, c in enumerate(check.cycles)
