@@ -325,3 +325,11 @@ def test_identify_writes_provenance_to_its_json_and_its_file(log, tmp_path, caps
     origin = parameter_origin(out)
     assert origin.kind == "identified" and origin.identified and origin.made.startswith("Made by hipsim")
     assert ("log", str(log), sha256(log)) in origin.log_hashes
+
+
+@pytest.mark.usefixtures("quick_figures")
+def test_compare_exits_1_when_a_motor_exceeds_the_accepted_error(log, tmp_path, capsys):
+    argv = ["compare", "--log", str(log), "--out", str(tmp_path / "c"), "--set", "friction.hip_mu=0.12"]
+    assert main([*argv, "--accept", "0.001"]) == 1
+    assert capsys.readouterr().out.startswith("FAIL: ")
+    assert main([*argv, "--out", str(tmp_path / "d")]) == 0  # no threshold: nothing judged

@@ -17,8 +17,10 @@ from pathlib import Path
 from typing import Any
 
 from ..files import check_folder, json_ready, output_folder, write_atomic
+from ..records import Level
 from ..results import Torques
 from ..rig.compare import Comparison
+from ..rig.compare_verdict import acceptance_verdict
 from .figures import save_figure
 from .numbers import significant
 from .pages import CSS, Verdict, environment
@@ -156,16 +158,19 @@ class ComparisonFiles:
     index: Path
     summary: Path
     figures: dict[str, tuple[Path, Path]]
+    verdict: Verdict
 
 
 def comparison_verdict(summary: dict, accept: float | None = None) -> Verdict:
-    """The worst motor's RMS error relative to its measured RMS torque; PASS/FAIL against ``accept``, else not judged.
+    """The page's block of :func:`hipsim.rig.compare_verdict.acceptance_verdict`: PASS/FAIL against ``accept``, else
+    NOT JUDGED, with the worst motor's numbers.
 
     Args:
         summary: :meth:`hipsim.rig.compare.Comparison.summary`.
         accept: the largest relative RMS error accepted, as a fraction (0.05: 5 %); None: no threshold.
     """
     motors = summary["motors"]
+    verdict = acceptance_verdict({i: m["relative_rms_error"] for i, m in motors.items()}, accept)
     worst = max(motors, key=lambda i: motors[i]["relative_rms_error"])
     m = motors[worst]
     numbers = (
@@ -173,17 +178,10 @@ def comparison_verdict(summary: dict, accept: float | None = None) -> Verdict:
         f"{significant(100 * m['relative_rms_error'], 3)} % of its measured RMS torque "
         f"({significant(m['rms_error_away_from_reversals_Nmm'], 3)} N·mm away from reversals)."
     )
-    if accept is None:
+    if verdict.level == Level.NOT_MADE:
         return Verdict("open", "NOT JUDGED", ("No acceptance threshold given (--accept PERCENT).", numbers))
-    share = f"{100 * accept:g} %"
-    if all(motors[i]["relative_rms_error"] <= accept for i in motors):
-        return Verdict(
-            "pass", "PASS", (f"Every motor's RMS error is within {share} of its measured RMS torque.", numbers)
-        )
-    failing = [i for i in motors if motors[i]["relative_rms_error"] > accept]
-    return Verdict(
-        "fail", "FAIL", (f"{len(failing)} of {len(motors)} motors exceed the accepted {share} RMS error.", numbers)
-    )
+    sentence = verdict.judged[0].upper() + verdict.judged[1:] + "."
+    return Verdict(verdict.level.state, verdict.level.value, (sentence, numbers))
 
 
 def _rows(summary: dict) -> list[list[str]]:
@@ -272,4 +270,4 @@ def write_comparison(
             )
         )
         index = write_atomic(out / "index.html", page)
-    return ComparisonFiles(out, index, json_path, figures)
+    return ComparisonFiles(out, index, json_path, figures, verdict)
