@@ -21,6 +21,7 @@ from ..motion.iso_verdict import IsoCheckSummary
 from ..present.wear_page import WearComparison
 from ..records import Record, flattened, optional
 from ..results import RunSummary
+from ..rig.monitoring.monitor_summary import MonitorSummary
 from ..stations.summary import SlidersSummary, StationSummary
 from ..stations.tolerance_summary import ToleranceSummary
 from ..wear.summary import WearSummary
@@ -28,6 +29,8 @@ from ..wear.summary import WearSummary
 __all__ = [
     "SCHEMAS",
     "IsoCheckRun",
+    "MonitorRun",
+    "ReportFiles",
     "SimulateRun",
     "StationsRun",
     "StationsSliders",
@@ -123,10 +126,29 @@ class TorquesRun(Record):
     parquet: str | None = optional()
 
 
+@dataclass(frozen=True)
+class ReportFiles(Record):
+    """The page a command wrote, and its PDF (None when not printed)."""
+
+    report: str
+    pdf: str | None
+
+
+@dataclass(frozen=True)
+class MonitorRun(Record):
+    """``hipsim monitor``: the run's summary keys, the table written (None: none), the provenance, the page if asked."""
+
+    summary: MonitorSummary = flattened()
+    out: str | None = None
+    provenance: dict[str, Any] = field(default_factory=dict)
+    report: ReportFiles | None = field(default=None, metadata={"flatten": True, "omit_none": True})
+
+
 #: Command (and mode) → the record of what it prints with ``--summary-format json``.
 SCHEMAS: dict[str, type[Record]] = {
     "feasible": FeasibilitySummary,
     "iso-check": IsoCheckRun,
+    "monitor": MonitorRun,
     "simulate": SimulateRun,
     "stations": StationsRun,
     "torques": TorquesRun,

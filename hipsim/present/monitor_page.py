@@ -236,7 +236,7 @@ def write_monitor_report(
     provenance = provenance or make_provenance()
     summary = result.summary()
     verdict = monitor_verdict(result)
-    document = {"verdict": verdict.as_dict(), "provenance": provenance.as_dict()} | summary
+    document = {"verdict": verdict.as_dict(), "provenance": provenance.as_dict()} | summary.to_json()
     figures: dict[str, tuple[Path, Path]] = {}
     with output_folder(out):
         for stem, plot in (("chart", plot_chart), ("terms", plot_terms), ("residuals", plot_residuals)):
@@ -255,8 +255,8 @@ def write_monitor_report(
                 verdict=verdict,
                 provenance=provenance,
                 title=provenance.title,
-                summary=json_ready(summary),
-                notes=list(notes) + ([summary["note"]] if summary["note"] else []),
+                summary=summary,
+                notes=list(notes) + ([summary.note] if summary.note else []),
                 figures=embedded,
                 captions=CAPTIONS,
                 header=header,
