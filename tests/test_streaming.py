@@ -285,6 +285,11 @@ def test_check_summary_as_json(capsys):
     spin = document["comparisons"][2]
     assert spin["required"] and spin["worst"] <= document["tolerance"]
     assert {row["column"] for row in spin["columns"]} >= {"tau_1_Nmm", "L_11_mm", "cond_inv"}
+    import jsonschema
+
+    from hipsim.cli.documents import schema
+
+    jsonschema.validate(document, schema("check"))  # the published contract (hipsim schema check)
 
 
 @pytest.mark.usefixtures("quick_figures")  # exit statuses and text: the figures are drawn in tests/test_report.py

@@ -15,6 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+from ..analysis.crosscheck_summary import CrossCheckSummary
 from ..control.simulation_summary import SimulationSummary
 from ..design.feasibility_summary import FeasibilitySummary
 from ..motion.iso_verdict import IsoCheckSummary
@@ -146,6 +147,7 @@ class MonitorRun(Record):
 
 #: Command (and mode) → the record of what it prints with ``--summary-format json``.
 SCHEMAS: dict[str, type[Record]] = {
+    "check": CrossCheckSummary,
     "feasible": FeasibilitySummary,
     "iso-check": IsoCheckRun,
     "monitor": MonitorRun,
