@@ -176,10 +176,13 @@ def run(args) -> int:
             )
         if bands:
             print(_bands_note(bands))
-    if passed is False:
+    from ..design.checks import checks_verdict
+    from ..records import exit_status
+
+    status = exit_status([None if files.sizing is None else checks_verdict(files.sizing.checks)])
+    if status:
         print("hipsim: the drive fails its rating check (exit status 1)", file=sys.stderr)
-        return 1
-    return 0
+    return status
 
 
 def _margin_bands(identified, params, covariance, run, trajectory, drive, cycles):

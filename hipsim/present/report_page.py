@@ -15,10 +15,12 @@ import math
 import re
 
 from ..analysis.registry import engine_entry
+from ..design.checks import checks_verdict
 from ..design.sizing import CHECKS, Check, Sizing
 from ..machine.drive import Drive
 from ..machine.parameters import SCHEMA, file_values
 from ..physics.units import RPM_PER_RAD_S as _RPM
+from ..records import Level
 from ..results import Run, RunSummary, Torques
 from .figures import FIGURE_CAPTIONS
 from .numbers import quantity, significant, with_uncertainty
@@ -68,10 +70,12 @@ def _check_sentence(check: Check) -> str:
 
 
 def report_verdict(size: Sizing) -> Verdict:
-    """PASS / FAIL / NOT RATED, with the one or two numbers that decide it."""
+    """The page's block of the drive's verdict (:func:`hipsim.design.checks.checks_verdict`): PASS / FAIL / NOT
+    RATED, with the one or two numbers that decide it."""
+    verdict = checks_verdict(size.checks)
     made = [c for c in size.checks if c.passed is not None]
     missing = len(size.checks) - len(made)
-    if not made:
+    if verdict.level == Level.NOT_MADE:
         peak = max(size.modules, key=lambda m: m.tau_peak_Nmm)
         rms = max(size.modules, key=lambda m: m.tau_rms_Nmm)
         fast = max(size.modules, key=lambda m: m.speed_peak_rpm)
@@ -88,7 +92,7 @@ def report_verdict(size: Sizing) -> Verdict:
     name = size.drive.name if size.drive is not None else "the drive"
     not_made = f"; {missing} not made for want of data" if missing else ""
     binding = size.binding
-    if size.passed:
+    if verdict.level == Level.PASS:
         return Verdict(
             "pass",
             "PASS",
