@@ -19,9 +19,11 @@ from ..analysis.crosscheck_summary import CrossCheckSummary
 from ..control.simulation_summary import SimulationSummary
 from ..design.feasibility_summary import FeasibilitySummary
 from ..motion.iso_verdict import IsoCheckSummary
+from ..present.pages import Verdict as PageVerdict
 from ..present.wear_page import WearComparison
 from ..records import Record, flattened, optional
 from ..results import RunSummary
+from ..rig.compare_summary import ComparisonSummary
 from ..rig.monitoring.monitor_summary import MonitorSummary
 from ..stations.summary import SlidersSummary, StationSummary
 from ..stations.tolerance_summary import ToleranceSummary
@@ -29,6 +31,7 @@ from ..wear.summary import WearSummary
 
 __all__ = [
     "SCHEMAS",
+    "CompareRun",
     "IsoCheckRun",
     "MonitorRun",
     "ReportFiles",
@@ -145,9 +148,21 @@ class MonitorRun(Record):
     report: ReportFiles | None = field(default=None, metadata={"flatten": True, "omit_none": True})
 
 
+@dataclass(frozen=True)
+class CompareRun(Record):
+    """``hipsim compare`` (as ``comparison.json``): the page's verdict, the provenance, the comparison's keys, and the
+    model's 95 % band per motor when the parameter file carries a covariance."""
+
+    verdict: PageVerdict
+    provenance: dict[str, Any]
+    comparison: ComparisonSummary = flattened()
+    model_band95: dict[str, dict[str, float | None]] | None = optional()
+
+
 #: Command (and mode) → the record of what it prints with ``--summary-format json``.
 SCHEMAS: dict[str, type[Record]] = {
     "check": CrossCheckSummary,
+    "compare": CompareRun,
     "feasible": FeasibilitySummary,
     "iso-check": IsoCheckRun,
     "monitor": MonitorRun,

@@ -221,7 +221,7 @@ def run_compare(args) -> int:
     )
     summary = comparison.summary()
     accepted = acceptance_verdict(
-        {i: m["relative_rms_error"] for i, m in comparison.motor_errors().items()},
+        {i: m.relative_rms_error for i, m in summary.motors.items()},
         None if args.accept is None else args.accept / 100,
     )
     if args.summary_format == "json":
@@ -229,7 +229,7 @@ def run_compare(args) -> int:
         return exit_status([accepted])
     print(f"{files.verdict.word}: " + " ".join(files.verdict.lines))
     print(
-        f"log: {log.name} ({summary['samples']} samples compared, motion from the {log.motion_from}); parameters: {params.source}"
+        f"log: {log.name} ({summary.samples} samples compared, motion from the {log.motion_from}); parameters: {params.source}"
     )
     for note in log.notes:
         print(f"  {note}")
@@ -250,16 +250,16 @@ def run_compare(args) -> int:
     rows = [
         [
             f"M{i}",
-            m["measured_rms_Nmm"],
-            m["measured_peak_Nmm"],
-            m["rms_error_Nmm"],
-            f"{100 * m['relative_rms_error']:.2f} %",
-            m["peak_error_Nmm"],
-            f"{100 * m['relative_peak_error']:.2f} %",
-            f"{m['peak_error_t_s']:.3f}",
-            m["rms_error_away_from_reversals_Nmm"],
+            m.measured_rms_Nmm,
+            m.measured_peak_Nmm,
+            m.rms_error_Nmm,
+            f"{100 * m.relative_rms_error:.2f} %",
+            m.peak_error_Nmm,
+            f"{100 * m.relative_peak_error:.2f} %",
+            f"{m.peak_error_t_s:.3f}",
+            m.rms_error_away_from_reversals_Nmm,
         ]
-        for i, m in summary["motors"].items()
+        for i, m in summary.motors.items()
     ]
     print(
         format_table(

@@ -20,6 +20,7 @@ from ..files import check_folder, json_ready, output_folder, write_atomic
 from ..records import Level
 from ..results import Torques
 from ..rig.compare import Comparison
+from ..rig.compare_summary import ComparisonSummary
 from ..rig.compare_verdict import acceptance_verdict
 from .figures import save_figure
 from .numbers import significant
@@ -161,7 +162,7 @@ class ComparisonFiles:
     verdict: Verdict
 
 
-def comparison_verdict(summary: dict, accept: float | None = None) -> Verdict:
+def comparison_verdict(summary: ComparisonSummary, accept: float | None = None) -> Verdict:
     """The page's block of :func:`hipsim.rig.compare_verdict.acceptance_verdict`: PASS/FAIL against ``accept``, else
     NOT JUDGED, with the worst motor's numbers.
 
@@ -169,14 +170,14 @@ def comparison_verdict(summary: dict, accept: float | None = None) -> Verdict:
         summary: :meth:`hipsim.rig.compare.Comparison.summary`.
         accept: the largest relative RMS error accepted, as a fraction (0.05: 5 %); None: no threshold.
     """
-    motors = summary["motors"]
-    verdict = acceptance_verdict({i: m["relative_rms_error"] for i, m in motors.items()}, accept)
-    worst = max(motors, key=lambda i: motors[i]["relative_rms_error"])
+    motors = summary.motors
+    verdict = acceptance_verdict({i: m.relative_rms_error for i, m in motors.items()}, accept)
+    worst = max(motors, key=lambda i: motors[i].relative_rms_error)
     m = motors[worst]
     numbers = (
-        f"Worst: motor {worst}, RMS error {significant(m['rms_error_Nmm'], 3)} N·mm = "
-        f"{significant(100 * m['relative_rms_error'], 3)} % of its measured RMS torque "
-        f"({significant(m['rms_error_away_from_reversals_Nmm'], 3)} N·mm away from reversals)."
+        f"Worst: motor {worst}, RMS error {significant(m.rms_error_Nmm, 3)} N·mm = "
+        f"{significant(100 * m.relative_rms_error, 3)} % of its measured RMS torque "
+        f"({significant(m.rms_error_away_from_reversals_Nmm, 3)} N·mm away from reversals)."
     )
     if verdict.level == Level.NOT_MADE:
         return Verdict("open", "NOT JUDGED", ("No acceptance threshold given (--accept PERCENT).", numbers))
@@ -184,20 +185,20 @@ def comparison_verdict(summary: dict, accept: float | None = None) -> Verdict:
     return Verdict(verdict.level.state, verdict.level.value, (sentence, numbers))
 
 
-def _rows(summary: dict) -> list[list[str]]:
+def _rows(summary: ComparisonSummary) -> list[list[str]]:
     return [
         [
             f"M{name}",
-            significant(m["measured_rms_Nmm"]),
-            significant(m["measured_peak_Nmm"]),
-            significant(m["rms_error_Nmm"], 3),
-            significant(100 * m["relative_rms_error"], 3),
-            significant(m["peak_error_Nmm"], 3),
-            significant(100 * m["relative_peak_error"], 3),
-            f"{m['peak_error_t_s']:.3f}",
-            significant(m["rms_error_away_from_reversals_Nmm"], 3),
+            significant(m.measured_rms_Nmm),
+            significant(m.measured_peak_Nmm),
+            significant(m.rms_error_Nmm, 3),
+            significant(100 * m.relative_rms_error, 3),
+            significant(m.peak_error_Nmm, 3),
+            significant(100 * m.relative_peak_error, 3),
+            f"{m.peak_error_t_s:.3f}",
+            significant(m.rms_error_away_from_reversals_Nmm, 3),
         ]
-        for name, m in summary["motors"].items()
+        for name, m in summary.motors.items()
     ]
 
 
@@ -230,17 +231,18 @@ def write_comparison(
     out = Path(out_dir)
     check_folder(out)
     provenance = provenance or make_provenance()
-    summary = comparison.summary() | (extra or {})
+    summary = comparison.summary()
+    document = summary.to_json() | (extra or {})
     captions = CAPTIONS
     if band is not None:
         from ..rig.identification.uncertainty import band_summary
 
-        summary["model_band95"] = band_summary(band, comparison.error, residual)
+        document["model_band95"] = band_summary(band, comparison.error, residual)
         captions = CAPTIONS | {
             "torques": CAPTIONS["torques"] + " Light blue: the model's 95 % band from the parameter file's covariance."
         }
     verdict = comparison_verdict(summary, accept)
-    summary = {"verdict": verdict.as_dict(), "provenance": provenance.as_dict()} | summary
+    document = {"verdict": verdict.as_dict(), "provenance": provenance.as_dict()} | document
     plots = [("torques", lambda c: plot_comparison(c, band)), ("errors", plot_errors)]
     if comparison.phase_rms is not None:
         plots.append(("phases", plot_phase_errors))
@@ -249,9 +251,8 @@ def write_comparison(
     with output_folder(out):
         for stem, plot in plots:
             figures[stem] = save_figure(plot(comparison), out, stem)
-        json_path = write_atomic(out / "comparison.json", json.dumps(json_ready(summary), indent=2) + "\n")
+        json_path = write_atomic(out / "comparison.json", json.dumps(json_ready(document), indent=2) + "\n")
         embedded = [(stem, base64.b64encode(png.read_bytes()).decode("ascii")) for stem, (png, _) in figures.items()]
-        plain = json_ready(summary)
         page = (
             environment()
             .get_template("compare.html.j2")
@@ -260,11 +261,11 @@ def write_comparison(
                 verdict=verdict,
                 provenance=provenance,
                 title=provenance.title,
-                summary=plain,
-                rows=_rows(plain),
-                rate=significant(plain["rate_Hz"]),
-                period=significant(plain["period_s"]) if plain.get("period_s") else "",
-                notes=summary.get("notes", []),
+                summary=summary,
+                rows=_rows(summary),
+                rate=significant(summary.rate_Hz),
+                period=significant(summary.period_s) if summary.period_s else "",
+                notes=summary.notes,
                 figures=embedded,
                 captions=captions,
             )
