@@ -138,3 +138,11 @@ def test_torques(tmp_path, capsys):
         status == 0 and "cond_inv_min_cycle" not in document and "parquet" in document and "Fo_1" in document["joints"]
     )
     _valid(capsys, "torques", document)
+
+
+def test_every_schema_is_validated_by_a_test_of_its_command():
+    """Each document of ``hipsim schema`` has a test that runs its command and validates the output against it."""
+    tests = Path(__file__).resolve().parent
+    text = "\n".join(path.read_text(encoding="utf-8") for path in tests.glob("test_*.py"))
+    for name in SCHEMAS:
+        assert f'_valid(capsys, "{name}"' in text or f'schema("{name}")' in text, name
