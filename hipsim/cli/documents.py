@@ -35,6 +35,7 @@ __all__ = [
     "IsoCheckRun",
     "MonitorRun",
     "ReportFiles",
+    "ReportRun",
     "SimulateRun",
     "StationsRun",
     "StationsSliders",
@@ -159,6 +160,22 @@ class CompareRun(Record):
     model_band95: dict[str, dict[str, float | None]] | None = optional()
 
 
+@dataclass(frozen=True)
+class ReportRun(Record):
+    """``hipsim report``: the run's summary keys, the sizing (its ``as_dict()``, None without a drive), the rating
+    check's word, the page (and PDF) written, the page's verdict, the provenance, and the margins' bands with an
+    identified file's covariance."""
+
+    summary: RunSummary = flattened()
+    sizing: dict[str, Any] | None = None
+    rating_check: str = ""
+    index: str = ""
+    pdf: str | None = None
+    verdict: PageVerdict = field(default_factory=lambda: PageVerdict("open", "", ()))
+    provenance: dict[str, Any] = field(default_factory=dict)
+    margin_bands: list[dict[str, Any]] | None = optional()
+
+
 #: Command (and mode) → the record of what it prints with ``--summary-format json``.
 SCHEMAS: dict[str, type[Record]] = {
     "check": CrossCheckSummary,
@@ -166,6 +183,7 @@ SCHEMAS: dict[str, type[Record]] = {
     "feasible": FeasibilitySummary,
     "iso-check": IsoCheckRun,
     "monitor": MonitorRun,
+    "report": ReportRun,
     "simulate": SimulateRun,
     "stations": StationsRun,
     "torques": TorquesRun,
