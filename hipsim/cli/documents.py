@@ -166,13 +166,13 @@ class ReportRun(Record):
     check's word, the page (and PDF) written, the page's verdict, the provenance, and the margins' bands with an
     identified file's covariance."""
 
-    summary: RunSummary = flattened()
-    sizing: dict[str, Any] | None = None
-    rating_check: str = ""
-    index: str = ""
-    pdf: str | None = None
-    verdict: PageVerdict = field(default_factory=lambda: PageVerdict("open", "", ()))
-    provenance: dict[str, Any] = field(default_factory=dict)
+    summary: RunSummary = field(metadata={"flatten": True})  # field() itself: mypy then knows it has no default
+    sizing: dict[str, Any] | None
+    rating_check: str
+    index: str
+    pdf: str | None
+    verdict: PageVerdict
+    provenance: dict[str, Any]
     margin_bands: list[dict[str, Any]] | None = optional()
 
 
