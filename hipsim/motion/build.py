@@ -41,6 +41,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass
+from typing import Literal, Unpack, overload
 
 import numpy as np
 from scipy.interpolate import make_interp_spline
@@ -51,6 +52,7 @@ from .columns import ColumnMap, stated_unit
 from .filtering import lowpass_record
 from .hip_angles import hip_to_machine
 from .noise_check import check_noise
+from .read_options import BuildOptions
 from .trajectories import MIN_SAMPLES, Trajectory
 
 __all__ = [
@@ -107,39 +109,31 @@ class Table:
     time_quantum: float = 0.0
 
 
+@overload
+def build_trajectory(table: Table, *, lazy: Literal[False] = False, **options: Unpack[BuildOptions]) -> Trajectory: ...
+@overload
+def build_trajectory(table: Table, *, lazy: Literal[True], **options: Unpack[BuildOptions]) -> SampledMotion: ...
+@overload
+def build_trajectory(table: Table, *, lazy: bool, **options: Unpack[BuildOptions]) -> Trajectory | SampledMotion: ...
 def build_trajectory(
-    table: Table,
-    *,
-    periodic: bool | None = None,
-    frequency: float | None = None,
-    period: float | None = None,
-    resample: float | None = None,
-    body_weight: float | None = None,
-    lazy: bool = False,
-    cutoff: float | None = None,
-    load_curve=None,
+    table: Table, *, lazy: bool = False, **options: Unpack[BuildOptions]
 ) -> Trajectory | SampledMotion:
     """Units, hip chain, time scaling, resampling and derivatives: the steps every reader shares (module docstring).
 
     Args:
         table: the file's numbers.
-        periodic: True if the motion repeats with the file's period (its last
-            row equals its first); None to decide from the data.
-        frequency: cycle frequency in [Hz] to rescale the recorded cycle to.
-        period: cycle period in [s] (instead of ``frequency``).
-        resample: sample rate in [Hz] of an even grid to resample onto.
-        body_weight: the subject's body weight in [N], for a load in % body weight.
         lazy: return the :class:`SampledMotion` (the samples and their
             spline, evaluated piece by piece) instead of the whole Trajectory.
-        cutoff: zero-phase low-pass cutoff in [Hz] for the angles before they
-            are differentiated; None for none (then noisy motion is warned of).
-        load_curve: the load from its own file
-            (:class:`hipsim.motion.load_file.LoadCurve`), in place of a load column.
+        options: :class:`hipsim.motion.read_options.BuildOptions` (periodic, frequency, period,
+            resample, body_weight, cutoff, load_curve).
 
     Raises:
         TrajectoryError: naming the file, line and column of the first problem.
     """
     source, lines, columns = table.source, np.asarray(table.lines), table.columns
+    periodic, frequency, period = options.get("periodic"), options.get("frequency"), options.get("period")
+    resample, body_weight, cutoff = options.get("resample"), options.get("body_weight"), options.get("cutoff")
+    load_curve = options.get("load_curve")
     cycle = _cycle_period(frequency, period, source)
     rate = _positive(resample, "resample rate", "Hz", source) if resample is not None else None
     time_column = columns.time

@@ -1,0 +1,73 @@
+"""The keyword options every trajectory reader takes, declared once (typed keyword arguments, PEP 692).
+
+:func:`hipsim.motion.csv_table.load_trajectory_csv`,
+:func:`hipsim.motion.parquet.load_trajectory_parquet`,
+:func:`hipsim.motion.opensim.load_opensim` and
+:func:`hipsim.motion.readers.read_trajectory` take ``**options`` of
+:class:`ReadOptions`; :func:`hipsim.motion.build.build_trajectory` takes the
+:class:`BuildOptions` among them (the columns are a format's business, read
+before it). ``lazy`` stays a parameter of its own in each: it chooses the
+return type (a :class:`~hipsim.motion.trajectories.Trajectory`, or a
+:class:`~hipsim.motion.build.SampledMotion` to evaluate piece by piece), which
+each reader's overloads tell the type checker.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, TypedDict, cast
+
+if TYPE_CHECKING:
+    from .columns import Column, ColumnMap
+    from .load_file import LoadCurve
+
+__all__ = ["BuildOptions", "ReadOptions", "build_options"]
+
+
+class BuildOptions(TypedDict, total=False):
+    """The options of the steps every reader ends in (:func:`hipsim.motion.build.build_trajectory`).
+
+    Attributes:
+        periodic: True if the motion repeats with the file's period (its last
+            row equals its first); None (the default) to decide from the data.
+        frequency: cycle frequency in [Hz]: the file holds one cycle, rescaled in time to it.
+        period: cycle period in [s], instead of ``frequency``.
+        resample: rate in [Hz] of an even grid to resample uneven data onto
+            (the quintic spline of the samples; the load linearly).
+        body_weight: body weight in [N], for a load in % body weight (the
+            default unit of the load when a body weight is given).
+        cutoff: zero-phase low-pass cutoff in [Hz] for the angles before
+            differentiation (:mod:`hipsim.motion.filtering`); None for none
+            (then noisy motion is warned of).
+        load_curve: the load from its own file (:func:`hipsim.motion.load_file.read_load_curve`),
+            in place of a load column.
+    """
+
+    periodic: bool | None
+    frequency: float | None
+    period: float | None
+    resample: float | None
+    body_weight: float | None
+    cutoff: float | None
+    load_curve: LoadCurve | None
+
+
+class ReadOptions(BuildOptions, total=False):
+    """A reader's options: :class:`BuildOptions` and which columns to read.
+
+    Attributes:
+        columns: a column mapping (:func:`~hipsim.motion.columns.parse_columns` text, a mapping
+            ``{"time": "Time", "alpha": "FE", …}`` or a :class:`~hipsim.motion.columns.ColumnMap`);
+            an OpenSim file is otherwise read by its hip coordinates' names.
+        load_column: the load's column (``[-]NAME[:UNIT]`` or a Column): N by
+            default, or % body weight when a body weight is given.
+    """
+
+    columns: ColumnMap | Mapping[str, str] | str | None
+    load_column: Column | str | None
+
+
+def build_options(options: ReadOptions) -> BuildOptions:
+    """The options :func:`hipsim.motion.build.build_trajectory` takes: ``options`` without the columns."""
+    rest = {key: value for key, value in options.items() if key not in ("columns", "load_column")}
+    return cast(BuildOptions, rest)
