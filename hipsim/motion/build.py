@@ -189,10 +189,11 @@ def build_trajectory(
             source=source,
             line=int(lines[-1]),
         )
+    on_file_lines = True  # the samples are the file's rows (not resampled onto a grid)
     if cutoff is not None:
         if rate is not None:  # the filter needs even samples: resample first
-            t, q, load, lines = _on_grid(_resampled(t, q, load, rate, periodic, source), periodic)
-            rate = None
+            t, q, load = _on_grid(_resampled(t, q, load, rate, periodic, source), periodic)
+            rate, on_file_lines = None, False
         step = (t[-1] - t[0]) / (t.size - 1)
         q = lowpass_record(q, 1.0 / step, cutoff, bool(periodic), source)
     else:
@@ -200,7 +201,7 @@ def build_trajectory(
     motion = (
         _resampled(t, q, load, rate, periodic, source)
         if rate is not None
-        else SampledMotion(t, load, lines, _spline(t, q, periodic), source, bool(periodic))
+        else SampledMotion(t, load, lines if on_file_lines else None, _spline(t, q, periodic), source, bool(periodic))
     )
     return motion if lazy else motion.trajectory()
 
@@ -296,13 +297,13 @@ def _warn_if_not_one_stride(t: np.ndarray, q: np.ndarray, closes: bool, source: 
         )
 
 
-def _on_grid(motion: SampledMotion, periodic: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray, None]:
-    """A resampled motion's grid samples (t, q, load, no lines), a periodic one closed by its first sample again."""
+def _on_grid(motion: SampledMotion, periodic: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A resampled motion's grid samples (t, q, load), a periodic one closed by its first sample again."""
     t, q, load = motion.t, motion.spline(motion.t), np.interp(motion.t, motion.knots, motion.load)
     if periodic:
         t = np.append(t, motion.knots[-1])
         q, load = np.vstack([q, q[:1]]), np.append(load, load[0])
-    return t, q, load, None
+    return t, q, load
 
 
 class SampledMotion:

@@ -98,7 +98,7 @@ def _read_csv_table(source: str, path, mapping: ColumnMap | None, load: Column |
     decimal_comma = separator != ","
     used = sorted(set(index.values()))
     values = np.empty((len(data), len(header)))
-    time_decimals = 0
+    time_decimals: int | None = 0  # None once a time's decimals cannot be told
     for k, (number_of_line, line) in enumerate(data):
         row = _cells(line, separator, len(header), source, number_of_line)
         if len(row) != len(header):

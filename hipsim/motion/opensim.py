@@ -183,6 +183,7 @@ def _table(source: str, labels: list[str], data, index: dict[str, int], angle_ke
             if not np.isfinite(values[k, c]):
                 raise TrajectoryError(f"'{row[c]}' is not finite", source=source, line=line_number, column=labels[c])
         places.append(decimals(row[index["time"]]))
+    known = [p for p in places if p is not None]  # a time whose decimals cannot be told: no quantum
     return Table(
         source=source,
         lines=np.array([n for n, _ in data]),
@@ -190,7 +191,7 @@ def _table(source: str, labels: list[str], data, index: dict[str, int], angle_ke
         angles=np.column_stack([values[:, index[c]] if c in index else np.zeros(len(data)) for c in angle_keys]),
         load=values[:, index["load"]] if "load" in index else None,
         columns=columns,
-        time_quantum=0.0 if None in places else 10.0 ** -max(places),
+        time_quantum=0.0 if not known or len(known) < len(places) else 10.0 ** -max(known),
     )
 
 
