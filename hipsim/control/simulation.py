@@ -443,14 +443,15 @@ def _servo_chunks(n: int, size: int, desc: str, progress: bool, notify: Callable
     would promise hours. That period is announced as compiling once it takes
     more than a second, and the bar's rate starts after it.
     """
-    note = threading.Timer(1.0, lambda: notify(f"{desc}: compiling (first run only) ..."))
-    note.daemon = True
-    if notify is not None:
+    note = None if notify is None else threading.Timer(1.0, notify, args=(f"{desc}: compiling (first run only) ...",))
+    if note is not None:
+        note.daemon = True
         note.start()
     try:
         yield 0, 1
     finally:
-        note.cancel()
+        if note is not None:
+            note.cancel()
     with tqdm(desc=desc, unit="servo", initial=1, total=n, disable=not progress, delay=2.0, leave=False) as bar:
         for start in range(1, n, size):
             stop = min(start + size, n)
