@@ -320,8 +320,8 @@ class Viewer:
             self._offline.tree.animation = None
 
     def _animation(self, motion: Motion):
-        forces = motion.F_act is not None
-        scale = self._scale(motion) if forces else 0.0
+        forces = motion.forces()
+        scale = self._scale(motion) if forces is not None else 0.0
         # Show the first frame: the scene then holds each node's scale (animations keep the scale they find).
         self.scene.show_frame(motion, 0, scale)
         self.scene.colour_levers(None)
@@ -331,8 +331,8 @@ class Viewer:
             poses = self.scene.poses(
                 motion.q[k],
                 motion.hip[k],
-                motion.F_act[k] if forces else None,
-                motion.F_joint[k] if forces else None,
+                forces[0][k] if forces is not None else None,
+                forces[1][k] if forces is not None else None,
                 scale,
             )
             with animation.at_frame(self.vis, k) as frame:
