@@ -162,16 +162,17 @@ def run(args) -> int:
                 "rating_check": _verdict(passed),
                 "index": str(files.index),
                 "pdf": None if pdf is None else str(pdf),
-                "verdict": files.verdict.as_dict(),
+                "verdict": files.verdict.as_dict() if files.verdict is not None else None,
                 "provenance": provenance.as_dict(),
             }
             | ({"margin_bands": [b.as_dict() for b in bands]} if bands else {})
         )
     else:
         print(f"wrote {files.index}" + (f" and {pdf}" if pdf is not None else ""))
-        if passed is not None:
+        if passed is not None and files.sizing is not None:  # passed is the sizing's
+            drive = files.sizing.drive
             print(
-                f"rating check of {files.sizing.drive.name}: {_verdict(passed)}"
+                f"rating check of {drive.name if drive is not None else 'the drive'}: {_verdict(passed)}"
                 + ("" if passed else " (see the sizing table in the report)")
             )
         if bands:

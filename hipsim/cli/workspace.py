@@ -181,6 +181,7 @@ def run_workspace(
     smap = singularity_map(params, alpha_deg, beta_deg, gamma_deg, trajectory=trajectory, progress=progress)
     sweep = offset_sweep(params, deltas_deg, trajectory, progress=progress)
     m = smap.margin
+    assert m is not None  # a map made along a trajectory has its margin
     document = {
         "parameters": params.source,
         "trajectory": trajectory.name,
