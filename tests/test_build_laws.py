@@ -631,7 +631,7 @@ def test_strides_of_an_angle_away_from_zero_and_the_edges_of_the_band():
     assert stride_count(t, np.array([0, 10, 0, 7.5, 0, 10.0])) == (2, 4.0)  # 7.5 is not above 7.5
 
 
-@pytest.mark.parametrize("k, name", [(0, "alpha"), (1, "beta"), (2, "gamma")])
+@pytest.mark.parametrize(("k", "name"), [(0, "alpha"), (1, "beta"), (2, "gamma")])
 def test_the_stride_warnings_name_the_widest_angle(k, name):
     t = 1.0 + np.arange(41) / 10.0  # a file that starts at 1 s
     strides = np.zeros((41, 3))

@@ -89,7 +89,7 @@ CENTRE_HOME = [home_carriage(i, gap_extra=(-0.1, -0.2)) - 0.3 for i in range(3)]
 
 
 @pytest.mark.parametrize(
-    "key, row, expected_mm",
+    ("key", "row", "expected_mm"),
     [
         (
             "slider_offset_mm",
@@ -230,7 +230,7 @@ def test_vector_names_and_round_trip():
 
 
 @pytest.mark.parametrize(
-    "table, message",
+    ("table", "message"),
     [
         ("lever_offset_mm = [0, 0, 0]", "geometry.lever_offset_mm.*6 numbers"),
         ("joint_offset_mm = [[0, 0]] ", "geometry.joint_offset_mm.*6 rows"),

@@ -100,7 +100,7 @@ def test_torques_from_trajectory_file(tmp_path, capsys):
 
 
 @pytest.mark.parametrize(
-    "args, message",
+    ("args", "message"),
     [
         (["torques", "--set", "lever.length_mm=100"], "key 'lever.length_mm': lever of 100 mm cannot reach"),
         (["torques", "--set", "lever.colour=3"], "key 'lever.colour': unknown key"),
@@ -429,7 +429,7 @@ def test_radians_under_a_degree_header_are_refused(tmp_path):
 
 
 @pytest.mark.parametrize(
-    "args, message",
+    ("args", "message"),
     [
         (["--columns", "time=t"], "--columns applies to a --trajectory file, not to the built-in cycle"),
         (["--resample", "100", "--side", "left"], "--side, --resample apply to a --trajectory file"),

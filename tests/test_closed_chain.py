@@ -447,7 +447,7 @@ def test_results_are_frozen_and_shaped(run):
         and run.dyn.joint_forces.Fa.shape == (n, 2, 3)
         and run.dyn.joint_forces.Fo.shape == (n, 2)
     )
-    with pytest.raises(ValueError):
+    with pytest.raises(ValueError, match="read-only"):
         run.dyn.torques.total[0, 0] = 1.0
     with pytest.raises(AttributeError):
         run.dyn.torques.total = None

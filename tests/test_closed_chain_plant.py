@@ -207,7 +207,7 @@ def test_energy_never_increases_with_motors_off(params, changes):
     plant = PinocchioPlant(rough)
     recorder = Recorder(plant)
     start = iso14242_at([0.3])
-    desired_at = lambda t: iso14242_at(np.asarray(t) + 0.3)  # noqa: E731 - the load of the cycle from t = 0.3 s
+    desired_at = lambda t: iso14242_at(np.asarray(t) + 0.3)  # the load of the cycle from t = 0.3 s
     sim = simulate(
         recorder, lambda t, s, d: np.zeros(3), desired_at, 0.06, step=1e-4, initial_state=plant.initial_state(start)
     )

@@ -29,7 +29,7 @@ def test_the_constants():
 
 
 @pytest.mark.parametrize(
-    "name, key, unit",
+    ("name", "key", "unit"),
     [
         ("Fz [kN]", "load", "kN"),
         ("Fz (%BW)", "load", "%BW"),
@@ -94,7 +94,7 @@ def test_a_mapping_text_round_trips():
 
 
 @pytest.mark.parametrize(
-    "text, message",
+    ("text", "message"),
     [
         ("", "empty column mapping (expected e.g. time=Time,alpha=FE,beta=AA,gamma=IE)"),
         ("   ", "empty column mapping (expected e.g. time=Time,alpha=FE,beta=AA,gamma=IE)"),

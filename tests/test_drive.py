@@ -58,7 +58,7 @@ inertia_ratio_max = 5
 
 
 @pytest.mark.parametrize(
-    "text, key, message",
+    ("text", "key", "message"),
     [
         ("[motor]\npeak_speed_rpm = [0, 1000]\n", "motor.peak_speed_rpm", "speeds without torques"),
         (

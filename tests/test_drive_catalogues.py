@@ -43,7 +43,7 @@ def test_screw_and_gearbox_catalogues(tmp_path):
 
 
 @pytest.mark.parametrize(
-    "text, line, column, message",
+    ("text", "line", "column", "message"),
     [
         ("name,s1_torque_Nm\nA,1\n", 1, None, "missing column 'peak_torque_Nm' or 'peak_torque_Nmm'"),
         ("name,s1_torque_Nm,peak_torque_Nm,colour\nA,1,2,red\n", 1, "colour", "unknown column"),
@@ -90,7 +90,7 @@ def test_bad_motor_catalogues_name_file_line_and_column(tmp_path, text, line, co
 
 
 @pytest.mark.parametrize(
-    "loader, text, column, message",
+    ("loader", "text", "column", "message"),
     [
         (load_screw_catalogue, "name,lead_mm,end_fixing\nA,10,clamped\n", "end_fixing", "fixed-free"),
         (load_screw_catalogue, "name,lead_mm,preload_N\nA,10,-5\n", "preload_N", "must not be negative"),

@@ -107,7 +107,8 @@ def test_one_harmonic_and_three():
 
 
 @pytest.mark.parametrize(
-    "duration, samples", [(None, 20), (2.0, 20), (2.5, 40), (4.0, 40), (4.0000001, 60), (0.1, 20), (3.99999999999, 40)]
+    ("duration", "samples"),
+    [(None, 20), (2.0, 20), (2.5, 40), (4.0, 40), (4.0000001, 60), (0.1, 20), (3.99999999999, 40)],
 )
 def test_sampled_over_whole_periods(duration, samples):
     trajectory = _design().trajectory(rate=10.0, duration=duration)  # period 2 s
@@ -318,7 +319,7 @@ def test_a_set_after_one_of_the_other_sign_of_det_j_is_not_said_to_cross_a_singu
 
 
 @pytest.mark.parametrize(
-    "kwargs, words",
+    ("kwargs", "words"),
     [
         ({"harmonics": 0}, "harmonics: expected a whole number from 1 to 50, got 0"),
         ({"harmonics": 51}, "harmonics: expected a whole number from 1 to 50, got 51"),
@@ -460,7 +461,7 @@ def test_a_seed_decides_the_design():
     assert not np.allclose(first.coefficients, other.coefficients)
 
 
-@pytest.mark.parametrize("seeds, starts", [(0, 1), (1, 1), (2, 2), (3, 3)])
+@pytest.mark.parametrize(("seeds", "starts"), [(0, 1), (1, 1), (2, 2), (3, 3)])
 def test_one_optimisation_per_start(seeds, starts):
     watch = Watch(lambda x: x)
     _run(watch, seeds=seeds)
@@ -598,9 +599,10 @@ def test_default_samples_are_twenty_per_harmonic_and_at_least_a_hundred(monkeypa
     for harmonics, samples in ((1, 100), (5, 100), (6, 120)):
         recorder = Recorder()
         monkeypatch.setattr(module, "_evaluate", recorder)
-        with pytest.raises(Stop), pytest.MonkeyPatch.context() as patch:
+        with pytest.MonkeyPatch.context() as patch:
             patch.setattr(scipy.optimize, "minimize", Watch(lambda x: x))
-            excitation(PARAMS, harmonics=harmonics, frequency=0.5)
+            with pytest.raises(Stop):
+                excitation(PARAMS, harmonics=harmonics, frequency=0.5)
         assert [r.grid.size for r in recorder.seen] == [samples, 10 * samples]
 
 
@@ -663,9 +665,10 @@ def test_the_defaults(monkeypatch):
     recorder = Recorder()
     monkeypatch.setattr(module, "_evaluate", recorder)
     watch = Watch(lambda x: x)
-    with pytest.raises(Stop), pytest.MonkeyPatch.context() as patch:
+    with pytest.MonkeyPatch.context() as patch:
         patch.setattr(scipy.optimize, "minimize", watch)
-        excitation(PARAMS)
+        with pytest.raises(Stop):
+            excitation(PARAMS)
     (call,) = watch.calls
     assert call.kwargs["options"]["maxiter"] == 40
     first, fine = recorder.seen

@@ -74,7 +74,7 @@ def test_stroke_is_the_travel_from_the_lowest_position():
 
 
 @pytest.mark.parametrize(
-    "field, limit", [("Ld", "slider_speed"), ("Ldd", "slider_acceleration"), ("speed", "motor_speed")]
+    ("field", "limit"), [("Ld", "slider_speed"), ("Ldd", "slider_acceleration"), ("speed", "motor_speed")]
 )
 def test_ceilings_on_the_absolute_value(field, limit):
     # Values 0.1, −0.5, 0.3 against 0.4: first over at 0.01 s (|−0.5|), worst 0.5, excess 1.25.
@@ -94,7 +94,7 @@ def test_a_torque_against_a_number_and_against_a_torque_speed_curve():
     # Peak torque 2 − 0.01·|speed| N·m: at 50 rad/s 1.5 N·m, at 150 rad/s 0.5 N·m, at 250 rad/s nothing
     # (beyond the curve's end: the speed's crossing, not the torque's). Torques 1.0, 0.6, 5.0:
     # only the second (0.6 > 0.5) is a torque crossing, allowed 0.5, excess 1.2.
-    curve = lambda w: np.maximum(2.0 - 0.01 * np.abs(w), -1.0)  # noqa: E731
+    curve = lambda w: np.maximum(2.0 - 0.01 * np.abs(w), -1.0)
     run = fake_run(speed=[50.0, -150.0, 250.0], tau=[1.0, 0.6, 5.0])
     c = only(check_feasibility(run, Limits(motor_torque=curve)))
     assert (c.limit, c.motor, c.t, c.needed, c.allowed) == ("motor_torque", 1, 0.01, 0.6, pytest.approx(0.5))
@@ -103,7 +103,7 @@ def test_a_torque_against_a_number_and_against_a_torque_speed_curve():
 
 def test_the_worst_is_the_largest_ratio_to_a_varying_limit():
     # Allowed 1.5, 0.5 (speeds 50, 150): torques 1.8 (ratio 1.2) and 0.9 (ratio 1.8): the worst is 0.9.
-    curve = lambda w: 2.0 - 0.01 * np.abs(w)  # noqa: E731
+    curve = lambda w: 2.0 - 0.01 * np.abs(w)
     c = only(check_feasibility(fake_run(speed=[50.0, 150.0, 0.0], tau=[1.8, 0.9, 0.0]), Limits(motor_torque=curve)))
     assert (c.t, c.needed, c.allowed) == (0.0, 0.9, pytest.approx(0.5))
 

@@ -191,7 +191,7 @@ def test_both_stations_flagged_are_both_said():
 
 
 @pytest.mark.parametrize(
-    "cycles, missing",
+    ("cycles", "missing"),
     [
         ([0, 100, 300], [200]),  # three are enough
         ([0, 300], []),  # two are not

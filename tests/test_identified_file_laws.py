@@ -131,7 +131,7 @@ def test_the_writer_keeps_its_mark_and_provenance_to_itself():
 
 
 @pytest.mark.parametrize(
-    "change, key, words",
+    ("change", "key", "words"),
     [
         ({"base": "m_L"}, "identification.base", "expected a list, got 'm_L'"),
         ({"std": [0.1]}, "identification.std", "expected a list of 3 (one per base parameter), got [0.1]"),
@@ -155,7 +155,7 @@ def test_a_malformed_table_is_named(tmp_path, change, key, words):
 
 
 @pytest.mark.parametrize(
-    "provenance, key",
+    ("provenance", "key"),
     [
         ('hipsim = "9.9"\ncreated_utc = "x"\n', "identification.provenance"),
         ('hipsim = "9.9"\ncreated_utc = "x"\ncommand = 3\n', "identification.provenance"),

@@ -367,7 +367,7 @@ def test_known_exceptions_still_exist():
     assert not gone_cycles, f"these circles are gone (or changed): delete them from KNOWN_CYCLES: {gone_cycles}"
 
 
-@pytest.mark.parametrize("package, forbidden", FORBIDDEN_THIRD_PARTY)
+@pytest.mark.parametrize(("package", "forbidden"), FORBIDDEN_THIRD_PARTY)
 def test_the_analytic_side_never_imports_pinocchio(package, forbidden):
     found = forbidden_imports(PACKAGE, package, forbidden)
     assert not found, found

@@ -138,7 +138,7 @@ def test_a_log_in_memory_is_its_own_one_window():
 
 
 @pytest.mark.parametrize(
-    "most, kept",
+    ("most", "kept"),
     [
         (None, range(3, 17)),  # the 14 usable samples
         (14, range(3, 17)),

@@ -20,7 +20,7 @@ def test_clean_gait_is_not_noisy(rate):
     assert check.warning("walk.mot") is None
 
 
-@pytest.mark.parametrize("rate, noise_deg", [(60.0, 0.1), (100.0, 0.05), (1000.0, 0.003)])
+@pytest.mark.parametrize(("rate", "noise_deg"), [(60.0, 0.1), (100.0, 0.05), (1000.0, 0.003)])
 def test_measurement_noise_is_called_and_the_warning_suggests_the_cutoff(rate, noise_deg):
     check = check_noise(*gait(rate, noise_deg=noise_deg))
     assert check.noisy

@@ -159,7 +159,7 @@ def files(tmp_path_factory):
 
 
 @pytest.mark.parametrize(
-    "command, output",
+    ("command", "output"),
     [("torques", ["--out", "{dir}/t.csv"]), ("feasible", []), ("view", ["--html", "{dir}/v.html"])],
 )
 def test_milliseconds_under_t_s_are_refused_and_nothing_is_written(command, output, files, tmp_path, capsys):

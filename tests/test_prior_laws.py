@@ -74,7 +74,7 @@ def test_prior_entries_absolute_relative_and_held(params):
 
 
 @pytest.mark.parametrize(
-    "name, value, message",
+    ("name", "value", "message"),
     [
         ("μ_h", "10", "expected a number in the parameter's unit or a percentage such as '10 %', got '10'"),
         ("μ_h", "ten %", "expected a percentage such as '10 %', got 'ten %'"),
@@ -160,7 +160,7 @@ def test_the_prior_propagates_through_the_base_map(params):
 
 
 @pytest.mark.parametrize(
-    "rate, cutoff, D, filter_ratio, rows",
+    ("rate", "cutoff", "D", "filter_ratio", "rows"),
     [
         # 1 kHz, 20 Hz: D = ⌊1000/80⌋ = 12; 1000/12/40 = 2.083; the floor 1000/12/(2·10) = 4.167.
         (1000.0, 20.0, 12, 1000 / 12 / 40, 1000 / 12 / 20),

@@ -45,7 +45,7 @@ def one_line(error) -> str:
 
 
 @pytest.mark.parametrize(
-    "header, change, needle",
+    ("header", "change", "needle"),
     [
         (["t_s", "Fe_N", "alpha_deg", "beta_deg", "gamma_deg"], None, "missing torque columns: expected tau_1_Nmm"),
         (

@@ -159,7 +159,7 @@ def test_currents_without_a_torque_constant(tmp_path):
 
 
 @pytest.mark.parametrize(
-    "header, message",
+    ("header", "message"),
     [
         ("t_ms,Fe_N", "missing time column 't_s' (the file has 't_ms': check the name and its unit)"),
         ("t_s,Fe", "missing load column 'Fe_N'"),  # 'Fe' is too far from 'Fe_N' (0.67 < 0.7) to be named
@@ -336,7 +336,7 @@ def test_a_block_of_plain_numbers_is_read_at_once(tmp_path, monkeypatch):
 
 
 @pytest.mark.parametrize(
-    "line, message",
+    ("line", "message"),
     [
         (row(3, tau2="abc"), "line 5, column 'tau_2_Nmm': 'abc' is not a number"),
         (row(3, tau2=" x1 "), "line 5, column 'tau_2_Nmm': 'x1' is not a number"),
@@ -603,7 +603,7 @@ def test_a_block_of_comments_or_empty_lines_is_read_without_a_numpy_warning(tmp_
 
 
 @pytest.mark.parametrize("block", [1, 4, 10_000])
-@pytest.mark.parametrize("first, stop", [(1, 12), (2, 12), (3, 13), (5, 19), (14, 17), (20, 10**9), (1, math.inf)])
+@pytest.mark.parametrize(("first", "stop"), [(1, 12), (2, 12), (3, 13), (5, 19), (14, 17), (20, 10**9), (1, math.inf)])
 def test_a_window_of_lines(tmp_path, block, first, stop):
     lines = numbered(30, comment_at=(9, 10), blank_at=(15,), sheet_at=(25,))
     path = write(tmp_path, lines)
@@ -719,7 +719,7 @@ def test_pieces_of_a_scanned_log(tmp_path):
     assert len(whole) == 10 and whole.lines[0] == 2 and whole.lines[-1] == 11
     np.testing.assert_array_equal(whole.Fe, scanned.read().Fe)
     scanned.close()
-    with pytest.raises(ValueError):
+    with pytest.raises(ValueError, match="closed file"):
         scanned.piece(0, 1)  # the store is dropped
 
 

@@ -164,7 +164,7 @@ def test_joint_sizing_and_rating_checks(result):
 
 
 @pytest.mark.parametrize(
-    "text, message",
+    ("text", "message"),
     [
         ("[motor]\npeak_torque = 3\n", "motor.peak_torque"),
         ("[motor]\npeak_torque_Nmm = -3\n", "must not be negative"),

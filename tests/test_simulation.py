@@ -101,7 +101,7 @@ def test_energy_never_increases_with_motors_off(params):
     rough = params.replace(guide_coulomb=10.0, guide_viscous=50.0, sjoint_viscous=0.05, screw_viscous=1e-4)
     plant = ReducedPlant(rough, lever_spin=True)
     start = iso14242_at([0.3])
-    desired_at = lambda t: iso14242_at(np.asarray(t) + 0.3)  # noqa: E731 - the load of the cycle from t = 0.3 s
+    desired_at = lambda t: iso14242_at(np.asarray(t) + 0.3)  # the load of the cycle from t = 0.3 s
     sim = simulate(
         plant,
         lambda t, s, d: np.zeros(3),

@@ -77,7 +77,7 @@ def test_size_checks_one_drive_and_fails_with_status_1(tmp_path, capsys):
 
 
 @pytest.mark.parametrize(
-    "arguments, message",
+    ("arguments", "message"),
     [
         (["--screws", "s.csv"], "--screws applies to a catalogue"),
         (["--drive", "d.toml", "--catalogue", "m.csv"], "either --drive"),

@@ -172,10 +172,14 @@ def test_exact_sum_does_not_depend_on_the_pieces():
 def test_column_writer_is_atomic(tmp_path):
     path = tmp_path / "run.csv"
     path.write_text("old\n")
-    with pytest.raises(RuntimeError):
+
+    def interrupted():
         with ColumnWriter(path) as writer:
             writer.write({"a_s": np.arange(3.0)})
             raise RuntimeError("interrupted")
+
+    with pytest.raises(RuntimeError, match="interrupted"):
+        interrupted()
     assert path.read_text() == "old\n" and not list(tmp_path.glob(".*part"))
     with ColumnWriter(path) as writer:
         writer.write({"a_s": np.arange(2.0), "b_N": np.array([0.5, np.nan])})
@@ -187,10 +191,14 @@ def test_column_writer_is_atomic(tmp_path):
 def test_parquet_writer_is_atomic_and_keeps_the_pieces_in_order(tmp_path, monkeypatch):
     path = tmp_path / "run.parquet"
     monkeypatch.setattr(ColumnWriter, "ROW_GROUP", 200)  # pieces of 70 rows gathered three at a time
-    with pytest.raises(KeyboardInterrupt):
+
+    def interrupted():
         with ColumnWriter(path, {"note": "x"}) as writer:
             writer.write({"a_s": np.arange(3.0)})
             raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        interrupted()
     assert not path.exists() and not list(tmp_path.glob(".*part"))
     with ColumnWriter(path, {"note": "x"}) as writer:
         for start in range(0, 1000, 70):
@@ -209,7 +217,7 @@ def test_parquet_writer_is_atomic_and_keeps_the_pieces_in_order(tmp_path, monkey
 
 
 @pytest.mark.parametrize(
-    "bad, reason", [("missing/x.csv", "does not exist"), (".", "is a folder"), ("/dev/null", "not a regular file")]
+    ("bad", "reason"), [("missing/x.csv", "does not exist"), (".", "is a folder"), ("/dev/null", "not a regular file")]
 )
 def test_outputs_are_checked_before_the_work(tmp_path, monkeypatch, capsys, bad, reason):
     import hipsim.analysis.streaming as streaming

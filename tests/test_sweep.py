@@ -103,7 +103,7 @@ def test_tolerance_study_spreads_around_the_machines_own_values(base):
 
 
 @pytest.mark.parametrize(
-    "name, message",
+    ("name", "message"),
     [
         ("lever.lenght_mm", "did you mean 'lever.length_mm'"),
         ("platform.heights_mm", "list of 2 numbers"),
@@ -346,7 +346,7 @@ def test_exit_status_says_whether_any_variant_passes_the_rating(tmp_path, capsys
 
 
 @pytest.mark.parametrize(
-    "options, message",
+    ("options", "message"),
     [
         (("--grid", "lever.length_mm=300:360"), "--grid: expected KEY=START:STOP:STEP"),
         (("--grid", "lever.lenght_mm=300:360:5"), "did you mean"),

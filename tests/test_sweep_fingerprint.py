@@ -53,7 +53,7 @@ def test_the_same_set_up_resumes(out, capsys):
 
 
 @pytest.mark.parametrize(
-    "options, what",
+    ("options", "what"),
     [
         (("--rate", "200"), "the trajectory"),
         (("--rate", str(RATE), "--set", "slider.mass_kg=3.5"), "the machine (--params, --set) differs"),

@@ -141,7 +141,7 @@ def test_a_trajectory_checks_its_arrays():
     # The arrays are frozen, floats, whatever came in.
     t = Trajectory(**(arrays | {"Fe": [1, 2, 3, 4]}))
     assert t.Fe.dtype == float and not t.Fe.flags.writeable and not t.q.flags.writeable and not t.t.flags.writeable
-    with pytest.raises(ValueError):
+    with pytest.raises(ValueError, match="read-only"):
         t.qdd[0, 0] = 1.0
 
 

@@ -102,7 +102,7 @@ def _same(a: Envelope, b: Envelope):
     assert a.angles.shape == (3, 2) and a.speeds.shape == (3, 2)
 
 
-@pytest.mark.parametrize("piece, halo", [(None, 0), (5, 3), (4, 0), (6, 2), (1, 1)])
+@pytest.mark.parametrize(("piece", "halo"), [(None, 0), (5, 3), (4, 0), (6, 2), (1, 1)])
 def test_the_envelope_covers_the_usable_samples_window_by_window(piece, halo):
     q, qd = _motion()
     whole = _log(np.arange(N) * 0.01, q, qd, LOAD, edge=2)
@@ -111,7 +111,7 @@ def test_the_envelope_covers_the_usable_samples_window_by_window(piece, halo):
     assert isinstance(envelope(log).load[0], float)
 
 
-@pytest.mark.parametrize("piece, halo", [(5, 3), (4, 0), (6, 2), (1, 1), (16, 16)])
+@pytest.mark.parametrize(("piece", "halo"), [(5, 3), (4, 0), (6, 2), (1, 1), (16, 16)])
 def test_the_windows_give_each_usable_sample_once(piece, halo):
     q, qd = _motion()
     whole = _log(np.arange(N) * 0.01, q, qd, LOAD, edge=2)

@@ -206,7 +206,7 @@ def test_page_is_self_contained(iso_page):
 def test_show_orientation_and_step_mode(offline):
     q = offline.show_orientation(math.radians(20.0), math.radians(-4.0), math.radians(2.0))
     assert np.linalg.norm(closure_residuals(offline.chain, q), axis=-1).max() <= 1e-9
-    with pytest.raises(ValueError):
+    with pytest.raises(ValueError, match="a configuration of size nq"):
         offline.show(np.zeros(3))
     shown = []
     out = io.StringIO()

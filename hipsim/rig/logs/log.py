@@ -380,7 +380,7 @@ class LogPieces(Log):
         """Sample times in [s], (N,)."""
         return self.raw.t
 
-    def close(self) -> None:  # noqa: B027 - a hook: a log in memory holds nothing to drop
+    def close(self) -> None:  # a hook: a log in memory holds nothing to drop
         """Drop the temporary stores."""
         self.raw.close()
         if self._q is not None:
