@@ -21,11 +21,11 @@ PACKAGE = Path(__file__).resolve().parents[1] / "hipsim"
 
 # --- The rules --------------------------------------------------------------------------
 
-#: The foundation: errors, frozen arrays, files, tables and set-up fingerprints. Its modules may import one another.
+#: The foundation: errors, frozen arrays, files, tables, set-up fingerprints and the clock. Its modules may import one another.
 #: ``plausibility`` (the ranges of a hip simulator's data and the unit slips, issue 38) is here because the
 #: machine's readers (drive files) and the motion's (trajectories, loads), which may not import each other, share it.
 FOUNDATION = frozenset(
-    {"exceptions", "arrays", "files", "tables", "fingerprint", "version", "result_table", "plausibility"}
+    {"exceptions", "arrays", "files", "tables", "fingerprint", "version", "result_table", "plausibility", "clock"}
 )
 #: The laws every model shares (vectors, friction, units, the screw transmission, numba's plumbing).
 PHYSICS = FOUNDATION | {"physics"}

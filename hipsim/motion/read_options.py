@@ -15,13 +15,22 @@ each reader's overloads tell the type checker.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import TYPE_CHECKING, TypedDict, cast
+from typing import Protocol, TypedDict, cast
 
-if TYPE_CHECKING:
-    from .columns import Column, ColumnMap
-    from .load_file import LoadCurve
+import numpy as np
 
-__all__ = ["BuildOptions", "ReadOptions", "build_options"]
+from .columns import Column, ColumnMap
+
+__all__ = ["BuildOptions", "LoadSource", "ReadOptions", "build_options"]
+
+
+class LoadSource(Protocol):
+    """A load given apart from the motion's table: :class:`hipsim.motion.load_file.LoadCurve` (described by what
+    :func:`hipsim.motion.build.build_trajectory` asks of it, so that this module need not import the load reader)."""
+
+    def onto(self, t: np.ndarray, motion: str) -> tuple[np.ndarray, np.ndarray]:
+        """(mask of the motion's samples at times ``t`` [s] the load covers, the load there in [N])."""
+        ...
 
 
 class BuildOptions(TypedDict, total=False):
@@ -49,7 +58,7 @@ class BuildOptions(TypedDict, total=False):
     resample: float | None
     body_weight: float | None
     cutoff: float | None
-    load_curve: LoadCurve | None
+    load_curve: LoadSource | None
 
 
 class ReadOptions(BuildOptions, total=False):
