@@ -7,7 +7,6 @@ import math
 import os
 import re
 import shutil
-import subprocess
 import sys
 import xml.etree.ElementTree as ET
 from html.parser import HTMLParser
@@ -25,6 +24,7 @@ from hipsim.design.sizing import axial_screw_load, sizing
 from hipsim.exceptions import HipsimError, OutputError, ParameterError
 from hipsim.machine.drive import Drive, LeadScrew, Motor, TorqueSpeedCurve, load_drive
 from hipsim.motion.trajectories import Trajectory, iso14242
+from hipsim.present.browser import run_headless
 
 BASE_FIGURES = (
     "input_motion",
@@ -336,23 +336,10 @@ def test_page_renders_in_headless_chromium(written, tmp_path):
     page.parent.mkdir()
     shutil.copy(written.index, page)
     shot = tmp_path / "shot.png"
-    command = [
-        browser,
-        "--headless",
-        "--no-sandbox",
-        "--disable-gpu",
-        "--disable-quic",
-        "--no-first-run",
-        "--disable-background-networking",
-        "--disable-component-update",
-        "--disable-sync",
-        f"--user-data-dir={tmp_path / 'profile'}",
-        f"--screenshot={shot}",
-        "--window-size=1280,4000",
-        page.as_uri(),
-    ]
-    completed = subprocess.run(command, capture_output=True, text=True, timeout=120)
-    assert completed.returncode == 0 and shot.exists(), completed.stderr[-2000:]
+    errors = run_headless(
+        browser, page.as_uri(), (f"--screenshot={shot}", "--window-size=1280,4000"), "screenshot", 120
+    )
+    assert shot.exists(), errors
     from matplotlib.image import imread
 
     pixels = imread(shot)[..., :3]
