@@ -237,8 +237,9 @@ def public_definitions() -> list[tuple[str, int, str, bool]]:
                 if isinstance(node, ast.AnnAssign)
                 else []
             )
-            if any(isinstance(t, ast.Name) and t.id == "__all__" for t in targets) and node.value is not None:
-                names = list(ast.literal_eval(node.value))
+            value = node.value if isinstance(node, (ast.Assign, ast.AnnAssign)) else None
+            if any(isinstance(t, ast.Name) and t.id == "__all__" for t in targets) and value is not None:
+                names = list(ast.literal_eval(value))
         defined = {n.name: n for n in tree.body if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef))}
         for name in names:
             if name in defined:  # names imported from elsewhere are checked where they are defined

@@ -162,10 +162,10 @@ def imports(root: Path) -> list[Import]:
                 if node.level:
                     if node.level > len(here):
                         continue  # above the package: not ours
-                    base = here[: len(here) - node.level + 1] + (node.module.split(".") if node.module else [])
+                    parts = here[: len(here) - node.level + 1] + (node.module.split(".") if node.module else [])
                 else:
-                    base = node.module.split(".")
-                base = ".".join(base)
+                    parts = node.module.split(".") if node.module else []
+                base = ".".join(parts)
                 # "from a import b" imports the module a.b when there is one, else a name of a.
                 targets = [
                     f"{base}.{alias.name}" if f"{base}.{alias.name}" in modules else base for alias in node.names
@@ -219,7 +219,11 @@ def cycles(root: Path) -> list[frozenset[str]]:
     for imp in imports(root):
         if imp.target != imp.source:
             graph[imp.source].add(imp.target)
-    index, low, stack, on_stack, found = {}, {}, [], set(), []
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    found: list[frozenset[str]] = []
 
     def visit(node):
         index[node] = low[node] = len(index)

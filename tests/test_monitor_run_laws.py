@@ -41,7 +41,7 @@ def first_cycle(s: Snapshot) -> int:
 def row(s: Snapshot, a: float = 3.0, **more) -> dict:
     """An estimate row for a snapshot (its first cycle from its name): the load term ``a`` in [mm]."""
     cycle = first_cycle(s)
-    values = {name: math.nan for name in ESTIMATE_COLUMNS}
+    values: dict[str, float | str | None] = {name: math.nan for name in ESTIMATE_COLUMNS}
     values |= {
         "cycle": cycle,
         "last_cycle": s.last_cycle if s.last_cycle is not None else cycle + 9,

@@ -39,7 +39,9 @@ class Page(HTMLParser):
 
     def __init__(self, text: str):
         super().__init__()
-        self.headings, self.tables, self.order = [], [], []
+        self.headings: list[str] = []
+        self.tables: list[dict[str, list]] = []  # {"header": cells, "rows": lists of cells}
+        self.order: list[str] = []
         self._heading = self._cell = None
         self._row = None
         self.feed(text)

@@ -229,7 +229,7 @@ def test_ujoint_axes_are_z_cross_radial(params):
 
 def test_parameters_are_immutable(params):
     with pytest.raises(dataclasses.FrozenInstanceError):
-        params.lever_length = 1.0  # type: ignore[misc]
+        params.lever_length = 1.0
     with pytest.raises(ValueError, match="read-only"):
         params.heights[0] = 1.0
     with pytest.raises(ValueError, match="read-only"):

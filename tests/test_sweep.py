@@ -421,7 +421,7 @@ def test_an_interrupted_sweep_keeps_what_is_done_and_a_rerun_resumes(tmp_path, c
 def _table(keys: dict, objective, rating=None, margin=None):
     """A sweep table built by hand: the keys' columns, one objective, every row computed."""
     n = len(objective)
-    columns = {key: list(map(float, values)) for key, values in keys.items()}
+    columns: dict[str, list] = {key: list(map(float, values)) for key, values in keys.items()}
     columns |= {
         "status": ["ok"] * n,
         "reason": [""] * n,
