@@ -17,7 +17,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 from fake_clock import FakeClock
-from support import SmoothMotion
+from support import SmoothMotion, given
 
 from hipsim.analytic.inverse_kinematics import kinematics as analytic_kinematics
 from hipsim.analytic.inverse_kinematics import rotation_matrix
@@ -60,7 +60,7 @@ def page_commands(html: str) -> list[dict]:
     """The meshcat commands stored in an offline page, decoded."""
     import umsgpack
 
-    block = re.search(r"var commands = \[(.*?)\];", html, re.S).group(1)
+    block = given(re.search(r"var commands = \[(.*?)\];", html, re.S)).group(1)
     return [umsgpack.unpackb(base64.b64decode(s)) for s in re.findall(r'"([A-Za-z0-9+/=]+)"', block)]
 
 
