@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import shutil
 import subprocess
 import sys
@@ -45,7 +46,18 @@ def _run(tmp_path: Path, listed: str) -> subprocess.CompletedProcess[str]:
         capture_output=True,
         text=True,
         cwd=tmp_path,
+        env=_own_run_env(),
     )
+
+
+def _own_run_env() -> dict[str, str]:
+    """This process's environment without what would make the inner run part of this one: CI's pytest options
+    (PYTEST_ADDOPTS: the expected skips, coverage) and pytest-cov's settings for the subprocesses it measures."""
+    return {
+        name: value
+        for name, value in os.environ.items()
+        if name != "PYTEST_ADDOPTS" and not name.startswith("COV_CORE")
+    }
 
 
 def test_an_unlisted_skip_fails_the_run_and_is_named(tmp_path):
