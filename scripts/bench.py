@@ -268,6 +268,7 @@ def bench_plant_routes(params, quick: bool) -> None:
         lcaba_cds.append(cm.createData())
     pin.computeJointMinimalOrdering(model, lcaba_data, cms)
     lcaba_settings = pin.ProximalSettings(1e-12, 1e-12, 1e-6, 3)  # the fewest iterations to 3e-9 m/s²
+    assert kernel._kernel is not None and compiled._tree is not None  # both set up by the plants above
     kdata, views, constants = kernel._kernel
     tree, scratch = compiled._tree
     accelerations = np.empty(kernel.nv)

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from support import given
 
 from hipsim.analytic.inverse_kinematics import slider_heights
 from hipsim.control import AugmentedPD, ReducedPlant, simulate
@@ -109,7 +110,7 @@ def plant_run(
 
         pinocchio = PinocchioPlant(true)
         inner: Plant = pinocchio
-        platform_rate = pinocchio.nq + pinocchio.chain.layout.platform_v[0]  # the platform's rates in dx/dt
+        platform_rate = pinocchio.nq + given(pinocchio.chain.layout).platform_v[0]  # the platform's rates in dx/dt
     else:
         inner = ReducedPlant(true)
         platform_rate = None

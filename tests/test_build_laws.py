@@ -365,10 +365,10 @@ def test_no_load_column_is_warned_of_and_a_load_file_fills_it():
     )
     np.testing.assert_array_equal(trajectory.Fe, np.zeros(10))
     curve = LoadCurve(np.array([0.02, 0.05, 0.08]), np.array([100.0, 400.0, 700.0]), np.array([2, 3, 4]), "l.csv", "F")
-    with warnings.catch_warnings(record=True) as record:
+    with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         trajectory = build_trajectory(table(T10, q, columns=columns), load_curve=curve)
-    assert not [w for w in record if issubclass(w.category, NoLoadWarning)]
+    assert not [w for w in caught if issubclass(w.category, NoLoadWarning)]
     np.testing.assert_allclose(trajectory.t, T10[2:9], rtol=1e-15)
     np.testing.assert_allclose(trajectory.Fe, 100.0 + 10000.0 * (T10[2:9] - 0.02), rtol=1e-12)
     np.testing.assert_array_equal(trajectory.lines, np.arange(4, 11))

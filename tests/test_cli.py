@@ -480,7 +480,7 @@ def test_frequency_and_period_rescale_a_recorded_cycle(tmp_path, capsys):
         "t_s,alpha_deg,beta_deg,gamma_deg,Fe_N\n"
         + "".join(f"{float(x)!r},{float(a)!r},2.0,-3.0,800\n" for x, a in zip(t, alpha))
     )
-    columns = {}
+    columns: dict[tuple, dict[str, np.ndarray]] = {}
     for extra in ([], ["--frequency", "2"], ["--period", "0.5"]):
         out = tmp_path / f"o{len(columns)}.csv"
         assert main(["torques", "--trajectory", str(path), "--out", str(out), *extra]) == 0

@@ -363,8 +363,8 @@ def test_hip_chain_columns_are_turned_into_platform_angles(tmp_path):
     for a, b, g in np.radians(deg):
         Rh = C.T @ Rz(g) @ Ry(b) @ Rx(a) @ C  # the femur in pelvis axes
         hip.append(np.degrees([np.arctan2(-Rh[0, 1], Rh[1, 1]), np.arcsin(Rh[2, 1]), np.arctan2(-Rh[2, 0], Rh[2, 2])]))
-    hip = np.array(hip)
-    rows = [",".join(repr(float(v)) for v in (t[k], *hip[k])) for k in range(len(t))]
+    hip_deg = np.array(hip)
+    rows = [",".join(repr(float(v)) for v in (t[k], *hip_deg[k])) for k in range(len(t))]
     path = write_lines(tmp_path / "hip.csv", ["time,hip flexion,hip adduction,hip rotation", *rows])
     traj = load_trajectory_csv(
         path, columns="time=time,flexion=hip flexion,adduction=hip adduction,rotation=hip rotation"

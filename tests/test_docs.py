@@ -23,6 +23,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from support import given
 
 ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"
@@ -300,7 +301,7 @@ def test_a_broken_link_fails_the_build(tmp_path):
     (tmp_path / "docs").mkdir()
     (tmp_path / "docs" / "index.md").write_text("# Home\n\n## Here\n")
     config = (ROOT / "mkdocs.yml").read_text(encoding="utf-8")
-    validation = re.search(r"(?ms)^validation:.*?(?=^\S)", config).group(0)
+    validation = given(re.search(r"(?ms)^validation:.*?(?=^\S)", config)).group(0)
     for link in ("[a](missing.md)", "[a](index.md#nowhere)"):
         (tmp_path / "docs" / "other.md").write_text(f"# Other\n\n{link}\n")
         (tmp_path / "mkdocs.yml").write_text(f"site_name: t\nstrict: true\n{validation}")

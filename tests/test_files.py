@@ -14,7 +14,7 @@ def test_atomic_write_leaves_old_file_on_failure(tmp_path):
     target.write_text("old")
 
     with pytest.raises(TypeError):  # fails half-way, after the temporary file is open
-        write_atomic(target, 12345)
+        write_atomic(target, 12345)  # type: ignore[arg-type]  # neither text nor bytes, on purpose
     assert target.read_text() == "old"
     assert list(tmp_path.iterdir()) == [target]
 

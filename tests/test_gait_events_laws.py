@@ -146,7 +146,7 @@ def test_gait_phase_by_hand():
     assert phase[290] == pytest.approx(51.0) and stance[290]
     assert phase[39] == 0.0 and stance[39]
     with pytest.raises(TrajectoryError, match="1 heel strike"):
-        gait_phase(*curve(cycles=1)[:1], detect_gait_events(*curve(cycles=1)))
+        gait_phase(curve(cycles=1)[0], detect_gait_events(*curve(cycles=1)))
 
 
 def test_gait_phase_with_two_heel_strikes():

@@ -131,7 +131,7 @@ def test_the_verdict_on_hand_made_deviations():
 def test_tolerances_refuse_what_is_not_a_positive_number():
     for bad in (0.0, -1.0, float("nan"), float("inf"), True, "3"):
         with pytest.raises(ArgumentError) as refused:
-            Tolerances(alpha=bad)
+            Tolerances(alpha=bad)  # type: ignore[arg-type]  # wrong types on purpose
         assert str(refused.value) == f"tolerance: expected a positive finite number, got {f'alpha={bad!r}'!r}"
     assert Tolerances(load=1).load == 1
 

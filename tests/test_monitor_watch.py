@@ -15,7 +15,7 @@ from monitor_synthetic import write_snapshot
 import hipsim
 from hipsim.cli.main import main
 from hipsim.rig.monitoring.monitor_fit import MonitorSetup
-from hipsim.rig.monitoring.monitor_run import run_monitor
+from hipsim.rig.monitoring.monitor_run import MonitorResult, run_monitor
 from hipsim.rig.monitoring.snapshots import find_snapshots
 from hipsim.rig.monitoring.watch import watch
 
@@ -49,7 +49,8 @@ def test_watching_a_folder_filled_during_the_test_gives_the_batch_table(tmp_path
     logs = tmp_path / "logs"
     logs.mkdir()
     setup = MonitorSetup(params)
-    updates, alarms = [], []
+    updates: list[MonitorResult] = []
+    alarms: list[MonitorResult] = []
     poll, settle = 0.25, 1.0
     text = {cycle: (source / f"snap_{cycle:03d}.csv").read_text(encoding="utf-8") for cycle in CYCLES}
 

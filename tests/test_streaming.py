@@ -6,6 +6,7 @@ import sys
 import numpy as np
 import pyarrow.parquet as pq
 import pytest
+from support import given
 
 import hipsim
 from hipsim.analysis.crosscheck import compare_models
@@ -26,7 +27,7 @@ def params():
 
 
 def streamed(params, source, chunk, **options):
-    pieces = []
+    pieces: list = []
     summary = stream_run(params, source, chunk=chunk, write=pieces.append, **options)
     return "".join(csv_rows(piece) for piece in pieces), summary, pieces
 
@@ -251,7 +252,7 @@ def test_parquet_trajectory_reads_as_the_csv(tmp_path):
 
     csv_path = write_cycle_csv(tmp_path / "gait.csv", closed=True)
     data = np.genfromtxt(csv_path, delimiter=",", names=True)
-    table = pa.table({name: data[name] for name in data.dtype.names})
+    table = pa.table({name: data[name] for name in given(data.dtype.names)})
     pq.write_table(table, tmp_path / "gait.parquet")
     a, b = read_trajectory(csv_path), read_trajectory(tmp_path / "gait.parquet")
     assert b.periodic and len(a) == len(b)

@@ -258,7 +258,7 @@ def test_batches_cover_every_chosen_variant_once(base, iso):
         row for batch in run_sweep(setup, variants, indices=[0, 5, 12], workers=1, batch_size=2) for row in batch
     )
     assert sorted(rows) == [0, 5, 12]
-    assert rows_equal(rows[5], dict(evaluate_batch(([5], variants.values[[5]]), setup))[5])
+    assert rows_equal(rows[5], dict(evaluate_batch((np.array([5]), variants.values[[5]]), setup))[5])
 
 
 # ---------------------------------------------------------------------------
@@ -277,7 +277,7 @@ def test_pareto_front_of_a_hand_made_set():
 
 @pytest.mark.parametrize("suffix", [".csv", ".parquet"])
 def test_the_table_reads_back_to_the_same_bits(tmp_path, suffix):
-    columns = {
+    columns: dict[str, list] = {
         "lever.length_mm": [330.0, 0.1 + 0.2],
         "status": ["ok", "cannot_assemble"],
         "reason": ["", "a, b"],
