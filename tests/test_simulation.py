@@ -5,6 +5,7 @@ import os
 
 import numpy as np
 import pytest
+from support import given
 
 import hipsim
 from hipsim.analytic.inverse_kinematics import angular_velocity_map, kinematics, slider_jacobian
@@ -39,7 +40,7 @@ def test_reduced_model_is_affine_in_acceleration(params):
     rng = np.random.default_rng(0)
     q, qd, qdd = np.radians([10.0, 3.0, -5.0]), rng.normal(size=3), rng.normal(size=3) * 20
     M, h = plant.mass_and_bias(q, qd, 1500.0)
-    sample = Trajectory([0.0], q[None], qd[None], qdd[None], [1500.0])
+    sample = Trajectory(np.array([0.0]), q[None], qd[None], qdd[None], np.array([1500.0]))
     tau = inverse_dynamics(params, kinematics(params, sample), sample.Fe, lever_spin=True).total[0]
     np.testing.assert_allclose(M @ qdd + h, tau, rtol=1e-12, atol=1e-12)
 
@@ -193,7 +194,7 @@ def test_a_plant_of_your_own_needs_no_name_and_no_advance(params):
             return x[:3], x[3:]
 
     pd = WorkspacePD(params)
-    mine = simulate(Minimal(params), pd, iso14242_at, 0.02)
+    mine = simulate(Minimal(params), pd, iso14242_at, 0.02)  # type: ignore[arg-type]  # the least a plant needs
     reference = simulate(ReducedPlant(params), pd, iso14242_at, 0.02)
     assert mine.plant == "Minimal"
     np.testing.assert_allclose(mine.q, reference.q, rtol=0, atol=1e-14)  # simulate's own RK4 = the compiled one
@@ -239,7 +240,7 @@ def test_a_slow_first_step_is_announced_as_compiling_not_timed(params, capsys):
     controller(0.0, Sample(np.zeros(3), np.zeros(3)), Sample(np.zeros(3), np.zeros(3)))  # compile the real law first
     simulate(ReducedPlant(params), WorkspacePD(params), iso14242_at, 0.002)  # and the compiled loop the last run takes
     SlowFirstCall.calls = 0
-    notes = []
+    notes: list[str] = []
     sim = simulate(
         ReducedPlant(params), controller, iso14242_at, 0.02, progress=True, controller_name="slow", notify=notes.append
     )
@@ -286,7 +287,7 @@ def test_compiled_loop_is_the_python_loop(params, plant_kind, controller_kind, l
     np.testing.assert_array_equal(fast.saturated, slow.saturated)
     if limited:
         assert 0 < np.count_nonzero(fast.saturated) < len(fast.t)
-        np.testing.assert_array_less(np.abs(fast.tau), limit * (1 + 1e-15))
+        np.testing.assert_array_less(np.abs(fast.tau), given(limit) * (1 + 1e-15))
         assert np.abs(fast.q - free.q).max() > 1e-9  # and the limit changed the motion
     else:
         assert not fast.saturated.any()

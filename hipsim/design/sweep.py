@@ -145,7 +145,7 @@ class SweepSetup:
             }
         )
 
-    def overrides(self, values: Sequence[float]) -> dict[str, Any]:
+    def overrides(self, values: Sequence[float] | np.ndarray) -> dict[str, Any]:
         """One variant's values as parameter overrides (a list key gets its whole list, one number changed)."""
         out: dict[str, Any] = {}
         for key, value in zip(self.keys, values):
@@ -179,7 +179,7 @@ def _drive(setup: SweepSetup, params: Parameters) -> Drive | None:
     return drive_from_motor_table(params.motor, params.source) if params.motor else None
 
 
-def evaluate(setup: SweepSetup, values: Sequence[float]) -> dict[str, Any]:
+def evaluate(setup: SweepSetup, values: Sequence[float] | np.ndarray) -> dict[str, Any]:
     """One variant's row: its metrics, or its status and the reason it has none.
 
     Args:
