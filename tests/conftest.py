@@ -234,10 +234,16 @@ def pytest_configure(config):
     listed = config.getoption("--expected-skips")
     if listed is not None and getattr(config, "workerinput", None) is None:  # the controller sees every report
         config.pluginmanager.register(SkipGuard(read_expected_skips(Path(listed))), "hipsim-skip-guard")
-    worker = getattr(config, "workerinput", None)
+
+
+@pytest.hookimpl(trylast=True)
+def pytest_sessionstart(session):
+    """A worker's warm-up, after pytest-cov has started measuring in it (its own sessionstart): the modules the
+    warm-up imports then count their module-level lines as run, as they do in a serial run."""
+    worker = getattr(session.config, "workerinput", None)
     if worker is None or os.name != "posix":  # the controller, or a serial run
         return
-    warm_up(Path(str(config.rootpath)), int(worker["workerid"].removeprefix("gw")))
+    warm_up(Path(str(session.config.rootpath)), int(worker["workerid"].removeprefix("gw")))
 
 
 def pytest_collection_modifyitems(session, config, items):
