@@ -62,7 +62,8 @@ __all__ = [
 def column_condition(A: np.ndarray) -> float:
     """The condition number σ_max/σ_min of A (rows, k) with its columns scaled to unit norm, as identification judges it.
 
-    Infinite when a column is zero or the columns are dependent (σ_min = 0): those values cannot be told apart.
+    Infinite when a column is zero or σ_min is exactly 0; dependent columns give σ_min of round-off and so a
+    number of 1e15 and more: either way those values cannot be told apart.
     The excitations' design, the identification's report and the stations' calibration all use this one measure.
     """
     norms = np.linalg.norm(A, axis=0)
