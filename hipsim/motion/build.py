@@ -52,7 +52,7 @@ from .columns import ColumnMap, stated_unit
 from .filtering import lowpass_record
 from .hip_angles import hip_to_machine
 from .noise_check import check_noise
-from .read_options import BuildOptions
+from .read_options import BuildOptions, check_options
 from .trajectories import MIN_SAMPLES, Trajectory
 
 __all__ = [
@@ -130,6 +130,7 @@ def build_trajectory(
     Raises:
         TrajectoryError: naming the file, line and column of the first problem.
     """
+    check_options(options, BuildOptions, "build_trajectory")
     source, lines, columns = table.source, np.asarray(table.lines), table.columns
     periodic, frequency, period = options.get("periodic"), options.get("frequency"), options.get("period")
     resample, body_weight, cutoff = options.get("resample"), options.get("body_weight"), options.get("cutoff")

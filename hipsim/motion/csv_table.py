@@ -66,9 +66,10 @@ def load_trajectory_csv(
         TrajectoryError: naming the file, line and column of the first problem.
     """
     source = str(path)
+    rest = build_options(options, "load_trajectory_csv")
     mapping, load = column_options(options.get("columns"), options.get("load_column"), source)
     table = _read_csv_table(source, path, mapping, load)
-    return build_trajectory(table, lazy=lazy, **build_options(options))
+    return build_trajectory(table, lazy=lazy, **rest)
 
 
 def _read_csv_table(source: str, path, mapping: ColumnMap | None, load: Column | None) -> Table:

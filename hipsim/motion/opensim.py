@@ -75,6 +75,7 @@ def load_opensim(
         TrajectoryError: naming the file, line and column of the first problem.
     """
     source = str(path)
+    rest = build_options(options, "load_opensim")
     if not isinstance(side, str) or side.strip().lower() not in _SIDES:
         raise TrajectoryError(f"side must be 'right' or 'left', got {side!r}", source=source)
     suffix = _SIDES[side.strip().lower()]
@@ -86,7 +87,7 @@ def load_opensim(
             )
         mapping = ColumnMap(mapping.time, mapping.angles, mapping.hip_chain, load)
     table = _read(source, path, suffix, load, mapping)
-    return build_trajectory(table, lazy=lazy, **build_options(options))
+    return build_trajectory(table, lazy=lazy, **rest)
 
 
 def _read(source: str, path, suffix: str, load: Column | None, mapping: ColumnMap | None = None) -> Table:

@@ -45,6 +45,7 @@ def load_trajectory_parquet(
         TrajectoryError: naming the file, row and column of the first problem.
     """
     source = str(path)
+    rest = build_options(options, "load_trajectory_parquet")
     mapping, load = column_options(options.get("columns"), options.get("load_column"), source)
     parquet = open_parquet(path, "trajectory file", TrajectoryError)
     header = list(parquet.schema_arrow.names)
@@ -79,5 +80,5 @@ def load_trajectory_parquet(
             time_quantum=0.0,
         ),
         lazy=lazy,
-        **build_options(options),
+        **rest,
     )

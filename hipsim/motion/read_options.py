@@ -21,7 +21,7 @@ import numpy as np
 
 from .columns import Column, ColumnMap
 
-__all__ = ["BuildOptions", "LoadSource", "ReadOptions", "build_options"]
+__all__ = ["BuildOptions", "LoadSource", "ReadOptions", "build_options", "check_options"]
 
 
 class LoadSource(Protocol):
@@ -76,7 +76,25 @@ class ReadOptions(BuildOptions, total=False):
     load_column: Column | str | None
 
 
-def build_options(options: ReadOptions) -> BuildOptions:
-    """The options :func:`hipsim.motion.build.build_trajectory` takes: ``options`` without the columns."""
+def check_options(options: Mapping[str, object], declared: type, function: str) -> None:
+    """Refuse a keyword a function's ``**options`` does not declare, as Python refuses one a signature does not name.
+
+    Args:
+        options: the keyword arguments given.
+        declared: the TypedDict that declares them (:class:`ReadOptions` or :class:`BuildOptions`).
+        function: the function's name, for the message.
+
+    Raises:
+        TypeError: ``function() got an unexpected keyword argument 'name'`` (a misspelt option is never ignored).
+    """
+    unknown = sorted(set(options) - set(declared.__annotations__))
+    if unknown:
+        raise TypeError(f"{function}() got an unexpected keyword argument {unknown[0]!r}")
+
+
+def build_options(options: ReadOptions, function: str) -> BuildOptions:
+    """The options :func:`hipsim.motion.build.build_trajectory` takes: ``options`` (checked, see :func:`check_options`,
+    in the name of the reader ``function``) without the columns."""
+    check_options(options, ReadOptions, function)
     rest = {key: value for key, value in options.items() if key not in ("columns", "load_column")}
     return cast(BuildOptions, rest)

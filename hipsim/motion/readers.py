@@ -20,7 +20,7 @@ from .csv_table import load_trajectory_csv
 from .load_file import LoadScale, parse_load_scale, read_load_curve
 from .opensim import load_opensim
 from .parquet import load_trajectory_parquet
-from .read_options import ReadOptions
+from .read_options import ReadOptions, check_options
 from .trajectories import Trajectory
 
 __all__ = ["OPENSIM_SUFFIXES", "PARQUET_SUFFIX", "read_trajectory"]
@@ -91,6 +91,7 @@ def read_trajectory(
             the file's first problem.
     """
     source = str(path)
+    check_options(options, ReadOptions, "read_trajectory")
     if load is not None:
         load_column = options.get("load_column")
         if load_column is None:
