@@ -11,9 +11,17 @@ from __future__ import annotations
 
 import threading
 import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from typing import Protocol
 
-__all__ = ["SYSTEM_CLOCK", "Clock", "SystemClock"]
+__all__ = ["SYSTEM_CLOCK", "Cancel", "Clock", "SystemClock", "note_if_slow"]
+
+
+class Cancel(Protocol):
+    """What :meth:`Clock.timer` returns: a call to come, cancelled unless it has been made."""
+
+    def cancel(self) -> None: ...
 
 
 class Clock(Protocol):
@@ -35,6 +43,10 @@ class Clock(Protocol):
         """Wait ``seconds`` [s] or until ``event`` is set, whichever comes first; whether it is set."""
         ...
 
+    def timer(self, seconds: float, function: Callable[[], None]) -> Cancel:
+        """Call ``function`` once ``seconds`` [s] have passed, unless cancelled first (in another thread)."""
+        ...
+
 
 class SystemClock:
     """The system's clocks: :func:`time.monotonic`, :func:`time.time`, :func:`time.sleep` and :meth:`threading.Event.wait`."""
@@ -51,6 +63,29 @@ class SystemClock:
     def wait(self, event: threading.Event, seconds: float) -> bool:
         return event.wait(seconds)
 
+    def timer(self, seconds: float, function: Callable[[], None]) -> Cancel:
+        timer = threading.Timer(seconds, function)
+        timer.daemon = True  # never keeps the process alive
+        timer.start()
+        return timer
+
 
 #: The clock every function uses unless given another.
 SYSTEM_CLOCK: Clock = SystemClock()
+
+
+@contextmanager
+def note_if_slow(
+    message: str, notify: Callable[[str], None] | None, after_s: float = 1.0, clock: Clock | None = None
+) -> Iterator[None]:
+    """Call ``notify(message)`` if the block is still running ``after_s`` [s] after it starts (once, from a timer).
+
+    What a first run's numba compilation is announced by: the note comes while the user waits, and a quick
+    block (the kernels loaded from the cache) says nothing. ``notify`` None: nothing is said.
+    """
+    pending = None if notify is None else (clock or SYSTEM_CLOCK).timer(after_s, lambda: notify(message))
+    try:
+        yield
+    finally:
+        if pending is not None:
+            pending.cancel()

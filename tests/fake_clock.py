@@ -3,7 +3,8 @@
 What a test checks then does not depend on the machine's speed or load: a
 sleep or a wait advances the time at once, and a wait first runs the test's
 next step (``steps``), so that a loop that polls sees the world change between
-its rounds exactly as the test scripts it.
+its rounds exactly as the test scripts it. A timer fires, in the caller's
+thread, when the time it waits for is passed.
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ class FakeClock:
         self.steps = list(steps)
         self.done = done
         self.waits = 0
+        self.timers: list[_Timer] = []
 
     def monotonic(self) -> float:
         return self.elapsed
@@ -41,17 +43,35 @@ class FakeClock:
 
     def sleep(self, seconds: float) -> None:
         assert seconds >= 0.0, seconds
-        self.elapsed += seconds
+        self.advance(seconds)
 
     def advance(self, seconds: float) -> None:
-        """Time that passes in the code under test's calls (a slow frame), not in a sleep."""
+        """Time that passes in the code under test's calls (a slow frame), not in a sleep; due timers fire."""
         self.elapsed += seconds
+        for timer in [t for t in self.timers if t.due <= self.elapsed and not t.cancelled]:
+            timer.cancelled = True
+            timer.function()
+
+    def timer(self, seconds: float, function: Callable[[], None]) -> _Timer:
+        timer = _Timer(self.elapsed + seconds, function)
+        self.timers.append(timer)
+        return timer
 
     def wait(self, event: threading.Event, seconds: float) -> bool:
         self.waits += 1
-        self.elapsed += seconds
+        self.advance(seconds)
         if self.steps:
             self.steps.pop(0)(self)
         elif self.done():
             event.set()
         return event.is_set()
+
+
+class _Timer:
+    """A call due at a time of a :class:`FakeClock`."""
+
+    def __init__(self, due: float, function: Callable[[], None]) -> None:
+        self.due, self.function, self.cancelled = due, function, False
+
+    def cancel(self) -> None:
+        self.cancelled = True

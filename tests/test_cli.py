@@ -11,6 +11,7 @@ from contextlib import redirect_stderr, redirect_stdout
 
 import numpy as np
 import pytest
+from fake_clock import FakeClock
 
 from hipsim.cli.main import main
 from hipsim.results import column_names
@@ -534,19 +535,17 @@ def test_opensim_file_with_a_flipped_load_column_in_percent_body_weight(tmp_path
 
 
 def test_a_slow_pinocchio_warm_up_is_announced_as_compiling(monkeypatch, capsys):
-    """The closure kernels' first-run compile is said on standard error; a quick load says nothing."""
-    import time
-
+    """The closure kernels' first-run compile is said on standard error; a quick load says nothing (on an injected
+    clock: the warm-up takes 1.5 s of it, or none)."""
     import hipsim.closed_chain.dynamics as closed_chain
     from hipsim.cli.common import load_pinocchio_kernels as _load_pinocchio_kernels
 
-    monkeypatch.setattr(
-        closed_chain, "warm_up", lambda: time.sleep(1.5)
-    )  # as long as a compilation, as far as the note can tell
-    _load_pinocchio_kernels()
+    clock = FakeClock()
+    monkeypatch.setattr(closed_chain, "warm_up", lambda: clock.advance(1.5))  # as long as a compilation, for the note
+    _load_pinocchio_kernels(clock)
     assert capsys.readouterr().err == "Pinocchio model: compiling (first run only) ...\n"
-    monkeypatch.setattr(closed_chain, "warm_up", lambda: None)
-    _load_pinocchio_kernels()
+    monkeypatch.setattr(closed_chain, "warm_up", lambda: clock.advance(0.5))
+    _load_pinocchio_kernels(clock)
     assert capsys.readouterr().err == ""
 
 
