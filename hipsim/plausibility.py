@@ -8,9 +8,10 @@ holds its numbers against the same ranges here, so the same slip gets the
 same answer whichever command reads the file:
 
 - a **clear slip** (the value is out of every plausible range, and the
-  factor of a unit, most often 1000, brings it inside) raises a
-  :class:`~hipsim.exceptions.HipsimError` subclass the caller names, with
-  the column or key, the value, and the unit it looks like;
+  factor of a unit, most often 1000, brings it inside) is returned as its
+  reason in words (the value and the unit it looks like), which the caller
+  raises as its own :class:`~hipsim.exceptions.HipsimError` subclass naming
+  the file and the column or key;
 - a **doubtful** value (outside the usual range, with no unit that explains
   it) is a warning, one line, returned to the caller.
 
@@ -18,9 +19,9 @@ Comparisons against a limit allow for rounding: :func:`beyond` counts a
 value within a relative :data:`REL_TOL` of its limit as at the limit, not
 past it (a load mapped onto 300–3000 N peaks at 3000.0000000000005 N).
 
-This module is part of the foundation (it imports only :mod:`hipsim.exceptions`),
-so the machine's and the motion's readers, which may not import each other,
-share it.
+This module is part of the foundation (it imports no other hipsim module:
+NumPy and the standard library only), so the machine's and the motion's
+readers, which may not import each other, share it.
 """
 
 from __future__ import annotations

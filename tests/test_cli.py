@@ -11,6 +11,7 @@ from contextlib import redirect_stderr, redirect_stdout
 
 import numpy as np
 import pytest
+from fake_clock import FakeClock
 
 from hipsim.cli.main import main
 from hipsim.results import column_names
@@ -100,7 +101,7 @@ def test_torques_from_trajectory_file(tmp_path, capsys):
 
 
 @pytest.mark.parametrize(
-    "args, message",
+    ("args", "message"),
     [
         (["torques", "--set", "lever.length_mm=100"], "key 'lever.length_mm': lever of 100 mm cannot reach"),
         (["torques", "--set", "lever.colour=3"], "key 'lever.colour': unknown key"),
@@ -427,7 +428,7 @@ def test_radians_under_a_degree_header_are_refused(tmp_path):
 
 
 @pytest.mark.parametrize(
-    "args, message",
+    ("args", "message"),
     [
         (["--columns", "time=t"], "--columns applies to a --trajectory file, not to the built-in cycle"),
         (["--resample", "100", "--side", "left"], "--side, --resample apply to a --trajectory file"),
@@ -478,7 +479,7 @@ def test_frequency_and_period_rescale_a_recorded_cycle(tmp_path, capsys):
         "t_s,alpha_deg,beta_deg,gamma_deg,Fe_N\n"
         + "".join(f"{float(x)!r},{float(a)!r},2.0,-3.0,800\n" for x, a in zip(t, alpha))
     )
-    columns = {}
+    columns: dict[tuple, dict[str, np.ndarray]] = {}
     for extra in ([], ["--frequency", "2"], ["--period", "0.5"]):
         out = tmp_path / f"o{len(columns)}.csv"
         assert main(["torques", "--trajectory", str(path), "--out", str(out), *extra]) == 0
@@ -532,19 +533,17 @@ def test_opensim_file_with_a_flipped_load_column_in_percent_body_weight(tmp_path
 
 
 def test_a_slow_pinocchio_warm_up_is_announced_as_compiling(monkeypatch, capsys):
-    """The closure kernels' first-run compile is said on standard error; a quick load says nothing."""
-    import time
-
+    """The closure kernels' first-run compile is said on standard error; a quick load says nothing (on an injected
+    clock: the warm-up takes 1.5 s of it, or none)."""
     import hipsim.closed_chain.dynamics as closed_chain
     from hipsim.cli.common import load_pinocchio_kernels as _load_pinocchio_kernels
 
-    monkeypatch.setattr(
-        closed_chain, "warm_up", lambda: time.sleep(1.5)
-    )  # as long as a compilation, as far as the note can tell
-    _load_pinocchio_kernels()
+    clock = FakeClock()
+    monkeypatch.setattr(closed_chain, "warm_up", lambda: clock.advance(1.5))  # as long as a compilation, for the note
+    _load_pinocchio_kernels(clock)
     assert capsys.readouterr().err == "Pinocchio model: compiling (first run only) ...\n"
-    monkeypatch.setattr(closed_chain, "warm_up", lambda: None)
-    _load_pinocchio_kernels()
+    monkeypatch.setattr(closed_chain, "warm_up", lambda: clock.advance(0.5))
+    _load_pinocchio_kernels(clock)
     assert capsys.readouterr().err == ""
 
 

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 from rig_synthetic import exact_run, fit_run, iso_run, machines, relative_to_size, write_log
-from support import ALL_FRICTION, SmoothMotion
+from support import ALL_FRICTION, SmoothMotion, given
 
 import hipsim
 import hipsim.machine.parameters
@@ -137,7 +137,7 @@ def test_the_95_percent_band_covers_the_true_torque(noisy, tmp_path):
     trajectory = iso14242_at(np.arange(0, 2, 2e-3), frequency=1.2)
     predicted = inverse_dynamics(result.params, kinematics(result.params, trajectory), trajectory.Fe, True).total
     actual = inverse_dynamics(true, kinematics(true, trajectory), trajectory.Fe, True).total
-    half = Z95 * torque_std(result.params, trajectory, covariance)
+    half = Z95 * torque_std(result.params, trajectory, given(covariance))
     assert np.mean(np.abs(predicted - actual) <= half) >= 0.9
     # ... and is not uselessly wide: a calibrated normal band's half-width is 1.96 RMS errors.
     assert np.sqrt(np.mean(half**2)) <= 4 * np.sqrt(np.mean((predicted - actual) ** 2))
@@ -220,7 +220,7 @@ def test_the_rig_guide_example(noisy, monkeypatch, capsys):
     folder, _, _, _ = noisy
     monkeypatch.chdir(folder)
     text = (Path(__file__).resolve().parents[1] / "docs" / "guide" / "rig.md").read_text()
-    block = re.search(r"```python\n(.*?)```", text, re.S).group(1)
+    block = given(re.search(r"```python\n(.*?)```", text, re.S)).group(1)
     exec(compile(block, "docs/guide/rig.md", "exec"), {})
     assert hipsim.load_parameters(folder / "identified.toml")
     assert hipsim.load_trajectory_csv(folder / "excite.csv").periodic

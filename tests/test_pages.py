@@ -41,9 +41,12 @@ class Page(HTMLParser):
 
     def __init__(self, text: str):
         super().__init__()
-        self.headings, self.tables, self.order = [], [], []
-        self._heading = self._cell = None
-        self._row = None
+        self.headings: list[str] = []
+        self.tables: list[dict[str, list]] = []  # {"header": cells, "rows": lists of cells}
+        self.order: list[str] = []
+        self._heading: str | None = None
+        self._cell: str | None = None
+        self._row: list[tuple[str, str]] | None = None  # (td or th, text) of each cell
         self.feed(text)
 
     def handle_starttag(self, tag, attrs):
@@ -64,7 +67,7 @@ class Page(HTMLParser):
         if tag in ("h1", "h2", "h3") and self._heading is not None:
             self.headings.append(" ".join(self._heading.split()))
             self._heading = None
-        elif tag in ("td", "th") and self._cell is not None:
+        elif tag in ("td", "th") and self._cell is not None and self._row is not None:
             self._row.append((tag, " ".join(self._cell.split())))
             self._cell = None
         elif tag == "tr" and self._row is not None:

@@ -85,7 +85,7 @@ def test_with_identical_chains_all_three_commands_are_the_same(drawing, cycle):
         assert np.all(np.abs(run.errors) < 1e-11)
 
 
-@pytest.mark.parametrize("at, control", [("deviated", "1"), ("deviated", "2"), ("drawing", "both")])
+@pytest.mark.parametrize(("at", "control"), [("deviated", "1"), ("deviated", "2"), ("drawing", "both")])
 def test_first_order_error_sensitivity_matches_the_commands(drawing, machine, cycle, at, control):
     """S·δ against the commands' own errors for a small δ (for both, at the drawing, where Gauss–Newton is exact)."""
     base = machine if at == "deviated" else drawing

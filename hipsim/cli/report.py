@@ -157,6 +157,7 @@ def run(args) -> int:
     if args.summary_format == "json":
         from .documents import ReportRun
 
+        assert files.verdict is not None  # write_report always judges the page
         document = ReportRun(
             (joint_run or run).summary(),
             sizing=files.sizing.as_dict() if files.sizing is not None else None,
@@ -170,9 +171,10 @@ def run(args) -> int:
         print_json(document.to_json())
     else:
         print(f"wrote {files.index}" + (f" and {pdf}" if pdf is not None else ""))
-        if passed is not None:
+        if passed is not None and files.sizing is not None:  # passed is the sizing's
+            drive = files.sizing.drive
             print(
-                f"rating check of {files.sizing.drive.name}: {_verdict(passed)}"
+                f"rating check of {drive.name if drive is not None else 'the drive'}: {_verdict(passed)}"
                 + ("" if passed else " (see the sizing table in the report)")
             )
         if bands:

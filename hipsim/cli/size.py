@@ -173,6 +173,7 @@ def _screw_name(drive, params) -> str:
 
 def format_ranking(candidates, shown, trajectories, params) -> str:
     """The catalogue ranked by size: each line's rated power, and its binding check (pass) or first failing check (FAIL); then the screw's checks once."""
+    from ..design.checks import margin_order
     from ..design.ranking import screw_checks
     from ..present.numbers import significant
 
@@ -235,7 +236,7 @@ def format_ranking(candidates, shown, trajectories, params) -> str:
     for screw, checks in screw_checks(candidates):
         made = [c for c in checks if c.passed is not None]
         failed = [c for c in made if c.passed is False]
-        b = min(failed or made, key=lambda c: c.margin) if made else None
+        b = min(failed or made, key=margin_order) if made else None
         rows.append(
             [
                 screw.name if screw is not None else f"machine's ({params.lead * 1e3:g} mm)",

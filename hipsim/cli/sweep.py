@@ -172,20 +172,20 @@ def _variants(args, params):
                 "what to draw the variants over"
             )
         if args.ranges:
-            ranges = {}
+            ranges: dict[str | v.KeyRef, tuple[float, float]] = {}
             for text in args.ranges:
                 key, (low, high) = v.parse_axis(text, "--range", 2)
                 ranges[_unique(v.key_ref(key, "--range"), ranges, "--range")] = (low, high)
             return v.latin_hypercube(ranges, args.sample, args.seed)
-        tolerances = {}
+        tolerances: dict[str | v.KeyRef, tuple[str, float]] = {}
         for text in args.tolerance:
             key, spread = v.parse_tolerance(text)
             tolerances[_unique(v.key_ref(key, "--tolerance"), tolerances, "--tolerance")] = spread
         return v.tolerance_study(params, tolerances, args.sample, args.seed)
-    axes = {}
+    axes: dict[str | v.KeyRef, tuple[float, float, float]] = {}
     for text in args.grid or DEFAULT_GRID:
-        key, numbers = v.parse_axis(text, "--grid", 3)
-        axes[_unique(v.key_ref(key, "--grid"), axes, "--grid")] = tuple(numbers)
+        key, (first, last, count) = v.parse_axis(text, "--grid", 3)
+        axes[_unique(v.key_ref(key, "--grid"), axes, "--grid")] = (first, last, count)
     return v.grid(axes)
 
 

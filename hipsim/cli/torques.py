@@ -253,7 +253,7 @@ def run(args) -> int:
             )
         where = "the CSV to standard output" if is_stdout(args.out) else path
         print(
-            f"\nwrote {where} ({summary.samples} rows, {len(writer.names)} columns{', Parquet' if kind == 'Parquet' else ''})",
+            f"\nwrote {where} ({summary.samples} rows, {len(writer.names or ())} columns{', Parquet' if kind == 'Parquet' else ''})",
             file=report,
         )
     return report_crossings(watch.crossings(), args.strict)

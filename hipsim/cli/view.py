@@ -123,17 +123,17 @@ def run_view(
     if html is not None:
         if step:
             raise HipsimError("--step applies to the live viewer, not to --html")
-        with Viewer(params, human, serve=False) as viewer:
-            motion = viewer.motion(trajectory, fps=fps, speed=speed, forces=forces, singularity=singularity)
-            page = viewer.record(motion)
-            notes = describe(viewer, motion)
+        with Viewer(params, human, serve=False) as offline:
+            motion = offline.motion(trajectory, fps=fps, speed=speed, forces=forces, singularity=singularity)
+            page = offline.record(motion)
+            notes = describe(offline, motion)
         path = write_atomic(html, page)
         print(f"wrote {path} ({len(page) / 1e6:.1f} MB): {notes[0]}", file=stream)
         for line in notes[1:]:
             print(line, file=stream)
         return 0
 
-    viewer = None
+    viewer: Viewer | None = None
     try:
         viewer = Viewer(params, human)
         motion = viewer.motion(trajectory, fps=fps, speed=speed, forces=forces, singularity=singularity)

@@ -316,7 +316,8 @@ def _setup(args):
 
     mount = (0.0, 0.0, 0.0)
     if args.cup_mount is not None:
-        mount = tuple(math.radians(a) for a in numbers(args.cup_mount, ",", "--cup-mount", "α,β,γ in degrees", 3))
+        alpha, beta, gamma = numbers(args.cup_mount, ",", "--cup-mount", "α,β,γ in degrees", 3)
+        mount = (math.radians(alpha), math.radians(beta), math.radians(gamma))
     try:
         return CupSetup(args.head_diameter, args.sequence, mount, args.moving)
     except ArgumentError as error:

@@ -62,7 +62,7 @@ from .identified_file import IDENTIFIED_MARK, FileProvenance, identified_toml, w
 from .prior import HELD
 from .prior import prior as make_prior
 from .quantities import QUANTITIES, standard_values, with_values
-from .regressor import log_rows, rows_per_independent_row
+from .regressor import column_condition, log_rows, rows_per_independent_row
 from .validation import training_envelope, validation_note
 
 __all__ = [
@@ -384,10 +384,7 @@ class _Accumulator:
 def _condition(A: np.ndarray) -> float:
     if A.shape[1] == 0:
         return math.nan
-    norms = np.linalg.norm(A, axis=0)
-    A = A[:, norms > 0] / norms[norms > 0]
-    s = np.linalg.svd(A, compute_uv=False)
-    return float(s[0] / s[-1]) if s.size and s[-1] > 0 else math.inf
+    return column_condition(A[:, np.linalg.norm(A, axis=0) > 0])  # a column the logs never excite is left out
 
 
 def _plausible(params: Parameters, theta: np.ndarray, logs: tuple[str, ...]) -> None:
