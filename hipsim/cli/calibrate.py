@@ -44,7 +44,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "--validate", action="append", default=[], metavar="FILE", help="held-out log to check on (repeatable)"
     )
     p.add_argument(
-        "--prior",
+        "--chain-prior",
+        dest="prior",
         type=float,
         default=0.5,
         metavar="MM",

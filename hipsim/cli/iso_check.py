@@ -64,7 +64,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     add_trajectory_options(iso)
     iso.add_argument("--torque-constant", type=float, metavar="NM_PER_A", help="for a rig log of motor currents")
     iso.add_argument(
-        "--tolerance",
+        "--iso-tolerance",
+        dest="tolerance",
         metavar="SPEC",
         help="alpha=3,beta=3,gamma=3,load=3%%,frequency=0.1 (degrees, N or %% of "
         "3000 N, Hz; unnamed ones keep these defaults)",

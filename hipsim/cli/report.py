@@ -39,7 +39,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     add_trajectory_options(report)
     report.add_argument("--out", required=True, metavar="DIR", help="folder to write (created if missing)")
     report.add_argument(
-        "--model",
+        "--engine",
+        dest="model",
         choices=["auto", *engine_names(optional=False)],
         default="auto",
         help="where joint forces come from (auto: Pinocchio)",

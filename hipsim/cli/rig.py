@@ -46,10 +46,12 @@ def _add_log_options(parser: argparse.ArgumentParser) -> None:
         type=float,
         default=DEFAULT_CUTOFF,
         metavar="HZ",
-        help=f"zero-phase low-pass cutoff for measured motion, load and torques (default {DEFAULT_CUTOFF:g} Hz; 0: none)",
+        help=f"zero-phase low-pass cutoff for measured motion, load and torques (default {DEFAULT_CUTOFF:g} Hz)",
     )
+    group.add_argument("--no-filter", action="store_true", help="no low-pass filter (a log filtered already)")
     group.add_argument(
-        "--tolerance",
+        "--angle-tolerance",
+        dest="tolerance",
         type=float,
         default=DEFAULT_TOLERANCE_DEG,
         metavar="DEG",
@@ -89,7 +91,11 @@ def add_parser(subparsers) -> None:
     add_machine_options(compare)
     _add_log_options(compare)
     compare.add_argument(
-        "--period", type=float, metavar="S", help="the log's period in s (default: detected; 0: not periodic)"
+        "--log-period",
+        dest="period",
+        type=float,
+        metavar="S",
+        help="the log's period in s (default: detected; 0: not periodic)",
     )
     compare.add_argument(
         "--out", default="hipsim_compare", metavar="DIR", help="folder to write (default hipsim_compare)"
@@ -147,7 +153,7 @@ def add_parser(subparsers) -> None:
 
 
 def _cutoff(args) -> float | None:
-    if args.cutoff is None or args.cutoff == 0:
+    if args.no_filter or args.cutoff is None:
         return None
     if not (math.isfinite(args.cutoff) and args.cutoff > 0):
         raise ArgumentError("--cutoff", args.cutoff, "a positive frequency in Hz (or 0 for none)")
@@ -289,7 +295,7 @@ def run_compare(args) -> int:
 
 def _check_log_options(args) -> None:
     if not (math.isfinite(args.tolerance) and args.tolerance > 0):
-        raise ArgumentError("--tolerance", args.tolerance, "a positive angle in degrees")
+        raise ArgumentError("--angle-tolerance", args.tolerance, "a positive angle in degrees")
     if args.torque_constant is not None and not (math.isfinite(args.torque_constant) and args.torque_constant > 0):
         raise ArgumentError("--torque-constant", args.torque_constant, "a positive number in N·m/A")
 

@@ -96,7 +96,6 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     )
     out.add_argument("--top", type=int, metavar="N", help="show the N best catalogue combinations (default all)")
     out.add_argument(
-        "--format",
         "--summary-format",
         dest="format",
         choices=["table", "json"],

@@ -58,7 +58,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     )
     p.add_argument("--sliders", metavar="LOG", help="a log's carriages (L_11_mm.. or motor_1_deg..): both attitudes")
     p.add_argument(
-        "--tolerance",
+        "--bands",
+        dest="tolerance",
         metavar="FILE|KEY=V,...",
         help="draw per-chain deviations within ±V mm: keys ujoint, slider, joint, lever, centre, all (e.g. all=0.1), "
         "or a TOML file of them",
@@ -66,7 +67,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--draws", type=int, default=1000, metavar="N", help="machines drawn for --tolerance (default 1000)")
     p.add_argument("--seed", type=int, default=0, metavar="N", help="seed of the draws (default 0)")
     p.add_argument(
-        "--workers", type=int, default=2, metavar="N", help="dask worker processes (default 2; 0: in process)"
+        "--workers", type=int, default=2, metavar="N", help="local worker processes (default 2; 1 runs in this process)"
     )
     p.add_argument("--scheduler", metavar="ADDRESS", help="a running dask scheduler instead of a local cluster")
     p.add_argument("--table", metavar="FILE", help="per-sample table, .csv or .parquet (default OUT/stations.csv)")
@@ -93,8 +94,6 @@ def _check(args) -> None:
         raise HipsimError("--control all applies to --tolerance; give 1, 2 or both")
     if args.tolerance and args.draws < 1:
         raise HipsimError(f"--draws: expected at least 1, got {args.draws}")
-    if args.workers < 0:
-        raise HipsimError(f"--workers: expected 0 or more, got {args.workers}")
     if args.table and Path(args.table).suffix.lower() not in (".csv", ".parquet"):
         raise HipsimError(f"--table {args.table}: expected a .csv or .parquet file")
 
@@ -140,6 +139,8 @@ def run(args) -> int:
     params = parameters(args)
     if args.control is None:
         args.control = str(params.geometry.control) if params.geometry is not None else "2"
+    if args.weights is not None and args.control not in ("both", "all"):
+        raise HipsimError(f"--weights {args.weights} applies to --control both, not to --control {args.control}")
     out = Path(args.out)
     check_folder(out)
     table = Path(args.table) if args.table else out / "stations.csv"
@@ -239,7 +240,7 @@ def _tolerance(args, params, weights, out: Path) -> int:
         draws=args.draws,
         seed=args.seed,
         weights=weights,
-        workers=args.workers,
+        workers=0 if args.workers == 1 else args.workers,  # the library's 0: in this process
         scheduler=args.scheduler,
         progress=progress("hipsim stations --tolerance"),
     )

@@ -82,7 +82,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         help="with --sample: a key's range for the Latin hypercube (scipy.stats.qmc; repeatable)",
     )
     variants.add_argument(
-        "--tolerance",
+        "--spread",
+        dest="tolerance",
         action="append",
         default=[],
         metavar="KEY=SIGMA|KEY=±X",
@@ -98,7 +99,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     variants.add_argument("--variants", metavar="CSV", help="a CSV of variants: a header of keys, one variant a line")
     check = parser.add_argument_group("model and rating")
     check.add_argument(
-        "--model",
+        "--engine",
+        dest="model",
         choices=engine_names(optional=False),
         default="analytic",
         help="analytic (default) or pinocchio (adds the peak joint forces; slower)",
@@ -180,7 +182,7 @@ def _variants(args, params):
         tolerances = {}
         for text in args.tolerance:
             key, spread = v.parse_tolerance(text)
-            tolerances[_unique(v.key_ref(key, "--tolerance"), tolerances, "--tolerance")] = spread
+            tolerances[_unique(v.key_ref(key, "--spread"), tolerances, "--spread")] = spread
         return v.tolerance_study(params, tolerances, args.sample, args.seed)
     axes = {}
     for text in args.grid or DEFAULT_GRID:
@@ -212,7 +214,7 @@ def _check_out(path: str) -> Path:
 _PARTS = {
     "parameters": "the machine (--params, --set)",
     "trajectory": "the trajectory (--trajectory, --rate, --cycles, --frequency …)",
-    "model": "--model",
+    "model": "--engine",
     "drive": "--drive",
     "cycles": "the test cycles (--cycles)",
     "keys": "the swept keys",
@@ -240,7 +242,7 @@ def run(args) -> int:
         option = (
             "--variants"
             if args.variants
-            else ("--grid" if args.sample is None else ("--range" if args.ranges else "--tolerance"))
+            else ("--grid" if args.sample is None else ("--range" if args.ranges else "--spread"))
         )
         raise HipsimError(str(error) if error.name == option else f"{option} {error}") from None
     trajectory = load_trajectory(args)

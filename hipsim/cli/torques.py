@@ -27,7 +27,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     add_machine_options(torques)
     add_trajectory_options(torques)
     torques.add_argument(
-        "--model",
+        "--engine",
+        dest="model",
         choices=engine_names(),
         default="analytic",
         help="which model computes the torques (default analytic; mujoco needs the mujoco extra)",

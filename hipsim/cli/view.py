@@ -32,7 +32,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     add_trajectory_options(view)
     view.add_argument("--html", metavar="FILE", help="write a self-contained offline page instead of serving")
     view.add_argument("--speed", type=float, default=1.0, metavar="X", help="playback speed (0.25: four times slower)")
-    view.add_argument("--step", action="store_true", help="one frame per Enter (b: back, q: quit)")
+    view.add_argument(
+        "--frame-by-frame", dest="step", action="store_true", help="one frame per Enter (b: back, q: quit)"
+    )
     view.add_argument(
         "--fps",
         type=int,

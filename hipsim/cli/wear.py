@@ -27,6 +27,9 @@ from .motion_options import add_trajectory_options, builtin_frequency, load_traj
 __all__ = ["add_parser", "format_summary", "read_motion", "run"]
 
 #: Columns that tell a file's kind, checked in this order (a simulate output has torque columns too).
+#: Two wear sources are alike within this many % unless --alike says otherwise.
+DEFAULT_ALIKE_PCT = 5.0
+
 _KINDS = (("simulate", ("alpha_des_deg",)), ("stations", ("alpha_1_deg",)), ("rig log", ("tau_1_Nmm", "current_1_A")))
 
 
@@ -84,7 +87,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "--points", metavar="FILE", help="cup points to compute at: a CSV with columns x, y, z (unit vectors, z ≥ 0)"
     )
     cup.add_argument(
-        "--grid",
+        "--cup-grid",
+        dest="grid",
         metavar="NTHETAxNPHI",
         default="90x180",
         help="the default grid: polar bands x azimuth sectors (default 90x180)",
@@ -106,9 +110,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         help="compare two sources: iso, FILE, FILE:1, FILE:2 (stations), FILE:desired (simulate); writes a verdict-first page",
     )
     wear.add_argument(
-        "--tolerance",
+        "--alike",
+        dest="tolerance",
         type=float,
-        default=5.0,
         metavar="PCT",
         help="with --compare: alike within this many %% (default 5)",
     )
@@ -427,8 +431,10 @@ def run(args) -> int:
     if args.self_check:
         return _self_check(args, setup, points)
     law = _law(args)
-    if not (math.isfinite(args.tolerance) and args.tolerance >= 0):
-        raise HipsimError(f"--tolerance: expected a percentage ≥ 0, got {args.tolerance:g}")
+    if args.tolerance is not None and not args.compare:
+        raise HipsimError(f"--alike {args.tolerance:g} % applies to --compare A B: give --compare, or drop --alike")
+    if args.tolerance is None:
+        args.tolerance = DEFAULT_ALIKE_PCT
     check_output(args.out)
     report = args.report or ("hipsim_wear_compare" if args.compare else None)
     if report:

@@ -1,0 +1,357 @@
+"""Every option of every ``hipsim`` command, declared once: name, meaning, unit, hard and plausible ranges.
+
+The parser of each command is checked against this table when it is built
+(:func:`hipsim.cli.parser.apply_table`): an option a command adds that is not
+here is a programming error, a number outside its hard range is refused, one
+outside its plausible range is warned of. The corpus of slips in the tests
+(tests/test_option_slips.py) is generated from the numeric rows, so a new
+option is covered as soon as it is declared.
+
+Ranges: the hard range holds every value that has a meaning (a cutoff above
+0 Hz, a friction rise below 1); the plausible range what a hip simulator's lab
+types (ISO 14242-1: 1 Hz, 300–3000 N, heads of 22–60 mm). Where a range is a
+choice (the spec is silent), the docs say so: docs/guide/robust-inputs.md.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .options import Option
+
+__all__ = ["ALIASES", "OPTIONS", "TABLE"]
+
+INF = math.inf
+
+
+def _n(name, meaning, unit, hard, plausible=None, typical="", **kw) -> Option:
+    return Option(name, meaning, unit, "number", hard, plausible=plausible, typical=typical, **kw)
+
+
+def _i(name, meaning, unit, hard, plausible=None, typical="", **kw) -> Option:
+    return Option(name, meaning, unit, "integer", hard, plausible=plausible, typical=typical, **kw)
+
+
+def _ns(name, meaning, unit, hard, plausible, separator, count=None, typical="", **kw) -> Option:
+    return Option(
+        name,
+        meaning,
+        unit,
+        "numbers",
+        hard,
+        plausible=plausible,
+        typical=typical,
+        separator=separator,
+        count=count,
+        **kw,
+    )
+
+
+def _k(name, meaning, kind="text", **kw) -> Option:
+    return Option(name, meaning, "", kind, **kw)
+
+
+#: The table: one row an option, whichever commands take it.
+TABLE: tuple[Option, ...] = (
+    # --- the motion (every command that runs a motion)
+    _n("--rate", "sample rate", "Hz", (0, 1e6), (10, 1e5), "rates are 100 to 10,000 Hz", open_low=True),
+    _n(
+        "--cycles",
+        "number of built-in cycles",
+        "cycles",
+        (0, 1e7),
+        (0.5, 1e4),
+        "tests run 1 to 100 cycles",
+        open_low=True,
+    ),
+    _n("--frequency", "cycle frequency", "Hz", (0, 100), (0.2, 5), "ISO 14242-1 runs at 1 Hz", open_low=True),
+    _n("--period", "cycle period", "s", (0, 1e4), (0.2, 5), "ISO 14242-1's cycle lasts 1 s", open_low=True),
+    _n(
+        "--resample",
+        "even sample rate for a file",
+        "Hz",
+        (0, 1e6),
+        (20, 1e5),
+        "rates are 100 to 10,000 Hz",
+        open_low=True,
+    ),
+    _n(
+        "--cutoff",
+        "zero-phase low-pass cutoff",
+        "Hz",
+        (0, 1e5),
+        (1, 500),
+        "gait labs filter at 6 Hz, rig logs at 20 Hz",
+        open_low=True,
+    ),
+    _k("--no-filter", "no low-pass filter of the measured signals", "flag"),
+    _k("--trajectory", "trajectory file", "file"),
+    _k("--columns", "column map of a trajectory file"),
+    _k("--side", "which hip of an OpenSim file", "choice"),
+    _k("--load-column", "column of the load F_e"),
+    _k("--load", "load from a second file", "file"),
+    _k("--load-scale", "scaling of a --load file (K or MIN:MAX in N)"),
+    _k("--body-weight", "body weight for a load in %BW (kg, or N with the suffix N)"),
+    # --- the machine, the output, the page
+    _k("--params", "parameter file", "file"),
+    _k("--set", "parameter override KEY=VALUE"),
+    _k("--out", "where the result is written", "file"),
+    _k("--summary-format", "summary on standard output: table or json", "choice"),
+    _k("--title", "page title"),
+    _k("--author", "page author"),
+    _k("--rig", "rig name"),
+    _k("--pdf", "also print the page to PDF", "flag"),
+    _k("--report", "folder of the page", "file"),
+    _k("--table", "per-sample table", "file"),
+    _k("--strict", "a machine limit crossed is an error", "flag"),
+    _k("--json", "also write the summary as JSON", "file", deprecated="--summary-format json > FILE"),
+    # --- models and engines
+    _k("--engine", "which model computes (analytic, pinocchio, mujoco)", "choice"),
+    _k("--plant", "the simulated plant's model", "choice"),
+    _k("--integrator", "MuJoCo's integrator", "choice"),
+    _k("--controller", "the tracking controller", "choice"),
+    _k("--mismatch", "plant off from the controller's model"),
+    _n("--servo-rate", "servo rate", "Hz", (0, 1e6), (100, 1e5), "servo rates are 1 to 20 kHz", open_low=True),
+    _n("--step", "integration step", "ms", (0, 100), (0.001, 10), "steps are 0.05 to 1 ms", open_low=True),
+    _n("--timestep", "MuJoCo's time step", "ms", (0, 100), (0.001, 10), "steps are 0.05 to 1 ms", open_low=True),
+    _n(
+        "--torque-limit",
+        "motor torque limit",
+        "N·mm",
+        (0, INF),
+        (10, 1e6),
+        "limits are 1,000 to 100,000 N·mm",
+        open_low=True,
+    ),
+    _k("--flag-bad-poses", "mark unreachable poses instead of stopping", "flag"),
+    _k("--iso-tolerance", "ISO 14242-1 tolerances of a verdict (alpha=3,...,load=3%,frequency=0.1)"),
+    # --- wear
+    _n(
+        "--head-diameter",
+        "femoral head diameter",
+        "mm",
+        (1, 500),
+        (22, 60),
+        "heads are 22–60 mm",
+        slips=((0.5, "a radius, not a diameter"),),
+    ),
+    _n(
+        "--wear-factor",
+        "Archard's wear factor k",
+        "mm³/(N·m)",
+        (0, 1e-3),
+        (1e-9, 1e-5),
+        "UHMWPE on CoCr: k is 1e-8 to 1e-6 mm³/(N·m)",
+        open_low=True,
+        slips=((1e6, "in 10⁻⁶ mm³/(N·m)"),),
+    ),
+    _n("--area-law", "contact-area law's C", "1", (0, 1), (1e-7, 1e-3), "C is about 1e-5", open_low=True),
+    _k("--wear-law", "k against cross-shear, a CSV", "file"),
+    _ns(
+        "--cup-grid",
+        "the cup grid's polar bands and azimuth sectors",
+        "bands x sectors",
+        (8, 2000),
+        (30, 1000),
+        "x",
+        2,
+        "grids are 30x60 to 180x360 (coarser grids misstate the worn area)",
+    ),
+    _n(
+        "--cycle-time",
+        "length of one wear cycle",
+        "s",
+        (0, 1e4),
+        (0.2, 5),
+        "ISO 14242-1's cycle lasts 1 s",
+        open_low=True,
+    ),
+    _n(
+        "--alike",
+        "the tolerance within which two wear sources are alike",
+        "%",
+        (0, 100),
+        (0.5, 50),
+        "typical 1 to 20 %",
+        open_low=True,
+    ),
+    _ns("--cup-mount", "the cup's orientation α,β,γ", "deg", (-180, 180), (-60, 60), ",", 3, "mounts tilt by 0 to 45°"),
+    _k("--compare", "compare two wear sources"),
+    _k("--iso-load", "the built-in ISO load at the motion's times", "flag"),
+    _k("--moving", "which part the platform carries", "choice"),
+    _k("--platform", "which platform of a stations output", "choice"),
+    _k("--points", "cup points to compute at", "file"),
+    _k("--self-check", "the wear model's analytic checks", "flag"),
+    _k("--sequence", "Euler sequence of the angles"),
+    _n(
+        "--torque-constant",
+        "motor torque constant",
+        "N·m/A",
+        (0, 1000),
+        (0.01, 10),
+        "servo motors have 0.1 to 5 N·m/A",
+        open_low=True,
+    ),
+    # --- rig logs: compare, identify, calibrate, monitor
+    _k("--log", "rig log(s)", "file"),
+    _k("--validate", "held-out log(s) to check a fit on", "file"),
+    _n("--log-period", "the log's period (0: not periodic)", "s", (0, 1e4), None),
+    _n("--accept", "largest RMS error accepted", "%", (0, 100), (1, 50), "verdicts accept 5 to 20 %", open_low=True),
+    _n(
+        "--angle-tolerance",
+        "largest disagreement of attitude sensor and encoders",
+        "deg",
+        (0, 90),
+        (0.05, 10),
+        "sensors agree within 0.1 to 2°",
+        open_low=True,
+    ),
+    _k("--prior", "prior standard deviations NAME=STD,... in the parameters' units"),
+    _n(
+        "--chain-prior",
+        "prior standard deviation of every per-chain value",
+        "mm",
+        (0, 100),
+        (0.01, 10),
+        "machined parts deviate by 0.05 to 2 mm",
+        open_low=True,
+    ),
+    _k("--fix", "parameters held at their starting values"),
+    _k("--base", "print the base parameters and stop", "flag"),
+    _k("--spin-free-levers", "levers without the universal joints' spin", "flag"),
+    _k("--no-plausibility-check", "skip the check of the logged signals", "flag"),
+    _k("--force", "write an implausible fit, its warning kept in the provenance", "flag"),
+    _k("--sensor-offset", "estimate a sensor offset per log", "choice"),
+    _ns(
+        "--baseline",
+        "the baseline's cycles FROM:TO",
+        "cycles",
+        (0, 1e12),
+        (1000, 1e9),
+        ":",
+        2,
+        "baselines start after running-in, 250,000 to 1,000,000 cycles",
+    ),
+    _n(
+        "--alarm-rise",
+        "the alarm's change of the hip friction coefficient",
+        "1",
+        (0, 1),
+        (0.002, 0.1),
+        "alarms are set at 0.005 to 0.05",
+        open_low=True,
+        open_high=True,
+    ),
+    _i("--window", "a window's length in a long log", "cycles", (1, 1e9), (1, 1e6)),
+    _n(
+        "--poll",
+        "the time between looks at the logs",
+        "s",
+        (0, 86400),
+        (1, 3600),
+        "polls every 10 s to 10 min",
+        open_low=True,
+    ),
+    _n("--settle", "the settling time of a log being written", "s", (0, 3600), (0.5, 600), "typical 1 to 60 s"),
+    _k("--watch", "keep watching the logs", "flag"),
+    _k("--on-alarm", "command run on an alarm"),
+    _k("--restart", "replace an existing --out", "flag"),
+    # --- workers
+    _i("--workers", "worker processes (1: in this process)", "processes", (1, 4096), (1, 256)),
+    _k("--scheduler", "a running dask scheduler's address"),
+    _i("--batch-size", "variants per task", "variants", (1, 1e9), (1, 10000)),
+    # --- stations
+    _k("--control", "which platform the carriages serve", "choice"),
+    _ns("--weights", "weights of the two platforms' squared errors", "1", (0, 1e6), (0.01, 100), ",", 2),
+    _k("--bands", "per-chain deviation bands FILE or KEY=V,... in mm"),
+    _i("--draws", "machines drawn", "draws", (1, 1e8), (20, 1e6), "100 to 10,000 draws"),
+    _i("--seed", "random seed", "", (0, 2**32 - 1), corpus=False),
+    _k("--sliders", "a log's carriages", "file"),
+    # --- sweep
+    _k("--grid", "a sweep's grid axis KEY=START:STOP:STEP in the key's unit"),
+    _k("--variants", "a CSV of variants", "file"),
+    _k("--range", "a key's range KEY=LOW:HIGH for --sample"),
+    _i("--sample", "random variants drawn", "variants", (1, 1e9), (2, 1e6)),
+    _k("--spread", "a key's spread KEY=SIGMA or KEY=±X for --sample"),
+    _k("--pareto", "Pareto front of two columns X,Y"),
+    _k("--drive", "drive file", "file"),
+    # --- size
+    _k("--catalogue", "motor catalogue", "file"),
+    _k("--screws", "lead screw catalogue", "file"),
+    _k("--gearboxes", "gearbox catalogue", "file"),
+    _k("--rank", "catalogue order", "choice"),
+    _i("--top", "best catalogue combinations shown", "combinations", (1, 1e9)),
+    _n(
+        "--inertia-ratio",
+        "largest load-to-rotor inertia ratio",
+        "1",
+        (0, 1e4),
+        (1, 100),
+        "drives allow 5 to 30",
+        open_low=True,
+    ),
+    _n(
+        "--life-cycles",
+        "screw L10 life to reach",
+        "cycles",
+        (0, 1e12),
+        (1e5, 1e9),
+        "tests run 5 to 20 million cycles",
+        open_low=True,
+    ),
+    _k("--without-iso", "leave out the built-in ISO cycle", "flag"),
+    _k("--motor", "drive file to check", "file"),
+    _k("--simulate", "also simulate both controllers", "flag"),
+    # --- excite
+    _n(
+        "--duration", "length of the excitation", "s", (0, 1e5), (1, 3600), "excitations last 10 to 60 s", open_low=True
+    ),
+    _i("--harmonics", "harmonics per series", "harmonics", (1, 1000), (1, 30)),
+    _i("--iterations", "optimiser iterations per start", "iterations", (1, 1e7), (1, 10000)),
+    _i("--seeds", "random starts of the optimiser", "starts", (1, 10000), (1, 100)),
+    _ns("--load-range", "the load range MIN:MAX", "N", (0, 1e5), (10, 5000), ":", 2, "ISO 14242-1: 300 to 3000 N"),
+    _n("--max-acceleration", "slider acceleration limit", "mm/s²", (0, 1e7), (100, 1e5), open_low=True),
+    _n("--max-angle", "largest |angle|", "deg", (0, 90), (3, 60), "gait angles reach 10 to 45°", open_low=True),
+    _n(
+        "--max-speed",
+        "slider speed limit",
+        "mm/s",
+        (0, 1e5),
+        (10, 5000),
+        "sliders run at 50 to 1000 mm/s",
+        open_low=True,
+    ),
+    _n("--min-cond-inv", "smallest singularity measure", "1", (0, 1), (0.01, 0.9), open_low=True),
+    _k("--for", "what the motion is for", "choice"),
+    # --- view, urdf, mjcf, workspace
+    _i("--fps", "frames per second of playback", "fps", (1, 1000), (5, 240)),
+    _n("--speed", "playback speed", "×", (0, 1000), (0.01, 100), open_low=True),
+    _k("--frame-by-frame", "one frame per Enter", "flag"),
+    _k("--html", "write an offline page", "file"),
+    _k("--human", "the human model's hip beside the machine", "flag"),
+    _k("--forces", "arrows for the forces", "flag"),
+    _k("--singularity", "colour the levers by the singularity measure", "flag"),
+    _k("--closures", "also write the closure file", "file"),
+    _ns("--deltas", "the offsets δ A:B:STEP", "deg", (-180, 180), (-180, 180), ":", 3),
+    _ns("--gamma", "the rotations γ", "deg", (-180, 180), (-90, 90), ","),
+)
+
+#: The table by name.
+OPTIONS: dict[str, Option] = {option.name: option for option in TABLE}
+
+#: Old spellings kept one minor version, per command: old → new. Each warns when used.
+ALIASES: dict[str, dict[str, str]] = {
+    "torques": {"--model": "--engine"},
+    "report": {"--model": "--engine"},
+    "sweep": {"--model": "--engine", "--tolerance": "--spread"},
+    "simulate": {"--tolerance": "--iso-tolerance", "--mujoco-integrator": "--integrator"},
+    "iso-check": {"--tolerance": "--iso-tolerance"},
+    "wear": {"--tolerance": "--alike", "--grid": "--cup-grid"},
+    "stations": {"--tolerance": "--bands"},
+    "compare": {"--tolerance": "--angle-tolerance", "--period": "--log-period"},
+    "identify": {"--tolerance": "--angle-tolerance"},
+    "calibrate": {"--prior": "--chain-prior"},
+    "size": {"--format": "--summary-format"},
+    "excite": {"--load": "--load-range"},
+    "view": {"--step": "--frame-by-frame"},
+}
