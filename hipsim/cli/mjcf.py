@@ -73,7 +73,6 @@ def add_simulate_options(parser: argparse.ArgumentParser) -> None:
     """The MuJoCo plant's option of ``hipsim simulate``."""
     parser.add_argument(
         "--integrator",
-        dest="mujoco_integrator",
         choices=_INTEGRATORS,
         help="with --plant mujoco: MuJoCo's integrator, stepped at --step (default RK4)",
     )

@@ -145,7 +145,16 @@ TABLE: tuple[Option, ...] = (
         open_low=True,
         slips=((1e6, "in 10⁻⁶ mm³/(N·m)"),),
     ),
-    _n("--area-law", "contact-area law's C", "1", (0, 1), (1e-7, 1e-3), "C is about 1e-5", open_low=True),
+    _n(
+        "--area-law",
+        "contact-area law's C",
+        "1",
+        (0, 1),
+        (1e-7, 1e-4),
+        "C is about 1e-5",
+        open_low=True,
+        example="1e-5",
+    ),
     _k("--wear-law", "k against cross-shear, a CSV", "file"),
     _ns(
         "--cup-grid",
@@ -156,6 +165,7 @@ TABLE: tuple[Option, ...] = (
         "x",
         2,
         "grids are 30x60 to 180x360 (coarser grids misstate the worn area)",
+        example="90x180",
     ),
     _n(
         "--cycle-time",
@@ -175,7 +185,18 @@ TABLE: tuple[Option, ...] = (
         "typical 1 to 20 %",
         open_low=True,
     ),
-    _ns("--cup-mount", "the cup's orientation α,β,γ", "deg", (-180, 180), (-60, 60), ",", 3, "mounts tilt by 0 to 45°"),
+    _ns(
+        "--cup-mount",
+        "the cup's orientation α,β,γ",
+        "deg",
+        (-180, 180),
+        (-60, 60),
+        ",",
+        3,
+        "mounts tilt by 0 to 45°",
+        example="5,-3,20",
+        undetectable=("x0.001", "deg->rad", "zero", "negative"),  # small, zero and negative tilts are as right
+    ),
     _k("--compare", "compare two wear sources"),
     _k("--iso-load", "the built-in ISO load at the motion's times", "flag"),
     _k("--moving", "which part the platform carries", "choice"),
@@ -195,7 +216,16 @@ TABLE: tuple[Option, ...] = (
     # --- rig logs: compare, identify, calibrate, monitor
     _k("--log", "rig log(s)", "file"),
     _k("--validate", "held-out log(s) to check a fit on", "file"),
-    _n("--log-period", "the log's period (0: not periodic)", "s", (0, 1e4), None),
+    _n(
+        "--log-period",
+        "the log's period (0: not periodic)",
+        "s",
+        (0, 1e4),
+        (0.2, 5),
+        "gait logs repeat every 1 s",
+        special=(0.0,),
+        undetectable=("zero",),  # 0 means "not periodic"
+    ),
     _n("--accept", "largest RMS error accepted", "%", (0, 100), (1, 50), "verdicts accept 5 to 20 %", open_low=True),
     _n(
         "--angle-tolerance",
@@ -227,10 +257,11 @@ TABLE: tuple[Option, ...] = (
         "the baseline's cycles FROM:TO",
         "cycles",
         (0, 1e12),
-        (1000, 1e9),
+        (1000, 1e8),
         ":",
         2,
         "baselines start after running-in, 250,000 to 1,000,000 cycles",
+        example="250000:750000",
     ),
     _n(
         "--alarm-rise",
@@ -242,7 +273,7 @@ TABLE: tuple[Option, ...] = (
         open_low=True,
         open_high=True,
     ),
-    _i("--window", "a window's length in a long log", "cycles", (1, 1e9), (1, 1e6)),
+    _i("--window", "a window's length in a long log", "cycles", (1, 1e9), (2, 1e4), example="100"),
     _n(
         "--poll",
         "the time between looks at the logs",
@@ -262,7 +293,7 @@ TABLE: tuple[Option, ...] = (
     _i("--batch-size", "variants per task", "variants", (1, 1e9), (1, 10000)),
     # --- stations
     _k("--control", "which platform the carriages serve", "choice"),
-    _ns("--weights", "weights of the two platforms' squared errors", "1", (0, 1e6), (0.01, 100), ",", 2),
+    _ns("--weights", "weights of the two platforms' squared errors", "1", (0, 1e6), (0.01, 10), ",", 2, example="1,1"),
     _k("--bands", "per-chain deviation bands FILE or KEY=V,... in mm"),
     _i("--draws", "machines drawn", "draws", (1, 1e8), (20, 1e6), "100 to 10,000 draws"),
     _i("--seed", "random seed", "", (0, 2**32 - 1), corpus=False),
@@ -280,7 +311,7 @@ TABLE: tuple[Option, ...] = (
     _k("--screws", "lead screw catalogue", "file"),
     _k("--gearboxes", "gearbox catalogue", "file"),
     _k("--rank", "catalogue order", "choice"),
-    _i("--top", "best catalogue combinations shown", "combinations", (1, 1e9)),
+    _i("--top", "best catalogue combinations shown", "combinations", (1, 1e9), (1, 1000), example="10"),
     _n(
         "--inertia-ratio",
         "largest load-to-rotor inertia ratio",
@@ -309,7 +340,17 @@ TABLE: tuple[Option, ...] = (
     _i("--harmonics", "harmonics per series", "harmonics", (1, 1000), (1, 30)),
     _i("--iterations", "optimiser iterations per start", "iterations", (1, 1e7), (1, 10000)),
     _i("--seeds", "random starts of the optimiser", "starts", (1, 10000), (1, 100)),
-    _ns("--load-range", "the load range MIN:MAX", "N", (0, 1e5), (10, 5000), ":", 2, "ISO 14242-1: 300 to 3000 N"),
+    _ns(
+        "--load-range",
+        "the load range MIN:MAX",
+        "N",
+        (0, 1e5),
+        (10, 5000),
+        ":",
+        2,
+        "ISO 14242-1: 300 to 3000 N",
+        example="300:3000",
+    ),
     _n("--max-acceleration", "slider acceleration limit", "mm/s²", (0, 1e7), (100, 1e5), open_low=True),
     _n("--max-angle", "largest |angle|", "deg", (0, 90), (3, 60), "gait angles reach 10 to 45°", open_low=True),
     _n(
@@ -332,8 +373,27 @@ TABLE: tuple[Option, ...] = (
     _k("--forces", "arrows for the forces", "flag"),
     _k("--singularity", "colour the levers by the singularity measure", "flag"),
     _k("--closures", "also write the closure file", "file"),
-    _ns("--deltas", "the offsets δ A:B:STEP", "deg", (-180, 180), (-180, 180), ":", 3),
-    _ns("--gamma", "the rotations γ", "deg", (-180, 180), (-90, 90), ","),
+    _ns(
+        "--deltas",
+        "the offsets δ A:B:STEP",
+        "deg",
+        (-180, 180),
+        (-180, 180),
+        ":",
+        3,
+        example="-90:90:1",
+        undetectable=("x0.001", "deg->rad", "zero", "negative"),  # the command checks START < STOP, STEP > 0
+    ),
+    _ns(
+        "--gamma",
+        "the rotations γ",
+        "deg",
+        (-180, 180),
+        (-90, 90),
+        ",",
+        example="-12,-8,-4,0,4",
+        undetectable=("x0.001", "deg->rad", "zero", "negative"),  # small and negative rotations are as right
+    ),
 )
 
 #: The table by name.

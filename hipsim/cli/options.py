@@ -64,6 +64,10 @@ class Option:
         deprecated: for an old spelling kept one minor version: what to write instead.
         corpus: False for numbers that are no quantity (a random seed): the corpus of slips leaves them out.
         slips: this option's own slips, tried before its unit's: (factor, words), typed = meant × factor.
+        special: values with a meaning of their own, accepted without a word (``--log-period 0``: not periodic).
+        example: a right value as a user types it (the corpus of slips is made from it; default: the plausible range's middle).
+        undetectable: the corpus's slips (``x0.001``, ``deg->rad`` …) that give a value as right as the example
+            (a cup mount of 0.02° is as plausible as 20°): the corpus holds them accepted, and the docs name them.
     """
 
     name: str
@@ -80,6 +84,9 @@ class Option:
     deprecated: str | None = None
     corpus: bool = True
     slips: tuple[tuple[float, str], ...] = ()
+    special: tuple[float, ...] = ()
+    example: str = ""
+    undetectable: tuple[str, ...] = ()
 
     @property
     def numeric(self) -> bool:
@@ -154,6 +161,8 @@ def judge(option: Option, value: float) -> Judgement:
     shown = f"{option.name} {value:g}{option.shown_unit}"
     slip = likely_slip(option, value)
     hint = f" {slip}" if slip else ""
+    if value in option.special:
+        return Judgement()
     low, high = option.hard
     if math.isnan(value) or not _inside(value, low, high, option.open_low, option.open_high):
         typical = f"; {option.typical}" if option.typical else ""

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import dataclasses
 import json
 import math
 import sys
@@ -146,6 +147,12 @@ def add_parser(subparsers) -> None:
         "--base", action="store_true", help="print the machine's base parameters with their definitions and stop"
     )
     identify.add_argument("--json", metavar="FILE", help="also write the results as JSON")
+    identify.add_argument(
+        "--force",
+        action="store_true",
+        help="write an implausible fit anyway (residuals beyond 3x the noise, a parameter beyond 5 prior σ, a held-out "
+        "log it does not predict), its warning kept in the file's provenance",
+    )
     identify.add_argument("--out", metavar="FILE", help="parameter TOML to write (.toml; required unless --base)")
     add_provenance_options(identify)
     add_summary_format(identify, "what to print: tables (default) or the fit's summary as JSON")
@@ -337,9 +344,12 @@ def run_base(args) -> int:
 
 def run_identify(args) -> int:
     """Identify the machine from the ``--log`` files, write the parameter file ``--out`` and print the fit; exit status 0."""
+    from ..exceptions import IdentificationError
     from ..files import json_ready
+    from ..fit_checks import duplicate_inputs
     from ..rig.identification.fit import identify
     from ..rig.identification.prior import parse_prior_option, prior_table
+    from ..rig.identification.self_check import check_identification
     from ..rig.plausibility import far_from_priors
 
     if args.base:
@@ -365,6 +375,9 @@ def run_identify(args) -> int:
         entries |= parse_prior_option(args.prior)
         source = "--prior"
     fixed = [name.strip() for name in (args.fix or "").split(",") if name.strip()]
+    twice = duplicate_inputs([*args.log, *args.validate])
+    if twice:
+        raise IdentificationError(f"--log/--validate: {twice}")
     with contextlib.ExitStack() as stack:  # the logs in pieces: memory does not grow with their length
         logs: list[Any] = []
         validate: list[Any] = []
@@ -384,15 +397,23 @@ def run_identify(args) -> int:
             prior=entries,
             prior_source=source,
         )
+        check = check_identification(result, logs, validate)  # the pattern of a failed gate reads the logs: here
+    if not check.plausible:
+        if not args.force:
+            raise IdentificationError(
+                f"{check.message()}; nothing written (--force writes it, the warning kept in its provenance)"
+            )
+        print(f"hipsim: warning: {check.message()} (written with --force)", file=sys.stderr)
     for line in far_from_priors(result.estimates):  # issue 38: a common cause named (hipsim/rig/plausibility.py)
         print(f"hipsim: warning: {line}", file=sys.stderr)
 
     from ..files import write_atomic
     from ..rig.identification.identified_file import FileProvenance
 
-    document = {"provenance": provenance.as_dict()} | result.summary()
+    document = {"provenance": provenance.as_dict(), "self_check": check.to_json()} | result.summary()
     json_text = json.dumps(json_ready(document), indent=2) + "\n" if args.json else None
-    path = result.write_toml(args.out, FileProvenance.from_dict(provenance.as_dict()))
+    record = dataclasses.replace(FileProvenance.from_dict(provenance.as_dict()), warnings=check.findings)
+    path = result.write_toml(args.out, record)
     if json_text is not None:
         write_atomic(args.json, json_text)
     if args.summary_format == "json":

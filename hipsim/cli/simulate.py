@@ -164,11 +164,9 @@ def run(args) -> int:
         raise HipsimError(f"--mismatch: expected {error.expected}, got {error.value!r}") from None
     if plant_entry(args.plant).warm_up:
         load_pinocchio_kernels()  # its initial state is closed before the first servo period
-    if args.mujoco_integrator is not None and args.plant != "mujoco":
-        raise HipsimError(
-            f"--integrator {args.mujoco_integrator} applies to --plant mujoco, not to --plant {args.plant}"
-        )
-    integrator = args.mujoco_integrator or "RK4"
+    if args.integrator is not None and args.plant != "mujoco":
+        raise HipsimError(f"--integrator {args.integrator} applies to --plant mujoco, not to --plant {args.plant}")
+    integrator = args.integrator or "RK4"
     plant = make_plant(args.plant, apply_mismatch(params, **mismatch), integrator=integrator)
     chosen = ["pd", "augmented-pd"] if args.controller == "both" else [args.controller]
     simulations, gaps = [], []

@@ -100,7 +100,6 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     check = parser.add_argument_group("model and rating")
     check.add_argument(
         "--engine",
-        dest="model",
         choices=engine_names(optional=False),
         default="analytic",
         help="analytic (default) or pinocchio (adds the peak joint forces; slower)",
@@ -253,7 +252,7 @@ def run(args) -> int:
     cycles = (
         args.cycles if args.cycles is not None and not args.trajectory else 1.0
     )  # test cycles the motion holds, for the ratings
-    setup = SweepSetup(params, trajectory, variants.keys, model=args.model, drive=drive, cycles=cycles)
+    setup = SweepSetup(params, trajectory, variants.keys, model=args.engine, drive=drive, cycles=cycles)
     names = list(variants.names) + metric_columns(setup.joint_forces)
     pareto = None
     if args.pareto:
@@ -283,7 +282,7 @@ def run(args) -> int:
         "hipsim": _version(),
         "trajectory": trajectory.name,
         "samples": len(trajectory),
-        "model": args.model,
+        "model": args.engine,
         "parameters": params.source,
         "drive": drive.source if drive is not None else None,
         "keys": list(variants.names),

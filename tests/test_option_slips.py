@@ -1,0 +1,208 @@
+"""The corpus of slips (issue 48): for every command and every numeric option, the slips a user makes, each refused or warned.
+
+The corpus is generated from the option table (hipsim/cli/option_table.py): a
+new option is covered as soon as it is declared. Each slip is checked where it
+enters, through the command's own parser (the converter argparse calls for
+that option of that command): no run. A sample goes end to end through
+``main``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import re
+
+import pytest
+
+from hipsim.cli.main import build_parser, main
+from hipsim.cli.option_table import ALIASES, OPTIONS, TABLE
+from hipsim.cli.options import Option, read_number
+from hipsim.cli.parser import command_parsers
+
+#: The slips: name → what it does to one typed number.
+SLIPS = {
+    "x1000": lambda v: v * 1e3,
+    "x0.001": lambda v: v * 1e-3,
+    "deg->rad": lambda v: v * math.pi / 180.0,  # degrees meant, radians typed
+    "rad->deg": lambda v: v * 180.0 / math.pi,
+    "percent": lambda v: v * 100.0,  # a fraction meant, a percentage typed
+    "zero": lambda v: 0.0,
+    "negative": lambda v: -abs(v) if v else -1.0,
+    "nan": lambda v: math.nan,
+}
+#: Which slips apply to a unit: angles are slipped in deg↔rad, fractions in %, every unit in the rest.
+ANGLE_UNITS = {"deg"}
+FRACTION_UNITS = {"1", "%"}
+
+
+def example(option: Option) -> str:
+    """A right value of the option as typed: its declared example, else the middle of its plausible range."""
+    if option.example:
+        return option.example
+    low, high = option.plausible or option.hard
+    value = math.sqrt(low * high) if low > 0 else (low + high) / 2
+    return str(round(value)) if option.kind == "integer" else f"{value:.6g}"
+
+
+def slipped(option: Option, text: str, slip: str) -> str:
+    """The option's text with every number in it slipped."""
+    parts = text.split(option.separator) if option.kind == "numbers" else [text]
+    out = []
+    for part in parts:
+        value = SLIPS[slip](float(part))
+        out.append("nan" if math.isnan(value) else f"{value:.10g}")
+    return option.separator.join(out)
+
+
+def applies(option: Option, slip: str) -> bool:
+    if slip in ("deg->rad", "rad->deg"):
+        return option.unit in ANGLE_UNITS
+    if slip == "percent":
+        return option.unit in FRACTION_UNITS
+    return True
+
+
+def corpus():
+    """(command, option, slip, text) for every command's numeric options in the table."""
+    parser = build_parser()
+    for command, sub in sorted(command_parsers(parser).items()):
+        for name in sorted({a.option_strings[0] for a in sub._actions if a.option_strings}):
+            option = OPTIONS.get(name)
+            if option is None or not option.numeric or not option.corpus:
+                continue
+            for slip in SLIPS:
+                if applies(option, slip):
+                    yield command, name, slip, slipped(option, example(option), slip)
+
+
+CORPUS = list(corpus())
+PARSERS = command_parsers(build_parser())
+
+
+def outcome(command: str, name: str, text: str, capsys) -> str:
+    """'refused', 'warned' or 'accepted': the command's own converter of the option on the text."""
+    action = PARSERS[command]._option_string_actions[name]
+    try:
+        action.type(text)
+    except argparse.ArgumentTypeError:
+        return "refused"
+    err = capsys.readouterr().err
+    return "warned" if err.startswith(f"hipsim: warning: {name}") else "accepted"
+
+
+@pytest.mark.parametrize("command, name, slip, text", CORPUS, ids=[f"{c} {n} {s}" for c, n, s, _ in CORPUS])
+def test_every_slip_is_refused_or_warned(command, name, slip, text, capsys):
+    option = OPTIONS[name]
+    result = outcome(command, name, text, capsys)
+    if slip in option.undetectable:
+        assert result == "accepted", f"{name}: the slip {slip} is declared undetectable but is {result}"
+    else:
+        assert result in ("refused", "warned"), f"hipsim {command} {name} {text} ({slip}) is accepted without a word"
+
+
+def test_the_corpus_covers_every_command_with_numeric_options():
+    commands = {c for c, *_ in CORPUS}
+    assert {"torques", "simulate", "wear", "monitor", "stations", "calibrate", "identify", "size", "excite"} <= commands
+    assert len(CORPUS) > 500  # every command × every numeric option × the slips that apply to its unit
+
+
+@pytest.mark.parametrize("option", [o for o in TABLE if o.numeric and o.corpus], ids=lambda o: o.name)
+def test_each_example_is_right(option):
+    """The corpus slips a right value: its example must pass without a word."""
+    values, warnings, refusal = read_number(option, example(option))
+    assert values and not warnings and refusal is None, (option.name, warnings, refusal)
+
+
+def test_no_name_has_two_meanings():
+    names = [o.name for o in TABLE]
+    assert len(names) == len(set(names)), "an option declared twice"
+    parser = build_parser()
+    dests: dict[str, set] = {}
+    for sub in command_parsers(parser).values():
+        for action in sub._actions:
+            for name in action.option_strings:
+                if name.startswith("--") and name != "--help":
+                    dests.setdefault(name, set()).add(action.dest)  # one name, one value it sets (its arity may differ)
+    two = {name: d for name, d in dests.items() if len(d) > 1}
+    assert not two, f"options read two ways by different commands: {two}"
+    for command, aliases in ALIASES.items():  # an old spelling is no current option of its command
+        current = set(PARSERS[command]._option_string_actions)
+        assert not set(aliases) & current, command
+        assert set(aliases.values()) <= current, command
+
+
+def test_every_numeric_option_shows_its_unit_in_help():
+    parser = build_parser()
+    for command, sub in command_parsers(parser).items():
+        text = re.sub(r"\s+", " ", sub.format_help())
+        for action in sub._actions:
+            option = OPTIONS.get(action.option_strings[0]) if action.option_strings else None
+            if option is None or not option.numeric or action.help == argparse.SUPPRESS:
+                continue
+            shown = "dimensionless" if option.unit == "1" else option.unit
+            assert f"unit: {shown}" in text, f"hipsim {command} --help: {option.name} without its unit"
+
+
+# --------------------------------------------------------------------------- a sample end to end
+
+
+def run(argv, capsys):
+    status = main(argv)
+    captured = capsys.readouterr()
+    return status, captured.out, captured.err
+
+
+def test_a_head_in_metres_is_refused_in_one_line_and_nothing_is_written(tmp_path, capsys):
+    out = tmp_path / "w.csv"
+    status, _, err = run(["wear", "--head-diameter", "0.028", "--out", str(out)], capsys)
+    assert status == 2 and not out.exists()
+    assert err.strip().count("\n") == 0
+    assert err.startswith("hipsim: error: wear: --head-diameter 0.028 mm: femoral head diameter must be at least 1")
+    assert "in metres?" in err and "heads are 22–60 mm" in err
+
+
+def test_the_issues_numbers_are_each_refused_or_warned(capsys):
+    issue = [
+        ("wear", "--head-diameter", "0.028", "refused"),
+        ("wear", "--head-diameter", "14", "warned"),
+        ("wear", "--wear-factor", "8e-11", "warned"),
+        ("wear", "--wear-factor", "0.08", "refused"),
+        ("wear", "--cup-grid", "1x1", "refused"),
+        ("wear", "--cycles", "0", "refused"),
+        ("wear", "--rate", "5", "warned"),
+        ("monitor", "--cutoff", "0", "refused"),
+        ("monitor", "--cutoff", "-1", "refused"),
+        ("monitor", "--baseline", "0.5:1", "warned"),
+        ("monitor", "--alarm-rise", "1", "refused"),
+        ("calibrate", "--chain-prior", "0.0005", "warned"),
+        ("compare", "--torque-constant", "360", "warned"),
+    ]
+    for command, name, text, expected in issue:
+        assert outcome(command, name, text, capsys) == expected, (command, name, text)
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["simulate", "--control", "2"], "unrecognized arguments: --control 2"),  # no abbreviation of --controller
+        (["stations", "--weights", "-1,1"], "--weights '-1,1': -1: weights of the two platforms' squared errors"),
+        (["monitor", "--cutoff", "0"], "--cutoff 0 Hz: zero-phase low-pass cutoff must be above 0"),
+        (["torques", "--no-such-option"], "unrecognized arguments: --no-such-option"),
+    ],
+)
+def test_usage_errors_are_one_line(argv, message, capsys):
+    status, _, err = run(argv, capsys)
+    assert status == 2 and err.count("\n") == 1 and err.startswith("hipsim: error:") and message in err, err
+
+
+def test_an_old_spelling_warns_and_means_the_new(capsys):
+    parser = build_parser()
+    from hipsim.cli.parser import rewrite_aliases
+
+    words = rewrite_aliases(["torques", "--model=pinocchio", "--rate", "100"])
+    assert words == ["torques", "--engine=pinocchio", "--rate", "100"]
+    assert "--model is deprecated in 'hipsim torques': use --engine" in capsys.readouterr().err
+    assert parser.parse_args(words).engine == "pinocchio"
+    assert rewrite_aliases(["wear", "--tolerance", "3"]) == ["wear", "--alike", "3"]
+    assert rewrite_aliases(["stations", "--tolerance", "all=0.1"]) == ["stations", "--bands", "all=0.1"]
