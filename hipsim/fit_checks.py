@@ -45,12 +45,14 @@ import numpy as np
 __all__ = [
     "NOISE_FLOOR",
     "PATTERN_GAIN",
+    "PATTERNS",
     "PRIOR_SIGMA",
     "RESIDUAL_FACTOR",
     "SCALES",
     "FitCheck",
     "column_pattern",
     "difference_noise",
+    "duplicate_digests",
     "duplicate_inputs",
     "prior_gate",
     "residual_gate",
@@ -62,6 +64,8 @@ RESIDUAL_FACTOR = 3.0
 PRIOR_SIGMA = 5.0
 #: A pattern (swap, sign, offset) is named when it removes more than this fraction of the squared residual.
 PATTERN_GAIN = 0.5
+#: The patterns :func:`column_pattern` tries.
+PATTERNS = ("swap", "sign", "offset", "scale")
 #: Unit slips of a whole log tried by :func:`column_pattern`: (factor that undoes it, the slip in words).
 SCALES = (
     (180.0 / math.pi, "like radians read as degrees"),
@@ -167,7 +171,14 @@ def _ss(measured: np.ndarray, model: np.ndarray) -> float:
     return float(np.sum((measured - model) ** 2))
 
 
-def column_pattern(measured, model, names: Sequence[str], unit: str = "", gain: float = PATTERN_GAIN) -> str | None:
+def column_pattern(
+    measured,
+    model,
+    names: Sequence[str],
+    unit: str = "",
+    gain: float = PATTERN_GAIN,
+    kinds: Sequence[str] = PATTERNS,
+) -> str | None:
     """The slip that explains measured columns against the model's: a swap, a sign flip or a constant offset, or None.
 
     Tried: each pair of columns swapped, the two halves swapped (six columns:
@@ -182,18 +193,21 @@ def column_pattern(measured, model, names: Sequence[str], unit: str = "", gain: 
         names: the columns' names, (k,).
         unit: their unit, for an offset's value.
         gain: the fraction of the squared residual a pattern must remove (:data:`PATTERN_GAIN`).
+        kinds: the patterns to try, of :data:`PATTERNS` ("swap", "sign", "offset", "scale"). Swaps and signs
+            only, for a check made whatever the fit's residual: a fit absorbs them, and a right log has none,
+            where offsets and scales a machine's real deviations can mimic.
     """
     y, q = np.asarray(measured, dtype=float), np.asarray(model, dtype=float)
     base = _ss(y, q)
     if not (base > 0 and np.isfinite(base)):
         return None
     k = y.shape[1]
-    tries: list[tuple[float, str]] = []
-    for a, b in itertools.combinations(range(k), 2):
+    tries: list[tuple[float, str]] = [(base, "")]
+    for a, b in itertools.combinations(range(k), 2) if "swap" in kinds else ():
         order = list(range(k))
         order[a], order[b] = b, a
         tries.append((_ss(y[:, order], q), f"columns {names[a]} and {names[b]} look swapped"))
-    if k % 2 == 0 and k > 2:
+    if "swap" in kinds and k % 2 == 0 and k > 2:
         half = k // 2
         order = [*range(half, k), *range(half)]
         tries.append(
@@ -202,12 +216,12 @@ def column_pattern(measured, model, names: Sequence[str], unit: str = "", gain: 
                 f"the two halves ({', '.join(names[:half])}) and ({', '.join(names[half:])}) look swapped",
             )
         )
-    for a in range(k):
+    for a in range(k) if "sign" in kinds else ():
         flipped = y.copy()
         flipped[:, a] *= -1.0
         tries.append((_ss(flipped, q), f"column {names[a]} looks sign-flipped"))
     offsets = np.mean(y - q, axis=0)
-    for a in range(k):
+    for a in range(k) if "offset" in kinds else ():
         shifted = y.copy()
         shifted[:, a] -= offsets[a]
         tries.append(
@@ -216,28 +230,20 @@ def column_pattern(measured, model, names: Sequence[str], unit: str = "", gain: 
                 f"column {names[a]} looks offset by {offsets[a]:+.3g}{' ' + unit if unit else ''} (a zero?)",
             )
         )
-    for factor, what in SCALES:
+    for factor, what in SCALES if "scale" in kinds else ():
         tries.append((_ss(y * factor, q), f"the columns look {what}"))
     best, words = min(tries, key=lambda t: t[0])
-    return words if best < (1.0 - gain) * base else None
+    return words if words and best < (1.0 - gain) * base else None
 
 
-def duplicate_inputs(paths: Sequence[str]) -> str | None:
-    """The first file given twice (the same bytes, by SHA-256), in words, or None.
+def duplicate_digests(files: Sequence[tuple[str, str]]) -> str | None:
+    """The first file whose SHA-256 an earlier one has, in words, or None.
 
     Args:
-        paths: the input files in the order given (logs, then held-out logs).
+        files: (path, SHA-256 hex digest) of each input in the order given (logs, then held-out logs).
     """
     seen: dict[str, str] = {}
-    for path in paths:
-        digest = hashlib.sha256()
-        try:
-            with open(path, "rb") as stream:
-                for block in iter(lambda: stream.read(1 << 20), b""):
-                    digest.update(block)
-        except OSError:
-            continue  # the reader names a missing file
-        key = digest.hexdigest()
+    for path, key in files:
         if key in seen:
             return (
                 f"{path} holds the same bytes as {seen[key]} (SHA-256 {key[:12]}…): a log given twice counts its "
@@ -245,3 +251,23 @@ def duplicate_inputs(paths: Sequence[str]) -> str | None:
             )
         seen[key] = path
     return None
+
+
+def duplicate_inputs(paths: Sequence[str]) -> str | None:
+    """The first file given twice (the same bytes, by SHA-256), in words, or None; a file that cannot be read is left
+    to its reader to name.
+
+    Args:
+        paths: the input files in the order given (logs, then held-out logs).
+    """
+    files = []
+    for path in paths:
+        digest = hashlib.sha256()
+        try:
+            with open(path, "rb") as stream:
+                for block in iter(lambda: stream.read(1 << 20), b""):
+                    digest.update(block)
+        except OSError:
+            continue
+        files.append((path, digest.hexdigest()))
+    return duplicate_digests(files)

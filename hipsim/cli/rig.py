@@ -28,7 +28,7 @@ from .common import (
 
 __all__ = ["add_parser", "run", "run_compare", "run_identify"]
 
-#: The defaults of ``--cutoff`` in [Hz] and ``--tolerance`` in [deg], written out so that the parser loads no signal processing;
+#: The defaults of ``--cutoff`` in [Hz] and ``--angle-tolerance`` in [deg], written out so that the parser loads no signal processing;
 #: they are the library's :data:`hipsim.rig.logs.DEFAULT_CUTOFF` and :data:`hipsim.rig.logs.DEFAULT_TOLERANCE_DEG` (a test checks).
 DEFAULT_CUTOFF = 20.0
 DEFAULT_TOLERANCE_DEG = 0.5
@@ -346,7 +346,7 @@ def run_identify(args) -> int:
     """Identify the machine from the ``--log`` files, write the parameter file ``--out`` and print the fit; exit status 0."""
     from ..exceptions import IdentificationError
     from ..files import json_ready
-    from ..fit_checks import duplicate_inputs
+    from ..fit_checks import duplicate_digests
     from ..rig.identification.fit import identify
     from ..rig.identification.prior import parse_prior_option, prior_table
     from ..rig.identification.self_check import check_identification
@@ -375,9 +375,6 @@ def run_identify(args) -> int:
         entries |= parse_prior_option(args.prior)
         source = "--prior"
     fixed = [name.strip() for name in (args.fix or "").split(",") if name.strip()]
-    twice = duplicate_inputs([*args.log, *args.validate])
-    if twice:
-        raise IdentificationError(f"--log/--validate: {twice}")
     with contextlib.ExitStack() as stack:  # the logs in pieces: memory does not grow with their length
         logs: list[Any] = []
         validate: list[Any] = []
@@ -388,6 +385,11 @@ def run_identify(args) -> int:
         provenance = page_provenance(
             args, log=[_hashed(log) for log in logs], validate=[_hashed(log) for log in validate]
         )
+        twice = duplicate_digests(  # the hashes made on the way through the one read of each file
+            [(f["path"], f["sha256"]) for f in provenance.as_dict()["inputs"] if f["role"] in ("log", "validate")]
+        )
+        if twice:
+            raise IdentificationError(f"--log/--validate: {twice}")
         result = identify(
             logs,
             params,

@@ -422,7 +422,7 @@ def run(args) -> int:
                 print(format_margin_ranking(candidates, shown, trajectories, params))
             unchecked = sorted({name for c in shown for name in c.unchecked})
             if unchecked:
-                print(f"\nnot checked for want of data (see --format json for which): {', '.join(unchecked)}")
+                print(f"\nnot checked for want of data (see --summary-format json for which): {', '.join(unchecked)}")
             if shown:
                 best = shown[0]
                 print()

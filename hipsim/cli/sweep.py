@@ -25,10 +25,10 @@ _DESCRIPTION = (
     """\
 Runs design variants of the machine along a trajectory (default one ISO 14242-1 cycle at 1 kHz) and writes one row per
 variant: peak and RMS torque and peak speed per motor, stroke per slider, the smallest singularity measure, joint forces
-(--model pinocchio) and the rating check against the parameter file's [motor] table or --drive FILE. Variants that cannot
+(--engine pinocchio) and the rating check against the parameter file's [motor] table or --drive FILE. Variants that cannot
 be built or whose motion leaves the workspace are rows too, with their status and reason. The variants are parameter keys
 in the file's units (those of --set; a list's number with [i], counted from 1): a grid (--grid), a Latin hypercube
-(--sample N --range), a random tolerance study (--sample N --tolerance) or a CSV of variants (--variants); without any,
+(--sample N --range), a random tolerance study (--sample N --spread) or a CSV of variants (--variants); without any,
 the grid """
     + " × ".join(DEFAULT_GRID)
     + """. They run on local worker processes (dask.distributed; --workers) or on a
@@ -42,8 +42,8 @@ _EXAMPLES = """\
 examples:
   hipsim sweep --grid lever.length_mm=300:360:5 --grid platform.home_offset_deg=20:50:1 --out levers.parquet
   hipsim sweep --sample 2000 --range lever.length_mm=300:360 --range screw.lead_mm=5:20 --pareto tau_peak_max_Nmm,-cond_inv_min
-  hipsim sweep --sample 500 --tolerance lever.length_mm=0.05 --tolerance platform.home_offset_deg=±0.2 --set motor.peak_torque_Nmm=450
-  hipsim sweep --variants candidates.csv --drive my_drive.toml --model pinocchio
+  hipsim sweep --sample 500 --spread lever.length_mm=0.05 --spread platform.home_offset_deg=±0.2 --set motor.peak_torque_Nmm=450
+  hipsim sweep --variants candidates.csv --drive my_drive.toml --engine pinocchio
   hipsim sweep --scheduler tcp://10.0.0.5:8786 --sample 100000 --range lever.length_mm=300:360 --out big.parquet
 """
 
@@ -71,7 +71,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "--sample",
         type=int,
         metavar="N",
-        help="N random variants: a Latin hypercube over --range, or a tolerance study with --tolerance",
+        help="N random variants: a Latin hypercube over --range, or a tolerance study with --spread",
     )
     variants.add_argument(
         "--range",
@@ -157,7 +157,7 @@ def _variants(args, params):
     if len(kinds) > 1:
         raise HipsimError(f"{' and '.join(kinds)}: choose one kind of variants")
     if args.sample is None and (args.ranges or args.tolerance):
-        raise HipsimError(f"{'--range' if args.ranges else '--tolerance'} needs --sample N (how many variants to draw)")
+        raise HipsimError(f"{'--range' if args.ranges else '--spread'} needs --sample N (how many variants to draw)")
     if args.variants:
         return v.read_variants(args.variants)
     if args.sample is not None:
@@ -165,11 +165,11 @@ def _variants(args, params):
             raise HipsimError(f"--sample: expected a positive number of variants, got {args.sample}")
         if args.ranges and args.tolerance:
             raise HipsimError(
-                "--sample takes either --range KEY=LOW:HIGH (Latin hypercube) or --tolerance KEY=SIGMA (tolerance study), not both"
+                "--sample takes either --range KEY=LOW:HIGH (Latin hypercube) or --spread KEY=SIGMA (tolerance study), not both"
             )
         if not args.ranges and not args.tolerance:
             raise HipsimError(
-                "--sample needs either --range KEY=LOW:HIGH (Latin hypercube) or --tolerance KEY=SIGMA (tolerance study): "
+                "--sample needs either --range KEY=LOW:HIGH (Latin hypercube) or --spread KEY=SIGMA (tolerance study): "
                 "what to draw the variants over"
             )
         if args.ranges:

@@ -23,7 +23,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..fit_checks import FitCheck, column_pattern, difference_noise, prior_gate, residual_gate
+from ..fit_checks import PATTERNS, FitCheck, column_pattern, difference_noise, prior_gate, residual_gate
 from ..machine.parameters import Parameters
 from . import deviations as dv
 from .calibration import Calibration, CalibrationLog, prediction_errors
@@ -42,14 +42,14 @@ def sensor_noise(log: CalibrationLog) -> np.ndarray:
     return np.maximum(np.nan_to_num(measured, nan=SENSOR_FLOOR_DEG), SENSOR_FLOOR_DEG)
 
 
-def _pattern(machine: Parameters, log: CalibrationLog) -> str:
+def _pattern(machine: Parameters, log: CalibrationLog, kinds: Sequence[str] = PATTERNS) -> str:
     try:
         _, _, q = prediction_errors(machine, log, False)
     except Exception:  # noqa: BLE001 - a machine that does not reach the log names no pattern; the gate's words stand
         return ""
     n = len(log.sensors)
     found = column_pattern(
-        np.degrees(np.asarray(log.sensors).reshape(n, 6)), np.degrees(q.reshape(n, 6)), SENSOR_COLUMNS, "°"
+        np.degrees(np.asarray(log.sensors).reshape(n, 6)), np.degrees(q.reshape(n, 6)), SENSOR_COLUMNS, "°", kinds=kinds
     )
     return f" (likely cause in {log.name}: {found})" if found else ""
 
@@ -76,6 +76,10 @@ def check_calibration(
         residual = residual_gate(np.degrees(np.asarray(rms).ravel()), sensor_noise(log), SENSOR_COLUMNS, "°")
         if residual:
             findings.append(f"{log.name}: {residual}" + _pattern(result.start, log))
+        else:  # a swap or a sign the chains absorb leaves residuals at the noise: looked for whatever they are
+            swapped = _pattern(result.start, log, ("swap", "sign"))
+            if swapped:
+                findings.append(f"{log.name}: the fit absorbs a slip of the columns{swapped}")
     estimated = np.asarray(result.structure.independent)
     start = dv.deviation(result.start)
     moved = prior_gate(
