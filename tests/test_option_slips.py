@@ -206,3 +206,12 @@ def test_an_old_spelling_warns_and_means_the_new(capsys):
     assert parser.parse_args(words).engine == "pinocchio"
     assert rewrite_aliases(["wear", "--tolerance", "3"]) == ["wear", "--alike", "3"]
     assert rewrite_aliases(["stations", "--tolerance", "all=0.1"]) == ["stations", "--bands", "all=0.1"]
+
+
+def test_the_docs_show_the_table():
+    from pathlib import Path
+
+    from hipsim.cli.option_table import markdown_table
+
+    page = (Path(__file__).resolve().parents[1] / "docs" / "guide" / "robust-inputs.md").read_text()
+    assert markdown_table() in page, "docs/guide/robust-inputs.md: paste hipsim.cli.option_table.markdown_table()"

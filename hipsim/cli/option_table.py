@@ -19,7 +19,7 @@ import math
 
 from .options import Option
 
-__all__ = ["ALIASES", "OPTIONS", "TABLE"]
+__all__ = ["ALIASES", "OPTIONS", "TABLE", "markdown_table"]
 
 INF = math.inf
 
@@ -182,7 +182,6 @@ TABLE: tuple[Option, ...] = (
         (0, 100),
         (0.5, 50),
         "typical 1 to 20 %",
-        open_low=True,
     ),
     _ns(
         "--cup-mount",
@@ -423,3 +422,16 @@ ALIASES: dict[str, dict[str, str]] = {
     "excite": {"--load": "--load-range"},
     "view": {"--step": "--frame-by-frame"},
 }
+
+
+def markdown_table() -> str:
+    """The numeric options as the docs show them (docs/guide/robust-inputs.md; a test holds the page to it)."""
+    lines = [
+        "| option | meaning | unit | hard range (else refused) | plausible (else warned) |",
+        "|---|---|---|---|---|",
+    ]
+    for option in sorted((o for o in TABLE if o.numeric), key=lambda o: o.name):
+        unit = "—" if option.unit in ("", "1") else option.unit
+        plausible = "—" if option.plausible is None else f"{option.plausible[0]:g} to {option.plausible[1]:g}"
+        lines.append(f"| `{option.name}` | {option.meaning} | {unit} | {option.range_text()} | {plausible} |")
+    return "\n".join(lines) + "\n"
