@@ -87,6 +87,8 @@ DRIVE_RANGES = {
     "max_speed": (100.0 * math.pi / 30.0, 30000.0 * math.pi / 30.0, "rad/s"),
     "lead": (1e-3, 0.1, "m"),
     "stroke": (0.01, 3.0, "m"),
+    "torque_constant": (0.02, 20.0, "N·m/A"),
+    "preload": (20.0, 50000.0, "N"),
 }
 
 

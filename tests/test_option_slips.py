@@ -215,3 +215,49 @@ def test_the_docs_show_the_table():
 
     page = (Path(__file__).resolve().parents[1] / "docs" / "guide" / "robust-inputs.md").read_text()
     assert markdown_table() in page, "docs/guide/robust-inputs.md: paste hipsim.cli.option_table.markdown_table()"
+
+
+# --------------------------------------------------------------------------- input files' columns: the issue's slips
+
+
+@pytest.mark.parametrize(
+    "rows, message",
+    [
+        (
+            "0,1e-7\n20,5e-7\n",
+            "line 3, column 'cross_shear': cross-shear 20: CS is a ratio from 0 to 0.5; is the column in per cent?",
+        ),
+        ("0,1e-10\n0.2,5e-10\n", "line 2, column 'k_mm3_per_Nm': a wear factor 1e-10 mm³/(N·m) is 1/1000 of UHMWPE's"),
+        ("0,1e-7\n0.2,0.5\n", "line 3, column 'k_mm3_per_Nm': a wear factor 0.5 mm³/(N·m) is"),
+    ],
+)
+def test_a_wear_law_table_in_per_cent_or_per_newton_millimetre_is_refused(tmp_path, rows, message):
+    from hipsim.exceptions import FileRowError
+    from hipsim.wear.laws import read_wear_law
+
+    path = tmp_path / "law.csv"
+    path.write_text("cross_shear,k_mm3_per_Nm\n" + rows)
+    with pytest.raises(FileRowError) as error:
+        read_wear_law(path)
+    assert message in str(error.value)
+    path.write_text("cross_shear,k_mm3_per_Nm\n0,1e-7\n0.2,5e-7\n")
+    assert read_wear_law(path) is not None  # the same table, right
+
+
+@pytest.mark.parametrize(
+    "line, key",
+    [
+        ("torque_constant_Nm_A = 0.36 ", "torque_constant_Nm_A = 360  "),
+        ("preload_N = 350 ", "preload_N = 0.35"),
+    ],
+)
+def test_a_drive_with_a_torque_constant_or_preload_off_by_1000_is_refused(tmp_path, line, key, capsys):
+    from pathlib import Path
+
+    drive = (Path(__file__).resolve().parents[1] / "models" / "drive_example.toml").read_text()
+    assert line in drive
+    path = tmp_path / "drive.toml"
+    path.write_text(drive.replace(line, key))
+    assert main(["size", "--drive", str(path), "--rate", "100"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "a unit slip by" in err and key.split("_")[0] in err
