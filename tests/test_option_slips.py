@@ -114,6 +114,12 @@ def test_each_example_is_right(option):
     assert values and not warnings and refusal is None, (option.name, warnings, refusal)
 
 
+def test_every_option_is_declared_in_the_table():
+    from hipsim.cli.parser import undeclared
+
+    assert undeclared(build_parser()) == [], "declare these in hipsim/cli/option_table.py"
+
+
 def test_no_name_has_two_meanings():
     names = [o.name for o in TABLE]
     assert len(names) == len(set(names)), "an option declared twice"

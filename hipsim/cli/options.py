@@ -68,6 +68,7 @@ class Option:
         example: a right value as a user types it (the corpus of slips is made from it; default: the plausible range's middle).
         undetectable: the corpus's slips (``x0.001``, ``deg->rad`` …) that give a value as right as the example
             (a cup mount of 0.02° is as plausible as 20°): the corpus holds them accepted, and the docs name them.
+        tail: the separator of words after the number that the command reads itself (``:`` of ``8e-8:local``).
     """
 
     name: str
@@ -87,6 +88,7 @@ class Option:
     special: tuple[float, ...] = ()
     example: str = ""
     undetectable: tuple[str, ...] = ()
+    tail: str = ""
 
     @property
     def numeric(self) -> bool:
@@ -183,6 +185,8 @@ def read_number(option: Option, text: str) -> tuple[list[float], list[str], str 
         option: a numeric option of the table.
         text: what the user typed.
     """
+    if option.tail:
+        text = text.split(option.tail, 1)[0]
     words = text.split(option.separator) if option.kind == "numbers" else [text]
     if option.count is not None and len(words) != option.count:
         shape = option.separator.join(["N"] * option.count)

@@ -19,7 +19,7 @@ from ..exceptions import HipsimError
 from .option_table import ALIASES, OPTIONS
 from .options import Option, read_number
 
-__all__ = ["HipsimParser", "UsageError", "apply_table", "command_parsers", "rewrite_aliases"]
+__all__ = ["HipsimParser", "UsageError", "apply_table", "command_parsers", "rewrite_aliases", "undeclared"]
 
 #: What argparse would take for an option but is a number: -1, -.5, -1,1 (--weights), -90:90:1 (--deltas).
 _NEGATIVE_NUMBER = re.compile(r"^-\.?\d")
@@ -57,7 +57,11 @@ def command_parsers(parser: argparse.ArgumentParser) -> dict[str, argparse.Argum
 
 
 def _checked_type(option: Option, base, notes: list[str]):
-    """An argparse ``type``: the option's text checked against its ranges; warnings go to ``notes`` and standard error."""
+    """An argparse ``type``: the option's text checked against its ranges; warnings go to ``notes`` and standard error.
+
+    What it returns is what the command asked for: its own ``type`` (``float``, ``int``, or a parser of its own)
+    applied to the text, or the text itself when the command reads the text (a list, ``K:KIND``).
+    """
 
     def convert(text: str):
         if not isinstance(text, str):  # a default given as a number: declared by the command, not typed
@@ -68,9 +72,11 @@ def _checked_type(option: Option, base, notes: list[str]):
         for warning in warnings:
             notes.append(warning)
             print(f"hipsim: warning: {warning}", file=sys.stderr)
-        if option.kind == "numbers":
-            return text if base is None else base(text)  # the command reads the list's shape
-        return int(values[0]) if option.kind == "integer" else values[0]
+        if base is None or base is str:
+            return text
+        if base is float or base is int:
+            return base(values[0]) if option.kind != "numbers" else text
+        return base(text)
 
     convert.__name__ = option.name  # argparse names the type in its own messages
     return convert
@@ -94,26 +100,38 @@ def apply_table(parser: argparse.ArgumentParser) -> list[str]:
 
     Returns:
         The list the checks append their warnings to while a command line is read (for a page's provenance).
-
-    Raises:
-        KeyError: a command adds an option the table does not declare (a programming error the tests catch).
+        An option the table does not declare is left as its command added it (:func:`undeclared` lists them;
+        a test holds the list empty), so that a command added in parallel still runs.
     """
     notes: list[str] = []
-    for command, sub in command_parsers(parser).items():
+    for _command, sub in command_parsers(parser).items():
         for action in sub._actions:
             names = [name for name in action.option_strings if name.startswith("--") and name != "--help"]
             if not names:
                 continue
             option = OPTIONS.get(names[0])
             if option is None:
-                raise KeyError(f"hipsim {command}: option {names[0]} is not declared in hipsim/cli/option_table.py")
+                continue
             if option.numeric:
-                action.type = _checked_type(option, None if action.type in (float, int) else action.type, notes)
+                action.type = _checked_type(option, action.type, notes)
             elif option.deprecated:
                 action.type = _deprecated_type(option, action.type, notes)
             if action.help and action.help is not argparse.SUPPRESS:
                 action.help += option.help_suffix().replace("%", "%%")
     return notes
+
+
+def undeclared(parser: argparse.ArgumentParser) -> list[str]:
+    """``hipsim COMMAND --option`` for each option a command adds that the table does not declare."""
+    return [
+        f"hipsim {command} {action.option_strings[0]}"
+        for command, sub in command_parsers(parser).items()
+        for action in sub._actions
+        if action.option_strings
+        and action.option_strings[0].startswith("--")
+        and action.option_strings[0] != "--help"
+        and action.option_strings[0] not in OPTIONS
+    ]
 
 
 def rewrite_aliases(words: list[str], notes: list[str] | None = None) -> list[str]:
