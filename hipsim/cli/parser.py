@@ -42,7 +42,7 @@ class HipsimParser(argparse.ArgumentParser):
         super().__init__(*args, **kwargs)
         self._negative_number_matcher = _NEGATIVE_NUMBER
 
-    def error(self, message: str):  # type: ignore[override]
+    def error(self, message: str):
         command = self.prog.split(" ", 1)[1] if " " in self.prog else ""
         message = re.sub(r"^argument (--[\w-]+)(/[\w-]+)?: (\1 )", r"\3", message)  # the refusal names the option
         raise UsageError(f"{command}: {message}" if command else message)

@@ -121,7 +121,7 @@ class FileProvenance:
 
     def toml(self) -> str:
         """The ``[identification.provenance]`` table and one ``[[identification.provenance.inputs]]`` table per input."""
-        entries = {"hipsim": self.version, "created_utc": self.created, "command": self.command}
+        entries: dict[str, Any] = {"hipsim": self.version, "created_utc": self.created, "command": self.command}
         entries |= {k: v for k, v in (("title", self.title), ("author", self.author), ("rig", self.rig)) if v}
         if self.warnings:
             entries["warnings"] = list(self.warnings)
