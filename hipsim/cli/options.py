@@ -69,6 +69,8 @@ class Option:
         undetectable: the corpus's slips (``x0.001``, ``deg->rad`` …) that give a value as right as the example
             (a cup mount of 0.02° is as plausible as 20°): the corpus holds them accepted, and the docs name them.
         tail: the separator of words after the number that the command reads itself (``:`` of ``8e-8:local``).
+        unit_slips: whether the unit's slips (:data:`UNIT_SLIPS`) are tried: not for a count whose small values are
+            as meant as its large ones (a hundredth of a built-in cycle for a quick run is no "millions of cycles").
     """
 
     name: str
@@ -89,6 +91,7 @@ class Option:
     example: str = ""
     undetectable: tuple[str, ...] = ()
     tail: str = ""
+    unit_slips: bool = True
 
     @property
     def numeric(self) -> bool:
@@ -140,7 +143,7 @@ def likely_slip(option: Option, value: float) -> str | None:
     if option.plausible is None or not math.isfinite(value) or value == 0.0:
         return None
     low, high = option.plausible
-    for factor, words in (*option.slips, *UNIT_SLIPS.get(option.unit, ())):
+    for factor, words in (*option.slips, *(UNIT_SLIPS.get(option.unit, ()) if option.unit_slips else ())):
         if low <= value / factor <= high:
             return f"{words}?"
     for factor, words in ((1e-3, "1/1000 of"), (1e3, "1000 times")):  # a quantity's unit: the factor of a prefix
