@@ -234,3 +234,15 @@ def test_identify_refuses_the_same_log_twice(torque_logs, tmp_path, capsys):
     assert main(["identify", "--log", str(torque_logs["right"]), "--log", str(copy), "--out", str(out)]) == 2
     err = capsys.readouterr().err
     assert "holds the same bytes as" in err and not out.exists()
+
+
+def test_identify_gives_a_verdict_on_a_held_out_log_it_does_not_predict(torque_logs, tmp_path, capsys):
+    out = tmp_path / "m.toml"
+    argv = ["identify", "--log", str(torque_logs["right"]), "--validate", str(torque_logs["swapped"]), "--out", str(out)]
+    assert main([*argv, "--no-plausibility-check"]) == 2
+    err = capsys.readouterr().err
+    assert "held-out " in err and "residuals beyond 3 times the noise" in err and "tau_1 and tau_2 look swapped" in err
+    assert not out.exists()
+    assert main([*argv, "--no-plausibility-check", "--force"]) == 0  # written, the finding kept
+    assert "written with --force" in capsys.readouterr().err
+    assert "# WARNING (written with --force): held-out" in out.read_text()
