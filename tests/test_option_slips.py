@@ -277,3 +277,9 @@ def test_a_drive_with_a_torque_constant_or_preload_off_by_1000_is_refused(tmp_pa
     assert main(["size", "--drive", str(path), "--rate", "100"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "a unit slip by" in err and key.split("_")[0] in err
+
+
+def test_json_file_is_deprecated_with_a_warning(capsys):
+    args = build_parser().parse_args(["calibrate", "--log", "a.csv", "--out", "c.toml", "--json", "c.json"])
+    assert args.json == "c.json"  # still written, for this minor version
+    assert capsys.readouterr().err == "hipsim: warning: --json is deprecated: use --summary-format json > FILE\n"
