@@ -238,7 +238,15 @@ def test_identify_refuses_the_same_log_twice(torque_logs, tmp_path, capsys):
 
 def test_identify_gives_a_verdict_on_a_held_out_log_it_does_not_predict(torque_logs, tmp_path, capsys):
     out = tmp_path / "m.toml"
-    argv = ["identify", "--log", str(torque_logs["right"]), "--validate", str(torque_logs["swapped"]), "--out", str(out)]
+    argv = [
+        "identify",
+        "--log",
+        str(torque_logs["right"]),
+        "--validate",
+        str(torque_logs["swapped"]),
+        "--out",
+        str(out),
+    ]
     assert main([*argv, "--no-plausibility-check"]) == 2
     err = capsys.readouterr().err
     assert "held-out " in err and "residuals beyond 3 times the noise" in err and "tau_1 and tau_2 look swapped" in err

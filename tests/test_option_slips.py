@@ -212,6 +212,20 @@ def test_usage_errors_are_one_line(argv, message, capsys):
     assert status == 2 and err.count("\n") == 1 and err.startswith("hipsim: error:") and message in err, err
 
 
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["stations", "--draws", "50"], "stations: --draws applies to --bands: give --bands, or drop --draws"),
+        (["sweep", "--seed", "3"], "sweep: --seed applies to --sample: give --sample, or drop --seed"),
+        (["monitor", "--poll=5", "--params", "p.toml", "--log", "x"], "monitor: --poll applies to --watch"),
+    ],
+)
+def test_an_option_that_would_do_nothing_is_refused(argv, message, capsys):
+    status, _, err = run(argv, capsys)
+    assert status == 2 and err == f"hipsim: error: {message}" + err[len(f"hipsim: error: {message}") :]
+    assert err.count("\n") == 1 and message in err
+
+
 def test_an_old_spelling_warns_and_means_the_new(capsys):
     parser = build_parser()
     from hipsim.cli.parser import rewrite_aliases

@@ -39,7 +39,7 @@ from . import (
     workspace,
 )
 from .motion_options import locate
-from .parser import HipsimParser, UsageError, apply_table, rewrite_aliases
+from .parser import HipsimParser, UsageError, apply_table, idle_option, rewrite_aliases
 
 __all__ = ["build_parser", "main"]
 
@@ -113,6 +113,9 @@ def main(argv: list[str] | None = None) -> int:
     words = rewrite_aliases(_join_signed_values(sys.argv[1:] if argv is None else list(argv)), notes)
     try:
         args = parser.parse_args(words)
+        idle = idle_option(words)
+        if idle:  # an option that would do nothing is refused, never ignored
+            raise UsageError(idle)
     except UsageError as error:  # one line, not argparse's usage block
         print(f"hipsim: error: {error}", file=sys.stderr)
         return 2

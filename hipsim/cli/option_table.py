@@ -19,7 +19,7 @@ import math
 
 from .options import Option
 
-__all__ = ["ALIASES", "OPTIONS", "TABLE", "markdown_table"]
+__all__ = ["ALIASES", "NEEDS", "OPTIONS", "TABLE", "markdown_table"]
 
 INF = math.inf
 
@@ -498,6 +498,14 @@ TABLE = TABLE + PARALLEL
 
 #: The table by name.
 OPTIONS: dict[str, Option] = {option.name: option for option in TABLE}
+
+#: Options that do nothing without another, per command: typed without it, refused (never silently ignored).
+#: (Conditions on a value, --weights with --control both, --alike with --compare, are the commands' own checks.)
+NEEDS: dict[str, dict[str, str]] = {
+    "stations": {"--draws": "--bands", "--seed": "--bands"},
+    "sweep": {"--seed": "--sample"},
+    "monitor": {"--poll": "--watch"},  # --on-alarm without --watch: the command says so itself
+}
 
 #: Old spellings kept one minor version, per command: old → new. Each warns when used.
 ALIASES: dict[str, dict[str, str]] = {

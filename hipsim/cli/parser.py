@@ -16,10 +16,18 @@ import re
 import sys
 
 from ..exceptions import HipsimError
-from .option_table import ALIASES, OPTIONS
+from .option_table import ALIASES, NEEDS, OPTIONS
 from .options import Option, read_number
 
-__all__ = ["HipsimParser", "UsageError", "apply_table", "command_parsers", "rewrite_aliases", "undeclared"]
+__all__ = [
+    "HipsimParser",
+    "UsageError",
+    "apply_table",
+    "command_parsers",
+    "idle_option",
+    "rewrite_aliases",
+    "undeclared",
+]
 
 #: What argparse would take for an option but is a number: -1, -.5, -1,1 (--weights), -90:90:1 (--deltas).
 _NEGATIVE_NUMBER = re.compile(r"^-\.?\d")
@@ -155,3 +163,18 @@ def rewrite_aliases(words: list[str], notes: list[str] | None = None) -> list[st
             word = aliases[name] + sep + value
         out.append(word)
     return out
+
+
+def idle_option(words: list[str]) -> str | None:
+    """Why an option typed would do nothing without another (:data:`~hipsim.cli.option_table.NEEDS`), or None.
+
+    Args:
+        words: the command line after ``hipsim`` (the command first), aliases rewritten.
+    """
+    if not words or words[0].startswith("-"):
+        return None
+    typed = {word.split("=", 1)[0] for word in words[1:] if word.startswith("--")}
+    for option, needed in NEEDS.get(words[0], {}).items():
+        if option in typed and needed not in typed:
+            return f"{words[0]}: {option} applies to {needed}: give {needed}, or drop {option}"
+    return None

@@ -124,7 +124,7 @@ def run_view(
         raise HipsimError(f"--fps must be a positive number, got {fps}")
     if html is not None:
         if step:
-            raise HipsimError("--step applies to the live viewer, not to --html")
+            raise HipsimError("--frame-by-frame applies to the live viewer, not to --html")
         with Viewer(params, human, serve=False) as viewer:
             motion = viewer.motion(trajectory, fps=fps, speed=speed, forces=forces, singularity=singularity)
             page = viewer.record(motion)
