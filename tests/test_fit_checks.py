@@ -254,3 +254,21 @@ def test_identify_gives_a_verdict_on_a_held_out_log_it_does_not_predict(torque_l
     assert main([*argv, "--no-plausibility-check", "--force"]) == 0  # written, the finding kept
     assert "written with --force" in capsys.readouterr().err
     assert "# WARNING (written with --force): held-out" in out.read_text()
+
+
+def test_a_monitor_snapshot_whose_fit_leaves_three_times_the_noise_is_named():
+    from hipsim.rig.monitoring.monitor_fit import snapshot_check
+
+    t = np.linspace(0.0, 2.0, 400)
+    model = np.column_stack([np.sin(2 * np.pi * t), 0.8 * np.cos(2 * np.pi * t), 0.5 * np.sin(4 * np.pi * t)])
+    assert snapshot_check("s.csv", model * 1.01, model).plausible  # 1 % off: at the noise
+    rms = np.sqrt(np.mean(model**2, axis=0))
+    edge = model.copy()
+    edge[:, 0] += (
+        np.where(np.arange(400) % 2 == 0, 1.0, -1.0) * 3 * NOISE_FLOOR * rms[0]
+    )  # 3 times 5 % of the model RMS: just within (the measured RMS is larger)
+    assert snapshot_check("s.csv", edge, model).plausible
+    swapped = snapshot_check("s.csv", model[:, [1, 0, 2]], model)
+    assert not swapped.plausible and "columns tau_1 and tau_2 look swapped" in swapped.findings[0]
+    noisy = snapshot_check("s.csv", model + np.random.default_rng(0).normal(0, 0.3, model.shape), model)
+    assert not noisy.plausible and "(is the filter off, --no-filter?)" in noisy.findings[0]
