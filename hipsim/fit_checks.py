@@ -99,6 +99,20 @@ class FitCheck:
         """The findings as one line, for a refusal or a file's provenance."""
         return f"{self.fit}: implausible result: " + "; ".join(self.findings)
 
+    def verdict(self, held_out: int = 0) -> str:
+        """The check as the summary's line: what held, or what did not (a fit written with ``--force``).
+
+        Args:
+            held_out: how many held-out logs were checked (``--validate``).
+        """
+        if not self.plausible:
+            return f"self-check: IMPLAUSIBLE, written with --force: {'; '.join(self.findings)}"
+        held = f"; {held_out} held-out log{'s' if held_out != 1 else ''} predicted within it" if held_out else ""
+        return (
+            f"self-check: plausible: residuals within {RESIDUAL_FACTOR:g} times the noise, no parameter beyond "
+            f"{PRIOR_SIGMA:g} prior standard deviations{held}"
+        )
+
     def to_json(self) -> dict:
         """The check as JSON: fit, plausible, findings."""
         return {"fit": self.fit, "plausible": self.plausible, "findings": list(self.findings)}

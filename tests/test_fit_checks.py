@@ -110,6 +110,11 @@ def test_a_fit_check_is_plausible_without_findings():
     assert FitCheck("calibrate").plausible and FitCheck("calibrate").to_json()["findings"] == []
     check = FitCheck("identify", ("x", "y"))
     assert not check.plausible and check.message() == "identify: implausible result: x; y"
+    assert check.verdict() == "self-check: IMPLAUSIBLE, written with --force: x; y"
+    assert FitCheck("calibrate").verdict(1) == (
+        "self-check: plausible: residuals within 3 times the noise, no parameter beyond 5 prior standard deviations; "
+        "1 held-out log predicted within it"
+    )
 
 
 # --------------------------------------------------------------------------- calibrate, end to end
@@ -148,8 +153,10 @@ def _calibrate(capsys, out, *words):
 
 def test_a_right_log_calibrates_without_a_word(logs, tmp_path, capsys):
     out = tmp_path / "c.toml"
-    status, err = _calibrate(capsys, out, "--log", logs["train"], "--validate", logs["held"])
-    assert status == 0 and "warning" not in err and out.exists()
+    status = main(["calibrate", "--log", str(logs["train"]), "--validate", str(logs["held"]), "--out", str(out)])
+    printed = capsys.readouterr()
+    assert status == 0 and "warning" not in printed.err and out.exists()
+    assert "self-check: plausible" in printed.out and "1 held-out log predicted within it" in printed.out
 
 
 @pytest.mark.parametrize(

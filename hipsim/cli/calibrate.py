@@ -213,6 +213,7 @@ def run(args) -> int:
         print_json(document)
     else:
         _print(summary)
+        print(check.verdict(len(held)))
         print(f"wrote {path}")
     return 0
 

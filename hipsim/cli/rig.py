@@ -478,7 +478,8 @@ def run_identify(args) -> int:
         )
         if note is not None:
             print(note.text())
-    print(f"\nwrote {path}" + (f" and {args.json}" if args.json else ""))
+    print(f"\n{check.verdict(len(args.validate))}")
+    print(f"wrote {path}" + (f" and {args.json}" if args.json else ""))
     return 0
 
 
