@@ -13,6 +13,7 @@ import argparse
 import math
 import re
 
+import numpy as np
 import pytest
 
 from hipsim.cli.main import build_parser, main
@@ -297,3 +298,82 @@ def test_json_file_is_deprecated_with_a_warning(capsys):
     args = build_parser().parse_args(["calibrate", "--log", "a.csv", "--out", "c.toml", "--json", "c.json"])
     assert args.json == "c.json"  # still written, for this minor version
     assert capsys.readouterr().err == "hipsim: warning: --json is deprecated: use --summary-format json > FILE\n"
+
+
+# --------------------------------------------------------------------------- a trajectory file's columns
+
+#: The slips a reader cannot tell from a right file, and why (the corpus holds them accepted).
+COLUMN_UNDETECTABLE = {
+    ("alpha_deg", "zero"): "a still angle is a planar model's",
+    ("beta_deg", "zero"): "a still angle is a planar model's",
+    ("gamma_deg", "zero"): "a still angle is a planar model's",
+    ("alpha_deg", "negative"): "a sign is a convention the file's own (--columns -COL flips it)",
+    ("beta_deg", "negative"): "a sign is a convention the file's own",
+    ("gamma_deg", "negative"): "a sign is a convention the file's own",
+    ("Fe_N", "zero"): "a test without load (torques warns of the friction the ISO load would add)",
+    ("swap", "alpha_deg/gamma_deg"): "any angle may be the widest on this machine's axes",
+    ("swap", "beta_deg/gamma_deg"): "as above",
+}
+COLUMN_SLIPS = {
+    "x1000": lambda v: v * 1e3,
+    "x0.001": lambda v: v * 1e-3,
+    "deg->rad": np.radians,
+    "percent": lambda v: v * 100.0,
+    "zero": lambda v: v * 0.0,
+    "negative": lambda v: -v,
+    "nan": lambda v: np.where(np.arange(v.size) == 5, np.nan, v),
+}
+
+
+def _iso_columns():
+    from hipsim.motion.trajectories import iso14242
+
+    iso = iso14242(rate=100, cycles=1)
+    q = np.degrees(iso.q)
+    return {"t_s": iso.t, "alpha_deg": q[:, 0], "beta_deg": q[:, 1], "gamma_deg": q[:, 2], "Fe_N": iso.Fe}
+
+
+def _column_corpus():
+    columns = _iso_columns()
+    for name in columns:
+        for slip, change in COLUMN_SLIPS.items():
+            if (slip == "deg->rad" and not name.endswith("_deg")) or (slip == "percent" and name != "Fe_N"):
+                continue
+            yield name, slip, {**columns, name: change(np.asarray(columns[name], dtype=float))}
+    for a, b in (("alpha_deg", "gamma_deg"), ("beta_deg", "gamma_deg"), ("t_s", "Fe_N")):
+        yield "swap", f"{a}/{b}", {**columns, a: columns[b], b: columns[a]}
+
+
+def test_every_column_slip_of_a_trajectory_file_is_refused_or_warned(tmp_path):
+    import warnings
+
+    from hipsim.exceptions import HipsimError
+    from hipsim.motion import read_trajectory
+
+    wrong = []
+    for name, slip, columns in _column_corpus():
+        path = tmp_path / "x.csv"
+        header = ",".join(columns)
+        np.savetxt(
+            path, np.column_stack(list(columns.values())), delimiter=",", header=header, comments="", fmt="%.10g"
+        )
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                read_trajectory(path)
+                result = "warned" if caught else "accepted"
+            except HipsimError:
+                result = "refused"
+        if ((name, slip) in COLUMN_UNDETECTABLE) != (result == "accepted"):
+            wrong.append(f"{name} {slip}: {result}")
+    assert not wrong, wrong
+
+
+def test_one_angle_in_radians_among_degrees_is_named_at_its_boundaries():
+    from hipsim.plausibility import SMALL_RANGE_DEG, one_radians_slip
+
+    assert one_radians_slip([43.0, 0.12, 10.0]) == [(1, pytest.approx(0.12 * 180 / math.pi))]
+    assert one_radians_slip([43.0, 0.0, 10.0]) == []  # a still angle: a planar model's
+    assert one_radians_slip([43.0, SMALL_RANGE_DEG, 10.0]) == []  # at the limit: a degree is a real span
+    assert one_radians_slip([4.99, 0.12, 3.0]) == []  # no angle spans a gait's range: nothing to compare with
+    assert one_radians_slip([0.7, 0.12, 0.2]) == []  # all small: radians_slip's case, not this one
