@@ -479,7 +479,7 @@ PARALLEL: tuple[Option, ...] = (
     # the gravimetric report (wearreport)
     _k("--weighings", "the cups' weighings", "file"),
     _n("--density", "the cups' density", "mg/mm³", (0, 25), (0.5, 2), "UHMWPE: 0.935 mg/mm³", open_low=True),
-    _n(
+    _i(
         "--from",
         "the steady-state rate from this cycle",
         "cycles",

@@ -200,7 +200,9 @@ def read_number(option: Option, text: str) -> tuple[list[float], list[str], str 
         try:
             if "_" in word:  # float() reads "1_0" as 10; a user would not mean that
                 raise ValueError(word)
-            value = float(int(word)) if option.kind == "integer" else float(word)
+            value = float(word)
+            if option.kind == "integer" and not value.is_integer():  # 1e6 is a whole number; 0.5 and NaN are not
+                raise ValueError(word)
         except ValueError:
             what = "a whole number" if option.kind == "integer" else "a number"
             return [], [], f"{option.name} '{text}': expected {what} in {option.unit or 'no unit'}"
