@@ -870,7 +870,7 @@ def bench_long_runs(quick: bool) -> None:
         ),
         (
             f"in pieces, {one_hour // 6} s to CSV, Pinocchio",
-            f"from hipsim.cli.main import main; main(['torques', '--model', 'pinocchio', '--cycles', '{one_hour // 6}', '--out', 'run.csv', '--summary-format', 'json'])",
+            f"from hipsim.cli.main import main; main(['torques', '--engine', 'pinocchio', '--cycles', '{one_hour // 6}', '--out', 'run.csv', '--summary-format', 'json'])",
             one_hour // 6,
         ),
     ]
@@ -878,7 +878,7 @@ def bench_long_runs(quick: bool) -> None:
         rows.append(
             (
                 f"in pieces, {one_hour} s to Parquet, Pinocchio",
-                f"from hipsim.cli.main import main; main(['torques', '--model', 'pinocchio', '--cycles', '{one_hour}', '--out', 'run.parquet', '--summary-format', 'json'])",
+                f"from hipsim.cli.main import main; main(['torques', '--engine', 'pinocchio', '--cycles', '{one_hour}', '--out', 'run.parquet', '--summary-format', 'json'])",
                 one_hour,
             )
         )

@@ -53,7 +53,7 @@ def test_cutoff_brings_a_noisy_60_hz_file_back_to_the_noise_free_torques(tmp_pat
 @pytest.mark.parametrize(
     ("cutoff", "message"),
     [
-        ("-1", "--cutoff: expected a positive frequency in Hz, got -1"),
+        ("-1", "--cutoff -1 Hz: zero-phase low-pass cutoff must be above 0"),
         ("30.5", "the low-pass cutoff 30.5 Hz is not below the Nyquist frequency 30 Hz"),
         ("45", "the low-pass cutoff 45 Hz is not below the Nyquist frequency 30 Hz"),
     ],

@@ -291,8 +291,8 @@ def test_bad_input_is_one_line_and_writes_nothing(noisy, tmp_path, capsys, case)
         args += ["--validate", str(other)]
         expected = "other.csv"
     elif case == "tolerance":
-        args += ["--tolerance", "nan"]
-        expected = "--tolerance"
+        args += ["--angle-tolerance", "nan"]
+        expected = "--angle-tolerance"
     else:
         out = tmp_path / "id.csv"
         args = ["identify", "--log", str(fit), "--out", str(out)]

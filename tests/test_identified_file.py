@@ -181,7 +181,7 @@ def test_a_file_without_comments_behaves_like_the_file_with_them(files, tmp_path
                 params,
                 "--rate",
                 "100",
-                "--model",
+                "--engine",
                 "analytic",
                 "--out",
                 str(folder / "r"),

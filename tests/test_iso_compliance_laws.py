@@ -143,13 +143,13 @@ def test_parse_tolerances_by_hand():
     # Empty entries are skipped, not the end: beta after one is read.
     assert parse_tolerances("alpha=2,,beta=1").beta == 1.0
     for text, expected in [
-        ("alpha=5%", "--tolerance: expected a percentage for the load only, got 'alpha=5%'"),
-        ("beta=three", "--tolerance: expected a number after '=', got 'beta=three'"),
-        ("beta==3", "--tolerance: expected a number after '=', got 'beta==3'"),
-        ("load=3X", "--tolerance: expected a number after '=', got 'load=3X'"),
+        ("alpha=5%", "--iso-tolerance: expected a percentage for the load only, got 'alpha=5%'"),
+        ("beta=three", "--iso-tolerance: expected a number after '=', got 'beta=three'"),
+        ("beta==3", "--iso-tolerance: expected a number after '=', got 'beta==3'"),
+        ("load=3X", "--iso-tolerance: expected a number after '=', got 'load=3X'"),
         (
             "beta 3",
-            "--tolerance: expected NAME=VALUE with NAME one of alpha, beta, gamma, load, frequency, got 'beta 3'",
+            "--iso-tolerance: expected NAME=VALUE with NAME one of alpha, beta, gamma, load, frequency, got 'beta 3'",
         ),
     ]:
         with pytest.raises(ArgumentError) as refused:

@@ -36,6 +36,7 @@ FOUNDATION = frozenset(
         "plausibility",
         "records",
         "clock",
+        "fit_checks",
     }
 )
 #: The laws every model shares (vectors, friction, units, the screw transmission, numba's plumbing).

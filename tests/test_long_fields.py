@@ -38,7 +38,7 @@ READERS = {
         "line 3, column 'lever.length_mm'",
     ),
     "catalogue": (
-        ["size", "--catalogue", "FILE", "--format", "json"],
+        ["size", "--catalogue", "FILE", "--summary-format", "json"],
         f"name,s1_torque_Nm,peak_torque_Nm\nm1,1,2\n{'x' * 200_000},1,2\n",
         "line 3, column 'name'",
     ),

@@ -289,7 +289,7 @@ def test_missing_pinocchio_model_falls_back_with_a_note(tmp_path, monkeypatch, c
     page = (tmp_path / "auto" / "index.html").read_text(encoding="utf-8")
     assert "Pinocchio model is not available" in page
     assert not (tmp_path / "auto" / "joint_forces.png").exists()
-    assert main(["report", "--rate", "100", "--model", "pinocchio", "--out", str(tmp_path / "pin")]) == 2
+    assert main(["report", "--rate", "100", "--engine", "pinocchio", "--out", str(tmp_path / "pin")]) == 2
     assert "Pinocchio model is not available" in capsys.readouterr().err
     assert not (tmp_path / "pin").exists()
 
@@ -518,7 +518,7 @@ def test_report_simulate_takes_a_mismatch(tmp_path, monkeypatch, capsys):
                 "report",
                 "--rate",
                 "100",
-                "--model",
+                "--engine",
                 "analytic",
                 "--simulate",
                 "--mismatch",

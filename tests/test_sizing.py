@@ -57,7 +57,7 @@ def test_size_ranks_a_catalogue(tmp_path, capsys):
         and "LN1" in lines[1]
     )
     assert "Every check of rank 1: right + ten" in out
-    assert main(["size", "--rate", "200", "--catalogue", str(motors), "--format", "json", "--top", "1"]) == 0
+    assert main(["size", "--rate", "200", "--catalogue", str(motors), "--summary-format", "json", "--top", "1"]) == 0
     import json
 
     document = json.loads(capsys.readouterr().out)
@@ -152,7 +152,7 @@ def test_size_ranks_the_example_catalogue_smallest_first_and_says_why_others_fai
     assert main(["size", "--rate", "200", "--rank", "margin", *files]) == 0
     lines = [line for line in capsys.readouterr().out.splitlines() if re.match(r"\d+\s{2,}EX-", line)]
     assert "EX-S750" in lines[0] and "carriage stroke" in lines[0]  # today's order: the largest smallest margin
-    assert main(["size", "--rate", "200", "--format", "json", "--top", "2", *files]) == 0
+    assert main(["size", "--rate", "200", "--summary-format", "json", "--top", "2", *files]) == 0
     document = json.loads(capsys.readouterr().out)
     first = document["candidates"][0]
     assert {"drive", "motor", "gearbox", "screw", "passed", "margin", "binding", "unchecked", "checks"} <= set(first)

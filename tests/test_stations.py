@@ -192,9 +192,9 @@ def test_stations_command(tmp_path, capsys):
     # Bad input: one line, status 2, nothing written.
     for argv, words in (
         (["--weights", "1"], "--weights"),
-        (["--tolerance", "lever=45", "--draws", "20", "--workers", "0"], "out of reach"),
+        (["--bands", "lever=45", "--draws", "20", "--workers", "1"], "out of reach"),
         (["--control", "all"], "--control all"),
-        (["--tolerance", "spring=0.1"], "unknown tolerance"),
+        (["--bands", "spring=0.1"], "unknown tolerance"),
     ):
         bad = tmp_path / "bad"
         assert main(["stations", "--rate", "100", "--out", str(bad), *argv]) == 2, argv

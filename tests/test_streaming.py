@@ -308,7 +308,7 @@ def test_report_exits_1_and_says_so_when_the_drive_fails(tmp_path, capsys):
 
     weak = tmp_path / "weak.toml"
     weak.write_text('[motor]\nname = "too small"\ns1_torque_Nmm = 30\npeak_torque_Nmm = 60\nmax_speed_rpm = 6000\n')
-    common = ["report", "--rate", "100", "--model", "analytic", "--motor", str(weak)]
+    common = ["report", "--rate", "100", "--engine", "analytic", "--motor", str(weak)]
     assert main([*common, "--out", str(tmp_path / "r1")]) == 1
     captured = capsys.readouterr()
     assert "rating check of too small: FAIL" in captured.out and "exit status 1" in captured.err
@@ -328,7 +328,7 @@ def test_report_exits_1_and_says_so_when_the_drive_fails(tmp_path, capsys):
     strong = tmp_path / "strong.toml"
     strong.write_text('[motor]\nname = "big"\ns1_torque_Nmm = 5000\npeak_torque_Nmm = 9000\nmax_speed_rpm = 6000\n')
     assert (
-        main(["report", "--rate", "100", "--model", "analytic", "--motor", str(strong), "--out", str(tmp_path / "r3")])
+        main(["report", "--rate", "100", "--engine", "analytic", "--motor", str(strong), "--out", str(tmp_path / "r3")])
         == 0
     )
 

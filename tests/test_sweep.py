@@ -374,7 +374,7 @@ def test_option_texts_are_parsed_or_refused_naming_the_option():
         with pytest.raises(ArgumentError, match="--grid"):
             v.parse_axis(text, "--grid", 3)
     for text in ("lever.length_mm=0", "lever.length_mm=±-1", "lever.length_mm"):
-        with pytest.raises(ArgumentError, match="--tolerance"):
+        with pytest.raises(ArgumentError, match="--spread"):
             v.parse_tolerance(text)
 
 

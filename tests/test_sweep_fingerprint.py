@@ -62,7 +62,7 @@ def test_the_same_set_up_resumes(out, capsys):
             ("--rate", str(RATE), "--cycles", "2"),
             "the trajectory (--trajectory, --rate, --cycles, --frequency …), the test cycles (--cycles) differ",
         ),
-        (("--rate", str(RATE), "--model", "pinocchio"), "holds other columns"),
+        (("--rate", str(RATE), "--engine", "pinocchio"), "holds other columns"),
         (("--rate", str(RATE), "--set", "motor.peak_torque_Nmm=500"), "the machine"),
     ],
 )
@@ -103,7 +103,7 @@ def test_sample_without_range_or_tolerance_says_what_is_missing_not_both(tmp_pat
         "5",
         "--range",
         "lever.length_mm=300:360",
-        "--tolerance",
+        "--spread",
         "lever.length_mm=0.1",
         "--out",
         str(tmp_path / "s.csv"),

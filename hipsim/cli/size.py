@@ -96,9 +96,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     )
     out.add_argument("--top", type=int, metavar="N", help="show the N best catalogue combinations (default all)")
     out.add_argument(
-        "--format",
         "--summary-format",
-        dest="format",
         choices=["table", "json"],
         default="table",
         help="output on standard output",
@@ -404,11 +402,13 @@ def run(args) -> int:
         gearboxes = load_gearbox_catalogue(args.gearboxes) if args.gearboxes else None
         rules = _rules(args, SizingRules())
         progress = (
-            None if args.format == "json" else (lambda text: print(f"running the model: {text}", file=sys.stderr))
+            None
+            if args.summary_format == "json"
+            else (lambda text: print(f"running the model: {text}", file=sys.stderr))
         )
         candidates = rank_drives(params, trajectories, motors, screws, gearboxes, rules, progress, order=args.rank)
         shown = candidates[: args.top] if args.top else candidates
-        if args.format == "json":
+        if args.summary_format == "json":
             document = {"rules": vars(rules), "candidates": [c.as_dict() for c in shown], "rank": args.rank}
             if args.rank == "size":
                 for entry, c in zip(document["candidates"], shown):
@@ -425,7 +425,7 @@ def run(args) -> int:
                 print(format_margin_ranking(candidates, shown, trajectories, params))
             unchecked = sorted({name for c in shown for name in c.unchecked})
             if unchecked:
-                print(f"\nnot checked for want of data (see --format json for which): {', '.join(unchecked)}")
+                print(f"\nnot checked for want of data (see --summary-format json for which): {', '.join(unchecked)}")
             if shown:
                 best = shown[0]
                 print()
@@ -447,7 +447,7 @@ def run(args) -> int:
         (trajectory, sizing(analyse(machine, trajectory), drive, rules, cycles)) for trajectory, cycles in trajectories
     ]
     bands = _margin_bands(args, params, machine, drive, rules, trajectories, results)
-    if args.format == "json":
+    if args.summary_format == "json":
         document = {t.name: s.as_dict() for t, s in results}
         for (t, _), b in zip(results, bands or []):
             document[t.name]["margin_bands"] = [x.as_dict() for x in b]

@@ -47,7 +47,7 @@ import numpy as np
 from scipy.interpolate import make_interp_spline
 
 from ..exceptions import TrajectoryError
-from ..plausibility import epoch_warning, load_slip, radians_slip, time_slip
+from ..plausibility import epoch_warning, load_slip, one_radians_slip, radians_slip, time_slip
 from .columns import ColumnMap, stated_unit
 from .filtering import lowpass_record
 from .hip_angles import hip_to_machine
@@ -443,6 +443,14 @@ def _angles(table: Table, source: str, lines: np.ndarray) -> np.ndarray:
                 "as radians; label them in rad (_rad, or :rad in --columns)",
                 source=source,
                 column=columns.angles[in_degrees[widest]].name,
+            )
+        for k, as_radians in one_radians_slip(spans):  # one column in radians among degrees (issue 48)
+            warnings.warn(
+                f"{source}: '{columns.angles[in_degrees[k]].name}' spans {spans[k]:.3g}° beside "
+                f"{spans[widest]:.3g}° in '{columns.angles[in_degrees[widest]].name}': radians under a degree label "
+                f"(as radians it would span {as_radians:.3g}°; label it :rad in --columns), or a scale?",
+                TrajectoryWarning,
+                stacklevel=3,
             )
         if 0.0 < spans[widest] < 1.0:
             warnings.warn(

@@ -175,6 +175,7 @@ class Identification:
         active_constraints: the physical-consistency constraints the solution sits on.
         validation: per held-out log, (the identified machine's comparison, the starting machine's).
         notes: per held-out log, what :mod:`hipsim.rig.identification.validation` says of it (per-phase errors, envelope warnings).
+        torque_rms: RMS measured torque per motor in [N·m], (3,), over the rows fitted (the scale of the residual gate).
     """
 
     params: Parameters
@@ -190,6 +191,7 @@ class Identification:
     active_constraints: tuple[str, ...] = ()
     validation: tuple[tuple[Comparison, Comparison], ...] = field(default=())
     notes: tuple[Any, ...] = field(default=())
+    torque_rms: np.ndarray | None = None
 
     @property
     def quantities(self) -> tuple[IdentifiedQuantity, ...]:
@@ -551,6 +553,7 @@ def identify(
         active,
         validation,
         notes,
+        np.array([np.linalg.norm(Ri[:, P]) / math.sqrt(max(n, 1)) for Ri, n in zip(R, rows_per_motor)]),
     )
 
 
