@@ -1346,7 +1346,8 @@ def bench_machine_plant(params, quick: bool) -> None:
     length, repeats = (0.3, 3) if quick else (2.0, 5)
     for _, run in runs:
         run(0.01)  # load or compile the kernels
-    wall, cpu = [[] for _ in runs], [[] for _ in runs]
+    wall: list[list[float]] = [[] for _ in runs]
+    cpu: list[list[float]] = [[] for _ in runs]
     for _ in range(repeats):
         for k, (_, run) in enumerate(runs):
             start, start_cpu = time.perf_counter(), time.process_time()

@@ -76,7 +76,9 @@ def test_stations_sliders_with_sensors(drawing, tmp_path, capsys):
 def test_the_desired_motion_of_a_simulated_run(tmp_path):
     log = tmp_path / "run.csv"
     log.write_text("t_s,alpha_des_deg,beta_des_deg,gamma_des_deg\n0,1,2,3\n0.001,4,5,6\n")
-    assert np.degrees(read_desired(log)) == pytest.approx(np.array([[1, 2, 3], [4, 5, 6]]))
+    desired = read_desired(log)
+    assert desired is not None
+    assert np.degrees(desired) == pytest.approx(np.array([[1, 2, 3], [4, 5, 6]]))
 
 
 def test_a_log_with_half_the_sensors_is_refused(drawing, tmp_path, capsys):
@@ -103,6 +105,7 @@ def test_the_calibrations_covariance_carries_its_correlations(drawing):
         "std_mm": [0.0] * 48,
     }
     covariance = calibration_covariance(record)
+    assert covariance is not None
     q = np.repeat(np.radians([[10.0, 4.0, -6.0]])[:, None], 2, axis=1)
     names = ChainGeometry.names()
     J = attitude_jacobian(drawing, q)[0, 0]
@@ -111,5 +114,6 @@ def test_the_calibrations_covariance_carries_its_correlations(drawing):
     old = calibration_covariance(
         {"kind": "kinematic calibration", "std_mm": [0.1 if n in ("lever_12", "lever_13") else 0.0 for n in names]}
     )
+    assert old is not None
     assert prediction_std(drawing, q, old)[0, 0] == pytest.approx(np.hypot(a, b) * 1e-4, rel=1e-9)
     assert calibration_covariance({"kind": "dynamic identification"}) is None

@@ -70,7 +70,7 @@ def test_a_built_machine_under_the_drawing_and_the_stations_on_its_log(files, tm
 
 
 @pytest.mark.parametrize(
-    "extra, message",
+    ("extra", "message"),
     [
         (["--sensor-noise", "-0.1", "--feedback", "sensors"], "--sensor-noise -0.1: expected 0 to 5 deg"),
         (["--sensor-noise", "50", "--feedback", "sensors"], "--sensor-noise 50: expected 0 to 5 deg"),

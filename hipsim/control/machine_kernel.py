@@ -23,7 +23,12 @@ __all__ = ["machine_loop"]
 
 _DEPENDS_ON = (
     *laws.LAW_FILES,
-    *(Path(module.__file__) for module in (chain_kernel, block_inverse, plant_kernel, plant_step, tree_kernel)),
+    # Named one by one: a module's __file__ is typed str | None, a module named in the source str.
+    Path(chain_kernel.__file__),
+    Path(block_inverse.__file__),
+    Path(plant_kernel.__file__),
+    Path(plant_step.__file__),
+    Path(tree_kernel.__file__),
 )
 
 

@@ -155,29 +155,8 @@ def run_machine(
             workspace or goes unstable, or the model finds no attitude for what the encoders read.
         ArgumentError: settings out of range, a feed-forward of the wrong shape, a feedback on another platform.
     """
-    settings = controller.model.control
-    servo_rate = settings.servo_rate if servo_rate is None else servo_rate
-    step = settings.integration_step if step is None else step
-    limit = settings.torque_limit if torque_limit is None else torque_limit
-    if not servo_rate > 0:
-        raise ArgumentError("servo_rate", servo_rate, "a positive rate in Hz")
-    if not limit > 0:
-        raise ArgumentError("torque_limit", limit, "a positive torque in N·m (inf for none)")
+    servo_rate, step, limit = _settings(plant, controller, feedback, servo_rate, step, torque_limit)
     period = 1.0 / servo_rate
-    if not (step > 0 and step <= period * (1 + 1e-9)):
-        raise ArgumentError(
-            "step", step, f"an integration step in s, positive and at most the servo period {period:g} s"
-        )
-    if feedback.control != controller.control:
-        raise ArgumentError("feedback", feedback.control, f"the controller's platform {controller.control}")
-    geometry = plant.params.geometry
-    if geometry is not None and geometry.control != controller.control:  # its first state holds that platform
-        raise ArgumentError(
-            "plant",
-            f"a plant whose [geometry] control is {geometry.control}",
-            f"a plant built from controlled_machine(params, {controller.control}), whose first state holds the "
-            "controlled platform at the desired motion",
-        )
     substeps = math.ceil(period / step - 1e-9)
     h = period / substeps
     n = int(round(duration * servo_rate))
@@ -245,6 +224,41 @@ def run_machine(
             saturated[k] = np.any(np.abs(wanted) > limit)
             x = advance(t[k], x, tau[k], loads[2 * substeps * k : 2 * substeps * (k + 1) + 1], h, substeps)
     return _run(plant, controller, feedback, controller_name, t, desired, log, h)
+
+
+def _settings(
+    plant: MachinePlant,
+    controller: ModelPD,
+    feedback: Feedback,
+    servo_rate: float | None,
+    step: float | None,
+    torque_limit: float | None,
+) -> tuple[float, float, float]:
+    """(servo rate [Hz], step [s], torque limit [N·m]), the model's where not given, checked with the loop's parts."""
+    settings = controller.model.control
+    servo_rate = settings.servo_rate if servo_rate is None else servo_rate
+    step = settings.integration_step if step is None else step
+    limit = settings.torque_limit if torque_limit is None else torque_limit
+    if not servo_rate > 0:
+        raise ArgumentError("servo_rate", servo_rate, "a positive rate in Hz")
+    if not limit > 0:
+        raise ArgumentError("torque_limit", limit, "a positive torque in N·m (inf for none)")
+    period = 1.0 / servo_rate
+    if not (step > 0 and step <= period * (1 + 1e-9)):
+        raise ArgumentError(
+            "step", step, f"an integration step in s, positive and at most the servo period {period:g} s"
+        )
+    if feedback.control != controller.control:
+        raise ArgumentError("feedback", feedback.control, f"the controller's platform {controller.control}")
+    geometry = plant.params.geometry
+    if geometry is not None and geometry.control != controller.control:  # its first state holds that platform
+        raise ArgumentError(
+            "plant",
+            f"a plant whose [geometry] control is {geometry.control}",
+            f"a plant built from controlled_machine(params, {controller.control}), whose first state holds the "
+            "controlled platform at the desired motion",
+        )
+    return servo_rate, step, limit
 
 
 def _no_attitude(feedback: Feedback, reading: np.ndarray, t: np.ndarray, k: int) -> PoseError:
