@@ -72,10 +72,22 @@ def test_a_built_machine_under_the_drawing_and_the_stations_on_its_log(files, tm
 @pytest.mark.parametrize(
     ("extra", "message"),
     [
-        (["--sensor-noise", "-0.1", "--feedback", "sensors"], "--sensor-noise -0.1: expected 0 to 5 deg"),
-        (["--sensor-noise", "50", "--feedback", "sensors"], "--sensor-noise 50: expected 0 to 5 deg"),
-        (["--sensor-drift", "1e6", "--feedback", "sensors"], "--sensor-drift 1e+06: expected -10 to 10 deg/min"),
-        (["--encoder-step", "-1"], "--encoder-step -1: expected 0 to 1 mm"),
+        (
+            ["--sensor-noise", "-0.1", "--feedback", "sensors"],
+            "--sensor-noise -0.1 deg: the attitude sensor's white noise must be at least 0 and at most 5 deg",
+        ),
+        (
+            ["--sensor-noise", "50", "--feedback", "sensors"],
+            "--sensor-noise 50 deg: the attitude sensor's white noise must be at least 0 and at most 5 deg",
+        ),
+        (
+            ["--sensor-drift", "1e6", "--feedback", "sensors"],
+            "--sensor-drift 1e+06 deg/min: the sensor zero's drift must be at least -10 and at most 10 deg/min",
+        ),
+        (
+            ["--encoder-step", "-1"],
+            "--encoder-step -1 mm: the encoders' resolution in carriage travel must be at least 0 and at most 1 mm",
+        ),
         (["--sensor-noise", "0.1"], "--sensor-noise describes the attitude sensor: it needs --feedback sensors"),
         (["--plant", "analytic"], "--plant analytic: the reduced plant has one state for both platforms"),
     ],
