@@ -198,7 +198,7 @@ def _sliders(args, params, out: Path, table: Path) -> int:
         _write_table(table, columns)
         files = write_stations(out, {"table": str(table)} | extra, sliders=sliders, provenance=provenance, fig7=fig7)
     if args.summary_format == "json":
-        print_json(StationsSliders(sliders, str(table), str(files.index), provenance.as_dict()).to_json() | extra)
+        print_json(StationsSliders(sliders, str(table), str(files.index), provenance.as_dict(), comparison).to_json())
     else:
         rms = sliders.platform_difference_rms_deg
         print(f"{len(t)} samples; m_1 − m_2 attitude RMS α {rms[0]:.4g}°, β {rms[1]:.4g}°, γ {rms[2]:.4g}°")
@@ -229,7 +229,7 @@ def _print_comparison(comparison) -> None:
             f"{e.mean_deg:+.4g}",
             f"{e.peak_deg:+.4g}",
             f"{e.peak_at_s:.3f}",
-            "-" if e.prediction_std_deg != e.prediction_std_deg else f"{e.prediction_std_deg:.3g}",
+            "-" if e.prediction_std_deg is None else f"{e.prediction_std_deg:.3g}",
         ]
         for e in comparison.entries
     ]

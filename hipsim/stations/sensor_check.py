@@ -25,6 +25,7 @@ import numpy as np
 
 from ..machine.chains import ChainGeometry
 from ..machine.parameters import Parameters
+from ..records import Record
 from .sensitivity import attitude_jacobian
 
 __all__ = ["SensorAgreement", "SensorComparison", "calibration_covariance", "compare_sensors", "prediction_std"]
@@ -33,7 +34,7 @@ _ANGLES = ("alpha", "beta", "gamma")
 
 
 @dataclass(frozen=True)
-class SensorAgreement:
+class SensorAgreement(Record):
     """One platform's angle over a log: measured − predicted.
 
     Attributes:
@@ -41,7 +42,7 @@ class SensorAgreement:
         rms_deg, mean_deg: RMS and mean of measured − predicted in [deg].
         peak_deg, peak_at_s: the difference of largest magnitude (signed) and when.
         prediction_std_deg: the prediction's standard deviation from the model's uncertainty, RMS over the
-            samples, in [deg]; NaN when the model carries none.
+            samples, in [deg]; None when the model carries none.
     """
 
     platform: int
@@ -50,11 +51,11 @@ class SensorAgreement:
     mean_deg: float
     peak_deg: float
     peak_at_s: float
-    prediction_std_deg: float
+    prediction_std_deg: float | None
 
 
 @dataclass(frozen=True)
-class SensorComparison:
+class SensorComparison(Record):
     """A log's sensors against the model's prediction; ``uncertainty`` says where the prediction's spread came from."""
 
     samples: int
@@ -63,16 +64,6 @@ class SensorComparison:
 
     def entry(self, platform: int, angle: str) -> SensorAgreement:
         return self.entries[3 * (platform - 1) + _ANGLES.index(angle)]
-
-    def to_json(self) -> dict[str, Any]:
-        return {
-            "samples": self.samples,
-            "uncertainty": self.uncertainty,
-            "entries": [
-                {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in vars(e).items()}
-                for e in self.entries
-            ],
-        }
 
 
 def prediction_std(params: Parameters, q: np.ndarray, theta_covariance: np.ndarray) -> np.ndarray:
@@ -141,7 +132,7 @@ def compare_sensors(
                     mean_deg=float(np.mean(d)),
                     peak_deg=float(d[peak]),
                     peak_at_s=float(t[peak]),
-                    prediction_std_deg=float(spread[3 * j + k]),
+                    prediction_std_deg=None if theta_covariance is None else float(spread[3 * j + k]),
                 )
             )
     return SensorComparison(len(t), uncertainty if theta_covariance is not None else "none", tuple(entries))
