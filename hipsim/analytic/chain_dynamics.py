@@ -27,6 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..exceptions import PoseError
+from ..machine.chains import refuse_stackup
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 from ..physics import laws
@@ -139,6 +140,7 @@ def chain_motion(params: Parameters, trajectory: Trajectory) -> ChainMotion:
         PoseError: naming the time of the first pose out of reach or singular, of either platform.
     """
     assert params.geometry is not None
+    refuse_stackup(params.chains, "the analytic dynamics", params.source)
     control = params.geometry.control
     t, q, qd, qdd = trajectory.t, trajectory.q, trajectory.qd, trajectory.qdd
     L, Ld, Ldd = platform_motion(params, q, qd, qdd, control)

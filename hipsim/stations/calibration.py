@@ -103,11 +103,11 @@ class Calibration:
     Attributes:
         machine: the calibrated machine (the start with the calibrated chains).
         start: the machine the prior was centred on (the drawing, or the starting file's chains).
-        theta, theta_std: each per-chain deviation δ and its posterior standard deviation in [m], (48,); a value
+        theta, theta_std: each per-chain deviation δ and its posterior standard deviation in [m], (51,); a value
             kept at its prior has its prior's.
         covariance: the posterior covariance of the estimated values in [m²], in the order of ``structure.independent``.
         structure: which combinations the logs can see.
-        determined: per value, whether the logs determined it (posterior std ≤ DETERMINED × prior's), (48,).
+        determined: per value, whether the logs determined it (posterior std ≤ DETERMINED × prior's), (51,).
         prior: the prior standard deviation in [m].
         offsets: each log's sensor offsets in [rad], (K, 2, 3) (zero when not estimated).
         noise: each sensor angle's residual standard deviation in [rad], (2, 3).
@@ -254,7 +254,9 @@ def calibrate(
             starts[k] = q
             o = x[p + 6 * k : p + 6 * k + 6].reshape(2, 3) if offsets else np.zeros((2, 3))
             # Each platform's rows see only its own values: ∂q_j/∂δ_b per platform, (N, 3, its estimated values).
-            blocks = [platform_attitude_jacobian(machine, q[:, j], j + 1)[..., local[j]] for j in (0, 1)]
+            blocks = [
+                platform_attitude_jacobian(machine, q[:, j], j + 1, q[:, 1])[..., local[j]] for j in (0, 1)
+            ]
             rows.append((log.sensors - o - q, blocks))
         residual_rms = np.array(
             [np.sqrt((r**2).mean(axis=0)) for r, _ in rows]

@@ -39,9 +39,10 @@ import numpy as np
 
 from ..analytic.chain_kinematics import chain_jacobian, chain_positions
 from ..analytic.forward_kinematics import solve_pose
-from ..analytic.stations import carriages_for_platform, platform_attitude
+from ..analytic.stations import carriages_for_platform, platform_attitude, stacked_carriages
 from ..arrays import readonly
 from ..exceptions import ArgumentError, PoseError
+from ..machine.chains import stackup_lift
 from ..machine.parameters import Parameters
 from ..physics.orientation import angular_velocity_map
 from .sensitivity import inverse3, reading_rate
@@ -256,7 +257,10 @@ def _own_command(params: Parameters, q_d: np.ndarray, j: int, rate: bool) -> tup
     """
     if params.geometry is None:
         return carriages_for_platform(params, q_d, j), reading_rate(params, q_d, j) if rate else None
-    return own_command(lambda p, rows: chain_positions(params.chains, p, j - 1), params.angle_signs, q_d, rate)
+    L, slope = own_command(lambda p, rows: chain_positions(params.chains, p, j - 1), params.angle_signs, q_d, rate)
+    if j == 1 and params.chains.stacked:  # m_1's centre rides on m_2: the stack-up's fixed point
+        L = stacked_carriages(params, q_d, L)
+    return L, slope
 
 
 def own_command(
@@ -281,6 +285,9 @@ def _attitude(params: Parameters, L: np.ndarray, guess: np.ndarray, j: int, t, s
     """
     q = np.empty_like(guess)
     rest = np.arange(len(L))
+    if j == 1 and params.geometry is not None and params.chains.stacked:  # m_1 sees L − Δz(q_2(L))
+        q2 = _attitude(params, L, guess, 2, t, source)
+        L = L - stackup_lift(params.chains.spline_seat, q2 * params.angle_signs)[:, None]
     if params.geometry is not None:
         q[:], done = _newton_from_close(params, L, guess, j)
         rest = np.flatnonzero(~done)

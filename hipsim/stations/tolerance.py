@@ -33,6 +33,7 @@ from ..analytic.chain_kinematics import chain_positions_per_sample
 from ..analytic.stations import carriages_for_platform
 from ..arrays import readonly
 from ..exceptions import ArgumentError, HipsimError, ParameterError, PoseError
+from ..machine.chains import stackup_lift
 from ..machine.parameters import Parameters
 from . import deviations as dv
 from .commands import CONTROLS, Positions, newton_from_close, own_command, station_commands
@@ -56,7 +57,9 @@ def parse_tolerances(text: str) -> dict[str, float]:
     """Tolerance bands in [m] by family, from ``KEY=±V,...`` in mm or a TOML file of such keys (``[tolerance]`` or top level).
 
     Keys: the families ujoint, slider, joint, lever, centre (the fields of
-    :class:`~hipsim.machine.chains.ChainGeometry`), and ``all`` (every family not named). A family not named (and no ``all``) is built exactly.
+    :class:`~hipsim.machine.chains.ChainGeometry`), the intermediate chain's seat ``spline`` (named only: ``all``
+    keeps the chains' families, so an ``all`` band means what it meant before the stack-up), and ``all`` (every chain
+    family not named). A family not named (and no ``all``) is built exactly.
 
     Raises:
         ParameterError: an unknown key, a value that is not a finite number >= 0, an unreadable file.
@@ -92,7 +95,7 @@ def parse_tolerances(text: str) -> dict[str, float]:
             raise ParameterError(f"expected a band ±V in mm (V >= 0), got '{value}'", key=key, source=source)
         bands[key] = v * 1e-3
     default = bands.pop("all", 0.0)
-    return {family: bands.get(family, default) for family in dv.FAMILIES}
+    return {family: bands.get(family, 0.0 if family == "spline" else default) for family in dv.FAMILIES}
 
 
 def half_widths(bands: Mapping[str, float]) -> np.ndarray:
@@ -116,7 +119,7 @@ def error_sensitivity(params: Parameters, desired: np.ndarray, control: str, wei
     for j in (1, 2):
         A[j] = inverse3(reading_rate(params, q[:, j - 1], j))
         F[j] = np.zeros((n, 3, dv.COUNT))
-        F[j][:, :, dv.platform_columns(j)] = reading_jacobian(params, j, q[:, j - 1])
+        F[j][:, :, dv.platform_columns(j)] = reading_jacobian(params, j, q[:, j - 1], q[:, 1])
     if control in ("1", "2"):
         dL = F[int(control)]
     else:
@@ -190,15 +193,20 @@ def tolerance_batch(batch: tuple[int, int], setup: _Setup) -> tuple[int, np.ndar
     first, count = batch
     rng = np.random.default_rng([setup.seed, first])
     theta0 = dv.deviation(setup.drawing)
-    deltas = rng.uniform(-1.0, 1.0, (count, dv.COUNT)) * setup.widths  # the stream of one draw after the other
+    chain = dv.COUNT - 3  # the chains' and centres' values, drawn first (the stream as before the stack-up)
+    deltas = np.zeros((count, dv.COUNT))
+    deltas[:, :chain] = rng.uniform(-1.0, 1.0, (count, chain)) * setup.widths[:chain]  # one draw after the other
+    if np.any(setup.widths[chain:]):
+        deltas[:, chain:] = rng.uniform(-1.0, 1.0, (count, 3)) * setup.widths[chain:]
     rms = np.empty((count, len(setup.controls), 2, 3))
     peak = np.empty_like(rms)
     solved = np.zeros((count, len(setup.controls)), dtype=bool)
-    chains = _draw_chains(setup.drawing, theta0 + deltas)
+    thetas = theta0 + deltas
+    chains = _draw_chains(setup.drawing, thetas)
     for c, control in enumerate(setup.controls):
         if control != "both":
             rms[:, c], peak[:, c], solved[:, c] = _followers(
-                chains, setup.drawing.angle_signs, setup.desired, int(control)
+                chains, setup.drawing.angle_signs, setup.desired, int(control), thetas[:, dv.COUNT - 3 :]
             )
     for k in range(count):
         if solved[k].all():
@@ -245,7 +253,11 @@ def _draw_chains(drawing: Parameters, thetas: np.ndarray) -> dict[int, _DrawChai
 
 
 def _followers(
-    chains: dict[int, _DrawChains], signs: np.ndarray, desired: np.ndarray, control: int
+    chains: dict[int, _DrawChains],
+    signs: np.ndarray,
+    desired: np.ndarray,
+    control: int,
+    seats: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Control "1" or "2" on many per-chain machines at once, as :func:`station_commands` computes it for each.
 
@@ -258,6 +270,9 @@ def _followers(
         signs: the angle signs, (3,).
         desired: the desired attitude in [rad], (N, 3).
         control: the platform commanded exactly, 1 or 2.
+        seats: each machine's stack-up seat e in [m], (K, 3), or None for none. Under control 2, m_1 sees the
+            carriages lowered by Δz(q_d) (m_2 is exact); under control 1 a machine with a seat is left to
+            :func:`station_commands` (its command is the stack-up's fixed point).
 
     Returns:
         RMS and peak error per machine, platform and angle in [rad], (K, 2, 3) each, and per machine whether every
@@ -274,10 +289,15 @@ def _followers(
     L, _ = own_command(positions(control), signs, q_d, False)
     own, rate = own_command(positions(follower), signs, q_d, True)
     assert rate is not None
+    stacked = np.zeros(count, dtype=bool) if seats is None else np.any(seats != 0.0, axis=1)
+    if control == 2 and stacked.any():  # m_1's centre rides Δz(q_2) = Δz(q_d) up: it sees L − Δz
+        L = L - stackup_lift(np.repeat(np.asarray(seats, dtype=float), n, axis=0), q_d * signs)[:, None]
     guess = q_d + np.matmul(inverse3(rate), (L - own)[..., None])[..., 0]
     q, converged = newton_from_close(positions(follower), signs, L, guess)
     e = (q - q_d).reshape(count, n, 3)
     ok = converged.reshape(count, n).all(axis=1)
+    if control == 1:
+        ok &= ~stacked
     ok &= np.isfinite(L).reshape(count, -1).all(axis=1) & np.isfinite(own).reshape(count, -1).all(axis=1)
     rms, peak = np.zeros((count, 2, 3)), np.zeros((count, 2, 3))  # the controlled platform is exact
     rms[:, follower - 1] = np.sqrt((e**2).mean(axis=1))
