@@ -99,12 +99,12 @@ def parse_tolerances(text: str) -> dict[str, float]:
 
 
 def half_widths(bands: Mapping[str, float]) -> np.ndarray:
-    """Each per-chain value's half band in [m], (48,), from the bands by family."""
+    """Each per-chain value's half band in [m], (51,), from the bands by family."""
     return np.array([bands.get(dv.family(name), 0.0) for name in dv.names()])
 
 
 def error_sensitivity(params: Parameters, desired: np.ndarray, control: str, weights=(1.0, 1.0)) -> np.ndarray:
-    """S = ∂e/∂δ of each platform's attitude error under a control, at the machine ``params``, (N, 2, 3, 48) [rad/m].
+    """S = ∂e/∂δ of each platform's attitude error under a control, at the machine ``params``, (N, 2, 3, 51) [rad/m].
 
     With F_j = ∂f_j/∂θ and A_j = (∂f_j/∂q)⁻¹ at the attitude platform j takes: its error is
     e_j = A_j·(dL − F_j·dθ); control "1" or "2" sets dL = F_c·dθ, "both" the weighted least squares
@@ -133,17 +133,17 @@ def sensitivity_table(S: np.ndarray, widths: np.ndarray, platforms=(0, 1)) -> li
     """Each per-chain value's share of the expected mean square error of the given platforms, largest first.
 
     Args:
-        S: the error sensitivity (N, 2, 3, 48) in [rad/m] (:func:`error_sensitivity`).
-        widths: each value's half band in [m], (48,).
+        S: the error sensitivity (N, 2, 3, 51) in [rad/m] (:func:`error_sensitivity`).
+        widths: each value's half band in [m], (51,).
         platforms: the platforms (0-based) whose error counts (the follower's, or both).
 
     Returns:
-        Rows: ``value`` (name), ``chain`` ("ji" or "centre j"), ``family``, ``rms_deg`` (the RMS error per angle
+        Rows: ``value`` (name), ``chain`` ("ji", "centre j" or "intermediate": the stack-up's seat), ``family``, ``rms_deg`` (the RMS error per angle
         α, β, γ in [deg] this value's band alone gives, root of the expected mean square over the platforms),
         ``share`` (its fraction of the expected mean square summed over the three angles).
     """
     variance = widths**2 / 3.0  # a uniform draw within ±V
-    ms = (S[:, list(platforms)] ** 2).mean(axis=0).sum(axis=0) * variance  # (3, 48) [rad²]
+    ms = (S[:, list(platforms)] ** 2).mean(axis=0).sum(axis=0) * variance  # (3, 51) [rad²]
     total = ms.sum()
     rows = []
     for p, name in enumerate(dv.names()):
@@ -151,7 +151,7 @@ def sensitivity_table(S: np.ndarray, widths: np.ndarray, platforms=(0, 1)) -> li
         rows.append(
             {
                 "value": name,
-                "chain": tail if len(tail) == 2 else f"centre {tail}",
+                "chain": "intermediate" if name.startswith("spline") else tail if len(tail) == 2 else f"centre {tail}",
                 "family": dv.family(name),
                 "rms_deg": np.degrees(np.sqrt(ms[:, p])).tolist(),
                 "share": float(ms[:, p].sum() / total) if total > 0 else 0.0,
@@ -233,7 +233,7 @@ _DrawChains = tuple[np.ndarray, np.ndarray, np.ndarray]
 
 
 def _draw_chains(drawing: Parameters, thetas: np.ndarray) -> dict[int, _DrawChains]:
-    """Each draw's chains, by platform (1, 2), for per-chain values θ in [m], (K, 48).
+    """Each draw's chains, by platform (1, 2), for per-chain values θ in [m], (K, 51).
 
     :meth:`hipsim.machine.chains.Chains.build` adds the values to the drawing's, so the chains are affine in θ: they
     are found from the chains at θ = 0 and at each unit θ, rather than by building a machine a draw.
@@ -245,7 +245,7 @@ def _draw_chains(drawing: Parameters, thetas: np.ndarray) -> dict[int, _DrawChai
         return np.concatenate([ch.platform_points.ravel(), offsets.ravel(), ch.lever_lengths.ravel()])
 
     zero = fields(np.zeros(dv.COUNT))
-    slope = np.stack([fields(unit) - zero for unit in np.eye(dv.COUNT)], axis=1)  # (fields, 48)
+    slope = np.stack([fields(unit) - zero for unit in np.eye(dv.COUNT)], axis=1)  # (fields, 51)
     values = zero + thetas @ slope.T
     P, offsets, levers = np.split(values, [18, 36], axis=1)
     P, offsets, levers = P.reshape(-1, 2, 3, 3), offsets.reshape(-1, 2, 3, 3), levers.reshape(-1, 2, 3)

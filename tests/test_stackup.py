@@ -1,0 +1,135 @@
+"""The intermediate chain's stack-up (``[geometry] spline_seat_mm``): m_1's centre rides ẑ·(R_2 − I)·e up and down with m_2.
+
+Checked against a hand route (tests/stations_synthetic.py, SciPy rotations and a difference Newton), against the
+Pinocchio per-chain model with m_1's centre frozen where the stack-up puts it, and bit for bit against today's
+machine when the seat is zero.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+import hipsim
+from hipsim.analytic.engine import AnalyticModel
+from hipsim.analytic.stations import carriage_sensitivities, carriages_for_platform, platform_attitude
+from hipsim.exceptions import ParameterError
+from hipsim.machine.chains import ChainGeometry, stackup_lift
+from hipsim.machine.model_files import urdf_text
+from hipsim.stations import deviations as dv
+from hipsim.stations.commands import station_commands
+from hipsim.stations.tolerance import error_sensitivity, half_widths, sensitivity_table
+from stations_synthetic import deviated, motion, reference_attitude, reference_carriages
+
+PARAMS = hipsim.load_parameters()
+CHAINS = deviated(seed=3)  # the chains built to ±0.3 mm
+SEAT = np.array([0.2e-3, -0.3e-3, 0.25e-3])
+STACKED = PARAMS.replace(geometry=CHAINS.replace(spline=SEAT))
+
+
+def test_the_lift_by_hand():
+    e = 1e-3
+    cases = [  # (seat, m_2's [α, β, γ] in degrees, lift in m): ẑᵀR = (−sin β, cos β·sin α, cos β·cos α)
+        ([0.0, e, 0.0], [30.0, 0.0, 0.0], 0.5e-3),
+        ([e, 0.0, 0.0], [0.0, 30.0, 0.0], -0.5e-3),
+        ([0.0, 0.0, e], [60.0, 0.0, 0.0], -0.5e-3),
+        ([e, e, e], [0.0, 0.0, 40.0], 0.0),  # a turn about Z lifts nothing
+    ]
+    for seat, angles, lift in cases:
+        assert stackup_lift(np.array(seat), np.radians([angles]))[0] == pytest.approx(lift, abs=1e-18)
+
+
+def test_zero_seat_is_todays_machine_bit_for_bit():
+    t, q = motion(300, seed=2)
+    zero = PARAMS.replace(geometry=CHAINS.replace(spline=np.zeros(3)))
+    today = PARAMS.replace(geometry=CHAINS)
+    for control in ("1", "2", "both"):
+        a, b = station_commands(zero, t, q, control), station_commands(today, t, q, control)
+        assert np.array_equal(a.carriages, b.carriages) and np.array_equal(a.attitudes, b.attitudes)
+    # and the file that says so reads back as today's machine
+    assert PARAMS.replace(geometry=zero.geometry).chains.stacked is False
+
+
+@pytest.mark.parametrize("control", [2, 1])
+def test_commands_and_attitudes_agree_with_the_hand_route(control):
+    t, q = motion(40, seed=5, scale_deg=3.0)
+    run = station_commands(STACKED, t, q, str(control))
+    L = reference_carriages(PARAMS, STACKED.geometry, 2, q) if control == 2 else run.carriages
+    np.testing.assert_allclose(run.carriages, L, rtol=0, atol=1e-13)
+    hand = np.stack([reference_attitude(PARAMS, STACKED.geometry, j, run.carriages, q) for j in (1, 2)], axis=1)
+    np.testing.assert_allclose(run.attitudes, hand, rtol=0, atol=1e-12)
+    if control == 1:  # the hand route's carriages for m_1 at q, its centre lifted by m_2's attitude there
+        np.testing.assert_allclose(
+            reference_carriages(PARAMS, STACKED.geometry, 1, q, hand[:, 1]), run.carriages, rtol=0, atol=1e-13
+        )
+    # The stack-up matters: the follower moves by far more than the agreement.
+    plain = station_commands(PARAMS.replace(geometry=CHAINS), t, q, str(control))
+    assert np.abs(run.attitudes - plain.attitudes).max() > 1e-5
+
+
+def test_forward_and_inverse_round_trip_through_the_public_functions():
+    _, q = motion(30, seed=6, scale_deg=3.0)
+    L = carriages_for_platform(STACKED, q, 1)
+    np.testing.assert_allclose(platform_attitude(STACKED, L, 1, q0=q[0]), q, rtol=0, atol=1e-12)
+
+
+def test_pinocchio_with_the_centre_frozen_where_the_stack_up_puts_it():
+    """Per pose: the Pinocchio per-chain model whose m_1 centre sits at the lift m_2's attitude gives: the same carriages."""
+    from hipsim.closed_chain.engine import PinocchioModel
+
+    cycle = hipsim.iso14242(rate=100)
+    for k in (12, 61):
+        pose = cycle.slice(slice(k, k + 1))
+        L = carriages_for_platform(STACKED, pose.q, 1)
+        q2 = platform_attitude(STACKED, L, 2, q0=pose.q[0])
+        lift = stackup_lift(SEAT, q2 * PARAMS.angle_signs)[0]
+        centre = CHAINS.centre.copy()
+        centre[0, 2] += lift
+        frozen = PARAMS.replace(geometry=CHAINS.replace(centre=centre, control=1))
+        run = PinocchioModel(frozen).run(pose)
+        assert abs(lift) > 1e-5
+        np.testing.assert_allclose(run.L[:, 0], L, rtol=0, atol=1e-12)
+
+
+def test_the_sensitivity_of_the_seat_by_finite_differences():
+    _, q = motion(6, seed=8, scale_deg=3.0)
+    x = STACKED.geometry.as_vector()
+    L = carriages_for_platform(STACKED, q, 1)
+    q2 = platform_attitude(STACKED, L, 2, q0=q[0])
+    S = carriage_sensitivities(STACKED, q, 1, q2)
+    h = 1e-7
+    for k in range(48, 51):
+        step = np.zeros(x.size)
+        step[k] = h
+
+        def at(v):
+            return carriages_for_platform(PARAMS.replace(geometry=ChainGeometry.from_vector(v)), q, 1)
+
+        # The fixed point feeds the lift back through m_2's attitude (∂Δz/∂q_2·∂q_2/∂L ~ |e|/50 mm ≈ 1e-5): left out.
+        np.testing.assert_allclose(S[:, :, k], (at(x + step) - at(x - step)) / (2 * h), rtol=1e-4, atol=1e-9)
+
+
+def test_the_tolerance_sensitivity_names_the_seat():
+    cycle = hipsim.iso14242(rate=50)
+    widths = half_widths({"spline": 0.3e-3, "lever": 0.3e-3})
+    S = error_sensitivity(PARAMS, cycle.q, "2")
+    rows = sensitivity_table(S, widths, platforms=(0,))
+    seat = [row for row in rows if row["family"] == "spline"]
+    assert [row["value"] for row in seat] and {row["value"] for row in seat} == {"spline_x_1", "spline_y_1", "spline_z_1"}
+    assert all(row["chain"] == "intermediate" for row in seat) and max(row["share"] for row in seat) > 0.01
+    # m_2 controlled: its own values never move it, the seat moves only m_1
+    assert np.all(S[:, 1, :, 48:] == 0.0) and np.abs(S[:, 0, :, 48:]).max() > 0
+
+
+def test_the_dynamics_refuse_a_stack_up_in_one_line():
+    cycle = hipsim.iso14242(rate=100).slice(slice(0, 5))
+    for call in (lambda: AnalyticModel(STACKED).run(cycle), lambda: urdf_text(STACKED)):
+        with pytest.raises(ParameterError, match=r"geometry\.spline_seat_mm.*does not model a moving centre") as caught:
+            call()
+        assert "\n" not in str(caught.value)
+
+
+def test_the_seat_is_in_the_vector_and_its_family():
+    assert dv.names()[48:] == ("spline_x_1", "spline_y_1", "spline_z_1")
+    assert dv.family("spline_y_1") == "spline" and dv.platform_of("spline_z_1") == 1
+    assert math.isclose(dv.machine(PARAMS, STACKED.geometry.as_vector()).geometry.spline[1], SEAT[1])
