@@ -145,10 +145,27 @@ class Calibration:
         labels = dv.names()
         return [labels[k] for k in self.structure.independent if not self.determined[k]]
 
-    def prediction_std(self, q: np.ndarray) -> np.ndarray:
-        """The standard deviation in [rad] of the predicted attitudes q (N, 2, 3) [rad] from θ's uncertainty, (N, 2, 3)."""
-        Jq = attitude_jacobian(self.machine, np.asarray(q, dtype=float), self.structure.independent)
-        return np.sqrt(np.einsum("njkp,pr,njkr->njk", Jq, self.covariance, Jq))
+    def prediction_std(self, q: np.ndarray, up_to_constant: bool = False) -> np.ndarray:
+        """The standard deviation in [rad] of the predicted attitudes q (N, 2, 3) [rad] from θ's uncertainty, (N, 2, 3).
+
+        The estimated values θ₁ (posterior covariance, offsets' trade included) and the values kept at their prior
+        θ₂: the estimate is of θ₁ + C·θ₂, so a prediction moves by (J₂ − J₁·C)·θ₂ with θ₂ ~ N(start, prior²). Without
+        sensor offsets that is zero (C folds θ₂ exactly); with them it is the constant part of θ₂'s effect, which the
+        fitted offsets took: the attitude's error that the logs cannot tell from a sensor's zero.
+
+        Args:
+            q: both platforms' attitudes in [rad], (N, 2, 3) (a motion: its samples together).
+            up_to_constant: the spread of the prediction about its mean over the samples (what a log whose sensors
+                have their own unknown offset can check), instead of the attitude's own.
+        """
+        q = np.asarray(q, dtype=float)
+        J = attitude_jacobian(self.machine, q)
+        J1 = J[..., self.structure.independent]
+        K = J[..., self.structure.dependent] - np.einsum("njkp,pd->njkd", J1, self.structure.coefficients)
+        if up_to_constant:
+            J1, K = J1 - J1.mean(axis=0), K - K.mean(axis=0)
+        variance = np.einsum("njkp,pr,njkr->njk", J1, self.covariance, J1) + self.prior**2 * (K**2).sum(axis=-1)
+        return np.sqrt(variance)
 
 
 def _checked_attitudes(machine: Parameters, log: CalibrationLog, guess: np.ndarray, what: str) -> np.ndarray:
