@@ -77,7 +77,9 @@ def test_the_output_names_what_trades_and_a_fixture_separates_it():
     # Without the fixture: every offset trades with its platform's joint pattern (R² near 1), named.
     assert {c.sensor for c in free.confounded} == {f"{a}_{j}" for j in (1, 2) for a in ("alpha", "beta", "gamma")}
     for c in free.confounded:
-        assert c.explained > 0.99 and c.values and all(v.endswith(c.sensor[-1]) or v[-2] == c.sensor[-1] for v in c.values)
+        assert (
+            c.explained > 0.99 and c.values and all(v.endswith(c.sensor[-1]) or v[-2] == c.sensor[-1] for v in c.values)
+        )
         assert "known attitude" in c.separated_by
     # With it: nothing left to trade, and the offsets are the true ones to a few thousandths of a degree.
     assert held.confounded == ()
@@ -100,7 +102,9 @@ def test_a_fixtures_rows_read_from_the_log_file(tmp_path):
             np.degrees(original.known).reshape(-1, 6),
         ]
     )
-    text = ",".join(names) + "\n" + "\n".join(",".join("" if np.isnan(v) else repr(float(v)) for v in row) for row in rows)
+    text = (
+        ",".join(names) + "\n" + "\n".join(",".join("" if np.isnan(v) else repr(float(v)) for v in row) for row in rows)
+    )
     path = tmp_path / "fixture.csv"
     path.write_text(text + "\n", encoding="utf-8")
     read = read_calibration_log(path, PARAMS.lead)

@@ -9,6 +9,7 @@ import math
 
 import numpy as np
 import pytest
+from stations_synthetic import deviated, motion, reference_attitude, reference_carriages
 
 import hipsim
 from hipsim.analytic.engine import AnalyticModel
@@ -19,7 +20,6 @@ from hipsim.machine.model_files import urdf_text
 from hipsim.stations import deviations as dv
 from hipsim.stations.commands import station_commands
 from hipsim.stations.tolerance import error_sensitivity, half_widths, sensitivity_table
-from stations_synthetic import deviated, motion, reference_attitude, reference_carriages
 
 PARAMS = hipsim.load_parameters()
 CHAINS = deviated(seed=3)  # the chains built to ±0.3 mm
@@ -115,7 +115,11 @@ def test_the_tolerance_sensitivity_names_the_seat():
     S = error_sensitivity(PARAMS, cycle.q, "2")
     rows = sensitivity_table(S, widths, platforms=(0,))
     seat = [row for row in rows if row["family"] == "spline"]
-    assert [row["value"] for row in seat] and {row["value"] for row in seat} == {"spline_x_1", "spline_y_1", "spline_z_1"}
+    assert [row["value"] for row in seat] and {row["value"] for row in seat} == {
+        "spline_x_1",
+        "spline_y_1",
+        "spline_z_1",
+    }
     assert all(row["chain"] == "intermediate" for row in seat) and max(row["share"] for row in seat) > 0.01
     # m_2 controlled: its own values never move it, the seat moves only m_1
     assert np.all(S[:, 1, :, 48:] == 0.0) and np.abs(S[:, 0, :, 48:]).max() > 0

@@ -105,7 +105,9 @@ def carriages_for_platform(params: Parameters, q: np.ndarray, platform: int) -> 
     return stacked_carriages(params, q, L) if j == 0 and params.chains.stacked else L
 
 
-def stacked_carriages(params: Parameters, q1: np.ndarray, seen: np.ndarray, guess: np.ndarray | None = None) -> np.ndarray:
+def stacked_carriages(
+    params: Parameters, q1: np.ndarray, seen: np.ndarray, guess: np.ndarray | None = None
+) -> np.ndarray:
     """The carriages that give m_1 the attitude ``q1`` when its centre rides on m_2 (the stack-up's fixed point).
 
     m_1 needs the carriages ``seen`` below its lifted centre: L = seen + Δz(q_2(L))·(1, 1, 1), q_2(L) m_2's

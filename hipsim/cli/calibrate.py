@@ -153,7 +153,9 @@ def _print(summary) -> None:
     if confounded:
         print()
         rows = [[c["sensor"], f"{c['explained']:.4f}", ", ".join(c["values"])] for c in confounded]
-        title = "Sensor offsets these logs cannot tell apart from the per-chain values (the posterior carries the trade)"
+        title = (
+            "Sensor offsets these logs cannot tell apart from the per-chain values (the posterior carries the trade)"
+        )
         print(format_table(["offset", "explained (R²)", "trades with"], rows, title))
         print(f"what separates them: {confounded[0]['separated_by']}")
 

@@ -378,9 +378,7 @@ def calibrate(
             starts[k] = q
             o = x[p + 6 * k : p + 6 * k + 6].reshape(2, 3) if offsets else np.zeros((2, 3))
             # Each platform's rows see only its own values: ∂q_j/∂δ_b per platform, (N, 3, its estimated values).
-            blocks = [
-                platform_attitude_jacobian(machine, q[:, j], j + 1, q[:, 1])[..., local[j]] for j in (0, 1)
-            ]
+            blocks = [platform_attitude_jacobian(machine, q[:, j], j + 1, q[:, 1])[..., local[j]] for j in (0, 1)]
             rows.append((log.sensors - o - q, blocks))
         residual_rms = np.array(
             [np.sqrt((r**2).mean(axis=0)) for r, _ in rows]

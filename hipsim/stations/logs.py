@@ -31,7 +31,14 @@ from ..exceptions import TrajectoryError
 from ..tables import cells, data_lines, detect_separator, number, open_parquet, read_text_lines
 from .calibration import CalibrationLog
 
-__all__ = ["CARRIAGE_COLUMNS", "KNOWN_COLUMNS", "MOTOR_COLUMNS", "SENSOR_COLUMNS", "read_calibration_log", "read_carriage_log"]
+__all__ = [
+    "CARRIAGE_COLUMNS",
+    "KNOWN_COLUMNS",
+    "MOTOR_COLUMNS",
+    "SENSOR_COLUMNS",
+    "read_calibration_log",
+    "read_carriage_log",
+]
 
 CARRIAGE_COLUMNS = tuple(f"L_1{i}_mm" for i in (1, 2, 3))
 MOTOR_COLUMNS = tuple(f"motor_{i}_deg" for i in (1, 2, 3))
