@@ -166,3 +166,18 @@ def test_the_analytic_dynamics_refuse_control_1_with_a_stack_up():
     params = STACKED.replace(geometry=STACKED.geometry.replace(control=1))
     with pytest.raises(ParameterError, match=r"spline_seat_mm.*control = 1"):
         AnalyticModel(params).run(hipsim.iso14242(rate=100).slice(slice(0, 5)))
+
+
+def test_tolerance_monte_carlo_of_the_seat_agrees_with_first_order():
+    from hipsim.stations.tolerance import parse_tolerances, tolerance_draws
+
+    cycle = hipsim.iso14242(rate=50)
+    bands = parse_tolerances("spline=0.5")
+    result = tolerance_draws(PARAMS, cycle.t, cycle.q, bands, ("2", "1"), draws=60, seed=2, workers=0)
+    for c, control in enumerate(("2", "1")):
+        follower = 2 - int(control)  # m_1 under control 2, m_2 under control 1
+        mean_square = (result.rms[:, c, follower] ** 2).mean(axis=0)
+        S = error_sensitivity(PARAMS, cycle.q, control)
+        expected = ((S[:, follower] ** 2).mean(axis=0) @ (half_widths(bands) ** 2 / 3)).ravel()
+        assert np.abs(mean_square[2] / expected[2] - 1) < 0.25, (control, mean_square / expected)
+        assert np.all(result.rms[:, c, 1 - follower] < 1e-12)  # the controlled platform exact on every machine
