@@ -181,3 +181,21 @@ def test_tolerance_monte_carlo_of_the_seat_agrees_with_first_order():
         expected = ((S[:, follower] ** 2).mean(axis=0) @ (half_widths(bands) ** 2 / 3)).ravel()
         assert np.abs(mean_square[2] / expected[2] - 1) < 0.25, (control, mean_square / expected)
         assert np.all(result.rms[:, c, 1 - follower] < 1e-12)  # the controlled platform exact on every machine
+
+
+def test_calibrate_estimates_the_seat_of_a_hidden_stacked_machine():
+    """Logs of a hidden machine with a stack-up, made by the hand route: the seat comes out within its posterior."""
+    from stations_synthetic import synthetic_log
+
+    from hipsim.stations import CalibrationLog, calibrate
+
+    truth = STACKED.geometry.replace(spline=np.array([0.4e-3, -0.6e-3, 0.3e-3]))
+    logs = []
+    for k in range(2):
+        t, L, _, sensors = synthetic_log(PARAMS, truth, 1200, seed=60 + k, noise_deg=0.05)
+        logs.append(CalibrationLog(f"log{k}", t, L, sensors))
+    fit = calibrate(logs, PARAMS)
+    seat, std = fit.theta[48:], fit.theta_std[48:]
+    assert np.all(fit.determined[48:]), std  # std at most half the prior (0.25 mm): seen, if weakly by 2,400 samples
+    assert np.all(np.abs(seat - truth.spline) < 4 * std), (seat, truth.spline, std)
+    assert "spline_x_1" not in fit.unseen
