@@ -95,7 +95,10 @@ def parse_tolerances(text: str) -> dict[str, float]:
             raise ParameterError(f"expected a band ±V in mm (V >= 0), got '{value}'", key=key, source=source)
         bands[key] = v * 1e-3
     default = bands.pop("all", 0.0)
-    return {family: bands.get(family, 0.0 if family == "spline" else default) for family in dv.FAMILIES}
+    out = {family: bands.get(family, default) for family in dv.FAMILIES if family != "spline"}
+    if "spline" in bands:  # only when named: a band given before the stack-up reads back as it did
+        out["spline"] = bands["spline"]
+    return out
 
 
 def half_widths(bands: Mapping[str, float]) -> np.ndarray:
@@ -144,9 +147,12 @@ def sensitivity_table(S: np.ndarray, widths: np.ndarray, platforms=(0, 1)) -> li
     """
     variance = widths**2 / 3.0  # a uniform draw within ±V
     ms = (S[:, list(platforms)] ** 2).mean(axis=0).sum(axis=0) * variance  # (3, 51) [rad²]
-    total = ms.sum()
+    chain = dv.COUNT - 3  # the chains' values, summed first: without a seat band, the sums of before the stack-up
+    total = ms[:, :chain].sum() + ms[:, chain:].sum()
     rows = []
     for p, name in enumerate(dv.names()):
+        if p >= chain and not np.any(widths[chain:]):
+            break  # no seat band: no seat rows
         tail = name.rsplit("_", 1)[1]
         rows.append(
             {
