@@ -14,7 +14,7 @@ from stations_synthetic import deviated, motion, reference_attitude, reference_c
 import hipsim
 from hipsim.analytic.engine import AnalyticModel
 from hipsim.analytic.stations import carriage_sensitivities, carriages_for_platform, platform_attitude
-from hipsim.exceptions import ParameterError
+from hipsim.exceptions import MissingDependencyError, ParameterError
 from hipsim.machine.chains import ChainGeometry, stackup_lift
 from hipsim.machine.model_files import urdf_text
 from hipsim.stations import deviations as dv
@@ -73,10 +73,20 @@ def test_forward_and_inverse_round_trip_through_the_public_functions():
     np.testing.assert_allclose(platform_attitude(STACKED, L, 1, q0=q[0]), q, rtol=0, atol=1e-12)
 
 
-def test_pinocchio_with_the_centre_frozen_where_the_stack_up_puts_it():
-    """Per pose: the Pinocchio per-chain model whose m_1 centre sits at the lift m_2's attitude gives: the same carriages."""
+def _engines():
     from hipsim.closed_chain.engine import PinocchioModel
 
+    out = [PinocchioModel]
+    try:
+        from hipsim.mujoco_engine import MujocoModel
+    except (ImportError, MissingDependencyError):
+        return out
+    return out + [MujocoModel]
+
+
+@pytest.mark.parametrize("engine", _engines(), ids=lambda e: e.__name__)
+def test_pinocchio_and_mujoco_with_the_centre_frozen_where_the_stack_up_puts_it(engine):
+    """Per pose: the per-chain model whose m_1 centre sits at the lift m_2's attitude gives: the same carriages."""
     cycle = hipsim.iso14242(rate=100)
     for k in (12, 61):
         pose = cycle.slice(slice(k, k + 1))
@@ -86,7 +96,7 @@ def test_pinocchio_with_the_centre_frozen_where_the_stack_up_puts_it():
         centre = CHAINS.centre.copy()
         centre[0, 2] += lift
         frozen = PARAMS.replace(geometry=CHAINS.replace(centre=centre, control=1))
-        run = PinocchioModel(frozen).run(pose)
+        run = engine(frozen).run(pose)
         assert abs(lift) > 1e-5
         np.testing.assert_allclose(run.L[:, 0], L, rtol=0, atol=1e-12)
 

@@ -170,16 +170,12 @@ def chain_motion(params: Parameters, trajectory: Trajectory) -> ChainMotion:
         p2, pd2, pdd2 = q * params.angle_signs, qd * params.angle_signs, qdd * params.angle_signs
         T = angular_velocity_map(p2)
         omega2 = np.einsum("nij,nj->ni", T, pd2)
-        omega2_dot = np.einsum("nij,nj->ni", T, pdd2) + np.einsum(
-            "nij,nj->ni", angular_velocity_map_rate(p2, pd2), pd2
-        )
+        omega2_dot = np.einsum("nij,nj->ni", T, pdd2) + np.einsum("nij,nj->ni", angular_velocity_map_rate(p2, pd2), pd2)
         lift = lift_motion(params.chains.spline_seat, p2, omega2, omega2_dot)
         z, zd, zdd, _ = lift
         seen = (L - z[:, None], Ld - zd[:, None], Ldd - zdd[:, None])
     # The follower turns a fraction of a degree off the controlled platform: its attitude is the guess.
-    motions[follower] = follower_motion(
-        follower_params, *seen, follower, t=t, q0=q[0], source=trajectory.name, guess=q
-    )
+    motions[follower] = follower_motion(follower_params, *seen, follower, t=t, q0=q[0], source=trajectory.name, guess=q)
     platforms = [platform_kinematics(follower_params, j - 1, t, *motions[j]) for j in (1, 2)]
     if lift is not None:
         platforms[0] = lifted_kinematics(platforms[0], *lift[:3])
