@@ -213,3 +213,31 @@ def test_calibrate_estimates_the_seat_of_a_hidden_stacked_machine():
     assert np.all(fit.determined[48:]), std  # std at most half the prior (0.25 mm): seen, if weakly by 2,400 samples
     assert np.all(np.abs(seat - truth.spline) < 4 * std), (seat, truth.spline, std)
     assert "spline_x_1" not in fit.unseen
+
+
+@pytest.mark.parametrize(
+    "table, message",
+    [
+        ("spline_seat_mm = [0.1, 0]", r"geometry\.spline_seat_mm.*expected \[x, y, z\] in mm, got \[0\.1, 0\]"),
+        ("spline_seat_mm = [0.1, 0, 80]", r"geometry\.spline_seat_mm.*at most 50 mm, got \[0\.1, 0, 80\]"),
+        ('spline_seat_mm = [0.1, 0, "x"]', r"geometry\.spline_seat_mm"),
+    ],
+)
+def test_a_bad_seat_is_refused_by_name(tmp_path, table, message):
+    from hipsim.machine.toml_writer import parameter_toml
+
+    path = tmp_path / "bad.toml"
+    path.write_text(parameter_toml(PARAMS) + "[geometry]\n" + table + "\n", encoding="utf-8")
+    with pytest.raises(ParameterError, match=message) as caught:
+        hipsim.load_parameters(path)
+    assert "bad.toml" in str(caught.value) and "\n" not in str(caught.value)
+
+
+def test_the_seat_reads_back_from_the_written_file(tmp_path):
+    from hipsim.machine.toml_writer import parameter_toml
+
+    path = tmp_path / "stacked.toml"
+    path.write_text(parameter_toml(STACKED), encoding="utf-8")
+    again = hipsim.load_parameters(path)
+    assert np.array_equal(again.geometry.spline, STACKED.geometry.spline)
+    assert np.array_equal(again.geometry.as_vector(), STACKED.geometry.as_vector())

@@ -318,23 +318,36 @@ def geometry_from_table(table: Any, source: str) -> ChainGeometry | None:
                 source=source,
             )
         name, rows, width, _ = GEOMETRY_KEYS[key]
-        if rows == 1 and isinstance(value, list) and value and not isinstance(value[0], list):
-            value = [value]  # one row may be written flat: spline_seat_mm = [x, y, z]
-        fields[name] = _rows(value, rows, width, f"geometry.{key}", source).reshape(_SHAPES[name]) * _MM
+        if rows == 1:  # one row, written flat: spline_seat_mm = [x, y, z]
+            numbers = _rows([value], 1, width, f"geometry.{key}", source, shown=value)
+        else:
+            numbers = _rows(value, rows, width, f"geometry.{key}", source)
+        fields[name] = numbers.reshape(_SHAPES[name]) * _MM
     geometry = ChainGeometry.zeros().replace(**fields)
     return None if geometry.is_drawing() else geometry
 
 
-def _rows(value: Any, rows: int, width: int, key: str, source: str) -> np.ndarray:
-    """A list of ``rows`` numbers (width 0) or of ``rows`` lists of ``width`` numbers, checked, in the file's unit."""
+def _rows(value: Any, rows: int, width: int, key: str, source: str, shown: Any = None) -> np.ndarray:
+    """A list of ``rows`` numbers (width 0) or of ``rows`` lists of ``width`` numbers, checked, in the file's unit.
+
+    ``shown``: the value as the file wrote it, for messages (a single row is written flat); None for ``value``.
+    """
+    shown = value if shown is None else shown
 
     def number(x):
         return isinstance(x, (int, float)) and not isinstance(x, bool)
 
     def fail(expected):
-        raise ParameterError(f"expected {expected}, got {value!r}", key=key, source=source)
+        raise ParameterError(f"expected {expected}, got {shown!r}", key=key, source=source)
 
-    expected = f"a list of {rows} numbers" if width == 0 else f"{rows} rows of [{', '.join('xyz'[:width])}] in mm"
+    axes = ", ".join("xyz"[:width])
+    expected = (
+        f"a list of {rows} numbers"
+        if width == 0
+        else f"[{axes}] in mm"
+        if rows == 1
+        else f"{rows} rows of [{axes}] in mm"
+    )
     if not isinstance(value, list) or len(value) != rows:
         fail(expected)
     if width == 0:
@@ -347,7 +360,7 @@ def _rows(value: Any, rows: int, width: int, key: str, source: str) -> np.ndarra
         fail("finite numbers")
     if np.any(np.abs(numbers) > MAX_DEVIATION / _MM):
         raise ParameterError(
-            f"a deviation from the drawing of at most {MAX_DEVIATION / _MM:g} mm, got {value!r}",
+            f"a deviation from the drawing of at most {MAX_DEVIATION / _MM:g} mm, got {shown!r}",
             key=key,
             source=source,
         )
