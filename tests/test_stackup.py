@@ -137,7 +137,7 @@ def test_the_tolerance_sensitivity_names_the_seat():
 def test_the_urdf_and_mjcf_builders_refuse_a_stack_up_in_one_line():
     from hipsim.machine.model_files import urdf_text
 
-    with pytest.raises(ParameterError, match=r"geometry\.spline_seat_mm.*does not model a moving centre") as caught:
+    with pytest.raises(ParameterError, match=r"geometry\.spline_seat_mm.*does not model") as caught:
         urdf_text(STACKED)  # the Pinocchio and MuJoCo models are both built from it
     assert "\n" not in str(caught.value)
     cycle = hipsim.iso14242(rate=100).slice(slice(0, 5))
@@ -241,3 +241,10 @@ def test_the_seat_reads_back_from_the_written_file(tmp_path):
     again = hipsim.load_parameters(path)
     assert np.array_equal(again.geometry.spline, STACKED.geometry.spline)
     np.testing.assert_allclose(again.geometry.as_vector(), STACKED.geometry.as_vector(), rtol=1e-13, atol=0)
+
+
+def test_a_calibration_motion_is_designed_for_a_stacked_machine():
+    from hipsim.stations.excitation import calibration_excitation
+
+    design = calibration_excitation(STACKED, seeds=1)
+    assert np.isfinite(design.condition_number) and design.peaks["cond_inv_min"] > 0.2

@@ -219,7 +219,7 @@ def platform_motion(
     """
     j = _platform_index(platform)
     if j == 0:
-        refuse_stackup(params.chains, "m_1's rates (its centre moves with m_2)")
+        refuse_stackup(params.chains, "the rates of m_1 (platform_motion, follower_motion)")
     p, pd, pdd = _angles(params, q), _angles(params, qd, "qd"), _angles(params, qdd, "qdd")
     T = angular_velocity_map(p)
     omega = np.einsum("nij,nj->ni", T, pd)
@@ -260,7 +260,7 @@ def follower_motion(
     """
     j = _platform_index(platform)
     if j == 0:
-        refuse_stackup(params.chains, "m_1's rates (its centre moves with m_2)")
+        refuse_stackup(params.chains, "the rates of m_1 (platform_motion, follower_motion)")
     q = platform_attitude(params, L, platform, t=t, q0=q0, source=source, guess=guess)
     signs = params.angle_signs
     p = q * signs

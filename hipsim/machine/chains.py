@@ -388,7 +388,7 @@ def refuse_stackup(chains: Chains, what: str, source: str | None = None) -> None
     if chains.stacked:
         raise ParameterError(
             f"the intermediate chain's stack-up ({', '.join(f'{x * 1e3:g}' for x in chains.spline_seat)} mm) moves m_1's "
-            f"rotation centre with m_2; {what} does not model a moving centre (stations, calibrate and the analytic model with "
+            f"rotation centre with m_2, which {what} does not model (stations, calibrate and the analytic model with "
             "control = 2 do)",
             key=f"geometry.{STACKUP_KEY}",
             source=source,
