@@ -7,6 +7,7 @@ route than hipsim.analytic.stations, which the calibration uses.
 
 from __future__ import annotations
 
+import functools
 import json
 
 import numpy as np
@@ -40,11 +41,22 @@ def fixture_rows(truth, n: int, seed: int):
     return np.concatenate(L), q + noise, np.concatenate(known)
 
 
-def log(truth, seed: int, offsets=None, fixture: bool = False, n: int = 1200) -> CalibrationLog:
-    t, L, _, sensors = synthetic_log(PARAMS, truth, n, seed=seed, noise_deg=0.05)
+@functools.cache
+def _hidden(truth_seed: int):
+    return deviated(seed=truth_seed)
+
+
+@functools.cache
+def _motion_log(truth_seed: int, seed: int, n: int):
+    """A log of the hidden machine ``truth_seed`` along a motion, made once per test module."""
+    return synthetic_log(PARAMS, _hidden(truth_seed), n, seed=seed, noise_deg=0.05)
+
+
+def log(truth_seed: int, seed: int, offsets=None, fixture: bool = False, n: int = 1200) -> CalibrationLog:
+    t, L, _, sensors = _motion_log(truth_seed, seed, n)
     known = None
     if fixture:
-        Lf, sf, known = fixture_rows(truth, 150, seed + 1)
+        Lf, sf, known = fixture_rows(_hidden(truth_seed), 150, seed + 1)
         L, sensors = np.concatenate([Lf, L]), np.concatenate([sf, sensors])
         known = np.concatenate([known, np.full((n, 2, 3), np.nan)])
         t = np.arange(len(L)) / 500.0
@@ -56,8 +68,8 @@ def log(truth, seed: int, offsets=None, fixture: bool = False, n: int = 1200) ->
 @pytest.mark.parametrize("seed", [3, 5])
 def test_held_out_z_scores_near_one_on_a_hidden_machine_without_offsets(seed):
     """The attitudes a calibration with per-log offsets predicts are off by about what it says (z ~ 1, not 7)."""
-    truth = deviated(seed=seed)
-    fit = calibrate([log(truth, 10 + seed), log(truth, 11 + seed)], PARAMS, prior=SPREAD, offsets=True)
+    truth = _hidden(seed)
+    fit = calibrate([log(seed, 10 + seed), log(seed, 11 + seed)], PARAMS, prior=SPREAD, offsets=True)
     t, L, true, sensors = synthetic_log(PARAMS, truth, 800, seed=40 + seed, noise_deg=0.05)
     q = prediction_errors(fit.machine, CalibrationLog("held", t, L, sensors), offsets=False)[2]
     error = q - true
@@ -71,9 +83,8 @@ def test_held_out_z_scores_near_one_on_a_hidden_machine_without_offsets(seed):
 
 
 def test_the_output_names_what_trades_and_a_fixture_separates_it():
-    truth = deviated(seed=3)
-    free = calibrate([log(truth, 20, OFFSETS), log(truth, 21, OFFSETS)], PARAMS, offsets=True)
-    held = calibrate([log(truth, 20, OFFSETS, True), log(truth, 21, OFFSETS, True)], PARAMS, offsets=True)
+    free = calibrate([log(3, 20, OFFSETS), log(3, 21, OFFSETS)], PARAMS, offsets=True)
+    held = calibrate([log(3, 20, OFFSETS, True), log(3, 21, OFFSETS, True)], PARAMS, offsets=True)
     # Without the fixture: every offset trades with its platform's joint pattern (R² near 1), named.
     assert {c.sensor for c in free.confounded} == {f"{a}_{j}" for j in (1, 2) for a in ("alpha", "beta", "gamma")}
     for c in free.confounded:
@@ -89,8 +100,7 @@ def test_the_output_names_what_trades_and_a_fixture_separates_it():
 
 
 def test_a_fixtures_rows_read_from_the_log_file(tmp_path):
-    truth = deviated(seed=3)
-    original = log(truth, 30, OFFSETS, fixture=True, n=50)
+    original = log(3, 30, OFFSETS, fixture=True, n=50)
     names = ["t_s", "L_11_mm", "L_12_mm", "L_13_mm"]
     names += [f"{a}_{j}_deg" for j in (1, 2) for a in ("alpha", "beta", "gamma")]
     names += [f"known_{a}_{j}_deg" for j in (1, 2) for a in ("alpha", "beta", "gamma")]
