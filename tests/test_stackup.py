@@ -153,13 +153,27 @@ def test_the_seat_is_in_the_vector_and_its_family():
     assert math.isclose(dv.machine(PARAMS, STACKED.geometry.as_vector()).geometry.spline[1], SEAT[1])
 
 
-def test_power_balance_of_the_analytic_dynamics_with_a_stack_up():
+def _sines(rate: float = 4000.0) -> hipsim.Trajectory:
+    """Three angles, each two sines of its own frequencies (all motors move, in every combination), 1 s, ISO load."""
+    t = np.arange(int(rate)) / rate
+    amp, freq, phase = np.radians([[12.0, 6.0, 9.0], [4.0, 3.0, 5.0]]), [[1.0, 1.6, 0.7], [2.3, 3.1, 2.9]], [0.3, 1.1]
+    q, qd, qdd = (np.zeros((len(t), 3)) for _ in range(3))
+    for a, f, ph in zip(amp, np.asarray(freq) * 2 * np.pi, phase):
+        arg = f * t[:, None] + ph
+        q += a * np.sin(arg)
+        qd += a * f * np.cos(arg)
+        qdd -= a * f**2 * np.sin(arg)
+    return hipsim.Trajectory(t, q, qd, qdd, hipsim.iso14242(rate=rate).Fe, name="sines")
+
+
+@pytest.mark.parametrize("motion_of", ["iso", "sines"])
+def test_power_balance_of_the_analytic_dynamics_with_a_stack_up(motion_of):
     """Σ τ·θ̇ = dE/dt + friction power + F_e·ż_1, E from the bodies' motion: the coupling through the seat is right."""
     from hipsim.analytic.chain_dynamics import chain_mechanical_energy, chain_motion
 
     params = STACKED.replace(sjoint_viscous=0.02, ujoint_coulomb=0.05)
     big = params.replace(geometry=params.geometry.replace(spline=np.array([1e-3, 2e-3, -1e-3])))
-    trajectory = hipsim.iso14242(rate=4000)
+    trajectory = hipsim.iso14242(rate=4000) if motion_of == "iso" else _sines()
     run = AnalyticModel(big).run(trajectory)
     motion = chain_motion(big, trajectory)
     kinetic, potential = chain_mechanical_energy(big, motion)
