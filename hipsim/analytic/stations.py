@@ -41,6 +41,8 @@ Example:
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from ..exceptions import ArgumentError, PoseError
@@ -106,7 +108,11 @@ def carriages_for_platform(params: Parameters, q: np.ndarray, platform: int) -> 
 
 
 def stacked_carriages(
-    params: Parameters, q1: np.ndarray, seen: np.ndarray, guess: np.ndarray | None = None
+    params: Parameters,
+    q1: np.ndarray,
+    seen: np.ndarray,
+    guess: np.ndarray | None = None,
+    solve: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None,
 ) -> np.ndarray:
     """The carriages that give m_1 the attitude ``q1`` when its centre rides on m_2 (the stack-up's fixed point).
 
@@ -118,6 +124,8 @@ def stacked_carriages(
         q1: m_1's gait angles in [rad], (N, 3).
         seen: m_1's own carriage readings at q1 with its centre at home (:func:`chain_positions`) in [m], (N, 3).
         guess: m_2's gait angles near the solution in [rad], (N, 3); None for q1.
+        solve: (carriages (n, 3) [m], guess (n, 3) [rad]) → m_2's gait angles [rad]: its forward kinematics from
+            close guesses; None for :func:`hipsim.analytic.forward_kinematics.solve_pose`.
 
     Returns:
         Carriage readings in [m], (N, 3); NaN rows where m_1 cannot reach.
@@ -131,7 +139,7 @@ def stacked_carriages(
     lift = np.zeros(len(seen))
     for _ in range(LIFT_STEPS):
         L = seen + lift[:, None]
-        q2[ok] = solve_pose(params, L[ok], q2[ok], platform=2)
+        q2[ok] = solve(L[ok], q2[ok]) if solve is not None else solve_pose(params, L[ok], q2[ok], platform=2)
         new = stackup_lift(params.chains.spline_seat, q2 * params.angle_signs)
         change = np.abs(new - lift)[ok]
         lift = new
