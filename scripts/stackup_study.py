@@ -54,7 +54,7 @@ def main() -> None:
     parser.add_argument("--draws", type=int, default=100, help="machines per case (default 100)")
     args = parser.parse_args()
     q_d = hipsim.iso14242(rate=100).q
-    cases = [(c, s, None) for c in (0.1, 0.3) for s in (0.0, 0.1, 0.3, 0.5, 1.0)]
+    cases: list[tuple[float, float, int | None]] = [(c, s, None) for c in (0.1, 0.3) for s in (0.0, 0.1, 0.3, 0.5, 1.0)]
     cases += [(0.0, 0.3, None)] + [(0.3, 0.3, k) for k in range(3)]
     print(
         "chains ±mm | seat mm (axis) | command | m_1 RMS α β γ [°] (median) | m_2 RMS α β γ [°] | "

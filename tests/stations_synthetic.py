@@ -46,6 +46,7 @@ def reference_carriages(params, geometry, j: int, q: np.ndarray, q_other: np.nda
     R = _rotation(q)
     centre = np.array([0.0, 0.0, h[j - 1]]) + g.centre[j - 1] + np.zeros((len(q), 3))
     if j == 1 and np.any(g.spline):
+        assert q_other is not None, "platform 1 on a machine with a stack-up needs m_2's attitude"
         centre[:, 2] += (_rotation(q_other) @ g.spline - g.spline)[:, 2]
     out = np.empty((len(q), 3))
     for i in range(3):

@@ -27,7 +27,9 @@ OFFSETS = np.radians([[0.2, 0.0, 0.1], [0.0, -0.1, -0.15]])
 
 def fixture_rows(truth, n: int, seed: int):
     """A fixture holds m_1, then m_2, at home: carriages, both attitudes and the known ones (NaN where free)."""
-    L, q, known = [], [], []
+    L: list[np.ndarray] = []
+    q: list[np.ndarray] = []
+    known: list[np.ndarray] = []
     for j in (1, 2):
         home = np.zeros((n, 3))
         Lj = reference_carriages(PARAMS, truth, j, home)
@@ -36,9 +38,9 @@ def fixture_rows(truth, n: int, seed: int):
         k = np.full((n, 2, 3), np.nan)
         k[:, j - 1] = 0.0
         known.append(k)
-    q = np.concatenate(q)
-    noise = np.random.default_rng(seed).normal(0.0, np.radians(0.05), q.shape)
-    return np.concatenate(L), q + noise, np.concatenate(known)
+    attitudes = np.concatenate(q)
+    noise = np.random.default_rng(seed).normal(0.0, np.radians(0.05), attitudes.shape)
+    return np.concatenate(L), attitudes + noise, np.concatenate(known)
 
 
 @functools.cache
@@ -101,6 +103,7 @@ def test_the_output_names_what_trades_and_a_fixture_separates_it():
 
 def test_a_fixtures_rows_read_from_the_log_file(tmp_path):
     original = log(3, 30, OFFSETS, fixture=True, n=50)
+    assert original.known is not None
     names = ["t_s", "L_11_mm", "L_12_mm", "L_13_mm"]
     names += [f"{a}_{j}_deg" for j in (1, 2) for a in ("alpha", "beta", "gamma")]
     names += [f"known_{a}_{j}_deg" for j in (1, 2) for a in ("alpha", "beta", "gamma")]
@@ -118,6 +121,7 @@ def test_a_fixtures_rows_read_from_the_log_file(tmp_path):
     path = tmp_path / "fixture.csv"
     path.write_text(text + "\n", encoding="utf-8")
     read = read_calibration_log(path, PARAMS.lead)
+    assert read.known is not None
     assert np.array_equal(np.isnan(read.known), np.isnan(original.known))
     np.testing.assert_allclose(read.known[~np.isnan(read.known)], 0.0, atol=0)
     # a row with one known angle of a platform but not the others is refused by line and column

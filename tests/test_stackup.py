@@ -150,7 +150,9 @@ def test_the_urdf_and_mjcf_builders_refuse_a_stack_up_in_one_line():
 def test_the_seat_is_in_the_vector_and_its_family():
     assert dv.names()[48:] == ("spline_x_1", "spline_y_1", "spline_z_1")
     assert dv.family("spline_y_1") == "spline" and dv.platform_of("spline_z_1") == 1
-    assert math.isclose(dv.machine(PARAMS, STACKED.geometry.as_vector()).geometry.spline[1], SEAT[1])
+    assert STACKED.geometry is not None
+    machine = dv.machine(PARAMS, STACKED.geometry.as_vector())
+    assert machine.geometry is not None and math.isclose(machine.geometry.spline[1], SEAT[1])
 
 
 def _sines(rate: float = 4000.0) -> hipsim.Trajectory:
@@ -177,6 +179,7 @@ def test_power_balance_of_the_analytic_dynamics_with_a_stack_up(motion_of):
     run = AnalyticModel(big).run(trajectory)
     motion = chain_motion(big, trajectory)
     kinetic, potential = chain_mechanical_energy(big, motion)
+    assert motion.lift is not None
     zd = motion.lift[1]
     power = np.sum(run.torques.total * run.torques.motor_speed, axis=1) - run.torques.friction_power
     dE = np.gradient(kinetic + potential, trajectory.t[1] - trajectory.t[0])
@@ -230,7 +233,7 @@ def test_calibrate_estimates_the_seat_of_a_hidden_stacked_machine():
 
 
 @pytest.mark.parametrize(
-    "table, message",
+    ("table", "message"),
     [
         ("spline_seat_mm = [0.1, 0]", r"geometry\.spline_seat_mm.*expected \[x, y, z\] in mm, got \[0\.1, 0\]"),
         ("spline_seat_mm = [0.1, 0, 80]", r"geometry\.spline_seat_mm.*at most 50 mm, got \[0\.1, 0, 80\]"),

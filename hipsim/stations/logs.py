@@ -151,24 +151,30 @@ def _read(
     if not sensors:
         return t, carriages, None, None
     angles = np.radians(np.stack([np.stack([columns[n] for n in names], axis=1) for names in SENSOR_COLUMNS], axis=1))
-    known = None
-    if any(name in columns for name in sum(KNOWN_COLUMNS, ())):
-        known = np.full_like(angles, np.nan)
-        for j, names in enumerate(KNOWN_COLUMNS):
-            if any(name in columns for name in names):
-                missing(names, f"fixture's known attitude of platform {j + 1}")
-                block = np.stack([columns[n] for n in names], axis=1)
-                partial = np.isfinite(block).any(axis=1) & ~np.isfinite(block).all(axis=1)
-                if partial.any():
-                    row = int(np.argmax(partial))
-                    raise TrajectoryError(
-                        f"a fixture's known attitude needs all three angles of platform {j + 1} on a row, or none",
-                        source=source,
-                        line=None if lines is None else int(lines[row]),
-                        column=names[int(np.argmax(~np.isfinite(block[row])))],
-                    )
-                known[:, j] = np.radians(block)
-    return t, carriages, angles, known
+    return t, carriages, angles, _known(columns, lines, source, missing)
+
+
+def _known(columns: dict[str, np.ndarray], lines: np.ndarray | None, source: str, missing) -> np.ndarray | None:
+    """A fixture's known attitudes in [rad] (N, 2, 3), NaN where a platform is free; None without the columns."""
+    if not any(name in columns for name in sum(KNOWN_COLUMNS, ())):
+        return None
+    known = np.full((len(columns["t_s"]), 2, 3), np.nan)
+    for j, names in enumerate(KNOWN_COLUMNS):
+        if not any(name in columns for name in names):
+            continue
+        missing(names, f"fixture's known attitude of platform {j + 1}")
+        block = np.stack([columns[n] for n in names], axis=1)
+        partial = np.isfinite(block).any(axis=1) & ~np.isfinite(block).all(axis=1)
+        if partial.any():
+            row = int(np.argmax(partial))
+            raise TrajectoryError(
+                f"a fixture's known attitude needs all three angles of platform {j + 1} on a row, or none",
+                source=source,
+                line=None if lines is None else int(lines[row]),
+                column=names[int(np.argmax(~np.isfinite(block[row])))],
+            )
+        known[:, j] = np.radians(block)
+    return known
 
 
 def read_calibration_log(path: str | Path, lead: float) -> CalibrationLog:
