@@ -38,7 +38,7 @@ def test_prediction_std_is_the_sensitivity_times_the_deviation(drawing):
     """One value uncertain (lever 12, σ = 0.1 mm): the spread is |∂q/∂δ|·σ, against moving that lever by σ."""
     q = np.radians([[10.0, 4.0, -6.0]])
     L = hipsim.analytic.stations.carriages_for_platform(drawing, q, 1)
-    sigma = np.zeros(48)
+    sigma = np.zeros(len(ChainGeometry.names()))
     k = ChainGeometry.names().index("lever_12")
     sigma[k] = 1e-4
     spread = prediction_std(drawing, np.repeat(q[:, None], 2, axis=1), np.diag(sigma**2))[0, 0]
@@ -102,7 +102,7 @@ def test_the_calibrations_covariance_carries_its_correlations(drawing):
         "kind": "kinematic calibration",
         "estimated": ["lever_12", "lever_13"],
         "covariance_mm2": [[0.01, -0.01], [-0.01, 0.01]],
-        "std_mm": [0.0] * 48,
+        "std_mm": [0.0] * len(ChainGeometry.names()),
     }
     covariance = calibration_covariance(record)
     assert covariance is not None

@@ -68,13 +68,13 @@ class SensorComparison(Record):
 
 def prediction_std(params: Parameters, q: np.ndarray, theta_covariance: np.ndarray) -> np.ndarray:
     """Standard deviation in [rad] of both platforms' predicted attitudes q (N, 2, 3) [rad] from the per-chain values'
-    covariance [m²] (48, 48): √(J·Σ·Jᵀ) per platform and angle with J = ∂q/∂δ, (N, 2, 3)."""
+    covariance [m²] (COUNT, COUNT) (hipsim.stations.deviations.COUNT): √(J·Σ·Jᵀ) per platform and angle with J = ∂q/∂δ, (N, 2, 3)."""
     J = attitude_jacobian(params, np.asarray(q, dtype=float))
     return np.sqrt(np.einsum("njkp,pr,njkr->njk", J, np.asarray(theta_covariance, dtype=float), J))
 
 
 def calibration_covariance(record: Mapping[str, Any]) -> np.ndarray | None:
-    """The per-chain values' covariance [m²] (48, 48) from a calibrated file's ``[identification]`` table; None without one.
+    """The per-chain values' covariance [m²] (COUNT, COUNT) (hipsim.stations.deviations.COUNT) from a calibrated file's ``[identification]`` table; None without one.
 
     The posterior covariance of the estimated values where the file has it (``estimated``, ``covariance_mm2``), the
     values kept at the start with none (the attitudes do not see them); else, for a file written before it, the
@@ -110,7 +110,7 @@ def compare_sensors(
         t: sample times [s], (N,).
         predicted: both platforms' predicted attitudes [rad], (N, 2, 3).
         measured: the sensors' [rad], (N, 2, 3).
-        theta_covariance: the per-chain values' covariance [m²], (48, 48); None: the prediction carries none.
+        theta_covariance: the per-chain values' covariance [m²], (COUNT, COUNT) (hipsim.stations.deviations.COUNT); None: the prediction carries none.
         uncertainty: where ``theta_covariance`` came from, for the record.
     """
     difference = np.degrees(np.asarray(measured, dtype=float) - np.asarray(predicted, dtype=float))
