@@ -15,15 +15,21 @@ import numpy as np
 import pytest
 
 from hipsim.exceptions import ArgumentError
+from hipsim.rig.monitoring import control_chart
 from hipsim.rig.monitoring.control_chart import (
     DEFAULT_ALARM_RISE,
     DEFAULT_BASELINE,
     EWMA_L,
     EWMA_LAMBDA,
     MIN_BASELINE,
-    chart,
     parse_baseline,
 )
+
+
+def chart(*args, baseline_min=3, **options):
+    """The chart with the three-snapshot baseline these hand values are of (the default needs five)."""
+    return control_chart.chart(*args, baseline_min=baseline_min, **options)
+
 
 CYCLES = [100_000, 500_000, 750_000, 1_000_000, 1_100_000, 1_200_000, 1_300_000]
 #: Running-in far off (never flagged), baseline 10.0, 10.2, 9.8 mm, then 10.5, 11.0, 10.0 mm.
@@ -32,7 +38,7 @@ HIP_RADIUS_MM = 25.0
 
 
 def test_the_defaults():
-    assert (EWMA_LAMBDA, EWMA_L, MIN_BASELINE) == (0.2, 3.0, 3)
+    assert (EWMA_LAMBDA, EWMA_L, MIN_BASELINE) == (0.2, 3.0, 5)
     assert DEFAULT_BASELINE == (500_000, 1_000_000) and DEFAULT_ALARM_RISE == 0.01
 
 
@@ -92,7 +98,9 @@ def test_another_baseline_window():
     c = chart(CYCLES, ESTIMATE, [0.1] * 7, HIP_RADIUS_MM, baseline=(0, 600_000))
     assert c.baseline_count == 2 and math.isnan(c.mean) and math.isnan(c.spread) and all(map(math.isnan, c.threshold))
     assert c.note == (
-        "baseline incomplete: 2 of the 3 snapshots it needs within cycles 0-600000; the chart starts once it has them"
+        "baseline incomplete: 2 of the 3 snapshots it needs within cycles 0-600000; the chart starts once it has them "
+        "(widen --baseline or log snapshots more often; --baseline-min 2 would chart on fewer, with notices and early "
+        "alarms)"
     )
     assert np.isnan(c.ewma).all() and np.isnan(c.change).all() and np.isnan(c.change_std).all()
     assert not c.alarm.any() and c.alarm.dtype.kind == "i" and c.alarm.size == 7

@@ -161,10 +161,15 @@ def monitor_verdict(summary: dict) -> Verdict:
     if summary["note"]:
         return Verdict("open", "NO BASELINE YET", (summary["note"] + ".", *told[1:]))
     if summary["alarm_active"]:
+        raised = summary["alarm_raised_at"]
         return Verdict(
             "fail",
             "ALARM",
-            (f"An alarm is active at the last snapshot (cycle {summary['last_cycle']:,}).", *told),
+            (
+                f"An alarm raised at cycle {raised:,} is held at the last snapshot (cycle {summary['last_cycle']:,}) "
+                f"until acknowledged (hipsim monitor --acknowledge {raised}).",
+                *told,
+            ),
         )
     if summary["notice_active"] and notice is not None:
         return Verdict("open", "NOTICE", (f"At the last snapshot a {notice['text']}.", *told))
@@ -202,7 +207,7 @@ def _shown(result: MonitorResult) -> tuple[str, ...]:
     names += ["residual_rms_Nmm"]
     if any(math.isfinite(v) for v in c["load_gain"]):
         names += ["load_gain", "load_gain_change"]
-    return (*names, "stations", "flag", "note")
+    return (*names, "stations", "flag", "state", "acknowledged", "note")
 
 
 def _cell(name: str, value: Any) -> str:
@@ -212,6 +217,8 @@ def _cell(name: str, value: Any) -> str:
         return f"{int(value) * _MC:.3f}"
     if name == "alarm":
         return str(int(value))
+    if name == "acknowledged":
+        return "" if not math.isfinite(float(value)) else f"{int(value):,}"
     return "" if not math.isfinite(float(value)) else significant(float(value), 4)
 
 

@@ -41,6 +41,7 @@ __all__ = [
     "Snapshot",
     "check_counter",
     "find_snapshots",
+    "settled",
     "skipped",
 ]
 
@@ -93,6 +94,8 @@ class Skipped:
         kind: "unreadable" (the reader or a check refused it), "waiting" (still being written),
             or "duplicate" (its cycles are another snapshot's).
         line: the file line the reason names, or None.
+        size: the file's (a window's) bytes when it was looked at, or None when it could not be read.
+        sha256: the SHA-256 of those bytes (hex), or "" when it could not be read.
     """
 
     name: str
@@ -100,9 +103,19 @@ class Skipped:
     reason: str
     kind: str = "unreadable"
     line: int | None = None
+    size: int | None = None
+    sha256: str = ""
 
     def as_dict(self) -> dict:
-        return {"file": self.name, "path": self.path, "kind": self.kind, "reason": self.reason, "line": self.line}
+        return {
+            "file": self.name,
+            "path": self.path,
+            "kind": self.kind,
+            "reason": self.reason,
+            "line": self.line,
+            "bytes": self.size,
+            "sha256": self.sha256 or None,
+        }
 
 
 def skipped(snapshot: Snapshot, error: HipsimError, kind: str = "unreadable") -> Skipped:
@@ -111,7 +124,15 @@ def skipped(snapshot: Snapshot, error: HipsimError, kind: str = "unreadable") ->
     reason = str(error)
     if getattr(error, "column", None) == "t_s" or "'t_s'" in reason and "increase" in reason:
         reason += " (time stamps too coarse for the rate? give --rate HZ to read the times from the sample index)"
-    return Skipped(snapshot.name, snapshot.path, reason, kind, line if isinstance(line, int) else None)
+    return Skipped(
+        snapshot.name,
+        snapshot.path,
+        reason,
+        kind,
+        line if isinstance(line, int) else None,
+        snapshot.size,
+        snapshot.sha256,
+    )
 
 
 def _paths(logs: str | Path | Iterable[str | Path]) -> list[str]:
@@ -184,16 +205,21 @@ def find_snapshots(
     torque_constant: float | None = None,
     rate: float | None = None,
     cache: dict | None = None,
+    wait: bool = False,
 ) -> tuple[list[Snapshot], list[Skipped]]:
     """The snapshots of the given logs, and those left out (still being written; with windows, a file the reader refuses).
 
     Args:
         logs: a file, folder (its ``*.csv``) or glob pattern, or a list of them.
         window: cycles per window to cut each file into (a long log); None: one snapshot a file.
-        settle: a file changed less than this many seconds ago is still being written: it waits.
+        settle: a file changed less than this many seconds ago is still being written: it waits (for the next round
+            of a watch; with ``wait``, here).
         torque_constant: the motors' torque constant in [N·m/A] (a window's scan reads the log: logs of currents need it).
         rate: sample rate in [Hz] to read the times from the sample index (time stamps too coarse), or None.
         cache: identities already computed, (path, size, mtime) → (bytes, SHA-256, line end), filled in.
+        wait: a batch run's rule: sleep until every file has been unchanged for ``settle`` seconds, at most ``settle``
+            seconds in all, then read them all (one still changing then is read as it is: a shorter snapshot is
+            marked incomplete, a line cut short is skipped with its reason).
 
     Returns:
         The snapshots (in file order; whole files' cycles are known once read), and the skipped.
@@ -208,13 +234,17 @@ def find_snapshots(
         raise ArgumentError("settle", settle, "seconds ≥ 0")
     snapshots: list[Snapshot] = []
     left: list[Skipped] = []
+    paths = _paths(logs)
+    if wait:
+        settled(paths, settle)
     now = time.time()
-    for path in _paths(logs):
+    for path in paths:
         name = Path(path).name
         try:
             status = os.stat(path)
             age = now - status.st_mtime
-            if age < settle:
+            if age < settle and not wait:
+                size, sha, _ = _identity(path, cache)
                 left.append(
                     Skipped(
                         name,
@@ -222,6 +252,8 @@ def find_snapshots(
                         f"{path}: changed {max(age, 0.0):.3g} s ago: still being written? read once unchanged for "
                         f"{settle:g} s",
                         "waiting",
+                        size=size,
+                        sha256=sha,
                     )
                 )
                 continue
@@ -235,8 +267,29 @@ def find_snapshots(
         try:
             snapshots += _windows(path, int(window), torque_constant, rate)
         except HipsimError as error:
-            left.append(skipped(Snapshot(path, status.st_size, ""), error))
+            size, sha, _ = _identity(path, cache)
+            left.append(skipped(Snapshot(path, size, sha), error))
     return snapshots, left
+
+
+def settled(paths: Sequence[str], settle: float, clock=time.time, sleep=time.sleep) -> float:
+    """Sleep until every file has been unchanged for ``settle`` seconds, at most ``settle`` seconds in all; the time slept.
+
+    A file that changes while waited for is waited for again, within the same bound: a file still being written after
+    it is read as it is (a batch run's rule; a watch waits for its next round instead).
+    """
+    start = clock()
+    while True:
+        youngest = 0.0
+        for path in paths:
+            try:
+                youngest = max(youngest, settle - (clock() - os.stat(path).st_mtime))
+            except OSError:
+                continue  # gone: said when it is read
+        left = settle - (clock() - start)
+        if youngest <= 0 or left <= 0:
+            return clock() - start
+        sleep(min(youngest, left))
 
 
 def _windows(path: str, window: int, torque_constant: float | None, rate: float | None) -> list[Snapshot]:
