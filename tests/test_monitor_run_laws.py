@@ -406,7 +406,7 @@ def world(monkeypatch):
     last snapshot's alarm of the next result, ``world.fail`` makes the next run find nothing usable."""
     w = SimpleNamespace(snapshots=[], skipped=[], alarm=0, fail=False, runs=[], finds=[])
 
-    def find_snapshots(logs, window, settle, torque_constant, rate, cache):
+    def find_snapshots(logs, window, settle, torque_constant, rate, cache, columns=None):
         w.finds.append((logs, window, settle, torque_constant, rate, cache))
         return list(w.snapshots), list(w.skipped)
 

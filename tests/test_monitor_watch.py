@@ -3,6 +3,8 @@ written is not read half; the alarm command runs once when the alarm is raised."
 
 from __future__ import annotations
 
+from functools import partial
+
 import math
 import shutil
 import threading
@@ -15,9 +17,13 @@ from monitor_synthetic import write_snapshot
 import hipsim
 from hipsim.cli.main import main
 from hipsim.rig.monitoring.monitor_fit import MonitorSetup
-from hipsim.rig.monitoring.monitor_run import run_monitor
+from hipsim.rig.monitoring import monitor_run
 from hipsim.rig.monitoring.snapshots import find_snapshots
 from hipsim.rig.monitoring.watch import watch
+
+run_monitor = partial(
+    monitor_run.run_monitor, baseline_min=3
+)  # three baseline snapshots (every 250,000 cycles in 500,000-1,000,000): the chart's minimum set to them
 
 BASELINE = (10, 30)
 CYCLES = (0, 10, 20, 30, 40, 50, 60)
@@ -58,6 +64,7 @@ def test_watching_a_folder_filled_during_the_test_gives_the_batch_table(tmp_path
             "update": updates.append,
             "on_alarm": alarms.append,
             "stop": stop,
+            "baseline_min": 3,
         },
     )
     thread.start()
@@ -89,7 +96,11 @@ def test_watching_a_folder_filled_during_the_test_gives_the_batch_table(tmp_path
 
 def test_the_watch_options_are_checked(tmp_path, capsys, staged):
     params, source = staged
-    status = main(["monitor", "--params", params.source, "--log", str(source), "--on-alarm", "true"])
+    status = main(
+        ["monitor", "--baseline-min", "3", "--params", params.source, "--log", str(source), "--on-alarm", "true"]
+    )
     assert status == 2 and "--on-alarm: runs with --watch only" in capsys.readouterr().err
-    status = main(["monitor", "--params", params.source, "--log", str(source), "--watch", "--poll", "0"])
+    status = main(
+        ["monitor", "--baseline-min", "3", "--params", params.source, "--log", str(source), "--watch", "--poll", "0"]
+    )
     assert status == 2 and "--poll" in capsys.readouterr().err

@@ -14,6 +14,8 @@ from ..exceptions import HipsimError
 from .motion_options import builtin_frequency
 
 __all__ = [
+    "CHANNEL_COLUMNS_HELP",
+    "add_channel_columns",
     "add_machine_options",
     "add_provenance_options",
     "add_summary_format",
@@ -40,6 +42,20 @@ def add_machine_options(parser: argparse.ArgumentParser) -> None:
         default=[],
         help="override one parameter in the file's units, e.g. lever.length_mm=330 (repeatable)",
     )
+
+
+#: ``--columns`` on a TDMS or HDF5 log (:mod:`hipsim.channels`): which channel holds which column.
+CHANNEL_COLUMNS_HELP = (
+    "a TDMS or HDF5 log's channels: NAME=GROUP/CHANNEL,… (NAME a CSV column's name with its unit, e.g. "
+    "Fe_N=Load/Fz; an HDF5 dataset's path), GROUP to read a group's channels by their names; default: the file's one "
+    "group, each channel by its name and unit (unit_string)"
+)
+
+
+def add_channel_columns(parser) -> None:
+    """``--columns MAP``: a TDMS or HDF5 log's channel map (:data:`CHANNEL_COLUMNS_HELP`), for the commands that read
+    rig logs and have no trajectory column map (those read it from their ``--columns`` when the log is TDMS or HDF5)."""
+    parser.add_argument("--columns", metavar="MAP", help=CHANNEL_COLUMNS_HELP)
 
 
 def add_provenance_options(parser: argparse.ArgumentParser) -> None:

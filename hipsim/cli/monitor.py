@@ -8,7 +8,7 @@ import subprocess
 import sys
 
 from ..exceptions import HipsimError
-from .common import add_provenance_options, add_summary_format, page_provenance, print_json
+from .common import add_channel_columns, add_provenance_options, add_summary_format, page_provenance, print_json
 
 __all__ = ["add_parser", "format_summary", "run"]
 
@@ -116,6 +116,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         metavar="HZ",
         help=f"low-pass cutoff (default {DEFAULT_CUTOFF:g} Hz; 0: none)",
     )
+    add_channel_columns(logs)
     logs.add_argument(
         "--rate",
         type=float,
@@ -240,6 +241,7 @@ def run(args) -> int:
         torque_constant=args.torque_constant,
         window=args.window,
         rate=args.rate,
+        columns=args.columns,
     )
     provenance = page_provenance(argparse.Namespace(**(vars(args) | {"overrides": []})))
     metadata = {"hipsim": provenance.version, "parameters_file": args.params}
@@ -249,7 +251,7 @@ def run(args) -> int:
     from ..rig.monitoring.snapshots import find_snapshots
 
     snapshots, skipped = find_snapshots(
-        args.log, args.window, args.settle, args.torque_constant, args.rate, wait=True
+        args.log, args.window, args.settle, args.torque_constant, args.rate, wait=True, columns=args.columns
     )
     bar = _progress_bar(len(snapshots))
     try:

@@ -94,7 +94,11 @@ def check_baseline_min(baseline_min: int) -> int:
     Raises:
         ArgumentError: anything else.
     """
-    if isinstance(baseline_min, bool) or not isinstance(baseline_min, (int, np.integer)) or baseline_min < LEAST_BASELINE:
+    if (
+        isinstance(baseline_min, bool)
+        or not isinstance(baseline_min, (int, np.integer))
+        or baseline_min < LEAST_BASELINE
+    ):
         raise ArgumentError("baseline_min", baseline_min, f"a whole number of snapshots ≥ {LEAST_BASELINE}")
     return int(baseline_min)
 

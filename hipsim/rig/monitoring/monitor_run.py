@@ -316,13 +316,15 @@ def monitor(
     settle: float = 0.0,
     baseline_min: int = MIN_BASELINE,
     acknowledge: Sequence[int] = (),
+    columns: str | None = None,
 ):
     """Follow a wear test's friction from its snapshots' motor torques (the library's ``hipsim monitor``).
 
     Args:
         params: an identified parameter file (checked), or a :class:`~hipsim.machine.parameters.Parameters` you
             vouch for (lever spin on).
-        logs: snapshot files, a folder (its ``*.csv``) or a glob pattern, or a list of them; each with a ``cycle`` column.
+        logs: snapshot files (CSV, TDMS, HDF5), a folder (its ``*.csv``, ``*.tdms``, ``*.h5``, ``*.hdf5``) or a glob
+            pattern, or a list of them; each with a ``cycle`` column.
         baseline: (FROM, TO) cycles, or ``"FROM:TO"``: the reference period after running-in.
         alarm_rise: the engineering threshold, a change of the hip friction coefficient in one station.
         window: cut each file into windows of this many cycles (one long log); None: a snapshot a file.
@@ -337,6 +339,7 @@ def monitor(
             in all), then read.
         baseline_min: snapshots the baseline needs before the chart starts (default 5).
         acknowledge: cycles of alarms acknowledged (recorded in ``out``): an alarm is held until one covers it.
+        columns: a TDMS or HDF5 snapshot's column map (``NAME=GROUP/CHANNEL,…``, :mod:`hipsim.channels`), or None.
 
     Returns:
         The table (columns :data:`~hipsim.rig.monitoring.monitor_table.COLUMNS`): a pandas DataFrame when pandas is
@@ -348,9 +351,15 @@ def monitor(
         baseline = parse_baseline(baseline)
     machine, spin = reference(None, params) if isinstance(params, Parameters) else reference(params)
     setup = MonitorSetup(
-        machine, lever_spin=spin, cutoff=cutoff, torque_constant=torque_constant, window=window, rate=rate
+        machine,
+        lever_spin=spin,
+        cutoff=cutoff,
+        torque_constant=torque_constant,
+        window=window,
+        rate=rate,
+        columns=columns,
     )
-    snapshots, skipped = find_snapshots(logs, window, settle, torque_constant, rate, wait=True)
+    snapshots, skipped = find_snapshots(logs, window, settle, torque_constant, rate, wait=True, columns=columns)
     result = run_monitor(
         setup,
         snapshots,

@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...channels import CHANNEL_SUFFIXES, channel_kind, read_channels
 from ...exceptions import ArgumentError, HipsimError, TrajectoryError
 from ..logs.reader import RigLogFile
 
@@ -52,6 +53,8 @@ STATION_LOADS = ("Fe_1_N", "Fe_2_N")
 #: The commanded load in [N], when the rig logs it (compared with the measured ``Fe_N``: a load-cell drift).
 COMMANDED_LOAD = "Fe_cmd_N"
 _HASH_BLOCK = 1 << 20
+#: A folder's files read as snapshots: CSV and the channel files (TDMS, HDF5: :mod:`hipsim.channels`).
+LOG_SUFFIXES = (".csv", *CHANNEL_SUFFIXES)
 
 
 @dataclass(frozen=True)
@@ -136,13 +139,14 @@ def skipped(snapshot: Snapshot, error: HipsimError, kind: str = "unreadable") ->
 
 
 def _paths(logs: str | Path | Iterable[str | Path]) -> list[str]:
-    """Files of the given files, folders (their *.csv) and glob patterns, each once, in sorted order."""
+    """Files of the given files, folders (their *.csv, *.tdms, *.h5, *.hdf5, *.hdf) and glob patterns, each once, in
+    sorted order."""
     items = [logs] if isinstance(logs, (str, Path)) else list(logs)
     found: list[str] = []
     for item in items:
         text = str(item)
         if os.path.isdir(text):
-            found += sorted(str(p) for p in Path(text).glob("*.csv") if p.is_file())
+            found += sorted(str(p) for p in Path(text).iterdir() if p.suffix.lower() in LOG_SUFFIXES and p.is_file())
         elif glob.has_magic(text):
             found += sorted(p for p in glob.glob(text) if os.path.isfile(p))
         elif os.path.isfile(text):
@@ -206,6 +210,7 @@ def find_snapshots(
     rate: float | None = None,
     cache: dict | None = None,
     wait: bool = False,
+    columns: str | None = None,
 ) -> tuple[list[Snapshot], list[Skipped]]:
     """The snapshots of the given logs, and those left out (still being written; with windows, a file the reader refuses).
 
@@ -220,6 +225,7 @@ def find_snapshots(
         wait: a batch run's rule: sleep until every file has been unchanged for ``settle`` seconds, at most ``settle``
             seconds in all, then read them all (one still changing then is read as it is: a shorter snapshot is
             marked incomplete, a line cut short is skipped with its reason).
+        columns: a TDMS or HDF5 log's column map (:mod:`hipsim.channels`), for a window's scan.
 
     Returns:
         The snapshots (in file order; whole files' cycles are known once read), and the skipped.
@@ -265,7 +271,7 @@ def find_snapshots(
             left.append(Skipped(name, path, f"{path}: cannot read ({error.strerror})"))
             continue
         try:
-            snapshots += _windows(path, int(window), torque_constant, rate)
+            snapshots += _windows(path, int(window), torque_constant, rate, columns)
         except HipsimError as error:
             size, sha, _ = _identity(path, cache)
             left.append(skipped(Snapshot(path, size, sha), error))
@@ -292,9 +298,12 @@ def settled(paths: Sequence[str], settle: float, clock=time.time, sleep=time.sle
         sleep(min(youngest, left))
 
 
-def _windows(path: str, window: int, torque_constant: float | None, rate: float | None) -> list[Snapshot]:
-    """Whole windows of ``window`` cycles of one long log (the first starting at its first cycle), each its lines."""
-    raw = RigLogFile(path, torque_constant, keep=(CYCLE_COLUMN,), rate=rate)
+def _windows(
+    path: str, window: int, torque_constant: float | None, rate: float | None, columns: str | None = None
+) -> list[Snapshot]:
+    """Whole windows of ``window`` cycles of one long log (the first starting at its first cycle), each its lines (a
+    TDMS or HDF5 log's: its sample numbers)."""
+    raw = RigLogFile(path, torque_constant, keep=(CYCLE_COLUMN,), rate=rate, columns=columns)
     try:
         if CYCLE_COLUMN not in raw.kept:
             raise TrajectoryError(
@@ -319,7 +328,10 @@ def _windows(path: str, window: int, torque_constant: float | None, rate: float 
         raise TrajectoryError(
             f"holds no whole window of {window} cycles (cycles {cycles[0]}-{cycles[-1]})", source=path
         )
-    identities = _line_identities(path, [(a, b) for a, b, _, _ in spans])
+    if channel_kind(path) is not None:
+        identities = _sample_identities(path, [(a, b) for a, b, _, _ in spans], columns)
+    else:
+        identities = _line_identities(path, [(a, b) for a, b, _, _ in spans])
     return [Snapshot(path, size, sha, (a, b), c0, c1) for (a, b, c0, c1), (size, sha) in zip(spans, identities)]
 
 
@@ -338,3 +350,14 @@ def _line_identities(path: str, spans: Sequence[tuple[int, int]]) -> list[tuple[
                 digests[k].update(raw)
                 sizes[k] += len(raw)
     return [(size, digest.hexdigest()) for size, digest in zip(sizes, digests)]
+
+
+def _sample_identities(path: str, spans: Sequence[tuple[int, int]], columns: str | None) -> list[tuple[int, str]]:
+    """(bytes, SHA-256) of each span of a channel file's samples [first, stop) (numbered from 1): of the float64 values
+    of its rows, every column read, in the table's order."""
+    table = read_channels(path, columns, "log file", TrajectoryError)
+    found = []
+    for first, stop in spans:
+        data = np.ascontiguousarray(table.values[first - 1 : stop - 1]).tobytes()
+        found.append((len(data), hashlib.sha256(data).hexdigest()))
+    return found

@@ -84,7 +84,9 @@ def watch(
     active = False
     done = 0
     while not stop.is_set():
-        snapshots, skipped = find_snapshots(logs, setup.window, settle, setup.torque_constant, setup.rate, cache=cache)
+        snapshots, skipped = find_snapshots(
+            logs, setup.window, settle, setup.torque_constant, setup.rate, cache=cache, columns=setup.columns
+        )
         seen = {(s.name, s.sha256) for s in snapshots}
         if seen != known and snapshots:
             try:
