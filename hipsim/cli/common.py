@@ -16,6 +16,7 @@ from .motion_options import builtin_frequency
 __all__ = [
     "CHANNEL_COLUMNS_HELP",
     "add_channel_columns",
+    "channel_columns",
     "add_machine_options",
     "add_provenance_options",
     "add_summary_format",
@@ -56,6 +57,20 @@ def add_channel_columns(parser) -> None:
     """``--columns MAP``: a TDMS or HDF5 log's channel map (:data:`CHANNEL_COLUMNS_HELP`), for the commands that read
     rig logs and have no trajectory column map (those read it from their ``--columns`` when the log is TDMS or HDF5)."""
     parser.add_argument("--columns", metavar="MAP", help=CHANNEL_COLUMNS_HELP)
+
+
+def channel_columns(path: str, columns: str | None) -> tuple[set[str], str | None] | None:
+    """A TDMS or HDF5 log's column names and the map to read it with (``--columns``), or None for any other file.
+
+    For the commands whose ``--columns`` maps a trajectory's columns (``wear``, ``iso-check``): on a TDMS or HDF5
+    log it is the channel map (:mod:`hipsim.channels`), the only map such a file takes.
+    """
+    from ..channels import channel_kind, read_channels
+    from ..exceptions import TrajectoryError
+
+    if channel_kind(path) is None:
+        return None
+    return set(read_channels(path, columns, "log file", TrajectoryError).names), columns
 
 
 def add_provenance_options(parser: argparse.ArgumentParser) -> None:

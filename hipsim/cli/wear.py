@@ -190,7 +190,10 @@ def read_motion(args, spec: str | None):
     path, tag = _split(spec)
     if tag is None and args.platform and spec == args.trajectory:
         tag = args.platform
-    names = _header(path)
+    from .common import channel_columns
+
+    channels = channel_columns(path, args.columns)  # a TDMS or HDF5 log: its channels by --columns
+    names = _header(path) if channels is None else channels[0]
     kind = next((kind for kind, marks in _KINDS if any(mark in names for mark in marks)), "trajectory")
     ns = argparse.Namespace(**vars(args))
     ns.trajectory, ns.rate, ns.cycles = path, None, None
@@ -200,7 +203,8 @@ def read_motion(args, spec: str | None):
         from ..rig import load_log
         from .common import parameters
 
-        log = load_log(path, parameters(args), torque_constant=args.torque_constant, cutoff=args.cutoff)
+        columns = None if channels is None else channels[1]
+        log = load_log(path, parameters(args), args.torque_constant, args.cutoff, columns=columns)
         trajectory = log.trajectory.slice(log.usable)
         trajectory = Trajectory(trajectory.t, trajectory.q, trajectory.qd, trajectory.qdd, trajectory.Fe, name=log.name)
         notes.append(f"{log.name}: a rig log, motion from its {log.motion_from}; the filter's edges left out")

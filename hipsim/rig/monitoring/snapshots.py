@@ -168,7 +168,9 @@ def _identity(path: str, cache: dict | None) -> tuple[int, str, bool]:
         for block in iter(lambda: stream.read(_HASH_BLOCK), b""):
             digest.update(block)
             last = block[-1:]
-    found = (status.st_size, digest.hexdigest(), last == b"\n" or status.st_size == 0)
+    # A line end is a text file's: a TDMS or HDF5 file is never "cut mid-line".
+    ended = last == b"\n" or status.st_size == 0 or channel_kind(path) is not None
+    found = (status.st_size, digest.hexdigest(), ended)
     if cache is not None:
         cache[key] = found
     return found
