@@ -147,8 +147,13 @@ def numbers(text: str, separator: str, option: str, expected: str, count: int | 
     return values
 
 
-def progress(what: str):
-    """A progress callback (done, total) drawing a tqdm bar on a terminal once a run takes over 2 s; None elsewhere."""
+def progress(what: str, unit: str = " samples"):
+    """A progress callback (done, total) drawing a tqdm bar on a terminal once a run takes over 2 s; None elsewhere.
+
+    Args:
+        what: the bar's label.
+        unit: what is counted, as the bar says it (" samples", " snapshots", " steps").
+    """
     if not sys.stderr.isatty():
         return None
     from tqdm import tqdm
@@ -158,7 +163,7 @@ def progress(what: str):
     def update(done: int, total: int) -> None:
         if not bars:
             bars.append(
-                tqdm(total=total, desc=what, unit=" samples", unit_scale=True, delay=2.0, file=sys.stderr, leave=False)
+                tqdm(total=total, desc=what, unit=unit, unit_scale=True, delay=2.0, file=sys.stderr, leave=False)
             )
         bars[0].update(done - bars[0].n)
         if done >= total:

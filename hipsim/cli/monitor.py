@@ -8,7 +8,14 @@ import subprocess
 import sys
 
 from ..exceptions import HipsimError
-from .common import add_channel_columns, add_provenance_options, add_summary_format, page_provenance, print_json
+from .common import (
+    add_channel_columns,
+    add_provenance_options,
+    add_summary_format,
+    page_provenance,
+    print_json,
+    progress,
+)
 
 __all__ = ["add_parser", "format_summary", "run"]
 
@@ -253,25 +260,21 @@ def run(args) -> int:
     snapshots, skipped = find_snapshots(
         args.log, args.window, args.settle, args.torque_constant, args.rate, wait=True, columns=args.columns
     )
-    bar = _progress_bar(len(snapshots))
-    try:
-        result = run_monitor(
-            setup,
-            snapshots,
-            baseline,
-            args.alarm_rise,
-            args.out,
-            args.restart,
-            args.workers,
-            args.scheduler,
-            progress=lambda n, total: bar.update(n - bar.n),
-            metadata=metadata,
-            skipped=skipped,
-            baseline_min=args.baseline_min,
-            acknowledge=args.acknowledge,
-        )
-    finally:
-        bar.close()
+    result = run_monitor(
+        setup,
+        snapshots,
+        baseline,
+        args.alarm_rise,
+        args.out,
+        args.restart,
+        args.workers,
+        args.scheduler,
+        progress=progress("monitor", " snapshots"),  # a bar on a terminal (a first run takes a while)
+        metadata=metadata,
+        skipped=skipped,
+        baseline_min=args.baseline_min,
+        acknowledge=args.acknowledge,
+    )
     summary = _outputs(args, result, provenance)
     if args.summary_format == "json":
         print_json(summary)
@@ -351,12 +354,6 @@ def _watch(args, setup, baseline, provenance, metadata) -> int:
         print("hipsim: stopped watching; the table and page are those of the last update", file=sys.stderr)
         return 130
     return 1 if result is not None and result.findings.alarm_held else 0
-
-
-def _progress_bar(total: int):
-    from tqdm.auto import tqdm
-
-    return tqdm(total=total, disable=not sys.stderr.isatty(), unit="snapshot", delay=2.0, leave=False)
 
 
 def format_summary(summary: dict, result) -> str:

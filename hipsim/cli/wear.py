@@ -405,7 +405,9 @@ def _one(args, spec, setup, points, law):
     from ..wear.tracks import cycle_tracks
 
     motion, cycle_time, name, path, notes = read_motion(args, spec)
-    maps = wear_maps(motion, cycle_time, setup, points)
+    from .common import progress
+
+    maps = wear_maps(motion, cycle_time, setup, points, progress=progress("wear", " steps"))
     wear = predict_wear(maps, law) if law is not None else None
     if wear is not None and wear.beyond_table:
         notes.append(
