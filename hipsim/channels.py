@@ -221,7 +221,9 @@ def read_channels(
                 f"channel '{where}' has {n} values, '{longest}' {lengths[longest]}: a table's channels are one length",
                 source=source,
             )
-    names, factors, wheres = [], [], []
+    names: list[str] = []
+    factors: list[float] = []
+    wheres: list[str] = []
     for where, (_, unit, name) in picked.items():
         column, factor = (name, 1.0) if name is not None else _name(where.rsplit("/", 1)[-1], unit, source, error)
         if column in names:

@@ -155,7 +155,11 @@ def _describe(
 
 
 def hold(
-    cycles: Sequence[int], alarm: Sequence[int], flag: Sequence[str], acknowledge: Sequence[int], charted: bool = True
+    cycles: Sequence[int],
+    alarm: Sequence[int] | np.ndarray,
+    flag: Sequence[str],
+    acknowledge: Sequence[int],
+    charted: bool = True,
 ) -> tuple[list[str], np.ndarray, int | None]:
     """An alarm held until acknowledged: each snapshot's state, where each acknowledgement is recorded, the alarm held.
 
@@ -195,7 +199,9 @@ def hold(
     return state, recorded, raised
 
 
-def check_acknowledged(acknowledge: Sequence[int], cycles: Sequence[int], alarm: Sequence[int], last: int) -> None:
+def check_acknowledged(
+    acknowledge: Sequence[int], cycles: Sequence[int], alarm: Sequence[int] | np.ndarray, last: int
+) -> None:
     """New acknowledgements checked: each must cover an alarm raised at or before it, and not lie past the last cycle.
 
     Raises:
