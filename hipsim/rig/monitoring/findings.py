@@ -343,8 +343,8 @@ def duplicates(rows: list[dict[str, Any]], paths: dict[str, str]) -> tuple[list[
                     f"{path}: covers cycles {row['cycle']}-{row['last_cycle']}, as does {before['file']} "
                     f"({before['cycle']}-{before['last_cycle']}): each cycle in one snapshot only (a copied file?)",
                     "duplicate",
-                    size=int(row["bytes"]),
-                    sha256=row["sha256"],
+                    size=None if row.get("bytes") is None else int(row["bytes"]),
+                    sha256=row.get("sha256", ""),
                 )
             )
             continue
