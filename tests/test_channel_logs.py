@@ -8,6 +8,7 @@ with 10 significant digits; the TDMS and HDF5 files hold those numbers as Python
 
 from __future__ import annotations
 
+import hashlib
 import json
 import sys
 from contextlib import closing
@@ -267,6 +268,9 @@ def test_bad_channel_files_one_line_exit_2_nothing_written(logs, tmp_path, capsy
         tmp_path / "ragged.h5"
     )
     assert "missing load column 'Fe_N'" in compare(short)
+    # A channel file that is no rig log, where a trajectory would do.
+    angles = write_tdms(tmp_path / "angles.tdms", ["t_s", "alpha_deg"], values[:, :2])
+    assert "has no torques or currents" in _bad(["iso-check", "--trajectory", str(angles)], capsys, out)
     # A column map on a CSV.
     assert "applies to TDMS and HDF5 logs" in compare(logs["csv"], "--columns", "Fe_N=log/Fz")
 
@@ -298,3 +302,25 @@ def test_calibration_and_carriage_logs(tmp_path):
         b = read_calibration_log(path, lead)
         for name in ("t", "carriages", "sensors"):
             np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
+
+
+def test_a_long_channel_log_in_windows(tmp_path):
+    # Three cycles at 50 Hz in one log, cut into windows of one cycle: the same windows and estimates from the TDMS
+    # file (its windows by sample numbers, each window's SHA-256 that of its rows' values) as from the CSV.
+    from monitor_synthetic import write_exact
+
+    from hipsim.rig.monitoring.monitor_run import monitor
+    from hipsim.rig.monitoring.snapshots import find_snapshots
+
+    csv = write_exact(tmp_path / "long.csv", cycles=3, first_cycle=100)
+    names, values = _csv(csv)
+    tdms = write_tdms(tmp_path / "long.tdms", names, values)
+    (a, _), (b, _) = find_snapshots(csv, window=1), find_snapshots(tdms, window=1)
+    assert [(s.first_cycle, s.last_cycle) for s in a] == [(s.first_cycle, s.last_cycle) for s in b]
+    assert [s.lines for s in b] == [(s.lines[0] - 1, s.lines[1] - 1) for s in a]  # the CSV's header is its line 1
+    rows = b[1].lines
+    assert b[1].sha256 == hashlib.sha256(values[rows[0] - 1 : rows[1] - 1].tobytes()).hexdigest()
+    options = {"baseline": (100, 102), "window": 1, "baseline_min": 2, "cutoff": None}
+    one, two = monitor(hipsim.load_parameters(), csv, **options), monitor(hipsim.load_parameters(), tdms, **options)
+    for name in ("cycle", "samples", "load_friction_mm", "load_friction_mm_std", "residual_rms_Nmm"):
+        assert list(one[name]) == list(two[name]), name

@@ -64,13 +64,24 @@ def channel_columns(path: str, columns: str | None) -> tuple[set[str], str | Non
 
     For the commands whose ``--columns`` maps a trajectory's columns (``wear``, ``iso-check``): on a TDMS or HDF5
     log it is the channel map (:mod:`hipsim.channels`), the only map such a file takes.
+
+    Raises:
+        TrajectoryError: the file's problem (:func:`hipsim.channels.read_channels`), or a file without torques or
+            currents: such a file is read as a rig log only.
     """
     from ..channels import channel_kind, read_channels
     from ..exceptions import TrajectoryError
 
     if channel_kind(path) is None:
         return None
-    return set(read_channels(path, columns, "log file", TrajectoryError).names), columns
+    names = set(read_channels(path, columns, "log file", TrajectoryError).names)
+    if not names & {"tau_1_Nmm", "current_1_A"}:
+        raise TrajectoryError(
+            "a TDMS or HDF5 file is read as a rig log (t_s, Fe_N, tau_1_Nmm … or current_1_A …, the motion); this one "
+            f"has no torques or currents (its columns: {', '.join(sorted(names)[:12]) or 'none'})",
+            source=path,
+        )
+    return names, columns
 
 
 def add_provenance_options(parser: argparse.ArgumentParser) -> None:
