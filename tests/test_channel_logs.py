@@ -23,7 +23,7 @@ from hipsim.channels import parse_channel_map, read_channels
 from hipsim.cli.main import main
 from hipsim.exceptions import MissingDependencyError, TrajectoryError
 from hipsim.rig.logs.reader import RigLogFile
-from hipsim.stations.logs import read_calibration_log
+from hipsim.stations.logs import read_calibration_log, read_carriage_log
 
 h5py = pytest.importorskip("h5py")
 nptdms = pytest.importorskip("nptdms")
@@ -302,6 +302,9 @@ def test_calibration_and_carriage_logs(tmp_path):
         b = read_calibration_log(path, lead)
         for name in ("t", "carriages", "sensors"):
             np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
+        t, carriages = read_carriage_log(path, lead)  # stations --sliders
+        np.testing.assert_array_equal(t, a.t)
+        np.testing.assert_array_equal(carriages, a.carriages)
 
 
 def test_a_long_channel_log_in_windows(tmp_path):
