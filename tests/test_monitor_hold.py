@@ -219,3 +219,17 @@ def test_on_alarm_runs_without_a_shell_and_a_shell_when_asked(folder, tmp_path, 
     # With one, deliberately: the summary JSON arrives on the command's standard input.
     assert _cli(folder, "--watch", "--on-alarm", f"sh -c 'cat > {caught}'") == 1
     assert json.loads(caught.read_text()) == document
+
+
+def test_a_watch_holds_and_keeps_acknowledgements(folder):
+    from hipsim.rig.monitoring.watch import watch
+
+    raised = []
+    options = {"out": folder.out, "poll": 1e-3, "settle": 0.0, "rounds": 1, "baseline_min": 4}
+    held = watch(SETUP, folder.logs, (20, 50), 0.01, on_alarm=raised.append, **options)
+    assert held.findings.alarm_held and len(raised) == 1 and held.summary()["alarm_raised_at"] == 80
+    seen = watch(SETUP, folder.logs, (20, 50), 0.01, acknowledge=[80], restart=True, **options)
+    assert not seen.findings.alarm_held and seen.findings.acknowledgements() == (80,)
+    # A later watch of the same table: the acknowledgement read back from it.
+    again = watch(SETUP, folder.logs, (20, 50), 0.01, on_alarm=raised.append, **options)
+    assert not again.findings.alarm_held and again.findings.acknowledgements() == (80,) and len(raised) == 1
