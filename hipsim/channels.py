@@ -366,6 +366,8 @@ def _pick(found: _Found, named: dict[str, str], groups: tuple[str, ...], source:
         values, unit, _ = found[where]
         if isinstance(values, str):
             raise error(values, source=source, column=name)
+        if where in picked and picked[where][2] is not None:
+            raise error(f"channel '{where}' is named for two columns ('{picked[where][2]}', '{name}')", source=source)
         picked.pop(where, None)
         factor_name, factor = _name(name, unit, source, error, convert=True)
         picked[where] = (values * factor if factor != 1.0 else values, None, factor_name)

@@ -16,8 +16,9 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
+import test_monitor_run_laws as run_laws
 from monitor_synthetic import write_identified
-from test_monitor_run_laws import SETUP, estimates, snap, stepped  # noqa: F401 (estimates: the fixture)
+from test_monitor_run_laws import SETUP, stepped
 
 from hipsim.cli.main import main
 from hipsim.exceptions import ArgumentError
@@ -25,6 +26,13 @@ from hipsim.rig.monitoring.findings import hold
 from hipsim.rig.monitoring.monitor_run import run_monitor
 from hipsim.rig.monitoring.monitor_table import read_table
 from hipsim.rig.monitoring.snapshots import settled
+
+
+@pytest.fixture
+def stand_in(monkeypatch):
+    """tests/test_monitor_run_laws.py's stand-in for the estimate (its fixture ``estimates``)."""
+    return run_laws.estimates.__wrapped__(monkeypatch)
+
 
 # --------------------------------------------------------------------------- the held state, by hand
 
@@ -61,15 +69,15 @@ def test_no_chart_no_state():
 # --------------------------------------------------------------------------- through the run and its table
 
 
-def spike(estimates, at: int = 80):
+def spike(stand_in, at: int = 80):
     """The load term 3 mm (± 0.001), 3.5 mm at one snapshot only: an alarm there, then the EWMA's notices."""
-    snapshots = stepped(estimates, 200, 0.0)
-    estimates.a[at] += 0.5
+    snapshots = stepped(stand_in, 200, 0.0)
+    stand_in.a[at] += 0.5
     return snapshots
 
 
-def test_an_alarm_raised_reads_alarm_at_the_last_snapshot_until_acknowledged(estimates, tmp_path):
-    snapshots = spike(estimates)
+def test_an_alarm_raised_reads_alarm_at_the_last_snapshot_until_acknowledged(stand_in, tmp_path):
+    snapshots = spike(stand_in)
     result = run_monitor(SETUP, snapshots, baseline=(20, 50), baseline_min=4)
     c, s = result.columns, result.summary()
     # The issue's case: the snapshot after the alarm is only a notice; before, the last state read NOTICE (exit 0).
@@ -89,23 +97,23 @@ def test_an_alarm_raised_reads_alarm_at_the_last_snapshot_until_acknowledged(est
     assert not again["alarm_active"] and again["acknowledged"] == [80] and again["kept"] == 11
 
 
-def test_an_alarm_after_the_acknowledgement_is_held_anew(estimates):
-    snapshots = spike(estimates, 70)
-    estimates.a[100] += 0.8
+def test_an_alarm_after_the_acknowledgement_is_held_anew(stand_in):
+    snapshots = spike(stand_in, 70)
+    stand_in.a[100] += 0.8
     s = run_monitor(SETUP, snapshots, baseline=(20, 50), baseline_min=4, acknowledge=[70]).summary()
     assert s["table"]["alarm"][-1] == 1 and s["alarm_active"] and s["alarm_raised_at"] == 100
 
 
 @pytest.mark.parametrize("cycle", [50, 110, -1])
-def test_an_acknowledgement_of_no_alarm_is_refused_nothing_written(estimates, tmp_path, cycle):
+def test_an_acknowledgement_of_no_alarm_is_refused_nothing_written(stand_in, tmp_path, cycle):
     out = tmp_path / "t.csv"
     with pytest.raises(ArgumentError, match=r"^acknowledge: expected .*(alarms raised at: 80|≥ 0)"):
-        run_monitor(SETUP, spike(estimates), baseline=(20, 50), baseline_min=4, out=out, acknowledge=[cycle])
+        run_monitor(SETUP, spike(stand_in), baseline=(20, 50), baseline_min=4, out=out, acknowledge=[cycle])
     assert not out.exists()
 
 
-def test_the_baseline_needs_five_snapshots_unless_told(estimates):
-    snapshots = spike(estimates)  # four snapshots in 20-50
+def test_the_baseline_needs_five_snapshots_unless_told(stand_in):
+    snapshots = spike(stand_in)  # four snapshots in 20-50
     s = run_monitor(SETUP, snapshots, baseline=(20, 50)).summary()
     assert "4 of the 5 snapshots" in s["note"] and s["state"] == "NO BASELINE" and not s["alarm_active"]
     assert run_monitor(SETUP, snapshots, baseline=(20, 60)).summary()["baseline"]["snapshots"] == 5
@@ -116,11 +124,11 @@ def test_the_baseline_needs_five_snapshots_unless_told(estimates):
 
 
 @pytest.fixture
-def folder(tmp_path, estimates):
+def folder(tmp_path, stand_in):
     """Stand-in snapshots 0 … 100 (the estimate replaced), an hour old, and an identified parameter file."""
     logs = tmp_path / "logs"
     logs.mkdir()
-    for s in spike(estimates):
+    for s in spike(stand_in):
         path = logs / os.path.basename(s.path)
         path.write_text("x\n")
         os.utime(path, (0, 1e9))

@@ -7,17 +7,16 @@ drift g reads as Δμ_h = −g/(1 + g)·a/r_h, ∓0.0060 for ±3 % at μ_h = 0.1
 
 from __future__ import annotations
 
-from functools import partial
-
 import shutil
+from functools import partial
 
 import numpy as np
 import pytest
 from monitor_synthetic import write_snapshot
 
 import hipsim
-from hipsim.rig.monitoring.monitor_fit import MonitorSetup
 from hipsim.rig.monitoring import monitor_run
+from hipsim.rig.monitoring.monitor_fit import MonitorSetup
 from hipsim.rig.monitoring.snapshots import find_snapshots
 
 run_monitor = partial(

@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-from functools import partial
-
 import math
 import shutil
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -15,9 +14,8 @@ from monitor_synthetic import write_snapshot, write_test
 import hipsim
 from hipsim.cli import monitor as monitor_cli
 from hipsim.cli.main import main
-from hipsim.rig.monitoring import control_chart
+from hipsim.rig.monitoring import control_chart, monitor_run
 from hipsim.rig.monitoring.monitor_fit import MonitorSetup
-from hipsim.rig.monitoring import monitor_run
 from hipsim.rig.monitoring.monitor_table import read_table
 from hipsim.rig.monitoring.snapshots import find_snapshots as _find
 

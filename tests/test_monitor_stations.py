@@ -3,17 +3,16 @@ per-station loads logged, the station is charted on its own and named."""
 
 from __future__ import annotations
 
-from functools import partial
-
 import json
+from functools import partial
 
 import pytest
 from monitor_synthetic import write_identified, write_test
 
 import hipsim
 from hipsim.cli.main import main
-from hipsim.rig.monitoring.monitor_fit import MonitorSetup
 from hipsim.rig.monitoring import monitor_run
+from hipsim.rig.monitoring.monitor_fit import MonitorSetup
 from hipsim.rig.monitoring.snapshots import find_snapshots
 
 run_monitor = partial(

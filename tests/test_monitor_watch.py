@@ -3,12 +3,11 @@ written is not read half; the alarm command runs once when the alarm is raised."
 
 from __future__ import annotations
 
-from functools import partial
-
 import math
 import shutil
 import threading
 import time
+from functools import partial
 
 import numpy as np
 import pytest
@@ -16,8 +15,8 @@ from monitor_synthetic import write_snapshot
 
 import hipsim
 from hipsim.cli.main import main
-from hipsim.rig.monitoring.monitor_fit import MonitorSetup
 from hipsim.rig.monitoring import monitor_run
+from hipsim.rig.monitoring.monitor_fit import MonitorSetup
 from hipsim.rig.monitoring.snapshots import find_snapshots
 from hipsim.rig.monitoring.watch import watch
 

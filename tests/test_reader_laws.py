@@ -18,7 +18,7 @@ import pytest
 
 from hipsim.exceptions import ArgumentError, TrajectoryError
 from hipsim.motion.build import TrajectoryWarning
-from hipsim.rig.logs import reader, text_rows
+from hipsim.rig.logs import text_rows
 from hipsim.rig.logs.reader import (
     CURRENT_COLUMNS,
     HEIGHT_COLUMNS,
