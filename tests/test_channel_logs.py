@@ -327,3 +327,13 @@ def test_a_long_channel_log_in_windows(tmp_path):
     one, two = monitor(hipsim.load_parameters(), csv, **options), monitor(hipsim.load_parameters(), tdms, **options)
     for name in ("cycle", "samples", "load_friction_mm", "load_friction_mm_std", "residual_rms_Nmm"):
         assert list(one[name]) == list(two[name]), name
+
+
+def test_wear_gives_the_same_table(logs, tmp_path, capsys):
+    tables = []
+    for kind in ("csv", "tdms"):
+        out = tmp_path / f"{kind}.csv"
+        assert main(["wear", "--trajectory", str(logs[kind]), "--grid", "10x20", "--out", str(out)]) == 0
+        tables.append(out.read_bytes())
+    capsys.readouterr()
+    assert tables[0] == tables[1]  # byte for byte
