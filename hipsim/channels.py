@@ -317,10 +317,15 @@ def _hdf5(source: str, error: type[FileRowError]) -> _Found:
                 if item.ndim != 1:
                     found[name] = (
                         f"dataset '{name}' has shape {item.shape}: a channel is one column (N,), a table "
-                        "(N, C) has its column names in the attribute 'columns'",
+                        "(N, C) has its column names in the attribute 'columns' (or name its columns with --columns "
+                        f"NAME={name}[k])",
                         None,
                         attrs,
                     )
+                    if item.ndim == 2:  # its columns by index, for a map that names them
+                        data = item[()]
+                        for k in range(item.shape[1]):
+                            found[f"{name}[{k}]"] = (_numbers(data[:, k], f"{name}[{k}]"), _unit(attrs), attrs)
                     return
                 found[name] = (_numbers(item[()], name), _unit(attrs), attrs)
 

@@ -259,6 +259,8 @@ def test_bad_channel_files_one_line_exit_2_nothing_written(logs, tmp_path, capsy
     with h5py.File(bad, "a") as file:
         file["log"].create_dataset("extra", data=np.zeros((len(values), 3)))
     assert "dataset 'log/extra' has shape" in compare(bad) and "attribute 'columns'" in compare(bad)
+    # Named by the map, its columns read by index (the map names only what it reads).
+    assert read_channels(bad, "Fe_N=log/extra[1]").values.shape == (len(values), 1)
     # Channels of different lengths.
     short = write_tdms(tmp_path / "short.tdms", ["t_s"], values[:, :1])
     with h5py.File(write_hdf5(tmp_path / "ragged.h5", names, values), "a") as file:
