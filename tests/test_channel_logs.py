@@ -145,7 +145,8 @@ def test_monitor_gives_the_same_table(logs, tmp_path, capsys):
 
 
 @pytest.mark.parametrize("command", [["iso-check", "--summary-format", "json", "--trajectory"]])
-def test_iso_check_reads_them_as_rig_logs(logs, capsys, command):
+def test_iso_check_reads_them_as_rig_logs(logs, capsys, command, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # its page goes to ./hipsim_iso_check
     outputs = {}
     for kind in ("csv", "tdms"):  # the HDF5 path is the same from the reader on
         status = main([*command, str(logs[kind])])
