@@ -10,6 +10,7 @@ from the formulas of the module's description with λ = 0.2, L = 3:
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 import pytest
@@ -26,9 +27,9 @@ from hipsim.rig.monitoring.control_chart import (
 )
 
 
-def chart(*args, baseline_min=3, **options):
+def chart(*args: Any, **options: Any) -> control_chart.Chart:
     """The chart with the three-snapshot baseline these hand values are of (the default needs five)."""
-    return control_chart.chart(*args, baseline_min=baseline_min, **options)
+    return control_chart.chart(*args, **({"baseline_min": 3} | options))
 
 
 CYCLES = [100_000, 500_000, 750_000, 1_000_000, 1_100_000, 1_200_000, 1_300_000]
@@ -110,7 +111,7 @@ def test_another_baseline_window():
 def test_the_alarm_rise_must_be_a_positive_number():
     for bad in (0.0, -0.01, math.nan, math.inf, "0.01"):
         with pytest.raises(ArgumentError, match="a positive rise of the hip friction coefficient"):
-            chart(CYCLES, ESTIMATE, [0.1] * 7, HIP_RADIUS_MM, alarm_rise=bad)
+            chart(CYCLES, ESTIMATE, [0.1] * 7, HIP_RADIUS_MM, alarm_rise=bad)  # wrong types on purpose
 
 
 def test_parse_baseline():
@@ -171,7 +172,12 @@ def test_integer_inputs_chart_as_floats():
     # Cycles, estimates and errors given as whole numbers: the same chart as given as floats.
     cycles = [500_000, 750_000, 1_000_000, 1_100_000]
     whole = chart(cycles, [9, 10, 11, 14], [0, 0, 0, 0], HIP_RADIUS_MM)
-    floats = chart([float(c) for c in cycles], [9.0, 10.0, 11.0, 14.0], [0.0] * 4, HIP_RADIUS_MM)
+    floats = chart(
+        [float(c) for c in cycles],  # cycles as floats, on purpose
+        [9.0, 10.0, 11.0, 14.0],
+        [0.0] * 4,
+        HIP_RADIUS_MM,
+    )
     np.testing.assert_array_equal(whole.ewma, floats.ewma)
     assert whole.ewma[3] == pytest.approx(0.2 * 14 + 0.8 * 10, rel=1e-15)  # 10.8, above 10 + 3·1·0.2
     assert list(whole.flag) == list(floats.flag) == ["", "", "", "alarm"]

@@ -100,13 +100,13 @@ class RigLog:
 # --- The reader -----------------------------------------------------------------------------
 
 
-def _missing(name: str, header: list[str], what: str, source: str, line: int) -> TrajectoryError:
+def _missing(name: str, header: list[str], what: str, source: str, line: int | None) -> TrajectoryError:
     close = difflib.get_close_matches(name, header, n=1, cutoff=0.7)
     hint = f" (the file has '{close[0]}': check the name and its unit)" if close else ""
     return TrajectoryError(f"missing {what} column '{name}'{hint}", source=source, line=line)
 
 
-def _group(names: tuple[str, ...], header: list[str], what: str, source: str, line: int) -> bool:
+def _group(names: tuple[str, ...], header: list[str], what: str, source: str, line: int | None) -> bool:
     """True if all of ``names`` are columns, False if none is; a partial group is an error naming the first missing."""
     present = [name in header for name in names]
     if all(present):
@@ -319,7 +319,7 @@ class RigLogFile:
         return times, numbers, (worst, low, high, bad, kept)
 
     # The columns of the store, in SI: t, Fe, τ (3), then the angles (3) and the heights (3) when the log has them.
-    def _layout(self, header: list[str], header_line: int, torque_constant) -> None:
+    def _layout(self, header: list[str], header_line: int | None, torque_constant) -> None:
         source = self.source
         column = {name: k for k, name in enumerate(header)}
         for name in ("t_s", "Fe_N"):

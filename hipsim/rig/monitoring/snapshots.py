@@ -23,7 +23,6 @@ import glob
 import hashlib
 import math
 import os
-import time
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -31,6 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from ...channels import CHANNEL_SUFFIXES, channel_kind, read_channels
+from ...clock import SYSTEM_CLOCK, Clock
 from ...exceptions import ArgumentError, HipsimError, TrajectoryError
 from ..logs.reader import RigLogFile
 
@@ -213,6 +213,7 @@ def find_snapshots(
     cache: dict | None = None,
     wait: bool = False,
     columns: str | None = None,
+    clock: Clock = SYSTEM_CLOCK,
 ) -> tuple[list[Snapshot], list[Skipped]]:
     """The snapshots of the given logs, and those left out (still being written; with windows, a file the reader refuses).
 
@@ -228,6 +229,7 @@ def find_snapshots(
             seconds in all, then read them all (one still changing then is read as it is: a shorter snapshot is
             marked incomplete, a line cut short is skipped with its reason).
         columns: a TDMS or HDF5 log's column map (:mod:`hipsim.channels`), for a window's scan.
+        clock: whose wall time a file's age is measured against (:mod:`hipsim.clock`; a test passes its own).
 
     Returns:
         The snapshots (in file order; whole files' cycles are known once read), and the skipped.
@@ -244,8 +246,8 @@ def find_snapshots(
     left: list[Skipped] = []
     paths = _paths(logs)
     if wait:
-        settled(paths, settle)
-    now = time.time()
+        settled(paths, settle, clock=clock.time, sleep=clock.sleep)
+    now = clock.time()
     for path in paths:
         name = Path(path).name
         try:
@@ -280,7 +282,7 @@ def find_snapshots(
     return snapshots, left
 
 
-def settled(paths: Sequence[str], settle: float, clock=time.time, sleep=time.sleep) -> float:
+def settled(paths: Sequence[str], settle: float, clock=SYSTEM_CLOCK.time, sleep=SYSTEM_CLOCK.sleep) -> float:
     """Sleep until every file has been unchanged for ``settle`` seconds, at most ``settle`` seconds in all; the time slept.
 
     A file that changes while waited for is waited for again, within the same bound: a file still being written after

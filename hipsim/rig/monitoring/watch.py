@@ -21,6 +21,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
+from ...clock import SYSTEM_CLOCK, Clock
 from ...exceptions import ArgumentError, TrajectoryError
 from .control_chart import MIN_BASELINE
 from .monitor_fit import MonitorSetup
@@ -49,6 +50,7 @@ def watch(
     metadata: dict[str, Any] | None = None,
     baseline_min: int = MIN_BASELINE,
     acknowledge: Sequence[int] = (),
+    clock: Clock = SYSTEM_CLOCK,
 ) -> MonitorResult | None:
     """Watch the logs until ``stop`` is set (or ``rounds`` polls are done); the last result, None if nothing was usable.
 
@@ -69,6 +71,7 @@ def watch(
         metadata: kept with the table.
         baseline_min: snapshots the baseline needs before the chart starts.
         acknowledge: cycles of alarms acknowledged (with those ``out`` records); kept from round to round.
+        clock: the clock that ages the files and spaces the rounds (:mod:`hipsim.clock`; a test passes its own).
     """
     if not (poll > 0):
         raise ArgumentError("poll", poll, "seconds > 0 between looks at the logs")
@@ -85,7 +88,14 @@ def watch(
     done = 0
     while not stop.is_set():
         snapshots, skipped = find_snapshots(
-            logs, setup.window, settle, setup.torque_constant, setup.rate, cache=cache, columns=setup.columns
+            logs,
+            setup.window,
+            settle,
+            setup.torque_constant,
+            setup.rate,
+            cache=cache,
+            columns=setup.columns,
+            clock=clock,
         )
         seen = {(s.name, s.sha256) for s in snapshots}
         if seen != known and snapshots:
@@ -120,5 +130,5 @@ def watch(
         done += 1
         if rounds is not None and done >= rounds:
             break
-        stop.wait(poll)
+        clock.wait(stop, poll)
     return result
