@@ -55,7 +55,12 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument(
         "--weights", metavar="W1,W2", help="weights of the two platforms' squared errors for both (default 1,1)"
     )
-    p.add_argument("--sliders", metavar="LOG", help="a log's carriages (L_11_mm.. or motor_1_deg..): both attitudes")
+    p.add_argument(
+        "--sliders",
+        metavar="LOG",
+        help="a log's carriages (L_11_mm.. or motor_1_deg..; CSV, Parquet, TDMS or HDF5, its channels by "
+        "--columns NAME=GROUP/CHANNEL): both attitudes",
+    )
     p.add_argument(
         "--bands",
         dest="tolerance",
@@ -177,6 +182,7 @@ def _commands(args, params, weights, out: Path, table: Path) -> int:
 def _sliders(args, params, out: Path, table: Path) -> int:
     import numpy as np
 
+    from ..channels import channel_kind
     from ..files import output_folder
     from ..present.stations_page import write_stations
     from ..stations.commands import attitudes
@@ -184,7 +190,9 @@ def _sliders(args, params, out: Path, table: Path) -> int:
     from ..stations.summary import attitude_columns, sliders_summary
     from .documents import StationsSliders
 
-    t, carriages, sensors = read_slider_log(args.sliders, params.lead)
+    # A TDMS or HDF5 log's channels by --columns (NAME=GROUP/CHANNEL); a CSV's are its header's.
+    channel_map = args.columns if channel_kind(args.sliders) else None
+    t, carriages, sensors = read_slider_log(args.sliders, params.lead, channel_map)
     q = attitudes(params, carriages, None, t, args.sliders)
     flat = np.degrees(q).reshape(len(t), 6)
     columns = {"t_s": t} | {f"L_1{i + 1}_mm": carriages[:, i] * 1e3 for i in range(3)}
@@ -193,7 +201,7 @@ def _sliders(args, params, out: Path, table: Path) -> int:
     comparison = None if sensors is None else _sensor_comparison(args, params, t, q, sensors)
     extra = {} if comparison is None else {"sensors": comparison.to_json()}
     provenance = page_provenance(args, log=args.sliders)
-    fig7 = None if sensors is None else _fig7(t, q, sensors, args.sliders)
+    fig7 = None if sensors is None else _fig7(t, q, sensors, args.sliders, channel_map)
     with output_folder(out):
         _write_table(table, columns)
         files = write_stations(out, {"table": str(table)} | extra, sliders=sliders, provenance=provenance, fig7=fig7)
@@ -239,14 +247,14 @@ def _print_comparison(comparison) -> None:
     )
 
 
-def _fig7(t, q, sensors, log: str):
+def _fig7(t, q, sensors, log: str, channel_map: str | None = None):
     """Fig. 7 of the log: each platform measured (sensors) and predicted (carriages) on the three panels."""
     import numpy as np
 
     from ..present.fig7 import Curve, plot_fig7
     from ..stations.logs import read_desired
 
-    desired = read_desired(log)
+    desired = read_desired(log, channel_map)
     curves = [] if desired is None else [Curve("desired", np.degrees(desired), "k", ":")]
     curves += [
         Curve("m_1 measured", np.degrees(sensors[:, 0]), "tab:blue", "-"),
