@@ -23,6 +23,7 @@ from . import (
     excite,
     feasible,
     iso_check,
+    learn,
     mjcf,
     monitor,
     params,
@@ -79,6 +80,7 @@ def build_parser() -> argparse.ArgumentParser:
         size,
         sweep,
         stations,
+        learn,
         params,
     ):
         command.add_parser(commands)

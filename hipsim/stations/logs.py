@@ -27,9 +27,19 @@ from ..exceptions import TrajectoryError
 from ..tables import cells, data_lines, detect_separator, number, open_parquet, read_text_lines
 from .calibration import CalibrationLog
 
-__all__ = ["CARRIAGE_COLUMNS", "MOTOR_COLUMNS", "SENSOR_COLUMNS", "read_calibration_log", "read_carriage_log"]
+__all__ = [
+    "CARRIAGE_COLUMNS",
+    "COMMAND_COLUMNS",
+    "MOTOR_COLUMNS",
+    "SENSOR_COLUMNS",
+    "read_calibration_log",
+    "read_carriage_log",
+    "read_run_log",
+]
 
 CARRIAGE_COLUMNS = tuple(f"L_1{i}_mm" for i in (1, 2, 3))
+#: The carriage commands that produced a run, when the acquisition logs them (``hipsim learn``).
+COMMAND_COLUMNS = tuple(f"L_1{i}_cmd_mm" for i in (1, 2, 3))
 MOTOR_COLUMNS = tuple(f"motor_{i}_deg" for i in (1, 2, 3))
 #: The sensors' columns, platform by platform.
 SENSOR_COLUMNS = tuple(tuple(f"{a}_{j}_deg" for a in ("alpha", "beta", "gamma")) for j in (1, 2))
@@ -58,7 +68,11 @@ def _table(path: str | Path) -> tuple[list[str], dict[str, np.ndarray], np.ndarr
     except ValueError as error:
         raise TrajectoryError(str(error), source=source, line=header_line) from None
     wanted = {name: k for k, name in enumerate(header)}
-    keep = [name for name in (("t_s",) + CARRIAGE_COLUMNS + MOTOR_COLUMNS + sum(SENSOR_COLUMNS, ())) if name in wanted]
+    keep = [
+        name
+        for name in (("t_s",) + CARRIAGE_COLUMNS + COMMAND_COLUMNS + MOTOR_COLUMNS + sum(SENSOR_COLUMNS, ()))
+        if name in wanted
+    ]
     values = np.empty((len(numbered) - 1, len(keep)))
     lines = np.empty(len(numbered) - 1, dtype=int)
     decimal_comma = separator != ","
@@ -80,8 +94,11 @@ def _table(path: str | Path) -> tuple[list[str], dict[str, np.ndarray], np.ndarr
     return header, {name: values[:, c] for c, name in enumerate(keep)}, lines
 
 
-def _read(path: str | Path, lead: float, sensors: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
-    """(t [s], carriages [m] (N, 3), sensors [rad] (N, 2, 3) or None when not asked for)."""
+def _read(
+    path: str | Path, lead: float, sensors: bool, platforms: tuple[int, ...] = (1, 2), commands: bool = False
+) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray | None]:
+    """(t [s], carriages [m] (N, 3), sensors [rad] (N, 2, 3) or None when not asked for (NaN for a platform not in
+    ``platforms``), commands [m] (N, 3) when asked for and all three logged, else None)."""
     source = str(path)
     if not math.isfinite(lead) or lead <= 0:
         raise TrajectoryError(f"the screw lead must be positive, got {lead!r}", source=source)
@@ -106,9 +123,12 @@ def _read(path: str | Path, lead: float, sensors: bool) -> tuple[np.ndarray, np.
         missing(CARRIAGE_COLUMNS, "carriage encoders (or motor angles motor_1_deg, motor_2_deg, motor_3_deg)")
         raise AssertionError("unreachable")
     if sensors:
-        for j, names in enumerate(SENSOR_COLUMNS, start=1):
-            missing(names, f"attitude sensor of platform {j}")
-        used = used + sum(SENSOR_COLUMNS, ())
+        for j in platforms:
+            missing(SENSOR_COLUMNS[j - 1], f"attitude sensor of platform {j}")
+            used = used + SENSOR_COLUMNS[j - 1]
+    logged = commands and all(name in columns for name in COMMAND_COLUMNS)
+    if logged:
+        used = used + COMMAND_COLUMNS
     t = columns["t_s"]
     for name in ("t_s", *used):
         bad = ~np.isfinite(columns[name])
@@ -128,10 +148,20 @@ def _read(path: str | Path, lead: float, sensors: bool) -> tuple[np.ndarray, np.
             line=None if lines is None else int(lines[row]),
             column="t_s",
         )
+    commanded = np.stack([columns[name] for name in COMMAND_COLUMNS], axis=1) * 1e-3 if logged else None
     if not sensors:
-        return t, carriages, None
-    angles = np.radians(np.stack([np.stack([columns[n] for n in names], axis=1) for names in SENSOR_COLUMNS], axis=1))
-    return t, carriages, angles
+        return t, carriages, None, commanded
+    nan = np.full(len(t), np.nan)
+    angles = np.radians(
+        np.stack(
+            [
+                np.stack([columns[n] if j in platforms else nan for n in names], axis=1)
+                for j, names in enumerate(SENSOR_COLUMNS, start=1)
+            ],
+            axis=1,
+        )
+    )
+    return t, carriages, angles, commanded
 
 
 def read_calibration_log(path: str | Path, lead: float) -> CalibrationLog:
@@ -145,7 +175,7 @@ def read_calibration_log(path: str | Path, lead: float) -> CalibrationLog:
         TrajectoryError: a missing column (a platform's sensor, the carriages), a cell that is no finite number,
             time that does not increase, too few rows.
     """
-    t, carriages, sensors = _read(path, lead, sensors=True)
+    t, carriages, sensors, _ = _read(path, lead, sensors=True)
     assert sensors is not None
     return CalibrationLog(str(path), t, carriages, sensors)
 
@@ -156,5 +186,27 @@ def read_carriage_log(path: str | Path, lead: float) -> tuple[np.ndarray, np.nda
     Raises:
         TrajectoryError: as :func:`read_calibration_log`, but for the sensors.
     """
-    t, carriages, _ = _read(path, lead, sensors=False)
+    t, carriages, _, _ = _read(path, lead, sensors=False)
     return t, carriages
+
+
+def read_run_log(
+    path: str | Path, lead: float, platforms: tuple[int, ...]
+) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray]:
+    """A run's log for learning (``hipsim learn``): the encoders, the commands when logged, the sensors needed.
+
+    Args:
+        path: the file (CSV or Parquet).
+        lead: the screw's lead p in [m] per motor turn, for motor-angle columns.
+        platforms: the platforms whose attitude sensors must be in the log (1, 2 or both).
+
+    Returns:
+        t [s] (N,), encoders [m] (N, 3), commands ``L_11_cmd_mm``… [m] (N, 3) or None when not all three logged,
+        sensors [rad] (N, 2, 3) (NaN for a platform not asked for).
+
+    Raises:
+        TrajectoryError: as :func:`read_calibration_log`, naming the sensor of a platform asked for that is missing.
+    """
+    t, carriages, sensors, commands = _read(path, lead, sensors=True, platforms=platforms, commands=True)
+    assert sensors is not None
+    return t, carriages, commands, sensors
