@@ -21,6 +21,7 @@ from . import (
     calibrate,
     check,
     excite,
+    export,
     feasible,
     iso_check,
     learn,
@@ -81,6 +82,7 @@ def build_parser() -> argparse.ArgumentParser:
         sweep,
         stations,
         learn,
+        export,
         params,
     ):
         command.add_parser(commands)
