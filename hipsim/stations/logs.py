@@ -98,7 +98,7 @@ def _read(
     path: str | Path, lead: float, sensors: bool, platforms: tuple[int, ...] = (1, 2), commands: bool = False
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray | None]:
     """(t [s], carriages [m] (N, 3), sensors [rad] (N, 2, 3) or None when not asked for (NaN for a platform not in
-    ``platforms``), commands [m] (N, 3) when asked for and all three logged, else None)."""
+    ``platforms`` whose columns the log lacks), commands [m] (N, 3) when asked for and all three logged, else None)."""
     source = str(path)
     if not math.isfinite(lead) or lead <= 0:
         raise TrajectoryError(f"the screw lead must be positive, got {lead!r}", source=source)
@@ -122,10 +122,12 @@ def _read(
     else:
         missing(CARRIAGE_COLUMNS, "carriage encoders (or motor angles motor_1_deg, motor_2_deg, motor_3_deg)")
         raise AssertionError("unreachable")
+    read = []
     if sensors:
         for j in platforms:
             missing(SENSOR_COLUMNS[j - 1], f"attitude sensor of platform {j}")
-            used = used + SENSOR_COLUMNS[j - 1]
+        read = [j for j in (1, 2) if all(name in columns for name in SENSOR_COLUMNS[j - 1])]
+        used = used + sum((SENSOR_COLUMNS[j - 1] for j in read), ())
     logged = commands and all(name in columns for name in COMMAND_COLUMNS)
     if logged:
         used = used + COMMAND_COLUMNS
@@ -155,7 +157,7 @@ def _read(
     angles = np.radians(
         np.stack(
             [
-                np.stack([columns[n] if j in platforms else nan for n in names], axis=1)
+                np.stack([columns[n] if j in read else nan for n in names], axis=1)
                 for j, names in enumerate(SENSOR_COLUMNS, start=1)
             ],
             axis=1,
@@ -202,7 +204,7 @@ def read_run_log(
 
     Returns:
         t [s] (N,), encoders [m] (N, 3), commands ``L_11_cmd_mm``… [m] (N, 3) or None when not all three logged,
-        sensors [rad] (N, 2, 3) (NaN for a platform not asked for).
+        sensors [rad] (N, 2, 3) (NaN for a platform not asked for whose sensor the log does not have).
 
     Raises:
         TrajectoryError: as :func:`read_calibration_log`, naming the sensor of a platform asked for that is missing.
