@@ -95,9 +95,10 @@ def test_export_writes_tables_and_a_sidecar(tmp_path, iso, exact, capsys):
     out = tmp_path / "drive"
     assert main(["export", "--commands", str(path), "--out", str(out), "--counts-per-rev", "8192"]) == 0
     text = (out / "motor_3.csv").read_text().splitlines()
-    assert text[0] == "t_s,position_counts,velocity_counts_s,position_rev,velocity_rev_s,L_13_mm,Ld_13_mm_s,torque_ff_3_Nmm"
+    assert text[0] == "t_s,position_counts,velocity_counts_s,position_rev,velocity_rev_s,torque_ff_3_Nmm"
     first = [float(x) for x in text[1].split(",")]
-    assert first[1] == pytest.approx(exact[0][0, 2] / 0.010 * 8192, rel=1e-14)
+    assert first[1] == pytest.approx(exact[0][0, 2] / 0.010 * 8192, abs=0.5e-6)  # written to a millionth of a count
+    assert first[3] == pytest.approx(exact[0][0, 2] / 0.010, abs=0.5e-10)
     sidecar = json.loads((out / "export.json").read_text())
     assert sidecar["rate_Hz"] == 1000.0 and sidecar["counts_per_rev"] == 8192.0
     assert set(sidecar["limits"]["not_checked"]) == {"stroke", "motor speed", "motor torque"}

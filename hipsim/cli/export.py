@@ -22,8 +22,6 @@ UNITS = {
     "velocity_counts_s": "encoder counts/s",
     "position_rev": "motor revolutions",
     "velocity_rev_s": "motor revolutions/s",
-    "L_mm": "carriage mm",
-    "Ld_mm_s": "carriage mm/s",
     "torque_ff_Nmm": "motor N·mm (model inverse dynamics)",
 }
 
@@ -35,7 +33,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         help="per-motor position-velocity-time tables at the servo rate, with torque feed-forward -> DIR",
         description="Reads a carriage command (hipsim learn's NEXT or a hipsim stations table: t_s, L_11_mm.., "
         "optional Fe_N; periodic) and writes, per motor, DIR/motor_I.csv: positions and velocities at the servo rate "
-        "in encoder counts and motor revolutions (screw lead from the parameters), the carriage mm, and the torque "
+        "in encoder counts and motor revolutions (screw lead from the parameters; carriage mm = revolutions x lead), and the torque "
         "feed-forward from the model's inverse dynamics along the commanded motion; DIR/export.json: rate, units, "
         "limits checked and not, provenance with SHA-256 of the inputs. Every machine limit is checked first: a "
         "command over one is refused, nothing written.",
@@ -81,18 +79,30 @@ def _check(args, params) -> float:
     return rate
 
 
+#: Decimals written per column (by its name's start): far below a count or a µN·m, and short numbers to write and load.
+DECIMALS = {"t_s": 9, "position_counts": 6, "velocity_counts_s": 6, "position_rev": 10, "velocity_rev_s": 10, "torque": 9}
+
+
+def _decimals(name: str) -> int:
+    return next(d for start, d in DECIMALS.items() if name.startswith(start))
+
+
 def csv_bytes(columns) -> bytes:
-    """Named float columns as CSV text, each number the shortest that reads back to the same double (pyarrow's
-    writer: a 10-minute table at 1 kHz in well under a second, where Python's formatting takes seconds)."""
+    """Named float columns as CSV text, each rounded to its :data:`DECIMALS` and written as the shortest number that
+    reads back to it (pyarrow's writer: a 10-minute table at 1 kHz in about a second, where Python's formatting
+    takes many)."""
     import io
 
+    import numpy as np
     import pyarrow as pa
     import pyarrow.csv as pacsv
 
     buffer = io.BytesIO()
     buffer.write((",".join(columns) + "\n").encode())
     pacsv.write_csv(
-        pa.table({name: pa.array(values, type=pa.float64()) for name, values in columns.items()}),
+        pa.table(
+            {name: pa.array(np.round(values, _decimals(name)), type=pa.float64()) for name, values in columns.items()}
+        ),
         buffer,
         pacsv.WriteOptions(include_header=False, quoting_style="none"),
     )
@@ -145,8 +155,12 @@ def run(args) -> int:
     from ..files import json_ready
 
     with output_folder(out):
-        for i in (1, 2, 3):
-            write_atomic(out / f"motor_{i}.csv", csv_bytes(tables.motor_columns(i)))
+        from concurrent.futures import ThreadPoolExecutor
+
+        with ThreadPoolExecutor(3) as pool:  # pyarrow formats without the GIL: the three tables side by side
+            texts = list(pool.map(lambda i: csv_bytes(tables.motor_columns(i)), (1, 2, 3)))
+        for i, text in zip((1, 2, 3), texts):
+            write_atomic(out / f"motor_{i}.csv", text)
         write_atomic(out / "export.json", json.dumps(json_ready(sidecar), indent=2) + "\n")
     if args.summary_format == "json":
         print_json(sidecar)

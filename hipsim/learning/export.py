@@ -94,8 +94,6 @@ class DriveTables:
             "velocity_counts_s": rev_s * self.counts_per_rev,
             "position_rev": rev,
             "velocity_rev_s": rev_s,
-            f"L_1{i}_mm": self.L[:, k] * 1e3,
-            f"Ld_1{i}_mm_s": self.Ld[:, k] * 1e3,
             f"torque_ff_{i}_Nmm": self.torque[:, k] * 1e3,
         }
 
