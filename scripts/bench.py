@@ -1265,10 +1265,9 @@ def bench_tolerance(params, quick: bool) -> None:
 def bench_learning(params, quick: bool) -> None:
     """Issue 45: one learning step from a 1 kHz ISO period's log, simulate --learn 6 on the Pinocchio plant, export of a
     10-minute command; each next to a baseline in the same run."""
-    import tempfile
-
     import contextlib
     import io
+    import tempfile
 
     from hipsim.cli.main import main as _cli
     from hipsim.closed_chain.plant import PinocchioPlant
@@ -1293,8 +1292,12 @@ def bench_learning(params, quick: bool) -> None:
         names += [f"{a}_{j}_deg" for j in (1, 2) for a in ("alpha", "beta", "gamma")]
         log = f"{folder}/run.csv"
         np.savetxt(
-            log, np.column_stack([cycle.t, command * 1e3, command * 1e3, sensors]), delimiter=",",
-            header=",".join(names), comments="", fmt="%.12g",
+            log,
+            np.column_stack([cycle.t, command * 1e3, command * 1e3, sensors]),
+            delimiter=",",
+            header=",".join(names),
+            comments="",
+            fmt="%.12g",
         )
         step, first = alternated(
             lambda: cli(["learn", "--log", log, "--out", f"{folder}/next.csv", "--summary-format", "json"]),
@@ -1323,7 +1326,19 @@ def bench_learning(params, quick: bool) -> None:
         )
         minutes = 1 if quick else 10
         long = f"{folder}/long.csv"
-        cli(["stations", "--cycles", str(60 * minutes), "--out", f"{folder}/st", "--table", long, "--summary-format", "json"])
+        cli(
+            [
+                "stations",
+                "--cycles",
+                str(60 * minutes),
+                "--out",
+                f"{folder}/st",
+                "--table",
+                long,
+                "--summary-format",
+                "json",
+            ]
+        )
         from hipsim.learning.command_file import read_command_file
 
         export, read = alternated(

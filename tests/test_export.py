@@ -69,7 +69,9 @@ def test_a_repeated_period_is_found_and_repeated(params, iso, exact):
 
 def test_a_speed_over_the_limit_is_refused_with_its_time_and_value(params, iso, exact):
     limits = Limits(motor_speed=1000.0 * 2 * np.pi / 60)  # 1000 rpm; the ISO cycle needs ~1870 rpm of motor 2
-    with pytest.raises(TrajectoryError, match=r"motor 2 needs a speed of 1,8\d\d rpm at t = 0\.0\d+ s; the limit is 1,000 rpm"):
+    with pytest.raises(
+        TrajectoryError, match=r"motor 2 needs a speed of 1,8\d\d rpm at t = 0\.0\d+ s; the limit is 1,000 rpm"
+    ):
         drive_tables(params, iso.t, exact[0], iso.Fe, 1000.0, 10000.0, limits)
 
 
@@ -112,7 +114,11 @@ def test_export_writes_tables_and_a_sidecar(tmp_path, iso, exact, capsys):
     [
         (["--set", "motor.max_speed_rpm=1000"], None, "needs a speed of"),
         ([], 17, "not a finite number at t = 0.017 s"),
-        (["--counts-per-rev", "0"], None, "--counts-per-rev: expected counts per motor revolution in [1, 1e+09], got 0"),
+        (
+            ["--counts-per-rev", "0"],
+            None,
+            "--counts-per-rev: expected counts per motor revolution in [1, 1e+09], got 0",
+        ),
         (["--rate", "-5"], None, "--rate: expected a servo rate in [1, 100000] Hz, got -5 Hz"),
     ],
 )

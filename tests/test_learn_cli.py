@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 
-import numpy as np
 import pytest
 from learning_synthetic import Rig, write_run_log
 from stations_synthetic import deviated
@@ -39,7 +38,9 @@ def _learn(tmp_path, *extra):
 
 def test_cycle_zero_is_the_stations_table(tmp_path, capsys):
     assert _learn(tmp_path) == 0
-    assert main(["stations", "--rate", str(RATE), "--out", str(tmp_path / "st"), "--table", str(tmp_path / "st.csv")]) == 0
+    assert (
+        main(["stations", "--rate", str(RATE), "--out", str(tmp_path / "st"), "--table", str(tmp_path / "st.csv")]) == 0
+    )
     assert (tmp_path / "next.csv").read_text() == (tmp_path / "st.csv").read_text()
 
 
@@ -68,7 +69,10 @@ def test_without_commands_the_encoders_stand_for_them(tmp_path, log, capsys):
         ("short", "shorter than one period of the desired motion (1 s)"),
         ("no sensor", "no attitude sensor of platform 2: missing column(s) alpha_2_deg"),
         ("frequency", "not a run of it"),
-        ("gain", "--gain: expected a learning gain in (0, 2): ‖Q(I − L·P)‖ on the model is 1.5 ≥ 1, it diverges, got 2.5"),
+        (
+            "gain",
+            "--gain: expected a learning gain in (0, 2): ‖Q(I − L·P)‖ on the model is 1.5 ≥ 1, it diverges, got 2.5",
+        ),
         ("gain range", "--gain: expected a learning gain in (0, 10] (dimensionless), got 0"),
         ("cutoff", "--q-cutoff: expected a frequency in (0, 100] Hz (half the sample rate), got 150 Hz"),
         ("nan", "line 6, column 'L_12_mm': not a finite number"),

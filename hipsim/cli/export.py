@@ -80,7 +80,14 @@ def _check(args, params) -> float:
 
 
 #: Decimals written per column (by its name's start): far below a count or a µN·m, and short numbers to write and load.
-DECIMALS = {"t_s": 9, "position_counts": 6, "velocity_counts_s": 6, "position_rev": 10, "velocity_rev_s": 10, "torque": 9}
+DECIMALS = {
+    "t_s": 9,
+    "position_counts": 6,
+    "velocity_counts_s": 6,
+    "position_rev": 10,
+    "velocity_rev_s": 10,
+    "torque": 9,
+}
 
 
 def _decimals(name: str) -> int:
@@ -165,7 +172,9 @@ def run(args) -> int:
     if args.summary_format == "json":
         print_json(sidecar)
         return 0
-    print(f"{len(tables.t)} samples at {rate:g} Hz per motor ({len(tables.t) / rate:g} s), {args.counts_per_rev:g} counts/rev")
+    print(
+        f"{len(tables.t)} samples at {rate:g} Hz per motor ({len(tables.t) / rate:g} s), {args.counts_per_rev:g} counts/rev"
+    )
     print("limits checked: " + (", ".join(tables.checked) or "none"))
     if tables.not_checked:
         print(

@@ -92,10 +92,15 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         choices=["1", "2", "both"],
         help="the platform learned: 1, 2 or both (default: the parameter file's [geometry] control, else 2)",
     )
-    p.add_argument("--weights", metavar="W1,W2", help="weights of the two platforms' squared errors for both (default 1,1)")
+    p.add_argument(
+        "--weights", metavar="W1,W2", help="weights of the two platforms' squared errors for both (default 1,1)"
+    )
     add_learning_options(p)
     p.add_argument(
-        "--out", default="hipsim_next.csv", metavar="NEXT", help="the next command, .csv or .parquet (default hipsim_next.csv)"
+        "--out",
+        default="hipsim_next.csv",
+        metavar="NEXT",
+        help="the next command, .csv or .parquet (default hipsim_next.csv)",
     )
     add_summary_format(p, "what to print: the step's summary as a table (default) or JSON")
     p.set_defaults(run=run)
@@ -163,7 +168,13 @@ def format_summary(summary) -> str:
     lines = []
     if summary.errors:
         rows = [
-            [f"m_{e.platform} ({'learned' if e.controlled else 'not learned'})", name, f"{e.rms_deg[k]:.4g}", f"{e.peak_deg[k]:.4g}", f"{e.peak_at_s[k]:.4g}"]
+            [
+                f"m_{e.platform} ({'learned' if e.controlled else 'not learned'})",
+                name,
+                f"{e.rms_deg[k]:.4g}",
+                f"{e.peak_deg[k]:.4g}",
+                f"{e.peak_at_s[k]:.4g}",
+            ]
             for e in summary.errors
             for k, name in enumerate(("alpha", "beta", "gamma"))
         ]

@@ -165,7 +165,9 @@ def run(args) -> int:
         if not 1 <= args.learn <= MAX_LEARN_CYCLES:
             raise HipsimError(f"--learn: expected a number of cycles in [1, {MAX_LEARN_CYCLES}], got {args.learn}")
         if args.controller == "pd":
-            raise HipsimError("--learn runs the augmented PD (its feed-forward is what is learned): leave out --controller pd")
+            raise HipsimError(
+                "--learn runs the augmented PD (its feed-forward is what is learned): leave out --controller pd"
+            )
         if is_stdout(args.out):
             raise HipsimError(f"--out {args.out}: --learn writes two CSV files; give a file name")
     report = sys.stderr if is_stdout(args.out) else sys.stdout  # the CSV has standard output

@@ -20,7 +20,9 @@ def _one_period(args, trajectory):
             raise HipsimError(f"--cycles {args.cycles:g}: --learn runs one period per cycle; leave --cycles out")
         return iso14242(rate=1000.0, frequency=builtin_frequency(args))
     if not trajectory.periodic:
-        raise HipsimError(f"--trajectory {args.trajectory}: --learn repeats one period; the file is not one whole period")
+        raise HipsimError(
+            f"--trajectory {args.trajectory}: --learn repeats one period; the file is not one whole period"
+        )
     return trajectory
 
 
@@ -52,7 +54,9 @@ def run_learning(args, params, plant, trajectory, mismatch, report) -> int:
     check_output(table)
     runs: list = []
     runner = servo_runner(plant, params, desired.Fe, period, rate, runs)
-    steps, _ = learn_cycles(runner, params, desired, law, args.learn, notify=note if args.summary_format != "json" else None)
+    steps, _ = learn_cycles(
+        runner, params, desired, law, args.learn, notify=note if args.summary_format != "json" else None
+    )
     summaries = [step.summary for step in steps]
     columns: dict[str, np.ndarray] = {"cycle": np.array([s.cycle for s in summaries], dtype=float)}
     for name_j in (1, 2):
@@ -63,7 +67,9 @@ def run_learning(args, params, plant, trajectory, mismatch, report) -> int:
             columns[f"peak_{angle}_{name_j}_deg"] = np.array(
                 [next(e.peak_deg[k] for e in s.errors if e.platform == name_j) for s in summaries]
             )
-    columns["convergence_data"] = np.array([np.nan if s.convergence.data is None else s.convergence.data for s in summaries])
+    columns["convergence_data"] = np.array(
+        [np.nan if s.convergence.data is None else s.convergence.data for s in summaries]
+    )
     columns["change_rms_mm"] = np.array([max(s.update.change_rms_mm) for s in summaries])
     runs[-1].write_csv(out)
     write_columns(table, columns)
@@ -84,7 +90,13 @@ def run_learning(args, params, plant, trajectory, mismatch, report) -> int:
     ]
     header = ["cycle", "α RMS", "β RMS", "γ RMS", "α peak", "β peak", "γ peak", "update RMS [mm]", "‖Q(I−LP)‖ data"]
     if mismatch:
-        print("plant off from the controller's model: " + ", ".join(f"{k} {v:+.0%}" for k, v in mismatch.items()), file=report)
-    print(format_table(header, rows, f"Tracking error per cycle [deg], {plant.name} plant, augmented PD learning"), file=report)
+        print(
+            "plant off from the controller's model: " + ", ".join(f"{k} {v:+.0%}" for k, v in mismatch.items()),
+            file=report,
+        )
+    print(
+        format_table(header, rows, f"Tracking error per cycle [deg], {plant.name} plant, augmented PD learning"),
+        file=report,
+    )
     print(f"wrote {out} (the last cycle) and {table}", file=report)
     return 0

@@ -64,7 +64,9 @@ def read_command_file(path: str | Path) -> CommandFile:
     names = table.column_names
     missing = [name for name in ("t_s",) + CARRIAGES if name not in names]
     if missing:
-        raise TrajectoryError(f"missing column(s) {', '.join(missing)} (the header has {', '.join(names)})", source=source)
+        raise TrajectoryError(
+            f"missing column(s) {', '.join(missing)} (the header has {', '.join(names)})", source=source
+        )
 
     def column(name: str) -> np.ndarray:
         try:
@@ -76,10 +78,14 @@ def read_command_file(path: str | Path) -> CommandFile:
     L = np.stack([column(name) for name in CARRIAGES], axis=1) * 1e-3
     if len(t) > 1 and np.any(np.diff(t) <= 0):
         k = int(np.argmax(np.diff(t) <= 0)) + 1
-        raise TrajectoryError(f"time does not increase (t = {t[k]:.6g} s after {t[k - 1]:.6g} s)", source=source, column="t_s")
+        raise TrajectoryError(
+            f"time does not increase (t = {t[k]:.6g} s after {t[k - 1]:.6g} s)", source=source, column="t_s"
+        )
     load = column("Fe_N") if "Fe_N" in names else np.zeros(len(t))
     attitude = []
     for j in (1, 2):
         wanted = [f"{a}_{j}_deg" for a in ("alpha", "beta", "gamma")]
-        attitude.append(np.radians(np.stack([column(n) for n in wanted], axis=1)) if all(n in names for n in wanted) else None)
+        attitude.append(
+            np.radians(np.stack([column(n) for n in wanted], axis=1)) if all(n in names for n in wanted) else None
+        )
     return CommandFile(source, t, L, load, (attitude[0], attitude[1]))

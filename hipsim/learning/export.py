@@ -179,7 +179,9 @@ def drive_tables(
     if guess is not None and m != p:
         guess = np.stack([np.interp(ts, t[:p], guess[:p, k], period=period) for k in range(3)], axis=1)
     platform = model.geometry.control if model.geometry is not None else 2
-    q, qd, qdd = follower_motion(model, one, Ld, Ldd, platform, t=ts, source=source, guess=None if guess is None else guess[:m])
+    q, qd, qdd = follower_motion(
+        model, one, Ld, Ldd, platform, t=ts, source=source, guess=None if guess is None else guess[:m]
+    )
     run = analyse(model, Trajectory(ts, q, qd, qdd, Fe, source, periodic=True))
     crossings: list[Crossing] = check_feasibility(run, limits)
     if crossings:

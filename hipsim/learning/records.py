@@ -15,7 +15,15 @@ import numpy as np
 from ..exceptions import TrajectoryError
 from ..motion.iso_compliance import DEFAULT_TOLERANCES, Tolerances, iso_check
 
-__all__ = ["Convergence", "LearnSummary", "PlatformErrors", "StationVerdict", "UpdateChange", "platform_errors"]
+__all__ = [
+    "Convergence",
+    "LearnSummary",
+    "PlatformErrors",
+    "StationVerdict",
+    "UpdateChange",
+    "platform_errors",
+    "station_verdict",
+]
 
 ANGLES = ("alpha", "beta", "gamma")
 

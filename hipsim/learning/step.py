@@ -29,13 +29,15 @@ from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 from ..stations.commands import StationMotion, attitudes, station_commands
 from .law import LearningLaw, data_spectral_radius, gain_matrices, model_spectral_radius, update
-from .records import Convergence, LearnSummary, UpdateChange, platform_errors, station_verdict
+from .records import Convergence, LearnSummary, StationVerdict, UpdateChange, platform_errors, station_verdict
 
 __all__ = [
     "MATCH_LIMIT_DEG",
     "CycleLog",
+    "CycleRunner",
     "LearnStep",
     "first_command",
+    "first_summary",
     "learn_cycles",
     "learning_step",
     "phase_average",
@@ -172,7 +174,9 @@ def learning_step(
     rho_model = model_spectral_radius(law)
     if rho_model >= 1.0:
         raise ArgumentError(
-            "gain", law.gain, f"a learning gain in (0, 2): ‖Q(I − L·P)‖ on the model is {rho_model:.3g} ≥ 1, it diverges"
+            "gain",
+            law.gain,
+            f"a learning gain in (0, 2): ‖Q(I − L·P)‖ on the model is {rho_model:.3g} ≥ 1, it diverges",
         )
     base = first_command(model, desired, law) if base is None else base
     grid = desired.t - desired.t[0]
@@ -190,7 +194,9 @@ def learning_step(
         )
     for j in law.platforms:
         if not np.all(np.isfinite(sensors[:, j - 1])):
-            raise TrajectoryError(f"no attitude sensor of platform {j}, which --control {law.control} learns from", log.source)
+            raise TrajectoryError(
+                f"no attitude sensor of platform {j}, which --control {law.control} learns from", log.source
+            )
         rms = shifted_mismatch_deg(desired.q, sensors[:, j - 1])
         if rms > MATCH_LIMIT_DEG:
             raise TrajectoryError(
@@ -209,7 +215,7 @@ def learning_step(
     predicted = attitudes(model, next_L, guess, desired.t, desired.name)
     command = StationMotion(desired.t, desired.q, next_L, predicted, law.control, law.weights)
     change = (learned - learned_before) * 1e3
-    stations = ()
+    stations: tuple[StationVerdict, ...] = ()
     if desired.Fe.any():
         stations = tuple(
             station_verdict(j, desired.t, sensors[:, j - 1], desired.Fe, log.source)
@@ -229,9 +235,7 @@ def learning_step(
         log.commands_logged,
         platform_errors(desired.t, errors, law.platforms),
         convergence,
-        UpdateChange(
-            _rms(change), _peak(change), _rms(learned * 1e3), _peak(learned * 1e3)
-        ),
+        UpdateChange(_rms(change), _peak(change), _rms(learned * 1e3), _peak(learned * 1e3)),
         stations,
     )
     return LearnStep(command, readonly(learned), readonly(sensors), summary)
