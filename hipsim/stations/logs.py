@@ -68,11 +68,8 @@ def _table(path: str | Path) -> tuple[list[str], dict[str, np.ndarray], np.ndarr
     except ValueError as error:
         raise TrajectoryError(str(error), source=source, line=header_line) from None
     wanted = {name: k for k, name in enumerate(header)}
-    keep = [
-        name
-        for name in (("t_s",) + CARRIAGE_COLUMNS + COMMAND_COLUMNS + MOTOR_COLUMNS + sum(SENSOR_COLUMNS, ()))
-        if name in wanted
-    ]
+    keep = [name for name in (("t_s",) + CARRIAGE_COLUMNS + MOTOR_COLUMNS + sum(SENSOR_COLUMNS, ())) if name in wanted]
+    keep += [name for name in COMMAND_COLUMNS if name in wanted]
     values = np.empty((len(numbered) - 1, len(keep)))
     lines = np.empty(len(numbered) - 1, dtype=int)
     decimal_comma = separator != ","
@@ -94,11 +91,8 @@ def _table(path: str | Path) -> tuple[list[str], dict[str, np.ndarray], np.ndarr
     return header, {name: values[:, c] for c, name in enumerate(keep)}, lines
 
 
-def _read(
-    path: str | Path, lead: float, sensors: bool, platforms: tuple[int, ...] = (1, 2), commands: bool = False
-) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray | None]:
-    """(t [s], carriages [m] (N, 3), sensors [rad] (N, 2, 3) or None when not asked for (NaN for a platform not in
-    ``platforms`` whose columns the log lacks), commands [m] (N, 3) when asked for and all three logged, else None)."""
+def _read(path: str | Path, lead: float, sensors: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """(t [s], carriages [m] (N, 3), sensors [rad] (N, 2, 3) or None when not asked for)."""
     source = str(path)
     if not math.isfinite(lead) or lead <= 0:
         raise TrajectoryError(f"the screw lead must be positive, got {lead!r}", source=source)
@@ -122,15 +116,10 @@ def _read(
     else:
         missing(CARRIAGE_COLUMNS, "carriage encoders (or motor angles motor_1_deg, motor_2_deg, motor_3_deg)")
         raise AssertionError("unreachable")
-    read = []
     if sensors:
-        for j in platforms:
-            missing(SENSOR_COLUMNS[j - 1], f"attitude sensor of platform {j}")
-        read = [j for j in (1, 2) if all(name in columns for name in SENSOR_COLUMNS[j - 1])]
-        used = used + sum((SENSOR_COLUMNS[j - 1] for j in read), ())
-    logged = commands and all(name in columns for name in COMMAND_COLUMNS)
-    if logged:
-        used = used + COMMAND_COLUMNS
+        for j, names in enumerate(SENSOR_COLUMNS, start=1):
+            missing(names, f"attitude sensor of platform {j}")
+        used = used + sum(SENSOR_COLUMNS, ())
     t = columns["t_s"]
     for name in ("t_s", *used):
         bad = ~np.isfinite(columns[name])
@@ -150,20 +139,10 @@ def _read(
             line=None if lines is None else int(lines[row]),
             column="t_s",
         )
-    commanded = np.stack([columns[name] for name in COMMAND_COLUMNS], axis=1) * 1e-3 if logged else None
     if not sensors:
-        return t, carriages, None, commanded
-    nan = np.full(len(t), np.nan)
-    angles = np.radians(
-        np.stack(
-            [
-                np.stack([columns[n] if j in read else nan for n in names], axis=1)
-                for j, names in enumerate(SENSOR_COLUMNS, start=1)
-            ],
-            axis=1,
-        )
-    )
-    return t, carriages, angles, commanded
+        return t, carriages, None
+    angles = np.radians(np.stack([np.stack([columns[n] for n in names], axis=1) for names in SENSOR_COLUMNS], axis=1))
+    return t, carriages, angles
 
 
 def read_calibration_log(path: str | Path, lead: float) -> CalibrationLog:
@@ -177,7 +156,7 @@ def read_calibration_log(path: str | Path, lead: float) -> CalibrationLog:
         TrajectoryError: a missing column (a platform's sensor, the carriages), a cell that is no finite number,
             time that does not increase, too few rows.
     """
-    t, carriages, sensors, _ = _read(path, lead, sensors=True)
+    t, carriages, sensors = _read(path, lead, sensors=True)
     assert sensors is not None
     return CalibrationLog(str(path), t, carriages, sensors)
 
@@ -188,14 +167,14 @@ def read_carriage_log(path: str | Path, lead: float) -> tuple[np.ndarray, np.nda
     Raises:
         TrajectoryError: as :func:`read_calibration_log`, but for the sensors.
     """
-    t, carriages, _, _ = _read(path, lead, sensors=False)
+    t, carriages, _ = _read(path, lead, sensors=False)
     return t, carriages
 
 
 def read_run_log(
     path: str | Path, lead: float, platforms: tuple[int, ...]
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray]:
-    """A run's log for learning (``hipsim learn``): the encoders, the commands when logged, the sensors needed.
+    """A run's log for learning (``hipsim learn``): the encoders, the commands when logged, the sensors it has.
 
     Args:
         path: the file (CSV or Parquet).
@@ -204,11 +183,35 @@ def read_run_log(
 
     Returns:
         t [s] (N,), encoders [m] (N, 3), commands ``L_11_cmd_mm``… [m] (N, 3) or None when not all three logged,
-        sensors [rad] (N, 2, 3) (NaN for a platform not asked for whose sensor the log does not have).
+        sensors [rad] (N, 2, 3) (NaN for a platform whose sensor the log does not have).
 
     Raises:
-        TrajectoryError: as :func:`read_calibration_log`, naming the sensor of a platform asked for that is missing.
+        TrajectoryError: as :func:`read_carriage_log`; the sensor of a platform in ``platforms`` missing; a command
+            or sensor cell that is no finite number (naming line and column).
     """
-    t, carriages, sensors, commands = _read(path, lead, sensors=True, platforms=platforms, commands=True)
-    assert sensors is not None
+    t, carriages = read_carriage_log(path, lead)
+    header, columns, lines = _table(path)
+    source = str(path)
+    for j in platforms:
+        absent = [name for name in SENSOR_COLUMNS[j - 1] if name not in columns]
+        if absent:
+            raise TrajectoryError(
+                f"no attitude sensor of platform {j}: missing column(s) {', '.join(absent)} "
+                f"(the header has {', '.join(header)})",
+                source=source,
+            )
+    present = [j for j in (1, 2) if all(name in columns for name in SENSOR_COLUMNS[j - 1])]
+    logged = all(name in columns for name in COMMAND_COLUMNS)
+    used = sum((SENSOR_COLUMNS[j - 1] for j in present), ()) + (COMMAND_COLUMNS if logged else ())
+    for name in used:
+        bad = ~np.isfinite(columns[name])
+        if bad.any():
+            row = int(np.argmax(bad))
+            raise TrajectoryError(
+                "not a finite number", source=source, line=None if lines is None else int(lines[row]), column=name
+            )
+    sensors = np.full((len(t), 2, 3), np.nan)
+    for j in present:
+        sensors[:, j - 1] = np.radians(np.stack([columns[name] for name in SENSOR_COLUMNS[j - 1]], axis=1))
+    commands = np.stack([columns[name] for name in COMMAND_COLUMNS], axis=1) * 1e-3 if logged else None
     return t, carriages, commands, sensors
