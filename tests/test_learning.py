@@ -184,3 +184,31 @@ def test_a_log_of_another_frequency_is_refused(drawing, desired, geometry):
     )
     with pytest.raises(TrajectoryError, match="not a run of it"):
         learning_step(drawing, desired, long, LearningLaw("2"))
+
+
+def test_update_of_a_constant_error_is_gamma_k_e():
+    n = 64
+    K = np.zeros((n, 2, 3, 3))
+    K[:, 1] = 2.0 * np.eye(3)
+    errors = np.full((n, 2, 3), np.nan)
+    errors[:, 1] = [0.1, -0.2, 0.3]
+    from hipsim.learning.law import update
+
+    learned = update(np.full((n, 3), 1e-3), errors, K, LearningLaw("2", gain=0.5, drive_lag=0.02), 1.0)
+    # Q(0) = 1 and G_m⁻¹(0) = 1: u + γ·K·e = 1e-3 + 0.5·2·e, at every sample
+    assert learned == pytest.approx(np.broadcast_to([0.101, -0.199, 0.301], (n, 3)), abs=1e-15)
+
+
+def test_the_models_lag_makes_the_drive_figure_small():
+    from hipsim.learning.law import data_spectral_radius
+    from learning_synthetic import drive
+
+    n, period = 1000, 1.0
+    t = np.arange(n) / n
+    commands = np.stack([np.cos(2 * np.pi * k * t) for k in (1, 2, 3)], axis=1)
+    encoders = drive(commands, 1.0 / n, lag_s=0.05)  # a discrete lag, stepped: not the law's DFT
+    blind, at = data_spectral_radius(commands, encoders, LearningLaw("2"), period)
+    # |1 − G| at 3 Hz of a 50 ms lag: ωτ/√(1 + ω²τ²) = 0.686; Q(3 Hz) ≈ 1
+    assert blind == pytest.approx(0.686, abs=0.01) and at == 3.0
+    known, _ = data_spectral_radius(commands, encoders, LearningLaw("2", drive_lag=0.05), period)
+    assert known < 0.02  # what is left: the discrete filter's half-step against the continuous lag
