@@ -129,3 +129,20 @@ def test_bad_input_one_line_nothing_written(tmp_path, iso, exact, capsys, extra,
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and words in err[0]
     assert not out.exists()
+
+
+def test_a_per_chain_model_follows_its_controlled_platform(params, iso):
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from stations_synthetic import deviated
+
+    from hipsim.stations.commands import station_commands
+
+    machine = params.replace(geometry=deviated(seed=3, size_mm=0.3))
+    command = station_commands(machine, iso.t, iso.q, "2")
+    tables = drive_tables(machine, iso.t, command.carriages, iso.Fe, 1000.0, 1e4, Limits(), command.attitudes[:, 1])
+    torque = analyse(machine, iso).torques.total  # m_2 along the desired motion: the command puts it there exactly
+    assert tables.platform == 2
+    assert np.abs(tables.torque - torque).max() < 1e-7 * np.abs(torque).max()
