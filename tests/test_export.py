@@ -8,6 +8,7 @@ import json
 
 import numpy as np
 import pytest
+from stations_synthetic import deviated
 
 from hipsim.analysis.runs import analyse
 from hipsim.analytic.stations import platform_motion
@@ -17,6 +18,7 @@ from hipsim.exceptions import TrajectoryError
 from hipsim.learning.export import command_period, drive_tables
 from hipsim.machine.parameters import load_parameters
 from hipsim.motion.trajectories import iso14242
+from hipsim.stations.commands import station_commands
 
 
 @pytest.fixture(scope="module")
@@ -132,14 +134,6 @@ def test_bad_input_one_line_nothing_written(tmp_path, iso, exact, capsys, extra,
 
 
 def test_a_per_chain_model_follows_its_controlled_platform(params, iso):
-    import sys
-    from pathlib import Path
-
-    sys.path.insert(0, str(Path(__file__).parent))
-    from stations_synthetic import deviated
-
-    from hipsim.stations.commands import station_commands
-
     machine = params.replace(geometry=deviated(seed=3, size_mm=0.3))
     command = station_commands(machine, iso.t, iso.q, "2")
     tables = drive_tables(machine, iso.t, command.carriages, iso.Fe, 1000.0, 1e4, Limits(), command.attitudes[:, 1])
