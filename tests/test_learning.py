@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from learning_synthetic import Rig
+from learning_synthetic import Rig, drive
 from stations_synthetic import deviated
 
 from hipsim.exceptions import ArgumentError, TrajectoryError
 from hipsim.learning import LearningLaw, first_command, learning_step
 from hipsim.learning.filters import apply_response, frequencies, lag_response, periodic_derivatives, q_response
-from hipsim.learning.law import gain_matrices, model_spectral_radius
-from hipsim.learning.step import CycleLog, phase_average
+from hipsim.learning.law import data_spectral_radius, gain_matrices, model_spectral_radius, update
+from hipsim.learning.step import CycleLog, phase_average, shifted_mismatch_deg
 from hipsim.machine.parameters import load_parameters
 from hipsim.motion.trajectories import iso14242
 from hipsim.stations.commands import station_commands
@@ -164,8 +164,6 @@ def test_a_drive_that_would_make_the_step_diverge_is_refused(drawing, desired, g
 def test_mismatch_at_the_best_shift():
     t = np.arange(100) / 100
     a = np.stack([np.sin(2 * np.pi * t), np.cos(2 * np.pi * t), 0 * t], axis=1)
-    from hipsim.learning.step import shifted_mismatch_deg
-
     assert shifted_mismatch_deg(a, np.roll(a, 7, axis=0)) < 1e-12  # a delay is no mismatch
     # another frequency: sin 2πt against sin 4πt has no shift that fits; RMS √(1/2 + 1/2)/√3 rad per entry
     b = np.stack([np.sin(4 * np.pi * t), np.cos(2 * np.pi * t), 0 * t], axis=1)
@@ -192,17 +190,12 @@ def test_update_of_a_constant_error_is_gamma_k_e():
     K[:, 1] = 2.0 * np.eye(3)
     errors = np.full((n, 2, 3), np.nan)
     errors[:, 1] = [0.1, -0.2, 0.3]
-    from hipsim.learning.law import update
-
     learned = update(np.full((n, 3), 1e-3), errors, K, LearningLaw("2", gain=0.5, drive_lag=0.02), 1.0)
     # Q(0) = 1 and G_m⁻¹(0) = 1: u + γ·K·e = 1e-3 + 0.5·2·e, at every sample
     assert learned == pytest.approx(np.broadcast_to([0.101, -0.199, 0.301], (n, 3)), abs=1e-15)
 
 
 def test_the_models_lag_makes_the_drive_figure_small():
-    from hipsim.learning.law import data_spectral_radius
-    from learning_synthetic import drive
-
     n, period = 1000, 1.0
     t = np.arange(n) / n
     commands = np.stack([np.cos(2 * np.pi * k * t) for k in (1, 2, 3)], axis=1)

@@ -57,6 +57,8 @@ class DriveTables:
         counts_per_rev: encoder counts per motor revolution.
         checked, not_checked: the limits checked and those without a figure, in words.
         platform: the model's platform whose motion the torques follow.
+        period_samples: the samples of one period; the tables repeat it (a command that repeats one period within
+            :data:`SAME_POSITION` is written as its first period repeated).
     """
 
     t: np.ndarray
@@ -70,6 +72,7 @@ class DriveTables:
     checked: tuple[str, ...]
     not_checked: tuple[str, ...]
     platform: int
+    period_samples: int
 
     def __post_init__(self):
         n = np.shape(self.t)[0]
@@ -190,7 +193,7 @@ def drive_tables(
     whole = t[0] + np.arange(m * repeats) / rate
     return DriveTables(
         whole,
-        np.tile(one, (repeats, 1)) if m != p else L,
+        np.tile(one, (repeats, 1)),
         np.tile(Ld, (repeats, 1)),
         np.tile(Ldd, (repeats, 1)),
         np.tile(torque, (repeats, 1)),
@@ -200,4 +203,5 @@ def drive_tables(
         tuple(limits.checked()),
         tuple(limits.unchecked()),
         platform,
+        m,
     )
