@@ -130,3 +130,15 @@ def test_simulate_learn_refuses_the_plain_pd(tmp_path, capsys):
     assert main(["simulate", "--learn", "2", "--controller", "pd", "--out", str(tmp_path / "s.csv")]) == 2
     assert "--learn runs the augmented PD" in capsys.readouterr().err
     assert not (tmp_path / "s.csv").exists()
+
+
+def test_next_as_parquet_feeds_export(tmp_path, capsys):
+    assert main(["learn", "--rate", str(RATE), "--out", str(tmp_path / "next.parquet")]) == 0
+    assert (
+        main(
+            ["export", "--commands", str(tmp_path / "next.parquet"), "--rate", str(RATE), "--out", str(tmp_path / "d")]
+        )
+        == 0
+    )
+    rows = (tmp_path / "d" / "motor_1.csv").read_text().splitlines()
+    assert len(rows) == 1 + int(RATE)

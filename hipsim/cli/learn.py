@@ -120,7 +120,7 @@ def run(args) -> int:
     """Write the next command and print the step's summary; exit status 0."""
     import numpy as np
 
-    from ..files import check_output, write_columns
+    from ..files import ColumnWriter, check_output
     from ..learning.step import CycleLog, first_command, first_summary, learning_step
     from ..stations.logs import read_run_log
     from ..stations.summary import station_columns
@@ -152,7 +152,9 @@ def run(args) -> int:
     columns = station_columns(command, desired.Fe if desired.Fe.any() else None)
     if not all(np.all(np.isfinite(v)) for v in columns.values()):
         raise HipsimError(f"--out {args.out}: the next command is not finite; nothing written")
-    write_columns(out, columns)
+    with ColumnWriter(out) as writer:  # CSV or Parquet by the suffix, atomically
+        writer.write(columns)
+        writer.close()
     if args.summary_format == "json":
         print_json({"summary": summary.to_json(), "out": str(out)})
     else:
