@@ -205,3 +205,12 @@ def test_the_models_lag_makes_the_drive_figure_small():
     assert blind == pytest.approx(0.686, abs=0.01) and at == 3.0
     known, _ = data_spectral_radius(commands, encoders, LearningLaw("2", drive_lag=0.05), period)
     assert known < 0.02  # what is left: the discrete filter's half-step against the continuous lag
+
+
+def test_a_log_on_the_commands_clock_late_in_a_test(drawing, desired, geometry):
+    rig = Rig(drawing, geometry, desired, lag_s=0.01)
+    law = LearningLaw("2")
+    log, _ = rig.run(first_command(drawing, desired, law).carriages)
+    late = CycleLog(log.t + 3600.0, log.encoders, log.commands, log.sensors)  # an hour into the test: phase t mod T
+    a, b = learning_step(drawing, desired, log, law), learning_step(drawing, desired, late, law)
+    assert np.abs(a.command.carriages - b.command.carriages).max() < 1e-12
