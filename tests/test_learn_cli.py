@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
 import pytest
 from learning_synthetic import Rig, write_run_log
 from stations_synthetic import deviated
@@ -142,3 +143,19 @@ def test_next_as_parquet_feeds_export(tmp_path, capsys):
     )
     rows = (tmp_path / "d" / "motor_1.csv").read_text().splitlines()
     assert len(rows) == 1 + int(RATE)
+
+
+def test_the_previous_command_stands_for_unlogged_commands(tmp_path, log, capsys):
+    # cycle 0's command file, then the run's log without its command columns: --previous gives them back
+    assert main(["learn", "--rate", str(RATE), "--out", str(tmp_path / "zero.csv")]) == 0
+    with_cmd = write_run_log(tmp_path / "with.csv", log)
+    without = write_run_log(tmp_path / "without.csv", log, commands=False)
+    assert _learn(tmp_path, "--log", str(with_cmd), "--out", str(tmp_path / "a.csv")) == 0
+    argv = ["--log", str(without), "--previous", str(tmp_path / "zero.csv"), "--out", str(tmp_path / "b.csv")]
+    assert _learn(tmp_path, *argv) == 0
+    a = np.loadtxt(tmp_path / "a.csv", delimiter=",", skiprows=1)[:, 1:4]
+    b = np.loadtxt(tmp_path / "b.csv", delimiter=",", skiprows=1)[:, 1:4]
+    assert np.abs(a - b).max() < 1e-8  # mm: the command file's 12 digits against the log's 15
+    capsys.readouterr()
+    assert _learn(tmp_path, "--log", str(with_cmd), "--previous", str(tmp_path / "zero.csv")) == 2
+    assert "has the commands already" in capsys.readouterr().err

@@ -88,6 +88,12 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     add_trajectory_options(p)
     p.add_argument("--log", metavar="RUN", help="the last run's log, .csv or .parquet (without it: cycle 0)")
     p.add_argument(
+        "--previous",
+        metavar="NEXT",
+        help="the command file the run executed (the last NEXT), for a log without the command columns "
+        "L_11_cmd_mm..: without either, the encoders stand for the commands (exact only for a drive that follows them)",
+    )
+    p.add_argument(
         "--control",
         choices=["1", "2", "both"],
         help="the platform learned: 1, 2 or both (default: the parameter file's [geometry] control, else 2)",
@@ -128,8 +134,11 @@ def run(args) -> int:
     out = Path(args.out)
     if out.suffix.lower() not in (".csv", ".parquet"):
         raise HipsimError(f"--out {args.out}: expected a .csv or .parquet file")
-    if args.log and out.exists() and Path(args.log).exists() and out.resolve() == Path(args.log).resolve():
-        raise HipsimError(f"--out {args.out} is the --log file itself: choose another output")
+    for option, given in (("--log", args.log), ("--previous", args.previous)):
+        if given and out.exists() and Path(given).exists() and out.resolve() == Path(given).resolve():
+            raise HipsimError(f"--out {args.out} is the {option} file itself: choose another output")
+    if args.previous and not args.log:
+        raise HipsimError("--previous applies with --log (the command that run executed)")
     check_output(out)
     params = parameters(args)
     desired = load_trajectory(args)
@@ -141,6 +150,10 @@ def run(args) -> int:
             command, summary = first_command(params, desired, law), first_summary(desired, law)
         else:
             t, encoders, commands, sensors = read_run_log(args.log, params.lead, law.platforms)
+            if args.previous is not None:
+                if commands is not None:
+                    raise HipsimError(f"--previous {args.previous}: the log {args.log} has the commands already")
+                commands = _previous_commands(args.previous, t)
             logged = commands is not None
             log = CycleLog(t, encoders, commands if logged else encoders, sensors, logged, args.log)
             step = learning_step(params, desired, log, law)
@@ -161,6 +174,20 @@ def run(args) -> int:
         print(format_summary(summary))
         print(f"wrote {out}")
     return 0
+
+
+def _previous_commands(path: str, t):
+    """The command file's carriages [m] at the log's times t (N,) [s], the file one period on the command's clock."""
+    import numpy as np
+
+    from ..learning.command_file import read_command_file
+
+    command = read_command_file(path)
+    n = len(command.t)
+    if n < 2:
+        raise HipsimError(f"--previous {path}: {n} row(s); a command is one period of at least 2")
+    period = (command.t[-1] - command.t[0]) * n / (n - 1)
+    return np.stack([np.interp(t, command.t, command.L[:, i], period=period) for i in range(3)], axis=1)
 
 
 def format_summary(summary) -> str:
