@@ -159,3 +159,9 @@ def test_the_previous_command_stands_for_unlogged_commands(tmp_path, log, capsys
     capsys.readouterr()
     assert _learn(tmp_path, "--log", str(with_cmd), "--previous", str(tmp_path / "zero.csv")) == 2
     assert "has the commands already" in capsys.readouterr().err
+
+
+def test_cycle_zero_refuses_a_divergent_gain_too(tmp_path, capsys):
+    assert _learn(tmp_path, "--gain", "2") == 2
+    assert "on the model is 1 ≥ 1, it diverges, got 2" in capsys.readouterr().err
+    assert not (tmp_path / "next.csv").exists()

@@ -147,7 +147,8 @@ def run(args) -> int:
     law = learning_law(args, params, rate)
     try:
         if args.log is None:
-            command, summary = first_command(params, desired, law), first_summary(desired, law)
+            summary = first_summary(desired, law)
+            command = first_command(params, desired, law)
         else:
             t, encoders, commands, sensors = read_run_log(args.log, params.lead, law.platforms)
             if args.previous is not None:

@@ -171,13 +171,7 @@ def learning_step(
         ArgumentError: a gain that diverges on the model.
     """
     period = _period(desired)
-    rho_model = model_spectral_radius(law)
-    if rho_model >= 1.0:
-        raise ArgumentError(
-            "gain",
-            law.gain,
-            f"a learning gain in (0, 2): ‖Q(I − L·P)‖ on the model is {rho_model:.3g} ≥ 1, it diverges",
-        )
+    rho_model = _model_figure(law)
     base = first_command(model, desired, law) if base is None else base
     grid = desired.t - desired.t[0]
     stacked = np.concatenate([log.encoders, log.commands, log.sensors.reshape(len(log.t), 6)], axis=1)
@@ -274,7 +268,7 @@ def first_summary(desired: Trajectory, law: LearningLaw) -> LearnSummary:
         0,
         False,
         (),
-        Convergence(model_spectral_radius(law), None, None, "cycle 0: no run to measure the drive on"),
+        Convergence(rho, None, None, "cycle 0: no run to measure the drive on"),
         None,
         (),
     )
