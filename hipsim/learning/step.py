@@ -254,8 +254,23 @@ def _convergence(rho_model, commands, encoders, law, period, logged) -> Converge
     return Convergence(rho_model, rho, at, "the drive's response (encoders/commands) per harmonic of the cycle")
 
 
+def _model_figure(law: LearningLaw) -> float:
+    """‖Q(I − L·P)‖ on the model; a gain for which it is ≥ 1 is refused (:class:`ArgumentError` naming ``gain``)."""
+    rho = model_spectral_radius(law)
+    if rho >= 1.0:
+        raise ArgumentError(
+            "gain", law.gain, f"a learning gain in (0, 2): ‖Q(I − L·P)‖ on the model is {rho:.3g} ≥ 1, it diverges"
+        )
+    return rho
+
+
 def first_summary(desired: Trajectory, law: LearningLaw) -> LearnSummary:
-    """The summary of cycle 0 (no run yet): the law and its figure on the model."""
+    """The summary of cycle 0 (no run yet): the law and its figure on the model.
+
+    Raises:
+        ArgumentError: a gain that diverges on the model.
+    """
+    rho = _model_figure(law)
     return LearnSummary(
         0,
         law.control,
