@@ -25,7 +25,7 @@ def drive(commands: np.ndarray, dt: float, lag_s: float = 0.0, delay_samples: in
     a = np.exp(-dt / lag_s)
     state = y[0].copy()
     out = np.empty_like(y)
-    for _ in range(4):  # a period is 100 time constants at least: four passes settle to round-off
+    for _ in range(4):  # four periods: what is left of the start is e^(−4T/τ), round-off for τ ≤ T/10
         for n in range(len(y)):
             state = a * state + (1.0 - a) * y[n]
             out[n] = state
