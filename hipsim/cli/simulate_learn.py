@@ -81,14 +81,28 @@ def run_learning(args, params, plant, trajectory, mismatch, report) -> int:
     rows = [
         [
             str(s.cycle),
-            *(f"{e.rms_deg[k]:.4g}" for e in s.errors if e.platform == 2 for k in range(3)),
-            *(f"{abs(e.peak_deg[k]):.4g}" for e in s.errors if e.platform == 2 for k in range(3)),
+            f"m_{e.platform}",
+            *(f"{e.rms_deg[k]:.4g}" for k in range(3)),
+            *(f"{abs(e.peak_deg[k]):.4g}" for k in range(3)),
             f"{max(s.update.change_rms_mm):.3g}",
             "—" if s.convergence.data is None else f"{s.convergence.data:.3g}",
         ]
         for s in summaries
+        for e in s.errors
+        if e.controlled
     ]
-    header = ["cycle", "α RMS", "β RMS", "γ RMS", "α peak", "β peak", "γ peak", "update RMS [mm]", "‖Q(I−LP)‖ data"]
+    header = [
+        "cycle",
+        "platform",
+        "α RMS",
+        "β RMS",
+        "γ RMS",
+        "α peak",
+        "β peak",
+        "γ peak",
+        "update RMS [mm]",
+        "‖Q(I−LP)‖ data",
+    ]
     if mismatch:
         print(
             "plant off from the controller's model: " + ", ".join(f"{k} {v:+.0%}" for k, v in mismatch.items()),
