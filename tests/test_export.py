@@ -140,3 +140,14 @@ def test_a_per_chain_model_follows_its_controlled_platform(params, iso):
     torque = analyse(machine, iso).torques.total  # m_2 along the desired motion: the command puts it there exactly
     assert tables.platform == 2
     assert np.abs(tables.torque - torque).max() < 1e-7 * np.abs(torque).max()
+
+
+def test_with_a_drive_every_limit_is_checked(tmp_path, iso, exact, capsys):
+    from pathlib import Path
+
+    drive = Path(__file__).resolve().parents[1] / "models" / "drive_example.toml"
+    path = _command(tmp_path, iso, exact[0])
+    out = tmp_path / "drive"
+    assert main(["export", "--commands", str(path), "--drive", str(drive), "--out", str(out)]) == 0
+    limits = json.loads((out / "export.json").read_text())["limits"]
+    assert limits["not_checked"] == [] and "motor torque" in limits["checked"] and "stroke" in limits["checked"]
