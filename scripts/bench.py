@@ -1182,6 +1182,46 @@ def bench_wear(quick: bool) -> None:
     )
 
 
+def bench_wear_test(quick: bool) -> None:
+    """Issue 47: wear accumulated over 5 Mc of snapshots (20 snapshots x 3 cycles at 1 kHz, both stations' loads) by
+    ``hipsim wear --test`` on 2 workers, next to the same on 1 worker; the target is <= 20 s on 2 workers."""
+    import subprocess
+    import sys
+    import tempfile
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+    from wear_test_synthetic import write_simulated_test
+
+    count = 8 if quick else 20
+    hipsim_cli = str(Path(sys.executable).parent / "hipsim")
+    with tempfile.TemporaryDirectory() as folder:
+        test = write_simulated_test(Path(folder) / "test", snapshots=np.arange(count) * 250_000, rate=1000.0)
+
+        def run(workers: int) -> float:
+            start = time.perf_counter()
+            subprocess.run(
+                [
+                    hipsim_cli,
+                    "wear",
+                    "--test",
+                    str(test),
+                    "--workers",
+                    str(workers),
+                    "--out",
+                    str(Path(folder) / "t.csv"),
+                ],
+                check=True,
+                capture_output=True,
+            )
+            return time.perf_counter() - start
+
+        one, two = run(1), run(2)
+    print(f"Wear over a test's snapshots (hipsim wear --test): {count} snapshots x 3 cycles at 1 kHz, 45 x 90 grid")
+    print(f"  1 worker {one:.1f} s; 2 workers {two:.1f} s (whole command: start-up, weighings, page)")
+    print(f"  target: <= 20 s on 2 workers   {'OK' if two <= 20.0 else 'MISSED'}")
+
+
 def _deviated_machine(params, seed: int = 3, size_mm: float = 0.3):
     """The machine with each of its 48 per-chain values off the drawing by up to ±size_mm (uniform)."""
     from hipsim.stations import deviations as dv
@@ -1378,6 +1418,7 @@ def main() -> None:
             "stations",
             "tolerance",
             "wear",
+            "wear-test",
             "learning",
         ],
         help="one section only",
@@ -1402,6 +1443,7 @@ def main() -> None:
             "stations": bench_stations,
             "tolerance": bench_tolerance,
             "wear": lambda params, quick: bench_wear(quick),
+            "wear-test": lambda params, quick: bench_wear_test(quick),
             "learning": bench_learning,
         }
         sections.get(args.only, lambda params, quick: bench_workspace(quick))(params, args.quick)
@@ -1439,6 +1481,8 @@ def main() -> None:
     bench_tolerance(params, args.quick)
     print()
     bench_wear(args.quick)
+    print()
+    bench_wear_test(args.quick)
     print()
     bench_learning(params, args.quick)
 

@@ -23,11 +23,10 @@ from .common import (
     print_json,
 )
 from .motion_options import add_trajectory_options, builtin_frequency, load_trajectory, span
+from .wear_sources import header, kind_of, split_source
+from .wear_test import WORKERS_RANGE
 
 __all__ = ["add_parser", "format_summary", "read_motion", "run"]
-
-#: Columns that tell a file's kind, checked in this order (a simulate output has torque columns too).
-_KINDS = (("simulate", ("alpha_des_deg",)), ("stations", ("alpha_1_deg",)), ("rig log", ("tau_1_Nmm", "current_1_A")))
 
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
@@ -86,11 +85,16 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     cup.add_argument(
         "--grid",
         metavar="NTHETAxNPHI",
-        default="90x180",
-        help="the default grid: polar bands x azimuth sectors (default 90x180)",
+        help="the cup grid: polar bands x azimuth sectors, up to 1000x2000 (default 90x180; 45x90 with --weighings, "
+        "whose integrals ΣW·dA and ∫F ds it gives within 0.1 %%)",
     )
     law = wear.add_argument_group("wear law (none by default)").add_mutually_exclusive_group()
-    law.add_argument("--wear-factor", type=float, metavar="K", help="Archard's wear factor k in mm³/(N·m), constant")
+    law.add_argument(
+        "--wear-factor",
+        metavar="K:KIND",
+        help="a wear factor k in mm³/(N·m), in [0, 1e-3], with its kind: K:local (Archard, pin-on-disc: V = ∫k·W dA) or "
+        "K:force-track (a simulator's, Saikko: V = k·∫F ds along the force track), e.g. 8e-8:force-track",
+    )
     law.add_argument(
         "--wear-law",
         metavar="FILE",
@@ -130,40 +134,64 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         help="run the analytic checks on this cup and grid instead (pure flexion: CS = 0; time reversal: the same s, W, "
         "CS; flexion alone: a force track r·(range of α)·2 long); exits 1 if one fails",
     )
+    _add_test_options(wear)
     add_summary_format(wear)
     add_provenance_options(wear)
     wear.set_defaults(run=run)
     return wear
 
 
-def _header(path: str) -> set[str]:
-    """A table's column names (CSV or Parquet); empty for an OpenSim file or an unreadable one (its reader says why)."""
-    from ..exceptions import TrajectoryError
-    from ..tables import cells, data_lines, detect_separator, open_parquet, read_text_lines
-
-    suffix = Path(path).suffix.lower()
-    if suffix in (".mot", ".sto") or not Path(path).is_file():
-        return set()
-    if suffix == ".parquet":
-        return set(open_parquet(path, "trajectory file", TrajectoryError).schema_arrow.names)
-    numbered = data_lines(read_text_lines(path, "trajectory file", TrajectoryError))
-    if not numbered:
-        return set()
-    header = numbered[0][1]
-    separator = detect_separator(header, numbered[1][1] if len(numbered) > 1 else None)
-    return {cell.strip() for cell in cells(header, separator)}
-
-
-def _split(spec: str) -> tuple[str, str | None]:
-    """``FILE[:TAG]`` → (FILE, TAG); a file whose name holds a colon is taken whole."""
-    if Path(spec).exists() or ":" not in spec:
-        return spec, None
-    path, tag = spec.rsplit(":", 1)
-    if tag not in ("1", "2", "desired"):
-        raise HipsimError(
-            f"{spec}: expected FILE, FILE:1, FILE:2 (a stations output) or FILE:desired (a simulate output)"
-        )
-    return path, tag
+def _add_test_options(wear: argparse.ArgumentParser) -> None:
+    """The gravimetric test's options (docs/guide/wear-test.md), declared here, each with its unit and range."""
+    test = wear.add_argument_group("a wear test's weighings (ISO 14242-2) and report")
+    test.add_argument(
+        "--weighings",
+        metavar="FILE",
+        help="the cups' masses: CSV columns cycle, station, mass_mg, and the soak control as station 'soak' "
+        "(or 'soak_NAME') or a column soak_mg; gives each station's wear rate with its 95 %% interval",
+    )
+    test.add_argument(
+        "--density",
+        type=float,
+        metavar="MG_PER_MM3",
+        help="the cups' density in mg/mm³, in (0, 25] (default 0.935, UHMWPE)",
+    )
+    test.add_argument(
+        "--from",
+        dest="from_cycle",
+        type=float,
+        metavar="CYCLE",
+        help="the steady-state rate from this cycle on, a whole number ≥ 0 (default: bedding-in found from the data)",
+    )
+    test.add_argument(
+        "--station",
+        action="append",
+        metavar="NAME=SOURCE",
+        help="the motion station NAME had: iso, FILE, FILE:1, FILE:2 (stations output), FILE:desired (simulate "
+        "output), or snapshots:J (the --snapshots motion with station load Fe_J_N); repeatable (default: the "
+        "snapshots, station by station, else the built-in cycle)",
+    )
+    test.add_argument(
+        "--snapshots",
+        action="append",
+        metavar="PATH",
+        help="the monitor's snapshot logs (files, folders, patterns; a 'cycle' column; needs --params): each stands for "
+        "its interval of cycles; repeatable",
+    )
+    test.add_argument("--friction", metavar="FILE", help="the monitor's table (hipsim monitor --out), for the report")
+    test.add_argument(
+        "--test",
+        metavar="DIR",
+        help="a test's folder: weighings.csv, and when present stations.csv, snapshots/, params.toml, friction.csv "
+        "(the options above override); the report goes to DIR/report unless --report",
+    )
+    low, high = WORKERS_RANGE
+    test.add_argument(
+        "--workers",
+        type=int,
+        metavar="N",
+        help=f"worker processes for the snapshots' maps, {low} to {high} (default 1)",
+    )
 
 
 def read_motion(args, spec: str | None):
@@ -187,11 +215,11 @@ def read_motion(args, spec: str | None):
         frequency = builtin_frequency(args)
         cycle = CycleSource(args.rate or 1000.0, args.cycles or 1, frequency)
         return cycle, 1.0 / frequency, cycle.name, None, notes
-    path, tag = _split(spec)
+    path, tag = split_source(spec)
     if tag is None and args.platform and spec == args.trajectory:
         tag = args.platform
-    names = _header(path)
-    kind = next((kind for kind, marks in _KINDS if any(mark in names for mark in marks)), "trajectory")
+    names = header(path)
+    kind = kind_of(names)
     ns = argparse.Namespace(**vars(args))
     ns.trajectory, ns.rate, ns.cycles = path, None, None
     if kind == "rig log":
@@ -307,27 +335,28 @@ def _points(args, setup):
         except ArgumentError as error:  # name the file's line, not the data row
             row = int(error.name.rsplit(" ", 1)[-1]) if "row" in error.name else 1
             raise HipsimError(f"{args.points}, line {int(lines[row - 1])}: expected {error.expected}") from None
-    parts = args.grid.lower().split("x")
+    grid = args.grid or ("45x90" if args.weighings or args.test else "90x180")
+    parts = grid.lower().split("x")
     try:
         n_theta, n_phi = (int(part) for part in parts)
         return cup_grid(n_theta, n_phi, setup.radius_mm)
     except (ValueError, ArgumentError):
         raise HipsimError(
-            f"--grid: expected NTHETAxNPHI, whole numbers up to 1000x2000 (e.g. 90x180), got '{args.grid}'"
+            f"--grid: expected NTHETAxNPHI, whole numbers up to 1000x2000 (e.g. 90x180), got '{grid}'"
         ) from None
 
 
 def _law(args):
-    from ..wear.laws import ContactAreaLaw, WearFactor, read_wear_law
+    from ..wear.factors import parse_wear_factor
+    from ..wear.laws import ContactAreaLaw, read_wear_law
 
+    if args.wear_factor is not None:
+        return parse_wear_factor(args.wear_factor)
     try:
-        if args.wear_factor is not None:
-            return WearFactor(args.wear_factor)
         if args.area_law is not None:
             return ContactAreaLaw(args.area_law)
     except ArgumentError as error:
-        option = "--wear-factor" if args.wear_factor is not None else "--area-law"
-        raise HipsimError(f"{option}: expected {error.expected}, got {error.value!r}") from None
+        raise HipsimError(f"--area-law: expected {error.expected}, got {error.value!r}") from None
     if args.wear_law:
         return read_wear_law(args.wear_law)
     return None
@@ -426,6 +455,10 @@ def run(args) -> int:
     points = _points(args, setup)
     if args.self_check:
         return _self_check(args, setup, points)
+    if args.weighings or args.test:
+        from .wear_test import run_test
+
+        return run_test(args, setup, points, read_motion, _law)
     law = _law(args)
     if not (math.isfinite(args.tolerance) and args.tolerance >= 0):
         raise HipsimError(f"--tolerance: expected a percentage ≥ 0, got {args.tolerance:g}")

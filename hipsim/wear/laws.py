@@ -1,6 +1,8 @@
 """Wear laws: the volume a cycle wears from each point's work or sliding, and the cup's total.
 
-- :class:`WearFactor` (Archard): depth per cycle k·W, k in [mm³/(N·m)];
+- :class:`WearFactor` (Archard, a local factor as pin-on-disc tests give it): depth per cycle k·W, k in
+  [mm³/(N·m)], so V = ∫k·W dA (a simulator's global factor, V = k·∫F ds, is
+  :class:`~hipsim.wear.factors.ForceTrackFactor`: never mix the two);
 - :class:`CrossShearLaw`: the same with k(CS) interpolated linearly in a table
   of k against CS (Kang et al.: the wear factor of UHMWPE rises with CS);
   beyond the table's CS the end values hold, and :class:`Wear` counts the points so held;
@@ -54,7 +56,7 @@ class WearLaw(Protocol):
 
 @dataclass(frozen=True)
 class WearFactor:
-    """Archard's law with a constant wear factor k in [mm³/(N·m)]."""
+    """Archard's law with a constant local wear factor k in [mm³/(N·m)]: V = ∫k·W dA per cycle."""
 
     k: float
 
@@ -63,7 +65,7 @@ class WearFactor:
             raise ArgumentError("wear factor", self.k, "a wear factor k ≥ 0 in mm³/(N·m)")
 
     def describe(self) -> str:
-        return f"Archard, k = {self.k:.4g} mm³/(N·m)"
+        return f"local (Archard, pin-on-disc: V = ∫k·W dA), k = {self.k:.4g} mm³/(N·m)"
 
     def depth_mm(self, maps: WearMaps) -> np.ndarray:
         return _DEPTH_PER_KW * self.k * maps.work_N_per_mm
@@ -102,7 +104,7 @@ class CrossShearLaw:
 
     def describe(self) -> str:
         return (
-            f"Archard with k(CS) from {self.source} ({self.cross_shear.size} rows, CS {self.cross_shear[0]:g} to "
+            f"local (Archard) with k(CS) from {self.source} ({self.cross_shear.size} rows, CS {self.cross_shear[0]:g} to "
             f"{self.cross_shear[-1]:g}, k {self.k.min():.4g} to {self.k.max():.4g} mm³/(N·m))"
         )
 

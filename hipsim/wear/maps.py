@@ -114,6 +114,44 @@ def _duration(source: TrajectorySource) -> float:
     return last - first + ((last - first) / (n - 1) if source.periodic else 0.0)
 
 
+#: How close (relative to the cycle) the span plus one step must come to whole cycles for a motion to close by a step.
+CLOSING_TOLERANCE = 1e-6
+
+
+def _closes_by_a_step(source: TrajectorySource, cycle_time_s: float, step: float) -> bool:
+    """Whether a motion written without its closing sample (as ``stations`` and ``simulate`` write the built-in cycle)
+    covers whole cycles with its last step: its span plus one step is a whole number of cycles, and the last sample
+    runs on into the first as the samples run on into each other (angles and load within three of the end steps)."""
+    n = len(source)
+    cycles = (source.time(n - 1) - source.time(0) + step) / cycle_time_s
+    if n < 4 or round(cycles) < 1 or abs(cycles - round(cycles)) > CLOSING_TOLERANCE * max(1.0, cycles):
+        return False
+    head, tail = source.piece(0, 2), source.piece(n - 2, n)
+    for first, last in ((head.q, tail.q), (head.Fe[:, None], tail.Fe[:, None])):
+        steps = np.maximum(np.abs(first[1] - first[0]), np.abs(last[1] - last[0]))
+        if np.any(np.abs(first[0] - last[1]) > 3.0 * steps + 1e-12):
+            return False
+    return True
+
+
+class _ClosedCycle:
+    """A source whose last step closes its cycle: the same samples, periodic."""
+
+    periodic = True
+
+    def __init__(self, source: TrajectorySource):
+        self.source, self.name = source, source.name
+
+    def __len__(self) -> int:
+        return len(self.source)
+
+    def time(self, k: int) -> float:
+        return self.source.time(k)
+
+    def piece(self, start: int, stop: int) -> Trajectory:
+        return self.source.piece(start, stop)
+
+
 @dataclass
 class _Piece:
     omega: np.ndarray
@@ -174,9 +212,11 @@ def wear_maps(
         raise TrajectoryError(
             f"the cycle time must be a positive number of seconds, got {cycle_time_s!r}", source=source.name
         )
+    step = (source.time(n - 1) - source.time(0)) / (n - 1)
+    if not source.periodic and _closes_by_a_step(source, cycle_time_s, step):
+        source = _ClosedCycle(source)
     duration = _duration(source)
     # A file of one cycle sampled without its closing sample covers a step less than the cycle: still one cycle.
-    step = (source.time(n - 1) - source.time(0)) / (n - 1)
     if duration < cycle_time_s * (1.0 - 1e-9) - (0.0 if source.periodic else step * (1.0 + 1e-9)):
         raise TrajectoryError(
             f"the motion covers {duration:.6g} s, shorter than one cycle of {cycle_time_s:.6g} s: "
