@@ -54,6 +54,7 @@ def test_a_step_from_a_log_of_two_periods(tmp_path, log, capsys):
     m2 = next(e for e in summary["errors"] if e["platform"] == 2)
     assert m2["controlled"] is True and max(m2["rms_deg"]) > 0.3
     assert [s["platform"] for s in summary["stations"]] == [1, 2]
+    assert summary["desired"]["platform"] == 0 and summary["desired"]["verdict"] == "PASS"
     header = (tmp_path / "next.csv").read_text().splitlines()[0]
     assert header.startswith("t_s,L_11_mm,L_12_mm,L_13_mm,alpha_1_deg")
 

@@ -214,3 +214,17 @@ def test_a_log_on_the_commands_clock_late_in_a_test(drawing, desired, geometry):
     late = CycleLog(log.t + 3600.0, log.encoders, log.commands, log.sensors)  # an hour into the test: phase t mod T
     a, b = learning_step(drawing, desired, log, law), learning_step(drawing, desired, late, law)
     assert np.abs(a.command.carriages - b.command.carriages).max() < 1e-12
+
+
+def test_a_motion_that_is_not_iso_is_said_apart_from_the_stations(drawing, desired, geometry):
+    from hipsim.motion.trajectories import Trajectory
+
+    half = Trajectory(desired.t, desired.q * 0.5, desired.qd * 0.5, desired.qdd * 0.5, desired.Fe, "half", True)
+    machine = drawing.replace(geometry=geometry)
+    rig = Rig(drawing, geometry, half)
+    law = LearningLaw("2")
+    log, _ = rig.run(first_command(machine, half, law).carriages)  # m_2 exact: the model is the machine
+    summary = learning_step(machine, half, log, law).summary
+    assert summary.desired.verdict == "FAIL" and summary.desired.worst_deg[0] > 5.0  # α: half of 21.5° amplitude
+    station2 = next(s for s in summary.stations if s.platform == 2)
+    assert station2.worst_deg == pytest.approx(summary.desired.worst_deg, abs=1e-6)  # it went through that motion

@@ -225,4 +225,11 @@ def format_summary(summary) -> str:
     for s in summary.stations:
         reason = f" ({s.reason})" if s.reason else ""
         lines.append(f"station {s.platform}: ISO 14242-1 check of its measured motion: {s.verdict}{reason}")
+    d = summary.desired
+    if d is not None and d.verdict == "FAIL":
+        lines.append(
+            "the desired motion is not the ISO 14242-1 waveform itself: worst "
+            + ", ".join(f"{a} {w:.3g}°" for a, w in zip(("α", "β", "γ"), d.worst_deg))
+            + " off; the stations' verdicts judge their motion against the waveform, not their tracking"
+        )
     return "\n".join(lines)

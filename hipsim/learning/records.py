@@ -128,9 +128,11 @@ def station_verdict(
     source: str,
     tolerances: Tolerances = DEFAULT_TOLERANCES,
 ) -> StationVerdict:
-    """The verdict on platform ``platform``'s measured motion q (N, 3) [rad] over one period (wrapped), load (N,) [N]."""
+    """The verdict on platform ``platform``'s measured motion q (N, 3) [rad] over one period (wrapped), load (N,) [N];
+    platform 0 for the desired motion itself."""
+    what = f"station {platform}" if platform else "the desired motion"
     try:
-        check = iso_check(t, q, load, tolerances, source=f"{source}, station {platform}", periodic=True)
+        check = iso_check(t, q, load, tolerances, source=f"{source}, {what}", periodic=True)
     except TrajectoryError as error:
         return StationVerdict(platform, "not made", (), (math.nan,) * 3, error.args[0] if error.args else str(error))
     return StationVerdict(
@@ -151,6 +153,8 @@ class LearnSummary:
         convergence: the convergence figures.
         update: what the update changed (None for cycle 0).
         stations: each measured station's ISO 14242-1 verdict on its motion (empty without a load or for cycle 0).
+        desired: the same check of the desired motion itself (platform 0), so that a station that tracks a motion
+            which is not the ISO waveform is not read as a failing station; None without a load.
     """
 
     cycle: int | None
@@ -167,6 +171,7 @@ class LearnSummary:
     convergence: Convergence
     update: UpdateChange | None
     stations: tuple[StationVerdict, ...]
+    desired: StationVerdict | None = None
 
     def controlled_rms_deg(self) -> float:
         """The RMS error over the learned platforms' angles in [deg] (NaN without errors)."""

@@ -231,6 +231,7 @@ def learning_step(
         convergence,
         UpdateChange(_rms(change), _peak(change), _rms(learned * 1e3), _peak(learned * 1e3)),
         stations,
+        station_verdict(0, desired.t, desired.q, desired.Fe, desired.name) if desired.Fe.any() else None,
     )
     return LearnStep(command, readonly(learned), readonly(sensors), summary)
 
