@@ -119,17 +119,17 @@ def test_export_writes_tables_and_a_sidecar(tmp_path, iso, exact, capsys):
         (
             ["--counts-per-rev", "0"],
             None,
-            "--counts-per-rev: expected counts per motor revolution in [1, 1e+09], got 0",
+            "--counts-per-rev 0 counts: encoder counts per motor revolution must be at least 1",
         ),
-        (["--rate", "-5"], None, "--rate: expected a servo rate in [1, 100000] Hz, got -5 Hz"),
+        (["--rate", "-5"], None, "--rate -5 Hz: sample rate must be above 0"),
     ],
 )
 def test_bad_input_one_line_nothing_written(tmp_path, iso, exact, capsys, extra, nan_at, words):
     path = _command(tmp_path, iso, exact[0], nan_at)
     out = tmp_path / "drive"
     assert main(["export", "--commands", str(path), "--out", str(out), *extra]) == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and words in err[0]
+    err = [line for line in capsys.readouterr().err.splitlines() if line.startswith("hipsim: error")]
+    assert len(err) == 1 and words in err[0], err  # warnings of an unusual value may come before it
     assert not out.exists()
 
 

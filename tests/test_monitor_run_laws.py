@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 from monitor_synthetic import EXACT_MACHINE as MACHINE
 from monitor_synthetic import write_exact
+from support import given
 
 import hipsim
 from hipsim.exceptions import ArgumentError, OutputError, TrajectoryError
@@ -41,7 +42,7 @@ def first_cycle(s: Snapshot) -> int:
 def row(s: Snapshot, a: float = 3.0, **more) -> dict:
     """An estimate row for a snapshot (its first cycle from its name): the load term ``a`` in [mm]."""
     cycle = first_cycle(s)
-    values = {name: math.nan for name in ESTIMATE_COLUMNS}
+    values: dict[str, float | str | None] = {name: math.nan for name in ESTIMATE_COLUMNS}
     values |= {
         "cycle": cycle,
         "last_cycle": s.last_cycle if s.last_cycle is not None else cycle + 9,
@@ -66,7 +67,7 @@ def estimates(monkeypatch):
 
     def estimate_batch(batch, setup):
         record.batches.append(([s.name for s in batch], setup))
-        out = []
+        out: list[dict | Skipped] = []
         for s in batch:
             if s.name in record.refuse:
                 out.append(Skipped(s.name, s.path, record.refuse[s.name], "unreadable", 4))
@@ -82,10 +83,10 @@ def estimates(monkeypatch):
 def test_workers_must_be_a_whole_number_of_at_least_one(estimates):
     for workers in (0, -1, 1.5, True, "2", None):
         with pytest.raises(ArgumentError) as error:
-            run_monitor(SETUP, [snap(0)], workers=workers)
+            run_monitor(SETUP, [snap(0)], workers=workers)  # type: ignore[arg-type]  # wrong types on purpose
         assert str(error.value).startswith("workers: expected a whole number of worker processes, at least 1, got")
         assert error.value.value is workers
-    assert run_monitor(SETUP, [snap(0)], workers=np.int64(1)).new == 1 and len(estimates.batches) == 1
+    assert run_monitor(SETUP, [snap(0)], workers=np.int64(1)).new  # type: ignore[arg-type]  # NumPy's integer is accepted == 1 and len(estimates.batches) == 1
 
 
 def test_batches_in_this_process_with_progress(estimates):
@@ -113,7 +114,7 @@ def test_the_batches_handed_to_the_workers(monkeypatch):
 
     monkeypatch.setattr(monitor_run, "run_batches", run_batches)
     snapshots = [snap(10 * k) for k in range(30)]
-    run_monitor(SETUP, snapshots, workers=np.int64(2), scheduler="tcp://x:1")
+    run_monitor(SETUP, snapshots, workers=np.int64(2), scheduler="tcp://x:1")  # type: ignore[arg-type]  # NumPy's integer
     (function, work, setup, workers, scheduler, what), *_ = calls
     # Two workers: ⌈30/16⌉ = 2 a batch; the workers and scheduler passed on as given.
     assert function is monitor_run.estimate_batch and setup is SETUP and what == "hipsim monitor"
@@ -159,8 +160,8 @@ def test_what_is_left_out_is_carried_and_nothing_usable_is_an_error(estimates):
     result = run_monitor(SETUP, [snap(0), snap(10)], skipped=[waiting])
     assert [s.name for s in result.skipped] == ["w.csv", "snap_0000010.csv"] and len(result.rows) == 1
     summary = result.summary()
-    assert summary["waiting"] == [waiting.as_dict()] and [s["file"] for s in summary["skipped"]] == ["snap_0000010.csv"]
-    assert summary["skipped"][0]["line"] == 4
+    assert summary.waiting == [waiting.as_dict()] and [s["file"] for s in summary.skipped] == ["snap_0000010.csv"]
+    assert summary.skipped[0]["line"] == 4
     # Nothing usable: the first left out that is not waiting is named, with its file.
     with pytest.raises(TrajectoryError) as error:
         run_monitor(SETUP, [snap(10)], skipped=[waiting])
@@ -181,7 +182,7 @@ def test_the_table_written_and_resumed(estimates, tmp_path):
     first = run_monitor(SETUP, snapshots, out=out, metadata={"command": "test"})
     table = read_table(out)
     assert list(table) == list(COLUMNS) and table["cycle"] == [0, 10] and table["file"] == first.columns["file"]
-    meta = read_metadata(out)
+    meta = given(read_metadata(out))
     assert meta["command"] == "test" and meta["fingerprints"] == SETUP.fingerprints()
     assert meta["parameters"] == PARAMS.source and first.fingerprints == SETUP.fingerprints()
     # A second run reads the table: nothing new to estimate; restart estimates all again.
@@ -254,7 +255,7 @@ def test_the_stations_columns_from_their_charts(estimates):
             "load_friction_2_mm_std": 0.001,
         }
     result = run_monitor(SETUP, snapshots, baseline=(20, 50))
-    c, (one, two) = result.columns, result.findings.stations
+    c, (one, two) = result.columns, given(result.findings.stations)
     for p, s in ((1, one), (2, two)):
         for name, values in (
             (f"hip_mu_change_{p}", s.change),
@@ -265,10 +266,11 @@ def test_the_stations_columns_from_their_charts(estimates):
         ):
             np.testing.assert_array_equal(c[name], values, err_msg=name)
     summary = result.summary()
-    assert summary["judged"] == "per station"
-    assert [s["station"] for s in summary["baseline"]["stations"]] == [1, 2]
-    assert summary["baseline"]["stations"][1]["load_friction_mm"] == pytest.approx(3.1)
-    assert summary["baseline"]["stations"][0]["snapshots"] == 4 and summary["baseline"]["stations"][0]["spread_mm"] >= 0
+    assert summary.judged == "per station"
+    assert summary.baseline.stations is not None
+    assert [s.station for s in summary.baseline.stations] == [1, 2]
+    assert summary.baseline.stations[1].load_friction_mm == pytest.approx(3.1)
+    assert summary.baseline.stations[0].snapshots == 4 and summary.baseline.stations[0].spread_mm >= 0
 
 
 def test_the_summary_s_counts(estimates):
@@ -278,24 +280,25 @@ def test_the_summary_s_counts(estimates):
     gains = stepped(estimates, 80, 0.5, gain=lambda cycle: drift.get(cycle, 1.0))
     result = run_monitor(SETUP, gains, baseline=(20, 50), alarm_rise=0.01)
     s = result.summary()
-    assert (s["snapshots"], s["new"], s["kept"], s["first_cycle"], s["last_cycle"]) == (11, 11, 0, 0, 109)
-    assert s["baseline"]["from"] == 20 and s["baseline"]["to"] == 50 and s["baseline"]["snapshots"] == 4
-    assert s["baseline"]["load_friction_mm"] == pytest.approx(3.0, abs=1e-12) and s["baseline"]["stations"] is None
-    assert s["baseline"]["spread_mm"] == result.findings.mean.spread > 0
-    assert s["alarm_rise"] == 0.01 and s["threshold_mm"] == list(result.findings.mean.threshold)
-    assert s["chart"] == "two-sided EWMA (lambda 0.2, L 3) with the engineering threshold"
-    assert s["judged"] == "the two stations' mean, worst case (up to twice its change in one station)"
-    assert (s["alarms"], s["alarm_active"], s["notice_active"], s["notices"]) == (3, True, False, 0)
-    assert s["first_alarm"]["file"] == "snap_0000080.csv" and s["latest_notice"] is None
-    assert s["worst_case_factor"] == 2.0
-    cell = s["load_cell"]
-    assert cell["commanded_load_logged"] and cell["gain_change_last"] == pytest.approx(0.02, abs=1e-12)
-    assert cell["three_percent"] == pytest.approx(0.03 / 1.03 * 3.0 / R_H_MM, rel=1e-12)
-    assert cell["drifted"] == ["snap_0000070.csv", "snap_0000090.csv"]
-    assert s["missing"] == [] and s["incomplete"] == [] and s["note"] == ""
-    assert s["files"][0] == {"file": "snap_0000000.csv", "bytes": 100, "sha256": "s"} and len(s["files"]) == 11
-    assert s["fingerprint"] == SETUP.fingerprints()["setup"] and s["parameters"] == PARAMS.source
-    assert s["table"] is result.columns and s["skipped"] == [] and s["waiting"] == []
+    assert (s.snapshots, s.new, s.kept, s.first_cycle, s.last_cycle) == (11, 11, 0, 0, 109)
+    assert s.baseline.from_ == 20 and s.baseline.to == 50 and s.baseline.snapshots == 4
+    assert s.baseline.load_friction_mm == pytest.approx(3.0, abs=1e-12) and s.baseline.stations is None
+    assert s.baseline.spread_mm == result.findings.mean.spread > 0
+    assert s.alarm_rise == 0.01 and s.threshold_mm == list(result.findings.mean.threshold)
+    assert s.chart == "two-sided EWMA (lambda 0.2, L 3) with the engineering threshold"
+    assert s.judged == "the two stations' mean, worst case (up to twice its change in one station)"
+    assert (s.alarms, s.alarm_active, s.notice_active, s.notices) == (3, True, False, 0)
+    assert s.first_alarm is not None
+    assert s.first_alarm["file"] == "snap_0000080.csv" and s.latest_notice is None
+    assert s.worst_case_factor == 2.0
+    cell = s.load_cell
+    assert cell.commanded_load_logged and cell.gain_change_last == pytest.approx(0.02, abs=1e-12)
+    assert cell.three_percent == pytest.approx(0.03 / 1.03 * 3.0 / R_H_MM, rel=1e-12)
+    assert cell.drifted == ["snap_0000070.csv", "snap_0000090.csv"]
+    assert s.missing == [] and s.incomplete == [] and s.note == ""
+    assert s.files[0].to_json() == {"file": "snap_0000000.csv", "bytes": 100, "sha256": "s"} and len(s.files) == 11
+    assert s.fingerprint == SETUP.fingerprints()["setup"] and s.parameters == PARAMS.source
+    assert s.table is result.columns and s.skipped == [] and s.waiting == []
     assert result.two_stations and result.baseline == (20, 50) and result.alarm_rise == 0.01
 
 
@@ -305,15 +308,16 @@ def test_the_summary_s_notice_gaps_and_short_snapshots(estimates):
     snapshots = [s for s in stepped(estimates, 80, 0.1) if s.name != "snap_0000060.csv"]
     estimates.more[100] = {"samples": 400, "note": "cut"}
     s = run_monitor(SETUP, snapshots, baseline=(20, 50), alarm_rise=0.02).summary()
-    assert s["missing"] == [60] and s["incomplete"] == ["snap_0000100.csv"]
-    assert s["alarms"] == 0 and s["notice_active"] and not s["alarm_active"]
-    assert s["notices"] == sum("notice" in f for f in s["table"]["flag"]) >= 1
-    assert s["latest_notice"]["file"] == "snap_0000100.csv" and s["first_alarm"] is None
-    assert not s["load_cell"]["commanded_load_logged"] and s["load_cell"]["gain_change_last"] is None
-    assert s["load_cell"]["drifted"] == []
+    assert s.missing == [60] and s.incomplete == ["snap_0000100.csv"]
+    assert s.alarms == 0 and s.notice_active and not s.alarm_active
+    assert s.notices == sum("notice" in f for f in s.table["flag"]) >= 1
+    assert s.latest_notice is not None
+    assert s.latest_notice["file"] == "snap_0000100.csv" and s.first_alarm is None
+    assert not s.load_cell.commanded_load_logged and s.load_cell.gain_change_last is None
+    assert s.load_cell.drifted == []
     # No baseline yet: no chart, said so.
     s = run_monitor(SETUP, [snap(0)], baseline=(20, 50)).summary()
-    assert s["note"] != "" and s["alarms"] == 0 and not s["alarm_active"] and not s["notice_active"]
+    assert s.note != "" and s.alarms == 0 and not s.alarm_active and not s.notice_active
 
 
 def test_monitor_takes_its_options_and_gives_a_table(estimates, tmp_path):
@@ -399,7 +403,7 @@ def world(monkeypatch):
     last snapshot's alarm of the next result, ``world.fail`` makes the next run find nothing usable."""
     w = SimpleNamespace(snapshots=[], skipped=[], alarm=0, fail=False, runs=[], finds=[])
 
-    def find_snapshots(logs, window, settle, torque_constant, rate, cache):
+    def find_snapshots(logs, window, settle, torque_constant, rate, cache, clock):
         w.finds.append((logs, window, settle, torque_constant, rate, cache))
         return list(w.snapshots), list(w.skipped)
 
@@ -423,7 +427,8 @@ def test_the_poll_must_be_positive():
 
 
 def test_a_round_estimates_only_when_the_snapshots_change(world):
-    updates, alarms = [], []
+    updates: list = []
+    alarms: list = []
 
     def add(*snapshots):
         return lambda: world.snapshots.extend(snapshots)
@@ -478,15 +483,21 @@ def test_a_round_estimates_only_when_the_snapshots_change(world):
     assert first.setup is setup and first.skipped == world.skipped
 
 
+def add_and_succeed(world, snapshot: Snapshot) -> None:
+    """The world's next round: a new snapshot, and the run that finds it usable."""
+    world.snapshots.append(snapshot)
+    world.fail = False
+
+
 def test_nothing_usable_waits_for_the_next_change(world):
     world.snapshots, world.fail = [snap(0)], True
-    stop = Rounds([lambda: None, lambda: (world.snapshots.append(snap(10)), setattr(world, "fail", False))])
-    updates = []
+    stop = Rounds([lambda: None, lambda: add_and_succeed(world, snap(10))])
+    updates: list = []
     assert watch.watch(SETUP, "logs", (0, 1), 0.01, poll=1.0, update=updates.append, stop=stop, rounds=2) is None
     assert len(world.runs) == 1 and updates == []  # the same snapshots are not tried again
-    stop = Rounds([lambda: (world.snapshots.append(snap(10)), setattr(world, "fail", False))])
+    stop = Rounds([lambda: add_and_succeed(world, snap(10))])
     result = watch.watch(SETUP, "logs", (0, 1), 0.01, poll=1.0, update=updates.append, stop=stop, rounds=2)
-    assert len(result.rows) == 2 and updates == [result]
+    assert len(given(result).rows) == 2 and updates == [result]
 
 
 def test_a_stop_ends_the_watch_and_no_snapshot_runs_nothing(world):
@@ -516,14 +527,14 @@ def test_the_watch_resumes_the_table(world, tmp_path, estimates):
 def test_without_a_stop_it_watches_its_rounds(world):
     world.snapshots = [snap(0)]
     result = watch.watch(SETUP, "logs", (0, 1), 0.01, poll=1e-3, rounds=2)
-    assert len(world.finds) == 2 and len(world.runs) == 1 and result.rows == [{"file": "snap_0000000.csv"}]
+    assert len(world.finds) == 2 and len(world.runs) == 1 and given(result).rows == [{"file": "snap_0000000.csv"}]
     assert world.finds[0][2] == 10.0  # the settle's default: ten seconds
     assert (world.runs[0].workers, world.runs[0].scheduler, world.runs[0].metadata) == (1, None, None)
 
 
 def test_an_alarm_at_the_first_result_is_raised(world):
     world.snapshots, world.alarm = [snap(0)], 1
-    alarms = []
+    alarms: list = []
     watch.watch(SETUP, "logs", (0, 1), 0.01, on_alarm=alarms.append, stop=Rounds([]), rounds=2)
     assert len(alarms) == 1 and len(world.runs) == 1
 
@@ -538,12 +549,12 @@ def test_the_watch_refuses_another_set_up_s_table(world, tmp_path, estimates):
 def test_the_alarm_and_notice_at_the_last_snapshot_alone(estimates):
     # The step at the last snapshot only: the alarm is active there, not before.
     s = run_monitor(SETUP, stepped(estimates, 100, 0.5), baseline=(20, 50), alarm_rise=0.01).summary()
-    assert s["table"]["alarm"][-2:] == [0, 1] and s["alarm_active"] and s["alarms"] == 1
-    assert not s["notice_active"]
+    assert s.table["alarm"][-2:] == [0, 1] and s.alarm_active and s.alarms == 1
+    assert not s.notice_active
     # Below the threshold (0.1 mm: 0.0067 of μ_h, twice that still under 0.02): a notice, active at the last only.
     s = run_monitor(SETUP, stepped(estimates, 100, 0.1), baseline=(20, 50), alarm_rise=0.02).summary()
-    assert s["table"]["flag"][-2] == "" and s["table"]["flag"][-1].startswith("notice")
-    assert s["notice_active"] and not s["alarm_active"] and s["notices"] == 1
+    assert s.table["flag"][-2] == "" and s.table["flag"][-1].startswith("notice")
+    assert s.notice_active and not s.alarm_active and s.notices == 1
 
 
 def test_monitor_from_an_identified_file_and_windows_of_a_long_log(estimates, tmp_path):

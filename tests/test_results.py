@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from support import given
 
 import hipsim
 from hipsim.results import column_names
@@ -45,19 +46,19 @@ def test_csv_round_trip(result, tmp_path):
 def test_summary_values(result):
     summary = result.summary()
     torques = result.torques
-    assert summary["sliders"]["12"]["L_max_mm"] == pytest.approx(result.L[:, 0, 1].max() * 1e3)
-    assert summary["sliders"]["23"]["stroke_mm"] == pytest.approx(np.ptp(result.L[:, 1, 2]) * 1e3)
-    motor = summary["motors"]["1"]
-    assert motor["tau_rms_Nmm"] == pytest.approx(math.sqrt(np.mean((torques.total[:, 0] * 1e3) ** 2)))
-    assert motor["tau_peak_Nmm"] >= max(motor[f"{p}_max_Nmm"] for p in ("tau_m", "tau_l", "tau_s", "tau_L"))
-    assert summary["cond_inv_min"] == pytest.approx(result.cond_inv.min())
-    assert summary["cond_inv_min_t_s"] == pytest.approx(result.t[np.argmin(result.cond_inv)])
+    assert summary.sliders["12"].L_max_mm == pytest.approx(result.L[:, 0, 1].max() * 1e3)
+    assert summary.sliders["23"].stroke_mm == pytest.approx(np.ptp(result.L[:, 1, 2]) * 1e3)
+    motor = summary.motors["1"]
+    assert motor.tau_rms_Nmm == pytest.approx(math.sqrt(np.mean((torques.total[:, 0] * 1e3) ** 2)))
+    assert motor.tau_peak_Nmm >= max(getattr(motor, f"{p}_max_Nmm") for p in ("tau_m", "tau_l", "tau_s", "tau_L"))
+    assert summary.cond_inv_min == pytest.approx(result.cond_inv.min())
+    assert summary.cond_inv_min_t_s == pytest.approx(result.t[np.argmin(result.cond_inv)])
 
 
 def test_readme_library_example_runs(tmp_path, monkeypatch):
     """The README's library example, run as written."""
     text = README.read_text()
-    block = re.search(r"## Library\n\n```python\n(.*?)```", text, re.S).group(1)
+    block = given(re.search(r"## Library\n\n```python\n(.*?)```", text, re.S)).group(1)
     monkeypatch.chdir(tmp_path)
     exec(compile(block, "README.md", "exec"), {})
     assert (tmp_path / "iso_2kHz.csv").stat().st_size > 100_000
@@ -65,7 +66,7 @@ def test_readme_library_example_runs(tmp_path, monkeypatch):
 
 def test_ci_runs_the_readme_test_command():
     """The README's second command is what CI runs, verbatim."""
-    commands = re.search(r"## Two commands.*?```sh\n(.*?)```", README.read_text(), re.S).group(1)
+    commands = given(re.search(r"## Two commands.*?```sh\n(.*?)```", README.read_text(), re.S)).group(1)
     lines = [line for line in commands.splitlines() if line and not line.startswith("#")]
     assert len(lines) == 2 and "hipsim torques" in lines[0] and "pytest" in lines[1]
     ci = (README.parent / ".ci" / "run").read_text()

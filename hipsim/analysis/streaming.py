@@ -27,7 +27,7 @@ from ..exceptions import ArgumentError, PoseError
 from ..machine.parameters import Parameters
 from ..motion.sources import SampledSource, TrajectorySource, pieces
 from ..motion.trajectories import Trajectory
-from ..results import Run, Summary
+from ..results import Run, RunSummary, Summary
 from .registry import make_engine
 
 __all__ = ["CHUNK", "PieceRunner", "as_source", "stream_run"]
@@ -105,7 +105,7 @@ def stream_run(
     chunk: int | None = None,
     write: Callable[[Mapping[str, np.ndarray]], None] | None = None,
     progress: Callable[[int, int], None] | None = None,
-) -> dict:
+) -> RunSummary:
     """Run a model along a source in pieces: each piece's columns to ``write``, the summary of the whole returned.
 
     Args:
@@ -131,7 +131,7 @@ def stream_run(
     runner = PieceRunner(params, source, model, on_error, lever_spin)
     if chunk is None:
         chunk = runner.engine.pieces.chunk
-    summary = None
+    summary: Summary | None = None
     n = len(source)
     for start, stop in pieces(source, chunk):
         run = runner.run(start, source.piece(start, stop))
@@ -145,7 +145,7 @@ def stream_run(
             write(columns)
         if progress is not None:
             progress(stop, n)
-    if not summary.kept:
+    if summary is None or not summary.kept:
         raise PoseError(
             f"all {n} samples are out of reach or singular; nothing to compute", source.time(0), 0, source=source.name
         )

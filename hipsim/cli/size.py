@@ -96,9 +96,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     )
     out.add_argument("--top", type=int, metavar="N", help="show the N best catalogue combinations (default all)")
     out.add_argument(
-        "--format",
         "--summary-format",
-        dest="format",
         choices=["table", "json"],
         default="table",
         help="output on standard output",
@@ -173,6 +171,7 @@ def _screw_name(drive, params) -> str:
 
 def format_ranking(candidates, shown, trajectories, params) -> str:
     """The catalogue ranked by size: each line's rated power, and its binding check (pass) or first failing check (FAIL); then the screw's checks once."""
+    from ..design.checks import margin_order
     from ..design.ranking import screw_checks
     from ..present.numbers import significant
 
@@ -235,7 +234,7 @@ def format_ranking(candidates, shown, trajectories, params) -> str:
     for screw, checks in screw_checks(candidates):
         made = [c for c in checks if c.passed is not None]
         failed = [c for c in made if c.passed is False]
-        b = min(failed or made, key=lambda c: c.margin) if made else None
+        b = min(failed or made, key=margin_order) if made else None
         rows.append(
             [
                 screw.name if screw is not None else f"machine's ({params.lead * 1e3:g} mm)",
@@ -370,6 +369,7 @@ def format_bands(bands) -> str:
 def run(args) -> int:
     """Check ``--drive`` (or rank ``--catalogue``) along the cycles and print the checks; exit status 1 when the drive fails one."""
     from ..analysis.runs import analyse
+    from ..design.checks import checks_verdict
     from ..design.ranking import screw_checks
     from ..design.sizing import rank_drives, sizing
     from ..files import json_ready
@@ -381,6 +381,7 @@ def run(args) -> int:
         load_motor_catalogue,
         load_screw_catalogue,
     )
+    from ..records import exit_status
 
     params = parameters(args)
     if args.top is not None and args.top < 1:
@@ -401,11 +402,13 @@ def run(args) -> int:
         gearboxes = load_gearbox_catalogue(args.gearboxes) if args.gearboxes else None
         rules = _rules(args, SizingRules())
         progress = (
-            None if args.format == "json" else (lambda text: print(f"running the model: {text}", file=sys.stderr))
+            None
+            if args.summary_format == "json"
+            else (lambda text: print(f"running the model: {text}", file=sys.stderr))
         )
         candidates = rank_drives(params, trajectories, motors, screws, gearboxes, rules, progress, order=args.rank)
         shown = candidates[: args.top] if args.top else candidates
-        if args.format == "json":
+        if args.summary_format == "json":
             document = {"rules": vars(rules), "candidates": [c.as_dict() for c in shown], "rank": args.rank}
             if args.rank == "size":
                 for entry, c in zip(document["candidates"], shown):
@@ -422,7 +425,7 @@ def run(args) -> int:
                 print(format_margin_ranking(candidates, shown, trajectories, params))
             unchecked = sorted({name for c in shown for name in c.unchecked})
             if unchecked:
-                print(f"\nnot checked for want of data (see --format json for which): {', '.join(unchecked)}")
+                print(f"\nnot checked for want of data (see --summary-format json for which): {', '.join(unchecked)}")
             if shown:
                 best = shown[0]
                 print()
@@ -444,7 +447,7 @@ def run(args) -> int:
         (trajectory, sizing(analyse(machine, trajectory), drive, rules, cycles)) for trajectory, cycles in trajectories
     ]
     bands = _margin_bands(args, params, machine, drive, rules, trajectories, results)
-    if args.format == "json":
+    if args.summary_format == "json":
         document = {t.name: s.as_dict() for t, s in results}
         for (t, _), b in zip(results, bands or []):
             document[t.name]["margin_bands"] = [x.as_dict() for x in b]
@@ -473,5 +476,4 @@ def run(args) -> int:
                     print()
                     print(format_bands(bands[[t for t, _ in results].index(trajectory)]))
             print()
-    failed = any(size.passed is False for _, size in results)
-    return 1 if failed else 0
+    return exit_status(checks_verdict(size.checks) for _, size in results)

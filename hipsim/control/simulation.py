@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import math
 import re
-import threading
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -39,6 +38,7 @@ from tqdm import tqdm
 from ..analytic import kernel as reduced_kernel
 from ..analytic.inverse_kinematics import kinematics
 from ..analytic.kernel import floats
+from ..clock import note_if_slow
 from ..engine import Plant
 from ..exceptions import ArgumentError, PoseError
 from ..files import write_columns
@@ -47,8 +47,8 @@ from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 from ..physics.transmission import angle_from_travel
 from ..physics.units import RPM_PER_RAD_S
-from ..results import peak_and_rms
 from .controllers import AugmentedPD, Sample, WorkspacePD
+from .simulation_summary import SimulationSummary, simulation_summary
 
 __all__ = ["Plant", "ReducedPlant", "Simulation", "apply_mismatch", "parse_mismatch", "simulate"]
 
@@ -159,21 +159,9 @@ class Simulation:
         """Tracking error q_d − q in [rad], (K, 3)."""
         return self.desired.q - self.q
 
-    def summary(self) -> dict:
+    def summary(self) -> SimulationSummary:
         """Peak and RMS of each angle's error in [deg] and of each motor's torque in [N·mm], peak speeds in [rpm]."""
-        err_peak, err_rms = peak_and_rms(np.degrees(self.err))
-        tau_peak, tau_rms = peak_and_rms(self.tau * 1e3)
-        speed_peak, _ = peak_and_rms(self.motor_speed * RPM_PER_RAD_S)
-        names = ("alpha", "beta", "gamma")
-        return {
-            "plant": self.plant,
-            "controller": self.controller,
-            "duration_s": float(self.t.size * (self.t[1] - self.t[0])),  # simulate() makes at least two samples
-            "errors_deg": {n: {"peak": float(err_peak[k]), "rms": float(err_rms[k])} for k, n in enumerate(names)},
-            "torques_Nmm": {str(i + 1): {"peak": float(tau_peak[i]), "rms": float(tau_rms[i])} for i in range(3)},
-            "speed_peak_rpm": {str(i + 1): float(speed_peak[i]) for i in range(3)},
-            "saturated_samples": int(np.count_nonzero(self.saturated)),
-        }
+        return simulation_summary(self)
 
     def write_csv(self, path) -> Path:
         """Write :meth:`columns` to ``path`` atomically. Returns the path."""
@@ -443,14 +431,8 @@ def _servo_chunks(n: int, size: int, desc: str, progress: bool, notify: Callable
     would promise hours. That period is announced as compiling once it takes
     more than a second, and the bar's rate starts after it.
     """
-    note = threading.Timer(1.0, lambda: notify(f"{desc}: compiling (first run only) ..."))
-    note.daemon = True
-    if notify is not None:
-        note.start()
-    try:
+    with note_if_slow(f"{desc}: compiling (first run only) ...", notify):
         yield 0, 1
-    finally:
-        note.cancel()
     with tqdm(desc=desc, unit="servo", initial=1, total=n, disable=not progress, delay=2.0, leave=False) as bar:
         for start in range(1, n, size):
             stop = min(start + size, n)

@@ -27,10 +27,21 @@ import numpy as np
 
 from ..machine.drive_parts import DIRECT, Drive, SizingRules
 from ..physics.units import RPM_PER_RAD_S
+from ..records import Level, Verdict
 from .demand import ScrewSide, motor_duty
 from .ratings import buckling_load, critical_speed, screw_life, weighted_mean, winding_rise
 
-__all__ = ["CHECKS", "FAILURE_ORDER", "MOTOR_INDEPENDENT", "Check", "binding_check", "drive_checks", "first_failure"]
+__all__ = [
+    "CHECKS",
+    "FAILURE_ORDER",
+    "MOTOR_INDEPENDENT",
+    "Check",
+    "binding_check",
+    "checks_verdict",
+    "drive_checks",
+    "first_failure",
+    "margin_order",
+]
 
 
 @dataclass(frozen=True)
@@ -178,10 +189,15 @@ def _check(module: int, name: str, value, limit, detail: str = "", trajectory: s
     return Check(module, name, value, limit, float(margin), bool(passed), detail, trajectory)
 
 
+def margin_order(check: Check) -> float:
+    """A check's margin as a sort key: a check not made (no margin) after every one made."""
+    return math.inf if check.margin is None else check.margin
+
+
 def binding_check(checks: Iterable[Check]) -> Check | None:
     """The check with the smallest margin, the one that decides; None when no check could be made."""
     made = [c for c in checks if c.margin is not None]
-    return min(made, key=lambda c: c.margin) if made else None
+    return min(made, key=margin_order) if made else None
 
 
 def first_failure(checks: Iterable[Check]) -> Check | None:
@@ -190,7 +206,7 @@ def first_failure(checks: Iterable[Check]) -> Check | None:
     if not failed:
         return None
     kind = min(failed, key=lambda c: FAILURE_ORDER.index(c.name)).name
-    return min((c for c in failed if c.name == kind), key=lambda c: c.margin)
+    return min((c for c in failed if c.name == kind), key=margin_order)
 
 
 def _worst(values: np.ndarray, weights: np.ndarray) -> int:
@@ -330,19 +346,20 @@ def drive_checks(side: ScrewSide, drive: Drive, rules: SizingRules | None = None
             )
         else:
             add("screw_life", None, rules.life_target_cycles, missing="no dynamic load rating C_a")
-        geometry = screw is not None and None not in (screw.root_diameter, screw.free_length, screw.end_fixing)
+        has_geometry = screw is not None and None not in (screw.root_diameter, screw.free_length, screw.end_fixing)
+        geometry = screw if has_geometry else None
         missing = "" if geometry else "needs root_diameter_mm, free_length_mm and end_fixing"
         add(
             "critical_speed",
             np.abs(side.speed[:, i]).max() * RPM_PER_RAD_S,
-            rules.critical_speed_factor * critical_speed(screw) * RPM_PER_RAD_S if geometry else None,
+            rules.critical_speed_factor * critical_speed(geometry) * RPM_PER_RAD_S if geometry else None,
             f"{rules.critical_speed_factor:g} × critical speed" if geometry else "",
             missing,
         )
         add(
             "buckling",
             np.abs(load).max(),
-            rules.buckling_factor * buckling_load(screw) if geometry else None,
+            rules.buckling_factor * buckling_load(geometry) if geometry else None,
             f"{rules.buckling_factor:g} × Euler load" if geometry else "",
             missing,
         )
@@ -358,3 +375,28 @@ def drive_checks(side: ScrewSide, drive: Drive, rules: SizingRules | None = None
             missing="" if limit is not None else "no permissible axial load given",
         )
     return checks
+
+
+def checks_verdict(checks: Iterable[Check], what: str = "the drive") -> Verdict:
+    """The verdict of a drive's checks: FAIL when one made fails, PASS when every one made passes, NOT MADE when none
+    could be made. Judged: the checks made, the binding one (smallest margin) named with its margin; not judged: the
+    checks missing their data.
+
+    Args:
+        checks: the checks (:func:`drive_checks`).
+        what: the drive's name, for the sentence.
+    """
+    checks = tuple(checks)
+    made = [c for c in checks if c.passed is not None]
+    missing = sorted({CHECKS[c.name].label for c in checks if c.passed is None})
+    not_judged = f"not checked for want of data: {', '.join(missing)}" if missing else ""
+    binding = binding_check(checks)
+    if not made or binding is None or binding.margin is None:
+        return Verdict(Level.NOT_MADE, f"no check of {what} could be made", not_judged)
+    failed = [c for c in made if c.passed is False]
+    judged = (
+        f"{len(made) - len(failed)} of {len(made)} checks of {what} pass; binding: {binding.kind.label}, "
+        f"LN{binding.module}, margin {binding.margin:+.3g}"
+    )
+    numbers = {"checks_made": float(len(made)), "checks_failed": float(len(failed)), "binding_margin": binding.margin}
+    return Verdict(Level.FAIL if failed else Level.PASS, judged, not_judged, numbers)
