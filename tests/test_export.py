@@ -112,7 +112,7 @@ def test_export_writes_tables_and_a_sidecar(tmp_path, iso, exact, capsys):
 
 
 @pytest.mark.parametrize(
-    "extra, nan_at, words",
+    ("extra", "nan_at", "words"),
     [
         (["--set", "motor.max_speed_rpm=1000"], None, "needs a speed of"),
         ([], 17, "not a finite number at t = 0.017 s"),

@@ -66,7 +66,7 @@ def test_without_commands_the_encoders_stand_for_them(tmp_path, log, capsys):
 
 
 @pytest.mark.parametrize(
-    "case, words",
+    ("case", "words"),
     [
         ("short", "shorter than one period of the desired motion (1 s)"),
         ("no sensor", "no attitude sensor of platform 2: missing column(s) alpha_2_deg"),

@@ -122,6 +122,7 @@ def test_model_equal_to_plant_without_noise_changes_nothing(drawing, desired, ge
     log, _ = rig.run(base.carriages)
     step = learning_step(machine, desired, log, law, base)
     assert np.abs(step.command.carriages - base.carriages).max() < 1e-12  # 1e-9 mm
+    assert step.summary.update is not None
     assert max(step.summary.update.change_peak_mm) < 1e-9
 
 
@@ -132,7 +133,9 @@ def test_learning_from_its_own_logs_reaches_the_noise_floor(drawing, desired, ge
     assert rms[0] > 0.3  # the drawing's command on the machine as built, the drive lagging: far off
     assert rms[1] < rms[0] / 5 and rms[2] < rms[1]  # monotone while above the floor
     assert min(rms[1:6]) < 0.02 and rms[-1] < 0.02
-    assert step.summary.convergence.data < 0.5  # a 10 ms lag at a 1 Hz cycle, Q at 10 Hz
+    assert (
+        step.summary.convergence.data is not None and step.summary.convergence.data < 0.5
+    )  # a 10 ms lag at a 1 Hz cycle, Q at 10 Hz
 
 
 def test_both_comes_within_five_percent_of_the_best_carriages(drawing, desired, geometry):
@@ -158,7 +161,7 @@ def test_a_drive_that_would_make_the_step_diverge_is_refused(drawing, desired, g
         learning_step(drawing, desired, log, LearningLaw("2"))
     # Q at 2 Hz and γ = 1/2: at 1 Hz |1 − e^{−i0.2π}/2| = 0.66, at 2 Hz 0.97·Q = 0.49: the same log then converges
     step = learning_step(drawing, desired, log, LearningLaw("2", q_cutoff=2.0, gain=0.5))
-    assert step.summary.convergence.data < 1.0
+    assert step.summary.convergence.data is not None and step.summary.convergence.data < 1.0
 
 
 def test_mismatch_at_the_best_shift():
@@ -225,6 +228,7 @@ def test_a_motion_that_is_not_iso_is_said_apart_from_the_stations(drawing, desir
     law = LearningLaw("2")
     log, _ = rig.run(first_command(machine, half, law).carriages)  # m_2 exact: the model is the machine
     summary = learning_step(machine, half, log, law).summary
+    assert summary.desired is not None
     assert summary.desired.verdict == "FAIL" and summary.desired.worst_deg[0] > 5.0  # α: half of 21.5° amplitude
     station2 = next(s for s in summary.stations if s.platform == 2)
     assert station2.worst_deg == pytest.approx(summary.desired.worst_deg, abs=1e-6)  # it went through that motion

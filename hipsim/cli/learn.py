@@ -156,7 +156,9 @@ def run(args) -> int:
                     raise HipsimError(f"--previous {args.previous}: the log {args.log} has the commands already")
                 commands = _previous_commands(args.previous, t)
             logged = commands is not None
-            log = CycleLog(t, encoders, commands if logged else encoders, sensors, logged, args.log)
+            if commands is None:  # the encoders stand for the commands
+                commands = encoders
+            log = CycleLog(t, encoders, commands, sensors, logged, args.log)
             step = learning_step(params, desired, log, law)
             command, summary = step.command, step.summary
     except ArgumentError as error:  # the library names its argument; the user typed an option

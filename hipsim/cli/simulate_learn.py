@@ -26,6 +26,12 @@ def _one_period(args, trajectory):
     return trajectory
 
 
+def _change_mm(summary) -> float:
+    """The largest RMS change of a carriage's command the step made, in [mm] (a step from a cycle always has one)."""
+    assert summary.update is not None
+    return max(summary.update.change_rms_mm)
+
+
 def run_learning(args, params, plant, trajectory, mismatch, report) -> int:
     """Run the cycles, write the last one and the error per cycle, print the table; exit status 0."""
     import numpy as np
@@ -70,7 +76,7 @@ def run_learning(args, params, plant, trajectory, mismatch, report) -> int:
     columns["convergence_data"] = np.array(
         [np.nan if s.convergence.data is None else s.convergence.data for s in summaries]
     )
-    columns["change_rms_mm"] = np.array([max(s.update.change_rms_mm) for s in summaries])
+    columns["change_rms_mm"] = np.array([_change_mm(s) for s in summaries])
     runs[-1].write_csv(out)
     write_columns(table, columns)
     if args.summary_format == "json":
@@ -84,7 +90,7 @@ def run_learning(args, params, plant, trajectory, mismatch, report) -> int:
             f"m_{e.platform}",
             *(f"{e.rms_deg[k]:.4g}" for k in range(3)),
             *(f"{abs(e.peak_deg[k]):.4g}" for k in range(3)),
-            f"{max(s.update.change_rms_mm):.3g}",
+            f"{_change_mm(s):.3g}",
             "—" if s.convergence.data is None else f"{s.convergence.data:.3g}",
         ]
         for s in summaries
