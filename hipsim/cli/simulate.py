@@ -181,6 +181,11 @@ def run(args) -> int:
         raise HipsimError("--fig7 draws both platforms of a run with --plant-params or --feedback; give one of them")
     if apart:
         check_options(args)  # each option in its range before any work
+        if args.learn is not None:  # never silently ignored
+            raise HipsimError(
+                "--learn runs on a plant that is the controller's model; with --plant-params, --feedback or a "
+                "per-chain --params the plant-and-model loop runs, which does not learn yet"
+            )
     if Path(args.out).is_dir():  # before the run, not after it
         raise HipsimError(f"--out {args.out} is a folder; give a CSV file name")
     if is_stdout(args.out) and args.controller == "both":
