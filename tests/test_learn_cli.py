@@ -193,9 +193,10 @@ def test_simulate_learn_on_the_machine_as_built(built, tmp_path, capsys):
     which follows and is not learned, stays at 0.16/0.10/0.32°)."""
     out = tmp_path / "sim.csv"
     argv = ["simulate", "--learn", "3", *MACHINE, "--plant-params", str(built), "--feedback", "sensors"]
-    assert main([*argv, "--sensor-noise", "0", "--out", str(out), "--summary-format", "json"]) == 0
+    assert main([*argv, "--sensor-noise", "0", "--fig7", "--out", str(out), "--summary-format", "json"]) == 0
     document = json.loads(capsys.readouterr().out)
     assert document["plant"] == str(built)
+    assert (tmp_path / "sim_fig7.png").exists() and len(document["figures"]) == 2
     rms = [max(e["rms_deg"]) for s in document["learning"] for e in s["errors"] if e["platform"] == 2]
     assert rms[1] < rms[0] / 5 and rms[2] <= rms[1] * 1.01, rms
     table = (tmp_path / "sim_learning.csv").read_text().splitlines()

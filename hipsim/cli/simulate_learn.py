@@ -108,9 +108,14 @@ def run_learning(args, params, plant, trajectory, mismatch, report) -> int:
     if machine is not None:  # the true desired motion in the file, not the last cycle's learned reference
         import dataclasses
 
+        from .simulate_machine import _write_fig7
+
         last = runs[-1]
-        dataclasses.replace(last, desired=dataclasses.replace(desired, t=last.t)).write(out)
+        last = dataclasses.replace(last, desired=dataclasses.replace(desired, t=last.t))
+        last.write(out)
+        figures = [str(p) for p in _write_fig7(last, out)] if args.fig7 else []
     else:
+        figures = []
         runs[-1].write_csv(out)
     write_columns(table, columns)
     if args.summary_format == "json":
@@ -119,6 +124,7 @@ def run_learning(args, params, plant, trajectory, mismatch, report) -> int:
                 "learning": [s.to_json() for s in summaries],
                 "mismatch": mismatch,
                 "csv": [str(out), str(table)],
+                **({"figures": figures} if figures else {}),
                 **({} if machine is None else {"model": params.source, "plant": args.plant_params or params.source}),
             },
             report,
@@ -163,4 +169,6 @@ def run_learning(args, params, plant, trajectory, mismatch, report) -> int:
         file=report,
     )
     print(f"wrote {out} (the last cycle) and {table}", file=report)
+    for name in figures:
+        print(f"wrote {name} (Fig. 7 of the last cycle)", file=report)
     return 0
