@@ -31,7 +31,7 @@ from pathlib import Path
 
 import pytest
 
-#: Test files by decreasing time (``--durations=0`` of a fresh clone, 27 Nov after the figures undrawn, the sums of each file's entries): scheduled first.
+#: Test files by decreasing time, by their path under tests/ (``--durations=0`` of a fresh clone, 27 Nov after the figures undrawn, the sums of each file's entries): scheduled first.
 SLOW_FIRST = [
     "test_docs.py",
     "test_uncertainty_forward.py",
@@ -190,7 +190,16 @@ def pytest_configure(config):
 def pytest_collection_modifyitems(session, config, items):
     """The slowest files first, each file's tests in their own order."""
     rank = {name: k for k, name in enumerate(SLOW_FIRST)}
-    items.sort(key=lambda item: rank.get(item.path.name, len(rank)))  # stable: a file's order is kept
+    tests = Path(__file__).resolve().parent
+    items.sort(key=lambda item: rank.get(_under(item.path, tests), len(rank)))  # stable: a file's order is kept
+
+
+def _under(path: Path, tests: Path) -> str:
+    """A test file's path under tests/ ("rig/test_compare.py"), as SLOW_FIRST names it."""
+    try:
+        return path.resolve().relative_to(tests).as_posix()
+    except ValueError:  # a test collected from outside tests/
+        return path.name
 
 
 def pytest_unconfigure(config):
