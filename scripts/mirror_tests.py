@@ -10,7 +10,8 @@ Each flat ``tests/test_*.py`` is either listed under ``[stay]`` (cross-cutting a
 rules are at the top of the table) and rerun. After moving, in every file git tracks:
 
 - ``tests/<old>`` (paths and node ids) becomes ``tests/<new>`` (docs, scripts/mutation_targets.toml, .ci/run,
-  other tests' comments), and a renamed file's bare name in tests/ becomes its new path;
+  other tests' comments); a moved file's bare name in a test file, and a renamed file's old name anywhere, become
+  its new path;
 - tests/conftest.py's SLOW_FIRST names files by their path under tests/;
 - a test file in a subfolder that finds the repository root as ``Path(__file__)...parents[1]`` (or
   ``.parent.parent``) gets the root at its new depth.
@@ -52,9 +53,10 @@ def git(*args: str) -> str:
 def move_flat_files(moves: dict[str, str], stay: dict[str, str], check: bool) -> tuple[list[str], list[str], list[str]]:
     """``git mv`` each flat test file with a row; returns (moved, unmapped, conflicts)."""
     moved, unmapped, conflicts = [], [], []
+    placed = set(moves.values())
     for path in sorted(TESTS.glob("test_*.py")):
         name = path.name
-        if name in stay or moves.get(name) == name:
+        if name in stay or name in placed:  # at the top by the table (a foundation module's tests)
             continue
         if name not in moves:
             unmapped.append(name)
@@ -88,8 +90,11 @@ def rewrite_references(moves: dict[str, str]) -> list[str]:
         return []
     names = "|".join(re.escape(old) for old in sorted(renamed, key=len, reverse=True))
     in_path = re.compile(rf"(?<![\w/.-])tests/({names})(?![\w])")
-    # Bare names only where they are unambiguous: a renamed file's old name, not preceded by a path or word.
+    # Bare names (not preceded by a path or word): in tests/, every moved file's; elsewhere only the old names of
+    # files whose name changed (a kept name still names the file).
     bare = re.compile(rf"(?<![\w/.-])({names})(?![\w])")
+    changed = {old for old, new in renamed.items() if Path(new).name != old}
+    bare_changed = re.compile(rf"(?<![\w/.-])({'|'.join(re.escape(old) for old in sorted(changed, key=len, reverse=True)) or '(?!)'})(?![\w])")
     slow_first = re.compile(rf'^(\s*)"({names})",', re.MULTILINE)
     edited = []
     for path in tracked_text_files():
@@ -99,6 +104,8 @@ def rewrite_references(moves: dict[str, str]) -> list[str]:
             new = slow_first.sub(lambda m: f'{m.group(1)}"{renamed[m.group(2)]}",', new)
         elif TESTS in path.parents and path.name.startswith("test_"):
             new = bare.sub(lambda m: "tests/" + renamed[m.group(1)], new)
+        else:
+            new = bare_changed.sub(lambda m: "tests/" + renamed[m.group(1)], new)
         if new != text:
             path.write_text(new, encoding="utf-8", errors="surrogateescape")
             edited.append(str(path.relative_to(ROOT)))
@@ -118,7 +125,7 @@ def fix_roots() -> tuple[list[str], list[str]]:
             path.write_text(new, encoding="utf-8")
             edited.append(str(path.relative_to(ROOT)))
         for number, line in enumerate(new.splitlines(), 1):
-            if "__file__" in line and f"parents[{depth + 1}]" not in line and "hipsim" not in line:
+            if "Path(__file__)" in line and f"parents[{depth + 1}]" not in line:
                 look.append(f"{path.relative_to(ROOT)}:{number}: {line.strip()}")
     return edited, look
 

@@ -114,7 +114,7 @@ def test_a_bad_file_gives_the_readers_error(tmp_path):
 
 
 def test_a_crossing_at_a_piece_boundary_is_caught_as_in_one_piece(params):
-    """δ = 5°: between γ = −7.3° and −4.1° the motion steps over the singularity at γ = −5° (tests/test_inverse_kinematics.py)."""
+    """δ = 5°: between γ = −7.3° and −4.1° the motion steps over the singularity at γ = −5° (tests/analytic/test_inverse_kinematics.py)."""
     machine = params.replace(home_offset=np.radians(5.0))
     gamma = np.radians([-9.7, -7.3, -4.1, -1.9])
     coarse = Trajectory(
@@ -287,7 +287,7 @@ def test_check_summary_as_json(capsys):
     assert {row["column"] for row in spin["columns"]} >= {"tau_1_Nmm", "L_11_mm", "cond_inv"}
 
 
-@pytest.mark.usefixtures("quick_figures")  # exit statuses and text: the figures are drawn in tests/test_report.py
+@pytest.mark.usefixtures("quick_figures")  # exit statuses and text: the figures are drawn in tests/present/test_report.py
 def test_report_exits_1_and_says_so_when_the_drive_fails(tmp_path, capsys):
     """A motor rated far below the machine's torques (30 N·mm continuous against ~200 N·mm RMS) fails its check."""
     import json
@@ -319,5 +319,5 @@ def test_the_version_is_the_packages_own():
     import tomllib
     from pathlib import Path
 
-    declared = tomllib.loads((Path(__file__).parents[1] / "pyproject.toml").read_text())["project"]["version"]
+    declared = tomllib.loads((Path(__file__).parents[2] / "pyproject.toml").read_text())["project"]["version"]
     assert hipsim.__version__ == declared

@@ -1,6 +1,6 @@
 """The meshcat viewer: closed frames, forces and colours, the recorded page (also in a real browser), the human beside the machine.
 
-The human model itself is tested in test_human.py, the live server and the page builder in test_meshcat_output.py;
+The human model itself is tested in tests/present/test_human.py, the live server and the page builder in tests/present/test_meshcat_output.py;
 screenshots come from hipsim.present.browser.
 """
 

@@ -19,7 +19,7 @@ from hipsim.motion.trajectories import iso14242
 from hipsim.present.meshcat_output import DiscreteAnimation, OfflineWindow, offline_page
 from hipsim.present.viewer import Viewer
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 
 
 # ---------------------------------------------------------------------------

@@ -14,7 +14,7 @@ def test_the_rig_logs_filter_is_this_one_and_halves_the_cutoff():
     # Not a copy: the rig's log path calls this very function (each law lives once).
     assert rig_log.lowpass is lowpass
     # Forwards and backwards, the gain at the cut-off is (1/√2)² = 1/2: a 20 Hz sine at 1 kHz comes
-    # out at half its amplitude away from the edges (tests/test_filtering_laws.py pins the whole curve).
+    # out at half its amplitude away from the edges (tests/motion/test_filtering_laws.py pins the whole curve).
     t = np.arange(4000) / 1000.0
     y = lowpass(np.sin(2 * np.pi * 20.0 * t), 1000.0, 20.0)[400:-400]
     assert np.abs(y).max() == pytest.approx(0.5, rel=2e-3)

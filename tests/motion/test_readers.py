@@ -25,7 +25,7 @@ def test_read_trajectory_chooses_the_reader_by_suffix(tmp_path):
 # --------------------------------------------------------------------------- the README's worked examples
 
 
-EXAMPLES = Path(__file__).resolve().parent.parent / "docs" / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "docs" / "examples"
 
 
 README_MAPPING = "time=Cycle [%]:%,flexion=Hip Flexion [deg],adduction=Hip Adduction [deg],rotation=Hip Int. Rotation [deg],load=F res [%BW]"

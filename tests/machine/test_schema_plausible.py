@@ -71,7 +71,7 @@ def test_the_message_for_a_caller_that_refuses():
 def test_the_ranges_are_documented():
     from pathlib import Path
 
-    text = (Path(__file__).resolve().parents[1] / "docs" / "guide" / "robust-inputs.md").read_text(encoding="utf-8")
+    text = (Path(__file__).resolve().parents[2] / "docs" / "guide" / "robust-inputs.md").read_text(encoding="utf-8")
     for key, (low, high, unit) in plausible_ranges().items():
         row = re.search(rf"^\| `{re.escape(key)}` \| (.*?) \|", text, re.M)
         assert row, key

@@ -190,7 +190,7 @@ def test_windows_from_the_first_cycle_one_line_a_cycle(tmp_path):
 
 
 def test_a_long_log_is_read_with_the_callers_torque_constant(tmp_path):
-    # Currents need the torque constant. (The rate, for coarse time stamps: tests/test_monitor_files.py.)
+    # Currents need the torque constant. (The rate, for coarse time stamps: tests/rig/monitoring/test_snapshots_files.py.)
     text = log_text(range(0, 8)).replace("tau_1_Nmm,tau_2_Nmm,tau_3_Nmm", "current_1_A,current_2_A,current_3_A")
     path = tmp_path / "currents.csv"
     path.write_text(text)

@@ -20,7 +20,7 @@ HEADER = ["t_s", "Fe_N", "alpha_deg", "beta_deg", "gamma_deg", "tau_1_Nmm", "tau
 CURRENTS = HEADER[:5] + ["current_1_A", "current_2_A", "current_3_A"]
 
 #: What is tested here is what the commands accept, refuse and warn of, and the numbers: the comparison's
-#: figures are built but not drawn (tests/conftest.py); tests/test_compare.py draws them.
+#: figures are built but not drawn (tests/conftest.py); tests/rig/test_compare.py draws them.
 pytestmark = pytest.mark.usefixtures("quick_figures")
 
 

@@ -1,6 +1,6 @@
 """hipsim.rig.monitoring.findings pinned by hand: the load-cell alternative, the flags' words, notes and duplicates.
 
-The chart is the one of tests/test_control_chart_laws.py: baseline 10.0, 10.2, 9.8 mm (μ₀ = 10, σ₀ = 0.2), then
+The chart is the one of tests/rig/monitoring/test_control_chart_laws.py: baseline 10.0, 10.2, 9.8 mm (μ₀ = 10, σ₀ = 0.2), then
 10.5, 11.0, 10.4 mm: z = 10.1, 10.28, 10.304 against the upper limits 10.12, 10.1537, 10.1718 (λ = 0.2, L = 3).
 With r_h = 25 mm the changes of μ_h are 0.02, 0.04, 0.016; against D = 0.03 the second is an alarm, the third a
 notice. Its standard deviation √(0.1² + 0.2²/3)/25 = 0.0061101.

@@ -130,7 +130,7 @@ def design(tmp_path_factory):
         'rotor_inertia_kgcm2 = 1.2\n[lead_screw]\nname = "screw"\nlead_mm = 10\nroot_diameter_mm = 12\nfree_length_mm = 400\n'
     )
     out = folder / "site"
-    with figures_undrawn():  # the page's text is tested here, the figures drawn in tests/test_report.py
+    with figures_undrawn():  # the page's text is tested here, the figures drawn in tests/present/test_report.py
         status = main(
             [
                 "report",

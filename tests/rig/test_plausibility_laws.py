@@ -5,7 +5,7 @@ machine (within ~30 % of the starting one) along two ISO cycles, scaled here:
 torques in N·mm times 1000 (µN·m) or over 1000 (N·m), times or over 100
 (no unit's factor, beyond the error factor 30), times or over 10 (a warning,
 beyond 3); the load in kN or tens of newtons.
-(Radians under ``_deg`` are refused in tests/test_plausibility.py.)
+(Radians under ``_deg`` are refused in tests/rig/test_plausibility.py.)
 """
 
 from __future__ import annotations
