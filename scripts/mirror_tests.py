@@ -94,7 +94,9 @@ def rewrite_references(moves: dict[str, str]) -> list[str]:
     # files whose name changed (a kept name still names the file).
     bare = re.compile(rf"(?<![\w/.-])({names})(?![\w])")
     changed = {old for old, new in renamed.items() if Path(new).name != old}
-    bare_changed = re.compile(rf"(?<![\w/.-])({'|'.join(re.escape(old) for old in sorted(changed, key=len, reverse=True)) or '(?!)'})(?![\w])")
+    bare_changed = re.compile(
+        rf"(?<![\w/.-])({'|'.join(re.escape(old) for old in sorted(changed, key=len, reverse=True)) or '(?!)'})(?![\w])"
+    )
     slow_first = re.compile(rf'^(\s*)"({names})",', re.MULTILINE)
     edited = []
     for path in tracked_text_files():
@@ -120,7 +122,7 @@ def fix_roots() -> tuple[list[str], list[str]]:
         if depth == 0 or "__pycache__" in path.parts:
             continue
         text = path.read_text(encoding="utf-8")
-        new = ROOT_FROM_FILE.sub(lambda m: f"{m.group(1)}.parents[{depth + 1}]", text)
+        new = ROOT_FROM_FILE.sub(rf"\g<1>.parents[{depth + 1}]", text)
         if new != text:
             path.write_text(new, encoding="utf-8")
             edited.append(str(path.relative_to(ROOT)))
@@ -149,8 +151,13 @@ def main(argv: list[str] | None = None) -> int:
     for line in conflicts:
         print(f"conflict: {line}", file=sys.stderr)
     for name in unmapped:
-        print(f"no row for tests/{name}: add it to {TABLE.relative_to(ROOT)} ([moves] or [stay]) and rerun", file=sys.stderr)
-    print(f"{len(moved)} files {'to move' if args.check else 'moved'}, {len(unmapped)} without a row, {len(conflicts)} conflicts")
+        print(
+            f"no row for tests/{name}: add it to {TABLE.relative_to(ROOT)} ([moves] or [stay]) and rerun",
+            file=sys.stderr,
+        )
+    print(
+        f"{len(moved)} files {'to move' if args.check else 'moved'}, {len(unmapped)} without a row, {len(conflicts)} conflicts"
+    )
     return 1 if unmapped or conflicts or (args.check and moved) else 0
 
 

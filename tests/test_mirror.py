@@ -1,0 +1,201 @@
+"""tests/ mirrors hipsim/: the tests of hipsim/<package>/<module>.py are tests/<package>/test_<module>.py (issue 46).
+
+A module's tests may be split by aspect, tests/<package>/test_<module>_<aspect>.py (its laws by hand, its files, its
+errors); a file's name claims the longest module name it starts with, so tests/rig/monitoring/test_monitor_fit_errors.py
+is monitor_fit's and not a module "monitor"'s. Foundation modules (hipsim/<module>.py) have theirs at the top of tests/,
+beside the cross-cutting files that scripts/mirror_tests.toml keeps there. The table places every test file:
+scripts/mirror_tests.py moves a new flat file to its row's folder (docs/guide/layout.md).
+
+KNOWN_GAPS lists the modules with logic that have no test file at their mirrored path yet, each with where they are
+exercised today; the list only shrinks: a new module without its test file fails here, and so does a gap closed but
+still listed.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGE = ROOT / "hipsim"
+TESTS = ROOT / "tests"
+TABLE = ROOT / "scripts" / "mirror_tests.toml"
+
+#: Modules without tests of their own, by design (path under hipsim/ -> why). ``__init__.py`` (curated re-exports and
+#: lazy imports, checked by tests/test_layers.py) and ``__main__.py`` (``python -m hipsim``) are exempt by rule.
+EXEMPT = {
+    "version.py": "the version string; tests/analysis/test_streaming.py holds it equal to pyproject's",
+}
+
+#: Modules with logic still lacking a test file at their mirrored path -> where they are exercised today.
+KNOWN_GAPS = {
+    "analysis/runs.py": "analysis/test_registry.py, rig/identification/test_uncertainty_forward.py (+1)",
+    "analytic/chain_kinematics.py": "indirectly, through the modules that call it",
+    "analytic/engine.py": "analytic/test_chain_dynamics.py, rig/test_plausibility_laws.py",
+    "analytic/stations.py": "analytic/test_chain_dynamics.py, machine/test_chains.py (+2)",
+    "arrays.py": "indirectly, through the modules that call it",
+    "cli/calibrate.py": "through the command line: tests/test_cli.py and its command's tests",
+    "cli/check.py": "through the command line: tests/test_cli.py and its command's tests",
+    "cli/common.py": "test_cli.py",
+    "cli/excite.py": "through the command line: tests/test_cli.py and its command's tests",
+    "cli/main.py": "analysis/test_streaming.py, analytic/test_chain_dynamics.py (+37)",
+    "cli/mjcf.py": "through the command line: tests/test_cli.py and its command's tests",
+    "cli/monitor.py": "rig/monitoring/test_monitor_run.py",
+    "cli/params.py": "through the command line: tests/test_cli.py and its command's tests",
+    "cli/report.py": "present/test_report.py",
+    "cli/rig.py": "test_cli.py",
+    "cli/simulate.py": "through the command line: tests/test_cli.py and its command's tests",
+    "cli/size.py": "through the command line: tests/test_cli.py and its command's tests",
+    "cli/stations.py": "through the command line: tests/test_cli.py and its command's tests",
+    "cli/sweep.py": "design/test_sweep.py",
+    "cli/torques.py": "test_cli.py",
+    "cli/urdf.py": "through the command line: tests/test_cli.py and its command's tests",
+    "cli/view.py": "present/test_viewer.py",
+    "cli/wear_sources.py": "through the command line: tests/test_cli.py and its command's tests",
+    "cli/wear_test_output.py": "through the command line: tests/test_cli.py and its command's tests",
+    "cli/workspace.py": "design/test_workspace.py",
+    "closed_chain/block_inverse.py": "indirectly, through the modules that call it",
+    "closed_chain/build.py": "analysis/test_crosscheck.py, analytic/test_chain_dynamics.py (+7)",
+    "closed_chain/closure.py": "closed_chain/test_closure_kernel.py, closed_chain/test_dynamics.py",
+    "closed_chain/constraints.py": "analysis/test_crosscheck.py, closed_chain/test_closure_kernel.py (+2)",
+    "closed_chain/engine.py": "analytic/test_chain_dynamics.py, present/test_report.py",
+    "closed_chain/friction.py": "closed_chain/test_plant.py",
+    "closed_chain/plant_kernel.py": "closed_chain/test_tree_kernel.py",
+    "closed_chain/plant_step.py": "indirectly, through the modules that call it",
+    "closed_chain/rnea.py": "closed_chain/test_closure_kernel.py",
+    "closed_chain/workspace.py": "closed_chain/test_closure_kernel.py",
+    "control/closed_chain_loop.py": "closed_chain/test_plant.py, control/test_simulation.py",
+    "control/controllers.py": "closed_chain/test_plant.py, control/test_simulation.py (+1)",
+    "control/servo_kernel.py": "control/test_simulation.py",
+    "design/sweep_edges.py": "design/test_sweep.py",
+    "design/variants.py": "design/test_sweep.py, test_tables_long_fields.py",
+    "engine.py": "analysis/test_registry.py",
+    "exceptions.py": "analysis/test_cluster_batches.py, analysis/test_registry.py (+55)",
+    "machine/drive_fields.py": "indirectly, through the modules that call it",
+    "machine/drive_parts.py": "design/test_checks.py, design/test_demand.py (+2)",
+    "machine/parameter_set.py": "physics/test_friction_transmission_laws.py",
+    "motion/parquet.py": "motion/test_readers_laws.py",
+    "motion/sources.py": "analysis/test_streaming.py, motion/test_readers_laws.py (+1)",
+    "mujoco_engine/_dependency.py": "indirectly, through the modules that call it",
+    "mujoco_engine/closure.py": "indirectly, through the modules that call it",
+    "mujoco_engine/dynamics.py": "indirectly, through the modules that call it",
+    "mujoco_engine/friction.py": "mujoco_engine/test_mujoco_engine.py",
+    "mujoco_engine/machine.py": "indirectly, through the modules that call it",
+    "mujoco_engine/mjcf.py": "mujoco_engine/test_mujoco_engine.py",
+    "mujoco_engine/model.py": "indirectly, through the modules that call it",
+    "mujoco_engine/plant.py": "indirectly, through the modules that call it",
+    "mujoco_engine/trajectory.py": "mujoco_engine/test_mujoco_engine.py",
+    "physics/transmission.py": "physics/test_friction_transmission_laws.py",
+    "present/browser.py": "present/test_viewer.py",
+    "present/check_text.py": "design/test_ranking.py",
+    "present/iso_figures.py": "indirectly, through the modules that call it",
+    "present/meshcat_scene.py": "present/test_viewer.py",
+    "present/motion_frames.py": "indirectly, through the modules that call it",
+    "present/numbers.py": "present/test_pages.py",
+    "present/provenance.py": "present/test_pages.py, rig/identification/test_identified_file.py (+2)",
+    "present/report_page.py": "test_plausibility_rows.py",
+    "present/rig_figures.py": "indirectly, through the modules that call it",
+    "present/stations_page.py": "indirectly, through the modules that call it",
+    "present/sweep_figures.py": "present/test_figures.py",
+    "present/tables.py": "indirectly, through the modules that call it",
+    "present/viewer_text.py": "indirectly, through the modules that call it",
+    "present/wear_figures.py": "indirectly, through the modules that call it",
+    "present/wear_page.py": "cli/test_wear.py",
+    "present/wear_test_figures.py": "indirectly, through the modules that call it",
+    "present/wear_test_page.py": "cli/test_wear_test.py",
+    "present/workspace_figures.py": "indirectly, through the modules that call it",
+    "result_table.py": "indirectly, through the modules that call it",
+    "stations/calibration_file.py": "indirectly, through the modules that call it",
+    "stations/deviations.py": "stations/test_calibration.py, stations/test_commands.py",
+    "stations/excitation.py": "stations/test_calibration.py",
+    "stations/logs.py": "stations/test_calibration.py",
+    "stations/sensitivity.py": "stations/test_calibration.py",
+    "stations/summary.py": "indirectly, through the modules that call it",
+    "stations/tolerance.py": "stations/test_commands.py",
+    "version.py": "analysis/test_streaming.py, test_docs.py",
+    "wear/accumulate.py": "wear/test_gravimetric.py",
+    "wear/checks.py": "cli/test_wear.py",
+    "wear/factors.py": "wear/test_gravimetric.py",
+    "wear/kernel.py": "indirectly, through the modules that call it",
+    "wear/kinematics.py": "wear/test_wear.py",
+    "wear/laws.py": "cli/test_wear.py, cli/test_wear_test.py (+2)",
+    "wear/maps.py": "wear/test_wear.py",
+    "wear/points.py": "indirectly, through the modules that call it",
+    "wear/summary.py": "cli/test_wear.py",
+    "wear/test_context.py": "wear/test_gravimetric.py",
+    "wear/test_result.py": "indirectly, through the modules that call it",
+    "wear/tracks.py": "indirectly, through the modules that call it",
+    "wear/weighings.py": "wear/test_gravimetric.py",
+}
+
+
+def modules() -> list[str]:
+    """hipsim's modules as paths under hipsim/ ("rig/monitoring/watch.py"), without ``__init__`` and ``__main__``."""
+    return sorted(
+        path.relative_to(PACKAGE).as_posix()
+        for path in PACKAGE.rglob("*.py")
+        if "__pycache__" not in path.parts and path.name not in ("__init__.py", "__main__.py")
+    )
+
+
+def claimed(test: Path, names: list[str]) -> str | None:
+    """The module a test file's name claims among ``names`` (its folder's modules): the longest that fits."""
+    stem = test.stem.removeprefix("test_")
+    fits = [name for name in names if stem == name or stem.startswith(name + "_")]
+    return max(fits, key=len) if fits else None
+
+
+def mirrored(module: str) -> list[Path]:
+    """The test files at a module's mirrored path: tests/<package>/test_<module>.py or test_<module>_<aspect>.py."""
+    path = PACKAGE / module
+    folder = TESTS.joinpath(*Path(module).parts[:-1])
+    names = [sibling.stem for sibling in path.parent.glob("*.py")]
+    return [test for test in sorted(folder.glob("test_*.py")) if claimed(test, names) == path.stem]
+
+
+def test_a_files_name_claims_the_longest_module_it_starts_with():
+    names = ["monitor", "monitor_fit", "monitor_run", "fit"]
+    assert claimed(Path("test_monitor_fit_errors.py"), names) == "monitor_fit"
+    assert claimed(Path("test_monitor_fit.py"), names) == "monitor_fit"
+    assert claimed(Path("test_monitor.py"), names) == "monitor"
+    assert claimed(Path("test_monitor_page.py"), names) == "monitor"
+    assert claimed(Path("test_monitoring.py"), names) is None  # a longer word is not the module's aspect
+    assert claimed(Path("test_fitting.py"), names) is None
+
+
+def test_every_module_with_logic_has_its_mirrored_test_file():
+    missing = [m for m in modules() if m not in EXEMPT and m not in KNOWN_GAPS and not mirrored(m)]
+    assert not missing, (
+        "modules without a test file at their mirrored path (tests/<package>/test_<module>.py): "
+        + ", ".join(missing)
+        + "; write it (or, for a module without logic, add it to EXEMPT with the reason)"
+    )
+
+
+def test_the_known_gaps_only_shrink():
+    closed = [m for m in KNOWN_GAPS if mirrored(m)]
+    assert not closed, f"these modules have their mirrored test file now: remove them from KNOWN_GAPS: {closed}"
+    gone = [m for m in [*KNOWN_GAPS, *EXEMPT] if not (PACKAGE / m).is_file()]
+    assert not gone, f"no such module under hipsim/ (moved or removed?): {gone}"
+    assert not set(KNOWN_GAPS) & set(EXEMPT)
+
+
+def test_every_test_folder_mirrors_a_package():
+    folders = sorted({path.parent for path in TESTS.rglob("test_*.py") if "__pycache__" not in path.parts})
+    strays = [
+        f.relative_to(TESTS).as_posix() for f in folders if f != TESTS and not (PACKAGE / f.relative_to(TESTS)).is_dir()
+    ]
+    assert not strays, f"test folders with no hipsim package of that path: {strays}"
+
+
+def test_every_flat_test_file_has_its_row_in_the_table():
+    """A new test file at the top of tests/ is either placed by scripts/mirror_tests.toml or waits for the script."""
+    table = tomllib.loads(TABLE.read_text(encoding="utf-8"))
+    placed = set(table["stay"]) | {target for target in table["moves"].values() if "/" not in target}
+    waiting = sorted(path.name for path in TESTS.glob("test_*.py") if path.name not in placed)
+    assert not waiting, (
+        f"flat test files not placed: {waiting}; add a row to scripts/mirror_tests.toml and run "
+        ".venv/bin/python scripts/mirror_tests.py"
+    )
+    for target in table["moves"].values():
+        assert target.startswith("test_") or "/test_" in target, f"{target}: a test file's name starts with test_"
