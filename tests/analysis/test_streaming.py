@@ -287,7 +287,9 @@ def test_check_summary_as_json(capsys):
     assert {row["column"] for row in spin["columns"]} >= {"tau_1_Nmm", "L_11_mm", "cond_inv"}
 
 
-@pytest.mark.usefixtures("quick_figures")  # exit statuses and text: the figures are drawn in tests/present/test_report.py
+@pytest.mark.usefixtures(
+    "quick_figures"
+)  # exit statuses and text: the figures are drawn in tests/present/test_report.py
 def test_report_exits_1_and_says_so_when_the_drive_fails(tmp_path, capsys):
     """A motor rated far below the machine's torques (30 N·mm continuous against ~200 N·mm RMS) fails its check."""
     import json
