@@ -194,3 +194,21 @@ def test_every_flat_test_file_has_its_row_in_the_table():
     )
     for target in table["moves"].values():
         assert target.startswith("test_") or "/test_" in target, f"{target}: a test file's name starts with test_"
+
+
+def test_the_files_named_by_path_exist():
+    """SLOW_FIRST (tests/conftest.py) and the mutation targets name test files by path; a stale one is silently skipped."""
+    from conftest import SLOW_FIRST
+
+    stale = [name for name in SLOW_FIRST if not (TESTS / name).is_file()]
+    assert not stale, f"tests/conftest.py's SLOW_FIRST names files that are not under tests/: {stale}"
+    targets = tomllib.loads((ROOT / "scripts" / "mutation_targets.toml").read_text(encoding="utf-8"))
+    named = [
+        test.split("::")[0]
+        for target in targets.values()
+        for key in ("tests", "deselect")
+        for test in target.get(key, [])
+    ]
+    assert named, "scripts/mutation_targets.toml names no test file"
+    stale = sorted({path for path in named if not (ROOT / path).is_file()})
+    assert not stale, f"scripts/mutation_targets.toml names test files that do not exist: {stale}"
