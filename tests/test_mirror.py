@@ -85,7 +85,6 @@ KNOWN_GAPS = {
     "mujoco_engine/plant.py": "indirectly, through the modules that call it",
     "mujoco_engine/trajectory.py": "mujoco_engine/test_mujoco_engine.py",
     "present/browser.py": "present/test_viewer.py",
-    "present/check_text.py": "design/test_ranking.py",
     "present/iso_figures.py": "indirectly, through the modules that call it",
     "present/meshcat_scene.py": "present/test_viewer.py",
     "present/motion_frames.py": "indirectly, through the modules that call it",
@@ -119,7 +118,6 @@ KNOWN_GAPS = {
     "wear/summary.py": "cli/test_wear.py",
     "wear/test_context.py": "wear/test_gravimetric.py",
     "wear/test_result.py": "indirectly, through the modules that call it",
-    "wear/tracks.py": "indirectly, through the modules that call it",
     "wear/weighings.py": "wear/test_gravimetric.py",
 }
 
