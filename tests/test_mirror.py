@@ -51,7 +51,6 @@ KNOWN_GAPS = {
     "cli/torques.py": "test_cli.py",
     "cli/urdf.py": "through the command line: tests/test_cli.py and its command's tests",
     "cli/view.py": "present/test_viewer.py",
-    "cli/wear_sources.py": "through the command line: tests/test_cli.py and its command's tests",
     "cli/wear_test_output.py": "through the command line: tests/test_cli.py and its command's tests",
     "cli/workspace.py": "design/test_workspace.py",
     "closed_chain/block_inverse.py": "indirectly, through the modules that call it",
