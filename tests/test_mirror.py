@@ -66,7 +66,6 @@ KNOWN_GAPS = {
     "control/closed_chain_loop.py": "closed_chain/test_plant.py, control/test_simulation.py",
     "control/controllers.py": "closed_chain/test_plant.py, control/test_simulation.py (+1)",
     "control/servo_kernel.py": "control/test_simulation.py",
-    "design/sweep_edges.py": "design/test_sweep.py",
     "design/variants.py": "design/test_sweep.py, test_tables_long_fields.py",
     "engine.py": "analysis/test_registry.py",
     "exceptions.py": "analysis/test_cluster_batches.py, analysis/test_registry.py (+55)",
