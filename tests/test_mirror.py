@@ -69,7 +69,6 @@ KNOWN_GAPS = {
     "design/variants.py": "design/test_sweep.py, test_tables_long_fields.py",
     "engine.py": "analysis/test_registry.py",
     "exceptions.py": "analysis/test_cluster_batches.py, analysis/test_registry.py (+55)",
-    "machine/drive_fields.py": "indirectly, through the modules that call it",
     "machine/drive_parts.py": "design/test_checks.py, design/test_demand.py (+2)",
     "machine/parameter_set.py": "physics/test_friction_transmission_laws.py",
     "motion/parquet.py": "motion/test_readers_laws.py",
