@@ -38,15 +38,15 @@ class Samples:
 
 
 def test_shapes_are_checked_against_the_first_fields_count():
-    ok = Samples([0.0, 0.1, 0.2], np.zeros((3, 3)))
+    ok = Samples(np.array([0.0, 0.1, 0.2]), np.zeros((3, 3)))
     assert ok.t.shape == (3,) and not ok.x.flags.writeable and not ok.t.flags.writeable
     with pytest.raises(ArgumentError, match=r"^Samples\.x: expected shape \(3, 3\), got shape \(2, 3\)$"):
-        Samples([0.0, 0.1, 0.2], np.zeros((2, 3)))
+        Samples(np.array([0.0, 0.1, 0.2]), np.zeros((2, 3)))
     with pytest.raises(ArgumentError, match=r"Samples\.x: expected shape \(3, 3\), got shape \(3, 2\)"):
-        Samples([0.0, 0.1, 0.2], np.zeros((3, 2)))
+        Samples(np.array([0.0, 0.1, 0.2]), np.zeros((3, 2)))
 
 
 def test_a_given_count_overrides_the_first_field():
-    sample = Samples([0.0, 0.1], np.zeros((2, 3)))
+    sample = Samples(np.array([0.0, 0.1]), np.zeros((2, 3)))
     with pytest.raises(ArgumentError, match=r"Samples\.t: expected shape \(4,\)"):
         check_shapes(sample, {"t": ("N",)}, samples=4)

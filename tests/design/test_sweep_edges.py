@@ -59,13 +59,13 @@ def test_keys_swept_over_one_value_and_missing_values_give_no_edge():
 def test_the_nearest_failing_row_is_measured_in_swept_ranges():
     values = np.array([[0.0, 0.0], [3.0, 0.0], [0.0, 2.0], [10.0, 2.0]])  # spans 10 and 2
     # Scaled: row 1 is 0.3 away, row 2 is 1.0 away (unscaled it would be 3 against 2).
-    assert nearest_failing(values, [False, True, True, False], 0) == 1
-    assert nearest_failing(values, [True, True, True, False], 0) == 1  # the row itself does not count
-    assert nearest_failing(values, [True, False, False, False], 0) is None
+    assert nearest_failing(values, np.array([False, True, True, False]), 0) == 1
+    assert nearest_failing(values, np.array([True, True, True, False]), 0) == 1  # the row itself does not count
+    assert nearest_failing(values, np.array([True, False, False, False]), 0) is None
     assert nearest_failing(values, np.zeros(4, dtype=bool), 0) is None
 
 
 @pytest.mark.parametrize("row", [0, 1])
 def test_a_key_of_one_value_does_not_divide_by_zero(row):
     values = np.array([[0.0, 5.0], [1.0, 5.0], [0.4, 5.0]])
-    assert nearest_failing(values, [True, True, True], row) == 2
+    assert nearest_failing(values, np.array([True, True, True]), row) == 2

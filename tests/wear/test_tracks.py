@@ -41,6 +41,6 @@ def test_slide_tracks_are_a_rigid_turn_of_the_markers_over_the_first_cycle():
 
 
 def test_markers_given_are_tracked():
-    tracks = cycle_tracks(iso14242(rate=50), 1.0, CupSetup(), markers=[[1.0, 0.0, 0.0]])
+    tracks = cycle_tracks(iso14242(rate=50), 1.0, CupSetup(), markers=np.array([[1.0, 0.0, 0.0]]))
     assert tracks.slide.shape[0] == 1
     assert_allclose(tracks.slide[0, 0], [1.0, 0.0, 0.0], atol=1e-12)
