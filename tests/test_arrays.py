@@ -14,7 +14,7 @@ from hipsim.exceptions import ArgumentError
 def test_a_readonly_copy_leaves_the_callers_array_alone():
     mine = np.zeros(2)
     frozen = readonly(mine)
-    with pytest.raises(ValueError):
+    with pytest.raises(ValueError, match="read-only"):
         frozen[0] = 1.0
     mine[0] = 5.0  # still writable, and not shared
     assert frozen[0] == 0.0

@@ -6,7 +6,7 @@ import pytest
 
 pytest.importorskip("mujoco")
 
-from hipsim.mujoco_engine._dependency import MIN_VERSION, _version  # noqa: E402
+from hipsim.mujoco_engine._dependency import MIN_VERSION, _version
 
 
 def test_versions_compare_as_numbers():
