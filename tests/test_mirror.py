@@ -96,7 +96,6 @@ KNOWN_GAPS = {
     "present/wear_test_figures.py": "indirectly, through the modules that call it",
     "present/wear_test_page.py": "cli/test_wear_test.py",
     "present/workspace_figures.py": "indirectly, through the modules that call it",
-    "result_table.py": "indirectly, through the modules that call it",
     "stations/calibration_file.py": "indirectly, through the modules that call it",
     "stations/excitation.py": "stations/test_calibration.py",
     "stations/logs.py": "stations/test_calibration.py",
