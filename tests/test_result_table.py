@@ -4,6 +4,7 @@ resume rule (same columns and set-up keep the rows; anything else is refused, na
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import pytest
 
@@ -11,8 +12,8 @@ from hipsim.exceptions import FileRowError, OutputError
 from hipsim.result_table import ResultTable
 
 TABLE = ResultTable("sweep", ("name",))
-ROWS = {"name": ["v1", "v,2"], "x": [0.1 + 0.2, math.nan]}
-SETUP = {"fingerprints": {"setup": "s1", "drive": "d1", "trajectory": "t1"}}
+ROWS: dict[str, list[Any]] = {"name": ["v1", "v,2"], "x": [0.1 + 0.2, math.nan]}
+SETUP: dict[str, dict[str, str]] = {"fingerprints": {"setup": "s1", "drive": "d1", "trajectory": "t1"}}
 
 
 def test_a_csv_is_its_description_then_its_rows(tmp_path):
