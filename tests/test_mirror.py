@@ -102,7 +102,6 @@ KNOWN_GAPS = {
     "stations/summary.py": "indirectly, through the modules that call it",
     "stations/tolerance.py": "stations/test_commands.py",
     "wear/accumulate.py": "wear/test_gravimetric.py",
-    "wear/checks.py": "cli/test_wear.py",
     "wear/factors.py": "wear/test_gravimetric.py",
     "wear/kernel.py": "indirectly, through the modules that call it",
     "wear/kinematics.py": "wear/test_wear.py",
