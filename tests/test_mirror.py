@@ -41,7 +41,6 @@ KNOWN_GAPS = {
     "cli/main.py": "analysis/test_streaming.py, analytic/test_chain_dynamics.py (+37)",
     "cli/mjcf.py": "through the command line: tests/test_cli.py and its command's tests",
     "cli/monitor.py": "rig/monitoring/test_monitor_run.py",
-    "cli/params.py": "through the command line: tests/test_cli.py and its command's tests",
     "cli/report.py": "present/test_report.py",
     "cli/rig.py": "test_cli.py",
     "cli/simulate.py": "through the command line: tests/test_cli.py and its command's tests",
