@@ -30,7 +30,6 @@ EXEMPT = {
 
 #: Modules with logic still lacking a test file at their mirrored path -> where they are exercised today.
 KNOWN_GAPS = {
-    "analysis/runs.py": "analysis/test_registry.py, rig/identification/test_uncertainty_forward.py (+1)",
     "analytic/chain_kinematics.py": "indirectly, through the modules that call it",
     "analytic/engine.py": "analytic/test_chain_dynamics.py, rig/test_plausibility_laws.py",
     "analytic/stations.py": "analytic/test_chain_dynamics.py, machine/test_chains.py (+2)",
