@@ -47,7 +47,6 @@ KNOWN_GAPS = {
     "cli/stations.py": "through the command line: tests/test_cli.py and its command's tests",
     "cli/sweep.py": "design/test_sweep.py",
     "cli/torques.py": "test_cli.py",
-    "cli/urdf.py": "through the command line: tests/test_cli.py and its command's tests",
     "cli/view.py": "present/test_viewer.py",
     "cli/wear_test_output.py": "through the command line: tests/test_cli.py and its command's tests",
     "cli/workspace.py": "design/test_workspace.py",
