@@ -57,7 +57,6 @@ KNOWN_GAPS = {
     "closed_chain/friction.py": "closed_chain/test_plant.py",
     "closed_chain/plant_kernel.py": "closed_chain/test_tree_kernel.py",
     "closed_chain/plant_step.py": "indirectly, through the modules that call it",
-    "closed_chain/rnea.py": "closed_chain/test_closure_kernel.py",
     "closed_chain/workspace.py": "closed_chain/test_closure_kernel.py",
     "control/closed_chain_loop.py": "closed_chain/test_plant.py, control/test_simulation.py",
     "control/controllers.py": "closed_chain/test_plant.py, control/test_simulation.py (+1)",
