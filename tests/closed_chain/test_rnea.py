@@ -55,8 +55,9 @@ def test_the_batch_is_rnea_sample_by_sample():
 
 
 def test_a_tree_without_bodies_gives_zeros():
+    q, v, a = samples(3)
     out = np.full((3, 2), np.nan)
-    BatchedRNEA(None, np.zeros(0, dtype=int))(*samples(3), out)
+    BatchedRNEA(None, np.zeros(0, dtype=int))(q, v, a, out)
     assert np.array_equal(out, np.zeros((3, 2)))
 
 
