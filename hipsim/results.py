@@ -16,7 +16,6 @@ import math
 from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
@@ -26,8 +25,21 @@ from .files import write_columns
 from .machine.parameters import Parameters
 from .motion.trajectories import Trajectory
 from .physics.units import RPM_PER_RAD_S
+from .records import Record, optional
 
-__all__ = ["ExactSum", "JointForces", "Run", "Summary", "Torques", "column_names", "peak_and_rms"]
+__all__ = [
+    "ExactSum",
+    "JointForces",
+    "JointPeaks",
+    "MotorPeaks",
+    "Run",
+    "RunSummary",
+    "SliderPeaks",
+    "Summary",
+    "Torques",
+    "column_names",
+    "peak_and_rms",
+]
 
 
 def peak_and_rms(values: np.ndarray, axis: int = 0) -> tuple[np.ndarray, np.ndarray]:
@@ -205,7 +217,7 @@ class Run:
             out["flagged"] = self.flagged.astype(float)
         return out
 
-    def summary(self) -> dict[str, Any]:
+    def summary(self) -> RunSummary:
         """Per slider its extreme motion, per motor its torque parts, speed and RMS, and the worst singularity margin.
 
         Values in mm, mm/s, mm/s², N·mm, rpm (keys say which), over the samples
@@ -275,6 +287,64 @@ class ExactSum:
         return np.array([float(Fraction(s, 1 << self._SHIFT)) for s in self._sums])
 
 
+@dataclass(frozen=True)
+class SliderPeaks(Record):
+    """One slider's extreme motion over a run: L highest and lowest, the stroke between, |Ld| and |Ldd| at most."""
+
+    L_max_mm: float
+    L_min_mm: float
+    stroke_mm: float
+    Ld_max_mm_s: float
+    Ldd_max_mm_s2: float
+
+
+@dataclass(frozen=True)
+class MotorPeaks(Record):
+    """One motor over a run: each torque part's largest |value|, the total's peak and RMS, the peak speed."""
+
+    tau_m_max_Nmm: float
+    tau_l_max_Nmm: float
+    tau_s_max_Nmm: float
+    tau_L_max_Nmm: float
+    tau_f_max_Nmm: float
+    tau_peak_Nmm: float
+    tau_rms_Nmm: float
+    speed_peak_rpm: float
+
+
+@dataclass(frozen=True)
+class JointPeaks(Record):
+    """One joint force over a run: its peak |value| and RMS in [N]."""
+
+    peak_N: float
+    rms_N: float
+
+
+@dataclass(frozen=True)
+class RunSummary(Record):
+    """What :meth:`Run.summary` reports (``hipsim torques``), over the samples that are not flagged.
+
+    Attributes:
+        model, trajectory, parameters: the model's name, the motion's, where the machine's values came from.
+        samples: samples of the run; flagged_samples: those out of reach or singular (left out).
+        sliders: per slider "11" … "23" its extreme motion.
+        motors: per motor "1" … "3" its torques and speed.
+        cond_inv_min: the smallest inverse condition number of J; cond_inv_min_t_s: when, the first such sample.
+        joints: per joint force (Fa_11 … Fo_2) its peak and RMS, for a model that gives them.
+    """
+
+    model: str
+    trajectory: str
+    parameters: str
+    samples: int
+    flagged_samples: int
+    sliders: dict[str, SliderPeaks]
+    motors: dict[str, MotorPeaks]
+    cond_inv_min: float
+    cond_inv_min_t_s: float
+    joints: dict[str, JointPeaks] | None = optional()
+
+
 class Summary:
     """What :meth:`Run.summary` reports, gathered from a run fed in pieces (a long run in chunks).
 
@@ -330,7 +400,7 @@ class Summary:
             self._cond_inv_min, self._cond_inv_t = float(run.cond_inv[k]), float(run.t[k])
         return self
 
-    def result(self) -> dict[str, Any]:
+    def result(self) -> RunSummary:
         """The summary of everything added, as :meth:`Run.summary` gives it."""
         peaks, low = self._peaks, self._lows.get("L")
         if not self.kept:
@@ -340,37 +410,40 @@ class Summary:
         for j in (1, 2):
             for i in (1, 2, 3):
                 high, bottom = peaks["L"][j - 1, i - 1], low[j - 1, i - 1]
-                sliders[f"{j}{i}"] = {
-                    "L_max_mm": float(high),
-                    "L_min_mm": float(bottom),
-                    "stroke_mm": float(high - bottom),
-                    "Ld_max_mm_s": float(peaks["Ld"][j - 1, i - 1]),
-                    "Ldd_max_mm_s2": float(peaks["Ldd"][j - 1, i - 1]),
-                }
-        motors = {}
-        for i in range(3):
-            entry = {f"{Torques.COLUMN[field]}_max_Nmm": float(peaks[field][i]) for field in Torques.PARTS}
-            entry |= {
-                "tau_peak_Nmm": float(peaks["total"][i]),
-                "tau_rms_Nmm": float(rms[i]),
-                "speed_peak_rpm": float(peaks["speed"][i]),
-            }
-            motors[str(i + 1)] = entry
-        summary = {
-            "model": self.model,
-            "trajectory": self.trajectory,
-            "parameters": self.params.source,
-            "samples": self.samples,
-            "flagged_samples": self.flagged,
-            "sliders": sliders,
-            "motors": motors,
-            "cond_inv_min": self._cond_inv_min,
-            "cond_inv_min_t_s": self._cond_inv_t,
+                sliders[f"{j}{i}"] = SliderPeaks(
+                    float(high),
+                    float(bottom),
+                    float(high - bottom),
+                    float(peaks["Ld"][j - 1, i - 1]),
+                    float(peaks["Ldd"][j - 1, i - 1]),
+                )
+        motors = {
+            str(i + 1): MotorPeaks(
+                tau_m_max_Nmm=float(peaks["platforms"][i]),
+                tau_l_max_Nmm=float(peaks["levers"][i]),
+                tau_s_max_Nmm=float(peaks["sliders"][i]),
+                tau_L_max_Nmm=float(peaks["screws"][i]),
+                tau_f_max_Nmm=float(peaks["friction"][i]),
+                tau_peak_Nmm=float(peaks["total"][i]),
+                tau_rms_Nmm=float(rms[i]),
+                speed_peak_rpm=float(peaks["speed"][i]),
+            )
+            for i in range(3)
         }
+        joints = None
         if self.joint_forces:
             names = [f"Fa_{j}{i}" for j in (1, 2) for i in (1, 2, 3)] + ["Fo_1", "Fo_2"]
             values = np.concatenate([peaks["Fa"], peaks["Fo"]])
-            summary["joints"] = {
-                name: {"peak_N": float(values[k]), "rms_N": float(rms[3 + k])} for k, name in enumerate(names)
-            }
-        return summary
+            joints = {name: JointPeaks(float(values[k]), float(rms[3 + k])) for k, name in enumerate(names)}
+        return RunSummary(
+            model=self.model,
+            trajectory=self.trajectory,
+            parameters=str(self.params.source),
+            samples=self.samples,
+            flagged_samples=self.flagged,
+            sliders=sliders,
+            motors=motors,
+            cond_inv_min=self._cond_inv_min,
+            cond_inv_min_t_s=self._cond_inv_t,
+            joints=joints,
+        )

@@ -996,7 +996,7 @@ def bench_compare_memory(seed_motion: str = "both") -> None:
             _tiled_log(seed, path, seconds)
             tracemalloc.start()
             with LogPieces(path, start, piece=2000) as pieces:
-                samples = compare_log(start, pieces, period=1.0, figure_samples=500).summary()["samples"]
+                samples = compare_log(start, pieces, period=1.0, figure_samples=500).summary().samples
             peaks.append(tracemalloc.get_traced_memory()[1])
             tracemalloc.stop()
             print(f"  {seconds:>4.0f} s log ({samples:,} usable samples): peak {peaks[-1] / 1e6:7.2f} MB")

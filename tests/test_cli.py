@@ -395,13 +395,11 @@ def test_cycle_of_a_time_late_in_a_long_run():
     from hipsim.motion.trajectories import iso14242
 
     long_run = iso14242(rate=10, cycles=600)
-    assert _cycle_of(395.123, long_run, 1.0) == {
-        "cond_inv_min_cycle": 396,
-        "cond_inv_min_t_in_cycle_s": pytest.approx(0.123, abs=1e-9),
-    }
-    assert _cycle_of(395.0, long_run, 1.0)["cond_inv_min_cycle"] == 396  # the start of cycle 396, not the end of 395
-    assert _cycle_of(0.5, iso14242(rate=10, cycles=1), 1.0) == {}  # one cycle: nothing to add
-    assert _cycle_of(3.5, long_run, None) == {}  # no known cycle length
+    late = _cycle_of(395.123, long_run, 1.0)
+    assert late.cond_inv_min_cycle == 396 and late.cond_inv_min_t_in_cycle_s == pytest.approx(0.123, abs=1e-9)
+    assert _cycle_of(395.0, long_run, 1.0).cond_inv_min_cycle == 396  # the start of cycle 396, not the end of 395
+    assert _cycle_of(0.5, iso14242(rate=10, cycles=1), 1.0) is None  # one cycle: nothing to add
+    assert _cycle_of(3.5, long_run, None) is None  # no known cycle length
 
 
 def test_check_words_informational_rows_so_they_cannot_be_read_as_failures(capsys):

@@ -25,7 +25,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "hipsim"
 #: ``plausibility`` (the ranges of a hip simulator's data and the unit slips, issue 38) is here because the
 #: machine's readers (drive files) and the motion's (trajectories, loads), which may not import each other, share it.
 FOUNDATION = frozenset(
-    {"exceptions", "arrays", "files", "tables", "fingerprint", "version", "result_table", "plausibility"}
+    {"exceptions", "arrays", "files", "tables", "fingerprint", "version", "result_table", "plausibility", "records"}
 )
 #: The laws every model shares (vectors, friction, units, the screw transmission, numba's plumbing).
 PHYSICS = FOUNDATION | {"physics"}

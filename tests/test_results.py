@@ -45,13 +45,13 @@ def test_csv_round_trip(result, tmp_path):
 def test_summary_values(result):
     summary = result.summary()
     torques = result.torques
-    assert summary["sliders"]["12"]["L_max_mm"] == pytest.approx(result.L[:, 0, 1].max() * 1e3)
-    assert summary["sliders"]["23"]["stroke_mm"] == pytest.approx(np.ptp(result.L[:, 1, 2]) * 1e3)
-    motor = summary["motors"]["1"]
-    assert motor["tau_rms_Nmm"] == pytest.approx(math.sqrt(np.mean((torques.total[:, 0] * 1e3) ** 2)))
-    assert motor["tau_peak_Nmm"] >= max(motor[f"{p}_max_Nmm"] for p in ("tau_m", "tau_l", "tau_s", "tau_L"))
-    assert summary["cond_inv_min"] == pytest.approx(result.cond_inv.min())
-    assert summary["cond_inv_min_t_s"] == pytest.approx(result.t[np.argmin(result.cond_inv)])
+    assert summary.sliders["12"].L_max_mm == pytest.approx(result.L[:, 0, 1].max() * 1e3)
+    assert summary.sliders["23"].stroke_mm == pytest.approx(np.ptp(result.L[:, 1, 2]) * 1e3)
+    motor = summary.motors["1"]
+    assert motor.tau_rms_Nmm == pytest.approx(math.sqrt(np.mean((torques.total[:, 0] * 1e3) ** 2)))
+    assert motor.tau_peak_Nmm >= max(getattr(motor, f"{p}_max_Nmm") for p in ("tau_m", "tau_l", "tau_s", "tau_L"))
+    assert summary.cond_inv_min == pytest.approx(result.cond_inv.min())
+    assert summary.cond_inv_min_t_s == pytest.approx(result.t[np.argmin(result.cond_inv)])
 
 
 def test_readme_library_example_runs(tmp_path, monkeypatch):

@@ -27,7 +27,7 @@ from ..exceptions import ArgumentError, PoseError
 from ..machine.parameters import Parameters
 from ..motion.sources import SampledSource, TrajectorySource, pieces
 from ..motion.trajectories import Trajectory
-from ..results import Run, Summary
+from ..results import Run, RunSummary, Summary
 from .registry import make_engine
 
 __all__ = ["CHUNK", "PieceRunner", "as_source", "stream_run"]
@@ -105,7 +105,7 @@ def stream_run(
     chunk: int | None = None,
     write: Callable[[Mapping[str, np.ndarray]], None] | None = None,
     progress: Callable[[int, int], None] | None = None,
-) -> dict:
+) -> RunSummary:
     """Run a model along a source in pieces: each piece's columns to ``write``, the summary of the whole returned.
 
     Args:

@@ -40,8 +40,10 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
 
 def run(args) -> int:
     """Compare the models; status 1 when they disagree where they must agree."""
-    from ..analysis.crosscheck import TOLERANCE, compare_models
+    from ..analysis.crosscheck import compare_models
+    from ..analysis.crosscheck_summary import crosscheck_summary
     from ..analysis.streaming import stream_run
+    from ..records import exit_status
     from .feasible import FeasibilityWatch, limits, report_crossings
 
     params = parameters(args)
@@ -58,35 +60,15 @@ def run(args) -> int:
     else:
         load_pinocchio_kernels()
         comparisons = compare_models(params, trajectory, progress=progress("check"))
-    failed = any(c.required and not c.ok for c in comparisons)
+    summary = crosscheck_summary(trajectory.name, len(trajectory), params.source, comparisons)
     if args.summary_format == "json":
-        print_json(
-            {
-                "trajectory": trajectory.name,
-                "samples": len(trajectory),
-                "parameters": params.source,
-                "tolerance": TOLERANCE,
-                "agree": not failed,
-                "comparisons": [
-                    {
-                        "name": c.name,
-                        "description": c.description,
-                        "required": c.required,
-                        "ok": c.ok,
-                        "worst": c.worst,
-                        "columns": [{"column": name, "max_abs_diff": a, "max_rel_diff": r} for name, a, r in c.rows],
-                    }
-                    for c in comparisons
-                ],
-            }
-        )
+        print_json(summary.to_json())
     else:
         _print_comparisons(comparisons)
         print(f"trajectory: {trajectory.name} ({len(trajectory)} samples); parameters: {params.source}")
-    if failed:
+    if summary.level.failed:
         print("hipsim: error: the models disagree where they must agree", file=sys.stderr)
-        return 1
-    return 0
+    return exit_status([summary])
 
 
 def _print_comparisons(comparisons) -> None:

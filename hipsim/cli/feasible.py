@@ -201,7 +201,9 @@ def run(args) -> int:
     """Print the limits crossed and the speed at which the protocol fits; status 1 when any is crossed."""
     from ..analysis.runs import analyse
     from ..design.feasibility import check_feasibility, fitting_speed
+    from ..design.feasibility_summary import feasibility_summary
     from ..machine.drive import load_drive
+    from ..records import exit_status
 
     params = parameters(args)
     trajectory = load_trajectory(args)
@@ -211,74 +213,19 @@ def run(args) -> int:
     k = fitting_speed(lambda motion: analyse(params, motion), trajectory, machine) if crossings else 1.0
     period = cycle_period(args, trajectory)
     noisy = noise_flagged(args)
-    unchecked = machine.unchecked()
-    line = verdict(machine, crossings, drive is not None, noisy)
+    summary = feasibility_summary(
+        trajectory.name, params.source, machine, crossings, k, period, drive is not None, noisy
+    )
     if args.summary_format == "json":
-        print_json(
-            {
-                "trajectory": trajectory.name,
-                "parameters": params.source,
-                # True only when every limit had a figure; None when nothing checked was crossed but some were not checked.
-                "feasible": False if crossings else (None if unchecked else True),
-                "checked": machine.checked(),
-                "not_checked": unchecked,
-                "noise_flagged": noisy,
-                "verdict": line,
-                "crossings": [
-                    {
-                        "limit": c.limit,
-                        "motor": c.motor,
-                        "t_s": c.t,
-                        "needed": c.needed,
-                        "allowed": c.allowed,
-                        "excess": c.excess,
-                        "message": c.message(),
-                    }
-                    for c in crossings
-                ],
-                "speed_factor": k,
-                "cycle_frequency_Hz": (k / period if k is not None and period else None),
-            }
-        )
+        print_json(summary.to_json())
     else:
         print(f"trajectory: {trajectory.name} ({len(trajectory)} samples); parameters: {params.source}")
         if crossings:
             print(format_crossings(crossings))
-        print(line)
+        print(summary.verdict)
         if crossings:
             print(_suggestion(k, period) + (" (by the noisy motion's accelerations)" if noisy else ""))
-    return 1 if crossings else 0
-
-
-def verdict(machine, crossings, drive_given: bool, noisy: bool) -> str:
-    """The verdict in one line: what was checked, what was not (and why), and whether noise stands behind it.
-
-    "within every machine limit" only when every limit of
-    :data:`hipsim.design.feasibility.CHECKED_LIMITS` had a figure; otherwise
-    the limits checked and those not, with the file that would give them.
-    """
-    unchecked = machine.unchecked()
-    if crossings:
-        text = f"crosses {len(crossings)} of the limits checked ({', '.join(machine.checked())})"
-    elif not unchecked:
-        text = f"within every machine limit ({', '.join(machine.checked())})"
-    else:
-        text = f"within the limits checked ({', '.join(machine.checked())})"
-    if unchecked:
-        where = (
-            "not in the drive file or the parameter file's [motor] table"
-            if drive_given
-            else "no drive data: give --drive, or a [motor] table in the parameter file"
-        )
-        text += f"; not checked: {', '.join(unchecked)} ({where})"
-    if noisy:
-        from ..motion.noise_check import SUGGESTED_CUTOFF as _SUGGESTED_CUTOFF  # NumPy: not at the parser's import
-
-        text += (
-            f"; on a motion the noise check flagged: its speeds and accelerations carry the noise "
-            f"(filter it with --cutoff {_SUGGESTED_CUTOFF:g})"
-        )
-    return text
+    return exit_status([summary])
 
 
 def noise_flagged(args) -> bool:

@@ -1,4 +1,4 @@
-"""``hipsim iso-check``: did a run follow the ISO 14242-1 waveforms within tolerance, cycle by cycle? And the verdict ``simulate`` prints.
+"""``hipsim iso-check``: did a run follow the ISO 14242-1 waveforms within tolerance, cycle by cycle?
 
 The run: a rig log (a CSV with motor torques or currents, read as ``compare``
 reads it), any trajectory file the readers take, or the built-in cycle. Each
@@ -23,7 +23,7 @@ from .common import (
 )
 from .motion_options import add_trajectory_options, load_trajectory
 
-__all__ = ["add_parser", "format_check", "parse_tolerance_option", "run", "simulation_verdicts"]
+__all__ = ["add_parser", "format_check", "parse_tolerance_option", "run"]
 
 #: Cycles listed one by one on the terminal (the JSON and the page list them all).
 MAX_LISTED = 20
@@ -165,7 +165,10 @@ def run(args) -> int:
     """Check the run; write the folder; status 1 when a cycle leaves a tolerance."""
     from ..files import check_folder
     from ..motion.iso_compliance import iso_check, periodic_extension
-    from ..present.iso_figures import iso_summary, write_iso_check
+    from ..motion.iso_verdict import iso_check_summary
+    from ..present.iso_figures import write_iso_check
+    from ..records import exit_status
+    from .documents import IsoCheckRun
 
     tolerances = parse_tolerance_option(args.tolerance)
     params = parameters(args)
@@ -177,30 +180,10 @@ def run(args) -> int:
     files = write_iso_check(
         args.out, check, t, q, load, page_provenance(args, log=args.trajectory, load=getattr(args, "load", None))
     )
+    summary = iso_check_summary(check)
     if args.summary_format == "json":
-        print_json(iso_summary(check) | {"index": str(files.index)})
+        print_json(IsoCheckRun(summary, str(files.index)).to_json())
     else:
         print(format_check(check))
         print(f"wrote {files.index}")
-    return 0 if check.passed else 1
-
-
-def simulation_verdicts(simulations, tolerances, periodic: bool) -> list[str]:
-    """One verdict line per simulated run: its tracked (actual) motion and its load against ISO 14242-1."""
-    from ..exceptions import TrajectoryError
-    from ..motion.iso_compliance import iso_check
-
-    lines = []
-    for sim in simulations:
-        try:
-            check = iso_check(sim.t, sim.q, sim.desired.Fe, tolerances, source=sim.controller, periodic=periodic)
-        except TrajectoryError as error:
-            lines.append(f"ISO 14242-1 check of {sim.controller}'s tracked motion: not made ({error})")
-            continue
-        verdict = "PASS" if check.passed else "FAIL: " + ", ".join(check.failing)
-        worst = ", ".join(f"{q} {check.worst(q):.3g}" for q in ("alpha", "beta", "gamma"))
-        lines.append(
-            f"ISO 14242-1 check of {sim.controller}'s tracked motion ({len(check.cycles)} cycle(s)): {verdict} "
-            f"(worst deviation [°]: {worst}; tolerances assumed, see hipsim iso-check)"
-        )
-    return lines
+    return exit_status([summary])

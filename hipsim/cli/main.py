@@ -28,6 +28,7 @@ from . import (
     params,
     report,
     rig,
+    schema,
     simulate,
     size,
     stations,
@@ -86,6 +87,7 @@ def build_parser() -> argparse.ArgumentParser:
     excite.add_parser(commands)
     calibrate.add_parser(commands)
     monitor.add_parser(commands)
+    schema.add_parser(commands)
     return parser
 
 

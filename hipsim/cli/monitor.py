@@ -8,6 +8,7 @@ import subprocess
 import sys
 
 from ..exceptions import HipsimError
+from ..records import exit_status
 from .common import add_provenance_options, add_summary_format, page_provenance, print_json
 
 __all__ = ["add_parser", "format_summary", "run"]
@@ -231,15 +232,15 @@ def run(args) -> int:
         )
     finally:
         bar.close()
-    summary = _outputs(args, result, provenance)
+    document = _outputs(args, result, provenance)
     if args.summary_format == "json":
-        print_json(summary)
+        print_json(document.to_json())
     else:
-        print(format_summary(summary, result))
-    return 1 if summary["alarm_active"] else 0
+        print(format_summary(document, result))
+    return exit_status([result.state])
 
 
-def _outputs(args, result, provenance, said: set | None = None) -> dict:
+def _outputs(args, result, provenance, said: set | None = None):
     """Warnings for the skipped snapshots (standard error; with ``said``, each once), the page when asked; the summary."""
     for skipped in result.skipped:
         label = "waiting" if skipped.kind == "waiting" else "skipped"
@@ -248,14 +249,15 @@ def _outputs(args, result, provenance, said: set | None = None) -> dict:
             print(line, file=sys.stderr)
         if said is not None:
             said.add(line)
-    summary = result.summary() | {"out": args.out, "provenance": provenance.as_dict()}
+    from .documents import MonitorRun, ReportFiles
+
+    report = None
     if args.report:
         from ..present.monitor_page import write_monitor_report
 
         files = write_monitor_report(args.report, result, provenance, pdf=args.pdf)
-        summary["report"] = str(files.index)
-        summary["pdf"] = str(files.pdf) if files.pdf is not None else None
-    return summary
+        report = ReportFiles(str(files.index), str(files.pdf) if files.pdf is not None else None)
+    return MonitorRun(result.summary(), args.out, provenance.as_dict(), report)
 
 
 def _watch(args, setup, baseline, provenance, metadata) -> int:
@@ -268,17 +270,17 @@ def _watch(args, setup, baseline, provenance, metadata) -> int:
     said: set[str] = set()
 
     def update(result) -> None:
-        summary = _outputs(args, result, provenance, said)
+        summary = _outputs(args, result, provenance, said).summary
         last = result.columns
         print(
-            f"{len(last['cycle'])} snapshots to cycle {summary['last_cycle']}: "
-            + ("ALARM ACTIVE" if summary["alarm_active"] else "no alarm at the last snapshot")
+            f"{len(last['cycle'])} snapshots to cycle {summary.last_cycle}: "
+            + ("ALARM ACTIVE" if summary.alarm_active else "no alarm at the last snapshot")
             + (f"; {last['flag'][-1]}" if last["flag"][-1] else ""),
             flush=True,
         )
 
     def on_alarm(result) -> None:
-        document = json.dumps(json_ready(result.summary()))
+        document = json.dumps(json_ready(result.summary().to_json()))
         try:
             subprocess.run(shlex.split(args.on_alarm), input=document, text=True, check=False, timeout=600)
         except (OSError, subprocess.TimeoutExpired) as error:
@@ -303,7 +305,7 @@ def _watch(args, setup, baseline, provenance, metadata) -> int:
     except KeyboardInterrupt:
         print("hipsim: stopped watching; the table and page are those of the last update", file=sys.stderr)
         return 130
-    return 1 if result is not None and result.findings.alarm[-1] else 0
+    return exit_status([None if result is None else result.state])
 
 
 def _progress_bar(total: int):
@@ -312,31 +314,32 @@ def _progress_bar(total: int):
     return tqdm(total=total, disable=not sys.stderr.isatty(), unit="snapshot", delay=2.0, leave=False)
 
 
-def format_summary(summary: dict, result) -> str:
-    """The monitor's summary as plain text, the snapshots as a table."""
+def format_summary(document, result) -> str:
+    """The monitor's summary (:class:`hipsim.cli.documents.MonitorRun`) as plain text, the snapshots as a table."""
     from ..present.numbers import significant
     from ..present.tables import format_table
 
-    b = summary["baseline"]
+    summary = document.summary
+    b = summary.baseline
     lines = [
-        f"monitor of {summary['snapshots']} snapshots, cycles {summary['first_cycle']}-{summary['last_cycle']}: "
-        f"{summary['new']} estimated, {summary['kept']} kept from {summary['out'] or 'no table'}",
-        f"parameters: {summary['parameters']}; chart: {summary['chart']}; alarm at a change of {summary['alarm_rise']:g} "
-        f"in one station, judged on {summary['judged']}",
+        f"monitor of {summary.snapshots} snapshots, cycles {summary.first_cycle}-{summary.last_cycle}: "
+        f"{summary.new} estimated, {summary.kept} kept from {document.out or 'no table'}",
+        f"parameters: {summary.parameters}; chart: {summary.chart}; alarm at a change of {summary.alarm_rise:g} "
+        f"in one station, judged on {summary.judged}",
     ]
-    if summary["note"]:
-        lines.append(summary["note"])
+    if summary.note:
+        lines.append(summary.note)
     else:
         lines.append(
-            f"baseline cycles {b['from']}-{b['to']}: {b['snapshots']} snapshots, load friction "
-            f"{significant(b['load_friction_mm'], 5)} mm ± {significant(b['spread_mm'], 2)} mm between snapshots"
+            f"baseline cycles {b.from_}-{b.to}: {b.snapshots} snapshots, load friction "
+            f"{significant(b.load_friction_mm, 5)} mm ± {significant(b.spread_mm, 2)} mm between snapshots"
         )
-    for item in summary["skipped"]:
+    for item in summary.skipped:
         lines.append(f"skipped {item['file']}: {item['reason']}")
-    for item in summary["waiting"]:
+    for item in summary.waiting:
         lines.append(f"waiting {item['file']}: {item['reason']}")
-    if summary["missing"]:
-        lines.append("missing: " + ", ".join(f"{c:,}" for c in summary["missing"]))
+    if summary.missing:
+        lines.append("missing: " + ", ".join(f"{c:,}" for c in summary.missing))
     c = result.columns
     rows = []
     for k in range(len(c["cycle"])):
@@ -362,14 +365,15 @@ def format_summary(summary: dict, result) -> str:
             "Snapshots",
         ),
     ]
-    first = summary["first_alarm"]
+    first = summary.first_alarm
     lines.append("\nfirst " + first["text"] + f" (cycle {first['cycle']}, {first['file']})" if first else "\nno alarm")
-    notice = summary["latest_notice"]
+    notice = summary.latest_notice
     if notice:
         lines.append("latest " + notice["text"] + f" (cycle {notice['cycle']}, {notice['file']})")
-    lines.append("ALARM ACTIVE at the last snapshot" if summary["alarm_active"] else "no alarm at the last snapshot")
-    if summary.get("out"):
-        lines.append(f"wrote {summary['out']} ({summary['snapshots']} rows)")
-    if summary.get("report"):
-        lines.append(f"wrote {summary['report']}" + (f" and {summary['pdf']}" if summary.get("pdf") else ""))
+    lines.append("ALARM ACTIVE at the last snapshot" if summary.alarm_active else "no alarm at the last snapshot")
+    if document.out:
+        lines.append(f"wrote {document.out} ({summary.snapshots} rows)")
+    if document.report is not None:
+        pdf = document.report.pdf
+        lines.append(f"wrote {document.report.report}" + (f" and {pdf}" if pdf else ""))
     return "\n".join(lines)

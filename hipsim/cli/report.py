@@ -155,18 +155,19 @@ def run(args) -> int:
     passed = files.sizing.passed if files.sizing is not None else None
     pdf = files.folder / "report.pdf" if args.pdf else None
     if args.summary_format == "json":
-        print_json(
-            (joint_run or run).summary()
-            | {
-                "sizing": files.sizing.as_dict() if files.sizing is not None else None,
-                "rating_check": _verdict(passed),
-                "index": str(files.index),
-                "pdf": None if pdf is None else str(pdf),
-                "verdict": files.verdict.as_dict(),
-                "provenance": provenance.as_dict(),
-            }
-            | ({"margin_bands": [b.as_dict() for b in bands]} if bands else {})
+        from .documents import ReportRun
+
+        document = ReportRun(
+            (joint_run or run).summary(),
+            sizing=files.sizing.as_dict() if files.sizing is not None else None,
+            rating_check=_verdict(passed),
+            index=str(files.index),
+            pdf=None if pdf is None else str(pdf),
+            verdict=files.verdict,
+            provenance=provenance.as_dict(),
+            margin_bands=[b.as_dict() for b in bands] if bands else None,
         )
+        print_json(document.to_json())
     else:
         print(f"wrote {files.index}" + (f" and {pdf}" if pdf is not None else ""))
         if passed is not None:
@@ -176,10 +177,13 @@ def run(args) -> int:
             )
         if bands:
             print(_bands_note(bands))
-    if passed is False:
+    from ..design.checks import checks_verdict
+    from ..records import exit_status
+
+    status = exit_status([None if files.sizing is None else checks_verdict(files.sizing.checks)])
+    if status:
         print("hipsim: the drive fails its rating check (exit status 1)", file=sys.stderr)
-        return 1
-    return 0
+    return status
 
 
 def _margin_bands(identified, params, covariance, run, trajectory, drive, cycles):

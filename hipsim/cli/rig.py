@@ -186,10 +186,12 @@ def _hashed(log):
 
 
 def run_compare(args) -> int:
-    """Compare the model with ``--log``: write the figures, page and JSON to ``--out`` and print the errors; exit status 0."""
+    """Compare the model with ``--log``: write the figures, page and JSON to ``--out`` and print the errors; exit status 1 when --accept is given and a motor exceeds it."""
     from ..files import check_folder
     from ..present.rig_figures import write_comparison
+    from ..records import exit_status
     from ..rig.compare import compare_log
+    from ..rig.compare_verdict import acceptance_verdict
     from ..rig.identification.uncertainty import read_covariance
 
     params = parameters(args)
@@ -218,13 +220,16 @@ def run_compare(args) -> int:
         residual=None if covariance is None else covariance.residual,
     )
     summary = comparison.summary()
+    accepted = acceptance_verdict(
+        {i: m.relative_rms_error for i, m in summary.motors.items()},
+        None if args.accept is None else args.accept / 100,
+    )
     if args.summary_format == "json":
         print(json.dumps(json.loads(files.summary.read_text(encoding="utf-8")), indent=2))
-        return 0
-    verdict = json.loads(files.summary.read_text(encoding="utf-8"))["verdict"]
-    print(f"{verdict['word']}: " + " ".join(verdict["lines"]))
+        return exit_status([accepted])
+    print(f"{files.verdict.word}: " + " ".join(files.verdict.lines))
     print(
-        f"log: {log.name} ({summary['samples']} samples compared, motion from the {log.motion_from}); parameters: {params.source}"
+        f"log: {log.name} ({summary.samples} samples compared, motion from the {log.motion_from}); parameters: {params.source}"
     )
     for note in log.notes:
         print(f"  {note}")
@@ -245,16 +250,16 @@ def run_compare(args) -> int:
     rows = [
         [
             f"M{i}",
-            m["measured_rms_Nmm"],
-            m["measured_peak_Nmm"],
-            m["rms_error_Nmm"],
-            f"{100 * m['relative_rms_error']:.2f} %",
-            m["peak_error_Nmm"],
-            f"{100 * m['relative_peak_error']:.2f} %",
-            f"{m['peak_error_t_s']:.3f}",
-            m["rms_error_away_from_reversals_Nmm"],
+            m.measured_rms_Nmm,
+            m.measured_peak_Nmm,
+            m.rms_error_Nmm,
+            f"{100 * m.relative_rms_error:.2f} %",
+            m.peak_error_Nmm,
+            f"{100 * m.relative_peak_error:.2f} %",
+            f"{m.peak_error_t_s:.3f}",
+            m.rms_error_away_from_reversals_Nmm,
         ]
-        for i, m in summary["motors"].items()
+        for i, m in summary.motors.items()
     ]
     print(
         format_table(
@@ -284,7 +289,7 @@ def run_compare(args) -> int:
         for i in range(3):
             print(f"  M{i + 1}: " + " ".join(f"{x * 1e3:6.2f}" for x in comparison.phase_rms[:, i]))
     print(f"\nwrote {files.index} (figures, comparison.json)")
-    return 0
+    return exit_status([accepted])
 
 
 def _check_log_options(args) -> None:

@@ -23,7 +23,7 @@ from .feasible import add_strict_option
 from .mjcf import add_simulate_options, format_gaps
 from .motion_options import add_trajectory_options, load_trajectory
 
-__all__ = ["add_parser", "format_simulations", "run"]
+__all__ = ["add_parser", "format_iso", "format_simulations", "run"]
 
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
@@ -84,18 +84,18 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     return sim
 
 
-def format_simulations(simulations) -> str:
-    """Tracking errors and torques of closed-loop runs as plain-text tables."""
+def format_simulations(summaries) -> str:
+    """Tracking errors and torques of closed-loop runs (:class:`hipsim.control.simulation_summary.SimulationSummary`)
+    as plain-text tables."""
     rows = []
-    for sim in simulations:
-        s = sim.summary()
-        e = s["errors_deg"]
+    for s in summaries:
+        e = s.errors_deg
         rows.append(
             [
-                s["controller"],
-                s["plant"],
-                *(e[n][k] for n in ("alpha", "beta", "gamma") for k in ("peak", "rms")),
-                str(s["saturated_samples"]),
+                s.controller,
+                s.plant,
+                *(getattr(e[n], k) for n in ("alpha", "beta", "gamma") for k in ("peak", "rms")),
+                str(s.saturated_samples),
             ]
         )
     header = ["controller", "plant", "α peak", "α RMS", "β peak", "β RMS", "γ peak", "γ RMS", "saturated"]
@@ -105,18 +105,9 @@ def format_simulations(simulations) -> str:
         "",
     ]
     rows = []
-    for sim in simulations:
-        s = sim.summary()
+    for s in summaries:
         for i in ("1", "2", "3"):
-            rows.append(
-                [
-                    s["controller"],
-                    f"M{i}",
-                    s["torques_Nmm"][i]["peak"],
-                    s["torques_Nmm"][i]["rms"],
-                    s["speed_peak_rpm"][i],
-                ]
-            )
+            rows.append([s.controller, f"M{i}", s.torques_Nmm[i].peak, s.torques_Nmm[i].rms, s.speed_peak_rpm[i]])
     out.append(
         format_table(
             ["controller", "motor", "peak [N·mm]", "RMS [N·mm]", "peak speed [rpm]"], rows, "Motor torques and speeds"
@@ -125,11 +116,30 @@ def format_simulations(simulations) -> str:
     return "\n".join(out)
 
 
+def format_iso(summary) -> list[str]:
+    """The ISO 14242-1 verdict on a run's tracked motion, and in a line of its own a desired motion that is not ISO."""
+    iso = summary.iso
+    if iso is None:
+        return []
+    if iso.reason:
+        return [f"ISO 14242-1 check of {summary.controller}'s tracked motion: not made ({iso.reason})"]
+    lines = [
+        f"ISO 14242-1 check of {summary.controller}'s tracked motion ({iso.cycles} cycle(s)): {iso.verdict.value}: "
+        f"{iso.judged} (tolerances assumed, see hipsim iso-check)"
+    ]
+    if iso.desired_line:
+        lines.append(f"{summary.controller}: {iso.desired_line}")
+    return lines
+
+
 def run(args) -> int:
     """Simulate the controllers asked for, write their CSV and print their tracking errors."""
     from ..control.controllers import AugmentedPD, WorkspacePD
     from ..control.simulation import apply_mismatch, parse_mismatch, simulate
+    from ..control.simulation_summary import simulation_summary
     from ..files import is_stdout
+    from ..records import exit_status
+    from .documents import SimulateRun
 
     if args.rate is not None:
         raise HipsimError("--rate does not apply to simulate: the run is sampled at the servo rate (--servo-rate)")
@@ -190,29 +200,23 @@ def run(args) -> int:
         written.append(str(sim.write_csv(path)))
         if not json_out:
             print(f"wrote {written[-1]}", file=report)
+    periodic = _repeats(args, trajectory)
+    summaries = tuple(simulation_summary(sim, tolerances, periodic, iso=True) for sim in simulations)
     if json_out:
-        print_json(
-            {
-                "simulations": [sim.summary() | {"step_s": sim.step} for sim in simulations],
-                "mismatch": mismatch,
-                "csv": written,
-            },
-            report,
-        )
-        return 0
+        print_json(SimulateRun(summaries, mismatch, tuple(written)).to_json(), report)
+        return exit_status(s.iso for s in summaries)
     if mismatch:
         print(
             "plant off from the controller's model: " + ", ".join(f"{k} {v:+.0%}" for k, v in mismatch.items()),
             file=report,
         )
-    print(format_simulations(simulations), file=report)
+    print(format_simulations(summaries), file=report)
     for line in gaps:
         print(line, file=report)
-    from .iso_check import simulation_verdicts
-
-    for line in simulation_verdicts(simulations, tolerances, periodic=_repeats(args, trajectory)):
-        print(line, file=report)
-    return 0
+    for summary in summaries:
+        for line in format_iso(summary):
+            print(line, file=report)
+    return exit_status(s.iso for s in summaries)
 
 
 def _feasibility(params, args, trajectory) -> list:

@@ -370,6 +370,7 @@ def format_bands(bands) -> str:
 def run(args) -> int:
     """Check ``--drive`` (or rank ``--catalogue``) along the cycles and print the checks; exit status 1 when the drive fails one."""
     from ..analysis.runs import analyse
+    from ..design.checks import checks_verdict
     from ..design.ranking import screw_checks
     from ..design.sizing import rank_drives, sizing
     from ..files import json_ready
@@ -381,6 +382,7 @@ def run(args) -> int:
         load_motor_catalogue,
         load_screw_catalogue,
     )
+    from ..records import exit_status
 
     params = parameters(args)
     if args.top is not None and args.top < 1:
@@ -473,5 +475,4 @@ def run(args) -> int:
                     print()
                     print(format_bands(bands[[t for t, _ in results].index(trajectory)]))
             print()
-    failed = any(size.passed is False for _, size in results)
-    return 1 if failed else 0
+    return exit_status(checks_verdict(size.checks) for _, size in results)

@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
-from typing import Any
 
 from ..exceptions import HipsimError
 from .common import (
@@ -111,28 +110,23 @@ def _print_summary(summary) -> None:
     from ..present.tables import format_table
 
     rows = []
-    for p in summary["platforms"]:
-        role = "controlled" if p["controlled"] else "following"
-        for name, a in p["angles"].items():
+    for p in summary.platforms:
+        role = "controlled" if p.controlled else "following"
+        for name, a in p.angles.items():
             rows.append(
-                [
-                    f"m_{p['platform']} ({role})",
-                    name,
-                    f"{a['rms_deg']:.4g}",
-                    f"{a['peak_deg']:.4g}",
-                    f"{a['peak_at_s']:.4g}",
-                ]
+                [f"m_{p.platform} ({role})", name, f"{a.rms_deg:.4g}", f"{a.peak_deg:.4g}", f"{a.peak_at_s:.4g}"]
             )
-    print(
-        format_table(["platform", "angle", "RMS [°]", "peak [°]", "at t [s]"], rows, f"--control {summary['control']}")
-    )
-    for p in summary["platforms"]:
-        if "iso" in p:
-            print(f"station {p['platform']}: ISO 14242-1 check of its motion: {p['iso']['verdict']}")
+    print(format_table(["platform", "angle", "RMS [°]", "peak [°]", "at t [s]"], rows, f"--control {summary.control}"))
+    for p in summary.platforms:
+        if p.iso is not None:
+            reason = f" ({p.iso.reason})" if p.iso.reason else ""
+            print(f"station {p.platform}: ISO 14242-1: {p.iso.verdict.value}: {p.iso.judged}{reason}")
+            if p.iso.desired_line:
+                print(f"station {p.platform}: {p.iso.desired_line}")
 
 
 def run(args) -> int:
-    """Run the mode the options ask for; write the folder; exit status 0."""
+    """Run the mode the options ask for; write the folder; exit status 1 when a station's ISO verdict fails."""
     from ..files import check_folder, check_output
 
     _check(args)
@@ -155,8 +149,10 @@ def run(args) -> int:
 def _commands(args, params, weights, out: Path, table: Path) -> int:
     from ..files import output_folder
     from ..present.stations_page import write_stations
+    from ..records import exit_status
     from ..stations.commands import station_commands
     from ..stations.summary import station_columns, station_summary
+    from .documents import StationsRun
 
     trajectory = load_trajectory(args)
     motion = station_commands(params, trajectory.t, trajectory.q, args.control, weights, source=trajectory.name)
@@ -168,17 +164,13 @@ def _commands(args, params, weights, out: Path, table: Path) -> int:
 
     with output_folder(out):
         _write_table(table, station_columns(motion, load))
-        files = write_stations(
-            out, {"summary": summary, "table": str(table)}, motion.t, np.degrees(motion.errors), provenance
-        )
+        files = write_stations(out, {"table": str(table)}, summary, motion.t, np.degrees(motion.errors), provenance)
     if args.summary_format == "json":
-        print_json(
-            {"summary": summary, "table": str(table), "index": str(files.index), "provenance": provenance.as_dict()}
-        )
+        print_json(StationsRun(summary, str(table), str(files.index), provenance.as_dict()).to_json())
     else:
         _print_summary(summary)
         print(f"wrote {table} and {files.index}")
-    return 0
+    return exit_status(summary.verdicts)
 
 
 def _sliders(args, params, out: Path, table: Path) -> int:
@@ -188,42 +180,35 @@ def _sliders(args, params, out: Path, table: Path) -> int:
     from ..present.stations_page import write_stations
     from ..stations.commands import attitudes
     from ..stations.logs import read_carriage_log
-    from ..stations.summary import attitude_columns
+    from ..stations.summary import attitude_columns, sliders_summary
+    from .documents import StationsSliders
 
     t, carriages = read_carriage_log(args.sliders, params.lead)
     q = attitudes(params, carriages, None, t, args.sliders)
     flat = np.degrees(q).reshape(len(t), 6)
     columns = {"t_s": t} | {f"L_1{i + 1}_mm": carriages[:, i] * 1e3 for i in range(3)}
     columns |= {name: flat[:, k] for k, name in enumerate(attitude_columns())}
-    difference = np.degrees(q[:, 0] - q[:, 1])
-    document: dict[str, Any] = {
-        "sliders": {
-            "log": args.sliders,
-            "samples": len(t),
-            "platform_difference_rms_deg": np.sqrt((difference**2).mean(axis=0)).tolist(),
-            "platform_difference_peak_deg": np.abs(difference).max(axis=0).tolist(),
-        },
-        "table": str(table),
-    }
+    sliders = sliders_summary(args.sliders, q)
     provenance = page_provenance(args, log=args.sliders)
     with output_folder(out):
         _write_table(table, columns)
-        files = write_stations(out, document, provenance=provenance)
+        files = write_stations(out, {"table": str(table)}, sliders=sliders, provenance=provenance)
     if args.summary_format == "json":
-        print_json(document | {"index": str(files.index), "provenance": provenance.as_dict()})
+        print_json(StationsSliders(sliders, str(table), str(files.index), provenance.as_dict()).to_json())
     else:
-        rms = document["sliders"]["platform_difference_rms_deg"]
+        rms = sliders.platform_difference_rms_deg
         print(f"{len(t)} samples; m_1 − m_2 attitude RMS α {rms[0]:.4g}°, β {rms[1]:.4g}°, γ {rms[2]:.4g}°")
         print(f"wrote {table} and {files.index}")
     return 0
 
 
 def _tolerance(args, params, weights, out: Path) -> int:
-    import numpy as np
 
     from ..files import output_folder
     from ..present.stations_page import write_stations
     from ..stations.tolerance import parse_tolerances, tolerance_draws
+    from ..stations.tolerance_summary import tolerance_summary
+    from .documents import StationsTolerance
 
     bands = parse_tolerances(args.tolerance)
     trajectory = load_trajectory(args)
@@ -243,63 +228,34 @@ def _tolerance(args, params, weights, out: Path) -> int:
         scheduler=args.scheduler,
         progress=progress("hipsim stations --tolerance"),
     )
-    rms95, peak95 = np.degrees(result.percentile("rms")), np.degrees(result.percentile("peak"))
-    tolerance: dict[str, Any] = {
-        "draws": args.draws,
-        "seed": args.seed,
-        "samples_per_draw": len(t),
-        "bands_mm": {k: v * 1e3 for k, v in bands.items()},
-        "controls": [
-            {
-                "control": control,
-                "platforms": [
-                    {"platform": j + 1, "rms_p95_deg": rms95[c, j].tolist(), "peak_p95_deg": peak95[c, j].tolist()}
-                    for j in range(2)
-                ],
-                "sensitivity": result.sensitivity[control],
-                "family_share": _family_shares(result.sensitivity[control]),
-            }
-            for c, control in enumerate(controls)
-        ],
-    }
+    tolerance = tolerance_summary(result, len(t))
     provenance = page_provenance(args, trajectory=args.trajectory, tolerance=_file(args.tolerance))
     with output_folder(out):
-        files = write_stations(out, {"tolerance": tolerance}, provenance=provenance)
+        files = write_stations(out, {}, tolerance=tolerance, provenance=provenance)
     if args.summary_format == "json":
-        print_json({"tolerance": tolerance, "index": str(files.index), "provenance": provenance.as_dict()})
+        print_json(StationsTolerance(tolerance, str(files.index), provenance.as_dict()).to_json())
         return 0
     from ..present.tables import format_table
 
     rows = [
         [
-            c["control"],
-            f"m_{p['platform']}",
-            *(f"{v:.3g}" for v in p["rms_p95_deg"]),
-            *(f"{v:.3g}" for v in p["peak_p95_deg"]),
+            c.control,
+            f"m_{p.platform}",
+            *(f"{v:.3g}" for v in p.rms_p95_deg),
+            *(f"{v:.3g}" for v in p.peak_p95_deg),
         ]
-        for c in tolerance["controls"]
-        for p in c["platforms"]
+        for c in tolerance.controls
+        for p in c.platforms
     ]
     header = ["control", "platform", "α RMS p95", "β RMS p95", "γ RMS p95", "α peak p95", "β peak p95", "γ peak p95"]
     print(format_table(header, rows, f"{args.draws} machines drawn, errors in degrees"))
-    for c in tolerance["controls"]:
-        families = ", ".join(f"{name} {100 * share:.0f} %" for name, share in c["family_share"].items())
-        print(f"--control {c['control']}: share of the follower's mean square by tolerance: {families}")
-        top = c["sensitivity"][:5]
-        print(
-            f"--control {c['control']}: largest shares: "
-            + ", ".join(f"{r['value']} {100 * r['share']:.1f} %" for r in top)
-        )
+    for c in tolerance.controls:
+        families = ", ".join(f"{name} {100 * share:.0f} %" for name, share in c.family_share.items())
+        print(f"--control {c.control}: share of the follower's mean square by tolerance: {families}")
+        top = c.sensitivity[:5]
+        print(f"--control {c.control}: largest shares: " + ", ".join(f"{r.value} {100 * r.share:.1f} %" for r in top))
     print(f"wrote {files.index}")
     return 0
-
-
-def _family_shares(rows) -> dict[str, float]:
-    """Each tolerance family's share of the expected mean square, largest first."""
-    shares: dict[str, float] = {}
-    for row in rows:
-        shares[row["family"]] = shares.get(row["family"], 0.0) + row["share"]
-    return dict(sorted(shares.items(), key=lambda item: -item[1]))
 
 
 def _file(text: str) -> str | None:

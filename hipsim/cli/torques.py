@@ -50,21 +50,22 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     return torques
 
 
-def format_summary(summary: dict) -> str:
-    """The torque run summary as plain-text tables."""
+def format_summary(summary, cycle=None) -> str:
+    """The torque run summary (:class:`hipsim.results.RunSummary`) as plain-text tables; ``cycle`` the cycle of the
+    smallest singularity measure (:class:`hipsim.cli.documents.CycleOf`), None for a run of one cycle."""
     out = [
-        f"model: {summary['model']}   trajectory: {summary['trajectory']} ({summary['samples']} samples)",
-        f"parameters: {summary['parameters']}",
+        f"model: {summary.model}   trajectory: {summary.trajectory} ({summary.samples} samples)",
+        f"parameters: {summary.parameters}",
         "",
     ]
-    if summary["flagged_samples"]:
+    if summary.flagged_samples:
         out += [
-            f"WARNING: {summary['flagged_samples']} samples out of reach or singular (flagged in the CSV, left out below)",
+            f"WARNING: {summary.flagged_samples} samples out of reach or singular (flagged in the CSV, left out below)",
             "",
         ]
     rows = [
-        [f"S{name}", s["L_max_mm"], s["L_min_mm"], s["stroke_mm"], s["Ld_max_mm_s"], s["Ldd_max_mm_s2"]]
-        for name, s in summary["sliders"].items()
+        [f"S{name}", s.L_max_mm, s.L_min_mm, s.stroke_mm, s.Ld_max_mm_s, s.Ldd_max_mm_s2]
+        for name, s in summary.sliders.items()
     ]
     out.append(
         format_table(
@@ -78,40 +79,43 @@ def format_summary(summary: dict) -> str:
     rows = [
         [
             f"M{i}",
-            *(m[f"{p}_max_Nmm"] for p in ("tau_m", "tau_l", "tau_s", "tau_L", "tau_f")),
-            m["tau_peak_Nmm"],
-            m["tau_rms_Nmm"],
-            m["speed_peak_rpm"],
+            *(getattr(m, f"{p}_max_Nmm") for p in ("tau_m", "tau_l", "tau_s", "tau_L", "tau_f")),
+            m.tau_peak_Nmm,
+            m.tau_rms_Nmm,
+            m.speed_peak_rpm,
         ]
-        for i, m in summary["motors"].items()
+        for i, m in summary.motors.items()
     ]
     out.append(format_table(header, rows, "Motor torques [N·mm] (max |part|; peak and RMS of the total)"))
-    if "joints" in summary:
+    if summary.joints is not None:
         out.append("")
-        rows = [[name, j["peak_N"], j["rms_N"]] for name, j in summary["joints"].items()]
+        rows = [[name, j.peak_N, j.rms_N] for name, j in summary.joints.items()]
         out.append(
             format_table(
                 ["joint", "peak [N]", "RMS [N]"], rows, "Joint forces (spherical joints a_ji, central joints o_j)"
             )
         )
-    where = f"t = {summary['cond_inv_min_t_s']:.6g} s"
-    if "cond_inv_min_cycle" in summary:
-        where += f" (cycle {summary['cond_inv_min_cycle']}, {summary['cond_inv_min_t_in_cycle_s']:.4g} s into it)"
+    where = f"t = {summary.cond_inv_min_t_s:.6g} s"
+    if cycle is not None:
+        where += f" (cycle {cycle.cond_inv_min_cycle}, {cycle.cond_inv_min_t_in_cycle_s:.4g} s into it)"
     out += [
         "",
-        f"smallest singularity measure (inverse condition number of J): {summary['cond_inv_min']:.4f} at {where}",
+        f"smallest singularity measure (inverse condition number of J): {summary.cond_inv_min:.4f} at {where}",
     ]
     return "\n".join(out)
 
 
-def _cycle_of(time: float, trajectory, period: float | None) -> dict:
-    """Which cycle (from 1) a time in [s] falls in and how far into it, when the run spans more than one cycle (a trajectory or a source)."""
+def _cycle_of(time: float, trajectory, period: float | None):
+    """Which cycle (from 1) a time in [s] falls in and how far into it (:class:`hipsim.cli.documents.CycleOf`), when
+    the run spans more than one cycle (a trajectory or a source); None otherwise."""
+    from .documents import CycleOf
+
     start = float(trajectory.t[0]) if hasattr(trajectory, "t") else trajectory.time(0)
     if period is None or span(trajectory) <= period * (1 + 1e-9):
-        return {}
+        return None
     # A hair over whole cycles: a time printed as 395.0 s is the start of cycle 396, not the end of 395.
     cycle = math.floor((time - start) / period + 1e-9)
-    return {"cond_inv_min_cycle": cycle + 1, "cond_inv_min_t_in_cycle_s": max(0.0, time - start - cycle * period)}
+    return CycleOf(cycle + 1, max(0.0, time - start - cycle * period))
 
 
 def _file_metadata(params) -> dict[str, str]:
@@ -230,13 +234,16 @@ def run(args) -> int:
             writer.abort()  # --strict: a crossed limit is an error, and an error writes nothing
             return report_crossings(watch.crossings(), True)
         path = writer.close()
-    summary |= _cycle_of(summary["cond_inv_min_t_s"], source, cycle_period(args, source))
+    cycle = _cycle_of(summary.cond_inv_min_t_s, source, cycle_period(args, source))
     report = sys.stderr if is_stdout(args.out) else sys.stdout  # the CSV has standard output
     kind = "Parquet" if writer.parquet else "CSV"
     if args.summary_format == "json":
-        print_json(summary | {("parquet" if writer.parquet else "csv"): str(path)}, report)
+        from .documents import TorquesRun
+
+        written = {"parquet": str(path)} if writer.parquet else {"csv": str(path)}
+        print_json(TorquesRun(summary, cycle, **written).to_json(), report)
     else:
-        print(format_summary(summary), file=report)
+        print(format_summary(summary, cycle), file=report)
         if bands is not None:
             print(
                 f"\nthe model's 95 % band on the motor torques (tau_i_lo95_Nmm, tau_i_hi95_Nmm): the uncertainty of the "
@@ -246,7 +253,7 @@ def run(args) -> int:
             )
         where = "the CSV to standard output" if is_stdout(args.out) else path
         print(
-            f"\nwrote {where} ({summary['samples']} rows, {len(writer.names)} columns{', Parquet' if kind == 'Parquet' else ''})",
+            f"\nwrote {where} ({summary.samples} rows, {len(writer.names)} columns{', Parquet' if kind == 'Parquet' else ''})",
             file=report,
         )
     return report_crossings(watch.crossings(), args.strict)

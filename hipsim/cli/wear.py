@@ -392,12 +392,12 @@ def _write_table(path: str, columns: dict) -> None:
         writer.close()
 
 
-def format_summary(summary: dict, notes=()) -> str:
-    """The summary as a table."""
+def format_summary(summary, notes=()) -> str:
+    """The summary (:class:`hipsim.wear.summary.WearSummary`) as a table."""
     from ..present.tables import format_table
 
     def value(key, digits=4):
-        x = summary.get(key)
+        x = getattr(summary, key)
         return "–" if x is None or (isinstance(x, float) and not math.isfinite(x)) else f"{x:.{digits}g}"
 
     rows = [
@@ -411,15 +411,15 @@ def format_summary(summary: dict, notes=()) -> str:
         ["cross-shear, work-weighted", value("cross_shear_work_weighted", 3), ""],
         ["cross-shear, largest", value("cross_shear_max", 3), ""],
         ["area worn (W > 0)", value("worn_area_mm2"), "mm²"],
-        ["wear", value("wear_mm3_per_Mc") if summary.get("wear_law") else "not predicted (no law given)", "mm³/Mc"],
+        ["wear", value("wear_mm3_per_Mc") if summary.wear_law else "not predicted (no law given)", "mm³/Mc"],
     ]
     title = (
-        f"Wear of {summary['source']}: per cycle ({summary['cycles']:.4g} cycles, head {summary['head_diameter_mm']:g} mm, "
-        f"{summary['points']} points)"
+        f"Wear of {summary.source}: per cycle ({summary.cycles:.4g} cycles, head {summary.head_diameter_mm:g} mm, "
+        f"{summary.points} points)"
     )
     out = [format_table(["quantity", "value", "unit"], rows, title)]
-    if summary.get("wear_law"):
-        out.append(f"wear law: {summary['wear_law']}")
+    if summary.wear_law:
+        out.append(f"wear law: {summary.wear_law}")
     out += [f"note: {note}" for note in notes]
     return "\n".join(out)
 
@@ -450,6 +450,7 @@ def run(args) -> int:
     from ..files import check_folder, check_output
     from ..present.pages import require_pdf_renderer
     from ..wear.summary import wear_summary
+    from .documents import WearRun
 
     setup = _setup(args)
     points = _points(args, setup)
@@ -475,7 +476,7 @@ def run(args) -> int:
     maps, tracks, wear, path, notes = _one(args, None, setup, points, law)
     _write_table(args.out, _table(maps, wear))
     summary = wear_summary(maps, wear)
-    written = {"table": str(args.out)}
+    index = None
     if report:
         from ..present.wear_page import write_wear_page
 
@@ -488,12 +489,12 @@ def run(args) -> int:
             tuple(notes),
             args.pdf,
         )
-        written["index"] = str(page.index)
+        index = str(page.index)
     if args.summary_format == "json":
-        print_json(summary | {"notes": notes} | written)
+        print_json(WearRun(summary, tuple(notes), str(args.out), index).to_json())
     else:
         print(format_summary(summary, notes))
-        print(f"wrote {', '.join(written.values())}")
+        print(f"wrote {', '.join(path for path in (str(args.out), index) if path)}")
     return 0
 
 
@@ -538,7 +539,9 @@ def _compare(args, setup, points, law, report) -> int:
     import numpy as np
 
     from ..present.wear_page import write_wear_compare
-    from ..wear.summary import difference_maps
+    from ..records import exit_status
+    from ..wear.summary import compare_verdict, difference_maps
+    from .documents import WearCompare
 
     a = _one(args, args.compare[0], setup, points, law)
     b = _one(args, args.compare[1], setup, points, law)
@@ -560,22 +563,22 @@ def _compare(args, setup, points, law, report) -> int:
         columns[f"{key}_b_minus_a"] = np.asarray(differences[key])
     _write_table(args.out, columns)
     if args.summary_format == "json":
-        print_json(document | {"index": str(page.index), "table": str(args.out)})
+        print_json(WearCompare(document, str(page.index), str(args.out)).to_json())
     else:
         from ..present.tables import format_table
 
         rows = [
             [
-                row["label"] + (f" [{row['unit']}]" if row["unit"] else ""),
-                "–" if row["a"] is None else f"{row['a']:.4g}",
-                "–" if row["b"] is None else f"{row['b']:.4g}",
-                "–" if row["relative"] is None else f"{100 * row['relative']:+.3g} %",
+                row.label + (f" [{row.unit}]" if row.unit else ""),
+                "–" if row.a is None else f"{row.a:.4g}",
+                "–" if row.b is None else f"{row.b:.4g}",
+                "–" if row.relative is None else f"{100 * row.relative:+.3g} %",
             ]
-            for row in document["differences"]
+            for row in document.differences
         ]
         print(format_table(["quantity", "A", "B", "(B − A)/A"], rows, f"A: {a[0].name}   B: {b[0].name} (per cycle)"))
         print(f"verdict: {verdict.word}: " + " ".join(verdict.lines))
         for note in notes:
             print(f"note: {note}")
         print(f"wrote {page.index}, {args.out}")
-    return 0
+    return exit_status([compare_verdict(document.differences, document.tolerance, (a[0].name, b[0].name))])

@@ -327,4 +327,6 @@ def run_test(args, setup, points, read_motion, parse_law) -> int:
     stations_context = context(args, result, errors)
     written = write_outputs(args, result, stations_context, notes, inputs)
     print_result(args, result, stations_context, notes, written)
-    return 0
+    from ..records import exit_status
+
+    return exit_status([result.verdict])  # DIFFERENT exits 1, as every verdict's failing level (docs/guide/outputs.md)

@@ -47,8 +47,8 @@ from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 from ..physics.transmission import angle_from_travel
 from ..physics.units import RPM_PER_RAD_S
-from ..results import peak_and_rms
 from .controllers import AugmentedPD, Sample, WorkspacePD
+from .simulation_summary import SimulationSummary, simulation_summary
 
 __all__ = ["Plant", "ReducedPlant", "Simulation", "apply_mismatch", "parse_mismatch", "simulate"]
 
@@ -159,21 +159,9 @@ class Simulation:
         """Tracking error q_d − q in [rad], (K, 3)."""
         return self.desired.q - self.q
 
-    def summary(self) -> dict:
+    def summary(self) -> SimulationSummary:
         """Peak and RMS of each angle's error in [deg] and of each motor's torque in [N·mm], peak speeds in [rpm]."""
-        err_peak, err_rms = peak_and_rms(np.degrees(self.err))
-        tau_peak, tau_rms = peak_and_rms(self.tau * 1e3)
-        speed_peak, _ = peak_and_rms(self.motor_speed * RPM_PER_RAD_S)
-        names = ("alpha", "beta", "gamma")
-        return {
-            "plant": self.plant,
-            "controller": self.controller,
-            "duration_s": float(self.t.size * (self.t[1] - self.t[0])),  # simulate() makes at least two samples
-            "errors_deg": {n: {"peak": float(err_peak[k]), "rms": float(err_rms[k])} for k, n in enumerate(names)},
-            "torques_Nmm": {str(i + 1): {"peak": float(tau_peak[i]), "rms": float(tau_rms[i])} for i in range(3)},
-            "speed_peak_rpm": {str(i + 1): float(speed_peak[i]) for i in range(3)},
-            "saturated_samples": int(np.count_nonzero(self.saturated)),
-        }
+        return simulation_summary(self)
 
     def write_csv(self, path) -> Path:
         """Write :meth:`columns` to ``path`` atomically. Returns the path."""

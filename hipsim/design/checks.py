@@ -27,10 +27,20 @@ import numpy as np
 
 from ..machine.drive_parts import DIRECT, Drive, SizingRules
 from ..physics.units import RPM_PER_RAD_S
+from ..records import Level, Verdict
 from .demand import ScrewSide, motor_duty
 from .ratings import buckling_load, critical_speed, screw_life, weighted_mean, winding_rise
 
-__all__ = ["CHECKS", "FAILURE_ORDER", "MOTOR_INDEPENDENT", "Check", "binding_check", "drive_checks", "first_failure"]
+__all__ = [
+    "CHECKS",
+    "FAILURE_ORDER",
+    "MOTOR_INDEPENDENT",
+    "Check",
+    "binding_check",
+    "checks_verdict",
+    "drive_checks",
+    "first_failure",
+]
 
 
 @dataclass(frozen=True)
@@ -358,3 +368,28 @@ def drive_checks(side: ScrewSide, drive: Drive, rules: SizingRules | None = None
             missing="" if limit is not None else "no permissible axial load given",
         )
     return checks
+
+
+def checks_verdict(checks: Iterable[Check], what: str = "the drive") -> Verdict:
+    """The verdict of a drive's checks: FAIL when one made fails, PASS when every one made passes, NOT MADE when none
+    could be made. Judged: the checks made, the binding one (smallest margin) named with its margin; not judged: the
+    checks missing their data.
+
+    Args:
+        checks: the checks (:func:`drive_checks`).
+        what: the drive's name, for the sentence.
+    """
+    checks = tuple(checks)
+    made = [c for c in checks if c.passed is not None]
+    missing = sorted({CHECKS[c.name].label for c in checks if c.passed is None})
+    not_judged = f"not checked for want of data: {', '.join(missing)}" if missing else ""
+    binding = binding_check(checks)
+    if not made or binding is None or binding.margin is None:
+        return Verdict(Level.NOT_MADE, f"no check of {what} could be made", not_judged)
+    failed = [c for c in made if c.passed is False]
+    judged = (
+        f"{len(made) - len(failed)} of {len(made)} checks of {what} pass; binding: {binding.kind.label}, "
+        f"LN{binding.module}, margin {binding.margin:+.3g}"
+    )
+    numbers = {"checks_made": float(len(made)), "checks_failed": float(len(failed)), "binding_margin": binding.margin}
+    return Verdict(Level.FAIL if failed else Level.PASS, judged, not_judged, numbers)

@@ -16,6 +16,7 @@ import numpy as np
 
 from ..files import check_folder, json_ready, output_folder, write_atomic
 from ..motion.iso_compliance import QUANTITIES, IsoCheck
+from ..motion.iso_verdict import UNITS, IsoCheckSummary, iso_check_summary
 from ..motion.trajectories import iso14242_angles, iso14242_load
 from .figures import save_figure
 from .pages import CSS, Verdict, environment
@@ -32,40 +33,12 @@ _LABELS = {
     "gamma": "γ rotation [°]",
     "load": "load [N]",
 }
-_UNITS = {"alpha": "deg", "beta": "deg", "gamma": "deg", "load": "N", "frequency": "Hz"}
+_UNITS = UNITS
 
 
-def iso_summary(check: IsoCheck) -> dict:
-    """The verdict as a JSON-ready dict: per quantity the worst deviation, tolerance and cycles failed; per cycle each deviation."""
-    quantities = {}
-    for q in QUANTITIES:
-        ok = check.passes(q)
-        quantities[q] = {
-            "unit": _UNITS[q],
-            "worst": check.worst(q),
-            "tolerance": getattr(check.tolerances, q),
-            "cycles_failed": int((~ok).sum()),
-            "passed": bool(ok.all()),
-        }
-    cycles = [
-        {
-            "cycle": k + 1,
-            "start_s": c.start,
-            "frequency_Hz": c.frequency,
-            **{q: c.deviation(q) for q in QUANTITIES},
-            "passed": all(check.passes(q)[k] for q in QUANTITIES),
-        }
-        for k, c in enumerate(check.cycles)
-    ]
-    return {
-        "source": check.source,
-        "passed": check.passed,
-        "failing": list(check.failing),
-        "cycles": len(check.cycles),
-        "tolerances_assumed": "defaults are assumed values: confirm them against your copy of ISO 14242-1",
-        "quantities": quantities,
-        "per_cycle": cycles,
-    }
+def iso_summary(check: IsoCheck) -> IsoCheckSummary:
+    """The check as a record (:func:`hipsim.motion.iso_verdict.iso_check_summary`)."""
+    return iso_check_summary(check)
 
 
 def plot_iso_check(check: IsoCheck, t: np.ndarray, q: np.ndarray, load: np.ndarray):
@@ -166,8 +139,8 @@ def write_iso_check(
     check_folder(out)
     provenance = provenance or make_provenance()
     verdict = iso_verdict(check)
-    summary = json_ready(iso_summary(check))
-    document = {"verdict": verdict.as_dict(), "provenance": json_ready(provenance.as_dict())} | summary
+    summary = iso_check_summary(check)
+    document = {"verdict": verdict.as_dict(), "provenance": json_ready(provenance.as_dict())} | summary.to_json()
     with output_folder(out):
         png, svg = save_figure(plot_iso_check(check, t, q, load), out, "cycles")
         json_path = write_atomic(out / "iso_check.json", json.dumps(document, indent=2) + "\n")

@@ -23,7 +23,9 @@ from typing import Any
 import numpy as np
 
 from ..files import check_folder, json_ready, output_folder, write_atomic
+from ..records import Level
 from ..rig.monitoring.monitor_run import MonitorResult
+from ..rig.monitoring.monitor_state import monitor_verdict as typed_verdict
 from .figures import save_figure
 from .numbers import significant
 from .pages import CSS, Verdict, environment, print_pdf, require_pdf_renderer
@@ -150,25 +152,23 @@ def plot_residuals(result: MonitorResult):
     return fig
 
 
-def monitor_verdict(summary: dict) -> Verdict:
-    """ALARM when an alarm is active at the last snapshot; NOTICE when the last is significant but below the
-    threshold; OK otherwise; NO BASELINE before the chart can start. The lines say the change and its causes."""
-    first, notice = summary["first_alarm"], summary["latest_notice"]
+def monitor_verdict(result: MonitorResult) -> Verdict:
+    """The page's block of the run's state (:func:`hipsim.rig.monitoring.monitor_state.monitor_verdict`): ALARM,
+    NOTICE, OK, or NO BASELINE YET before the chart can start; the lines say the change and its causes."""
+    found, state = result.findings, result.state
+    first, notice = found.first, found.latest_notice
     told = [f"First {first['text']} (cycle {first['cycle']:,}, {first['file']})."] if first else ["No alarm so far."]
-    skipped = len(summary["skipped"])
+    skipped = sum(1 for s in result.skipped if s.kind != "waiting")
     if skipped:
         told.append(f"{skipped} snapshot{'s' if skipped > 1 else ''} skipped (listed below with the reasons).")
-    if summary["note"]:
-        return Verdict("open", "NO BASELINE YET", (summary["note"] + ".", *told[1:]))
-    if summary["alarm_active"]:
-        return Verdict(
-            "fail",
-            "ALARM",
-            (f"An alarm is active at the last snapshot (cycle {summary['last_cycle']:,}).", *told),
-        )
-    if summary["notice_active"] and notice is not None:
-        return Verdict("open", "NOTICE", (f"At the last snapshot a {notice['text']}.", *told))
-    return Verdict("pass", "OK", ("No alarm at the last snapshot.", *told))
+    cycles = result.columns["last_cycle"]
+    last_cycle = int(cycles[-1]) if cycles else None
+    change = notice["text"] if notice else (found.flag[-1] if found.flag else None)
+    verdict = typed_verdict(state, last_cycle, change, found.mean.note)
+    if verdict.level == Level.NOT_MADE:
+        return Verdict("open", "NO BASELINE YET", (f"{found.mean.note}.", *told[1:]))
+    sentence = verdict.judged[0].upper() + verdict.judged[1:] + "."
+    return Verdict(verdict.level.state, verdict.level.value, (sentence, *told))
 
 
 @dataclass(frozen=True)
@@ -235,8 +235,8 @@ def write_monitor_report(
     browser = require_pdf_renderer() if pdf else None
     provenance = provenance or make_provenance()
     summary = result.summary()
-    verdict = monitor_verdict(summary)
-    document = {"verdict": verdict.as_dict(), "provenance": provenance.as_dict()} | summary
+    verdict = monitor_verdict(result)
+    document = {"verdict": verdict.as_dict(), "provenance": provenance.as_dict()} | summary.to_json()
     figures: dict[str, tuple[Path, Path]] = {}
     with output_folder(out):
         for stem, plot in (("chart", plot_chart), ("terms", plot_terms), ("residuals", plot_residuals)):
@@ -255,8 +255,8 @@ def write_monitor_report(
                 verdict=verdict,
                 provenance=provenance,
                 title=provenance.title,
-                summary=json_ready(summary),
-                notes=list(notes) + ([summary["note"]] if summary["note"] else []),
+                summary=summary,
+                notes=list(notes) + ([summary.note] if summary.note else []),
                 figures=embedded,
                 captions=CAPTIONS,
                 header=header,

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..exceptions import HipsimError
+from ..records import Record
 from .browser import find_browser
 
 __all__ = ["CSS", "Verdict", "environment", "print_pdf", "require_pdf_renderer"]
@@ -67,7 +68,7 @@ figcaption { font-size: 0.9em; color: #444; }
 
 
 @dataclass(frozen=True)
-class Verdict:
+class Verdict(Record):
     """The block at the top of a page.
 
     Attributes:
@@ -85,7 +86,8 @@ class Verdict:
         return {"pass": "✔", "fail": "✘"}.get(self.state, "–")
 
     def as_dict(self) -> dict:
-        return {"state": self.state, "word": self.word, "lines": list(self.lines)}
+        """The block as JSON data (:meth:`to_json`)."""
+        return self.to_json()
 
 
 def environment():

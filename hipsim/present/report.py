@@ -191,7 +191,7 @@ def write_report(
         document = {
             "verdict": verdict.as_dict(),
             "provenance": None if provenance is None else provenance.as_dict(),
-            "summary": summary,
+            "summary": summary.to_json(),
             "sizing": size.as_dict(),
             "tracking": tracking,
             "page_notes": page_notes,

@@ -15,11 +15,13 @@ import math
 import re
 
 from ..analysis.registry import engine_entry
+from ..design.checks import checks_verdict
 from ..design.sizing import CHECKS, Check, Sizing
 from ..machine.drive import Drive
 from ..machine.parameters import SCHEMA, file_values
 from ..physics.units import RPM_PER_RAD_S as _RPM
-from ..results import Run, Torques
+from ..records import Level
+from ..results import Run, RunSummary, Torques
 from .figures import FIGURE_CAPTIONS
 from .numbers import quantity, significant, with_uncertainty
 from .pages import CSS, Verdict, environment
@@ -68,10 +70,12 @@ def _check_sentence(check: Check) -> str:
 
 
 def report_verdict(size: Sizing) -> Verdict:
-    """PASS / FAIL / NOT RATED, with the one or two numbers that decide it."""
+    """The page's block of the drive's verdict (:func:`hipsim.design.checks.checks_verdict`): PASS / FAIL / NOT
+    RATED, with the one or two numbers that decide it."""
+    verdict = checks_verdict(size.checks)
     made = [c for c in size.checks if c.passed is not None]
     missing = len(size.checks) - len(made)
-    if not made:
+    if verdict.level == Level.NOT_MADE:
         peak = max(size.modules, key=lambda m: m.tau_peak_Nmm)
         rms = max(size.modules, key=lambda m: m.tau_rms_Nmm)
         fast = max(size.modules, key=lambda m: m.speed_peak_rpm)
@@ -88,7 +92,7 @@ def report_verdict(size: Sizing) -> Verdict:
     name = size.drive.name if size.drive is not None else "the drive"
     not_made = f"; {missing} not made for want of data" if missing else ""
     binding = size.binding
-    if size.passed:
+    if verdict.level == Level.PASS:
         return Verdict(
             "pass",
             "PASS",
@@ -293,7 +297,7 @@ def _tracking_rows(tracking):
 
 def report_html(
     result: Run,
-    summary: dict,
+    summary: RunSummary,
     size: Sizing,
     tracking,
     figures,
@@ -308,19 +312,19 @@ def report_html(
     sliders = [
         [
             f"S{name}",
-            *(significant(s[k]) for k in ("L_max_mm", "L_min_mm", "stroke_mm", "Ld_max_mm_s", "Ldd_max_mm_s2")),
+            *(significant(v) for v in (s.L_max_mm, s.L_min_mm, s.stroke_mm, s.Ld_max_mm_s, s.Ldd_max_mm_s2)),
         ]
-        for name, s in summary["sliders"].items()
+        for name, s in summary.sliders.items()
     ]
     motors = [
         [
             f"M{i}",
-            *(significant(m[f"{Torques.COLUMN[p]}_max_Nmm"]) for p in Torques.PARTS),
-            significant(m["tau_peak_Nmm"]),
-            significant(m["tau_rms_Nmm"]),
-            significant(m["speed_peak_rpm"]),
+            *(significant(getattr(m, f"{Torques.COLUMN[p]}_max_Nmm")) for p in Torques.PARTS),
+            significant(m.tau_peak_Nmm),
+            significant(m.tau_rms_Nmm),
+            significant(m.speed_peak_rpm),
         ]
-        for i, m in summary["motors"].items()
+        for i, m in summary.motors.items()
     ]
     demands = [
         [
@@ -377,8 +381,8 @@ def report_html(
             notes=notes,
             sliders=sliders,
             motors=motors,
-            cond_inv_min=f"{summary['cond_inv_min']:.4f}",
-            cond_inv_t=significant(summary["cond_inv_min_t_s"]),
+            cond_inv_min=f"{summary.cond_inv_min:.4f}",
+            cond_inv_t=significant(summary.cond_inv_min_t_s),
             demands=demands,
             joints=joints,
             joint_model=engine_entry(joint_model).title,

@@ -17,8 +17,11 @@ from pathlib import Path
 from typing import Any
 
 from ..files import check_folder, json_ready, output_folder, write_atomic
+from ..records import Level
 from ..results import Torques
 from ..rig.compare import Comparison
+from ..rig.compare_summary import ComparisonSummary
+from ..rig.compare_verdict import acceptance_verdict
 from .figures import save_figure
 from .numbers import significant
 from .pages import CSS, Verdict, environment
@@ -156,50 +159,46 @@ class ComparisonFiles:
     index: Path
     summary: Path
     figures: dict[str, tuple[Path, Path]]
+    verdict: Verdict
 
 
-def comparison_verdict(summary: dict, accept: float | None = None) -> Verdict:
-    """The worst motor's RMS error relative to its measured RMS torque; PASS/FAIL against ``accept``, else not judged.
+def comparison_verdict(summary: ComparisonSummary, accept: float | None = None) -> Verdict:
+    """The page's block of :func:`hipsim.rig.compare_verdict.acceptance_verdict`: PASS/FAIL against ``accept``, else
+    NOT JUDGED, with the worst motor's numbers.
 
     Args:
         summary: :meth:`hipsim.rig.compare.Comparison.summary`.
         accept: the largest relative RMS error accepted, as a fraction (0.05: 5 %); None: no threshold.
     """
-    motors = summary["motors"]
-    worst = max(motors, key=lambda i: motors[i]["relative_rms_error"])
+    motors = summary.motors
+    verdict = acceptance_verdict({i: m.relative_rms_error for i, m in motors.items()}, accept)
+    worst = max(motors, key=lambda i: motors[i].relative_rms_error)
     m = motors[worst]
     numbers = (
-        f"Worst: motor {worst}, RMS error {significant(m['rms_error_Nmm'], 3)} N·mm = "
-        f"{significant(100 * m['relative_rms_error'], 3)} % of its measured RMS torque "
-        f"({significant(m['rms_error_away_from_reversals_Nmm'], 3)} N·mm away from reversals)."
+        f"Worst: motor {worst}, RMS error {significant(m.rms_error_Nmm, 3)} N·mm = "
+        f"{significant(100 * m.relative_rms_error, 3)} % of its measured RMS torque "
+        f"({significant(m.rms_error_away_from_reversals_Nmm, 3)} N·mm away from reversals)."
     )
-    if accept is None:
+    if verdict.level == Level.NOT_MADE:
         return Verdict("open", "NOT JUDGED", ("No acceptance threshold given (--accept PERCENT).", numbers))
-    share = f"{100 * accept:g} %"
-    if all(motors[i]["relative_rms_error"] <= accept for i in motors):
-        return Verdict(
-            "pass", "PASS", (f"Every motor's RMS error is within {share} of its measured RMS torque.", numbers)
-        )
-    failing = [i for i in motors if motors[i]["relative_rms_error"] > accept]
-    return Verdict(
-        "fail", "FAIL", (f"{len(failing)} of {len(motors)} motors exceed the accepted {share} RMS error.", numbers)
-    )
+    sentence = verdict.judged[0].upper() + verdict.judged[1:] + "."
+    return Verdict(verdict.level.state, verdict.level.value, (sentence, numbers))
 
 
-def _rows(summary: dict) -> list[list[str]]:
+def _rows(summary: ComparisonSummary) -> list[list[str]]:
     return [
         [
             f"M{name}",
-            significant(m["measured_rms_Nmm"]),
-            significant(m["measured_peak_Nmm"]),
-            significant(m["rms_error_Nmm"], 3),
-            significant(100 * m["relative_rms_error"], 3),
-            significant(m["peak_error_Nmm"], 3),
-            significant(100 * m["relative_peak_error"], 3),
-            f"{m['peak_error_t_s']:.3f}",
-            significant(m["rms_error_away_from_reversals_Nmm"], 3),
+            significant(m.measured_rms_Nmm),
+            significant(m.measured_peak_Nmm),
+            significant(m.rms_error_Nmm, 3),
+            significant(100 * m.relative_rms_error, 3),
+            significant(m.peak_error_Nmm, 3),
+            significant(100 * m.relative_peak_error, 3),
+            f"{m.peak_error_t_s:.3f}",
+            significant(m.rms_error_away_from_reversals_Nmm, 3),
         ]
-        for name, m in summary["motors"].items()
+        for name, m in summary.motors.items()
     ]
 
 
@@ -232,17 +231,18 @@ def write_comparison(
     out = Path(out_dir)
     check_folder(out)
     provenance = provenance or make_provenance()
-    summary = comparison.summary() | (extra or {})
+    summary = comparison.summary()
+    document = summary.to_json() | (extra or {})
     captions = CAPTIONS
     if band is not None:
         from ..rig.identification.uncertainty import band_summary
 
-        summary["model_band95"] = band_summary(band, comparison.error, residual)
+        document["model_band95"] = band_summary(band, comparison.error, residual)
         captions = CAPTIONS | {
             "torques": CAPTIONS["torques"] + " Light blue: the model's 95 % band from the parameter file's covariance."
         }
     verdict = comparison_verdict(summary, accept)
-    summary = {"verdict": verdict.as_dict(), "provenance": provenance.as_dict()} | summary
+    document = {"verdict": verdict.as_dict(), "provenance": provenance.as_dict()} | document
     plots = [("torques", lambda c: plot_comparison(c, band)), ("errors", plot_errors)]
     if comparison.phase_rms is not None:
         plots.append(("phases", plot_phase_errors))
@@ -251,9 +251,8 @@ def write_comparison(
     with output_folder(out):
         for stem, plot in plots:
             figures[stem] = save_figure(plot(comparison), out, stem)
-        json_path = write_atomic(out / "comparison.json", json.dumps(json_ready(summary), indent=2) + "\n")
+        json_path = write_atomic(out / "comparison.json", json.dumps(json_ready(document), indent=2) + "\n")
         embedded = [(stem, base64.b64encode(png.read_bytes()).decode("ascii")) for stem, (png, _) in figures.items()]
-        plain = json_ready(summary)
         page = (
             environment()
             .get_template("compare.html.j2")
@@ -262,14 +261,14 @@ def write_comparison(
                 verdict=verdict,
                 provenance=provenance,
                 title=provenance.title,
-                summary=plain,
-                rows=_rows(plain),
-                rate=significant(plain["rate_Hz"]),
-                period=significant(plain["period_s"]) if plain.get("period_s") else "",
-                notes=summary.get("notes", []),
+                summary=summary,
+                rows=_rows(summary),
+                rate=significant(summary.rate_Hz),
+                period=significant(summary.period_s) if summary.period_s else "",
+                notes=summary.notes,
                 figures=embedded,
                 captions=captions,
             )
         )
         index = write_atomic(out / "index.html", page)
-    return ComparisonFiles(out, index, json_path, figures)
+    return ComparisonFiles(out, index, json_path, figures, verdict)

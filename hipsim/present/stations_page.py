@@ -17,6 +17,9 @@ from typing import Any
 import numpy as np
 
 from ..files import check_folder, json_ready, output_folder, write_atomic
+from ..records import Level
+from ..stations.summary import SlidersSummary, StationSummary, stations_verdict
+from ..stations.tolerance_summary import ToleranceSummary
 from .figures import _figure, save_figure
 from .pages import CSS, Verdict, environment
 from .provenance import Provenance
@@ -51,57 +54,60 @@ def plot_station_errors(t: np.ndarray, errors_deg: np.ndarray, control: str):
     return fig
 
 
-def station_verdict(summary: dict[str, Any]) -> Verdict:
-    """The block at the top of the page: the largest error of the two stations and each station's ISO verdict."""
-    worst = max(
-        ((p["platform"], a, v) for p in summary["platforms"] for a, v in p["angles"].items()),
-        key=lambda item: abs(item[2]["peak_deg"]),
-    )
-    j, angle, value = worst
+def station_verdict(summary: StationSummary) -> Verdict:
+    """The block at the top of the page: the largest error of the two stations, each station's ISO verdict and, in
+    lines of their own, a desired motion that is not the ISO 14242-1 waveform (the verdict from
+    :func:`hipsim.stations.summary.stations_verdict`)."""
+    verdict = stations_verdict(summary)
+    j, angle, value = summary.worst
     lines = [
-        f"--control {summary['control']}: the largest attitude error is {abs(value['peak_deg']):.3g}° ({angle} of m_{j}, "
-        f"t = {value['peak_at_s']:.4g} s); RMS over both platforms and angles {summary['rms_error_deg']:.3g}°."
+        f"--control {summary.control}: the largest attitude error is {abs(value.peak_deg):.3g}° ({angle} of m_{j}, "
+        f"t = {value.peak_at_s:.4g} s); RMS over both platforms and angles {summary.rms_error_deg:.3g}°."
     ]
-    verdicts = [p.get("iso", {}).get("verdict") for p in summary["platforms"]]
-    if all(v is None or v == "not made" for v in verdicts):
+    if verdict.level == Level.NOT_MADE:
         return Verdict("open", "NO ISO CHECK", tuple(lines + ["No whole ISO 14242-1 cycle with a load to check."]))
-    lines.append(
-        "ISO 14242-1 (tolerances assumed): "
-        + ", ".join(f"station {p['platform']} {p['iso']['verdict']}" for p in summary["platforms"] if "iso" in p)
-    )
-    failed = any(v == "FAIL" for v in verdicts)
-    return Verdict("fail" if failed else "pass", "FAIL" if failed else "PASS", tuple(lines))
+    lines.append(verdict.judged)
+    lines += [f"Station {p.platform}: {p.iso.desired_line}." for p in summary.platforms if p.iso and p.iso.desired_line]
+    return Verdict(verdict.level.state, verdict.level.value, tuple(lines))
 
 
 def write_stations(
     out_dir: str | Path,
     document: dict[str, Any],
+    summary: StationSummary | None = None,
     t: np.ndarray | None = None,
     errors_deg: np.ndarray | None = None,
     provenance: Provenance | None = None,
+    tolerance: ToleranceSummary | None = None,
+    sliders: SlidersSummary | None = None,
 ) -> StationFiles:
     """Write ``stations.json``, ``index.html`` and, given the errors, the figure ``errors.png``/``.svg``, atomically.
 
     Args:
         out_dir: the folder (made if missing).
-        document: what the run found: ``summary`` (:func:`hipsim.stations.summary.station_summary`), and any of
-            ``tolerance`` (percentiles and sensitivity), ``sliders`` (attitudes from a log); JSON-ready data.
+        document: what else the run found, JSON-ready: ``table`` (the per-sample table's path) or nothing.
+        summary: the run's summary on the desired motion (:func:`hipsim.stations.summary.station_summary`).
         t: sample times in [s] (N,) for the figure; None for no figure.
         errors_deg: each platform's errors in [deg] (N, 2, 3).
         provenance: the page's provenance block.
+        tolerance: a tolerance study's summary (percentiles and sensitivity).
+        sliders: the attitudes from a log's carriages.
     """
     from .provenance import provenance as make_provenance
 
     out = Path(out_dir)
     check_folder(out)
     provenance = provenance or make_provenance()
-    summary = document.get("summary")
     verdict = station_verdict(summary) if summary else Verdict("open", "TOLERANCES", ("Manufacturing tolerances.",))
-    full = {"verdict": verdict.as_dict(), "provenance": json_ready(provenance.as_dict())} | json_ready(document)
+    full = {"verdict": verdict.as_dict(), "provenance": json_ready(provenance.as_dict())}
+    for key, record in (("summary", summary), ("tolerance", tolerance), ("sliders", sliders)):
+        if record is not None:
+            full[key] = record.to_json()
+    full |= json_ready(document)
     with output_folder(out):
         figure = None
         if t is not None and errors_deg is not None:
-            control = summary["control"] if summary else "2"
+            control = summary.control if summary else "2"
             figure = save_figure(plot_station_errors(t, errors_deg, control), out, "errors")
         json_path = write_atomic(out / "stations.json", json.dumps(full, indent=2) + "\n")
         page = (
@@ -113,6 +119,9 @@ def write_stations(
                 provenance=provenance,
                 title=provenance.title,
                 d=full,
+                summary=summary,
+                tolerance=tolerance,
+                sliders=sliders,
                 figure=None if figure is None else base64.b64encode(figure[0].read_bytes()).decode("ascii"),
             )
         )

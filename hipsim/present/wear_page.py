@@ -13,11 +13,14 @@ import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from ..files import check_folder, json_ready, output_folder, write_atomic
+from ..records import Level, Record
 from ..wear.laws import Wear
 from ..wear.maps import WearMaps
-from ..wear.summary import compare_summaries, difference_maps, wear_summary
+from ..wear.summary import Difference, WearSummary, compare_summaries, difference_maps, wear_summary
+from ..wear.summary import compare_verdict as wear_compare_verdict
 from ..wear.tracks import Tracks
 from .figures import save_figure
 from .pages import CSS, Verdict, environment, print_pdf
@@ -32,7 +35,14 @@ from .wear_figures import (
     plot_slide_tracks_pair,
 )
 
-__all__ = ["DEFAULT_TOLERANCE", "WearPage", "compare_verdict", "write_wear_compare", "write_wear_page"]
+__all__ = [
+    "DEFAULT_TOLERANCE",
+    "WearComparison",
+    "WearPage",
+    "compare_verdict",
+    "write_wear_compare",
+    "write_wear_page",
+]
 
 #: The relative difference below which two runs count as alike, by default (5 %).
 DEFAULT_TOLERANCE = 0.05
@@ -71,19 +81,19 @@ def write_wear_page(
     out = Path(out_dir)
     check_folder(out)
     provenance = provenance or make_provenance()
-    summary = json_ready(wear_summary(maps, wear))
+    summary = wear_summary(maps, wear)
     verdict = Verdict(
         "open",
         "NOT RATED",
         (
             f"Per cycle: force track {maps.force_track_mm:.4g} mm, load integral {maps.force_track_load_Nm:.4g} N·m; "
-            f"CS {summary['cross_shear_mean']:.3g} mean and {summary['cross_shear_max']:.3g} at most over the loaded area.",
-            f"Wear {summary['wear_mm3_per_Mc']:.4g} mm³/Mc ({wear.law})."
+            f"CS {summary.cross_shear_mean:.3g} mean and {summary.cross_shear_max:.3g} at most over the loaded area.",
+            f"Wear {summary.wear_mm3_per_Mc:.4g} mm³/Mc ({wear.law})."
             if wear is not None and wear.total_mm3_per_Mc is not None
             else "No wear predicted: give a wear factor or law (no default k is assumed).",
         ),
     )
-    document = {"verdict": verdict.as_dict(), "provenance": json_ready(provenance.as_dict())} | summary
+    document = {"verdict": verdict.as_dict(), "provenance": json_ready(provenance.as_dict())} | summary.to_json()
     r = maps.setup.radius_mm
     with output_folder(out):
         embedded, paths = _figures(
@@ -114,24 +124,34 @@ def write_wear_page(
     return WearPage(out, index, json_path, tuple(paths), printed)
 
 
-def compare_verdict(rows: list[dict], tolerance: float, names: tuple[str, str]) -> Verdict:
-    """ALIKE when every deciding quantity differs by at most ``tolerance`` (relative), else DIFFERENT, naming the largest."""
-    known = [row for row in rows if row["relative"] is not None and row["decides"]]
-    if not known:
+@dataclass(frozen=True)
+class WearComparison(Record):
+    """Two wear runs compared, as ``wear.json`` holds it: the verdict, the provenance, both summaries, B − A.
+
+    Attributes:
+        verdict: the page's block (ALIKE, DIFFERENT, NOT COMPARED).
+        provenance: the provenance block.
+        tolerance: the relative difference of runs alike, a fraction.
+        a, b: the two runs' summaries.
+        differences: per quantity A, B, B − A, (B − A)/|A|.
+        largest_point_differences: per map (sliding_mm, work_N_per_mm, cross_shear) the largest |B − A| of a point.
+    """
+
+    verdict: Verdict
+    provenance: dict[str, Any]
+    tolerance: float
+    a: WearSummary
+    b: WearSummary
+    differences: tuple[Difference, ...]
+    largest_point_differences: dict[str, float | None]
+
+
+def compare_verdict(rows: tuple[Difference, ...], tolerance: float, names: tuple[str, str]) -> Verdict:
+    """The page's block of :func:`hipsim.wear.summary.compare_verdict` (ALIKE, DIFFERENT or NOT COMPARED)."""
+    verdict = wear_compare_verdict(rows, tolerance, names)
+    if verdict.level == Level.NOT_MADE:
         return Verdict("open", "NOT COMPARED", ("No quantity is known in both runs.",))
-    worst = max(known, key=lambda row: abs(row["relative"]))
-    beyond = [row["label"] for row in known if abs(row["relative"]) > tolerance]
-    head = (
-        f"B ({names[1]}) against A ({names[0]}): {worst['label']} differs most, by {100 * worst['relative']:+.3g} % "
-        f"({worst['a']:.4g} → {worst['b']:.4g}{' ' + worst['unit'] if worst['unit'] else ''})."
-    )
-    if beyond:
-        return Verdict(
-            "fail",
-            "DIFFERENT",
-            (head, f"Beyond ±{100 * tolerance:g} %: {', '.join(beyond)}."),
-        )
-    return Verdict("pass", "ALIKE", (head, f"Every quantity judged is within ±{100 * tolerance:g} %."))
+    return Verdict(verdict.level.state, verdict.level.value, (verdict.judged,))
 
 
 def write_wear_compare(
@@ -142,7 +162,7 @@ def write_wear_compare(
     provenance: Provenance | None = None,
     notes: tuple[str, ...] = (),
     pdf: bool = False,
-) -> tuple[WearPage, Verdict, dict]:
+) -> tuple[WearPage, Verdict, WearComparison]:
     """Two runs on the same cup points compared: the verdict, B − A per quantity and per point (module docstring).
 
     Returns:
@@ -152,22 +172,22 @@ def write_wear_compare(
     check_folder(out)
     provenance = provenance or make_provenance()
     (maps_a, tracks_a, wear_a), (maps_b, tracks_b, wear_b) = a, b
-    summary_a, summary_b = json_ready(wear_summary(maps_a, wear_a)), json_ready(wear_summary(maps_b, wear_b))
+    summary_a, summary_b = wear_summary(maps_a, wear_a), wear_summary(maps_b, wear_b)
     rows = compare_summaries(summary_a, summary_b)
     verdict = compare_verdict(rows, tolerance, (maps_a.name, maps_b.name))
     differences = difference_maps(maps_a, maps_b)
-    document = {
-        "verdict": verdict.as_dict(),
-        "provenance": json_ready(provenance.as_dict()),
-        "tolerance": tolerance,
-        "a": summary_a,
-        "b": summary_b,
-        "differences": json_ready(rows),
-        "largest_point_differences": {
+    document = WearComparison(
+        verdict,
+        json_ready(provenance.as_dict()),
+        tolerance,
+        summary_a,
+        summary_b,
+        rows,
+        {
             key: (float(max(abs(x) for x in values if math.isfinite(x))) if any(map(math.isfinite, values)) else None)
             for key, values in differences.items()
         },
-    }
+    )
     r = maps_a.setup.radius_mm
     with output_folder(out):
         embedded, paths = _figures(
@@ -180,7 +200,7 @@ def write_wear_compare(
                 ("slide_tracks_ab", plot_slide_tracks_pair(tracks_a, tracks_b, r, (maps_a.name, maps_b.name))),
             ),
         )
-        json_path = write_atomic(out / "wear.json", json.dumps(json_ready(document), indent=2) + "\n")
+        json_path = write_atomic(out / "wear.json", json.dumps(document.to_json(), indent=2) + "\n")
         captions = WEAR_CAPTIONS | {"slide_tracks_ab": f"A (left) and B (right): {WEAR_CAPTIONS['slide_tracks']}"}
         page = (
             environment()

@@ -29,6 +29,7 @@ from ..analytic.engine import AnalyticModel
 from ..machine.parameters import Parameters
 from ..motion.gait_events import detect_gait_events
 from ..results import ExactSum, Run, Torques
+from .compare_summary import ComparisonSummary, MotorError, Phases
 from .logs.log import Log, LogInfo, MeasuredLog
 from .logs.reversals import reversal_mask
 from .logs.smoothing import REVERSAL_PERIODS, lowpass
@@ -279,33 +280,35 @@ class Comparison:
         """
         return {i: dict(entry) for i, entry in self.statistics["motors"].items()}
 
-    def summary(self) -> dict[str, Any]:
-        """Everything a script needs, JSON-ready, torques in [N·mm]."""
-        motors: dict[str, dict[str, Any]] = self.motor_errors()  # gains a table per motor below
-        for i, entry in motors.items():
-            entry["model_parts_rms_Nmm"] = dict(self.statistics["parts"][i])
-        out: dict[str, Any] = {
-            "log": self.log.name,
-            "samples": int(self.statistics["samples"]),
-            "rate_Hz": float(self.log.rate),
-            "cutoff_Hz": self.log.cutoff,
-            "motion_from": self.log.motion_from,
-            "parameters": self.params.source,
-            "lever_spin": self.lever_spin,
-            "motors": motors,
-            "cond_inv_min": float(self.statistics["cond_inv_min"]),
-            "period_s": self.period,
-            "notes": list(self.log.notes),
+    def summary(self) -> ComparisonSummary:
+        """Everything a script needs, torques in [N·mm] (:class:`hipsim.rig.compare_summary.ComparisonSummary`)."""
+        motors = {
+            i: MotorError(**entry, model_parts_rms_Nmm=dict(self.statistics["parts"][i]))
+            for i, entry in self.motor_errors().items()
         }
+        phases = None
         if self.phase_rms is not None:
-            out["phases"] = {
-                "edges": [float(x) for x in self.phase_edges],
-                "from": "heel strike" if self.stance is not None else "first sample",
-                "heel_strike_s": self.heel_strike,
-                "labels": None if self.stance is None else ["stance" if s else "swing" for s in self.stance],
-                "rms_error_Nmm": {str(i + 1): [float(x) for x in self.phase_rms[:, i] * 1e3] for i in range(3)},
-            }
-        return out
+            phases = Phases(
+                edges=[float(x) for x in self.phase_edges],
+                from_="heel strike" if self.stance is not None else "first sample",
+                heel_strike_s=self.heel_strike,
+                labels=None if self.stance is None else ["stance" if s else "swing" for s in self.stance],
+                rms_error_Nmm={str(i + 1): [float(x) for x in self.phase_rms[:, i] * 1e3] for i in range(3)},
+            )
+        return ComparisonSummary(
+            log=self.log.name,
+            samples=int(self.statistics["samples"]),
+            rate_Hz=float(self.log.rate),
+            cutoff_Hz=self.log.cutoff,
+            motion_from=self.log.motion_from,
+            parameters=self.params.source,
+            lever_spin=self.lever_spin,
+            motors=motors,
+            cond_inv_min=float(self.statistics["cond_inv_min"]),
+            period_s=self.period,
+            notes=list(self.log.notes),
+            phases=phases,
+        )
 
 
 def _period(period: float | None, t: np.ndarray, q: np.ndarray | None, t_first: float, t_last: float) -> float | None:

@@ -7,15 +7,24 @@ weighted by their cells' areas on a grid (plain means for points given one by on
 from __future__ import annotations
 
 import math
-from typing import Any
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..exceptions import ArgumentError
+from ..records import Level, Record, Verdict
 from .laws import Wear
 from .maps import WearMaps
 
-__all__ = ["QUANTITIES", "compare_summaries", "difference_maps", "wear_summary"]
+__all__ = [
+    "QUANTITIES",
+    "Difference",
+    "WearSummary",
+    "compare_summaries",
+    "compare_verdict",
+    "difference_maps",
+    "wear_summary",
+]
 
 #: The numbers two runs are compared by: key, label, unit, and whether it decides the verdict (the extremes of
 #: a few rim points with little work are shown, not judged).
@@ -40,66 +49,153 @@ def _mean(values: np.ndarray, weights: np.ndarray | None) -> float:
     return float(np.average(values, weights=weights)) if weights is not None else float(np.mean(values))
 
 
-def wear_summary(maps: WearMaps, wear: Wear | None = None) -> dict[str, Any]:
-    """The summary's keys (docs/guide/wear.md): per cycle; the wear ones None without a law (or without cells)."""
+@dataclass(frozen=True)
+class WearSummary(Record):
+    """One wear run's numbers per cycle (docs/guide/wear.md); the wear ones None without a law (or without cells).
+
+    Attributes:
+        source: the motion's name.
+        cycles: cycles of the motion; samples: its samples; duration_s: its duration in [s].
+        head_diameter_mm: the head in [mm]; sequence: the angles' composition; moving: what the platform moves.
+        cup_mount_deg: the cup's mount angles in [deg].
+        points: cup points; grid: (n_theta, n_phi) on a grid, None for points given one by one.
+        force_track_mm, force_track_load_Nm: the force track's length in [mm] and load integral in [N·m].
+        sliding_mm_max, sliding_mm_mean: the largest and the loaded area's mean sliding distance in [mm].
+        work_N_per_mm_max: the largest work in [N/mm].
+        load_slide_integral_Nm: ΣW·dA over the cup in [N·m] (None without cell areas).
+        cross_shear_mean, cross_shear_max: the loaded area's mean and largest cross-shear.
+        cross_shear_work_weighted: cross-shear weighted by work × area over the loaded area.
+        worn_area_mm2: the area with W > 0 in [mm²]; loaded_points: the points with W > 0.
+        wear_law, wear_mm3_per_Mc, wear_depth_um_per_Mc_max, points_beyond_law_table: the predicted wear.
+    """
+
+    source: str
+    cycles: float
+    samples: int
+    duration_s: float
+    head_diameter_mm: float
+    sequence: str
+    moving: str
+    cup_mount_deg: tuple[float, ...]
+    points: int
+    grid: tuple[int, int] | None
+    force_track_mm: float
+    force_track_load_Nm: float
+    sliding_mm_max: float
+    sliding_mm_mean: float
+    work_N_per_mm_max: float
+    load_slide_integral_Nm: float | None
+    cross_shear_mean: float
+    cross_shear_max: float
+    cross_shear_work_weighted: float
+    worn_area_mm2: float | None
+    loaded_points: int
+    wear_law: str | None
+    wear_mm3_per_Mc: float | None
+    wear_depth_um_per_Mc_max: float | None
+    points_beyond_law_table: int | None
+
+
+def wear_summary(maps: WearMaps, wear: Wear | None = None) -> WearSummary:
+    """The run's numbers per cycle (:class:`WearSummary`); means over the loaded area weighted by the cells' areas."""
     loaded = maps.loaded
     area = maps.points.area_mm2
     weights = None if area is None else area[loaded]
     cs = maps.cross_shear[loaded]
     work = maps.work_N_per_mm
     setup = maps.setup
-    summary: dict[str, Any] = {
-        "source": maps.name,
-        "cycles": maps.cycles,
-        "samples": maps.samples,
-        "duration_s": maps.duration_s,
-        "head_diameter_mm": setup.head_diameter_mm,
-        "sequence": setup.sequence,
-        "moving": setup.moving,
-        "cup_mount_deg": [math.degrees(a) for a in setup.cup_mount_rad],
-        "points": len(maps.points),
-        "grid": list(maps.points.shape) if maps.points.shape else None,
-        "force_track_mm": maps.force_track_mm,
-        "force_track_load_Nm": maps.force_track_load_Nm,
-        "sliding_mm_max": float(np.max(maps.sliding_mm)),
-        "sliding_mm_mean": _mean(maps.sliding_mm[loaded], weights),
-        "work_N_per_mm_max": float(np.max(work)),
-        "load_slide_integral_Nm": None if area is None else float(np.sum(work * area)) / 1000.0,
-        "cross_shear_mean": _mean(cs, weights),
-        "cross_shear_max": float(np.max(cs)) if cs.size else math.nan,
-        "cross_shear_work_weighted": _mean(cs, work[loaded] * (1.0 if area is None else area[loaded])),
-        "worn_area_mm2": None if area is None else float(np.sum(area[loaded])),
-        "loaded_points": int(np.sum(loaded)),
-        "wear_law": None if wear is None else wear.law,
-        "wear_mm3_per_Mc": None if wear is None else wear.total_mm3_per_Mc,
-        "wear_depth_um_per_Mc_max": None if wear is None else float(np.max(wear.depth_um_per_Mc)),
-        "points_beyond_law_table": None if wear is None else wear.beyond_table,
-    }
-    return summary
+    return WearSummary(
+        source=maps.name,
+        cycles=maps.cycles,
+        samples=maps.samples,
+        duration_s=maps.duration_s,
+        head_diameter_mm=setup.head_diameter_mm,
+        sequence=setup.sequence,
+        moving=setup.moving,
+        cup_mount_deg=tuple(math.degrees(a) for a in setup.cup_mount_rad),
+        points=len(maps.points),
+        grid=(int(maps.points.shape[0]), int(maps.points.shape[1])) if maps.points.shape else None,
+        force_track_mm=maps.force_track_mm,
+        force_track_load_Nm=maps.force_track_load_Nm,
+        sliding_mm_max=float(np.max(maps.sliding_mm)),
+        sliding_mm_mean=_mean(maps.sliding_mm[loaded], weights),
+        work_N_per_mm_max=float(np.max(work)),
+        load_slide_integral_Nm=None if area is None else float(np.sum(work * area)) / 1000.0,
+        cross_shear_mean=_mean(cs, weights),
+        cross_shear_max=float(np.max(cs)) if cs.size else math.nan,
+        cross_shear_work_weighted=_mean(cs, work[loaded] * (1.0 if area is None else area[loaded])),
+        worn_area_mm2=None if area is None else float(np.sum(area[loaded])),
+        loaded_points=int(np.sum(loaded)),
+        wear_law=None if wear is None else wear.law,
+        wear_mm3_per_Mc=None if wear is None else wear.total_mm3_per_Mc,
+        wear_depth_um_per_Mc_max=None if wear is None else float(np.max(wear.depth_um_per_Mc)),
+        points_beyond_law_table=None if wear is None else wear.beyond_table,
+    )
 
 
-def compare_summaries(a: dict[str, Any], b: dict[str, Any]) -> list[dict[str, Any]]:
+@dataclass(frozen=True)
+class Difference(Record):
+    """One quantity of two runs compared: A, B, B − A and (B − A)/|A| (None where a value is missing).
+
+    Attributes:
+        key: the summary's key; label: its words; unit: its unit ("" for none).
+        a, b: the two runs' values; difference: B − A; relative: (B − A)/|A| (None when A is 0).
+        decides: whether it decides the verdict.
+    """
+
+    key: str
+    label: str
+    unit: str
+    a: float | None
+    b: float | None
+    difference: float | None
+    relative: float | None
+    decides: bool
+
+
+def _finite(value: float | None) -> float | None:
+    return value if value is not None and math.isfinite(value) else None
+
+
+def compare_summaries(a: WearSummary, b: WearSummary) -> tuple[Difference, ...]:
     """Per quantity of :data:`QUANTITIES`: A, B, B − A and (B − A)/|A| (None where a value is missing), and whether it decides."""
     rows = []
     for key, label, unit, decides in QUANTITIES:
-        x, y = a.get(key), b.get(key)
+        x, y = _finite(getattr(a, key)), _finite(getattr(b, key))
         difference = relative = None
-        if x is not None and y is not None and math.isfinite(x) and math.isfinite(y):
+        if x is not None and y is not None:
             difference = y - x
             relative = difference / abs(x) if x != 0 else None
-        rows.append(
-            {
-                "key": key,
-                "label": label,
-                "unit": unit,
-                "a": x,
-                "b": y,
-                "difference": difference,
-                "relative": relative,
-                "decides": decides,
-            }
+        rows.append(Difference(key, label, unit, x, y, difference, relative, decides))
+    return tuple(rows)
+
+
+def compare_verdict(rows: tuple[Difference, ...], tolerance: float, names: tuple[str, str]) -> Verdict:
+    """ALIKE when every deciding quantity differs by at most ``tolerance`` (relative, either way), else DIFFERENT,
+    naming the largest; NOT MADE when no deciding quantity is known in both runs.
+
+    Args:
+        rows: the quantities compared (:func:`compare_summaries`).
+        tolerance: the largest |B − A|/|A| of runs alike, a fraction (0.05 for 5 %).
+        names: the runs A and B, for the sentence.
+    """
+    known = [row for row in rows if row.relative is not None and row.decides]
+    not_judged = ", ".join(row.label for row in rows if not row.decides) + " (shown, not judged)"
+    if not known:
+        return Verdict(Level.NOT_MADE, "no quantity is known in both runs", not_judged)
+    worst = max(known, key=lambda row: abs(row.relative or 0.0))
+    numbers = {row.key: row.relative for row in known if row.relative is not None}
+    beyond = [row.label for row in known if abs(row.relative or 0.0) > tolerance]
+    assert worst.relative is not None and worst.a is not None and worst.b is not None
+    head = (
+        f"B ({names[1]}) against A ({names[0]}): {worst.label} differs most, by {100 * worst.relative:+.3g} % "
+        f"({worst.a:.4g} → {worst.b:.4g}{' ' + worst.unit if worst.unit else ''})."
+    )
+    if beyond:
+        return Verdict(
+            Level.DIFFERENT, f"{head} Beyond ±{100 * tolerance:g} %: {', '.join(beyond)}.", not_judged, numbers
         )
-    return rows
+    return Verdict(Level.ALIKE, f"{head} Every quantity judged is within ±{100 * tolerance:g} %.", not_judged, numbers)
 
 
 def difference_maps(a: WearMaps, b: WearMaps) -> dict[str, np.ndarray]:

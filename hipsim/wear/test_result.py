@@ -21,6 +21,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..records import Level
 from .accumulate import Exposure, IntervalRow, interval_table
 from .factors import FittedFactors, MotionIntegrals, fit_factors, fitted_wear_law, predicted_rate
 from .gravimetric import Gravimetry, StationRate
@@ -89,6 +90,11 @@ class WearVerdict:
 
     def to_json(self) -> dict:
         return {"verdict": self.word, "lines": list(self.lines)}
+
+    @property
+    def level(self) -> Level:
+        """ALIKE, DIFFERENT, or NOT MADE for ONE STATION (for :func:`hipsim.records.exit_status`)."""
+        return {"ALIKE": Level.ALIKE, "DIFFERENT": Level.DIFFERENT}.get(self.word, Level.NOT_MADE)
 
 
 @dataclass(frozen=True)

@@ -285,6 +285,11 @@ def test_check_summary_as_json(capsys):
     spin = document["comparisons"][2]
     assert spin["required"] and spin["worst"] <= document["tolerance"]
     assert {row["column"] for row in spin["columns"]} >= {"tau_1_Nmm", "L_11_mm", "cond_inv"}
+    import jsonschema
+
+    from hipsim.cli.documents import schema
+
+    jsonschema.validate(document, schema("check"))  # the published contract (hipsim schema check)
 
 
 @pytest.mark.usefixtures(
@@ -303,6 +308,11 @@ def test_report_exits_1_and_says_so_when_the_drive_fails(tmp_path, capsys):
     assert (tmp_path / "r1" / "index.html").exists()  # the report is written all the same
     assert main([*common, "--out", str(tmp_path / "r2"), "--summary-format", "json"]) == 1
     document = json.loads(capsys.readouterr().out)
+    import jsonschema
+
+    from hipsim.cli.documents import schema
+
+    jsonschema.validate(document, schema("report"))  # the published contract (hipsim schema report)
     assert (
         document["rating_check"] == "FAIL"
         and document["sizing"]["passed"] is False

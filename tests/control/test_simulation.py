@@ -123,7 +123,7 @@ def test_torque_limit_is_counted_not_hidden(params):
     assert sim.saturated.any()
     np.testing.assert_array_less(np.abs(sim.tau), 0.2 + 1e-15)
     assert np.abs(sim.tau_requested).max() > 0.2
-    assert sim.summary()["saturated_samples"] == np.count_nonzero(sim.saturated)
+    assert sim.summary().saturated_samples == np.count_nonzero(sim.saturated)
 
 
 def test_mismatch_parsing(params):

@@ -149,13 +149,13 @@ def test_the_nominal_variant_gives_exactly_what_analyse_gives(base, iso):
     summary = hipsim.analyse(base, iso).summary()
     assert row["status"] == "ok" and row["rating"] == "unchecked"
     for i in ("1", "2", "3"):
-        assert row[f"tau_peak_{i}_Nmm"] == summary["motors"][i]["tau_peak_Nmm"]
-        assert row[f"tau_rms_{i}_Nmm"] == summary["motors"][i]["tau_rms_Nmm"]
-        assert row[f"speed_peak_{i}_rpm"] == summary["motors"][i]["speed_peak_rpm"]
-    for slider, s in summary["sliders"].items():
-        assert row[f"stroke_{slider}_mm"] == s["stroke_mm"]
-    assert row["cond_inv_min"] == summary["cond_inv_min"]
-    assert row["tau_peak_max_Nmm"] == max(m["tau_peak_Nmm"] for m in summary["motors"].values())
+        assert row[f"tau_peak_{i}_Nmm"] == summary.motors[i].tau_peak_Nmm
+        assert row[f"tau_rms_{i}_Nmm"] == summary.motors[i].tau_rms_Nmm
+        assert row[f"speed_peak_{i}_rpm"] == summary.motors[i].speed_peak_rpm
+    for slider, s in summary.sliders.items():
+        assert row[f"stroke_{slider}_mm"] == s.stroke_mm
+    assert row["cond_inv_min"] == summary.cond_inv_min
+    assert row["tau_peak_max_Nmm"] == max(m.tau_peak_Nmm for m in summary.motors.values())
 
 
 def test_heavier_sliders_add_their_weight_through_the_screws(base):
@@ -190,8 +190,8 @@ def test_variants_that_cannot_assemble_or_leave_the_workspace_are_rows_with_thei
 
 
 def test_the_rating_is_checked_against_each_variants_motor_table(iso):
-    peak = hipsim.analyse(hipsim.load_parameters(), iso).summary()["motors"]
-    largest = max(m["tau_peak_Nmm"] for m in peak.values())
+    peak = hipsim.analyse(hipsim.load_parameters(), iso).summary().motors
+    largest = max(m.tau_peak_Nmm for m in peak.values())
     machine = hipsim.load_parameters(overrides={"motor.peak_torque_Nmm": largest * 1.001})
     setup = SweepSetup(machine, iso, (v.key_ref("motor.peak_torque_Nmm"),))
     passes, fails = evaluate(setup, [largest * 1.001]), evaluate(setup, [largest * 0.999])
@@ -203,9 +203,9 @@ def test_the_pinocchio_model_adds_the_joint_forces(base, iso):
     short = iso.slice(slice(0, 20))
     keys = (v.key_ref("lever.length_mm"),)
     row = evaluate(SweepSetup(base, short, keys, model="pinocchio"), v.nominal(base, keys))
-    joints = hipsim.analyse(base, short, model="pinocchio").summary()["joints"]
-    assert row["Fa_12_peak_N"] == joints["Fa_12"]["peak_N"]
-    assert row["Fo_peak_max_N"] == max(joints["Fo_1"]["peak_N"], joints["Fo_2"]["peak_N"])
+    joints = hipsim.analyse(base, short, model="pinocchio").summary().joints
+    assert row["Fa_12_peak_N"] == joints["Fa_12"].peak_N
+    assert row["Fo_peak_max_N"] == max(joints["Fo_1"].peak_N, joints["Fo_2"].peak_N)
 
 
 # ---------------------------------------------------------------------------

@@ -158,7 +158,7 @@ def test_sweep_at_the_built_offset_equals_the_iso_run(params, iso):
     assert sweep.tau_peak_Nmm[0] == pytest.approx(peaks.max(), rel=1e-12)
     assert sweep.tau_peak_motor[0] == int(np.argmax(peaks)) + 1
     summary = result.summary()
-    assert sweep.stroke_max_mm[0] == pytest.approx(max(s["stroke_mm"] for s in summary["sliders"].values()), rel=1e-12)
+    assert sweep.stroke_max_mm[0] == pytest.approx(max(s.stroke_mm for s in summary.sliders.values()), rel=1e-12)
 
 
 def test_sweep_reports_infeasible_offsets_instead_of_crashing(params, iso):

@@ -7,11 +7,13 @@ import re
 import shutil
 from html.parser import HTMLParser
 
+import jsonschema
 import numpy as np
 import pytest
 from conftest import figures_undrawn
 
 import hipsim
+from hipsim.cli.documents import schema
 from hipsim.cli.main import main
 from hipsim.machine.parameters import default_parameters_path
 from hipsim.present import pages
@@ -294,6 +296,7 @@ def test_compare_page_and_json_carry_provenance_and_verdict(log, tmp_path, capsy
     printed = capsys.readouterr().out
     assert printed.startswith("PASS: ")
     summary = json.loads((out / "comparison.json").read_text())
+    jsonschema.validate(summary, schema("compare"))  # the published contract (hipsim schema compare)
     hashes = {f["role"]: f["sha256"] for f in summary["provenance"]["inputs"]}
     assert hashes == {"parameters": sha256(default_parameters_path()), "log": sha256(log)}
     assert summary["verdict"]["word"] == "PASS" and summary["provenance"]["rig"] == "HS-2 #0042"
@@ -325,3 +328,11 @@ def test_identify_writes_provenance_to_its_json_and_its_file(log, tmp_path, caps
     origin = parameter_origin(out)
     assert origin.kind == "identified" and origin.identified and origin.made.startswith("Made by hipsim")
     assert ("log", str(log), sha256(log)) in origin.log_hashes
+
+
+@pytest.mark.usefixtures("quick_figures")
+def test_compare_exits_1_when_a_motor_exceeds_the_accepted_error(log, tmp_path, capsys):
+    argv = ["compare", "--log", str(log), "--out", str(tmp_path / "c"), "--set", "friction.hip_mu=0.12"]
+    assert main([*argv, "--accept", "0.001"]) == 1
+    assert capsys.readouterr().out.startswith("FAIL: ")
+    assert main([*argv, "--out", str(tmp_path / "d")]) == 0  # no threshold: nothing judged

@@ -99,7 +99,7 @@ def test_sizing_equals_direct_computation(result):
         assert module.tau_rms_Nmm == pytest.approx(math.sqrt(np.mean(tau[:, i] ** 2)), rel=1e-12)
         assert module.speed_peak_rpm == pytest.approx(np.abs(result.columns()[f"speed_{i + 1}_rpm"]).max(), rel=1e-12)
         assert module.power_peak_W == pytest.approx(np.abs(result.torques.total[:, i] * speed[:, i]).max(), rel=1e-12)
-        assert module.stroke_mm == pytest.approx(result.summary()["sliders"][f"1{i + 1}"]["stroke_mm"], rel=1e-12)
+        assert module.stroke_mm == pytest.approx(result.summary().sliders[f"1{i + 1}"].stroke_mm, rel=1e-12)
     assert size.joints is None and size.checks == () and size.passed is None
 
 

@@ -282,17 +282,19 @@ def test_an_exact_log_with_a_known_error():
     assert c.phase_rms[7:, 1].max() < 1e-4 and c.phase_rms[:5, 1].min() > 1e-3
     np.testing.assert_array_equal(c.phase_edges, np.linspace(0, 1, 11))
     summary = c.summary()
-    assert summary["phases"]["from"] == "heel strike" and summary["phases"]["heel_strike_s"] == 0.0
-    assert summary["phases"]["labels"] == ["stance"] * 6 + ["swing"] * 4
-    assert summary["phases"]["rms_error_Nmm"]["1"] == pytest.approx([2.0] * 10, rel=1e-9)
-    assert summary["phases"]["edges"] == pytest.approx([k / 10 for k in range(11)])
-    assert summary["motors"]["1"]["model_parts_rms_Nmm"] == c.statistics["parts"]["1"]
-    assert summary["motors"]["2"]["rms_error_Nmm"] == motors["2"]["rms_error_Nmm"]
-    assert (summary["log"], summary["samples"], summary["cutoff_Hz"]) == ("exact", 300, None)
-    assert summary["rate_Hz"] == pytest.approx(100.0, rel=1e-14) and type(summary["rate_Hz"]) is float
-    assert (summary["motion_from"], summary["lever_spin"], summary["notes"]) == ("exact", True, ["made here"])
-    assert summary["parameters"] == PARAMS.source and summary["period_s"] == c.period
-    assert summary["cond_inv_min"] == pytest.approx(c.cond_inv.min())
+    assert summary.phases is not None
+    assert summary.phases.from_ == "heel strike" and summary.phases.heel_strike_s == 0.0
+    assert summary.phases.labels == ["stance"] * 6 + ["swing"] * 4
+    assert summary.phases.rms_error_Nmm["1"] == pytest.approx([2.0] * 10, rel=1e-9)
+    assert summary.phases.edges == pytest.approx([k / 10 for k in range(11)])
+    assert summary.motors["1"].model_parts_rms_Nmm == c.statistics["parts"]["1"]
+    assert summary.motors["2"].rms_error_Nmm == motors["2"]["rms_error_Nmm"]
+    assert (summary.log, summary.samples, summary.cutoff_Hz) == ("exact", 300, None)
+    assert summary.rate_Hz == pytest.approx(100.0, rel=1e-14) and type(summary.rate_Hz) is float
+    assert (summary.motion_from, summary.lever_spin, summary.notes) == ("exact", True, ["made here"])
+    assert summary.parameters == PARAMS.source and summary.period_s == c.period
+    assert summary.cond_inv_min == pytest.approx(c.cond_inv.min())
+    assert summary.to_json()["phases"]["from"] == "heel strike"  # the JSON's key, as before
     # motor_errors is a copy: changing it changes nothing.
     motors["1"]["rms_error_Nmm"] = -1.0
     assert c.motor_errors()["1"]["rms_error_Nmm"] > 0
@@ -309,8 +311,8 @@ def test_the_phases_start_at_the_first_heel_strike():
     tau = hipsim.analyse(PARAMS, flat, lever_spin=True).torques.total
     c = compare_torques(PARAMS, MeasuredLog(flat, tau, edge=5), period=1.0)
     assert c.heel_strike == pytest.approx(0.42) and c.stance is None
-    summary = c.summary()["phases"]
-    assert summary["from"] == "first sample" and summary["labels"] is None
+    summary = c.summary().phases
+    assert summary is not None and summary.from_ == "first sample" and summary.labels is None
     anchor, share = _phase_anchor(MeasuredLog(flat, tau, edge=5), 1.0, 5)
     assert (anchor, share) == (pytest.approx(0.42), None)
     anchor, share = _phase_anchor(exact(), 1.0, 0)
@@ -346,7 +348,12 @@ def test_two_cycles_to_the_sample_are_enough():
 def test_no_phases_without_a_period():
     c = compare_torques(PARAMS, exact(), period=0)
     assert c.period is None and c.phase_rms is None and c.phase_edges is None
-    assert c.heel_strike is None and c.stance is None and "phases" not in c.summary()
+    assert (
+        c.heel_strike is None
+        and c.stance is None
+        and c.summary().phases is None
+        and "phases" not in c.summary().to_json()
+    )
     assert compare_torques(PARAMS, exact(cycles=1.5)).period is None  # fewer than two cycles
     c = compare_torques(PARAMS, exact(), period=1.4, phase_bins=3)
     assert c.phase_rms.shape == (3, 3) and c.period == 1.4 and c.phase_edges.tolist() == [0, 1 / 3, 2 / 3, 1]

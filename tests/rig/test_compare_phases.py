@@ -43,7 +43,7 @@ def test_the_per_phase_table_does_not_depend_on_the_first_sample():
 
 def test_phases_are_labelled_in_the_summary():
     summary = compare_torques(PARAMS, iso_log(0.37), period=1.0).summary()
-    phases = summary["phases"]
-    assert phases["from"] == "heel strike"
-    assert phases["labels"] == ["stance"] * 6 + ["swing"] * 4
-    assert phases["heel_strike_s"] == pytest.approx(1.0, abs=1.0 / RATE + 1e-9)
+    phases = summary.phases
+    assert phases is not None and phases.from_ == "heel strike"
+    assert phases.labels == ["stance"] * 6 + ["swing"] * 4
+    assert phases.heel_strike_s == pytest.approx(1.0, abs=1.0 / RATE + 1e-9)

@@ -160,8 +160,8 @@ def test_tab_and_semicolon_logs_give_the_comma_files_results(run, tmp_path, caps
         np.testing.assert_array_equal(logs[name].tau, logs["comma"].tau)
         np.testing.assert_array_equal(logs[name].trajectory.q, logs["comma"].trajectory.q)
         assert (
-            compare_torques(params, logs[name]).summary()["motors"]
-            == compare_torques(params, logs["comma"]).summary()["motors"]
+            compare_torques(params, logs[name]).summary().motors
+            == compare_torques(params, logs["comma"]).summary().motors
         )
     fits = {name: identify([log], params) for name, log in logs.items()}
     for name in ("tab", "semicolon"):

@@ -33,6 +33,8 @@ from ...machine.parameters import Parameters
 from .control_chart import DEFAULT_ALARM_RISE, DEFAULT_BASELINE, EWMA_L, EWMA_LAMBDA
 from .findings import Findings, duplicates, find, missing_cycles
 from .monitor_fit import MonitorSetup, estimate_batch
+from .monitor_state import MonitorState, monitor_state
+from .monitor_summary import Baseline, LoadCell, MonitorSummary, SnapshotFile, StationBaseline
 from .monitor_table import COLUMNS, MONITOR_TABLE, PARTS, table_rows, write_table
 from .reference import reference
 from .snapshots import Skipped, Snapshot, find_snapshots
@@ -97,69 +99,64 @@ class MonitorResult:
     def two_stations(self) -> bool:
         return self.setup.params.heights.size == 2
 
-    def summary(self) -> dict[str, Any]:
-        """The run's summary, JSON-ready: counts, baseline, alarms and notices, skipped and missing snapshots, files."""
+    @property
+    def state(self) -> MonitorState:
+        """The state at the last snapshot: ALARM, NOTICE, OK or NOT MADE (:func:`monitor_state`)."""
+        return monitor_state(self.findings.alarm, self.findings.flag, self.findings.mean.note)
+
+    def summary(self) -> MonitorSummary:
+        """The run's summary: counts, baseline, alarms and notices, skipped and missing snapshots, files."""
         c, found = self.columns, self.findings
         chart = found.mean
-        last = len(c["cycle"]) - 1
         stations = None
         if found.stations is not None:
             stations = [
-                {"station": p + 1, "load_friction_mm": s.mean, "spread_mm": s.spread, "snapshots": s.baseline_count}
-                for p, s in enumerate(found.stations)
+                StationBaseline(p + 1, s.mean, s.spread, s.baseline_count) for p, s in enumerate(found.stations)
             ]
         gain = found.load_gain_change
         known = np.isfinite(gain)
-        return {
-            "snapshots": len(c["cycle"]),
-            "new": self.new,
-            "kept": self.kept,
-            "first_cycle": int(c["cycle"][0]) if c["cycle"] else None,
-            "last_cycle": int(c["last_cycle"][-1]) if c["cycle"] else None,
-            "baseline": {
-                "from": self.baseline[0],
-                "to": self.baseline[1],
-                "snapshots": chart.baseline_count,
-                "load_friction_mm": chart.mean,
-                "spread_mm": chart.spread,
-                "stations": stations,
-            },
-            "alarm_rise": self.alarm_rise,
-            "threshold_mm": list(chart.threshold),
-            "worst_case_factor": chart.worst,
-            "chart": f"two-sided EWMA (lambda {EWMA_LAMBDA:g}, L {EWMA_L:g}) with the engineering threshold",
-            "judged": "per station"
-            if found.stations is not None
-            else (
-                "the two stations' mean, worst case (up to twice its change in one station)"
-                if self.two_stations
-                else "the station"
+        if found.stations is not None:
+            judged = "per station"
+        elif self.two_stations:
+            judged = "the two stations' mean, worst case (up to twice its change in one station)"
+        else:
+            judged = "the station"
+        return MonitorSummary(
+            snapshots=len(c["cycle"]),
+            new=self.new,
+            kept=self.kept,
+            first_cycle=int(c["cycle"][0]) if c["cycle"] else None,
+            last_cycle=int(c["last_cycle"][-1]) if c["cycle"] else None,
+            baseline=Baseline(
+                self.baseline[0], self.baseline[1], chart.baseline_count, chart.mean, chart.spread, stations
             ),
-            "alarms": int(found.alarm.sum()),
-            "first_alarm": found.first,
-            "notices": sum(1 for f in found.flag if "notice" in f),
-            "latest_notice": found.latest_notice,
-            "alarm_active": bool(last >= 0 and found.alarm[last]),
-            "notice_active": bool(last >= 0 and found.flag[last] and not found.alarm[last]),
-            "load_cell": {
-                "commanded_load_logged": bool(known.any()),
-                "three_percent": 0.03 / 1.03 * chart.mean / (self.setup.params.friction.hip_radius * 1e3),
-                "gain_change_last": float(gain[known][-1]) if known.any() else None,
-                "drifted": [c["file"][k] for k in range(len(gain)) if known[k] and abs(gain[k]) > 0.01],
-            },
-            "skipped": [s.as_dict() for s in self.skipped if s.kind != "waiting"],
-            "waiting": [s.as_dict() for s in self.skipped if s.kind == "waiting"],
-            "missing": self.missing,
-            "incomplete": [c["file"][k] for k in range(len(c["cycle"])) if "incomplete" in c["note"][k]],
-            "files": [
-                {"file": c["file"][k], "bytes": int(c["bytes"][k]), "sha256": c["sha256"][k]}
-                for k in range(len(c["cycle"]))
-            ],
-            "note": chart.note,
-            "fingerprint": self.fingerprints["setup"],
-            "parameters": self.setup.params.source,
-            "table": self.columns,
-        }
+            alarm_rise=self.alarm_rise,
+            threshold_mm=list(chart.threshold),
+            worst_case_factor=chart.worst,
+            chart=f"two-sided EWMA (lambda {EWMA_LAMBDA:g}, L {EWMA_L:g}) with the engineering threshold",
+            judged=judged,
+            alarms=int(found.alarm.sum()),
+            first_alarm=found.first,
+            notices=sum(1 for f in found.flag if "notice" in f),
+            latest_notice=found.latest_notice,
+            alarm_active=self.state.alarm_active,
+            notice_active=self.state.notice_active,
+            load_cell=LoadCell(
+                commanded_load_logged=bool(known.any()),
+                three_percent=0.03 / 1.03 * chart.mean / (self.setup.params.friction.hip_radius * 1e3),
+                gain_change_last=float(gain[known][-1]) if known.any() else None,
+                drifted=[c["file"][k] for k in range(len(gain)) if known[k] and abs(gain[k]) > 0.01],
+            ),
+            skipped=[s.as_dict() for s in self.skipped if s.kind != "waiting"],
+            waiting=[s.as_dict() for s in self.skipped if s.kind == "waiting"],
+            missing=self.missing,
+            incomplete=[c["file"][k] for k in range(len(c["cycle"])) if "incomplete" in c["note"][k]],
+            files=[SnapshotFile(c["file"][k], int(c["bytes"][k]), c["sha256"][k]) for k in range(len(c["cycle"]))],
+            note=chart.note,
+            fingerprint=self.fingerprints["setup"],
+            parameters=self.setup.params.source,
+            table=self.columns,
+        )
 
 
 def _columns(rows: list[dict[str, Any]], found: Findings) -> dict[str, list[Any]]:

@@ -322,6 +322,11 @@ def test_compare_with_an_identified_file_shows_the_model_band(noisy, tmp_path, c
         assert bands[i]["measured_within_band"] < bands[i]["measured_within_prediction_band"]
         assert bands[i]["measured_within_prediction_band"] > 0.75
     comparison = json.loads((tmp_path / "cmp" / "comparison.json").read_text())
+    import jsonschema
+
+    from hipsim.cli.documents import schema
+
+    jsonschema.validate(comparison, schema("compare"))  # the band's keys are in the published contract
     assert "95 % band" in (tmp_path / "cmp" / "index.html").read_text()
     # Without a covariance: no band.
     assert main(["compare", "--log", str(held_out), "--out", str(tmp_path / "plain")]) == 0

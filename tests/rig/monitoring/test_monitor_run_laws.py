@@ -159,8 +159,8 @@ def test_what_is_left_out_is_carried_and_nothing_usable_is_an_error(estimates):
     result = run_monitor(SETUP, [snap(0), snap(10)], skipped=[waiting])
     assert [s.name for s in result.skipped] == ["w.csv", "snap_0000010.csv"] and len(result.rows) == 1
     summary = result.summary()
-    assert summary["waiting"] == [waiting.as_dict()] and [s["file"] for s in summary["skipped"]] == ["snap_0000010.csv"]
-    assert summary["skipped"][0]["line"] == 4
+    assert summary.waiting == [waiting.as_dict()] and [s["file"] for s in summary.skipped] == ["snap_0000010.csv"]
+    assert summary.skipped[0]["line"] == 4
     # Nothing usable: the first left out that is not waiting is named, with its file.
     with pytest.raises(TrajectoryError) as error:
         run_monitor(SETUP, [snap(10)], skipped=[waiting])
@@ -265,10 +265,10 @@ def test_the_stations_columns_from_their_charts(estimates):
         ):
             np.testing.assert_array_equal(c[name], values, err_msg=name)
     summary = result.summary()
-    assert summary["judged"] == "per station"
-    assert [s["station"] for s in summary["baseline"]["stations"]] == [1, 2]
-    assert summary["baseline"]["stations"][1]["load_friction_mm"] == pytest.approx(3.1)
-    assert summary["baseline"]["stations"][0]["snapshots"] == 4 and summary["baseline"]["stations"][0]["spread_mm"] >= 0
+    assert summary.judged == "per station"
+    assert [s.station for s in summary.baseline.stations] == [1, 2]
+    assert summary.baseline.stations[1].load_friction_mm == pytest.approx(3.1)
+    assert summary.baseline.stations[0].snapshots == 4 and summary.baseline.stations[0].spread_mm >= 0
 
 
 def test_the_summary_s_counts(estimates):
@@ -278,24 +278,24 @@ def test_the_summary_s_counts(estimates):
     gains = stepped(estimates, 80, 0.5, gain=lambda cycle: drift.get(cycle, 1.0))
     result = run_monitor(SETUP, gains, baseline=(20, 50), alarm_rise=0.01)
     s = result.summary()
-    assert (s["snapshots"], s["new"], s["kept"], s["first_cycle"], s["last_cycle"]) == (11, 11, 0, 0, 109)
-    assert s["baseline"]["from"] == 20 and s["baseline"]["to"] == 50 and s["baseline"]["snapshots"] == 4
-    assert s["baseline"]["load_friction_mm"] == pytest.approx(3.0, abs=1e-12) and s["baseline"]["stations"] is None
-    assert s["baseline"]["spread_mm"] == result.findings.mean.spread > 0
-    assert s["alarm_rise"] == 0.01 and s["threshold_mm"] == list(result.findings.mean.threshold)
-    assert s["chart"] == "two-sided EWMA (lambda 0.2, L 3) with the engineering threshold"
-    assert s["judged"] == "the two stations' mean, worst case (up to twice its change in one station)"
-    assert (s["alarms"], s["alarm_active"], s["notice_active"], s["notices"]) == (3, True, False, 0)
-    assert s["first_alarm"]["file"] == "snap_0000080.csv" and s["latest_notice"] is None
-    assert s["worst_case_factor"] == 2.0
-    cell = s["load_cell"]
-    assert cell["commanded_load_logged"] and cell["gain_change_last"] == pytest.approx(0.02, abs=1e-12)
-    assert cell["three_percent"] == pytest.approx(0.03 / 1.03 * 3.0 / R_H_MM, rel=1e-12)
-    assert cell["drifted"] == ["snap_0000070.csv", "snap_0000090.csv"]
-    assert s["missing"] == [] and s["incomplete"] == [] and s["note"] == ""
-    assert s["files"][0] == {"file": "snap_0000000.csv", "bytes": 100, "sha256": "s"} and len(s["files"]) == 11
-    assert s["fingerprint"] == SETUP.fingerprints()["setup"] and s["parameters"] == PARAMS.source
-    assert s["table"] is result.columns and s["skipped"] == [] and s["waiting"] == []
+    assert (s.snapshots, s.new, s.kept, s.first_cycle, s.last_cycle) == (11, 11, 0, 0, 109)
+    assert s.baseline.from_ == 20 and s.baseline.to == 50 and s.baseline.snapshots == 4
+    assert s.baseline.load_friction_mm == pytest.approx(3.0, abs=1e-12) and s.baseline.stations is None
+    assert s.baseline.spread_mm == result.findings.mean.spread > 0
+    assert s.alarm_rise == 0.01 and s.threshold_mm == list(result.findings.mean.threshold)
+    assert s.chart == "two-sided EWMA (lambda 0.2, L 3) with the engineering threshold"
+    assert s.judged == "the two stations' mean, worst case (up to twice its change in one station)"
+    assert (s.alarms, s.alarm_active, s.notice_active, s.notices) == (3, True, False, 0)
+    assert s.first_alarm["file"] == "snap_0000080.csv" and s.latest_notice is None
+    assert s.worst_case_factor == 2.0
+    cell = s.load_cell
+    assert cell.commanded_load_logged and cell.gain_change_last == pytest.approx(0.02, abs=1e-12)
+    assert cell.three_percent == pytest.approx(0.03 / 1.03 * 3.0 / R_H_MM, rel=1e-12)
+    assert cell.drifted == ["snap_0000070.csv", "snap_0000090.csv"]
+    assert s.missing == [] and s.incomplete == [] and s.note == ""
+    assert s.files[0].to_json() == {"file": "snap_0000000.csv", "bytes": 100, "sha256": "s"} and len(s.files) == 11
+    assert s.fingerprint == SETUP.fingerprints()["setup"] and s.parameters == PARAMS.source
+    assert s.table is result.columns and s.skipped == [] and s.waiting == []
     assert result.two_stations and result.baseline == (20, 50) and result.alarm_rise == 0.01
 
 
@@ -305,15 +305,15 @@ def test_the_summary_s_notice_gaps_and_short_snapshots(estimates):
     snapshots = [s for s in stepped(estimates, 80, 0.1) if s.name != "snap_0000060.csv"]
     estimates.more[100] = {"samples": 400, "note": "cut"}
     s = run_monitor(SETUP, snapshots, baseline=(20, 50), alarm_rise=0.02).summary()
-    assert s["missing"] == [60] and s["incomplete"] == ["snap_0000100.csv"]
-    assert s["alarms"] == 0 and s["notice_active"] and not s["alarm_active"]
-    assert s["notices"] == sum("notice" in f for f in s["table"]["flag"]) >= 1
-    assert s["latest_notice"]["file"] == "snap_0000100.csv" and s["first_alarm"] is None
-    assert not s["load_cell"]["commanded_load_logged"] and s["load_cell"]["gain_change_last"] is None
-    assert s["load_cell"]["drifted"] == []
+    assert s.missing == [60] and s.incomplete == ["snap_0000100.csv"]
+    assert s.alarms == 0 and s.notice_active and not s.alarm_active
+    assert s.notices == sum("notice" in f for f in s.table["flag"]) >= 1
+    assert s.latest_notice["file"] == "snap_0000100.csv" and s.first_alarm is None
+    assert not s.load_cell.commanded_load_logged and s.load_cell.gain_change_last is None
+    assert s.load_cell.drifted == []
     # No baseline yet: no chart, said so.
     s = run_monitor(SETUP, [snap(0)], baseline=(20, 50)).summary()
-    assert s["note"] != "" and s["alarms"] == 0 and not s["alarm_active"] and not s["notice_active"]
+    assert s.note != "" and s.alarms == 0 and not s.alarm_active and not s.notice_active
 
 
 def test_monitor_takes_its_options_and_gives_a_table(estimates, tmp_path):
@@ -538,12 +538,12 @@ def test_the_watch_refuses_another_set_up_s_table(world, tmp_path, estimates):
 def test_the_alarm_and_notice_at_the_last_snapshot_alone(estimates):
     # The step at the last snapshot only: the alarm is active there, not before.
     s = run_monitor(SETUP, stepped(estimates, 100, 0.5), baseline=(20, 50), alarm_rise=0.01).summary()
-    assert s["table"]["alarm"][-2:] == [0, 1] and s["alarm_active"] and s["alarms"] == 1
-    assert not s["notice_active"]
+    assert s.table["alarm"][-2:] == [0, 1] and s.alarm_active and s.alarms == 1
+    assert not s.notice_active
     # Below the threshold (0.1 mm: 0.0067 of μ_h, twice that still under 0.02): a notice, active at the last only.
     s = run_monitor(SETUP, stepped(estimates, 100, 0.1), baseline=(20, 50), alarm_rise=0.02).summary()
-    assert s["table"]["flag"][-2] == "" and s["table"]["flag"][-1].startswith("notice")
-    assert s["notice_active"] and not s["alarm_active"] and s["notices"] == 1
+    assert s.table["flag"][-2] == "" and s.table["flag"][-1].startswith("notice")
+    assert s.notice_active and not s.alarm_active and s.notices == 1
 
 
 def test_monitor_from_an_identified_file_and_windows_of_a_long_log(estimates, tmp_path):

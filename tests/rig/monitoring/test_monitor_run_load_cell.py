@@ -62,8 +62,8 @@ def test_a_load_cell_drift_is_flagged_either_way_with_its_alternative(tmp_path, 
     assert c["hip_mu_change"][-1] == pytest.approx(expected, abs=0.0012)  # ∓0.0050
     # Significant, and its worst case (twice the mean's change, 0.010) below the 0.02 threshold: a notice.
     assert c["flag"][-1] == f"notice: the two stations' mean {verb}" + " (up to twice in one station)"
-    assert not any(c["alarm"]) and summary["notice_active"]
-    text = summary["latest_notice"]["text"]
+    assert not any(c["alarm"]) and summary.notice_active
+    text = summary.latest_notice["text"]
     assert "cannot tell friction from a load-cell gain drift" in text
     g = float(text.split("and a drift of ")[1].split(" %")[0]) / 100
     assert g == pytest.approx(gain - 1, abs=0.008)  # the drift that alone explains the change
@@ -71,5 +71,5 @@ def test_a_load_cell_drift_is_flagged_either_way_with_its_alternative(tmp_path, 
     # The commanded load, logged, shows the drift itself.
     assert c["load_gain_change"][-1] == pytest.approx(gain - 1, abs=1e-3)
     assert f"load cell: measured over commanded load {drift} since the baseline" in c["note"][-1]
-    assert summary["load_cell"]["drifted"] == ["snap_01750000.csv", "snap_02000000.csv"]
+    assert summary.load_cell.drifted == ["snap_01750000.csv", "snap_02000000.csv"]
     assert all(abs(v) < 1e-3 for v in c["load_gain_change"][:-2])

@@ -5,10 +5,12 @@ from __future__ import annotations
 
 import json
 
+import jsonschema
 import pytest
 from monitor_synthetic import write_identified, write_test
 
 import hipsim
+from hipsim.cli.documents import schema
 from hipsim.cli.main import main
 from hipsim.rig.monitoring.monitor_fit import MonitorSetup
 from hipsim.rig.monitoring.monitor_run import run_monitor
@@ -36,12 +38,12 @@ def test_one_station_rising_under_a_shared_load_alarms_at_that_snapshot_and_not_
     assert [a for cycle, a in zip(cycles, c["alarm"]) if cycle < STEP_AT] == [0] * 7
     assert c["alarm"][cycles.index(1_750_000)] == 1 and c["alarm"][-1] == 1
     # The mean moved by half the station's rise; the alarm holds twice that, and says so.
-    first = summary["first_alarm"]
+    first = summary.first_alarm
     assert first["cycle"] == 1_750_000 and first["hip_mu_change"] == pytest.approx(RISE / 2 + 0.0005, abs=0.002)
     assert first["worst_case_change"] == pytest.approx(2 * first["hip_mu_change"])
     assert "in the two stations' mean: up to +0.01" in first["text"] and "reference load" in first["text"]
     assert c["flag"][-1] == "alarm: the two stations' mean rises (up to twice in one station)"
-    assert c["stations"][0] == "not logged" and summary["judged"].startswith("the two stations' mean, worst case")
+    assert c["stations"][0] == "not logged" and summary.judged.startswith("the two stations' mean, worst case")
 
 
 def test_per_station_loads_chart_each_station_and_name_the_one_that_rises(tmp_path, params, capsys):
@@ -66,6 +68,8 @@ def test_per_station_loads_chart_each_station_and_name_the_one_that_rises(tmp_pa
     )
     summary = json.loads(capsys.readouterr().out)
     assert status == 1 and summary["judged"] == "per station"
+    jsonschema.validate(summary, schema("monitor"))  # the published contract (hipsim schema monitor)
+    assert summary["report"].endswith("index.html") and summary["pdf"] is None
     first = summary["first_alarm"]
     assert first["where"] == "station 2" and first["cycle"] == 1_750_000
     assert first["hip_mu_change"] == pytest.approx(RISE + 0.002, abs=0.004)  # the station's own step and drift

@@ -81,7 +81,7 @@ def test_watching_a_folder_filled_during_the_test_gives_the_batch_table(tmp_path
     assert not thread.is_alive()
     assert len(updates[-1].rows) == len(CYCLES)
     assert all(row["samples"] == 750 for result in updates for row in result.rows)  # never half a file
-    assert len(alarms) == 1 and alarms[0].summary()["first_alarm"]["cycle"] == 50  # raised once
+    assert len(alarms) == 1 and alarms[0].summary().first_alarm["cycle"] == 50  # raised once
     batch = run_monitor(setup, find_snapshots(logs)[0], BASELINE, 0.01, out=tmp_path / "batch.csv")
     _same(updates[-1].columns, batch.columns)
     assert (tmp_path / "watched.csv").read_bytes() == (tmp_path / "batch.csv").read_bytes()

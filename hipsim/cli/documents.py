@@ -1,0 +1,199 @@
+"""What each command prints with ``--summary-format json``: one record per document, and the schema of each.
+
+A document is the command's summary record (made by the layer that computed
+it) with what the command wrote beside it (paths, the provenance block).
+:data:`SCHEMAS` names every document by the command (and mode) that prints
+it; ``hipsim schema COMMAND`` prints its JSON Schema, generated from the
+records' type hints (:meth:`hipsim.records.Record.json_schema`).
+
+Imported when a command prints, never when the parser is built (the summary
+records load NumPy).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+from ..analysis.crosscheck_summary import CrossCheckSummary
+from ..control.simulation_summary import SimulationSummary
+from ..design.feasibility_summary import FeasibilitySummary
+from ..motion.iso_verdict import IsoCheckSummary
+from ..present.pages import Verdict as PageVerdict
+from ..present.wear_page import WearComparison
+from ..records import Record, flattened, optional
+from ..results import RunSummary
+from ..rig.compare_summary import ComparisonSummary
+from ..rig.monitoring.monitor_summary import MonitorSummary
+from ..stations.summary import SlidersSummary, StationSummary
+from ..stations.tolerance_summary import ToleranceSummary
+from ..wear.summary import WearSummary
+
+__all__ = [
+    "SCHEMAS",
+    "CompareRun",
+    "IsoCheckRun",
+    "MonitorRun",
+    "ReportFiles",
+    "ReportRun",
+    "SimulateRun",
+    "StationsRun",
+    "StationsSliders",
+    "StationsTolerance",
+    "TorquesRun",
+    "WearCompare",
+    "WearRun",
+    "schema",
+]
+
+
+@dataclass(frozen=True)
+class StationsRun(Record):
+    """``hipsim stations`` on a desired motion: the summary, the per-sample table and the page written."""
+
+    summary: StationSummary
+    table: str
+    index: str
+    provenance: dict[str, Any]
+
+
+@dataclass(frozen=True)
+class WearRun(Record):
+    """``hipsim wear`` on one motion: the summary's keys, the notes, the table and the page written."""
+
+    summary: WearSummary = flattened()
+    notes: tuple[str, ...] = ()
+    table: str = ""
+    index: str | None = optional()
+
+
+@dataclass(frozen=True)
+class WearCompare(Record):
+    """``hipsim wear --compare A B``: the comparison's keys (as ``wear.json``), the page and the table written."""
+
+    comparison: WearComparison = flattened()
+    index: str = ""
+    table: str = ""
+
+
+@dataclass(frozen=True)
+class StationsSliders(Record):
+    """``hipsim stations --sliders LOG``: both platforms from the log's carriages, the table and the page written."""
+
+    sliders: SlidersSummary
+    table: str
+    index: str
+    provenance: dict[str, Any]
+
+
+@dataclass(frozen=True)
+class StationsTolerance(Record):
+    """``hipsim stations --tolerance SPEC``: the tolerance study and the page written."""
+
+    tolerance: ToleranceSummary
+    index: str
+    provenance: dict[str, Any]
+
+
+@dataclass(frozen=True)
+class IsoCheckRun(Record):
+    """``hipsim iso-check``: the run's check per quantity and per cycle, and the page written."""
+
+    check: IsoCheckSummary = flattened()
+    index: str = ""
+
+
+@dataclass(frozen=True)
+class SimulateRun(Record):
+    """``hipsim simulate``: per controller the run's summary with the ISO 14242-1 verdict, the mismatch, the CSVs."""
+
+    simulations: tuple[SimulationSummary, ...]
+    mismatch: dict[str, float]
+    csv: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class CycleOf(Record):
+    """Which cycle (from 1) the smallest singularity measure falls in, and how far into it in [s]."""
+
+    cond_inv_min_cycle: int
+    cond_inv_min_t_in_cycle_s: float
+
+
+@dataclass(frozen=True)
+class TorquesRun(Record):
+    """``hipsim torques``: the run's summary keys, the cycle of its smallest singularity measure (a run of more than
+    one cycle), and the table written (``csv`` or ``parquet``, the path given; ``-`` for standard output)."""
+
+    summary: RunSummary = flattened()
+    cycle: CycleOf | None = field(default=None, metadata={"flatten": True, "omit_none": True})
+    csv: str | None = optional()
+    parquet: str | None = optional()
+
+
+@dataclass(frozen=True)
+class ReportFiles(Record):
+    """The page a command wrote, and its PDF (None when not printed)."""
+
+    report: str
+    pdf: str | None
+
+
+@dataclass(frozen=True)
+class MonitorRun(Record):
+    """``hipsim monitor``: the run's summary keys, the table written (None: none), the provenance, the page if asked."""
+
+    summary: MonitorSummary = flattened()
+    out: str | None = None
+    provenance: dict[str, Any] = field(default_factory=dict)
+    report: ReportFiles | None = field(default=None, metadata={"flatten": True, "omit_none": True})
+
+
+@dataclass(frozen=True)
+class CompareRun(Record):
+    """``hipsim compare`` (as ``comparison.json``): the page's verdict, the provenance, the comparison's keys, and the
+    model's 95 % band per motor when the parameter file carries a covariance."""
+
+    verdict: PageVerdict
+    provenance: dict[str, Any]
+    comparison: ComparisonSummary = flattened()
+    model_band95: dict[str, dict[str, float | None]] | None = optional()
+
+
+@dataclass(frozen=True)
+class ReportRun(Record):
+    """``hipsim report``: the run's summary keys, the sizing (its ``as_dict()``, None without a drive), the rating
+    check's word, the page (and PDF) written, the page's verdict, the provenance, and the margins' bands with an
+    identified file's covariance."""
+
+    summary: RunSummary = field(metadata={"flatten": True})  # field() itself: mypy then knows it has no default
+    sizing: dict[str, Any] | None
+    rating_check: str
+    index: str
+    pdf: str | None
+    verdict: PageVerdict
+    provenance: dict[str, Any]
+    margin_bands: list[dict[str, Any]] | None = optional()
+
+
+#: Command (and mode) → the record of what it prints with ``--summary-format json``.
+SCHEMAS: dict[str, type[Record]] = {
+    "check": CrossCheckSummary,
+    "compare": CompareRun,
+    "feasible": FeasibilitySummary,
+    "iso-check": IsoCheckRun,
+    "monitor": MonitorRun,
+    "report": ReportRun,
+    "simulate": SimulateRun,
+    "stations": StationsRun,
+    "torques": TorquesRun,
+    "stations-sliders": StationsSliders,
+    "stations-tolerance": StationsTolerance,
+    "wear": WearRun,
+    "wear-compare": WearCompare,
+}
+
+
+def schema(command: str) -> dict[str, Any]:
+    """The JSON Schema of ``command``'s ``--summary-format json`` document (a key of :data:`SCHEMAS`)."""
+    return SCHEMAS[command].json_schema(command)

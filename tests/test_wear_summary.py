@@ -1,0 +1,107 @@
+"""A wear run's typed summary and the comparison's ALIKE/DIFFERENT verdict, by hand-computed cases
+(hipsim/wear/summary.py). The maps are four points written here, not computed by the wear kernel."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import jsonschema
+import numpy as np
+import pytest
+
+from hipsim.records import Level, exit_status
+from hipsim.wear.kinematics import CupSetup
+from hipsim.wear.maps import WearMaps
+from hipsim.wear.points import CupPoints
+from hipsim.wear.summary import Difference, WearSummary, compare_summaries, compare_verdict, wear_summary
+
+NAN = math.nan
+
+
+def _maps(area: np.ndarray | None) -> WearMaps:
+    """Four points; point 0 carries no work (outside the loaded area)."""
+    w = np.eye(3)[[2, 0, 1, 2]]
+    return WearMaps(
+        points=CupPoints(w, area),
+        setup=CupSetup(),
+        sliding_mm=np.array([5.0, 2.0, 4.0, 6.0]),
+        sliding_loaded_mm=np.array([0.0, 2.0, 4.0, 6.0]),
+        work_N_per_mm=np.array([0.0, 1.0, 3.0, 1.0]),
+        cross_shear=np.array([NAN, 0.1, 0.2, 0.4]),
+        principal=np.zeros((4, 3)),
+        force_track_mm=12.0,
+        force_track_load_Nm=3.0,
+        cycles=1.0,
+        duration_s=1.0,
+        samples=100,
+        name="hand",
+        iterations=1,
+    )
+
+
+def test_means_over_the_loaded_area_weighted_by_cell_area_and_by_work():
+    s = wear_summary(_maps(np.array([1.0, 2.0, 3.0, 4.0])))
+    assert s.loaded_points == 3 and s.worn_area_mm2 == pytest.approx(9.0)
+    assert s.sliding_mm_max == 6.0  # over every point, loaded or not
+    assert s.sliding_mm_mean == pytest.approx((2 * 2 + 3 * 4 + 4 * 6) / 9)
+    assert s.cross_shear_mean == pytest.approx((2 * 0.1 + 3 * 0.2 + 4 * 0.4) / 9)  # by area: 0.2667
+    assert s.cross_shear_work_weighted == pytest.approx((2 * 0.1 + 9 * 0.2 + 4 * 0.4) / 15)  # by W·dA: 0.24
+    assert s.cross_shear_max == 0.4 and s.work_N_per_mm_max == 3.0
+    assert s.load_slide_integral_Nm == pytest.approx((2 + 9 + 4) / 1000)
+    assert s.wear_law is None and s.wear_mm3_per_Mc is None
+    jsonschema.validate(s.to_json(), WearSummary.json_schema())
+
+
+def test_points_one_by_one_weigh_equally_and_by_work():
+    s = wear_summary(_maps(None))
+    assert s.cross_shear_mean == pytest.approx(0.7 / 3)
+    assert s.cross_shear_work_weighted == pytest.approx((0.1 + 3 * 0.2 + 0.4) / 5)  # 0.22
+    assert s.worn_area_mm2 is None and s.load_slide_integral_Nm is None and s.grid is None
+    document = s.to_json()
+    assert document["worn_area_mm2"] is None and "grid" in document  # the keys stay, as null
+    jsonschema.validate(document, WearSummary.json_schema())
+
+
+BASE = wear_summary(_maps(np.array([1.0, 2.0, 3.0, 4.0])))
+
+
+def test_compare_rows_are_b_minus_a_over_the_magnitude_of_a():
+    rows = {row.key: row for row in compare_summaries(BASE, replace(BASE, force_track_mm=9.0, sliding_mm_max=NAN))}
+    assert rows["force_track_mm"].difference == pytest.approx(-3.0)
+    assert rows["force_track_mm"].relative == pytest.approx(-0.25)
+    assert rows["sliding_mm_max"].difference is None and rows["sliding_mm_max"].b is None  # NaN is unknown
+    negative = compare_summaries(replace(BASE, cross_shear_mean=-2.0), replace(BASE, cross_shear_mean=-1.0))
+    assert {row.key: row for row in negative}["cross_shear_mean"].relative == pytest.approx(0.5)
+    zero = compare_summaries(replace(BASE, force_track_mm=0.0), BASE)
+    assert {row.key: row for row in zero}["force_track_mm"].relative is None
+
+
+def _row(relative: float, decides: bool = True, key: str = "force_track_mm") -> Difference:
+    return Difference(key, key, "mm", 1.0, 1.0 + relative, relative, relative, decides)
+
+
+@pytest.mark.parametrize(
+    ("relative", "level"),
+    [
+        (0.05, Level.ALIKE),  # at the tolerance: alike
+        (-0.05, Level.ALIKE),
+        (np.nextafter(0.05, 1.0), Level.DIFFERENT),  # just beyond, either way
+        (-np.nextafter(0.05, 1.0), Level.DIFFERENT),
+        (-0.3, Level.DIFFERENT),
+    ],
+)
+def test_alike_and_different_at_the_tolerance_both_ways(relative, level):
+    rows = (_row(0.0), _row(relative, key="cross_shear_mean"), _row(0.9, decides=False, key="cross_shear_max"))
+    verdict = compare_verdict(rows, 0.05, ("A", "B"))
+    assert verdict.level == level
+    assert exit_status([verdict]) == (1 if level == Level.DIFFERENT else 0)
+    assert verdict.numbers == {"force_track_mm": 0.0, "cross_shear_mean": relative}  # the deciding ones only
+    assert "cross_shear_max (shown, not judged)" in verdict.not_judged
+
+
+def test_the_largest_difference_is_named_by_its_magnitude():
+    rows = (_row(0.02), _row(-0.04, key="cross_shear_mean"), _row(0.9, decides=False, key="cross_shear_max"))
+    verdict = compare_verdict(rows, 0.05, ("A", "B"))
+    assert verdict.level == Level.ALIKE and "cross_shear_mean differs most, by -4 %" in verdict.judged
+    assert compare_verdict((_row(0.9, decides=False),), 0.05, ("A", "B")).level == Level.NOT_MADE
