@@ -31,7 +31,6 @@ EXEMPT = {
 #: Modules with logic still lacking a test file at their mirrored path -> where they are exercised today.
 KNOWN_GAPS = {
     "analysis/crosscheck_summary.py": "through the commands' JSON: tests/test_schemas.py",
-    "analytic/chain_kinematics.py": "indirectly, through the modules that call it",
     "analytic/engine.py": "analytic/test_chain_dynamics.py, rig/test_plausibility_laws.py",
     "analytic/stations.py": "analytic/test_chain_dynamics.py, machine/test_chains.py (+2)",
     "cli/calibrate.py": "through the command line: tests/test_cli.py and its command's tests",
