@@ -37,6 +37,6 @@ def directives(package: str) -> str:
     return "\n".join(parts)
 
 
-def on_page_markdown(markdown: str, page, config, files) -> str:  # noqa: ARG001 (mkdocs' signature)
+def on_page_markdown(markdown: str, page, config, files) -> str:  # mkdocs' signature
     """Replace each API marker on a page by its directives."""
     return _MARKER.sub(lambda match: directives(match.group(1)), markdown)

@@ -66,7 +66,7 @@ _HOMES = {
     "iso14242": "motion.trajectories",
     "load_trajectory_csv": "motion.readers",
     "read_trajectory": "motion.readers",
-    "monitor": "rig.monitor_run",
+    "monitor": "rig.monitoring.monitor_run",
 }
 #: The subpackages an eager ``import hipsim`` used to load, still reachable as attributes (``hipsim.motion``).
 _SUBPACKAGES = ("analysis", "analytic", "arrays", "files", "machine", "motion", "physics", "results")
@@ -84,7 +84,7 @@ def __getattr__(name: str):
         import hipsim.motion.trajectories as module
     elif home == "motion.readers":
         import hipsim.motion.readers as module
-    elif home == "rig.monitor_run":
+    elif home == "rig.monitoring.monitor_run":
         import hipsim.rig.monitoring.monitor_run as module
     elif home == "results":
         import hipsim.results as module

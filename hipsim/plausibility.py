@@ -8,9 +8,10 @@ holds its numbers against the same ranges here, so the same slip gets the
 same answer whichever command reads the file:
 
 - a **clear slip** (the value is out of every plausible range, and the
-  factor of a unit, most often 1000, brings it inside) raises a
-  :class:`~hipsim.exceptions.HipsimError` subclass the caller names, with
-  the column or key, the value, and the unit it looks like;
+  factor of a unit, most often 1000, brings it inside) is returned as its
+  reason in words (the value and the unit it looks like), which the caller
+  raises as its own :class:`~hipsim.exceptions.HipsimError` subclass naming
+  the file and the column or key;
 - a **doubtful** value (outside the usual range, with no unit that explains
   it) is a warning, one line, returned to the caller.
 
@@ -18,9 +19,9 @@ Comparisons against a limit allow for rounding: :func:`beyond` counts a
 value within a relative :data:`REL_TOL` of its limit as at the limit, not
 past it (a load mapped onto 300–3000 N peaks at 3000.0000000000005 N).
 
-This module is part of the foundation (it imports only :mod:`hipsim.exceptions`),
-so the machine's and the motion's readers, which may not import each other,
-share it.
+This module is part of the foundation (it imports no other hipsim module:
+NumPy and the standard library only), so the machine's and the motion's
+readers, which may not import each other, share it.
 """
 
 from __future__ import annotations
@@ -46,6 +47,7 @@ __all__ = [
     "epoch_warning",
     "factor_name",
     "load_slip",
+    "one_radians_slip",
     "radians_slip",
     "time_slip",
     "unit_slip",
@@ -87,6 +89,8 @@ DRIVE_RANGES = {
     "max_speed": (100.0 * math.pi / 30.0, 30000.0 * math.pi / 30.0, "rad/s"),
     "lead": (1e-3, 0.1, "m"),
     "stroke": (0.01, 3.0, "m"),
+    "torque_constant": (0.02, 20.0, "N·m/A"),
+    "preload": (20.0, 50000.0, "N"),
 }
 
 
@@ -278,3 +282,19 @@ def radians_slip(spans_deg: np.ndarray) -> tuple[int, float] | None:
     if spans[k] < SMALL_RANGE_DEG and ANGLE_RANGE_DEG[0] <= as_radians <= ANGLE_RANGE_DEG[1]:
         return k, as_radians
     return None
+
+
+def one_radians_slip(spans_deg: np.ndarray) -> list[tuple[int, float]]:
+    """Single angles read in degrees that look like radians beside others that are degrees: (index, span as radians in [deg]).
+
+    An angle spanning under :data:`SMALL_RANGE_DEG` (but moving) while the widest spans a gait's range
+    (:data:`ANGLE_RANGE_DEG`): one column exported in radians among degrees, or scaled (a doubtful value:
+    the caller warns, naming the span as radians). A still angle (span 0) is a planar model's.
+
+    Args:
+        spans_deg: each angle's range (max − min) in [deg] as read.
+    """
+    spans = np.asarray(spans_deg, dtype=float)
+    if spans.size < 2 or not np.all(np.isfinite(spans)) or spans.max() < ANGLE_RANGE_DEG[0]:
+        return []
+    return [(k, float(v) * _DEG_PER_RAD) for k, v in enumerate(spans) if 0.0 < v < SMALL_RANGE_DEG]

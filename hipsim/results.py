@@ -388,6 +388,8 @@ class Summary:
         for field in Torques.PARTS:
             peaks[field] = np.abs(getattr(run.torques, field)[ok] * 1e3).max(axis=0)
         if self.joint_forces:
+            if run.joint_forces is None:
+                raise ArgumentError("run", run.model, "a run with joint forces, as the summary's first")
             Fa, Fo = run.joint_forces.Fa[ok].reshape(-1, 6), run.joint_forces.Fo[ok]
             peaks["Fa"], peaks["Fo"] = np.abs(Fa).max(axis=0), np.abs(Fo).max(axis=0)
             squares += [Fa**2, Fo**2]
@@ -402,10 +404,10 @@ class Summary:
 
     def result(self) -> RunSummary:
         """The summary of everything added, as :meth:`Run.summary` gives it."""
-        peaks, low = self._peaks, self._lows.get("L")
+        peaks = self._peaks
         if not self.kept:
             raise ArgumentError("Summary", self.samples, "at least one sample that is not flagged")
-        rms = np.sqrt(self._squares.total() / self.kept)
+        rms, low = np.sqrt(self._squares.total() / self.kept), self._lows["L"]  # set by every add() that kept a sample
         sliders = {}
         for j in (1, 2):
             for i in (1, 2, 3):

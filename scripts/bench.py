@@ -17,6 +17,7 @@ for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
 import argparse  # noqa: E402
 import math  # noqa: E402
 import time  # noqa: E402
+from typing import Any  # noqa: E402
 
 import numpy as np  # noqa: E402
 
@@ -255,7 +256,7 @@ def bench_plant_routes(params, quick: bool) -> None:
     compiled = PinocchioPlant(params)
     kernel = PinocchioPlant(params, route="kernel", chain=compiled.chain)
     pinocchio = PinocchioPlant(params, route="constraint_dynamics", chain=compiled.chain)
-    kin, torques = trajectory_dynamics(kernel.chain, iso14242_at([0.13]))
+    kin, torques = trajectory_dynamics(kernel.chain, iso14242_at(np.array([0.13])))
     x, tau, Fe = np.concatenate([kin.q[0], kin.v[0]]), torques.torques.total[0], 1500.0
     q, v, forces = x[: kernel.nq], x[kernel.nq :], kernel.generalised_forces(x, tau, Fe)
     model, cms = kernel.model, pinocchio.constraint_models
@@ -267,6 +268,7 @@ def bench_plant_routes(params, quick: bool) -> None:
         lcaba_cds.append(cm.createData())
     pin.computeJointMinimalOrdering(model, lcaba_data, cms)
     lcaba_settings = pin.ProximalSettings(1e-12, 1e-12, 1e-6, 3)  # the fewest iterations to 3e-9 m/s²
+    assert kernel._kernel is not None and compiled._tree is not None  # both set up by the plants above
     kdata, views, constants = kernel._kernel
     tree, scratch = compiled._tree
     accelerations = np.empty(kernel.nv)
@@ -314,7 +316,7 @@ def bench_plant_routes(params, quick: bool) -> None:
             f"    derivative(), route {plant.route:<20}         "
             f"{per_call(lambda plant=plant: plant.derivative(0.0, x, tau, Fe), batches=batches):6.1f} µs (generalised forces included)"
         )
-    plants = [
+    plants: list[tuple[str, Any]] = [
         ("Pinocchio, compiled (tree, solver, loop)", compiled),
         ("Pinocchio, pin.crba + compiled solver", kernel),
         ("Pinocchio, constraintDynamics", pinocchio),
@@ -330,7 +332,8 @@ def bench_plant_routes(params, quick: bool) -> None:
         simulation.simulate(plant, controller, iso14242_at, 0.01)  # load or compile the kernels
     # On a shared machine a process waits for a core: its CPU time (one thread: BLAS pinned to one) is what an idle
     # core would take, its wall time what this one took. Both, alternated runs; the median and the best.
-    wall, cpu = [[] for _ in plants], [[] for _ in plants]
+    wall: list[list[float]] = [[] for _ in plants]
+    cpu: list[list[float]] = [[] for _ in plants]
     for _ in range(repeats):
         for k, (_, plant) in enumerate(plants):
             start, start_cpu = time.perf_counter(), time.process_time()
@@ -428,7 +431,7 @@ def mj_step_speed(plant, quick: bool) -> tuple[float, float]:
     from hipsim.mujoco_engine._dependency import mujoco
 
     model, data = plant.model, mujoco.MjData(plant.model)
-    data.qpos[:], data.qvel[:] = np.split(plant.initial_state(iso14242_at([0.0])), 2)
+    data.qpos[:], data.qvel[:] = np.split(plant.initial_state(iso14242_at(np.array([0.0]))), 2)
     steps = int(round(1e-3 / model.opt.timestep)) * (200 if quick else 1000)
     elapsed = best_time(lambda: mujoco.mj_step(model, data, steps), repeats=3)
     return steps * model.opt.timestep / elapsed, elapsed / steps
@@ -867,7 +870,7 @@ def bench_long_runs(quick: bool) -> None:
         ),
         (
             f"in pieces, {one_hour // 6} s to CSV, Pinocchio",
-            f"from hipsim.cli.main import main; main(['torques', '--model', 'pinocchio', '--cycles', '{one_hour // 6}', '--out', 'run.csv', '--summary-format', 'json'])",
+            f"from hipsim.cli.main import main; main(['torques', '--engine', 'pinocchio', '--cycles', '{one_hour // 6}', '--out', 'run.csv', '--summary-format', 'json'])",
             one_hour // 6,
         ),
     ]
@@ -875,7 +878,7 @@ def bench_long_runs(quick: bool) -> None:
         rows.append(
             (
                 f"in pieces, {one_hour} s to Parquet, Pinocchio",
-                f"from hipsim.cli.main import main; main(['torques', '--model', 'pinocchio', '--cycles', '{one_hour}', '--out', 'run.parquet', '--summary-format', 'json'])",
+                f"from hipsim.cli.main import main; main(['torques', '--engine', 'pinocchio', '--cycles', '{one_hour}', '--out', 'run.parquet', '--summary-format', 'json'])",
                 one_hour,
             )
         )
@@ -1238,9 +1241,12 @@ def bench_calibration(params, quick: bool) -> None:
     true = _deviated_machine(params)
     t = np.arange(n) / 1000.0
     rng = np.random.default_rng(1)
-    q = sum(
-        np.radians(rng.uniform(2.0, 5.0, 3)) * np.sin(2 * np.pi * f * t[:, None] + rng.uniform(0, 2 * np.pi, 3))
-        for f in (0.31, 0.73, 1.17, 1.91)
+    q = np.sum(  # along the first axis in order: the same sum as Python's
+        [
+            np.radians(rng.uniform(2.0, 5.0, 3)) * np.sin(2 * np.pi * f * t[:, None] + rng.uniform(0, 2 * np.pi, 3))
+            for f in (0.31, 0.73, 1.17, 1.91)
+        ],
+        axis=0,
     )
     L = carriages_for_platform(true, q, 2)
     sensors = attitudes(true, L, q) + rng.normal(0.0, np.radians(0.05), (n, 2, 3))

@@ -14,6 +14,11 @@ A run in one process (``-n 0``) skips the warm-up: there its cost would only mov
 The files that take longest run first, so that the workers finish together
 instead of one waiting on a long file picked up last.
 
+``--expected-skips FILE``: the run fails on any skipped test the file does not
+list (a node id or a prefix of one, one a line, ``#`` comments saying why);
+.ci/run sets it, so that a test silently skipped in CI (a missing dependency, a
+browser not found) is a failure there, not a line in the summary.
+
 ``quick_figures`` (a fixture) and ``figures_undrawn`` (for module fixtures): a
 report's figures built but not drawn, in the tests that read a page's text, its
 JSON or an exit status; drawing was most of the suite's end-to-end time.
@@ -180,11 +185,65 @@ def quick_figures():
         yield
 
 
+def pytest_addoption(parser):
+    parser.addoption(
+        "--expected-skips",
+        metavar="FILE",
+        default=None,
+        help="fail the run on any skipped test this file (node ids or prefixes, one a line) does not list",
+    )
+
+
+def read_expected_skips(path: Path) -> list[str]:
+    """The node ids (or prefixes) a file lists, one a line, without blank lines and ``#`` comments."""
+    lines = (line.split("#", 1)[0].strip() for line in path.read_text().splitlines())
+    return [line for line in lines if line]
+
+
+def unexpected_skips(skipped: list[str], expected: list[str]) -> list[str]:
+    """The skipped node ids that no expected entry names (an entry names itself and the ids it is a prefix of)."""
+    return [nodeid for nodeid in skipped if not any(nodeid.startswith(entry) for entry in expected)]
+
+
+class SkipGuard:
+    """Collects the skipped tests' ids (xdist forwards the workers' reports) and fails the session on an unlisted one."""
+
+    def __init__(self, expected: list[str]) -> None:
+        self.expected = expected
+        self.skipped: list[str] = []
+
+    def pytest_runtest_logreport(self, report: pytest.TestReport) -> None:
+        if report.skipped and not hasattr(report, "wasxfail"):
+            self.skipped.append(report.nodeid)
+
+    def pytest_sessionfinish(self, session: pytest.Session, exitstatus: int) -> None:
+        unexpected = unexpected_skips(self.skipped, self.expected)
+        if unexpected:
+            reporter = session.config.pluginmanager.get_plugin("terminalreporter")
+            if reporter is not None:
+                reporter.write_line(
+                    f"{len(unexpected)} skipped test(s) not listed as expected (--expected-skips):", red=True
+                )
+                for nodeid in unexpected:
+                    reporter.write_line(f"  {nodeid}")
+            if session.exitstatus == pytest.ExitCode.OK:
+                session.exitstatus = pytest.ExitCode.TESTS_FAILED
+
+
 def pytest_configure(config):
-    worker = getattr(config, "workerinput", None)
+    listed = config.getoption("--expected-skips")
+    if listed is not None and getattr(config, "workerinput", None) is None:  # the controller sees every report
+        config.pluginmanager.register(SkipGuard(read_expected_skips(Path(listed))), "hipsim-skip-guard")
+
+
+@pytest.hookimpl(trylast=True)
+def pytest_sessionstart(session):
+    """A worker's warm-up, after pytest-cov has started measuring in it (its own sessionstart): the modules the
+    warm-up imports then count their module-level lines as run, as they do in a serial run."""
+    worker = getattr(session.config, "workerinput", None)
     if worker is None or os.name != "posix":  # the controller, or a serial run
         return
-    warm_up(Path(str(config.rootpath)), int(worker["workerid"].removeprefix("gw")))
+    warm_up(Path(str(session.config.rootpath)), int(worker["workerid"].removeprefix("gw")))
 
 
 def pytest_collection_modifyitems(session, config, items):

@@ -22,7 +22,7 @@ def write(tmp_path, text, name="motors.csv") -> Path:
 def constant_side(run, speed, torque, axial=0.0, acceleration=0.0, inertia=1e-4, cycles=1.0) -> ScrewSide:
     """Screw-shaft demands held constant over the run's 1 s (100 samples of 10 ms): closed forms apply."""
     n = len(run.t)
-    full = lambda x: np.full((n, 3), float(x))  # noqa: E731
+    full = lambda x: np.full((n, 3), float(x))
     return ScrewSide(
         run, cycles, np.full(n, 0.01), full(speed), full(acceleration), full(torque), full(axial), full(inertia)
     )

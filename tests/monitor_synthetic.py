@@ -65,7 +65,7 @@ def write_snapshot(
             0.5 * hipsim.analyse(params.replace(hip_mu=each), trajectory, lever_spin=True).torques.total
             for each in station_mu
         )
-        extra = {}
+        extra: dict[str, np.ndarray] = {}
     elif station_loads is None:
         tau = hipsim.analyse(machine, trajectory, lever_spin=True).torques.total
         extra = {}

@@ -21,9 +21,12 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from support import given
 
 from hipsim.analytic.inverse_kinematics import slider_heights
 from hipsim.control import AugmentedPD, ReducedPlant, simulate
+from hipsim.engine import Plant
+from hipsim.machine.parameters import Parameters
 from hipsim.motion.trajectories import Trajectory
 from hipsim.rig.logs.log import MeasuredLog
 
@@ -86,7 +89,7 @@ class PlantRun:
     qdd: np.ndarray  # the plant's acceleration at t_k under the torque held from t_k
     tau: np.ndarray  # the torque held over [t_k, t_k+1)
     Fe: np.ndarray
-    params: object
+    params: Parameters
 
     @property
     def tau_centred(self) -> np.ndarray:
@@ -105,9 +108,12 @@ def plant_run(
     if plant == "pinocchio":
         from hipsim.closed_chain.plant import PinocchioPlant
 
-        inner = PinocchioPlant(true)
+        pinocchio = PinocchioPlant(true)
+        inner: Plant = pinocchio
+        platform_rate = pinocchio.nq + given(pinocchio.chain.layout).platform_v[0]  # the platform's rates in dx/dt
     else:
         inner = ReducedPlant(true)
+        platform_rate = None
     recording = _Recording(inner)
     controller = AugmentedPD(model, desired_at, servo_rate, duration)
     sim = simulate(recording, controller, desired_at, duration, servo_rate=servo_rate)
@@ -115,10 +121,7 @@ def plant_run(
     qdd = np.empty_like(sim.q)
     for k, x in enumerate(recording.states):
         rate = inner.derivative(sim.t[k], x, sim.tau[k], Fe[k])
-        if plant == "pinocchio":
-            qdd[k] = rate[inner.nq + inner.chain.layout.platform_v[0]] * true.angle_signs
-        else:
-            qdd[k] = rate[3:]
+        qdd[k] = rate[platform_rate] * true.angle_signs if platform_rate is not None else rate[3:]
     return PlantRun(sim.t, sim.q, sim.qd, qdd, sim.tau, Fe, true)
 
 

@@ -2,9 +2,20 @@
 
 from __future__ import annotations
 
+from typing import TypeVar
+
 import numpy as np
 
 from hipsim.motion.trajectories import Trajectory, iso14242_angles, iso14242_load
+
+_T = TypeVar("_T")
+
+
+def given(value: _T | None) -> _T:
+    """``value``, which the test expects to be there (a regex match, an optional field): fails on None, narrows the type."""
+    assert value is not None
+    return value
+
 
 #: Every friction coefficient on, U/S-joint friction (zero by default) included, for Parameters.replace.
 ALL_FRICTION = dict(

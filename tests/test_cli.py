@@ -11,6 +11,7 @@ from contextlib import redirect_stderr, redirect_stdout
 
 import numpy as np
 import pytest
+from fake_clock import FakeClock
 
 from hipsim.cli.main import main
 from hipsim.results import column_names
@@ -100,32 +101,35 @@ def test_torques_from_trajectory_file(tmp_path, capsys):
 
 
 @pytest.mark.parametrize(
-    "args, message",
+    ("args", "message"),
     [
         (["torques", "--set", "lever.length_mm=100"], "key 'lever.length_mm': lever of 100 mm cannot reach"),
         (["torques", "--set", "lever.colour=3"], "key 'lever.colour': unknown key"),
         (["torques", "--params", "missing.toml"], "missing.toml: no such parameter file"),
         (["torques", "--trajectory", "missing.csv"], "missing.csv: no such trajectory file"),
         (["torques", "--trajectory", "x.csv", "--rate", "10"], "--rate applies to the built-in cycle"),
-        (["torques", "--rate", "-5"], "rate must be a positive number"),
+        (["torques", "--rate", "-5"], "--rate -5 Hz: sample rate must be above 0 and at most 1e+06 Hz"),
         (["torques", "--out", "no/such/dir/x.csv"], "folder 'no/such/dir' does not exist"),
         (["torques", "--trajectory", "{far}"], "far.csv, t = 0.02 s, line 4: pose out of reach"),
         (["torques", "--trajectory", "{allfar}", "--flag-bad-poses"], "all 7 samples are out of reach or singular"),
         (["torques", "--out", "{tmp}"], "it is a folder"),
-        (["torques", "--rate", "1e9"], "at most 100,000,000 are run in one go"),
+        (["torques", "--rate", "1e9"], "--rate 1e+09 Hz: sample rate must be above 0 and at most 1e+06 Hz"),
         (["torques", "--set", "platform.heights_mm=[490, 899]"], "platform 1 must be the upper one"),
-        (["simulate", "--servo-rate", "0"], "key 'control.servo_rate_Hz': must be positive"),
-        (["simulate", "--torque-limit", "-1"], "key 'control.torque_limit_Nmm': must be positive"),
+        (["simulate", "--servo-rate", "0"], "--servo-rate 0 Hz: servo rate must be above 0"),
+        (["simulate", "--torque-limit", "-1"], "--torque-limit -1 N·mm: motor torque limit must be above 0 N·mm"),
         (["simulate", "--step", "5"], "longer than the servo period"),
         (["simulate", "--rate", "7"], "--rate does not apply to simulate"),
-        (["simulate", "--cycles", "0"], "cycles must be a positive number"),
-        (["workspace", "--gamma", "a,b"], "--gamma: expected comma-separated angles"),
-        (["workspace", "--deltas", "0:nan:1"], "--deltas: expected START:STOP:STEP"),
+        (["simulate", "--cycles", "0"], "--cycles 0 cycles: number of built-in cycles must be above 0"),
+        (["workspace", "--gamma", "a,b"], "--gamma 'a,b': expected a number in deg"),
+        (["workspace", "--deltas", "0:nan:1"], "--deltas '0:nan:1': nan deg: the offsets"),
         (["workspace", "--deltas", "0:180:1e-9"], "asks for more than 100,000 offsets"),
-        (["workspace", "--deltas=-1e300:1e300:1e299"], "offsets must lie within ±180°"),
-        (["workspace", "--gamma", "1e9"], "angles must lie within ±180°"),
-        (["workspace", "--gamma", ""], "--gamma: expected comma-separated angles"),
-        (["workspace", "--gamma", "1_0"], "--gamma: expected comma-separated angles"),
+        (
+            ["workspace", "--deltas=-1e300:1e300:1e299"],
+            "the offsets δ A:B:STEP must be at least -180 and at most 180 deg",
+        ),
+        (["workspace", "--gamma", "1e9"], "the rotations γ must be at least -180 and at most 180 deg"),
+        (["workspace", "--gamma", ""], "--gamma '': expected a number in deg"),
+        (["workspace", "--gamma", "1_0"], "--gamma '1_0': expected a number in deg"),
         (["workspace", "--out", "/proc/hipsim"], "cannot make the output folder"),
         (["report", "--out", "/proc/hipsim"], "cannot make the output folder"),
         (["view", "--cycles", "0.003", "--html", "{tmp}/x.html"], "at least 6 are needed to interpolate"),
@@ -147,8 +151,12 @@ def test_errors_are_one_line(tmp_path, args, message):
 
 
 def error_lines(err: str) -> list[str]:
-    """Standard error's lines but for the note a machine's first run gives while numba compiles (its cache is cold in a fresh clone)."""
-    return [line for line in err.strip().splitlines() if not line.endswith("compiling (first run only) ...")]
+    """Standard error's lines but for warnings and the note a machine's first run gives while numba compiles (its cache is cold)."""
+    return [
+        line
+        for line in err.strip().splitlines()
+        if not line.endswith("compiling (first run only) ...") and not line.startswith("hipsim: warning:")
+    ]
 
 
 def far_trajectory(folder, gamma=(0, 60, 120, 180, 120, 60, 30, 10)):
@@ -427,7 +435,7 @@ def test_radians_under_a_degree_header_are_refused(tmp_path):
 
 
 @pytest.mark.parametrize(
-    "args, message",
+    ("args", "message"),
     [
         (["--columns", "time=t"], "--columns applies to a --trajectory file, not to the built-in cycle"),
         (["--resample", "100", "--side", "left"], "--side, --resample apply to a --trajectory file"),
@@ -437,8 +445,8 @@ def test_radians_under_a_degree_header_are_refused(tmp_path):
             "the side (left or right hip) applies to OpenSim .mot/.sto files",
         ),
         (["--trajectory", "{csv}", "--frequency", "2", "--period", "0.5"], "give --frequency or --period, not both"),
-        (["--trajectory", "{csv}", "--frequency", "-1"], "cycle frequency must be a positive number of Hz"),
-        (["--trajectory", "{csv}", "--resample", "0"], "resample rate must be a positive number of Hz"),
+        (["--trajectory", "{csv}", "--frequency", "-1"], "--frequency -1 Hz: cycle frequency must be above 0"),
+        (["--trajectory", "{csv}", "--resample", "0"], "--resample 0 Hz: even sample rate for a file must be above 0"),
         (
             ["--trajectory", "{csv}", "--load-column", "Fe_N", "--body-weight", "736"],
             "more than 500 kg; for a weight in newtons write 736N",
@@ -453,7 +461,7 @@ def test_radians_under_a_degree_header_are_refused(tmp_path):
             "no column 'FE' (mapped to alpha)",
         ),
         (["--trajectory", "{csv}", "--load-column", "Fz"], "both 'Fe_N' and the load column 'Fz' are given"),
-        (["--period", "0"], "--period must be a positive number of seconds"),
+        (["--period", "0"], "--period 0 s: cycle period must be above 0"),
     ],
 )
 def test_trajectory_option_mistakes_are_one_line(tmp_path, args, message):
@@ -478,7 +486,7 @@ def test_frequency_and_period_rescale_a_recorded_cycle(tmp_path, capsys):
         "t_s,alpha_deg,beta_deg,gamma_deg,Fe_N\n"
         + "".join(f"{float(x)!r},{float(a)!r},2.0,-3.0,800\n" for x, a in zip(t, alpha))
     )
-    columns = {}
+    columns: dict[tuple, dict[str, np.ndarray]] = {}
     for extra in ([], ["--frequency", "2"], ["--period", "0.5"]):
         out = tmp_path / f"o{len(columns)}.csv"
         assert main(["torques", "--trajectory", str(path), "--out", str(out), *extra]) == 0
@@ -532,19 +540,17 @@ def test_opensim_file_with_a_flipped_load_column_in_percent_body_weight(tmp_path
 
 
 def test_a_slow_pinocchio_warm_up_is_announced_as_compiling(monkeypatch, capsys):
-    """The closure kernels' first-run compile is said on standard error; a quick load says nothing."""
-    import time
-
+    """The closure kernels' first-run compile is said on standard error; a quick load says nothing (on an injected
+    clock: the warm-up takes 1.5 s of it, or none)."""
     import hipsim.closed_chain.dynamics as closed_chain
     from hipsim.cli.common import load_pinocchio_kernels as _load_pinocchio_kernels
 
-    monkeypatch.setattr(
-        closed_chain, "warm_up", lambda: time.sleep(1.5)
-    )  # as long as a compilation, as far as the note can tell
-    _load_pinocchio_kernels()
+    clock = FakeClock()
+    monkeypatch.setattr(closed_chain, "warm_up", lambda: clock.advance(1.5))  # as long as a compilation, for the note
+    _load_pinocchio_kernels(clock)
     assert capsys.readouterr().err == "Pinocchio model: compiling (first run only) ...\n"
-    monkeypatch.setattr(closed_chain, "warm_up", lambda: None)
-    _load_pinocchio_kernels()
+    monkeypatch.setattr(closed_chain, "warm_up", lambda: clock.advance(0.5))
+    _load_pinocchio_kernels(clock)
     assert capsys.readouterr().err == ""
 
 

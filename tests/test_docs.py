@@ -23,6 +23,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from support import given
 
 ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"
@@ -237,8 +238,9 @@ def public_definitions() -> list[tuple[str, int, str, bool]]:
                 if isinstance(node, ast.AnnAssign)
                 else []
             )
-            if any(isinstance(t, ast.Name) and t.id == "__all__" for t in targets) and node.value is not None:
-                names = list(ast.literal_eval(node.value))
+            value = node.value if isinstance(node, (ast.Assign, ast.AnnAssign)) else None
+            if any(isinstance(t, ast.Name) and t.id == "__all__" for t in targets) and value is not None:
+                names = list(ast.literal_eval(value))
         defined = {n.name: n for n in tree.body if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef))}
         for name in names:
             if name in defined:  # names imported from elsewhere are checked where they are defined
@@ -299,7 +301,7 @@ def test_a_broken_link_fails_the_build(tmp_path):
     (tmp_path / "docs").mkdir()
     (tmp_path / "docs" / "index.md").write_text("# Home\n\n## Here\n")
     config = (ROOT / "mkdocs.yml").read_text(encoding="utf-8")
-    validation = re.search(r"(?ms)^validation:.*?(?=^\S)", config).group(0)
+    validation = given(re.search(r"(?ms)^validation:.*?(?=^\S)", config)).group(0)
     for link in ("[a](missing.md)", "[a](index.md#nowhere)"):
         (tmp_path / "docs" / "other.md").write_text(f"# Other\n\n{link}\n")
         (tmp_path / "mkdocs.yml").write_text(f"site_name: t\nstrict: true\n{validation}")

@@ -14,7 +14,7 @@ def test_atomic_write_leaves_old_file_on_failure(tmp_path):
     target.write_text("old")
 
     with pytest.raises(TypeError):  # fails half-way, after the temporary file is open
-        write_atomic(target, 12345)
+        write_atomic(target, 12345)  # type: ignore[arg-type]  # neither text nor bytes, on purpose
     assert target.read_text() == "old"
     assert list(tmp_path.iterdir()) == [target]
 
@@ -98,10 +98,14 @@ class Refused(Exception):
 
 def test_output_folder_takes_back_the_folders_a_failed_run_made(tmp_path):
     out = tmp_path / "a" / "b" / "c"
-    with pytest.raises(Refused):
+
+    def refused_run():
         with output_folder(out) as folder:
             assert folder == out and out.is_dir()
             raise Refused
+
+    with pytest.raises(Refused):
+        refused_run()
     assert list(tmp_path.iterdir()) == []
 
 
@@ -125,10 +129,13 @@ def test_output_folder_never_removes_a_folder_that_was_there(tmp_path):
 
 
 def test_output_folder_keeps_what_was_written_and_the_folders_holding_it(tmp_path):
-    with pytest.raises(Refused):
+    def refused_run():
         with output_folder(tmp_path / "a" / "b") as folder:
             write_atomic(folder / "half.csv", "x")
             raise Refused
+
+    with pytest.raises(Refused):
+        refused_run()
     assert (tmp_path / "a" / "b" / "half.csv").read_text() == "x"
 
 
@@ -228,7 +235,7 @@ def test_urdf_to_standard_output(tmp_path):
 
 
 @pytest.mark.parametrize(
-    "args, message",
+    ("args", "message"),
     [
         (["torques", "--out", "/dev/stderr"], "/dev/stderr: names one of this process's open files"),
         (["torques", "--out", "/dev/fd/1"], None),  # standard output by another name: written there

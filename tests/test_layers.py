@@ -21,11 +21,23 @@ PACKAGE = Path(__file__).resolve().parents[1] / "hipsim"
 
 # --- The rules --------------------------------------------------------------------------
 
-#: The foundation: errors, frozen arrays, files, tables and set-up fingerprints. Its modules may import one another.
+#: The foundation: errors, frozen arrays, files, tables, set-up fingerprints and the clock. Its modules may import one another.
 #: ``plausibility`` (the ranges of a hip simulator's data and the unit slips, issue 38) is here because the
 #: machine's readers (drive files) and the motion's (trajectories, loads), which may not import each other, share it.
 FOUNDATION = frozenset(
-    {"exceptions", "arrays", "files", "tables", "fingerprint", "version", "result_table", "plausibility", "records"}
+    {
+        "exceptions",
+        "arrays",
+        "files",
+        "tables",
+        "fingerprint",
+        "version",
+        "result_table",
+        "plausibility",
+        "records",
+        "clock",
+        "fit_checks",
+    }
 )
 #: The laws every model shares (vectors, friction, units, the screw transmission, numba's plumbing).
 PHYSICS = FOUNDATION | {"physics"}
@@ -162,10 +174,10 @@ def imports(root: Path) -> list[Import]:
                 if node.level:
                     if node.level > len(here):
                         continue  # above the package: not ours
-                    base = here[: len(here) - node.level + 1] + (node.module.split(".") if node.module else [])
+                    parts = here[: len(here) - node.level + 1] + (node.module.split(".") if node.module else [])
                 else:
-                    base = node.module.split(".")
-                base = ".".join(base)
+                    parts = node.module.split(".") if node.module else []
+                base = ".".join(parts)
                 # "from a import b" imports the module a.b when there is one, else a name of a.
                 targets = [
                     f"{base}.{alias.name}" if f"{base}.{alias.name}" in modules else base for alias in node.names
@@ -219,7 +231,11 @@ def cycles(root: Path) -> list[frozenset[str]]:
     for imp in imports(root):
         if imp.target != imp.source:
             graph[imp.source].add(imp.target)
-    index, low, stack, on_stack, found = {}, {}, [], set(), []
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    found: list[frozenset[str]] = []
 
     def visit(node):
         index[node] = low[node] = len(index)
@@ -367,7 +383,7 @@ def test_known_exceptions_still_exist():
     assert not gone_cycles, f"these circles are gone (or changed): delete them from KNOWN_CYCLES: {gone_cycles}"
 
 
-@pytest.mark.parametrize("package, forbidden", FORBIDDEN_THIRD_PARTY)
+@pytest.mark.parametrize(("package", "forbidden"), FORBIDDEN_THIRD_PARTY)
 def test_the_analytic_side_never_imports_pinocchio(package, forbidden):
     found = forbidden_imports(PACKAGE, package, forbidden)
     assert not found, found

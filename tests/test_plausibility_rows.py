@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from monitor_synthetic import write_snapshot
+from support import given
 from trajectory_files import csv_text
 
 import hipsim
@@ -78,26 +79,26 @@ def test_unit_slips_by_hand():
     assert unit_slip(5.0, 0.01, 300.0) is None and unit_slip(1e9, 0.01, 300.0) is None
     # A 1 s gait at 100 Hz in ms read as s: a step of 10 s over 990 s.
     t = np.arange(100) * 10.0
-    assert "milliseconds" in time_slip(t, "s") and time_slip(t / 1000, "s") is None
+    assert "milliseconds" in given(time_slip(t, "s")) and time_slip(t / 1000, "s") is None
     # The same gait in s read as ms: 0.99 ms.
-    assert "seconds" in time_slip(np.arange(100) * 1e-5, "ms") and time_slip(np.arange(100) * 1e-2, "ms") is None
+    assert "seconds" in given(time_slip(np.arange(100) * 1e-5, "ms")) and time_slip(np.arange(100) * 1e-2, "ms") is None
     # A 1 kHz log of an hour in s is plausible (a step of 1 ms).
     assert time_slip(np.arange(0, 3600, 1e-3)[:5000], "s") is None
-    assert epoch_warning(EPOCH).startswith("the times are Unix time stamps (from 2024-11-27 09:33:20 UTC)")
+    assert given(epoch_warning(EPOCH)).startswith("the times are Unix time stamps (from 2024-11-27 09:33:20 UTC)")
     assert epoch_warning(1500.0) is None
-    assert "kN" in load_slip(3.0)[0] and load_slip(3000.0) == (None, None)
+    assert "kN" in given(load_slip(3.0)[0]) and load_slip(3000.0) == (None, None)
     assert load_slip(50.0)[1] is not None and load_slip(9000.0)[1] is not None
-    assert "1000 times" in load_slip(3e6, "kN")[0]
+    assert "1000 times" in given(load_slip(3e6, "kN")[0])
     # The ISO cycle's angle ranges (43°, 11°, 12°) written in radians: 0.75, 0.19, 0.21 "degrees".
-    k, as_degrees = radians_slip(np.radians([43.0, 11.0, 12.0]))
+    k, as_degrees = given(radians_slip(np.radians([43.0, 11.0, 12.0])))
     assert k == 0 and as_degrees == pytest.approx(43.0)
     assert radians_slip(np.array([43.0, 11.0, 12.0])) is None
     assert radians_slip(np.radians([2.0, 1.0, 1.0])) is None  # 2° as radians: no gait's range either
     assert (
-        "1000 times" in drive_slip("peak_torque", [1910.0, 900.0], "Nm")
+        "1000 times" in given(drive_slip("peak_torque", [1910.0, 900.0], "Nm"))
         and drive_slip("peak_torque", [1.91], "Nm") is None
     )
-    assert drive_slip("lead", 1e-5, "mm", 1e-3).startswith("0.01 mm is 1/1000 of")
+    assert given(drive_slip("lead", 1e-5, "mm", 1e-3)).startswith("0.01 mm is 1/1000 of")
 
 
 # --- Row: one snapshot of nine with torques in N·m, through the monitor ----------------------------------------------
@@ -159,7 +160,7 @@ def files(tmp_path_factory):
 
 
 @pytest.mark.parametrize(
-    "command, output",
+    ("command", "output"),
     [("torques", ["--out", "{dir}/t.csv"]), ("feasible", []), ("view", ["--html", "{dir}/v.html"])],
 )
 def test_milliseconds_under_t_s_are_refused_and_nothing_is_written(command, output, files, tmp_path, capsys):

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import jsonschema
 import numpy as np
@@ -36,7 +37,7 @@ class _Outer(Record):
 
 
 def _outer(**changes) -> _Outer:
-    base = dict(
+    base: dict[str, Any] = dict(
         name="a",
         count=3,
         flag=True,

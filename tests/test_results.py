@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from support import given
 
 import hipsim
 from hipsim.results import column_names
@@ -57,7 +58,7 @@ def test_summary_values(result):
 def test_readme_library_example_runs(tmp_path, monkeypatch):
     """The README's library example, run as written."""
     text = README.read_text()
-    block = re.search(r"## Library\n\n```python\n(.*?)```", text, re.S).group(1)
+    block = given(re.search(r"## Library\n\n```python\n(.*?)```", text, re.S)).group(1)
     monkeypatch.chdir(tmp_path)
     exec(compile(block, "README.md", "exec"), {})
     assert (tmp_path / "iso_2kHz.csv").stat().st_size > 100_000
@@ -65,7 +66,7 @@ def test_readme_library_example_runs(tmp_path, monkeypatch):
 
 def test_ci_runs_the_readme_test_command():
     """The README's second command is what CI runs, verbatim."""
-    commands = re.search(r"## Two commands.*?```sh\n(.*?)```", README.read_text(), re.S).group(1)
+    commands = given(re.search(r"## Two commands.*?```sh\n(.*?)```", README.read_text(), re.S)).group(1)
     lines = [line for line in commands.splitlines() if line and not line.startswith("#")]
     assert len(lines) == 2 and "hipsim torques" in lines[0] and "pytest" in lines[1]
     ci = (README.parent / ".ci" / "run").read_text()

@@ -85,7 +85,7 @@ class Entry:
         try:
             module = importlib.import_module(self.module)
         except ImportError as error:
-            if self.package is not None and error.name == self.package:
+            if self.package is not None and self.extra is not None and error.name == self.package:
                 raise MissingDependencyError(self.package, self.extra, self.title) from None
             raise
         return getattr(module, self.attribute)

@@ -131,7 +131,7 @@ def stream_run(
     runner = PieceRunner(params, source, model, on_error, lever_spin)
     if chunk is None:
         chunk = runner.engine.pieces.chunk
-    summary = None
+    summary: Summary | None = None
     n = len(source)
     for start, stop in pieces(source, chunk):
         run = runner.run(start, source.piece(start, stop))
@@ -145,7 +145,7 @@ def stream_run(
             write(columns)
         if progress is not None:
             progress(stop, n)
-    if not summary.kept:
+    if summary is None or not summary.kept:
         raise PoseError(
             f"all {n} samples are out of reach or singular; nothing to compute", source.time(0), 0, source=source.name
         )

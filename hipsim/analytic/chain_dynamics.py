@@ -43,7 +43,7 @@ from ..results import Torques
 from .chain_kinematics import chain_accelerations, chain_jacobian, chain_positions
 from .inverse_kinematics import SINGULAR_COND_INV, Kinematics
 from .stations import follower_motion, platform_motion
-from .virtual_work import _euler_moment, _lever_inertia, _lever_joint_friction, _platform_axes
+from .virtual_work import _euler_moment, _lever_inertia, _lever_joint_friction, _platform_axes, torques_from_parts
 
 __all__ = [
     "ChainMotion",
@@ -221,19 +221,8 @@ def chain_inverse_dynamics(
     tau_s = 2 * scale * (params.slider_mass * (-params.gravity - Ldd))  # both sliders of each carriage
     tau_L = angle_from_travel(params.screw_inertia, p) * Ldd
     tau_f = laws.screw_friction(f, motor_speed) + parts["f"]
-    tau = tau_m + tau_l + tau_s + tau_L + tau_f
     assert tau_mf_controlled is not None
-    return Torques(
-        total=tau.T,
-        platforms=tau_m.T,
-        levers=tau_l.T,
-        sliders=tau_s.T,
-        screws=tau_L.T,
-        friction=tau_f.T,
-        motor_speed=motor_speed.T,
-        friction_moment=np.sqrt(dot(tau_mf_controlled, tau_mf_controlled)),
-        friction_power=friction_power,
-    )
+    return torques_from_parts(tau_m, tau_l, tau_s, tau_L, tau_f, motor_speed, tau_mf_controlled, friction_power)
 
 
 def chain_slider_motion(params: Parameters, motion: ChainMotion) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

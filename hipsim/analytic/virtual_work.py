@@ -71,6 +71,7 @@ __all__ = [
     "screw_friction_torque",
     "screw_torques",
     "slider_torques",
+    "torques_from_parts",
     "torques_of",
 ]
 
@@ -416,13 +417,25 @@ PARTS = {
 }
 
 
-def torques_of(params: Parameters, m: MotionTerms) -> Torques:
-    """:func:`inverse_dynamics` from the motion's terms (:func:`motion_terms`, of a machine of the same geometry)."""
-    tau_m = platform_torques(params, m)
-    tau_l = lever_torques(params, m)
-    tau_s = slider_torques(params, m)
-    tau_L = screw_torques(params, m)
-    tau_f, tau_mf, friction_power = _friction(params, m)
+def torques_from_parts(
+    tau_m: np.ndarray,
+    tau_l: np.ndarray,
+    tau_s: np.ndarray,
+    tau_L: np.ndarray,
+    tau_f: np.ndarray,
+    motor_speed: np.ndarray,
+    tau_mf: np.ndarray,
+    friction_power: np.ndarray,
+) -> Torques:
+    """The :class:`~hipsim.results.Torques` of the analytic models (this one and the per-chain one) from their parts.
+
+    Args:
+        tau_m, tau_l, tau_s, tau_L, tau_f: the platforms', levers', sliders', screws' and friction's motor
+            torques in [N·m], components first, (3, N); the total is their sum.
+        motor_speed: the motors' speeds in [rad/s], (3, N).
+        tau_mf: the central chain's friction moment on the platform the trajectory gives, in [N·m], (3, N).
+        friction_power: the power all friction dissipates in [W], (N,).
+    """
     tau = tau_m + tau_l + tau_s + tau_L + tau_f
     return Torques(
         total=tau.T,
@@ -431,9 +444,24 @@ def torques_of(params: Parameters, m: MotionTerms) -> Torques:
         sliders=tau_s.T,
         screws=tau_L.T,
         friction=tau_f.T,
-        motor_speed=m.motor_speed.T,
+        motor_speed=motor_speed.T,
         friction_moment=np.sqrt(dot(tau_mf, tau_mf)),
         friction_power=friction_power,
+    )
+
+
+def torques_of(params: Parameters, m: MotionTerms) -> Torques:
+    """:func:`inverse_dynamics` from the motion's terms (:func:`motion_terms`, of a machine of the same geometry)."""
+    tau_f, tau_mf, friction_power = _friction(params, m)
+    return torques_from_parts(
+        platform_torques(params, m),
+        lever_torques(params, m),
+        slider_torques(params, m),
+        screw_torques(params, m),
+        tau_f,
+        m.motor_speed,
+        tau_mf,
+        friction_power,
     )
 
 

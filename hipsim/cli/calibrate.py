@@ -9,7 +9,9 @@ command takes (:mod:`hipsim.stations.calibration_file`).
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
+import sys
 from pathlib import Path
 
 from ..exceptions import HipsimError
@@ -44,7 +46,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "--validate", action="append", default=[], metavar="FILE", help="held-out log to check on (repeatable)"
     )
     p.add_argument(
-        "--prior",
+        "--chain-prior",
+        dest="prior",
         type=float,
         default=0.5,
         metavar="MM",
@@ -58,6 +61,12 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     )
     p.add_argument("--out", required=True, metavar="FILE", help="parameter TOML to write (.toml)")
     p.add_argument("--json", metavar="FILE", help="also write the summary as JSON")
+    p.add_argument(
+        "--force",
+        action="store_true",
+        help="write an implausible calibration anyway (residuals beyond 3x the sensors' noise, a chain beyond 5 prior σ, "
+        "a held-out log it does not predict), its warning kept in the file's provenance",
+    )
     add_summary_format(p, "what to print: tables (default) or the summary as JSON")
     add_provenance_options(p)
     p.set_defaults(run=run)
@@ -76,6 +85,11 @@ def _check(args) -> None:
     check_output(args.out)
     if args.json:
         check_output(args.json)
+    from ..fit_checks import duplicate_inputs
+
+    twice = duplicate_inputs([*args.log, *args.validate])
+    if twice:
+        raise HipsimError(f"--log/--validate: {twice}")
     inputs = {str(Path(f).resolve()) for f in args.log + args.validate}
     for path in (args.out, args.json):
         if path and str(Path(path).resolve()) in inputs:
@@ -152,8 +166,10 @@ def run(args) -> int:
     """Calibrate, check on held-out logs, write the parameter file; exit status 0."""
     import json
 
+    from ..exceptions import CalibrationError
     from ..files import json_ready, write_atomic
     from ..stations.calibration import calibrate, prediction_errors
+    from ..stations.calibration_check import check_calibration
     from ..stations.calibration_file import write_calibrated
     from ..stations.logs import read_calibration_log
 
@@ -163,7 +179,7 @@ def run(args) -> int:
     logs = [read_calibration_log(path, params.lead) for path in args.log]
     held = [read_calibration_log(path, params.lead) for path in args.validate]
     calibration = calibrate(logs, params, prior=args.prior * 1e-3, offsets=offsets)
-    validation = []
+    validation: list[dict] = []
     for log in held:
         import numpy as np
 
@@ -172,19 +188,32 @@ def run(args) -> int:
         validation.append(
             {"log": log.name, "rms": np.sqrt((after**2).mean(axis=0)), "start_rms": np.sqrt((before**2).mean(axis=0))}
         )
+    check = check_calibration(calibration, logs, held, [v["rms"] for v in validation])
+    if not check.plausible:
+        if not args.force:
+            raise CalibrationError(
+                f"{check.message()}; nothing written (--force writes it, the warning kept in its provenance)"
+            )
+        print(f"hipsim: warning: {check.message()} (written with --force)", file=sys.stderr)
     provenance = page_provenance(args, log=args.log, validation=args.validate or None)
     from ..rig.identification.identified_file import FileProvenance
 
-    record = FileProvenance.from_dict(provenance.as_dict())
+    record = dataclasses.replace(FileProvenance.from_dict(provenance.as_dict()), warnings=check.findings)
     summary = _summary(calibration, validation)
     path = write_calibrated(args.out, calibration, validation, record, start=args.params or "the published machine")
-    document = {"summary": summary, "out": str(path), "provenance": provenance.as_dict()}
+    document = {
+        "summary": summary,
+        "self_check": check.to_json(),
+        "out": str(path),
+        "provenance": provenance.as_dict(),
+    }
     if args.json:
         write_atomic(args.json, json.dumps(json_ready(document), indent=2) + "\n")
     if args.summary_format == "json":
         print_json(document)
     else:
         _print(summary)
+        print(check.verdict(len(held)))
         print(f"wrote {path}")
     return 0
 

@@ -10,6 +10,7 @@ import argparse
 import json
 import sys
 
+from ..clock import Clock, note_if_slow
 from ..exceptions import HipsimError
 from .motion_options import builtin_frequency
 
@@ -141,19 +142,16 @@ def note(message: str) -> None:
     print(message, file=sys.stderr, flush=True)
 
 
-def load_pinocchio_kernels() -> None:
-    """Load the Pinocchio model's compiled kernels before a run, saying so when numba compiles them (a machine's first run)."""
-    import threading
+def load_pinocchio_kernels(clock: Clock | None = None) -> None:
+    """Load the Pinocchio model's compiled kernels before a run, saying so when numba compiles them (a machine's first run).
 
+    Args:
+        clock: the clock of the note's one-second timer (:mod:`hipsim.clock`; a test passes its own).
+    """
     from ..closed_chain.dynamics import warm_up
 
-    timer = threading.Timer(1.0, note, args=("Pinocchio model: compiling (first run only) ...",))
-    timer.daemon = True
-    timer.start()
-    try:
+    with note_if_slow("Pinocchio model: compiling (first run only) ...", note, clock=clock):
         warm_up()
-    finally:
-        timer.cancel()
 
 
 def desired_motion(args, trajectory):

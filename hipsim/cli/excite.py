@@ -56,7 +56,7 @@ def add_parser(subparsers) -> None:
     )
     excite.add_argument("--min-cond-inv", type=float, metavar="X", help="smallest singularity measure (default 0.25)")
     excite.add_argument("--max-angle", type=float, metavar="DEG", help="largest |angle| in degrees (default 30)")
-    excite.add_argument("--load", metavar="MIN:MAX", help="load range in N (default 300:3000)")
+    excite.add_argument("--load-range", dest="load", metavar="MIN:MAX", help="load range in N (default 300:3000)")
     excite.add_argument(
         "--for",
         dest="target",
@@ -99,7 +99,7 @@ def run(args) -> int:
     if args.max_angle is not None:
         changes["max_angle"] = math.radians(args.max_angle)
     if args.load is not None:
-        changes["min_load"], changes["max_load"] = numbers(args.load, ":", "--load", "MIN:MAX in N", count=2)
+        changes["min_load"], changes["max_load"] = numbers(args.load, ":", "--load-range", "MIN:MAX in N", count=2)
     for option, key in (
         ("--max-speed", "max_speed"),
         ("--max-acceleration", "max_acceleration"),
@@ -110,7 +110,7 @@ def run(args) -> int:
         if key in changes and not (math.isfinite(changes[key]) and changes[key] > 0):
             raise ArgumentError(option, getattr(args, key), "a positive number")
     if "min_load" in changes and not 0 <= changes["min_load"] < changes["max_load"]:
-        raise ArgumentError("--load", args.load, "MIN:MAX with 0 <= MIN < MAX")
+        raise ArgumentError("--load-range", args.load, "MIN:MAX with 0 <= MIN < MAX")
     limits = Limits.for_machine(params, **changes)
     if args.target == "calibration":
         from .calibrate import run_excite_calibration

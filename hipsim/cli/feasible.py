@@ -146,7 +146,7 @@ class FeasibilityWatch:
 
         found = list(self.found.values())
         for i, first in enumerate(self.stroke_t):
-            if first is not None:
+            if first is not None and self.high is not None and self.low is not None:  # set with the first crossing
                 found.append(Crossing("stroke", i + 1, first, float(self.high[0, i] - self.low[0, i]), self.stroke))
         return sorted(found, key=lambda c: -c.excess)
 

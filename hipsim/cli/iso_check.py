@@ -32,7 +32,7 @@ _RIG_COLUMNS = ("tau_1_Nmm", "current_1_A")
 
 
 def parse_tolerance_option(text: str | None):
-    """``--tolerance`` text → :class:`hipsim.motion.iso_compliance.Tolerances` (the defaults when None)."""
+    """``--iso-tolerance`` text → :class:`hipsim.motion.iso_compliance.Tolerances` (the defaults when None)."""
     from ..motion.iso_compliance import DEFAULT_TOLERANCES, parse_tolerances
 
     if text is None:
@@ -40,7 +40,7 @@ def parse_tolerance_option(text: str | None):
     try:
         return parse_tolerances(text)
     except ArgumentError as error:
-        raise HipsimError(f"--tolerance: expected {error.expected}, got {error.value!r}") from None
+        raise HipsimError(f"--iso-tolerance: expected {error.expected}, got {error.value!r}") from None
 
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
@@ -64,7 +64,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     add_trajectory_options(iso)
     iso.add_argument("--torque-constant", type=float, metavar="NM_PER_A", help="for a rig log of motor currents")
     iso.add_argument(
-        "--tolerance",
+        "--iso-tolerance",
+        dest="tolerance",
         metavar="SPEC",
         help="alpha=3,beta=3,gamma=3,load=3%%,frequency=0.1 (degrees, N or %% of "
         "3000 N, Hz; unnamed ones keep these defaults)",

@@ -40,6 +40,7 @@ from . import (
     workspace,
 )
 from .motion_options import locate
+from .parser import HipsimParser, UsageError, apply_table, idle_option, rewrite_aliases
 
 __all__ = ["build_parser", "main"]
 
@@ -57,7 +58,7 @@ examples:
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``hipsim`` parser: every command, in the order ``hipsim --help`` lists them."""
-    parser = argparse.ArgumentParser(
+    parser = HipsimParser(
         prog="hipsim",
         description="Kinematics, closed-chain dynamics and control of the 2(3PUS+S) parallel hip joint simulator.",
         epilog=EXAMPLES,
@@ -88,6 +89,7 @@ def build_parser() -> argparse.ArgumentParser:
     calibrate.add_parser(commands)
     monitor.add_parser(commands)
     schema.add_parser(commands)
+    parser.option_warnings = apply_table(parser)  # type: ignore[attr-defined]
     return parser
 
 
@@ -109,8 +111,17 @@ def _join_signed_values(argv: list[str]) -> list[str]:
 def main(argv: list[str] | None = None) -> int:
     """Run ``hipsim`` with ``argv`` (default: the process's arguments) and return the exit status."""
     parser = build_parser()
-    words = _join_signed_values(sys.argv[1:] if argv is None else list(argv))
-    args = parser.parse_args(words)
+    notes: list[str] = parser.option_warnings  # type: ignore[attr-defined]
+    words = rewrite_aliases(_join_signed_values(sys.argv[1:] if argv is None else list(argv)), notes)
+    try:
+        args = parser.parse_args(words)
+        idle = idle_option(words)
+        if idle:  # an option that would do nothing is refused, never ignored
+            raise UsageError(idle)
+    except UsageError as error:  # one line, not argparse's usage block
+        print(f"hipsim: error: {error}", file=sys.stderr)
+        return 2
+    args.option_warnings = notes  # what the option table warned of, for a page's provenance
     args.command_line = ["hipsim", *words]  # what made a page, for its provenance block
     from ..files import exit_on_terminate  # after parsing: --help and --version load no NumPy
 

@@ -72,9 +72,8 @@ def run(args) -> int:
 def add_simulate_options(parser: argparse.ArgumentParser) -> None:
     """The MuJoCo plant's option of ``hipsim simulate``."""
     parser.add_argument(
-        "--mujoco-integrator",
+        "--integrator",
         choices=_INTEGRATORS,
-        default="RK4",
         help="with --plant mujoco: MuJoCo's integrator, stepped at --step (default RK4)",
     )
 

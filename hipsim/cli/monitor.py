@@ -90,8 +90,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         type=float,
         default=DEFAULT_CUTOFF,
         metavar="HZ",
-        help=f"low-pass cutoff (default {DEFAULT_CUTOFF:g} Hz; 0: none)",
+        help=f"low-pass cutoff (default {DEFAULT_CUTOFF:g} Hz)",
     )
+    logs.add_argument("--no-filter", action="store_true", help="no low-pass filter (logs filtered already)")
     logs.add_argument(
         "--rate",
         type=float,
@@ -188,7 +189,7 @@ def run(args) -> int:
         raise HipsimError(
             f"--baseline: expected FROM:TO in cycles, 0 ≤ FROM ≤ TO, e.g. {DEFAULT_BASELINE}, got '{args.baseline}'"
         ) from None
-    cutoff = args.cutoff if args.cutoff and args.cutoff > 0 else None
+    cutoff = None if args.no_filter else args.cutoff
     # Every input is read and checked before the first estimate: nothing is written on bad input.
     params, spin = reference(args.params)
     if args.out:

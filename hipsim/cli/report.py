@@ -39,7 +39,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     add_trajectory_options(report)
     report.add_argument("--out", required=True, metavar="DIR", help="folder to write (created if missing)")
     report.add_argument(
-        "--model",
+        "--engine",
         choices=["auto", *engine_names(optional=False)],
         default="auto",
         help="where joint forces come from (auto: Pinocchio)",
@@ -110,8 +110,8 @@ def run(args) -> int:
     joint_run, notes = None, []
     # auto: the first engine whose runs carry the joint forces (Pinocchio's)
     joint_model = (
-        args.model
-        if args.model != "auto"
+        args.engine
+        if args.engine != "auto"
         else next(n for n in engine_names(optional=False) if engine_entry(n).joint_forces)
     )
     if not engine_entry(joint_model).joint_forces:
@@ -122,7 +122,7 @@ def run(args) -> int:
                 load_pinocchio_kernels()
             joint_run = analyse(params, trajectory, model=joint_model)
         except (ImportError, AttributeError) as error:
-            if args.model != "auto":
+            if args.engine != "auto":
                 raise HipsimError(f"the Pinocchio model is not available ({error})") from None
             notes.append(
                 f"Joint reaction forces are missing: the Pinocchio model is not available ({type(error).__name__}: {error}); torques are from the analytic model."
@@ -157,6 +157,7 @@ def run(args) -> int:
     if args.summary_format == "json":
         from .documents import ReportRun
 
+        assert files.verdict is not None  # write_report always judges the page
         document = ReportRun(
             (joint_run or run).summary(),
             sizing=files.sizing.as_dict() if files.sizing is not None else None,
@@ -170,9 +171,10 @@ def run(args) -> int:
         print_json(document.to_json())
     else:
         print(f"wrote {files.index}" + (f" and {pdf}" if pdf is not None else ""))
-        if passed is not None:
+        if passed is not None and files.sizing is not None:  # passed is the sizing's
+            drive = files.sizing.drive
             print(
-                f"rating check of {files.sizing.drive.name}: {_verdict(passed)}"
+                f"rating check of {drive.name if drive is not None else 'the drive'}: {_verdict(passed)}"
                 + ("" if passed else " (see the sizing table in the report)")
             )
         if bands:

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import dataclasses
 import json
 import math
 import sys
@@ -27,7 +28,7 @@ from .common import (
 
 __all__ = ["add_parser", "run", "run_compare", "run_identify"]
 
-#: The defaults of ``--cutoff`` in [Hz] and ``--tolerance`` in [deg], written out so that the parser loads no signal processing;
+#: The defaults of ``--cutoff`` in [Hz] and ``--angle-tolerance`` in [deg], written out so that the parser loads no signal processing;
 #: they are the library's :data:`hipsim.rig.logs.DEFAULT_CUTOFF` and :data:`hipsim.rig.logs.DEFAULT_TOLERANCE_DEG` (a test checks).
 DEFAULT_CUTOFF = 20.0
 DEFAULT_TOLERANCE_DEG = 0.5
@@ -46,10 +47,12 @@ def _add_log_options(parser: argparse.ArgumentParser) -> None:
         type=float,
         default=DEFAULT_CUTOFF,
         metavar="HZ",
-        help=f"zero-phase low-pass cutoff for measured motion, load and torques (default {DEFAULT_CUTOFF:g} Hz; 0: none)",
+        help=f"zero-phase low-pass cutoff for measured motion, load and torques (default {DEFAULT_CUTOFF:g} Hz)",
     )
+    group.add_argument("--no-filter", action="store_true", help="no low-pass filter (a log filtered already)")
     group.add_argument(
-        "--tolerance",
+        "--angle-tolerance",
+        dest="tolerance",
         type=float,
         default=DEFAULT_TOLERANCE_DEG,
         metavar="DEG",
@@ -89,7 +92,11 @@ def add_parser(subparsers) -> None:
     add_machine_options(compare)
     _add_log_options(compare)
     compare.add_argument(
-        "--period", type=float, metavar="S", help="the log's period in s (default: detected; 0: not periodic)"
+        "--log-period",
+        dest="period",
+        type=float,
+        metavar="S",
+        help="the log's period in s (default: detected; 0: not periodic)",
     )
     compare.add_argument(
         "--out", default="hipsim_compare", metavar="DIR", help="folder to write (default hipsim_compare)"
@@ -140,6 +147,12 @@ def add_parser(subparsers) -> None:
         "--base", action="store_true", help="print the machine's base parameters with their definitions and stop"
     )
     identify.add_argument("--json", metavar="FILE", help="also write the results as JSON")
+    identify.add_argument(
+        "--force",
+        action="store_true",
+        help="write an implausible fit anyway (residuals beyond 3x the noise, a parameter beyond 5 prior σ, a held-out "
+        "log it does not predict), its warning kept in the file's provenance",
+    )
     identify.add_argument("--out", metavar="FILE", help="parameter TOML to write (.toml; required unless --base)")
     add_provenance_options(identify)
     add_summary_format(identify, "what to print: tables (default) or the fit's summary as JSON")
@@ -147,7 +160,7 @@ def add_parser(subparsers) -> None:
 
 
 def _cutoff(args) -> float | None:
-    if args.cutoff is None or args.cutoff == 0:
+    if args.no_filter or args.cutoff is None:
         return None
     if not (math.isfinite(args.cutoff) and args.cutoff > 0):
         raise ArgumentError("--cutoff", args.cutoff, "a positive frequency in Hz (or 0 for none)")
@@ -294,7 +307,7 @@ def run_compare(args) -> int:
 
 def _check_log_options(args) -> None:
     if not (math.isfinite(args.tolerance) and args.tolerance > 0):
-        raise ArgumentError("--tolerance", args.tolerance, "a positive angle in degrees")
+        raise ArgumentError("--angle-tolerance", args.tolerance, "a positive angle in degrees")
     if args.torque_constant is not None and not (math.isfinite(args.torque_constant) and args.torque_constant > 0):
         raise ArgumentError("--torque-constant", args.torque_constant, "a positive number in N·m/A")
 
@@ -336,9 +349,12 @@ def run_base(args) -> int:
 
 def run_identify(args) -> int:
     """Identify the machine from the ``--log`` files, write the parameter file ``--out`` and print the fit; exit status 0."""
+    from ..exceptions import IdentificationError
     from ..files import json_ready
+    from ..fit_checks import duplicate_digests
     from ..rig.identification.fit import identify
     from ..rig.identification.prior import parse_prior_option, prior_table
+    from ..rig.identification.self_check import check_identification
     from ..rig.plausibility import far_from_priors
 
     if args.base:
@@ -374,6 +390,11 @@ def run_identify(args) -> int:
         provenance = page_provenance(
             args, log=[_hashed(log) for log in logs], validate=[_hashed(log) for log in validate]
         )
+        twice = duplicate_digests(  # the hashes made on the way through the one read of each file
+            [(f["path"], f["sha256"]) for f in provenance.as_dict()["inputs"] if f["role"] in ("log", "validate")]
+        )
+        if twice:
+            raise IdentificationError(f"--log/--validate: {twice}")
         result = identify(
             logs,
             params,
@@ -383,15 +404,23 @@ def run_identify(args) -> int:
             prior=entries,
             prior_source=source,
         )
+        check = check_identification(result, logs, validate)  # the pattern of a failed gate reads the logs: here
+    if not check.plausible:
+        if not args.force:
+            raise IdentificationError(
+                f"{check.message()}; nothing written (--force writes it, the warning kept in its provenance)"
+            )
+        print(f"hipsim: warning: {check.message()} (written with --force)", file=sys.stderr)
     for line in far_from_priors(result.estimates):  # issue 38: a common cause named (hipsim/rig/plausibility.py)
         print(f"hipsim: warning: {line}", file=sys.stderr)
 
     from ..files import write_atomic
     from ..rig.identification.identified_file import FileProvenance
 
-    document = {"provenance": provenance.as_dict()} | result.summary()
+    document = {"provenance": provenance.as_dict(), "self_check": check.to_json()} | result.summary()
     json_text = json.dumps(json_ready(document), indent=2) + "\n" if args.json else None
-    path = result.write_toml(args.out, FileProvenance.from_dict(provenance.as_dict()))
+    record = dataclasses.replace(FileProvenance.from_dict(provenance.as_dict()), warnings=check.findings)
+    path = result.write_toml(args.out, record)
     if json_text is not None:
         write_atomic(args.json, json_text)
     if args.summary_format == "json":
@@ -454,7 +483,8 @@ def run_identify(args) -> int:
         )
         if note is not None:
             print(note.text())
-    print(f"\nwrote {path}" + (f" and {args.json}" if args.json else ""))
+    print(f"\n{check.verdict(len(args.validate))}")
+    print(f"wrote {path}" + (f" and {args.json}" if args.json else ""))
     return 0
 
 

@@ -96,9 +96,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     )
     out.add_argument("--top", type=int, metavar="N", help="show the N best catalogue combinations (default all)")
     out.add_argument(
-        "--format",
         "--summary-format",
-        dest="format",
         choices=["table", "json"],
         default="table",
         help="output on standard output",
@@ -173,6 +171,7 @@ def _screw_name(drive, params) -> str:
 
 def format_ranking(candidates, shown, trajectories, params) -> str:
     """The catalogue ranked by size: each line's rated power, and its binding check (pass) or first failing check (FAIL); then the screw's checks once."""
+    from ..design.checks import margin_order
     from ..design.ranking import screw_checks
     from ..present.numbers import significant
 
@@ -235,7 +234,7 @@ def format_ranking(candidates, shown, trajectories, params) -> str:
     for screw, checks in screw_checks(candidates):
         made = [c for c in checks if c.passed is not None]
         failed = [c for c in made if c.passed is False]
-        b = min(failed or made, key=lambda c: c.margin) if made else None
+        b = min(failed or made, key=margin_order) if made else None
         rows.append(
             [
                 screw.name if screw is not None else f"machine's ({params.lead * 1e3:g} mm)",
@@ -403,11 +402,13 @@ def run(args) -> int:
         gearboxes = load_gearbox_catalogue(args.gearboxes) if args.gearboxes else None
         rules = _rules(args, SizingRules())
         progress = (
-            None if args.format == "json" else (lambda text: print(f"running the model: {text}", file=sys.stderr))
+            None
+            if args.summary_format == "json"
+            else (lambda text: print(f"running the model: {text}", file=sys.stderr))
         )
         candidates = rank_drives(params, trajectories, motors, screws, gearboxes, rules, progress, order=args.rank)
         shown = candidates[: args.top] if args.top else candidates
-        if args.format == "json":
+        if args.summary_format == "json":
             document = {"rules": vars(rules), "candidates": [c.as_dict() for c in shown], "rank": args.rank}
             if args.rank == "size":
                 for entry, c in zip(document["candidates"], shown):
@@ -424,7 +425,7 @@ def run(args) -> int:
                 print(format_margin_ranking(candidates, shown, trajectories, params))
             unchecked = sorted({name for c in shown for name in c.unchecked})
             if unchecked:
-                print(f"\nnot checked for want of data (see --format json for which): {', '.join(unchecked)}")
+                print(f"\nnot checked for want of data (see --summary-format json for which): {', '.join(unchecked)}")
             if shown:
                 best = shown[0]
                 print()
@@ -446,7 +447,7 @@ def run(args) -> int:
         (trajectory, sizing(analyse(machine, trajectory), drive, rules, cycles)) for trajectory, cycles in trajectories
     ]
     bands = _margin_bands(args, params, machine, drive, rules, trajectories, results)
-    if args.format == "json":
+    if args.summary_format == "json":
         document = {t.name: s.as_dict() for t, s in results}
         for (t, _), b in zip(results, bands or []):
             document[t.name]["margin_bands"] = [x.as_dict() for x in b]

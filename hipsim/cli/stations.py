@@ -6,7 +6,7 @@ Three modes:
 - the desired motion (``--trajectory`` or the built-in cycle) commanded with ``--control 1|2|both``: the per-sample
   table (``--table``, CSV or Parquet by suffix), the figure, ``index.html`` and ``stations.json`` in ``--out``;
 - ``--sliders LOG``: both platforms' attitudes from a log's carriages;
-- ``--tolerance SPEC``: Monte Carlo of per-chain deviations on dask, the 95th percentiles and the sensitivity table.
+- ``--bands SPEC``: Monte Carlo of per-chain deviations on dask, the 95th percentiles and the sensitivity table.
 """
 
 from __future__ import annotations
@@ -50,22 +50,23 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "--control",
         choices=["1", "2", "both", "all"],
         help="which platform the carriages serve: 1, 2, both (default: the parameter file's [geometry] control, else 2: "
-        "the paper's, m_1 follows); 'all' with --tolerance evaluates the three",
+        "the paper's, m_1 follows); 'all' with --bands evaluates the three",
     )
     p.add_argument(
         "--weights", metavar="W1,W2", help="weights of the two platforms' squared errors for both (default 1,1)"
     )
     p.add_argument("--sliders", metavar="LOG", help="a log's carriages (L_11_mm.. or motor_1_deg..): both attitudes")
     p.add_argument(
-        "--tolerance",
+        "--bands",
+        dest="tolerance",
         metavar="FILE|KEY=V,...",
         help="draw per-chain deviations within ±V mm: keys ujoint, slider, joint, lever, centre, all (e.g. all=0.1), "
         "or a TOML file of them",
     )
-    p.add_argument("--draws", type=int, default=1000, metavar="N", help="machines drawn for --tolerance (default 1000)")
+    p.add_argument("--draws", type=int, default=1000, metavar="N", help="machines drawn for --bands (default 1000)")
     p.add_argument("--seed", type=int, default=0, metavar="N", help="seed of the draws (default 0)")
     p.add_argument(
-        "--workers", type=int, default=2, metavar="N", help="dask worker processes (default 2; 0: in process)"
+        "--workers", type=int, default=2, metavar="N", help="local worker processes (default 2; 1 runs in this process)"
     )
     p.add_argument("--scheduler", metavar="ADDRESS", help="a running dask scheduler instead of a local cluster")
     p.add_argument("--table", metavar="FILE", help="per-sample table, .csv or .parquet (default OUT/stations.csv)")
@@ -87,13 +88,11 @@ def _weights(args) -> tuple[float, float]:
 
 def _check(args) -> None:
     if args.sliders and args.tolerance:
-        raise HipsimError("give --sliders or --tolerance, not both")
+        raise HipsimError("give --sliders or --bands, not both")
     if args.control == "all" and not args.tolerance:
-        raise HipsimError("--control all applies to --tolerance; give 1, 2 or both")
+        raise HipsimError("--control all applies to --bands; give 1, 2 or both")
     if args.tolerance and args.draws < 1:
         raise HipsimError(f"--draws: expected at least 1, got {args.draws}")
-    if args.workers < 0:
-        raise HipsimError(f"--workers: expected 0 or more, got {args.workers}")
     if args.table and Path(args.table).suffix.lower() not in (".csv", ".parquet"):
         raise HipsimError(f"--table {args.table}: expected a .csv or .parquet file")
 
@@ -134,6 +133,8 @@ def run(args) -> int:
     params = parameters(args)
     if args.control is None:
         args.control = str(params.geometry.control) if params.geometry is not None else "2"
+    if args.weights is not None and args.control not in ("both", "all"):
+        raise HipsimError(f"--weights {args.weights} applies to --control both, not to --control {args.control}")
     out = Path(args.out)
     check_folder(out)
     table = Path(args.table) if args.table else out / "stations.csv"
@@ -224,9 +225,9 @@ def _tolerance(args, params, weights, out: Path) -> int:
         draws=args.draws,
         seed=args.seed,
         weights=weights,
-        workers=args.workers,
+        workers=0 if args.workers == 1 else args.workers,  # the library's 0: in this process
         scheduler=args.scheduler,
-        progress=progress("hipsim stations --tolerance"),
+        progress=progress("hipsim stations --bands"),
     )
     tolerance = tolerance_summary(result, len(t))
     provenance = page_provenance(args, trajectory=args.trajectory, tolerance=_file(args.tolerance))

@@ -25,10 +25,10 @@ _DESCRIPTION = (
     """\
 Runs design variants of the machine along a trajectory (default one ISO 14242-1 cycle at 1 kHz) and writes one row per
 variant: peak and RMS torque and peak speed per motor, stroke per slider, the smallest singularity measure, joint forces
-(--model pinocchio) and the rating check against the parameter file's [motor] table or --drive FILE. Variants that cannot
+(--engine pinocchio) and the rating check against the parameter file's [motor] table or --drive FILE. Variants that cannot
 be built or whose motion leaves the workspace are rows too, with their status and reason. The variants are parameter keys
 in the file's units (those of --set; a list's number with [i], counted from 1): a grid (--grid), a Latin hypercube
-(--sample N --range), a random tolerance study (--sample N --tolerance) or a CSV of variants (--variants); without any,
+(--sample N --range), a random tolerance study (--sample N --spread) or a CSV of variants (--variants); without any,
 the grid """
     + " × ".join(DEFAULT_GRID)
     + """. They run on local worker processes (dask.distributed; --workers) or on a
@@ -42,8 +42,8 @@ _EXAMPLES = """\
 examples:
   hipsim sweep --grid lever.length_mm=300:360:5 --grid platform.home_offset_deg=20:50:1 --out levers.parquet
   hipsim sweep --sample 2000 --range lever.length_mm=300:360 --range screw.lead_mm=5:20 --pareto tau_peak_max_Nmm,-cond_inv_min
-  hipsim sweep --sample 500 --tolerance lever.length_mm=0.05 --tolerance platform.home_offset_deg=±0.2 --set motor.peak_torque_Nmm=450
-  hipsim sweep --variants candidates.csv --drive my_drive.toml --model pinocchio
+  hipsim sweep --sample 500 --spread lever.length_mm=0.05 --spread platform.home_offset_deg=±0.2 --set motor.peak_torque_Nmm=450
+  hipsim sweep --variants candidates.csv --drive my_drive.toml --engine pinocchio
   hipsim sweep --scheduler tcp://10.0.0.5:8786 --sample 100000 --range lever.length_mm=300:360 --out big.parquet
 """
 
@@ -71,7 +71,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "--sample",
         type=int,
         metavar="N",
-        help="N random variants: a Latin hypercube over --range, or a tolerance study with --tolerance",
+        help="N random variants: a Latin hypercube over --range, or a tolerance study with --spread",
     )
     variants.add_argument(
         "--range",
@@ -82,7 +82,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         help="with --sample: a key's range for the Latin hypercube (scipy.stats.qmc; repeatable)",
     )
     variants.add_argument(
-        "--tolerance",
+        "--spread",
+        dest="tolerance",
         action="append",
         default=[],
         metavar="KEY=SIGMA|KEY=±X",
@@ -98,7 +99,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     variants.add_argument("--variants", metavar="CSV", help="a CSV of variants: a header of keys, one variant a line")
     check = parser.add_argument_group("model and rating")
     check.add_argument(
-        "--model",
+        "--engine",
         choices=engine_names(optional=False),
         default="analytic",
         help="analytic (default) or pinocchio (adds the peak joint forces; slower)",
@@ -156,7 +157,7 @@ def _variants(args, params):
     if len(kinds) > 1:
         raise HipsimError(f"{' and '.join(kinds)}: choose one kind of variants")
     if args.sample is None and (args.ranges or args.tolerance):
-        raise HipsimError(f"{'--range' if args.ranges else '--tolerance'} needs --sample N (how many variants to draw)")
+        raise HipsimError(f"{'--range' if args.ranges else '--spread'} needs --sample N (how many variants to draw)")
     if args.variants:
         return v.read_variants(args.variants)
     if args.sample is not None:
@@ -164,28 +165,28 @@ def _variants(args, params):
             raise HipsimError(f"--sample: expected a positive number of variants, got {args.sample}")
         if args.ranges and args.tolerance:
             raise HipsimError(
-                "--sample takes either --range KEY=LOW:HIGH (Latin hypercube) or --tolerance KEY=SIGMA (tolerance study), not both"
+                "--sample takes either --range KEY=LOW:HIGH (Latin hypercube) or --spread KEY=SIGMA (tolerance study), not both"
             )
         if not args.ranges and not args.tolerance:
             raise HipsimError(
-                "--sample needs either --range KEY=LOW:HIGH (Latin hypercube) or --tolerance KEY=SIGMA (tolerance study): "
+                "--sample needs either --range KEY=LOW:HIGH (Latin hypercube) or --spread KEY=SIGMA (tolerance study): "
                 "what to draw the variants over"
             )
         if args.ranges:
-            ranges = {}
+            ranges: dict[str | v.KeyRef, tuple[float, float]] = {}
             for text in args.ranges:
                 key, (low, high) = v.parse_axis(text, "--range", 2)
                 ranges[_unique(v.key_ref(key, "--range"), ranges, "--range")] = (low, high)
             return v.latin_hypercube(ranges, args.sample, args.seed)
-        tolerances = {}
+        tolerances: dict[str | v.KeyRef, tuple[str, float]] = {}
         for text in args.tolerance:
             key, spread = v.parse_tolerance(text)
-            tolerances[_unique(v.key_ref(key, "--tolerance"), tolerances, "--tolerance")] = spread
+            tolerances[_unique(v.key_ref(key, "--spread"), tolerances, "--spread")] = spread
         return v.tolerance_study(params, tolerances, args.sample, args.seed)
-    axes = {}
+    axes: dict[str | v.KeyRef, tuple[float, float, float]] = {}
     for text in args.grid or DEFAULT_GRID:
-        key, numbers = v.parse_axis(text, "--grid", 3)
-        axes[_unique(v.key_ref(key, "--grid"), axes, "--grid")] = tuple(numbers)
+        key, (first, last, count) = v.parse_axis(text, "--grid", 3)
+        axes[_unique(v.key_ref(key, "--grid"), axes, "--grid")] = (first, last, count)
     return v.grid(axes)
 
 
@@ -212,7 +213,7 @@ def _check_out(path: str) -> Path:
 _PARTS = {
     "parameters": "the machine (--params, --set)",
     "trajectory": "the trajectory (--trajectory, --rate, --cycles, --frequency …)",
-    "model": "--model",
+    "model": "--engine",
     "drive": "--drive",
     "cycles": "the test cycles (--cycles)",
     "keys": "the swept keys",
@@ -240,7 +241,7 @@ def run(args) -> int:
         option = (
             "--variants"
             if args.variants
-            else ("--grid" if args.sample is None else ("--range" if args.ranges else "--tolerance"))
+            else ("--grid" if args.sample is None else ("--range" if args.ranges else "--spread"))
         )
         raise HipsimError(str(error) if error.name == option else f"{option} {error}") from None
     trajectory = load_trajectory(args)
@@ -251,7 +252,7 @@ def run(args) -> int:
     cycles = (
         args.cycles if args.cycles is not None and not args.trajectory else 1.0
     )  # test cycles the motion holds, for the ratings
-    setup = SweepSetup(params, trajectory, variants.keys, model=args.model, drive=drive, cycles=cycles)
+    setup = SweepSetup(params, trajectory, variants.keys, model=args.engine, drive=drive, cycles=cycles)
     names = list(variants.names) + metric_columns(setup.joint_forces)
     pareto = None
     if args.pareto:
@@ -281,7 +282,7 @@ def run(args) -> int:
         "hipsim": _version(),
         "trajectory": trajectory.name,
         "samples": len(trajectory),
-        "model": args.model,
+        "model": args.engine,
         "parameters": params.source,
         "drive": drive.source if drive is not None else None,
         "keys": list(variants.names),

@@ -27,7 +27,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     add_machine_options(torques)
     add_trajectory_options(torques)
     torques.add_argument(
-        "--model",
+        "--engine",
         choices=engine_names(),
         default="analytic",
         help="which model computes the torques (default analytic; mujoco needs the mujoco extra)",
@@ -210,7 +210,7 @@ def run(args) -> int:
     note = no_load_note(args, params, source) if args.trajectory else None
     if note is not None:
         print(f"hipsim: warning: {note}", file=sys.stderr)
-    if engine_entry(args.model).warm_up:
+    if engine_entry(args.engine).warm_up:
         load_pinocchio_kernels()
     watch = FeasibilityWatch(limits(params))
     bands = _bands(args, params, source)
@@ -225,10 +225,10 @@ def run(args) -> int:
         summary = stream_run(
             params,
             source,
-            model=args.model,
+            model=args.engine,
             on_error="flag" if args.flag_bad_poses else "raise",
             write=write,
-            progress=progress(f"{args.model} model"),
+            progress=progress(f"{args.engine} model"),
         )
         if args.strict and watch.crossings() and not is_stdout(args.out):
             writer.abort()  # --strict: a crossed limit is an error, and an error writes nothing
@@ -253,7 +253,7 @@ def run(args) -> int:
             )
         where = "the CSV to standard output" if is_stdout(args.out) else path
         print(
-            f"\nwrote {where} ({summary.samples} rows, {len(writer.names)} columns{', Parquet' if kind == 'Parquet' else ''})",
+            f"\nwrote {where} ({summary.samples} rows, {len(writer.names or ())} columns{', Parquet' if kind == 'Parquet' else ''})",
             file=report,
         )
     return report_crossings(watch.crossings(), args.strict)

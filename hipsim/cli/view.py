@@ -32,7 +32,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     add_trajectory_options(view)
     view.add_argument("--html", metavar="FILE", help="write a self-contained offline page instead of serving")
     view.add_argument("--speed", type=float, default=1.0, metavar="X", help="playback speed (0.25: four times slower)")
-    view.add_argument("--step", action="store_true", help="one frame per Enter (b: back, q: quit)")
+    view.add_argument(
+        "--frame-by-frame", dest="step", action="store_true", help="one frame per Enter (b: back, q: quit)"
+    )
     view.add_argument(
         "--fps",
         type=int,
@@ -122,18 +124,18 @@ def run_view(
         raise HipsimError(f"--fps must be a positive number, got {fps}")
     if html is not None:
         if step:
-            raise HipsimError("--step applies to the live viewer, not to --html")
-        with Viewer(params, human, serve=False) as viewer:
-            motion = viewer.motion(trajectory, fps=fps, speed=speed, forces=forces, singularity=singularity)
-            page = viewer.record(motion)
-            notes = describe(viewer, motion)
+            raise HipsimError("--frame-by-frame applies to the live viewer, not to --html")
+        with Viewer(params, human, serve=False) as offline:
+            motion = offline.motion(trajectory, fps=fps, speed=speed, forces=forces, singularity=singularity)
+            page = offline.record(motion)
+            notes = describe(offline, motion)
         path = write_atomic(html, page)
         print(f"wrote {path} ({len(page) / 1e6:.1f} MB): {notes[0]}", file=stream)
         for line in notes[1:]:
             print(line, file=stream)
         return 0
 
-    viewer = None
+    viewer: Viewer | None = None
     try:
         viewer = Viewer(params, human)
         motion = viewer.motion(trajectory, fps=fps, speed=speed, forces=forces, singularity=singularity)

@@ -28,6 +28,9 @@ from .wear_test import WORKERS_RANGE
 
 __all__ = ["add_parser", "format_summary", "read_motion", "run"]
 
+#: Two wear sources are alike within this many % unless --alike says otherwise.
+DEFAULT_ALIKE_PCT = 5.0
+
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
     """Register ``wear`` on the main parser's subcommands."""
@@ -83,7 +86,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "--points", metavar="FILE", help="cup points to compute at: a CSV with columns x, y, z (unit vectors, z ≥ 0)"
     )
     cup.add_argument(
-        "--grid",
+        "--cup-grid",
+        dest="grid",
         metavar="NTHETAxNPHI",
         help="the cup grid: polar bands x azimuth sectors, up to 1000x2000 (default 90x180; 45x90 with --weighings, "
         "whose integrals ΣW·dA and ∫F ds it gives within 0.1 %%)",
@@ -110,9 +114,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         help="compare two sources: iso, FILE, FILE:1, FILE:2 (stations), FILE:desired (simulate); writes a verdict-first page",
     )
     wear.add_argument(
-        "--tolerance",
+        "--alike",
+        dest="tolerance",
         type=float,
-        default=5.0,
         metavar="PCT",
         help="with --compare: alike within this many %% (default 5)",
     )
@@ -316,7 +320,8 @@ def _setup(args):
 
     mount = (0.0, 0.0, 0.0)
     if args.cup_mount is not None:
-        mount = tuple(math.radians(a) for a in numbers(args.cup_mount, ",", "--cup-mount", "α,β,γ in degrees", 3))
+        alpha, beta, gamma = numbers(args.cup_mount, ",", "--cup-mount", "α,β,γ in degrees", 3)
+        mount = (math.radians(alpha), math.radians(beta), math.radians(gamma))
     try:
         return CupSetup(args.head_diameter, args.sequence, mount, args.moving)
     except ArgumentError as error:
@@ -342,7 +347,7 @@ def _points(args, setup):
         return cup_grid(n_theta, n_phi, setup.radius_mm)
     except (ValueError, ArgumentError):
         raise HipsimError(
-            f"--grid: expected NTHETAxNPHI, whole numbers up to 1000x2000 (e.g. 90x180), got '{grid}'"
+            f"--cup-grid: expected NTHETAxNPHI, whole numbers up to 1000x2000 (e.g. 90x180), got '{grid}'"
         ) from None
 
 
@@ -461,8 +466,10 @@ def run(args) -> int:
 
         return run_test(args, setup, points, read_motion, _law)
     law = _law(args)
-    if not (math.isfinite(args.tolerance) and args.tolerance >= 0):
-        raise HipsimError(f"--tolerance: expected a percentage ≥ 0, got {args.tolerance:g}")
+    if args.tolerance is not None and not args.compare:
+        raise HipsimError(f"--alike {args.tolerance:g} % applies to --compare A B: give --compare, or drop --alike")
+    if args.tolerance is None:
+        args.tolerance = DEFAULT_ALIKE_PCT
     check_output(args.out)
     report = args.report or ("hipsim_wear_compare" if args.compare else None)
     if report:

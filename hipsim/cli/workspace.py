@@ -15,7 +15,7 @@ from .common import add_machine_options, add_summary_format, numbers, parameters
 from .motion_options import add_trajectory_options, load_trajectory
 
 if TYPE_CHECKING:  # the computing modules load when the command runs, not with the parser
-    import numpy as np
+    from numpy.typing import ArrayLike
 
     from ..design.workspace import OffsetSweep, SingularityMap
     from ..machine.parameters import Parameters
@@ -138,10 +138,10 @@ def run_workspace(
     params: Parameters,
     trajectory: Trajectory | None,
     out_dir: str | Path,
-    alpha_deg: np.ndarray | None = None,
-    beta_deg: np.ndarray | None = None,
-    gamma_deg: np.ndarray | None = None,
-    deltas_deg: np.ndarray | None = None,
+    alpha_deg: ArrayLike | None = None,
+    beta_deg: ArrayLike | None = None,
+    gamma_deg: ArrayLike | None = None,
+    deltas_deg: ArrayLike | None = None,
     progress: bool | None = None,
     stream: TextIO | None = None,
     summary_format: str = "table",
@@ -181,6 +181,7 @@ def run_workspace(
     smap = singularity_map(params, alpha_deg, beta_deg, gamma_deg, trajectory=trajectory, progress=progress)
     sweep = offset_sweep(params, deltas_deg, trajectory, progress=progress)
     m = smap.margin
+    assert m is not None  # a map made along a trajectory has its margin
     document = {
         "parameters": params.source,
         "trajectory": trajectory.name,

@@ -26,7 +26,15 @@ from ..machine.parameters import Parameters, load_parameters
 from ..physics.transmission import radians_per_travel
 from .solver import ClosedChainSolver
 
-__all__ = ["ClosedChainModel", "HipLayout", "controlled_platform", "load_closed_chain", "load_model", "require_layout"]
+__all__ = [
+    "ClosedChainModel",
+    "HipLayout",
+    "controlled_platform",
+    "load_closed_chain",
+    "load_model",
+    "require_layout",
+    "require_params",
+]
 
 
 @dataclass(frozen=True, eq=False)
@@ -311,6 +319,17 @@ def require_layout(chain: ClosedChainModel) -> HipLayout:
     if chain.layout is None:
         raise ModelError("this function needs the hip simulator model from load_model()")
     return chain.layout
+
+
+def require_params(chain: ClosedChainModel) -> Parameters:
+    """The parameter set ``chain`` was built from (:func:`load_model`).
+
+    Raises:
+        ModelError: ``chain`` is a general closed-chain model, built from a URDF without hipsim's parameters.
+    """
+    if chain.params is None:
+        raise ModelError("this function needs a model built from hipsim's parameters (load_model())")
+    return chain.params
 
 
 def controlled_platform(chain: ClosedChainModel) -> int | None:

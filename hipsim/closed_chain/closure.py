@@ -315,6 +315,14 @@ class Continuation:
     a: np.ndarray | None = None
     K_inv: np.ndarray | None = None
 
+    def last(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
+        """(t, q, v, a, K_inv) where the previous piece ended; None before the first piece."""
+        if not self.samples or self.t is None or self.q is None or self.v is None or self.a is None:
+            return None
+        if self.K_inv is None:
+            return None
+        return self.t, self.q, self.v, self.a, self.K_inv
+
 
 def kinematics(chain: ClosedChainModel, traj, *, tol: float = 1e-12, max_iter: int = 50) -> ClosedKinematics:
     """Close the chain along a platform trajectory, with Pinocchio only.
@@ -374,13 +382,12 @@ def close_chain(
     iterations = np.empty(n, dtype=int)
     J_rates = np.empty((n, 3, 3))  # ∂L̇/∂(angle rates) of the sliders
     # The samples before this piece (if any) come first, so that the predictor sees one run.
-    go_on = continuation if continuation is not None and continuation.samples else None
-    before = len(go_on.t) if go_on else 0
-    T = np.concatenate([go_on.t, t]) if go_on else t
+    go_on = continuation.last() if continuation is not None else None
+    before = len(go_on[0]) if go_on else 0
+    T = np.concatenate([go_on[0], t]) if go_on else t
     Q, V, A = np.empty((before + n, nq)), np.empty((before + n, nv)), np.empty((before + n, nv))
     if go_on:
-        Q[:before], V[:before], A[:before] = go_on.q, go_on.v, go_on.a
-        closer.K_inv[:] = go_on.K_inv
+        Q[:before], V[:before], A[:before], closer.K_inv[:] = go_on[1:]
         closer.have_K_inv = True
     # The closer leaves Pinocchio's data at the closed q: the dynamics reuse its Jacobians.
     dynamics = dynamics_for(Q[before:], V[before:], A[before:]) if dynamics_for is not None else None

@@ -34,7 +34,7 @@ from ..physics.orientation import angular_velocity_map, rotation_matrix
 from ..physics.transmission import angle_from_travel, travel_per_radian
 from ..results import JointForces, Torques
 from . import closure_kernel
-from .build import ClosedChainModel, load_model, require_layout
+from .build import ClosedChainModel, load_model, require_layout, require_params
 from .closure import ClosedKinematics, Closer, Continuation, close_chain
 from .friction import friction_from_jacobians, platform_frames, platform_z_axes
 from .workspace import Workspace
@@ -95,9 +95,10 @@ class _InverseDynamics:
         self.q, self.v, self.a = q, v, a
         n, nv = len(v), chain.model.nv
         self.Fe = np.broadcast_to(np.asarray(Fe, dtype=float), (n,))
-        self.lever_friction = laws.lever_joint_friction_on(chain.params.friction)
+        self.params = require_params(chain)
+        self.lever_friction = laws.lever_joint_friction_on(self.params.friction)
         # The axial-only thrust bearing needs each platform's z axis, read from the placements.
-        self.platform_frames = platform_frames(chain) if chain.params.friction.thrust_bearing_axial_only else None
+        self.platform_frames = platform_frames(chain) if self.params.friction.thrust_bearing_axial_only else None
         size = min(_CHUNK, n)
         self.K_inv = np.empty((size, nv, nv))
         # Generalised forces of [platforms, levers, carriages, screws, friction], or of all at once without parts.
@@ -146,7 +147,7 @@ class _InverseDynamics:
         self.start = stop
 
     def result(self, kin: ClosedKinematics) -> ClosedChainDynamics:
-        params, closure = self.chain.params, self.layout.closure
+        params, closure = self.params, self.layout.closure
         if self.parts_asked:
             tau_m, tau_l, tau_s, tau_L, tau_f = np.moveaxis(travel_per_radian(self.chain.lead) * self.parts, 2, 0)
             total = tau_m + tau_l + tau_s + tau_L + tau_f

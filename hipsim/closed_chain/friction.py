@@ -15,7 +15,7 @@ from ..exceptions import ArgumentError
 from ..physics import laws
 from ..physics.transmission import radians_per_travel
 from ..physics.vectors import stack
-from .build import ClosedChainModel, require_layout
+from .build import ClosedChainModel, require_layout, require_params
 from .constraints import configurations
 
 __all__ = ["friction_forces", "friction_from_jacobians", "platform_frames", "platform_z_axes"]
@@ -42,7 +42,7 @@ def friction_from_jacobians(chain: ClosedChainModel, v, Fe, platform_J, lever_J,
     or None when the U and S joints are frictionless; platform_z: (n, 2, 3)
     the platforms' z axes, needed only by the axial-only thrust bearing.
     """
-    params, layout = chain.params, chain.layout
+    params, layout = require_params(chain), require_layout(chain)
     fr = params.friction
     n = len(v)
     Q = np.zeros((n, chain.model.nv))
@@ -97,19 +97,16 @@ def friction_forces(chain: ClosedChainModel, q, v, Fe, data=None) -> np.ndarray:
     model = chain.model
     data = model.createData() if data is None else data
     angular = np.empty((len(q), 3, model.nv))
-    axial = chain.params.friction.thrust_bearing_axial_only
+    fr = require_params(chain).friction
+    axial = fr.thrust_bearing_axial_only
     frames = platform_frames(chain) if axial else None
     platform_z = np.empty((len(q), 2, 3)) if axial else None
     for k, qk in enumerate(q):
         pin.computeJointJacobians(model, data, qk)
         angular[k] = data.J[3:]
-        if axial:
+        if platform_z is not None:  # the axial-only bearing
             platform_z[k] = platform_z_axes(data, frames)
     platform_J = np.moveaxis(angular[:, :, layout.platform_v], 1, 2)
-    lever_J = (
-        np.moveaxis(angular[:, :, layout.ujoint_v], 1, 3)
-        if laws.lever_joint_friction_on(chain.params.friction)
-        else None
-    )
+    lever_J = np.moveaxis(angular[:, :, layout.ujoint_v], 1, 3) if laws.lever_joint_friction_on(fr) else None
     out = friction_from_jacobians(chain, v, Fe, platform_J, lever_J, platform_z)
     return out[0] if single else out

@@ -28,7 +28,11 @@ __all__ = ["acceleration", "advance", "generalised_forces", "rk4_stage"]
 #: The kernels call these modules' kernels: their sources are part of the cache key.
 _DEPENDS_ON = (
     *laws.LAW_FILES,
-    *(Path(module.__file__) for module in (block_inverse, closure_kernel, plant_kernel, tree_kernel)),
+    # Named one by one: a module's __file__ is typed str | None, a module named in the source str.
+    Path(block_inverse.__file__),
+    Path(closure_kernel.__file__),
+    Path(plant_kernel.__file__),
+    Path(tree_kernel.__file__),
 )
 
 

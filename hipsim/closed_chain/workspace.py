@@ -94,7 +94,7 @@ class Workspace:
 
     def frame_arguments(self) -> tuple:
         """closure_kernel.closure_frames' arguments at the placed q: the views of ``data.oMi``, or copies of it without them."""
-        if self.joint_rotations is not None:
+        if self.frame_args is not None:  # set exactly when the live views are
             return self.frame_args
         rotations, origins = _joint_placement_copies(self.data)
         return (rotations, origins, self.closure_joints, self.closure_placements, self.tips, self.p2, self.gaps)

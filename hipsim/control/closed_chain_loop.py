@@ -30,8 +30,14 @@ __all__ = ["stepped_loop"]
 
 _DEPENDS_ON = (
     *laws.LAW_FILES,
-    *(Path(module.__file__) for module in (kernel, servo_kernel, block_inverse, closure_kernel, plant_kernel)),
-    *(Path(module.__file__) for module in (plant_step, tree_kernel)),
+    # Named one by one: a module's __file__ is typed str | None, a module named in the source str.
+    Path(kernel.__file__),
+    Path(servo_kernel.__file__),
+    Path(block_inverse.__file__),
+    Path(closure_kernel.__file__),
+    Path(plant_kernel.__file__),
+    Path(plant_step.__file__),
+    Path(tree_kernel.__file__),
 )
 
 

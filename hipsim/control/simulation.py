@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import math
 import re
-import threading
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -39,6 +38,7 @@ from tqdm import tqdm
 from ..analytic import kernel as reduced_kernel
 from ..analytic.inverse_kinematics import kinematics
 from ..analytic.kernel import floats
+from ..clock import note_if_slow
 from ..engine import Plant
 from ..exceptions import ArgumentError, PoseError
 from ..files import write_columns
@@ -431,14 +431,8 @@ def _servo_chunks(n: int, size: int, desc: str, progress: bool, notify: Callable
     would promise hours. That period is announced as compiling once it takes
     more than a second, and the bar's rate starts after it.
     """
-    note = threading.Timer(1.0, lambda: notify(f"{desc}: compiling (first run only) ..."))
-    note.daemon = True
-    if notify is not None:
-        note.start()
-    try:
+    with note_if_slow(f"{desc}: compiling (first run only) ...", notify):
         yield 0, 1
-    finally:
-        note.cancel()
     with tqdm(desc=desc, unit="servo", initial=1, total=n, disable=not progress, delay=2.0, leave=False) as bar:
         for start in range(1, n, size):
             stop = min(start + size, n)

@@ -40,6 +40,7 @@ __all__ = [
     "checks_verdict",
     "drive_checks",
     "first_failure",
+    "margin_order",
 ]
 
 
@@ -188,10 +189,15 @@ def _check(module: int, name: str, value, limit, detail: str = "", trajectory: s
     return Check(module, name, value, limit, float(margin), bool(passed), detail, trajectory)
 
 
+def margin_order(check: Check) -> float:
+    """A check's margin as a sort key: a check not made (no margin) after every one made."""
+    return math.inf if check.margin is None else check.margin
+
+
 def binding_check(checks: Iterable[Check]) -> Check | None:
     """The check with the smallest margin, the one that decides; None when no check could be made."""
     made = [c for c in checks if c.margin is not None]
-    return min(made, key=lambda c: c.margin) if made else None
+    return min(made, key=margin_order) if made else None
 
 
 def first_failure(checks: Iterable[Check]) -> Check | None:
@@ -200,7 +206,7 @@ def first_failure(checks: Iterable[Check]) -> Check | None:
     if not failed:
         return None
     kind = min(failed, key=lambda c: FAILURE_ORDER.index(c.name)).name
-    return min((c for c in failed if c.name == kind), key=lambda c: c.margin)
+    return min((c for c in failed if c.name == kind), key=margin_order)
 
 
 def _worst(values: np.ndarray, weights: np.ndarray) -> int:
@@ -340,19 +346,20 @@ def drive_checks(side: ScrewSide, drive: Drive, rules: SizingRules | None = None
             )
         else:
             add("screw_life", None, rules.life_target_cycles, missing="no dynamic load rating C_a")
-        geometry = screw is not None and None not in (screw.root_diameter, screw.free_length, screw.end_fixing)
+        has_geometry = screw is not None and None not in (screw.root_diameter, screw.free_length, screw.end_fixing)
+        geometry = screw if has_geometry else None
         missing = "" if geometry else "needs root_diameter_mm, free_length_mm and end_fixing"
         add(
             "critical_speed",
             np.abs(side.speed[:, i]).max() * RPM_PER_RAD_S,
-            rules.critical_speed_factor * critical_speed(screw) * RPM_PER_RAD_S if geometry else None,
+            rules.critical_speed_factor * critical_speed(geometry) * RPM_PER_RAD_S if geometry else None,
             f"{rules.critical_speed_factor:g} × critical speed" if geometry else "",
             missing,
         )
         add(
             "buckling",
             np.abs(load).max(),
-            rules.buckling_factor * buckling_load(screw) if geometry else None,
+            rules.buckling_factor * buckling_load(geometry) if geometry else None,
             f"{rules.buckling_factor:g} × Euler load" if geometry else "",
             missing,
         )

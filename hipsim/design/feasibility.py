@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -119,7 +120,7 @@ class Limits:
             overrides: any field of :class:`Limits` to set outright.
         """
         motor = params.motor
-        values = {
+        values: dict[str, Any] = {  # keyword arguments of several field types
             "stroke": motor["stroke_mm"] * 1e-3 if "stroke_mm" in motor else None,
             "motor_speed": motor["max_speed_rpm"] * RAD_S_PER_RPM if "max_speed_rpm" in motor else None,
             "motor_torque": motor["peak_torque_Nmm"] * 1e-3 if "peak_torque_Nmm" in motor else None,

@@ -208,7 +208,11 @@ def _by_size(candidate: Candidate):
     # A passing drive with more headroom on its motor's checks first; a failing one nearest to passing its first failing check first.
     decisive = candidate.motor_binding if passed else candidate.failure
     known = [rated_power(motor)[0], motor.rotor_inertia, motor.cost]
-    return (group, *(math.inf if v is None else v for v in known), math.inf if decisive is None else -decisive.margin)
+    return (
+        group,
+        *(math.inf if v is None else v for v in known),
+        math.inf if decisive is None or decisive.margin is None else -decisive.margin,
+    )
 
 
 def screw_checks(candidates: Sequence[Candidate]) -> list[tuple[LeadScrew | None, tuple[Check, ...]]]:

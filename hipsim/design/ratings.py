@@ -10,6 +10,7 @@ import math
 
 import numpy as np
 
+from ..exceptions import ArgumentError
 from ..machine.drive_parts import END_FIXINGS, LeadScrew
 
 __all__ = [
@@ -129,13 +130,26 @@ def screw_life(
     return float(life), float(rating / (life / 1e6) ** (1.0 / 3.0))
 
 
+def _geometry(screw: LeadScrew) -> tuple[float, float, str]:
+    """The screw's root diameter d₂ in [m], free length l in [m] and end fixing, which its ratings need.
+
+    Raises:
+        ArgumentError: the screw does not give all three.
+    """
+    if screw.root_diameter is None or screw.free_length is None or screw.end_fixing is None:
+        raise ArgumentError("screw", screw, "a screw with root_diameter_mm, free_length_mm and end_fixing")
+    return screw.root_diameter, screw.free_length, screw.end_fixing
+
+
 def critical_speed(screw: LeadScrew) -> float:
     """The first bending (whirling) speed of the screw in [rad/s]: n = λ²/l² · √(E·I/(ρ·A)), √(I/A) = d₂/4."""
-    lam = END_FIXINGS[screw.end_fixing][0]
-    return lam**2 / screw.free_length**2 * screw.root_diameter / 4.0 * math.sqrt(STEEL_MODULUS / STEEL_DENSITY)
+    d2, length, fixing = _geometry(screw)
+    lam = END_FIXINGS[fixing][0]
+    return lam**2 / length**2 * d2 / 4.0 * math.sqrt(STEEL_MODULUS / STEEL_DENSITY)
 
 
 def buckling_load(screw: LeadScrew) -> float:
     """Euler buckling load of the screw in [N]: m·π²·E·I/l², I = π·d₂⁴/64, m from the end fixing."""
-    m = END_FIXINGS[screw.end_fixing][1]
-    return m * math.pi**2 * STEEL_MODULUS * math.pi * screw.root_diameter**4 / 64.0 / screw.free_length**2
+    d2, length, fixing = _geometry(screw)
+    m = END_FIXINGS[fixing][1]
+    return m * math.pi**2 * STEEL_MODULUS * math.pi * d2**4 / 64.0 / length**2

@@ -204,15 +204,12 @@ def margin_bands(nominal: Sizing, spread: list[Sizing]) -> tuple[MarginBand, ...
     along each principal direction of its covariance (:func:`hipsim.rig.identification.uncertainty.sigma_machines`): var = Σ_k (m_k − m_0)²."""
     out = []
     for j, check in enumerate(nominal.checks):
-        others = [s.checks[j].margin for s in spread]
-        if (
-            check.margin is None
-            or not math.isfinite(check.margin)
-            or any(m is None or not math.isfinite(m) for m in others)
-        ):
+        margin = check.margin
+        others = [m for m in (s.checks[j].margin for s in spread) if m is not None and math.isfinite(m)]
+        if margin is None or not math.isfinite(margin) or len(others) < len(spread):
             out.append(MarginBand(check, None))
             continue
-        out.append(MarginBand(check, float(math.sqrt(sum((m - check.margin) ** 2 for m in others)))))
+        out.append(MarginBand(check, float(math.sqrt(sum((m - margin) ** 2 for m in others)))))
     return tuple(out)
 
 

@@ -107,7 +107,7 @@ class SweepSetup:
         if not (math.isfinite(self.cycles) and self.cycles > 0):
             raise ArgumentError("cycles", self.cycles, "a positive number of test cycles")
         screw = None if self.drive is None else self.drive.screw
-        if screw is not None and screw.lead is not None:
+        if self.drive is not None and screw is not None and screw.lead is not None:
             swept = [k.name for k in self.keys if k.dotted in ("screw.lead_mm", "screw.inertia_kgmm2")]
             if swept:
                 raise ArgumentError(
@@ -145,7 +145,7 @@ class SweepSetup:
             }
         )
 
-    def overrides(self, values: Sequence[float]) -> dict[str, Any]:
+    def overrides(self, values: Sequence[float] | np.ndarray) -> dict[str, Any]:
         """One variant's values as parameter overrides (a list key gets its whole list, one number changed)."""
         out: dict[str, Any] = {}
         for key, value in zip(self.keys, values):
@@ -179,7 +179,7 @@ def _drive(setup: SweepSetup, params: Parameters) -> Drive | None:
     return drive_from_motor_table(params.motor, params.source) if params.motor else None
 
 
-def evaluate(setup: SweepSetup, values: Sequence[float]) -> dict[str, Any]:
+def evaluate(setup: SweepSetup, values: Sequence[float] | np.ndarray) -> dict[str, Any]:
     """One variant's row: its metrics, or its status and the reason it has none.
 
     Args:
@@ -230,7 +230,7 @@ def evaluate(setup: SweepSetup, values: Sequence[float]) -> dict[str, Any]:
             row[f"stroke_{j + 1}{i + 1}_mm"] = float(stroke[j, i])
     row["stroke_max_mm"] = float(stroke.max())
     row["cond_inv_min"] = float(run.cond_inv.min())
-    if setup.joint_forces:
+    if setup.joint_forces and run.joint_forces is not None:  # the setup asks the model for them
         Fa_peak, _ = peak_and_rms(run.joint_forces.Fa)
         Fo_peak, _ = peak_and_rms(run.joint_forces.Fo)
         for j in range(2):
@@ -246,7 +246,7 @@ def evaluate(setup: SweepSetup, values: Sequence[float]) -> dict[str, Any]:
     candidate = Candidate(drive, tuple(drive_checks(side, drive)))
     binding = candidate.binding
     row["rating"] = {True: "pass", False: "fail", None: "unchecked"}[candidate.passed]
-    if binding is not None:
+    if binding is not None and binding.margin is not None:  # the binding check is one made: it has a margin
         row["margin"] = float(binding.margin)
         row["binding"] = f"{binding.name} LN{binding.module}"
     return row

@@ -268,7 +268,7 @@ def parse_axis(text: str, option: str, parts: int) -> tuple[str, list[float]]:
     return key.strip(), values
 
 
-def parse_tolerance(text: str, option: str = "--tolerance") -> tuple[str, tuple[str, float]]:
+def parse_tolerance(text: str, option: str = "--spread") -> tuple[str, tuple[str, float]]:
     """``KEY=SIGMA`` (normal) or ``KEY=±X`` / ``KEY=+-X`` (uniform) → the key and (kind, width).
 
     Raises:

@@ -41,6 +41,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..analytic.inverse_kinematics import (
     SINGULAR_COND_INV,
@@ -227,9 +228,9 @@ def _progress(total: int, enabled: bool, unit: str, description: str):
 
 def singularity_map(
     params: Parameters,
-    alpha_deg_grid: np.ndarray | None = None,
-    beta_deg_grid: np.ndarray | None = None,
-    gamma_deg_values: np.ndarray | None = None,
+    alpha_deg_grid: ArrayLike | None = None,
+    beta_deg_grid: ArrayLike | None = None,
+    gamma_deg_values: ArrayLike | None = None,
     trajectory: Trajectory | None = None,
     progress: bool | None = None,
 ) -> SingularityMap:
@@ -375,7 +376,7 @@ class OffsetSweep:
 
 def offset_sweep(
     params: Parameters,
-    deltas_deg: np.ndarray | None = None,
+    deltas_deg: ArrayLike | None = None,
     trajectory: Trajectory | None = None,
     progress: bool | None = None,
 ) -> OffsetSweep:

@@ -179,7 +179,10 @@ def checked_value(spec: Field, factor: float, raw: Any, name: str, fail: Fail):
     if np.any(np.abs(values) > 1e9):
         fail(f"out of range (a unit slip?): {raw!r}", name)
     values = values * factor
-    slip = drive_slip(spec.attribute, values, name.rsplit("_", 1)[-1] if "_" in name else "", factor)
+    stem = spec.attribute + "_"
+    key = name.rsplit(".", 1)[-1]
+    written = key[len(stem) :] if key.startswith(stem) else (key.rsplit("_", 1)[-1] if "_" in key else "")
+    slip = drive_slip(spec.attribute, values, written.replace("Nm_A", "N·m/A"), factor)
     if slip is not None:
         fail(slip, name)
     return values if spec.kind == "list" else float(values[0])

@@ -41,16 +41,18 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass
+from typing import Literal, Unpack, overload
 
 import numpy as np
 from scipy.interpolate import make_interp_spline
 
 from ..exceptions import TrajectoryError
-from ..plausibility import epoch_warning, load_slip, radians_slip, time_slip
+from ..plausibility import epoch_warning, load_slip, one_radians_slip, radians_slip, time_slip
 from .columns import ColumnMap, stated_unit
 from .filtering import lowpass_record
 from .hip_angles import hip_to_machine
 from .noise_check import check_noise
+from .read_options import BuildOptions, check_options
 from .trajectories import MIN_SAMPLES, Trajectory
 
 __all__ = [
@@ -107,39 +109,32 @@ class Table:
     time_quantum: float = 0.0
 
 
+@overload
+def build_trajectory(table: Table, *, lazy: Literal[False] = False, **options: Unpack[BuildOptions]) -> Trajectory: ...
+@overload
+def build_trajectory(table: Table, *, lazy: Literal[True], **options: Unpack[BuildOptions]) -> SampledMotion: ...
+@overload
+def build_trajectory(table: Table, *, lazy: bool, **options: Unpack[BuildOptions]) -> Trajectory | SampledMotion: ...
 def build_trajectory(
-    table: Table,
-    *,
-    periodic: bool | None = None,
-    frequency: float | None = None,
-    period: float | None = None,
-    resample: float | None = None,
-    body_weight: float | None = None,
-    lazy: bool = False,
-    cutoff: float | None = None,
-    load_curve=None,
+    table: Table, *, lazy: bool = False, **options: Unpack[BuildOptions]
 ) -> Trajectory | SampledMotion:
     """Units, hip chain, time scaling, resampling and derivatives: the steps every reader shares (module docstring).
 
     Args:
         table: the file's numbers.
-        periodic: True if the motion repeats with the file's period (its last
-            row equals its first); None to decide from the data.
-        frequency: cycle frequency in [Hz] to rescale the recorded cycle to.
-        period: cycle period in [s] (instead of ``frequency``).
-        resample: sample rate in [Hz] of an even grid to resample onto.
-        body_weight: the subject's body weight in [N], for a load in % body weight.
         lazy: return the :class:`SampledMotion` (the samples and their
             spline, evaluated piece by piece) instead of the whole Trajectory.
-        cutoff: zero-phase low-pass cutoff in [Hz] for the angles before they
-            are differentiated; None for none (then noisy motion is warned of).
-        load_curve: the load from its own file
-            (:class:`hipsim.motion.load_file.LoadCurve`), in place of a load column.
+        options: :class:`hipsim.motion.read_options.BuildOptions` (periodic, frequency, period,
+            resample, body_weight, cutoff, load_curve).
 
     Raises:
         TrajectoryError: naming the file, line and column of the first problem.
     """
+    check_options(options, BuildOptions, "build_trajectory")
     source, lines, columns = table.source, np.asarray(table.lines), table.columns
+    periodic, frequency, period = options.get("periodic"), options.get("frequency"), options.get("period")
+    resample, body_weight, cutoff = options.get("resample"), options.get("body_weight"), options.get("cutoff")
+    load_curve = options.get("load_curve")
     cycle = _cycle_period(frequency, period, source)
     rate = _positive(resample, "resample rate", "Hz", source) if resample is not None else None
     time_column = columns.time
@@ -195,10 +190,11 @@ def build_trajectory(
             source=source,
             line=int(lines[-1]),
         )
+    on_file_lines = True  # the samples are the file's rows (not resampled onto a grid)
     if cutoff is not None:
         if rate is not None:  # the filter needs even samples: resample first
-            t, q, load, lines = _on_grid(_resampled(t, q, load, rate, periodic, source), periodic)
-            rate = None
+            t, q, load = _on_grid(_resampled(t, q, load, rate, periodic, source), periodic)
+            rate, on_file_lines = None, False
         step = (t[-1] - t[0]) / (t.size - 1)
         q = lowpass_record(q, 1.0 / step, cutoff, bool(periodic), source)
     else:
@@ -206,7 +202,7 @@ def build_trajectory(
     motion = (
         _resampled(t, q, load, rate, periodic, source)
         if rate is not None
-        else SampledMotion(t, load, lines, _spline(t, q, periodic), source, bool(periodic))
+        else SampledMotion(t, load, lines if on_file_lines else None, _spline(t, q, periodic), source, bool(periodic))
     )
     return motion if lazy else motion.trajectory()
 
@@ -302,13 +298,13 @@ def _warn_if_not_one_stride(t: np.ndarray, q: np.ndarray, closes: bool, source: 
         )
 
 
-def _on_grid(motion: SampledMotion, periodic: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray, None]:
-    """A resampled motion's grid samples (t, q, load, no lines), a periodic one closed by its first sample again."""
+def _on_grid(motion: SampledMotion, periodic: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A resampled motion's grid samples (t, q, load), a periodic one closed by its first sample again."""
     t, q, load = motion.t, motion.spline(motion.t), np.interp(motion.t, motion.knots, motion.load)
     if periodic:
         t = np.append(t, motion.knots[-1])
         q, load = np.vstack([q, q[:1]]), np.append(load, load[0])
-    return t, q, load, None
+    return t, q, load
 
 
 class SampledMotion:
@@ -447,6 +443,14 @@ def _angles(table: Table, source: str, lines: np.ndarray) -> np.ndarray:
                 "as radians; label them in rad (_rad, or :rad in --columns)",
                 source=source,
                 column=columns.angles[in_degrees[widest]].name,
+            )
+        for k, as_radians in one_radians_slip(spans):  # one column in radians among degrees (issue 48)
+            warnings.warn(
+                f"{source}: '{columns.angles[in_degrees[k]].name}' spans {spans[k]:.3g}° beside "
+                f"{spans[widest]:.3g}° in '{columns.angles[in_degrees[widest]].name}': radians under a degree label "
+                f"(as radians it would span {as_radians:.3g}°; label it :rad in --columns), or a scale?",
+                TrajectoryWarning,
+                stacklevel=3,
             )
         if 0.0 < spans[widest] < 1.0:
             warnings.warn(

@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Mapping
 from pathlib import Path
+from typing import Literal, Unpack, overload
 
 import numpy as np
 
@@ -23,6 +23,7 @@ from ..tables import cells, data_lines, decimals, detect_separator, number, read
 from .build import SampledMotion, Table, build_trajectory
 from .columns import Column, ColumnMap, column_options
 from .headers import table_columns
+from .read_options import ReadOptions, build_options
 from .trajectories import MIN_SAMPLES, Trajectory
 
 __all__ = ["load_trajectory_csv"]
@@ -31,19 +32,18 @@ __all__ = ["load_trajectory_csv"]
 _EXCEL_SEPARATOR = re.compile(r"sep=(;|,|\t|\\t)", re.IGNORECASE)
 
 
+@overload
 def load_trajectory_csv(
-    path: str | Path,
-    periodic: bool | None = None,
-    *,
-    columns: ColumnMap | Mapping | str | None = None,
-    load_column: Column | str | None = None,
-    body_weight: float | None = None,
-    frequency: float | None = None,
-    period: float | None = None,
-    resample: float | None = None,
-    lazy: bool = False,
-    cutoff: float | None = None,
-    load_curve=None,
+    path: str | Path, *, lazy: Literal[False] = False, **options: Unpack[ReadOptions]
+) -> Trajectory: ...
+@overload
+def load_trajectory_csv(path: str | Path, *, lazy: Literal[True], **options: Unpack[ReadOptions]) -> SampledMotion: ...
+@overload
+def load_trajectory_csv(
+    path: str | Path, *, lazy: bool, **options: Unpack[ReadOptions]
+) -> Trajectory | SampledMotion: ...
+def load_trajectory_csv(
+    path: str | Path, *, lazy: bool = False, **options: Unpack[ReadOptions]
 ) -> Trajectory | SampledMotion:
     """Read a trajectory from a CSV table and differentiate it.
 
@@ -55,21 +55,9 @@ def load_trajectory_csv(
 
     Args:
         path: the CSV file (comma, semicolon or tab separated).
-        periodic: True if the motion repeats with the period of the file (its
-            last row equals its first); None to decide from the data.
-        columns: a column mapping (:func:`~hipsim.motion.columns.parse_columns` text, a mapping
-            ``{"time": "Time", "alpha": "FE", …}`` or a :class:`~hipsim.motion.columns.ColumnMap`).
-        load_column: the load's column (``[-]NAME[:UNIT]`` or a Column), in
-            place of ``Fe_N`` or of the mapping's load.
-        body_weight: body weight in [N], for a load in % body weight (the
-            default unit of the load when a body weight is given).
-        frequency: cycle frequency in [Hz]: the file holds one cycle, rescaled in time to it.
-        period: cycle period in [s], instead of ``frequency``.
-        resample: rate in [Hz] of an even grid to resample uneven data onto
-            (the quintic spline of the samples; the load linearly).
         lazy: return a :class:`~hipsim.motion.build.SampledMotion` to evaluate piece by piece instead.
-        cutoff: zero-phase low-pass cutoff in [Hz] for the angles before differentiation (:mod:`hipsim.motion.filtering`).
-        load_curve: the load from its own file (:func:`hipsim.motion.load_file.read_load_curve`).
+        options: :class:`hipsim.motion.read_options.ReadOptions` (periodic, columns, load_column,
+            body_weight, frequency, period, resample, cutoff, load_curve).
 
     Returns:
         The trajectory, named by the path as given.
@@ -78,19 +66,10 @@ def load_trajectory_csv(
         TrajectoryError: naming the file, line and column of the first problem.
     """
     source = str(path)
-    mapping, load = column_options(columns, load_column, source)
+    rest = build_options(options, "load_trajectory_csv")
+    mapping, load = column_options(options.get("columns"), options.get("load_column"), source)
     table = _read_csv_table(source, path, mapping, load)
-    return build_trajectory(
-        table,
-        periodic=periodic,
-        frequency=frequency,
-        period=period,
-        resample=resample,
-        body_weight=body_weight,
-        lazy=lazy,
-        cutoff=cutoff,
-        load_curve=load_curve,
-    )
+    return build_trajectory(table, lazy=lazy, **rest)
 
 
 def _read_csv_table(source: str, path, mapping: ColumnMap | None, load: Column | None) -> Table:
@@ -120,7 +99,7 @@ def _read_csv_table(source: str, path, mapping: ColumnMap | None, load: Column |
     decimal_comma = separator != ","
     used = sorted(set(index.values()))
     values = np.empty((len(data), len(header)))
-    time_decimals = 0
+    time_decimals: int | None = 0  # None once a time's decimals cannot be told
     for k, (number_of_line, line) in enumerate(data):
         row = _cells(line, separator, len(header), source, number_of_line)
         if len(row) != len(header):

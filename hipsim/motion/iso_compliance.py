@@ -100,14 +100,14 @@ def parse_tolerances(text: str, base: Tolerances = DEFAULT_TOLERANCES) -> Tolera
             continue
         name, sep, value = (s.strip() for s in item.partition("="))
         if not sep or name not in QUANTITIES:
-            raise ArgumentError("--tolerance", item, f"NAME=VALUE with NAME one of {', '.join(QUANTITIES)}")
+            raise ArgumentError("--iso-tolerance", item, f"NAME=VALUE with NAME one of {', '.join(QUANTITIES)}")
         percent = value.endswith("%")
         if percent and name != "load":
-            raise ArgumentError("--tolerance", item, "a percentage for the load only")
+            raise ArgumentError("--iso-tolerance", item, "a percentage for the load only")
         try:
             number = float(value.rstrip("%").strip())
         except ValueError:
-            raise ArgumentError("--tolerance", item, "a number after '='") from None
+            raise ArgumentError("--iso-tolerance", item, "a number after '='") from None
         changes[name] = number / 100.0 * PEAK_LOAD if percent else number
     return replace(base, **changes)
 

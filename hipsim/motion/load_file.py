@@ -67,7 +67,7 @@ class LoadScale:
 
     def apply(self, load: np.ndarray) -> np.ndarray:
         """The scaled load in [N]."""
-        if self.low is None:
+        if self.low is None or self.high is None:  # set together (parse_load_scale)
             return load * self.factor
         lo, hi = float(load.min()), float(load.max())
         if hi - lo <= 0.0:

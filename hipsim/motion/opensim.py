@@ -22,8 +22,8 @@ from __future__ import annotations
 
 import re
 import warnings
-from collections.abc import Mapping
 from pathlib import Path
+from typing import Literal, Unpack, overload
 
 import numpy as np
 
@@ -31,6 +31,7 @@ from ..exceptions import TrajectoryError
 from ..tables import decimals, number, read_text_lines
 from .build import SampledMotion, Table, TrajectoryWarning, build_trajectory
 from .columns import Column, ColumnMap, as_column_map, as_load_column
+from .read_options import ReadOptions, build_options
 from .trajectories import MIN_SAMPLES, Trajectory
 
 __all__ = ["HIP_COORDINATES", "load_opensim"]
@@ -40,37 +41,29 @@ HIP_COORDINATES = ("hip_flexion", "hip_adduction", "hip_rotation")
 _SIDES = {"right": "r", "r": "r", "left": "l", "l": "l"}
 
 
+@overload
 def load_opensim(
-    path: str | Path,
-    side: str = "right",
-    *,
-    periodic: bool | None = None,
-    load_column: Column | str | None = None,
-    body_weight: float | None = None,
-    frequency: float | None = None,
-    period: float | None = None,
-    resample: float | None = None,
-    lazy: bool = False,
-    cutoff: float | None = None,
-    load_curve=None,
-    columns: ColumnMap | Mapping | str | None = None,
+    path: str | Path, side: str = "right", *, lazy: Literal[False] = False, **options: Unpack[ReadOptions]
+) -> Trajectory: ...
+@overload
+def load_opensim(
+    path: str | Path, side: str = "right", *, lazy: Literal[True], **options: Unpack[ReadOptions]
+) -> SampledMotion: ...
+@overload
+def load_opensim(
+    path: str | Path, side: str = "right", *, lazy: bool, **options: Unpack[ReadOptions]
+) -> Trajectory | SampledMotion: ...
+def load_opensim(
+    path: str | Path, side: str = "right", *, lazy: bool = False, **options: Unpack[ReadOptions]
 ) -> Trajectory | SampledMotion:
     """Read one hip's motion from an OpenSim .mot or .sto file.
 
     Args:
         path: the file.
         side: ``"right"`` or ``"left"``: whose hip coordinates to read.
-        periodic: as :func:`hipsim.motion.csv_table.load_trajectory_csv`.
-        load_column: a column holding the load (``[-]NAME[:UNIT]``: N by
-            default, or % body weight when a body weight is given).
-        body_weight: body weight in [N], for a load in % body weight.
-        frequency: cycle frequency in [Hz]: the file holds one cycle, rescaled in time to it.
-        period: cycle period in [s], instead of ``frequency``.
-        resample: rate in [Hz] of an even grid to resample uneven data onto.
         lazy: return a :class:`hipsim.motion.build.SampledMotion` to evaluate piece by piece instead.
-        cutoff: zero-phase low-pass cutoff in [Hz] for the angles before differentiation.
-        load_curve: the load from its own file (:func:`hipsim.motion.load_file.read_load_curve`).
-        columns: a column mapping (:func:`hipsim.motion.columns.parse_columns`) instead of the hip
+        options: :class:`hipsim.motion.read_options.ReadOptions`, where for an OpenSim file
+            ``columns`` is a column mapping (:func:`hipsim.motion.columns.parse_columns`) instead of the hip
             coordinates' names: angles without a unit in the file's (``inDegrees``),
             ``zero`` for a coordinate the file does not have (a planar model).
 
@@ -82,10 +75,11 @@ def load_opensim(
         TrajectoryError: naming the file, line and column of the first problem.
     """
     source = str(path)
+    rest = build_options(options, "load_opensim")
     if not isinstance(side, str) or side.strip().lower() not in _SIDES:
         raise TrajectoryError(f"side must be 'right' or 'left', got {side!r}", source=source)
     suffix = _SIDES[side.strip().lower()]
-    mapping, load = as_column_map(columns), as_load_column(load_column)
+    mapping, load = as_column_map(options.get("columns")), as_load_column(options.get("load_column"))
     if mapping is not None and load is not None:
         if mapping.load is not None:
             raise TrajectoryError(
@@ -93,17 +87,7 @@ def load_opensim(
             )
         mapping = ColumnMap(mapping.time, mapping.angles, mapping.hip_chain, load)
     table = _read(source, path, suffix, load, mapping)
-    return build_trajectory(
-        table,
-        periodic=periodic,
-        frequency=frequency,
-        period=period,
-        resample=resample,
-        body_weight=body_weight,
-        lazy=lazy,
-        cutoff=cutoff,
-        load_curve=load_curve,
-    )
+    return build_trajectory(table, lazy=lazy, **rest)
 
 
 def _read(source: str, path, suffix: str, load: Column | None, mapping: ColumnMap | None = None) -> Table:
@@ -200,6 +184,7 @@ def _table(source: str, labels: list[str], data, index: dict[str, int], angle_ke
             if not np.isfinite(values[k, c]):
                 raise TrajectoryError(f"'{row[c]}' is not finite", source=source, line=line_number, column=labels[c])
         places.append(decimals(row[index["time"]]))
+    known = [p for p in places if p is not None]  # a time whose decimals cannot be told: no quantum
     return Table(
         source=source,
         lines=np.array([n for n, _ in data]),
@@ -207,7 +192,7 @@ def _table(source: str, labels: list[str], data, index: dict[str, int], angle_ke
         angles=np.column_stack([values[:, index[c]] if c in index else np.zeros(len(data)) for c in angle_keys]),
         load=values[:, index["load"]] if "load" in index else None,
         columns=columns,
-        time_quantum=0.0 if None in places else 10.0 ** -max(places),
+        time_quantum=0.0 if not known or len(known) < len(places) else 10.0 ** -max(known),
     )
 
 

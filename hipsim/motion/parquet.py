@@ -8,34 +8,36 @@ every reader (:func:`hipsim.motion.build.build_trajectory`).
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from pathlib import Path
+from typing import Literal, Unpack, overload
 
 import numpy as np
 
 from ..exceptions import TrajectoryError
 from ..tables import open_parquet
 from .build import SampledMotion, Table, build_trajectory
-from .columns import Column, ColumnMap, column_options
+from .columns import column_options
 from .headers import table_columns
+from .read_options import ReadOptions, build_options
 from .trajectories import MIN_SAMPLES, Trajectory
 
 __all__ = ["load_trajectory_parquet"]
 
 
+@overload
 def load_trajectory_parquet(
-    path: str | Path,
-    periodic: bool | None = None,
-    *,
-    columns: ColumnMap | Mapping | str | None = None,
-    load_column: Column | str | None = None,
-    body_weight: float | None = None,
-    frequency: float | None = None,
-    period: float | None = None,
-    resample: float | None = None,
-    lazy: bool = False,
-    cutoff: float | None = None,
-    load_curve=None,
+    path: str | Path, *, lazy: Literal[False] = False, **options: Unpack[ReadOptions]
+) -> Trajectory: ...
+@overload
+def load_trajectory_parquet(
+    path: str | Path, *, lazy: Literal[True], **options: Unpack[ReadOptions]
+) -> SampledMotion: ...
+@overload
+def load_trajectory_parquet(
+    path: str | Path, *, lazy: bool, **options: Unpack[ReadOptions]
+) -> Trajectory | SampledMotion: ...
+def load_trajectory_parquet(
+    path: str | Path, *, lazy: bool = False, **options: Unpack[ReadOptions]
 ) -> Trajectory | SampledMotion:
     """Read a trajectory from a Parquet table and differentiate it (the arguments as :func:`hipsim.motion.csv_table.load_trajectory_csv`).
 
@@ -43,7 +45,8 @@ def load_trajectory_parquet(
         TrajectoryError: naming the file, row and column of the first problem.
     """
     source = str(path)
-    mapping, load = column_options(columns, load_column, source)
+    rest = build_options(options, "load_trajectory_parquet")
+    mapping, load = column_options(options.get("columns"), options.get("load_column"), source)
     parquet = open_parquet(path, "trajectory file", TrajectoryError)
     header = list(parquet.schema_arrow.names)
     mapping, index = table_columns(header, mapping, load, source, 1)
@@ -76,12 +79,6 @@ def load_trajectory_parquet(
             columns=mapping,
             time_quantum=0.0,
         ),
-        periodic=periodic,
-        frequency=frequency,
-        period=period,
-        resample=resample,
-        body_weight=body_weight,
         lazy=lazy,
-        cutoff=cutoff,
-        load_curve=load_curve,
+        **rest,
     )

@@ -17,6 +17,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.interpolate import PchipInterpolator, make_interp_spline
 
 from ..exceptions import TrajectoryError
@@ -203,7 +204,7 @@ def iso14242_samples(
     return n, abs(cycles - round(cycles)) < 1e-12 and abs(n - cycles * rate / frequency) < 1e-9
 
 
-def iso14242_at(t: np.ndarray, frequency: float = 1.0) -> Trajectory:
+def iso14242_at(t: ArrayLike, frequency: float = 1.0) -> Trajectory:
     """The built-in cycle evaluated at any times t in [s] (exact, like :func:`iso14242`)."""
     t = np.atleast_1d(np.asarray(t, dtype=float))
     q, qd, qdd = iso14242_angles(t, frequency)

@@ -84,6 +84,7 @@ def _close(machine: MujocoMachine, traj, tol: float, max_iter: int, Fe):
         # J = ∂L̇/∂ω = (∂L̇/∂q̇)·T⁻¹, both from MuJoCo: K⁻¹ gives the first, the held platform's angular Jacobian T.
         mujoco.mj_jacBody(model, data, None, jacr, machine.platform_body[c])
         T = jacr[:, machine.platform_dof[c]]
+        assert closer.K_inv is not None  # closer.rates() above has set it
         G = closer.K_inv[machine.slider_dof, :3]
         singular = np.linalg.svd(G @ _inverse(T), compute_uv=False)
         cond_inv[k] = singular[-1] / singular[0]

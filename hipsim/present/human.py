@@ -84,7 +84,7 @@ def _human_urdf() -> tuple[Path, Path]:
         from importlib import metadata
 
         candidates.append(Path(str(metadata.distribution("example-robot-data").locate_file("cmeel.prefix/share"))))
-    except Exception:  # noqa: BLE001 - any failure: try the paths below
+    except Exception:  # any failure: try the paths below
         pass
     candidates += [Path(p) / "cmeel.prefix" / "share" for p in sys.path if p]
     candidates += [Path(sys.prefix) / "share", Path("/opt/openrobots/share"), Path("/usr/share")]

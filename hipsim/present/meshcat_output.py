@@ -210,11 +210,14 @@ class Server:
             env=env,
             start_new_session=True,  # Ctrl-C in a terminal reaches this process, which then ends the server
         )
-        self.zmq_url = self.web_url = None
+        zmq_url: str | None = None
+        web_url: str | None = None
         lines = []
         deadline = time.monotonic() + timeout_s
-        while self.web_url is None:
-            line = self.process.stdout.readline().decode("utf-8", "replace").strip()
+        stdout = self.process.stdout
+        assert stdout is not None  # stdout=PIPE
+        while zmq_url is None or web_url is None:  # the server prints zmq_url first
+            line = stdout.readline().decode("utf-8", "replace").strip()
             if not line:
                 if self.process.poll() is not None or time.monotonic() > deadline:
                     self.close()
@@ -224,9 +227,10 @@ class Server:
                 continue
             lines.append(line)
             if line.startswith("zmq_url="):
-                self.zmq_url = line.split("=", 1)[1]
+                zmq_url = line.split("=", 1)[1]
             elif line.startswith("web_url="):
-                self.web_url = line.split("=", 1)[1]
+                web_url = line.split("=", 1)[1]
+        self.zmq_url, self.web_url = zmq_url, web_url
 
     @property
     def pid(self) -> int:

@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
+from ..exceptions import ArgumentError
 from ..machine.parameters import Parameters
 from .human import HIP_JOINTS, HUMAN_PELVIS_POSITION, HUMAN_PELVIS_ROTATION, load_human
 from .motion_frames import Motion
@@ -98,7 +99,11 @@ def arrow_scale(motion: Motion, force_scale: float | None = None) -> float:
     """The arrow scale of a motion with forces in [m per N]: ``force_scale``, or if None one for its peak force."""
     if force_scale is not None:
         return force_scale
-    peak = max(float(np.abs(motion.F_act).max()), float(np.linalg.norm(motion.F_joint, axis=-1).max()))
+    forces = motion.forces()
+    if forces is None:
+        raise ArgumentError("motion", motion.name, "a motion with forces, or a force_scale")
+    F_act, F_joint = forces
+    peak = max(float(np.abs(F_act).max()), float(np.linalg.norm(F_joint, axis=-1).max()))
     return force_scale_for(peak)
 
 
@@ -382,19 +387,19 @@ class Scene:
 
     def show_frame(self, motion: Motion, k: int, scale: float) -> None:
         """Show frame ``k`` of ``motion`` with its arrows (at ``scale`` in [m per N]) and lever colours."""
-        forces = motion.F_act is not None
-        if forces:
+        forces = motion.forces()
+        if forces is not None:
             self._setup_arrows()
         self.send(
             self.poses(
                 motion.q[k],
                 motion.hip[k],
-                motion.F_act[k] if forces else None,
-                motion.F_joint[k] if forces else None,
+                forces[0][k] if forces is not None else None,
+                forces[1][k] if forces is not None else None,
                 scale,
             )
         )
-        self._show_forces(forces)
+        self._show_forces(forces is not None)
         self.colour_levers(singularity_colour(motion.cond_inv[k]) if motion.cond_inv is not None else None)
 
     def platform_rotation(self, q: np.ndarray) -> np.ndarray:

@@ -61,6 +61,12 @@ class Motion:
     def __len__(self) -> int:
         return self.t.size
 
+    def forces(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """(F_act, F_joint) of a motion drawn with forces (both are given or neither); None without."""
+        if self.F_act is None or self.F_joint is None:
+            return None
+        return self.F_act, self.F_joint
+
     @property
     def rate(self) -> float:
         """Frames per second of trajectory time, fps/speed."""

@@ -16,14 +16,12 @@ browser already does. The tests and the viewer already use Chromium.
 
 from __future__ import annotations
 
-import subprocess
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 from ..exceptions import HipsimError
 from ..records import Record
-from .browser import find_browser
+from .browser import find_browser, run_headless
 
 __all__ = ["CSS", "Verdict", "environment", "print_pdf", "require_pdf_renderer"]
 
@@ -132,34 +130,8 @@ def print_pdf(page: str | Path, out: str | Path, browser: str | None = None, tim
     browser = browser or require_pdf_renderer()
     out = Path(out).resolve()
     out.unlink(missing_ok=True)
-    with tempfile.TemporaryDirectory(prefix="hipsim-chromium-") as profile:
-        args = [
-            browser,
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--disable-quic",
-            "--no-first-run",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--disable-sync",
-            "--disable-extensions",
-            "--mute-audio",
-            f"--user-data-dir={profile}",
-            "--proxy-server=127.0.0.1:9",
-            "--host-resolver-rules=MAP * ~NOTFOUND",
-            "--no-pdf-header-footer",
-            "--print-to-pdf-no-header",
-            f"--print-to-pdf={out}",
-            Path(page).resolve().as_uri(),
-        ]
-        try:
-            run = subprocess.run(
-                args, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, timeout=timeout_s
-            )
-        except subprocess.TimeoutExpired:
-            raise HipsimError(f"{browser} did not print {page} to PDF in {timeout_s:g} s") from None
+    options = ("--no-pdf-header-footer", "--print-to-pdf-no-header", f"--print-to-pdf={out}")
+    errors = run_headless(browser, Path(page).resolve().as_uri(), options, f"print {page} to PDF", timeout_s)
     if not out.is_file() or out.stat().st_size == 0 or not out.read_bytes()[:5] == b"%PDF-":
-        tail = run.stderr.decode("utf-8", "replace").strip().splitlines()[-3:]
-        raise HipsimError(f"{browser} wrote no PDF of {page}: " + " / ".join(tail))
+        raise HipsimError(f"{browser} wrote no PDF of {page}: " + errors)
     return out

@@ -91,12 +91,12 @@ def report_verdict(size: Sizing) -> Verdict:
         )
     name = size.drive.name if size.drive is not None else "the drive"
     not_made = f"; {missing} not made for want of data" if missing else ""
-    binding = size.binding
+    binding = "no check made" if size.binding is None else _check_sentence(size.binding)
     if verdict.level == Level.PASS:
         return Verdict(
             "pass",
             "PASS",
-            (f"{name} passes all {len(made)} rating checks made{not_made}.", f"Binding: {_check_sentence(binding)}."),
+            (f"{name} passes all {len(made)} rating checks made{not_made}.", f"Binding: {binding}."),
         )
     failing = [c for c in made if not c.passed]
     return Verdict(
@@ -104,7 +104,7 @@ def report_verdict(size: Sizing) -> Verdict:
         "FAIL",
         (
             f"{name} fails {len(failing)} of the {len(made)} rating checks made{not_made}.",
-            f"Worst: {_check_sentence(binding)}.",
+            f"Worst: {binding}.",
         ),
     )
 

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from ..exceptions import ArgumentError
 from ..files import check_folder, json_ready, output_folder, write_atomic
 from ..records import Level
 from ..results import Torques
@@ -119,11 +120,13 @@ def plot_phase_errors(comparison: Comparison):
 
     fig = Figure(figsize=(10.0, 3.4), layout="constrained")
     ax = fig.subplots()
-    edges = comparison.phase_edges
+    edges, rms = comparison.phase_edges, comparison.phase_rms
+    if edges is None or rms is None:
+        raise ArgumentError("comparison", comparison.period, "a comparison binned by phase (a periodic log)")
     centres = 0.5 * (edges[:-1] + edges[1:])
     width = (edges[1] - edges[0]) / 4
     for i in range(3):
-        ax.bar(centres + (i - 1) * width, comparison.phase_rms[:, i] * 1e3, width, label=f"motor {i + 1}")
+        ax.bar(centres + (i - 1) * width, rms[:, i] * 1e3, width, label=f"motor {i + 1}")
     if comparison.stance is not None:
         stance_end = edges[1:][comparison.stance].max() if comparison.stance.any() else 0.0
         ax.axvspan(0.0, stance_end, color="0.9", zorder=0, label="stance")

@@ -45,12 +45,12 @@ Not thread-safe: use one Viewer from one thread at a time.
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
+from ..clock import SYSTEM_CLOCK, Clock
 from ..exceptions import ArgumentError, HipsimError
 from ..machine.parameters import Parameters, load_parameters
 from ..motion.trajectories import Trajectory
@@ -223,6 +223,7 @@ class Viewer:
         singularity: bool = False,
         fps: float = DEFAULT_FPS,
         on_frame: Callable[[int, Motion], None] | None = None,
+        clock: Clock = SYSTEM_CLOCK,
     ) -> Motion:
         """Play a trajectory in the live viewer, in real time (``speed`` × real time), once or looping.
 
@@ -238,6 +239,7 @@ class Viewer:
             forces, singularity: draw force arrows / colour the levers (module docstring).
             fps: frames per second.
             on_frame: called with (frame index, motion) after each frame is sent.
+            clock: the clock that paces the frames (:mod:`hipsim.clock`; a test passes its own).
 
         Returns:
             The motion shown.
@@ -251,10 +253,10 @@ class Viewer:
         n = len(motion)
         frame_rate = motion.fps
         while True:
-            start = time.monotonic()
+            start = clock.monotonic()
             shown = -1
             while True:
-                k = int((time.monotonic() - start) * frame_rate)
+                k = int((clock.monotonic() - start) * frame_rate)
                 if k >= n:
                     if not loop and shown != n - 1:
                         k = n - 1  # a run that ends rests on its last frame, even if the clock skipped it
@@ -266,7 +268,7 @@ class Viewer:
                     if on_frame is not None:
                         on_frame(k, motion)
                 next_time = start + (k + 1) / frame_rate
-                time.sleep(max(0.0, next_time - time.monotonic()))
+                clock.sleep(max(0.0, next_time - clock.monotonic()))
             if not loop:
                 return motion
 
@@ -320,8 +322,8 @@ class Viewer:
             self._offline.tree.animation = None
 
     def _animation(self, motion: Motion):
-        forces = motion.F_act is not None
-        scale = self._scale(motion) if forces else 0.0
+        forces = motion.forces()
+        scale = self._scale(motion) if forces is not None else 0.0
         # Show the first frame: the scene then holds each node's scale (animations keep the scale they find).
         self.scene.show_frame(motion, 0, scale)
         self.scene.colour_levers(None)
@@ -331,8 +333,8 @@ class Viewer:
             poses = self.scene.poses(
                 motion.q[k],
                 motion.hip[k],
-                motion.F_act[k] if forces else None,
-                motion.F_joint[k] if forces else None,
+                forces[0][k] if forces is not None else None,
+                forces[1][k] if forces is not None else None,
                 scale,
             )
             with animation.at_frame(self.vis, k) as frame:
@@ -371,7 +373,7 @@ class Viewer:
     def __del__(self):
         try:
             self.close()
-        except Exception:  # noqa: BLE001 - interpreter shutdown
+        except Exception:  # interpreter shutdown
             pass
 
 

@@ -23,7 +23,7 @@ def legend_lines(motion: Motion, scale: float | None, human: bool) -> list[str]:
     lines = [
         f"hipsim: {html.escape(motion.name)}, {motion.duration:.3g} s in {len(motion)} frames at {motion.fps:g} fps, speed {motion.speed:g}&times;"
     ]
-    if motion.F_act is not None:
+    if motion.forces() is not None and scale is not None:  # the scale is given with forces
         lines.append(
             f"arrows ({scale_text(scale)}): <span style='color:#d91acc'>&#9632;</span> motor thrust 2πτ/p on each screw's carriage, "
             f"<span style='color:#0dbfd9'>&#9632;</span> force of each lever on its platform"
@@ -51,11 +51,12 @@ def description_lines(motion: Motion, scale: float | None, human: bool) -> list[
         f"{motion.name}: {motion.duration:.4g} s in {len(motion)} frames at {motion.fps:g} fps, speed {motion.speed:g}x; "
         f"largest closure gap of the frames shown {float(motion.residual.max()):.1e} m"
     ]
-    if motion.F_act is not None:
+    forces = motion.forces()
+    if forces is not None and scale is not None:  # the scale is given with forces
         lines.append(
             f"arrows at {scale_text(scale)}: magenta = motor thrust 2πτ/p on each screw's carriage "
-            f"(peak {float(np.abs(motion.F_act).max()):.0f} N), cyan = force of each lever on its platform "
-            f"(peak {float(np.linalg.norm(motion.F_joint, axis=-1).max()):.0f} N)"
+            f"(peak {float(np.abs(forces[0]).max()):.0f} N), cyan = force of each lever on its platform "
+            f"(peak {float(np.linalg.norm(forces[1], axis=-1).max()):.0f} N)"
         )
     if motion.cond_inv is not None:
         lines.append(

@@ -28,8 +28,8 @@ def plot_singularity_map(smap: SingularityMap, levels: tuple[float, ...] = (0.1,
     from matplotlib.figure import Figure
 
     n = smap.gamma_deg.size
-    has_path = smap.trajectory_q_deg is not None
-    panels = n + (1 if has_path else 0)
+    path, m = smap.trajectory_q_deg, smap.margin  # both given with a trajectory, else both None
+    panels = n + (1 if path is not None else 0)
     columns = min(3, panels)
     rows = math.ceil(panels / columns)
     fig = Figure(figsize=(5.2 * columns, 3.6 * rows + 0.8), layout="constrained")
@@ -37,8 +37,7 @@ def plot_singularity_map(smap: SingularityMap, levels: tuple[float, ...] = (0.1,
     finite = smap.cond_inv[np.isfinite(smap.cond_inv)]
     vmax = float(finite.max()) if finite.size else 1.0
     extent = _extent(smap.alpha_deg, smap.beta_deg)
-    if has_path:
-        path = smap.trajectory_q_deg
+    if path is not None:
         nearest = np.argmin(np.abs(path[:, 2, None] - smap.gamma_deg[None, :]), axis=1)
     image = None
     for g in range(n):
@@ -59,7 +58,7 @@ def plot_singularity_map(smap: SingularityMap, levels: tuple[float, ...] = (0.1,
                 smap.alpha_deg, smap.beta_deg, smap.cond_inv[g], levels=list(levels), colors="white", linewidths=0.6
             )
             ax.clabel(contours, fontsize=7, fmt="%.1f")
-        if has_path:
+        if path is not None:
             ax.plot(path[:, 0], path[:, 1], color="white", lw=0.8, ls="--", alpha=0.8, label="trajectory (all γ)")
             if np.any(nearest == g):
                 mine = np.where(nearest == g, path[:, 1], np.nan)
@@ -85,9 +84,8 @@ def plot_singularity_map(smap: SingularityMap, levels: tuple[float, ...] = (0.1,
         ax.set_title(f"γ = {smap.gamma_deg[g]:g}° (internal/external rotation)", fontsize=10)
         ax.set_xlabel("α flexion/extension [deg]")
         ax.set_ylabel("β abduction/adduction [deg]")
-    if has_path:
+    if path is not None and m is not None:
         ax = axes[n]
-        m = smap.margin
         ax.plot(smap.trajectory_t_s, m.cond_inv, color="tab:blue", label="inverse condition number of J")
         if m.index >= 0:
             ax.plot(

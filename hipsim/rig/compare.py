@@ -287,7 +287,7 @@ class Comparison:
             for i, entry in self.motor_errors().items()
         }
         phases = None
-        if self.phase_rms is not None:
+        if self.phase_rms is not None and self.phase_edges is not None:  # computed together
             phases = Phases(
                 edges=[float(x) for x in self.phase_edges],
                 from_="heel strike" if self.stance is not None else "first sample",
@@ -314,7 +314,7 @@ class Comparison:
 def _period(period: float | None, t: np.ndarray, q: np.ndarray | None, t_first: float, t_last: float) -> float | None:
     """The period to bin phases by: given, detected from the angles (when None), or None (0, or fewer than two cycles)."""
     if period is None:
-        period = detect_period(t, q)
+        period = detect_period(t, q) if q is not None else None  # no angles: a period given, or none
     elif period <= 0:
         period = None
     if period is not None and (t_last - t_first) < 2 * period * (1 - 1e-9):

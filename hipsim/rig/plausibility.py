@@ -149,7 +149,7 @@ def _check_torques(params, trajectory, measured, lever_spin, source, torque_from
     model = np.sqrt(np.nanmean(run.torques.total**2, axis=0))
     logged = np.sqrt(np.mean(measured[::stride] ** 2, axis=0))
     columns = CURRENT_COLUMNS if torque_from == "currents" else TORQUE_COLUMNS
-    errors: dict[float, list[int]] = {}
+    errors: dict[float | None, list[int]] = {}  # by the unit slip's factor, None for none
     warnings = []
     for i in range(3):
         if not (model[i] > 1e-6 and np.isfinite(model[i])):  # a motor the model says is idle: nothing to compare with

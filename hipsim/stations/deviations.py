@@ -35,7 +35,7 @@ __all__ = [
     "platform_of",
 ]
 
-#: The families a tolerance names (``--tolerance ujoint=0.1,...``), as the fields of :class:`ChainGeometry`.
+#: The families a tolerance names (``--bands ujoint=0.1,...``), as the fields of :class:`ChainGeometry`.
 FAMILIES = ("ujoint", "slider", "joint", "lever", "centre")
 
 

@@ -30,6 +30,7 @@ from ..machine.parameters import Parameters
 from ..motion.trajectories import iso14242
 from ..physics.orientation import inverse_condition_number
 from ..rig.identification.excitation import Limits
+from ..rig.identification.regressor import column_condition
 from .sensitivity import Structure, attitude_jacobian, structure
 
 __all__ = ["CalibrationExcitation", "calibration_condition", "calibration_excitation"]
@@ -50,12 +51,7 @@ def calibration_condition(
     Y = attitude_jacobian(params, np.stack([q, q], axis=1), seen.independent)
     if offsets:
         Y = Y - Y.mean(axis=0)
-    Y = Y.reshape(-1, seen.independent.size)
-    norms = np.linalg.norm(Y, axis=0)
-    if np.any(norms == 0):
-        return math.inf
-    s = np.linalg.svd(Y / norms, compute_uv=False)
-    return float(s[0] / s[-1]) if s[-1] > 0 else math.inf
+    return column_condition(Y.reshape(-1, seen.independent.size))
 
 
 @dataclass(frozen=True, eq=False)

@@ -61,7 +61,7 @@ def parse_tolerances(text: str) -> dict[str, float]:
     Raises:
         ParameterError: an unknown key, a value that is not a finite number >= 0, an unreadable file.
     """
-    source = "--tolerance"
+    source = "--bands"
     if "=" not in text and Path(text).suffix.lower() == ".toml":
         source = text
         try:
@@ -364,7 +364,7 @@ def tolerance_draws(
     for first, batch_rms, batch_peak, failure in results:
         if failure is not None:
             raise HipsimError(
-                f"--tolerance: {failure} on the desired motion: the band is too wide for this machine (nothing written)"
+                f"--bands: {failure} on the desired motion: the band is too wide for this machine (nothing written)"
             )
         rms[first : first + len(batch_rms)] = batch_rms
         peak[first : first + len(batch_peak)] = batch_peak

@@ -22,6 +22,7 @@ from typing import Protocol
 import numpy as np
 
 from ..exceptions import ArgumentError, FileRowError
+from ..plausibility import factor_name, unit_slip
 from ..tables import cells, data_lines, detect_separator, number, read_text_lines
 from .maps import WearMaps
 
@@ -231,4 +232,44 @@ def read_wear_law(path: str | Path) -> CrossShearLaw:
                 line=int(lines[j]),
                 column=LAW_COLUMNS[1],
             )
+    _check_units(path, cs, k, lines)
     return CrossShearLaw(cs, k, str(path))
+
+
+#: Cross-shear is a ratio of at most 0.5 (Kang): a table reaching beyond 1 is in per cent.
+CS_MAX = 0.5
+#: UHMWPE's wear factors in [mm³/(N·m)] (1e-8 to 1e-6, with a decade's margin each way): a table 1000 times off is a unit.
+K_PLAUSIBLE = (1e-9, 1e-5)
+#: No wear factor in [mm³/(N·m)] is above this (``--wear-factor``'s hard range).
+K_MAX = 1e-3
+
+
+def _check_units(path, cs: np.ndarray, k: np.ndarray, lines) -> None:
+    """Refuse a wear-law table in per cent of cross-shear, or with k per N·mm (or m³), naming the row (issue 48)."""
+    j = int(np.argmax(cs))
+    if cs[j] > 1.0:
+        raise FileRowError(
+            f"cross-shear {cs[j]:g}: CS is a ratio from 0 to {CS_MAX:g}; is the column in per cent? (divide by 100)",
+            source=str(path),
+            line=int(lines[j]),
+            column=LAW_COLUMNS[0],
+        )
+    positive = k[k > 0]
+    if positive.size == 0:
+        return
+    low, high = K_PLAUSIBLE
+    worst = float(positive.max()) if positive.max() > high else float(positive.min())
+    slip = unit_slip(worst, low, high)
+    if slip is None and worst > K_MAX:  # no unit explains it: no material wears so
+        slip = worst / high
+    if slip is not None:
+        j = int(np.flatnonzero(k == worst)[0])
+        hint = (
+            "given per N·mm: give it per N·m (1000 times the figure)" if slip < 1 else "1000 times too large (a unit?)"
+        )
+        raise FileRowError(
+            f"a wear factor {worst:g} mm³/(N·m) is {factor_name(slip)} UHMWPE's ({low:g} to {high:g}): k looks {hint}",
+            source=str(path),
+            line=int(lines[j]),
+            column=LAW_COLUMNS[1],
+        )

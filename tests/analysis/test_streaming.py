@@ -6,6 +6,7 @@ import sys
 import numpy as np
 import pyarrow.parquet as pq
 import pytest
+from support import given
 
 import hipsim
 from hipsim.analysis.crosscheck import compare_models
@@ -26,7 +27,7 @@ def params():
 
 
 def streamed(params, source, chunk, **options):
-    pieces = []
+    pieces: list = []
     summary = stream_run(params, source, chunk=chunk, write=pieces.append, **options)
     return "".join(csv_rows(piece) for piece in pieces), summary, pieces
 
@@ -172,10 +173,14 @@ def test_exact_sum_does_not_depend_on_the_pieces():
 def test_column_writer_is_atomic(tmp_path):
     path = tmp_path / "run.csv"
     path.write_text("old\n")
-    with pytest.raises(RuntimeError):
+
+    def interrupted():
         with ColumnWriter(path) as writer:
             writer.write({"a_s": np.arange(3.0)})
             raise RuntimeError("interrupted")
+
+    with pytest.raises(RuntimeError, match="interrupted"):
+        interrupted()
     assert path.read_text() == "old\n" and not list(tmp_path.glob(".*part"))
     with ColumnWriter(path) as writer:
         writer.write({"a_s": np.arange(2.0), "b_N": np.array([0.5, np.nan])})
@@ -187,10 +192,14 @@ def test_column_writer_is_atomic(tmp_path):
 def test_parquet_writer_is_atomic_and_keeps_the_pieces_in_order(tmp_path, monkeypatch):
     path = tmp_path / "run.parquet"
     monkeypatch.setattr(ColumnWriter, "ROW_GROUP", 200)  # pieces of 70 rows gathered three at a time
-    with pytest.raises(KeyboardInterrupt):
+
+    def interrupted():
         with ColumnWriter(path, {"note": "x"}) as writer:
             writer.write({"a_s": np.arange(3.0)})
             raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        interrupted()
     assert not path.exists() and not list(tmp_path.glob(".*part"))
     with ColumnWriter(path, {"note": "x"}) as writer:
         for start in range(0, 1000, 70):
@@ -209,7 +218,7 @@ def test_parquet_writer_is_atomic_and_keeps_the_pieces_in_order(tmp_path, monkey
 
 
 @pytest.mark.parametrize(
-    "bad, reason", [("missing/x.csv", "does not exist"), (".", "is a folder"), ("/dev/null", "not a regular file")]
+    ("bad", "reason"), [("missing/x.csv", "does not exist"), (".", "is a folder"), ("/dev/null", "not a regular file")]
 )
 def test_outputs_are_checked_before_the_work(tmp_path, monkeypatch, capsys, bad, reason):
     import hipsim.analysis.streaming as streaming
@@ -243,7 +252,7 @@ def test_parquet_trajectory_reads_as_the_csv(tmp_path):
 
     csv_path = write_cycle_csv(tmp_path / "gait.csv", closed=True)
     data = np.genfromtxt(csv_path, delimiter=",", names=True)
-    table = pa.table({name: data[name] for name in data.dtype.names})
+    table = pa.table({name: data[name] for name in given(data.dtype.names)})
     pq.write_table(table, tmp_path / "gait.parquet")
     a, b = read_trajectory(csv_path), read_trajectory(tmp_path / "gait.parquet")
     assert b.periodic and len(a) == len(b)
@@ -301,7 +310,7 @@ def test_report_exits_1_and_says_so_when_the_drive_fails(tmp_path, capsys):
 
     weak = tmp_path / "weak.toml"
     weak.write_text('[motor]\nname = "too small"\ns1_torque_Nmm = 30\npeak_torque_Nmm = 60\nmax_speed_rpm = 6000\n')
-    common = ["report", "--rate", "100", "--model", "analytic", "--motor", str(weak)]
+    common = ["report", "--rate", "100", "--engine", "analytic", "--motor", str(weak)]
     assert main([*common, "--out", str(tmp_path / "r1")]) == 1
     captured = capsys.readouterr()
     assert "rating check of too small: FAIL" in captured.out and "exit status 1" in captured.err
@@ -321,7 +330,7 @@ def test_report_exits_1_and_says_so_when_the_drive_fails(tmp_path, capsys):
     strong = tmp_path / "strong.toml"
     strong.write_text('[motor]\nname = "big"\ns1_torque_Nmm = 5000\npeak_torque_Nmm = 9000\nmax_speed_rpm = 6000\n')
     assert (
-        main(["report", "--rate", "100", "--model", "analytic", "--motor", str(strong), "--out", str(tmp_path / "r3")])
+        main(["report", "--rate", "100", "--engine", "analytic", "--motor", str(strong), "--out", str(tmp_path / "r3")])
         == 0
     )
 

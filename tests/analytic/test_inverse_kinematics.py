@@ -78,7 +78,7 @@ def test_jacobian_maps_angular_velocity_to_slider_speeds(params):
         ],
         axis=1,
     )
-    kin = kinematics(params, Trajectory([0.0], q0, np.zeros((1, 3)), np.zeros((1, 3)), [0.0]))
+    kin = kinematics(params, Trajectory(np.array([0.0]), q0, np.zeros((1, 3)), np.zeros((1, 3)), np.array([0.0])))
     np.testing.assert_allclose(kin.J[0] @ angular_velocity_map(q0)[0], dLdq, rtol=1e-7, atol=1e-9)
 
 
@@ -160,12 +160,12 @@ def test_condition_along_iso_cycle(params):
 
 
 def _still(q_deg, t=0.0):
-    return Trajectory([t], np.radians([q_deg]), np.zeros((1, 3)), np.zeros((1, 3)), [0.0])
+    return Trajectory(np.array([t]), np.radians([q_deg]), np.zeros((1, 3)), np.zeros((1, 3)), np.array([0.0]))
 
 
 def test_out_of_reach_raises_with_time(params):
     far = Trajectory(
-        [0.0, 0.5, 1.0],
+        np.array([0.0, 0.5, 1.0]),
         np.radians([[0, 0, 0], [0, 0, 0], [0, 0, 180]]),
         np.zeros((3, 3)),
         np.zeros((3, 3)),

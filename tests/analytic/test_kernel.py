@@ -91,7 +91,7 @@ def test_advance_is_classic_rk4_with_the_loads_at_the_half_steps(params):
     P = kernel.kernel_parameters(params)
     x = np.concatenate(np.radians([[8.0, -3.0, 5.0], [20.0, -15.0, 30.0]]))
     tau, loads, h = np.array([0.2, -0.1, 0.15]), np.array([300.0, 900.0, 1500.0, 2100.0, 2700.0]), 2.5e-4
-    expected = _rk4(_DerivativeOnly(P), 0.0, x, tau, loads, h, 2)
+    expected = _rk4(_DerivativeOnly(P), 0.0, x, tau, loads, h, 2)  # type: ignore[arg-type]  # only derivative(), what _rk4 calls
     np.testing.assert_allclose(kernel.advance(P, x, tau, loads, h, 2), expected, rtol=1e-14, atol=1e-15)
     # The loads matter: the same step under the first load throughout differs.
     assert not np.allclose(kernel.advance(P, x, tau, np.full(5, loads[0]), h, 2), expected, rtol=1e-12, atol=0)

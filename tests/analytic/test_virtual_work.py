@@ -1,6 +1,7 @@
 """Analytic inverse dynamics (spec §4): power balance, parts, and the Jacobian-transpose shortcut."""
 
 import math
+from typing import Any
 
 import numpy as np
 import pytest
@@ -79,7 +80,7 @@ def test_parts_add_up_and_switch_off(params, motion):
     np.testing.assert_allclose(total, full.total, rtol=0, atol=1e-12 * np.abs(full.total).max())
 
     zero_friction = {k: 0.0 for k in ALL_FRICTION} | {"hip_mu": 0.0, "thrust_mu": 0.0}
-    switches = {
+    switches: dict[str, dict[str, Any]] = {
         "platforms": dict(platform_inertia=np.zeros((3, 3))),
         "levers": dict(lever_mass=0.0, lever_inertia=np.zeros((3, 3))),
         "sliders": dict(slider_mass=0.0),

@@ -21,7 +21,7 @@ def test_the_built_in_cycle_on_the_published_machine_reports_nothing(tmp_path, c
 
 
 @pytest.mark.parametrize(
-    "setting, named",
+    ("setting", "named"),
     [
         ("motor.max_speed_rpm=1000", "needs a speed of"),
         ("motor.peak_torque_Nmm=200", "needs a torque of"),

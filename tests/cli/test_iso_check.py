@@ -68,7 +68,7 @@ def test_tolerances_are_options_and_bad_ones_one_line(tmp_path, capsys):
                 "1.2",
                 "--cycles",
                 "3",
-                "--tolerance",
+                "--iso-tolerance",
                 "frequency=0.25",
                 "--out",
                 str(tmp_path / "iso"),
@@ -77,9 +77,9 @@ def test_tolerances_are_options_and_bad_ones_one_line(tmp_path, capsys):
         == 0
     )
     capsys.readouterr()
-    assert main(["iso-check", "--tolerance", "speed=3", "--out", str(tmp_path / "iso2")]) == 2
+    assert main(["iso-check", "--iso-tolerance", "speed=3", "--out", str(tmp_path / "iso2")]) == 2
     err = capsys.readouterr().err.strip()
-    assert err.startswith("hipsim: error: --tolerance:") and "\n" not in err
+    assert err.startswith("hipsim: error: --iso-tolerance:") and "\n" not in err
 
 
 def test_the_page_opens_with_the_verdict_and_hashes_its_log(tmp_path, capsys):

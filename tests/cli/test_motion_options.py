@@ -51,9 +51,9 @@ def test_cutoff_brings_a_noisy_60_hz_file_back_to_the_noise_free_torques(tmp_pat
 
 
 @pytest.mark.parametrize(
-    "cutoff, message",
+    ("cutoff", "message"),
     [
-        ("-1", "--cutoff: expected a positive frequency in Hz, got -1"),
+        ("-1", "--cutoff -1 Hz: zero-phase low-pass cutoff must be above 0"),
         ("30.5", "the low-pass cutoff 30.5 Hz is not below the Nyquist frequency 30 Hz"),
         ("45", "the low-pass cutoff 45 Hz is not below the Nyquist frequency 30 Hz"),
     ],
@@ -162,7 +162,7 @@ def test_a_load_file_covering_part_of_the_motion_cuts_it_with_a_warning(tmp_path
 
 
 @pytest.mark.parametrize(
-    "case, message",
+    ("case", "message"),
     [
         ("no overlap", "no overlapping time: the motion"),
         (

@@ -16,7 +16,7 @@ GRID = "12x24"
 
 
 def _run(capsys, *words):
-    status = main(["wear", "--grid", GRID, *map(str, words)])
+    status = main(["wear", "--cup-grid", GRID, *map(str, words)])
     captured = capsys.readouterr()
     return status, captured.out, captured.err
 
@@ -175,13 +175,13 @@ GOOD = "cycle,station,mass_mg\n0,1,30000\n0,soak,29000\n500000,1,29990\n500000,s
     [
         (GOOD.replace("500000,1,29990", "1500000,1,29990"), (), "weighings out of order"),
         (GOOD.replace("soak", "spare"), (), "station 1 has no soak control"),
-        (GOOD, ("--density=-0.9",), "--density: expected a density in (0, 25] mg/mm³, got -0.9"),
+        (GOOD, ("--density=-0.9",), "--density -0.9 mg/mm³: the cups' density must be above 0 and at most 25 mg/mm³"),
         (GOOD.replace("29990", "29.990"), (), "a change larger than the cup weighs"),
-        (GOOD, ("--from", "0.5"), "--from: expected a cycle, a whole number ≥ 0"),
+        (GOOD, ("--from", "0.5"), "--from '0.5': expected a whole number in cycles"),
         (GOOD, ("--wear-factor", "4e-7"), "a value without its kind is ambiguous"),
-        (GOOD, ("--workers", "0"), "--workers: expected a whole number of worker processes in [1, 64]"),
+        (GOOD, ("--workers", "0"), "--workers 0 processes: worker processes (1: in this process) must be at least 1"),
         (GOOD, ("--station", "3=iso"), "--station: no station '3' in the weighings"),
-        (GOOD, ("--area-law", "1e-9"), "with --weighings a law is given as --wear-factor K:KIND"),
+        (GOOD, ("--area-law", "1e-5"), "with --weighings a law is given as --wear-factor K:KIND"),
         (GOOD, ("--out", "stops.parquet"), "the table of stops is CSV"),
     ],
 )

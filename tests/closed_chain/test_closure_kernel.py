@@ -231,8 +231,8 @@ def test_acceleration_drift_is_pinocchios_relative_classical_acceleration(closed
             for joint, placement in ((cm.joint1_id, cm.joint1_placement), (cm.joint2_id, cm.joint2_placement))
         ]
         expected.append(tip[:3, :3].T @ (ends[0] - ends[1]))
-    expected = np.concatenate(expected)
-    np.testing.assert_allclose(drift, expected, rtol=0, atol=1e-11 * np.abs(expected).max())
+    expected_all = np.concatenate(expected)
+    np.testing.assert_allclose(drift, expected_all, rtol=0, atol=1e-11 * np.abs(expected_all).max())
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
@@ -341,7 +341,7 @@ def test_chord_step_closes_a_perturbed_configuration(closed):
         q = trial
         sizes.append(math.sqrt(size))
     ws.place(q)
-    sizes.append(np.linalg.norm(ws.residual()))
+    sizes.append(float(np.linalg.norm(ws.residual())))
     assert sizes[0] > 1e-9 and sizes[1] < 1e-3 * sizes[0] and sizes[2] < 1e-14
     np.testing.assert_array_equal(q[layout.platform_v.ravel()], angles)
 

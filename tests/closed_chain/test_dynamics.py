@@ -17,6 +17,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 import yaml
+from support import given
 
 from hipsim import ModelError, PoseError, Torques, load_parameters
 from hipsim.closed_chain.build import load_closed_chain, load_model
@@ -97,7 +98,7 @@ class Run:
         return np.sum(self.dyn.torques.total * self.motor_speed(), axis=1)
 
     def motor_speed(self):
-        return 2 * math.pi / self.params.lead * self.kin.v[:, self.chain.layout.slider_v]
+        return 2 * math.pi / self.params.lead * self.kin.v[:, given(self.chain.layout).slider_v]
 
     def rate_of(self, quantity):
         """d/dt of quantity(q, v) along the motion, by central differences."""
@@ -148,7 +149,7 @@ class Run:
                     power[n] += wl @ (fr.ujoint_coulomb * smooth_sign(wl, fr.epsilon) + fr.ujoint_viscous * wl)
                     wr = wl - w
                     power[n] += wr @ (fr.sjoint_coulomb * smooth_sign(wr, fr.epsilon) + fr.sjoint_viscous * wr)
-        Ld = self.kin.v[:, self.chain.layout.slider_v]
+        Ld = self.kin.v[:, given(self.chain.layout).slider_v]
         speed = self.motor_speed()
         ss = speed / np.sqrt(speed**2 + fr.epsilon**2)
         power += np.sum(2 * (fr.guide_coulomb * ss + fr.guide_viscous * Ld) * Ld, axis=1)
@@ -258,13 +259,13 @@ def test_angle_signs_flip_the_platform_angles():
         dataclasses.replace(chain, params=load_parameters()),
         SimpleNamespace(t=traj.t, q=traj.q * signs, qd=traj.qd * signs, qdd=traj.qdd * signs),
     )
-    np.testing.assert_array_equal(flipped.q[:, chain.layout.platform_v[0]], traj.q * signs)
+    np.testing.assert_array_equal(flipped.q[:, given(chain.layout).platform_v[0]], traj.q * signs)
     np.testing.assert_allclose(flipped.L, direct.L, atol=1e-14)
 
 
 def test_unreachable_pose_raises_at_its_time():
     chain = load_model()
-    p = chain.params
+    p = given(chain.params)
     t = np.linspace(0.0, 1.0, 101)
     gamma = 80.0 * DEG * t
     zeros = np.zeros_like(t)
@@ -447,7 +448,7 @@ def test_results_are_frozen_and_shaped(run):
         and run.dyn.joint_forces.Fa.shape == (n, 2, 3)
         and run.dyn.joint_forces.Fo.shape == (n, 2)
     )
-    with pytest.raises(ValueError):
+    with pytest.raises(ValueError, match="read-only"):
         run.dyn.torques.total[0, 0] = 1.0
     with pytest.raises(AttributeError):
         run.dyn.torques.total = None
@@ -472,7 +473,7 @@ def test_generic_loader_reads_the_transmission_from_the_closure_file():
     assert chain.layout is None and chain.n_closures == 6
     np.testing.assert_allclose(chain.model.armature, hip.model.armature, rtol=1e-12)
     np.testing.assert_array_equal(chain.actuated_v, hip.actuated_v)
-    p = hip.params
+    p = given(hip.params)
     assert hip.model.armature[hip.actuated_v] == pytest.approx(p.screw_inertia * (2 * math.pi / p.lead) ** 2)
     for cm in chain.constraint_models:
         assert cm.type == pin.ContactType.CONTACT_3D and cm.reference_frame == pin.ReferenceFrame.LOCAL

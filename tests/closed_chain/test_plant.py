@@ -5,6 +5,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 from scipy.integrate import simpson
+from support import given
 
 import hipsim
 from hipsim.closed_chain.build import load_model
@@ -111,7 +112,9 @@ def test_angle_signs_are_applied_as_in_the_analytic_model(params):
     plant = PinocchioPlant(flipped)
     desired = iso14242_at([0.1])
     x = plant.initial_state(desired)
-    np.testing.assert_allclose(x[plant.chain.layout.platform_v[0]], flipped.angle_signs * desired.q[0], atol=1e-15)
+    np.testing.assert_allclose(
+        x[given(plant.chain.layout).platform_v[0]], flipped.angle_signs * desired.q[0], atol=1e-15
+    )
     angles, rates = plant.angles(x)
     np.testing.assert_allclose(angles, desired.q[0], atol=1e-15)
     np.testing.assert_allclose(rates, desired.qd[0], atol=1e-15)
@@ -207,7 +210,7 @@ def test_energy_never_increases_with_motors_off(params, changes):
     plant = PinocchioPlant(rough)
     recorder = Recorder(plant)
     start = iso14242_at([0.3])
-    desired_at = lambda t: iso14242_at(np.asarray(t) + 0.3)  # noqa: E731 - the load of the cycle from t = 0.3 s
+    desired_at = lambda t: iso14242_at(np.asarray(t) + 0.3)  # the load of the cycle from t = 0.3 s
     sim = simulate(
         recorder, lambda t, s, d: np.zeros(3), desired_at, 0.06, step=1e-4, initial_state=plant.initial_state(start)
     )
@@ -300,10 +303,10 @@ def test_the_compiled_route_solves_what_constraint_dynamics_solves(params, chang
 def test_both_routes_run_the_same_closed_loop(params, plant, route):
     """The workspace PD on the plant's compiled routes and on constraintDynamics: the same tracking error and torques to the integrator's tolerance."""
     pd = WorkspacePD(params)
-    fast = PinocchioPlant(params, route=route, chain=plant.chain)
+    on_route = PinocchioPlant(params, route=route, chain=plant.chain)
     # The compiled route runs the whole servo loop compiled; the kernel route steps through advance().
-    assert (fast.compiled_stepper() is not None) == (route == "compiled")
-    fast = simulate(fast, pd, iso14242_at, 0.05)
+    assert (on_route.compiled_stepper() is not None) == (route == "compiled")
+    fast = simulate(on_route, pd, iso14242_at, 0.05)
     slow = simulate(PinocchioPlant(params, route="constraint_dynamics", chain=plant.chain), pd, iso14242_at, 0.05)
     # Measured: 1e-17 rad and 1e-15 N·m apart, against the ~1e-11° by which RK4 at 0.5 ms and the reduced plant differ.
     np.testing.assert_allclose(fast.err, slow.err, rtol=0, atol=1e-13)
@@ -340,9 +343,9 @@ def test_the_compiled_loop_keeps_the_closures_closed(params, plant, monkeypatch)
     monkeypatch.setattr(simulation, "_CHUNK", 20)
     monkeypatch.setattr(closed_chain_loop, "stepped_loop", watched)
     sim = simulate(plant, WorkspacePD(params), iso14242_at, DURATION)
-    residuals = np.array(residuals)
-    assert len(residuals) >= DURATION * SERVO / 20  # the loop really ran in chunks, compiled
+    gaps = np.array(residuals)
+    assert len(gaps) >= DURATION * SERVO / 20  # the loop really ran in chunks, compiled
     # Measured over 2 s: gaps ≤ 1.2e-13 m, closure velocities ≤ 2.0e-12 m/s, as along the other routes.
-    assert residuals[:, 0].max() < 1e-12
-    assert residuals[:, 1].max() < 2e-11
+    assert gaps[:, 0].max() < 1e-12
+    assert gaps[:, 1].max() < 2e-11
     assert np.degrees(np.abs(sim.err)).max() > 0.01

@@ -4,6 +4,7 @@ the plant's solver evaluates with them, against Pinocchio at random states of th
 import numpy as np
 import pinocchio as pin
 import pytest
+from support import given
 
 import hipsim
 from hipsim.closed_chain import plant_kernel
@@ -26,7 +27,7 @@ def _manipulator():
 
 def _compiled(model, q, v):
     """M, J, the placements and h = C(q, v)·v + g(q) through the compiled route."""
-    placements, motions = tree_geometry(model)
+    placements, motions = given(tree_geometry(model))
     bodies, joints = tree_constants(model)
     nj, nv = model.njoints, model.nv
     R, o, J, M = np.empty((nj, 3, 3)), np.empty((nj, 3)), np.empty((6, nv)), np.empty((nv, nv))

@@ -56,7 +56,7 @@ def amplified(trajectory, gain):
 
 
 @pytest.mark.parametrize(
-    "limit, scale",
+    ("limit", "scale"),
     [
         ("stroke", "amplitude"),
         ("slider_speed", "speed"),
@@ -97,7 +97,7 @@ def test_floors_and_load_range(iso_run):
 
 def test_fitting_speed_is_where_the_speed_limit_binds(iso_run):
     need = needs(iso_run)
-    run_at = lambda tr: analyse(PARAMS, tr)  # noqa: E731
+    run_at = lambda tr: analyse(PARAMS, tr)
     # Motor speed scales with k: a limit at 80 % of the need fits at k = 0.8.
     assert fitting_speed(run_at, ISO, Limits(motor_speed=0.8 * need["motor_speed"])) == pytest.approx(0.8, rel=2e-3)
     # Acceleration scales with k²: 64 % fits at k = 0.8.
@@ -112,9 +112,9 @@ def test_fitting_speed_is_where_the_speed_limit_binds(iso_run):
 def test_beyond_the_torque_curves_end_only_the_speed_is_crossed(iso_run):
     """A torque–speed curve gives no torque past its end: that is an overspeed, not a torque of 0 N·mm allowed."""
     speed = np.abs(iso_run.torques.motor_speed).max()
-    curve = lambda w: np.where(w <= 0.5 * speed, 10.0, 0.0)  # noqa: E731 - 10 N·m up to half the speed the run needs
+    curve = lambda w: np.where(w <= 0.5 * speed, 10.0, 0.0)  # 10 N·m up to half the speed the run needs
     kinds = {c.limit for c in check_feasibility(iso_run, Limits(motor_speed=0.5 * speed, motor_torque=curve))}
     assert kinds == {"motor_speed"}
-    tight = lambda w: np.where(w <= 0.5 * speed, 1e-3, 0.0)  # noqa: E731 - a curve the run exceeds where it applies
+    tight = lambda w: np.where(w <= 0.5 * speed, 1e-3, 0.0)  # a curve the run exceeds where it applies
     crossing = [c for c in check_feasibility(iso_run, Limits(motor_torque=tight)) if c.limit == "motor_torque"][0]
     assert crossing.allowed == pytest.approx(1e-3) and np.isfinite(crossing.excess)

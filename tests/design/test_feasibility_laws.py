@@ -9,9 +9,11 @@ from __future__ import annotations
 
 import math
 from types import SimpleNamespace
+from typing import Any
 
 import numpy as np
 import pytest
+from support import given
 
 from hipsim.design.feasibility import (
     DEFAULT_COND_INV_FLOOR,
@@ -74,18 +76,19 @@ def test_stroke_is_the_travel_from_the_lowest_position():
 
 
 @pytest.mark.parametrize(
-    "field, limit", [("Ld", "slider_speed"), ("Ldd", "slider_acceleration"), ("speed", "motor_speed")]
+    ("field", "limit"), [("Ld", "slider_speed"), ("Ldd", "slider_acceleration"), ("speed", "motor_speed")]
 )
 def test_ceilings_on_the_absolute_value(field, limit):
     # Values 0.1, −0.5, 0.3 against 0.4: first over at 0.01 s (|−0.5|), worst 0.5, excess 1.25.
-    c = only(check_feasibility(fake_run(**{field: [0.1, -0.5, 0.3]}), Limits(**{limit: 0.4})))
+    ceiling: dict[str, Any] = {limit: 0.4}  # keyword arguments of Limits' several field types
+    c = only(check_feasibility(fake_run(**{field: [0.1, -0.5, 0.3]}), Limits(**ceiling)))
     assert (c.limit, c.motor, c.t, c.needed, c.allowed) == (limit, 1, 0.01, 0.5, 0.4)
     assert c.excess == pytest.approx(1.25)
     # The first crossing's time is not the worst's: 0.45 at 0 s, 0.5 at 0.01 s.
-    c = only(check_feasibility(fake_run(**{field: [0.45, -0.5, 0.3]}), Limits(**{limit: 0.4})))
+    c = only(check_feasibility(fake_run(**{field: [0.45, -0.5, 0.3]}), Limits(**ceiling)))
     assert (c.t, c.needed) == (0.0, 0.5)
     # At the limit: not crossed.
-    assert check_feasibility(fake_run(**{field: [0.4, -0.4, 0.1]}), Limits(**{limit: 0.4})) == []
+    assert check_feasibility(fake_run(**{field: [0.4, -0.4, 0.1]}), Limits(**ceiling)) == []
 
 
 def test_a_torque_against_a_number_and_against_a_torque_speed_curve():
@@ -94,7 +97,7 @@ def test_a_torque_against_a_number_and_against_a_torque_speed_curve():
     # Peak torque 2 − 0.01·|speed| N·m: at 50 rad/s 1.5 N·m, at 150 rad/s 0.5 N·m, at 250 rad/s nothing
     # (beyond the curve's end: the speed's crossing, not the torque's). Torques 1.0, 0.6, 5.0:
     # only the second (0.6 > 0.5) is a torque crossing, allowed 0.5, excess 1.2.
-    curve = lambda w: np.maximum(2.0 - 0.01 * np.abs(w), -1.0)  # noqa: E731
+    curve = lambda w: np.maximum(2.0 - 0.01 * np.abs(w), -1.0)
     run = fake_run(speed=[50.0, -150.0, 250.0], tau=[1.0, 0.6, 5.0])
     c = only(check_feasibility(run, Limits(motor_torque=curve)))
     assert (c.limit, c.motor, c.t, c.needed, c.allowed) == ("motor_torque", 1, 0.01, 0.6, pytest.approx(0.5))
@@ -103,7 +106,7 @@ def test_a_torque_against_a_number_and_against_a_torque_speed_curve():
 
 def test_the_worst_is_the_largest_ratio_to_a_varying_limit():
     # Allowed 1.5, 0.5 (speeds 50, 150): torques 1.8 (ratio 1.2) and 0.9 (ratio 1.8): the worst is 0.9.
-    curve = lambda w: 2.0 - 0.01 * np.abs(w)  # noqa: E731
+    curve = lambda w: 2.0 - 0.01 * np.abs(w)
     c = only(check_feasibility(fake_run(speed=[50.0, 150.0, 0.0], tau=[1.8, 0.9, 0.0]), Limits(motor_torque=curve)))
     assert (c.t, c.needed, c.allowed) == (0.0, 0.9, pytest.approx(0.5))
 
@@ -156,7 +159,7 @@ def test_which_limits_a_verdict_covers():
     # The singularity floor and the load range have defaults; the motor's figures come from a machine.
     assert Limits().checked() == ["singularity measure", "load range"]
     assert Limits().unchecked() == ["stroke", "motor speed", "motor torque"]
-    some = Limits(stroke=0.1, motor_torque=2.0, slider_speed=0.3, cond_inv_floor=None, load_range=None)
+    some = Limits(stroke=0.1, motor_torque=2.0, slider_speed=0.3, cond_inv_floor=None, load_range=None)  # type: ignore[arg-type]  # both off
     # The verdict's own order; the slider's speed and acceleration are covered when given but never "unchecked".
     assert some.checked() == ["stroke", "motor torque", "slider speed"]
     assert some.unchecked() == ["motor speed", "singularity measure", "load range"]
@@ -216,7 +219,7 @@ def test_fitting_speed_by_bisection():
         return run
 
     tr = protocol()
-    k = fitting_speed(run_at, tr, Limits(motor_speed=250.0))
+    k = given(fitting_speed(run_at, tr, Limits(motor_speed=250.0)))
     assert 0.25 * (1 - 1e-3) <= k <= 0.25
     assert fitting_speed(run_at, tr, Limits(motor_speed=250.0), tolerance=0.1) == pytest.approx(0.25, rel=0.1)
     assert fitting_speed(run_at, tr, Limits(motor_speed=2000.0)) == 1.0

@@ -1,10 +1,12 @@
 """Choosing from catalogues (hipsim.design.ranking): each screw lead reruns the model; candidates rank with the binding constraint named."""
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 from drive_support import curve, only
+from support import given
 
 import hipsim
 from hipsim.design.ranking import rank_drives
@@ -24,10 +26,10 @@ def params():
 
 def test_each_screw_lead_reruns_the_model(params):
     trajectory = iso14242(rate=100)
-    motor = (Motor("m", peak=TorqueSpeedCurve([0.0], [5.0]), rotor_inertia=1e-4), None)
+    motor = (Motor("m", peak=TorqueSpeedCurve(np.array([0.0]), np.array([5.0])), rotor_inertia=1e-4), None)
     screws = [LeadScrew("p5", lead=0.005), LeadScrew("p20", lead=0.020, inertia=80e-6)]
     candidates = rank_drives(params, [(trajectory, 1.0)], [motor], screws)
-    by_screw = {c.drive.screw.name: c for c in candidates}
+    by_screw = {given(c.drive.screw).name: c for c in candidates}
     for screw in screws:
         machine = params.replace(lead=screw.lead, **({"screw_inertia": screw.inertia} if screw.inertia else {}))
         direct = sizing(hipsim.analyse(machine, trajectory), Drive(motor[0], screw=screw))
@@ -55,13 +57,13 @@ def test_an_undersized_and_a_right_motor_rank_with_the_binding_constraint_named(
     candidates = rank_drives(params, [(trajectory, 1.0)], [(small, None), (right, None)])
     assert [c.drive.motor.name for c in candidates] == ["right", "small"]
     assert candidates[0].passed is True and candidates[1].passed is False
-    binding = candidates[1].binding
+    binding = given(candidates[1].binding)
     assert binding.name == "peak_curve" and binding.module == 1  # motor 1 needs over 431 N·mm, 250 N·mm on offer
     run = hipsim.analyse(params, trajectory)
     rotor = 1e-4 * 2 * math.pi / params.lead * run.Ldd[:, 0, 0]  # the motor also turns its own rotor
     assert binding.value == pytest.approx(np.abs(run.torques.total[:, 0] + rotor).max() * 1e3, rel=1e-12)
-    assert binding.limit == pytest.approx(250.0) and binding.margin == pytest.approx(1 - binding.value / 250.0)
-    assert candidates[0].margin > 0 > candidates[1].margin
+    assert binding.limit == pytest.approx(250.0) and binding.margin == pytest.approx(1 - given(binding.value) / 250.0)
+    assert given(candidates[0].margin) > 0 > given(candidates[1].margin)
 
 
 # ---------------------------------------------------------------------------
@@ -75,7 +77,7 @@ def example():
 
     from hipsim.machine.drive import load_gearbox_catalogue, load_motor_catalogue, load_screw_catalogue
 
-    folder = resources.files("hipsim.models")
+    folder = Path(str(resources.files("hipsim.models")))  # an installed package's folder
     motors = load_motor_catalogue(folder / "motors_example.csv")
     screws = load_screw_catalogue(folder / "screws_example.csv")
     gearboxes = load_gearbox_catalogue(folder / "gearboxes_example.csv")

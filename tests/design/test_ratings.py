@@ -48,7 +48,7 @@ def test_screw_life_under_a_load_that_changes_direction():
 
 
 @pytest.mark.parametrize(
-    "fixing, thk_speed, thk_buckling",
+    ("fixing", "thk_speed", "thk_buckling"),
     # Ball-screw makers' chart factors (safety factors 0.8 and 0.5 included): n = f·d₂/l²·10⁷ rpm, P = η·d₂⁴/l²·10⁴ N (mm).
     [
         ("fixed-free", 3.4, 1.3),

@@ -3,6 +3,7 @@
 import json
 
 import pytest
+from support import given
 
 from hipsim.cli.main import main
 from hipsim.design.sweep_table import CSV_METADATA, read_metadata, read_table, write_table
@@ -38,7 +39,7 @@ def out(first, tmp_path, capsys):
 
 
 def test_the_file_records_the_set_up_fingerprint(out):
-    metadata = read_metadata(out)
+    metadata = given(read_metadata(out))
     fingerprints = metadata["fingerprints"]
     assert set(fingerprints) == {"parameters", "trajectory", "model", "drive", "cycles", "keys", "setup"}
     assert all(len(value) == 64 for value in fingerprints.values())
@@ -49,11 +50,11 @@ def test_the_file_records_the_set_up_fingerprint(out):
 def test_the_same_set_up_resumes(out, capsys):
     code, summary, _ = sweep(capsys, "--rate", str(RATE), "--grid", "lever.length_mm=320:340:10", "--out", str(out))
     assert code == 0 and (summary["new"], summary["skipped"], summary["rows"]) == (1, 2, 3)
-    assert summary["fingerprints"]["setup"] == read_metadata(out)["fingerprints"]["setup"]
+    assert summary["fingerprints"]["setup"] == given(read_metadata(out))["fingerprints"]["setup"]
 
 
 @pytest.mark.parametrize(
-    "options, what",
+    ("options", "what"),
     [
         (("--rate", "200"), "the trajectory"),
         (("--rate", str(RATE), "--set", "slider.mass_kg=3.5"), "the machine (--params, --set) differs"),
@@ -61,7 +62,7 @@ def test_the_same_set_up_resumes(out, capsys):
             ("--rate", str(RATE), "--cycles", "2"),
             "the trajectory (--trajectory, --rate, --cycles, --frequency …), the test cycles (--cycles) differ",
         ),
-        (("--rate", str(RATE), "--model", "pinocchio"), "holds other columns"),
+        (("--rate", str(RATE), "--engine", "pinocchio"), "holds other columns"),
         (("--rate", str(RATE), "--set", "motor.peak_torque_Nmm=500"), "the machine"),
     ],
 )
@@ -76,7 +77,7 @@ def test_another_set_up_into_the_same_file_is_refused_and_nothing_written(out, c
 def test_restart_replaces_the_file_with_the_new_set_up(out, capsys):
     code, summary, _ = sweep(capsys, "--rate", "200", *GRID, "--out", str(out), "--restart")
     assert code == 0 and (summary["new"], summary["skipped"], summary["rows"]) == (2, 0, 2)
-    assert read_metadata(out)["fingerprints"]["setup"] == summary["fingerprints"]["setup"]
+    assert given(read_metadata(out))["fingerprints"]["setup"] == summary["fingerprints"]["setup"]
     assert sweep(capsys, "--rate", "200", *GRID, "--out", str(out))[1]["skipped"] == 2  # and now resumes
 
 
@@ -102,7 +103,7 @@ def test_sample_without_range_or_tolerance_says_what_is_missing_not_both(tmp_pat
         "5",
         "--range",
         "lever.length_mm=300:360",
-        "--tolerance",
+        "--spread",
         "lever.length_mm=0.1",
         "--out",
         str(tmp_path / "s.csv"),

@@ -4,10 +4,11 @@ import io
 import json
 import math
 import xml.etree.ElementTree as ET
+from typing import Any
 
 import numpy as np
 import pytest
-from support import SmoothMotion
+from support import SmoothMotion, given
 
 import hipsim
 import hipsim.design.workspace as ws
@@ -211,7 +212,7 @@ def test_run_workspace_writes_figures_json_and_summary(params, iso, tmp_path):
         assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20_000
         assert ET.parse(svg).getroot().tag.endswith("svg") and svg.stat().st_size > 20_000
     document = json.loads((out / "workspace.json").read_text())
-    assert document["trajectory_margin"]["cond_inv_min"] == pytest.approx(run.map.margin.cond_inv_min)
+    assert document["trajectory_margin"]["cond_inv_min"] == pytest.approx(given(run.map.margin).cond_inv_min)
     assert [row["delta_deg"] for row in document["offset_sweep"]] == list(np.arange(-30.0, 61.0, 10.0))
     assert document["offset_sweep"][3]["tau_peak_Nmm"] is None  # δ = 0 is infeasible: null, not NaN
     text = stream.getvalue()
@@ -225,7 +226,9 @@ def test_a_workspace_run_failing_at_its_first_write_takes_back_only_the_folders_
         raise hipsim.HipsimError("singularity_map.png: cannot write (No space left on device)")
 
     monkeypatch.setattr("hipsim.present.figures.save_figure", refuse_to_write)
-    small = dict(alpha_deg=[0.0, 10.0], beta_deg=[0.0, 5.0], gamma_deg=[0.0], deltas_deg=[30.0], stream=io.StringIO())
+    small: dict[str, Any] = dict(
+        alpha_deg=[0.0, 10.0], beta_deg=[0.0, 5.0], gamma_deg=[0.0], deltas_deg=[30.0], stream=io.StringIO()
+    )
     with pytest.raises(hipsim.HipsimError, match="No space left"):
         run_workspace(params, iso.slice(slice(0, 50)), tmp_path / "deep" / "ws", **small)
     assert list(tmp_path.iterdir()) == []

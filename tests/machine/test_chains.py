@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from support import given
 
 import hipsim
 from hipsim.analytic.inverse_kinematics import slider_heights, slider_jacobian
@@ -89,7 +90,7 @@ CENTRE_HOME = [home_carriage(i, gap_extra=(-0.1, -0.2)) - 0.3 for i in range(3)]
 
 
 @pytest.mark.parametrize(
-    "key, row, expected_mm",
+    ("key", "row", "expected_mm"),
     [
         (
             "slider_offset_mm",
@@ -213,9 +214,9 @@ def test_overrides_set_one_key():
     params = hipsim.load_parameters(overrides={"geometry.lever_offset_mm": [0, 0, 0, 0, 0.25, 0]})
     assert params.geometry.lever[1, 1] == pytest.approx(0.25e-3, abs=1e-18)
     again = hipsim.machine.parameters.override_parameters(params, {"geometry.slider_offset_mm": [0.1, 0, 0, 0, 0, 0]})
-    assert again.geometry.lever[1, 1] == params.geometry.lever[1, 1] and again.geometry.slider[0, 0] == pytest.approx(
-        1e-4
-    )
+    assert given(again.geometry).lever[1, 1] == given(params.geometry).lever[1, 1] and given(again.geometry).slider[
+        0, 0
+    ] == pytest.approx(1e-4)
 
 
 def test_vector_names_and_round_trip():
@@ -230,7 +231,7 @@ def test_vector_names_and_round_trip():
 
 
 @pytest.mark.parametrize(
-    "table, message",
+    ("table", "message"),
     [
         ("lever_offset_mm = [0, 0, 0]", "geometry.lever_offset_mm.*6 numbers"),
         ("joint_offset_mm = [[0, 0]] ", "geometry.joint_offset_mm.*6 rows"),

@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from drive_support import RPM, write
+from support import given
 
 from hipsim.exceptions import ParameterError
 from hipsim.machine.drive import (
@@ -20,7 +21,7 @@ from hipsim.machine.drive import (
 
 
 def test_a_curve_is_linear_between_points_and_zero_beyond():
-    curve = TorqueSpeedCurve([100.0, 200.0], [2.0, 1.0])
+    curve = TorqueSpeedCurve(np.array([100.0, 200.0]), np.array([2.0, 1.0]))
     np.testing.assert_allclose(curve.at([0.0, -150.0, 200.0, 250.0]), [2.0, 1.5, 1.0, 0.0])
 
 
@@ -49,16 +50,18 @@ inertia_ratio_max = 5
         "drive.toml",
     )
     drive = load_drive(path)
-    assert drive.motor.continuous.at(1500 * RPM) == pytest.approx(0.62) and drive.motor.peak.flat
+    assert given(drive.motor.continuous).at(1500 * RPM) == pytest.approx(0.62) and given(drive.motor.peak).flat
     assert (
-        drive.amplifier.peak_current == 5.1 and drive.gearbox.ratio == 2.0 and drive.screw.lead == pytest.approx(0.005)
+        given(drive.amplifier).peak_current == 5.1
+        and given(drive.gearbox).ratio == 2.0
+        and given(drive.screw).lead == pytest.approx(0.005)
     )
     assert drive.rules.life_target_cycles == 1e7 and drive.rules.inertia_ratio_max == 5.0
     assert drive.name == "m + gearbox + lead screw"
 
 
 @pytest.mark.parametrize(
-    "text, key, message",
+    ("text", "key", "message"),
     [
         ("[motor]\npeak_speed_rpm = [0, 1000]\n", "motor.peak_speed_rpm", "speeds without torques"),
         (
@@ -88,7 +91,9 @@ def test_the_parameter_files_motor_table_is_a_drive():
     drive = drive_from_motor_table(
         {"rated_torque_Nmm": 640.0, "peak_torque_Nmm": 1910.0, "stroke_mm": 200.0}, "machine.toml"
     )
-    assert drive.motor.continuous.at(0.0) == pytest.approx(0.64) and drive.screw.stroke == pytest.approx(0.2)
+    assert given(drive.motor.continuous).at(0.0) == pytest.approx(0.64) and given(drive.screw).stroke == pytest.approx(
+        0.2
+    )
 
 
 def test_the_shipped_examples_load_and_say_they_are_examples():

@@ -5,6 +5,7 @@ import re
 import numpy as np
 import pytest
 from drive_support import RPM, write
+from support import given
 
 from hipsim.exceptions import CatalogueError
 from hipsim.machine.drive_catalogues import load_gearbox_catalogue, load_motor_catalogue, load_screw_catalogue
@@ -20,12 +21,14 @@ big,,1.27,0 3000,3820 3820,0.26,,,
 def test_motor_catalogue_in_si(tmp_path):
     (small, amplifier), (big, none) = load_motor_catalogue(write(tmp_path, MOTORS))
     assert small.name == "small" and big.name == "big"
-    np.testing.assert_allclose(small.continuous.speed, [0.0, 3000 * RPM])
-    np.testing.assert_allclose(small.peak.torque, [0.95, 0.95, 0.45])  # N·mm column → N·m
+    np.testing.assert_allclose(given(small.continuous).speed, [0.0, 3000 * RPM])
+    np.testing.assert_allclose(given(small.peak).torque, [0.95, 0.95, 0.45])  # N·mm column → N·m
     assert small.rotor_inertia == pytest.approx(0.051e-4) and small.thermal_time_constant == pytest.approx(720.0)
     assert small.top_speed == pytest.approx(6000 * RPM)
-    assert amplifier.dc_bus_energy == 8.0 and none is None
-    assert big.continuous.flat and big.continuous.at(5000.0) == pytest.approx(1.27)  # one torque: flat at every speed
+    assert given(amplifier).dc_bus_energy == 8.0 and none is None
+    assert given(big.continuous).flat and given(big.continuous).at(5000.0) == pytest.approx(
+        1.27
+    )  # one torque: flat at every speed
     assert big.rotor_inertia == pytest.approx(0.26e-4) and big.torque_constant is None
 
 
@@ -43,7 +46,7 @@ def test_screw_and_gearbox_catalogues(tmp_path):
 
 
 @pytest.mark.parametrize(
-    "text, line, column, message",
+    ("text", "line", "column", "message"),
     [
         ("name,s1_torque_Nm\nA,1\n", 1, None, "missing column 'peak_torque_Nm' or 'peak_torque_Nmm'"),
         ("name,s1_torque_Nm,peak_torque_Nm,colour\nA,1,2,red\n", 1, "colour", "unknown column"),
@@ -90,7 +93,7 @@ def test_bad_motor_catalogues_name_file_line_and_column(tmp_path, text, line, co
 
 
 @pytest.mark.parametrize(
-    "loader, text, column, message",
+    ("loader", "text", "column", "message"),
     [
         (load_screw_catalogue, "name,lead_mm,end_fixing\nA,10,clamped\n", "end_fixing", "fixed-free"),
         (load_screw_catalogue, "name,lead_mm,preload_N\nA,10,-5\n", "preload_N", "must not be negative"),

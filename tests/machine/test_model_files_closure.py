@@ -14,7 +14,7 @@ from hipsim.closed_chain.build import load_closed_chain
 from hipsim.machine.model_files import closure_file_path, closure_text, urdf_text, write_closures
 
 
-@pytest.mark.parametrize("lead_mm, inertia_kgmm2", [(10.0, 54.91), (5.0, 80.0), (16.0, 0.001), (2.5, 1e-5)])
+@pytest.mark.parametrize(("lead_mm", "inertia_kgmm2"), [(10.0, 54.91), (5.0, 80.0), (16.0, 0.001), (2.5, 1e-5)])
 def test_transmission_follows_the_parameters(lead_mm, inertia_kgmm2):
     params = load_parameters(overrides={"screw.lead_mm": lead_mm, "screw.inertia_kgmm2": inertia_kgmm2})
     content = yaml.safe_load(closure_text(params))

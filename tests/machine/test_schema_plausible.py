@@ -44,7 +44,7 @@ def test_friction_coefficients_are_zero_to_one():
     assert plausible_ranges()["friction.thrust_mu"][:2] == (0.0, 1.0)
 
 
-@pytest.mark.parametrize("old, new, key, value, range_", ABSURD)
+@pytest.mark.parametrize(("old", "new", "key", "value", "range_"), ABSURD)
 def test_an_absurd_value_is_a_warning_naming_key_value_and_range(old, new, key, value, range_, tmp_path, capsys):
     path = absurd_file(tmp_path, old, new)
     with pytest.warns(ParameterWarning) as caught:

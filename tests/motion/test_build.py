@@ -64,7 +64,7 @@ ACCURACY = [
 ]
 
 
-@pytest.mark.parametrize("rate, cycles, closing, periodic, qd_in, qd_end, qdd_in, qdd_end", ACCURACY)
+@pytest.mark.parametrize(("rate", "cycles", "closing", "periodic", "qd_in", "qd_end", "qdd_in", "qdd_end"), ACCURACY)
 def test_csv_derivative_accuracy(tmp_path, rate, cycles, closing, periodic, qd_in, qd_end, qdd_in, qdd_end):
     path = tmp_path / "iso.csv"
     t, q, qd, qdd, load = write_iso_csv(path, rate, cycles, closing)
@@ -184,7 +184,7 @@ def test_csv_random_periodic_trajectories_round_trip(tmp_path, rate, n, harmonic
 # --------------------------------------------------------------------------- bad numbers
 
 
-@pytest.mark.parametrize("new_time, line", [("0.04", 7), ("0.03", 7), ("-1", 7)])
+@pytest.mark.parametrize(("new_time", "line"), [("0.04", 7), ("0.03", 7), ("-1", 7)])
 def test_csv_time_does_not_increase(tmp_path, new_time, line):
     # Line 7 holds row 5 (t = 0.05 s); line 6 holds t = 0.04 s.
     path = write_lines(tmp_path / "x.csv", set_cell(small_csv(), line=line, column=0, value=new_time))
@@ -212,7 +212,7 @@ def test_csv_uneven_time_step_gradual(tmp_path):
     assert info.value.line is not None
 
 
-@pytest.mark.parametrize("value, column", [("25", 1), ("-18.0", 1), ("7", 2), ("3.5", 3)])
+@pytest.mark.parametrize(("value", "column"), [("25", 1), ("-18.0", 1), ("7", 2), ("3.5", 3)])
 def test_csv_radians_that_are_surely_degrees(tmp_path, value, column):
     header = "t_s,alpha_rad,beta_rad,gamma_rad,Fe_N"
     rows = [f"{k / 100},0.1,0.05,-0.1,300" for k in range(10)]
@@ -232,7 +232,7 @@ def test_csv_negative_load(tmp_path):
 
 
 @pytest.mark.parametrize(
-    "cell, column, message",
+    ("cell", "column", "message"),
     [
         ("1e300", "alpha_deg", "more than a full turn"),
         ("-400", "gamma_deg", "more than a full turn"),

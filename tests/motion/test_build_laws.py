@@ -365,10 +365,10 @@ def test_no_load_column_is_warned_of_and_a_load_file_fills_it():
     )
     np.testing.assert_array_equal(trajectory.Fe, np.zeros(10))
     curve = LoadCurve(np.array([0.02, 0.05, 0.08]), np.array([100.0, 400.0, 700.0]), np.array([2, 3, 4]), "l.csv", "F")
-    with warnings.catch_warnings(record=True) as record:
+    with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         trajectory = build_trajectory(table(T10, q, columns=columns), load_curve=curve)
-    assert not [w for w in record if issubclass(w.category, NoLoadWarning)]
+    assert not [w for w in caught if issubclass(w.category, NoLoadWarning)]
     np.testing.assert_allclose(trajectory.t, T10[2:9], rtol=1e-15)
     np.testing.assert_allclose(trajectory.Fe, 100.0 + 10000.0 * (T10[2:9] - 0.02), rtol=1e-12)
     np.testing.assert_array_equal(trajectory.lines, np.arange(4, 11))
@@ -631,7 +631,7 @@ def test_strides_of_an_angle_away_from_zero_and_the_edges_of_the_band():
     assert stride_count(t, np.array([0, 10, 0, 7.5, 0, 10.0])) == (2, 4.0)  # 7.5 is not above 7.5
 
 
-@pytest.mark.parametrize("k, name", [(0, "alpha"), (1, "beta"), (2, "gamma")])
+@pytest.mark.parametrize(("k", "name"), [(0, "alpha"), (1, "beta"), (2, "gamma")])
 def test_the_stride_warnings_name_the_widest_angle(k, name):
     t = 1.0 + np.arange(41) / 10.0  # a file that starts at 1 s
     strides = np.zeros((41, 3))

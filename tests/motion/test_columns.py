@@ -9,7 +9,7 @@ from hipsim.motion.columns import parse_columns
 
 
 @pytest.mark.parametrize(
-    "text, message",
+    ("text", "message"),
     [
         ("", "empty column mapping"),
         ("time=t,alpha=a,beta=b", "gamma not mapped"),

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import pytest
+from support import given
 
 from hipsim.exceptions import TrajectoryError
 from hipsim.motion.columns import (
@@ -29,7 +30,7 @@ def test_the_constants():
 
 
 @pytest.mark.parametrize(
-    "name, key, unit",
+    ("name", "key", "unit"),
     [
         ("Fz [kN]", "load", "kN"),
         ("Fz (%BW)", "load", "%BW"),
@@ -75,7 +76,7 @@ def test_a_column_from_its_text_and_back():
         Column.parse("- :N", "load")
     for name in ("", "  ", None):
         with pytest.raises(TrajectoryError) as refused:
-            Column(name)
+            Column(name)  # type: ignore[arg-type]  # None on purpose: refused like a blank
         assert str(refused.value) == f"column mapping: a column needs a name, got {name!r}"
     with pytest.raises(TrajectoryError) as refused:
         Column("FE", sign=2)
@@ -94,7 +95,7 @@ def test_a_mapping_text_round_trips():
 
 
 @pytest.mark.parametrize(
-    "text, message",
+    ("text", "message"),
     [
         ("", "empty column mapping (expected e.g. time=Time,alpha=FE,beta=AA,gamma=IE)"),
         ("   ", "empty column mapping (expected e.g. time=Time,alpha=FE,beta=AA,gamma=IE)"),
@@ -155,7 +156,8 @@ def test_the_readers_options():
     column = Column("Fz")
     assert as_load_column(column) is column
     # The load named on its own joins a mapping without one; named in both, refused.
-    merged, load = column_options("time=T,alpha=A,beta=B,gamma=C", "Fz:kN", "walk.csv")
+    merged_map, load = column_options("time=T,alpha=A,beta=B,gamma=C", "Fz:kN", "walk.csv")
+    merged = given(merged_map)
     assert merged.load == Column("Fz", "kN") and load == Column("Fz", "kN") and merged.time == Column("T")
     assert column_options(None, "Fz", "walk.csv") == (None, Column("Fz"))
     assert column_options(m, None, "walk.csv") == (m, None)
@@ -163,7 +165,8 @@ def test_the_readers_options():
         column_options("time=T,alpha=A,beta=B,gamma=C,load=F", "Fz", "walk.csv")
     assert str(refused.value) == "walk.csv: the load column is named twice (in the column mapping and on its own)"
     # Merged into a hip-chain mapping: its angles and chain kept.
-    hip, _ = column_options("time=T,flexion=F,adduction=A,rotation=R", "Fz", "walk.csv")
+    hip_map, _ = column_options("time=T,flexion=F,adduction=A,rotation=R", "Fz", "walk.csv")
+    hip = given(hip_map)
     assert hip.hip_chain and hip.angles == (Column("F"), Column("A"), Column("R")) and hip.load == Column("Fz")
 
 

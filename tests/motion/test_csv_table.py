@@ -70,7 +70,7 @@ def test_csv_columns_in_any_order_with_spaces_and_blank_lines(tmp_path):
     q, _, _ = iso14242_angles(t)
     load = iso14242_load(t)
     lines = ["Fe_N, gamma_rad, t_s , beta_rad,alpha_rad", ""]
-    r = lambda x: repr(float(x))  # noqa: E731
+    r = lambda x: repr(float(x))
     lines += [f"{r(load[k])}, {r(q[k, 2])},{r(t[k])}, {r(q[k, 1])},{r(q[k, 0])}" for k in range(8)]
     lines.insert(5, "")
     traj = load_trajectory_csv(write_lines(tmp_path / "order.csv", lines))
@@ -129,7 +129,7 @@ def test_csv_missing_time_column(tmp_path):
 
 
 @pytest.mark.parametrize(
-    "header, missing",
+    ("header", "missing"),
     [
         ("t_s,alpha_deg,beta_deg,Fe_N,gamma", "gamma_deg"),
         ("t_s,beta_rad,gamma_rad,Fe_N,Alpha_rad", "alpha_rad"),
@@ -213,7 +213,7 @@ def test_csv_non_numeric_cell_line_counts_blank_lines(tmp_path):
 
 
 @pytest.mark.parametrize(
-    "cell, column, name",
+    ("cell", "column", "name"),
     [
         ("nan", 1, "alpha_deg"),
         ("NaN", 4, "Fe_N"),
@@ -363,8 +363,8 @@ def test_hip_chain_columns_are_turned_into_platform_angles(tmp_path):
     for a, b, g in np.radians(deg):
         Rh = C.T @ Rz(g) @ Ry(b) @ Rx(a) @ C  # the femur in pelvis axes
         hip.append(np.degrees([np.arctan2(-Rh[0, 1], Rh[1, 1]), np.arcsin(Rh[2, 1]), np.arctan2(-Rh[2, 0], Rh[2, 2])]))
-    hip = np.array(hip)
-    rows = [",".join(repr(float(v)) for v in (t[k], *hip[k])) for k in range(len(t))]
+    hip_deg = np.array(hip)
+    rows = [",".join(repr(float(v)) for v in (t[k], *hip_deg[k])) for k in range(len(t))]
     path = write_lines(tmp_path / "hip.csv", ["time,hip flexion,hip adduction,hip rotation", *rows])
     traj = load_trajectory_csv(
         path, columns="time=time,flexion=hip flexion,adduction=hip adduction,rotation=hip rotation"
@@ -373,7 +373,9 @@ def test_hip_chain_columns_are_turned_into_platform_angles(tmp_path):
     assert traj.periodic
 
 
-@pytest.mark.parametrize("cell, column, name", [("abc", 3, "Hip AA"), ("1.234,5", 2, "Hip FE"), ("nan", 1, "Time")])
+@pytest.mark.parametrize(
+    ("cell", "column", "name"), [("abc", 3, "Hip AA"), ("1.234,5", 2, "Hip FE"), ("nan", 1, "Time")]
+)
 def test_bad_cells_of_a_mapped_export_name_file_line_and_column(tmp_path, cell, column, name):
     t, deg, load = iso_rows(20)
     rows = [";".join(repr(float(v)).replace(".", ",") for v in (t[k], *deg[k])) for k in range(20)]

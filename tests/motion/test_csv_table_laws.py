@@ -50,9 +50,9 @@ def with_cell(lines, index, column, value, separator=","):
 
 
 def error_of(call) -> TrajectoryError:
-    with pytest.raises(TrajectoryError) as info:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", TrajectoryWarning)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", TrajectoryWarning)
+        with pytest.raises(TrajectoryError) as info:
             call()
     return info.value
 
@@ -121,7 +121,9 @@ def test_a_mapped_table_reads_only_its_columns_and_zero_angles(tmp_path):
 # --------------------------------------------------------------------------- Excel's sep= line
 
 
-@pytest.mark.parametrize("declared, separator", [("sep=;", ";"), ("SEP=\\t", "\t"), ("Sep=\t", "\t"), ("sep=,", ",")])
+@pytest.mark.parametrize(
+    ("declared", "separator"), [("sep=;", ";"), ("SEP=\\t", "\t"), ("Sep=\t", "\t"), ("sep=,", ",")]
+)
 def test_excels_separator_line_names_the_separator(tmp_path, declared, separator):
     decimal = "," if separator != "," else "."
     path = write(tmp_path / "x.csv", [declared, HEADER.replace(",", separator), *rows(separator, decimal)])
@@ -245,7 +247,7 @@ def test_a_radian_header_is_read_in_radians(tmp_path):
 
 
 @pytest.mark.parametrize(
-    "header, problem, column",
+    ("header", "problem", "column"),
     [
         ("t_s,alpha_deg,beta_deg,alpha_deg,Fe_N", "column 'alpha_deg' appears twice", "alpha_deg"),
         ("time,alpha_deg,beta_deg,gamma_deg,Fe_N", "no time column 't_s'; the header has", None),
@@ -331,7 +333,7 @@ def test_a_missing_mapped_column_names_the_header_twelve_at_most():
 
 
 @pytest.mark.parametrize(
-    "header, suggestion",
+    ("header", "suggestion"),
     [
         (["Time", "FE", "AA", "IE", "Fz"], "time=Time,alpha=FE,beta=AA,gamma=IE,load=Fz"),
         (["t", "alpha", "beta", "gamma"], "time=t,alpha=alpha,beta=beta,gamma=gamma"),

@@ -46,7 +46,7 @@ def test_the_constants():
     assert FILTER_ORDER == 4 and EDGE_PERIODS == 4.0
 
 
-@pytest.mark.parametrize("f, expected", [(20.0, 0.5), (40.0, None), (10.0, None), (2.0, None)])
+@pytest.mark.parametrize(("f", "expected"), [(20.0, 0.5), (40.0, None), (10.0, None), (2.0, None)])
 def test_the_gain_at_and_around_the_cutoff(f, expected):
     # 1 kHz, cut-off 20 Hz: the gain at 20 Hz is 1/2; at 40 Hz 1/(1 + 2.008⁸) ≈ 1/264; at 10 Hz
     # 1/(1 + 0.498⁸) ≈ 0.9962; at 2 Hz 1 − 1e-8. Measured away from the dropped edges.

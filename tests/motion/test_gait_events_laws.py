@@ -146,7 +146,7 @@ def test_gait_phase_by_hand():
     assert phase[290] == pytest.approx(51.0) and stance[290]
     assert phase[39] == 0.0 and stance[39]
     with pytest.raises(TrajectoryError, match="1 heel strike"):
-        gait_phase(*curve(cycles=1)[:1], detect_gait_events(*curve(cycles=1)))
+        gait_phase(curve(cycles=1)[0], detect_gait_events(*curve(cycles=1)))
 
 
 def test_gait_phase_with_two_heel_strikes():
@@ -227,7 +227,7 @@ def test_a_constant_load_keeps_its_level_and_has_no_events():
 
 
 @pytest.mark.parametrize(
-    "low, span, found",
+    ("low", "span", "found"),
     [(1000.0, 2e-6, True), (1000.0, 0.5e-6, False), (0.5, 1.5e-9, True), (0.5, 0.5e-9, False)],
 )
 def test_a_load_is_constant_when_it_varies_by_less_than_a_billionth_of_its_level(low, span, found):

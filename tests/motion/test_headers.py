@@ -35,7 +35,7 @@ def test_a_mapped_column_that_is_missing_is_named_with_the_columns_found(tmp_pat
 
 
 @pytest.mark.parametrize(
-    "header, suggestion",
+    ("header", "suggestion"),
     [
         (["Time", "FE", "AA", "IE", "Fz"], "time=Time,alpha=FE,beta=AA,gamma=IE,load=Fz"),
         (

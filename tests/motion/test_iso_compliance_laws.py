@@ -41,7 +41,7 @@ def test_the_default_tolerances():
     assert (tol.alpha, tol.beta, tol.gamma, tol.load, tol.frequency) == (3.0, 3.0, 3.0, pytest.approx(90.0), 0.1)
 
 
-@pytest.mark.parametrize("frequency, passed", [(0.8, False), (1.2, False), (0.95, True), (1.05, True)])
+@pytest.mark.parametrize(("frequency", "passed"), [(0.8, False), (1.2, False), (0.95, True), (1.05, True)])
 def test_the_frequency_deviation_both_ways(frequency, passed):
     check = iso_check(*run(frequency=frequency))
     # Each cycle's frequency is the run's; its deviation |f − 1| is 0.2 Hz or 0.05 Hz.
@@ -52,8 +52,8 @@ def test_the_frequency_deviation_both_ways(frequency, passed):
     assert check.failing == (() if passed else ("frequency",))
 
 
-@pytest.mark.parametrize("index, name", [(0, "alpha"), (1, "beta"), (2, "gamma")])
-@pytest.mark.parametrize("offset, passed", [(4.0, False), (-4.0, False), (2.0, True), (-2.0, True)])
+@pytest.mark.parametrize(("index", "name"), [(0, "alpha"), (1, "beta"), (2, "gamma")])
+@pytest.mark.parametrize(("offset", "passed"), [(4.0, False), (-4.0, False), (2.0, True), (-2.0, True)])
 def test_each_angle_deviation_both_ways(index, name, offset, passed):
     # A constant offset of one angle: its largest |deviation| is |offset|, the other angles' stay 0.
     angles = [0.0, 0.0, 0.0]
@@ -68,7 +68,7 @@ def test_each_angle_deviation_both_ways(index, name, offset, passed):
     assert check.passes(name).all() if passed else not check.passes(name).any()
 
 
-@pytest.mark.parametrize("offset, passed", [(100.0, False), (-100.0, False), (60.0, True), (-60.0, True)])
+@pytest.mark.parametrize(("offset", "passed"), [(100.0, False), (-100.0, False), (60.0, True), (-60.0, True)])
 def test_the_load_deviation_both_ways(offset, passed):
     # A constant load offset moves the 5th/95th percentiles and their middle with it: the cycles are
     # aligned as without it, so the largest |deviation| is |offset|; tolerance 90 N.
@@ -131,7 +131,7 @@ def test_the_verdict_on_hand_made_deviations():
 def test_tolerances_refuse_what_is_not_a_positive_number():
     for bad in (0.0, -1.0, float("nan"), float("inf"), True, "3"):
         with pytest.raises(ArgumentError) as refused:
-            Tolerances(alpha=bad)
+            Tolerances(alpha=bad)  # type: ignore[arg-type]  # wrong types on purpose
         assert str(refused.value) == f"tolerance: expected a positive finite number, got {f'alpha={bad!r}'!r}"
     assert Tolerances(load=1).load == 1
 
@@ -143,13 +143,13 @@ def test_parse_tolerances_by_hand():
     # Empty entries are skipped, not the end: beta after one is read.
     assert parse_tolerances("alpha=2,,beta=1").beta == 1.0
     for text, expected in [
-        ("alpha=5%", "--tolerance: expected a percentage for the load only, got 'alpha=5%'"),
-        ("beta=three", "--tolerance: expected a number after '=', got 'beta=three'"),
-        ("beta==3", "--tolerance: expected a number after '=', got 'beta==3'"),
-        ("load=3X", "--tolerance: expected a number after '=', got 'load=3X'"),
+        ("alpha=5%", "--iso-tolerance: expected a percentage for the load only, got 'alpha=5%'"),
+        ("beta=three", "--iso-tolerance: expected a number after '=', got 'beta=three'"),
+        ("beta==3", "--iso-tolerance: expected a number after '=', got 'beta==3'"),
+        ("load=3X", "--iso-tolerance: expected a number after '=', got 'load=3X'"),
         (
             "beta 3",
-            "--tolerance: expected NAME=VALUE with NAME one of alpha, beta, gamma, load, frequency, got 'beta 3'",
+            "--iso-tolerance: expected NAME=VALUE with NAME one of alpha, beta, gamma, load, frequency, got 'beta 3'",
         ),
     ]:
         with pytest.raises(ArgumentError) as refused:
@@ -207,7 +207,7 @@ def test_a_run_that_starts_on_a_heel_strike_keeps_its_first_cycle():
     np.testing.assert_allclose([c.start for c in periodic.cycles], [0.0, 1.0, 2.0], atol=1e-3)
 
 
-@pytest.mark.parametrize("fraction, starts", [(0.3, [1.0, 2.0]), (0.7, [2.0, 3.0])])
+@pytest.mark.parametrize(("fraction", "starts"), [(0.3, [1.0, 2.0]), (0.7, [2.0, 3.0])])
 def test_a_periodic_run_owns_the_cycles_that_start_within_half_a_sample_of_its_first(fraction, starts):
     # Two periods at 1 Hz sampled at 50 Hz (step 0.02 s), the first sample a fraction of a step after
     # the heel strike at 1 s. The run owns the cycles that start from half a step before its first
@@ -239,7 +239,7 @@ def test_a_periodic_extension_of_five_copies_keeps_the_original_in_the_middle():
 
 
 @pytest.mark.parametrize(
-    "level, span, checked",
+    ("level", "span", "checked"),
     [(1000.0, 2e-6, True), (1000.0, 0.5e-6, False), (0.5, 1.5e-9, True), (0.5, 0.5e-9, False)],
 )
 def test_a_load_varying_by_less_than_a_billionth_of_its_level_is_refused(level, span, checked):

@@ -43,7 +43,7 @@ def test_a_factor_multiplies_and_a_range_maps_the_ends_exactly():
 
 
 @pytest.mark.parametrize(
-    "text, scale",
+    ("text", "scale"),
     [
         ("2.5", LoadScale(2.5)),
         ("300:3000", LoadScale(1.0, 300.0, 3000.0)),
@@ -56,7 +56,7 @@ def test_a_scale_is_read_as_a_factor_or_a_range(text, scale):
 
 
 @pytest.mark.parametrize(
-    "text, message",
+    ("text", "message"),
     [
         ("abc", "expected a factor (2.5) or a range MIN:MAX in N (300:3000), got 'abc'"),
         ("1:2:3", "expected a factor (2.5) or a range MIN:MAX in N (300:3000), got '1:2:3'"),

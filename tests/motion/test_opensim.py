@@ -168,7 +168,7 @@ def set_cell(text: str, line: int, column: int, value: str) -> str:
 
 
 @pytest.mark.parametrize(
-    "edit, message",
+    ("edit", "message"),
     [
         (lambda text: text.replace("endheader\n", ""), "no 'endheader' line: not an OpenSim .mot/.sto file"),
         (
@@ -209,7 +209,7 @@ def test_side_and_mapping_mistakes_are_named(tmp_path):
 
 
 @pytest.mark.parametrize(
-    "edit, message",
+    ("edit", "message"),
     [
         (
             lambda text: text.replace("nRows=20", "nRows=25"),

@@ -83,7 +83,7 @@ def test_iso_angle_rates_never_vanish_together():
     assert np.linalg.norm(qd, axis=1).min() > 0.05
 
 
-@pytest.mark.parametrize("s, load", KNOTS)
+@pytest.mark.parametrize(("s", "load"), KNOTS)
 def test_iso_load_at_knots(s, load):
     assert iso14242_load(np.array([s]))[0] == pytest.approx(load, abs=1e-9)
 
@@ -191,7 +191,7 @@ def test_iso_frequency_halves_the_period():
 
 
 @pytest.mark.parametrize(
-    "rate, cycles, frequency, n, periodic",
+    ("rate", "cycles", "frequency", "n", "periodic"),
     [
         (200, 1, 1.0, 200, True),
         (1000, 3, 1.0, 3000, True),
@@ -239,9 +239,9 @@ def test_iso_bad_arguments(kwargs):
 
 def test_trajectory_is_read_only():
     traj = iso14242(rate=100)
-    with pytest.raises(ValueError):
+    with pytest.raises(ValueError, match="read-only"):
         traj.q[0, 0] = 1.0
-    with pytest.raises(ValueError):
+    with pytest.raises(ValueError, match="read-only"):
         traj.t[0] = 1.0
 
 

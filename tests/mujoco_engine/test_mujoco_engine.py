@@ -22,7 +22,7 @@ import hipsim  # noqa: E402
 from hipsim.exceptions import MissingDependencyError  # noqa: E402
 
 try:
-    import hipsim.mujoco_engine  # noqa: F401
+    import hipsim.mujoco_engine
 except MissingDependencyError as error:  # installed, but a release the engine refuses
     pytest.skip(str(error), allow_module_level=True)
 
@@ -378,7 +378,7 @@ def runs(params, plant):
 @pytest.mark.parametrize("controller", ["pd", "augmented-pd"])
 def test_closed_loop_tracking_is_the_pinocchio_plants(runs, controller):
     reference, rk4, _, slow, _ = runs[controller]
-    peak = lambda sim: np.degrees(np.abs(sim.err)).max(axis=0)  # noqa: E731
+    peak = lambda sim: np.degrees(np.abs(sim.err)).max(axis=0)
     # RK4 at the servo settings: measured 4.3e-7° (PD) and 4.6e-7° (augmented PD) from the Pinocchio plant's angles,
     # against tracking errors of 0.42° and 1.8e-5°; the peak errors agree within 0.3 %.
     # Before MuJoCo 3.7 (gaps of 1e-6 m): 6e-6°, which moves the augmented PD's peak errors by up to 4.6e-6°.
@@ -419,8 +419,11 @@ def test_mjcf_command_writes_a_model_that_loads(tmp_path, capsys):
     assert model.actuator_gear[0, 0] == pytest.approx(2 * np.pi / 0.005, rel=1e-15)
     assert keyframe_gap(model) <= 1e-9
     assert main(["mjcf", "--out", str(tmp_path)]) == 2  # a folder
+    capsys.readouterr()
     assert main(["mjcf", "--out", str(out), "--timestep", "-1"]) == 2
-    assert "hipsim: error: --timestep" in capsys.readouterr().err
+    assert capsys.readouterr().err.startswith(
+        "hipsim: error: mjcf: --timestep -1 ms: MuJoCo's time step must be above 0"
+    )
 
 
 def test_check_with_mujoco_passes(capsys):

@@ -8,6 +8,7 @@ moment is spec §4.3 written out: r_h·μ_h·|F_e| + r_t·μ_t·|F_e + m_m·g| a
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 import pytest
@@ -18,7 +19,7 @@ from hipsim.physics import friction, laws, transmission, units, vectors
 
 
 def coefficients(**changes):
-    values = dict(
+    values: dict[str, Any] = dict(
         epsilon=12.0,
         hip_radius=0.02,
         hip_mu=0.1,
@@ -40,7 +41,7 @@ def coefficients(**changes):
 def test_smooth_sign_of_speeds_and_of_a_vector():
     # Scalar: ŝ(3) with ε = 4 is 3/5, ŝ(−5) with ε = 12 is −5/13.
     np.testing.assert_allclose(friction.smooth_sign(np.array([3.0]), 4.0), [0.6])
-    np.testing.assert_allclose(friction.smooth_sign([-5.0], 12.0), [-5 / 13])
+    np.testing.assert_allclose(friction.smooth_sign(np.array([-5.0]), 12.0), np.array([-5 / 13]))
     # Vector: w = (3, 4, 0), |w|² = 25, ε = 12: √(25 + 144) = 13, so ŝ = (3, 4, 0)/13; last axis xyz.
     w = np.array([[3.0, 4.0, 0.0], [0.0, 0.0, -5.0]])
     np.testing.assert_allclose(friction.smooth_sign(w, 12.0, vector=True), [[3 / 13, 4 / 13, 0.0], [0, 0, -5 / 13]])

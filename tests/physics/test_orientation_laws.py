@@ -84,7 +84,7 @@ def test_inverse_condition_number_of_rotated_matrices():
     np.testing.assert_allclose(orientation.inverse_condition_number(J), [1 / 6, 2 / 5, 1.0], rtol=1e-10)
 
 
-@pytest.mark.parametrize("singular_values, expected", [((2.0, 2.0, 1.0), 0.5), ((2.0, 1.0, 1.0), 0.5)])
+@pytest.mark.parametrize(("singular_values", "expected"), [((2.0, 2.0, 1.0), 0.5), ((2.0, 1.0, 1.0), 0.5)])
 def test_inverse_condition_number_with_a_repeated_singular_value(singular_values, expected):
     # Two equal singular values put cos 3φ = det(B)/2 at exactly −1 or +1, where round-off may
     # step past ±1: the ratio must stay 1/2 (no NaN) under any rotation.

@@ -26,8 +26,8 @@ def drive():
     return Drive(
         Motor(
             "m",
-            continuous=TorqueSpeedCurve([0, 3000 * rpm], [0.64, 0.6]),
-            peak=TorqueSpeedCurve([0, 3000 * rpm, 5000 * rpm], [1.9, 1.9, 1.0]),
+            continuous=TorqueSpeedCurve(np.array([0, 3000 * rpm]), np.array([0.64, 0.6])),
+            peak=TorqueSpeedCurve(np.array([0, 3000 * rpm, 5000 * rpm]), np.array([1.9, 1.9, 1.0])),
         )
     )
 

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from support import given
 
 from hipsim.motion.trajectories import iso14242
 from hipsim.present.meshcat_output import DiscreteAnimation, OfflineWindow, offline_page
@@ -122,7 +123,7 @@ def test_offline_page_holds_the_scene_with_the_animation_last():
     vis["ball"].set_object(mg.Sphere(0.05))  # sent after the animation, still before it in the page
     html = offline_page(window.commands(), "a <title> & more", ["first line", "second <b>line</b>"])
 
-    block = re.search(r"var commands = \[(.*?)\];", html, re.S).group(1)
+    block = given(re.search(r"var commands = \[(.*?)\];", html, re.S)).group(1)
     encoded = re.findall(r'"([A-Za-z0-9+/=]+)"', block)
     assert encoded == [base64.b64encode(c).decode("ascii") for c in window.commands()]
     commands = [umsgpack.unpackb(base64.b64decode(e)) for e in encoded]
@@ -147,14 +148,14 @@ def test_offline_page_holds_the_scene_with_the_animation_last():
 def test_live_server_listens_on_loopback_only():
     viewer = Viewer()
     try:
-        pid = viewer.server_pid
+        pid, url = given(viewer.server_pid), given(viewer.url)
         sockets = listening_sockets(pid)
         assert len(sockets) >= 2, sockets  # ZMQ and web
         assert all(address == "127.0.0.1" for address, _ in sockets), sockets
-        assert re.fullmatch(r"http://127\.0\.0\.1:\d+/static/", viewer.url)
-        port = int(viewer.url.split(":")[2].split("/")[0])
+        assert re.fullmatch(r"http://127\.0\.0\.1:\d+/static/", url)
+        port = int(url.split(":")[2].split("/")[0])
         assert ("127.0.0.1", port) in sockets
-        with urllib.request.urlopen(viewer.url, timeout=10) as response:
+        with urllib.request.urlopen(url, timeout=10) as response:
             assert response.status == 200 and b"<html" in response.read().lower()
         viewer.play(iso14242(rate=100), loop=False, fps=20)
     finally:
@@ -183,11 +184,11 @@ def test_view_command_ends_cleanly_on_ctrl_c():
         line = ""
         deadline = time.monotonic() + 30
         while "http://" not in line and time.monotonic() < deadline:
-            line = child.stdout.readline()
+            line = given(child.stdout).readline()
             if not line and child.poll() is not None:
                 break
-        assert "http://127.0.0.1:" in line, (line, child.stderr.read() if child.poll() is not None else "")
-        port = int(re.search(r"127\.0\.0\.1:(\d+)", line).group(1))
+        assert "http://127.0.0.1:" in line, (line, given(child.stderr).read() if child.poll() is not None else "")
+        port = int(given(re.search(r"127\.0\.0\.1:(\d+)", line)).group(1))
         servers = children(child.pid)
         assert len(servers) == 1
         time.sleep(0.7)  # playing
@@ -215,7 +216,7 @@ def test_server_ends_with_its_parent():
         env={**os.environ, "PYTHONPATH": str(REPO)},
     )
     try:
-        server = int(child.stdout.readline())
+        server = int(given(child.stdout).readline())
         assert alive(server)
     finally:
         child.kill()  # no clean-up code runs

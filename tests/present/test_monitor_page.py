@@ -11,6 +11,7 @@ import shutil
 import numpy as np
 import pytest
 from monitor_synthetic import write_identified, write_snapshot
+from support import given
 
 import hipsim
 from hipsim.cli.main import main
@@ -47,7 +48,7 @@ def test_the_page_is_traceable_and_its_axis_in_million_cycles(tmp_path, logs):
         assert item["sha256"] in page and item["bytes"] == (logs / item["file"]).stat().st_size
     assert '<details id="files">' in page
     # The table holds every number the JSON has for a snapshot: the weight term, EWMA and both limits, flag and note.
-    header = re.search(r'<table class="snapshots"><thead>\s*<tr>(.*?)</tr>', page, re.S).group(1)
+    header = given(re.search(r'<table class="snapshots"><thead>\s*<tr>(.*?)</tr>', page, re.S)).group(1)
     names = re.findall(r"<th[^>]*>([^<]*)</th>", header)
     for name in ("Mc", "weight_friction_Nmm", "ewma_mm", "lcl_mm", "ucl_mm", "flag", "note"):
         assert name in names

@@ -41,9 +41,12 @@ class Page(HTMLParser):
 
     def __init__(self, text: str):
         super().__init__()
-        self.headings, self.tables, self.order = [], [], []
-        self._heading = self._cell = None
-        self._row = None
+        self.headings: list[str] = []
+        self.tables: list[dict[str, list]] = []  # {"header": cells, "rows": lists of cells}
+        self.order: list[str] = []
+        self._heading: str | None = None
+        self._cell: str | None = None
+        self._row: list[tuple[str, str]] | None = None  # (td or th, text) of each cell
         self.feed(text)
 
     def handle_starttag(self, tag, attrs):
@@ -64,7 +67,7 @@ class Page(HTMLParser):
         if tag in ("h1", "h2", "h3") and self._heading is not None:
             self.headings.append(" ".join(self._heading.split()))
             self._heading = None
-        elif tag in ("td", "th") and self._cell is not None:
+        elif tag in ("td", "th") and self._cell is not None and self._row is not None:
             self._row.append((tag, " ".join(self._cell.split())))
             self._cell = None
         elif tag == "tr" and self._row is not None:
@@ -140,7 +143,7 @@ def design(tmp_path_factory):
                 str(trajectory),
                 "--motor",
                 str(drive),
-                "--model",
+                "--engine",
                 "analytic",
                 "--out",
                 str(out),
@@ -205,7 +208,7 @@ def test_report_values_carry_units_and_no_si(design):
 @pytest.mark.usefixtures("quick_figures")
 def test_built_in_cycle_unrated_says_so_first(tmp_path):
     out = tmp_path / "r"
-    assert main(["report", "--rate", "100", "--model", "analytic", "--out", str(out)]) == 0
+    assert main(["report", "--rate", "100", "--engine", "analytic", "--out", str(out)]) == 0
     page = Page((out / "index.html").read_text(encoding="utf-8"))
     assert page.order[0] == "verdict"
     verdict = json.loads((out / "report.json").read_text())["verdict"]
@@ -232,7 +235,9 @@ def test_identified_parameters_are_marked_with_their_uncertainty(tmp_path):
     assert origin.validation == (("iso.csv", ((1.44, 59.1), (1.41, 63.8), (1.88, 52.7))),)
     assert "held-out error on iso.csv: M1 1.44" in origin.summary()
     out = tmp_path / "r"
-    assert main(["report", "--params", str(identified), "--rate", "100", "--model", "analytic", "--out", str(out)]) == 0
+    assert (
+        main(["report", "--params", str(identified), "--rate", "100", "--engine", "analytic", "--out", str(out)]) == 0
+    )
     page = (out / "index.html").read_text(encoding="utf-8")
     assert "0.02510 ± 0.00012" in page and "0.0250965548" not in page
     assert re.search(r"<tr class=\"identified\"><td class=\"l\">friction.thrust_mu</td>", page)
@@ -244,7 +249,7 @@ def test_identified_parameters_are_marked_with_their_uncertainty(tmp_path):
 def test_pdf_without_chromium_is_a_clear_error_and_writes_nothing(tmp_path, monkeypatch, capsys):
     monkeypatch.setattr(pages, "find_browser", lambda: None)
     out = tmp_path / "r"
-    assert main(["report", "--rate", "100", "--model", "analytic", "--pdf", "--out", str(out)]) == 2
+    assert main(["report", "--rate", "100", "--engine", "analytic", "--pdf", "--out", str(out)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--pdf needs Chromium" in err
     assert not out.exists()
@@ -254,7 +259,7 @@ def test_pdf_is_the_same_page(design, tmp_path):
     chromium()
     out = tmp_path / "r"
     assert (
-        main(["report", "--rate", "100", "--model", "analytic", "--pdf", "--out", str(out), "--title", "PDF review"])
+        main(["report", "--rate", "100", "--engine", "analytic", "--pdf", "--out", str(out), "--title", "PDF review"])
         == 0
     )
     from pypdf import PdfReader

@@ -7,7 +7,6 @@ import math
 import os
 import re
 import shutil
-import subprocess
 import sys
 import xml.etree.ElementTree as ET
 from html.parser import HTMLParser
@@ -15,6 +14,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from support import given
 
 import hipsim
 import hipsim.present.figures as figures
@@ -25,6 +25,7 @@ from hipsim.design.sizing import axial_screw_load, sizing
 from hipsim.exceptions import HipsimError, OutputError, ParameterError
 from hipsim.machine.drive import Drive, LeadScrew, Motor, TorqueSpeedCurve, load_drive
 from hipsim.motion.trajectories import Trajectory, iso14242
+from hipsim.present.browser import run_headless
 
 BASE_FIGURES = (
     "input_motion",
@@ -130,7 +131,7 @@ def test_axial_force_at_rest_carries_both_sliders_weight(params):
 
 
 def flat(torque_Nmm):
-    return TorqueSpeedCurve([0.0], [torque_Nmm * 1e-3])
+    return TorqueSpeedCurve(np.array([0.0]), np.array([torque_Nmm * 1e-3]))
 
 
 def test_joint_sizing_and_rating_checks(result):
@@ -140,7 +141,7 @@ def test_joint_sizing_and_rating_checks(result):
     size = sizing(with_joint_forces(result), drive)
     forces = with_joint_forces(result).joint_forces
     Fa, Fo = forces.Fa, forces.Fo
-    joints = {j.joint: j for j in size.joints}
+    joints = {j.joint: j for j in given(size.joints)}
     assert set(joints) == {"a_11", "a_12", "a_13", "a_21", "a_22", "a_23", "o_1", "o_2"}
     assert joints["a_23"].peak_N == pytest.approx(Fa[:, 1, 2].max())
     assert joints["o_1"].rms_N == pytest.approx(math.sqrt(np.mean(Fo[:, 0] ** 2)))
@@ -153,18 +154,19 @@ def test_joint_sizing_and_rating_checks(result):
             assert check.value == pytest.approx(demand, rel=1e-12)
         if check.name == "peak_curve":  # a flat curve: the worst point is the peak torque
             assert check.value == pytest.approx(module.tau_peak_Nmm, rel=1e-12)
-        assert check.margin == pytest.approx(1 - check.value / check.limit)
-        assert check.passed == (check.value <= check.limit)
+        value, limit = given(check.value), given(check.limit)  # a check made has both
+        assert check.margin == pytest.approx(1 - value / limit)
+        assert check.passed == (value <= limit)
     # Motor 1 needs 431 N·mm peak and module 2 a 95 mm stroke: both fail; the RMS torque passes.
     failed = {(c.module, c.name) for c in made if not c.passed}
     assert (1, "peak_curve") in failed and (2, "stroke") in failed
     assert all(c.passed for c in made if c.name == "s1_rms")
     assert size.passed is False
-    assert size.binding.name == "peak_curve" and size.binding.module == 1
+    assert given(size.binding).name == "peak_curve" and given(size.binding).module == 1
 
 
 @pytest.mark.parametrize(
-    "text, message",
+    ("text", "message"),
     [
         ("[motor]\npeak_torque = 3\n", "motor.peak_torque"),
         ("[motor]\npeak_torque_Nmm = -3\n", "must not be negative"),
@@ -186,9 +188,9 @@ def test_rating_file_round_trip(tmp_path):
     path = tmp_path / "motor.toml"
     path.write_text("[motor]\nmax_speed_rpm = 3000\nstroke_mm = 150.5\n")
     drive = load_drive(path)
-    assert drive.motor.max_speed == pytest.approx(3000.0 * 2 * math.pi / 60) and drive.screw.stroke == pytest.approx(
-        0.1505
-    )
+    assert drive.motor.max_speed == pytest.approx(3000.0 * 2 * math.pi / 60) and given(
+        drive.screw
+    ).stroke == pytest.approx(0.1505)
     assert drive.motor.peak is None
 
 
@@ -198,7 +200,7 @@ def test_a_parameter_file_serves_as_a_rating_file(tmp_path):
 
     path = tmp_path / "machine.toml"
     path.write_text(default_parameters_path().read_text() + "\n[motor]\npeak_torque_Nmm = 1910\n")
-    assert load_drive(path).motor.peak.at(1000.0) == pytest.approx(1.910)
+    assert given(load_drive(path).motor.peak).at(1000.0) == pytest.approx(1.910)
     path.write_text(default_parameters_path().read_text())  # no [motor] table at all
     with pytest.raises(ParameterError, match=re.escape("[motor] table")):
         load_drive(path)
@@ -287,7 +289,7 @@ def test_missing_pinocchio_model_falls_back_with_a_note(tmp_path, monkeypatch, c
     page = (tmp_path / "auto" / "index.html").read_text(encoding="utf-8")
     assert "Pinocchio model is not available" in page
     assert not (tmp_path / "auto" / "joint_forces.png").exists()
-    assert main(["report", "--rate", "100", "--model", "pinocchio", "--out", str(tmp_path / "pin")]) == 2
+    assert main(["report", "--rate", "100", "--engine", "pinocchio", "--out", str(tmp_path / "pin")]) == 2
     assert "Pinocchio model is not available" in capsys.readouterr().err
     assert not (tmp_path / "pin").exists()
 
@@ -336,23 +338,10 @@ def test_page_renders_in_headless_chromium(written, tmp_path):
     page.parent.mkdir()
     shutil.copy(written.index, page)
     shot = tmp_path / "shot.png"
-    command = [
-        browser,
-        "--headless",
-        "--no-sandbox",
-        "--disable-gpu",
-        "--disable-quic",
-        "--no-first-run",
-        "--disable-background-networking",
-        "--disable-component-update",
-        "--disable-sync",
-        f"--user-data-dir={tmp_path / 'profile'}",
-        f"--screenshot={shot}",
-        "--window-size=1280,4000",
-        page.as_uri(),
-    ]
-    completed = subprocess.run(command, capture_output=True, text=True, timeout=120)
-    assert completed.returncode == 0 and shot.exists(), completed.stderr[-2000:]
+    errors = run_headless(
+        browser, page.as_uri(), (f"--screenshot={shot}", "--window-size=1280,4000"), "screenshot", 120
+    )
+    assert shot.exists(), errors
     from matplotlib.image import imread
 
     pixels = imread(shot)[..., :3]
@@ -417,7 +406,7 @@ def test_an_interrupted_rerun_leaves_the_earlier_report_whole(tmp_path, short_ru
     out = tmp_path / "report"
     report.write_report(out, first, with_joint_forces(first))
     before = snapshot(out)
-    saved = []
+    saved: list = []
 
     def interrupted(fig, folder, stem, **kwargs):
         if len(saved) == 2:
@@ -529,7 +518,7 @@ def test_report_simulate_takes_a_mismatch(tmp_path, monkeypatch, capsys):
                 "report",
                 "--rate",
                 "100",
-                "--model",
+                "--engine",
                 "analytic",
                 "--simulate",
                 "--mismatch",

@@ -11,13 +11,13 @@ import io
 import math
 import os
 import re
-import time
 from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 import pytest
-from support import SmoothMotion
+from fake_clock import FakeClock
+from support import SmoothMotion, given
 
 from hipsim.analytic.inverse_kinematics import kinematics as analytic_kinematics
 from hipsim.analytic.inverse_kinematics import rotation_matrix
@@ -60,7 +60,7 @@ def page_commands(html: str) -> list[dict]:
     """The meshcat commands stored in an offline page, decoded."""
     import umsgpack
 
-    block = re.search(r"var commands = \[(.*?)\];", html, re.S).group(1)
+    block = given(re.search(r"var commands = \[(.*?)\];", html, re.S)).group(1)
     return [umsgpack.unpackb(base64.b64decode(s)) for s in re.findall(r'"([A-Za-z0-9+/=]+)"', block)]
 
 
@@ -206,7 +206,7 @@ def test_page_is_self_contained(iso_page):
 def test_show_orientation_and_step_mode(offline):
     q = offline.show_orientation(math.radians(20.0), math.radians(-4.0), math.radians(2.0))
     assert np.linalg.norm(closure_residuals(offline.chain, q), axis=-1).max() <= 1e-9
-    with pytest.raises(ValueError):
+    with pytest.raises(ValueError, match="a configuration of size nq"):
         offline.show(np.zeros(3))
     shown = []
     out = io.StringIO()
@@ -216,15 +216,36 @@ def test_show_orientation_and_step_mode(offline):
     assert "frame 3/10" in out.getvalue()
 
 
-def test_play_keeps_real_time(offline):
+def test_play_keeps_real_time_and_skips_the_frames_a_slow_one_overran(offline):
+    """On an injected clock: frames at 1/16 s of the clock (binary fractions, so every time is exact)."""
     shown = []
+    clock = FakeClock()
+
+    def on_frame(k, motion):
+        shown.append(k)
+        if k == 2:
+            clock.advance(2 / 16)  # sending frame 2 took two frame periods: frame 3's time has passed
+
     trajectory = SmoothMotion(seed=3)(np.arange(0.0, 0.6, 0.01))
-    start = time.monotonic()
-    offline.play(trajectory, speed=2.0, loop=False, fps=20, on_frame=lambda k, m: shown.append(k))
-    elapsed = time.monotonic() - start
-    # 0.6 s of trajectory at twice real time: 0.3 s, in 6 frames 0.05 s apart in trajectory time.
-    assert 0.25 <= elapsed <= 2.0
-    assert shown == sorted(shown) and shown[0] == 0 and shown[-1] == 5
+    motion = offline.play(trajectory, speed=2.0, loop=False, fps=16, on_frame=on_frame, clock=clock)
+    # 0.59 s of trajectory at twice real time, 16 frames a second of the clock: 5 frames 1/8 s of trajectory apart.
+    assert len(motion) == 5 and np.allclose(np.diff(motion.t), 0.125)
+    assert shown == [0, 1, 2, 4]  # frame 3 skipped, not shown late; the run rests on its last frame
+    assert clock.monotonic() == 5 / 16  # the last frame shown for its whole period, no longer
+
+
+def test_play_shows_the_last_frame_even_when_the_clock_skipped_it(offline):
+    shown = []
+    clock = FakeClock()
+    trajectory = SmoothMotion(seed=3)(np.arange(0.0, 0.6, 0.01))
+
+    def on_frame(k, motion):
+        shown.append(k)
+        if k == 3:
+            clock.advance(3 / 16)  # past the end
+
+    offline.play(trajectory, speed=2.0, loop=False, fps=16, on_frame=on_frame, clock=clock)
+    assert shown == [0, 1, 2, 3, 4]
 
 
 def test_run_view_writes_the_page(tmp_path):

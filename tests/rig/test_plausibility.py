@@ -41,8 +41,11 @@ def write(path, run, torque=1e3, load=1.0, angle=np.degrees, header=HEADER, sepa
     return path
 
 
-def refused(capsys, *words):
+def refused(capsys, *words, warned: str = ""):
     err = capsys.readouterr().err
+    if warned:  # the option table's warning of the typed value comes first (issue 48)
+        first, _, err = err.partition("\n")
+        assert first.startswith(f"hipsim: warning: {warned}"), first
     assert err.count("\n") == 1 and err.startswith("hipsim: error: "), err
     for word in words:
         assert word in err, (word, err)
@@ -85,7 +88,15 @@ def test_a_torque_constant_in_newton_millimetres_per_ampere_is_refused(run, tmp_
     log = write(tmp_path / "currents.csv", run, torque=1 / 0.05, header=CURRENTS)  # a motor of 0.05 N·m/A
     for command, out in (("compare", tmp_path / "out"), ("identify", tmp_path / "out.toml")):
         assert main([command, "--log", str(log), "--torque-constant", "50", "--out", str(out)]) == 2
-        refused(capsys, "current_1_A", "--torque-constant", "1000 times", "N·mm/A", "0.05")
+        refused(
+            capsys,
+            "current_1_A",
+            "--torque-constant",
+            "1000 times",
+            "N·mm/A",
+            "0.05",
+            warned="--torque-constant 50 N·m/A",
+        )
         assert not out.exists()
     assert main(["compare", "--log", str(log), "--torque-constant", "0.05", "--out", str(tmp_path / "out")]) == 0
     capsys.readouterr()

@@ -69,7 +69,7 @@ def test_a_right_log_passes(run, params, tmp_path):
 
 
 @pytest.mark.parametrize(
-    "torque, words",
+    ("torque", "words"),
     [
         (1e-3, ["tau_1_Nmm", "look like N·m", "their RMS is 1/1000 of the model's", "give torques in N·mm"]),
         (1e3, ["tau_1_Nmm", "look like µN·m", "their RMS is 1000 times the model's", "give torques in N·mm"]),
@@ -84,7 +84,7 @@ def test_a_unit_slip_of_a_thousand_both_ways(run, params, tmp_path, torque, word
         assert word in message, (word, message)
 
 
-@pytest.mark.parametrize("torque, word", [(100.0, " times the model's"), (0.01, "RMS 1/")])
+@pytest.mark.parametrize(("torque", "word"), [(100.0, " times the model's"), (0.01, "RMS 1/")])
 def test_beyond_the_error_factor_without_a_units_factor(run, params, tmp_path, torque, word):
     # ~100 (or 1/100): no unit gives it, yet it is beyond 30: an error naming the column and what to check.
     with pytest.raises(TrajectoryError, match="check the unit \\(N·mm\\), the load's \\(N\\)") as refused:
@@ -234,7 +234,7 @@ def test_one_motors_current_in_ma_and_the_constant_named_by_the_caller(exact, pa
 
 
 @pytest.mark.parametrize(
-    "motor, scale, words",
+    ("motor", "scale", "words"),
     [
         (2, 1e-3, "tau_3_Nmm looks like N·m: its RMS is 1/1000 of the model's ({:.4g} against {:.4g} N·mm)"),
         (0, 1e3, "tau_1_Nmm looks like µN·m: its RMS is 1000 times the model's ({:.4g} against {:.4g} N·mm)"),
@@ -258,7 +258,7 @@ def test_two_kinds_of_slip_name_the_first_motors(exact, params):
     assert "tau_3_Nmm" not in str(refused.value)
 
 
-@pytest.mark.parametrize("scale, ratio", [(10.0, "10 times"), (0.1, "1/10 of")])
+@pytest.mark.parametrize(("scale", "ratio"), [(10.0, "10 times"), (0.1, "1/10 of")])
 def test_one_motor_off_by_ten_is_a_warning_naming_it(exact, params, scale, ratio):
     _, _, rms = exact
     (warning,) = check_log(params, measured(exact, (1.0, scale, 1.0), name="w"))
@@ -268,7 +268,7 @@ def test_one_motor_off_by_ten_is_a_warning_naming_it(exact, params, scale, ratio
     )
 
 
-@pytest.mark.parametrize("scale, ratio", [(2.0, "2 times"), (0.5, "1/2 of")])
+@pytest.mark.parametrize(("scale", "ratio"), [(2.0, "2 times"), (0.5, "1/2 of")])
 def test_all_three_off_by_one_factor_is_one_warning(exact, params, scale, ratio):
     (warning,) = check_log(params, measured(exact, (scale,) * 3, name="k"))
     assert warning == (
@@ -370,7 +370,7 @@ def test_three_far_down():
 
 
 @pytest.mark.parametrize(
-    "shifts, determined",
+    ("shifts", "determined"),
     [
         ((4.0, -5.0, 0.0), None),  # two far, opposite ways: the machine's own spread
         ((4.0, 1.0, 2.0), None),  # one far
@@ -478,7 +478,7 @@ def constant(logged, n=2, name="c"):
 
 
 @pytest.mark.parametrize(
-    "factor, outcome",
+    ("factor", "outcome"),
     [
         (30.0, "error"),  # on the error factor: an error (within it means strictly inside)
         (1 / 30, "error"),
@@ -514,7 +514,7 @@ def test_a_motor_the_model_says_is_idle_is_not_compared(stand_in, params):
     assert "all three 2 times the model's" in warning
 
 
-@pytest.mark.parametrize("n, samples", [(4000, 4000), (4001, 2001), (9000, 3000)])
+@pytest.mark.parametrize(("n", "samples"), [(4000, 4000), (4001, 2001), (9000, 3000)])
 def test_the_model_runs_on_at_most_model_samples(stand_in, params, n, samples):
     assert MODEL_SAMPLES == 4000
     check_log(params, constant([1.0, 1.0, 1.0], n=n))

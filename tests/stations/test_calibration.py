@@ -122,7 +122,7 @@ def test_sensor_offsets_per_log(drawing, truth):
     # The zero of each sensor is not known (it trades with the unseen tilt of the joint pattern), but the drift between
     # logs is, and so are the predictions up to a constant.
     drift = np.degrees(fit.offsets[0] - fit.offsets[1]).ravel()
-    assert np.allclose(drift, np.subtract(*offsets), atol=0.01), drift
+    assert np.allclose(drift, np.subtract(offsets[0], offsets[1]), atol=0.01), drift
     t, L, true = synthetic_log(drawing, truth, 400, seed=2, noise_deg=0.0)[:3]
     difference = attitudes(fit.machine, L, true) - true
     assert np.all(_rms_deg(difference - difference.mean(axis=0)) < NOISE_DEG / 5)

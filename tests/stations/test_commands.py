@@ -85,7 +85,7 @@ def test_with_identical_chains_all_three_commands_are_the_same(drawing, cycle):
         assert np.all(np.abs(run.errors) < 1e-11)
 
 
-@pytest.mark.parametrize("at, control", [("deviated", "1"), ("deviated", "2"), ("drawing", "both")])
+@pytest.mark.parametrize(("at", "control"), [("deviated", "1"), ("deviated", "2"), ("drawing", "both")])
 def test_first_order_error_sensitivity_matches_the_commands(drawing, machine, cycle, at, control):
     """S·δ against the commands' own errors for a small δ (for both, at the drawing, where Gauss–Newton is exact)."""
     base = machine if at == "deviated" else drawing
@@ -192,9 +192,9 @@ def test_stations_command(tmp_path, capsys):
     # Bad input: one line, status 2, nothing written.
     for argv, words in (
         (["--weights", "1"], "--weights"),
-        (["--tolerance", "lever=45", "--draws", "20", "--workers", "0"], "out of reach"),
+        (["--bands", "lever=45", "--draws", "20", "--workers", "1"], "out of reach"),
         (["--control", "all"], "--control all"),
-        (["--tolerance", "spring=0.1"], "unknown tolerance"),
+        (["--bands", "spring=0.1"], "unknown tolerance"),
     ):
         bad = tmp_path / "bad"
         assert main(["stations", "--rate", "100", "--out", str(bad), *argv]) == 2, argv

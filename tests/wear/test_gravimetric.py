@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+from support import given
 
 from hipsim.exceptions import ArgumentError, FileRowError
 from hipsim.motion.trajectories import Trajectory, iso14242
@@ -228,7 +229,7 @@ def test_motion_error_against_iso_by_gait_phase():
 def test_friction_state_reads_the_monitors_last_snapshot():
     from hipsim.wear.test_context import friction_state
 
-    table = {
+    table: dict[str, list] = {
         "cycle": [0, 250_000, 500_000],
         "hip_mu_change": [0.0, 0.001, 0.004],
         "hip_mu_change_std": [0.0005, 0.0005, 0.0006],
@@ -236,7 +237,7 @@ def test_friction_state_reads_the_monitors_last_snapshot():
         "hip_mu_change_1_std": [0.001, float("nan"), float("nan")],
         "flag": ["", "", "notice"],
     }
-    mean = friction_state(table, None, "friction.csv")
+    mean = given(friction_state(table, None, "friction.csv"))
     assert (mean.hip_mu_change, mean.hip_mu_change_std, mean.own, mean.flag, mean.last_cycle) == (
         0.004,
         0.0006,
@@ -244,9 +245,11 @@ def test_friction_state_reads_the_monitors_last_snapshot():
         "notice",
         500_000,
     )
-    station = friction_state(table, 1, "friction.csv")  # its own column has no value at the last snapshots: the mean
+    station = given(
+        friction_state(table, 1, "friction.csv")
+    )  # its own column has no value at the last snapshots: the mean
     assert station.own is False and station.hip_mu_change == 0.004
     assert friction_state({"cycle": []}, 1, "f") is None
     table["hip_mu_change_1"][2], table["hip_mu_change_1_std"][2] = 0.007, 0.001
-    own = friction_state(table, 1, "friction.csv")
+    own = given(friction_state(table, 1, "friction.csv"))
     assert (own.own, own.hip_mu_change, own.hip_mu_change_std) == (True, 0.007, 0.001)

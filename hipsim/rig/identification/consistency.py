@@ -124,7 +124,9 @@ def _semidefinite(A, b, x0, scale, constant, variables, max_iter):
     q = A.T @ b
     # Constraint rows y = M·x + c, blocks: bounds (y ≥ 0), then each inertia's Σ vector (PSD).
     position = {k: n for n, k in enumerate(variables)}
-    rows, offsets, kinds = [], [], []
+    rows: list[np.ndarray] = []
+    offsets: list[float] = []
+    kinds: list[tuple[str, int | str]] = []  # ("bound", variable) or ("block", body)
     for k in BOUNDED:
         if k in position:
             row = np.zeros(len(variables))
@@ -167,7 +169,9 @@ def _semidefinite(A, b, x0, scale, constant, variables, max_iter):
         primal = np.linalg.norm(Mx - y_new)
         dual = rho * np.linalg.norm(M.T @ (y_new - y))
         y = y_new
-        if primal <= 1e-10 * max(np.linalg.norm(Mx), 1.0) and dual <= 1e-10 * max(np.linalg.norm(q), 1e-300):
+        if primal <= 1e-10 * max(float(np.linalg.norm(Mx)), 1.0) and dual <= 1e-10 * max(
+            float(np.linalg.norm(q)), 1e-300
+        ):
             break
         if iteration % 50 == 49 and (primal > 10 * dual or dual > 10 * primal):
             factor_change = 2.0 if primal > dual else 0.5

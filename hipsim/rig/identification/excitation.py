@@ -46,7 +46,7 @@ from ...files import write_columns
 from ...machine.parameters import Parameters
 from ...motion.trajectories import Trajectory, iso14242
 from .quantities import QUANTITIES
-from .regressor import regressor, regressor_from_kinematics
+from .regressor import column_condition, regressor, regressor_from_kinematics
 
 __all__ = ["DESIGN_QUANTITIES", "Excitation", "Limits", "condition_number", "excitation"]
 
@@ -120,12 +120,7 @@ def condition_number(
     Parameters the trajectory cannot tell apart make it infinite.
     """
     columns = _design_columns(quantities)
-    A = regressor(params, trajectory, lever_spin)[:, :, columns].reshape(-1, len(columns))
-    norms = np.linalg.norm(A, axis=0)
-    if np.any(norms == 0):
-        return math.inf
-    s = np.linalg.svd(A / norms, compute_uv=False)
-    return float(s[0] / s[-1]) if s[-1] > 0 else math.inf
+    return column_condition(regressor(params, trajectory, lever_spin)[:, :, columns].reshape(-1, len(columns)))
 
 
 @dataclass(frozen=True, eq=False)
@@ -275,12 +270,8 @@ def _evaluate_many(params, sets, frequency, grid, columns, lever_spin, limits):
             1.0 - np.abs(tau[j]).ravel() / limits.torque_limit,
         ]
         A = A_all[j].reshape(-1, len(columns))
-        norms = np.linalg.norm(A, axis=0)
-        if np.any(norms == 0) or not np.all(np.isfinite(A)):
-            out.append((math.inf, np.concatenate(margins)))
-            continue
-        sv = np.linalg.svd(A / norms, compute_uv=False)
-        out.append(((math.log(sv[0] / sv[-1]) if sv[-1] > 0 else math.inf), np.concatenate(margins)))
+        condition = column_condition(A) if np.all(np.isfinite(A)) else math.inf
+        out.append((math.log(condition), np.concatenate(margins)))  # log(inf) = inf
     return out
 
 

@@ -62,7 +62,7 @@ from .identified_file import IDENTIFIED_MARK, FileProvenance, identified_toml, w
 from .prior import HELD
 from .prior import prior as make_prior
 from .quantities import QUANTITIES, standard_values, with_values
-from .regressor import log_rows, rows_per_independent_row
+from .regressor import column_condition, log_rows, rows_per_independent_row
 from .validation import training_envelope, validation_note
 
 __all__ = [
@@ -175,6 +175,7 @@ class Identification:
         active_constraints: the physical-consistency constraints the solution sits on.
         validation: per held-out log, (the identified machine's comparison, the starting machine's).
         notes: per held-out log, what :mod:`hipsim.rig.identification.validation` says of it (per-phase errors, envelope warnings).
+        torque_rms: RMS measured torque per motor in [N·m], (3,), over the rows fitted (the scale of the residual gate).
     """
 
     params: Parameters
@@ -190,6 +191,7 @@ class Identification:
     active_constraints: tuple[str, ...] = ()
     validation: tuple[tuple[Comparison, Comparison], ...] = field(default=())
     notes: tuple[Any, ...] = field(default=())
+    torque_rms: np.ndarray | None = None
 
     @property
     def quantities(self) -> tuple[IdentifiedQuantity, ...]:
@@ -384,10 +386,7 @@ class _Accumulator:
 def _condition(A: np.ndarray) -> float:
     if A.shape[1] == 0:
         return math.nan
-    norms = np.linalg.norm(A, axis=0)
-    A = A[:, norms > 0] / norms[norms > 0]
-    s = np.linalg.svd(A, compute_uv=False)
-    return float(s[0] / s[-1]) if s.size and s[-1] > 0 else math.inf
+    return column_condition(A[:, np.linalg.norm(A, axis=0) > 0])  # a column the logs never excite is left out
 
 
 def _plausible(params: Parameters, theta: np.ndarray, logs: tuple[str, ...]) -> None:
@@ -554,6 +553,7 @@ def identify(
         active,
         validation,
         notes,
+        np.array([np.linalg.norm(Ri[:, P]) / math.sqrt(max(n, 1)) for Ri, n in zip(R, rows_per_motor)]),
     )
 
 

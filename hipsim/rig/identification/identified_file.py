@@ -77,6 +77,7 @@ class FileProvenance:
         command: the command line, shell-quoted.
         inputs: each input file with its SHA-256.
         title, author, rig: the lab's fields (``--title``, ``--author``, ``--rig``), or None.
+        warnings: what the fit's self-check found implausible, for a file written with ``--force`` (issue 48).
     """
 
     version: str
@@ -86,6 +87,7 @@ class FileProvenance:
     title: str | None = None
     author: str | None = None
     rig: str | None = None
+    warnings: tuple[str, ...] = ()
 
     @classmethod
     def from_dict(cls, block: Mapping[str, Any]) -> FileProvenance:
@@ -98,6 +100,7 @@ class FileProvenance:
             block.get("title"),
             block.get("author"),
             block.get("rig"),
+            tuple(str(w) for w in block.get("warnings", ())),
         )
 
     def made(self) -> str:
@@ -113,12 +116,15 @@ class FileProvenance:
             for label, value in (("Title", self.title), ("Author", self.author), ("Rig", self.rig))
             if value
         ]
+        lines += [f"# WARNING (written with --force): {warning}" for warning in self.warnings]
         return lines
 
     def toml(self) -> str:
         """The ``[identification.provenance]`` table and one ``[[identification.provenance.inputs]]`` table per input."""
-        entries = {"hipsim": self.version, "created_utc": self.created, "command": self.command}
+        entries: dict[str, Any] = {"hipsim": self.version, "created_utc": self.created, "command": self.command}
         entries |= {k: v for k, v in (("title", self.title), ("author", self.author), ("rig", self.rig)) if v}
+        if self.warnings:
+            entries["warnings"] = list(self.warnings)
         text = table_toml("identification.provenance", entries)
         for record in self.inputs:
             text += "\n[[identification.provenance.inputs]]\n"

@@ -31,6 +31,7 @@ chunk by chunk and window by window, so memory does not grow with the log.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator
 
 import numpy as np
@@ -48,6 +49,7 @@ __all__ = [
     "BLOCK",
     "CHUNK",
     "MODEL_ERROR_BANDWIDTH",
+    "column_condition",
     "decimation",
     "inflation",
     "log_rows",
@@ -55,6 +57,21 @@ __all__ = [
     "regressor_from_kinematics",
     "rows_per_independent_row",
 ]
+
+
+def column_condition(A: np.ndarray) -> float:
+    """The condition number σ_max/σ_min of A (rows, k) with its columns scaled to unit norm, as identification judges it.
+
+    Infinite when a column is zero or σ_min is exactly 0; dependent columns give σ_min of round-off and so a
+    number of 1e15 and more: either way those values cannot be told apart.
+    The excitations' design, the identification's report and the stations' calibration all use this one measure.
+    """
+    norms = np.linalg.norm(A, axis=0)
+    if A.size == 0 or np.any(norms == 0):
+        return math.inf
+    s = np.linalg.svd(A / norms, compute_uv=False)
+    return float(s[0] / s[-1]) if s[-1] > 0 else math.inf
+
 
 #: Samples per chunk of the regressor (memory: ~2 kB per sample while a chunk is computed and filtered).
 CHUNK = 50_000

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from ...exceptions import HipsimError
+from ...exceptions import ArgumentError, HipsimError
 from ...motion.gait_events import detect_gait_events, gait_phase
 from ..compare import Comparison
 from ..logs.log import Log
@@ -92,6 +92,8 @@ def training_envelope(logs: Sequence[Log]) -> Envelope:
     for log in logs:
         e = envelope(log)
         out = e if out is None else out.union(e)
+    if out is None:
+        raise ArgumentError("logs", list(logs), "at least one training log")
     return out
 
 
@@ -114,17 +116,14 @@ class ValidationNote:
 
     def text(self) -> str:
         lines = []
-        if self.phase_edges is not None:
+        identified, starting = self.identified_phase_rms, self.starting_phase_rms  # given with the edges
+        if self.phase_edges is not None and identified is not None and starting is not None:
             lines.append(
                 f"RMS error per tenth of the gait cycle from heel strike [N·mm], identified (starting) on {self.log}:"
             )
             for i in range(3):
                 lines.append(
-                    f"  M{i + 1}: "
-                    + " ".join(
-                        f"{a:.3g} ({b:.3g})"
-                        for a, b in zip(self.identified_phase_rms[:, i], self.starting_phase_rms[:, i])
-                    )
+                    f"  M{i + 1}: " + " ".join(f"{a:.3g} ({b:.3g})" for a, b in zip(identified[:, i], starting[:, i]))
                 )
         else:
             lines.append(f"{self.log}: no two heel strikes in the load, so no error per gait phase")
@@ -134,10 +133,11 @@ class ValidationNote:
 
     def as_dict(self) -> dict[str, Any]:
         out: dict[str, Any] = {"envelope_warnings": list(self.warnings)}
-        if self.phase_edges is not None:
+        identified, starting = self.identified_phase_rms, self.starting_phase_rms  # given with the edges
+        if self.phase_edges is not None and identified is not None and starting is not None:
             out["gait_phase_edges_percent"] = self.phase_edges.tolist()
-            out["identified_phase_rms_error_Nmm"] = self.identified_phase_rms.tolist()
-            out["starting_phase_rms_error_Nmm"] = self.starting_phase_rms.tolist()
+            out["identified_phase_rms_error_Nmm"] = identified.tolist()
+            out["starting_phase_rms_error_Nmm"] = starting.tolist()
         return out
 
 

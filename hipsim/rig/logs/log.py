@@ -318,6 +318,7 @@ class LogPieces(Log):
             for a, b in self._cores():
                 part = raw.piece(a, b)
                 start = (part.angles[0] if part.angles is not None else None) if q0 is None else q0
+                assert part.heights is not None  # raw.has_heights: every piece has them
                 try:
                     q = forward_kinematics(self.params, part.heights, part.t, q0=start)
                 except PoseError as error:
@@ -335,7 +336,7 @@ class LogPieces(Log):
                     if first is None and beyond.size:
                         k, j = beyond[0]
                         first = (float(difference[k, j]), a + int(k), int(j))
-            if first is not None:
+            if first is not None and worst is not None:  # worst is set with first
                 raise TrajectoryError(
                     f"the attitude sensor and the encoders disagree by {first[0]:.3g}° in {ANGLE_NAMES[first[2]]} "
                     f"(tolerance {tolerance_deg:g}°; {worst[0]:.3g}° at worst, line {int(raw.lines[worst[1]])}): "
@@ -379,7 +380,7 @@ class LogPieces(Log):
         """Sample times in [s], (N,)."""
         return self.raw.t
 
-    def close(self) -> None:  # noqa: B027 - a hook: a log in memory holds nothing to drop
+    def close(self) -> None:  # a hook: a log in memory holds nothing to drop
         """Drop the temporary stores."""
         self.raw.close()
         if self._q is not None:
@@ -392,7 +393,9 @@ class LogPieces(Log):
 
     def _angles(self, lo: int, hi: int) -> np.ndarray:
         if self._q is None:
-            return self.raw.piece(lo, hi).angles
+            angles = self.raw.piece(lo, hi).angles
+            assert angles is not None  # no encoder heights: the log gives the attitude sensor's angles
+            return angles
         self._q.seek(lo * 24)
         return np.fromfile(self._q, dtype=float, count=3 * (hi - lo)).reshape(-1, 3)
 

@@ -42,9 +42,11 @@ from ...analytic.inverse_kinematics import kinematics
 from ...analytic.virtual_work import inverse_dynamics
 from ...exceptions import HipsimError, IdentificationError, ParameterError
 from ...fingerprint import part_fingerprints
+from ...fit_checks import NOISE_FLOOR, FitCheck, column_pattern, residual_gate
 from ...machine.parameters import Parameters
 from ..identification.quantities import friction_unit
 from ..identification.regressor import CHUNK, decimation, rows_per_independent_row
+from ..identification.self_check import TORQUE_COLUMNS
 from ..logs.log import DEFAULT_TOLERANCE_DEG, MeasuredLog
 from ..logs.reversals import reversal_mask
 from ..logs.smoothing import DEFAULT_CUTOFF, lowpass, minimum_samples
@@ -267,6 +269,9 @@ def estimate(setup: MonitorSetup, snapshot: Snapshot) -> dict[str, Any]:
     window = math.ceil(rows_per_independent_row(log))
     A = np.stack(columns, axis=-1)[use]
     x, std, residual = _solve(A, target[use], time, window)
+    check = snapshot_check(snapshot.name, tau[use], fixed[use] + A @ x)
+    if not check.plausible:  # the snapshot is skipped, naming why (a model that does not explain it is no trend point)
+        raise IdentificationError(check.message(), (str(snapshot.path),))
     has_weight = len(columns) == 4
     values = dict(zip(("a", "b", "sc", "sv") if has_weight else ("a", "sc", "sv"), zip(x.tolist(), std.tolist())))
     values.setdefault("b", (math.nan, math.nan))
@@ -291,6 +296,28 @@ def estimate(setup: MonitorSetup, snapshot: Snapshot) -> dict[str, Any]:
     }
     row |= _stations(setup, stations, use, time, window, columns, target, values["a"][0])
     return row
+
+
+def snapshot_check(name: str, measured: np.ndarray, model: np.ndarray) -> FitCheck:
+    """A snapshot's fit against the gates: residual beyond 3 times the noise (5 % of each motor's RMS torque).
+
+    Args:
+        name: the snapshot's name, for the message.
+        measured: the measured motor torques of the rows fitted in [N·m], (n, 3).
+        model: the fitted model's torques for them in [N·m], (n, 3).
+
+    Returns:
+        The check; a failed gate names a swapped, sign-flipped or offset torque column when one explains it.
+    """
+    residual = np.sqrt(np.mean((measured - model) ** 2, axis=0))
+    scale = np.sqrt(np.mean(measured**2, axis=0))
+    found = residual_gate(residual * 1e3, NOISE_FLOOR * scale * 1e3, TORQUE_COLUMNS, "N·mm")
+    if found is None:
+        return FitCheck(name)
+    pattern = column_pattern(measured * 1e3, model * 1e3, TORQUE_COLUMNS, "N·mm")
+    return FitCheck(
+        name, (found + (f" (likely cause: {pattern})" if pattern else " (is the filter off, --no-filter?)"),)
+    )
 
 
 def _stations(setup, stations, use, time, window, columns, target, whole) -> dict[str, Any]:

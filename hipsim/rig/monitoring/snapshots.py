@@ -23,13 +23,13 @@ import glob
 import hashlib
 import math
 import os
-import time
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from ...clock import SYSTEM_CLOCK, Clock
 from ...exceptions import ArgumentError, HipsimError, TrajectoryError
 from ..logs.reader import RigLogFile
 
@@ -184,6 +184,7 @@ def find_snapshots(
     torque_constant: float | None = None,
     rate: float | None = None,
     cache: dict | None = None,
+    clock: Clock = SYSTEM_CLOCK,
 ) -> tuple[list[Snapshot], list[Skipped]]:
     """The snapshots of the given logs, and those left out (still being written; with windows, a file the reader refuses).
 
@@ -194,6 +195,7 @@ def find_snapshots(
         torque_constant: the motors' torque constant in [N·m/A] (a window's scan reads the log: logs of currents need it).
         rate: sample rate in [Hz] to read the times from the sample index (time stamps too coarse), or None.
         cache: identities already computed, (path, size, mtime) → (bytes, SHA-256, line end), filled in.
+        clock: whose wall time a file's age is measured against (:mod:`hipsim.clock`; a test passes its own).
 
     Returns:
         The snapshots (in file order; whole files' cycles are known once read), and the skipped.
@@ -208,7 +210,7 @@ def find_snapshots(
         raise ArgumentError("settle", settle, "seconds ≥ 0")
     snapshots: list[Snapshot] = []
     left: list[Skipped] = []
-    now = time.time()
+    now = clock.time()
     for path in _paths(logs):
         name = Path(path).name
         try:

@@ -21,6 +21,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
+from ...clock import SYSTEM_CLOCK, Clock
 from ...exceptions import ArgumentError, TrajectoryError
 from .monitor_fit import MonitorSetup
 from .monitor_run import MonitorResult, run_monitor
@@ -46,6 +47,7 @@ def watch(
     workers: int = 1,
     scheduler: str | None = None,
     metadata: dict[str, Any] | None = None,
+    clock: Clock = SYSTEM_CLOCK,
 ) -> MonitorResult | None:
     """Watch the logs until ``stop`` is set (or ``rounds`` polls are done); the last result, None if nothing was usable.
 
@@ -64,6 +66,7 @@ def watch(
         rounds: stop after this many rounds (None: until ``stop``).
         workers, scheduler: as :func:`~hipsim.rig.monitoring.monitor_run.run_monitor`.
         metadata: kept with the table.
+        clock: the clock that ages the files and spaces the rounds (:mod:`hipsim.clock`; a test passes its own).
     """
     if not (poll > 0):
         raise ArgumentError("poll", poll, "seconds > 0 between looks at the logs")
@@ -79,7 +82,9 @@ def watch(
     active = False
     done = 0
     while not stop.is_set():
-        snapshots, skipped = find_snapshots(logs, setup.window, settle, setup.torque_constant, setup.rate, cache=cache)
+        snapshots, skipped = find_snapshots(
+            logs, setup.window, settle, setup.torque_constant, setup.rate, cache=cache, clock=clock
+        )
         seen = {(s.name, s.sha256) for s in snapshots}
         if seen != known and snapshots:
             try:
@@ -110,5 +115,5 @@ def watch(
         done += 1
         if rounds is not None and done >= rounds:
             break
-        stop.wait(poll)
+        clock.wait(stop, poll)
     return result

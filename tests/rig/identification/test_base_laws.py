@@ -120,7 +120,7 @@ def test_the_map_to_base_parameters_by_hand(params):
     assert back[INDEX["m_L"]] == pytest.approx(params.slider_mass + 0.5 * (params.lever_mass - other[INDEX["m_l"]]))
     np.testing.assert_allclose(base.standard(values, theta), theta, rtol=1e-13, atol=1e-18)
     # Whole numbers in, numbers out: 0.5 stays 0.5.
-    whole = base.standard(np.full(P - 2, 0.5), [1] * P)
+    whole = base.standard(np.full(P - 2, 0.5), np.ones(P, dtype=int))
     assert whole.dtype == float and whole[INDEX["μ_h"]] == 0.5
     assert base.standard(values, theta) is not theta
     assert base.table()[base.index.index(INDEX["m_L"])] == {

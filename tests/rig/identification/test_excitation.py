@@ -77,7 +77,7 @@ def test_excite_command(tmp_path, capsys):
     assert "ISO 14242-1 cycle" in printed and "designed in" in printed
     assert hipsim.load_trajectory_csv(out).periodic
     assert main(["excite", "--harmonics", "1", "--torque-limit", "-5", "--out", str(tmp_path / "x.csv")]) == 2
-    assert "--torque-limit: expected a positive number" in capsys.readouterr().err
+    assert "--torque-limit -5 N·mm: motor torque limit must be above 0" in capsys.readouterr().err
     assert not (tmp_path / "x.csv").exists()
 
 

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 from rig_synthetic import exact_run, fit_run, iso_run, machines, relative_to_size, write_log
-from support import ALL_FRICTION, SmoothMotion
+from support import ALL_FRICTION, SmoothMotion, given
 
 import hipsim
 import hipsim.machine.parameters
@@ -137,7 +137,7 @@ def test_the_95_percent_band_covers_the_true_torque(noisy, tmp_path):
     trajectory = iso14242_at(np.arange(0, 2, 2e-3), frequency=1.2)
     predicted = inverse_dynamics(result.params, kinematics(result.params, trajectory), trajectory.Fe, True).total
     actual = inverse_dynamics(true, kinematics(true, trajectory), trajectory.Fe, True).total
-    half = Z95 * torque_std(result.params, trajectory, covariance)
+    half = Z95 * torque_std(result.params, trajectory, given(covariance))
     assert np.mean(np.abs(predicted - actual) <= half) >= 0.9
     # ... and is not uselessly wide: a calibrated normal band's half-width is 1.96 RMS errors.
     assert np.sqrt(np.mean(half**2)) <= 4 * np.sqrt(np.mean((predicted - actual) ** 2))
@@ -154,7 +154,7 @@ def test_noisy_logs_predict_the_held_out_trajectory_within_one_percent(noisy):
     assert "vs" in result.toml()  # the validation is in the file's header
 
 
-@pytest.mark.usefixtures("quick_figures")  # the numbers and the text: tests/rig/test_compare.py draws the figures
+@pytest.mark.usefixtures("quick_figures")  # the numbers and the text: tests/test_compare.py draws the figures
 def test_the_parameter_file_round_trips_and_every_command_takes_it(noisy, tmp_path, capsys):
     _, _, held_out, result = noisy
     path = result.write_toml(tmp_path / "identified.toml")
@@ -219,8 +219,8 @@ def test_the_rig_guide_example(noisy, monkeypatch, capsys):
 
     folder, _, _, _ = noisy
     monkeypatch.chdir(folder)
-    text = (Path(__file__).resolve().parents[3] / "docs" / "guide" / "rig.md").read_text()
-    block = re.search(r"```python\n(.*?)```", text, re.S).group(1)
+    text = (Path(__file__).resolve().parents[1] / "docs" / "guide" / "rig.md").read_text()
+    block = given(re.search(r"```python\n(.*?)```", text, re.S)).group(1)
     exec(compile(block, "docs/guide/rig.md", "exec"), {})
     assert hipsim.load_parameters(folder / "identified.toml")
     assert hipsim.load_trajectory_csv(folder / "excite.csv").periodic
@@ -291,8 +291,8 @@ def test_bad_input_is_one_line_and_writes_nothing(noisy, tmp_path, capsys, case)
         args += ["--validate", str(other)]
         expected = "other.csv"
     elif case == "tolerance":
-        args += ["--tolerance", "nan"]
-        expected = "--tolerance"
+        args += ["--angle-tolerance", "nan"]
+        expected = "--angle-tolerance"
     else:
         out = tmp_path / "id.csv"
         args = ["identify", "--log", str(fit), "--out", str(out)]
@@ -303,7 +303,7 @@ def test_bad_input_is_one_line_and_writes_nothing(noisy, tmp_path, capsys, case)
     assert not out.exists()
 
 
-@pytest.mark.usefixtures("quick_figures")  # the numbers and the text: tests/rig/test_compare.py draws the figures
+@pytest.mark.usefixtures("quick_figures")  # the numbers and the text: tests/test_compare.py draws the figures
 def test_compare_with_an_identified_file_shows_the_model_band(noisy, tmp_path, capsys):
     """The model's 95 % band in compare's JSON and printout; the measured torque (noise included) mostly within it."""
     import json

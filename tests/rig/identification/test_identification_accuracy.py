@@ -84,7 +84,9 @@ def identified(logs):
     return {name: identify([logs[k] for k in keys], start) for name, keys in sets.items()}
 
 
-@pytest.mark.parametrize("name, most", [("excitation + ISO", 0.0015), ("ISO only", 0.01), ("excitation alone", 0.005)])
+@pytest.mark.parametrize(
+    ("name", "most"), [("excitation + ISO", 0.0015), ("ISO only", 0.01), ("excitation alone", 0.005)]
+)
 def test_the_identified_machine_predicts_a_held_out_iso_run(identified, held_out, name, most):
     start, _ = machines()
     assert held_out_error(start, held_out) > 0.1  # the published set misses by tens of percent

@@ -12,9 +12,11 @@ import io
 import json
 import re
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
+from support import given
 
 import hipsim
 from hipsim.analytic import inverse_dynamics, kinematics
@@ -130,7 +132,7 @@ def test_compare_opens_its_log_once(files, tmp_path, monkeypatch, capsys):
 
 def test_the_file_carries_its_provenance_in_a_table(files):
     """[identification.provenance]: version, time, command, each input with SHA-256 and size; the comments say the same."""
-    found = read_identified_file(files["out"])
+    found = given(read_identified_file(files["out"]))
     made = found.provenance
     assert made is not None and made.author == "A. Tester" and "--spin-free-levers" in made.command
     assert re.fullmatch(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ", made.created)
@@ -167,7 +169,7 @@ def test_a_file_without_comments_behaves_like_the_file_with_them(files, tmp_path
     assert [{k: v for k, v in o.items() if k != "file"} for o in origins][0] == {
         k: v for k, v in origins[1].items() if k != "file"
     }
-    outputs = {}
+    outputs: dict[tuple[str, str], Any] = {}  # a command's text, or the files' texts
     for name in ("out", "bare"):
         folder = tmp_path / name
         folder.mkdir()
@@ -181,7 +183,7 @@ def test_a_file_without_comments_behaves_like_the_file_with_them(files, tmp_path
                 params,
                 "--rate",
                 "100",
-                "--model",
+                "--engine",
                 "analytic",
                 "--out",
                 str(folder / "r"),
@@ -213,10 +215,10 @@ def test_a_file_of_the_previous_version_reads_its_provenance_from_its_comments(f
     text = files["out"].read_text()
     old = tmp_path / "old.toml"
     old.write_text(text[: text.index("[identification.provenance]")])
-    found, new = read_identified_file(old), read_identified_file(files["out"])
-    assert found.provenance.made() == new.provenance.made()
-    assert [(f.role, f.path, f.sha256) for f in found.provenance.inputs] == [
-        (f.role, f.path, f.sha256) for f in new.provenance.inputs
+    found, new = given(read_identified_file(old)), given(read_identified_file(files["out"]))
+    assert given(found.provenance).made() == given(new.provenance).made()
+    assert [(f.role, f.path, f.sha256) for f in given(found.provenance).inputs] == [
+        (f.role, f.path, f.sha256) for f in given(new.provenance).inputs
     ]
     assert found.estimates == new.estimates and found.lever_spin is False
 
@@ -234,7 +236,7 @@ def test_a_header_only_file_is_read_from_its_comments(tmp_path):
         "# Identified (value, relative standard deviation):\n"
         "#  μ_t = 0.025 ± 0.0001 (±0.4 %)\n\n" + published
     )
-    found = read_identified_file(path)
+    found = given(read_identified_file(path))
     assert found.from_comments and found.lever_spin is False and found.logs == ("a.csv",)
     assert found.provenance == FileProvenance(
         "0.1.0",
@@ -261,7 +263,7 @@ def test_the_writer_takes_a_callers_tables_and_provenance(tmp_path):
     )
     text = path.read_text()
     assert text.startswith(IDENTIFIED_MARK) and "# calibrated on the rig" in text
-    found = read_identified_file(path)
+    found = given(read_identified_file(path))
     assert found.provenance == made and found.table["calibration"] == {"torque_constant": [0.1, 0.2, 0.3]}
     assert found.table["stations"] == [1, 2]
     assert file_values(hipsim.load_parameters(path)) == file_values(PARAMS)

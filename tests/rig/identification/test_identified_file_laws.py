@@ -8,6 +8,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import pytest
+from support import given
 
 import hipsim
 from hipsim.exceptions import ParameterError
@@ -84,7 +85,7 @@ def test_written_and_read_back(tmp_path):
     assert lines[0] == IDENTIFIED_MARK + ": a parameter file every hipsim command accepts (--params)."
     assert lines[1:7] == MADE.comments()
     assert lines[7:9] == ["# fitted on the rig", "# as is"]
-    found = read_identified_file(path)
+    found = given(read_identified_file(path))
     assert found.source == str(path) and not found.from_comments
     assert found.provenance == MADE
     assert (found.lever_spin, found.logs, found.start) == (False, ("a.csv", "b.csv"), "p.toml")
@@ -108,14 +109,14 @@ def test_written_and_read_back(tmp_path):
 def test_defaults_of_a_bare_table(tmp_path):
     # Only the base parameters: every one determined, defined as itself, lever spin on, no logs, no validation.
     table = {k: TABLE[k] for k in ("base", "keys", "units", "value", "std")}
-    found = read_identified_file(write_identified_file(tmp_path / "bare.toml", PARAMS, table))
+    found = given(read_identified_file(write_identified_file(tmp_path / "bare.toml", PARAMS, table)))
     assert found.lever_spin is True and found.logs == () and found.start == "" and found.provenance is None
     assert [e.determined for e in found.estimates] == [True] * 3
     assert [e.definition for e in found.estimates] == ["m_L", "μ_h", "b_S"]
     assert found.held == () and found.combined == () and found.validation == ()
     # A unitless held estimate reads without a blank before its bracket.
     table |= {"determined": [True, False, True]}
-    found = read_identified_file(write_identified_file(tmp_path / "held.toml", PARAMS, table))
+    found = given(read_identified_file(write_identified_file(tmp_path / "held.toml", PARAMS, table)))
     assert found.held == (("friction.hip_mu", "not determined by these logs: near its prior (0.08 ± 0.002)"),)
 
 
@@ -131,7 +132,7 @@ def test_the_writer_keeps_its_mark_and_provenance_to_itself():
 
 
 @pytest.mark.parametrize(
-    "change, key, words",
+    ("change", "key", "words"),
     [
         ({"base": "m_L"}, "identification.base", "expected a list, got 'm_L'"),
         ({"std": [0.1]}, "identification.std", "expected a list of 3 (one per base parameter), got [0.1]"),
@@ -155,7 +156,7 @@ def test_a_malformed_table_is_named(tmp_path, change, key, words):
 
 
 @pytest.mark.parametrize(
-    "provenance, key",
+    ("provenance", "key"),
     [
         ('hipsim = "9.9"\ncreated_utc = "x"\n', "identification.provenance"),
         ('hipsim = "9.9"\ncreated_utc = "x"\ncommand = 3\n', "identification.provenance"),
@@ -208,7 +209,7 @@ def test_an_old_files_comment_header(tmp_path):
         "# e.csv: M1 1 vs 2 N·mm\n"
         "#  c.csv: M1 1.5 vs 4 M2 2 vs 5 M3 3 vs 6 N·mm\n" + published
     )
-    found = read_identified_file(path)
+    found = given(read_identified_file(path))
     assert found.from_comments and found.table == {} and found.source == str(path)
     assert found.lever_spin is True and found.logs == ("a (1).csv", "b.csv") and found.start == "start_X"
     assert found.provenance == FileProvenance(
@@ -239,7 +240,7 @@ def test_not_an_identified_file(tmp_path):
         f"{IDENTIFIED_MARK}\n# From the logs: a.csv (1 sample).\n\n# Starting parameters: late.toml.\n"
         + Path(PARAMS.source).read_text()
     )
-    found = read_identified_file(stops)
+    found = given(read_identified_file(stops))
     assert found.logs == ("a.csv",) and found.start == "" and found.provenance is None
 
 
@@ -247,37 +248,37 @@ def test_sub_tables_a_bare_header_and_logs_that_are_no_list(tmp_path):
     path = write_identified_file(
         tmp_path / "cal.toml", PARAMS, TABLE | {"logs": "a.csv"}, tables={"calibration": {"torque_constant": [0.1]}}
     )
-    found = read_identified_file(path)
+    found = given(read_identified_file(path))
     assert found.table["calibration"] == {"torque_constant": [0.1]} and found.table["base"] == TABLE["base"]
     assert found.logs == ()  # not a list: no logs named
     # A header of the mark alone: no logs, no start, lever spin on (the analytic model's default for identify).
     bare = tmp_path / "bare.toml"
     bare.write_text(f"{IDENTIFIED_MARK}\n\n" + Path(PARAMS.source).read_text())
-    found = read_identified_file(bare)
+    found = given(read_identified_file(bare))
     assert (found.logs, found.start, found.lever_spin, found.estimates, found.provenance) == ((), "", True, (), None)
 
 
 def test_a_table_without_its_provenance_takes_the_headers(tmp_path):
     # Files of the version between: the [identification] table, the provenance still in the comments.
     path = write_identified_file(tmp_path / "mid.toml", PARAMS, TABLE, comments=MADE.comments())
-    assert read_identified_file(path).provenance == FileProvenance(
+    assert given(read_identified_file(path)).provenance == FileProvenance(
         MADE.version, MADE.created, MADE.command, tuple(replace(f, size=None) for f in MADE.inputs)
     )
     plain = write_identified_file(tmp_path / "plain.toml", PARAMS, TABLE)
-    assert read_identified_file(plain).provenance is None
+    assert given(read_identified_file(plain)).provenance is None
     # A provenance without inputs has none.
     path.write_text(
         identified_toml(PARAMS, TABLE)
         + '\n[identification.provenance]\nhipsim = "1"\ncreated_utc = "x"\ncommand = "c"\n'
     )
-    assert read_identified_file(path).provenance == FileProvenance("1", "x", "c")
+    assert given(read_identified_file(path)).provenance == FileProvenance("1", "x", "c")
     assert FileProvenance.from_dict({"hipsim": "1", "created_utc": "x", "command": "c"}).inputs == ()
 
 
 def test_a_header_after_a_byte_order_mark(tmp_path):
     path = tmp_path / "bom.toml"
     path.write_bytes(b"\xef\xbb\xbf" + f"{IDENTIFIED_MARK}\n# From the logs: a.csv (1).\n\n".encode())
-    found = read_identified_file(path)
+    found = given(read_identified_file(path))
     assert found is not None and found.logs == ("a.csv",)
 
 
@@ -311,4 +312,4 @@ def test_a_long_bad_value_is_quoted_in_200_characters(tmp_path):
 )
 def test_validation_needs_all_three_lists(tmp_path, drop):
     table = {k: v for k, v in TABLE.items() if k not in drop}
-    assert read_identified_file(write_identified_file(tmp_path / "v.toml", PARAMS, table)).validation == ()
+    assert given(read_identified_file(write_identified_file(tmp_path / "v.toml", PARAMS, table))).validation == ()

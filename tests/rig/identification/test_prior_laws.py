@@ -14,12 +14,14 @@ from __future__ import annotations
 
 import math
 from types import SimpleNamespace
+from typing import cast
 
 import numpy as np
 import pytest
 
 import hipsim
 from hipsim.exceptions import HipsimError, ParameterError
+from hipsim.rig.identification.base import BaseParameters
 from hipsim.rig.identification.prior import (
     DEFAULT_RELATIVE,
     HELD,
@@ -36,6 +38,7 @@ from hipsim.rig.identification.regressor import (
     inflation,
     rows_per_independent_row,
 )
+from hipsim.rig.logs.log import Log
 
 INDEX = {q.label: k for k, q in enumerate(QUANTITIES)}
 
@@ -43,6 +46,16 @@ INDEX = {q.label: k for k, q in enumerate(QUANTITIES)}
 @pytest.fixture(scope="module")
 def params():
     return hipsim.load_parameters()
+
+
+def stand_in_base(transform: np.ndarray) -> BaseParameters:
+    """A stand-in for the base parameters of which the prior reads only the transform."""
+    return cast(BaseParameters, SimpleNamespace(transform=transform))
+
+
+def stand_in_log(rate: float, cutoff: float | None) -> Log:
+    """A stand-in for a log of which the decimation reads only the rate [Hz] and the cutoff [Hz]."""
+    return cast(Log, SimpleNamespace(rate=rate, cutoff=cutoff))
 
 
 def test_default_prior_by_hand(params):
@@ -74,7 +87,7 @@ def test_prior_entries_absolute_relative_and_held(params):
 
 
 @pytest.mark.parametrize(
-    "name, value, message",
+    ("name", "value", "message"),
     [
         ("μ_h", "10", "expected a number in the parameter's unit or a percentage such as '10 %', got '10'"),
         ("μ_h", "ten %", "expected a percentage such as '10 %', got 'ten %'"),
@@ -105,7 +118,7 @@ def test_an_unknown_parameter_lists_the_known_ones(params):
 
 def test_the_prior_names_its_source(params):
     # Without a file the entries are the command line's: "prior" (standard_std and prior alike).
-    base = SimpleNamespace(transform=np.eye(len(QUANTITIES)))
+    base = stand_in_base(np.eye(len(QUANTITIES)))
     for call in (
         lambda **k: standard_std(params, {"μ_h": -1.0}, **k),
         lambda **k: prior(base, params, {"μ_h": -1.0}, **k),
@@ -149,18 +162,18 @@ def test_the_prior_propagates_through_the_base_map(params):
     T[1, INDEX["μ_h"]], T[1, INDEX["m_l"]] = 1.0, -2.0
     standard = np.zeros(len(QUANTITIES))
     standard[[INDEX["m_L"], INDEX["m_l"], INDEX["μ_h"]]] = 0.9, 0.2, 0.05
-    p = Prior(SimpleNamespace(transform=T), params, standard)
+    p = Prior(stand_in_base(T), params, standard)
     np.testing.assert_allclose(p.std, [math.sqrt(0.82), math.sqrt(0.1625)], rtol=1e-12)
     np.testing.assert_allclose(p.mean, [3.715, -2.765], rtol=1e-12)
     assert p.standard is standard
     # prior(): the same with the standard deviations of the entries (all held but three).
     entries = {q.key: 0 for q in QUANTITIES} | {"slider.mass_kg": 0.9, "lever.mass_kg": 0.2, "friction.hip_mu": 0.05}
-    q = prior(SimpleNamespace(transform=T), params, entries)
+    q = prior(stand_in_base(T), params, entries)
     np.testing.assert_allclose(q.std, [math.sqrt(0.82), math.sqrt(0.1625)], rtol=1e-6)
 
 
 @pytest.mark.parametrize(
-    "rate, cutoff, D, filter_ratio, rows",
+    ("rate", "cutoff", "D", "filter_ratio", "rows"),
     [
         # 1 kHz, 20 Hz: D = ⌊1000/80⌋ = 12; 1000/12/40 = 2.083; the floor 1000/12/(2·10) = 4.167.
         (1000.0, 20.0, 12, 1000 / 12 / 40, 1000 / 12 / 20),
@@ -176,7 +189,7 @@ def test_the_prior_propagates_through_the_base_map(params):
 )
 def test_rows_per_independent_row_by_hand(rate, cutoff, D, filter_ratio, rows):
     assert MODEL_ERROR_BANDWIDTH == 10.0
-    log = SimpleNamespace(rate=rate, cutoff=cutoff)
+    log = stand_in_log(rate, cutoff)
     assert decimation(log) == D
     assert inflation(log) == pytest.approx(filter_ratio, rel=1e-12)
     assert rows_per_independent_row(log) == pytest.approx(rows, rel=1e-12)
@@ -185,8 +198,8 @@ def test_rows_per_independent_row_by_hand(rate, cutoff, D, filter_ratio, rows):
 def test_the_filter_ratio_is_never_below_one():
     # 100 Hz, 49 Hz: D = 1, 100/98 = 1.02. A 10 Hz log "filtered" at 6 Hz (above its Nyquist frequency,
     # which the reader refuses) would give 10/12 < 1: held at 1.
-    assert inflation(SimpleNamespace(rate=100.0, cutoff=49.0)) == pytest.approx(100 / 98, rel=1e-12)
-    assert inflation(SimpleNamespace(rate=10.0, cutoff=6.0)) == 1.0
+    assert inflation(stand_in_log(100.0, 49.0)) == pytest.approx(100 / 98, rel=1e-12)
+    assert inflation(stand_in_log(10.0, 6.0)) == 1.0
 
 
 # --- A starting file's [identification.prior] table, read from tiny TOML files ----------------------------------------

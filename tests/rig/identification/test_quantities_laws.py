@@ -111,5 +111,5 @@ def test_theta_of_another_length_is_refused(file):
     params = hipsim.load_parameters(path)
     theta = standard_values(params)
     for wrong in (theta[:-1], np.append(theta, 1.0)):
-        with pytest.raises(ValueError):
+        with pytest.raises(ValueError, match=r"zip\(\) argument 2 is (shorter|longer)"):  # one value a quantity
             with_values(params, wrong)

@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 import scipy.stats
+from support import given
 
 import hipsim
 from hipsim.exceptions import ParameterError
@@ -73,21 +74,23 @@ def test_a_covariance_is_read_in_si_with_its_flags_and_residual(tmp_path):
     A = rng.normal(size=(R, 4))
     C = A @ A.T  # file units, rank 4
     path = _file(tmp_path, base=NAMES, covariance=C, residual_rms_Nmm=[1.0, 2.5, 4.0])
-    got = read_covariance(path, PARAMS)
+    got = given(read_covariance(path, PARAMS))
     scale = np.array([QUANTITIES[[q.label for q in QUANTITIES].index(n)].scale for n in NAMES])
     np.testing.assert_allclose(got.matrix, C * scale[:, None] * scale[None, :], rtol=1e-12)
     assert got.names == tuple(NAMES) and got.determined == (True,) * R and got.lever_spin is True
     assert got.source == str(path)
-    np.testing.assert_allclose(got.residual, [1e-3, 2.5e-3, 4e-3], rtol=1e-15)
+    np.testing.assert_allclose(given(got.residual), np.array([1e-3, 2.5e-3, 4e-3]), rtol=1e-15)
     determined = [1] * (R - 1) + [0]
-    other = read_covariance(_file(tmp_path, base=NAMES, covariance=C, determined=determined, lever_spin=False), PARAMS)
+    other = given(
+        read_covariance(_file(tmp_path, base=NAMES, covariance=C, determined=determined, lever_spin=False), PARAMS)
+    )
     assert other.determined == (True,) * (R - 1) + (False,) and other.lever_spin is False and other.residual is None
 
 
 def test_an_undetermined_parameter_of_no_variance_is_accepted(tmp_path):
     C = np.eye(R)
     C[3, :] = C[:, 3] = 0.0
-    got = read_covariance(_file(tmp_path, base=NAMES, covariance=C), PARAMS)
+    got = given(read_covariance(_file(tmp_path, base=NAMES, covariance=C), PARAMS))
     assert got.matrix[3, 3] == 0.0 and got.matrix[0, 0] == BASE.scale[0] ** 2
 
 
@@ -130,7 +133,7 @@ def test_symmetry_to_a_billionth_of_the_largest_entry(tmp_path):
     C[0, 1] += 5e-9  # 1.25e-9 of the largest (4): refused
     _refused(_file(tmp_path, base=NAMES, covariance=C), "covariance", "not symmetric")
     C[0, 1] = 1.0 + 3e-9  # 0.75e-9 of it: accepted
-    assert read_covariance(_file(tmp_path, base=NAMES, covariance=C), PARAMS).matrix.shape == (R, R)
+    assert given(read_covariance(_file(tmp_path, base=NAMES, covariance=C), PARAMS)).matrix.shape == (R, R)
     C = 4.0 * np.eye(R)
     C[0, 1] = 1e-9 * 4.0  # exactly a billionth of the largest: accepted
     assert read_covariance(_file(tmp_path, base=NAMES, covariance=C), PARAMS) is not None
@@ -192,8 +195,8 @@ def test_a_bad_residual_is_named(tmp_path):
         assert str(caught.value).startswith(
             f"{path}, key 'identification.residual_rms_Nmm': expected three non-negative numbers, got ["
         )
-    zero = read_covariance(_file(tmp_path, base=NAMES, covariance=np.eye(R), residual_rms_Nmm=[0, 0, 0]), PARAMS)
-    assert zero.residual.tolist() == [0.0, 0.0, 0.0]
+    zero = given(read_covariance(_file(tmp_path, base=NAMES, covariance=np.eye(R), residual_rms_Nmm=[0, 0, 0]), PARAMS))
+    assert given(zero.residual).tolist() == [0.0, 0.0, 0.0]
 
 
 def test_the_std_of_one_parameter_is_its_column_times_its_std():
@@ -288,7 +291,7 @@ def test_the_std_along_a_log_at_its_samples_window_by_window():
     keep = [0, 2, 3, 4, 5]  # the rows of times that are samples
     want[keep] = s * np.abs(Y[[1, 4, 5, 8, 9], :, 6])
     for log in (whole, Pieces(whole, 3, 2), Pieces(whole, 4, 0), Pieces(whole, 2, 5)):
-        got = log_torque_std(PARAMS, log, list(times), _covariance(_unit(6, s)))
+        got = log_torque_std(PARAMS, log, np.array(list(times)), _covariance(_unit(6, s)))
         np.testing.assert_allclose(got, want, rtol=1e-12)
     # A window of no kept sample first, then one out of reach: only that one is left without a value.
     bad = MeasuredLog(_unreachable(TRAJECTORY, 5), np.zeros((10, 3)))

@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from support import given
 
 from hipsim.exceptions import TrajectoryError
 from hipsim.rig.logs.reader import read_rig_log
@@ -24,7 +25,7 @@ def test_a_good_log_in_si(tmp_path):
     log = read_rig_log(write(tmp_path / "log.csv", HEADER + ["temp_C"], [row + [21.0] for row in good_rows()]))
     assert len(log) == 400 and log.rate == pytest.approx(1000.0)
     np.testing.assert_allclose(log.tau[0], [0.1, -0.05, 0.0255])
-    np.testing.assert_allclose(log.angles[0], np.radians([10.0, -2.0, 3.0]))
+    np.testing.assert_allclose(given(log.angles)[0], np.radians([10.0, -2.0, 3.0]))
     assert log.heights is None and log.torque_from == "torques" and log.ignored == ("temp_C",)
     assert log.lines[0] == 2 and log.angle_unit == "deg"
 
@@ -34,7 +35,7 @@ def test_currents_times_the_torque_constant(tmp_path):
     rows = [[k / 500, 800, 1.0, -2.0, 0.5, 600.0, 610.0, 590.0] for k in range(50)]
     log = read_rig_log(write(tmp_path / "c.csv", header, rows), torque_constant=0.25)
     np.testing.assert_allclose(log.tau[0], [0.25, -0.5, 0.125])
-    np.testing.assert_allclose(log.heights[0], [0.6, 0.61, 0.59])
+    np.testing.assert_allclose(given(log.heights)[0], [0.6, 0.61, 0.59])
     assert log.angles is None and log.torque_from == "currents"
 
 
@@ -45,7 +46,7 @@ def one_line(error) -> str:
 
 
 @pytest.mark.parametrize(
-    "header, change, needle",
+    ("header", "change", "needle"),
     [
         (["t_s", "Fe_N", "alpha_deg", "beta_deg", "gamma_deg"], None, "missing torque columns: expected tau_1_Nmm"),
         (

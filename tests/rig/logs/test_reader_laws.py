@@ -15,6 +15,7 @@ import warnings
 
 import numpy as np
 import pytest
+from support import given
 
 from hipsim.exceptions import ArgumentError, TrajectoryError
 from hipsim.motion.build import TrajectoryWarning
@@ -88,8 +89,8 @@ def test_every_column_in_si_with_angles_and_heights(tmp_path):
     np.testing.assert_array_equal(log.t, [0.0, 0.01, 0.02, 0.03, 0.04, 0.05])
     np.testing.assert_array_equal(log.Fe, [1000.0, 1001.0, 1002.0, 1003.0, 1004.0, 1005.0])
     np.testing.assert_allclose(log.tau[3], [0.103, -0.05, 0.0255], rtol=1e-15)
-    np.testing.assert_allclose(log.angles[5], [math.pi / 2, -math.pi / 4, math.pi], rtol=1e-15)
-    np.testing.assert_allclose(log.heights[5], [0.6, 0.6105, 0.595], rtol=1e-15)
+    np.testing.assert_allclose(given(log.angles)[5], [math.pi / 2, -math.pi / 4, math.pi], rtol=1e-15)
+    np.testing.assert_allclose(given(log.heights)[5], [0.6, 0.6105, 0.595], rtol=1e-15)
     np.testing.assert_array_equal(log.lines, [2, 3, 4, 5, 6, 7])
     assert (log.torque_from, log.ignored, log.angle_unit, log.source) == (
         "torques",
@@ -105,14 +106,14 @@ def test_heights_alone_and_angles_in_radians(tmp_path):
     lines = [header] + [f"{k / 100:.2f},800,1,2,3,600,{610 + k},590" for k in range(4)]
     log = read_rig_log(write(tmp_path, lines))
     assert log.angles is None and log.angle_unit is None and log.ignored == ()
-    np.testing.assert_allclose(log.heights[:, 1], [0.61, 0.611, 0.612, 0.613], rtol=1e-15)
-    np.testing.assert_allclose(log.heights[:, 0], 0.6, rtol=1e-15)
+    np.testing.assert_allclose(given(log.heights)[:, 1], [0.61, 0.611, 0.612, 0.613], rtol=1e-15)
+    np.testing.assert_allclose(given(log.heights)[:, 0], 0.6, rtol=1e-15)
     header = "t_s,Fe_N,tau_1_Nmm,tau_2_Nmm,tau_3_Nmm,alpha_rad,beta_rad,gamma_rad"
     lines = [header] + [f"{k / 100:.2f},800,1,2,3,0.5,-1.5,3.14159" for k in range(4)]
     scanned = RigLogFile(write(tmp_path, lines, "rad.csv"))
     log = scanned.read()
     assert log.heights is None and log.angle_unit == "rad" and not scanned.has_heights and log.ignored == ()
-    np.testing.assert_array_equal(log.angles[2], [0.5, -1.5, 3.14159])  # as written: no conversion
+    np.testing.assert_array_equal(given(log.angles)[2], [0.5, -1.5, 3.14159])  # as written: no conversion
 
 
 def test_currents_times_the_torque_constant(tmp_path):
@@ -159,7 +160,7 @@ def test_currents_without_a_torque_constant(tmp_path):
 
 
 @pytest.mark.parametrize(
-    "header, message",
+    ("header", "message"),
     [
         ("t_ms,Fe_N", "missing time column 't_s' (the file has 't_ms': check the name and its unit)"),
         ("t_s,Fe", "missing load column 'Fe_N'"),  # 'Fe' is too far from 'Fe_N' (0.67 < 0.7) to be named
@@ -336,7 +337,7 @@ def test_a_block_of_plain_numbers_is_read_at_once(tmp_path, monkeypatch):
 
 
 @pytest.mark.parametrize(
-    "line, message",
+    ("line", "message"),
     [
         (row(3, tau2="abc"), "line 5, column 'tau_2_Nmm': 'abc' is not a number"),
         (row(3, tau2=" x1 "), "line 5, column 'tau_2_Nmm': 'x1' is not a number"),
@@ -603,7 +604,7 @@ def test_a_block_of_comments_or_empty_lines_is_read_without_a_numpy_warning(tmp_
 
 
 @pytest.mark.parametrize("block", [1, 4, 10_000])
-@pytest.mark.parametrize("first, stop", [(1, 12), (2, 12), (3, 13), (5, 19), (14, 17), (20, 10**9), (1, math.inf)])
+@pytest.mark.parametrize(("first", "stop"), [(1, 12), (2, 12), (3, 13), (5, 19), (14, 17), (20, 10**9), (1, math.inf)])
 def test_a_window_of_lines(tmp_path, block, first, stop):
     lines = numbered(30, comment_at=(9, 10), blank_at=(15,), sheet_at=(25,))
     path = write(tmp_path, lines)
@@ -706,8 +707,8 @@ def test_pieces_of_a_scanned_log(tmp_path):
     np.testing.assert_array_equal(piece.t, [0.03, 0.04, 0.05])
     np.testing.assert_array_equal(piece.Fe, [1003.0, 1004.0, 1005.0])
     np.testing.assert_allclose(piece.tau[:, 0], [0.103, 0.104, 0.105], rtol=1e-15)
-    np.testing.assert_allclose(piece.angles[2], np.radians([10.0, -2.0, 3.0]), rtol=1e-15)
-    np.testing.assert_allclose(piece.heights[:, 1], [0.613, 0.614, 0.615], rtol=1e-15)
+    np.testing.assert_allclose(given(piece.angles)[2], np.radians([10.0, -2.0, 3.0]), rtol=1e-15)
+    np.testing.assert_allclose(given(piece.heights)[:, 1], [0.613, 0.614, 0.615], rtol=1e-15)
     np.testing.assert_array_equal(piece.lines, [5, 6, 7])
     assert (piece.source, piece.torque_from, piece.ignored, piece.angle_unit) == (
         str(tmp_path / "log.csv"),
@@ -719,7 +720,7 @@ def test_pieces_of_a_scanned_log(tmp_path):
     assert len(whole) == 10 and whole.lines[0] == 2 and whole.lines[-1] == 11
     np.testing.assert_array_equal(whole.Fe, scanned.read().Fe)
     scanned.close()
-    with pytest.raises(ValueError):
+    with pytest.raises(ValueError, match="closed file"):
         scanned.piece(0, 1)  # the store is dropped
 
 

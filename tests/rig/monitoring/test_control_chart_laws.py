@@ -102,7 +102,7 @@ def test_another_baseline_window():
 def test_the_alarm_rise_must_be_a_positive_number():
     for bad in (0.0, -0.01, math.nan, math.inf, "0.01"):
         with pytest.raises(ArgumentError, match="a positive rise of the hip friction coefficient"):
-            chart(CYCLES, ESTIMATE, [0.1] * 7, HIP_RADIUS_MM, alarm_rise=bad)
+            chart(CYCLES, ESTIMATE, [0.1] * 7, HIP_RADIUS_MM, alarm_rise=bad)  # type: ignore[arg-type]  # wrong types on purpose
 
 
 def test_parse_baseline():
@@ -163,7 +163,12 @@ def test_integer_inputs_chart_as_floats():
     # Cycles, estimates and errors given as whole numbers: the same chart as given as floats.
     cycles = [500_000, 750_000, 1_000_000, 1_100_000]
     whole = chart(cycles, [9, 10, 11, 14], [0, 0, 0, 0], HIP_RADIUS_MM)
-    floats = chart([float(c) for c in cycles], [9.0, 10.0, 11.0, 14.0], [0.0] * 4, HIP_RADIUS_MM)
+    floats = chart(
+        [float(c) for c in cycles],  # type: ignore[misc]  # cycles as floats, on purpose
+        [9.0, 10.0, 11.0, 14.0],
+        [0.0] * 4,
+        HIP_RADIUS_MM,
+    )
     np.testing.assert_array_equal(whole.ewma, floats.ewma)
     assert whole.ewma[3] == pytest.approx(0.2 * 14 + 0.8 * 10, rel=1e-15)  # 10.8, above 10 + 3·1·0.2
     assert list(whole.flag) == list(floats.flag) == ["", "", "", "alarm"]

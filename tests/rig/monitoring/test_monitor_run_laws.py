@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 from monitor_synthetic import EXACT_MACHINE as MACHINE
 from monitor_synthetic import write_exact
+from support import given
 
 import hipsim
 from hipsim.exceptions import ArgumentError, OutputError, TrajectoryError
@@ -41,7 +42,7 @@ def first_cycle(s: Snapshot) -> int:
 def row(s: Snapshot, a: float = 3.0, **more) -> dict:
     """An estimate row for a snapshot (its first cycle from its name): the load term ``a`` in [mm]."""
     cycle = first_cycle(s)
-    values = {name: math.nan for name in ESTIMATE_COLUMNS}
+    values: dict[str, float | str | None] = {name: math.nan for name in ESTIMATE_COLUMNS}
     values |= {
         "cycle": cycle,
         "last_cycle": s.last_cycle if s.last_cycle is not None else cycle + 9,
@@ -66,7 +67,7 @@ def estimates(monkeypatch):
 
     def estimate_batch(batch, setup):
         record.batches.append(([s.name for s in batch], setup))
-        out = []
+        out: list[dict | Skipped] = []
         for s in batch:
             if s.name in record.refuse:
                 out.append(Skipped(s.name, s.path, record.refuse[s.name], "unreadable", 4))
@@ -82,10 +83,10 @@ def estimates(monkeypatch):
 def test_workers_must_be_a_whole_number_of_at_least_one(estimates):
     for workers in (0, -1, 1.5, True, "2", None):
         with pytest.raises(ArgumentError) as error:
-            run_monitor(SETUP, [snap(0)], workers=workers)
+            run_monitor(SETUP, [snap(0)], workers=workers)  # type: ignore[arg-type]  # wrong types on purpose
         assert str(error.value).startswith("workers: expected a whole number of worker processes, at least 1, got")
         assert error.value.value is workers
-    assert run_monitor(SETUP, [snap(0)], workers=np.int64(1)).new == 1 and len(estimates.batches) == 1
+    assert run_monitor(SETUP, [snap(0)], workers=np.int64(1)).new  # type: ignore[arg-type]  # NumPy's integer is accepted == 1 and len(estimates.batches) == 1
 
 
 def test_batches_in_this_process_with_progress(estimates):
@@ -113,7 +114,7 @@ def test_the_batches_handed_to_the_workers(monkeypatch):
 
     monkeypatch.setattr(monitor_run, "run_batches", run_batches)
     snapshots = [snap(10 * k) for k in range(30)]
-    run_monitor(SETUP, snapshots, workers=np.int64(2), scheduler="tcp://x:1")
+    run_monitor(SETUP, snapshots, workers=np.int64(2), scheduler="tcp://x:1")  # type: ignore[arg-type]  # NumPy's integer
     (function, work, setup, workers, scheduler, what), *_ = calls
     # Two workers: ⌈30/16⌉ = 2 a batch; the workers and scheduler passed on as given.
     assert function is monitor_run.estimate_batch and setup is SETUP and what == "hipsim monitor"
@@ -181,7 +182,7 @@ def test_the_table_written_and_resumed(estimates, tmp_path):
     first = run_monitor(SETUP, snapshots, out=out, metadata={"command": "test"})
     table = read_table(out)
     assert list(table) == list(COLUMNS) and table["cycle"] == [0, 10] and table["file"] == first.columns["file"]
-    meta = read_metadata(out)
+    meta = given(read_metadata(out))
     assert meta["command"] == "test" and meta["fingerprints"] == SETUP.fingerprints()
     assert meta["parameters"] == PARAMS.source and first.fingerprints == SETUP.fingerprints()
     # A second run reads the table: nothing new to estimate; restart estimates all again.
@@ -254,7 +255,7 @@ def test_the_stations_columns_from_their_charts(estimates):
             "load_friction_2_mm_std": 0.001,
         }
     result = run_monitor(SETUP, snapshots, baseline=(20, 50))
-    c, (one, two) = result.columns, result.findings.stations
+    c, (one, two) = result.columns, given(result.findings.stations)
     for p, s in ((1, one), (2, two)):
         for name, values in (
             (f"hip_mu_change_{p}", s.change),
@@ -266,6 +267,7 @@ def test_the_stations_columns_from_their_charts(estimates):
             np.testing.assert_array_equal(c[name], values, err_msg=name)
     summary = result.summary()
     assert summary.judged == "per station"
+    assert summary.baseline.stations is not None
     assert [s.station for s in summary.baseline.stations] == [1, 2]
     assert summary.baseline.stations[1].load_friction_mm == pytest.approx(3.1)
     assert summary.baseline.stations[0].snapshots == 4 and summary.baseline.stations[0].spread_mm >= 0
@@ -286,6 +288,7 @@ def test_the_summary_s_counts(estimates):
     assert s.chart == "two-sided EWMA (lambda 0.2, L 3) with the engineering threshold"
     assert s.judged == "the two stations' mean, worst case (up to twice its change in one station)"
     assert (s.alarms, s.alarm_active, s.notice_active, s.notices) == (3, True, False, 0)
+    assert s.first_alarm is not None
     assert s.first_alarm["file"] == "snap_0000080.csv" and s.latest_notice is None
     assert s.worst_case_factor == 2.0
     cell = s.load_cell
@@ -308,6 +311,7 @@ def test_the_summary_s_notice_gaps_and_short_snapshots(estimates):
     assert s.missing == [60] and s.incomplete == ["snap_0000100.csv"]
     assert s.alarms == 0 and s.notice_active and not s.alarm_active
     assert s.notices == sum("notice" in f for f in s.table["flag"]) >= 1
+    assert s.latest_notice is not None
     assert s.latest_notice["file"] == "snap_0000100.csv" and s.first_alarm is None
     assert not s.load_cell.commanded_load_logged and s.load_cell.gain_change_last is None
     assert s.load_cell.drifted == []
@@ -399,7 +403,7 @@ def world(monkeypatch):
     last snapshot's alarm of the next result, ``world.fail`` makes the next run find nothing usable."""
     w = SimpleNamespace(snapshots=[], skipped=[], alarm=0, fail=False, runs=[], finds=[])
 
-    def find_snapshots(logs, window, settle, torque_constant, rate, cache):
+    def find_snapshots(logs, window, settle, torque_constant, rate, cache, clock):
         w.finds.append((logs, window, settle, torque_constant, rate, cache))
         return list(w.snapshots), list(w.skipped)
 
@@ -423,7 +427,8 @@ def test_the_poll_must_be_positive():
 
 
 def test_a_round_estimates_only_when_the_snapshots_change(world):
-    updates, alarms = [], []
+    updates: list = []
+    alarms: list = []
 
     def add(*snapshots):
         return lambda: world.snapshots.extend(snapshots)
@@ -478,15 +483,21 @@ def test_a_round_estimates_only_when_the_snapshots_change(world):
     assert first.setup is setup and first.skipped == world.skipped
 
 
+def add_and_succeed(world, snapshot: Snapshot) -> None:
+    """The world's next round: a new snapshot, and the run that finds it usable."""
+    world.snapshots.append(snapshot)
+    world.fail = False
+
+
 def test_nothing_usable_waits_for_the_next_change(world):
     world.snapshots, world.fail = [snap(0)], True
-    stop = Rounds([lambda: None, lambda: (world.snapshots.append(snap(10)), setattr(world, "fail", False))])
-    updates = []
+    stop = Rounds([lambda: None, lambda: add_and_succeed(world, snap(10))])
+    updates: list = []
     assert watch.watch(SETUP, "logs", (0, 1), 0.01, poll=1.0, update=updates.append, stop=stop, rounds=2) is None
     assert len(world.runs) == 1 and updates == []  # the same snapshots are not tried again
-    stop = Rounds([lambda: (world.snapshots.append(snap(10)), setattr(world, "fail", False))])
+    stop = Rounds([lambda: add_and_succeed(world, snap(10))])
     result = watch.watch(SETUP, "logs", (0, 1), 0.01, poll=1.0, update=updates.append, stop=stop, rounds=2)
-    assert len(result.rows) == 2 and updates == [result]
+    assert len(given(result).rows) == 2 and updates == [result]
 
 
 def test_a_stop_ends_the_watch_and_no_snapshot_runs_nothing(world):
@@ -516,14 +527,14 @@ def test_the_watch_resumes_the_table(world, tmp_path, estimates):
 def test_without_a_stop_it_watches_its_rounds(world):
     world.snapshots = [snap(0)]
     result = watch.watch(SETUP, "logs", (0, 1), 0.01, poll=1e-3, rounds=2)
-    assert len(world.finds) == 2 and len(world.runs) == 1 and result.rows == [{"file": "snap_0000000.csv"}]
+    assert len(world.finds) == 2 and len(world.runs) == 1 and given(result).rows == [{"file": "snap_0000000.csv"}]
     assert world.finds[0][2] == 10.0  # the settle's default: ten seconds
     assert (world.runs[0].workers, world.runs[0].scheduler, world.runs[0].metadata) == (1, None, None)
 
 
 def test_an_alarm_at_the_first_result_is_raised(world):
     world.snapshots, world.alarm = [snap(0)], 1
-    alarms = []
+    alarms: list = []
     watch.watch(SETUP, "logs", (0, 1), 0.01, on_alarm=alarms.append, stop=Rounds([]), rounds=2)
     assert len(alarms) == 1 and len(world.runs) == 1
 

@@ -38,6 +38,7 @@ def test_one_station_rising_under_a_shared_load_alarms_at_that_snapshot_and_not_
     assert [a for cycle, a in zip(cycles, c["alarm"]) if cycle < STEP_AT] == [0] * 7
     assert c["alarm"][cycles.index(1_750_000)] == 1 and c["alarm"][-1] == 1
     # The mean moved by half the station's rise; the alarm holds twice that, and says so.
+    assert summary.first_alarm is not None
     first = summary.first_alarm
     assert first["cycle"] == 1_750_000 and first["hip_mu_change"] == pytest.approx(RISE / 2 + 0.0005, abs=0.002)
     assert first["worst_case_change"] == pytest.approx(2 * first["hip_mu_change"])

@@ -28,7 +28,7 @@ SETUP = {"parameters": "ab12", "model": "cd34", "window": None, "estimator": "mo
 
 def columns():
     """Two rows: every number column 0.1·(k + 1) + column index (a third of one in one cell), texts by name."""
-    out = {}
+    out: dict[str, list] = {}
     for j, name in enumerate(COLUMNS):
         if name in TEXT_COLUMNS:
             out[name] = [f"{name}-{k}" for k in range(2)]

@@ -10,6 +10,7 @@ import time
 
 import numpy as np
 import pytest
+from support import given
 
 from hipsim.exceptions import ArgumentError, TrajectoryError
 from hipsim.rig.monitoring.snapshots import (
@@ -73,7 +74,7 @@ def test_a_missing_name_and_bad_options(tmp_path):
     assert str(refused.value) == f"{tmp_path / 'nothing.csv'}: no such log file or folder"
     for window in (0, -1, 1.5, True):
         with pytest.raises(ArgumentError, match="^window: expected a positive whole number of cycles"):
-            find_snapshots(str(tmp_path), window=window)
+            find_snapshots(str(tmp_path), window=window)  # type: ignore[arg-type]  # wrong types on purpose
     for settle in (-1.0, float("nan")):
         with pytest.raises(ArgumentError, match="^settle: expected seconds ≥ 0"):
             find_snapshots(str(tmp_path), settle=settle)
@@ -102,7 +103,7 @@ def test_a_long_log_in_windows_of_whole_cycles(tmp_path):
     assert [s.name for s in found] == ["long.csv[10-13]", "long.csv[14-17]"]
     lines = path.read_bytes().splitlines(keepends=True)
     for s in found:
-        part = b"".join(lines[s.lines[0] - 1 : s.lines[1] - 1])  # file lines [first, stop)
+        part = b"".join(lines[given(s.lines)[0] - 1 : given(s.lines)[1] - 1])  # file lines [first, stop)
         assert (s.size, s.sha256) == (len(part), hashlib.sha256(part).hexdigest())
     # A window of 5 cycles: 10-14 and 15-19, the last whole as soon as cycle 19 is in; the last line's window.
     found, _ = find_snapshots(str(path), window=5)

@@ -4,18 +4,18 @@ written is not read half; the alarm command runs once when the alarm is raised."
 from __future__ import annotations
 
 import math
-import shutil
+import os
 import threading
-import time
 
 import numpy as np
 import pytest
+from fake_clock import FakeClock
 from monitor_synthetic import write_snapshot
 
 import hipsim
 from hipsim.cli.main import main
 from hipsim.rig.monitoring.monitor_fit import MonitorSetup
-from hipsim.rig.monitoring.monitor_run import run_monitor
+from hipsim.rig.monitoring.monitor_run import MonitorResult, run_monitor
 from hipsim.rig.monitoring.snapshots import find_snapshots
 from hipsim.rig.monitoring.watch import watch
 
@@ -43,45 +43,58 @@ def _same(a: dict, b: dict) -> None:
 
 
 def test_watching_a_folder_filled_during_the_test_gives_the_batch_table(tmp_path, staged):
+    """On an injected clock (tests/fake_clock.py): between two rounds the next file appears, stamped with the clock's
+    time; a file is read once it has been unchanged for the settle time, whatever the machine's speed."""
     params, source = staged
     logs = tmp_path / "logs"
     logs.mkdir()
     setup = MonitorSetup(params)
-    updates, alarms, stop = [], [], threading.Event()
-    thread = threading.Thread(
-        target=watch,
-        args=(setup, logs, BASELINE, 0.01),
-        kwargs={
-            "out": tmp_path / "watched.csv",
-            "poll": 0.05,
-            "settle": 1.0,
-            "update": updates.append,
-            "on_alarm": alarms.append,
-            "stop": stop,
-        },
+    updates: list[MonitorResult] = []
+    alarms: list[MonitorResult] = []
+    poll, settle = 0.25, 1.0
+    text = {cycle: (source / f"snap_{cycle:03d}.csv").read_text(encoding="utf-8") for cycle in CYCLES}
+
+    def put(cycle: int, part: str):
+        def step(clock):
+            path = logs / f"snap_{cycle:03d}.csv"
+            path.write_text(part, encoding="utf-8")
+            os.utime(path, (clock.time(), clock.time()))
+
+        return step
+
+    steps = []
+    for cycle in CYCLES:
+        if cycle == 40:  # written in two goes, a round apart: the first half is never read on its own
+            steps.append(put(cycle, text[cycle][: len(text[cycle]) // 2]))
+        steps.append(put(cycle, text[cycle]))
+    clock = FakeClock(steps=steps, done=lambda: bool(updates) and len(updates[-1].rows) == len(CYCLES))
+    waiting = []
+
+    def update(result):
+        updates.append(result)
+        waiting.append({s.name for s in result.skipped if s.kind == "waiting"})
+
+    watch(
+        setup,
+        logs,
+        BASELINE,
+        0.01,
+        out=tmp_path / "watched.csv",
+        poll=poll,
+        settle=settle,
+        update=update,
+        on_alarm=alarms.append,
+        stop=threading.Event(),
+        rounds=200,  # a bound, never reached: the clock stops the watch once the table is whole
+        clock=clock,
     )
-    thread.start()
-    try:
-        for cycle in CYCLES:
-            name = f"snap_{cycle:03d}.csv"
-            if cycle == 40:  # written in two goes: the first half must never be read on its own
-                text = (source / name).read_text(encoding="utf-8")
-                (logs / name).write_text(text[: len(text) // 2], encoding="utf-8")
-                time.sleep(0.1)
-                (logs / name).write_text(text, encoding="utf-8")
-            else:
-                shutil.copy(source / name, logs / name)
-            time.sleep(0.1)
-        deadline = time.monotonic() + 60
-        while time.monotonic() < deadline and not (updates and len(updates[-1].rows) == len(CYCLES)):
-            time.sleep(0.05)
-    finally:
-        stop.set()
-        thread.join(timeout=30)
-    assert not thread.is_alive()
     assert len(updates[-1].rows) == len(CYCLES)
+    # Each file waits settle / poll = 4 rounds: the watch ends 4 rounds after the last file, its last wait the stop.
+    assert clock.waits == len(steps) + settle / poll + 1
+    assert any("snap_040.csv" in names for names in waiting)  # the half file was seen, and waited for
     assert all(row["samples"] == 750 for result in updates for row in result.rows)  # never half a file
-    assert len(alarms) == 1 and alarms[0].summary().first_alarm["cycle"] == 50  # raised once
+    first_alarm = alarms[0].summary().first_alarm if len(alarms) == 1 else None
+    assert first_alarm is not None and first_alarm["cycle"] == 50  # raised once
     batch = run_monitor(setup, find_snapshots(logs)[0], BASELINE, 0.01, out=tmp_path / "batch.csv")
     _same(updates[-1].columns, batch.columns)
     assert (tmp_path / "watched.csv").read_bytes() == (tmp_path / "batch.csv").read_bytes()
