@@ -154,7 +154,7 @@ def test_noisy_logs_predict_the_held_out_trajectory_within_one_percent(noisy):
     assert "vs" in result.toml()  # the validation is in the file's header
 
 
-@pytest.mark.usefixtures("quick_figures")  # the numbers and the text: tests/test_compare.py draws the figures
+@pytest.mark.usefixtures("quick_figures")  # the numbers and the text: tests/rig/test_compare.py draws the figures
 def test_the_parameter_file_round_trips_and_every_command_takes_it(noisy, tmp_path, capsys):
     _, _, held_out, result = noisy
     path = result.write_toml(tmp_path / "identified.toml")
@@ -219,7 +219,7 @@ def test_the_rig_guide_example(noisy, monkeypatch, capsys):
 
     folder, _, _, _ = noisy
     monkeypatch.chdir(folder)
-    text = (Path(__file__).resolve().parents[1] / "docs" / "guide" / "rig.md").read_text()
+    text = (Path(__file__).resolve().parents[3] / "docs" / "guide" / "rig.md").read_text()
     block = given(re.search(r"```python\n(.*?)```", text, re.S)).group(1)
     exec(compile(block, "docs/guide/rig.md", "exec"), {})
     assert hipsim.load_parameters(folder / "identified.toml")
@@ -303,7 +303,7 @@ def test_bad_input_is_one_line_and_writes_nothing(noisy, tmp_path, capsys, case)
     assert not out.exists()
 
 
-@pytest.mark.usefixtures("quick_figures")  # the numbers and the text: tests/test_compare.py draws the figures
+@pytest.mark.usefixtures("quick_figures")  # the numbers and the text: tests/rig/test_compare.py draws the figures
 def test_compare_with_an_identified_file_shows_the_model_band(noisy, tmp_path, capsys):
     """The model's 95 % band in compare's JSON and printout; the measured torque (noise included) mostly within it."""
     import json

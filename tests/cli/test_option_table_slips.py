@@ -246,7 +246,7 @@ def test_the_docs_show_the_table():
 
     from hipsim.cli.option_table import markdown_table
 
-    page = (Path(__file__).resolve().parents[1] / "docs" / "guide" / "robust-inputs.md").read_text()
+    page = (Path(__file__).resolve().parents[2] / "docs" / "guide" / "robust-inputs.md").read_text()
     assert markdown_table() in page, "docs/guide/robust-inputs.md: paste hipsim.cli.option_table.markdown_table()"
 
 
@@ -287,7 +287,7 @@ def test_a_wear_law_table_in_per_cent_or_per_newton_millimetre_is_refused(tmp_pa
 def test_a_drive_with_a_torque_constant_or_preload_off_by_1000_is_refused(tmp_path, line, key, capsys):
     from pathlib import Path
 
-    drive = (Path(__file__).resolve().parents[1] / "models" / "drive_example.toml").read_text()
+    drive = (Path(__file__).resolve().parents[2] / "models" / "drive_example.toml").read_text()
     assert line in drive
     path = tmp_path / "drive.toml"
     path.write_text(drive.replace(line, key))
