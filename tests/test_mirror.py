@@ -54,7 +54,6 @@ KNOWN_GAPS = {
     "cli/view.py": "present/test_viewer.py",
     "cli/wear_test_output.py": "through the command line: tests/test_cli.py and its command's tests",
     "cli/workspace.py": "design/test_workspace.py",
-    "clock.py": "through an injected clock (tests/fake_clock.py): test_cli.py, rig/monitoring/test_watch.py (+1)",
     "closed_chain/build.py": "analysis/test_crosscheck.py, analytic/test_chain_dynamics.py (+7)",
     "closed_chain/closure.py": "closed_chain/test_closure_kernel.py, closed_chain/test_dynamics.py",
     "closed_chain/constraints.py": "analysis/test_crosscheck.py, closed_chain/test_closure_kernel.py (+2)",
