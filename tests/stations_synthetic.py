@@ -7,7 +7,9 @@ deviations' raw fields, as the [geometry] table defines them:
     |a_ji − b_ji| = l + δl_ji,
 
 R from SciPy's Rotation ("ZYX", [γ, β, α]); the forward kinematics by Newton
-on a central-difference Jacobian. Synthetic calibration logs: carriages along a
+on a central-difference Jacobian. The intermediate chain's stack-up raises o_1 by
+[R_2·e − e]_z (R_2 m_2's rotation, e the seat): platform 1 then needs m_2's attitude
+``q_other``, and its attitude at given carriages solves m_2's first. Synthetic calibration logs: carriages along a
 smooth motion, each sensor the reference attitude plus Gaussian noise.
 """
 
@@ -30,14 +32,25 @@ def _pieces(params, geometry: ChainGeometry | None):
     return g, c, r0
 
 
-def reference_carriages(params, geometry, j: int, q: np.ndarray) -> np.ndarray:
-    """Carriage readings (N, 3) in [m] putting platform j (1, 2) at gait angles q (N, 3) in [rad] (angle signs +1)."""
+def _rotation(q: np.ndarray) -> np.ndarray:
+    return Rotation.from_euler("ZYX", np.asarray(q)[:, ::-1]).as_matrix()  # Rz(γ)·Ry(β)·Rx(α)
+
+
+def reference_carriages(params, geometry, j: int, q: np.ndarray, q_other: np.ndarray | None = None) -> np.ndarray:
+    """Carriage readings (N, 3) in [m] putting platform j (1, 2) at gait angles q (N, 3) in [rad] (angle signs +1).
+
+    ``q_other``: m_2's gait angles (N, 3) for platform 1 on a machine with a stack-up (its centre's lift).
+    """
     g, c, r0 = _pieces(params, geometry)
     h = np.asarray(params.heights)
-    R = Rotation.from_euler("ZYX", np.asarray(q)[:, ::-1]).as_matrix()  # Rz(γ)·Ry(β)·Rx(α)
+    R = _rotation(q)
+    centre = np.array([0.0, 0.0, h[j - 1]]) + g.centre[j - 1] + np.zeros((len(q), 3))
+    if j == 1 and np.any(g.spline):
+        assert q_other is not None, "platform 1 on a machine with a stack-up needs m_2's attitude"
+        centre[:, 2] += (_rotation(q_other) @ g.spline - g.spline)[:, 2]
     out = np.empty((len(q), 3))
     for i in range(3):
-        a = np.array([0.0, 0.0, h[j - 1]]) + g.centre[j - 1] + R @ (r0[i] + g.joint[j - 1, i])
+        a = centre + R @ (r0[i] + g.joint[j - 1, i])
         gap = a[:, :2] - c[i, :2] - g.ujoint[j - 1, i]
         lever = params.lever_length + g.lever[j - 1, i]
         out[:, i] = a[:, 2] - (h[j - 1] - h[0] + g.slider[j - 1, i]) - np.sqrt(lever**2 - (gap**2).sum(axis=1))
@@ -46,16 +59,18 @@ def reference_carriages(params, geometry, j: int, q: np.ndarray) -> np.ndarray:
 
 def reference_attitude(params, geometry, j: int, L: np.ndarray, guess: np.ndarray) -> np.ndarray:
     """Platform j's gait angles (N, 3) at carriage readings L (N, 3), by Newton from ``guess`` (N, 3)."""
+    q_other = reference_attitude(params, geometry, 2, L, guess) if j == 1 and geometry is not None else None
     q = np.array(guess, dtype=float)
     step = 1e-6
     for _ in range(30):
-        r = reference_carriages(params, geometry, j, q) - L
+        r = reference_carriages(params, geometry, j, q, q_other) - L
         D = np.empty((len(q), 3, 3))
         for k in range(3):
             dq = np.zeros(3)
             dq[k] = step
             D[:, :, k] = (
-                reference_carriages(params, geometry, j, q + dq) - reference_carriages(params, geometry, j, q - dq)
+                reference_carriages(params, geometry, j, q + dq, q_other)
+                - reference_carriages(params, geometry, j, q - dq, q_other)
             ) / (2 * step)
         delta = np.linalg.solve(D, r[..., None])[..., 0]
         q -= delta

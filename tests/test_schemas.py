@@ -60,7 +60,7 @@ def test_stations_modes(tmp_path, capsys):
     status, document = _json(capsys, [*sliders, str(tmp_path / "sl"), "--summary-format", "json"])
     assert status == 0
     _valid(capsys, "stations-sliders", document)
-    tolerance = ["stations", "--tolerance", "all=0.05", "--draws", "3", "--workers", "0", "--rate", "20"]
+    tolerance = ["stations", "--bands", "all=0.05", "--draws", "3", "--workers", "1", "--rate", "20"]
     status, document = _json(capsys, [*tolerance, "--out", str(tmp_path / "tol"), "--summary-format", "json"])
     assert status == 0 and len(document["tolerance"]["controls"][0]["platforms"]) == 2
     _valid(capsys, "stations-tolerance", document)

@@ -27,6 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..exceptions import PoseError
+from ..machine.chains import refuse_stackup
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 from ..physics import laws
@@ -42,6 +43,7 @@ from ..physics.vectors import dot, per_leg, stack
 from ..results import Torques
 from .chain_kinematics import chain_accelerations, chain_jacobian, chain_positions
 from .inverse_kinematics import SINGULAR_COND_INV, Kinematics
+from .stackup import lift_motion, lifted_kinematics
 from .stations import follower_motion, platform_motion
 from .virtual_work import _euler_moment, _lever_inertia, _lever_joint_friction, _platform_axes, torques_from_parts
 
@@ -121,10 +123,15 @@ class ChainMotion:
         control: the controlled platform (1 or 2).
         platforms: the two platforms' :class:`Kinematics` (index 0 for m_1).
         L, Ld, Ldd: carriage readings in [m], rates [m/s], accelerations [m/s²], (N, 3).
+        lift: with a stack-up, m_1's centre lift Δz [m], ż [m/s], z̈ [m/s²] (each (N,)) and g [m] (N, 3)
+            (:func:`hipsim.analytic.stackup.lift_motion`); None without.
     """
 
-    def __init__(self, control: int, platforms: list, L: np.ndarray, Ld: np.ndarray, Ldd: np.ndarray):
+    def __init__(
+        self, control: int, platforms: list, L: np.ndarray, Ld: np.ndarray, Ldd: np.ndarray, lift: tuple | None = None
+    ):
         self.control, self.platforms, self.L, self.Ld, self.Ldd = control, platforms, L, Ld, Ldd
+        self.lift = lift
 
     @property
     def controlled(self) -> Kinematics:
@@ -140,6 +147,8 @@ def chain_motion(params: Parameters, trajectory: Trajectory) -> ChainMotion:
     """
     assert params.geometry is not None
     control = params.geometry.control
+    if control == 1:
+        refuse_stackup(params.chains, "the analytic dynamics with control = 1", params.source)
     t, q, qd, qdd = trajectory.t, trajectory.q, trajectory.qd, trajectory.qdd
     L, Ld, Ldd = platform_motion(params, q, qd, qdd, control)
     bad = ~np.all(np.isfinite(L), axis=1)
@@ -153,9 +162,23 @@ def chain_motion(params: Parameters, trajectory: Trajectory) -> ChainMotion:
         )
     follower = 3 - control
     motions = {control: (q, qd, qdd)}
+    lift = None
+    follower_params, seen = params, (L, Ld, Ldd)
+    if params.chains.stacked:  # m_1 moves on its seen carriages, lifted with its centre (hipsim.analytic.stackup)
+        assert params.geometry is not None
+        follower_params = params.replace(geometry=params.geometry.replace(spline=np.zeros(3)))
+        p2, pd2, pdd2 = q * params.angle_signs, qd * params.angle_signs, qdd * params.angle_signs
+        T = angular_velocity_map(p2)
+        omega2 = np.einsum("nij,nj->ni", T, pd2)
+        omega2_dot = np.einsum("nij,nj->ni", T, pdd2) + np.einsum("nij,nj->ni", angular_velocity_map_rate(p2, pd2), pd2)
+        lift = lift_motion(params.chains.spline_seat, p2, omega2, omega2_dot)
+        z, zd, zdd, _ = lift
+        seen = (L - z[:, None], Ld - zd[:, None], Ldd - zdd[:, None])
     # The follower turns a fraction of a degree off the controlled platform: its attitude is the guess.
-    motions[follower] = follower_motion(params, L, Ld, Ldd, follower, t=t, q0=q[0], source=trajectory.name, guess=q)
-    platforms = [platform_kinematics(params, j - 1, t, *motions[j]) for j in (1, 2)]
+    motions[follower] = follower_motion(follower_params, *seen, follower, t=t, q0=q[0], source=trajectory.name, guess=q)
+    platforms = [platform_kinematics(follower_params, j - 1, t, *motions[j]) for j in (1, 2)]
+    if lift is not None:
+        platforms[0] = lifted_kinematics(platforms[0], *lift[:3])
     for j, kin in enumerate(platforms, start=1):
         if np.any(kin.flagged):
             k = int(np.argmax(kin.flagged))
@@ -165,7 +188,7 @@ def chain_motion(params: Parameters, trajectory: Trajectory) -> ChainMotion:
                 k,
                 source=trajectory.name,
             )
-    return ChainMotion(control, platforms, L, Ld, Ldd)
+    return ChainMotion(control, platforms, L, Ld, Ldd, lift)
 
 
 def chain_inverse_dynamics(
@@ -209,11 +232,14 @@ def chain_inverse_dynamics(
             f, params.platform_mass * params.gravity, omega, Fe, kin.R[:, :, 2].T
         )
         Q_lf, Fz_lf, power_lf = _lever_joint_friction(params, kin, lever_spin, omega_l, lengths)
-        rows = laws.inverse_transpose(np.moveaxis(kin.J.T, 1, 0))
-        J_inv_T = np.array([[row[k] for row in rows] for k in range(3)])
-        parts["m"] = parts["m"] + scale * dot(J_inv_T, Q_m)
-        parts["l"] = parts["l"] + scale * (dot(J_inv_T, Q_l) + Fz_l)
-        parts["f"] = parts["f"] + scale * (dot(J_inv_T, Q_lf - tau_mf) + Fz_lf - F_Lf)
+        J_inv_T = _inverse_transpose(kin.J)
+        G = {"m": dot(J_inv_T, Q_m), "l": dot(J_inv_T, Q_l) + Fz_l, "f": dot(J_inv_T, Q_lf - tau_mf) + Fz_lf}
+        if j == 0 and motion.lift is not None:
+            for name, coupling in _stackup_coupling(params, motion, G, Fe).items():
+                G[name] = G[name] + coupling
+        parts["m"] = parts["m"] + scale * G["m"]
+        parts["l"] = parts["l"] + scale * G["l"]
+        parts["f"] = parts["f"] + scale * (G["f"] - F_Lf)
         friction_power = friction_power + np.sum(F_Lf * Ld, axis=0) + dot(tau_mf, omega) + power_lf
         if j == motion.control - 1:
             tau_mf_controlled = tau_mf
@@ -223,6 +249,31 @@ def chain_inverse_dynamics(
     tau_f = laws.screw_friction(f, motor_speed) + parts["f"]
     assert tau_mf_controlled is not None
     return torques_from_parts(tau_m, tau_l, tau_s, tau_L, tau_f, motor_speed, tau_mf_controlled, friction_power)
+
+
+def _inverse_transpose(J: np.ndarray) -> np.ndarray:
+    """J⁻ᵀ of (N, 3, 3) Jacobians as components-first rows, (3, 3, N), for :func:`hipsim.physics.vectors.dot`."""
+    rows = laws.inverse_transpose(np.moveaxis(J.T, 1, 0))
+    return np.array([[row[k] for row in rows] for k in range(3)])
+
+
+def _stackup_coupling(params: Parameters, motion: ChainMotion, G: dict, Fe: np.ndarray) -> dict:
+    """The stack-up's term J_2⁻ᵀ·g·(F_1z − 1ᵀ·G_1) per part (:mod:`hipsim.analytic.stackup`), each (3, N) [N].
+
+    G: m_1's generalised forces on its seen carriages by part (platforms, levers, friction), each (3, N) [N]. The
+    vertical resultants: the platform's −m_m·(g + z̈) − F_e (the load does work now), the levers' m_l·(g⃗ − a_l)_z;
+    friction moments have none.
+    """
+    assert motion.lift is not None
+    _, _, zdd, g = motion.lift
+    h = dot(_inverse_transpose(motion.platforms[1].J), g.T)  # J_2⁻ᵀ·g, (3, N)
+    a_l = motion.platforms[0].a_l[:, 0, :, 2]  # the levers' real vertical accelerations, (N, 3)
+    vertical = {
+        "m": -params.platform_mass * (params.gravity + zdd) - Fe,
+        "l": -params.lever_mass * (params.gravity + a_l).sum(axis=1),
+        "f": np.zeros_like(zdd),
+    }
+    return {name: h * (vertical[name] - G[name].sum(axis=0)) for name in G}
 
 
 def chain_slider_motion(params: Parameters, motion: ChainMotion) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -235,7 +286,8 @@ def chain_slider_motion(params: Parameters, motion: ChainMotion) -> tuple[np.nda
 def chain_mechanical_energy(params: Parameters, motion: ChainMotion, lever_spin: bool = False):
     """Kinetic and potential energy of the whole per-chain machine in [J], each (N,), from body motions alone.
 
-    Independent of :func:`chain_inverse_dynamics`: the power balance Σ τ·θ̇ = dE/dt + friction power checks it.
+    Independent of :func:`chain_inverse_dynamics`: the power balance Σ τ·θ̇ = dE/dt + friction power checks it
+    (with a stack-up, + F_e·ż: the load does work on m_1's moving centre).
     """
     from .virtual_work import _lever_axes, _rotational_energy
 
@@ -254,4 +306,8 @@ def chain_mechanical_energy(params: Parameters, motion: ChainMotion, lever_spin:
         potential = potential + params.gravity * (
             params.lever_mass * lever_height.sum(axis=1) + params.slider_mass * kin.b[:, 0, :, 2].sum(axis=1)
         )
+    if motion.lift is not None:  # m_1 rides up and down with its centre: m_m's own energy changes now
+        z, zd, _, _ = motion.lift
+        kinetic = kinetic + 0.5 * params.platform_mass * zd**2
+        potential = potential + params.platform_mass * params.gravity * z
     return kinetic, potential

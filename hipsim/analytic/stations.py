@@ -19,6 +19,12 @@ and L_2i = L_1i − (h_1 − h_2). Angles are gait angles [α, β, γ] (the para
 file's angle signs are applied inside, as everywhere); angular velocities are
 world-frame, ω = T(q)·q̇.
 
+The intermediate chain's stack-up (``[geometry] spline_seat_mm``, :func:`hipsim.machine.chains.stackup_lift`)
+lifts m_1's centre by Δz(q_2): m_1 then sees the carriages L − Δz·(1, 1, 1). Its forward kinematics solves m_2
+first; its inverse kinematics is the fixed point L = L_1'(q_1) + Δz(q_2(L)) (a contraction by ~|e|/(50 mm) a step).
+Its Jacobian :func:`platform_jacobian` is m_1's at m_2 held (the centre's motion is the dynamics' business, which
+refuses a stack-up: :func:`platform_motion`, :func:`follower_motion`).
+
 On the drawing (no ``[geometry]``) the carriages are the drawing's L_1i for
 either platform, bit for bit those of
 :func:`hipsim.analytic.inverse_kinematics.slider_heights`.
@@ -35,13 +41,16 @@ Example:
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from ..exceptions import ArgumentError, PoseError
+from ..machine.chains import refuse_stackup, stackup_lift
 from ..machine.parameters import Parameters
 from ..physics.orientation import angular_velocity_map, angular_velocity_map_rate, rotation_matrix
 from .chain_kinematics import chain_accelerations, chain_jacobian, chain_positions
-from .forward_kinematics import forward_kinematics
+from .forward_kinematics import forward_kinematics, solve_pose
 from .inverse_kinematics import slider_heights, slider_jacobian
 
 __all__ = [
@@ -52,7 +61,16 @@ __all__ = [
     "platform_attitude",
     "platform_jacobian",
     "platform_motion",
+    "stacked_carriages",
 ]
+
+#: The stack-up's fixed point stops when the lift moves less than this in [m] (round-off of ~1 m readings).
+LIFT_TOL = 1e-15
+#: Fixed-point steps at most (each contracts by ~|e|/(50 mm): a 50 mm seat, the file's largest, needs ~20).
+LIFT_STEPS = 60
+
+
+_COUNT = 51  # the per-chain values (ChainGeometry.names()): 48 of the chains and centres, 3 of the stack-up
 
 
 def _platform_index(platform: int) -> int:
@@ -85,7 +103,49 @@ def carriages_for_platform(params: Parameters, q: np.ndarray, platform: int) -> 
     if params.geometry is None:
         with np.errstate(invalid="ignore"):
             return slider_heights(params, p)[:, 0, :]
-    return chain_positions(params.chains, p, j)[0]
+    L = chain_positions(params.chains, p, j)[0]
+    return stacked_carriages(params, q, L) if j == 0 and params.chains.stacked else L
+
+
+def stacked_carriages(
+    params: Parameters,
+    q1: np.ndarray,
+    seen: np.ndarray,
+    guess: np.ndarray | None = None,
+    solve: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None,
+) -> np.ndarray:
+    """The carriages that give m_1 the attitude ``q1`` when its centre rides on m_2 (the stack-up's fixed point).
+
+    m_1 needs the carriages ``seen`` below its lifted centre: L = seen + Δz(q_2(L))·(1, 1, 1), q_2(L) m_2's
+    forward kinematics. Iterated from q_2 = ``guess`` (default q1) until the lift moves less than :data:`LIFT_TOL`.
+
+    Args:
+        params: the machine (with a stack-up).
+        q1: m_1's gait angles in [rad], (N, 3).
+        seen: m_1's own carriage readings at q1 with its centre at home (:func:`chain_positions`) in [m], (N, 3).
+        guess: m_2's gait angles near the solution in [rad], (N, 3); None for q1.
+        solve: (carriages (n, 3) [m], guess (n, 3) [rad]) → m_2's gait angles [rad]: its forward kinematics from
+            close guesses; None for :func:`hipsim.analytic.forward_kinematics.solve_pose`.
+
+    Returns:
+        Carriage readings in [m], (N, 3); NaN rows where m_1 cannot reach.
+
+    Raises:
+        PoseError: m_2 cannot take the carriages, or the fixed point does not settle.
+    """
+    seen = np.asarray(seen, dtype=float)
+    q2 = np.array(q1 if guess is None else guess, dtype=float)
+    ok = np.all(np.isfinite(seen), axis=1)
+    lift = np.zeros(len(seen))
+    for _ in range(LIFT_STEPS):
+        L = seen + lift[:, None]
+        q2[ok] = solve(L[ok], q2[ok]) if solve is not None else solve_pose(params, L[ok], q2[ok], platform=2)
+        new = stackup_lift(params.chains.spline_seat, q2 * params.angle_signs)
+        change = np.abs(new - lift)[ok]
+        lift = new
+        if not change.size or change.max() <= LIFT_TOL:
+            return seen + lift[:, None]
+    raise PoseError("the stack-up's fixed point does not settle (m_1's centre lift)", 0.0, 0)
 
 
 def platform_jacobian(params: Parameters, q: np.ndarray, platform: int) -> np.ndarray:
@@ -97,7 +157,7 @@ def platform_jacobian(params: Parameters, q: np.ndarray, platform: int) -> np.nd
         platform: 1 or 2.
 
     Returns:
-        J_j in [m/rad], (N, 3, 3); NaN rows where a lever cannot reach.
+        J_j in [m/rad], (N, 3, 3); NaN rows where a lever cannot reach. With a stack-up, m_1's at m_2 held.
     """
     j = _platform_index(platform)
     p = _angles(params, q)
@@ -140,6 +200,10 @@ def platform_attitude(
         PoseError: naming the time of a sample out of reach, singular, or in another assembly mode.
     """
     _platform_index(platform)
+    if platform == 1 and params.geometry is not None and params.chains.stacked:  # m_1 sees L − Δz(q_2(L))
+        q2 = forward_kinematics(params, L, t=t, q0=q0, source=source, platform=2, guess=guess)
+        L = np.asarray(L, dtype=float) - stackup_lift(params.chains.spline_seat, q2 * params.angle_signs)[:, None]
+        guess = q2 if guess is None else guess
     return forward_kinematics(
         params, L, t=t, q0=q0, source=source, platform=None if params.geometry is None else platform, guess=guess
     )
@@ -157,8 +221,13 @@ def platform_motion(
 
     Returns:
         L in [m], L̇ in [m/s], L̈ in [m/s²], each (N, 3); NaN where out of reach.
+
+    Raises:
+        ParameterError: m_1 on a machine with a stack-up (its moving centre is not modelled in the rates).
     """
     j = _platform_index(platform)
+    if j == 0:
+        refuse_stackup(params.chains, "the rates of m_1 (platform_motion, follower_motion)")
     p, pd, pdd = _angles(params, q), _angles(params, qd, "qd"), _angles(params, qdd, "qdd")
     T = angular_velocity_map(p)
     omega = np.einsum("nij,nj->ni", T, pd)
@@ -195,8 +264,11 @@ def follower_motion(
 
     Raises:
         PoseError: as :func:`platform_attitude`, or where the Jacobian is singular.
+        ParameterError: m_1 on a machine with a stack-up (its moving centre is not modelled in the rates).
     """
     j = _platform_index(platform)
+    if j == 0:
+        refuse_stackup(params.chains, "the rates of m_1 (platform_motion, follower_motion)")
     q = platform_attitude(params, L, platform, t=t, q0=q0, source=source, guess=guess)
     signs = params.angle_signs
     p = q * signs
@@ -216,22 +288,27 @@ def follower_motion(
     return q, pd * signs, pdd * signs
 
 
-def carriage_sensitivities(params: Parameters, q: np.ndarray, platform: int) -> np.ndarray:
+def carriage_sensitivities(
+    params: Parameters, q: np.ndarray, platform: int, q_other: np.ndarray | None = None
+) -> np.ndarray:
     """∂L/∂θ: how the carriage readings that give platform ``platform`` the attitude ``q`` move with each geometry value θ.
 
-    θ are the 48 deviations of :meth:`hipsim.machine.chains.ChainGeometry.names` (in [m], that order). With
+    θ are the 51 deviations of :meth:`hipsim.machine.chains.ChainGeometry.names` (in [m], that order). With
     g_i = a_ji − c_ji and the lever vector d_i of :mod:`hipsim.analytic.chain_kinematics`,
     L_i = g_i,z − √(l_ji² − g_i,x² − g_i,y²), so ∂L_i/∂g_i = d_i/d_i,z and ∂L_i/∂l_ji = −l_ji/d_i,z:
     the U-joint offset moves L_i by −d_i,xy/d_i,z, the slider offset by −1, the platform joint offset
-    (platform axes) by Rᵀd_i/d_i,z, the rotation centre by d_i/d_i,z. The other platform's values do not enter.
+    (platform axes) by Rᵀd_i/d_i,z, the rotation centre by d_i/d_i,z. The stack-up's seat e moves m_1's three
+    readings alike by ∂Δz/∂e = ẑᵀ(R_2 − I) at m_2's attitude. The other platform's values do not enter (through
+    m_2's attitude under a stack-up they do, by a product of two deviations: left out).
 
     Args:
         params: the machine (per-chain or the drawing).
         q: gait angles of that platform in [rad], (N, 3).
         platform: 1 or 2.
+        q_other: m_2's gait angles in [rad], (N, 3), for the stack-up's column of m_1; None for ``q``.
 
     Returns:
-        ∂L/∂θ, dimensionless ([m/m]), (N, 3, 48); NaN where a lever cannot reach.
+        ∂L/∂θ, dimensionless ([m/m]), (N, 3, 51); NaN where a lever cannot reach.
     """
     j = _platform_index(platform)
     p = _angles(params, q)
@@ -240,7 +317,7 @@ def carriage_sensitivities(params: Parameters, q: np.ndarray, platform: int) -> 
     with np.errstate(invalid="ignore", divide="ignore"):
         n = d / d[..., 2:3]  # ∂L_i/∂g_i, (N, leg, xyz)
     R = rotation_matrix(p)
-    out = np.zeros((len(p), 3, 48))
+    out = np.zeros((len(p), 3, _COUNT))
     legs = np.arange(3)
     # Offsets into the vector of ChainGeometry.names(): ujoint (12), slider (6), joint (18), lever (6), centre (6).
     chain = 3 * j + legs  # this platform's chains, in the file's row order
@@ -253,10 +330,16 @@ def carriage_sensitivities(params: Parameters, q: np.ndarray, platform: int) -> 
     with np.errstate(invalid="ignore", divide="ignore"):
         out[:, legs, 36 + chain] = -chains.lever_lengths[j] / d[..., 2]
     out[:, :, 42 + 3 * j : 45 + 3 * j] = n
+    if j == 0:
+        p2 = p if q_other is None else _angles(params, q_other, "q_other")
+        R2 = rotation_matrix(p2)
+        out[:, :, 48:51] = (R2[:, 2, :] - np.array([0.0, 0.0, 1.0]))[:, None, :]
     return out
 
 
-def attitude_sensitivities(params: Parameters, q: np.ndarray, platform: int) -> np.ndarray:
+def attitude_sensitivities(
+    params: Parameters, q: np.ndarray, platform: int, q_other: np.ndarray | None = None
+) -> np.ndarray:
     """∂q/∂θ at fixed carriages: how platform ``platform``'s attitude moves with each geometry value θ.
 
     From L(q, θ) = L_measured: ∂q/∂θ = −(∂L/∂q)⁻¹·∂L/∂θ with ∂L/∂q = J·T (gait angles: the angle
@@ -266,11 +349,12 @@ def attitude_sensitivities(params: Parameters, q: np.ndarray, platform: int) -> 
         params: the machine.
         q: gait angles of that platform in [rad] (its attitude for the carriages in question), (N, 3).
         platform: 1 or 2.
+        q_other: m_2's gait angles for m_1's stack-up column (:func:`carriage_sensitivities`).
 
     Returns:
-        ∂q/∂θ in [rad/m], (N, 3, 48), in the order of :meth:`hipsim.machine.chains.ChainGeometry.names`.
+        ∂q/∂θ in [rad/m], (N, 3, 51), in the order of :meth:`hipsim.machine.chains.ChainGeometry.names`.
     """
     p = _angles(params, q)
     D = np.einsum("nij,njk->nik", platform_jacobian(params, q, platform), angular_velocity_map(p))
     D *= params.angle_signs  # ∂L/∂(gait angles) = ∂L/∂p·diag(signs)
-    return -np.linalg.solve(D, carriage_sensitivities(params, q, platform))
+    return -np.linalg.solve(D, carriage_sensitivities(params, q, platform, q_other))

@@ -57,7 +57,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "--sensor-offset",
         choices=["none", "per-log"],
         default="none",
-        help="per-log: estimate a constant offset per sensor angle and log (a sensor that drifts at its zero)",
+        help="per-log: estimate a constant offset per sensor angle and log (a sensor that drifts at its zero); the "
+        "offsets trade with each platform's joint-pattern tilt and turn (named in the output) unless a log has a "
+        "fixture's rows (known_alpha_j_deg, known_beta_j_deg, known_gamma_j_deg)",
     )
     p.add_argument("--out", required=True, metavar="FILE", help="parameter TOML to write (.toml)")
     p.add_argument("--json", metavar="FILE", help="also write the summary as JSON")
@@ -122,6 +124,7 @@ def _summary(calibration, validation) -> dict:
         "unseen": calibration.unseen,
         "weak": calibration.weak,
         "combinations": calibration.structure.definitions(),
+        "confounded": [c.to_json() for c in calibration.confounded],
         "validation": [
             {
                 "log": v["log"],
@@ -160,6 +163,15 @@ def _print(summary) -> None:
     print("not seen by any log of this kind (kept at the start): " + (", ".join(summary["unseen"]) or "none"))
     if summary["weak"]:
         print("barely seen by these logs (posterior std above half the prior's): " + ", ".join(summary["weak"]))
+    confounded = summary.get("confounded", [])
+    if confounded:
+        print()
+        rows = [[c["sensor"], f"{c['explained']:.4f}", ", ".join(c["values"])] for c in confounded]
+        title = (
+            "Sensor offsets these logs cannot tell apart from the per-chain values (the posterior carries the trade)"
+        )
+        print(format_table(["offset", "explained (R²)", "trades with"], rows, title))
+        print(f"what separates them: {confounded[0]['separated_by']}")
 
 
 def run(args) -> int:

@@ -60,7 +60,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "--bands",
         dest="tolerance",
         metavar="FILE|KEY=V,...",
-        help="draw per-chain deviations within ±V mm: keys ujoint, slider, joint, lever, centre, all (e.g. all=0.1), "
+        help="draw per-chain deviations within ±V mm: keys ujoint, slider, joint, lever, centre, spline (the stack-up seat, named only), all (e.g. all=0.1), "
         "or a TOML file of them",
     )
     p.add_argument("--draws", type=int, default=1000, metavar="N", help="machines drawn for --bands (default 1000)")

@@ -22,6 +22,19 @@ the rotation centre's offset (base axes). :class:`Chains` holds the resolved
 absolute values; ``Parameters.chains`` builds them. The U-joints' first axes
 stay the drawing's (ẑ × c_i/|c_i|): a centre offset moves the joint, not its axis.
 
+The intermediate chain (``spline_seat_mm``): joint 1's head stands, through a
+thrust bearing and the ball spline's shaft, on a seat in joint 2's acetabulum,
+which turns with platform m_2. The spline holds the head on the vertical axis
+and lets it slide along it; the shaft's end rests on the seat, a point e in m_2's
+axes from its rotation centre (e = 0 on the drawing: the seat on joint 2's centre,
+so m_2's turning does not move it). m_1's rotation centre then rides up and
+down with m_2's attitude:
+
+    o_1 = h_1·ẑ + δo_1 + ẑ·[ẑᵀ·(R_2 − I)·e]                           (stack-up)
+
+(:func:`stackup_lift`). Lifting o_1 by Δz at fixed carriages is the same as lowering
+all three of m_1's carriage readings by Δz, which is how every kinematic model applies it.
+
 Example:
     >>> import numpy as np
     >>> g = ChainGeometry.zeros().replace(lever=np.array([[0.0, 0.0, 0.0], [0.0, 0.3e-3, 0.0]]))
@@ -50,9 +63,12 @@ __all__ = [
     "ChainGeometry",
     "Chains",
     "MAX_DEVIATION",
+    "STACKUP_KEY",
     "geometry_from_table",
     "geometry_table",
     "per_chain_urdf",
+    "refuse_stackup",
+    "stackup_lift",
 ]
 
 _MM = 1e-3
@@ -85,12 +101,31 @@ GEOMETRY_KEYS: dict[str, tuple[str, int, int, str]] = {
     ),
     "lever_offset_mm": ("lever", 6, 0, "lever length l_ji minus l, per chain"),
     "centre_offset_mm": ("centre", 2, 3, "rotation centre o_j off (0, 0, h_j), [x, y, z] in base axes, per platform"),
+    "spline_seat_mm": (
+        "spline",
+        1,
+        3,
+        "intermediate chain: the seat of joint 1's spline shaft in m_2's axes from o_2, [x, y, z]; "
+        "m_1's centre rides ẑ·(R_2 − I)·e up and down with m_2",
+    ),
 }
+
+#: The ``[geometry]`` key of the intermediate chain's stack-up (the kinematic models only).
+STACKUP_KEY = "spline_seat_mm"
 
 #: What the ``control`` key of ``[geometry]`` means.
 CONTROL_MEANING = "the platform whose motion a trajectory gives (1 or 2; the other follows the carriages)"
 
-_SHAPES = {"ujoint": (2, 3, 2), "slider": (2, 3), "joint": (2, 3, 3), "lever": (2, 3), "centre": (2, 3)}
+_SHAPES = {
+    "ujoint": (2, 3, 2),
+    "slider": (2, 3),
+    "joint": (2, 3, 3),
+    "lever": (2, 3),
+    "centre": (2, 3),
+    "spline": (3,),
+}
+#: Values of the six chains and two centres (the vector before the stack-up was added, which ``from_vector`` still takes).
+CHAIN_COUNT = 48
 
 
 @dataclass(frozen=True, eq=False)
@@ -103,6 +138,7 @@ class ChainGeometry:
         joint: platform joint's offset in platform axes [x, y, z], (2, 3, 3).
         lever: lever length deviation, (2, 3).
         centre: rotation centre's offset [x, y, z] in base axes, (2, 3).
+        spline: the intermediate chain's seat e, [x, y, z] in m_2's axes from o_2, (3,) (module docstring).
         control: the platform whose motion a trajectory gives (1 or 2; the paper controls m_2, the default);
             the carriages follow from its inverse kinematics and the other platform follows them.
     """
@@ -112,6 +148,7 @@ class ChainGeometry:
     joint: np.ndarray
     lever: np.ndarray
     centre: np.ndarray
+    spline: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))
     control: int = 2
 
     def __post_init__(self):
@@ -143,15 +180,18 @@ class ChainGeometry:
 
     @staticmethod
     def names() -> tuple[str, ...]:
-        """The 48 scalar values' names, in the order of :meth:`as_vector`.
+        """The 51 scalar values' names, in the order of :meth:`as_vector`.
 
         ``ujoint_x_11`` … ``ujoint_y_23``, ``slider_11`` … ``slider_23``,
         ``joint_x_11`` … ``joint_z_23``, ``lever_11`` … ``lever_23``,
-        ``centre_x_1`` … ``centre_z_2`` (chain ji: platform j, module i).
+        ``centre_x_1`` … ``centre_z_2`` (chain ji: platform j, module i), then the stack-up
+        ``spline_x_1``, ``spline_y_1``, ``spline_z_1`` (it moves platform 1).
         """
         out: list[str] = []
         for name, shape in _SHAPES.items():
-            if name == "centre":
+            if name == "spline":
+                out += [f"spline_{axis}_1" for axis in "xyz"]
+            elif name == "centre":
                 out += [f"centre_{axis}_{j}" for j in (1, 2) for axis in "xyz"]
             elif len(shape) == 2:
                 out += [f"{name}_{label}" for label in CHAIN_LABELS]
@@ -160,14 +200,16 @@ class ChainGeometry:
         return tuple(out)
 
     def as_vector(self) -> np.ndarray:
-        """The 48 deviations in [m] as one vector, in the order of :meth:`names`."""
+        """The 51 deviations in [m] as one vector, in the order of :meth:`names`."""
         return np.concatenate([getattr(self, name).ravel() for name in _SHAPES])
 
     @classmethod
     def from_vector(cls, x: np.ndarray) -> ChainGeometry:
-        """The inverse of :meth:`as_vector` (``x`` in [m], shape (48,))."""
+        """The inverse of :meth:`as_vector` (``x`` in [m], shape (51,); or (48,): the chains' alone, no stack-up)."""
         x = np.asarray(x, dtype=float)
         sizes = [math.prod(shape) for shape in _SHAPES.values()]
+        if x.shape == (CHAIN_COUNT,):
+            x = np.concatenate([x, np.zeros(sum(sizes) - CHAIN_COUNT)])
         if x.shape != (sum(sizes),):
             raise ParameterError(f"expected {sum(sizes)} deviations, got shape {x.shape}", key="geometry")
         parts = np.split(x, np.cumsum(sizes)[:-1])
@@ -187,7 +229,8 @@ class Chains:
         screw_points: U-joint centre at carriage reading 0, (2, 3, 3): c_i + (u_ji, h_j − h_1 + s_ji).
         platform_points: platform joints in platform axes, r⁰_i + δr_ji, (2, 3, 3).
         lever_lengths: l + δl_ji, (2, 3).
-        centres: rotation centres o_j = h_j·ẑ + δo_j, (2, 3).
+        centres: rotation centres o_j = h_j·ẑ + δo_j at home (m_1's rides on m_2: :func:`stackup_lift`), (2, 3).
+        spline_seat: the intermediate chain's seat e in m_2's axes, (3,) (zero: m_1's centre fixed).
         drawing: True when these are the drawing's values (no deviations).
     """
 
@@ -195,7 +238,13 @@ class Chains:
     platform_points: np.ndarray
     lever_lengths: np.ndarray
     centres: np.ndarray
+    spline_seat: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(3))
     drawing: bool = False
+
+    @property
+    def stacked(self) -> bool:
+        """True when m_1's centre rides on m_2 (a non-zero spline seat)."""
+        return bool(np.any(self.spline_seat))
 
     def __post_init__(self):
         for name, shape in (
@@ -203,6 +252,7 @@ class Chains:
             ("platform_points", (2, 3, 3)),
             ("lever_lengths", (2, 3)),
             ("centres", (2, 3)),
+            ("spline_seat", (3,)),
         ):
             value = readonly(np.array(getattr(self, name), dtype=float))
             if value.shape != shape:
@@ -232,6 +282,7 @@ class Chains:
             platform_points=platform,
             lever_lengths=lever_length + g.lever,
             centres=centres + g.centre,
+            spline_seat=g.spline,
             drawing=geometry is None,
         )
 
@@ -267,21 +318,36 @@ def geometry_from_table(table: Any, source: str) -> ChainGeometry | None:
                 source=source,
             )
         name, rows, width, _ = GEOMETRY_KEYS[key]
-        fields[name] = _rows(value, rows, width, f"geometry.{key}", source).reshape(_SHAPES[name]) * _MM
+        if rows == 1:  # one row, written flat: spline_seat_mm = [x, y, z]
+            numbers = _rows([value], 1, width, f"geometry.{key}", source, shown=value)
+        else:
+            numbers = _rows(value, rows, width, f"geometry.{key}", source)
+        fields[name] = numbers.reshape(_SHAPES[name]) * _MM
     geometry = ChainGeometry.zeros().replace(**fields)
     return None if geometry.is_drawing() else geometry
 
 
-def _rows(value: Any, rows: int, width: int, key: str, source: str) -> np.ndarray:
-    """A list of ``rows`` numbers (width 0) or of ``rows`` lists of ``width`` numbers, checked, in the file's unit."""
+def _rows(value: Any, rows: int, width: int, key: str, source: str, shown: Any = None) -> np.ndarray:
+    """A list of ``rows`` numbers (width 0) or of ``rows`` lists of ``width`` numbers, checked, in the file's unit.
+
+    ``shown``: the value as the file wrote it, for messages (a single row is written flat); None for ``value``.
+    """
+    shown = value if shown is None else shown
 
     def number(x):
         return isinstance(x, (int, float)) and not isinstance(x, bool)
 
     def fail(expected):
-        raise ParameterError(f"expected {expected}, got {value!r}", key=key, source=source)
+        raise ParameterError(f"expected {expected}, got {shown!r}", key=key, source=source)
 
-    expected = f"a list of {rows} numbers" if width == 0 else f"{rows} rows of [{', '.join('xyz'[:width])}] in mm"
+    axes = ", ".join("xyz"[:width])
+    expected = (
+        f"a list of {rows} numbers"
+        if width == 0
+        else f"[{axes}] in mm"
+        if rows == 1
+        else f"{rows} rows of [{axes}] in mm"
+    )
     if not isinstance(value, list) or len(value) != rows:
         fail(expected)
     if width == 0:
@@ -294,7 +360,7 @@ def _rows(value: Any, rows: int, width: int, key: str, source: str) -> np.ndarra
         fail("finite numbers")
     if np.any(np.abs(numbers) > MAX_DEVIATION / _MM):
         raise ParameterError(
-            f"a deviation from the drawing of at most {MAX_DEVIATION / _MM:g} mm, got {value!r}",
+            f"a deviation from the drawing of at most {MAX_DEVIATION / _MM:g} mm, got {shown!r}",
             key=key,
             source=source,
         )
@@ -306,8 +372,43 @@ def geometry_table(geometry: ChainGeometry) -> dict[str, Any]:
     out: dict[str, Any] = {"control": geometry.control}
     for key, (name, rows, width, _) in GEOMETRY_KEYS.items():
         values = np.vectorize(lambda x: float(f"{x:.15g}"))(getattr(geometry, name) / _MM)
-        out[key] = values.reshape(rows, width).tolist() if width else values.reshape(rows).tolist()
+        if rows == 1:
+            out[key] = values.reshape(width).tolist()
+        else:
+            out[key] = values.reshape(rows, width).tolist() if width else values.reshape(rows).tolist()
     return out
+
+
+def refuse_stackup(chains: Chains, what: str, source: str | None = None) -> None:
+    """Refuse, in one line, a stack-up (non-zero ``spline_seat_mm``) where ``what`` (a dynamics model) does not model it.
+
+    Raises:
+        ParameterError: naming the key, the value and what cannot use it.
+    """
+    if chains.stacked:
+        raise ParameterError(
+            f"the intermediate chain's stack-up ({', '.join(f'{x * 1e3:g}' for x in chains.spline_seat)} mm) moves m_1's "
+            f"rotation centre with m_2, which {what} does not model (stations, calibrate and the analytic model with "
+            "control = 2 do)",
+            key=f"geometry.{STACKUP_KEY}",
+            source=source,
+        )
+
+
+def stackup_lift(spline_seat: np.ndarray, p2: np.ndarray) -> np.ndarray:
+    """How far m_1's rotation centre rides up, Δz = ẑᵀ·(R_2 − I)·e in [m], (N,), at m_2's platform angles.
+
+    With R = Rz(γ)·Ry(β)·Rx(α), ẑᵀR = (−sin β, cos β·sin α, cos β·cos α).
+
+    Args:
+        spline_seat: the seat e in m_2's axes in [m], (3,), or one per sample (N, 3).
+        p2: m_2's platform angles [α, β, γ] in [rad] (after the angle signs), (N, 3).
+    """
+    e = np.asarray(spline_seat, dtype=float)
+    p2 = np.asarray(p2, dtype=float)
+    sa, ca = np.sin(p2[:, 0]), np.cos(p2[:, 0])
+    sb, cb = np.sin(p2[:, 1]), np.cos(p2[:, 1])
+    return -sb * e[..., 0] + cb * sa * e[..., 1] + (cb * ca - 1.0) * e[..., 2]
 
 
 def _number(value: float) -> str:
@@ -327,6 +428,7 @@ def per_chain_urdf(doc: Any, chains: Chains, screw_points: np.ndarray) -> None:
         chains: the resolved chains (:attr:`hipsim.machine.parameter_set.Parameters.chains`).
         screw_points: the drawing's c_i in [m], (3, 3).
     """
+    refuse_stackup(chains, "the URDF tree (Pinocchio, MuJoCo)")
     joints = {element.getAttribute("name"): element for element in doc.getElementsByTagName("joint")}
     links = {element.getAttribute("name"): element for element in doc.getElementsByTagName("link")}
 

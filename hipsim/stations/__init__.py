@@ -1,6 +1,6 @@
 """Two stations on one set of carriages: per-chain calibration, carriage commands for one platform or both, tolerances.
 
-- :mod:`~hipsim.stations.deviations`: the 48 per-chain values as one vector δ;
+- :mod:`~hipsim.stations.deviations`: the 51 per-chain values (48 of the chains and centres, 3 of the stack-up) as one vector δ;
 - :mod:`~hipsim.stations.sensitivity`: how the attitudes move with δ, and what any log can see of it;
 - :mod:`~hipsim.stations.calibration`: kinematic calibration from the encoders and both attitude sensors;
 - :mod:`~hipsim.stations.logs`: calibration logs read from their files;

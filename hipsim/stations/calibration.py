@@ -12,7 +12,14 @@ between runs) and zero otherwise.
 
 What is estimated (:func:`hipsim.stations.sensitivity.structure`): the
 combinations of θ the sensors can see; the others are kept at their prior and
-reported. The fit is Bayesian least squares by Gauss–Newton: every estimated
+reported. With sensor offsets, the combinations a sensor's zero imitates (a tilt
+or turn of a platform's joint pattern: the whole attitude moves by a near
+constant) are estimated all the same, with their prior: the logs cannot tell
+them from the offsets, and the posterior carries that trade instead of hiding
+it (fixing them at the prior made the offsets take the pattern's tilt and the
+stated uncertainty miss it). :attr:`Calibration.confounded` names each offset
+and the values it trades with; a log with rows where a platform is held at a
+known attitude (a fixture: ``known``) pins the offsets and separates them. The fit is Bayesian least squares by Gauss–Newton: every estimated
 value has a prior N(drawing, s₀²) (s₀ = 0.5 mm by default), each offset a wide
 one (10°), each sensor angle's residual is weighted by the inverse of its
 standard deviation, estimated from the residuals as the fit goes (the noise),
@@ -45,7 +52,12 @@ from .commands import attitudes
 from .sensitivity import Structure, attitude_jacobian, platform_attitude_jacobian, structure
 
 __all__ = [
+    "CONFOUNDED",
     "DEFAULT_PRIOR",
+    "NAMED",
+    "SEPARATION",
+    "Confounding",
+    "confounded_pairs",
     "DETERMINED",
     "MAX_ITERATIONS",
     "Calibration",
@@ -80,20 +92,109 @@ class CalibrationLog:
         t: sample times in [s], (N,).
         carriages: the carriage readings L_1, L_2, L_3 in [m], (N, 3).
         sensors: each platform's attitude [α, β, γ] as its sensor reads it, in [rad], (N, 2, 3).
+        known: where a fixture holds a platform at a known attitude, that attitude in [rad], NaN elsewhere, (N, 2, 3);
+            None for none. Its rows pin the log's sensor offsets: offset = sensor − known.
     """
 
     name: str
     t: np.ndarray
     carriages: np.ndarray
     sensors: np.ndarray
+    known: np.ndarray | None = None
 
     def __post_init__(self):
         n = np.shape(self.t)[0]
-        for attr, shape in (("t", (n,)), ("carriages", (n, 3)), ("sensors", (n, 2, 3))):
+        for attr, shape in (("t", (n,)), ("carriages", (n, 3)), ("sensors", (n, 2, 3)), ("known", (n, 2, 3))):
+            if getattr(self, attr) is None:
+                continue
             value = np.asarray(getattr(self, attr), dtype=float)
             if value.shape != shape:
                 raise ArgumentError(attr, value, f"shape {shape}")
             object.__setattr__(self, attr, readonly(value))
+
+
+#: An offset is confounded when the per-chain values explain at least this fraction of its posterior variance.
+CONFOUNDED = 0.9
+#: A value is named in a confounding when its standardised weight is at least this fraction of the largest.
+NAMED = 0.25
+#: At most this many values are named per confounded offset (the largest weights).
+MAX_NAMED = 6
+#: What separates a sensor's zero from the joint pattern's tilt and turn.
+SEPARATION = (
+    "a log with rows where a fixture holds the platform at a known attitude (known_alpha_j_deg, known_beta_j_deg, "
+    "known_gamma_j_deg), in the same run as the motion, so that the offset is the sensor minus the known attitude"
+)
+_ANGLES = ("alpha", "beta", "gamma")
+
+
+@dataclass(frozen=True)
+class Confounding:
+    """A sensor offset that the logs cannot tell apart from a combination of per-chain values.
+
+    Attributes:
+        sensor: the sensor angle, e.g. ``alpha_1`` (platform 1's α).
+        explained: the fraction of the offset's posterior variance the per-chain values explain (R², 0 to 1): how
+            much of what the offset may be is what the values may be.
+        values: the values of that combination (standardised weight at least :data:`NAMED` of the largest, at most
+            :data:`MAX_NAMED`), most first.
+        weights: their standardised weights in the offset's regression on the values (signed, largest 1).
+        separated_by: the extra log that tells them apart.
+    """
+
+    sensor: str
+    explained: float
+    values: tuple[str, ...]
+    weights: tuple[float, ...]
+    separated_by: str = SEPARATION
+
+    def to_json(self) -> dict:
+        return {
+            "sensor": self.sensor,
+            "explained": self.explained,
+            "values": list(self.values),
+            "weights": list(self.weights),
+            "separated_by": self.separated_by,
+        }
+
+
+def confounded_pairs(covariance: np.ndarray, independent: np.ndarray, p: int) -> tuple[Confounding, ...]:
+    """The first log's sensor offsets that trade with per-chain values, from the joint posterior covariance.
+
+    For offset o and the values θ: R² = 1 − var(o | θ)/var(o), var(o | θ) = Σ_oo − Σ_oθ·Σ_θθ⁻¹·Σ_θo; the
+    combination is the regression o ≈ Σ_oθ·Σ_θθ⁻¹·θ, each value's weight scaled by its posterior std.
+
+    Args:
+        covariance: the posterior covariance of [estimated values (p), offsets (6 per log)], SI.
+        independent: the estimated values' entries of δ, (p,).
+        p: how many values are estimated.
+
+    Returns:
+        The confounded offsets (R² ≥ :data:`CONFOUNDED`), platform 1 then 2, α β γ.
+    """
+    S_tt = covariance[:p, :p]
+    labels = dv.names()
+    out = []
+    for j in range(2):
+        for k in range(3):
+            o = p + 3 * j + k
+            S_ot = covariance[o, :p]
+            beta = np.linalg.solve(S_tt, S_ot)
+            explained = float(S_ot @ beta / covariance[o, o])
+            if explained < CONFOUNDED:
+                continue
+            weight = beta * np.sqrt(np.diag(S_tt))
+            weight = weight / np.abs(weight).max()
+            named = np.flatnonzero(np.abs(weight) >= NAMED)
+            named = named[np.argsort(-np.abs(weight[named]))][:MAX_NAMED]
+            out.append(
+                Confounding(
+                    f"{_ANGLES[k]}_{j + 1}",
+                    round(explained, 6),
+                    tuple(labels[independent[c]] for c in named),
+                    tuple(round(float(weight[c]), 4) for c in named),
+                )
+            )
+    return tuple(out)
 
 
 @dataclass(frozen=True, eq=False)
@@ -103,11 +204,11 @@ class Calibration:
     Attributes:
         machine: the calibrated machine (the start with the calibrated chains).
         start: the machine the prior was centred on (the drawing, or the starting file's chains).
-        theta, theta_std: each per-chain deviation δ and its posterior standard deviation in [m], (48,); a value
+        theta, theta_std: each per-chain deviation δ and its posterior standard deviation in [m], (51,); a value
             kept at its prior has its prior's.
         covariance: the posterior covariance of the estimated values in [m²], in the order of ``structure.independent``.
         structure: which combinations the logs can see.
-        determined: per value, whether the logs determined it (posterior std ≤ DETERMINED × prior's), (48,).
+        determined: per value, whether the logs determined it (posterior std ≤ DETERMINED × prior's), (51,).
         prior: the prior standard deviation in [m].
         offsets: each log's sensor offsets in [rad], (K, 2, 3) (zero when not estimated).
         noise: each sensor angle's residual standard deviation in [rad], (2, 3).
@@ -116,6 +217,8 @@ class Calibration:
         logs: the logs' names.
         samples: samples fitted.
         iterations: Gauss–Newton iterations made.
+        confounded: with sensor offsets, each offset and the values it trades with (:class:`Confounding`); empty
+            without offsets, or when fixture rows pinned them.
     """
 
     machine: Parameters
@@ -133,6 +236,7 @@ class Calibration:
     logs: tuple[str, ...]
     samples: int
     iterations: int
+    confounded: tuple[Confounding, ...] = ()
 
     @property
     def unseen(self) -> list[str]:
@@ -145,10 +249,27 @@ class Calibration:
         labels = dv.names()
         return [labels[k] for k in self.structure.independent if not self.determined[k]]
 
-    def prediction_std(self, q: np.ndarray) -> np.ndarray:
-        """The standard deviation in [rad] of the predicted attitudes q (N, 2, 3) [rad] from θ's uncertainty, (N, 2, 3)."""
-        Jq = attitude_jacobian(self.machine, np.asarray(q, dtype=float), self.structure.independent)
-        return np.sqrt(np.einsum("njkp,pr,njkr->njk", Jq, self.covariance, Jq))
+    def prediction_std(self, q: np.ndarray, up_to_constant: bool = False) -> np.ndarray:
+        """The standard deviation in [rad] of the predicted attitudes q (N, 2, 3) [rad] from θ's uncertainty, (N, 2, 3).
+
+        The estimated values θ₁ (posterior covariance, offsets' trade included) and the values kept at their prior
+        θ₂: the estimate is of θ₁ + C·θ₂, so a prediction moves by (J₂ − J₁·C)·θ₂ with θ₂ ~ N(start, prior²). Without
+        sensor offsets that is zero (C folds θ₂ exactly); with them it is the constant part of θ₂'s effect, which the
+        fitted offsets took: the attitude's error that the logs cannot tell from a sensor's zero.
+
+        Args:
+            q: both platforms' attitudes in [rad], (N, 2, 3) (a motion: its samples together).
+            up_to_constant: the spread of the prediction about its mean over the samples (what a log whose sensors
+                have their own unknown offset can check), instead of the attitude's own.
+        """
+        q = np.asarray(q, dtype=float)
+        J = attitude_jacobian(self.machine, q)
+        J1 = J[..., self.structure.independent]
+        K = J[..., self.structure.dependent] - np.einsum("njkp,pd->njkd", J1, self.structure.coefficients)
+        if up_to_constant:
+            J1, K = J1 - J1.mean(axis=0), K - K.mean(axis=0)
+        variance = np.einsum("njkp,pr,njkr->njk", J1, self.covariance, J1) + self.prior**2 * (K**2).sum(axis=-1)
+        return np.sqrt(variance)
 
 
 def _checked_attitudes(machine: Parameters, log: CalibrationLog, guess: np.ndarray, what: str) -> np.ndarray:
@@ -210,8 +331,10 @@ def calibrate(
         logs: the logs fitted together.
         start: the machine the prior is centred on (the drawing, or a file's chains).
         prior: prior standard deviation of every per-chain value in [m].
-        offsets: estimate a constant offset per sensor angle and log (``--sensor-offset per-log``).
-        structure_of: the combinations to estimate (default: :func:`~hipsim.stations.sensitivity.structure` of ``start``).
+        offsets: estimate a constant offset per sensor angle and log (``--sensor-offset per-log``); a log's
+            ``known`` rows (a fixture) pin its offsets.
+        structure_of: the combinations to estimate (default: :func:`~hipsim.stations.sensitivity.structure` of
+            ``start`` without offsets: what the offsets imitate is estimated with its prior, the trade in the posterior).
 
     Raises:
         CalibrationError: a sensor far from the encoders, a machine leaving the workspace, no convergence.
@@ -220,7 +343,8 @@ def calibrate(
         raise ArgumentError("logs", logs, "at least one calibration log")
     if not (math.isfinite(prior) and prior > 0):
         raise ArgumentError("prior", prior, "a positive standard deviation in m")
-    seen = structure_of or structure(start, offsets)
+    # With offsets: the values the sensors see up to the offsets' trade are estimated all the same (module docstring).
+    seen = structure_of or structure(start, False)
     ind = seen.independent
     theta0 = dv.deviation(start)
     K = len(logs)
@@ -254,7 +378,7 @@ def calibrate(
             starts[k] = q
             o = x[p + 6 * k : p + 6 * k + 6].reshape(2, 3) if offsets else np.zeros((2, 3))
             # Each platform's rows see only its own values: ∂q_j/∂δ_b per platform, (N, 3, its estimated values).
-            blocks = [platform_attitude_jacobian(machine, q[:, j], j + 1)[..., local[j]] for j in (0, 1)]
+            blocks = [platform_attitude_jacobian(machine, q[:, j], j + 1, q[:, 1])[..., local[j]] for j in (0, 1)]
             rows.append((log.sensors - o - q, blocks))
         residual_rms = np.array(
             [np.sqrt((r**2).mean(axis=0)) for r, _ in rows]
@@ -276,6 +400,13 @@ def calibrate(
                     A[np.ix_(rows_j, own[j])] += cross
                     A[rows_j, rows_j] += len(r) * w[j]
                     b[rows_j] += (r[:, j] * w[j]).sum(axis=0)
+                    known = logs[k].known
+                    if known is not None:  # the fixture's rows: sensor − o − known, no per-chain value
+                        held = np.isfinite(known[:, j])  # (N, 3)
+                        o = x[rows_j]
+                        r_known = np.where(held, logs[k].sensors[:, j] - o - np.nan_to_num(known[:, j]), 0.0)
+                        A[rows_j, rows_j] += held.sum(axis=0) * w[j]
+                        b[rows_j] += (r_known * w[j]).sum(axis=0)
         del rows
         try:
             step = np.linalg.solve(A, b)
@@ -300,6 +431,7 @@ def calibrate(
     determined = np.zeros(dv.COUNT, dtype=bool)
     determined[ind] = theta_std[ind] <= DETERMINED * prior
     offsets_out = x[p:].reshape(K, 2, 3) if offsets else np.zeros((K, 2, 3))
+    confounded = confounded_pairs(covariance, ind, p) if offsets else ()
     return Calibration(
         machine=machine,
         start=start,
@@ -316,4 +448,5 @@ def calibrate(
         logs=tuple(log.name for log in logs),
         samples=sum(len(log.t) for log in logs),
         iterations=iterations,
+        confounded=confounded,
     )

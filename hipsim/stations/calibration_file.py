@@ -62,6 +62,8 @@ def calibration_record(
         "value_determined": calibration.determined.tolist(),
         "unseen": calibration.unseen,
         "combinations": calibration.structure.definitions(),
+        "confounded_offsets": [c.sensor for c in calibration.confounded],
+        "confounded_values": [", ".join(c.values) for c in calibration.confounded],
         "noise_deg": _deg(calibration.noise.ravel()),
         "offsets_deg": [_deg(o.ravel()) for o in calibration.offsets],
         "residual_rms_deg": [_deg(r.ravel()) for r in calibration.residual_rms],
@@ -79,6 +81,11 @@ def _comments(calibration: Calibration, record: Mapping[str, Any], start: str) -
         f"# Start: {start}; prior ±{calibration.prior * 1e3:g} mm on every per-chain value.",
         "# Sensor noise [deg] m_1 α β γ, m_2 α β γ: " + ", ".join(f"{v:.4g}" for v in record["noise_deg"]),
         "# Not seen by these logs (kept at the start): " + (", ".join(calibration.unseen) or "none"),
+        *(
+            f"# Sensor offset {c.sensor} not told apart from {', '.join(c.values)} (R² {c.explained:.4f}); "
+            "a fixture's known-attitude rows separate them."
+            for c in calibration.confounded
+        ),
     ]
 
 

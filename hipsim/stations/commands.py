@@ -39,9 +39,10 @@ import numpy as np
 
 from ..analytic.chain_kinematics import chain_jacobian, chain_positions
 from ..analytic.forward_kinematics import solve_pose
-from ..analytic.stations import carriages_for_platform, platform_attitude
+from ..analytic.stations import carriages_for_platform, platform_attitude, stacked_carriages
 from ..arrays import readonly
 from ..exceptions import ArgumentError, PoseError
+from ..machine.chains import stackup_lift
 from ..machine.parameters import Parameters
 from ..physics.orientation import angular_velocity_map
 from .sensitivity import inverse3, reading_rate
@@ -210,22 +211,23 @@ def _block_commands(
         if rate is not None:
             A[j] = inverse3(rate)
 
-    def follows(j: int, L: np.ndarray) -> np.ndarray:
-        """Platform j's attitude at carriages L, from its linear prediction about its own command."""
+    def follows(j: int, L: np.ndarray, other: np.ndarray | None = None) -> np.ndarray:
+        """Platform j's attitude at carriages L, from its linear prediction about its own command (``other``: m_2's)."""
         guess = q_d + np.matmul(A[j], (L - own[j])[..., None])[..., 0]
-        return _attitude(params, L, guess, j, t, source)
+        return _attitude(params, L, guess, j, t, source, other)
 
     q = np.empty((len(q_d), 2, 3))
     if control in ("1", "2"):
         j = int(control)
         q[:, j - 1] = q_d  # exact by construction: forward ∘ inverse is the identity to 1e-12
-        q[:, 2 - j] = follows(3 - j, own[j])
+        q[:, 2 - j] = follows(3 - j, own[j], q_d if j == 2 else None)  # m_2 exact: m_1's lift from q_d
         return own[j], q
     AtA = {j: np.matmul(np.swapaxes(A[j], 1, 2), A[j]) for j in (1, 2)}
     H = w[0] * AtA[1] + w[1] * AtA[2]
     rhs = w[0] * np.matmul(AtA[1], own[1][..., None]) + w[1] * np.matmul(AtA[2], own[2][..., None])
     L = np.matmul(inverse3(H), rhs)[..., 0]
-    q[:, 0], q[:, 1] = follows(1, L), follows(2, L)
+    q[:, 1] = follows(2, L)
+    q[:, 0] = follows(1, L, q[:, 1])
     # The single-platform commands, each exact on its own platform: a sample keeps the best of the three. Their costs
     # are first predicted (platform j's error at the other's command is A_j·(L_o* − L_j*) to second order); only the
     # samples where one may beat the least squares are solved exactly (with identical chains, all of them).
@@ -240,7 +242,7 @@ def _block_commands(
         qj = np.empty((close.size, 2, 3))
         qj[:, j - 1] = q_d[close]
         guess = q_d[close] + predicted[close, o - 1]
-        qj[:, o - 1] = _attitude(params, own[j][close], guess, o, t[close], source)
+        qj[:, o - 1] = _attitude(params, own[j][close], guess, o, t[close], source, q_d[close] if j == 2 else None)
         cost = squared_errors(qj - q_d[close, None], w)
         better = cost < best[close]
         chosen = close[better]
@@ -256,7 +258,10 @@ def _own_command(params: Parameters, q_d: np.ndarray, j: int, rate: bool) -> tup
     """
     if params.geometry is None:
         return carriages_for_platform(params, q_d, j), reading_rate(params, q_d, j) if rate else None
-    return own_command(lambda p, rows: chain_positions(params.chains, p, j - 1), params.angle_signs, q_d, rate)
+    L, slope = own_command(lambda p, rows: chain_positions(params.chains, p, j - 1), params.angle_signs, q_d, rate)
+    if j == 1 and params.chains.stacked:  # m_1's centre rides on m_2: the stack-up's fixed point
+        L = stacked_carriages(params, q_d, L, solve=lambda Lk, guess: _attitude(params, Lk, guess, 2, None, None))
+    return L, slope
 
 
 def own_command(
@@ -271,16 +276,22 @@ def own_command(
     return L, np.matmul(chain_jacobian(r, d), angular_velocity_map(p)) * signs
 
 
-def _attitude(params: Parameters, L: np.ndarray, guess: np.ndarray, j: int, t, source) -> np.ndarray:
+def _attitude(
+    params: Parameters, L: np.ndarray, guess: np.ndarray, j: int, t, source, other: np.ndarray | None = None
+) -> np.ndarray:
     """Platform j's attitude at carriages L (N, 3) [m], each sample solved from its guess (N, 3) [rad].
 
     A guess within ~1e-6 rad (a linear prediction from the same machine's exact inverse kinematics) reaches round-off
     in two Newton steps, each from one evaluation of the chains (:func:`_newton_from_close`), the second no larger
     than :data:`CONVERGED_STEP` (or the readings reproduced to :data:`CONVERGED_GAP`); a sample that has not,
     and every sample of a drawing machine, goes through the full solve with its assembly-mode and singularity checks.
+    ``other``: m_2's attitude at L when known (m_1 on a machine with a stack-up needs it; None: solved here).
     """
     q = np.empty_like(guess)
     rest = np.arange(len(L))
+    if j == 1 and params.geometry is not None and params.chains.stacked:  # m_1 sees L − Δz(q_2(L))
+        q2 = _attitude(params, L, guess, 2, t, source) if other is None else other
+        L = L - stackup_lift(params.chains.spline_seat, q2 * params.angle_signs)[:, None]
     if params.geometry is not None:
         q[:], done = _newton_from_close(params, L, guess, j)
         rest = np.flatnonzero(~done)

@@ -5,9 +5,9 @@ deviation from the drawing: per platform j and module i the U-joint centre's
 horizontal offset from its screw axis (x, y), the slider's height offset on its
 carriage, the platform joint's offset in platform axes (x, y, z) and the lever
 length's; per platform the rotation centre's offset (x, y, z). Here they are
-one vector δ of :data:`COUNT` = 48 values in [m], in the order of
+one vector δ of :data:`COUNT` = 51 values in [m], in the order of
 :meth:`ChainGeometry.as_vector` (names :func:`names`: ``ujoint_x_11`` …
-``centre_z_2``). δ = 0 is the drawing; a manufacturing tolerance bounds δ and
+``centre_z_2``, then the intermediate chain's seat ``spline_x_1`` … ``spline_z_1``, which moves platform 1). δ = 0 is the drawing; a manufacturing tolerance bounds δ and
 a calibration's prior is centred on the starting file's δ.
 
 Every value moves one platform's slider equations only, and a chain's values
@@ -36,7 +36,7 @@ __all__ = [
 ]
 
 #: The families a tolerance names (``--bands ujoint=0.1,...``), as the fields of :class:`ChainGeometry`.
-FAMILIES = ("ujoint", "slider", "joint", "lever", "centre")
+FAMILIES = ("ujoint", "slider", "joint", "lever", "centre", "spline")
 
 
 @cache

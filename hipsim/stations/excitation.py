@@ -102,9 +102,13 @@ def _peaks(params: Parameters, coefficients: np.ndarray, frequency: float, t: np
     q, qd, qdd = _series(coefficients, frequency, t)
     speed = acceleration = 0.0
     cond = math.inf
+    # m_1's peaks as if its centre were fixed: a stack-up moves its carriages by ~|e|·ω more, far below the limits.
+    fixed = params
+    if params.geometry is not None and params.chains.stacked:
+        fixed = params.replace(geometry=params.geometry.replace(spline=np.zeros(3)))
     for j in (1, 2):
         with np.errstate(invalid="ignore"):
-            _, Ld, Ldd = platform_motion(params, q, qd, qdd, j)
+            _, Ld, Ldd = platform_motion(fixed, q, qd, qdd, j)
             c = inverse_condition_number(platform_jacobian(params, q, j))
         speed = max(speed, float(np.nanmax(np.abs(Ld)) if np.all(np.isfinite(Ld)) else math.inf))
         acceleration = max(acceleration, float(np.nanmax(np.abs(Ldd)) if np.all(np.isfinite(Ldd)) else math.inf))

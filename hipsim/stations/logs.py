@@ -10,7 +10,11 @@ comments and blank lines skipped, or Parquet) with the columns
   motor's is);
 - both attitude sensors: ``alpha_1_deg, beta_1_deg, gamma_1_deg`` (platform 1)
   and ``alpha_2_deg, beta_2_deg, gamma_2_deg`` (platform 2), in the spec's
-  angles (R = Rz(γ)·Ry(β)·Rx(α)).
+  angles (R = Rz(γ)·Ry(β)·Rx(α));
+- optionally, a fixture's rows: ``known_alpha_j_deg, known_beta_j_deg,
+  known_gamma_j_deg`` (platform j = 1, 2), the attitude a fixture holds platform
+  j at, empty (or ``nan``) on the rows where it moves freely. They pin the log's
+  sensor offsets (``calibrate --sensor-offset per-log``).
 
 Other columns are ignored. A missing column, a cell that is no finite number,
 or time that does not increase is refused by file, line and column.
@@ -27,12 +31,21 @@ from ..exceptions import TrajectoryError
 from ..tables import cells, data_lines, detect_separator, number, open_parquet, read_text_lines
 from .calibration import CalibrationLog
 
-__all__ = ["CARRIAGE_COLUMNS", "MOTOR_COLUMNS", "SENSOR_COLUMNS", "read_calibration_log", "read_carriage_log"]
+__all__ = [
+    "CARRIAGE_COLUMNS",
+    "KNOWN_COLUMNS",
+    "MOTOR_COLUMNS",
+    "SENSOR_COLUMNS",
+    "read_calibration_log",
+    "read_carriage_log",
+]
 
 CARRIAGE_COLUMNS = tuple(f"L_1{i}_mm" for i in (1, 2, 3))
 MOTOR_COLUMNS = tuple(f"motor_{i}_deg" for i in (1, 2, 3))
 #: The sensors' columns, platform by platform.
 SENSOR_COLUMNS = tuple(tuple(f"{a}_{j}_deg" for a in ("alpha", "beta", "gamma")) for j in (1, 2))
+#: A fixture's known attitude, platform by platform (optional; empty cells where the platform is free).
+KNOWN_COLUMNS = tuple(tuple(f"known_{a}_{j}_deg" for a in ("alpha", "beta", "gamma")) for j in (1, 2))
 WHAT = "calibration log"
 
 
@@ -58,7 +71,9 @@ def _table(path: str | Path) -> tuple[list[str], dict[str, np.ndarray], np.ndarr
     except ValueError as error:
         raise TrajectoryError(str(error), source=source, line=header_line) from None
     wanted = {name: k for k, name in enumerate(header)}
-    keep = [name for name in (("t_s",) + CARRIAGE_COLUMNS + MOTOR_COLUMNS + sum(SENSOR_COLUMNS, ())) if name in wanted]
+    optional = set(sum(KNOWN_COLUMNS, ()))
+    names = ("t_s",) + CARRIAGE_COLUMNS + MOTOR_COLUMNS + sum(SENSOR_COLUMNS, ()) + sum(KNOWN_COLUMNS, ())
+    keep = [name for name in names if name in wanted]
     values = np.empty((len(numbered) - 1, len(keep)))
     lines = np.empty(len(numbered) - 1, dtype=int)
     decimal_comma = separator != ","
@@ -71,6 +86,9 @@ def _table(path: str | Path) -> tuple[list[str], dict[str, np.ndarray], np.ndarr
         for c, name in enumerate(keep):
             k = wanted[name]
             cell = row_cells[k] if k < len(row_cells) else ""
+            if name in optional and cell.strip().lower() in ("", "nan"):
+                values[row, c] = math.nan  # the platform is free on this row
+                continue
             try:
                 values[row, c] = number(cell, decimal_comma)
             except ValueError:
@@ -80,8 +98,10 @@ def _table(path: str | Path) -> tuple[list[str], dict[str, np.ndarray], np.ndarr
     return header, {name: values[:, c] for c, name in enumerate(keep)}, lines
 
 
-def _read(path: str | Path, lead: float, sensors: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
-    """(t [s], carriages [m] (N, 3), sensors [rad] (N, 2, 3) or None when not asked for)."""
+def _read(
+    path: str | Path, lead: float, sensors: bool
+) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray | None]:
+    """(t [s], carriages [m] (N, 3), sensors [rad] (N, 2, 3) or None when not asked for, known [rad] (N, 2, 3) or None)."""
     source = str(path)
     if not math.isfinite(lead) or lead <= 0:
         raise TrajectoryError(f"the screw lead must be positive, got {lead!r}", source=source)
@@ -129,9 +149,32 @@ def _read(path: str | Path, lead: float, sensors: bool) -> tuple[np.ndarray, np.
             column="t_s",
         )
     if not sensors:
-        return t, carriages, None
+        return t, carriages, None, None
     angles = np.radians(np.stack([np.stack([columns[n] for n in names], axis=1) for names in SENSOR_COLUMNS], axis=1))
-    return t, carriages, angles
+    return t, carriages, angles, _known(columns, lines, source, missing)
+
+
+def _known(columns: dict[str, np.ndarray], lines: np.ndarray | None, source: str, missing) -> np.ndarray | None:
+    """A fixture's known attitudes in [rad] (N, 2, 3), NaN where a platform is free; None without the columns."""
+    if not any(name in columns for name in sum(KNOWN_COLUMNS, ())):
+        return None
+    known = np.full((len(columns["t_s"]), 2, 3), np.nan)
+    for j, names in enumerate(KNOWN_COLUMNS):
+        if not any(name in columns for name in names):
+            continue
+        missing(names, f"fixture's known attitude of platform {j + 1}")
+        block = np.stack([columns[n] for n in names], axis=1)
+        partial = np.isfinite(block).any(axis=1) & ~np.isfinite(block).all(axis=1)
+        if partial.any():
+            row = int(np.argmax(partial))
+            raise TrajectoryError(
+                f"a fixture's known attitude needs all three angles of platform {j + 1} on a row, or none",
+                source=source,
+                line=None if lines is None else int(lines[row]),
+                column=names[int(np.argmax(~np.isfinite(block[row])))],
+            )
+        known[:, j] = np.radians(block)
+    return known
 
 
 def read_calibration_log(path: str | Path, lead: float) -> CalibrationLog:
@@ -145,9 +188,9 @@ def read_calibration_log(path: str | Path, lead: float) -> CalibrationLog:
         TrajectoryError: a missing column (a platform's sensor, the carriages), a cell that is no finite number,
             time that does not increase, too few rows.
     """
-    t, carriages, sensors = _read(path, lead, sensors=True)
+    t, carriages, sensors, known = _read(path, lead, sensors=True)
     assert sensors is not None
-    return CalibrationLog(str(path), t, carriages, sensors)
+    return CalibrationLog(str(path), t, carriages, sensors, known)
 
 
 def read_carriage_log(path: str | Path, lead: float) -> tuple[np.ndarray, np.ndarray]:
@@ -156,5 +199,5 @@ def read_carriage_log(path: str | Path, lead: float) -> tuple[np.ndarray, np.nda
     Raises:
         TrajectoryError: as :func:`read_calibration_log`, but for the sensors.
     """
-    t, carriages, _ = _read(path, lead, sensors=False)
+    t, carriages, _, _ = _read(path, lead, sensors=False)
     return t, carriages

@@ -64,13 +64,14 @@ def reading_rate(params: Parameters, q: np.ndarray, j: int) -> np.ndarray:
     return np.matmul(platform_jacobian(params, q, j), angular_velocity_map(q * signs)) * signs
 
 
-def reading_jacobian(params: Parameters, j: int, q: np.ndarray) -> np.ndarray:
-    """∂f_j/∂δ: how platform j's carriage readings at gait angles q (N, 3) move with its values, (N, 3, 24) [m/m].
+def reading_jacobian(params: Parameters, j: int, q: np.ndarray, q_other: np.ndarray | None = None) -> np.ndarray:
+    """∂f_j/∂δ: how platform j's carriage readings at gait angles q (N, 3) move with its values, (N, 3, 27 or 24) [m/m].
 
-    The columns follow :func:`hipsim.stations.deviations.platform_columns`
+    The columns follow :func:`hipsim.stations.deviations.platform_columns` (platform 1's include the stack-up's
+    seat, which needs m_2's attitude ``q_other``; None for q)
     (:func:`hipsim.analytic.stations.carriage_sensitivities`, closed form).
     """
-    return carriage_sensitivities(params, q, j)[..., dv.platform_columns(j)]
+    return carriage_sensitivities(params, q, j, q_other)[..., dv.platform_columns(j)]
 
 
 def inverse3(P: np.ndarray) -> np.ndarray:
@@ -80,13 +81,16 @@ def inverse3(P: np.ndarray) -> np.ndarray:
     return np.array(rows).transpose(2, 1, 0)
 
 
-def platform_attitude_jacobian(params: Parameters, q: np.ndarray, j: int) -> np.ndarray:
-    """∂q_j/∂δ of platform j at its gait angles q (N, 3) [rad], for its own values, (N, 3, 24) [rad/m].
+def platform_attitude_jacobian(
+    params: Parameters, q: np.ndarray, j: int, q_other: np.ndarray | None = None
+) -> np.ndarray:
+    """∂q_j/∂δ of platform j at its gait angles q (N, 3) [rad], for its own values, (N, 3, 27 or 24) [rad/m].
 
-    The columns follow :func:`hipsim.stations.deviations.platform_columns`; the other platform's values do not move it.
+    The columns follow :func:`hipsim.stations.deviations.platform_columns`; the other platform's values do not move it
+    (under a stack-up, only by a product of two deviations). ``q_other``: m_2's attitude for m_1's stack-up column.
     ∂q_j/∂δ = −(∂f_j/∂q)⁻¹·∂f_j/∂δ, from :func:`reading_rate` and :func:`reading_jacobian`.
     """
-    return -np.matmul(inverse3(reading_rate(params, q, j)), reading_jacobian(params, j, q))
+    return -np.matmul(inverse3(reading_rate(params, q, j)), reading_jacobian(params, j, q, q_other))
 
 
 def attitude_jacobian(params: Parameters, q: np.ndarray, columns: np.ndarray | None = None) -> np.ndarray:
@@ -99,7 +103,8 @@ def attitude_jacobian(params: Parameters, q: np.ndarray, columns: np.ndarray | N
     """
     out = np.zeros((len(q), 2, 3, dv.COUNT))
     for j in (1, 2):
-        out[:, j - 1][..., dv.platform_columns(j)] = platform_attitude_jacobian(params, q[:, j - 1], j)
+        other = q[:, 1] if j == 1 else None
+        out[:, j - 1][..., dv.platform_columns(j)] = platform_attitude_jacobian(params, q[:, j - 1], j, other)
     return out if columns is None else out[..., columns]
 
 
@@ -161,6 +166,9 @@ def _preference() -> np.ndarray:
         "centre_x",
         "centre_y",
         "centre_z",
+        "spline_x",
+        "spline_y",
+        "spline_z",
     )
     return np.array(sorted(range(dv.COUNT), key=lambda k: (order.index(labels[k].rsplit("_", 1)[0]), k)))
 
@@ -175,7 +183,7 @@ def structure(params: Parameters, offsets: bool, seed: int = 0) -> Structure:
     """
     q_single = random_poses(POSES, seed)
     q = np.stack([q_single, q_single], axis=1)
-    Y = attitude_jacobian(params, q)  # (N, 2, 3, 48) [rad/m]; all values share one prior scale
+    Y = attitude_jacobian(params, q)  # (N, 2, 3, 51) [rad/m]; all values share one prior scale
     if offsets:
         Y = Y - Y.mean(axis=0)
     Y = Y.reshape(-1, dv.COUNT)

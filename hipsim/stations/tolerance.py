@@ -33,6 +33,7 @@ from ..analytic.chain_kinematics import chain_positions_per_sample
 from ..analytic.stations import carriages_for_platform
 from ..arrays import readonly
 from ..exceptions import ArgumentError, HipsimError, ParameterError, PoseError
+from ..machine.chains import stackup_lift
 from ..machine.parameters import Parameters
 from . import deviations as dv
 from .commands import CONTROLS, Positions, newton_from_close, own_command, station_commands
@@ -56,7 +57,9 @@ def parse_tolerances(text: str) -> dict[str, float]:
     """Tolerance bands in [m] by family, from ``KEY=±V,...`` in mm or a TOML file of such keys (``[tolerance]`` or top level).
 
     Keys: the families ujoint, slider, joint, lever, centre (the fields of
-    :class:`~hipsim.machine.chains.ChainGeometry`), and ``all`` (every family not named). A family not named (and no ``all``) is built exactly.
+    :class:`~hipsim.machine.chains.ChainGeometry`), the intermediate chain's seat ``spline`` (named only: ``all``
+    keeps the chains' families, so an ``all`` band means what it meant before the stack-up), and ``all`` (every chain
+    family not named). A family not named (and no ``all``) is built exactly.
 
     Raises:
         ParameterError: an unknown key, a value that is not a finite number >= 0, an unreadable file.
@@ -92,16 +95,19 @@ def parse_tolerances(text: str) -> dict[str, float]:
             raise ParameterError(f"expected a band ±V in mm (V >= 0), got '{value}'", key=key, source=source)
         bands[key] = v * 1e-3
     default = bands.pop("all", 0.0)
-    return {family: bands.get(family, default) for family in dv.FAMILIES}
+    out = {family: bands.get(family, default) for family in dv.FAMILIES if family != "spline"}
+    if "spline" in bands:  # only when named: a band given before the stack-up reads back as it did
+        out["spline"] = bands["spline"]
+    return out
 
 
 def half_widths(bands: Mapping[str, float]) -> np.ndarray:
-    """Each per-chain value's half band in [m], (48,), from the bands by family."""
+    """Each per-chain value's half band in [m], (51,), from the bands by family."""
     return np.array([bands.get(dv.family(name), 0.0) for name in dv.names()])
 
 
 def error_sensitivity(params: Parameters, desired: np.ndarray, control: str, weights=(1.0, 1.0)) -> np.ndarray:
-    """S = ∂e/∂δ of each platform's attitude error under a control, at the machine ``params``, (N, 2, 3, 48) [rad/m].
+    """S = ∂e/∂δ of each platform's attitude error under a control, at the machine ``params``, (N, 2, 3, 51) [rad/m].
 
     With F_j = ∂f_j/∂θ and A_j = (∂f_j/∂q)⁻¹ at the attitude platform j takes: its error is
     e_j = A_j·(dL − F_j·dθ); control "1" or "2" sets dL = F_c·dθ, "both" the weighted least squares
@@ -116,7 +122,7 @@ def error_sensitivity(params: Parameters, desired: np.ndarray, control: str, wei
     for j in (1, 2):
         A[j] = inverse3(reading_rate(params, q[:, j - 1], j))
         F[j] = np.zeros((n, 3, dv.COUNT))
-        F[j][:, :, dv.platform_columns(j)] = reading_jacobian(params, j, q[:, j - 1])
+        F[j][:, :, dv.platform_columns(j)] = reading_jacobian(params, j, q[:, j - 1], q[:, 1])
     if control in ("1", "2"):
         dL = F[int(control)]
     else:
@@ -130,25 +136,28 @@ def sensitivity_table(S: np.ndarray, widths: np.ndarray, platforms=(0, 1)) -> li
     """Each per-chain value's share of the expected mean square error of the given platforms, largest first.
 
     Args:
-        S: the error sensitivity (N, 2, 3, 48) in [rad/m] (:func:`error_sensitivity`).
-        widths: each value's half band in [m], (48,).
+        S: the error sensitivity (N, 2, 3, 51) in [rad/m] (:func:`error_sensitivity`).
+        widths: each value's half band in [m], (51,).
         platforms: the platforms (0-based) whose error counts (the follower's, or both).
 
     Returns:
-        Rows: ``value`` (name), ``chain`` ("ji" or "centre j"), ``family``, ``rms_deg`` (the RMS error per angle
+        Rows: ``value`` (name), ``chain`` ("ji", "centre j" or "intermediate": the stack-up's seat), ``family``, ``rms_deg`` (the RMS error per angle
         α, β, γ in [deg] this value's band alone gives, root of the expected mean square over the platforms),
         ``share`` (its fraction of the expected mean square summed over the three angles).
     """
     variance = widths**2 / 3.0  # a uniform draw within ±V
-    ms = (S[:, list(platforms)] ** 2).mean(axis=0).sum(axis=0) * variance  # (3, 48) [rad²]
-    total = ms.sum()
+    ms = (S[:, list(platforms)] ** 2).mean(axis=0).sum(axis=0) * variance  # (3, 51) [rad²]
+    chain = dv.COUNT - 3  # the chains' values, summed first: without a seat band, the sums of before the stack-up
+    total = ms[:, :chain].sum() + ms[:, chain:].sum()
     rows = []
     for p, name in enumerate(dv.names()):
+        if p >= chain and not np.any(widths[chain:]):
+            break  # no seat band: no seat rows
         tail = name.rsplit("_", 1)[1]
         rows.append(
             {
                 "value": name,
-                "chain": tail if len(tail) == 2 else f"centre {tail}",
+                "chain": "intermediate" if name.startswith("spline") else tail if len(tail) == 2 else f"centre {tail}",
                 "family": dv.family(name),
                 "rms_deg": np.degrees(np.sqrt(ms[:, p])).tolist(),
                 "share": float(ms[:, p].sum() / total) if total > 0 else 0.0,
@@ -190,15 +199,20 @@ def tolerance_batch(batch: tuple[int, int], setup: _Setup) -> tuple[int, np.ndar
     first, count = batch
     rng = np.random.default_rng([setup.seed, first])
     theta0 = dv.deviation(setup.drawing)
-    deltas = rng.uniform(-1.0, 1.0, (count, dv.COUNT)) * setup.widths  # the stream of one draw after the other
+    chain = dv.COUNT - 3  # the chains' and centres' values, drawn first (the stream as before the stack-up)
+    deltas = np.zeros((count, dv.COUNT))
+    deltas[:, :chain] = rng.uniform(-1.0, 1.0, (count, chain)) * setup.widths[:chain]  # one draw after the other
+    if np.any(setup.widths[chain:]):
+        deltas[:, chain:] = rng.uniform(-1.0, 1.0, (count, 3)) * setup.widths[chain:]
     rms = np.empty((count, len(setup.controls), 2, 3))
     peak = np.empty_like(rms)
     solved = np.zeros((count, len(setup.controls)), dtype=bool)
-    chains = _draw_chains(setup.drawing, theta0 + deltas)
+    thetas = theta0 + deltas
+    chains = _draw_chains(setup.drawing, thetas)
     for c, control in enumerate(setup.controls):
         if control != "both":
             rms[:, c], peak[:, c], solved[:, c] = _followers(
-                chains, setup.drawing.angle_signs, setup.desired, int(control)
+                chains, setup.drawing.angle_signs, setup.desired, int(control), thetas[:, dv.COUNT - 3 :]
             )
     for k in range(count):
         if solved[k].all():
@@ -225,7 +239,7 @@ _DrawChains = tuple[np.ndarray, np.ndarray, np.ndarray]
 
 
 def _draw_chains(drawing: Parameters, thetas: np.ndarray) -> dict[int, _DrawChains]:
-    """Each draw's chains, by platform (1, 2), for per-chain values θ in [m], (K, 48).
+    """Each draw's chains, by platform (1, 2), for per-chain values θ in [m], (K, 51).
 
     :meth:`hipsim.machine.chains.Chains.build` adds the values to the drawing's, so the chains are affine in θ: they
     are found from the chains at θ = 0 and at each unit θ, rather than by building a machine a draw.
@@ -237,7 +251,7 @@ def _draw_chains(drawing: Parameters, thetas: np.ndarray) -> dict[int, _DrawChai
         return np.concatenate([ch.platform_points.ravel(), offsets.ravel(), ch.lever_lengths.ravel()])
 
     zero = fields(np.zeros(dv.COUNT))
-    slope = np.stack([fields(unit) - zero for unit in np.eye(dv.COUNT)], axis=1)  # (fields, 48)
+    slope = np.stack([fields(unit) - zero for unit in np.eye(dv.COUNT)], axis=1)  # (fields, 51)
     values = zero + thetas @ slope.T
     P, offsets, levers = np.split(values, [18, 36], axis=1)
     P, offsets, levers = P.reshape(-1, 2, 3, 3), offsets.reshape(-1, 2, 3, 3), levers.reshape(-1, 2, 3)
@@ -245,7 +259,11 @@ def _draw_chains(drawing: Parameters, thetas: np.ndarray) -> dict[int, _DrawChai
 
 
 def _followers(
-    chains: dict[int, _DrawChains], signs: np.ndarray, desired: np.ndarray, control: int
+    chains: dict[int, _DrawChains],
+    signs: np.ndarray,
+    desired: np.ndarray,
+    control: int,
+    seats: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Control "1" or "2" on many per-chain machines at once, as :func:`station_commands` computes it for each.
 
@@ -258,6 +276,9 @@ def _followers(
         signs: the angle signs, (3,).
         desired: the desired attitude in [rad], (N, 3).
         control: the platform commanded exactly, 1 or 2.
+        seats: each machine's stack-up seat e in [m], (K, 3), or None for none. Under control 2, m_1 sees the
+            carriages lowered by Δz(q_d) (m_2 is exact); under control 1 a machine with a seat is left to
+            :func:`station_commands` (its command is the stack-up's fixed point).
 
     Returns:
         RMS and peak error per machine, platform and angle in [rad], (K, 2, 3) each, and per machine whether every
@@ -274,10 +295,15 @@ def _followers(
     L, _ = own_command(positions(control), signs, q_d, False)
     own, rate = own_command(positions(follower), signs, q_d, True)
     assert rate is not None
+    stacked = np.zeros(count, dtype=bool) if seats is None else np.any(seats != 0.0, axis=1)
+    if control == 2 and stacked.any():  # m_1's centre rides Δz(q_2) = Δz(q_d) up: it sees L − Δz
+        L = L - stackup_lift(np.repeat(np.asarray(seats, dtype=float), n, axis=0), q_d * signs)[:, None]
     guess = q_d + np.matmul(inverse3(rate), (L - own)[..., None])[..., 0]
     q, converged = newton_from_close(positions(follower), signs, L, guess)
     e = (q - q_d).reshape(count, n, 3)
     ok = converged.reshape(count, n).all(axis=1)
+    if control == 1:
+        ok &= ~stacked
     ok &= np.isfinite(L).reshape(count, -1).all(axis=1) & np.isfinite(own).reshape(count, -1).all(axis=1)
     rms, peak = np.zeros((count, 2, 3)), np.zeros((count, 2, 3))  # the controlled platform is exact
     rms[:, follower - 1] = np.sqrt((e**2).mean(axis=1))

@@ -39,7 +39,7 @@ class SensitivityRow(Record):
     """One per-chain value's share of the follower's expected mean square error (first order).
 
     Attributes:
-        value: the value's name; chain: "ji" or "centre j"; family: its tolerance family.
+        value: the value's name; chain: "ji", "centre j" or "intermediate" (the stack-up's seat); family: its tolerance family.
         rms_deg: the RMS error per angle α, β, γ in [deg] its band alone gives.
         share: its fraction of the expected mean square, summed over the angles.
     """

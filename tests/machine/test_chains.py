@@ -221,13 +221,17 @@ def test_overrides_set_one_key():
 
 def test_vector_names_and_round_trip():
     names = ChainGeometry.names()
-    assert len(names) == 48 == len(set(names))
-    assert names[0] == "ujoint_x_11" and names[-1] == "centre_z_2" and "lever_22" in names
-    x = RNG.normal(size=48)
+    assert len(names) == 51 == len(set(names))
+    assert names[0] == "ujoint_x_11" and names[47] == "centre_z_2" and "lever_22" in names
+    assert names[48:] == ("spline_x_1", "spline_y_1", "spline_z_1")
+    x = RNG.normal(size=51)
     assert np.array_equal(ChainGeometry.from_vector(x).as_vector(), x)
     g = ChainGeometry.from_vector(x)
     assert g.lever[1, 1] == x[names.index("lever_22")] and g.joint[0, 2, 1] == x[names.index("joint_y_13")]
     assert geometry_table(g)["centre_offset_mm"][1][2] == pytest.approx(x[names.index("centre_z_2")] * 1e3)
+    assert geometry_table(g)["spline_seat_mm"][1] == pytest.approx(x[names.index("spline_y_1")] * 1e3)
+    # The chains' 48 alone (as before the stack-up): the seat zero.
+    assert np.array_equal(ChainGeometry.from_vector(x[:48]).as_vector(), np.concatenate([x[:48], np.zeros(3)]))
 
 
 @pytest.mark.parametrize(
@@ -263,7 +267,7 @@ def test_carriage_sensitivities_against_finite_differences(platform):
     S = carriage_sensitivities(DEVIATED, q, platform)
     h = 1e-7
     for k in range(48):
-        step = np.zeros(48)
+        step = np.zeros(x.size)
         step[k] = h
         fd = (
             carriages_for_platform(with_values(x + step), q, platform)
@@ -296,7 +300,7 @@ def test_attitude_sensitivities_against_finite_differences_of_the_forward_kinema
         f"centre_y_{platform}",
     ):
         k = names.index(name)
-        step = np.zeros(48)
+        step = np.zeros(x.size)
         step[k] = h
         moved = [
             np.array([platform_attitude(with_values(x + s), L[n : n + 1], platform, q0=q[n])[0] for n in range(len(q))])

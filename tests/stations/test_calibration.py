@@ -93,7 +93,8 @@ def test_the_controlled_platform_tracks_within_the_calibrations_uncertainty(draw
 
 def test_what_no_log_can_see_is_a_real_symmetry(drawing):
     seen = structure(drawing, offsets=False)
-    assert seen.rank == 42
+    assert seen.rank == 45  # 42 of the chains and centres, and the stack-up's seat: its lift varies with m_2's tilt
+    assert [dv.names()[k] for k in seen.independent[-3:]] == ["spline_x_1", "spline_y_1", "spline_z_1"]
     assert [dv.names()[k] for k in seen.dependent] == [f"centre_{a}_{j}" for j in (1, 2) for a in "xyz"]
     again = structure(drawing, offsets=False, seed=1)
     assert np.array_equal(again.independent, seen.independent)
@@ -126,7 +127,9 @@ def test_sensor_offsets_per_log(drawing, truth):
     t, L, true = synthetic_log(drawing, truth, 400, seed=2, noise_deg=0.0)[:3]
     difference = attitudes(fit.machine, L, true) - true
     assert np.all(_rms_deg(difference - difference.mean(axis=0)) < NOISE_DEG / 5)
-    assert len(fit.unseen) > 6  # the offsets hide more than the translations
+    # The offsets hide nothing more than the translations: what they imitate is estimated, the trade named.
+    assert fit.unseen == [f"centre_{a}_{j}" for j in (1, 2) for a in "xyz"]
+    assert fit.confounded and all(c.explained >= 0.9 and c.values for c in fit.confounded)
 
 
 def test_a_sensor_far_from_the_encoders_is_refused(drawing, train):

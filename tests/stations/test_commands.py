@@ -127,7 +127,9 @@ def test_a_band_that_puts_a_chain_out_of_reach_is_refused(drawing, cycle):
 
 def test_parse_tolerances(tmp_path):
     bands = parse_tolerances("all=0.1, lever=±0.05")
+    # "all" is the chains' families: the stack-up's seat is drawn only when named.
     assert bands == {"ujoint": 1e-4, "slider": 1e-4, "joint": 1e-4, "lever": 5e-5, "centre": 1e-4}
+    assert parse_tolerances("all=0.1, spline=0.2")["spline"] == pytest.approx(2e-4)
     (tmp_path / "tol.toml").write_text("[tolerance]\nujoint = 0.2\n")
     assert parse_tolerances(str(tmp_path / "tol.toml"))["ujoint"] == pytest.approx(2e-4)
     assert parse_tolerances(str(tmp_path / "tol.toml"))["lever"] == 0.0
