@@ -970,6 +970,66 @@ def bench_rig(quick: bool) -> None:
     bench_compare_memory(seed_motion="both")
 
 
+def bench_channels(quick: bool) -> None:
+    """Reading a 10-minute 1 kHz rig log (600,000 samples, 9 columns) as TDMS and HDF5, next to the CSV of the same data."""
+    import tempfile
+    from contextlib import closing
+    from pathlib import Path
+
+    import h5py
+    from nptdms import ChannelObject, GroupObject, TdmsWriter
+
+    from hipsim.channels import read_channels
+    from hipsim.rig.logs.reader import RigLogFile
+
+    seconds = 60 if quick else 600
+    cycle = hipsim.iso14242(rate=1000.0, cycles=seconds)
+    n = cycle.t.size
+    rng = np.random.default_rng(0)
+    columns = {
+        "t_s": cycle.t,
+        "Fe_N": cycle.Fe,
+        **{f"tau_{i}_Nmm": 500.0 * np.sin(2 * np.pi * cycle.t + i) + rng.normal(0, 3, n) for i in (1, 2, 3)},
+        **{f"{a}_deg": np.degrees(cycle.q[:, k]) for k, a in enumerate(("alpha", "beta", "gamma"))},
+        "cycle": np.floor(cycle.t),
+    }
+    names = list(columns)
+    values = np.column_stack([columns[name] for name in names])
+    print(f"reading a {seconds // 60}-minute 1 kHz rig log ({n:,} samples, {len(names)} columns): best of 3, one core")
+    with tempfile.TemporaryDirectory() as folder:
+        csv = Path(folder) / "log.csv"
+        np.savetxt(csv, values, delimiter=",", header=",".join(names), comments="", fmt="%.10g")
+        values = np.loadtxt(csv, delimiter=",", skiprows=1)  # the CSV's numbers, in the other files too
+        tdms = Path(folder) / "log.tdms"
+        with TdmsWriter(str(tdms)) as writer:
+            writer.write_segment(
+                [GroupObject("log")]
+                + [ChannelObject("log", name, np.ascontiguousarray(values[:, k])) for k, name in enumerate(names)]
+            )
+        hdf5 = Path(folder) / "log.h5"
+        with h5py.File(hdf5, "w") as file:
+            group = file.create_group("log")
+            for k, name in enumerate(names):
+                group.create_dataset(name, data=np.ascontiguousarray(values[:, k]))
+
+        def read(path):
+            with closing(RigLogFile(path, keep=("cycle",))) as log:
+                return log.read()
+
+        print(f"  {'file':<44} {'size':>10} {'channels':>10} {'rig-log reader':>15}")
+        for label, path in (("CSV (10 significant digits)", csv), ("TDMS (npTDMS)", tdms), ("HDF5 (h5py)", hdf5)):
+            alone = best_time(lambda: read_channels(path), 3) if path != csv else math.nan
+            whole = best_time(lambda: read(path), 3)
+            print(
+                f"  {label:<44} {path.stat().st_size / 1e6:>7.1f} MB "
+                f"{'' if math.isnan(alone) else f'{alone:.2f} s':>10} {whole:>13.2f} s"
+            )
+        same = all(
+            np.array_equal(getattr(read(csv), a), getattr(read(p), a)) for p in (tdms, hdf5) for a in ("tau", "t")
+        )
+        print(f"  target: TDMS <= 2 s for 10 minutes; the same samples as the CSV's, bit for bit: {same}")
+
+
 def bench_compare_memory(seed_motion: str = "both") -> None:
     """Compare in pieces: the peak of Python's allocations (tracemalloc) for a log four times longer, beside the shorter one's.
 
@@ -1332,6 +1392,7 @@ def main() -> None:
             "tolerance",
             "wear",
             "wear-test",
+            "channels",
         ],
         help="one section only",
     )
@@ -1356,6 +1417,7 @@ def main() -> None:
             "tolerance": bench_tolerance,
             "wear": lambda params, quick: bench_wear(quick),
             "wear-test": lambda params, quick: bench_wear_test(quick),
+            "channels": lambda params, quick: bench_channels(quick),
         }
         sections.get(args.only, lambda params, quick: bench_workspace(quick))(params, args.quick)
         return
@@ -1382,6 +1444,8 @@ def main() -> None:
     bench_long_runs(args.quick)
     print()
     bench_rig(args.quick)
+    print()
+    bench_channels(args.quick)
     print()
     bench_monitor(args.quick)
     print()

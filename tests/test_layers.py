@@ -30,6 +30,7 @@ FOUNDATION = frozenset(
         "arrays",
         "files",
         "tables",
+        "channels",
         "fingerprint",
         "version",
         "result_table",

@@ -16,6 +16,7 @@ from pathlib import Path
 
 from ..exceptions import HipsimError
 from .common import (
+    add_channel_columns,
     add_machine_options,
     add_provenance_options,
     add_summary_format,
@@ -40,8 +41,13 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     )
     add_machine_options(p)
     p.add_argument(
-        "--log", action="append", required=True, metavar="FILE", help="calibration log, CSV or Parquet (repeatable)"
+        "--log",
+        action="append",
+        required=True,
+        metavar="FILE",
+        help="calibration log, CSV, Parquet, TDMS or HDF5 (repeatable)",
     )
+    add_channel_columns(p)
     p.add_argument(
         "--validate", action="append", default=[], metavar="FILE", help="held-out log to check on (repeatable)"
     )
@@ -188,8 +194,8 @@ def run(args) -> int:
     _check(args)
     params = parameters(args)
     offsets = args.sensor_offset == "per-log"
-    logs = [read_calibration_log(path, params.lead) for path in args.log]
-    held = [read_calibration_log(path, params.lead) for path in args.validate]
+    logs = [read_calibration_log(path, params.lead, args.columns) for path in args.log]
+    held = [read_calibration_log(path, params.lead, args.columns) for path in args.validate]
     calibration = calibrate(logs, params, prior=args.prior * 1e-3, offsets=offsets)
     validation: list[dict] = []
     for log in held:

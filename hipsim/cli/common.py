@@ -15,6 +15,9 @@ from ..exceptions import HipsimError
 from .motion_options import builtin_frequency
 
 __all__ = [
+    "CHANNEL_COLUMNS_HELP",
+    "add_channel_columns",
+    "channel_columns",
     "add_machine_options",
     "add_provenance_options",
     "add_summary_format",
@@ -41,6 +44,45 @@ def add_machine_options(parser: argparse.ArgumentParser) -> None:
         default=[],
         help="override one parameter in the file's units, e.g. lever.length_mm=330 (repeatable)",
     )
+
+
+#: ``--columns`` on a TDMS or HDF5 log (:mod:`hipsim.channels`): which channel holds which column.
+CHANNEL_COLUMNS_HELP = (
+    "a TDMS or HDF5 log's channels: NAME=GROUP/CHANNEL,… (NAME a CSV column's name with its unit, e.g. "
+    "Fe_N=Load/Fz; an HDF5 dataset's path), GROUP to read a group's channels by their names; default: the file's one "
+    "group, each channel by its name and unit (unit_string)"
+)
+
+
+def add_channel_columns(parser) -> None:
+    """``--columns MAP``: a TDMS or HDF5 log's channel map (:data:`CHANNEL_COLUMNS_HELP`), for the commands that read
+    rig logs and have no trajectory column map (those read it from their ``--columns`` when the log is TDMS or HDF5)."""
+    parser.add_argument("--columns", metavar="MAP", help=CHANNEL_COLUMNS_HELP)
+
+
+def channel_columns(path: str, columns: str | None) -> tuple[set[str], str | None] | None:
+    """A TDMS or HDF5 log's column names and the map to read it with (``--columns``), or None for any other file.
+
+    For the commands whose ``--columns`` maps a trajectory's columns (``wear``, ``iso-check``): on a TDMS or HDF5
+    log it is the channel map (:mod:`hipsim.channels`), the only map such a file takes.
+
+    Raises:
+        TrajectoryError: the file's problem (:func:`hipsim.channels.read_channels`), or a file without torques or
+            currents: such a file is read as a rig log only.
+    """
+    from ..channels import channel_kind, read_channels
+    from ..exceptions import TrajectoryError
+
+    if channel_kind(path) is None:
+        return None
+    names = set(read_channels(path, columns, "log file", TrajectoryError).names)
+    if not names & {"tau_1_Nmm", "current_1_A"}:
+        raise TrajectoryError(
+            "a TDMS or HDF5 file is read as a rig log (t_s, Fe_N, tau_1_Nmm … or current_1_A …, the motion); this one "
+            f"has no torques or currents (its columns: {', '.join(sorted(names)[:12]) or 'none'})",
+            source=path,
+        )
+    return names, columns
 
 
 def add_provenance_options(parser: argparse.ArgumentParser) -> None:
@@ -117,8 +159,13 @@ def numbers(text: str, separator: str, option: str, expected: str, count: int | 
     return values
 
 
-def progress(what: str):
-    """A progress callback (done, total) drawing a tqdm bar on a terminal once a run takes over 2 s; None elsewhere."""
+def progress(what: str, unit: str = " samples"):
+    """A progress callback (done, total) drawing a tqdm bar on a terminal once a run takes over 2 s; None elsewhere.
+
+    Args:
+        what: the bar's label.
+        unit: what is counted, as the bar says it (" samples", " snapshots", " steps").
+    """
     if not sys.stderr.isatty():
         return None
     from tqdm import tqdm
@@ -128,7 +175,7 @@ def progress(what: str):
     def update(done: int, total: int) -> None:
         if not bars:
             bars.append(
-                tqdm(total=total, desc=what, unit=" samples", unit_scale=True, delay=2.0, file=sys.stderr, leave=False)
+                tqdm(total=total, desc=what, unit=unit, unit_scale=True, delay=2.0, file=sys.stderr, leave=False)
             )
         bars[0].update(done - bars[0].n)
         if done >= total:

@@ -79,9 +79,14 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     return iso
 
 
-def _is_rig_log(path: str) -> bool:
+def _is_rig_log(path: str, columns: str | None = None) -> bool:
     from ..exceptions import TrajectoryError
     from ..tables import cells, data_lines, detect_separator, read_text_lines
+    from .common import channel_columns
+
+    channels = channel_columns(path, columns)  # a TDMS or HDF5 log: its channels by --columns
+    if channels is not None:
+        return any(name in channels[0] for name in _RIG_COLUMNS)
 
     if Path(path).suffix.lower() in (".mot", ".sto", ".parquet"):
         return False
@@ -100,10 +105,12 @@ def _samples(args, params):
     if args.log and args.trajectory:
         raise HipsimError("give --log or --trajectory, not both")
     args.trajectory = args.trajectory or args.log
-    if args.trajectory and _is_rig_log(args.trajectory):
+    if args.trajectory and _is_rig_log(args.trajectory, args.columns):
+        from ..channels import channel_kind
         from ..rig import load_log
 
-        log = load_log(args.trajectory, params, torque_constant=args.torque_constant, cutoff=args.cutoff)
+        columns = args.columns if channel_kind(args.trajectory) is not None else None
+        log = load_log(args.trajectory, params, args.torque_constant, args.cutoff, columns=columns)
         usable = log.usable
         trajectory = log.trajectory
         return trajectory.t[usable], trajectory.q[usable], trajectory.Fe[usable], log.name, False

@@ -9,7 +9,14 @@ import sys
 
 from ..exceptions import HipsimError
 from ..records import exit_status
-from .common import add_provenance_options, add_summary_format, page_provenance, print_json
+from .common import (
+    add_channel_columns,
+    add_provenance_options,
+    add_summary_format,
+    page_provenance,
+    print_json,
+    progress,
+)
 
 __all__ = ["add_parser", "format_summary", "run"]
 
@@ -20,6 +27,9 @@ DEFAULT_CUTOFF = 20.0
 #: Seconds between looks at the logs with --watch, and since a file's last change before it is read.
 DEFAULT_POLL = 30.0
 DEFAULT_SETTLE = 5.0
+#: Snapshots the baseline needs before the chart starts (the library's MIN_BASELINE), and the fewest it may be set to.
+DEFAULT_BASELINE_MIN = 5
+LEAST_BASELINE_MIN = 2
 
 _DESCRIPTION = """\
 Holds the identified machine (--params, a file written by hipsim identify) fixed and re-estimates, per snapshot, the
@@ -30,19 +40,24 @@ A change of the load term is attributed to the specimen (thrust bearing unchange
 (which it cannot tell apart; with the commanded load logged, Fe_cmd_N, the two loads are compared per snapshot).
 A baseline period after running-in (--baseline) gives the reference level and spread; a two-sided EWMA chart tells
 significant rises and falls: an alarm when the change exceeds --alarm-rise in one station (on the stations' mean: its
-worst case, twice its change), a notice when it is significant but smaller. Snapshots: CSV rig logs with a 'cycle'
-column (files, folders, glob patterns), or long logs cut into --window N cycles. A snapshot that cannot be read is
-skipped and named with its reason; one changed less than --settle seconds ago waits. --watch follows a test in
-progress. Runs on local worker processes (dask.distributed, --workers) or a dask cluster (--scheduler). --out is
-resumed: a rerun estimates only new or changed snapshots. Exit status: 0 no alarm at the last snapshot, 1 an alarm
-active at the last snapshot, 2 bad input or no usable snapshot."""
+worst case, twice its change), a notice when it is significant but smaller. The chart starts once the baseline holds
+--baseline-min snapshots (5). An alarm stays raised (state ALARM, exit 1) until acknowledged with --acknowledge CYCLE
+(recorded in the table). Snapshots: rig logs (CSV, TDMS, HDF5) with a 'cycle' column (files, folders, glob patterns),
+or long logs cut into --window N cycles. A snapshot that cannot be read is skipped and named with its reason, its size
+and SHA-256; a batch run waits up to --settle seconds for files still being written, then reads them; --watch follows
+a test in progress (a file changed less than --settle seconds ago waits for the next look). Runs on local worker
+processes (dask.distributed, --workers) or a dask cluster (--scheduler). --out is resumed: a rerun estimates only new
+or changed snapshots. Exit status: 0 no alarm held at the last snapshot, 1 an alarm held (raised and not
+acknowledged), 2 bad input or no usable snapshot."""
 
 _EXAMPLES = """\
 examples:
   hipsim monitor --params identified.toml --log snapshots/ --out friction.csv --report monitor_report
   hipsim monitor --params identified.toml --log 'logs/snap_*.csv' --baseline 250000:750000 --alarm-rise 0.02
   hipsim monitor --params identified.toml --log long.csv --window 10 --summary-format json
+  hipsim monitor --params identified.toml --log snapshots/ --out friction.csv --acknowledge 4750000
   hipsim monitor --params identified.toml --log snapshots/ --out friction.csv --report page --watch --on-alarm 'notify.sh'
+  hipsim monitor ... --watch --on-alarm "sh -c 'cat > alarm.json'"   (no shell unless you run one)
 """
 
 
@@ -63,7 +78,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         required=True,
         action="append",
         metavar="DIR_OR_FILES",
-        help="snapshot logs: a folder (its *.csv), a file or a glob pattern (repeatable)",
+        help="snapshot logs: a folder (its *.csv, *.tdms, *.h5, *.hdf5), a file or a glob pattern (repeatable)",
     )
     parser.add_argument("--window", type=int, metavar="N", help="cut each log into windows of N cycles (one long log)")
     chart = parser.add_argument_group("chart")
@@ -81,6 +96,23 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         help="engineering threshold: change of the hip friction coefficient in one station, either way "
         f"(default {DEFAULT_ALARM_RISE:g})",
     )
+    chart.add_argument(
+        "--baseline-min",
+        type=int,
+        default=DEFAULT_BASELINE_MIN,
+        metavar="N",
+        help=f"snapshots the baseline needs before the chart starts, a count ≥ {LEAST_BASELINE_MIN} (default "
+        f"{DEFAULT_BASELINE_MIN}; fewer gives notices and early alarms)",
+    )
+    chart.add_argument(
+        "--acknowledge",
+        type=int,
+        action="append",
+        default=[],
+        metavar="CYCLE",
+        help="acknowledge the alarms raised at or before this cycle (a count ≥ 0, at most the last snapshot's; "
+        "recorded in --out; repeatable): an alarm is held, exit 1, until acknowledged",
+    )
     logs = parser.add_argument_group("logs")
     logs.add_argument(
         "--torque-constant", type=float, metavar="NM_PER_A", help="motor torque constant in N·m/A, for logs of currents"
@@ -92,6 +124,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         metavar="HZ",
         help=f"low-pass cutoff (default {DEFAULT_CUTOFF:g} Hz)",
     )
+    add_channel_columns(logs)
     logs.add_argument("--no-filter", action="store_true", help="no low-pass filter (logs filtered already)")
     logs.add_argument(
         "--rate",
@@ -104,7 +137,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         type=float,
         default=DEFAULT_SETTLE,
         metavar="SECONDS",
-        help=f"a file changed less than this ago is still being written and waits (default {DEFAULT_SETTLE:g})",
+        help="seconds ≥ 0: a file changed less than this ago is still being written: a batch run waits for it (at "
+        f"most this long in all) then reads it, --watch reads it at a later look (default {DEFAULT_SETTLE:g} s)",
     )
     follow = parser.add_argument_group("following a test in progress")
     follow.add_argument(
@@ -120,7 +154,9 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     follow.add_argument(
         "--on-alarm",
         metavar="CMD",
-        help="with --watch, run this command once each time an alarm is raised (the summary JSON on its standard input)",
+        help="with --watch, run this program once each time an alarm is raised (the summary JSON on its standard "
+        "input); split like a shell's words but run without a shell: for pipes or redirection run one, "
+        "\"sh -c 'cat > alarm.json'\"",
     )
     engine = parser.add_argument_group("engine (dask.distributed; pip install 'hipsim[sweep]')")
     engine.add_argument(
@@ -160,6 +196,13 @@ def _check(args) -> None:
         raise HipsimError(f"--rate: expected a positive sample rate in Hz, got {args.rate:g}")
     if not (0 <= args.settle < float("inf")):
         raise HipsimError(f"--settle: expected seconds ≥ 0, got {args.settle:g}")
+    if args.baseline_min < LEAST_BASELINE_MIN:
+        raise HipsimError(
+            f"--baseline-min: expected a count of snapshots ≥ {LEAST_BASELINE_MIN}, got {args.baseline_min}"
+        )
+    for cycle in args.acknowledge:
+        if cycle < 0:
+            raise HipsimError(f"--acknowledge: expected a cycle ≥ 0, got {cycle}")
     if not (0 < args.poll < float("inf")):
         raise HipsimError(f"--poll: expected seconds > 0, got {args.poll:g}")
     if args.on_alarm and not args.watch:
@@ -207,6 +250,7 @@ def run(args) -> int:
         torque_constant=args.torque_constant,
         window=args.window,
         rate=args.rate,
+        columns=args.columns,
     )
     provenance = page_provenance(argparse.Namespace(**(vars(args) | {"overrides": []})))
     metadata = {"hipsim": provenance.version, "parameters_file": args.params}
@@ -215,24 +259,24 @@ def run(args) -> int:
     from ..rig.monitoring.monitor_run import run_monitor
     from ..rig.monitoring.snapshots import find_snapshots
 
-    snapshots, skipped = find_snapshots(args.log, args.window, args.settle, args.torque_constant, args.rate)
-    bar = _progress_bar(len(snapshots))
-    try:
-        result = run_monitor(
-            setup,
-            snapshots,
-            baseline,
-            args.alarm_rise,
-            args.out,
-            args.restart,
-            args.workers,
-            args.scheduler,
-            progress=lambda n, total: bar.update(n - bar.n),
-            metadata=metadata,
-            skipped=skipped,
-        )
-    finally:
-        bar.close()
+    snapshots, skipped = find_snapshots(
+        args.log, args.window, args.settle, args.torque_constant, args.rate, wait=True, columns=args.columns
+    )
+    result = run_monitor(
+        setup,
+        snapshots,
+        baseline,
+        args.alarm_rise,
+        args.out,
+        args.restart,
+        args.workers,
+        args.scheduler,
+        progress=progress("monitor", " snapshots"),  # a bar on a terminal (a first run takes a while)
+        metadata=metadata,
+        skipped=skipped,
+        baseline_min=args.baseline_min,
+        acknowledge=args.acknowledge,
+    )
     document = _outputs(args, result, provenance)
     if args.summary_format == "json":
         print_json(document.to_json())
@@ -275,7 +319,11 @@ def _watch(args, setup, baseline, provenance, metadata) -> int:
         last = result.columns
         print(
             f"{len(last['cycle'])} snapshots to cycle {summary.last_cycle}: "
-            + ("ALARM ACTIVE" if summary.alarm_active else "no alarm at the last snapshot")
+            + (
+                f"ALARM (raised at cycle {summary.alarm_raised_at}, held until acknowledged)"
+                if summary.alarm_active
+                else "no alarm held at the last snapshot"
+            )
             + (f"; {last['flag'][-1]}" if last["flag"][-1] else ""),
             flush=True,
         )
@@ -302,17 +350,13 @@ def _watch(args, setup, baseline, provenance, metadata) -> int:
             workers=args.workers,
             scheduler=args.scheduler,
             metadata=metadata,
+            baseline_min=args.baseline_min,
+            acknowledge=args.acknowledge,
         )
     except KeyboardInterrupt:
         print("hipsim: stopped watching; the table and page are those of the last update", file=sys.stderr)
         return 130
     return exit_status([None if result is None else result.state])
-
-
-def _progress_bar(total: int):
-    from tqdm.auto import tqdm
-
-    return tqdm(total=total, disable=not sys.stderr.isatty(), unit="snapshot", delay=2.0, leave=False)
 
 
 def format_summary(document, result) -> str:
@@ -335,16 +379,16 @@ def format_summary(document, result) -> str:
             f"baseline cycles {b.from_}-{b.to}: {b.snapshots} snapshots, load friction "
             f"{significant(b.load_friction_mm, 5)} mm ± {significant(b.spread_mm, 2)} mm between snapshots"
         )
-    for item in summary.skipped:
-        lines.append(f"skipped {item['file']}: {item['reason']}")
-    for item in summary.waiting:
-        lines.append(f"waiting {item['file']}: {item['reason']}")
+    for label, items in (("skipped", summary.skipped), ("waiting", summary.waiting)):
+        for item in items:
+            known = f" ({item['bytes']:,} bytes, SHA-256 {item['sha256']})" if item.get("sha256") else ""
+            lines.append(f"{label} {item['file']}: {item['reason']}{known}")
     if summary.missing:
         lines.append("missing: " + ", ".join(f"{c:,}" for c in summary.missing))
     c = result.columns
     rows = []
     for k in range(len(c["cycle"])):
-        change = c["hip_mu_change"][k]
+        change, ack = c["hip_mu_change"][k], c["acknowledged"][k]
         rows.append(
             [
                 f"{c['cycle'][k] / 1e6:.3f}",
@@ -355,13 +399,25 @@ def format_summary(document, result) -> str:
                 "" if change != change else f"{change:+.4f}",
                 f"{c['residual_rms_Nmm'][k]:.3g}",
                 c["flag"][k],
+                c["state"][k] + ("" if ack != ack else f" (acknowledged {int(ack):,})"),
                 c["note"][k],
             ]
         )
     lines += [
         "",
         format_table(
-            ["Mc", "file", "phase", "load friction [mm]", "std [mm]", "Δμ_h", "residual [N·mm]", "flag", "note"],
+            [
+                "Mc",
+                "file",
+                "phase",
+                "load friction [mm]",
+                "std [mm]",
+                "Δμ_h",
+                "residual [N·mm]",
+                "flag",
+                "state",
+                "note",
+            ],
             rows,
             "Snapshots",
         ),
@@ -371,7 +427,14 @@ def format_summary(document, result) -> str:
     notice = summary.latest_notice
     if notice:
         lines.append("latest " + notice["text"] + f" (cycle {notice['cycle']}, {notice['file']})")
-    lines.append("ALARM ACTIVE at the last snapshot" if summary.alarm_active else "no alarm at the last snapshot")
+    if summary.acknowledged:
+        lines.append("acknowledged: " + ", ".join(f"cycle {c:,}" for c in summary.acknowledged))
+    lines.append(
+        f"state: ALARM, raised at cycle {summary.alarm_raised_at:,} and held until acknowledged "
+        f"(--acknowledge {summary.alarm_raised_at})"
+        if summary.alarm_active
+        else f"state: {summary.state} at the last snapshot"
+    )
     if document.out:
         lines.append(f"wrote {document.out} ({summary.snapshots} rows)")
     if document.report is not None:

@@ -56,7 +56,8 @@ def add_trajectory_options(parser: argparse.ArgumentParser, rate: bool = True) -
         metavar="MAP",
         help="which columns to read (CSV, Parquet, OpenSim): time=COL,alpha=COL,beta=COL,gamma=COL[,load=COL] (or flexion=,adduction=,rotation= "
         "for the hip's ISB joint angles); a unit after a colon (s, ms, %%; deg, rad; N, kN, %%BW), a leading - flips the sign; "
-        "zero for an angle the file does not have (a planar model)",
+        "zero for an angle the file does not have (a planar model); for a TDMS or HDF5 rig log (wear, iso-check), its "
+        "channels: NAME=GROUP/CHANNEL,… or GROUP",
     )
     group.add_argument(
         "--side",

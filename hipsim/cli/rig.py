@@ -18,6 +18,7 @@ from typing import Any
 from ..exceptions import ArgumentError, OutputError
 from ..present.tables import format_table
 from .common import (
+    add_channel_columns,
     add_machine_options,
     add_provenance_options,
     add_summary_format,
@@ -58,6 +59,7 @@ def _add_log_options(parser: argparse.ArgumentParser) -> None:
         metavar="DEG",
         help=f"largest disagreement of attitude sensor and encoders when a log has both (default {DEFAULT_TOLERANCE_DEG:g}°)",
     )
+    add_channel_columns(group)
     group.add_argument(
         "--spin-free-levers",
         action="store_true",
@@ -87,7 +89,7 @@ def add_parser(subparsers) -> None:
         "--log",
         required=True,
         metavar="FILE",
-        help="rig log CSV: t_s, Fe_N, tau_i_Nmm (or current_i_A), angles and/or L_1i_mm",
+        help="rig log (CSV, TDMS or HDF5): t_s, Fe_N, tau_i_Nmm (or current_i_A), angles and/or L_1i_mm",
     )
     add_machine_options(compare)
     _add_log_options(compare)
@@ -177,7 +179,12 @@ def _pieces(path: str, params, args):
     from ..rig.logs import LogPieces
 
     return LogPieces(
-        path, params, torque_constant=args.torque_constant, cutoff=_cutoff(args), tolerance_deg=args.tolerance
+        path,
+        params,
+        torque_constant=args.torque_constant,
+        cutoff=_cutoff(args),
+        tolerance_deg=args.tolerance,
+        columns=args.columns,
     )
 
 

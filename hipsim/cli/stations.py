@@ -55,7 +55,12 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument(
         "--weights", metavar="W1,W2", help="weights of the two platforms' squared errors for both (default 1,1)"
     )
-    p.add_argument("--sliders", metavar="LOG", help="a log's carriages (L_11_mm.. or motor_1_deg..): both attitudes")
+    p.add_argument(
+        "--sliders",
+        metavar="LOG",
+        help="a log's carriages (L_11_mm.. or motor_1_deg..; CSV, Parquet, TDMS or HDF5, its channels by "
+        "--columns NAME=GROUP/CHANNEL): both attitudes",
+    )
     p.add_argument(
         "--bands",
         dest="tolerance",
@@ -177,6 +182,7 @@ def _commands(args, params, weights, out: Path, table: Path) -> int:
 def _sliders(args, params, out: Path, table: Path) -> int:
     import numpy as np
 
+    from ..channels import channel_kind
     from ..files import output_folder
     from ..present.stations_page import write_stations
     from ..stations.commands import attitudes
@@ -184,7 +190,8 @@ def _sliders(args, params, out: Path, table: Path) -> int:
     from ..stations.summary import attitude_columns, sliders_summary
     from .documents import StationsSliders
 
-    t, carriages = read_carriage_log(args.sliders, params.lead)
+    # A TDMS or HDF5 log's channels by --columns (NAME=GROUP/CHANNEL); a CSV's are its header's.
+    t, carriages = read_carriage_log(args.sliders, params.lead, args.columns if channel_kind(args.sliders) else None)
     q = attitudes(params, carriages, None, t, args.sliders)
     flat = np.degrees(q).reshape(len(t), 6)
     columns = {"t_s": t} | {f"L_1{i + 1}_mm": carriages[:, i] * 1e3 for i in range(3)}

@@ -222,7 +222,10 @@ def read_motion(args, spec: str | None):
     path, tag = split_source(spec)
     if tag is None and args.platform and spec == args.trajectory:
         tag = args.platform
-    names = header(path)
+    from .common import channel_columns
+
+    channels = channel_columns(path, args.columns)  # a TDMS or HDF5 log: its channels by --columns
+    names = header(path) if channels is None else channels[0]
     kind = kind_of(names)
     ns = argparse.Namespace(**vars(args))
     ns.trajectory, ns.rate, ns.cycles = path, None, None
@@ -232,7 +235,8 @@ def read_motion(args, spec: str | None):
         from ..rig import load_log
         from .common import parameters
 
-        log = load_log(path, parameters(args), torque_constant=args.torque_constant, cutoff=args.cutoff)
+        columns = None if channels is None else channels[1]
+        log = load_log(path, parameters(args), args.torque_constant, args.cutoff, columns=columns)
         trajectory = log.trajectory.slice(log.usable)
         trajectory = Trajectory(trajectory.t, trajectory.q, trajectory.qd, trajectory.qdd, trajectory.Fe, name=log.name)
         notes.append(f"{log.name}: a rig log, motion from its {log.motion_from}; the filter's edges left out")
@@ -435,7 +439,9 @@ def _one(args, spec, setup, points, law):
     from ..wear.tracks import cycle_tracks
 
     motion, cycle_time, name, path, notes = read_motion(args, spec)
-    maps = wear_maps(motion, cycle_time, setup, points)
+    from .common import progress
+
+    maps = wear_maps(motion, cycle_time, setup, points, progress=progress("wear", " steps"))
     wear = predict_wear(maps, law) if law is not None else None
     if wear is not None and wear.beyond_table:
         notes.append(

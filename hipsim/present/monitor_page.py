@@ -168,6 +168,13 @@ def monitor_verdict(result: MonitorResult) -> Verdict:
     if verdict.level == Level.NOT_MADE:
         return Verdict("open", "NO BASELINE YET", (f"{found.mean.note}.", *told[1:]))
     sentence = verdict.judged[0].upper() + verdict.judged[1:] + "."
+    raised = found.raised_at
+    if verdict.level == Level.ALARM and raised is not None:
+        sentence = (
+            f"An alarm raised at cycle {raised:,} is held at the last snapshot"
+            + (f" (cycle {last_cycle:,})" if last_cycle is not None else "")
+            + f" until acknowledged (hipsim monitor --acknowledge {raised})."
+        )
     return Verdict(verdict.level.state, verdict.level.value, (sentence, *told))
 
 
@@ -202,7 +209,7 @@ def _shown(result: MonitorResult) -> tuple[str, ...]:
     names += ["residual_rms_Nmm"]
     if any(math.isfinite(v) for v in c["load_gain"]):
         names += ["load_gain", "load_gain_change"]
-    return (*names, "stations", "flag", "note")
+    return (*names, "stations", "flag", "state", "acknowledged", "note")
 
 
 def _cell(name: str, value: Any) -> str:
@@ -212,6 +219,8 @@ def _cell(name: str, value: Any) -> str:
         return f"{int(value) * _MC:.3f}"
     if name == "alarm":
         return str(int(value))
+    if name == "acknowledged":
+        return "" if not math.isfinite(float(value)) else f"{int(value):,}"
     return "" if not math.isfinite(float(value)) else significant(float(value), 4)
 
 

@@ -1,7 +1,8 @@
 """Calibration logs read from their files: the carriage encoders and the two platforms' attitude sensors.
 
 A calibration log is a table (CSV, ``;``- or tab-separated, with ``#``
-comments and blank lines skipped, or Parquet) with the columns
+comments and blank lines skipped, Parquet, or a TDMS or HDF5 file of channels by these names,
+:mod:`hipsim.channels`) with the columns
 
 - ``t_s``, evenly or unevenly spaced but increasing;
 - the carriages: ``L_11_mm, L_12_mm, L_13_mm`` (the encoders' reading, as the
@@ -27,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..channels import channel_kind, read_channels
 from ..exceptions import TrajectoryError
 from ..tables import cells, data_lines, detect_separator, number, open_parquet, read_text_lines
 from .calibration import CalibrationLog
@@ -49,9 +51,18 @@ KNOWN_COLUMNS = tuple(tuple(f"known_{a}_{j}_deg" for a in ("alpha", "beta", "gam
 WHAT = "calibration log"
 
 
-def _table(path: str | Path) -> tuple[list[str], dict[str, np.ndarray], np.ndarray | None]:
-    """(header, columns by name as float arrays, the file line of each row or None for Parquet)."""
+def _table(path: str | Path, map: str | None = None) -> tuple[list[str], dict[str, np.ndarray], np.ndarray | None]:
+    """(header, columns by name as float arrays, the file line of each row, or for a TDMS or HDF5 file its sample
+    numbers from 1, or None for Parquet)."""
     source = str(path)
+    if channel_kind(path) is not None:
+        table = read_channels(path, map, WHAT, TrajectoryError)
+        lines = np.arange(1, table.values.shape[0] + 1)
+        return list(table.names), {name: table.values[:, c] for c, name in enumerate(table.names)}, lines
+    if map is not None:
+        raise TrajectoryError(
+            "a column map of channels (--columns GROUP/CHANNEL) applies to TDMS and HDF5 logs", source=source
+        )
     if Path(path).suffix.lower() in (".parquet", ".pq"):
         table = open_parquet(path, WHAT, TrajectoryError).read()
         columns = {}
@@ -99,13 +110,13 @@ def _table(path: str | Path) -> tuple[list[str], dict[str, np.ndarray], np.ndarr
 
 
 def _read(
-    path: str | Path, lead: float, sensors: bool
+    path: str | Path, lead: float, sensors: bool, map: str | None = None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray | None]:
     """(t [s], carriages [m] (N, 3), sensors [rad] (N, 2, 3) or None when not asked for, known [rad] (N, 2, 3) or None)."""
     source = str(path)
     if not math.isfinite(lead) or lead <= 0:
         raise TrajectoryError(f"the screw lead must be positive, got {lead!r}", source=source)
-    header, columns, lines = _table(path)
+    header, columns, lines = _table(path, map)
 
     def missing(names, what):
         absent = [name for name in names if name not in columns]
@@ -177,27 +188,28 @@ def _known(columns: dict[str, np.ndarray], lines: np.ndarray | None, source: str
     return known
 
 
-def read_calibration_log(path: str | Path, lead: float) -> CalibrationLog:
+def read_calibration_log(path: str | Path, lead: float, columns: str | None = None) -> CalibrationLog:
     """A calibration log from its file (module docstring), SI.
 
     Args:
-        path: the file (CSV or Parquet).
+        path: the file (CSV, Parquet, TDMS or HDF5: :mod:`hipsim.channels`).
         lead: the screw's lead p in [m] per motor turn, for motor-angle columns.
+        columns: a TDMS or HDF5 file's column map (``NAME=GROUP/CHANNEL,…``), or None.
 
     Raises:
         TrajectoryError: a missing column (a platform's sensor, the carriages), a cell that is no finite number,
             time that does not increase, too few rows.
     """
-    t, carriages, sensors, known = _read(path, lead, sensors=True)
+    t, carriages, sensors, known = _read(path, lead, sensors=True, map=columns)
     assert sensors is not None
     return CalibrationLog(str(path), t, carriages, sensors, known)
 
 
-def read_carriage_log(path: str | Path, lead: float) -> tuple[np.ndarray, np.ndarray]:
+def read_carriage_log(path: str | Path, lead: float, columns: str | None = None) -> tuple[np.ndarray, np.ndarray]:
     """A log's times in [s] (N,) and carriage readings in [m] (N, 3), the sensors not needed (``stations --sliders``).
 
     Raises:
         TrajectoryError: as :func:`read_calibration_log`, but for the sensors.
     """
-    t, carriages, _, _ = _read(path, lead, sensors=False)
+    t, carriages, _, _ = _read(path, lead, sensors=False, map=columns)
     return t, carriages

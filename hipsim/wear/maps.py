@@ -22,6 +22,7 @@ best of which it restarts should one beat it.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -41,6 +42,8 @@ PIECE = 20_000
 #: with the motion: some 100 cycles at 1 kHz take minutes on the default grid); a longer one is re-read in pieces by the
 #: L1 iteration, in constant memory.
 KEEP_SAMPLES = 100_000
+#: Cup points per step of the exact direction search, for a progress bar (the search is per point: any split is exact).
+POINTS_PER_STEP = 2_000
 #: Most fixed-point iterations per point (they stop in a handful).
 MAX_ITERATIONS = 200
 
@@ -188,6 +191,7 @@ def wear_maps(
     setup: CupSetup | None = None,
     points: CupPoints | None = None,
     piece: int = PIECE,
+    progress: Callable[[int, int], None] | None = None,
 ) -> WearMaps:
     """Sliding distance, work and cross-shear per cup point, and the force track, per cycle of a motion.
 
@@ -197,6 +201,8 @@ def wear_maps(
         setup: the cup and head (default :class:`CupSetup`: 28 mm head, cup on the platform).
         points: the cup's points (default :func:`hipsim.wear.points.cup_grid` 90 × 180).
         piece: samples per piece (memory is bounded by it, not by the motion's length).
+        progress: called with (steps done, steps in all) after each piece of the first pass and each part of the
+            cup's points the direction search has done (a progress bar on a fine grid); None: not called.
 
     Raises:
         TrajectoryError: a motion shorter than one cycle (a motion that is not periodic may lack the cycle's closing
@@ -235,6 +241,9 @@ def wear_maps(
     tensor, coarse = np.zeros((P, 3)), np.zeros((P, angles.size))
     track = track_load = 0.0
     kept: list[_Piece] | None = [] if n <= KEEP_SAMPLES else None
+    # Progress: the first pass's pieces, then the exact search's parts of the points (each point alone: exact).
+    parts = [(a, min(a + POINTS_PER_STEP, P)) for a in range(0, P, POINTS_PER_STEP)] if kept is not None else []
+    steps, done = -(-n // piece) + len(parts), 0
     for part in _pieces(source, setup, piece):
         first_pass(
             t1, t2, w, part.omega, part.n, part.load_dt, part.dt, coef, s, s_loaded, work, tensor, coarse, kept is None
@@ -243,6 +252,9 @@ def wear_maps(
         track_load += float(np.sum(part.n_speed * part.load_dt))
         if kept is not None:
             kept.append(part)
+        done += 1
+        if progress is not None:
+            progress(done, steps)
 
     def again():
         return kept if kept is not None else _pieces(source, setup, piece)
@@ -252,7 +264,14 @@ def wear_maps(
         normal = np.ascontiguousarray(np.concatenate([part.n for part in kept]))
         load_dt = np.ascontiguousarray(np.concatenate([part.load_dt for part in kept]))
         theta, along, across = np.zeros(P), np.zeros(P), np.zeros(P)
-        exact_direction(t1, t2, w, omega, normal, load_dt, coef, work > 0.0, theta, along, across)
+        active = work > 0.0
+        for a, b in parts:
+            exact_direction(
+                t1[a:b], t2[a:b], w[a:b], omega, normal, load_dt, coef, active[a:b], theta[a:b], along[a:b], across[a:b]
+            )
+            done += 1
+            if progress is not None:
+                progress(done, steps)
         m, iterations = np.stack([np.cos(theta), np.sin(theta)], axis=1), 0
     else:
         along, across, m, iterations = _principal(t1, t2, w, coef, again, work > 0.0, tensor, coarse, directions)

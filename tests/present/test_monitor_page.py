@@ -33,7 +33,20 @@ def logs(tmp_path_factory):
 def _monitor(tmp_path, logs, *more):
     params = write_identified(tmp_path / "identified.toml")
     report = tmp_path / "report"
-    argv = ["monitor", "--settle", "0", "--params", str(params), "--log", str(logs), "--report", str(report), *more]
+    argv = [
+        "monitor",
+        "--baseline-min",
+        "3",
+        "--settle",
+        "0",
+        "--params",
+        str(params),
+        "--log",
+        str(logs),
+        "--report",
+        str(report),
+        *more,
+    ]
     return main(argv), report
 
 

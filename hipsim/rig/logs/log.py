@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 import tempfile
 from abc import ABC, abstractmethod
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -213,11 +213,12 @@ def load_log(
     torque_constant: float | None = None,
     cutoff: float | None = DEFAULT_CUTOFF,
     tolerance_deg: float = DEFAULT_TOLERANCE_DEG,
+    columns: str | Mapping[str, str] | None = None,
 ) -> MeasuredLog:
     """Read a rig log and make it ready for the models.
 
     Args:
-        path: the CSV log (columns in :mod:`hipsim.rig.logs.reader`).
+        path: the log: CSV, TDMS or HDF5 (columns in :mod:`hipsim.rig.logs.reader`).
         params: the machine (for the encoders' forward kinematics); None for the published one.
         torque_constant: the motors' torque constant in [N·m/A], for logs of motor currents.
         cutoff: low-pass cutoff in [Hz] for motion, load and torques; None for
@@ -225,6 +226,7 @@ def load_log(
         tolerance_deg: largest disagreement in [deg] between the attitude
             sensor's angles and the encoders' when the log has both (the
             encoders are used; beyond this the log is refused).
+        columns: a TDMS or HDF5 log's column map (``NAME=GROUP/CHANNEL,…``; :mod:`hipsim.channels`), or None.
 
     Returns:
         The log, filtered and differentiated; its first and last
@@ -235,7 +237,7 @@ def load_log(
             errors, encoder heights no pose reaches, a disagreement of the two
             motion sources, a log too short to filter.
     """
-    with LogPieces(path, params, torque_constant, cutoff, tolerance_deg) as pieces:
+    with LogPieces(path, params, torque_constant, cutoff, tolerance_deg, columns=columns) as pieces:
         return pieces.whole()
 
 
@@ -258,7 +260,7 @@ class LogPieces(Log):
     in the last digits).
 
     Args:
-        path, params, torque_constant, cutoff, tolerance_deg: as :func:`load_log`.
+        path, params, torque_constant, cutoff, tolerance_deg, columns: as :func:`load_log`.
         piece: samples per piece (at least what the filter needs).
         raw: the file already scanned (:class:`~hipsim.rig.logs.reader.RigLogFile`, e.g. with kept columns or a
             window of its lines), or None to scan ``path``.
@@ -276,13 +278,16 @@ class LogPieces(Log):
         tolerance_deg: float = DEFAULT_TOLERANCE_DEG,
         piece: int = PIECE,
         raw: RigLogFile | None = None,
+        columns: str | Mapping[str, str] | None = None,
     ):
         if isinstance(piece, bool) or not isinstance(piece, int) or piece < 1:
             raise ArgumentError("piece", piece, "a positive number of samples")
         self.params = params if params is not None else load_parameters()
         # The scan's blocks no larger than a piece; a file scanned already (with the reader's options) is taken as is.
         given = raw is not None
-        self.raw = raw = raw if raw is not None else RigLogFile(path, torque_constant, block=max(piece, 1000))
+        self.raw = raw = (
+            raw if raw is not None else RigLogFile(path, torque_constant, block=max(piece, 1000), columns=columns)
+        )
         try:
             self._describe(torque_constant, cutoff, tolerance_deg, piece)
         except BaseException:  # refused: the store this one opened is dropped now, not at the garbage collector's turn

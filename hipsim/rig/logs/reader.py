@@ -27,6 +27,7 @@ import difflib
 import io
 import math
 import tempfile
+from collections.abc import Mapping
 from dataclasses import dataclass
 from itertools import chain
 from pathlib import Path
@@ -34,12 +35,13 @@ from pathlib import Path
 import numpy as np
 
 from ...arrays import check_shapes
+from ...channels import channel_kind, read_channels
 from ...exceptions import TrajectoryError
 from ...motion.build import MAX_LOAD, check_time, check_time_unit, relative_time
 from ...motion.trajectories import ANGLE_NAMES
-from ...tables import blank, cells, detect_separator, open_text
-from ...tables import number as parse_number
+from ...tables import blank, open_text
 from .blocks import Hashed, Reread, line_blocks, text_blocks
+from .text_rows import header_of, parse_block, parse_lines
 
 __all__ = ["CURRENT_COLUMNS", "HEIGHT_COLUMNS", "TORQUE_COLUMNS", "RigLog", "RigLogFile", "read_rig_log"]
 
@@ -98,96 +100,13 @@ class RigLog:
 # --- The reader -----------------------------------------------------------------------------
 
 
-def _header(rows, source: str) -> tuple[list[str], int, str, tuple[int, str] | None]:
-    """The header, its line number, the separator and the first row (tab, ';' or ',': :func:`hipsim.tables.detect_separator`); a repeated name refused."""
-    first = next(rows, None)
-    if first is None:
-        raise TrajectoryError("the file is empty", source=source)
-    number, text = first
-    row = next(rows, None)
-    try:
-        separator = detect_separator(text, row[1] if row is not None else None)
-        header = [cell.strip() for cell in cells(text.rstrip("\r\n"), separator, 0)]
-    except ValueError as error:
-        raise TrajectoryError(str(error), source=source, line=number) from None
-    seen = set()
-    for name in header:
-        if name in seen:
-            raise TrajectoryError(f"column '{name}' appears twice", source=source, line=number, column=name)
-        seen.add(name)
-    return header, number, separator, row
-
-
-def _block(
-    block: list[tuple[int, str]], header: list[str], separator: str, source: str
-) -> tuple[np.ndarray, np.ndarray]:
-    """Values (M, C) and file lines (M,) of a block of (line number, line)."""
-    decimal_comma = separator != ","  # as in a trajectory file: 1,5 is 1.5 in a tab- or semicolon-separated log
-    numbers = np.array([number for number, _ in block], dtype=np.int64)
-    if not block:  # a block of comments and blank lines: NumPy's loadtxt would warn of no data
-        return np.empty((0, len(header))), numbers
-    # The fast path: no "_" in a number (Python's float() would read "1_0" as 10; the slow path below refuses it by line).
-    if not any("_" in line for _, line in block):
-        text = "".join(line if line.endswith("\n") else line + "\n" for _, line in block)
-        if decimal_comma:
-            text = text.replace(",", ".")
-        try:
-            values = np.loadtxt(io.StringIO(text), delimiter=separator, ndmin=2, dtype=float)
-        except ValueError:
-            values = None
-        if values is not None and values.shape == (len(block), len(header)):
-            return values, numbers
-    values = np.empty((len(block), len(header)))
-    for k, (number, line) in enumerate(block):
-        try:
-            row = cells(line.rstrip("\r\n"), separator, len(header))
-        except ValueError as error:
-            raise TrajectoryError(str(error), source=source, line=number) from None
-        if len(row) != len(header):
-            hint = (
-                " (decimal commas? a comma-separated log needs decimal points)"
-                if separator == "," and len(row) > len(header)
-                else ""
-            )
-            raise TrajectoryError(f"{len(row)} cells, the header has {len(header)}{hint}", source=source, line=number)
-        for c, (name, cell) in enumerate(zip(header, row)):
-            try:
-                values[k, c] = parse_number(cell, decimal_comma)
-            except ValueError:
-                raise TrajectoryError(
-                    f"'{cell.strip()}' is not a number", source=source, line=number, column=name
-                ) from None
-    return values, numbers
-
-
-def _lines_block(
-    number: int, lines: list[str], header: list[str], separator: str, source: str
-) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`_block` of consecutive lines from line ``number``: at once when every one is a row of numbers."""
-    text = "\n".join(lines) + "\n"
-    # Not for empty lines alone: NumPy's loadtxt would warn of no data.
-    if "#" not in text and "_" not in text and any(lines):
-        try:
-            values = np.loadtxt(
-                io.StringIO(text.replace(",", ".") if separator != "," else text),
-                delimiter=separator,
-                ndmin=2,
-                dtype=float,
-            )
-        except ValueError:
-            values = None
-        if values is not None and values.shape == (len(lines), len(header)):  # a blank line would be one row less
-            return values, np.arange(number, number + len(lines), dtype=np.int64)
-    return _block(_data(number, lines), header, separator, source)
-
-
-def _missing(name: str, header: list[str], what: str, source: str, line: int) -> TrajectoryError:
+def _missing(name: str, header: list[str], what: str, source: str, line: int | None) -> TrajectoryError:
     close = difflib.get_close_matches(name, header, n=1, cutoff=0.7)
     hint = f" (the file has '{close[0]}': check the name and its unit)" if close else ""
     return TrajectoryError(f"missing {what} column '{name}'{hint}", source=source, line=line)
 
 
-def _group(names: tuple[str, ...], header: list[str], what: str, source: str, line: int) -> bool:
+def _group(names: tuple[str, ...], header: list[str], what: str, source: str, line: int | None) -> bool:
     """True if all of ``names`` are columns, False if none is; a partial group is an error naming the first missing."""
     present = [name in header for name in names]
     if all(present):
@@ -211,11 +130,6 @@ class _Worst:
             self.value, self.line, self.column = float(values[k, c]), int(lines[k]), names[c]
 
 
-def _data(number: int, lines: list[str]) -> list[tuple[int, str]]:
-    """(line number, line) of a block's lines that hold something: blank lines and ``#`` comments left out."""
-    return [(number + k, line) for k, line in enumerate(lines) if not blank(line) and not line.lstrip().startswith("#")]
-
-
 class RigLogFile:
     """A rig log scanned once in blocks, every value checked, its samples then read back a piece at a time.
 
@@ -225,7 +139,8 @@ class RigLogFile:
     messages are :func:`read_rig_log`'s (which is this, read whole).
 
     Args:
-        path: the CSV file (columns in the module docstring).
+        path: the CSV file (columns in the module docstring), or a TDMS or HDF5 file of those channels
+            (:mod:`hipsim.channels`).
         torque_constant: the motors' torque constant in [N·m/A], for logs of motor currents.
         block: lines parsed at a time (and some hundred bytes a line read at a time, 4 MiB at most).
         keep: other columns to keep as they are (numbers, checked finite like every cell), in :attr:`kept` by name
@@ -235,7 +150,10 @@ class RigLogFile:
             and span the same time to 1 %. None: the file's times, checked evenly spaced.
         lines: (first, stop): read only the data lines first ≤ line < stop (a window of a long log; the header is
             the file's), or None for all. The file is read no further than the block holding line stop − 1, and
-            nothing after the window is parsed; :attr:`sha256` is then of the bytes read, not the file's.
+            nothing after the window is parsed; :attr:`sha256` is then of the bytes read, not the file's. (A TDMS or
+            HDF5 file's "lines" are its samples' numbers from 1; :attr:`sha256` is the whole file's.)
+        columns: a TDMS or HDF5 file's column map (:func:`hipsim.channels.read_channels`: ``NAME=GROUP/CHANNEL,…``,
+            a bare ``GROUP`` read by its names), or None for its one group by its names; refused for a CSV.
 
     Raises:
         TrajectoryError: as :func:`read_rig_log`.
@@ -249,17 +167,64 @@ class RigLogFile:
         keep: tuple[str, ...] = (),
         rate: float | None = None,
         lines: tuple[int, int] | None = None,
+        columns: str | Mapping[str, str] | None = None,
     ):
         self.source = str(path)
         try:
-            self._read(path, torque_constant, block, keep, rate, (1, math.inf) if lines is None else lines)
+            window = (1, math.inf) if lines is None else lines
+            self._read(path, torque_constant, block, keep, rate, window, columns)
         except BaseException:  # a refused file leaves no temporary store open until the garbage collector's turn
             if hasattr(self, "_store"):
                 self._store.close()
             raise
 
-    def _read(self, path, torque_constant, block: int, keep: tuple[str, ...], rate, window: tuple[int, float]) -> None:
+    def _read(
+        self, path, torque_constant, block: int, keep: tuple[str, ...], rate, window: tuple[int, float], columns
+    ) -> None:
         """Scan the file (see the class's arguments), storing its lines and setting the attributes."""
+        source = self.source
+        if channel_kind(path) is not None:
+            times, numbers, state = self._channels(path, columns, torque_constant, block, keep, window)
+        else:
+            if columns is not None:
+                raise TrajectoryError(
+                    "a column map of channels (--columns GROUP/CHANNEL) applies to TDMS and HDF5 logs; a CSV log "
+                    "is read by its header's names",
+                    source=source,
+                )
+            times, numbers, state = self._text(path, torque_constant, block, keep, window)
+        worst, low, high, bad, kept = state
+        if not times:
+            raise TrajectoryError("no samples below the header", source=source)
+        if bad is not None:
+            raise TrajectoryError(bad[0], source=source, line=bad[1], column=bad[2])
+        self.t = np.concatenate(times)
+        del times  # one copy at a time: an hour's log has 3.6 M of each
+        self.lines = np.concatenate(numbers)
+        del numbers
+        #: The columns asked for with ``keep`` that the file has, by name, (N,) each.
+        self.kept = {name: np.concatenate(parts) for name, parts in kept.items()}
+        self._check(worst, low, high, rate)
+
+    def _channels(self, path, columns, torque_constant, block: int, keep: tuple[str, ...], window):
+        """A TDMS or HDF5 file's channels (:func:`hipsim.channels.read_channels`) stored as a CSV's rows would be;
+        its "lines" are the samples' numbers, from 1."""
+        table = read_channels(path, columns, "log file", TrajectoryError)
+        #: The file's SHA-256 (hex) and size in [bytes] (of the whole file, a window's too).
+        self.sha256, self.size = table.sha256, table.size
+        first, stop = window
+        n = table.values.shape[0]
+        lo, hi = max(0, int(first) - 1), int(min(n, stop - 1))
+
+        def parsed():
+            for a in range(lo, hi, block):
+                b = min(a + block, hi)
+                yield table.values[a:b], np.arange(a + 1, b + 1, dtype=np.int64)
+
+        return self._store_blocks(list(table.names), None, parsed, torque_constant, keep)
+
+    def _text(self, path, torque_constant, block: int, keep: tuple[str, ...], window):
+        """A CSV (or ``;``/tab-separated) log scanned in blocks of lines."""
         source = self.source
         with open_text(path, "log file", TrajectoryError) as opened:
             hashed = Hashed(opened)
@@ -279,18 +244,7 @@ class RigLogFile:
             # Read whole, the scan has reached the file's end (hashed to its last byte); a window's read stops after it.
         #: The file's SHA-256 (hex) and size in [bytes], of the bytes this one read parsed.
         self.sha256, self.size = hashed.digest.hexdigest(), hashed.size
-        worst, low, high, bad, kept = state
-        if not times:
-            raise TrajectoryError("no samples below the header", source=source)
-        if bad is not None:
-            raise TrajectoryError(bad[0], source=source, line=bad[1], column=bad[2])
-        self.t = np.concatenate(times)
-        del times  # one copy at a time: an hour's log has 3.6 M of each
-        self.lines = np.concatenate(numbers)
-        del numbers
-        #: The columns asked for with ``keep`` that the file has, by name, (N,) each.
-        self.kept = {name: np.concatenate(parts) for name, parts in kept.items()}
-        self._check(worst, low, high, rate)
+        return times, numbers, state
 
     def _scan(self, blocks, torque_constant, block: int, keep: tuple[str, ...], window: tuple[int, float]):
         """Parse the blocks: the header, then every data line's values checked and stored; the times and lines kept.
@@ -310,29 +264,34 @@ class RigLogFile:
             if len(found) == 2:
                 break
         rows = iter(found)
-        header, header_line, separator, first_row = _header(rows, source)
-        self._layout(header, header_line, torque_constant)
-        kept_index = {name: header.index(name) for name in keep if name in header}
-        kept: dict[str, list[np.ndarray]] = {name: [] for name in kept_index}
-        self._store = tempfile.TemporaryFile()
-        times, numbers = [], []
+        header, header_line, separator, first_row = header_of(rows, source)
         first, stop = window
-        worst = {"torque": _Worst(), "angle": _Worst(), "height": _Worst()}
-        low = high = None  # (load, line) of the least and largest load, first occurrences
-        bad = None
 
         def parsed():
             if first_row is not None and first <= first_row[0] < stop:
-                yield _block([first_row], header, separator, source)
+                yield parse_block([first_row], header, separator, source)
             # The rest of the header's block, then the blocks after it (a comment or blank line: line by line);
             # of a window, only its lines, and no block read after the one that holds its last.
             for number, lines in chain([after], blocks):
                 lo = max(0, first - number)
                 hi = len(lines) if number + len(lines) <= stop else max(0, int(stop - number))
                 for a in range(lo, hi, block):
-                    yield _lines_block(number + a, lines[a : min(a + block, hi)], header, separator, source)
+                    yield parse_lines(number + a, lines[a : min(a + block, hi)], header, separator, source)
                 if number + len(lines) >= stop:
                     return
+
+        return self._store_blocks(header, header_line, parsed, torque_constant, keep)
+
+    def _store_blocks(self, header: list[str], header_line: int | None, parsed, torque_constant, keep: tuple[str, ...]):
+        """Check and store the values of ``parsed()``'s blocks ((values (M, C), their lines (M,))) under ``header``."""
+        self._layout(header, header_line, torque_constant)
+        kept_index = {name: header.index(name) for name in keep if name in header}
+        kept: dict[str, list[np.ndarray]] = {name: [] for name in kept_index}
+        self._store = tempfile.TemporaryFile()
+        times, numbers = [], []
+        worst = {"torque": _Worst(), "angle": _Worst(), "height": _Worst()}
+        low = high = None  # (load, line) of the least and largest load, first occurrences
+        bad = None
 
         for values, at in parsed():
             if bad is None and not np.all(np.isfinite(values)):
@@ -360,7 +319,7 @@ class RigLogFile:
         return times, numbers, (worst, low, high, bad, kept)
 
     # The columns of the store, in SI: t, Fe, τ (3), then the angles (3) and the heights (3) when the log has them.
-    def _layout(self, header: list[str], header_line: int, torque_constant) -> None:
+    def _layout(self, header: list[str], header_line: int | None, torque_constant) -> None:
         source = self.source
         column = {name: k for k, name in enumerate(header)}
         for name in ("t_s", "Fe_N"):

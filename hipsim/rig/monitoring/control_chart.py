@@ -49,9 +49,11 @@ __all__ = [
     "DEFAULT_BASELINE",
     "EWMA_L",
     "EWMA_LAMBDA",
+    "LEAST_BASELINE",
     "MIN_BASELINE",
     "Chart",
     "chart",
+    "check_baseline_min",
     "parse_baseline",
 ]
 
@@ -63,8 +65,11 @@ DEFAULT_BASELINE = (500_000, 1_000_000)
 #: EWMA weight λ and limit width L (in standard deviations of the EWMA statistic).
 EWMA_LAMBDA = 0.2
 EWMA_L = 3.0
-#: Snapshots the baseline needs before the chart starts.
-MIN_BASELINE = 3
+#: Snapshots the baseline needs before the chart starts, by default: with three, σ₀ is so uncertain (its 95 % interval
+#: spans a factor 6) that a chart on it gives notices and early alarms (issue 47); ``baseline_min`` changes it.
+MIN_BASELINE = 5
+#: The fewest a baseline may be set to need: a spread needs two.
+LEAST_BASELINE = 2
 
 
 def parse_baseline(text: str) -> tuple[int, int]:
@@ -81,6 +86,21 @@ def parse_baseline(text: str) -> tuple[int, int]:
     if low < 0 or high < low:
         raise ArgumentError("baseline", text, "FROM:TO in cycles, 0 ≤ FROM ≤ TO, e.g. 500000:1000000")
     return low, high
+
+
+def check_baseline_min(baseline_min: int) -> int:
+    """``baseline_min`` checked: a whole number of snapshots ≥ :data:`LEAST_BASELINE`.
+
+    Raises:
+        ArgumentError: anything else.
+    """
+    if (
+        isinstance(baseline_min, bool)
+        or not isinstance(baseline_min, (int, np.integer))
+        or baseline_min < LEAST_BASELINE
+    ):
+        raise ArgumentError("baseline_min", baseline_min, f"a whole number of snapshots ≥ {LEAST_BASELINE}")
+    return int(baseline_min)
 
 
 @dataclass(frozen=True)
@@ -135,6 +155,7 @@ def chart(
     worst: float = 1.0,
     lam: float = EWMA_LAMBDA,
     width: float = EWMA_L,
+    baseline_min: int = MIN_BASELINE,
 ) -> Chart:
     """The control chart of the load friction estimates.
 
@@ -148,11 +169,13 @@ def chart(
         worst: the worst station's change per change of the estimate (2 for the mean of two stations).
         lam: EWMA weight λ in (0, 1].
         width: limit width L.
+        baseline_min: snapshots the baseline needs before the chart starts (at least :data:`LEAST_BASELINE`).
     """
     if not (isinstance(alarm_rise, (int, float)) and math.isfinite(alarm_rise) and alarm_rise > 0):
         raise ArgumentError("alarm_rise", alarm_rise, "a positive rise of the hip friction coefficient, e.g. 0.01")
     if not (math.isfinite(worst) and worst >= 1.0):
         raise ArgumentError("worst", worst, "the worst station's change per change of the estimate, at least 1")
+    check_baseline_min(baseline_min)
     first = np.asarray(cycles, dtype=np.int64)
     x, s = np.asarray(estimate, dtype=float), np.asarray(std, dtype=float)
     n = x.size
@@ -163,10 +186,11 @@ def chart(
     inside = (phase == "baseline") & known
     count = int(np.count_nonzero(inside))
     none = np.zeros(n, dtype=int)
-    if count < MIN_BASELINE:
+    if count < baseline_min:
         note = (
-            f"baseline incomplete: {count} of the {MIN_BASELINE} snapshots it needs within cycles {low}-{high}; "
-            "the chart starts once it has them"
+            f"baseline incomplete: {count} of the {baseline_min} snapshots it needs within cycles {low}-{high}; "
+            "the chart starts once it has them (widen --baseline or log snapshots more often"
+            + (f"; --baseline-min {count} would chart on fewer, with notices and early alarms)" if count >= 2 else ")")
         )
         blank = np.full(n, "", dtype=object)
         return Chart(

@@ -24,7 +24,8 @@ from typing import Any
 
 import numpy as np
 
-from .control_chart import Chart, chart
+from ...exceptions import ArgumentError
+from .control_chart import MIN_BASELINE, Chart, chart
 from .snapshots import Skipped
 
 __all__ = [
@@ -33,7 +34,9 @@ __all__ = [
     "Findings",
     "change_text",
     "duplicates",
+    "check_acknowledged",
     "find",
+    "hold",
     "load_cell_text",
     "missing_cycles",
 ]
@@ -58,6 +61,10 @@ class Findings:
         load_gain_change: per snapshot the measured over commanded load relative to its baseline mean, minus 1 (NaN
             without the commanded load or its baseline).
         notes: per snapshot the notes (incomplete, cut, load-cell drift).
+        state: per snapshot "ALARM" (an alarm raised here or before and not acknowledged), "NOTICE", "OK", or
+            "NO BASELINE" (:func:`hold`).
+        acknowledged: per snapshot the cycle of the acknowledgement that takes effect there (NaN: none).
+        raised_at: the first cycle of the alarm held at the last snapshot, or None.
     """
 
     mean: Chart
@@ -68,6 +75,18 @@ class Findings:
     latest_notice: dict[str, Any] | None
     load_gain_change: np.ndarray
     notes: list[str]
+    state: list[str]
+    acknowledged: np.ndarray
+    raised_at: int | None
+
+    @property
+    def alarm_held(self) -> bool:
+        """Whether an alarm is held at the last snapshot (raised and not acknowledged): exit status 1."""
+        return bool(self.state) and self.state[-1] == "ALARM"
+
+    def acknowledgements(self) -> tuple[int, ...]:
+        """The acknowledged cycles recorded in the table, ascending."""
+        return tuple(int(a) for a in self.acknowledged[np.isfinite(self.acknowledged)])
 
 
 def _gain_for(change: float, a0_mm: float, hip_radius_mm: float) -> float:
@@ -135,14 +154,83 @@ def _describe(
     }
 
 
+def hold(
+    cycles: Sequence[int],
+    alarm: Sequence[int] | np.ndarray,
+    flag: Sequence[str],
+    acknowledge: Sequence[int],
+    charted: bool = True,
+) -> tuple[list[str], np.ndarray, int | None]:
+    """An alarm held until acknowledged: each snapshot's state, where each acknowledgement is recorded, the alarm held.
+
+    An acknowledgement at cycle C acknowledges every alarm raised at a snapshot of first cycle ≤ C, from the first
+    snapshot of cycle ≥ C on (there it is recorded); an alarm raised after C is held anew. A snapshot's state is
+    "ALARM" while an alarm raised there or before is not acknowledged, else "NOTICE" for a notice, else "OK"
+    ("NO BASELINE" throughout while the chart cannot start, ``charted`` False).
+
+    Args:
+        cycles: each snapshot's first cycle, ascending.
+        alarm: 1 where the snapshot is an alarm.
+        flag: each snapshot's flag ("notice: …" for a notice).
+        acknowledge: acknowledged cycles.
+        charted: whether the chart could start.
+
+    Returns:
+        (state per snapshot, acknowledged cycle recorded per snapshot (NaN: none), first cycle of the alarm held at
+        the last snapshot or None).
+    """
+    acks = sorted(set(int(a) for a in acknowledge))
+    recorded = np.full(len(cycles), math.nan)
+    state: list[str] = []
+    pending: list[int] = []  # first cycles of the alarms raised so far and not acknowledged
+    done = 0  # acknowledgements taken into account
+    for k, cycle in enumerate(cycles):
+        if alarm[k]:
+            pending.append(int(cycle))
+        while done < len(acks) and acks[done] <= cycle:
+            recorded[k] = acks[done]
+            pending = [c for c in pending if c > acks[done]]
+            done += 1
+        if not charted:
+            state.append("NO BASELINE")
+        else:
+            state.append("ALARM" if pending else ("NOTICE" if "notice" in flag[k] else "OK"))
+    raised = pending[0] if pending else None
+    return state, recorded, raised
+
+
+def check_acknowledged(
+    acknowledge: Sequence[int], cycles: Sequence[int], alarm: Sequence[int] | np.ndarray, last: int
+) -> None:
+    """New acknowledgements checked: each must cover an alarm raised at or before it, and not lie past the last cycle.
+
+    Raises:
+        ArgumentError: naming the cycle and the alarms there are.
+    """
+    raised = [int(c) for c, a in zip(cycles, alarm) if a]
+    said = ", ".join(f"{c:,}" for c in raised[:10]) or "none"
+    for c in acknowledge:
+        if isinstance(c, bool) or not isinstance(c, (int, np.integer)) or c < 0:
+            raise ArgumentError("acknowledge", c, "a cycle, a whole number ≥ 0")
+        if not any(r <= c for r in raised) or c > last:  # past the last snapshot it would be recorded nowhere
+            raise ArgumentError(
+                "acknowledge",
+                c,
+                f"the cycle of a raised alarm, at most the last snapshot's cycle {last:,} (alarms raised at: {said})",
+            )
+
+
 def find(
     rows: Sequence[dict[str, Any]],
     hip_radius_mm: float,
     two_stations: bool,
     baseline: tuple[int, int],
     alarm_rise: float,
+    baseline_min: int = MIN_BASELINE,
+    acknowledge: Sequence[int] = (),
 ) -> Findings:
-    """The charts over the rows (sorted by cycle) and what they find (module docstring)."""
+    """The charts over the rows (sorted by cycle) and what they find (module docstring); an alarm held until one of
+    ``acknowledge`` (cycles) covers it (:func:`hold`)."""
     cycles = [int(r["cycle"]) for r in rows]
 
     def column(name: str) -> np.ndarray:
@@ -156,6 +244,7 @@ def find(
         baseline,
         alarm_rise,
         worst=2.0 if two_stations else 1.0,
+        baseline_min=baseline_min,
     )
     separated = np.array([r["stations"] == "separated" for r in rows], dtype=bool)
     stations: tuple[Chart, Chart] | None = None
@@ -168,6 +257,7 @@ def find(
                 hip_radius_mm,
                 baseline,
                 alarm_rise,
+                baseline_min=baseline_min,
             )
             for p in (1, 2)
         ]
@@ -198,7 +288,8 @@ def find(
                 latest = described
         flag.append("; ".join(texts))
     notes = _notes(rows, gain_change)
-    return Findings(mean, stations, flag, alarm, first, latest, gain_change, notes)
+    state, recorded, raised = hold(cycles, alarm, flag, acknowledge, not mean.note)
+    return Findings(mean, stations, flag, alarm, first, latest, gain_change, notes, state, recorded, raised)
 
 
 def _notes(rows, gain_change: np.ndarray) -> list[str]:
@@ -252,6 +343,8 @@ def duplicates(rows: list[dict[str, Any]], paths: dict[str, str]) -> tuple[list[
                     f"{path}: covers cycles {row['cycle']}-{row['last_cycle']}, as does {before['file']} "
                     f"({before['cycle']}-{before['last_cycle']}): each cycle in one snapshot only (a copied file?)",
                     "duplicate",
+                    size=None if row.get("bytes") is None else int(row["bytes"]),
+                    sha256=row.get("sha256", ""),
                 )
             )
             continue

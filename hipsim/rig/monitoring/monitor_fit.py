@@ -110,6 +110,7 @@ class MonitorSetup:
         tolerance_deg: the attitude sensor's allowed disagreement with the encoders in [deg].
         window: cycles per window of a long log, or None (one snapshot a file).
         rate: the sample rate in [Hz] the times are read from (the sample index), or None for the logs' time stamps.
+        columns: a TDMS or HDF5 snapshot's column map (``NAME=GROUP/CHANNEL,…``, :mod:`hipsim.channels`), or None.
     """
 
     params: Parameters
@@ -119,6 +120,7 @@ class MonitorSetup:
     tolerance_deg: float = DEFAULT_TOLERANCE_DEG
     window: int | None = None
     rate: float | None = None
+    columns: str | None = None
 
     def __post_init__(self):
         f = self.params.friction
@@ -149,6 +151,8 @@ class MonitorSetup:
                     "torque_constant": self.torque_constant,
                     "tolerance_deg": self.tolerance_deg,
                     "rate": self.rate,
+                    # Only when given: a table of CSV snapshots keeps the fingerprint it had.
+                    **({"columns": self.columns} if self.columns is not None else {}),
                 },
                 "window": self.window,
                 "estimator": ESTIMATOR,
@@ -244,7 +248,9 @@ def estimate(setup: MonitorSetup, snapshot: Snapshot) -> dict[str, Any]:
     params = setup.params
     f = params.friction
     weight = params.platform_mass * params.gravity
-    read = read_snapshot(snapshot, params, setup.torque_constant, setup.cutoff, setup.tolerance_deg, setup.rate)
+    read = read_snapshot(
+        snapshot, params, setup.torque_constant, setup.cutoff, setup.tolerance_deg, setup.rate, setup.columns
+    )
     log = read.log
     check_log(params, log, setup.lever_spin, setup.torque_constant)  # a unit slip skips the snapshot (issue 38)
     loads = read.loads if params.heights.size == 2 else None

@@ -30,8 +30,8 @@ from ...analysis.cluster import batch_size as _batch_size
 from ...analysis.cluster import run_batches
 from ...exceptions import ArgumentError, TrajectoryError
 from ...machine.parameters import Parameters
-from .control_chart import DEFAULT_ALARM_RISE, DEFAULT_BASELINE, EWMA_L, EWMA_LAMBDA
-from .findings import Findings, duplicates, find, missing_cycles
+from .control_chart import DEFAULT_ALARM_RISE, DEFAULT_BASELINE, EWMA_L, EWMA_LAMBDA, MIN_BASELINE, check_baseline_min
+from .findings import Findings, check_acknowledged, duplicates, find, missing_cycles
 from .monitor_fit import MonitorSetup, estimate_batch
 from .monitor_state import MonitorState, monitor_state
 from .monitor_summary import Baseline, LoadCell, MonitorSummary, SnapshotFile, StationBaseline
@@ -102,7 +102,8 @@ class MonitorResult:
     @property
     def state(self) -> MonitorState:
         """The state at the last snapshot: ALARM, NOTICE, OK or NOT MADE (:func:`monitor_state`)."""
-        return monitor_state(self.findings.alarm, self.findings.flag, self.findings.mean.note)
+        found = self.findings
+        return monitor_state(found.alarm, found.flag, found.mean.note, found.alarm_held)
 
     def summary(self) -> MonitorSummary:
         """The run's summary: counts, baseline, alarms and notices, skipped and missing snapshots, files."""
@@ -141,6 +142,10 @@ class MonitorResult:
             latest_notice=found.latest_notice,
             alarm_active=self.state.alarm_active,
             notice_active=self.state.notice_active,
+            state=found.state[-1] if found.state else "NO BASELINE",
+            alarm_raised_at=found.raised_at,
+            alarm_at_last_snapshot=bool(len(found.alarm) and found.alarm[-1]),
+            acknowledged=list(found.acknowledgements()),
             load_cell=LoadCell(
                 commanded_load_logged=bool(known.any()),
                 three_percent=0.03 / 1.03 * chart.mean / (self.setup.params.friction.hip_radius * 1e3),
@@ -173,6 +178,8 @@ def _columns(rows: list[dict[str, Any]], found: Findings) -> dict[str, list[Any]
         "load_gain_change": found.load_gain_change,
         "flag": found.flag,
         "alarm": found.alarm,
+        "state": found.state,
+        "acknowledged": found.acknowledged,
         "note": found.notes,
     }
     for p in (1, 2):
@@ -207,6 +214,8 @@ def run_monitor(
     metadata: dict[str, Any] | None = None,
     skipped: Sequence[Skipped] = (),
     previous: Sequence[dict[str, Any]] | None = None,
+    baseline_min: int = MIN_BASELINE,
+    acknowledge: Sequence[int] = (),
 ) -> MonitorResult:
     """Estimate the snapshots ``out`` (or ``previous``) does not hold yet, chart over all, write ``out`` (when given).
 
@@ -224,17 +233,25 @@ def run_monitor(
         metadata: more to keep with the table.
         skipped: snapshots already left out (still being written, unreadable), carried into the result.
         previous: estimate rows already made (a watch keeps them in memory), used instead of ``out``'s.
+        baseline_min: snapshots the baseline needs before the chart starts.
+        acknowledge: cycles of alarms acknowledged (each covers the alarms raised at or before it), added to those
+            ``out`` records (a watch passes the last round's, :meth:`Findings.acknowledgements`).
 
     Raises:
         OutputError: ``out`` cannot be written or holds another set-up's rows.
         TrajectoryError: no usable snapshot at all (naming the first left out and why).
+        ArgumentError: a new acknowledgement that covers no alarm, or lies past the last snapshot (nothing written).
     """
     if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
         raise ArgumentError("workers", workers, "a whole number of worker processes, at least 1")
     out = MONITOR_TABLE.check_out(out) if out is not None else None
+    check_baseline_min(baseline_min)
     fingerprints = setup.fingerprints()
+    recorded: list[int] = []
     if previous is None:
-        previous = table_rows(MONITOR_TABLE.resume(out, COLUMNS, fingerprints, restart, PARTS)) if out else []
+        resumed = MONITOR_TABLE.resume(out, COLUMNS, fingerprints, restart, PARTS) if out else {}
+        previous = table_rows(resumed) if out else []
+        recorded = [int(a) for a in resumed.get("acknowledged", []) if a == a]
     present = {(s.name, s.sha256) for s in snapshots}
     names = {s.name for s in snapshots}
     # A row whose file is there with other bytes is estimated again; rows of files no longer given are kept.
@@ -264,7 +281,14 @@ def run_monitor(
             source=None if first is None else first.path,
         )
     f = setup.params.friction
-    found = find(rows, f.hip_radius * 1e3, setup.params.heights.size == 2, baseline, alarm_rise)
+    two = setup.params.heights.size == 2
+    found = find(rows, f.hip_radius * 1e3, two, baseline, alarm_rise, baseline_min)
+    new = [a for a in acknowledge if a not in recorded]
+    if new:
+        cycles = [int(r["cycle"]) for r in rows]
+        check_acknowledged(new, cycles, found.alarm, cycles[-1])
+    if new or recorded:
+        found = find(rows, f.hip_radius * 1e3, two, baseline, alarm_rise, baseline_min, [*recorded, *new])
     columns = _columns(rows, found)
     if out is not None:
         write_table(out, columns, (metadata or {}) | {"fingerprints": fingerprints, "parameters": setup.params.source})
@@ -288,13 +312,17 @@ def monitor(
     scheduler: str | None = None,
     rate: float | None = None,
     settle: float = 0.0,
+    baseline_min: int = MIN_BASELINE,
+    acknowledge: Sequence[int] = (),
+    columns: str | None = None,
 ):
     """Follow a wear test's friction from its snapshots' motor torques (the library's ``hipsim monitor``).
 
     Args:
         params: an identified parameter file (checked), or a :class:`~hipsim.machine.parameters.Parameters` you
             vouch for (lever spin on).
-        logs: snapshot files, a folder (its ``*.csv``) or a glob pattern, or a list of them; each with a ``cycle`` column.
+        logs: snapshot files (CSV, TDMS, HDF5), a folder (its ``*.csv``, ``*.tdms``, ``*.h5``, ``*.hdf5``) or a glob
+            pattern, or a list of them; each with a ``cycle`` column.
         baseline: (FROM, TO) cycles, or ``"FROM:TO"``: the reference period after running-in.
         alarm_rise: the engineering threshold, a change of the hip friction coefficient in one station.
         window: cut each file into windows of this many cycles (one long log); None: a snapshot a file.
@@ -305,7 +333,11 @@ def monitor(
         workers: local worker processes (dask.distributed) for more than 1.
         scheduler: a dask scheduler's address.
         rate: sample rate in [Hz] to read the times from the sample index (time stamps too coarse), or None.
-        settle: a file changed less than this many seconds ago is still being written and waits.
+        settle: a file changed less than this many seconds ago is still being written: waited for (at most this long
+            in all), then read.
+        baseline_min: snapshots the baseline needs before the chart starts (default 5).
+        acknowledge: cycles of alarms acknowledged (recorded in ``out``): an alarm is held until one covers it.
+        columns: a TDMS or HDF5 snapshot's column map (``NAME=GROUP/CHANNEL,…``, :mod:`hipsim.channels`), or None.
 
     Returns:
         The table (columns :data:`~hipsim.rig.monitoring.monitor_table.COLUMNS`): a pandas DataFrame when pandas is
@@ -317,11 +349,27 @@ def monitor(
         baseline = parse_baseline(baseline)
     machine, spin = reference(None, params) if isinstance(params, Parameters) else reference(params)
     setup = MonitorSetup(
-        machine, lever_spin=spin, cutoff=cutoff, torque_constant=torque_constant, window=window, rate=rate
+        machine,
+        lever_spin=spin,
+        cutoff=cutoff,
+        torque_constant=torque_constant,
+        window=window,
+        rate=rate,
+        columns=columns,
     )
-    snapshots, skipped = find_snapshots(logs, window, settle, torque_constant, rate)
+    snapshots, skipped = find_snapshots(logs, window, settle, torque_constant, rate, wait=True, columns=columns)
     result = run_monitor(
-        setup, snapshots, (baseline[0], baseline[1]), alarm_rise, out, restart, workers, scheduler, skipped=skipped
+        setup,
+        snapshots,
+        (baseline[0], baseline[1]),
+        alarm_rise,
+        out,
+        restart,
+        workers,
+        scheduler,
+        skipped=skipped,
+        baseline_min=baseline_min,
+        acknowledge=acknowledge,
     )
     try:
         import pandas

@@ -1,7 +1,7 @@
 """The monitor's state at the last snapshot and its verdict: ALARM, NOTICE, OK, or none before the chart can start.
 
 A pure function of the findings (:class:`hipsim.rig.monitoring.findings.Findings`):
-ALARM when the last snapshot carries an alarm; NOTICE when it carries a flag
+ALARM when an alarm raised at the last snapshot or before is held there (not acknowledged); NOTICE when it carries a flag
 that is not an alarm (a significant change below the threshold); OK otherwise;
 NOT MADE while the chart has no baseline (its note says why). ALARM exits 1,
 the others 0 (:func:`hipsim.records.exit_status`).
@@ -34,17 +34,23 @@ class MonitorState(Record):
     notice_active: bool
 
 
-def monitor_state(alarm: np.ndarray, flag: Sequence[str], note: str | None) -> MonitorState:
+def monitor_state(alarm: np.ndarray, flag: Sequence[str], note: str | None, held: bool | None = None) -> MonitorState:
     """The state from the per-snapshot alarms (1 alarm, 0 none), flags ("" none) and the chart's note.
 
     Args:
         alarm: per snapshot 1 for an alarm, else 0, (S,).
         flag: per snapshot the flag's text ("" for none), (S,).
         note: why the chart cannot start yet (no baseline), or None/"".
+        held: whether an alarm raised at or before the last snapshot is held there, not acknowledged
+            (:func:`hipsim.rig.monitoring.findings.hold`); None: only the last snapshot's own alarm counts.
     """
     last = len(flag) - 1
-    alarm_active = bool(last >= 0 and alarm[last])
-    notice_active = bool(last >= 0 and flag[last] and not alarm[last])
+    if held is None:
+        alarm_active = bool(last >= 0 and alarm[last])
+        notice_active = bool(last >= 0 and flag[last] and not alarm[last])
+    else:
+        alarm_active = bool(held)
+        notice_active = bool(last >= 0 and "notice" in flag[last] and not held)
     if note:
         level = Level.NOT_MADE
     elif alarm_active:

@@ -83,6 +83,10 @@ class MonitorSummary(Record):
     latest_notice: dict[str, Any] | None
     alarm_active: bool
     notice_active: bool
+    state: str
+    alarm_raised_at: int | None
+    alarm_at_last_snapshot: bool
+    acknowledged: list[int]
     load_cell: LoadCell
     skipped: list[dict[str, Any]]
     waiting: list[dict[str, Any]]

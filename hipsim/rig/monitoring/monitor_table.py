@@ -69,12 +69,14 @@ COLUMNS = (
     *(f"{name}_{p}_mm" for p in (1, 2) for name in ("ewma", "lcl", "ucl")),
     "flag",
     "alarm",
+    "state",
+    "acknowledged",
     "note",
     "bytes",
     "sha256",
 )
 #: Columns holding text.
-TEXT_COLUMNS = ("file", "phase", "stations", "flag", "note", "sha256")
+TEXT_COLUMNS = ("file", "phase", "stations", "flag", "state", "note", "sha256")
 #: The monitor's table: its rows, the set-up beside them (:class:`hipsim.result_table.ResultTable`).
 MONITOR_TABLE = ResultTable("monitor", TEXT_COLUMNS)
 #: A CSV file's first line, a comment, holding the set-up (JSON follows).

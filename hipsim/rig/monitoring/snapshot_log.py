@@ -50,6 +50,7 @@ def read_snapshot(
     cutoff: float | None = 20.0,
     tolerance_deg: float = DEFAULT_TOLERANCE_DEG,
     rate: float | None = None,
+    columns: str | None = None,
 ) -> SnapshotLog:
     """Read one snapshot (its file once; a window: its lines).
 
@@ -60,15 +61,15 @@ def read_snapshot(
         cutoff: low-pass cutoff in [Hz], or None.
         tolerance_deg: the attitude sensor's allowed disagreement with the encoders in [deg].
         rate: sample rate in [Hz] to read the times from the sample index (stamps too coarse), or None.
+        columns: a TDMS or HDF5 snapshot's column map (:mod:`hipsim.channels`), or None.
 
     Raises:
         TrajectoryError: naming the file, line and column: the reader's errors, no ``cycle`` column, a counter that
             is not whole or decreases, a negative station load, a snapshot too short for its filter.
     """
     source = snapshot.path
-    raw = RigLogFile(
-        source, torque_constant, keep=(CYCLE_COLUMN, *STATION_LOADS, COMMANDED_LOAD), rate=rate, lines=snapshot.lines
-    )
+    keep = (CYCLE_COLUMN, *STATION_LOADS, COMMANDED_LOAD)
+    raw = RigLogFile(source, torque_constant, keep=keep, rate=rate, lines=snapshot.lines, columns=columns)
     try:
         kept = raw.kept
         if CYCLE_COLUMN not in kept:

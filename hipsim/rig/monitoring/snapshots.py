@@ -29,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...channels import CHANNEL_SUFFIXES, channel_kind, read_channels
 from ...clock import SYSTEM_CLOCK, Clock
 from ...exceptions import ArgumentError, HipsimError, TrajectoryError
 from ..logs.reader import RigLogFile
@@ -41,6 +42,7 @@ __all__ = [
     "Snapshot",
     "check_counter",
     "find_snapshots",
+    "settled",
     "skipped",
 ]
 
@@ -51,6 +53,8 @@ STATION_LOADS = ("Fe_1_N", "Fe_2_N")
 #: The commanded load in [N], when the rig logs it (compared with the measured ``Fe_N``: a load-cell drift).
 COMMANDED_LOAD = "Fe_cmd_N"
 _HASH_BLOCK = 1 << 20
+#: A folder's files read as snapshots: CSV and the channel files (TDMS, HDF5: :mod:`hipsim.channels`).
+LOG_SUFFIXES = (".csv", *CHANNEL_SUFFIXES)
 
 
 @dataclass(frozen=True)
@@ -93,6 +97,8 @@ class Skipped:
         kind: "unreadable" (the reader or a check refused it), "waiting" (still being written),
             or "duplicate" (its cycles are another snapshot's).
         line: the file line the reason names, or None.
+        size: the file's (a window's) bytes when it was looked at, or None when it could not be read.
+        sha256: the SHA-256 of those bytes (hex), or "" when it could not be read.
     """
 
     name: str
@@ -100,9 +106,19 @@ class Skipped:
     reason: str
     kind: str = "unreadable"
     line: int | None = None
+    size: int | None = None
+    sha256: str = ""
 
     def as_dict(self) -> dict:
-        return {"file": self.name, "path": self.path, "kind": self.kind, "reason": self.reason, "line": self.line}
+        return {
+            "file": self.name,
+            "path": self.path,
+            "kind": self.kind,
+            "reason": self.reason,
+            "line": self.line,
+            "bytes": self.size,
+            "sha256": self.sha256 or None,
+        }
 
 
 def skipped(snapshot: Snapshot, error: HipsimError, kind: str = "unreadable") -> Skipped:
@@ -111,17 +127,26 @@ def skipped(snapshot: Snapshot, error: HipsimError, kind: str = "unreadable") ->
     reason = str(error)
     if getattr(error, "column", None) == "t_s" or "'t_s'" in reason and "increase" in reason:
         reason += " (time stamps too coarse for the rate? give --rate HZ to read the times from the sample index)"
-    return Skipped(snapshot.name, snapshot.path, reason, kind, line if isinstance(line, int) else None)
+    return Skipped(
+        snapshot.name,
+        snapshot.path,
+        reason,
+        kind,
+        line if isinstance(line, int) else None,
+        snapshot.size,
+        snapshot.sha256,
+    )
 
 
 def _paths(logs: str | Path | Iterable[str | Path]) -> list[str]:
-    """Files of the given files, folders (their *.csv) and glob patterns, each once, in sorted order."""
+    """Files of the given files, folders (their *.csv, *.tdms, *.h5, *.hdf5, *.hdf) and glob patterns, each once, in
+    sorted order."""
     items = [logs] if isinstance(logs, (str, Path)) else list(logs)
     found: list[str] = []
     for item in items:
         text = str(item)
         if os.path.isdir(text):
-            found += sorted(str(p) for p in Path(text).glob("*.csv") if p.is_file())
+            found += sorted(str(p) for p in Path(text).iterdir() if p.suffix.lower() in LOG_SUFFIXES and p.is_file())
         elif glob.has_magic(text):
             found += sorted(p for p in glob.glob(text) if os.path.isfile(p))
         elif os.path.isfile(text):
@@ -143,7 +168,9 @@ def _identity(path: str, cache: dict | None) -> tuple[int, str, bool]:
         for block in iter(lambda: stream.read(_HASH_BLOCK), b""):
             digest.update(block)
             last = block[-1:]
-    found = (status.st_size, digest.hexdigest(), last == b"\n" or status.st_size == 0)
+    # A line end is a text file's: a TDMS or HDF5 file is never "cut mid-line".
+    ended = last == b"\n" or status.st_size == 0 or channel_kind(path) is not None
+    found = (status.st_size, digest.hexdigest(), ended)
     if cache is not None:
         cache[key] = found
     return found
@@ -184,6 +211,8 @@ def find_snapshots(
     torque_constant: float | None = None,
     rate: float | None = None,
     cache: dict | None = None,
+    wait: bool = False,
+    columns: str | None = None,
     clock: Clock = SYSTEM_CLOCK,
 ) -> tuple[list[Snapshot], list[Skipped]]:
     """The snapshots of the given logs, and those left out (still being written; with windows, a file the reader refuses).
@@ -191,10 +220,15 @@ def find_snapshots(
     Args:
         logs: a file, folder (its ``*.csv``) or glob pattern, or a list of them.
         window: cycles per window to cut each file into (a long log); None: one snapshot a file.
-        settle: a file changed less than this many seconds ago is still being written: it waits.
+        settle: a file changed less than this many seconds ago is still being written: it waits (for the next round
+            of a watch; with ``wait``, here).
         torque_constant: the motors' torque constant in [N·m/A] (a window's scan reads the log: logs of currents need it).
         rate: sample rate in [Hz] to read the times from the sample index (time stamps too coarse), or None.
         cache: identities already computed, (path, size, mtime) → (bytes, SHA-256, line end), filled in.
+        wait: a batch run's rule: sleep until every file has been unchanged for ``settle`` seconds, at most ``settle``
+            seconds in all, then read them all (one still changing then is read as it is: a shorter snapshot is
+            marked incomplete, a line cut short is skipped with its reason).
+        columns: a TDMS or HDF5 log's column map (:mod:`hipsim.channels`), for a window's scan.
         clock: whose wall time a file's age is measured against (:mod:`hipsim.clock`; a test passes its own).
 
     Returns:
@@ -210,13 +244,17 @@ def find_snapshots(
         raise ArgumentError("settle", settle, "seconds ≥ 0")
     snapshots: list[Snapshot] = []
     left: list[Skipped] = []
+    paths = _paths(logs)
+    if wait:
+        settled(paths, settle, clock=clock.time, sleep=clock.sleep)
     now = clock.time()
-    for path in _paths(logs):
+    for path in paths:
         name = Path(path).name
         try:
             status = os.stat(path)
             age = now - status.st_mtime
-            if age < settle:
+            if age < settle and not wait:
+                size, sha, _ = _identity(path, cache)
                 left.append(
                     Skipped(
                         name,
@@ -224,6 +262,8 @@ def find_snapshots(
                         f"{path}: changed {max(age, 0.0):.3g} s ago: still being written? read once unchanged for "
                         f"{settle:g} s",
                         "waiting",
+                        size=size,
+                        sha256=sha,
                     )
                 )
                 continue
@@ -235,15 +275,39 @@ def find_snapshots(
             left.append(Skipped(name, path, f"{path}: cannot read ({error.strerror})"))
             continue
         try:
-            snapshots += _windows(path, int(window), torque_constant, rate)
+            snapshots += _windows(path, int(window), torque_constant, rate, columns)
         except HipsimError as error:
-            left.append(skipped(Snapshot(path, status.st_size, ""), error))
+            size, sha, _ = _identity(path, cache)
+            left.append(skipped(Snapshot(path, size, sha), error))
     return snapshots, left
 
 
-def _windows(path: str, window: int, torque_constant: float | None, rate: float | None) -> list[Snapshot]:
-    """Whole windows of ``window`` cycles of one long log (the first starting at its first cycle), each its lines."""
-    raw = RigLogFile(path, torque_constant, keep=(CYCLE_COLUMN,), rate=rate)
+def settled(paths: Sequence[str], settle: float, clock=SYSTEM_CLOCK.time, sleep=SYSTEM_CLOCK.sleep) -> float:
+    """Sleep until every file has been unchanged for ``settle`` seconds, at most ``settle`` seconds in all; the time slept.
+
+    A file that changes while waited for is waited for again, within the same bound: a file still being written after
+    it is read as it is (a batch run's rule; a watch waits for its next round instead).
+    """
+    start = clock()
+    while True:
+        youngest = 0.0
+        for path in paths:
+            try:
+                youngest = max(youngest, settle - (clock() - os.stat(path).st_mtime))
+            except OSError:
+                continue  # gone: said when it is read
+        left = settle - (clock() - start)
+        if youngest <= 0 or left <= 0:
+            return clock() - start
+        sleep(min(youngest, left))
+
+
+def _windows(
+    path: str, window: int, torque_constant: float | None, rate: float | None, columns: str | None = None
+) -> list[Snapshot]:
+    """Whole windows of ``window`` cycles of one long log (the first starting at its first cycle), each its lines (a
+    TDMS or HDF5 log's: its sample numbers)."""
+    raw = RigLogFile(path, torque_constant, keep=(CYCLE_COLUMN,), rate=rate, columns=columns)
     try:
         if CYCLE_COLUMN not in raw.kept:
             raise TrajectoryError(
@@ -268,7 +332,10 @@ def _windows(path: str, window: int, torque_constant: float | None, rate: float 
         raise TrajectoryError(
             f"holds no whole window of {window} cycles (cycles {cycles[0]}-{cycles[-1]})", source=path
         )
-    identities = _line_identities(path, [(a, b) for a, b, _, _ in spans])
+    if channel_kind(path) is not None:
+        identities = _sample_identities(path, [(a, b) for a, b, _, _ in spans], columns)
+    else:
+        identities = _line_identities(path, [(a, b) for a, b, _, _ in spans])
     return [Snapshot(path, size, sha, (a, b), c0, c1) for (a, b, c0, c1), (size, sha) in zip(spans, identities)]
 
 
@@ -287,3 +354,14 @@ def _line_identities(path: str, spans: Sequence[tuple[int, int]]) -> list[tuple[
                 digests[k].update(raw)
                 sizes[k] += len(raw)
     return [(size, digest.hexdigest()) for size, digest in zip(sizes, digests)]
+
+
+def _sample_identities(path: str, spans: Sequence[tuple[int, int]], columns: str | None) -> list[tuple[int, str]]:
+    """(bytes, SHA-256) of each span of a channel file's samples [first, stop) (numbered from 1): of the float64 values
+    of its rows, every column read, in the table's order."""
+    table = read_channels(path, columns, "log file", TrajectoryError)
+    found = []
+    for first, stop in spans:
+        data = np.ascontiguousarray(table.values[first - 1 : stop - 1]).tobytes()
+        found.append((len(data), hashlib.sha256(data).hexdigest()))
+    return found

@@ -23,6 +23,7 @@ from typing import Any
 
 from ...clock import SYSTEM_CLOCK, Clock
 from ...exceptions import ArgumentError, TrajectoryError
+from .control_chart import MIN_BASELINE
 from .monitor_fit import MonitorSetup
 from .monitor_run import MonitorResult, run_monitor
 from .monitor_table import COLUMNS, MONITOR_TABLE, PARTS, table_rows
@@ -47,6 +48,8 @@ def watch(
     workers: int = 1,
     scheduler: str | None = None,
     metadata: dict[str, Any] | None = None,
+    baseline_min: int = MIN_BASELINE,
+    acknowledge: Sequence[int] = (),
     clock: Clock = SYSTEM_CLOCK,
 ) -> MonitorResult | None:
     """Watch the logs until ``stop`` is set (or ``rounds`` polls are done); the last result, None if nothing was usable.
@@ -66,6 +69,8 @@ def watch(
         rounds: stop after this many rounds (None: until ``stop``).
         workers, scheduler: as :func:`~hipsim.rig.monitoring.monitor_run.run_monitor`.
         metadata: kept with the table.
+        baseline_min: snapshots the baseline needs before the chart starts.
+        acknowledge: cycles of alarms acknowledged (with those ``out`` records); kept from round to round.
         clock: the clock that ages the files and spaces the rounds (:mod:`hipsim.clock`; a test passes its own).
     """
     if not (poll > 0):
@@ -73,9 +78,9 @@ def watch(
     stop = stop or threading.Event()
     out = MONITOR_TABLE.check_out(out) if out is not None else None
     fingerprints = setup.fingerprints()
-    rows: Sequence[dict[str, Any]] = (
-        table_rows(MONITOR_TABLE.resume(out, COLUMNS, fingerprints, restart, PARTS)) if out is not None else []
-    )
+    resumed = MONITOR_TABLE.resume(out, COLUMNS, fingerprints, restart, PARTS) if out is not None else {}
+    rows: Sequence[dict[str, Any]] = table_rows(resumed) if out is not None else []
+    acks = [int(a) for a in resumed.get("acknowledged", []) if a == a] + list(acknowledge)
     cache: dict = {}
     result: MonitorResult | None = None
     known: set[tuple[str, str]] | None = None
@@ -83,7 +88,14 @@ def watch(
     done = 0
     while not stop.is_set():
         snapshots, skipped = find_snapshots(
-            logs, setup.window, settle, setup.torque_constant, setup.rate, cache=cache, clock=clock
+            logs,
+            setup.window,
+            settle,
+            setup.torque_constant,
+            setup.rate,
+            cache=cache,
+            columns=setup.columns,
+            clock=clock,
         )
         seen = {(s.name, s.sha256) for s in snapshots}
         if seen != known and snapshots:
@@ -100,14 +112,17 @@ def watch(
                     metadata=metadata,
                     skipped=skipped,
                     previous=rows,
+                    baseline_min=baseline_min,
+                    acknowledge=acks,
                 )
             except TrajectoryError:
                 pass  # nothing usable yet: wait for the next snapshot
             else:
                 rows = result.rows
+                acks = list(result.findings.acknowledgements())
                 if update is not None:
                     update(result)
-                now = bool(result.findings.alarm[-1])
+                now = result.findings.alarm_held
                 if now and not active and on_alarm is not None:
                     on_alarm(result)
                 active = now

@@ -19,7 +19,7 @@ from support import given
 
 from hipsim.exceptions import ArgumentError, TrajectoryError
 from hipsim.motion.build import TrajectoryWarning
-from hipsim.rig.logs import reader
+from hipsim.rig.logs import text_rows
 from hipsim.rig.logs.reader import (
     CURRENT_COLUMNS,
     HEIGHT_COLUMNS,
@@ -316,7 +316,7 @@ def test_a_block_of_plain_numbers_is_read_at_once(tmp_path, monkeypatch):
         loads.append(1)
         return loadtxt(*args, **kwargs)
 
-    monkeypatch.setattr(reader, "parse_number", counted)
+    monkeypatch.setattr(text_rows, "parse_number", counted)
     monkeypatch.setattr(np, "loadtxt", loaded)
     # Two reads each: the first row (read with the header, to tell the separator), then the rest of the block.
     assert_plain(read_rig_log(write(tmp_path, [HEADER, *rows(5)])), 5, [2, 3, 4, 5, 6])

@@ -22,7 +22,8 @@ BASELINE = (10, 30)
 
 
 def _chart(x2, x3, alarm_rise=0.01, worst=1.0, s=0.1):
-    return chart(CYCLES, [5.0, 1.0, 1.2, 0.8, x2, x3], [s] * 6, R_H, BASELINE, alarm_rise, worst)
+    # The hand values below are of a three-snapshot baseline: set so (the default needs five).
+    return chart(CYCLES, [5.0, 1.0, 1.2, 0.8, x2, x3], [s] * 6, R_H, BASELINE, alarm_rise, worst, baseline_min=3)
 
 
 def test_baseline_mean_spread_and_phases():
@@ -68,13 +69,32 @@ def test_the_worst_case_of_two_stations_doubles_the_change():
 
 
 def test_a_snapshot_without_an_estimate_is_skipped_by_the_ewma():
-    c = chart(CYCLES + [60], [5.0, 1.0, 1.2, 0.8, math.nan, 1.5, 1.5], [0.1] * 7, R_H, BASELINE)
+    c = chart(CYCLES + [60], [5.0, 1.0, 1.2, 0.8, math.nan, 1.5, 1.5], [0.1] * 7, R_H, BASELINE, baseline_min=3)
     assert np.isnan(c.ewma[4]) and c.ewma[5] == pytest.approx(1.1) and c.ewma[6] == pytest.approx(1.18)
 
 
-def test_no_chart_before_three_baseline_snapshots():
-    c = chart([0, 10, 20], [1.0, 1.1, 1.2], [0.1] * 3, R_H, (10, 30))
+def test_no_chart_before_the_baseline_minimum():
+    c = chart([0, 10, 20], [1.0, 1.1, 1.2], [0.1] * 3, R_H, (10, 30), baseline_min=3)
     assert math.isnan(c.mean) and "2 of the 3" in c.note and not c.alarm.any()
+
+
+def test_the_baseline_needs_five_snapshots_by_default():
+    # Issue 47: three baseline snapshots gave notices and early alarms. Four (10..40) are refused, five charted.
+    x = [1.0, 1.1, 0.9, 1.05, 0.95, 3.0, 3.0]
+    four = chart([0, 10, 20, 30, 40, 60, 70], x, [0.1] * 7, R_H, (10, 40))
+    assert math.isnan(four.mean) and "4 of the 5" in four.note and "--baseline-min 4" in four.note
+    assert not four.alarm.any()
+    five = chart([10, 20, 30, 40, 50, 60, 70], x, [0.1] * 7, R_H, (10, 50))
+    assert five.baseline_count == 5 and five.mean == pytest.approx(1.0) and five.note == ""
+    assert five.flag[-1] == "alarm"  # 3.0 mm against 1.0: far beyond
+    # --baseline-min 4 charts the four.
+    assert chart([0, 10, 20, 30, 40, 60, 70], x, [0.1] * 7, R_H, (10, 40), baseline_min=4).baseline_count == 4
+
+
+@pytest.mark.parametrize("value", [1, 0, -3, 2.5, True])
+def test_a_baseline_minimum_below_two_is_refused(value):
+    with pytest.raises(ArgumentError, match="baseline_min"):
+        chart(CYCLES, [1.0] * 6, [0.1] * 6, R_H, BASELINE, baseline_min=value)
 
 
 @pytest.mark.parametrize(("name", "value"), [("alarm_rise", 0.0), ("worst", 0.5)])

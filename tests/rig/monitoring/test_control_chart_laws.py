@@ -10,20 +10,27 @@ from the formulas of the module's description with λ = 0.2, L = 3:
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 import pytest
 
 from hipsim.exceptions import ArgumentError
+from hipsim.rig.monitoring import control_chart
 from hipsim.rig.monitoring.control_chart import (
     DEFAULT_ALARM_RISE,
     DEFAULT_BASELINE,
     EWMA_L,
     EWMA_LAMBDA,
     MIN_BASELINE,
-    chart,
     parse_baseline,
 )
+
+
+def chart(*args: Any, **options: Any) -> control_chart.Chart:
+    """The chart with the three-snapshot baseline these hand values are of (the default needs five)."""
+    return control_chart.chart(*args, **({"baseline_min": 3} | options))
+
 
 CYCLES = [100_000, 500_000, 750_000, 1_000_000, 1_100_000, 1_200_000, 1_300_000]
 #: Running-in far off (never flagged), baseline 10.0, 10.2, 9.8 mm, then 10.5, 11.0, 10.0 mm.
@@ -32,7 +39,7 @@ HIP_RADIUS_MM = 25.0
 
 
 def test_the_defaults():
-    assert (EWMA_LAMBDA, EWMA_L, MIN_BASELINE) == (0.2, 3.0, 3)
+    assert (EWMA_LAMBDA, EWMA_L, MIN_BASELINE) == (0.2, 3.0, 5)
     assert DEFAULT_BASELINE == (500_000, 1_000_000) and DEFAULT_ALARM_RISE == 0.01
 
 
@@ -92,7 +99,9 @@ def test_another_baseline_window():
     c = chart(CYCLES, ESTIMATE, [0.1] * 7, HIP_RADIUS_MM, baseline=(0, 600_000))
     assert c.baseline_count == 2 and math.isnan(c.mean) and math.isnan(c.spread) and all(map(math.isnan, c.threshold))
     assert c.note == (
-        "baseline incomplete: 2 of the 3 snapshots it needs within cycles 0-600000; the chart starts once it has them"
+        "baseline incomplete: 2 of the 3 snapshots it needs within cycles 0-600000; the chart starts once it has them "
+        "(widen --baseline or log snapshots more often; --baseline-min 2 would chart on fewer, with notices and early "
+        "alarms)"
     )
     assert np.isnan(c.ewma).all() and np.isnan(c.change).all() and np.isnan(c.change_std).all()
     assert not c.alarm.any() and c.alarm.dtype.kind == "i" and c.alarm.size == 7
@@ -102,7 +111,7 @@ def test_another_baseline_window():
 def test_the_alarm_rise_must_be_a_positive_number():
     for bad in (0.0, -0.01, math.nan, math.inf, "0.01"):
         with pytest.raises(ArgumentError, match="a positive rise of the hip friction coefficient"):
-            chart(CYCLES, ESTIMATE, [0.1] * 7, HIP_RADIUS_MM, alarm_rise=bad)  # type: ignore[arg-type]  # wrong types on purpose
+            chart(CYCLES, ESTIMATE, [0.1] * 7, HIP_RADIUS_MM, alarm_rise=bad)  # wrong types on purpose
 
 
 def test_parse_baseline():
@@ -164,7 +173,7 @@ def test_integer_inputs_chart_as_floats():
     cycles = [500_000, 750_000, 1_000_000, 1_100_000]
     whole = chart(cycles, [9, 10, 11, 14], [0, 0, 0, 0], HIP_RADIUS_MM)
     floats = chart(
-        [float(c) for c in cycles],  # type: ignore[misc]  # cycles as floats, on purpose
+        [float(c) for c in cycles],  # cycles as floats, on purpose
         [9.0, 10.0, 11.0, 14.0],
         [0.0] * 4,
         HIP_RADIUS_MM,

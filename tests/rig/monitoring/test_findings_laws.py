@@ -10,17 +10,18 @@ from __future__ import annotations
 
 import math
 import warnings
+from typing import Any
 
 import numpy as np
 import pytest
 from support import given
 
+from hipsim.rig.monitoring import findings
 from hipsim.rig.monitoring.findings import (
     INCOMPLETE,
     LOAD_GAIN_DRIFT,
     change_text,
     duplicates,
-    find,
     load_cell_text,
     missing_cycles,
 )
@@ -32,6 +33,11 @@ R_H = 25.0
 BASELINE = (500_000, 1_000_000)
 STD = math.sqrt(0.01 + 0.04 / 3) / 25.0
 NAN = math.nan
+
+
+def find(*args: Any, **options: Any) -> findings.Findings:
+    """The findings with the three-snapshot baseline these hand values are of (the default needs five)."""
+    return findings.find(*args, **({"baseline_min": 3} | options))
 
 
 def rows(estimate=ESTIMATE, station_1=None, station_2=None, separated=False, gain=None, samples=None, notes=None):
@@ -229,6 +235,7 @@ def test_duplicates_keep_the_first_of_a_cycle():
         {"cycle": 100, "last_cycle": 199, "file": "c.csv"},
         {"cycle": 150, "last_cycle": 199, "file": "c.csv"},  # a window of the same file: kept
     ]
+    rows_[1] |= {"bytes": 120, "sha256": "5e"}  # the copy's identity, kept with its reason
     kept, left = duplicates(rows_, {"b.csv": "/logs/b.csv"})
     assert [r["file"] for r in kept] == ["a.csv", "c.csv", "c.csv"]
     assert left == [
@@ -237,6 +244,8 @@ def test_duplicates_keep_the_first_of_a_cycle():
             "/logs/b.csv",
             "/logs/b.csv: covers cycles 99-149, as does a.csv (0-99): each cycle in one snapshot only (a copied file?)",
             "duplicate",
+            size=120,
+            sha256="5e",
         )
     ]
     # A file not among the paths is named by its name.

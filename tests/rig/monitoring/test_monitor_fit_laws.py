@@ -292,7 +292,8 @@ def test_a_batch_skips_what_cannot_be_read_and_keeps_the_rest(tmp_path):
     bad = snapshot(bad_path)
     out = estimate_batch([bad, good], MonitorSetup(MACHINE, cutoff=None))
     assert isinstance(out[0], Skipped) and isinstance(out[1], dict) and len(out) == 2
-    assert out[0] == Skipped("bad.csv", str(bad_path), out[0].reason, "unreadable", None)
+    identity = (bad.size, bad.sha256)  # the refused file's, kept
+    assert out[0] == Skipped("bad.csv", str(bad_path), out[0].reason, "unreadable", None, *identity)
     assert out[0].reason.startswith(f"{bad_path}") and "'cycle'" in out[0].reason
     assert out[1]["file"] == "good.csv" and estimate_batch([], MonitorSetup(MACHINE)) == []
 

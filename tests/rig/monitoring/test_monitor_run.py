@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import shutil
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -13,11 +14,14 @@ from monitor_synthetic import write_snapshot, write_test
 import hipsim
 from hipsim.cli import monitor as monitor_cli
 from hipsim.cli.main import main
-from hipsim.rig.monitoring import control_chart
+from hipsim.rig.monitoring import control_chart, monitor_run
 from hipsim.rig.monitoring.monitor_fit import MonitorSetup
-from hipsim.rig.monitoring.monitor_run import run_monitor
 from hipsim.rig.monitoring.monitor_table import read_table
 from hipsim.rig.monitoring.snapshots import find_snapshots as _find
+
+run_monitor = partial(
+    monitor_run.run_monitor, baseline_min=3
+)  # three baseline snapshots (every 250,000 cycles in 500,000-1,000,000): the chart's minimum set to them
 
 
 def find_snapshots(logs, **options):
@@ -96,6 +100,8 @@ def test_another_set_up_into_the_same_table_is_refused(params, test_logs, tmp_pa
     status = main(
         [
             "monitor",
+            "--baseline-min",
+            "3",
             "--settle",
             "0",
             "--params",
@@ -113,6 +119,8 @@ def test_another_set_up_into_the_same_table_is_refused(params, test_logs, tmp_pa
         main(
             [
                 "monitor",
+                "--baseline-min",
+                "3",
                 "--settle",
                 "0",
                 "--params",
@@ -135,6 +143,8 @@ def test_the_command_writes_table_report_and_exits_1_on_an_active_alarm(test_log
     status = main(
         [
             "monitor",
+            "--baseline-min",
+            "3",
             "--settle",
             "0",
             "--params",
@@ -180,8 +190,23 @@ def test_the_command_writes_table_report_and_exits_1_on_an_active_alarm(test_log
 
 def test_no_alarm_at_the_last_snapshot_exits_0(params, tmp_path, identified, capsys):
     write_test(tmp_path / "logs", params, every=250_000, last=1_500_000)
-    assert main(["monitor", "--settle", "0", "--params", str(identified), "--log", str(tmp_path / "logs")]) == 0
-    assert "no alarm at the last snapshot" in capsys.readouterr().out
+    assert (
+        main(
+            [
+                "monitor",
+                "--baseline-min",
+                "3",
+                "--settle",
+                "0",
+                "--params",
+                str(identified),
+                "--log",
+                str(tmp_path / "logs"),
+            ]
+        )
+        == 0
+    )
+    assert "state: OK at the last snapshot" in capsys.readouterr().out
 
 
 def test_the_parser_defaults_are_the_library_s():
@@ -197,6 +222,8 @@ def _bad(tmp_path, identified, capsys, logs, params_file=None) -> str:
     status = main(
         [
             "monitor",
+            "--baseline-min",
+            "3",
             "--settle",
             "0",
             "--params",
@@ -245,7 +272,7 @@ def test_a_decreasing_counter(one, tmp_path, identified, capsys):
 def test_two_files_with_the_same_cycles(one, tmp_path, identified, capsys):
     # The copy is skipped and named (each cycle in one snapshot only); the original goes on.
     shutil.copy(one / "a.csv", one / "b.csv")
-    status = main(["monitor", "--settle", "0", "--params", str(identified), "--log", str(one)])
+    status = main(["monitor", "--baseline-min", "3", "--settle", "0", "--params", str(identified), "--log", str(one)])
     captured = capsys.readouterr()
     assert status == 0 and "1 snapshots" in captured.out
     assert "skipped b.csv" in captured.err and "as does a.csv" in captured.err and "1000-1002" in captured.err
@@ -321,5 +348,5 @@ def test_without_pandas_a_table_of_columns(params, test_logs, monkeypatch):
     from hipsim.rig.monitoring.monitor_run import MonitorTable, monitor
 
     monkeypatch.setitem(sys.modules, "pandas", None)  # import pandas raises ImportError
-    table = monitor(params, test_logs, baseline="500000:1000000")
+    table = monitor(params, test_logs, baseline="500000:1000000", baseline_min=3)
     assert isinstance(table, MonitorTable) and len(table) == 9 and table["alarm"][-1] == 1

@@ -201,7 +201,8 @@ def test_the_table_written_and_resumed(estimates, tmp_path):
 
 
 def stepped(estimates, step_from: int, step_mm: float, gain=None):
-    """Snapshots every 10 cycles up to 100, baseline 20-50, the load term 3 mm (± 0.001) up by ``step_mm`` from a cycle."""
+    """Snapshots every 10 cycles up to 100, baseline 20-50 (four snapshots: the runs set ``baseline_min=4``), the load
+    term 3 mm (± 0.001) up by ``step_mm`` from a cycle."""
     for cycle in range(0, 101, 10):
         estimates.a[cycle] = 3.0 + 0.001 * (-1) ** (cycle // 10) + (step_mm if cycle >= step_from else 0.0)
         if gain is not None:
@@ -210,7 +211,7 @@ def stepped(estimates, step_from: int, step_mm: float, gain=None):
 
 
 def test_the_columns_from_the_rows_and_the_charts(estimates):
-    result = run_monitor(SETUP, stepped(estimates, 80, 0.5), baseline=(20, 50), alarm_rise=0.01)
+    result = run_monitor(SETUP, stepped(estimates, 80, 0.5), baseline=(20, 50), baseline_min=4, alarm_rise=0.01)
     c, mean = result.columns, result.findings.mean
     assert list(c) == list(COLUMNS) and len(c["cycle"]) == 11
     for name in ("cycle", "last_cycle", "samples", "alarm", "bytes"):
@@ -254,7 +255,7 @@ def test_the_stations_columns_from_their_charts(estimates):
             "load_friction_2_mm": 3.1,
             "load_friction_2_mm_std": 0.001,
         }
-    result = run_monitor(SETUP, snapshots, baseline=(20, 50))
+    result = run_monitor(SETUP, snapshots, baseline=(20, 50), baseline_min=4)
     c, (one, two) = result.columns, given(result.findings.stations)
     for p, s in ((1, one), (2, two)):
         for name, values in (
@@ -278,7 +279,7 @@ def test_the_summary_s_counts(estimates):
     # its commanded load not logged at 100 (the last change known is 90's).
     drift = {70: 0.97, 90: 1.02, 100: math.nan}
     gains = stepped(estimates, 80, 0.5, gain=lambda cycle: drift.get(cycle, 1.0))
-    result = run_monitor(SETUP, gains, baseline=(20, 50), alarm_rise=0.01)
+    result = run_monitor(SETUP, gains, baseline=(20, 50), baseline_min=4, alarm_rise=0.01)
     s = result.summary()
     assert (s.snapshots, s.new, s.kept, s.first_cycle, s.last_cycle) == (11, 11, 0, 0, 109)
     assert s.baseline.from_ == 20 and s.baseline.to == 50 and s.baseline.snapshots == 4
@@ -307,7 +308,7 @@ def test_the_summary_s_notice_gaps_and_short_snapshots(estimates):
     # it, so the worst case is a notice, not an alarm); snapshot 60 missing; 100 short.
     snapshots = [s for s in stepped(estimates, 80, 0.1) if s.name != "snap_0000060.csv"]
     estimates.more[100] = {"samples": 400, "note": "cut"}
-    s = run_monitor(SETUP, snapshots, baseline=(20, 50), alarm_rise=0.02).summary()
+    s = run_monitor(SETUP, snapshots, baseline=(20, 50), baseline_min=4, alarm_rise=0.02).summary()
     assert s.missing == [60] and s.incomplete == ["snap_0000100.csv"]
     assert s.alarms == 0 and s.notice_active and not s.alarm_active
     assert s.notices == sum("notice" in f for f in s.table["flag"]) >= 1
@@ -316,7 +317,7 @@ def test_the_summary_s_notice_gaps_and_short_snapshots(estimates):
     assert not s.load_cell.commanded_load_logged and s.load_cell.gain_change_last is None
     assert s.load_cell.drifted == []
     # No baseline yet: no chart, said so.
-    s = run_monitor(SETUP, [snap(0)], baseline=(20, 50)).summary()
+    s = run_monitor(SETUP, [snap(0)], baseline=(20, 50), baseline_min=4).summary()
     assert s.note != "" and s.alarms == 0 and not s.alarm_active and not s.notice_active
 
 
@@ -336,9 +337,15 @@ def test_monitor_takes_its_options_and_gives_a_table(estimates, tmp_path):
         None,
     )
     assert list(table["phase"]) == ["baseline", "baseline"]
-    # Files just written wait for a settle of a minute: nothing usable.
-    with pytest.raises(TrajectoryError, match=r"no usable snapshot \(2 left out; the first: .* still being written"):
-        monitor(PARAMS, tmp_path, settle=60.0)
+    # Files just written: a batch run waits for them to settle (0.3 s here), then reads them, never skips them.
+    import os
+    import time
+
+    for path in tmp_path.glob("*.csv"):
+        os.utime(path)  # changed just now
+    start = time.monotonic()
+    assert list(monitor(PARAMS, tmp_path, settle=0.3)["cycle"]) == [0, 10]
+    assert time.monotonic() - start >= 0.25
     out = tmp_path / "out" / "t.csv"
     out.parent.mkdir()
     monitor(PARAMS, tmp_path, baseline=(0, 10), out=out)
@@ -403,16 +410,35 @@ def world(monkeypatch):
     last snapshot's alarm of the next result, ``world.fail`` makes the next run find nothing usable."""
     w = SimpleNamespace(snapshots=[], skipped=[], alarm=0, fail=False, runs=[], finds=[])
 
-    def find_snapshots(logs, window, settle, torque_constant, rate, cache, clock):
+    def find_snapshots(logs, window, settle, torque_constant, rate, cache, clock, columns=None):
         w.finds.append((logs, window, settle, torque_constant, rate, cache))
         return list(w.snapshots), list(w.skipped)
 
-    def run(setup, snapshots, baseline, alarm_rise, out, restart, workers, scheduler, metadata, skipped, previous):
+    def run(
+        setup,
+        snapshots,
+        baseline,
+        alarm_rise,
+        out,
+        restart,
+        workers,
+        scheduler,
+        metadata,
+        skipped,
+        previous,
+        baseline_min=5,
+        acknowledge=(),
+    ):
         w.runs.append(SimpleNamespace(**locals()))
         if w.fail:
             raise TrajectoryError("no usable snapshot")
         rows = [{"file": s.name} for s in snapshots]
-        return SimpleNamespace(rows=rows, findings=SimpleNamespace(alarm=np.array([0] * (len(rows) - 1) + [w.alarm])))
+        findings = SimpleNamespace(
+            alarm=np.array([0] * (len(rows) - 1) + [w.alarm]),
+            alarm_held=bool(w.alarm),
+            acknowledgements=lambda: tuple(acknowledge),
+        )
+        return SimpleNamespace(rows=rows, findings=findings)
 
     monkeypatch.setattr(watch, "find_snapshots", find_snapshots)
     monkeypatch.setattr(watch, "run_monitor", run)
@@ -548,11 +574,11 @@ def test_the_watch_refuses_another_set_up_s_table(world, tmp_path, estimates):
 
 def test_the_alarm_and_notice_at_the_last_snapshot_alone(estimates):
     # The step at the last snapshot only: the alarm is active there, not before.
-    s = run_monitor(SETUP, stepped(estimates, 100, 0.5), baseline=(20, 50), alarm_rise=0.01).summary()
+    s = run_monitor(SETUP, stepped(estimates, 100, 0.5), baseline=(20, 50), baseline_min=4, alarm_rise=0.01).summary()
     assert s.table["alarm"][-2:] == [0, 1] and s.alarm_active and s.alarms == 1
     assert not s.notice_active
     # Below the threshold (0.1 mm: 0.0067 of μ_h, twice that still under 0.02): a notice, active at the last only.
-    s = run_monitor(SETUP, stepped(estimates, 100, 0.1), baseline=(20, 50), alarm_rise=0.02).summary()
+    s = run_monitor(SETUP, stepped(estimates, 100, 0.1), baseline=(20, 50), baseline_min=4, alarm_rise=0.02).summary()
     assert s.table["flag"][-2] == "" and s.table["flag"][-1].startswith("notice")
     assert s.notice_active and not s.alarm_active and s.notices == 1
 

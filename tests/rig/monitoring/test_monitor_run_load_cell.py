@@ -8,15 +8,20 @@ drift g reads as Δμ_h = −g/(1 + g)·a/r_h, ∓0.0060 for ±3 % at μ_h = 0.1
 from __future__ import annotations
 
 import shutil
+from functools import partial
 
 import numpy as np
 import pytest
 from monitor_synthetic import write_snapshot
 
 import hipsim
+from hipsim.rig.monitoring import monitor_run
 from hipsim.rig.monitoring.monitor_fit import MonitorSetup
-from hipsim.rig.monitoring.monitor_run import run_monitor
 from hipsim.rig.monitoring.snapshots import find_snapshots
+
+run_monitor = partial(
+    monitor_run.run_monitor, baseline_min=3
+)  # three baseline snapshots (every 250,000 cycles in 500,000-1,000,000): the chart's minimum set to them
 
 DRIFT_AT = 1_600_000
 BASELINE = (500_000, 1_000_000)

@@ -4,6 +4,7 @@ per-station loads logged, the station is charted on its own and named."""
 from __future__ import annotations
 
 import json
+from functools import partial
 
 import jsonschema
 import pytest
@@ -12,9 +13,13 @@ from monitor_synthetic import write_identified, write_test
 import hipsim
 from hipsim.cli.documents import schema
 from hipsim.cli.main import main
+from hipsim.rig.monitoring import monitor_run
 from hipsim.rig.monitoring.monitor_fit import MonitorSetup
-from hipsim.rig.monitoring.monitor_run import run_monitor
 from hipsim.rig.monitoring.snapshots import find_snapshots
+
+run_monitor = partial(
+    monitor_run.run_monitor, baseline_min=3
+)  # three baseline snapshots (every 250,000 cycles in 500,000-1,000,000): the chart's minimum set to them
 
 STEP_AT = 1_600_000  # between the snapshots at 1.5 and 1.75 Mc
 RISE = 0.015  # station 2 alone: +0.0075 in the two stations' mean, past the 0.01 threshold in the station
@@ -53,6 +58,8 @@ def test_per_station_loads_chart_each_station_and_name_the_one_that_rises(tmp_pa
     status = main(
         [
             "monitor",
+            "--baseline-min",
+            "3",
             "--settle",
             "0",
             "--params",

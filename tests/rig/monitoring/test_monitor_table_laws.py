@@ -43,7 +43,7 @@ def test_the_columns():
     assert COLUMNS[:5] == ("cycle", "last_cycle", "file", "samples", "phase")
     assert COLUMNS[-2:] == ("bytes", "sha256") and len(set(COLUMNS)) == len(COLUMNS)
     assert set(ESTIMATE_COLUMNS) <= set(COLUMNS)
-    assert TEXT_COLUMNS == ("file", "phase", "stations", "flag", "note", "sha256")
+    assert TEXT_COLUMNS == ("file", "phase", "stations", "flag", "state", "note", "sha256")
     assert "hip_mu_change_1" in COLUMNS and "hip_mu_change_2_std" in COLUMNS
     assert COLUMNS.index("ewma_1_mm") + 2 == COLUMNS.index("ucl_1_mm")
     assert CSV_METADATA == "# hipsim monitor: "

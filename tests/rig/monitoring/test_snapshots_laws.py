@@ -149,7 +149,8 @@ def test_the_counter_checked():
 def test_a_skipped_snapshot_keeps_the_errors_line_and_hints_at_coarse_times():
     snapshot = Snapshot("/logs/a.csv", 10, "ab")
     one = skipped(snapshot, TrajectoryError("bad value", source="/logs/a.csv", line=7, column="Fe_N"))
-    assert one == Skipped("a.csv", "/logs/a.csv", "/logs/a.csv, line 7, column 'Fe_N': bad value", "unreadable", 7)
+    reason = "/logs/a.csv, line 7, column 'Fe_N': bad value"
+    assert one == Skipped("a.csv", "/logs/a.csv", reason, "unreadable", 7, 10, "ab")  # the file's identity kept
     times = skipped(snapshot, TrajectoryError("times must increase", source="a.csv", line=3, column="t_s"), "x")
     assert times.reason == (
         "a.csv, line 3, column 't_s': times must increase (time stamps too coarse for the rate? give --rate HZ to "
@@ -165,6 +166,8 @@ def test_a_skipped_snapshot_keeps_the_errors_line_and_hints_at_coarse_times():
         "kind": "unreadable",
         "reason": one.reason,
         "line": 7,
+        "bytes": 10,
+        "sha256": "ab",
     }
 
 

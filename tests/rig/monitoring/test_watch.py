@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 import os
 import threading
+from functools import partial
 
 import numpy as np
 import pytest
@@ -14,10 +15,15 @@ from monitor_synthetic import write_snapshot
 
 import hipsim
 from hipsim.cli.main import main
+from hipsim.rig.monitoring import monitor_run
 from hipsim.rig.monitoring.monitor_fit import MonitorSetup
-from hipsim.rig.monitoring.monitor_run import MonitorResult, run_monitor
+from hipsim.rig.monitoring.monitor_run import MonitorResult
 from hipsim.rig.monitoring.snapshots import find_snapshots
 from hipsim.rig.monitoring.watch import watch
+
+run_monitor = partial(
+    monitor_run.run_monitor, baseline_min=3
+)  # three baseline snapshots (every 250,000 cycles in 500,000-1,000,000): the chart's minimum set to them
 
 BASELINE = (10, 30)
 CYCLES = (0, 10, 20, 30, 40, 50, 60)
@@ -87,6 +93,7 @@ def test_watching_a_folder_filled_during_the_test_gives_the_batch_table(tmp_path
         stop=threading.Event(),
         rounds=200,  # a bound, never reached: the clock stops the watch once the table is whole
         clock=clock,
+        baseline_min=3,
     )
     assert len(updates[-1].rows) == len(CYCLES)
     # Each file waits settle / poll = 4 rounds: the watch ends 4 rounds after the last file, its last wait the stop.
@@ -102,7 +109,11 @@ def test_watching_a_folder_filled_during_the_test_gives_the_batch_table(tmp_path
 
 def test_the_watch_options_are_checked(tmp_path, capsys, staged):
     params, source = staged
-    status = main(["monitor", "--params", params.source, "--log", str(source), "--on-alarm", "true"])
+    status = main(
+        ["monitor", "--baseline-min", "3", "--params", params.source, "--log", str(source), "--on-alarm", "true"]
+    )
     assert status == 2 and "--on-alarm: runs with --watch only" in capsys.readouterr().err
-    status = main(["monitor", "--params", params.source, "--log", str(source), "--watch", "--poll", "0"])
+    status = main(
+        ["monitor", "--baseline-min", "3", "--params", params.source, "--log", str(source), "--watch", "--poll", "0"]
+    )
     assert status == 2 and "--poll" in capsys.readouterr().err
