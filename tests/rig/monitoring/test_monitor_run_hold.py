@@ -2,7 +2,7 @@
 recorded in the table), a baseline of five snapshots by default, a batch run that waits for files still being
 written and then reads them, a skipped file's size and SHA-256, and ``--on-alarm`` run without a shell.
 
-The estimate is the stand-in of tests/test_monitor_run_laws.py (rows of a chosen load term by cycle, from the file's
+The estimate is the stand-in of tests/rig/monitoring/test_monitor_run_laws.py (rows of a chosen load term by cycle, from the file's
 name): the series are made by hand, not by the monitor's fit.
 """
 
@@ -31,7 +31,7 @@ from hipsim.rig.monitoring.snapshots import settled
 
 @pytest.fixture
 def stand_in(monkeypatch):
-    """tests/test_monitor_run_laws.py's stand-in for the estimate (its fixture ``estimates``)."""
+    """tests/rig/monitoring/test_monitor_run_laws.py's stand-in for the estimate (its fixture ``estimates``)."""
     return run_laws.estimates.__wrapped__(monkeypatch)  # type: ignore[attr-defined]
 
 
