@@ -2,24 +2,24 @@
 recorded in the table), a baseline of five snapshots by default, a batch run that waits for files still being
 written and then reads them, a skipped file's size and SHA-256, and ``--on-alarm`` run without a shell.
 
-The estimate is the stand-in of tests/rig/monitoring/test_monitor_run_laws.py (rows of a chosen load term by cycle, from the file's
-name): the series are made by hand, not by the monitor's fit.
+The estimate is the stand-in of tests/rig/monitoring/test_monitor_run_laws.py (rows of a chosen load term by cycle,
+from the file's name): the series are made by hand, not by the monitor's fit.
 """
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import math
 import os
 import shutil
+from pathlib import Path
 from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
 import pytest
-import test_monitor_run_laws as run_laws
 from monitor_synthetic import write_identified
-from test_monitor_run_laws import SETUP, stepped
 
 from hipsim.cli.main import main
 from hipsim.exceptions import ArgumentError
@@ -29,10 +29,23 @@ from hipsim.rig.monitoring.monitor_table import read_table
 from hipsim.rig.monitoring.snapshots import settled
 
 
+def _beside(name: str) -> Any:
+    """A test module of this folder, by its path: tests/ mirrors hipsim/ and its folders are not packages."""
+    spec = importlib.util.spec_from_file_location(f"{__name__}_{name}", Path(__file__).with_name(f"{name}.py"))
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+run_laws = _beside("test_monitor_run_laws")
+SETUP, stepped = run_laws.SETUP, run_laws.stepped
+
+
 @pytest.fixture
 def stand_in(monkeypatch):
     """tests/rig/monitoring/test_monitor_run_laws.py's stand-in for the estimate (its fixture ``estimates``)."""
-    return run_laws.estimates.__wrapped__(monkeypatch)  # type: ignore[attr-defined]
+    return run_laws.estimates.__wrapped__(monkeypatch)
 
 
 # --------------------------------------------------------------------------- the held state, by hand
