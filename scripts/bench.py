@@ -1368,6 +1368,99 @@ def bench_tolerance(params, quick: bool) -> None:
     print("  target: <= 60 s on 2 workers")
 
 
+def bench_learning(params, quick: bool) -> None:
+    """Issue 45: one learning step from a 1 kHz ISO period's log, simulate --learn 6 on the Pinocchio plant, export of a
+    10-minute command; each next to a baseline in the same run."""
+    import contextlib
+    import io
+    import tempfile
+
+    from hipsim.cli.main import main as _cli
+    from hipsim.closed_chain.plant import PinocchioPlant
+    from hipsim.control.controllers import AugmentedPD
+    from hipsim.control.simulation import apply_mismatch, simulate
+    from hipsim.learning import LearningLaw, learn_cycles
+    from hipsim.learning.servo import servo_runner
+    from hipsim.motion.trajectories import interpolator
+    from hipsim.stations import attitudes, station_commands
+
+    def cli(argv):
+        with contextlib.redirect_stdout(io.StringIO()):
+            return _cli(argv)
+
+    cycle = hipsim.iso14242(rate=1000)
+    law = LearningLaw("2")
+    machine = _deviated_machine(params)
+    with tempfile.TemporaryDirectory() as folder:
+        command = station_commands(params, cycle.t, cycle.q, "2").carriages
+        sensors = np.degrees(attitudes(machine, command, cycle.q)).reshape(len(cycle), 6)
+        names = ["t_s", "L_11_mm", "L_12_mm", "L_13_mm", "L_11_cmd_mm", "L_12_cmd_mm", "L_13_cmd_mm"]
+        names += [f"{a}_{j}_deg" for j in (1, 2) for a in ("alpha", "beta", "gamma")]
+        log = f"{folder}/run.csv"
+        np.savetxt(
+            log,
+            np.column_stack([cycle.t, command * 1e3, command * 1e3, sensors]),
+            delimiter=",",
+            header=",".join(names),
+            comments="",
+            fmt="%.12g",
+        )
+        step, first = alternated(
+            lambda: cli(["learn", "--log", log, "--out", f"{folder}/next.csv", "--summary-format", "json"]),
+            lambda: cli(["learn", "--out", f"{folder}/zero.csv", "--summary-format", "json"]),
+            repeats=3,
+        )
+        print("Learning (iterative learning control), issue 45")
+        print(
+            f"  hipsim learn, one step from a 1 kHz ISO period's log (in process): {step:.2f} s; baseline, cycle 0 "
+            f"(the model's own command, no log): {first:.2f} s ({step / first:.1f}x); target <= 1 s"
+        )
+        plant = PinocchioPlant(apply_mismatch(params, masses=0.2))
+        runner = servo_runner(plant, params, cycle.Fe, 1.0)
+        cycles = 2 if quick else 6
+        learn_cycles(runner, params, cycle, law, 1)  # kernels loaded, closure warmed
+        at = interpolator(cycle)
+
+        def plain():
+            for _ in range(cycles):
+                simulate(plant, AugmentedPD(params, at, 1000.0, 1.0), at, 1.0)
+
+        learned, baseline = alternated(lambda: learn_cycles(runner, params, cycle, law, cycles), plain, repeats=1)
+        print(
+            f"  simulate --learn {cycles} on the Pinocchio plant (masses +20 %): {learned:.2f} s; baseline, {cycles} cycles "
+            f"of the augmented PD alone: {baseline:.2f} s ({learned / baseline:.2f}x); target <= 10 s for 6"
+        )
+        minutes = 1 if quick else 10
+        long = f"{folder}/long.csv"
+        cli(
+            [
+                "stations",
+                "--cycles",
+                str(60 * minutes),
+                "--out",
+                f"{folder}/st",
+                "--table",
+                long,
+                "--summary-format",
+                "json",
+            ]
+        )
+        from hipsim.learning.command_file import read_command_file
+
+        export, read = alternated(
+            lambda: cli(["export", "--commands", long, "--out", f"{folder}/drive", "--summary-format", "json"]),
+            lambda: read_command_file(long),
+            repeats=2,
+        )
+        cpu = time.process_time()
+        cli(["export", "--commands", long, "--out", f"{folder}/drive", "--summary-format", "json"])
+        cpu = time.process_time() - cpu
+        print(
+            f"  hipsim export of a {minutes}-minute 1 kHz command (in process): {export:.2f} s ({cpu:.2f} s CPU, all "
+            f"threads); baseline, reading the command file: {read:.2f} s ({export / read:.1f}x); target <= 3 s"
+        )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer samples in the slow baselines")
@@ -1393,6 +1486,7 @@ def main() -> None:
             "wear",
             "wear-test",
             "channels",
+            "learning",
         ],
         help="one section only",
     )
@@ -1418,6 +1512,7 @@ def main() -> None:
             "wear": lambda params, quick: bench_wear(quick),
             "wear-test": lambda params, quick: bench_wear_test(quick),
             "channels": lambda params, quick: bench_channels(quick),
+            "learning": bench_learning,
         }
         sections.get(args.only, lambda params, quick: bench_workspace(quick))(params, args.quick)
         return
@@ -1458,6 +1553,8 @@ def main() -> None:
     bench_wear(args.quick)
     print()
     bench_wear_test(args.quick)
+    print()
+    bench_learning(params, args.quick)
 
 
 if __name__ == "__main__":

@@ -49,7 +49,7 @@ ENGINES = SUBJECT | {"analytic", "closed_chain", "mujoco_engine"}
 #: Runs, streaming, the cross-check and the engine registry.
 ANALYSIS = ENGINES | {"control", "analysis"}
 #: Everything but the command line.
-LIBRARY = ANALYSIS | {"rig", "design", "stations", "wear", "present"}
+LIBRARY = ANALYSIS | {"rig", "design", "stations", "learning", "wear", "present"}
 
 #: The packages (or top-level modules) each package may import, besides its own modules.
 ALLOWED: dict[str, frozenset[str]] = {
@@ -69,6 +69,8 @@ ALLOWED: dict[str, frozenset[str]] = {
     # The two stations' calibration and commands: the analyses' level; rig for the one identified-file schema that a
     # calibrated parameter file is written through (a calibration is an identification of the kinematics).
     "stations": ANALYSIS | {"rig"},
+    # Learning the cycle from run to run: the stations' commands and logs, design's machine limits for the drive tables.
+    "learning": ANALYSIS | {"rig", "design", "stations"},
     # Beside analysis and design: slide tracks and wear need the motion and the laws of rotation, not the machine's
     # models (no engine, no Pinocchio); a rig log or a simulated run reaches it as motion, converted by the caller.
     "wear": PHYSICS | {"motion"},

@@ -21,8 +21,10 @@ from . import (
     calibrate,
     check,
     excite,
+    export,
     feasible,
     iso_check,
+    learn,
     mjcf,
     monitor,
     params,
@@ -81,6 +83,8 @@ def build_parser() -> argparse.ArgumentParser:
         size,
         sweep,
         stations,
+        learn,
+        export,
         params,
     ):
         command.add_parser(commands)

@@ -448,6 +448,7 @@ PARALLEL: tuple[Option, ...] = (
     _k("--fig7", "also draw the paper's Fig. 7", "flag"),
     # learn and export (issue 45)
     _k("--commands", "the carriage command file", "file"),
+    _k("--previous", "the command file the logged run executed", "file"),
     _i("--learn", "cycles of learning", "cycles", (1, 100), (1, 50), example="10"),
     _n("--counts-per-rev", "encoder counts per motor revolution", "counts", (1, 1e9), (100, 1e6), example="10000"),
     _n("--gain", "the learning gain γ", "1", (0, 10), (0.05, 2), "gains are 0.3 to 1", open_low=True, example="0.5"),

@@ -20,10 +20,14 @@ from .common import (
     print_json,
 )
 from .feasible import add_strict_option
+from .learn import add_learning_options
 from .mjcf import add_simulate_options, format_gaps
 from .motion_options import add_trajectory_options, load_trajectory
 
 __all__ = ["add_parser", "format_iso", "format_simulations", "run"]
+
+#: Most cycles ``--learn`` runs.
+MAX_LEARN_CYCLES = 100
 
 
 def add_parser(subparsers) -> argparse.ArgumentParser:
@@ -66,6 +70,15 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         metavar="NMM",
         help="motor torque limit in N·mm (default control.torque_limit_Nmm)",
     )
+    sim.add_argument(
+        "--learn",
+        type=int,
+        metavar="N",
+        help=f"run N cycles (1 to {MAX_LEARN_CYCLES}) of the augmented PD, its reference (carriage positions) and "
+        "inverse-dynamics torque learned from one cycle to the next (docs/guide/learning.md); the last cycle to --out, "
+        "the error per cycle to OUT_learning.csv",
+    )
+    add_learning_options(sim)
     sim.add_argument(
         "--out",
         default="hipsim_simulation.csv",
@@ -159,6 +172,15 @@ def run(args) -> int:
         raise HipsimError(
             f"--out {args.out} takes one CSV: choose one controller (--controller pd or --controller augmented-pd)"
         )
+    if args.learn is not None:
+        if not 1 <= args.learn <= MAX_LEARN_CYCLES:
+            raise HipsimError(f"--learn: expected a number of cycles in [1, {MAX_LEARN_CYCLES}], got {args.learn}")
+        if args.controller == "pd":
+            raise HipsimError(
+                "--learn runs the augmented PD (its feed-forward is what is learned): leave out --controller pd"
+            )
+        if is_stdout(args.out):
+            raise HipsimError(f"--out {args.out}: --learn writes two CSV files; give a file name")
     report = sys.stderr if is_stdout(args.out) else sys.stdout  # the CSV has standard output
     trajectory = load_trajectory(args) if args.trajectory else None
     desired_at, duration = desired_motion(args, trajectory)
@@ -178,6 +200,10 @@ def run(args) -> int:
         raise HipsimError(f"--integrator {args.integrator} applies to --plant mujoco, not to --plant {args.plant}")
     integrator = args.integrator or "RK4"
     plant = make_plant(args.plant, apply_mismatch(params, **mismatch), integrator=integrator)
+    if args.learn is not None:
+        from .simulate_learn import run_learning
+
+        return run_learning(args, params, plant, trajectory, mismatch, report)
     chosen = ["pd", "augmented-pd"] if args.controller == "both" else [args.controller]
     simulations, gaps = [], []
     for name in chosen:

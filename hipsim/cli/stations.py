@@ -27,7 +27,7 @@ from .common import (
 )
 from .motion_options import add_trajectory_options, load_trajectory
 
-__all__ = ["add_parser", "run"]
+__all__ = ["add_parser", "parse_weights", "run"]
 
 #: Samples of the desired motion each drawn machine runs (the motion is decimated to at most this).
 TOLERANCE_SAMPLES = 200
@@ -82,7 +82,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     return p
 
 
-def _weights(args) -> tuple[float, float]:
+def parse_weights(args) -> tuple[float, float]:
+    """``--weights W1,W2`` (dimensionless, >= 0, not both zero; default 1,1), as ``stations`` and ``learn`` take it."""
     if args.weights is None:
         return 1.0, 1.0
     w = numbers(args.weights, ",", "--weights", "two weights W1,W2 >= 0", count=2)
@@ -134,7 +135,7 @@ def run(args) -> int:
     from ..files import check_folder, check_output
 
     _check(args)
-    weights = _weights(args)
+    weights = parse_weights(args)
     params = parameters(args)
     if args.control is None:
         args.control = str(params.geometry.control) if params.geometry is not None else "2"

@@ -35,14 +35,18 @@ from .calibration import CalibrationLog
 
 __all__ = [
     "CARRIAGE_COLUMNS",
+    "COMMAND_COLUMNS",
     "KNOWN_COLUMNS",
     "MOTOR_COLUMNS",
     "SENSOR_COLUMNS",
     "read_calibration_log",
     "read_carriage_log",
+    "read_run_log",
 ]
 
 CARRIAGE_COLUMNS = tuple(f"L_1{i}_mm" for i in (1, 2, 3))
+#: The carriage commands that produced a run, when the acquisition logs them (``hipsim learn``).
+COMMAND_COLUMNS = tuple(f"L_1{i}_cmd_mm" for i in (1, 2, 3))
 MOTOR_COLUMNS = tuple(f"motor_{i}_deg" for i in (1, 2, 3))
 #: The sensors' columns, platform by platform.
 SENSOR_COLUMNS = tuple(tuple(f"{a}_{j}_deg" for a in ("alpha", "beta", "gamma")) for j in (1, 2))
@@ -84,7 +88,7 @@ def _table(path: str | Path, map: str | None = None) -> tuple[list[str], dict[st
     wanted = {name: k for k, name in enumerate(header)}
     optional = set(sum(KNOWN_COLUMNS, ()))
     names = ("t_s",) + CARRIAGE_COLUMNS + MOTOR_COLUMNS + sum(SENSOR_COLUMNS, ()) + sum(KNOWN_COLUMNS, ())
-    keep = [name for name in names if name in wanted]
+    keep = [name for name in names + COMMAND_COLUMNS if name in wanted]
     values = np.empty((len(numbered) - 1, len(keep)))
     lines = np.empty(len(numbered) - 1, dtype=int)
     decimal_comma = separator != ","
@@ -213,3 +217,49 @@ def read_carriage_log(path: str | Path, lead: float, columns: str | None = None)
     """
     t, carriages, _, _ = _read(path, lead, sensors=False, map=columns)
     return t, carriages
+
+
+def read_run_log(
+    path: str | Path, lead: float, platforms: tuple[int, ...]
+) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray]:
+    """A run's log for learning (``hipsim learn``): the encoders, the commands when logged, the sensors it has.
+
+    Args:
+        path: the file (CSV or Parquet).
+        lead: the screw's lead p in [m] per motor turn, for motor-angle columns.
+        platforms: the platforms whose attitude sensors must be in the log (1, 2 or both).
+
+    Returns:
+        t [s] (N,), encoders [m] (N, 3), commands ``L_11_cmd_mm``… [m] (N, 3) or None when not all three logged,
+        sensors [rad] (N, 2, 3) (NaN for a platform whose sensor the log does not have).
+
+    Raises:
+        TrajectoryError: as :func:`read_carriage_log`; the sensor of a platform in ``platforms`` missing; a command
+            or sensor cell that is no finite number (naming line and column).
+    """
+    t, carriages = read_carriage_log(path, lead)
+    header, columns, lines = _table(path)
+    source = str(path)
+    for j in platforms:
+        absent = [name for name in SENSOR_COLUMNS[j - 1] if name not in columns]
+        if absent:
+            raise TrajectoryError(
+                f"no attitude sensor of platform {j}: missing column(s) {', '.join(absent)} "
+                f"(the header has {', '.join(header)})",
+                source=source,
+            )
+    present = [j for j in (1, 2) if all(name in columns for name in SENSOR_COLUMNS[j - 1])]
+    logged = all(name in columns for name in COMMAND_COLUMNS)
+    used = sum((SENSOR_COLUMNS[j - 1] for j in present), ()) + (COMMAND_COLUMNS if logged else ())
+    for name in used:
+        bad = ~np.isfinite(columns[name])
+        if bad.any():
+            row = int(np.argmax(bad))
+            raise TrajectoryError(
+                "not a finite number", source=source, line=None if lines is None else int(lines[row]), column=name
+            )
+    sensors = np.full((len(t), 2, 3), np.nan)
+    for j in present:
+        sensors[:, j - 1] = np.radians(np.stack([columns[name] for name in SENSOR_COLUMNS[j - 1]], axis=1))
+    commands = np.stack([columns[name] for name in COMMAND_COLUMNS], axis=1) * 1e-3 if logged else None
+    return t, carriages, commands, sensors
