@@ -145,7 +145,7 @@ def test_a_per_chain_model_follows_its_controlled_platform(params, iso):
 def test_with_a_drive_every_limit_is_checked(tmp_path, iso, exact, capsys):
     from pathlib import Path
 
-    drive = Path(__file__).resolve().parents[1] / "models" / "drive_example.toml"
+    drive = Path(__file__).resolve().parents[2] / "models" / "drive_example.toml"
     path = _command(tmp_path, iso, exact[0])
     out = tmp_path / "drive"
     assert main(["export", "--commands", str(path), "--drive", str(drive), "--out", str(out)]) == 0
