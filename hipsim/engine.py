@@ -102,7 +102,10 @@ class Plant(Protocol):
     forward dynamics are compiled whole may offer ``compiled_kernel()``: the
     parameters of :mod:`hipsim.analytic.kernel` its state x = [q, q̇] follows
     (or None), so that the whole servo loop runs compiled (as for
-    :class:`~hipsim.control.simulation.ReducedPlant`).
+    :class:`~hipsim.control.simulation.ReducedPlant`). A plant that also offers
+    ``readings(x)`` (the carriages and both platforms' attitudes, as all three
+    built-in plants do) can be driven by a controller that knows another machine
+    (:func:`hipsim.control.machine_loop.run_machine`).
     """
 
     params: Parameters  # the plant's machine: servo defaults, and the motor speeds of the result

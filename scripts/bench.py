@@ -1368,6 +1368,70 @@ def bench_tolerance(params, quick: bool) -> None:
     print("  target: <= 60 s on 2 workers")
 
 
+def bench_machine_plant(params, quick: bool) -> None:
+    """Issue 44: the machine as built under the drawing's controller (per-chain Pinocchio plant, encoders, workspace PD).
+
+    Beside it, in the same alternated runs: the drawing's Pinocchio plant in today's compiled loop (the baseline, target
+    within 1.5x), the drawing's plant in the new loop, and the per-chain MuJoCo plant.
+    """
+    import statistics
+
+    from hipsim.closed_chain.plant import PinocchioPlant
+    from hipsim.control import simulation
+    from hipsim.control.controllers import WorkspacePD
+    from hipsim.control.feedback import EncoderFeedback
+    from hipsim.control.machine_loop import ModelPD, run_machine
+    from hipsim.motion.trajectories import iso14242_at
+
+    machine = _deviated_machine(params)
+    per_chain, drawing = PinocchioPlant(machine), PinocchioPlant(params)
+
+    def new_loop(plant):
+        return lambda length: run_machine(plant, ModelPD(params, 2), EncoderFeedback(params, 2), iso14242_at, length)
+
+    runs = [
+        (
+            "drawing's plant, today's loop (baseline)",
+            lambda length: simulation.simulate(drawing, WorkspacePD(params), iso14242_at, length),
+        ),
+        ("per-chain Pinocchio plant, encoders", new_loop(per_chain)),
+        ("drawing's plant, encoders", new_loop(drawing)),
+    ]
+    try:
+        from hipsim.mujoco_engine.plant import MujocoPlant
+
+        runs.append(("per-chain MuJoCo plant, encoders", new_loop(MujocoPlant(machine))))
+    except hipsim.HipsimError as error:
+        print(f"  MuJoCo: {error}; its plant is not compared")
+    length, repeats = (0.3, 3) if quick else (2.0, 5)
+    for _, run in runs:
+        run(0.01)  # load or compile the kernels
+    wall: list[list[float]] = [[] for _ in runs]
+    cpu: list[list[float]] = [[] for _ in runs]
+    for _ in range(repeats):
+        for k, (_, run) in enumerate(runs):
+            start, start_cpu = time.perf_counter(), time.process_time()
+            run(length)
+            wall[k].append(time.perf_counter() - start)
+            cpu[k].append(time.process_time() - start_cpu)
+    periods = length * params.control.servo_rate
+    print(
+        f"The machine as built under the drawing's workspace PD, RK4 {params.control.integration_step * 1e3:g} ms, "
+        f"{periods:.0f} servo periods, {repeats} alternated runs, load average {os.getloadavg()[0]:.1f} on "
+        f"{os.cpu_count()} cores (CPU time, median [best]; wall, median):"
+    )
+    median = [statistics.median(times) for times in cpu]
+    for (label, _), times, used, elapsed in zip(runs, cpu, median, wall):
+        print(
+            f"    {label:<42} {length / used:6.2f}x real time [{length / min(times):6.2f}x] "
+            f"({used / periods * 1e6:5.0f} µs per servo period); wall {length / statistics.median(elapsed):6.2f}x"
+        )
+    print(
+        f"  per-chain Pinocchio plant: {length / median[1]:.1f}x real time (target >= 20x), "
+        f"{median[1] / median[0]:.2f}x the drawing's plant's time (target <= 1.5x)"
+    )
+
+
 def bench_learning(params, quick: bool) -> None:
     """Issue 45: one learning step from a 1 kHz ISO period's log, simulate --learn 6 on the Pinocchio plant, export of a
     10-minute command; each next to a baseline in the same run."""
@@ -1484,6 +1548,7 @@ def main() -> None:
             "stations",
             "tolerance",
             "wear",
+            "machine",
             "wear-test",
             "channels",
             "learning",
@@ -1510,6 +1575,7 @@ def main() -> None:
             "stations": bench_stations,
             "tolerance": bench_tolerance,
             "wear": lambda params, quick: bench_wear(quick),
+            "machine": bench_machine_plant,
             "wear-test": lambda params, quick: bench_wear_test(quick),
             "channels": lambda params, quick: bench_channels(quick),
             "learning": bench_learning,
@@ -1529,6 +1595,8 @@ def main() -> None:
     bench_mujoco(params, args.quick)
     print()
     bench_servo(params, args.quick)
+    print()
+    bench_machine_plant(params, args.quick)
     print()
     bench_identification(params, args.quick)
     print()

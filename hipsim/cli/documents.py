@@ -25,6 +25,7 @@ from ..records import Record, flattened, optional
 from ..results import RunSummary
 from ..rig.compare_summary import ComparisonSummary
 from ..rig.monitoring.monitor_summary import MonitorSummary
+from ..stations.sensor_check import SensorComparison
 from ..stations.summary import SlidersSummary, StationSummary
 from ..stations.tolerance_summary import ToleranceSummary
 from ..wear.summary import WearSummary
@@ -84,6 +85,7 @@ class StationsSliders(Record):
     table: str
     index: str
     provenance: dict[str, Any]
+    sensors: SensorComparison | None = optional()  # the log's sensors against the prediction, when it has them
 
 
 @dataclass(frozen=True)

@@ -112,11 +112,28 @@ def _join_signed_values(argv: list[str]) -> list[str]:
     return out
 
 
+def _misplaced_plant_option(words: list[str]) -> str | None:
+    """One line when ``--plant-params`` is given to a command that has no plant (only ``simulate`` has one)."""
+    if not any(w == "--plant-params" or w.startswith("--plant-params=") for w in words):
+        return None
+    command = next((w for w in words if not w.startswith("-")), None)
+    if command == "simulate":
+        return None
+    return (
+        f"--plant-params: {command or 'this command'} has no plant to give it (only hipsim simulate runs a plant "
+        "apart from the controller's model); give the machine with --params"
+    )
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run ``hipsim`` with ``argv`` (default: the process's arguments) and return the exit status."""
     parser = build_parser()
     notes: list[str] = parser.option_warnings  # type: ignore[attr-defined]
     words = rewrite_aliases(_join_signed_values(sys.argv[1:] if argv is None else list(argv)), notes)
+    misplaced = _misplaced_plant_option(words)
+    if misplaced:
+        print(f"hipsim: error: {misplaced}", file=sys.stderr)
+        return 2
     try:
         args = parser.parse_args(words)
         idle = idle_option(words)

@@ -23,6 +23,14 @@ from .feasible import add_strict_option
 from .learn import add_learning_options
 from .mjcf import add_simulate_options, format_gaps
 from .motion_options import add_trajectory_options, load_trajectory
+from .simulate_machine import (
+    add_machine_loop_options,
+    check_options,
+    format_tracking,
+    machine_loop_asked,
+    run_machine_loop,
+    station_verdicts,
+)
 
 __all__ = ["add_parser", "format_iso", "format_simulations", "run"]
 
@@ -83,8 +91,10 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         "--out",
         default="hipsim_simulation.csv",
         metavar="FILE",
-        help="CSV to write; with both controllers, _pd and _augmented-pd are added to the name",
+        help="CSV to write (with --plant-params or --feedback also .parquet); with both controllers, _pd and "
+        "_augmented-pd are added to the name",
     )
+    add_machine_loop_options(sim)
     add_summary_format(sim)
     add_strict_option(sim)
     sim.add_argument(
@@ -166,6 +176,16 @@ def run(args) -> int:
         if getattr(args, option) is not None:
             args.overrides.append(f"control.{key}={getattr(args, option)!r}")
     params = parameters(args)
+    apart = _plant_and_model_apart(args, params)
+    if args.fig7 and not apart:
+        raise HipsimError("--fig7 draws both platforms of a run with --plant-params or --feedback; give one of them")
+    if apart:
+        check_options(args)  # each option in its range before any work
+        if args.learn is not None:  # never silently ignored
+            raise HipsimError(
+                "--learn runs on a plant that is the controller's model; with --plant-params, --feedback or a "
+                "per-chain --params the plant-and-model loop runs, which does not learn yet"
+            )
     if Path(args.out).is_dir():  # before the run, not after it
         raise HipsimError(f"--out {args.out} is a folder; give a CSV file name")
     if is_stdout(args.out) and args.controller == "both":
@@ -194,6 +214,24 @@ def run(args) -> int:
         mismatch = parse_mismatch(args.mismatch) if args.mismatch else {}
     except ArgumentError as error:  # the library names its argument; the user typed an option
         raise HipsimError(f"--mismatch: expected {error.expected}, got {error.value!r}") from None
+    if apart:
+        runs, written = run_machine_loop(args, params, desired_at, duration, mismatch)
+        if args.summary_format == "json":
+            document = {
+                "model": params.source,
+                "plant": args.plant_params or params.source,
+                "simulations": [run.summary().to_json() for run in runs],
+                "mismatch": mismatch,
+                "files": written,
+            }
+            print_json(document, report)
+            return 0
+        for name in written:
+            print(f"wrote {name}", file=report)
+        print(format_tracking(runs), file=report)
+        for line in station_verdicts(runs, tolerances, periodic=_repeats(args, trajectory)):
+            print(line, file=report)
+        return 0
     if plant_entry(args.plant).warm_up:
         load_pinocchio_kernels()  # its initial state is closed before the first servo period
     if args.integrator is not None and args.plant != "mujoco":
@@ -247,6 +285,27 @@ def run(args) -> int:
         for line in format_iso(summary):
             print(line, file=report)
     return exit_status(s.iso for s in summaries)
+
+
+def _plant_and_model_apart(args, params) -> bool:
+    """Run the plant and the model apart: an option of that run given, unless it only names the model's own machine.
+
+    ``--plant-params`` naming the very machine of ``--params`` (equal values) with no feedback option is today's run,
+    bit for bit: the controller then sees the platform it drives, as it always did. A per-chain ``--params`` (a
+    calibrated file) runs apart too, the plant that very machine: its platforms do not turn alike, so the loop must
+    say which one it closes on and how it sees it.
+    """
+    if params.per_chain:
+        return True
+    if not machine_loop_asked(args):
+        return False
+    others = [name for name in ("feedback", "encoder_step", "sensor_noise", "sensor_drift", "sensor_seed", "control")]
+    if args.plant_params is not None and not any(getattr(args, name) is not None for name in others):
+        from ..fingerprint import fingerprint
+        from ..machine.parameters import load_parameters
+
+        return fingerprint(load_parameters(args.plant_params)) != fingerprint(params)
+    return True
 
 
 def _feasibility(params, args, trajectory) -> list:

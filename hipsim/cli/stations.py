@@ -187,28 +187,83 @@ def _sliders(args, params, out: Path, table: Path) -> int:
     from ..files import output_folder
     from ..present.stations_page import write_stations
     from ..stations.commands import attitudes
-    from ..stations.logs import read_carriage_log
+    from ..stations.logs import read_slider_log
     from ..stations.summary import attitude_columns, sliders_summary
     from .documents import StationsSliders
 
     # A TDMS or HDF5 log's channels by --columns (NAME=GROUP/CHANNEL); a CSV's are its header's.
-    t, carriages = read_carriage_log(args.sliders, params.lead, args.columns if channel_kind(args.sliders) else None)
+    channel_map = args.columns if channel_kind(args.sliders) else None
+    t, carriages, sensors = read_slider_log(args.sliders, params.lead, channel_map)
     q = attitudes(params, carriages, None, t, args.sliders)
     flat = np.degrees(q).reshape(len(t), 6)
     columns = {"t_s": t} | {f"L_1{i + 1}_mm": carriages[:, i] * 1e3 for i in range(3)}
     columns |= {name: flat[:, k] for k, name in enumerate(attitude_columns())}
     sliders = sliders_summary(args.sliders, q)
+    comparison = None if sensors is None else _sensor_comparison(args, params, t, q, sensors)
+    extra = {} if comparison is None else {"sensors": comparison.to_json()}
     provenance = page_provenance(args, log=args.sliders)
+    fig7 = None if sensors is None else _fig7(t, q, sensors, args.sliders, channel_map)
     with output_folder(out):
         _write_table(table, columns)
-        files = write_stations(out, {"table": str(table)}, sliders=sliders, provenance=provenance)
+        files = write_stations(out, {"table": str(table)} | extra, sliders=sliders, provenance=provenance, fig7=fig7)
     if args.summary_format == "json":
-        print_json(StationsSliders(sliders, str(table), str(files.index), provenance.as_dict()).to_json())
+        print_json(StationsSliders(sliders, str(table), str(files.index), provenance.as_dict(), comparison).to_json())
     else:
         rms = sliders.platform_difference_rms_deg
         print(f"{len(t)} samples; m_1 − m_2 attitude RMS α {rms[0]:.4g}°, β {rms[1]:.4g}°, γ {rms[2]:.4g}°")
+        if comparison is not None:
+            _print_comparison(comparison)
         print(f"wrote {table} and {files.index}")
     return 0
+
+
+def _sensor_comparison(args, params, t, q, sensors):
+    """The log's sensors against the prediction, with the calibrated file's uncertainty when it records one."""
+    from ..rig.identification.identified_file import identification_table
+    from ..stations.sensor_check import calibration_covariance, compare_sensors
+
+    covariance = calibration_covariance(identification_table(args.params)) if args.params else None
+    origin = f"{args.params}: the calibration's posterior covariance of the per-chain values"
+    return compare_sensors(params, t, q, sensors, covariance, origin)
+
+
+def _print_comparison(comparison) -> None:
+    from ..present.tables import format_table
+
+    rows = [
+        [
+            f"m_{e.platform}",
+            e.angle,
+            f"{e.rms_deg:.4g}",
+            f"{e.mean_deg:+.4g}",
+            f"{e.peak_deg:+.4g}",
+            f"{e.peak_at_s:.3f}",
+            "-" if e.prediction_std_deg is None else f"{e.prediction_std_deg:.3g}",
+        ]
+        for e in comparison.entries
+    ]
+    header = ["platform", "angle", "RMS [deg]", "mean [deg]", "peak [deg]", "at [s]", "prediction std [deg]"]
+    print(
+        format_table(header, rows, "The log's sensors against the prediction from its carriages (measured - predicted)")
+    )
+
+
+def _fig7(t, q, sensors, log: str, channel_map: str | None = None):
+    """Fig. 7 of the log: each platform measured (sensors) and predicted (carriages) on the three panels."""
+    import numpy as np
+
+    from ..present.fig7 import Curve, plot_fig7
+    from ..stations.logs import read_desired
+
+    desired = read_desired(log, channel_map)
+    curves = [] if desired is None else [Curve("desired", np.degrees(desired), "k", ":")]
+    curves += [
+        Curve("m_1 measured", np.degrees(sensors[:, 0]), "tab:blue", "-"),
+        Curve("m_1 predicted", np.degrees(q[:, 0]), "tab:blue", "--"),
+        Curve("m_2 measured", np.degrees(sensors[:, 1]), "tab:red", "-"),
+        Curve("m_2 predicted", np.degrees(q[:, 1]), "tab:red", "--"),
+    ]
+    return plot_fig7(t, curves, f"Fig. 7 from {Path(log).name}")
 
 
 def _tolerance(args, params, weights, out: Path) -> int:

@@ -121,7 +121,7 @@ from ..motion.trajectories import Trajectory
 from ..physics import laws
 from ..physics.orientation import angular_velocity_map
 from ..physics.transmission import radians_per_travel
-from .build import ClosedChainModel, load_model
+from .build import ClosedChainModel, load_model, require_layout
 from .closure import kinematics
 from .friction import friction_forces
 from .plant_kernel import block_order, constrained_acceleration, tree_constants
@@ -377,6 +377,29 @@ class PinocchioPlant:
     def angles(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Gait angles [α, β, γ] in [rad] and their rates in [rad/s], from platform 1's spherical joint."""
         return self._signs * x[self._angles], self._signs * x[self._rates]
+
+    @property
+    def reading_slots(self) -> tuple[np.ndarray, np.ndarray, int]:
+        """Where :meth:`readings` reads in x: (slider coordinates (3,), platform coordinates (2, 3), nq), for compiled loops."""
+        layout = require_layout(self.chain)
+        return (
+            np.ascontiguousarray(layout.slider_v, dtype=np.int64),
+            np.ascontiguousarray(layout.platform_v, dtype=np.int64),
+            int(self.nq),
+        )
+
+    def readings(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The carriages' readings L_1i [m] and rates [m/s], (3,), and both platforms' gait angles [rad] and rates [rad/s], (2, 3).
+
+        The slider joints are the carriages' readings (the drawing's L_1i, per chain the encoders').
+        """
+        nq, platforms, sliders = self.nq, require_layout(self.chain).platform_v, self._sliders
+        return (
+            x[sliders].copy(),
+            x[[nq + k for k in sliders]].copy(),
+            self._signs * x[platforms],
+            self._signs * x[platforms + nq],
+        )
 
     # -- diagnostics --------------------------------------------------------
 

@@ -124,6 +124,14 @@ class ReducedPlant:
     def angles(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return x[:3], x[3:]
 
+    def readings(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The carriages' readings L_1i [m] and rates [m/s], (3,), and both platforms' (alike) gait angles and rates, (2, 3)."""
+        from ..analytic.stations import platform_motion
+
+        q, qd = x[None, :3], x[None, 3:]
+        L, Ld, _ = platform_motion(self.params, q, qd, np.zeros_like(q), 1)
+        return L[0], Ld[0], np.repeat(q, 2, axis=0), np.repeat(qd, 2, axis=0)
+
 
 @dataclass(frozen=True, eq=False)
 class Simulation:

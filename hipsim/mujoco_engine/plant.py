@@ -177,6 +177,11 @@ class MujocoPlant:
         """Gait angles [α, β, γ] in [rad] and their rates in [rad/s], from platform 1's spherical joint."""
         return self._signs * x[self._angles], self._signs * x[self._rates]
 
+    def readings(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The carriages' readings L_1i [m] and rates [m/s], (3,), and both platforms' gait angles [rad] and rates [rad/s], (2, 3)."""
+        nq, platforms, sliders = self.nq, self.machine.platform_dof, self.machine.slider_dof
+        return x[sliders].copy(), x[sliders + nq].copy(), self._signs * x[platforms], self._signs * x[platforms + nq]
+
     # -- diagnostics --------------------------------------------------------
 
     def gap_history(self) -> tuple[np.ndarray, np.ndarray]:

@@ -80,6 +80,7 @@ def write_stations(
     provenance: Provenance | None = None,
     tolerance: ToleranceSummary | None = None,
     sliders: SlidersSummary | None = None,
+    fig7: Any = None,
 ) -> StationFiles:
     """Write ``stations.json``, ``index.html`` and, given the errors, the figure ``errors.png``/``.svg``, atomically.
 
@@ -92,6 +93,8 @@ def write_stations(
         provenance: the page's provenance block.
         tolerance: a tolerance study's summary (percentiles and sensitivity).
         sliders: the attitudes from a log's carriages.
+        fig7: a log's Fig. 7 (:func:`hipsim.present.fig7.plot_fig7`), written as ``fig7.png``/``.svg`` and shown on
+            the page when there is no error figure; None for none.
     """
     from .provenance import provenance as make_provenance
 
@@ -109,6 +112,9 @@ def write_stations(
         if t is not None and errors_deg is not None:
             control = summary.control if summary else "2"
             figure = save_figure(plot_station_errors(t, errors_deg, control), out, "errors")
+        if fig7 is not None:
+            drawn = save_figure(fig7, out, "fig7")
+            figure = figure or drawn
         json_path = write_atomic(out / "stations.json", json.dumps(full, indent=2) + "\n")
         page = (
             environment()

@@ -60,6 +60,10 @@ def calibration_record(
         "deviation_mm": np.round(calibration.theta * 1e3, 12).tolist(),
         "std_mm": np.round(calibration.theta_std * 1e3, 12).tolist(),
         "value_determined": calibration.determined.tolist(),
+        # The posterior covariance of the estimated values (their names in order): what carries the calibration's
+        # uncertainty to a prediction (stations --sliders), the correlations included.
+        "estimated": [names[k] for k in calibration.structure.independent],
+        "covariance_mm2": [[float(f"{v:.12g}") for v in row] for row in calibration.covariance * 1e6],
         "unseen": calibration.unseen,
         "combinations": calibration.structure.definitions(),
         "confounded_offsets": [c.sensor for c in calibration.confounded],

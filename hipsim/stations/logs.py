@@ -41,7 +41,9 @@ __all__ = [
     "SENSOR_COLUMNS",
     "read_calibration_log",
     "read_carriage_log",
+    "read_desired",
     "read_run_log",
+    "read_slider_log",
 ]
 
 CARRIAGE_COLUMNS = tuple(f"L_1{i}_mm" for i in (1, 2, 3))
@@ -53,6 +55,8 @@ SENSOR_COLUMNS = tuple(tuple(f"{a}_{j}_deg" for a in ("alpha", "beta", "gamma"))
 #: A fixture's known attitude, platform by platform (optional; empty cells where the platform is free).
 KNOWN_COLUMNS = tuple(tuple(f"known_{a}_{j}_deg" for a in ("alpha", "beta", "gamma")) for j in (1, 2))
 WHAT = "calibration log"
+#: The desired motion's columns a run of ``hipsim simulate`` carries (the controlled platform's), read when present.
+DESIRED_COLUMNS = ("alpha_des_deg", "beta_des_deg", "gamma_des_deg")
 
 
 def _table(path: str | Path, map: str | None = None) -> tuple[list[str], dict[str, np.ndarray], np.ndarray | None]:
@@ -88,7 +92,7 @@ def _table(path: str | Path, map: str | None = None) -> tuple[list[str], dict[st
     wanted = {name: k for k, name in enumerate(header)}
     optional = set(sum(KNOWN_COLUMNS, ()))
     names = ("t_s",) + CARRIAGE_COLUMNS + MOTOR_COLUMNS + sum(SENSOR_COLUMNS, ()) + sum(KNOWN_COLUMNS, ())
-    keep = [name for name in names + COMMAND_COLUMNS if name in wanted]
+    keep = [name for name in names + COMMAND_COLUMNS + DESIRED_COLUMNS if name in wanted]
     values = np.empty((len(numbered) - 1, len(keep)))
     lines = np.empty(len(numbered) - 1, dtype=int)
     decimal_comma = separator != ","
@@ -114,9 +118,12 @@ def _table(path: str | Path, map: str | None = None) -> tuple[list[str], dict[st
 
 
 def _read(
-    path: str | Path, lead: float, sensors: bool, map: str | None = None
+    path: str | Path, lead: float, sensors: bool | None, map: str | None = None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray | None]:
-    """(t [s], carriages [m] (N, 3), sensors [rad] (N, 2, 3) or None when not asked for, known [rad] (N, 2, 3) or None)."""
+    """(t [s], carriages [m] (N, 3), sensors [rad] (N, 2, 3) or None when not asked for, known [rad] (N, 2, 3) or None).
+
+    ``sensors`` None: the sensors when the log has any of their columns (then all of them), else None.
+    """
     source = str(path)
     if not math.isfinite(lead) or lead <= 0:
         raise TrajectoryError(f"the screw lead must be positive, got {lead!r}", source=source)
@@ -140,6 +147,8 @@ def _read(
     else:
         missing(CARRIAGE_COLUMNS, "carriage encoders (or motor angles motor_1_deg, motor_2_deg, motor_3_deg)")
         raise AssertionError("unreachable")
+    if sensors is None:
+        sensors = any(name in columns for name in sum(SENSOR_COLUMNS, ()))
     if sensors:
         for j, names in enumerate(SENSOR_COLUMNS, start=1):
             missing(names, f"attitude sensor of platform {j}")
@@ -207,6 +216,28 @@ def read_calibration_log(path: str | Path, lead: float, columns: str | None = No
     t, carriages, sensors, known = _read(path, lead, sensors=True, map=columns)
     assert sensors is not None
     return CalibrationLog(str(path), t, carriages, sensors, known)
+
+
+def read_slider_log(
+    path: str | Path, lead: float, columns: str | None = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """A log's times [s] (N,), carriages [m] (N, 3) and, when it has their columns, both attitude sensors [rad] (N, 2, 3).
+
+    Raises:
+        TrajectoryError: as :func:`read_calibration_log`; a log with some sensor columns must have all six.
+    """
+    t, carriages, sensors, _ = _read(path, lead, sensors=None, map=columns)
+    return t, carriages, sensors
+
+
+def read_desired(path: str | Path, columns: str | None = None) -> np.ndarray | None:
+    """The desired attitude [rad] (N, 3) of a log that carries it (``alpha_des_deg`` …, as ``hipsim simulate`` writes);
+    None for a log without those columns (or with a cell that is no finite number)."""
+    _, table, _ = _table(path, columns)
+    if not all(name in table for name in DESIRED_COLUMNS):
+        return None
+    desired = np.radians(np.stack([table[name] for name in DESIRED_COLUMNS], axis=1))
+    return desired if np.all(np.isfinite(desired)) else None
 
 
 def read_carriage_log(path: str | Path, lead: float, columns: str | None = None) -> tuple[np.ndarray, np.ndarray]:

@@ -133,7 +133,9 @@ def per_chain_file(tmp_path_factory):
     return path
 
 
-@pytest.mark.parametrize("command", [["simulate", "--cycles", "0.05"], ["workspace"], ["excite"], ["size"]])
+@pytest.mark.parametrize(
+    "command", [["workspace"], ["excite"], ["size"]]
+)  # simulate runs it: tests/test_simulate_plant.py
 def test_commands_that_cannot_use_it_refuse_the_file_in_one_line(per_chain_file, tmp_path, capsys, command):
     out = [] if command == ["size"] else ["--out", str(tmp_path / "out")]
     status = main([*command, "--params", str(per_chain_file), *out])

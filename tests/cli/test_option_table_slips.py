@@ -204,7 +204,8 @@ def test_the_issues_numbers_are_each_refused_or_warned(capsys):
 @pytest.mark.parametrize(
     ("argv", "message"),
     [
-        (["simulate", "--control", "2"], "unrecognized arguments: --control 2"),  # no abbreviation of --controller
+        # no abbreviation of --controller (--control is an option of its own since issue 44: the controlled platform)
+        (["simulate", "--controll", "pd"], "unrecognized arguments: --controll pd"),
         (["stations", "--weights", "-1,1"], "--weights '-1,1': -1: weights of the two platforms' squared errors"),
         (["monitor", "--cutoff", "0"], "--cutoff 0 Hz: zero-phase low-pass cutoff must be above 0"),
         (["torques", "--no-such-option"], "unrecognized arguments: --no-such-option"),
