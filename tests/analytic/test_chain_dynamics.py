@@ -135,7 +135,7 @@ def per_chain_file(tmp_path_factory):
 
 @pytest.mark.parametrize(
     "command", [["workspace"], ["excite"], ["size"]]
-)  # simulate runs it: tests/test_simulate_plant.py
+)  # simulate runs it: tests/cli/test_simulate_plant.py
 def test_commands_that_cannot_use_it_refuse_the_file_in_one_line(per_chain_file, tmp_path, capsys, command):
     out = [] if command == ["size"] else ["--out", str(tmp_path / "out")]
     status = main([*command, "--params", str(per_chain_file), *out])
