@@ -222,3 +222,12 @@ def test_simulate_learn_1_on_the_machine_is_todays_run(built, tmp_path):
     assert names == b.dtype.names and len(names) > 30 and len(a) == len(b) == 500
     for name in names:  # each column within 2e-5 of its range (at least 1 in its unit)
         assert np.max(np.abs(b[name] - a[name])) <= 2e-5 * max(np.ptp(a[name]), 1.0), name
+
+
+def test_simulate_learn_on_the_machine_refuses_the_reduced_plant(built, tmp_path, capsys):
+    """The per-chain plant cannot be the reduced one: one line, before any cycle, nothing written."""
+    argv = ["simulate", "--learn", "2", "--frequency", "2", "--plant", "analytic", "--plant-params", str(built)]
+    assert main([*argv, "--out", str(tmp_path / "s.csv")]) == 2
+    err = capsys.readouterr().err
+    assert "--plant analytic: the reduced plant has one state for both platforms" in err and err.count("\n") == 1
+    assert not list(tmp_path.iterdir())
