@@ -90,7 +90,7 @@ class StationsSliders(Record):
 
 @dataclass(frozen=True)
 class StationsTolerance(Record):
-    """``hipsim stations --tolerance SPEC``: the tolerance study and the page written."""
+    """``hipsim stations --bands SPEC``: the tolerance study and the page written."""
 
     tolerance: ToleranceSummary
     index: str

@@ -1,5 +1,5 @@
 """What a tolerance study reports: per control and platform the 95th percentiles of the attitude errors over the
-drawn machines, and which tolerances make the follower's error (``hipsim stations --tolerance``)."""
+drawn machines, and which tolerances make the follower's error (``hipsim stations --bands``)."""
 
 from __future__ import annotations
 
