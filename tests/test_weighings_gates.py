@@ -120,9 +120,7 @@ def test_one_cup_given_twice_is_found():
 
 
 ROWS = "cycle,station,mass_mg\n" + "".join(
-    f"{c},{name},{m:.2f}\n{c},soak,{29000 + 0.4 * c / 1e6:.2f}\n"
-    if name == "1"
-    else f"{c},{name},{m:.2f}\n"
+    f"{c},{name},{m:.2f}\n{c},soak,{29000 + 0.4 * c / 1e6:.2f}\n" if name == "1" else f"{c},{name},{m:.2f}\n"
     for c in (0, 500_000, 1_000_000, 1_500_000)
     for name, m in (("1", 30_000 - 20 * c / 1e6), ("2", 31_000 - 22 * c / 1e6))
 )
