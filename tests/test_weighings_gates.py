@@ -73,7 +73,7 @@ def test_a_negative_rate_names_the_soak_control():
     # the cup and its soak control swapped: the soak control loses mass, the cup gains
     right = _station("1", soak=39_000.0 + 0.4 * CYCLES / 1e6)
     swapped = StationWeighings("1", "soak", CYCLES, right.soak_mg, right.mass_mg, right.lines)
-    assert "swapped" in rate_findings(station_rate(swapped, 1.0))
+    assert "swapped" in str(rate_findings(station_rate(swapped, 1.0)))
 
 
 def test_a_rate_beyond_a_hip_cups_at_the_boundary():
@@ -86,9 +86,11 @@ def test_a_rate_beyond_a_hip_cups_at_the_boundary():
 def test_a_mass_outside_a_cups_names_the_unit():
     low, high = CUP_MASS_RANGE_MG
     assert mass_findings(_station("1", 0.0, low, np.zeros(5))) is None
-    assert "in g, not mg" in mass_findings(_station("1", 0.0, low * (1 - 1e-9), np.zeros(5)))
+    assert "in g, not mg" in str(mass_findings(_station("1", 0.0, low * (1 - 1e-9), np.zeros(5))))
     assert mass_findings(_station("1", 0.0, high, np.zeros(5), soak=np.full(5, high))) is None
-    assert "in µg, not mg" in mass_findings(_station("1", 0.0, 40_000.0, np.zeros(5), soak=np.full(5, high * 1.01)))
+    assert "in µg, not mg" in str(
+        mass_findings(_station("1", 0.0, 40_000.0, np.zeros(5), soak=np.full(5, high * 1.01)))
+    )
 
 
 def test_two_stations_swapped_at_a_stop_are_named():
@@ -115,7 +117,7 @@ def test_a_station_swapped_with_its_soak_control_at_a_stop_is_named():
 
 def test_one_cup_given_twice_is_found():
     a = _station("1")
-    assert "one cup given twice" in duplicate_stations(_weighings(a, _station("2")))
+    assert "one cup given twice" in str(duplicate_stations(_weighings(a, _station("2"))))
     assert duplicate_stations(_weighings(a, _station("2", wobble=WOBBLE + np.array([0, 0, 0, 0, 1e-3])))) is None
 
 

@@ -181,15 +181,15 @@ def swap_findings(weighings: Weighings, gain: float = PATTERN_GAIN) -> tuple[str
     for a, b in combinations(weighings.stations, 2):
         common = np.intersect1d(a.cycles, b.cycles)
         base = _sse(a.cycles, a.loss_mg) + _sse(b.cycles, b.loss_mg)
-        best = (base, -1.0)
+        pair: tuple[float, float] = (base, -1.0)
         for cycle in common:
             i, j = int(np.searchsorted(a.cycles, cycle)), int(np.searchsorted(b.cycles, cycle))
             mass_a, mass_b = a.mass_mg.copy(), b.mass_mg.copy()
             mass_a[i], mass_b[j] = b.mass_mg[j], a.mass_mg[i]
             sse = _sse(a.cycles, _loss(mass_a, a.soak_mg)) + _sse(b.cycles, _loss(mass_b, b.soak_mg))
-            best = min(best, (sse, float(cycle)))
-        if base > 0 and best[1] >= 0 and best[0] < (1.0 - gain) * base:
-            found.append(f"stations {a.station} and {b.station} look swapped at cycle {best[1]:.0f}")
+            pair = min(pair, (sse, float(cycle)))
+        if base > 0 and pair[1] >= 0 and pair[0] < (1.0 - gain) * base:
+            found.append(f"stations {a.station} and {b.station} look swapped at cycle {pair[1]:.0f}")
     return tuple(found)
 
 
