@@ -1033,7 +1033,7 @@ def bench_channels(quick: bool) -> None:
 def bench_compare_memory(seed_motion: str = "both") -> None:
     """Compare in pieces: the peak of Python's allocations (tracemalloc) for a log four times longer, beside the shorter one's.
 
-    Was tests/test_compare.py's ``test_memory_does_not_grow_with_the_log`` (tracemalloc slows every allocation,
+    Was tests/rig/test_compare.py's ``test_memory_does_not_grow_with_the_log`` (tracemalloc slows every allocation,
     10 s of the suite): a measurement, so it lives here, with its bound printed beside it.
     """
     import sys

@@ -36,28 +36,28 @@ from pathlib import Path
 
 import pytest
 
-#: Test files by decreasing time (``--durations=0`` of a fresh clone, 27 Nov after the figures undrawn, the sums of each file's entries): scheduled first.
+#: Test files by decreasing time, by their path under tests/ (``--durations=0`` of a fresh clone, 27 Nov after the figures undrawn, the sums of each file's entries): scheduled first.
 SLOW_FIRST = [
     "test_docs.py",
-    "test_uncertainty_forward.py",
+    "rig/identification/test_uncertainty_forward.py",
     "test_cli.py",
     "test_files.py",
-    "test_identification_accuracy.py",
-    "test_identification.py",
-    "test_closed_chain.py",
-    "test_simulation.py",
-    "test_report.py",
-    "test_sweep_scratch.py",
-    "test_meshcat_output.py",
-    "test_pages.py",
-    "test_monitor_run.py",
-    "test_sweep.py",
-    "test_mujoco_engine.py",
-    "test_viewer.py",
-    "test_analytic_kernel.py",
-    "test_identified_file.py",
-    "test_reader.py",
-    "test_identification_sensors.py",
+    "rig/identification/test_identification_accuracy.py",
+    "rig/identification/test_identification.py",
+    "closed_chain/test_dynamics.py",
+    "control/test_simulation.py",
+    "present/test_report.py",
+    "design/test_sweep_scratch.py",
+    "present/test_meshcat_output.py",
+    "present/test_pages.py",
+    "rig/monitoring/test_monitor_run.py",
+    "design/test_sweep.py",
+    "mujoco_engine/test_mujoco_engine.py",
+    "present/test_viewer.py",
+    "analytic/test_kernel.py",
+    "rig/identification/test_identified_file.py",
+    "rig/logs/test_reader.py",
+    "rig/identification/test_identification_sensors.py",
 ]
 
 
@@ -152,7 +152,7 @@ def figures_undrawn():
     Drawing is most of a report's time (7 figures, each drawn twice: about 4 s of the 4.5 s of
     ``hipsim report --rate 100``). Tests whose assertions are about a page's text, its JSON, the
     files a command writes or its exit status use this; the drawn figures themselves are checked
-    where the drawing is the point (tests/test_report.py's full report, the browser tests, the
+    where the drawing is the point (tests/present/test_report.py's full report, the browser tests, the
     rig, monitor and wear pages). The stand-in depends on every plotted value, so two runs that
     differ write different figures and a rerun of the same one the same bytes, as drawing does.
     """
@@ -249,7 +249,16 @@ def pytest_sessionstart(session):
 def pytest_collection_modifyitems(session, config, items):
     """The slowest files first, each file's tests in their own order."""
     rank = {name: k for k, name in enumerate(SLOW_FIRST)}
-    items.sort(key=lambda item: rank.get(item.path.name, len(rank)))  # stable: a file's order is kept
+    tests = Path(__file__).resolve().parent
+    items.sort(key=lambda item: rank.get(_under(item.path, tests), len(rank)))  # stable: a file's order is kept
+
+
+def _under(path: Path, tests: Path) -> str:
+    """A test file's path under tests/ ("rig/test_compare.py"), as SLOW_FIRST names it."""
+    try:
+        return path.resolve().relative_to(tests).as_posix()
+    except ValueError:  # a test collected from outside tests/
+        return path.name
 
 
 def pytest_unconfigure(config):

@@ -143,6 +143,6 @@ def test_torques(tmp_path, capsys):
 def test_every_schema_is_validated_by_a_test_of_its_command():
     """Each document of ``hipsim schema`` has a test that runs its command and validates the output against it."""
     tests = Path(__file__).resolve().parent
-    text = "\n".join(path.read_text(encoding="utf-8") for path in tests.glob("test_*.py"))
+    text = "\n".join(path.read_text(encoding="utf-8") for path in tests.rglob("test_*.py"))  # every folder of tests/
     for name in SCHEMAS:
         assert f'_valid(capsys, "{name}"' in text or f'schema("{name}")' in text, name

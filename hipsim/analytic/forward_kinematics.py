@@ -20,7 +20,7 @@ that no pose reaches, a singular one, or one in another assembly mode is
 refused by name.
 
 Converged poses reproduce the slider heights to ~1e-15 m; the round trip
-q → L → q is exact to ~1e-13 rad (``tests/test_forward_kinematics.py``:
+q → L → q is exact to ~1e-13 rad (``tests/analytic/test_forward_kinematics.py``:
 1e-9 rad required, on the ISO cycle and on random poses).
 """
 

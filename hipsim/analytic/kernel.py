@@ -9,11 +9,11 @@ overhead for a few thousand floating-point operations: the reduced plant ran
 at a quarter of real time. Here the same equations are written for a single
 state on plain floats and compiled, so that a whole servo period costs ~15 µs.
 
-The vectorised model stays the reference: ``tests/test_analytic_kernel.py``
+The vectorised model stays the reference: ``tests/analytic/test_kernel.py``
 checks :func:`torques`, :func:`mass_and_bias`, :func:`jacobian` and
 :func:`workspace_pd` against it to round-off on random states with every
 friction coefficient on, and the plant's agreement with the Pinocchio plant
-is tested in ``tests/test_closed_chain_plant.py``. The names follow those modules, so
+is tested in ``tests/closed_chain/test_plant.py``. The names follow those modules, so
 each line here can be read against its vectorised counterpart; the laws both
 use (rotation maps, lever spin, friction) are written once, in
 :mod:`hipsim.physics.laws`.
@@ -210,7 +210,7 @@ def _signed(P, v):
 # The vectorised model and this kernel stay two transcriptions of the virtual-work
 # assembly because one runs whole-array NumPy operations on every sample at once and the
 # other scalar code on one state: the laws they share come from hipsim.physics.laws,
-# and tests/test_analytic_kernel.py ties the two to round-off.
+# and tests/analytic/test_kernel.py ties the two to round-off.
 
 
 class _LeverMotion(NamedTuple):

@@ -16,7 +16,7 @@ their transposes in closed form:
 
 that is, the lever wrench is replaced by two forces at its ends: f_a acts on
 the platform at a (moment r × f_a about the fixed centre) and the vertical part
-of f_b acts on the slider. ``tests/test_virtual_work.py`` checks this against the
+of f_b acts on the slider. ``tests/analytic/test_virtual_work.py`` checks this against the
 explicit Jacobians of :func:`hipsim.analytic.inverse_kinematics.lever_jacobians`.
 
 Both platforms have the same orientation and their legs the same lever
@@ -32,7 +32,7 @@ spin and frame are those of :mod:`hipsim.physics.laws`, which the compiled
 kernel and the Pinocchio model call too. The assembly below is transcribed
 once more, for one state on plain floats, in :mod:`hipsim.analytic.kernel`,
 because whole-array NumPy code costs ~700 calls of Python overhead per state
-there; ``tests/test_analytic_kernel.py`` ties the two to round-off.
+there; ``tests/analytic/test_kernel.py`` ties the two to round-off.
 
 What depends on the motion and the geometry alone (the levers' spin, the body
 components of the angular velocities, J⁻ᵀ) is computed first

@@ -4,7 +4,7 @@ The parser of each command is checked against this table when it is built
 (:func:`hipsim.cli.parser.apply_table`): an option a command adds that is not
 here is a programming error, a number outside its hard range is refused, one
 outside its plausible range is warned of. The corpus of slips in the tests
-(tests/test_option_slips.py) is generated from the numeric rows, so a new
+(tests/cli/test_option_table_slips.py) is generated from the numeric rows, so a new
 option is covered as soon as it is declared.
 
 Ranges: the hard range holds every value that has a meaning (a cutoff above

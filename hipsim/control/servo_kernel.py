@@ -19,7 +19,7 @@ It is the same loop, step for step, as the Python one in
 :mod:`hipsim.control.simulation`: the same compiled control law
 (:func:`hipsim.analytic.kernel._workspace_pd`) and RK4 steps
 (:func:`hipsim.analytic.kernel._advance`), the same clipping and counting, so
-the two give the same trajectories to round-off (``tests/test_simulation.py``
+the two give the same trajectories to round-off (``tests/control/test_simulation.py``
 compares them).
 
 Its numba cache is keyed on the kernel's and the laws' files too: the machine

@@ -29,7 +29,7 @@ in their own units, with the file's line of each row. Then:
 Every problem is reported on one line naming the file, its line and column.
 
 Derivative accuracy, measured on the ISO cycle written to CSV and read back
-(``tests/test_build.py``), relative to each angle's peak: at 1 kHz the
+(``tests/motion/test_build.py``), relative to each angle's peak: at 1 kHz the
 velocity is exact to 2e-13 and the acceleration to 1e-10 (round-off
 dominates), 1e-12 and 1e-9 near the ends of a non-periodic file; at 200 Hz
 the acceleration is exact to 1.4e-9 inside and 5e-7 near the ends of a

@@ -1,0 +1,239 @@
+"""tests/ mirrors hipsim/: the tests of hipsim/<package>/<module>.py are tests/<package>/test_<module>.py (issue 46).
+
+A module's tests may be split by aspect, tests/<package>/test_<module>_<aspect>.py (its laws by hand, its files, its
+errors); a file's name claims the longest module name it starts with, so tests/rig/monitoring/test_monitor_fit_errors.py
+is monitor_fit's and not a module "monitor"'s. Foundation modules (hipsim/<module>.py) have theirs at the top of tests/,
+beside the cross-cutting files that scripts/mirror_tests.toml keeps there. The table places every test file:
+scripts/mirror_tests.py moves a new flat file to its row's folder (docs/guide/layout.md).
+
+KNOWN_GAPS lists the modules with logic that have no test file at their mirrored path yet, each with where they are
+exercised today; the list only shrinks: a new module without its test file fails here, and so does a gap closed but
+still listed.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGE = ROOT / "hipsim"
+TESTS = ROOT / "tests"
+TABLE = ROOT / "scripts" / "mirror_tests.toml"
+
+#: Modules without tests of their own, by design (path under hipsim/ -> why). ``__init__.py`` (curated re-exports and
+#: lazy imports, checked by tests/test_layers.py) and ``__main__.py`` (``python -m hipsim``) are exempt by rule.
+EXEMPT = {
+    "version.py": "the version string; tests/analysis/test_streaming.py holds it equal to pyproject's",
+    "physics/units.py": "two conversion factors, 60/2π and its inverse: data, no logic",
+}
+
+#: Modules with logic still lacking a test file at their mirrored path -> where they are exercised today.
+KNOWN_GAPS = {
+    "analysis/crosscheck_summary.py": "through the commands' JSON: tests/test_schemas.py",
+    "analytic/engine.py": "analytic/test_chain_dynamics.py, rig/test_plausibility_laws.py",
+    "analytic/stations.py": "analytic/test_chain_dynamics.py, machine/test_chains.py (+2)",
+    "cli/calibrate.py": "through the command line: tests/test_cli.py and its command's tests",
+    "cli/check.py": "through the command line: tests/test_cli.py and its command's tests",
+    "cli/documents.py": "test_schemas.py, present/test_pages.py (+2)",
+    "cli/excite.py": "through the command line: tests/test_cli.py and its command's tests",
+    "cli/export.py": "through the command line: learning/test_export.py",
+    "cli/main.py": "analysis/test_streaming.py, analytic/test_chain_dynamics.py (+37)",
+    "cli/mjcf.py": "through the command line: tests/test_cli.py and its command's tests",
+    "cli/monitor.py": "rig/monitoring/test_monitor_run.py",
+    "cli/options.py": "cli/test_option_table_slips.py",
+    "cli/parser.py": "cli/test_option_table_slips.py",
+    "cli/report.py": "present/test_report.py",
+    "cli/rig.py": "test_cli.py",
+    "cli/schema.py": "through the command line: tests/test_schemas.py",
+    "cli/simulate_learn.py": "through the command line: cli/test_learn.py",
+    "cli/simulate_machine.py": "through the command line: cli/test_simulate_plant.py",
+    "cli/size.py": "through the command line: tests/test_cli.py and its command's tests",
+    "cli/stations.py": "through the command line: tests/test_cli.py and its command's tests",
+    "cli/sweep.py": "design/test_sweep.py",
+    "cli/torques.py": "test_cli.py",
+    "cli/view.py": "present/test_viewer.py",
+    "cli/wear_test_output.py": "through the command line: tests/test_cli.py and its command's tests",
+    "cli/workspace.py": "design/test_workspace.py",
+    "closed_chain/build.py": "analysis/test_crosscheck.py, analytic/test_chain_dynamics.py (+7)",
+    "closed_chain/closure.py": "closed_chain/test_closure_kernel.py, closed_chain/test_dynamics.py",
+    "closed_chain/constraints.py": "analysis/test_crosscheck.py, closed_chain/test_closure_kernel.py (+2)",
+    "closed_chain/engine.py": "analytic/test_chain_dynamics.py, present/test_report.py",
+    "closed_chain/friction.py": "closed_chain/test_plant.py",
+    "closed_chain/plant_kernel.py": "closed_chain/test_tree_kernel.py",
+    "closed_chain/plant_step.py": "indirectly, through the modules that call it",
+    "closed_chain/workspace.py": "closed_chain/test_closure_kernel.py",
+    "control/chain_kernel.py": "control/test_machine_loop.py",
+    "control/closed_chain_loop.py": "closed_chain/test_plant.py, control/test_simulation.py",
+    "control/controllers.py": "closed_chain/test_plant.py, control/test_simulation.py (+1)",
+    "control/feedback.py": "control/test_machine_loop.py",
+    "control/machine_kernel.py": "indirectly, through control/test_machine_loop.py",
+    "control/servo_kernel.py": "control/test_simulation.py",
+    "control/simulation_summary.py": "through the commands' JSON: tests/test_schemas.py",
+    "control/tracking.py": "control/test_machine_loop.py",
+    "design/variants.py": "design/test_sweep.py, test_tables_long_fields.py",
+    "engine.py": "analysis/test_registry.py",
+    "exceptions.py": "analysis/test_cluster_batches.py, analysis/test_registry.py (+55)",
+    "learning/command_file.py": "through the learning package: learning/test_learning.py",
+    "learning/filters.py": "learning/test_learning.py",
+    "learning/law.py": "learning/test_learning.py",
+    "learning/records.py": "through the learning package: learning/test_learning.py",
+    "learning/servo.py": "through the learning package: learning/test_learning.py",
+    "learning/step.py": "learning/test_learning.py, learning_synthetic.py",
+    "machine/drive_parts.py": "design/test_checks.py, design/test_demand.py (+2)",
+    "machine/parameter_set.py": "physics/test_friction_transmission_laws.py",
+    "motion/parquet.py": "motion/test_readers_laws.py",
+    "motion/sources.py": "analysis/test_streaming.py, motion/test_readers_laws.py (+1)",
+    "mujoco_engine/closure.py": "indirectly, through the modules that call it",
+    "mujoco_engine/dynamics.py": "indirectly, through the modules that call it",
+    "mujoco_engine/friction.py": "mujoco_engine/test_mujoco_engine.py",
+    "mujoco_engine/machine.py": "indirectly, through the modules that call it",
+    "mujoco_engine/mjcf.py": "mujoco_engine/test_mujoco_engine.py",
+    "mujoco_engine/model.py": "indirectly, through the modules that call it",
+    "mujoco_engine/plant.py": "indirectly, through the modules that call it",
+    "mujoco_engine/trajectory.py": "mujoco_engine/test_mujoco_engine.py",
+    "present/fig7.py": "stations/test_sensor_check.py",
+    "present/iso_figures.py": "indirectly, through the modules that call it",
+    "present/meshcat_scene.py": "present/test_viewer.py",
+    "present/motion_frames.py": "indirectly, through the modules that call it",
+    "present/provenance.py": "present/test_pages.py, rig/identification/test_identified_file.py (+2)",
+    "present/report_page.py": "test_plausibility_rows.py",
+    "present/rig_figures.py": "indirectly, through the modules that call it",
+    "present/stations_page.py": "indirectly, through the modules that call it",
+    "present/sweep_figures.py": "present/test_figures.py",
+    "present/viewer_text.py": "indirectly, through the modules that call it",
+    "present/wear_figures.py": "indirectly, through the modules that call it",
+    "present/wear_page.py": "cli/test_wear.py",
+    "present/wear_test_figures.py": "indirectly, through the modules that call it",
+    "present/wear_test_page.py": "cli/test_wear_test.py",
+    "present/workspace_figures.py": "indirectly, through the modules that call it",
+    "rig/compare_summary.py": "through the commands' JSON: tests/test_schemas.py, rig/test_compare.py",
+    "rig/identification/self_check.py": "through hipsim.fit_checks: test_fit_checks.py",
+    "rig/logs/text_rows.py": "rig/logs/test_reader_laws.py",
+    "rig/monitoring/monitor_summary.py": "through the commands' JSON: tests/test_schemas.py, rig/monitoring/test_monitor_run.py",
+    "stations/calibration_check.py": "through hipsim.fit_checks and calibrate's gates: test_fit_checks.py",
+    "stations/calibration_file.py": "indirectly, through the modules that call it",
+    "stations/excitation.py": "stations/test_calibration.py",
+    "stations/logs.py": "stations/test_calibration.py",
+    "stations/sensitivity.py": "stations/test_calibration.py",
+    "stations/tolerance.py": "stations/test_commands.py",
+    "wear/accumulate.py": "wear/test_gravimetric.py",
+    "wear/factors.py": "wear/test_gravimetric.py",
+    "wear/kernel.py": "indirectly, through the modules that call it",
+    "wear/kinematics.py": "wear/test_wear.py",
+    "wear/laws.py": "cli/test_wear.py, cli/test_wear_test.py (+2)",
+    "wear/maps.py": "wear/test_wear.py",
+    "wear/test_context.py": "wear/test_gravimetric.py",
+    "wear/test_result.py": "indirectly, through the modules that call it",
+    "wear/weighings.py": "wear/test_gravimetric.py",
+}
+
+
+def modules() -> list[str]:
+    """hipsim's modules as paths under hipsim/ ("rig/monitoring/watch.py"), without ``__init__`` and ``__main__``."""
+    return sorted(
+        path.relative_to(PACKAGE).as_posix()
+        for path in PACKAGE.rglob("*.py")
+        if "__pycache__" not in path.parts and path.name not in ("__init__.py", "__main__.py")
+    )
+
+
+def claimed(test: Path, names: list[str]) -> str | None:
+    """The module a test file's name claims among ``names`` (its folder's modules): the longest that fits."""
+    stem = test.stem.removeprefix("test_")
+    fits = [name for name in names if stem == name or stem.startswith(name + "_")]
+    return max(fits, key=len) if fits else None
+
+
+def mirrored(module: str) -> list[Path]:
+    """The test files at a module's mirrored path: tests/<package>/test_<module>.py or test_<module>_<aspect>.py."""
+    path = PACKAGE / module
+    folder = TESTS.joinpath(*Path(module).parts[:-1])
+    names = [sibling.stem for sibling in path.parent.glob("*.py")]
+    return [test for test in sorted(folder.glob("test_*.py")) if claimed(test, names) == path.stem]
+
+
+def test_a_files_name_claims_the_longest_module_it_starts_with():
+    names = ["monitor", "monitor_fit", "monitor_run", "fit"]
+    assert claimed(Path("test_monitor_fit_errors.py"), names) == "monitor_fit"
+    assert claimed(Path("test_monitor_fit.py"), names) == "monitor_fit"
+    assert claimed(Path("test_monitor.py"), names) == "monitor"
+    assert claimed(Path("test_monitor_page.py"), names) == "monitor"
+    assert claimed(Path("test_monitoring.py"), names) is None  # a longer word is not the module's aspect
+    assert claimed(Path("test_fitting.py"), names) is None
+
+
+def test_every_module_with_logic_has_its_mirrored_test_file():
+    missing = [m for m in modules() if m not in EXEMPT and m not in KNOWN_GAPS and not mirrored(m)]
+    assert not missing, (
+        "modules without a test file at their mirrored path (tests/<package>/test_<module>.py): "
+        + ", ".join(missing)
+        + "; write it (or, for a module without logic, add it to EXEMPT with the reason)"
+    )
+
+
+def test_the_known_gaps_only_shrink():
+    closed = [m for m in KNOWN_GAPS if mirrored(m)]
+    assert not closed, f"these modules have their mirrored test file now: remove them from KNOWN_GAPS: {closed}"
+    gone = [m for m in [*KNOWN_GAPS, *EXEMPT] if not (PACKAGE / m).is_file()]
+    assert not gone, f"no such module under hipsim/ (moved or removed?): {gone}"
+    assert not set(KNOWN_GAPS) & set(EXEMPT)
+
+
+def test_every_test_folder_mirrors_a_package():
+    folders = sorted({path.parent for path in TESTS.rglob("test_*.py") if "__pycache__" not in path.parts})
+    strays = [
+        f.relative_to(TESTS).as_posix() for f in folders if f != TESTS and not (PACKAGE / f.relative_to(TESTS)).is_dir()
+    ]
+    assert not strays, f"test folders with no hipsim package of that path: {strays}"
+
+
+def foundation_test(name: str) -> bool:
+    """A flat test file's name claims a foundation module (hipsim/<module>.py): its place is the top of tests/."""
+    return claimed(Path(name), [path.stem for path in PACKAGE.glob("*.py")]) not in (None, "__init__", "__main__")
+
+
+def flat_files_waiting(moves: dict[str, str], stay: dict[str, str]) -> list[str]:
+    """Flat test files neither kept at the top (a [stay] row, a move to the top, a foundation module's) nor moved yet."""
+    placed = set(stay) | {target for target in moves.values() if "/" not in target}
+    return sorted(
+        path.name
+        for path in TESTS.glob("test_*.py")
+        if path.name not in placed and (path.name in moves or not foundation_test(path.name))
+    )
+
+
+def test_a_foundation_modules_test_file_stays_at_the_top():
+    assert foundation_test("test_files.py") and foundation_test("test_tables_long_fields.py")
+    assert not foundation_test("test_wear_summary.py")  # wear is a package
+    assert not foundation_test("test_main.py")
+
+
+def test_every_flat_test_file_has_its_row_in_the_table():
+    """A new test file at the top of tests/ is placed by scripts/mirror_tests.toml (or a foundation module's), or waits for the script."""
+    table = tomllib.loads(TABLE.read_text(encoding="utf-8"))
+    waiting = flat_files_waiting(table["moves"], table["stay"])
+    assert not waiting, (
+        f"flat test files not placed: {waiting}; add a row to scripts/mirror_tests.toml and run "
+        ".venv/bin/python scripts/mirror_tests.py"
+    )
+    for target in table["moves"].values():
+        assert target.startswith("test_") or "/test_" in target, f"{target}: a test file's name starts with test_"
+
+
+def test_the_files_named_by_path_exist():
+    """SLOW_FIRST (tests/conftest.py) and the mutation targets name test files by path; a stale one is silently skipped."""
+    from conftest import SLOW_FIRST
+
+    stale = [name for name in SLOW_FIRST if not (TESTS / name).is_file()]
+    assert not stale, f"tests/conftest.py's SLOW_FIRST names files that are not under tests/: {stale}"
+    targets = tomllib.loads((ROOT / "scripts" / "mutation_targets.toml").read_text(encoding="utf-8"))
+    named = [
+        test.split("::")[0]
+        for target in targets.values()
+        for key in ("tests", "deselect")
+        for test in target.get(key, [])
+    ]
+    assert named, "scripts/mutation_targets.toml names no test file"
+    stale = sorted({path for path in named if not (ROOT / path).is_file()})
+    assert not stale, f"scripts/mutation_targets.toml names test files that do not exist: {stale}"
