@@ -10,7 +10,9 @@ soak-corrected loss against cycles (:mod:`hipsim.wear.gravimetric`):
   a stated balance noise σ (``--balance-noise``, one reading's standard
   deviation) gives √2·σ. Without it the noise is the other stations' median
   residual (one balance, one lab: the stations share the noise), so a station
-  scattering 3 times its neighbours is named; one station alone is not held;
+  scattering 3 times its neighbours is named; one station alone is not held,
+  nor stations with under :data:`NEIGHBOUR_MIN_DOF` = 6 degrees of freedom
+  (8 stops: with fewer, two honest stations differ 3-fold too often);
 - **a rate a hip cup cannot have** (:func:`rate_findings`): a steady rate whose
   95 % interval lies wholly below 0 (the cup gains mass after the soak
   correction: the soak control's sign, or the cup and its soak control
@@ -50,6 +52,7 @@ from .weighings import StationWeighings, Weighings
 __all__ = [
     "BALANCE_NOISE_RANGE",
     "CUP_MASS_RANGE_MG",
+    "NEIGHBOUR_MIN_DOF",
     "RATE_MAX_MM3_PER_MC",
     "check_gravimetry",
     "duplicate_stations",
@@ -63,6 +66,10 @@ __all__ = [
 RATE_MAX_MM3_PER_MC = 300.0
 #: A cup's mass in [mg] lies in [1 g, 1 kg]: below, grams in the mg column; above, micrograms.
 CUP_MASS_RANGE_MG = (1e3, 1e6)
+#: Without a stated balance noise, stations are held to each other only with this many degrees of freedom each
+#: (8 stops; ISO 14242-2 weighs 11 by 5 Mc): two honest stations of 6 then differ 3-fold in 1.7 % of tests, of 3
+#: (5 stops) in 10 %.
+NEIGHBOUR_MIN_DOF = 6
 #: ``--balance-noise`` in [mg]: hard range (0, 100], one reading's standard deviation.
 BALANCE_NOISE_RANGE = (0.0, 100.0)
 
@@ -75,10 +82,11 @@ def residual_findings(
     Args:
         rates: the stations' rates; a station with fewer than three fitted stops (no residual) is skipped.
         balance_noise_mg: one reading's standard deviation in [mg]; a loss's noise is √2 times it. None: each
-            station is held to the median residual of the others (none with a single station).
+            station is held to the median residual of the others (none with a single station), among the stations
+            with at least :data:`NEIGHBOUR_MIN_DOF` degrees of freedom.
         factor: the gate (:data:`hipsim.fit_checks.RESIDUAL_FACTOR`); a ratio equal to it passes.
     """
-    held = [rate for rate in rates if rate.dof >= 1]
+    held = [rate for rate in rates if rate.dof >= (1 if balance_noise_mg is not None else NEIGHBOUR_MIN_DOF)]
     names, residual, noise = [], [], []
     for rate in held:
         s = rate.se_mg_per_Mc * math.sqrt(_sxx(rate))

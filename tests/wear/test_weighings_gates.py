@@ -15,6 +15,7 @@ from hipsim.wear.gravimetric import gravimetry, line_fit, station_rate
 from hipsim.wear.weighings import StationWeighings, Weighings
 from hipsim.wear.weighings_checks import (
     CUP_MASS_RANGE_MG,
+    NEIGHBOUR_MIN_DOF,
     RATE_MAX_MM3_PER_MC,
     check_gravimetry,
     duplicate_stations,
@@ -54,12 +55,22 @@ def test_residuals_against_a_stated_balance_noise_at_the_boundary():
     assert found and "station 1" in found and "√2 × the balance noise 0.01 mg" in found
 
 
+EIGHT = np.arange(8) * 500_000  # 8 stops: NEIGHBOUR_MIN_DOF = 6 degrees of freedom
+WOBBLE8 = np.array([0.0, 0.1, -0.1, 0.05, -0.05, 0.08, -0.02, 0.03])
+
+
 def test_without_a_stated_noise_a_station_is_held_to_the_others():
-    rates = [station_rate(_station(n, wobble=WOBBLE * f), 1.0) for n, f in (("1", 1.0), ("2", 1.0), ("3", 10.0))]
+    def rate(name, factor, cycles=EIGHT):
+        return station_rate(_station(name, wobble=WOBBLE8 * factor, cycles=cycles), 1.0)
+
+    rates = [rate("1", 1.0), rate("2", 1.0), rate("3", 10.0)]
+    assert NEIGHBOUR_MIN_DOF == 6 and rates[0].dof == NEIGHBOUR_MIN_DOF
     found = residual_findings(rates)
     assert found and "station 3" in found and "station 1 " not in found and "other stations' median" in found
     assert residual_findings(rates[:1]) is None  # one station alone: nothing to hold it to
-    two = [station_rate(_station("1", wobble=WOBBLE * 3.0), 1.0), rates[0]]
+    # 7 stops (5 degrees of freedom): too few to hold stations to each other
+    assert residual_findings([rate(n, f, EIGHT[:7]) for n, f in (("1", 1.0), ("2", 1.0), ("3", 10.0))]) is None
+    two = [rate("1", 3.0), rates[0]]
     assert residual_findings(two, factor=3.0 * (1 + 1e-9)) is None  # 3 times its neighbour's scatter passes
     assert residual_findings(two, factor=3.0 * (1 - 1e-9))
 
