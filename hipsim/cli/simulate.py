@@ -181,11 +181,6 @@ def run(args) -> int:
         raise HipsimError("--fig7 draws both platforms of a run with --plant-params or --feedback; give one of them")
     if apart:
         check_options(args)  # each option in its range before any work
-        if args.learn is not None:  # never silently ignored
-            raise HipsimError(
-                "--learn runs on a plant that is the controller's model; with --plant-params, --feedback or a "
-                "per-chain --params the plant-and-model loop runs, which does not learn yet"
-            )
     if Path(args.out).is_dir():  # before the run, not after it
         raise HipsimError(f"--out {args.out} is a folder; give a CSV file name")
     if is_stdout(args.out) and args.controller == "both":
@@ -214,6 +209,10 @@ def run(args) -> int:
         mismatch = parse_mismatch(args.mismatch) if args.mismatch else {}
     except ArgumentError as error:  # the library names its argument; the user typed an option
         raise HipsimError(f"--mismatch: expected {error.expected}, got {error.value!r}") from None
+    if apart and args.learn is not None:
+        from .simulate_learn import run_learning
+
+        return run_learning(args, params, None, trajectory, mismatch, report)
     if apart:
         runs, written = run_machine_loop(args, params, desired_at, duration, mismatch)
         if args.summary_format == "json":

@@ -32,6 +32,13 @@ def _change_mm(summary) -> float:
     return max(summary.update.change_rms_mm)
 
 
+def _apart(args, machine) -> str:
+    """The table title's words for the machine as built: what the plant is and what closes the loop."""
+    if machine is None:
+        return ""
+    return f" ({args.plant_params or 'the --params machine'} under the model, {args.feedback or 'encoders'} feedback)"
+
+
 def run_learning(args, params, plant, trajectory, mismatch, report) -> int:
     """Run the cycles, write the last one and the error per cycle, print the table; exit status 0."""
     import numpy as np
@@ -51,15 +58,36 @@ def run_learning(args, params, plant, trajectory, mismatch, report) -> int:
             f"--learn: the desired motion must be sampled at the servo rate ({rate:g} Hz) over a whole number of servo "
             f"periods; it has {n} samples over {period:g} s"
         )
-    args.control = getattr(args, "control", None)
+    runs: list = []
+    machine = None
+    if plant is None:  # the machine as built: plant and model apart (per-chain plant, encoders or a sensor)
+        from ..learning.servo import machine_runner
+        from ..motion.trajectories import interpolator
+        from .simulate_machine import machine_setup, sensor_noise
+
+        plant, control, feedback = machine_setup(args, params, interpolator(desired), period, mismatch)
+        args.control = str(control)  # the platform the loop closes on is the one learned
+        machine = machine_runner(
+            plant,
+            params,
+            control,
+            lambda k: feedback(k - 1),  # a sensor's noise drawn anew each cycle
+            desired.Fe,
+            period,
+            rate,
+            sensor_noise(args),
+            (args.sensor_seed or 0) + 1,
+            runs,
+        )
+    else:
+        args.control = getattr(args, "control", None)
     args.weights = getattr(args, "weights", None)
     law = learning_law(args, params, n / period)
     out = Path(args.out)
     table = out.with_name(f"{out.stem}_learning.csv")
     check_output(out)
     check_output(table)
-    runs: list = []
-    runner = servo_runner(plant, params, desired.Fe, period, rate, runs)
+    runner = machine if machine is not None else servo_runner(plant, params, desired.Fe, period, rate, runs)
     steps, _ = learn_cycles(
         runner, params, desired, law, args.learn, notify=note if args.summary_format != "json" else None
     )
@@ -77,17 +105,35 @@ def run_learning(args, params, plant, trajectory, mismatch, report) -> int:
         [np.nan if s.convergence.data is None else s.convergence.data for s in summaries]
     )
     columns["change_rms_mm"] = np.array([_change_mm(s) for s in summaries])
-    runs[-1].write_csv(out)
+    if machine is not None:  # the true desired motion in the file, not the last cycle's learned reference
+        import dataclasses
+
+        from .simulate_machine import _write_fig7
+
+        last = runs[-1]
+        last = dataclasses.replace(last, desired=dataclasses.replace(desired, t=last.t))
+        last.write(out)
+        figures = [str(p) for p in _write_fig7(last, out)] if args.fig7 else []
+    else:
+        figures = []
+        runs[-1].write_csv(out)
     write_columns(table, columns)
     if args.summary_format == "json":
         print_json(
-            {"learning": [s.to_json() for s in summaries], "mismatch": mismatch, "csv": [str(out), str(table)]}, report
+            {
+                "learning": [s.to_json() for s in summaries],
+                "mismatch": mismatch,
+                "csv": [str(out), str(table)],
+                **({"figures": figures} if figures else {}),
+                **({} if machine is None else {"model": params.source, "plant": args.plant_params or params.source}),
+            },
+            report,
         )
         return 0
     rows = [
         [
             str(s.cycle),
-            f"m_{e.platform}",
+            f"m_{e.platform}" + (" (learned)" if e.controlled and machine is not None else ""),
             *(f"{e.rms_deg[k]:.4g}" for k in range(3)),
             *(f"{abs(e.peak_deg[k]):.4g}" for k in range(3)),
             f"{_change_mm(s):.3g}",
@@ -95,7 +141,7 @@ def run_learning(args, params, plant, trajectory, mismatch, report) -> int:
         ]
         for s in summaries
         for e in s.errors
-        if e.controlled
+        if e.controlled or machine is not None  # the machine as built: the following platform's error too
     ]
     header = [
         "cycle",
@@ -115,8 +161,14 @@ def run_learning(args, params, plant, trajectory, mismatch, report) -> int:
             file=report,
         )
     print(
-        format_table(header, rows, f"Tracking error per cycle [deg], {plant.name} plant, augmented PD learning"),
+        format_table(
+            header,
+            rows,
+            f"Tracking error per cycle [deg], {plant.name} plant{_apart(args, machine)}, augmented PD learning",
+        ),
         file=report,
     )
     print(f"wrote {out} (the last cycle) and {table}", file=report)
+    for name in figures:
+        print(f"wrote {name} (Fig. 7 of the last cycle)", file=report)
     return 0

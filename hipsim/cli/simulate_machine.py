@@ -21,7 +21,9 @@ __all__ = [
     "check_options",
     "format_tracking",
     "machine_loop_asked",
+    "machine_setup",
     "run_machine_loop",
+    "sensor_noise",
     "station_verdicts",
 ]
 
@@ -126,31 +128,18 @@ def _control(args, model, plant) -> int:
     return 2
 
 
-def run_machine_loop(args, model, desired_at, duration, mismatch: dict) -> tuple[list, list[str]]:
-    """The runs of the controllers asked for, each written to its file; (their runs, the files written).
+def machine_setup(args, model, desired_at, duration, mismatch: dict):
+    """The plant as built (a MachinePlant), the controlled platform, and a maker of the feedback (seed offset → Feedback).
 
     Raises:
         HipsimError: a plant the chosen engine cannot be, a plant that is not the model's machine as built,
             or an option out of its range (one line, before anything is written).
     """
     from ..analysis.registry import make_plant, plant_entry
-    from ..control.feedback import (
-        DEFAULT_ENCODER_STEP,
-        DEFAULT_SENSOR_NOISE,
-        EncoderFeedback,
-        Feedback,
-        SensorFeedback,
-    )
-    from ..control.machine_loop import (
-        MachinePlant,
-        ModelPD,
-        check_plant,
-        controlled_machine,
-        model_feedforward,
-        run_machine,
-    )
+    from ..control.feedback import DEFAULT_ENCODER_STEP, DEFAULT_SENSOR_NOISE, EncoderFeedback, SensorFeedback
+    from ..control.machine_loop import MachinePlant, check_plant, controlled_machine
     from ..control.simulation import apply_mismatch
-    from .common import load_pinocchio_kernels, note
+    from .common import load_pinocchio_kernels
 
     check_options(args)
     plant_params = _plant_machine(args, model)
@@ -168,16 +157,40 @@ def run_machine_loop(args, model, desired_at, duration, mismatch: dict) -> tuple
         load_pinocchio_kernels()
     plant = cast(MachinePlant, make_plant(args.plant, plant_params, integrator=args.integrator or "RK4"))
     step = DEFAULT_ENCODER_STEP if args.encoder_step is None else args.encoder_step * 1e-3
-    chosen = ["pd", "augmented-pd"] if args.controller == "both" else [args.controller]
-    runs = []
-    feedback: Feedback
-    for name in chosen:
+
+    def feedback(offset: int = 0):
         if args.feedback == "sensors":
             noise = DEFAULT_SENSOR_NOISE if args.sensor_noise is None else math.radians(args.sensor_noise)
             drift = math.radians(args.sensor_drift or 0.0) / 60.0
-            feedback = SensorFeedback(control, noise, drift, args.sensor_seed or 0, step)
-        else:
-            feedback = EncoderFeedback(model, control, step)
+            return SensorFeedback(control, noise, drift, (args.sensor_seed or 0) + offset, step)
+        return EncoderFeedback(model, control, step)
+
+    return plant, control, feedback
+
+
+def sensor_noise(args) -> float:
+    """The attitude sensor's white noise in [rad]: --sensor-noise's (default 0.05°) with --feedback sensors, else 0."""
+    from ..control.feedback import DEFAULT_SENSOR_NOISE
+
+    if args.feedback != "sensors":
+        return 0.0
+    return DEFAULT_SENSOR_NOISE if args.sensor_noise is None else math.radians(args.sensor_noise)
+
+
+def run_machine_loop(args, model, desired_at, duration, mismatch: dict) -> tuple[list, list[str]]:
+    """The runs of the controllers asked for, each written to its file; (their runs, the files written).
+
+    Raises:
+        HipsimError: as :func:`machine_setup`.
+    """
+    from ..control.machine_loop import ModelPD, model_feedforward, run_machine
+    from .common import note
+
+    plant, control, feedback = machine_setup(args, model, desired_at, duration, mismatch)
+    servo_rate = model.control.servo_rate
+    chosen = ["pd", "augmented-pd"] if args.controller == "both" else [args.controller]
+    runs = []
+    for name in chosen:
         feedforward = (
             model_feedforward(model, control, desired_at, servo_rate, duration) if name == "augmented-pd" else None
         )
@@ -185,7 +198,7 @@ def run_machine_loop(args, model, desired_at, duration, mismatch: dict) -> tuple
             run_machine(
                 plant,
                 ModelPD(model, control),
-                feedback,
+                feedback(),
                 desired_at,
                 duration,
                 feedforward=feedforward,

@@ -14,11 +14,17 @@ and the plant's attitude as both sensors (today's plants turn both
 platforms alike).
 
 The seam: any function taking a command and returning a
-:class:`~hipsim.learning.step.CycleLog` is a runner, so a plant of the
-machine as built (per-chain geometry, sensors with noise) plugs in as is.
+:class:`~hipsim.learning.step.CycleLog` is a runner. :func:`machine_runner`
+is the one on the machine as built (per-chain plant, the controller knowing
+only its model, closed through encoders or an attitude sensor:
+:func:`hipsim.control.machine_loop.run_machine`); its log's sensors are both
+platforms' true attitudes (plus the sensor's noise), so a platform the
+drawing-model predicts wrongly shows its real error.
 """
 
 from __future__ import annotations
+
+from collections.abc import Callable
 
 import numpy as np
 
@@ -32,7 +38,7 @@ from ..stations.commands import StationMotion
 from .filters import periodic_derivatives
 from .step import CycleLog, CycleRunner
 
-__all__ = ["reference_motion", "servo_runner"]
+__all__ = ["machine_runner", "reference_motion", "servo_runner"]
 
 
 def reference_motion(model: Parameters, command: StationMotion, load: np.ndarray, period: float) -> Trajectory:
@@ -86,5 +92,69 @@ def servo_runner(
         )
         sensors = np.stack([sim.q, sim.q], axis=1)
         return CycleLog(sim.t + t0, encoders, commands, sensors, True, f"{sim.plant} plant")
+
+    return run
+
+
+def machine_runner(
+    plant,
+    model: Parameters,
+    control: int,
+    feedback: Callable[[int], object],
+    load: np.ndarray,
+    period: float,
+    servo_rate: float,
+    sensor_noise: float = 0.0,
+    seed: int = 0,
+    runs: list | None = None,
+) -> CycleRunner:
+    """A runner on the machine as built: :func:`~hipsim.control.machine_loop.run_machine`, the model's PD on platform
+    ``control`` plus the MODEL's inverse-dynamics torque along the reference each command gives (the feed-forward
+    learned in carriage positions and in torque).
+
+    Args:
+        plant: the machine as built (a :class:`~hipsim.control.machine_loop.MachinePlant` whose ``[geometry] control``
+            is ``control``).
+        model: the controller's model (the drawing, a calibrated file).
+        control: the controlled platform, 1 or 2.
+        feedback: makes the loop's :class:`~hipsim.control.feedback.Feedback` for cycle k (numbered from 1), so that
+            a sensor's noise is not the same from cycle to cycle.
+        load: the desired motion's load in [N] at the command's samples, (N,).
+        period: the cycle's period in [s]; servo_rate: [Hz].
+        sensor_noise: the logged attitude sensors' white noise, standard deviation in [rad] (0: exact).
+        seed: the logged sensors' noise seed (one generator over all cycles).
+        runs: a list the runs (:class:`~hipsim.control.tracking.MachineRun`) are appended to, or None.
+    """
+    from ..control.machine_loop import ModelPD, controlled_machine, model_feedforward, run_machine
+
+    machine = controlled_machine(model, control)
+    rng = np.random.default_rng(seed)
+    cycle = [0]
+
+    def run(command: StationMotion) -> CycleLog:
+        cycle[0] += 1
+        reference = reference_motion(machine, command, load, period)
+        at = interpolator(reference)
+        feedforward = model_feedforward(model, control, at, servo_rate, period)
+        result = run_machine(
+            plant,
+            ModelPD(model, control),
+            feedback(cycle[0]),  # type: ignore[arg-type]
+            at,
+            period,
+            feedforward=feedforward,
+            servo_rate=servo_rate,
+            controller_name="augmented-pd (learning)",
+        )
+        if runs is not None:
+            runs.append(result)
+        t0 = command.t[0]
+        commands = np.stack(
+            [np.interp(result.t, command.t - t0, command.carriages[:, i], period=period) for i in range(3)], axis=1
+        )
+        sensors = result.attitudes
+        if sensor_noise > 0:
+            sensors = sensors + rng.normal(0.0, sensor_noise, sensors.shape)
+        return CycleLog(result.t + t0, result.carriages, commands, sensors, True, f"{result.plant} plant")
 
     return run

@@ -158,22 +158,3 @@ def test_the_sensor_drift_and_encoder_step_in_their_units(tmp_path):
         assert seen == pytest.approx(0.1 * t, abs=1e-12)
     L = np.array(run["L_12_mm"]) / 0.01
     assert np.abs(L - np.rint(L)).max() < 1e-6 and np.ptp(L) > 1
-
-
-def test_learn_is_not_ignored_on_the_plant_and_model_loop(files, tmp_path, capsys):
-    _, built = files
-    argv = [
-        "simulate",
-        "--cycles",
-        "0.05",
-        "--plant-params",
-        str(built),
-        "--learn",
-        "2",
-        "--out",
-        str(tmp_path / "r.csv"),
-    ]
-    assert main(argv) == 2
-    err = capsys.readouterr().err
-    assert "--learn runs on a plant that is the controller's model" in err and err.count("\n") == 1
-    assert not list(tmp_path.iterdir())
