@@ -97,7 +97,8 @@ def page_provenance(args, **inputs):
     """The provenance block of a command's page: version, time, this command line, the inputs hashed, the parameters' origin.
 
     Args:
-        args: the parsed options (``--params``, ``--set`` and, when the command has them, ``--title``, ``--author``, ``--rig``).
+        args: the parsed options (``--params``, ``--set`` and, when the command has them, ``--title``, ``--author``,
+            ``--rig``; ``option_warnings``, what the option table warned of, kept in the block).
         inputs: role → a file path, a list of them, or None: the command's input files (trajectory, logs, drive, ...).
     """
     from ..present.provenance import parameter_origin, provenance
@@ -109,6 +110,7 @@ def page_provenance(args, **inputs):
         getattr(args, "title", None),
         getattr(args, "author", None),
         getattr(args, "rig", None),
+        warnings=getattr(args, "option_warnings", None) or (),
     )
 
 

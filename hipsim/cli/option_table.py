@@ -480,6 +480,15 @@ PARALLEL: tuple[Option, ...] = (
     # the gravimetric report (wearreport)
     _k("--weighings", "the cups' weighings", "file"),
     _n("--density", "the cups' density", "mg/mm³", (0, 25), (0.5, 2), "UHMWPE: 0.935 mg/mm³", open_low=True),
+    _n(
+        "--balance-noise",
+        "the balance's noise, one reading's standard deviation",
+        "mg",
+        (0, 100),
+        (0.001, 1),
+        "a microbalance reads a cup to 0.01 to 0.1 mg (a value in g or µg?)",
+        open_low=True,
+    ),
     _i(
         "--from",
         "the steady-state rate from this cycle",

@@ -161,6 +161,13 @@ def _add_test_options(wear: argparse.ArgumentParser) -> None:
         help="the cups' density in mg/mm³, in (0, 25] (default 0.935, UHMWPE)",
     )
     test.add_argument(
+        "--balance-noise",
+        type=float,
+        metavar="MG",
+        help="the balance's noise, one reading's standard deviation in mg, in (0, 100]: each station's residuals are "
+        "held to 3 times √2 times it (default: to the other stations' median residual)",
+    )
+    test.add_argument(
         "--from",
         dest="from_cycle",
         type=float,
@@ -471,6 +478,8 @@ def run(args) -> int:
         from .wear_test import run_test
 
         return run_test(args, setup, points, read_motion, _law)
+    if args.balance_noise is not None:
+        raise HipsimError("--balance-noise applies to --weighings or --test: give one, or drop --balance-noise")
     law = _law(args)
     if args.tolerance is not None and not args.compare:
         raise HipsimError(f"--alike {args.tolerance:g} % applies to --compare A B: give --compare, or drop --alike")

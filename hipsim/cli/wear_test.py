@@ -293,6 +293,7 @@ def run_test(args, setup, points, read_motion, parse_law) -> int:
     from ..wear.gravimetric import gravimetry
     from ..wear.test_result import wear_test
     from ..wear.weighings import read_weighings
+    from ..wear.weighings_checks import check_gravimetry, duplicate_stations
     from .wear_test_output import context, print_result, write_outputs
 
     notes: list[str] = []
@@ -310,7 +311,13 @@ def run_test(args, setup, points, read_motion, parse_law) -> int:
         if not args.report:
             raise HipsimError("--pdf prints the page: give --report DIR")
         require_pdf_renderer()
-    result_gravimetry = gravimetry(read_weighings(args.weighings), args.density, from_cycle)
+    weighed = read_weighings(args.weighings)
+    duplicate = duplicate_stations(weighed)
+    if duplicate:
+        raise HipsimError(f"--weighings {args.weighings}: {duplicate}")
+    result_gravimetry = gravimetry(weighed, args.density, from_cycle)
+    check = check_gravimetry(weighed, result_gravimetry, args.balance_noise)
+    notes += [f"self-check: IMPLAUSIBLE: {finding}" for finding in check.findings]
     inputs: dict = {"weighings": args.weighings, "friction": args.friction}
     # The reference first: its kernels loaded here, the snapshots' worker processes (forked) start with them.
     reference = motion_integrals(wear_maps(CycleSource(1000.0, 1, 1.0), 1.0, setup, points))

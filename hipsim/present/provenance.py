@@ -180,6 +180,7 @@ class Provenance:
     author: str | None = None
     rig: str | None = None
     extra: tuple[tuple[str, str], ...] = field(default_factory=tuple)
+    warnings: tuple[str, ...] = ()  # what the option table warned of on the command line (a run on a warned value)
 
     def as_dict(self) -> dict[str, Any]:
         """Plain data for a JSON summary."""
@@ -192,6 +193,7 @@ class Provenance:
             "rig": self.rig,
             "inputs": [f.as_dict() for f in self.inputs],
             "parameters": None if self.parameters is None else self.parameters.as_dict(),
+            "warnings": list(self.warnings),
         }
 
 
@@ -264,6 +266,7 @@ def provenance(
     author: str | None = None,
     rig: str | None = None,
     created: str | None = None,
+    warnings: Sequence[str] = (),
 ) -> Provenance:
     """The provenance block of one page.
 
@@ -276,6 +279,8 @@ def provenance(
         author: who made it (``--author``).
         rig: the rig's name or serial number (``--rig``).
         created: date and time, ISO 8601 UTC; default now.
+        warnings: the warnings the command line drew (a value outside its option's plausible range, a deprecated
+            name), kept so that a page made on a warned value says so.
     """
     import shlex
 
@@ -293,5 +298,13 @@ def provenance(
         text = command if isinstance(command, str) else shlex.join(str(word) for word in command)
     clean = [None if value is None or not str(value).strip() else str(value).strip() for value in (title, author, rig)]
     return Provenance(
-        __version__, created or _now(), text, tuple(files), parameters, title=clean[0], author=clean[1], rig=clean[2]
+        __version__,
+        created or _now(),
+        text,
+        tuple(files),
+        parameters,
+        title=clean[0],
+        author=clean[1],
+        rig=clean[2],
+        warnings=tuple(str(w) for w in warnings),
     )

@@ -157,7 +157,9 @@ def test_a_test_folder_with_a_stations_output(tmp_path, capsys):
     assert main(["stations", "--out", str(folder), "--summary-format", "json"]) == 0
     capsys.readouterr()
     (folder / "index.html").unlink()
-    (folder / "weighings.csv").write_text(GOOD.replace(",1,", ",2,") + GOOD.replace("soak", "soak_1").split("\n", 1)[1])
+    other = GOOD.replace(",1,", ",2,").replace(",30000\n", ",30100\n").replace(",29990\n", ",30090\n")
+    other = other.replace(",29981\n", ",30081\n")  # another cup: the same masses twice would be one cup given twice
+    (folder / "weighings.csv").write_text(other + GOOD.replace("soak", "soak_1").split("\n", 1)[1])
     status, text, err = _run(capsys, "--test", folder, "--summary-format", "json", "--out", tmp_path / "t.csv")
     assert status == 0, err
     result = json.loads(text)
