@@ -5,13 +5,14 @@ report"). The options are declared in :mod:`hipsim.cli.wear`; their ranges are c
 
 from __future__ import annotations
 
+import argparse
 import math
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 from ..exceptions import HipsimError
 
-__all__ = ["WORKERS_RANGE", "run_test"]
+__all__ = ["WORKERS_RANGE", "add_test_options", "run_test"]
 
 #: --workers' hard range (the other options' ranges live with their laws: hipsim.wear.gravimetric, hipsim.wear.factors).
 WORKERS_RANGE = (1, 64)
@@ -24,6 +25,66 @@ TEST_FILES = {
     "params": "params.toml",
     "friction": "friction.csv",
 }
+
+
+def add_test_options(wear: argparse.ArgumentParser) -> None:
+    """The gravimetric test's options (docs/guide/wear-test.md), declared here, each with its unit and range."""
+    test = wear.add_argument_group("a wear test's weighings (ISO 14242-2) and report")
+    test.add_argument(
+        "--weighings",
+        metavar="FILE",
+        help="the cups' masses: CSV columns cycle, station, mass_mg, and the soak control as station 'soak' "
+        "(or 'soak_NAME') or a column soak_mg; gives each station's wear rate with its 95 %% interval",
+    )
+    test.add_argument(
+        "--density",
+        type=float,
+        metavar="MG_PER_MM3",
+        help="the cups' density in mg/mm³, in (0, 25] (default 0.935, UHMWPE)",
+    )
+    test.add_argument(
+        "--balance-noise",
+        type=float,
+        metavar="MG",
+        help="the balance's noise, one reading's standard deviation in mg, in (0, 100]: each station's residuals are "
+        "held to 3 times √2 times it (default: to the other stations' median residual)",
+    )
+    test.add_argument(
+        "--from",
+        dest="from_cycle",
+        type=float,
+        metavar="CYCLE",
+        help="the steady-state rate from this cycle on, a whole number ≥ 0 (default: bedding-in found from the data)",
+    )
+    test.add_argument(
+        "--station",
+        action="append",
+        metavar="NAME=SOURCE",
+        help="the motion station NAME had: iso, FILE, FILE:1, FILE:2 (stations output), FILE:desired (simulate "
+        "output), or snapshots:J (the --snapshots motion with station load Fe_J_N); repeatable (default: the "
+        "snapshots, station by station, else the built-in cycle)",
+    )
+    test.add_argument(
+        "--snapshots",
+        action="append",
+        metavar="PATH",
+        help="the monitor's snapshot logs (files, folders, patterns; a 'cycle' column; needs --params): each stands for "
+        "its interval of cycles; repeatable",
+    )
+    test.add_argument("--friction", metavar="FILE", help="the monitor's table (hipsim monitor --out), for the report")
+    test.add_argument(
+        "--test",
+        metavar="DIR",
+        help="a test's folder: weighings.csv, and when present stations.csv, snapshots/, params.toml, friction.csv "
+        "(the options above override); the report goes to DIR/report unless --report",
+    )
+    low, high = WORKERS_RANGE
+    test.add_argument(
+        "--workers",
+        type=int,
+        metavar="N",
+        help=f"worker processes for the snapshots' maps, {low} to {high} (default 1)",
+    )
 
 
 def _test_folder(args, notes: list[str]) -> None:
