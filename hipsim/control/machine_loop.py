@@ -44,7 +44,7 @@ from ..physics.transmission import angle_from_travel
 from . import chain_kernel
 from .controllers import _gains, feedforward_torques
 from .feedback import EncoderFeedback, Feedback, SensorFeedback
-from .simulation import _rk4, _servo_chunks, _unstable
+from .simulation import _rk4, _servo_chunks, _unstable, servo_settings
 from .tracking import MachineRun
 
 __all__ = ["MachinePlant", "ModelPD", "check_plant", "controlled_machine", "model_feedforward", "run_machine"]
@@ -235,19 +235,7 @@ def _settings(
     torque_limit: float | None,
 ) -> tuple[float, float, float]:
     """(servo rate [Hz], step [s], torque limit [N·m]), the model's where not given, checked with the loop's parts."""
-    settings = controller.model.control
-    servo_rate = settings.servo_rate if servo_rate is None else servo_rate
-    step = settings.integration_step if step is None else step
-    limit = settings.torque_limit if torque_limit is None else torque_limit
-    if not servo_rate > 0:
-        raise ArgumentError("servo_rate", servo_rate, "a positive rate in Hz")
-    if not limit > 0:
-        raise ArgumentError("torque_limit", limit, "a positive torque in N·m (inf for none)")
-    period = 1.0 / servo_rate
-    if not (step > 0 and step <= period * (1 + 1e-9)):
-        raise ArgumentError(
-            "step", step, f"an integration step in s, positive and at most the servo period {period:g} s"
-        )
+    servo_rate, step, limit = servo_settings(controller.model.control, servo_rate, step, torque_limit)
     if feedback.control != controller.control:
         raise ArgumentError("feedback", feedback.control, f"the controller's platform {controller.control}")
     geometry = plant.params.geometry

@@ -42,7 +42,7 @@ from ..clock import note_if_slow
 from ..engine import Plant
 from ..exceptions import ArgumentError, PoseError
 from ..files import write_columns
-from ..machine.parameter_set import FRICTION_COEFFICIENTS
+from ..machine.parameter_set import FRICTION_COEFFICIENTS, ControlSettings
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 from ..physics.transmission import angle_from_travel
@@ -50,7 +50,7 @@ from ..physics.units import RPM_PER_RAD_S
 from .controllers import AugmentedPD, Sample, WorkspacePD
 from .simulation_summary import SimulationSummary, simulation_summary
 
-__all__ = ["Plant", "ReducedPlant", "Simulation", "apply_mismatch", "parse_mismatch", "simulate"]
+__all__ = ["Plant", "ReducedPlant", "Simulation", "apply_mismatch", "parse_mismatch", "servo_settings", "simulate"]
 
 
 class ReducedPlant:
@@ -192,6 +192,32 @@ class Simulation:
         return out
 
 
+def servo_settings(
+    control: ControlSettings, servo_rate: float | None, step: float | None, torque_limit: float | None
+) -> tuple[float, float, float]:
+    """(servo rate [Hz], integration step [s], torque limit [N·m]): the given values, else ``control``'s, checked.
+
+    Args:
+        control: the parameter set's control settings (``servo_rate``, ``integration_step``, ``torque_limit``).
+        servo_rate: servo rate in [Hz], or None for ``control``'s.
+        step: integration step in [s], positive and at most one servo period, or None for ``control``'s.
+        torque_limit: motor torque limit in [N·m] (inf: none), or None for ``control``'s.
+    """
+    servo_rate = control.servo_rate if servo_rate is None else servo_rate
+    step = control.integration_step if step is None else step
+    limit = control.torque_limit if torque_limit is None else torque_limit
+    if not servo_rate > 0:
+        raise ArgumentError("servo_rate", servo_rate, "a positive rate in Hz")
+    if not limit > 0:
+        raise ArgumentError("torque_limit", limit, "a positive torque in N·m (inf for none)")
+    period = 1.0 / servo_rate
+    if not step > 0:
+        raise ArgumentError("step", step, "a positive integration step in s")
+    if step > period * (1 + 1e-9):
+        raise ArgumentError("step", step, f"an integration step no longer than the servo period {period:g} s")
+    return servo_rate, step, limit
+
+
 def _rk4(
     plant: Plant, t: float, x: np.ndarray, tau: np.ndarray, loads: np.ndarray, h: float, substeps: int
 ) -> np.ndarray:
@@ -255,19 +281,8 @@ def simulate(
             singular, or when the plant leaves the workspace or goes unstable.
         ArgumentError: ``compiled=True`` for a plant or controller the compiled loop does not know.
     """
-    control = plant.params.control
-    servo_rate = control.servo_rate if servo_rate is None else servo_rate
-    step = control.integration_step if step is None else step
-    limit = control.torque_limit if torque_limit is None else torque_limit
-    if not servo_rate > 0:
-        raise ArgumentError("servo_rate", servo_rate, "a positive rate in Hz")
-    if not limit > 0:
-        raise ArgumentError("torque_limit", limit, "a positive torque in N·m (inf for none)")
+    servo_rate, step, limit = servo_settings(plant.params.control, servo_rate, step, torque_limit)
     period = 1.0 / servo_rate
-    if not step > 0:
-        raise ArgumentError("step", step, "a positive integration step in s")
-    if step > period * (1 + 1e-9):
-        raise ArgumentError("step", step, f"an integration step no longer than the servo period {period:g} s")
     substeps = math.ceil(period / step - 1e-9)
     h = period / substeps
     n = int(round(duration * servo_rate))

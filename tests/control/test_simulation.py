@@ -336,3 +336,22 @@ def test_gains_given_or_read_from_the_file_compile_the_loop_once(params, plant_k
     for controller in controllers:
         simulate(plant, controller, iso14242_at, 0.004)
     assert len(loop.signatures) == 1, loop.signatures
+
+
+def test_servo_settings_default_to_the_parameters_and_hold_the_step_to_one_period():
+    from hipsim.control.simulation import servo_settings
+    from hipsim.exceptions import ArgumentError
+
+    control = hipsim.load_parameters().control
+    assert servo_settings(control, None, None, None) == (
+        control.servo_rate,
+        control.integration_step,
+        control.torque_limit,
+    )
+    assert servo_settings(control, 1000.0, 1e-3, 2.0) == (1000.0, 1e-3, 2.0)  # a step of exactly one period
+    with pytest.raises(ArgumentError, match="no longer than the servo period 0.001 s"):
+        servo_settings(control, 1000.0, 1.001e-3, 2.0)
+    for bad in ({"servo_rate": 0.0}, {"step": 0.0}, {"torque_limit": 0.0}):
+        arguments = {"servo_rate": 1000.0, "step": 5e-4, "torque_limit": 2.0} | bad
+        with pytest.raises(ArgumentError, match=next(iter(bad))):
+            servo_settings(control, arguments["servo_rate"], arguments["step"], arguments["torque_limit"])
