@@ -168,7 +168,7 @@ def test_all_angles_in_radians_at_the_edges():
     assert radians_slip(np.array([5.0 / DEG, 0.01])) == (0, pytest.approx(5.0))  # 5°: the narrowest gait range
     assert radians_slip(np.array([4.99 / DEG, 0.01])) is None
     assert radians_slip(np.array([])) is None and radians_slip(np.array([0.5, math.nan])) is None
-    assert radians_slip([0.2]) == (0, pytest.approx(0.2 * DEG))
+    assert radians_slip(np.array([0.2])) == (0, pytest.approx(0.2 * DEG))
 
 
 def test_one_angle_in_radians_beside_degrees():
@@ -177,4 +177,4 @@ def test_one_angle_in_radians_beside_degrees():
     assert one_radians_slip(np.array([5.0, 0.5])) == [(1, pytest.approx(0.5 * DEG))]  # the widest on 5°
     assert one_radians_slip(np.array([4.99, 0.5])) == []
     assert one_radians_slip(np.array([0.5])) == [] and one_radians_slip(np.array([40.0, math.nan, 0.5])) == []
-    assert one_radians_slip([30.0, 0.999]) == [(1, pytest.approx(0.999 * DEG))]
+    assert one_radians_slip(np.array([30.0, 0.999])) == [(1, pytest.approx(0.999 * DEG))]
