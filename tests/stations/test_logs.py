@@ -57,7 +57,7 @@ def test_semicolons_and_decimal_commas_and_motor_angles(tmp_path):
     assert math.degrees(log.sensors[1, 0, 0]) == pytest.approx(0.5)
     # The encoders win when both are logged.
     both = _write(
-        tmp_path, f"t_s,L_11_mm,L_12_mm,L_13_mm,motor_1_deg,motor_2_deg,motor_3_deg\n0,1,2,3,4,5,6\n1,1,2,3,4,5,6\n"
+        tmp_path, "t_s,L_11_mm,L_12_mm,L_13_mm,motor_1_deg,motor_2_deg,motor_3_deg\n0,1,2,3,4,5,6\n1,1,2,3,4,5,6\n"
     )
     assert read_carriage_log(both, 0.01)[1][0] == pytest.approx([0.001, 0.002, 0.003])
 

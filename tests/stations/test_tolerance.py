@@ -95,8 +95,8 @@ def test_bands_from_a_toml_file(tmp_path):
         ParameterError, match=r"text\.toml, key 'lever': expected a band ±V in mm \(V >= 0\), got 'wide'"
     ):
         parse_tolerances(str(typed))
+    table.write_text("[tolerance]\n")
     with pytest.raises(ParameterError, match=r"tol\.toml: no tolerance given"):
-        table.write_text("[tolerance]\n")
         parse_tolerances(str(table))
 
 
