@@ -154,3 +154,16 @@ def test_how_far_apart_the_platforms_turn_per_angle():
     assert summary.platform_difference_rms_deg == pytest.approx((math.sqrt(14 / 3), 0.5, 0.0))
     assert summary.platform_difference_peak_deg == pytest.approx((3.0, 0.5, 0.0))
     assert all(isinstance(v, float) for v in summary.platform_difference_peak_deg)
+
+
+def test_too_short_a_loaded_run_is_named_by_station_and_not_made():
+    attitudes = np.zeros((4, 2, 3))
+    motion = _motion(np.zeros((4, 3)), attitudes, t=(0.0, 0.1, 0.2, 0.3))
+    for source, kwargs in (("trajectory", {}), ("gait.csv", {"source": "gait.csv"})):
+        summary = station_summary(motion, np.full(4, 300.0), **kwargs)
+        for j, platform in enumerate(summary.platforms, start=1):
+            iso = platform.iso
+            assert iso is not None and iso.verdict == Level.NOT_MADE
+            assert iso.judged == f"m_{j}'s motion: no ISO 14242-1 check"
+            assert iso.reason is not None and f"{source}, station {j}" in iso.reason
+        assert stations_verdict(summary).level == Level.NOT_MADE and len(summary.verdicts) == 2
