@@ -1,0 +1,116 @@
+"""hipsim/stations/calibration_file.py: the ``[identification]`` record of a calibration written by hand (no fit), each
+entry's unit and rounding, the comment header, and the file written and read back."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from hipsim.machine.parameters import load_parameters
+from hipsim.rig.identification.identified_file import read_identified_file
+from hipsim.stations import deviations as dv
+from hipsim.stations.calibration import Calibration, Confounding
+from hipsim.stations.calibration_file import CALIBRATED_MARK, calibrated_toml, calibration_record, write_calibrated
+from hipsim.stations.sensitivity import Structure
+
+NAMES = dv.names()
+LEVER_11, LEVER_21, CENTRE_X_1 = NAMES.index("lever_11"), NAMES.index("lever_21"), NAMES.index("centre_x_1")
+
+
+def hand_calibration(offsets: bool = True, confounded: tuple[Confounding, ...] = ()) -> Calibration:
+    """Two values estimated (lever_11 +0.2 mm ± 0.1, lever_21 −0.05 mm ± 0.4), centre_x_1 kept at its prior (0.5 mm),
+    the others neither; two logs."""
+    start = load_parameters()
+    theta = np.zeros(dv.COUNT)
+    theta[[LEVER_11, LEVER_21]] = [2e-4, -5e-5]
+    std = np.full(dv.COUNT, 5e-4)
+    std[[LEVER_11, LEVER_21]] = [1e-4, 4e-4]
+    determined = np.zeros(dv.COUNT, dtype=bool)
+    determined[LEVER_11] = True
+    structure = Structure(2, np.array([LEVER_11, LEVER_21]), np.array([CENTRE_X_1]), np.array([[0.5], [0.0]]), offsets)
+    covariance = np.array([[1e-8, -2e-9], [-2e-9, 1.6e-7]])
+    offsets_rad = np.zeros((2, 2, 3))
+    if offsets:
+        offsets_rad[1, 0, 2] = math.radians(0.25)
+    noise = np.radians(np.array([[0.01, 0.02, 0.03], [0.04, 0.05, 0.06]]))
+    return Calibration(
+        machine=dv.machine(start, theta),
+        start=start,
+        theta=theta,
+        theta_std=std,
+        covariance=covariance,
+        structure=structure,
+        determined=determined,
+        prior=5e-4,
+        offsets=offsets_rad,
+        noise=noise,
+        residual_rms=np.stack([noise, 2 * noise]),
+        start_rms=np.stack([10 * noise, 20 * noise]),
+        logs=("a.csv", "b.csv"),
+        samples=300,
+        iterations=4,
+        confounded=confounded,
+    )
+
+
+def test_the_record_by_hand():
+    validation = [
+        {"log": "held.csv", "rms": np.radians(np.full((2, 3), 0.5)), "start_rms": np.radians(np.ones((2, 3)))}
+    ]
+    record = calibration_record(hand_calibration(), validation, start="start.toml")
+    assert record["kind"] == "kinematic calibration" and record["start"] == "start.toml"
+    assert record["logs"] == ["a.csv", "b.csv"] and record["samples"] == 300 and record["iterations"] == 4
+    assert record["prior_mm"] == pytest.approx(0.5) and record["sensor_offsets"] == "per-log"
+    assert record["values"] == list(NAMES)
+    assert record["deviation_mm"][LEVER_11] == pytest.approx(0.2) and record["deviation_mm"][LEVER_21] == -0.05
+    assert record["std_mm"][LEVER_21] == pytest.approx(0.4) and record["std_mm"][0] == pytest.approx(0.5)
+    assert record["value_determined"][LEVER_11] is True and record["value_determined"][LEVER_21] is False
+    assert record["estimated"] == ["lever_11", "lever_21"]
+    assert record["covariance_mm2"] == [[0.01, -0.002], [-0.002, 0.16]]
+    assert record["unseen"] == ["centre_x_1"] and record["combinations"] == ["lever_11 + 0.5·centre_x_1"]
+    assert record["confounded_offsets"] == [] and record["confounded_values"] == []
+    assert record["noise_deg"] == pytest.approx([0.01, 0.02, 0.03, 0.04, 0.05, 0.06])
+    assert record["offsets_deg"][0] == [0.0] * 6 and record["offsets_deg"][1][2] == pytest.approx(0.25)
+    assert record["residual_rms_deg"][1] == pytest.approx([0.02, 0.04, 0.06, 0.08, 0.1, 0.12])
+    assert record["start_residual_rms_deg"][0][5] == pytest.approx(0.6)
+    assert record["validation_logs"] == ["held.csv"]
+    assert record["validation_rms_deg"] == [pytest.approx([0.5] * 6)]
+    assert record["validation_start_rms_deg"] == [pytest.approx([1.0] * 6)]
+    bare = calibration_record(hand_calibration(offsets=False))
+    assert bare["sensor_offsets"] == "none" and bare["start"] == "the published machine"
+    assert bare["validation_logs"] == [] and bare["validation_rms_deg"] == []
+
+
+def test_the_files_header_and_the_file_read_back(tmp_path):
+    trade = Confounding("gamma_1", 0.987654321, ("joint_x_11", "joint_y_12"), (1.0, -0.5))
+    calibration = hand_calibration(confounded=(trade,))
+    text = calibrated_toml(calibration, start="start.toml")
+    lines = text.splitlines()
+    lines = lines[next(k for k, line in enumerate(lines) if line.startswith(CALIBRATED_MARK)) :]
+    assert lines[0] == f"{CALIBRATED_MARK} from 2 log(s), 300 samples: a.csv, b.csv"
+    assert lines[1] == "# Start: start.toml; prior ±0.5 mm on every per-chain value."
+    assert lines[2] == "# Sensor noise [deg] m_1 α β γ, m_2 α β γ: 0.01, 0.02, 0.03, 0.04, 0.05, 0.06"
+    assert lines[3] == "# Not seen by these logs (kept at the start): centre_x_1"
+    assert lines[4] == (
+        "# Sensor offset gamma_1 not told apart from joint_x_11, joint_y_12 (R² 0.9877); a fixture's known-attitude "
+        "rows separate them."
+    )
+    record = calibration_record(calibration)
+    assert record["confounded_offsets"] == ["gamma_1"] and record["confounded_values"] == ["joint_x_11, joint_y_12"]
+    path = write_calibrated(tmp_path / "calibrated.toml", calibration, start="start.toml")
+    assert path.read_text(encoding="utf-8") == text
+    found = read_identified_file(path)
+    assert found is not None and found.table["kind"] == "kinematic calibration"
+    assert found.logs == ("a.csv", "b.csv")
+    machine = load_parameters(path)
+    assert machine.geometry is not None
+    assert dv.deviation(machine)[LEVER_11] == pytest.approx(2e-4)
+
+
+def test_a_calibration_that_sees_everything_says_none_unseen():
+    calibration = hand_calibration()
+    seen = Structure(3, np.array([LEVER_11, LEVER_21, CENTRE_X_1]), np.array([], dtype=int), np.zeros((3, 0)), True)
+    everything = Calibration(**{**calibration.__dict__, "structure": seen})
+    assert "\n# Not seen by these logs (kept at the start): none\n" in calibrated_toml(everything)
