@@ -159,8 +159,8 @@ def test_how_far_apart_the_platforms_turn_per_angle():
 def test_too_short_a_loaded_run_is_named_by_station_and_not_made():
     attitudes = np.zeros((4, 2, 3))
     motion = _motion(np.zeros((4, 3)), attitudes, t=(0.0, 0.1, 0.2, 0.3))
-    for source, kwargs in (("trajectory", {}), ("gait.csv", {"source": "gait.csv"})):
-        summary = station_summary(motion, np.full(4, 300.0), **kwargs)
+    named = station_summary(motion, np.full(4, 300.0), source="gait.csv")
+    for source, summary in (("trajectory", station_summary(motion, np.full(4, 300.0))), ("gait.csv", named)):
         for j, platform in enumerate(summary.platforms, start=1):
             iso = platform.iso
             assert iso is not None and iso.verdict == Level.NOT_MADE
