@@ -111,7 +111,6 @@ KNOWN_GAPS = {
     "rig/identification/self_check.py": "through hipsim.fit_checks: test_fit_checks.py",
     "rig/logs/text_rows.py": "rig/logs/test_reader_laws.py",
     "rig/monitoring/monitor_summary.py": "through the commands' JSON: tests/test_schemas.py, rig/monitoring/test_monitor_run.py",
-    "stations/excitation.py": "stations/test_calibration.py",
     "wear/accumulate.py": "wear/test_gravimetric.py",
     "wear/factors.py": "wear/test_gravimetric.py",
     "wear/kernel.py": "indirectly, through the modules that call it",
