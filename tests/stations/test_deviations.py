@@ -47,8 +47,9 @@ def test_the_drawing_is_zero_and_a_delta_makes_a_per_chain_machine():
     assert built.geometry is not None
     assert np.array_equal(deviation(built), delta)
     assert machine(params, np.zeros(COUNT)).geometry is not None  # δ = 0 too: one code path
-    with pytest.raises(ArgumentError, match=rf"delta: expected shape \({COUNT},\)"):
+    with pytest.raises(ArgumentError) as error:
         machine(params, np.zeros(COUNT - 1))
+    assert str(error.value) == f"delta: expected shape ({COUNT},), got shape ({COUNT - 1},)"
 
 
 def test_platform_1s_columns_hold_its_chains_its_centre_and_the_seat():
@@ -69,5 +70,6 @@ def test_a_delta_keeps_the_files_controlled_platform():
     again = machine(file, 2 * delta)
     assert again.geometry is not None and again.geometry.control == 1
     assert deviation(again)[names().index("slider_12")] == pytest.approx(-4e-4)
-    with pytest.raises(ArgumentError, match="name: expected an entry of the per-chain vector"):
+    with pytest.raises(ArgumentError) as error:
         family("lever_1")
+    assert str(error.value) == "name: expected an entry of the per-chain vector (see names()), got 'lever_1'"

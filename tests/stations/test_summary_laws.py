@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from hipsim.motion.iso_verdict import StationIso
+from hipsim.motion.trajectories import iso14242
 from hipsim.records import Level
 from hipsim.stations.commands import StationMotion
 from hipsim.stations.summary import (
@@ -167,3 +168,20 @@ def test_too_short_a_loaded_run_is_named_by_station_and_not_made():
             assert iso.judged == f"m_{j}'s motion: no ISO 14242-1 check"
             assert iso.reason is not None and f"{source}, station {j}" in iso.reason
         assert stations_verdict(summary).level == Level.NOT_MADE and len(summary.verdicts) == 2
+
+
+def test_one_iso_cycle_is_whole_only_when_the_run_is_periodic():
+    """One ISO 14242-1 cycle at 50 Hz tracked exactly: wrapped around (periodic) it is a whole cycle and passes; read
+    as it is, one heel strike makes no whole cycle."""
+    iso = iso14242(rate=50.0, cycles=1)
+    motion = StationMotion(iso.t, iso.q, np.zeros((len(iso.t), 3)), np.stack([iso.q, iso.q], axis=1), "2")
+    wrapped = station_summary(motion, iso.Fe, periodic=True).platforms[0].iso
+    assert wrapped is not None and wrapped.verdict == Level.PASS and wrapped.cycles == 1
+    once = station_summary(motion, iso.Fe).platforms[1].iso
+    assert once is not None and once.verdict == Level.NOT_MADE and once.reason is not None
+    assert "trajectory, station 2: found no whole gait cycle" in once.reason
+
+
+def test_two_samples_last_from_the_first_to_the_second():
+    summary = station_summary(_motion(np.zeros((2, 3)), np.zeros((2, 2, 3)), t=(1.0, 1.75)))
+    assert summary.duration_s == 0.75 and summary.rms_error_deg == 0.0
