@@ -5,6 +5,7 @@ ms is 0.05 s, exactly the shortest plausible motion; 1e8 s is 3 March 1973, 09:4
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 import pytest
@@ -29,6 +30,7 @@ def test_rounding_at_a_negative_limit_is_relative_to_its_size():
     assert not beyond(-1.0 + 0.5e-9, -1.0) and beyond(-1.0 + 2e-9, -1.0)
     assert not below(-1.0 - 0.5e-9, -1.0) and below(-1.0 - 2e-9, -1.0)
     assert beyond(1.0 + 1e-12, 1.0, rel=0.0) and below(1.0 - 1e-12, 1.0, rel=0.0)
+    assert not beyond(1.0, 1.0, rel=0.0) and not below(1.0, 1.0, rel=0.0)  # on the limit is not past it
     assert not beyond(1.05, 1.0, rel=0.1) and not below(0.95, 1.0, rel=0.1)
     assert beyond(2.0, 1.0) is True and below(2.0, 1.0) is False  # a bool, not a NumPy scalar
     np.testing.assert_array_equal(below(np.array([1.0, 1.0 - 2e-9, 0.5]), 1.0), [False, True, True])
@@ -39,6 +41,7 @@ def test_a_unit_slip_at_each_edge():
     assert unit_slip(0.0, 0.01, 300.0) is None
     assert unit_slip(math.inf, 0.01, 300.0) is None and unit_slip(math.nan, 0.01, 300.0) is None
     assert unit_slip(10.0, 0.01, 300.0) is None
+    assert unit_slip(1.0, 10.0, 3000.0) == 1e-3  # one, read a thousandth
     assert unit_slip(-1910.0, 0.01, 300.0) == 1e3  # a magnitude
     assert unit_slip(300e3, 0.01, 300.0) == 1e3 and unit_slip(300.1e3, 0.01, 300.0) is None
     assert unit_slip(0.0099, 0.01, 300.0) == 1e-3 and unit_slip(0.3, 1.0, 300.0) == 1e-3
@@ -62,10 +65,13 @@ def test_a_drive_figure_in_another_unit_names_its_factor():
         "(N·mm under an _Nm key, N·m under _Nmm, m under _mm, krpm under _rpm?): check the key's unit against the data sheet"
     )
     # The smallest positive value when none is too large; shown in the key's unit.
-    message = drive_slip("rated_torque", [0.0, -1.0, 5e-5, 50.0], "Nmm", factor=1e-3)
+    message = drive_slip("rated_torque", [0.0, -1.0, 5e-5, 100.0], "Nmm", factor=1e-3)  # the top on its edge
     assert message is not None and message.startswith(
         "0.05 Nmm is 1/1000 of a plausible figure for this machine's drive (0.01 to 100 N·m): a unit slip by 1/1000 ("
     )
+    # The largest when it is too large, though the smallest is plausible.
+    largest = drive_slip("s1_torque", [0.05, 1910.0], "Nm")
+    assert largest is not None and largest.startswith("1910 Nm is 1000 times")
     speed = drive_slip("max_speed", 3000e3 * math.pi / 30.0, "rpm", factor=math.pi / 30.0)
     assert speed is not None and "(10.5 to 3.14e+03 rad/s)" in speed and speed.startswith("3e+06 rpm is 1000 times")
     assert drive_slip("s1_torque", [5.0, 100.0], "Nm") is None
@@ -83,6 +89,8 @@ def test_milliseconds_read_as_seconds_at_the_edges_of_the_step_and_the_span():
         "give the times in s (or, for a trajectory file, map the column with :ms)"
     )
     assert time_slip(np.arange(101) * 0.4999, "s") is None  # a step under 0.5 s
+    late = time_slip(10.0 + np.arange(101) * 0.5, "s")  # the span from the first time, not from zero
+    assert late is not None and "a sample every 0.5 s over 50 s is no gait recording (0.05 s in ms)" in late
     assert time_slip(np.arange(100) * 0.5, "s") is None  # 49.5 s: 0.0495 s as ms is shorter than any motion
     assert time_slip(np.array([0.0, 86400e3]), "s") is not None and time_slip(np.array([0.0, 86401e3]), "s") is None
     assert time_slip(np.array([0.0]), "s") is None and time_slip(t, "min") is None
@@ -103,11 +111,14 @@ def test_seconds_read_as_milliseconds_at_the_edges_of_the_span():
     assert time_slip(np.arange(51) * 0.001, "ms") is None  # 50 ms: the shortest plausible motion
     assert time_slip(np.array([0.0, 0.05 - 1e-12]), "ms") is not None
     assert time_slip(np.array([0.0, 0.00004]), "ms") is None  # 0.04 s as s: shorter than any motion
+    assert time_slip(np.array([0.0, 0.0000499975]), "ms") is None  # 0.0499975 s as s: a thousand times, no more
     assert time_slip(np.array([0.0, 0.00005]), "ms") is not None
     assert time_slip(t, "s") is None
 
 
-def test_epoch_time_stamps_from_the_floor_on():
+def test_epoch_time_stamps_from_the_floor_on(monkeypatch):
+    monkeypatch.setenv("TZ", "Asia/Tokyo")  # the stamp is UTC, whatever the machine's zone
+    time.tzset()
     assert epoch_warning(1e8) == (
         "the times are Unix time stamps (from 1973-03-03 09:46:40 UTC): read relative to the first, 100000000 s"
     )
@@ -116,6 +127,8 @@ def test_epoch_time_stamps_from_the_floor_on():
     assert epoch_warning(1e20) is None  # beyond any date: no time stamp
     message = epoch_warning(1732700000.25)
     assert message is not None and message.endswith("the first, 1732700000.25 s")
+    monkeypatch.undo()
+    time.tzset()
 
 
 LOADS = "(ISO 14242-1: 300 to 3000 N)"
