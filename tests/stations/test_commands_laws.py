@@ -38,7 +38,7 @@ def test_a_motions_arrays_are_checked_by_name():
     with pytest.raises(ArgumentError) as error:
         StationMotion(np.zeros(2), np.zeros((2, 3)), np.zeros((2, 2)), np.zeros((2, 2, 3)), "2")
     assert str(error.value) == "carriages: expected shape (2, 3), got shape (2, 2)"
-    motion = StationMotion([0, 1], [[0, 0, 1]] * 2, np.zeros((2, 3)), np.ones((2, 2, 3)), "1")
+    motion = StationMotion(np.array([0, 1]), np.array([[0, 0, 1]] * 2), np.zeros((2, 3)), np.ones((2, 2, 3)), "1")
     assert motion.desired.dtype == float and not motion.t.flags.writeable
     assert motion.errors[0, 1] == pytest.approx([1.0, 1.0, 0.0]) and motion.weights == (1.0, 1.0)
 
