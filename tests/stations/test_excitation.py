@@ -11,9 +11,11 @@ import pytest
 
 from hipsim.analytic.stations import platform_jacobian, platform_motion
 from hipsim.machine.parameters import load_parameters
+from hipsim.motion.trajectories import iso14242
 from hipsim.physics.orientation import inverse_condition_number
 from hipsim.rig.identification.excitation import Limits
 from hipsim.stations import deviations as dv
+from hipsim.stations import excitation as excitation_module
 from hipsim.stations.excitation import CalibrationExcitation, _peaks, _series, _within, calibration_condition
 from hipsim.stations.sensitivity import Structure, attitude_jacobian
 
@@ -114,3 +116,33 @@ def test_the_condition_of_one_column_and_of_columns_one_motion_cannot_tell_apart
         c = abs(float(unit[:, 0] @ unit[:, 1]))
         expected = math.sqrt((1 + c) / (1 - c))
         assert calibration_condition(params, q, offsets, pair) == pytest.approx(expected, rel=1e-9)
+
+
+def test_the_design_keeps_the_best_of_its_seeds(monkeypatch):
+    """Three candidates of two harmonics, amplitudes falling as 1/l, each scaled to the 20° limit and shrunk by 0.9
+    until every limit holds (:func:`_within`, pinned above): the one with the smallest condition number is kept."""
+    params = load_parameters()
+    names = dv.names()
+    columns = np.array([names.index("lever_11"), names.index("lever_12")])
+    pair = Structure(2, columns, np.array([], dtype=int), np.zeros((2, 0)), False)
+    asked: list[bool] = []
+    monkeypatch.setattr(excitation_module, "structure", lambda p, offsets: asked.append(offsets) or pair)
+    limits = Limits(max_angle=math.radians(20.0), max_speed=0.25, max_acceleration=1e3, min_cond_inv=0.01)
+    design = excitation_module.calibration_excitation(params, 0.5, 2, limits, seeds=3, offsets=True, seed=7)
+    assert asked == [True] and design.frequency == 0.5 and design.coefficients.shape == (3, 4)
+    t = np.arange(240) / (240 * 0.5)
+    candidates = []
+    for k in range(3):
+        c = np.random.default_rng([7, k]).normal(size=(3, 4)) / np.array([1.0, 1.0, 2.0, 2.0])
+        c *= math.radians(20.0) / np.abs(_series(c, 0.5, t)[0]).max()
+        while not _within(_peaks(params, c, 0.5, t), limits):
+            c = c * 0.9
+        candidates.append((calibration_condition(params, _series(c, 0.5, t)[0], True, pair), c))
+    conditions = [condition for condition, _ in candidates]
+    assert max(conditions) > 1.01 * min(conditions)  # the choice matters
+    condition, best = min(candidates, key=lambda item: item[0])
+    np.testing.assert_allclose(design.coefficients, best, rtol=1e-12)
+    assert design.condition_number == pytest.approx(condition, rel=1e-12)
+    iso = iso14242(rate=240).q
+    assert design.iso_condition_number == pytest.approx(calibration_condition(params, iso, True, pair), rel=1e-12)
+    assert design.peaks == _peaks(params, best, 0.5, t)
