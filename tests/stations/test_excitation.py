@@ -126,7 +126,12 @@ def test_the_design_keeps_the_best_of_its_seeds(monkeypatch):
     columns = np.array([names.index("lever_11"), names.index("lever_12")])
     pair = Structure(2, columns, np.array([], dtype=int), np.zeros((2, 0)), False)
     asked: list[bool] = []
-    monkeypatch.setattr(excitation_module, "structure", lambda p, offsets: asked.append(offsets) or pair)
+
+    def structure(params: object, offsets: bool) -> Structure:
+        asked.append(offsets)
+        return pair
+
+    monkeypatch.setattr(excitation_module, "structure", structure)
     limits = Limits(max_angle=math.radians(20.0), max_speed=0.25, max_acceleration=1e3, min_cond_inv=0.01)
     design = excitation_module.calibration_excitation(params, 0.5, 2, limits, seeds=3, offsets=True, seed=7)
     assert asked == [True] and design.frequency == 0.5 and design.coefficients.shape == (3, 4)
