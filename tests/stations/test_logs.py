@@ -207,3 +207,21 @@ def test_a_parquet_log_ignores_text_and_names_no_line(tmp_path):
     assert _error(tmp_path / "still.parquet") == (
         f"{tmp_path / 'still.parquet'}, column 't_s': time does not increase (t = 0 s after 0 s)"
     )
+
+
+def test_a_text_cell_only_where_the_reader_needs_a_number_is_refused(tmp_path):
+    """An unplugged sensor logged as "n/a": the carriages alone are read; the sensors, asked for, are refused."""
+    path = _write(
+        tmp_path,
+        f"{HEADER},alpha_des_deg,beta_des_deg,gamma_des_deg\n0,1,2,3,n/a,0,0,0,0,0,1,2,3\n1,1,2,3,0,0,0,0,0,0,4,5,6\n",
+    )
+    t, carriages = read_carriage_log(path, 0.01)
+    assert t == pytest.approx([0.0, 1.0]) and carriages[0] == pytest.approx([0.001, 0.002, 0.003])
+    with pytest.raises(TrajectoryError) as error:
+        read_slider_log(path, 0.01)
+    assert str(error.value) == f"{path}, line 2, column 'alpha_1_deg': 'n/a' is not a number"
+    assert read_desired(path) == pytest.approx(np.radians([[1, 2, 3], [4, 5, 6]]))
+    run = _write(tmp_path, f"{RUN},known_alpha_1_deg\n0,1,2,3,1,2,3,4,5,6,free\n1,1,2,3,1,2,3,4,5,6,free\n", "run.csv")
+    assert np.degrees(read_run_log(run, 0.01, (2,))[3][1, 1]) == pytest.approx([4, 5, 6])
+    with pytest.raises(TrajectoryError, match=r"line 3, column 'L_12_cmd_mm': 'x' is not a number"):
+        read_run_log(_write(tmp_path, f"{RUN}\n0,1,2,3,1,2,3,4,5,6\n1,1,2,3,1,x,3,4,5,6\n", "x.csv"), 0.01, ())
