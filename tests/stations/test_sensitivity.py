@@ -123,3 +123,17 @@ def test_definitions_name_what_each_estimated_value_absorbs():
         "lever_12 + 2e-06·centre_z_1 − 1.23457·centre_x_2",
     ]
     assert seen.definitions(tol=0.6) == ["slider_11 − 1·centre_z_1", "lever_12 − 1.23457·centre_x_2"]
+
+
+def test_m_1s_seat_column_follows_m_2s_own_attitude():
+    """The platforms at different attitudes on a machine with a seat: m_1's seat column is taken at m_2's attitude."""
+    delta = np.zeros(dv.COUNT)
+    delta[dv.names().index("spline_x_1")] = 2e-3
+    params = dv.machine(load_parameters(), delta)
+    q = np.stack([Q, Q[::-1]], axis=1)  # m_2 elsewhere
+    both = attitude_jacobian(params, q)
+    np.testing.assert_allclose(
+        both[:, 0][..., dv.platform_columns(1)], platform_attitude_jacobian(params, Q, 1, Q[::-1])
+    )
+    seat = dv.names().index("spline_x_1")
+    assert np.abs(both[:, 0, :, seat] - attitude_jacobian(params, np.stack([Q, Q], axis=1))[:, 0, :, seat]).max() > 1e-3
