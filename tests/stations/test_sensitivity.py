@@ -22,6 +22,7 @@ from hipsim.stations.sensitivity import (
     platform_attitude_jacobian,
     random_poses,
     reading_rate,
+    structure,
 )
 
 Q = np.radians(np.array([[10.0, 4.0, -6.0], [-8.0, -3.0, 12.0]]))
@@ -137,3 +138,19 @@ def test_m_1s_seat_column_follows_m_2s_own_attitude():
     )
     seat = dv.names().index("spline_x_1")
     assert np.abs(both[:, 0, :, seat] - attitude_jacobian(params, np.stack([Q, Q], axis=1))[:, 0, :, seat]).max() > 1e-3
+
+
+def test_what_folds_into_what_and_what_the_offsets_take():
+    """Without offsets each platform's U-joints fold its centre's x and y (a translation) and its sliders its
+    centre's z (a lift): 18 coefficients, each −1, the rest exactly 0. With an offset per sensor angle, the six
+    centre values stay unseen and fewer combinations are seen."""
+    drawing = load_parameters()
+    seen = structure(drawing, offsets=False)
+    assert np.count_nonzero(seen.coefficients) == 18 and seen.offsets is False
+    np.testing.assert_allclose(seen.coefficients[seen.coefficients != 0], -1.0, atol=1e-6)
+    assert seen.definitions()[:2] == ["ujoint_x_11 − 1·centre_x_1", "ujoint_y_11 − 1·centre_y_1"]
+    assert seen.definitions()[12] == "slider_11 − 1·centre_z_1" and len(seen.definitions()) == 18
+    offsets = structure(drawing, offsets=True)
+    assert offsets.offsets is True and offsets.rank < seen.rank
+    centres = {f"centre_{a}_{j}" for a in "xyz" for j in (1, 2)}
+    assert centres <= {dv.names()[k] for k in offsets.dependent}
