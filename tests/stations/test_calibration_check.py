@@ -12,6 +12,7 @@ from stations_synthetic import LEVER_11, LEVER_21, hand_calibration
 
 from hipsim.analytic.stations import carriages_for_platform
 from hipsim.machine.parameters import load_parameters
+from hipsim.stations import deviations as dv
 from hipsim.stations.calibration import Calibration, CalibrationLog
 from hipsim.stations.calibration_check import SENSOR_COLUMNS, SENSOR_FLOOR_DEG, check_calibration, sensor_noise
 
@@ -111,3 +112,49 @@ def test_a_log_the_start_cannot_reach_names_no_cause():
     loud = _with(hand_calibration(), residual_rms=np.radians(np.full((1, 2, 3), 1.0)))
     (finding,) = check_calibration(loud, [far]).findings
     assert finding.endswith("(200×)")  # the prediction fails: no likely cause to add
+
+
+def _slipped(name: str, change) -> CalibrationLog:
+    log = _log(name)
+    sensors = np.array(log.sensors)
+    change(sensors)
+    return CalibrationLog(name, log.t, log.carriages, sensors)
+
+
+def _swap(s: np.ndarray) -> None:
+    s[:, 0, [0, 1]] = s[:, 0, [1, 0]]
+
+
+def _offset(s: np.ndarray) -> None:
+    s[:, 0, 0] += np.radians(3.0)
+
+
+def test_a_swap_is_looked_for_whatever_the_residual_but_an_offset_only_when_it_is_loud():
+    quiet = _with(hand_calibration(), residual_rms=np.zeros((1, 2, 3)))
+    (finding,) = check_calibration(quiet, [_slipped("swap.csv", _swap)]).findings
+    assert (
+        finding
+        == "swap.csv: the fit absorbs a slip of the columns (likely cause in swap.csv: columns alpha_1 and beta_1 look swapped)"
+    )
+    assert check_calibration(quiet, [_slipped("zero.csv", _offset)]).findings == ()  # a zero the chains may mimic
+    loud = _with(hand_calibration(), residual_rms=np.radians(np.full((1, 2, 3), 1.0)))
+    (finding,) = check_calibration(loud, [_slipped("zero.csv", _offset)]).findings
+    assert finding.endswith("(likely cause in zero.csv: column alpha_1 looks offset by +3 ° (a zero?))")
+
+
+def test_moves_are_from_the_start_and_the_cause_from_the_first_log():
+    """The start has lever_11 at 3 mm: 3.2 mm is 0.4σ from it; lever_21 moved 2.6 mm (5.2σ) from its zero. The first
+    log is clean, the second slipped: the cause is looked for in the first alone."""
+    delta = np.zeros(dv.COUNT)
+    delta[LEVER_11] = 3e-3
+    base = hand_calibration()
+    start = dv.machine(base.start, delta)
+    theta = np.array(delta)
+    theta[LEVER_11], theta[LEVER_21] = 3.2e-3, 2.6e-3
+    calibration = _with(base, start=start, theta=theta, residual_rms=np.zeros((2, 2, 3)))
+    logs = [_log("clean.csv"), _slipped("slip.csv", _offset)]
+    findings = check_calibration(calibration, logs).findings
+    assert findings[-1] == (
+        "per-chain values beyond 5 prior standard deviations: lever_21 +2.6 mm (5.2σ): they absorb something else "
+        "(a sensor offset or column?)"
+    )

@@ -8,7 +8,7 @@ import pytest
 from stations_synthetic import CENTRE_X_1, LEVER_11, LEVER_21, NAMES, hand_calibration
 
 from hipsim.machine.parameters import load_parameters
-from hipsim.rig.identification.identified_file import read_identified_file
+from hipsim.rig.identification.identified_file import FileProvenance, read_identified_file
 from hipsim.stations import deviations as dv
 from hipsim.stations.calibration import Calibration, Confounding
 from hipsim.stations.calibration_file import CALIBRATED_MARK, calibrated_toml, calibration_record, write_calibrated
@@ -74,3 +74,24 @@ def test_a_calibration_that_sees_everything_says_none_unseen():
     seen = Structure(3, np.array([LEVER_11, LEVER_21, CENTRE_X_1]), np.array([], dtype=int), np.zeros((3, 0)), True)
     everything = Calibration(**{**calibration.__dict__, "structure": seen})
     assert "\n# Not seen by these logs (kept at the start): none\n" in calibrated_toml(everything)
+
+
+def test_rounding_the_default_start_two_unseen_values_and_the_provenance(tmp_path):
+    """A third of a micrometre kept to 12 decimals of a mm; a noise of a third of a thousandth of a degree to 9."""
+    base = hand_calibration()
+    theta = np.array(base.theta)
+    theta[LEVER_11] = 1e-6 / 3
+    noise = np.array(base.noise)
+    noise[0, 0] = np.radians(1e-3 / 3)
+    seen = Structure(2, np.array([LEVER_11, LEVER_21]), np.array([CENTRE_X_1, CENTRE_X_1 + 1]), np.zeros((2, 2)), True)
+    calibration = Calibration(**{**base.__dict__, "theta": theta, "noise": noise, "structure": seen})
+    record = calibration_record(calibration)
+    assert record["deviation_mm"][LEVER_11] == round(1e-3 / 3, 12) != round(1e-3 / 3, 13)
+    assert record["noise_deg"][0] == round(1e-3 / 3, 9) != round(1e-3 / 3, 10)
+    provenance = FileProvenance("9.9", "2026-11-29T08:00:00Z", "hipsim calibrate --log a.csv")
+    text = calibrated_toml(calibration, provenance=provenance)
+    assert "# Start: the published machine; prior ±0.5 mm on every per-chain value." in text
+    assert "# Not seen by these logs (kept at the start): centre_x_1, centre_y_1\n" in text
+    assert "hipsim calibrate --log a.csv" in text
+    path = write_calibrated(tmp_path / "c.toml", calibration, provenance=provenance)
+    assert path.read_text(encoding="utf-8") == text

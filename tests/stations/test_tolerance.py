@@ -241,3 +241,21 @@ def test_controls_and_draws_are_checked(drawing, cycle):
         tolerance_draws(drawing, t, q, {}, draws=0, workers=0)
     one = tolerance_draws(drawing, t, q, {"lever": 1e-4}, ("2",), draws=1, workers=0)
     assert one.rms.shape == (1, 1, 2, 3) and np.all(one.rms[0, 0, 1] < 1e-12) and one.rms[0, 0, 0].max() > 0
+
+
+@pytest.mark.parametrize(
+    ("name", "chain"), [("lever_22", "chain 22"), ("lever_13", "chain 13"), ("ujoint_x_21", "chain 21")]
+)
+def test_the_chain_out_of_reach_is_named(drawing, cycle, name, chain):
+    """A lever 0.3 m short (or a U-joint 0.3 m off) cannot reach: that chain is named, platform 1's looked at first."""
+    delta = np.zeros(dv.COUNT)
+    delta[dv.names().index(name)] = -0.3 if name.startswith("lever") else 0.3
+    assert tolerance_module._out_of_reach(dv.machine(drawing, delta), cycle[1]) == chain
+    assert tolerance_module._out_of_reach(drawing, cycle[1]) is None
+
+
+def test_the_table_is_a_mean_over_the_samples():
+    """The same samples twice: the same table (a sum over them would double it)."""
+    widths = half_widths({"lever": 1e-3, "spline": 1e-3})
+    twice = sensitivity_table(np.concatenate([_sensitivity()] * 3), widths)
+    assert twice == sensitivity_table(_sensitivity(), widths)
