@@ -189,6 +189,9 @@ class PinocchioPlant:
             raise ArgumentError("mu", mu, "a positive proximal regularisation")
         if chain is not None and chain.params is not params:
             raise ArgumentError("chain", chain, "load_model(params) of the same params object")
+        if route == "constraint_dynamics" and params.geometry is not None and params.chains.stacked:
+            # The stack-up's shaft end is massless: M is singular there, and Pinocchio's constraint Cholesky gives NaN.
+            raise ArgumentError("route", route, "'compiled' or 'kernel' with a stack-up (its massless slides)")
         self.params = params
         self.chain = load_model(params) if chain is None else chain
         layout = self.chain.layout
@@ -230,7 +233,16 @@ class PinocchioPlant:
         self._weight = float(params.platform_mass * params.gravity)
         self._fast = not laws.lever_joint_friction_on(params.friction) and self._platform_follows_the_spec()
         #: The closed-form friction's arguments (:func:`~hipsim.closed_chain.plant_step.generalised_forces`).
-        self._forces = (self._friction, self._weight, self._force_gain, self._platform_slots, self._slider_slots)
+        # With a stack-up the load presses m_1's centre down the spline's slide (hipsim.machine.chains).
+        self._lifted = np.ascontiguousarray(layout.stackup_v[:1], dtype=np.int64)
+        self._forces = (
+            self._friction,
+            self._weight,
+            self._force_gain,
+            self._platform_slots,
+            self._slider_slots,
+            self._lifted,
+        )
         # For the general friction path and the diagnostics: their own Data, not the dynamics'.
         self._jdata = model.createData()
         self._jdatas = pin.StdVec_RigidConstraintData()
@@ -446,11 +458,13 @@ class PinocchioPlant:
                 self._force_gain,
                 self._platform_slots,
                 self._slider_slots,
+                self._lifted,
             )
         nq = self.nq
         buf[:] = -friction_forces(self.chain, x[:nq], x[nq:], Fe, data=self._jdata)
         for i, s in enumerate(self._sliders):
             buf[s] += self._force_gain * tau[i]
+        buf[self._lifted] -= Fe
         return buf
 
     def _kernel_arguments(self) -> tuple | None:

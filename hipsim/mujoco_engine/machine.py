@@ -97,6 +97,11 @@ class MujocoMachine:
         self.stackup_dof = model.jnt_dofadr[joint(STACKUP_JOINTS[0])] if stacked else None
         #: The stack-up's bodies of PLACEHOLDER_MASS (empty without a stack-up).
         self.placeholders = {body(name) for name in STACKUP_BODIES} if stacked else set()
+        if stacked:
+            # MuJoCo scales a closure row's softness by a per-body mean mobility (body_invweight0): the shaft end's,
+            # 1/(3·1 mg) from its light horizontal slides, would make the seat's vertical row, which lifts m_1, some
+            # 1e6 times too soft. It moves vertically with m_1's slide: that body's mobility is the right scale.
+            model.body_invweight0[body(STACKUP_BODIES[1]), 0] = model.body_invweight0[body(STACKUP_BODIES[0]), 0]
         self.group_models = []
         carriages = {model.body_parentid[b] for b in self.lever_body.ravel()}
         members = (set(self.platform_body), set(self.lever_body.ravel()), carriages)
