@@ -501,7 +501,14 @@ def _stackup_urdf(doc: Any, joints: dict, chains: Chains) -> None:
     rz = joints["platform_1_rz"]
     rz.getElementsByTagName("parent")[0].setAttribute("link", "spline_1")
     rz.getElementsByTagName("origin")[0].setAttribute("xyz", "0.0 0.0 0.0")
-    joint(tip_x, "prismatic", "spline_1", "spline_1_slide_x", chains.centres[1] + chains.spline_seat - chains.centres[0], "1 0 0")
+    joint(
+        tip_x,
+        "prismatic",
+        "spline_1",
+        "spline_1_slide_x",
+        chains.centres[1] + chains.spline_seat - chains.centres[0],
+        "1 0 0",
+    )
     joint(tip_y, "prismatic", "spline_1_slide_x", "spline_1_slide_y", (0.0, 0.0, 0.0), "0 1 0")
     joint(f"{tip}_fixed", "fixed", "spline_1_slide_y", tip, (0.0, 0.0, 0.0))
     joint(f"{seat}_fixed", "fixed", "platform_2", seat, chains.spline_seat)

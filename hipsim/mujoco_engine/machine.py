@@ -82,7 +82,9 @@ class MujocoMachine:
         self.lever_body = np.array([[body(f"lever_{j}{i}") for i in (1, 2, 3)] for j in (1, 2)])
         stacked = params.chains.stacked
         if model.neq != 6 + stacked or np.any(model.eq_type != mujoco.mjtEq.mjEQ_CONNECT):
-            raise ModelError("the hip simulator's MuJoCo model needs its six connect equalities (seven with a stack-up)")
+            raise ModelError(
+                "the hip simulator's MuJoCo model needs its six connect equalities (seven with a stack-up)"
+            )
         names = [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_EQUALITY, k) for k in range(model.neq)]
         pairs = [[f"lever_{j}{i}_tip-platform_{j}_joint_{i}" for i in (1, 2, 3)] for j in (1, 2)]
         seat = ["{}-{}".format(*STACKUP_CLOSURE)] if stacked else []

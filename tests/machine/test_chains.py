@@ -325,20 +325,23 @@ def test_the_urdf_stands_m1_on_the_spline_and_the_shaft_end_on_the_seat():
     seat = np.array([1e-3, 2e-3, -1e-3])
     stacked = PARAMS.replace(geometry=given(DEVIATED.geometry).replace(spline=seat))
     joints = {j.get("name"): j for j in ET.fromstring(urdf_text(stacked)).iter("joint")}
+
+    def read(joint, tag: str, key: str) -> str:  # an attribute of a joint's sub-element
+        return str(given(given(joint.find(tag)).get(key)))
+
     slide, tip_x, tip_y = (joints[name] for name in STACKUP_JOINTS)
     assert [j.get("type") for j in (slide, tip_x, tip_y)] == ["prismatic"] * 3
-    assert [j.find("axis").get("xyz") for j in (slide, tip_x, tip_y)] == ["0 0 1", "1 0 0", "0 1 0"]
-    spline = slide.find("child").get("link")
-    assert joints["platform_1_rz"].find("parent").get("link") == spline == tip_x.find("parent").get("link")
-    parent_of = {j.find("child").get("link"): j for j in joints.values()}
+    assert [read(j, "axis", "xyz") for j in (slide, tip_x, tip_y)] == ["0 0 1", "1 0 0", "0 1 0"]
+    spline = read(slide, "child", "link")
+    assert read(joints["platform_1_rz"], "parent", "link") == spline == read(tip_x, "parent", "link")
+    parent_of = {read(j, "child", "link"): j for j in joints.values()}
 
     def home(link):  # a link's origin at zero joint values: the joints' offsets summed up to the base (no rotations)
         out = np.zeros(3)
         while link in parent_of:
-            origin = parent_of[link].find("origin")
-            assert origin.get("rpy") == "0 0 0"
-            out += np.array(origin.get("xyz").split(), dtype=float)
-            link = parent_of[link].find("parent").get("link")
+            assert read(parent_of[link], "origin", "rpy") == "0 0 0"
+            out += np.array(read(parent_of[link], "origin", "xyz").split(), dtype=float)
+            link = read(parent_of[link], "parent", "link")
         return out
 
     chains = stacked.chains
