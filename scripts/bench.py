@@ -1286,7 +1286,7 @@ def bench_wear_test(quick: bool) -> None:
 
 
 def _deviated_machine(params, seed: int = 3, size_mm: float = 0.3):
-    """The machine with each of its 48 per-chain values off the drawing by up to ±size_mm (uniform)."""
+    """The machine with each of its per-chain values (the 48 of the chains, the stack-up's seat) off the drawing by up to ±size_mm (uniform)."""
     from hipsim.stations import deviations as dv
 
     return dv.machine(params, np.random.default_rng(seed).uniform(-size_mm, size_mm, dv.COUNT) * 1e-3)
@@ -1373,7 +1373,8 @@ def bench_machine_plant(params, quick: bool) -> None:
 
     Beside it, in the same alternated runs: the drawing's Pinocchio plant in today's compiled loop (the baseline, target
     within 1.5x), the drawing's plant in the new loop, the same chains with the intermediate chain's stack-up
-    (``spline_seat_mm``: 24 coordinates, 7 closures; same targets), and the per-chain and stacked MuJoCo plants.
+    (``spline_seat_mm``, drawn with them: 24 coordinates, 7 closures; same targets), and the per-chain and stacked
+    MuJoCo plants.
     """
     import statistics
 
@@ -1384,11 +1385,10 @@ def bench_machine_plant(params, quick: bool) -> None:
     from hipsim.control.machine_loop import ModelPD, run_machine
     from hipsim.motion.trajectories import iso14242_at
 
-    machine = _deviated_machine(params)
-    geometry = machine.geometry
-    assert geometry is not None
-    # The same chains with the intermediate chain's stack-up (a seat 0.2/-0.3/0.25 mm off joint 2's centre).
-    stacked = machine.replace(geometry=geometry.replace(spline=np.array([0.2e-3, -0.3e-3, 0.25e-3])))
+    stacked = _deviated_machine(params)  # its 51 values: the chains' 48 and the stack-up's seat e (0.21/-0.06/-0.01 mm)
+    geometry = stacked.geometry
+    assert geometry is not None and stacked.chains.stacked
+    machine = stacked.replace(geometry=geometry.replace(spline=np.zeros(3)))  # the same chains, no stack-up
     per_chain, drawing = PinocchioPlant(machine), PinocchioPlant(params)
 
     def new_loop(plant):

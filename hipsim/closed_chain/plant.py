@@ -42,7 +42,7 @@ dynamics is consistent. Three routes solve it (``route``, :data:`ROUTES`):
   then one compiled call (:func:`~hipsim.closed_chain.plant_kernel.constrained_acceleration`)
   that evaluates h by Newton–Euler, the closures' frames, Jacobian and drift,
   and solves exactly by coordinate partitioning (18 eliminated coordinates,
-  platform 1's three angles kept). It agrees with the converged
+  platform 1's three angles kept; with a stack-up platform 2's, see :meth:`PinocchioPlant._kernel_arguments`). It agrees with the converged
   ``constraintDynamics`` to 1e-14 m/s², on and off the closures.
 * ``"constraint_dynamics"``: Pinocchio's ``pin.constraintDynamics``
   (``initConstraintDynamics`` once per plant; Data and constraint Data are
@@ -480,7 +480,10 @@ class PinocchioPlant:
         rotations, origins = _joint_placement_views(model, data)
         if rotations is None:
             return None
-        angles = np.asarray(self._platforms[0], dtype=np.int64)
+        # The independent coordinates: platform 1's angles; with a stack-up platform 2's, from which the seat, the
+        # carriages and then m_1 follow block by block (from m_1's, m_1 needs the lift, the lift m_2, m_2 the
+        # carriages, the carriages m_1: one 21×21 block, 1.3x the time).
+        angles = np.asarray(self._platforms[1 if self.chain.layout.stackup_v.size else 0], dtype=np.int64)
         others = np.setdiff1d(np.arange(model.nv), angles)
         if 3 * len(self.constraint_models) != others.size:
             return None
