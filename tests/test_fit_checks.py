@@ -188,7 +188,7 @@ def test_an_implausible_calibration_is_refused_naming_the_cause(logs, tmp_path, 
 def test_force_writes_an_implausible_calibration_and_keeps_the_warning(logs, tmp_path, capsys):
     out = tmp_path / "c.toml"
     status, err = _calibrate(capsys, out, "--log", logs["offset"], "--force")
-    assert status == 0 and "written with --force" in err
+    assert status == 1 and "written with --force" in err  # written, and the self-check's FAIL is the exit status
     text = out.read_text()
     assert "# WARNING (written with --force): " in text and "warnings = [" in text
 
@@ -266,7 +266,7 @@ def test_identify_gives_a_verdict_on_a_held_out_log_it_does_not_predict(torque_l
     err = capsys.readouterr().err
     assert "held-out " in err and "residuals beyond 3 times the noise" in err and "tau_1 and tau_2 look swapped" in err
     assert not out.exists()
-    assert main([*argv, "--no-plausibility-check", "--force"]) == 0  # written, the finding kept
+    assert main([*argv, "--no-plausibility-check", "--force"]) == 1  # written, the finding kept; the verdict FAIL
     assert "written with --force" in capsys.readouterr().err
     assert "# WARNING (written with --force): held-out" in out.read_text()
 

@@ -213,9 +213,9 @@ def test_a_designed_calibration_motion_is_better_posed_than_the_iso_cycle(drawin
     limits = Limits.for_machine(drawing, max_angle=np.radians(20.0))
     design = calibration_excitation(drawing, frequency=0.2, harmonics=4, limits=limits, seeds=2)
     assert design.condition_number < design.iso_condition_number / 5
-    assert design.peaks["angle_deg"] <= 20.0 + 1e-9
-    assert design.peaks["speed_mm_s"] <= limits.max_speed * 1e3
-    assert design.peaks["cond_inv_min"] >= limits.min_cond_inv
+    assert design.peaks.angle_deg <= 20.0 + 1e-9
+    assert design.peaks.speed_mm_s <= limits.max_speed * 1e3
+    assert design.peaks.cond_inv_min >= limits.min_cond_inv
 
 
 def test_limits_no_calibration_motion_meets_are_an_excitation_error(drawing):
