@@ -23,10 +23,12 @@ from hipsim.fit_checks import (
     column_pattern,
     difference_noise,
     duplicate_inputs,
+    fit_verdict,
     prior_gate,
     residual_gate,
 )
 from hipsim.machine.parameters import load_parameters
+from hipsim.records import Level, exit_status
 
 NAMES = ("a", "b", "c")
 
@@ -123,6 +125,25 @@ def test_a_fit_check_is_plausible_without_findings():
         "self-check: plausible: residuals within 3 times the noise, no parameter beyond 5 prior standard deviations; "
         "1 held-out log predicted within it"
     )
+
+
+def test_a_fit_s_verdict_passes_without_findings_and_fails_with_one():
+    plausible = fit_verdict(FitCheck("calibrate"), 2, "the unseen values")
+    assert plausible.level is Level.PASS and plausible.not_judged == "the unseen values"
+    assert plausible.judged == (
+        "calibrate: residuals against 3 times the noise, each parameter's move against 5 prior standard deviations; "
+        "2 held-out logs against the same gate"
+    )
+    assert plausible.numbers == {"residual_factor": 3.0, "prior_sigma": 5.0, "held_out_logs": 2.0, "findings": 0.0}
+    one = FitCheck("identify", ("held-out h.csv: residuals beyond 3 times the noise",))
+    failed = fit_verdict(one, 1)
+    assert failed.level is Level.FAIL and failed.judged.endswith(": held-out h.csv: residuals beyond 3 times the noise")
+    assert "1 held-out log against" in failed.judged and failed.numbers["findings"] == 1.0
+    assert "held-out" not in fit_verdict(FitCheck("identify")).judged  # none held out: not said
+    record = one.summary(1)
+    assert (record.fit, record.plausible, record.findings, record.verdict) == ("identify", False, one.findings, failed)
+    assert record.level is Level.FAIL and exit_status([record]) == 1 and exit_status([FitCheck("c").summary()]) == 0
+    assert record.to_json()["verdict"]["level"] == "FAIL" and record.verdict.not_judged == ""
 
 
 # --------------------------------------------------------------------------- calibrate, end to end

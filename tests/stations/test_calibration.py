@@ -7,6 +7,7 @@ than hipsim.analytic.stations, which the calibration uses.
 
 from __future__ import annotations
 
+import jsonschema
 import numpy as np
 import pytest
 from stations_synthetic import (
@@ -19,6 +20,7 @@ from stations_synthetic import (
 )
 
 from hipsim.analytic.stations import carriages_for_platform
+from hipsim.cli.documents import schema
 from hipsim.cli.main import main
 from hipsim.exceptions import CalibrationError, TrajectoryError
 from hipsim.machine.chains import ChainGeometry
@@ -186,7 +188,10 @@ def test_calibrate_command(tmp_path, drawing, truth, train, capsys):
     assert main([*argv, "--summary-format", "json"]) == 0
     import json
 
-    summary = json.loads(capsys.readouterr().out)["summary"]
+    document = json.loads(capsys.readouterr().out)
+    jsonschema.Draft202012Validator(schema("calibrate")).validate(document)  # what ``hipsim schema calibrate`` says
+    assert document["self_check"]["verdict"]["level"] == "PASS" and document["out"] == str(out)
+    summary = document["summary"]
     assert np.max(summary["validation"][0]["rms_deg"]) < NOISE_DEG * 1.2
     assert np.max(summary["validation"][0]["start_rms_deg"]) > NOISE_DEG * 2
     machine = load_parameters(out)

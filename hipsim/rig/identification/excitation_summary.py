@@ -13,12 +13,9 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 from ...records import Level, Record, Verdict, optional
-
-if TYPE_CHECKING:  # the excitation imports this module: its limits for the annotations only
-    from .excitation import Limits
 
 __all__ = [
     "CalibrationExcitationSummary",
@@ -26,6 +23,26 @@ __all__ = [
     "ExcitationSummary",
     "limits_verdict",
 ]
+
+
+class Limits(Protocol):
+    """The rig's limits a motion keeps, SI (:class:`hipsim.rig.identification.excitation.Limits`, which imports this
+    module: its fields here, not its import)."""
+
+    @property
+    def max_angle(self) -> float: ...
+    @property
+    def min_load(self) -> float: ...
+    @property
+    def max_load(self) -> float: ...
+    @property
+    def max_speed(self) -> float: ...
+    @property
+    def max_acceleration(self) -> float: ...
+    @property
+    def torque_limit(self) -> float: ...
+    @property
+    def min_cond_inv(self) -> float: ...
 
 
 @dataclass(frozen=True)

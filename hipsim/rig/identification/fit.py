@@ -63,7 +63,7 @@ from .prior import HELD
 from .prior import prior as make_prior
 from .quantities import QUANTITIES, standard_values, with_values
 from .regressor import column_condition, log_rows, rows_per_independent_row
-from .summary import EstimateRow, IdentificationSummary, identification_summary
+from .summary import EstimateRow, HeldOutLog, HeldRow, IdentificationSummary, IdentifiedRow
 from .validation import ValidationNote, training_envelope, validation_note
 
 __all__ = [
@@ -274,7 +274,34 @@ class Identification:
 
     def summary(self) -> IdentificationSummary:
         """Everything a script needs, in file units, torques in [N·mm] (:mod:`hipsim.rig.identification.summary`)."""
-        return identification_summary(self)
+        validation = None
+        if self.validation:
+            notes = self.notes or (None,) * len(self.validation)
+            validation = tuple(
+                HeldOutLog(
+                    identified.log.name,
+                    identified.summary().motors,
+                    start.summary().motors,
+                    None if note is None else note.summary(),
+                )
+                for (identified, start), note in zip(self.validation, notes)
+            )
+        return IdentificationSummary(
+            logs=tuple(self.logs),
+            starting_parameters=self.start.source,
+            lever_spin=self.lever_spin,
+            rows=self.rows,
+            condition_number=float(self.condition_number),
+            residual_rms_Nmm={str(i + 1): float(self.residual_rms[i] * 1e3) for i in range(3)},
+            base_parameters=tuple(e.row() for e in self.estimates),
+            identified=tuple(
+                IdentifiedRow(q.expression(None), q.key, q.value, q.std, q.unit, q.relative_std)
+                for q in self.quantities
+            ),
+            held=tuple(HeldRow(label, reason, value, unit) for label, reason, value, unit in self.held),
+            active_constraints=tuple(self.active_constraints),
+            validation=validation,
+        )
 
     def comments(self) -> list[str]:
         """The file's comment header, for people (programs read the tables): the logs, the model, each value."""

@@ -1,7 +1,6 @@
 """What an identification reports (``hipsim identify``): typed records of the fit, made where the fit is.
 
-:func:`identification_summary` turns an
-:class:`~hipsim.rig.identification.fit.Identification` into an
+:meth:`hipsim.rig.identification.fit.Identification.summary` makes an
 :class:`IdentificationSummary` (file units, torques in [N·mm]): each base
 parameter's estimate beside its prior, the ones the logs determine with their
 combinations, the parameters held at their starting values and why, the
@@ -16,16 +15,12 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ...records import Record, optional
 from ..compare_summary import MotorError
-
-if TYPE_CHECKING:  # the fit imports this module: its types for the annotations only
-    from .base import BaseParameters
-    from .fit import Identification
+from .base import BaseParameters
 
 __all__ = [
     "BaseDefinition",
@@ -37,7 +32,6 @@ __all__ = [
     "IdentifiedRow",
     "PhaseNote",
     "base_listing",
-    "identification_summary",
     "phase_note",
 ]
 
@@ -162,37 +156,6 @@ def phase_note(
         [float(x) for x in edges],
         [[float(x) for x in row] for row in identified],
         [[float(x) for x in row] for row in starting],
-    )
-
-
-def identification_summary(result: Identification) -> IdentificationSummary:
-    """The record of an identification (:class:`IdentificationSummary`): file units, torques in [N·mm]."""
-    validation = None
-    if result.validation:
-        notes = result.notes or (None,) * len(result.validation)
-        validation = tuple(
-            HeldOutLog(
-                identified.log.name,
-                identified.summary().motors,
-                start.summary().motors,
-                None if note is None else note.summary(),
-            )
-            for (identified, start), note in zip(result.validation, notes)
-        )
-    return IdentificationSummary(
-        logs=tuple(result.logs),
-        starting_parameters=result.start.source,
-        lever_spin=result.lever_spin,
-        rows=result.rows,
-        condition_number=float(result.condition_number),
-        residual_rms_Nmm={str(i + 1): float(result.residual_rms[i] * 1e3) for i in range(3)},
-        base_parameters=tuple(e.row() for e in result.estimates),
-        identified=tuple(
-            IdentifiedRow(q.expression(None), q.key, q.value, q.std, q.unit, q.relative_std) for q in result.quantities
-        ),
-        held=tuple(HeldRow(label, reason, value, unit) for label, reason, value, unit in result.held),
-        active_constraints=tuple(result.active_constraints),
-        validation=validation,
     )
 
 
