@@ -170,3 +170,11 @@ def test_excite_both_kinds(tmp_path, capsys):
     assert status == 0 and document["for"] == "calibration" and "torque_Nmm" not in document["peaks"]
     assert document["verdict"]["level"] == "PASS" and "torque" in document["verdict"]["not_judged"]
     _valid(capsys, "excite-calibration", document)
+
+
+def test_the_exit_section_says_when_the_fits_and_their_motions_exit_1():
+    page = (Path(__file__).resolve().parents[1] / "docs" / "guide" / "outputs.md").read_text(encoding="utf-8")
+    section = page.split("## Exit status")[1].split("\n## ")[0]
+    for command in ("identify", "calibrate", "excite"):
+        assert f"`{command}`" in section, command
+    assert "written with\n`--force`" in section or "written with `--force`" in section
