@@ -483,7 +483,7 @@ class PinocchioPlant:
         # The independent coordinates: platform 1's angles; with a stack-up platform 2's, from which the seat, the
         # carriages and then m_1 follow block by block (from m_1's, m_1 needs the lift, the lift m_2, m_2 the
         # carriages, the carriages m_1: one 21×21 block, 1.3x the time).
-        angles = np.asarray(self._platforms[1 if self.chain.layout.stackup_v.size else 0], dtype=np.int64)
+        angles = np.asarray(self._platforms[1 if require_layout(self.chain).stackup_v.size else 0], dtype=np.int64)
         others = np.setdiff1d(np.arange(model.nv), angles)
         if 3 * len(self.constraint_models) != others.size:
             return None
