@@ -27,7 +27,6 @@ from __future__ import annotations
 import numpy as np
 
 from ..exceptions import PoseError
-from ..machine.chains import refuse_stackup
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 from ..physics import laws
@@ -44,7 +43,7 @@ from ..results import Torques
 from .chain_kinematics import chain_accelerations, chain_jacobian, chain_positions
 from .inverse_kinematics import SINGULAR_COND_INV, Kinematics
 from .stackup import lift_motion, lifted_kinematics
-from .stations import follower_motion, platform_motion
+from .stations import follower_motion, platform_motion, stacked_motion
 from .virtual_work import _euler_moment, _lever_inertia, _lever_joint_friction, _platform_axes, torques_from_parts
 
 __all__ = [
@@ -147,10 +146,12 @@ def chain_motion(params: Parameters, trajectory: Trajectory) -> ChainMotion:
     """
     assert params.geometry is not None
     control = params.geometry.control
-    if control == 1:
-        refuse_stackup(params.chains, "the analytic dynamics with control = 1", params.source)
     t, q, qd, qdd = trajectory.t, trajectory.q, trajectory.qd, trajectory.qdd
-    L, Ld, Ldd = platform_motion(params, q, qd, qdd, control)
+    stacked = params.chains.stacked
+    if stacked and control == 1:  # m_2 follows m_1 through the stack-up: one coupled problem
+        L, Ld, Ldd, m2 = stacked_motion(params, q, qd, qdd)
+    else:
+        L, Ld, Ldd = platform_motion(params, q, qd, qdd, control)
     bad = ~np.all(np.isfinite(L), axis=1)
     if np.any(bad):
         k = int(np.argmax(bad))
@@ -162,21 +163,22 @@ def chain_motion(params: Parameters, trajectory: Trajectory) -> ChainMotion:
         )
     follower = 3 - control
     motions = {control: (q, qd, qdd)}
-    lift = None
-    follower_params, seen = params, (L, Ld, Ldd)
-    if params.chains.stacked:  # m_1 moves on its seen carriages, lifted with its centre (hipsim.analytic.stackup)
-        assert params.geometry is not None
-        follower_params = params.replace(geometry=params.geometry.replace(spline=np.zeros(3)))
-        p2, pd2, pdd2 = q * params.angle_signs, qd * params.angle_signs, qdd * params.angle_signs
+    lift, flat, seen = None, params, (L, Ld, Ldd)
+    if stacked:  # m_1 moves on its seen carriages, lifted with its centre (hipsim.analytic.stackup)
+        if control == 1:
+            motions[2] = m2
+        flat = params.replace(geometry=params.geometry.replace(spline=np.zeros(3)))
+        p2, pd2, pdd2 = (x * params.angle_signs for x in motions[2])
         T = angular_velocity_map(p2)
         omega2 = np.einsum("nij,nj->ni", T, pd2)
         omega2_dot = np.einsum("nij,nj->ni", T, pdd2) + np.einsum("nij,nj->ni", angular_velocity_map_rate(p2, pd2), pd2)
         lift = lift_motion(params.chains.spline_seat, p2, omega2, omega2_dot)
         z, zd, zdd, _ = lift
         seen = (L - z[:, None], Ld - zd[:, None], Ldd - zdd[:, None])
-    # The follower turns a fraction of a degree off the controlled platform: its attitude is the guess.
-    motions[follower] = follower_motion(follower_params, *seen, follower, t=t, q0=q[0], source=trajectory.name, guess=q)
-    platforms = [platform_kinematics(follower_params, j - 1, t, *motions[j]) for j in (1, 2)]
+    if follower not in motions:
+        # The follower turns a fraction of a degree off the controlled platform: its attitude is the guess.
+        motions[follower] = follower_motion(flat, *seen, follower, t=t, q0=q[0], source=trajectory.name, guess=q)
+    platforms = [platform_kinematics(flat, j - 1, t, *motions[j]) for j in (1, 2)]
     if lift is not None:
         platforms[0] = lifted_kinematics(platforms[0], *lift[:3])
     for j, kin in enumerate(platforms, start=1):
