@@ -63,6 +63,7 @@ __all__ = [
     "platform_attitude",
     "platform_jacobian",
     "platform_motion",
+    "platform_rates",
     "stacked_carriages",
     "stacked_motion",
 ]
@@ -336,7 +337,21 @@ def follower_motion(
         seen = (np.asarray(L) - z[:, None], np.asarray(Ld) - zd[:, None], np.asarray(Ldd) - zdd[:, None])
         return follower_motion(flat, *seen, 1, t=t, q0=q0, source=source, guess=q2 if guess is None else guess)
     q = platform_attitude(params, L, platform, t=t, q0=q0, source=source, guess=guess)
-    p = q * params.angle_signs
+    return q, *platform_rates(params, q, Ld, Ldd, platform, source)
+
+
+def platform_rates(
+    params: Parameters, q: np.ndarray, Ld: np.ndarray, Ldd: np.ndarray, platform: int, source: str | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """Platform ``platform``'s gait rates [rad/s] and accelerations [rad/s²], (N, 3) each, at its attitude q [rad]
+    driven by carriage rates Ld [m/s] and accelerations Ldd [m/s²]: ω = J⁻¹·L̇, ω̇ = J⁻¹·(L̈ − Φ(ω)) through its own
+    chains (with a stack-up, m_1's at m_2 held: give it the seen carriages' rates).
+
+    Raises:
+        PoseError: where its Jacobian is singular.
+    """
+    j = _platform_index(platform)
+    p = _angles(params, q)
     _, r, d = chain_positions(params.chains, p, j)
     J = chain_jacobian(r, d)
     try:
@@ -345,7 +360,7 @@ def follower_motion(
         omega_dot = np.linalg.solve(J, (np.asarray(Ldd, dtype=float) - phi)[..., None])[..., 0]
     except np.linalg.LinAlgError:
         raise PoseError("singular pose: the Jacobian of the following platform is singular", 0.0, 0, source) from None
-    return _gait_motion(params, p, omega, omega_dot)
+    return _gait_motion(params, p, omega, omega_dot)[1:]
 
 
 def carriage_sensitivities(
