@@ -41,9 +41,9 @@ from ..physics.transmission import angle_from_travel, travel_per_radian
 from ..physics.vectors import dot, per_leg, stack
 from ..results import Torques
 from .chain_kinematics import chain_accelerations, chain_jacobian, chain_positions
+from .forward_kinematics import solve_pose
 from .inverse_kinematics import SINGULAR_COND_INV, Kinematics
 from .stackup import lift_motion, lifted_kinematics
-from .forward_kinematics import solve_pose
 from .stations import follower_motion, platform_motion, platform_rates, stacked_motion
 from .virtual_work import _euler_moment, _lever_inertia, _lever_joint_friction, _platform_axes, torques_from_parts
 
