@@ -1,8 +1,7 @@
 """The controller's model in the servo loop sees its own stack-up (issue 44, point 4): m_1 controlled on a stacked model.
 
 The compiled ``model_*`` functions against the stations' Python laws (:mod:`hipsim.analytic.stations`), against
-today's functions call for call with a zero seat, and in closed loop on an exact plant of the stacked machine (the
-analytic per-chain forward dynamics, :func:`hipsim.analytic.chain_dynamics.chain_forward_dynamics`).
+today's functions call for call with a zero seat, and in closed loop on an exact plant of the stacked machine (:class:`hipsim.control.chain_plant.ChainPlant`).
 """
 
 import numpy as np
@@ -10,9 +9,9 @@ import pytest
 from stations_synthetic import deviated
 
 import hipsim
-from hipsim.analytic.chain_dynamics import carriage_motion, chain_forward_dynamics
-from hipsim.analytic.stations import carriages_for_platform, platform_attitude, platform_motion, stacked_motion
+from hipsim.analytic.stations import carriages_for_platform, platform_attitude, stacked_motion
 from hipsim.control import chain_kernel
+from hipsim.control.chain_plant import ChainPlant
 from hipsim.control.feedback import EncoderFeedback
 from hipsim.control.machine_loop import ModelPD, controlled_machine, model_feedforward, run_machine
 from hipsim.control.simulation import ReducedPlant
@@ -68,36 +67,6 @@ def test_the_stacked_pd_does_the_work_of_its_moment():
         *chain_kernel.platform_arrays(STACKED, 1), lead, Q[0], QD[0], q_desired, np.zeros(3), *GAINS
     )
     assert abs(flat @ motor_speed - moment @ omega) > 1e-4 * abs(moment @ omega)  # the seat's term matters
-
-
-class ChainPlant:
-    """The stacked machine's exact plant for this test: state [L, L̇], L̈ from the analytic inverse dynamics."""
-
-    name = "analytic per-chain"
-
-    def __init__(self, params):
-        self.params, self._guess = params, np.zeros(3)
-
-    def initial_state(self, desired):
-        c = self.params.geometry.control
-        L, Ld, _ = platform_motion(self.params, desired.q[:1], desired.qd[:1], desired.qdd[:1], c)
-        self._guess = desired.q[0]
-        return np.concatenate([L[0], Ld[0]])
-
-    def derivative(self, t, x, tau, Fe):
-        Ldd = chain_forward_dynamics(self.params, x[:3], x[3:], tau, Fe, self._guess, lever_spin=True)
-        return np.concatenate([x[3:], Ldd])
-
-    def readings(self, x):
-        motion = carriage_motion(self.params, np.zeros(1), x[None, :3], x[None, 3:], np.zeros((1, 3)), self._guess)
-        q = np.array([kin.q[0] for kin in motion.platforms]) * self.params.angle_signs
-        qd = np.array([kin.qd[0] for kin in motion.platforms]) * self.params.angle_signs
-        self._guess = q[0]
-        return x[:3], x[3:], q, qd
-
-    def angles(self, x):
-        _, _, q, qd = self.readings(x)
-        return q[0], qd[0]
 
 
 def test_a_stacked_model_on_its_stacked_plant_tracks_as_the_drawing():
