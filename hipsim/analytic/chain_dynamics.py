@@ -152,7 +152,13 @@ def chain_motion(params: Parameters, trajectory: Trajectory) -> ChainMotion:
     t, q, qd, qdd = trajectory.t, trajectory.q, trajectory.qd, trajectory.qdd
     stacked = params.chains.stacked
     if stacked and control == 1:  # m_2 follows m_1 through the stack-up: one coupled problem
-        L, Ld, Ldd, m2 = stacked_motion(params, q, qd, qdd)
+        try:
+            L, Ld, Ldd, m2 = stacked_motion(params, q, qd, qdd)
+        except PoseError as error:
+            k = min(max(error.index, 0), len(t) - 1)
+            raise PoseError(
+                f"platform 2 under m_1's stack-up: {error.reason}", float(t[k]), k, trajectory.name
+            ) from None
     else:
         L, Ld, Ldd = platform_motion(params, q, qd, qdd, control)
     bad = ~np.all(np.isfinite(L), axis=1)

@@ -148,7 +148,11 @@ def _stacked_fixed_point(params, q1, seen, guess=None, solve=None) -> tuple[np.n
     lift = np.zeros(len(seen))
     for _ in range(LIFT_STEPS):
         L = seen + lift[:, None]
-        q2[ok] = solve(L[ok], q2[ok]) if solve is not None else solve_pose(params, L[ok], q2[ok], platform=2)
+        try:
+            q2[ok] = solve(L[ok], q2[ok]) if solve is not None else solve_pose(params, L[ok], q2[ok], platform=2)
+        except PoseError as error:  # name the sample among all, not among the reachable ones
+            index = int(np.flatnonzero(ok)[error.index]) if 0 <= error.index < ok.sum() else error.index
+            raise PoseError(error.reason, error.time, index, error.source) from None
         new = stackup_lift(params.chains.spline_seat, q2 * params.angle_signs)
         change = np.abs(new - lift)[ok]
         lift = new

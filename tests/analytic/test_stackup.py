@@ -318,3 +318,15 @@ def test_the_stations_command_on_a_stacked_machine(tmp_path):
     rms = {a: np.sqrt(np.mean(table[f"err_{a}_1_deg"] ** 2)) for a in ("alpha", "beta", "gamma")}
     assert rms["gamma"] > 10 * max(rms["alpha"], rms["beta"]) > 0  # the stack-up's fingerprint: about Z
     assert np.all(table["err_gamma_2_deg"] == 0.0)  # m_2 controlled, exact
+
+
+def test_control_1_names_the_time_where_m2_cannot_follow():
+    """Four times the ISO angles: m_2 leaves its assembly mode; the error names that sample's time, not t = 0."""
+    from hipsim.exceptions import PoseError
+
+    cycle = hipsim.iso14242(rate=50)
+    wild = hipsim.Trajectory(cycle.t, 4 * cycle.q, 4 * cycle.qd, 4 * cycle.qdd, cycle.Fe, name="wild")
+    machine = STACKED.replace(geometry=STACKED.geometry.replace(control=1))
+    with pytest.raises(PoseError, match=r"wild, t = .*platform 2 under m_1's stack-up") as caught:
+        AnalyticModel(machine).run(wild)
+    assert caught.value.time == cycle.t[caught.value.index] > 0
