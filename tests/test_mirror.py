@@ -63,7 +63,6 @@ KNOWN_GAPS = {
     "closed_chain/plant_kernel.py": "closed_chain/test_tree_kernel.py",
     "closed_chain/plant_step.py": "indirectly, through the modules that call it",
     "closed_chain/workspace.py": "closed_chain/test_closure_kernel.py",
-    "control/chain_kernel.py": "control/test_machine_loop.py",
     "control/closed_chain_loop.py": "closed_chain/test_plant.py, control/test_simulation.py",
     "control/controllers.py": "closed_chain/test_plant.py, control/test_simulation.py (+1)",
     "control/feedback.py": "control/test_machine_loop.py",

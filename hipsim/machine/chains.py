@@ -402,8 +402,8 @@ def refuse_stackup(chains: Chains, what: str, source: str | None = None) -> None
     if chains.stacked:
         raise ParameterError(
             f"the intermediate chain's stack-up ({', '.join(f'{x * 1e3:g}' for x in chains.spline_seat)} mm) moves m_1's "
-            f"rotation centre with m_2, which {what} does not model (stations, calibrate and the analytic model with "
-            "control = 2, Pinocchio and MuJoCo do)",
+            f"rotation centre with m_2, which {what} does not model (stations, calibrate, the analytic, Pinocchio and "
+            "MuJoCo models and plants do)",
             key=f"geometry.{STACKUP_KEY}",
             source=source,
         )
