@@ -21,7 +21,8 @@ no other key), ``X | None`` X or null. A field whose metadata says
 ``{"omit_none": True}`` is left out of the JSON when it is None (a key a
 document has only sometimes); ``{"key": "name"}`` prints the field under
 another key; ``{"flatten": True}`` (:func:`flattened`) lays a nested record's
-keys into this one's (a summary with the paths a command wrote beside it).
+keys into this one's (a summary with the paths a command wrote beside it), or a
+``dict[str, X]``'s keys (a document keyed by name: any other key, each an X).
 """
 
 from __future__ import annotations
@@ -187,7 +188,11 @@ def _record_schema(cls: type, defs: dict[str, Any]) -> dict[str, Any]:
     hints = typing.get_type_hints(cls)
     properties: dict[str, Any] = {}
     required: list[str] = []
+    others: dict[str, Any] | bool = False  # the keys no field names: none, but a flattened mapping's
     for f in dataclasses.fields(cls):
+        if f.metadata.get("flatten") and typing.get_origin(hints[f.name]) in (dict, Mapping):
+            others = _schema(typing.get_args(hints[f.name])[1], defs)  # a mapping's keys laid in: any key, its values
+            continue
         if f.metadata.get("flatten"):
             record = next((h for h in typing.get_args(hints[f.name]) if h is not type(None)), hints[f.name])
             inner = _record_schema(record, defs)
@@ -202,7 +207,7 @@ def _record_schema(cls: type, defs: dict[str, Any]) -> dict[str, Any]:
         if not f.metadata.get("omit_none"):
             required.append(key)
     out: dict[str, Any] = {"type": "object", "properties": properties, "required": required}
-    out["additionalProperties"] = False
+    out["additionalProperties"] = others
     if cls.__doc__:
         out["description"] = cls.__doc__.strip().splitlines()[0]
     return out

@@ -12,6 +12,7 @@ from support import given
 
 import hipsim
 from hipsim.design.sizing import CHECKS, sizing
+from hipsim.design.sizing_summary import sizing_summary
 from hipsim.machine.drive import Drive, Motor
 from hipsim.motion.trajectories import iso14242
 
@@ -24,7 +25,7 @@ def params():
 def test_the_published_machine_sizing_names_a_binding_check(params):
     size = sizing(hipsim.analyse(params, iso14242(rate=200)), Drive(Motor("m", rotor_inertia=14e-6)))
     assert given(size.binding).name == "inertia_ratio" and size.passed is False  # 2.8 kg·cm² on a 0.14 kg·cm² rotor
-    document = size.as_dict()
+    document = sizing_summary(size).to_json()
     assert document["binding"]["name"] == "inertia_ratio" and len(document["checks"]) == 3 * len(CHECKS)
 
 
