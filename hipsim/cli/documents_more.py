@@ -7,12 +7,15 @@ Imported when a command prints or ``hipsim schema`` runs, never when the parser 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Any
 
 from ..design.sizing_summary import RankingSummary, SizingSummary
-from ..records import Record, flattened
+from ..design.sweep_summary import ParetoEdgePoint, ParetoPoint, SweepResult
+from ..design.workspace_summary import WorkspaceSummary
+from ..records import Record, flattened, optional
 
-__all__ = ["MORE_SCHEMAS", "SizeRun"]
+__all__ = ["MORE_SCHEMAS", "SizeRun", "SweepRun", "WorkspaceDocument"]
 
 
 @dataclass(frozen=True)
@@ -22,8 +25,43 @@ class SizeRun(Record):
     trajectories: dict[str, SizingSummary] = flattened()
 
 
+@dataclass(frozen=True)
+class WorkspaceDocument(Record):
+    """``hipsim workspace``: ``workspace.json``'s keys and every file written (figures, the JSON)."""
+
+    summary: WorkspaceSummary = flattened()
+    files: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class SweepRun(Record):
+    """``hipsim sweep``: the table's counts, best variants and verdict; this run's variants, new and already in the
+    file, its time [s], the file, the set-up (as the file keeps it), the provenance; the Pareto front and its figure."""
+
+    result: SweepResult = flattened()
+    variants: int = 0
+    new: int = 0
+    skipped: int = 0
+    seconds: float = 0.0
+    out: str = ""
+    hipsim: str = ""
+    trajectory: str = ""
+    samples: int = 0
+    model: str = ""
+    parameters: str = ""
+    drive: str | None = None
+    keys: tuple[str, ...] = ()
+    fingerprints: dict[str, str] = field(default_factory=dict)
+    provenance: dict[str, Any] = field(default_factory=dict)
+    pareto_front: tuple[ParetoPoint, ...] | None = optional()
+    pareto_edges: tuple[ParetoEdgePoint, ...] | None = optional()
+    figure: tuple[str, ...] | None = optional()
+
+
 #: Command (and mode) → the record of what it prints with ``--summary-format json``.
 MORE_SCHEMAS: dict[str, type[Record]] = {
     "size": SizeRun,
     "size-catalogue": RankingSummary,
+    "sweep": SweepRun,
+    "workspace": WorkspaceDocument,
 }

@@ -416,7 +416,9 @@ def run(args) -> int:
                 shown,
                 rules,
                 args.rank,
-                [(None if s is None else s.name, checks) for s, checks in screw_checks(candidates)] if by_size else None,
+                [(None if s is None else s.name, checks) for s, checks in screw_checks(candidates)]
+                if by_size
+                else None,
                 [None if c.failure is None else _sentence(c.failure, trajectories) for c in shown] if by_size else None,
             )
             print_json(summary.to_json())
@@ -453,9 +455,7 @@ def run(args) -> int:
         from ..design.sizing_summary import sizing_summary
         from .documents_more import SizeRun
 
-        summaries = {
-            t.name: sizing_summary(s, None if bands is None else bands[k]) for k, (t, s) in enumerate(results)
-        }
+        summaries = {t.name: sizing_summary(s, None if bands is None else bands[k]) for k, (t, s) in enumerate(results)}
         print_json(SizeRun(summaries).to_json())
     else:
         for trajectory, size in results:
