@@ -16,6 +16,7 @@ from .common import add_machine_options, add_provenance_options, page_provenance
 from .motion_options import add_trajectory_options, load_trajectory
 
 if TYPE_CHECKING:
+    from ..design.sweep_summary import SweepResult
     from .documents_more import SweepRun
 
 __all__ = ["add_parser", "run"]

@@ -4,10 +4,12 @@ import json
 import math
 import sys
 
+import jsonschema
 import numpy as np
 import pytest
 
 import hipsim
+from hipsim.cli.documents import schema
 from hipsim.cli.main import main
 from hipsim.design import variants as v
 from hipsim.design.sweep import (
@@ -321,6 +323,8 @@ def test_a_rerun_skips_the_variants_already_in_the_output(tmp_path, capsys):
     assert after["tau_peak_max_Nmm"][:3] == before["tau_peak_max_Nmm"]
     assert (tmp_path / "s_pareto.png").stat().st_size > 0 and (tmp_path / "s_pareto.svg").exists()
     assert second["best"]["tau_peak_max_Nmm"]["value"] == min(after["tau_peak_max_Nmm"])
+    assert len(second["pareto_front"]) >= 1 and second["figure"][0].endswith("s_pareto.png")
+    jsonschema.Draft202012Validator(schema("sweep")).validate(second)
     code, third, _ = sweep(tmp_path, capsys, "--grid", "lever.length_mm=310:350:10", "--out", str(out))
     assert (third["new"], third["skipped"]) == (0, 5)
 
@@ -338,6 +342,8 @@ def test_exit_status_says_whether_any_variant_passes_the_rating(tmp_path, capsys
         tmp_path, capsys, *grid, "--set", "motor.peak_torque_Nmm=100", "--out", str(tmp_path / "a.csv")
     )
     assert code == 1 and summary["fail"] == 2 and "no variant passes the rating" in err
+    assert summary["verdict"]["level"] == "NOT FEASIBLE" and "pareto_front" not in summary
+    jsonschema.Draft202012Validator(schema("sweep")).validate(summary)
     code, summary, _ = sweep(
         tmp_path, capsys, *grid, "--set", "motor.peak_torque_Nmm=5000", "--out", str(tmp_path / "b.csv")
     )
