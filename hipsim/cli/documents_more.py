@@ -10,12 +10,13 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+from ..control.tracking import TrackingSummary
 from ..design.sizing_summary import RankingSummary, SizingSummary
 from ..design.sweep_summary import ParetoEdgePoint, ParetoPoint, SweepResult
 from ..design.workspace_summary import WorkspaceSummary
 from ..records import Record, flattened, optional
 
-__all__ = ["MORE_SCHEMAS", "SizeRun", "SweepRun", "WorkspaceDocument"]
+__all__ = ["MORE_SCHEMAS", "SimulatePlantRun", "SizeRun", "SweepRun", "WorkspaceDocument"]
 
 
 @dataclass(frozen=True)
@@ -58,10 +59,24 @@ class SweepRun(Record):
     figure: tuple[str, ...] | None = optional()
 
 
+@dataclass(frozen=True)
+class SimulatePlantRun(Record):
+    """``hipsim simulate --plant-params`` (the plant and the controller's model apart): the model's and the plant's
+    parameter files, per controller the run's summary with each station's ISO 14242-1 verdict, the mismatch, the files
+    written."""
+
+    model: str
+    plant: str
+    simulations: tuple[TrackingSummary, ...]
+    mismatch: dict[str, float]
+    files: tuple[str, ...]
+
+
 #: Command (and mode) → the record of what it prints with ``--summary-format json``.
 MORE_SCHEMAS: dict[str, type[Record]] = {
     "size": SizeRun,
     "size-catalogue": RankingSummary,
+    "simulate-plant": SimulatePlantRun,
     "sweep": SweepRun,
     "workspace": WorkspaceDocument,
 }
