@@ -15,8 +15,9 @@ from ..design.sizing_summary import RankingSummary, SizingSummary
 from ..design.sweep_summary import ParetoEdgePoint, ParetoPoint, SweepResult
 from ..design.workspace_summary import WorkspaceSummary
 from ..records import Record, flattened, optional
+from ..wear.test_summary import WearTestSummary
 
-__all__ = ["MORE_SCHEMAS", "SimulatePlantRun", "SizeRun", "SweepRun", "WorkspaceDocument"]
+__all__ = ["MORE_SCHEMAS", "SimulatePlantRun", "SizeRun", "SweepRun", "WearTestRun", "WorkspaceDocument"]
 
 
 @dataclass(frozen=True)
@@ -72,6 +73,19 @@ class SimulatePlantRun(Record):
     files: tuple[str, ...]
 
 
+@dataclass(frozen=True)
+class WearTestRun(Record):
+    """``hipsim wear --weighings`` (the wear test): the result's keys (as ``wear_test.json``), the notes, and what was
+    written: the page and its PDF, the fitted k(CS) law (with --report), the table of stops (--out)."""
+
+    summary: WearTestSummary = flattened()
+    notes: tuple[str, ...] = ()
+    index: str | None = optional()
+    pdf: str | None = optional()
+    wear_law: str | None = optional()
+    table: str | None = optional()
+
+
 #: Command (and mode) → the record of what it prints with ``--summary-format json``.
 MORE_SCHEMAS: dict[str, type[Record]] = {
     "size": SizeRun,
@@ -79,4 +93,5 @@ MORE_SCHEMAS: dict[str, type[Record]] = {
     "simulate-plant": SimulatePlantRun,
     "sweep": SweepRun,
     "workspace": WorkspaceDocument,
+    "wear-test": WearTestRun,
 }
