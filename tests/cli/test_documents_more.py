@@ -29,3 +29,12 @@ def test_a_document_keyed_by_trajectory_name_takes_any_name_and_only_sizings():
     with pytest.raises(jsonschema.ValidationError):
         validator.validate({"ISO 14242-1": {"modules": []}})  # a sizing lacks most of its keys
     assert SizeRun({}).to_json() == {}
+
+
+def test_two_records_of_one_class_name_get_apart_definitions():
+    """report's JSON holds the page's Verdict and, in its sizing, a records.Verdict: each its own $defs entry."""
+    report = schema("report")
+    assert {"Verdict", "pages_Verdict"} <= set(report["$defs"])
+    assert report["properties"]["verdict"] == {"$ref": "#/$defs/pages_Verdict"}
+    assert report["$defs"]["SizingSummary"]["properties"]["verdict"] == {"$ref": "#/$defs/Verdict"}
+    assert "level" in report["$defs"]["Verdict"]["properties"]
