@@ -61,6 +61,7 @@ def test_size_ranks_a_catalogue(tmp_path, capsys):
         and "LN1" in lines[1]
     )
     assert "Every check of rank 1: right + ten" in out
+    assert "verdict: FEASIBLE: 1 of 2 combinations pass every check" in out
     assert main(["size", "--rate", "200", "--catalogue", str(motors), "--summary-format", "json", "--top", "1"]) == 0
     import json
 
