@@ -434,8 +434,8 @@ def run(args) -> int:
                 best = shown[0]
                 print()
                 print(format_checks(best.checks, f"Every check of rank 1: {best.drive.name}"))
-            verdict = ranking_verdict(candidates)
-            print(f"\nverdict: {verdict.level.value}: {verdict.judged}")
+            ranked = ranking_verdict(candidates)
+            print(f"\nverdict: {ranked.level.value}: {ranked.judged}")
         return exit_status([ranking_verdict(candidates)])
 
     if args.drive is not None:
