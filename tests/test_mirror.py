@@ -69,7 +69,6 @@ KNOWN_GAPS = {
     "control/machine_kernel.py": "indirectly, through control/test_machine_loop.py",
     "control/servo_kernel.py": "control/test_simulation.py",
     "control/simulation_summary.py": "through the commands' JSON: tests/test_schemas.py",
-    "control/tracking.py": "control/test_machine_loop.py",
     "design/variants.py": "design/test_sweep.py, test_tables_long_fields.py",
     "engine.py": "analysis/test_registry.py",
     "exceptions.py": "analysis/test_cluster_batches.py, analysis/test_registry.py (+55)",

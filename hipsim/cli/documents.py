@@ -18,6 +18,7 @@ from typing import Any
 from ..analysis.crosscheck_summary import CrossCheckSummary
 from ..control.simulation_summary import SimulationSummary
 from ..design.feasibility_summary import FeasibilitySummary
+from ..design.sizing_summary import MarginBandSummary, SizingSummary
 from ..fit_checks import FitCheckSummary
 from ..motion.iso_verdict import IsoCheckSummary
 from ..present.pages import Verdict as PageVerdict
@@ -33,6 +34,7 @@ from ..stations.sensor_check import SensorComparison
 from ..stations.summary import SlidersSummary, StationSummary
 from ..stations.tolerance_summary import ToleranceSummary
 from ..wear.summary import WearSummary
+from .documents_more import MORE_SCHEMAS
 
 __all__ = [
     "SCHEMAS",
@@ -172,18 +174,18 @@ class CompareRun(Record):
 
 @dataclass(frozen=True)
 class ReportRun(Record):
-    """``hipsim report``: the run's summary keys, the sizing (its ``as_dict()``, None without a drive), the rating
+    """``hipsim report``: the run's summary keys, the sizing (None without a drive), the rating
     check's word, the page (and PDF) written, the page's verdict, the provenance, and the margins' bands with an
     identified file's covariance."""
 
     summary: RunSummary = field(metadata={"flatten": True})  # field() itself: mypy then knows it has no default
-    sizing: dict[str, Any] | None
+    sizing: SizingSummary | None
     rating_check: str
     index: str
     pdf: str | None
     verdict: PageVerdict
     provenance: dict[str, Any]
-    margin_bands: list[dict[str, Any]] | None = optional()
+    margin_bands: tuple[MarginBandSummary, ...] | None = optional()
 
 
 # --- the fits and their motions: identify, calibrate, excite ------------------------------------------------------
@@ -249,6 +251,7 @@ SCHEMAS: dict[str, type[Record]] = {
     "calibrate": CalibrateRun,
     "excite": ExciteRun,
     "excite-calibration": ExciteCalibrationRun,
+    **MORE_SCHEMAS,  # size, sweep, workspace, the wear test, the plant-and-model simulate
 }
 
 

@@ -155,18 +155,19 @@ def run(args) -> int:
     passed = files.sizing.passed if files.sizing is not None else None
     pdf = files.folder / "report.pdf" if args.pdf else None
     if args.summary_format == "json":
+        from ..design.sizing_summary import MarginBandSummary, sizing_summary
         from .documents import ReportRun
 
         assert files.verdict is not None  # write_report always judges the page
         document = ReportRun(
             (joint_run or run).summary(),
-            sizing=files.sizing.as_dict() if files.sizing is not None else None,
+            sizing=sizing_summary(files.sizing) if files.sizing is not None else None,
             rating_check=_verdict(passed),
             index=str(files.index),
             pdf=None if pdf is None else str(pdf),
             verdict=files.verdict,
             provenance=provenance.as_dict(),
-            margin_bands=[b.as_dict() for b in bands] if bands else None,
+            margin_bands=tuple(MarginBandSummary.of(b) for b in bands) if bands else None,
         )
         print_json(document.to_json())
     else:

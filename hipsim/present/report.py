@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from ..design.sizing import Sizing, sizing
+from ..design.sizing_summary import sizing_summary
 from ..exceptions import HipsimError, OutputError
 from ..files import check_folder, json_ready, output_folder, write_atomic
 from ..machine.drive import Drive
@@ -192,7 +193,7 @@ def write_report(
             "verdict": verdict.as_dict(),
             "provenance": None if provenance is None else provenance.as_dict(),
             "summary": summary.to_json(),
-            "sizing": size.as_dict(),
+            "sizing": sizing_summary(size).to_json(),
             "tracking": tracking,
             "page_notes": page_notes,
             "parameters": file_values(combined.params),

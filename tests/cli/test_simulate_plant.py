@@ -2,12 +2,14 @@
 
 import json
 
+import jsonschema
 import numpy as np
 import pyarrow.parquet as pq
 import pytest
 from stations_synthetic import deviated
 
 import hipsim
+from hipsim.cli.documents import schema
 from hipsim.cli.main import main
 from hipsim.machine.chains import geometry_table
 
@@ -40,8 +42,10 @@ def test_a_built_machine_under_the_drawing_and_the_stations_on_its_log(files, tm
     argv = ["simulate", *SHORT, "--plant-params", str(built), "--feedback", "sensors", "--sensor-noise", "0"]
     assert main([*argv, "--encoder-step", "0", "--out", str(run), "--summary-format", "json"]) == 0
     summary = json.loads(capsys.readouterr().out)
+    jsonschema.Draft202012Validator(schema("simulate-plant")).validate(summary)
     entry = summary["simulations"][0]
     assert (entry["feedback"], entry["control"], summary["plant"]) == ("sensors", 2, str(built))
+    assert [s["verdict"] for s in entry["stations"]] == ["NOT MADE", "NOT MADE"]  # 0.05 cycle: no whole cycle
     assert [(e["platform"], e["angle"]) for e in entry["errors"]] == [
         (j, a) for j in (1, 2) for a in ("alpha", "beta", "gamma")
     ]
