@@ -51,7 +51,8 @@ __all__ = [
     "optional",
 ]
 
-#: The version of every schema :meth:`Record.json_schema` makes; raised when a published key changes or goes.
+#: The first version of every schema :meth:`Record.json_schema` makes; a document whose published keys change or go
+#: raises its own :attr:`Record.schema_version` (the other documents keep theirs).
 SCHEMA_VERSION = "1"
 
 #: The exit status of refused input (a one-line ``hipsim: error:``), nothing written.
@@ -145,9 +146,12 @@ class Record:
 
     Class attributes:
         schema_title: the schema's title (default: the class name).
+        schema_version: the version of this record's document (:data:`SCHEMA_VERSION` until a published key of it
+            changes or goes).
     """
 
     schema_title: ClassVar[str | None] = None
+    schema_version: ClassVar[str] = SCHEMA_VERSION
 
     def to_json(self) -> dict[str, Any]:
         """The record as JSON data, its fields in declaration order (see the module's mapping)."""
@@ -174,9 +178,9 @@ class Record:
         name = command or cls.schema_title or cls.__name__
         schema: dict[str, Any] = {
             "$schema": "https://json-schema.org/draft/2020-12/schema",
-            "$id": f"https://hipsim.invalid/schemas/{name.replace(' ', '-')}/v{SCHEMA_VERSION}.json",
+            "$id": f"https://hipsim.invalid/schemas/{name.replace(' ', '-')}/v{cls.schema_version}.json",
             "title": f"hipsim {name} --summary-format json" if command else name,
-            "version": SCHEMA_VERSION,
+            "version": cls.schema_version,
             **body,
         }
         if defs:

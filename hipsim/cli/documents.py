@@ -13,7 +13,7 @@ records load NumPy).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 from ..analysis.crosscheck_summary import CrossCheckSummary
 from ..control.simulation_summary import SimulationSummary
@@ -21,9 +21,8 @@ from ..design.feasibility_summary import FeasibilitySummary
 from ..design.sizing_summary import MarginBandSummary, SizingSummary
 from ..fit_checks import FitCheckSummary
 from ..motion.iso_verdict import IsoCheckSummary
-from ..present.pages import Verdict as PageVerdict
 from ..present.wear_page import WearComparison
-from ..records import Record, flattened, optional
+from ..records import Record, Verdict, flattened, optional
 from ..results import RunSummary
 from ..rig.compare_summary import ComparisonSummary
 from ..rig.identification.excitation_summary import CalibrationExcitationSummary, ExcitationSummary
@@ -81,6 +80,8 @@ class WearRun(Record):
 @dataclass(frozen=True)
 class WearCompare(Record):
     """``hipsim wear --compare A B``: the comparison's keys (as ``wear.json``), the page and the table written."""
+
+    schema_version: ClassVar[str] = "2"  # 2: verdict is a records.Verdict (level, judged, not_judged, numbers)
 
     comparison: WearComparison = flattened()
     index: str = ""
@@ -163,10 +164,12 @@ class MonitorRun(Record):
 
 @dataclass(frozen=True)
 class CompareRun(Record):
-    """``hipsim compare`` (as ``comparison.json``): the page's verdict, the provenance, the comparison's keys, and the
-    model's 95 % band per motor when the parameter file carries a covariance."""
+    """``hipsim compare`` (as ``comparison.json``): the acceptance verdict, the provenance, the comparison's keys, and
+    the model's 95 % band per motor when the parameter file carries a covariance."""
 
-    verdict: PageVerdict
+    schema_version: ClassVar[str] = "2"  # 2: verdict is a records.Verdict (level, judged, not_judged, numbers)
+
+    verdict: Verdict
     provenance: dict[str, Any]
     comparison: ComparisonSummary = flattened()
     model_band95: dict[str, dict[str, float | None]] | None = optional()
@@ -174,16 +177,17 @@ class CompareRun(Record):
 
 @dataclass(frozen=True)
 class ReportRun(Record):
-    """``hipsim report``: the run's summary keys, the sizing (None without a drive), the rating
-    check's word, the page (and PDF) written, the page's verdict, the provenance, and the margins' bands with an
-    identified file's covariance."""
+    """``hipsim report``: the run's summary keys, the sizing (None without a drive), the page (and PDF) written, the
+    drive's verdict (:func:`hipsim.design.checks.checks_verdict`; NOT MADE without a drive), the provenance, and the
+    margins' bands with an identified file's covariance."""
+
+    schema_version: ClassVar[str] = "2"  # 2: verdict is a records.Verdict; rating_check gone (the verdict's level)
 
     summary: RunSummary = field(metadata={"flatten": True})  # field() itself: mypy then knows it has no default
     sizing: SizingSummary | None
-    rating_check: str
     index: str
     pdf: str | None
-    verdict: PageVerdict
+    verdict: Verdict
     provenance: dict[str, Any]
     margin_bands: tuple[MarginBandSummary, ...] | None = optional()
 

@@ -15,12 +15,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from .. import records
 from ..files import check_folder, json_ready, output_folder, write_atomic
-from ..records import Level, Record
+from ..records import Record
 from ..wear.laws import Wear
 from ..wear.maps import WearMaps
-from ..wear.summary import Difference, WearSummary, compare_summaries, difference_maps, wear_summary
-from ..wear.summary import compare_verdict as wear_compare_verdict
+from ..wear.summary import Difference, WearSummary, compare_summaries, compare_verdict, difference_maps, wear_summary
 from ..wear.tracks import Tracks
 from .figures import save_figure
 from .pages import CSS, Verdict, environment, print_pdf
@@ -39,7 +39,7 @@ __all__ = [
     "DEFAULT_TOLERANCE",
     "WearComparison",
     "WearPage",
-    "compare_verdict",
+    "compare_block",
     "write_wear_compare",
     "write_wear_page",
 ]
@@ -129,7 +129,7 @@ class WearComparison(Record):
     """Two wear runs compared, as ``wear.json`` holds it: the verdict, the provenance, both summaries, B − A.
 
     Attributes:
-        verdict: the page's block (ALIKE, DIFFERENT, NOT COMPARED).
+        verdict: :func:`hipsim.wear.summary.compare_verdict` (ALIKE, DIFFERENT, NOT MADE), the page's block.
         provenance: the provenance block.
         tolerance: the relative difference of runs alike, a fraction.
         a, b: the two runs' summaries.
@@ -137,7 +137,7 @@ class WearComparison(Record):
         largest_point_differences: per map (sliding_mm, work_N_per_mm, cross_shear) the largest |B − A| of a point.
     """
 
-    verdict: Verdict
+    verdict: records.Verdict
     provenance: dict[str, Any]
     tolerance: float
     a: WearSummary
@@ -146,12 +146,10 @@ class WearComparison(Record):
     largest_point_differences: dict[str, float | None]
 
 
-def compare_verdict(rows: tuple[Difference, ...], tolerance: float, names: tuple[str, str]) -> Verdict:
-    """The page's block of :func:`hipsim.wear.summary.compare_verdict` (ALIKE, DIFFERENT or NOT COMPARED)."""
-    verdict = wear_compare_verdict(rows, tolerance, names)
-    if verdict.level == Level.NOT_MADE:
-        return Verdict("open", "NOT COMPARED", ("No quantity is known in both runs.",))
-    return Verdict(verdict.level.state, verdict.level.value, (verdict.judged,))
+def compare_block(verdict: records.Verdict) -> Verdict:
+    """The page's block of :func:`hipsim.wear.summary.compare_verdict`: ALIKE, DIFFERENT or NOT COMPARED (NOT MADE)
+    with what it judged."""
+    return Verdict.of(verdict, not_made="NOT COMPARED")
 
 
 def write_wear_compare(
@@ -162,11 +160,11 @@ def write_wear_compare(
     provenance: Provenance | None = None,
     notes: tuple[str, ...] = (),
     pdf: bool = False,
-) -> tuple[WearPage, Verdict, WearComparison]:
+) -> tuple[WearPage, records.Verdict, WearComparison]:
     """Two runs on the same cup points compared: the verdict, B − A per quantity and per point (module docstring).
 
     Returns:
-        The page, its verdict, and the JSON document written.
+        The page, the verdict (:func:`hipsim.wear.summary.compare_verdict`), and the JSON document written.
     """
     out = Path(out_dir)
     check_folder(out)
@@ -174,7 +172,7 @@ def write_wear_compare(
     (maps_a, tracks_a, wear_a), (maps_b, tracks_b, wear_b) = a, b
     summary_a, summary_b = wear_summary(maps_a, wear_a), wear_summary(maps_b, wear_b)
     rows = compare_summaries(summary_a, summary_b)
-    verdict = compare_verdict(rows, tolerance, (maps_a.name, maps_b.name))
+    verdict = compare_verdict(rows, tolerance, (maps_a.name, maps_b.name))  # the verdict, beside the summaries
     differences = difference_maps(maps_a, maps_b)
     document = WearComparison(
         verdict,
@@ -207,7 +205,7 @@ def write_wear_compare(
             .get_template("wear_compare.html.j2")
             .render(
                 css=CSS,
-                verdict=verdict,
+                verdict=compare_block(verdict),
                 provenance=provenance,
                 title=provenance.title,
                 a=summary_a,
