@@ -72,8 +72,6 @@ KNOWN_GAPS = {
     "control/simulation_summary.py": "through the commands' JSON: tests/test_schemas.py",
     "control/tracking.py": "control/test_machine_loop.py",
     "design/variants.py": "design/test_sweep.py, test_tables_long_fields.py",
-    "engine.py": "analysis/test_registry.py",
-    "exceptions.py": "analysis/test_cluster_batches.py, analysis/test_registry.py (+55)",
     "mujoco_engine/closure.py": "indirectly, through the modules that call it",
     "mujoco_engine/dynamics.py": "indirectly, through the modules that call it",
     "mujoco_engine/friction.py": "mujoco_engine/test_mujoco_engine.py",
