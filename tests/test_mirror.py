@@ -71,7 +71,6 @@ KNOWN_GAPS = {
     "control/servo_kernel.py": "control/test_simulation.py",
     "control/simulation_summary.py": "through the commands' JSON: tests/test_schemas.py",
     "control/tracking.py": "control/test_machine_loop.py",
-    "design/variants.py": "design/test_sweep.py, test_tables_long_fields.py",
     "mujoco_engine/closure.py": "indirectly, through the modules that call it",
     "mujoco_engine/dynamics.py": "indirectly, through the modules that call it",
     "mujoco_engine/friction.py": "mujoco_engine/test_mujoco_engine.py",
