@@ -95,8 +95,6 @@ KNOWN_GAPS = {
     "present/wear_test_page.py": "cli/test_wear_test.py",
     "present/workspace_figures.py": "indirectly, through the modules that call it",
     "rig/compare_summary.py": "through the commands' JSON: tests/test_schemas.py, rig/test_compare.py",
-    "rig/identification/self_check.py": "through hipsim.fit_checks: test_fit_checks.py",
-    "rig/logs/text_rows.py": "rig/logs/test_reader_laws.py",
     "rig/monitoring/monitor_summary.py": "through the commands' JSON: tests/test_schemas.py, rig/monitoring/test_monitor_run.py",
     "stations/calibration_check.py": "through hipsim.fit_checks and calibrate's gates: test_fit_checks.py",
     "stations/calibration_file.py": "indirectly, through the modules that call it",
