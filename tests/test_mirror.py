@@ -80,7 +80,6 @@ KNOWN_GAPS = {
     "mujoco_engine/plant.py": "indirectly, through the modules that call it",
     "mujoco_engine/trajectory.py": "mujoco_engine/test_mujoco_engine.py",
     "present/iso_figures.py": "indirectly, through the modules that call it",
-    "present/report_page.py": "test_plausibility_rows.py",
     "present/rig_figures.py": "indirectly, through the modules that call it",
     "present/stations_page.py": "indirectly, through the modules that call it",
     "present/wear_figures.py": "indirectly, through the modules that call it",
