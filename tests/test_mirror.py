@@ -81,7 +81,6 @@ KNOWN_GAPS = {
     "mujoco_engine/trajectory.py": "mujoco_engine/test_mujoco_engine.py",
     "present/iso_figures.py": "indirectly, through the modules that call it",
     "present/rig_figures.py": "indirectly, through the modules that call it",
-    "present/stations_page.py": "indirectly, through the modules that call it",
     "present/wear_figures.py": "indirectly, through the modules that call it",
     "present/wear_page.py": "cli/test_wear.py",
     "present/wear_test_figures.py": "indirectly, through the modules that call it",
