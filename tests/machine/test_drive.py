@@ -4,7 +4,6 @@ import re
 from importlib import resources
 from pathlib import Path
 
-import numpy as np
 import pytest
 from drive_support import RPM, write
 from support import given
