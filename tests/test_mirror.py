@@ -41,8 +41,6 @@ KNOWN_GAPS = {
     "cli/main.py": "analysis/test_streaming.py, analytic/test_chain_dynamics.py (+37)",
     "cli/mjcf.py": "through the command line: tests/test_cli.py and its command's tests",
     "cli/monitor.py": "rig/monitoring/test_monitor_run.py",
-    "cli/options.py": "cli/test_option_table_slips.py",
-    "cli/parser.py": "cli/test_option_table_slips.py",
     "cli/report.py": "present/test_report.py",
     "cli/rig.py": "test_cli.py",
     "cli/schema.py": "through the command line: tests/test_schemas.py",
