@@ -4,6 +4,7 @@ edge), positive limits, the load range, at least one seed. The design itself: ri
 from __future__ import annotations
 
 from types import SimpleNamespace
+from typing import Any
 
 import pytest
 
@@ -12,7 +13,7 @@ from hipsim.exceptions import ArgumentError, OutputError
 
 
 def options(tmp_path, **given):
-    base = dict(
+    base: dict[str, Any] = dict(
         params=None, overrides=[], out=str(tmp_path / "e.csv"), duration=10.0, rate=200.0, harmonics=5,
         frequency=10.0, max_speed=None, max_acceleration=None, torque_limit=None, min_cond_inv=None, max_angle=None,
         load=None, target="dynamics", summary_format="text", seeds=0, iterations=1,

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from types import SimpleNamespace
+from typing import Any
 
 import pytest
 
@@ -13,7 +14,7 @@ from hipsim.exceptions import HipsimError
 
 
 def options(**given):
-    base = dict(
+    base: dict[str, Any] = dict(
         workers=None, alarm_rise=0.01, window=None, rate=None, settle=5.0, baseline_min=5, acknowledge=[],
         poll=30.0, on_alarm=None, watch=False, pdf=False, report=None,
     )  # fmt: skip

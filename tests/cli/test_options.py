@@ -99,4 +99,4 @@ def test_a_list_names_itself_then_the_value_in_it():
 def test_the_words_after_the_tail_are_the_commands_own():
     law = Option("--wear-law", "k", "mm³/(N·m)", hard=(0.0, math.inf), open_low=True, tail=":")
     assert read_number(law, "8e-8:local") == ([8e-8], [], None)
-    assert read_number(law, "0:local")[2].startswith("--wear-law 0 mm³/(N·m): k must be above 0")
+    assert str(read_number(law, "0:local")[2]).startswith("--wear-law 0 mm³/(N·m): k must be above 0")

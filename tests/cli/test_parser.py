@@ -8,7 +8,15 @@ import argparse
 import pytest
 
 from hipsim.cli.main import build_parser
-from hipsim.cli.parser import HipsimParser, UsageError, apply_table, idle_option, rewrite_aliases, undeclared
+from hipsim.cli.parser import (
+    HipsimParser,
+    UsageError,
+    apply_table,
+    command_parsers,
+    idle_option,
+    rewrite_aliases,
+    undeclared,
+)
 
 
 def small_parser() -> HipsimParser:
@@ -47,9 +55,9 @@ def test_the_table_checks_a_number_as_it_is_read_and_adds_its_unit_to_the_help(c
         parser.parse_args(["iso-check", "--cutoff", "0"])
     assert str(caught.value).startswith("iso-check: --cutoff 0 Hz:")  # "argument --cutoff: " left out
     assert "\n" not in str(caught.value)
-    sub = parser._subparsers._group_actions[0].choices["iso-check"]  # type: ignore[union-attr]
+    sub = command_parsers(parser)["iso-check"]
     cutoff = next(a for a in sub._actions if "--cutoff" in a.option_strings)
-    assert cutoff.help.startswith("cutoff [unit: Hz")
+    assert str(cutoff.help).startswith("cutoff [unit: Hz")
     assert notes == [] and capsys.readouterr().err == ""
     assert undeclared(parser) == ["hipsim iso-check --brand-new"]
 

@@ -14,7 +14,8 @@ def test_a_time_in_a_run_of_several_cycles():
     assert at is not None and at.cond_inv_min_cycle == 3 and at.cond_inv_min_t_in_cycle_s == pytest.approx(0.35)
     start = _cycle_of(2.0 - 1e-10, run, 1.0)  # a hair before 2 s, as a time printed to 6 digits: cycle 3's start
     assert start is not None and (start.cond_inv_min_cycle, start.cond_inv_min_t_in_cycle_s) == (3, 0.0)
-    assert _cycle_of(0.0, run, 1.0).cond_inv_min_cycle == 1  # type: ignore[union-attr]
+    first = _cycle_of(0.0, run, 1.0)
+    assert first is not None and first.cond_inv_min_cycle == 1
 
 
 def test_one_cycle_or_no_period_has_no_cycle_to_name():

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 from types import SimpleNamespace
+from typing import Any
 
 import numpy as np
 
@@ -27,7 +28,7 @@ def test_the_sweep_table_picks_and_explains_its_rows():
     torque[9] = 100.0  # the lowest peak torque, at δ = 19
     feasible = np.ones(n, bool)
     feasible[[20, 4]] = False
-    sweep = SimpleNamespace(
+    sweep: Any = SimpleNamespace(
         deltas_deg=deltas,
         feasible=feasible,
         built_index=5,

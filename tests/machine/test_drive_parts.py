@@ -63,7 +63,9 @@ def test_a_drives_name_leaves_out_a_direct_coupling():
 
 
 def test_an_unknown_end_fixing_is_refused_naming_the_known_ones():
-    with pytest.raises(ValueError, match="fixed-free, supported-supported, fixed-supported, fixed-fixed, got 'clamped'"):
+    with pytest.raises(
+        ValueError, match="fixed-free, supported-supported, fixed-supported, fixed-fixed, got 'clamped'"
+    ):
         LeadScrew("s", end_fixing="clamped")
     assert LeadScrew("s", end_fixing="fixed-fixed").end_fixing == "fixed-fixed"
 

@@ -14,7 +14,7 @@ from hipsim.present.motion_frames import Motion
 def test_the_singularity_colours_between_and_beyond_their_stops():
     red, yellow, green = (rgb for _, rgb in scene.SINGULARITY_STOPS)
     colours = scene.singularity_colour([-1.0, 0.0, 0.125, 0.25, 0.5, 2.0, np.nan])
-    expected = [red, red, np.add(red, yellow) / 2, yellow, green, green, red]  # clamped; NaN counts as 0
+    expected = np.array([red, red, np.add(red, yellow) / 2, yellow, green, green, red])  # clamped; NaN counts as 0
     np.testing.assert_allclose(colours, expected, atol=1e-15)
     assert scene.singularity_colour(0.5).shape == (3,)
 

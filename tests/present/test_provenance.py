@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import hashlib
 import shutil
+from typing import Any
 
 import pytest
 
@@ -31,8 +32,8 @@ def test_a_files_hash_read_in_pieces_is_the_hash_of_its_bytes(tmp_path):
     assert file_sha256(empty) == "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855"
 
 
-def identified_origin(**changes) -> ParameterOrigin:
-    fields = dict(
+def identified_origin(**changes: Any) -> ParameterOrigin:
+    fields: dict[str, Any] = dict(
         file=FILE,
         kind="identified",
         start="drawing.toml",

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from types import SimpleNamespace
+from typing import Any
 
 import pytest
 
@@ -85,7 +86,8 @@ def test_pass_and_fail_count_the_checks_made_and_name_the_binding_one():
 def test_the_check_rows_mark_the_binding_one_and_the_unchecked():
     ok = Check(1, "s1_rms", 216.6, 300.0, 0.278, True)
     missing = Check(3, "max_speed", 10.0, None, None, None, detail="no top speed")
-    rows = page._check_rows(SimpleNamespace(checks=[ok, missing], binding=ok))
+    size: Any = SimpleNamespace(checks=[ok, missing], binding=ok)
+    rows = page._check_rows(size)
     assert [r["css"] for r in rows] == ["binding", "unchecked"]
     assert rows[0]["cells"][3] == "≤ 300.0 N·mm" and rows[0]["cells"][5] == "pass"
     assert rows[1]["cells"][3] == "—" and rows[1]["cells"][5] == "not checked" and rows[1]["cells"][6] == "no top speed"

@@ -5,6 +5,7 @@ rig/test_compare.py."""
 from __future__ import annotations
 
 from types import SimpleNamespace
+from typing import Any
 
 from hipsim.present.rig_figures import _rows, comparison_verdict
 
@@ -23,7 +24,7 @@ def motor(rms_error, measured_rms, away=None):
 
 
 # motor 1 has the largest error in N·mm, motor 2 the largest share of its torque: motor 2 is the worst
-SUMMARY = SimpleNamespace(motors={"1": motor(6.0, 200.0), "2": motor(5.0, 100.0, 4.0), "3": motor(1.0, 100.0)})
+SUMMARY: Any = SimpleNamespace(motors={"1": motor(6.0, 200.0), "2": motor(5.0, 100.0, 4.0), "3": motor(1.0, 100.0)})
 
 
 def test_without_a_threshold_nothing_is_judged_but_the_worst_motor_is_named():

@@ -4,6 +4,7 @@ the difference maps' colour range symmetric about zero; read back from figures m
 from __future__ import annotations
 
 from types import SimpleNamespace
+from typing import Any
 
 import numpy as np
 import pytest
@@ -29,7 +30,7 @@ def test_the_cells_corners_lie_half_a_step_around_each_point():
 
 
 def test_tracks_are_drawn_at_the_cups_radius():
-    tracks = SimpleNamespace(
+    tracks: Any = SimpleNamespace(
         slide=[np.array([[0.1, 0.2, 0.9], [0.3, 0.4, 0.8]])], force=np.array([[0.0, 0.5, 0.8]]), load=np.array([1e3])
     )
     ax = plot_slide_tracks(tracks, 10.0).axes[0]

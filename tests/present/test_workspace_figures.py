@@ -5,6 +5,7 @@ of figures made from small maps written here."""
 from __future__ import annotations
 
 from types import SimpleNamespace
+from typing import Any
 
 import numpy as np
 import pytest
@@ -23,8 +24,8 @@ def test_the_shaded_spans_are_half_a_step_either_side():
 
     ax = Figure().subplots()
     _shade(ax, np.array([0.0, 1.0, 2.0, 3.0]), np.array([False, True, False, True]))
-    spans = [patch.get_x() for patch in ax.patches]
-    widths = [patch.get_width() for patch in ax.patches]
+    spans = [patch.get_x() for patch in ax.patches]  # type: ignore[attr-defined]  # axvspan: Rectangles
+    widths = [patch.get_width() for patch in ax.patches]  # type: ignore[attr-defined]
     assert spans == pytest.approx([0.5, 2.5]) and widths == pytest.approx([1.0, 1.0])
     empty = Figure().subplots()
     _shade(empty, np.array([0.0, 1.0]), np.array([False, False]))
@@ -49,7 +50,7 @@ def test_one_panel_per_gamma_and_the_rest_hidden():
 
 
 def test_the_offset_sweep_marks_the_built_machine_and_shades_what_is_infeasible():
-    sweep = SimpleNamespace(
+    sweep: Any = SimpleNamespace(
         deltas_deg=np.array([20.0, 25.0, 30.0, 35.0]),
         delta_built_deg=30.0,
         built_index=2,

@@ -4,6 +4,7 @@ numbers, made by hand here, at the edge of each gate (3 times 5 % of a motor's R
 from __future__ import annotations
 
 from types import SimpleNamespace
+from typing import Any
 
 from hipsim.fit_checks import NOISE_FLOOR, PRIOR_SIGMA, RESIDUAL_FACTOR
 from hipsim.rig.identification.self_check import TORQUE_COLUMNS, check_identification
@@ -20,6 +21,10 @@ def identification(residual=(0.0, 0.0, 0.0), torque_rms=(1.0, 1.0, 1.0), moved=0
 def held_out(error_Nmm, measured_Nmm):
     motors = {str(i + 1): {"rms_error_Nmm": error_Nmm[i], "measured_rms_Nmm": measured_Nmm[i]} for i in range(3)}
     return SimpleNamespace(statistics={"motors": motors}), None
+
+
+#: a held-out log as the check uses it: its name
+WALK: Any = SimpleNamespace(name="walk.csv")
 
 
 def test_the_gates_are_three_times_five_percent_and_five_sigma():
@@ -49,13 +54,11 @@ def test_a_move_of_five_prior_deviations_passes_and_more_fails():
 def test_a_held_out_log_is_named_and_judged_on_its_own_measured_rms(monkeypatch):
     ok = held_out((15.0, 0.0, 0.0), (100.0, 100.0, 100.0))  # 15 N·mm = 3 × 5 % of 100 N·mm: at the gate
     bad = held_out((0.0, 15.1, 0.0), (100.0, 100.0, 100.0))
-    check = check_identification(identification(validation=[ok, bad]), validate=[SimpleNamespace(name="walk.csv")])
+    check = check_identification(identification(validation=[ok, bad]), validate=[WALK])
     (finding,) = check.findings
     assert finding.startswith("held-out held-out log 2: residuals beyond 3 times the noise: tau_2 15.1 N·mm")
     from hipsim.rig.identification import self_check
 
     monkeypatch.setattr(self_check, "_pattern", lambda result, logs: "")  # the cause needs a real log: not here
-    named = check_identification(
-        identification(validation=[bad]), validate=[SimpleNamespace(name="walk.csv")]
-    ).findings[0]
+    named = check_identification(identification(validation=[bad]), validate=[WALK]).findings[0]
     assert named.startswith("held-out walk.csv: residuals")
