@@ -58,7 +58,6 @@ KNOWN_GAPS = {
     "mujoco_engine/model.py": "indirectly, through the modules that call it",
     "mujoco_engine/plant.py": "indirectly, through the modules that call it",
     "mujoco_engine/trajectory.py": "mujoco_engine/test_mujoco_engine.py",
-    "present/wear_test_page.py": "no logic of its own beyond the verdict word's page state (DIFFERENT fail, ALIKE pass): writes the folder from WearTest; through the command line, cli/test_wear_test.py",
     "rig/compare_summary.py": "through the commands' JSON: tests/test_schemas.py, rig/test_compare.py",
     "rig/monitoring/monitor_summary.py": "through the commands' JSON: tests/test_schemas.py, rig/monitoring/test_monitor_run.py",
     "stations/calibration_check.py": "through hipsim.fit_checks and calibrate's gates: test_fit_checks.py",
