@@ -146,3 +146,35 @@ def test_every_schema_is_validated_by_a_test_of_its_command():
     text = "\n".join(path.read_text(encoding="utf-8") for path in tests.rglob("test_*.py"))  # every folder of tests/
     for name in SCHEMAS:
         assert f'_valid(capsys, "{name}"' in text or f'schema("{name}")' in text, name
+
+
+# --- the fits and their motions: identify (its run in tests/rig/identification/test_identified_file.py), calibrate (in
+# tests/stations/test_calibration.py), identify --base, excite ----------------------------------------------------
+
+
+def test_identify_base(capsys):
+    status, document = _json(capsys, ["identify", "--base", "--summary-format", "json"])
+    assert status == 0 and document["base_parameters"][0]["name"] == "I_m,xx"
+    _valid(capsys, "identify-base", document)
+
+
+def test_excite_both_kinds(tmp_path, capsys):
+    """One harmonic of 1 Hz and two optimiser steps: the smallest design; its peaks within the default limits."""
+    small = ["--harmonics", "1", "--frequency", "1", "--duration", "1", "--rate", "100", "--summary-format", "json"]
+    argv = ["excite", *small, "--iterations", "2", "--out", str(tmp_path / "e.csv")]
+    status, document = _json(capsys, argv)
+    assert status == 0 and document["verdict"]["level"] == "PASS" and document["peaks"]["torque_Nmm"] <= 600.0
+    assert document["csv"].endswith("e.csv") and document["harmonics"] == 1
+    _valid(capsys, "excite", document)
+    status, document = _json(capsys, ["excite", *small, "--for", "calibration", "--out", str(tmp_path / "c.csv")])
+    assert status == 0 and document["for"] == "calibration" and "torque_Nmm" not in document["peaks"]
+    assert document["verdict"]["level"] == "PASS" and "torque" in document["verdict"]["not_judged"]
+    _valid(capsys, "excite-calibration", document)
+
+
+def test_the_exit_section_says_when_the_fits_and_their_motions_exit_1():
+    page = (Path(__file__).resolve().parents[1] / "docs" / "guide" / "outputs.md").read_text(encoding="utf-8")
+    section = page.split("## Exit status")[1].split("\n## ")[0]
+    for command in ("identify", "calibrate", "excite"):
+        assert f"`{command}`" in section, command
+    assert "written with\n`--force`" in section or "written with `--force`" in section

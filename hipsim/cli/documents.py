@@ -18,13 +18,17 @@ from typing import Any
 from ..analysis.crosscheck_summary import CrossCheckSummary
 from ..control.simulation_summary import SimulationSummary
 from ..design.feasibility_summary import FeasibilitySummary
+from ..fit_checks import FitCheckSummary
 from ..motion.iso_verdict import IsoCheckSummary
 from ..present.pages import Verdict as PageVerdict
 from ..present.wear_page import WearComparison
 from ..records import Record, flattened, optional
 from ..results import RunSummary
 from ..rig.compare_summary import ComparisonSummary
+from ..rig.identification.excitation_summary import CalibrationExcitationSummary, ExcitationSummary
+from ..rig.identification.summary import BaseListing, IdentificationSummary
 from ..rig.monitoring.monitor_summary import MonitorSummary
+from ..stations.calibration_summary import CalibrationSummary
 from ..stations.sensor_check import SensorComparison
 from ..stations.summary import SlidersSummary, StationSummary
 from ..stations.tolerance_summary import ToleranceSummary
@@ -32,7 +36,11 @@ from ..wear.summary import WearSummary
 
 __all__ = [
     "SCHEMAS",
+    "CalibrateRun",
     "CompareRun",
+    "ExciteCalibrationRun",
+    "ExciteRun",
+    "IdentifyRun",
     "IsoCheckRun",
     "MonitorRun",
     "ReportFiles",
@@ -178,6 +186,48 @@ class ReportRun(Record):
     margin_bands: list[dict[str, Any]] | None = optional()
 
 
+# --- the fits and their motions: identify, calibrate, excite ------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class IdentifyRun(Record):
+    """``hipsim identify`` (and ``--json``'s file): provenance, self-check and verdict, the fit's keys, files written.
+
+    ``toml`` is the parameter file written, ``json`` the ``--json`` file (None: none)."""
+
+    provenance: dict[str, Any]
+    self_check: FitCheckSummary
+    summary: IdentificationSummary = flattened()
+    toml: str = ""
+    json: str | None = None
+
+
+@dataclass(frozen=True)
+class CalibrateRun(Record):
+    """``hipsim calibrate`` (and ``--json``'s file): the summary, self-check and verdict, file written, provenance."""
+
+    summary: CalibrationSummary
+    self_check: FitCheckSummary
+    out: str
+    provenance: dict[str, Any]
+
+
+@dataclass(frozen=True)
+class ExciteRun(Record):
+    """``hipsim excite``: the design's summary keys (its verdict against the rig's limits) and the CSV written."""
+
+    summary: ExcitationSummary = flattened()
+    csv: str = ""
+
+
+@dataclass(frozen=True)
+class ExciteCalibrationRun(Record):
+    """``hipsim excite --for calibration``: the calibration motion's summary keys and the CSV written."""
+
+    summary: CalibrationExcitationSummary = flattened()
+    csv: str = ""
+
+
 #: Command (and mode) → the record of what it prints with ``--summary-format json``.
 SCHEMAS: dict[str, type[Record]] = {
     "check": CrossCheckSummary,
@@ -193,6 +243,12 @@ SCHEMAS: dict[str, type[Record]] = {
     "stations-tolerance": StationsTolerance,
     "wear": WearRun,
     "wear-compare": WearCompare,
+    # the fits and their motions
+    "identify": IdentifyRun,
+    "identify-base": BaseListing,
+    "calibrate": CalibrateRun,
+    "excite": ExciteRun,
+    "excite-calibration": ExciteCalibrationRun,
 }
 
 

@@ -264,7 +264,7 @@ def test_a_calibration_motion_is_designed_for_a_stacked_machine():
     from hipsim.stations.excitation import calibration_excitation
 
     design = calibration_excitation(STACKED, seeds=1)
-    assert np.isfinite(design.condition_number) and design.peaks["cond_inv_min"] > 0.2
+    assert np.isfinite(design.condition_number) and design.peaks.cond_inv_min > 0.2
 
 
 def test_the_stations_command_on_a_stacked_machine(tmp_path):
