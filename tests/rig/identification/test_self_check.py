@@ -62,3 +62,5 @@ def test_a_held_out_log_is_named_and_judged_on_its_own_measured_rms(monkeypatch)
     monkeypatch.setattr(self_check, "_pattern", lambda result, logs: "")  # the cause needs a real log: not here
     named = check_identification(identification(validation=[bad]), validate=[WALK]).findings[0]
     assert named.startswith("held-out walk.csv: residuals")
+    both = check_identification(identification(validation=[bad, bad]), validate=[WALK]).findings
+    assert [f.split(":")[0] for f in both] == ["held-out walk.csv", "held-out held-out log 2"]  # each log judged
