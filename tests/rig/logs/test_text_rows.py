@@ -68,3 +68,9 @@ def test_lines_with_comments_and_blanks_keep_their_file_lines():
     values, numbers = parse_lines(10, ["0,1,2", "3,4,5"], HEADER, ",", "log")  # at once
     assert numbers.tolist() == [10, 11] and values[1, 2] == 5.0
     assert data_rows(1, ["  # indented note", " ", "1,2,3"]) == [(3, "1,2,3")]
+
+
+def test_the_decimal_comma_hint_only_for_more_cells_than_the_header():
+    with pytest.raises(TrajectoryError) as caught:
+        parse_block([(8, "1,2\n")], HEADER, ",", "log")
+    assert str(caught.value) == "log, line 8: 2 cells, the header has 3"  # fewer cells: no decimal commas to blame
