@@ -65,3 +65,12 @@ def test_a_tolerance_only_folder_and_the_summarys_json(tmp_path):
     document = json.loads(drawn.json.read_text(encoding="utf-8"))
     assert document["summary"]["rms_error_deg"] == pytest.approx(np.sqrt(22 / 24))
     assert drawn.figure is None
+
+
+def test_a_desired_motion_that_is_not_iso_is_said_per_station():
+    iso = iso14242(rate=100.0, cycles=2)
+    half = 0.5 * iso.q  # both stations track it exactly: a motion that is not the ISO waveform
+    verdict = station_verdict(station_summary(motion(np.zeros((len(iso.t), 2, 3)), half, iso.t), iso.Fe, "half", True))
+    said = [line for line in verdict.lines if line.startswith("Station ")]
+    assert [line.split(":")[0] for line in said] == ["Station 1", "Station 2"]
+    assert all("the desired motion is not the ISO 14242-1 waveform" in line for line in said)
