@@ -53,7 +53,6 @@ KNOWN_GAPS = {
     "mujoco_engine/closure.py": "indirectly, through the modules that call it",
     "mujoco_engine/dynamics.py": "indirectly, through the modules that call it",
     "mujoco_engine/friction.py": "mujoco_engine/test_mujoco_engine.py",
-    "mujoco_engine/machine.py": "indirectly, through the modules that call it",
     "mujoco_engine/mjcf.py": "mujoco_engine/test_mujoco_engine.py",
     "mujoco_engine/model.py": "indirectly, through the modules that call it",
     "mujoco_engine/plant.py": "indirectly, through the modules that call it",

@@ -134,19 +134,6 @@ def test_the_tolerance_sensitivity_names_the_seat():
     assert np.all(S[:, 1, :, 48:] == 0.0) and np.abs(S[:, 0, :, 48:]).max() > 0
 
 
-def test_the_urdf_and_mjcf_builders_refuse_a_stack_up_in_one_line():
-    from hipsim.machine.model_files import urdf_text
-
-    with pytest.raises(ParameterError, match=r"geometry\.spline_seat_mm.*does not model") as caught:
-        urdf_text(STACKED)  # the Pinocchio and MuJoCo models are both built from it
-    assert "\n" not in str(caught.value)
-    cycle = hipsim.iso14242(rate=100).slice(slice(0, 5))
-    from hipsim.closed_chain.engine import PinocchioModel
-
-    with pytest.raises(ParameterError, match=r"spline_seat_mm"):
-        PinocchioModel(STACKED).run(cycle)
-
-
 def test_the_seat_is_in_the_vector_and_its_family():
     assert dv.names()[48:] == ("spline_x_1", "spline_y_1", "spline_z_1")
     assert dv.family("spline_y_1") == "spline" and dv.platform_of("spline_z_1") == 1
