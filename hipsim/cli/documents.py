@@ -21,7 +21,6 @@ from ..design.feasibility_summary import FeasibilitySummary
 from ..design.sizing_summary import MarginBandSummary, SizingSummary
 from ..fit_checks import FitCheckSummary
 from ..motion.iso_verdict import IsoCheckSummary
-from ..present.wear_page import WearComparison
 from ..records import Record, Verdict, flattened, optional
 from ..results import RunSummary
 from ..rig.compare_summary import ComparisonSummary
@@ -32,7 +31,7 @@ from ..stations.calibration_summary import CalibrationSummary
 from ..stations.sensor_check import SensorComparison
 from ..stations.summary import SlidersSummary, StationSummary
 from ..stations.tolerance_summary import ToleranceSummary
-from ..wear.summary import WearSummary
+from ..wear.summary import WearComparison, WearSummary
 from .documents_more import MORE_SCHEMAS
 
 __all__ = [

@@ -10,17 +10,14 @@ from __future__ import annotations
 
 import base64
 import json
-import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 from .. import records
 from ..files import check_folder, json_ready, output_folder, write_atomic
-from ..records import Record
 from ..wear.laws import Wear
 from ..wear.maps import WearMaps
-from ..wear.summary import Difference, WearSummary, compare_summaries, compare_verdict, difference_maps, wear_summary
+from ..wear.summary import WearComparison, difference_maps, wear_comparison, wear_summary
 from ..wear.tracks import Tracks
 from .figures import save_figure
 from .pages import CSS, Verdict, environment, print_pdf
@@ -37,7 +34,6 @@ from .wear_figures import (
 
 __all__ = [
     "DEFAULT_TOLERANCE",
-    "WearComparison",
     "WearPage",
     "compare_block",
     "write_wear_compare",
@@ -124,28 +120,6 @@ def write_wear_page(
     return WearPage(out, index, json_path, tuple(paths), printed)
 
 
-@dataclass(frozen=True)
-class WearComparison(Record):
-    """Two wear runs compared, as ``wear.json`` holds it: the verdict, the provenance, both summaries, B − A.
-
-    Attributes:
-        verdict: :func:`hipsim.wear.summary.compare_verdict` (ALIKE, DIFFERENT, NOT MADE), the page's block.
-        provenance: the provenance block.
-        tolerance: the relative difference of runs alike, a fraction.
-        a, b: the two runs' summaries.
-        differences: per quantity A, B, B − A, (B − A)/|A|.
-        largest_point_differences: per map (sliding_mm, work_N_per_mm, cross_shear) the largest |B − A| of a point.
-    """
-
-    verdict: records.Verdict
-    provenance: dict[str, Any]
-    tolerance: float
-    a: WearSummary
-    b: WearSummary
-    differences: tuple[Difference, ...]
-    largest_point_differences: dict[str, float | None]
-
-
 def compare_block(verdict: records.Verdict) -> Verdict:
     """The page's block of :func:`hipsim.wear.summary.compare_verdict`: ALIKE, DIFFERENT or NOT COMPARED (NOT MADE)
     with what it judged."""
@@ -170,22 +144,9 @@ def write_wear_compare(
     check_folder(out)
     provenance = provenance or make_provenance()
     (maps_a, tracks_a, wear_a), (maps_b, tracks_b, wear_b) = a, b
-    summary_a, summary_b = wear_summary(maps_a, wear_a), wear_summary(maps_b, wear_b)
-    rows = compare_summaries(summary_a, summary_b)
-    verdict = compare_verdict(rows, tolerance, (maps_a.name, maps_b.name))  # the verdict, beside the summaries
-    differences = difference_maps(maps_a, maps_b)
-    document = WearComparison(
-        verdict,
-        json_ready(provenance.as_dict()),
-        tolerance,
-        summary_a,
-        summary_b,
-        rows,
-        {
-            key: (float(max(abs(x) for x in values if math.isfinite(x))) if any(map(math.isfinite, values)) else None)
-            for key, values in differences.items()
-        },
-    )
+    document = wear_comparison((maps_a, wear_a), (maps_b, wear_b), tolerance, json_ready(provenance.as_dict()))
+    summary_a, summary_b, rows, verdict = document.a, document.b, document.differences, document.verdict
+    differences = difference_maps(maps_a, maps_b)  # the maps drawn (the record keeps their largest points)
     r = maps_a.setup.radius_mm
     with output_folder(out):
         embedded, paths = _figures(
