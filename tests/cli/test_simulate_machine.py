@@ -20,6 +20,7 @@ from hipsim.cli.simulate_machine import (
 )
 from hipsim.exceptions import HipsimError
 from hipsim.motion.iso_compliance import DEFAULT_TOLERANCES
+from hipsim.motion.iso_verdict import station_iso
 from hipsim.motion.trajectories import iso14242
 
 
@@ -55,13 +56,18 @@ def test_the_servo_instants_cover_the_duration_without_its_end():
 
 def test_a_verdict_line_per_station_with_its_role():
     iso = iso14242(rate=50.0)
-    attitudes = np.stack([iso.q, iso.q + np.radians([0.0, 5.0, 0.0])], axis=1)  # m_2 5° off on β
-    run = SimpleNamespace(t=iso.t, attitudes=attitudes, desired=iso, controller="pd", control=1)
-    one, two = station_verdicts([run], DEFAULT_TOLERANCES, periodic=True)
-    assert one.startswith("ISO 14242-1 check of station 1's motion under pd (m_1, controlled) (1 cycle(s)): PASS")
-    assert two.startswith("ISO 14242-1 check of station 2's motion under pd (m_2, following) (1 cycle(s)): FAIL: beta")
-    short = SimpleNamespace(
-        t=iso.t[:5], attitudes=attitudes[:5], desired=iso.slice(slice(0, 5)), controller="pd", control=2
-    )
-    lines = station_verdicts([short], DEFAULT_TOLERANCES, periodic=False)
+    attitudes = (iso.q, iso.q + np.radians([0.0, 5.0, 0.0]))  # m_2 5° off on β
+
+    def run(n: int, control: int) -> SimpleNamespace:
+        stations = tuple(
+            station_iso(f"m_{j}", iso.t[:n], q[:n], iso.q[:n], iso.Fe[:n], DEFAULT_TOLERANCES, periodic=n == len(iso.t))
+            for j, q in enumerate(attitudes, start=1)
+        )
+        return SimpleNamespace(stations=stations, controller="pd", control=control)
+
+    one, two = station_verdicts([run(len(iso.t), 1)])
+    assert one.startswith("ISO 14242-1 check of station 1's motion under pd (m_1, controlled) (1 cycle(s)): PASS: ")
+    assert two.startswith("ISO 14242-1 check of station 2's motion under pd (m_2, following) (1 cycle(s)): FAIL (beta)")
+    lines = station_verdicts([run(5, 2)])
     assert len(lines) == 2 and all(": not made (" in line for line in lines)
+    assert "(m_2, controlled)" in lines[1] and "(m_1, following)" in lines[0]

@@ -1,22 +1,16 @@
-"""The workspace command's own text (hipsim.cli.workspace): JSON numbers without NaN, the sweep table's picks (every
+"""The workspace command's own text (hipsim.cli.workspace): the sweep table's picks (every
 tenth δ, the last, the built machine, the best margin and torque) and the reasons of infeasible ones, from a sweep
-made by hand. The maps and the sweep themselves: design/test_workspace.py."""
+made by hand. The maps and the sweep themselves: design/test_workspace.py; the JSON (null for NaN):
+design/test_workspace_summary.py."""
 
 from __future__ import annotations
 
-import math
 from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
 
-from hipsim.cli.workspace import _json_float, _sweep_table
-
-
-def test_json_has_no_nan():
-    assert _json_float(np.int64(3)) == 3 and isinstance(_json_float(np.int64(3)), int)
-    assert _json_float(np.float32(0.5)) == 0.5
-    assert _json_float(math.nan) is None and _json_float(-math.inf) is None
+from hipsim.cli.workspace import _sweep_table
 
 
 def test_the_sweep_table_picks_and_explains_its_rows():
