@@ -12,13 +12,12 @@ from hipsim.rig.identification.identified_file import FileProvenance, read_ident
 from hipsim.stations import deviations as dv
 from hipsim.stations.calibration import Calibration, Confounding
 from hipsim.stations.calibration_file import CALIBRATED_MARK, calibrated_toml, calibration_record, write_calibrated
+from hipsim.stations.calibration_summary import HeldOutResidual
 from hipsim.stations.sensitivity import Structure
 
 
 def test_the_record_by_hand():
-    validation = [
-        {"log": "held.csv", "rms": np.radians(np.full((2, 3), 0.5)), "start_rms": np.radians(np.ones((2, 3)))}
-    ]
+    validation = [HeldOutResidual("held.csv", [[0.5] * 3] * 2, [[1.0] * 3] * 2)]
     record = calibration_record(hand_calibration(), validation, start="start.toml")
     assert record["kind"] == "kinematic calibration" and record["start"] == "start.toml"
     assert record["logs"] == ["a.csv", "b.csv"] and record["samples"] == 300 and record["iterations"] == 4

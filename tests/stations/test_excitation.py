@@ -4,6 +4,7 @@ that one motion cannot tell apart. (The design itself: tests/stations/test_calib
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -14,10 +15,15 @@ from hipsim.machine.parameters import load_parameters
 from hipsim.motion.trajectories import iso14242
 from hipsim.physics.orientation import inverse_condition_number
 from hipsim.rig.identification.excitation import Limits
+from hipsim.rig.identification.excitation_summary import ExcitationPeaks, limits_verdict
 from hipsim.stations import deviations as dv
 from hipsim.stations import excitation as excitation_module
-from hipsim.stations.excitation import CalibrationExcitation, _peaks, _series, _within, calibration_condition
+from hipsim.stations.excitation import CalibrationExcitation, _peaks, _series, calibration_condition
 from hipsim.stations.sensitivity import Structure, attitude_jacobian
+
+LIMITS = Limits(max_angle=math.radians(20.0), max_speed=0.2, max_acceleration=1.5, min_cond_inv=0.3)
+EDGE = ExcitationPeaks(angle_deg=20.0, speed_mm_s=200.0, acceleration_mm_s2=1500.0, cond_inv_min=0.3)
+PEAKS = ExcitationPeaks(0.0, 0.0, 0.0, 1.0)
 
 #: α = 0.1·sin(ωt) + 0.2·cos(2ωt); β = 0.3·cos(ωt); γ = −0.1·sin(2ωt), ω = 2π·0.5 rad/s.
 COEFFICIENTS = np.array([[0.1, 0.0, 0.0, 0.2], [0.0, 0.3, 0.0, 0.0], [0.0, 0.0, -0.1, 0.0]])
@@ -26,7 +32,7 @@ COEFFICIENTS = np.array([[0.1, 0.0, 0.0, 0.2], [0.0, 0.3, 0.0, 0.0], [0.0, 0.0, 
 def test_the_series_and_its_derivatives_by_hand():
     t = np.array([0.0, 0.25, 0.7])
     w = math.pi
-    q, qd, qdd = CalibrationExcitation(0.5, COEFFICIENTS, 1.0, 2.0).angles(t)
+    q, qd, qdd = CalibrationExcitation(0.5, COEFFICIENTS, 1.0, 2.0, PEAKS, LIMITS).angles(t)
     s1, c1, s2, c2 = np.sin(w * t), np.cos(w * t), np.sin(2 * w * t), np.cos(2 * w * t)
     np.testing.assert_allclose(q, np.stack([0.1 * s1 + 0.2 * c2, 0.3 * c1, -0.1 * s2], axis=1), atol=1e-15)
     np.testing.assert_allclose(
@@ -40,7 +46,7 @@ def test_the_series_and_its_derivatives_by_hand():
 @pytest.mark.parametrize(("duration", "rows"), [(3.0, 41), (2.0, 21), (2.0000001, 41), (0.0, 21)])
 def test_the_file_holds_whole_periods_the_last_row_the_first(tmp_path, duration, rows):
     """0.5 Hz at 10 Hz: a period is 2 s, 20 samples; 3 s need two periods, 2 s one (not two by round-off)."""
-    design = CalibrationExcitation(0.5, COEFFICIENTS, 1.0, 2.0)
+    design = CalibrationExcitation(0.5, COEFFICIENTS, 1.0, 2.0, PEAKS, LIMITS)
     path = design.write_csv(tmp_path / "motion.csv", rate=10.0, duration=duration)
     table = np.genfromtxt(path, delimiter=",", names=True)
     assert table.dtype.names == ("t_s", "alpha_deg", "beta_deg", "gamma_deg", "Fe_N")
@@ -57,19 +63,15 @@ def test_the_file_holds_whole_periods_the_last_row_the_first(tmp_path, duration,
     assert np.all(table["Fe_N"] == 300.0)
 
 
-LIMITS = Limits(max_angle=math.radians(20.0), max_speed=0.2, max_acceleration=1.5, min_cond_inv=0.3)
-EDGE = {"angle_deg": 20.0, "speed_mm_s": 200.0, "acceleration_mm_s2": 1500.0, "cond_inv_min": 0.3}
-
-
 def test_the_limits_hold_on_their_edges():
-    assert _within(EDGE, LIMITS)
+    assert not limits_verdict(EDGE, LIMITS).failed
     for key, past in (
         ("angle_deg", 20.001),
         ("speed_mm_s", 200.001),
         ("acceleration_mm_s2", 1500.01),
         ("cond_inv_min", 0.2999),
     ):
-        assert not _within(EDGE | {key: past}, LIMITS), key
+        assert limits_verdict(dataclasses.replace(EDGE, **{key: past}), LIMITS).failed, key
 
 
 @pytest.mark.parametrize("seat", [False, True])
@@ -86,12 +88,12 @@ def test_the_peaks_are_the_platforms_own(seat):
     q, qd, qdd = _series(COEFFICIENTS * 0.5, 0.5, t)
     drawing = load_parameters()
     motion = [platform_motion(drawing, q, qd, qdd, j) for j in (1, 2)]
-    assert peaks["angle_deg"] == pytest.approx(math.degrees(0.15))
-    assert peaks["speed_mm_s"] == pytest.approx(1e3 * max(np.abs(m[1]).max() for m in motion), rel=1e-9)
-    assert peaks["acceleration_mm_s2"] == pytest.approx(1e3 * max(np.abs(m[2]).max() for m in motion), rel=1e-9)
+    assert peaks.angle_deg == pytest.approx(math.degrees(0.15))
+    assert peaks.speed_mm_s == pytest.approx(1e3 * max(np.abs(m[1]).max() for m in motion), rel=1e-9)
+    assert peaks.acceleration_mm_s2 == pytest.approx(1e3 * max(np.abs(m[2]).max() for m in motion), rel=1e-9)
     cond = min(inverse_condition_number(platform_jacobian(params, q, j)).min() for j in (1, 2))
-    assert peaks["cond_inv_min"] == pytest.approx(cond, rel=1e-12)
-    assert 0 < peaks["cond_inv_min"] < 1 and peaks["speed_mm_s"] > 10.0
+    assert peaks.cond_inv_min == pytest.approx(cond, rel=1e-12)
+    assert 0 < peaks.cond_inv_min < 1 and peaks.speed_mm_s > 10.0
 
 
 def test_the_condition_of_one_column_and_of_columns_one_motion_cannot_tell_apart():
@@ -140,7 +142,7 @@ def test_the_design_keeps_the_best_of_its_seeds(monkeypatch):
     for k in range(3):
         c = np.random.default_rng([7, k]).normal(size=(3, 4)) / np.array([1.0, 1.0, 2.0, 2.0])
         c *= math.radians(20.0) / np.abs(_series(c, 0.5, t)[0]).max()
-        while not _within(_peaks(params, c, 0.5, t), limits):
+        while limits_verdict(_peaks(params, c, 0.5, t), limits).failed:
             c = c * 0.9
         candidates.append((calibration_condition(params, _series(c, 0.5, t)[0], True, pair), c))
     conditions = [condition for condition, _ in candidates]
