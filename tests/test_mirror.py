@@ -120,7 +120,6 @@ KNOWN_GAPS = {
     "wear/accumulate.py": "wear/test_gravimetric.py",
     "wear/factors.py": "wear/test_gravimetric.py",
     "wear/kernel.py": "indirectly, through the modules that call it",
-    "wear/laws.py": "cli/test_wear.py, cli/test_wear_test.py (+2)",
     "wear/test_context.py": "wear/test_gravimetric.py",
     "wear/test_result.py": "indirectly, through the modules that call it",
     "wear/weighings.py": "wear/test_gravimetric.py",
