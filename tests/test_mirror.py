@@ -120,7 +120,6 @@ KNOWN_GAPS = {
     "wear/kernel.py": "indirectly, through the modules that call it",
     "wear/test_context.py": "wear/test_gravimetric.py",
     "wear/test_result.py": "indirectly, through the modules that call it",
-    "wear/weighings.py": "wear/test_gravimetric.py",
 }
 
 
