@@ -118,8 +118,6 @@ KNOWN_GAPS = {
     "stations/sensitivity.py": "stations/test_calibration.py",
     "stations/tolerance.py": "stations/test_commands.py",
     "wear/kernel.py": "indirectly, through the modules that call it",
-    "wear/test_context.py": "wear/test_gravimetric.py",
-    "wear/test_result.py": "indirectly, through the modules that call it",
 }
 
 

@@ -1,0 +1,153 @@
+"""hipsim.wear.test_result by hand: two stations' rates, exposures and a given factor made here; the steady-state
+motion each k is fitted over (from the fit's first stop on), the prediction held to the measured interval at its
+ends, the intervals' law, the k(CS) table, and the verdict's word and lines (DIFFERENT / ALIKE / ONE STATION)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from hipsim.records import Level
+from hipsim.wear.accumulate import Exposure
+from hipsim.wear.factors import MotionIntegrals
+from hipsim.wear.gravimetric import Gravimetry, RateDifference, StationRate
+from hipsim.wear.test_result import GivenFactor, WearVerdict, wear_test, wear_verdict
+
+NAN = math.nan
+
+
+def _rate(station: str, loss, from_cycle: int, rate: float, ci: tuple[float, float]) -> StationRate:
+    return StationRate(
+        station, "soak", (0, 1_000_000, 2_000_000), tuple(loss), from_cycle, "none", NAN, rate, 0.5, 1, ci, 1.0, ()
+    )
+
+
+RATES = (_rate("1", (0.0, 10.0, 20.0), 0, 10.0, (9.0, 11.0)), _rate("2", (0.0, 30.0, 50.0), 1_000_000, 20.0, (18.0, 22.0)))
+EXPOSURES = {
+    "1": Exposure("1", np.array([0.0, 2e6]), (MotionIntegrals(40.0, 30.0, 0.1, "one"),), "station 1's motion"),
+    "2": Exposure(
+        "2",
+        np.array([0.0, 1e6, 2e6]),
+        (MotionIntegrals(40.0, 30.0, 0.1, "early"), MotionIntegrals(80.0, 60.0, 0.3, "late")),
+        "station 2's motion",
+    ),
+}
+
+
+def _gravimetry(*differences: RateDifference) -> Gravimetry:
+    return Gravimetry("w.csv", 1.0, "1 mg/mm³ (given)", RATES, differences)
+
+
+DIFFERENT = RateDifference("1", "2", 10.0, (8.0, 12.0), 1.0)
+
+
+def test_each_k_is_fitted_over_its_steady_state_motion_and_predicts_with_the_given_factor():
+    test = wear_test(_gravimetry(DIFFERENT), EXPOSURES, GivenFactor(2.5e-7, "local"))
+    one, two = test.stations
+    # Station 2's fit starts at 1 Mc: its steady motion is the late one (80 N·m a cycle), not the mean 60.
+    assert two.fitted.motion.load_slide_integral_Nm == pytest.approx(80.0)
+    assert two.fitted.k("local") == pytest.approx(20.0 / 80e6) and one.fitted.k("local") == pytest.approx(10.0 / 40e6)
+    assert (one.predicted_mm3_per_Mc, two.predicted_mm3_per_Mc) == pytest.approx((10.0, 20.0))  # k·integral·10⁶
+    assert one.within is True and two.within is True
+    # Per interval with the given k: 2.5e-7 × (40e6, 80e6) N·m against the measured 30 and 20 mm³ of station 2.
+    assert [(r.first_cycle, r.last_cycle) for r in two.intervals] == [(0, 1_000_000), (1_000_000, 2_000_000)]
+    assert [r.predicted_mm3 for r in two.intervals] == pytest.approx([10.0, 20.0])
+    assert [r.measured_mm3 for r in two.intervals] == pytest.approx([30.0, 20.0])
+    assert two.interval_law == "k = 2.5e-07 mm³/(N·m), local"
+    assert test.fitted_law is not None and test.fitted_law.cross_shear.tolist() == [0.1, 0.3]
+    assert test.verdict.word == "DIFFERENT" and test.verdict.level == Level.DIFFERENT
+    assert test.verdict.lines == (
+        "station 2 − station 1: +10 mm³/Mc, 95 % [+8, +12]: the rates differ",
+        "station 1: predicted 10 mm³/Mc (k = 2.5e-07 mm³/(N·m), local), measured 10 [9, 11]: within",
+        "station 2: predicted 20 mm³/Mc (k = 2.5e-07 mm³/(N·m), local), measured 20 [18, 22]: within",
+    )
+
+
+def test_a_force_track_factor_predicts_from_the_force_track():
+    test = wear_test(_gravimetry(DIFFERENT), EXPOSURES, GivenFactor(2.5e-7, "force-track"))
+    one, two = test.stations
+    assert (one.predicted_mm3_per_Mc, two.predicted_mm3_per_Mc) == pytest.approx((7.5, 15.0))
+    assert one.within is False and two.within is False
+    assert [r.predicted_mm3 for r in two.intervals] == pytest.approx([7.5, 15.0])
+    assert test.verdict.lines[1].endswith("measured 10 [9, 11]: outside")
+
+
+def test_without_a_factor_the_intervals_use_the_stations_own_local_k():
+    test = wear_test(_gravimetry(), EXPOSURES, reference=MotionIntegrals(20.0, 10.0, 0.2, "ISO"))
+    one, two = test.stations
+    assert math.isnan(one.predicted_mm3_per_Mc) and one.within is None
+    assert two.interval_law == "the station's own fitted local k = 2.5e-07 mm³/(N·m)"
+    assert [r.predicted_mm3 for r in two.intervals] == pytest.approx([10.0, 20.0])
+    assert test.verdict.word == "ONE STATION" and test.verdict.level == Level.NOT_MADE
+    assert test.verdict.lines == ("one station weighed: no other to compare its rate with",)
+    document = test.to_json()
+    assert document["verdict"] == "ONE STATION" and document["wear_factor"] is None
+    assert document["reference_motion"] == {
+        "name": "ISO",
+        "load_slide_integral_Nm": 20.0,
+        "force_track_load_Nm": 10.0,
+        "cross_shear_work_weighted": 0.2,
+    }
+    station = document["stations"]["2"]
+    assert station["motion"] == "station 2's motion" and station["prediction_within_ci95"] is None
+    assert station["fitted"]["predicts"]["local_mm3_per_Mc"] == pytest.approx([5.0, 4.5, 5.5])
+    assert station["interval_law"].startswith("the station's own") and len(station["intervals"]) == 2
+    assert document["fitted_wear_law"] == {"cross_shear": [0.1, 0.3], "k_mm3_per_Nm": pytest.approx([2.5e-7] * 2)}
+    assert document["density_mg_per_mm3"] == 1.0 and document["weighings"] == "w.csv"
+    assert document["density"] == "1 mg/mm³ (given)" and document["differences"] == []
+
+
+def _station_with(predicted: float, ci: tuple[float, float]):
+    test = wear_test(_gravimetry(), EXPOSURES, GivenFactor(2.5e-7, "local"))
+    one = test.stations[0]
+    rate = _rate("1", (0.0, 10.0, 20.0), 0, 10.0, ci)
+    return type(one)(rate, one.exposure, one.fitted, predicted, one.intervals, one.interval_law)
+
+
+@pytest.mark.parametrize(
+    ("predicted", "ci", "within"),
+    [
+        (9.0, (9.0, 11.0), True),  # at either end: within
+        (11.0, (9.0, 11.0), True),
+        (np.nextafter(9.0, 0.0), (9.0, 11.0), False),
+        (np.nextafter(11.0, 12.0), (9.0, 11.0), False),
+        (NAN, (9.0, 11.0), None),
+        (10.0, (NAN, 11.0), None),
+        (10.0, (9.0, NAN), None),
+    ],
+)
+def test_a_prediction_within_the_interval_at_its_ends(predicted, ci, within):
+    assert _station_with(predicted, ci).within is within
+
+
+@pytest.mark.parametrize(
+    ("interval", "word"),
+    [((0.0, 12.0), "ALIKE"), ((1e-12, 12.0), "DIFFERENT"), ((-12.0, 0.0), "ALIKE"), ((-12.0, -1e-12), "DIFFERENT")],
+)
+def test_the_verdict_follows_the_differences_intervals(interval, word):
+    alike = RateDifference("1", "2", 6.0, (-1.0, 13.0), 1.0)
+    verdict = wear_verdict(_gravimetry(alike, RateDifference("1", "3", 1.0, interval, 1.0)), (), None)
+    assert verdict.word == word
+    assert verdict.lines[0] == "station 2 − station 1: +6 mm³/Mc, 95 % [-1, +13]: no difference shown"
+    assert len(verdict.lines) == 2
+
+
+def test_a_verdict_without_an_interval_to_hold_the_prediction_against():
+    test = wear_test(_gravimetry(DIFFERENT), EXPOSURES, GivenFactor(2.5e-7, "local"))
+    station = _station_with(10.0, (NAN, NAN))
+    verdict = wear_verdict(_gravimetry(DIFFERENT), (station,), GivenFactor(2.5e-7, "local"))
+    assert verdict.lines[1].endswith("measured 10 [nan, nan]: no interval to hold it against")
+    assert test.given == GivenFactor(2.5e-7, "local") and test.to_json()["wear_factor"] == {
+        "k_mm3_per_Nm": 2.5e-7,
+        "kind": "local",
+    }
+
+
+def test_a_verdicts_word_and_level():
+    assert WearVerdict("ALIKE", ("a",)).level == Level.ALIKE
+    assert WearVerdict("DIFFERENT", ()).level == Level.DIFFERENT
+    assert WearVerdict("ONE STATION", ()).level == Level.NOT_MADE
+    assert WearVerdict("ALIKE", ("a", "b")).to_json() == {"verdict": "ALIKE", "lines": ["a", "b"]}
+    assert GivenFactor(8e-8, "force-track").describe() == "k = 8e-08 mm³/(N·m), force-track"
