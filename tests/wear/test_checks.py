@@ -31,7 +31,9 @@ def test_the_analytic_checks_hold(moving, mount):
     assert ("with the head moving" in arc) is (moving == "head")
 
 
-@pytest.mark.parametrize(("moving", "mount"), [("cup", (0.0, 0.0, 0.0)), ("head", (0.0, 0.0, 0.0)), ("cup", (0.3, 0, 0))])
+@pytest.mark.parametrize(
+    ("moving", "mount"), [("cup", (0.0, 0.0, 0.0)), ("head", (0.0, 0.0, 0.0)), ("cup", (0.3, 0, 0))]
+)
 def test_the_analytic_checks_on_a_few_points(moving, mount):
     """The same checks on 2 × 4 points (the mutation run's, faster without numba): each holds, and the flexion arc
     names r·(range of α)·2 from the built-in cycle's α (0 with the head moving)."""

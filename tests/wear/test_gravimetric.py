@@ -136,6 +136,10 @@ def test_soak_controls_per_station_and_as_a_column(tmp_path):
 def test_density_out_of_range_is_refused(tmp_path):
     path = tmp_path / "w.csv"
     path.write_text(WEIGHINGS)
+    assert gravimetry(read_weighings(path), 25.0).density_mg_per_mm3 == 25.0  # the densest taken
+    for bad in (0.0, 25.000001, math.inf, True):
+        with pytest.raises(ArgumentError, match=rf"--density: expected a density in \(0, 25\] mg/mm³, got {bad!r}"):
+            gravimetry(read_weighings(path), bad)
     with pytest.raises(ArgumentError, match=r"--density: expected a density in \(0, 25\] mg/mm³"):
         gravimetry(read_weighings(path), -0.9)
 

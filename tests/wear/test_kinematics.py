@@ -33,7 +33,8 @@ def test_the_sequence_is_the_matrix_product_left_to_right():
     assert_allclose(sequence_rotation(q)[0], sequence_rotation(q, "ZYX")[0])  # the machine's by default
     q = np.array([[0.1, 0.2, 0.3]])
     assert_allclose(
-        sequence_rotation(q, "YZX")[0], elementary(1, q[:, 1])[0] @ elementary(2, q[:, 2])[0] @ elementary(0, q[:, 0])[0]
+        sequence_rotation(q, "YZX")[0],
+        elementary(1, q[:, 1])[0] @ elementary(2, q[:, 2])[0] @ elementary(0, q[:, 0])[0],
     )
 
 

@@ -88,7 +88,9 @@ def test_k_of_cs_between_rows_held_beyond_and_zero_without_work():
     assert wear.beyond_table == 1  # 0.4 > 0.3; 0.1 at the table's first row is in it, the unloaded NaN not counted
     assert predict_wear(_maps(AREA, (NAN, 0.1, 0.3, 0.3)), law).beyond_table == 0  # both ends are in the table
     assert predict_wear(_maps(AREA, (0.05, 0.09, 0.31, 0.2)), law).beyond_table == 2  # point 0 carries no work
-    assert law.describe() == "local (Archard) with k(CS) from wear law (2 rows, CS 0.1 to 0.3, k 1e-07 to 3e-07 mm³/(N·m))"
+    assert (
+        law.describe() == "local (Archard) with k(CS) from wear law (2 rows, CS 0.1 to 0.3, k 1e-07 to 3e-07 mm³/(N·m))"
+    )
 
 
 def test_a_table_is_refused_by_its_row():

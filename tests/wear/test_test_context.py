@@ -53,7 +53,10 @@ def test_a_table_without_estimates_or_flags():
 
 def test_a_friction_states_words_and_document():
     own = FrictionState("m.csv", 4, 500_000, 0.005, 0.002, True, "NOTICE")
-    assert own.describe() == "hip μ change +0.0050 ± 0.0020 (this station's) at cycle 500000 over 4 snapshots; monitor: NOTICE"
+    assert (
+        own.describe()
+        == "hip μ change +0.0050 ± 0.0020 (this station's) at cycle 500000 over 4 snapshots; monitor: NOTICE"
+    )
     mean = FrictionState("m.csv", 4, 500_000, -0.003, 0.0007, False, "")
     assert mean.describe() == (
         "hip μ change -0.0030 ± 0.0007 (the two stations' mean) at cycle 500000 over 4 snapshots; monitor: no flag"

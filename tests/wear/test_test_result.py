@@ -24,7 +24,10 @@ def _rate(station: str, loss, from_cycle: int, rate: float, ci: tuple[float, flo
     )
 
 
-RATES = (_rate("1", (0.0, 10.0, 20.0), 0, 10.0, (9.0, 11.0)), _rate("2", (0.0, 30.0, 50.0), 1_000_000, 20.0, (18.0, 22.0)))
+RATES = (
+    _rate("1", (0.0, 10.0, 20.0), 0, 10.0, (9.0, 11.0)),
+    _rate("2", (0.0, 30.0, 50.0), 1_000_000, 20.0, (18.0, 22.0)),
+)
 EXPOSURES = {
     "1": Exposure("1", np.array([0.0, 2e6]), (MotionIntegrals(40.0, 30.0, 0.1, "one"),), "station 1's motion"),
     "2": Exposure(
