@@ -186,3 +186,21 @@ def test_the_verdicts_sentences_by_hand():
 def test_a_quantity_unchanged_is_not_the_largest_difference():
     rows = (_row(0.0), _row(0.02, key="cross_shear_mean"))
     assert "cross_shear_mean differs most, by +2 %" in compare_verdict(rows, 0.05, ("A", "B")).judged
+
+
+def test_difference_maps_are_b_minus_a_on_the_same_points():
+    from hipsim.exceptions import ArgumentError
+    from hipsim.wear.summary import difference_maps
+
+    a = _maps(None)
+    b = replace(a, sliding_mm=a.sliding_mm * 2, work_N_per_mm=a.work_N_per_mm + 1, cross_shear=a.cross_shear / 2)
+    d = difference_maps(a, b)
+    assert sorted(d) == ["cross_shear", "sliding_mm", "work_N_per_mm"]
+    np.testing.assert_allclose(d["sliding_mm"], [5.0, 2.0, 4.0, 6.0])
+    np.testing.assert_allclose(d["work_N_per_mm"], 1.0)
+    np.testing.assert_allclose(d["cross_shear"], [NAN, -0.05, -0.1, -0.2])
+    moved = replace(b, points=CupPoints(np.eye(3)[[2, 0, 1, 1]]))
+    with pytest.raises(ArgumentError, match="points: expected the same cup points in both runs"):
+        difference_maps(a, moved)
+    with pytest.raises(ArgumentError, match="points: expected the same cup points in both runs"):
+        difference_maps(a, replace(b, points=CupPoints(np.eye(3)[[2, 0, 1]])))
