@@ -74,3 +74,9 @@ def test_a_friction_states_words_and_document():
     error = MotionError("log", (1.0, 2.0, 3.0), (4.0, 5.0, 6.0))
     assert StationContext("1", error, own).to_json() == {"motion_error": error.to_json(), "friction": own.to_json()}
     assert StationContext("1", None, None).to_json() == {"motion_error": None, "friction": None}
+
+
+def test_an_estimate_only_at_the_first_snapshot_is_the_last_one():
+    table = {"cycle": [0, 10, 20], "hip_mu_change": [0.002, NAN, "x"], "hip_mu_change_std": [0.001, 0.0, 0.0]}
+    state = friction_state(table, None, "m.csv")
+    assert state is not None and (state.last_cycle, state.hip_mu_change, state.hip_mu_change_std) == (0, 0.002, 0.001)

@@ -154,3 +154,31 @@ def test_a_verdicts_word_and_level():
     assert WearVerdict("ONE STATION", ()).level == Level.NOT_MADE
     assert WearVerdict("ALIKE", ("a", "b")).to_json() == {"verdict": "ALIKE", "lines": ["a", "b"]}
     assert GivenFactor(8e-8, "force-track").describe() == "k = 8e-08 mm³/(N·m), force-track"
+
+
+def test_the_steady_motion_runs_to_the_last_stop_and_one_station_has_no_table():
+    """Four stops, a motion of 40 N·m a cycle for 2 Mc then 100 for 1 Mc: the fit's motion is their mean over
+    0–3 Mc, (2·40 + 100)/3 = 60 N·m, not the mean to an earlier stop."""
+    rate = StationRate(
+        "9",
+        "soak",
+        (0, 1_000_000, 2_000_000, 3_000_000),
+        (0.0, 6.0, 12.0, 18.0),
+        0,
+        "none",
+        NAN,
+        6.0,
+        0.1,
+        2,
+        (5.0, 7.0),
+        1.0,
+        (),
+    )
+    motions = (MotionIntegrals(40.0, 30.0, 0.1, "a"), MotionIntegrals(100.0, 50.0, 0.2, "b"))
+    exposure = Exposure("9", np.array([0.0, 2e6, 3e6]), motions, "log")
+    test = wear_test(Gravimetry("w.csv", 1.0, "1 mg/mm³ (given)", (rate,), ()), {"9": exposure})
+    (station,) = test.stations
+    assert station.fitted.motion.load_slide_integral_Nm == pytest.approx(60.0)
+    assert station.fitted.station == "9" and [r.station for r in station.intervals] == ["9", "9", "9"]
+    assert test.fitted_law is None and test.to_json()["fitted_wear_law"] is None
+    assert math.isnan(test.to_json()["stations"]["9"]["predicted_mm3_per_Mc"])
