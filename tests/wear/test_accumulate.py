@@ -87,3 +87,29 @@ def test_the_interval_table_by_hand():
         "predicted_mm3": pytest.approx(0.018),
     }
     assert isinstance(rows[0].first_cycle, int) and isinstance(rows[0].measured_mm3, float)
+
+
+def test_one_whole_cycle_from_a_heel_strike_inside_the_motion():
+    """A log starting mid-cycle (t = 0.5 s): whole cycles from its first heel strike at 1 s; exactly one cycle (two
+    heel strikes) is enough."""
+    motion = iso14242(rate=50, cycles=3).slice(slice(25, 110))  # 0.5 s … 2.18 s: heel strikes at 1 s and 2 s
+    cut, period = whole_cycles(motion)
+    assert cut.t[0] == pytest.approx(1.0) and cut.t[-1] == pytest.approx(1.98) and period == pytest.approx(1.0)
+    short = iso14242(rate=50, cycles=3).slice(slice(25, 101))  # the second heel strike is not yet seen
+    with pytest.raises(
+        ArgumentError,
+        match=r"^ISO 14242-1: expected a snapshot of at least one whole cycle \(two heel "
+        r"strikes\), got 'fewer than two heel strikes'$",
+    ):
+        whole_cycles(short)
+
+
+def test_snapshots_less_than_a_cycle_apart_and_a_short_mean():
+    assert_allclose(snapshot_intervals(np.array([0.0, 0.5]), 0.0, 1.0), [0.0, 0.25, 1.0])
+    with pytest.raises(ArgumentError, match=r"got shape \(2,\)$"):
+        snapshot_intervals(np.array([1.0, 1.0]), 0.0, 9.0)
+    three = MOTIONS + (MotionIntegrals(50.0, 5.0, 0.5, "c"),)
+    exposure = Exposure("1", np.array([0.0, 4.0, 10.0, 12.0]), three, "s")
+    assert exposure.mean(3.0, 3.0) is three[2]  # no cycles, after the start: the last interval's motion
+    half = exposure.mean(2.0, 2.5)  # half a cycle in interval 0: its own motion, averaged
+    assert half.load_slide_integral_Nm == pytest.approx(10.0) and half.cross_shear_work_weighted == pytest.approx(0.1)

@@ -58,11 +58,19 @@ def test_a_force_track_factor_spreads_the_cups_volume_by_the_work():
     assert wear.total_mm3_per_Mc == pytest.approx(3e-7 * 1e6, rel=1e-12)
     assert law.describe() == "force-track (global, Saikko: V = k·∫F ds), k = 1e-07 mm³/(N·m)"
     assert_allclose(law.depth_mm(_maps(work=(0.0, 0.0, 0.0, 0.0))), 0.0)  # no work: nothing worn, no 0/0
-    with pytest.raises(ArgumentError, match=r"points: expected a cup grid \(a force-track factor spreads"):
+    with pytest.raises(
+        ArgumentError,
+        match=r"^points: expected a cup grid \(a force-track factor spreads the cup's "
+        r"volume by the work\), got 'points given one by one'$",
+    ):
         law.depth_mm(_maps(None))
+    # ΣW·dA under 1 N·mm is still spread (0.19 N·mm here), not taken for none.
+    assert_allclose(law.depth_mm(_maps(work=(0.0, 0.01, 0.03, 0.02))), np.array([0.0, 1.0, 3.0, 2.0]) * 3e-7 / 19.0)
     assert ForceTrackFactor(0.0).k == 0.0
     for bad in (-1e-12, math.nan, True):
-        with pytest.raises(ArgumentError, match="wear factor: expected a wear factor k ≥ 0"):
+        with pytest.raises(
+            ArgumentError, match=rf"^wear factor: expected a wear factor k ≥ 0 in mm³/\(N·m\), got {bad!r}$"
+        ):
             ForceTrackFactor(bad)
 
 
@@ -91,6 +99,12 @@ def test_a_factor_without_its_kind_or_out_of_range_is_refused(text, expected):
     with pytest.raises(ArgumentError) as caught:
         parse_wear_factor(text)
     assert str(caught.value).startswith("--wear-factor: expected") and expected in str(caught.value)
+    assert str(caught.value).endswith(f", got {text!r}")
+    if "K:KIND" in expected:
+        assert str(caught.value) == (
+            "--wear-factor: expected K:KIND in mm³/(N·m), KIND local (Archard, pin-on-disc: V = ∫k·W dA) or force-track "
+            f"(Saikko, simulator: V = k·∫F ds), e.g. 8e-8:force-track; a value without its kind is ambiguous, got {text!r}"
+        )
 
 
 def test_each_law_has_its_kind():
@@ -108,9 +122,14 @@ def test_a_motions_integrals_weigh_cs_by_work_times_area():
     assert integrals.cross_shear_work_weighted == pytest.approx(5.2 / 19, rel=1e-12)
     assert integrals.integral("local") == integrals.load_slide_integral_Nm
     assert integrals.integral("force-track") == 3.0
+    small = motion_integrals(_maps(work=(0.0, 0.01, 0.03, 0.02)))  # ΣW·dA of 0.19 N·mm still weighs CS
+    assert small.cross_shear_work_weighted == pytest.approx(5.2 / 19, rel=1e-12)
     idle = motion_integrals(_maps(work=(0.0, 0.0, 0.0, 0.0)))
     assert idle.load_slide_integral_Nm == 0.0 and math.isnan(idle.cross_shear_work_weighted)
-    with pytest.raises(ArgumentError, match=r"points: expected a cup grid \(ΣW·dA needs the cells' areas\)"):
+    with pytest.raises(
+        ArgumentError,
+        match=r"^points: expected a cup grid \(ΣW·dA needs the cells' areas\), got 'points given one by one'$",
+    ):
         motion_integrals(_maps(None))
     assert integrals.to_json() == {
         "name": "hand",
@@ -144,7 +163,10 @@ def test_fitted_factors_by_hand_and_their_document():
 
 @pytest.mark.parametrize(("local", "track"), [(0.0, 30.0), (40.0, 0.0), (-1.0, 30.0)])
 def test_a_motion_without_work_gives_no_factor(local, track):
-    with pytest.raises(ArgumentError, match=r"station 2's motion: expected a loaded motion that slides"):
+    with pytest.raises(
+        ArgumentError,
+        match=r"^station 2's motion: expected a loaded motion that slides \(ΣW·dA and ∫F ds > 0\), got 'still'$",
+    ):
         fit_factors("2", 12.0, (11.0, 13.0), MotionIntegrals(local, track, 0.1, "still"))
     assert fit_factors("2", 12.0, (11.0, 13.0), MotionIntegrals(1e-12, 1e-12, 0.1)).station == "2"
 

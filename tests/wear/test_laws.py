@@ -66,9 +66,13 @@ def test_archards_law_depth_and_volume_by_hand():
 def test_a_wear_factor_of_zero_is_taken_and_a_negative_one_refused():
     assert WearFactor(0.0).k == 0.0 and ContactAreaLaw(0.0).C == 0.0
     for bad in (-1e-12, math.nan, math.inf, True):
-        with pytest.raises(ArgumentError, match=r"wear factor: expected a wear factor k ≥ 0 in mm³/\(N·m\)"):
+        with pytest.raises(
+            ArgumentError, match=rf"^wear factor: expected a wear factor k ≥ 0 in mm³/\(N·m\), got {bad!r}$"
+        ):
             WearFactor(bad)
-        with pytest.raises(ArgumentError, match="wear coefficient: expected a dimensionless wear coefficient C ≥ 0"):
+        with pytest.raises(
+            ArgumentError, match=rf"^wear coefficient: expected a dimensionless wear coefficient C ≥ 0, got {bad!r}$"
+        ):
             ContactAreaLaw(bad)
 
 
@@ -91,6 +95,12 @@ def test_k_of_cs_between_rows_held_beyond_and_zero_without_work():
     assert (
         law.describe() == "local (Archard) with k(CS) from wear law (2 rows, CS 0.1 to 0.3, k 1e-07 to 3e-07 mm³/(N·m))"
     )
+
+
+def test_a_table_of_three_rows_names_its_ends():
+    law = CrossShearLaw(np.array([0.1, 0.2, 0.3]), np.array([3e-7, 1e-7, 2e-7]), "k.csv")
+    assert law.describe() == "local (Archard) with k(CS) from k.csv (3 rows, CS 0.1 to 0.3, k 1e-07 to 3e-07 mm³/(N·m))"
+    assert predict_wear(_maps(AREA, (NAN, 0.25, 0.3, 0.31)), law).beyond_table == 1
 
 
 def test_a_table_is_refused_by_its_row():
