@@ -158,9 +158,11 @@ def test_a_wear_law_file_read_with_comments_and_any_separator(tmp_path):
     ],
 )
 def test_a_bad_wear_law_file_is_refused_by_line_and_column(tmp_path, text, message):
+    path = _write(tmp_path, text)
     with pytest.raises(FileRowError) as caught:
-        read_wear_law(_write(tmp_path, text))
-    assert message in str(caught.value)
+        read_wear_law(path)
+    assert message in str(caught.value) and str(caught.value).startswith(str(path))
+    assert caught.value.source == str(path)
 
 
 @pytest.mark.parametrize(
@@ -184,14 +186,24 @@ def test_a_wear_law_in_other_units_at_the_bounds(tmp_path, rows, refused):
         return
     with pytest.raises(FileRowError) as caught:
         read_wear_law(path)
-    assert refused in str(caught.value)
+    assert refused in str(caught.value) and caught.value.source == str(path)
 
 
 def test_the_unit_hints_say_which_way():
-    with pytest.raises(FileRowError, match=r"given per N·mm: give it per N·m \(1000 times the figure\)"):
+    with pytest.raises(FileRowError, match=r"k looks given per N·mm: give it per N·m \(1000 times the figure\)$"):
         read_wear_law_text("0.1,5e-12\n")
-    with pytest.raises(FileRowError, match=r"1000 times too large \(a unit\?\)"):
+    with pytest.raises(FileRowError, match=r"UHMWPE's \(1e-09 to 1e-05\): k looks 1000 times too large \(a unit\?\)$"):
         read_wear_law_text("0.1,5e-3\n0.2,1e-3\n")
+    # The smallest positive k is judged (a k of 0 is no unit's), unless the largest is beyond the range.
+    with pytest.raises(FileRowError, match="a wear factor 1e-12 mm³/"):
+        read_wear_law_text("0.1,0\n0.2,1e-12\n")
+    with pytest.raises(FileRowError, match="a wear factor 1e-12 mm³/"):
+        read_wear_law_text("0.1,1e-12\n0.2,1e-5\n")
+
+
+def test_a_missing_wear_law_file_is_named(tmp_path):
+    with pytest.raises(FileRowError, match=r"law\.csv: no such wear-law table$"):
+        read_wear_law(tmp_path / "law.csv")
 
 
 def read_wear_law_text(rows: str):
