@@ -113,3 +113,12 @@ def test_snapshots_less_than_a_cycle_apart_and_a_short_mean():
     assert exposure.mean(3.0, 3.0) is three[2]  # no cycles, after the start: the last interval's motion
     half = exposure.mean(2.0, 2.5)  # half a cycle in interval 0: its own motion, averaged
     assert half.load_slide_integral_Nm == pytest.approx(10.0) and half.cross_shear_work_weighted == pytest.approx(0.1)
+
+
+def test_parts_of_a_cycle_count():
+    exposure = Exposure("1", np.array([0.0, 4.0, 10.0]), MOTIONS, "s")
+    assert exposure.integral("local", 3.5, 4.5) == pytest.approx(0.5 * 10 + 0.5 * 30)
+    tiny = exposure.mean(2.0, 2.01)  # overlap × work = 0.1 N·m: CS still weighed
+    assert tiny.cross_shear_work_weighted == pytest.approx(0.1)
+    with pytest.raises(ArgumentError, match=r"^boundaries: expected 3 increasing cycles, got shape \(2,\)$"):
+        Exposure("1", np.array([0.0, 4.0]), MOTIONS, "s")

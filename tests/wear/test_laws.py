@@ -214,3 +214,19 @@ def read_wear_law_text(rows: str):
         path = Path(folder) / "law.csv"
         path.write_text("cross_shear,k_mm3_per_Nm\n" + rows)
         return read_wear_law(path)
+
+
+def test_a_tables_refusals_whole_and_its_columns_as_arrays():
+    with pytest.raises(ArgumentError, match=r"^t\.csv: expected a table of CS and k, one k per CS, got shape \(2,\)$"):
+        CrossShearLaw(np.array([0.1, 0.2]), np.array([1e-7]), "t.csv")
+    with pytest.raises(ArgumentError, match=r"^t\.csv: expected finite CS and k, got shape \(2,\)$"):
+        CrossShearLaw(np.array([0.1, 0.2]), np.array([1e-7, NAN]), "t.csv")
+    with pytest.raises(
+        ArgumentError, match=r"^t\.csv, row 2: expected CS increasing \(the row before has 0\.2\), got 0\.1$"
+    ):
+        CrossShearLaw(np.array([0.2, 0.1]), np.array([1e-7, 1e-7]), "t.csv")
+    with pytest.raises(ArgumentError, match=r"^t\.csv, row 3: expected a wear factor k ≥ 0 in mm³/\(N·m\), got -1\.0$"):
+        CrossShearLaw(np.array([0.1, 0.2, 0.3]), np.array([1e-7, 0.0, -1.0]), "t.csv")  # the first negative, not the 0
+    law = CrossShearLaw([0.0, 0.5], [1, 2])  # type: ignore[arg-type]
+    assert isinstance(law.cross_shear, np.ndarray) and law.k.dtype == float
+    assert law.describe().endswith("(2 rows, CS 0 to 0.5, k 1 to 2 mm³/(N·m))")
