@@ -85,7 +85,7 @@ def test_per_cycle_pieces_and_progress():
 def test_the_iteration_of_a_long_motion_finds_the_same_direction(monkeypatch):
     monkeypatch.setattr(maps_module, "KEEP_SAMPLES", 0)
     iterated = wear_maps(_motion(), 1.0, CupSetup(28.0), POINTS, piece=5)
-    assert 0 < iterated.iterations < maps_module.MAX_ITERATIONS
+    assert iterated.iterations == 3  # two passes to settle the start, one after the restart that confirms it
     assert iterated.cross_shear[0] == pytest.approx(_cs(4000.0, 6000.0), abs=1e-9)
     assert iterated.cross_shear[2] == pytest.approx(_cs(4000.0, 6000.0 * S2), abs=1e-9)
     assert math.isnan(iterated.cross_shear[1])
@@ -132,6 +132,16 @@ def test_an_open_motion_that_runs_on_into_its_start_is_one_whole_cycle():
 )
 def test_the_closing_step_at_three_end_steps(last, closes):
     load = np.array([10.0, 11.0, 9.0, 8.0, 8.0, 8.0, last, last])
+    _closing_case(load, closes)
+
+
+@pytest.mark.parametrize(("last", "closes"), [(7.0, True), (6.99, False)])
+def test_the_closing_step_counts_the_last_step_too(last, closes):
+    load = np.array([10.0, 10.0, 9.0, 8.0, 8.0, 8.0, last + 1.0, last])  # the last step changes by 1 N, the first by 0
+    _closing_case(load, closes)
+
+
+def _closing_case(load: np.ndarray, closes: bool) -> None:
     maps = wear_maps(_motion(periodic=False, load=load), 1.0, CupSetup(28.0), POINTS)
     # Closed: eight steps of 1/8 s (one cycle). Open: 7/8 s, the end samples half a step each.
     assert maps.cycles == pytest.approx(1.0 if closes else 7 / 8, rel=1e-12)
@@ -162,14 +172,20 @@ def test_three_samples_are_too_few_to_close_a_cycle():
 
 
 def test_refusals_name_the_motion():
-    with pytest.raises(TrajectoryError, match=r"hand.*load is negative \(-1 N\) at t = 0\.375 s"):
-        wear_maps(_motion(load=np.array([5.0, 5, 5, -1, 5, 5, 5, 5])), 1.0, CupSetup(28.0), POINTS)
-    with pytest.raises(TrajectoryError, match="at least two samples"):
+    with pytest.raises(TrajectoryError, match=r"^hand: the load is negative \(-1 N\) at t = 0\.375 s: a load presses$"):
+        wear_maps(_motion(load=np.array([5.0, 0, 5, -1, 5, 5, 5, 5])), 1.0, CupSetup(28.0), POINTS)
+    with pytest.raises(TrajectoryError, match="^hand: a motion needs at least two samples$"):
         wear_maps(_motion(n=1), 1.0, CupSetup(28.0), POINTS)
     for bad in (0.0, -1.0, math.nan, math.inf):
-        with pytest.raises(TrajectoryError, match="cycle time must be a positive number"):
+        with pytest.raises(
+            TrajectoryError, match=rf"^hand: the cycle time must be a positive number of seconds, got {bad!r}$"
+        ):
             wear_maps(_motion(), bad, CupSetup(28.0), POINTS)
-    with pytest.raises(TrajectoryError, match=r"covers 1 s, shorter than one cycle of 1\.01 s"):
+    with pytest.raises(
+        TrajectoryError,
+        match=r"^hand: the motion covers 1 s, shorter than one cycle of 1\.01 s: wear is "
+        r"given per cycle, and this motion has no whole one$",
+    ):
         wear_maps(_motion(), 1.01, CupSetup(28.0), POINTS)
     # One step short of the cycle, not periodic and not closing: still one cycle (of 7/8 s covered).
     open_ = _motion(periodic=False)
@@ -200,3 +216,86 @@ def test_a_load_of_zero_wears_nothing():
     maps = wear_maps(_motion(load=np.zeros(8)), 1.0, CupSetup(28.0), POINTS)
     assert not maps.loaded.any() and np.all(np.isnan(maps.cross_shear)) and maps.force_track_load_Nm == 0.0
     assert maps.force_track_mm == pytest.approx(R * A_RATE, rel=1e-12)
+
+
+def test_a_motion_at_any_start_time_and_cycle_length():
+    """The same motion 3.3 s later, or sampled twice as fast against a half-second cycle: the same per-cycle maps."""
+    motion = _motion()
+    base = wear_maps(motion, 1.0, CupSetup(28.0), POINTS)
+    for periodic in (True, False):
+        late = Trajectory(motion.t + 3.3, motion.q, motion.qd, motion.qdd, np.full(8, 1500.0), periodic=periodic)
+        flat = wear_maps(
+            Trajectory(motion.t, motion.q, motion.qd, motion.qdd, np.full(8, 1500.0)), 1.0, POINTS_SETUP, POINTS
+        )
+        shifted = wear_maps(late, 1.0, POINTS_SETUP, POINTS)
+        assert shifted.duration_s == pytest.approx(1.0, rel=1e-12) and shifted.cycles == pytest.approx(1.0, rel=1e-12)
+        np.testing.assert_allclose(shifted.work_N_per_mm, flat.work_N_per_mm, rtol=1e-12)
+    fast = Trajectory(motion.t / 2, motion.q, 2 * motion.qd, motion.qdd, np.full(8, 1500.0), periodic=False)
+    half = wear_maps(fast, 0.5, POINTS_SETUP, POINTS)
+    assert half.cycles == pytest.approx(1.0, rel=1e-12)
+    np.testing.assert_allclose(half.sliding_mm, base.sliding_mm, rtol=1e-12)  # twice the speed for half the time
+    source = wear_maps(SampledSource(motion), 1.0, POINTS_SETUP, POINTS)
+    np.testing.assert_allclose(source.work_N_per_mm, base.work_N_per_mm, rtol=1e-12)
+
+
+POINTS_SETUP = CupSetup(28.0)
+
+
+def test_the_open_motions_allowance_is_one_step():
+    """Open and not closing (the load jumps at the end): a step short of the cycle passes, a step and a half does not,
+    nor a hair more than a step (5e-7 of the cycle)."""
+    load = np.where(np.arange(8) < 4, 2000.0, 1000.0)
+    for cycle, taken in ((1.0, True), (1.0 + 0.5 / 8, False), (1.0 + 5e-7, False)):
+        motion = Trajectory(3.3 + np.arange(8) / 8, np.zeros((8, 3)), _motion().qd, np.zeros((8, 3)), load, "open")
+        if taken:
+            assert wear_maps(motion, cycle, POINTS_SETUP, POINTS).duration_s == pytest.approx(7 / 8, rel=1e-12)
+        else:
+            with pytest.raises(TrajectoryError, match=r"^open: the motion covers 0\.875 s, shorter than one cycle of "):
+                wear_maps(motion, cycle, POINTS_SETUP, POINTS)
+
+
+def test_four_samples_close_a_cycle_and_two_are_a_motion():
+    four = Trajectory(
+        np.arange(4) / 4, np.zeros((4, 3)), np.tile([0.0, 2.0, 0.0], (4, 1)), np.zeros((4, 3)), np.full(4, 1500.0)
+    )
+    assert wear_maps(four, 1.0, POINTS_SETUP, POINTS).duration_s == pytest.approx(1.0, rel=1e-12)
+    two = Trajectory(
+        np.array([0.0, 0.5]),
+        np.zeros((2, 3)),
+        np.tile([0.0, 2.0, 0.0], (2, 1)),
+        np.zeros((2, 3)),
+        np.full(2, 1500.0),
+        periodic=True,
+    )
+    assert wear_maps(two, 1.0, POINTS_SETUP, POINTS).sliding_mm[0] == pytest.approx(R * 2.0, rel=1e-12)
+
+
+def test_two_cycles_close_to_a_millionth_each():
+    motion = _motion(n=16, load=np.full(16, 1500.0))
+    slow = Trajectory(motion.t * 2, motion.q, motion.qd, motion.qdd, motion.Fe, periodic=False)  # 16 steps of 1/8 s
+    maps = wear_maps(slow, 1.0 / (1.0 + 0.9e-6), POINTS_SETUP, POINTS)
+    assert maps.duration_s == pytest.approx(2.0, rel=1e-12)
+
+
+def test_a_closed_cycle_read_in_pieces_and_a_fourth_point(monkeypatch):
+    flat = np.full(8, 1500.0)
+    whole = wear_maps(_motion(periodic=False, load=flat), 1.0, POINTS_SETUP, POINTS)
+    pieces = wear_maps(_motion(periodic=False, load=flat), 1.0, POINTS_SETUP, POINTS, piece=3)
+    np.testing.assert_allclose(pieces.work_N_per_mm, whole.work_N_per_mm, rtol=1e-12)
+    four = cup_points(np.vstack([POINTS.w, [[0.0, S2, S2]]]))
+    more = wear_maps(_motion(), 1.0, POINTS_SETUP, four)
+    base = wear_maps(_motion(), 1.0, POINTS_SETUP, POINTS)
+    np.testing.assert_allclose(more.work_N_per_mm[:3], base.work_N_per_mm, rtol=1e-12)
+    np.testing.assert_allclose(more.cross_shear[[0, 2]], base.cross_shear[[0, 2]], rtol=1e-12)
+    monkeypatch.setattr(maps_module, "KEEP_SAMPLES", 0)
+    iterated = wear_maps(_motion(), 1.0, POINTS_SETUP, four)
+    np.testing.assert_allclose(iterated.cross_shear[[0, 2]], base.cross_shear[[0, 2]], atol=1e-9)
+
+
+def test_a_motion_of_keep_samples_is_held_and_the_iterations_steps_are_its_pieces(monkeypatch):
+    monkeypatch.setattr(maps_module, "KEEP_SAMPLES", 8)
+    assert wear_maps(_motion(), 1.0, POINTS_SETUP, POINTS).iterations == 0  # 8 samples: held, the exact search
+    monkeypatch.setattr(maps_module, "KEEP_SAMPLES", 7)
+    calls: list[tuple[int, int]] = []
+    maps = wear_maps(_motion(), 1.0, POINTS_SETUP, POINTS, piece=3, progress=lambda d, n: calls.append((d, n)))
+    assert maps.iterations > 0 and calls == [(1, 3), (2, 3), (3, 3)]  # no parts of points: only the pieces
