@@ -18,9 +18,9 @@ C, S = math.cos(0.3), math.sin(0.3)
 
 def test_elementary_rotations_by_hand():
     angle = np.array([0.3])
-    assert_allclose(elementary(0, angle)[0], [[1, 0, 0], [0, C, -S], [0, S, C]], atol=1e-15)
-    assert_allclose(elementary(1, angle)[0], [[C, 0, S], [0, 1, 0], [-S, 0, C]], atol=1e-15)
-    assert_allclose(elementary(2, angle)[0], [[C, -S, 0], [S, C, 0], [0, 0, 1]], atol=1e-15)
+    assert_allclose(elementary(0, angle)[0], np.array([[1, 0, 0], [0, C, -S], [0, S, C]]), atol=1e-15)
+    assert_allclose(elementary(1, angle)[0], np.array([[C, 0, S], [0, 1, 0], [-S, 0, C]]), atol=1e-15)
+    assert_allclose(elementary(2, angle)[0], np.array([[C, -S, 0], [S, C, 0], [0, 0, 1]]), atol=1e-15)
     assert elementary(2, np.zeros(4)).shape == (4, 3, 3)
 
 

@@ -5,6 +5,7 @@ not numbers skipped), its words and its document. (The error against ISO by gait
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 import pytest
@@ -41,7 +42,7 @@ def test_the_last_snapshot_with_an_estimate_and_the_stations_own_column():
 
 
 def test_a_table_without_estimates_or_flags():
-    table = {"cycle": [0, 10], "hip_mu_change": [NAN, None]}
+    table: dict[str, list[Any]] = {"cycle": [0, 10], "hip_mu_change": [NAN, None]}
     state = friction_state(table, 1, "m.csv")
     assert state is not None and state.last_cycle == 10 and state.snapshots == 2  # the last row
     assert math.isnan(state.hip_mu_change) and math.isnan(state.hip_mu_change_std) and state.flag == ""
@@ -77,6 +78,10 @@ def test_a_friction_states_words_and_document():
 
 
 def test_an_estimate_only_at_the_first_snapshot_is_the_last_one():
-    table = {"cycle": [0, 10, 20], "hip_mu_change": [0.002, NAN, "x"], "hip_mu_change_std": [0.001, 0.0, 0.0]}
+    table: dict[str, list[Any]] = {
+        "cycle": [0, 10, 20],
+        "hip_mu_change": [0.002, NAN, "x"],
+        "hip_mu_change_std": [0.001, 0.0, 0.0],
+    }
     state = friction_state(table, None, "m.csv")
     assert state is not None and (state.last_cycle, state.hip_mu_change, state.hip_mu_change_std) == (0, 0.002, 0.001)
