@@ -107,3 +107,20 @@ def test_a_setup_by_hand_and_at_its_bounds():
             CupSetup(cup_mount_rad=mount)  # type: ignore[arg-type]
     with pytest.raises(ArgumentError, match="moving: .*'cup' or 'head'"):
         CupSetup(moving="Cup")
+
+
+def test_each_refusal_shows_the_value_given():
+    with pytest.raises(ArgumentError, match=r"^head diameter: expected a positive diameter in mm, got -1\.0$"):
+        CupSetup(-1.0)
+    with pytest.raises(
+        ArgumentError, match=r"^head diameter: expected at most 100 mm \(hip heads are 22 to 60 mm\), got 101\.0$"
+    ):
+        CupSetup(101.0)
+    with pytest.raises(
+        ArgumentError, match=r"^sequence: expected a permutation of X, Y and Z, e\.g\. ZYX or XYZ, got 'ZZX'$"
+    ):
+        CupSetup(sequence="ZZX")
+    with pytest.raises(ArgumentError, match=r"^cup mount: expected three finite angles in rad, got \(0\.0, 0\.0\)$"):
+        CupSetup(cup_mount_rad=(0.0, 0.0))  # type: ignore[arg-type]
+    with pytest.raises(ArgumentError, match=r"^moving: expected 'cup' or 'head', got 'both'$"):
+        CupSetup(moving="both")
