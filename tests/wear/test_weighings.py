@@ -78,6 +78,7 @@ def test_refusals_name_their_line_and_column(tmp_path, text, message):
     with pytest.raises(FileRowError) as caught:
         _read(tmp_path, text)
     assert message in str(caught.value)
+    assert caught.value.source == str(tmp_path / "w.csv") and str(caught.value).startswith(str(tmp_path / "w.csv"))
 
 
 def test_the_boundaries_that_pass(tmp_path):
