@@ -95,3 +95,14 @@ def test_the_unit_and_cup_tolerances_are_inclusive():
     z = -(2.0**-10)
     cup_points(np.array([[math.sqrt(1 - z * z), 0.0, z]]))
     assert UNIT_TOLERANCE == 1e-3
+
+
+def test_grids_of_one_and_of_the_most_cells_are_taken_and_n_phi_is_named():
+    one = cup_grid(1, 1, radius_mm=1.0)
+    assert one.shape == (1, 1) and one.w.shape == (1, 3) and one.area_mm2 is not None
+    assert one.area_mm2[0] == pytest.approx(math.sin(math.pi / 4) * (math.pi / 2) * 2 * math.pi)
+    assert cup_grid(1000, 1, radius_mm=1.0).shape == (1000, 1)
+    with pytest.raises(ArgumentError, match=r"^n_phi: expected a whole number of cells from 1 to 2000, got 2001$"):
+        cup_grid(1, 2001)
+    with pytest.raises(ArgumentError, match=r"^n_theta: expected a whole number of cells from 1 to 1000, got 0$"):
+        cup_grid(0, 1)
