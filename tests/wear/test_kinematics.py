@@ -124,3 +124,12 @@ def test_each_refusal_shows_the_value_given():
         CupSetup(cup_mount_rad=(0.0, 0.0))  # type: ignore[arg-type]
     with pytest.raises(ArgumentError, match=r"^moving: expected 'cup' or 'head', got 'both'$"):
         CupSetup(moving="both")
+
+
+def test_the_setups_sequence_is_the_one_used():
+    """A file written in XYZ: R_rel and Ω are those of R = Rx·Ry·Rz, not the machine's ZYX."""
+    q, qd = np.array([[0.3, -0.2, 0.5]]), np.array([[1.0, 2.0, -0.5]])
+    motion = relative_motion(_one(q, qd), CupSetup(sequence="XYZ"))
+    assert_allclose(motion.rotation, sequence_rotation(q, "XYZ"), atol=1e-15)
+    assert_allclose(motion.omega, body_velocity(q, qd, "XYZ"), atol=1e-15)
+    assert not np.allclose(motion.rotation, sequence_rotation(q, "ZYX"))
