@@ -30,7 +30,6 @@ EXEMPT = {
 
 #: Modules with logic still lacking a test file at their mirrored path -> where they are exercised today.
 KNOWN_GAPS = {
-    "analysis/crosscheck_summary.py": "through the commands' JSON: tests/test_schemas.py",
     "analytic/engine.py": "analytic/test_chain_dynamics.py, rig/test_plausibility_laws.py",
     "analytic/stations.py": "analytic/test_chain_dynamics.py, machine/test_chains.py (+2)",
     "cli/calibrate.py": "through the command line: tests/test_cli.py and its command's tests",
@@ -65,12 +64,8 @@ KNOWN_GAPS = {
     "closed_chain/workspace.py": "closed_chain/test_closure_kernel.py",
     "control/chain_kernel.py": "control/test_machine_loop.py",
     "control/closed_chain_loop.py": "closed_chain/test_plant.py, control/test_simulation.py",
-    "control/controllers.py": "closed_chain/test_plant.py, control/test_simulation.py (+1)",
-    "control/feedback.py": "control/test_machine_loop.py",
     "control/machine_kernel.py": "indirectly, through control/test_machine_loop.py",
     "control/servo_kernel.py": "control/test_simulation.py",
-    "control/simulation_summary.py": "through the commands' JSON: tests/test_schemas.py",
-    "control/tracking.py": "control/test_machine_loop.py",
     "design/variants.py": "design/test_sweep.py, test_tables_long_fields.py",
     "engine.py": "analysis/test_registry.py",
     "exceptions.py": "analysis/test_cluster_batches.py, analysis/test_registry.py (+55)",
@@ -107,10 +102,8 @@ KNOWN_GAPS = {
     "present/wear_test_figures.py": "indirectly, through the modules that call it",
     "present/wear_test_page.py": "cli/test_wear_test.py",
     "present/workspace_figures.py": "indirectly, through the modules that call it",
-    "rig/compare_summary.py": "through the commands' JSON: tests/test_schemas.py, rig/test_compare.py",
     "rig/identification/self_check.py": "through hipsim.fit_checks: test_fit_checks.py",
     "rig/logs/text_rows.py": "rig/logs/test_reader_laws.py",
-    "rig/monitoring/monitor_summary.py": "through the commands' JSON: tests/test_schemas.py, rig/monitoring/test_monitor_run.py",
     "stations/calibration_check.py": "through hipsim.fit_checks and calibrate's gates: test_fit_checks.py",
     "stations/calibration_file.py": "indirectly, through the modules that call it",
     "stations/excitation.py": "stations/test_calibration.py",
