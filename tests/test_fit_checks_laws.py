@@ -17,7 +17,9 @@ def test_the_noise_from_fourth_differences_by_hand():
     x = np.array([0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0])
     assert difference_noise(x) == pytest.approx(1.4826 * 5 / math.sqrt(70), rel=1e-12)
     both = difference_noise(np.column_stack([x, 3 * x, np.arange(7.0) ** 3]))  # a cubic has no fourth difference
-    assert both == pytest.approx([1.4826 * 5 / math.sqrt(70), 3 * 1.4826 * 5 / math.sqrt(70), 0.0], rel=1e-12, abs=1e-12)
+    assert both == pytest.approx(
+        [1.4826 * 5 / math.sqrt(70), 3 * 1.4826 * 5 / math.sqrt(70), 0.0], rel=1e-12, abs=1e-12
+    )
     assert difference_noise(x[:5]) == 0.0  # five samples: one fourth difference
     assert np.isnan(difference_noise(x[:4])) and difference_noise(np.zeros((4, 2))).shape == (2,)
 
@@ -32,7 +34,9 @@ def test_the_residual_gate_at_its_edges():
     assert residual_gate([0.0], [0.0], ("a",), "m", factor=0.5) is None  # no residual and no noise: a ratio of 0
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # no division by a zero noise, even where it is not used
-        assert residual_gate([1.0, 0.0], [0.0, 0.0], ("a", "b"), "m") == "residuals beyond 3 times the noise: a 1 m (inf×)"
+        assert (
+            residual_gate([1.0, 0.0], [0.0, 0.0], ("a", "b"), "m") == "residuals beyond 3 times the noise: a 1 m (inf×)"
+        )
 
 
 def test_a_pattern_of_small_numbers_is_named():

@@ -56,7 +56,7 @@ class _Every(Record):
     many: tuple[float, ...]
     table: dict[str, int]
     mapping: Mapping[str, bool]
-    loose: dict  # type: ignore[type-arg]
+    loose: dict  # a bare dict: any values
     extra: _Extra = flattened()
     spare: _Extra | None = optional(flatten=True)
     nothing: None = None
@@ -128,7 +128,9 @@ def test_a_record_s_own_schema_title():
         schema_title = "titled thing"
         x: int
 
-    assert Titled.json_schema()["title"] == "titled thing" and Titled.json_schema()["$id"].endswith("/titled-thing/v1.json")
+    assert Titled.json_schema()["title"] == "titled thing" and Titled.json_schema()["$id"].endswith(
+        "/titled-thing/v1.json"
+    )
     assert Titled.json_schema("cmd")["title"] == "hipsim cmd --summary-format json"
 
 
@@ -142,11 +144,12 @@ def test_a_type_with_no_schema_is_named():
 
 
 def test_the_json_of_every_kind():
-    every = _Every(
+    values: dict[str, Any] = dict(
         anything=[1, "x"], yes=True, ratio=math.inf, count=np.int64(4), text="t", colour=_Colour.BLUE, leaf=_Leaf(2),
         either="s", kind="a", items=[1.0, math.nan], seq=(1, 2), pair=(1, "a"), many=np.array([0.5, -math.inf]),
         table={1: 2}, mapping={"k": True}, loose={}, extra=_Extra("n"), spare=None, maybe=None, renamed=7,
     )  # fmt: skip
+    every = _Every(**values)
     doc = every.to_json()
     assert doc == {
         "anything": [1, "x"], "yes": True, "ratio": None, "count": 4, "text": "t", "colour": "blue", "leaf": {"size": 2},

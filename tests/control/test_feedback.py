@@ -33,7 +33,7 @@ def test_the_defaults():
 def test_encoders_round_half_steps_to_even_and_negative_readings_down():
     L = np.array([2.5e-3, -0.7e-3, 3.49e-3])
     assert encoder_reading(L, 1e-3) == pytest.approx([2e-3, -1e-3, 3e-3], abs=1e-15)
-    exact = encoder_reading([1, 2, 3], 0.0)  # an exact reading is a float copy
+    exact = encoder_reading(np.array([1, 2, 3]), 0.0)  # an exact reading is a float copy
     assert exact.dtype == float and exact.tolist() == [1.0, 2.0, 3.0]
 
 

@@ -35,9 +35,11 @@ def _desired(t):
 def test_controlled_machine(drawing):
     assert controlled_machine(drawing, 1) is drawing  # the drawing: its platforms turn alike
     built = drawing.replace(geometry=deviated(seed=5))
+    assert built.geometry is not None
     assert controlled_machine(built, built.geometry.control) is built
     other = 3 - built.geometry.control
-    assert controlled_machine(built, other).geometry.control == other
+    turned = controlled_machine(built, other).geometry
+    assert turned is not None and turned.control == other
 
 
 def test_model_pd(drawing):
@@ -80,13 +82,21 @@ def test_on_the_drawing_the_loop_is_simulate_s(drawing):
             return ff[int(round(t * 1000))] + super().__call__(t, state, desired)
 
     sim = simulate(plant, Same(drawing), _desired, 0.004)
-    assert run.attitudes[:, 1] == pytest.approx(sim.q, abs=1e-14) and run.attitudes[:, 0] == pytest.approx(sim.q, abs=1e-14)
+    assert run.attitudes[:, 1] == pytest.approx(sim.q, abs=1e-14) and run.attitudes[:, 0] == pytest.approx(
+        sim.q, abs=1e-14
+    )
     assert run.rates[:, 1] == pytest.approx(sim.qd, abs=1e-13)
     assert run.tau == pytest.approx(sim.tau, rel=1e-12) and run.measured == pytest.approx(sim.q, abs=1e-14)
     assert run.motor_speed == pytest.approx(sim.motor_speed, rel=1e-9)
     L, _, _, _ = plant.readings(np.r_[sim.q[3], sim.qd[3]])
     assert run.carriages[3] == pytest.approx(L, abs=1e-15)
-    assert (run.plant, run.controller, run.feedback, run.control, run.step) == ("reduced", "augmented", "sensors", 2, 5e-4)
+    assert (run.plant, run.controller, run.feedback, run.control, run.step) == (
+        "reduced",
+        "augmented",
+        "sensors",
+        2,
+        5e-4,
+    )
     assert run.t.tolist() == pytest.approx([0.0, 0.001, 0.002, 0.003])
     assert run.desired.Fe.tolist() == pytest.approx([1000.0, 1000.5, 1001.0, 1001.5])
 
@@ -118,12 +128,16 @@ def test_what_does_not_fit_is_refused(drawing):
     pd = ModelPD(drawing, 2)
     with pytest.raises(ArgumentError, match="^feedback: expected the controller's platform 2, got 1"):
         run_machine(plant, pd, SensorFeedback(1), _desired, 0.003)
-    with pytest.raises(ArgumentError, match=r"^feedforward: expected torques of shape \(3, 3\), one row a servo period"):
+    with pytest.raises(
+        ArgumentError, match=r"^feedforward: expected torques of shape \(3, 3\), one row a servo period"
+    ):
         run_machine(plant, pd, SensorFeedback(2), _desired, 0.003, feedforward=np.zeros((2, 3)))
     with pytest.raises(ArgumentError, match=r"^duration: expected at least two servo periods \(0\.002 s\)"):
         run_machine(plant, pd, SensorFeedback(2), _desired, 0.0014)
     assert run_machine(plant, pd, SensorFeedback(2), _desired, 0.0015).t.size == 2
-    with pytest.raises(ArgumentError, match="^compiled: expected False or None, unless the plant offers compiled_stepper"):
+    with pytest.raises(
+        ArgumentError, match="^compiled: expected False or None, unless the plant offers compiled_stepper"
+    ):
         run_machine(plant, pd, SensorFeedback(2), _desired, 0.003, compiled=True)
     with pytest.raises(ArgumentError, match="^step"):
         run_machine(plant, pd, SensorFeedback(2), _desired, 0.003, step=0.002)
@@ -156,6 +170,8 @@ def test_a_state_no_longer_finite_or_an_unreadable_attitude_is_named(drawing):
             reading, angles, rates = super().measure(k, t, L, Ld, q, qd)
             return (reading + 1.0, angles * math.nan, rates) if k == 1 else (reading, angles, rates)
 
-    with pytest.raises(PoseError, match=r"finds no attitude of platform 2 for what the encoders read \(\d+\.\d{4}, ") as error:
+    with pytest.raises(
+        PoseError, match=r"finds no attitude of platform 2 for what the encoders read \(\d+\.\d{4}, "
+    ) as error:
         run_machine(ReducedPlant(drawing), ModelPD(drawing, 2), Lost(drawing, 2), _desired, 0.004)
     assert (error.value.time, error.value.index) == (pytest.approx(0.001), 1)

@@ -35,6 +35,7 @@ def _desired(t):
 class DoubleIntegrator:
     """q̈ = c·τ + k·F_e(t), q̇ and q from the desired state: exact under RK4 (a cubic in t), whatever the step."""
 
+    name = "double integrator"
     c, k = 1e-2, 1e-5
 
     def __init__(self, params):
@@ -99,7 +100,7 @@ def test_the_loop_holds_each_period_s_torque_over_rk4_steps_and_their_loads(para
     # The records: torques as asked, none limited, the names, the motor speeds of the motion.
     assert sim.tau.tolist() == torques.tolist() and sim.tau_requested.tolist() == torques.tolist()
     assert not sim.saturated.any()
-    assert (sim.plant, sim.controller) == ("DoubleIntegrator", "steps")
+    assert (sim.plant, sim.controller) == ("double integrator", "steps")
     actual = Trajectory(sim.t, sim.q, sim.qd, np.zeros((4, 3)), sim.desired.Fe)
     speed = angle_from_travel(kinematics(params, actual).Ld[:, 0], params.lead)
     assert sim.motor_speed == pytest.approx(speed, rel=1e-12)
@@ -116,7 +117,9 @@ def test_a_step_that_fills_the_period_is_kept(params):
 def test_the_limit_holds_and_counts_only_torques_beyond_it(params):
     """A torque exactly at the limit is not limited; beyond it, it is clipped to ±limit and counted."""
     torques = np.array([[1.0, -1.0, 0.0], [1.5, 0.0, 0.0], [0.0, -1.0000001, 0.2]])
-    sim = simulate(DoubleIntegrator(params), Steps(torques), _desired, 0.03, servo_rate=100.0, step=0.01, torque_limit=1.0)
+    sim = simulate(
+        DoubleIntegrator(params), Steps(torques), _desired, 0.03, servo_rate=100.0, step=0.01, torque_limit=1.0
+    )
     assert sim.saturated.tolist() == [False, True, True]
     assert sim.tau.tolist() == [[1.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, -1.0, 0.2]]
     assert sim.tau_requested.tolist() == torques.tolist()
@@ -167,7 +170,9 @@ def test_the_python_and_compiled_loops_of_the_reduced_plant_agree(params):
     """Five periods of the reduced plant under the PD, each loop: the same numbers."""
     plant = ReducedPlant(params, lever_spin=False)
     runs = [
-        simulate(plant, WorkspacePD(params), _desired, 0.005, 1000.0, 5e-4, initial_state=np.r_[Q0 + 0.002, QD0], compiled=c)
+        simulate(
+            plant, WorkspacePD(params), _desired, 0.005, 1000.0, 5e-4, initial_state=np.r_[Q0 + 0.002, QD0], compiled=c
+        )
         for c in (False, True, None)
     ]
     for run in runs[1:]:
@@ -199,7 +204,9 @@ def test_servo_settings_at_their_edges():
     control = ControlSettings(1000.0, 5e-4, np.ones(3), np.ones(3), 2.0)
     assert servo_settings(control, None, None, None) == (1000.0, 5e-4, 2.0)
     assert servo_settings(control, 100.0, 0.01 * (1 + 1e-10), math.inf) == (100.0, 0.01 * (1 + 1e-10), math.inf)
-    with pytest.raises(ArgumentError, match=r"^step: expected an integration step no longer than the servo period 0\.01 s"):
+    with pytest.raises(
+        ArgumentError, match=r"^step: expected an integration step no longer than the servo period 0\.01 s"
+    ):
         servo_settings(control, 100.0, 0.01 * (1 + 2e-9), None)
     for name, args in (
         ("servo_rate", (0.0, None, None)),
@@ -242,10 +249,14 @@ def test_a_simulation_s_columns_and_summary(tmp_path):
     tau = np.array([[0.1, 0.2, 0.3], [0.0, 0.0, 0.0], [-0.4, 0.0, 0.0]])
     speed = np.array([[1.0, 2.0, 3.0], [0.0, 0.0, 0.0], [0.0, 0.0, -4.0]])
     sim = Simulation(t, desired, q, z, tau, 2 * tau, np.array([True, False, False]), speed, "reduced", "pd", 5e-4)
-    assert np.degrees(sim.err) == pytest.approx(np.array([[0.0, -0.5, 1.0], [1.0, 0.0, 0.0], [0.0, 0.0, -2.0]]), abs=1e-12)
+    assert np.degrees(sim.err) == pytest.approx(
+        np.array([[0.0, -0.5, 1.0], [1.0, 0.0, 0.0], [0.0, 0.0, -2.0]]), abs=1e-12
+    )
     c = sim.columns()
     angles = [name for n in ("alpha", "beta", "gamma") for name in (f"{n}_des_deg", f"{n}_deg", f"err_{n}_deg")]
-    motors = [f"{kind}_{i}_{unit}" for kind, unit in (("tau", "Nmm"), ("tau_req", "Nmm"), ("speed", "rpm")) for i in (1, 2, 3)]
+    motors = [
+        f"{kind}_{i}_{unit}" for kind, unit in (("tau", "Nmm"), ("tau_req", "Nmm"), ("speed", "rpm")) for i in (1, 2, 3)
+    ]
     assert list(c) == ["t_s", *angles, *motors, "saturated"]
     assert c["beta_des_deg"] == pytest.approx([1.0] * 3, rel=1e-12)
     assert c["gamma_deg"] == pytest.approx([0.0, 1.0, 3.0], abs=1e-12)

@@ -115,7 +115,12 @@ def test_the_summary_as_json():
         "peak_deg": 0.0,
         "peak_at_s": 0.0,
     }
-    assert doc["motors"][2] == {"motor": 3, "torque_peak_Nmm": 0.0, "torque_rms_Nmm": 0.0, "speed_peak_rpm": s.motors[2].speed_peak_rpm}
+    assert doc["motors"][2] == {
+        "motor": 3,
+        "torque_peak_Nmm": 0.0,
+        "torque_rms_Nmm": 0.0,
+        "speed_peak_rpm": s.motors[2].speed_peak_rpm,
+    }
     assert (doc["control"], doc["saturated_samples"], doc["step_s"]) == (2, 3, 5e-4)
     doc["errors"][0]["rms_deg"] = -1.0  # a copy: the record is not changed through its JSON
     assert s.errors[0].rms_deg > 0

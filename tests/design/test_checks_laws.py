@@ -95,7 +95,11 @@ def test_a_check_as_a_mapping():
 
 
 def test_the_verdict_s_sentences_whole():
-    checks = [_check(1, "stroke", 3.0, 4.0), _check(2, "max_speed", 5.0, 4.0), _check(3, "s1_rms", 1.0, None, missing="x")]
+    checks = [
+        _check(1, "stroke", 3.0, 4.0),
+        _check(2, "max_speed", 5.0, 4.0),
+        _check(3, "s1_rms", 1.0, None, missing="x"),
+    ]
     verdict = checks_verdict(checks, "motor A")
     assert verdict.level == Level.FAIL
     assert verdict.judged == "1 of 2 checks of motor A pass; binding: peak motor speed, LN2, margin -0.25"
@@ -137,11 +141,18 @@ def test_a_drive_of_no_figures_says_what_each_check_needs(run):
             check = only(checks, key, module)
             assert (check.detail, check.passed, check.margin) == (f"not checked: {words}", None, None), key
             assert check.trajectory == run.trajectory.name
-    assert only(checks, "peak_curve").value == pytest.approx(300.0) and only(checks, "s1_rms", 2).value == pytest.approx(300.0)
+    assert only(checks, "peak_curve").value == pytest.approx(300.0) and only(
+        checks, "s1_rms", 2
+    ).value == pytest.approx(300.0)
     assert only(checks, "max_speed").value == pytest.approx(1500.0) and only(checks, "max_speed").limit is None
     assert only(checks, "inertia_ratio").value is None and only(checks, "amplifier_peak_current").value is None
-    assert only(checks, "buckling", 3).value == pytest.approx(200.0) and only(checks, "axial_force").value == pytest.approx(200.0)
-    assert only(checks, "critical_speed").value == pytest.approx(only(checks, "critical_speed").value) and only(checks, "critical_speed").limit is None
+    assert only(checks, "buckling", 3).value == pytest.approx(200.0) and only(
+        checks, "axial_force"
+    ).value == pytest.approx(200.0)
+    assert (
+        only(checks, "critical_speed").value == pytest.approx(only(checks, "critical_speed").value)
+        and only(checks, "critical_speed").limit is None
+    )
     rules = Drive(Motor("bare")).rules
     assert only(checks, "inertia_ratio").limit == rules.inertia_ratio_max
     assert only(checks, "winding_rise").limit == rules.winding_rise_max

@@ -67,6 +67,12 @@ def test_each_verdict_line_whole():
 def test_a_crossing_s_record_is_the_crossing_s_figures():
     crossing = Crossing("motor_speed", 2, 0.25, 600.0, 300.0)
     record = _summary(crossings=[crossing]).crossings[0]
-    assert (record.limit, record.motor, record.t_s, record.needed, record.allowed) == ("motor_speed", 2, 0.25, 600.0, 300.0)
+    assert (record.limit, record.motor, record.t_s, record.needed, record.allowed) == (
+        "motor_speed",
+        2,
+        0.25,
+        600.0,
+        300.0,
+    )
     assert record.message == crossing.message() and record.excess == crossing.excess
     assert _summary(k=0.7, period=None).cycle_frequency_Hz is None and _summary(k=0.7).speed_factor == 0.7

@@ -109,12 +109,24 @@ def test_each_judged_sentence_whole():
     good = _check(CycleDeviation(0.0, 1.0, 1.0, 0.5, 0.25, 10.0), CycleDeviation(1.0, 1.0, 2.5, 0.5, 0.125, 20.0))
     tracking = Tracking({"alpha": 0.5, "beta": 0.0, "gamma": 0.0}, {"alpha": 1.0, "beta": 3.5, "gamma": 0.0})
     passed = station_iso_verdict("m_2", good, None, None)
-    assert passed.judged == "m_2's motion against the ISO 14242-1 waveform: worst alpha 2.5°, beta 0.5°, gamma 0.25°, within tolerance"
-    assert (passed.verdict, passed.cycles, passed.failing, passed.desired, passed.tracking) == (Level.PASS, 2, (), None, None)
+    assert (
+        passed.judged
+        == "m_2's motion against the ISO 14242-1 waveform: worst alpha 2.5°, beta 0.5°, gamma 0.25°, within tolerance"
+    )
+    assert (passed.verdict, passed.cycles, passed.failing, passed.desired, passed.tracking) == (
+        Level.PASS,
+        2,
+        (),
+        None,
+        None,
+    )
     assert passed.worst_deg == {"alpha": 2.5, "beta": 0.5, "gamma": 0.25}
     bad = _check(CycleDeviation(0.0, 1.0, 4.0, 0.5, 3.5, 10.0))
     failed = station_iso_verdict("m_1", bad, good, tracking)
-    assert failed.judged == "m_1's motion against the ISO 14242-1 waveform: worst alpha 4°, beta 0.5°, gamma 3.5°; fails alpha, gamma"
+    assert (
+        failed.judged
+        == "m_1's motion against the ISO 14242-1 waveform: worst alpha 4°, beta 0.5°, gamma 3.5°; fails alpha, gamma"
+    )
     assert (failed.verdict, failed.failing, failed.tracking) == (Level.FAIL, ("alpha", "gamma"), tracking)
     assert failed.desired is not None and failed.desired.iso and failed.desired.worst_deg["alpha"] == 2.5
     # The desired motion not the waveform: the station is judged on its tracking's peaks against the tolerances.
@@ -171,7 +183,9 @@ def test_the_tracking_by_hand_on_integers():
     assert verdict.verdict == Level.NOT_MADE and verdict.judged == "m_1's motion: no ISO 14242-1 check"
     assert verdict.tracking is not None
     assert verdict.tracking.rms_deg["alpha"] == pytest.approx(np.degrees(np.sqrt(10 / 4)), rel=1e-12)
-    assert verdict.tracking.peak_abs_deg == pytest.approx({"alpha": np.degrees(2.0), "beta": 0.0, "gamma": np.degrees(1.0)})
+    assert verdict.tracking.peak_abs_deg == pytest.approx(
+        {"alpha": np.degrees(2.0), "beta": 0.0, "gamma": np.degrees(1.0)}
+    )
     assert verdict.reason and verdict.reason != "None" and not verdict.reason.startswith("t = ")
     assert verdict.to_json()["reason"] == verdict.reason
 
@@ -185,7 +199,13 @@ def test_the_iso_check_summary_by_hand():
         source="log.csv",
     )
     s = iso_check_summary(check)
-    assert (s.source, s.passed, s.failing, s.cycles, s.level) == ("log.csv", False, ("beta", "gamma", "load", "frequency"), 2, Level.FAIL)
+    assert (s.source, s.passed, s.failing, s.cycles, s.level) == (
+        "log.csv",
+        False,
+        ("beta", "gamma", "load", "frequency"),
+        2,
+        Level.FAIL,
+    )
     assert s.tolerances_assumed == "defaults are assumed values: confirm them against your copy of ISO 14242-1"
     assert list(s.quantities) == ["alpha", "beta", "gamma", "load", "frequency"]
     a, b, load, f = (s.quantities[k] for k in ("alpha", "beta", "load", "frequency"))

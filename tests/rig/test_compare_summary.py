@@ -11,12 +11,16 @@ from hipsim.rig.compare_summary import ComparisonSummary, MotorError, Phases
 
 
 def _motor(rms: float) -> MotorError:
-    return MotorError(rms, rms / 10, 0.25, rms, 2 * rms, 0.5, 10 * rms, 20 * rms, 0.1, 0.1, {"tau_m": 1.0, "tau_f": math.nan})
+    return MotorError(
+        rms, rms / 10, 0.25, rms, 2 * rms, 0.5, 10 * rms, 20 * rms, 0.1, 0.1, {"tau_m": 1.0, "tau_f": math.nan}
+    )
 
 
 def _summary(phases: Phases | None) -> ComparisonSummary:
     motors = {str(i): _motor(float(i)) for i in (1, 2, 3)}
-    return ComparisonSummary("rig.csv", 1000, 500.0, None, "log", "published", True, motors, 0.3, 1.0, ["a note"], phases)
+    return ComparisonSummary(
+        "rig.csv", 1000, 500.0, None, "log", "published", True, motors, 0.3, 1.0, ["a note"], phases
+    )
 
 
 def test_the_json_of_a_comparison_with_and_without_phases():

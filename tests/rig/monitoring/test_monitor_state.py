@@ -80,7 +80,11 @@ def test_each_verdict_whole():
         (verdict((0, "notice: y"), None, "notice: y"), Level.NOTICE, "at the last snapshot a notice: y"),
         (verdict((0, ""), 1234, None), Level.OK, "no alarm at the last snapshot (cycle 1,234)"),
         (verdict((0, ""), None, None), Level.OK, "no alarm at the last snapshot"),
-        (verdict((0, ""), 5, None, "fewer than 3 snapshots"), Level.NOT_MADE, "no baseline yet: fewer than 3 snapshots"),
+        (
+            verdict((0, ""), 5, None, "fewer than 3 snapshots"),
+            Level.NOT_MADE,
+            "no baseline yet: fewer than 3 snapshots",
+        ),
     ]
     for made, level, judged in cases:
         assert (made.level, made.judged, made.not_judged) == (level, judged, NOT_JUDGED)

@@ -22,7 +22,12 @@ def test_the_json_of_a_monitor_run():
     doc = summary.to_json()
     assert doc["baseline"]["from"] == 0 and "from_" not in doc["baseline"] and doc["baseline"]["to"] == 500_000
     assert doc["baseline"]["stations"][1] == {"station": 2, "load_friction_mm": 1.3, "spread_mm": 0.06, "snapshots": 3}
-    assert doc["load_cell"] == {"commanded_load_logged": True, "three_percent": 0.03, "gain_change_last": 0.001, "drifted": []}
+    assert doc["load_cell"] == {
+        "commanded_load_logged": True,
+        "three_percent": 0.03,
+        "gain_change_last": 0.001,
+        "drifted": [],
+    }
     assert doc["files"] == [{"file": "s1.csv", "bytes": 120, "sha256": "ab" * 32}]
     jsonschema.validate(doc, MonitorSummary.json_schema())
     one = Baseline(0, 10, 2, 1.0, 0.1, None).to_json()
