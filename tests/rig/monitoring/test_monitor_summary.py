@@ -13,7 +13,7 @@ def test_the_json_of_a_monitor_run():
     summary = MonitorSummary(
         snapshots=4, new=1, kept=3, first_cycle=0, last_cycle=750_000, baseline=baseline, alarm_rise=0.1,
         threshold_mm=[0.2], worst_case_factor=1.5, chart="ewma", judged="the last snapshot", alarms=0,
-        first_alarm=None, notices=1, latest_notice={"cycle": 750_000}, alarm_active=False, notice_active=True,
+        first_alarm=None, notices=1, latest_notice=None, alarm_active=False, notice_active=True,
         state="NOTICE", alarm_raised_at=None, alarm_at_last_snapshot=False, acknowledged=[],
         load_cell=LoadCell(True, 0.03, 0.001, []), skipped=[], waiting=[], missing=[250_000], incomplete=[],
         files=[SnapshotFile("s1.csv", 120, "ab" * 32)], note="", fingerprint="f", parameters="published",
