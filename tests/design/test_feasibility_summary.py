@@ -38,7 +38,9 @@ def test_limits_not_checked_leave_the_verdict_open_and_say_so():
     s = _summary(limits=Limits(stroke=0.1))
     assert s.feasible is None and s.level == Level.FEASIBLE and exit_status([s]) == 0
     assert "motor speed" in " ".join(s.not_checked) and "not checked:" in s.verdict
-    assert s.verdict.endswith("; not checked: motor speed, motor torque (no drive data: give --drive, or a [motor] table in the parameter file)")
+    assert s.verdict.endswith(
+        "; not checked: motor speed, motor torque (no drive data: give --drive, or a [motor] table in the parameter file)"
+    )
     assert "--cutoff" in _summary(noisy=True).verdict
 
 
