@@ -130,7 +130,7 @@ def test_identify_opens_each_log_once(files, tmp_path, monkeypatch, capsys):
     assert document["validation"][0]["identified"]["1"]["rms_error_Nmm"] > 0 and document["toml"] == str(out)
 
 
-def test_compare_opens_its_log_once(files, tmp_path, monkeypatch, capsys):
+def test_compare_opens_its_log_once(files, tmp_path, monkeypatch, capsys, quick_figures):
     opener = _CountingOpener(monkeypatch, files["held"])
     argv = ["compare", "--log", str(files["held"]), "--out", str(tmp_path / "c"), "--summary-format", "json"]
     assert main(argv) == 0
@@ -171,7 +171,7 @@ def _same(files, full: str, bare: str) -> None:
 @pytest.mark.usefixtures(
     "quick_figures"
 )  # outputs compared as text: the figures are drawn in tests/present/test_report.py
-def test_a_file_without_comments_behaves_like_the_file_with_them(files, tmp_path, capsys):
+def test_a_file_without_comments_behaves_like_the_file_with_them(files, tmp_path, capsys, quick_figures):
     """Every command that reads the file: the same outputs, comments or none (the monitor read lever spin from one)."""
     assert identified_file(files["bare"]) is identified_file(files["out"]) is False
     origins = [parameter_origin(files[name]).as_dict() for name in ("out", "bare")]
