@@ -171,7 +171,7 @@ def _same(files, full: str, bare: str) -> None:
 @pytest.mark.usefixtures(
     "quick_figures"
 )  # outputs compared as text: the figures are drawn in tests/present/test_report.py
-def test_a_file_without_comments_behaves_like_the_file_with_them(files, tmp_path, capsys, quick_figures):
+def test_a_file_without_comments_behaves_like_the_file_with_them(files, tmp_path, capsys):
     """Every command that reads the file: the same outputs, comments or none (the monitor read lever spin from one)."""
     assert identified_file(files["bare"]) is identified_file(files["out"]) is False
     origins = [parameter_origin(files[name]).as_dict() for name in ("out", "bare")]
