@@ -13,16 +13,15 @@ records load NumPy).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 from ..analysis.crosscheck_summary import CrossCheckSummary
 from ..control.simulation_summary import SimulationSummary
 from ..design.feasibility_summary import FeasibilitySummary
+from ..design.sizing_summary import MarginBandSummary, SizingSummary
 from ..fit_checks import FitCheckSummary
 from ..motion.iso_verdict import IsoCheckSummary
-from ..present.pages import Verdict as PageVerdict
-from ..present.wear_page import WearComparison
-from ..records import Record, flattened, optional
+from ..records import Record, Verdict, flattened, optional
 from ..results import RunSummary
 from ..rig.compare_summary import ComparisonSummary
 from ..rig.identification.excitation_summary import CalibrationExcitationSummary, ExcitationSummary
@@ -32,7 +31,8 @@ from ..stations.calibration_summary import CalibrationSummary
 from ..stations.sensor_check import SensorComparison
 from ..stations.summary import SlidersSummary, StationSummary
 from ..stations.tolerance_summary import ToleranceSummary
-from ..wear.summary import WearSummary
+from ..wear.summary import WearComparison, WearSummary
+from .documents_more import MORE_SCHEMAS
 
 __all__ = [
     "SCHEMAS",
@@ -79,6 +79,8 @@ class WearRun(Record):
 @dataclass(frozen=True)
 class WearCompare(Record):
     """``hipsim wear --compare A B``: the comparison's keys (as ``wear.json``), the page and the table written."""
+
+    schema_version: ClassVar[str] = "2"  # 2: verdict is a records.Verdict (level, judged, not_judged, numbers)
 
     comparison: WearComparison = flattened()
     index: str = ""
@@ -161,10 +163,12 @@ class MonitorRun(Record):
 
 @dataclass(frozen=True)
 class CompareRun(Record):
-    """``hipsim compare`` (as ``comparison.json``): the page's verdict, the provenance, the comparison's keys, and the
-    model's 95 % band per motor when the parameter file carries a covariance."""
+    """``hipsim compare`` (as ``comparison.json``): the acceptance verdict, the provenance, the comparison's keys, and
+    the model's 95 % band per motor when the parameter file carries a covariance."""
 
-    verdict: PageVerdict
+    schema_version: ClassVar[str] = "2"  # 2: verdict is a records.Verdict (level, judged, not_judged, numbers)
+
+    verdict: Verdict
     provenance: dict[str, Any]
     comparison: ComparisonSummary = flattened()
     model_band95: dict[str, dict[str, float | None]] | None = optional()
@@ -172,18 +176,19 @@ class CompareRun(Record):
 
 @dataclass(frozen=True)
 class ReportRun(Record):
-    """``hipsim report``: the run's summary keys, the sizing (its ``as_dict()``, None without a drive), the rating
-    check's word, the page (and PDF) written, the page's verdict, the provenance, and the margins' bands with an
-    identified file's covariance."""
+    """``hipsim report``: the run's summary keys, the sizing (None without a drive), the page (and PDF) written, the
+    drive's verdict (:func:`hipsim.design.checks.checks_verdict`; NOT MADE without a drive), the provenance, and the
+    margins' bands with an identified file's covariance."""
+
+    schema_version: ClassVar[str] = "2"  # 2: verdict is a records.Verdict; rating_check gone (the verdict's level)
 
     summary: RunSummary = field(metadata={"flatten": True})  # field() itself: mypy then knows it has no default
-    sizing: dict[str, Any] | None
-    rating_check: str
+    sizing: SizingSummary | None
     index: str
     pdf: str | None
-    verdict: PageVerdict
+    verdict: Verdict
     provenance: dict[str, Any]
-    margin_bands: list[dict[str, Any]] | None = optional()
+    margin_bands: tuple[MarginBandSummary, ...] | None = optional()
 
 
 # --- the fits and their motions: identify, calibrate, excite ------------------------------------------------------
@@ -249,6 +254,7 @@ SCHEMAS: dict[str, type[Record]] = {
     "calibrate": CalibrateRun,
     "excite": ExciteRun,
     "excite-calibration": ExciteCalibrationRun,
+    **MORE_SCHEMAS,  # size, sweep, workspace, the wear test, the plant-and-model simulate
 }
 
 

@@ -217,7 +217,6 @@ def run_compare(args) -> int:
     from ..present.rig_figures import write_comparison
     from ..records import exit_status
     from ..rig.compare import compare_log
-    from ..rig.compare_verdict import acceptance_verdict
     from ..rig.identification.uncertainty import read_covariance
 
     params = parameters(args)
@@ -245,15 +244,11 @@ def run_compare(args) -> int:
         band=band,
         residual=None if covariance is None else covariance.residual,
     )
-    summary = comparison.summary()
-    accepted = acceptance_verdict(
-        {i: m.relative_rms_error for i, m in summary.motors.items()},
-        None if args.accept is None else args.accept / 100,
-    )
+    summary, accepted = comparison.summary(), files.verdict  # the verdict made beside the comparison, once
     if args.summary_format == "json":
         print(json.dumps(json.loads(files.summary.read_text(encoding="utf-8")), indent=2))
         return exit_status([accepted])
-    print(f"{files.verdict.word}: " + " ".join(files.verdict.lines))
+    print(f"{accepted.level.value}: {accepted.judged}" + (f"\n  {accepted.not_judged}" if accepted.not_judged else ""))
     print(
         f"log: {log.name} ({summary.samples} samples compared, motion from the {log.motion_from}); parameters: {params.source}"
     )

@@ -23,6 +23,7 @@ from hipsim.wear.factors import (
 )
 from hipsim.wear.gravimetric import gravimetry, line_fit, rate_difference, station_rate
 from hipsim.wear.laws import WearFactor, predict_wear
+from hipsim.wear.test_summary import RateSummary
 from hipsim.wear.weighings import StationWeighings, read_weighings
 
 
@@ -53,7 +54,7 @@ def test_soak_correction_density_and_rate_by_hand():
     assert rate.rate_mg_per_Mc == pytest.approx(10.0, rel=1e-9)
     assert rate.rate_mm3_per_Mc == pytest.approx(10.0 / 0.94, rel=1e-9)
     assert rate.ci95_mm3_per_Mc == pytest.approx((10.0 / 0.94, 10.0 / 0.94), rel=1e-6)
-    document = rate.to_json()
+    document = RateSummary.of(rate).to_json()
     assert document["wear_rate_mg_per_Mc"] == pytest.approx(10.0)
     assert document["wear_rate_ci95_mm3_per_Mc"][0] == pytest.approx(10.0 / 0.94, rel=1e-6)
 

@@ -127,7 +127,7 @@ def test_report_with_an_identified_file_states_the_margins_confidence(identified
     # The exit status is the rating check's verdict: 1 on FAIL, else 0.
     json_status = main(args + ["--out", str(tmp_path / "b"), "--summary-format", "json"])
     document = json.loads(capsys.readouterr().out)
-    assert json_status == (1 if document["rating_check"] == "FAIL" else 0)
+    assert json_status == (1 if document["verdict"]["level"] == "FAIL" else 0)
     assert len(document["margin_bands"]) == len(document["sizing"]["checks"])
     # The identified report's figures drawn once, above; the runs below are read for their text.
     with figures_undrawn():
@@ -139,5 +139,5 @@ def test_report_with_an_identified_file_states_the_margins_confidence(identified
     published = ["report", "--motor", str(DRIVE), "--engine", "analytic", "--rate", "200", "--out", str(tmp_path / "c")]
     with figures_undrawn():
         json_status = main(published + ["--summary-format", "json"])
-    assert json_status == (1 if json.loads(capsys.readouterr().out)["rating_check"] == "FAIL" else 0)
+    assert json_status == (1 if json.loads(capsys.readouterr().out)["verdict"]["level"] == "FAIL" else 0)
     assert "95 % confidence" not in (tmp_path / "c" / "index.html").read_text(encoding="utf-8")
