@@ -319,7 +319,7 @@ def test_an_output_over_its_own_input_is_refused(tmp_path, capsys):
     assert trajectory.read_text() == before
 
 
-def test_negative_sweep_values_need_no_equals_sign(tmp_path):
+def test_negative_sweep_values_need_no_equals_sign(tmp_path, quick_figures):
     argv = ["workspace", "--deltas", "-10:10:10", "--gamma", "-4,0", "--summary-format", "json"]
     status, out, err = run(*argv, "--out", str(tmp_path / "ws"))
     assert status == 0, err
