@@ -42,6 +42,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .records import Level, Record, Verdict
+
 __all__ = [
     "NOISE_FLOOR",
     "PATTERN_GAIN",
@@ -50,10 +52,12 @@ __all__ = [
     "RESIDUAL_FACTOR",
     "SCALES",
     "FitCheck",
+    "FitCheckSummary",
     "column_pattern",
     "difference_noise",
     "duplicate_digests",
     "duplicate_inputs",
+    "fit_verdict",
     "prior_gate",
     "residual_gate",
 ]
@@ -117,6 +121,60 @@ class FitCheck:
         """The check as JSON: fit, plausible, findings."""
         return {"fit": self.fit, "plausible": self.plausible, "findings": list(self.findings)}
 
+    def summary(self, held_out: int = 0, not_judged: str = "") -> FitCheckSummary:
+        """The check as its record (what ``identify`` and ``calibrate`` print), with its :func:`fit_verdict`."""
+        verdict = fit_verdict(self, held_out, not_judged)
+        return FitCheckSummary(self.fit, self.plausible, self.findings, verdict)
+
+
+@dataclass(frozen=True)
+class FitCheckSummary(Record):
+    """A fit's self-check: what was fitted, whether every gate passed, the findings, and its verdict.
+
+    Attributes:
+        fit: what was fitted ("identify", "calibrate").
+        plausible: every gate passed.
+        findings: one sentence per failed gate (a fit written with ``--force``).
+        verdict: PASS when plausible, else FAIL (:func:`fit_verdict`).
+    """
+
+    fit: str
+    plausible: bool
+    findings: tuple[str, ...]
+    verdict: Verdict
+
+    @property
+    def level(self) -> Level:
+        """The verdict's level (for :func:`hipsim.records.exit_status`)."""
+        return self.verdict.level
+
+
+def fit_verdict(check: FitCheck, held_out: int = 0, not_judged: str = "") -> Verdict:
+    """A fit's verdict: PASS when every gate passed, FAIL when one did (a fit refused, or written with ``--force``).
+
+    Args:
+        check: the gates' findings.
+        held_out: how many held-out logs the gates judged (``--validate``).
+        not_judged: what the gates do not cover, in words (the fit's own caveat).
+
+    Returns:
+        The verdict, its numbers the gates' thresholds, the held-out logs and the count of findings.
+    """
+    held = f"; {held_out} held-out log{'s' if held_out != 1 else ''} against the same gate" if held_out else ""
+    judged = (
+        f"{check.fit}: residuals against {RESIDUAL_FACTOR:g} times the noise, each parameter's move against "
+        f"{PRIOR_SIGMA:g} prior standard deviations{held}"
+    )
+    if check.findings:
+        judged += ": " + "; ".join(check.findings)
+    numbers = {
+        "residual_factor": RESIDUAL_FACTOR,
+        "prior_sigma": PRIOR_SIGMA,
+        "held_out_logs": float(held_out),
+        "findings": float(len(check.findings)),
+    }
+    return Verdict(Level.PASS if check.plausible else Level.FAIL, judged, not_judged, numbers)
+
 
 def difference_noise(signal) -> np.ndarray:
     """Each column's white-noise standard deviation from its fourth differences (a smooth motion's cancel).
@@ -130,7 +188,7 @@ def difference_noise(signal) -> np.ndarray:
         signal: samples (N,) or (N, k) at an even rate, any unit.
 
     Returns:
-        The noise per column, (k,) (a scalar's shape for (N,)), in the signal's unit; NaN for fewer than 3 samples.
+        The noise per column, (k,) (a scalar's shape for (N,)), in the signal's unit; NaN for fewer than 5 samples (a fourth difference needs five).
     """
     x = np.asarray(signal, dtype=float)
     if x.shape[0] < 5:

@@ -21,7 +21,8 @@ no other key), ``X | None`` X or null. A field whose metadata says
 ``{"omit_none": True}`` is left out of the JSON when it is None (a key a
 document has only sometimes); ``{"key": "name"}`` prints the field under
 another key; ``{"flatten": True}`` (:func:`flattened`) lays a nested record's
-keys into this one's (a summary with the paths a command wrote beside it).
+keys into this one's (a summary with the paths a command wrote beside it), or a
+``dict[str, X]``'s keys (a document keyed by name: any other key, each an X).
 """
 
 from __future__ import annotations
@@ -50,7 +51,8 @@ __all__ = [
     "optional",
 ]
 
-#: The version of every schema :meth:`Record.json_schema` makes; raised when a published key changes or goes.
+#: The first version of every schema :meth:`Record.json_schema` makes; a document whose published keys change or go
+#: raises its own :attr:`Record.schema_version` (the other documents keep theirs).
 SCHEMA_VERSION = "1"
 
 #: The exit status of refused input (a one-line ``hipsim: error:``), nothing written.
@@ -144,9 +146,12 @@ class Record:
 
     Class attributes:
         schema_title: the schema's title (default: the class name).
+        schema_version: the version of this record's document (:data:`SCHEMA_VERSION` until a published key of it
+            changes or goes).
     """
 
     schema_title: ClassVar[str | None] = None
+    schema_version: ClassVar[str] = SCHEMA_VERSION
 
     def to_json(self) -> dict[str, Any]:
         """The record as JSON data, its fields in declaration order (see the module's mapping)."""
@@ -168,14 +173,14 @@ class Record:
         Args:
             command: the command whose document it is, for the title and ``$id`` (default: the class name).
         """
-        defs: dict[str, Any] = {}
+        defs = _Defs()
         body = _record_schema(cls, defs)
         name = command or cls.schema_title or cls.__name__
         schema: dict[str, Any] = {
             "$schema": "https://json-schema.org/draft/2020-12/schema",
-            "$id": f"https://hipsim.invalid/schemas/{name.replace(' ', '-')}/v{SCHEMA_VERSION}.json",
+            "$id": f"https://hipsim.invalid/schemas/{name.replace(' ', '-')}/v{cls.schema_version}.json",
             "title": f"hipsim {name} --summary-format json" if command else name,
-            "version": SCHEMA_VERSION,
+            "version": cls.schema_version,
             **body,
         }
         if defs:
@@ -183,11 +188,32 @@ class Record:
         return schema
 
 
-def _record_schema(cls: type, defs: dict[str, Any]) -> dict[str, Any]:
+class _Defs(dict[str, Any]):
+    """A schema's ``$defs`` as they are built, and the record each name stands for: two records of one class name
+    (a page's ``Verdict`` and :class:`Verdict`) get names apart, the second prefixed with its module's name."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.owners: dict[str, type] = {}
+
+    def name_of(self, record: type) -> str:
+        """The name ``record`` goes by in ``$defs``."""
+        name = record.__name__
+        if self.owners.get(name, record) is not record:
+            name = f"{record.__module__.rsplit('.', 1)[-1]}_{name}"
+        self.owners.setdefault(name, record)
+        return name
+
+
+def _record_schema(cls: type, defs: _Defs) -> dict[str, Any]:
     hints = typing.get_type_hints(cls)
     properties: dict[str, Any] = {}
     required: list[str] = []
+    others: dict[str, Any] | bool = False  # the keys no field names: none, but a flattened mapping's
     for f in dataclasses.fields(cls):
+        if f.metadata.get("flatten") and typing.get_origin(hints[f.name]) in (dict, Mapping):
+            others = _schema(typing.get_args(hints[f.name])[1], defs)  # a mapping's keys laid in: any key, its values
+            continue
         if f.metadata.get("flatten"):
             record = next((h for h in typing.get_args(hints[f.name]) if h is not type(None)), hints[f.name])
             inner = _record_schema(record, defs)
@@ -202,7 +228,7 @@ def _record_schema(cls: type, defs: dict[str, Any]) -> dict[str, Any]:
         if not f.metadata.get("omit_none"):
             required.append(key)
     out: dict[str, Any] = {"type": "object", "properties": properties, "required": required}
-    out["additionalProperties"] = False
+    out["additionalProperties"] = others
     if cls.__doc__:
         out["description"] = cls.__doc__.strip().splitlines()[0]
     return out
@@ -215,7 +241,7 @@ _SIMPLE: dict[type, dict[str, Any]] = {
 }
 
 
-def _schema(hint: Any, defs: dict[str, Any]) -> dict[str, Any]:
+def _schema(hint: Any, defs: _Defs) -> dict[str, Any]:
     origin, args = typing.get_origin(hint), typing.get_args(hint)
     if hint is Any:
         return {}
@@ -228,7 +254,7 @@ def _schema(hint: Any, defs: dict[str, Any]) -> dict[str, Any]:
     if isinstance(hint, type) and issubclass(hint, enum.Enum):
         return {"enum": [member.value for member in hint]}
     if isinstance(hint, type) and issubclass(hint, Record):
-        name = hint.__name__
+        name = defs.name_of(hint)
         if name not in defs:
             defs[name] = {}  # a placeholder first: a record that nests itself refers to itself
             defs[name] = _record_schema(hint, defs)

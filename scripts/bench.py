@@ -1286,7 +1286,7 @@ def bench_wear_test(quick: bool) -> None:
 
 
 def _deviated_machine(params, seed: int = 3, size_mm: float = 0.3):
-    """The machine with each of its 48 per-chain values off the drawing by up to ±size_mm (uniform)."""
+    """The machine with each of its per-chain values (the 48 of the chains, the stack-up's seat) off the drawing by up to ±size_mm (uniform)."""
     from hipsim.stations import deviations as dv
 
     return dv.machine(params, np.random.default_rng(seed).uniform(-size_mm, size_mm, dv.COUNT) * 1e-3)
@@ -1372,7 +1372,9 @@ def bench_machine_plant(params, quick: bool) -> None:
     """Issue 44: the machine as built under the drawing's controller (per-chain Pinocchio plant, encoders, workspace PD).
 
     Beside it, in the same alternated runs: the drawing's Pinocchio plant in today's compiled loop (the baseline, target
-    within 1.5x), the drawing's plant in the new loop, and the per-chain MuJoCo plant.
+    within 1.5x), the drawing's plant in the new loop, the same chains with the intermediate chain's stack-up
+    (``spline_seat_mm``, drawn with them: 24 coordinates, 7 closures; same targets), and the per-chain and stacked
+    MuJoCo plants.
     """
     import statistics
 
@@ -1383,7 +1385,10 @@ def bench_machine_plant(params, quick: bool) -> None:
     from hipsim.control.machine_loop import ModelPD, run_machine
     from hipsim.motion.trajectories import iso14242_at
 
-    machine = _deviated_machine(params)
+    stacked = _deviated_machine(params)  # its 51 values: the chains' 48 and the stack-up's seat e (0.21/-0.06/-0.01 mm)
+    geometry = stacked.geometry
+    assert geometry is not None and stacked.chains.stacked
+    machine = stacked.replace(geometry=geometry.replace(spline=np.zeros(3)))  # the same chains, no stack-up
     per_chain, drawing = PinocchioPlant(machine), PinocchioPlant(params)
 
     def new_loop(plant):
@@ -1396,11 +1401,13 @@ def bench_machine_plant(params, quick: bool) -> None:
         ),
         ("per-chain Pinocchio plant, encoders", new_loop(per_chain)),
         ("drawing's plant, encoders", new_loop(drawing)),
+        ("stacked Pinocchio plant, encoders", new_loop(PinocchioPlant(stacked))),
     ]
     try:
         from hipsim.mujoco_engine.plant import MujocoPlant
 
         runs.append(("per-chain MuJoCo plant, encoders", new_loop(MujocoPlant(machine))))
+        runs.append(("stacked MuJoCo plant, encoders", new_loop(MujocoPlant(stacked))))
     except hipsim.HipsimError as error:
         print(f"  MuJoCo: {error}; its plant is not compared")
     length, repeats = (0.3, 3) if quick else (2.0, 5)
@@ -1429,6 +1436,10 @@ def bench_machine_plant(params, quick: bool) -> None:
     print(
         f"  per-chain Pinocchio plant: {length / median[1]:.1f}x real time (target >= 20x), "
         f"{median[1] / median[0]:.2f}x the drawing's plant's time (target <= 1.5x)"
+    )
+    print(
+        f"  stacked Pinocchio plant (24 coordinates, 7 closures): {length / median[3]:.1f}x real time (target >= 20x), "
+        f"{median[3] / median[0]:.2f}x the drawing's plant's time (target <= 1.5x)"
     )
 
 

@@ -9,6 +9,7 @@ import sys
 import warnings
 from contextlib import redirect_stderr, redirect_stdout
 
+import jsonschema
 import numpy as np
 import pytest
 from fake_clock import FakeClock
@@ -132,7 +133,11 @@ def test_torques_from_trajectory_file(tmp_path, capsys):
         (["workspace", "--gamma", "1_0"], "--gamma '1_0': expected a number in deg"),
         (["workspace", "--out", "/proc/hipsim"], "cannot make the output folder"),
         (["report", "--out", "/proc/hipsim"], "cannot make the output folder"),
-        (["view", "--cycles", "0.003", "--html", "{tmp}/x.html"], "at least 6 are needed to interpolate"),
+        # (0.003 cycles, shorter than one frame's step, is shown as its first and last samples: present/test_motion_frames.py)
+        (
+            ["view", "--cycles", "0.001", "--html", "{tmp}/x.html"],
+            "0.001 cycle(s) of 1.0 Hz sampled at 1000.0 Hz give fewer than 2",
+        ),
     ],
 )
 def test_errors_are_one_line(tmp_path, args, message):
@@ -314,11 +319,19 @@ def test_an_output_over_its_own_input_is_refused(tmp_path, capsys):
     assert trajectory.read_text() == before
 
 
-def test_negative_sweep_values_need_no_equals_sign(tmp_path):
-    status, out, err = run("workspace", "--deltas", "-10:10:10", "--gamma", "-4,0", "--out", str(tmp_path / "ws"))
+def test_negative_sweep_values_need_no_equals_sign(tmp_path, quick_figures):
+    argv = ["workspace", "--deltas", "-10:10:10", "--gamma", "-4,0", "--summary-format", "json"]
+    status, out, err = run(*argv, "--out", str(tmp_path / "ws"))
     assert status == 0, err
     sweep = json.loads((tmp_path / "ws" / "workspace.json").read_text())
     assert "-10" in json.dumps(sweep)
+    printed = json.loads(out)  # the file's document with the files written
+    assert printed.pop("files")[-1].endswith("workspace.json") and printed == sweep
+    assert [row["delta_deg"] for row in sweep["offset_sweep"]] == [-10.0, 0.0, 10.0]
+    assert sweep["grid"]["gamma_deg"] == [-4.0, 0.0] and set(sweep["reachable_fraction"]) == {"-4", "0"}
+    from hipsim.cli.documents import schema
+
+    jsonschema.Draft202012Validator(schema("workspace")).validate(json.loads(out))
 
 
 def test_params_prints_no_empty_tables(capsys):

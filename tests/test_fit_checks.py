@@ -23,10 +23,12 @@ from hipsim.fit_checks import (
     column_pattern,
     difference_noise,
     duplicate_inputs,
+    fit_verdict,
     prior_gate,
     residual_gate,
 )
 from hipsim.machine.parameters import load_parameters
+from hipsim.records import Level, exit_status
 
 NAMES = ("a", "b", "c")
 
@@ -125,6 +127,25 @@ def test_a_fit_check_is_plausible_without_findings():
     )
 
 
+def test_a_fit_s_verdict_passes_without_findings_and_fails_with_one():
+    plausible = fit_verdict(FitCheck("calibrate"), 2, "the unseen values")
+    assert plausible.level is Level.PASS and plausible.not_judged == "the unseen values"
+    assert plausible.judged == (
+        "calibrate: residuals against 3 times the noise, each parameter's move against 5 prior standard deviations; "
+        "2 held-out logs against the same gate"
+    )
+    assert plausible.numbers == {"residual_factor": 3.0, "prior_sigma": 5.0, "held_out_logs": 2.0, "findings": 0.0}
+    one = FitCheck("identify", ("held-out h.csv: residuals beyond 3 times the noise",))
+    failed = fit_verdict(one, 1)
+    assert failed.level is Level.FAIL and failed.judged.endswith(": held-out h.csv: residuals beyond 3 times the noise")
+    assert "1 held-out log against" in failed.judged and failed.numbers["findings"] == 1.0
+    assert "held-out" not in fit_verdict(FitCheck("identify")).judged  # none held out: not said
+    record = one.summary(1)
+    assert (record.fit, record.plausible, record.findings, record.verdict) == ("identify", False, one.findings, failed)
+    assert record.level is Level.FAIL and exit_status([record]) == 1 and exit_status([FitCheck("c").summary()]) == 0
+    assert record.to_json()["verdict"]["level"] == "FAIL" and record.verdict.not_judged == ""
+
+
 # --------------------------------------------------------------------------- calibrate, end to end
 
 NOISE_DEG = 0.05
@@ -188,7 +209,7 @@ def test_an_implausible_calibration_is_refused_naming_the_cause(logs, tmp_path, 
 def test_force_writes_an_implausible_calibration_and_keeps_the_warning(logs, tmp_path, capsys):
     out = tmp_path / "c.toml"
     status, err = _calibrate(capsys, out, "--log", logs["offset"], "--force")
-    assert status == 0 and "written with --force" in err
+    assert status == 1 and "written with --force" in err  # written, and the self-check's FAIL is the exit status
     text = out.read_text()
     assert "# WARNING (written with --force): " in text and "warnings = [" in text
 
@@ -266,7 +287,7 @@ def test_identify_gives_a_verdict_on_a_held_out_log_it_does_not_predict(torque_l
     err = capsys.readouterr().err
     assert "held-out " in err and "residuals beyond 3 times the noise" in err and "tau_1 and tau_2 look swapped" in err
     assert not out.exists()
-    assert main([*argv, "--no-plausibility-check", "--force"]) == 0  # written, the finding kept
+    assert main([*argv, "--no-plausibility-check", "--force"]) == 1  # written, the finding kept; the verdict FAIL
     assert "written with --force" in capsys.readouterr().err
     assert "# WARNING (written with --force): held-out" in out.read_text()
 

@@ -378,22 +378,6 @@ def test_feasibility_on_a_noisy_motion_says_so(tmp_path, capsys):
 # --- Rows: report and torques with an identified file -------------------------------------------------------------------
 
 
-def test_a_prior_held_parameter_is_marked_with_its_deviation():
-    from hipsim.present.provenance import InputFile, ParameterOrigin
-    from hipsim.present.report_page import _parameter_rows
-
-    params = hipsim.load_parameters().replace(hip_mu=0.0557)
-    origin = ParameterOrigin(
-        InputFile("parameters", "fit.toml", "0" * 64, 1),
-        "identified",
-        held=(("friction.hip_mu", "not determined by these logs: near its prior (0.0557 ± 0.031)"),),
-    )
-    row = next(r for r in _parameter_rows(params, origin) if r["cells"][0] == "friction.hip_mu")
-    assert row["cells"][1] == "0.056 ± 0.031", row
-    assert row["cells"][3].startswith("prior-held (not determined by these logs")
-    assert "start value" not in row["cells"][3]
-
-
 def test_torques_labels_its_band_as_the_model_s(belt_identified, tmp_path, capsys):
     _, identified = belt_identified
     assert main(["torques", "--params", str(identified), "--rate", "100", "--out", str(tmp_path / "t.csv")]) == 0

@@ -27,7 +27,6 @@ from __future__ import annotations
 import numpy as np
 
 from ..exceptions import PoseError
-from ..machine.chains import refuse_stackup
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
 from ..physics import laws
@@ -42,13 +41,16 @@ from ..physics.transmission import angle_from_travel, travel_per_radian
 from ..physics.vectors import dot, per_leg, stack
 from ..results import Torques
 from .chain_kinematics import chain_accelerations, chain_jacobian, chain_positions
+from .forward_kinematics import solve_pose
 from .inverse_kinematics import SINGULAR_COND_INV, Kinematics
 from .stackup import lift_motion, lifted_kinematics
-from .stations import follower_motion, platform_motion
+from .stations import follower_motion, platform_motion, platform_rates, stacked_motion
 from .virtual_work import _euler_moment, _lever_inertia, _lever_joint_friction, _platform_axes, torques_from_parts
 
 __all__ = [
     "ChainMotion",
+    "carriage_motion",
+    "chain_forward_dynamics",
     "chain_inverse_dynamics",
     "chain_mechanical_energy",
     "chain_motion",
@@ -147,10 +149,18 @@ def chain_motion(params: Parameters, trajectory: Trajectory) -> ChainMotion:
     """
     assert params.geometry is not None
     control = params.geometry.control
-    if control == 1:
-        refuse_stackup(params.chains, "the analytic dynamics with control = 1", params.source)
     t, q, qd, qdd = trajectory.t, trajectory.q, trajectory.qd, trajectory.qdd
-    L, Ld, Ldd = platform_motion(params, q, qd, qdd, control)
+    stacked = params.chains.stacked
+    if stacked and control == 1:  # m_2 follows m_1 through the stack-up: one coupled problem
+        try:
+            L, Ld, Ldd, m2 = stacked_motion(params, q, qd, qdd)
+        except PoseError as error:
+            k = min(max(error.index, 0), len(t) - 1)
+            raise PoseError(
+                f"platform 2 under m_1's stack-up: {error.reason}", float(t[k]), k, trajectory.name
+            ) from None
+    else:
+        L, Ld, Ldd = platform_motion(params, q, qd, qdd, control)
     bad = ~np.all(np.isfinite(L), axis=1)
     if np.any(bad):
         k = int(np.argmax(bad))
@@ -162,21 +172,18 @@ def chain_motion(params: Parameters, trajectory: Trajectory) -> ChainMotion:
         )
     follower = 3 - control
     motions = {control: (q, qd, qdd)}
-    lift = None
-    follower_params, seen = params, (L, Ld, Ldd)
-    if params.chains.stacked:  # m_1 moves on its seen carriages, lifted with its centre (hipsim.analytic.stackup)
-        assert params.geometry is not None
-        follower_params = params.replace(geometry=params.geometry.replace(spline=np.zeros(3)))
-        p2, pd2, pdd2 = q * params.angle_signs, qd * params.angle_signs, qdd * params.angle_signs
-        T = angular_velocity_map(p2)
-        omega2 = np.einsum("nij,nj->ni", T, pd2)
-        omega2_dot = np.einsum("nij,nj->ni", T, pdd2) + np.einsum("nij,nj->ni", angular_velocity_map_rate(p2, pd2), pd2)
-        lift = lift_motion(params.chains.spline_seat, p2, omega2, omega2_dot)
+    lift, flat, seen = None, params, (L, Ld, Ldd)
+    if stacked:  # m_1 moves on its seen carriages, lifted with its centre (hipsim.analytic.stackup)
+        if control == 1:
+            motions[2] = m2
+        flat = params.replace(geometry=params.geometry.replace(spline=np.zeros(3)))
+        lift = _lift_of(params, motions[2])
         z, zd, zdd, _ = lift
         seen = (L - z[:, None], Ld - zd[:, None], Ldd - zdd[:, None])
-    # The follower turns a fraction of a degree off the controlled platform: its attitude is the guess.
-    motions[follower] = follower_motion(follower_params, *seen, follower, t=t, q0=q[0], source=trajectory.name, guess=q)
-    platforms = [platform_kinematics(follower_params, j - 1, t, *motions[j]) for j in (1, 2)]
+    if follower not in motions:
+        # The follower turns a fraction of a degree off the controlled platform: its attitude is the guess.
+        motions[follower] = follower_motion(flat, *seen, follower, t=t, q0=q[0], source=trajectory.name, guess=q)
+    platforms = [platform_kinematics(flat, j - 1, t, *motions[j]) for j in (1, 2)]
     if lift is not None:
         platforms[0] = lifted_kinematics(platforms[0], *lift[:3])
     for j, kin in enumerate(platforms, start=1):
@@ -189,6 +196,81 @@ def chain_motion(params: Parameters, trajectory: Trajectory) -> ChainMotion:
                 source=trajectory.name,
             )
     return ChainMotion(control, platforms, L, Ld, Ldd, lift)
+
+
+def carriage_motion(
+    params: Parameters, t: np.ndarray, L: np.ndarray, Ld: np.ndarray, Ldd: np.ndarray, guess: np.ndarray
+) -> ChainMotion:
+    """Both platforms' motion for a given carriage motion (the forward route): each follows through its own chains.
+
+    With a stack-up m_2 first, then m_1 on its seen carriages, lifted with its centre. Each attitude by Newton from
+    ``guess`` (:func:`hipsim.analytic.forward_kinematics.solve_pose`: a plant's state, not a log to walk).
+
+    Args:
+        params: the machine (per-chain).
+        t: sample times in [s], (N,).
+        L, Ld, Ldd: carriage readings [m], rates [m/s], accelerations [m/s²], each (N, 3).
+        guess: gait angles near both platforms' in [rad], (N, 3).
+
+    Raises:
+        PoseError: a platform cannot take the carriages, or is singular there.
+    """
+    assert params.geometry is not None
+    q2 = solve_pose(params, L, guess, platform=2)
+    m2 = (q2, *platform_rates(params, q2, Ld, Ldd, 2))
+    flat, seen, lift = params, (L, Ld, Ldd), None
+    if params.chains.stacked:
+        flat = params.replace(geometry=params.geometry.replace(spline=np.zeros(3)))
+        lift = _lift_of(params, m2)
+        z, zd, zdd, _ = lift
+        seen = (L - z[:, None], Ld - zd[:, None], Ldd - zdd[:, None])
+    q1 = solve_pose(flat, seen[0], guess, platform=1)
+    m1 = (q1, *platform_rates(flat, q1, *seen[1:], 1))
+    platforms = [platform_kinematics(flat, 0, t, *m1), platform_kinematics(flat, 1, t, *m2)]
+    if lift is not None:
+        platforms[0] = lifted_kinematics(platforms[0], *lift[:3])
+    return ChainMotion(params.geometry.control, platforms, L, Ld, Ldd, lift)
+
+
+def chain_forward_dynamics(
+    params: Parameters,
+    L: np.ndarray,
+    Ld: np.ndarray,
+    tau: np.ndarray,
+    Fe: float,
+    guess: np.ndarray,
+    lever_spin: bool = False,
+) -> np.ndarray:
+    """The carriages' accelerations [m/s²], (3,), under motor torques ``tau`` [N·m], (3,), and load Fe [N].
+
+    The inverse dynamics are affine in L̈ at given (L, L̇): τ = M·L̈ + b, M's columns and b from
+    :func:`chain_inverse_dynamics` at L̈ = e_k and 0; then L̈ = M⁻¹·(τ − b). Exact, and slow (a plant for checks).
+
+    Args:
+        params: the machine (per-chain); L [m], Ld [m/s]: the carriages, (3,); guess: both platforms' gait angles
+            near their attitudes [rad], (3,); lever_spin: as :func:`chain_inverse_dynamics`.
+    """
+    n = 4
+    accelerations = np.vstack([np.zeros(3), np.eye(3)])
+    motion = carriage_motion(
+        params,
+        np.zeros(n),
+        np.tile(np.asarray(L, dtype=float), (n, 1)),
+        np.tile(np.asarray(Ld, dtype=float), (n, 1)),
+        accelerations,
+        np.tile(np.asarray(guess, dtype=float), (n, 1)),
+    )
+    total = chain_inverse_dynamics(params, motion, np.full(n, float(Fe)), lever_spin).total
+    return np.linalg.solve((total[1:] - total[0]).T, np.asarray(tau, dtype=float) - total[0])
+
+
+def _lift_of(params: Parameters, m2: tuple) -> tuple:
+    """:func:`hipsim.analytic.stackup.lift_motion` of m_2's motion (gait angles, rates, accelerations)."""
+    p2, pd2, pdd2 = (x * params.angle_signs for x in m2)
+    T = angular_velocity_map(p2)
+    omega2 = np.einsum("nij,nj->ni", T, pd2)
+    omega2_dot = np.einsum("nij,nj->ni", T, pdd2) + np.einsum("nij,nj->ni", angular_velocity_map_rate(p2, pd2), pd2)
+    return lift_motion(params.chains.spline_seat, p2, omega2, omega2_dot)
 
 
 def chain_inverse_dynamics(

@@ -21,6 +21,15 @@ it by δz = g·J_2⁻¹·δL, so the carriages see
 
 (the moment g·(F_1z − 1ᵀG_1) = s × (vertical force) on m_2: the stack's force at
 the seat). The friction of the spline's axial slide is not modelled.
+
+With m_1 controlled (``[geometry] control = 1``) its motion is given and m_2's follows from the carriages,
+which m_1's lift itself depends on: L − Δz(q_2)·1 = L_1'(q_1) (m_1's seen carriages), L = L_2(q_2). Differentiated
+(:func:`follower_rates`), with A = J_2 − 1·gᵀ:
+
+    A·ω_2 = L̇_1' = J_1·ω_1,    A·ω̇_2 = L̈_1' − Φ_2(ω_2) + 1·ẑ·(ω_2 × (ω_2 × s)),
+
+and L̇ = J_2·ω_2, L̈ = J_2·ω̇_2 + Φ_2. A is singular where the stacked machine is (m_2's and the lift's
+Jacobians together); its determinant is J_2's times 1 − gᵀJ_2⁻¹1, ~1 − |e|/(50 mm).
 """
 
 from __future__ import annotations
@@ -31,9 +40,10 @@ import numpy as np
 
 from ..machine.chains import stackup_lift
 from ..physics.orientation import rotation_matrix
+from .chain_kinematics import chain_accelerations, chain_jacobian
 from .inverse_kinematics import Kinematics
 
-__all__ = ["lift_motion", "lifted_kinematics"]
+__all__ = ["follower_rates", "lift_motion", "lifted_kinematics"]
 
 
 def lift_motion(
@@ -75,3 +85,30 @@ def lifted_kinematics(kin: Kinematics, z: np.ndarray, zd: np.ndarray, zdd: np.nd
         v_l=kin.v_l + zd[:, None, None, None] * up,
         a_l=kin.a_l + zdd[:, None, None, None] * up,
     )
+
+
+def follower_rates(
+    spline_seat: np.ndarray, p2: np.ndarray, r2: np.ndarray, d2: np.ndarray, seen_d: np.ndarray, seen_dd: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """m_2's angular velocity and acceleration when m_1 is controlled and its centre rides on m_2 (module docstring).
+
+    Args:
+        spline_seat: the seat e in m_2's axes in [m], (3,).
+        p2: m_2's platform angles in [rad], (N, 3).
+        r2, d2: m_2's joint and lever vectors at p2 (:func:`hipsim.analytic.chain_kinematics.chain_positions`) in [m].
+        seen_d, seen_dd: m_1's seen carriage rates J_1·ω_1 [m/s] and accelerations J_1·ω̇_1 + Φ_1 [m/s²], (N, 3).
+
+    Returns:
+        ω_2 [rad/s] and ω̇_2 [rad/s²], world frame, each (N, 3).
+
+    Raises:
+        numpy.linalg.LinAlgError: where A = J_2 − 1·gᵀ is singular.
+    """
+    s = np.einsum("nij,j->ni", rotation_matrix(p2), np.asarray(spline_seat, dtype=float))
+    g = np.cross(s, np.array([0.0, 0.0, 1.0]))
+    A = chain_jacobian(r2, d2) - g[:, None, :]  # every row minus gᵀ: 1·gᵀ
+    omega2 = np.linalg.solve(A, np.asarray(seen_d, dtype=float)[..., None])[..., 0]
+    phi2 = chain_accelerations(r2, d2, omega2, np.zeros_like(omega2))
+    psi = np.cross(omega2, np.cross(omega2, s))[:, 2]
+    omega2_dot = np.linalg.solve(A, (np.asarray(seen_dd, dtype=float) - phi2 + psi[:, None])[..., None])[..., 0]
+    return omega2, omega2_dot

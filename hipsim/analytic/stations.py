@@ -22,8 +22,9 @@ world-frame, ω = T(q)·q̇.
 The intermediate chain's stack-up (``[geometry] spline_seat_mm``, :func:`hipsim.machine.chains.stackup_lift`)
 lifts m_1's centre by Δz(q_2): m_1 then sees the carriages L − Δz·(1, 1, 1). Its forward kinematics solves m_2
 first; its inverse kinematics is the fixed point L = L_1'(q_1) + Δz(q_2(L)) (a contraction by ~|e|/(50 mm) a step).
-Its Jacobian :func:`platform_jacobian` is m_1's at m_2 held (the centre's motion is the dynamics' business, which
-refuses a stack-up: :func:`platform_motion`, :func:`follower_motion`).
+Its Jacobian :func:`platform_jacobian` is m_1's at m_2 held. The rates: :func:`follower_motion` of m_1 takes m_2's
+motion from the carriages, then m_1's on the seen carriages L − Δz; :func:`platform_motion` of m_1 (control = 1)
+solves the coupled rates of :func:`hipsim.analytic.stackup.follower_rates` (:func:`stacked_motion`).
 
 On the drawing (no ``[geometry]``) the carriages are the drawing's L_1i for
 either platform, bit for bit those of
@@ -46,12 +47,13 @@ from collections.abc import Callable
 import numpy as np
 
 from ..exceptions import ArgumentError, PoseError
-from ..machine.chains import refuse_stackup, stackup_lift
+from ..machine.chains import stackup_lift
 from ..machine.parameters import Parameters
 from ..physics.orientation import angular_velocity_map, angular_velocity_map_rate, rotation_matrix
 from .chain_kinematics import chain_accelerations, chain_jacobian, chain_positions
 from .forward_kinematics import forward_kinematics, solve_pose
 from .inverse_kinematics import slider_heights, slider_jacobian
+from .stackup import follower_rates, lift_motion
 
 __all__ = [
     "attitude_sensitivities",
@@ -61,7 +63,9 @@ __all__ = [
     "platform_attitude",
     "platform_jacobian",
     "platform_motion",
+    "platform_rates",
     "stacked_carriages",
+    "stacked_motion",
 ]
 
 #: The stack-up's fixed point stops when the lift moves less than this in [m] (round-off of ~1 m readings).
@@ -133,18 +137,27 @@ def stacked_carriages(
     Raises:
         PoseError: m_2 cannot take the carriages, or the fixed point does not settle.
     """
+    return _stacked_fixed_point(params, q1, seen, guess, solve)[0]
+
+
+def _stacked_fixed_point(params, q1, seen, guess=None, solve=None) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`stacked_carriages`' carriages [m] and m_2's gait angles there [rad], each (N, 3)."""
     seen = np.asarray(seen, dtype=float)
     q2 = np.array(q1 if guess is None else guess, dtype=float)
     ok = np.all(np.isfinite(seen), axis=1)
     lift = np.zeros(len(seen))
     for _ in range(LIFT_STEPS):
         L = seen + lift[:, None]
-        q2[ok] = solve(L[ok], q2[ok]) if solve is not None else solve_pose(params, L[ok], q2[ok], platform=2)
+        try:
+            q2[ok] = solve(L[ok], q2[ok]) if solve is not None else solve_pose(params, L[ok], q2[ok], platform=2)
+        except PoseError as error:  # name the sample among all, not among the reachable ones
+            index = int(np.flatnonzero(ok)[error.index]) if 0 <= error.index < ok.sum() else error.index
+            raise PoseError(error.reason, error.time, index, error.source) from None
         new = stackup_lift(params.chains.spline_seat, q2 * params.angle_signs)
         change = np.abs(new - lift)[ok]
         lift = new
         if not change.size or change.max() <= LIFT_TOL:
-            return seen + lift[:, None]
+            return seen + lift[:, None], q2
     raise PoseError("the stack-up's fixed point does not settle (m_1's centre lift)", 0.0, 0)
 
 
@@ -223,18 +236,71 @@ def platform_motion(
         L in [m], L̇ in [m/s], L̈ in [m/s²], each (N, 3); NaN where out of reach.
 
     Raises:
-        ParameterError: m_1 on a machine with a stack-up (its moving centre is not modelled in the rates).
+        PoseError: m_1 with a stack-up, where the stacked machine is singular (:func:`stacked_motion`).
     """
     j = _platform_index(platform)
-    if j == 0:
-        refuse_stackup(params.chains, "the rates of m_1 (platform_motion, follower_motion)")
+    if j == 0 and params.geometry is not None and params.chains.stacked:
+        return stacked_motion(params, q, qd, qdd)[:3]
+    p, omega, omega_dot = _world_motion(params, q, qd, qdd)
+    L, r, d = chain_positions(params.chains, p, j)
+    Ld = np.einsum("nij,nj->ni", chain_jacobian(r, d), omega)
+    return L, Ld, chain_accelerations(r, d, omega, omega_dot)
+
+
+def stacked_motion(
+    params: Parameters, q1: np.ndarray, qd1: np.ndarray, qdd1: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """With a stack-up and m_1 controlled: the carriages' motion and m_2's for m_1's motion (q_1, q̇_1, q̈_1).
+
+    The carriages from the fixed point of :func:`stacked_carriages` (m_2's attitude with them); the rates by
+    implicit differentiation of L − Δz(q_2)·1 = L_1'(q_1), L = L_2(q_2)
+    (:func:`hipsim.analytic.stackup.follower_rates`).
+
+    Args:
+        params: the machine, with a stack-up.
+        q1, qd1, qdd1: m_1's gait angles [rad], rates [rad/s], accelerations [rad/s²], each (N, 3).
+
+    Returns:
+        L [m], L̇ [m/s], L̈ [m/s²], each (N, 3), and m_2's (q_2 [rad], q̇_2 [rad/s], q̈_2 [rad/s²]).
+
+    Raises:
+        PoseError: m_2 cannot take the carriages, or the stacked machine is singular.
+    """
+    p1, omega1, omega1_dot = _world_motion(params, q1, qd1, qdd1)
+    seen, r1, d1 = chain_positions(params.chains, p1, 0)
+    seen_d = np.einsum("nij,nj->ni", chain_jacobian(r1, d1), omega1)
+    seen_dd = chain_accelerations(r1, d1, omega1, omega1_dot)
+    L, q2 = _stacked_fixed_point(params, q1, seen)
+    p2 = q2 * params.angle_signs
+    _, r2, d2 = chain_positions(params.chains, p2, 1)
+    try:
+        omega2, omega2_dot = follower_rates(params.chains.spline_seat, p2, r2, d2, seen_d, seen_dd)
+    except np.linalg.LinAlgError:
+        raise PoseError("singular pose: the stacked machine's Jacobian J_2 − 1·gᵀ is singular", 0.0, 0) from None
+    J2 = chain_jacobian(r2, d2)
+    Ld = np.einsum("nij,nj->ni", J2, omega2)
+    Ldd = chain_accelerations(r2, d2, omega2, omega2_dot)
+    return L, Ld, Ldd, _gait_motion(params, p2, omega2, omega2_dot)
+
+
+def _world_motion(params: Parameters, q, qd, qdd) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Platform angles [rad], ω [rad/s] and ω̇ [rad/s²] (world frame, (N, 3) each) of gait angles and their rates."""
     p, pd, pdd = _angles(params, q), _angles(params, qd, "qd"), _angles(params, qdd, "qdd")
     T = angular_velocity_map(p)
     omega = np.einsum("nij,nj->ni", T, pd)
     omega_dot = np.einsum("nij,nj->ni", T, pdd) + np.einsum("nij,nj->ni", angular_velocity_map_rate(p, pd), pd)
-    L, r, d = chain_positions(params.chains, p, j)
-    Ld = np.einsum("nij,nj->ni", chain_jacobian(r, d), omega)
-    return L, Ld, chain_accelerations(r, d, omega, omega_dot)
+    return p, omega, omega_dot
+
+
+def _gait_motion(params: Parameters, p, omega, omega_dot) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Gait angles q [rad], q̇ = T⁻¹·ω [rad/s], q̈ = T⁻¹·(ω̇ − Ṫ·q̇) [rad/s²] of platform angles p and ω, ω̇."""
+    signs = params.angle_signs
+    T = angular_velocity_map(p)
+    pd = np.linalg.solve(T, omega[..., None])[..., 0]
+    pdd = np.linalg.solve(T, (omega_dot - np.einsum("nij,nj->ni", angular_velocity_map_rate(p, pd), pd))[..., None])[
+        ..., 0
+    ]
+    return p * signs, pd * signs, pdd * signs
 
 
 def follower_motion(
@@ -251,7 +317,8 @@ def follower_motion(
     """The motion of platform ``platform`` driven by given carriage motion: forward kinematics through its own Jacobian.
 
     q from :func:`platform_attitude`; ω = J⁻¹·L̇; ω̇ = J⁻¹·(L̈ − Φ(ω)), Φ the
-    velocity terms of L̈; then q̇ = T⁻¹·ω and q̈ = T⁻¹·(ω̇ − Ṫ·q̇).
+    velocity terms of L̈; then q̇ = T⁻¹·ω and q̈ = T⁻¹·(ω̇ − Ṫ·q̇). With a stack-up, m_1's: m_2's motion
+    first, then m_1's on the seen carriages L − Δz, L̇ − ż, L̈ − z̈ (:func:`hipsim.analytic.stackup.lift_motion`).
 
     Args:
         params: the machine.
@@ -264,14 +331,31 @@ def follower_motion(
 
     Raises:
         PoseError: as :func:`platform_attitude`, or where the Jacobian is singular.
-        ParameterError: m_1 on a machine with a stack-up (its moving centre is not modelled in the rates).
     """
     j = _platform_index(platform)
-    if j == 0:
-        refuse_stackup(params.chains, "the rates of m_1 (platform_motion, follower_motion)")
+    if j == 0 and params.geometry is not None and params.chains.stacked:
+        q2, qd2, qdd2 = follower_motion(params, L, Ld, Ldd, 2, t=t, q0=q0, source=source, guess=guess)
+        _, omega2, omega2_dot = _world_motion(params, q2, qd2, qdd2)
+        z, zd, zdd, _ = lift_motion(params.chains.spline_seat, q2 * params.angle_signs, omega2, omega2_dot)
+        flat = params.replace(geometry=params.geometry.replace(spline=np.zeros(3)))
+        seen = (np.asarray(L) - z[:, None], np.asarray(Ld) - zd[:, None], np.asarray(Ldd) - zdd[:, None])
+        return follower_motion(flat, *seen, 1, t=t, q0=q0, source=source, guess=q2 if guess is None else guess)
     q = platform_attitude(params, L, platform, t=t, q0=q0, source=source, guess=guess)
-    signs = params.angle_signs
-    p = q * signs
+    return q, *platform_rates(params, q, Ld, Ldd, platform, source)
+
+
+def platform_rates(
+    params: Parameters, q: np.ndarray, Ld: np.ndarray, Ldd: np.ndarray, platform: int, source: str | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """Platform ``platform``'s gait rates [rad/s] and accelerations [rad/s²], (N, 3) each, at its attitude q [rad]
+    driven by carriage rates Ld [m/s] and accelerations Ldd [m/s²]: ω = J⁻¹·L̇, ω̇ = J⁻¹·(L̈ − Φ(ω)) through its own
+    chains (with a stack-up, m_1's at m_2 held: give it the seen carriages' rates).
+
+    Raises:
+        PoseError: where its Jacobian is singular.
+    """
+    j = _platform_index(platform)
+    p = _angles(params, q)
     _, r, d = chain_positions(params.chains, p, j)
     J = chain_jacobian(r, d)
     try:
@@ -280,12 +364,7 @@ def follower_motion(
         omega_dot = np.linalg.solve(J, (np.asarray(Ldd, dtype=float) - phi)[..., None])[..., 0]
     except np.linalg.LinAlgError:
         raise PoseError("singular pose: the Jacobian of the following platform is singular", 0.0, 0, source) from None
-    T = angular_velocity_map(p)
-    pd = np.linalg.solve(T, omega[..., None])[..., 0]
-    pdd = np.linalg.solve(T, (omega_dot - np.einsum("nij,nj->ni", angular_velocity_map_rate(p, pd), pd))[..., None])[
-        ..., 0
-    ]
-    return q, pd * signs, pdd * signs
+    return _gait_motion(params, p, omega, omega_dot)[1:]
 
 
 def carriage_sensitivities(

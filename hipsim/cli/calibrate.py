@@ -104,45 +104,8 @@ def _check(args) -> None:
             raise HipsimError(f"{path} is one of the logs read; give another output file")
 
 
-def _summary(calibration, validation) -> dict:
-    import numpy as np
-
-    from ..stations import deviations as dv
-
-    values = [
-        {
-            "value": name,
-            "deviation_mm": float(calibration.theta[k] * 1e3),
-            "std_mm": float(calibration.theta_std[k] * 1e3),
-            "determined": bool(calibration.determined[k]),
-        }
-        for k, name in enumerate(dv.names())
-    ]
-    return {
-        "logs": list(calibration.logs),
-        "samples": calibration.samples,
-        "iterations": calibration.iterations,
-        "noise_deg": np.degrees(calibration.noise).tolist(),
-        "residual_rms_deg": np.degrees(calibration.residual_rms).tolist(),
-        "start_residual_rms_deg": np.degrees(calibration.start_rms).tolist(),
-        "offsets_deg": np.degrees(calibration.offsets).tolist(),
-        "values": values,
-        "unseen": calibration.unseen,
-        "weak": calibration.weak,
-        "combinations": calibration.structure.definitions(),
-        "confounded": [c.to_json() for c in calibration.confounded],
-        "validation": [
-            {
-                "log": v["log"],
-                "rms_deg": np.degrees(v["rms"]).tolist(),
-                "start_rms_deg": np.degrees(v["start_rms"]).tolist(),
-            }
-            for v in validation
-        ],
-    }
-
-
 def _print(summary) -> None:
+    """The calibration's tables, from its record (:class:`hipsim.stations.calibration_summary.CalibrationSummary`)."""
     from ..present.tables import format_table
 
     def sensors(values):
@@ -150,46 +113,52 @@ def _print(summary) -> None:
 
     header = ["log", "m_1 α", "m_1 β", "m_1 γ", "m_2 α", "m_2 β", "m_2 γ"]
     rows = []
-    for name, before, after in zip(summary["logs"], summary["start_residual_rms_deg"], summary["residual_rms_deg"]):
+    for name, before, after in zip(summary.logs, summary.start_residual_rms_deg, summary.residual_rms_deg):
         rows += [[f"{Path(name).name} (start)", *sensors(before)], [f"{Path(name).name} (calibrated)", *sensors(after)]]
-    for v in summary["validation"]:
+    for v in summary.validation:
         rows += [
-            [f"{Path(v['log']).name} held out (start)", *sensors(v["start_rms_deg"])],
-            [f"{Path(v['log']).name} held out (calibrated)", *sensors(v["rms_deg"])],
+            [f"{Path(v.log).name} held out (start)", *sensors(v.start_rms_deg)],
+            [f"{Path(v.log).name} held out (calibrated)", *sensors(v.rms_deg)],
         ]
     print(format_table(header, rows, "RMS residual of each sensor angle [°]"))
-    print("noise [°]: " + ", ".join(f"{v:.4g}" for v in sum(summary["noise_deg"], [])))
-    largest = sorted(summary["values"], key=lambda v: -abs(v["deviation_mm"]))[:8]
-    rows = [
-        [v["value"], f"{v['deviation_mm']:.4f}", f"{v['std_mm']:.4f}", "yes" if v["determined"] else "no"]
-        for v in largest
-    ]
+    print("noise [°]: " + ", ".join(f"{v:.4g}" for v in sum(summary.noise_deg, [])))
+    largest = sorted(summary.values, key=lambda v: -abs(v.deviation_mm))[:8]
+    rows = [[v.value, f"{v.deviation_mm:.4f}", f"{v.std_mm:.4f}", "yes" if v.determined else "no"] for v in largest]
     print()
     print(format_table(["value", "deviation [mm]", "std [mm]", "determined"], rows, "Largest calibrated deviations"))
-    print("not seen by any log of this kind (kept at the start): " + (", ".join(summary["unseen"]) or "none"))
-    if summary["weak"]:
-        print("barely seen by these logs (posterior std above half the prior's): " + ", ".join(summary["weak"]))
-    confounded = summary.get("confounded", [])
-    if confounded:
+    print("not seen by any log of this kind (kept at the start): " + (", ".join(summary.unseen) or "none"))
+    if summary.weak:
+        print("barely seen by these logs (posterior std above half the prior's): " + ", ".join(summary.weak))
+    if summary.confounded:
         print()
-        rows = [[c["sensor"], f"{c['explained']:.4f}", ", ".join(c["values"])] for c in confounded]
+        rows = [[c.sensor, f"{c.explained:.4f}", ", ".join(c.values)] for c in summary.confounded]
         title = (
             "Sensor offsets these logs cannot tell apart from the per-chain values (the posterior carries the trade)"
         )
         print(format_table(["offset", "explained (R²)", "trades with"], rows, title))
-        print(f"what separates them: {confounded[0]['separated_by']}")
+        print(f"what separates them: {summary.confounded[0].separated_by}")
+
+
+#: What a calibration's self-check does not judge (its verdict says so).
+NOT_JUDGED = "the values no log of this kind can see (kept at the start, listed as unseen)"
 
 
 def run(args) -> int:
-    """Calibrate, check on held-out logs, write the parameter file; exit status 0."""
+    """Calibrate, check on held-out logs, write the parameter file; exit status 1 when the self-check FAILs (a
+    calibration written with ``--force``), else 0."""
     import json
 
+    import numpy as np
+
     from ..exceptions import CalibrationError
-    from ..files import json_ready, write_atomic
-    from ..stations.calibration import calibrate, prediction_errors
+    from ..files import write_atomic
+    from ..records import exit_status
+    from ..stations.calibration import calibrate
     from ..stations.calibration_check import check_calibration
     from ..stations.calibration_file import write_calibrated
+    from ..stations.calibration_summary import calibration_summary, held_out_residual
     from ..stations.logs import read_calibration_log
+    from .documents import CalibrateRun
 
     _check(args)
     params = parameters(args)
@@ -197,16 +166,8 @@ def run(args) -> int:
     logs = [read_calibration_log(path, params.lead, args.columns) for path in args.log]
     held = [read_calibration_log(path, params.lead, args.columns) for path in args.validate]
     calibration = calibrate(logs, params, prior=args.prior * 1e-3, offsets=offsets)
-    validation: list[dict] = []
-    for log in held:
-        import numpy as np
-
-        after = prediction_errors(calibration.machine, log, offsets)[0]
-        before = prediction_errors(params, log, offsets)[0]
-        validation.append(
-            {"log": log.name, "rms": np.sqrt((after**2).mean(axis=0)), "start_rms": np.sqrt((before**2).mean(axis=0))}
-        )
-    check = check_calibration(calibration, logs, held, [v["rms"] for v in validation])
+    validation = [held_out_residual(calibration, params, log, offsets) for log in held]
+    check = check_calibration(calibration, logs, held, [np.radians(v.rms_deg) for v in validation])
     if not check.plausible:
         if not args.force:
             raise CalibrationError(
@@ -217,31 +178,27 @@ def run(args) -> int:
     from ..rig.identification.identified_file import FileProvenance
 
     record = dataclasses.replace(FileProvenance.from_dict(provenance.as_dict()), warnings=check.findings)
-    summary = _summary(calibration, validation)
+    summary = calibration_summary(calibration, validation)
     path = write_calibrated(args.out, calibration, validation, record, start=args.params or "the published machine")
-    document = {
-        "summary": summary,
-        "self_check": check.to_json(),
-        "out": str(path),
-        "provenance": provenance.as_dict(),
-    }
+    self_check = check.summary(len(held), NOT_JUDGED)
+    document = CalibrateRun(summary, self_check, str(path), provenance.as_dict())
     if args.json:
-        write_atomic(args.json, json.dumps(json_ready(document), indent=2) + "\n")
+        write_atomic(args.json, json.dumps(document.to_json(), indent=2) + "\n")
     if args.summary_format == "json":
-        print_json(document)
+        print_json(document.to_json())
     else:
         _print(summary)
         print(check.verdict(len(held)))
         print(f"wrote {path}")
-    return 0
+    return exit_status([self_check])
 
 
 def run_excite_calibration(args, params, limits) -> int:
-    """``hipsim excite --for calibration``: design the motion, write it as a trajectory CSV, print its condition number."""
-    import dataclasses
-    import sys
-
+    """``hipsim excite --for calibration``: design the motion, write it as a trajectory CSV, print its condition number;
+    exit status by its limits' verdict (as ``excite``'s)."""
+    from ..records import exit_status
     from ..stations.excitation import calibration_excitation
+    from .documents import ExciteCalibrationRun
 
     if args.max_angle is None:
         limits = dataclasses.replace(limits, max_angle=math.radians(20.0))
@@ -255,24 +212,19 @@ def run_excite_calibration(args, params, limits) -> int:
         params, frequency=args.frequency, harmonics=args.harmonics, limits=limits, seeds=8 * args.seeds
     )
     path = design.write_csv(args.out, rate=args.rate, duration=args.duration)
-    document = {
-        "for": "calibration",
-        "condition_number": design.condition_number,
-        "iso_condition_number": design.iso_condition_number,
-        "peaks": design.peaks,
-        "csv": str(path),
-    }
+    summary = design.summary()
     if json_out:
-        print_json(document)
-        return 0
-    peaks = design.peaks
+        print_json(ExciteCalibrationRun(summary, str(path)).to_json())
+        return exit_status([summary])
+    peaks = summary.peaks
     print(
-        f"condition number of the calibration Jacobian: {design.condition_number:.4g} "
-        f"(ISO 14242-1 cycle: {design.iso_condition_number:.4g})"
+        f"condition number of the calibration Jacobian: {summary.condition_number:.4g} "
+        f"(ISO 14242-1 cycle: {summary.iso_condition_number:.4g})"
     )
     print(
-        f"largest |angle| {peaks['angle_deg']:.3g}°, slider speed {peaks['speed_mm_s']:.4g} mm/s, acceleration "
-        f"{peaks['acceleration_mm_s2']:.4g} mm/s², singularity measure ≥ {peaks['cond_inv_min']:.3g}"
+        f"largest |angle| {peaks.angle_deg:.3g}°, slider speed {peaks.speed_mm_s:.4g} mm/s, acceleration "
+        f"{peaks.acceleration_mm_s2:.4g} mm/s², singularity measure ≥ {peaks.cond_inv_min:.3g}"
     )
+    print(f"limits: {summary.verdict.level.value}: {summary.verdict.judged}")
     print(f"wrote {path}: drive platform m_2 along it with both attitude sensors logging, then hipsim calibrate --log")
-    return 0
+    return exit_status([summary])

@@ -13,26 +13,34 @@ records load NumPy).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 from ..analysis.crosscheck_summary import CrossCheckSummary
 from ..control.simulation_summary import SimulationSummary
 from ..design.feasibility_summary import FeasibilitySummary
+from ..design.sizing_summary import MarginBandSummary, SizingSummary
+from ..fit_checks import FitCheckSummary
 from ..motion.iso_verdict import IsoCheckSummary
-from ..present.pages import Verdict as PageVerdict
-from ..present.wear_page import WearComparison
-from ..records import Record, flattened, optional
+from ..records import Record, Verdict, flattened, optional
 from ..results import RunSummary
 from ..rig.compare_summary import ComparisonSummary
+from ..rig.identification.excitation_summary import CalibrationExcitationSummary, ExcitationSummary
+from ..rig.identification.summary import BaseListing, IdentificationSummary
 from ..rig.monitoring.monitor_summary import MonitorSummary
+from ..stations.calibration_summary import CalibrationSummary
 from ..stations.sensor_check import SensorComparison
 from ..stations.summary import SlidersSummary, StationSummary
 from ..stations.tolerance_summary import ToleranceSummary
-from ..wear.summary import WearSummary
+from ..wear.summary import WearComparison, WearSummary
+from .documents_more import MORE_SCHEMAS
 
 __all__ = [
     "SCHEMAS",
+    "CalibrateRun",
     "CompareRun",
+    "ExciteCalibrationRun",
+    "ExciteRun",
+    "IdentifyRun",
     "IsoCheckRun",
     "MonitorRun",
     "ReportFiles",
@@ -71,6 +79,8 @@ class WearRun(Record):
 @dataclass(frozen=True)
 class WearCompare(Record):
     """``hipsim wear --compare A B``: the comparison's keys (as ``wear.json``), the page and the table written."""
+
+    schema_version: ClassVar[str] = "2"  # 2: verdict is a records.Verdict (level, judged, not_judged, numbers)
 
     comparison: WearComparison = flattened()
     index: str = ""
@@ -153,10 +163,12 @@ class MonitorRun(Record):
 
 @dataclass(frozen=True)
 class CompareRun(Record):
-    """``hipsim compare`` (as ``comparison.json``): the page's verdict, the provenance, the comparison's keys, and the
-    model's 95 % band per motor when the parameter file carries a covariance."""
+    """``hipsim compare`` (as ``comparison.json``): the acceptance verdict, the provenance, the comparison's keys, and
+    the model's 95 % band per motor when the parameter file carries a covariance."""
 
-    verdict: PageVerdict
+    schema_version: ClassVar[str] = "2"  # 2: verdict is a records.Verdict (level, judged, not_judged, numbers)
+
+    verdict: Verdict
     provenance: dict[str, Any]
     comparison: ComparisonSummary = flattened()
     model_band95: dict[str, dict[str, float | None]] | None = optional()
@@ -164,18 +176,61 @@ class CompareRun(Record):
 
 @dataclass(frozen=True)
 class ReportRun(Record):
-    """``hipsim report``: the run's summary keys, the sizing (its ``as_dict()``, None without a drive), the rating
-    check's word, the page (and PDF) written, the page's verdict, the provenance, and the margins' bands with an
-    identified file's covariance."""
+    """``hipsim report``: the run's summary keys, the sizing (None without a drive), the page (and PDF) written, the
+    drive's verdict (:func:`hipsim.design.checks.checks_verdict`; NOT MADE without a drive), the provenance, and the
+    margins' bands with an identified file's covariance."""
+
+    schema_version: ClassVar[str] = "2"  # 2: verdict is a records.Verdict; rating_check gone (the verdict's level)
 
     summary: RunSummary = field(metadata={"flatten": True})  # field() itself: mypy then knows it has no default
-    sizing: dict[str, Any] | None
-    rating_check: str
+    sizing: SizingSummary | None
     index: str
     pdf: str | None
-    verdict: PageVerdict
+    verdict: Verdict
     provenance: dict[str, Any]
-    margin_bands: list[dict[str, Any]] | None = optional()
+    margin_bands: tuple[MarginBandSummary, ...] | None = optional()
+
+
+# --- the fits and their motions: identify, calibrate, excite ------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class IdentifyRun(Record):
+    """``hipsim identify`` (and ``--json``'s file): provenance, self-check and verdict, the fit's keys, files written.
+
+    ``toml`` is the parameter file written, ``json`` the ``--json`` file (None: none)."""
+
+    provenance: dict[str, Any]
+    self_check: FitCheckSummary
+    summary: IdentificationSummary = flattened()
+    toml: str = ""
+    json: str | None = None
+
+
+@dataclass(frozen=True)
+class CalibrateRun(Record):
+    """``hipsim calibrate`` (and ``--json``'s file): the summary, self-check and verdict, file written, provenance."""
+
+    summary: CalibrationSummary
+    self_check: FitCheckSummary
+    out: str
+    provenance: dict[str, Any]
+
+
+@dataclass(frozen=True)
+class ExciteRun(Record):
+    """``hipsim excite``: the design's summary keys (its verdict against the rig's limits) and the CSV written."""
+
+    summary: ExcitationSummary = flattened()
+    csv: str = ""
+
+
+@dataclass(frozen=True)
+class ExciteCalibrationRun(Record):
+    """``hipsim excite --for calibration``: the calibration motion's summary keys and the CSV written."""
+
+    summary: CalibrationExcitationSummary = flattened()
+    csv: str = ""
 
 
 #: Command (and mode) → the record of what it prints with ``--summary-format json``.
@@ -193,6 +248,13 @@ SCHEMAS: dict[str, type[Record]] = {
     "stations-tolerance": StationsTolerance,
     "wear": WearRun,
     "wear-compare": WearCompare,
+    # the fits and their motions
+    "identify": IdentifyRun,
+    "identify-base": BaseListing,
+    "calibrate": CalibrateRun,
+    "excite": ExciteRun,
+    "excite-calibration": ExciteCalibrationRun,
+    **MORE_SCHEMAS,  # size, sweep, workspace, the wear test, the plant-and-model simulate
 }
 
 

@@ -4,13 +4,12 @@ kinematic calibration) well-posed.
 
 from __future__ import annotations
 
-import json
 import math
 import sys
 from pathlib import Path
 
 from ..exceptions import ArgumentError, OutputError
-from .common import add_machine_options, add_summary_format, numbers, parameters
+from .common import add_machine_options, add_summary_format, numbers, parameters, print_json
 
 __all__ = ["add_parser", "run"]
 
@@ -71,9 +70,11 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    """Design the excitation, write it to ``--out`` as a trajectory CSV and print its condition number; exit status 0."""
-    from ..files import json_ready
+    """Design the excitation, write it to ``--out`` as a trajectory CSV and print its condition number; exit status 1
+    when its peaks break the rig's limits (the design keeps them: never, short of a bug), else 0."""
+    from ..records import exit_status
     from ..rig.identification.excitation import Limits, excitation
+    from .documents import ExciteRun
 
     params = parameters(args)
     if Path(args.out).is_dir():
@@ -133,35 +134,23 @@ def run(args) -> int:
         max_iter=args.iterations,
     )
     path = design.write_csv(args.out, rate=args.rate, duration=args.duration)
-    peaks = design.peaks
+    summary = design.summary()
     if json_out:
-        print(
-            json.dumps(
-                json_ready(
-                    {
-                        "condition_number": design.condition_number,
-                        "iso_condition_number": design.iso_condition_number,
-                        "quantities": list(design.quantities),
-                        "peaks": peaks,
-                        "seconds": design.seconds,
-                        "csv": str(path),
-                    }
-                ),
-                indent=2,
-            )
-        )
-        return 0
+        print_json(ExciteRun(summary, str(path)).to_json())
+        return exit_status([summary])
+    peaks = summary.peaks
     print(
-        f"condition number of the identification regressor: {design.condition_number:.4g} "
-        f"(ISO 14242-1 cycle: {design.iso_condition_number:.4g}), for {', '.join(design.quantities)}"
+        f"condition number of the identification regressor: {summary.condition_number:.4g} "
+        f"(ISO 14242-1 cycle: {summary.iso_condition_number:.4g}), for {', '.join(summary.quantities)}"
     )
     print(
-        f"largest |angle| {peaks['angle_deg']:.3g}° (limit {math.degrees(limits.max_angle):.3g}°), "
-        f"slider speed {peaks['speed_mm_s']:.4g} mm/s (limit {limits.max_speed * 1e3:.4g}), "
-        f"acceleration {peaks['acceleration_mm_s2']:.4g} mm/s² (limit {limits.max_acceleration * 1e3:.4g}), "
-        f"motor torque {peaks['torque_Nmm']:.4g} N·mm (limit {limits.torque_limit * 1e3:.4g}), "
-        f"singularity measure ≥ {peaks['cond_inv_min']:.3g} (limit {limits.min_cond_inv:.3g}), "
-        f"load {peaks['load_min_N']:.4g} to {peaks['load_max_N']:.4g} N"
+        f"largest |angle| {peaks.angle_deg:.3g}° (limit {math.degrees(limits.max_angle):.3g}°), "
+        f"slider speed {peaks.speed_mm_s:.4g} mm/s (limit {limits.max_speed * 1e3:.4g}), "
+        f"acceleration {peaks.acceleration_mm_s2:.4g} mm/s² (limit {limits.max_acceleration * 1e3:.4g}), "
+        f"motor torque {peaks.torque_Nmm:.4g} N·mm (limit {limits.torque_limit * 1e3:.4g}), "
+        f"singularity measure ≥ {peaks.cond_inv_min:.3g} (limit {limits.min_cond_inv:.3g}), "
+        f"load {peaks.load_min_N:.4g} to {peaks.load_max_N:.4g} N"
     )
-    print(f"designed in {design.seconds:.1f} s; wrote {path}")
-    return 0
+    print(f"limits: {summary.verdict.level.value}: {summary.verdict.judged}")
+    print(f"designed in {summary.design_seconds:.1f} s; wrote {path}")
+    return exit_status([summary])

@@ -381,8 +381,8 @@ def format_summary(document, result) -> str:
         )
     for label, items in (("skipped", summary.skipped), ("waiting", summary.waiting)):
         for item in items:
-            known = f" ({item['bytes']:,} bytes, SHA-256 {item['sha256']})" if item.get("sha256") else ""
-            lines.append(f"{label} {item['file']}: {item['reason']}{known}")
+            known = f" ({item.bytes:,} bytes, SHA-256 {item.sha256})" if item.sha256 and item.bytes is not None else ""
+            lines.append(f"{label} {item.file}: {item.reason}{known}")
     if summary.missing:
         lines.append("missing: " + ", ".join(f"{c:,}" for c in summary.missing))
     c = result.columns
@@ -423,10 +423,10 @@ def format_summary(document, result) -> str:
         ),
     ]
     first = summary.first_alarm
-    lines.append("\nfirst " + first["text"] + f" (cycle {first['cycle']}, {first['file']})" if first else "\nno alarm")
+    lines.append("\nfirst " + first.text + f" (cycle {first.cycle}, {first.file})" if first else "\nno alarm")
     notice = summary.latest_notice
     if notice:
-        lines.append("latest " + notice["text"] + f" (cycle {notice['cycle']}, {notice['file']})")
+        lines.append("latest " + notice.text + f" (cycle {notice.cycle}, {notice.file})")
     if summary.acknowledged:
         lines.append("acknowledged: " + ", ".join(f"cycle {c:,}" for c in summary.acknowledged))
     lines.append(

@@ -8,6 +8,7 @@ from pathlib import Path
 
 from ..analysis.registry import engine_entry, engine_names
 from ..exceptions import HipsimError
+from ..records import Level, exit_status
 from .common import (
     add_machine_options,
     add_provenance_options,
@@ -152,37 +153,33 @@ def run(args) -> int:
         provenance=provenance,
         pdf=args.pdf,
     )
-    passed = files.sizing.passed if files.sizing is not None else None
+    verdict = files.verdict  # the drive's verdict, made beside the sizing (NOT MADE without a drive)
+    assert verdict is not None  # write_report always judges the drive
     pdf = files.folder / "report.pdf" if args.pdf else None
     if args.summary_format == "json":
+        from ..design.sizing_summary import MarginBandSummary, sizing_summary
         from .documents import ReportRun
 
-        assert files.verdict is not None  # write_report always judges the page
         document = ReportRun(
             (joint_run or run).summary(),
-            sizing=files.sizing.as_dict() if files.sizing is not None else None,
-            rating_check=_verdict(passed),
+            sizing=sizing_summary(files.sizing) if files.sizing is not None else None,
             index=str(files.index),
             pdf=None if pdf is None else str(pdf),
-            verdict=files.verdict,
+            verdict=verdict,
             provenance=provenance.as_dict(),
-            margin_bands=[b.as_dict() for b in bands] if bands else None,
+            margin_bands=tuple(MarginBandSummary.of(b) for b in bands) if bands else None,
         )
         print_json(document.to_json())
     else:
         print(f"wrote {files.index}" + (f" and {pdf}" if pdf is not None else ""))
-        if passed is not None and files.sizing is not None:  # passed is the sizing's
-            drive = files.sizing.drive
+        if verdict.level is not Level.NOT_MADE:
             print(
-                f"rating check of {drive.name if drive is not None else 'the drive'}: {_verdict(passed)}"
-                + ("" if passed else " (see the sizing table in the report)")
+                f"rating check: {verdict.level.value}: {verdict.judged}"
+                + (" (see the sizing table in the report)" if verdict.failed else "")
             )
         if bands:
             print(_bands_note(bands))
-    from ..design.checks import checks_verdict
-    from ..records import exit_status
-
-    status = exit_status([None if files.sizing is None else checks_verdict(files.sizing.checks)])
+    status = exit_status([verdict])
     if status:
         print("hipsim: the drive fails its rating check (exit status 1)", file=sys.stderr)
     return status
@@ -220,10 +217,6 @@ def _bands_note(bands) -> str:
             f"{b.check.kind.label}, LN{b.check.module}: margin {100 * b.check.margin:+.1f} % (95 %: {100 * lo:+.1f} % to {100 * hi:+.1f} %)"
         )
     return text + "; not: " + "; ".join(parts) + "."
-
-
-def _verdict(passed: bool | None) -> str:
-    return "not checked" if passed is None else ("pass" if passed else "FAIL")
 
 
 def _simulate_both(params, desired_at, duration, mismatch=None):

@@ -24,6 +24,7 @@ from .common import (
     add_summary_format,
     page_provenance,
     parameters,
+    print_json,
     progress,
 )
 
@@ -33,6 +34,11 @@ __all__ = ["add_parser", "run", "run_compare", "run_identify"]
 #: they are the library's :data:`hipsim.rig.logs.DEFAULT_CUTOFF` and :data:`hipsim.rig.logs.DEFAULT_TOLERANCE_DEG` (a test checks).
 DEFAULT_CUTOFF = 20.0
 DEFAULT_TOLERANCE_DEG = 0.5
+#: What an identification's self-check does not judge (its verdict says so).
+NOT_JUDGED = (
+    "the base parameters these logs do not determine (listed apart, near their priors) and the model beyond the "
+    "logs' envelope"
+)
 
 
 def _add_log_options(parser: argparse.ArgumentParser) -> None:
@@ -211,7 +217,6 @@ def run_compare(args) -> int:
     from ..present.rig_figures import write_comparison
     from ..records import exit_status
     from ..rig.compare import compare_log
-    from ..rig.compare_verdict import acceptance_verdict
     from ..rig.identification.uncertainty import read_covariance
 
     params = parameters(args)
@@ -239,15 +244,11 @@ def run_compare(args) -> int:
         band=band,
         residual=None if covariance is None else covariance.residual,
     )
-    summary = comparison.summary()
-    accepted = acceptance_verdict(
-        {i: m.relative_rms_error for i, m in summary.motors.items()},
-        None if args.accept is None else args.accept / 100,
-    )
+    summary, accepted = comparison.summary(), files.verdict  # the verdict made beside the comparison, once
     if args.summary_format == "json":
         print(json.dumps(json.loads(files.summary.read_text(encoding="utf-8")), indent=2))
         return exit_status([accepted])
-    print(f"{files.verdict.word}: " + " ".join(files.verdict.lines))
+    print(f"{accepted.level.value}: {accepted.judged}" + (f"\n  {accepted.not_judged}" if accepted.not_judged else ""))
     print(
         f"log: {log.name} ({summary.samples} samples compared, motion from the {log.motion_from}); parameters: {params.source}"
     )
@@ -328,17 +329,9 @@ def run_base(args) -> int:
     base = base_parameters(params, not args.spin_free_levers)
     belief = prior(base, params)
     if args.summary_format == "json":
-        print(
-            json.dumps(
-                {
-                    "base_parameters": [
-                        row | {"prior": float(m / s), "prior_std": float(d / s)}
-                        for row, m, d, s in zip(base.table(), belief.mean, belief.std, base.scale)
-                    ]
-                },
-                indent=2,
-            )
-        )
+        from ..rig.identification.summary import base_listing
+
+        print_json(base_listing(base, belief.mean, belief.std).to_json())
         return 0
     rows = [
         [p.label, p.definition, p.unit or "—", f"{m / s:.6g}", f"{d / s:.2g}"]
@@ -355,9 +348,9 @@ def run_base(args) -> int:
 
 
 def run_identify(args) -> int:
-    """Identify the machine from the ``--log`` files, write the parameter file ``--out`` and print the fit; exit status 0."""
+    """Identify the machine from the ``--log`` files, write the parameter file ``--out`` and print the fit; exit status 1
+    when the self-check FAILs (a fit written with ``--force``), else 0."""
     from ..exceptions import IdentificationError
-    from ..files import json_ready
     from ..fit_checks import duplicate_digests
     from ..rig.identification.fit import identify
     from ..rig.identification.prior import parse_prior_option, prior_table
@@ -422,17 +415,20 @@ def run_identify(args) -> int:
         print(f"hipsim: warning: {line}", file=sys.stderr)
 
     from ..files import write_atomic
+    from ..records import exit_status
     from ..rig.identification.identified_file import FileProvenance
+    from .documents import IdentifyRun
 
-    document = {"provenance": provenance.as_dict(), "self_check": check.to_json()} | result.summary()
-    json_text = json.dumps(json_ready(document), indent=2) + "\n" if args.json else None
+    self_check = check.summary(len(validate), NOT_JUDGED)
+    summary = result.summary()
     record = dataclasses.replace(FileProvenance.from_dict(provenance.as_dict()), warnings=check.findings)
     path = result.write_toml(args.out, record)
-    if json_text is not None:
-        write_atomic(args.json, json_text)
+    document = IdentifyRun(provenance.as_dict(), self_check, summary, str(path), args.json)
+    if args.json:
+        write_atomic(args.json, json.dumps(document.to_json(), indent=2) + "\n")
     if args.summary_format == "json":
-        print(json.dumps(json_ready(document | {"toml": str(path), "json": args.json}), indent=2))
-        return 0
+        print_json(document.to_json())
+        return exit_status([self_check])
     print(
         f"logs: {', '.join(result.logs)}; {result.rows} samples (after filtering, decimation and the windows around reversals)"
     )
@@ -468,16 +464,16 @@ def run_identify(args) -> int:
     )
     if result.active_constraints:
         print("physical consistency: " + "; ".join(result.active_constraints))
-    for (identified, start), note in zip(result.validation, result.notes or [None] * len(result.validation)):
-        a, b = identified.motor_errors(), start.motor_errors()
+    for held_out, note in zip(summary.validation or (), result.notes or [None] * len(result.validation)):
+        a, b = held_out.identified, held_out.starting
         rows = [
             [
                 f"M{i}",
-                a[i]["rms_error_Nmm"],
-                f"{100 * a[i]['relative_rms_error']:.2f} %",
-                b[i]["rms_error_Nmm"],
-                f"{100 * b[i]['relative_rms_error']:.2f} %",
-                f"{100 * a[i]['relative_rms_error_away_from_reversals']:.2f} %",
+                a[i].rms_error_Nmm,
+                f"{100 * a[i].relative_rms_error:.2f} %",
+                b[i].rms_error_Nmm,
+                f"{100 * b[i].relative_rms_error:.2f} %",
+                f"{100 * a[i].relative_rms_error_away_from_reversals:.2f} %",
             ]
             for i in ("1", "2", "3")
         ]
@@ -485,14 +481,14 @@ def run_identify(args) -> int:
             format_table(
                 ["motor", "identified [N·mm]", "/ RMS", "starting [N·mm]", "/ RMS", "identified, away from reversals"],
                 rows,
-                f"\nPrediction error on {identified.log.name} (held out): RMS of model − measured",
+                f"\nPrediction error on {held_out.log} (held out): RMS of model − measured",
             )
         )
         if note is not None:
             print(note.text())
     print(f"\n{check.verdict(len(args.validate))}")
     print(f"wrote {path}" + (f" and {args.json}" if args.json else ""))
-    return 0
+    return exit_status([self_check])
 
 
 def run(args) -> int:

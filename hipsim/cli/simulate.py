@@ -215,22 +215,23 @@ def run(args) -> int:
         return run_learning(args, params, None, trajectory, mismatch, report)
     if apart:
         runs, written = run_machine_loop(args, params, desired_at, duration, mismatch)
+        periodic = _repeats(args, trajectory)
+        machine = tuple(run.summary(tolerances, periodic, iso=True) for run in runs)
+        status = exit_status(iso for m in machine for iso in m.stations or ())
         if args.summary_format == "json":
-            document = {
-                "model": params.source,
-                "plant": args.plant_params or params.source,
-                "simulations": [run.summary().to_json() for run in runs],
-                "mismatch": mismatch,
-                "files": written,
-            }
-            print_json(document, report)
-            return 0
+            from .documents_more import SimulatePlantRun
+
+            document = SimulatePlantRun(
+                params.source, args.plant_params or params.source, machine, mismatch, tuple(written)
+            )
+            print_json(document.to_json(), report)
+            return status
         for name in written:
             print(f"wrote {name}", file=report)
-        print(format_tracking(runs), file=report)
-        for line in station_verdicts(runs, tolerances, periodic=_repeats(args, trajectory)):
+        print(format_tracking(machine), file=report)
+        for line in station_verdicts(machine):
             print(line, file=report)
-        return 0
+        return status
     if plant_entry(args.plant).warm_up:
         load_pinocchio_kernels()  # its initial state is closed before the first servo period
     if args.integrator is not None and args.plant != "mujoco":

@@ -238,13 +238,12 @@ def _instants(duration: float, servo_rate: float):
     return np.arange(int(round(duration * servo_rate))) / servo_rate
 
 
-def format_tracking(runs) -> str:
-    """Per platform and angle the RMS and peak error and when, per run; then the motors."""
+def format_tracking(summaries) -> str:
+    """Per platform and angle the RMS and peak error and when, per run's summary; then the motors."""
     from ..present.tables import format_table
 
     rows = []
-    for run in runs:
-        s = run.summary()
+    for s in summaries:
         for e in s.errors:
             role = "controlled" if e.controlled else "following"
             rows.append(
@@ -267,8 +266,7 @@ def format_tracking(runs) -> str:
         "",
     ]
     rows = []
-    for run in runs:
-        s = run.summary()
+    for s in summaries:
         for m in s.motors:
             rows.append(
                 [
@@ -287,26 +285,22 @@ def format_tracking(runs) -> str:
     return "\n".join(out)
 
 
-def station_verdicts(runs, tolerances, periodic: bool) -> list[str]:
-    """One ISO 14242-1 verdict line per run and station: the motion that platform truly went through, and its load."""
-    from ..exceptions import TrajectoryError
-    from ..motion.iso_compliance import iso_check
-
+def station_verdicts(summaries) -> list[str]:
+    """One ISO 14242-1 verdict line per run and station (:meth:`hipsim.control.tracking.MachineRun.summary` with
+    ``iso=True``): the motion that platform truly went through, and its load."""
     lines = []
-    for run in runs:
-        for j in (1, 2):
-            what = f"station {j}'s motion under {run.controller} (m_{j}, {'controlled' if j == run.control else 'following'})"
-            try:
-                check = iso_check(
-                    run.t, run.attitudes[:, j - 1], run.desired.Fe, tolerances, source=what, periodic=periodic
-                )
-            except TrajectoryError as error:
-                lines.append(f"ISO 14242-1 check of {what}: not made ({error})")
+    for s in summaries:
+        for j, iso in enumerate(s.stations or (), start=1):
+            role = "controlled" if j == s.control else "following"
+            what = f"station {j}'s motion under {s.controller} (m_{j}, {role})"
+            if iso.reason:
+                lines.append(f"ISO 14242-1 check of {what}: not made ({iso.reason})")
                 continue
-            verdict = "PASS" if check.passed else "FAIL: " + ", ".join(check.failing)
-            worst = ", ".join(f"{q} {check.worst(q):.3g}" for q in ("alpha", "beta", "gamma"))
+            failing = f" ({', '.join(iso.failing)})" if iso.failing else ""
             lines.append(
-                f"ISO 14242-1 check of {what} ({len(check.cycles)} cycle(s)): {verdict} "
-                f"(worst deviation [°]: {worst}; tolerances assumed, see hipsim iso-check)"
+                f"ISO 14242-1 check of {what} ({iso.cycles} cycle(s)): {iso.verdict.value}{failing}: {iso.judged} "
+                "(tolerances assumed, see hipsim iso-check)"
             )
+            if iso.desired_line:
+                lines.append(f"station {j} under {s.controller}: {iso.desired_line}")
     return lines

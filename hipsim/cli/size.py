@@ -3,13 +3,12 @@
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 
 from ..exceptions import HipsimError
 from ..present.tables import format_margin, format_quantity, format_table
-from .common import add_machine_options, parameters
+from .common import add_machine_options, parameters, print_json
 
 __all__ = ["add_parser", "run"]
 
@@ -372,7 +371,7 @@ def run(args) -> int:
     from ..design.checks import checks_verdict
     from ..design.ranking import screw_checks
     from ..design.sizing import rank_drives, sizing
-    from ..files import json_ready
+    from ..design.sizing_summary import ranking_verdict
     from ..machine.drive import (
         SizingRules,
         drive_from_motor_table,
@@ -409,15 +408,20 @@ def run(args) -> int:
         candidates = rank_drives(params, trajectories, motors, screws, gearboxes, rules, progress, order=args.rank)
         shown = candidates[: args.top] if args.top else candidates
         if args.summary_format == "json":
-            document = {"rules": vars(rules), "candidates": [c.as_dict() for c in shown], "rank": args.rank}
-            if args.rank == "size":
-                for entry, c in zip(document["candidates"], shown):
-                    entry["first_failure_text"] = None if c.failure is None else _sentence(c.failure, trajectories)
-                document["screw_checks"] = [
-                    {"screw": None if screw is None else screw.name, "checks": [c.as_dict() for c in checks]}
-                    for screw, checks in screw_checks(candidates)
-                ]
-            print(json.dumps(json_ready(document), indent=2))
+            from ..design.sizing_summary import ranking_summary
+
+            by_size = args.rank == "size"
+            summary = ranking_summary(
+                candidates,
+                shown,
+                rules,
+                args.rank,
+                [(None if s is None else s.name, checks) for s, checks in screw_checks(candidates)]
+                if by_size
+                else None,
+                [None if c.failure is None else _sentence(c.failure, trajectories) for c in shown] if by_size else None,
+            )
+            print_json(summary.to_json())
         else:
             if args.rank == "size":
                 print(format_ranking(candidates, shown, trajectories, params))
@@ -430,7 +434,9 @@ def run(args) -> int:
                 best = shown[0]
                 print()
                 print(format_checks(best.checks, f"Every check of rank 1: {best.drive.name}"))
-        return 0 if any(c.passed for c in candidates) else 1
+            ranked = ranking_verdict(candidates)
+            print(f"\nverdict: {ranked.level.value}: {ranked.judged}")
+        return exit_status([ranking_verdict(candidates)])
 
     if args.drive is not None:
         drive = load_drive(args.drive)
@@ -448,10 +454,11 @@ def run(args) -> int:
     ]
     bands = _margin_bands(args, params, machine, drive, rules, trajectories, results)
     if args.summary_format == "json":
-        document = {t.name: s.as_dict() for t, s in results}
-        for (t, _), b in zip(results, bands or []):
-            document[t.name]["margin_bands"] = [x.as_dict() for x in b]
-        print(json.dumps(json_ready(document), indent=2))
+        from ..design.sizing_summary import sizing_summary
+        from .documents_more import SizeRun
+
+        summaries = {t.name: sizing_summary(s, None if bands is None else bands[k]) for k, (t, s) in enumerate(results)}
+        print_json(SizeRun(summaries).to_json())
     else:
         for trajectory, size in results:
             print(

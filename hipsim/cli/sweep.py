@@ -3,16 +3,21 @@
 from __future__ import annotations
 
 import argparse
-import json
+import dataclasses
 import sys
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..analysis.registry import engine_names
 from ..exceptions import ArgumentError, HipsimError
 from ..present.tables import format_margin, format_table
-from .common import add_machine_options, add_provenance_options, page_provenance, parameters
+from .common import add_machine_options, add_provenance_options, page_provenance, parameters, print_json
 from .motion_options import add_trajectory_options, load_trajectory
+
+if TYPE_CHECKING:
+    from ..design.sweep_summary import SweepResult
+    from .documents_more import SweepRun
 
 __all__ = ["add_parser", "run"]
 
@@ -230,7 +235,10 @@ def _previous(out: Path, names: list[str], fingerprints: dict[str, str], restart
 def run(args) -> int:
     """Run the variants, append their rows to ``--out`` and print the summary; exit status 1 when no variant passes."""
     from ..design.sweep import OBJECTIVES, SweepSetup, metric_columns, parse_objective, run_sweep, variant_id
+    from ..design.sweep_summary import pareto_points, sweep_result
     from ..design.sweep_table import write_table
+    from ..records import exit_status
+    from .documents_more import SweepRun
 
     params = parameters(args)
     # Every input is read and checked before the first variant runs.
@@ -329,31 +337,43 @@ def run(args) -> int:
         bar.close()
     elapsed = time.monotonic() - started
     path, columns = save()
-    summary = _summary(columns, variants.names, OBJECTIVES, pareto)
-    summary |= {
-        "variants": len(variants),
-        "new": len(todo),
-        "skipped": skipped,
-        "seconds": elapsed,
-        "out": str(path),
-    } | metadata
-    summary["fingerprints"] = {"setup": fingerprints["setup"]}  # the whole set-up's; its parts are in the file
-    summary["provenance"] = provenance.as_dict()
+    result = sweep_result(columns, variants.names, OBJECTIVES, pareto or ())
+    front = None
     if pareto:
-        summary["figure"] = [str(p) for p in _figure(columns, pareto, out, summary)]
+        mask, points, edged = pareto_points(columns, variants.names, pareto)
+        front = (points, edged)
+    summary = SweepRun(
+        result,
+        variants=len(variants),
+        new=len(todo),
+        skipped=skipped,
+        seconds=elapsed,
+        out=str(path),
+        hipsim=metadata["hipsim"],
+        trajectory=trajectory.name,
+        samples=len(trajectory),
+        model=args.engine,
+        parameters=params.source,
+        drive=drive.source if drive is not None else None,
+        keys=tuple(variants.names),
+        fingerprints={"setup": fingerprints["setup"]},  # the whole set-up's; its parts are in the file
+        provenance=provenance.as_dict(),
+        pareto_front=None if front is None else front[0],
+        pareto_edges=None if front is None else front[1],
+    )
+    if pareto:
+        figure = tuple(str(p) for p in _figure(columns, pareto, mask, out, summary))
+        summary = dataclasses.replace(summary, figure=figure)
     if args.summary_format == "json":
-        from ..files import json_ready
-
-        print(json.dumps(json_ready(summary), indent=2))
+        print_json(summary.to_json())
     else:
         print(format_summary(summary))
-    if not summary["passing"]:
+    if summary.result.verdict.failed:
         print(
-            "hipsim: no variant passes the rating" if summary["rated"] else "hipsim: no variant could be computed",
+            "hipsim: no variant passes the rating" if result.rated else "hipsim: no variant could be computed",
             file=sys.stderr,
         )
-        return 1
-    return 0
+    return exit_status([summary.result.verdict])
 
 
 def _version() -> str:
@@ -369,111 +389,17 @@ def _progress_bar(total: int):
     return tqdm(total=total, disable=not sys.stderr.isatty(), unit="variant", delay=2.0, leave=False)
 
 
-def _summary(columns: dict, keys, objectives: dict, pareto) -> dict:
-    """Counts by status and rating, and the best variant of each objective, over every row of the table."""
+def _figure(columns: dict, pareto, front, out: Path, summary: SweepRun):
     import numpy as np
 
-    status = np.array(columns["status"], dtype=object)
-    rating = np.array(columns["rating"], dtype=object)
-    rated = bool(np.any((rating == "pass") | (rating == "fail")))
-    wanted = dict(objectives)
-    if rated:
-        wanted["margin"] = True
-    for name, maximise in pareto or []:
-        wanted[name] = maximise
-    best = {}
-    for name, maximise in wanted.items():
-        values = np.array(columns[name], dtype=float)
-        if not np.any(np.isfinite(values)):
-            continue
-        k = int(np.nanargmax(values) if maximise else np.nanargmin(values))
-        best[name] = {
-            "goal": "max" if maximise else "min",
-            "value": float(values[k]),
-            "row": k,
-            "variant": {key: float(columns[key][k]) for key in keys},
-            "rating": str(rating[k]),
-        }
-        best[name] |= _onward(columns, keys, k, status, rating, values)
-    ok = int(np.count_nonzero(status == "ok"))
-    passing = int(np.count_nonzero(rating == "pass")) if rated else ok
-    return {
-        "rows": int(status.size),
-        "ok": ok,
-        "cannot_assemble": int(np.count_nonzero(status == "cannot_assemble")),
-        "out_of_workspace": int(np.count_nonzero(status == "out_of_workspace")),
-        "rated": rated,
-        "pass": int(np.count_nonzero(rating == "pass")),
-        "fail": int(np.count_nonzero(rating == "fail")),
-        "unchecked": int(np.count_nonzero(rating == "unchecked")),
-        "passing": passing,
-        "best": best,
-    }
-
-
-def _onward(columns: dict, keys, row: int, status, rating, objective) -> dict:
-    """Where to look next from the best row: the edges of the swept range it lies on, and its nearest failing neighbour.
-
-    An edge counts only when every row as good as the best (to 1e-9 of it) lies on it: a flat objective points nowhere.
-    """
-    import numpy as np
-
-    from ..design.sweep_edges import edges_of, nearest_failing
-
-    values = np.column_stack([np.array(columns[key], dtype=float) for key in keys])
-    best = objective[row]
-    tied = np.flatnonzero(np.abs(objective - best) <= 1e-9 * max(abs(best), 1e-300))
-    edges = edges_of(values, list(keys), row)
-    for tie in tied:
-        theirs = {(e.key, e.side) for e in edges_of(values, list(keys), int(tie))}
-        edges = [e for e in edges if (e.key, e.side) in theirs]
-    failing = (rating == "fail") | (status != "ok")
-    k = nearest_failing(values, failing, row)
-    neighbour = None
-    if k is not None:
-        margin = float(columns["margin"][k])
-        neighbour = {
-            "row": k,
-            "variant": {key: float(columns[key][k]) for key in keys},
-            "status": str(status[k]),
-            "rating": str(rating[k]),
-            "margin": None if np.isnan(margin) else margin,
-            "binding": str(columns["binding"][k]) or None,
-            "reason": str(columns["reason"][k]) or None,
-        }
-    own = float(columns["margin"][row])
-    return {
-        "edges": [e.as_dict() for e in edges],
-        "margin": None if np.isnan(own) else own,
-        "nearest_failing": neighbour,
-    }
-
-
-def _figure(columns: dict, pareto, out: Path, summary: dict):
-    import numpy as np
-
-    from ..design.sweep import pareto_front
-    from ..design.sweep_edges import edges_of
     from ..present.figures import save_figure
     from ..present.sweep_figures import design_label, plot_pareto
 
     (x_name, x_max), (y_name, y_max) = pareto
+    keys = summary.keys
     values = np.column_stack([np.array(columns[x_name], dtype=float), np.array(columns[y_name], dtype=float)])
-    front = pareto_front(values, (x_max, y_max))
-    keys = np.column_stack([np.array(columns[key], dtype=float) for key in summary["keys"]])
-    summary["pareto_front"] = [
-        {key: float(columns[key][k]) for key in summary["keys"]}
-        | {x_name: float(values[k, 0]), y_name: float(values[k, 1])}
-        for k in np.flatnonzero(front)
-    ]
-    summary["pareto_edges"] = [
-        {key: float(columns[key][k]) for key in summary["keys"]}
-        | {"edges": [e.as_dict() for e in edges_of(keys, list(summary["keys"]), int(k))]}
-        for k in np.flatnonzero(front)
-        if edges_of(keys, list(summary["keys"]), int(k))
-    ]
-    title = f"{summary['rows']} variants of {', '.join(summary['keys'])} along {summary['trajectory']} ({summary['model']} model)"
-    labels = [design_label({key: float(columns[key][k]) for key in summary["keys"]}) for k in range(values.shape[0])]
+    title = f"{summary.result.rows} variants of {', '.join(keys)} along {summary.trajectory} ({summary.model} model)"
+    labels = [design_label({key: float(columns[key][k]) for key in keys}) for k in range(values.shape[0])]
     fig = plot_pareto(
         values[:, 0], values[:, 1], front, (x_name, y_name), (x_max, y_max), columns["rating"], title, labels
     )
@@ -484,69 +410,69 @@ def _extend(edges) -> str:
     """The extended ranges of a point's edges, as --grid or --range would take them."""
     parts = []
     for e in edges:
-        low, high = e["suggestion"]
-        parts.append(f"{e['key']}={low:.6g}:{high:.6g}" + (f":{e['step']:.6g}" if e["step"] is not None else ""))
+        low, high = e.suggestion
+        parts.append(f"{e.key}={low:.6g}:{high:.6g}" + (f":{e.step:.6g}" if e.step is not None else ""))
     return "sweep on, e.g. " + " ".join(parts)
 
 
-def _onward_lines(summary: dict) -> list[str]:
+def _onward_lines(result: SweepResult) -> list[str]:
     """Per objective: the best variant on an edge of the swept range (and the range to sweep next), and its nearest failing neighbour."""
     lines: dict[str, list[str]] = {}  # one message, the objectives it is about
-    for name, best in summary["best"].items():
-        for e in best["edges"]:
+    for name, best in result.best.items():
+        for e in best.edges:
             text = (
-                f"lies on the {e['side']} edge of {e['key']} ({e['value']:.6g}, swept {e['low']:.6g}…{e['high']:.6g}): "
+                f"lies on the {e.side} edge of {e.key} ({e.value:.6g}, swept {e.low:.6g}…{e.high:.6g}): "
                 f"the optimum may lie beyond; {_extend([e])}"
             )
             lines.setdefault(text, []).append(name)
-        neighbour = best["nearest_failing"]
+        neighbour = best.nearest_failing
         if neighbour is not None:
-            at = ", ".join(f"{key} {value:.6g}" for key, value in neighbour["variant"].items())
+            at = ", ".join(f"{key} {value:.6g}" for key, value in neighbour.variant.items())
             why = (
-                f"FAIL, margin {format_margin(neighbour['margin'])}"
-                + (f", {neighbour['binding']}" if neighbour["binding"] else "")
-                if neighbour["status"] == "ok"
-                else neighbour["status"].replace("_", " ")
+                f"FAIL, margin {format_margin(neighbour.margin)}"
+                + (f", {neighbour.binding}" if neighbour.binding else "")
+                if neighbour.status == "ok"
+                else neighbour.status.replace("_", " ")
             )
-            own = "" if best["margin"] is None else f"; its own margin {format_margin(best['margin'])}"
-            mine = ", ".join(f"{key} {value:.6g}" for key, value in best["variant"].items())
+            own = "" if best.margin is None else f"; its own margin {format_margin(best.margin)}"
+            mine = ", ".join(f"{key} {value:.6g}" for key, value in best.variant.items())
             lines.setdefault(f"(at {mine}): nearest failing neighbour at {at} ({why}){own}", []).append(name)
     return [""] + [f"best {', '.join(names)} {text}" for text, names in lines.items()] if lines else []
 
 
-def format_summary(summary: dict) -> str:
+def format_summary(summary: SweepRun) -> str:
     """The sweep's summary as plain text."""
-    keys = summary["keys"]
+    keys = summary.keys
+    result = summary.result
     lines = [
-        f"sweep of {summary['variants']} variants over {', '.join(keys)}: {summary['new']} run in {summary['seconds']:.1f} s, "
-        f"{summary['skipped']} already in {summary['out']}",
-        f"trajectory: {summary['trajectory']} ({summary['samples']} samples); model: {summary['model']}; parameters: {summary['parameters']}",
-        f"rows: {summary['rows']}: {summary['ok']} ok, {summary['cannot_assemble']} cannot assemble, {summary['out_of_workspace']} out of the workspace",
+        f"sweep of {summary.variants} variants over {', '.join(keys)}: {summary.new} run in {summary.seconds:.1f} s, "
+        f"{summary.skipped} already in {summary.out}",
+        f"trajectory: {summary.trajectory} ({summary.samples} samples); model: {summary.model}; parameters: {summary.parameters}",
+        f"rows: {result.rows}: {result.ok} ok, {result.cannot_assemble} cannot assemble, {result.out_of_workspace} out of the workspace",
     ]
-    if summary["rated"]:
+    if result.rated:
         lines.append(
-            f"rating ({summary['drive'] or 'the [motor] table'}): {summary['pass']} pass, {summary['fail']} FAIL, {summary['unchecked']} unchecked"
+            f"rating ({summary.drive or 'the [motor] table'}): {result.passed} pass, {result.fail} FAIL, {result.unchecked} unchecked"
         )
     else:
         lines.append(
             "rating: none checked (give --drive FILE or a [motor] table, e.g. --set motor.peak_torque_Nmm=500)"
         )
     rows = []
-    for name, best in summary["best"].items():
-        rows.append(
-            [name, best["goal"], f"{best['value']:.6g}", *(f"{best['variant'][k]:.6g}" for k in keys), best["rating"]]
-        )
+    for name, best in result.best.items():
+        rows.append([name, best.goal, f"{best.value:.6g}", *(f"{best.variant[k]:.6g}" for k in keys), best.rating])
     lines += ["", format_table(["objective", "goal", "best", *keys, "rating"], rows, "Best variant per objective")]
-    lines += _onward_lines(summary)
-    if "figure" in summary:
-        lines += ["", f"Pareto front: {len(summary['pareto_front'])} variants; figure {', '.join(summary['figure'])}"]
-        for point in summary["pareto_edges"][:5]:
-            where = "; ".join(f"{e['side']} edge of {e['key']}" for e in point["edges"])
-            values = ", ".join(f"{key} {point[key]:.6g}" for key in keys)
-            lines.append(f"  Pareto point ({values}) on the {where}: {_extend(point['edges'])}")
-        if len(summary["pareto_edges"]) > 5:
+    lines += _onward_lines(result)
+    if summary.figure is not None and summary.pareto_front is not None and summary.pareto_edges is not None:
+        lines += ["", f"Pareto front: {len(summary.pareto_front)} variants; figure {', '.join(summary.figure)}"]
+        for point in summary.pareto_edges[:5]:
+            where = "; ".join(f"{e.side} edge of {e.key}" for e in point.edges)
+            values = ", ".join(f"{key} {point.variant[key]:.6g}" for key in keys)
+            lines.append(f"  Pareto point ({values}) on the {where}: {_extend(point.edges)}")
+        if len(summary.pareto_edges) > 5:
             lines.append(
-                f"  and {len(summary['pareto_edges']) - 5} more Pareto points on an edge (--summary-format json lists them)"
+                f"  and {len(summary.pareto_edges) - 5} more Pareto points on an edge (--summary-format json lists them)"
             )
-    lines.append(f"\nwrote {summary['out']} ({summary['rows']} rows)")
+    lines.append(f"\nwrote {summary.out} ({result.rows} rows)")
+    lines.append(f"verdict: {result.verdict.level.value}: {result.verdict.judged}")
     return "\n".join(lines)

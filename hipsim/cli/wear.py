@@ -502,7 +502,7 @@ def _compare(args, setup, points, law, report) -> int:
 
     from ..present.wear_page import write_wear_compare
     from ..records import exit_status
-    from ..wear.summary import compare_verdict, difference_maps
+    from ..wear.summary import difference_maps
     from .documents import WearCompare
 
     a = _one(args, args.compare[0], setup, points, law)
@@ -539,8 +539,8 @@ def _compare(args, setup, points, law, report) -> int:
             for row in document.differences
         ]
         print(format_table(["quantity", "A", "B", "(B − A)/A"], rows, f"A: {a[0].name}   B: {b[0].name} (per cycle)"))
-        print(f"verdict: {verdict.word}: " + " ".join(verdict.lines))
+        print(f"verdict: {verdict.level.value}: {verdict.judged}")
         for note in notes:
             print(f"note: {note}")
         print(f"wrote {page.index}, {args.out}")
-    return exit_status([compare_verdict(document.differences, document.tolerance, (a[0].name, b[0].name))])
+    return exit_status([verdict])  # DIFFERENT exits 1

@@ -79,11 +79,11 @@ def _write_csv(path: str, columns: dict) -> None:
     write_atomic(path, "\n".join(lines) + "\n")
 
 
-def write_outputs(args, result, contexts, notes, inputs) -> dict:
+def write_outputs(args, result, contexts, notes, inputs) -> dict[str, str]:
     """The table of stops (--out, CSV), and the page, JSON and fitted law (--report)."""
     from ..files import write_atomic
 
-    written = {}
+    written: dict[str, str] = {}
     columns = _rows(result)
     if args.report:
         from ..present.wear_test_page import write_wear_test_page
@@ -183,10 +183,10 @@ def print_result(args, result, contexts, notes, written) -> None:
     from .common import print_json
 
     if args.summary_format == "json":
-        document = result.to_json()
-        for c in contexts:
-            document["stations"][c.station] |= c.to_json()
-        print_json(document | {"notes": notes} | written)
+        from ..wear.test_summary import wear_test_summary
+        from .documents_more import WearTestRun
+
+        print_json(WearTestRun(wear_test_summary(result, contexts), tuple(notes), **written).to_json())
     else:
         print(format_result(result, contexts, notes))
         if written:

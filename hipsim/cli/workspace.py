@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -170,6 +169,7 @@ def run_workspace(
         The :class:`WorkspaceRun`.
     """
     from ..design.workspace import offset_sweep, singularity_map
+    from ..design.workspace_summary import workspace_summary
     from ..files import check_folder, output_folder, write_atomic
     from ..motion.trajectories import iso14242
     from ..present.figures import save_figure
@@ -180,30 +180,8 @@ def run_workspace(
     trajectory = trajectory if trajectory is not None else iso14242()
     smap = singularity_map(params, alpha_deg, beta_deg, gamma_deg, trajectory=trajectory, progress=progress)
     sweep = offset_sweep(params, deltas_deg, trajectory, progress=progress)
-    m = smap.margin
-    assert m is not None  # a map made along a trajectory has its margin
-    document = {
-        "parameters": params.source,
-        "trajectory": trajectory.name,
-        "delta_deg": smap.delta_deg,
-        "grid": {
-            "alpha_deg": [float(smap.alpha_deg[0]), float(smap.alpha_deg[-1]), int(smap.alpha_deg.size)],
-            "beta_deg": [float(smap.beta_deg[0]), float(smap.beta_deg[-1]), int(smap.beta_deg.size)],
-            "gamma_deg": smap.gamma_deg.tolist(),
-        },
-        "reachable_fraction": dict(
-            zip((f"{g:g}" for g in smap.gamma_deg), smap.reachable_fraction().round(6).tolist())
-        ),
-        "trajectory_margin": {
-            "cond_inv_min": _json_float(m.cond_inv_min),
-            "t_s": _json_float(m.t_s),
-            "q_deg": [_json_float(x) for x in m.q_deg],
-            "out_of_reach_samples": m.out_of_reach,
-            "singular_samples": m.singular,
-            "singularity_crossings": m.crossings,
-        },
-        "offset_sweep": [{k: _json_float(v) for k, v in row.items()} for row in sweep.rows()],
-    }
+    summary = workspace_summary(smap, sweep)  # a map made along a trajectory has its margin
+    document = summary.to_json()
     with output_folder(out):  # a failure from here on takes back the folder if this run made it and it is empty
         files = [
             *save_figure(plot_singularity_map(smap), out, "singularity_map"),
@@ -212,21 +190,13 @@ def run_workspace(
         files.append(write_atomic(out / "workspace.json", json.dumps(document, indent=2) + "\n"))
     stream = stream if stream is not None else sys.stdout
     if summary_format == "json":
-        print(json.dumps(document | {"files": [str(p) for p in files]}, indent=2), file=stream)
+        from .documents_more import WorkspaceDocument
+
+        print(json.dumps(WorkspaceDocument(summary, tuple(str(p) for p in files)).to_json(), indent=2), file=stream)
     else:
         print(format_workspace_summary(smap, sweep), file=stream)
         print(f"\nwrote {', '.join(p.name for p in files)} to {out}", file=stream)
     return WorkspaceRun(smap, sweep, tuple(files))
-
-
-def _json_float(x):
-    """JSON has no NaN: write null for it."""
-    import numpy as np
-
-    if isinstance(x, (int, np.integer)):
-        return int(x)
-    x = float(x)
-    return x if math.isfinite(x) else None
 
 
 def run(args) -> int:

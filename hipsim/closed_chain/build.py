@@ -21,7 +21,8 @@ import pinocchio as pin
 import yaml
 
 from ..exceptions import ModelError
-from ..machine.model_files import closure_file_path, urdf_text
+from ..machine.chains import STACKUP_CLOSURE, STACKUP_JOINTS
+from ..machine.model_files import closure_declaration, closure_file_path, urdf_text
 from ..machine.parameters import Parameters, load_parameters
 from ..physics.transmission import radians_per_travel
 from .solver import ClosedChainSolver
@@ -50,9 +51,11 @@ class HipLayout:
     ujoint_v: np.ndarray  # (2, 3, 2): lever ji's [u1, u2]
     closure: np.ndarray  # (2, 3): closure index of lever ji
     slider_offset: np.ndarray  # (3,): L_1i - L_2i in [m], read from the tree
-    leg_v: np.ndarray  # (15,): the leg coordinates (sliders and universal joints)
+    leg_v: np.ndarray  # (15,) or (18,): the leg coordinates (sliders, universal joints, the stack-up's slides)
     groups: np.ndarray  # (10·(njoints−1), 3): dynamic parameters of platforms, levers, carriages
     initial_guess: np.ndarray  # (nq,): levers upright, tips at platform 1's height
+    #: With a stack-up: the spline's axial slide and the shaft end's X, Y slides (STACKUP_JOINTS); else empty.
+    stackup_v: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0, dtype=int))
 
 
 @dataclass(frozen=True, eq=False)
@@ -109,14 +112,12 @@ def _read_urdf(urdf: str | Path) -> str:
     return str(urdf)
 
 
-def _read_closures(path: str | Path) -> dict:
-    try:
-        with open(path, encoding="utf-8") as stream:
-            content = yaml.safe_load(stream)
-    except OSError as error:
-        raise ModelError(f"cannot read closure file {path}: {error}") from None
-    except yaml.YAMLError as error:
-        raise ModelError(f"{path}: not valid YAML ({error})") from None
+def _read_closures(path: str | Path | dict) -> dict:
+    if isinstance(path, dict):  # a declaration already read (closure_declaration)
+        content = path
+        path = "the closure declaration"
+    else:
+        content = _load_yaml(path)
     if not isinstance(content, dict):
         raise ModelError(f"{path}: expected a mapping with keys closed_loop, type, name_mot")
     for key in ("closed_loop", "type", "name_mot"):
@@ -130,9 +131,20 @@ def _read_closures(path: str | Path) -> dict:
     return content
 
 
+def _load_yaml(path: str | Path):
+    try:
+        with open(path, encoding="utf-8") as stream:
+            content = yaml.safe_load(stream)
+    except OSError as error:
+        raise ModelError(f"cannot read closure file {path}: {error}") from None
+    except yaml.YAMLError as error:
+        raise ModelError(f"{path}: not valid YAML ({error})") from None
+    return content
+
+
 def load_closed_chain(
     urdf: str | Path,
-    closure_file: str | Path,
+    closure_file: str | Path | dict,
     *,
     gravity: float = 9.81,
     lead: float | None = None,
@@ -142,7 +154,7 @@ def load_closed_chain(
 
     Args:
         urdf: URDF text, or the path of a URDF file.
-        closure_file: YAML with ``closed_loop`` (frame pairs), ``type``
+        closure_file: YAML (or its content, parsed) with ``closed_loop`` (frame pairs), ``type``
             ('3d' or '6d' per pair) and ``name_mot`` (actuated joints); an
             optional ``transmission`` gives per actuated joint ``lead_m`` [m]
             and ``rotor_inertia_kgm2`` [kg·m²].
@@ -165,16 +177,17 @@ def load_closed_chain(
     model.gravity = pin.Motion(np.array([0.0, 0.0, -gravity]), np.zeros(3))
 
     content = _read_closures(closure_file)
+    where = "the closure declaration" if isinstance(closure_file, dict) else closure_file
     constraint_models = pin.StdVec_RigidConstraintModel()
     for (name1, name2), kind in zip(content["closed_loop"], content["type"]):
         frames = []
         for name in (name1, name2):
             if not model.existFrame(name):
-                raise ModelError(f"{closure_file}: closure frame '{name}' is not in the URDF")
+                raise ModelError(f"{where}: closure frame '{name}' is not in the URDF")
             frames.append(model.frames[model.getFrameId(name)])
         contact = {"3d": pin.ContactType.CONTACT_3D, "6d": pin.ContactType.CONTACT_6D}.get(str(kind).lower())
         if contact is None:
-            raise ModelError(f"{closure_file}: closure type '{kind}' of {name1}-{name2} is not '3d' or '6d'")
+            raise ModelError(f"{where}: closure type '{kind}' of {name1}-{name2} is not '3d' or '6d'")
         constraint = pin.RigidConstraintModel(
             contact,
             model,
@@ -191,10 +204,10 @@ def load_closed_chain(
     actuated_v = []
     for name in actuated:
         if not model.existJointName(name):
-            raise ModelError(f"{closure_file}: actuated joint '{name}' is not in the URDF")
+            raise ModelError(f"{where}: actuated joint '{name}' is not in the URDF")
         joint = model.joints[model.getJointId(name)]
         if joint.nv != 1:
-            raise ModelError(f"{closure_file}: actuated joint '{name}' has {joint.nv} DoF, expected 1")
+            raise ModelError(f"{where}: actuated joint '{name}' has {joint.nv} DoF, expected 1")
         actuated_v.append(joint.idx_v)
 
     transmission = content.get("transmission") or {}
@@ -203,10 +216,10 @@ def load_closed_chain(
             leads = {float(transmission[n]["lead_m"]) for n in actuated if n in transmission}
             inertias = {float(transmission[n]["rotor_inertia_kgm2"]) for n in actuated if n in transmission}
         except (KeyError, TypeError, ValueError) as error:
-            message = f"{closure_file}: transmission needs lead_m and rotor_inertia_kgm2 per joint ({error})"
+            message = f"{where}: transmission needs lead_m and rotor_inertia_kgm2 per joint ({error})"
             raise ModelError(message) from None
         if len(leads) > 1 or len(inertias) > 1:
-            raise ModelError(f"{closure_file}: actuated joints with different transmissions are not supported")
+            raise ModelError(f"{where}: actuated joints with different transmissions are not supported")
         lead = lead if lead is not None else (leads.pop() if leads else None)
         rotor_inertia = rotor_inertia if rotor_inertia is not None else (inertias.pop() if inertias else None)
     if lead is not None and rotor_inertia is not None:
@@ -241,7 +254,8 @@ def load_model(params: Parameters | None = None) -> ClosedChainModel:
     params = load_parameters() if params is None else params
     chain = load_closed_chain(
         urdf_text(params),
-        closure_file_path(),
+        # With a stack-up, the seat closure too (the shipped file holds the drawing's six).
+        closure_declaration(params) if params.chains.stacked else closure_file_path(),
         gravity=params.gravity,
         lead=params.lead,
         rotor_inertia=params.screw_inertia,
@@ -274,13 +288,19 @@ def _hip_layout(chain: ClosedChainModel, params: Parameters) -> HipLayout:
             if pair not in chain.closure_frames:
                 raise ModelError(f"the closure file has no closure {pair[0]}-{pair[1]}")
             closure[j - 1, i - 1] = chain.closure_frames.index(pair)
-    if sorted(chain.actuated_v) != sorted(slider_v) or chain.n_closures != 6:
-        raise ModelError("the hip simulator needs six closures and the three sliders as actuated joints")
+    stacked = params.chains.stacked
+    stackup_v = np.array([idx(name) for name in STACKUP_JOINTS] if stacked else [], dtype=int)
+    if stacked and STACKUP_CLOSURE not in chain.closure_frames:
+        raise ModelError("the closure file has no seat closure {}-{}".format(*STACKUP_CLOSURE))
+    if sorted(chain.actuated_v) != sorted(slider_v) or chain.n_closures != 6 + stacked:
+        raise ModelError(
+            "the hip simulator needs six closures (seven with a stack-up) and the three sliders as actuated joints"
+        )
 
     placement_z = np.array(
         [[model.jointPlacements[joint(f"u1_{j}{i}")].translation[2] for i in (1, 2, 3)] for j in (1, 2)]
     )
-    leg_v = np.array(sorted(set(slider_v) | set(ujoint_v.ravel())))
+    leg_v = np.array(sorted(set(slider_v) | set(ujoint_v.ravel()) | set(stackup_v)))
 
     # Dynamic parameters (10 per joint, Pinocchio's regressor order) of each body group.
     members = (set(platform_v[:, 0]), set(ujoint_v[:, :, 1].ravel()), set(slider_v))
@@ -307,6 +327,7 @@ def _hip_layout(chain: ClosedChainModel, params: Parameters) -> HipLayout:
         leg_v=leg_v,
         groups=groups,
         initial_guess=initial_guess,
+        stackup_v=stackup_v,
     )
 
 

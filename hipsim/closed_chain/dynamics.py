@@ -140,6 +140,10 @@ class _InverseDynamics:
             rhs[4] = friction
         else:
             rhs[0] += friction
+        if layout.stackup_v.size:
+            # The load presses m_1's centre down, which rides the spline's slide now: −F_e on that coordinate, to
+            # be balanced (counted with the platforms, as the analytic model counts it).
+            rhs[0][:, layout.stackup_v[0]] += self.Fe[start:stop]
         tau = np.moveaxis(rhs, 0, 2)  # (m, nv, parts)
         closure_kernel.actuator_and_closure_forces(
             K_inv, tau, self.chain.actuated_v, self.parts[start:stop], self.lambdas[start:stop].reshape(m, -1)
@@ -160,6 +164,8 @@ class _InverseDynamics:
         # Platform j: its centre is fixed, so the central joint balances the levers, weight and load.
         centre = np.einsum("nkab,nkb->nka", self.rotations, self.lambdas)[:, closure].sum(axis=2)
         centre[:, :, 2] += params.platform_mass * params.gravity + self.Fe[:, None]
+        if self.layout.stackup_v.size:  # m_1's centre rides the spline: its weight's share accelerates with it
+            centre[:, 0, 2] += params.platform_mass * self.a[:, self.layout.stackup_v[0]]
         torques = Torques(
             total=total,
             platforms=tau_m,

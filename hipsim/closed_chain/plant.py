@@ -42,7 +42,7 @@ dynamics is consistent. Three routes solve it (``route``, :data:`ROUTES`):
   then one compiled call (:func:`~hipsim.closed_chain.plant_kernel.constrained_acceleration`)
   that evaluates h by Newton–Euler, the closures' frames, Jacobian and drift,
   and solves exactly by coordinate partitioning (18 eliminated coordinates,
-  platform 1's three angles kept). It agrees with the converged
+  platform 1's three angles kept; with a stack-up platform 2's, see :meth:`PinocchioPlant._kernel_arguments`). It agrees with the converged
   ``constraintDynamics`` to 1e-14 m/s², on and off the closures.
 * ``"constraint_dynamics"``: Pinocchio's ``pin.constraintDynamics``
   (``initConstraintDynamics`` once per plant; Data and constraint Data are
@@ -189,6 +189,9 @@ class PinocchioPlant:
             raise ArgumentError("mu", mu, "a positive proximal regularisation")
         if chain is not None and chain.params is not params:
             raise ArgumentError("chain", chain, "load_model(params) of the same params object")
+        if route == "constraint_dynamics" and params.geometry is not None and params.chains.stacked:
+            # The stack-up's shaft end is massless: M is singular there, and Pinocchio's constraint Cholesky gives NaN.
+            raise ArgumentError("route", route, "'compiled' or 'kernel' with a stack-up (its massless slides)")
         self.params = params
         self.chain = load_model(params) if chain is None else chain
         layout = self.chain.layout
@@ -230,7 +233,16 @@ class PinocchioPlant:
         self._weight = float(params.platform_mass * params.gravity)
         self._fast = not laws.lever_joint_friction_on(params.friction) and self._platform_follows_the_spec()
         #: The closed-form friction's arguments (:func:`~hipsim.closed_chain.plant_step.generalised_forces`).
-        self._forces = (self._friction, self._weight, self._force_gain, self._platform_slots, self._slider_slots)
+        # With a stack-up the load presses m_1's centre down the spline's slide (hipsim.machine.chains).
+        self._lifted = np.ascontiguousarray(layout.stackup_v[:1], dtype=np.int64)
+        self._forces = (
+            self._friction,
+            self._weight,
+            self._force_gain,
+            self._platform_slots,
+            self._slider_slots,
+            self._lifted,
+        )
         # For the general friction path and the diagnostics: their own Data, not the dynamics'.
         self._jdata = model.createData()
         self._jdatas = pin.StdVec_RigidConstraintData()
@@ -446,11 +458,13 @@ class PinocchioPlant:
                 self._force_gain,
                 self._platform_slots,
                 self._slider_slots,
+                self._lifted,
             )
         nq = self.nq
         buf[:] = -friction_forces(self.chain, x[:nq], x[nq:], Fe, data=self._jdata)
         for i, s in enumerate(self._sliders):
             buf[s] += self._force_gain * tau[i]
+        buf[self._lifted] -= Fe
         return buf
 
     def _kernel_arguments(self) -> tuple | None:
@@ -466,7 +480,10 @@ class PinocchioPlant:
         rotations, origins = _joint_placement_views(model, data)
         if rotations is None:
             return None
-        angles = np.asarray(self._platforms[0], dtype=np.int64)
+        # The independent coordinates: platform 1's angles; with a stack-up platform 2's, from which the seat, the
+        # carriages and then m_1 follow block by block (from m_1's, m_1 needs the lift, the lift m_2, m_2 the
+        # carriages, the carriages m_1: one 21×21 block, 1.3x the time).
+        angles = np.asarray(self._platforms[1 if require_layout(self.chain).stackup_v.size else 0], dtype=np.int64)
         others = np.setdiff1d(np.arange(model.nv), angles)
         if 3 * len(self.constraint_models) != others.size:
             return None

@@ -207,7 +207,7 @@ def constrained_acceleration(
         tau: the generalised forces in [N, N·m], (nv,).
         bodies, joints: :func:`tree_constants`.
         closures, placements: per closure, its frames' joints (n, 2) and their placements in them (n, 2, 4, 4).
-        order: row 0, platform 1's three angle slots, then the other nv − 3 (J_c's columns of those: square,
+        order: row 0, the independent platform's three angle slots (platform 1's; with a stack-up platform 2's), then the other nv − 3 (J_c's columns of those: square,
             regular); row 1, each slot's column in the eliminated system (the others' first, the angles' after), (2, nv).
         blocks: row 0, each row of J_c's row in the eliminated system; row 1, for each row (and column) of the
             system, where its diagonal block ends, (2, nv − 3). The system's rows and columns are in an order

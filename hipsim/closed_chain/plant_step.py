@@ -37,7 +37,7 @@ _DEPENDS_ON = (
 
 
 @laws.jit(depends_on=_DEPENDS_ON)
-def generalised_forces(buf, x, tau, Fe, friction, weight, gain, platforms, sliders):
+def generalised_forces(buf, x, tau, Fe, friction, weight, gain, platforms, sliders, lifted):
     """Sᵀ(2π/p)·τ − Q_f into buf (the closed-form path, see :mod:`~hipsim.closed_chain.plant`).
 
     Args:
@@ -50,6 +50,8 @@ def generalised_forces(buf, x, tau, Fe, friction, weight, gain, platforms, slide
         gain: 2π/p in [1/m].
         platforms: per platform, the state slots of q_rx, q_ry, q_rz, v_rx, v_ry, v_rz, (2, 6).
         sliders: per motor, the slots of the slider's q (= its force entry) and v, (3, 2).
+        lifted: the slots where the load pushes down, −F_e: with a stack-up the spline's slide under m_1's centre
+            (hipsim.machine.chains), (1,); else none, (0,).
     """
     F = laws.FrictionRecord(*friction)
     for j in range(platforms.shape[0]):
@@ -68,11 +70,13 @@ def generalised_forces(buf, x, tau, Fe, friction, weight, gain, platforms, slide
         # Two guides per carriage; the screw's torque on the motor shaft as a carriage force.
         friction_force = 2.0 * laws.guide_friction(F, rate, speed) + gain * laws.screw_friction(F, speed)
         buf[sliders[i, 0]] = gain * tau[i] - friction_force
+    for slot in lifted:
+        buf[slot] = -Fe
     return buf
 
 
 @laws.jit(depends_on=_DEPENDS_ON)
-def rk4_stage(s, x, y, stages, a, h, buf, tau, Fe, friction, weight, gain, platforms, sliders):
+def rk4_stage(s, x, y, stages, a, h, buf, tau, Fe, friction, weight, gain, platforms, sliders, lifted):
     """What a classic RK4 step of h [s] does between two evaluations of the acceleration, in place.
 
     Stage s = 0 starts a step at x: y = x. Stages 1, 2, 3 keep the derivative
@@ -99,7 +103,7 @@ def rk4_stage(s, x, y, stages, a, h, buf, tau, Fe, friction, weight, gain, platf
         step = h if s == 3 else h / 2
         for i in range(n):
             y[i] = x[i] + step * stages[s - 1, i]
-    generalised_forces(buf, y, tau, Fe, friction, weight, gain, platforms, sliders)
+    generalised_forces(buf, y, tau, Fe, friction, weight, gain, platforms, sliders, lifted)
 
 
 @laws.jit(depends_on=_DEPENDS_ON)
@@ -131,15 +135,15 @@ def advance(x, tau, loads, h, substeps, forces, tree, scratch, y, stages, buf, a
     Args:
         x: the state [q, v], (2·nv,); the result overwrites it.
         loads: the loads F_e in [N] at every half step, (2·substeps + 1,).
-        forces: (friction, weight, gain, platforms, sliders) as :func:`generalised_forces` takes them.
+        forces: (friction, weight, gain, platforms, sliders, lifted) as :func:`generalised_forces` takes them.
         tree, scratch: as :func:`acceleration` takes them.
         y, stages, buf, a: work arrays: a stage's state (2·nv,), k₁ … k₄ (4, 2·nv), its generalised
             forces (nv,) (only the actuated and friction entries are written) and acceleration (nv,).
     """
-    friction, weight, gain, platforms, sliders = forces
+    friction, weight, gain, platforms, sliders, lifted = forces
     for step in range(substeps):
         for s in range(4):
             Fe = loads[2 * step + (s + 1) // 2]
-            rk4_stage(s, x, y, stages, a, h, buf, tau, Fe, friction, weight, gain, platforms, sliders)
+            rk4_stage(s, x, y, stages, a, h, buf, tau, Fe, friction, weight, gain, platforms, sliders, lifted)
             acceleration(y, buf, tree, scratch, a)
-        rk4_stage(4, x, y, stages, a, h, buf, tau, 0.0, friction, weight, gain, platforms, sliders)
+        rk4_stage(4, x, y, stages, a, h, buf, tau, 0.0, friction, weight, gain, platforms, sliders, lifted)

@@ -17,8 +17,17 @@ platform j's own (``Parameters.chains``), so whatever ``[geometry]`` holds
 reaches the loop through the same builder the stations use. That is the
 seam: a ``[geometry]`` feature that moves a platform's joints or centre in
 ``Chains`` reaches the controller's model here, as it reaches the plants
-through the per-chain URDF; one that couples the two platforms (a platform's
-centre moving with the other's attitude) would need the other's attitude here.
+through the per-chain URDF.
+
+The intermediate chain's stack-up couples the two platforms (m_1's centre rides
+Δz = ẑᵀ(R_2 − I)·e with m_2's attitude, :mod:`hipsim.analytic.stackup`): with
+m_1 controlled the model needs m_2 too. :func:`model_arrays` gives the
+controlled platform, m_2 and the seat e (zero unless m_1 is controlled on a
+stacked model), and the ``model_*`` functions read the encoders through it:
+m_1's attitude is its forward kinematics on the seen carriages L − Δz(q_2(L))·1,
+its rate ω_1 = J_1⁻¹·(L̇ − 1·gᵀ·J_2⁻¹·L̇) (g = R_2·e × ẑ), and the PD's forces
+J_1⁻ᵀ·M − J_2⁻ᵀ·g·(1ᵀ·J_1⁻ᵀ·M) (virtual work through the seat). With a zero seat
+they are :func:`attitude`, :func:`rates` and :func:`workspace_pd`, call for call.
 """
 
 from __future__ import annotations
@@ -32,13 +41,26 @@ from ..physics import laws
 from ..physics.transmission import travel_per_radian
 from ..physics.vectors import cross, matvec, scale, transpose_times
 
-__all__ = ["attitude", "carriages", "platform_arrays", "rates", "workspace_pd"]
+__all__ = [
+    "attitude",
+    "carriages",
+    "model_arrays",
+    "model_attitude",
+    "model_pd",
+    "model_rates",
+    "platform_arrays",
+    "rates",
+    "workspace_pd",
+]
 
 _compile = laws.jit
 
 #: Newton's stop on the attitude step, in [rad]; and its most iterations.
 _STEP_TOL = 1e-13
 _MAX_ITER = 30
+#: The stack-up's fixed point (m_2's attitude for m_1's): stop on a lift change below this in [m]; most steps.
+_LIFT_TOL = 1e-15
+_LIFT_STEPS = 60
 
 
 def platform_arrays(params: Parameters, platform: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -170,3 +192,92 @@ def workspace_pd(points, offsets, levers, signs, lead, q, qd, q_desired, qd_desi
         signs[2] * (kp[2] * (q_desired[2] - q[2]) + kd[2] * (qd_desired[2] - qd[2])),
     )
     return np.array(scale(matvec(laws.inverse_transpose(J), moment), travel_per_radian(lead)))
+
+
+def model_arrays(params: Parameters, control: int) -> tuple[np.ndarray, ...]:
+    """The controller's model as the ``model_*`` functions take it: the controlled platform's
+    :func:`platform_arrays` (4), m_2's joints, offsets and levers (3), and the seat e [m] (3,): zero unless
+    ``control`` is 1 on a model with a stack-up (m_2's own attitude never depends on the seat)."""
+    seat = params.chains.spline_seat if control == 1 else np.zeros(3)
+    return (*platform_arrays(params, control), *platform_arrays(params, 2)[:3], np.ascontiguousarray(seat, dtype=float))
+
+
+@_compile
+def _stacked(seat):
+    return seat[0] != 0.0 or seat[1] != 0.0 or seat[2] != 0.0
+
+
+@_compile
+def _seat_point(seat, p2):
+    """s = R_2·e [m] at m_2's platform angles p2: m_1's lift is s_z − e_z, and g = s × ẑ = (s_y, −s_x, 0)."""
+    R = laws.rotation(
+        (math.cos(p2[0]), math.cos(p2[1]), math.cos(p2[2])), (math.sin(p2[0]), math.sin(p2[1]), math.sin(p2[2]))
+    )
+    return matvec(R, (seat[0], seat[1], seat[2]))
+
+
+@_compile
+def _follower_of(points, offsets, levers, signs, points2, offsets2, levers2, seat, q):
+    """m_2's platform angles p_2 and seat point s when m_1 is at gait angles q (the stack-up's fixed point).
+
+    NaN when m_2 finds no attitude.
+    """
+    p = (q[0] * signs[0], q[1] * signs[1], q[2] * signs[2])
+    seen, _ = _rows(points, offsets, levers, p)
+    q2 = np.array([q[0], q[1], q[2]])
+    lift = 0.0
+    L = np.empty(3)
+    p2 = (math.nan, math.nan, math.nan)
+    s = (math.nan, math.nan, math.nan)
+    for _ in range(_LIFT_STEPS):
+        for i in range(3):
+            L[i] = seen[i] + lift
+        q2 = attitude(points2, offsets2, levers2, signs, L, q2)
+        p2 = (q2[0] * signs[0], q2[1] * signs[1], q2[2] * signs[2])
+        s = _seat_point(seat, p2)
+        new = s[2] - seat[2]
+        if not abs(new - lift) > _LIFT_TOL:  # settled, or NaN: stop either way
+            break
+        lift = new
+    return p2, s
+
+
+@_compile
+def model_attitude(points, offsets, levers, signs, points2, offsets2, levers2, seat, L, guess):
+    """The controlled platform's gait angles [rad], (3,), at carriage readings L [m] (:func:`attitude`; with a seat:
+    m_2's first, then m_1's on the seen carriages L − Δz). NaN where the model finds none."""
+    if not _stacked(seat):
+        return attitude(points, offsets, levers, signs, L, guess)
+    q2 = attitude(points2, offsets2, levers2, signs, L, guess)  # m_2 turns within a degree of m_1
+    s = _seat_point(seat, (q2[0] * signs[0], q2[1] * signs[1], q2[2] * signs[2]))
+    lift = s[2] - seat[2]
+    return attitude(points, offsets, levers, signs, np.array([L[0] - lift, L[1] - lift, L[2] - lift]), guess)
+
+
+@_compile
+def model_rates(points, offsets, levers, signs, points2, offsets2, levers2, seat, q, Ld):
+    """The controlled platform's gait rates [rad/s], (3,), at gait angles q [rad] for carriage rates Ld [m/s]
+    (:func:`rates`; with a seat, on the seen rates L̇ − 1·gᵀ·J_2⁻¹·L̇)."""
+    if not _stacked(seat):
+        return rates(points, offsets, levers, signs, q, Ld)
+    p2, s = _follower_of(points, offsets, levers, signs, points2, offsets2, levers2, seat, q)
+    _, J2 = _rows(points2, offsets2, levers2, p2)
+    omega2 = _solve(J2, (Ld[0], Ld[1], Ld[2]))
+    zd = s[1] * omega2[0] - s[0] * omega2[1]  # g·ω_2
+    return rates(points, offsets, levers, signs, q, np.array([Ld[0] - zd, Ld[1] - zd, Ld[2] - zd]))
+
+
+@_compile
+def model_pd(
+    points, offsets, levers, signs, points2, offsets2, levers2, seat, lead, q, qd, q_desired, qd_desired, kp, kd
+):
+    """The workspace PD's motor torques [N·m], (3,), on the controller's model (:func:`workspace_pd`; with a seat the
+    moment M reaches the carriages as J_1⁻ᵀ·M − J_2⁻ᵀ·g·(1ᵀ·J_1⁻ᵀ·M), g = s × ẑ)."""
+    tau = workspace_pd(points, offsets, levers, signs, lead, q, qd, q_desired, qd_desired, kp, kd)
+    if not _stacked(seat):
+        return tau
+    p2, s = _follower_of(points, offsets, levers, signs, points2, offsets2, levers2, seat, q)
+    _, J2 = _rows(points2, offsets2, levers2, p2)
+    h = matvec(laws.inverse_transpose(J2), (s[1], -s[0], 0.0))  # J_2⁻ᵀ·g
+    total = tau[0] + tau[1] + tau[2]  # 1ᵀ·J_1⁻ᵀ·M, in motor torque
+    return np.array([tau[0] - h[0] * total, tau[1] - h[1] * total, tau[2] - h[2] * total])

@@ -6,7 +6,8 @@ decides where the model's geometric error goes:
 - :class:`EncoderFeedback` (the default of ``hipsim simulate``): each motor's
   encoder reads its carriage, quantised to ``step``; the controller's *model*
   turns the three readings into the controlled platform's attitude by its
-  forward kinematics (:mod:`hipsim.control.chain_kernel`, the stations' law),
+  forward kinematics (:mod:`hipsim.control.chain_kernel`, the stations' law,
+  the stack-up included: with m_1 controlled, m_2's attitude first and m_1's on the seen carriages),
   and the carriage rates into its rate (q̇ = T⁻¹·J⁻¹·L̇, the rates
   unquantised: a drive's velocity estimate is far finer than one count per
   period). A model that is not the machine puts its error on the controlled
@@ -107,7 +108,7 @@ class EncoderFeedback(Feedback):
         if not (math.isfinite(step) and step >= 0):
             raise ArgumentError("step", step, "an encoder step >= 0 in m")
         self.step = float(step)
-        self._platform = chain_kernel.platform_arrays(model, self.control)
+        self._model = chain_kernel.model_arrays(model, self.control)
         self._last = np.zeros(3)
 
     def start(self, t: np.ndarray, q0: np.ndarray) -> None:
@@ -118,10 +119,10 @@ class EncoderFeedback(Feedback):
 
     def measure(self, k, t, L, Ld, q, qd):
         reading = encoder_reading(L, self.step)
-        angles = chain_kernel.attitude(*self._platform, reading, self._last)
+        angles = chain_kernel.model_attitude(*self._model, reading, self._last)
         if np.all(np.isfinite(angles)):
             self._last = angles
-        return reading, angles, chain_kernel.rates(*self._platform, angles, Ld)
+        return reading, angles, chain_kernel.model_rates(*self._model, angles, Ld)
 
 
 class SensorFeedback(Feedback):
@@ -158,7 +159,9 @@ class SensorFeedback(Feedback):
 
     def start(self, t: np.ndarray, q0: np.ndarray) -> None:
         t = np.asarray(t, dtype=float)
-        white = np.random.default_rng(self.seed).standard_normal((t.size, 3)) if self.noise > 0 else 0.0
+        # (n, 3) either way, as sensing() promises the compiled loop (a noiseless sensor's were (n, 1)).
+        rng = np.random.default_rng(self.seed)
+        white = rng.standard_normal((t.size, 3)) if self.noise > 0 else np.zeros((t.size, 3))
         self._offsets = self.noise * white + self.drift * t[:, None]
 
     def sensing(self):

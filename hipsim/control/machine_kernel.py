@@ -62,7 +62,7 @@ def machine_loop(
         signs: the plant's angle signs, (3,).
         sensing: (encoders: True to read the attitude from the encoders, False for the sensor; encoder step [m];
             the sensor's offsets [rad] (n, 3); the last attitude read [rad] (3,), updated).
-        model: the model's controlled platform (:func:`hipsim.control.chain_kernel.platform_arrays`) and lead [m].
+        model: the controller's model (:func:`hipsim.control.chain_kernel.model_arrays`) and lead [m].
         gains: (K_p, K_d), each (3,).
         control: the controlled platform's index (0, 1).
         desired_q, desired_qd: (n, 3); feedforward: (n, 3) in [N·m]; limit: [N·m].
@@ -75,7 +75,7 @@ def machine_loop(
     forces, tree, scratch, y, stages, buf, a = stepper
     sliders, platforms, nq = slots
     encoders, step, offsets, last = sensing
-    points, offsets_c, levers, model_signs, lead = model
+    points, offsets_c, levers, model_signs, points2, offsets2, levers2, seat, lead = model
     kp, kd = gains
     carriages, attitudes, rates, speeds, measured, tau, tau_requested, saturated = log
     width = 2 * substeps
@@ -94,17 +94,35 @@ def machine_loop(
         reading = np.rint(L / step) * step if step > 0 else L.copy()
         carriages[k] = reading
         if encoders:
-            q_seen = chain_kernel.attitude(points, offsets_c, levers, model_signs, reading, last)
+            q_seen = chain_kernel.model_attitude(
+                points, offsets_c, levers, model_signs, points2, offsets2, levers2, seat, reading, last
+            )
             if not (np.isfinite(q_seen[0]) and np.isfinite(q_seen[1]) and np.isfinite(q_seen[2])):
                 return k
             last[:] = q_seen
-            qd_seen = chain_kernel.rates(points, offsets_c, levers, model_signs, q_seen, Ld)
+            qd_seen = chain_kernel.model_rates(
+                points, offsets_c, levers, model_signs, points2, offsets2, levers2, seat, q_seen, Ld
+            )
         else:
             q_seen = attitudes[k, control] + offsets[k]
             qd_seen = rates[k, control].copy()
         measured[k] = q_seen
-        pd = chain_kernel.workspace_pd(
-            points, offsets_c, levers, model_signs, lead, q_seen, qd_seen, desired_q[k], desired_qd[k], kp, kd
+        pd = chain_kernel.model_pd(
+            points,
+            offsets_c,
+            levers,
+            model_signs,
+            points2,
+            offsets2,
+            levers2,
+            seat,
+            lead,
+            q_seen,
+            qd_seen,
+            desired_q[k],
+            desired_qd[k],
+            kp,
+            kd,
         )
         over = False
         for i in range(3):

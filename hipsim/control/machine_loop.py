@@ -73,7 +73,8 @@ class ModelPD:
 
     J_c is the controlled platform's Jacobian on the model (on the drawing the
     law of :class:`~hipsim.control.controllers.WorkspacePD`; on a per-chain
-    model that platform's own chains).
+    model that platform's own chains; with m_1 controlled on a stacked model,
+    L̇ = J_c·ω_1 through the stack-up, :func:`~hipsim.control.chain_kernel.model_pd`).
 
     Args:
         model: the controller's model of the machine.
@@ -87,12 +88,12 @@ class ModelPD:
         self.model, self.control = model, int(control)
         self.kp = _gains(model.control.kp if kp is None else kp, "kp")
         self.kd = _gains(model.control.kd if kd is None else kd, "kd")
-        self._platform = chain_kernel.platform_arrays(model, self.control)
+        self._model = chain_kernel.model_arrays(model, self.control)
         self._lead = float(model.lead)
 
     def torques(self, q: np.ndarray, qd: np.ndarray, q_desired: np.ndarray, qd_desired: np.ndarray) -> np.ndarray:
         """Motor torques in [N·m], (3,), for measured gait angles q [rad] and rates qd [rad/s] and desired ones, each (3,)."""
-        return chain_kernel.workspace_pd(*self._platform, self._lead, q, qd, q_desired, qd_desired, self.kp, self.kd)
+        return chain_kernel.model_pd(*self._model, self._lead, q, qd, q_desired, qd_desired, self.kp, self.kd)
 
 
 def model_feedforward(
@@ -195,7 +196,7 @@ def run_machine(
             compiled_plant.reading_slots,
             np.ascontiguousarray(compiled_plant.angle_slots[2], dtype=np.float64),
             feedback.sensing(),
-            (*controller._platform, controller._lead),
+            (*controller._model, controller._lead),
             (controller.kp, controller.kd),
             controller.control - 1,
         )

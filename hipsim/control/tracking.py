@@ -12,7 +12,9 @@ saturation) and what the controller measured (``alpha_meas_deg`` …).
 
 :class:`TrackingSummary` is the run's summary as a typed record: per platform
 and angle the RMS and peak error in [deg] and when it peaks, the torques and
-speeds per motor, with :meth:`TrackingSummary.to_json`.
+speeds per motor, and (asked for) each station's ISO 14242-1 verdict on the
+motion it truly went through (:func:`hipsim.motion.iso_verdict.station_iso`,
+both platforms being asked for the desired motion).
 """
 
 from __future__ import annotations
@@ -20,13 +22,15 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
 from ..arrays import check_shapes
+from ..motion.iso_compliance import DEFAULT_TOLERANCES, Tolerances
+from ..motion.iso_verdict import StationIso, station_iso
 from ..motion.trajectories import Trajectory
 from ..physics.units import RPM_PER_RAD_S
+from ..records import Record, optional
 from ..results import peak_and_rms
 
 __all__ = ["ANGLES", "AngleError", "MachineRun", "MotorLoad", "TrackingSummary", "attitude_columns", "error_columns"]
@@ -46,7 +50,7 @@ def error_columns() -> list[str]:
 
 
 @dataclass(frozen=True)
-class AngleError:
+class AngleError(Record):
     """One platform's tracking error in one angle over a run.
 
     Attributes:
@@ -67,7 +71,7 @@ class AngleError:
 
 
 @dataclass(frozen=True)
-class MotorLoad:
+class MotorLoad(Record):
     """One motor over a run: torque peak and RMS in [N·mm], speed peak in [rpm]."""
 
     motor: int
@@ -77,7 +81,7 @@ class MotorLoad:
 
 
 @dataclass(frozen=True)
-class TrackingSummary:
+class TrackingSummary(Record):
     """A closed-loop run on the machine as built, summarised.
 
     Attributes:
@@ -89,6 +93,7 @@ class TrackingSummary:
         errors: per platform and angle (platform 1's α, β, γ, then platform 2's).
         motors: per motor.
         saturated_samples: servo periods whose torque was limited.
+        stations: each platform's ISO 14242-1 verdict (m_1's, then m_2's); None when not asked for.
     """
 
     plant: str
@@ -100,24 +105,11 @@ class TrackingSummary:
     errors: tuple[AngleError, ...]
     motors: tuple[MotorLoad, ...]
     saturated_samples: int
+    stations: tuple[StationIso, ...] | None = optional()
 
     def error(self, platform: int, angle: str) -> AngleError:
         """The entry of one platform (1, 2) and angle ("alpha", "beta", "gamma")."""
         return self.errors[3 * (platform - 1) + ANGLES.index(angle)]
-
-    def to_json(self) -> dict[str, Any]:
-        """The summary as JSON-ready values (the ``--summary-format json`` of ``hipsim simulate --plant-params``)."""
-        return {
-            "plant": self.plant,
-            "controller": self.controller,
-            "feedback": self.feedback,
-            "control": self.control,
-            "duration_s": self.duration_s,
-            "step_s": self.step_s,
-            "errors": [vars(e).copy() for e in self.errors],
-            "motors": [vars(m).copy() for m in self.motors],
-            "saturated_samples": self.saturated_samples,
-        }
 
 
 @dataclass(frozen=True, eq=False)
@@ -175,8 +167,11 @@ class MachineRun:
         """desired − true per platform in [rad], (n, 2, 3)."""
         return self.desired.q[:, None, :] - self.attitudes
 
-    def summary(self) -> TrackingSummary:
-        """Per platform and angle the RMS and peak error and its time; per motor the torque and speed."""
+    def summary(
+        self, tolerances: Tolerances = DEFAULT_TOLERANCES, periodic: bool = False, iso: bool = False
+    ) -> TrackingSummary:
+        """Per platform and angle the RMS and peak error and its time; per motor the torque and speed; with ``iso``
+        each station's ISO 14242-1 verdict (``tolerances``; ``periodic``: the run covers whole periods)."""
         e = np.degrees(self.errors)
         errors = []
         for j in range(2):
@@ -206,7 +201,28 @@ class MachineRun:
             errors=tuple(errors),
             motors=motors,
             saturated_samples=int(np.count_nonzero(self.saturated)),
+            stations=self.station_verdicts(tolerances, periodic) if iso else None,
         )
+
+    def station_verdicts(
+        self, tolerances: Tolerances = DEFAULT_TOLERANCES, periodic: bool = False
+    ) -> tuple[StationIso, StationIso]:
+        """Each station's ISO 14242-1 verdict on the motion its platform truly went through, asked for the desired
+        motion under the desired load (NOT MADE when the run holds no whole cycle)."""
+        verdicts = [
+            station_iso(
+                f"m_{j}",
+                self.t,
+                self.attitudes[:, j - 1],
+                self.desired.q,
+                self.desired.Fe,
+                tolerances,
+                source=f"m_{j} under {self.controller}",
+                periodic=periodic,
+            )
+            for j in (1, 2)
+        ]
+        return verdicts[0], verdicts[1]
 
     def columns(self) -> dict[str, np.ndarray]:
         """The per-sample table in the file's units (s, mm, deg, N·mm, rpm, N); module docstring."""

@@ -20,8 +20,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable
-from dataclasses import asdict, dataclass
-from typing import Any
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -155,14 +154,6 @@ class Check:
     @property
     def kind(self) -> _CheckKind:
         return CHECKS[self.name]
-
-    def as_dict(self) -> dict[str, Any]:
-        return asdict(self) | {
-            "label": self.kind.label,
-            "unit": self.kind.unit,
-            "bound": self.kind.bound,
-            "basis": self.kind.basis,
-        }
 
 
 def _check(module: int, name: str, value, limit, detail: str = "", trajectory: str = "", missing: str = "") -> Check:

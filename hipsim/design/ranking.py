@@ -111,29 +111,6 @@ class Candidate:
         """The checks not made for want of data, each named once."""
         return tuple(dict.fromkeys(c.name for c in self.checks if c.passed is None))
 
-    def as_dict(self) -> dict[str, Any]:
-        binding, motor_binding, failure = self.binding, self.motor_binding, self.failure
-        power, source = self.rated_power
-        return {
-            "drive": self.drive.name,
-            "motor": self.drive.motor.name,
-            "gearbox": None if self.drive.gearbox is None else self.drive.gearbox.name,
-            "screw": None if self.drive.screw is None else self.drive.screw.name,
-            "passed": self.passed,
-            "margin": self.margin,
-            "binding": None if binding is None else binding.as_dict(),
-            "unchecked": list(self.unchecked),
-            "checks": [c.as_dict() for c in self.checks],
-            "rated_power_W": power,
-            "rated_power_source": source,
-            "rotor_inertia_kgcm2": None
-            if self.drive.motor.rotor_inertia is None
-            else self.drive.motor.rotor_inertia * 1e4,
-            "cost": self.drive.motor.cost,
-            "motor_binding": None if motor_binding is None else motor_binding.as_dict(),
-            "first_failure": None if failure is None else failure.as_dict(),
-        }
-
 
 def rank_drives(
     params: Parameters,

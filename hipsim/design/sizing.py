@@ -17,13 +17,13 @@ importable from here too:
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
-from typing import Any
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..machine.drive_parts import Drive, SizingRules
 from ..physics.units import RPM_PER_RAD_S
+from ..records import Record
 from ..results import Run, peak_and_rms
 from .checks import CHECKS, Check, binding_check, drive_checks
 from .demand import Duty, ScrewSide, axial_screw_load, motor_duty, motor_thrust, reflected_inertia, screw_side
@@ -68,7 +68,7 @@ __all__ = [
 
 
 @dataclass(frozen=True)
-class ModuleSizing:
+class ModuleSizing(Record):
     """What linear module i asks at its screw shaft along the trajectory (the motor's torque for a direct drive, rotor not counted).
 
     Attributes:
@@ -103,7 +103,7 @@ class ModuleSizing:
 
 
 @dataclass(frozen=True)
-class JointSizing:
+class JointSizing(Record):
     """Peak and RMS reaction force magnitude at one joint, in [N]; name ``a_ji`` or ``o_j``."""
 
     joint: str
@@ -142,19 +142,6 @@ class Sizing:
         """The check with the smallest margin (the binding constraint), or None."""
         return binding_check(self.checks)
 
-    def as_dict(self) -> dict[str, Any]:
-        """Plain data for JSON."""
-        binding = self.binding
-        return {
-            "modules": [asdict(m) for m in self.modules],
-            "joints": None if self.joints is None else [asdict(j) for j in self.joints],
-            "drive": None if self.drive is None else _drive_dict(self.drive),
-            "rules": asdict(self.rules),
-            "checks": [c.as_dict() for c in self.checks],
-            "binding": None if binding is None else binding.as_dict(),
-            "passed": self.passed,
-        }
-
 
 #: The one-sided 95 % quantile of the normal distribution: a margin passes with 95 % confidence when it exceeds this many of its standard deviations.
 Z95_ONE_SIDED = 1.6448536269514722
@@ -186,18 +173,6 @@ class MarginBand:
             return None
         return bool(self.check.margin - Z95_ONE_SIDED * self.std >= 0)
 
-    def as_dict(self) -> dict[str, Any]:
-        interval = self.interval
-        return {
-            "module": self.check.module,
-            "name": self.check.name,
-            "margin": self.check.margin,
-            "margin_std": self.std,
-            "margin_lo95": None if interval is None else interval[0],
-            "margin_hi95": None if interval is None else interval[1],
-            "passes_with_95_confidence": self.confident,
-        }
-
 
 def margin_bands(nominal: Sizing, spread: list[Sizing]) -> tuple[MarginBand, ...]:
     """Each check's margin band from the sizing of the identified machine and of machines one standard deviation away
@@ -211,29 +186,6 @@ def margin_bands(nominal: Sizing, spread: list[Sizing]) -> tuple[MarginBand, ...
             continue
         out.append(MarginBand(check, float(math.sqrt(sum((m - margin) ** 2 for m in others)))))
     return tuple(out)
-
-
-def _drive_dict(drive: Drive) -> dict[str, Any]:
-    def plain(x):
-        if x is None:
-            return None
-        out = {}
-        for key, value in vars(x).items():
-            out[key] = (
-                {"speed_rad_s": value.speed.tolist(), "torque_Nm": value.torque.tolist()}
-                if hasattr(value, "speed")
-                else value
-            )
-        return out
-
-    return {
-        "name": drive.name,
-        "source": drive.source,
-        "motor": plain(drive.motor),
-        "amplifier": plain(drive.amplifier),
-        "gearbox": plain(drive.gearbox),
-        "screw": plain(drive.screw),
-    }
 
 
 def sizing(run: Run, drive: Drive | None = None, rules: SizingRules | None = None, cycles: float = 1.0) -> Sizing:

@@ -20,11 +20,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..records import Record
+
 __all__ = ["Edge", "edges_of", "nearest_failing"]
 
 
 @dataclass(frozen=True)
-class Edge:
+class Edge(Record):
     """One key of one variant on the edge of the swept range.
 
     Attributes:
@@ -43,17 +45,6 @@ class Edge:
     high: float
     step: float | None
     suggestion: tuple[float, float]
-
-    def as_dict(self) -> dict:
-        return {
-            "key": self.key,
-            "side": self.side,
-            "value": self.value,
-            "low": self.low,
-            "high": self.high,
-            "step": self.step,
-            "suggestion": list(self.suggestion),
-        }
 
 
 def _step(distinct: np.ndarray) -> float | None:

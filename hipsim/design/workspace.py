@@ -54,12 +54,14 @@ from ..analytic.virtual_work import inverse_dynamics
 from ..exceptions import ArgumentError
 from ..machine.parameters import Parameters
 from ..motion.trajectories import Trajectory
+from ..records import Record
 
 __all__ = [
     "DEFAULT_ALPHA_DEG",
     "DEFAULT_BETA_DEG",
     "DEFAULT_DELTAS_DEG",
     "DEFAULT_GAMMA_DEG",
+    "OffsetRow",
     "OffsetSweep",
     "SingularityMap",
     "TrajectoryMargin",
@@ -348,19 +350,10 @@ class OffsetSweep:
         """True where the whole trajectory is reachable, non-singular and crosses no singularity, shape (n,)."""
         return (self.out_of_reach == 0) & (self.singular == 0) & (self.crossings == 0)
 
-    def rows(self) -> list[dict[str, float]]:
-        """One dict per δ, with units in the keys (for tables and JSON)."""
-        return [
-            {
-                "delta_deg": float(d),
-                "cond_inv_min": float(c),
-                "tau_peak_Nmm": float(t),
-                "tau_peak_motor": int(m),
-                "stroke_max_mm": float(s),
-                "out_of_reach_samples": int(o),
-                "singular_samples": int(g),
-                "singularity_crossings": int(x),
-            }
+    def rows(self) -> tuple[OffsetRow, ...]:
+        """One :class:`OffsetRow` per δ (for tables and JSON)."""
+        return tuple(
+            OffsetRow(float(d), float(c), float(t), int(m), float(s), int(o), int(g), int(x))
             for d, c, t, m, s, o, g, x in zip(
                 self.deltas_deg,
                 self.cond_inv_min,
@@ -370,8 +363,24 @@ class OffsetSweep:
                 self.out_of_reach,
                 self.singular,
                 self.crossings,
+                strict=True,
             )
-        ]
+        )
+
+
+@dataclass(frozen=True)
+class OffsetRow(Record):
+    """One δ of an :class:`OffsetSweep`: the offset [deg], the margin, the peak torque [N·mm] and its motor (0:
+    infeasible), the largest stroke [mm], the samples out of reach and singular, the singularities crossed."""
+
+    delta_deg: float
+    cond_inv_min: float
+    tau_peak_Nmm: float
+    tau_peak_motor: int
+    stroke_max_mm: float
+    out_of_reach_samples: int
+    singular_samples: int
+    singularity_crossings: int
 
 
 def offset_sweep(

@@ -32,7 +32,13 @@ down with m_2's attitude:
 
     o_1 = h_1·ẑ + δo_1 + ẑ·[ẑᵀ·(R_2 − I)·e]                           (stack-up)
 
-(:func:`stackup_lift`). Lifting o_1 by Δz at fixed carriages is the same as lowering
+(:func:`stackup_lift`). In the URDF tree (Pinocchio, MuJoCo: :func:`per_chain_urdf`) the chain is
+built as it is: m_1's spherical joint rides a massless prismatic-Z body (the spline shaft, on the axis),
+whose end carries two massless horizontal slides (X, Y) with a frame ``spline_1_tip`` that a 3-D point
+closure holds on the seat ``platform_2_seat`` = o_2 + R_2·e (frame of m_2): three more coordinates and
+three more closure rows, so the mobility stays 3 and the shaft's end slides freely across the seat. As in
+the analytic model the shaft has no mass and its axial slide no friction; the load F_e presses on m_1's
+centre and does work now. Lifting o_1 by Δz at fixed carriages is the same as lowering
 all three of m_1's carriage readings by Δz, which is how every kinematic model applies it.
 
 Example:
@@ -63,6 +69,8 @@ __all__ = [
     "ChainGeometry",
     "Chains",
     "MAX_DEVIATION",
+    "STACKUP_CLOSURE",
+    "STACKUP_JOINTS",
     "STACKUP_KEY",
     "geometry_from_table",
     "geometry_table",
@@ -110,8 +118,14 @@ GEOMETRY_KEYS: dict[str, tuple[str, int, int, str]] = {
     ),
 }
 
-#: The ``[geometry]`` key of the intermediate chain's stack-up (the kinematic models only).
+#: The ``[geometry]`` key of the intermediate chain's stack-up.
 STACKUP_KEY = "spline_seat_mm"
+
+#: The tree's intermediate chain with a stack-up (:func:`per_chain_urdf`): the spline's axial slide carrying m_1's
+#: spherical joint, and the shaft end's two horizontal slides on the seat.
+STACKUP_JOINTS = ("spline_1_z", "spline_1_tip_x", "spline_1_tip_y")
+#: The seat closure: the spline shaft's end (frame 1) meets the seat point on m_2 (frame 2).
+STACKUP_CLOSURE = ("spline_1_tip", "platform_2_seat")
 
 #: What the ``control`` key of ``[geometry]`` means.
 CONTROL_MEANING = "the platform whose motion a trajectory gives (1 or 2; the other follows the carriages)"
@@ -388,8 +402,8 @@ def refuse_stackup(chains: Chains, what: str, source: str | None = None) -> None
     if chains.stacked:
         raise ParameterError(
             f"the intermediate chain's stack-up ({', '.join(f'{x * 1e3:g}' for x in chains.spline_seat)} mm) moves m_1's "
-            f"rotation centre with m_2, which {what} does not model (stations, calibrate and the analytic model with "
-            "control = 2 do)",
+            f"rotation centre with m_2, which {what} does not model (stations, calibrate, the analytic, Pinocchio and "
+            "MuJoCo models and plants do)",
             key=f"geometry.{STACKUP_KEY}",
             source=source,
         )
@@ -421,14 +435,14 @@ def per_chain_urdf(doc: Any, chains: Chains, screw_points: np.ndarray) -> None:
     Chain ji's U-joint (joint ``u1_ji``, on carriage i whose frame is at c_i + L_i·ẑ) moves to
     ``chains.screw_points[j, i] − c_i``; lever ji's centre of mass, drawing and tip frame to its own length;
     platform j's centre (joint ``platform_j_rz``) to ``chains.centres[j]``; its joint frames
-    (``platform_j_joint_i_fixed``) to ``chains.platform_points[j, i]``.
+    (``platform_j_joint_i_fixed``) to ``chains.platform_points[j, i]``. With a stack-up, m_1's spherical joint
+    moves onto the intermediate chain (:data:`STACKUP_JOINTS`, the seat closure :data:`STACKUP_CLOSURE`; module docstring).
 
     Args:
         doc: the URDF document.
         chains: the resolved chains (:attr:`hipsim.machine.parameter_set.Parameters.chains`).
         screw_points: the drawing's c_i in [m], (3, 3).
     """
-    refuse_stackup(chains, "the URDF tree (Pinocchio, MuJoCo)")
     joints = {element.getAttribute("name"): element for element in doc.getElementsByTagName("joint")}
     links = {element.getAttribute("name"): element for element in doc.getElementsByTagName("link")}
 
@@ -448,7 +462,53 @@ def per_chain_urdf(doc: Any, chains: Chains, screw_points: np.ndarray) -> None:
                 origin.setAttribute("xyz", f"0 0 {_number(length / 2)}")
             for cylinder in lever.getElementsByTagName("cylinder"):
                 cylinder.setAttribute("length", _number(length))
+    if chains.stacked:
+        _stackup_urdf(doc, joints, chains)
     for visual in doc.getElementsByTagName("visual"):  # the drawn hip joints at the rotation centres
         name = visual.getAttribute("name")
         if name in ("hip_joint_1", "hip_joint_2"):
             set_origin(visual, chains.centres[int(name[-1]) - 1])
+
+
+def _stackup_urdf(doc: Any, joints: dict, chains: Chains) -> None:
+    """Put m_1's spherical joint on the spline's axial slide and add the shaft end's horizontal slides and the seat frame.
+
+    At zero joint values the tree is the machine at home: the slide's body at o_1, the shaft's end at the seat
+    o_2 + e (all slides zero), so the seat closure holds with m_2 level.
+    """
+    robot = doc.documentElement
+
+    def element(tag: str, **attributes: str):
+        node = doc.createElement(tag)
+        for key, value in attributes.items():
+            node.setAttribute(key, value)
+        return node
+
+    def joint(name: str, kind: str, parent: str, child: str, xyz, axis: str | None = None) -> None:
+        node = element("joint", name=name, type=kind)
+        node.appendChild(element("parent", link=parent))
+        node.appendChild(element("child", link=child))
+        node.appendChild(element("origin", xyz=" ".join(_number(x) for x in xyz), rpy="0 0 0"))
+        if axis is not None:
+            node.appendChild(element("axis", xyz=axis))
+            node.appendChild(element("limit", lower="-0.1", upper="0.1", effort="100000", velocity="1"))
+        robot.appendChild(node)
+        robot.appendChild(element("link", name=child))  # massless: the analytic model's shaft has no mass
+
+    slide, tip_x, tip_y = STACKUP_JOINTS
+    tip, seat = STACKUP_CLOSURE
+    joint(slide, "prismatic", "base_link", "spline_1", chains.centres[0], "0 0 1")
+    rz = joints["platform_1_rz"]
+    rz.getElementsByTagName("parent")[0].setAttribute("link", "spline_1")
+    rz.getElementsByTagName("origin")[0].setAttribute("xyz", "0.0 0.0 0.0")
+    joint(
+        tip_x,
+        "prismatic",
+        "spline_1",
+        "spline_1_slide_x",
+        chains.centres[1] + chains.spline_seat - chains.centres[0],
+        "1 0 0",
+    )
+    joint(tip_y, "prismatic", "spline_1_slide_x", "spline_1_slide_y", (0.0, 0.0, 0.0), "0 1 0")
+    joint(f"{tip}_fixed", "fixed", "spline_1_slide_y", tip, (0.0, 0.0, 0.0))
+    joint(f"{seat}_fixed", "fixed", "platform_2", seat, chains.spline_seat)

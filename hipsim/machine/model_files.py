@@ -30,7 +30,7 @@ import yaml
 
 from ..exceptions import ModelError
 from ..files import write_atomic
-from .chains import per_chain_urdf
+from .chains import STACKUP_CLOSURE, per_chain_urdf
 from .parameters import Parameters, load_parameters
 
 __all__ = [
@@ -165,7 +165,8 @@ def _yaml_number(value: float) -> str:
 def closure_text(params: Parameters | None = None) -> str:
     """The closure file (``hip_simulator.yaml``'s layout) for one parameter set.
 
-    The closures and actuated joints are the shipped file's; each actuated
+    The closures and actuated joints are the shipped file's (with a stack-up, ``[geometry] spline_seat_mm``, a
+    seventh: the spline shaft's end on its seat, :data:`hipsim.machine.chains.STACKUP_CLOSURE`); each actuated
     joint's ``transmission`` entry takes the parameter set's screw lead p and
     rotor inertia I_L (``screw.lead_mm``, ``screw.inertia_kgmm2``), so a
     loader that reads only this file and the URDF of the same parameters gets
@@ -183,6 +184,8 @@ def closure_text(params: Parameters | None = None) -> str:
     if not marker:
         raise ModelError(f"{closure_file_path()}: no 'transmission:' section to fill in")
     actuated = yaml.safe_load(head)["name_mot"]
+    if params.chains.stacked:  # the intermediate chain's seat closure (hipsim.machine.chains.per_chain_urdf)
+        head = _with_seat_closure(head)
     lines = [head.rstrip("\n"), "", "transmission:"]
     for joint in actuated:
         lines.append(
@@ -190,6 +193,17 @@ def closure_text(params: Parameters | None = None) -> str:
             f"rotor_inertia_kgm2: {_yaml_number(params.screw_inertia)}}}"
         )
     return "\n".join(lines) + "\n"
+
+
+def _with_seat_closure(head: str) -> str:
+    """The shipped closures' YAML with the stack-up's seat closure appended (a seventh '3d' pair)."""
+    declared = yaml.safe_load(head)
+    last = "  - [{}, {}]\n".format(*declared["closed_loop"][-1])
+    types = "type: [{}]".format(", ".join(f"'{kind}'" for kind in declared["type"]))
+    if last not in head or types not in head:
+        raise ModelError(f"{closure_file_path()}: cannot add the seat closure to its closed_loop and type lists")
+    head = head.replace(last, last + "  - [{}, {}]\n".format(*STACKUP_CLOSURE))
+    return head.replace(types, types[:-1] + ", '3d']")
 
 
 def closure_declaration(params: Parameters | None = None) -> dict:

@@ -84,19 +84,28 @@ class _InverseDynamics:
         model, data = machine.model, machine.data  # positions and velocities are computed at (q, v)
         _full_inertia(model, data, self.M)
         self.total[k] = self.M @ a + data.qfrc_bias
-        for g, (group_model, group_data) in enumerate(machine.group_models):
-            group_data.qpos[:], group_data.qvel[:], group_data.qacc[:] = q, v, a
-            mujoco.mj_kinematics(group_model, group_data)
-            mujoco.mj_comPos(group_model, group_data)
-            mujoco.mj_comVel(group_model, group_data)
-            mujoco.mj_rne(group_model, group_data, 1, self.rne)
-            self.rhs[k, :, g] = self.rne
+        for g, group in enumerate(machine.group_models):
+            self.rhs[k, :, g] = self._rne(group, q, v, a)
+        if machine.placeholder_model is not None:  # the stack-up's placeholder masses out, the load on m_1's slide in
+            self.total[k] -= self._rne(machine.placeholder_model, q, v, a)
+            self.total[k, machine.stackup_dof] += self.Fe[k]
+            self.rhs[k, machine.stackup_dof, 0] += self.Fe[k]
         self.rhs[k, :, 3] = model.dof_armature * a
         friction = self.rhs[k, :, 4]
         friction[:] = 0.0
         self.friction.add(data, float(self.Fe[k]), friction)
         friction *= -1.0
         self.system[k, :, 3:] = J.T
+
+    def _rne(self, group, q, v, a) -> np.ndarray:
+        """M·a + bias of one body group's model (``mj_rne``) at (q, v, a), (nv,) (a view, overwritten by the next call)."""
+        group_model, group_data = group
+        group_data.qpos[:], group_data.qvel[:], group_data.qacc[:] = q, v, a
+        mujoco.mj_kinematics(group_model, group_data)
+        mujoco.mj_comPos(group_model, group_data)
+        mujoco.mj_comVel(group_model, group_data)
+        mujoco.mj_rne(group_model, group_data, 1, self.rne)
+        return self.rne
 
     def result(self, kin: MujocoKinematics) -> MujocoDynamics:
         machine, params = self.machine, self.machine.params
@@ -108,6 +117,8 @@ class _InverseDynamics:
         lambdas = solution[:, 3:].sum(axis=2).reshape(len(kin.t), -1, 3)[:, machine.closure]  # (n, 2, 3, 3)
         centre = lambdas.sum(axis=2)
         centre[:, :, 2] += params.platform_mass * params.gravity + self.Fe[:, None]
+        if machine.stackup_dof is not None:  # m_1's centre rides the spline: its weight's share accelerates with it
+            centre[:, 0, 2] += params.platform_mass * kin.a[:, machine.stackup_dof]
         motor_speed = radians_per_travel(machine.lead) * kin.Ld[:, 0]
         torques = Torques(
             total=tau,

@@ -19,11 +19,19 @@ import copy
 import numpy as np
 
 from ..exceptions import ModelError
+from ..machine.chains import STACKUP_CLOSURE, STACKUP_JOINTS
 from ..machine.parameters import Parameters
 from ..physics.transmission import lead_from_ratio
 from ._dependency import mujoco
 
-__all__ = ["MujocoMachine", "closure_gaps", "constraint_jacobian"]
+__all__ = ["PLACEHOLDER_MASS", "STACKUP_BODIES", "MujocoMachine", "closure_gaps", "constraint_jacobian"]
+
+#: The stack-up's massless links that carry no single moving body (:func:`hipsim.machine.chains.per_chain_urdf`):
+#: the spline's slide (m_1 and the shaft's end hang from it) and the shaft end's slides (only the seat's frame).
+STACKUP_BODIES = ("spline_1", "spline_1_slide_y")
+#: The mass MuJoCo is given for each of :data:`STACKUP_BODIES`, in [kg] (it refuses a moving body without one);
+#: the inverse dynamics take it out again (:attr:`MujocoMachine.placeholders`).
+PLACEHOLDER_MASS = 1e-6
 
 
 class MujocoMachine:
@@ -72,30 +80,48 @@ class MujocoMachine:
         self.leg_dof = np.array(sorted(set(range(model.nv)) - set(self.platform_dof.ravel())))
         self.platform_body = np.array([body(f"platform_{j}") for j in (1, 2)])
         self.lever_body = np.array([[body(f"lever_{j}{i}") for i in (1, 2, 3)] for j in (1, 2)])
-        if model.neq != 6 or np.any(model.eq_type != mujoco.mjtEq.mjEQ_CONNECT):
-            raise ModelError("the hip simulator's MuJoCo model needs its six connect equalities")
+        stacked = params.chains.stacked
+        if model.neq != 6 + stacked or np.any(model.eq_type != mujoco.mjtEq.mjEQ_CONNECT):
+            raise ModelError(
+                "the hip simulator's MuJoCo model needs its six connect equalities (seven with a stack-up)"
+            )
         names = [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_EQUALITY, k) for k in range(model.neq)]
         pairs = [[f"lever_{j}{i}_tip-platform_{j}_joint_{i}" for i in (1, 2, 3)] for j in (1, 2)]
-        missing = sorted(set(sum(pairs, [])) - set(names))
+        seat = ["{}-{}".format(*STACKUP_CLOSURE)] if stacked else []
+        missing = sorted(set(sum(pairs, seat)) - set(names))
         if missing:
             raise ModelError(f"the MuJoCo model has no closure {missing[0]}")
         self.closure = np.array([[names.index(name) for name in row] for row in pairs])
         self.lead = lead_from_ratio(float(model.actuator_gear[0, 0]))
         self.data = mujoco.MjData(model)
         # One model per body group, the other groups massless: mj_rne on it gives that group's share.
+        #: With a stack-up, the dof of the spline's axial slide (m_1's centre rides it: the load F_e acts on it), else None.
+        self.stackup_dof = model.jnt_dofadr[joint(STACKUP_JOINTS[0])] if stacked else None
+        #: The stack-up's bodies of PLACEHOLDER_MASS (empty without a stack-up).
+        self.placeholders = {body(name) for name in STACKUP_BODIES} if stacked else set()
+        if stacked:
+            # MuJoCo scales a closure row's softness by a per-body mean mobility (body_invweight0): the shaft end's,
+            # 1/(3·1 mg) from its light horizontal slides, would make the seat's vertical row, which lifts m_1, some
+            # 1e6 times too soft. It moves vertically with m_1's slide: that body's mobility is the right scale.
+            model.body_invweight0[body(STACKUP_BODIES[1]), 0] = model.body_invweight0[body(STACKUP_BODIES[0]), 0]
         self.group_models = []
         carriages = {model.body_parentid[b] for b in self.lever_body.ravel()}
         members = (set(self.platform_body), set(self.lever_body.ravel()), carriages)
-        if set().union(*members) != set(range(1, model.nbody)):
+        if set().union(*members) | self.placeholders != set(range(1, model.nbody)):
             raise ModelError("every moving body must be a platform, a lever or a carriage")
-        for member in members:
+        #: The placeholder bodies' own model (the others massless), whose mj_rne the inverse dynamics take out; None without.
+        self.placeholder_model = None
+        for member in (*members, self.placeholders) if stacked else members:
             group = copy.deepcopy(model)
             for b in range(1, model.nbody):
                 if b not in member:
                     group.body_mass[b] = 0.0
                     group.body_inertia[b] = 0.0
             group.dof_armature[:] = 0.0
-            self.group_models.append((group, mujoco.MjData(group)))
+            if member is self.placeholders:
+                self.placeholder_model = (group, mujoco.MjData(group))
+            else:
+                self.group_models.append((group, mujoco.MjData(group)))
 
     @property
     def nv(self) -> int:

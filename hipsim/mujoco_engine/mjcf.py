@@ -18,6 +18,14 @@ into MJCF:
   the same). Massless leaves on fixed joints (the closure frames
   ``lever_ji_tip``, ``platform_j_joint_i``) become sites. The result has the
   21 joints of the Pinocchio model with the same names and meaning.
+* With a stack-up (``[geometry] spline_seat_mm``), the URDF's intermediate chain
+  (:func:`hipsim.machine.chains.per_chain_urdf`: 24 joints) has two massless links
+  that carry no single moving body: the spline's slide (m_1 and the shaft's end
+  hang from it) and the shaft end's slides (only the seat frame). MuJoCo gets them
+  as bodies of :data:`~hipsim.mujoco_engine.machine.PLACEHOLDER_MASS` (1 mg): the inverse
+  dynamics take it out exactly (:mod:`~hipsim.mujoco_engine.dynamics`); in the plant it
+  is the only difference from the massless shaft of the other models (its inertia
+  force, 1e-6 kg times the shaft end's ~0.1 m/s², is some 1e-7 N).
 * Each ``3d`` closure becomes a ``connect`` equality between its two sites.
 * Each actuated joint (a slider) gets the screw's rotor inertia as joint
   armature I_L·(2π/p)² and a ``motor`` actuator whose control is the motor
@@ -77,7 +85,7 @@ from ..machine.parameters import Parameters, load_parameters
 from ..physics.transmission import radians_per_travel
 from ._dependency import mujoco
 from .dynamics import inverse_dynamics
-from .machine import MujocoMachine
+from .machine import PLACEHOLDER_MASS, STACKUP_BODIES, MujocoMachine
 from .trajectory import kinematics
 
 __all__ = [
@@ -261,10 +269,13 @@ class _Converter:
             while _is_massless(child):
                 # A massless link between two joints: merge it into the body it carries.
                 onward = self.children[child.name]
-                if len(onward) != 1 or onward[0].type == "fixed":
+                if len(onward) == 1 and onward[0].type != "fixed":
+                    chain.append(onward[0])
+                    child = self.links[onward[0].child]
+                elif child.name in STACKUP_BODIES:  # the stack-up's slides: MuJoCo needs a mass (PLACEHOLDER_MASS)
+                    break
+                else:
                     raise ModelError(f"link '{child.name}' has no mass and does not carry exactly one moving body")
-                chain.append(onward[0])
-                child = self.links[onward[0].child]
             self._body(chain, body, pose, child)
 
     def _body(self, chain, parent: ET.Element, pose: np.ndarray, link) -> None:
@@ -313,6 +324,10 @@ class _Converter:
 
     @staticmethod
     def _inertia(body: ET.Element, link) -> None:
+        if _is_massless(link):  # one of STACKUP_BODIES
+            inertia = _text([PLACEHOLDER_MASS * 1e-4] * 3)
+            ET.SubElement(body, "inertial", pos="0 0 0", mass=_text(PLACEHOLDER_MASS), diaginertia=inertia)
+            return
         inertial = link.inertial
         origin = _origin(inertial)
         tensor = origin[:3, :3] @ np.asarray(inertial.inertia, dtype=float) @ origin[:3, :3].T

@@ -96,6 +96,7 @@ class MujocoPlant:
         self._rows = 3 * self.model.neq
         self._sites = [(int(self.model.eq_obj1id[k]), int(self.model.eq_obj2id[k])) for k in range(self.model.neq)]
         self._friction = FrictionForces(self.machine)
+        self._lifted = self.machine.stackup_dof
         self._loads, self._t0, self._half = [0.0, 0.0], 0.0, 1.0
         self._gap_times: list[float] = []
         self._gaps: list[float] = []
@@ -167,11 +168,14 @@ class MujocoPlant:
         return x
 
     def _passive(self, model, data) -> None:
-        """mjcb_passive: add the friction forces at the evaluation's state and time."""
+        """mjcb_passive: add the friction forces (and, with a stack-up, the load on m_1's slide) at the evaluation's state and time."""
         loads = self._loads
         u = (data.time - self._t0) / self._half
         k = min(max(int(u), 0), len(loads) - 2)
-        self._friction.add(data, loads[k] + (u - k) * (loads[k + 1] - loads[k]), data.qfrc_passive)
+        Fe = loads[k] + (u - k) * (loads[k + 1] - loads[k])
+        self._friction.add(data, Fe, data.qfrc_passive)
+        if self._lifted is not None:  # with a stack-up the load presses m_1's centre down its spline's slide
+            data.qfrc_passive[self._lifted] -= Fe
 
     def angles(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Gait angles [α, β, γ] in [rad] and their rates in [rad/s], from platform 1's spherical joint."""

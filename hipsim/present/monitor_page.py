@@ -157,13 +157,13 @@ def monitor_verdict(result: MonitorResult) -> Verdict:
     NOTICE, OK, or NO BASELINE YET before the chart can start; the lines say the change and its causes."""
     found, state = result.findings, result.state
     first, notice = found.first, found.latest_notice
-    told = [f"First {first['text']} (cycle {first['cycle']:,}, {first['file']})."] if first else ["No alarm so far."]
+    told = [f"First {first.text} (cycle {first.cycle:,}, {first.file})."] if first else ["No alarm so far."]
     skipped = sum(1 for s in result.skipped if s.kind != "waiting")
     if skipped:
         told.append(f"{skipped} snapshot{'s' if skipped > 1 else ''} skipped (listed below with the reasons).")
     cycles = result.columns["last_cycle"]
     last_cycle = int(cycles[-1]) if cycles else None
-    change = notice["text"] if notice else (found.flag[-1] if found.flag else None)
+    change = notice.text if notice else (found.flag[-1] if found.flag else None)
     verdict = typed_verdict(state, last_cycle, change, found.mean.note)
     if verdict.level == Level.NOT_MADE:
         return Verdict("open", "NO BASELINE YET", (f"{found.mean.note}.", *told[1:]))

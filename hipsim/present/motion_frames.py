@@ -89,8 +89,9 @@ def _resample(trajectory: Trajectory, rate: float) -> tuple[Trajectory, bool]:
         n = max(2, int(round(period * rate)))
         times = t[0] + np.arange(n) * (period / n)
     else:
-        n = max(2, int(math.floor((t[-1] - t[0]) * rate + 1e-9)) + 1)
-        times = t[0] + np.arange(n) / rate
+        n = int(math.floor((t[-1] - t[0]) * rate + 1e-9)) + 1
+        # Shorter than one frame's step: its first and last samples (a frame one step on would lie beyond its end).
+        times = t[0] + np.arange(n) / rate if n >= 2 else np.array([t[0], t[-1]])
     # Sample times that are samples of the trajectory are taken as they are; others are interpolated.
     index = np.clip(np.round((times - t[0]) / dt).astype(int), 0, t.size - 1)
     if np.allclose(t[index], times, rtol=0.0, atol=1e-9 * dt):

@@ -19,11 +19,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+from .. import records
 from ..exceptions import HipsimError
-from ..records import Record
+from ..records import Level, Record
 from .browser import find_browser, run_headless
 
-__all__ = ["CSS", "Verdict", "environment", "print_pdf", "require_pdf_renderer"]
+__all__ = ["CSS", "Verdict", "environment", "print_pdf", "require_pdf_renderer", "sentence"]
 
 CSS = """
 body { font-family: system-ui, -apple-system, "Segoe UI", sans-serif; margin: 2em auto; max-width: 1200px; color: #222; padding: 0 1em; }
@@ -79,6 +80,21 @@ class Verdict(Record):
     word: str
     lines: tuple[str, ...]
 
+    @classmethod
+    def of(cls, verdict: records.Verdict, lines: tuple[str, ...] = (), not_made: str | None = None) -> Verdict:
+        """The block of a verdict made beside its analysis: its level's word and colour, and ``lines``.
+
+        The page decides nothing: the state is the level's (:attr:`hipsim.records.Level.state`) and so is the word,
+        except that a verdict NOT MADE may say on the page what was not made (``not_made``: "NOT RATED").
+
+        Args:
+            verdict: the verdict (:class:`hipsim.records.Verdict`).
+            lines: the sentences under the word (default: what it judged, as a sentence).
+            not_made: the page's word for a verdict NOT MADE (default: "NOT MADE").
+        """
+        word = not_made if not_made is not None and verdict.level is Level.NOT_MADE else verdict.level.value
+        return cls(verdict.level.state, word, lines or (sentence(verdict.judged),))
+
     @property
     def symbol(self) -> str:
         return {"pass": "✔", "fail": "✘"}.get(self.state, "–")
@@ -86,6 +102,14 @@ class Verdict(Record):
     def as_dict(self) -> dict:
         """The block as JSON data (:meth:`to_json`)."""
         return self.to_json()
+
+
+def sentence(text: str) -> str:
+    """``text`` as a sentence on a page: its first letter upper case, a full stop at its end."""
+    if not text:
+        return text
+    text = text[0].upper() + text[1:]
+    return text if text.endswith((".", "!", "?")) else text + "."
 
 
 def environment():

@@ -36,10 +36,12 @@ from typing import Any
 import numpy as np
 
 from ..design.sizing import Sizing, sizing
+from ..design.sizing_summary import sizing_summary
 from ..exceptions import HipsimError, OutputError
 from ..files import check_folder, json_ready, output_folder, write_atomic
 from ..machine.drive import Drive
 from ..machine.parameters import file_values
+from ..records import Verdict
 from ..results import Run, peak_and_rms
 from .figures import (
     plot_axial_load_histogram,
@@ -54,10 +56,10 @@ from .figures import (
     save_figure,
     tracking_arrays,
 )
-from .pages import Verdict, print_pdf, require_pdf_renderer
+from .pages import print_pdf, require_pdf_renderer
 from .provenance import Provenance
 from .provenance import provenance as make_provenance
-from .report_page import report_html, report_verdict
+from .report_page import report_block, report_html
 
 __all__ = ["ReportFiles", "write_report"]
 
@@ -78,7 +80,8 @@ class ReportFiles:
         data: the other files (report.json, torques.csv, and report.pdf when asked).
         notes: the notes shown on the page (model fallbacks, estimates).
         sizing: the sizing table.
-        verdict: the block at the top of the page (PASS, FAIL or NOT RATED, and why).
+        verdict: the drive's verdict (:func:`hipsim.design.checks.checks_verdict`: PASS, FAIL, or NOT MADE without a
+            drive), the block at the top of the page.
     """
 
     folder: Path
@@ -184,15 +187,16 @@ def write_report(
         plots.append(("tracking_errors", lambda: plot_tracking(simulations)))
     summary = combined.summary()
     tracking = _tracking_table(simulations) if simulations is not None else None
-    verdict = report_verdict(size)
+    sized = sizing_summary(size)
+    verdict = sized.verdict  # the drive's verdict, made beside the sizing (checks_verdict)
 
     def write(folder: Path) -> tuple[list[str], list[str]]:
         figures = {stem: save_figure(make(), folder, stem) for stem, make in plots}
         document = {
-            "verdict": verdict.as_dict(),
+            "verdict": verdict.to_json(),
             "provenance": None if provenance is None else provenance.as_dict(),
             "summary": summary.to_json(),
-            "sizing": size.as_dict(),
+            "sizing": sized.to_json(),
             "tracking": tracking,
             "page_notes": page_notes,
             "parameters": file_values(combined.params),
@@ -200,7 +204,8 @@ def write_report(
         }
         write_atomic(folder / "report.json", json.dumps(json_ready(document), indent=2, default=_plain) + "\n")
         combined.write_csv(folder / "torques.csv")
-        page = report_html(combined, summary, size, tracking, figures, page_notes, joint_model, provenance, verdict)
+        block = report_block(size, verdict)
+        page = report_html(combined, summary, size, tracking, figures, page_notes, joint_model, provenance, block)
         write_atomic(folder / "index.html", page)
         data = ["report.json", "torques.csv"]
         if browser is not None:

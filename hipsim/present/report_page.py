@@ -1,8 +1,9 @@
 """The design report's page: its verdict, its tables (every value with its unit, 3–4 significant figures) and the HTML.
 
-:func:`report_verdict` decides the block at the top of the page from the
-sizing: PASS or FAIL with the binding check and its margin, or NOT RATED with
-what the cycle asks when no drive was given. :func:`report_html` renders
+:func:`report_block` renders the block at the top of the page from the
+drive's verdict (:func:`hipsim.design.checks.checks_verdict`, decided beside
+the sizing): PASS or FAIL with the binding check and its margin, or NOT RATED
+with what the cycle asks when no drive was given. :func:`report_html` renders
 ``templates/report.html.j2``. The numbers are the sizing's own
 (:mod:`hipsim.design.sizing`); only their presentation is here.
 """
@@ -14,8 +15,8 @@ import json
 import math
 import re
 
+from .. import records
 from ..analysis.registry import engine_entry
-from ..design.checks import checks_verdict
 from ..design.sizing import CHECKS, Check, Sizing
 from ..machine.drive import Drive
 from ..machine.parameters import SCHEMA, file_values
@@ -27,7 +28,7 @@ from .numbers import quantity, significant, with_uncertainty
 from .pages import CSS, Verdict, environment
 from .provenance import ParameterOrigin, Provenance
 
-__all__ = ["report_html", "report_verdict"]
+__all__ = ["report_block", "report_html"]
 
 #: An inertia's components as the identification names them → (row, column) of the matrix.
 _INERTIA_AXES = {"xx": (0, 0), "yy": (1, 1), "zz": (2, 2), "xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}
@@ -69,44 +70,31 @@ def _check_sentence(check: Check) -> str:
     )
 
 
-def report_verdict(size: Sizing) -> Verdict:
-    """The page's block of the drive's verdict (:func:`hipsim.design.checks.checks_verdict`): PASS / FAIL / NOT
-    RATED, with the one or two numbers that decide it."""
-    verdict = checks_verdict(size.checks)
+def report_block(size: Sizing, verdict: records.Verdict) -> Verdict:
+    """The page's block of the drive's verdict (:func:`hipsim.design.checks.checks_verdict` on ``size.checks``):
+    PASS / FAIL with the binding check and its margin, NOT RATED with what the cycle asks when no check was made."""
     made = [c for c in size.checks if c.passed is not None]
     missing = len(size.checks) - len(made)
     if verdict.level == Level.NOT_MADE:
         peak = max(size.modules, key=lambda m: m.tau_peak_Nmm)
         rms = max(size.modules, key=lambda m: m.tau_rms_Nmm)
         fast = max(size.modules, key=lambda m: m.speed_peak_rpm)
-        return Verdict(
-            "open",
-            "NOT RATED",
-            (
-                "No drive was checked: give --motor FILE or a [motor] table in the parameter file.",
-                f"The cycle asks at most {quantity(peak.tau_peak_Nmm, 'N·mm')} peak (LN{peak.module}), "
-                f"{quantity(rms.tau_rms_Nmm, 'N·mm')} RMS (LN{rms.module}) and {quantity(fast.speed_peak_rpm, 'rpm')} (LN{fast.module}) "
-                "at the screw shafts.",
-            ),
+        lines = (
+            "No drive was checked: give --motor FILE or a [motor] table in the parameter file.",
+            f"The cycle asks at most {quantity(peak.tau_peak_Nmm, 'N·mm')} peak (LN{peak.module}), "
+            f"{quantity(rms.tau_rms_Nmm, 'N·mm')} RMS (LN{rms.module}) and {quantity(fast.speed_peak_rpm, 'rpm')} (LN{fast.module}) "
+            "at the screw shafts.",
         )
+        return Verdict.of(verdict, lines, not_made="NOT RATED")
     name = size.drive.name if size.drive is not None else "the drive"
     not_made = f"; {missing} not made for want of data" if missing else ""
     binding = "no check made" if size.binding is None else _check_sentence(size.binding)
-    if verdict.level == Level.PASS:
-        return Verdict(
-            "pass",
-            "PASS",
-            (f"{name} passes all {len(made)} rating checks made{not_made}.", f"Binding: {binding}."),
-        )
-    failing = [c for c in made if not c.passed]
-    return Verdict(
-        "fail",
-        "FAIL",
-        (
-            f"{name} fails {len(failing)} of the {len(made)} rating checks made{not_made}.",
-            f"Worst: {binding}.",
-        ),
-    )
+    if verdict.failed:
+        failing = [c for c in made if not c.passed]
+        lines = (f"{name} fails {len(failing)} of the {len(made)} rating checks made{not_made}.", f"Worst: {binding}.")
+    else:
+        lines = (f"{name} passes all {len(made)} rating checks made{not_made}.", f"Binding: {binding}.")
+    return Verdict.of(verdict, lines)
 
 
 _POSTERIOR_STD = re.compile(r"(?:posterior std |± )([-+0-9.eE]+)")

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from .. import records
 from ..exceptions import ArgumentError
 from ..files import check_folder, json_ready, output_folder, write_atomic
 from ..records import Level
@@ -25,12 +26,12 @@ from ..rig.compare_summary import ComparisonSummary
 from ..rig.compare_verdict import acceptance_verdict
 from .figures import save_figure
 from .numbers import significant
-from .pages import CSS, Verdict, environment
+from .pages import CSS, Verdict, environment, sentence
 from .provenance import Provenance
 
 __all__ = [
     "ComparisonFiles",
-    "comparison_verdict",
+    "comparison_block",
     "plot_comparison",
     "plot_errors",
     "plot_model_parts",
@@ -156,25 +157,25 @@ def plot_model_parts(comparison: Comparison):
 
 @dataclass(frozen=True)
 class ComparisonFiles:
-    """What :func:`write_comparison` wrote: the folder, the page, the JSON, and each figure's (PNG, SVG)."""
+    """What :func:`write_comparison` wrote: the folder, the page, the JSON, each figure's (PNG, SVG), and the verdict
+    (:func:`hipsim.rig.compare_verdict.acceptance_verdict`) the page opens with."""
 
     folder: Path
     index: Path
     summary: Path
     figures: dict[str, tuple[Path, Path]]
-    verdict: Verdict
+    verdict: records.Verdict
 
 
-def comparison_verdict(summary: ComparisonSummary, accept: float | None = None) -> Verdict:
-    """The page's block of :func:`hipsim.rig.compare_verdict.acceptance_verdict`: PASS/FAIL against ``accept``, else
-    NOT JUDGED, with the worst motor's numbers.
+def comparison_block(summary: ComparisonSummary, verdict: records.Verdict) -> Verdict:
+    """The page's block of the acceptance verdict (:func:`hipsim.rig.compare_verdict.acceptance_verdict`): its word
+    (NOT JUDGED when no threshold was given) and sentence, with the worst motor's numbers.
 
     Args:
         summary: :meth:`hipsim.rig.compare.Comparison.summary`.
-        accept: the largest relative RMS error accepted, as a fraction (0.05: 5 %); None: no threshold.
+        verdict: the acceptance verdict on it.
     """
     motors = summary.motors
-    verdict = acceptance_verdict({i: m.relative_rms_error for i, m in motors.items()}, accept)
     worst = max(motors, key=lambda i: motors[i].relative_rms_error)
     m = motors[worst]
     numbers = (
@@ -182,10 +183,8 @@ def comparison_verdict(summary: ComparisonSummary, accept: float | None = None) 
         f"{significant(100 * m.relative_rms_error, 3)} % of its measured RMS torque "
         f"({significant(m.rms_error_away_from_reversals_Nmm, 3)} N·mm away from reversals)."
     )
-    if verdict.level == Level.NOT_MADE:
-        return Verdict("open", "NOT JUDGED", ("No acceptance threshold given (--accept PERCENT).", numbers))
-    sentence = verdict.judged[0].upper() + verdict.judged[1:] + "."
-    return Verdict(verdict.level.state, verdict.level.value, (sentence, numbers))
+    first = "No acceptance threshold given (--accept PERCENT)." if verdict.level == Level.NOT_MADE else None
+    return Verdict.of(verdict, (first or sentence(verdict.judged), numbers), not_made="NOT JUDGED")
 
 
 def _rows(summary: ComparisonSummary) -> list[list[str]]:
@@ -244,8 +243,8 @@ def write_comparison(
         captions = CAPTIONS | {
             "torques": CAPTIONS["torques"] + " Light blue: the model's 95 % band from the parameter file's covariance."
         }
-    verdict = comparison_verdict(summary, accept)
-    document = {"verdict": verdict.as_dict(), "provenance": provenance.as_dict()} | document
+    verdict = acceptance_verdict({i: m.relative_rms_error for i, m in summary.motors.items()}, accept)
+    document = {"verdict": verdict.to_json(), "provenance": provenance.as_dict()} | document
     plots = [("torques", lambda c: plot_comparison(c, band)), ("errors", plot_errors)]
     if comparison.phase_rms is not None:
         plots.append(("phases", plot_phase_errors))
@@ -261,7 +260,7 @@ def write_comparison(
             .get_template("compare.html.j2")
             .render(
                 css=CSS,
-                verdict=verdict,
+                verdict=comparison_block(summary, verdict),
                 provenance=provenance,
                 title=provenance.title,
                 summary=summary,

@@ -109,7 +109,7 @@ def _label_front(ax, x, y, front, labels) -> None:
         ax.text(
             0.99,
             0.01,
-            f"every {step}th Pareto point labelled",
+            f"one Pareto point in {step} labelled",
             transform=ax.transAxes,
             ha="right",
             va="bottom",

@@ -10,17 +10,14 @@ from __future__ import annotations
 
 import base64
 import json
-import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
+from .. import records
 from ..files import check_folder, json_ready, output_folder, write_atomic
-from ..records import Level, Record
 from ..wear.laws import Wear
 from ..wear.maps import WearMaps
-from ..wear.summary import Difference, WearSummary, compare_summaries, difference_maps, wear_summary
-from ..wear.summary import compare_verdict as wear_compare_verdict
+from ..wear.summary import WearComparison, difference_maps, wear_comparison, wear_summary
 from ..wear.tracks import Tracks
 from .figures import save_figure
 from .pages import CSS, Verdict, environment, print_pdf
@@ -37,9 +34,8 @@ from .wear_figures import (
 
 __all__ = [
     "DEFAULT_TOLERANCE",
-    "WearComparison",
     "WearPage",
-    "compare_verdict",
+    "compare_block",
     "write_wear_compare",
     "write_wear_page",
 ]
@@ -124,34 +120,10 @@ def write_wear_page(
     return WearPage(out, index, json_path, tuple(paths), printed)
 
 
-@dataclass(frozen=True)
-class WearComparison(Record):
-    """Two wear runs compared, as ``wear.json`` holds it: the verdict, the provenance, both summaries, B − A.
-
-    Attributes:
-        verdict: the page's block (ALIKE, DIFFERENT, NOT COMPARED).
-        provenance: the provenance block.
-        tolerance: the relative difference of runs alike, a fraction.
-        a, b: the two runs' summaries.
-        differences: per quantity A, B, B − A, (B − A)/|A|.
-        largest_point_differences: per map (sliding_mm, work_N_per_mm, cross_shear) the largest |B − A| of a point.
-    """
-
-    verdict: Verdict
-    provenance: dict[str, Any]
-    tolerance: float
-    a: WearSummary
-    b: WearSummary
-    differences: tuple[Difference, ...]
-    largest_point_differences: dict[str, float | None]
-
-
-def compare_verdict(rows: tuple[Difference, ...], tolerance: float, names: tuple[str, str]) -> Verdict:
-    """The page's block of :func:`hipsim.wear.summary.compare_verdict` (ALIKE, DIFFERENT or NOT COMPARED)."""
-    verdict = wear_compare_verdict(rows, tolerance, names)
-    if verdict.level == Level.NOT_MADE:
-        return Verdict("open", "NOT COMPARED", ("No quantity is known in both runs.",))
-    return Verdict(verdict.level.state, verdict.level.value, (verdict.judged,))
+def compare_block(verdict: records.Verdict) -> Verdict:
+    """The page's block of :func:`hipsim.wear.summary.compare_verdict`: ALIKE, DIFFERENT or NOT COMPARED (NOT MADE)
+    with what it judged."""
+    return Verdict.of(verdict, not_made="NOT COMPARED")
 
 
 def write_wear_compare(
@@ -162,32 +134,19 @@ def write_wear_compare(
     provenance: Provenance | None = None,
     notes: tuple[str, ...] = (),
     pdf: bool = False,
-) -> tuple[WearPage, Verdict, WearComparison]:
+) -> tuple[WearPage, records.Verdict, WearComparison]:
     """Two runs on the same cup points compared: the verdict, B − A per quantity and per point (module docstring).
 
     Returns:
-        The page, its verdict, and the JSON document written.
+        The page, the verdict (:func:`hipsim.wear.summary.compare_verdict`), and the JSON document written.
     """
     out = Path(out_dir)
     check_folder(out)
     provenance = provenance or make_provenance()
     (maps_a, tracks_a, wear_a), (maps_b, tracks_b, wear_b) = a, b
-    summary_a, summary_b = wear_summary(maps_a, wear_a), wear_summary(maps_b, wear_b)
-    rows = compare_summaries(summary_a, summary_b)
-    verdict = compare_verdict(rows, tolerance, (maps_a.name, maps_b.name))
-    differences = difference_maps(maps_a, maps_b)
-    document = WearComparison(
-        verdict,
-        json_ready(provenance.as_dict()),
-        tolerance,
-        summary_a,
-        summary_b,
-        rows,
-        {
-            key: (float(max(abs(x) for x in values if math.isfinite(x))) if any(map(math.isfinite, values)) else None)
-            for key, values in differences.items()
-        },
-    )
+    document = wear_comparison((maps_a, wear_a), (maps_b, wear_b), tolerance, json_ready(provenance.as_dict()))
+    summary_a, summary_b, rows, verdict = document.a, document.b, document.differences, document.verdict
+    differences = difference_maps(maps_a, maps_b)  # the maps drawn (the record keeps their largest points)
     r = maps_a.setup.radius_mm
     with output_folder(out):
         embedded, paths = _figures(
@@ -207,7 +166,7 @@ def write_wear_compare(
             .get_template("wear_compare.html.j2")
             .render(
                 css=CSS,
-                verdict=verdict,
+                verdict=compare_block(verdict),
                 provenance=provenance,
                 title=provenance.title,
                 a=summary_a,

@@ -13,6 +13,7 @@ from pathlib import Path
 from ..files import check_folder, json_ready, output_folder, write_atomic
 from ..wear.test_context import StationContext
 from ..wear.test_result import WearTest
+from ..wear.test_summary import wear_test_summary
 from .pages import CSS, Verdict, environment, print_pdf
 from .provenance import Provenance
 from .wear_page import WearPage, _figures
@@ -34,10 +35,8 @@ def write_wear_test_page(
     check_folder(out)
     state = {"DIFFERENT": "fail", "ALIKE": "pass"}.get(result.verdict.word, "open")
     verdict = Verdict(state, result.verdict.word, result.verdict.lines)
-    document = result.to_json()
-    for c in contexts:
-        document["stations"][c.station] |= c.to_json()
-    document = json_ready(document | {"notes": list(notes), "provenance": provenance.as_dict()})
+    summary = wear_test_summary(result, contexts).to_json()
+    document = json_ready(summary | {"notes": list(notes), "provenance": provenance.as_dict()})
     by_name = {c.station: c for c in contexts}
     with output_folder(out):
         embedded, paths = _figures(out, (("measured_predicted", plot_measured_predicted(result)),))

@@ -3,6 +3,7 @@
 - :mod:`~hipsim.stations.deviations`: the 51 per-chain values (48 of the chains and centres, 3 of the stack-up) as one vector δ;
 - :mod:`~hipsim.stations.sensitivity`: how the attitudes move with δ, and what any log can see of it;
 - :mod:`~hipsim.stations.calibration`: kinematic calibration from the encoders and both attitude sensors;
+- :mod:`~hipsim.stations.calibration_summary`: what ``calibrate`` reports, as records (and the held-out check);
 - :mod:`~hipsim.stations.logs`: calibration logs read from their files;
 - :mod:`~hipsim.stations.commands`: carriage commands (``control`` 1, 2 or both) and the attitudes they give;
 - :mod:`~hipsim.stations.summary`: per platform and angle, RMS and peak errors;

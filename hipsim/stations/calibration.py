@@ -47,6 +47,7 @@ import numpy as np
 from ..arrays import readonly
 from ..exceptions import ArgumentError, CalibrationError, PoseError
 from ..machine.parameters import Parameters
+from ..records import Record
 from . import deviations as dv
 from .commands import attitudes
 from .sensitivity import Structure, attitude_jacobian, platform_attitude_jacobian, structure
@@ -128,7 +129,7 @@ _ANGLES = ("alpha", "beta", "gamma")
 
 
 @dataclass(frozen=True)
-class Confounding:
+class Confounding(Record):
     """A sensor offset that the logs cannot tell apart from a combination of per-chain values.
 
     Attributes:
@@ -146,15 +147,6 @@ class Confounding:
     values: tuple[str, ...]
     weights: tuple[float, ...]
     separated_by: str = SEPARATION
-
-    def to_json(self) -> dict:
-        return {
-            "sensor": self.sensor,
-            "explained": self.explained,
-            "values": list(self.values),
-            "weights": list(self.weights),
-            "separated_by": self.separated_by,
-        }
 
 
 def confounded_pairs(covariance: np.ndarray, independent: np.ndarray, p: int) -> tuple[Confounding, ...]:

@@ -26,6 +26,7 @@ import numpy as np
 from ..rig.identification.identified_file import FileProvenance, identified_toml, write_identified_file
 from . import deviations as dv
 from .calibration import Calibration
+from .calibration_summary import HeldOutResidual
 
 __all__ = ["CALIBRATED_MARK", "calibrated_toml", "calibration_record", "write_calibrated"]
 
@@ -38,13 +39,14 @@ def _deg(values: np.ndarray) -> list:
 
 
 def calibration_record(
-    calibration: Calibration, validation: Sequence[Mapping[str, Any]] = (), start: str = "the published machine"
+    calibration: Calibration, validation: Sequence[HeldOutResidual] = (), start: str = "the published machine"
 ) -> dict[str, Any]:
-    """The ``[identification]`` entries of a calibrated file (module docstring), JSON- and TOML-ready.
+    """The ``[identification]`` entries of a calibrated file (module docstring), JSON- and TOML-ready: a TOML table
+    (the file's schema, read back by :mod:`~hipsim.rig.identification.identified_file`), not a summary.
 
     Args:
         calibration: the fit.
-        validation: per held-out log, ``{"log": name, "rms_deg": (2, 3), "start_rms_deg": (2, 3)}``.
+        validation: per held-out log, its errors (:func:`~hipsim.stations.calibration_summary.held_out_residual`).
         start: where the starting machine came from (its file).
     """
     names = list(dv.names())
@@ -72,9 +74,9 @@ def calibration_record(
         "offsets_deg": [_deg(o.ravel()) for o in calibration.offsets],
         "residual_rms_deg": [_deg(r.ravel()) for r in calibration.residual_rms],
         "start_residual_rms_deg": [_deg(r.ravel()) for r in calibration.start_rms],
-        "validation_logs": [str(v["log"]) for v in validation],
-        "validation_rms_deg": [_deg(np.asarray(v["rms"]).ravel()) for v in validation],
-        "validation_start_rms_deg": [_deg(np.asarray(v["start_rms"]).ravel()) for v in validation],
+        "validation_logs": [v.log for v in validation],
+        "validation_rms_deg": [np.round(np.ravel(v.rms_deg), 9).tolist() for v in validation],
+        "validation_start_rms_deg": [np.round(np.ravel(v.start_rms_deg), 9).tolist() for v in validation],
     }
 
 
@@ -95,7 +97,7 @@ def _comments(calibration: Calibration, record: Mapping[str, Any], start: str) -
 
 def calibrated_toml(
     calibration: Calibration,
-    validation: Sequence[Mapping[str, Any]] = (),
+    validation: Sequence[HeldOutResidual] = (),
     provenance: FileProvenance | None = None,
     start: str = "the published machine",
 ) -> str:
@@ -107,7 +109,7 @@ def calibrated_toml(
 def write_calibrated(
     path: str | Path,
     calibration: Calibration,
-    validation: Sequence[Mapping[str, Any]] = (),
+    validation: Sequence[HeldOutResidual] = (),
     provenance: FileProvenance | None = None,
     start: str = "the published machine",
 ) -> Path:

@@ -19,7 +19,7 @@ sample, too much for a gradient optimiser on every candidate.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -30,6 +30,7 @@ from ..machine.parameters import Parameters
 from ..motion.trajectories import iso14242
 from ..physics.orientation import inverse_condition_number
 from ..rig.identification.excitation import Limits
+from ..rig.identification.excitation_summary import CalibrationExcitationSummary, ExcitationPeaks, limits_verdict
 from ..rig.identification.regressor import column_condition
 from .sensitivity import Structure, attitude_jacobian, structure
 
@@ -64,13 +65,27 @@ class CalibrationExcitation:
         condition_number: of the calibration Jacobian over one period.
         iso_condition_number: the same over the ISO 14242-1 cycle.
         peaks: largest |angle| [deg], slider speed [mm/s] and acceleration [mm/s²], smallest singularity measure.
+        limits: the rig's limits it keeps.
     """
 
     frequency: float
     coefficients: np.ndarray
     condition_number: float
     iso_condition_number: float
-    peaks: dict[str, float] = field(default_factory=dict)
+    peaks: ExcitationPeaks
+    limits: Limits
+
+    def summary(self) -> CalibrationExcitationSummary:
+        """The design as its record: condition numbers, peaks, their verdict against :attr:`limits`."""
+        return CalibrationExcitationSummary(
+            for_="calibration",
+            frequency_Hz=self.frequency,
+            harmonics=self.coefficients.shape[1] // 2,
+            condition_number=self.condition_number,
+            iso_condition_number=self.iso_condition_number,
+            peaks=self.peaks,
+            verdict=limits_verdict(self.peaks, self.limits),
+        )
 
     def angles(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """q, q̇, q̈ at times t [s] (N,), in [rad], [rad/s], [rad/s²], each (N, 3)."""
@@ -98,7 +113,7 @@ def _series(coefficients: np.ndarray, frequency: float, t: np.ndarray):
     return q, qd, qdd
 
 
-def _peaks(params: Parameters, coefficients: np.ndarray, frequency: float, t: np.ndarray) -> dict[str, float]:
+def _peaks(params: Parameters, coefficients: np.ndarray, frequency: float, t: np.ndarray) -> ExcitationPeaks:
     q, qd, qdd = _series(coefficients, frequency, t)
     speed = acceleration = 0.0
     cond = math.inf
@@ -113,20 +128,11 @@ def _peaks(params: Parameters, coefficients: np.ndarray, frequency: float, t: np
         speed = max(speed, float(np.nanmax(np.abs(Ld)) if np.all(np.isfinite(Ld)) else math.inf))
         acceleration = max(acceleration, float(np.nanmax(np.abs(Ldd)) if np.all(np.isfinite(Ldd)) else math.inf))
         cond = min(cond, float(np.min(c)) if np.all(np.isfinite(c)) else 0.0)
-    return {
-        "angle_deg": float(np.degrees(np.abs(q).max())),
-        "speed_mm_s": speed * 1e3,
-        "acceleration_mm_s2": acceleration * 1e3,
-        "cond_inv_min": cond,
-    }
-
-
-def _within(peaks: dict[str, float], limits: Limits) -> bool:
-    return (
-        peaks["angle_deg"] <= math.degrees(limits.max_angle)
-        and peaks["speed_mm_s"] <= limits.max_speed * 1e3
-        and peaks["acceleration_mm_s2"] <= limits.max_acceleration * 1e3
-        and peaks["cond_inv_min"] >= limits.min_cond_inv
+    return ExcitationPeaks(
+        angle_deg=float(np.degrees(np.abs(q).max())),
+        speed_mm_s=speed * 1e3,
+        acceleration_mm_s2=acceleration * 1e3,
+        cond_inv_min=cond,
     )
 
 
@@ -160,7 +166,7 @@ def calibration_excitation(
         coefficients *= limits.max_angle / np.abs(_series(coefficients, frequency, t)[0]).max()
         for _ in range(40):  # shrink until every limit holds
             peaks = _peaks(params, coefficients, frequency, t)
-            if _within(peaks, limits):
+            if not limits_verdict(peaks, limits).failed:
                 break
             coefficients = coefficients * 0.9
         else:
@@ -168,7 +174,7 @@ def calibration_excitation(
         q = _series(coefficients, frequency, t)[0]
         condition = calibration_condition(params, q, offsets, seen)
         if best is None or condition < best.condition_number:
-            best = CalibrationExcitation(frequency, coefficients, condition, math.nan, peaks)
+            best = CalibrationExcitation(frequency, coefficients, condition, math.nan, peaks, limits)
     if best is None:
         from ..exceptions import ExcitationError
 
@@ -182,4 +188,5 @@ def calibration_excitation(
         best.condition_number,
         calibration_condition(params, iso.q, offsets, seen),
         best.peaks,
+        limits,
     )

@@ -24,6 +24,7 @@ import numpy as np
 from ..exceptions import ArgumentError
 from ..motion.gait_events import gait_cycles
 from ..motion.trajectories import Trajectory
+from ..records import Record
 from .factors import KINDS, MotionIntegrals
 
 __all__ = ["Exposure", "IntervalRow", "interval_table", "snapshot_intervals", "whole_cycles"]
@@ -119,7 +120,7 @@ class Exposure:
 
 
 @dataclass(frozen=True)
-class IntervalRow:
+class IntervalRow(Record):
     """One interval between stops: the volume measured and predicted in [mm³]."""
 
     station: str
@@ -127,15 +128,6 @@ class IntervalRow:
     last_cycle: int
     measured_mm3: float
     predicted_mm3: float
-
-    def to_json(self) -> dict:
-        return {
-            "station": self.station,
-            "first_cycle": self.first_cycle,
-            "last_cycle": self.last_cycle,
-            "measured_mm3": self.measured_mm3,
-            "predicted_mm3": self.predicted_mm3,
-        }
 
 
 def interval_table(

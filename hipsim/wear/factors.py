@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..exceptions import ArgumentError
+from ..records import Record
 from .laws import MC, CrossShearLaw, WearFactor
 from .maps import WearMaps
 
@@ -111,7 +112,7 @@ def kind_of(law) -> str:
 
 
 @dataclass(frozen=True)
-class MotionIntegrals:
+class MotionIntegrals(Record):
     """A motion's per-cycle integrals the factors multiply, in [N·m]: ΣW·dA (local) and ∫F ds (force-track), and its
     work-weighted cross-shear."""
 
@@ -122,14 +123,6 @@ class MotionIntegrals:
 
     def integral(self, kind: str) -> float:
         return self.load_slide_integral_Nm if kind == "local" else self.force_track_load_Nm
-
-    def to_json(self) -> dict:
-        return {
-            "name": self.name,
-            "load_slide_integral_Nm": self.load_slide_integral_Nm,
-            "force_track_load_Nm": self.force_track_load_Nm,
-            "cross_shear_work_weighted": self.cross_shear_work_weighted,
-        }
 
 
 def motion_integrals(maps: WearMaps) -> MotionIntegrals:
@@ -185,22 +178,6 @@ class FittedFactors:
             rate = predicted_rate(self.k(kind), kind, other)
             out[kind] = (rate, predicted_rate(low, kind, other), predicted_rate(high, kind, other))
         return out
-
-    def to_json(self, other: MotionIntegrals | None = None) -> dict:
-        document = {
-            "station": self.station,
-            "motion": self.motion.to_json(),
-            "k_local_mm3_per_Nm": self.k("local"),
-            "k_local_ci95": list(self.ci95("local")),
-            "k_force_track_mm3_per_Nm": self.k("force-track"),
-            "k_force_track_ci95": list(self.ci95("force-track")),
-        }
-        if other is not None:
-            document["predicts"] = {
-                "motion": other.to_json(),
-                **{f"{kind}_mm3_per_Mc": list(values) for kind, values in self.predict(other).items()},
-            }
-        return document
 
 
 def fit_factors(

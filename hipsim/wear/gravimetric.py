@@ -176,26 +176,6 @@ class StationRate:
         """The volume lost by each stop in [mm³]."""
         return tuple(loss / self.density_mg_per_mm3 for loss in self.loss_mg)
 
-    def to_json(self) -> dict:
-        return {
-            "station": self.station,
-            "soak_control": self.soak_control,
-            "stops": len(self.cycles),
-            "from_cycle": self.from_cycle,
-            "bedding_in": self.bedding_in,
-            "bedding_in_rate_mg_per_Mc": self.bedding_in_rate_mg_per_Mc,
-            "wear_rate_mg_per_Mc": self.rate_mg_per_Mc,
-            "wear_rate_ci95_mg_per_Mc": list(self.ci95_mg_per_Mc),
-            "wear_rate_mm3_per_Mc": self.rate_mm3_per_Mc,
-            "wear_rate_ci95_mm3_per_Mc": list(self.ci95_mm3_per_Mc),
-            "standard_error_mg_per_Mc": self.se_mg_per_Mc,
-            "degrees_of_freedom": self.dof,
-            "cycles": list(self.cycles),
-            "loss_mg": list(self.loss_mg),
-            "volume_mm3": list(self.volume_mm3),
-            "outliers": [outlier.describe() for outlier in self.outliers],
-        }
-
 
 def station_rate(
     weighed: StationWeighings, density_mg_per_mm3: float = DENSITY_UHMWPE, from_cycle: int | None = None
@@ -279,17 +259,6 @@ class RateDifference:
         low, high = self.ci95_mg_per_Mc
         return bool(low > 0 or high < 0)
 
-    def to_json(self) -> dict:
-        return {
-            "a": self.a,
-            "b": self.b,
-            "difference_mg_per_Mc": self.difference_mg_per_Mc,
-            "ci95_mg_per_Mc": list(self.ci95_mg_per_Mc),
-            "difference_mm3_per_Mc": self.difference_mm3_per_Mc,
-            "ci95_mm3_per_Mc": list(self.ci95_mm3_per_Mc),
-            "significant": self.significant,
-        }
-
 
 def rate_difference(a: StationRate, b: StationRate) -> RateDifference:
     """b − a (module docstring)."""
@@ -315,15 +284,6 @@ class Gravimetry:
 
     def station(self, name: str) -> StationRate:
         return next(rate for rate in self.stations if rate.station == name)
-
-    def to_json(self) -> dict:
-        return {
-            "weighings": self.source,
-            "density_mg_per_mm3": self.density_mg_per_mm3,
-            "density": self.density_stated,
-            "stations": {rate.station: rate.to_json() for rate in self.stations},
-            "differences": [difference.to_json() for difference in self.differences],
-        }
 
 
 def _check_density(density: float) -> None:

@@ -1,5 +1,11 @@
 """A wear run's numbers as plain data (the JSON summary, the page's tables), and the differences of two runs.
 
+Two runs compared (:func:`wear_comparison`): per quantity A, B and (B − A)/|A|
+(:func:`compare_summaries`), the verdict on them (:func:`compare_verdict`,
+ALIKE/DIFFERENT either way), and per map the largest |B − A| of a point
+(:func:`largest_differences`), gathered in the :class:`WearComparison` record
+that ``wear --compare`` prints and its page renders.
+
 Means over "the loaded area" are over the points that carry work (W > 0),
 weighted by their cells' areas on a grid (plain means for points given one by one).
 """
@@ -7,7 +13,9 @@ weighted by their cells' areas on a grid (plain means for points given one by on
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -19,10 +27,13 @@ from .maps import WearMaps
 __all__ = [
     "QUANTITIES",
     "Difference",
+    "WearComparison",
     "WearSummary",
     "compare_summaries",
     "compare_verdict",
     "difference_maps",
+    "largest_differences",
+    "wear_comparison",
     "wear_summary",
 ]
 
@@ -211,3 +222,56 @@ def difference_maps(a: WearMaps, b: WearMaps) -> dict[str, np.ndarray]:
         "work_N_per_mm": b.work_N_per_mm - a.work_N_per_mm,
         "cross_shear": b.cross_shear - a.cross_shear,
     }
+
+
+def largest_differences(differences: Mapping[str, np.ndarray]) -> dict[str, float | None]:
+    """Per map the largest |B − A| of a point, its magnitude whichever its sign (None when no point is finite)."""
+    out: dict[str, float | None] = {}
+    for key, values in differences.items():
+        finite = np.abs(np.asarray(values, dtype=float))
+        finite = finite[np.isfinite(finite)]
+        out[key] = float(finite.max()) if finite.size else None
+    return out
+
+
+@dataclass(frozen=True)
+class WearComparison(Record):
+    """Two wear runs compared, as ``wear.json`` holds it: the verdict, the provenance, both summaries, B − A.
+
+    Attributes:
+        verdict: :func:`compare_verdict` (ALIKE, DIFFERENT, NOT MADE).
+        provenance: the provenance block.
+        tolerance: the relative difference of runs alike, a fraction.
+        a, b: the two runs' summaries.
+        differences: per quantity A, B, B − A, (B − A)/|A|.
+        largest_point_differences: per map (sliding_mm, work_N_per_mm, cross_shear) the largest |B − A| of a point.
+    """
+
+    verdict: Verdict
+    provenance: dict[str, Any]
+    tolerance: float
+    a: WearSummary
+    b: WearSummary
+    differences: tuple[Difference, ...]
+    largest_point_differences: dict[str, float | None]
+
+
+def wear_comparison(
+    a: tuple[WearMaps, Wear | None], b: tuple[WearMaps, Wear | None], tolerance: float, provenance: dict[str, Any]
+) -> WearComparison:
+    """Run B against run A on the same cup points: the summaries, their differences, the verdict, the largest point
+    differences.
+
+    Args:
+        a, b: each run's maps and its wear (None: none predicted).
+        tolerance: the largest |B − A|/|A| of runs alike, a fraction (0.05 for 5 %).
+        provenance: the provenance block, as JSON data.
+
+    Raises:
+        ArgumentError: the runs are on different points.
+    """
+    summary_a, summary_b = wear_summary(*a), wear_summary(*b)
+    rows = compare_summaries(summary_a, summary_b)
+    largest = largest_differences(difference_maps(a[0], b[0]))
+    verdict = compare_verdict(rows, tolerance, (a[0].name, b[0].name))
+    return WearComparison(verdict, provenance, tolerance, summary_a, summary_b, rows, largest)

@@ -21,20 +21,18 @@ import numpy as np
 
 from ..motion.gait_events import gait_cycles, gait_phase
 from ..motion.trajectories import Trajectory, iso14242, iso14242_angles
+from ..records import Record
 
 __all__ = ["FrictionState", "MotionError", "StationContext", "friction_state", "iso_error", "motion_error"]
 
 
 @dataclass(frozen=True)
-class MotionError:
+class MotionError(Record):
     """A station's angle errors against ISO: RMS and largest |error| of α, β, γ in [deg], and where from."""
 
     source: str
     rms_deg: tuple[float, float, float]
     max_deg: tuple[float, float, float]
-
-    def to_json(self) -> dict:
-        return {"source": self.source, "rms_deg": list(self.rms_deg), "max_deg": list(self.max_deg)}
 
 
 def motion_error(errors_deg: np.ndarray, source: str) -> MotionError:
@@ -101,18 +99,6 @@ class FrictionState:
             f"{self.last_cycle} over {self.snapshots} snapshots; monitor: {self.flag or 'no flag'}"
         )
 
-    def to_json(self) -> dict:
-        return {
-            "source": self.source,
-            "snapshots": self.snapshots,
-            "last_cycle": self.last_cycle,
-            "hip_mu_change": self.hip_mu_change,
-            "hip_mu_change_std": self.hip_mu_change_std,
-            "own_station": self.own,
-            "flag": self.flag,
-            "summary": self.describe(),
-        }
-
 
 def _last_finite(values: Sequence[Any]) -> tuple[float, int]:
     for k in range(len(values) - 1, -1, -1):
@@ -163,9 +149,3 @@ class StationContext:
     station: str
     motion: MotionError | None
     friction: FrictionState | None
-
-    def to_json(self) -> dict:
-        return {
-            "motion_error": None if self.motion is None else self.motion.to_json(),
-            "friction": None if self.friction is None else self.friction.to_json(),
-        }

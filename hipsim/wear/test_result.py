@@ -69,17 +69,6 @@ class StationWear:
             return None
         return bool(low <= self.predicted_mm3_per_Mc <= high)
 
-    def to_json(self, reference: MotionIntegrals | None) -> dict:
-        return {
-            **self.rate.to_json(),
-            "motion": self.exposure.source,
-            "fitted": self.fitted.to_json(reference),
-            "predicted_mm3_per_Mc": self.predicted_mm3_per_Mc,
-            "prediction_within_ci95": self.within,
-            "interval_law": self.interval_law,
-            "intervals": [row.to_json() for row in self.intervals],
-        }
-
 
 @dataclass(frozen=True)
 class WearVerdict:
@@ -87,9 +76,6 @@ class WearVerdict:
 
     word: str
     lines: tuple[str, ...]
-
-    def to_json(self) -> dict:
-        return {"verdict": self.word, "lines": list(self.lines)}
 
     @property
     def level(self) -> Level:
@@ -107,22 +93,6 @@ class WearTest:
     reference: MotionIntegrals | None
     fitted_law: CrossShearLaw | None
     verdict: WearVerdict
-
-    def to_json(self) -> dict:
-        law = self.fitted_law
-        return {
-            **self.verdict.to_json(),
-            "density_mg_per_mm3": self.gravimetry.density_mg_per_mm3,
-            "density": self.gravimetry.density_stated,
-            "weighings": self.gravimetry.source,
-            "wear_factor": None if self.given is None else {"k_mm3_per_Nm": self.given.k, "kind": self.given.kind},
-            "reference_motion": None if self.reference is None else self.reference.to_json(),
-            "stations": {s.rate.station: s.to_json(self.reference) for s in self.stations},
-            "differences": [d.to_json() for d in self.gravimetry.differences],
-            "fitted_wear_law": None
-            if law is None
-            else {"cross_shear": law.cross_shear.tolist(), "k_mm3_per_Nm": law.k.tolist()},
-        }
 
 
 def wear_verdict(gravimetry: Gravimetry, stations: tuple[StationWear, ...], given: GivenFactor | None) -> WearVerdict:

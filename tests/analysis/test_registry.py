@@ -1,4 +1,5 @@
-"""The engine and plant registry (hipsim.analysis.registry): names, lazy loading, its errors, the protocols kept."""
+"""The engine and plant registry (hipsim.analysis.registry): names, lazy loading, its errors (the
+protocols every engine and plant keeps: tests/test_engine.py)."""
 
 from __future__ import annotations
 
@@ -10,7 +11,6 @@ import pytest
 import hipsim
 import hipsim.analysis.runs  # the module whose MODELS the registry must match, imported here, not by an earlier test
 from hipsim.analysis import registry
-from hipsim.engine import Engine, PieceNeeds
 from hipsim.exceptions import ArgumentError, MissingDependencyError
 
 
@@ -96,34 +96,3 @@ def test_the_registry_names_the_extra_when_the_import_fails_below_it(monkeypatch
         registry.engine_entry("mujoco").load()
     with pytest.raises(ModuleNotFoundError):  # an engine without an extra: the error as it is
         registry.engine_entry("pinocchio").load()
-
-
-@pytest.mark.parametrize("name", registry.engine_names())
-def test_every_engine_keeps_the_protocol(name):
-    if name == "mujoco":
-        pytest.importorskip("mujoco")
-    params = hipsim.load_parameters()
-    engine = registry.make_engine(name, params)
-    assert isinstance(engine, Engine)
-    assert engine.name == name and engine.params is params and isinstance(engine.pieces, PieceNeeds)
-    assert engine.pieces.chunk >= 1 and engine.pieces.overlap >= 0
-    state = engine.piece_state(0, None)
-    trajectory = hipsim.iso14242(rate=50).slice(slice(0, 5))
-    run = engine.run(trajectory, state)
-    assert run.model == name and len(run.trajectory.t) == 5
-    assert (run.joint_forces is not None) == registry.engine_entry(name).joint_forces
-    engine.piece_state(5, state)  # the next piece in order is accepted
-
-
-@pytest.mark.parametrize("name", registry.plant_names())
-def test_every_plant_keeps_the_protocol(name):
-    if name == "mujoco":
-        pytest.importorskip("mujoco")
-    params = hipsim.load_parameters()
-    plant = registry.make_plant(name, params, lever_spin=True, integrator="RK4")
-    assert plant.params is params
-    x = plant.initial_state(hipsim.iso14242(rate=50).slice(slice(0, 1)))
-    q, qd = plant.angles(x)
-    assert q.shape == (3,) and qd.shape == (3,)
-    kernel = getattr(plant, "compiled_kernel", lambda: None)()
-    assert (kernel is not None) == (name == "analytic")

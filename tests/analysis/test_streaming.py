@@ -313,7 +313,8 @@ def test_report_exits_1_and_says_so_when_the_drive_fails(tmp_path, capsys):
     common = ["report", "--rate", "100", "--engine", "analytic", "--motor", str(weak)]
     assert main([*common, "--out", str(tmp_path / "r1")]) == 1
     captured = capsys.readouterr()
-    assert "rating check of too small: FAIL" in captured.out and "exit status 1" in captured.err
+    assert "rating check: FAIL: " in captured.out and "checks of too small pass" in captured.out
+    assert "exit status 1" in captured.err
     assert (tmp_path / "r1" / "index.html").exists()  # the report is written all the same
     assert main([*common, "--out", str(tmp_path / "r2"), "--summary-format", "json"]) == 1
     document = json.loads(capsys.readouterr().out)
@@ -323,7 +324,7 @@ def test_report_exits_1_and_says_so_when_the_drive_fails(tmp_path, capsys):
 
     jsonschema.validate(document, schema("report"))  # the published contract (hipsim schema report)
     assert (
-        document["rating_check"] == "FAIL"
+        document["verdict"]["level"] == "FAIL"
         and document["sizing"]["passed"] is False
         and document["motors"]["1"]["tau_rms_Nmm"] > 30
     )

@@ -134,19 +134,6 @@ def test_the_tolerance_sensitivity_names_the_seat():
     assert np.all(S[:, 1, :, 48:] == 0.0) and np.abs(S[:, 0, :, 48:]).max() > 0
 
 
-def test_the_urdf_and_mjcf_builders_refuse_a_stack_up_in_one_line():
-    from hipsim.machine.model_files import urdf_text
-
-    with pytest.raises(ParameterError, match=r"geometry\.spline_seat_mm.*does not model") as caught:
-        urdf_text(STACKED)  # the Pinocchio and MuJoCo models are both built from it
-    assert "\n" not in str(caught.value)
-    cycle = hipsim.iso14242(rate=100).slice(slice(0, 5))
-    from hipsim.closed_chain.engine import PinocchioModel
-
-    with pytest.raises(ParameterError, match=r"spline_seat_mm"):
-        PinocchioModel(STACKED).run(cycle)
-
-
 def test_the_seat_is_in_the_vector_and_its_family():
     assert dv.names()[48:] == ("spline_x_1", "spline_y_1", "spline_z_1")
     assert dv.family("spline_y_1") == "spline" and dv.platform_of("spline_z_1") == 1
@@ -168,13 +155,15 @@ def _sines(rate: float = 4000.0) -> hipsim.Trajectory:
     return hipsim.Trajectory(t, q, qd, qdd, hipsim.iso14242(rate=rate).Fe, name="sines")
 
 
-@pytest.mark.parametrize("motion_of", ["iso", "sines"])
-def test_power_balance_of_the_analytic_dynamics_with_a_stack_up(motion_of):
-    """Σ τ·θ̇ = dE/dt + friction power + F_e·ż_1, E from the bodies' motion: the coupling through the seat is right."""
+@pytest.mark.parametrize(("motion_of", "control"), [("iso", 2), ("sines", 2), ("iso", 1), ("sines", 1)])
+def test_power_balance_of_the_analytic_dynamics_with_a_stack_up(motion_of, control):
+    """Σ τ·θ̇ = dE/dt + friction power + F_e·ż_1, E from the bodies' motion: the coupling through the seat is right
+    (control = 1: m_2 and the lift follow m_1 through the coupled rates)."""
     from hipsim.analytic.chain_dynamics import chain_mechanical_energy, chain_motion
 
     params = STACKED.replace(sjoint_viscous=0.02, ujoint_coulomb=0.05)
-    big = params.replace(geometry=params.geometry.replace(spline=np.array([1e-3, 2e-3, -1e-3])))
+    seat = np.array([1e-3, 2e-3, -1e-3])
+    big = params.replace(geometry=params.geometry.replace(spline=seat, control=control))
     trajectory = hipsim.iso14242(rate=4000) if motion_of == "iso" else _sines()
     run = AnalyticModel(big).run(trajectory)
     motion = chain_motion(big, trajectory)
@@ -193,10 +182,49 @@ def test_power_balance_of_the_analytic_dynamics_with_a_stack_up(motion_of):
     assert np.abs(fd - kin.v_l[:, 0])[2:-2].max() < 1e-6
 
 
-def test_the_analytic_dynamics_refuse_control_1_with_a_stack_up():
-    params = STACKED.replace(geometry=STACKED.geometry.replace(control=1))
-    with pytest.raises(ParameterError, match=r"spline_seat_mm.*control = 1"):
-        AnalyticModel(params).run(hipsim.iso14242(rate=100).slice(slice(0, 5)))
+def _at(t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """m_1's motion by hand: q = a·sin(ωt + φ) per angle, its exact rates and accelerations, each (N, 3)."""
+    a, w, ph = np.radians([9.0, 4.0, 7.0]), np.array([5.0, 7.0, 3.0]), np.array([0.3, 1.2, 2.0])
+    arg = w * t[:, None] + ph
+    return a * np.sin(arg), a * w * np.cos(arg), -a * w**2 * np.sin(arg)
+
+
+def test_the_coupled_rates_with_m1_controlled_by_finite_differences():
+    """control = 1 with a stack-up: L̇, L̈ and m_2's q̇_2, q̈_2 against central differences of the positions."""
+    from hipsim.analytic.stations import stacked_motion
+
+    machine = STACKED.replace(geometry=STACKED.geometry.replace(spline=np.array([1e-3, 2e-3, -1e-3])))
+    t, h = np.array([0.1, 0.4, 0.7]), 1e-5
+    L, Ld, Ldd, (q2, qd2, qdd2) = stacked_motion(machine, *_at(t))
+    minus, plus = stacked_motion(machine, *_at(t - h)), stacked_motion(machine, *_at(t + h))
+    np.testing.assert_allclose((plus[0] - minus[0]) / (2 * h), Ld, rtol=0, atol=1e-8 * np.abs(Ld).max())
+    np.testing.assert_allclose((plus[1] - minus[1]) / (2 * h), Ldd, rtol=0, atol=1e-7 * np.abs(Ldd).max())
+    np.testing.assert_allclose((plus[3][0] - minus[3][0]) / (2 * h), qd2, rtol=0, atol=1e-8 * np.abs(qd2).max())
+    np.testing.assert_allclose((plus[3][1] - minus[3][1]) / (2 * h), qdd2, rtol=0, atol=1e-7 * np.abs(qdd2).max())
+    # The positions: m_1 at its motion for those carriages, m_2 its forward kinematics.
+    np.testing.assert_allclose(platform_attitude(machine, L, 1, q0=_at(t)[0][0]), _at(t)[0], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(platform_attitude(machine, L, 2, q0=q2[0]), q2, rtol=0, atol=1e-12)
+    # Without the coupling (m_2 held, as platform_jacobian's m_1) L̇ would be off by far more than the check.
+    plain = machine.replace(geometry=machine.geometry.replace(spline=np.zeros(3)))
+    from hipsim.analytic.stations import platform_motion
+
+    assert np.abs(platform_motion(plain, *_at(t), 1)[1] - Ld).max() > 1e-4 * np.abs(Ld).max()
+
+
+def test_the_follower_m1_on_a_stacked_machine_by_finite_differences():
+    """follower_motion of m_1 (control = 2) with a stack-up: its rates against differences of its attitudes."""
+    from hipsim.analytic.stations import follower_motion, platform_motion
+
+    t, h = np.array([0.2, 0.5]), 1e-5
+    machine = STACKED.replace(geometry=STACKED.geometry.replace(spline=np.array([1e-3, 2e-3, -1e-3])))
+
+    def follower(times):
+        return follower_motion(machine, *platform_motion(machine, *_at(times), 2), 1, guess=_at(times)[0])
+
+    q1, qd1, qdd1 = follower(t)
+    minus, plus = follower(t - h), follower(t + h)
+    np.testing.assert_allclose((plus[0] - minus[0]) / (2 * h), qd1, rtol=0, atol=1e-8 * np.abs(qd1).max())
+    np.testing.assert_allclose((plus[1] - minus[1]) / (2 * h), qdd1, rtol=0, atol=1e-7 * np.abs(qdd1).max())
 
 
 def test_tolerance_monte_carlo_of_the_seat_agrees_with_first_order():
@@ -264,7 +292,7 @@ def test_a_calibration_motion_is_designed_for_a_stacked_machine():
     from hipsim.stations.excitation import calibration_excitation
 
     design = calibration_excitation(STACKED, seeds=1)
-    assert np.isfinite(design.condition_number) and design.peaks["cond_inv_min"] > 0.2
+    assert np.isfinite(design.condition_number) and design.peaks.cond_inv_min > 0.2
 
 
 def test_the_stations_command_on_a_stacked_machine(tmp_path):
@@ -277,3 +305,15 @@ def test_the_stations_command_on_a_stacked_machine(tmp_path):
     rms = {a: np.sqrt(np.mean(table[f"err_{a}_1_deg"] ** 2)) for a in ("alpha", "beta", "gamma")}
     assert rms["gamma"] > 10 * max(rms["alpha"], rms["beta"]) > 0  # the stack-up's fingerprint: about Z
     assert np.all(table["err_gamma_2_deg"] == 0.0)  # m_2 controlled, exact
+
+
+def test_control_1_names_the_time_where_m2_cannot_follow():
+    """Four times the ISO angles: m_2 leaves its assembly mode; the error names that sample's time, not t = 0."""
+    from hipsim.exceptions import PoseError
+
+    cycle = hipsim.iso14242(rate=50)
+    wild = hipsim.Trajectory(cycle.t, 4 * cycle.q, 4 * cycle.qd, 4 * cycle.qdd, cycle.Fe, name="wild")
+    machine = STACKED.replace(geometry=STACKED.geometry.replace(control=1))
+    with pytest.raises(PoseError, match=r"wild, t = .*platform 2 under m_1's stack-up") as caught:
+        AnalyticModel(machine).run(wild)
+    assert caught.value.time == cycle.t[caught.value.index] > 0

@@ -12,6 +12,7 @@ from support import given
 
 from hipsim.cli.main import main
 from hipsim.motion.trajectories import Trajectory, iso14242, iso14242_angles, iso14242_load
+from hipsim.records import Level
 from hipsim.wear import cup_grid, wear_maps
 from hipsim.wear.laws import WearFactor, predict_wear
 from hipsim.wear.summary import wear_summary
@@ -136,7 +137,7 @@ def test_the_follower_platform_differs_from_the_controlled_one(stations, tmp_pat
         x, y = getattr(a, key), getattr(b, key)
         assert abs(y - x) > 1e-3 * abs(x)  # a difference that shows
         assert rows[key]["difference"] == pytest.approx(y - x, rel=2e-3), key
-    assert document["verdict"]["word"] == "DIFFERENT"
+    assert document["verdict"]["level"] == "DIFFERENT" and document["verdict"]["numbers"]["cross_shear_mean"] != 0
     assert status == 1  # DIFFERENT exits 1 (the exit rule)
     page = (report / "index.html").read_text()
     assert page.index('id="verdict"') < page.index('id="provenance"') and "SHA-256" in page
@@ -148,9 +149,9 @@ def test_the_follower_platform_differs_from_the_controlled_one(stations, tmp_pat
 
 
 def test_identical_platforms_compare_alike(stations, tmp_path, capsys):
-    """The verdict on two runs of one motion (the page's verdict, without drawing the page)."""
-    from hipsim.present.wear_page import compare_verdict
-    from hipsim.wear.summary import WearSummary, compare_summaries
+    """The verdict on two runs of one motion, and the page's block of it (without drawing the page)."""
+    from hipsim.present.wear_page import compare_block
+    from hipsim.wear.summary import WearSummary, compare_summaries, compare_verdict
 
     runs = []
     for platform in ("1", "2"):
@@ -162,10 +163,12 @@ def test_identical_platforms_compare_alike(stations, tmp_path, capsys):
     summaries = [WearSummary(**{k: v for k, v in run.items() if k not in ("notes", "table", "index")}) for run in runs]
     rows = compare_summaries(*summaries)
     assert all(row.difference in (0.0, None) for row in rows)
-    assert compare_verdict(rows, 0.0, ("1", "2")).word == "ALIKE"
+    assert compare_verdict(rows, 0.0, ("1", "2")).level == Level.ALIKE
     shifted = replace(summaries[1], cross_shear_mean=summaries[1].cross_shear_mean * 1.02)
     verdict = compare_verdict(compare_summaries(summaries[0], shifted), 0.01, ("1", "2"))
-    assert verdict.word == "DIFFERENT" and "Beyond ±1 %: mean CS (loaded area)." in verdict.lines[0]
+    block = compare_block(verdict)
+    assert block.word == "DIFFERENT" and block.state == "fail" and block.symbol == "✘"
+    assert "Beyond ±1 %: mean CS (loaded area)." in block.lines[0] and block.lines == (verdict.judged,)
 
 
 def test_a_simulate_output_reads_actual_or_desired_and_needs_a_load(tmp_path, capsys):

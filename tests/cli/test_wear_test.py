@@ -6,10 +6,12 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import jsonschema
 import numpy as np
 import pytest
 from wear_test_synthetic import I0_LOCAL, TRUTH, platform_i0, write_simulated_test
 
+from hipsim.cli.documents import schema
 from hipsim.cli.main import main
 
 GRID = "12x24"
@@ -54,6 +56,9 @@ def test_a_simulated_test_through_the_report(test_folder, tmp_path, capsys):
     )
     assert status == 1, err  # DIFFERENT exits 1 (the exit rule, docs/guide/outputs.md)
     result = json.loads(text)
+    jsonschema.Draft202012Validator(schema("wear-test")).validate(result)
+    assert result["index"].endswith("index.html") and result["table"].endswith("stops.csv")
+    assert ("wear_law" in result) == (result["fitted_wear_law"] is not None)  # the law file only with a law
     assert result["verdict"] == "DIFFERENT" and result["wear_factor"] == {"k_mm3_per_Nm": 4e-7, "kind": "local"}
     assert result["density_mg_per_mm3"] == 0.935 and "default" in result["density"]
     one, two = result["stations"]["1"], result["stations"]["2"]
@@ -109,7 +114,8 @@ def test_station_motions_from_a_stations_output(tmp_path, capsys):
     )
     result = json.loads(text)
     assert status == (1 if result["verdict"] == "DIFFERENT" else 0), err  # the exit rule
-    result = json.loads(text)
+    jsonschema.Draft202012Validator(schema("wear-test")).validate(result)
+    assert "index" not in result and result["stations"]["1"]["friction"] is None  # no --report, no monitor table
     one = result["stations"]["1"]
     # the soak control gains 0.1 mg/Mc and the cups are written without uptake: the corrected loss is (r + 0.1)·c
     assert one["wear_rate_mg_per_Mc"] == pytest.approx(10.1, rel=1e-9)

@@ -11,6 +11,7 @@ from support import given
 import hipsim
 from hipsim.design.ranking import rank_drives
 from hipsim.design.sizing import sizing
+from hipsim.design.sizing_summary import candidate_summary
 from hipsim.machine.drive_parts import Drive, LeadScrew, Motor, TorqueSpeedCurve
 from hipsim.motion.trajectories import iso14242
 
@@ -190,7 +191,7 @@ def test_a_catalogue_rated_power_and_cost_rank_before_the_s1_curve(params):
     ranked = rank_drives(params, [(iso14242(rate=100), 1.0)], [(c, None), (a, None), (b, None)])
     assert [x.drive.motor.name for x in ranked] == ["b", "a", "c"]
     assert ranked[0].rated_power == (400.0, "catalogue")
-    document = ranked[0].as_dict()
+    document = candidate_summary(ranked[0]).to_json()
     assert (
         document["rated_power_W"] == 400.0
         and document["cost"] == 5.0

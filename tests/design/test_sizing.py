@@ -4,14 +4,18 @@ The demand, the ratings, the checks and the ranking have their own tests
 (test_demand, test_ratings, test_checks, test_ranking).
 """
 
+import json
 import re
 import sys
 
+import jsonschema
 import pytest
 from support import given
 
 import hipsim
+from hipsim.cli.documents import schema
 from hipsim.design.sizing import CHECKS, sizing
+from hipsim.design.sizing_summary import sizing_summary
 from hipsim.machine.drive import Drive, Motor
 from hipsim.motion.trajectories import iso14242
 
@@ -24,7 +28,7 @@ def params():
 def test_the_published_machine_sizing_names_a_binding_check(params):
     size = sizing(hipsim.analyse(params, iso14242(rate=200)), Drive(Motor("m", rotor_inertia=14e-6)))
     assert given(size.binding).name == "inertia_ratio" and size.passed is False  # 2.8 kg·cm² on a 0.14 kg·cm² rotor
-    document = size.as_dict()
+    document = sizing_summary(size).to_json()
     assert document["binding"]["name"] == "inertia_ratio" and len(document["checks"]) == 3 * len(CHECKS)
 
 
@@ -57,11 +61,20 @@ def test_size_ranks_a_catalogue(tmp_path, capsys):
         and "LN1" in lines[1]
     )
     assert "Every check of rank 1: right + ten" in out
+    assert "verdict: FEASIBLE: 1 of 2 combinations pass every check" in out
     assert main(["size", "--rate", "200", "--catalogue", str(motors), "--summary-format", "json", "--top", "1"]) == 0
     import json
 
     document = json.loads(capsys.readouterr().out)
     assert [c["motor"] for c in document["candidates"]] == ["right"]
+    assert document["verdict"]["level"] == "FEASIBLE" and document["verdict"]["numbers"]["passing"] == 1
+    jsonschema.Draft202012Validator(schema("size-catalogue")).validate(document)
+    # Only the motor that fails: no combination passes, NOT FEASIBLE, exit 1.
+    motors.write_text("\n".join(MOTORS.splitlines()[:2]) + "\n")
+    assert main(["size", "--rate", "200", "--catalogue", str(motors), "--summary-format", "json"]) == 1
+    document = json.loads(capsys.readouterr().out)
+    assert document["verdict"]["level"] == "NOT FEASIBLE" and [c["passed"] for c in document["candidates"]] == [False]
+    jsonschema.Draft202012Validator(schema("size-catalogue")).validate(document)
 
 
 def test_size_checks_one_drive_and_fails_with_status_1(tmp_path, capsys):
@@ -73,6 +86,12 @@ def test_size_checks_one_drive_and_fails_with_status_1(tmp_path, capsys):
     assert main(["size", "--rate", "200", "--drive", drive]) == 1  # the example 200 W motor fails the 10:1 inertia rule
     out = capsys.readouterr().out
     assert "-> FAIL; binding: load-to-rotor inertia ratio (worst pose), LN1" in out
+    assert main(["size", "--rate", "200", "--drive", drive, "--summary-format", "json"]) == 1
+    document = json.loads(capsys.readouterr().out)
+    jsonschema.Draft202012Validator(schema("size")).validate(document)
+    (entry,) = document.values()  # keyed by the trajectory's name
+    assert entry["verdict"]["level"] == "FAIL" and entry["binding"]["name"] == "inertia_ratio"
+    assert entry["passed"] is False and entry["drive"]["motor"]["rotor_inertia"] > 0
     assert main(["size", "--rate", "200", "--drive", drive, "--inertia-ratio", "25"]) == 0
     capsys.readouterr()
 

@@ -45,7 +45,7 @@ def test_keys_swept_over_one_value_and_missing_values_give_no_edge():
     values = np.array([[1.0, 7.0], [2.0, 7.0], [math.nan, 7.0]])
     assert [e.key for e in edges_of(values, ["a", "b"], 0)] == ["a"]
     assert edges_of(values, ["a", "b"], 2) == []  # its own value unknown
-    assert edges_of(values, ["a", "b"], 1)[0].as_dict() == {
+    assert edges_of(values, ["a", "b"], 1)[0].to_json() == {
         "key": "a",
         "side": "upper",
         "value": 2.0,

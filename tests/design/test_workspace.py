@@ -175,7 +175,7 @@ def test_sweep_reports_infeasible_offsets_instead_of_crashing(params, iso):
     assert np.isnan(sweep.tau_peak_Nmm[bad]).all() and np.isnan(sweep.stroke_max_mm[bad]).all()
     assert np.isfinite(sweep.tau_peak_Nmm[2])
     rows = sweep.rows()
-    assert rows[4]["out_of_reach_samples"] == len(iso) and rows[0]["singularity_crossings"] > 0
+    assert rows[4].out_of_reach_samples == len(iso) and rows[0].singularity_crossings > 0
 
 
 def test_sweep_shows_why_the_offset_is_needed(params, iso):

@@ -313,3 +313,44 @@ def test_attitude_sensitivities_against_finite_differences_of_the_forward_kinema
             atol=1e-6 * np.abs(A[:, :, k]).max() + 1e-9,
             err_msg=name,
         )
+
+
+def test_the_urdf_stands_m1_on_the_spline_and_the_shaft_end_on_the_seat():
+    """With a stack-up the tree carries the intermediate chain: its joints, and where its frames sit at home, read from the XML."""
+    import xml.etree.ElementTree as ET
+
+    from hipsim.machine.chains import STACKUP_CLOSURE, STACKUP_JOINTS
+    from hipsim.machine.model_files import closure_declaration, urdf_text
+
+    seat = np.array([1e-3, 2e-3, -1e-3])
+    stacked = PARAMS.replace(geometry=given(DEVIATED.geometry).replace(spline=seat))
+    joints = {j.get("name"): j for j in ET.fromstring(urdf_text(stacked)).iter("joint")}
+
+    def read(joint, tag: str, key: str) -> str:  # an attribute of a joint's sub-element
+        return str(given(given(joint.find(tag)).get(key)))
+
+    slide, tip_x, tip_y = (joints[name] for name in STACKUP_JOINTS)
+    assert [j.get("type") for j in (slide, tip_x, tip_y)] == ["prismatic"] * 3
+    assert [read(j, "axis", "xyz") for j in (slide, tip_x, tip_y)] == ["0 0 1", "1 0 0", "0 1 0"]
+    spline = read(slide, "child", "link")
+    assert read(joints["platform_1_rz"], "parent", "link") == spline == read(tip_x, "parent", "link")
+    parent_of = {read(j, "child", "link"): j for j in joints.values()}
+
+    def home(link):  # a link's origin at zero joint values: the joints' offsets summed up to the base (no rotations)
+        out = np.zeros(3)
+        while link in parent_of:
+            assert read(parent_of[link], "origin", "rpy") == "0 0 0"
+            out += np.array(read(parent_of[link], "origin", "xyz").split(), dtype=float)
+            link = read(parent_of[link], "parent", "link")
+        return out
+
+    chains = stacked.chains
+    np.testing.assert_allclose(home("platform_1"), chains.centres[0], rtol=0, atol=1e-15)
+    for frame in STACKUP_CLOSURE:  # the shaft's end on the seat o_2 + e
+        np.testing.assert_allclose(home(frame), chains.centres[1] + seat, rtol=0, atol=1e-15)
+    declared = closure_declaration(stacked)
+    assert declared["closed_loop"][-1] == list(STACKUP_CLOSURE) and declared["type"] == ["3d"] * 7
+    # A zero seat is today's tree and closures, to the byte.
+    zero = PARAMS.replace(geometry=given(DEVIATED.geometry).replace(spline=np.zeros(3)))
+    assert urdf_text(zero) == urdf_text(DEVIATED) and "spline" not in urdf_text(zero)
+    assert len(closure_declaration(zero)["closed_loop"]) == 6

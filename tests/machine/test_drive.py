@@ -1,28 +1,21 @@
-"""Drive files (issue 14): the TOML tables, bad files naming the key, the parameter file's [motor] table, the shipped examples; torque–speed curves."""
+"""Drive files (issue 14): the TOML tables, bad files naming the key, the parameter file's [motor] table, the shipped examples (the curves themselves: test_drive_parts.py)."""
 
 import re
 from importlib import resources
 from pathlib import Path
 
-import numpy as np
 import pytest
 from drive_support import RPM, write
 from support import given
 
 from hipsim.exceptions import ParameterError
 from hipsim.machine.drive import (
-    TorqueSpeedCurve,
     drive_from_motor_table,
     load_drive,
     load_gearbox_catalogue,
     load_motor_catalogue,
     load_screw_catalogue,
 )
-
-
-def test_a_curve_is_linear_between_points_and_zero_beyond():
-    curve = TorqueSpeedCurve(np.array([100.0, 200.0]), np.array([2.0, 1.0]))
-    np.testing.assert_allclose(curve.at([0.0, -150.0, 200.0, 250.0]), [2.0, 1.5, 1.0, 0.0])
 
 
 def test_drive_file_tables(tmp_path):

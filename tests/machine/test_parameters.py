@@ -182,60 +182,6 @@ def test_axial_thrust_bearing_switch(tmp_path):
     assert info.value.key == "friction.thrust_bearing_axial_only"
 
 
-def test_platform_angles_are_minus30_90_210(params):
-    np.testing.assert_allclose(np.degrees(params.platform_angles), [-30.0, 90.0, 210.0], rtol=0, atol=1e-12)
-
-
-def test_screw_points_from_spec_definition(params):
-    # c_i = E·[cos θ_i, sin θ_i, 0], computed here from the published figures.
-    expected = np.array([[E_MM * math.cos(th * DEG), E_MM * math.sin(th * DEG), 0.0] for th in THETA_DEG]) * 1e-3
-    np.testing.assert_allclose(params.screw_points, expected, rtol=0, atol=1e-15)
-    # Written out: c_1 = (132.5, -229.5, 0) mm, c_2 = (132.5, 229.5, 0) mm, c_3 = (-265, 0, 0) mm:
-    # X is perpendicular to A1A2 and points away from A3.
-    half_sqrt3 = math.sqrt(3.0) / 2.0
-    np.testing.assert_allclose(
-        params.screw_points,
-        [[0.1325, -0.265 * half_sqrt3, 0.0], [0.1325, 0.265 * half_sqrt3, 0.0], [-0.265, 0.0, 0.0]],
-        rtol=0,
-        atol=1e-15,
-    )
-
-
-def test_platform_points_from_spec_definition(params):
-    # r0_i = e·[cos φ_i, sin φ_i, 0] with φ_i = θ_i + δ.
-    expected = (
-        np.array(
-            [
-                [SMALL_E_MM * math.cos((th + DELTA_DEG) * DEG), SMALL_E_MM * math.sin((th + DELTA_DEG) * DEG), 0.0]
-                for th in THETA_DEG
-            ]
-        )
-        * 1e-3
-    )
-    np.testing.assert_allclose(params.platform_points, expected, rtol=0, atol=1e-15)
-    # The platform's y axis passes through a_j2.
-    np.testing.assert_allclose(params.platform_points[1], [0.0, 0.144, 0.0], rtol=0, atol=1e-15)
-    half_sqrt3 = math.sqrt(3.0) / 2.0
-    np.testing.assert_allclose(params.platform_points[0], [0.144 * half_sqrt3, -0.072, 0.0], rtol=0, atol=1e-15)
-    np.testing.assert_allclose(params.platform_points[2], [-0.144 * half_sqrt3, -0.072, 0.0], rtol=0, atol=1e-15)
-
-
-def test_ujoint_axes_are_z_cross_radial(params):
-    for i, c in enumerate(params.screw_points):
-        u1 = np.cross([0.0, 0.0, 1.0], c / np.linalg.norm(c))
-        np.testing.assert_allclose(params.ujoint_axes[i], u1, rtol=0, atol=1e-15)
-        assert np.linalg.norm(params.ujoint_axes[i]) == pytest.approx(1.0, abs=1e-15)
-
-
-def test_parameters_are_immutable(params):
-    with pytest.raises(dataclasses.FrozenInstanceError):
-        params.lever_length = 1.0
-    with pytest.raises(ValueError, match="read-only"):
-        params.heights[0] = 1.0
-    with pytest.raises(ValueError, match="read-only"):
-        params.lever_inertia[0, 0] = 1.0
-
-
 # --------------------------------------------------------------------------- overrides
 
 
@@ -396,11 +342,6 @@ def test_slender_levers(params):
     for name in a:
         if name != "lever_inertia":
             np.testing.assert_array_equal(a[name], b[name], err_msg=name)
-
-
-def test_slender_levers_of_a_custom_lever():
-    custom = load_parameters(overrides={"lever.inertia_kgmm2": [1900.0, 2100.0, 600.0]})
-    np.testing.assert_allclose(slender_levers(custom).lever_inertia, np.diag([2e-3, 2e-3, 0.0]), rtol=1e-14, atol=0)
 
 
 # --------------------------------------------------------------------------- bad input

@@ -1,7 +1,7 @@
-"""Laws of the reader chosen by suffix (hipsim.motion.readers), the sources handed out in pieces
-(hipsim.motion.sources), Parquet tables (hipsim.motion.parquet) and the noise check (hipsim.motion.noise_check).
+"""Laws of the reader chosen by suffix (hipsim.motion.readers) and the noise check (hipsim.motion.noise_check);
+the sources handed out in pieces and Parquet tables: test_sources.py, test_parquet.py.
 
-The files are tiny tables written here (eight rows at 100 Hz, whole-number angles and loads), the noise
+The files are tiny tables (motion_support: eight rows at 100 Hz, whole-number angles and loads), the noise
 check's signals sines at whole frequency bins whose share of power is worked out by hand.
 """
 
@@ -11,56 +11,13 @@ import math
 import warnings
 
 import numpy as np
-import pyarrow as pa
-import pyarrow.parquet as pq
 import pytest
-from motion_support import error_of, quiet
+from motion_support import ALPHA, LOAD, N, Q, csv_file, error_of, mot_file, own_columns, parquet_file, quiet
 from support import given
 
-from hipsim.motion.build import NoiseWarning, SampledMotion, TrajectoryWarning
+from hipsim.motion.build import NoiseWarning, SampledMotion
 from hipsim.motion.noise_check import MOTION_BAND, NOISE_SHARE, SUGGESTED_CUTOFF, NoiseCheck, check_noise
-from hipsim.motion.parquet import load_trajectory_parquet
 from hipsim.motion.readers import OPENSIM_SUFFIXES, PARQUET_SUFFIX, read_trajectory
-from hipsim.motion.sources import MAX_STREAMED_SAMPLES, CycleSource, FileSource, SampledSource, pieces
-from hipsim.motion.trajectories import Trajectory, iso14242_at
-
-N = 8
-T = np.arange(N) / 100.0
-ALPHA = 10.0 + np.arange(N)  # [deg]
-BETA = 2.0 * np.arange(N)
-GAMMA = -1.0 * np.arange(N)
-LOAD = 1000.0 + 100.0 * np.arange(N)  # [N]
-Q = np.radians(np.column_stack([ALPHA, BETA, GAMMA]))
-
-
-def csv_file(path, load=True, closing=False) -> str:
-    header = "t_s,alpha_deg,beta_deg,gamma_deg" + (",Fe_N" if load else "")
-    rows = [
-        ",".join(f"{v:g}" for v in (T[k], ALPHA[k], BETA[k], GAMMA[k], *((LOAD[k],) if load else ()))) for k in range(N)
-    ]
-    path.write_text("\n".join([header, *rows]) + "\n")
-    return str(path)
-
-
-def mot_file(path, load=True) -> str:
-    labels = "time\thip_flexion_r\thip_adduction_r\thip_rotation_r\thip_flexion_l\thip_adduction_l\thip_rotation_l"
-    lines = ["ik", "inDegrees=yes", "endheader", labels + ("\tF" if load else "")]
-    for k in range(N):
-        values = [T[k], ALPHA[k], 0.0, 0.0, -ALPHA[k], 0.0, 0.0] + ([LOAD[k]] if load else [])
-        lines.append("\t".join(f"{v:g}" for v in values))
-    path.write_text("\n".join(lines) + "\n")
-    return str(path)
-
-
-def parquet_file(path, columns: dict) -> str:
-    pq.write_table(pa.table(columns), path)
-    return str(path)
-
-
-def own_columns(load=True) -> dict:
-    columns = {"t_s": T, "alpha_deg": ALPHA, "beta_deg": BETA, "gamma_deg": GAMMA}
-    return {**columns, "Fe_N": LOAD} if load else columns
-
 
 # --------------------------------------------------------------------------- the reader by suffix
 
@@ -153,116 +110,6 @@ def test_a_load_file_takes_the_load_column_body_weight_and_scale(tmp_path):
         np.testing.assert_allclose(trajectory.Fe, 30.0 * np.arange(N), rtol=1e-15)
         trajectory = read_trajectory(motion, load=load, load_column="-Fz")
         np.testing.assert_allclose(trajectory.Fe, 10.0 * np.arange(N), rtol=1e-15)
-
-
-# --------------------------------------------------------------------------- Parquet
-
-
-def test_a_parquet_table_reads_as_its_numbers(tmp_path):
-    path = parquet_file(tmp_path / "a.parquet", {**own_columns()})
-    trajectory = load_trajectory_parquet(path)
-    np.testing.assert_array_equal(trajectory.t, T)
-    np.testing.assert_allclose(trajectory.q, Q, rtol=0, atol=1e-15)
-    np.testing.assert_array_equal(trajectory.Fe, LOAD)
-    assert trajectory.name == path
-    # Integer columns are numbers too.
-    ints = {"t_s": T, "alpha_deg": np.arange(N) + 10, "beta_deg": 2 * np.arange(N), "gamma_deg": -np.arange(N)}
-    trajectory = quiet(lambda: load_trajectory_parquet(parquet_file(tmp_path / "b.parquet", ints)))
-    np.testing.assert_allclose(trajectory.q, Q, rtol=0, atol=1e-15)
-    np.testing.assert_array_equal(trajectory.Fe, np.zeros(N))
-
-
-def test_a_parquet_tables_problems_are_named_by_row_and_column(tmp_path):
-    columns = own_columns()
-    short = parquet_file(tmp_path / "a.parquet", {key: value[:5] for key, value in columns.items()})
-    assert str(error_of(lambda: load_trajectory_parquet(short))) == f"{short}: 5 samples; at least 6 are needed"
-    beta = BETA.copy()
-    beta[3] = np.inf
-    bad = parquet_file(tmp_path / "b.parquet", {**columns, "beta_deg": beta})
-    error = error_of(lambda: load_trajectory_parquet(bad))
-    assert str(error) == f"{bad}, line 5, column 'beta_deg': 'inf' is not finite"
-    words = parquet_file(tmp_path / "c.parquet", {**columns, "gamma_deg": [f"{v}" for v in "abcdefgh"]})
-    assert (
-        str(error_of(lambda: load_trajectory_parquet(words)))
-        == f"{words}, column 'gamma_deg': holds string, not numbers"
-    )
-    other = parquet_file(tmp_path / "d.parquet", {"time": T, **{k: v for k, v in columns.items() if k != "t_s"}})
-    error = error_of(lambda: load_trajectory_parquet(other))
-    assert error.line == 1 and "no time column 't_s'" in str(error)
-    nothing = str(tmp_path / "none.parquet")
-    assert str(error_of(lambda: load_trajectory_parquet(nothing))) == f"{nothing}: no such trajectory file"
-
-
-def test_a_parquet_tables_times_must_be_even_to_the_last_digit(tmp_path):
-    # No printed resolution in a binary table: a step 1 % long is uneven.
-    t = T.copy()
-    t[4:] += 0.0001
-    path = parquet_file(tmp_path / "a.parquet", {**own_columns(), "t_s": t})
-    error = error_of(lambda: load_trajectory_parquet(path))
-    assert error.line == 6 and error.column == "t_s" and "uneven time step" in str(error)
-
-
-def test_a_parquet_table_through_a_mapping(tmp_path):
-    path = parquet_file(tmp_path / "a.parquet", {"Time": T, "FE": ALPHA, "Force": LOAD / 1000.0})
-    trajectory = load_trajectory_parquet(path, columns="time=Time,alpha=FE,beta=zero,gamma=zero,load=Force:kN")
-    np.testing.assert_allclose(trajectory.q[:, 0], np.radians(ALPHA), rtol=0, atol=1e-15)
-    np.testing.assert_array_equal(trajectory.q[:, 1:], 0.0)
-    np.testing.assert_allclose(trajectory.Fe, LOAD, rtol=1e-15)
-    trajectory = load_trajectory_parquet(
-        path, columns="time=Time,alpha=FE,beta=zero,gamma=zero", load_column="Force:kN"
-    )
-    np.testing.assert_allclose(trajectory.Fe, LOAD, rtol=1e-15)
-
-
-# --------------------------------------------------------------------------- sources
-
-
-def test_the_built_in_cycle_in_pieces():
-    source = CycleSource(rate=100.0, cycles=0.5, frequency=2.0)
-    assert (len(source), source.periodic, source.name) == (25, False, "ISO 14242-1")
-    assert (source.rate, source.frequency) == (100.0, 2.0)
-    assert source.time(7) == 0.07
-    piece = source.piece(20, 40)
-    expected = iso14242_at(np.arange(20, 25) / 100.0, 2.0)
-    np.testing.assert_array_equal(piece.t, expected.t)
-    np.testing.assert_array_equal(piece.q, expected.q)
-    np.testing.assert_array_equal(piece.Fe, expected.Fe)
-    whole = CycleSource(rate=50, cycles=2)
-    assert (len(whole), whole.periodic, whole.rate, whole.frequency) == (100, True, 50.0, 1.0)
-    assert CycleSource().rate == 1000.0 and len(CycleSource()) == 1000 and CycleSource().periodic
-    assert MAX_STREAMED_SAMPLES == 100_000_000
-    error = error_of(lambda: CycleSource(rate=1e6, cycles=101))
-    assert "at most 100,000,000 are run in one go" in str(error)
-
-
-def test_a_trajectory_in_memory_in_pieces():
-    whole = Trajectory(T, Q, 2 * Q, 3 * Q, LOAD, name="mine", periodic=True, lines=np.arange(3, 3 + N))
-    source = SampledSource(whole)
-    assert (len(source), source.name, source.periodic, source.time(3)) == (N, "mine", True, 0.03)
-    piece = source.piece(2, 5)
-    np.testing.assert_array_equal(piece.t, T[2:5])
-    np.testing.assert_array_equal(piece.qd, 2 * Q[2:5])
-    np.testing.assert_array_equal(piece.lines, [5, 6, 7])
-    assert list(pieces(source, 3)) == [(0, 3), (3, 6), (6, 8)]
-    assert list(pieces(source, 8)) == [(0, 8)]
-    assert list(pieces(source, 100)) == [(0, 8)]
-
-
-def test_a_file_in_pieces_is_the_file_read_whole(tmp_path):
-    path = csv_file(tmp_path / "a.csv")
-    source = FileSource.read(path)
-    whole = read_trajectory(path)
-    assert (len(source), source.name, source.periodic) == (N, path, False)
-    assert source.time(5) == 0.05
-    piece = source.piece(3, 6)
-    np.testing.assert_array_equal(piece.qdd, whole.qdd[3:6])
-    np.testing.assert_array_equal(piece.lines, [5, 6, 7])
-    got = source.trajectory()
-    np.testing.assert_array_equal(got.qd, whole.qd)
-    assert got.name == path
-    resampled = FileSource.read(path, resample=200.0)
-    assert len(resampled) == 15 and resampled.time(3) == 0.015
-    assert isinstance(FileSource(source.motion).motion, SampledMotion)
 
 
 # --------------------------------------------------------------------------- the noise check
@@ -381,29 +228,3 @@ def test_the_band_edge_on_exact_bins_and_tiny_or_zero_motions():
     two = check_noise(np.array([0.0, 0.01]), np.zeros((2, 3)))
     assert two.rate == 100.0 and two.noisy is False
     assert check_noise(np.arange(16) / 24.0, np.zeros((16, 3))).noisy is False
-
-
-def test_a_parquet_load_column_without_a_mapping_and_its_errors(tmp_path):
-    columns = {**own_columns(False), "Fz": LOAD / 1000.0}
-    path = parquet_file(tmp_path / "a.parquet", columns)
-    np.testing.assert_allclose(load_trajectory_parquet(path, load_column="Fz:kN").Fe, LOAD, rtol=1e-15)
-    error = error_of(
-        lambda: load_trajectory_parquet(
-            path, columns="time=t_s,alpha=alpha_deg,beta=zero,gamma=zero,load=Fz", load_column="Fz"
-        )
-    )
-    assert str(error) == f"{path}: the load column is named twice (in the column mapping and on its own)"
-    other = parquet_file(tmp_path / "b.parquet", {"time": T, "alpha_deg": ALPHA, "beta_deg": BETA, "gamma_deg": GAMMA})
-    assert str(error_of(lambda: load_trajectory_parquet(other))).startswith(f"{other}, line 1: no time column 't_s'")
-    six = parquet_file(tmp_path / "c.parquet", {key: value[:6] for key, value in own_columns().items()})
-    assert len(load_trajectory_parquet(six)) == 6
-
-
-def test_a_parquet_tables_rows_keep_their_lines_when_a_load_file_cuts_them(tmp_path):
-    load = tmp_path / "f.csv"
-    load.write_text("time,F\n" + "".join(f"{k / 100},{1000 + k}\n" for k in range(1, 8)))
-    path = parquet_file(tmp_path / "a.parquet", own_columns(False))
-    with pytest.warns(TrajectoryWarning, match="1 motion samples outside the overlap left out"):
-        trajectory = read_trajectory(path, load=load, load_column="F")
-    np.testing.assert_array_equal(trajectory.lines, np.arange(3, N + 2))
-    np.testing.assert_array_equal(trajectory.Fe, 1000.0 + np.arange(1, 8))

@@ -110,18 +110,6 @@ def test_coinciding_platform_curves_are_named_and_drawn_apart(run):
         assert len(set(styles)) == len(styles), styles  # no two entries drawn alike
 
 
-def test_pareto_points_carry_their_design_values():
-    from hipsim.present.sweep_figures import design_label, plot_pareto
-
-    x = np.array([1.0, 2.0, 3.0, 2.5, 4.0])
-    y = np.array([3.0, 2.0, 1.0, 2.5, 0.5])
-    front = np.array([True, True, True, False, True])
-    labels = [design_label({"lever.length_mm": 300.0 + 10 * k, "screw.lead_mm": 10.0}) for k in range(5)]
-    fig = plot_pareto(x, y, front, ("a", "b"), (False, False), ["pass"] * 5, labels=labels)
-    texts = {t.get_text() for t in fig.axes[0].texts}
-    assert texts == {labels[k] for k in (0, 1, 2, 4)} and labels[0] == "length_mm 300, lead_mm 10"
-
-
 def dataclasses_replace(obj, **changes):
     import dataclasses
 

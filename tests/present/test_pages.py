@@ -19,6 +19,7 @@ from hipsim.machine.parameters import default_parameters_path
 from hipsim.present import pages
 from hipsim.present.numbers import quantity, significant, with_uncertainty
 from hipsim.present.provenance import parameter_origin
+from hipsim.records import Level, Verdict
 
 
 def sha256(path) -> str:
@@ -185,12 +186,15 @@ def test_report_verdict_comes_first_and_names_the_binding_check(design):
     page = Page(page_text)
     assert page.order[0] == "verdict" and "table" in page.order
     document = json.loads((design["out"] / "report.json").read_text())
-    verdict = document["verdict"]
-    assert verdict["state"] == "fail" and verdict["word"] == "FAIL"
+    verdict = document["verdict"]  # the drive's verdict, as the sizing's own
+    assert verdict["level"] == "FAIL" and verdict == document["sizing"]["verdict"]
     binding = document["sizing"]["binding"]
-    assert binding["label"] in verdict["lines"][1] and f"LN{binding['module']}" in verdict["lines"][1]
-    assert f"{100 * binding['margin']:+.1f} %".replace("-", "−") in verdict["lines"][1]
-    assert "✘ FAIL" in page_text  # a symbol and a word: readable in black and white
+    assert verdict["numbers"]["binding_margin"] == binding["margin"] and f"LN{binding['module']}" in verdict["judged"]
+    start = page_text.index('id="verdict"')
+    block = page_text[start : page_text.index("</section>", start)]
+    assert binding["label"] in block and f"LN{binding['module']}" in block
+    assert f"{100 * binding['margin']:+.1f} %".replace("-", "−") in block
+    assert "✘ FAIL" in block  # a symbol and a word: readable in black and white
 
 
 def test_report_values_carry_units_and_no_si(design):
@@ -212,7 +216,10 @@ def test_built_in_cycle_unrated_says_so_first(tmp_path):
     page = Page((out / "index.html").read_text(encoding="utf-8"))
     assert page.order[0] == "verdict"
     verdict = json.loads((out / "report.json").read_text())["verdict"]
-    assert verdict["word"] == "NOT RATED" and "N·mm peak" in verdict["lines"][1]
+    text = (out / "index.html").read_text(encoding="utf-8")
+    start = text.index('id="verdict"')
+    block = text[start : text.index("</section>", start)]
+    assert verdict["level"] == "NOT MADE" and "– NOT RATED" in block and "N·mm peak" in block
 
 
 @pytest.mark.usefixtures("quick_figures")
@@ -304,14 +311,16 @@ def test_compare_page_and_json_carry_provenance_and_verdict(log, tmp_path, capsy
     jsonschema.validate(summary, schema("compare"))  # the published contract (hipsim schema compare)
     hashes = {f["role"]: f["sha256"] for f in summary["provenance"]["inputs"]}
     assert hashes == {"parameters": sha256(default_parameters_path()), "log": sha256(log)}
-    assert summary["verdict"]["word"] == "PASS" and summary["provenance"]["rig"] == "HS-2 #0042"
+    assert summary["verdict"]["level"] == "PASS" and summary["provenance"]["rig"] == "HS-2 #0042"
+    assert summary["verdict"]["numbers"]["accept"] == 0.05
     text = (out / "index.html").read_text(encoding="utf-8")
     page = Page(text)
     assert page.order[0] == "verdict" and sha256(log) in text and "(SI)" not in text
     assert_every_value_has_a_unit(page)
     # Without a threshold the verdict is not judged, and says what would judge it.
     assert main(["compare", "--log", str(log), "--out", str(tmp_path / "open")]) == 0
-    assert json.loads((tmp_path / "open" / "comparison.json").read_text())["verdict"]["word"] == "NOT JUDGED"
+    assert json.loads((tmp_path / "open" / "comparison.json").read_text())["verdict"]["level"] == "NOT MADE"
+    assert "– NOT JUDGED" in (tmp_path / "open" / "index.html").read_text(encoding="utf-8")
     capsys.readouterr()
 
 
@@ -341,3 +350,29 @@ def test_compare_exits_1_when_a_motor_exceeds_the_accepted_error(log, tmp_path, 
     assert main([*argv, "--accept", "0.001"]) == 1
     assert capsys.readouterr().out.startswith("FAIL: ")
     assert main([*argv, "--out", str(tmp_path / "d")]) == 0  # no threshold: nothing judged
+
+
+@pytest.mark.parametrize(
+    ("level", "state", "symbol"),
+    [
+        (Level.PASS, "pass", "✔"),
+        (Level.ALIKE, "pass", "✔"),
+        (Level.FAIL, "fail", "✘"),
+        (Level.DIFFERENT, "fail", "✘"),
+        (Level.NOT_MADE, "open", "–"),
+    ],
+)
+def test_a_pages_block_is_its_verdicts_level(level, state, symbol):
+    """The page decides nothing: state, symbol and word are the level's; its own word only for NOT MADE."""
+    verdict = Verdict(level, "every motor's RMS error is within 5 %")
+    block = pages.Verdict.of(verdict, not_made="NOT JUDGED")
+    word = "NOT JUDGED" if level is Level.NOT_MADE else level.value
+    assert (block.state, block.symbol, block.word) == (state, symbol, word)
+    assert block.lines == ("Every motor's RMS error is within 5 %.",)  # what it judged, as a sentence
+    assert pages.Verdict.of(verdict, ("Worst: motor 2.",)).lines == ("Worst: motor 2.",)
+    assert pages.Verdict.of(verdict).word == level.value
+
+
+def test_a_sentence_keeps_its_own_stop():
+    assert pages.sentence("b against a: 3 %.") == "B against a: 3 %."
+    assert pages.sentence("why?") == "Why?" and pages.sentence("") == ""

@@ -7,6 +7,7 @@ than hipsim.analytic.stations, which the calibration uses.
 
 from __future__ import annotations
 
+import jsonschema
 import numpy as np
 import pytest
 from stations_synthetic import (
@@ -19,6 +20,7 @@ from stations_synthetic import (
 )
 
 from hipsim.analytic.stations import carriages_for_platform
+from hipsim.cli.documents import schema
 from hipsim.cli.main import main
 from hipsim.exceptions import CalibrationError, TrajectoryError
 from hipsim.machine.chains import ChainGeometry
@@ -186,7 +188,10 @@ def test_calibrate_command(tmp_path, drawing, truth, train, capsys):
     assert main([*argv, "--summary-format", "json"]) == 0
     import json
 
-    summary = json.loads(capsys.readouterr().out)["summary"]
+    document = json.loads(capsys.readouterr().out)
+    jsonschema.Draft202012Validator(schema("calibrate")).validate(document)  # what ``hipsim schema calibrate`` says
+    assert document["self_check"]["verdict"]["level"] == "PASS" and document["out"] == str(out)
+    summary = document["summary"]
     assert np.max(summary["validation"][0]["rms_deg"]) < NOISE_DEG * 1.2
     assert np.max(summary["validation"][0]["start_rms_deg"]) > NOISE_DEG * 2
     machine = load_parameters(out)
@@ -213,9 +218,9 @@ def test_a_designed_calibration_motion_is_better_posed_than_the_iso_cycle(drawin
     limits = Limits.for_machine(drawing, max_angle=np.radians(20.0))
     design = calibration_excitation(drawing, frequency=0.2, harmonics=4, limits=limits, seeds=2)
     assert design.condition_number < design.iso_condition_number / 5
-    assert design.peaks["angle_deg"] <= 20.0 + 1e-9
-    assert design.peaks["speed_mm_s"] <= limits.max_speed * 1e3
-    assert design.peaks["cond_inv_min"] >= limits.min_cond_inv
+    assert design.peaks.angle_deg <= 20.0 + 1e-9
+    assert design.peaks.speed_mm_s <= limits.max_speed * 1e3
+    assert design.peaks.cond_inv_min >= limits.min_cond_inv
 
 
 def test_limits_no_calibration_motion_meets_are_an_excitation_error(drawing):

@@ -23,6 +23,7 @@ from hipsim.wear.factors import (
 )
 from hipsim.wear.gravimetric import gravimetry, line_fit, rate_difference, station_rate
 from hipsim.wear.laws import WearFactor, predict_wear
+from hipsim.wear.test_summary import RateSummary
 from hipsim.wear.weighings import StationWeighings, read_weighings
 
 
@@ -53,7 +54,7 @@ def test_soak_correction_density_and_rate_by_hand():
     assert rate.rate_mg_per_Mc == pytest.approx(10.0, rel=1e-9)
     assert rate.rate_mm3_per_Mc == pytest.approx(10.0 / 0.94, rel=1e-9)
     assert rate.ci95_mm3_per_Mc == pytest.approx((10.0 / 0.94, 10.0 / 0.94), rel=1e-6)
-    document = rate.to_json()
+    document = RateSummary.of(rate).to_json()
     assert document["wear_rate_mg_per_Mc"] == pytest.approx(10.0)
     assert document["wear_rate_ci95_mm3_per_Mc"][0] == pytest.approx(10.0 / 0.94, rel=1e-6)
 
@@ -367,7 +368,7 @@ def test_a_given_start_needs_two_stops_from_it_on():
         station_rate(station, from_cycle=1_000_001)
 
 
-def test_a_rates_document_by_hand():
+def test_a_rate_by_hand():
     station = StationWeighings(
         "3",
         "soak_3",
@@ -378,25 +379,20 @@ def test_a_rates_document_by_hand():
     )
     rate = station_rate(station, density_mg_per_mm3=0.5, from_cycle=0)
     half = 12.7062047 * math.sqrt(1 / 12)
-    document = rate.to_json()
-    assert math.isnan(document.pop("bedding_in_rate_mg_per_Mc"))
-    assert document == {
-        "station": "3",
-        "soak_control": "soak_3",
-        "stops": 3,
-        "from_cycle": 0,
-        "bedding_in": "none",
-        "wear_rate_mg_per_Mc": pytest.approx(10.5),
-        "wear_rate_ci95_mg_per_Mc": pytest.approx([10.5 - half, 10.5 + half]),
-        "wear_rate_mm3_per_Mc": pytest.approx(21.0),
-        "wear_rate_ci95_mm3_per_Mc": pytest.approx([(10.5 - half) / 0.5, (10.5 + half) / 0.5]),
-        "standard_error_mg_per_Mc": pytest.approx(math.sqrt(1 / 12)),
-        "degrees_of_freedom": 1,
-        "cycles": [0, 1_000_000, 2_000_000],
-        "loss_mg": pytest.approx([0.0, 10.0, 21.0]),
-        "volume_mm3": pytest.approx([0.0, 20.0, 42.0]),
-        "outliers": [],
-    }
+    assert (rate.station, rate.soak_control, rate.cycles, rate.from_cycle, rate.bedding_in, rate.dof) == (
+        "3",
+        "soak_3",
+        (0, 1_000_000, 2_000_000),
+        0,
+        "none",
+        1,
+    )
+    assert math.isnan(rate.bedding_in_rate_mg_per_Mc) and rate.outliers == ()
+    assert rate.rate_mg_per_Mc == pytest.approx(10.5) and rate.rate_mm3_per_Mc == pytest.approx(21.0)
+    assert rate.ci95_mg_per_Mc == pytest.approx((10.5 - half, 10.5 + half))
+    assert rate.ci95_mm3_per_Mc == pytest.approx(((10.5 - half) / 0.5, (10.5 + half) / 0.5))
+    assert rate.se_mg_per_Mc == pytest.approx(math.sqrt(1 / 12))
+    assert rate.loss_mg == pytest.approx((0.0, 10.0, 21.0)) and rate.volume_mm3 == pytest.approx((0.0, 20.0, 42.0))
 
 
 def test_a_tests_gravimetry_every_pair_and_the_density_stated(tmp_path):
@@ -415,10 +411,8 @@ def test_a_tests_gravimetry_every_pair_and_the_density_stated(tmp_path):
     given = gravimetry(weighings, 1.0, from_cycle=1_000_000)
     assert given.density_stated == "1 mg/mm³ (given)" and given.station("A").bedding_in == "given"
     assert given.station("C").rate_mm3_per_Mc == pytest.approx(given.station("C").rate_mg_per_Mc)
-    document = given.to_json()
-    assert document["weighings"] == str(path) and document["density"] == "1 mg/mm³ (given)"
-    assert list(document["stations"]) == ["A", "B", "C"] and len(document["differences"]) == 3
-    assert document["density_mg_per_mm3"] == 1.0
+    assert [rate.station for rate in given.stations] == ["A", "B", "C"] and len(given.differences) == 3
+    assert given.density_mg_per_mm3 == 1.0 and given.source == str(path)
 
 
 def test_a_difference_needs_both_intervals():
@@ -429,11 +423,11 @@ def test_a_difference_needs_both_intervals():
     assert all(math.isnan(v) for v in d.ci95_mg_per_Mc) and d.significant is False
     exact = station_rate(_station("3", [0, 1e6, 2e6], 1000 - np.array([0.0, 10.0, 20.0])), 0.5, from_cycle=0)
     assert all(math.isnan(v) for v in rate_difference(exact, exact).ci95_mg_per_Mc)  # se² = 0: no interval
-    document = rate_difference(b, a).to_json()
-    assert (document["a"], document["b"], document["significant"]) == ("2", "1", False)
-    assert document["difference_mg_per_Mc"] == pytest.approx(-19.5) and document[
-        "difference_mm3_per_Mc"
-    ] == pytest.approx(-39.0)
+    reverse = rate_difference(b, a)
+    assert (reverse.a, reverse.b, reverse.significant) == ("2", "1", False)
+    assert reverse.difference_mg_per_Mc == pytest.approx(-19.5) and reverse.difference_mm3_per_Mc == pytest.approx(
+        -39.0
+    )
 
 
 @pytest.mark.parametrize(

@@ -14,7 +14,14 @@ from hipsim.records import Level, exit_status
 from hipsim.wear.kinematics import CupSetup
 from hipsim.wear.maps import WearMaps
 from hipsim.wear.points import CupPoints
-from hipsim.wear.summary import Difference, WearSummary, compare_summaries, compare_verdict, wear_summary
+from hipsim.wear.summary import (
+    Difference,
+    WearSummary,
+    compare_summaries,
+    compare_verdict,
+    largest_differences,
+    wear_summary,
+)
 
 NAN = math.nan
 
@@ -210,3 +217,12 @@ def test_difference_maps_are_b_minus_a_on_the_same_points():
         difference_maps(a, moved)
     with pytest.raises(ArgumentError, match="points: expected the same cup points in both runs"):
         difference_maps(a, replace(b, points=CupPoints(np.eye(3)[[2, 0, 1]])))
+
+
+def test_the_largest_point_difference_is_by_magnitude_and_skips_the_missing():
+    differences = {
+        "cross_shear": np.array([0.1, -0.3, np.nan, 0.2]),  # the fall is the largest, whatever its sign
+        "sliding_mm": np.array([np.nan, np.inf]),  # no finite point
+        "work_N_per_mm": np.array([0.0]),
+    }
+    assert largest_differences(differences) == {"cross_shear": 0.3, "sliding_mm": None, "work_N_per_mm": 0.0}

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from hipsim.wear.test_context import FrictionState, MotionError, StationContext, friction_state, motion_error
+from hipsim.wear.test_context import FrictionState, friction_state, motion_error
 
 NAN = float("nan")
 
@@ -52,7 +52,7 @@ def test_a_table_without_estimates_or_flags():
     assert friction_state({}, 1, "m.csv") is None and friction_state({"cycle": []}, 1, "m.csv") is None
 
 
-def test_a_friction_states_words_and_document():
+def test_a_friction_states_words():
     own = FrictionState("m.csv", 4, 500_000, 0.005, 0.002, True, "NOTICE")
     assert (
         own.describe()
@@ -62,19 +62,6 @@ def test_a_friction_states_words_and_document():
     assert mean.describe() == (
         "hip μ change -0.0030 ± 0.0007 (the two stations' mean) at cycle 500000 over 4 snapshots; monitor: no flag"
     )
-    assert own.to_json() == {
-        "source": "m.csv",
-        "snapshots": 4,
-        "last_cycle": 500_000,
-        "hip_mu_change": 0.005,
-        "hip_mu_change_std": 0.002,
-        "own_station": True,
-        "flag": "NOTICE",
-        "summary": own.describe(),
-    }
-    error = MotionError("log", (1.0, 2.0, 3.0), (4.0, 5.0, 6.0))
-    assert StationContext("1", error, own).to_json() == {"motion_error": error.to_json(), "friction": own.to_json()}
-    assert StationContext("1", None, None).to_json() == {"motion_error": None, "friction": None}
 
 
 def test_an_estimate_only_at_the_first_snapshot_is_the_last_one():

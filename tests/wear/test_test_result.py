@@ -85,21 +85,11 @@ def test_without_a_factor_the_intervals_use_the_stations_own_local_k():
     assert [r.predicted_mm3 for r in two.intervals] == pytest.approx([10.0, 20.0])
     assert test.verdict.word == "ONE STATION" and test.verdict.level == Level.NOT_MADE
     assert test.verdict.lines == ("one station weighed: no other to compare its rate with",)
-    document = test.to_json()
-    assert document["verdict"] == "ONE STATION" and document["wear_factor"] is None
-    assert document["reference_motion"] == {
-        "name": "ISO",
-        "load_slide_integral_Nm": 20.0,
-        "force_track_load_Nm": 10.0,
-        "cross_shear_work_weighted": 0.2,
-    }
-    station = document["stations"]["2"]
-    assert station["motion"] == "station 2's motion" and station["prediction_within_ci95"] is None
-    assert station["fitted"]["predicts"]["local_mm3_per_Mc"] == pytest.approx([5.0, 4.5, 5.5])
-    assert station["interval_law"].startswith("the station's own") and len(station["intervals"]) == 2
-    assert document["fitted_wear_law"] == {"cross_shear": [0.1, 0.3], "k_mm3_per_Nm": pytest.approx([2.5e-7] * 2)}
-    assert document["density_mg_per_mm3"] == 1.0 and document["weighings"] == "w.csv"
-    assert document["density"] == "1 mg/mm³ (given)" and document["differences"] == []
+    assert test.reference == MotionIntegrals(20.0, 10.0, 0.2, "ISO") and test.given is None
+    assert two.exposure.source == "station 2's motion" and two.within is None
+    assert two.fitted.predict(test.reference)["local"] == pytest.approx((5.0, 4.5, 5.5))
+    assert len(two.intervals) == 2
+    assert test.fitted_law is not None and test.fitted_law.k.tolist() == pytest.approx([2.5e-7] * 2)
 
 
 def _station_with(predicted: float, ci: tuple[float, float]):
@@ -142,17 +132,13 @@ def test_a_verdict_without_an_interval_to_hold_the_prediction_against():
     station = _station_with(10.0, (NAN, NAN))
     verdict = wear_verdict(_gravimetry(DIFFERENT), (station,), GivenFactor(2.5e-7, "local"))
     assert verdict.lines[1].endswith("measured 10 [nan, nan]: no interval to hold it against")
-    assert test.given == GivenFactor(2.5e-7, "local") and test.to_json()["wear_factor"] == {
-        "k_mm3_per_Nm": 2.5e-7,
-        "kind": "local",
-    }
+    assert test.given == GivenFactor(2.5e-7, "local")
 
 
 def test_a_verdicts_word_and_level():
     assert WearVerdict("ALIKE", ("a",)).level == Level.ALIKE
     assert WearVerdict("DIFFERENT", ()).level == Level.DIFFERENT
     assert WearVerdict("ONE STATION", ()).level == Level.NOT_MADE
-    assert WearVerdict("ALIKE", ("a", "b")).to_json() == {"verdict": "ALIKE", "lines": ["a", "b"]}
     assert GivenFactor(8e-8, "force-track").describe() == "k = 8e-08 mm³/(N·m), force-track"
 
 
@@ -180,5 +166,4 @@ def test_the_steady_motion_runs_to_the_last_stop_and_one_station_has_no_table():
     (station,) = test.stations
     assert station.fitted.motion.load_slide_integral_Nm == pytest.approx(60.0)
     assert station.fitted.station == "9" and [r.station for r in station.intervals] == ["9", "9", "9"]
-    assert test.fitted_law is None and test.to_json()["fitted_wear_law"] is None
-    assert math.isnan(test.to_json()["stations"]["9"]["predicted_mm3_per_Mc"])
+    assert test.fitted_law is None and math.isnan(station.predicted_mm3_per_Mc)

@@ -7,9 +7,11 @@ parameters motor torques are linear in), :mod:`~hipsim.rig.identification.regres
 :mod:`~hipsim.rig.identification.fit` (the fit),
 :mod:`~hipsim.rig.identification.consistency` (physical consistency),
 :mod:`~hipsim.rig.identification.validation` (held-out logs),
-:mod:`~hipsim.rig.identification.uncertainty` (bands forward) and
+:mod:`~hipsim.rig.identification.uncertainty` (bands forward),
+:mod:`~hipsim.rig.identification.summary` (what ``identify`` reports, as records),
 :mod:`~hipsim.rig.identification.excitation` (trajectories that make the fit
-well posed). The functions named like a module (``regressor``,
+well posed) and :mod:`~hipsim.rig.identification.excitation_summary` (their
+peaks, verdict against the rig's limits and summary). The functions named like a module (``regressor``,
 ``excitation``) are reached through their modules, or as ``hipsim.rig.regressor``
 and ``hipsim.rig.excitation``.
 """

@@ -122,10 +122,6 @@ class BaseParameters:
         out[self.index] = theta_b - self.beta[np.ix_(self.index, dependent)] @ out[dependent]
         return out
 
-    def table(self) -> list[dict]:
-        """Each base parameter's name, key, unit and definition, JSON-ready."""
-        return [{"name": p.label, "key": p.key, "unit": p.unit, "definition": p.definition} for p in self.parameters]
-
 
 def _geometry(params: Parameters) -> str:
     """Everything of the machine but its dynamic parameters, as text: the cache key."""

@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -45,6 +45,7 @@ from ...exceptions import ArgumentError, ExcitationError
 from ...files import write_columns
 from ...machine.parameters import Parameters
 from ...motion.trajectories import Trajectory, iso14242
+from .excitation_summary import ExcitationPeaks, ExcitationSummary, limits_verdict
 from .quantities import QUANTITIES
 from .regressor import column_condition, regressor, regressor_from_kinematics
 
@@ -137,7 +138,7 @@ class Excitation:
         quantities: the parameters designed for, by label.
         limits: the limits it respects.
         peaks: the largest |angle| [deg], slider speed [mm/s] and acceleration [mm/s²], motor torque [N·mm],
-            the smallest singularity measure, the load range [N].
+            the smallest singularity measure, the load range [N] (None until :func:`excitation` computes them).
         seconds: the design's run time in [s].
     """
 
@@ -148,7 +149,7 @@ class Excitation:
     iso_condition_number: float
     quantities: tuple[str, ...]
     limits: Limits
-    peaks: dict[str, float] = field(default_factory=dict)
+    peaks: ExcitationPeaks | None = None
     seconds: float = math.nan
 
     def at(self, t) -> Trajectory:
@@ -181,17 +182,21 @@ class Excitation:
         }
         return write_columns(path, columns)
 
-    def summary(self) -> dict[str, Any]:
-        return {
-            "frequency_Hz": self.frequency,
-            "period_s": 1.0 / self.frequency,
-            "harmonics": self.harmonics,
-            "condition_number": self.condition_number,
-            "iso_condition_number": self.iso_condition_number,
-            "quantities": list(self.quantities),
-            "peaks": dict(self.peaks),
-            "design_seconds": self.seconds,
-        }
+    def summary(self) -> ExcitationSummary:
+        """The design as its record: condition numbers, peaks, their verdict against :attr:`limits`."""
+        if self.peaks is None:
+            raise ExcitationError("this excitation's peaks were not computed: design it with excitation()")
+        return ExcitationSummary(
+            frequency_Hz=self.frequency,
+            period_s=1.0 / self.frequency,
+            harmonics=self.harmonics,
+            condition_number=self.condition_number,
+            iso_condition_number=self.iso_condition_number,
+            quantities=tuple(self.quantities),
+            peaks=self.peaks,
+            verdict=limits_verdict(self.peaks, self.limits),
+            design_seconds=self.seconds,
+        )
 
 
 def _replaced(trajectory: Trajectory, **changes) -> Trajectory:
@@ -426,13 +431,13 @@ def excitation(
     trajectory = design.at(fine)
     kin = kinematics(params, trajectory)
     tau = inverse_dynamics(params, kin, trajectory.Fe, lever_spin).total
-    peaks = {
-        "angle_deg": float(np.degrees(np.abs(trajectory.q).max())),
-        "speed_mm_s": float(np.abs(kin.Ld).max() * 1e3),
-        "acceleration_mm_s2": float(np.abs(kin.Ldd).max() * 1e3),
-        "torque_Nmm": float(np.abs(tau).max() * 1e3),
-        "cond_inv_min": float(kin.cond_inv.min()),
-        "load_min_N": float(trajectory.Fe.min()),
-        "load_max_N": float(trajectory.Fe.max()),
-    }
+    peaks = ExcitationPeaks(
+        angle_deg=float(np.degrees(np.abs(trajectory.q).max())),
+        speed_mm_s=float(np.abs(kin.Ld).max() * 1e3),
+        acceleration_mm_s2=float(np.abs(kin.Ldd).max() * 1e3),
+        cond_inv_min=float(kin.cond_inv.min()),
+        torque_Nmm=float(np.abs(tau).max() * 1e3),
+        load_min_N=float(trajectory.Fe.min()),
+        load_max_N=float(trajectory.Fe.max()),
+    )
     return replace(design, peaks=peaks, seconds=time.perf_counter() - started)

@@ -63,7 +63,8 @@ from .prior import HELD
 from .prior import prior as make_prior
 from .quantities import QUANTITIES, standard_values, with_values
 from .regressor import column_condition, log_rows, rows_per_independent_row
-from .validation import training_envelope, validation_note
+from .summary import EstimateRow, HeldOutLog, HeldRow, IdentificationSummary, IdentifiedRow
+from .validation import ValidationNote, training_envelope, validation_note
 
 __all__ = [
     "DETERMINED",
@@ -142,19 +143,20 @@ class BaseEstimate:
         """How far the data moved it from its prior, in prior standard deviations."""
         return (self.value - self.prior) / self.prior_std if self.prior_std > 0 else 0.0
 
-    def as_dict(self) -> dict[str, Any]:
-        return {
-            "name": self.name,
-            "definition": self.definition,
-            "key": self.key,
-            "unit": self.unit,
-            "value": self.value,
-            "std": self.std,
-            "prior": self.prior,
-            "prior_std": self.prior_std,
-            "determined": self.determined,
-            "shift_in_prior_std": self.shift,
-        }
+    def row(self) -> EstimateRow:
+        """The estimate as the summary's row (with :attr:`determined` and :attr:`shift`)."""
+        return EstimateRow(
+            self.name,
+            self.definition,
+            self.key,
+            self.unit,
+            self.value,
+            self.std,
+            self.prior,
+            self.prior_std,
+            self.determined,
+            self.shift,
+        )
 
 
 @dataclass(frozen=True, eq=False)
@@ -190,7 +192,7 @@ class Identification:
     lever_spin: bool
     active_constraints: tuple[str, ...] = ()
     validation: tuple[tuple[Comparison, Comparison], ...] = field(default=())
-    notes: tuple[Any, ...] = field(default=())
+    notes: tuple[ValidationNote, ...] = field(default=())
     torque_rms: np.ndarray | None = None
 
     @property
@@ -270,40 +272,36 @@ class Identification:
             ]
         return table
 
-    def summary(self) -> dict[str, Any]:
-        """Everything a script needs, JSON-ready, in file units (torques in N·mm)."""
-        out: dict[str, Any] = {
-            "logs": list(self.logs),
-            "starting_parameters": self.start.source,
-            "lever_spin": self.lever_spin,
-            "rows": self.rows,
-            "condition_number": self.condition_number,
-            "residual_rms_Nmm": {str(i + 1): float(self.residual_rms[i] * 1e3) for i in range(3)},
-            "base_parameters": [x.as_dict() for x in self.estimates],
-            "identified": [
-                {
-                    "quantity": q.expression(None),
-                    "key": q.key,
-                    "value": q.value,
-                    "std": q.std,
-                    "unit": q.unit,
-                    "relative_std": q.relative_std,
-                }
-                for q in self.quantities
-            ],
-            "held": [
-                {"quantity": label, "reason": reason, "value": value, "unit": unit}
-                for label, reason, value, unit in self.held
-            ],
-            "active_constraints": list(self.active_constraints),
-        }
+    def summary(self) -> IdentificationSummary:
+        """Everything a script needs, in file units, torques in [N·mm] (:mod:`hipsim.rig.identification.summary`)."""
+        validation = None
         if self.validation:
-            out["validation"] = [
-                {"log": identified.log.name, "identified": identified.motor_errors(), "starting": start.motor_errors()}
-                | ({} if note is None else note.as_dict())
-                for (identified, start), note in zip(self.validation, self.notes or [None] * len(self.validation))
-            ]
-        return out
+            notes = self.notes or (None,) * len(self.validation)
+            validation = tuple(
+                HeldOutLog(
+                    identified.log.name,
+                    identified.summary().motors,
+                    start.summary().motors,
+                    None if note is None else note.summary(),
+                )
+                for (identified, start), note in zip(self.validation, notes)
+            )
+        return IdentificationSummary(
+            logs=tuple(self.logs),
+            starting_parameters=self.start.source,
+            lever_spin=self.lever_spin,
+            rows=self.rows,
+            condition_number=float(self.condition_number),
+            residual_rms_Nmm={str(i + 1): float(self.residual_rms[i] * 1e3) for i in range(3)},
+            base_parameters=tuple(e.row() for e in self.estimates),
+            identified=tuple(
+                IdentifiedRow(q.expression(None), q.key, q.value, q.std, q.unit, q.relative_std)
+                for q in self.quantities
+            ),
+            held=tuple(HeldRow(label, reason, value, unit) for label, reason, value, unit in self.held),
+            active_constraints=tuple(self.active_constraints),
+            validation=validation,
+        )
 
     def comments(self) -> list[str]:
         """The file's comment header, for people (programs read the tables): the logs, the model, each value."""
@@ -535,7 +533,7 @@ def identify(
     validation = tuple(
         (compare_log(identified, log, lever_spin), compare_log(params, log, lever_spin)) for log in validate
     )
-    notes: tuple = ()
+    notes: tuple[ValidationNote, ...] = ()
     if validate:
         training = training_envelope(logs)
         notes = tuple(validation_note(a, b, log, training) for (a, b), log in zip(validation, validate))

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
@@ -20,6 +19,7 @@ from ...exceptions import ArgumentError, HipsimError
 from ...motion.gait_events import detect_gait_events, gait_phase
 from ..compare import Comparison
 from ..logs.log import Log
+from .summary import PhaseNote, phase_note
 
 __all__ = ["MARGIN", "Envelope", "ValidationNote", "envelope", "training_envelope", "validation_note"]
 
@@ -131,14 +131,9 @@ class ValidationNote:
             lines.append(f"WARNING: {self.log} leaves the training envelope, the prediction extrapolates: {warning}")
         return "\n".join(lines)
 
-    def as_dict(self) -> dict[str, Any]:
-        out: dict[str, Any] = {"envelope_warnings": list(self.warnings)}
-        identified, starting = self.identified_phase_rms, self.starting_phase_rms  # given with the edges
-        if self.phase_edges is not None and identified is not None and starting is not None:
-            out["gait_phase_edges_percent"] = self.phase_edges.tolist()
-            out["identified_phase_rms_error_Nmm"] = identified.tolist()
-            out["starting_phase_rms_error_Nmm"] = starting.tolist()
-        return out
+    def summary(self) -> PhaseNote:
+        """The note as the summary's record: the warnings, and the per-phase errors when the log has them."""
+        return phase_note(self.warnings, self.phase_edges, self.identified_phase_rms, self.starting_phase_rms)
 
 
 def _phase_rms(comparison: Comparison, phase: np.ndarray, edges: np.ndarray) -> np.ndarray:

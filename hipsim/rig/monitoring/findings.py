@@ -25,12 +25,14 @@ from typing import Any
 import numpy as np
 
 from ...exceptions import ArgumentError
+from ...records import Record
 from .control_chart import MIN_BASELINE, Chart, chart
 from .snapshots import Skipped
 
 __all__ = [
     "INCOMPLETE",
     "LOAD_GAIN_DRIFT",
+    "Finding",
     "Findings",
     "change_text",
     "duplicates",
@@ -71,8 +73,8 @@ class Findings:
     stations: tuple[Chart, Chart] | None
     flag: list[str]
     alarm: np.ndarray
-    first: dict[str, Any] | None
-    latest_notice: dict[str, Any] | None
+    first: Finding | None
+    latest_notice: Finding | None
     load_gain_change: np.ndarray
     notes: list[str]
     state: list[str]
@@ -132,26 +134,45 @@ def change_text(change: float, worst: float, where: str) -> str:
     return f"{change:+.4f} in {where}"
 
 
+@dataclass(frozen=True)
+class Finding(Record):
+    """An alarm or a notice as the summary says it: the snapshot (first cycle, file), alarm or notice, where (the
+    stations' mean, a station), rise or fall, the change of μ_h and its standard deviation, the worst case in one
+    station, the load friction term and its change from the baseline in [mm], and the sentence."""
+
+    cycle: int
+    file: str
+    kind: str
+    where: str
+    direction: str
+    hip_mu_change: float
+    hip_mu_change_std: float
+    worst_case_change: float
+    load_friction_mm: float
+    load_friction_change_mm: float
+    text: str
+
+
 def _describe(
     k: int, rows, c: Chart, where: str, a0_mm: float, hip_radius_mm: float, kind: str, gain_change: float
-) -> dict[str, Any]:
+) -> Finding:
     change = float(c.change[k])
-    return {
-        "cycle": int(rows[k]["cycle"]),
-        "file": rows[k]["file"],
-        "kind": kind,
-        "where": where,
-        "direction": "rise" if change > 0 else "fall",
-        "hip_mu_change": change,
-        "hip_mu_change_std": float(c.change_std[k]),
-        "worst_case_change": c.worst * change,
-        "load_friction_mm": float(rows[k]["load_friction_mm"]),
-        "load_friction_change_mm": float(rows[k]["load_friction_mm"]) - c.mean,
-        "text": f"{kind}: the hip friction coefficient {'rose' if change > 0 else 'fell'} by "
+    return Finding(
+        int(rows[k]["cycle"]),
+        str(rows[k]["file"]),
+        kind,
+        where,
+        "rise" if change > 0 else "fall",
+        change,
+        float(c.change_std[k]),
+        c.worst * change,
+        float(rows[k]["load_friction_mm"]),
+        float(rows[k]["load_friction_mm"]) - c.mean,
+        f"{kind}: the hip friction coefficient {'rose' if change > 0 else 'fell'} by "
         + change_text(change, c.worst, where)
         + f" ± {c.change_std[k] * c.worst:.2g}: the specimen's friction, "
         + load_cell_text(change, a0_mm, hip_radius_mm, gain_change),
-    }
+    )
 
 
 def hold(
@@ -267,7 +288,8 @@ def find(
     inside = (mean.phase == "baseline") & np.isfinite(gain)
     gain_change = gain / float(np.mean(gain[inside])) - 1.0 if inside.any() else np.full(len(rows), math.nan)
     flag, alarm = [], np.zeros(len(rows), dtype=int)
-    first = latest = None
+    first: Finding | None = None
+    latest: Finding | None = None
     for k in range(len(rows)):
         if stations is not None and separated[k]:
             judged = [(c, f"station {p + 1}") for p, c in enumerate(stations)]

@@ -34,7 +34,7 @@ from .control_chart import DEFAULT_ALARM_RISE, DEFAULT_BASELINE, EWMA_L, EWMA_LA
 from .findings import Findings, check_acknowledged, duplicates, find, missing_cycles
 from .monitor_fit import MonitorSetup, estimate_batch
 from .monitor_state import MonitorState, monitor_state
-from .monitor_summary import Baseline, LoadCell, MonitorSummary, SnapshotFile, StationBaseline
+from .monitor_summary import Baseline, LoadCell, MonitorSummary, SkippedFile, SnapshotFile, StationBaseline
 from .monitor_table import COLUMNS, MONITOR_TABLE, PARTS, table_rows, write_table
 from .reference import reference
 from .snapshots import Skipped, Snapshot, find_snapshots
@@ -152,8 +152,8 @@ class MonitorResult:
                 gain_change_last=float(gain[known][-1]) if known.any() else None,
                 drifted=[c["file"][k] for k in range(len(gain)) if known[k] and abs(gain[k]) > 0.01],
             ),
-            skipped=[s.as_dict() for s in self.skipped if s.kind != "waiting"],
-            waiting=[s.as_dict() for s in self.skipped if s.kind == "waiting"],
+            skipped=[SkippedFile.of(s) for s in self.skipped if s.kind != "waiting"],
+            waiting=[SkippedFile.of(s) for s in self.skipped if s.kind == "waiting"],
             missing=self.missing,
             incomplete=[c["file"][k] for k in range(len(c["cycle"])) if "incomplete" in c["note"][k]],
             files=[SnapshotFile(c["file"][k], int(c["bytes"][k]), c["sha256"][k]) for k in range(len(c["cycle"]))],

@@ -8,8 +8,10 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ...records import Record
+from .findings import Finding
+from .snapshots import Skipped
 
-__all__ = ["Baseline", "LoadCell", "MonitorSummary", "SnapshotFile", "StationBaseline"]
+__all__ = ["Baseline", "LoadCell", "MonitorSummary", "SkippedFile", "SnapshotFile", "StationBaseline"]
 
 
 @dataclass(frozen=True)
@@ -61,10 +63,30 @@ class SnapshotFile(Record):
 
 
 @dataclass(frozen=True)
+class SkippedFile(Record):
+    """A snapshot left out of the chart: its name, path, why ("unreadable", "waiting", "duplicate") in words, the line
+    the reason names, and the bytes and SHA-256 looked at (null when it could not be read)."""
+
+    file: str
+    path: str
+    kind: str
+    reason: str
+    line: int | None
+    bytes: int | None
+    sha256: str | None
+
+    @classmethod
+    def of(cls, skipped: Skipped) -> SkippedFile:
+        """The record of a :class:`~hipsim.rig.monitoring.snapshots.Skipped`."""
+        return cls(
+            skipped.name, skipped.path, skipped.kind, skipped.reason, skipped.line, skipped.size, skipped.sha256 or None
+        )
+
+
+@dataclass(frozen=True)
 class MonitorSummary(Record):
-    """A monitor's run (docs/guide/monitor.md lists the keys); the findings' descriptions and the skipped snapshots
-    are the JSON-ready mappings :mod:`hipsim.rig.monitoring.findings` and :mod:`~hipsim.rig.monitoring.snapshots` make.
-    """
+    """A monitor's run (docs/guide/monitor.md lists the keys); ``table`` is the run's table, its columns by name (the
+    rows as written to CSV/Parquet: their columns depend on what the logs carry)."""
 
     snapshots: int
     new: int
@@ -78,9 +100,9 @@ class MonitorSummary(Record):
     chart: str
     judged: str
     alarms: int
-    first_alarm: dict[str, Any] | None
+    first_alarm: Finding | None
     notices: int
-    latest_notice: dict[str, Any] | None
+    latest_notice: Finding | None
     alarm_active: bool
     notice_active: bool
     state: str
@@ -88,8 +110,8 @@ class MonitorSummary(Record):
     alarm_at_last_snapshot: bool
     acknowledged: list[int]
     load_cell: LoadCell
-    skipped: list[dict[str, Any]]
-    waiting: list[dict[str, Any]]
+    skipped: list[SkippedFile]
+    waiting: list[SkippedFile]
     missing: list[int]
     incomplete: list[str]
     files: list[SnapshotFile]

@@ -109,17 +109,6 @@ class Skipped:
     size: int | None = None
     sha256: str = ""
 
-    def as_dict(self) -> dict:
-        return {
-            "file": self.name,
-            "path": self.path,
-            "kind": self.kind,
-            "reason": self.reason,
-            "line": self.line,
-            "bytes": self.size,
-            "sha256": self.sha256 or None,
-        }
-
 
 def skipped(snapshot: Snapshot, error: HipsimError, kind: str = "unreadable") -> Skipped:
     """The skipped snapshot an error makes: its message is the reason, its line (when it names one) kept."""

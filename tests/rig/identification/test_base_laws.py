@@ -35,6 +35,7 @@ from hipsim.rig.identification.base import (
 )
 from hipsim.rig.identification.quantities import QUANTITIES, standard_values, with_values
 from hipsim.rig.identification.regressor import regressor
+from hipsim.rig.identification.summary import base_listing
 
 P = len(QUANTITIES)
 INDEX = {q.label: k for k, q in enumerate(QUANTITIES)}
@@ -123,13 +124,10 @@ def test_the_map_to_base_parameters_by_hand(params):
     whole = base.standard(np.full(P - 2, 0.5), np.ones(P, dtype=int))
     assert whole.dtype == float and whole[INDEX["μ_h"]] == 0.5
     assert base.standard(values, theta) is not theta
-    assert base.table()[base.index.index(INDEX["m_L"])] == {
-        "name": "m_L",
-        "key": "slider.mass_kg",
-        "unit": "kg",
-        "definition": "m_L",
-    }
-    assert len(base.table()) == r
+    listing = base_listing(base, np.zeros(r), np.ones(r)).base_parameters  # what ``identify --base`` prints
+    m_L = listing[base.index.index(INDEX["m_L"])]
+    assert (m_L.name, m_L.key, m_L.unit, m_L.definition) == ("m_L", "slider.mass_kg", "kg", "m_L")
+    assert len(listing) == r
 
 
 def _dependent_columns(seed: int = 4, rows: int = 60) -> np.ndarray:

@@ -24,6 +24,7 @@ from hipsim.rig.identification.excitation import (
     condition_number,
     excitation,
 )
+from hipsim.rig.identification.excitation_summary import ExcitationPeaks
 from hipsim.rig.identification.quantities import QUANTITIES
 from hipsim.rig.identification.regressor import regressor
 
@@ -56,6 +57,9 @@ def _by_hand(coefficients, f, t):
     return values, rates, accelerations
 
 
+PEAKS = ExcitationPeaks(7.0, 100.0, 1000.0, 0.5, torque_Nmm=300.0, load_min_N=300.0, load_max_N=3000.0)
+
+
 def _design(coefficients=COEFFICIENTS, frequency=0.5, **changes):
     fields = dict(
         frequency=frequency,
@@ -65,7 +69,7 @@ def _design(coefficients=COEFFICIENTS, frequency=0.5, **changes):
         iso_condition_number=40.0,
         quantities=("m_L", "I_L"),
         limits=Limits(),
-        peaks={"angle_deg": 7.0},
+        peaks=PEAKS,
         seconds=0.25,
     )
     fields.update(changes)
@@ -141,16 +145,32 @@ def test_the_written_file_closes_the_period(tmp_path):
 
 
 def test_the_summary():
-    assert _design().summary() == {
+    summary = _design().summary()
+    document = summary.to_json()
+    verdict = document.pop("verdict")
+    assert document == {
         "frequency_Hz": 0.5,
         "period_s": 2.0,
         "harmonics": 2,
         "condition_number": 12.5,
         "iso_condition_number": 40.0,
         "quantities": ["m_L", "I_L"],
-        "peaks": {"angle_deg": 7.0},
+        "peaks": {
+            "angle_deg": 7.0,
+            "speed_mm_s": 100.0,
+            "acceleration_mm_s2": 1000.0,
+            "cond_inv_min": 0.5,
+            "torque_Nmm": 300.0,
+            "load_min_N": 300.0,
+            "load_max_N": 3000.0,
+        },
         "design_seconds": 0.25,
     }
+    # The load at both ends of the default range (300 to 3000 N): equal passes; margins limit minus peak.
+    assert verdict["level"] == "PASS" and summary.level.value == "PASS"
+    assert verdict["numbers"]["load_min_margin_N"] == 0.0 and verdict["numbers"]["speed_margin_mm_s"] == 250.0
+    with pytest.raises(ExcitationError, match="peaks were not computed"):
+        _design(peaks=None).summary()
 
 
 def test_limits_from_the_parameter_file():
@@ -441,16 +461,16 @@ def _check_result(design, watch):
         condition_number(PARAMS, hipsim.iso14242(rate=10 * SAMPLES)), rel=1e-12
     )
     run = hipsim.analyse(PARAMS, trajectory, lever_spin=True)
-    want = {
+    want = {  # in the record's order
         "angle_deg": math.degrees(np.abs(trajectory.q).max()),
         "speed_mm_s": np.abs(run.Ld).max() * 1e3,
         "acceleration_mm_s2": np.abs(run.Ldd).max() * 1e3,
-        "torque_Nmm": np.abs(run.torques.total).max() * 1e3,
         "cond_inv_min": run.cond_inv.min(),
+        "torque_Nmm": np.abs(run.torques.total).max() * 1e3,
         "load_min_N": trajectory.Fe.min(),
         "load_max_N": trajectory.Fe.max(),
     }
-    assert design.peaks == pytest.approx(want, rel=1e-9)
+    assert design.peaks is not None and design.peaks.to_json() == pytest.approx(want, rel=1e-9)
     limits = design.limits
     assert want["angle_deg"] <= 30.0 and want["cond_inv_min"] >= limits.min_cond_inv
     assert want["speed_mm_s"] <= 350.0 and want["acceleration_mm_s2"] <= 2500.0 and want["torque_Nmm"] <= 600.0

@@ -17,12 +17,13 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from support import ALL_FRICTION, SmoothMotion
+from support import ALL_FRICTION, SmoothMotion, given
 
 import hipsim
 from hipsim.analytic.inverse_kinematics import kinematics
 from hipsim.analytic.virtual_work import inverse_dynamics
 from hipsim.exceptions import IdentificationError, ParameterError
+from hipsim.rig.compare_summary import MotorError
 from hipsim.rig.identification.base import BaseParameter, BaseParameters, base_parameters
 from hipsim.rig.identification.fit import (
     DETERMINED,
@@ -39,6 +40,7 @@ from hipsim.rig.identification.identified_file import IDENTIFIED_MARK, read_iden
 from hipsim.rig.identification.prior import prior as make_prior
 from hipsim.rig.identification.quantities import QUANTITIES, standard_values, with_values
 from hipsim.rig.identification.regressor import regressor, rows_per_independent_row
+from hipsim.rig.identification.summary import PhaseNote
 from hipsim.rig.logs.log import MeasuredLog
 
 P = len(QUANTITIES)
@@ -251,9 +253,10 @@ def test_validation_logs_are_predicted_by_both_machines(start, true, logs):
     assert all(a[i]["rms_error_Nmm"] < b[i]["rms_error_Nmm"] for i in "123")
     assert len(result.notes) == 1 and result.notes[0] is not None
     summary = result.summary()
-    (entry,) = summary["validation"]
-    assert entry["log"] == "held.csv" and entry["identified"] == a and entry["starting"] == b
-    assert set(result.notes[0].as_dict()) <= set(entry)
+    (entry,) = given(summary.validation)
+    assert entry.log == "held.csv" and entry.identified == identified.summary().motors
+    assert {i: m.rms_error_Nmm for i, m in entry.starting.items()} == {i: b[i]["rms_error_Nmm"] for i in "123"}
+    assert set(result.notes[0].summary().to_json()) <= set(entry.to_json())
     table = result.table()
     assert table["validation_logs"] == ["held.csv"]
     assert table["validation_rms_error_Nmm"] == [[a[i]["rms_error_Nmm"] for i in "123"]]
@@ -322,7 +325,7 @@ def test_percent_and_an_estimate_by_hand():
     assert e.determined and e.shift == pytest.approx(-0.2 / 0.9)
     assert not BaseEstimate("a", "a", "k", "", 1.0, 0.46, 1.0, 0.9).determined
     assert BaseEstimate("a", "a", "k", "", 2.0, 0.0, 1.0, 0.0).shift == 0.0
-    assert e.as_dict() == {
+    assert e.row().to_json() == {
         "name": "m_L",
         "definition": "m_L + 0.5·m_l",
         "key": "slider.mass_kg",
@@ -377,9 +380,14 @@ def by_hand():
         {i: {"rms_error_Nmm": v} for i, v in zip("123", (4.0, 5.0, 6.0))},
     )
     identified, starting = (
-        SimpleNamespace(log=SimpleNamespace(name="v.csv"), motor_errors=lambda e=e: e) for e in errors
+        SimpleNamespace(
+            log=SimpleNamespace(name="v.csv"),
+            motor_errors=lambda e=e: e,
+            summary=lambda e=e: SimpleNamespace(motors={i: _motor(x["rms_error_Nmm"]) for i, x in e.items()}),
+        )
+        for e in errors
     )
-    note = SimpleNamespace(as_dict=lambda: {"warnings": ["outside"]})
+    note = SimpleNamespace(summary=lambda: PhaseNote(("outside",)))
     return Identification(
         params.replace(slider_mass=3.5 - 0.5 * params.lever_mass, source="identified from a.csv, b.csv"),
         params,
@@ -393,7 +401,7 @@ def by_hand():
         True,
         ("μ_t ≥ 0", "b_U ≥ 0"),
         ((identified, starting),),  # type: ignore[arg-type]  # stand-ins for the two Comparisons
-        (note,),
+        (note,),  # type: ignore[arg-type]  # a stand-in for the ValidationNote
     )
 
 
@@ -436,12 +444,17 @@ def test_the_table_by_hand(by_hand):
     assert all(type(x) is float for row in by_hand.table()["covariance"] for x in row)
 
 
+def _motor(rms: float) -> MotorError:
+    """A motor's errors with only its RMS error set, in [N·mm]."""
+    return MotorError(0.0, 0.0, 0.0, rms, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, {})
+
+
 def test_the_summary_by_hand(by_hand):
-    s = by_hand.summary()
+    s = by_hand.summary().to_json()
     assert s["logs"] == ["a.csv", "b.csv"] and s["starting_parameters"] == by_hand.start.source
     assert s["lever_spin"] is True and s["rows"] == 1234 and s["condition_number"] == 123.456
     assert s["residual_rms_Nmm"] == {"1": pytest.approx(1.2344), "2": 2.25, "3": pytest.approx(0.0123)}
-    assert s["base_parameters"] == [e.as_dict() for e in by_hand.estimates]
+    assert s["base_parameters"] == [e.row().to_json() for e in by_hand.estimates]
     assert s["identified"][0] == {
         "quantity": "m_L + 0.5·m_l",
         "key": "slider.mass_kg",
@@ -462,16 +475,16 @@ def test_the_summary_by_hand(by_hand):
     assert s["validation"] == [
         {
             "log": "v.csv",
-            "identified": {"1": {"rms_error_Nmm": 1.0}, "2": {"rms_error_Nmm": 2.0}, "3": {"rms_error_Nmm": 3.0}},
-            "starting": {"1": {"rms_error_Nmm": 4.0}, "2": {"rms_error_Nmm": 5.0}, "3": {"rms_error_Nmm": 6.0}},
-            "warnings": ["outside"],
+            "identified": {i: _motor(v).to_json() for i, v in zip("123", (1.0, 2.0, 3.0))},
+            "starting": {i: _motor(v).to_json() for i, v in zip("123", (4.0, 5.0, 6.0))},
+            "envelope_warnings": ["outside"],
         }
     ]
     # Without notes, no note's keys; without validation, no validation.
     from dataclasses import replace
 
-    assert replace(by_hand, notes=()).summary()["validation"][0].keys() == {"log", "identified", "starting"}
-    assert "validation" not in replace(by_hand, validation=(), notes=()).summary()
+    assert replace(by_hand, notes=()).summary().to_json()["validation"][0].keys() == {"log", "identified", "starting"}
+    assert "validation" not in replace(by_hand, validation=(), notes=()).summary().to_json()
     assert "validation_logs" not in replace(by_hand, validation=(), notes=()).table()
 
 

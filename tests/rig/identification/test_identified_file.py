@@ -14,12 +14,14 @@ import re
 from pathlib import Path
 from typing import Any
 
+import jsonschema
 import numpy as np
 import pytest
 from support import given
 
 import hipsim
 from hipsim.analytic import inverse_dynamics, kinematics
+from hipsim.cli.documents import schema
 from hipsim.cli.main import main
 from hipsim.exceptions import ParameterError
 from hipsim.machine.parameters import file_values
@@ -112,15 +114,23 @@ def test_identify_opens_each_log_once(files, tmp_path, monkeypatch, capsys):
     out = tmp_path / "again.toml"
     argv = ["identify", "--log", str(files["fit"]), "--validate", str(files["held"]), "--out", str(out)]
     assert main([*argv, "--summary-format", "json"]) == 0
-    block = json.loads(capsys.readouterr().out)["provenance"]
+    document = json.loads(capsys.readouterr().out)
+    block = document["provenance"]
     assert (opener[files["fit"]], opener[files["held"]]) == (1, 1)
     # The hashes made on the way through the read are the files' (hashlib over the bytes, read here on purpose).
     hashes = {f["role"]: (f["sha256"], f["bytes"]) for f in block["inputs"]}
     assert hashes["log"] == (_sha256(files["fit"]), files["fit"].stat().st_size)
     assert hashes["validate"] == (_sha256(files["held"]), files["held"].stat().st_size)
+    # What it prints, and the --json file, are the document ``hipsim schema identify`` describes.
+    validator = jsonschema.Draft202012Validator(schema("identify"))
+    validator.validate(document)
+    written = json.loads((files["folder"] / "id.json").read_text(encoding="utf-8"))
+    validator.validate(written)
+    assert document["self_check"]["verdict"]["level"] == "PASS" and written["json"] == str(files["folder"] / "id.json")
+    assert document["validation"][0]["identified"]["1"]["rms_error_Nmm"] > 0 and document["toml"] == str(out)
 
 
-def test_compare_opens_its_log_once(files, tmp_path, monkeypatch, capsys):
+def test_compare_opens_its_log_once(files, tmp_path, monkeypatch, capsys, quick_figures):
     opener = _CountingOpener(monkeypatch, files["held"])
     argv = ["compare", "--log", str(files["held"]), "--out", str(tmp_path / "c"), "--summary-format", "json"]
     assert main(argv) == 0

@@ -254,10 +254,10 @@ def test_without_two_heel_strikes_there_are_no_phases_but_still_the_warnings():
         "walk.csv: no two heel strikes in the load, so no error per gait phase\n"
         "WARNING: walk.csv leaves the training envelope, the prediction extrapolates: beta 30 to 30 ° (training -1 to 1)"
     )
-    assert note.as_dict() == {"envelope_warnings": ["beta 30 to 30 ° (training -1 to 1)"]}
+    assert note.summary().to_json() == {"envelope_warnings": ["beta 30 to 30 ° (training -1 to 1)"]}
 
 
-def test_the_note_in_words_and_as_a_dictionary():
+def test_the_note_in_words_and_as_its_record():
     identified = np.array([[1.0, 20.0, 0.123456], [2.0, 30.0, 4.5]])
     starting = np.array([[10.0, 200.0, 0.5], [3.0, 1234.0, 6.0]])
     note = ValidationNote("h.csv", np.array([0.0, 50.0, 100.0]), identified, starting, ("load 1 to 2 N", "x"))
@@ -271,7 +271,7 @@ def test_the_note_in_words_and_as_a_dictionary():
             "WARNING: h.csv leaves the training envelope, the prediction extrapolates: x",
         ]
     )
-    assert note.as_dict() == {
+    assert note.summary().to_json() == {
         "envelope_warnings": ["load 1 to 2 N", "x"],
         "gait_phase_edges_percent": [0.0, 50.0, 100.0],
         "identified_phase_rms_error_Nmm": identified.tolist(),
@@ -279,4 +279,4 @@ def test_the_note_in_words_and_as_a_dictionary():
     }
     quiet = ValidationNote("q.csv", None, None, None, ())
     assert quiet.text() == "q.csv: no two heel strikes in the load, so no error per gait phase"
-    assert quiet.as_dict() == {"envelope_warnings": []}
+    assert quiet.summary().to_json() == {"envelope_warnings": []}

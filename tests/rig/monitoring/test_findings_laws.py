@@ -110,7 +110,7 @@ def test_one_station_an_alarm_then_a_notice():
     assert f.flag == ["", "", "", "", "", "alarm: the station rises", "notice: the station rises"]
     assert list(f.alarm) == [0, 0, 0, 0, 0, 1, 0] and f.alarm.dtype.kind == "i"
     text = "the hip friction coefficient rose by +0.0400 in the station ± 0.0061: the specimen's friction, "
-    assert f.first == {
+    assert given(f.first).to_json() == {
         "cycle": 1_200_000,
         "file": "s5.csv",
         "kind": "alarm",
@@ -123,9 +123,9 @@ def test_one_station_an_alarm_then_a_notice():
         "load_friction_change_mm": pytest.approx(1.0, abs=1e-12),
         "text": "alarm: " + text + load_cell_text(0.04, 10.0, R_H),
     }
-    assert given(f.latest_notice)["cycle"] == 1_300_000 and given(f.latest_notice)["kind"] == "notice"
-    assert given(f.latest_notice)["hip_mu_change"] == pytest.approx(0.016, abs=1e-12)
-    assert given(f.latest_notice)["text"].startswith(
+    assert given(f.latest_notice).cycle == 1_300_000 and given(f.latest_notice).kind == "notice"
+    assert given(f.latest_notice).hip_mu_change == pytest.approx(0.016, abs=1e-12)
+    assert given(f.latest_notice).text.startswith(
         "notice: the hip friction coefficient rose by +0.0160 in the station ± "
     )
     # Without the commanded load there is no gain to compare: NaN, and no note.
@@ -136,11 +136,9 @@ def test_the_first_alarm_is_kept_and_a_fall_is_said():
     # Falls of 0.04 and 0.06: two alarms, the first described; the words say "falls" and "fell".
     f = find(rows([20.0, 10.0, 10.2, 9.8, 9.5, 9.0, 8.5]), R_H, False, BASELINE, 0.03)
     assert f.flag[5:] == ["alarm: the station falls", "alarm: the station falls"]
-    assert given(f.first)["cycle"] == 1_200_000 and given(f.first)["direction"] == "fall" and f.latest_notice is None
-    assert given(f.first)["text"].startswith(
-        "alarm: the hip friction coefficient fell by -0.0400 in the station ± 0.0061"
-    )
-    assert given(f.first)["load_friction_change_mm"] == pytest.approx(-1.0, abs=1e-12)
+    assert given(f.first).cycle == 1_200_000 and given(f.first).direction == "fall" and f.latest_notice is None
+    assert given(f.first).text.startswith("alarm: the hip friction coefficient fell by -0.0400 in the station ± 0.0061")
+    assert given(f.first).load_friction_change_mm == pytest.approx(-1.0, abs=1e-12)
 
 
 def test_two_stations_sharing_a_load_are_judged_by_their_mean_at_twice():
@@ -149,10 +147,8 @@ def test_two_stations_sharing_a_load_are_judged_by_their_mean_at_twice():
     assert f.stations is None
     said = "alarm: the two stations' mean rises (up to twice in one station)"
     assert f.flag[5:] == [said, said]
-    assert given(f.first)["where"] == "the two stations' mean" and given(f.first)["worst_case_change"] == pytest.approx(
-        0.08
-    )
-    assert "rose by +0.0400 in the two stations' mean: up to +0.0800 in one of them ± 0.012: " in given(f.first)["text"]
+    assert given(f.first).where == "the two stations' mean" and given(f.first).worst_case_change == pytest.approx(0.08)
+    assert "rose by +0.0400 in the two stations' mean: up to +0.0800 in one of them ± 0.012: " in given(f.first).text
 
 
 def test_separated_stations_are_judged_each_by_its_own_chart():
@@ -161,7 +157,7 @@ def test_separated_stations_are_judged_each_by_its_own_chart():
     f = find(rows(station_1=still, station_2=ESTIMATE, separated=True), R_H, True, BASELINE, 0.03)
     assert f.stations is not None
     assert f.flag[5:] == ["alarm: station 2 rises", "notice: station 2 rises"]
-    assert given(f.first)["where"] == "station 2" and given(f.first)["worst_case_change"] == pytest.approx(0.04)
+    assert given(f.first).where == "station 2" and given(f.first).worst_case_change == pytest.approx(0.04)
     # Separated rows on a one-station machine: the station's chart only.
     assert find(rows(station_1=still, station_2=ESTIMATE, separated=True), R_H, False, BASELINE, 0.03).stations is None
 
@@ -194,13 +190,13 @@ def test_the_notes_incomplete_and_load_cell():
         "baseline",
     ]
     # The alarm's sentence quotes the snapshot's gain change: +0.5 % agrees with the commanded load.
-    assert given(f.first)["text"].endswith("within 1% of the baseline's ratio: not the load cell")
+    assert given(f.first).text.endswith("within 1% of the baseline's ratio: not the load cell")
 
 
 def test_both_stations_flagged_are_both_said():
     f = find(rows(station_1=ESTIMATE, station_2=ESTIMATE, separated=True), R_H, True, BASELINE, 0.03)
     assert f.flag[5] == "alarm: station 1 rises; alarm: station 2 rises"
-    assert given(f.first)["where"] == "station 1"
+    assert given(f.first).where == "station 1"
 
 
 @pytest.mark.parametrize(

@@ -22,6 +22,7 @@ from hipsim.exceptions import ArgumentError, OutputError, TrajectoryError
 from hipsim.rig.monitoring import monitor_run, watch
 from hipsim.rig.monitoring.monitor_fit import ESTIMATE_COLUMNS, MonitorSetup
 from hipsim.rig.monitoring.monitor_run import MOST_PER_BATCH, MonitorTable, monitor, run_monitor
+from hipsim.rig.monitoring.monitor_summary import SkippedFile
 from hipsim.rig.monitoring.monitor_table import COLUMNS, read_metadata, read_table
 from hipsim.rig.monitoring.snapshots import Skipped, Snapshot
 
@@ -160,8 +161,8 @@ def test_what_is_left_out_is_carried_and_nothing_usable_is_an_error(estimates):
     result = run_monitor(SETUP, [snap(0), snap(10)], skipped=[waiting])
     assert [s.name for s in result.skipped] == ["w.csv", "snap_0000010.csv"] and len(result.rows) == 1
     summary = result.summary()
-    assert summary.waiting == [waiting.as_dict()] and [s["file"] for s in summary.skipped] == ["snap_0000010.csv"]
-    assert summary.skipped[0]["line"] == 4
+    assert summary.waiting == [SkippedFile.of(waiting)] and [s.file for s in summary.skipped] == ["snap_0000010.csv"]
+    assert summary.skipped[0].line == 4
     # Nothing usable: the first left out that is not waiting is named, with its file.
     with pytest.raises(TrajectoryError) as error:
         run_monitor(SETUP, [snap(10)], skipped=[waiting])
@@ -290,7 +291,7 @@ def test_the_summary_s_counts(estimates):
     assert s.judged == "the two stations' mean, worst case (up to twice its change in one station)"
     assert (s.alarms, s.alarm_active, s.notice_active, s.notices) == (3, True, False, 0)
     assert s.first_alarm is not None
-    assert s.first_alarm["file"] == "snap_0000080.csv" and s.latest_notice is None
+    assert s.first_alarm.file == "snap_0000080.csv" and s.latest_notice is None
     assert s.worst_case_factor == 2.0
     cell = s.load_cell
     assert cell.commanded_load_logged and cell.gain_change_last == pytest.approx(0.02, abs=1e-12)
@@ -313,7 +314,7 @@ def test_the_summary_s_notice_gaps_and_short_snapshots(estimates):
     assert s.alarms == 0 and s.notice_active and not s.alarm_active
     assert s.notices == sum("notice" in f for f in s.table["flag"]) >= 1
     assert s.latest_notice is not None
-    assert s.latest_notice["file"] == "snap_0000100.csv" and s.first_alarm is None
+    assert s.latest_notice.file == "snap_0000100.csv" and s.first_alarm is None
     assert not s.load_cell.commanded_load_logged and s.load_cell.gain_change_last is None
     assert s.load_cell.drifted == []
     # No baseline yet: no chart, said so.

@@ -13,6 +13,7 @@ from functools import partial
 import numpy as np
 import pytest
 from monitor_synthetic import write_snapshot
+from support import given
 
 import hipsim
 from hipsim.rig.monitoring import monitor_run
@@ -68,7 +69,7 @@ def test_a_load_cell_drift_is_flagged_either_way_with_its_alternative(tmp_path, 
     # Significant, and its worst case (twice the mean's change, 0.010) below the 0.02 threshold: a notice.
     assert c["flag"][-1] == f"notice: the two stations' mean {verb}" + " (up to twice in one station)"
     assert not any(c["alarm"]) and summary.notice_active
-    text = summary.latest_notice["text"]
+    text = given(summary.latest_notice).text
     assert "cannot tell friction from a load-cell gain drift" in text
     g = float(text.split("and a drift of ")[1].split(" %")[0]) / 100
     assert g == pytest.approx(gain - 1, abs=0.008)  # the drift that alone explains the change

@@ -45,9 +45,9 @@ def test_one_station_rising_under_a_shared_load_alarms_at_that_snapshot_and_not_
     # The mean moved by half the station's rise; the alarm holds twice that, and says so.
     assert summary.first_alarm is not None
     first = summary.first_alarm
-    assert first["cycle"] == 1_750_000 and first["hip_mu_change"] == pytest.approx(RISE / 2 + 0.0005, abs=0.002)
-    assert first["worst_case_change"] == pytest.approx(2 * first["hip_mu_change"])
-    assert "in the two stations' mean: up to +0.01" in first["text"] and "reference load" in first["text"]
+    assert first.cycle == 1_750_000 and first.hip_mu_change == pytest.approx(RISE / 2 + 0.0005, abs=0.002)
+    assert first.worst_case_change == pytest.approx(2 * first.hip_mu_change)
+    assert "in the two stations' mean: up to +0.01" in first.text and "reference load" in first.text
     assert c["flag"][-1] == "alarm: the two stations' mean rises (up to twice in one station)"
     assert c["stations"][0] == "not logged" and summary.judged.startswith("the two stations' mean, worst case")
 

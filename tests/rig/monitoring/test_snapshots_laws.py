@@ -13,6 +13,7 @@ import pytest
 from support import given
 
 from hipsim.exceptions import ArgumentError, TrajectoryError
+from hipsim.rig.monitoring.monitor_summary import SkippedFile
 from hipsim.rig.monitoring.snapshots import (
     COMMANDED_LOAD,
     CYCLE_COLUMN,
@@ -160,7 +161,7 @@ def test_a_skipped_snapshot_keeps_the_errors_line_and_hints_at_coarse_times():
     worded = skipped(snapshot, TrajectoryError("column 't_s' must increase", source="a.csv"))
     assert worded.reason.endswith("give --rate HZ to read the times from the sample index)") and worded.line is None
     assert not skipped(snapshot, TrajectoryError("'t_s' is missing", source="a.csv")).reason.endswith(")")
-    assert one.as_dict() == {
+    assert SkippedFile.of(one).to_json() == {
         "file": "a.csv",
         "path": "/logs/a.csv",
         "kind": "unreadable",

@@ -101,7 +101,7 @@ def test_watching_a_folder_filled_during_the_test_gives_the_batch_table(tmp_path
     assert any("snap_040.csv" in names for names in waiting)  # the half file was seen, and waited for
     assert all(row["samples"] == 750 for result in updates for row in result.rows)  # never half a file
     first_alarm = alarms[0].summary().first_alarm if len(alarms) == 1 else None
-    assert first_alarm is not None and first_alarm["cycle"] == 50  # raised once
+    assert first_alarm is not None and first_alarm.cycle == 50  # raised once
     batch = run_monitor(setup, find_snapshots(logs)[0], BASELINE, 0.01, out=tmp_path / "batch.csv")
     _same(updates[-1].columns, batch.columns)
     assert (tmp_path / "watched.csv").read_bytes() == (tmp_path / "batch.csv").read_bytes()

@@ -1,21 +1,19 @@
-"""The learning law (hipsim.learning): its filter, its gains, and learning on a machine as built from its own logs."""
+"""One learning step (hipsim.learning.step): a log averaged per phase, the mismatch at the best shift, the refusals,
+and learning on a machine as built from its own logs (the law's pieces: test_filters.py, test_law.py)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-from learning_synthetic import Rig, drive
+from learning_synthetic import Rig
 from stations_synthetic import deviated
 
 from hipsim.exceptions import ArgumentError, TrajectoryError
 from hipsim.learning import LearningLaw, first_command, learning_step
-from hipsim.learning.filters import apply_response, frequencies, lag_response, periodic_derivatives, q_response
-from hipsim.learning.law import data_spectral_radius, gain_matrices, model_spectral_radius, update
-from hipsim.learning.step import CycleLog, phase_average, shifted_mismatch_deg
+from hipsim.learning.step import CycleLog, first_summary, learn_cycles, phase_average, shifted_mismatch_deg
 from hipsim.machine.parameters import load_parameters
 from hipsim.motion.trajectories import iso14242
 from hipsim.stations.commands import station_commands
-from hipsim.stations.sensitivity import inverse3, reading_rate
 
 RATE = 500.0
 
@@ -35,34 +33,6 @@ def geometry():
     return deviated(seed=3, size_mm=0.3)
 
 
-# --- The filters -----------------------------------------------------------------------------
-
-
-def test_q_is_a_fourth_order_butterworth_forwards_and_backwards():
-    f = np.array([0.0, 10.0, 20.0, 5.0])
-    # 1/(1 + (f/fc)^8): 1, 1/2 at the cutoff, 1/257 an octave above, 256/257 an octave below
-    assert q_response(f, 10.0) == pytest.approx([1.0, 0.5, 1.0 / 257.0, 256.0 / 257.0], rel=1e-15)
-    assert np.all(q_response(f, None) == 1.0)
-
-
-def test_a_lag_on_a_sine_is_the_hand_computed_sine():
-    n, period, tau = 400, 2.0, 0.05
-    t = np.arange(n) * period / n
-    w = 2 * np.pi * 3 / period  # the third harmonic
-    out = apply_response(np.sin(w * t), lag_response(frequencies(n, period), tau))
-    # sin(wt) / (1 + iwτ) = (sin wt − wτ cos wt) / (1 + w²τ²)
-    assert out == pytest.approx((np.sin(w * t) - w * tau * np.cos(w * t)) / (1 + (w * tau) ** 2), abs=1e-14)
-
-
-def test_periodic_derivatives_of_a_cosine():
-    n, period = 256, 0.8
-    t = np.arange(n) * period / n
-    w = 2 * np.pi * 5 / period
-    d1, d2 = periodic_derivatives(np.cos(w * t), period)
-    assert d1 == pytest.approx(-w * np.sin(w * t), abs=1e-10 * w)
-    assert d2 == pytest.approx(-w * w * np.cos(w * t), abs=1e-10 * w * w)
-
-
 def test_phase_average_of_three_periods_and_a_short_log():
     grid = np.arange(10) * 0.1
     t = np.arange(30) * 0.1 + 0.02  # starts 0.02 s into the phase
@@ -74,29 +44,6 @@ def test_phase_average_of_three_periods_and_a_short_log():
     assert np.abs(averaged - exact).max() < 0.1  # linear interpolation over 0.1 s of a unit sine
     with pytest.raises(TrajectoryError, match="shorter than one period"):
         phase_average(t[:9], values[:9], grid, 1.0, "log")
-
-
-# --- The gains and the figures on the model ----------------------------------------------------
-
-
-def test_gain_inverts_the_controlled_platforms_map(drawing, desired, geometry):
-    model = drawing.replace(geometry=geometry)
-    K = gain_matrices(model, desired.q[:50], LearningLaw("1"))
-    A = inverse3(reading_rate(model, desired.q[:50], 1))
-    assert np.matmul(K[:, 0], A) == pytest.approx(np.broadcast_to(np.eye(3), (50, 3, 3)), abs=1e-12)
-    assert np.all(K[:, 1] == 0.0)
-
-
-def test_both_on_the_drawing_splits_by_the_weights(drawing, desired):
-    K = gain_matrices(drawing, desired.q[:20], LearningLaw("both", weights=(1.0, 3.0)))
-    D = reading_rate(drawing, desired.q[:20], 2)  # both platforms alike: K_j = w_j/(w_1 + w_2)·∂L/∂q
-    assert K[:, 0] == pytest.approx(0.25 * D, rel=1e-9, abs=1e-15)
-    assert K[:, 1] == pytest.approx(0.75 * D, rel=1e-9, abs=1e-15)
-
-
-def test_model_figure_is_one_minus_the_gain():
-    assert model_spectral_radius(LearningLaw(gain=0.5)) == 0.5
-    assert model_spectral_radius(LearningLaw(gain=2.5)) == 1.5
 
 
 # --- Learning on a machine as built ------------------------------------------------------------
@@ -187,29 +134,6 @@ def test_a_log_of_another_frequency_is_refused(drawing, desired, geometry):
         learning_step(drawing, desired, long, LearningLaw("2"))
 
 
-def test_update_of_a_constant_error_is_gamma_k_e():
-    n = 64
-    K = np.zeros((n, 2, 3, 3))
-    K[:, 1] = 2.0 * np.eye(3)
-    errors = np.full((n, 2, 3), np.nan)
-    errors[:, 1] = [0.1, -0.2, 0.3]
-    learned = update(np.full((n, 3), 1e-3), errors, K, LearningLaw("2", gain=0.5, drive_lag=0.02), 1.0)
-    # Q(0) = 1 and G_m⁻¹(0) = 1: u + γ·K·e = 1e-3 + 0.5·2·e, at every sample
-    assert learned == pytest.approx(np.broadcast_to([0.101, -0.199, 0.301], (n, 3)), abs=1e-15)
-
-
-def test_the_models_lag_makes_the_drive_figure_small():
-    n, period = 1000, 1.0
-    t = np.arange(n) / n
-    commands = np.stack([np.cos(2 * np.pi * k * t) for k in (1, 2, 3)], axis=1)
-    encoders = drive(commands, 1.0 / n, lag_s=0.05)  # a discrete lag, stepped: not the law's DFT
-    blind, at = data_spectral_radius(commands, encoders, LearningLaw("2"), period)
-    # |1 − G| at 3 Hz of a 50 ms lag: ωτ/√(1 + ω²τ²) = 0.686; Q(3 Hz) ≈ 1
-    assert blind == pytest.approx(0.686, abs=0.01) and at == 3.0
-    known, _ = data_spectral_radius(commands, encoders, LearningLaw("2", drive_lag=0.05), period)
-    assert known < 0.02  # what is left: the discrete filter's half-step against the continuous lag
-
-
 def test_a_log_on_the_commands_clock_late_in_a_test(drawing, desired, geometry):
     rig = Rig(drawing, geometry, desired, lag_s=0.01)
     law = LearningLaw("2")
@@ -232,3 +156,52 @@ def test_a_motion_that_is_not_iso_is_said_apart_from_the_stations(drawing, desir
     assert summary.desired.verdict == "FAIL" and summary.desired.worst_deg[0] > 5.0  # α: half of 21.5° amplitude
     station2 = next(s for s in summary.stations if s.platform == 2)
     assert station2.worst_deg == pytest.approx(summary.desired.worst_deg, abs=1e-6)  # it went through that motion
+
+
+# --- The step's own refusals and the loop over cycles, on a 100-sample period ----------------------
+
+
+def test_a_log_of_the_wrong_shape_names_the_field():
+    with pytest.raises(ArgumentError, match="sensors"):
+        CycleLog(np.zeros(4), np.zeros((4, 3)), np.zeros((4, 3)), np.zeros((4, 3)))
+    with pytest.raises(ArgumentError, match="encoders"):
+        CycleLog(np.zeros(4), np.zeros((3, 3)), np.zeros((4, 3)), np.zeros((4, 2, 3)))
+
+
+def test_the_model_figure_refuses_a_gain_of_two_and_takes_one_just_below():
+    short = iso14242(rate=100.0)
+    with pytest.raises(ArgumentError, match="1 ≥ 1, it diverges"):
+        first_summary(short, LearningLaw("2", gain=2.0))
+    summary = first_summary(short, LearningLaw("2", gain=1.999))
+    assert summary.convergence.model == pytest.approx(0.999) and summary.cycle == 0 and summary.update is None
+    assert summary.period_s == pytest.approx(1.0, rel=1e-12) and summary.samples == 100  # 100 samples 0.01 s apart
+
+
+def test_the_desired_motion_must_be_one_whole_period():
+    from hipsim.motion.trajectories import Trajectory
+
+    short = iso14242(rate=100.0)
+    once = Trajectory(short.t, short.q, short.qd, short.qdd, short.Fe, "once", False)
+    with pytest.raises(TrajectoryError, match="one whole period"):
+        first_summary(once, LearningLaw("2"))
+    three = Trajectory(short.t[:3], short.q[:3], short.qd[:3], short.qdd[:3], short.Fe[:3], "three", True)
+    with pytest.raises(TrajectoryError, match="4 samples or more"):
+        first_summary(three, LearningLaw("2"))
+
+
+def test_cycles_on_the_model_itself_learn_nothing_and_say_so_each_cycle(drawing):
+    short = iso14242(rate=100.0)
+    law = LearningLaw("2")
+    lines: list[str] = []
+
+    def model_itself(command):  # the machine is the model: it does what the model predicts
+        return CycleLog(command.t, command.carriages, command.carriages, command.attitudes, True, "model")
+
+    with pytest.raises(ArgumentError, match="cycles"):
+        learn_cycles(model_itself, drawing, short, law, 0)
+    steps, logs = learn_cycles(model_itself, drawing, short, law, 2, notify=lines.append)
+    assert [s.summary.cycle for s in steps] == [1, 2] and len(logs) == 2
+    assert len(lines) == 2 and lines[0].startswith("cycle 1: learned platforms' RMS error")
+    base = first_command(drawing, short, law)
+    assert np.abs(steps[-1].command.carriages - base.carriages).max() < 1e-12
+    assert steps[-1].summary.controlled_rms_deg() < 1e-9
