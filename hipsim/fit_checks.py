@@ -188,7 +188,7 @@ def difference_noise(signal) -> np.ndarray:
         signal: samples (N,) or (N, k) at an even rate, any unit.
 
     Returns:
-        The noise per column, (k,) (a scalar's shape for (N,)), in the signal's unit; NaN for fewer than 3 samples.
+        The noise per column, (k,) (a scalar's shape for (N,)), in the signal's unit; NaN for fewer than 5 samples (a fourth difference needs five).
     """
     x = np.asarray(signal, dtype=float)
     if x.shape[0] < 5:

@@ -33,6 +33,10 @@ if [ $# -eq 0 ]; then
 else
     packages=("$@")
 fi
+[ -x "$venv/bin/mutmut" ] || {
+    echo "mutation.sh: no mutmut in $venv: install the extra, $venv/bin/pip install -e '$root[test,mutation]'" >&2
+    exit 2
+}
 summary=$root/build/mutation/summary.txt
 mkdir -p "$root/build/mutation"
 for package in "${packages[@]}"; do

@@ -36,28 +36,35 @@ from pathlib import Path
 
 import pytest
 
-#: Test files by decreasing time, by their path under tests/ (``--durations=0`` of a fresh clone, 27 Nov after the figures undrawn, the sums of each file's entries): scheduled first.
+#: Test files by decreasing time, by their path under tests/ (the sums of each file's ``--durations=0`` entries, README's
+#: command in a fresh worktree, 29 Nov, less what that day's cuts saved): scheduled first.
 SLOW_FIRST = [
     "test_docs.py",
-    "rig/identification/test_uncertainty_forward.py",
-    "test_cli.py",
     "test_files.py",
-    "rig/identification/test_identification_accuracy.py",
-    "rig/identification/test_identification.py",
+    "test_cli.py",
+    "test_schemas.py",
     "closed_chain/test_dynamics.py",
-    "control/test_simulation.py",
+    "present/test_viewer.py",
+    "rig/identification/test_identification_accuracy.py",
+    "stations/test_commands.py",
+    "present/test_pages.py",
+    "rig/identification/test_uncertainty_forward.py",
     "present/test_report.py",
     "design/test_sweep_scratch.py",
     "present/test_meshcat_output.py",
-    "present/test_pages.py",
-    "rig/monitoring/test_monitor_run.py",
+    "test_layers.py",
+    "closed_chain/test_plant.py",
+    "rig/identification/test_identification.py",
     "design/test_sweep.py",
+    "cli/test_simulate_plant.py",
+    "test_channels_logs.py",
     "mujoco_engine/test_mujoco_engine.py",
-    "present/test_viewer.py",
+    "rig/monitoring/test_monitor_run.py",
+    "cli/test_iso_check.py",
+    "rig/test_plausibility.py",
+    "present/test_monitor_page.py",
     "analytic/test_kernel.py",
     "rig/identification/test_identified_file.py",
-    "rig/logs/test_reader.py",
-    "rig/identification/test_identification_sensors.py",
 ]
 
 

@@ -109,7 +109,7 @@ def _strip(document):
     return document
 
 
-def test_compare_gives_the_same_results(logs, tmp_path, capsys):
+def test_compare_gives_the_same_results(logs, tmp_path, capsys, quick_figures):
     # The comparison (the path compare takes: the log read in pieces) and the command's JSON on one channel file.
     from hipsim.rig.compare import compare_torques
     from hipsim.rig.logs import LogPieces
@@ -145,7 +145,7 @@ def test_monitor_gives_the_same_table(logs, tmp_path, capsys):
 
 
 @pytest.mark.parametrize("command", [["iso-check", "--summary-format", "json", "--trajectory"]])
-def test_iso_check_reads_them_as_rig_logs(logs, capsys, command, tmp_path, monkeypatch):
+def test_iso_check_reads_them_as_rig_logs(logs, capsys, command, tmp_path, monkeypatch, quick_figures):
     monkeypatch.chdir(tmp_path)  # its page goes to ./hipsim_iso_check
     outputs = {}
     for kind in ("csv", "tdms"):  # the HDF5 path is the same from the reader on

@@ -23,6 +23,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from conftest import figures_undrawn
 from support import given
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -67,14 +68,20 @@ PYTHON_PAGES = [page for page in PAGES if any(lang == "python" and not marker fo
 
 @pytest.mark.parametrize("page", PYTHON_PAGES, ids=_name)
 def test_python_blocks_run(page, tmp_path, monkeypatch):
-    """Each page's Python blocks, in order, in one namespace, in a temporary working folder."""
+    """Each page's Python blocks, in order, in one namespace, in a temporary working folder.
+
+    The figures they make are built but not drawn (``figures_undrawn``): the one page that draws in this
+    process, reports.md, writes the built-in cycle's report, whose drawn figures
+    tests/present/test_report.py checks; drawing them here was 4/5 of the page's time.
+    """
     monkeypatch.chdir(tmp_path)
     (tmp_path / "docs").symlink_to(ROOT / "docs")
     (tmp_path / "models").symlink_to(ROOT / "models")
     namespace: dict = {"__name__": "__docs__"}
-    for lang, code, marker, line in blocks(page):
-        if lang == "python" and not marker:
-            exec(compile("\n" * (line) + code, str(page), "exec"), namespace)
+    with figures_undrawn():
+        for lang, code, marker, line in blocks(page):
+            if lang == "python" and not marker:
+                exec(compile("\n" * (line) + code, str(page), "exec"), namespace)
 
 
 def test_python_blocks_not_run_here_say_where():

@@ -30,7 +30,6 @@ EXEMPT = {
 
 #: Modules with logic still lacking a test file at their mirrored path -> where they are exercised today.
 KNOWN_GAPS = {
-    "analysis/crosscheck_summary.py": "through the commands' JSON: tests/test_schemas.py",
     "analytic/engine.py": "analytic/test_chain_dynamics.py, rig/test_plausibility_laws.py",
     "analytic/stations.py": "analytic/test_chain_dynamics.py, machine/test_chains.py (+2)",
     "cli/schema.py": "through the command line: tests/test_schemas.py",
@@ -43,11 +42,8 @@ KNOWN_GAPS = {
     "closed_chain/plant_step.py": "indirectly, through the modules that call it",
     "closed_chain/workspace.py": "closed_chain/test_closure_kernel.py",
     "control/closed_chain_loop.py": "closed_chain/test_plant.py, control/test_simulation.py",
-    "control/controllers.py": "closed_chain/test_plant.py, control/test_simulation.py (+1)",
-    "control/feedback.py": "control/test_machine_loop.py",
     "control/machine_kernel.py": "indirectly, through control/test_machine_loop.py",
     "control/servo_kernel.py": "control/test_simulation.py",
-    "control/simulation_summary.py": "through the commands' JSON: tests/test_schemas.py",
     "mujoco_engine/closure.py": "indirectly, through the modules that call it",
     "mujoco_engine/dynamics.py": "indirectly, through the modules that call it",
     "mujoco_engine/friction.py": "mujoco_engine/test_mujoco_engine.py",
@@ -55,17 +51,7 @@ KNOWN_GAPS = {
     "mujoco_engine/model.py": "indirectly, through the modules that call it",
     "mujoco_engine/plant.py": "indirectly, through the modules that call it",
     "mujoco_engine/trajectory.py": "mujoco_engine/test_mujoco_engine.py",
-    "rig/compare_summary.py": "through the commands' JSON: tests/test_schemas.py, rig/test_compare.py",
-    "rig/monitoring/monitor_summary.py": "through the commands' JSON: tests/test_schemas.py, rig/monitoring/test_monitor_run.py",
-    "wear/accumulate.py": "wear/test_gravimetric.py",
-    "wear/factors.py": "wear/test_gravimetric.py",
     "wear/kernel.py": "indirectly, through the modules that call it",
-    "wear/kinematics.py": "wear/test_wear.py",
-    "wear/laws.py": "cli/test_wear.py, cli/test_wear_test.py (+2)",
-    "wear/maps.py": "wear/test_wear.py",
-    "wear/test_context.py": "wear/test_gravimetric.py",
-    "wear/test_result.py": "indirectly, through the modules that call it",
-    "wear/weighings.py": "wear/test_gravimetric.py",
 }
 
 

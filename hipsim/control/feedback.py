@@ -159,7 +159,9 @@ class SensorFeedback(Feedback):
 
     def start(self, t: np.ndarray, q0: np.ndarray) -> None:
         t = np.asarray(t, dtype=float)
-        white = np.random.default_rng(self.seed).standard_normal((t.size, 3)) if self.noise > 0 else 0.0
+        # (n, 3) either way, as sensing() promises the compiled loop (a noiseless sensor's were (n, 1)).
+        rng = np.random.default_rng(self.seed)
+        white = rng.standard_normal((t.size, 3)) if self.noise > 0 else np.zeros((t.size, 3))
         self._offsets = self.noise * white + self.drift * t[:, None]
 
     def sensing(self):

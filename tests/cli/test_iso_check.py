@@ -28,7 +28,7 @@ def test_the_built_in_cycle_passes_and_the_folder_is_written(tmp_path, capsys):
     assert (out / "index.html").exists() and (out / "cycles.png").exists() and (out / "cycles.svg").exists()
 
 
-def test_alpha_scaled_by_1_2_fails_and_names_alpha(tmp_path, capsys):
+def test_alpha_scaled_by_1_2_fails_and_names_alpha(tmp_path, capsys, quick_figures):
     t = np.arange(3000) / 500.0
     q, _, _ = iso14242_angles(t)
     q[:, 0] *= 1.2
@@ -38,7 +38,7 @@ def test_alpha_scaled_by_1_2_fails_and_names_alpha(tmp_path, capsys):
     assert "verdict: FAIL: alpha" in text and "FAIL: alpha," not in text
 
 
-def test_a_cycle_at_1_2_hz_fails_and_names_the_frequency(tmp_path, capsys):
+def test_a_cycle_at_1_2_hz_fails_and_names_the_frequency(tmp_path, capsys, quick_figures):
     assert (
         main(
             [
@@ -59,7 +59,7 @@ def test_a_cycle_at_1_2_hz_fails_and_names_the_frequency(tmp_path, capsys):
     assert summary["failing"] == ["frequency"] and summary["cycles"] == 3
 
 
-def test_tolerances_are_options_and_bad_ones_one_line(tmp_path, capsys):
+def test_tolerances_are_options_and_bad_ones_one_line(tmp_path, capsys, quick_figures):
     assert (
         main(
             [
@@ -82,7 +82,7 @@ def test_tolerances_are_options_and_bad_ones_one_line(tmp_path, capsys):
     assert err.startswith("hipsim: error: --iso-tolerance:") and "\n" not in err
 
 
-def test_the_page_opens_with_the_verdict_and_hashes_its_log(tmp_path, capsys):
+def test_the_page_opens_with_the_verdict_and_hashes_its_log(tmp_path, capsys, quick_figures):
     """Like every hipsim page: the verdict above the first table, the log's SHA-256 in the provenance (page and JSON)."""
     import hashlib
 

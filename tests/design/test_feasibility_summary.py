@@ -38,4 +38,44 @@ def test_limits_not_checked_leave_the_verdict_open_and_say_so():
     s = _summary(limits=Limits(stroke=0.1))
     assert s.feasible is None and s.level == Level.FEASIBLE and exit_status([s]) == 0
     assert "motor speed" in " ".join(s.not_checked) and "not checked:" in s.verdict
+    assert s.verdict.endswith(
+        "; not checked: motor speed, motor torque (no drive data: give --drive, or a [motor] table in the parameter file)"
+    )
     assert "--cutoff" in _summary(noisy=True).verdict
+
+
+def test_each_verdict_line_whole():
+    names = "stroke, motor speed, motor torque, singularity measure, load range, slider speed, slider acceleration"
+    assert _summary().verdict == f"within every machine limit ({names})"
+    crossing = Crossing("motor_speed", 2, 0.25, 600.0, 300.0)
+    assert _summary(crossings=[crossing, crossing]).verdict == f"crosses 2 of the limits checked ({names})"
+    few = Limits(stroke=0.1, motor_speed=300.0)
+    no_drive = "no drive data: give --drive, or a [motor] table in the parameter file"
+    missing = "motor torque"
+    covered = "stroke, motor speed, singularity measure, load range"
+    assert _summary(limits=few).verdict == (
+        f"within the limits checked ({covered}); not checked: {missing} ({no_drive})"
+    )
+    given = feasibility_summary("iso", "published", few, [crossing], 0.5, 1.0, True, True)
+    assert given.verdict == (
+        f"crosses 1 of the limits checked ({covered}); not checked: {missing} "
+        "(not in the drive file or the parameter file's [motor] table); on a motion the noise check flagged: its "
+        "speeds and accelerations carry the noise (filter it with --cutoff 6)"
+    )
+    assert given.noise_flagged is True and given.feasible is False and given.speed_factor == 0.5
+    assert (given.trajectory, given.parameters) == ("iso", "published")
+    assert given.checked == tuple(covered.split(", ")) and given.not_checked == ("motor torque",)
+
+
+def test_a_crossing_s_record_is_the_crossing_s_figures():
+    crossing = Crossing("motor_speed", 2, 0.25, 600.0, 300.0)
+    record = _summary(crossings=[crossing]).crossings[0]
+    assert (record.limit, record.motor, record.t_s, record.needed, record.allowed) == (
+        "motor_speed",
+        2,
+        0.25,
+        600.0,
+        300.0,
+    )
+    assert record.message == crossing.message() and record.excess == crossing.excess
+    assert _summary(k=0.7, period=None).cycle_frequency_Hz is None and _summary(k=0.7).speed_factor == 0.7

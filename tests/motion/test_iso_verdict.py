@@ -98,3 +98,128 @@ def test_no_whole_cycle_is_not_made_and_exits_0():
     short = slice(0, 60)
     verdict = station_iso("m_1", ISO.t[short], ISO.q[short], ISO.q[short], ISO.Fe[short])
     assert verdict.verdict == Level.NOT_MADE and verdict.reason and exit_status([verdict]) == 0
+
+
+def _check(*cycles, source="run"):
+    return IsoCheck(tuple(cycles), DEFAULT_TOLERANCES, source)
+
+
+def test_each_judged_sentence_whole():
+    """Worst deviations chosen by hand (2 cycles): the sentences name every angle's worst and the failing ones."""
+    good = _check(CycleDeviation(0.0, 1.0, 1.0, 0.5, 0.25, 10.0), CycleDeviation(1.0, 1.0, 2.5, 0.5, 0.125, 20.0))
+    tracking = Tracking({"alpha": 0.5, "beta": 0.0, "gamma": 0.0}, {"alpha": 1.0, "beta": 3.5, "gamma": 0.0})
+    passed = station_iso_verdict("m_2", good, None, None)
+    assert (
+        passed.judged
+        == "m_2's motion against the ISO 14242-1 waveform: worst alpha 2.5°, beta 0.5°, gamma 0.25°, within tolerance"
+    )
+    assert (passed.verdict, passed.cycles, passed.failing, passed.desired, passed.tracking) == (
+        Level.PASS,
+        2,
+        (),
+        None,
+        None,
+    )
+    assert passed.worst_deg == {"alpha": 2.5, "beta": 0.5, "gamma": 0.25}
+    bad = _check(CycleDeviation(0.0, 1.0, 4.0, 0.5, 3.5, 10.0))
+    failed = station_iso_verdict("m_1", bad, good, tracking)
+    assert (
+        failed.judged
+        == "m_1's motion against the ISO 14242-1 waveform: worst alpha 4°, beta 0.5°, gamma 3.5°; fails alpha, gamma"
+    )
+    assert (failed.verdict, failed.failing, failed.tracking) == (Level.FAIL, ("alpha", "gamma"), tracking)
+    assert failed.desired is not None and failed.desired.iso and failed.desired.worst_deg["alpha"] == 2.5
+    # The desired motion not the waveform: the station is judged on its tracking's peaks against the tolerances.
+    share = station_iso_verdict("m_1", bad, bad, tracking)
+    assert share.judged == (
+        "m_1's share of its deviation from the ISO 14242-1 waveform (worst alpha 4°, beta 0.5°, gamma 3.5°), the desired "
+        "motion not being the waveform: its tracking error peaks at alpha 1° (±3°), beta 3.5° (±3°), gamma 0° (±3°)"
+    )
+    assert share.verdict == Level.FAIL and share.desired is not None and share.desired.failing == ("alpha", "gamma")
+    assert share.desired_line == (
+        "the desired motion is not the ISO 14242-1 waveform: worst 4° off; tracking of it: RMS alpha 0.5°, beta 0°, gamma 0°"
+    )
+    # Not known whether the desired motion is the waveform, or no tracking: judged as ISO.
+    for desired, known in ((None, tracking), (bad, None)):
+        alone = station_iso_verdict("m_1", bad, desired, known)
+        assert alone.verdict == Level.FAIL and alone.judged.endswith("; fails alpha, gamma")
+    assert station_iso_verdict("m_1", bad, None, tracking).desired is None
+    no_tracking = station_iso_verdict("m_1", bad, bad, None)
+    assert no_tracking.desired_line == "the desired motion is not the ISO 14242-1 waveform: worst 4° off"
+    doc = passed.to_json()
+    assert "desired" not in doc and "reason" not in doc and doc["verdict"] == "PASS"
+
+
+def test_station_iso_hands_its_names_limits_and_period_to_both_checks(monkeypatch):
+    import hipsim.motion.iso_verdict as module
+    from hipsim.motion.iso_compliance import Tolerances
+
+    calls = []
+
+    def stand_in(t, q, load, tolerances, source, periodic):
+        calls.append((q, tolerances, source, periodic))
+        return _check(CycleDeviation(0.0, 1.0, 5.0 if len(calls) == 1 else 0.0, 0.0, 0.0, 0.0))
+
+    monkeypatch.setattr(module, "iso_check", stand_in)
+    tight = Tolerances(alpha=1.0)
+    t = np.arange(3) / 100.0
+    q, q_d = np.radians([[1.0, 2.0, 3.0]] * 3), np.zeros((3, 3))
+    verdict = station_iso("station 2", t, q, q_d, np.ones(3), tight, "log.csv", True)
+    assert [(c[1], c[2], c[3]) for c in calls] == [(tight, "log.csv", True)] * 2
+    assert calls[0][0] is q and calls[1][0] is q_d
+    assert verdict.judged.startswith("station 2's motion against") and verdict.verdict == Level.FAIL
+    assert verdict.tracking is not None
+    assert verdict.tracking.rms_deg == pytest.approx({"alpha": 1.0, "beta": 2.0, "gamma": 3.0}, rel=1e-12)
+    assert verdict.tracking.peak_abs_deg == pytest.approx({"alpha": 1.0, "beta": 2.0, "gamma": 3.0}, rel=1e-12)
+    calls.clear()
+    station_iso("m_1", t, q, q_d, np.ones(3))
+    assert [(c[1], c[2], c[3]) for c in calls] == [(DEFAULT_TOLERANCES, "run", False)] * 2
+
+
+def test_the_tracking_by_hand_on_integers():
+    """Whole numbers of radians (integer arrays): the RMS over every sample and the peak magnitude, in degrees."""
+    q = np.array([[1, 0, 0], [-2, 0, 0], [2, 0, 1], [1, 0, 0]])
+    verdict = station_iso("m_1", np.arange(4) / 10.0, q, np.zeros((4, 3), dtype=int), np.ones(4))
+    assert verdict.verdict == Level.NOT_MADE and verdict.judged == "m_1's motion: no ISO 14242-1 check"
+    assert verdict.tracking is not None
+    assert verdict.tracking.rms_deg["alpha"] == pytest.approx(np.degrees(np.sqrt(10 / 4)), rel=1e-12)
+    assert verdict.tracking.peak_abs_deg == pytest.approx(
+        {"alpha": np.degrees(2.0), "beta": 0.0, "gamma": np.degrees(1.0)}
+    )
+    assert verdict.reason and verdict.reason != "None" and not verdict.reason.startswith("t = ")
+    assert verdict.to_json()["reason"] == verdict.reason
+
+
+def test_the_iso_check_summary_by_hand():
+    from hipsim.motion.iso_verdict import iso_check_summary
+
+    check = _check(
+        CycleDeviation(0.5, 1.05, 1.0, 3.5, 0.0, 10.0),
+        CycleDeviation(1.5, 0.85, 2.0, 0.5, 4.0, 100.0),
+        source="log.csv",
+    )
+    s = iso_check_summary(check)
+    assert (s.source, s.passed, s.failing, s.cycles, s.level) == (
+        "log.csv",
+        False,
+        ("beta", "gamma", "load", "frequency"),
+        2,
+        Level.FAIL,
+    )
+    assert s.tolerances_assumed == "defaults are assumed values: confirm them against your copy of ISO 14242-1"
+    assert list(s.quantities) == ["alpha", "beta", "gamma", "load", "frequency"]
+    a, b, load, f = (s.quantities[k] for k in ("alpha", "beta", "load", "frequency"))
+    assert (a.unit, a.worst, a.tolerance, a.cycles_failed, a.passed) == ("deg", 2.0, 3.0, 0, True)
+    assert (b.unit, b.worst, b.cycles_failed, b.passed) == ("deg", 3.5, 1, False)
+    assert (load.unit, load.worst, load.tolerance, load.cycles_failed) == ("N", 100.0, DEFAULT_TOLERANCES.load, 1)
+    assert (f.unit, f.worst, f.tolerance, f.cycles_failed) == ("Hz", pytest.approx(0.15), 0.1, 1)
+    first, second = s.per_cycle
+    assert (first.cycle, first.start_s, first.frequency_Hz, first.alpha, first.beta, first.gamma, first.load) == (
+        1, 0.5, 1.05, 1.0, 3.5, 0.0, 10.0
+    )  # fmt: skip
+    assert first.frequency == pytest.approx(0.05) and first.passed is False
+    assert (second.cycle, second.start_s, second.gamma, second.load, second.passed) == (2, 1.5, 4.0, 100.0, False)
+    ok = iso_check_summary(_check(CycleDeviation(0.0, 1.0, 1.0, 1.0, 1.0, 1.0)))
+    assert ok.passed and ok.level == Level.PASS and ok.per_cycle[0].passed is True and ok.failing == ()
+    assert ok.per_cycle[0].frequency == 0.0 and ok.quantities["gamma"].unit == "deg"
+    assert s.to_json()["quantities"]["load"]["cycles_failed"] == 1

@@ -1,6 +1,7 @@
 """The wear test's page (hipsim.present.wear_test_page): the verdict word's state on the page (DIFFERENT fail, ALIKE
-pass, anything else open), the stations' contexts merged into the JSON, the notes and provenance; a test of no
-stations made here, its figure left out (figures: test_wear_test_figures.py). A whole test: cli/test_wear_test.py."""
+pass, anything else open), the summary's JSON written with the notes and provenance; a test of no stations made
+here, its figure left out (figures: test_wear_test_figures.py). The summary itself (the stations' contexts merged
+in): wear/test_test_summary.py. A whole test: cli/test_wear_test.py."""
 
 from __future__ import annotations
 
@@ -27,17 +28,27 @@ def result(word: str) -> Any:
     )
 
 
-@pytest.mark.parametrize(("word", "state"), [("DIFFERENT", "fail"), ("ALIKE", "pass"), ("NOT COMPARED", "open")])
+@pytest.mark.parametrize(("word", "state"), [("DIFFERENT", "fail"), ("ALIKE", "pass"), ("ONE STATION", "open")])
 def test_the_verdict_words_state_on_the_page(tmp_path, monkeypatch, word, state):
     monkeypatch.setattr(wear_test_page, "plot_measured_predicted", lambda result: None)  # no figure drawn here
     monkeypatch.setattr(wear_test_page, "_figures", lambda out, figures: ([], []))
     context: Any = SimpleNamespace(station="A", to_json=lambda: {"friction": "steady"})
+    summarised = []
+
+    def summary(result, contexts):  # the summary's own test: wear/test_test_summary.py
+        summarised.append(contexts)
+        return SimpleNamespace(
+            to_json=lambda: {"verdict": word, "stations": {"A": {"rate": 1.0, "friction": "steady"}}}
+        )
+
+    monkeypatch.setattr(wear_test_page, "wear_test_summary", summary)
     page = wear_test_page.write_wear_test_page(
         tmp_path / "page", result(word), (context,), provenance(created="2026-01-01T00:00:00Z"), notes=("n1",)
     )
     html = page.index.read_text(encoding="utf-8")
     assert f'class="verdict {state}-box"' in html and f"the stations are {word}" in html and "<li>n1</li>" in html
     document = json.loads(page.json.read_text(encoding="utf-8"))
-    assert document["stations"]["A"] == {"rate": 1.0, "friction": "steady"}  # the context merged into its station
+    assert summarised == [(context,)]  # the stations' contexts handed to the summary
+    assert document["verdict"] == word and document["stations"]["A"] == {"rate": 1.0, "friction": "steady"}
     assert document["notes"] == ["n1"] and document["provenance"]["created_utc"] == "2026-01-01T00:00:00Z"
     assert page.pdf is None and page.figures == ()

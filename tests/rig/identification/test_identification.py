@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 import pytest
-from rig_synthetic import exact_run, fit_run, iso_run, machines, relative_to_size, write_log
+from rig_synthetic import FIT_MOTION, exact_run, fit_run, iso_run, machines, plant_run, relative_to_size, write_log
 from support import ALL_FRICTION, SmoothMotion, given
 
 import hipsim
@@ -39,6 +39,17 @@ def test_the_regressor_is_the_inverse_dynamics(lever_spin):
     np.testing.assert_array_equal(
         standard_values(with_values(params, standard_values(params))), standard_values(params)
     )
+
+
+def test_the_synthetic_logs_shortcuts_give_the_recorded_run_to_the_last_bit():
+    """rig_synthetic's noisy logs take the compiled loop (no states recorded) and a shorter run as the head of a
+    longer one: both the same numbers as the Python loop that records every state, run for that length."""
+    start, true = machines()
+    recorded = plant_run(true, start, FIT_MOTION, 0.2)
+    for run in (plant_run(true, start, FIT_MOTION, 0.2, accelerations=False), fit_run().head(200)):
+        for name in ("t", "q", "qd", "tau", "Fe"):
+            np.testing.assert_array_equal(getattr(run, name), getattr(recorded, name), err_msg=name)
+        assert run.qdd is None
 
 
 def test_noise_free_logs_recover_the_base_parameters():

@@ -130,7 +130,7 @@ def test_identify_opens_each_log_once(files, tmp_path, monkeypatch, capsys):
     assert document["validation"][0]["identified"]["1"]["rms_error_Nmm"] > 0 and document["toml"] == str(out)
 
 
-def test_compare_opens_its_log_once(files, tmp_path, monkeypatch, capsys):
+def test_compare_opens_its_log_once(files, tmp_path, monkeypatch, capsys, quick_figures):
     opener = _CountingOpener(monkeypatch, files["held"])
     argv = ["compare", "--log", str(files["held"]), "--out", str(tmp_path / "c"), "--summary-format", "json"]
     assert main(argv) == 0

