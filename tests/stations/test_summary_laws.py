@@ -4,12 +4,13 @@ far apart the two platforms turn (``stations --sliders``). Every record here is 
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 import pytest
 
-from hipsim.motion.iso_verdict import StationIso
+from hipsim.motion.iso_verdict import DesiredIso, StationIso
 from hipsim.motion.trajectories import iso14242
 from hipsim.records import Level
 from hipsim.stations.commands import StationMotion
@@ -142,6 +143,21 @@ def test_any_failing_station_fails_the_run(first, second, level):
     assert verdict.level == level
     assert verdict.judged == f"ISO 14242-1 (tolerances assumed): station 1 {first.value}, station 2 {second.value}"
     assert verdict.numbers["worst_alpha_1_deg"] == 1.0 and "worst_alpha_2_deg" not in verdict.numbers
+
+
+def test_a_desired_motion_off_the_waveform_is_said_in_the_headline():
+    """Both stations track a motion 12.5° off the waveform (β the worst of the two): PASS each, on their tracking."""
+    off = [
+        DesiredIso(False, ("alpha",), {"alpha": 6.0, "beta": 12.5, "gamma": 3.0}),
+        DesiredIso(True, (), {"alpha": 0.1}),
+    ]
+    isos = [dataclasses.replace(_iso(Level.PASS, {"alpha": 1.0}), desired=d) for d in off]
+    verdict = stations_verdict(_summary(*isos))
+    assert verdict.level == Level.PASS
+    assert verdict.judged == (
+        "ISO 14242-1 (tolerances assumed): station 1 PASS, station 2 PASS; the desired motion is not the ISO 14242-1 "
+        "waveform (worst 12.5° off): each station is judged on its tracking of it"
+    )
 
 
 def test_how_far_apart_the_platforms_turn_per_angle():
