@@ -121,6 +121,17 @@ def test_the_whole_document_by_hand():
     friction_summary = s.stations["2"].friction
     assert friction_summary is not None and friction_summary.own_station is True
     assert len(s.differences) == 1 and s.differences[0].difference_mg_per_Mc == pytest.approx(4.0)
+    d, given = s.differences[0], gravimetry.differences[0]
+    assert d.ci95_mg_per_Mc == given.ci95_mg_per_Mc and d.significant is given.significant
+    assert d.ci95_mm3_per_Mc == pytest.approx(tuple(x / 0.94 for x in given.ci95_mg_per_Mc), nan_ok=True)  # exact lines
+    assert (
+        friction_summary.source,
+        friction_summary.snapshots,
+        friction_summary.last_cycle,
+        friction_summary.hip_mu_change,
+        friction_summary.hip_mu_change_std,
+        friction_summary.flag,
+    ) == ("m.parquet", 3, 1_500_000, 0.004, 0.001, "")
     law = s.fitted_wear_law
     assert law is not None and law.cross_shear == pytest.approx((0.05, 0.1))
     assert law.k_mm3_per_Nm == pytest.approx((10.0 / 0.94 / 5e6, 14.0 / 0.94 / 5e6))
