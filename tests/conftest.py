@@ -58,6 +58,7 @@ SLOW_FIRST = [
     "design/test_sweep.py",
     "cli/test_simulate_plant.py",
     "test_channels_logs.py",
+    "mujoco_engine/test_plant.py",
     "mujoco_engine/test_mujoco_engine.py",
     "rig/monitoring/test_monitor_run.py",
     "cli/test_iso_check.py",

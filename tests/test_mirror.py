@@ -46,11 +46,6 @@ KNOWN_GAPS = {
     "control/servo_kernel.py": "control/test_simulation.py",
     "mujoco_engine/closure.py": "indirectly, through the modules that call it",
     "mujoco_engine/dynamics.py": "indirectly, through the modules that call it",
-    "mujoco_engine/friction.py": "mujoco_engine/test_mujoco_engine.py",
-    "mujoco_engine/mjcf.py": "mujoco_engine/test_mujoco_engine.py",
-    "mujoco_engine/model.py": "indirectly, through the modules that call it",
-    "mujoco_engine/plant.py": "indirectly, through the modules that call it",
-    "mujoco_engine/trajectory.py": "mujoco_engine/test_mujoco_engine.py",
     "wear/kernel.py": "indirectly, through the modules that call it",
 }
 
