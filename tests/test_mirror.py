@@ -32,7 +32,6 @@ EXEMPT = {
 KNOWN_GAPS = {
     "analytic/engine.py": "analytic/test_chain_dynamics.py, rig/test_plausibility_laws.py",
     "analytic/stations.py": "analytic/test_chain_dynamics.py, machine/test_chains.py (+2)",
-    "cli/schema.py": "through the command line: tests/test_schemas.py",
     "closed_chain/build.py": "analysis/test_crosscheck.py, analytic/test_chain_dynamics.py (+7)",
     "closed_chain/closure.py": "closed_chain/test_closure_kernel.py, closed_chain/test_dynamics.py",
     "closed_chain/constraints.py": "analysis/test_crosscheck.py, closed_chain/test_closure_kernel.py (+2)",

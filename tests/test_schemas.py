@@ -46,14 +46,6 @@ def stations_run(tmp_path_factory):
     return out
 
 
-def test_the_list_names_every_schema(capsys):
-    assert main(["schema"]) == 0
-    listed = [line.split()[0] for line in capsys.readouterr().out.splitlines()]
-    assert listed == list(SCHEMAS)
-    assert main(["schema", "no-such-command"]) == 2
-    assert "no command 'no-such-command'" in capsys.readouterr().err
-
-
 def test_stations_modes(tmp_path, capsys):
     argv = ["stations", "--set", LEVER, "--control", "2", "--rate", "100", "--summary-format", "json"]
     status, document = _json(capsys, [*argv, "--out", str(tmp_path / "run")])
