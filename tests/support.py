@@ -104,3 +104,34 @@ def zxy_angles(Rh):
 def zyx_angles(R):
     """R = Rz(γ)·Ry(β)·Rx(α) → (α, β, γ), closed form for |β| < 90°."""
     return np.arctan2(R[2, 1], R[2, 2]), -np.arcsin(R[2, 0]), np.arctan2(R[1, 0], R[0, 0])
+
+
+def smooth_cycle(t):
+    """A smooth orientation cycle with exact derivatives (duck-typed trajectory)."""
+    from types import SimpleNamespace
+
+    t = np.atleast_1d(np.asarray(t, dtype=float))
+    w = 2 * np.pi
+    amplitude, phase = np.array([20.0, 6.0, 7.0]) * (np.pi / 180.0), np.array([0.3, -0.7, 2.0])
+    arg = w * t[:, None] + phase
+    return SimpleNamespace(
+        t=t,
+        q=amplitude * np.cos(arg),
+        qd=-w * amplitude * np.sin(arg),
+        qdd=-w * w * amplitude * np.cos(arg),
+        name="test",
+    )
+
+
+def closed_hip():
+    """The hip's closed-chain model closed along 41 samples of :func:`smooth_cycle`, with a workspace and its layout."""
+    from types import SimpleNamespace
+
+    from hipsim import load_parameters
+    from hipsim.closed_chain.build import load_model
+    from hipsim.closed_chain.closure import kinematics
+    from hipsim.closed_chain.workspace import Workspace
+
+    chain = load_model(load_parameters())
+    kin = kinematics(chain, smooth_cycle(np.linspace(0.0, 1.0, 41)))
+    return SimpleNamespace(chain=chain, kin=kin, ws=Workspace(chain), layout=chain.layout)

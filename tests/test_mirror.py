@@ -37,7 +37,6 @@ KNOWN_GAPS = {
     "closed_chain/constraints.py": "analysis/test_crosscheck.py, closed_chain/test_closure_kernel.py (+2)",
     "closed_chain/engine.py": "analytic/test_chain_dynamics.py, present/test_report.py",
     "closed_chain/plant_step.py": "indirectly, through the modules that call it",
-    "closed_chain/workspace.py": "closed_chain/test_closure_kernel.py",
     "control/closed_chain_loop.py": "closed_chain/test_plant.py, control/test_simulation.py",
     "control/machine_kernel.py": "indirectly, through control/test_machine_loop.py",
     "control/servo_kernel.py": "control/test_simulation.py",

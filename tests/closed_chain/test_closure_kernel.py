@@ -9,43 +9,21 @@ from __future__ import annotations
 
 import math
 import sys
-from types import SimpleNamespace
 
 import numpy as np
 import pinocchio as pin
 import pytest
+from support import closed_hip, smooth_cycle
 
-from hipsim import load_parameters
 from hipsim.closed_chain import closure_kernel
-from hipsim.closed_chain.build import load_model
-from hipsim.closed_chain.closure import kinematics
 from hipsim.closed_chain.constraints import constraint_jacobian
 from hipsim.closed_chain.rnea import BatchedRNEA, group_trees
-from hipsim.closed_chain.workspace import Workspace, block_triangular_order, k_order
-
-DEG = math.pi / 180.0
-
-
-def motion(t):
-    """A smooth orientation cycle with exact derivatives (duck-typed trajectory)."""
-    t = np.atleast_1d(np.asarray(t, dtype=float))
-    w = 2 * math.pi
-    amplitude, phase = np.array([20.0, 6.0, 7.0]) * DEG, np.array([0.3, -0.7, 2.0])
-    arg = w * t[:, None] + phase
-    return SimpleNamespace(
-        t=t,
-        q=amplitude * np.cos(arg),
-        qd=-w * amplitude * np.sin(arg),
-        qdd=-w * w * amplitude * np.cos(arg),
-        name="test",
-    )
+from hipsim.closed_chain.workspace import k_order
 
 
 @pytest.fixture(scope="module")
 def closed():
-    chain = load_model(load_parameters())
-    kin = kinematics(chain, motion(np.linspace(0.0, 1.0, 41)))
-    return SimpleNamespace(chain=chain, kin=kin, ws=Workspace(chain), layout=chain.layout)
+    return closed_hip()
 
 
 def _order(closed, blocks: bool = True):
@@ -78,50 +56,6 @@ def _velocity(closed, k, blocks: bool = True):
     )
     assert status == closure_kernel.OK
     return K_inv, tips, V[0], J_rates[0]
-
-
-def test_closure_frames_and_jacobian_are_pinocchios(closed):
-    """The compiled closure frames, gaps and Jacobian, read through views of Pinocchio's Data, equal RigidConstraintModel.calc's and getConstraintsJacobian's.
-
-    One workspace placed at configurations in turn, open ones among them: a
-    view that went stale (Pinocchio reallocating, or handing out copies)
-    would show the previous configuration's frames.
-    """
-    ws, layout, kin, model = closed.ws, closed.layout, closed.kin, closed.chain.model
-    rng = np.random.default_rng(11)
-    for k in (3, 17, 30):
-        for spread in (0.0, 0.05):
-            q = kin.q[k].copy()
-            q[layout.leg_v] += spread * rng.normal(size=layout.leg_v.size)
-            ws.place(q)
-            gaps, tips, p2, J_c = ws.residual().copy(), ws.tip_frames().copy(), ws.p2.copy(), ws.jacobian()
-            # The other route: Pinocchio's own constraint computations, in a fresh Data.
-            reference = Workspace(closed.chain)
-            pin.computeJointJacobians(model, reference.data, q)
-            expected_J = reference.pinocchio_jacobian()
-            np.testing.assert_allclose(
-                gaps, np.concatenate([cd.c1Mc2.translation for cd in reference.cd_list]), rtol=0, atol=1e-15
-            )
-            np.testing.assert_allclose(tips, [cd.oMc1.homogeneous for cd in reference.cd_list], rtol=0, atol=1e-15)
-            np.testing.assert_allclose(p2, [cd.oMc2.translation for cd in reference.cd_list], rtol=0, atol=1e-15)
-            np.testing.assert_allclose(J_c, expected_J, rtol=0, atol=1e-14)
-            assert (spread == 0.0) == (np.abs(gaps).max() < 1e-12)
-
-
-def test_placement_views_follow_pinocchio_and_the_copying_route_agrees(closed):
-    """The strided views over data.oMi show every joint's current placement; a workspace without them (copies) places the closures bit for bit alike."""
-    ws, model, q = closed.ws, closed.chain.model, closed.kin.q[21]
-    assert ws.joint_rotations is not None  # this Pinocchio's layout is the one the views assume
-    copying = Workspace(closed.chain)
-    copying.joint_rotations = copying.joint_origins = None
-    for qk in (q, q + 0.01):
-        ws.place(qk)
-        copying.place(qk)
-        for j in range(model.njoints):
-            np.testing.assert_array_equal(ws.joint_rotations[j], ws.data.oMi[j].rotation)
-            np.testing.assert_array_equal(ws.joint_origins[j], ws.data.oMi[j].translation)
-        np.testing.assert_array_equal(ws.residual(), copying.residual())
-        np.testing.assert_array_equal(ws.tip_frames(), copying.tip_frames())
 
 
 def test_block_lower_inverse_inverts_by_blocks():
@@ -160,26 +94,6 @@ def test_block_inverse_pivots_and_refuses_singular_blocks():
         singular[block.start, block.start] = 1.0  # rank 1: the elimination meets a zero pivot
         with pytest.raises(np.linalg.LinAlgError):
             closure_kernel.block_lower_inverse(singular, starts)
-
-
-def test_block_triangular_order_finds_the_blocks():
-    """A scrambled block lower triangular pattern is put back in block form; a structurally singular one stays one block; the hip's B splits 3, 3, 3, 9."""
-    rng = np.random.default_rng(8)
-    sizes = [2, 3, 1, 2]
-    starts = np.cumsum([0] + sizes)
-    pattern = np.zeros((8, 8), bool)
-    for b in range(len(sizes)):
-        pattern[starts[b] : starts[b + 1], : starts[b + 1]] = rng.random((sizes[b], starts[b + 1])) < 0.6
-        pattern[starts[b] : starts[b + 1], starts[b] : starts[b + 1]] = True  # each block irreducible
-    row_mix, column_mix = rng.permutation(8), rng.permutation(8)
-    rows, columns, found = block_triangular_order(pattern[row_mix][:, column_mix])
-    ordered = pattern[row_mix][:, column_mix][rows][:, columns]
-    for b in range(len(found) - 1):
-        assert not ordered[found[b] : found[b + 1], found[b + 1] :].any()
-    assert np.sort(np.diff(found)).tolist() == sorted(sizes)
-    singular = np.ones((3, 3), bool)
-    singular[:, 0] = False
-    assert block_triangular_order(singular)[2].tolist() == [0, 3]
 
 
 def test_hip_closure_jacobian_splits_into_blocks(closed):
@@ -372,7 +286,7 @@ def test_threads_running_one_model_do_not_share_pinocchio_data(closed):
 
     from hipsim.closed_chain.dynamics import trajectory_dynamics
 
-    motions = [motion(np.linspace(0.0, 1.0, 301)), motion(np.linspace(0.3, 0.8, 301))]
+    motions = [smooth_cycle(np.linspace(0.0, 1.0, 301)), smooth_cycle(np.linspace(0.3, 0.8, 301))]
     for m in motions:
         m.Fe = np.full(len(m.t), 1200.0)
     serial = [trajectory_dynamics(closed.chain, m) for m in motions]
