@@ -33,7 +33,6 @@ KNOWN_GAPS = {
     "analytic/stations.py": "analytic/test_chain_dynamics.py, machine/test_chains.py (+2)",
     "closed_chain/build.py": "analysis/test_crosscheck.py, analytic/test_chain_dynamics.py (+7)",
     "closed_chain/closure.py": "closed_chain/test_closure_kernel.py, closed_chain/test_dynamics.py",
-    "closed_chain/constraints.py": "analysis/test_crosscheck.py, closed_chain/test_closure_kernel.py (+2)",
     "closed_chain/plant_step.py": "indirectly, through the modules that call it",
     "control/closed_chain_loop.py": "closed_chain/test_plant.py, control/test_simulation.py",
     "control/machine_kernel.py": "indirectly, through control/test_machine_loop.py",
