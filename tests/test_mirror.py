@@ -36,7 +36,6 @@ KNOWN_GAPS = {
     "control/closed_chain_loop.py": "closed_chain/test_plant.py, control/test_simulation.py",
     "control/machine_kernel.py": "indirectly, through control/test_machine_loop.py",
     "control/servo_kernel.py": "control/test_simulation.py",
-    "mujoco_engine/dynamics.py": "indirectly, through the modules that call it",
     "wear/kernel.py": "indirectly, through the modules that call it",
 }
 
