@@ -30,7 +30,6 @@ EXEMPT = {
 
 #: Modules with logic still lacking a test file at their mirrored path -> where they are exercised today.
 KNOWN_GAPS = {
-    "closed_chain/plant_step.py": "indirectly, through the modules that call it",
     "control/closed_chain_loop.py": "closed_chain/test_plant.py, control/test_simulation.py",
     "control/machine_kernel.py": "indirectly, through control/test_machine_loop.py",
     "control/servo_kernel.py": "control/test_simulation.py",
