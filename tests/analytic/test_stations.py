@@ -21,7 +21,11 @@ def test_the_motions_rates_are_the_carriages_derivatives(platform):
     carriages = lambda s: carriages_for_platform(params, iso14242_at(s).q, platform)
     np.testing.assert_allclose(L, carriages(t), rtol=0, atol=1e-12)
     np.testing.assert_allclose(Ld, central_difference(carriages, t, h), rtol=0, atol=1e-8)
-    rates = lambda s: platform_motion(params, *(getattr(iso14242_at(s), k) for k in ("q", "qd", "qdd")), platform)[1]
+
+    def rates(s):
+        m = iso14242_at(s)
+        return platform_motion(params, m.q, m.qd, m.qdd, platform)[1]
+
     np.testing.assert_allclose(Ldd, central_difference(rates, t, h), rtol=0, atol=1e-6)
     assert np.abs(Ld).max() > 1e-3  # m/s: not a comparison of zeros
 

@@ -48,5 +48,7 @@ def test_the_record_refuses_a_field_of_the_wrong_shape():
 
 def test_the_inverse_or_none_when_singular():
     A = np.array([[2.0, 1.0], [0.0, 4.0]])
-    np.testing.assert_allclose(_inverse(A.copy()), [[0.5, -0.125], [0.0, 0.25]], rtol=0, atol=1e-16)
+    inverse = _inverse(A.copy())
+    assert inverse is not None
+    np.testing.assert_allclose(inverse, np.array([[0.5, -0.125], [0.0, 0.25]]), rtol=0, atol=1e-16)
     assert _inverse(np.array([[1.0, 2.0], [2.0, 4.0]])) is None
