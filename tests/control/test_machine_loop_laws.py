@@ -1,7 +1,9 @@
 """The loop on the machine as built (hipsim.control.machine_loop) on runs of a few servo periods of the reduced plant:
 the same arithmetic as simulate() on the drawing, the feed-forward row by row, the limit, and each refusal's words."""
 
+import dataclasses
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -11,9 +13,9 @@ import hipsim
 from hipsim.analytic.chain_dynamics import chain_inverse_dynamics, chain_motion
 from hipsim.control.controllers import WorkspacePD, feedforward_torques
 from hipsim.control.feedback import EncoderFeedback, SensorFeedback
-from hipsim.control.machine_loop import ModelPD, controlled_machine, model_feedforward, run_machine
+from hipsim.control.machine_loop import ModelPD, check_plant, controlled_machine, model_feedforward, run_machine
 from hipsim.control.simulation import ReducedPlant, simulate
-from hipsim.exceptions import ArgumentError, PoseError
+from hipsim.exceptions import ArgumentError, ParameterError, PoseError
 from hipsim.motion.trajectories import Trajectory
 
 Q0 = np.radians([4.0, 1.0, -2.0])
@@ -175,3 +177,75 @@ def test_a_state_no_longer_finite_or_an_unreadable_attitude_is_named(drawing):
     ) as error:
         run_machine(ReducedPlant(drawing), ModelPD(drawing, 2), Lost(drawing, 2), _desired, 0.004)
     assert (error.value.time, error.value.index) == (pytest.approx(0.001), 1)
+
+
+def _stand_in(model, source="plant.toml", **chains):
+    """A plant machine that is the model's but for the chain values given (what check_plant reads of it)."""
+    return SimpleNamespace(
+        angle_signs=model.angle_signs, chains=dataclasses.replace(model.chains, **chains), source=source
+    )
+
+
+@pytest.mark.parametrize(
+    ("field", "index", "where", "what"),
+    [
+        ("screw_points", (1, 0, 2), "chain 21", "U-joint centre"),
+        ("platform_points", (0, 2, 0), "chain 13", "platform joint"),
+        ("lever_lengths", (1, 2), "chain 23", "lever length"),
+        ("centres", (1, 1), "platform 2", "rotation centre"),
+    ],
+)
+def test_each_part_of_the_built_machine_is_checked_at_its_limit(drawing, monkeypatch, field, index, where, what):
+    """Each part off by 50 mm (MAX_DEVIATION) passes; by 50.4 mm it is refused, naming part, chain or platform, and
+    the deviation in mm; the largest deviation is the one named (a smaller one elsewhere first)."""
+    reached = []
+    monkeypatch.setattr(
+        "hipsim.analytic.stations.platform_attitude", lambda plant, L, control, **kw: reached.append((plant, control))
+    )
+    desired = _desired(np.arange(3) / 1000.0)
+    base = getattr(drawing.chains, field)
+
+    def off(mm):
+        values = np.array(base, dtype=float)
+        values[index] += mm * 1e-3
+        first = (0,) * values.ndim  # a smaller deviation at the first entry: not the one named
+        if first != index:
+            values[first] += 20e-3
+        return values
+
+    # The centres' x and y are 0 on the drawing: 50 mm there is exactly MAX_DEVIATION (not refused).
+    at_limit = _stand_in(drawing, **{field: off(50.0 if field == "centres" else 50.0 - 1e-9)})
+    check_plant(drawing, at_limit, desired, 2)  # type: ignore[arg-type]
+    assert reached == [(at_limit, 2)]
+    with pytest.raises(ParameterError) as error:
+        check_plant(drawing, _stand_in(drawing, **{field: off(50.4)}), desired, 2)  # type: ignore[arg-type]
+    assert str(error.value) == (
+        f"plant.toml: not the model's machine as built: the {what} of {where} is 50.4 mm off the model's "
+        "(a built machine deviates by at most 50 mm; give the plant and the model of one design)"
+    )
+    assert len(reached) == 1
+
+
+def test_a_plant_of_another_convention_or_out_of_reach_is_refused_whole(drawing, monkeypatch):
+    desired = _desired(np.arange(3) / 1000.0)
+    other = SimpleNamespace(angle_signs=np.array([1.0, -1.0, 1.0]), chains=drawing.chains, source="plant.toml")
+    with pytest.raises(ParameterError) as error:
+        check_plant(drawing, other, desired, 1)  # type: ignore[arg-type]
+    signs = drawing.angle_signs.tolist()
+    assert str(error.value) == (
+        f"plant.toml, key 'angles': the plant's angle signs [1.0, -1.0, 1.0] are not the model's {signs}: "
+        "one machine has one convention"
+    )
+
+    def lost(plant, L, control, t, q0, guess):
+        assert control == 1 and t.tolist() == desired.t.tolist()
+        assert q0.tolist() == desired.q[0].tolist() and guess is desired.q
+        raise PoseError("no attitude", 0.002, 2)
+
+    monkeypatch.setattr("hipsim.analytic.stations.platform_attitude", lost)
+    with pytest.raises(ParameterError) as error:
+        check_plant(drawing, _stand_in(drawing), desired, 1)  # type: ignore[arg-type]
+    assert str(error.value).startswith(
+        "plant.toml: the plant's platform 1 cannot follow the carriages the model commands: "
+    )
+    assert str(error.value).endswith("no attitude")
