@@ -123,7 +123,7 @@ def test_the_sensor_reads_its_platform_with_noise_and_drift():
 def test_refusals_name_the_setting_and_its_value_whole(drawing):
     for make, message in (
         (lambda: SensorFeedback(3), "control: expected 1 (m_1) or 2 (m_2), got 3"),
-        (lambda: SensorFeedback(True), "control: expected 1 (m_1) or 2 (m_2), got True"),  # type: ignore[arg-type]
+        (lambda: SensorFeedback(True), "control: expected 1 (m_1) or 2 (m_2), got True"),
         (lambda: EncoderFeedback(drawing, 0), "control: expected 1 (m_1) or 2 (m_2), got 0"),
         (lambda: EncoderFeedback(drawing, 2, step=-1e-9), "step: expected an encoder step >= 0 in m, got -1e-09"),
         (lambda: SensorFeedback(2, noise=-0.5), "noise: expected a standard deviation >= 0 in rad, got -0.5"),
@@ -144,5 +144,5 @@ def test_the_defaults_are_the_documented_instruments(drawing):
     assert encoders.step == 1e-6 and encoders.sensing()[3].tolist() == [0.0, 0.0, 0.0]
     # A noiseless sensor's offsets are the drift alone, (n, 3), whatever the seed.
     quiet = SensorFeedback(2, noise=0.0, drift=0.5, seed=9)
-    quiet.start([0.0, 2.0], np.zeros(3))
+    quiet.start(np.array([0.0, 2.0]), np.zeros(3))
     assert quiet.sensing()[2].tolist() == [[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]

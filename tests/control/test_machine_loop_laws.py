@@ -215,10 +215,10 @@ def test_each_part_of_the_built_machine_is_checked_at_its_limit(drawing, monkeyp
 
     # The centres' x and y are 0 on the drawing: 50 mm there is exactly MAX_DEVIATION (not refused).
     at_limit = _stand_in(drawing, **{field: off(50.0 if field == "centres" else 50.0 - 1e-9)})
-    check_plant(drawing, at_limit, desired, 2)  # type: ignore[arg-type]
+    check_plant(drawing, at_limit, desired, 2)
     assert reached == [(at_limit, 2)]
     with pytest.raises(ParameterError) as error:
-        check_plant(drawing, _stand_in(drawing, **{field: off(50.4)}), desired, 2)  # type: ignore[arg-type]
+        check_plant(drawing, _stand_in(drawing, **{field: off(50.4)}), desired, 2)
     assert str(error.value) == (
         f"plant.toml: not the model's machine as built: the {what} of {where} is 50.4 mm off the model's "
         "(a built machine deviates by at most 50 mm; give the plant and the model of one design)"
@@ -244,7 +244,7 @@ def test_a_plant_of_another_convention_or_out_of_reach_is_refused_whole(drawing,
 
     monkeypatch.setattr("hipsim.analytic.stations.platform_attitude", lost)
     with pytest.raises(ParameterError) as error:
-        check_plant(drawing, _stand_in(drawing), desired, 1)  # type: ignore[arg-type]
+        check_plant(drawing, _stand_in(drawing), desired, 1)
     assert str(error.value).startswith(
         "plant.toml: the plant's platform 1 cannot follow the carriages the model commands: "
     )

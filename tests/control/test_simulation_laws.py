@@ -322,7 +322,7 @@ class Slotted:
     def angles(self, x):
         return self.SIGNS * x[self.ANGLES], self.SIGNS * x[self.RATES]
 
-    def _derivative(self, x, tau, Fe):
+    def derivative(self, t, x, tau, Fe):
         dx = np.zeros_like(x)
         dx[self.ANGLES] = x[self.RATES]
         dx[self.RATES] = self.SIGNS * (DoubleIntegrator.c * tau + DoubleIntegrator.k * Fe)
@@ -332,10 +332,10 @@ class Slotted:
         if t >= self.blow_at:
             return np.full_like(x, np.nan)
         for s in range(substeps):
-            k1 = self._derivative(x, tau, loads[2 * s])
-            k2 = self._derivative(x + h / 2 * k1, tau, loads[2 * s + 1])
-            k3 = self._derivative(x + h / 2 * k2, tau, loads[2 * s + 1])
-            k4 = self._derivative(x + h * k3, tau, loads[2 * s + 2])
+            k1 = self.derivative(t, x, tau, loads[2 * s])
+            k2 = self.derivative(t, x + h / 2 * k1, tau, loads[2 * s + 1])
+            k3 = self.derivative(t, x + h / 2 * k2, tau, loads[2 * s + 1])
+            k4 = self.derivative(t, x + h * k3, tau, loads[2 * s + 2])
             x = x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
         return x
 
