@@ -284,3 +284,39 @@ def test_three_periods_of_the_pinocchio_plant_compiled_and_in_python_are_one_ari
     # The run starts on the desired motion (the plant's platform 2 at the desired pose), a period apart.
     assert free.t.tolist() == pytest.approx([0.0, 0.001, 0.002], abs=1e-15)
     assert free.attitudes[0, 1] == pytest.approx(Q0, abs=1e-9)
+
+
+def test_the_loop_s_refusals_whole(drawing):
+    """Each refusal names its setting and value: the platform, the gains, a plant built for the other platform, the
+    encoders' readings in mm where the model finds no attitude."""
+    for make, message in (
+        (lambda: ModelPD(drawing, 3), "control: expected 1 (m_1) or 2 (m_2), got 3"),
+        (lambda: ModelPD(drawing, 2, kp=np.ones(2)), "kp: expected shape (3,), got shape (2,)"),
+        (lambda: ModelPD(drawing, 2, kd=np.ones(4)), "kd: expected shape (3,), got shape (4,)"),
+    ):
+        with pytest.raises(ArgumentError) as error:
+            make()
+        assert str(error.value) == message
+    built = drawing.replace(geometry=deviated(seed=5))
+    assert built.geometry is not None
+    other = 3 - built.geometry.control
+    stand_in = SimpleNamespace(params=built)  # what the check reads of a plant
+    with pytest.raises(ArgumentError) as error:
+        run_machine(stand_in, ModelPD(drawing, other), SensorFeedback(other), _desired, 0.003)  # type: ignore[arg-type]
+    assert str(error.value) == (
+        f"plant: expected a plant built from controlled_machine(params, {other}), whose first state holds the "
+        f"controlled platform at the desired motion, got 'a plant whose [geometry] control is {built.geometry.control}'"
+    )
+    seen = []
+
+    class Lost(EncoderFeedback):
+        def measure(self, k, t, L, Ld, q, qd):
+            reading, angles, rates = super().measure(k, t, L, Ld, q, qd)
+            seen.append(reading)
+            return (reading, angles * math.nan, rates) if k == 1 else (reading, angles, rates)
+
+    with pytest.raises(PoseError) as error:
+        run_machine(ReducedPlant(drawing), ModelPD(drawing, 2), Lost(drawing, 2), _desired, 0.004, servo_rate=500.0)
+    mm = ", ".join(f"{v * 1000:.4f}" for v in seen[1])
+    assert f"finds no attitude of platform 2 for what the encoders read ({mm} mm)" in str(error.value)
+    assert (error.value.time, error.value.index) == (pytest.approx(0.002), 1)  # 500 Hz: period 1 at 2 ms
