@@ -302,7 +302,7 @@ def test_the_loop_s_refusals_whole(drawing):
     other = 3 - built.geometry.control
     stand_in = SimpleNamespace(params=built)  # what the check reads of a plant
     with pytest.raises(ArgumentError) as error:
-        run_machine(stand_in, ModelPD(drawing, other), SensorFeedback(other), _desired, 0.003)  # type: ignore[arg-type]
+        run_machine(stand_in, ModelPD(drawing, other), SensorFeedback(other), _desired, 0.003)
     assert str(error.value) == (
         f"plant: expected a plant built from controlled_machine(params, {other}), whose first state holds the "
         f"controlled platform at the desired motion, got 'a plant whose [geometry] control is {built.geometry.control}'"
@@ -315,8 +315,8 @@ def test_the_loop_s_refusals_whole(drawing):
             seen.append(reading)
             return (reading, angles * math.nan, rates) if k == 1 else (reading, angles, rates)
 
-    with pytest.raises(PoseError) as error:
+    with pytest.raises(PoseError) as lost:
         run_machine(ReducedPlant(drawing), ModelPD(drawing, 2), Lost(drawing, 2), _desired, 0.004, servo_rate=500.0)
     mm = ", ".join(f"{v * 1000:.4f}" for v in seen[1])
-    assert f"finds no attitude of platform 2 for what the encoders read ({mm} mm)" in str(error.value)
-    assert (error.value.time, error.value.index) == (pytest.approx(0.002), 1)  # 500 Hz: period 1 at 2 ms
+    assert f"finds no attitude of platform 2 for what the encoders read ({mm} mm)" in str(lost.value)
+    assert (lost.value.time, lost.value.index) == (pytest.approx(0.002), 1)  # 500 Hz: period 1 at 2 ms
