@@ -15,12 +15,17 @@ smooth motion, each sensor the reference attitude plus Gaussian noise.
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
 from scipy.spatial.transform import Rotation
 
 from hipsim.machine.chains import ChainGeometry
+from hipsim.machine.parameters import load_parameters
+from hipsim.stations import deviations as dv
+from hipsim.stations.calibration import Calibration, Confounding
+from hipsim.stations.sensitivity import Structure
 
 
 def _pieces(params, geometry: ChainGeometry | None):
@@ -115,3 +120,43 @@ def write_log(path: Path, t, L, sensors) -> Path:
 def deviated(seed: int = 3, size_mm: float = 0.3) -> ChainGeometry:
     """A machine whose 48 values deviate uniformly within ±size_mm from the drawing."""
     return ChainGeometry.from_vector(np.random.default_rng(seed).uniform(-size_mm, size_mm, 48) * 1e-3)
+
+
+NAMES = dv.names()
+LEVER_11, LEVER_21, CENTRE_X_1 = NAMES.index("lever_11"), NAMES.index("lever_21"), NAMES.index("centre_x_1")
+
+
+def hand_calibration(offsets: bool = True, confounded: tuple[Confounding, ...] = ()) -> Calibration:
+    """Two values estimated (lever_11 +0.2 mm ± 0.1, lever_21 −0.05 mm ± 0.4), centre_x_1 kept at its prior (0.5 mm),
+    the others neither; two logs."""
+    start = load_parameters()
+    theta = np.zeros(dv.COUNT)
+    theta[[LEVER_11, LEVER_21]] = [2e-4, -5e-5]
+    std = np.full(dv.COUNT, 5e-4)
+    std[[LEVER_11, LEVER_21]] = [1e-4, 4e-4]
+    determined = np.zeros(dv.COUNT, dtype=bool)
+    determined[LEVER_11] = True
+    structure = Structure(2, np.array([LEVER_11, LEVER_21]), np.array([CENTRE_X_1]), np.array([[0.5], [0.0]]), offsets)
+    covariance = np.array([[1e-8, -2e-9], [-2e-9, 1.6e-7]])
+    offsets_rad = np.zeros((2, 2, 3))
+    if offsets:
+        offsets_rad[1, 0, 2] = math.radians(0.25)
+    noise = np.radians(np.array([[0.01, 0.02, 0.03], [0.04, 0.05, 0.06]]))
+    return Calibration(
+        machine=dv.machine(start, theta),
+        start=start,
+        theta=theta,
+        theta_std=std,
+        covariance=covariance,
+        structure=structure,
+        determined=determined,
+        prior=5e-4,
+        offsets=offsets_rad,
+        noise=noise,
+        residual_rms=np.stack([noise, 2 * noise]),
+        start_rms=np.stack([10 * noise, 20 * noise]),
+        logs=("a.csv", "b.csv"),
+        samples=300,
+        iterations=4,
+        confounded=confounded,
+    )

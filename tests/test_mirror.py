@@ -51,21 +51,7 @@ KNOWN_GAPS = {
     "mujoco_engine/model.py": "indirectly, through the modules that call it",
     "mujoco_engine/plant.py": "indirectly, through the modules that call it",
     "mujoco_engine/trajectory.py": "mujoco_engine/test_mujoco_engine.py",
-    "stations/calibration_check.py": "through hipsim.fit_checks and calibrate's gates: test_fit_checks.py",
-    "stations/calibration_file.py": "indirectly, through the modules that call it",
-    "stations/excitation.py": "stations/test_calibration.py",
-    "stations/logs.py": "stations/test_calibration.py",
-    "stations/sensitivity.py": "stations/test_calibration.py",
-    "stations/tolerance.py": "stations/test_commands.py",
-    "wear/accumulate.py": "wear/test_gravimetric.py",
-    "wear/factors.py": "wear/test_gravimetric.py",
     "wear/kernel.py": "indirectly, through the modules that call it",
-    "wear/kinematics.py": "wear/test_wear.py",
-    "wear/laws.py": "cli/test_wear.py, cli/test_wear_test.py (+2)",
-    "wear/maps.py": "wear/test_wear.py",
-    "wear/test_context.py": "wear/test_gravimetric.py",
-    "wear/test_result.py": "indirectly, through the modules that call it",
-    "wear/weighings.py": "wear/test_gravimetric.py",
 }
 
 

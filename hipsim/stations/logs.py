@@ -24,6 +24,7 @@ or time that does not increase is refused by file, line and column.
 from __future__ import annotations
 
 import math
+from collections.abc import Collection
 from pathlib import Path
 
 import numpy as np
@@ -59,9 +60,14 @@ WHAT = "calibration log"
 DESIRED_COLUMNS = ("alpha_des_deg", "beta_des_deg", "gamma_des_deg")
 
 
-def _table(path: str | Path, map: str | None = None) -> tuple[list[str], dict[str, np.ndarray], np.ndarray | None]:
+def _table(
+    path: str | Path, map: str | None = None, needed: Collection[str] | None = None
+) -> tuple[list[str], dict[str, np.ndarray], np.ndarray | None]:
     """(header, columns by name as float arrays, the file line of each row, or for a TDMS or HDF5 file its sample
-    numbers from 1, or None for Parquet)."""
+    numbers from 1, or None for Parquet).
+
+    ``needed``: the columns whose cells must be numbers (a text cell is refused by line and column); in the others a
+    text cell reads as NaN (a column the caller does not use: a log's sensors for its carriages alone). None: all."""
     source = str(path)
     if channel_kind(path) is not None:
         table = read_channels(path, map, WHAT, TrajectoryError)
@@ -111,6 +117,9 @@ def _table(path: str | Path, map: str | None = None) -> tuple[list[str], dict[st
             try:
                 values[row, c] = number(cell, decimal_comma)
             except ValueError:
+                if needed is not None and name not in needed:
+                    values[row, c] = math.nan
+                    continue
                 raise TrajectoryError(
                     f"'{cell.strip()}' is not a number", source=source, line=line, column=name
                 ) from None
@@ -127,7 +136,10 @@ def _read(
     source = str(path)
     if not math.isfinite(lead) or lead <= 0:
         raise TrajectoryError(f"the screw lead must be positive, got {lead!r}", source=source)
-    header, columns, lines = _table(path, map)
+    needed = ("t_s",) + CARRIAGE_COLUMNS + MOTOR_COLUMNS
+    if sensors is not False:
+        needed += sum(SENSOR_COLUMNS, ()) + sum(KNOWN_COLUMNS, ())
+    header, columns, lines = _table(path, map, needed)
 
     def missing(names, what):
         absent = [name for name in names if name not in columns]
@@ -233,7 +245,7 @@ def read_slider_log(
 def read_desired(path: str | Path, columns: str | None = None) -> np.ndarray | None:
     """The desired attitude [rad] (N, 3) of a log that carries it (``alpha_des_deg`` …, as ``hipsim simulate`` writes);
     None for a log without those columns (or with a cell that is no finite number)."""
-    _, table, _ = _table(path, columns)
+    _, table, _ = _table(path, columns, DESIRED_COLUMNS)
     if not all(name in table for name in DESIRED_COLUMNS):
         return None
     desired = np.radians(np.stack([table[name] for name in DESIRED_COLUMNS], axis=1))
@@ -269,7 +281,7 @@ def read_run_log(
             or sensor cell that is no finite number (naming line and column).
     """
     t, carriages = read_carriage_log(path, lead)
-    header, columns, lines = _table(path)
+    header, columns, lines = _table(path, needed=("t_s",) + sum(SENSOR_COLUMNS, ()) + COMMAND_COLUMNS)
     source = str(path)
     for j in platforms:
         absent = [name for name in SENSOR_COLUMNS[j - 1] if name not in columns]

@@ -187,6 +187,14 @@ def stations_verdict(summary: StationSummary) -> Verdict:
         numbers |= {f"worst_{a}_{platform}_deg": v for a, v in (iso.worst_deg or {}).items()}
     level = Level.FAIL if any(iso.verdict == Level.FAIL for _, iso in made) else Level.PASS
     judged = "ISO 14242-1 (tolerances assumed): " + ", ".join(f"station {p} {iso.verdict.value}" for p, iso in made)
+    # A station that tracks a non-ISO motion perfectly passes on its share (motion.iso_verdict); the headline says
+    # so, so that its PASS is not read as "this station's motion is the ISO waveform".
+    off = [max(iso.desired.worst_deg.values()) for _, iso in made if iso.desired is not None and not iso.desired.iso]
+    if off:
+        judged += (
+            f"; the desired motion is not the ISO 14242-1 waveform (worst {max(off):.3g}° off): each station is "
+            "judged on its tracking of it"
+        )
     return Verdict(level, judged, not_judged, numbers)
 
 

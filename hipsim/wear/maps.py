@@ -219,11 +219,14 @@ def wear_maps(
             f"the cycle time must be a positive number of seconds, got {cycle_time_s!r}", source=source.name
         )
     step = (source.time(n - 1) - source.time(0)) / (n - 1)
-    if not source.periodic and _closes_by_a_step(source, cycle_time_s, step):
+    closed = not source.periodic and _closes_by_a_step(source, cycle_time_s, step)
+    if closed:
         source = _ClosedCycle(source)
     duration = _duration(source)
-    # A file of one cycle sampled without its closing sample covers a step less than the cycle: still one cycle.
-    if duration < cycle_time_s * (1.0 - 1e-9) - (0.0 if source.periodic else step * (1.0 + 1e-9)):
+    # A file of one cycle sampled without its closing sample covers a step less than the cycle: still one cycle. One
+    # closed by its last step covers whole cycles to CLOSING_TOLERANCE, and is held to that, not refused as short.
+    slack = CLOSING_TOLERANCE if closed else 1e-9
+    if duration < cycle_time_s * (1.0 - slack) - (0.0 if source.periodic else step * (1.0 + 1e-9)):
         raise TrajectoryError(
             f"the motion covers {duration:.6g} s, shorter than one cycle of {cycle_time_s:.6g} s: "
             "wear is given per cycle, and this motion has no whole one",

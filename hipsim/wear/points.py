@@ -79,7 +79,7 @@ def cup_points(xyz: np.ndarray, source: str = "points") -> CupPoints:
         raise ArgumentError(source, xyz, "points as rows of x, y, z")
     bad = np.flatnonzero(~np.all(np.isfinite(xyz), axis=1))
     if bad.size:
-        raise ArgumentError(f"{source}, row {bad[0] + 1}", tuple(xyz[bad[0]]), "finite x, y, z")
+        raise ArgumentError(f"{source}, row {bad[0] + 1}", tuple(float(x) for x in xyz[bad[0]]), "finite x, y, z")
     length = np.linalg.norm(xyz, axis=1)
     bad = np.flatnonzero(np.abs(length - 1.0) > UNIT_TOLERANCE)
     if bad.size:

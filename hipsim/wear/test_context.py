@@ -126,6 +126,8 @@ def friction_state(table: Mapping[str, Sequence[Any]], j: int | None, source: st
     if not len(cycles):
         return None
     _, k = _last_finite(table.get("hip_mu_change", ()))
+    if k < 0:  # no column of estimates: the last row
+        k = len(cycles) - 1
     own = j is not None and math.isfinite(_number(table.get(f"hip_mu_change_{j}", ()), k))
     key = f"hip_mu_change_{j}" if own else "hip_mu_change"
     flags = table.get("flag", ())

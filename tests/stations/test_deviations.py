@@ -47,5 +47,29 @@ def test_the_drawing_is_zero_and_a_delta_makes_a_per_chain_machine():
     assert built.geometry is not None
     assert np.array_equal(deviation(built), delta)
     assert machine(params, np.zeros(COUNT)).geometry is not None  # δ = 0 too: one code path
-    with pytest.raises(ArgumentError, match=rf"delta: expected shape \({COUNT},\)"):
+    with pytest.raises(ArgumentError) as error:
         machine(params, np.zeros(COUNT - 1))
+    assert str(error.value) == f"delta: expected shape ({COUNT},), got shape ({COUNT - 1},)"
+
+
+def test_platform_1s_columns_hold_its_chains_its_centre_and_the_seat():
+    one = platform_columns(1)
+    assert len(one) == COUNT - 24  # 21 of its chains, 3 of its centre and, with the stack-up, the seat's 3
+    assert [names()[k] for k in one[:3]] == ["ujoint_x_11", "ujoint_y_11", "ujoint_x_12"]
+    assert list(one) == sorted(one)
+    assert [names()[k] for k in platform_columns(2)][-3:] == ["centre_x_2", "centre_y_2", "centre_z_2"]
+
+
+def test_a_delta_keeps_the_files_controlled_platform():
+    params = hipsim.load_parameters()
+    delta = np.zeros(COUNT)
+    delta[names().index("slider_12")] = -2e-4
+    built = machine(params, delta)
+    assert built.geometry is not None and built.geometry.control == 2  # the drawing's default
+    file = built.replace(geometry=built.geometry.replace(control=1))
+    again = machine(file, 2 * delta)
+    assert again.geometry is not None and again.geometry.control == 1
+    assert deviation(again)[names().index("slider_12")] == pytest.approx(-4e-4)
+    with pytest.raises(ArgumentError) as error:
+        family("lever_1")
+    assert str(error.value) == "name: expected an entry of the per-chain vector (see names()), got 'lever_1'"

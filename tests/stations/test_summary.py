@@ -89,6 +89,7 @@ def test_each_station_is_judged_on_its_own_platform():
     assert iso1.verdict == Level.FAIL and iso1.failing == ("beta",)
     assert iso1.worst_deg is not None and iso1.worst_deg["beta"] == pytest.approx(4.0, abs=0.03)
     assert iso2.verdict == Level.PASS and iso2.worst_deg is not None and iso2.worst_deg["beta"] < 0.05
+    assert iso1.judged.startswith("m_1's motion against") and iso2.judged.startswith("m_2's motion against")
     verdict = stations_verdict(summary)
     assert verdict.level == Level.FAIL and exit_status(summary.verdicts) == 1
     assert verdict.judged == "ISO 14242-1 (tolerances assumed): station 1 FAIL, station 2 PASS"

@@ -56,3 +56,23 @@ def test_the_95th_percentile_interpolates_between_draws():
     (control,) = tolerance_summary(result, 10).controls
     assert control.platforms[0].rms_p95_deg == pytest.approx((19.05,) * 3, rel=1e-12)
     assert control.family_share == {} and control.sensitivity == ()
+
+
+def test_each_control_reads_its_own_draws_and_rows():
+    """Controls "1" and "both": draw k's RMS k + 1° under "1", k + 101° under "both" (peaks 10 times), 21 draws:
+    the 95th percentile at rank 0.95·20 = 19, the 20th value."""
+    k = np.arange(21.0)[:, None, None, None]
+    rms = np.radians(k + 1 + np.array([0.0, 100.0])[None, :, None, None]) * np.ones((1, 1, 2, 3))
+    rows = {
+        "1": [{"value": "slider_21", "chain": "21", "family": "slider", "rms_deg": [0.5, 0.25, 0.125], "share": 1.0}],
+        "both": [{"value": "centre_x_1", "chain": "centre 1", "family": "centre", "rms_deg": [0, 0, 1], "share": 1.0}],
+    }
+    result = ToleranceResult({"slider": 2e-4}, ("1", "both"), rms, 10 * rms, rows, 3)
+    one, both = tolerance_summary(result, 5).controls
+    assert (one.control, both.control) == ("1", "both")
+    assert one.platforms[1].rms_p95_deg == pytest.approx((20.0,) * 3, rel=1e-12)
+    assert both.platforms[0].rms_p95_deg == pytest.approx((120.0,) * 3, rel=1e-12)
+    assert both.platforms[1].peak_p95_deg == pytest.approx((1200.0,) * 3, rel=1e-12)
+    assert one.sensitivity == (SensitivityRow("slider_21", "21", "slider", (0.5, 0.25, 0.125), 1.0),)
+    assert both.sensitivity[0].rms_deg == (0.0, 0.0, 1.0) and both.family_share == {"centre": 1.0}
+    assert tolerance_summary(result, 5).bands_mm == pytest.approx({"slider": 0.2})

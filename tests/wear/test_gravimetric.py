@@ -137,6 +137,10 @@ def test_soak_controls_per_station_and_as_a_column(tmp_path):
 def test_density_out_of_range_is_refused(tmp_path):
     path = tmp_path / "w.csv"
     path.write_text(WEIGHINGS)
+    assert gravimetry(read_weighings(path), 25.0).density_mg_per_mm3 == 25.0  # the densest taken
+    for bad in (0.0, 25.000001, math.inf, True):
+        with pytest.raises(ArgumentError, match=rf"--density: expected a density in \(0, 25\] mg/mm³, got {bad!r}"):
+            gravimetry(read_weighings(path), bad)
     with pytest.raises(ArgumentError, match=r"--density: expected a density in \(0, 25\] mg/mm³"):
         gravimetry(read_weighings(path), -0.9)
 
@@ -254,3 +258,185 @@ def test_friction_state_reads_the_monitors_last_snapshot():
     table["hip_mu_change_1"][2], table["hip_mu_change_1_std"][2] = 0.007, 0.001
     own = given(friction_state(table, 1, "friction.csv"))
     assert (own.own, own.hip_mu_change, own.hip_mu_change_std) == (True, 0.007, 0.001)
+
+
+def _loo_t(x: np.ndarray, y: np.ndarray, k: int) -> float:
+    """Stop k's externally studentized residual by leaving it out: its distance from the line of the others over
+    that line's prediction error (another route than the leverage formula)."""
+    keep = np.arange(x.size) != k
+    slope, intercept = np.polyfit(x[keep], y[keep], 1)
+    residuals = y[keep] - (intercept + slope * x[keep])
+    s = math.sqrt(float(residuals @ residuals) / (keep.sum() - 2))
+    xm, sxx = x[keep].mean(), float(np.sum((x[keep] - x[keep].mean()) ** 2))
+    return float((y[k] - intercept - slope * x[k]) / (s * math.sqrt(1 + 1 / keep.sum() + (x[k] - xm) ** 2 / sxx)))
+
+
+WOBBLE = np.array([0.0, 0.04, -0.03, 0.05, -0.02, 0.01, -0.04, 0.03])
+
+
+@pytest.mark.parametrize(("side", "named"), [(1.0 - 1e-6, False), (1.0 + 1e-6, True)])
+def test_an_outlier_at_the_bonferroni_bound(side, named):
+    """Stop 4 moved until its studentized residual is the bound t(1 − 0.05/(2·8), 8 − 3) times ``side``."""
+    from scipy import stats
+    from scipy.optimize import brentq
+
+    cycles = np.arange(8) * 500_000
+    x = cycles / 1e6
+    bound = float(stats.t.ppf(1 - 0.05 / 16, 5))
+
+    def loss(shift):
+        return 10.0 * x + WOBBLE + np.where(np.arange(8) == 4, shift, 0.0)
+
+    shift = brentq(lambda d: _loo_t(x, loss(d), 4) - side * bound, 0.0, 50.0, xtol=1e-14)
+    rate = station_rate(_station("2", cycles, 30_000 - loss(shift)), from_cycle=0)
+    assert [o.cycle for o in rate.outliers] == ([2_000_000] if named else [])
+    if named:
+        outlier = rate.outliers[0]
+        assert outlier.t == pytest.approx(side * bound, rel=1e-9)
+        assert outlier.residual_mg == pytest.approx(line_fit(x, loss(shift)).residuals[4], rel=1e-12)
+        assert outlier.describe().startswith(f"station 2 at 2 Mc: {outlier.residual_mg:+.3g} mg off its line (t = +")
+
+
+def test_a_stop_off_an_exact_line_is_an_outlier_of_infinite_t_and_one_degree_of_freedom_has_none():
+    cycles = np.arange(5) * 1_000_000
+    loss = 10.0 * cycles / 1e6
+    loss[2] += 1.0  # without it the others lie on a line: s = 0 and t = ∞; the others' t stays finite
+    rate = station_rate(_station("1", cycles, 30_000 - loss), from_cycle=0)
+    assert [(o.cycle, o.t) for o in rate.outliers] == [(2_000_000, math.inf)]
+    exact = station_rate(_station("1", cycles, 30_000 - 10.0 * cycles / 1e6), from_cycle=0)
+    assert exact.outliers == ()  # e = 0 everywhere: t = 0
+    two_dof_one = station_rate(_station("1", cycles[:3], 30_000 - np.array([0.0, 30.0, 20.0])), from_cycle=0)
+    assert two_dof_one.dof == 1 and two_dof_one.outliers == ()  # one degree of freedom: no test
+
+
+def _bedding_bound(x: np.ndarray, y: np.ndarray, k: int) -> float:
+    """The 99 % prediction interval's lower end at stop k of the line through the stops after it."""
+    from scipy import stats
+
+    xs, ys = x[k + 1 :], y[k + 1 :]
+    slope, intercept = np.polyfit(xs, ys, 1)
+    residuals = ys - intercept - slope * xs
+    s = math.sqrt(float(residuals @ residuals) / (xs.size - 2))
+    half = (
+        stats.t.ppf(0.995, xs.size - 2)
+        * s
+        * math.sqrt(1 + 1 / xs.size + (x[k] - xs.mean()) ** 2 / np.sum((xs - xs.mean()) ** 2))
+    )
+    return float(intercept + slope * x[k] - half)
+
+
+@pytest.mark.parametrize(("below", "detected"), [(1e-6, True), (-1e-6, False)])
+def test_bedding_in_at_the_prediction_intervals_lower_end_with_four_stops(below, detected):
+    """Four stops (the fewest that are judged: three after the first, one degree of freedom); the first stop just
+    below or just above the lower end of the 99 % prediction interval of the line through the other three."""
+    cycles = np.array([100_000, 1_100_000, 2_100_000, 3_100_000])
+    x = cycles / 1e6
+    later = np.array([0.0, 60.0, 70.3, 79.8])  # loss since the first stop, as the station would show it
+    # The first stop's loss is 0 by definition: shift the later ones so that 0 sits at the bound ± ``below``.
+    shift = below - _bedding_bound(x, later, 0)
+    y = later + np.where(np.arange(4) > 0, shift, 0.0)
+    rate = station_rate(_station("1", cycles, 30_000 - y))
+    assert rate.bedding_in == ("detected" if detected else "none")
+    assert rate.from_cycle == (1_100_000 if detected else 100_000)
+    if detected:
+        assert rate.bedding_in_rate_mg_per_Mc == pytest.approx(y[1] / 1.0, rel=1e-12)  # over (1.1 − 0.1) Mc
+        assert rate.rate_mg_per_Mc == pytest.approx(line_fit(x[1:], y[1:]).slope, rel=1e-12)
+    else:
+        assert math.isnan(rate.bedding_in_rate_mg_per_Mc)
+
+
+def test_bedding_in_over_two_stops_and_not_from_an_exact_line():
+    cycles = np.arange(9) * 500_000
+    y = np.array([0.0, 15.0, 30.0, 35.0, 40.02, 44.98, 50.01, 54.99, 60.0])  # stops 0 and 1 below the line after them
+    rate = station_rate(_station("1", cycles, 30_000 - y))
+    assert rate.bedding_in == "detected" and rate.from_cycle == 1_000_000
+    assert rate.bedding_in_rate_mg_per_Mc == pytest.approx(30.0)
+    exact = np.array([0.0, 30.0, 40.0, 50.0])  # the stops after the first lie on a line: no interval, no bedding-in
+    assert station_rate(_station("1", cycles[:4], 30_000 - exact)).bedding_in == "none"
+
+
+def test_a_given_start_needs_two_stops_from_it_on():
+    station = _station("7", [0, 1e6, 2e6], 1000 - np.array([0.0, 10.0, 21.0]))
+    assert station_rate(station, from_cycle=0).bedding_in == "none"
+    given = station_rate(station, from_cycle=1_000_000)
+    assert (given.bedding_in, given.from_cycle, given.dof) == ("given", 1_000_000, 0)
+    assert given.rate_mg_per_Mc == pytest.approx(11.0) and math.isnan(given.ci95_mg_per_Mc[0])
+    assert station_rate(station, from_cycle=500_000).from_cycle == 1_000_000  # the first stop from it on
+    with pytest.raises(
+        ArgumentError, match="--from: expected a cycle with at least two of station 7's stops from it on, got 1000001"
+    ):
+        station_rate(station, from_cycle=1_000_001)
+
+
+def test_a_rate_by_hand():
+    station = StationWeighings(
+        "3",
+        "soak_3",
+        np.array([0.0, 1e6, 2e6]),
+        1000 - np.array([0.0, 10.0, 21.0]),
+        np.full(3, 500.0),
+        np.array([2, 4, 6]),
+    )
+    rate = station_rate(station, density_mg_per_mm3=0.5, from_cycle=0)
+    half = 12.7062047 * math.sqrt(1 / 12)
+    assert (rate.station, rate.soak_control, rate.cycles, rate.from_cycle, rate.bedding_in, rate.dof) == (
+        "3",
+        "soak_3",
+        (0, 1_000_000, 2_000_000),
+        0,
+        "none",
+        1,
+    )
+    assert math.isnan(rate.bedding_in_rate_mg_per_Mc) and rate.outliers == ()
+    assert rate.rate_mg_per_Mc == pytest.approx(10.5) and rate.rate_mm3_per_Mc == pytest.approx(21.0)
+    assert rate.ci95_mg_per_Mc == pytest.approx((10.5 - half, 10.5 + half))
+    assert rate.ci95_mm3_per_Mc == pytest.approx(((10.5 - half) / 0.5, (10.5 + half) / 0.5))
+    assert rate.se_mg_per_Mc == pytest.approx(math.sqrt(1 / 12))
+    assert rate.loss_mg == pytest.approx((0.0, 10.0, 21.0)) and rate.volume_mm3 == pytest.approx((0.0, 20.0, 42.0))
+
+
+def test_a_tests_gravimetry_every_pair_and_the_density_stated(tmp_path):
+    path = tmp_path / "w.csv"
+    rows = ["cycle,station,mass_mg"]
+    for cycle, k in ((0, 0), (1_000_000, 1), (2_000_000, 2), (3_000_000, 3)):
+        rows += [f"{cycle},soak,500", f"{cycle},A,{1000 - 10 * k - 0.1 * (k == 1)}", f"{cycle},B,{1000 - 12 * k}"]
+        rows.append(f"{cycle},C,{1000 - 20 * k + 0.1 * (k == 2)}")
+    path.write_text("\n".join(rows) + "\n")
+    weighings = read_weighings(path)
+    result = gravimetry(weighings)
+    assert result.density_mg_per_mm3 == 0.935 and result.density_stated == "0.935 mg/mm³ (UHMWPE, the default)"
+    assert result.source == str(path)
+    assert [(d.a, d.b) for d in result.differences] == [("A", "B"), ("A", "C"), ("B", "C")]
+    assert result.station("B").rate_mg_per_Mc == pytest.approx(12.0)
+    given = gravimetry(weighings, 1.0, from_cycle=1_000_000)
+    assert given.density_stated == "1 mg/mm³ (given)" and given.station("A").bedding_in == "given"
+    assert given.station("C").rate_mm3_per_Mc == pytest.approx(given.station("C").rate_mg_per_Mc)
+    assert [rate.station for rate in given.stations] == ["A", "B", "C"] and len(given.differences) == 3
+    assert given.density_mg_per_mm3 == 1.0 and given.source == str(path)
+
+
+def test_a_difference_needs_both_intervals():
+    a = station_rate(_station("1", [0, 1e6, 2e6], 1000 - np.array([0.0, 10.0, 21.0])), 0.5, from_cycle=0)
+    b = station_rate(_station("2", [0, 1e6], 1000 - np.array([0.0, 30.0])), 0.5, from_cycle=0)
+    d = rate_difference(a, b)
+    assert d.difference_mg_per_Mc == pytest.approx(19.5) and d.difference_mm3_per_Mc == pytest.approx(39.0)
+    assert all(math.isnan(v) for v in d.ci95_mg_per_Mc) and d.significant is False
+    exact = station_rate(_station("3", [0, 1e6, 2e6], 1000 - np.array([0.0, 10.0, 20.0])), 0.5, from_cycle=0)
+    assert all(math.isnan(v) for v in rate_difference(exact, exact).ci95_mg_per_Mc)  # se² = 0: no interval
+    reverse = rate_difference(b, a)
+    assert (reverse.a, reverse.b, reverse.significant) == ("2", "1", False)
+    assert reverse.difference_mg_per_Mc == pytest.approx(-19.5) and reverse.difference_mm3_per_Mc == pytest.approx(
+        -39.0
+    )
+
+
+@pytest.mark.parametrize(
+    ("interval", "significant"),
+    [((0.0, 2.0), False), ((1e-12, 2.0), True), ((-2.0, 0.0), False), ((-2.0, -1e-12), True)],
+)
+def test_a_difference_is_significant_when_its_interval_excludes_zero(interval, significant):
+    from hipsim.wear.gravimetric import RateDifference
+
+    d = RateDifference("1", "2", 1.0, interval, 0.5)
+    assert d.significant is significant
+    assert d.ci95_mm3_per_Mc == pytest.approx((interval[0] / 0.5, interval[1] / 0.5))

@@ -64,3 +64,45 @@ def test_tangents_are_orthonormal_and_right_handed():
     assert_allclose(np.linalg.norm(t1, axis=1), 1.0)
     assert_allclose(np.cross(t1, t2), w, atol=1e-15)
     assert_allclose(t1[0], [1.0, 0.0, 0.0])  # at the pole, from x (the first axis least along w)
+
+
+@pytest.mark.parametrize("xyz", [np.array([0.0, 0.0, 1.0]), np.zeros((2, 2)), np.zeros((0, 3)), np.zeros((1, 4))])
+def test_points_not_as_rows_of_three_are_refused(xyz):
+    with pytest.raises(
+        ArgumentError, match=rf"^cup\.csv: expected points as rows of x, y, z, got shape \({xyz.shape[0]}"
+    ):
+        cup_points(xyz, source="cup.csv")
+
+
+def test_each_refusal_shows_the_row_as_given():
+    """The offending row's x, y, z as given; a NaN in the second row (the first is fine) names row 2."""
+    with pytest.raises(ArgumentError, match=r"^points, row 2: expected finite x, y, z, got \(0\.0, nan, 1\.0\)$"):
+        cup_points(np.array([[0.0, 0.0, 1.0], [0.0, math.nan, 1.0]]))
+    with pytest.raises(
+        ArgumentError, match=r"^points, row 1: expected a point on the unit sphere .*got \(0\.0, 0\.0, 2\.0\)$"
+    ):
+        cup_points(np.array([[0.0, 0.0, 2.0]]))
+    with pytest.raises(
+        ArgumentError, match=r"^points, row 1: expected a point of the cup \(z ≥ 0\), got \(0\.0, 0\.6, -0\.8\)$"
+    ):
+        cup_points(np.array([[0.0, 0.6, -0.8]]))
+
+
+def test_the_unit_and_cup_tolerances_are_inclusive():
+    """|w| = 1 ± 1e-3 and z = −1e-3 exactly are still taken (binary fractions, so the bounds are exact)."""
+    on = 1.0 + 2.0**-10  # within 1e-3 (0.000977)
+    assert cup_points(np.array([[0.0, 0.0, on]])).w.tolist() == [[0.0, 0.0, 1.0]]
+    z = -(2.0**-10)
+    cup_points(np.array([[math.sqrt(1 - z * z), 0.0, z]]))
+    assert UNIT_TOLERANCE == 1e-3
+
+
+def test_grids_of_one_and_of_the_most_cells_are_taken_and_n_phi_is_named():
+    one = cup_grid(1, 1, radius_mm=1.0)
+    assert one.shape == (1, 1) and one.w.shape == (1, 3) and one.area_mm2 is not None
+    assert one.area_mm2[0] == pytest.approx(math.sin(math.pi / 4) * (math.pi / 2) * 2 * math.pi)
+    assert cup_grid(1000, 1, radius_mm=1.0).shape == (1000, 1)
+    with pytest.raises(ArgumentError, match=r"^n_phi: expected a whole number of cells from 1 to 2000, got 2001$"):
+        cup_grid(1, 2001)
+    with pytest.raises(ArgumentError, match=r"^n_theta: expected a whole number of cells from 1 to 1000, got 0$"):
+        cup_grid(0, 1)

@@ -114,6 +114,111 @@ def test_the_largest_difference_is_named_by_its_magnitude():
     assert compare_verdict((_row(0.9, decides=False),), 0.05, ("A", "B")).level == Level.NOT_MADE
 
 
+def test_every_number_of_a_grids_summary_with_a_law():
+    from hipsim.wear.laws import WearFactor, predict_wear
+
+    maps = _maps(np.array([1.0, 2.0, 3.0, 4.0]))
+    maps = replace(maps, points=CupPoints(maps.points.w, maps.points.area_mm2, (1, 4)), cycles=3.0, duration_s=2.5)
+    wear = predict_wear(maps, WearFactor(2e-7))
+    s = wear_summary(maps, wear)
+    assert (s.source, s.cycles, s.samples, s.duration_s) == ("hand", 3.0, 100, 2.5)
+    assert (s.head_diameter_mm, s.sequence, s.moving, s.cup_mount_deg) == (28.0, "ZYX", "cup", (0.0, 0.0, 0.0))
+    assert s.points == 4 and s.grid == (1, 4)
+    assert (s.force_track_mm, s.force_track_load_Nm) == (12.0, 3.0)
+    assert s.wear_law == wear.law and s.wear_mm3_per_Mc == wear.total_mm3_per_Mc
+    assert s.wear_depth_um_per_Mc_max == pytest.approx(1e-3 * 2e-7 * 3.0 * 1e9)  # the most worked point's depth
+    assert s.points_beyond_law_table == 0
+    mounted = wear_summary(replace(maps, setup=CupSetup(32.0, "xyz", (math.pi / 2, 0.0, 0.0), "head")))
+    assert mounted.cup_mount_deg == pytest.approx((90.0, 0.0, 0.0)) and mounted.sequence == "XYZ"
+    assert (mounted.head_diameter_mm, mounted.moving) == (32.0, "head")
+
+
+def test_one_loaded_point_and_none():
+    maps = _maps(None)
+    one = replace(maps, work_N_per_mm=np.array([0.0, 0.0, 2.0, 0.0]))
+    s = wear_summary(one)
+    assert (s.loaded_points, s.cross_shear_mean, s.cross_shear_max, s.cross_shear_work_weighted) == (1, 0.2, 0.2, 0.2)
+    assert s.sliding_mm_mean == 4.0
+    none = wear_summary(replace(maps, work_N_per_mm=np.zeros(4), cross_shear=np.full(4, NAN)))
+    assert none.loaded_points == 0 and math.isnan(none.cross_shear_max) and math.isnan(none.cross_shear_mean)
+    assert math.isnan(none.sliding_mm_mean) and math.isnan(none.cross_shear_work_weighted)
+
+
+def test_each_row_of_a_comparison_is_complete():
+    rows = compare_summaries(BASE, replace(BASE, worn_area_mm2=12.0))
+    assert [row.key for row in rows] == [
+        "force_track_mm",
+        "force_track_load_Nm",
+        "sliding_mm_max",
+        "sliding_mm_mean",
+        "work_N_per_mm_max",
+        "load_slide_integral_Nm",
+        "cross_shear_mean",
+        "cross_shear_max",
+        "cross_shear_work_weighted",
+        "worn_area_mm2",
+        "wear_mm3_per_Mc",
+    ]
+    row = rows[9]
+    assert (row.key, row.label, row.unit, row.a, row.b, row.difference, row.decides) == (
+        "worn_area_mm2",
+        "area worn (W > 0)",
+        "mm²",
+        9.0,
+        12.0,
+        3.0,
+        True,
+    )
+    assert row.relative == pytest.approx(1 / 3)
+    assert rows[7].decides is False and rows[10].a is None and rows[10].relative is None  # no law: no wear volume
+
+
+def test_the_verdicts_sentences_by_hand():
+    b = replace(BASE, worn_area_mm2=9.9, cross_shear_mean=BASE.cross_shear_mean * 1.02, sliding_mm_max=60.0)
+    rows = compare_summaries(BASE, b)
+    different = compare_verdict(rows, 0.05, ("one.csv", "two.csv"))
+    assert different.judged == (
+        "B (two.csv) against A (one.csv): area worn (W > 0) differs most, by +10 % (9 → 9.9 mm²). "
+        "Beyond ±5 %: area worn (W > 0)."
+    )
+    assert different.not_judged == "largest sliding distance, largest work, largest CS (shown, not judged)"
+    alike = compare_verdict(rows, 0.11, ("one.csv", "two.csv"))
+    assert alike.judged.endswith("differs most, by +10 % (9 → 9.9 mm²). Every quantity judged is within ±11 %.")
+    unitless = compare_verdict(compare_summaries(BASE, replace(BASE, cross_shear_mean=0.3)), 0.2, ("a", "b"))
+    assert "mean CS (loaded area) differs most, by +12.5 % (0.2667 → 0.3)." in unitless.judged
+    none = compare_verdict(compare_summaries(BASE, replace(BASE, force_track_mm=NAN)), 0.05, ("a", "b"))
+    assert none.level == Level.ALIKE  # the others are still known
+    empty = compare_verdict((_row(0.5, decides=False), _row(0.1, decides=False, key="x")), 0.05, ("a", "b"))
+    assert (empty.level, empty.judged, empty.not_judged) == (
+        Level.NOT_MADE,
+        "no quantity is known in both runs",
+        "force_track_mm, x (shown, not judged)",
+    )
+
+
+def test_a_quantity_unchanged_is_not_the_largest_difference():
+    rows = (_row(0.0), _row(0.02, key="cross_shear_mean"))
+    assert "cross_shear_mean differs most, by +2 %" in compare_verdict(rows, 0.05, ("A", "B")).judged
+
+
+def test_difference_maps_are_b_minus_a_on_the_same_points():
+    from hipsim.exceptions import ArgumentError
+    from hipsim.wear.summary import difference_maps
+
+    a = _maps(None)
+    b = replace(a, sliding_mm=a.sliding_mm * 2, work_N_per_mm=a.work_N_per_mm + 1, cross_shear=a.cross_shear / 2)
+    d = difference_maps(a, b)
+    assert sorted(d) == ["cross_shear", "sliding_mm", "work_N_per_mm"]
+    np.testing.assert_allclose(d["sliding_mm"], [5.0, 2.0, 4.0, 6.0])
+    np.testing.assert_allclose(d["work_N_per_mm"], 1.0)
+    np.testing.assert_allclose(d["cross_shear"], [NAN, -0.05, -0.1, -0.2])
+    moved = replace(b, points=CupPoints(np.eye(3)[[2, 0, 1, 1]]))
+    with pytest.raises(ArgumentError, match="points: expected the same cup points in both runs"):
+        difference_maps(a, moved)
+    with pytest.raises(ArgumentError, match="points: expected the same cup points in both runs"):
+        difference_maps(a, replace(b, points=CupPoints(np.eye(3)[[2, 0, 1]])))
+
+
 def test_the_largest_point_difference_is_by_magnitude_and_skips_the_missing():
     differences = {
         "cross_shear": np.array([0.1, -0.3, np.nan, 0.2]),  # the fall is the largest, whatever its sign

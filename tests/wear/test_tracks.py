@@ -44,3 +44,22 @@ def test_markers_given_are_tracked():
     tracks = cycle_tracks(iso14242(rate=50), 1.0, CupSetup(), markers=np.array([[1.0, 0.0, 0.0]]))
     assert tracks.slide.shape[0] == 1
     assert_allclose(tracks.slide[0, 0], [1.0, 0.0, 0.0], atol=1e-12)
+
+
+def test_the_first_cycle_of_a_source_starting_late_and_the_samples_drawn(monkeypatch):
+    """A source (not a trajectory) starting at t = 5 s: its first cycle; a cycle of one step keeps two samples; a
+    cycle longer than the motion keeps all; at most MAX_DRAWN samples drawn, every ⌈K/MAX_DRAWN⌉-th."""
+    import hipsim.wear.tracks as tracks_module
+    from hipsim.motion.sources import SampledSource
+    from hipsim.motion.trajectories import Trajectory
+
+    base = iso14242(rate=100, cycles=2)
+    late = Trajectory(base.t + 5.0, base.q, base.qd, base.qdd, base.Fe, "late")
+    tracks = cycle_tracks(SampledSource(late), 1.0, CupSetup())
+    assert tracks.force.shape == (101, 3)
+    assert_allclose(tracks.load, base.Fe[:101])
+    assert cycle_tracks(late, 0.005, CupSetup()).force.shape == (2, 3)  # t₁ − t₀ reaches the cycle: samples 0, 1
+    assert cycle_tracks(late, 5.0, CupSetup()).force.shape == (200, 3)  # no sample reaches it: the whole motion
+    monkeypatch.setattr(tracks_module, "MAX_DRAWN", 10)
+    thin = cycle_tracks(late, 1.0, CupSetup())  # 101 samples, every 11th: 0, 11, … 99
+    assert_allclose(thin.load, base.Fe[0:101:11])

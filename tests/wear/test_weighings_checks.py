@@ -132,6 +132,92 @@ def test_one_cup_given_twice_is_found():
     assert duplicate_stations(_weighings(a, _station("2", wobble=WOBBLE + np.array([0, 0, 0, 0, 1e-3])))) is None
 
 
+def test_a_swap_at_the_first_stop_and_on_three_stops_with_a_small_residual():
+    """Three stops (the fewest with a residual), the exchange at the first stop, residuals under 1 mg²: still named."""
+    cycles = CYCLES[:3]
+    # Station 1 truly 1000, 990, 980 mg and station 2 1000.3, 989.3, 978.3: their first readings exchanged.
+    a = StationWeighings("1", "soak", cycles, np.array([1000.3, 990.0, 980.0]), np.full(3, 900.0), np.array([2, 4, 6]))
+    b = StationWeighings("2", "soak", cycles, np.array([1000.0, 989.3, 978.3]), np.full(3, 900.0), np.array([3, 5, 7]))
+    assert swap_findings(_weighings(a, b)) == ("stations 1 and 2 look swapped at cycle 0",)
+    mass, soak = np.array([1000.0, 990.0, 980.0]), np.array([999.8, 999.5, 999.5])
+    mass[0], soak[0] = soak[0], mass[0]
+    cup = StationWeighings("1", "soak", cycles, mass, soak, np.array([2, 4, 6]))
+    assert swap_findings(_weighings(cup)) == ("station 1 and its soak control 'soak' look swapped at cycle 0 (line 2)",)
+    two = StationWeighings("1", "soak", cycles[:2], mass[:2], soak[:2], np.array([2, 4]))
+    assert swap_findings(_weighings(two)) == ()  # two stops: no residual to remove
+
+
+def _sse(cycles, loss):
+    fitted = np.polyval(np.polyfit(cycles / 1e6, loss, 1), cycles / 1e6)
+    return float(np.sum((loss - fitted) ** 2))
+
+
+def test_an_exchange_that_removes_less_than_half_the_residual_is_not_named():
+    """Station 2's scatter at stop 2 is partly station 1's: exchanging them removes some of the two lines' squared
+    residual (worked out here with numpy's polyfit), but less than half: no swap named."""
+    a = _station("1", wobble=np.array([0.0, 0.17, 0.02, -0.29, -0.03]))
+    b = _station("2", wobble=np.array([0.0, -0.28, 0.05, -0.11, -0.21]))
+    base = _sse(CYCLES, a.loss_mg) + _sse(CYCLES, b.loss_mg)
+    exchanged = []
+    for k in range(CYCLES.size):
+        ma, mb = a.mass_mg.copy(), b.mass_mg.copy()
+        ma[k], mb[k] = b.mass_mg[k], a.mass_mg[k]
+        exchanged.append(_sse(CYCLES, ma[0] - ma) + _sse(CYCLES, mb[0] - mb))  # the soak controls do not change
+    assert 0.5 * base < min(exchanged) < 0.8 * base  # at stop 3: 0.114 of 0.154 mg²
+    assert swap_findings(_weighings(a, b)) == ()
+
+
+def test_a_rate_below_zero_is_judged_by_its_intervals_upper_end():
+    rate = station_rate(_station("1", -1.0, wobble=np.array([0.0, 1.0, -1.0, 1.0, 0.0])), 1.0)
+    assert rate.rate_mm3_per_Mc < 0 < rate.ci95_mm3_per_Mc[1] and rate_findings(rate) is None
+    high = rate_findings(station_rate(_station("1", 400.0, wobble=np.zeros(5)), 1.0))
+    assert high == (
+        "station 1: steady rate 400 mm³/Mc, beyond 300 mm³/Mc (hip cups wear under 150): masses in µg rather than mg, "
+        "or cups swapped at a stop?"
+    )
+
+
+def test_the_residual_gate_in_words_and_a_station_of_three_stops_held_to_a_stated_noise():
+    rate = station_rate(_station("1", wobble=np.array([0.0, 3.0, -3.0]), cycles=CYCLES[:3]), 1.0)
+    assert rate.dof == 1
+    found = residual_findings([rate], 0.01)
+    assert found is not None and found.startswith("residuals beyond 3 times") and " mg" in found
+    assert found.endswith(
+        "against √2 × the balance noise 0.01 mg (a stop misread, cups mixed up, or a balance out of its calibration?)"
+    )
+
+
+def test_every_gate_is_collected_in_one_check():
+    """A mass in g, a scatter 3 times the stated noise, a gaining cup, a swap: each named, in that order."""
+    grams = _station("g", 0.0, 900.0, np.zeros(5))  # 900 mg: grams in the mg column
+    noisy = _station("n", wobble=np.array([0.0, 2.0, -2.0, 2.0, -2.0]))
+    gaining = _station("up", -5.0, wobble=np.zeros(5))
+    mass, soak = noisy.mass_mg.copy(), noisy.soak_mg.copy()
+    w = _weighings(grams, noisy, gaining)
+    result = gravimetry(w, 1.0)
+    check = check_gravimetry(w, result, balance_noise_mg=0.1)
+    assert check.fit == "weighings" and not check.plausible
+    assert [f.split(" ")[0:2] for f in check.findings] == [
+        ["station", "g"],
+        ["residuals", "beyond"],
+        ["station", "up:"],
+    ]
+    assert "station n" in check.findings[1] and "0.1 mg" in check.findings[1]
+    assert check_gravimetry(w, result).findings[1].startswith("station up:")  # no stated noise: 5 stops are too few
+    mass[2], soak[2] = soak[2], mass[2]
+    swapped = _weighings(StationWeighings("s", "soak", CYCLES, mass, soak, noisy.lines))
+    assert check_gravimetry(swapped, gravimetry(swapped, 1.0)).findings[-1].startswith("station s and its soak")
+
+
+def test_one_cup_twice_names_the_first_lines():
+    a = _station("1")
+    b = StationWeighings("2", "soak", CYCLES, a.mass_mg.copy(), a.soak_mg, a.lines + 10)
+    assert duplicate_stations(_weighings(a, b)) == (
+        "stations 1 and 2 have the same masses at every stop (lines 2 and 12 on): one cup given twice counts its "
+        "stops twice; give each cup once"
+    )
+
+
 ROWS = "cycle,station,mass_mg\n" + "".join(
     f"{c},{name},{m:.2f}\n{c},soak,{29000 + 0.4 * c / 1e6:.2f}\n" if name == "1" else f"{c},{name},{m:.2f}\n"
     for c in (0, 500_000, 1_000_000, 1_500_000)
