@@ -158,3 +158,21 @@ def test_the_predictions_spread_by_hand(drawing):
     centred = np.sqrt(a0**2 * 1e-8 + 25e-8 * (b0 - 0.5 * a0) ** 2)
     np.testing.assert_allclose(calibration.prediction_std(q, up_to_constant=True), centred, rtol=1e-9, atol=1e-18)
     assert base.weak == ["lever_21"] and base.unseen == ["centre_x_1"]
+
+
+@pytest.mark.parametrize(
+    ("shapes", "message"),
+    [
+        ({"carriages": (2, 2), "sensors": (2, 2, 3)}, "carriages: expected shape (2, 3), got shape (2, 2)"),
+        ({"carriages": (2, 3), "sensors": (2, 3)}, "sensors: expected shape (2, 2, 3), got shape (2, 3)"),
+        (
+            {"carriages": (2, 3), "sensors": (2, 2, 3), "known": (2, 3)},
+            "known: expected shape (2, 2, 3), got shape (2, 3)",
+        ),
+    ],
+)
+def test_a_log_of_the_wrong_shape_is_refused_by_name(shapes, message):
+    """Two samples: carriages (2, 3), each platform's attitude (2, 2, 3); the array named with its shape and the one expected."""
+    with pytest.raises(ArgumentError) as error:
+        CalibrationLog("a.csv", np.zeros(2), **{key: np.zeros(shape) for key, shape in shapes.items()})
+    assert str(error.value) == message

@@ -67,6 +67,9 @@ def test_bands_as_typed_in_mm():
         ("lever=nan", "--bands, key 'lever': expected a band ±V in mm (V >= 0), got 'nan'"),
         ("lever=inf", "--bands, key 'lever': expected a band ±V in mm (V >= 0), got 'inf'"),
         ("lever=", "--bands, key 'lever': expected a band ±V in mm (V >= 0), got ''"),
+        # The key ends at the first "=", and text with "=" is a band even when it ends in .toml.
+        ("lever=0.1=2", "--bands, key 'lever': expected a band ±V in mm (V >= 0), got '0.1=2'"),
+        ("lever=0.1.toml", "--bands, key 'lever': expected a band ±V in mm (V >= 0), got '0.1.toml'"),
     ],
 )
 def test_bad_bands_are_refused_by_key(text, message):
@@ -217,6 +220,25 @@ def test_the_draws_are_the_machines_commanded_one_by_one(drawing, cycle, bands, 
         assert result.sensitivity[control] == sensitivity_table(S, widths, platforms)
 
 
+@pytest.mark.parametrize(("bands", "controls"), [("all=0.3", ("1", "2")), ("all=0.2,spline=0.5", ("2",))])
+def test_controls_1_and_2_are_solved_for_the_whole_batch(drawing, cycle, bands, controls, monkeypatch):
+    """Small bands: every draw converges in the batched path (with a seat, control 2's m_1 sees the carriages lowered
+    by the lift), none is left to the commands one machine at a time, and each is its machine commanded alone."""
+    t, q = cycle
+    tol = parse_tolerances(bands)
+    rms, peak = _expected(drawing, t, q, tol, controls, 2, 4)
+
+    def one_at_a_time(*args, **kwargs):
+        raise AssertionError("a draw was left to the commands one machine at a time")
+
+    monkeypatch.setattr(tolerance_module, "station_commands", one_at_a_time)
+    setup = tolerance_module._Setup(drawing, t, q, controls, half_widths(tol), (1.0, 1.0), 4)
+    first, batch_rms, batch_peak, failure = tolerance_batch((0, 2), setup)
+    assert first == 0 and failure is None
+    np.testing.assert_allclose(batch_rms, rms, rtol=1e-9, atol=1e-15)
+    np.testing.assert_allclose(batch_peak, peak, rtol=1e-9, atol=1e-15)
+
+
 def test_a_batch_names_the_draw_and_chain_out_of_reach(drawing, cycle):
     t, q = cycle
     setup = tolerance_module._Setup(drawing, t, q, ("2",), half_widths({"lever": 0.045}), (1.0, 1.0), 0)
@@ -225,6 +247,8 @@ def test_a_batch_names_the_draw_and_chain_out_of_reach(drawing, cycle):
     assert (
         failure is not None and failure.startswith(f"draw {11 + len(rms)}: ") and failure.endswith(" is out of reach")
     )
+    # The desired motion is within reach of each platform alone, so the commands' own refusal is what is named.
+    assert ": platform 1: no platform orientation gives the slider heights (" in failure
     with pytest.raises(HipsimError) as error:
         tolerance_draws(drawing, t, q, {"lever": 0.045}, draws=2, workers=0)
     assert re.match(r"--bands: draw [12]: ", str(error.value))
