@@ -118,3 +118,31 @@ def test_the_sensor_reads_its_platform_with_noise_and_drift():
     sensor.start(t, np.zeros(3))
     white = np.random.default_rng(4).standard_normal((3, 3))
     assert sensor.sensing()[2] == pytest.approx(0.3 * white + np.outer(t, [0.02] * 3), rel=1e-12)
+
+
+def test_refusals_name_the_setting_and_its_value_whole(drawing):
+    for make, message in (
+        (lambda: SensorFeedback(3), "control: expected 1 (m_1) or 2 (m_2), got 3"),
+        (lambda: SensorFeedback(True), "control: expected 1 (m_1) or 2 (m_2), got True"),
+        (lambda: EncoderFeedback(drawing, 0), "control: expected 1 (m_1) or 2 (m_2), got 0"),
+        (lambda: EncoderFeedback(drawing, 2, step=-1e-9), "step: expected an encoder step >= 0 in m, got -1e-09"),
+        (lambda: SensorFeedback(2, noise=-0.5), "noise: expected a standard deviation >= 0 in rad, got -0.5"),
+        (lambda: SensorFeedback(2, drift=math.inf), "drift: expected a finite drift in rad/s, got inf"),
+        (lambda: SensorFeedback(2, encoder_step=-2.0), "encoder_step: expected an encoder step >= 0 in m, got -2.0"),
+    ):
+        with pytest.raises(ArgumentError) as error:
+            make()
+        assert str(error.value) == message
+
+
+def test_the_defaults_are_the_documented_instruments(drawing):
+    """Encoders of 1 µm, a sensor of 0.05° white noise, no drift, seed 0; nothing read before a run starts."""
+    sensor = SensorFeedback(1)
+    assert (sensor.noise, sensor.drift, sensor.seed, sensor.step) == (math.radians(0.05), 0.0, 0, 1e-6)
+    assert sensor.control == 1 and sensor.name == "sensors" and sensor.sensing()[2].shape == (0, 3)
+    encoders = EncoderFeedback(drawing, 1)
+    assert encoders.step == 1e-6 and encoders.sensing()[3].tolist() == [0.0, 0.0, 0.0]
+    # A noiseless sensor's offsets are the drift alone, (n, 3), whatever the seed.
+    quiet = SensorFeedback(2, noise=0.0, drift=0.5, seed=9)
+    quiet.start(np.array([0.0, 2.0]), np.zeros(3))
+    assert quiet.sensing()[2].tolist() == [[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]

@@ -1,7 +1,9 @@
 """The loop on the machine as built (hipsim.control.machine_loop) on runs of a few servo periods of the reduced plant:
 the same arithmetic as simulate() on the drawing, the feed-forward row by row, the limit, and each refusal's words."""
 
+import dataclasses
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -11,9 +13,9 @@ import hipsim
 from hipsim.analytic.chain_dynamics import chain_inverse_dynamics, chain_motion
 from hipsim.control.controllers import WorkspacePD, feedforward_torques
 from hipsim.control.feedback import EncoderFeedback, SensorFeedback
-from hipsim.control.machine_loop import ModelPD, controlled_machine, model_feedforward, run_machine
+from hipsim.control.machine_loop import ModelPD, check_plant, controlled_machine, model_feedforward, run_machine
 from hipsim.control.simulation import ReducedPlant, simulate
-from hipsim.exceptions import ArgumentError, PoseError
+from hipsim.exceptions import ArgumentError, ParameterError, PoseError
 from hipsim.motion.trajectories import Trajectory
 
 Q0 = np.radians([4.0, 1.0, -2.0])
@@ -175,3 +177,146 @@ def test_a_state_no_longer_finite_or_an_unreadable_attitude_is_named(drawing):
     ) as error:
         run_machine(ReducedPlant(drawing), ModelPD(drawing, 2), Lost(drawing, 2), _desired, 0.004)
     assert (error.value.time, error.value.index) == (pytest.approx(0.001), 1)
+
+
+def _stand_in(model, source="plant.toml", **chains):
+    """A plant machine that is the model's but for the chain values given (what check_plant reads of it)."""
+    return SimpleNamespace(
+        angle_signs=model.angle_signs, chains=dataclasses.replace(model.chains, **chains), source=source
+    )
+
+
+@pytest.mark.parametrize(
+    ("field", "index", "where", "what"),
+    [
+        ("screw_points", (1, 0, 2), "chain 21", "U-joint centre"),
+        ("platform_points", (0, 2, 0), "chain 13", "platform joint"),
+        ("lever_lengths", (1, 2), "chain 23", "lever length"),
+        ("centres", (1, 1), "platform 2", "rotation centre"),
+    ],
+)
+def test_each_part_of_the_built_machine_is_checked_at_its_limit(drawing, monkeypatch, field, index, where, what):
+    """Each part off by 50 mm (MAX_DEVIATION) passes; by 50.4 mm it is refused, naming part, chain or platform, and
+    the deviation in mm; the largest deviation is the one named (a smaller one elsewhere first)."""
+    reached = []
+    monkeypatch.setattr(
+        "hipsim.analytic.stations.platform_attitude", lambda plant, L, control, **kw: reached.append((plant, control))
+    )
+    desired = _desired(np.arange(3) / 1000.0)
+    base = getattr(drawing.chains, field)
+
+    def off(mm):
+        values = np.array(base, dtype=float)
+        values[index] += mm * 1e-3
+        first = (0,) * values.ndim  # a smaller deviation at the first entry: not the one named
+        if first != index:
+            values[first] += 20e-3
+        return values
+
+    # The centres' x and y are 0 on the drawing: 50 mm there is exactly MAX_DEVIATION (not refused).
+    at_limit = _stand_in(drawing, **{field: off(50.0 if field == "centres" else 50.0 - 1e-9)})
+    check_plant(drawing, at_limit, desired, 2)
+    assert reached == [(at_limit, 2)]
+    with pytest.raises(ParameterError) as error:
+        check_plant(drawing, _stand_in(drawing, **{field: off(50.4)}), desired, 2)
+    assert str(error.value) == (
+        f"plant.toml: not the model's machine as built: the {what} of {where} is 50.4 mm off the model's "
+        "(a built machine deviates by at most 50 mm; give the plant and the model of one design)"
+    )
+    assert len(reached) == 1
+
+
+def test_a_plant_of_another_convention_or_out_of_reach_is_refused_whole(drawing, monkeypatch):
+    desired = _desired(np.arange(3) / 1000.0)
+    other = SimpleNamespace(angle_signs=np.array([1.0, -1.0, 1.0]), chains=drawing.chains, source="plant.toml")
+    with pytest.raises(ParameterError) as error:
+        check_plant(drawing, other, desired, 1)  # type: ignore[arg-type]
+    signs = drawing.angle_signs.tolist()
+    assert str(error.value) == (
+        f"plant.toml, key 'angles': the plant's angle signs [1.0, -1.0, 1.0] are not the model's {signs}: "
+        "one machine has one convention"
+    )
+
+    def lost(plant, L, control, t, q0, guess):
+        assert control == 1 and t.tolist() == desired.t.tolist()
+        assert q0.tolist() == desired.q[0].tolist() and guess is desired.q
+        raise PoseError("no attitude", 0.002, 2)
+
+    monkeypatch.setattr("hipsim.analytic.stations.platform_attitude", lost)
+    with pytest.raises(ParameterError) as error:
+        check_plant(drawing, _stand_in(drawing), desired, 1)
+    assert str(error.value).startswith(
+        "plant.toml: the plant's platform 1 cannot follow the carriages the model commands: "
+    )
+    assert str(error.value).endswith("no attitude")
+
+
+@pytest.fixture(scope="module")
+def pinocchio_plant(drawing):
+    from hipsim.closed_chain.plant import PinocchioPlant
+
+    return PinocchioPlant(drawing.replace(geometry=deviated(seed=5)))
+
+
+@pytest.mark.parametrize("sensors", [False, True])
+def test_three_periods_of_the_pinocchio_plant_compiled_and_in_python_are_one_arithmetic(
+    drawing, pinocchio_plant, sensors
+):
+    """The compiled route through machine_kernel (the plant's compiled RK4 steps, the feedback, the feed-forward and
+    the limit in one call) against the Python loop, on three periods of the Pinocchio plant of a built machine: equal
+    to the last bit, and the limit biting on some torques."""
+    duration, ff = 0.003, np.array([[0.01, -0.02, 0.03], [0.0, 0.01, 0.0], [-0.01, 0.0, 0.02]])
+
+    def run(compiled, limit=None):
+        feedback = SensorFeedback(2, noise=math.radians(0.05), seed=1) if sensors else EncoderFeedback(drawing, 2)
+        return run_machine(
+            pinocchio_plant, ModelPD(drawing, 2), feedback, _desired, duration, feedforward=ff, servo_rate=1000.0,
+            step=5e-4, torque_limit=limit, compiled=compiled,
+        )  # fmt: skip
+
+    free = run(False)
+    limit = 0.7 * float(np.abs(free.tau).max())
+    for torque_limit in (None, limit):
+        a, b = run(True, torque_limit), run(False, torque_limit)
+        for name in ("t", "carriages", "attitudes", "measured", "tau", "tau_requested", "saturated", "motor_speed"):
+            assert np.array_equal(getattr(a, name), getattr(b, name)), name
+    assert np.count_nonzero(b.saturated) > 0 and np.abs(b.tau).max() == pytest.approx(limit, rel=1e-15)
+    # The run starts on the desired motion (the plant's platform 2 at the desired pose), a period apart.
+    assert free.t.tolist() == pytest.approx([0.0, 0.001, 0.002], abs=1e-15)
+    assert free.attitudes[0, 1] == pytest.approx(Q0, abs=1e-9)
+
+
+def test_the_loop_s_refusals_whole(drawing):
+    """Each refusal names its setting and value: the platform, the gains, a plant built for the other platform, the
+    encoders' readings in mm where the model finds no attitude."""
+    for make, message in (
+        (lambda: ModelPD(drawing, 3), "control: expected 1 (m_1) or 2 (m_2), got 3"),
+        (lambda: ModelPD(drawing, 2, kp=np.ones(2)), "kp: expected shape (3,), got shape (2,)"),
+        (lambda: ModelPD(drawing, 2, kd=np.ones(4)), "kd: expected shape (3,), got shape (4,)"),
+    ):
+        with pytest.raises(ArgumentError) as error:
+            make()
+        assert str(error.value) == message
+    built = drawing.replace(geometry=deviated(seed=5))
+    assert built.geometry is not None
+    other = 3 - built.geometry.control
+    stand_in = SimpleNamespace(params=built)  # what the check reads of a plant
+    with pytest.raises(ArgumentError) as error:
+        run_machine(stand_in, ModelPD(drawing, other), SensorFeedback(other), _desired, 0.003)
+    assert str(error.value) == (
+        f"plant: expected a plant built from controlled_machine(params, {other}), whose first state holds the "
+        f"controlled platform at the desired motion, got 'a plant whose [geometry] control is {built.geometry.control}'"
+    )
+    seen = []
+
+    class Lost(EncoderFeedback):
+        def measure(self, k, t, L, Ld, q, qd):
+            reading, angles, rates = super().measure(k, t, L, Ld, q, qd)
+            seen.append(reading)
+            return (reading, angles * math.nan, rates) if k == 1 else (reading, angles, rates)
+
+    with pytest.raises(PoseError) as lost:
+        run_machine(ReducedPlant(drawing), ModelPD(drawing, 2), Lost(drawing, 2), _desired, 0.004, servo_rate=500.0)
+    mm = ", ".join(f"{v * 1000:.4f}" for v in seen[1])
+    assert f"finds no attitude of platform 2 for what the encoders read ({mm} mm)" in str(lost.value)
+    assert (lost.value.time, lost.value.index) == (pytest.approx(0.002), 1)  # 500 Hz: period 1 at 2 ms

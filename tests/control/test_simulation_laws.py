@@ -8,7 +8,7 @@ import pytest
 
 import hipsim
 from hipsim.analytic.inverse_kinematics import kinematics
-from hipsim.control.controllers import Sample, WorkspacePD
+from hipsim.control.controllers import AugmentedPD, Sample, WorkspacePD
 from hipsim.control.simulation import ReducedPlant, Simulation, apply_mismatch, parse_mismatch, servo_settings, simulate
 from hipsim.exceptions import ArgumentError, PoseError
 from hipsim.machine.parameter_set import FRICTION_COEFFICIENTS, ControlSettings
@@ -295,3 +295,167 @@ def test_the_reduced_plant_checks_what_it_is_given(params):
 
     assert Mine(params).advance(0.0, x, tau, loads, 1e-4, 2) == pytest.approx(compiled, rel=1e-12, abs=1e-15)
     assert Sample(Q0, QD0).Fe == 0.0
+
+
+class Slotted:
+    """The double integrator with its angles where a plant of its own keeps them: q = signs·x[angles], q̇ = signs·x[rates].
+
+    Eight state values (two spare, left alone), steps itself (``advance``, RK4 written here), so the compiled loop
+    controls each period around it as it does the Pinocchio plant's.
+    """
+
+    name = "slotted"
+    ANGLES, RATES, SIGNS = np.array([1, 3, 2]), np.array([5, 7, 6]), np.array([1.0, -1.0, 1.0])
+
+    def __init__(self, params, blow_at=math.inf):
+        self.params, self.blow_at = params, blow_at
+
+    @property
+    def angle_slots(self):
+        return self.ANGLES, self.RATES, self.SIGNS
+
+    def initial_state(self, desired):
+        x = np.array([7.0, 0, 0, 0, -7.0, 0, 0, 0])
+        x[self.ANGLES], x[self.RATES] = self.SIGNS * desired.q[0], self.SIGNS * desired.qd[0]
+        return x
+
+    def angles(self, x):
+        return self.SIGNS * x[self.ANGLES], self.SIGNS * x[self.RATES]
+
+    def derivative(self, t, x, tau, Fe):
+        dx = np.zeros_like(x)
+        dx[self.ANGLES] = x[self.RATES]
+        dx[self.RATES] = self.SIGNS * (DoubleIntegrator.c * tau + DoubleIntegrator.k * Fe)
+        return dx
+
+    def advance(self, t, x, tau, loads, h, substeps):
+        if t >= self.blow_at:
+            return np.full_like(x, np.nan)
+        for s in range(substeps):
+            k1 = self.derivative(t, x, tau, loads[2 * s])
+            k2 = self.derivative(t, x + h / 2 * k1, tau, loads[2 * s + 1])
+            k3 = self.derivative(t, x + h / 2 * k2, tau, loads[2 * s + 1])
+            k4 = self.derivative(t, x + h * k3, tau, loads[2 * s + 2])
+            x = x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+        return x
+
+
+@pytest.mark.parametrize("augmented", [False, True])
+def test_the_compiled_control_around_a_plant_that_steps_itself_is_the_python_loop(params, augmented):
+    """Four periods at 1 kHz, two RK4 steps each, from a pose 0.002 rad off: the compiled control (each period's
+    PD or augmented PD around the plant's own ``advance``, reading the state at its slots with their signs) gives the
+    Python loop's numbers, with and without a limit that bites on some torques."""
+    plant = Slotted(params)
+    controller = AugmentedPD(params, _desired, 1000.0, 0.004) if augmented else WorkspacePD(params)
+    start = plant.initial_state(_desired(np.zeros(1)))
+    start[Slotted.ANGLES] += Slotted.SIGNS * np.array([0.002, -0.001, 0.003])
+    free = simulate(plant, controller, _desired, 0.004, 1000.0, 5e-4, initial_state=start, compiled=False)
+    assert free.q[0] == pytest.approx(Q0 + [0.002, -0.001, 0.003], abs=1e-15) and free.qd[0] == pytest.approx(QD0)
+    limit = 0.6 * float(np.abs(free.tau).max())
+    for torque_limit in (None, limit):
+        slow, fast, default = (
+            simulate(plant, controller, _desired, 0.004, 1000.0, 5e-4, torque_limit, start, compiled=c)
+            for c in (False, True, None)
+        )
+        for run in (fast, default):
+            assert run.q == pytest.approx(slow.q, abs=1e-13) and run.qd == pytest.approx(slow.qd, abs=1e-12)
+            assert run.tau == pytest.approx(slow.tau, abs=1e-12)
+            assert run.tau_requested == pytest.approx(slow.tau_requested, abs=1e-12)
+            assert run.saturated.tolist() == slow.saturated.tolist()
+        if torque_limit is not None:
+            assert 0 < np.count_nonzero(slow.saturated) and np.abs(slow.tau).max() == pytest.approx(limit, rel=1e-15)
+    assert np.abs(free.tau).max() > 0.02  # N·m: the controller pushes back the offset
+    assert not free.saturated.any()
+
+
+def test_a_plant_that_steps_itself_is_named_where_it_goes_unstable(params):
+    for compiled in (True, False):
+        with pytest.raises(PoseError, match="no longer finite") as error:
+            simulate(
+                Slotted(params, blow_at=0.0015), WorkspacePD(params), _desired, 0.004, 1000.0, 5e-4, compiled=compiled
+            )
+        assert error.value.time == pytest.approx(0.003, abs=1e-15) and error.value.index == 3
+
+
+def test_a_state_without_the_plant_s_slots_is_refused(params):
+    """The compiled control reads the state at the slots unchecked: a state too short or not flat is refused first."""
+    for state in (np.zeros(7), np.zeros((1, 8))):
+        with pytest.raises(ArgumentError) as error:
+            simulate(
+                Slotted(params), WorkspacePD(params), _desired, 0.002, 1000.0, 5e-4, initial_state=state, compiled=True
+            )
+        assert str(error.value) == (
+            "initial_state: expected a state of the slotted plant, holding its angles at [1 3 2] and rates at [5 7 6], "
+            f"got shape {state.shape}"
+        )
+    run = simulate(Slotted(params), WorkspacePD(params), _desired, 0.002, 1000.0, 5e-4, initial_state=np.zeros(8))
+    assert run.q[0].tolist() == [0.0, 0.0, 0.0]
+
+
+def test_refusals_name_option_value_and_unit_whole(params):
+    control = ControlSettings(1000.0, 5e-4, np.ones(3), np.ones(3), 2.0)
+    assert servo_settings(control, 0.5, 2.0, None) == (0.5, 2.0, 2.0)  # a rate between 0 and 1 Hz: a 2 s period
+    for args, message in (
+        ((0.0, None, None), "servo_rate: expected a positive rate in Hz, got 0.0"),
+        ((-0.5, None, None), "servo_rate: expected a positive rate in Hz, got -0.5"),
+        ((None, None, 0.0), "torque_limit: expected a positive torque in N·m (inf for none), got 0.0"),
+        ((None, -1e-4, None), "step: expected a positive integration step in s, got -0.0001"),
+        ((0.5, 2.1, None), "step: expected an integration step no longer than the servo period 2 s, got 2.1"),
+    ):
+        with pytest.raises(ArgumentError) as error:
+            servo_settings(control, *args)
+        assert str(error.value) == message
+    with pytest.raises(ArgumentError) as error:
+        simulate(DoubleIntegrator(params), WorkspacePD(params), _desired, 0.02, 100.0, 0.01, compiled=True)
+    assert str(error.value) == (
+        "compiled: expected False, or None, unless the controller is a WorkspacePD or AugmentedPD and the plant a "
+        "ReducedPlant or one with angle_slots (the PinocchioPlant), got True"
+    )
+    with pytest.raises(ArgumentError) as error:
+        simulate(DoubleIntegrator(params), Steps(np.zeros((2, 3))), _desired, 0.0149, 100.0, 0.01)
+    assert str(error.value) == "duration: expected at least two servo periods (0.02 s), got 0.0149"
+    for text, message in (
+        ("friction=20", "mismatch: expected friction=+20% or masses=-10%, got 'friction=20'"),
+        ("masses=1%,masses=2%", "mismatch: expected masses given once, got 'masses=1%,masses=2%'"),
+    ):
+        with pytest.raises(ArgumentError) as error:
+            parse_mismatch(text)
+        assert str(error.value) == message
+    with pytest.raises(ArgumentError) as error:
+        apply_mismatch(params, friction=0.1, masses=-1.0)
+    assert str(error.value) == (
+        "mismatch: expected fractions above -1 (a mismatch of -100 % or less leaves nothing), "
+        "got {'friction': 0.1, 'masses': -1.0}"
+    )
+
+
+@pytest.fixture(scope="module")
+def pinocchio(params):
+    from hipsim.closed_chain.plant import PinocchioPlant
+
+    return PinocchioPlant(apply_mismatch(params, friction=0.3, masses=-0.1))
+
+
+def test_three_periods_of_the_pinocchio_plant_compiled_and_in_python_agree(params, pinocchio):
+    """The Pinocchio plant's compiled RK4 steps with the control of each period (closed_chain_loop) against the
+    Python loop, three periods from the desired pose, with a limit that bites: the same numbers."""
+    assert pinocchio.compiled_stepper() is not None
+    start = pinocchio.initial_state(_desired(np.zeros(1)))
+    controller = AugmentedPD(params, _desired, 1000.0, 0.003)
+    free = simulate(pinocchio, controller, _desired, 0.003, 1000.0, 5e-4, compiled=False)
+    limit = 0.7 * float(np.abs(free.tau).max())
+    slow, fast = (
+        simulate(pinocchio, controller, _desired, 0.003, 1000.0, 5e-4, limit, start, compiled=c) for c in (False, True)
+    )
+    assert fast.q == pytest.approx(slow.q, abs=1e-12) and fast.qd == pytest.approx(slow.qd, abs=1e-9)
+    assert fast.tau == pytest.approx(slow.tau, abs=1e-9)
+    assert fast.tau_requested == pytest.approx(slow.tau_requested, abs=1e-9)
+    assert fast.saturated.tolist() == slow.saturated.tolist() and slow.saturated.any()
+    assert np.abs(fast.tau).max() == pytest.approx(limit, rel=1e-15) and fast.plant == pinocchio.name
+    assert free.q[0] == pytest.approx(Q0, abs=1e-9)
+    with pytest.raises(ArgumentError) as error:
+        simulate(pinocchio, controller, _desired, 0.003, 1000.0, 5e-4, initial_state=start[:-1], compiled=True)
+    assert (
+        str(error.value)
+        == f"initial_state: expected a state of the {pinocchio.name} plant, of shape {start.shape}, got shape {start[:-1].shape}"
+    )
