@@ -112,8 +112,7 @@ class StationMotion:
 
 def squared_errors(errors: np.ndarray, weights=(1.0, 1.0)) -> np.ndarray:
     """Σ_j w_j·|e_j|² per sample in [deg²], from errors (N, 2, 3) in [rad]."""
-    e = np.degrees(errors)
-    return weights[0] * np.einsum("nk,nk->n", e[:, 0], e[:, 0]) + weights[1] * np.einsum("nk,nk->n", e[:, 1], e[:, 1])
+    return np.sum(np.degrees(errors) ** 2, axis=-1) @ np.asarray(weights)
 
 
 def attitudes(
@@ -334,7 +333,7 @@ def newton_from_close(
     Returns:
         Gait angles in [rad], (N, 3), and converged (N,) bool.
     """
-    p = np.asarray(guess, dtype=float) * signs
+    p = guess * signs  # the signs are floats: so is p
     converged = np.empty(len(p), dtype=bool)
     for start in range(0, len(p), BLOCK):  # blocks that stay in the cache; every sample is independent
         rows = slice(start, start + BLOCK)
