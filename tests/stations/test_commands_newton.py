@@ -41,9 +41,7 @@ def _six_machines(drawing):
     the carriages the hand route gives each (at platform angles truth·signs) and the chains' arrays per sample."""
     geometries = [None] + [deviated(seed=s, size_mm=2.0) for s in range(5)]
     truth = np.radians(np.array([[5.0, -3.0, 8.0], [-6.0, 4.0, -2.0], [2.0, 7.0, 3.0], [0.0, -5.0, 9.0]] * 2)[:6])
-    L = np.concatenate(
-        [reference_carriages(drawing, g, 2, (truth[k] * SIGNS)[None]) for k, g in enumerate(geometries)]
-    )
+    L = np.concatenate([reference_carriages(drawing, g, 2, (truth[k] * SIGNS)[None]) for k, g in enumerate(geometries)])
     chains = [drawing.replace(geometry=g).chains for g in geometries]
     points = np.stack([c.platform_points[1] for c in chains])
     offsets = np.stack([c.centres[1] - c.screw_points[1] for c in chains])
@@ -155,4 +153,4 @@ def test_a_reading_no_platform_takes_is_named(drawing, seated, seat):
             attitudes(params, L, q, t, "log.csv")
         assert error.value.index == 2 and error.value.time == time and error.value.source == "log.csv"
         assert str(error.value).startswith(f"log.csv, t = {time:.6g} s: platform 2: ")
-        assert error.value.reason.startswith(f"platform 2: ")
+        assert error.value.reason.startswith("platform 2: ")
