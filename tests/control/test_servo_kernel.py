@@ -65,33 +65,36 @@ def _start(sim) -> np.ndarray:
 
 
 def test_a_period_logs_the_state_then_holds_the_clipped_torque_over_rk4_steps_by_hand(params, run):
-    """Period 0 by hand: the augmented PD's torque at the logged state, clipped to a limit that bites, then the
-    classic RK4 steps (h, loads at every half step) of the plant's derivative under that clipped torque."""
+    """Period 1 by hand, from the state the run reached there: the augmented PD's torque at the logged state and
+    period 1's desired state and feed-forward row, clipped to a limit that bites, then the classic RK4 steps (h, the
+    loads at every half step from period 1's first, 2·substeps in) of the plant's derivative under that torque."""
     calls, sim, controller = run
-    recorded, x0 = calls[0].args, _start(sim)
-    desired = iso14242_at(np.array([0.0]))
-    wanted = controller(0.0, Sample(x0[:3], x0[3:]), Sample(desired.q[0], desired.qd[0], desired.qdd[0]))
+    recorded, x1 = calls[0].args, np.concatenate([sim.q[1], sim.qd[1]])
+    t1 = float(sim.t[1])
+    desired = Sample(recorded["desired_q"][1], recorded["desired_qd"][1])
+    wanted = controller(t1, Sample(x1[:3], x1[3:]), desired)
     limit = 0.5 * float(np.abs(wanted).max())
-    reached, log = _loop(calls[0], x0, 0, 1, limit=limit)
-    assert reached == 1
-    assert log["q"][0].tolist() == x0[:3].tolist() and log["qd"][0].tolist() == x0[3:].tolist()
-    np.testing.assert_allclose(log["tau_requested"][0], wanted, rtol=0, atol=1e-12)
+    reached, log = _loop(calls[0], x1, 1, 2, limit=limit)
+    assert reached == 2 and t1 == pytest.approx(1.0 / params.control.servo_rate, rel=1e-15)
+    assert log["q"][1].tolist() == x1[:3].tolist() and log["qd"][1].tolist() == x1[3:].tolist()
+    np.testing.assert_allclose(log["tau_requested"][1], wanted, rtol=0, atol=1e-12)
     held = np.clip(wanted, -limit, limit)
     assert np.abs(held - wanted).max() > 0.1 * limit  # the limit bites
-    np.testing.assert_allclose(log["tau"][0], held, rtol=0, atol=1e-12)
-    assert bool(log["saturated"][0]) and np.isnan(log["q"][1:]).all()  # period 0 only
+    np.testing.assert_allclose(log["tau"][1], held, rtol=0, atol=1e-12)
+    assert bool(log["saturated"][1]) and np.isnan(log["q"][[0, 2]]).all()  # period 1 only
 
-    plant, h, loads = ReducedPlant(params), recorded["h"], recorded["loads"]
-    x = x0.copy()
-    for s in range(recorded["substeps"]):
-        k1 = plant.derivative(0.0, x, held, loads[2 * s])
-        k2 = plant.derivative(0.0, x + h / 2 * k1, held, loads[2 * s + 1])
-        k3 = plant.derivative(0.0, x + h / 2 * k2, held, loads[2 * s + 1])
-        k4 = plant.derivative(0.0, x + h * k3, held, loads[2 * s + 2])
+    plant, h, substeps = ReducedPlant(params), recorded["h"], recorded["substeps"]
+    loads = recorded["loads"][2 * substeps :]
+    x = x1.copy()
+    for s in range(substeps):
+        k1 = plant.derivative(t1, x, held, loads[2 * s])
+        k2 = plant.derivative(t1, x + h / 2 * k1, held, loads[2 * s + 1])
+        k3 = plant.derivative(t1, x + h / 2 * k2, held, loads[2 * s + 1])
+        k4 = plant.derivative(t1, x + h * k3, held, loads[2 * s + 2])
         x = x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
-    assert recorded["substeps"] >= 2 and loads[0] != loads[1] != loads[2]  # a wrong load index would show
+    assert substeps >= 2 and loads[0] != loads[1] != loads[2]  # a wrong load index would show
     np.testing.assert_allclose(log["x"], x, rtol=0, atol=1e-13)
-    assert np.abs(log["x"] - x0).max() > 1e-6  # and the state moved
+    assert np.abs(log["x"] - x1).max() > 1e-6  # and the state moved
 
 
 def test_the_limit_bites_strictly_above_it_and_lets_nan_through(run):
