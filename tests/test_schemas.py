@@ -75,11 +75,11 @@ def test_a_failing_station_exits_1(tmp_path, capsys):
 
 def test_iso_check(tmp_path, capsys):
     status, document = _json(capsys, ["iso-check", "--out", str(tmp_path / "iso"), "--summary-format", "json"])
-    assert status == 0 and document["passed"] is True
+    assert status == 0 and document["verdict"]["level"] == "PASS"
     _valid(capsys, "iso-check", document)
     strict = ["iso-check", "--tolerance", "alpha=0.000001", "--out", str(tmp_path / "iso2"), "--summary-format", "json"]
     status, document = _json(capsys, strict)
-    assert status == 1 and document["failing"] == ["alpha"]
+    assert status == 1 and document["failing"] == ["alpha"] and document["verdict"]["level"] == "FAIL"
     _valid(capsys, "iso-check", document)
 
 

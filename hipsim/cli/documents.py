@@ -109,7 +109,9 @@ class StationsTolerance(Record):
 
 @dataclass(frozen=True)
 class IsoCheckRun(Record):
-    """``hipsim iso-check``: the run's check per quantity and per cycle, and the page written."""
+    """``hipsim iso-check``: the run's verdict, its check per quantity and per cycle, and the page written."""
+
+    schema_version: ClassVar[str] = "2"  # 2: verdict, a records.Verdict (PASS/FAIL), for the boolean passed
 
     check: IsoCheckSummary = flattened()
     index: str = ""
