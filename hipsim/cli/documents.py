@@ -58,8 +58,11 @@ __all__ = [
 
 @dataclass(frozen=True)
 class StationsRun(Record):
-    """``hipsim stations`` on a desired motion: the summary, the per-sample table and the page written."""
+    """``hipsim stations`` on a desired motion: the verdict, the summary, the per-sample table and the page written."""
 
+    schema_version: ClassVar[str] = "2"  # 2: verdict, the run's records.Verdict (stations_verdict), added
+
+    verdict: Verdict
     summary: StationSummary
     table: str
     index: str
