@@ -158,7 +158,10 @@ class ReportFiles(Record):
 
 @dataclass(frozen=True)
 class MonitorRun(Record):
-    """``hipsim monitor``: the run's summary keys, the table written (None: none), the provenance, the page if asked."""
+    """``hipsim monitor``: the run's summary keys (its verdict first), the table written (None: none), the
+    provenance, the page if asked."""
+
+    schema_version: ClassVar[str] = "2"  # 2: verdict, the state's records.Verdict (MonitorResult.verdict), added
 
     summary: MonitorSummary = flattened()
     out: str | None = None
