@@ -71,8 +71,12 @@ class StationsRun(Record):
 
 @dataclass(frozen=True)
 class WearRun(Record):
-    """``hipsim wear`` on one motion: the summary's keys, the notes, the table and the page written."""
+    """``hipsim wear`` on one motion: the verdict (NOT MADE: not rated), the summary's keys, the notes, the table and
+    the page written."""
 
+    schema_version: ClassVar[str] = "2"  # 2: verdict, the run's records.Verdict (wear.summary.run_verdict), added
+
+    verdict: Verdict
     summary: WearSummary = flattened()
     notes: tuple[str, ...] = ()
     table: str = ""
