@@ -225,7 +225,9 @@ class CycleCheck(Record):
 
 
 #: What a run's ISO 14242-1 check does not judge (the verdict's ``not_judged``).
-TOLERANCES_ASSUMED = "the tolerances themselves: the defaults are assumed values; confirm them against your copy of ISO 14242-1"
+TOLERANCES_ASSUMED = (
+    "the tolerances themselves: the defaults are assumed values; confirm them against your copy of ISO 14242-1"
+)
 
 
 def binding_quantity(quantities: Mapping[str, QuantityCheck]) -> str:

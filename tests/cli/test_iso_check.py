@@ -98,8 +98,13 @@ def test_the_page_opens_with_the_verdict_and_hashes_its_log(tmp_path, capsys, qu
     assert digest in page and "station 2" in page
     assert page.index('class="verdict') < page.index("<table") and "FAIL" in page[: page.index("<table")]
     document = json.loads((out / "iso_check.json").read_text())
-    assert document["verdict"]["level"] == "FAIL" and document["verdict"]["judged"].startswith("alpha left the tolerance")
-    assert document["verdict"]["numbers"]["alpha_tolerance_deg"] == 3.0 and list(document)[:2] == ["verdict", "provenance"]
+    assert document["verdict"]["level"] == "FAIL" and document["verdict"]["judged"].startswith(
+        "alpha left the tolerance"
+    )
+    assert document["verdict"]["numbers"]["alpha_tolerance_deg"] == 3.0 and list(document)[:2] == [
+        "verdict",
+        "provenance",
+    ]
     assert [entry["sha256"] for entry in document["provenance"]["inputs"] if entry["path"].endswith("alpha.csv")] == [
         digest
     ]

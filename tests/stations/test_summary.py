@@ -110,5 +110,8 @@ def test_the_sliders_attitudes_state_no_verdict():
 
     verdict = sliders_verdict(SlidersSummary("log.csv", 12, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)))
     assert verdict.level == Level.NOT_MADE and exit_status([verdict]) == 0
-    assert verdict.judged == "both platforms' attitudes from the carriages of log.csv (12 samples): how far apart they turn"
+    assert (
+        verdict.judged
+        == "both platforms' attitudes from the carriages of log.csv (12 samples): how far apart they turn"
+    )
     assert verdict.not_judged == "the attitudes against an acceptance limit (none is set)" and not verdict.numbers

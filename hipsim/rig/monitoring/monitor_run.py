@@ -30,10 +30,10 @@ from ...analysis.cluster import batch_size as _batch_size
 from ...analysis.cluster import run_batches
 from ...exceptions import ArgumentError, TrajectoryError
 from ...machine.parameters import Parameters
+from ...records import Verdict
 from .control_chart import DEFAULT_ALARM_RISE, DEFAULT_BASELINE, EWMA_L, EWMA_LAMBDA, MIN_BASELINE, check_baseline_min
 from .findings import Findings, check_acknowledged, duplicates, find, missing_cycles
 from .monitor_fit import MonitorSetup, estimate_batch
-from ...records import Verdict
 from .monitor_state import MonitorState, last_change, monitor_state, monitor_verdict
 from .monitor_summary import Baseline, LoadCell, MonitorSummary, SkippedFile, SnapshotFile, StationBaseline
 from .monitor_table import COLUMNS, MONITOR_TABLE, PARTS, table_rows, write_table
