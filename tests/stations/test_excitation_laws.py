@@ -128,7 +128,12 @@ def test_the_condition_without_offsets_by_default_and_the_structure_asked_for(mo
     are not centred. Without a structure given, the machine's own is asked for with the offsets' choice."""
     pair = _pair()
     asked: list[tuple[object, bool]] = []
-    monkeypatch.setattr(excitation_module, "structure", lambda p, offsets: asked.append((p, offsets)) or pair)
+
+    def structure(p: Parameters, offsets: bool) -> Structure:
+        asked.append((p, offsets))
+        return pair
+
+    monkeypatch.setattr(excitation_module, "structure", structure)
     q = _series(COEFFICIENTS, 1.0, np.arange(30) / 30.0)[0]
     Y = attitude_jacobian(params, np.stack([q, q], axis=1), pair.independent).reshape(-1, 2)
     unit = Y / np.linalg.norm(Y, axis=0)

@@ -59,7 +59,9 @@ def test_a_channel_log_read_through_its_column_map(tmp_path):
     slider = read_slider_log(path, 0.01, columns=columns)
     assert slider[2] is not None and np.degrees(slider[2][2, 1, 2]) == pytest.approx(sensors[2, 5])
     assert read_carriage_log(path, 0.01, columns=columns)[1][1] == pytest.approx([0.501, 0.511, 0.521])
-    np.testing.assert_allclose(np.degrees(read_desired(path, columns)), desired, rtol=1e-15)
+    read = read_desired(path, columns)
+    assert read is not None
+    np.testing.assert_allclose(np.degrees(read), desired, rtol=1e-15)
 
 
 def test_a_channel_log_is_refused_by_its_sample_number(tmp_path):
