@@ -50,6 +50,9 @@ def test_the_controlled_rms_is_over_the_learned_platforms_only():
     assert _summary((a, b)).controlled_rms_deg() == pytest.approx(math.sqrt(3.0), rel=1e-12)
     assert _summary((a, c)).controlled_rms_deg() == pytest.approx(math.sqrt(3.0), rel=1e-12)
     assert math.isnan(_summary((c,)).controlled_rms_deg())
+    d = PlatformErrors(1, True, (1.0, 1.0, 1.0), (0.0,) * 3, (0.0,) * 3)  # total 1
+    # the RMS of the platforms' totals √3 and 1, √((3 + 1)/2) = √2, not their mean (√3 + 1)/2
+    assert _summary((d, b)).controlled_rms_deg() == pytest.approx(math.sqrt(2.0), rel=1e-12)
     document = _summary((a,)).to_json()
     assert document["converges"] is False  # the data figure 1.5
     assert document["errors"][0]["rms_deg"] == (3.0, 0.0, 0.0)
