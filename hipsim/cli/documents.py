@@ -59,8 +59,11 @@ __all__ = [
 
 @dataclass(frozen=True)
 class StationsRun(Record):
-    """``hipsim stations`` on a desired motion: the summary, the per-sample table and the page written."""
+    """``hipsim stations`` on a desired motion: the verdict, the summary, the per-sample table and the page written."""
 
+    schema_version: ClassVar[str] = "2"  # 2: verdict, the run's records.Verdict (stations_verdict), added
+
+    verdict: Verdict
     summary: StationSummary
     table: str
     index: str
@@ -69,8 +72,12 @@ class StationsRun(Record):
 
 @dataclass(frozen=True)
 class WearRun(Record):
-    """``hipsim wear`` on one motion: the summary's keys, the notes, the table and the page written."""
+    """``hipsim wear`` on one motion: the verdict (NOT MADE: not rated), the summary's keys, the notes, the table and
+    the page written."""
 
+    schema_version: ClassVar[str] = "2"  # 2: verdict, the run's records.Verdict (wear.summary.run_verdict), added
+
+    verdict: Verdict
     summary: WearSummary = flattened()
     notes: tuple[str, ...] = ()
     table: str = ""
@@ -110,7 +117,9 @@ class StationsTolerance(Record):
 
 @dataclass(frozen=True)
 class IsoCheckRun(Record):
-    """``hipsim iso-check``: the run's check per quantity and per cycle, and the page written."""
+    """``hipsim iso-check``: the run's verdict, its check per quantity and per cycle, and the page written."""
+
+    schema_version: ClassVar[str] = "2"  # 2: verdict, a records.Verdict (PASS/FAIL), for the boolean passed
 
     check: IsoCheckSummary = flattened()
     index: str = ""
@@ -154,7 +163,10 @@ class ReportFiles(Record):
 
 @dataclass(frozen=True)
 class MonitorRun(Record):
-    """``hipsim monitor``: the run's summary keys, the table written (None: none), the provenance, the page if asked."""
+    """``hipsim monitor``: the run's summary keys (its verdict first), the table written (None: none), the
+    provenance, the page if asked."""
+
+    schema_version: ClassVar[str] = "2"  # 2: verdict, the state's records.Verdict (MonitorResult.verdict), added
 
     summary: MonitorSummary = flattened()
     out: str | None = None

@@ -154,7 +154,7 @@ def format_result(result, contexts, notes) -> str:
     from ..present.tables import format_table
 
     g = result.gravimetry
-    out = [f"verdict: {result.verdict.word}", *(f"  {line}" for line in result.verdict.lines)]
+    out = [f"verdict: {result.word}", *(f"  {line}" for line in result.lines)]
     rows = []
     for s in result.stations:
         r = s.rate
