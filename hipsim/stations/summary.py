@@ -30,6 +30,7 @@ __all__ = [
     "attitude_columns",
     "error_columns",
     "sliders_summary",
+    "sliders_verdict",
     "station_columns",
     "station_summary",
     "stations_verdict",
@@ -225,4 +226,14 @@ def sliders_summary(log: str, attitudes: np.ndarray) -> SlidersSummary:
         len(attitudes),
         (float(rms[0]), float(rms[1]), float(rms[2])),
         (float(peak[0]), float(peak[1]), float(peak[2])),
+    )
+
+
+def sliders_verdict(sliders: SlidersSummary) -> Verdict:
+    """The verdict of the attitudes from a log's carriages: NOT MADE (how far apart the platforms turn has no limit)."""
+    return Verdict(
+        Level.NOT_MADE,
+        f"both platforms' attitudes from the carriages of {sliders.log} ({sliders.samples} samples): how far apart "
+        "they turn",
+        "the attitudes against an acceptance limit (none is set)",
     )

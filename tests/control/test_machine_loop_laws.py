@@ -251,41 +251,6 @@ def test_a_plant_of_another_convention_or_out_of_reach_is_refused_whole(drawing,
     assert str(error.value).endswith("no attitude")
 
 
-@pytest.fixture(scope="module")
-def pinocchio_plant(drawing):
-    from hipsim.closed_chain.plant import PinocchioPlant
-
-    return PinocchioPlant(drawing.replace(geometry=deviated(seed=5)))
-
-
-@pytest.mark.parametrize("sensors", [False, True])
-def test_three_periods_of_the_pinocchio_plant_compiled_and_in_python_are_one_arithmetic(
-    drawing, pinocchio_plant, sensors
-):
-    """The compiled route through machine_kernel (the plant's compiled RK4 steps, the feedback, the feed-forward and
-    the limit in one call) against the Python loop, on three periods of the Pinocchio plant of a built machine: equal
-    to the last bit, and the limit biting on some torques."""
-    duration, ff = 0.003, np.array([[0.01, -0.02, 0.03], [0.0, 0.01, 0.0], [-0.01, 0.0, 0.02]])
-
-    def run(compiled, limit=None):
-        feedback = SensorFeedback(2, noise=math.radians(0.05), seed=1) if sensors else EncoderFeedback(drawing, 2)
-        return run_machine(
-            pinocchio_plant, ModelPD(drawing, 2), feedback, _desired, duration, feedforward=ff, servo_rate=1000.0,
-            step=5e-4, torque_limit=limit, compiled=compiled,
-        )  # fmt: skip
-
-    free = run(False)
-    limit = 0.7 * float(np.abs(free.tau).max())
-    for torque_limit in (None, limit):
-        a, b = run(True, torque_limit), run(False, torque_limit)
-        for name in ("t", "carriages", "attitudes", "measured", "tau", "tau_requested", "saturated", "motor_speed"):
-            assert np.array_equal(getattr(a, name), getattr(b, name)), name
-    assert np.count_nonzero(b.saturated) > 0 and np.abs(b.tau).max() == pytest.approx(limit, rel=1e-15)
-    # The run starts on the desired motion (the plant's platform 2 at the desired pose), a period apart.
-    assert free.t.tolist() == pytest.approx([0.0, 0.001, 0.002], abs=1e-15)
-    assert free.attitudes[0, 1] == pytest.approx(Q0, abs=1e-9)
-
-
 def test_the_loop_s_refusals_whole(drawing):
     """Each refusal names its setting and value: the platform, the gains, a plant built for the other platform, the
     encoders' readings in mm where the model finds no attitude."""
