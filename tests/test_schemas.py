@@ -11,7 +11,7 @@ from pathlib import Path
 import jsonschema
 import pytest
 
-from hipsim.cli.documents import SCHEMAS
+from hipsim.cli.documents import COMMAND_LINES, SCHEMAS
 from hipsim.cli.main import main
 from hipsim.records import EXIT_RULE, SCHEMA_VERSION
 
@@ -31,7 +31,7 @@ def _schema(capsys, command: str) -> dict:
     jsonschema.Draft202012Validator.check_schema(schema)
     assert (
         schema["version"] == SCHEMAS[command].schema_version
-        and schema["title"] == f"hipsim {command} --summary-format json"
+        and schema["title"] == f"hipsim {COMMAND_LINES[command]} --summary-format json"
     )
     return schema
 

@@ -35,6 +35,7 @@ from ..wear.summary import WearComparison, WearSummary
 from .documents_more import MORE_SCHEMAS
 
 __all__ = [
+    "COMMAND_LINES",
     "SCHEMAS",
     "CalibrateRun",
     "CompareRun",
@@ -270,6 +271,38 @@ SCHEMAS: dict[str, type[Record]] = {
 }
 
 
+#: Document → the command line that prints it (after ``hipsim``, before ``--summary-format json``): the schema's
+#: title. A mode is its command with the option that selects it; an option the command requires is named by its
+#: metavar (each line parses with the real parser: tests/cli/test_documents.py).
+COMMAND_LINES: dict[str, str] = {
+    "check": "check",
+    "compare": "compare --log FILE",
+    "feasible": "feasible",
+    "iso-check": "iso-check",
+    "monitor": "monitor --params FILE --log DIR_OR_FILES",
+    "report": "report --out DIR",
+    "simulate": "simulate",
+    "stations": "stations",
+    "torques": "torques",
+    "stations-sliders": "stations --sliders LOG",
+    "stations-tolerance": "stations --bands SPEC",
+    "wear": "wear",
+    "wear-compare": "wear --compare A B",
+    "identify": "identify --log FILE --out FILE",
+    "identify-base": "identify --base",
+    "calibrate": "calibrate --log FILE --out FILE",
+    "excite": "excite --out FILE",
+    "excite-calibration": "excite --for calibration --out FILE",
+    "size": "size",
+    "size-catalogue": "size --catalogue CSV",
+    "simulate-plant": "simulate --plant-params FILE",
+    "sweep": "sweep",
+    "workspace": "workspace",
+    "wear-test": "wear --weighings FILE",
+}
+
+
 def schema(command: str) -> dict[str, Any]:
-    """The JSON Schema of ``command``'s ``--summary-format json`` document (a key of :data:`SCHEMAS`)."""
-    return SCHEMAS[command].json_schema(command)
+    """The JSON Schema of ``command``'s ``--summary-format json`` document (a key of :data:`SCHEMAS`), titled by the
+    command line that prints it (:data:`COMMAND_LINES`)."""
+    return SCHEMAS[command].json_schema(command, COMMAND_LINES[command])

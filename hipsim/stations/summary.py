@@ -17,6 +17,7 @@ import numpy as np
 from ..motion.iso_compliance import DEFAULT_TOLERANCES
 from ..motion.iso_verdict import ANGLES, StationIso, station_iso
 from ..records import Level, Record, Verdict, optional
+from ..results import rms_and_signed_peak
 from .commands import StationMotion
 
 __all__ = [
@@ -129,8 +130,7 @@ class StationSummary(Record):
 
 def angle_error(t: np.ndarray, values_deg: np.ndarray) -> AngleError:
     """RMS, signed peak and its time of one error series in [deg] over times t in [s]."""
-    peak = int(np.argmax(np.abs(values_deg)))
-    return AngleError(float(np.sqrt(np.mean(values_deg**2))), float(values_deg[peak]), float(t[peak]))
+    return AngleError(*rms_and_signed_peak(t, values_deg))
 
 
 def station_summary(
