@@ -163,7 +163,9 @@ def run_machine(
     n = int(round(duration * servo_rate))
     if n < 2:
         raise ArgumentError("duration", duration, f"at least two servo periods ({2 * period:g} s)")
-    ff = np.zeros((n, 3)) if feedforward is None else np.asarray(feedforward, dtype=float)
+    # A writable C copy whatever the caller gives (model_feedforward returns a read-only Fortran view): numba
+    # compiles the loop once per array type, and each compile costs seconds.
+    ff = np.zeros((n, 3)) if feedforward is None else np.array(feedforward, dtype=float, order="C")
     if ff.shape != (n, 3):
         raise ArgumentError("feedforward", ff.shape, f"torques of shape ({n}, 3), one row a servo period")
     t = np.arange(n) * period

@@ -3,6 +3,7 @@ the same arithmetic as simulate() on the drawing, the feed-forward row by row, t
 
 import dataclasses
 import math
+import os
 from types import SimpleNamespace
 from typing import Any
 
@@ -416,3 +417,24 @@ def test_the_route_taken_its_progress_bar_and_its_compile_note(drawing, pinocchi
     ]
     run_machine(pinocchio_plant, ModelPD(drawing, 2), EncoderFeedback(drawing, 2), _desired, 0.002, compiled=compiled)
     assert _Bar.opened[-1]["desc"] == "pinocchio plant, controller, encoders" and _Bar.opened[-1]["disable"]
+
+
+@pytest.mark.skipif(os.environ.get("NUMBA_DISABLE_JIT") == "1", reason="counts numba's compiled signatures")
+def test_a_feedforward_of_any_layout_compiles_the_loop_once(drawing, pinocchio_plant):
+    """model_feedforward's read-only Fortran view, a user's C array and none at all reach the compiled loop as one
+    array type (a second type would compile machine_kernel.machine_loop again: seconds), with the same torques."""
+    from hipsim.control import machine_kernel
+
+    n = 3  # servo periods at 1 kHz over 3 ms
+    given = np.array([[0.01, -0.02, 0.03], [0.0, 0.01, 0.0], [-0.01, 0.0, 0.02]])[:n]
+    fortran = np.asfortranarray(given)
+    fortran.flags.writeable = False
+    runs, compiled = [], []  # the count after each run (other tests in this process may have compiled other plants)
+    for ff in (None, given, fortran):
+        pd, encoders = ModelPD(drawing, 2), EncoderFeedback(drawing, 2)
+        runs.append(run_machine(pinocchio_plant, pd, encoders, _desired, 0.003, feedforward=ff))
+        compiled.append(len(machine_kernel.machine_loop.signatures))
+    assert compiled[1:] == compiled[:1] * 2, machine_kernel.machine_loop.signatures
+    assert np.array_equal(runs[1].tau_requested, runs[2].tau_requested)
+    # The same state at period 0: the rows differ by the feed-forward alone there.
+    assert np.allclose(runs[1].tau_requested[0] - runs[0].tau_requested[0], given[0], rtol=0, atol=1e-12)
