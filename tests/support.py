@@ -171,3 +171,24 @@ class Recorded:
 
     args: dict[str, Any]
     types: tuple
+
+
+#: A still pose of the ramp and the start of the turn below [rad], and the ramp's constant rates [rad/s].
+RAMP_Q0 = np.radians([4.0, 1.0, -2.0])
+RAMP_QD0 = np.array([0.1, -0.05, 0.02])
+
+
+def ramp(t: Any) -> Trajectory:
+    """A still pose at RAMP_Q0 (its rates RAMP_QD0 given, not integrated) whose load rises: F_e = 1000 + 500·t N."""
+    t = np.asarray(t, dtype=float)
+    n = t.size
+    q = np.tile(RAMP_Q0, (n, 1))
+    return Trajectory(t, q, np.tile(RAMP_QD0, (n, 1)), np.zeros((n, 3)), 1000.0 + 500.0 * t, name="ramp")
+
+
+def turn(t: Any) -> Trajectory:
+    """A slow turn from RAMP_Q0 at (0.2, −0.1, 0.05) rad/s under a load that rises: 1000 + 500·t N."""
+    t = np.asarray(t, dtype=float)
+    rate = np.array([0.2, -0.1, 0.05])
+    q = RAMP_Q0 + t[:, None] * rate
+    return Trajectory(t, q, np.tile(rate, (t.size, 1)), np.zeros((t.size, 3)), 1000.0 + 500.0 * t, name="turn")

@@ -14,21 +14,19 @@ import math
 
 import numpy as np
 import pytest
-from support import Recorded, argument_types, recorded_calls
+from support import RAMP_Q0 as Q0
+from support import Recorded, argument_types, ramp, recorded_calls
 
 import hipsim
 from hipsim.control import closed_chain_loop
 from hipsim.control.controllers import AugmentedPD
 from hipsim.control.simulation import apply_mismatch, simulate
 from hipsim.exceptions import ArgumentError
-from hipsim.motion.trajectories import Trajectory
 
 NAMES = list(
     inspect.signature(getattr(closed_chain_loop.stepped_loop, "py_func", closed_chain_loop.stepped_loop)).parameters
 )
 LOG = ("q", "qd", "tau", "tau_requested", "saturated")
-Q0 = np.radians([4.0, 1.0, -2.0])
-QD0 = np.array([0.1, -0.05, 0.02])
 
 
 @pytest.fixture(scope="module")
@@ -36,12 +34,7 @@ def params():
     return hipsim.load_parameters()
 
 
-def _desired(t):
-    """A still pose at Q0 whose load rises linearly: F_e = 1000 + 500·t N."""
-    t = np.asarray(t, dtype=float)
-    n = t.size
-    q = np.tile(Q0, (n, 1))
-    return Trajectory(t, q, np.tile(QD0, (n, 1)), np.zeros((n, 3)), 1000.0 + 500.0 * t, name="ramp")
+_desired = ramp  # the motion of tests/support.py
 
 
 @pytest.fixture(scope="module")

@@ -17,17 +17,16 @@ import math
 import numpy as np
 import pytest
 from stations_synthetic import deviated
-from support import Recorded, argument_types, recorded_calls
+from support import RAMP_Q0 as Q0
+from support import Recorded, argument_types, recorded_calls, turn
 
 import hipsim
 from hipsim.control import machine_kernel
 from hipsim.control.feedback import EncoderFeedback, SensorFeedback
 from hipsim.control.machine_loop import ModelPD, run_machine
-from hipsim.motion.trajectories import Trajectory
 
 NAMES = list(inspect.signature(getattr(machine_kernel.machine_loop, "py_func", machine_kernel.machine_loop)).parameters)
 LOG = ("carriages", "attitudes", "rates", "speeds", "measured", "tau", "tau_requested", "saturated")
-Q0 = np.radians([4.0, 1.0, -2.0])
 FF = np.array([[0.01, -0.02, 0.03], [0.0, 0.01, 0.0], [-0.01, 0.0, 0.02]])
 
 
@@ -36,12 +35,7 @@ def drawing():
     return hipsim.load_parameters()
 
 
-def _desired(t):
-    """A slow turn from Q0 under a load that rises: 1000 + 500·t N."""
-    t = np.asarray(t, dtype=float)
-    rate = np.array([0.2, -0.1, 0.05])
-    q = Q0 + t[:, None] * rate
-    return Trajectory(t, q, np.tile(rate, (t.size, 1)), np.zeros((t.size, 3)), 1000.0 + 500.0 * t, name="turn")
+_desired = turn  # the motion of tests/support.py
 
 
 @pytest.fixture(scope="module")

@@ -11,6 +11,8 @@ import numpy as np
 import pytest
 from fake_clock import FakeClock
 from stations_synthetic import deviated
+from support import RAMP_Q0 as Q0
+from support import turn
 
 import hipsim
 from hipsim.analytic.chain_dynamics import chain_inverse_dynamics, chain_motion
@@ -21,20 +23,13 @@ from hipsim.control.simulation import ReducedPlant, simulate
 from hipsim.exceptions import ArgumentError, ParameterError, PoseError
 from hipsim.motion.trajectories import Trajectory
 
-Q0 = np.radians([4.0, 1.0, -2.0])
-
 
 @pytest.fixture(scope="module")
 def drawing():
     return hipsim.load_parameters()
 
 
-def _desired(t):
-    """A slow turn from Q0 under a load that rises: 1000 + 500·t N."""
-    t = np.asarray(t, dtype=float)
-    rate = np.array([0.2, -0.1, 0.05])
-    q = Q0 + t[:, None] * rate
-    return Trajectory(t, q, np.tile(rate, (t.size, 1)), np.zeros((t.size, 3)), 1000.0 + 500.0 * t, name="turn")
+_desired = turn  # the motion of tests/support.py
 
 
 def test_controlled_machine(drawing):

@@ -5,6 +5,9 @@ import math
 
 import numpy as np
 import pytest
+from support import RAMP_Q0 as Q0
+from support import RAMP_QD0 as QD0
+from support import ramp
 
 import hipsim
 from hipsim.analytic.inverse_kinematics import kinematics
@@ -15,21 +18,13 @@ from hipsim.machine.parameter_set import FRICTION_COEFFICIENTS, ControlSettings
 from hipsim.motion.trajectories import Trajectory
 from hipsim.physics.transmission import angle_from_travel
 
-Q0 = np.radians([4.0, 1.0, -2.0])
-QD0 = np.array([0.1, -0.05, 0.02])
-
 
 @pytest.fixture(scope="module")
 def params():
     return hipsim.load_parameters()
 
 
-def _desired(t):
-    """A still pose at Q0 whose load rises linearly: F_e = 1000 + 500·t N."""
-    t = np.asarray(t, dtype=float)
-    n = t.size
-    q = np.tile(Q0, (n, 1))
-    return Trajectory(t, q, np.tile(QD0, (n, 1)), np.zeros((n, 3)), 1000.0 + 500.0 * t, name="ramp")
+_desired = ramp  # the motion of tests/support.py
 
 
 class DoubleIntegrator:
