@@ -167,11 +167,14 @@ class Record:
         return out
 
     @classmethod
-    def json_schema(cls, command: str | None = None) -> dict[str, Any]:
+    def json_schema(cls, command: str | None = None, command_line: str | None = None) -> dict[str, Any]:
         """The JSON Schema (draft 2020-12) of :meth:`to_json`'s document, with ``$defs`` for nested records.
 
         Args:
-            command: the command whose document it is, for the title and ``$id`` (default: the class name).
+            command: the document's name (``hipsim schema NAME``), for the ``$id`` and, without ``command_line``,
+                the title (default: the class name).
+            command_line: the words after ``hipsim`` that print the document (``"stations --sliders LOG"``), for
+                the title ``hipsim ... --summary-format json`` (default: ``command``).
         """
         defs = _Defs()
         body = _record_schema(cls, defs)
@@ -179,7 +182,7 @@ class Record:
         schema: dict[str, Any] = {
             "$schema": "https://json-schema.org/draft/2020-12/schema",
             "$id": f"https://hipsim.invalid/schemas/{name.replace(' ', '-')}/v{cls.schema_version}.json",
-            "title": f"hipsim {name} --summary-format json" if command else name,
+            "title": f"hipsim {command_line or name} --summary-format json" if command else name,
             "version": cls.schema_version,
             **body,
         }

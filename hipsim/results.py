@@ -39,6 +39,7 @@ __all__ = [
     "Torques",
     "column_names",
     "peak_and_rms",
+    "rms_and_signed_peak",
 ]
 
 
@@ -58,6 +59,23 @@ def peak_and_rms(values: np.ndarray, axis: int = 0) -> tuple[np.ndarray, np.ndar
     squares = np.moveaxis(values**2, axis, -1)
     sums = np.array([math.fsum(row) for row in squares.reshape(-1, squares.shape[-1])]).reshape(squares.shape[:-1])
     return np.abs(values).max(axis=axis), np.sqrt(sums / values.shape[axis])
+
+
+def rms_and_signed_peak(t: np.ndarray, values: np.ndarray) -> tuple[float, float, float]:
+    """(RMS, the value of largest magnitude with its sign, its time) of one series, e.g. an error in [deg].
+
+    The law of every per-platform-and-angle error a run reports (``stations``, a plant-and-model run, a log's sensors
+    against the prediction).
+
+    Args:
+        t: sample times in [s], (N,).
+        values: the series, (N,).
+
+    Returns:
+        (RMS in the values' unit, the peak in it, when it occurs in [s]: the first of equal magnitudes).
+    """
+    peak = int(np.argmax(np.abs(values)))
+    return float(np.sqrt(np.mean(values**2))), float(values[peak]), float(t[peak])
 
 
 @dataclass(frozen=True, eq=False)

@@ -6,7 +6,9 @@
 #   JOBS=1 scripts/mutation.sh rig      # worker processes (default 2)
 #   TARGETS=/path/to/targets.toml ...    # another table (test files it names that are missing are skipped)
 #   scripts/mutation.sh --survivors motion  # after adding tests: rerun only the last run's survivors
-#                                           # (the tests copied afresh; killed mutants stay killed)
+#                                           # (the tests copied afresh and the target's test list read again:
+#                                           # test files added to it run too; killed mutants stay killed; a test
+#                                           # dropped from it or a changed deselect is refused: run it in full)
 #
 # Each package runs in its own copy of the tree (build/mutation/<package>/): the copy's
 # pyproject.toml gets a [tool.mutmut] table naming the files to mutate and the tests that
@@ -24,6 +26,7 @@ venv=${VENV:-$root/.venv}
 jobs=${JOBS:-2}
 targets=${TARGETS:-$root/scripts/mutation_targets.toml}
 survivors_only=0
+status=0
 if [ "${1:-}" = "--survivors" ]; then
     survivors_only=1
     shift
@@ -45,6 +48,12 @@ for package in "${packages[@]}"; do
         [ -f "$work/survivors.txt" ] || { echo "$package: no earlier run in $work" >&2; continue; }
         rm -rf "$work/tests"
         (cd "$root" && tar --exclude=__pycache__ -cf - tests) | tar -xf - -C "$work"
+        # The target's current test list (scripts/mutation_config.py): tests added since the first run are run on the
+        # survivors, the first run's verdicts kept; a test dropped or a deselect changed is refused.
+        "$venv/bin/python" "$root/scripts/mutation_config.py" survivors "$targets" "$package" "$work" || {
+            status=2
+            continue
+        }
         mapfile -t names < <(sed -n 's/^ *\([^:]*\): \(survived\|no tests\)$/\1/p' "$work/survivors.txt")
         start=$(date +%s)
         if [ "${#names[@]}" -gt 0 ]; then
@@ -59,26 +68,7 @@ for package in "${packages[@]}"; do
         (cd "$root" && tar --exclude=__pycache__ --exclude='*.nbi' --exclude='*.nbc' -cf - hipsim models tests pyproject.toml) | tar -xf - -C "$work"
         # The laws without their numba mark (see above); `jitable` itself stays for other callers.
         find "$work/hipsim" -name '*.py' -exec sed -i '/^@jitable$/d' {} +
-        "$venv/bin/python" - "$targets" "$package" "$work/pyproject.toml" <<'PY'
-import json, re, sys, tomllib
-from pathlib import Path
-
-targets, package, pyproject = sys.argv[1], sys.argv[2], Path(sys.argv[3])
-target = tomllib.load(open(targets, "rb"))[package]
-text = re.sub(r"(?ms)^\[tool\.mutmut\].*?(?=^\[|\Z)", "", pyproject.read_text())
-args = ["-n", "0", "-q", "-p", "no:cacheprovider", "-W", "ignore::DeprecationWarning"]
-args += [f"--deselect={test}" for test in target.get("deselect", [])]
-table = {
-    "source_paths": ["hipsim"],
-    "only_mutate": target["mutate"],
-    "pytest_add_cli_args": args,
-    # Test files missing from this tree are left out (an older checkout measured with today's targets).
-    "pytest_add_cli_args_test_selection": [test for test in target["tests"] if (pyproject.parent / test.split("::")[0]).exists()],
-    "use_git_change_detection": False,
-}
-lines = ["", "[tool.mutmut]"] + [f"{key} = {json.dumps(value)}" for key, value in table.items()]
-pyproject.write_text(text.rstrip() + "\n" + "\n".join(lines) + "\n")
-PY
+        "$venv/bin/python" "$root/scripts/mutation_config.py" write "$targets" "$package" "$work"
         start=$(date +%s)
         (cd "$work" && NUMBA_DISABLE_JIT=1 MPLBACKEND=Agg "$venv/bin/mutmut" run --max-children "$jobs" >"$work/run.log" 2>&1) || {
             echo "$package: mutmut failed, see $work/run.log" >&2
@@ -105,3 +95,4 @@ PY
     grep -v ": no tests" "$work/survivors.txt" | sed 's/^ */    /' || true
     grep ": no tests" "$work/survivors.txt" | sed 's/__mutmut_[0-9]*: no tests//; s/^ */    no tests: /' | sort | uniq -c || true
 done
+exit "$status"

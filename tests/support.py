@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from typing import TypeVar
+from dataclasses import dataclass
+from typing import Any, TypeVar
 
 import numpy as np
 
@@ -135,3 +136,59 @@ def closed_hip():
     chain = load_model(load_parameters())
     kin = kinematics(chain, smooth_cycle(np.linspace(0.0, 1.0, 41)))
     return SimpleNamespace(chain=chain, kin=kin, ws=Workspace(chain), layout=chain.layout)
+
+
+def recorded_calls(monkeypatch, module, name: str) -> list[tuple[tuple, tuple]]:
+    """Wrap ``module.name`` (a compiled kernel, as its caller looks it up) to keep each call's arguments, by reference,
+    with their numba types as the call saw them (:func:`argument_types`: a log frozen afterwards is typed writable).
+
+    The arguments a production caller passes carry the exact types numba compiled the kernel for: a test that calls
+    the kernel again with arguments of those types reuses that compiled specialisation instead of compiling a new one
+    (seconds of CPU each).
+    """
+    calls: list[tuple[tuple, tuple]] = []
+    kernel = getattr(module, name)
+
+    def recorded(*args):
+        calls.append((args, argument_types(args)))
+        return kernel(*args)
+
+    monkeypatch.setattr(module, name, recorded)
+    return calls
+
+
+def argument_types(args: tuple) -> tuple:
+    """The numba types a compiled kernel's dispatcher sees for ``args``: one specialisation per distinct tuple."""
+    from numba import typeof
+    from numba.core.typing.typeof import Purpose
+
+    return tuple(typeof(arg, Purpose.argument) for arg in args)
+
+
+@dataclass(frozen=True)
+class Recorded:
+    """One recorded call of a compiled kernel: its arguments by parameter name, and their numba types at the call."""
+
+    args: dict[str, Any]
+    types: tuple
+
+
+#: A still pose of the ramp and the start of the turn below [rad], and the ramp's constant rates [rad/s].
+RAMP_Q0 = np.radians([4.0, 1.0, -2.0])
+RAMP_QD0 = np.array([0.1, -0.05, 0.02])
+
+
+def ramp(t: Any) -> Trajectory:
+    """A still pose at RAMP_Q0 (its rates RAMP_QD0 given, not integrated) whose load rises: F_e = 1000 + 500·t N."""
+    t = np.asarray(t, dtype=float)
+    n = t.size
+    q = np.tile(RAMP_Q0, (n, 1))
+    return Trajectory(t, q, np.tile(RAMP_QD0, (n, 1)), np.zeros((n, 3)), 1000.0 + 500.0 * t, name="ramp")
+
+
+def turn(t: Any) -> Trajectory:
+    """A slow turn from RAMP_Q0 at (0.2, −0.1, 0.05) rad/s under a load that rises: 1000 + 500·t N."""
+    t = np.asarray(t, dtype=float)
+    rate = np.array([0.2, -0.1, 0.05])
+    q = RAMP_Q0 + t[:, None] * rate
+    return Trajectory(t, q, np.tile(rate, (t.size, 1)), np.zeros((t.size, 3)), 1000.0 + 500.0 * t, name="turn")

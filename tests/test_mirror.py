@@ -29,12 +29,7 @@ EXEMPT = {
 }
 
 #: Modules with logic still lacking a test file at their mirrored path -> where they are exercised today.
-KNOWN_GAPS = {
-    "control/closed_chain_loop.py": "closed_chain/test_plant.py, control/test_simulation.py",
-    "control/machine_kernel.py": "indirectly, through control/test_machine_loop.py",
-    "control/servo_kernel.py": "control/test_simulation.py",
-    "wear/kernel.py": "indirectly, through the modules that call it",
-}
+KNOWN_GAPS: dict[str, str] = {}
 
 
 def modules() -> list[str]:

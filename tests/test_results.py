@@ -10,9 +10,16 @@ import pytest
 from support import given
 
 import hipsim
-from hipsim.results import column_names
+from hipsim.results import column_names, rms_and_signed_peak
 
 README = Path(__file__).resolve().parents[1] / "README.md"
+
+
+def test_the_rms_and_the_signed_peak_of_an_error():
+    """1, −3, 3, 2 at 0, 0.1, 0.2, 0.3 s: RMS √(23/4); the peak −3 (the first of equal magnitudes, its sign kept)."""
+    t = np.array([0.0, 0.1, 0.2, 0.3])
+    assert rms_and_signed_peak(t, np.array([1.0, -3.0, 3.0, 2.0])) == (math.sqrt(23 / 4), -3.0, 0.1)
+    assert rms_and_signed_peak(t, np.array([1.0, 3.0, -3.0, 2.0])) == (math.sqrt(23 / 4), 3.0, 0.1)
 
 
 @pytest.fixture(scope="module")

@@ -11,7 +11,7 @@ from pathlib import Path
 import jsonschema
 import pytest
 
-from hipsim.cli.documents import SCHEMAS
+from hipsim.cli.documents import COMMAND_LINES, SCHEMAS
 from hipsim.cli.main import main
 from hipsim.records import EXIT_RULE, SCHEMA_VERSION
 
@@ -31,7 +31,7 @@ def _schema(capsys, command: str) -> dict:
     jsonschema.Draft202012Validator.check_schema(schema)
     assert (
         schema["version"] == SCHEMAS[command].schema_version
-        and schema["title"] == f"hipsim {command} --summary-format json"
+        and schema["title"] == f"hipsim {COMMAND_LINES[command]} --summary-format json"
     )
     return schema
 
@@ -50,6 +50,7 @@ def test_stations_modes(tmp_path, capsys):
     argv = ["stations", "--set", LEVER, "--control", "2", "--rate", "100", "--summary-format", "json"]
     status, document = _json(capsys, [*argv, "--out", str(tmp_path / "run")])
     assert status == 0 and document["summary"]["platforms"][0]["iso"]["verdict"] == "PASS"
+    assert document["verdict"]["level"] == "PASS" and document["verdict"]["judged"].startswith("ISO 14242-1")
     _valid(capsys, "stations", document)
     sliders = ["stations", "--set", LEVER, "--sliders", str(tmp_path / "run" / "stations.csv"), "--out"]
     status, document = _json(capsys, [*sliders, str(tmp_path / "sl"), "--summary-format", "json"])
@@ -66,7 +67,7 @@ def test_a_failing_station_exits_1(tmp_path, capsys):
     argv = ["stations", "--set", "geometry.lever_offset_mm=[15, 0, 0, 0, 0, 0]", "--control", "2", "--rate", "100"]
     status, document = _json(capsys, [*argv, "--out", str(tmp_path / "f"), "--summary-format", "json"])
     verdicts = [p["iso"]["verdict"] for p in document["summary"]["platforms"]]
-    assert verdicts == ["FAIL", "PASS"] and status == 1
+    assert verdicts == ["FAIL", "PASS"] and status == 1 and document["verdict"]["level"] == "FAIL"
     _valid(capsys, "stations", document)
     assert main([*argv, "--out", str(tmp_path / "g")]) == 1
     text = capsys.readouterr().out
@@ -75,18 +76,18 @@ def test_a_failing_station_exits_1(tmp_path, capsys):
 
 def test_iso_check(tmp_path, capsys):
     status, document = _json(capsys, ["iso-check", "--out", str(tmp_path / "iso"), "--summary-format", "json"])
-    assert status == 0 and document["passed"] is True
+    assert status == 0 and document["verdict"]["level"] == "PASS"
     _valid(capsys, "iso-check", document)
     strict = ["iso-check", "--tolerance", "alpha=0.000001", "--out", str(tmp_path / "iso2"), "--summary-format", "json"]
     status, document = _json(capsys, strict)
-    assert status == 1 and document["failing"] == ["alpha"]
+    assert status == 1 and document["failing"] == ["alpha"] and document["verdict"]["level"] == "FAIL"
     _valid(capsys, "iso-check", document)
 
 
 def test_wear_and_its_comparison(tmp_path, capsys):
     base = ["wear", "--grid", "8x16", "--rate", "100", "--summary-format", "json"]
     status, document = _json(capsys, [*base, "--out", str(tmp_path / "w.csv")])
-    assert status == 0
+    assert status == 0 and document["verdict"]["level"] == "NOT MADE"  # one run: not rated
     _valid(capsys, "wear", document)
     compare = [*base, "--compare", "iso", "iso", "--report", str(tmp_path / "cmp"), "--out", str(tmp_path / "c.csv")]
     status, document = _json(capsys, compare)
@@ -106,8 +107,9 @@ def test_simulate(tmp_path, capsys):
 
 
 def test_a_document_whose_keys_changed_has_its_own_version():
-    """compare, report and wear --compare carry a records.Verdict since version 2; the others are at version 1."""
-    changed = {"compare", "report", "wear-compare"}
+    """compare, report, wear --compare, and since this round iso-check, stations, monitor, wear and the wear test carry
+    a records.Verdict since version 2 (under the key verdict); the others are at version 1."""
+    changed = {"compare", "report", "wear-compare", "iso-check", "stations", "monitor", "wear", "wear-test"}
     for name, record in SCHEMAS.items():
         assert record.schema_version == ("2" if name in changed else SCHEMA_VERSION), name
         assert record.json_schema(name)["$id"].endswith(f"/{name}/v{record.schema_version}.json")

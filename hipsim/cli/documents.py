@@ -35,6 +35,7 @@ from ..wear.summary import WearComparison, WearSummary
 from .documents_more import MORE_SCHEMAS
 
 __all__ = [
+    "COMMAND_LINES",
     "SCHEMAS",
     "CalibrateRun",
     "CompareRun",
@@ -58,8 +59,11 @@ __all__ = [
 
 @dataclass(frozen=True)
 class StationsRun(Record):
-    """``hipsim stations`` on a desired motion: the summary, the per-sample table and the page written."""
+    """``hipsim stations`` on a desired motion: the verdict, the summary, the per-sample table and the page written."""
 
+    schema_version: ClassVar[str] = "2"  # 2: verdict, the run's records.Verdict (stations_verdict), added
+
+    verdict: Verdict
     summary: StationSummary
     table: str
     index: str
@@ -68,8 +72,12 @@ class StationsRun(Record):
 
 @dataclass(frozen=True)
 class WearRun(Record):
-    """``hipsim wear`` on one motion: the summary's keys, the notes, the table and the page written."""
+    """``hipsim wear`` on one motion: the verdict (NOT MADE: not rated), the summary's keys, the notes, the table and
+    the page written."""
 
+    schema_version: ClassVar[str] = "2"  # 2: verdict, the run's records.Verdict (wear.summary.run_verdict), added
+
+    verdict: Verdict
     summary: WearSummary = flattened()
     notes: tuple[str, ...] = ()
     table: str = ""
@@ -109,7 +117,9 @@ class StationsTolerance(Record):
 
 @dataclass(frozen=True)
 class IsoCheckRun(Record):
-    """``hipsim iso-check``: the run's check per quantity and per cycle, and the page written."""
+    """``hipsim iso-check``: the run's verdict, its check per quantity and per cycle, and the page written."""
+
+    schema_version: ClassVar[str] = "2"  # 2: verdict, a records.Verdict (PASS/FAIL), for the boolean passed
 
     check: IsoCheckSummary = flattened()
     index: str = ""
@@ -153,7 +163,10 @@ class ReportFiles(Record):
 
 @dataclass(frozen=True)
 class MonitorRun(Record):
-    """``hipsim monitor``: the run's summary keys, the table written (None: none), the provenance, the page if asked."""
+    """``hipsim monitor``: the run's summary keys (its verdict first), the table written (None: none), the
+    provenance, the page if asked."""
+
+    schema_version: ClassVar[str] = "2"  # 2: verdict, the state's records.Verdict (MonitorResult.verdict), added
 
     summary: MonitorSummary = flattened()
     out: str | None = None
@@ -258,6 +271,38 @@ SCHEMAS: dict[str, type[Record]] = {
 }
 
 
+#: Document → the command line that prints it (after ``hipsim``, before ``--summary-format json``): the schema's
+#: title. A mode is its command with the option that selects it; an option the command requires is named by its
+#: metavar (each line parses with the real parser: tests/cli/test_documents.py).
+COMMAND_LINES: dict[str, str] = {
+    "check": "check",
+    "compare": "compare --log FILE",
+    "feasible": "feasible",
+    "iso-check": "iso-check",
+    "monitor": "monitor --params FILE --log DIR_OR_FILES",
+    "report": "report --out DIR",
+    "simulate": "simulate",
+    "stations": "stations",
+    "torques": "torques",
+    "stations-sliders": "stations --sliders LOG",
+    "stations-tolerance": "stations --bands SPEC",
+    "wear": "wear",
+    "wear-compare": "wear --compare A B",
+    "identify": "identify --log FILE --out FILE",
+    "identify-base": "identify --base",
+    "calibrate": "calibrate --log FILE --out FILE",
+    "excite": "excite --out FILE",
+    "excite-calibration": "excite --for calibration --out FILE",
+    "size": "size",
+    "size-catalogue": "size --catalogue CSV",
+    "simulate-plant": "simulate --plant-params FILE",
+    "sweep": "sweep",
+    "workspace": "workspace",
+    "wear-test": "wear --weighings FILE",
+}
+
+
 def schema(command: str) -> dict[str, Any]:
-    """The JSON Schema of ``command``'s ``--summary-format json`` document (a key of :data:`SCHEMAS`)."""
-    return SCHEMAS[command].json_schema(command)
+    """The JSON Schema of ``command``'s ``--summary-format json`` document (a key of :data:`SCHEMAS`), titled by the
+    command line that prints it (:data:`COMMAND_LINES`)."""
+    return SCHEMAS[command].json_schema(command, COMMAND_LINES[command])

@@ -8,7 +8,7 @@ Imported when a command prints or ``hipsim schema`` runs, never when the parser 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 from ..control.tracking import TrackingSummary
 from ..design.sizing_summary import RankingSummary, SizingSummary
@@ -77,6 +77,10 @@ class SimulatePlantRun(Record):
 class WearTestRun(Record):
     """``hipsim wear --weighings`` (the wear test): the result's keys (as ``wear_test.json``), the notes, and what was
     written: the page and its PDF, the fitted k(CS) law (with --report), the table of stops (--out)."""
+
+    schema_version: ClassVar[str] = (
+        "2"  # 2: verdict a records.Verdict (ONE STATION is NOT MADE) for its word; lines gone
+    )
 
     summary: WearTestSummary = flattened()
     notes: tuple[str, ...] = ()

@@ -118,9 +118,13 @@ def _samples(args, params):
     return trajectory.t, trajectory.q, trajectory.Fe, trajectory.name, trajectory.periodic
 
 
-def format_check(check) -> str:
-    """The verdict as tables: per quantity, then per cycle (the failing ones when there are many)."""
+def format_check(check, verdict=None) -> str:
+    """The check as tables: per quantity, then per cycle (the failing ones when there are many), then the verdict
+    (``verdict``: :func:`hipsim.motion.iso_verdict.iso_check_verdict`'s, made from ``check`` when None)."""
     from ..motion.iso_compliance import QUANTITIES
+    from ..motion.iso_verdict import iso_check_summary
+
+    verdict = verdict or iso_check_summary(check).verdict
 
     rows = []
     for q in QUANTITIES:
@@ -163,7 +167,7 @@ def format_check(check) -> str:
         ]
     out += [
         "",
-        f"verdict: {'PASS' if check.passed else 'FAIL: ' + ', '.join(check.failing)} "
+        f"verdict: {verdict.level.value}{': ' + ', '.join(check.failing) if verdict.failed else ''} "
         "(tolerances assumed: confirm them against your copy of ISO 14242-1)",
     ]
     return "\n".join(out)
@@ -192,6 +196,6 @@ def run(args) -> int:
     if args.summary_format == "json":
         print_json(IsoCheckRun(summary, str(files.index)).to_json())
     else:
-        print(format_check(check))
+        print(format_check(check, summary.verdict))
         print(f"wrote {files.index}")
     return exit_status([summary])

@@ -158,7 +158,7 @@ def _commands(args, params, weights, out: Path, table: Path) -> int:
     from ..present.stations_page import write_stations
     from ..records import exit_status
     from ..stations.commands import station_commands
-    from ..stations.summary import station_columns, station_summary
+    from ..stations.summary import station_columns, station_summary, stations_verdict
     from .documents import StationsRun
 
     trajectory = load_trajectory(args)
@@ -172,12 +172,13 @@ def _commands(args, params, weights, out: Path, table: Path) -> int:
     with output_folder(out):
         _write_table(table, station_columns(motion, load))
         files = write_stations(out, {"table": str(table)}, summary, motion.t, np.degrees(motion.errors), provenance)
+    verdict = stations_verdict(summary)  # FAIL when a station's ISO 14242-1 verdict fails, as on the page
     if args.summary_format == "json":
-        print_json(StationsRun(summary, str(table), str(files.index), provenance.as_dict()).to_json())
+        print_json(StationsRun(verdict, summary, str(table), str(files.index), provenance.as_dict()).to_json())
     else:
         _print_summary(summary)
         print(f"wrote {table} and {files.index}")
-    return exit_status(summary.verdicts)
+    return exit_status([verdict])
 
 
 def _sliders(args, params, out: Path, table: Path) -> int:

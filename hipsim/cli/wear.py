@@ -407,7 +407,8 @@ def run(args) -> int:
     """Compute, write the table (and the page), print the summary."""
     from ..files import check_folder, check_output
     from ..present.pages import require_pdf_renderer
-    from ..wear.summary import wear_summary
+    from ..records import exit_status
+    from ..wear.summary import run_verdict, wear_summary
     from .documents import WearRun
 
     setup = _setup(args)
@@ -438,6 +439,7 @@ def run(args) -> int:
     maps, tracks, wear, path, notes = _one(args, None, setup, points, law)
     _write_table(args.out, _table(maps, wear))
     summary = wear_summary(maps, wear)
+    verdict = run_verdict(summary)  # NOT MADE (not rated): exits 0, as every verdict that decides nothing
     index = None
     if report:
         from ..present.wear_page import write_wear_page
@@ -453,11 +455,11 @@ def run(args) -> int:
         )
         index = str(page.index)
     if args.summary_format == "json":
-        print_json(WearRun(summary, tuple(notes), str(args.out), index).to_json())
+        print_json(WearRun(verdict, summary, tuple(notes), str(args.out), index).to_json())
     else:
         print(format_summary(summary, notes))
         print(f"wrote {', '.join(path for path in (str(args.out), index) if path)}")
-    return 0
+    return exit_status([verdict])
 
 
 def _self_check(args, setup, points) -> int:

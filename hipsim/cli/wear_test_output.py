@@ -17,7 +17,6 @@ def _station_number(args, name: str) -> int | None:
 
 
 def _motion(args, name: str):
-    from ..wear.laws import read_numeric_columns
     from ..wear.test_context import motion_error
 
     for text in args.station or ():
@@ -25,13 +24,51 @@ def _motion(args, name: str):
         path, _, j = spec.rpartition(":")
         if station != name or j not in ("1", "2") or path == "snapshots" or not Path(path).is_file():
             continue
-        columns = tuple(f"err_{angle}_{j}_deg" for angle in ("alpha", "beta", "gamma"))
-        try:
-            errors, _ = read_numeric_columns(path, columns, "stations output")
-        except Exception:  # a motion file without error columns: the motion error is not known, not an error
-            return None
-        return motion_error(errors, f"{path}, platform {j}")
+        errors = motion_errors(path, tuple(f"err_{angle}_{j}_deg" for angle in ("alpha", "beta", "gamma")))
+        return None if errors is None else motion_error(errors, f"{path}, platform {j}")
     return None
+
+
+def motion_errors(path: str, columns: tuple[str, ...]):
+    """A stations output's error columns (N, len(columns)) in [deg], or None when it has none of them (a motion
+    file without errors: the motion error is not known, not an error).
+
+    Raises:
+        FileRowError: a malformed file, naming it: some of the columns and not the others, a cell that is not a
+            finite number (by line and column), no rows.
+    """
+    import numpy as np
+
+    from ..exceptions import FileRowError
+    from ..tables import open_parquet
+    from ..wear.laws import read_numeric_columns
+    from .wear_sources import header
+
+    present = [column for column in columns if column in header(path)]
+    if not present:
+        return None
+    if Path(path).suffix.lower() not in (".parquet", ".pq"):
+        return read_numeric_columns(path, columns, "stations output")[0]
+    if len(present) < len(columns):
+        missing = ", ".join(column for column in columns if column not in present)
+        raise FileRowError(f"no column {missing} beside {', '.join(present)}", source=path)
+    table = open_parquet(path, "stations output").read(columns=list(columns))
+    errors = np.empty((table.num_rows, len(columns)))
+    for c, column in enumerate(columns):
+        try:
+            errors[:, c] = table.column(column).to_numpy(zero_copy_only=False).astype(float)
+        except (TypeError, ValueError):
+            raise FileRowError(
+                f"expected numbers in [deg], got {table.column(column).type}", source=path, column=column
+            ) from None
+        bad = np.flatnonzero(~np.isfinite(errors[:, c]))
+        if bad.size:
+            raise FileRowError(
+                f"expected a finite number, got {errors[bad[0], c]} at row {bad[0] + 1}", source=path, column=column
+            )
+    if not table.num_rows:
+        raise FileRowError("the stations output has no rows", source=path)
+    return errors
 
 
 def context(args, result, errors: dict):
@@ -117,7 +154,7 @@ def format_result(result, contexts, notes) -> str:
     from ..present.tables import format_table
 
     g = result.gravimetry
-    out = [f"verdict: {result.verdict.word}", *(f"  {line}" for line in result.verdict.lines)]
+    out = [f"verdict: {result.word}", *(f"  {line}" for line in result.lines)]
     rows = []
     for s in result.stations:
         r = s.rate

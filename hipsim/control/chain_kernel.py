@@ -199,7 +199,8 @@ def model_arrays(params: Parameters, control: int) -> tuple[np.ndarray, ...]:
     :func:`platform_arrays` (4), m_2's joints, offsets and levers (3), and the seat e [m] (3,): zero unless
     ``control`` is 1 on a model with a stack-up (m_2's own attitude never depends on the seat)."""
     seat = params.chains.spline_seat if control == 1 else np.zeros(3)
-    # A writable copy of the seat either way (the parameters' is read-only): one compiled loop for both platforms.
+    # A copy, writable whichever platform: the parameters' seat is read-only and numba compiles a function once per
+    # array type, so a read-only seat for m_1 compiled machine_kernel's loop and each model_* function twice.
     return (*platform_arrays(params, control), *platform_arrays(params, 2)[:3], np.array(seat, dtype=float))
 
 

@@ -44,7 +44,7 @@ from ..physics.transmission import angle_from_travel
 from . import chain_kernel
 from .controllers import _gains, feedforward_torques
 from .feedback import EncoderFeedback, Feedback, SensorFeedback
-from .simulation import _rk4, _servo_chunks, _unstable, servo_settings
+from .simulation import _CHUNK, _rk4, _servo_chunks, _unstable, servo_settings
 from .tracking import MachineRun
 
 __all__ = ["MachinePlant", "ModelPD", "check_plant", "controlled_machine", "model_feedforward", "run_machine"]
@@ -163,23 +163,23 @@ def run_machine(
     n = int(round(duration * servo_rate))
     if n < 2:
         raise ArgumentError("duration", duration, f"at least two servo periods ({2 * period:g} s)")
-    # A C-ordered writable copy whatever was given (the model's read-only F-ordered torques, zeros, a learner's
-    # rows): the compiled loop then compiles once, not once per memory layout (about 3 s of CPU each).
+    # A writable C copy whatever the caller gives (model_feedforward returns a read-only Fortran view): numba
+    # compiles the loop once per array type, and each compile costs seconds.
     ff = np.zeros((n, 3)) if feedforward is None else np.array(feedforward, dtype=float, order="C")
     if ff.shape != (n, 3):
         raise ArgumentError("feedforward", ff.shape, f"torques of shape ({n}, 3), one row a servo period")
     t = np.arange(n) * period
     desired = desired_at(t)
     _check_reach(controller.model, controller.control, desired)
-    loads = np.ascontiguousarray(desired_at(np.arange(n * substeps * 2 + 1) * (h / 2)).Fe, dtype=float)
+    loads = np.ascontiguousarray(desired_at(np.arange(n * substeps * 2 + 1) * (h / 2)).Fe)  # a Trajectory's are floats
     advance = getattr(plant, "advance", None) or (lambda *args: _rk4(plant, *args))
 
-    x = plant.initial_state(desired.slice(slice(0, 1)))
+    x = plant.initial_state(desired)  # at its first sample (the Plant protocol)
     feedback.start(t, desired.q[0])
     carriages, measured = np.empty((n, 3)), np.empty((n, 3))
     attitudes, rates, speeds = np.empty((n, 2, 3)), np.empty((n, 2, 3)), np.empty((n, 3))
     tau, tau_requested, saturated = np.empty((n, 3)), np.empty((n, 3)), np.zeros(n, dtype=bool)
-    name = getattr(plant, "name", type(plant).__name__)
+    name = getattr(plant, "name", type(plant).__name__)  # a plant's name is optional (the Plant protocol)
     desc = f"{name} plant, {controller_name or 'controller'}, {feedback.name}"
     log = (carriages, attitudes, rates, speeds, measured, tau, tau_requested, saturated)
     stepper = plant.compiled_stepper() if hasattr(plant, "compiled_stepper") else None
@@ -196,13 +196,13 @@ def run_machine(
         compiled_plant: Any = plant  # the PinocchioPlant: its slots in the state
         arguments = (
             compiled_plant.reading_slots,
-            np.ascontiguousarray(compiled_plant.angle_slots[2], dtype=np.float64),
+            compiled_plant.angle_slots[2],  # the plant's own float copy
             feedback.sensing(),
             (*controller._model, controller._lead),
             (controller.kp, controller.kd),
             controller.control - 1,
         )
-        for start, stop in _servo_chunks(n, 2000, desc, progress, notify):
+        for start, stop in _servo_chunks(n, _CHUNK, desc, progress, notify):
             reached = machine_kernel.machine_loop(
                 stepper, x, *arguments, start, stop, desired.q, desired.qd, ff, float(limit), loads, h, substeps, log
             )
@@ -210,7 +210,7 @@ def run_machine(
                 if np.all(np.isfinite(x)):
                     raise _no_attitude(feedback, carriages[reached], t, reached)
                 raise _unstable(t, reached)
-        return _run(plant, controller, feedback, controller_name, t, desired, log, h)
+        return _run(plant, name, controller, feedback, controller_name, t, desired, log, h)
     for start, stop in _servo_chunks(n, 500, desc, progress, notify):
         for k in range(start, stop):
             if not np.all(np.isfinite(x)):
@@ -226,7 +226,7 @@ def run_machine(
             tau[k] = np.clip(wanted, -limit, limit)
             saturated[k] = np.any(np.abs(wanted) > limit)
             x = advance(t[k], x, tau[k], loads[2 * substeps * k : 2 * substeps * (k + 1) + 1], h, substeps)
-    return _run(plant, controller, feedback, controller_name, t, desired, log, h)
+    return _run(plant, name, controller, feedback, controller_name, t, desired, log, h)
 
 
 def _settings(
@@ -261,9 +261,8 @@ def _no_attitude(feedback: Feedback, reading: np.ndarray, t: np.ndarray, k: int)
     )
 
 
-def _run(plant, controller, feedback, controller_name, t, desired, log, h) -> MachineRun:
+def _run(plant, name, controller, feedback, controller_name, t, desired, log, h) -> MachineRun:
     carriages, attitudes, rates, speeds, measured, tau, tau_requested, saturated = log
-    name = getattr(plant, "name", type(plant).__name__)
     return MachineRun(
         t=t,
         desired=desired,
@@ -327,13 +326,13 @@ def check_plant(model: Parameters, plant: Parameters, desired: Trajectory, contr
         ("U-joint centre", a.screw_points - b.screw_points),
         ("platform joint", a.platform_points - b.platform_points),
         ("lever length", (a.lever_lengths - b.lever_lengths)[..., None]),
-        ("rotation centre", np.repeat((a.centres - b.centres)[:, None], 3, axis=1)),
+        ("rotation centre", a.centres - b.centres),  # one a platform
     )
     for what, difference in parts:
         off = np.linalg.norm(difference, axis=-1)
         k = int(np.argmax(off))
         if off.flat[k] > MAX_DEVIATION:
-            where = f"platform {k // 3 + 1}" if what == "rotation centre" else f"chain {CHAIN_LABELS[k]}"
+            where = f"platform {k + 1}" if what == "rotation centre" else f"chain {CHAIN_LABELS[k]}"
             raise ParameterError(
                 f"not the model's machine as built: the {what} of {where} is {off.flat[k] * 1e3:.1f} mm off the "
                 f"model's (a built machine deviates by at most {MAX_DEVIATION * 1e3:g} mm; give the plant and the "

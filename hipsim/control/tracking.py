@@ -31,7 +31,7 @@ from ..motion.iso_verdict import StationIso, station_iso
 from ..motion.trajectories import Trajectory
 from ..physics.units import RPM_PER_RAD_S
 from ..records import Record, optional
-from ..results import peak_and_rms
+from ..results import peak_and_rms, rms_and_signed_peak
 
 __all__ = ["ANGLES", "AngleError", "MachineRun", "MotorLoad", "TrackingSummary", "attitude_columns", "error_columns"]
 
@@ -173,21 +173,11 @@ class MachineRun:
         """Per platform and angle the RMS and peak error and its time; per motor the torque and speed; with ``iso``
         each station's ISO 14242-1 verdict (``tolerances``; ``periodic``: the run covers whole periods)."""
         e = np.degrees(self.errors)
-        errors = []
-        for j in range(2):
-            for k, angle in enumerate(ANGLES):
-                values = e[:, j, k]
-                peak = int(np.argmax(np.abs(values)))
-                errors.append(
-                    AngleError(
-                        platform=j + 1,
-                        angle=angle,
-                        controlled=j + 1 == self.control,
-                        rms_deg=float(np.sqrt(np.mean(values**2))),
-                        peak_deg=float(values[peak]),
-                        peak_at_s=float(self.t[peak]),
-                    )
-                )
+        errors = tuple(
+            AngleError(j + 1, angle, j + 1 == self.control, *rms_and_signed_peak(self.t, e[:, j, k]))
+            for j in range(2)
+            for k, angle in enumerate(ANGLES)
+        )
         tau_peak, tau_rms = peak_and_rms(self.tau * 1e3)
         speed_peak, _ = peak_and_rms(self.motor_speed * RPM_PER_RAD_S)
         motors = tuple(MotorLoad(i + 1, float(tau_peak[i]), float(tau_rms[i]), float(speed_peak[i])) for i in range(3))
@@ -198,7 +188,7 @@ class MachineRun:
             control=self.control,
             duration_s=float(self.t.size * (self.t[1] - self.t[0])),
             step_s=float(self.step),
-            errors=tuple(errors),
+            errors=errors,
             motors=motors,
             saturated_samples=int(np.count_nonzero(self.saturated)),
             stations=self.station_verdicts(tolerances, periodic) if iso else None,

@@ -17,7 +17,7 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from ..machine.drive_parts import Drive, SizingRules
+from ..machine.drive_parts import Drive, SizingRules, TorqueSpeedCurve
 from ..records import Level, Record, Verdict, optional
 from .checks import Check, checks_verdict
 from .ranking import Candidate
@@ -110,7 +110,7 @@ def _part(part: object) -> dict[str, Any] | None:
         return None
     out: dict[str, Any] = {}
     for key, value in vars(part).items():
-        if hasattr(value, "speed") and hasattr(value, "torque"):
+        if isinstance(value, TorqueSpeedCurve):
             value = {"speed_rad_s": value.speed.tolist(), "torque_Nm": value.torque.tolist()}
         out[key] = value
     return out

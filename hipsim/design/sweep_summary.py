@@ -115,6 +115,11 @@ def sweep_verdict(rows: int, ok: int, rated: bool, passing: int) -> Verdict:
     return Verdict(Level.FEASIBLE if passing > 0 else Level.NOT_FEASIBLE, judged, not_judged, numbers)
 
 
+def _floats(columns: Columns, names: Sequence[str]) -> np.ndarray:
+    """The named columns as floats, (n, len(names)): a Parquet null (None) as NaN."""
+    return np.column_stack([np.asarray(columns[name], dtype=float) for name in names])
+
+
 def _variant(columns: Columns, keys: Sequence[str], row: int) -> dict[str, float]:
     return {key: float(columns[key][row]) for key in keys}
 
@@ -129,7 +134,7 @@ def _onward(
     """Where to look next from the best row: the edges of the swept range it lies on, its own margin, and its nearest
     failing neighbour. An edge counts only when every row as good as the best (to 1e-9 of it) lies on it: a flat
     objective points nowhere."""
-    values = np.column_stack([np.array(columns[key], dtype=float) for key in keys])
+    values = _floats(columns, keys)
     best = objective[row]
     tied = np.flatnonzero(np.abs(objective - best) <= 1e-9 * max(abs(best), 1e-300))
     edges = edges_of(values, list(keys), row)
@@ -164,8 +169,8 @@ def sweep_result(
         objectives: objective column → True to maximise.
         pareto: (column, maximise) pairs of a Pareto front asked for.
     """
-    status = np.array(columns["status"], dtype=object)
-    rating = np.array(columns["rating"], dtype=object)
+    status = np.array(columns["status"])
+    rating = np.array(columns["rating"])
     rated = bool(np.any((rating == "pass") | (rating == "fail")))
     wanted = dict(objectives)
     if rated:
@@ -174,7 +179,7 @@ def sweep_result(
         wanted[name] = maximise
     best = {}
     for name, maximise in wanted.items():
-        values = np.array(columns[name], dtype=float)
+        values = _floats(columns, [name])[:, 0]
         if not np.any(np.isfinite(values)):
             continue
         k = int(np.nanargmax(values) if maximise else np.nanargmin(values))
@@ -207,9 +212,9 @@ def pareto_points(
     """The Pareto front of two objectives over every row: which rows are on it ((n,) bool), each point's swept values
     and objectives, and the points that lie on an edge of the swept range with their edges."""
     (x_name, x_max), (y_name, y_max) = pareto
-    values = np.column_stack([np.array(columns[x_name], dtype=float), np.array(columns[y_name], dtype=float)])
+    values = _floats(columns, [x_name, y_name])
     front = pareto_front(values, (x_max, y_max))
-    swept = np.column_stack([np.array(columns[key], dtype=float) for key in keys])
+    swept = _floats(columns, keys)
     on = [int(k) for k in np.flatnonzero(front)]
     points = tuple(
         ParetoPoint(_variant(columns, keys, k) | {x_name: float(values[k, 0]), y_name: float(values[k, 1])}) for k in on

@@ -34,6 +34,9 @@ def frequencies(n: int, period: float) -> np.ndarray:
 def q_response(f: np.ndarray, cutoff: float | None) -> np.ndarray:
     """Q(f), real in [0, 1]: 1 / (1 + (f/cutoff)^8); all ones for cutoff None (no filter).
 
+    Above the cutoff it is computed as r / (1 + r) with r = (cutoff/f)^8, so that a ratio never exceeds 1: a tiny
+    cutoff gives Q = 0 (r underflows) instead of overflowing (f/cutoff)^8.
+
     Args:
         f: frequencies in [Hz].
         cutoff: the cutoff f_c in [Hz] (Q = 1/2 there), or None.
@@ -43,7 +46,10 @@ def q_response(f: np.ndarray, cutoff: float | None) -> np.ndarray:
         return np.ones_like(f)
     if not cutoff > 0:
         raise ArgumentError("cutoff", cutoff, "a positive frequency in Hz")
-    return 1.0 / (1.0 + (f / cutoff) ** (2 * ORDER))
+    a = np.abs(f)
+    below = a <= cutoff
+    r = (np.where(below, a, cutoff) / np.where(below, cutoff, a)) ** (2 * ORDER)  # f/f_c below, f_c/f above: ≤ 1
+    return np.where(below, 1.0 / (1.0 + r), r / (1.0 + r))
 
 
 def lag_response(f: np.ndarray, lag: float) -> np.ndarray:

@@ -134,7 +134,8 @@ def station_verdict(
     try:
         check = iso_check(t, q, load, tolerances, source=f"{source}, {what}", periodic=True)
     except TrajectoryError as error:
-        return StationVerdict(platform, "not made", (), (math.nan,) * 3, error.args[0] if error.args else str(error))
+        # str(): the message on one line (hipsim.exceptions.printable), as every refusal prints it.
+        return StationVerdict(platform, "not made", (), (math.nan,) * 3, str(error))
     return StationVerdict(
         platform, "PASS" if check.passed else "FAIL", tuple(check.failing), _triple(check.worst(a) for a in ANGLES)
     )

@@ -20,12 +20,13 @@ non-ISO input, and a badly tracked ISO motion as a failing station.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..exceptions import TrajectoryError
-from ..records import Level, Record, optional
+from ..records import Level, Record, Verdict, optional
 from .iso_compliance import DEFAULT_TOLERANCES, QUANTITIES, IsoCheck, Tolerances, iso_check
 
 __all__ = [
@@ -37,7 +38,9 @@ __all__ = [
     "QuantityCheck",
     "StationIso",
     "Tracking",
+    "binding_quantity",
     "iso_check_summary",
+    "iso_check_verdict",
     "station_iso",
     "station_iso_verdict",
 ]
@@ -221,13 +224,57 @@ class CycleCheck(Record):
     passed: bool
 
 
+#: What a run's ISO 14242-1 check does not judge (the verdict's ``not_judged``).
+TOLERANCES_ASSUMED = (
+    "the tolerances themselves: the defaults are assumed values; confirm them against your copy of ISO 14242-1"
+)
+
+
+def binding_quantity(quantities: Mapping[str, QuantityCheck]) -> str:
+    """The quantity that decides a run's check: the first that left its tolerance (in the order given), else the one
+    closest to it (the largest worst deviation / tolerance)."""
+    failing = [name for name, q in quantities.items() if not q.passed]
+    if failing:
+        return failing[0]
+    return max(quantities, key=lambda name: quantities[name].worst / quantities[name].tolerance)
+
+
+def iso_check_verdict(quantities: Mapping[str, QuantityCheck], cycles: int) -> Verdict:
+    """A run's verdict against ISO 14242-1 (``iso-check``): PASS when every quantity stayed within its tolerance in
+    every whole cycle, else FAIL; the quantity that decides it named (:func:`binding_quantity`) with its worst
+    deviation and tolerance. A pure function of the per-quantity checks.
+
+    Args:
+        quantities: per quantity (alpha, beta, gamma, load, frequency) its check over every cycle.
+        cycles: the whole cycles checked.
+    """
+    numbers: dict[str, float] = {"cycles": float(cycles)}
+    for name, q in quantities.items():
+        numbers |= {f"{name}_worst_{q.unit}": q.worst, f"{name}_tolerance_{q.unit}": q.tolerance}
+    name = binding_quantity(quantities)
+    q = quantities[name]
+    against = f"{q.worst:.3g} {q.unit} against ±{q.tolerance:.3g} {q.unit}"
+    failing = [n for n, c in quantities.items() if not c.passed]
+    if failing:
+        judged = (
+            f"{', '.join(failing)} left the tolerance in {cycles} whole cycle(s) checked; "
+            f"worst {name}: {against} ({q.cycles_failed} cycle(s) outside)"
+        )
+        return Verdict(Level.FAIL, judged, TOLERANCES_ASSUMED, numbers)
+    judged = (
+        f"every one of {cycles} whole cycle(s) kept every angle, the load and the frequency within tolerance; "
+        f"closest: {name}, worst deviation {against}"
+    )
+    return Verdict(Level.PASS, judged, TOLERANCES_ASSUMED, numbers)
+
+
 @dataclass(frozen=True)
 class IsoCheckSummary(Record):
-    """A run checked against ISO 14242-1 (``hipsim iso-check``): per quantity and per cycle, and the verdict.
+    """A run checked against ISO 14242-1 (``hipsim iso-check``): the verdict, per quantity and per cycle.
 
     Attributes:
         source: the log or run checked.
-        passed: every cycle kept every quantity within tolerance (PASS), else FAIL.
+        verdict: PASS when every cycle kept every quantity within tolerance, else FAIL (:func:`iso_check_verdict`).
         failing: the quantities that left their tolerance in a cycle.
         cycles: whole cycles checked.
         tolerances_assumed: the reminder that the default tolerances are assumed.
@@ -236,7 +283,7 @@ class IsoCheckSummary(Record):
     """
 
     source: str
-    passed: bool
+    verdict: Verdict
     failing: tuple[str, ...]
     cycles: int
     tolerances_assumed: str
@@ -246,11 +293,17 @@ class IsoCheckSummary(Record):
     @property
     def level(self) -> Level:
         """PASS or FAIL (for :func:`hipsim.records.exit_status`)."""
-        return Level.PASS if self.passed else Level.FAIL
+        return self.verdict.level
+
+    @property
+    def passed(self) -> bool:
+        """Every cycle kept every quantity within tolerance (the verdict PASS)."""
+        return self.verdict.level == Level.PASS
 
 
 def iso_check_summary(check: IsoCheck) -> IsoCheckSummary:
-    """The check as a record: per quantity the worst deviation, tolerance and cycles failed; per cycle each deviation."""
+    """The check as a record: per quantity the worst deviation, tolerance and cycles failed; per cycle each deviation;
+    the verdict on them (:func:`iso_check_verdict`)."""
     quantities = {}
     for q in QUANTITIES:
         ok = check.passes(q)
@@ -273,7 +326,7 @@ def iso_check_summary(check: IsoCheck) -> IsoCheckSummary:
     )
     return IsoCheckSummary(
         check.source,
-        check.passed,
+        iso_check_verdict(quantities, len(check.cycles)),
         check.failing,
         len(check.cycles),
         "defaults are assumed values: confirm them against your copy of ISO 14242-1",

@@ -15,8 +15,8 @@ from pathlib import Path
 import numpy as np
 
 from ..files import check_folder, json_ready, output_folder, write_atomic
-from ..motion.iso_compliance import QUANTITIES, IsoCheck
-from ..motion.iso_verdict import UNITS, IsoCheckSummary, iso_check_summary
+from ..motion.iso_compliance import IsoCheck
+from ..motion.iso_verdict import UNITS, IsoCheckSummary, binding_quantity, iso_check_summary
 from ..motion.trajectories import iso14242_angles, iso14242_load
 from .figures import save_figure
 from .pages import CSS, Verdict, environment
@@ -90,29 +90,24 @@ class IsoCheckFiles:
     figure: tuple[Path, Path]
 
 
-def iso_verdict(check: IsoCheck) -> Verdict:
-    """The block at the top of the page: PASS or FAIL, and the quantity that decides it with its worst deviation."""
-    if check.passed:
-        worst = max(QUANTITIES, key=lambda q: check.worst(q) / getattr(check.tolerances, q))
-        return Verdict(
-            "pass",
-            "PASS",
-            (
-                f"Every one of {len(check.cycles)} whole cycle(s) kept every angle, the load and the frequency within tolerance.",
-                f"Closest: {worst}, worst deviation {check.worst(worst):.3g} {_UNITS[worst]} against ±{getattr(check.tolerances, worst):.3g} "
-                f"{_UNITS[worst]} (tolerances assumed: confirm them against your copy of ISO 14242-1).",
-            ),
+def iso_verdict(summary: IsoCheckSummary) -> Verdict:
+    """The block at the top of the page: the verdict made beside the check (:func:`hipsim.motion.iso_verdict.
+    iso_check_verdict`, PASS or FAIL) and the quantity that decides it with its worst deviation, in two sentences."""
+    name = binding_quantity(summary.quantities)
+    q = summary.quantities[name]
+    against = f"{q.worst:.3g} {q.unit} against ±{q.tolerance:.3g} {q.unit}"
+    if summary.failing:
+        lines = (
+            f"{', '.join(summary.failing)} left the tolerance; {name} in {q.cycles_failed} of {summary.cycles} cycle(s).",
+            f"Worst {name}: {against}.",
         )
-    first = check.failing[0]
-    failed = int((~check.passes(first)).sum())
-    return Verdict(
-        "fail",
-        "FAIL",
-        (
-            f"{', '.join(check.failing)} left the tolerance; {first} in {failed} of {len(check.cycles)} cycle(s).",
-            f"Worst {first}: {check.worst(first):.3g} {_UNITS[first]} against ±{getattr(check.tolerances, first):.3g} {_UNITS[first]}.",
-        ),
-    )
+    else:
+        lines = (
+            f"Every one of {summary.cycles} whole cycle(s) kept every angle, the load and the frequency within tolerance.",
+            f"Closest: {name}, worst deviation {against} "
+            f"(tolerances assumed: confirm them against your copy of ISO 14242-1).",
+        )
+    return Verdict.of(summary.verdict, lines)
 
 
 def write_iso_check(
@@ -138,9 +133,10 @@ def write_iso_check(
     out = Path(out_dir)
     check_folder(out)
     provenance = provenance or make_provenance()
-    verdict = iso_verdict(check)
     summary = iso_check_summary(check)
-    document = {"verdict": verdict.as_dict(), "provenance": json_ready(provenance.as_dict())} | summary.to_json()
+    verdict = iso_verdict(summary)
+    # the verdict first, then the provenance, as on every page's JSON (the summary's verdict takes the first key)
+    document = {"verdict": None, "provenance": json_ready(provenance.as_dict())} | summary.to_json()
     with output_folder(out):
         png, svg = save_figure(plot_iso_check(check, t, q, load), out, "cycles")
         json_path = write_atomic(out / "iso_check.json", json.dumps(document, indent=2) + "\n")

@@ -25,10 +25,9 @@ import numpy as np
 from ..files import check_folder, json_ready, output_folder, write_atomic
 from ..records import Level
 from ..rig.monitoring.monitor_run import MonitorResult
-from ..rig.monitoring.monitor_state import monitor_verdict as typed_verdict
 from .figures import save_figure
 from .numbers import significant
-from .pages import CSS, Verdict, environment, print_pdf, require_pdf_renderer
+from .pages import CSS, Verdict, environment, print_pdf, require_pdf_renderer, sentence
 
 __all__ = [
     "CAPTIONS",
@@ -153,29 +152,26 @@ def plot_residuals(result: MonitorResult):
 
 
 def monitor_verdict(result: MonitorResult) -> Verdict:
-    """The page's block of the run's state (:func:`hipsim.rig.monitoring.monitor_state.monitor_verdict`): ALARM,
-    NOTICE, OK, or NO BASELINE YET before the chart can start; the lines say the change and its causes."""
-    found, state = result.findings, result.state
-    first, notice = found.first, found.latest_notice
+    """The page's block of the run's verdict (:attr:`hipsim.rig.monitoring.monitor_run.MonitorResult.verdict`):
+    ALARM, NOTICE, OK, or NO BASELINE YET before the chart can start; the lines say the change and its causes."""
+    found, verdict = result.findings, result.verdict
+    first = found.first
     told = [f"First {first.text} (cycle {first.cycle:,}, {first.file})."] if first else ["No alarm so far."]
     skipped = sum(1 for s in result.skipped if s.kind != "waiting")
     if skipped:
         told.append(f"{skipped} snapshot{'s' if skipped > 1 else ''} skipped (listed below with the reasons).")
-    cycles = result.columns["last_cycle"]
-    last_cycle = int(cycles[-1]) if cycles else None
-    change = notice.text if notice else (found.flag[-1] if found.flag else None)
-    verdict = typed_verdict(state, last_cycle, change, found.mean.note)
     if verdict.level == Level.NOT_MADE:
-        return Verdict("open", "NO BASELINE YET", (f"{found.mean.note}.", *told[1:]))
-    sentence = verdict.judged[0].upper() + verdict.judged[1:] + "."
+        return Verdict.of(verdict, (f"{found.mean.note}.", *told[1:]), not_made="NO BASELINE YET")
+    said = sentence(verdict.judged)
     raised = found.raised_at
     if verdict.level == Level.ALARM and raised is not None:
-        sentence = (
+        cycles = result.columns["last_cycle"]
+        said = (
             f"An alarm raised at cycle {raised:,} is held at the last snapshot"
-            + (f" (cycle {last_cycle:,})" if last_cycle is not None else "")
+            + (f" (cycle {int(cycles[-1]):,})" if cycles else "")
             + f" until acknowledged (hipsim monitor --acknowledge {raised})."
         )
-    return Verdict(verdict.level.state, verdict.level.value, (sentence, *told))
+    return Verdict.of(verdict, (said, *told))
 
 
 @dataclass(frozen=True)
@@ -245,7 +241,8 @@ def write_monitor_report(
     provenance = provenance or make_provenance()
     summary = result.summary()
     verdict = monitor_verdict(result)
-    document = {"verdict": verdict.as_dict(), "provenance": provenance.as_dict()} | summary.to_json()
+    # the verdict (the summary's records.Verdict) first, then the provenance, as on every page's JSON
+    document = {"verdict": None, "provenance": provenance.as_dict()} | summary.to_json()
     figures: dict[str, tuple[Path, Path]] = {}
     with output_folder(out):
         for stem, plot in (("chart", plot_chart), ("terms", plot_terms), ("residuals", plot_residuals)):

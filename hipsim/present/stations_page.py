@@ -16,10 +16,11 @@ from typing import Any
 
 import numpy as np
 
+from .. import records
 from ..files import check_folder, json_ready, output_folder, write_atomic
 from ..records import Level
-from ..stations.summary import SlidersSummary, StationSummary, stations_verdict
-from ..stations.tolerance_summary import ToleranceSummary
+from ..stations.summary import SlidersSummary, StationSummary, sliders_verdict, stations_verdict
+from ..stations.tolerance_summary import ToleranceSummary, tolerance_verdict
 from .figures import _figure, save_figure
 from .pages import CSS, Verdict, environment
 from .provenance import Provenance
@@ -54,21 +55,42 @@ def plot_station_errors(t: np.ndarray, errors_deg: np.ndarray, control: str):
     return fig
 
 
-def station_verdict(summary: StationSummary) -> Verdict:
+def station_verdict(summary: StationSummary, verdict: records.Verdict | None = None) -> Verdict:
     """The block at the top of the page: the largest error of the two stations, each station's ISO verdict and, in
-    lines of their own, a desired motion that is not the ISO 14242-1 waveform (the verdict from
-    :func:`hipsim.stations.summary.stations_verdict`)."""
-    verdict = stations_verdict(summary)
+    lines of their own, a desired motion that is not the ISO 14242-1 waveform.
+
+    Args:
+        summary: the run's summary.
+        verdict: its verdict (default :func:`hipsim.stations.summary.stations_verdict`), rendered, not made here.
+    """
+    verdict = verdict or stations_verdict(summary)
     j, angle, value = summary.worst
     lines = [
         f"--control {summary.control}: the largest attitude error is {abs(value.peak_deg):.3g}° ({angle} of m_{j}, "
         f"t = {value.peak_at_s:.4g} s); RMS over both platforms and angles {summary.rms_error_deg:.3g}°."
     ]
     if verdict.level == Level.NOT_MADE:
-        return Verdict("open", "NO ISO CHECK", tuple(lines + ["No whole ISO 14242-1 cycle with a load to check."]))
+        lines.append("No whole ISO 14242-1 cycle with a load to check.")
+        return Verdict.of(verdict, tuple(lines), not_made="NO ISO CHECK")
     lines.append(verdict.judged)
     lines += [f"Station {p.platform}: {p.iso.desired_line}." for p in summary.platforms if p.iso and p.iso.desired_line]
-    return Verdict(verdict.level.state, verdict.level.value, tuple(lines))
+    return Verdict.of(verdict, tuple(lines))
+
+
+def _verdicts(
+    summary: StationSummary | None, tolerance: ToleranceSummary | None, sliders: SlidersSummary | None
+) -> tuple[records.Verdict, Verdict]:
+    """The page's verdict (made beside its analysis) and its block: the run's, else the attitudes', else the study's."""
+    if summary is not None:
+        verdict = stations_verdict(summary)
+        return verdict, station_verdict(summary, verdict)
+    if sliders is not None:
+        verdict = sliders_verdict(sliders)
+        return verdict, Verdict.of(verdict, not_made="ATTITUDES")
+    if tolerance is not None:
+        verdict = tolerance_verdict(tolerance)
+        return verdict, Verdict.of(verdict, ("Manufacturing tolerances.",), not_made="TOLERANCES")
+    raise ValueError("write_stations: give a run's summary, a tolerance study or the sliders' attitudes")
 
 
 def write_stations(
@@ -83,6 +105,9 @@ def write_stations(
     fig7: Any = None,
 ) -> StationFiles:
     """Write ``stations.json``, ``index.html`` and, given the errors, the figure ``errors.png``/``.svg``, atomically.
+
+    ``stations.json``'s ``verdict`` is the run's :func:`~hipsim.stations.summary.stations_verdict` (a
+    :class:`hipsim.records.Verdict`); without a run, the attitudes' or the study's (NOT MADE: no limit is set).
 
     Args:
         out_dir: the folder (made if missing).
@@ -101,8 +126,8 @@ def write_stations(
     out = Path(out_dir)
     check_folder(out)
     provenance = provenance or make_provenance()
-    verdict = station_verdict(summary) if summary else Verdict("open", "TOLERANCES", ("Manufacturing tolerances.",))
-    full = {"verdict": verdict.as_dict(), "provenance": json_ready(provenance.as_dict())}
+    typed, verdict = _verdicts(summary, tolerance, sliders)
+    full = {"verdict": typed.to_json(), "provenance": json_ready(provenance.as_dict())}
     for key, record in (("summary", summary), ("tolerance", tolerance), ("sliders", sliders)):
         if record is not None:
             full[key] = record.to_json()

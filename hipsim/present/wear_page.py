@@ -17,7 +17,7 @@ from .. import records
 from ..files import check_folder, json_ready, output_folder, write_atomic
 from ..wear.laws import Wear
 from ..wear.maps import WearMaps
-from ..wear.summary import WearComparison, difference_maps, wear_comparison, wear_summary
+from ..wear.summary import WearComparison, difference_maps, run_verdict, wear_comparison, wear_summary
 from ..wear.tracks import Tracks
 from .figures import save_figure
 from .pages import CSS, Verdict, environment, print_pdf
@@ -78,9 +78,9 @@ def write_wear_page(
     check_folder(out)
     provenance = provenance or make_provenance()
     summary = wear_summary(maps, wear)
-    verdict = Verdict(
-        "open",
-        "NOT RATED",
+    typed = run_verdict(summary)  # NOT MADE: the page says NOT RATED, with the run's numbers
+    verdict = Verdict.of(
+        typed,
         (
             f"Per cycle: force track {maps.force_track_mm:.4g} mm, load integral {maps.force_track_load_Nm:.4g} N·m; "
             f"CS {summary.cross_shear_mean:.3g} mean and {summary.cross_shear_max:.3g} at most over the loaded area.",
@@ -88,8 +88,9 @@ def write_wear_page(
             if wear is not None and wear.total_mm3_per_Mc is not None
             else "No wear predicted: give a wear factor or law (no default k is assumed).",
         ),
+        not_made="NOT RATED",
     )
-    document = {"verdict": verdict.as_dict(), "provenance": json_ready(provenance.as_dict())} | summary.to_json()
+    document = {"verdict": typed.to_json(), "provenance": json_ready(provenance.as_dict())} | summary.to_json()
     r = maps.setup.radius_mm
     with output_folder(out):
         embedded, paths = _figures(

@@ -12,7 +12,7 @@ from pathlib import Path
 
 from ..files import check_folder, json_ready, output_folder, write_atomic
 from ..wear.test_context import StationContext
-from ..wear.test_result import WearTest
+from ..wear.test_result import ONE_STATION, WearTest
 from ..wear.test_summary import wear_test_summary
 from .pages import CSS, Verdict, environment, print_pdf
 from .provenance import Provenance
@@ -33,8 +33,7 @@ def write_wear_test_page(
     """The test's page (module docstring)."""
     out = Path(out_dir)
     check_folder(out)
-    state = {"DIFFERENT": "fail", "ALIKE": "pass"}.get(result.verdict.word, "open")
-    verdict = Verdict(state, result.verdict.word, result.verdict.lines)
+    verdict = Verdict.of(result.verdict, result.lines, not_made=ONE_STATION)  # rendered, not made here
     summary = wear_test_summary(result, contexts).to_json()
     document = json_ready(summary | {"notes": list(notes), "provenance": provenance.as_dict()})
     by_name = {c.station: c for c in contexts}

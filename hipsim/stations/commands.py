@@ -112,8 +112,7 @@ class StationMotion:
 
 def squared_errors(errors: np.ndarray, weights=(1.0, 1.0)) -> np.ndarray:
     """Σ_j w_j·|e_j|² per sample in [deg²], from errors (N, 2, 3) in [rad]."""
-    e = np.degrees(errors)
-    return weights[0] * np.einsum("nk,nk->n", e[:, 0], e[:, 0]) + weights[1] * np.einsum("nk,nk->n", e[:, 1], e[:, 1])
+    return np.sum(np.degrees(errors) ** 2, axis=-1) @ np.asarray(weights)
 
 
 def attitudes(
@@ -138,13 +137,12 @@ def attitudes(
         PoseError: naming the sample (time) a platform cannot take.
     """
     out = np.empty((len(carriages), 2, 3))
-    for j in (1, 2):
+    for j in (2, 1):  # m_2 first: m_1 on a seat rides on it, and is solved at m_2's attitude
         if guess is None:
             out[:, j - 1] = platform_attitude(params, carriages, j, t=t, source=source)
         else:
-            out[:, j - 1] = _attitude(
-                params, carriages, guess[:, j - 1] if np.ndim(guess) == 3 else guess, j, t, source
-            )
+            own = guess[:, j - 1] if np.ndim(guess) == 3 else guess
+            out[:, j - 1] = _attitude(params, carriages, own, j, t, source, out[:, 1] if j == 1 else None)
     return out
 
 
@@ -189,16 +187,19 @@ def station_commands(
     for start in range(0, len(q_d), BLOCK):
         block = slice(start, start + BLOCK)
         try:
-            L[block], q[block] = _block_commands(params, t[block], q_d[block], control, w, source)
+            L[block], q[block] = _block_commands(params, t[block], q_d[block], control, w)
         except PoseError as error:
             raise PoseError(error.reason, error.time, start + error.index, source) from None
     return StationMotion(t, q_d, L, q, control, w)
 
 
 def _block_commands(
-    params: Parameters, t: np.ndarray, q_d: np.ndarray, control: str, w: tuple[float, float], source: str | None
+    params: Parameters, t: np.ndarray, q_d: np.ndarray, control: str, w: tuple[float, float]
 ) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`station_commands` on one block of samples: (carriages (n, 3) [m], attitudes (n, 2, 3) [rad])."""
+    """:func:`station_commands` on one block of samples: (carriages (n, 3) [m], attitudes (n, 2, 3) [rad]).
+
+    A sample refused is named by its time and its index in the block; :func:`station_commands` adds the source.
+    """
     needed = (1, 2) if control == "both" else (3 - int(control),)
     own, A = {}, {}  # platform j's own command L_j* and A_j = ∂q_j/∂L at q_d
     for j in (1, 2):
@@ -207,14 +208,14 @@ def _block_commands(
         if bad.any():
             k = int(np.argmax(bad))
             leg = int(np.argmax(~np.isfinite(own[j][k]))) + 1
-            raise PoseError(f"chain {j}{leg}'s lever cannot reach platform {j}'s desired attitude", t[k], k, source)
+            raise PoseError(f"chain {j}{leg}'s lever cannot reach platform {j}'s desired attitude", t[k], k)
         if rate is not None:
             A[j] = inverse3(rate)
 
     def follows(j: int, L: np.ndarray, other: np.ndarray | None = None) -> np.ndarray:
         """Platform j's attitude at carriages L, from its linear prediction about its own command (``other``: m_2's)."""
         guess = q_d + np.matmul(A[j], (L - own[j])[..., None])[..., 0]
-        return _attitude(params, L, guess, j, t, source, other)
+        return _attitude(params, L, guess, j, t, other=other)
 
     q = np.empty((len(q_d), 2, 3))
     if control in ("1", "2"):
@@ -242,7 +243,7 @@ def _block_commands(
         qj = np.empty((close.size, 2, 3))
         qj[:, j - 1] = q_d[close]
         guess = q_d[close] + predicted[close, o - 1]
-        qj[:, o - 1] = _attitude(params, own[j][close], guess, o, t[close], source, q_d[close] if j == 2 else None)
+        qj[:, o - 1] = _attitude(params, own[j][close], guess, o, t[close], other=q_d[close] if j == 2 else None)
         cost = squared_errors(qj - q_d[close, None], w)
         better = cost < best[close]
         chosen = close[better]
@@ -260,7 +261,7 @@ def _own_command(params: Parameters, q_d: np.ndarray, j: int, rate: bool) -> tup
         return carriages_for_platform(params, q_d, j), reading_rate(params, q_d, j) if rate else None
     L, slope = own_command(lambda p, rows: chain_positions(params.chains, p, j - 1), params.angle_signs, q_d, rate)
     if j == 1 and params.chains.stacked:  # m_1's centre rides on m_2: the stack-up's fixed point
-        L = stacked_carriages(params, q_d, L, solve=lambda Lk, guess: _attitude(params, Lk, guess, 2, None, None))
+        L = stacked_carriages(params, q_d, L, solve=lambda Lk, guess: _attitude(params, Lk, guess, 2, None))
     return L, slope
 
 
@@ -277,7 +278,13 @@ def own_command(
 
 
 def _attitude(
-    params: Parameters, L: np.ndarray, guess: np.ndarray, j: int, t, source, other: np.ndarray | None = None
+    params: Parameters,
+    L: np.ndarray,
+    guess: np.ndarray,
+    j: int,
+    t: np.ndarray | None,
+    source: str | None = None,
+    other: np.ndarray | None = None,
 ) -> np.ndarray:
     """Platform j's attitude at carriages L (N, 3) [m], each sample solved from its guess (N, 3) [rad].
 
@@ -285,13 +292,14 @@ def _attitude(
     in two Newton steps, each from one evaluation of the chains (:func:`_newton_from_close`), the second no larger
     than :data:`CONVERGED_STEP` (or the readings reproduced to :data:`CONVERGED_GAP`); a sample that has not,
     and every sample of a drawing machine, goes through the full solve with its assembly-mode and singularity checks.
-    ``other``: m_2's attitude at L when known (m_1 on a machine with a stack-up needs it; None: solved here).
+    ``other``: m_2's attitude at L, (N, 3) [rad], which m_1 on a machine with a stack-up rides on (every caller has
+    solved m_2 first; None for m_2, or for m_1 without a stack-up). ``t``, ``source``: for messages.
     """
     q = np.empty_like(guess)
     rest = np.arange(len(L))
     if j == 1 and params.geometry is not None and params.chains.stacked:  # m_1 sees L − Δz(q_2(L))
-        q2 = _attitude(params, L, guess, 2, t, source) if other is None else other
-        L = L - stackup_lift(params.chains.spline_seat, q2 * params.angle_signs)[:, None]
+        assert other is not None
+        L = L - stackup_lift(params.chains.spline_seat, other * params.angle_signs)[:, None]
     if params.geometry is not None:
         q[:], done = _newton_from_close(params, L, guess, j)
         rest = np.flatnonzero(~done)
@@ -325,7 +333,7 @@ def newton_from_close(
     Returns:
         Gait angles in [rad], (N, 3), and converged (N,) bool.
     """
-    p = np.asarray(guess, dtype=float) * signs
+    p = guess * signs  # the signs are floats: so is p
     converged = np.empty(len(p), dtype=bool)
     for start in range(0, len(p), BLOCK):  # blocks that stay in the cache; every sample is independent
         rows = slice(start, start + BLOCK)

@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from ..analytic.stations import platform_jacobian, platform_motion
+from ..exceptions import ExcitationError
 from ..files import write_columns
 from ..machine.parameters import Parameters
 from ..motion.trajectories import iso14242
@@ -89,7 +90,7 @@ class CalibrationExcitation:
 
     def angles(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """q, q̇, q̈ at times t [s] (N,), in [rad], [rad/s], [rad/s²], each (N, 3)."""
-        return _series(self.coefficients, self.frequency, np.asarray(t, dtype=float))
+        return _series(self.coefficients, self.frequency, np.asarray(t))
 
     def write_csv(self, path: str | Path, rate: float, duration: float) -> Path:
         """A trajectory CSV (t_s, alpha_deg, beta_deg, gamma_deg, Fe_N at 300 N) of whole periods, the last row the first."""
@@ -102,11 +103,10 @@ class CalibrationExcitation:
 
 
 def _series(coefficients: np.ndarray, frequency: float, t: np.ndarray):
-    harmonics = coefficients.shape[1] // 2
-    w = 2 * np.pi * frequency * np.arange(1, harmonics + 1)
+    a, b = coefficients[:, 0::2], coefficients[:, 1::2]
+    w = 2 * np.pi * frequency * np.arange(1, a.shape[1] + 1)
     arg = t[:, None] * w[None, :]
     s, c = np.sin(arg), np.cos(arg)
-    a, b = coefficients[:, 0::2], coefficients[:, 1::2]
     q = s @ a.T + c @ b.T
     qd = (c * w) @ a.T - (s * w) @ b.T
     qdd = -(s * w**2) @ a.T - (c * w**2) @ b.T
@@ -159,7 +159,7 @@ def calibration_excitation(
     limits = limits or Limits.for_machine(params, max_angle=math.radians(20.0))
     t = np.arange(DESIGN_SAMPLES) / (DESIGN_SAMPLES * frequency)
     seen = structure(params, offsets)
-    best: CalibrationExcitation | None = None
+    best: tuple[float, np.ndarray, ExcitationPeaks] | None = None  # condition number, coefficients, peaks
     for k in range(seeds):
         rng = np.random.default_rng([seed, k])
         coefficients = rng.normal(size=(3, 2 * harmonics)) / np.repeat(np.arange(1, harmonics + 1), 2)[None, :]
@@ -173,20 +173,12 @@ def calibration_excitation(
             continue
         q = _series(coefficients, frequency, t)[0]
         condition = calibration_condition(params, q, offsets, seen)
-        if best is None or condition < best.condition_number:
-            best = CalibrationExcitation(frequency, coefficients, condition, math.nan, peaks, limits)
+        if best is None or condition < best[0]:
+            best = (condition, coefficients, peaks)
     if best is None:
-        from ..exceptions import ExcitationError
-
         raise ExcitationError(
             "no calibration motion within the limits: relax --max-angle, --max-speed or --min-cond-inv"
         )
-    iso = iso14242(rate=DESIGN_SAMPLES)
-    return CalibrationExcitation(
-        best.frequency,
-        best.coefficients,
-        best.condition_number,
-        calibration_condition(params, iso.q, offsets, seen),
-        best.peaks,
-        limits,
-    )
+    condition, coefficients, peaks = best
+    iso = calibration_condition(params, iso14242(rate=DESIGN_SAMPLES).q, offsets, seen)
+    return CalibrationExcitation(frequency, coefficients, condition, iso, peaks, limits)

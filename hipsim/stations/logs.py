@@ -61,31 +61,25 @@ DESIRED_COLUMNS = ("alpha_des_deg", "beta_des_deg", "gamma_des_deg")
 
 
 def _table(
-    path: str | Path, map: str | None = None, needed: Collection[str] | None = None
+    path: str | Path, map: str | None, needed: Collection[str]
 ) -> tuple[list[str], dict[str, np.ndarray], np.ndarray | None]:
     """(header, columns by name as float arrays, the file line of each row, or for a TDMS or HDF5 file its sample
     numbers from 1, or None for Parquet).
 
-    ``needed``: the columns whose cells must be numbers (a text cell is refused by line and column); in the others a
-    text cell reads as NaN (a column the caller does not use: a log's sensors for its carriages alone). None: all."""
+    ``needed``: the columns whose cells must be numbers (a text cell, or a Parquet column of text, is refused by line
+    and column); in the others a text cell reads as NaN (a column the caller does not use: a log's sensors for its
+    carriages alone) and a Parquet column of text is left out."""
     source = str(path)
     if channel_kind(path) is not None:
         table = read_channels(path, map, WHAT, TrajectoryError)
-        lines = np.arange(1, table.values.shape[0] + 1)
-        return list(table.names), {name: table.values[:, c] for c, name in enumerate(table.names)}, lines
+        samples = 1 + np.arange(table.values.shape[0])
+        return list(table.names), {name: table.values[:, c] for c, name in enumerate(table.names)}, samples
     if map is not None:
         raise TrajectoryError(
             "a column map of channels (--columns GROUP/CHANNEL) applies to TDMS and HDF5 logs", source=source
         )
     if Path(path).suffix.lower() in (".parquet", ".pq"):
-        table = open_parquet(path, WHAT, TrajectoryError).read()
-        columns = {}
-        for name in table.column_names:
-            try:
-                columns[name] = np.asarray(table.column(name).to_numpy(zero_copy_only=False), dtype=float)
-            except (TypeError, ValueError):
-                continue  # a text column: ignored like any other unknown one
-        return list(table.column_names), columns, None
+        return _parquet(path, needed)
     numbered = data_lines(read_text_lines(path, WHAT, TrajectoryError))
     if not numbered:
         raise TrajectoryError("empty: no header and no rows", source=source)
@@ -99,31 +93,44 @@ def _table(
     optional = set(sum(KNOWN_COLUMNS, ()))
     names = ("t_s",) + CARRIAGE_COLUMNS + MOTOR_COLUMNS + sum(SENSOR_COLUMNS, ()) + sum(KNOWN_COLUMNS, ())
     keep = [name for name in names + COMMAND_COLUMNS + DESIRED_COLUMNS if name in wanted]
-    values = np.empty((len(numbered) - 1, len(keep)))
-    lines = np.empty(len(numbered) - 1, dtype=int)
+    values = np.full(
+        (len(numbered) - 1, len(keep)), math.nan
+    )  # NaN: an empty cell of a fixture, a text cell not needed
     decimal_comma = separator != ","
     for row, (line, text) in enumerate(numbered[1:]):
         try:
             row_cells = cells(text, separator)
         except ValueError as error:
             raise TrajectoryError(str(error), source=source, line=line) from None
-        lines[row] = line
         for c, name in enumerate(keep):
             k = wanted[name]
             cell = row_cells[k] if k < len(row_cells) else ""
-            if name in optional and cell.strip().lower() in ("", "nan"):
-                values[row, c] = math.nan  # the platform is free on this row
-                continue
+            if name in optional and not cell.strip():
+                continue  # the platform is free on this row
             try:
                 values[row, c] = number(cell, decimal_comma)
             except ValueError:
-                if needed is not None and name not in needed:
-                    values[row, c] = math.nan
-                    continue
-                raise TrajectoryError(
-                    f"'{cell.strip()}' is not a number", source=source, line=line, column=name
-                ) from None
+                if name in needed:
+                    raise TrajectoryError(
+                        f"'{cell.strip()}' is not a number", source=source, line=line, column=name
+                    ) from None
+    lines = np.array([line for line, _ in numbered[1:]])
     return header, {name: values[:, c] for c, name in enumerate(keep)}, lines
+
+
+def _parquet(path: str | Path, needed: Collection[str]) -> tuple[list[str], dict[str, np.ndarray], None]:
+    """:func:`_table` of a Parquet file: its columns of numbers by name (no lines)."""
+    table = open_parquet(path, WHAT, TrajectoryError).read()
+    columns = {}
+    for name in table.column_names:
+        try:
+            columns[name] = np.asarray(table.column(name).to_numpy(), dtype=float)
+        except (TypeError, ValueError):
+            if name in needed:
+                raise TrajectoryError(
+                    f"holds {table.schema.field(name).type}, not numbers", source=str(path), column=name
+                ) from None
+    return list(table.column_names), columns, None
 
 
 def _read(
@@ -150,15 +157,12 @@ def _read(
             )
 
     missing(("t_s",), "time")
-    if all(name in columns for name in CARRIAGE_COLUMNS):
-        carriages = np.stack([columns[name] for name in CARRIAGE_COLUMNS], axis=1) * 1e-3
-        used: tuple[str, ...] = CARRIAGE_COLUMNS
-    elif all(name in columns for name in MOTOR_COLUMNS):
-        carriages = np.stack([columns[name] for name in MOTOR_COLUMNS], axis=1) / 360.0 * lead
-        used = MOTOR_COLUMNS
-    else:
+    encoders = all(name in columns for name in CARRIAGE_COLUMNS)
+    if not encoders and not all(name in columns for name in MOTOR_COLUMNS):
         missing(CARRIAGE_COLUMNS, "carriage encoders (or motor angles motor_1_deg, motor_2_deg, motor_3_deg)")
-        raise AssertionError("unreachable")
+    used = CARRIAGE_COLUMNS if encoders else MOTOR_COLUMNS  # the encoders when both are logged
+    carriages = np.stack([columns[name] for name in used], axis=1)
+    carriages = carriages * 1e-3 if encoders else carriages / 360.0 * lead
     if sensors is None:
         sensors = any(name in columns for name in sum(SENSOR_COLUMNS, ()))
     if sensors:
@@ -281,7 +285,7 @@ def read_run_log(
             or sensor cell that is no finite number (naming line and column).
     """
     t, carriages = read_carriage_log(path, lead)
-    header, columns, lines = _table(path, needed=("t_s",) + sum(SENSOR_COLUMNS, ()) + COMMAND_COLUMNS)
+    header, columns, lines = _table(path, None, sum(SENSOR_COLUMNS, ()) + COMMAND_COLUMNS)  # t: read above
     source = str(path)
     for j in platforms:
         absent = [name for name in SENSOR_COLUMNS[j - 1] if name not in columns]

@@ -102,9 +102,8 @@ def attitude_jacobian(params: Parameters, q: np.ndarray, columns: np.ndarray | N
         columns: only these entries of δ (the last axis then follows them); None for all 48.
     """
     out = np.zeros((len(q), 2, 3, dv.COUNT))
-    for j in (1, 2):
-        other = q[:, 1] if j == 1 else None
-        out[:, j - 1][..., dv.platform_columns(j)] = platform_attitude_jacobian(params, q[:, j - 1], j, other)
+    for j in (1, 2):  # m_2's attitude: m_1's seat column needs it (m_2's own columns do not)
+        out[:, j - 1][..., dv.platform_columns(j)] = platform_attitude_jacobian(params, q[:, j - 1], j, q[:, 1])
     return out if columns is None else out[..., columns]
 
 

@@ -16,7 +16,6 @@ other file, none (NaN).
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -26,6 +25,7 @@ import numpy as np
 from ..machine.chains import ChainGeometry
 from ..machine.parameters import Parameters
 from ..records import Record
+from ..results import rms_and_signed_peak
 from .sensitivity import attitude_jacobian
 
 __all__ = ["SensorAgreement", "SensorComparison", "calibration_covariance", "compare_sensors", "prediction_std"]
@@ -69,8 +69,8 @@ class SensorComparison(Record):
 def prediction_std(params: Parameters, q: np.ndarray, theta_covariance: np.ndarray) -> np.ndarray:
     """Standard deviation in [rad] of both platforms' predicted attitudes q (N, 2, 3) [rad] from the per-chain values'
     covariance [m²] (COUNT, COUNT) (hipsim.stations.deviations.COUNT): √(J·Σ·Jᵀ) per platform and angle with J = ∂q/∂δ, (N, 2, 3)."""
-    J = attitude_jacobian(params, np.asarray(q, dtype=float))
-    return np.sqrt(np.einsum("njkp,pr,njkr->njk", J, np.asarray(theta_covariance, dtype=float), J))
+    J = attitude_jacobian(params, np.asarray(q))
+    return np.sqrt(np.sum((J @ np.asarray(theta_covariance)) * J, axis=-1))
 
 
 def calibration_covariance(record: Mapping[str, Any]) -> np.ndarray | None:
@@ -87,11 +87,11 @@ def calibration_covariance(record: Mapping[str, Any]) -> np.ndarray | None:
     if isinstance(estimated, list) and isinstance(covariance, list) and all(n in names for n in estimated):
         index = [names.index(n) for n in estimated]
         out = np.zeros((len(names), len(names)))
-        out[np.ix_(index, index)] = np.asarray(covariance, dtype=float) * 1e-6
+        out[np.ix_(index, index)] = np.asarray(covariance) * 1e-6
         return out
     std = record.get("std_mm")
     if isinstance(std, list) and len(std) == len(names):
-        return np.diag((np.asarray(std, dtype=float) * 1e-3) ** 2)
+        return np.diag((np.asarray(std) * 1e-3) ** 2)
     return None
 
 
@@ -101,7 +101,7 @@ def compare_sensors(
     predicted: np.ndarray,
     measured: np.ndarray,
     theta_covariance: np.ndarray | None = None,
-    uncertainty: str = "none: the parameter file records no calibration",
+    uncertainty: str = "the covariance given",
 ) -> SensorComparison:
     """Measured − predicted attitudes per platform and angle, with the prediction's spread.
 
@@ -111,28 +111,17 @@ def compare_sensors(
         predicted: both platforms' predicted attitudes [rad], (N, 2, 3).
         measured: the sensors' [rad], (N, 2, 3).
         theta_covariance: the per-chain values' covariance [m²], (COUNT, COUNT) (hipsim.stations.deviations.COUNT); None: the prediction carries none.
-        uncertainty: where ``theta_covariance`` came from, for the record.
+        uncertainty: where ``theta_covariance`` came from, for the record ("none" without one).
     """
-    difference = np.degrees(np.asarray(measured, dtype=float) - np.asarray(predicted, dtype=float))
-    if theta_covariance is None:
-        spread = np.full(3 * 2, math.nan)
-    else:
-        std = np.degrees(prediction_std(params, predicted, theta_covariance))
-        spread = np.sqrt(np.mean(std**2, axis=0)).ravel()
+    difference = np.degrees(np.asarray(measured) - np.asarray(predicted))
+    spread = None
+    if theta_covariance is not None:
+        spread = np.sqrt(np.mean(np.degrees(prediction_std(params, predicted, theta_covariance)) ** 2, axis=0))
     entries = []
     for j in range(2):
         for k, angle in enumerate(_ANGLES):
             d = difference[:, j, k]
-            peak = int(np.argmax(np.abs(d)))
-            entries.append(
-                SensorAgreement(
-                    platform=j + 1,
-                    angle=angle,
-                    rms_deg=float(np.sqrt(np.mean(d**2))),
-                    mean_deg=float(np.mean(d)),
-                    peak_deg=float(d[peak]),
-                    peak_at_s=float(t[peak]),
-                    prediction_std_deg=None if theta_covariance is None else float(spread[3 * j + k]),
-                )
-            )
-    return SensorComparison(len(t), uncertainty if theta_covariance is not None else "none", tuple(entries))
+            rms, peak, peak_at = rms_and_signed_peak(t, d)
+            std = None if spread is None else float(spread[j, k])
+            entries.append(SensorAgreement(j + 1, angle, rms, float(np.mean(d)), peak, peak_at, std))
+    return SensorComparison(len(t), "none" if spread is None else uncertainty, tuple(entries))

@@ -17,6 +17,7 @@ import numpy as np
 from ..motion.iso_compliance import DEFAULT_TOLERANCES
 from ..motion.iso_verdict import ANGLES, StationIso, station_iso
 from ..records import Level, Record, Verdict, optional
+from ..results import rms_and_signed_peak
 from .commands import StationMotion
 
 __all__ = [
@@ -29,6 +30,7 @@ __all__ = [
     "attitude_columns",
     "error_columns",
     "sliders_summary",
+    "sliders_verdict",
     "station_columns",
     "station_summary",
     "stations_verdict",
@@ -128,8 +130,7 @@ class StationSummary(Record):
 
 def angle_error(t: np.ndarray, values_deg: np.ndarray) -> AngleError:
     """RMS, signed peak and its time of one error series in [deg] over times t in [s]."""
-    peak = int(np.argmax(np.abs(values_deg)))
-    return AngleError(float(np.sqrt(np.mean(values_deg**2))), float(values_deg[peak]), float(t[peak]))
+    return AngleError(*rms_and_signed_peak(t, values_deg))
 
 
 def station_summary(
@@ -225,4 +226,14 @@ def sliders_summary(log: str, attitudes: np.ndarray) -> SlidersSummary:
         len(attitudes),
         (float(rms[0]), float(rms[1]), float(rms[2])),
         (float(peak[0]), float(peak[1]), float(peak[2])),
+    )
+
+
+def sliders_verdict(sliders: SlidersSummary) -> Verdict:
+    """The verdict of the attitudes from a log's carriages: NOT MADE (how far apart the platforms turn has no limit)."""
+    return Verdict(
+        Level.NOT_MADE,
+        f"both platforms' attitudes from the carriages of {sliders.log} ({sliders.samples} samples): how far apart "
+        "they turn",
+        "the attitudes against an acceptance limit (none is set)",
     )

@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from ..records import Record
+from ..records import Level, Record, Verdict
 from .tolerance import ToleranceResult
 
 __all__ = [
@@ -19,6 +19,7 @@ __all__ = [
     "ToleranceSummary",
     "family_shares",
     "tolerance_summary",
+    "tolerance_verdict",
 ]
 
 #: The percentile the study reports.
@@ -114,4 +115,17 @@ def tolerance_summary(result: ToleranceResult, samples_per_draw: int) -> Toleran
         samples_per_draw=samples_per_draw,
         bands_mm={k: v * 1e3 for k, v in result.bands.items()},
         controls=tuple(controls),
+    )
+
+
+def tolerance_verdict(summary: ToleranceSummary) -> Verdict:
+    """A tolerance study's verdict: NOT MADE, always (it reports the errors' spread over the machines drawn and what
+    makes it; no acceptance limit is set for those errors)."""
+    controls = ", ".join(c.control for c in summary.controls) or "none"
+    return Verdict(
+        Level.NOT_MADE,
+        f"manufacturing tolerances: the attitude errors of {summary.draws} machine(s) drawn within the bands "
+        f"(--control {controls}), their {PERCENTILE:g}th percentiles and each tolerance's share",
+        "the errors against an acceptance limit (none is set)",
+        {"draws": float(summary.draws)},
     )

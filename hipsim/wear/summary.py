@@ -33,6 +33,7 @@ __all__ = [
     "compare_verdict",
     "difference_maps",
     "largest_differences",
+    "run_verdict",
     "wear_comparison",
     "wear_summary",
 ]
@@ -141,6 +142,24 @@ def wear_summary(maps: WearMaps, wear: Wear | None = None) -> WearSummary:
         wear_mm3_per_Mc=None if wear is None else wear.total_mm3_per_Mc,
         wear_depth_um_per_Mc_max=None if wear is None else float(np.max(wear.depth_um_per_Mc)),
         points_beyond_law_table=None if wear is None else wear.beyond_table,
+    )
+
+
+def run_verdict(summary: WearSummary) -> Verdict:
+    """One run's verdict: NOT MADE, always (no acceptance limit is set for a run's wear numbers); the numbers it
+    reports per cycle (the wear volume only when a law predicted it).
+
+    Args:
+        summary: the run's numbers (:func:`wear_summary`).
+    """
+    keys = ("force_track_mm", "force_track_load_Nm", "cross_shear_mean", "cross_shear_max", "wear_mm3_per_Mc")
+    numbers = {key: value for key in keys if (value := getattr(summary, key)) is not None}
+    return Verdict(
+        Level.NOT_MADE,
+        f"{summary.source}: one run's sliding, cross-shear and wear per cycle, not rated",
+        "the numbers against a limit (none is set): compare two runs with --compare A B, or weigh a test with "
+        "--weighings",
+        numbers,
     )
 
 

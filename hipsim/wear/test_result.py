@@ -9,11 +9,13 @@ the steady-state interval beside the measured one; predicted against measured
 volume per interval between stops (the given factor, else the station's own
 fitted local k, which matches the total by construction and shows the shape).
 
-The verdict (:func:`wear_verdict`) comes first on every page: DIFFERENT when
-some pair of stations' rates differs (its 95 % interval excludes 0), else ALIKE
-(ONE STATION when only one was weighed);
-then, with a given factor, per station whether its prediction lies in the
-measured rate's 95 % interval.
+The verdict (:func:`wear_verdict`, a :class:`hipsim.records.Verdict`) comes
+first on every page: DIFFERENT when some pair of stations' rates differs (its
+95 % interval excludes 0), else ALIKE; NOT MADE when only one station was
+weighed (the page and the terminal say ONE STATION: the comparison needs two).
+Under it (:func:`verdict_lines`) each pair's difference and, with a given
+factor, per station whether its prediction lies in the measured rate's 95 %
+interval (shown, not judged).
 """
 
 from __future__ import annotations
@@ -21,13 +23,16 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..records import Level
+from ..records import Level, Verdict
 from .accumulate import Exposure, IntervalRow, interval_table
 from .factors import FittedFactors, MotionIntegrals, fit_factors, fitted_wear_law, predicted_rate
-from .gravimetric import Gravimetry, StationRate
+from .gravimetric import Gravimetry, RateDifference, StationRate
 from .laws import CrossShearLaw
 
-__all__ = ["GivenFactor", "StationWear", "WearTest", "WearVerdict", "wear_test", "wear_verdict"]
+__all__ = ["ONE_STATION", "GivenFactor", "StationWear", "WearTest", "verdict_lines", "wear_test", "wear_verdict"]
+
+#: The word the page and the terminal say for the verdict NOT MADE: one station weighed, no other to compare with.
+ONE_STATION = "ONE STATION"
 
 
 @dataclass(frozen=True)
@@ -71,19 +76,6 @@ class StationWear:
 
 
 @dataclass(frozen=True)
-class WearVerdict:
-    """The verdict: a word (ALIKE or DIFFERENT, the stations' rates) and its lines."""
-
-    word: str
-    lines: tuple[str, ...]
-
-    @property
-    def level(self) -> Level:
-        """ALIKE, DIFFERENT, or NOT MADE for ONE STATION (for :func:`hipsim.records.exit_status`)."""
-        return {"ALIKE": Level.ALIKE, "DIFFERENT": Level.DIFFERENT}.get(self.word, Level.NOT_MADE)
-
-
-@dataclass(frozen=True)
 class WearTest:
     """A test's wear result (module docstring)."""
 
@@ -92,19 +84,63 @@ class WearTest:
     given: GivenFactor | None
     reference: MotionIntegrals | None
     fitted_law: CrossShearLaw | None
-    verdict: WearVerdict
+    verdict: Verdict
+    lines: tuple[str, ...]
+
+    @property
+    def word(self) -> str:
+        """The verdict's word on the page and in the terminal: its level's, ONE STATION for NOT MADE."""
+        return ONE_STATION if self.verdict.level == Level.NOT_MADE else self.verdict.level.value
 
 
-def wear_verdict(gravimetry: Gravimetry, stations: tuple[StationWear, ...], given: GivenFactor | None) -> WearVerdict:
-    """The verdict (module docstring): a pure function of the numbers."""
-    lines = []
-    different = [d for d in gravimetry.differences if d.significant]
-    for d in gravimetry.differences:
-        low, high = d.ci95_mm3_per_Mc
-        lines.append(
-            f"station {d.b} − station {d.a}: {d.difference_mm3_per_Mc:+.3g} mm³/Mc, 95 % [{low:+.3g}, {high:+.3g}]: "
-            + ("the rates differ" if d.significant else "no difference shown")
+def _difference_line(d: RateDifference) -> str:
+    low, high = d.ci95_mm3_per_Mc
+    return f"station {d.b} − station {d.a}: {d.difference_mm3_per_Mc:+.3g} mm³/Mc, 95 % [{low:+.3g}, {high:+.3g}]: " + (
+        "the rates differ" if d.significant else "no difference shown"
+    )
+
+
+def wear_verdict(gravimetry: Gravimetry, given: GivenFactor | None = None) -> Verdict:
+    """The verdict on the stations' rates (module docstring): a pure function of their differences.
+
+    DIFFERENT when some pair's difference is significant (its 95 % interval excludes 0), else ALIKE; NOT MADE with
+    one station weighed. The numbers: each pair's difference b − a and its interval in [mm³/Mc].
+
+    Args:
+        gravimetry: the measured rates and their differences.
+        given: the factor the predictions used (None: none), for what is not judged.
+    """
+    predictions = (
+        "each station's prediction with the given factor against its measured rate's 95 % interval (shown, not judged)"
+        if given is not None
+        else ""
+    )
+    if not gravimetry.differences:
+        not_judged = "the stations' rates against each other: the comparison needs two stations weighed"
+        return Verdict(
+            Level.NOT_MADE,
+            "one station weighed: no other to compare its rate with",
+            "; ".join(filter(None, (not_judged, predictions))),
         )
+    numbers: dict[str, float] = {}
+    for d in gravimetry.differences:
+        key = f"station_{d.b}_minus_{d.a}"
+        low, high = d.ci95_mm3_per_Mc
+        numbers |= {f"{key}_mm3_per_Mc": d.difference_mm3_per_Mc, f"{key}_ci95_low_mm3_per_Mc": low}
+        numbers[f"{key}_ci95_high_mm3_per_Mc"] = high
+    judged = "each pair of stations' wear rates, its difference's 95 % interval against 0: " + "; ".join(
+        _difference_line(d) for d in gravimetry.differences
+    )
+    level = Level.DIFFERENT if any(d.significant for d in gravimetry.differences) else Level.ALIKE
+    return Verdict(level, judged, predictions, numbers)
+
+
+def verdict_lines(
+    gravimetry: Gravimetry, stations: tuple[StationWear, ...], given: GivenFactor | None
+) -> tuple[str, ...]:
+    """The sentences under the verdict's word (page and terminal): each pair's difference (or that one station was
+    weighed) and, with a given factor, each station's prediction against its measured interval."""
+    lines = [_difference_line(d) for d in gravimetry.differences]
     if given is not None:
         for s in stations:
             low, high = s.rate.ci95_mm3_per_Mc
@@ -114,8 +150,8 @@ def wear_verdict(gravimetry: Gravimetry, stations: tuple[StationWear, ...], give
                 f"measured {s.rate.rate_mm3_per_Mc:.3g} [{low:.3g}, {high:.3g}]: {state}"
             )
     if not gravimetry.differences:
-        return WearVerdict("ONE STATION", ("one station weighed: no other to compare its rate with", *lines))
-    return WearVerdict("DIFFERENT" if different else "ALIKE", tuple(lines))
+        return ("one station weighed: no other to compare its rate with", *lines)
+    return tuple(lines)
 
 
 def wear_test(
@@ -147,4 +183,5 @@ def wear_test(
         out.append(StationWear(rate, exposure, fitted, predicted, rows, law))
     stations = tuple(out)
     table = fitted_wear_law(tuple(s.fitted for s in stations))
-    return WearTest(gravimetry, stations, given, reference, table, wear_verdict(gravimetry, stations, given))
+    verdict, lines = wear_verdict(gravimetry, given), verdict_lines(gravimetry, stations, given)
+    return WearTest(gravimetry, stations, given, reference, table, verdict, lines)

@@ -1,8 +1,8 @@
 """What the wear test reports (``hipsim wear --weighings``: ``wear_test.json`` and ``--summary-format json``) as
 typed records, made from a :class:`~hipsim.wear.test_result.WearTest` and each station's context.
 
-:func:`wear_test_summary` gives the document: the verdict's word and lines first
-(:func:`~hipsim.wear.test_result.wear_verdict`), the density, the weighings' file, the given factor and the reference
+:func:`wear_test_summary` gives the document: the verdict first
+(:func:`~hipsim.wear.test_result.wear_verdict`, a :class:`hipsim.records.Verdict`), the density, the weighings' file, the given factor and the reference
 motion, then per station (its name the key) the measured rate, the k of both kinds fitted over its motion (and what
 they predict for the reference motion), the given factor's prediction, the intervals between stops, its motion error
 and friction; the differences between stations; the fitted k(CS) law.
@@ -11,9 +11,8 @@ and friction; the differences between stations; the fitted k(CS) law.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Literal
 
-from ..records import Record, optional
+from ..records import Record, Verdict, optional
 from .accumulate import IntervalRow
 from .factors import FittedFactors, MotionIntegrals
 from .gravimetric import RateDifference, StationRate
@@ -217,12 +216,11 @@ class WearLawSummary(Record):
 
 @dataclass(frozen=True)
 class WearTestSummary(Record):
-    """A wear test's result (module docstring): the verdict (ALIKE, DIFFERENT, ONE STATION) and its lines, the
+    """A wear test's result (module docstring): the verdict (ALIKE, DIFFERENT, NOT MADE with one station), the
     density in [mg/mm³] and how it was stated, the weighings' file, the given factor, the reference motion, per station
     its result, the differences between stations, the fitted k(CS) law."""
 
-    verdict: Literal["ALIKE", "DIFFERENT", "ONE STATION"]
-    lines: tuple[str, ...]
+    verdict: Verdict
     density_mg_per_mm3: float
     density: str
     weighings: str
@@ -237,12 +235,8 @@ def wear_test_summary(result: WearTest, contexts: tuple[StationContext, ...] = (
     """The summary of a wear test (module docstring), each station with its context when given."""
     by_name = {c.station: c for c in contexts}
     g, law, given = result.gravimetry, result.fitted_law, result.given
-    word = result.verdict.word
-    if word not in ("ALIKE", "DIFFERENT", "ONE STATION"):
-        raise ValueError(f"wear_test_summary: unknown verdict {word!r}")
     return WearTestSummary(
-        word,  # type: ignore[arg-type]  # checked just above
-        result.verdict.lines,
+        result.verdict,
         g.density_mg_per_mm3,
         g.density_stated,
         g.source,

@@ -19,7 +19,8 @@ def test_every_document_is_listed_and_its_schema_is_valid():
         assert SCHEMAS[name] is MORE_SCHEMAS[name]
         document = schema(name)
         jsonschema.Draft202012Validator.check_schema(document)
-        assert document["version"] == SCHEMA_VERSION and document["$id"].endswith(f"/{name}/v{SCHEMA_VERSION}.json")
+        version = "2" if name == "wear-test" else SCHEMA_VERSION  # 2: the wear test's verdict a records.Verdict
+        assert document["version"] == version and document["$id"].endswith(f"/{name}/v{version}.json")
 
 
 def test_a_document_keyed_by_trajectory_name_takes_any_name_and_only_sizings():

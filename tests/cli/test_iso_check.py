@@ -23,7 +23,7 @@ def test_the_built_in_cycle_passes_and_the_folder_is_written(tmp_path, capsys):
     text = capsys.readouterr().out
     assert "verdict: PASS" in text and "assumed" in text
     summary = json.loads((out / "iso_check.json").read_text())
-    assert summary["passed"] and summary["cycles"] == 1
+    assert summary["verdict"]["level"] == "PASS" and summary["cycles"] == 1 and "passed" not in summary
     assert summary["quantities"]["load"]["tolerance"] == 90.0
     assert (out / "index.html").exists() and (out / "cycles.png").exists() and (out / "cycles.svg").exists()
 
@@ -98,7 +98,13 @@ def test_the_page_opens_with_the_verdict_and_hashes_its_log(tmp_path, capsys, qu
     assert digest in page and "station 2" in page
     assert page.index('class="verdict') < page.index("<table") and "FAIL" in page[: page.index("<table")]
     document = json.loads((out / "iso_check.json").read_text())
-    assert document["verdict"]["state"] == "fail" and "alpha" in document["verdict"]["lines"][0]
+    assert document["verdict"]["level"] == "FAIL" and document["verdict"]["judged"].startswith(
+        "alpha left the tolerance"
+    )
+    assert document["verdict"]["numbers"]["alpha_tolerance_deg"] == 3.0 and list(document)[:2] == [
+        "verdict",
+        "provenance",
+    ]
     assert [entry["sha256"] for entry in document["provenance"]["inputs"] if entry["path"].endswith("alpha.csv")] == [
         digest
     ]

@@ -160,7 +160,10 @@ def test_identical_platforms_compare_alike(stations, tmp_path, capsys):
         )
         assert status == 0
         runs.append(json.loads(text))
-    summaries = [WearSummary(**{k: v for k, v in run.items() if k not in ("notes", "table", "index")}) for run in runs]
+    assert [run["verdict"]["level"] for run in runs] == ["NOT MADE", "NOT MADE"]  # one run is not rated
+    summaries = [
+        WearSummary(**{k: v for k, v in run.items() if k not in ("verdict", "notes", "table", "index")}) for run in runs
+    ]
     rows = compare_summaries(*summaries)
     assert all(row.difference in (0.0, None) for row in rows)
     assert compare_verdict(rows, 0.0, ("1", "2")).level == Level.ALIKE

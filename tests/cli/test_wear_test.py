@@ -59,7 +59,10 @@ def test_a_simulated_test_through_the_report(test_folder, tmp_path, capsys):
     jsonschema.Draft202012Validator(schema("wear-test")).validate(result)
     assert result["index"].endswith("index.html") and result["table"].endswith("stops.csv")
     assert ("wear_law" in result) == (result["fitted_wear_law"] is not None)  # the law file only with a law
-    assert result["verdict"] == "DIFFERENT" and result["wear_factor"] == {"k_mm3_per_Nm": 4e-7, "kind": "local"}
+    assert result["verdict"]["level"] == "DIFFERENT" and result["wear_factor"] == {
+        "k_mm3_per_Nm": 4e-7,
+        "kind": "local",
+    }
     assert result["density_mg_per_mm3"] == 0.935 and "default" in result["density"]
     one, two = result["stations"]["1"], result["stations"]["2"]
     # station 1: load scale 1 throughout, k = 4e-7: 4e-7·I0·1e6 mm³/Mc from 0.5 Mc on (bedding-in before)
@@ -113,7 +116,7 @@ def test_station_motions_from_a_stations_output(tmp_path, capsys):
         tmp_path / "t.csv",
     )
     result = json.loads(text)
-    assert status == (1 if result["verdict"] == "DIFFERENT" else 0), err  # the exit rule
+    assert status == (1 if result["verdict"]["level"] == "DIFFERENT" else 0), err  # the exit rule
     jsonschema.Draft202012Validator(schema("wear-test")).validate(result)
     assert "index" not in result and result["stations"]["1"]["friction"] is None  # no --report, no monitor table
     one = result["stations"]["1"]
@@ -284,5 +287,5 @@ def test_the_report_prints_to_pdf(tmp_path, capsys, monkeypatch):
     )
     assert status == 0, err
     assert json.loads(text)["pdf"] == str(tmp_path / "page" / "wear_test.pdf")
-    assert json.loads(text)["verdict"] == "ONE STATION"
+    assert json.loads(text)["verdict"]["level"] == "NOT MADE"  # ONE STATION on the page: exits 0
     assert printed == [tmp_path / "page" / "index.html"]

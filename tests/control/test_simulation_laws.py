@@ -5,6 +5,9 @@ import math
 
 import numpy as np
 import pytest
+from support import RAMP_Q0 as Q0
+from support import RAMP_QD0 as QD0
+from support import ramp
 
 import hipsim
 from hipsim.analytic.inverse_kinematics import kinematics
@@ -15,21 +18,13 @@ from hipsim.machine.parameter_set import FRICTION_COEFFICIENTS, ControlSettings
 from hipsim.motion.trajectories import Trajectory
 from hipsim.physics.transmission import angle_from_travel
 
-Q0 = np.radians([4.0, 1.0, -2.0])
-QD0 = np.array([0.1, -0.05, 0.02])
-
 
 @pytest.fixture(scope="module")
 def params():
     return hipsim.load_parameters()
 
 
-def _desired(t):
-    """A still pose at Q0 whose load rises linearly: F_e = 1000 + 500·t N."""
-    t = np.asarray(t, dtype=float)
-    n = t.size
-    q = np.tile(Q0, (n, 1))
-    return Trajectory(t, q, np.tile(QD0, (n, 1)), np.zeros((n, 3)), 1000.0 + 500.0 * t, name="ramp")
+_desired = ramp  # the motion of tests/support.py
 
 
 class DoubleIntegrator:
@@ -426,36 +421,4 @@ def test_refusals_name_option_value_and_unit_whole(params):
     assert str(error.value) == (
         "mismatch: expected fractions above -1 (a mismatch of -100 % or less leaves nothing), "
         "got {'friction': 0.1, 'masses': -1.0}"
-    )
-
-
-@pytest.fixture(scope="module")
-def pinocchio(params):
-    from hipsim.closed_chain.plant import PinocchioPlant
-
-    return PinocchioPlant(apply_mismatch(params, friction=0.3, masses=-0.1))
-
-
-def test_three_periods_of_the_pinocchio_plant_compiled_and_in_python_agree(params, pinocchio):
-    """The Pinocchio plant's compiled RK4 steps with the control of each period (closed_chain_loop) against the
-    Python loop, three periods from the desired pose, with a limit that bites: the same numbers."""
-    assert pinocchio.compiled_stepper() is not None
-    start = pinocchio.initial_state(_desired(np.zeros(1)))
-    controller = AugmentedPD(params, _desired, 1000.0, 0.003)
-    free = simulate(pinocchio, controller, _desired, 0.003, 1000.0, 5e-4, compiled=False)
-    limit = 0.7 * float(np.abs(free.tau).max())
-    slow, fast = (
-        simulate(pinocchio, controller, _desired, 0.003, 1000.0, 5e-4, limit, start, compiled=c) for c in (False, True)
-    )
-    assert fast.q == pytest.approx(slow.q, abs=1e-12) and fast.qd == pytest.approx(slow.qd, abs=1e-9)
-    assert fast.tau == pytest.approx(slow.tau, abs=1e-9)
-    assert fast.tau_requested == pytest.approx(slow.tau_requested, abs=1e-9)
-    assert fast.saturated.tolist() == slow.saturated.tolist() and slow.saturated.any()
-    assert np.abs(fast.tau).max() == pytest.approx(limit, rel=1e-15) and fast.plant == pinocchio.name
-    assert free.q[0] == pytest.approx(Q0, abs=1e-9)
-    with pytest.raises(ArgumentError) as error:
-        simulate(pinocchio, controller, _desired, 0.003, 1000.0, 5e-4, initial_state=start[:-1], compiled=True)
-    assert (
-        str(error.value)
-        == f"initial_state: expected a state of the {pinocchio.name} plant, of shape {start.shape}, got shape {start[:-1].shape}"
     )

@@ -6,10 +6,11 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 
 from hipsim.cli import sweep as sweep_cli
-from hipsim.design.sweep_summary import pareto_points, sweep_result, sweep_verdict
-from hipsim.records import Level, exit_status
+from hipsim.design.sweep_summary import Best, Neighbour, pareto_points, sweep_result, sweep_verdict
+from hipsim.records import Level, Verdict, exit_status
 
 
 def _table(keys: dict, objective, rating=None, margin=None, status=None):
@@ -107,5 +108,118 @@ def test_pareto_points_by_hand():
     assert [p.to_json() for p in points] == [
         {"a.x": 1.0, "tau_peak_max_Nmm": 1.0, "y": 3.0},
         {"a.x": 2.0, "tau_peak_max_Nmm": 2.0, "y": 1.0},
+    ]
+    assert [(p.variant, [e.side for e in p.edges]) for p in edged] == [({"a.x": 1.0}, ["lower"])]
+
+
+def test_the_sweep_verdicts_words_whole():
+    assert sweep_verdict(4, 3, True, 1) == Verdict(
+        Level.FEASIBLE, "1 of 4 variants pass the drive's rating", "", {"rows": 4.0, "ok": 3.0, "passing": 1.0}
+    )
+    assert sweep_verdict(4, 3, False, 3) == Verdict(
+        Level.FEASIBLE,
+        "3 of 4 variants run the motion (they assemble and stay in the workspace)",
+        "the drive's rating: no drive given",
+        {"rows": 4.0, "ok": 3.0, "passing": 3.0},
+    )
+
+
+def _mixed():
+    """Four rows by hand: x = 1 … 4; row 1 cannot assemble (its reason), row 2 fails the rating (its binding check),
+    rows 0 and 3 pass; the torque of row 1 a Parquet null (None)."""
+    columns = _table(
+        {"a.x": [1.0, 2.0, 3.0, 4.0]},
+        [1.0, 0.0, 3.0, 4.0],
+        ["pass", "unchecked", "fail", "pass"],
+        [0.2, math.nan, -0.1, 0.3],
+        ["ok", "cannot_assemble", "ok", "ok"],
+    )
+    columns["tau_peak_max_Nmm"][1] = None
+    columns["reason"][1] = "lever too short"
+    columns["binding"][2] = "max_speed"
+    return columns
+
+
+def test_the_best_variants_and_their_nearest_failing_rows_whole():
+    """The least torque is row 0's (row 1's null is no value): its nearest failing row is row 1 (cannot assemble, no
+    margin, its reason); the largest margin is row 3's (0.3): its nearest failing row is row 2 (FAIL, its binding)."""
+    result = sweep_result(_mixed(), ["a.x"], {"tau_peak_max_Nmm": False})
+    torque = result.best["tau_peak_max_Nmm"]
+    assert torque == Best(
+        "min",
+        1.0,
+        0,
+        {"a.x": 1.0},
+        "pass",
+        torque.edges,
+        0.2,
+        Neighbour(1, {"a.x": 2.0}, "cannot_assemble", "unchecked", None, None, "lever too short"),
+    )
+    assert [(e.key, e.side, e.value) for e in torque.edges] == [("a.x", "lower", 1.0)]
+    margin = result.best["margin"]
+    assert margin == Best(
+        "max",
+        0.3,
+        3,
+        {"a.x": 4.0},
+        "pass",
+        margin.edges,
+        0.3,
+        Neighbour(2, {"a.x": 3.0}, "ok", "fail", -0.1, "max_speed", None),
+    )
+    assert [(e.key, e.side, e.value) for e in margin.edges] == [("a.x", "upper", 4.0)]
+    assert (result.rows, result.ok, result.cannot_assemble, result.out_of_workspace) == (4, 3, 1, 0)
+    assert (result.rated, result.passed, result.fail, result.unchecked, result.passing) == (True, 2, 1, 1, 2)
+    assert result.verdict.judged == "2 of 4 variants pass the drive's rating"
+
+
+def test_one_rating_word_alone_makes_a_table_rated():
+    x = {"a.x": [1.0, 2.0, 3.0]}
+    failing = sweep_result(_table(x, [1.0, 2.0, 3.0], ["fail", "unchecked", "unchecked"]), ["a.x"], {})
+    assert failing.rated and (failing.fail, failing.unchecked, failing.passing) == (1, 2, 0)
+    assert failing.verdict.level is Level.NOT_FEASIBLE  # 3 rows run the motion, none passes the rating
+    passing = sweep_result(
+        _table(x, [1.0, 2.0, 3.0], ["pass", "unchecked", "unchecked"], [0.5, math.nan, math.nan]), ["a.x"], {}
+    )
+    assert passing.rated and passing.passing == 1 and "margin" in passing.best
+    unrated = sweep_result(_table(x, [1.0, 2.0, 3.0]), ["a.x"], {"tau_peak_max_Nmm": False})
+    assert not unrated.rated and "margin" not in unrated.best and unrated.best["tau_peak_max_Nmm"].margin is None
+    assert unrated.best["tau_peak_max_Nmm"].nearest_failing is None  # every row runs, none is rated
+
+
+def test_an_objective_without_values_is_skipped_and_the_next_still_found():
+    columns = _table({"a.x": [1.0, 2.0, 3.0]}, [3.0, 1.0, 2.0]) | {"empty": [math.nan] * 3, "y": [5.0, 9.0, 7.0]}
+    result = sweep_result(columns, ["a.x"], {"empty": False, "tau_peak_max_Nmm": False}, [("y", True)])
+    assert list(result.best) == ["tau_peak_max_Nmm", "y"]
+    assert (result.best["tau_peak_max_Nmm"].row, result.best["tau_peak_max_Nmm"].value) == (1, 1.0)
+    assert (result.best["y"].goal, result.best["y"].row, result.best["y"].value) == ("max", 1, 9.0)
+
+
+@pytest.mark.parametrize(
+    ("objective", "edges"),
+    [
+        # best 1000 on the upper edge; row 0 is 1e-7 (1e-10 of it) away, within 1e-9: a tie on the lower edge
+        ([1000.0 + 1e-7, 2000.0, 1000.0], []),
+        # best 0: the tolerance is 1e-9 of 1e-300, so a row at 1e-12 does not tie
+        ([1e-12, 5.0, 0.0], ["upper"]),
+        # a row exactly at that tolerance ties
+        ([1e-9 * 1e-300, 5.0, 0.0], []),
+    ],
+)
+def test_rows_tie_with_the_best_to_1e_9_of_it(objective, edges):
+    result = sweep_result(_table({"a.x": [1.0, 2.0, 3.0]}, objective), ["a.x"], {"tau_peak_max_Nmm": False})
+    best = result.best["tau_peak_max_Nmm"]
+    assert best.row == 2 and [e.side for e in best.edges] == edges
+
+
+def test_pareto_points_with_one_objective_maximised_and_a_null():
+    """Minimise x's torque, maximise y: (1, 3) and (3, 4) are on the front; (2, 1) is dominated; a null is never on it."""
+    columns = _table({"a.x": [1.0, 2.0, 3.0, 4.0]}, [1.0, 2.0, 3.0, 0.0]) | {"y": [3.0, 1.0, 4.0, 9.0]}
+    columns["tau_peak_max_Nmm"][3] = None
+    front, points, edged = pareto_points(columns, ["a.x"], [("tau_peak_max_Nmm", False), ("y", True)])
+    assert front.tolist() == [True, False, True, False]
+    assert [p.values for p in points] == [
+        {"a.x": 1.0, "tau_peak_max_Nmm": 1.0, "y": 3.0},
+        {"a.x": 3.0, "tau_peak_max_Nmm": 3.0, "y": 4.0},
     ]
     assert [(p.variant, [e.side for e in p.edges]) for p in edged] == [({"a.x": 1.0}, ["lower"])]

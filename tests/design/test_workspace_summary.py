@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 import pytest
 
 from hipsim.design.workspace import OffsetSweep, SingularityMap, TrajectoryMargin
-from hipsim.design.workspace_summary import workspace_summary
+from hipsim.design.workspace_summary import Grid, MarginSummary, workspace_summary
 
 
 def _map(margin: TrajectoryMargin | None) -> SingularityMap:
@@ -63,5 +64,21 @@ def test_a_trajectory_out_of_reach_prints_nulls_and_a_map_without_one_is_refused
     assert (
         margin["cond_inv_min"] is None and margin["q_deg"] == [None, None, None] and margin["out_of_reach_samples"] == 1
     )
-    with pytest.raises(ValueError, match="without a trajectory"):
+    with pytest.raises(ValueError, match="^workspace_summary: the map was made without a trajectory"):
         workspace_summary(_map(None), _sweep())
+
+
+def test_the_margin_each_count_in_its_place_and_the_fractions_to_six_places():
+    """Counts chosen apart (out of reach 2, singular 3, crossings 4) so that a swap shows; γ = 4's 4/6 printed 0.666667."""
+    margin = TrajectoryMargin("iso", np.array([0.3, 0.05]), 0.05, 1, 0.5, np.array([1.0, 2.0, 3.0]), 2, 3, 4)
+    summary = workspace_summary(_map(margin), _sweep())
+    assert summary.trajectory_margin == MarginSummary(0.05, 0.5, (1.0, 2.0, 3.0), 2, 3, 4)
+    assert summary.reachable_fraction == {"-4": 1.0, "4": 0.666667}
+    assert summary.grid == Grid((-10.0, 10.0, 3), (-5.0, 5.0, 2), (-4.0, 4.0))
+
+
+def test_a_map_whose_panels_do_not_match_its_gamma_values_is_refused():
+    smap = _map(TrajectoryMargin("iso", np.array([0.3]), 0.3, 0, 0.0, np.zeros(3), 0, 0, 0))
+    lopsided = dataclasses.replace(smap, gamma_deg=np.array([-4.0, 0.0, 4.0]))  # 3 values, 2 panels
+    with pytest.raises(ValueError, match="zip"):
+        workspace_summary(lopsided, _sweep())

@@ -47,6 +47,17 @@ def test_q_refuses_a_cutoff_that_is_not_positive():
     assert q_response(np.array([0.0]), 1e-9)[0] == 1.0  # any positive cutoff is accepted; Q(0) = 1
 
 
+@pytest.mark.filterwarnings("error")
+def test_q_of_a_tiny_cutoff_is_zero_above_it_without_overflow():
+    """(f/f_c)^8 overflows for f_c = 1e-300 Hz and f ≥ 1e-261 Hz; Q is 0 there, and 1/2, 1/257 as ever near f_c."""
+    with np.errstate(over="raise", divide="raise", invalid="raise"):
+        q = q_response(np.array([0.0, 1e-300, 2e-300, 1.0, 1e300, np.inf]), 1e-300)
+        assert q.tolist() == [1.0, 0.5, pytest.approx(1.0 / 257.0, rel=1e-15), 0.0, 0.0, 0.0]
+        assert q_response(np.array([1.0]), 10.0)[0] == pytest.approx(1.0 / (1.0 + 1e-8), rel=1e-15)  # a decade below
+        assert q_response(np.array([10.0]), 1.0)[0] == pytest.approx(1.0 / (1.0 + 1e8), rel=1e-15)  # a decade above
+        assert q_response(np.array([-20.0, -5.0]), 10.0) == pytest.approx([1.0 / 257.0, 256.0 / 257.0], rel=1e-15)
+
+
 def test_a_lag_of_zero_is_one_and_a_negative_lag_is_refused():
     assert lag_response(np.array([0.0, 3.0]), 0.0) == pytest.approx([1.0, 1.0])
     # at f = 1/(2πτ): 1/(1 + i) = (1 − i)/2

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from hipsim.learning.records import Convergence, LearnSummary, PlatformErrors, platform_errors, station_verdict
+from hipsim.motion.iso_compliance import Tolerances
 from hipsim.motion.trajectories import iso14242
 
 
@@ -49,6 +50,9 @@ def test_the_controlled_rms_is_over_the_learned_platforms_only():
     assert _summary((a, b)).controlled_rms_deg() == pytest.approx(math.sqrt(3.0), rel=1e-12)
     assert _summary((a, c)).controlled_rms_deg() == pytest.approx(math.sqrt(3.0), rel=1e-12)
     assert math.isnan(_summary((c,)).controlled_rms_deg())
+    d = PlatformErrors(1, True, (1.0, 1.0, 1.0), (0.0,) * 3, (0.0,) * 3)  # total 1
+    # the RMS of the platforms' totals √3 and 1, √((3 + 1)/2) = √2, not their mean (√3 + 1)/2
+    assert _summary((d, b)).controlled_rms_deg() == pytest.approx(math.sqrt(2.0), rel=1e-12)
     document = _summary((a,)).to_json()
     assert document["converges"] is False  # the data figure 1.5
     assert document["errors"][0]["rms_deg"] == (3.0, 0.0, 0.0)
@@ -68,3 +72,23 @@ def test_a_station_verdict_not_made_says_why():
     verdict = station_verdict(1, np.zeros(3), np.zeros((3, 2)), np.zeros(3), "log")  # angles of the wrong shape
     assert verdict.verdict == "not made" and "do not match" in verdict.reason
     assert all(math.isnan(x) for x in verdict.worst_deg)
+
+
+def test_a_station_verdict_uses_the_tolerances_given_and_its_worst_per_angle_in_order():
+    """Half the ISO motion is off the waveform by half of each angle's largest magnitude (ISO 14242-1: flexion +25°,
+    adduction +7°, rotation −10°): 12.5°, 3.5°, 5°; within tolerances of 15° it passes, within the default 3° not."""
+    iso = iso14242(rate=100.0)
+    wide = station_verdict(2, iso.t, 0.5 * iso.q, iso.Fe, "log", Tolerances(alpha=15.0, beta=15.0, gamma=15.0))
+    assert (wide.platform, wide.verdict, wide.failing, wide.reason) == (2, "PASS", (), "")
+    assert wide.worst_deg == pytest.approx((12.5, 3.5, 5.0), abs=1e-3)
+    narrow = station_verdict(2, iso.t, 0.5 * iso.q, iso.Fe, "log", Tolerances(alpha=15.0, beta=3.0, gamma=15.0))
+    assert (narrow.verdict, narrow.failing) == ("FAIL", ("beta",))
+
+
+def test_a_verdict_not_made_names_the_station_or_the_desired_motion():
+    station = station_verdict(1, np.zeros(3), np.zeros((3, 2)), np.zeros(3), "log")
+    assert (station.platform, station.verdict, station.failing) == (1, "not made", ())
+    assert station.reason == "log, station 1: times (3,), angles (3, 2) and load (3,) do not match"
+    assert len(station.worst_deg) == 3 and all(math.isnan(x) for x in station.worst_deg)
+    desired = station_verdict(0, np.zeros(3), np.zeros((3, 2)), np.zeros(3), "log")
+    assert desired.platform == 0 and desired.reason.startswith("log, the desired motion: times (3,)")

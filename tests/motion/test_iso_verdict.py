@@ -223,3 +223,59 @@ def test_the_iso_check_summary_by_hand():
     assert ok.passed and ok.level == Level.PASS and ok.per_cycle[0].passed is True and ok.failing == ()
     assert ok.per_cycle[0].frequency == 0.0 and ok.quantities["gamma"].unit == "deg"
     assert s.to_json()["quantities"]["load"]["cycles_failed"] == 1
+
+
+def _quantities(**checks):
+    """Per quantity (unit, worst, tolerance, cycles failed, passed), the others well within their tolerance."""
+    from hipsim.motion.iso_verdict import QuantityCheck
+
+    base = {
+        "alpha": ("deg", 0.0, 3.0, 0, True),
+        "beta": ("deg", 0.0, 3.0, 0, True),
+        "gamma": ("deg", 0.0, 3.0, 0, True),
+        "load": ("N", 0.0, 90.0, 0, True),
+        "frequency": ("Hz", 0.0, 0.1, 0, True),
+    }
+    return {name: QuantityCheck(*checks.get(name, row)) for name, row in base.items()}
+
+
+def test_the_run_verdict_passes_and_names_the_quantity_closest_to_its_tolerance():
+    from hipsim.motion.iso_verdict import binding_quantity, iso_check_verdict
+
+    q = _quantities(beta=("deg", 2.7, 3.0, 0, True), load=("N", 81.0, 90.0, 0, True))  # 0.9 of each: a tie
+    assert binding_quantity(q) == "beta"  # the first of a tie, in the order given
+    q = _quantities(beta=("deg", 2.7, 3.0, 0, True), load=("N", 81.09, 90.0, 0, True))  # 0.901 of the load's
+    assert binding_quantity(q) == "load"
+    verdict = iso_check_verdict(q, 2)
+    assert verdict.level == Level.PASS and exit_status([verdict]) == 0
+    assert verdict.judged == (
+        "every one of 2 whole cycle(s) kept every angle, the load and the frequency within tolerance; "
+        "closest: load, worst deviation 81.1 N against ±90 N"
+    )
+    assert verdict.not_judged.startswith("the tolerances themselves: the defaults are assumed values")
+    assert verdict.numbers["cycles"] == 2.0 and verdict.numbers["beta_worst_deg"] == 2.7
+    assert verdict.numbers["load_tolerance_N"] == 90.0 and verdict.numbers["frequency_tolerance_Hz"] == 0.1
+    assert len(verdict.numbers) == 11
+
+
+def test_the_run_verdict_fails_on_the_first_quantity_that_left_its_tolerance():
+    from hipsim.motion.iso_verdict import binding_quantity, iso_check_verdict
+
+    q = _quantities(beta=("deg", 3.5, 3.0, 1, False), gamma=("deg", 9.0, 3.0, 3, False))
+    assert binding_quantity(q) == "beta"  # the first failing, not the one furthest out
+    verdict = iso_check_verdict(q, 3)
+    assert verdict.level == Level.FAIL and exit_status([verdict]) == 1
+    assert verdict.judged == (
+        "beta, gamma left the tolerance in 3 whole cycle(s) checked; worst beta: 3.5 deg against ±3 deg "
+        "(1 cycle(s) outside)"
+    )
+
+
+@pytest.mark.parametrize(("alpha_deg", "level"), [(3.0, Level.PASS), (3.0 + 1e-9, Level.FAIL)])
+def test_the_run_verdict_at_the_tolerance_itself(alpha_deg, level):
+    """A deviation equal to the tolerance is within it (<=); the summary's verdict is made from its quantities."""
+    from hipsim.motion.iso_verdict import iso_check_summary
+
+    s = iso_check_summary(_check(CycleDeviation(0.0, 1.0, alpha_deg, 0.0, 0.0, 0.0)))
+    assert s.verdict.level == level and s.level == level and s.passed is (level == Level.PASS)
+    assert s.to_json()["verdict"]["level"] == level.value and "passed" not in s.to_json()

@@ -54,12 +54,15 @@ def test_the_page_is_traceable_and_its_axis_in_million_cycles(tmp_path, logs):
     status, report = _monitor(tmp_path, logs)
     assert status == 0
     document = json.loads((report / "monitor.json").read_text(encoding="utf-8"))
+    assert list(document)[:2] == ["verdict", "provenance"] and document["verdict"]["level"] == "OK"  # records.Verdict
+    assert document["verdict"]["judged"] == "no alarm at the last snapshot (cycle 1,250,002)"  # its last cycle
     inputs = [item["path"] for item in document["provenance"]["inputs"]]
     assert inputs.count(str(tmp_path / "identified.toml")) == 1  # the parameter file once
     page = (report / "index.html").read_text(encoding="utf-8")
     for item in document["files"]:
         assert item["sha256"] in page and item["bytes"] == (logs / item["file"]).stat().st_size
     assert '<details id="files">' in page
+    assert "✔ OK</span>" in page and "<p>No alarm at the last snapshot (cycle 1,250,002).</p>" in page
     # The table holds every number the JSON has for a snapshot: the weight term, EWMA and both limits, flag and note.
     header = given(re.search(r'<table class="snapshots"><thead>\s*<tr>(.*?)</tr>', page, re.S)).group(1)
     names = re.findall(r"<th[^>]*>([^<]*)</th>", header)

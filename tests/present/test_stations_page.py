@@ -11,7 +11,8 @@ import pytest
 from hipsim.motion.trajectories import iso14242
 from hipsim.present.stations_page import plot_station_errors, station_verdict, write_stations
 from hipsim.stations.commands import StationMotion
-from hipsim.stations.summary import station_summary
+from hipsim.stations.summary import SlidersSummary, sliders_verdict, station_summary, stations_verdict
+from hipsim.stations.tolerance_summary import ToleranceSummary, tolerance_verdict
 
 ERRORS = np.zeros((4, 2, 3))
 ERRORS[:, 0, 0] = [1.0, -3.0, 2.0, 0.0]  # m_1 α: peak −3° at t = 0.5 s
@@ -56,15 +57,35 @@ def test_one_panel_per_platform_with_its_role_and_its_three_angles(control, role
 
 
 def test_a_tolerance_only_folder_and_the_summarys_json(tmp_path):
-    files = write_stations(tmp_path / "tol", {"table": "t.csv"})
+    """stations.json carries the verdict made beside each analysis (records.Verdict); the page renders it."""
+    tolerance = ToleranceSummary(3, 1, 10, {"levers": 0.05}, ())
+    files = write_stations(tmp_path / "tol", {"table": "t.csv"}, tolerance=tolerance)
     document = json.loads(files.json.read_text(encoding="utf-8"))
-    assert document["verdict"]["word"] == "TOLERANCES" and document["table"] == "t.csv"
+    assert document["verdict"] == tolerance_verdict(tolerance).to_json() and document["table"] == "t.csv"
+    assert document["verdict"]["level"] == "NOT MADE" and list(document)[:2] == ["verdict", "provenance"]
     assert files.figure is None and files.index.is_file()
+    page = files.index.read_text(encoding="utf-8")
+    assert "– TOLERANCES</span>" in page and "<p>Manufacturing tolerances.</p>" in page
     summary = station_summary(motion(ERRORS))
     drawn = write_stations(tmp_path / "run", {}, summary)  # no times: no figure
     document = json.loads(drawn.json.read_text(encoding="utf-8"))
     assert document["summary"]["rms_error_deg"] == pytest.approx(np.sqrt(22 / 24))
+    assert document["verdict"] == stations_verdict(summary).to_json()
+    assert document["verdict"]["level"] == "NOT MADE" and "state" not in document["verdict"]
+    assert "– NO ISO CHECK</span>" in drawn.index.read_text(encoding="utf-8")
     assert drawn.figure is None
+
+
+def test_a_sliders_folder_says_its_attitudes_and_nothing_else_is_written_without_a_record(tmp_path):
+    sliders = SlidersSummary("log.csv", 4, (0.5, 0.0, 0.0), (1.0, 0.0, 0.0))
+    files = write_stations(tmp_path / "sl", {"table": "t.csv"}, sliders=sliders)
+    document = json.loads(files.json.read_text(encoding="utf-8"))
+    assert document["verdict"] == sliders_verdict(sliders).to_json()
+    page = files.index.read_text(encoding="utf-8")
+    assert "– ATTITUDES</span>" in page and "Both platforms&#39; attitudes from the carriages of log.csv" in page
+    with pytest.raises(ValueError, match="give a run's summary"):
+        write_stations(tmp_path / "none", {})
+    assert not (tmp_path / "none" / "stations.json").exists()
 
 
 def test_a_desired_motion_that_is_not_iso_is_said_per_station():

@@ -148,6 +148,18 @@ def test_carriages_out_of_reach_are_refused(drawing, train):
         calibrate([CalibrationLog("far", train.t, carriages, train.sensors)], drawing)
 
 
+def test_a_noise_free_log_converges_to_the_truth_in_a_few_iterations(drawing, truth, held_out, fitted):
+    """Noise-free, the residuals and the posterior spread fall to round-off (~1e-14 m, below any relative step):
+    the absolute floor of 0.1 nm stops the fit; its machine predicts a motion it did not see to round-off. (The
+    structure is the drawing's, as ``fitted``'s: given, not found again.)"""
+    t, L, true = held_out
+    fit = calibrate([CalibrationLog("noise-free", t, L, true)], drawing, structure_of=fitted.structure)
+    assert 3 <= fit.iterations <= 8, fit.iterations
+    assert np.all(fit.noise <= 1e-11)  # the residuals' noise is at its floor (1e-12 rad), not a sensor's
+    _, L2, true2, _ = synthetic_log(drawing, truth, 100, seed=5, noise_deg=0.0)
+    assert np.abs(attitudes(fit.machine, L2, true2) - true2).max() < 1e-11  # rad; the drawing is off by ~1e-4
+
+
 def test_a_fit_that_does_not_converge_is_refused(drawing, train, monkeypatch):
     monkeypatch.setattr(calibration_module, "MAX_ITERATIONS", 1)
     with pytest.raises(CalibrationError, match="did not converge"):

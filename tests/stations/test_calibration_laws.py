@@ -72,6 +72,22 @@ def test_one_value_from_two_logs_and_the_noise_over_every_sample(drawing, truth)
     assert fit.unseen == ["centre_x_2"] and fit.weak == []
 
 
+@pytest.mark.parametrize(
+    ("offsets_deg", "iterations"),
+    [(None, 3), ([0.3, -0.2, 0.1, 0.05, 0.4, -0.3], 5)],
+)
+def test_a_noise_free_log_stops_at_the_absolute_floor_on_the_truth(drawing, truth, offsets_deg, iterations):
+    """Noise-free, the posterior spread falls to round-off (~1e-13 m) and no step is 1e-4 of it: the fit stops at
+    the first step below 0.1 nm (1e-10 rad an offset). Lever alone: steps ~3e-4, 6e-7, 4e-12 m (quadratic), so the
+    third; with offsets: 3e-6, 3e-4, 3e-6, 5e-9 m (offsets 3e-8 rad), 3e-15 m, so the fifth. Both on the truth."""
+    t, L, _, sensors = synthetic_log(drawing, truth, 40, seed=1, noise_deg=0.0, offsets_deg=offsets_deg)
+    fit = calibrate([CalibrationLog("a", t, L, sensors)], drawing, offsets=offsets_deg is not None, structure_of=ONE)
+    assert fit.iterations == iterations
+    assert fit.theta[LEVER_21] == pytest.approx(3e-4, abs=1e-14)
+    assert np.degrees(fit.offsets).ravel() == pytest.approx(offsets_deg or np.zeros(6), abs=1e-11)
+    assert fit.noise.max() <= 3e-11  # round-off, or the noise's floor of 1e-12 rad
+
+
 def test_each_logs_sensor_offsets(drawing, truth):
     a = [0.3, -0.2, 0.1, 0.05, 0.4, -0.3]
     b = [-0.1, 0.0, 0.2, -0.25, 0.1, 0.15]

@@ -55,3 +55,11 @@ def test_the_spread_is_the_rms_over_the_samples():
     assert comparison.uncertainty == "calibrated.toml"
     assert comparison.entry(1, "beta").prediction_std_deg == pytest.approx(np.sqrt(np.mean(std[:, 0, 1] ** 2)))
     assert comparison.entry(2, "beta").prediction_std_deg == 0.0  # lever_12 does not move m_2
+
+
+def test_a_covariance_given_without_its_origin_is_named_so():
+    """No uncertain value: a spread of exactly 0 on every entry (not None: the prediction carries one)."""
+    q = np.zeros((2, 2, 3))
+    comparison = compare_sensors(load_parameters(), np.array([0.0, 1.0]), q, q, np.zeros((len(NAMES), len(NAMES))))
+    assert comparison.uncertainty == "the covariance given"
+    assert [entry.prediction_std_deg for entry in comparison.entries] == [0.0] * 6

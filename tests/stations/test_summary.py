@@ -103,3 +103,15 @@ def test_stations_passing_exit_0_and_no_load_is_no_verdict():
     assert stations_verdict(summary).level == Level.PASS and exit_status(summary.verdicts) == 0
     bare = station_summary(_motion(ERRORS))
     assert bare.verdicts == () and stations_verdict(bare).level == Level.NOT_MADE
+
+
+def test_the_sliders_attitudes_state_no_verdict():
+    from hipsim.stations.summary import SlidersSummary, sliders_verdict
+
+    verdict = sliders_verdict(SlidersSummary("log.csv", 12, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)))
+    assert verdict.level == Level.NOT_MADE and exit_status([verdict]) == 0
+    assert (
+        verdict.judged
+        == "both platforms' attitudes from the carriages of log.csv (12 samples): how far apart they turn"
+    )
+    assert verdict.not_judged == "the attitudes against an acceptance limit (none is set)" and not verdict.numbers

@@ -76,3 +76,17 @@ def test_each_control_reads_its_own_draws_and_rows():
     assert one.sensitivity == (SensitivityRow("slider_21", "21", "slider", (0.5, 0.25, 0.125), 1.0),)
     assert both.sensitivity[0].rms_deg == (0.0, 0.0, 1.0) and both.family_share == {"centre": 1.0}
     assert tolerance_summary(result, 5).bands_mm == pytest.approx({"slider": 0.2})
+
+
+def test_a_tolerance_study_states_no_verdict_and_says_what_it_reported():
+    from hipsim.records import Level, exit_status
+    from hipsim.stations.tolerance_summary import tolerance_verdict
+
+    verdict = tolerance_verdict(ToleranceSummary(40, 7, 100, {"levers": 0.05}, ()))
+    assert verdict.level == Level.NOT_MADE and exit_status([verdict]) == 0
+    assert verdict.judged == (
+        "manufacturing tolerances: the attitude errors of 40 machine(s) drawn within the bands (--control none), "
+        "their 95th percentiles and each tolerance's share"
+    )
+    assert verdict.not_judged == "the errors against an acceptance limit (none is set)"
+    assert dict(verdict.numbers) == {"draws": 40.0}

@@ -20,6 +20,7 @@ from hipsim.wear.summary import (
     compare_summaries,
     compare_verdict,
     largest_differences,
+    run_verdict,
     wear_summary,
 )
 
@@ -226,3 +227,19 @@ def test_the_largest_point_difference_is_by_magnitude_and_skips_the_missing():
         "work_N_per_mm": np.array([0.0]),
     }
     assert largest_differences(differences) == {"cross_shear": 0.3, "sliding_mm": None, "work_N_per_mm": 0.0}
+
+
+def test_one_runs_verdict_is_not_made_with_its_numbers():
+    from hipsim.records import Level, exit_status
+    from hipsim.wear.laws import WearFactor, predict_wear
+
+    maps = _maps(np.array([1.0, 2.0, 3.0, 4.0]))
+    verdict = run_verdict(wear_summary(maps))
+    assert verdict.level == Level.NOT_MADE and exit_status([verdict]) == 0
+    assert verdict.judged == "hand: one run's sliding, cross-shear and wear per cycle, not rated"
+    assert verdict.not_judged.startswith("the numbers against a limit (none is set)")
+    assert dict(verdict.numbers) == pytest.approx(  # no wear key without a law
+        {"force_track_mm": 12.0, "force_track_load_Nm": 3.0, "cross_shear_mean": 2.4 / 9, "cross_shear_max": 0.4}
+    )
+    with_law = run_verdict(wear_summary(maps, predict_wear(maps, WearFactor(2e-7))))
+    assert set(with_law.numbers) == {*verdict.numbers, "wear_mm3_per_Mc"} and with_law.level == Level.NOT_MADE

@@ -13,7 +13,7 @@ from hipsim.records import Level
 from hipsim.wear.accumulate import Exposure
 from hipsim.wear.factors import MotionIntegrals
 from hipsim.wear.gravimetric import Gravimetry, RateDifference, StationRate
-from hipsim.wear.test_result import GivenFactor, WearVerdict, wear_test, wear_verdict
+from hipsim.wear.test_result import GivenFactor, verdict_lines, wear_test, wear_verdict
 
 NAN = math.nan
 
@@ -60,8 +60,8 @@ def test_each_k_is_fitted_over_its_steady_state_motion_and_predicts_with_the_giv
     assert [r.measured_mm3 for r in two.intervals] == pytest.approx([30.0, 20.0])
     assert two.interval_law == "k = 2.5e-07 mm³/(N·m), local"
     assert test.fitted_law is not None and test.fitted_law.cross_shear.tolist() == [0.1, 0.3]
-    assert test.verdict.word == "DIFFERENT" and test.verdict.level == Level.DIFFERENT
-    assert test.verdict.lines == (
+    assert test.word == "DIFFERENT" and test.verdict.level == Level.DIFFERENT
+    assert test.lines == (
         "station 2 − station 1: +10 mm³/Mc, 95 % [+8, +12]: the rates differ",
         "station 1: predicted 10 mm³/Mc (k = 2.5e-07 mm³/(N·m), local), measured 10 [9, 11]: within",
         "station 2: predicted 20 mm³/Mc (k = 2.5e-07 mm³/(N·m), local), measured 20 [18, 22]: within",
@@ -74,7 +74,7 @@ def test_a_force_track_factor_predicts_from_the_force_track():
     assert (one.predicted_mm3_per_Mc, two.predicted_mm3_per_Mc) == pytest.approx((7.5, 15.0))
     assert one.within is False and two.within is False
     assert [r.predicted_mm3 for r in two.intervals] == pytest.approx([7.5, 15.0])
-    assert test.verdict.lines[1].endswith("measured 10 [9, 11]: outside")
+    assert test.lines[1].endswith("measured 10 [9, 11]: outside")
 
 
 def test_without_a_factor_the_intervals_use_the_stations_own_local_k():
@@ -83,8 +83,11 @@ def test_without_a_factor_the_intervals_use_the_stations_own_local_k():
     assert math.isnan(one.predicted_mm3_per_Mc) and one.within is None
     assert two.interval_law == "the station's own fitted local k = 2.5e-07 mm³/(N·m)"
     assert [r.predicted_mm3 for r in two.intervals] == pytest.approx([10.0, 20.0])
-    assert test.verdict.word == "ONE STATION" and test.verdict.level == Level.NOT_MADE
-    assert test.verdict.lines == ("one station weighed: no other to compare its rate with",)
+    assert test.word == "ONE STATION" and test.verdict.level == Level.NOT_MADE
+    assert test.lines == ("one station weighed: no other to compare its rate with",)
+    assert test.verdict.judged == test.lines[0] and test.verdict.not_judged == (
+        "the stations' rates against each other: the comparison needs two stations weighed"
+    )
     assert test.reference == MotionIntegrals(20.0, 10.0, 0.2, "ISO") and test.given is None
     assert two.exposure.source == "station 2's motion" and two.within is None
     assert two.fitted.predict(test.reference)["local"] == pytest.approx((5.0, 4.5, 5.5))
@@ -116,29 +119,57 @@ def test_a_prediction_within_the_interval_at_its_ends(predicted, ci, within):
 
 
 @pytest.mark.parametrize(
-    ("interval", "word"),
-    [((0.0, 12.0), "ALIKE"), ((1e-12, 12.0), "DIFFERENT"), ((-12.0, 0.0), "ALIKE"), ((-12.0, -1e-12), "DIFFERENT")],
+    ("interval", "level"),
+    [
+        ((0.0, 12.0), Level.ALIKE),  # an interval that reaches 0 shows no difference
+        ((1e-12, 12.0), Level.DIFFERENT),
+        ((-12.0, 0.0), Level.ALIKE),
+        ((-12.0, -1e-12), Level.DIFFERENT),
+    ],
 )
-def test_the_verdict_follows_the_differences_intervals(interval, word):
+def test_the_verdict_follows_the_differences_intervals(interval, level):
+    """Significant: the interval excludes 0; one pair of two beyond is DIFFERENT, which exits 1."""
+    from hipsim.records import exit_status
+
     alike = RateDifference("1", "2", 6.0, (-1.0, 13.0), 1.0)
-    verdict = wear_verdict(_gravimetry(alike, RateDifference("1", "3", 1.0, interval, 1.0)), (), None)
-    assert verdict.word == word
-    assert verdict.lines[0] == "station 2 − station 1: +6 mm³/Mc, 95 % [-1, +13]: no difference shown"
-    assert len(verdict.lines) == 2
+    gravimetry = _gravimetry(alike, RateDifference("1", "3", 1.0, interval, 1.0))
+    verdict = wear_verdict(gravimetry)
+    assert verdict.level == level and exit_status([verdict]) == (1 if level == Level.DIFFERENT else 0)
+    lines = verdict_lines(gravimetry, (), None)
+    assert lines[0] == "station 2 − station 1: +6 mm³/Mc, 95 % [-1, +13]: no difference shown"
+    assert len(lines) == 2 and verdict.judged == (
+        "each pair of stations' wear rates, its difference's 95 % interval against 0: " + "; ".join(lines)
+    )
+    assert verdict.not_judged == ""  # no factor given: no prediction to leave unjudged
+    assert dict(verdict.numbers) == {
+        "station_2_minus_1_mm3_per_Mc": 6.0,
+        "station_2_minus_1_ci95_low_mm3_per_Mc": -1.0,
+        "station_2_minus_1_ci95_high_mm3_per_Mc": 13.0,
+        "station_3_minus_1_mm3_per_Mc": 1.0,
+        "station_3_minus_1_ci95_low_mm3_per_Mc": interval[0],
+        "station_3_minus_1_ci95_high_mm3_per_Mc": interval[1],
+    }
 
 
 def test_a_verdict_without_an_interval_to_hold_the_prediction_against():
     test = wear_test(_gravimetry(DIFFERENT), EXPOSURES, GivenFactor(2.5e-7, "local"))
     station = _station_with(10.0, (NAN, NAN))
-    verdict = wear_verdict(_gravimetry(DIFFERENT), (station,), GivenFactor(2.5e-7, "local"))
-    assert verdict.lines[1].endswith("measured 10 [nan, nan]: no interval to hold it against")
+    lines = verdict_lines(_gravimetry(DIFFERENT), (station,), GivenFactor(2.5e-7, "local"))
+    assert lines[1].endswith("measured 10 [nan, nan]: no interval to hold it against")
     assert test.given == GivenFactor(2.5e-7, "local")
+    assert test.verdict.not_judged == (
+        "each station's prediction with the given factor against its measured rate's 95 % interval (shown, not judged)"
+    )
 
 
 def test_a_verdicts_word_and_level():
-    assert WearVerdict("ALIKE", ("a",)).level == Level.ALIKE
-    assert WearVerdict("DIFFERENT", ()).level == Level.DIFFERENT
-    assert WearVerdict("ONE STATION", ()).level == Level.NOT_MADE
+    one = wear_test(_gravimetry(), EXPOSURES, GivenFactor(2.5e-7, "local"))
+    assert (one.word, one.verdict.level) == ("ONE STATION", Level.NOT_MADE)
+    assert one.verdict.not_judged == (
+        "the stations' rates against each other: the comparison needs two stations weighed; each station's "
+        "prediction with the given factor against its measured rate's 95 % interval (shown, not judged)"
+    )
+    assert one.lines[0] == "one station weighed: no other to compare its rate with" and len(one.lines) == 3
     assert GivenFactor(8e-8, "force-track").describe() == "k = 8e-08 mm³/(N·m), force-track"
 
 

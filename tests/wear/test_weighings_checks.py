@@ -268,8 +268,14 @@ def test_an_option_warning_is_kept_in_the_pages_provenance(tmp_path, capsys):
         ["wear", "--cup-grid", "12x24", "--head-diameter", "14", "--out", str(tmp_path / "t.csv")]
         + ["--report", str(report), "--summary-format", "json"]
     )
-    err = capsys.readouterr().err
+    out, err = capsys.readouterr()
     assert status == 0, err
-    warnings = json.loads((report / "wear.json").read_text())["provenance"]["warnings"]
+    document = json.loads((report / "wear.json").read_text())
+    # one run's verdict, NOT MADE (not rated), the same record in wear.json and the JSON printed; the page says NOT RATED
+    assert document["verdict"] == json.loads(out)["verdict"] and document["verdict"]["level"] == "NOT MADE"
+    assert (
+        list(document)[:2] == ["verdict", "provenance"] and "– NOT RATED</span>" in (report / "index.html").read_text()
+    )
+    warnings = document["provenance"]["warnings"]
     assert len(warnings) == 1 and "--head-diameter 14" in warnings[0] and warnings[0] in err
     assert "Made on values the command line was warned of" in (report / "index.html").read_text()

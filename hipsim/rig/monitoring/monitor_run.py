@@ -30,10 +30,11 @@ from ...analysis.cluster import batch_size as _batch_size
 from ...analysis.cluster import run_batches
 from ...exceptions import ArgumentError, TrajectoryError
 from ...machine.parameters import Parameters
+from ...records import Verdict
 from .control_chart import DEFAULT_ALARM_RISE, DEFAULT_BASELINE, EWMA_L, EWMA_LAMBDA, MIN_BASELINE, check_baseline_min
 from .findings import Findings, check_acknowledged, duplicates, find, missing_cycles
 from .monitor_fit import MonitorSetup, estimate_batch
-from .monitor_state import MonitorState, monitor_state
+from .monitor_state import MonitorState, last_change, monitor_state, monitor_verdict
 from .monitor_summary import Baseline, LoadCell, MonitorSummary, SkippedFile, SnapshotFile, StationBaseline
 from .monitor_table import COLUMNS, MONITOR_TABLE, PARTS, table_rows, write_table
 from .reference import reference
@@ -105,6 +106,14 @@ class MonitorResult:
         found = self.findings
         return monitor_state(found.alarm, found.flag, found.mean.note, found.alarm_held)
 
+    @property
+    def verdict(self) -> Verdict:
+        """The verdict on the state (:func:`monitor_verdict`): the last snapshot's cycle, and the change it names
+        (:func:`last_change`)."""
+        found, cycles = self.findings, self.columns["last_cycle"]
+        change = last_change(found.latest_notice.text if found.latest_notice else None, found.flag)
+        return monitor_verdict(self.state, int(cycles[-1]) if cycles else None, change, found.mean.note)
+
     def summary(self) -> MonitorSummary:
         """The run's summary: counts, baseline, alarms and notices, skipped and missing snapshots, files."""
         c, found = self.columns, self.findings
@@ -123,6 +132,7 @@ class MonitorResult:
         else:
             judged = "the station"
         return MonitorSummary(
+            verdict=self.verdict,
             snapshots=len(c["cycle"]),
             new=self.new,
             kept=self.kept,

@@ -16,7 +16,7 @@ import numpy as np
 
 from ...records import Level, Record, Verdict
 
-__all__ = ["MonitorState", "monitor_state", "monitor_verdict"]
+__all__ = ["MonitorState", "last_change", "monitor_state", "monitor_verdict"]
 
 
 @dataclass(frozen=True)
@@ -60,6 +60,18 @@ def monitor_state(alarm: np.ndarray, flag: Sequence[str], note: str | None, held
     else:
         level = Level.OK
     return MonitorState(level, alarm_active, notice_active)
+
+
+def last_change(latest_notice: str | None, flag: Sequence[str]) -> str | None:
+    """The change a NOTICE names: the latest notice's text, else the last snapshot's flag (None: no snapshot).
+
+    Args:
+        latest_notice: the latest notice's text ("notice: μ_h up 4 % ..."), None for none.
+        flag: per snapshot the flag's text ("" for none).
+    """
+    if latest_notice:
+        return latest_notice
+    return flag[-1] if len(flag) else None
 
 
 def monitor_verdict(state: MonitorState, last_cycle: int | None, change: str | None, note: str | None) -> Verdict:

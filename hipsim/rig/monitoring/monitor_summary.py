@@ -7,7 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from ...records import Record
+from ...records import Record, Verdict
 from .findings import Finding
 from .snapshots import Skipped
 
@@ -85,9 +85,11 @@ class SkippedFile(Record):
 
 @dataclass(frozen=True)
 class MonitorSummary(Record):
-    """A monitor's run (docs/guide/monitor.md lists the keys); ``table`` is the run's table, its columns by name (the
-    rows as written to CSV/Parquet: their columns depend on what the logs carry)."""
+    """A monitor's run (docs/guide/monitor.md lists the keys); ``verdict`` the state's verdict
+    (:meth:`~hipsim.rig.monitoring.monitor_run.MonitorResult.verdict`: ALARM, NOTICE, OK, NOT MADE); ``table`` is the
+    run's table, its columns by name (the rows as written to CSV/Parquet: their columns depend on what the logs carry)."""
 
+    verdict: Verdict
     snapshots: int
     new: int
     kept: int

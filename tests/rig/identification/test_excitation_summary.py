@@ -83,3 +83,16 @@ def test_the_calibration_motion_prints_for_under_its_key():
     document = summary.to_json()
     assert document["for"] == "calibration" and "for_" not in document and summary.level is Level.PASS
     assert "for" in CalibrationExcitationSummary.json_schema()["required"]
+
+
+def test_each_broken_limit_is_named_with_its_unit_and_joined_in_order():
+    """Three limits broken at once, each sentence whole: a unit after the limit where there is one, none after the
+    singularity measure's; joined by "; " in the checks' order."""
+    peaks = replace(AT, acceleration_mm_s2=2600.0, cond_inv_min=0.2, load_max_N=3100.0)
+    verdict = limits_verdict(peaks, LIMITS)
+    assert verdict.judged == (
+        "the motion's peaks against the rig's limits: acceleration 2600 beyond its limit 2500 mm_s2; "
+        "cond_inv 0.2 beyond its limit 0.25; load_max 3100 beyond its limit 3000 N"
+    )
+    assert verdict.numbers["acceleration_margin_mm_s2"] == pytest.approx(-100.0)
+    assert verdict.numbers["load_max_margin_N"] == -100.0 and verdict.numbers["cond_inv_margin"] == pytest.approx(-0.05)

@@ -49,6 +49,7 @@ def test_the_base_listing_in_file_units():
     listing = base_listing(base, np.array([5e-5, 3.7]), np.array([1.5e-5, 0.9]))  # type: ignore[arg-type]
     rows = listing.to_json()["base_parameters"]
     assert [r["name"] for r in rows] == ["I_L", "m_L"] and rows[1]["definition"] == "m_L + 0.5·m_l"
+    assert [r["key"] for r in rows] == ["screw.inertia_kgmm2", "slider.mass_kg"]
     assert rows[0]["prior"] == pytest.approx(50.0, rel=1e-12) and rows[0]["prior_std"] == pytest.approx(15.0)
     assert (rows[1]["prior"], rows[1]["prior_std"], rows[1]["unit"]) == (3.7, 0.9, "kg")
 

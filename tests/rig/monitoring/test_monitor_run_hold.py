@@ -23,6 +23,7 @@ from monitor_synthetic import write_identified
 
 from hipsim.cli.main import main
 from hipsim.exceptions import ArgumentError
+from hipsim.records import Level
 from hipsim.rig.monitoring.findings import hold
 from hipsim.rig.monitoring.monitor_run import run_monitor
 from hipsim.rig.monitoring.monitor_table import read_table
@@ -99,11 +100,26 @@ def test_an_alarm_raised_reads_alarm_at_the_last_snapshot_until_acknowledged(sta
     assert c["state"][-4:] == ["OK", "ALARM", "ALARM", "ALARM"]
     assert s.alarm_active and s.alarm_raised_at == 80 and not s.alarm_at_last_snapshot
     assert s.state == "ALARM" and not s.notice_active and s.acknowledged == []
+    # The verdict (records.Verdict in the summary): ALARM held; the page says where it was raised, from the result.
+    from hipsim.present.monitor_page import monitor_verdict as block
+
+    last = c["last_cycle"][-1]
+    assert (
+        s.verdict.level == Level.ALARM
+        and s.verdict.judged == f"an alarm is active at the last snapshot (cycle {last:,})"
+    )
+    assert block(result).lines[0] == (
+        f"An alarm raised at cycle 80 is held at the last snapshot (cycle {last:,}) until acknowledged "
+        "(hipsim monitor --acknowledge 80)."
+    )
     # Acknowledged: recorded at its snapshot, the state back to what the chart says.
     out = tmp_path / "t.csv"
     result = run_monitor(SETUP, snapshots, baseline=(20, 50), baseline_min=4, out=out, acknowledge=[80])
     c, s = result.columns, result.summary()
     assert c["state"][-3:] == ["OK", "NOTICE", "NOTICE"] and not s.alarm_active and s.notice_active
+    notice = s.latest_notice  # the notice's whole text, not the last snapshot's short flag
+    assert notice is not None and notice.text != c["flag"][-1] and s.verdict.level == Level.NOTICE
+    assert s.verdict.judged == f"at the last snapshot (cycle {c['last_cycle'][-1]:,}) a {notice.text}"
     assert c["acknowledged"][8] == 80 and sum(not math.isnan(a) for a in c["acknowledged"]) == 1
     assert s.acknowledged == [80] and read_table(out)["acknowledged"][8] == 80
     # The table keeps it: a rerun without the option stays acknowledged.

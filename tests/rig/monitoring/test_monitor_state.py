@@ -89,3 +89,12 @@ def test_each_verdict_whole():
     for made, level, judged in cases:
         assert (made.level, made.judged, made.not_judged) == (level, judged, NOT_JUDGED)
         assert dict(made.numbers) == {}
+
+
+def test_the_change_a_notice_names():
+    from hipsim.rig.monitoring.monitor_state import last_change
+
+    assert last_change("notice: up 4 %", ["notice: up 4 %", "alarm: up 12 %"]) == "notice: up 4 %"  # the notice first
+    assert last_change(None, ["", "alarm: up 12 %"]) == "alarm: up 12 %"  # else the last snapshot's flag
+    assert last_change("", ["a", "b"]) == "b"  # an empty notice is none: the last flag
+    assert last_change(None, []) is None  # no snapshot

@@ -5,13 +5,15 @@ from __future__ import annotations
 
 import jsonschema
 
+from hipsim.records import Level, Verdict
 from hipsim.rig.monitoring.monitor_summary import Baseline, LoadCell, MonitorSummary, SnapshotFile, StationBaseline
 
 
 def test_the_json_of_a_monitor_run():
     baseline = Baseline(0, 500_000, 3, 1.25, 0.05, [StationBaseline(1, 1.2, 0.04, 3), StationBaseline(2, 1.3, 0.06, 3)])
+    verdict = Verdict(Level.NOTICE, "at the last snapshot (cycle 750,000) a notice: x", "earlier snapshots")
     summary = MonitorSummary(
-        snapshots=4, new=1, kept=3, first_cycle=0, last_cycle=750_000, baseline=baseline, alarm_rise=0.1,
+        verdict=verdict, snapshots=4, new=1, kept=3, first_cycle=0, last_cycle=750_000, baseline=baseline, alarm_rise=0.1,
         threshold_mm=[0.2], worst_case_factor=1.5, chart="ewma", judged="the last snapshot", alarms=0,
         first_alarm=None, notices=1, latest_notice=None, alarm_active=False, notice_active=True,
         state="NOTICE", alarm_raised_at=None, alarm_at_last_snapshot=False, acknowledged=[],
@@ -20,6 +22,12 @@ def test_the_json_of_a_monitor_run():
         table={"cycle": [0, 250_000]},
     )  # fmt: skip
     doc = summary.to_json()
+    assert list(doc)[0] == "verdict" and doc["verdict"] == {
+        "level": "NOTICE",
+        "judged": "at the last snapshot (cycle 750,000) a notice: x",
+        "not_judged": "earlier snapshots",
+        "numbers": {},
+    }
     assert doc["baseline"]["from"] == 0 and "from_" not in doc["baseline"] and doc["baseline"]["to"] == 500_000
     assert doc["baseline"]["stations"][1] == {"station": 2, "load_friction_mm": 1.3, "spread_mm": 0.06, "snapshots": 3}
     assert doc["load_cell"] == {
