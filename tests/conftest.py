@@ -102,7 +102,9 @@ def warm_wear() -> None:
     from hipsim.motion.trajectories import iso14242
     from hipsim.wear import cup_grid, wear_maps
 
-    wear_maps(iso14242(rate=100), 1.0, points=cup_grid(3, 6, 14.0))  # the refinement's direction_pass compiles in its test
+    wear_maps(
+        iso14242(rate=100), 1.0, points=cup_grid(3, 6, 14.0)
+    )  # the refinement's direction_pass compiles in its test
 
 
 def warm_matplotlib() -> None:
