@@ -102,9 +102,8 @@ def warm_wear() -> None:
     from hipsim.motion.trajectories import iso14242
     from hipsim.wear import cup_grid, wear_maps
 
-    wear_maps(
-        iso14242(rate=100), 1.0, points=cup_grid(3, 6, 14.0)
-    )  # the refinement's direction_pass compiles in its test
+    # (The refinement's direction_pass, for long motions in pieces, compiles in its own test.)
+    wear_maps(iso14242(rate=100), 1.0, points=cup_grid(3, 6, 14.0))
 
 
 def warm_matplotlib() -> None:
