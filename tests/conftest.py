@@ -96,13 +96,23 @@ def warm_reduced_plant() -> None:
         simulate(plant, controller, iso14242_at, 0.003)
 
 
+def warm_wear() -> None:
+    """The wear maps' kernels (slide tracks, cross-shear): independent of the plants', so the worker that has warmed the
+    reduced plant compiles them (2.3 s of CPU) while the other is still on the closed chain, instead of waiting idle."""
+    from hipsim.motion.trajectories import iso14242
+    from hipsim.wear import cup_grid, wear_maps
+
+    # (The refinement's direction_pass, for long motions in pieces, compiles in its own test.)
+    wear_maps(iso14242(rate=100), 1.0, points=cup_grid(3, 6, 14.0))
+
+
 def warm_matplotlib() -> None:
     """Matplotlib's font list, which its first import on a machine builds (and two processes would build twice)."""
     from matplotlib import font_manager  # noqa: F401
 
 
 #: The groups, each warmed by one worker while the other warms the next.
-WARM_UPS = [warm_closed_chain, warm_reduced_plant, warm_matplotlib]
+WARM_UPS = [warm_closed_chain, warm_reduced_plant, warm_wear, warm_matplotlib]
 
 
 def _lock_path(root: Path, name: str) -> Path:

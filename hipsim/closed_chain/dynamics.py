@@ -228,7 +228,9 @@ def inverse_dynamics(chain: ClosedChainModel, kin: ClosedKinematics, Fe, *, part
     closer = Closer(chain, tol=math.inf, max_iter=0)
     ws, n, nv = closer.ws, len(kin.q), chain.model.nv
     V, A, J_rates, residual = np.empty((1, nv)), np.empty((1, nv)), np.empty((n, 3, 3)), np.empty(n)
-    rates, accels = np.ascontiguousarray(kin.angle_rates), np.ascontiguousarray(kin.angle_accels)
+    # Writable C-ordered copies, as the solver passes its own: a kinematics result's read-only arrays would
+    # compile closed_sample a second time (about 4 s of CPU in a fresh process).
+    rates, accels = np.array(kin.angle_rates, order="C"), np.array(kin.angle_accels, order="C")
     for k, q in enumerate(kin.q):
         pin.computeJointJacobians(ws.model, ws.data, q)
         status, _ = closure_kernel.closed_sample(

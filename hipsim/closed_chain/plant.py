@@ -296,7 +296,7 @@ class PinocchioPlant:
         :meth:`derivative` is stepped through it.
         """
         x = np.array(x, dtype=float)
-        tau = np.asarray(tau, dtype=float)
+        tau = np.array(tau, dtype=float)  # writable, as the loops' own: a read-only tau compiled the steps again
         # The compiled stages index by these sizes: check them here, where a wrong one can be named.
         if x.shape != self._y.shape:
             raise ArgumentError("x", x, f"a state [q, v] of shape {self._y.shape}")

@@ -464,6 +464,20 @@ def test_accepts_a_hipsim_trajectory():
     assert dyn.torques.total.shape == (len(traj.t), 3) and np.all(np.isfinite(dyn.torques.total))
 
 
+def test_inverse_dynamics_of_a_kinematics_result_reuses_the_solvers_compiled_sample():
+    """kinematics() gives read-only rates; inverse_dynamics copies them, so closed_sample is not compiled again for them."""
+    from hipsim.closed_chain import closure_kernel
+    from hipsim.motion.trajectories import iso14242
+
+    chain, traj = load_model(), iso14242(rate=100.0)
+    trajectory_dynamics(chain, traj)  # the solver's own route
+    compiled = len(closure_kernel.closed_sample.signatures)
+    kin = kinematics(chain, traj)
+    assert not kin.angle_rates.flags.writeable  # what made the second signature
+    inverse_dynamics(chain, kin, traj.Fe)
+    assert len(closure_kernel.closed_sample.signatures) == compiled >= 1
+
+
 # --- loading -----------------------------------------------------------------------------
 
 

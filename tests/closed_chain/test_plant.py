@@ -324,6 +324,20 @@ def test_advance_names_a_state_or_torques_of_the_wrong_size(params, plant):
         plant.advance(0.0, x, np.zeros(2), np.full(3, 100.0), 5e-4, 1)
 
 
+def test_a_read_only_tau_steps_as_a_writable_one_on_the_steps_compiled_once(params, plant):
+    """numba compiles a kernel anew for a read-only array (seconds of CPU for the plant's steps): advance copies tau."""
+    from hipsim.closed_chain.plant_step import advance as compiled_advance
+
+    x = plant.initial_state(iso14242_at(np.array([0.0])))
+    tau, loads = np.array([0.1, -0.2, 0.3]), np.full(3, 100.0)
+    writable = plant.advance(0.0, x, tau, loads, 5e-4, 1)
+    compiled = len(compiled_advance.signatures)
+    tau.flags.writeable = False
+    read_only = plant.advance(0.0, x, tau, loads, 5e-4, 1)
+    assert len(compiled_advance.signatures) == compiled >= 1
+    np.testing.assert_array_equal(read_only, writable)
+
+
 def test_compiled_control_names_an_initial_state_of_the_wrong_size(params, plant):
     with pytest.raises(hipsim.ArgumentError, match="initial_state"):
         simulate(plant, WorkspacePD(params), iso14242_at, 0.01, initial_state=np.zeros(6))

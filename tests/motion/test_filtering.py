@@ -50,3 +50,13 @@ def test_the_cycle_count_and_period_of_a_trajectory():
     # first samples of the cycles: 0, 0.8, 1.6, 2.4 and 3.2 s inside 4.5 cycles, 4 whole cycles.
     assert events.cycles == 4
     assert events.period == pytest.approx(0.8, abs=1e-12)
+
+
+def test_reading_motion_loads_scipy_signal_only_to_filter():
+    """scipy.signal is most of a command's start-up (0.3 s of CPU): the motion readers import it where they filter."""
+    import subprocess
+    import sys
+
+    code = "import sys, hipsim.motion.build, hipsim.motion.trajectories; print('scipy.signal' in sys.modules)"
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == "False", done.stderr
