@@ -57,6 +57,13 @@ def test_points_off_the_sphere_or_below_the_cup_name_their_row():
         cup_points(np.array([[math.nan, 0.0, 1.0]]))
 
 
+def test_each_points_tangent_is_from_its_own_least_axis():
+    """w = z: |w| least along x (the first of a tie), t1 = x; w = x: least along y, t1 = y; t2 = w × t1."""
+    t1, t2 = tangent_basis(np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]))
+    assert t1.tolist() == [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+    assert t2.tolist() == [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+
+
 def test_tangents_are_orthonormal_and_right_handed():
     w = np.array([[0.0, 0.0, 1.0], [0.6, 0.0, 0.8], [0.48, 0.6, 0.64]])
     t1, t2 = tangent_basis(w)
