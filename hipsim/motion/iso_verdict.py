@@ -184,7 +184,7 @@ def station_iso(
         source: the run's name, for messages.
         periodic: the samples cover whole periods.
     """
-    e = np.degrees(np.asarray(q, dtype=float) - np.asarray(q_d, dtype=float))
+    e = np.degrees(np.subtract(q, q_d))
     tracking = Tracking(
         {a: float(np.sqrt(np.mean(e[:, k] ** 2))) for k, a in enumerate(ANGLES)},
         {a: float(np.abs(e[:, k]).max()) for k, a in enumerate(ANGLES)},
@@ -192,7 +192,7 @@ def station_iso(
     try:
         achieved = iso_check(t, q, load, tolerances, source=source, periodic=periodic)
     except TrajectoryError as error:
-        reason = error.args[0] if error.args else str(error)
+        reason = error.args[0]  # the message as raised (a TrajectoryError always has one)
         return StationIso(Level.NOT_MADE, f"{name}'s motion: no ISO 14242-1 check", tracking=tracking, reason=reason)
     desired = iso_check(t, q_d, load, tolerances, source=source, periodic=periodic)
     return station_iso_verdict(name, achieved, desired, tracking)

@@ -58,7 +58,7 @@ QUANTITIES = (
 def _mean(values: np.ndarray, weights: np.ndarray | None) -> float:
     if values.size == 0:
         return math.nan
-    return float(np.average(values, weights=weights)) if weights is not None else float(np.mean(values))
+    return float(np.average(values, weights=weights))  # weights None: the plain mean
 
 
 @dataclass(frozen=True)
@@ -135,7 +135,7 @@ def wear_summary(maps: WearMaps, wear: Wear | None = None) -> WearSummary:
         load_slide_integral_Nm=None if area is None else float(np.sum(work * area)) / 1000.0,
         cross_shear_mean=_mean(cs, weights),
         cross_shear_max=float(np.max(cs)) if cs.size else math.nan,
-        cross_shear_work_weighted=_mean(cs, work[loaded] * (1.0 if area is None else area[loaded])),
+        cross_shear_work_weighted=_mean(cs, work[loaded] if area is None else work[loaded] * area[loaded]),
         worn_area_mm2=None if area is None else float(np.sum(area[loaded])),
         loaded_points=int(np.sum(loaded)),
         wear_law=None if wear is None else wear.law,
@@ -209,16 +209,15 @@ def compare_verdict(rows: tuple[Difference, ...], tolerance: float, names: tuple
         tolerance: the largest |B − A|/|A| of runs alike, a fraction (0.05 for 5 %).
         names: the runs A and B, for the sentence.
     """
-    known = [row for row in rows if row.relative is not None and row.decides]
+    known = [(row, row.relative) for row in rows if row.relative is not None and row.decides]
     not_judged = ", ".join(row.label for row in rows if not row.decides) + " (shown, not judged)"
     if not known:
         return Verdict(Level.NOT_MADE, "no quantity is known in both runs", not_judged)
-    worst = max(known, key=lambda row: abs(row.relative or 0.0))
-    numbers = {row.key: row.relative for row in known if row.relative is not None}
-    beyond = [row.label for row in known if abs(row.relative or 0.0) > tolerance]
-    assert worst.relative is not None and worst.a is not None and worst.b is not None
+    worst, largest = max(known, key=lambda pair: abs(pair[1]))
+    numbers = {row.key: relative for row, relative in known}
+    beyond = [row.label for row, relative in known if abs(relative) > tolerance]
     head = (
-        f"B ({names[1]}) against A ({names[0]}): {worst.label} differs most, by {100 * worst.relative:+.3g} % "
+        f"B ({names[1]}) against A ({names[0]}): {worst.label} differs most, by {100 * largest:+.3g} % "
         f"({worst.a:.4g} → {worst.b:.4g}{' ' + worst.unit if worst.unit else ''})."
     )
     if beyond:
@@ -247,7 +246,7 @@ def largest_differences(differences: Mapping[str, np.ndarray]) -> dict[str, floa
     """Per map the largest |B − A| of a point, its magnitude whichever its sign (None when no point is finite)."""
     out: dict[str, float | None] = {}
     for key, values in differences.items():
-        finite = np.abs(np.asarray(values, dtype=float))
+        finite = np.abs(values)
         finite = finite[np.isfinite(finite)]
         out[key] = float(finite.max()) if finite.size else None
     return out

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from hipsim.motion.iso_compliance import DEFAULT_TOLERANCES, CycleDeviation, IsoCheck
-from hipsim.motion.iso_verdict import ANGLES, Tracking, station_iso, station_iso_verdict
+from hipsim.motion.iso_verdict import ANGLES, TOLERANCES_ASSUMED, Tracking, station_iso, station_iso_verdict
 from hipsim.motion.trajectories import iso14242
 from hipsim.records import Level, exit_status
 
@@ -269,6 +269,20 @@ def test_the_run_verdict_fails_on_the_first_quantity_that_left_its_tolerance():
         "beta, gamma left the tolerance in 3 whole cycle(s) checked; worst beta: 3.5 deg against ±3 deg "
         "(1 cycle(s) outside)"
     )
+    assert verdict.not_judged == TOLERANCES_ASSUMED
+    assert verdict.numbers == {
+        "cycles": 3.0,
+        "alpha_worst_deg": 0.0,
+        "alpha_tolerance_deg": 3.0,
+        "beta_worst_deg": 3.5,
+        "beta_tolerance_deg": 3.0,
+        "gamma_worst_deg": 9.0,
+        "gamma_tolerance_deg": 3.0,
+        "load_worst_N": 0.0,
+        "load_tolerance_N": 90.0,
+        "frequency_worst_Hz": 0.0,
+        "frequency_tolerance_Hz": 0.1,
+    }
 
 
 @pytest.mark.parametrize(("alpha_deg", "level"), [(3.0, Level.PASS), (3.0 + 1e-9, Level.FAIL)])

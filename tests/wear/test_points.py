@@ -28,8 +28,8 @@ def test_a_two_by_four_grid_by_hand():
 
 
 def test_a_fine_grids_area_is_the_hemisphere():
-    grid = cup_grid(90, 180, radius_mm=14.0)
-    assert grid.area_mm2 is not None
+    grid = cup_grid()  # the defaults: 90 × 180 cells of a 28 mm head
+    assert grid.shape == (90, 180) and grid.area_mm2 is not None
     assert_allclose(grid.area_mm2.sum(), 2 * math.pi * 14.0**2, rtol=1e-4)  # midpoint rule: error ~ dθ²/24
 
 
@@ -55,6 +55,13 @@ def test_points_off_the_sphere_or_below_the_cup_name_their_row():
     cup_points(np.array([[math.sqrt(1 - 0.0009**2), 0.0, -0.0009]]))  # just inside the tolerance: the rim
     with pytest.raises(ArgumentError, match="row 1: expected finite"):
         cup_points(np.array([[math.nan, 0.0, 1.0]]))
+
+
+def test_each_points_tangent_is_from_its_own_least_axis():
+    """w = z: |w| least along x (the first of a tie), t1 = x; w = x: least along y, t1 = y; t2 = w × t1."""
+    t1, t2 = tangent_basis(np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]))
+    assert t1.tolist() == [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]
+    assert t2.tolist() == [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
 
 
 def test_tangents_are_orthonormal_and_right_handed():
@@ -95,6 +102,8 @@ def test_the_unit_and_cup_tolerances_are_inclusive():
     z = -(2.0**-10)
     cup_points(np.array([[math.sqrt(1 - z * z), 0.0, z]]))
     assert UNIT_TOLERANCE == 1e-3
+    edge = np.array([[0.999999499999875, 0.0, -1e-3]])  # |w| = 1 exactly in floats: z is −1e-3 itself
+    assert np.linalg.norm(edge) == 1.0 and cup_points(edge).w[0, 2] == -1e-3
 
 
 def test_grids_of_one_and_of_the_most_cells_are_taken_and_n_phi_is_named():

@@ -21,6 +21,7 @@ from hipsim.wear.summary import (
     compare_verdict,
     largest_differences,
     run_verdict,
+    wear_comparison,
     wear_summary,
 )
 
@@ -214,9 +215,9 @@ def test_difference_maps_are_b_minus_a_on_the_same_points():
     np.testing.assert_allclose(d["work_N_per_mm"], 1.0)
     np.testing.assert_allclose(d["cross_shear"], [NAN, -0.05, -0.1, -0.2])
     moved = replace(b, points=CupPoints(np.eye(3)[[2, 0, 1, 1]]))
-    with pytest.raises(ArgumentError, match="points: expected the same cup points in both runs"):
+    with pytest.raises(ArgumentError, match=r"points: expected the same cup points in both runs, got shape \(4, 3\)"):
         difference_maps(a, moved)
-    with pytest.raises(ArgumentError, match="points: expected the same cup points in both runs"):
+    with pytest.raises(ArgumentError, match=r"in both runs, got shape \(3, 3\)"):  # B's points named
         difference_maps(a, replace(b, points=CupPoints(np.eye(3)[[2, 0, 1]])))
 
 
@@ -237,9 +238,52 @@ def test_one_runs_verdict_is_not_made_with_its_numbers():
     verdict = run_verdict(wear_summary(maps))
     assert verdict.level == Level.NOT_MADE and exit_status([verdict]) == 0
     assert verdict.judged == "hand: one run's sliding, cross-shear and wear per cycle, not rated"
-    assert verdict.not_judged.startswith("the numbers against a limit (none is set)")
+    assert verdict.not_judged == (
+        "the numbers against a limit (none is set): compare two runs with --compare A B, or weigh a test with "
+        "--weighings"
+    )
     assert dict(verdict.numbers) == pytest.approx(  # no wear key without a law
         {"force_track_mm": 12.0, "force_track_load_Nm": 3.0, "cross_shear_mean": 2.4 / 9, "cross_shear_max": 0.4}
     )
     with_law = run_verdict(wear_summary(maps, predict_wear(maps, WearFactor(2e-7))))
     assert set(with_law.numbers) == {*verdict.numbers, "wear_mm3_per_Mc"} and with_law.level == Level.NOT_MADE
+
+
+def test_two_runs_compared_whole_by_hand():
+    """Run B against run A (``wear --compare``): B's force track 25 % longer, its CS at point 3 up 0.1 and its
+    sliding at the unloaded point 0 down 1 mm; B alone with a law. The relative differences by hand: force track
+    +0.25, mean CS (2·0.1 + 3·0.2 + 4·0.5)/2.4 − 1 = +0.1667, work-weighted CS (2·0.1 + 9·0.2 + 4·0.5)/3.6 − 1 = +0.1111."""
+    from hipsim.wear.laws import WearFactor, predict_wear
+
+    maps_a = _maps(np.array([1.0, 2.0, 3.0, 4.0]))
+    maps_b = replace(
+        maps_a,
+        name="two",
+        force_track_mm=15.0,
+        sliding_mm=np.array([4.0, 2.0, 4.0, 6.0]),
+        cross_shear=np.array([NAN, 0.1, 0.2, 0.5]),
+    )
+    wear_b = predict_wear(maps_b, WearFactor(2e-7))
+    provenance = {"command": "wear --compare"}
+    result = wear_comparison((maps_a, None), (maps_b, wear_b), 0.15, provenance)
+    assert result.provenance is provenance and result.tolerance == 0.15
+    assert (result.a.source, result.a.wear_law, result.a.force_track_mm) == ("hand", None, 12.0)
+    assert (result.b.source, result.b.wear_law, result.b.force_track_mm) == ("two", wear_b.law, 15.0)
+    assert result.b.cross_shear_mean == pytest.approx(2.8 / 9)
+    relative = {row.key: row.relative for row in result.differences}
+    assert relative["force_track_mm"] == pytest.approx(0.25)
+    assert relative["cross_shear_mean"] == pytest.approx(1 / 6)
+    assert relative["cross_shear_work_weighted"] == pytest.approx(1 / 9)
+    assert relative["wear_mm3_per_Mc"] is None  # A has no law
+    assert result.largest_point_differences == pytest.approx(
+        {"sliding_mm": 1.0, "work_N_per_mm": 0.0, "cross_shear": 0.1}
+    )
+    # 0.1111 < 0.15 < 0.1667: two quantities beyond, named in their order
+    assert result.verdict.level == Level.DIFFERENT
+    assert result.verdict.judged == (
+        "B (two) against A (hand): force track length differs most, by +25 % (12 → 15 mm). "
+        "Beyond ±15 %: force track length, mean CS (loaded area)."
+    )
+    alike = wear_comparison((maps_a, None), (maps_b, wear_b), 0.25, provenance).verdict
+    assert alike.level == Level.ALIKE and alike.judged.endswith("Every quantity judged is within ±25 %.")
+    jsonschema.validate(result.to_json(), type(result).json_schema())

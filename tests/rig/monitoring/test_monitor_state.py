@@ -97,4 +97,5 @@ def test_the_change_a_notice_names():
     assert last_change("notice: up 4 %", ["notice: up 4 %", "alarm: up 12 %"]) == "notice: up 4 %"  # the notice first
     assert last_change(None, ["", "alarm: up 12 %"]) == "alarm: up 12 %"  # else the last snapshot's flag
     assert last_change("", ["a", "b"]) == "b"  # an empty notice is none: the last flag
+    assert last_change(None, ["a", "b", "c"]) == "c"  # the last, not the second
     assert last_change(None, []) is None  # no snapshot

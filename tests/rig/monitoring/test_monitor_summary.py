@@ -6,7 +6,15 @@ from __future__ import annotations
 import jsonschema
 
 from hipsim.records import Level, Verdict
-from hipsim.rig.monitoring.monitor_summary import Baseline, LoadCell, MonitorSummary, SnapshotFile, StationBaseline
+from hipsim.rig.monitoring.monitor_summary import (
+    Baseline,
+    LoadCell,
+    MonitorSummary,
+    SkippedFile,
+    SnapshotFile,
+    StationBaseline,
+)
+from hipsim.rig.monitoring.snapshots import Skipped
 
 
 def test_the_json_of_a_monitor_run():
@@ -40,3 +48,19 @@ def test_the_json_of_a_monitor_run():
     jsonschema.validate(doc, MonitorSummary.json_schema())
     one = Baseline(0, 10, 2, 1.0, 0.1, None).to_json()
     assert one["stations"] is None and list(one)[0] == "from"
+
+
+def test_a_skipped_snapshots_record_field_by_field():
+    """Each field of the snapshot left out goes to its own key; an empty SHA-256 (the file not read) is null."""
+    read = SkippedFile.of(Skipped("b.csv", "/logs/b.csv", "line 4: bad value", "duplicate", 4, 120, "cd"))
+    assert read == SkippedFile("b.csv", "/logs/b.csv", "duplicate", "line 4: bad value", 4, 120, "cd")
+    unread = SkippedFile.of(Skipped("c.csv", "/logs/c.csv", "cannot read", "unreadable", None, None, ""))
+    assert unread.to_json() == {
+        "file": "c.csv",
+        "path": "/logs/c.csv",
+        "kind": "unreadable",
+        "reason": "cannot read",
+        "line": None,
+        "bytes": None,
+        "sha256": None,
+    }
