@@ -176,3 +176,107 @@ def test_exit_status_of_records_levels_and_none():
     assert Level.FEASIBLE.state == "pass" and Level.ALIKE.state == "pass" and Level.NOT_MADE.state == "open"
     assert Level.DIFFERENT.state == "fail" and Level.PASS.state == "pass"
     assert Verdict(Level.OK, "j").to_json() == {"level": "OK", "judged": "j", "not_judged": "", "numbers": {}}
+
+
+@dataclass(frozen=True)
+class _Deep(Record):
+    """A second record named Verdict, in a module of a dotted name."""
+
+    word: str
+
+
+@dataclass(frozen=True)
+class _Top(Record):
+    """A third record named Verdict, in a module of one name."""
+
+    word: str
+
+
+_Deep.__name__, _Deep.__module__ = "Verdict", "hipsim.pages.deep"
+_Top.__name__, _Top.__module__ = "Verdict", "toplevel"
+
+
+@dataclass(frozen=True)
+class _Pair(Record):
+    """Two verdicts, the second nested a level down."""
+
+    first: Verdict
+    deep: _Deep
+
+
+@dataclass(frozen=True)
+class _Laid(Record):
+    """A record laid into another."""
+
+    a: int
+    pair: _Pair
+
+
+@dataclass(frozen=True)
+class _Outer(Record):
+    """Every kind of field: a record and a mapping laid in, an optional key, records of one class name."""
+
+    x: int
+    laid: _Laid = flattened()
+    extra: Mapping[str, float] = flattened()
+    top: _Top = flattened()
+    again: Verdict = field(default_factory=lambda: Verdict(Level.PASS, "again"))
+    note: str | None = optional()
+
+
+def _outer(note: str | None = None) -> _Outer:
+    pair = _Pair(Verdict(Level.FAIL, "f"), _Deep("d"))
+    return (
+        _Outer(1, _Laid(2, pair), {"k": 1.5}, _Top("t"), note=note)
+        if note
+        else _Outer(1, _Laid(2, pair), {"k": 1.5}, _Top("t"))
+    )
+
+
+def test_laid_in_and_optional_fields_in_the_json():
+    verdict = {"level": "FAIL", "judged": "f", "not_judged": "", "numbers": {}}
+    assert _outer().to_json() == {
+        "x": 1,
+        "a": 2,
+        "pair": {"first": verdict, "deep": {"word": "d"}},
+        "k": 1.5,
+        "word": "t",
+        "again": {"level": "PASS", "judged": "again", "not_judged": "", "numbers": {}},
+    }
+    assert _outer().note is None
+    assert _outer("n").to_json()["note"] == "n" and list(_outer("n").to_json())[-1] == "note"
+
+
+def test_laid_in_fields_and_records_of_one_name_in_the_schema():
+    schema = _Outer.json_schema()
+    assert list(schema["properties"]) == ["x", "a", "pair", "word", "again", "note"]
+    assert schema["required"] == ["x", "a", "pair", "word", "again"]  # the optional key not
+    assert schema["additionalProperties"] == {"type": ["number", "null"]}  # the mapping's values, any key
+    assert schema["properties"]["pair"] == {"$ref": "#/$defs/_Pair"}
+    assert schema["properties"]["word"] == {"type": "string"}
+    assert schema["properties"]["again"] == {"$ref": "#/$defs/Verdict"}  # the same class: the same name
+    assert sorted(schema["$defs"]) == ["Verdict", "_Pair", "deep_Verdict"]
+    assert schema["$defs"]["_Pair"]["properties"] == {
+        "first": {"$ref": "#/$defs/Verdict"},
+        "deep": {"$ref": "#/$defs/deep_Verdict"},
+    }
+    assert schema["$defs"]["deep_Verdict"]["properties"] == {"word": {"type": "string"}}
+    assert schema["$defs"]["Verdict"]["properties"]["level"] == {"enum": [level.value for level in Level]}
+
+
+@dataclass(frozen=True)
+class _Three(Record):
+    """Three records named Verdict, from three modules."""
+
+    one: Verdict
+    two: _Deep
+    three: _Top
+
+
+def test_records_of_one_class_name_are_named_by_their_module():
+    schema = _Three.json_schema()
+    assert [schema["properties"][k]["$ref"] for k in ("one", "two", "three")] == [
+        "#/$defs/Verdict",
+        "#/$defs/deep_Verdict",
+        "#/$defs/toplevel_Verdict",
+    ]
