@@ -61,6 +61,10 @@ def production() -> dict[str, tuple]:
     return {name: made[0][1] for name, made in calls.items()}
 
 
+#: The hand-worked case's arguments every kernel takes: two points, their tangents, the samples and the wear factor.
+HAND = dict(t1=T1, t2=T2, w=W, omega=OMEGA, n=N, load_dt=LOAD_DT, coef=COEF)
+
+
 def _call(production: dict[str, tuple], name: str, **arguments) -> None:
     """The kernel ``name`` on these arguments, checked to be of the types wear_maps gave it."""
     function = getattr(kernel, name)
@@ -84,14 +88,8 @@ def test_first_pass_sums_sliding_work_tensor_and_fixed_directions_by_hand(produc
     _call(
         production,
         "first_pass",
-        t1=T1,
-        t2=T2,
-        w=W,
-        omega=OMEGA,
-        n=N,
-        load_dt=LOAD_DT,
+        **HAND,
         dt=DT,
-        coef=COEF,
         rough=True,
         **sums,
     )
@@ -111,14 +109,8 @@ def test_first_pass_adds_to_the_sums_and_skips_the_rough_ones_on_request(product
     _call(
         production,
         "first_pass",
-        t1=T1,
-        t2=T2,
-        w=W,
-        omega=OMEGA,
-        n=N,
-        load_dt=LOAD_DT,
+        **HAND,
         dt=DT,
-        coef=COEF,
         rough=False,
         **sums,
     )
@@ -136,13 +128,7 @@ def test_direction_pass_sums_along_across_and_the_pull_by_hand(production):
     _call(
         production,
         "direction_pass",
-        t1=T1,
-        t2=T2,
-        w=W,
-        omega=OMEGA,
-        n=N,
-        load_dt=LOAD_DT,
-        coef=COEF,
+        **HAND,
         active=np.array([True, False]),
         m=m,
         pull=pull,
@@ -157,13 +143,7 @@ def test_direction_pass_sums_along_across_and_the_pull_by_hand(production):
     _call(
         production,
         "direction_pass",
-        t1=T1,
-        t2=T2,
-        w=W,
-        omega=OMEGA,
-        n=N,
-        load_dt=LOAD_DT,
-        coef=COEF,
+        **HAND,
         active=np.array([True, True]),
         m=np.array([[1.0, 0.0], [1.0, 0.0]]),
         pull=pull,
@@ -182,13 +162,7 @@ def test_exact_direction_at_two_points_by_hand(production):
     _call(
         production,
         "exact_direction",
-        t1=T1,
-        t2=T2,
-        w=W,
-        omega=OMEGA,
-        n=N,
-        load_dt=LOAD_DT,
-        coef=COEF,
+        **HAND,
         active=np.array([True, True]),
         theta=theta,
         along=along,
